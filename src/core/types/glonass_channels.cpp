@@ -1,0 +1,22 @@
+#include "ppp_bayes_tree/types/glonass_channels.h"
+
+namespace ppp {
+
+bool GlonassChannels::set(int slot, int channel) {
+  if (slot < 1 || slot > kMaxSlot || channel < -7 || channel > 13) return false;
+  channels_[slot] = channel;
+  return true;
+}
+
+std::optional<int> GlonassChannels::channel(int slot) const {
+  if (slot < 1 || slot > kMaxSlot) return std::nullopt;
+  return channels_[slot];
+}
+
+int GlonassChannels::size() const {
+  int n = 0;
+  for (const auto& c : channels_) n += c.has_value() ? 1 : 0;
+  return n;
+}
+
+}  // namespace ppp
