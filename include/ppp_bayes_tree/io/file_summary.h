@@ -33,3 +33,8 @@ struct FileSummary {
 };
 
 }  // namespace ppp
+
+namespace ppp {
+/// Human-readable multi-line text of a summary, as printed by ppp_inspect.
+std::string formatSummary(const FileSummary& summary);
+}  // namespace ppp

@@ -1,0 +1,46 @@
+#include "ppp_bayes_tree/io/file_summary.h"
+
+#include <cstdio>
+#include <sstream>
+
+namespace ppp {
+
+namespace {
+std::string shortTime(const GnssTime& t) { return t.toString(TimeSystem::GPS, 1); }
+}  // namespace
+
+std::string formatSummary(const FileSummary& s) {
+  std::ostringstream os;
+  os << "== " << s.path << "\n";
+  os << "  type      " << s.type;
+  if (!s.version.empty()) os << ", version " << s.version;
+  os << "\n";
+  if (s.first_epoch && s.last_epoch) {
+    char dur[64];
+    std::snprintf(dur, sizeof(dur), "%.1f min", (*s.last_epoch - *s.first_epoch) / 60.0);
+    os << "  span      " << shortTime(*s.first_epoch) << " .. " << shortTime(*s.last_epoch) << " ("
+       << dur << ")\n";
+  }
+  if (s.interval_s || s.epoch_count > 0) {
+    os << "  epochs    " << s.epoch_count;
+    if (s.interval_s) os << ", interval " << *s.interval_s << " s";
+    os << "\n";
+  }
+  for (const auto& [system, sats] : s.satellites) {
+    os << "  " << systemLetter(system) << " " << systemName(system) << ": " << sats.size()
+       << " satellite(s):";
+    for (const auto& sat : sats) os << " " << sat.toString();
+    os << "\n";
+  }
+  for (const auto& [system, signals] : s.signals) {
+    os << "  " << systemLetter(system) << " signals:";
+    for (const auto& sig : signals) os << " " << sig;
+    os << "\n";
+  }
+  for (const auto& fact : s.facts) os << "  " << fact << "\n";
+  os << "  problems:\n" << s.report.summary();
+  os << "\n";
+  return os.str();
+}
+
+}  // namespace ppp
