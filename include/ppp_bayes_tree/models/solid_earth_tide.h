@@ -17,7 +17,8 @@
 
 namespace ppp {
 
-/// GM_Sun / GM_Earth and M_Moon / M_Earth (IERS Conventions 2010, Table 1.1).
+/// GM_Sun / GM_Earth and M_Moon / M_Earth (IERS Conventions 2010 Table 1.1 values, as
+/// used by the IERS DEHANTTIDEINEL software).
 constexpr double kSunEarthGmRatio = 332946.0482;
 constexpr double kMoonEarthMassRatio = 0.0123000371;
 /// Equatorial radius of the Earth used by the tide formulas [m] (IERS 2010, Table 1.1).
