@@ -24,9 +24,10 @@ struct EphemerisSelectionOptions {
   /// Galileo: |t - toe| <= this (Galileo records are refreshed every 10 min and
   /// nominally valid for 4 h after toe; we accept 4 h either side).
   double galileo_max_age_s = 4.0 * 3600.0;
-  /// GLONASS: |t - tb| <= this (records every 30 min; ICD 5.1 gives tb in 15 min
-  /// steps; 15 min plus margin).
-  double glonass_max_age_s = 20.0 * 60.0;
+  /// GLONASS: |t - tb| <= this. Records come every 30 min with tb mid-interval
+  /// (ICD 5.1, 4.4), so 15 min suffice in a complete file; 30 min (as RTKLIB's
+  /// MAXDTOE_GLO) bridges one missing record at a cost of metres.
+  double glonass_max_age_s = 30.0 * 60.0;
   GalileoPreference galileo = GalileoPreference::INavOnly;
   /// Use records whose health flags say unhealthy (never by default).
   bool allow_unhealthy = false;

@@ -18,7 +18,7 @@ constexpr double kGlonassGm_m3ps2 = 398600.4418e9;
 constexpr double kGlonassSemiMajorAxis_m = 6378136.0;
 constexpr double kGlonassJ2 = 1082625.75e-9;
 constexpr double kGlonassEarthRotation_radps = 7.2921150e-5;
-constexpr double kGlonassStep_s = 60.0;
+constexpr double kGlonassStep_s = 30.0;
 
 bool allFinite(std::initializer_list<double> values) {
   for (double v : values) {
