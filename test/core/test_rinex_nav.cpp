@@ -52,7 +52,7 @@ std::string gzipOf(const std::string& path) {
   // Compressed with the system gzip: LineSource detects gzip by content.
   const auto dir = ppp::test::tempDir("nav_gz");
   const std::string out = (dir / "nav.gz").string();
-  const std::string cmd = "gzip -c '" + path + "' > '" + out + "'";
+  const std::string cmd = "gzip -n -c '" + path + "' > '" + out + "'";
   EXPECT_EQ(std::system(cmd.c_str()), 0);
   return readFileBytes(out);
 }
