@@ -20,6 +20,7 @@
 #include <cmath>
 
 #include "ppp_bayes_tree/io/rinex_nav_reader.h"
+#include "fuzz/rinex_nav_fuzz_entry.h"
 #include "test_support.h"
 
 using namespace ppp;
@@ -352,4 +353,36 @@ TEST(RinexNavReaderMalformed, TruncatedGzipIsReportedNotThrown) {
   const NavData nav = readRinexNav(*source);
   EXPECT_GE(nav.report.problemCount(), 1u);
   EXPECT_LT(nav.recordCount(), 7u);
+}
+
+TEST(RinexNavReader, AcceptsTheFifthGlonassLineOfRinex305) {
+  // RINEX 3.05 table A10 adds "BROADCAST ORBIT - 4" (status flags, L1/L2 group
+  // delay difference, URAI, health flags) to GLONASS records.
+  std::string text = readFileBytes(fixturePath("rinex_nav/mixed_v304.nav"));
+  text.replace(text.find("3.04"), 4, "3.05");
+  const std::string last = "     2.288353955078e+04-3.169984817505e-01-2.793967723846e-09 0.000000000000e+00\n";
+  text.insert(text.find(last) + last.size(),
+              "     1.790000000000e+02 0.000000000000e+00 0.000000000000e+00 0.000000000000e+00\n");
+  auto source = memoryLineSource(text, "v305.nav");
+  const NavData nav = readRinexNav(*source);
+  EXPECT_TRUE(nav.report.clean()) << nav.report.summary();
+  EXPECT_EQ(nav.recordCount(), 7u);
+  ASSERT_EQ(nav.glonass.size(), 1u);
+  EXPECT_DOUBLE_EQ(nav.glonass[0].age_days, 0.0);
+}
+
+TEST(RinexNavReader, FuzzCorpusReplaysWithoutCrashing) {
+  // The seed corpus of test/fuzz/corpus/rinex_nav, plus cut-down variants of
+  // each file, through the fuzz entry (which catches only ParseError / FileOpenError).
+  std::size_t files = 0;
+  for (const auto& entry :
+       std::filesystem::directory_iterator(std::string(PPP_FUZZ_DIR) + "/corpus/rinex_nav")) {
+    const std::string bytes = readFileBytes(entry.path().string());
+    for (std::size_t cut : {bytes.size(), bytes.size() / 2, bytes.size() / 3, std::size_t{81}}) {
+      const std::string part = bytes.substr(0, cut);
+      ppp::fuzz::fuzzRinexNav(reinterpret_cast<const std::uint8_t*>(part.data()), part.size());
+    }
+    ++files;
+  }
+  EXPECT_GE(files, 5u);
 }
