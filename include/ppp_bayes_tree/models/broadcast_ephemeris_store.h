@@ -1,0 +1,84 @@
+#pragma once
+// BroadcastEphemerisStore: the broadcast records of one or more navigation files,
+// and the choice of the record to use for a satellite at an instant. Every
+// lookup either gives a record / state or says why there is none.
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "ppp_bayes_tree/models/broadcast_ephemeris.h"
+#include "ppp_bayes_tree/types/navigation_records.h"
+
+namespace ppp {
+
+struct NavData;
+
+/// Which Galileo message to use: the clock of an I/NAV record refers to E1/E5b,
+/// that of an F/NAV record to E1/E5a (Galileo OS SIS ICD 5.1.5).
+enum class GalileoPreference { INavOnly, FNavOnly, Any };
+
+struct EphemerisSelectionOptions {
+  /// Validity of a GPS/QZSS record: |t - toe| <= fit interval / 2 (IS-GPS-200
+  /// 20.3.4.4: the fit interval is centred on toe; 4 h nominal).
+  /// Galileo: |t - toe| <= this (Galileo records are refreshed every 10 min and
+  /// nominally valid for 4 h after toe; we accept 4 h either side).
+  double galileo_max_age_s = 4.0 * 3600.0;
+  /// GLONASS: |t - tb| <= this. Records come every 30 min with tb mid-interval
+  /// (ICD 5.1, 4.4), so 15 min suffice in a complete file; 30 min (as RTKLIB's
+  /// MAXDTOE_GLO) bridges one missing record at a cost of metres.
+  double glonass_max_age_s = 30.0 * 60.0;
+  GalileoPreference galileo = GalileoPreference::INavOnly;
+  /// Use records whose health flags say unhealthy (never by default).
+  bool allow_unhealthy = false;
+};
+
+/// A looked-up record: `record` is null exactly when `unavailable_reason` says why.
+template <typename Record>
+struct EphemerisLookup {
+  const Record* record = nullptr;
+  std::string unavailable_reason;
+  explicit operator bool() const { return record != nullptr; }
+};
+
+/// A computed broadcast state, or the reason there is none.
+struct BroadcastLookup {
+  std::optional<BroadcastState> state;
+  std::string unavailable_reason;
+  explicit operator bool() const { return state.has_value(); }
+};
+
+class BroadcastEphemerisStore {
+ public:
+  explicit BroadcastEphemerisStore(EphemerisSelectionOptions options = {}) : options_(options) {}
+
+  /// Adds every record of a navigation file.
+  void add(const NavData& nav);
+  /// Adds one record. Records failing checkKeplerOrbit / checkGlonassState are
+  /// refused (returns the reason); exact duplicates (same satellite, toe and
+  /// issue of data) are kept once.
+  std::optional<std::string> add(const GpsLnavEphemeris& eph);
+  std::optional<std::string> add(const GalileoEphemeris& eph);
+  std::optional<std::string> add(const GlonassEphemeris& eph);
+
+  /// The record to use for `sat` at GPST `t`: among the healthy records whose
+  /// validity interval contains t, the one with the nearest toe (ties: the later).
+  EphemerisLookup<GpsLnavEphemeris> gps(const SatelliteId& sat, const GnssTime& t) const;
+  EphemerisLookup<GalileoEphemeris> galileo(const SatelliteId& sat, const GnssTime& t) const;
+  EphemerisLookup<GlonassEphemeris> glonass(const SatelliteId& sat, const GnssTime& t) const;
+
+  /// Position, velocity and clock of any modelled satellite (GPS, QZSS, Galileo,
+  /// GLONASS) at GPST t, or the reason it is unavailable.
+  BroadcastLookup state(const SatelliteId& sat, const GnssTime& t) const;
+
+  std::size_t size() const;
+  const EphemerisSelectionOptions& options() const { return options_; }
+
+ private:
+  EphemerisSelectionOptions options_;
+  std::map<SatelliteId, std::vector<GpsLnavEphemeris>> gps_;
+  std::map<SatelliteId, std::vector<GalileoEphemeris>> galileo_;
+  std::map<SatelliteId, std::vector<GlonassEphemeris>> glonass_;
+};
+
+}  // namespace ppp

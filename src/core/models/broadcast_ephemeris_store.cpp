@@ -1,0 +1,189 @@
+#include "ppp_bayes_tree/models/broadcast_ephemeris_store.h"
+
+#include <cmath>
+#include <sstream>
+
+#include "ppp_bayes_tree/io/rinex_nav_reader.h"
+
+namespace ppp {
+
+namespace {
+
+const GnssTime& referenceTime(const GpsLnavEphemeris& e) { return e.orbit.toe; }
+const GnssTime& referenceTime(const GalileoEphemeris& e) { return e.orbit.toe; }
+const GnssTime& referenceTime(const GlonassEphemeris& e) { return e.tb; }
+
+int issueOfData(const GpsLnavEphemeris& e) { return e.iode; }
+int issueOfData(const GalileoEphemeris& e) { return e.iod_nav * 2 + (e.type == GalileoNavType::FNav); }
+int issueOfData(const GlonassEphemeris&) { return 0; }
+
+std::string hours(double seconds) {
+  std::ostringstream os;
+  os.precision(2);
+  os << std::fixed << seconds / 3600.0 << " h";
+  return os.str();
+}
+
+template <typename Record>
+void insertUnique(std::vector<Record>& list, const Record& eph) {
+  for (const Record& r : list) {
+    if (referenceTime(r) == referenceTime(eph) && issueOfData(r) == issueOfData(eph)) return;
+  }
+  list.push_back(eph);
+}
+
+// Nearest-toe choice among records for one satellite. `half_window` gives the
+// validity half-width of a record; `usable` filters by message type.
+template <typename Record, typename HalfWindow, typename Usable>
+EphemerisLookup<Record> select(const std::map<SatelliteId, std::vector<Record>>& store,
+                               const SatelliteId& sat, const GnssTime& t, bool allow_unhealthy,
+                               HalfWindow half_window, Usable usable) {
+  EphemerisLookup<Record> out;
+  const auto it = store.find(sat);
+  if (it == store.end() || it->second.empty()) {
+    out.unavailable_reason = "no broadcast record for " + sat.toString();
+    return out;
+  }
+  const Record* best = nullptr;
+  double best_distance = 0.0;
+  double nearest_any = INFINITY;
+  int in_window = 0, unhealthy = 0, wrong_type = 0;
+  for (const Record& r : it->second) {
+    const double d = std::fabs(t - referenceTime(r));
+    nearest_any = std::fmin(nearest_any, d);
+    if (d > half_window(r)) continue;
+    ++in_window;
+    if (!usable(r)) {
+      ++wrong_type;
+      continue;
+    }
+    if (!allow_unhealthy && !isHealthy(r)) {
+      ++unhealthy;
+      continue;
+    }
+    if (best == nullptr || d < best_distance ||
+        (d == best_distance && referenceTime(r) > referenceTime(*best))) {
+      best = &r;
+      best_distance = d;
+    }
+  }
+  if (best != nullptr) {
+    out.record = best;
+    return out;
+  }
+  std::ostringstream why;
+  why << sat.toString() << " at " << t.toString() << ": ";
+  if (in_window == 0) {
+    why << "nearest record is " << hours(nearest_any) << " away, outside its validity interval";
+  } else if (unhealthy == in_window) {
+    why << "all " << unhealthy << " record(s) in the validity interval are flagged unhealthy";
+  } else {
+    why << in_window << " record(s) in the validity interval: " << wrong_type
+        << " of the wrong message type, " << unhealthy << " unhealthy";
+  }
+  out.unavailable_reason = why.str();
+  return out;
+}
+
+}  // namespace
+
+void BroadcastEphemerisStore::add(const NavData& nav) {
+  for (const auto& e : nav.gps) add(e);
+  for (const auto& e : nav.galileo) add(e);
+  for (const auto& e : nav.glonass) add(e);
+}
+
+std::optional<std::string> BroadcastEphemerisStore::add(const GpsLnavEphemeris& eph) {
+  if (auto why = checkKeplerOrbit(eph.orbit)) return why;
+  if (eph.satellite.system != GnssSystem::GPS && eph.satellite.system != GnssSystem::QZSS) {
+    return std::string("LNAV record for a satellite that is neither GPS nor QZSS");
+  }
+  insertUnique(gps_[eph.satellite], eph);
+  return std::nullopt;
+}
+
+std::optional<std::string> BroadcastEphemerisStore::add(const GalileoEphemeris& eph) {
+  if (auto why = checkKeplerOrbit(eph.orbit)) return why;
+  if (eph.satellite.system != GnssSystem::Galileo) return std::string("not a Galileo satellite");
+  insertUnique(galileo_[eph.satellite], eph);
+  return std::nullopt;
+}
+
+std::optional<std::string> BroadcastEphemerisStore::add(const GlonassEphemeris& eph) {
+  if (auto why = checkGlonassState(eph)) return why;
+  if (eph.satellite.system != GnssSystem::GLONASS) return std::string("not a GLONASS satellite");
+  insertUnique(glonass_[eph.satellite], eph);
+  return std::nullopt;
+}
+
+EphemerisLookup<GpsLnavEphemeris> BroadcastEphemerisStore::gps(const SatelliteId& sat,
+                                                               const GnssTime& t) const {
+  return select(
+      gps_, sat, t, options_.allow_unhealthy,
+      [](const GpsLnavEphemeris& e) { return 0.5 * e.fit_interval_h * 3600.0; },
+      [](const GpsLnavEphemeris&) { return true; });
+}
+
+EphemerisLookup<GalileoEphemeris> BroadcastEphemerisStore::galileo(const SatelliteId& sat,
+                                                                   const GnssTime& t) const {
+  const GalileoPreference pref = options_.galileo;
+  const double max_age = options_.galileo_max_age_s;
+  return select(
+      galileo_, sat, t, options_.allow_unhealthy,
+      [max_age](const GalileoEphemeris&) { return max_age; },
+      [pref](const GalileoEphemeris& e) {
+        return pref == GalileoPreference::Any ||
+               (pref == GalileoPreference::INavOnly) == (e.type == GalileoNavType::INav);
+      });
+}
+
+EphemerisLookup<GlonassEphemeris> BroadcastEphemerisStore::glonass(const SatelliteId& sat,
+                                                                   const GnssTime& t) const {
+  const double max_age = options_.glonass_max_age_s;
+  return select(
+      glonass_, sat, t, options_.allow_unhealthy,
+      [max_age](const GlonassEphemeris&) { return max_age; },
+      [](const GlonassEphemeris&) { return true; });
+}
+
+namespace {
+template <typename Record>
+BroadcastLookup toState(const EphemerisLookup<Record>& lookup, const GnssTime& t) {
+  BroadcastLookup out;
+  if (!lookup) {
+    out.unavailable_reason = lookup.unavailable_reason;
+    return out;
+  }
+  out.state = satelliteState(*lookup.record, t);
+  return out;
+}
+}  // namespace
+
+BroadcastLookup BroadcastEphemerisStore::state(const SatelliteId& sat, const GnssTime& t) const {
+  switch (sat.system) {
+    case GnssSystem::GPS:
+    case GnssSystem::QZSS:
+      return toState(gps(sat, t), t);
+    case GnssSystem::Galileo:
+      return toState(galileo(sat, t), t);
+    case GnssSystem::GLONASS:
+      return toState(glonass(sat, t), t);
+    default:
+      break;
+  }
+  BroadcastLookup out;
+  out.unavailable_reason =
+      sat.toString() + ": broadcast orbits of " + std::string(systemName(sat.system)) +
+      " are not modelled";
+  return out;
+}
+
+std::size_t BroadcastEphemerisStore::size() const {
+  std::size_t n = 0;
+  for (const auto& [sat, list] : gps_) n += list.size();
+  for (const auto& [sat, list] : galileo_) n += list.size();
+  for (const auto& [sat, list] : glonass_) n += list.size();
+  return n;
+}
+
+}  // namespace ppp
