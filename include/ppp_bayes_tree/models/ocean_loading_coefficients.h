@@ -1,0 +1,33 @@
+#pragma once
+// OceanLoadingCoefficients: the ocean tide loading displacement of one station
+// for the 11 main tidal constituents, as tabulated in the BLQ format of the
+// Onsala ocean loading service (H.-G. Scherneck) and used by IERS Conventions
+// (2010), section 7.1.2: amplitudes [m] and Greenwich phase lags [deg] of the
+// radial (up), west and south displacement.
+#include <array>
+#include <optional>
+#include <string>
+#include <string_view>
+
+namespace ppp {
+
+struct OceanLoadingCoefficients {
+  static constexpr std::size_t kConstituentCount = 11;
+  /// Column order of a BLQ table.
+  static constexpr std::array<std::string_view, kConstituentCount> kConstituents = {
+      "M2", "S2", "N2", "K2", "K1", "O1", "P1", "Q1", "MF", "MM", "SSA"};
+
+  std::string station;  // as written on the station line (first word)
+  std::array<double, kConstituentCount> amplitude_radial_m{};
+  std::array<double, kConstituentCount> amplitude_west_m{};
+  std::array<double, kConstituentCount> amplitude_south_m{};
+  std::array<double, kConstituentCount> phase_radial_deg{};  // Greenwich phase lag
+  std::array<double, kConstituentCount> phase_west_deg{};
+  std::array<double, kConstituentCount> phase_south_deg{};
+  /// Station coordinates from the "$$ ... lon/lat:" comment when present.
+  std::optional<double> longitude_deg;
+  std::optional<double> latitude_deg;
+  std::size_t line = 0;  // line of the station name
+};
+
+}  // namespace ppp
