@@ -283,7 +283,7 @@ void BiasSinexParser::run() {
         out_.reference.emplace_back(trim(column(line, 1, 18)), trim(column(line, 19, std::string::npos)));
       }
     } else if (!block.empty()) {
-      out_.report.count("lines in " + block.substr(0, 40) + " ignored");
+      out_.report.count("lines in other blocks ignored");
     } else if (!isBlank(line)) {
       out_.report.addProblem(src_.lineNumber(), "line outside any block ignored");
     }
