@@ -153,9 +153,13 @@ TEST(BiasSinexReader, SyntheticDsbFile) {
 
 TEST(BiasSinexReader, UtcTimeSystemIsConverted) {
   const BiasSinexFile f = readBiasSinexFile(test::fixturePath("bias_sinex/utc_time_system.bias.txt"));
-  ASSERT_EQ(f.records.size(), 1u);
+  EXPECT_TRUE(f.report.clean()) << f.report.summary();
+  ASSERT_EQ(f.records.size(), 2u);
   // 2021:210:00000 UTC = 2021-07-29 00:00:18 GPST (TAI-UTC 37 s, GPST = TAI - 19 s).
   EXPECT_EQ(*f.records[0].start, gpst(2021, 7, 29, 0, 0, 18.0));
+  // 2015:200:43200 UTC = 2015-07-19 12:00:00 UTC, after the 2015-06-30 leap second
+  // (TAI-UTC 36 s) -> 12:00:17 GPST.
+  EXPECT_EQ(*f.records[1].start, gpst(2015, 7, 19, 12, 0, 17.0));
 }
 
 TEST(BiasSinexReader, MalformedRowsAreSkippedAndCounted) {

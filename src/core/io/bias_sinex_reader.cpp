@@ -78,9 +78,17 @@ std::optional<RawEpoch> parseRawEpoch(std::string_view text) {
 
 std::optional<GnssTime> toTime(const RawEpoch& e, TimeSystem system) {
   if (e.open) return std::nullopt;
-  CalendarTime c;
-  c.year = e.year;
-  return GnssTime::fromCalendar(c, system) + (static_cast<double>(e.doy - 1) * 86400.0 + static_cast<double>(e.sod));
+  // Day of year -> calendar date (through GPST, which has no leap seconds), then
+  // midnight of that date read in `system`, plus the seconds of day.
+  CalendarTime jan1;
+  jan1.year = e.year;
+  const CalendarTime date =
+      (GnssTime::fromCalendar(jan1, TimeSystem::GPS) + static_cast<double>(e.doy - 1) * 86400.0).toCalendar();
+  CalendarTime midnight;
+  midnight.year = date.year;
+  midnight.month = date.month;
+  midnight.day = date.day;
+  return GnssTime::fromCalendar(midnight, system) + static_cast<double>(e.sod);
 }
 
 std::optional<TimeSystem> parseBiasTimeSystem(std::string_view code) {
