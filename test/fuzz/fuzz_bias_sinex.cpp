@@ -1,0 +1,3 @@
+#include "bias_sinex_fuzz_entry.h"
+
+extern "C" int LLVMFuzzerTestOneInput(const uint8_t* d, size_t n) { ppp::fuzz::fuzzBiasSinex(d, n); return 0; }
