@@ -34,7 +34,7 @@ TEST(BlqReader, ReadsAllStationsWithValues) {
   // Line 23: lon/lat comment.
   EXPECT_DOUBLE_EQ(*z.longitude_deg, 7.4650);
   EXPECT_DOUBLE_EQ(*z.latitude_deg, 46.8771);
-  EXPECT_EQ(OceanLoadingCoefficients::kConstituents[4], "K1");
+  EXPECT_STREQ(kTidalConstituentNames[4], "K1");
   // ONSA0SWE (line 39) has no lon/lat comment.
   EXPECT_FALSE(f.stations[2].latitude_deg.has_value());
 }

@@ -8,7 +8,6 @@
 #include <cstddef>
 #include <optional>
 #include <string>
-#include <string_view>
 
 namespace ppp {
 
@@ -18,15 +17,12 @@ constexpr std::size_t kOceanLoadingConstituents = 11;
 /// Order of the constituents in a BLQ record and in OceanLoadingCoefficients.
 enum class TidalConstituent : std::size_t { M2 = 0, S2, N2, K2, K1, O1, P1, Q1, Mf, Mm, Ssa };
 
-/// Names in BLQ column order.
+/// Names in BLQ column order (the order of every array below).
 constexpr std::array<const char*, kOceanLoadingConstituents> kTidalConstituentNames = {
     "M2", "S2", "N2", "K2", "K1", "O1", "P1", "Q1", "MF", "MM", "SSA"};
 
 struct OceanLoadingCoefficients {
   static constexpr std::size_t kConstituentCount = kOceanLoadingConstituents;
-  /// Column order of a BLQ table.
-  static constexpr std::array<std::string_view, kConstituentCount> kConstituents = {
-      "M2", "S2", "N2", "K2", "K1", "O1", "P1", "Q1", "MF", "MM", "SSA"};
 
   std::string station;  // as written on the station line (first word)
   // Index with static_cast<std::size_t>(TidalConstituent::...).
