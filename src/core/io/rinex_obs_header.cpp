@@ -2,6 +2,7 @@
 // RINEX 4.00 table A2). Column numbers in comments are 1-based as in the specs.
 #include "ppp_bayes_tree/io/rinex_obs_header.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "ppp_bayes_tree/io/fixed_width.h"
@@ -22,11 +23,21 @@ std::string field(std::string_view line, std::size_t start, std::size_t width) {
 
 bool allSystems(char letter) { return letter == 'M' || letter == ' '; }
 
+/// 3F14.4; when the columns are misaligned (some writers), three blank-separated
+/// numbers in columns 1-60 are accepted too.
 std::optional<Eigen::Vector3d> threeDoubles(std::string_view line) {
   double v[3];
+  bool ok = true;
+  for (int i = 0; i < 3 && ok; ++i) ok = parseDouble(column(line, 14 * i, 14), v[i]) == FieldStatus::Ok;
+  if (ok) return Eigen::Vector3d(v[0], v[1], v[2]);
+  std::string_view rest = column(line, 0, 60);
   for (int i = 0; i < 3; ++i) {
-    if (parseDouble(column(line, 14 * i, 14), v[i]) != FieldStatus::Ok) return std::nullopt;
+    rest = rest.substr(std::min(rest.size(), rest.find_first_not_of(' ')));
+    const std::size_t end = std::min(rest.size(), rest.find(' '));
+    if (parseDouble(rest.substr(0, end), v[i]) != FieldStatus::Ok) return std::nullopt;
+    rest.remove_prefix(end);
   }
+  if (!isBlank(rest)) return std::nullopt;
   return Eigen::Vector3d(v[0], v[1], v[2]);
 }
 
