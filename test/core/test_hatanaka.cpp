@@ -10,6 +10,8 @@
 
 #include "ppp_bayes_tree/io/hatanaka_decoder.h"
 #include "ppp_bayes_tree/io/rinex_obs_reader.h"
+#include "fuzz/hatanaka_fuzz_entry.h"
+#include "fuzz/rinex_obs_fuzz_entry.h"
 #include "test_support.h"
 
 namespace ppp {
@@ -269,6 +271,22 @@ TEST(HatanakaSynthetic, BadCrinexHeaderThrowsParseError) {
     EXPECT_EQ(e.line(), 2u);
     EXPECT_NE(e.reason().find("CRINEX PROG / DATE"), std::string::npos);
   }
+}
+
+// The fuzz entries run over their seed corpora (and every fixture) without
+// throwing anything else than the documented exceptions, which they catch.
+TEST(HatanakaFuzzEntries, SeedCorporaRun) {
+  std::size_t files = 0;
+  for (const char* dir : {"/corpus/hatanaka", "/corpus/rinex_obs"}) {
+    for (const auto& entry : std::filesystem::directory_iterator(std::string(PPP_FUZZ_DIR) + dir)) {
+      const std::string bytes = test::readFileBytes(entry.path().string());
+      const auto* data = reinterpret_cast<const std::uint8_t*>(bytes.data());
+      EXPECT_NO_THROW(fuzz::fuzzHatanaka(data, bytes.size())) << entry.path();
+      EXPECT_NO_THROW(fuzz::fuzzRinexObs(data, bytes.size())) << entry.path();
+      ++files;
+    }
+  }
+  EXPECT_GE(files, 10u);
 }
 
 }  // namespace

@@ -271,7 +271,7 @@ TEST(RinexObsRinex2, Algo2011FromPlainAndCompact) {
 // ---------------------------------------------------------------- synthetic fixtures
 
 TEST(RinexObsSynthetic, Rinex211EventsAndContinuation) {
-  RinexObsReader reader = RinexObsReader::open(test::fixturePath("rinex_obs/rinex211_events.11o"));
+  RinexObsReader reader = RinexObsReader::open(test::fixturePath("rinex_obs/rinex211_events.obs"));
   EXPECT_EQ(reader.header().antenna_type, "LEIAR25.R3");
   EXPECT_EQ(reader.header().antenna_radome, "LEIT");
   EXPECT_EQ(*reader.header().antenna_delta_hen_m, Eigen::Vector3d(0.1234, 0, 0));
@@ -308,7 +308,7 @@ TEST(RinexObsSynthetic, Rinex211EventsAndContinuation) {
 }
 
 TEST(RinexObsSynthetic, Rinex305EventsClockAndTimeOrder) {
-  RinexObsReader reader = RinexObsReader::open(test::fixturePath("rinex_obs/rinex305_events.rnx"));
+  RinexObsReader reader = RinexObsReader::open(test::fixturePath("rinex_obs/rinex305_events.obs"));
   const RinexObsHeader& h = reader.header();
   EXPECT_EQ(h.version_text, "3.05");
   EXPECT_EQ(h.glonass_channels.channel(2), -4);
@@ -345,7 +345,7 @@ TEST(RinexObsSynthetic, Rinex305EventsClockAndTimeOrder) {
 }
 
 TEST(RinexObsSynthetic, Rinex400) {
-  RinexObsReader reader = RinexObsReader::open(test::fixturePath("rinex_obs/rinex400.rnx"));
+  RinexObsReader reader = RinexObsReader::open(test::fixturePath("rinex_obs/rinex400.obs"));
   EXPECT_EQ(reader.header().major_version, 4);
   EXPECT_EQ(codes(reader.header().types(GnssSystem::BeiDou)), "C2I L2I");
   const auto epochs = readAll(reader);
@@ -364,17 +364,17 @@ struct HeaderCase {
 
 TEST(RinexObsMalformed, HeadersThrowParseErrorWithLineAndReason) {
   const HeaderCase cases[] = {
-      {"missing_end_of_header.rnx", 11, "missing END OF HEADER"},
-      {"bad_version.rnx", 1, "bad RINEX version"},
-      {"unsupported_version.rnx", 1, "unsupported RINEX version 5.00"},
-      {"navigation_file.rnx", 1, "not an observation file"},
-      {"not_rinex.rnx", 1, "not a RINEX file"},
-      {"bad_type_count.rnx", 9, "bad observation type count"},
-      {"short_type_list.rnx", 9, "14 types short of its count"},
-      {"bad_obs_code.rnx", 9, "bad observation code 'Z1C'"},
-      {"bad_glonass_slot.rnx", 11, "bad GLONASS SLOT / FRQ # entry"},
-      {"bad_time_of_first_obs.rnx", 11, "invalid date in TIME OF FIRST OBS"},
-      {"no_observation_types.rnx", 10, "no observation types"},
+      {"missing_end_of_header.obs", 11, "missing END OF HEADER"},
+      {"bad_version.obs", 1, "bad RINEX version"},
+      {"unsupported_version.obs", 1, "unsupported RINEX version 5.00"},
+      {"navigation_file.obs", 1, "not an observation file"},
+      {"not_rinex.obs", 1, "not a RINEX file"},
+      {"bad_type_count.obs", 9, "bad observation type count"},
+      {"short_type_list.obs", 9, "14 types short of its count"},
+      {"bad_obs_code.obs", 9, "bad observation code 'Z1C'"},
+      {"bad_glonass_slot.obs", 11, "bad GLONASS SLOT / FRQ # entry"},
+      {"bad_time_of_first_obs.obs", 11, "invalid date in TIME OF FIRST OBS"},
+      {"no_observation_types.obs", 10, "no observation types"},
   };
   for (const auto& c : cases) {
     const std::string path = test::fixturePath(std::string("malformed/rinex_obs/") + c.file);
@@ -390,7 +390,7 @@ TEST(RinexObsMalformed, HeadersThrowParseErrorWithLineAndReason) {
 }
 
 TEST(RinexObsMalformed, Rinex3RecordsSkippedAndReadingResumes) {
-  RinexObsReader reader = RinexObsReader::open(test::fixturePath("malformed/rinex_obs/bad_records.rnx"));
+  RinexObsReader reader = RinexObsReader::open(test::fixturePath("malformed/rinex_obs/bad_records.obs"));
   const auto epochs = readAll(reader);
   // Good epochs: 00:00:00, 00:01:30 (G01 dropped for a bad value), 00:02:00.
   ASSERT_EQ(epochs.size(), 3u);
@@ -410,7 +410,7 @@ TEST(RinexObsMalformed, Rinex3RecordsSkippedAndReadingResumes) {
 }
 
 TEST(RinexObsMalformed, Rinex2RecordsSkippedAndReadingResumes) {
-  RinexObsReader reader = RinexObsReader::open(test::fixturePath("malformed/rinex_obs/bad_records_v2.11o"));
+  RinexObsReader reader = RinexObsReader::open(test::fixturePath("malformed/rinex_obs/bad_records_v2.obs"));
   const auto epochs = readAll(reader);
   ASSERT_EQ(epochs.size(), 2u);
   EXPECT_EQ(epochs[0].time, gpst(2015, 1, 1, 0, 0, 0));
@@ -424,7 +424,7 @@ TEST(RinexObsMalformed, Rinex2RecordsSkippedAndReadingResumes) {
 }
 
 TEST(RinexObsMalformed, TruncatedGzipIsReportedAndEarlierEpochsKept) {
-  const std::string text = test::readFileBytes(test::fixturePath("rinex_obs/rinex305_events.rnx"));
+  const std::string text = test::readFileBytes(test::fixturePath("rinex_obs/rinex305_events.obs"));
   const auto dir = test::tempDir("obsgz");
   const std::string gz = (dir / "cut.rnx.gz").string();
   gzFile f = gzopen(gz.c_str(), "wb");
