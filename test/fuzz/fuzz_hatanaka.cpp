@@ -1,0 +1,6 @@
+#include "hatanaka_fuzz_entry.h"
+
+extern "C" int LLVMFuzzerTestOneInput(const uint8_t* d, size_t n) {
+  ppp::fuzz::fuzzHatanaka(d, n);
+  return 0;
+}

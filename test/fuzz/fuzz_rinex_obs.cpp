@@ -1,0 +1,6 @@
+#include "rinex_obs_fuzz_entry.h"
+
+extern "C" int LLVMFuzzerTestOneInput(const uint8_t* d, size_t n) {
+  ppp::fuzz::fuzzRinexObs(d, n);
+  return 0;
+}
