@@ -100,11 +100,12 @@ class Sp3Parser {
     readLine2();
     readSatelliteList();
     readAccuracyLines();
-    // %c, %f, %i and /* lines in any order until the first epoch line.
+    // %c, %f, %i and /* lines in any order; the header ends at the first other
+    // line (normally the first "*" epoch line; anything else is then a record
+    // problem, not a header error).
     int c_lines = 0, f_lines = 0;
     bool have_line = true;
     while (have_line) {
-      if (startsWith(line_, "*") || startsWith(line_, "EOF")) break;
       if (startsWith(line_, "%c")) {
         if (c_lines++ == 0) readTimeSystemLine();
       } else if (startsWith(line_, "%f")) {
@@ -113,10 +114,8 @@ class Sp3Parser {
         // integer placeholders; nothing defined in SP3-d
       } else if (startsWith(line_, "/*")) {
         h.comments.emplace_back(trim(column(line_, 3, 80)));
-      } else if (isBlank(line_)) {
-        file_.report.count("blank header lines");
       } else {
-        fail("unexpected header line '" + std::string(column(line_, 0, 20)) + "'");
+        break;
       }
       have_line = nextLine();
     }
@@ -172,6 +171,7 @@ class Sp3Parser {
     }
     const long long count = headerInt(3, 3, "number of satellites (columns 4-6)");
     if (count < 0) fail("negative number of satellites");
+    const std::size_t count_line = src_.lineNumber();
     do {
       for (int k = 0; k < 17; ++k) {
         const std::string_view field = column(line_, 9 + 3 * k, 3);
@@ -187,8 +187,9 @@ class Sp3Parser {
       if (!nextLine()) fail("header ends inside the satellite list");
     } while (startsWith(line_, "+") && !startsWith(line_, "++"));
     if (static_cast<long long>(h.satellites.size()) != count) {
-      fail("header announces " + std::to_string(count) + " satellites but lists " +
-           std::to_string(h.satellites.size()));
+      throw ParseError(src_.name(), count_line,
+                       "header announces " + std::to_string(count) + " satellites but lists " +
+                           std::to_string(h.satellites.size()));
     }
   }
 
