@@ -90,26 +90,32 @@ class ClockParser {
     }
   }
 
+  // The label is the known label the line ends with (the longest one, so that
+  // "LEAP SECONDS GNSS" wins over "LEAP SECONDS"), starting at column 61 or
+  // later; 3.04 lines with 9-character names put it at column 66.
   void splitLabel(std::string_view& content, std::string_view& label) const {
-    const std::string_view line(line_);
-    for (std::size_t pos : {std::size_t{60}, std::size_t{65}}) {
-      const std::string_view candidate = trim(column(line, pos, 40));
-      if (isKnownLabel(candidate)) {
-        content = column(line, 0, pos);
-        label = candidate;
-        return;
+    std::string_view line(line_);
+    while (!line.empty() && (line.back() == ' ' || line.back() == '\t')) line.remove_suffix(1);
+    std::string_view best;
+    for (std::string_view known : kKnownLabels) {
+      if (known.size() > best.size() && line.size() >= known.size() &&
+          line.substr(line.size() - known.size()) == known && line.size() - known.size() >= 55) {
+        best = known;
       }
     }
-    if (line.size() <= 60) {
-      if (isBlank(line)) {
-        content = {};
-        label = {};
-        return;
-      }
-      fail("header line without a label in columns 61-80");
+    if (!best.empty()) {
+      content = column(line_, 0, line.size() - best.size());
+      label = best;
+      return;
     }
-    content = column(line, 0, 60);
-    label = trim(column(line, 60, 40));
+    if (isBlank(line_)) {
+      content = {};
+      label = {};
+      return;
+    }
+    if (line_.size() <= 60) fail("header line without a label in columns 61-80");
+    content = column(line_, 0, 60);
+    label = trim(column(line_, 60, 40));
   }
 
   void readVersionLine(std::string_view content) {
