@@ -357,7 +357,8 @@ class Sp3Parser {
     if (base <= 0.0 || parseInt(column(line_, start, width), n) != FieldStatus::Ok || n < 0 || n > 999) {
       return std::nullopt;
     }
-    return std::pow(base, static_cast<double>(n));
+    const double value = std::pow(base, static_cast<double>(n));
+    return std::isfinite(value) ? std::optional<double>(value) : std::nullopt;
   }
 
   static bool flag(std::string_view line, std::size_t pos, char c) { return pos < line.size() && line[pos] == c; }
@@ -366,6 +367,13 @@ class Sp3Parser {
     last_p_ = nullptr;
     auto raw = parseRaw();
     if (!raw) return;
+    if (listed_.empty()) {
+      listed_.assign(static_cast<std::size_t>(kNumGnssSystems) * 100, false);
+      for (const auto& s : file_.header.satellites) listed_[static_cast<std::size_t>(s.index())] = true;
+    }
+    if (!listed_[static_cast<std::size_t>(raw->sat.index())]) {
+      file_.report.count("records of satellites missing from the header list (kept)");
+    }
     auto& series = file_.satellites[raw->sat];
     const GnssTime t = file_.epochs.back();
     if (!series.empty() && series.back().time == t) {
@@ -410,6 +418,7 @@ class Sp3Parser {
   std::string line_;
   Sp3File file_;
   Sp3Record* last_p_ = nullptr;
+  std::vector<bool> listed_;  // by SatelliteId::index(): satellites of the "+" lines
   SatelliteId last_p_sat_;
 };
 
