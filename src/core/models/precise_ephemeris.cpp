@@ -1,0 +1,530 @@
+#include "ppp_bayes_tree/models/precise_ephemeris.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <map>
+
+#include "ppp_bayes_tree/types/constants.h"
+
+namespace ppp {
+namespace {
+
+std::string timeText(const GnssTime& t) { return t.toString(TimeSystem::GPS, 0); }
+
+std::string minutesText(double seconds) {
+  char buf[64];
+  std::snprintf(buf, sizeof(buf), "%.1f min", seconds / 60.0);
+  return buf;
+}
+
+std::string secondsText(double seconds) {
+  char buf[64];
+  std::snprintf(buf, sizeof(buf), "%.1f s", seconds);
+  return buf;
+}
+
+/// Lagrange basis values w[j] = l_j(x) and derivatives dw[j] = l_j'(x) for the
+/// nodes tau[0..n-1] (distinct). Plain products: n is small (~10).
+void lagrangeWeights(const std::vector<double>& tau, double x, std::vector<double>& w, std::vector<double>& dw) {
+  const std::size_t n = tau.size();
+  w.assign(n, 0.0);
+  dw.assign(n, 0.0);
+  for (std::size_t j = 0; j < n; ++j) {
+    double p = 1.0;
+    for (std::size_t m = 0; m < n; ++m) {
+      if (m != j) p *= (x - tau[m]) / (tau[j] - tau[m]);
+    }
+    w[j] = p;
+    // l_j'(x) = sum_k [1/(tau_j - tau_k)] prod_{m != j,k} (x - tau_m)/(tau_j - tau_m)
+    double d = 0.0;
+    for (std::size_t k = 0; k < n; ++k) {
+      if (k == j) continue;
+      double q = 1.0 / (tau[j] - tau[k]);
+      for (std::size_t m = 0; m < n; ++m) {
+        if (m != j && m != k) q *= (x - tau[m]) / (tau[j] - tau[m]);
+      }
+      d += q;
+    }
+    dw[j] = d;
+  }
+}
+
+/// Components in the non-rotating frame that coincides with ECEF at the query
+/// time, of an ECEF vector taken dt_s after it: rotation by +omega*dt about z.
+Eigen::Vector3d rotateToQueryFrame(const Eigen::Vector3d& v, double dt_s) {
+  const double th = kEarthRotationRate_radps * dt_s;
+  const double c = std::cos(th), s = std::sin(th);
+  return {c * v.x() - s * v.y(), s * v.x() + c * v.y(), v.z()};
+}
+
+/// omega x r for the Earth rotation vector (0, 0, omega).
+Eigen::Vector3d earthRotationCross(const Eigen::Vector3d& r) {
+  return {-kEarthRotationRate_radps * r.y(), kEarthRotationRate_radps * r.x(), 0.0};
+}
+
+template <class Node>
+void mergeSeries(std::vector<Node>& into, const std::vector<Node>& add, ParseReport& report,
+                 bool (*valid)(const Node&)) {
+  const auto by_time = [](const Node& a, const Node& b) { return a.time < b.time; };
+  into.insert(into.end(), add.begin(), add.end());
+  std::stable_sort(into.begin(), into.end(), by_time);
+  std::vector<Node> out;
+  out.reserve(into.size());
+  for (const Node& n : into) {
+    if (!out.empty() && out.back().time == n.time) {
+      report.count("overlapping epochs de-duplicated");
+      if (!valid(out.back()) && valid(n)) out.back() = n;  // keep the first valid one
+      continue;
+    }
+    out.push_back(n);
+  }
+  into.swap(out);
+}
+
+double modalSpacing_s(const std::vector<GnssTime>& times) {
+  std::map<long long, std::size_t> hist;
+  for (std::size_t i = 1; i < times.size(); ++i) ++hist[std::llround((times[i] - times[i - 1]) * 1000.0)];
+  if (hist.empty()) return 0.0;
+  const auto best = std::max_element(hist.begin(), hist.end(),
+                                     [](const auto& a, const auto& b) { return a.second < b.second; });
+  return static_cast<double>(best->first) * 1e-3;
+}
+
+void extendSpan(std::optional<ProductSpan>& span, const GnssTime& first, const GnssTime& last) {
+  if (!span) {
+    span = ProductSpan{first, last};
+    return;
+  }
+  if (first < span->first) span->first = first;
+  if (last > span->last) span->last = last;
+}
+
+}  // namespace
+
+std::string_view productStatusName(ProductStatus status) {
+  switch (status) {
+    case ProductStatus::Ok: return "ok";
+    case ProductStatus::NoProducts: return "no products";
+    case ProductStatus::SatelliteNotInProducts: return "satellite not in products";
+    case ProductStatus::OutsideSpan: return "outside product span";
+    case ProductStatus::Gap: return "gap";
+    case ProductStatus::BadValueMarker: return "bad value marker";
+    case ProductStatus::NotEnoughNodes: return "not enough nodes";
+  }
+  return "?";
+}
+
+PreciseEphemeris::PreciseEphemeris(PreciseEphemerisOptions options) : options_(options) {
+  options_.interpolation_points = std::max(2, std::min(options_.interpolation_points, 30));
+}
+
+void PreciseEphemeris::addOrbits(const Sp3File& file) {
+  if (file.epochs.empty()) return;
+  if (file.header.interval_s > 0.0 &&
+      (orbit_interval_s_ <= 0.0 || file.header.interval_s < orbit_interval_s_)) {
+    orbit_interval_s_ = file.header.interval_s;
+  }
+  extendSpan(orbit_span_, file.epochs.front(), file.epochs.back());
+  for (const auto& [sat, records] : file.satellites) {
+    std::vector<OrbitNode> nodes;
+    nodes.reserve(records.size());
+    for (const Sp3Record& r : records) {
+      nodes.push_back({r.time, r.position_ecef_m, r.velocity_ecef_mps});
+    }
+    mergeSeries<OrbitNode>(orbits_[sat], nodes, merge_report_,
+                           [](const OrbitNode& n) { return n.position_ecef_m.has_value(); });
+    std::vector<ClockNode> clock_nodes;
+    clock_nodes.reserve(records.size());
+    for (const Sp3Record& r : records) clock_nodes.push_back({r.time, r.clock_bias_s, r.clock_marked_bad});
+    ParseReport ignored;  // the overlap is already counted for the orbit nodes
+    mergeSeries<ClockNode>(sp3_clocks_[sat], clock_nodes, ignored,
+                           [](const ClockNode& n) { return n.clock_bias_s.has_value(); });
+  }
+}
+
+void PreciseEphemeris::addClocks(const RinexClockFile& file) {
+  for (const auto& [sat, records] : file.satellite_clocks) {
+    if (records.empty()) continue;
+    std::vector<ClockNode> nodes;
+    nodes.reserve(records.size());
+    std::vector<GnssTime> times;
+    times.reserve(records.size());
+    for (const ClockRecord& r : records) {
+      nodes.push_back({r.time, r.clock_bias_s, false});
+      times.push_back(r.time);
+    }
+    extendSpan(clock_span_, records.front().time, records.back().time);
+    const double spacing = modalSpacing_s(times);
+    if (spacing > 0.0 && (clock_interval_s_ <= 0.0 || spacing < clock_interval_s_)) clock_interval_s_ = spacing;
+    mergeSeries<ClockNode>(clocks_[sat], nodes, merge_report_,
+                           [](const ClockNode& n) { return n.clock_bias_s.has_value(); });
+  }
+}
+
+PreciseEphemeris PreciseEphemeris::load(const std::vector<std::string>& sp3_paths,
+                                        const std::vector<std::string>& clock_paths,
+                                        PreciseEphemerisOptions options) {
+  PreciseEphemeris eph(options);
+  for (const auto& p : sp3_paths) {
+    const Sp3File f = readSp3(p);
+    if (!f.report.clean()) eph.merge_report_.count("problems in " + p, f.report.problemCount());
+    eph.addOrbits(f);
+  }
+  for (const auto& p : clock_paths) {
+    const RinexClockFile f = readRinexClock(p, RinexClockReadOptions{false});
+    if (!f.report.clean()) eph.merge_report_.count("problems in " + p, f.report.problemCount());
+    eph.addClocks(f);
+  }
+  return eph;
+}
+
+double PreciseEphemeris::maxNodeSpacing_s() const {
+  if (options_.max_node_spacing_s > 0.0) return options_.max_node_spacing_s;
+  return 1.5 * orbit_interval_s_;
+}
+
+double PreciseEphemeris::maxClockSpacing_s() const {
+  if (options_.max_clock_spacing_s > 0.0) return options_.max_clock_spacing_s;
+  return 1.5 * (clocks_.empty() ? orbit_interval_s_ : clock_interval_s_);
+}
+
+std::optional<ProductSpan> PreciseEphemeris::orbitSpan() const { return orbit_span_; }
+std::optional<ProductSpan> PreciseEphemeris::clockSpan() const { return spanOfClockSource(); }
+std::optional<ProductSpan> PreciseEphemeris::spanOfClockSource() const {
+  return clocks_.empty() ? orbit_span_ : clock_span_;
+}
+
+std::set<SatelliteId> PreciseEphemeris::orbitSatellites() const {
+  std::set<SatelliteId> out;
+  for (const auto& [sat, nodes] : orbits_) out.insert(sat);
+  return out;
+}
+
+std::set<SatelliteId> PreciseEphemeris::clockSatellites() const {
+  std::set<SatelliteId> out;
+  if (!clocks_.empty()) {
+    for (const auto& [sat, nodes] : clocks_) out.insert(sat);
+  } else {
+    for (const auto& [sat, nodes] : sp3_clocks_) {
+      if (std::any_of(nodes.begin(), nodes.end(), [](const ClockNode& n) { return n.clock_bias_s.has_value(); })) {
+        out.insert(sat);
+      }
+    }
+  }
+  return out;
+}
+
+// ------------------------------------------------------------------ orbit
+namespace {
+
+/// Why a walk along the nodes stopped.
+struct WalkStop {
+  enum Kind { Enough, DataEdge, Break } kind = Enough;
+  ProductStatus status = ProductStatus::Ok;
+  std::string reason;
+};
+
+}  // namespace
+
+ProductResult<SatelliteOrbit> PreciseEphemeris::orbit(const SatelliteId& sat, const GnssTime& t) const {
+  using R = ProductResult<SatelliteOrbit>;
+  if (orbits_.empty() || !orbit_span_) return R::failure(ProductStatus::NoProducts, "no SP3 orbit loaded");
+  const auto it = orbits_.find(sat);
+  if (it == orbits_.end()) {
+    return R::failure(ProductStatus::SatelliteNotInProducts, "satellite " + sat.toString() + " not in products (SP3)");
+  }
+  if (t < orbit_span_->first || t > orbit_span_->last) {
+    return R::failure(ProductStatus::OutsideSpan, "unavailable: time " + timeText(t) + " outside product span [" +
+                                                      timeText(orbit_span_->first) + ", " +
+                                                      timeText(orbit_span_->last) + "]");
+  }
+  const std::vector<OrbitNode>& nodes = it->second;
+  const std::size_t n_points = static_cast<std::size_t>(options_.interpolation_points);
+  const double max_gap = maxNodeSpacing_s();
+  const std::string name = sat.toString();
+  const auto by_time = [](const GnssTime& a, const OrbitNode& b) { return a < b.time; };
+  // k: first node strictly after t; nodes[k-1] is at or before t.
+  const std::size_t k = static_cast<std::size_t>(std::upper_bound(nodes.begin(), nodes.end(), t, by_time) - nodes.begin());
+  const bool exact = k > 0 && nodes[k - 1].time == t;
+
+  // 1. The nodes that bracket t must exist, be valid and be close enough.
+  const auto badMarker = [&](const OrbitNode& n) {
+    return R::failure(ProductStatus::BadValueMarker,
+                      "bad value marker in SP3 at " + timeText(n.time) + " for " + name);
+  };
+  if (exact) {
+    if (!nodes[k - 1].position_ecef_m) return badMarker(nodes[k - 1]);
+  } else {
+    if (k == 0 || k == nodes.size()) {
+      const OrbitNode& nearest = k == 0 ? nodes.front() : nodes.back();
+      return R::failure(ProductStatus::Gap, "gap: nearest SP3 node for " + name + " is " +
+                                                minutesText(std::abs(nearest.time - t)) + " away (" +
+                                                (k == 0 ? "none before " : "none after ") + timeText(t) +
+                                                ", max allowed spacing " + minutesText(max_gap) + ")");
+    }
+    const OrbitNode& l = nodes[k - 1];
+    const OrbitNode& r = nodes[k];
+    if (!l.position_ecef_m) return badMarker(l);
+    if (!r.position_ecef_m) return badMarker(r);
+    if (r.time - l.time > max_gap) {
+      return R::failure(ProductStatus::Gap, "gap: nearest SP3 node for " + name + " is " +
+                                                minutesText(std::min(t - l.time, r.time - t)) + " away (nodes " +
+                                                timeText(l.time) + " and " + timeText(r.time) + " are " +
+                                                minutesText(r.time - l.time) + " apart, max allowed " +
+                                                minutesText(max_gap) + ")");
+    }
+  }
+
+  // 2. Walk outward collecting up to n_points consecutive usable nodes per side.
+  const auto walk = [&](std::size_t start, int step, std::vector<std::size_t>& out) {
+    WalkStop stop;
+    std::size_t i = start;
+    for (;;) {
+      if (out.size() >= n_points) return stop;
+      if ((step < 0 && i == static_cast<std::size_t>(-1)) || (step > 0 && i >= nodes.size())) {
+        stop.kind = WalkStop::DataEdge;
+        return stop;
+      }
+      const OrbitNode& n = nodes[i];
+      if (!n.position_ecef_m) {
+        stop = {WalkStop::Break, ProductStatus::BadValueMarker, "bad value marker in SP3 at " + timeText(n.time)};
+        return stop;
+      }
+      if (!out.empty() && std::abs(n.time - nodes[out.back()].time) > max_gap) {
+        stop = {WalkStop::Break, ProductStatus::Gap,
+                "gap: SP3 nodes " + timeText(std::min(n.time, nodes[out.back()].time)) + " and " +
+                    timeText(std::max(n.time, nodes[out.back()].time)) + " are " +
+                    minutesText(std::abs(n.time - nodes[out.back()].time)) + " apart (max allowed " +
+                    minutesText(max_gap) + ")"};
+        return stop;
+      }
+      out.push_back(i);
+      i = step < 0 ? i - 1 : i + 1;
+    }
+  };
+  std::vector<std::size_t> left, right;  // left: at or before t (nearest first); right: after t
+  const WalkStop left_stop = walk(k - 1, -1, left);
+  const WalkStop right_stop = walk(k, +1, right);
+
+  // 3. Centred window, shifted inward at data edges (and at gaps if allowed).
+  std::size_t want_left = n_points / 2, want_right = n_points - want_left;
+  const auto can_shift = [&](const WalkStop& s) {
+    return s.kind == WalkStop::DataEdge || (s.kind == WalkStop::Break && options_.shift_window_at_gaps);
+  };
+  const auto refuse = [&](const WalkStop& s) {
+    return R::failure(s.status, s.reason + ": the " + std::to_string(n_points) + "-node window for " + name +
+                                    " at " + timeText(t) + " would straddle it");
+  };
+  if (left.size() < want_left) {
+    if (!can_shift(left_stop)) return refuse(left_stop);
+    want_right += want_left - left.size();
+    want_left = left.size();
+  }
+  if (right.size() < want_right) {
+    if (!can_shift(right_stop)) return refuse(right_stop);
+    want_left += want_right - right.size();
+    want_right = right.size();
+  }
+  if (left.size() < want_left) {
+    if (left_stop.kind == WalkStop::Break) return refuse(left_stop);
+    return R::failure(ProductStatus::NotEnoughNodes, "only " + std::to_string(left.size() + right.size()) +
+                                                         " usable SP3 nodes for " + name + " around " +
+                                                         timeText(t) + " (need " + std::to_string(n_points) + ")");
+  }
+  std::vector<std::size_t> window;
+  window.reserve(n_points);
+  for (std::size_t i = want_left; i-- > 0;) window.push_back(left[i]);
+  for (std::size_t i = 0; i < want_right; ++i) window.push_back(right[i]);
+
+  // 4. Lagrange interpolation in a scaled time relative to the window centre.
+  const GnssTime centre = nodes[window[window.size() / 2]].time;
+  const double h = orbit_interval_s_ > 0.0 ? orbit_interval_s_ : 1.0;
+  std::vector<double> tau(window.size()), w, dw;
+  for (std::size_t j = 0; j < window.size(); ++j) tau[j] = (nodes[window[j]].time - centre) / h;
+  lagrangeWeights(tau, (t - centre) / h, w, dw);
+  const bool inertial = options_.interpolate_in_inertial_frame;
+  bool have_velocities = options_.use_sp3_velocity;
+  Eigen::Vector3d pos = Eigen::Vector3d::Zero(), dpos = Eigen::Vector3d::Zero(), vel = Eigen::Vector3d::Zero();
+  for (std::size_t j = 0; j < window.size(); ++j) {
+    const OrbitNode& n = nodes[window[j]];
+    const double dt = n.time - t;
+    const Eigen::Vector3d p = inertial ? rotateToQueryFrame(*n.position_ecef_m, dt) : *n.position_ecef_m;
+    pos += w[j] * p;
+    dpos += dw[j] * p;
+    if (have_velocities && n.velocity_ecef_mps) {
+      const Eigen::Vector3d v =
+          inertial ? rotateToQueryFrame(*n.velocity_ecef_mps + earthRotationCross(*n.position_ecef_m), dt)
+                   : *n.velocity_ecef_mps;
+      vel += w[j] * v;
+    } else {
+      have_velocities = false;
+    }
+  }
+  SatelliteOrbit out;
+  out.position_ecef_m = pos;  // the query frame coincides with ECEF at t
+  if (have_velocities) {
+    out.velocity_ecef_mps = inertial ? Eigen::Vector3d(vel - earthRotationCross(pos)) : vel;
+    out.velocity_source = VelocitySource::Sp3VelocityRecords;
+  } else {
+    const Eigen::Vector3d v = dpos / h;
+    out.velocity_ecef_mps = inertial ? Eigen::Vector3d(v - earthRotationCross(pos)) : v;
+    out.velocity_source = VelocitySource::PositionInterpolant;
+  }
+  out.window_first = nodes[window.front()].time;
+  out.window_last = nodes[window.back()].time;
+  out.nodes_used = static_cast<int>(window.size());
+  return R::success(out);
+}
+
+// ------------------------------------------------------------------ clock
+ProductResult<SatelliteClock> PreciseEphemeris::clock(const SatelliteId& sat, const GnssTime& t) const {
+  using R = ProductResult<SatelliteClock>;
+  if (!clocks_.empty()) {
+    const auto it = clocks_.find(sat);
+    if (it == clocks_.end()) {
+      return R::failure(ProductStatus::SatelliteNotInProducts,
+                        "satellite " + sat.toString() + " not in products (RINEX clock)");
+    }
+    return interpolateClock(it->second, sat, t, ClockSource::RinexClock);
+  }
+  if (orbits_.empty()) return R::failure(ProductStatus::NoProducts, "no clock product loaded (neither CLK nor SP3)");
+  const auto it = orbits_.find(sat);
+  if (it == orbits_.end()) {
+    return R::failure(ProductStatus::SatelliteNotInProducts, "satellite " + sat.toString() + " not in products (SP3)");
+  }
+  return interpolateClock(sp3_clocks_.at(sat), sat, t, ClockSource::Sp3);
+}
+
+ProductResult<SatelliteClock> PreciseEphemeris::interpolateClock(const std::vector<ClockNode>& series,
+                                                                 const SatelliteId& sat, const GnssTime& t,
+                                                                 ClockSource source) const {
+  using R = ProductResult<SatelliteClock>;
+  const std::string src = source == ClockSource::RinexClock ? "clock file" : "SP3 clock";
+  const auto span = spanOfClockSource();
+  if (!span || t < span->first || t > span->last) {
+    return R::failure(ProductStatus::OutsideSpan,
+                      "unavailable: time " + timeText(t) + " outside " + src + " span" +
+                          (span ? " [" + timeText(span->first) + ", " + timeText(span->last) + "]" : ""));
+  }
+  const std::string name = sat.toString();
+  const double max_gap = maxClockSpacing_s();
+  const auto unusable = [&](const ClockNode& n) {
+    return R::failure(n.marked_bad ? ProductStatus::BadValueMarker : ProductStatus::Gap,
+                      (n.marked_bad ? "bad value marker in " : "no value in ") + src + " at " + timeText(n.time) +
+                          " for " + name);
+  };
+  const auto by_time = [](const GnssTime& a, const ClockNode& b) { return a < b.time; };
+  const std::size_t k =
+      static_cast<std::size_t>(std::upper_bound(series.begin(), series.end(), t, by_time) - series.begin());
+  SatelliteClock out;
+  out.source = source;
+  if (k > 0 && series[k - 1].time == t) {
+    const ClockNode& n = series[k - 1];
+    if (!n.clock_bias_s) return unusable(n);
+    out.clock_bias_s = *n.clock_bias_s;  // exactly the file's value
+    out.exact_record = true;
+    const ClockNode* other = k < series.size() ? &series[k] : (k >= 2 ? &series[k - 2] : nullptr);
+    if (other && other->clock_bias_s && std::abs(other->time - n.time) <= max_gap) {
+      out.clock_drift_s_per_s = (*other->clock_bias_s - *n.clock_bias_s) / (other->time - n.time);
+    }
+    return R::success(out);
+  }
+  if (k == 0 || k == series.size()) {
+    const ClockNode& nearest = k == 0 ? series.front() : series.back();
+    return R::failure(ProductStatus::Gap, "gap: nearest " + src + " record for " + name + " is " +
+                                              secondsText(std::abs(nearest.time - t)) + " away (none " +
+                                              (k == 0 ? "before " : "after ") + timeText(t) + ")");
+  }
+  const ClockNode& l = series[k - 1];
+  const ClockNode& r = series[k];
+  if (!l.clock_bias_s) return unusable(l);
+  if (!r.clock_bias_s) return unusable(r);
+  const double span_s = r.time - l.time;
+  if (span_s > max_gap) {
+    return R::failure(ProductStatus::Gap, "gap: " + src + " records for " + name + " at " + timeText(l.time) +
+                                              " and " + timeText(r.time) + " are " + secondsText(span_s) +
+                                              " apart (max allowed " + secondsText(max_gap) + ")");
+  }
+  const double wr = (t - l.time) / span_s;
+  out.clock_bias_s = (1.0 - wr) * *l.clock_bias_s + wr * *r.clock_bias_s;
+  out.clock_drift_s_per_s = (*r.clock_bias_s - *l.clock_bias_s) / span_s;
+  return R::success(out);
+}
+
+// ------------------------------------------------------------------ coverage
+ProductCoverage checkCoverage(const PreciseEphemeris& products, const GnssTime& first, const GnssTime& last,
+                              double interval_s, const std::set<SatelliteId>& needed) {
+  ProductCoverage cov;
+  cov.first = first;
+  cov.last = last;
+  cov.orbit_span = products.orbitSpan();
+  cov.clock_span = products.clockSpan();
+  cov.orbit_span_covers = cov.orbit_span && cov.orbit_span->first <= first && cov.orbit_span->last >= last;
+  cov.clock_span_covers = cov.clock_span && cov.clock_span->first <= first && cov.clock_span->last >= last;
+  const auto orbit_sats = products.orbitSatellites();
+  const auto clock_sats = products.clockSatellites();
+  for (const auto& sat : needed) {
+    if (!orbit_sats.count(sat)) cov.missing_orbit.insert(sat);
+    if (!clock_sats.count(sat)) cov.missing_clock.insert(sat);
+  }
+  constexpr std::size_t kMaxEpochs = 100000;
+  const double span = last - first;
+  std::vector<GnssTime> epochs;
+  if (span >= 0.0) {
+    if (interval_s > 0.0) {
+      const auto n = static_cast<std::size_t>(std::min(std::floor(span / interval_s), double(kMaxEpochs - 1)));
+      for (std::size_t i = 0; i <= n; ++i) epochs.push_back(first + static_cast<double>(i) * interval_s);
+    } else {
+      epochs.push_back(first);
+    }
+    if (epochs.back() != last && epochs.size() < kMaxEpochs) epochs.push_back(last);
+  }
+  cov.epochs_checked = epochs.size();
+  const auto note = [](auto& map, const SatelliteId& sat, const std::string& reason) {
+    auto& entry = map[sat];
+    if (entry.first++ == 0) entry.second = reason;
+  };
+  for (const auto& sat : needed) {
+    const bool has_orbit = !cov.missing_orbit.count(sat), has_clock = !cov.missing_clock.count(sat);
+    for (const GnssTime& t : epochs) {
+      if (has_orbit) {
+        const auto o = products.orbit(sat, t);
+        if (!o.ok()) note(cov.orbit_gaps, sat, o.reason);
+      }
+      if (has_clock) {
+        const auto c = products.clock(sat, t);
+        if (!c.ok()) note(cov.clock_gaps, sat, c.reason);
+      }
+    }
+  }
+  return cov;
+}
+
+std::vector<std::string> ProductCoverage::describe() const {
+  std::vector<std::string> out;
+  const auto spanText = [](const std::optional<ProductSpan>& s) {
+    return s ? "[" + timeText(s->first) + ", " + timeText(s->last) + "]" : std::string("none");
+  };
+  out.push_back("requested " + timeText(first) + " .. " + timeText(last) + " (" + std::to_string(epochs_checked) +
+                " epochs checked)");
+  out.push_back(std::string("orbit span ") + spanText(orbit_span) + (orbit_span_covers ? " covers it" : " does NOT cover it"));
+  out.push_back(std::string("clock span ") + spanText(clock_span) + (clock_span_covers ? " covers it" : " does NOT cover it"));
+  const auto list = [](const std::set<SatelliteId>& s) {
+    std::string text;
+    for (const auto& sat : s) text += (text.empty() ? "" : " ") + sat.toString();
+    return text;
+  };
+  if (!missing_orbit.empty()) out.push_back("no orbit for: " + list(missing_orbit));
+  if (!missing_clock.empty()) out.push_back("no clock for: " + list(missing_clock));
+  for (const auto& [sat, e] : orbit_gaps) {
+    out.push_back("orbit " + sat.toString() + " unavailable at " + std::to_string(e.first) + " epochs, first: " + e.second);
+  }
+  for (const auto& [sat, e] : clock_gaps) {
+    out.push_back("clock " + sat.toString() + " unavailable at " + std::to_string(e.first) + " epochs, first: " + e.second);
+  }
+  if (complete()) out.push_back("products complete for the requested satellites and span");
+  return out;
+}
+
+}  // namespace ppp
