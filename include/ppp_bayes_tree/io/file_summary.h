@@ -22,6 +22,10 @@ struct FileSummary {
   std::optional<GnssTime> last_epoch;
   std::optional<double> interval_s;
   std::size_t epoch_count = 0;  // epochs / records, as meaningful for the type
+  /// What epoch_count counts, as printed: "epochs", "bias rows", "antennas", ...
+  std::string count_label = "epochs";
+  /// Label of interval_s, as printed ("interval", "parameter spacing").
+  std::string interval_label = "interval";
   /// Satellites seen, per system.
   std::map<GnssSystem, std::set<SatelliteId>> satellites;
   /// Signals / observation codes / frequencies, per system (e.g. "C1C", "L2W").

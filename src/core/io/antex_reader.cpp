@@ -454,6 +454,7 @@ FileSummary summarizeAntexFile(const std::string& path) {
   s.type = "ANTEX";
   s.version = file.header.version;
   s.epoch_count = file.antennas.size();
+  s.count_label = "antenna blocks";
   std::map<GnssSystem, std::size_t> blocks_per_system;
   for (const auto& a : file.antennas) {
     if (a.satellite) {

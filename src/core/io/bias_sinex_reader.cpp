@@ -441,6 +441,8 @@ FileSummary summarizeBiasSinexFile(const std::string& path) {
   s.last_epoch = f.header.data_end;
   if (f.description.parameter_spacing_s) s.interval_s = f.description.parameter_spacing_s;
   s.epoch_count = f.records.size();
+  s.count_label = "bias rows";
+  s.interval_label = "parameter spacing";
   std::map<std::string, std::size_t> per_type;
   for (const auto& r : f.records) {
     if (r.satellite) s.satellites[r.system].insert(*r.satellite);

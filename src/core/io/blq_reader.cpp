@@ -207,6 +207,7 @@ FileSummary summarizeBlqFile(const std::string& path) {
   s.path = path;
   s.type = "BLQ ocean loading";
   s.epoch_count = f.stations.size();
+  s.count_label = "stations";
   s.facts.push_back(std::to_string(f.stations.size()) + " stations");
   std::size_t listed = 0;
   for (const auto& st : f.stations) {

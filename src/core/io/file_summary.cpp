@@ -22,8 +22,8 @@ std::string formatSummary(const FileSummary& s) {
        << dur << ")\n";
   }
   if (s.interval_s || s.epoch_count > 0) {
-    os << "  epochs    " << s.epoch_count;
-    if (s.interval_s) os << ", interval " << *s.interval_s << " s";
+    os << "  count     " << s.epoch_count << " " << s.count_label;
+    if (s.interval_s) os << ", " << s.interval_label << " " << *s.interval_s << " s";
     os << "\n";
   }
   for (const auto& [system, sats] : s.satellites) {
@@ -38,7 +38,18 @@ std::string formatSummary(const FileSummary& s) {
     os << "\n";
   }
   for (const auto& fact : s.facts) os << "  " << fact << "\n";
-  os << "  problems:\n" << s.report.summary();
+  for (const auto& [what, n] : s.report.counters()) os << "  " << what << ": " << n << "\n";
+  if (s.report.problemCount() == 0) {
+    os << "  problems: none\n";
+  } else {
+    os << "  problems: " << s.report.problemCount() << "\n";
+    std::size_t shown = 0;
+    for (const auto& p : s.report.problems()) {
+      if (shown++ == 20) break;
+      os << "    line " << p.line << ": " << p.reason << "\n";
+    }
+    if (s.report.problemCount() > 20) os << "    ... and " << (s.report.problemCount() - 20) << " more\n";
+  }
   os << "\n";
   return os.str();
 }

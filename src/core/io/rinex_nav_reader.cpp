@@ -600,6 +600,7 @@ FileSummary summarizeNavFile(const std::string& path) {
   s.first_epoch = nav.first_toc;
   s.last_epoch = nav.last_toc;
   s.epoch_count = nav.recordCount();
+  s.count_label = "navigation records";
   for (const SatelliteId& sat : nav.satellites) s.satellites[sat.system].insert(sat);
 
   std::size_t gps = 0, qzss = 0, inav = 0, fnav = 0;
