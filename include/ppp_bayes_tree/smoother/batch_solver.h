@@ -34,9 +34,14 @@ void denseInformation(const GaussianFactorGraph& factors, const VariableLayout& 
                       Matrix& information, Vector& eta);
 /// Linearizes every (non-null) factor at x.
 GaussianFactorGraph linearizeGraph(const NonlinearFactorGraph& graph, const Values& x);
-/// Least-squares solution of the linear factors (sparse Cholesky); throws
-/// IndeterminantSystemError when the normal equations are not positive definite.
-Values solveLinear(const GaussianFactorGraph& factors, const Values& like);
+/// Sparse linear least-squares method: CHOLMOD on the normal equations (fast, squares
+/// the condition number) or Eigen's SparseQR on J itself (slower, accurate: the oracle).
+enum class LinearSolver { Cholmod, SparseQR };
+
+/// Least-squares solution of the linear factors; throws IndeterminantSystemError when
+/// the system is rank deficient (not positive definite).
+Values solveLinear(const GaussianFactorGraph& factors, const Values& like,
+                   LinearSolver solver = LinearSolver::Cholmod);
 
 struct BatchParams {
   enum class Method { GaussNewton, LevenbergMarquardt };
@@ -45,6 +50,7 @@ struct BatchParams {
   double relative_error_tolerance = 1e-12;
   double absolute_delta_tolerance = 1e-12;  // stop when max |delta| is below
   double initial_lambda = 1e-5;
+  LinearSolver solver = LinearSolver::Cholmod;  // Gauss-Newton steps
 };
 
 struct BatchResult {

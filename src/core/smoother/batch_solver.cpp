@@ -2,6 +2,9 @@
 
 #include <Eigen/CholmodSupport>
 #include <Eigen/LU>
+#include <Eigen/QR>
+#include <Eigen/OrderingMethods>
+#include <Eigen/SparseQR>
 
 #include <algorithm>
 #include <cmath>
@@ -68,7 +71,9 @@ Values solveNormal(const Eigen::SparseMatrix<double>& h, const Vector& eta, cons
   llt.compute(h);
   if (llt.info() != Eigen::Success)
     throw IndeterminantSystemError("batch solve: normal equations not positive definite");
-  const Vector x = llt.solve(eta);
+  Vector x = llt.solve(eta);
+  // Two steps of iterative refinement against the (squared-conditioned) normal equations.
+  for (int i = 0; i < 2 && x.allFinite(); ++i) x += llt.solve(Vector(eta - h * x));
   if (llt.info() != Eigen::Success || !x.allFinite())
     throw IndeterminantSystemError("batch solve: solve failed");
   Values out;
@@ -76,11 +81,25 @@ Values solveNormal(const Eigen::SparseMatrix<double>& h, const Vector& eta, cons
   return out;
 }
 
+Values solveSparseQr(const LinearSystem& sys, const VariableLayout& layout, const Values& like) {
+  Eigen::SparseMatrix<double> a = sys.A;
+  a.makeCompressed();
+  Eigen::SparseQR<Eigen::SparseMatrix<double>, Eigen::COLAMDOrdering<int>> qr;
+  qr.compute(a);
+  if (qr.info() != Eigen::Success || qr.rank() < a.cols())
+    throw IndeterminantSystemError("batch solve: Jacobian is rank deficient");
+  const Vector x = qr.solve(sys.b);
+  Values out;
+  for (Key k : layout.keys) out.insert(k, x.segment(layout.offset.at(k), like.at(k).size()));
+  return out;
+}
+
 }  // namespace
 
-Values solveLinear(const GaussianFactorGraph& factors, const Values& like) {
+Values solveLinear(const GaussianFactorGraph& factors, const Values& like, LinearSolver solver) {
   const VariableLayout layout = VariableLayout::of(like);
   const LinearSystem sys = assemble(factors, layout);
+  if (solver == LinearSolver::SparseQR) return solveSparseQr(sys, layout, like);
   const Eigen::SparseMatrix<double> h = (sys.A.transpose() * sys.A).pruned();
   return solveNormal(h, sys.A.transpose() * sys.b, layout, like);
 }
@@ -101,7 +120,8 @@ BatchResult optimizeBatch(const NonlinearFactorGraph& graph, const Values& initi
     double new_error = error;
     Values candidate;
     if (params.method == BatchParams::Method::GaussNewton) {
-      delta = solveNormal(h, eta, layout, initial);
+      delta = params.solver == LinearSolver::SparseQR ? solveSparseQr(sys, layout, initial)
+                                                       : solveNormal(h, eta, layout, initial);
       candidate = res.values.retract(delta);
       new_error = graphError(graph, candidate);
     } else {
@@ -140,11 +160,15 @@ BatchResult optimizeBatch(const NonlinearFactorGraph& graph, const Values& initi
 }
 
 Matrix batchMarginalCovariance(const NonlinearFactorGraph& graph, const Values& x, const KeyVector& keys) {
+  // Dense QR of the whitened Jacobian (not the squared information): Sigma = R^-1 R^-T.
   const VariableLayout layout = VariableLayout::of(x);
-  Matrix info;
-  Vector eta;
-  denseInformation(linearizeGraph(graph, x), layout, info, eta);
-  const Matrix cov = info.inverse();
+  const LinearSystem sys = assemble(linearizeGraph(graph, x), layout);
+  if (sys.A.rows() < layout.dim) throw IndeterminantSystemError("batchMarginalCovariance: too few rows");
+  Eigen::HouseholderQR<Matrix> qr(Matrix(sys.A));
+  const Matrix rr = qr.matrixQR().topRows(layout.dim).triangularView<Eigen::Upper>();
+  Matrix rinv = Matrix::Identity(layout.dim, layout.dim);
+  rr.triangularView<Eigen::Upper>().solveInPlace(rinv);
+  const Matrix cov = rinv * rinv.transpose();
   int m = 0;
   for (Key k : keys) m += static_cast<int>(x.at(k).size());
   Matrix out(m, m);

@@ -32,11 +32,13 @@ ISAM2Result ISAM2::update(const NonlinearFactorGraph& new_factors, const Values&
                           const ISAM2UpdateParams& up) {
   const auto t_start = Clock::now();
   ISAM2Result result;
-  ++update_count_;
+  for (FactorIndex i : up.remove_factor_indices)
+    if (!factors_.count(i)) throw std::invalid_argument("ISAM2::update: no factor with index " + std::to_string(i));
 
   // ---- 1. Add the new factors and variables (validated first: no state change on bad input).
   auto t = Clock::now();
   addFactorsAndVariables(new_factors, new_values, result);
+  ++update_count_;
   KeySet affected;  // variables whose cliques (and the paths to the root) get re-eliminated
   for (const auto& [k, v] : new_values) affected.insert(k);
   for (FactorIndex i : result.new_factor_indices)
@@ -120,8 +122,6 @@ void ISAM2::addFactorsAndVariables(const NonlinearFactorGraph& new_factors, cons
 
 void ISAM2::removeFactors(const std::vector<FactorIndex>& indices, KeySet& affected,
                           ISAM2Result& result) {
-  for (FactorIndex i : indices)
-    if (!factors_.count(i)) throw std::invalid_argument("ISAM2::update: no factor with index " + std::to_string(i));
   for (FactorIndex i : indices) {
     auto it = factors_.find(i);
     if (it == factors_.end()) continue;  // listed twice
@@ -271,12 +271,14 @@ std::vector<Clique*> ISAM2::eliminateTop(const KeyVector& top_keys, std::vector<
     auto it = groups.find(k);
     if (it != groups.end()) it->second = 0;
   }
+  int newest_group = -1;  // after renumbering; -1 when no variable is constrained last
   {  // CCOLAMD wants groups numbered 0.. without gaps.
     bool used[3] = {false, false, false};
     for (const auto& [k, g] : groups) used[g] = true;
     int rank[3], r = 0;
     for (int g = 0; g < 3; ++g) rank[g] = used[g] ? r++ : -1;
     for (auto& [k, g] : groups) g = rank[g];
+    newest_group = rank[2];
   }
   std::vector<KeyVector> pattern;
   pattern.reserve(top_factors.size() + orphans.size());
@@ -298,11 +300,15 @@ std::vector<Clique*> ISAM2::eliminateTop(const KeyVector& top_keys, std::vector<
 
   // 5b. Symbolic elimination into cliques (fundamental supernodes: a variable joins its
   // child clique when that child's separator is exactly the variable plus its own
-  // separator, and both lie in the same constraint group).
+  // separator, and both lie in the same constraint group). The newest group is gathered
+  // into one clique even where it would split (e.g. a new landmark seen once): merging a
+  // child clique into its parent variable's clique keeps a valid Bayes tree (zero blocks
+  // in the conditional), and puts every newest variable in the root clique.
   struct Sym {
     std::vector<int> frontals, sep;
     std::vector<FactorIndex> factors;
     std::vector<int> orphans;
+    bool merged = false;  // folded into another clique
   };
   std::vector<Sym> sym;
   std::vector<std::vector<FactorIndex>> factors_at(n);
@@ -336,6 +342,24 @@ std::vector<Clique*> ISAM2::eliminateTop(const KeyVector& top_keys, std::vector<
         target = c;
         break;
       }
+    const bool newest = newest_group >= 0 && groups.at(ordering[i]) == newest_group;
+    if (newest)
+      for (int c : children_at[i]) {
+        if (c == target || groups.at(ordering[sym[c].frontals.back()]) != newest_group) continue;
+        if (target < 0) {
+          target = c;
+          continue;
+        }
+        Sym& into = sym[target];
+        Sym& from = sym[c];
+        for (int p : from.frontals) var_clique[p] = target;
+        into.frontals.insert(into.frontals.end(), from.frontals.begin(), from.frontals.end());
+        std::sort(into.frontals.begin(), into.frontals.end());
+        into.factors.insert(into.factors.end(), from.factors.begin(), from.factors.end());
+        into.orphans.insert(into.orphans.end(), from.orphans.begin(), from.orphans.end());
+        from = Sym{};
+        from.merged = true;
+      }
     if (target < 0) {
       target = static_cast<int>(sym.size());
       sym.emplace_back();
@@ -350,14 +374,15 @@ std::vector<Clique*> ISAM2::eliminateTop(const KeyVector& top_keys, std::vector<
   }
 
   // 5c. Numeric elimination, children before parents (by last frontal position).
-  std::vector<int> order(sym.size());
-  for (std::size_t c = 0; c < sym.size(); ++c) order[c] = static_cast<int>(c);
+  std::vector<int> order;
+  for (std::size_t c = 0; c < sym.size(); ++c)
+    if (!sym[c].merged) order.push_back(static_cast<int>(c));
   std::sort(order.begin(), order.end(),
             [&](int a, int b) { return sym[a].frontals.back() < sym[b].frontals.back(); });
   std::vector<Clique::Ptr> cliques(sym.size());
   std::vector<std::vector<int>> new_children(sym.size());
   for (std::size_t c = 0; c < sym.size(); ++c)
-    if (!sym[c].sep.empty()) new_children[var_clique[sym[c].sep.front()]].push_back(static_cast<int>(c));
+    if (!sym[c].merged && !sym[c].sep.empty()) new_children[var_clique[sym[c].sep.front()]].push_back(static_cast<int>(c));
   std::vector<const JacobianFactor*> gathered;
   for (int c : order) {
     const Sym& s = sym[c];
@@ -388,20 +413,20 @@ std::vector<Clique*> ISAM2::eliminateTop(const KeyVector& top_keys, std::vector<
     if (s.sep.empty()) tree_.mutableRoots().push_back(clique);
     cliques[c] = std::move(clique);
   }
-  result.cliques_created = sym.size();
+  result.cliques_created = order.size();
   result.step_time_s[4] = secondsSince(t);
 
   // ---- 6. Re-attach each orphan below the clique holding the first-eliminated variable of
   // its separator (that clique contains the whole separator).
   t = Clock::now();
   for (std::size_t c = 0; c < sym.size(); ++c)
-    for (int o : sym[c].orphans) {
+    for (int o : sym[c].merged ? std::vector<int>{} : sym[c].orphans) {
       orphans[o]->parent = cliques[c].get();
       cliques[c]->children.push_back(orphans[o]);
     }
   result.step_time_s[5] = secondsSince(t);
   std::vector<Clique*> created;
-  for (auto& c : cliques) created.push_back(c.get());
+  for (int c : order) created.push_back(cliques[c].get());
   return created;
 }
 
