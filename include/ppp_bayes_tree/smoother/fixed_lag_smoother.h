@@ -6,7 +6,10 @@
 // largest timestamp of a time variable sharing a factor with it; it is kept while that
 // is within the lag, so long-lived landmarks stay as long as recent factors refer to
 // them. Variables that never share a factor with a time variable are never
-// marginalized. Marginalization cuts whole leaf subtrees off the Bayes tree and keeps
+// marginalized. Ages are grouped in buckets of a tenth of the lag: re-eliminated
+// variables are ordered oldest bucket first (constrained CCOLAMD), and a bucket is
+// marginalized as a whole once all of it is older than the lag, so variables stay
+// between lag and 1.1 lag. Marginalization cuts whole leaf subtrees off the Bayes tree and keeps
 // their information as a dense linear prior on the variables they connect to
 // (ISAM2::marginalizeLeaves); variables not yet at the leaves are first moved there by
 // re-eliminating them first (constrained ordering), as GTSAM's
@@ -28,6 +31,7 @@ struct FixedLagResult {
   ISAM2Result isam2;
   std::size_t variables_marginalized = 0;
   std::size_t variables_pending = 0;  // due, but not yet at the leaves
+  std::size_t variables_moved_to_leaves = 0;  // re-eliminated to bring due ones to the leaves
 };
 
 class FixedLagSmoother {
@@ -49,6 +53,8 @@ class FixedLagSmoother {
 
  private:
   KeyVector dueKeys() const;
+  double bucketOf(double t_s) const;
+  double cutoff() const;
 
   FixedLagParams params_;
   ISAM2 isam_;
@@ -56,6 +62,7 @@ class FixedLagSmoother {
   std::unordered_set<Key> time_keys_;
   std::multimap<double, Key> by_time_;          // (last use, key), possibly stale entries
   double now_s_ = -1e300;
+  double bucket_s_ = 60.0;
 };
 
 }  // namespace ppp::smoother

@@ -1,6 +1,7 @@
 #pragma once
 // iSAM2 options (constructor-time) and per-call update options, kept apart as in GTSAM's
 // ISAM2Params / ISAM2UpdateParams.
+#include <functional>
 #include <unordered_map>
 #include <vector>
 
@@ -52,6 +53,10 @@ struct ISAM2UpdateParams {
   /// Variables to eliminate first among the re-eliminated ones (e.g. about to be
   /// marginalized by a fixed-lag smoother).
   KeyVector first_keys;
+  /// Optional ordering groups for the other re-eliminated variables: lower groups are
+  /// eliminated first (e.g. a fixed-lag smoother groups variables by age so that the
+  /// oldest sit at the leaves). Ignored for first_keys and newest_keys.
+  std::function<int(Key)> ordering_group;
   /// Additional variables whose cliques must be re-eliminated.
   KeyVector extra_reelim_keys;
   /// Variables never to relinearize in this update.

@@ -254,8 +254,12 @@ std::vector<Clique*> ISAM2::eliminateTop(const KeyVector& top_keys, std::vector<
   }
   // 5a. Constrained ordering (CCOLAMD): first_keys in the first group, the caller's newest
   // keys (default: the keys of the new factors) in the last group -> the root clique.
-  std::unordered_map<Key, int> groups;
-  for (Key k : top_keys) groups[k] = 1;
+  // Composite groups (first, optional caller group, newest), renumbered 0.. without gaps
+  // as CCOLAMD wants.
+  constexpr long kFirst = -(1L << 40), kNewest = 1L << 40;
+  std::unordered_map<Key, long> raw;
+  raw.reserve(top_keys.size());
+  for (Key k : top_keys) raw[k] = up.ordering_group ? up.ordering_group(k) : 0;
   const KeyVector* last = &up.newest_keys;
   KeyVector observed;
   if (up.newest_keys.empty()) {
@@ -264,22 +268,22 @@ std::vector<Clique*> ISAM2::eliminateTop(const KeyVector& top_keys, std::vector<
     last = &observed;
   }
   for (Key k : *last) {
-    auto it = groups.find(k);
-    if (it != groups.end()) it->second = 2;
+    auto it = raw.find(k);
+    if (it != raw.end()) it->second = kNewest;
   }
   for (Key k : up.first_keys) {
-    auto it = groups.find(k);
-    if (it != groups.end()) it->second = 0;
+    auto it = raw.find(k);
+    if (it != raw.end()) it->second = kFirst;
   }
-  int newest_group = -1;  // after renumbering; -1 when no variable is constrained last
-  {  // CCOLAMD wants groups numbered 0.. without gaps.
-    bool used[3] = {false, false, false};
-    for (const auto& [k, g] : groups) used[g] = true;
-    int rank[3], r = 0;
-    for (int g = 0; g < 3; ++g) rank[g] = used[g] ? r++ : -1;
-    for (auto& [k, g] : groups) g = rank[g];
-    newest_group = rank[2];
-  }
+  std::vector<long> levels;
+  for (const auto& [k, g] : raw) levels.push_back(g);
+  std::sort(levels.begin(), levels.end());
+  levels.erase(std::unique(levels.begin(), levels.end()), levels.end());
+  std::unordered_map<Key, int> groups;
+  groups.reserve(raw.size());
+  for (const auto& [k, g] : raw)
+    groups[k] = static_cast<int>(std::lower_bound(levels.begin(), levels.end(), g) - levels.begin());
+  const int newest_group = levels.back() == kNewest ? static_cast<int>(levels.size()) - 1 : -1;
   std::vector<KeyVector> pattern;
   pattern.reserve(top_factors.size() + orphans.size());
   for (FactorIndex i : top_factors) pattern.push_back(factors_.at(i).factor->keys());
