@@ -69,9 +69,10 @@ struct RandomLinearGraph {
   }
 };
 
-void runRandomLinear(Factorization method, bool wildfire, unsigned seed) {
+void runRandomLinear(Factorization method, bool wildfire, unsigned seed, bool cache = true) {
   ISAM2Params p = exactParams(method);
   p.enable_partial_backsubstitution = wildfire;
+  p.cache_linearized_factors = cache;
   ISAM2 isam(p);
   RandomLinearGraph g(seed);
   for (int t = 0; t < 40; ++t) {
@@ -110,6 +111,9 @@ TEST(SmootherIsam2, RandomLinearGraphsCholesky) {
 }
 TEST(SmootherIsam2, RandomLinearGraphsQr) { runRandomLinear(Factorization::QR, true, 4u); }
 TEST(SmootherIsam2, RandomLinearGraphsFullBacksubstitution) { runRandomLinear(Factorization::Cholesky, false, 5u); }
+TEST(SmootherIsam2, RandomLinearGraphsWithoutLinearizationCache) {
+  runRandomLinear(Factorization::Cholesky, true, 6u, false);
+}
 
 TEST(SmootherIsam2, UpdateIsIncrementalOnAChain) {
   // On an odometry chain with the newest pose constrained last, each update re-eliminates
