@@ -1,0 +1,70 @@
+#pragma once
+// Gaussian Bayes tree (Kaess et al., IJRR 2012, Sec. 3): a directed tree of cliques, each
+// holding a conditional density p(F_k | S_k) on its frontal variables F_k given its
+// separator S_k (a subset of the parent clique's variables), the marginal factor on S_k
+// that eliminating the clique's subtree passed to its parent (cached for re-use when the
+// clique becomes an orphan), and the indices of the nonlinear factors eliminated in it.
+// Every variable is a frontal variable of exactly one clique.
+#include <memory>
+#include <string>
+#include <unordered_map>
+#include <vector>
+
+#include "ppp_bayes_tree/smoother/gaussian_conditional.h"
+#include "ppp_bayes_tree/smoother/gaussian_factor.h"
+#include "ppp_bayes_tree/smoother/nonlinear_factor.h"
+
+namespace ppp::smoother {
+
+struct Clique {
+  using Ptr = std::shared_ptr<Clique>;
+
+  KeyVector frontals;              // in elimination order
+  KeyVector separator;             // conditional parents, in elimination order
+  GaussianConditional conditional;
+  JacobianFactor::Ptr cached_marginal;       // on the separator
+  std::vector<FactorIndex> factor_indices;   // factors whose first-eliminated key is here
+  Clique* parent = nullptr;
+  std::vector<Ptr> children;
+
+  int frontalDim() const { return conditional.frontalDim(); }
+};
+
+class BayesTree {
+ public:
+  const std::vector<Clique::Ptr>& roots() const { return roots_; }
+  /// Clique holding `key` as a frontal variable, or null.
+  Clique* clique(Key key) const;
+  bool contains(Key key) const { return nodes_.count(key) != 0; }
+  std::size_t numVariables() const { return nodes_.size(); }
+  /// Number of cliques (walks the tree).
+  std::size_t numCliques() const;
+  /// All cliques, parents before children.
+  std::vector<const Clique*> cliquesTopDown() const;
+  /// Depth of the tree (a root alone has depth 1).
+  std::size_t depth() const;
+
+  /// Structural invariants: each variable is a frontal of exactly one clique and the
+  /// node map agrees; each separator is a subset of the parent's variables, roots have
+  /// none; parent/child links agree; conditional parents equal the separator.
+  /// Returns "" when all hold, else a description of the first violation.
+  std::string checkInvariants() const;
+
+  /// Joint marginal covariance of `keys` (blocks in the given order), from the Bayes
+  /// net formed by the cliques on the paths from the keys' cliques to their roots: for a
+  /// root-clique variable only the root conditional is touched. Throws
+  /// std::out_of_range for an unknown key.
+  Matrix jointMarginalCovariance(const KeyVector& keys) const;
+
+  // --- editing (used by ISAM2) ---
+  std::vector<Clique::Ptr>& mutableRoots() { return roots_; }
+  void setClique(Key key, Clique* c) { nodes_[key] = c; }
+  void eraseKey(Key key) { nodes_.erase(key); }
+  void clear() { roots_.clear(); nodes_.clear(); }
+
+ private:
+  std::vector<Clique::Ptr> roots_;
+  std::unordered_map<Key, Clique*> nodes_;
+};
+
+}  // namespace ppp::smoother

@@ -1,0 +1,104 @@
+#pragma once
+// Incremental smoothing and mapping with the Bayes tree: iSAM2 (Kaess, Johannsson,
+// Roberts, Ila, Leonard, Dellaert, "iSAM2: Incremental smoothing and mapping using the
+// Bayes tree", IJRR 31(2), 2012). The state is a linearization point theta, a delta per
+// variable (the estimate is theta + delta), the nonlinear factors with their cached
+// linearizations, and the Bayes tree of the linearized system in delta. Each update
+// edits only the top of the tree touched by new/removed/relinearized factors.
+#include <unordered_map>
+#include <unordered_set>
+
+#include "ppp_bayes_tree/smoother/bayes_tree.h"
+#include "ppp_bayes_tree/smoother/isam2_params.h"
+#include "ppp_bayes_tree/smoother/isam2_result.h"
+#include "ppp_bayes_tree/smoother/nonlinear_factor.h"
+#include "ppp_bayes_tree/smoother/values.h"
+
+namespace ppp::smoother {
+
+class ISAM2 {
+ public:
+  explicit ISAM2(ISAM2Params params = {});
+
+  /// One iSAM2 step (Alg. 6 of the paper): add `new_factors` and the new variables
+  /// `new_values` (initial estimates; every new variable must be involved in the graph),
+  /// remove the factors listed in `update_params`, relinearize where needed, re-eliminate
+  /// the affected top of the tree and back-substitute. Throws std::invalid_argument for
+  /// an unknown key, a duplicate variable or an unknown factor index, and
+  /// IndeterminantSystemError for an under-constrained system.
+  ISAM2Result update(const NonlinearFactorGraph& new_factors = {}, const Values& new_values = {},
+                     const ISAM2UpdateParams& update_params = {});
+
+  /// Current estimate theta + delta.
+  Values calculateEstimate() const;
+  Vector calculateEstimate(Key key) const;
+  const Values& linearizationPoint() const { return theta_; }
+  const Values& delta() const { return delta_; }
+  bool exists(Key key) const { return theta_.exists(key); }
+
+  /// Marginal covariance of one variable (of the linearized system at theta).
+  Matrix marginalCovariance(Key key) const { return tree_.jointMarginalCovariance({key}); }
+  /// Joint marginal covariance of a few variables, blocks in the order given.
+  Matrix jointMarginalCovariance(const KeyVector& keys) const {
+    return tree_.jointMarginalCovariance(keys);
+  }
+
+  /// Marginalizes out the given variables where they form whole leaf subtrees of the
+  /// Bayes tree: each maximal such subtree is cut off, its factors are removed and its
+  /// cached marginal on the separator is added as a LinearContainerFactor. The
+  /// remaining tree is unchanged (removing leaf conditionals of a Bayes net leaves the
+  /// marginal of the rest). Returns the keys that were marginalized; the others stay.
+  KeyVector marginalizeLeaves(const KeyVector& keys);
+  /// Keys of `keys` that marginalizeLeaves() cannot take now, together with the
+  /// variables of descendant cliques involving them: passing these as
+  /// extra_reelim_keys and `keys` as first_keys to update() makes them leaves.
+  KeyVector keysToReeliminateForMarginalization(const KeyVector& keys) const;
+
+  const BayesTree& bayesTree() const { return tree_; }
+  const ISAM2Params& params() const { return params_; }
+  /// Live factor with this index, or null.
+  NonlinearFactor::Ptr factor(FactorIndex index) const;
+  std::size_t numFactors() const { return factors_.size(); }
+  /// Indices of the live factors involving `key` (empty when unknown).
+  std::vector<FactorIndex> factorsOf(Key key) const;
+  /// The live factors as a graph (order unspecified but stable for the same state).
+  NonlinearFactorGraph nonlinearFactors() const;
+  /// Cached linearized factor (at theta), or null when not cached.
+  JacobianFactor::Ptr cachedLinearFactor(FactorIndex index) const;
+  std::size_t numUpdates() const { return update_count_; }
+
+ private:
+  struct FactorSlot {
+    NonlinearFactor::Ptr factor;
+    JacobianFactor::Ptr linear;  // at theta, valid when cached
+  };
+  using KeySet = std::unordered_set<Key>;
+
+  // Steps of update().
+  void addFactorsAndVariables(const NonlinearFactorGraph& new_factors, const Values& new_values,
+                              ISAM2Result& result);
+  void removeFactors(const std::vector<FactorIndex>& indices, KeySet& affected, ISAM2Result& result);
+  KeySet gatherRelinearizeKeys(const ISAM2UpdateParams& up) const;
+  void fluidCheck(const Clique& clique, KeySet& marked) const;
+  void relinearize(const KeySet& relin_keys, KeySet& affected, ISAM2Result& result);
+  void removeTop(const KeySet& affected, KeyVector& top_keys, std::vector<Clique::Ptr>& orphans,
+                 std::vector<FactorIndex>& top_factors, ISAM2Result& result);
+  std::vector<Clique*> eliminateTop(const KeyVector& top_keys, std::vector<Clique::Ptr>& orphans,
+                                    const std::vector<FactorIndex>& top_factors,
+                                    const ISAM2UpdateParams& up, ISAM2Result& result);
+  void backSubstitute(const std::unordered_set<const Clique*>& new_cliques, ISAM2Result& result);
+
+  const JacobianFactor& linearFactor(FactorIndex index);
+  void eraseVariable(Key key);
+
+  ISAM2Params params_;
+  Values theta_;
+  Values delta_;
+  BayesTree tree_;
+  std::unordered_map<FactorIndex, FactorSlot> factors_;
+  std::unordered_map<Key, std::vector<FactorIndex>> variable_index_;
+  FactorIndex next_factor_index_ = 0;
+  std::size_t update_count_ = 0;
+};
+
+}  // namespace ppp::smoother

@@ -1,0 +1,22 @@
+#pragma once
+// A linear factor frozen at a linearization point theta0 and used as a nonlinear factor:
+// whitened error A (x - theta0) - b, constant Jacobian A. It carries marginal information
+// (e.g. from fixed-lag marginalization) into later re-eliminations; its unit noise model
+// means the stored A, b are already whitened.
+#include "ppp_bayes_tree/smoother/nonlinear_factor.h"
+
+namespace ppp::smoother {
+
+class LinearContainerFactor : public NonlinearFactor {
+ public:
+  /// `theta0` must hold every key of `factor`.
+  LinearContainerFactor(const JacobianFactor& factor, const Values& theta0);
+  Vector unwhitenedError(const Values& x, std::vector<Matrix>* jacobians) const override;
+  JacobianFactor::Ptr linearize(const Values& x) const override;
+
+ private:
+  JacobianFactor factor_;
+  std::vector<Vector> theta0_;
+};
+
+}  // namespace ppp::smoother

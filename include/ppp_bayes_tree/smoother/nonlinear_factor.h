@@ -1,0 +1,52 @@
+#pragma once
+// Nonlinear factor interface. A factor supplies only its unwhitened error h(x) - z and
+// the Jacobians of that error with respect to each of its variables; the library whitens
+// with the noise model, applies the robust kernel (IRLS) and linearizes.
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "ppp_bayes_tree/smoother/gaussian_factor.h"
+#include "ppp_bayes_tree/smoother/key.h"
+#include "ppp_bayes_tree/smoother/noise_model.h"
+#include "ppp_bayes_tree/smoother/values.h"
+
+namespace ppp::smoother {
+
+/// Index of a factor inside a smoother (stable for the factor's lifetime).
+using FactorIndex = std::uint64_t;
+
+class NonlinearFactor {
+ public:
+  using Ptr = std::shared_ptr<const NonlinearFactor>;
+
+  NonlinearFactor(KeyVector keys, NoiseModel::Ptr noise);
+  virtual ~NonlinearFactor() = default;
+
+  const KeyVector& keys() const { return keys_; }
+  const NoiseModel::Ptr& noiseModel() const { return noise_; }
+  /// Error dimension.
+  int dim() const { return noise_->dim(); }
+
+  /// Unwhitened error h(x) - z. When `jacobians` is non-null it has keys().size()
+  /// entries, which the factor fills with d(error)/d(x_j) (dim() x dim(x_j)).
+  virtual Vector unwhitenedError(const Values& x, std::vector<Matrix>* jacobians) const = 0;
+
+  /// Loss: 0.5 ||whitened error||^2, or rho(||whitened error||) with a robust kernel.
+  double error(const Values& x) const;
+
+  /// Whitened, robust-reweighted linearization at x, in delta coordinates:
+  /// A delta - b with A = sqrt(w) R J and b = -sqrt(w) R e(x).
+  virtual JacobianFactor::Ptr linearize(const Values& x) const;
+
+ private:
+  KeyVector keys_;
+  NoiseModel::Ptr noise_;
+};
+
+using NonlinearFactorGraph = std::vector<NonlinearFactor::Ptr>;
+
+/// Total loss of a graph (null entries skipped).
+double graphError(const NonlinearFactorGraph& graph, const Values& x);
+
+}  // namespace ppp::smoother

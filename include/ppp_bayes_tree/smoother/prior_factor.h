@@ -1,0 +1,18 @@
+#pragma once
+// Prior on one variable: error x - z.
+#include "ppp_bayes_tree/smoother/nonlinear_factor.h"
+
+namespace ppp::smoother {
+
+class PriorFactor : public NonlinearFactor {
+ public:
+  /// Throws std::invalid_argument when z and the noise model differ in dimension.
+  PriorFactor(Key key, Vector z, NoiseModel::Ptr noise);
+  const Vector& prior() const { return z_; }
+  Vector unwhitenedError(const Values& x, std::vector<Matrix>* jacobians) const override;
+
+ private:
+  Vector z_;
+};
+
+}  // namespace ppp::smoother

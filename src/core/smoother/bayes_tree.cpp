@@ -1,0 +1,120 @@
+#include "ppp_bayes_tree/smoother/bayes_tree.h"
+
+#include <algorithm>
+#include <stdexcept>
+#include <unordered_set>
+
+namespace ppp::smoother {
+
+Clique* BayesTree::clique(Key key) const {
+  auto it = nodes_.find(key);
+  return it == nodes_.end() ? nullptr : it->second;
+}
+
+std::vector<const Clique*> BayesTree::cliquesTopDown() const {
+  std::vector<const Clique*> out;
+  for (const auto& r : roots_) out.push_back(r.get());
+  for (std::size_t i = 0; i < out.size(); ++i)
+    for (const auto& c : out[i]->children) out.push_back(c.get());
+  return out;
+}
+
+std::size_t BayesTree::numCliques() const { return cliquesTopDown().size(); }
+
+std::size_t BayesTree::depth() const {
+  std::size_t best = 0;
+  std::vector<std::pair<const Clique*, std::size_t>> stack;
+  for (const auto& r : roots_) stack.emplace_back(r.get(), 1);
+  while (!stack.empty()) {
+    auto [c, d] = stack.back();
+    stack.pop_back();
+    best = std::max(best, d);
+    for (const auto& ch : c->children) stack.emplace_back(ch.get(), d + 1);
+  }
+  return best;
+}
+
+std::string BayesTree::checkInvariants() const {
+  std::unordered_set<Key> seen;
+  for (const Clique* c : cliquesTopDown()) {
+    const std::string name = "clique {" + keysToString(c->frontals) + "}";
+    if (c->frontals.empty()) return name + " has no frontal variable";
+    for (Key k : c->frontals) {
+      if (!seen.insert(k).second) return keyToString(k) + " is frontal in more than one clique";
+      if (clique(k) != c) return "node map of " + keyToString(k) + " does not point to its clique";
+    }
+    if (c->conditional.frontals() != c->frontals) return name + ": conditional frontals differ";
+    if (c->conditional.parents() != c->separator) return name + ": conditional parents differ from separator";
+    for (const auto& ch : c->children)
+      if (ch->parent != c) return name + ": child's parent link is wrong";
+    if (!c->parent) {
+      if (!c->separator.empty()) return name + " is a root with a separator";
+      continue;
+    }
+    const Clique* p = c->parent;
+    for (Key k : c->separator) {
+      const bool in_parent =
+          std::find(p->frontals.begin(), p->frontals.end(), k) != p->frontals.end() ||
+          std::find(p->separator.begin(), p->separator.end(), k) != p->separator.end();
+      if (!in_parent) return name + ": separator variable " + keyToString(k) + " not in parent clique";
+    }
+  }
+  if (seen.size() != nodes_.size()) return "node map holds variables that are in no clique";
+  return "";
+}
+
+Matrix BayesTree::jointMarginalCovariance(const KeyVector& keys) const {
+  // Cliques on the paths to the roots: a Bayes net over an ancestor-closed set of cliques,
+  // whose joint density is the marginal on their variables.
+  std::unordered_map<const Clique*, int> depth_of;
+  for (Key k : keys) {
+    const Clique* c = clique(k);
+    if (!c) throw std::out_of_range("jointMarginalCovariance: no variable " + keyToString(k));
+    for (; c && !depth_of.count(c); c = c->parent) depth_of[c] = 0;
+  }
+  std::vector<const Clique*> cliques;
+  for (auto& [c, d] : depth_of) {
+    int depth = 0;
+    for (const Clique* p = c->parent; p; p = p->parent) ++depth;
+    d = depth;
+    cliques.push_back(c);
+  }
+  // Deeper cliques first: each conditional's parents then have larger column offsets,
+  // making the stacked square-root information R upper triangular.
+  std::sort(cliques.begin(), cliques.end(), [&](const Clique* a, const Clique* b) {
+    return depth_of[a] != depth_of[b] ? depth_of[a] > depth_of[b] : a->frontals[0] < b->frontals[0];
+  });
+  std::unordered_map<Key, std::pair<int, int>> col;  // offset, dim
+  int n = 0;
+  for (const Clique* c : cliques) {
+    const auto& cond = c->conditional;
+    for (std::size_t i = 0; i < cond.frontals().size(); ++i)
+      col[cond.frontals()[i]] = {n + cond.frontalOffset(i), cond.frontalDims()[i]};
+    n += cond.frontalDim();
+  }
+  Matrix r = Matrix::Zero(n, n);
+  for (const Clique* c : cliques) {
+    const auto& cond = c->conditional;
+    const int row = col.at(cond.frontals()[0]).first;
+    const int nf = cond.frontalDim();
+    r.block(row, row, nf, nf) = cond.R();
+    for (std::size_t j = 0; j < cond.parents().size(); ++j) {
+      const auto [off, dim] = col.at(cond.parents()[j]);
+      r.block(row, off, nf, dim) = cond.S()[j];
+    }
+  }
+  int m = 0;
+  for (Key k : keys) m += col.at(k).second;
+  Matrix e = Matrix::Zero(n, m);
+  int c0 = 0;
+  for (Key k : keys) {
+    const auto [off, dim] = col.at(k);
+    e.block(off, c0, dim, dim).setIdentity();
+    c0 += dim;
+  }
+  // Sigma = R^-1 R^-T, so Sigma_sel = Y^T Y with R^T Y = E.
+  r.transpose().triangularView<Eigen::Lower>().solveInPlace(e);
+  return e.transpose() * e;
+}
+
+}  // namespace ppp::smoother

@@ -1,0 +1,176 @@
+#include "ppp_bayes_tree/smoother/elimination.h"
+
+#include <Eigen/Cholesky>
+#include <Eigen/QR>
+
+#include <algorithm>
+#include <cmath>
+#include <unordered_map>
+
+namespace ppp::smoother {
+namespace {
+
+// Column offsets of the stacked system [x_f x_s | b].
+struct Layout {
+  std::unordered_map<Key, int> offset;
+  std::unordered_map<Key, int> dim;
+  int nf = 0;
+  int ns = 0;
+};
+
+Layout makeLayout(const KeyVector& frontals, const std::vector<int>& fdims,
+                  const KeyVector& separator, const std::vector<int>& sdims) {
+  Layout l;
+  int off = 0;
+  for (std::size_t i = 0; i < frontals.size(); ++i) {
+    l.offset[frontals[i]] = off;
+    l.dim[frontals[i]] = fdims[i];
+    off += fdims[i];
+  }
+  l.nf = off;
+  for (std::size_t i = 0; i < separator.size(); ++i) {
+    l.offset[separator[i]] = off;
+    l.dim[separator[i]] = sdims[i];
+    off += sdims[i];
+  }
+  l.ns = off - l.nf;
+  return l;
+}
+
+// Stacks the factors into one dense [A | b].
+Matrix stack(const std::vector<const JacobianFactor*>& factors, const Layout& l) {
+  int rows = 0;
+  for (const auto* f : factors) rows += f->rows();
+  const int n = l.nf + l.ns;
+  Matrix ab = Matrix::Zero(rows, n + 1);
+  int r = 0;
+  for (const auto* f : factors) {
+    for (std::size_t j = 0; j < f->keys().size(); ++j) {
+      auto it = l.offset.find(f->keys()[j]);
+      if (it == l.offset.end())
+        throw std::invalid_argument("eliminate: factor key " + keyToString(f->keys()[j]) +
+                                    " is neither frontal nor separator");
+      if (f->block(j).cols() != l.dim.at(f->keys()[j]))
+        throw std::invalid_argument("eliminate: dimension mismatch for " + keyToString(f->keys()[j]));
+      ab.block(r, it->second, f->rows(), f->block(j).cols()) = f->block(j);
+    }
+    ab.block(r, n, f->rows(), 1) = f->b();
+    r += f->rows();
+  }
+  return ab;
+}
+
+// Splits the rows [R S d] of the eliminated frontals into a conditional.
+GaussianConditional makeConditional(const Matrix& rows, const KeyVector& frontals,
+                                    const std::vector<int>& fdims, const KeyVector& separator,
+                                    const std::vector<int>& sdims, int nf) {
+  const int n = static_cast<int>(rows.cols()) - 1;
+  std::vector<Matrix> s;
+  int off = nf;
+  for (int d : sdims) {
+    s.push_back(rows.block(0, off, nf, d));
+    off += d;
+  }
+  Matrix r = rows.leftCols(nf).triangularView<Eigen::Upper>();
+  return GaussianConditional(frontals, fdims, separator, std::move(r), std::move(s), rows.col(n));
+}
+
+// Marginal factor on the separator from rows [A_s | b_s].
+JacobianFactor::Ptr makeMarginal(const Matrix& rows, const KeyVector& separator,
+                                 const std::vector<int>& sdims) {
+  const int n = static_cast<int>(rows.cols()) - 1;
+  std::vector<Matrix> blocks;
+  int off = 0;
+  for (int d : sdims) {
+    blocks.push_back(rows.middleCols(off, d));
+    off += d;
+  }
+  return std::make_shared<JacobianFactor>(separator, std::move(blocks), rows.col(n));
+}
+
+std::string describe(const KeyVector& frontals) {
+  return "eliminate: frontal block of " + keysToString(frontals) +
+         " is not positive definite (under-constrained variable)";
+}
+
+EliminationResult eliminateCholesky(const Matrix& ab, const KeyVector& frontals,
+                                    const std::vector<int>& fdims, const KeyVector& separator,
+                                    const std::vector<int>& sdims, int nf, int ns) {
+  const int n1 = nf + ns + 1;
+  Matrix h(n1, n1);
+  h.setZero();
+  h.selfadjointView<Eigen::Lower>().rankUpdate(ab.transpose());
+  h.triangularView<Eigen::StrictlyUpper>() = h.transpose();
+  Eigen::LLT<Matrix> llt(h.topLeftCorner(nf, nf));
+  if (llt.info() != Eigen::Success) throw IndeterminantSystemError(describe(frontals));
+  // Rows of the augmented square-root information on the frontals: L^-1 H_f,[f s b].
+  Matrix top = llt.matrixL().solve(h.topRows(nf));
+  top.leftCols(nf) = llt.matrixU();
+  if (!top.allFinite()) throw IndeterminantSystemError(describe(frontals));
+  EliminationResult out;
+  out.conditional = makeConditional(top, frontals, fdims, separator, sdims, nf);
+  if (ns == 0) {
+    out.marginal = std::make_shared<JacobianFactor>();
+    return out;
+  }
+  // Augmented Schur complement [H_ss' eta_s'; eta_s'^T c'] (positive semidefinite), and a
+  // square root of it by pivoted LDL^T: P^T L D L^T P = M  =>  J = D^1/2 L^T P, J^T J = M.
+  const Matrix t = top.rightCols(ns + 1);
+  Matrix schur = h.bottomRightCorner(ns + 1, ns + 1);
+  schur.noalias() -= t.transpose() * t;
+  schur = 0.5 * (schur + schur.transpose()).eval();
+  Eigen::LDLT<Matrix> ldlt(schur);
+  const Eigen::VectorXd dvec = ldlt.vectorD();
+  const double dmax = std::max(dvec.maxCoeff(), 0.0);
+  Matrix p = Matrix::Identity(ns + 1, ns + 1);
+  p = ldlt.transpositionsP() * p;
+  const Matrix lt_p = Matrix(ldlt.matrixU()) * p;
+  std::vector<int> keep;
+  for (int i = 0; i < dvec.size(); ++i)
+    if (dvec[i] > 1e-14 * dmax && dvec[i] > 0) keep.push_back(i);
+  Matrix rows(static_cast<int>(keep.size()), ns + 1);
+  for (std::size_t i = 0; i < keep.size(); ++i)
+    rows.row(static_cast<int>(i)) = std::sqrt(dvec[keep[i]]) * lt_p.row(keep[i]);
+  out.marginal = makeMarginal(rows, separator, sdims);
+  return out;
+}
+
+EliminationResult eliminateQr(Matrix& ab, const KeyVector& frontals, const std::vector<int>& fdims,
+                              const KeyVector& separator, const std::vector<int>& sdims, int nf,
+                              int ns) {
+  const int m = static_cast<int>(ab.rows());
+  const int n1 = nf + ns + 1;
+  if (m < nf) throw IndeterminantSystemError(describe(frontals));
+  Eigen::HouseholderQR<Eigen::Ref<Matrix>> qr(ab);  // in place
+  const int rank_rows = std::min(m, n1);
+  Matrix r = ab.topRows(rank_rows).triangularView<Eigen::Upper>();
+  const double scale = std::max(1.0, r.topLeftCorner(nf, nf).diagonal().cwiseAbs().maxCoeff());
+  for (int i = 0; i < nf; ++i)
+    if (!(std::abs(r(i, i)) > 1e-13 * scale)) throw IndeterminantSystemError(describe(frontals));
+  EliminationResult out;
+  out.conditional = makeConditional(r.topRows(nf), frontals, fdims, separator, sdims, nf);
+  if (ns == 0) {
+    out.marginal = std::make_shared<JacobianFactor>();
+    return out;
+  }
+  out.marginal = makeMarginal(r.bottomRightCorner(rank_rows - nf, ns + 1), separator, sdims);
+  return out;
+}
+
+}  // namespace
+
+EliminationResult eliminate(const std::vector<const JacobianFactor*>& factors,
+                            const KeyVector& frontals, const std::vector<int>& frontal_dims,
+                            const KeyVector& separator, const std::vector<int>& separator_dims,
+                            Factorization method) {
+  if (frontals.empty()) throw std::invalid_argument("eliminate: no frontal variables");
+  if (frontals.size() != frontal_dims.size() || separator.size() != separator_dims.size())
+    throw std::invalid_argument("eliminate: keys/dims size mismatch");
+  const Layout l = makeLayout(frontals, frontal_dims, separator, separator_dims);
+  Matrix ab = stack(factors, l);
+  if (method == Factorization::QR)
+    return eliminateQr(ab, frontals, frontal_dims, separator, separator_dims, l.nf, l.ns);
+  return eliminateCholesky(ab, frontals, frontal_dims, separator, separator_dims, l.nf, l.ns);
+}
+
+}  // namespace ppp::smoother

@@ -1,0 +1,601 @@
+// iSAM2 update, following Kaess et al., "iSAM2: Incremental smoothing and mapping using
+// the Bayes tree", IJRR 31(2) 2012: Alg. 6 (one iSAM2 step) with Alg. 4/5 (updating the
+// Bayes tree, fluid relinearization) and Alg. 7 (partial state update, "wildfire").
+#include "ppp_bayes_tree/smoother/isam2.h"
+
+#include <algorithm>
+#include <chrono>
+#include <functional>
+#include <stdexcept>
+
+#include "ppp_bayes_tree/smoother/elimination.h"
+#include "ppp_bayes_tree/smoother/linear_container_factor.h"
+#include "ppp_bayes_tree/smoother/ordering.h"
+
+namespace ppp::smoother {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double secondsSince(Clock::time_point t0) {
+  return std::chrono::duration<double>(Clock::now() - t0).count();
+}
+
+double maxAbs(const Vector& v) { return v.size() ? v.cwiseAbs().maxCoeff() : 0.0; }
+
+}  // namespace
+
+ISAM2::ISAM2(ISAM2Params params) : params_(std::move(params)) {
+  if (params_.relinearize_skip < 1) throw std::invalid_argument("ISAM2Params: relinearize_skip must be >= 1");
+}
+
+ISAM2Result ISAM2::update(const NonlinearFactorGraph& new_factors, const Values& new_values,
+                          const ISAM2UpdateParams& up) {
+  const auto t_start = Clock::now();
+  ISAM2Result result;
+  for (FactorIndex i : up.remove_factor_indices)
+    if (!factors_.count(i)) throw std::invalid_argument("ISAM2::update: no factor with index " + std::to_string(i));
+
+  // ---- 1. Add the new factors and variables (validated first: no state change on bad input).
+  auto t = Clock::now();
+  addFactorsAndVariables(new_factors, new_values, result);
+  ++update_count_;
+  KeySet affected;  // variables whose cliques (and the paths to the root) get re-eliminated
+  for (const auto& [k, v] : new_values) affected.insert(k);
+  for (FactorIndex i : result.new_factor_indices)
+    for (Key k : factors_.at(i).factor->keys()) affected.insert(k);
+  removeFactors(up.remove_factor_indices, affected, result);
+  for (Key k : up.extra_reelim_keys)
+    if (theta_.exists(k)) affected.insert(k);
+  result.step_time_s[0] = secondsSince(t);
+
+  // ---- 2. Mark variables for relinearization (every relinearize_skip updates, fluid check).
+  t = Clock::now();
+  KeySet relin;
+  if (params_.enable_relinearization &&
+      (up.force_full_relinearization || update_count_ % params_.relinearize_skip == 0)) {
+    result.relinearization_checked = true;
+    relin = gatherRelinearizeKeys(up);
+  }
+  result.step_time_s[1] = secondsSince(t);
+
+  // ---- 3. Relinearize: move theta by delta for marked variables; invalidate the cached
+  // linearization of every factor involving them and mark all those factors' variables.
+  t = Clock::now();
+  relinearize(relin, affected, result);
+  result.step_time_s[2] = secondsSince(t);
+
+  // ---- 4. Remove the top of the Bayes tree: the cliques on the paths from the affected
+  // variables to the root. Their children that are not removed become orphans.
+  t = Clock::now();
+  KeyVector top_keys;
+  std::vector<Clique::Ptr> orphans;
+  std::vector<FactorIndex> top_factors;
+  removeTop(affected, top_keys, orphans, top_factors, result);
+  for (FactorIndex i : result.new_factor_indices) top_factors.push_back(i);
+  result.step_time_s[3] = secondsSince(t);
+
+  // ---- 5./6. Re-eliminate the top (with the orphans' cached marginals) under a
+  // constrained ordering, and re-attach the orphans.
+  std::vector<Clique*> created = eliminateTop(top_keys, orphans, top_factors, up, result);
+
+  // ---- 7. Back-substitution, partial ("wildfire") when enabled.
+  t = Clock::now();
+  std::unordered_set<const Clique*> created_set(created.begin(), created.end());
+  backSubstitute(created_set, result);
+  result.step_time_s[6] = secondsSince(t);
+  result.total_time_s = secondsSince(t_start);
+  return result;
+}
+
+// ---------------------------------------------------------------------------
+// Step 1
+void ISAM2::addFactorsAndVariables(const NonlinearFactorGraph& new_factors, const Values& new_values,
+                                   ISAM2Result& result) {
+  KeySet used;
+  for (const auto& [k, v] : new_values)
+    if (theta_.exists(k)) throw std::invalid_argument("ISAM2::update: variable exists: " + keyToString(k));
+  for (const auto& f : new_factors) {
+    if (!f) throw std::invalid_argument("ISAM2::update: null factor");
+    for (Key k : f->keys()) {
+      if (!theta_.exists(k) && !new_values.exists(k))
+        throw std::invalid_argument("ISAM2::update: factor on unknown variable " + keyToString(k));
+      used.insert(k);
+    }
+  }
+  for (const auto& [k, v] : new_values)
+    if (!used.count(k))
+      throw std::invalid_argument("ISAM2::update: new variable in no new factor: " + keyToString(k));
+
+  for (const auto& [k, v] : new_values) {
+    theta_.insert(k, v);
+    delta_.insert(k, Vector::Zero(v.size()));
+    ++result.variables_added;
+  }
+  for (const auto& f : new_factors) {
+    const FactorIndex i = next_factor_index_++;
+    factors_.emplace(i, FactorSlot{f, nullptr});
+    for (Key k : f->keys()) variable_index_[k].push_back(i);
+    result.new_factor_indices.push_back(i);
+  }
+  result.factors_added = new_factors.size();
+}
+
+void ISAM2::removeFactors(const std::vector<FactorIndex>& indices, KeySet& affected,
+                          ISAM2Result& result) {
+  for (FactorIndex i : indices) {
+    auto it = factors_.find(i);
+    if (it == factors_.end()) continue;  // listed twice
+    for (Key k : it->second.factor->keys()) {
+      affected.insert(k);
+      auto& list = variable_index_[k];
+      auto pos = std::find(list.begin(), list.end(), i);
+      if (pos != list.end()) list.erase(pos);
+    }
+    factors_.erase(it);
+    ++result.factors_removed;
+  }
+}
+
+// ---------------------------------------------------------------------------
+// Step 2
+ISAM2::KeySet ISAM2::gatherRelinearizeKeys(const ISAM2UpdateParams& up) const {
+  KeySet marked;
+  if (up.force_full_relinearization) {
+    for (const auto& [k, v] : theta_) marked.insert(k);
+  } else if (params_.fluid_relinearization) {
+    for (const auto& root : tree_.roots()) fluidCheck(*root, marked);
+  } else {
+    for (const auto& [k, d] : delta_)
+      if (maxAbs(d) > params_.thresholdFor(k)) marked.insert(k);
+  }
+  for (Key k : up.no_relin_keys) marked.erase(k);
+  return marked;
+}
+
+void ISAM2::fluidCheck(const Clique& clique, KeySet& marked) const {
+  // Alg. 5: a clique whose frontal deltas are all below threshold stops the descent,
+  // since back-substitution changes below it are no larger than its own.
+  bool any = false;
+  for (Key k : clique.frontals)
+    if (maxAbs(delta_.at(k)) > params_.thresholdFor(k)) {
+      marked.insert(k);
+      any = true;
+    }
+  if (!any) return;
+  for (const auto& ch : clique.children) fluidCheck(*ch, marked);
+}
+
+// ---------------------------------------------------------------------------
+// Step 3
+void ISAM2::relinearize(const KeySet& relin_keys, KeySet& affected, ISAM2Result& result) {
+  for (Key k : relin_keys) {
+    Vector& d = delta_.at(k);
+    theta_.at(k) += d;
+    d.setZero();
+    affected.insert(k);
+    for (FactorIndex i : variable_index_[k]) {
+      FactorSlot& slot = factors_.at(i);
+      slot.linear.reset();
+      for (Key other : slot.factor->keys()) affected.insert(other);
+    }
+  }
+  result.variables_relinearized = relin_keys.size();
+}
+
+const JacobianFactor& ISAM2::linearFactor(FactorIndex index) {
+  FactorSlot& slot = factors_.at(index);
+  if (!slot.linear || !params_.cache_linearized_factors) slot.linear = slot.factor->linearize(theta_);
+  return *slot.linear;
+}
+
+// ---------------------------------------------------------------------------
+// Step 4
+void ISAM2::removeTop(const KeySet& affected, KeyVector& top_keys, std::vector<Clique::Ptr>& orphans,
+                      std::vector<FactorIndex>& top_factors, ISAM2Result& result) {
+  std::unordered_set<Clique*> removed;
+  std::vector<Clique*> removed_list;
+  for (Key k : affected)
+    for (Clique* c = tree_.clique(k); c && removed.insert(c).second; c = c->parent)
+      removed_list.push_back(c);
+  for (Clique* c : removed_list) {
+    for (const auto& ch : c->children)
+      if (!removed.count(ch.get())) {
+        ch->parent = nullptr;
+        orphans.push_back(ch);
+      }
+    for (Key k : c->frontals) {
+      top_keys.push_back(k);
+      tree_.eraseKey(k);
+    }
+    for (FactorIndex i : c->factor_indices)
+      if (factors_.count(i)) top_factors.push_back(i);
+  }
+  // Variables not in the tree yet (new ones).
+  for (Key k : affected)
+    if (!tree_.contains(k) && theta_.exists(k) &&
+        std::find(top_keys.begin(), top_keys.end(), k) == top_keys.end())
+      top_keys.push_back(k);
+  // Unused variables (all their factors removed) leave the problem.
+  top_keys.erase(std::remove_if(top_keys.begin(), top_keys.end(),
+                                [&](Key k) {
+                                  auto it = variable_index_.find(k);
+                                  if (it != variable_index_.end() && !it->second.empty()) return false;
+                                  eraseVariable(k);
+                                  return true;
+                                }),
+                 top_keys.end());
+  // Drop the removed cliques (they hang below removed roots).
+  auto& roots = tree_.mutableRoots();
+  roots.erase(std::remove_if(roots.begin(), roots.end(),
+                             [&](const Clique::Ptr& r) { return removed.count(r.get()) != 0; }),
+              roots.end());
+  result.cliques_removed = removed_list.size();
+  result.orphans = orphans.size();
+}
+
+void ISAM2::eraseVariable(Key key) {
+  theta_.erase(key);
+  delta_.erase(key);
+  variable_index_.erase(key);
+  tree_.eraseKey(key);
+}
+
+// ---------------------------------------------------------------------------
+// Steps 5 and 6
+std::vector<Clique*> ISAM2::eliminateTop(const KeyVector& top_keys, std::vector<Clique::Ptr>& orphans,
+                                         const std::vector<FactorIndex>& top_factors,
+                                         const ISAM2UpdateParams& up, ISAM2Result& result) {
+  auto t = Clock::now();
+  const int n = static_cast<int>(top_keys.size());
+  result.variables_reeliminated = top_keys.size();
+  if (n == 0) {
+    result.step_time_s[4] = secondsSince(t);
+    return {};
+  }
+  // 5a. Constrained ordering (CCOLAMD): first_keys in the first group, the caller's newest
+  // keys (default: the keys of the new factors) in the last group -> the root clique.
+  // Composite groups (first, optional caller group, newest), renumbered 0.. without gaps
+  // as CCOLAMD wants.
+  constexpr long kFirst = -(1L << 40), kNewest = 1L << 40;
+  std::unordered_map<Key, long> raw;
+  raw.reserve(top_keys.size());
+  for (Key k : top_keys) raw[k] = up.ordering_group ? up.ordering_group(k) : 0;
+  const KeyVector* last = &up.newest_keys;
+  KeyVector observed;
+  if (up.newest_keys.empty()) {
+    for (FactorIndex i : result.new_factor_indices)
+      for (Key k : factors_.at(i).factor->keys()) observed.push_back(k);
+    last = &observed;
+  }
+  for (Key k : *last) {
+    auto it = raw.find(k);
+    if (it != raw.end()) it->second = kNewest;
+  }
+  for (Key k : up.first_keys) {
+    auto it = raw.find(k);
+    if (it != raw.end()) it->second = kFirst;
+  }
+  std::vector<long> levels;
+  for (const auto& [k, g] : raw) levels.push_back(g);
+  std::sort(levels.begin(), levels.end());
+  levels.erase(std::unique(levels.begin(), levels.end()), levels.end());
+  std::unordered_map<Key, int> groups;
+  groups.reserve(raw.size());
+  for (const auto& [k, g] : raw)
+    groups[k] = static_cast<int>(std::lower_bound(levels.begin(), levels.end(), g) - levels.begin());
+  const int newest_group = levels.back() == kNewest ? static_cast<int>(levels.size()) - 1 : -1;
+  std::vector<KeyVector> pattern;
+  pattern.reserve(top_factors.size() + orphans.size());
+  for (FactorIndex i : top_factors) pattern.push_back(factors_.at(i).factor->keys());
+  for (const auto& o : orphans) pattern.push_back(o->separator);
+  const Ordering ordering = computeOrdering(pattern, top_keys, &groups);
+  std::unordered_map<Key, int> pos;
+  pos.reserve(n);
+  for (int i = 0; i < n; ++i) pos[ordering[i]] = i;
+  auto lowest = [&](const KeyVector& keys) {
+    int best = n;
+    for (Key k : keys) {
+      auto it = pos.find(k);
+      if (it == pos.end()) throw std::logic_error("iSAM2: factor key outside the re-eliminated top: " + keyToString(k));
+      best = std::min(best, it->second);
+    }
+    return best;
+  };
+
+  // 5b. Symbolic elimination into cliques (fundamental supernodes: a variable joins its
+  // child clique when that child's separator is exactly the variable plus its own
+  // separator, and both lie in the same constraint group). The newest group is gathered
+  // into one clique even where it would split (e.g. a new landmark seen once): merging a
+  // child clique into its parent variable's clique keeps a valid Bayes tree (zero blocks
+  // in the conditional), and puts every newest variable in the root clique.
+  struct Sym {
+    std::vector<int> frontals, sep;
+    std::vector<FactorIndex> factors;
+    std::vector<int> orphans;
+    bool merged = false;  // folded into another clique
+  };
+  std::vector<Sym> sym;
+  std::vector<std::vector<FactorIndex>> factors_at(n);
+  std::vector<std::vector<int>> orphans_at(n);
+  std::vector<std::vector<int>> children_at(n);  // cliques whose separator starts at var i
+  std::vector<int> var_clique(n, -1);
+  for (FactorIndex i : top_factors) factors_at[lowest(factors_.at(i).factor->keys())].push_back(i);
+  for (std::size_t o = 0; o < orphans.size(); ++o) orphans_at[lowest(orphans[o]->separator)].push_back(static_cast<int>(o));
+  std::vector<int> stamp(n, -1);
+  std::vector<int> st;
+  for (int i = 0; i < n; ++i) {
+    st.clear();
+    stamp[i] = i;
+    auto add = [&](int p) {
+      if (stamp[p] != i) {
+        stamp[p] = i;
+        st.push_back(p);
+      }
+    };
+    for (FactorIndex f : factors_at[i])
+      for (Key k : factors_.at(f).factor->keys()) add(pos.at(k));
+    for (int o : orphans_at[i])
+      for (Key k : orphans[o]->separator) add(pos.at(k));
+    for (int c : children_at[i])
+      for (int p : sym[c].sep) add(p);
+    std::sort(st.begin(), st.end());
+    int target = -1;
+    for (int c : children_at[i])
+      if (sym[c].sep.size() == st.size() + 1 &&
+          groups.at(ordering[sym[c].frontals.back()]) == groups.at(ordering[i])) {
+        target = c;
+        break;
+      }
+    const bool newest = newest_group >= 0 && groups.at(ordering[i]) == newest_group;
+    if (newest)
+      for (int c : children_at[i]) {
+        if (c == target || groups.at(ordering[sym[c].frontals.back()]) != newest_group) continue;
+        if (target < 0) {
+          target = c;
+          continue;
+        }
+        Sym& into = sym[target];
+        Sym& from = sym[c];
+        for (int p : from.frontals) var_clique[p] = target;
+        into.frontals.insert(into.frontals.end(), from.frontals.begin(), from.frontals.end());
+        std::sort(into.frontals.begin(), into.frontals.end());
+        into.factors.insert(into.factors.end(), from.factors.begin(), from.factors.end());
+        into.orphans.insert(into.orphans.end(), from.orphans.begin(), from.orphans.end());
+        from = Sym{};
+        from.merged = true;
+      }
+    if (target < 0) {
+      target = static_cast<int>(sym.size());
+      sym.emplace_back();
+    }
+    Sym& s = sym[target];
+    s.frontals.push_back(i);
+    s.sep = st;
+    s.factors.insert(s.factors.end(), factors_at[i].begin(), factors_at[i].end());
+    s.orphans.insert(s.orphans.end(), orphans_at[i].begin(), orphans_at[i].end());
+    var_clique[i] = target;
+    if (!st.empty()) children_at[st.front()].push_back(target);
+  }
+
+  // 5c. Numeric elimination, children before parents (by last frontal position).
+  std::vector<int> order;
+  for (std::size_t c = 0; c < sym.size(); ++c)
+    if (!sym[c].merged) order.push_back(static_cast<int>(c));
+  std::sort(order.begin(), order.end(),
+            [&](int a, int b) { return sym[a].frontals.back() < sym[b].frontals.back(); });
+  std::vector<Clique::Ptr> cliques(sym.size());
+  std::vector<std::vector<int>> new_children(sym.size());
+  for (std::size_t c = 0; c < sym.size(); ++c)
+    if (!sym[c].merged && !sym[c].sep.empty()) new_children[var_clique[sym[c].sep.front()]].push_back(static_cast<int>(c));
+  std::vector<const JacobianFactor*> gathered;
+  for (int c : order) {
+    const Sym& s = sym[c];
+    auto clique = std::make_shared<Clique>();
+    std::vector<int> fdims, sdims;
+    for (int p : s.frontals) {
+      clique->frontals.push_back(ordering[p]);
+      fdims.push_back(static_cast<int>(theta_.at(ordering[p]).size()));
+    }
+    for (int p : s.sep) {
+      clique->separator.push_back(ordering[p]);
+      sdims.push_back(static_cast<int>(theta_.at(ordering[p]).size()));
+    }
+    gathered.clear();
+    for (FactorIndex f : s.factors) gathered.push_back(&linearFactor(f));
+    for (int o : s.orphans) gathered.push_back(orphans[o]->cached_marginal.get());
+    for (int ch : new_children[c]) gathered.push_back(cliques[ch]->cached_marginal.get());
+    EliminationResult er = eliminate(gathered, clique->frontals, fdims, clique->separator, sdims,
+                                     params_.factorization);
+    clique->conditional = std::move(er.conditional);
+    clique->cached_marginal = std::move(er.marginal);
+    clique->factor_indices = s.factors;
+    for (int ch : new_children[c]) {
+      cliques[ch]->parent = clique.get();
+      clique->children.push_back(cliques[ch]);
+    }
+    for (Key k : clique->frontals) tree_.setClique(k, clique.get());
+    if (s.sep.empty()) tree_.mutableRoots().push_back(clique);
+    cliques[c] = std::move(clique);
+  }
+  result.cliques_created = order.size();
+  result.step_time_s[4] = secondsSince(t);
+
+  // ---- 6. Re-attach each orphan below the clique holding the first-eliminated variable of
+  // its separator (that clique contains the whole separator).
+  t = Clock::now();
+  for (std::size_t c = 0; c < sym.size(); ++c)
+    for (int o : sym[c].merged ? std::vector<int>{} : sym[c].orphans) {
+      orphans[o]->parent = cliques[c].get();
+      cliques[c]->children.push_back(orphans[o]);
+    }
+  result.step_time_s[5] = secondsSince(t);
+  std::vector<Clique*> created;
+  for (int c : order) created.push_back(cliques[c].get());
+  return created;
+}
+
+// ---------------------------------------------------------------------------
+// Step 7
+void ISAM2::backSubstitute(const std::unordered_set<const Clique*>& new_cliques, ISAM2Result& result) {
+  // Alg. 7: top-down; a clique is solved again when it was re-eliminated or when one of its
+  // separator variables changed by more than the threshold; the descent stops below
+  // cliques that were not solved again.
+  const bool wildfire = params_.enable_partial_backsubstitution;
+  const double threshold = params_.wildfire_threshold;
+  KeySet changed;
+  std::vector<Clique*> stack;
+  for (const auto& r : tree_.roots()) stack.push_back(r.get());
+  while (!stack.empty()) {
+    Clique* c = stack.back();
+    stack.pop_back();
+    bool recompute = !wildfire || new_cliques.count(c) != 0;
+    for (std::size_t j = 0; !recompute && j < c->separator.size(); ++j)
+      recompute = changed.count(c->separator[j]) != 0;
+    if (!recompute) continue;
+    const Vector x = c->conditional.solve(delta_);
+    const auto& cond = c->conditional;
+    for (std::size_t i = 0; i < c->frontals.size(); ++i) {
+      Vector& d = delta_.at(c->frontals[i]);
+      const auto seg = x.segment(cond.frontalOffset(i), cond.frontalDims()[i]);
+      if (wildfire && (seg - d).cwiseAbs().maxCoeff() > threshold) changed.insert(c->frontals[i]);
+      d = seg;
+    }
+    ++result.cliques_backsubstituted;
+    for (const auto& ch : c->children) stack.push_back(ch.get());
+  }
+}
+
+// ---------------------------------------------------------------------------
+// Queries and marginalization
+Values ISAM2::calculateEstimate() const { return theta_.retract(delta_); }
+
+Vector ISAM2::calculateEstimate(Key key) const { return theta_.at(key) + delta_.at(key); }
+
+std::vector<FactorIndex> ISAM2::factorsOf(Key key) const {
+  auto it = variable_index_.find(key);
+  return it == variable_index_.end() ? std::vector<FactorIndex>{} : it->second;
+}
+
+NonlinearFactorGraph ISAM2::nonlinearFactors() const {
+  std::vector<FactorIndex> idx;
+  for (const auto& [i, s] : factors_) idx.push_back(i);
+  std::sort(idx.begin(), idx.end());
+  NonlinearFactorGraph g;
+  for (FactorIndex i : idx) g.push_back(factors_.at(i).factor);
+  return g;
+}
+
+NonlinearFactor::Ptr ISAM2::factor(FactorIndex index) const {
+  auto it = factors_.find(index);
+  return it == factors_.end() ? nullptr : it->second.factor;
+}
+
+JacobianFactor::Ptr ISAM2::cachedLinearFactor(FactorIndex index) const {
+  auto it = factors_.find(index);
+  return it == factors_.end() ? nullptr : it->second.linear;
+}
+
+KeyVector ISAM2::marginalizeLeaves(const KeyVector& keys) {
+  const KeySet m(keys.begin(), keys.end());
+  std::unordered_map<const Clique*, bool> memo;
+  // A clique can go when all its frontals are to be marginalized and all its children can.
+  std::function<bool(const Clique*)> removable = [&](const Clique* c) {
+    auto it = memo.find(c);
+    if (it != memo.end()) return it->second;
+    bool ok = std::all_of(c->frontals.begin(), c->frontals.end(), [&](Key k) { return m.count(k) != 0; });
+    for (std::size_t i = 0; ok && i < c->children.size(); ++i) ok = removable(c->children[i].get());
+    memo[c] = ok;
+    return ok;
+  };
+  std::vector<Clique*> subtree_roots;
+  std::unordered_set<Clique*> seen_roots;
+  for (Key k : keys) {
+    Clique* c = tree_.clique(k);
+    if (!c || !removable(c)) continue;
+    while (c->parent && removable(c->parent)) c = c->parent;
+    if (seen_roots.insert(c).second) subtree_roots.push_back(c);
+  }
+  KeyVector done;
+  for (Clique* top : subtree_roots) {
+    std::vector<Clique*> sub{top};
+    for (std::size_t i = 0; i < sub.size(); ++i)
+      for (const auto& ch : sub[i]->children) sub.push_back(ch.get());
+    KeySet gone;
+    std::vector<FactorIndex> gone_factors;
+    for (Clique* c : sub) {
+      gone.insert(c->frontals.begin(), c->frontals.end());
+      gone_factors.insert(gone_factors.end(), c->factor_indices.begin(), c->factor_indices.end());
+    }
+    // Remove the subtree's factors: exactly the factors involving its variables.
+    for (FactorIndex i : gone_factors) {
+      auto it = factors_.find(i);
+      if (it == factors_.end()) continue;
+      for (Key k : it->second.factor->keys()) {
+        if (gone.count(k)) continue;
+        auto& list = variable_index_[k];
+        auto pos = std::find(list.begin(), list.end(), i);
+        if (pos != list.end()) list.erase(pos);
+      }
+      factors_.erase(it);
+    }
+    Clique* parent = top->parent;
+    std::shared_ptr<Clique> keep_alive;
+    if (parent) {
+      // The subtree's information on the rest is its cached marginal on the separator.
+      if (top->cached_marginal && top->cached_marginal->rows() > 0) {
+        const FactorIndex i = next_factor_index_++;
+        auto f = std::make_shared<LinearContainerFactor>(*top->cached_marginal, theta_);
+        factors_.emplace(i, FactorSlot{f, top->cached_marginal});
+        for (Key k : f->keys()) variable_index_[k].push_back(i);
+        parent->factor_indices.push_back(i);
+      }
+      auto& ch = parent->children;
+      auto it = std::find_if(ch.begin(), ch.end(), [&](const Clique::Ptr& p) { return p.get() == top; });
+      keep_alive = *it;
+      ch.erase(it);
+    } else {
+      auto& roots = tree_.mutableRoots();
+      auto it = std::find_if(roots.begin(), roots.end(), [&](const Clique::Ptr& p) { return p.get() == top; });
+      keep_alive = *it;
+      roots.erase(it);
+    }
+    for (Key k : gone) {
+      eraseVariable(k);
+      done.push_back(k);
+    }
+  }
+  return done;
+}
+
+KeyVector ISAM2::keysToReeliminateForMarginalization(const KeyVector& keys) const {
+  const KeySet m(keys.begin(), keys.end());
+  std::function<bool(const Clique*)> removable = [&](const Clique* c) {
+    if (!std::all_of(c->frontals.begin(), c->frontals.end(), [&](Key k) { return m.count(k) != 0; }))
+      return false;
+    for (const auto& ch : c->children)
+      if (!removable(ch.get())) return false;
+    return true;
+  };
+  KeySet out;
+  for (Key k : keys) {
+    const Clique* c = tree_.clique(k);
+    if (!c || removable(c)) continue;
+    out.insert(k);
+    // Descendant cliques involving k (as frontal or separator) must be re-eliminated too,
+    // otherwise they would come back as orphans hanging below k.
+    std::vector<const Clique*> stack(1, c);
+    while (!stack.empty()) {
+      const Clique* q = stack.back();
+      stack.pop_back();
+      for (const auto& ch : q->children) {
+        const auto& s = ch->separator;
+        if (std::find(s.begin(), s.end(), k) == s.end()) continue;
+        out.insert(ch->frontals.begin(), ch->frontals.end());
+        stack.push_back(ch.get());
+      }
+    }
+  }
+  return KeyVector(out.begin(), out.end());
+}
+
+}  // namespace ppp::smoother

@@ -1,0 +1,65 @@
+#include "ppp_bayes_tree/smoother/ordering.h"
+
+#include <ccolamd.h>
+
+#include <stdexcept>
+#include <string>
+
+namespace ppp::smoother {
+
+Ordering computeOrdering(const std::vector<KeyVector>& factor_keys, const KeyVector& keys,
+                         const std::unordered_map<Key, int>* groups) {
+  const int n_col = static_cast<int>(keys.size());
+  if (n_col <= 1) return keys;
+  std::unordered_map<Key, int> column;
+  column.reserve(keys.size());
+  for (int j = 0; j < n_col; ++j)
+    if (!column.emplace(keys[j], j).second)
+      throw std::invalid_argument("computeOrdering: duplicate key " + keyToString(keys[j]));
+
+  // Column-major pattern of the factor (row) x variable (column) incidence matrix.
+  std::vector<std::vector<int>> rows_of(n_col);
+  int n_row = 0;
+  for (const auto& f : factor_keys) {
+    bool any = false;
+    for (Key k : f) {
+      auto it = column.find(k);
+      if (it == column.end()) continue;
+      rows_of[it->second].push_back(n_row);
+      any = true;
+    }
+    if (any) ++n_row;
+  }
+  int nnz = 0;
+  for (const auto& r : rows_of) nnz += static_cast<int>(r.size());
+  const std::size_t alen = ccolamd_recommended(nnz, n_row, n_col);
+  if (alen == 0) throw std::runtime_error("computeOrdering: problem too large for CCOLAMD");
+  std::vector<int> a(alen);
+  std::vector<int> p(n_col + 1);
+  int pos = 0;
+  for (int j = 0; j < n_col; ++j) {
+    p[j] = pos;
+    for (int r : rows_of[j]) a[pos++] = r;
+  }
+  p[n_col] = pos;
+
+  std::vector<int> cmember;
+  if (groups && !groups->empty()) {
+    cmember.assign(n_col, 0);
+    for (int j = 0; j < n_col; ++j) {
+      auto it = groups->find(keys[j]);
+      if (it != groups->end()) cmember[j] = it->second;
+    }
+  }
+  double knobs[CCOLAMD_KNOBS];
+  int stats[CCOLAMD_STATS];
+  ccolamd_set_defaults(knobs);
+  const int ok = ccolamd(n_row, n_col, static_cast<int>(alen), a.data(), p.data(), knobs, stats,
+                         cmember.empty() ? nullptr : cmember.data());
+  if (!ok) throw std::runtime_error("CCOLAMD failed with status " + std::to_string(stats[CCOLAMD_STATUS]));
+  Ordering out(n_col);
+  for (int k = 0; k < n_col; ++k) out[k] = keys[p[k]];
+  return out;
+}
+
+}  // namespace ppp::smoother

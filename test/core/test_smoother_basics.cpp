@@ -1,0 +1,241 @@
+// Keys, values, noise models, factors (with Jacobian checks), elimination, ordering and
+// the batch reference solver.
+#include <gtest/gtest.h>
+
+#include "core/smoother_test_util.h"
+#include "ppp_bayes_tree/smoother/between_factor.h"
+#include "ppp_bayes_tree/smoother/elimination.h"
+#include "ppp_bayes_tree/smoother/linear_container_factor.h"
+#include "ppp_bayes_tree/smoother/numerical_jacobian.h"
+#include "ppp_bayes_tree/smoother/ordering.h"
+#include "ppp_bayes_tree/smoother/prior_factor.h"
+
+using namespace ppp::smoother;
+using namespace ppp::smoother::test;
+
+TEST(SmootherKey, SymbolForms) {
+  const Key x = symbolKey('x', 42);
+  EXPECT_EQ(keyToString(x), "x42");
+  EXPECT_EQ(keySymbol(x), 'x');
+  EXPECT_EQ(keyIndex(x), 42u);
+  EXPECT_EQ(keyLabel(x), "");
+  const Key b = symbolKey('b', "G05", 3);
+  EXPECT_EQ(keyToString(b), "b(G05,3)");
+  EXPECT_EQ(keyLabel(b), "G05");
+  EXPECT_EQ(keyIndex(b), 3u);
+  EXPECT_NE(b, symbolKey('b', "G06", 3));
+  EXPECT_NE(b, symbolKey('b', 3));
+  EXPECT_THROW(symbolKey('b', "G05X", 3), std::invalid_argument);
+}
+
+TEST(SmootherValues, InsertRetractErrors) {
+  Values v;
+  v.insert(symbolKey('x', 1), Eigen::Vector2d(1, 2));
+  EXPECT_THROW(v.insert(symbolKey('x', 1), Eigen::Vector2d(0, 0)), std::invalid_argument);
+  EXPECT_THROW(v.at(symbolKey('x', 2)), std::out_of_range);
+  Values d;
+  d.insert(symbolKey('x', 1), Eigen::Vector2d(0.5, -1));
+  const Values r = v.retract(d);
+  EXPECT_DOUBLE_EQ(r.at(symbolKey('x', 1))[0], 1.5);
+  EXPECT_DOUBLE_EQ(r.at(symbolKey('x', 1))[1], 1.0);
+  EXPECT_EQ(v.dim(), 2u);
+}
+
+TEST(SmootherNoise, WhiteningMatchesMahalanobis) {
+  Eigen::Matrix3d p;
+  p << 4, 1, 0.5, 1, 2, 0.2, 0.5, 0.2, 1;
+  const auto full = NoiseModel::covariance(p);
+  const Eigen::Vector3d e(0.3, -1.2, 2.0);
+  EXPECT_NEAR(full->whiten(e).squaredNorm(), e.dot(p.inverse() * e), 1e-12);
+  EXPECT_LT((full->covarianceMatrix() - p).cwiseAbs().maxCoeff(), 1e-12);
+  const auto diag = NoiseModel::sigmas(Eigen::Vector3d(1, 2, 4));
+  EXPECT_NEAR(diag->whiten(e)[1], -0.6, 1e-15);
+  EXPECT_NEAR(NoiseModel::isotropic(3, 2.0)->loss(e), 0.5 * e.squaredNorm() / 4.0, 1e-15);
+  EXPECT_THROW(NoiseModel::sigmas(Eigen::Vector2d(1, 0)), std::invalid_argument);
+  EXPECT_THROW(NoiseModel::covariance(-Eigen::Matrix2d::Identity()), std::invalid_argument);
+}
+
+TEST(SmootherNoise, RobustWeights) {
+  // Huber: w = k/|r| beyond k (Zhang 1997, Table 1): r = 2k gives 1/2.
+  const RobustKernel huber{RobustKernel::Type::Huber, 1.345};
+  EXPECT_DOUBLE_EQ(huber.weight(1.0), 1.0);
+  EXPECT_DOUBLE_EQ(huber.weight(2.69), 0.5);
+  EXPECT_DOUBLE_EQ(huber.loss(2.69), 1.345 * 2.69 - 0.5 * 1.345 * 1.345);
+  // Cauchy: w = 1/(1+(r/k)^2): r = k gives 1/2.
+  const RobustKernel cauchy{RobustKernel::Type::Cauchy, 2.0};
+  EXPECT_DOUBLE_EQ(cauchy.weight(2.0), 0.5);
+  EXPECT_NEAR(cauchy.loss(2.0), 2.0 * std::log(2.0), 1e-15);
+  // The linearization is scaled by sqrt(w) of the whitened error norm.
+  const Key x = symbolKey('x', 0);
+  Values v;
+  v.insert(x, Vector::Constant(1, 5.0));
+  PriorFactor plain(x, Vector::Zero(1), NoiseModel::isotropic(1, 0.5));
+  PriorFactor robust(x, Vector::Zero(1), NoiseModel::isotropic(1, 0.5)->withRobust(huber));
+  const auto lp = plain.linearize(v), lr = robust.linearize(v);
+  const double s = std::sqrt(1.345 / 10.0);  // whitened error 10
+  EXPECT_NEAR(lr->block(0)(0, 0), s * lp->block(0)(0, 0), 1e-12);
+  EXPECT_NEAR(lr->b()[0], s * lp->b()[0], 1e-12);
+  EXPECT_NEAR(lp->b()[0], -10.0, 1e-12);
+}
+
+TEST(SmootherFactors, JacobianChecksForEveryFactorType) {
+  std::mt19937 rng(7);
+  std::normal_distribution<double> n01;
+  auto rnd = [&](int d) { Vector v(d); for (int i = 0; i < d; ++i) v[i] = n01(rng); return v; };
+  const Key a = symbolKey('x', 0), b = symbolKey('x', 1), l = symbolKey('l', 0), c = symbolKey('b', "G05", 1);
+  Values v;
+  v.insert(a, rnd(3));
+  v.insert(b, rnd(3));
+  Vector lm(2);
+  lm << 3.0, 4.0;
+  v.insert(l, lm);
+  v.insert(c, rnd(1));
+  Values s5;
+  s5.insert(a, rnd(5));
+  s5.insert(c, rnd(1));
+  const auto n3 = NoiseModel::isotropic(3, 0.1);
+
+  std::vector<std::pair<std::string, std::pair<NonlinearFactor::Ptr, const Values*>>> cases;
+  cases.push_back({"prior", {std::make_shared<PriorFactor>(a, rnd(3), n3), &v}});
+  cases.push_back({"between", {std::make_shared<BetweenFactor>(a, b, rnd(3), n3), &v}});
+  cases.push_back({"range-bearing", {std::make_shared<RangeBearingFactor>(a, l, Eigen::Vector2d(5, 0.1),
+                                                                          NoiseModel::sigmas(Eigen::Vector2d(0.1, 0.01))), &v}});
+  cases.push_back({"range-like", {std::make_shared<RangeLikeFactor>(a, c, Eigen::Vector3d(20, 10, 30), 1.7, 40.0,
+                                                                    NoiseModel::isotropic(1, 0.01)), &s5}});
+  Matrix a0 = Matrix::Random(2, 3), a1 = Matrix::Random(2, 1);
+  cases.push_back({"function(analytic)", {linearFactor({a, c}, {a0, a1}, rnd(2), NoiseModel::isotropic(2, 1.0)), &v}});
+  cases.push_back({"function(numerical)",
+                   {std::make_shared<FunctionFactor>(
+                        KeyVector{a, l}, NoiseModel::isotropic(1, 1.0),
+                        [](const std::vector<Vector>& x, Vector& e, std::vector<Matrix>*) {
+                          e = Vector::Constant(1, std::sin(x[0][0]) * x[1][1] + x[0][2] * x[0][2]);
+                          return false;
+                        }),
+                    &v}});
+  JacobianFactor jf({a, l}, {Matrix::Random(2, 3), Matrix::Random(2, 2)}, rnd(2));
+  cases.push_back({"linear-container", {std::make_shared<LinearContainerFactor>(jf, v), &v}});
+  for (const auto& [name, fv] : cases) {
+    const JacobianCheck check = checkJacobians(*fv.first, *fv.second, 1e-5);
+    EXPECT_TRUE(check.ok) << name << ": " << check.report;
+  }
+  // The checker catches a wrong Jacobian.
+  auto wrong = std::make_shared<FunctionFactor>(
+      KeyVector{a}, NoiseModel::isotropic(1, 1.0), [](const std::vector<Vector>& x, Vector& e, std::vector<Matrix>* h) {
+        e = Vector::Constant(1, x[0][0] * x[0][0]);
+        if (h) (*h)[0] = Matrix::Zero(1, 3);  // should be [2 x0, 0, 0]
+        return true;
+      });
+  Values w;
+  w.insert(a, Eigen::Vector3d(1.0, 0, 0));
+  EXPECT_FALSE(checkJacobians(*wrong, w).ok);
+}
+
+TEST(SmootherElimination, CholeskyAndQrAgreeAndMarginalIsSchurComplement) {
+  // Three variables x0 (2), x1 (1), x2 (3); eliminate x0 then separator {x1, x2}.
+  std::mt19937 rng(3);
+  const Key k0 = symbolKey('x', 0), k1 = symbolKey('x', 1), k2 = symbolKey('x', 2);
+  std::vector<JacobianFactor> fs;
+  fs.emplace_back(KeyVector{k0, k1}, std::vector<Matrix>{Matrix::Random(3, 2), Matrix::Random(3, 1)}, Vector::Random(3));
+  fs.emplace_back(KeyVector{k0, k2}, std::vector<Matrix>{Matrix::Random(4, 2), Matrix::Random(4, 3)}, Vector::Random(4));
+  fs.emplace_back(KeyVector{k2}, std::vector<Matrix>{Matrix::Random(3, 3)}, Vector::Random(3));
+  std::vector<const JacobianFactor*> ptrs;
+  for (auto& f : fs) ptrs.push_back(&f);
+  // Dense reference: information over [x0 x1 x2].
+  Values like;
+  like.insert(k0, Vector::Zero(2));
+  like.insert(k1, Vector::Zero(1));
+  like.insert(k2, Vector::Zero(3));
+  GaussianFactorGraph g;
+  for (auto& f : fs) g.push_back(std::make_shared<JacobianFactor>(f));
+  Matrix info;
+  Vector eta;
+  denseInformation(g, VariableLayout::of(like, {k0, k1, k2}), info, eta);
+  const Matrix schur = info.bottomRightCorner(4, 4) -
+                       info.bottomLeftCorner(4, 2) * info.topLeftCorner(2, 2).inverse() * info.topRightCorner(2, 4);
+  const Vector eta_s = eta.tail(4) - info.bottomLeftCorner(4, 2) * info.topLeftCorner(2, 2).inverse() * eta.head(2);
+  for (auto method : {Factorization::Cholesky, Factorization::QR}) {
+    const auto er = eliminate(ptrs, {k0}, {2}, {k1, k2}, {1, 3}, method);
+    const auto& c = er.conditional;
+    // R^T R equals the frontal information block, R^T S the off-diagonal block.
+    EXPECT_LT((c.R().transpose() * c.R() - info.topLeftCorner(2, 2)).cwiseAbs().maxCoeff(), 1e-10);
+    Matrix s(2, 4);
+    s << c.S()[0], c.S()[1];
+    EXPECT_LT((c.R().transpose() * s - info.topRightCorner(2, 4)).cwiseAbs().maxCoeff(), 1e-10);
+    EXPECT_LT((c.R().transpose() * c.d() - eta.head(2)).cwiseAbs().maxCoeff(), 1e-10);
+    Matrix m_info;
+    Vector m_eta;
+    denseInformation({er.marginal}, VariableLayout::of(like, {k1, k2}), m_info, m_eta);
+    EXPECT_LT((m_info - schur).cwiseAbs().maxCoeff(), 1e-9);
+    EXPECT_LT((m_eta - eta_s).cwiseAbs().maxCoeff(), 1e-9);
+  }
+  // An unconstrained frontal variable is reported.
+  JacobianFactor only12({k1}, {Matrix::Ones(1, 1)}, Vector::Ones(1));
+  JacobianFactor zero0({k0}, {Matrix::Zero(1, 2)}, Vector::Ones(1));
+  EXPECT_THROW(eliminate({&zero0, &only12}, {k0}, {2}, {k1}, {1}, Factorization::Cholesky), IndeterminantSystemError);
+  EXPECT_THROW(eliminate({&zero0, &only12}, {k0}, {2}, {k1}, {1}, Factorization::QR), IndeterminantSystemError);
+}
+
+TEST(SmootherOrdering, ConstrainedKeysComeLast) {
+  // A chain x0..x9 with a landmark l linked to every state.
+  std::vector<KeyVector> pattern;
+  KeyVector keys;
+  const Key l = symbolKey('l', 0);
+  for (int i = 0; i < 10; ++i) {
+    keys.push_back(symbolKey('x', i));
+    pattern.push_back({symbolKey('x', i), l});
+    if (i) pattern.push_back({symbolKey('x', i - 1), symbolKey('x', i)});
+  }
+  keys.push_back(l);
+  std::unordered_map<Key, int> groups;
+  for (Key k : keys) groups[k] = 0;
+  groups[symbolKey('x', 9)] = 1;
+  groups[l] = 1;
+  const Ordering o = computeOrdering(pattern, keys, &groups);
+  ASSERT_EQ(o.size(), keys.size());
+  const KeyVector tail(o.end() - 2, o.end());
+  EXPECT_TRUE((tail == KeyVector{l, symbolKey('x', 9)}) || (tail == KeyVector{symbolKey('x', 9), l}));
+  KeyVector sorted = o;
+  std::sort(sorted.begin(), sorted.end());
+  KeyVector expected = keys;
+  std::sort(expected.begin(), expected.end());
+  EXPECT_EQ(sorted, expected);
+}
+
+TEST(SmootherBatch, GaussNewtonAndLmReachTheSameOptimum) {
+  // Range-bearing: 4 poses on a line, 2 landmarks; the optimum must reproduce exact
+  // (noise-free) measurements, so the batch solution equals the truth.
+  NonlinearFactorGraph g;
+  Values truth, init;
+  std::vector<Vector> poses;
+  for (int i = 0; i < 4; ++i) {
+    Vector p(3);
+    p << i * 1.0, 0.2 * i, 0.1 * i;
+    poses.push_back(p);
+    truth.insert(symbolKey('x', i), p);
+    init.insert(symbolKey('x', i), p + Eigen::Vector3d(0.2, -0.1, 0.05));
+  }
+  Vector l0(2), l1(2);
+  l0 << 2.0, 3.0;
+  l1 << 1.0, -2.0;
+  truth.insert(symbolKey('l', 0), l0);
+  truth.insert(symbolKey('l', 1), l1);
+  init.insert(symbolKey('l', 0), l0 + Eigen::Vector2d(0.3, 0.3));
+  init.insert(symbolKey('l', 1), l1 + Eigen::Vector2d(-0.3, 0.2));
+  g.push_back(std::make_shared<PriorFactor>(symbolKey('x', 0), poses[0], NoiseModel::isotropic(3, 0.01)));
+  for (int i = 1; i < 4; ++i)
+    g.push_back(std::make_shared<BetweenFactor>(symbolKey('x', i - 1), symbolKey('x', i), poses[i] - poses[i - 1],
+                                                NoiseModel::isotropic(3, 0.1)));
+  for (int i = 0; i < 4; ++i)
+    for (int j = 0; j < 2; ++j)
+      g.push_back(std::make_shared<RangeBearingFactor>(symbolKey('x', i), symbolKey('l', j),
+                                                       RangeBearingFactor::measure(poses[i], j ? l1 : l0),
+                                                       NoiseModel::sigmas(Eigen::Vector2d(0.05, 0.01))));
+  const BatchResult gn = optimizeBatch(g, init);
+  BatchParams lmp;
+  lmp.method = BatchParams::Method::LevenbergMarquardt;
+  const BatchResult lm = optimizeBatch(g, init, lmp);
+  EXPECT_TRUE(gn.converged);
+  EXPECT_LT(maxDiff(gn.values, truth), 1e-8);
+  EXPECT_LT(maxDiff(lm.values, truth), 1e-6);
+  EXPECT_LT(gn.final_error, 1e-12);
+}
