@@ -13,9 +13,10 @@ EXTRA="$WS_DIR/extra_test_results"
 rm -rf "$RESULTS" "$EXTRA"
 mkdir -p "$EXTRA"
 
+export PPP_SHARED_DATA="$SHARED_DATA"
 if [ -d "$SHARED_DATA" ]; then
   echo "test.sh: shared datasets at $SHARED_DATA"
-  export PPP_SHARED_DATA="$SHARED_DATA"
+
 else
   echo "test.sh: no shared datasets at $SHARED_DATA: tests that need them are skipped"
 fi
