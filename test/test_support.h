@@ -13,6 +13,8 @@
 #include <sstream>
 #include <string>
 
+#include "ppp_bayes_tree/types/gnss_time.h"
+
 namespace ppp::test {
 
 inline std::string sharedDataDir() {
@@ -37,6 +39,12 @@ inline std::string readFileBytes(const std::string& path) {
   std::ostringstream os;
   os << in.rdbuf();
   return os.str();
+}
+
+/// A calendar date and time read in `system` (GPS by default), as a GnssTime.
+inline GnssTime gpst(int year, int month, int day, int hour = 0, int minute = 0, double second = 0.0,
+                     TimeSystem system = TimeSystem::GPS) {
+  return GnssTime::fromCalendar(CalendarTime{year, month, day, hour, minute, second}, system);
 }
 
 /// A fresh empty temporary directory for one test.

@@ -18,16 +18,7 @@ namespace {
 constexpr double kMm = 1e-3;
 constexpr double kTol = 1e-9;
 
-GnssTime gpst(int y, int mo, int d, int h = 0, int mi = 0, double s = 0.0) {
-  CalendarTime c;
-  c.year = y;
-  c.month = mo;
-  c.day = d;
-  c.hour = h;
-  c.minute = mi;
-  c.second = s;
-  return GnssTime::fromCalendar(c, TimeSystem::GPS);
-}
+using ppp::test::gpst;
 
 const AntexFile& zim2Antex() {
   static const AntexFile file = readAntexFile(test::dataPath("antex/igs20_zim2_gps_trim.atx"));

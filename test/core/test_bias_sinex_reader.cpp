@@ -14,10 +14,7 @@ namespace {
 
 constexpr double kNsToM = 1e-9 * kSpeedOfLight_mps;
 
-GnssTime gpst(int y, int mo, int d, int h = 0, int mi = 0, double s = 0.0) {
-  CalendarTime c{y, mo, d, h, mi, s};
-  return GnssTime::fromCalendar(c, TimeSystem::GPS);
-}
+using ppp::test::gpst;
 
 ObservationCode code(const char* c) { return *ObservationCode::parse(c); }
 SatelliteId sat(const char* s) { return *SatelliteId::parse(s); }

@@ -25,16 +25,7 @@ using namespace ppp;
 
 namespace {
 
-GnssTime gpst(int y, int mo, int d, int h, int mi, double s) {
-  CalendarTime c;
-  c.year = y;
-  c.month = mo;
-  c.day = d;
-  c.hour = h;
-  c.minute = mi;
-  c.second = s;
-  return GnssTime::fromCalendar(c, TimeSystem::GPS);
-}
+using ppp::test::gpst;
 
 const NavData& fixture() {
   static const NavData nav = readRinexNav(test::fixturePath("rinex_nav/mixed_v304.nav"));

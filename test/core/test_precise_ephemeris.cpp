@@ -22,9 +22,7 @@ const char* kWumClk = "ccj2-2021-210/WUM0MGXRAP_20212100000_01D_30S_CLK.CLK.gz";
 
 SatelliteId sat(const char* text) { return *SatelliteId::parse(text); }
 
-GnssTime gpst(int y, int mo, int d, int h, int mi, double s) {
-  return GnssTime::fromCalendar(CalendarTime{y, mo, d, h, mi, s}, TimeSystem::GPS);
-}
+using ppp::test::gpst;
 
 Sp3File withoutEpoch(const Sp3File& full, const GnssTime& t) {
   Sp3File cut = full;

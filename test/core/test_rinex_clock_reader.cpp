@@ -12,9 +12,7 @@ namespace {
 const char* kIgsClk = "zim2-2026-133/IGS0OPSFIN_20261330000_90M_30S_CLK.CLK";
 const char* kWumClk = "ccj2-2021-210/WUM0MGXRAP_20212100000_01D_30S_CLK.CLK.gz";
 
-GnssTime gpst(int y, int mo, int d, int h, int mi, double s) {
-  return GnssTime::fromCalendar(CalendarTime{y, mo, d, h, mi, s}, TimeSystem::GPS);
-}
+using ppp::test::gpst;
 
 const ClockStation* station(const RinexClockFile& f, const std::string& name) {
   for (const auto& s : f.header.stations) {

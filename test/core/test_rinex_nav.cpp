@@ -31,16 +31,7 @@ namespace {
 
 NavData readFixture(const std::string& name) { return readRinexNav(fixturePath(name)); }
 
-GnssTime gpst(int y, int mo, int d, int h, int mi, double s, TimeSystem ts = TimeSystem::GPS) {
-  CalendarTime c;
-  c.year = y;
-  c.month = mo;
-  c.day = d;
-  c.hour = h;
-  c.minute = mi;
-  c.second = s;
-  return GnssTime::fromCalendar(c, ts);
-}
+using ppp::test::gpst;
 
 const GpsLnavEphemeris* findGps(const NavData& nav, const std::string& sat, int year) {
   for (const auto& e : nav.gps) {

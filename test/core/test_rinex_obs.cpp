@@ -26,9 +26,7 @@ std::string codes(const std::vector<ObservationCode>& list) {
   return s;
 }
 
-GnssTime gpst(int y, int mo, int d, int h, int mi, double s) {
-  return GnssTime::fromCalendar(CalendarTime{y, mo, d, h, mi, s}, TimeSystem::GPS);
-}
+using ppp::test::gpst;
 
 std::vector<ObsEpoch> readAll(RinexObsReader& reader) {
   std::vector<ObsEpoch> epochs;

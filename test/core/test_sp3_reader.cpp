@@ -14,9 +14,7 @@ namespace {
 const char* kIgsSp3 = "zim2-2026-133/IGS0OPSFIN_20261330000_03H_15M_ORB.SP3";
 const char* kWumSp3 = "ccj2-2021-210/WUM0MGXRAP_20212100000_01D_01M_ORB.SP3.gz";
 
-GnssTime gpst(int y, int mo, int d, int h, int mi, double s) {
-  return GnssTime::fromCalendar(CalendarTime{y, mo, d, h, mi, s}, TimeSystem::GPS);
-}
+using ppp::test::gpst;
 
 const Sp3Record* recordAt(const Sp3File& f, const char* sat, const GnssTime& t) {
   const auto it = f.satellites.find(*SatelliteId::parse(sat));

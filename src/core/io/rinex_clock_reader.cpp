@@ -56,11 +56,7 @@ class ClockParser {
     throw ParseError(src_.name(), src_.lineNumber(), reason);
   }
 
-  bool nextLine() {
-    if (!src_.next(line_)) return false;
-    if (!line_.empty() && line_.back() == '\r') line_.pop_back();
-    return true;
-  }
+  bool nextLine() { return src_.next(line_); }  // LineSource strips "\r\n"
 
   // ---------------------------------------------------------------- header
   void readHeader() {

@@ -35,11 +35,7 @@ class Sp3Parser {
     throw ParseError(src_.name(), src_.lineNumber(), reason);
   }
 
-  bool nextLine() {
-    if (!src_.next(line_)) return false;
-    if (!line_.empty() && line_.back() == '\r') line_.pop_back();
-    return true;
-  }
+  bool nextLine() { return src_.next(line_); }  // LineSource strips "\r\n"
 
   long long headerInt(std::size_t start, std::size_t width, const char* what) const {
     long long v = 0;
