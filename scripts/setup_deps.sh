@@ -9,8 +9,8 @@ PACKAGES=(
   catkin libroscpp-dev librosbag-dev libtf2-ros-dev libtf2-eigen-dev libnav-msgs-dev
   libsensor-msgs-dev libgeometry-msgs-dev ros-message-generation libdiagnostic-updater-dev
   python3-roslaunch python3-rosmaster python3-rostest librostest-dev rosbash rviz
-  # numerics, geodesy, compression
-  libeigen3-dev libsuitesparse-dev libgeographiclib-dev zlib1g-dev
+  # numerics, geodesy, compression, configuration files
+  libeigen3-dev libsuitesparse-dev libgeographiclib-dev zlib1g-dev libyaml-cpp-dev
   # tests, benchmarks, fuzzing (clang's libFuzzer), plots, the peer we measure against
   libgtest-dev libbenchmark-dev clang libclang-rt-14-dev python3-matplotlib rtklib
 )
