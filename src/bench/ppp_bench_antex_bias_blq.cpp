@@ -1,6 +1,6 @@
 // Prints read times of the ANTEX, Bias-SINEX and BLQ readers on the shared data
 // and the ANTEX PCV interpolation rate.
-// Usage: bench_antex_bias_blq [shared_data_dir]   (default ../shared/data)
+// Usage: ppp_bench_antex_bias_blq [shared_data_dir]   (default ../shared/data)
 #include <chrono>
 #include <cstdio>
 #include <string>

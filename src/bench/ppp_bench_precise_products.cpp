@@ -1,5 +1,5 @@
 // Prints reading times of the WUM SP3/CLK products and the cost of one orbit and
-// clock query. Usage: bench_precise_products [sp3] [clk]   (defaults: the CCJ2
+// clock query. Usage: ppp_bench_precise_products [sp3] [clk]   (defaults: the CCJ2
 // dataset under ../shared/data beside the repository, or $PPP_SHARED_DATA).
 #include <chrono>
 #include <cstdio>
