@@ -49,6 +49,7 @@ std::string Inspection::coverageReport() const {
 
   std::set<GnssSystem> product_systems;
   for (const auto& sat : products.orbitSatellites()) product_systems.insert(sat.system);
+  for (const auto& sat : products.clockSatellites()) product_systems.insert(sat.system);
 
   std::ostringstream os;
   for (const auto& obs : observations_) {
