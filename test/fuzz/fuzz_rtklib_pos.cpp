@@ -1,0 +1,3 @@
+#include "rtklib_pos_fuzz_entry.h"
+
+extern "C" int LLVMFuzzerTestOneInput(const uint8_t* d, size_t n) { ppp::fuzz::fuzzRtklibPos(d, n); return 0; }
