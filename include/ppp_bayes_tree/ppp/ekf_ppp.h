@@ -104,6 +104,9 @@ class EkfPpp {
   const Eigen::VectorXd& stateVector() const { return f_.x; }
   const Eigen::MatrixXd& covarianceMatrix() const { return f_.P; }
 
+  /// The covariance the prediction over dt_s would give (filter unchanged).
+  Eigen::MatrixXd predictedCovariance(double dt_s) const;
+
   const StochasticModel& stochasticModel() const { return model_; }
   const EkfOptions& options() const { return options_; }
 

@@ -192,6 +192,12 @@ void EkfPpp::predict(Filter& f, double dt_s, bool first) const {
   for (Eigen::Index i = kRx; i < f.P.rows(); ++i) f.P(i, i) += q_bias;
 }
 
+Eigen::MatrixXd EkfPpp::predictedCovariance(double dt_s) const {
+  Filter f = f_;
+  if (initialised_) predict(f, dt_s, false);
+  return f.P;
+}
+
 EkfEpochResult EkfPpp::processEpoch(const GnssTime& time, const MeasurementFunction& evaluate) {
   EkfEpochResult result;
   result.time = time;
