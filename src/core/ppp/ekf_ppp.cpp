@@ -48,9 +48,14 @@ std::string checkCovariance(Eigen::MatrixXd& P) {
   return {};
 }
 
-/// Prefit code screening: robust least-squares fit of (dx, dy, dz, dclock) to
-/// the code residuals, rejecting the worst residual above the threshold first.
-/// Returns the indices (into `ms`) of rejected measurements with their residual.
+/// Prefit code screening (single-outlier test, repeated): weighted least-squares
+/// fit of (dx, dy, dz, dclock) to the code residuals; the suspect is the largest
+/// studentised residual w_i = r_i / (sigma_i sqrt(1 - h_ii)) (Baarda's w-test:
+/// the satellite whose removal reduces the misfit most); it is rejected when its
+/// residual against a fit to the OTHER satellites, r_i / (1 - h_ii), exceeds
+/// the threshold [m] (an outlier cannot hide by pulling the fit). Repeated
+/// while more than 4 satellites remain. Returns the indices (into `ms`) rejected, with their
+/// deleted residual.
 std::vector<std::pair<std::size_t, double>> screenCode(const std::vector<SatelliteMeasurement>& ms,
                                                        double threshold_m) {
   std::vector<std::pair<std::size_t, double>> rejected;
@@ -58,21 +63,33 @@ std::vector<std::pair<std::size_t, double>> screenCode(const std::vector<Satelli
   for (std::size_t i = 0; i < ms.size(); ++i) active[i] = i;
   while (active.size() > 4) {
     const int n = static_cast<int>(active.size());
-    Eigen::MatrixXd H(n, 4);
-    Eigen::VectorXd v(n), w(n);
+    Eigen::MatrixXd A(n, 4);  // whitened design
+    Eigen::VectorXd b(n);     // whitened residuals
     for (int k = 0; k < n; ++k) {
       const auto& m = ms[active[k]];
-      H.row(k) << m.jacobian(0), m.jacobian(1), m.jacobian(2), m.jacobian(4);
-      v(k) = m.codeResidual_m();
-      w(k) = 1.0 / (m.code_sigma_m * m.code_sigma_m);
+      A.row(k) << m.jacobian(0), m.jacobian(1), m.jacobian(2), m.jacobian(4);
+      A.row(k) /= m.code_sigma_m;
+      b(k) = m.codeResidual_m() / m.code_sigma_m;
     }
-    Eigen::LDLT<Eigen::Matrix4d> ldlt(H.transpose() * w.asDiagonal() * H);
+    Eigen::LDLT<Eigen::Matrix4d> ldlt(A.transpose() * A);
     if (ldlt.info() != Eigen::Success || !ldlt.isPositive() || ldlt.rcond() < 1e-14) break;
-    const Eigen::VectorXd r = v - H * ldlt.solve(H.transpose() * (w.asDiagonal() * v));
-    int worst = 0;
-    r.cwiseAbs().maxCoeff(&worst);
-    if (!(std::abs(r(worst)) > threshold_m)) break;
-    rejected.emplace_back(active[worst], r(worst));
+    const Eigen::VectorXd r = b - A * ldlt.solve(A.transpose() * b);
+    const Eigen::MatrixXd leverage = A * ldlt.solve(A.transpose());
+    int worst = -1;
+    double worst_w = 0.0;
+    for (int k = 0; k < n; ++k) {
+      const double one_minus_h = 1.0 - leverage(k, k);
+      if (one_minus_h < 1e-6) continue;  // not checkable: the others cannot predict it
+      const double w = std::abs(r(k)) / std::sqrt(one_minus_h);
+      if (w > worst_w) {
+        worst = k;
+        worst_w = w;
+      }
+    }
+    if (worst < 0) break;
+    const double worst_m = r(worst) / (1.0 - leverage(worst, worst)) * ms[active[worst]].code_sigma_m;
+    if (!(std::abs(worst_m) > threshold_m)) break;
+    rejected.emplace_back(active[worst], worst_m);
     active.erase(active.begin() + worst);
   }
   return rejected;
@@ -288,7 +305,8 @@ EkfEpochResult EkfPpp::processEpoch(const GnssTime& time, const MeasurementFunct
   std::vector<bool> keep(cand.size(), true);
   for (const auto& [index, residual] : screenCode(cand, options_.prefit_code_threshold_m)) {
     keep[index] = false;
-    result.rejected.push_back({cand[index].satellite, "prefit code residual " + fmt(residual) + " m > " +
+    result.rejected.push_back({cand[index].satellite, "prefit code residual " + fmt(residual) +
+                                                          " m (against a fit to the others) > " +
                                                           fmt(options_.prefit_code_threshold_m) + " m"});
     ++result.prefit_rejections;
   }
