@@ -400,6 +400,56 @@ TEST(EkfPpp, PrefitScreeningRejectsA50mCodeOutlierAndAPhaseJump) {
   EXPECT_LT(positionError(r, sim), 1e-3);  // the outliers did not reach the estimate
 }
 
+TEST(EkfPpp, PostfitCheckRejectsAModerateCodeOutlierOnANewArc) {
+  // On a new arc the phase-minus-code prefit test cannot see a code outlier
+  // (the new bias starts from phase minus code): the postfit check must.
+  for (const bool check : {true, false}) {
+    Simulator sim;
+    EkfOptions options;
+    options.postfit_check = check;
+    EkfPpp ekf(StochasticModel{}, options);
+    const auto last = run(ekf, sim, 10);
+    const SatelliteId sat = firstUsed(last);
+    sim.slip(sat, 0.0);
+    sim.t_s += 30.0;
+    auto obs = sim.epoch();
+    const auto it = std::find_if(obs.begin(), obs.end(), [&](const SimObs& o) { return o.sat == sat; });
+    ASSERT_NE(it, obs.end());
+    it->code_m += 15.0;  // below the 30 m prefit threshold, but > 10 sigma
+    const auto r = ekf.processEpoch(sim.time(), modelOf(obs));
+    ASSERT_EQ(r.status, EpochStatus::Ok) << r.reason;
+    EXPECT_EQ(r.prefit_rejections, 0);
+    if (check) {
+      EXPECT_EQ(r.postfit_rejections, 1);
+      ASSERT_EQ(r.rejected.size(), 1u);
+      EXPECT_EQ(r.rejected[0].satellite, sat);
+      EXPECT_NE(r.rejected[0].reason.find("postfit code residual"), std::string::npos) << r.rejected[0].reason;
+      EXPECT_FALSE(ekf.biasEstimate_m(sim.arcOf(sat)).has_value());  // its new bias was not kept
+      EXPECT_LT(positionError(r, sim), 1e-3);
+    } else {
+      EXPECT_EQ(r.postfit_rejections, 0);
+      const auto res = std::find_if(r.residuals.begin(), r.residuals.end(),
+                                    [&](const MeasurementResidual& m) { return m.satellite == sat; });
+      ASSERT_NE(res, r.residuals.end());
+      EXPECT_GT(std::abs(res->code_postfit_m), 5.0 * res->code_sigma_m);  // what the check would have caught
+    }
+  }
+}
+
+TEST(EkfPpp, ReceiverClockJumpOfOneMillisecondIsAbsorbed) {
+  Simulator sim;
+  EkfPpp ekf;
+  run(ekf, sim, 10);
+  sim.clock_m += 299792.458;  // 1 ms clock steering jump
+  sim.t_s += 30.0;
+  const auto r = ekf.processEpoch(sim.time(), modelOf(sim.epoch()));
+  ASSERT_EQ(r.status, EpochStatus::Ok) << r.reason;
+  EXPECT_TRUE(r.rejected.empty());
+  EXPECT_LT(positionError(r, sim), 1e-3);
+  EXPECT_NEAR(r.solution->state.clock_m, sim.clock_m, 1e-3);
+  for (const auto& res : r.residuals) EXPECT_LT(std::abs(res.code_prefit_m), 1.0);  // clock shifted by the median
+}
+
 TEST(EkfPpp, NonFiniteMeasurementsAreRejectedWithAReasonNeverPropagated) {
   Simulator sim;
   EkfPpp ekf;

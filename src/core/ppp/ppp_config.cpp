@@ -58,7 +58,7 @@ PppConfig parsePppConfig(const std::string& yaml_text, const std::string& source
   YAML::Node root;
   try {
     root = YAML::Load(yaml_text);
-  } catch (const YAML::ParserException& e) {
+  } catch (const YAML::Exception& e) {
     throw ConfigError(source_name, "",
                       "YAML syntax error at line " + std::to_string(e.mark.line + 1) + ": " + e.msg);
   }
