@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <fstream>
+#include <random>
 
 #include "ppp_bayes_tree/ppp/ppp_config.h"
 #include "test_support.h"
@@ -181,4 +182,28 @@ TEST(PppConfig, SyntaxErrorAndMissingFile) {
     EXPECT_EQ(e.file(), "/nonexistent/ppp.yaml");
     EXPECT_NE(e.reason().find("cannot open"), std::string::npos);
   }
+}
+
+TEST(PppConfig, GarbageAndMutatedTemplatesOnlyEverThrowConfigError) {
+  const std::string base = ppp::test::readFileBytes(std::string(PPP_REPO_DIR) + "/config/ppp.yaml");
+  ASSERT_FALSE(base.empty());
+  std::mt19937 rng(7);
+  int errors = 0, loaded = 0;
+  for (int i = 0; i < 300; ++i) {
+    std::string text = base;
+    if (i % 3 == 0) {  // random bytes
+      text.assign(static_cast<std::size_t>(rng() % 300), '\0');
+      for (auto& c : text) c = static_cast<char>(rng() % 256);
+    } else {  // a few byte mutations of the template
+      for (int k = 0; k < 1 + i % 5; ++k) text[rng() % text.size()] = static_cast<char>(rng() % 128);
+    }
+    try {
+      parsePppConfig(text, "mutated.yaml");
+      ++loaded;
+    } catch (const ConfigError& e) {
+      EXPECT_EQ(e.file(), "mutated.yaml");
+      ++errors;
+    }
+  }
+  EXPECT_GT(errors, 50);  // the fuzzing did produce malformed documents
 }
