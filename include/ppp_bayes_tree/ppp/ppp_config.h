@@ -1,0 +1,36 @@
+#pragma once
+// PppConfig: the whole PPP configuration (config/ppp.yaml documents every key):
+//   stochastic:        a priori sigmas and process noise (StochasticModel)
+//   estimator:         EKF options (EkfOptions), with `start:` the code least squares
+//   measurement_model: bound by the measurement model's options (kept raw here)
+//   cycle_slip:        bound by the cycle-slip / arc tracker options (kept raw here)
+// Loading is strict: an unknown key, a wrong type or an out-of-range value
+// throws ConfigError naming the file, the key path and the reason. Absent keys
+// keep their defaults (the method's table in DEVELOPERS.md).
+#include <yaml-cpp/yaml.h>
+
+#include <string>
+
+#include "ppp_bayes_tree/ppp/code_least_squares.h"
+#include "ppp_bayes_tree/ppp/ekf_options.h"
+#include "ppp_bayes_tree/ppp/stochastic_model.h"
+#include "ppp_bayes_tree/ppp/yaml_section.h"
+
+namespace ppp {
+
+struct PppConfig {
+  StochasticModel stochastic;
+  EkfOptions estimator;
+  CodeLeastSquaresOptions start;
+  /// Raw sections, to bind with YamlSection(node, source_name, "measurement_model").
+  YAML::Node measurement_model = YAML::Node(YAML::NodeType::Map);
+  YAML::Node cycle_slip = YAML::Node(YAML::NodeType::Map);
+  std::string source_name = "<defaults>";  // the file it came from (for later error messages)
+};
+
+/// Parse YAML text; `source_name` names it in errors. Throws ConfigError.
+PppConfig parsePppConfig(const std::string& yaml_text, const std::string& source_name);
+/// Load a YAML file. Throws ConfigError (also when the file cannot be read).
+PppConfig loadPppConfig(const std::string& path);
+
+}  // namespace ppp

@@ -1,0 +1,56 @@
+#pragma once
+// StochasticModel: a priori sigmas and process noise of the PPP state
+// (position, zenith wet delay, receiver clock, IF phase biases), shared by the
+// EKF and the smoother. Defaults are the method's table (DEVELOPERS.md):
+//
+//   state            a priori sigma   process noise         process
+//   position         1 m              5 m/sqrt(s)           random walk (kinematic)
+//   zenith wet delay 0.3 m            3e-5 m/sqrt(s)        random walk
+//   receiver clock   3e6 m            2000 m/sqrt(s)        white
+//   IF phase bias    100 m            0                     constant per arc
+//
+// Every process noise is scaled with the real elapsed time dt between two
+// processed epochs (data gaps and "no solution" epochs included):
+//  - random walk with spectral density q [m/sqrt(s)]: variance grows by q^2 dt;
+//  - white clock: the clock has no memory. At each prediction its correlations
+//    with the other states are removed and its variance is SET to
+//    min(q^2 dt, sigma0^2) (2000^2 m^2/s x dt, i.e. 11 km for 30 s; the a priori
+//    3e6 m (10 ms) applies to the first epoch and caps long gaps). The value kept
+//    as the predicted mean only serves as the linearisation point.
+#include <string>
+
+namespace ppp {
+
+enum class ProcessKind {
+  RandomWalk,  // variance += q^2 dt, correlations kept
+  White,       // correlations removed, variance = min(q^2 dt, sigma0^2)
+};
+
+/// Noise of one state component.
+struct StateNoise {
+  double initial_sigma_m = 0.0;              // a priori standard deviation [m]
+  double process_noise_m_per_sqrt_s = 0.0;   // spectral density q [m/sqrt(s)]
+  ProcessKind kind = ProcessKind::RandomWalk;
+
+  /// Variance added by a random walk over dt [m^2] (q^2 dt), or the variance a
+  /// white state is reset to (min(q^2 dt, sigma0^2)). dt < 0 is treated as 0.
+  double processVariance_m2(double dt_s) const;
+  double initialVariance_m2() const { return initial_sigma_m * initial_sigma_m; }
+};
+
+struct StochasticModel {
+  StateNoise position{1.0, 5.0, ProcessKind::RandomWalk};    // per ECEF axis
+  StateNoise zwd{0.3, 3.0e-5, ProcessKind::RandomWalk};
+  StateNoise clock{3.0e6, 2000.0, ProcessKind::White};
+  StateNoise phase_bias{100.0, 0.0, ProcessKind::RandomWalk};  // q = 0: constant per arc
+  /// A priori value of the zenith wet delay [m] (not in the method's table:
+  /// a typical mid-latitude value; the 0.3 m a priori sigma covers it).
+  double initial_zwd_m = 0.1;
+
+  /// Empty when valid, else the first problem ("clock.initial_sigma_m must be > 0").
+  std::string validate() const;
+};
+
+std::string toString(ProcessKind kind);
+
+}  // namespace ppp

@@ -1,0 +1,111 @@
+#include "ppp_bayes_tree/ppp/code_least_squares.h"
+
+#include <Eigen/Cholesky>
+#include <cmath>
+#include <set>
+#include <sstream>
+
+namespace ppp {
+namespace {
+
+bool finiteCode(const SatelliteMeasurement& m) {
+  return std::isfinite(m.observed_code_m) && std::isfinite(m.predicted_code_m) && m.jacobian.allFinite() &&
+         std::isfinite(m.code_sigma_m) && m.code_sigma_m > 0.0;
+}
+
+std::string fmt(double v, int precision = 3) {
+  std::ostringstream os;
+  os.precision(precision);
+  os << std::fixed << v;
+  return os.str();
+}
+
+}  // namespace
+
+CodeLeastSquaresResult codeLeastSquares(const MeasurementFunction& evaluate, const ReceiverState& start,
+                                        const CodeLeastSquaresOptions& options) {
+  CodeLeastSquaresResult result;
+  result.state = start;
+  std::set<SatelliteId> outliers;
+  std::vector<RejectedSatellite> outlier_reasons;
+  int total_iterations = 0;
+  const int iteration_budget = options.max_iterations * 4;
+
+  for (int iteration = 0; iteration < options.max_iterations && total_iterations < iteration_budget;
+       ++iteration, ++total_iterations) {
+    const EpochMeasurements epoch = evaluate(result.state);
+    std::vector<const SatelliteMeasurement*> rows;
+    result.rejected = epoch.rejected;
+    for (const auto& m : epoch.used) {
+      if (outliers.count(m.satellite)) continue;
+      if (!finiteCode(m)) {
+        result.rejected.push_back({m.satellite, "non-finite code value, Jacobian or sigma"});
+        continue;
+      }
+      rows.push_back(&m);
+    }
+    result.rejected.insert(result.rejected.end(), outlier_reasons.begin(), outlier_reasons.end());
+    const int n = static_cast<int>(rows.size());
+    if (n < options.min_satellites) {
+      result.ok = false;
+      result.reason = std::to_string(n) + " satellites with usable code, at least " +
+                      std::to_string(options.min_satellites) + " needed";
+      result.iterations = total_iterations + 1;
+      return result;
+    }
+    Eigen::MatrixXd H(n, 4);
+    Eigen::VectorXd v(n), w(n);
+    for (int i = 0; i < n; ++i) {
+      const auto& m = *rows[i];
+      H.row(i) << m.jacobian(0), m.jacobian(1), m.jacobian(2), m.jacobian(4);
+      v(i) = m.codeResidual_m();
+      w(i) = 1.0 / (m.code_sigma_m * m.code_sigma_m);
+    }
+    const Eigen::Matrix4d N = H.transpose() * w.asDiagonal() * H;
+    Eigen::LDLT<Eigen::Matrix4d> ldlt(N);
+    if (ldlt.info() != Eigen::Success || !ldlt.isPositive() || ldlt.rcond() < 1e-14) {
+      result.ok = false;
+      result.reason = "singular code geometry";
+      result.iterations = total_iterations + 1;
+      return result;
+    }
+    const Eigen::Vector4d dx = ldlt.solve(H.transpose() * (w.asDiagonal() * v));
+    if (!dx.allFinite()) {
+      result.ok = false;
+      result.reason = "non-finite least-squares step";
+      result.iterations = total_iterations + 1;
+      return result;
+    }
+    result.state.position_ecef_m += dx.head<3>();
+    result.state.clock_m += dx(3);
+    if (dx.norm() > options.convergence_m) continue;
+
+    // Converged: residuals at the solution; reject the worst outlier and go on.
+    const Eigen::VectorXd r = v - H * dx;
+    int worst = 0;
+    r.cwiseAbs().maxCoeff(&worst);
+    if (std::abs(r(worst)) > options.outlier_threshold_m && n > options.min_satellites) {
+      outliers.insert(rows[worst]->satellite);
+      outlier_reasons.push_back({rows[worst]->satellite, "code least-squares residual " + fmt(r(worst)) +
+                                                             " m > " + fmt(options.outlier_threshold_m) + " m"});
+      iteration = -1;  // restart the iteration count with the outlier removed
+      continue;
+    }
+    result.ok = true;
+    result.iterations = total_iterations + 1;
+    result.covariance = ldlt.solve(Eigen::Matrix4d::Identity());
+    result.used.clear();
+    result.residuals_m.clear();
+    for (int i = 0; i < n; ++i) {
+      result.used.push_back(rows[i]->satellite);
+      result.residuals_m.push_back(r(i));
+    }
+    return result;
+  }
+  result.ok = false;
+  result.reason = "code least squares did not converge in " + std::to_string(total_iterations) + " iterations";
+  result.iterations = total_iterations;
+  return result;
+}
+
+}  // namespace ppp

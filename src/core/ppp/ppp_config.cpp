@@ -1,0 +1,87 @@
+#include "ppp_bayes_tree/ppp/ppp_config.h"
+
+#include <fstream>
+#include <sstream>
+
+namespace ppp {
+namespace {
+
+void readNoise(YamlSection s, StateNoise& n, bool kind_configurable) {
+  n.initial_sigma_m = s.number("initial_sigma_m", n.initial_sigma_m, Bound::Positive);
+  n.process_noise_m_per_sqrt_s = s.number("process_noise_m_per_sqrt_s", n.process_noise_m_per_sqrt_s,
+                                          Bound::NonNegative);
+  if (kind_configurable) {
+    const std::string kind = s.choice("process", toString(n.kind), {"random_walk", "white"});
+    n.kind = kind == "white" ? ProcessKind::White : ProcessKind::RandomWalk;
+    if (n.kind == ProcessKind::White && n.process_noise_m_per_sqrt_s <= 0.0)
+      s.fail("process_noise_m_per_sqrt_s", "must be > 0 for a white process");
+  }
+  s.finish();
+}
+
+void readStochastic(YamlSection s, StochasticModel& m) {
+  readNoise(s.section("position"), m.position, true);
+  {
+    YamlSection z = s.section("zwd");
+    m.initial_zwd_m = z.number("initial_m", m.initial_zwd_m, Bound::NonNegative);
+    readNoise(z, m.zwd, true);
+  }
+  readNoise(s.section("clock"), m.clock, true);
+  readNoise(s.section("phase_bias"), m.phase_bias, false);
+  s.finish();
+}
+
+void readEstimator(YamlSection s, EkfOptions& o, CodeLeastSquaresOptions& start) {
+  o.min_satellites = s.integer("min_satellites", o.min_satellites, 1);
+  o.iterations_per_epoch = s.integer("iterations_per_epoch", o.iterations_per_epoch, 1);
+  o.prefit_code_threshold_m = s.number("prefit_code_threshold_m", o.prefit_code_threshold_m, Bound::Positive);
+  o.prefit_phase_sigmas = s.number("prefit_phase_sigmas", o.prefit_phase_sigmas, Bound::Positive);
+  o.postfit_check = s.boolean("postfit_check", o.postfit_check);
+  o.postfit_sigmas = s.number("postfit_sigmas", o.postfit_sigmas, Bound::Positive);
+  o.postfit_max_rejections = s.integer("postfit_max_rejections", o.postfit_max_rejections, 0);
+  o.clock_from_code_median = s.boolean("clock_from_code_median", o.clock_from_code_median);
+  o.stale_arc_timeout_s = s.number("stale_arc_timeout_s", o.stale_arc_timeout_s, Bound::NonNegative);
+  {
+    YamlSection t = s.section("start");
+    start.max_iterations = t.integer("max_iterations", start.max_iterations, 1);
+    start.convergence_m = t.number("convergence_m", start.convergence_m, Bound::Positive);
+    start.min_satellites = t.integer("min_satellites", start.min_satellites, 4);
+    start.outlier_threshold_m = t.number("outlier_threshold_m", start.outlier_threshold_m, Bound::Positive);
+    t.finish();
+  }
+  s.finish();
+}
+
+}  // namespace
+
+PppConfig parsePppConfig(const std::string& yaml_text, const std::string& source_name) {
+  YAML::Node root;
+  try {
+    root = YAML::Load(yaml_text);
+  } catch (const YAML::Exception& e) {
+    throw ConfigError(source_name, "",
+                      "YAML syntax error at line " + std::to_string(e.mark.line + 1) + ": " + e.msg);
+  }
+  PppConfig config;
+  config.source_name = source_name;
+  YamlSection top(root, source_name, "");
+  readStochastic(top.section("stochastic"), config.stochastic);
+  readEstimator(top.section("estimator"), config.estimator, config.start);
+  config.measurement_model = top.rawMapping("measurement_model");
+  config.cycle_slip = top.rawMapping("cycle_slip");
+  top.finish();
+  if (auto e = config.stochastic.validate(); !e.empty()) throw ConfigError(source_name, "stochastic", e);
+  if (auto e = config.estimator.validate(); !e.empty()) throw ConfigError(source_name, "estimator", e);
+  return config;
+}
+
+PppConfig loadPppConfig(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw ConfigError(path, "", "cannot open the file");
+  std::ostringstream os;
+  os << in.rdbuf();
+  if (in.bad()) throw ConfigError(path, "", "read error");
+  return parsePppConfig(os.str(), path);
+}
+
+}  // namespace ppp

@@ -1,0 +1,38 @@
+#include "ppp_bayes_tree/ppp/stochastic_model.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace ppp {
+
+double StateNoise::processVariance_m2(double dt_s) const {
+  const double dt = std::max(0.0, dt_s);
+  const double q2dt = process_noise_m_per_sqrt_s * process_noise_m_per_sqrt_s * dt;
+  if (kind == ProcessKind::White) return std::min(q2dt, initialVariance_m2());
+  return q2dt;
+}
+
+std::string toString(ProcessKind kind) { return kind == ProcessKind::White ? "white" : "random_walk"; }
+
+namespace {
+std::string checkNoise(const std::string& name, const StateNoise& n) {
+  if (!std::isfinite(n.initial_sigma_m) || n.initial_sigma_m <= 0.0)
+    return name + ".initial_sigma_m must be a finite value > 0";
+  if (!std::isfinite(n.process_noise_m_per_sqrt_s) || n.process_noise_m_per_sqrt_s < 0.0)
+    return name + ".process_noise_m_per_sqrt_s must be a finite value >= 0";
+  if (n.kind == ProcessKind::White && n.process_noise_m_per_sqrt_s <= 0.0)
+    return name + ".process_noise_m_per_sqrt_s must be > 0 for a white state";
+  return {};
+}
+}  // namespace
+
+std::string StochasticModel::validate() const {
+  for (const auto& [name, noise] : {std::pair<std::string, const StateNoise*>{"position", &position},
+                                    {"zwd", &zwd}, {"clock", &clock}, {"phase_bias", &phase_bias}}) {
+    if (auto e = checkNoise(name, *noise); !e.empty()) return e;
+  }
+  if (!std::isfinite(initial_zwd_m)) return "zwd.initial_m must be finite";
+  return {};
+}
+
+}  // namespace ppp

@@ -1,0 +1,119 @@
+#include "ppp_bayes_tree/ppp/yaml_section.h"
+
+#include <cmath>
+#include <sstream>
+
+namespace ppp {
+namespace {
+std::string describe(const YAML::Node& n) {
+  if (n.IsScalar()) return "'" + n.Scalar() + "'";
+  if (n.IsMap()) return "a mapping";
+  if (n.IsSequence()) return "a sequence";
+  return "nothing";
+}
+}  // namespace
+
+ConfigError::ConfigError(const std::string& file, const std::string& key_path, const std::string& reason)
+    : std::runtime_error(file + ": " + (key_path.empty() ? "" : key_path + ": ") + reason),
+      file_(file),
+      key_path_(key_path),
+      reason_(reason) {}
+
+YamlSection::YamlSection(const YAML::Node& node, std::string file, std::string path)
+    : node_(node), file_(std::move(file)), path_(std::move(path)) {
+  if (node_.IsDefined() && !node_.IsNull() && !node_.IsMap())
+    throw ConfigError(file_, path_, "expected a mapping of keys, got " + describe(node_));
+}
+
+void YamlSection::fail(const std::string& key, const std::string& reason) const {
+  throw ConfigError(file_, keyPath(key), reason);
+}
+
+YAML::Node YamlSection::scalar(const std::string& key) {
+  known_.insert(key);
+  if (!node_.IsMap()) return YAML::Node(YAML::NodeType::Undefined);
+  YAML::Node n = node_[key];
+  if (!n.IsDefined()) return n;
+  if (!n.IsScalar()) fail(key, "expected a single value, got " + describe(n));
+  return n;
+}
+
+double YamlSection::number(const std::string& key, double fallback, Bound bound) {
+  const YAML::Node n = scalar(key);
+  if (!n.IsDefined()) return fallback;
+  double v = 0.0;
+  try {
+    v = n.as<double>();
+  } catch (const YAML::Exception&) {
+    fail(key, "expected a number, got " + describe(n));
+  }
+  if (!std::isfinite(v)) fail(key, "expected a finite number, got " + describe(n));
+  if (bound == Bound::NonNegative && v < 0.0) fail(key, "must be >= 0, got " + n.Scalar());
+  if (bound == Bound::Positive && v <= 0.0) fail(key, "must be > 0, got " + n.Scalar());
+  return v;
+}
+
+int YamlSection::integer(const std::string& key, int fallback, int minimum) {
+  const YAML::Node n = scalar(key);
+  if (!n.IsDefined()) return fallback;
+  int v = 0;
+  try {
+    v = n.as<int>();
+  } catch (const YAML::Exception&) {
+    fail(key, "expected an integer, got " + describe(n));
+  }
+  if (v < minimum) fail(key, "must be >= " + std::to_string(minimum) + ", got " + n.Scalar());
+  return v;
+}
+
+bool YamlSection::boolean(const std::string& key, bool fallback) {
+  const YAML::Node n = scalar(key);
+  if (!n.IsDefined()) return fallback;
+  try {
+    return n.as<bool>();
+  } catch (const YAML::Exception&) {
+    fail(key, "expected true or false, got " + describe(n));
+  }
+}
+
+std::string YamlSection::text(const std::string& key, const std::string& fallback) {
+  const YAML::Node n = scalar(key);
+  return n.IsDefined() ? n.Scalar() : fallback;
+}
+
+std::string YamlSection::choice(const std::string& key, const std::string& fallback,
+                                const std::set<std::string>& allowed) {
+  const std::string v = text(key, fallback);
+  if (!allowed.count(v)) {
+    std::ostringstream os;
+    os << "expected one of";
+    for (const auto& a : allowed) os << " " << a;
+    os << ", got '" << v << "'";
+    fail(key, os.str());
+  }
+  return v;
+}
+
+YamlSection YamlSection::section(const std::string& key) {
+  known_.insert(key);
+  YAML::Node n = node_.IsMap() ? node_[key] : YAML::Node(YAML::NodeType::Undefined);
+  return YamlSection(n, file_, keyPath(key));
+}
+
+YAML::Node YamlSection::rawMapping(const std::string& key) {
+  known_.insert(key);
+  if (!node_.IsMap() || !node_[key].IsDefined() || node_[key].IsNull()) return YAML::Node(YAML::NodeType::Map);
+  YAML::Node n = node_[key];
+  if (!n.IsMap()) fail(key, "expected a mapping of keys, got " + describe(n));
+  return YAML::Clone(n);
+}
+
+void YamlSection::finish() const {
+  if (!node_.IsMap()) return;
+  for (const auto& kv : node_) {
+    const std::string key = kv.first.IsScalar() ? kv.first.Scalar() : "<non-scalar key>";
+    if (!known_.count(key)) fail(key, "unknown key");
+  }
+}
+
+}  // namespace ppp

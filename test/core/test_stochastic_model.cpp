@@ -1,0 +1,55 @@
+// StochasticModel: the method's defaults (DEVELOPERS.md table, restated in the
+// issue: position 1 m / 5 m/sqrt(s) random walk; ZWD 0.3 m / 3e-5 m/sqrt(s)
+// random walk; clock 3e6 m / 2000 m/sqrt(s) white; phase bias 100 m / 0) and
+// the conversion of process noise to per-epoch variances over dt.
+#include <gtest/gtest.h>
+
+#include "ppp_bayes_tree/ppp/stochastic_model.h"
+
+using ppp::ProcessKind;
+using ppp::StochasticModel;
+
+TEST(StochasticModel, DefaultsAreTheMethodTable) {
+  const StochasticModel m;
+  EXPECT_EQ(m.position.initial_sigma_m, 1.0);
+  EXPECT_EQ(m.position.process_noise_m_per_sqrt_s, 5.0);
+  EXPECT_EQ(m.position.kind, ProcessKind::RandomWalk);
+  EXPECT_EQ(m.zwd.initial_sigma_m, 0.3);
+  EXPECT_EQ(m.zwd.process_noise_m_per_sqrt_s, 3.0e-5);
+  EXPECT_EQ(m.zwd.kind, ProcessKind::RandomWalk);
+  EXPECT_EQ(m.clock.initial_sigma_m, 3.0e6);
+  EXPECT_EQ(m.clock.process_noise_m_per_sqrt_s, 2000.0);
+  EXPECT_EQ(m.clock.kind, ProcessKind::White);
+  EXPECT_EQ(m.phase_bias.initial_sigma_m, 100.0);
+  EXPECT_EQ(m.phase_bias.process_noise_m_per_sqrt_s, 0.0);
+  EXPECT_TRUE(m.validate().empty());
+}
+
+TEST(StochasticModel, RandomWalkVarianceGrowsLinearlyWithDt) {
+  const StochasticModel m;
+  EXPECT_DOUBLE_EQ(m.position.processVariance_m2(30.0), 25.0 * 30.0);   // q^2 dt = 750 m^2
+  EXPECT_DOUBLE_EQ(m.position.processVariance_m2(600.0), 25.0 * 600.0);  // a 10-minute gap
+  EXPECT_DOUBLE_EQ(m.zwd.processVariance_m2(3600.0), 9.0e-10 * 3600.0);
+  EXPECT_EQ(m.phase_bias.processVariance_m2(1e5), 0.0);  // constant per arc
+  EXPECT_EQ(m.position.processVariance_m2(-5.0), 0.0);   // negative dt treated as 0
+}
+
+TEST(StochasticModel, WhiteClockVarianceIsQ2DtCappedByTheAPrioriVariance) {
+  const StochasticModel m;
+  EXPECT_DOUBLE_EQ(m.clock.processVariance_m2(30.0), 2000.0 * 2000.0 * 30.0);  // 1.2e8 m^2, sigma 11 km
+  EXPECT_DOUBLE_EQ(m.clock.processVariance_m2(1.0), 4.0e6);
+  // 9e12 m^2 / 4e6 m^2/s = 2.25e6 s: longer gaps are capped at (3e6 m)^2.
+  EXPECT_DOUBLE_EQ(m.clock.processVariance_m2(1.0e7), 9.0e12);
+}
+
+TEST(StochasticModel, ValidateNamesTheBadEntry) {
+  StochasticModel m;
+  m.zwd.initial_sigma_m = -0.3;
+  EXPECT_NE(m.validate().find("zwd.initial_sigma_m"), std::string::npos);
+  m = StochasticModel{};
+  m.position.process_noise_m_per_sqrt_s = -1.0;
+  EXPECT_NE(m.validate().find("position.process_noise_m_per_sqrt_s"), std::string::npos);
+  m = StochasticModel{};
+  m.clock.process_noise_m_per_sqrt_s = 0.0;  // white with no noise is meaningless
+  EXPECT_NE(m.validate().find("clock"), std::string::npos);
+}
