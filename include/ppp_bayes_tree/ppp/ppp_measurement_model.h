@@ -25,9 +25,11 @@
 //            number of cycles on both frequencies) weighs
 //            alpha lambda1 + beta lambda2 = c / (f1 + f2) (the narrow-lane
 //            wavelength, 10.7 cm for GPS L1/L2) = lambda_w.
-// The Jacobian is the same for code and phase: d/dx = -e (unit line of sight
-// receiver -> satellite, ECEF), d/dZWD = m_w, d/dclock = 1 (the small elevation
-// dependence of mapping and PCV on the position is neglected, ~1e-5 relative).
+// The Jacobian is the same for code and phase: d/dx = -e + m_d dZHD/dh u
+// (e: unit line of sight receiver -> satellite, ECEF; u: local up; the a-priori
+// dry delay of the standard atmosphere falls by ~0.3 mm per metre of height),
+// d/dZWD = m_w, d/dclock = 1 (the elevation dependence of the mapping and PCV
+// on the position is neglected: ~1e-5 of the position column).
 //
 // Troposphere (troposphere.h), surface values from the standard atmosphere at
 // the receiver height:
@@ -150,6 +152,8 @@ struct ModelTerms {
   double windup_m = 0.0;
   double sagnac_m = 0.0;                // range change due to the Earth rotation during flight
   double nadir_rad = 0.0;
+  Eigen::Vector3d satellite_apc_at_transmission_ecef_m = Eigen::Vector3d::Zero();  // unrotated
+  Eigen::Vector3d receiver_apc_ecef_m = Eigen::Vector3d::Zero();
 };
 
 class PppMeasurementModel {

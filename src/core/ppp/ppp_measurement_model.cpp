@@ -190,9 +190,17 @@ void PppMeasurementModel::evaluate(const std::vector<DualFrequencyObservation>& 
   const ReceiverAntennaAxes receiver_axes = northWestAntennaAxes(geo.latitude_rad, geo.longitude_rad);
   const SurfaceMeteo meteo = standardAtmosphere(geo.height_m);
   const TroposphereDelays hopfield_zenith = modifiedHopfieldZenithDelays(meteo, geo.height_m);
-  const double zhd_m = options_.dry_troposphere == DryTroposphereModel::ModifiedHopfield
-                           ? hopfield_zenith.hydrostatic_m
-                           : saastamoinenZenithHydrostaticDelay_m(meteo.pressure_hpa, geo.latitude_rad, geo.height_m);
+  const auto zenithDry_m = [&](double height_m) {
+    const SurfaceMeteo m = standardAtmosphere(height_m);
+    return options_.dry_troposphere == DryTroposphereModel::ModifiedHopfield
+               ? modifiedHopfieldZenithDelays(m, height_m).hydrostatic_m
+               : saastamoinenZenithHydrostaticDelay_m(m.pressure_hpa, geo.latitude_rad, height_m);
+  };
+  const double zhd_m = zenithDry_m(geo.height_m);
+  // The a-priori dry delay depends on the receiver height (standard atmosphere):
+  // d ZHD / d h (~ -3e-4 m/m), so that the Jacobian holds m_d dZHD/dh along "up".
+  const double zhd_rate = zenithDry_m(geo.height_m + 0.5) - zenithDry_m(geo.height_m - 0.5);
+  const Eigen::Vector3d up_ecef = ecef_from_enu.col(2);
   const double day_of_year = t_rx.dayOfYear() + std::fmod(t_rx.mjd(), 1.0);
   const double mjd = t_rx.mjd();
 
@@ -379,7 +387,8 @@ void PppMeasurementModel::evaluate(const std::vector<DualFrequencyObservation>& 
     m.predicted_phase_m = common + st.windup_wavelength_m * windup_cycles;
     m.observed_code_m = code_if;
     m.observed_phase_m = phase_if;
-    m.jacobian << -los.transpose(), mf.wet, 1.0;
+    const Eigen::Vector3d d_position = -los + mf.hydrostatic * zhd_rate * up_ecef;
+    m.jacobian << d_position.transpose(), mf.wet, 1.0;
     const double sin_el = std::max(std::sin(elevation), 1.0e-3);
     m.phase_sigma_m = options_.phase_sigma_zenith_m * st.sigma_factor / sin_el;
     m.code_sigma_m = m.phase_sigma_m * options_.code_phase_ratio;
@@ -406,6 +415,8 @@ void PppMeasurementModel::evaluate(const std::vector<DualFrequencyObservation>& 
       tm.windup_m = st.windup_wavelength_m * windup_cycles;
       tm.sagnac_m = rho - (apc_tx - receiver_apc).norm();
       tm.nadir_rad = nadir;
+      tm.satellite_apc_at_transmission_ecef_m = apc_tx;
+      tm.receiver_apc_ecef_m = receiver_apc;
       terms->push_back(tm);
     }
   }
