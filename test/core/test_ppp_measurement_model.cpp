@@ -10,6 +10,10 @@
 #include <Eigen/Dense>
 
 #include "ppp_bayes_tree/models/ionosphere_free.h"
+#include "ppp_bayes_tree/models/ocean_loading.h"
+#include "ppp_bayes_tree/models/solid_earth_tide.h"
+#include "ppp_bayes_tree/models/sun_moon_position.h"
+#include "ppp_bayes_tree/types/frames.h"
 #include "ppp_bayes_tree/models/signal_geometry.h"
 #include "ppp_bayes_tree/types/carrier_frequency.h"
 #include "ppp_dataset.h"
@@ -238,6 +242,45 @@ TEST(PppMeasurementModel, WindupContinuityAndArcReset) {
   z.ds.model->evaluate(z.obs, new_arcs, z.truth, &tracker, em, &t2);
   EXPECT_NEAR(t2.front().windup_cycles, t1.front().windup_cycles, 1e-9);
   EXPECT_LE(std::abs(t2.front().windup_cycles), 0.5);
+}
+
+TEST(PppMeasurementModel, StationDisplacementsMoveTheAntennaPhaseCentre) {
+  PPP_REQUIRE_SHARED_DATA();
+  // Solid tide (IERS 2010 step 1) and ocean loading (BLQ) move the receiver
+  // antenna phase centre by exactly their displacement; the marker (the state)
+  // stays where it is.
+  MeasurementModelOptions off;
+  off.solid_earth_tide = false;
+  Zim2Epoch z_off(off);
+  Zim2Epoch z_on;
+  EpochMeasurements em;
+  std::vector<ModelTerms> t_off, t_on;
+  z_off.ds.model->evaluate(z_off.obs, z_off.arcs, z_off.truth, nullptr, em, &t_off);
+  z_on.ds.model->evaluate(z_on.obs, z_on.arcs, z_on.truth, nullptr, em, &t_on);
+  ASSERT_FALSE(t_on.empty());
+  const GnssTime t = z_on.obs.front().time;
+  const auto sm = sunMoonPositionsEcef(t);
+  const Eigen::Vector3d tide = solidEarthTideDisplacementEcef_m(z_on.truth.position_ecef_m, sm.sun_ecef_m, sm.moon_ecef_m);
+  EXPECT_GT(tide.norm(), 0.01);  // decimetre-level body tide, far from zero
+  const Eigen::Vector3d moved = t_on.front().receiver_apc_ecef_m - t_off.front().receiver_apc_ecef_m;
+  EXPECT_NEAR((moved - tide).norm(), 0.0, 1e-9);
+
+  // Ocean loading: a synthetic BLQ record with 1 cm radial M2 only.
+  OceanLoadingCoefficients blq;
+  blq.station = "TEST";
+  blq.amplitude_radial_m[0] = 0.01;
+  blq.phase_radial_deg[0] = 30.0;
+  std::vector<AntexSource> antex;
+  antex.push_back({"zim2", readAntexFile(z_on.ds.paths.atx[0])});
+  PppMeasurementModel with_ol(z_on.ds.products, std::move(antex), ReceiverAntenna::fromHeader(z_on.ds.reader->header()),
+                              &blq, {});
+  std::vector<ModelTerms> t_ol;
+  with_ol.evaluate(z_on.obs, z_on.arcs, z_on.truth, nullptr, em, &t_ol);
+  const Geodetic g = ecefToGeodetic(z_on.truth.position_ecef_m);
+  const Eigen::Vector3d ol_enu = oceanLoadingDisplacementEnu_m(blq, t);
+  const Eigen::Vector3d ol = rotationEnuFromEcef(g.latitude_rad, g.longitude_rad).transpose() * ol_enu;
+  EXPECT_GT(std::abs(ol_enu.z()), 1e-4);
+  EXPECT_NEAR((t_ol.front().receiver_apc_ecef_m - t_on.front().receiver_apc_ecef_m - ol).norm(), 0.0, 1e-9);
 }
 
 }  // namespace
