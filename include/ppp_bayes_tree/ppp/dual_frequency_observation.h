@@ -23,6 +23,10 @@ struct DualFrequencyObservation {
   // (Bias-SINEX OSB when given, otherwise the product convention).
   double code1_m = 0.0;
   double code2_m = 0.0;
+  // The OSB [m] subtracted from each code (observed - OSB, Bias-SINEX 1.00);
+  // nullopt when none was applied (no bias file, or no row for the code).
+  std::optional<double> code1_osb_m;
+  std::optional<double> code2_osb_m;
   // Carrier phases [cycles] as observed (RINEX sign convention), with the
   // RINEX 3 SYS / PHASE SHIFT correction applied where given.
   double phase1_cycles = 0.0;

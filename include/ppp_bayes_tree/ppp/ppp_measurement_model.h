@@ -1,0 +1,231 @@
+#pragma once
+// PppMeasurementModel: the single ionosphere-free (IF) code and phase model
+// used by both estimators (EKF and smoother factors). For one epoch and a
+// linearisation point X = (marker position ECEF, ZWD, receiver clock c*dt) it
+// gives per satellite the observed and predicted IF observables, the Jacobian
+// row d(predicted)/dX, the elevation-dependent sigmas, or the reason why the
+// satellite is rejected.
+//
+// Observation equations (metres; Kouba 2009 "A guide to using IGS products";
+// Teunissen & Montenbruck (eds.) 2017, ch. 25):
+//   P_IF = rho + clock - c (dt_s + dt_rel) + m_d ZHD + m_w ZWD + shapiro + ant_r + ant_s
+//   L_IF = same + lambda_w w + B_arc            (B_arc: the arc's IF phase bias,
+//                                                NOT in predicted_phase_m)
+//   rho    = |x_s,apc(t_tx) rotated by omega_e tau - x_r,apc|, where
+//            t_tx = t_rx(tag) - P_IF/c - dt_s (signal emission in GPST: exact
+//            whatever the receiver clock) and tau = rho/c (iterated, Sagnac);
+//   x_r,apc = marker + solid tide + ocean loading + ANTENNA: DELTA H/E/N +
+//            receiver PCO (IF), i.e. the estimate refers to the MARKER;
+//   dt_rel = -2 r.v/c^2 (relativity.h), shapiro (relativity.h);
+//   ant_s  = satellite PCV(nadir) IF-combined (the satellite PCO moves x_s,apc
+//            along the nominal yaw-steering body axes, satellite_attitude.h);
+//   ant_r  = receiver PCV(zenith, azimuth) IF-combined;
+//   w      = phase wind-up [cycles] (phase_windup.h), continuous along an arc
+//            through WindupTracker; in the IF combination the wind-up (the same
+//            number of cycles on both frequencies) weighs
+//            alpha lambda1 + beta lambda2 = c / (f1 + f2) (the narrow-lane
+//            wavelength, 10.7 cm for GPS L1/L2) = lambda_w.
+// The Jacobian is the same for code and phase: d/dx = -e + m_d dZHD/dh u
+// (e: unit line of sight receiver -> satellite, ECEF; u: local up; the a-priori
+// dry delay of the standard atmosphere falls by ~0.3 mm per metre of height),
+// d/dZWD = m_w, d/dclock = 1 (the elevation dependence of the mapping and PCV
+// on the position is neglected: ~1e-5 of the position column).
+//
+// Troposphere (troposphere.h), surface values from the standard atmosphere at
+// the receiver height:
+//   dry zenith delay: modified Hopfield (default) or Saastamoinen;
+//   mapping: "the method's" default is the modified Hopfield model's OWN
+//   elevation mapping, i.e. the ratio slant/zenith of the Hopfield ray
+//   integration (Goad & Goodman 1974), separately for the dry and wet parts, so
+//   that the dry delay and the wet partial come from one consistent model;
+//   Niell (1996) or GMF (Boehm et al. 2006) as options.
+//   The ZWD state is the whole wet delay (no a-priori wet delay is added).
+//
+// Weighting: sigma(el) = sigma_zenith / sin(el), where the phase sigma of one
+// frequency at zenith (default 0.003 m, RTKLIB stats-errphase as in the peer
+// configuration ../shared/peers/rtklib-ppp-kinematic.conf) is scaled for the IF
+// combination by sqrt(alpha^2 + beta^2) (2.98 for GPS L1/L2; RTKLIB uses 3), and
+// the code sigma is code_phase_ratio (default 100, RTKLIB stats-eratio1) times
+// the phase sigma.
+//
+// Threading and cost: evaluate() is const and allocation-free once the output
+// vectors have grown (except rejection reason strings); about 3 us per
+// satellite (ppp_bench_measurement_model). It is NOT thread-safe: it fills a
+// satellite-antenna lookup cache (use one model per thread). The wind-up
+// continuity lives in the caller's WindupTracker.
+//
+// Product edges: the emission time of an epoch at the very start (end) of the
+// products lies ~70 ms outside their span; there (only, within 0.2 s) the clock
+// is extended with the slope of its first (last) interval and the orbit by a
+// second-order step from the reception time (~1 mm).
+#include <Eigen/Core>
+#include <array>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "ppp_bayes_tree/io/antex_reader.h"
+#include "ppp_bayes_tree/io/rinex_obs_header.h"
+#include "ppp_bayes_tree/models/ocean_loading_coefficients.h"
+#include "ppp_bayes_tree/models/precise_ephemeris.h"
+#include "ppp_bayes_tree/ppp/dual_frequency_observation.h"
+#include "ppp_bayes_tree/ppp/satellite_measurement.h"
+#include "ppp_bayes_tree/types/constants.h"
+
+namespace ppp {
+
+enum class DryTroposphereModel { ModifiedHopfield, Saastamoinen };
+enum class TroposphereMapping {
+  ModifiedHopfield,  // the method's default: slant/zenith ratio of the Hopfield integration
+  Niell,
+  Gmf,
+};
+
+struct MeasurementModelOptions {
+  double elevation_cutoff_rad = 7.0 * kDegToRad;
+  /// Undifferenced phase sigma of one frequency at zenith [m] (RTKLIB stats-errphase).
+  double phase_sigma_zenith_m = 0.003;
+  /// Code sigma / phase sigma (RTKLIB stats-eratio1).
+  double code_phase_ratio = 100.0;
+  /// Multiply the sigmas by sqrt(alpha^2 + beta^2) for the IF combination.
+  bool scale_sigma_for_ionosphere_free = true;
+  DryTroposphereModel dry_troposphere = DryTroposphereModel::ModifiedHopfield;
+  TroposphereMapping mapping = TroposphereMapping::ModifiedHopfield;
+  bool solid_earth_tide = true;
+  bool ocean_loading = true;  // used only when coefficients are given
+  bool phase_windup = true;
+  bool satellite_antenna = true;  // satellite PCO + PCV (ANTEX)
+  bool receiver_antenna = true;   // receiver PCO + PCV (ANTEX); the DELTA H/E/N is always applied
+  bool shapiro = true;
+  bool exclude_eclipse = true;    // reject satellites in the Earth's shadow (umbra or penumbra)
+};
+
+/// One ANTEX file and the name it is reported under (usually its path).
+struct AntexSource {
+  std::string name;
+  AntexFile file;
+};
+
+/// Receiver antenna description from the RINEX header.
+struct ReceiverAntenna {
+  std::string model;   // "TRM59800.00"
+  std::string radome;  // "SCIS", blank = NONE
+  /// ANTENNA: DELTA H/E/N [m] (up, east, north of the ARP above the marker).
+  Eigen::Vector3d delta_hen_m = Eigen::Vector3d::Zero();
+
+  static ReceiverAntenna fromHeader(const RinexObsHeader& header);
+};
+
+/// Phase wind-up state per satellite: the last value [cycles] and its arc, so
+/// that the wind-up stays continuous along an arc and restarts on a new one.
+/// Explicit state owned by the caller (one per receiver and estimator).
+class WindupTracker {
+ public:
+  WindupTracker() : entries_(static_cast<std::size_t>(kNumGnssSystems) * 100) {}
+  /// Last value of `sat` when it belongs to the same arc, else nullopt.
+  std::optional<double> previous(const SatelliteId& sat, ArcId arc) const {
+    const auto& e = entries_[static_cast<std::size_t>(sat.index())];
+    if (!e.valid || e.arc != arc) return std::nullopt;
+    return e.cycles;
+  }
+  void update(const SatelliteId& sat, ArcId arc, double cycles) {
+    entries_[static_cast<std::size_t>(sat.index())] = {true, arc, cycles};
+  }
+  void reset() {
+    for (auto& e : entries_) e.valid = false;
+  }
+
+ private:
+  struct Entry {
+    bool valid = false;
+    ArcId arc = 0;
+    double cycles = 0.0;
+  };
+  std::vector<Entry> entries_;
+};
+
+/// Per-satellite model terms of the last evaluation, for diagnostics and tests
+/// (all in metres except where named; sign: as added to the prediction).
+struct ModelTerms {
+  SatelliteId satellite;
+  double geometric_range_m = 0.0;
+  double satellite_clock_m = 0.0;       // -c dt_s (product)
+  double relativistic_clock_m = 0.0;    // -c dt_rel
+  double troposphere_dry_m = 0.0;       // m_d ZHD
+  double wet_mapping = 0.0;             // m_w
+  double shapiro_m = 0.0;
+  double receiver_pcv_m = 0.0;
+  double satellite_pcv_m = 0.0;
+  double windup_cycles = 0.0;
+  double windup_m = 0.0;
+  double sagnac_m = 0.0;                // range change due to the Earth rotation during flight
+  double nadir_rad = 0.0;
+  Eigen::Vector3d satellite_apc_at_transmission_ecef_m = Eigen::Vector3d::Zero();  // unrotated
+  Eigen::Vector3d receiver_apc_ecef_m = Eigen::Vector3d::Zero();
+};
+
+class PppMeasurementModel {
+ public:
+  /// `products` must outlive the model. ANTEX files are searched in the given
+  /// order: the first file holding an antenna wins (see antennaSources()).
+  /// `ocean_loading` may be nullptr.
+  PppMeasurementModel(const PreciseEphemeris& products, std::vector<AntexSource> antex,
+                      const ReceiverAntenna& receiver_antenna, const OceanLoadingCoefficients* ocean_loading,
+                      MeasurementModelOptions options = {});
+
+  /// Evaluates one epoch. `arcs[i]` is the arc id of `observations[i]` (same
+  /// size). `windup` (nullable) carries the wind-up continuity: pass the same
+  /// tracker every epoch; it is updated for each used satellite. `terms`
+  /// (nullable) receives the per-satellite model terms of the used satellites.
+  void evaluate(const std::vector<DualFrequencyObservation>& observations, const std::vector<ArcId>& arcs,
+                const ReceiverState& state, WindupTracker* windup, EpochMeasurements& out,
+                std::vector<ModelTerms>* terms = nullptr) const;
+  EpochMeasurements evaluate(const std::vector<DualFrequencyObservation>& observations,
+                             const std::vector<ArcId>& arcs, const ReceiverState& state,
+                             WindupTracker* windup) const {
+    EpochMeasurements out;
+    evaluate(observations, arcs, state, windup, out);
+    return out;
+  }
+
+  const MeasurementModelOptions& options() const { return options_; }
+  /// Where each antenna calibration came from, e.g. "receiver TRM59800.00 SCIS:
+  /// igs20_zim2_gps_trim.atx (TRM59800.00 SCIS not found, using TRM59800.00 NONE)",
+  /// "satellite G05 (BLOCK IIR-M G050): igs20_gps_satellites_trim.atx". Satellites
+  /// are listed when first used (call after evaluating).
+  std::vector<std::string> antennaSources() const;
+  /// The receiver calibration in use (nullptr: not found in any file).
+  const AntennaCalibration* receiverCalibration() const { return receiver_calibration_; }
+  /// IF-combined receiver PCO (north, east, up) [m] of a frequency pair of a system.
+  std::optional<Eigen::Vector3d> receiverPcoIonosphereFree_m(GnssSystem system, int frequency1, int frequency2,
+                                                             double f1_hz, double f2_hz) const;
+
+ private:
+  struct SatelliteAntennaCache {
+    const AntennaCalibration* calibration = nullptr;
+    std::size_t file = 0;
+    std::optional<GnssTime> from, until;
+    bool looked_up = false;
+    bool reported = false;
+  };
+  /// Largest distance from the reception time over which the product edge may
+  /// be extended (see satelliteClock_s).
+  static constexpr double kMaxEdgeExtension_s = 0.2;
+  std::optional<double> satelliteClock_s(const SatelliteId& sat, const GnssTime& t, const GnssTime& t_rx,
+                                         std::string* why) const;
+  bool satelliteOrbit(const SatelliteId& sat, const GnssTime& t, const GnssTime& t_rx, Eigen::Vector3d& position,
+                      Eigen::Vector3d& velocity, std::string* why) const;
+  const AntennaCalibration* satelliteCalibration(const SatelliteId& sat, const GnssTime& t,
+                                                 std::size_t* file) const;
+
+  const PreciseEphemeris& products_;
+  std::vector<AntexSource> antex_;
+  ReceiverAntenna receiver_antenna_;
+  const AntennaCalibration* receiver_calibration_ = nullptr;
+  std::string receiver_source_;
+  std::optional<OceanLoadingCoefficients> ocean_loading_;
+  MeasurementModelOptions options_;
+  mutable std::vector<SatelliteAntennaCache> satellite_cache_;  // lookup cache (not model state)
+};
+
+}  // namespace ppp

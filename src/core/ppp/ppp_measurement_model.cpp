@@ -1,0 +1,425 @@
+#include "ppp_bayes_tree/ppp/ppp_measurement_model.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+#include "ppp_bayes_tree/models/ionosphere_free.h"
+#include "ppp_bayes_tree/models/ocean_loading.h"
+#include "ppp_bayes_tree/models/phase_windup.h"
+#include "ppp_bayes_tree/models/relativity.h"
+#include "ppp_bayes_tree/models/satellite_attitude.h"
+#include "ppp_bayes_tree/models/satellite_eclipse.h"
+#include "ppp_bayes_tree/models/signal_geometry.h"
+#include "ppp_bayes_tree/models/solid_earth_tide.h"
+#include "ppp_bayes_tree/models/sun_moon_position.h"
+#include "ppp_bayes_tree/models/troposphere.h"
+#include "ppp_bayes_tree/types/frames.h"
+
+namespace ppp {
+namespace {
+
+std::string format(const char* fmt, double a, double b = 0.0) {
+  char buf[160];
+  std::snprintf(buf, sizeof buf, fmt, a, b);
+  return buf;
+}
+
+/// ANTEX frequency number of a RINEX band (ANTEX 1.4: G01/G02/G05, E01/E05...).
+int antexFrequency(char band) { return band - '0'; }
+
+/// IF-combined value of a per-frequency quantity, or nullopt when either is missing.
+std::optional<double> combine(const std::optional<double>& v1, const std::optional<double>& v2,
+                              const IonosphereFreeCoefficients& k) {
+  if (!v1 || !v2) return std::nullopt;
+  return ionosphereFree(*v1, *v2, k);
+}
+
+}  // namespace
+
+ReceiverAntenna ReceiverAntenna::fromHeader(const RinexObsHeader& header) {
+  ReceiverAntenna a;
+  a.model = header.antenna_type;
+  a.radome = header.antenna_radome;
+  if (header.antenna_delta_hen_m) a.delta_hen_m = *header.antenna_delta_hen_m;
+  return a;
+}
+
+PppMeasurementModel::PppMeasurementModel(const PreciseEphemeris& products, std::vector<AntexSource> antex,
+                                         const ReceiverAntenna& receiver_antenna,
+                                         const OceanLoadingCoefficients* ocean_loading,
+                                         MeasurementModelOptions options)
+    : products_(products),
+      antex_(std::move(antex)),
+      receiver_antenna_(receiver_antenna),
+      options_(options),
+      satellite_cache_(static_cast<std::size_t>(kNumGnssSystems) * 100) {
+  if (ocean_loading != nullptr) ocean_loading_ = *ocean_loading;
+  const std::string asked =
+      receiver_antenna_.model + " " + (receiver_antenna_.radome.empty() ? "NONE" : receiver_antenna_.radome);
+  // An exact match in any file first (in file order), then a radome substitute.
+  for (int pass = 0; pass < 2 && receiver_calibration_ == nullptr; ++pass) {
+    for (const auto& src : antex_) {
+      const auto lookup = src.file.receiver(receiver_antenna_.model, receiver_antenna_.radome);
+      if (lookup.antenna == nullptr || (pass == 0 && lookup.radome_substituted)) continue;
+      receiver_calibration_ = lookup.antenna;
+      receiver_source_ = "receiver " + asked + ": " + src.name;
+      if (!lookup.note.empty()) receiver_source_ += " (" + lookup.note + ")";
+      break;
+    }
+  }
+  if (receiver_calibration_ == nullptr) receiver_source_ = "receiver " + asked + ": not found in any ANTEX file";
+}
+
+std::vector<std::string> PppMeasurementModel::antennaSources() const {
+  std::vector<std::string> out{receiver_source_};
+  for (std::size_t i = 0; i < satellite_cache_.size(); ++i) {
+    const auto& c = satellite_cache_[i];
+    if (!c.looked_up || c.calibration == nullptr) continue;
+    out.push_back("satellite " + c.calibration->label() + ": " + antex_[c.file].name);
+  }
+  return out;
+}
+
+const AntennaCalibration* PppMeasurementModel::satelliteCalibration(const SatelliteId& sat, const GnssTime& t,
+                                                                    std::size_t* file) const {
+  auto& c = satellite_cache_[static_cast<std::size_t>(sat.index())];
+  if (c.looked_up && (!c.from || !(t < *c.from)) && (!c.until || !(*c.until < t))) {
+    *file = c.file;
+    return c.calibration;
+  }
+  c = SatelliteAntennaCache{};
+  c.looked_up = true;
+  for (std::size_t f = 0; f < antex_.size(); ++f) {
+    if (const auto* a = antex_[f].file.satellite(sat, t)) {
+      c.calibration = a;
+      c.file = f;
+      c.from = a->valid_from;
+      c.until = a->valid_until;
+      break;
+    }
+  }
+  if (c.calibration == nullptr) c.from = c.until = t;  // absent: retry at the next epoch
+  *file = c.file;
+  return c.calibration;
+}
+
+std::optional<Eigen::Vector3d> PppMeasurementModel::receiverPcoIonosphereFree_m(GnssSystem system, int frequency1,
+                                                                                 int frequency2, double f1_hz,
+                                                                                 double f2_hz) const {
+  if (receiver_calibration_ == nullptr) return std::nullopt;
+  const auto* a = receiver_calibration_->frequency(system, frequency1);
+  const auto* b = receiver_calibration_->frequency(system, frequency2);
+  if (a == nullptr || b == nullptr) return std::nullopt;
+  return ionosphereFreeOffset(a->pco_m, b->pco_m, ionosphereFreeCoefficients(f1_hz, f2_hz));
+}
+
+std::optional<double> PppMeasurementModel::satelliteClock_s(const SatelliteId& sat, const GnssTime& t,
+                                                            const GnssTime& t_rx, std::string* why) const {
+  const auto c = products_.clock(sat, t);
+  if (c.ok()) return c.value->clock_bias_s;
+  // Products start/end exactly at the first/last epoch, so the emission time of
+  // the first epoch (~70 ms earlier) lies just outside: there, and only there,
+  // extend the clock linearly with the slope of its first/last interval.
+  if (c.status == ProductStatus::OutsideSpan && std::abs(t - t_rx) < kMaxEdgeExtension_s) {
+    const auto r = products_.clock(sat, t_rx);
+    if (r.ok() && r.value->clock_drift_s_per_s) {
+      return r.value->clock_bias_s + *r.value->clock_drift_s_per_s * (t - t_rx);
+    }
+  }
+  *why = c.reason;
+  return std::nullopt;
+}
+
+bool PppMeasurementModel::satelliteOrbit(const SatelliteId& sat, const GnssTime& t, const GnssTime& t_rx,
+                                         Eigen::Vector3d& position, Eigen::Vector3d& velocity,
+                                         std::string* why) const {
+  const auto o = products_.orbit(sat, t);
+  if (o.ok()) {
+    position = o.value->position_ecef_m;
+    velocity = o.value->velocity_ecef_mps;
+    return true;
+  }
+  // Same edge case as the clock: a second-order step from the reception time
+  // (central gravity only; over 0.1 s the neglected terms are ~1 mm).
+  if (o.status == ProductStatus::OutsideSpan && std::abs(t - t_rx) < kMaxEdgeExtension_s) {
+    const auto r = products_.orbit(sat, t_rx);
+    if (r.ok()) {
+      const double dt = t - t_rx;
+      const Eigen::Vector3d& p = r.value->position_ecef_m;
+      const Eigen::Vector3d a = -kGmEarthIers_m3ps2 / std::pow(p.norm(), 3) * p;
+      position = p + r.value->velocity_ecef_mps * dt + 0.5 * a * dt * dt;
+      velocity = r.value->velocity_ecef_mps + a * dt;
+      return true;
+    }
+  }
+  *why = o.reason;
+  return false;
+}
+
+void PppMeasurementModel::evaluate(const std::vector<DualFrequencyObservation>& observations,
+                                   const std::vector<ArcId>& arcs, const ReceiverState& state, WindupTracker* windup,
+                                   EpochMeasurements& out, std::vector<ModelTerms>* terms) const {
+  out.used.clear();
+  out.rejected.clear();
+  if (terms != nullptr) terms->clear();
+  if (observations.empty()) return;
+  const GnssTime t_rx = observations.front().time;
+  out.time = t_rx;
+  const Eigen::Vector3d marker = state.position_ecef_m;
+  if (!marker.allFinite() || marker.norm() < 1.0e6) {
+    for (const auto& o : observations) out.rejected.push_back({o.satellite, "linearisation point not usable"});
+    return;
+  }
+  const bool arcs_ok = arcs.size() == observations.size();
+
+  // ---- per-epoch terms: local frame, Sun/Moon, station displacements, troposphere constants.
+  const Geodetic geo = ecefToGeodetic(marker);
+  const Eigen::Matrix3d enu_from_ecef = rotationEnuFromEcef(geo.latitude_rad, geo.longitude_rad);
+  const Eigen::Matrix3d ecef_from_enu = enu_from_ecef.transpose();
+  const SunMoonPositions sun_moon = sunMoonPositionsEcef(t_rx);
+  Eigen::Vector3d station_offset = Eigen::Vector3d::Zero();  // marker -> ARP, ECEF
+  if (options_.solid_earth_tide) {
+    station_offset += solidEarthTideDisplacementEcef_m(marker, sun_moon.sun_ecef_m, sun_moon.moon_ecef_m);
+  }
+  if (options_.ocean_loading && ocean_loading_) {
+    station_offset += ecef_from_enu * oceanLoadingDisplacementEnu_m(*ocean_loading_, t_rx);
+  }
+  const Eigen::Vector3d& hen = receiver_antenna_.delta_hen_m;
+  station_offset += ecef_from_enu * Eigen::Vector3d(hen.y(), hen.z(), hen.x());
+  const ReceiverAntennaAxes receiver_axes = northWestAntennaAxes(geo.latitude_rad, geo.longitude_rad);
+  const SurfaceMeteo meteo = standardAtmosphere(geo.height_m);
+  const TroposphereDelays hopfield_zenith = modifiedHopfieldZenithDelays(meteo, geo.height_m);
+  const auto zenithDry_m = [&](double height_m) {
+    const SurfaceMeteo m = standardAtmosphere(height_m);
+    return options_.dry_troposphere == DryTroposphereModel::ModifiedHopfield
+               ? modifiedHopfieldZenithDelays(m, height_m).hydrostatic_m
+               : saastamoinenZenithHydrostaticDelay_m(m.pressure_hpa, geo.latitude_rad, height_m);
+  };
+  const double zhd_m = zenithDry_m(geo.height_m);
+  // The a-priori dry delay depends on the receiver height (standard atmosphere):
+  // d ZHD / d h (~ -3e-4 m/m), so that the Jacobian holds m_d dZHD/dh along "up".
+  const double zhd_rate = zenithDry_m(geo.height_m + 0.5) - zenithDry_m(geo.height_m - 0.5);
+  const Eigen::Vector3d up_ecef = ecef_from_enu.col(2);
+  const double day_of_year = t_rx.dayOfYear() + std::fmod(t_rx.mjd(), 1.0);
+  const double mjd = t_rx.mjd();
+
+  // Per-system receiver PCO (IF, ECEF) for the frequency pair: computed on first use.
+  struct SystemTerms {
+    bool done = false;
+    bool ok = false;
+    std::string missing;
+    IonosphereFreeCoefficients k;
+    double windup_wavelength_m = 0.0;
+    double sigma_factor = 1.0;
+    Eigen::Vector3d receiver_apc_ecef = Eigen::Vector3d::Zero();  // marker -> antenna phase centre
+    const FrequencyCalibration* r1 = nullptr;
+    const FrequencyCalibration* r2 = nullptr;
+    char band1 = '1', band2 = '2';
+  };
+  std::array<SystemTerms, kNumGnssSystems> systems;
+
+  for (std::size_t i = 0; i < observations.size(); ++i) {
+    const DualFrequencyObservation& o = observations[i];
+    const SatelliteId sat = o.satellite;
+    auto reject = [&](std::string why) { out.rejected.push_back({sat, std::move(why)}); };
+    SystemTerms& st = systems[static_cast<int>(sat.system)];
+    if (!st.done || st.band1 != o.code1.band || st.band2 != o.code2.band) {
+      st = SystemTerms{};
+      st.done = true;
+      st.band1 = o.code1.band;
+      st.band2 = o.code2.band;
+      st.k = ionosphereFreeCoefficients(o.frequency1_hz, o.frequency2_hz);
+      st.windup_wavelength_m = kSpeedOfLight_mps / (o.frequency1_hz + o.frequency2_hz);
+      st.sigma_factor = options_.scale_sigma_for_ionosphere_free ? ionosphereFreeNoiseFactor(st.k) : 1.0;
+      st.receiver_apc_ecef = station_offset;
+      st.ok = true;
+      if (options_.receiver_antenna) {
+        if (receiver_calibration_ == nullptr) {
+          st.ok = false;
+          st.missing = "missing receiver antenna calibration (" + receiver_source_ + ")";
+        } else {
+          st.r1 = receiver_calibration_->frequency(sat.system, antexFrequency(st.band1));
+          st.r2 = receiver_calibration_->frequency(sat.system, antexFrequency(st.band2));
+          if (st.r1 == nullptr || st.r2 == nullptr) {
+            st.ok = false;
+            st.missing = "missing receiver antenna calibration for " + receiver_calibration_->label() + " " +
+                         systemLetter(sat.system) + "0" + st.band1 + "/" + systemLetter(sat.system) + "0" + st.band2;
+          } else {
+            const Eigen::Vector3d pco_neu = ionosphereFreeOffset(st.r1->pco_m, st.r2->pco_m, st.k);
+            st.receiver_apc_ecef += ecef_from_enu * Eigen::Vector3d(pco_neu.y(), pco_neu.x(), pco_neu.z());
+          }
+        }
+      }
+    }
+    if (!st.ok) {
+      reject(st.missing);
+      continue;
+    }
+    const Eigen::Vector3d receiver_apc = marker + st.receiver_apc_ecef;
+    const double code_if = ionosphereFree(o.code1_m, o.code2_m, st.k);
+    const double phase_if = ionosphereFree(o.phase1_cycles * kSpeedOfLight_mps / o.frequency1_hz,
+                                           o.phase2_cycles * kSpeedOfLight_mps / o.frequency2_hz, st.k);
+    if (!std::isfinite(code_if) || !std::isfinite(phase_if) || code_if < 1.0e7 || code_if > 1.0e8) {
+      reject(format("observed IF code %.3f m / phase not usable", code_if));
+      continue;
+    }
+
+    // ---- satellite clock and position at the emission time (GPST).
+    const GnssTime t_nominal = t_rx - code_if / kSpeedOfLight_mps;
+    std::string why;
+    const std::optional<double> dts_opt = satelliteClock_s(sat, t_nominal, t_rx, &why);
+    if (!dts_opt) {
+      reject("no clock: " + why);
+      continue;
+    }
+    const double dts = *dts_opt;
+    const GnssTime t_tx = t_nominal - dts;
+    Eigen::Vector3d com_tx, vel_tx;
+    if (!satelliteOrbit(sat, t_tx, t_rx, com_tx, vel_tx, &why)) {
+      reject("no orbit: " + why);
+      continue;
+    }
+    if (options_.exclude_eclipse && eclipseState(com_tx, sun_moon.sun_ecef_m) != EclipseState::Sunlit) {
+      reject("satellite in the Earth's shadow (eclipse)");
+      continue;
+    }
+    const SatelliteBodyAxes axes = nominalSatelliteAxes(com_tx, vel_tx, sun_moon.sun_ecef_m);
+
+    // ---- satellite antenna offset (IF, body frame).
+    Eigen::Vector3d apc_tx = com_tx;
+    const FrequencyCalibration* s1 = nullptr;
+    const FrequencyCalibration* s2 = nullptr;
+    if (options_.satellite_antenna) {
+      std::size_t file = 0;
+      const AntennaCalibration* cal = satelliteCalibration(sat, t_rx, &file);
+      if (cal != nullptr) {
+        s1 = cal->frequency(sat.system, antexFrequency(o.phase1.band));
+        s2 = cal->frequency(sat.system, antexFrequency(o.phase2.band));
+      }
+      if (s1 == nullptr || s2 == nullptr) {
+        reject(cal == nullptr ? "missing satellite antenna calibration (no ANTEX block valid at the epoch)"
+                              : "missing satellite antenna calibration for frequencies of " + cal->label());
+        continue;
+      }
+      const Eigen::Vector3d pco = ionosphereFreeOffset(s1->pco_m, s2->pco_m, st.k);
+      apc_tx += pco.x() * axes.x_ecef + pco.y() * axes.y_ecef + pco.z() * axes.z_ecef;
+    }
+
+    // ---- Earth rotation during the flight (Sagnac): rotate by omega_e tau, tau = rho / c.
+    double tau = (apc_tx - receiver_apc).norm() / kSpeedOfLight_mps;
+    Eigen::Vector3d apc = apc_tx;
+    for (int it = 0; it < 3; ++it) {
+      apc = rotateForEarthRotation(apc_tx, tau);
+      tau = (apc - receiver_apc).norm() / kSpeedOfLight_mps;
+    }
+    const Eigen::Vector3d diff = apc - receiver_apc;
+    const double rho = diff.norm();
+    const Eigen::Vector3d los = diff / rho;  // receiver -> satellite
+
+    // ---- elevation / azimuth at the marker's local frame.
+    const Eigen::Vector3d los_enu = enu_from_ecef * los;
+    const double elevation = std::asin(std::clamp(los_enu.z(), -1.0, 1.0));
+    double azimuth = std::atan2(los_enu.x(), los_enu.y());
+    if (azimuth < 0.0) azimuth += 2.0 * kPi;
+    if (elevation < options_.elevation_cutoff_rad) {
+      reject(format("elevation %.1f deg below cutoff %.1f deg", elevation * kRadToDeg,
+                    options_.elevation_cutoff_rad * kRadToDeg));
+      continue;
+    }
+
+    // ---- antenna phase-centre variations (IF).
+    double pcv_r = 0.0, pcv_s = 0.0, nadir = 0.0;
+    if (options_.receiver_antenna) {
+      const double zenith = 0.5 * kPi - elevation;
+      const auto v = combine(st.r1->pcv_m(zenith, azimuth), st.r2->pcv_m(zenith, azimuth), st.k);
+      if (!v) {
+        reject(format("receiver PCV undefined at zenith %.1f deg", zenith * kRadToDeg));
+        continue;
+      }
+      pcv_r = *v;
+    }
+    if (options_.satellite_antenna) {
+      nadir = std::acos(std::clamp(-los.dot(axes.z_ecef), -1.0, 1.0));
+      const auto v = combine(s1->pcv.evaluateNoAzimuth_m(nadir), s2->pcv.evaluateNoAzimuth_m(nadir), st.k);
+      if (!v) {
+        reject(format("satellite PCV undefined at nadir %.2f deg", nadir * kRadToDeg));
+        continue;
+      }
+      pcv_s = *v;
+    }
+
+    // ---- troposphere.
+    MappingFunctions mf;
+    if (options_.mapping == TroposphereMapping::ModifiedHopfield) {
+      const TroposphereDelays slant = modifiedHopfieldSlantDelays(meteo, elevation, geo.height_m);
+      mf.hydrostatic = slant.hydrostatic_m / hopfield_zenith.hydrostatic_m;
+      mf.wet = slant.wet_m / hopfield_zenith.wet_m;
+    } else if (options_.mapping == TroposphereMapping::Niell) {
+      mf = niellMapping(elevation, geo.latitude_rad, geo.height_m, day_of_year);
+    } else {
+      mf = globalMappingFunction(elevation, geo.latitude_rad, geo.longitude_rad, geo.height_m, mjd);
+    }
+
+    // ---- clocks and relativity.
+    const double rel_s = relativisticClockCorrection_s(com_tx, vel_tx);
+    const double shapiro = options_.shapiro ? shapiroDelay_m(apc, receiver_apc) : 0.0;
+
+    // ---- wind-up.
+    double windup_cycles = 0.0;
+    const ArcId arc = arcs_ok ? arcs[i] : 0;
+    if (options_.phase_windup) {
+      const std::optional<double> prev = windup != nullptr ? windup->previous(sat, arc) : std::nullopt;
+      const auto w = phaseWindup_cycles(axes, receiver_axes, apc, receiver_apc, prev);
+      if (!w) {
+        reject("phase wind-up undefined (degenerate geometry)");
+        continue;
+      }
+      windup_cycles = *w;
+    }
+
+    const double common = rho + state.clock_m - kSpeedOfLight_mps * (dts + rel_s) + mf.hydrostatic * zhd_m +
+                          mf.wet * state.zwd_m + shapiro + pcv_r + pcv_s;
+    SatelliteMeasurement m;
+    m.satellite = sat;
+    m.arc = arc;
+    m.predicted_code_m = common;
+    m.predicted_phase_m = common + st.windup_wavelength_m * windup_cycles;
+    m.observed_code_m = code_if;
+    m.observed_phase_m = phase_if;
+    const Eigen::Vector3d d_position = -los + mf.hydrostatic * zhd_rate * up_ecef;
+    m.jacobian << d_position.transpose(), mf.wet, 1.0;
+    const double sin_el = std::max(std::sin(elevation), 1.0e-3);
+    m.phase_sigma_m = options_.phase_sigma_zenith_m * st.sigma_factor / sin_el;
+    m.code_sigma_m = m.phase_sigma_m * options_.code_phase_ratio;
+    m.elevation_rad = elevation;
+    m.azimuth_rad = azimuth;
+    if (!std::isfinite(m.predicted_code_m) || !std::isfinite(m.predicted_phase_m) || !m.jacobian.allFinite()) {
+      reject("non-finite model value");
+      continue;
+    }
+    if (windup != nullptr && options_.phase_windup) windup->update(sat, arc, windup_cycles);
+    out.used.push_back(m);
+    if (terms != nullptr) {
+      ModelTerms tm;
+      tm.satellite = sat;
+      tm.geometric_range_m = rho;
+      tm.satellite_clock_m = -kSpeedOfLight_mps * dts;
+      tm.relativistic_clock_m = -kSpeedOfLight_mps * rel_s;
+      tm.troposphere_dry_m = mf.hydrostatic * zhd_m;
+      tm.wet_mapping = mf.wet;
+      tm.shapiro_m = shapiro;
+      tm.receiver_pcv_m = pcv_r;
+      tm.satellite_pcv_m = pcv_s;
+      tm.windup_cycles = windup_cycles;
+      tm.windup_m = st.windup_wavelength_m * windup_cycles;
+      tm.sagnac_m = rho - (apc_tx - receiver_apc).norm();
+      tm.nadir_rad = nadir;
+      tm.satellite_apc_at_transmission_ecef_m = apc_tx;
+      tm.receiver_apc_ecef_m = receiver_apc;
+      terms->push_back(tm);
+    }
+  }
+}
+
+}  // namespace ppp
