@@ -2,8 +2,9 @@
 // PppConfig: the whole PPP configuration (config/ppp.yaml documents every key):
 //   stochastic:        a priori sigmas and process noise (StochasticModel)
 //   estimator:         EKF options (EkfOptions), with `start:` the code least squares
-//   measurement_model: bound by the measurement model's options (kept raw here)
-//   cycle_slip:        bound by the cycle-slip / arc tracker options (kept raw here)
+//   measurement_model: MeasurementModelOptions, with `signals:` the SignalSelectionOptions
+//   cycle_slip:        CycleSlipOptions (arc tracker)
+// (bound by ppp_options_binding.h; the raw nodes are kept as well)
 // Loading is strict: an unknown key, a wrong type or an out-of-range value
 // throws ConfigError naming the file, the key path and the reason. Absent keys
 // keep their defaults (the method's table in DEVELOPERS.md).
@@ -13,6 +14,7 @@
 
 #include "ppp_bayes_tree/ppp/code_least_squares.h"
 #include "ppp_bayes_tree/ppp/ekf_options.h"
+#include "ppp_bayes_tree/ppp/ppp_options_binding.h"
 #include "ppp_bayes_tree/ppp/stochastic_model.h"
 #include "ppp_bayes_tree/ppp/yaml_section.h"
 
@@ -22,7 +24,10 @@ struct PppConfig {
   StochasticModel stochastic;
   EkfOptions estimator;
   CodeLeastSquaresOptions start;
-  /// Raw sections, to bind with YamlSection(node, source_name, "measurement_model").
+  MeasurementModelOptions model;
+  SignalSelectionOptions signals;
+  CycleSlipOptions cycle_slip_options;
+  /// The raw sections as written (already bound into the three members above).
   YAML::Node measurement_model = YAML::Node(YAML::NodeType::Map);
   YAML::Node cycle_slip = YAML::Node(YAML::NodeType::Map);
   std::string source_name = "<defaults>";  // the file it came from (for later error messages)
