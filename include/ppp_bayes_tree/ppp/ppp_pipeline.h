@@ -62,6 +62,8 @@ struct PppEpochRecord {
   std::vector<EpochRejection> rejected;
   int new_arcs = 0;
   int slips = 0;  // new arcs started by a detected cycle slip or loss of lock
+  /// Arc starts other than new satellites, e.g. "G17 arc 11: Melbourne-Wubbena jump 3.2 cycles > 1.0".
+  std::vector<std::string> arc_events;
   std::vector<MeasurementResidual> residuals;  // per used satellite
 };
 

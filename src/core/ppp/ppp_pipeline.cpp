@@ -207,6 +207,8 @@ PppRunSummary PppPipeline::run(EpochEstimator& estimator, const EpochCallback& o
         if (st.start_reason == ArcStartReason::MelbourneWuebbenaJump ||
             st.start_reason == ArcStartReason::GeometryFreeJump || st.start_reason == ArcStartReason::LossOfLock)
           ++rec.slips;
+        if (st.start_reason != ArcStartReason::NewSatellite)
+          rec.arc_events.push_back(st.satellite.toString() + " arc " + std::to_string(st.arc) + ": " + st.reason);
       }
       usable.push_back(sel.observations[i]);
       arcs.push_back(st.arc);

@@ -82,7 +82,7 @@ PppSolveOutcome solvePpp(const PppSolveRequest& req) {
   pos_options.comment_lines = {"ppp_solve estimator " + estimator->name() + ", obs " + req.files.obs,
                                "kinematic PPP, ionosphere-free float, forward filter"};
   RtklibPosWriter pos_writer(pos, pos_options);
-  epochs << "time_gpst,status,reason,observed,selected,used,rejected,new_arcs,slips,gap_s,rejections\n";
+  epochs << "time_gpst,status,reason,observed,selected,used,rejected,new_arcs,slips,gap_s,events\n";
   residuals << "time_gpst,sat,arc,new_arc,elevation_deg,azimuth_deg,code_prefit_m,phase_prefit_m,"
                "code_postfit_m,phase_postfit_m,code_sigma_m,phase_sigma_m\n";
 
@@ -98,6 +98,7 @@ PppSolveOutcome solvePpp(const PppSolveRequest& req) {
       if (!rej.empty()) rej += "; ";
       rej += r.satellite.toString() + " " + r.stage + ": " + r.reason;
     }
+    for (const auto& e : rec.arc_events) rej += (rej.empty() ? "" : "; ") + e;
     for (auto& c : rej)
       if (c == '"') c = '\'';
     const std::string status = rec.refused ? "refused" : toString(rec.status);
