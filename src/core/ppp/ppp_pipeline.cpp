@@ -6,6 +6,7 @@
 #include <cmath>
 #include <fstream>
 #include <set>
+#include <sstream>
 #include <stdexcept>
 
 #include "ppp_bayes_tree/io/antex_reader.h"
@@ -132,7 +133,9 @@ PppRunSummary PppPipeline::run(EpochEstimator& estimator, const EpochCallback& o
   SignalSelector selector(header, config_.signals, d.bias ? &*d.bias : nullptr);
   ArcTracker tracker(config_.cycle_slip_options);
   WindupTracker windup;
-  std::set<std::string> code_notes;
+  // Code-reference notes, merged over epochs: text before a trailing
+  // satellite list -> union of the satellites.
+  std::map<std::string, std::set<std::string>> code_notes;
   std::map<SatelliteId, ResidualAccumulator> acc;
   std::optional<GnssTime> last_time;
   std::optional<double> interval_s;
@@ -185,7 +188,23 @@ PppRunSummary PppPipeline::run(EpochEstimator& estimator, const EpochCallback& o
       if (std::find(systems.begin(), systems.end(), s.satellite.system) == systems.end()) continue;
       rec.rejected.push_back({s.satellite, "signals", s.reason});
     }
-    for (const auto& n : sel.notes) code_notes.insert(n);
+    for (const auto& n : sel.notes) {
+      const auto colon = n.rfind(": ");
+      std::istringstream sats(colon == std::string::npos ? std::string() : n.substr(colon + 2));
+      std::vector<std::string> tokens;
+      std::string tok;
+      bool all_sats = colon != std::string::npos;
+      while (sats >> tok) {
+        all_sats &= tok.size() == 3 && std::isalpha(static_cast<unsigned char>(tok[0])) &&
+                    std::isdigit(static_cast<unsigned char>(tok[1])) && std::isdigit(static_cast<unsigned char>(tok[2]));
+        tokens.push_back(tok);
+      }
+      if (all_sats && !tokens.empty()) {
+        code_notes[n.substr(0, colon)].insert(tokens.begin(), tokens.end());
+      } else {
+        code_notes[n];
+      }
+    }
 
     // Arc tracking: ids, slips, ended arcs.
     const ArcEpochResult arc_result = tracker.process(epoch.time, sel.observations);
@@ -288,7 +307,12 @@ PppRunSummary PppPipeline::run(EpochEstimator& estimator, const EpochCallback& o
     summary.residual_statistics.push_back(st);
   }
   summary.notes = notes();
-  for (const auto& n : code_notes) summary.notes.push_back("code reference: " + n);
+  for (const auto& [text, sats] : code_notes) {
+    std::string note = "code reference: " + text;
+    if (!sats.empty()) note += ":";
+    for (const auto& sat : sats) note += " " + sat;
+    summary.notes.push_back(note);
+  }
   if (code_notes.empty() && d.bias)
     summary.notes.push_back("code reference: codes aligned to the clock reference by the OSB of " +
                             baseName(*d.files.bias));
