@@ -197,3 +197,56 @@ TEST(PppPipeline, NoiseFreeSimulationThroughTheRealModelRecoversThePosition) {
 
 }  // namespace
 }  // namespace ppp
+
+namespace ppp {
+namespace {
+
+/// The real ZIM2 file rewritten with bad epochs: epoch 11 repeated (duplicate),
+/// epoch 6 re-inserted after epoch 21 (time goes backwards), epochs 31-40
+/// removed (a 330 s data gap). The run must refuse, count and go on.
+TEST(PppPipeline, BackwardsDuplicateAndGapEpochsAreReportedNeverFatal) {
+  PPP_REQUIRE_SHARED_DATA();
+  const std::string text = test::readFileBytes(test::zim2Dataset().obs);
+  std::vector<std::string> blocks;  // [0] = header, then one block per epoch
+  std::size_t start = 0;
+  for (std::size_t pos = text.find("\n>"); pos != std::string::npos; pos = text.find("\n>", pos + 1)) {
+    blocks.push_back(text.substr(start, pos + 1 - start));
+    start = pos + 1;
+  }
+  blocks.push_back(text.substr(start));
+  ASSERT_EQ(blocks.size(), 121u);
+  std::string out = blocks[0];
+  for (std::size_t e = 1; e <= 120; ++e) {
+    if (e >= 31 && e <= 40) continue;
+    out += blocks[e];
+    if (e == 11) out += blocks[11];
+    if (e == 21) out += blocks[6];
+  }
+  const auto dir = test::tempDir("ppp_pipeline_bad");
+  const std::string obs = (dir / "ZIM2bad.rnx").string();
+  {
+    std::ofstream f(obs, std::ios::binary);
+    f << out;
+  }
+  PppSolveRequest r = zim2Request((dir / "out").string());
+  r.files.obs = obs;
+  const PppSolveOutcome o = solvePpp(r);
+  EXPECT_EQ(o.run.epochs_read, 112u);  // 110 good + the duplicate + the backwards one
+  EXPECT_EQ(o.run.epochs_refused, 2u);
+  EXPECT_EQ(o.run.data_gaps, 1u);
+  EXPECT_EQ(o.run.epochs_solved, 110u);
+  ASSERT_GE(o.run.problems.size(), 2u);
+  bool duplicate = false, backwards = false;
+  for (const auto& p : o.run.problems) {
+    duplicate |= p.find("duplicate epoch") != std::string::npos;
+    backwards |= p.find("time goes backwards") != std::string::npos;
+  }
+  EXPECT_TRUE(duplicate);
+  EXPECT_TRUE(backwards);
+  ASSERT_TRUE(o.statistics.has_value());
+  EXPECT_LT(o.statistics->final_error_m, 0.15);  // the gap costs some accuracy, no more
+  std::filesystem::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace ppp
