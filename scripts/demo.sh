@@ -44,7 +44,7 @@ exec "$BIN_DIR/ppp_solve" \
   --clk "$ZIM2/IGS0OPSFIN_20261330000_90M_30S_CLK.CLK" \
   --bia "$ZIM2/COD0OPSFIN_20261330000_01D_01D_OSB.BIA.gz" \
   --atx "$ATX" \
-  --config "$REPO_DIR/config/ppp.yaml" \
+  --config "$REPO_DIR/config/ppp_real_data.yaml" \
   --estimator ekf \
   --truth 4331299.5841,567537.7070,4633133.9645 \
   --out "${PPP_DEMO_OUT:-$WS_DIR/demo_output}"

@@ -60,7 +60,7 @@ TEST(PppConfig, EmptyDocumentGivesTheMethodDefaults) {
   const PppConfig c = parsePppConfig("", "empty.yaml");
   expectSameDefaults(c);
   // The method's table (DEVELOPERS.md), restated in issue 3.
-  EXPECT_EQ(c.stochastic.position.initial_sigma_m, 30.0);  // 30 m, see stochastic_model.h
+  EXPECT_EQ(c.stochastic.position.initial_sigma_m, 1.0);  // the method's table (DEVELOPERS.md)
   EXPECT_EQ(c.stochastic.position.process_noise_m_per_sqrt_s, 5.0);
   EXPECT_EQ(c.stochastic.zwd.initial_sigma_m, 0.3);
   EXPECT_EQ(c.stochastic.zwd.process_noise_m_per_sqrt_s, 3e-5);

@@ -190,5 +190,17 @@ TEST(PppOptionsBinding, TemplateRestatesTheModelDefaults) {
   EXPECT_FALSE(c.cycle_slip_options.max_gap_s.has_value());
 }
 
+TEST(PppOptionsBinding, RealDataConfigOverridesOnlyItsKeys) {
+  // config/ppp_real_data.yaml: 30 m start prior and GMF; everything else the method's defaults.
+  const PppConfig c = loadPppConfig(std::string(PPP_REPO_DIR) + "/config/ppp_real_data.yaml");
+  const PppConfig d;
+  EXPECT_EQ(c.stochastic.position.initial_sigma_m, 30.0);
+  EXPECT_EQ(c.model.mapping, TroposphereMapping::Gmf);
+  EXPECT_EQ(c.stochastic.position.process_noise_m_per_sqrt_s, d.stochastic.position.process_noise_m_per_sqrt_s);
+  EXPECT_EQ(c.stochastic.zwd.initial_sigma_m, d.stochastic.zwd.initial_sigma_m);
+  EXPECT_EQ(c.model.code_phase_ratio, d.model.code_phase_ratio);
+  EXPECT_EQ(c.model.elevation_cutoff_rad, d.model.elevation_cutoff_rad);
+}
+
 }  // namespace
 }  // namespace ppp

@@ -31,6 +31,8 @@ PppSolveRequest zim2Request(const std::string& out_dir) {
   r.files.bias = d.bia;
   r.truth_ecef_m = d.truth_ecef_m;
   r.out_dir = out_dir;
+  // As a user runs real data: the method's defaults plus the real-data overrides.
+  r.config = loadPppConfig(std::string(PPP_REPO_DIR) + "/config/ppp_real_data.yaml");
   return r;
 }
 

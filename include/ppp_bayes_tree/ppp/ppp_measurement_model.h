@@ -96,9 +96,10 @@ struct MeasurementModelOptions {
   /// Multiply the sigmas by sqrt(alpha^2 + beta^2) for the IF combination.
   bool scale_sigma_for_ionosphere_free = true;
   DryTroposphereModel dry_troposphere = DryTroposphereModel::ModifiedHopfield;
-  /// GMF by default: fits the real data better than the Hopfield ratio (tropical
-  /// CCJ2 with low satellites: final 3D 11 cm -> 5 cm; the ZIM2 hour is neutral).
-  TroposphereMapping mapping = TroposphereMapping::Gmf;
+  /// The method's mapping (the modified Hopfield ray integration) by default.
+  /// GMF fits the real data better (tropical CCJ2 with low satellites: final 3D
+  /// 11 cm -> 5 cm; the ZIM2 hour is neutral): config/ppp_real_data.yaml uses it.
+  TroposphereMapping mapping = TroposphereMapping::ModifiedHopfield;
   bool solid_earth_tide = true;
   bool ocean_loading = true;  // used only when coefficients are given
   bool phase_windup = true;

@@ -39,12 +39,11 @@ struct StateNoise {
 };
 
 struct StochasticModel {
-  /// Per ECEF axis. A priori sigma 30 m, not the table's 1 m: the filter starts
-  /// at a code least-squares solution of the SAME first-epoch codes, so a tight
-  /// prior counts those codes twice (CCJ2 starts 3 m off: mean 3D 44 -> 37 cm
-  /// with an uninformative prior; RTKLIB uses 30 m too, VAR_POS). The prior then
-  /// only serves as the linearisation point.
-  StateNoise position{30.0, 5.0, ProcessKind::RandomWalk};
+  /// Per ECEF axis: the method's 1 m. Note: the filter starts at a code
+  /// least-squares solution of the SAME first-epoch codes, so a tight prior
+  /// counts those codes twice; config/ppp_real_data.yaml uses 30 m (as RTKLIB's
+  /// VAR_POS) for real data (CCJ2 starts 3 m off: mean 3D 44 -> 37 cm).
+  StateNoise position{1.0, 5.0, ProcessKind::RandomWalk};
   StateNoise zwd{0.3, 3.0e-5, ProcessKind::RandomWalk};
   StateNoise clock{3.0e6, 2000.0, ProcessKind::White};
   StateNoise phase_bias{100.0, 0.0, ProcessKind::RandomWalk};  // q = 0: constant per arc
