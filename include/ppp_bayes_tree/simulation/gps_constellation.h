@@ -37,6 +37,9 @@ struct WalkerConstellationOptions {
   double inclination_rad = 55.0 * 3.14159265358979323846 / 180.0;
   GnssTime reference_time;              // t_ref: epoch of the elements
   double raan_offset_rad = 0.0;         // right ascension of plane 0 at t_ref
+  /// Added to every mean anomaly (non-zero by default: a satellite exactly in
+  /// the equator plane at a node would write z = 0.000000, the SP3 "absent" marker).
+  double mean_anomaly_offset_rad = 0.1234;
 };
 
 struct KeplerianElements {

@@ -65,6 +65,17 @@ PreciseEphemeris productsFromText(const std::string& sp3_text, const std::string
   return eph;
 }
 
+/// SP3 writes a position component of 0.000000 km only as the "absent" marker
+/// (SP3-d, position record): move a component closer than 0.5 mm to zero to
+/// +-1 mm (probability ~1e-10 per value; the truth is what is written).
+void avoidSp3ZeroMarker(Sp3File& sp3) {
+  for (auto& [sat, recs] : sp3.satellites)
+    for (auto& r : recs)
+      if (r.position_ecef_m)
+        for (int i = 0; i < 3; ++i)
+          if (std::abs((*r.position_ecef_m)(i)) < 5e-4) (*r.position_ecef_m)(i) = (*r.position_ecef_m)(i) < 0 ? -1e-3 : 1e-3;
+}
+
 struct ProductErrorSet {
   Eigen::Vector3d orbit_m = Eigen::Vector3d::Zero();
   double clock_m = 0.0;
@@ -236,12 +247,15 @@ SimulatedFlight simulateFlight(const SimulationConfig& config, std::uint64_t see
     w.reference_time = s.first;
     RandomStream geometry = root.derive(kTagConstellation);
     w.raan_offset_rad = geometry.uniform(0.0, 2.0 * kPi);
+    w.mean_anomaly_offset_rad = geometry.uniform(0.0, 2.0 * kPi);
     truth = sampleWalkerProducts(WalkerConstellation(w), s, root.derive(kTagSatelliteClocks).seed());
   }
+  avoidSp3ZeroMarker(truth.orbits);
   f.truth_sp3_text = sp3Text(truth.orbits);
   f.truth_clk_text = rinexClockText(truth.clocks);
   f.truth_products = productsFromText(f.truth_sp3_text, f.truth_clk_text, "truth");
-  const TruthProducts with_error = applyProductErrors(truth, err.products, root.derive(kTagProducts), t_mid, flight_s, f.drawn);
+  TruthProducts with_error = applyProductErrors(truth, err.products, root.derive(kTagProducts), t_mid, flight_s, f.drawn);
+  avoidSp3ZeroMarker(with_error.orbits);
   f.products_sp3_text = sp3Text(with_error.orbits);
   f.products_clk_text = rinexClockText(with_error.clocks);
   f.products = productsFromText(f.products_sp3_text, f.products_clk_text, "products");

@@ -27,7 +27,7 @@ WalkerConstellation::WalkerConstellation(WalkerConstellationOptions o) : options
     e.inclination_rad = o.inclination_rad;
     e.raan_rad = o.raan_offset_rad + 2.0 * kPi * plane / P;
     e.argument_of_perigee_rad = 0.0;
-    e.mean_anomaly_rad = 2.0 * kPi * j / n + 2.0 * kPi * o.phasing * plane / T;
+    e.mean_anomaly_rad = o.mean_anomaly_offset_rad + 2.0 * kPi * j / n + 2.0 * kPi * o.phasing * plane / T;
     elements_.push_back(e);
   }
 }
