@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <set>
 #include <stdexcept>
 
 #include "ppp_bayes_tree/io/fixed_width.h"
@@ -292,13 +293,11 @@ std::vector<TrajectorySample> readTrajectoryCsv(LineSource& source, const GnssTi
       const int att = static_cast<int>(col.count("roll_deg") + col.count("pitch_deg") + col.count("yaw_deg"));
       if (att != 0 && att != 3)
         throw ParseError(file, source.lineNumber(), "give all of roll_deg, pitch_deg, yaw_deg or none");
-      for (const auto& [name, i] : col) {
-        static const char* known[] = {"time_s", "latitude_deg", "longitude_deg", "height_m",
-                                      "roll_deg", "pitch_deg", "yaw_deg"};
-        if (std::find_if(std::begin(known), std::end(known), [&](const char* k) { return name == k; }) ==
-            std::end(known))
-          throw ParseError(file, source.lineNumber(), "unknown column '" + name + "'");
-      }
+      static const std::set<std::string> known{"time_s",   "latitude_deg", "longitude_deg", "height_m",
+                                               "roll_deg", "pitch_deg",    "yaw_deg"};
+      for (const auto& entry : col)
+        if (!known.count(entry.first))
+          throw ParseError(file, source.lineNumber(), "unknown column '" + entry.first + "'");
       have_attitude = att == 3;
       columns = fields.size();
       continue;
