@@ -188,6 +188,23 @@ errors:
   EXPECT_NE(error("thermal: {}").find("thermal"), std::string::npos);  // unknown top-level key
 }
 
+TEST(SimulationIo, TemplateConfigurationHoldsTheDefaults) {
+  const SimulationConfig t = loadSimulationConfig(std::string(PPP_REPO_DIR) + "/config/simulation.yaml");
+  const SimulationConfig d;
+  EXPECT_EQ(t.rate_hz, d.rate_hz);
+  EXPECT_NEAR(t.origin.latitude_rad, d.origin.latitude_rad, 1e-15);
+  EXPECT_EQ(t.satellites, d.satellites);
+  EXPECT_NEAR(t.elevation_mask_rad, d.elevation_mask_rad, 1e-15);
+  EXPECT_EQ(t.errors.thermal.code_sigma_m, d.errors.thermal.code_sigma_m);
+  EXPECT_EQ(t.errors.multipath.time_constant_s, d.errors.multipath.time_constant_s);
+  EXPECT_EQ(t.errors.receiver_clock.random_walk_sigma_s, d.errors.receiver_clock.random_walk_sigma_s);
+  EXPECT_EQ(t.errors.ionosphere.vtec_max_tecu, d.errors.ionosphere.vtec_max_tecu);
+  EXPECT_EQ(t.errors.troposphere.wet_scale_max, d.errors.troposphere.wet_scale_max);
+  EXPECT_NEAR(t.errors.phase_breaks.body_elevation_mask_rad, d.errors.phase_breaks.body_elevation_mask_rad, 1e-15);
+  EXPECT_EQ(t.errors.products.scale_half_range, d.errors.products.scale_half_range);
+  EXPECT_EQ(t.errors.ambiguity.max_abs_cycles, d.errors.ambiguity.max_abs_cycles);
+}
+
 TEST(SimulationIo, ProductsMustCoverTheFlight) {
   PPP_REQUIRE_SHARED_DATA();
   SimulationSources src;
