@@ -110,6 +110,11 @@ TEST(SimulationConsistency, TruthArcBiasIsTheIonosphereFreeAmbiguity) {
     nonzero |= a.n1_cycles != 0;
   }
   EXPECT_TRUE(nonzero);
+  const SatelliteId sat = f.epochs[10].satellites[0].satellite;
+  ASSERT_NE(f.signal(10, sat), nullptr);
+  EXPECT_EQ(f.truthBias_m(10, sat), f.arcs[f.signal(10, sat)->arc - 1].bias_if_m);
+  EXPECT_FALSE(f.truthBias_m(10, SatelliteId{GnssSystem::GPS, 99}).has_value());
+  EXPECT_EQ(f.signal(f.epochs.size(), sat), nullptr);
 }
 
 }  // namespace

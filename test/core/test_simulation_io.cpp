@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <thread>
 
 #include "ppp_bayes_tree/io/line_source.h"
 #include "ppp_bayes_tree/io/rinex_clock_reader.h"
@@ -43,6 +44,18 @@ TEST(SimulationIo, SameSeedGivesIdenticalFilesDifferentSeedDifferent) {
   }
   for (const char* name : {"SIM1.obs", "products.sp3", "products.clk", "truth.csv", "truth_arcs.csv"})
     EXPECT_NE(a.at(name), c.at(name)) << name;
+}
+
+TEST(SimulationIo, ConcurrentSimulationsEqualSequentialOnes) {
+  // The Monte Carlo runs flights on several threads: no shared state.
+  SimulatedFlight a, b;
+  std::thread ta([&] { a = simulateFlight(smallConfig(), 48); });
+  std::thread tb([&] { b = simulateFlight(smallConfig(), 49); });
+  ta.join();
+  tb.join();
+  EXPECT_EQ(rinexObsText(a.header, a.epochs), rinexObsText(simulateFlight(smallConfig(), 48).header,
+                                                           simulateFlight(smallConfig(), 48).epochs));
+  EXPECT_EQ(b.products_sp3_text, simulateFlight(smallConfig(), 49).products_sp3_text);
 }
 
 TEST(SimulationIo, ErrorTermsUseIndependentStreams) {

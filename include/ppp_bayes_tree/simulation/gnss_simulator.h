@@ -27,6 +27,13 @@
 // product error. With `quantize` the observations are rounded to the RINEX
 // resolution, so in-process epochs equal those read back from the file.
 //
+// In-process use (the Monte Carlo driver): simulateFlight() returns everything
+// the files hold; estimators consume `header` + `epochs` through SignalSelector,
+// `products` as the PreciseEphemeris, and `model_options` for the measurement
+// model; truth[k] belongs to epochs[k]. simulateFlight() has no shared state
+// and can run concurrently on different threads. A PppMeasurementModel keeps a
+// reference to `products`: do not move the SimulatedFlight while it is in use.
+//
 // Determinism: every random quantity comes from RandomStream sub-streams of the
 // seed (one per error term and satellite), so the same seed and configuration
 // give bit-identical results and files.
@@ -125,6 +132,25 @@ struct SimulatedFlight {
   /// The measurement-model options the observations were generated with
   /// (elevation cutoff aside): estimators must use the same.
   MeasurementModelOptions model_options;
+
+  /// Truth of satellite `sat` at epoch `epoch_index` (index into epochs/truth),
+  /// nullptr when it was not tracked then.
+  const SignalTruth* signal(std::size_t epoch_index, const SatelliteId& sat) const {
+    if (epoch_index >= truth.size()) return nullptr;
+    for (const auto& s : truth[epoch_index].signals)
+      if (s.satellite == sat) return &s;
+    return nullptr;
+  }
+  /// Truth IF phase bias [m] of the simulated arc holding `sat` at an epoch.
+  /// An estimator arc that starts where a simulated arc starts has this bias;
+  /// if the estimator restarts an arc inside a simulated one (false alarm), its
+  /// wind-up restarts too and the bias may differ by an integer number of
+  /// narrow-lane wavelengths (10.7 cm) times the wind-up cycles accumulated.
+  std::optional<double> truthBias_m(std::size_t epoch_index, const SatelliteId& sat) const {
+    const SignalTruth* s = signal(epoch_index, sat);
+    if (s == nullptr) return std::nullopt;
+    return arcs[s->arc - 1].bias_if_m;
+  }
 };
 
 /// Measurement-model options matching the simulation physics (elevation cutoff
