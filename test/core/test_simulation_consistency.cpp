@@ -43,6 +43,8 @@ TEST(SimulationConsistency, NoiseFreeObservationsGiveSubMillimetreResiduals) {
     ASSERT_GT(m.count, 5u * 300u) << flightProfileName(p);  // >= 5 satellites above 7 deg per epoch
     EXPECT_LT(m.code, 1e-3) << flightProfileName(p);
     EXPECT_LT(m.phase, 1e-3) << flightProfileName(p);
+    std::printf("%s: %zu residuals, max |code| %.2e m, max |phase| %.2e m\n", flightProfileName(p), m.count, m.code,
+                m.phase);
     // The estimator's products are the truth when product errors are off.
     const MaxResidual e = maxResiduals(f, true);
     EXPECT_LT(std::max(e.code, e.phase), 1e-3);
