@@ -1,0 +1,547 @@
+#include "ppp_bayes_tree/simulation/gnss_simulator.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <map>
+#include <stdexcept>
+
+#include "ppp_bayes_tree/io/line_source.h"
+#include "ppp_bayes_tree/models/ionosphere_free.h"
+#include "ppp_bayes_tree/models/troposphere.h"
+#include "ppp_bayes_tree/simulation/random_stream.h"
+#include "ppp_bayes_tree/simulation/simulation_writers.h"
+#include "ppp_bayes_tree/types/carrier_frequency.h"
+#include "ppp_bayes_tree/types/constants.h"
+
+namespace ppp {
+namespace {
+
+// Sub-stream tags of the seed (RandomStream::derive), one per purpose, so that
+// switching one error term on or off leaves the others' numbers unchanged.
+enum StreamTag : std::uint64_t {
+  kTagConstellation = 1,
+  kTagSatelliteClocks,
+  kTagTroposphere,
+  kTagIonosphere,
+  kTagReceiverClock,
+  kTagProducts,
+  kTagPerSatellite = 1000,  // + 100 * term + satellite index
+};
+enum SatelliteTerm : std::uint64_t { kSatAmbiguity = 0, kSatMultipath, kSatThermal };
+
+constexpr double kIonosphereConstant = 40.3e16;  // m^3/s^2 per TECU (first-order term 40.3 TEC / f^2)
+constexpr double kEarthRadiusIonosphere_m = 6371.0e3;
+
+std::string format(const char* fmt, double a) {
+  char buf[128];
+  std::snprintf(buf, sizeof buf, fmt, a);
+  return buf;
+}
+
+double quantize(double v, bool on) { return on ? std::round(v * 1000.0) / 1000.0 : v; }
+
+GnssTime floorTo(const GnssTime& t, double interval_s) {
+  const auto step = static_cast<std::int64_t>(std::llround(interval_s));
+  if (step <= 0 || std::abs(interval_s - static_cast<double>(step)) > 1e-9) return t;
+  std::int64_t w = t.wholeSeconds();
+  w -= ((w % step) + step) % step;
+  return GnssTime::fromGpsSeconds(w);
+}
+
+/// Reads an SP3 / clock text back with our readers (the in-process products
+/// are exactly what a file reader sees).
+PreciseEphemeris productsFromText(const std::string& sp3_text, const std::string& clk_text, const std::string& name) {
+  PreciseEphemeris eph;
+  auto sp3_src = memoryLineSource(sp3_text, name + ".sp3");
+  const Sp3File sp3 = readSp3(*sp3_src);
+  auto clk_src = memoryLineSource(clk_text, name + ".clk");
+  const RinexClockFile clk = readRinexClock(*clk_src);
+  if (!sp3.report.clean() || !clk.report.clean())
+    throw std::logic_error("simulator: written products do not read back cleanly: " + sp3.report.summary() +
+                           clk.report.summary());
+  eph.addOrbits(sp3);
+  eph.addClocks(clk);
+  return eph;
+}
+
+/// SP3 writes a position component of 0.000000 km only as the "absent" marker
+/// (SP3-d, position record): move a component closer than 0.5 mm to zero to
+/// +-1 mm (probability ~1e-10 per value; the truth is what is written).
+void avoidSp3ZeroMarker(Sp3File& sp3) {
+  for (auto& [sat, recs] : sp3.satellites)
+    for (auto& r : recs)
+      if (r.position_ecef_m)
+        for (int i = 0; i < 3; ++i)
+          if (std::abs((*r.position_ecef_m)(i)) < 5e-4) (*r.position_ecef_m)(i) = (*r.position_ecef_m)(i) < 0 ? -1e-3 : 1e-3;
+}
+
+struct ProductErrorSet {
+  Eigen::Vector3d orbit_m = Eigen::Vector3d::Zero();
+  double clock_m = 0.0;
+  double orbit_scale = 0.0, clock_scale = 0.0;  // k of 1 + k (t - t_mid) / T
+};
+
+TruthProducts applyProductErrors(const TruthProducts& truth, const ErrorModelConfig::Products& cfg,
+                                 RandomStream rng, const GnssTime& t_mid, double span_s,
+                                 DrawnParameters& drawn) {
+  TruthProducts out = truth;
+  if (!cfg.enabled) return out;
+  std::map<SatelliteId, ProductErrorSet> errors;
+  std::set<SatelliteId> sats;
+  for (const auto& [sat, recs] : truth.orbits.satellites) sats.insert(sat);
+  for (const auto& [sat, recs] : truth.clocks.satellite_clocks) sats.insert(sat);
+  double sum_orbit = 0.0, sum_clock = 0.0;
+  for (const auto& sat : sats) {
+    RandomStream r = rng.derive(static_cast<std::uint64_t>(sat.index()));
+    ProductErrorSet e;
+    e.orbit_m = Eigen::Vector3d(r.normal(cfg.orbit_sigma_m), r.normal(cfg.orbit_sigma_m), r.normal(cfg.orbit_sigma_m));
+    e.clock_m = r.normal(cfg.clock_sigma_m);
+    e.orbit_scale = r.uniform(-cfg.scale_half_range, cfg.scale_half_range);
+    e.clock_scale = r.uniform(-cfg.scale_half_range, cfg.scale_half_range);
+    sum_orbit += e.orbit_m.squaredNorm() / 3.0;
+    sum_clock += e.clock_m * e.clock_m;
+    errors[sat] = e;
+  }
+  drawn.orbit_error_rms_m = sats.empty() ? 0.0 : std::sqrt(sum_orbit / static_cast<double>(sats.size()));
+  drawn.clock_error_rms_m = sats.empty() ? 0.0 : std::sqrt(sum_clock / static_cast<double>(sats.size()));
+  auto scale = [&](double k, const GnssTime& t) { return 1.0 + k * (t - t_mid) / span_s; };
+  for (auto& [sat, recs] : out.orbits.satellites) {
+    const ProductErrorSet& e = errors[sat];
+    for (auto& r : recs) {
+      if (r.position_ecef_m) *r.position_ecef_m += e.orbit_m * scale(e.orbit_scale, r.time);
+      if (r.clock_bias_s) *r.clock_bias_s += e.clock_m * scale(e.clock_scale, r.time) / kSpeedOfLight_mps;
+    }
+  }
+  for (auto& [sat, recs] : out.clocks.satellite_clocks) {
+    const ProductErrorSet& e = errors[sat];
+    for (auto& r : recs) r.clock_bias_s += e.clock_m * scale(e.clock_scale, r.time) / kSpeedOfLight_mps;
+  }
+  return out;
+}
+
+/// Receiver clock offsets [s] at the epochs.
+std::vector<double> receiverClock(const std::vector<TrajectorySample>& traj, const ErrorModelConfig::ReceiverClock& c,
+                                  RandomStream rng, DrawnParameters& drawn) {
+  std::vector<double> dt(traj.size(), 0.0);
+  if (!c.enabled || traj.empty()) return dt;
+  drawn.clock_initial_s = rng.normal(c.initial_sigma_s);
+  drawn.clock_drift_s_per_s = rng.normal(c.drift_sigma_s_per_s);
+  double walk = 0.0, steps = 0.0;
+  for (std::size_t k = 0; k < traj.size(); ++k) {
+    const double since_start = traj[k].time - traj.front().time;
+    if (k > 0) {
+      const double h = traj[k].time - traj[k - 1].time;
+      walk += rng.normal(c.random_walk_sigma_s * std::sqrt(h));
+      if (rng.bernoulli(c.steps_per_hour * h / 3600.0)) {
+        steps += rng.bernoulli(0.5) ? c.step_s : -c.step_s;
+        ++drawn.clock_steps;
+      }
+    }
+    dt[k] = drawn.clock_initial_s + drawn.clock_drift_s_per_s * since_start + walk + steps;
+  }
+  return dt;
+}
+
+/// Per-satellite tracking and error-process state.
+struct SatelliteState {
+  SatelliteState(SatelliteId s, RandomStream a, RandomStream m, RandomStream t)
+      : sat(s), ambiguity_rng(a), multipath_rng(m), thermal_rng(t) {}
+  SatelliteId sat;
+  RandomStream ambiguity_rng, multipath_rng, thermal_rng;
+  bool tracked = false;
+  ArcId arc = 0;
+  std::optional<GnssTime> visible_since;
+  // Outage caused by the airframe mask (a phase break when reacquired).
+  bool body_outage = false;
+  GnssTime last_tracked;
+  ArcId last_arc = 0;
+  double outage_min_body_elevation = 0.0, outage_max_roll = 0.0;
+  // Multipath Gauss-Markov states (zenith scale) and time of the last update.
+  double mp1 = 0.0, mp2 = 0.0;
+  GnssTime mp_time;
+  bool first_epoch_of_arc = false;
+};
+
+}  // namespace
+
+std::vector<std::string> DrawnParameters::describe() const {
+  return {
+      format("troposphere dry scale %.4f", dry_scale) + format(", wet scale %.4f", wet_scale),
+      format("ionosphere VTEC %.2f TECU", vtec0_tecu) + format(" + %.2f TECU/h", vtec_rate_tecu_per_h),
+      format("receiver clock offset %.3f ns", clock_initial_s * 1e9) +
+          format(", drift %.4f ns/s", clock_drift_s_per_s * 1e9) + ", steps " + std::to_string(clock_steps),
+      format("phase noise L1 %.4f m", phase_sigma_l1_m) + format(", L2 %.4f m", phase_sigma_l2_m),
+      format("product orbit error RMS %.4f m per component", orbit_error_rms_m) +
+          format(", clock error RMS %.4f m", clock_error_rms_m),
+  };
+}
+
+MeasurementModelOptions simulationModelOptions() {
+  MeasurementModelOptions o;
+  o.elevation_cutoff_rad = 7.0 * kDegToRad;
+  o.solid_earth_tide = false;  // a UAV does not move with the crust
+  o.ocean_loading = false;
+  o.satellite_antenna = false;  // no ANTEX in the simulation
+  o.receiver_antenna = false;
+  o.exclude_eclipse = false;
+  o.phase_windup = true;
+  o.shapiro = true;
+  o.dry_troposphere = DryTroposphereModel::ModifiedHopfield;
+  o.mapping = TroposphereMapping::ModifiedHopfield;
+  return o;
+}
+
+SimulatedFlight simulateFlight(const SimulationConfig& config, std::uint64_t seed, const SimulationSources& sources) {
+  if (!(config.rate_hz > 0.0)) throw std::invalid_argument("simulation: rate must be positive");
+  if (sources.sp3.has_value() != sources.clk.has_value())
+    throw std::invalid_argument("simulation: give both an SP3 and a clock file, or neither");
+  const ErrorModelConfig& err = config.errors;
+  const RandomStream root(seed);
+  SimulatedFlight f;
+  f.config = config;
+  f.seed = seed;
+  f.model_options = simulationModelOptions();
+
+  // ---- start time and trajectory.
+  GnssTime start;
+  if (config.start) {
+    start = *config.start;
+  } else if (sources.sp3) {
+    GnssTime first = sources.sp3->epochs.empty() ? GnssTime() : sources.sp3->epochs.front();
+    for (const auto& [sat, recs] : sources.clk->satellite_clocks)
+      if (!recs.empty() && first < recs.front().time) first = recs.front().time;
+    start = floorTo(first + 600.0, 1.0);
+  } else {
+    start = GnssTime::fromCalendar({2026, 5, 13, 10, 0, 0.0}, TimeSystem::GPS);
+  }
+  std::vector<TrajectorySample> traj;
+  if (sources.trajectory) {
+    traj = *sources.trajectory;
+    if (traj.size() < 2) throw std::invalid_argument("simulation: the trajectory has fewer than two samples");
+  } else {
+    TrajectoryOptions topt;
+    topt.profile = config.profile;
+    topt.start = start;
+    topt.duration_s = config.durationOrDefault_s();
+    topt.rate_hz = config.rate_hz;
+    topt.origin = config.origin;
+    traj = generateTrajectory(topt);
+  }
+  const GnssTime t0 = traj.front().time, t1 = traj.back().time;
+  const double flight_s = std::max(t1 - t0, 1.0);
+  const GnssTime t_mid = t0 + 0.5 * (t1 - t0);
+
+  // ---- truth products, written and read back; products = truth + error.
+  TruthProducts truth;
+  if (sources.sp3) {
+    truth = restrictProducts(*sources.sp3, *sources.clk, t0 - 7200.0, t1 + 7200.0);
+  } else {
+    WalkerConstellationOptions w;
+    w.satellites = config.satellites;
+    ProductSampling s;
+    s.first = floorTo(t0 - 3600.0, config.orbit_interval_s);
+    s.last = s.first + config.orbit_interval_s * std::ceil((t1 + 3600.0 - s.first) / config.orbit_interval_s);
+    s.orbit_interval_s = config.orbit_interval_s;
+    s.clock_interval_s = config.clock_interval_s;
+    w.reference_time = s.first;
+    RandomStream geometry = root.derive(kTagConstellation);
+    w.raan_offset_rad = geometry.uniform(0.0, 2.0 * kPi);
+    w.mean_anomaly_offset_rad = geometry.uniform(0.0, 2.0 * kPi);
+    truth = sampleWalkerProducts(WalkerConstellation(w), s, root.derive(kTagSatelliteClocks).seed());
+  }
+  avoidSp3ZeroMarker(truth.orbits);
+  f.truth_sp3_text = sp3Text(truth.orbits);
+  f.truth_clk_text = rinexClockText(truth.clocks);
+  f.truth_products = productsFromText(f.truth_sp3_text, f.truth_clk_text, "truth");
+  TruthProducts with_error = applyProductErrors(truth, err.products, root.derive(kTagProducts), t_mid, flight_s, f.drawn);
+  avoidSp3ZeroMarker(with_error.orbits);
+  f.products_sp3_text = sp3Text(with_error.orbits);
+  f.products_clk_text = rinexClockText(with_error.clocks);
+  f.products = productsFromText(f.products_sp3_text, f.products_clk_text, "products");
+  const auto ospan = f.truth_products.orbitSpan();
+  const auto cspan = f.truth_products.clockSpan();
+  if (!ospan || !cspan || t0 - 1.0 < ospan->first || t0 - 1.0 < cspan->first || ospan->last < t1 + 1.0 ||
+      cspan->last < t1 + 1.0)
+    throw std::invalid_argument("simulation: the orbit/clock products do not cover the flight " + t0.toString(TimeSystem::GPS, 0) +
+                                " .. " + t1.toString(TimeSystem::GPS, 0));
+
+  // ---- per-flight parameters.
+  {
+    RandomStream r = root.derive(kTagTroposphere);
+    const double a = r.uniform(err.troposphere.dry_scale_min, err.troposphere.dry_scale_max);
+    const double b = r.uniform(err.troposphere.wet_scale_min, err.troposphere.wet_scale_max);
+    if (err.troposphere.enabled) f.drawn.dry_scale = a, f.drawn.wet_scale = b;
+    RandomStream i = root.derive(kTagIonosphere);
+    const double v = i.uniform(err.ionosphere.vtec_min_tecu, err.ionosphere.vtec_max_tecu);
+    const double rate = i.uniform(-err.ionosphere.vtec_rate_max_tecu_per_h, err.ionosphere.vtec_rate_max_tecu_per_h);
+    if (err.ionosphere.enabled) f.drawn.vtec0_tecu = v, f.drawn.vtec_rate_tecu_per_h = rate;
+  }
+  const std::vector<double> clock_s = receiverClock(traj, err.receiver_clock, root.derive(kTagReceiverClock), f.drawn);
+  const double f1 = *carrierFrequency_hz(GnssSystem::GPS, '1');
+  const double f2 = *carrierFrequency_hz(GnssSystem::GPS, '2');
+  const double lambda1 = kSpeedOfLight_mps / f1, lambda2 = kSpeedOfLight_mps / f2;
+  const double gamma = (f1 * f1) / (f2 * f2);
+  const IonosphereFreeCoefficients k_if = ionosphereFreeCoefficients(f1, f2);
+  const auto& th = err.thermal;
+  const double code_sigma = th.enabled ? th.code_sigma_m : 0.0;
+  const double phase_sigma1 =
+      !th.enabled ? 0.0 : th.phase_mode == PhaseNoiseMode::FixedSigma ? th.phase_sigma_m : th.phase_sigma_cycles * lambda1;
+  const double phase_sigma2 =
+      !th.enabled ? 0.0 : th.phase_mode == PhaseNoiseMode::FixedSigma ? th.phase_sigma_m : th.phase_sigma_cycles * lambda2;
+  f.drawn.phase_sigma_l1_m = phase_sigma1;
+  f.drawn.phase_sigma_l2_m = phase_sigma2;
+
+  // ---- RINEX header.
+  const ObservationCode c1c = *ObservationCode::parse("C1C"), l1c = *ObservationCode::parse("L1C"),
+                        c1w = *ObservationCode::parse("C1W"), c2w = *ObservationCode::parse("C2W"),
+                        l2w = *ObservationCode::parse("L2W");
+  {
+    RinexObsHeader& h = f.header;
+    h.version_text = "3.04";
+    h.version = 3.04;
+    h.major_version = 3;
+    h.file_system = 'G';
+    h.program = "ppp_simulate";
+    h.run_by = "ppp_bayes_tree";
+    const CalendarTime c = t0.toCalendar(TimeSystem::GPS);
+    char date[32];
+    std::snprintf(date, sizeof date, "%04d%02d%02d %02d%02d%02d GPS", c.year, c.month, c.day, c.hour, c.minute,
+                  static_cast<int>(c.second));
+    h.date = date;
+    h.marker_name = config.marker_name;
+    h.marker_type = "NON_GEODETIC";
+    h.observer = "simulation";
+    h.agency = "ppp_bayes_tree";
+    h.receiver_number = "0";
+    h.receiver_type = "SIMULATED";
+    h.receiver_version = "1";
+    h.antenna_number = "0";
+    h.antenna_type = "SIMULATED";
+    h.antenna_radome = "NONE";
+    h.antenna_delta_hen_m = Eigen::Vector3d::Zero();
+    h.approx_position_ecef_m = traj.front().position_ecef_m;
+    h.obs_types[static_cast<int>(GnssSystem::GPS)] = {c1c, l1c, c1w, c2w, l2w};
+    h.scale_factors[static_cast<int>(GnssSystem::GPS)] = std::vector<double>(5, 1.0);
+    h.interval_s = traj[1].time - traj[0].time;
+    h.time_of_first_obs = RinexHeaderTime{t0.toCalendar(TimeSystem::GPS), TimeSystem::GPS, t0};
+    h.time_of_last_obs = RinexHeaderTime{t1.toCalendar(TimeSystem::GPS), TimeSystem::GPS, t1};
+    h.epoch_time_system = TimeSystem::GPS;
+    h.comments = {"SIMULATED UAV FLIGHT, PROFILE " +
+                      std::string(sources.trajectory ? "user trajectory" : flightProfileName(config.profile)),
+                  "SEED " + std::to_string(seed)};
+  }
+
+  // ---- satellites and the generation model.
+  std::vector<SatelliteState> sats;
+  {
+    const auto orbit_sats = f.truth_products.orbitSatellites();
+    const auto clock_sats = f.truth_products.clockSatellites();
+    for (const auto& s : orbit_sats) {
+      if (s.system != GnssSystem::GPS || !clock_sats.count(s)) continue;
+      const std::uint64_t base = kTagPerSatellite + static_cast<std::uint64_t>(s.index());
+      sats.emplace_back(s, root.derive(base + 100 * kSatAmbiguity), root.derive(base + 100 * kSatMultipath),
+                      root.derive(base + 100 * kSatThermal));
+    }
+  }
+  MeasurementModelOptions gen_options = f.model_options;
+  gen_options.elevation_cutoff_rad = -0.5 * kPi;  // the simulator applies its own masks
+  const PppMeasurementModel model(f.truth_products, {}, ReceiverAntenna{}, nullptr, gen_options);
+  WindupTracker windup;
+  auto newArc = [&](SatelliteState& s, const GnssTime& t, bool after_break) {
+    TruthArc a;
+    a.id = static_cast<ArcId>(f.arcs.size() + 1);
+    a.satellite = s.sat;
+    a.first_time = a.last_time = t;
+    if (err.ambiguity.enabled) {
+      a.n1_cycles = s.ambiguity_rng.uniformInt(-err.ambiguity.max_abs_cycles, err.ambiguity.max_abs_cycles);
+      a.n2_cycles = s.ambiguity_rng.uniformInt(-err.ambiguity.max_abs_cycles, err.ambiguity.max_abs_cycles);
+    }
+    a.bias_if_m = ionosphereFree(lambda1 * static_cast<double>(a.n1_cycles), lambda2 * static_cast<double>(a.n2_cycles), k_if);
+    a.after_phase_break = after_break;
+    f.arcs.push_back(a);
+    s.arc = a.id;
+    s.tracked = true;
+    s.first_epoch_of_arc = true;
+    // Multipath starts from its stationary distribution at each acquisition.
+    s.mp1 = err.multipath.enabled ? s.multipath_rng.normal(err.multipath.sigma_m) : 0.0;
+    s.mp2 = err.multipath.enabled ? s.multipath_rng.normal(err.multipath.sigma_m) : 0.0;
+    s.mp_time = t;
+  };
+
+  std::vector<DualFrequencyObservation> obs;
+  std::vector<ArcId> arc_ids;
+  std::vector<std::size_t> obs_sat;  // index into sats
+  std::vector<double> body_el;
+  EpochMeasurements meas;
+  std::vector<ModelTerms> terms;
+  f.epochs.reserve(traj.size());
+  f.truth.reserve(traj.size());
+  for (std::size_t k = 0; k < traj.size(); ++k) {
+    const TrajectorySample& ts = traj[k];
+    const GnssTime t = ts.time;
+    const Geodetic geo = ecefToGeodetic(ts.position_ecef_m);
+    const Eigen::Matrix3d enu_from_ecef = rotationEnuFromEcef(geo.latitude_rad, geo.longitude_rad);
+    const Eigen::Matrix3d body_from_ned = bodyFromNed(ts.roll_rad, ts.pitch_rad, ts.yaw_rad);
+    TruthEpoch te;
+    te.trajectory = ts;
+    te.clock_m = clock_s[k] * kSpeedOfLight_mps;
+    const SurfaceMeteo meteo = standardAtmosphere(geo.height_m);
+    te.zwd_m = f.drawn.wet_scale * modifiedHopfieldZenithDelays(meteo, geo.height_m).wet_m;
+
+    // ---- visibility, tracking, arcs.
+    obs.clear();
+    arc_ids.clear();
+    obs_sat.clear();
+    body_el.clear();
+    for (std::size_t i = 0; i < sats.size(); ++i) {
+      SatelliteState& s = sats[i];
+      const auto o = f.truth_products.orbit(s.sat, t);
+      const auto c = f.truth_products.clock(s.sat, t);
+      bool visible_local = false, visible = false;
+      double bel = -kPi / 2;
+      if (o.ok() && c.ok()) {
+        const Eigen::Vector3d los = (o.value->position_ecef_m - ts.position_ecef_m).normalized();
+        const Eigen::Vector3d enu = enu_from_ecef * los;
+        const double el = std::asin(std::clamp(enu.z(), -1.0, 1.0));
+        const Eigen::Vector3d body = body_from_ned * Eigen::Vector3d(enu.y(), enu.x(), -enu.z());
+        bel = std::asin(std::clamp(-body.z(), -1.0, 1.0));
+        visible_local = el >= config.elevation_mask_rad;
+        visible = visible_local && (!err.phase_breaks.enabled || bel >= err.phase_breaks.body_elevation_mask_rad);
+      }
+      if (s.tracked && !visible) {  // loss of lock
+        s.tracked = false;
+        s.body_outage = visible_local;
+        s.last_arc = s.arc;
+        s.outage_min_body_elevation = bel;
+        s.outage_max_roll = std::abs(ts.roll_rad);
+        s.visible_since.reset();
+      } else if (!s.tracked) {
+        if (!visible_local) s.body_outage = false;  // set meanwhile: the next pass is a new satellite
+        if (s.body_outage) {
+          s.outage_min_body_elevation = std::min(s.outage_min_body_elevation, bel);
+          s.outage_max_roll = std::max(s.outage_max_roll, std::abs(ts.roll_rad));
+        }
+        if (!visible) {
+          s.visible_since.reset();
+        } else {
+          if (!s.visible_since) s.visible_since = t;
+          if (k == 0 || t - *s.visible_since >= err.phase_breaks.reacquisition_s - 1e-9) {
+            const bool is_break = s.body_outage;
+            newArc(s, t, is_break);
+            if (is_break) {
+              f.breaks.push_back({s.sat, s.last_tracked, t, s.last_arc, s.arc, s.outage_min_body_elevation,
+                                  s.outage_max_roll});
+            }
+            s.body_outage = false;
+          }
+        }
+      }
+      if (!s.tracked) continue;
+      DualFrequencyObservation d;
+      d.satellite = s.sat;
+      d.time = t;
+      d.code1 = c1w, d.code2 = c2w, d.phase1 = l1c, d.phase2 = l2w;
+      d.frequency1_hz = f1, d.frequency2_hz = f2;
+      const double guess = (o.value->position_ecef_m - ts.position_ecef_m).norm() + te.clock_m -
+                           kSpeedOfLight_mps * c.value->clock_bias_s;
+      d.code1_m = d.code2_m = std::clamp(guess, 1.5e7, 9.0e7);
+      obs.push_back(d);
+      arc_ids.push_back(s.arc);
+      obs_sat.push_back(i);
+      body_el.push_back(bel);
+    }
+
+    // ---- non-dispersive part through the measurement model (fixed point on the code).
+    ReceiverState state;
+    state.position_ecef_m = ts.position_ecef_m;
+    state.zwd_m = te.zwd_m;
+    state.clock_m = te.clock_m;
+    for (int it = 0; it < 3 && !obs.empty(); ++it) {
+      model.evaluate(obs, arc_ids, state, &windup, meas, it == 2 ? &terms : nullptr);
+      std::size_t u = 0;
+      for (auto& d : obs) {
+        while (u < meas.used.size() && meas.used[u].satellite != d.satellite) ++u;
+        if (u < meas.used.size()) d.code1_m = d.code2_m = meas.used[u].predicted_code_m;
+      }
+    }
+
+    // ---- observables with errors.
+    ObsEpoch epoch;
+    epoch.time = t;
+    std::size_t u = 0;
+    for (std::size_t j = 0; j < obs.size(); ++j) {
+      while (u < meas.used.size() && meas.used[u].satellite != obs[j].satellite) ++u;
+      if (u >= meas.used.size()) {  // rejected by the model (should not happen): no observation
+        u = 0;
+        continue;
+      }
+      const SatelliteMeasurement& m = meas.used[u];
+      const ModelTerms& tm = terms[u];
+      SatelliteState& s = sats[obs_sat[j]];
+      SignalTruth sig;
+      sig.satellite = s.sat;
+      sig.arc = s.arc;
+      sig.elevation_rad = m.elevation_rad;
+      sig.body_elevation_rad = body_el[j];
+      sig.windup_cycles = tm.windup_cycles;
+      sig.troposphere_error_m = (f.drawn.dry_scale - 1.0) * tm.troposphere_dry_m;
+      sig.nondispersive_m = m.predicted_code_m + sig.troposphere_error_m;
+      const double sin_el = std::max(std::sin(m.elevation_rad), 0.05);
+      if (err.ionosphere.enabled) {
+        const double vtec = f.drawn.vtec0_tecu + f.drawn.vtec_rate_tecu_per_h * (t - t0) / 3600.0;
+        const double sz = kEarthRadiusIonosphere_m * std::cos(m.elevation_rad) /
+                          (kEarthRadiusIonosphere_m + err.ionosphere.shell_height_km * 1e3);
+        sig.ionosphere_l1_m = kIonosphereConstant * std::max(vtec, 0.0) / std::sqrt(1.0 - sz * sz) / (f1 * f1);
+      }
+      if (err.multipath.enabled) {
+        const double dt = t - s.mp_time;
+        if (dt > 0.0) {
+          const double phi = std::exp(-dt / err.multipath.time_constant_s);
+          const double q = err.multipath.sigma_m * std::sqrt(1.0 - phi * phi);
+          s.mp1 = phi * s.mp1 + s.multipath_rng.normal(q);
+          s.mp2 = phi * s.mp2 + s.multipath_rng.normal(q);
+          s.mp_time = t;
+        }
+        sig.multipath_unit = s.mp1;
+        sig.multipath1_m = s.mp1 / sin_el;
+        sig.multipath2_m = s.mp2 / sin_el;
+      }
+      if (th.enabled) {
+        sig.code_noise1_m = s.thermal_rng.normal(code_sigma);
+        sig.code_noise2_m = s.thermal_rng.normal(code_sigma);
+        sig.phase_noise1_m = s.thermal_rng.normal(phase_sigma1);
+        sig.phase_noise2_m = s.thermal_rng.normal(phase_sigma2);
+      }
+      const TruthArc& arc = f.arcs[s.arc - 1];
+      const double G = sig.nondispersive_m, I1 = sig.ionosphere_l1_m, I2 = gamma * I1;
+      const double p1 = G + I1 + sig.multipath1_m + sig.code_noise1_m;
+      const double p2 = G + I2 + sig.multipath2_m + sig.code_noise2_m;
+      const double l1 = (G - I1 + sig.phase_noise1_m) / lambda1 + sig.windup_cycles + static_cast<double>(arc.n1_cycles);
+      const double l2 = (G - I2 + sig.phase_noise2_m) / lambda2 + sig.windup_cycles + static_cast<double>(arc.n2_cycles);
+      const bool lli = config.loss_of_lock_flags && s.first_epoch_of_arc && arc.after_phase_break;
+      s.first_epoch_of_arc = false;
+      s.last_tracked = t;
+      TruthArc& arc_mut = f.arcs[s.arc - 1];
+      arc_mut.last_time = t;
+      ++arc_mut.epochs;
+      SatelliteObservations so;
+      so.satellite = s.sat;
+      so.first = static_cast<std::uint32_t>(epoch.observations.size());
+      so.count = 5;
+      epoch.satellites.push_back(so);
+      const bool qz = config.quantize;
+      epoch.observations.push_back({c1c, quantize(p1, qz), std::nullopt, std::nullopt});
+      epoch.observations.push_back({l1c, quantize(l1, qz), lli ? std::optional<std::uint8_t>(1) : std::nullopt, std::nullopt});
+      epoch.observations.push_back({c1w, quantize(p1, qz), std::nullopt, std::nullopt});
+      epoch.observations.push_back({c2w, quantize(p2, qz), std::nullopt, std::nullopt});
+      epoch.observations.push_back({l2w, quantize(l2, qz), lli ? std::optional<std::uint8_t>(1) : std::nullopt, std::nullopt});
+      te.signals.push_back(sig);
+    }
+    f.epochs.push_back(std::move(epoch));
+    f.truth.push_back(std::move(te));
+  }
+  return f;
+}
+
+}  // namespace ppp

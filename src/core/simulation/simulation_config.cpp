@@ -1,0 +1,201 @@
+#include "ppp_bayes_tree/simulation/simulation_config.h"
+
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+
+#include "ppp_bayes_tree/ppp/yaml_section.h"
+
+namespace ppp {
+
+ErrorModelConfig ErrorModelConfig::none() {
+  ErrorModelConfig e;
+  e.thermal.enabled = false;
+  e.multipath.enabled = false;
+  e.troposphere.enabled = false;
+  e.ionosphere.enabled = false;
+  e.receiver_clock.enabled = false;
+  e.ambiguity.enabled = false;
+  e.phase_breaks.enabled = false;
+  e.products.enabled = false;
+  return e;
+}
+
+double defaultProfileDuration_s(FlightProfile profile) {
+  switch (profile) {
+    case FlightProfile::Loiter: return 40.0 * 60.0;
+    case FlightProfile::Survey: return 45.0 * 60.0;
+    case FlightProfile::Figure8: return 30.0 * 60.0;
+    case FlightProfile::Climb: return 60.0 * 60.0;
+  }
+  return 1800.0;
+}
+
+double SimulationConfig::durationOrDefault_s() const {
+  return duration_s ? *duration_s : defaultProfileDuration_s(profile);
+}
+
+namespace {
+
+GnssTime parseStart(YamlSection& s, const std::string& key, const GnssTime& fallback) {
+  const std::string text = s.text(key, "");
+  if (text.empty()) return fallback;
+  CalendarTime c;
+  char tail = 0;
+  if (std::sscanf(text.c_str(), "%d-%d-%d %d:%d:%lf%c", &c.year, &c.month, &c.day, &c.hour, &c.minute, &c.second,
+                  &tail) != 6 ||
+      c.hour < 0 || c.hour > 23 || c.minute < 0 || c.minute > 59 || c.second < 0 || c.second >= 60.0 ||
+      !isValidDate(c.year, c.month, c.day) || c.year < 1981 || c.year > 2100)
+    s.fail(key, "expected \"YYYY-MM-DD hh:mm:ss\" (GPST), got \"" + text + "\"");
+  return GnssTime::fromCalendar(c, TimeSystem::GPS);
+}
+
+void readRange(YamlSection& s, const char* lo_key, const char* hi_key, double& lo, double& hi, Bound bound) {
+  lo = s.number(lo_key, lo, bound);
+  hi = s.number(hi_key, hi, bound);
+  if (lo > hi) s.fail(hi_key, std::string("must be >= ") + lo_key);
+}
+
+void readErrors(YamlSection s, ErrorModelConfig& e) {
+  {
+    auto t = s.section("thermal");
+    e.thermal.enabled = t.boolean("enabled", e.thermal.enabled);
+    e.thermal.code_sigma_m = t.number("code_sigma_m", e.thermal.code_sigma_m, Bound::NonNegative);
+    const std::string mode = t.choice("phase", e.thermal.phase_mode == PhaseNoiseMode::FixedSigma ? "fixed" : "wavelength_fraction",
+                                      {"fixed", "wavelength_fraction"});
+    e.thermal.phase_mode = mode == "fixed" ? PhaseNoiseMode::FixedSigma : PhaseNoiseMode::WavelengthFraction;
+    e.thermal.phase_sigma_m = t.number("phase_sigma_m", e.thermal.phase_sigma_m, Bound::NonNegative);
+    e.thermal.phase_sigma_cycles = t.number("phase_sigma_cycles", e.thermal.phase_sigma_cycles, Bound::NonNegative);
+    t.finish();
+  }
+  {
+    auto m = s.section("multipath");
+    e.multipath.enabled = m.boolean("enabled", e.multipath.enabled);
+    e.multipath.sigma_m = m.number("sigma_m", e.multipath.sigma_m, Bound::NonNegative);
+    e.multipath.time_constant_s = m.number("time_constant_s", e.multipath.time_constant_s, Bound::Positive);
+    m.finish();
+  }
+  {
+    auto t = s.section("troposphere");
+    e.troposphere.enabled = t.boolean("enabled", e.troposphere.enabled);
+    readRange(t, "dry_scale_min", "dry_scale_max", e.troposphere.dry_scale_min, e.troposphere.dry_scale_max,
+              Bound::NonNegative);
+    readRange(t, "wet_scale_min", "wet_scale_max", e.troposphere.wet_scale_min, e.troposphere.wet_scale_max,
+              Bound::NonNegative);
+    t.finish();
+  }
+  {
+    auto i = s.section("ionosphere");
+    e.ionosphere.enabled = i.boolean("enabled", e.ionosphere.enabled);
+    readRange(i, "vtec_min_tecu", "vtec_max_tecu", e.ionosphere.vtec_min_tecu, e.ionosphere.vtec_max_tecu,
+              Bound::NonNegative);
+    e.ionosphere.vtec_rate_max_tecu_per_h =
+        i.number("vtec_rate_max_tecu_per_h", e.ionosphere.vtec_rate_max_tecu_per_h, Bound::NonNegative);
+    e.ionosphere.shell_height_km = i.number("shell_height_km", e.ionosphere.shell_height_km, Bound::Positive);
+    i.finish();
+  }
+  {
+    auto c = s.section("receiver_clock");
+    auto& r = e.receiver_clock;
+    r.enabled = c.boolean("enabled", r.enabled);
+    r.initial_sigma_s = c.number("initial_sigma_s", r.initial_sigma_s, Bound::NonNegative);
+    r.random_walk_sigma_s = c.number("random_walk_sigma_s", r.random_walk_sigma_s, Bound::NonNegative);
+    r.drift_sigma_s_per_s = c.number("drift_sigma_s_per_s", r.drift_sigma_s_per_s, Bound::NonNegative);
+    r.step_s = c.number("step_s", r.step_s, Bound::NonNegative);
+    r.steps_per_hour = c.number("steps_per_hour", r.steps_per_hour, Bound::NonNegative);
+    if (r.initial_sigma_s > 1e-3) c.fail("initial_sigma_s", "must be <= 1 ms");
+    c.finish();
+  }
+  {
+    auto a = s.section("ambiguity");
+    e.ambiguity.enabled = a.boolean("enabled", e.ambiguity.enabled);
+    e.ambiguity.max_abs_cycles = a.integer("max_abs_cycles", e.ambiguity.max_abs_cycles, 0);
+    if (e.ambiguity.max_abs_cycles > 1000000) a.fail("max_abs_cycles", "must be <= 1000000");
+    a.finish();
+  }
+  {
+    auto b = s.section("phase_breaks");
+    e.phase_breaks.enabled = b.boolean("enabled", e.phase_breaks.enabled);
+    e.phase_breaks.body_elevation_mask_rad =
+        b.number("body_elevation_mask_deg", e.phase_breaks.body_elevation_mask_rad * kRadToDeg) * kDegToRad;
+    e.phase_breaks.reacquisition_s = b.number("reacquisition_s", e.phase_breaks.reacquisition_s, Bound::NonNegative);
+    b.finish();
+  }
+  {
+    auto p = s.section("products");
+    e.products.enabled = p.boolean("enabled", e.products.enabled);
+    e.products.orbit_sigma_m = p.number("orbit_sigma_m", e.products.orbit_sigma_m, Bound::NonNegative);
+    e.products.clock_sigma_m = p.number("clock_sigma_m", e.products.clock_sigma_m, Bound::NonNegative);
+    e.products.scale_half_range = p.number("scale_half_range", e.products.scale_half_range, Bound::NonNegative);
+    p.finish();
+  }
+  s.finish();
+}
+
+}  // namespace
+
+SimulationConfig parseSimulationConfig(const std::string& yaml_text, const std::string& source_name,
+                                       SimulationConfig c) {
+  YAML::Node root;
+  try {
+    root = YAML::Load(yaml_text);
+  } catch (const YAML::Exception& e) {
+    throw ConfigError(source_name, "", "YAML syntax error at line " + std::to_string(e.mark.line + 1) + ": " + e.msg);
+  }
+  try {
+    YamlSection top(root, source_name, "");
+    {
+      auto f = top.section("flight");
+      c.rate_hz = f.number("rate_hz", c.rate_hz, Bound::Positive);
+      if (c.rate_hz > 100.0) f.fail("rate_hz", "must be <= 100");
+      if (f.has("duration_min")) {
+        const double m = f.number("duration_min", 0.0, Bound::Positive);
+        if (m > 24 * 60) f.fail("duration_min", "must be <= 1440");
+        c.duration_s = m * 60.0;
+      }
+      if (f.has("start")) c.start = parseStart(f, "start", GnssTime());
+      auto o = f.section("origin");
+      const double lat = o.number("latitude_deg", c.origin.latitude_rad * kRadToDeg);
+      const double lon = o.number("longitude_deg", c.origin.longitude_rad * kRadToDeg);
+      const double h = o.number("height_m", c.origin.height_m);
+      if (std::abs(lat) > 89.0) o.fail("latitude_deg", "must be within +-89");
+      if (std::abs(h) > 20000.0) o.fail("height_m", "must be within +-20 km");
+      c.origin = {lat * kDegToRad, lon * kDegToRad, h};
+      o.finish();
+      f.finish();
+    }
+    {
+      auto k = top.section("constellation");
+      c.satellites = k.integer("satellites", c.satellites, 24);
+      if (c.satellites > 32) k.fail("satellites", "must be 24..32");
+      c.orbit_interval_s = k.number("orbit_interval_s", c.orbit_interval_s, Bound::Positive);
+      c.clock_interval_s = k.number("clock_interval_s", c.clock_interval_s, Bound::Positive);
+      k.finish();
+    }
+    {
+      auto o = top.section("observations");
+      c.elevation_mask_rad = o.number("elevation_mask_deg", c.elevation_mask_rad * kRadToDeg) * kDegToRad;
+      c.loss_of_lock_flags = o.boolean("loss_of_lock_flags", c.loss_of_lock_flags);
+      c.quantize = o.boolean("quantize", c.quantize);
+      c.marker_name = o.text("marker_name", c.marker_name);
+      if (c.marker_name.empty() || c.marker_name.size() > 60) o.fail("marker_name", "1..60 characters");
+      o.finish();
+    }
+    readErrors(top.section("errors"), c.errors);
+    top.finish();
+  } catch (const YAML::Exception& e) {
+    throw ConfigError(source_name, "", std::string("YAML error: ") + e.what());
+  }
+  return c;
+}
+
+SimulationConfig loadSimulationConfig(const std::string& path, SimulationConfig base) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw ConfigError(path, "", "cannot open the file");
+  std::ostringstream os;
+  os << in.rdbuf();
+  if (in.bad()) throw ConfigError(path, "", "read error");
+  return parseSimulationConfig(os.str(), path, std::move(base));
+}
+
+}  // namespace ppp
