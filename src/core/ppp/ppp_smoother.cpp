@@ -69,6 +69,7 @@ smoother::ISAM2Params PppSmoother::isamParams() const {
   p.relinearize_thresholds_by_symbol['x'] = state;
   p.relinearize_threshold_by_symbol['b'] = options_.relinearize_bias_m;
   p.wildfire_threshold = options_.wildfire_threshold_m;
+  p.factorization = options_.factorization;
   return p;
 }
 
