@@ -1,0 +1,80 @@
+// Benchmark and figures of the PPP smoother against the EKF on the real ZIM2 and
+// CCJ2 hours (GPS only, kinematic; ../shared/data or $PPP_SHARED_DATA or argv[1]):
+// EKF, smoother filtered (causal), smoother smoothed (all data), with the method's
+// statistics (position_error_statistics.h) and the per-epoch update times.
+// Prints figures, asserts nothing.
+#include <algorithm>
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+
+#include "ppp_smoother_run.h"
+
+using namespace ppp;
+
+namespace {
+
+double percentile(std::vector<double> v, double p) {
+  if (v.empty()) return 0.0;
+  std::sort(v.begin(), v.end());
+  const std::size_t k = std::min(v.size() - 1, static_cast<std::size_t>(p * static_cast<double>(v.size())));
+  return v[k];
+}
+
+std::string convergence(const PositionErrorStatistics& s, std::size_t i) {
+  if (i >= s.convergence.size()) return "-";
+  if (!s.convergence[i].time_s) return "never";
+  char b[32];
+  std::snprintf(b, sizeof b, "%.1f min", *s.convergence[i].time_s / 60.0);
+  return b;
+}
+
+void row(const char* label, const PositionErrorStatistics& s) {
+  std::printf("  %-20s %8.1f %8.1f %10.1f %10.1f %10s %10s %8.1f %8.1f\n", label, 100 * s.all.mean_m,
+              100 * s.all.median_m, 100 * s.first_window.mean_m, 100 * s.first_window.median_m,
+              convergence(s, 0).c_str(), convergence(s, 1).c_str(), 100 * s.final_error_m, 100 * s.all.max_m);
+}
+
+void report(const std::string& name, const bench::SmootherRunInputs& in, const bench::SmootherRunConfig& config) {
+  const bench::SmootherRunOutput out = bench::runSmootherAndEkf(in, config);
+  std::printf("%s (%zu epochs; 3D errors in cm)\n", name.c_str(), out.filtered.size());
+  std::printf("  %-20s %8s %8s %10s %10s %10s %10s %8s %8s\n", "solution", "mean", "median", "15min mean",
+              "15min med", "<10cm", "<5cm", "final", "max");
+  if (config.run_ekf) row("EKF", out.ekf_stats);
+  row("smoother filtered", out.filtered_stats);
+  row("smoother smoothed", out.smoothed_stats);
+  std::vector<double> update, epoch, reelim, relin, biases;
+  int no_solution = 0;
+  for (const auto& r : out.smoother_epochs) {
+    if (r.status != EpochStatus::Ok) {
+      ++no_solution;
+      continue;
+    }
+    update.push_back(1e3 * r.update_time_s);
+    epoch.push_back(1e3 * r.epoch_time_s);
+    reelim.push_back(static_cast<double>(r.variables_reeliminated));
+    relin.push_back(static_cast<double>(r.variables_relinearized));
+    biases.push_back(r.active_biases);
+  }
+  std::printf("  smoother: iSAM2 update median %.2f ms, p99 %.2f ms, max %.2f ms; whole epoch median %.2f ms, "
+              "p99 %.2f ms; total %.2f s (EKF %.2f s, epoch median %.2f ms)\n",
+              percentile(update, 0.5), percentile(update, 0.99), percentile(update, 1.0), percentile(epoch, 0.5),
+              percentile(epoch, 0.99), out.smoother_total_s, out.ekf_total_s,
+              1e3 * percentile(out.ekf_epoch_time_s, 0.5));
+  std::printf("  re-eliminated variables median %.0f, max %.0f; relinearized median %.0f, max %.0f; active biases "
+              "median %.0f; no-solution epochs %d\n",
+              percentile(reelim, 0.5), percentile(reelim, 1.0), percentile(relin, 0.5), percentile(relin, 1.0),
+              percentile(biases, 0.5), no_solution);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  const char* env = std::getenv("PPP_SHARED_DATA");
+  const std::string d = argc > 1 ? argv[1] : (env ? env : "../shared/data");
+  bench::SmootherRunConfig config;
+  if (std::getenv("PPP_SMOOTHER_ROBUST")) config.smoother.robust = true;
+  report("ZIM2", bench::zim2Inputs(d), config);
+  report("CCJ2", bench::ccj2Inputs(d), config);
+  return 0;
+}
