@@ -11,6 +11,7 @@
 #include <random>
 
 #include "ppp_bayes_tree/ppp/ekf_ppp.h"
+#include "ppp_bayes_tree/ppp/ppp_config.h"
 #include "ppp_bayes_tree/ppp/ppp_factors.h"
 #include "ppp_bayes_tree/ppp/ppp_smoother.h"
 #include "ppp_bayes_tree/smoother/batch_solver.h"
@@ -480,4 +481,28 @@ TEST(PppSmoother, InvalidOptionsThrowAndTimeBackwardsFails) {
   EXPECT_EQ(r.status, EpochStatus::Failed);
   EXPECT_NE(r.reason.find("not after the last solved epoch"), std::string::npos);
   EXPECT_EQ(smoother.smoothedTrajectory().size(), 3u);
+}
+
+TEST(PppSmoother, ConfigSectionBindsTheOptionsAndSharesTheScreening) {
+  // Values written in the YAML text below.
+  const PppConfig c = parsePppConfig(
+      "estimator:\n  min_satellites: 6\n  prefit_phase_sigmas: 4.0\n"
+      "smoother:\n  robust: true\n  relinearize_position_m: 0.02\n  relinearize_clock_m: 2.5\n  fixed_lag_s: 600\n",
+      "inline");
+  EXPECT_TRUE(c.smoother.robust);
+  EXPECT_DOUBLE_EQ(c.smoother.relinearize_position_m, 0.02);
+  EXPECT_DOUBLE_EQ(c.smoother.relinearize_clock_m, 2.5);
+  EXPECT_DOUBLE_EQ(c.smoother.relinearize_zwd_m, 0.001);  // default kept
+  EXPECT_DOUBLE_EQ(c.smoother.fixed_lag_s, 600.0);
+  EXPECT_EQ(c.smoother.min_satellites, 6);                // from `estimator`
+  EXPECT_DOUBLE_EQ(c.smoother.prefit_phase_sigmas, 4.0);
+  try {
+    parsePppConfig("smoother:\n  relinearize_bias: 0.01\n", "inline");
+    FAIL() << "unknown key accepted";
+  } catch (const ConfigError& e) {
+    EXPECT_EQ(e.keyPath(), "smoother.relinearize_bias");
+  }
+  EXPECT_THROW(parsePppConfig("smoother:\n  relinearize_zwd_m: 0\n", "inline"), ConfigError);
+  // The template parses (every key documented there).
+  EXPECT_NO_THROW(loadPppConfig(std::string(PPP_REPO_DIR) + "/config/ppp.yaml"));
 }

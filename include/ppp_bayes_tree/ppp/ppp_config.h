@@ -2,6 +2,8 @@
 // PppConfig: the whole PPP configuration (config/ppp.yaml documents every key):
 //   stochastic:        a priori sigmas and process noise (StochasticModel)
 //   estimator:         EKF options (EkfOptions), with `start:` the code least squares
+//   smoother:          PPP smoother options (PppSmootherOptions; its screening values
+//                      are copied from `estimator`)
 //   measurement_model: bound by the measurement model's options (kept raw here)
 //   cycle_slip:        bound by the cycle-slip / arc tracker options (kept raw here)
 // Loading is strict: an unknown key, a wrong type or an out-of-range value
@@ -13,6 +15,7 @@
 
 #include "ppp_bayes_tree/ppp/code_least_squares.h"
 #include "ppp_bayes_tree/ppp/ekf_options.h"
+#include "ppp_bayes_tree/ppp/smoother_options.h"
 #include "ppp_bayes_tree/ppp/stochastic_model.h"
 #include "ppp_bayes_tree/ppp/yaml_section.h"
 
@@ -22,6 +25,7 @@ struct PppConfig {
   StochasticModel stochastic;
   EkfOptions estimator;
   CodeLeastSquaresOptions start;
+  PppSmootherOptions smoother;
   /// Raw sections, to bind with YamlSection(node, source_name, "measurement_model").
   YAML::Node measurement_model = YAML::Node(YAML::NodeType::Map);
   YAML::Node cycle_slip = YAML::Node(YAML::NodeType::Map);
