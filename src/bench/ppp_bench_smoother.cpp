@@ -43,6 +43,11 @@ void report(const std::string& name, const bench::SmootherRunInputs& in, const b
   if (config.run_ekf) row("EKF", out.ekf_stats);
   row("smoother filtered", out.filtered_stats);
   row("smoother smoothed", out.smoothed_stats);
+  if (std::getenv("PPP_BENCH_VERBOSE"))
+    std::printf("%s", formatStatisticsComparison({{"EKF", out.ekf_stats},
+                                                  {"smoother filtered", out.filtered_stats},
+                                                  {"smoother smoothed", out.smoothed_stats}})
+                          .c_str());
   std::vector<double> update, epoch, reelim, relin, biases;
   int no_solution = 0;
   for (const auto& r : out.smoother_epochs) {
@@ -73,7 +78,19 @@ int main(int argc, char** argv) {
   const char* env = std::getenv("PPP_SHARED_DATA");
   const std::string d = argc > 1 ? argv[1] : (env ? env : "../shared/data");
   bench::SmootherRunConfig config;
+  // Sensitivity switches (defaults otherwise).
   if (std::getenv("PPP_SMOOTHER_ROBUST")) config.smoother.robust = true;
+  if (const char* lag = std::getenv("PPP_SMOOTHER_LAG_S")) config.smoother.fixed_lag_s = std::atof(lag);
+  if (const char* m = std::getenv("PPP_MAPPING"))
+    config.measurement_model.mapping = std::string(m) == "gmf"     ? TroposphereMapping::Gmf
+                                       : std::string(m) == "niell" ? TroposphereMapping::Niell
+                                                                   : TroposphereMapping::ModifiedHopfield;
+  if (std::getenv("PPP_EKF_PLAIN")) {  // single iteration, no postfit check: the smoother's linearisation
+    config.ekf.iterations_per_epoch = 1;
+    config.ekf.postfit_check = false;
+  }
+  if (const char* c = std::getenv("PPP_CLOCK_SIGMA_M")) config.model.clock.initial_sigma_m = std::atof(c);
+  if (const char* c = std::getenv("PPP_CUTOFF_DEG")) config.measurement_model.elevation_cutoff_rad = std::atof(c) * kDegToRad;
   report("ZIM2", bench::zim2Inputs(d), config);
   report("CCJ2", bench::ccj2Inputs(d), config);
   return 0;

@@ -33,6 +33,7 @@ struct SmootherRunConfig {
   StochasticModel model;
   EkfOptions ekf;
   PppSmootherOptions smoother;
+  MeasurementModelOptions measurement_model;
   bool run_ekf = true;
 };
 
@@ -69,7 +70,8 @@ inline SmootherRunOutput runSmootherAndEkf(const SmootherRunInputs& in, const Sm
   auto reader = RinexObsReader::open(in.obs);
   std::vector<AntexSource> antex;
   for (const auto& p : in.atx) antex.push_back({p.substr(p.find_last_of('/') + 1), readAntexFile(p)});
-  const PppMeasurementModel model(products, std::move(antex), ReceiverAntenna::fromHeader(reader.header()), nullptr);
+  const PppMeasurementModel model(products, std::move(antex), ReceiverAntenna::fromHeader(reader.header()), nullptr,
+                                  config.measurement_model);
   SignalSelector selector(reader.header(), {}, &bias);
   ArcTracker tracker;
   EkfPpp ekf(config.model, config.ekf);
