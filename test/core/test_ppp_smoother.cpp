@@ -506,3 +506,21 @@ TEST(PppSmoother, ConfigSectionBindsTheOptionsAndSharesTheScreening) {
   // The template parses (every key documented there).
   EXPECT_NO_THROW(loadPppConfig(std::string(PPP_REPO_DIR) + "/config/ppp.yaml"));
 }
+
+TEST(PppSmoother, PerComponentRelinearizationThresholds) {
+  // The thresholds the smoother gives iSAM2: position 1 cm, ZWD 1 mm, clock 1 m, bias 1 cm.
+  const PppSmoother smoother;
+  const sm::ISAM2Params& p = smoother.isam2().params();
+  Eigen::VectorXd d = Eigen::VectorXd::Zero(5);
+  d(4) = 0.9;  // clock moved 0.9 m: below 1 m
+  d(0) = 0.009;
+  EXPECT_FALSE(p.exceedsThreshold(stateKey(3), d));
+  d(3) = 0.0011;  // ZWD moved 1.1 mm
+  EXPECT_TRUE(p.exceedsThreshold(stateKey(3), d));
+  d.setZero();
+  d(4) = 1.1;
+  EXPECT_TRUE(p.exceedsThreshold(stateKey(3), d));
+  const SatelliteId g05{GnssSystem::GPS, 5};
+  EXPECT_FALSE(p.exceedsThreshold(biasKey(g05, 1), Eigen::VectorXd::Constant(1, 0.009)));
+  EXPECT_TRUE(p.exceedsThreshold(biasKey(g05, 1), Eigen::VectorXd::Constant(1, -0.011)));
+}
