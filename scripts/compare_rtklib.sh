@@ -5,6 +5,7 @@
 # all computed by the same code (ppp_pos_stats).
 #
 # usage: scripts/compare_rtklib.sh DATASET_DIR [OUR_POS_FILE]
+#   OUR_POS_FILE: e.g. the DIR/<name>_ekf.pos that ppp_solve writes
 #   DATASET_DIR: e.g. ../shared/data/zim2-2026-133 or ../shared/data/ccj2-2021-210
 # Environment: PPP_BIN_DIR (where ppp_pos_stats and ppp_rtklib_inputs are; default
 # the catkin devel space), PPP_COMPARE_DIR (work directory; default a temp dir).
@@ -60,11 +61,14 @@ case "$CLK" in *.gz) gzip -dc "$CLK" > "$WORK/$NAME.clk" ;; *) cp "$CLK" "$WORK/
 sed -e "s|^file-satantfile .*|file-satantfile    =$SAT_ATX|" \
     -e "s|^file-rcvantfile .*|file-rcvantfile    =$RCV_ATX|" \
     "$REPO_DIR/config/rtklib_ppp_kinematic.conf" > "$WORK/rtklib.conf"
+T0=$(date +%s.%N)
 rnx2rtkp -k "$WORK/rtklib.conf" -o "$WORK/$NAME.rtklib.pos" \
   "$OBS" "$WORK/$NAME.nav" "$WORK/$NAME.sp3" "$WORK/$NAME.clk" 2>"$WORK/rnx2rtkp.log" || {
   echo "rnx2rtkp failed, see $WORK/rnx2rtkp.log" >&2; exit 1; }
+T1=$(date +%s.%N)
 
 echo "dataset $NAME, truth $TRUTH; RTKLIB output $WORK/$NAME.rtklib.pos"
+echo "rnx2rtkp wall time: $(echo "$T1 - $T0" | bc -l | sed 's/^\./0./') s"
 if [[ -n "$OUR_POS" ]]; then
   "$BIN/ppp_pos_stats" "$WORK/$NAME.rtklib.pos" "$OUR_POS" --truth "$TRUTH" --labels "RTKLIB,ours" \
     --json "$WORK/$NAME.rtklib.stats.json"

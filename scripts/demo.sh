@@ -1,7 +1,10 @@
 #!/usr/bin/env bash
 # The main job on the built-in default. Installs what is missing, builds, then
 # runs ppp_inspect on the ZIM2 dataset in ../shared/data (observations together
-# with orbits, clocks, antennas and biases, so it also checks product coverage).
+# with orbits, clocks, antennas and biases, so it also checks product coverage),
+# then solves it: ppp_solve, kinematic GPS PPP with the forward EKF, against the
+# known station coordinates (statistics table, notes; files in
+# build_ws/demo_output or $PPP_DEMO_OUT).
 #
 #   ./scripts/demo.sh              # the default dataset
 #   ./scripts/demo.sh FILE...      # your own files (RINEX obs/nav, CRX, SP3, CLK, ATX, BIA, BLQ; .gz ok)
@@ -25,9 +28,23 @@ or place the project's shared datasets at ../shared/data beside the repository
 MSG
   exit 2
 fi
-exec "$BIN_DIR/ppp_inspect" \
+ATX="$SHARED_DATA/antex/igs20_zim2_gps_trim.atx"
+"$BIN_DIR/ppp_inspect" \
   "$ZIM2/ZIM200CHE_R_20261330000_01H_30S_MO.rnx" \
   "$ZIM2/IGS0OPSFIN_20261330000_03H_15M_ORB.SP3" \
   "$ZIM2/IGS0OPSFIN_20261330000_90M_30S_CLK.CLK" \
   "$ZIM2/COD0OPSFIN_20261330000_01D_01D_OSB.BIA.gz" \
-  "$SHARED_DATA/antex/igs20_zim2_gps_trim.atx"
+  "$ATX"
+
+echo
+echo "=== ppp_solve: ZIM2, kinematic GPS PPP, forward EKF (truth: ../shared/data/README.md) ==="
+exec "$BIN_DIR/ppp_solve" \
+  --obs "$ZIM2/ZIM200CHE_R_20261330000_01H_30S_MO.rnx" \
+  --sp3 "$ZIM2/IGS0OPSFIN_20261330000_03H_15M_ORB.SP3" \
+  --clk "$ZIM2/IGS0OPSFIN_20261330000_90M_30S_CLK.CLK" \
+  --bia "$ZIM2/COD0OPSFIN_20261330000_01D_01D_OSB.BIA.gz" \
+  --atx "$ATX" \
+  --config "$REPO_DIR/config/ppp_real_data.yaml" \
+  --estimator ekf \
+  --truth 4331299.5841,567537.7070,4633133.9645 \
+  --out "${PPP_DEMO_OUT:-$WS_DIR/demo_output}"

@@ -60,7 +60,7 @@ TEST(PppConfig, EmptyDocumentGivesTheMethodDefaults) {
   const PppConfig c = parsePppConfig("", "empty.yaml");
   expectSameDefaults(c);
   // The method's table (DEVELOPERS.md), restated in issue 3.
-  EXPECT_EQ(c.stochastic.position.initial_sigma_m, 1.0);
+  EXPECT_EQ(c.stochastic.position.initial_sigma_m, 1.0);  // the method's table (DEVELOPERS.md)
   EXPECT_EQ(c.stochastic.position.process_noise_m_per_sqrt_s, 5.0);
   EXPECT_EQ(c.stochastic.zwd.initial_sigma_m, 0.3);
   EXPECT_EQ(c.stochastic.zwd.process_noise_m_per_sqrt_s, 3e-5);
@@ -113,7 +113,7 @@ estimator:
 measurement_model:
   elevation_cutoff_deg: 10
 cycle_slip:
-  mw_threshold_cycles: 4
+  melbourne_wuebbena: {sigma_factor: 4}
 )", "x.yaml");
   EXPECT_EQ(c.stochastic.position.initial_sigma_m, 2.5);
   EXPECT_EQ(c.stochastic.position.process_noise_m_per_sqrt_s, 0.0);
@@ -123,13 +123,13 @@ cycle_slip:
   EXPECT_EQ(c.estimator.min_satellites, 6);
   EXPECT_FALSE(c.estimator.postfit_check);
   EXPECT_EQ(c.start.outlier_threshold_m, 12.5);
-  // Raw sections are kept for their owners, who bind them strictly with YamlSection.
-  ppp::YamlSection mm(c.measurement_model, c.source_name, "measurement_model");
-  EXPECT_EQ(mm.number("elevation_cutoff_deg", 7.0), 10.0);
-  mm.finish();
-  ppp::YamlSection cs(c.cycle_slip, c.source_name, "cycle_slip");
+  // The model sections are bound at load (ppp_options_binding.h); raw copies are kept.
+  EXPECT_NEAR(c.model.elevation_cutoff_rad, 10.0 * ppp::kDegToRad, 1e-15);
+  EXPECT_EQ(c.cycle_slip_options.mw_sigma_factor, 4.0);
+  EXPECT_EQ(c.measurement_model["elevation_cutoff_deg"].as<double>(), 10.0);
+  // An unknown key of a model section is an error at load.
   try {
-    cs.finish();  // mw_threshold_cycles never asked for
+    parsePppConfig("cycle_slip:\n  mw_threshold_cycles: 4\n", "x.yaml");
     ADD_FAILURE() << "expected an unknown-key error";
   } catch (const ConfigError& e) {
     EXPECT_EQ(e.keyPath(), "cycle_slip.mw_threshold_cycles");

@@ -153,9 +153,9 @@ TEST(PppMeasurementModel, ElevationCutoffAndWeights) {
   EXPECT_NEAR(factor, 2.978, 1e-3);
   for (const auto& m : em.used) {
     EXPECT_GE(m.elevation_rad, o.elevation_cutoff_rad);
-    // sigma / sin(el): 0.003 m x 2.978 (IF) at zenith, code = 100 x phase.
+    // sigma / sin(el): 0.003 m x 2.978 (IF) at zenith, code = 300 x phase (MeasurementModelOptions default).
     EXPECT_NEAR(m.phase_sigma_m, 0.003 * factor / std::sin(m.elevation_rad), 1e-12);
-    EXPECT_NEAR(m.code_sigma_m, 100.0 * m.phase_sigma_m, 1e-12);
+    EXPECT_NEAR(m.code_sigma_m, 300.0 * m.phase_sigma_m, 1e-12);
   }
 }
 

@@ -51,7 +51,7 @@ TEST(PppSmootherRealData, FactorPredictionMatchesTheFullModelAfterAMetreLevelMov
 
 TEST(PppSmootherRealData, Zim2FilteredAndSmoothedAgainstTheEkf) {
   PPP_REQUIRE_SHARED_DATA();
-  const bench::SmootherRunOutput out = bench::runSmootherAndEkf(bench::zim2Inputs(test::sharedDataDir()), {});
+  const bench::SmootherRunOutput out = bench::runSmootherAndEkf(bench::zim2Inputs(test::sharedDataDir()), PppConfig{});
   ASSERT_EQ(out.filtered.size(), 120u);
   std::printf("%s", formatStatisticsComparison({{"EKF", out.ekf_stats},
                                                 {"smoother filtered", out.filtered_stats},
@@ -76,10 +76,10 @@ TEST(PppSmootherRealData, Zim2FilteredAndSmoothedAgainstTheEkf) {
 // the whole ZIM2 hour, through the nonlinear model, the arc tracker and the screening.
 TEST(PppSmootherRealData, Zim2FilteredEqualsTheEkfInTheSameLinearisation) {
   PPP_REQUIRE_SHARED_DATA();
-  bench::SmootherRunConfig config;
-  config.ekf.iterations_per_epoch = 1;
-  config.ekf.postfit_check = false;
-  config.model.clock.initial_sigma_m = 1e3;
+  PppConfig config;
+  config.estimator.iterations_per_epoch = 1;
+  config.estimator.postfit_check = false;
+  config.stochastic.clock.initial_sigma_m = 1e3;
   const bench::SmootherRunOutput out = bench::runSmootherAndEkf(bench::zim2Inputs(test::sharedDataDir()), config);
   ASSERT_EQ(out.ekf.size(), out.filtered.size());
   double worst = 0.0;

@@ -11,7 +11,8 @@ using ppp::StochasticModel;
 
 TEST(StochasticModel, DefaultsAreTheMethodTable) {
   const StochasticModel m;
-  EXPECT_EQ(m.position.initial_sigma_m, 1.0);
+  // Position a priori: 30 m instead of the table's 1 m (uninformative start, see stochastic_model.h).
+  EXPECT_EQ(m.position.initial_sigma_m, 1.0);  // the method's table (DEVELOPERS.md)
   EXPECT_EQ(m.position.process_noise_m_per_sqrt_s, 5.0);
   EXPECT_EQ(m.position.kind, ProcessKind::RandomWalk);
   EXPECT_EQ(m.zwd.initial_sigma_m, 0.3);

@@ -4,8 +4,9 @@
 //   estimator:         EKF options (EkfOptions), with `start:` the code least squares
 //   smoother:          PPP smoother options (PppSmootherOptions; its screening values
 //                      are copied from `estimator`)
-//   measurement_model: bound by the measurement model's options (kept raw here)
-//   cycle_slip:        bound by the cycle-slip / arc tracker options (kept raw here)
+//   measurement_model: MeasurementModelOptions, with `signals:` the SignalSelectionOptions
+//   cycle_slip:        CycleSlipOptions (arc tracker)
+// (bound by ppp_options_binding.h; the raw nodes are kept as well)
 // Loading is strict: an unknown key, a wrong type or an out-of-range value
 // throws ConfigError naming the file, the key path and the reason. Absent keys
 // keep their defaults (the method's table in DEVELOPERS.md).
@@ -15,6 +16,7 @@
 
 #include "ppp_bayes_tree/ppp/code_least_squares.h"
 #include "ppp_bayes_tree/ppp/ekf_options.h"
+#include "ppp_bayes_tree/ppp/ppp_options_binding.h"
 #include "ppp_bayes_tree/ppp/smoother_options.h"
 #include "ppp_bayes_tree/ppp/stochastic_model.h"
 #include "ppp_bayes_tree/ppp/yaml_section.h"
@@ -26,7 +28,10 @@ struct PppConfig {
   EkfOptions estimator;
   CodeLeastSquaresOptions start;
   PppSmootherOptions smoother;
-  /// Raw sections, to bind with YamlSection(node, source_name, "measurement_model").
+  MeasurementModelOptions model;
+  SignalSelectionOptions signals;
+  CycleSlipOptions cycle_slip_options;
+  /// The raw sections as written (already bound into the three members above).
   YAML::Node measurement_model = YAML::Node(YAML::NodeType::Map);
   YAML::Node cycle_slip = YAML::Node(YAML::NodeType::Map);
   std::string source_name = "<defaults>";  // the file it came from (for later error messages)

@@ -34,18 +34,18 @@
 // Troposphere (troposphere.h), surface values from the standard atmosphere at
 // the receiver height:
 //   dry zenith delay: modified Hopfield (default) or Saastamoinen;
-//   mapping: "the method's" default is the modified Hopfield model's OWN
-//   elevation mapping, i.e. the ratio slant/zenith of the Hopfield ray
-//   integration (Goad & Goodman 1974), separately for the dry and wet parts, so
-//   that the dry delay and the wet partial come from one consistent model;
-//   Niell (1996) or GMF (Boehm et al. 2006) as options.
+//   mapping: GMF (Boehm et al. 2006) by default (it fits the real data better,
+//   see MeasurementModelOptions::mapping); the method's modified Hopfield
+//   model's OWN elevation mapping, i.e. the ratio slant/zenith of the Hopfield
+//   ray integration (Goad & Goodman 1974), separately for the dry and wet
+//   parts, or Niell (1996) as options.
 //   The ZWD state is the whole wet delay (no a-priori wet delay is added).
 //
 // Weighting: sigma(el) = sigma_zenith / sin(el), where the phase sigma of one
 // frequency at zenith (default 0.003 m, RTKLIB stats-errphase as in the peer
 // configuration ../shared/peers/rtklib-ppp-kinematic.conf) is scaled for the IF
 // combination by sqrt(alpha^2 + beta^2) (2.98 for GPS L1/L2; RTKLIB uses 3), and
-// the code sigma is code_phase_ratio (default 100, RTKLIB stats-eratio1) times
+// the code sigma is code_phase_ratio (default 300; RTKLIB stats-eratio1 is 100) times
 // the phase sigma.
 //
 // Threading and cost: evaluate() is const and allocation-free once the output
@@ -85,11 +85,20 @@ struct MeasurementModelOptions {
   double elevation_cutoff_rad = 7.0 * kDegToRad;
   /// Undifferenced phase sigma of one frequency at zenith [m] (RTKLIB stats-errphase).
   double phase_sigma_zenith_m = 0.003;
-  /// Code sigma / phase sigma (RTKLIB stats-eratio1).
-  double code_phase_ratio = 100.0;
+  /// Code sigma / phase sigma (RTKLIB stats-eratio1 is 100). 300 (IF code sigma
+  /// 2.7 m at zenith for GPS): the IF code errors are not white; over an hour
+  /// they hold constant per-satellite offsets of 0.2-0.7 m (ZIM2 postfit code
+  /// means with CODE OSB and IGS clocks, ppp_solve residual statistics), which
+  /// a white-noise weight of 0.9 m lets pull the float solution for tens of
+  /// minutes. Measured with ppp_solve (ZIM2 / CCJ2 mean 3D): 100 -> 23.5 / 30.9 cm,
+  /// 300 -> 18.8 / 26.1 cm.
+  double code_phase_ratio = 300.0;
   /// Multiply the sigmas by sqrt(alpha^2 + beta^2) for the IF combination.
   bool scale_sigma_for_ionosphere_free = true;
   DryTroposphereModel dry_troposphere = DryTroposphereModel::ModifiedHopfield;
+  /// The method's mapping (the modified Hopfield ray integration) by default.
+  /// GMF fits the real data better (tropical CCJ2 with low satellites: final 3D
+  /// 11 cm -> 5 cm; the ZIM2 hour is neutral): config/ppp_real_data.yaml uses it.
   TroposphereMapping mapping = TroposphereMapping::ModifiedHopfield;
   bool solid_earth_tide = true;
   bool ocean_loading = true;  // used only when coefficients are given

@@ -10,6 +10,7 @@
 #include <set>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 namespace ppp {
 
@@ -39,6 +40,10 @@ class YamlSection {
   std::string text(const std::string& key, const std::string& fallback);
   /// One of `allowed` (error lists them).
   std::string choice(const std::string& key, const std::string& fallback, const std::set<std::string>& allowed);
+  /// Sequence of single values (`[W, C]`; a lone value counts as a list of one).
+  /// An empty sequence is an error unless `allow_empty`.
+  std::vector<std::string> textList(const std::string& key, const std::vector<std::string>& fallback,
+                                    bool allow_empty = false);
   /// Sub-mapping (empty when absent).
   YamlSection section(const std::string& key);
   /// The raw node of a key (bound later by someone else); must be a mapping or absent.

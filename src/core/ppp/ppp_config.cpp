@@ -90,6 +90,8 @@ PppConfig parsePppConfig(const std::string& yaml_text, const std::string& source
   config.measurement_model = top.rawMapping("measurement_model");
   config.cycle_slip = top.rawMapping("cycle_slip");
   top.finish();
+  bindMeasurementModelOptions(config.measurement_model, source_name, config.model, config.signals);
+  bindCycleSlipOptions(config.cycle_slip, source_name, config.cycle_slip_options);
   if (auto e = config.stochastic.validate(); !e.empty()) throw ConfigError(source_name, "stochastic", e);
   if (auto e = config.estimator.validate(); !e.empty()) throw ConfigError(source_name, "estimator", e);
   if (auto e = config.smoother.validate(); !e.empty()) throw ConfigError(source_name, "smoother", e);

@@ -94,6 +94,27 @@ std::string YamlSection::choice(const std::string& key, const std::string& fallb
   return v;
 }
 
+std::vector<std::string> YamlSection::textList(const std::string& key, const std::vector<std::string>& fallback,
+                                               bool allow_empty) {
+  known_.insert(key);
+  if (!node_.IsMap()) return fallback;
+  const YAML::Node n = node_[key];
+  if (!n.IsDefined()) return fallback;
+  std::vector<std::string> out;
+  if (n.IsScalar()) {
+    out.push_back(n.Scalar());
+  } else if (n.IsSequence()) {
+    for (const auto& item : n) {
+      if (!item.IsScalar()) fail(key, "expected a list of single values, got an item that is " + describe(item));
+      out.push_back(item.Scalar());
+    }
+  } else {
+    fail(key, "expected a list of values, got " + describe(n));
+  }
+  if (out.empty() && !allow_empty) fail(key, "must not be empty");
+  return out;
+}
+
 YamlSection YamlSection::section(const std::string& key) {
   known_.insert(key);
   YAML::Node n = node_.IsMap() ? node_[key] : YAML::Node(YAML::NodeType::Undefined);

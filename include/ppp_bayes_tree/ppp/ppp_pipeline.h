@@ -1,0 +1,132 @@
+#pragma once
+// PppPipeline: the offline PPP processing chain of ppp_solve (no ROS):
+//   RINEX obs (streamed, one epoch at a time)
+//   -> signal selection (SignalSelector: IF pair, code priorities, Bias-SINEX OSB)
+//   -> arc tracking (ArcTracker: cycle slips, LLI, gaps; ended arcs leave the estimator)
+//   -> the measurement model (PppMeasurementModel, through a MeasurementFunction)
+//   -> the estimator (EpochEstimator: the EKF now, the smoother later)
+//   -> one PppEpochRecord per epoch (SolutionEpoch + diagnostics) to a callback.
+// Products: several SP3 and several CLK files are merged (PreciseEphemeris);
+// several ANTEX files are searched in order, the first file holding an antenna
+// wins (notes() says which antenna came from where); an optional Bias-SINEX
+// file aligns the codes; an optional BLQ file gives ocean loading for the
+// station found by the RINEX marker name.
+// Bad input never crashes the run: epochs whose time goes backwards or repeats
+// are refused and counted, data gaps are counted, satellites without products
+// are rejected with the product's reason, and an epoch without enough
+// satellites is an explicit "no solution" epoch (never a stale estimate).
+#include <Eigen/Core>
+#include <cstddef>
+#include <functional>
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "ppp_bayes_tree/evaluation/solution_epoch.h"
+#include "ppp_bayes_tree/io/bias_sinex_reader.h"
+#include "ppp_bayes_tree/io/blq_reader.h"
+#include "ppp_bayes_tree/io/rinex_obs_reader.h"
+#include "ppp_bayes_tree/models/precise_ephemeris.h"
+#include "ppp_bayes_tree/ppp/epoch_estimator.h"
+#include "ppp_bayes_tree/ppp/ppp_config.h"
+#include "ppp_bayes_tree/ppp/ppp_measurement_model.h"
+#include "ppp_bayes_tree/ppp/signal_selection.h"
+
+namespace ppp {
+
+struct PppInputFiles {
+  std::string obs;
+  std::vector<std::string> sp3, clk, atx;
+  std::optional<std::string> bias, blq;
+};
+
+/// A satellite left out at some stage of an epoch.
+struct EpochRejection {
+  SatelliteId satellite;
+  std::string stage;   // "signals", "arcs", "model" (model + estimator screening)
+  std::string reason;
+};
+
+/// One epoch of the run: the solution and what happened.
+struct PppEpochRecord {
+  SolutionEpoch solution;  // position (or explicitly none), sigmas, counts, ZWD, clock
+  EpochStatus status = EpochStatus::NoSolution;
+  std::string reason;      // why there is no solution ("" when ok)
+  bool refused = false;    // time backwards / repeated / special records: not processed at all
+  std::optional<double> gap_s;  // set when this epoch follows a data gap (seconds since the previous)
+  int satellites_observed = 0;  // satellites of the processed systems in the file
+  int satellites_selected = 0;  // with a dual-frequency IF pair
+  std::vector<SatelliteId> used;
+  std::vector<EpochRejection> rejected;
+  int new_arcs = 0;
+  int slips = 0;  // new arcs started by a detected cycle slip or loss of lock
+  /// Arc starts other than new satellites, e.g. "G17 arc 11: Melbourne-Wubbena jump 3.2 cycles > 1.0".
+  std::vector<std::string> arc_events;
+  std::vector<MeasurementResidual> residuals;  // per used satellite
+};
+
+/// Postfit residual statistics of one satellite over the run [m].
+struct SatelliteResidualStatistics {
+  SatelliteId satellite;
+  std::size_t count = 0;
+  double code_mean_m = 0.0, code_rms_m = 0.0;
+  double phase_mean_m = 0.0, phase_rms_m = 0.0, phase_max_abs_m = 0.0;
+  double min_elevation_deg = 90.0, max_elevation_deg = 0.0;
+  std::size_t rejections = 0;  // epochs in which the model or estimator rejected it
+};
+
+struct PppRunSummary {
+  std::string estimator;
+  std::size_t epochs_read = 0;
+  std::size_t epochs_solved = 0;
+  std::size_t epochs_no_solution = 0;
+  std::size_t epochs_failed = 0;
+  std::size_t epochs_refused = 0;  // time backwards, duplicates, cycle-slip record epochs
+  std::size_t data_gaps = 0;
+  std::size_t arcs = 0;
+  std::size_t slips = 0;
+  /// Rejections counted by their reason's leading words ("elevation", "no orbit", ...).
+  std::map<std::string, std::size_t> rejection_counts;
+  std::vector<SatelliteResidualStatistics> residual_statistics;
+  /// Antenna sources, code reference, ocean loading, product notes.
+  std::vector<std::string> notes;
+  /// Problems of the observation file (malformed records skipped) and refusals.
+  std::vector<std::string> problems;
+  double processing_time_s = 0.0;
+};
+
+class PppPipeline {
+ public:
+  /// Loads the products and opens the observation file (header only).
+  /// Throws FileOpenError / ParseError (inputs) or std::runtime_error (no ANTEX).
+  PppPipeline(const PppInputFiles& files, PppConfig config);
+  ~PppPipeline();
+  PppPipeline(const PppPipeline&) = delete;
+  PppPipeline& operator=(const PppPipeline&) = delete;
+
+  const RinexObsHeader& header() const;
+  /// The 4-character station name (marker name, else the file name).
+  std::string stationName() const;
+  const PppConfig& config() const { return config_; }
+  /// Notes known before the run (antenna sources grow as satellites are seen).
+  std::vector<std::string> notes() const;
+
+  using EpochCallback = std::function<void(const PppEpochRecord&)>;
+  /// Runs the whole observation file through `estimator` (once per pipeline:
+  /// the file is streamed). `on_epoch` gets every epoch record, in order.
+  PppRunSummary run(EpochEstimator& estimator, const EpochCallback& on_epoch);
+  /// Fraction of the observation file consumed (0..1), for progress bars.
+  double progress() const;
+
+ private:
+  struct Impl;
+  PppConfig config_;
+  std::unique_ptr<Impl> impl_;
+};
+
+/// Leading words of a rejection reason (up to the first digit, ':' or '('), for counting.
+std::string reasonCategory(const std::string& reason);
+
+}  // namespace ppp

@@ -1,0 +1,142 @@
+#!/usr/bin/env python3
+"""Figures from ppp_solve output (Debian python3-matplotlib).
+
+usage: plot_solutions.py --out DIR [--title T] [--window-min 15] LABEL=FILE.csv [LABEL=FILE.csv ...]
+                         [--biases LABEL=FILE_biases.csv ...]
+
+Each FILE.csv is a per-epoch solution CSV written by ppp_solve with --truth
+(columns time_gpst, err3d_m, ...). Writes:
+  DIR/error_profile.png   3D error (RSOS) versus time, every estimator on one axis
+  DIR/cdf.png             CDF of the 3D error, all epochs and the first WINDOW minutes
+  DIR/biases.png          phase-bias estimates versus time for a few arcs (when
+                          --biases files with columns time_gpst,arc,sat,bias_m are given),
+                          against the last (smoothed) value of each arc
+Prints the numbers behind each figure (percentiles of the 3D error).
+"""
+import argparse
+import csv
+import datetime as dt
+import os
+import sys
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+
+def parse_time(text):
+    return dt.datetime.fromisoformat(text.strip().replace("Z", ""))
+
+
+def read_errors(path):
+    times, errors = [], []
+    with open(path, newline="") as f:
+        reader = csv.DictReader(f)
+        if "err3d_m" not in (reader.fieldnames or []):
+            sys.exit(f"{path}: no err3d_m column (run ppp_solve with --truth)")
+        for line_no, row in enumerate(reader, start=2):
+            if not row["err3d_m"]:
+                continue  # a "no solution" epoch
+            try:
+                times.append(parse_time(row["time_gpst"]))
+                errors.append(float(row["err3d_m"]))
+            except ValueError as err:
+                sys.exit(f"{path}:{line_no}: {err}")
+    if not times:
+        sys.exit(f"{path}: no solution epochs")
+    return times, errors
+
+
+def percentile(values, p):
+    s = sorted(values)
+    k = (len(s) - 1) * p / 100.0
+    lo, hi = int(k), min(int(k) + 1, len(s) - 1)
+    return s[lo] + (s[hi] - s[lo]) * (k - lo)
+
+
+def cdf_points(values):
+    s = sorted(values)
+    return s, [(i + 1) / len(s) for i in range(len(s))]
+
+
+def labelled(items):
+    out = []
+    for item in items:
+        if "=" not in item:
+            sys.exit(f"expected LABEL=FILE, got {item!r}")
+        label, path = item.split("=", 1)
+        out.append((label, path))
+    return out
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--out", required=True)
+    ap.add_argument("--title", default="")
+    ap.add_argument("--window-min", type=float, default=15.0)
+    ap.add_argument("--biases", nargs="*", default=[])
+    ap.add_argument("solutions", nargs="+")
+    args = ap.parse_args()
+    os.makedirs(args.out, exist_ok=True)
+
+    series = [(label, *read_errors(path)) for label, path in labelled(args.solutions)]
+    start = min(t[0] for _, t, _ in series)
+
+    fig, ax = plt.subplots(figsize=(9, 4.5))
+    for label, times, errors in series:
+        ax.plot([(t - start).total_seconds() / 60 for t in times], [e * 100 for e in errors], label=label)
+    ax.axhline(10, color="grey", lw=0.8, ls="--")
+    ax.set_xlabel("time since start [min]")
+    ax.set_ylabel("3D error (RSOS) [cm]")
+    ax.set_yscale("log")
+    ax.set_title(args.title or "3D position error profile")
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend()
+    fig.tight_layout()
+    fig.savefig(os.path.join(args.out, "error_profile.png"), dpi=110)
+
+    fig, axes = plt.subplots(1, 2, figsize=(10, 4.2), sharey=True)
+    print(f"{'estimator':24s} {'window':>8s} {'p50 cm':>8s} {'p68 cm':>8s} {'p95 cm':>8s} {'max cm':>8s}")
+    for label, times, errors in series:
+        first = [e for t, e in zip(times, errors) if (t - start).total_seconds() <= args.window_min * 60]
+        for ax, values, name in ((axes[0], errors, "all"), (axes[1], first, f"{args.window_min:g} min")):
+            xs, ys = cdf_points([v * 100 for v in values])
+            ax.plot(xs, ys, label=label)
+            print(f"{label:24s} {name:>8s} {percentile(values, 50)*100:8.2f} {percentile(values, 68)*100:8.2f} "
+                  f"{percentile(values, 95)*100:8.2f} {max(values)*100:8.2f}")
+    axes[0].set_title("CDF of the 3D error, all epochs")
+    axes[1].set_title(f"CDF of the 3D error, first {args.window_min:g} min")
+    for ax in axes:
+        ax.set_xscale("log")
+        ax.set_xlabel("3D error [cm]")
+        ax.grid(True, which="both", alpha=0.3)
+    axes[0].set_ylabel("fraction of epochs")
+    axes[1].legend()
+    fig.tight_layout()
+    fig.savefig(os.path.join(args.out, "cdf.png"), dpi=110)
+
+    if args.biases:
+        fig, ax = plt.subplots(figsize=(9, 4.5))
+        for label, path in labelled(args.biases):
+            arcs = {}
+            with open(path, newline="") as f:
+                for row in csv.DictReader(f):
+                    arcs.setdefault((row["sat"], row["arc"]), []).append(
+                        (parse_time(row["time_gpst"]), float(row["bias_m"])))
+            for (sat, arc), values in sorted(arcs.items(), key=lambda kv: -len(kv[1]))[:4]:
+                final = values[-1][1]
+                ax.plot([(t - start).total_seconds() / 60 for t, _ in values], [(b - final) * 100 for _, b in values],
+                        label=f"{label} {sat} arc {arc}")
+        ax.set_xlabel("time since start [min]")
+        ax.set_ylabel("bias minus its final value [cm]")
+        ax.set_title("IF phase-bias estimates against their final values")
+        ax.grid(True, alpha=0.3)
+        ax.legend(fontsize=7)
+        fig.tight_layout()
+        fig.savefig(os.path.join(args.out, "biases.png"), dpi=110)
+    print(f"figures written to {args.out}")
+
+
+if __name__ == "__main__":
+    main()

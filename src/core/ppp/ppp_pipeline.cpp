@@ -1,0 +1,324 @@
+#include "ppp_bayes_tree/ppp/ppp_pipeline.h"
+
+#include <algorithm>
+#include <cctype>
+#include <chrono>
+#include <cmath>
+#include <fstream>
+#include <set>
+#include <sstream>
+#include <stdexcept>
+
+#include "ppp_bayes_tree/io/antex_reader.h"
+#include "ppp_bayes_tree/types/constants.h"
+
+namespace ppp {
+namespace {
+
+std::string baseName(const std::string& path) {
+  const auto slash = path.find_last_of('/');
+  return slash == std::string::npos ? path : path.substr(slash + 1);
+}
+
+std::size_t fileSize(const std::string& path) {
+  std::ifstream in(path, std::ios::binary | std::ios::ate);
+  return in ? static_cast<std::size_t>(std::max<std::streamoff>(0, in.tellg())) : 0;
+}
+
+/// Running sums for one satellite's residual statistics.
+struct ResidualAccumulator {
+  std::size_t n = 0, rejections = 0;
+  double code_sum = 0, code_sq = 0, phase_sum = 0, phase_sq = 0, phase_max = 0;
+  double el_min = 90.0, el_max = 0.0;
+};
+
+}  // namespace
+
+std::string reasonCategory(const std::string& reason) {
+  std::size_t end = 0;
+  while (end < reason.size() && !std::isdigit(static_cast<unsigned char>(reason[end])) && reason[end] != ':' &&
+         reason[end] != '(' && reason[end] != '-' && reason[end] != '+')
+    ++end;
+  std::string c = reason.substr(0, end);
+  while (!c.empty() && (c.back() == ' ' || c.back() == ',' || c.back() == '|')) c.pop_back();
+  return c.empty() ? "other" : c;
+}
+
+struct PppPipeline::Impl {
+  PppInputFiles files;
+  std::unique_ptr<RinexObsReader> reader;
+  PreciseEphemeris products;
+  std::optional<BiasSinexFile> bias;
+  std::optional<BlqFile> blq;
+  const OceanLoadingCoefficients* ocean = nullptr;
+  std::unique_ptr<PppMeasurementModel> model;
+  std::vector<std::string> load_notes;
+  std::size_t obs_size = 0;
+  bool ran = false;
+};
+
+PppPipeline::PppPipeline(const PppInputFiles& files, PppConfig config)
+    : config_(std::move(config)), impl_(std::make_unique<Impl>()) {
+  Impl& d = *impl_;
+  d.files = files;
+  if (files.atx.empty()) throw std::runtime_error("no ANTEX file given (antenna calibrations are required)");
+  d.reader = std::make_unique<RinexObsReader>(RinexObsReader::open(files.obs));
+  d.obs_size = fileSize(files.obs);
+  d.products = PreciseEphemeris::load(files.sp3, files.clk);
+  if (!d.products.mergeReport().problems().empty() || !d.products.mergeReport().counters().empty())
+    d.load_notes.push_back("products merged: " + d.products.mergeReport().summary(5));
+  std::vector<AntexSource> antex;
+  for (const auto& p : files.atx) antex.push_back({baseName(p), readAntexFile(p)});
+  if (files.bias) {
+    d.bias = readBiasSinexFile(*files.bias);
+    d.load_notes.push_back("code biases: " + baseName(*files.bias) + " (OSB subtracted from the codes)");
+  } else {
+    d.load_notes.push_back("code biases: no Bias-SINEX file; codes used as observed (product convention)");
+  }
+  const RinexObsHeader& h = d.reader->header();
+  if (files.blq) {
+    d.blq = readBlqFile(*files.blq);
+    const std::string station = h.marker_name.empty() ? stationName() : h.marker_name;
+    const BlqLookup found = d.blq->find(station);
+    d.ocean = found.coefficients;
+    if (d.ocean) {
+      d.load_notes.push_back("ocean loading: station " + d.ocean->station + " from " + baseName(*files.blq) +
+                             (found.note.empty() ? "" : " (" + found.note + ")"));
+    } else {
+      d.load_notes.push_back("ocean loading: station '" + station + "' not in " + baseName(*files.blq) +
+                             ", not applied" + (found.note.empty() ? "" : " (" + found.note + ")"));
+    }
+  }
+  d.model = std::make_unique<PppMeasurementModel>(d.products, std::move(antex), ReceiverAntenna::fromHeader(h),
+                                                  d.ocean, config_.model);
+}
+
+PppPipeline::~PppPipeline() = default;
+
+const RinexObsHeader& PppPipeline::header() const { return impl_->reader->header(); }
+
+std::string PppPipeline::stationName() const {
+  std::string name = impl_->reader->header().marker_name;
+  if (name.empty()) name = baseName(impl_->files.obs);
+  name = name.substr(0, std::min<std::size_t>(4, name.size()));
+  for (auto& c : name) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+  return name;
+}
+
+std::vector<std::string> PppPipeline::notes() const {
+  std::vector<std::string> n = impl_->load_notes;
+  for (const auto& s : impl_->model->antennaSources()) n.push_back("antenna " + s);
+  return n;
+}
+
+double PppPipeline::progress() const {
+  if (impl_->obs_size == 0) return 0.0;
+  return std::min(1.0, static_cast<double>(impl_->reader->source().bytesRead()) / impl_->obs_size);
+}
+
+PppRunSummary PppPipeline::run(EpochEstimator& estimator, const EpochCallback& on_epoch) {
+  Impl& d = *impl_;
+  PppRunSummary summary;
+  summary.estimator = estimator.name();
+  if (d.ran) {
+    summary.problems.push_back("the pipeline has already run (the observation file is streamed once)");
+    return summary;
+  }
+  d.ran = true;
+  const auto wall_start = std::chrono::steady_clock::now();
+  const RinexObsHeader& header = d.reader->header();
+  if (header.approx_position_ecef_m && header.approx_position_ecef_m->norm() > 1e6)
+    estimator.setApproximatePosition(*header.approx_position_ecef_m);
+
+  SignalSelector selector(header, config_.signals, d.bias ? &*d.bias : nullptr);
+  ArcTracker tracker(config_.cycle_slip_options);
+  WindupTracker windup;
+  // Code-reference notes, merged over epochs: text before a trailing
+  // satellite list -> union of the satellites.
+  std::map<std::string, std::set<std::string>> code_notes;
+  std::map<SatelliteId, ResidualAccumulator> acc;
+  std::optional<GnssTime> last_time;
+  std::optional<double> interval_s;
+
+  ObsEpoch epoch;
+  SignalSelectionResult sel;
+  std::vector<DualFrequencyObservation> usable;
+  std::vector<ArcId> arcs;
+  PppEpochRecord rec;
+  const std::vector<GnssSystem>& systems = config_.signals.systems;
+
+  while (d.reader->next(epoch)) {
+    ++summary.epochs_read;
+    rec = PppEpochRecord{};
+    rec.solution.time = epoch.time;
+    rec.solution.status = SolutionStatus::NoSolution;
+    for (const auto& s : epoch.satellites)
+      if (std::find(systems.begin(), systems.end(), s.satellite.system) != systems.end()) ++rec.satellites_observed;
+
+    auto refuse = [&](const std::string& why) {
+      rec.refused = true;
+      rec.reason = why;
+      ++summary.epochs_refused;
+      summary.problems.push_back("epoch " + epoch.time.toString() + " refused: " + why);
+      if (on_epoch) on_epoch(rec);
+    };
+    if (epoch.cycleSlipRecords()) {
+      refuse("cycle-slip records (epoch flag 6), not observations");
+      continue;
+    }
+    if (last_time && !(epoch.time > *last_time)) {
+      refuse(epoch.time == *last_time ? "duplicate epoch"
+                                      : "time goes backwards by " + std::to_string(*last_time - epoch.time) + " s");
+      continue;
+    }
+    if (last_time) {
+      const double dt = epoch.time - *last_time;
+      if (interval_s && dt > 1.5 * *interval_s) {
+        rec.gap_s = dt;
+        ++summary.data_gaps;
+      }
+      interval_s = interval_s ? std::min(*interval_s, dt) : dt;
+    }
+    last_time = epoch.time;
+
+    // Signal selection.
+    selector.select(epoch, sel);
+    rec.satellites_selected = static_cast<int>(sel.observations.size());
+    for (const auto& s : sel.skipped) {
+      if (std::find(systems.begin(), systems.end(), s.satellite.system) == systems.end()) continue;
+      rec.rejected.push_back({s.satellite, "signals", s.reason});
+    }
+    for (const auto& n : sel.notes) {
+      const auto colon = n.rfind(": ");
+      std::istringstream sats(colon == std::string::npos ? std::string() : n.substr(colon + 2));
+      std::vector<std::string> tokens;
+      std::string tok;
+      bool all_sats = colon != std::string::npos;
+      while (sats >> tok) {
+        all_sats &= tok.size() == 3 && std::isalpha(static_cast<unsigned char>(tok[0])) &&
+                    std::isdigit(static_cast<unsigned char>(tok[1])) && std::isdigit(static_cast<unsigned char>(tok[2]));
+        tokens.push_back(tok);
+      }
+      if (all_sats && !tokens.empty()) {
+        code_notes[n.substr(0, colon)].insert(tokens.begin(), tokens.end());
+      } else {
+        code_notes[n];
+      }
+    }
+
+    // Arc tracking: ids, slips, ended arcs.
+    const ArcEpochResult arc_result = tracker.process(epoch.time, sel.observations);
+    if (!arc_result.accepted) {  // cannot happen after the time check above; kept as a guard
+      refuse(arc_result.refusal_reason);
+      continue;
+    }
+    usable.clear();
+    arcs.clear();
+    for (std::size_t i = 0; i < arc_result.satellites.size(); ++i) {
+      const auto& st = arc_result.satellites[i];
+      if (!st.usable) {
+        rec.rejected.push_back({st.satellite, "arcs", st.reason});
+        continue;
+      }
+      if (st.new_arc) {
+        ++rec.new_arcs;
+        ++summary.arcs;
+        if (st.start_reason == ArcStartReason::MelbourneWuebbenaJump ||
+            st.start_reason == ArcStartReason::GeometryFreeJump || st.start_reason == ArcStartReason::LossOfLock)
+          ++rec.slips;
+        if (st.start_reason != ArcStartReason::NewSatellite)
+          rec.arc_events.push_back(st.satellite.toString() + " arc " + std::to_string(st.arc) + ": " + st.reason);
+      }
+      usable.push_back(sel.observations[i]);
+      arcs.push_back(st.arc);
+    }
+    summary.slips += static_cast<std::size_t>(rec.slips);
+
+    // The single measurement model, linearised at whatever state the estimator asks.
+    const MeasurementFunction evaluate = [&](const ReceiverState& state) {
+      EpochMeasurements m;
+      d.model->evaluate(usable, arcs, state, &windup, m);
+      m.time = epoch.time;
+      return m;
+    };
+    EstimatorEpochInput input;
+    input.time = epoch.time;
+    input.evaluate = &evaluate;
+    input.observations = &usable;
+    input.arcs = &arcs;
+    input.ended_arcs = &arc_result.ended;
+    EstimatorEpochResult r = estimator.processEpoch(input);
+
+    rec.status = r.status;
+    rec.reason = r.reason;
+    rec.used = r.used;
+    for (const auto& x : r.rejected) {
+      rec.rejected.push_back({x.satellite, "model", x.reason});
+      acc[x.satellite].rejections++;
+    }
+    rec.residuals = std::move(r.residuals);
+    switch (r.status) {
+      case EpochStatus::Ok: ++summary.epochs_solved; break;
+      case EpochStatus::NoSolution: ++summary.epochs_no_solution; break;
+      case EpochStatus::Failed: ++summary.epochs_failed; break;
+    }
+    SolutionEpoch& s = rec.solution;
+    s.satellites_used = static_cast<int>(rec.used.size());
+    s.satellites_rejected = static_cast<int>(rec.rejected.size());
+    if (r.status == EpochStatus::Ok && r.solution) {
+      s.status = SolutionStatus::PppFloat;
+      s.position_ecef_m = r.solution->state.position_ecef_m;
+      s.covariance_ecef_m2 = r.solution->positionCovariance_m2();
+      s.zwd_m = r.solution->state.zwd_m;
+      s.receiver_clock_m = r.solution->state.clock_m;
+      for (const auto& res : rec.residuals) {
+        auto& a = acc[res.satellite];
+        ++a.n;
+        a.code_sum += res.code_postfit_m;
+        a.code_sq += res.code_postfit_m * res.code_postfit_m;
+        a.phase_sum += res.phase_postfit_m;
+        a.phase_sq += res.phase_postfit_m * res.phase_postfit_m;
+        a.phase_max = std::max(a.phase_max, std::abs(res.phase_postfit_m));
+        a.el_min = std::min(a.el_min, res.elevation_rad * kRadToDeg);
+        a.el_max = std::max(a.el_max, res.elevation_rad * kRadToDeg);
+      }
+    }
+    for (const auto& x : rec.rejected) summary.rejection_counts[x.stage + ": " + reasonCategory(x.reason)]++;
+    if (on_epoch) on_epoch(rec);
+  }
+  estimator.arcsEnded(tracker.finish());
+
+  for (const auto& p : d.reader->report().problems())
+    summary.problems.push_back(baseName(d.files.obs) + " line " + std::to_string(p.line) + ": " + p.reason);
+  for (const auto& [sat, a] : acc) {
+    SatelliteResidualStatistics st;
+    st.satellite = sat;
+    st.count = a.n;
+    st.rejections = a.rejections;
+    if (a.n > 0) {
+      st.code_mean_m = a.code_sum / a.n;
+      st.code_rms_m = std::sqrt(a.code_sq / a.n);
+      st.phase_mean_m = a.phase_sum / a.n;
+      st.phase_rms_m = std::sqrt(a.phase_sq / a.n);
+      st.phase_max_abs_m = a.phase_max;
+      st.min_elevation_deg = a.el_min;
+      st.max_elevation_deg = a.el_max;
+    }
+    summary.residual_statistics.push_back(st);
+  }
+  summary.notes = notes();
+  for (const auto& [text, sats] : code_notes) {
+    std::string note = "code reference: " + text;
+    if (!sats.empty()) note += ":";
+    for (const auto& sat : sats) note += " " + sat;
+    summary.notes.push_back(note);
+  }
+  if (code_notes.empty() && d.bias)
+    summary.notes.push_back("code reference: codes aligned to the clock reference by the OSB of " +
+                            baseName(*d.files.bias));
+  summary.processing_time_s =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
+  return summary;
+}
+
+}  // namespace ppp

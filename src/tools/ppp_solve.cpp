@@ -1,0 +1,135 @@
+// ppp_solve: offline kinematic PPP of one RINEX observation file with precise
+// products (the pipeline of ppp/ppp_pipeline.h; outputs of ppp/ppp_solve_run.h).
+//
+// usage: ppp_solve --obs F --sp3 F... --clk F... --atx F... [--bia F] [--blq F]
+//                  [--config YAML] [--estimator ekf] [--truth X,Y,Z] [--name N] --out DIR
+// Several files may follow --sp3, --clk and --atx (or the option may be repeated).
+// ANTEX files are searched in the order given: the first holding an antenna wins.
+// Writes DIR/<name>_ekf.csv, .pos (RTKLIB), _epochs.csv, _residuals.csv and
+// _summary.json; prints the statistics (with --truth) and the notes.
+#include <unistd.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <iostream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "ppp_bayes_tree/io/parse_error.h"
+#include "ppp_bayes_tree/ppp/ppp_solve_run.h"
+
+namespace {
+
+int usage(const std::string& why) {
+  std::cerr << "ppp_solve: " << why << "\n"
+            << "usage: ppp_solve --obs F --sp3 F... --clk F... --atx F... [--bia F] [--blq F]\n"
+            << "                 [--config YAML] [--estimator ekf] [--truth X,Y,Z] [--name N] --out DIR\n";
+  return 2;
+}
+
+bool parseTruth(const std::string& s, Eigen::Vector3d& t) {
+  std::stringstream ss(s);
+  std::string item;
+  int k = 0;
+  while (std::getline(ss, item, ',')) {
+    if (k == 3) return false;
+    char* end = nullptr;
+    t(k++) = std::strtod(item.c_str(), &end);
+    if (end == item.c_str() || *end != '\0') return false;
+  }
+  return k == 3;
+}
+
+/// Progress bar on stderr (only when stderr is a terminal).
+void drawProgress(double fraction, const ppp::PppEpochRecord& rec) {
+  const int width = 30;
+  const int filled = static_cast<int>(fraction * width + 0.5);
+  std::fprintf(stderr, "\r[%-*s] %3.0f%%  %s  %2zu sats  ", width, std::string(filled, '#').c_str(), fraction * 100,
+               rec.solution.time.toString().c_str(), rec.used.size());
+  std::fflush(stderr);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  ppp::PppSolveRequest req;
+  std::string config_path;
+  std::vector<std::string>* list = nullptr;  // the multi-file option being filled
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    auto value = [&](std::string& dst) {
+      if (i + 1 >= argc || argv[i + 1][0] == '-') return false;
+      dst = argv[++i];
+      return true;
+    };
+    std::string v;
+    if (a == "--sp3" || a == "--clk" || a == "--atx") {
+      list = a == "--sp3" ? &req.files.sp3 : a == "--clk" ? &req.files.clk : &req.files.atx;
+      if (i + 1 >= argc || argv[i + 1][0] == '-') return usage(a + " needs at least one file");
+      continue;
+    }
+    if (!a.empty() && a[0] != '-') {
+      if (!list) return usage("unexpected argument '" + a + "'");
+      list->push_back(a);
+      continue;
+    }
+    list = nullptr;
+    if (a == "--obs") {
+      if (!value(req.files.obs)) return usage("--obs needs a file");
+    } else if (a == "--bia") {
+      if (!value(v)) return usage("--bia needs a file");
+      req.files.bias = v;
+    } else if (a == "--blq") {
+      if (!value(v)) return usage("--blq needs a file");
+      req.files.blq = v;
+    } else if (a == "--config") {
+      if (!value(config_path)) return usage("--config needs a YAML file");
+    } else if (a == "--estimator") {
+      if (!value(req.estimator)) return usage("--estimator needs ekf");
+    } else if (a == "--truth") {
+      Eigen::Vector3d t;
+      if (i + 1 >= argc || !parseTruth(argv[++i], t)) return usage("--truth needs X,Y,Z in metres (ECEF)");
+      req.truth_ecef_m = t;
+    } else if (a == "--name") {
+      if (!value(req.name)) return usage("--name needs a text");
+    } else if (a == "--out") {
+      if (!value(req.out_dir)) return usage("--out needs a directory");
+    } else if (a == "-h" || a == "--help") {
+      usage("help");
+      return 0;
+    } else {
+      return usage("unknown option " + a);
+    }
+  }
+  if (req.estimator == "smoother" || req.estimator == "both")
+    return usage("--estimator " + req.estimator + " is not yet available (only ekf for now)");
+  if (req.estimator != "ekf") return usage("unknown --estimator '" + req.estimator + "' (expected ekf)");
+  if (req.files.obs.empty()) return usage("--obs is required");
+  if (req.files.sp3.empty()) return usage("--sp3 is required");
+  if (req.files.clk.empty()) return usage("--clk is required");
+  if (req.files.atx.empty()) return usage("--atx is required");
+  if (req.out_dir.empty()) return usage("--out is required");
+
+  try {
+    if (!config_path.empty()) req.config = ppp::loadPppConfig(config_path);
+    const bool tty = isatty(STDERR_FILENO) != 0;
+    if (tty) req.on_epoch = drawProgress;
+    const ppp::PppSolveOutcome out = ppp::solvePpp(req);
+    if (tty) std::fprintf(stderr, "\n");
+    std::cout << ppp::formatRunReport(out.run);
+    if (out.statistics) std::cout << "\n" << ppp::formatStatisticsTable(*out.statistics, out.name + " " + out.run.estimator);
+    std::cout << "\nwritten: " << out.csv_path << "\n         " << out.pos_path << "\n         " << out.json_path
+              << "\n         " << out.epochs_path << "\n         " << out.residuals_path << "\n";
+    return out.run.epochs_solved > 0 ? 0 : 1;
+  } catch (const ppp::ConfigError& e) {
+    std::cerr << "ppp_solve: configuration: " << e.what() << "\n";
+  } catch (const ppp::ParseError& e) {
+    std::cerr << "ppp_solve: " << e.what() << "\n";
+  } catch (const ppp::FileOpenError& e) {
+    std::cerr << "ppp_solve: " << e.what() << "\n";
+  } catch (const std::exception& e) {
+    std::cerr << "ppp_solve: " << e.what() << "\n";
+  }
+  return 1;
+}
