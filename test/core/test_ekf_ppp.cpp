@@ -15,130 +15,12 @@
 
 #include "ppp_bayes_tree/ppp/code_least_squares.h"
 #include "ppp_bayes_tree/ppp/ekf_ppp.h"
+#include "ppp_simulator.h"
 
 using namespace ppp;
+using namespace ppp::sim;
 
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
-constexpr double kDeg = kPi / 180.0;
-
-struct SimSat {
-  SatelliteId id;
-  double raan_rad, anomaly0_rad;
-};
-
-Eigen::Vector3d satellitePosition(const SimSat& s, double t_s) {
-  const double radius = 26.56e6, rate = 2.0 * kPi / 43082.0, inc = 55.0 * kDeg;
-  const double u = s.anomaly0_rad + rate * t_s;
-  const Eigen::Vector3d orbit(std::cos(u), std::sin(u) * std::cos(inc), std::sin(u) * std::sin(inc));
-  const double c = std::cos(s.raan_rad), sn = std::sin(s.raan_rad);
-  return radius * Eigen::Vector3d(c * orbit.x() - sn * orbit.y(), sn * orbit.x() + c * orbit.y(), orbit.z());
-}
-
-/// sin(elevation) of `sat` seen from `receiver` (spherical up).
-double sinElevation(const Eigen::Vector3d& receiver, const Eigen::Vector3d& sat) {
-  return (sat - receiver).normalized().dot(receiver.normalized());
-}
-
-struct SimObs {
-  SatelliteId sat;
-  ArcId arc;
-  Eigen::Vector3d sat_pos;
-  double code_m, phase_m, code_sigma_m, phase_sigma_m;
-};
-
-/// The synthetic "measurement model": predictions at any state, fixed observations.
-MeasurementFunction modelOf(std::vector<SimObs> obs) {
-  return [obs = std::move(obs)](const ReceiverState& s) {
-    EpochMeasurements e;
-    for (const auto& o : obs) {
-      SatelliteMeasurement m;
-      m.satellite = o.sat;
-      m.arc = o.arc;
-      const Eigen::Vector3d d = o.sat_pos - s.position_ecef_m;
-      const double range = d.norm();
-      double mapping = 1.0, sin_el = 1.0;
-      if (s.position_ecef_m.norm() > 1e6) {  // near the surface; at the Earth centre: zenith
-        sin_el = std::max(0.05, sinElevation(s.position_ecef_m, o.sat_pos));
-        mapping = 1.0 / sin_el;
-      }
-      m.predicted_code_m = range + s.clock_m + s.zwd_m * mapping;
-      m.predicted_phase_m = m.predicted_code_m;
-      m.jacobian << -d.transpose() / range, mapping, 1.0;
-      m.observed_code_m = o.code_m;
-      m.observed_phase_m = o.phase_m;
-      m.code_sigma_m = o.code_sigma_m;
-      m.phase_sigma_m = o.phase_sigma_m;
-      m.elevation_rad = std::asin(sin_el);
-      e.used.push_back(m);
-    }
-    return e;
-  };
-}
-
-class Simulator {
- public:
-  Eigen::Vector3d position = 6371000.0 * Eigen::Vector3d(std::cos(47 * kDeg) * std::cos(7.5 * kDeg),
-                                                           std::cos(47 * kDeg) * std::sin(7.5 * kDeg),
-                                                           std::sin(47 * kDeg));
-  double zwd_m = 0.1;  // = the a priori value (StochasticModel::initial_zwd_m) unless a test says otherwise
-  double clock_m = 12345.6;
-  double t_s = 0.0;
-  bool noise = false;
-  std::mt19937 rng{20260513};
-  std::set<SatelliteId> hidden;  // left out by the test
-  std::map<ArcId, double> bias_m;
-
-  Simulator() {
-    for (int p = 0; p < 6; ++p)
-      for (int k = 0; k < 5; ++k)
-        sats_.push_back({SatelliteId{GnssSystem::GPS, p * 5 + k + 1}, p * 60.0 * kDeg, (k * 72.0 + p * 17.0) * kDeg});
-  }
-
-  GnssTime time() const { return GnssTime::fromGpsWeek(2418, 0.0) + t_s; }
-
-  /// Observations at the current time; a satellite (re)appearing starts a new arc.
-  std::vector<SimObs> epoch() {
-    std::vector<SimObs> out;
-    std::set<SatelliteId> now;
-    std::normal_distribution<double> gauss(0.0, 1.0);
-    std::uniform_real_distribution<double> uniform(-50.0, 50.0);
-    for (const auto& s : sats_) {
-      const Eigen::Vector3d sp = satellitePosition(s, t_s);
-      const double sin_el = sinElevation(position, sp);
-      if (sin_el < std::sin(10 * kDeg) || hidden.count(s.id)) continue;
-      now.insert(s.id);
-      if (!visible_.count(s.id)) {
-        arc_[s.id] = next_arc_++;
-        bias_m[arc_[s.id]] = uniform(rng);
-      }
-      const ArcId arc = arc_[s.id];
-      SimObs o{s.id, arc, sp, 0, 0, 0.9 / sin_el, 0.009 / sin_el};
-      const double geometric = (sp - position).norm() + clock_m + zwd_m / sin_el;
-      o.code_m = geometric + (noise ? o.code_sigma_m * gauss(rng) : 0.0);
-      o.phase_m = geometric + bias_m[arc] + (noise ? o.phase_sigma_m * gauss(rng) : 0.0);
-      out.push_back(o);
-    }
-    visible_ = now;
-    return out;
-  }
-
-  /// A cycle slip of `jump_m` on `sat`: a new arc (as the arc tracker would report).
-  ArcId slip(SatelliteId sat, double jump_m) {
-    const ArcId old_arc = arc_.at(sat);
-    arc_[sat] = next_arc_++;
-    bias_m[arc_[sat]] = bias_m[old_arc] + jump_m;
-    return arc_[sat];
-  }
-  ArcId arcOf(SatelliteId sat) const { return arc_.at(sat); }
-
- private:
-  std::vector<SimSat> sats_;
-  std::set<SatelliteId> visible_;
-  std::map<SatelliteId, ArcId> arc_;
-  ArcId next_arc_ = 1;
-};
 
 double positionError(const EkfEpochResult& r, const Simulator& sim) {
   return (r.solution->state.position_ecef_m - sim.position).norm();
@@ -153,12 +35,6 @@ EkfEpochResult run(EkfPpp& ekf, Simulator& sim, int epochs, double dt = 30.0) {
     EXPECT_EQ(last.status, EpochStatus::Ok) << last.reason;
   }
   return last;
-}
-
-/// Chi-square quantile (Wilson-Hilferty approximation, accurate to <1% for k > 50).
-double chiSquareQuantile(double k, double z) {
-  const double a = 2.0 / (9.0 * k);
-  return k * std::pow(1.0 - a + z * std::sqrt(a), 3);
 }
 
 const SatelliteId& firstUsed(const EkfEpochResult& r) { return r.used.front(); }

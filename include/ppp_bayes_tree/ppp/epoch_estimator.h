@@ -12,6 +12,7 @@
 #include "ppp_bayes_tree/ppp/ekf_ppp.h"
 #include "ppp_bayes_tree/ppp/measurement_function.h"
 #include "ppp_bayes_tree/ppp/ppp_config.h"
+#include "ppp_bayes_tree/ppp/ppp_smoother.h"
 
 namespace ppp {
 
@@ -60,7 +61,32 @@ class EkfEstimator : public EpochEstimator {
   EkfPpp ekf_;
 };
 
-/// Estimators by name: "ekf" (others: nullptr, with `why` saying so).
+/// The PPP smoother (PppSmoother) as an EpochEstimator. processEpoch returns the
+/// FILTERED solution (final for the newest state at that time); after the run,
+/// smoother().smoothedTrajectory() gives the SMOOTHED solution of every solved
+/// epoch, and lastResult() the smoother's own per-epoch diagnostics (variables
+/// relinearized / re-eliminated, update time, new biases).
+class SmootherEstimator : public EpochEstimator {
+ public:
+  explicit SmootherEstimator(const PppConfig& config);
+  std::string name() const override { return "smoother"; }
+  void setApproximatePosition(const Eigen::Vector3d& position_ecef_m) override {
+    smoother_.setApproximatePosition(position_ecef_m);
+  }
+  EstimatorEpochResult processEpoch(const EstimatorEpochInput& input) override;
+  void arcsEnded(const std::vector<EndedArc>& ended) override;
+  const PppSmoother& smoother() const { return smoother_; }
+  const SmootherEpochResult& lastResult() const { return last_; }
+
+ private:
+  PppSmoother smoother_;
+  SmootherEpochResult last_;
+};
+
+/// The smoother's epoch result in the common form (diagnostics beyond it dropped).
+EstimatorEpochResult toEstimatorEpochResult(const SmootherEpochResult& r);
+
+/// Estimators by name: "ekf", "smoother" (others: nullptr, with `why` saying so).
 std::unique_ptr<EpochEstimator> makeEstimator(const std::string& name, const PppConfig& config, std::string* why);
 
 }  // namespace ppp

@@ -2,6 +2,8 @@
 // PppConfig: the whole PPP configuration (config/ppp.yaml documents every key):
 //   stochastic:        a priori sigmas and process noise (StochasticModel)
 //   estimator:         EKF options (EkfOptions), with `start:` the code least squares
+//   smoother:          PPP smoother options (PppSmootherOptions; its screening values
+//                      are copied from `estimator`)
 //   measurement_model: MeasurementModelOptions, with `signals:` the SignalSelectionOptions
 //   cycle_slip:        CycleSlipOptions (arc tracker)
 // (bound by ppp_options_binding.h; the raw nodes are kept as well)
@@ -15,6 +17,7 @@
 #include "ppp_bayes_tree/ppp/code_least_squares.h"
 #include "ppp_bayes_tree/ppp/ekf_options.h"
 #include "ppp_bayes_tree/ppp/ppp_options_binding.h"
+#include "ppp_bayes_tree/ppp/smoother_options.h"
 #include "ppp_bayes_tree/ppp/stochastic_model.h"
 #include "ppp_bayes_tree/ppp/yaml_section.h"
 
@@ -24,6 +27,7 @@ struct PppConfig {
   StochasticModel stochastic;
   EkfOptions estimator;
   CodeLeastSquaresOptions start;
+  PppSmootherOptions smoother;
   MeasurementModelOptions model;
   SignalSelectionOptions signals;
   CycleSlipOptions cycle_slip_options;

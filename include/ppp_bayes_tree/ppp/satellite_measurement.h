@@ -3,6 +3,7 @@
 // what both estimators (EKF and smoother factors) consume from the single
 // measurement model, so that they cannot drift apart.
 #include <Eigen/Core>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -48,6 +49,14 @@ struct SatelliteMeasurement {
   double phase_sigma_m = 0.0;
   double elevation_rad = 0.0;
   double azimuth_rad = 0.0;
+  // Range geometry at the linearisation point, so that a smoother factor can
+  // re-evaluate the geometric range exactly at another state of the same epoch
+  // (ppp_factors.h): the satellite antenna phase centre at emission, rotated for
+  // the Earth rotation during the flight (ECEF at reception), and the offset
+  // marker -> receiver antenna phase centre (tides, loading, eccentricity, PCO).
+  // nullopt when the producer gives no geometry (then factors stay linear).
+  std::optional<Eigen::Vector3d> satellite_apc_ecef_m;
+  Eigen::Vector3d receiver_apc_offset_ecef_m = Eigen::Vector3d::Zero();
 
   double codeResidual_m() const { return observed_code_m - predicted_code_m; }
   /// Phase residual before the bias: observed - predicted (the bias estimate is subtracted by the caller).

@@ -1,6 +1,7 @@
 #pragma once
 // iSAM2 options (constructor-time) and per-call update options, kept apart as in GTSAM's
 // ISAM2Params / ISAM2UpdateParams.
+#include <Eigen/Core>
 #include <functional>
 #include <unordered_map>
 #include <vector>
@@ -24,6 +25,10 @@ struct ISAM2Params {
   bool enable_relinearization = true;
   double relinearize_threshold = 0.1;
   std::unordered_map<char, double> relinearize_threshold_by_symbol;
+  /// Per-component thresholds of a variable type (as GTSAM's relinearizeThreshold
+  /// map of vectors): relinearize when any |delta_i| > threshold_i. Takes precedence
+  /// over the scalar thresholds for that symbol; the size must be the variable's.
+  std::unordered_map<char, Eigen::VectorXd> relinearize_thresholds_by_symbol;
   /// Check for relinearization only every `relinearize_skip` updates.
   int relinearize_skip = 10;
   /// Fluid check: descend the tree from the roots and stop below cliques none of whose
@@ -38,6 +43,14 @@ struct ISAM2Params {
   /// Keep the linearized factors between updates (re-linearize only relinearized ones).
   bool cache_linearized_factors = true;
 
+  /// True when `delta` of variable `key` exceeds its relinearization threshold.
+  bool exceedsThreshold(Key key, const Eigen::VectorXd& delta) const {
+    auto v = relinearize_thresholds_by_symbol.find(keySymbol(key));
+    if (v != relinearize_thresholds_by_symbol.end() && v->second.size() == delta.size())
+      return (delta.array().abs() > v->second.array()).any();
+    const double t = thresholdFor(key);
+    return delta.size() > 0 && delta.cwiseAbs().maxCoeff() > t;
+  }
   double thresholdFor(Key key) const {
     auto it = relinearize_threshold_by_symbol.find(keySymbol(key));
     return it == relinearize_threshold_by_symbol.end() ? relinearize_threshold : it->second;

@@ -1,5 +1,7 @@
 #include "ppp_bayes_tree/ppp/ekf_ppp.h"
 
+#include "ppp_bayes_tree/ppp/prefit_screening.h"
+
 #include <Eigen/Cholesky>
 #include <algorithm>
 #include <cmath>
@@ -18,27 +20,6 @@ std::string fmt(double v, int precision = 3) {
   return os.str();
 }
 
-/// Empty when every value the update uses is finite (and sigmas > 0), else the problem.
-std::string measurementProblem(const SatelliteMeasurement& m) {
-  if (!std::isfinite(m.observed_code_m)) return "non-finite observed code";
-  if (!std::isfinite(m.observed_phase_m)) return "non-finite observed phase";
-  if (!std::isfinite(m.predicted_code_m)) return "non-finite predicted code";
-  if (!std::isfinite(m.predicted_phase_m)) return "non-finite predicted phase";
-  if (!m.jacobian.allFinite()) return "non-finite Jacobian";
-  if (!std::isfinite(m.code_sigma_m) || m.code_sigma_m <= 0.0) return "invalid code sigma " + fmt(m.code_sigma_m);
-  if (!std::isfinite(m.phase_sigma_m) || m.phase_sigma_m <= 0.0)
-    return "invalid phase sigma " + fmt(m.phase_sigma_m);
-  return {};
-}
-
-double median(std::vector<double> v) {
-  const std::size_t mid = v.size() / 2;
-  std::nth_element(v.begin(), v.begin() + mid, v.end());
-  if (v.size() % 2 == 1) return v[mid];
-  const double upper = v[mid];
-  return 0.5 * (upper + *std::max_element(v.begin(), v.begin() + mid));
-}
-
 /// Symmetrise P and check it is finite and positive definite; empty when fine.
 std::string checkCovariance(Eigen::MatrixXd& P) {
   if (!P.allFinite()) return "non-finite covariance";
@@ -46,53 +27,6 @@ std::string checkCovariance(Eigen::MatrixXd& P) {
   Eigen::LLT<Eigen::MatrixXd> llt(P);
   if (llt.info() != Eigen::Success) return "covariance not positive definite";
   return {};
-}
-
-/// Prefit code screening (single-outlier test, repeated): weighted least-squares
-/// fit of (dx, dy, dz, dclock) to the code residuals; the suspect is the largest
-/// studentised residual w_i = r_i / (sigma_i sqrt(1 - h_ii)) (Baarda's w-test:
-/// the satellite whose removal reduces the misfit most); it is rejected when its
-/// residual against a fit to the OTHER satellites, r_i / (1 - h_ii), exceeds
-/// the threshold [m] (an outlier cannot hide by pulling the fit). Repeated
-/// while more than 4 satellites remain. Returns the indices (into `ms`) rejected, with their
-/// deleted residual.
-std::vector<std::pair<std::size_t, double>> screenCode(const std::vector<SatelliteMeasurement>& ms,
-                                                       double threshold_m) {
-  std::vector<std::pair<std::size_t, double>> rejected;
-  std::vector<std::size_t> active(ms.size());
-  for (std::size_t i = 0; i < ms.size(); ++i) active[i] = i;
-  while (active.size() > 4) {
-    const int n = static_cast<int>(active.size());
-    Eigen::MatrixXd A(n, 4);  // whitened design
-    Eigen::VectorXd b(n);     // whitened residuals
-    for (int k = 0; k < n; ++k) {
-      const auto& m = ms[active[k]];
-      A.row(k) << m.jacobian(0), m.jacobian(1), m.jacobian(2), m.jacobian(4);
-      A.row(k) /= m.code_sigma_m;
-      b(k) = m.codeResidual_m() / m.code_sigma_m;
-    }
-    Eigen::LDLT<Eigen::Matrix4d> ldlt(A.transpose() * A);
-    if (ldlt.info() != Eigen::Success || !ldlt.isPositive() || ldlt.rcond() < 1e-14) break;
-    const Eigen::VectorXd r = b - A * ldlt.solve(A.transpose() * b);
-    const Eigen::MatrixXd leverage = A * ldlt.solve(A.transpose());
-    int worst = -1;
-    double worst_w = 0.0;
-    for (int k = 0; k < n; ++k) {
-      const double one_minus_h = 1.0 - leverage(k, k);
-      if (one_minus_h < 1e-6) continue;  // not checkable: the others cannot predict it
-      const double w = std::abs(r(k)) / std::sqrt(one_minus_h);
-      if (w > worst_w) {
-        worst = k;
-        worst_w = w;
-      }
-    }
-    if (worst < 0) break;
-    const double worst_m = r(worst) / (1.0 - leverage(worst, worst)) * ms[active[worst]].code_sigma_m;
-    if (!(std::abs(worst_m) > threshold_m)) break;
-    rejected.emplace_back(active[worst], worst_m);
-    active.erase(active.begin() + worst);
-  }
-  return rejected;
 }
 
 }  // namespace
@@ -262,29 +196,11 @@ EkfEpochResult EkfPpp::processEpoch(const GnssTime& time, const MeasurementFunct
   const EpochMeasurements epoch0 = evaluate(ReceiverState::fromVector(fp.x.head<kRx>()));
   result.iterations += 1;
   result.rejected = epoch0.rejected;
-  std::vector<SatelliteMeasurement> cand;
-  std::set<SatelliteId> seen;
-  for (const auto& m : epoch0.used) {
-    if (!seen.insert(m.satellite).second) {
-      result.rejected.push_back({m.satellite, "duplicate measurement of the satellite in the epoch"});
-      continue;
-    }
-    if (auto problem = measurementProblem(m); !problem.empty()) {
-      result.rejected.push_back({m.satellite, problem});
-      continue;
-    }
-    cand.push_back(m);
-  }
-  if (options_.clock_from_code_median && !cand.empty()) {
-    std::vector<double> code_residuals;
-    for (const auto& m : cand) code_residuals.push_back(m.codeResidual_m() / m.jacobian(4));
-    const double shift = median(code_residuals);
-    if (std::isfinite(shift)) {
-      fp.x(4) += shift;
-      for (auto& m : cand) {
-        m.predicted_code_m += m.jacobian(4) * shift;
-        m.predicted_phase_m += m.jacobian(4) * shift;
-      }
+  std::vector<SatelliteMeasurement> cand = usableMeasurements(epoch0.used, result.rejected);
+  if (options_.clock_from_code_median) {
+    if (const auto shift = medianCodeClockShift_m(cand)) {
+      fp.x(4) += *shift;
+      applyClockShift(cand, *shift);
     }
   }
 
@@ -303,26 +219,19 @@ EkfEpochResult EkfPpp::processEpoch(const GnssTime& time, const MeasurementFunct
 
   // 3. Prefit screening.
   std::vector<bool> keep(cand.size(), true);
-  for (const auto& [index, residual] : screenCode(cand, options_.prefit_code_threshold_m)) {
-    keep[index] = false;
-    result.rejected.push_back({cand[index].satellite, "prefit code residual " + fmt(residual) +
-                                                          " m (against a fit to the others) > " +
-                                                          fmt(options_.prefit_code_threshold_m) + " m"});
+  for (const auto& outlier : screenCodeOutliers(cand, options_.prefit_code_threshold_m)) {
+    keep[outlier.index] = false;
+    result.rejected.push_back({cand[outlier.index].satellite,
+                               codeOutlierReason(outlier, options_.prefit_code_threshold_m)});
     ++result.prefit_rejections;
   }
   for (std::size_t k = 0; k < cand.size(); ++k) {
     const int slot = findBias(fp, cand[k].arc);
     if (!keep[k] || slot < 0) continue;
-    const auto& m = cand[k];
-    const double innovation =
-        m.phaseResidualWithoutBias_m() - fp.x(kRx + slot) - m.codeResidual_m();
-    const double sigma = std::sqrt(fp.P(kRx + slot, kRx + slot) + m.code_sigma_m * m.code_sigma_m +
-                                   m.phase_sigma_m * m.phase_sigma_m);
-    if (std::abs(innovation) > options_.prefit_phase_sigmas * sigma) {
+    if (auto why = phaseInnovationRejection(cand[k], fp.x(kRx + slot), fp.P(kRx + slot, kRx + slot),
+                                            options_.prefit_phase_sigmas)) {
       keep[k] = false;
-      result.rejected.push_back({m.satellite, "prefit phase-minus-code innovation " + fmt(innovation) + " m > " +
-                                                  fmt(options_.prefit_phase_sigmas, 1) + " sigma (" +
-                                                  fmt(sigma) + " m)"});
+      result.rejected.push_back({cand[k].satellite, *why});
       ++result.prefit_rejections;
     }
   }

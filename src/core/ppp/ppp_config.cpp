@@ -52,6 +52,25 @@ void readEstimator(YamlSection s, EkfOptions& o, CodeLeastSquaresOptions& start)
   s.finish();
 }
 
+void readSmoother(YamlSection s, const EkfOptions& screening, PppSmootherOptions& o) {
+  o.min_satellites = screening.min_satellites;
+  o.prefit_code_threshold_m = screening.prefit_code_threshold_m;
+  o.prefit_phase_sigmas = screening.prefit_phase_sigmas;
+  o.clock_from_code_median = screening.clock_from_code_median;
+  o.stale_arc_timeout_s = screening.stale_arc_timeout_s;
+  o.robust = s.boolean("robust", o.robust);
+  o.huber_width_sigmas = s.number("huber_width_sigmas", o.huber_width_sigmas, Bound::Positive);
+  o.relinearize_position_m = s.number("relinearize_position_m", o.relinearize_position_m, Bound::Positive);
+  o.relinearize_zwd_m = s.number("relinearize_zwd_m", o.relinearize_zwd_m, Bound::Positive);
+  o.relinearize_clock_m = s.number("relinearize_clock_m", o.relinearize_clock_m, Bound::Positive);
+  o.relinearize_bias_m = s.number("relinearize_bias_m", o.relinearize_bias_m, Bound::Positive);
+  o.relinearize_skip = s.integer("relinearize_skip", o.relinearize_skip, 1);
+  o.wildfire_threshold_m = s.number("wildfire_threshold_m", o.wildfire_threshold_m, Bound::NonNegative);
+  o.exact_range = s.boolean("exact_range", o.exact_range);
+  o.fixed_lag_s = s.number("fixed_lag_s", o.fixed_lag_s, Bound::NonNegative);
+  s.finish();
+}
+
 }  // namespace
 
 PppConfig parsePppConfig(const std::string& yaml_text, const std::string& source_name) {
@@ -67,6 +86,7 @@ PppConfig parsePppConfig(const std::string& yaml_text, const std::string& source
   YamlSection top(root, source_name, "");
   readStochastic(top.section("stochastic"), config.stochastic);
   readEstimator(top.section("estimator"), config.estimator, config.start);
+  readSmoother(top.section("smoother"), config.estimator, config.smoother);
   config.measurement_model = top.rawMapping("measurement_model");
   config.cycle_slip = top.rawMapping("cycle_slip");
   top.finish();
@@ -74,6 +94,7 @@ PppConfig parsePppConfig(const std::string& yaml_text, const std::string& source
   bindCycleSlipOptions(config.cycle_slip, source_name, config.cycle_slip_options);
   if (auto e = config.stochastic.validate(); !e.empty()) throw ConfigError(source_name, "stochastic", e);
   if (auto e = config.estimator.validate(); !e.empty()) throw ConfigError(source_name, "estimator", e);
+  if (auto e = config.smoother.validate(); !e.empty()) throw ConfigError(source_name, "smoother", e);
   return config;
 }
 

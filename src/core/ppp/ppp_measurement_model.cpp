@@ -394,6 +394,8 @@ void PppMeasurementModel::evaluate(const std::vector<DualFrequencyObservation>& 
     m.code_sigma_m = m.phase_sigma_m * options_.code_phase_ratio;
     m.elevation_rad = elevation;
     m.azimuth_rad = azimuth;
+    m.satellite_apc_ecef_m = apc;
+    m.receiver_apc_offset_ecef_m = st.receiver_apc_ecef;
     if (!std::isfinite(m.predicted_code_m) || !std::isfinite(m.predicted_phase_m) || !m.jacobian.allFinite()) {
       reject("non-finite model value");
       continue;

@@ -20,7 +20,6 @@ double secondsSince(Clock::time_point t0) {
   return std::chrono::duration<double>(Clock::now() - t0).count();
 }
 
-double maxAbs(const Vector& v) { return v.size() ? v.cwiseAbs().maxCoeff() : 0.0; }
 
 }  // namespace
 
@@ -146,7 +145,7 @@ ISAM2::KeySet ISAM2::gatherRelinearizeKeys(const ISAM2UpdateParams& up) const {
     for (const auto& root : tree_.roots()) fluidCheck(*root, marked);
   } else {
     for (const auto& [k, d] : delta_)
-      if (maxAbs(d) > params_.thresholdFor(k)) marked.insert(k);
+      if (params_.exceedsThreshold(k, d)) marked.insert(k);
   }
   for (Key k : up.no_relin_keys) marked.erase(k);
   return marked;
@@ -157,7 +156,7 @@ void ISAM2::fluidCheck(const Clique& clique, KeySet& marked) const {
   // since back-substitution changes below it are no larger than its own.
   bool any = false;
   for (Key k : clique.frontals)
-    if (maxAbs(delta_.at(k)) > params_.thresholdFor(k)) {
+    if (params_.exceedsThreshold(k, delta_.at(k))) {
       marked.insert(k);
       any = true;
     }

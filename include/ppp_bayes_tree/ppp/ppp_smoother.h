@@ -1,0 +1,151 @@
+#pragma once
+// PppSmoother: kinematic PPP as an incremental factor graph (iSAM2 on the Bayes
+// tree), with the same interface as EkfPpp so that a pipeline can run either.
+//
+// Graph (ppp_factors.h): one state x<k> per solved epoch (position, ZWD, clock), one
+// IF phase bias b(sat,arc) per arc; a prior on the first state and on each new bias;
+// position/ZWD random walk between consecutive states over the real elapsed time;
+// a white clock (unary clock prior per epoch, no between factor); IF code and phase
+// factors per satellite and epoch, from the SAME MeasurementFunction the EKF calls,
+// with the same sigmas; optional Huber kernel on them.
+//
+// Per epoch (processEpoch):
+//  1. the first epoch starts from the code least squares (like the EKF);
+//  2. linearise the epoch's measurements ONCE at the predicted state (the last
+//     filtered state; clock shifted by the median code residual), keep the usable ones;
+//  3. prefit screening shared with the EKF (prefit_screening.h): code outliers and the
+//     phase-minus-code innovation against the last filtered bias estimate and variance;
+//     arc bookkeeping as the EKF (a new arc of a satellite replaces its old bias in the
+//     active set, arcs unused for stale_arc_timeout_s leave it);
+//  4. too few satellites: explicit NoSolution, nothing is added to the graph (the next
+//     between factor spans the real elapsed time from the last solved epoch);
+//  5. ONE iSAM2 update with the new factors; constrained ordering: the new state and
+//     the biases observed in this epoch are eliminated last (root clique), the other
+//     re-eliminated variables oldest first; relinearization thresholds per variable
+//     component (position, ZWD, clock, bias);
+//  6. FILTERED output: the new state's estimate right after the update with its
+//     marginal covariance (root clique: cheap), plus the biases' filtered marginals
+//     (kept for the next epoch's screening).
+// SMOOTHED output: smoothedTrajectory() re-reads every state from the current
+// estimate (all data so far); with fixed_lag_s > 0 states older than the lag are
+// marginalized (FixedLagSmoother) and keep their last estimate (at the lag boundary).
+// A numerical failure of the update (indeterminate system) gives a Failed epoch; the
+// graph then holds that epoch's factors and the smoother should be reset.
+#include <Eigen/Core>
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "ppp_bayes_tree/ppp/code_least_squares.h"
+#include "ppp_bayes_tree/ppp/ekf_ppp.h"
+#include "ppp_bayes_tree/ppp/measurement_function.h"
+#include "ppp_bayes_tree/ppp/smoother_options.h"
+#include "ppp_bayes_tree/ppp/stochastic_model.h"
+#include "ppp_bayes_tree/smoother/fixed_lag_smoother.h"
+#include "ppp_bayes_tree/smoother/isam2.h"
+
+namespace ppp {
+
+/// Per-epoch result: the filtered solution and diagnostics.
+struct SmootherEpochResult {
+  GnssTime time;
+  EpochStatus status = EpochStatus::NoSolution;
+  std::string reason;                     // empty when Ok
+  std::optional<EpochSolution> solution;  // FILTERED estimate of the new state (only when Ok)
+  double dt_s = 0.0;                      // elapsed since the last solved epoch (0 at the first)
+  std::vector<SatelliteId> used;
+  std::vector<RejectedSatellite> rejected;  // the model's rejections, then the screening's
+  int prefit_rejections = 0;
+  int active_biases = 0;                  // arcs in the active set after the epoch
+  int new_biases = 0;
+  int iterations = 0;                     // measurement-model evaluations
+  std::vector<MeasurementResidual> residuals;  // same order as `used`; postfit at the filtered state
+  // iSAM2 update diagnostics.
+  std::size_t variables_relinearized = 0;
+  std::size_t variables_reeliminated = 0;
+  std::size_t factors_relinearized = 0;
+  std::size_t cliques_touched = 0;
+  std::size_t variables_marginalized = 0;  // fixed-lag only
+  double update_time_s = 0.0;   // the iSAM2 (or fixed-lag) update
+  double epoch_time_s = 0.0;    // the whole processEpoch (model evaluations included)
+};
+
+/// One state of the smoothed trajectory.
+struct SmoothedEpoch {
+  GnssTime time;
+  std::uint32_t index = 0;  // x<index>
+  ReceiverState state;
+  /// Marginal covariance when asked for and the state is still in the graph.
+  std::optional<ReceiverCovariance> covariance;
+};
+
+class PppSmoother {
+ public:
+  explicit PppSmoother(StochasticModel model = {}, PppSmootherOptions options = {},
+                       CodeLeastSquaresOptions start_options = {});
+  ~PppSmoother();
+  PppSmoother(PppSmoother&&) noexcept;
+  PppSmoother& operator=(PppSmoother&&) noexcept;
+
+  /// Starting point of the code least squares of the first epoch (RINEX APPROX POSITION XYZ).
+  void setApproximatePosition(const Eigen::Vector3d& position_ecef_m) { approx_position_ecef_m_ = position_ecef_m; }
+
+  /// Process one epoch. `evaluate` linearises this epoch's measurements at a state;
+  /// it is called during this call only (never stored).
+  SmootherEpochResult processEpoch(const GnssTime& time, const MeasurementFunction& evaluate);
+
+  /// End an arc explicitly (e.g. the arc tracker reports it closed).
+  void removeArc(ArcId arc) { arcs_.erase(arc); }
+
+  bool initialised() const { return !states_.empty(); }
+  std::optional<GnssTime> lastTime() const;
+  /// Filtered state and covariance of the newest state (as of its update).
+  ReceiverState receiverState() const;
+  ReceiverCovariance receiverCovariance() const;
+  int activeBiasCount() const { return static_cast<int>(arcs_.size()); }
+  std::vector<ArcId> activeArcs() const;
+  /// Current (smoothed) estimate of an arc's bias while it is in the graph.
+  std::optional<double> biasEstimate_m(ArcId arc) const;
+
+  /// The whole trajectory re-estimated with all data so far (fixed lag: states
+  /// beyond the lag keep their estimate at the lag boundary).
+  std::vector<SmoothedEpoch> smoothedTrajectory(bool with_covariance = false) const;
+
+  const StochasticModel& stochasticModel() const { return model_; }
+  const PppSmootherOptions& options() const { return options_; }
+  const smoother::ISAM2& isam2() const;
+
+ private:
+  struct ArcSlot {
+    SatelliteId satellite;
+    smoother::Key key = 0;
+    GnssTime last_used;
+    std::uint32_t last_state = 0;   // index of the last state it was observed at
+    double filtered_m = 0.0;        // filtered estimate and variance after the last update
+    double filtered_variance_m2 = 0.0;
+  };
+  struct StateRecord {
+    GnssTime time;
+    std::uint32_t index = 0;
+    ReceiverState last_estimate;  // refreshed after each update while in the graph
+  };
+
+  smoother::ISAM2Params isamParams() const;
+  /// sqrt of a variance, floored so that a zero process noise stays a valid (stiff) sigma.
+  static double sigmaOf(double variance_m2);
+
+  StochasticModel model_;
+  PppSmootherOptions options_;
+  CodeLeastSquaresOptions start_options_;
+  std::optional<Eigen::Vector3d> approx_position_ecef_m_;
+  std::unique_ptr<smoother::ISAM2> isam_;              // full smoother
+  std::unique_ptr<smoother::FixedLagSmoother> lag_;    // fixed-lag smoother
+  std::vector<StateRecord> states_;
+  std::map<ArcId, ArcSlot> arcs_;                      // the active set
+  std::map<smoother::Key, std::uint32_t> bias_last_state_;  // every bias in the graph
+  EpochSolution filtered_;
+};
+
+}  // namespace ppp

@@ -1,0 +1,55 @@
+#pragma once
+// Prefit checks shared by the EKF (ekf_ppp.h) and the smoother (ppp_smoother.h),
+// so that both estimators accept and reject the same observations:
+//  - usable measurements: finite values, positive sigmas, one per satellite;
+//  - the white-clock shift by the median code residual;
+//  - code outliers by a repeated single-outlier test (Baarda's w-test);
+//  - the phase-minus-code innovation test of arcs that already have a bias.
+#include <cstddef>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "ppp_bayes_tree/ppp/satellite_measurement.h"
+
+namespace ppp {
+
+/// Empty when every value an update uses is finite (and sigmas > 0), else the problem.
+std::string measurementProblem(const SatelliteMeasurement& m);
+
+/// The model's used measurements that are finite and unique per satellite;
+/// the others are appended to `rejected` with their reason.
+std::vector<SatelliteMeasurement> usableMeasurements(const std::vector<SatelliteMeasurement>& used,
+                                                     std::vector<RejectedSatellite>& rejected);
+
+/// Median of the code residuals divided by the clock partial: the shift of a
+/// (white) receiver clock that centres the code residuals; nullopt when empty
+/// or not finite. applyClockShift adds it to the predictions of `ms`.
+std::optional<double> medianCodeClockShift_m(const std::vector<SatelliteMeasurement>& ms);
+void applyClockShift(std::vector<SatelliteMeasurement>& ms, double shift_m);
+
+/// A code observation rejected by screenCodeOutliers, with its residual
+/// against a fit to the other satellites [m].
+struct CodeOutlier {
+  std::size_t index = 0;  // into the screened vector
+  double residual_m = 0.0;
+};
+
+/// Prefit code screening (single-outlier test, repeated): weighted least-squares
+/// fit of (dx, dy, dz, dclock) to the code residuals; the suspect is the largest
+/// studentised residual w_i = r_i / (sigma_i sqrt(1 - h_ii)) (Baarda's w-test:
+/// the satellite whose removal reduces the misfit most); it is rejected when its
+/// residual against a fit to the OTHER satellites, r_i / (1 - h_ii), exceeds
+/// `threshold_m` (an outlier cannot hide by pulling the fit). Repeated while
+/// more than 4 satellites remain.
+std::vector<CodeOutlier> screenCodeOutliers(const std::vector<SatelliteMeasurement>& ms, double threshold_m);
+std::string codeOutlierReason(const CodeOutlier& outlier, double threshold_m);
+
+/// Phase-minus-code innovation of an arc with a bias estimate: phase residual -
+/// bias - code residual (geometry, clock and troposphere cancel). Returns the
+/// rejection reason when |innovation| > sigmas * sqrt(bias_variance +
+/// sigma_code^2 + sigma_phase^2), else nullopt.
+std::optional<std::string> phaseInnovationRejection(const SatelliteMeasurement& m, double bias_m,
+                                                    double bias_variance_m2, double sigmas);
+
+}  // namespace ppp

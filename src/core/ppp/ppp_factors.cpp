@@ -1,0 +1,106 @@
+#include "ppp_bayes_tree/ppp/ppp_factors.h"
+
+#include <cmath>
+
+namespace ppp {
+
+using smoother::Matrix;
+using smoother::Values;
+using smoother::Vector;
+
+smoother::Key stateKey(std::uint32_t epoch_index) { return smoother::symbolKey('x', epoch_index); }
+
+smoother::Key biasKey(const SatelliteId& satellite, ArcId arc) {
+  return smoother::symbolKey('b', satellite.toString(), arc);
+}
+
+SatellitePrediction::SatellitePrediction(const SatelliteMeasurement& m, const ReceiverState& x0, bool exact_range)
+    : m_(m), x0_(x0.vector()), windup_m_(m.predicted_phase_m - m.predicted_code_m) {
+  if (exact_range && m.satellite_apc_ecef_m) {
+    offset_ = m.receiver_apc_offset_ecef_m;
+    const Eigen::Vector3d d = *m.satellite_apc_ecef_m - (x0.position_ecef_m + offset_);
+    range0_m_ = d.norm();
+    if (range0_m_ > 0.0 && std::isfinite(range0_m_)) {
+      satellite_ = m.satellite_apc_ecef_m;
+      // The model's position partial is -e0 + (dry delay height term): keep the latter.
+      dry_gradient_ = m.jacobian.head<3>().transpose() + d / range0_m_;
+    }
+  }
+}
+
+double SatellitePrediction::code_m(const Eigen::VectorXd& x, Row* jacobian) const {
+  const Eigen::Matrix<double, ReceiverState::kDim, 1> dx = x - x0_;
+  if (!satellite_) {
+    if (jacobian != nullptr) *jacobian = m_.jacobian;
+    return m_.predicted_code_m + m_.jacobian.dot(dx);
+  }
+  const Eigen::Vector3d d = *satellite_ - (x.head<3>() + offset_);
+  const double range = d.norm();
+  double h = m_.predicted_code_m + (range - range0_m_) + dry_gradient_.dot(dx.head<3>());
+  h += m_.jacobian(3) * dx(3) + m_.jacobian(4) * dx(4);
+  if (jacobian != nullptr) {
+    jacobian->head<3>() = (-d / range + dry_gradient_).transpose();
+    (*jacobian)(3) = m_.jacobian(3);
+    (*jacobian)(4) = m_.jacobian(4);
+  }
+  return h;
+}
+
+PppCodeFactor::PppCodeFactor(smoother::Key state, SatellitePrediction prediction, smoother::NoiseModel::Ptr noise)
+    : NonlinearFactor({state}, std::move(noise)), prediction_(std::move(prediction)) {}
+
+Vector PppCodeFactor::unwhitenedError(const Values& x, std::vector<Matrix>* jacobians) const {
+  SatellitePrediction::Row row;
+  Vector e(1);
+  e(0) = prediction_.code_m(x.at(keys()[0]), jacobians ? &row : nullptr) - prediction_.measurement().observed_code_m;
+  if (jacobians != nullptr) (*jacobians)[0] = row;
+  return e;
+}
+
+PppPhaseFactor::PppPhaseFactor(smoother::Key state, smoother::Key bias, SatellitePrediction prediction,
+                               smoother::NoiseModel::Ptr noise)
+    : NonlinearFactor({state, bias}, std::move(noise)), prediction_(std::move(prediction)) {}
+
+Vector PppPhaseFactor::unwhitenedError(const Values& x, std::vector<Matrix>* jacobians) const {
+  SatellitePrediction::Row row;
+  Vector e(1);
+  e(0) = prediction_.phase_m(x.at(keys()[0]), jacobians ? &row : nullptr) + x.at(keys()[1])(0) -
+         prediction_.measurement().observed_phase_m;
+  if (jacobians != nullptr) {
+    (*jacobians)[0] = row;
+    (*jacobians)[1] = Matrix::Ones(1, 1);
+  }
+  return e;
+}
+
+ReceiverRandomWalkFactor::ReceiverRandomWalkFactor(smoother::Key previous, smoother::Key next,
+                                                   double position_sigma_m, double zwd_sigma_m)
+    : NonlinearFactor({previous, next}, smoother::NoiseModel::sigmas(Eigen::Vector4d(
+                                            position_sigma_m, position_sigma_m, position_sigma_m, zwd_sigma_m))) {}
+
+Vector ReceiverRandomWalkFactor::unwhitenedError(const Values& x, std::vector<Matrix>* jacobians) const {
+  const Vector e = (x.at(keys()[1]) - x.at(keys()[0])).head(4);
+  if (jacobians != nullptr) {
+    Matrix j = Matrix::Zero(4, ReceiverState::kDim);
+    j.leftCols(4).setIdentity();
+    (*jacobians)[0] = -j;
+    (*jacobians)[1] = j;
+  }
+  return e;
+}
+
+ClockPriorFactor::ClockPriorFactor(smoother::Key state, double clock_m, double sigma_m)
+    : NonlinearFactor({state}, smoother::NoiseModel::isotropic(1, sigma_m)), clock_m_(clock_m) {}
+
+Vector ClockPriorFactor::unwhitenedError(const Values& x, std::vector<Matrix>* jacobians) const {
+  Vector e(1);
+  e(0) = x.at(keys()[0])(4) - clock_m_;
+  if (jacobians != nullptr) {
+    Matrix j = Matrix::Zero(1, ReceiverState::kDim);
+    j(0, 4) = 1.0;
+    (*jacobians)[0] = j;
+  }
+  return e;
+}
+
+}  // namespace ppp

@@ -1,0 +1,129 @@
+#include "ppp_bayes_tree/ppp/prefit_screening.h"
+
+#include <Eigen/Cholesky>
+#include <algorithm>
+#include <cmath>
+#include <set>
+#include <sstream>
+
+namespace ppp {
+namespace {
+
+std::string fmt(double v, int precision = 3) {
+  std::ostringstream os;
+  os.precision(precision);
+  os << std::fixed << v;
+  return os.str();
+}
+
+double median(std::vector<double> v) {
+  const std::size_t mid = v.size() / 2;
+  std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(mid), v.end());
+  if (v.size() % 2 == 1) return v[mid];
+  const double upper = v[mid];
+  return 0.5 * (upper + *std::max_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(mid)));
+}
+
+}  // namespace
+
+std::string measurementProblem(const SatelliteMeasurement& m) {
+  if (!std::isfinite(m.observed_code_m)) return "non-finite observed code";
+  if (!std::isfinite(m.observed_phase_m)) return "non-finite observed phase";
+  if (!std::isfinite(m.predicted_code_m)) return "non-finite predicted code";
+  if (!std::isfinite(m.predicted_phase_m)) return "non-finite predicted phase";
+  if (!m.jacobian.allFinite()) return "non-finite Jacobian";
+  if (!std::isfinite(m.code_sigma_m) || m.code_sigma_m <= 0.0) return "invalid code sigma " + fmt(m.code_sigma_m);
+  if (!std::isfinite(m.phase_sigma_m) || m.phase_sigma_m <= 0.0)
+    return "invalid phase sigma " + fmt(m.phase_sigma_m);
+  return {};
+}
+
+std::vector<SatelliteMeasurement> usableMeasurements(const std::vector<SatelliteMeasurement>& used,
+                                                     std::vector<RejectedSatellite>& rejected) {
+  std::vector<SatelliteMeasurement> out;
+  std::set<SatelliteId> seen;
+  for (const auto& m : used) {
+    if (!seen.insert(m.satellite).second) {
+      rejected.push_back({m.satellite, "duplicate measurement of the satellite in the epoch"});
+      continue;
+    }
+    if (auto problem = measurementProblem(m); !problem.empty()) {
+      rejected.push_back({m.satellite, problem});
+      continue;
+    }
+    out.push_back(m);
+  }
+  return out;
+}
+
+std::optional<double> medianCodeClockShift_m(const std::vector<SatelliteMeasurement>& ms) {
+  if (ms.empty()) return std::nullopt;
+  std::vector<double> code_residuals;
+  for (const auto& m : ms) code_residuals.push_back(m.codeResidual_m() / m.jacobian(4));
+  const double shift = median(code_residuals);
+  if (!std::isfinite(shift)) return std::nullopt;
+  return shift;
+}
+
+void applyClockShift(std::vector<SatelliteMeasurement>& ms, double shift_m) {
+  for (auto& m : ms) {
+    m.predicted_code_m += m.jacobian(4) * shift_m;
+    m.predicted_phase_m += m.jacobian(4) * shift_m;
+  }
+}
+
+std::vector<CodeOutlier> screenCodeOutliers(const std::vector<SatelliteMeasurement>& ms, double threshold_m) {
+  std::vector<CodeOutlier> rejected;
+  std::vector<std::size_t> active(ms.size());
+  for (std::size_t i = 0; i < ms.size(); ++i) active[i] = i;
+  while (active.size() > 4) {
+    const int n = static_cast<int>(active.size());
+    Eigen::MatrixXd A(n, 4);  // whitened design
+    Eigen::VectorXd b(n);     // whitened residuals
+    for (int k = 0; k < n; ++k) {
+      const auto& m = ms[active[k]];
+      A.row(k) << m.jacobian(0), m.jacobian(1), m.jacobian(2), m.jacobian(4);
+      A.row(k) /= m.code_sigma_m;
+      b(k) = m.codeResidual_m() / m.code_sigma_m;
+    }
+    Eigen::LDLT<Eigen::Matrix4d> ldlt(A.transpose() * A);
+    if (ldlt.info() != Eigen::Success || !ldlt.isPositive() || ldlt.rcond() < 1e-14) break;
+    const Eigen::VectorXd r = b - A * ldlt.solve(A.transpose() * b);
+    const Eigen::MatrixXd leverage = A * ldlt.solve(A.transpose());
+    int worst = -1;
+    double worst_w = 0.0;
+    for (int k = 0; k < n; ++k) {
+      const double one_minus_h = 1.0 - leverage(k, k);
+      if (one_minus_h < 1e-6) continue;  // not checkable: the others cannot predict it
+      const double w = std::abs(r(k)) / std::sqrt(one_minus_h);
+      if (w > worst_w) {
+        worst = k;
+        worst_w = w;
+      }
+    }
+    if (worst < 0) break;
+    const double worst_m = r(worst) / (1.0 - leverage(worst, worst)) * ms[active[worst]].code_sigma_m;
+    if (!(std::abs(worst_m) > threshold_m)) break;
+    rejected.push_back({active[worst], worst_m});
+    active.erase(active.begin() + worst);
+  }
+  return rejected;
+}
+
+std::string codeOutlierReason(const CodeOutlier& outlier, double threshold_m) {
+  return "prefit code residual " + fmt(outlier.residual_m) + " m (against a fit to the others) > " +
+         fmt(threshold_m) + " m";
+}
+
+std::optional<std::string> phaseInnovationRejection(const SatelliteMeasurement& m, double bias_m,
+                                                    double bias_variance_m2, double sigmas) {
+  const double innovation = m.phaseResidualWithoutBias_m() - bias_m - m.codeResidual_m();
+  const double sigma =
+      std::sqrt(bias_variance_m2 + m.code_sigma_m * m.code_sigma_m + m.phase_sigma_m * m.phase_sigma_m);
+  if (std::abs(innovation) > sigmas * sigma)
+    return "prefit phase-minus-code innovation " + fmt(innovation) + " m > " + fmt(sigmas, 1) + " sigma (" +
+           fmt(sigma) + " m)";
+  return std::nullopt;
+}
+
+}  // namespace ppp
