@@ -2,11 +2,16 @@
 // products (the pipeline of ppp/ppp_pipeline.h; outputs of ppp/ppp_solve_run.h).
 //
 // usage: ppp_solve --obs F --sp3 F... --clk F... --atx F... [--bia F] [--blq F]
-//                  [--config YAML] [--estimator ekf] [--truth X,Y,Z] [--name N] --out DIR
+//                  [--config YAML] [--estimator ekf|smoother|both] [--truth X,Y,Z] [--name N] --out DIR
 // Several files may follow --sp3, --clk and --atx (or the option may be repeated).
 // ANTEX files are searched in the order given: the first holding an antenna wins.
-// Writes DIR/<name>_ekf.csv, .pos (RTKLIB), _epochs.csv, _residuals.csv and
-// _summary.json; prints the statistics (with --truth) and the notes.
+// ekf writes DIR/<name>_ekf.csv, .pos (RTKLIB), _summary.json, _epochs.csv and
+// _residuals.csv; smoother writes the FILTERED and the SMOOTHED solutions as
+// <name>_smoother_filtered.* and <name>_smoother_smoothed.* (csv, pos, summary.json),
+// plus <name>_smoother_epochs.csv, _residuals.csv and _biases.csv, and prints the
+// per-epoch update time median and p99; both runs the EKF and the smoother (one
+// pipeline run each) and prints one table EKF | smoother filtered | smoother smoothed.
+// Prints the statistics (with --truth) and the notes (see ppp/ppp_solve_run.h).
 #include <unistd.h>
 
 #include <cstdio>
@@ -24,7 +29,7 @@ namespace {
 int usage(const std::string& why) {
   std::cerr << "ppp_solve: " << why << "\n"
             << "usage: ppp_solve --obs F --sp3 F... --clk F... --atx F... [--bia F] [--blq F]\n"
-            << "                 [--config YAML] [--estimator ekf] [--truth X,Y,Z] [--name N] --out DIR\n";
+            << "                 [--config YAML] [--estimator ekf|smoother|both] [--truth X,Y,Z] [--name N] --out DIR\n";
   return 2;
 }
 
@@ -86,7 +91,7 @@ int main(int argc, char** argv) {
     } else if (a == "--config") {
       if (!value(config_path)) return usage("--config needs a YAML file");
     } else if (a == "--estimator") {
-      if (!value(req.estimator)) return usage("--estimator needs ekf");
+      if (!value(req.estimator)) return usage("--estimator needs ekf, smoother or both");
     } else if (a == "--truth") {
       Eigen::Vector3d t;
       if (i + 1 >= argc || !parseTruth(argv[++i], t)) return usage("--truth needs X,Y,Z in metres (ECEF)");
@@ -102,9 +107,8 @@ int main(int argc, char** argv) {
       return usage("unknown option " + a);
     }
   }
-  if (req.estimator == "smoother" || req.estimator == "both")
-    return usage("--estimator " + req.estimator + " is not yet available (only ekf for now)");
-  if (req.estimator != "ekf") return usage("unknown --estimator '" + req.estimator + "' (expected ekf)");
+  if (req.estimator != "ekf" && req.estimator != "smoother" && req.estimator != "both")
+    return usage("unknown --estimator '" + req.estimator + "' (expected ekf, smoother or both)");
   if (req.files.obs.empty()) return usage("--obs is required");
   if (req.files.sp3.empty()) return usage("--sp3 is required");
   if (req.files.clk.empty()) return usage("--clk is required");
@@ -115,13 +119,31 @@ int main(int argc, char** argv) {
     if (!config_path.empty()) req.config = ppp::loadPppConfig(config_path);
     const bool tty = isatty(STDERR_FILENO) != 0;
     if (tty) req.on_epoch = drawProgress;
-    const ppp::PppSolveOutcome out = ppp::solvePpp(req);
+    const std::vector<ppp::PppSolveOutcome> runs = ppp::solvePppEstimators(req);
     if (tty) std::fprintf(stderr, "\n");
-    std::cout << ppp::formatRunReport(out.run);
-    if (out.statistics) std::cout << "\n" << ppp::formatStatisticsTable(*out.statistics, out.name + " " + out.run.estimator);
-    std::cout << "\nwritten: " << out.csv_path << "\n         " << out.pos_path << "\n         " << out.json_path
-              << "\n         " << out.epochs_path << "\n         " << out.residuals_path << "\n";
-    return out.run.epochs_solved > 0 ? 0 : 1;
+    std::vector<std::pair<std::string, ppp::PositionErrorStatistics>> columns;
+    bool solved = true;
+    for (const auto& out : runs) {
+      std::cout << "=== estimator " << out.run.estimator << " ===\n" << ppp::formatRunReport(out.run);
+      if (out.update_time) {
+        std::printf("smoother per epoch (%zu solved epochs): iSAM2 update median %.2f ms, p99 %.2f ms, max %.2f ms; "
+                    "estimator step median %.2f ms, p99 %.2f ms\n",
+                    out.update_time->count, out.update_time->median_s * 1e3, out.update_time->p99_s * 1e3,
+                    out.update_time->max_s * 1e3, out.epoch_time->median_s * 1e3, out.epoch_time->p99_s * 1e3);
+      }
+      for (const auto& o : out.outputs)
+        if (o.statistics) columns.emplace_back(o.label, *o.statistics);
+      std::cout << "written:";
+      for (const auto& o : out.outputs) std::cout << "\n  " << o.csv_path << "\n  " << o.pos_path << "\n  " << o.json_path;
+      std::cout << "\n  " << out.epochs_path << "\n  " << out.residuals_path;
+      if (!out.biases_path.empty()) std::cout << "\n  " << out.biases_path;
+      std::cout << "\n\n";
+      solved &= out.run.epochs_solved > 0;
+    }
+    if (columns.size() == 1) std::cout << ppp::formatStatisticsTable(columns[0].second, runs[0].name + " " + columns[0].first);
+    if (columns.size() > 1) std::cout << runs[0].name << ":\n" << ppp::formatStatisticsComparison(columns);
+    std::cout.flush();
+    return solved ? 0 : 1;
   } catch (const ppp::ConfigError& e) {
     std::cerr << "ppp_solve: configuration: " << e.what() << "\n";
   } catch (const ppp::ParseError& e) {

@@ -48,6 +48,14 @@
 
 namespace ppp {
 
+/// Filtered estimate of one arc's IF phase bias right after an update.
+struct ArcBiasEstimate {
+  ArcId arc = 0;
+  SatelliteId satellite;
+  double bias_m = 0.0;
+  double sigma_m = 0.0;  // sqrt of the marginal variance
+};
+
 /// Per-epoch result: the filtered solution and diagnostics.
 struct SmootherEpochResult {
   GnssTime time;
@@ -62,6 +70,7 @@ struct SmootherEpochResult {
   int new_biases = 0;
   int iterations = 0;                     // measurement-model evaluations
   std::vector<MeasurementResidual> residuals;  // same order as `used`; postfit at the filtered state
+  std::vector<ArcBiasEstimate> biases;         // filtered biases of the arcs observed this epoch (when Ok)
   // iSAM2 update diagnostics.
   std::size_t variables_relinearized = 0;
   std::size_t variables_reeliminated = 0;
@@ -108,6 +117,9 @@ class PppSmoother {
   std::vector<ArcId> activeArcs() const;
   /// Current (smoothed) estimate of an arc's bias while it is in the graph.
   std::optional<double> biasEstimate_m(ArcId arc) const;
+  /// Current (smoothed) estimate of any arc's bias still in the graph, active or
+  /// ended (full smoother: every arc; fixed lag: the arcs inside the window).
+  std::optional<double> biasEstimate_m(const SatelliteId& satellite, ArcId arc) const;
 
   /// The whole trajectory re-estimated with all data so far (fixed lag: states
   /// beyond the lag keep their estimate at the lag boundary).

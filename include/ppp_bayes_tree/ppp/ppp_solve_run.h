@@ -1,14 +1,29 @@
 #pragma once
-// One ppp_solve run: the pipeline with one estimator, written to a directory:
-//   <name>_<estimator>.csv            per-epoch solution (SolutionCsvWriter)
-//   <name>_<estimator>.pos            RTKLIB-compatible xyz .pos (RtklibPosWriter)
-//   <name>_<estimator>_epochs.csv     per-epoch diagnostics: status, reason, counts,
-//                                     rejected satellites with stage and reason
-//   <name>_<estimator>_residuals.csv  per epoch and used satellite: elevation,
-//                                     prefit/postfit code and phase residuals, sigmas
-//   <name>_<estimator>_summary.json   statistics (with a truth), run counts,
+// One ppp_solve run: the pipeline with one estimator, written to a directory.
+// Each SOLUTION of the run (the EKF's; the smoother's filtered and smoothed ones)
+// is written under its tag T ("ekf", "smoother_filtered", "smoother_smoothed"):
+//   <name>_<T>.csv                    per-epoch solution (SolutionCsvWriter)
+//   <name>_<T>.pos                    RTKLIB-compatible xyz .pos (RtklibPosWriter)
+//   <name>_<T>_summary.json           statistics (with a truth), run counts,
 //                                     rejection counts, per-satellite residual
-//                                     statistics, notes
+//                                     statistics, notes (smoother: update times)
+// and once per run, under the estimator's name E ("ekf", "smoother"):
+//   <name>_<E>_epochs.csv             per-epoch diagnostics: status, reason, counts,
+//                                     used satellites, rejected satellites with stage
+//                                     and reason; smoother: active and new biases,
+//                                     variables relinearized / re-eliminated, factors
+//                                     relinearized, cliques touched, update and epoch
+//                                     times [ms]
+//   <name>_<E>_residuals.csv          per epoch and used satellite: elevation,
+//                                     prefit/postfit code and phase residuals, sigmas
+//   <name>_smoother_biases.csv        (smoother) per epoch and observed arc: the
+//                                     FILTERED IF phase bias right after the update
+//                                     and its sigma, plus the arc's final SMOOTHED
+//                                     value: time_gpst,arc,sat,bias_m,sigma_m,smoothed_final_m
+// The smoother's filtered solution is the newest state right after each update
+// (causal); the smoothed one is the whole trajectory re-read from the final
+// estimate (all data), with its marginal covariances; epochs without a solution
+// stay without one in both.
 // The tool src/tools/ppp_solve.cpp only parses arguments and calls this; the
 // end-to-end test calls it too.
 #include <Eigen/Core>
@@ -34,22 +49,49 @@ struct PppSolveRequest {
   std::function<void(double fraction, const PppEpochRecord&)> on_epoch;
 };
 
+/// One written solution of a run.
+struct PppSolutionOutput {
+  std::string label;  // "ekf", "smoother filtered", "smoother smoothed"
+  std::string tag;    // file-name part: "ekf", "smoother_filtered", "smoother_smoothed"
+  std::vector<SolutionEpoch> solution;                // one per processed epoch
+  std::optional<PositionErrorStatistics> statistics;  // with a truth only
+  std::string csv_path, pos_path, json_path;
+};
+
+/// Median, p99 and max of per-epoch times [s] (nearest rank), count of epochs.
+struct TimingSummary {
+  std::size_t count = 0;
+  double median_s = 0.0, p99_s = 0.0, max_s = 0.0;
+};
+TimingSummary summarizeTimes(std::vector<double> times_s);
+
 struct PppSolveOutcome {
   std::string name;
   PppRunSummary run;
+  /// EKF: {ekf}; smoother: {smoother filtered, smoother smoothed}.
+  std::vector<PppSolutionOutput> outputs;
+  // The first output's solution, statistics and files (the causal solution).
   std::vector<SolutionEpoch> solution;
-  std::optional<PositionErrorStatistics> statistics;  // with a truth only
-  std::string csv_path, pos_path, epochs_path, residuals_path, json_path;
+  std::optional<PositionErrorStatistics> statistics;
+  std::string csv_path, pos_path, json_path;
+  std::string epochs_path, residuals_path;
+  std::string biases_path;  // smoother only
+  /// Smoother only: iSAM2 update time and whole estimator step of every solved epoch.
+  std::optional<TimingSummary> update_time, epoch_time;
 };
 
 /// Runs and writes. Throws std::invalid_argument (unknown or unavailable
-/// estimator), FileOpenError / ParseError (inputs), std::runtime_error (output
-/// directory not writable).
+/// estimator: "both" is run by solvePppEstimators), FileOpenError / ParseError
+/// (inputs), std::runtime_error (output directory not writable).
 PppSolveOutcome solvePpp(const PppSolveRequest& request);
+/// As solvePpp, with "both" = "ekf" then "smoother" (one pipeline run each).
+std::vector<PppSolveOutcome> solvePppEstimators(const PppSolveRequest& request);
 
 /// Readable report: notes, epoch counts, rejection counts, per-satellite residuals.
 std::string formatRunReport(const PppRunSummary& run);
-/// The summary JSON document (as written to <name>_<estimator>_summary.json).
+/// The summary JSON document of one output (as written to <name>_<tag>_summary.json).
+std::string runSummaryToJson(const PppSolveOutcome& outcome, const PppSolutionOutput& output);
+/// The same for the first output.
 std::string runSummaryToJson(const PppSolveOutcome& outcome);
 
 }  // namespace ppp

@@ -120,12 +120,14 @@ PositionErrorStatistics computePositionErrorStatistics(const std::vector<Solutio
 std::string formatStatisticsComparison(
     const std::vector<std::pair<std::string, PositionErrorStatistics>>& columns) {
   std::ostringstream os;
+  int width = 12;  // widened to the longest label ("smoother filtered")
+  for (const auto& c : columns) width = std::max(width, static_cast<int>(std::min<std::size_t>(c.first.size(), 40)));
   auto row = [&](const std::string& name, auto cell) {
-    char buf[64];
+    char buf[96];
     std::snprintf(buf, sizeof buf, "%-30s", name.c_str());
     os << buf;
     for (const auto& [label, st] : columns) {
-      std::snprintf(buf, sizeof buf, " %12s", cell(st).c_str());
+      std::snprintf(buf, sizeof buf, " %*s", width, cell(st).substr(0, 40).c_str());
       os << buf;
     }
     os << "\n";

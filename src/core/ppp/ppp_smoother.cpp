@@ -99,6 +99,13 @@ std::optional<double> PppSmoother::biasEstimate_m(ArcId arc) const {
   return isam2().calculateEstimate(it->second.key)(0);
 }
 
+std::optional<double> PppSmoother::biasEstimate_m(const SatelliteId& satellite, ArcId arc) const {
+  if (!initialised()) return std::nullopt;
+  const Key key = biasKey(satellite, arc);
+  if (!isam2().exists(key)) return std::nullopt;
+  return isam2().calculateEstimate(key)(0);
+}
+
 std::vector<SmoothedEpoch> PppSmoother::smoothedTrajectory(bool with_covariance) const {
   std::vector<SmoothedEpoch> out;
   out.reserve(states_.size());
@@ -310,6 +317,8 @@ SmootherEpochResult PppSmoother::processEpoch(const GnssTime& time, const Measur
     ArcSlot& slot = arcs.at(screened[k].arc);
     slot.filtered_m = isam.calculateEstimate(slot.key)(0);
     slot.filtered_variance_m2 = joint(kRx + static_cast<int>(k), kRx + static_cast<int>(k));
+    result.biases.push_back({screened[k].arc, slot.satellite, slot.filtered_m,
+                             std::sqrt(std::max(0.0, slot.filtered_variance_m2))});
   }
   arcs_ = std::move(arcs);
   bias_last_state_ = std::move(bias_last_state);

@@ -1,10 +1,12 @@
 #include "ppp_bayes_tree/ppp/ppp_solve_run.h"
 
+#include <algorithm>
 #include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <sstream>
 #include <stdexcept>
 
@@ -51,12 +53,78 @@ std::string fixed(double v, int decimals) {
   return buf;
 }
 
+/// Writes one solution as CSV and .pos.
+void writeSolutionFiles(const PppSolutionOutput& o, const std::optional<Eigen::Vector3d>& truth,
+                        const std::vector<std::string>& comments) {
+  std::ofstream csv = openOut(o.csv_path), pos = openOut(o.pos_path);
+  SolutionCsvWriter csv_writer(csv, truth);
+  PosWriterOptions pos_options;
+  pos_options.comment_lines = comments;
+  RtklibPosWriter pos_writer(pos, pos_options);
+  for (const auto& e : o.solution) {
+    csv_writer.write(e);
+    pos_writer.write(e);
+  }
+  csv.flush();
+  pos.flush();
+  if (!csv || !pos) throw std::runtime_error("write error in " + o.csv_path + " or " + o.pos_path);
+}
+
+/// The smoothed solution: the filtered epochs with the states re-read from the final estimate.
+std::vector<SolutionEpoch> smoothedSolution(const std::vector<SolutionEpoch>& filtered, const PppSmoother& smoother) {
+  std::map<GnssTime, SmoothedEpoch> by_time;
+  for (auto& e : smoother.smoothedTrajectory(true)) by_time.emplace(e.time, e);
+  std::vector<SolutionEpoch> out = filtered;
+  for (auto& e : out) {
+    if (!e.position_ecef_m) continue;
+    auto it = by_time.find(e.time);
+    if (it == by_time.end()) continue;  // cannot happen: every solved epoch has a state
+    const SmoothedEpoch& s = it->second;
+    e.position_ecef_m = s.state.position_ecef_m;
+    e.zwd_m = s.state.zwd_m;
+    e.receiver_clock_m = s.state.clock_m;
+    if (s.covariance) {
+      e.covariance_ecef_m2 = s.covariance->topLeftCorner<3, 3>();
+    } else {
+      e.covariance_ecef_m2.reset();  // fixed lag: marginalized states have no covariance
+    }
+  }
+  return out;
+}
+
+std::string csvText(std::string s) {
+  for (auto& c : s)
+    if (c == '"') c = '\'';
+  return "\"" + s + "\"";
+}
+
+struct BiasRow {
+  GnssTime time;
+  ArcBiasEstimate estimate;
+};
+
 }  // namespace
+
+TimingSummary summarizeTimes(std::vector<double> t) {
+  TimingSummary s;
+  s.count = t.size();
+  if (t.empty()) return s;
+  std::sort(t.begin(), t.end());
+  auto rank = [&](double p) {  // nearest rank
+    const auto k = static_cast<std::size_t>(std::ceil(p * static_cast<double>(t.size())));
+    return t[std::min(t.size() - 1, k == 0 ? 0 : k - 1)];
+  };
+  s.median_s = t.size() % 2 ? t[t.size() / 2] : 0.5 * (t[t.size() / 2 - 1] + t[t.size() / 2]);
+  s.p99_s = rank(0.99);
+  s.max_s = t.back();
+  return s;
+}
 
 PppSolveOutcome solvePpp(const PppSolveRequest& req) {
   std::string why;
   auto estimator = makeEstimator(req.estimator, req.config, &why);
   if (!estimator) throw std::invalid_argument(why);
+  const auto* smoother = dynamic_cast<const SmootherEstimator*>(estimator.get());
   std::error_code ec;
   std::filesystem::create_directories(req.out_dir, ec);
   if (!std::filesystem::is_directory(req.out_dir)) throw std::runtime_error("cannot create directory " + req.out_dir);
@@ -68,46 +136,70 @@ PppSolveOutcome solvePpp(const PppSolveRequest& req) {
     out.name = pipeline.stationName();
     for (auto& c : out.name) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
   }
-  const std::string stem = req.out_dir + "/" + out.name + "_" + estimator->name();
-  out.csv_path = stem + ".csv";
-  out.pos_path = stem + ".pos";
+  const std::string prefix = req.out_dir + "/" + out.name + "_";
+  const std::string stem = prefix + estimator->name();
+  auto addOutput = [&](const std::string& label, const std::string& tag) {
+    PppSolutionOutput o;
+    o.label = label;
+    o.tag = tag;
+    o.csv_path = prefix + tag + ".csv";
+    o.pos_path = prefix + tag + ".pos";
+    o.json_path = prefix + tag + "_summary.json";
+    out.outputs.push_back(std::move(o));
+  };
+  if (smoother) {
+    addOutput("smoother filtered", "smoother_filtered");
+    addOutput("smoother smoothed", "smoother_smoothed");
+    out.biases_path = stem + "_biases.csv";
+  } else {
+    addOutput(estimator->name(), estimator->name());
+  }
   out.epochs_path = stem + "_epochs.csv";
   out.residuals_path = stem + "_residuals.csv";
-  out.json_path = stem + "_summary.json";
 
-  std::ofstream csv = openOut(out.csv_path), pos = openOut(out.pos_path), epochs = openOut(out.epochs_path),
-                residuals = openOut(out.residuals_path);
-  SolutionCsvWriter csv_writer(csv, req.truth_ecef_m);
-  PosWriterOptions pos_options;
-  pos_options.comment_lines = {"ppp_solve estimator " + estimator->name() + ", obs " + req.files.obs,
-                               "kinematic PPP, ionosphere-free float, forward filter"};
-  RtklibPosWriter pos_writer(pos, pos_options);
-  epochs << "time_gpst,status,reason,observed,selected,used,rejected,new_arcs,slips,gap_s,events\n";
+  std::ofstream epochs = openOut(out.epochs_path), residuals = openOut(out.residuals_path);
+  epochs << "time_gpst,status,reason,observed,selected,used,rejected,new_arcs,slips,gap_s,used_sats";
+  if (smoother)
+    epochs << ",active_biases,new_biases,relinearized,reeliminated,factors_relinearized,cliques_touched,"
+              "update_ms,epoch_ms";
+  epochs << ",events\n";
   residuals << "time_gpst,sat,arc,new_arc,elevation_deg,azimuth_deg,code_prefit_m,phase_prefit_m,"
                "code_postfit_m,phase_postfit_m,code_sigma_m,phase_sigma_m\n";
 
+  std::vector<SolutionEpoch> causal;
+  std::vector<double> update_times, epoch_times;
+  std::vector<BiasRow> bias_rows;
   out.run = pipeline.run(*estimator, [&](const PppEpochRecord& rec) {
     const std::string t = isoTimeText(rec.solution.time, 1);
-    if (!rec.refused) {
-      out.solution.push_back(rec.solution);
-      csv_writer.write(rec.solution);
-      pos_writer.write(rec.solution);
-    }
+    if (!rec.refused) causal.push_back(rec.solution);
     std::string rej;
     for (const auto& r : rec.rejected) {
       if (!rej.empty()) rej += "; ";
       rej += r.satellite.toString() + " " + r.stage + ": " + r.reason;
     }
     for (const auto& e : rec.arc_events) rej += (rej.empty() ? "" : "; ") + e;
-    for (auto& c : rej)
-      if (c == '"') c = '\'';
+    std::string used;
+    for (const auto& s : rec.used) used += (used.empty() ? "" : " ") + s.toString();
     const std::string status = rec.refused ? "refused" : toString(rec.status);
-    std::string reason = rec.reason;
-    for (auto& c : reason)
-      if (c == '"') c = '\'';
-    epochs << t << ',' << status << ",\"" << reason << "\"," << rec.satellites_observed << ','
+    epochs << t << ',' << status << ',' << csvText(rec.reason) << ',' << rec.satellites_observed << ','
            << rec.satellites_selected << ',' << rec.used.size() << ',' << rec.rejected.size() << ',' << rec.new_arcs
-           << ',' << rec.slips << ',' << (rec.gap_s ? fixed(*rec.gap_s, 1) : "") << ",\"" << rej << "\"\n";
+           << ',' << rec.slips << ',' << (rec.gap_s ? fixed(*rec.gap_s, 1) : "") << ',' << used;
+    if (smoother) {
+      const SmootherEpochResult& r = smoother->lastResult();
+      if (!rec.refused && r.time == rec.solution.time) {
+        epochs << ',' << r.active_biases << ',' << r.new_biases << ',' << r.variables_relinearized << ','
+               << r.variables_reeliminated << ',' << r.factors_relinearized << ',' << r.cliques_touched << ','
+               << fixed(r.update_time_s * 1e3, 3) << ',' << fixed(r.epoch_time_s * 1e3, 3);
+        if (r.status == EpochStatus::Ok) {
+          update_times.push_back(r.update_time_s);
+          epoch_times.push_back(r.epoch_time_s);
+          for (const auto& b : r.biases) bias_rows.push_back({r.time, b});
+        }
+      } else {
+        epochs << ",,,,,,,,";
+      }
+    }
+    epochs << ',' << csvText(rej) << '\n';
     for (const auto& r : rec.residuals) {
       residuals << t << ',' << r.satellite.toString() << ',' << r.arc << ',' << (r.new_arc ? 1 : 0) << ','
                 << fixed(r.elevation_rad * kRadToDeg, 2) << ',' << fixed(r.azimuth_rad * kRadToDeg, 2) << ','
@@ -117,24 +209,82 @@ PppSolveOutcome solvePpp(const PppSolveRequest& req) {
     }
     if (req.on_epoch) req.on_epoch(pipeline.progress(), rec);
   });
-  for (auto* f : {&csv, &pos, &epochs, &residuals}) {
+  for (auto* f : {&epochs, &residuals}) {
     f->flush();
     if (!*f) throw std::runtime_error("write error in " + req.out_dir);
   }
-  if (req.truth_ecef_m) out.statistics = computePositionErrorStatistics(out.solution, *req.truth_ecef_m);
-  std::ofstream json = openOut(out.json_path);
-  json << runSummaryToJson(out);
-  if (!json) throw std::runtime_error("cannot write " + out.json_path);
+
+  const std::string source = "ppp_solve estimator " + estimator->name() + ", obs " + req.files.obs;
+  out.outputs[0].solution = std::move(causal);
+  writeSolutionFiles(out.outputs[0], req.truth_ecef_m,
+                     {source, "kinematic PPP, ionosphere-free float, " +
+                                  std::string(smoother ? "smoother FILTERED (newest state after each update)"
+                                                       : "forward filter")});
+  if (smoother) {
+    out.outputs[1].solution = smoothedSolution(out.outputs[0].solution, smoother->smoother());
+    writeSolutionFiles(out.outputs[1], req.truth_ecef_m,
+                       {source, "kinematic PPP, ionosphere-free float, smoother SMOOTHED (final estimate, all data)"});
+    out.update_time = summarizeTimes(update_times);
+    out.epoch_time = summarizeTimes(epoch_times);
+    // Biases: filtered per epoch, with each arc's final smoothed value.
+    std::ofstream biases = openOut(out.biases_path);
+    biases << "time_gpst,arc,sat,bias_m,sigma_m,smoothed_final_m\n";
+    std::map<ArcId, std::optional<double>> final_m;
+    for (const auto& row : bias_rows) {
+      auto it = final_m.find(row.estimate.arc);
+      if (it == final_m.end())
+        it = final_m.emplace(row.estimate.arc, smoother->smoother().biasEstimate_m(row.estimate.satellite,
+                                                                                   row.estimate.arc)).first;
+      biases << isoTimeText(row.time, 1) << ',' << row.estimate.arc << ',' << row.estimate.satellite.toString()
+             << ',' << fixed(row.estimate.bias_m, 4) << ',' << fixed(row.estimate.sigma_m, 4) << ','
+             << (it->second ? fixed(*it->second, 4) : "") << '\n';
+    }
+    biases.flush();
+    if (!biases) throw std::runtime_error("cannot write " + out.biases_path);
+  }
+  for (auto& o : out.outputs) {
+    if (req.truth_ecef_m) o.statistics = computePositionErrorStatistics(o.solution, *req.truth_ecef_m);
+    std::ofstream json = openOut(o.json_path);
+    json << runSummaryToJson(out, o);
+    if (!json) throw std::runtime_error("cannot write " + o.json_path);
+  }
+  out.solution = out.outputs[0].solution;
+  out.statistics = out.outputs[0].statistics;
+  out.csv_path = out.outputs[0].csv_path;
+  out.pos_path = out.outputs[0].pos_path;
+  out.json_path = out.outputs[0].json_path;
+  return out;
+}
+
+std::vector<PppSolveOutcome> solvePppEstimators(const PppSolveRequest& req) {
+  if (req.estimator != "both") return {solvePpp(req)};
+  std::vector<PppSolveOutcome> out;
+  for (const char* e : {"ekf", "smoother"}) {
+    PppSolveRequest r = req;
+    r.estimator = e;
+    out.push_back(solvePpp(r));
+  }
   return out;
 }
 
 std::string runSummaryToJson(const PppSolveOutcome& o) {
+  if (o.outputs.empty()) {
+    PppSolutionOutput only;
+    only.label = o.run.estimator;
+    only.statistics = o.statistics;
+    return runSummaryToJson(o, only);
+  }
+  return runSummaryToJson(o, o.outputs.front());
+}
+
+std::string runSummaryToJson(const PppSolveOutcome& o, const PppSolutionOutput& output) {
   const PppRunSummary& r = o.run;
   std::ostringstream os;
-  os << "{\n  \"name\": " << jsonText(o.name) << ",\n  \"estimator\": " << jsonText(r.estimator) << ",\n";
+  os << "{\n  \"name\": " << jsonText(o.name) << ",\n  \"estimator\": " << jsonText(r.estimator)
+     << ",\n  \"solution\": " << jsonText(output.label) << ",\n";
   os << "  \"statistics\": ";
-  if (o.statistics) {
-    std::string s = statisticsToJson(*o.statistics, r.estimator);
+  if (output.statistics) {
+    std::string s = statisticsToJson(*output.statistics, output.label);
     while (!s.empty() && (s.back() == '\n' || s.back() == ' ')) s.pop_back();
     os << s;
   } else {
@@ -145,6 +295,11 @@ std::string runSummaryToJson(const PppSolveOutcome& o) {
      << ", \"refused\": " << r.epochs_refused << ", \"data_gaps\": " << r.data_gaps << "},\n";
   os << "  \"arcs\": " << r.arcs << ",\n  \"slips\": " << r.slips << ",\n";
   os << "  \"processing_time_s\": " << jsonNum(r.processing_time_s) << ",\n";
+  for (const auto& [key, t] : {std::make_pair("update_time", o.update_time), std::make_pair("epoch_time", o.epoch_time)}) {
+    if (!t) continue;
+    os << "  \"" << key << "_ms\": {\"epochs\": " << t->count << ", \"median\": " << jsonNum(t->median_s * 1e3)
+       << ", \"p99\": " << jsonNum(t->p99_s * 1e3) << ", \"max\": " << jsonNum(t->max_s * 1e3) << "},\n";
+  }
   os << "  \"rejections\": {";
   bool first = true;
   for (const auto& [k, n] : r.rejection_counts) {
