@@ -2,7 +2,7 @@
 """Figures from ppp_solve output (Debian python3-matplotlib).
 
 usage: plot_solutions.py --out DIR [--title T] [--window-min 15] LABEL=FILE.csv [LABEL=FILE.csv ...]
-                         [--biases LABEL=FILE_biases.csv ...]
+                         [--biases LABEL=FILE_biases.csv ...] [--arcs 4]
 
 Each FILE.csv is a per-epoch solution CSV written by ppp_solve with --truth
 (columns time_gpst, err3d_m, ...). Writes:
@@ -10,8 +10,12 @@ Each FILE.csv is a per-epoch solution CSV written by ppp_solve with --truth
   DIR/cdf.png             CDF of the 3D error, all epochs and the first WINDOW minutes
   DIR/biases.png          phase-bias estimates versus time for a few arcs (when
                           --biases files with columns time_gpst,arc,sat,bias_m are given),
-                          against the last (smoothed) value of each arc
-Prints the numbers behind each figure (percentiles of the 3D error).
+                          minus each arc's final smoothed value (column smoothed_final_m
+                          when present, as ppp_solve's <name>_smoother_biases.csv has;
+                          else the arc's last value)
+Prints the numbers behind each figure: percentiles of the 3D error, and per plotted
+arc the first, last and final smoothed value and the time after which the filtered
+bias stays within 5 cm of the final smoothed value.
 """
 import argparse
 import csv
@@ -76,6 +80,7 @@ def main():
     ap.add_argument("--title", default="")
     ap.add_argument("--window-min", type=float, default=15.0)
     ap.add_argument("--biases", nargs="*", default=[])
+    ap.add_argument("--arcs", type=int, default=4, help="arcs to plot (the longest)")
     ap.add_argument("solutions", nargs="+")
     args = ap.parse_args()
     os.makedirs(args.out, exist_ok=True)
@@ -84,8 +89,10 @@ def main():
     start = min(t[0] for _, t, _ in series)
 
     fig, ax = plt.subplots(figsize=(9, 4.5))
-    for label, times, errors in series:
-        ax.plot([(t - start).total_seconds() / 60 for t in times], [e * 100 for e in errors], label=label)
+    for k, (label, times, errors) in enumerate(series):
+        # Wider, paler lines first so that identical series (EKF and smoother filtered) both stay visible.
+        ax.plot([(t - start).total_seconds() / 60 for t in times], [e * 100 for e in errors], label=label,
+                lw=max(1.2, 3.5 - 1.2 * k), alpha=0.6 if k < len(series) - 1 else 1.0)
     ax.axhline(10, color="grey", lw=0.8, ls="--")
     ax.set_xlabel("time since start [min]")
     ax.set_ylabel("3D error (RSOS) [cm]")
@@ -98,11 +105,11 @@ def main():
 
     fig, axes = plt.subplots(1, 2, figsize=(10, 4.2), sharey=True)
     print(f"{'estimator':24s} {'window':>8s} {'p50 cm':>8s} {'p68 cm':>8s} {'p95 cm':>8s} {'max cm':>8s}")
-    for label, times, errors in series:
+    for k, (label, times, errors) in enumerate(series):
         first = [e for t, e in zip(times, errors) if (t - start).total_seconds() <= args.window_min * 60]
         for ax, values, name in ((axes[0], errors, "all"), (axes[1], first, f"{args.window_min:g} min")):
             xs, ys = cdf_points([v * 100 for v in values])
-            ax.plot(xs, ys, label=label)
+            ax.plot(xs, ys, label=label, lw=max(1.2, 3.5 - 1.2 * k), alpha=0.6 if k < len(series) - 1 else 1.0)
             print(f"{label:24s} {name:>8s} {percentile(values, 50)*100:8.2f} {percentile(values, 68)*100:8.2f} "
                   f"{percentile(values, 95)*100:8.2f} {max(values)*100:8.2f}")
     axes[0].set_title("CDF of the 3D error, all epochs")
@@ -118,19 +125,38 @@ def main():
 
     if args.biases:
         fig, ax = plt.subplots(figsize=(9, 4.5))
+        print(f"{'biases':24s} {'arc':>8s} {'epochs':>7s} {'first-final cm':>15s} {'last-final cm':>14s} "
+              f"{'within 5 cm after min':>22s}")
         for label, path in labelled(args.biases):
             arcs = {}
+            finals = {}
             with open(path, newline="") as f:
-                for row in csv.DictReader(f):
-                    arcs.setdefault((row["sat"], row["arc"]), []).append(
-                        (parse_time(row["time_gpst"]), float(row["bias_m"])))
-            for (sat, arc), values in sorted(arcs.items(), key=lambda kv: -len(kv[1]))[:4]:
-                final = values[-1][1]
-                ax.plot([(t - start).total_seconds() / 60 for t, _ in values], [(b - final) * 100 for _, b in values],
-                        label=f"{label} {sat} arc {arc}")
+                reader = csv.DictReader(f)
+                missing = {"time_gpst", "arc", "sat", "bias_m"} - set(reader.fieldnames or [])
+                if missing:
+                    sys.exit(f"{path}: missing columns {sorted(missing)}")
+                for row in reader:
+                    key = (row["sat"], row["arc"])
+                    arcs.setdefault(key, []).append((parse_time(row["time_gpst"]), float(row["bias_m"])))
+                    if row.get("smoothed_final_m"):
+                        finals[key] = float(row["smoothed_final_m"])
+            for (sat, arc), values in sorted(arcs.items(), key=lambda kv: -len(kv[1]))[:args.arcs]:
+                final = finals.get((sat, arc), values[-1][1])
+                minutes = [(t - start).total_seconds() / 60 for t, _ in values]
+                diffs = [(b - final) * 100 for _, b in values]
+                ax.plot(minutes, diffs, label=f"{label} {sat} arc {arc}")
+                settled = None
+                for k in range(len(diffs)):
+                    if all(abs(d) < 5.0 for d in diffs[k:]):
+                        settled = minutes[k] - minutes[0]
+                        break
+                print(f"{label:24s} {sat + ' ' + arc:>8s} {len(values):7d} {diffs[0]:15.1f} {diffs[-1]:14.1f} "
+                      f"{('%.1f' % settled) if settled is not None else 'never':>22s}")
+        ax.axhline(0, color="grey", lw=0.8)
         ax.set_xlabel("time since start [min]")
-        ax.set_ylabel("bias minus its final value [cm]")
-        ax.set_title("IF phase-bias estimates against their final values")
+        ax.set_ylabel("filtered bias minus final smoothed value [cm]")
+        ax.set_yscale("symlog", linthresh=5)
+        ax.set_title("IF phase-bias estimates against their final smoothed values")
         ax.grid(True, alpha=0.3)
         ax.legend(fontsize=7)
         fig.tight_layout()

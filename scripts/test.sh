@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Installs what is missing, builds, and runs every test: the gtest units through
 # catkin (and rostests as they come), then a short libFuzzer smoke run of every
-# reader. Closes with "N passed, N failed, N skipped"; exits non-zero on any failure.
+# reader, then the script tests (scripts/test_plot_solutions.sh). Closes with "N passed, N failed, N skipped"; exits non-zero on any failure.
 set -uo pipefail
 source "$(dirname "${BASH_SOURCE[0]}")/common.sh"
 
@@ -33,6 +33,9 @@ fi
 
 echo "=== fuzz smoke (libFuzzer over seed corpora and malformed fixtures) ==="
 "$REPO_DIR/scripts/fuzz_smoke.sh" "$EXTRA"
+
+echo "=== script tests ==="
+"$REPO_DIR/scripts/test_plot_solutions.sh" "$EXTRA"
 
 echo "=== summary ==="
 /usr/bin/python3 "$REPO_DIR/scripts/summarize_tests.py" "$RESULTS" "$EXTRA"
