@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Installs what is missing, builds, and runs every test: the gtest units through
 # catkin (and rostests as they come), then a short libFuzzer smoke run of every
-# reader, then the script tests (scripts/test_plot_solutions.sh). Closes with "N passed, N failed, N skipped"; exits non-zero on any failure.
+# reader, then the script tests (scripts/test_plot_solutions.sh).
+# Closes with "N passed, N failed, N skipped"; exits non-zero on any failure.
 set -uo pipefail
 source "$(dirname "${BASH_SOURCE[0]}")/common.sh"
 
