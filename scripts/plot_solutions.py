@@ -106,7 +106,7 @@ def main():
     fig, axes = plt.subplots(1, 2, figsize=(10, 4.2), sharey=True)
     print(f"{'estimator':24s} {'window':>8s} {'p50 cm':>8s} {'p68 cm':>8s} {'p95 cm':>8s} {'max cm':>8s}")
     for k, (label, times, errors) in enumerate(series):
-        first = [e for t, e in zip(times, errors) if (t - start).total_seconds() <= args.window_min * 60]
+        first = [e for t, e in zip(times, errors) if (t - start).total_seconds() < args.window_min * 60]  # as position_error_statistics.h
         for ax, values, name in ((axes[0], errors, "all"), (axes[1], first, f"{args.window_min:g} min")):
             xs, ys = cdf_points([v * 100 for v in values])
             ax.plot(xs, ys, label=label, lw=max(1.2, 3.5 - 1.2 * k), alpha=0.6 if k < len(series) - 1 else 1.0)
