@@ -104,6 +104,10 @@ int main(int argc, char** argv) {
     else if (a == "--config") config_path = v;
     else if (a == "--sim-config") sim_config_path = v;
     else if (a == "--profiles") profiles = v;
+    else if (a == "--smoother-lag") {
+      if (!parseNumber(v, x) || x < 0.0) return usage("--smoother-lag must be >= 0 s");
+      options.smoother_filtered_lag_s = x;
+    }
     else if (a == "--flights") {
       if (!parseNumber(v, x) || x < 1 || x > 100000 || x != static_cast<int>(x)) return usage("--flights must be 1..100000");
       options.flights = static_cast<int>(x);

@@ -74,6 +74,12 @@ struct MonteCarloOptions {
   /// and origin are set per flight.
   SimulationConfig simulation;
   PppConfig ppp;  // both estimators
+  /// 0: one full iSAM2 smoother gives the filtered (during the run) and the
+  /// smoothed solution (smoothedTrajectory() at the end). > 0: the filtered
+  /// solution comes from the fixed-lag smoother with this lag (bounded cost per
+  /// epoch) and the smoothed solution from the batch solve of ALL its factors
+  /// (PppSmoother::batchSmoothedValues: the full smoother's MAP estimate).
+  double smoother_filtered_lag_s = 0.0;
   bool randomize_start = true;
   bool randomize_origin = true;
   double first_window_s = 900.0;  // "first 15 minutes"
@@ -109,6 +115,8 @@ struct MonteCarloFlightRun {
   /// Per estimator and epoch: 3D error [m], NaN when that epoch has no solution.
   std::array<std::vector<double>, kMonteCarloEstimators> error_3d_m;
   std::array<std::vector<BiasErrorSample>, kMonteCarloEstimators> bias;
+  /// Per epoch |x_EKF - x_smoother filtered| [m], NaN unless both have a solution.
+  std::vector<double> filtered_minus_ekf_m;
   std::size_t bias_arcs_compared = 0;      // estimator arcs with samples (smoother run)
   std::size_t bias_arcs_missed_slip = 0;   // ran into another simulated arc (compared up to it)
   double simulate_s = 0.0, ekf_s = 0.0, smoother_s = 0.0;  // wall times
@@ -145,6 +153,9 @@ struct MonteCarloSummary {
   /// Bias error versus arc age [m].
   std::array<std::vector<QuantileBin>, kMonteCarloEstimators> bias_vs_age;
   std::size_t bias_arcs_compared = 0, bias_arcs_missed_slip = 0;
+  /// |x_EKF - x_smoother filtered| over all epochs, and versus time since the start [m].
+  ErrorSummary filtered_minus_ekf;
+  std::vector<QuantileBin> filtered_minus_ekf_vs_time;
   /// Error quantiles for the CDF figures: cdf_levels[j] -> 3D error [m].
   std::vector<double> cdf_levels;
   std::array<std::vector<double>, kMonteCarloEstimators> cdf_all_m, cdf_first_window_m;

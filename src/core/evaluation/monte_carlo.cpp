@@ -229,10 +229,12 @@ MonteCarloFlightRun runMonteCarloFlight(const MonteCarloOptions& options, int in
     run.time_s.resize(f.epochs.size());
     for (std::size_t k = 0; k < f.epochs.size(); ++k) run.time_s[k] = f.epochs[k].time - f.epochs.front().time;
     for (auto& e : run.error_3d_m) e.assign(f.epochs.size(), kNaN);
+    run.filtered_minus_ekf_m.assign(f.epochs.size(), kNaN);
     const PppConfig config = flightPppConfig(options, f);
 
     // EKF.
     t0 = Clock::now();
+    std::vector<std::optional<Eigen::Vector3d>> ekf_positions(f.epochs.size());
     {
       PppPipeline pipeline(memoryInputs(f, index), config);
       EkfEstimator ekf(config);
@@ -240,6 +242,7 @@ MonteCarloFlightRun runMonteCarloFlight(const MonteCarloOptions& options, int in
       std::size_t k = 0;
       pipeline.run(ekf, [&](const PppEpochRecord& rec) {
         run.error_3d_m[0][k] = error3d(f, k, rec.solution.position_ecef_m);
+        ekf_positions[k] = rec.solution.position_ecef_m;
         sampler.epoch(k, rec, [&](ArcId a) { return ekf.filter().biasEstimate_m(a); }, run.bias[0]);
         ++k;
       });
@@ -249,22 +252,37 @@ MonteCarloFlightRun runMonteCarloFlight(const MonteCarloOptions& options, int in
     // Smoother: filtered during the run, smoothed after it.
     t0 = Clock::now();
     {
-      PppPipeline pipeline(memoryInputs(f, index), config);
-      SmootherEstimator sm(config);
+      PppConfig smoother_config = config;
+      const bool lag = options.smoother_filtered_lag_s > 0.0;
+      if (lag) smoother_config.smoother.fixed_lag_s = options.smoother_filtered_lag_s;
+      PppPipeline pipeline(memoryInputs(f, index), smoother_config);
+      SmootherEstimator sm(smoother_config);
+      sm.smoother().setRecordGraph(lag);
       BiasSampler sampler(f, options.bias_bin_s);
       std::size_t k = 0;
       const PppRunSummary summary = pipeline.run(sm, [&](const PppEpochRecord& rec) {
         run.error_3d_m[1][k] = error3d(f, k, rec.solution.position_ecef_m);
+        if (rec.solution.position_ecef_m && ekf_positions[k])
+          run.filtered_minus_ekf_m[k] = (*rec.solution.position_ecef_m - *ekf_positions[k]).norm();
         sampler.epoch(k, rec, [&](ArcId a) { return sm.smoother().biasEstimate_m(a); }, run.bias[1]);
         ++k;
       });
       run.estimator_arcs = summary.arcs;
       run.slips_detected = summary.slips;
-      // Smoothed positions: epoch index from the time (states only for solved epochs).
-      const double rate = options.rate_hz;
-      for (const auto& s : sm.smoother().smoothedTrajectory()) {
+      // Smoothed states and biases: the full smoother's estimate after the last epoch.
+      smoother::Values batch;
+      if (lag) batch = sm.smoother().batchSmoothedValues();
+      const smoother::ISAM2& isam = sm.smoother().isam2();
+      auto smoothedValue = [&](smoother::Key key) -> std::optional<smoother::Vector> {
+        if (lag) return batch.exists(key) ? std::optional<smoother::Vector>(batch.at(key)) : std::nullopt;
+        return isam.exists(key) ? std::optional<smoother::Vector>(isam.calculateEstimate(key)) : std::nullopt;
+      };
+      const std::vector<SmoothedEpoch> trajectory =
+          lag ? sm.smoother().trajectoryFrom(batch) : sm.smoother().smoothedTrajectory();
+      // Epoch index from the time (states only for solved epochs).
+      for (const auto& s : trajectory) {
         const double dt = s.time - f.epochs.front().time;
-        std::size_t k2 = static_cast<std::size_t>(std::max(0.0, std::round(dt * rate)));
+        std::size_t k2 = static_cast<std::size_t>(std::max(0.0, std::round(dt * options.rate_hz)));
         if (k2 >= f.epochs.size() || !(f.epochs[k2].time == s.time)) {
           k2 = f.epochs.size();
           for (std::size_t j = 0; j < f.epochs.size(); ++j)
@@ -273,15 +291,13 @@ MonteCarloFlightRun runMonteCarloFlight(const MonteCarloOptions& options, int in
         }
         run.error_3d_m[2][k2] = error3d(f, k2, s.state.position_ecef_m);
       }
-      // Smoothed biases: the final estimate of each arc at the ages sampled above.
-      const smoother::ISAM2& isam = sm.smoother().isam2();
       for (const auto& [arc, a] : sampler.arcs()) {
         if (a.simulated_arc == 0 || a.ages.empty()) continue;
         ++run.bias_arcs_compared;
         if (a.missed_slip) ++run.bias_arcs_missed_slip;
-        const smoother::Key key = biasKey(a.satellite, arc);
-        if (!isam.exists(key)) continue;
-        const double err = isam.calculateEstimate(key)(0) - a.truth_m;
+        const std::optional<smoother::Vector> b = smoothedValue(biasKey(a.satellite, arc));
+        if (!b) continue;
+        const double err = (*b)(0) - a.truth_m;
         for (float age : a.ages) run.bias[2].push_back({age, static_cast<float>(err)});
       }
     }
@@ -320,6 +336,18 @@ MonteCarloSummary summarizeMonteCarlo(const std::vector<MonteCarloFlightRun>& fl
   std::sort(means.begin(), means.end());
   if (!means.empty()) s.representative = means[(means.size() - 1) / 2].second;
 
+  {
+    std::vector<double> all;
+    std::vector<std::pair<double, double>> vs_time;
+    for (const auto* f : ok)
+      for (std::size_t k = 0; k < f->filtered_minus_ekf_m.size(); ++k)
+        if (std::isfinite(f->filtered_minus_ekf_m[k])) {
+          all.push_back(f->filtered_minus_ekf_m[k]);
+          vs_time.push_back({f->time_s[k], f->filtered_minus_ekf_m[k]});
+        }
+    s.filtered_minus_ekf = summarizeErrors(std::move(all));
+    s.filtered_minus_ekf_vs_time = binQuantiles(vs_time, options.time_bin_s);
+  }
   for (int e = 0; e < kMonteCarloEstimators; ++e) {
     const auto ei = static_cast<std::size_t>(e);
     std::vector<double> all, first;

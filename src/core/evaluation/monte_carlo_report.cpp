@@ -157,6 +157,9 @@ std::string monteCarloMarkdown(const MonteCarloResult& r) {
     }
     if (any) md << row << '\n';
   }
+  md << "\n## Smoother filtered vs EKF: |x_EKF - x_filtered| over all epochs (same models and noise)\n\n"
+     << "median " << cm(s.filtered_minus_ekf.median_m) << " cm, mean " << cm(s.filtered_minus_ekf.mean_m)
+     << " cm, max " << cm(s.filtered_minus_ekf.max_m) << " cm over " << s.filtered_minus_ekf.count << " epochs.\n";
   md << "\nEpochs without a solution:";
   for (int e = 0; e < kMonteCarloEstimators; ++e)
     md << ' ' << monteCarloEstimatorLabel(e) << ' ' << s.epochs_without_solution[static_cast<std::size_t>(e)]
@@ -193,6 +196,7 @@ std::string monteCarloJson(const MonteCarloResult& r) {
   tables("all_epochs", s.all);
   tables("first_window", s.first_window);
   tables("representative", s.representative_flight);
+  j << ",\n  \"filtered_minus_ekf\": " << jsonSummary(s.filtered_minus_ekf);
   j << ",\n  \"convergence_thresholds_m\": " << jsonArray(o.convergence_thresholds_m) << ",\n  \"convergence\": {";
   for (int e = 0; e < kMonteCarloEstimators; ++e) {
     const auto ei = static_cast<std::size_t>(e);
@@ -275,6 +279,11 @@ void writeMonteCarloOutputs(const MonteCarloResult& r, const std::string& dir) {
   writeFile(d / "representative_flight.csv", rep.str());
   writeFile(d / "error_vs_time.csv", quantileCsv(s.error_vs_time, "time_s"));
   writeFile(d / "bias_convergence.csv", quantileCsv(s.bias_vs_age, "age_s"));
+  std::ostringstream diff;
+  diff << "time_s,count,p50_m,p95_m,p90_m\n";
+  for (const auto& b : s.filtered_minus_ekf_vs_time)
+    diff << num(b.t_s) << ',' << b.count << ',' << num(b.p50) << ',' << num(b.p95) << ',' << num(b.abs_p90) << '\n';
+  writeFile(d / "filtered_minus_ekf.csv", diff.str());
 
   std::ostringstream cdf;
   cdf << "fraction";
