@@ -25,6 +25,9 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
+# The EKF and the smoother's filtered solution nearly coincide: the EKF is drawn
+# thick and pale underneath so that both stay visible.
+STYLE = {"ekf": dict(lw=3.0, alpha=0.45, zorder=1)}
 ESTIMATORS = [("ekf", "EKF", "tab:red"),
               ("smoother_filtered", "smoother filtered", "tab:blue"),
               ("smoother_smoothed", "smoother smoothed", "tab:green")]
@@ -54,7 +57,7 @@ def plot_cdf(d, summary, figdir):
                               (axes[1], "first_window_m", f"first {window_min:g} min")):
         for key, label, color in ESTIMATORS:
             err = column(rows, f"{key}_{suffix}", 100.0)
-            ax.plot(err, frac, color=color, label=label)
+            ax.plot(err, frac, color=color, label=label, **STYLE.get(key, {}))
         ax.set_xscale("log")
         ax.set_xlabel("3D error [cm]")
         ax.set_title(f"CDF of the 3D error, {title}")
@@ -75,7 +78,8 @@ def plot_representative(d, summary, figdir):
     t = column(rows, "time_s", 1 / 60.0)
     fig, ax = plt.subplots(figsize=(10, 4.2))
     for key, label, color in ESTIMATORS:
-        ax.plot(t, column(rows, f"{key}_3d_m", 100.0), color=color, label=label, lw=1)
+        ax.plot(t, column(rows, f"{key}_3d_m", 100.0), color=color, label=label,
+                **STYLE.get(key, dict(lw=1, zorder=2)))
     ax.set_yscale("log")
     ax.set_xlabel("time since the flight start [min]")
     ax.set_ylabel("3D error [cm]")
@@ -95,7 +99,7 @@ def plot_bands(path, t_name, figfile, xlabel, ylabel, title, scale, signed, log)
     ax = axes[0] if signed else axes
     for key, label, color in ESTIMATORS:
         p50 = column(rows, f"{key}_p50_m", scale)
-        ax.plot(t, p50, color=color, label=f"{label} median")
+        ax.plot(t, p50, color=color, label=f"{label} median", **STYLE.get(key, {}))
         ax.fill_between(t, column(rows, f"{key}_p05_m", scale), column(rows, f"{key}_p95_m", scale),
                         color=color, alpha=0.15, label=f"{label} 5-95 %")
     if log:
@@ -109,7 +113,8 @@ def plot_bands(path, t_name, figfile, xlabel, ylabel, title, scale, signed, log)
         ax.axhline(0.0, color="k", lw=0.5)
         ax2 = axes[1]
         for key, label, color in ESTIMATORS:
-            ax2.plot(t, column(rows, f"{key}_abs_p50_m", scale), color=color, label=f"{label} median")
+            ax2.plot(t, column(rows, f"{key}_abs_p50_m", scale), color=color, label=f"{label} median",
+                     **STYLE.get(key, {}))
             ax2.plot(t, column(rows, f"{key}_abs_p90_m", scale), color=color, ls="--", label=f"{label} 90 %")
         ax2.set_yscale("log")
         ax2.set_xlabel(xlabel)
@@ -132,7 +137,8 @@ def plot_difference(d, path, summary, figdir):
     fig, axes = plt.subplots(1, 2, figsize=(12, 4.4))
     ax = axes[0]
     for key, label, color in ESTIMATORS[:2]:
-        ax.plot(te, column(ev, f"{key}_p50_m", 100.0), color=color, label=f"{label} median 3D error")
+        ax.plot(te, column(ev, f"{key}_p50_m", 100.0), color=color, label=f"{label} median 3D error",
+                **STYLE.get(key, {}))
         ax.plot(te, column(ev, f"{key}_p95_m", 100.0), color=color, ls="--", label=f"{label} 95 %")
     ax.plot(t, column(rows, "p50_m", 100.0), color="k", label="|x_EKF - x_filtered| median")
     ax.plot(t, column(rows, "p95_m", 100.0), color="gray", label="|x_EKF - x_filtered| 95 %")

@@ -71,7 +71,7 @@ TEST(MonteCarlo, TablesHaveEveryEstimatorAndWindowWithFiniteValues) {
   ASSERT_GE(s.representative, 0);
   for (int e = 0; e < kMonteCarloEstimators; ++e) {
     const auto ei = static_cast<std::size_t>(e);
-    for (const ErrorSummary* t : {&s.all[ei], &s.first_window[ei], &s.representative_flight[ei]}) {
+    for (const ErrorSummary* t : {&s.all[ei], &s.first_window[ei], &s.after_window[ei], &s.representative_flight[ei]}) {
       EXPECT_GT(t->count, 0u) << monteCarloEstimatorKey(e);
       EXPECT_TRUE(std::isfinite(t->median_m) && std::isfinite(t->mean_m) && std::isfinite(t->std_m) &&
                   std::isfinite(t->max_m));
@@ -79,6 +79,7 @@ TEST(MonteCarlo, TablesHaveEveryEstimatorAndWindowWithFiniteValues) {
       EXPECT_LT(t->max_m, 20.0) << "3D error beyond 20 m: the pipeline or the truth is broken";
     }
     EXPECT_LT(s.first_window[ei].count, s.all[ei].count);  // the window holds the first minute only
+    EXPECT_EQ(s.first_window[ei].count + s.after_window[ei].count, s.all[ei].count);
     EXPECT_EQ(s.all[ei].count + s.epochs_without_solution[ei], 3u * 181u);
     EXPECT_FALSE(s.error_vs_time[ei].empty());
     EXPECT_FALSE(s.bias_vs_age[ei].empty());
@@ -189,7 +190,7 @@ TEST(MonteCarlo, OutputsAreWrittenAndTheJsonParses) {
   // JSON is YAML 1.2: yaml-cpp parses it.
   const YAML::Node j = YAML::Load(readText(dir / "summary.json"));
   EXPECT_EQ(j["flights"].as<int>(), 3);
-  for (const char* window : {"all_epochs", "first_window", "representative"})
+  for (const char* window : {"all_epochs", "first_window", "after_window", "representative"})
     for (int e = 0; e < kMonteCarloEstimators; ++e) {
       const YAML::Node t = j[window][monteCarloEstimatorKey(e)];
       ASSERT_TRUE(t.IsMap()) << window << " " << monteCarloEstimatorKey(e);

@@ -142,6 +142,8 @@ struct MonteCarloSummary {
   int representative = -1;  // index into the flights (see above); -1 when none
   /// [estimator]: all epochs, first window, representative flight.
   std::array<ErrorSummary, kMonteCarloEstimators> all, first_window, representative_flight;
+  /// [estimator]: the epochs after the first window ("after convergence").
+  std::array<ErrorSummary, kMonteCarloEstimators> after_window;
   std::array<std::size_t, kMonteCarloEstimators> epochs_without_solution{};
   /// Per estimator and threshold: median over flights of the convergence time
   /// (stays below the threshold; a flight that never converges counts as +inf),

@@ -350,7 +350,7 @@ MonteCarloSummary summarizeMonteCarlo(const std::vector<MonteCarloFlightRun>& fl
   }
   for (int e = 0; e < kMonteCarloEstimators; ++e) {
     const auto ei = static_cast<std::size_t>(e);
-    std::vector<double> all, first;
+    std::vector<double> all, first, after;
     std::vector<std::pair<double, double>> vs_time, vs_age;
     for (const auto* f : ok) {
       const auto& err = f->error_3d_m[ei];
@@ -360,7 +360,7 @@ MonteCarloSummary summarizeMonteCarlo(const std::vector<MonteCarloFlightRun>& fl
           continue;
         }
         all.push_back(err[k]);
-        if (f->time_s[k] < options.first_window_s) first.push_back(err[k]);
+        (f->time_s[k] < options.first_window_s ? first : after).push_back(err[k]);
         vs_time.push_back({f->time_s[k], err[k]});
       }
       for (const auto& b : f->bias[ei]) vs_age.push_back({b.age_s, b.error_m});
@@ -401,6 +401,7 @@ MonteCarloSummary summarizeMonteCarlo(const std::vector<MonteCarloFlightRun>& fl
     }
     s.all[ei] = summarizeErrors(std::move(all));
     s.first_window[ei] = summarizeErrors(std::move(first));
+    s.after_window[ei] = summarizeErrors(std::move(after));
     if (s.representative >= 0)
       s.representative_flight[ei] = flights[static_cast<std::size_t>(s.representative)].summary(e);
   }

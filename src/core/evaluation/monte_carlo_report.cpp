@@ -1,4 +1,5 @@
 // Outputs of the Monte Carlo study (monte_carlo.h): Markdown tables, JSON, CSV.
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -118,6 +119,7 @@ std::string monteCarloMarkdown(const MonteCarloResult& r) {
   md << "3D position error in cm.\n\n";
   table("All epochs of all flights", s.all);
   table("First " + fmt("%g", o.first_window_s / 60.0) + " minutes of each flight", s.first_window);
+  table("After the first " + fmt("%g", o.first_window_s / 60.0) + " minutes (after convergence)", s.after_window);
   std::string rep = "Representative flight (none)";
   if (s.representative >= 0) {
     const auto& f = r.flights[static_cast<std::size_t>(s.representative)];
@@ -195,6 +197,7 @@ std::string monteCarloJson(const MonteCarloResult& r) {
   };
   tables("all_epochs", s.all);
   tables("first_window", s.first_window);
+  tables("after_window", s.after_window);
   tables("representative", s.representative_flight);
   j << ",\n  \"filtered_minus_ekf\": " << jsonSummary(s.filtered_minus_ekf);
   j << ",\n  \"convergence_thresholds_m\": " << jsonArray(o.convergence_thresholds_m) << ",\n  \"convergence\": {";
@@ -241,7 +244,7 @@ void writeMonteCarloOutputs(const MonteCarloResult& r, const std::string& dir) {
     const std::string k = monteCarloEstimatorKey(e);
     flights << ',' << k << "_mean_cm," << k << "_median_cm," << k << "_max_cm," << k << "_first_window_mean_cm";
   }
-  flights << ",simulate_s,ekf_s,smoother_s,drawn\n";
+  flights << ",filtered_minus_ekf_max_cm,simulate_s,ekf_s,smoother_s,drawn\n";
   for (const auto& f : r.flights) {
     flights << f.setup.index << ',' << f.setup.seed << ',' << flightProfileName(f.setup.profile) << ','
             << f.setup.start.toString() << ',' << num(f.setup.origin.latitude_rad * kRadToDeg) << ','
@@ -253,6 +256,10 @@ void writeMonteCarloOutputs(const MonteCarloResult& r, const std::string& dir) {
       flights << ',' << num(100 * a.mean_m) << ',' << num(100 * a.median_m) << ',' << num(100 * a.max_m) << ','
               << num(100 * w.mean_m);
     }
+    double diff_max = 0.0;
+    for (double v : f.filtered_minus_ekf_m)
+      if (std::isfinite(v)) diff_max = std::max(diff_max, v);
+    flights << ',' << num(100 * diff_max);
     std::string drawn;
     for (const auto& x : f.drawn) drawn += (drawn.empty() ? "" : "; ") + x;
     for (char& c : drawn)
