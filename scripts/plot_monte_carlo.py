@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Figures of a ppp_monte_carlo study (Debian python3-matplotlib).
 
-usage: plot_monte_carlo.py DIR [--out FIGDIR]
+usage: plot_monte_carlo.py DIR [--out FIGDIR] [--flight-csv FILE.csv]
 
 Reads the files ppp_monte_carlo wrote into DIR (summary.json, error_cdf.csv,
 representative_flight.csv, error_vs_time.csv, bias_convergence.csv) and writes
@@ -11,6 +11,8 @@ into FIGDIR (default DIR):
   error_vs_time.png         3D error vs time since the flight start over all
                             flights: median and 5-95 % band per estimator
   filtered_vs_ekf.png       EKF vs smoother filtered: error quantiles and |x_EKF - x_filtered|
+  flight_ekf_vs_filtered.png  with --flight-csv (written by ppp_bench_mc_flight):
+                            one flight's 3D errors and satellites used, EKF vs filtered
   bias_convergence.png      phase-bias error (estimate - truth) vs time since the
                             arc start: median and 5-95 % band, and the median |error|
 """
@@ -166,10 +168,33 @@ def plot_difference(d, path, summary, figdir):
     plt.close(fig)
 
 
+def plot_flight(path, figdir):
+    rows = read_csv(path)
+    t = column(rows, "time_s", 1 / 60.0)
+    fig, (a1, a2) = plt.subplots(2, 1, figsize=(10, 6), sharex=True)
+    for key, label, color in ESTIMATORS[:2]:
+        a1.plot(t, column(rows, f"{key}_3d_m", 100.0), color=color, label=label, **STYLE.get(key, dict(lw=1)))
+        a2.step(t, column(rows, f"{key}_used"), color=color, label=f"{label}: satellites used",
+                **STYLE.get(key, dict(lw=1)))
+    a1.set_yscale("log")
+    a1.set_ylabel("3D error [cm]")
+    a1.set_title(os.path.basename(path))
+    a1.grid(True, which="both", alpha=0.3)
+    a1.legend()
+    a2.set_ylabel("satellites used (0: no solution)")
+    a2.set_xlabel("time since the flight start [min]")
+    a2.grid(True, alpha=0.3)
+    a2.legend()
+    fig.tight_layout()
+    fig.savefig(os.path.join(figdir, "flight_ekf_vs_filtered.png"), dpi=110)
+    plt.close(fig)
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("dir")
     ap.add_argument("--out", default=None)
+    ap.add_argument("--flight-csv", default=None)
     a = ap.parse_args()
     figdir = a.out or a.dir
     os.makedirs(figdir, exist_ok=True)
@@ -183,6 +208,8 @@ def main():
     rows = plot_bands(os.path.join(a.dir, "bias_convergence.csv"), "age_s",
                       os.path.join(figdir, "bias_convergence.png"), "time since the arc start [min]",
                       "bias error [cm]", "IF phase-bias error (estimate - truth)", 100.0, True, False)
+    if a.flight_csv:
+        plot_flight(a.flight_csv, figdir)
     diff_path = os.path.join(a.dir, "filtered_minus_ekf.csv")
     if os.path.exists(diff_path):
         plot_difference(a.dir, diff_path, summary, figdir)
