@@ -10,6 +10,8 @@
 #include <sstream>
 
 #include "ppp_bayes_tree/evaluation/monte_carlo.h"
+#include "ppp_bayes_tree/ppp/ppp_pipeline.h"
+#include "ppp_bayes_tree/ppp/ppp_smoother.h"
 #include "ppp_bayes_tree/simulation/gnss_simulator.h"
 #include "ppp_bayes_tree/simulation/random_stream.h"
 #include "test_support.h"
@@ -207,4 +209,10 @@ TEST(MonteCarlo, OutputsAreWrittenAndTheJsonParses) {
   int lines = 0;
   while (std::getline(rep, line)) ++lines;
   EXPECT_EQ(lines, 1 + 181);
+}
+
+TEST(MonteCarlo, InMemoryPipelineAndBatchSmootherRefuseMissingInputs) {
+  EXPECT_THROW(PppPipeline(PppInMemoryInputs{}, PppConfig{}), std::invalid_argument);
+  const PppSmoother not_recording;
+  EXPECT_THROW(not_recording.batchSmoothedValues(), std::logic_error);
 }
