@@ -76,6 +76,7 @@ class SmootherEstimator : public EpochEstimator {
   EstimatorEpochResult processEpoch(const EstimatorEpochInput& input) override;
   void arcsEnded(const std::vector<EndedArc>& ended) override;
   const PppSmoother& smoother() const { return smoother_; }
+  PppSmoother& smoother() { return smoother_; }
   const SmootherEpochResult& lastResult() const { return last_; }
 
  private:

@@ -42,6 +42,18 @@ struct PppInputFiles {
   std::optional<std::string> bias, blq;
 };
 
+/// In-process inputs (e.g. a simulated flight, simulation/gnss_simulator.h): the
+/// observation header and epochs and the products, used in place of files. All
+/// referenced objects must outlive the pipeline; `antex` may be empty when the
+/// measurement-model options use no antenna calibrations.
+struct PppInMemoryInputs {
+  const RinexObsHeader* header = nullptr;
+  const std::vector<ObsEpoch>* epochs = nullptr;
+  const PreciseEphemeris* products = nullptr;
+  std::vector<AntexSource> antex;
+  std::string name = "in-memory";  // stands for the observation file name in notes
+};
+
 /// A satellite left out at some stage of an epoch.
 struct EpochRejection {
   SatelliteId satellite;
@@ -102,6 +114,9 @@ class PppPipeline {
   /// Loads the products and opens the observation file (header only).
   /// Throws FileOpenError / ParseError (inputs) or std::runtime_error (no ANTEX).
   PppPipeline(const PppInputFiles& files, PppConfig config);
+  /// Runs over in-process epochs instead of files (throws std::invalid_argument
+  /// when a pointer is null); no Bias-SINEX, no ocean loading.
+  PppPipeline(const PppInMemoryInputs& inputs, PppConfig config);
   ~PppPipeline();
   PppPipeline(const PppPipeline&) = delete;
   PppPipeline& operator=(const PppPipeline&) = delete;

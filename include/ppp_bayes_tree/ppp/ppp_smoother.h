@@ -129,6 +129,19 @@ class PppSmoother {
   const PppSmootherOptions& options() const { return options_; }
   const smoother::ISAM2& isam2() const;
 
+  /// Keep a copy of every factor and new variable of the successful updates (call
+  /// before the first epoch), for batchSmoothedValues(). Costs memory O(epochs).
+  void setRecordGraph(bool record) { record_graph_ = record; }
+  /// The MAP estimate of ALL recorded factors (every epoch, also those a fixed
+  /// lag has marginalized) by a batch Gauss-Newton solve (batch_solver.h), started
+  /// from the latest estimates: the full smoother's smoothed solution, computed
+  /// once at the end. Keys: stateKey(index), biasKey(sat, arc) (ppp_factors.h).
+  /// Throws std::logic_error without recording, and the batch solver's errors.
+  smoother::Values batchSmoothedValues() const;
+  /// The states held in `values` (e.g. batchSmoothedValues()) as a trajectory, in
+  /// time order (no covariances; states missing from `values` are left out).
+  std::vector<SmoothedEpoch> trajectoryFrom(const smoother::Values& values) const;
+
  private:
   struct ArcSlot {
     SatelliteId satellite;
@@ -158,6 +171,9 @@ class PppSmoother {
   std::map<ArcId, ArcSlot> arcs_;                      // the active set
   std::map<smoother::Key, std::uint32_t> bias_last_state_;  // every bias in the graph
   EpochSolution filtered_;
+  bool record_graph_ = false;
+  smoother::NonlinearFactorGraph recorded_factors_;
+  smoother::Values recorded_values_;  // initial values; refreshed from the estimate when solving
 };
 
 }  // namespace ppp

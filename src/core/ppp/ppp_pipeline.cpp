@@ -46,7 +46,9 @@ std::string reasonCategory(const std::string& reason) {
 
 struct PppPipeline::Impl {
   PppInputFiles files;
-  std::unique_ptr<RinexObsReader> reader;
+  std::unique_ptr<RinexObsReader> reader;  // file input, or
+  std::optional<PppInMemoryInputs> memory; // in-process epochs
+  std::size_t memory_next = 0;
   PreciseEphemeris products;
   std::optional<BiasSinexFile> bias;
   std::optional<BlqFile> blq;
@@ -55,6 +57,14 @@ struct PppPipeline::Impl {
   std::vector<std::string> load_notes;
   std::size_t obs_size = 0;
   bool ran = false;
+
+  const RinexObsHeader& header() const { return reader ? reader->header() : *memory->header; }
+  bool nextEpoch(ObsEpoch& epoch) {
+    if (reader) return reader->next(epoch);
+    if (memory_next >= memory->epochs->size()) return false;
+    epoch = (*memory->epochs)[memory_next++];
+    return true;
+  }
 };
 
 PppPipeline::PppPipeline(const PppInputFiles& files, PppConfig config)
@@ -93,12 +103,25 @@ PppPipeline::PppPipeline(const PppInputFiles& files, PppConfig config)
                                                   d.ocean, config_.model);
 }
 
+PppPipeline::PppPipeline(const PppInMemoryInputs& inputs, PppConfig config)
+    : config_(std::move(config)), impl_(std::make_unique<Impl>()) {
+  if (!inputs.header || !inputs.epochs || !inputs.products)
+    throw std::invalid_argument("in-memory pipeline inputs: header, epochs and products are required");
+  Impl& d = *impl_;
+  d.memory = inputs;
+  d.memory->antex.clear();  // moved into the model below
+  d.files.obs = inputs.name;
+  d.load_notes.push_back("observations: " + inputs.name + " (in-process epochs)");
+  d.model = std::make_unique<PppMeasurementModel>(*inputs.products, inputs.antex,
+                                                  ReceiverAntenna::fromHeader(*inputs.header), nullptr, config_.model);
+}
+
 PppPipeline::~PppPipeline() = default;
 
-const RinexObsHeader& PppPipeline::header() const { return impl_->reader->header(); }
+const RinexObsHeader& PppPipeline::header() const { return impl_->header(); }
 
 std::string PppPipeline::stationName() const {
-  std::string name = impl_->reader->header().marker_name;
+  std::string name = impl_->header().marker_name;
   if (name.empty()) name = baseName(impl_->files.obs);
   name = name.substr(0, std::min<std::size_t>(4, name.size()));
   for (auto& c : name) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
@@ -112,6 +135,10 @@ std::vector<std::string> PppPipeline::notes() const {
 }
 
 double PppPipeline::progress() const {
+  if (impl_->memory)
+    return impl_->memory->epochs->empty()
+               ? 1.0
+               : static_cast<double>(impl_->memory_next) / static_cast<double>(impl_->memory->epochs->size());
   if (impl_->obs_size == 0) return 0.0;
   return std::min(1.0, static_cast<double>(impl_->reader->source().bytesRead()) / impl_->obs_size);
 }
@@ -126,7 +153,7 @@ PppRunSummary PppPipeline::run(EpochEstimator& estimator, const EpochCallback& o
   }
   d.ran = true;
   const auto wall_start = std::chrono::steady_clock::now();
-  const RinexObsHeader& header = d.reader->header();
+  const RinexObsHeader& header = d.header();
   if (header.approx_position_ecef_m && header.approx_position_ecef_m->norm() > 1e6)
     estimator.setApproximatePosition(*header.approx_position_ecef_m);
 
@@ -147,7 +174,7 @@ PppRunSummary PppPipeline::run(EpochEstimator& estimator, const EpochCallback& o
   PppEpochRecord rec;
   const std::vector<GnssSystem>& systems = config_.signals.systems;
 
-  while (d.reader->next(epoch)) {
+  while (d.nextEpoch(epoch)) {
     ++summary.epochs_read;
     rec = PppEpochRecord{};
     rec.solution.time = epoch.time;
@@ -288,8 +315,9 @@ PppRunSummary PppPipeline::run(EpochEstimator& estimator, const EpochCallback& o
   }
   estimator.arcsEnded(tracker.finish());
 
-  for (const auto& p : d.reader->report().problems())
-    summary.problems.push_back(baseName(d.files.obs) + " line " + std::to_string(p.line) + ": " + p.reason);
+  if (d.reader)
+    for (const auto& p : d.reader->report().problems())
+      summary.problems.push_back(baseName(d.files.obs) + " line " + std::to_string(p.line) + ": " + p.reason);
   for (const auto& [sat, a] : acc) {
     SatelliteResidualStatistics st;
     st.satellite = sat;

@@ -6,6 +6,7 @@
 
 #include "ppp_bayes_tree/ppp/ppp_factors.h"
 #include "ppp_bayes_tree/ppp/prefit_screening.h"
+#include "ppp_bayes_tree/smoother/batch_solver.h"
 #include "ppp_bayes_tree/smoother/elimination.h"
 #include "ppp_bayes_tree/smoother/prior_factor.h"
 
@@ -74,6 +75,34 @@ smoother::ISAM2Params PppSmoother::isamParams() const {
 }
 
 const smoother::ISAM2& PppSmoother::isam2() const { return lag_ ? lag_->isam2() : *isam_; }
+
+smoother::Values PppSmoother::batchSmoothedValues() const {
+  if (!record_graph_) throw std::logic_error("batchSmoothedValues: the graph was not recorded (setRecordGraph)");
+  smoother::Values initial = recorded_values_;
+  const smoother::ISAM2& isam = isam2();
+  for (Key key : initial.keys()) {
+    if (isam.exists(key)) initial.update(key, isam.calculateEstimate(key));
+  }
+  for (const auto& s : states_)  // marginalized states: their last estimate
+    if (!isam.exists(stateKey(s.index))) initial.update(stateKey(s.index), s.last_estimate.vector());
+  smoother::BatchParams params;
+  params.max_iterations = 20;
+  params.absolute_delta_tolerance = 1e-6;  // [m]
+  return smoother::optimizeBatch(recorded_factors_, initial, params).values;
+}
+
+std::vector<SmoothedEpoch> PppSmoother::trajectoryFrom(const smoother::Values& v) const {
+  std::vector<SmoothedEpoch> out;
+  for (const auto& s : states_) {
+    if (!v.exists(stateKey(s.index))) continue;
+    SmoothedEpoch e;
+    e.time = s.time;
+    e.index = s.index;
+    e.state = ReceiverState::fromVector(v.at(stateKey(s.index)));
+    out.push_back(e);
+  }
+  return out;
+}
 
 double PppSmoother::sigmaOf(double variance_m2) { return std::sqrt(std::max(variance_m2, 1e-12)); }
 
@@ -323,6 +352,10 @@ SmootherEpochResult PppSmoother::processEpoch(const GnssTime& time, const Measur
   arcs_ = std::move(arcs);
   bias_last_state_ = std::move(bias_last_state);
   states_.push_back({time, index, solution.state});
+  if (record_graph_) {
+    recorded_factors_.insert(recorded_factors_.end(), factors.begin(), factors.end());
+    for (Key key : values.keys()) recorded_values_.insert(key, values.at(key));
+  }
   if (lag_) {  // keep the latest estimate of the states still in the window
     for (auto it = states_.rbegin(); it != states_.rend() && isam.exists(stateKey(it->index)); ++it)
       it->last_estimate = ReceiverState::fromVector(isam.calculateEstimate(stateKey(it->index)));

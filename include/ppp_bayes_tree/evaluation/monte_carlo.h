@@ -1,0 +1,194 @@
+#pragma once
+// Monte Carlo evaluation over simulated UAV flights (issue 6): the method's
+// study. Each flight is simulated in process (simulateFlight) and run through
+// the offline pipeline (PppPipeline over in-process epochs: signal selection,
+// arc tracking, the measurement model) by the EKF and by the smoother, with the
+// SAME PppConfig (stochastic model, screening, weights). The smoother gives two
+// solutions: filtered (causal, the newest state right after each update) and
+// smoothed (every state re-read from the final estimate after the last epoch).
+//
+// Per flight i (0-based) of a study with seed S:
+//  * seed_i = SplitMix64 hash of S and i (RandomStream(S).derive(i).seed()):
+//    the flight does not depend on the number of flights or threads;
+//  * profile = profiles[i mod n] (round robin);
+//  * randomized, from a sub-stream of seed_i: start uniform over one day from
+//    2026-05-13 00:00 GPST (whole seconds; satellite geometry), origin latitude
+//    uniform in +-60 deg, longitude uniform in +-180 deg (ground height 0..1000 m);
+//  * the error parameters are drawn by the simulator from seed_i (DrawnParameters).
+// Measurement model: the physics switches (troposphere model and mapping, tides,
+// ocean loading, antennas, wind-up, Shapiro, eclipses) are the flight's
+// model_options (what the observations were generated with); the weighting
+// (phase sigma, code/phase ratio, IF scaling) and the elevation cutoff are the
+// PppConfig's, identical for both estimators.
+//
+// Position error: |x_est - x_true| (3D, the antenna position of the truth file)
+// per epoch; epochs without a solution are counted and left out.
+//
+// Phase-bias error = estimate - truth of each estimator arc, against the time
+// since the arc's first solved epoch (sampled once per bias_bin_s of age). Truth
+// in the estimator's convention: the simulated arc's IF bias B (TruthArc::
+// bias_if_m) plus the wind-up offset. The simulator's wind-up is continuous from
+// the simulated arc start; the estimator's restarts in [-0.5, 0.5] cycle at its
+// own arc start (phase_windup.h) and is continuous from there, so the two differ
+// by the integer n = round(w_sim) at the estimator arc's first epoch, and the
+// estimator's bias converges to B + n * c / (f1 + f2) (the IF wind-up wavelength,
+// 10.7 cm for GPS L1/L2). This is exact for every estimator arc that lies inside
+// one simulated arc, false-alarm restarts included (the caveat of
+// SimulatedFlight::truthBias_m). An estimator arc that runs into a different
+// simulated arc (a missed slip) is compared only up to the switch and counted.
+// The smoothed bias is the final estimate of the arc (constant over its ages).
+//
+// Tables: median, mean, sigma (population) and max of the 3D error over all
+// epochs of all flights, over the epochs with t - t0 < first_window_s of each
+// flight, and over the REPRESENTATIVE flight: the flight whose EKF mean 3D error
+// is the median of the flights' EKF means (the lower middle one for an even
+// count, ties by index), so that it is chosen by one estimator alone and the
+// same for all three.
+#include <array>
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "ppp_bayes_tree/evaluation/position_error_statistics.h"
+#include "ppp_bayes_tree/ppp/ppp_config.h"
+#include "ppp_bayes_tree/simulation/simulation_config.h"
+
+namespace ppp {
+
+constexpr int kMonteCarloEstimators = 3;
+/// 0 "ekf", 1 "smoother_filtered", 2 "smoother_smoothed" (keys of the outputs).
+const char* monteCarloEstimatorKey(int estimator);
+/// "EKF", "smoother filtered", "smoother smoothed".
+const char* monteCarloEstimatorLabel(int estimator);
+
+struct MonteCarloOptions {
+  int flights = 100;
+  std::uint64_t seed = 1;
+  double duration_s = 1800.0;
+  double rate_hz = 1.0;
+  std::vector<FlightProfile> profiles = {FlightProfile::Loiter, FlightProfile::Survey, FlightProfile::Figure8,
+                                         FlightProfile::Climb};
+  unsigned threads = 0;  // 0: std::thread::hardware_concurrency()
+  /// Base simulation (error model, constellation); profile, rate, duration, start
+  /// and origin are set per flight.
+  SimulationConfig simulation;
+  PppConfig ppp;  // both estimators
+  /// 0: one full iSAM2 smoother gives the filtered (during the run) and the
+  /// smoothed solution (smoothedTrajectory() at the end). > 0: the filtered
+  /// solution comes from the fixed-lag smoother with this lag (bounded cost per
+  /// epoch) and the smoothed solution from the batch solve of ALL its factors
+  /// (PppSmoother::batchSmoothedValues: the full smoother's MAP estimate).
+  double smoother_filtered_lag_s = 0.0;
+  bool randomize_start = true;
+  bool randomize_origin = true;
+  double first_window_s = 900.0;  // "first 15 minutes"
+  double time_bin_s = 10.0;       // error-versus-time curves
+  double bias_bin_s = 10.0;       // bias convergence: one sample per arc and bin
+  std::vector<double> convergence_thresholds_m = {0.5, 0.2, 0.1};
+};
+
+/// What defines flight `index` (deterministic in options.seed and index).
+struct MonteCarloFlightSetup {
+  int index = 0;
+  std::uint64_t seed = 0;
+  FlightProfile profile = FlightProfile::Loiter;
+  GnssTime start;
+  Geodetic origin;
+};
+MonteCarloFlightSetup monteCarloFlightSetup(const MonteCarloOptions& options, int index);
+/// The simulation configuration of a flight.
+SimulationConfig monteCarloSimulationConfig(const MonteCarloOptions& options, const MonteCarloFlightSetup& setup);
+
+struct BiasErrorSample {
+  float age_s = 0.0f;    // since the estimator arc's first solved epoch
+  float error_m = 0.0f;  // estimate - truth (estimator convention, see above)
+};
+
+struct MonteCarloFlightRun {
+  MonteCarloFlightSetup setup;
+  std::vector<std::string> drawn;  // DrawnParameters::describe()
+  std::string failure;             // non-empty: the flight failed (left out of all statistics)
+  std::size_t epochs = 0, simulated_arcs = 0, phase_breaks = 0;
+  std::size_t estimator_arcs = 0, slips_detected = 0;  // arc tracker (smoother run)
+  std::vector<double> time_s;  // per epoch, since the first epoch
+  /// Per estimator and epoch: 3D error [m], NaN when that epoch has no solution.
+  std::array<std::vector<double>, kMonteCarloEstimators> error_3d_m;
+  std::array<std::vector<BiasErrorSample>, kMonteCarloEstimators> bias;
+  /// Per epoch |x_EKF - x_smoother filtered| [m], NaN unless both have a solution.
+  std::vector<double> filtered_minus_ekf_m;
+  std::size_t bias_arcs_compared = 0;      // estimator arcs with samples (smoother run)
+  std::size_t bias_arcs_missed_slip = 0;   // ran into another simulated arc (compared up to it)
+  double simulate_s = 0.0, ekf_s = 0.0, smoother_s = 0.0;  // wall times
+
+  /// Statistics of one estimator on this flight (epochs with a solution).
+  ErrorSummary summary(int estimator, double window_s = -1.0) const;
+};
+
+/// Simulates flight `index` and runs the three solutions on it (never throws:
+/// a failure is reported in `failure`).
+MonteCarloFlightRun runMonteCarloFlight(const MonteCarloOptions& options, int index);
+
+struct QuantileBin {
+  double t_s = 0.0;  // bin start
+  std::size_t count = 0;
+  double p05 = 0.0, p50 = 0.0, p95 = 0.0;  // of the signed value
+  double abs_p50 = 0.0, abs_p90 = 0.0;     // of |value|
+};
+
+struct MonteCarloSummary {
+  int flights = 0, failed = 0;
+  std::vector<std::string> failures;
+  int representative = -1;  // index into the flights (see above); -1 when none
+  /// [estimator]: all epochs, first window, representative flight.
+  std::array<ErrorSummary, kMonteCarloEstimators> all, first_window, representative_flight;
+  /// [estimator]: the epochs after the first window ("after convergence").
+  std::array<ErrorSummary, kMonteCarloEstimators> after_window;
+  std::array<std::size_t, kMonteCarloEstimators> epochs_without_solution{};
+  /// Per estimator and threshold: median over flights of the convergence time
+  /// (stays below the threshold; a flight that never converges counts as +inf),
+  /// and the number of flights that never converge.
+  std::array<std::vector<double>, kMonteCarloEstimators> convergence_median_s;
+  std::array<std::vector<int>, kMonteCarloEstimators> convergence_never;
+  /// 3D error versus time since the flight start, over flights [m].
+  std::array<std::vector<QuantileBin>, kMonteCarloEstimators> error_vs_time;
+  /// Bias error versus arc age [m].
+  std::array<std::vector<QuantileBin>, kMonteCarloEstimators> bias_vs_age;
+  std::size_t bias_arcs_compared = 0, bias_arcs_missed_slip = 0;
+  /// |x_EKF - x_smoother filtered| over all epochs, and versus time since the start [m].
+  ErrorSummary filtered_minus_ekf;
+  std::vector<QuantileBin> filtered_minus_ekf_vs_time;
+  /// Error quantiles for the CDF figures: cdf_levels[j] -> 3D error [m].
+  std::vector<double> cdf_levels;
+  std::array<std::vector<double>, kMonteCarloEstimators> cdf_all_m, cdf_first_window_m;
+  /// Sums of the per-flight wall times (CPU-ish cost per stage) [s].
+  double simulate_s = 0.0, ekf_s = 0.0, smoother_s = 0.0;
+};
+
+MonteCarloSummary summarizeMonteCarlo(const std::vector<MonteCarloFlightRun>& flights,
+                                      const MonteCarloOptions& options);
+
+struct MonteCarloResult {
+  MonteCarloOptions options;
+  unsigned threads_used = 0;
+  std::vector<MonteCarloFlightRun> flights;  // in index order
+  MonteCarloSummary summary;
+  double wall_s = 0.0;
+};
+
+/// Runs the study on a pool of threads (each flight independent; results do not
+/// depend on the thread count). `progress(done, total)` is called after each
+/// flight, serialised (never concurrently).
+MonteCarloResult runMonteCarlo(const MonteCarloOptions& options,
+                               const std::function<void(int done, int total)>& progress = {});
+
+/// The tables (figures in cm) as Markdown, and everything as one JSON document.
+std::string monteCarloMarkdown(const MonteCarloResult& result);
+std::string monteCarloJson(const MonteCarloResult& result);
+
+/// Writes into `dir` (created): summary.md, summary.json, flights.csv,
+/// representative_flight.csv, error_vs_time.csv, bias_convergence.csv, error_cdf.csv.
+/// Throws std::runtime_error when a file cannot be written.
+void writeMonteCarloOutputs(const MonteCarloResult& result, const std::string& dir);
+
+}  // namespace ppp

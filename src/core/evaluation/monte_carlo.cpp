@@ -1,0 +1,441 @@
+#include "ppp_bayes_tree/evaluation/monte_carlo.h"
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <mutex>
+#include <thread>
+
+#include "ppp_bayes_tree/ppp/epoch_estimator.h"
+#include "ppp_bayes_tree/ppp/ppp_factors.h"
+#include "ppp_bayes_tree/ppp/ppp_pipeline.h"
+#include "ppp_bayes_tree/simulation/gnss_simulator.h"
+#include "ppp_bayes_tree/simulation/random_stream.h"
+#include "ppp_bayes_tree/types/carrier_frequency.h"
+
+namespace ppp {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+double secondsSince(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+/// Tag of the Monte Carlo's own sub-stream of a flight seed (the simulator
+/// derives its streams from small tags of the same seed).
+constexpr std::uint64_t kSetupStreamTag = 0x4d6f6e7465436172ULL;  // "MonteCar"
+
+/// IF wind-up wavelength c / (f1 + f2) of GPS L1/L2 (ppp_measurement_model.cpp).
+double gpsWindupWavelength_m() {
+  const double f1 = *carrierFrequency_hz(GnssSystem::GPS, '1');
+  const double f2 = *carrierFrequency_hz(GnssSystem::GPS, '2');
+  return kSpeedOfLight_mps / (f1 + f2);
+}
+
+/// Bias bookkeeping of one estimator arc.
+struct ArcRecord {
+  SatelliteId satellite;
+  GnssTime first_time;
+  ArcId simulated_arc = 0;
+  double truth_m = 0.0;
+  bool valid = true;       // still inside its simulated arc
+  bool missed_slip = false;
+  long last_bin = -1;
+  std::vector<float> ages;  // sampled ages (for the smoothed values)
+};
+
+/// Samples the bias errors of one estimator's run from the epoch records.
+class BiasSampler {
+ public:
+  BiasSampler(const SimulatedFlight& f, double bin_s) : f_(f), bin_s_(bin_s), lambda_w_(gpsWindupWavelength_m()) {}
+
+  /// `estimate(arc)`: the estimator's current bias estimate.
+  template <class Estimate>
+  void epoch(std::size_t k, const PppEpochRecord& rec, Estimate estimate, std::vector<BiasErrorSample>& out) {
+    if (rec.status != EpochStatus::Ok) return;
+    for (const auto& r : rec.residuals) {
+      const SignalTruth* s = f_.signal(k, r.satellite);
+      auto it = arcs_.find(r.arc);
+      if (it == arcs_.end()) {
+        ArcRecord a;
+        a.satellite = r.satellite;
+        a.first_time = rec.solution.time;
+        if (s == nullptr || s->arc == 0) {
+          a.valid = false;
+        } else {
+          a.simulated_arc = s->arc;
+          a.truth_m = f_.arcs[s->arc - 1].bias_if_m + lambda_w_ * std::round(s->windup_cycles);
+        }
+        it = arcs_.emplace(r.arc, std::move(a)).first;
+      }
+      ArcRecord& a = it->second;
+      if (!a.valid) continue;
+      if (s == nullptr || s->arc != a.simulated_arc) {
+        a.valid = false;
+        a.missed_slip = true;
+        continue;
+      }
+      const double age = rec.solution.time - a.first_time;
+      const long bin = static_cast<long>(std::floor(age / bin_s_ + 1e-9));
+      if (bin <= a.last_bin) continue;
+      const std::optional<double> b = estimate(r.arc);
+      if (!b) continue;
+      a.last_bin = bin;
+      a.ages.push_back(static_cast<float>(age));
+      out.push_back({static_cast<float>(age), static_cast<float>(*b - a.truth_m)});
+    }
+  }
+  const std::map<ArcId, ArcRecord>& arcs() const { return arcs_; }
+
+ private:
+  const SimulatedFlight& f_;
+  double bin_s_, lambda_w_;
+  std::map<ArcId, ArcRecord> arcs_;
+};
+
+PppConfig flightPppConfig(const MonteCarloOptions& options, const SimulatedFlight& f) {
+  PppConfig c = options.ppp;
+  MeasurementModelOptions m = f.model_options;  // the physics of the simulation
+  m.elevation_cutoff_rad = c.model.elevation_cutoff_rad;  // the estimators' weighting and cutoff
+  m.phase_sigma_zenith_m = c.model.phase_sigma_zenith_m;
+  m.code_phase_ratio = c.model.code_phase_ratio;
+  m.scale_sigma_for_ionosphere_free = c.model.scale_sigma_for_ionosphere_free;
+  c.model = m;
+  return c;
+}
+
+PppInMemoryInputs memoryInputs(const SimulatedFlight& f, int index) {
+  PppInMemoryInputs in;
+  in.header = &f.header;
+  in.epochs = &f.epochs;
+  in.products = &f.products;
+  in.name = "flight " + std::to_string(index);
+  return in;
+}
+
+double error3d(const SimulatedFlight& f, std::size_t k, const std::optional<Eigen::Vector3d>& p) {
+  if (!p || k >= f.truth.size()) return kNaN;
+  return (*p - f.truth[k].trajectory.position_ecef_m).norm();
+}
+
+double percentileSorted(const std::vector<double>& v, double p) {
+  if (v.empty()) return kNaN;
+  const double x = p * static_cast<double>(v.size() - 1);
+  const std::size_t i = static_cast<std::size_t>(std::floor(x));
+  const std::size_t j = std::min(v.size() - 1, i + 1);
+  return v[i] + (x - static_cast<double>(i)) * (v[j] - v[i]);
+}
+
+QuantileBin quantileBin(double t_s, std::vector<double>& values) {
+  QuantileBin b;
+  b.t_s = t_s;
+  b.count = values.size();
+  if (values.empty()) {
+    b.p05 = b.p50 = b.p95 = b.abs_p50 = b.abs_p90 = kNaN;
+    return b;
+  }
+  std::sort(values.begin(), values.end());
+  b.p05 = percentileSorted(values, 0.05);
+  b.p50 = percentileSorted(values, 0.50);
+  b.p95 = percentileSorted(values, 0.95);
+  for (double& v : values) v = std::abs(v);
+  std::sort(values.begin(), values.end());
+  b.abs_p50 = percentileSorted(values, 0.50);
+  b.abs_p90 = percentileSorted(values, 0.90);
+  return b;
+}
+
+/// Bins (t, value) pairs by t into bins of width `bin_s`.
+std::vector<QuantileBin> binQuantiles(const std::vector<std::pair<double, double>>& samples, double bin_s) {
+  std::map<long, std::vector<double>> bins;
+  for (const auto& [t, v] : samples)
+    if (std::isfinite(v)) bins[static_cast<long>(std::floor(t / bin_s + 1e-9))].push_back(v);
+  std::vector<QuantileBin> out;
+  for (auto& [k, values] : bins) out.push_back(quantileBin(static_cast<double>(k) * bin_s, values));
+  return out;
+}
+
+}  // namespace
+
+const char* monteCarloEstimatorKey(int estimator) {
+  switch (estimator) {
+    case 0: return "ekf";
+    case 1: return "smoother_filtered";
+    case 2: return "smoother_smoothed";
+  }
+  return "?";
+}
+
+const char* monteCarloEstimatorLabel(int estimator) {
+  switch (estimator) {
+    case 0: return "EKF";
+    case 1: return "smoother filtered";
+    case 2: return "smoother smoothed";
+  }
+  return "?";
+}
+
+MonteCarloFlightSetup monteCarloFlightSetup(const MonteCarloOptions& options, int index) {
+  MonteCarloFlightSetup s;
+  s.index = index;
+  s.seed = RandomStream(options.seed).derive(static_cast<std::uint64_t>(index)).seed();
+  s.profile = options.profiles.empty() ? FlightProfile::Loiter
+                                       : options.profiles[static_cast<std::size_t>(index) % options.profiles.size()];
+  RandomStream r = RandomStream(s.seed).derive(kSetupStreamTag);
+  const GnssTime day = GnssTime::fromCalendar(CalendarTime{2026, 5, 13, 0, 0, 0.0}, TimeSystem::GPS);
+  const double start_offset_s = options.randomize_start ? std::floor(r.uniform(0.0, 86400.0)) : 36000.0;
+  s.start = day + start_offset_s;
+  s.origin = options.simulation.origin;
+  if (options.randomize_origin) {
+    s.origin.latitude_rad = r.uniform(-60.0, 60.0) * kDegToRad;
+    s.origin.longitude_rad = r.uniform(-180.0, 180.0) * kDegToRad;
+    s.origin.height_m = r.uniform(0.0, 1000.0);
+  }
+  return s;
+}
+
+SimulationConfig monteCarloSimulationConfig(const MonteCarloOptions& options, const MonteCarloFlightSetup& setup) {
+  SimulationConfig c = options.simulation;
+  c.profile = setup.profile;
+  c.rate_hz = options.rate_hz;
+  c.duration_s = options.duration_s;
+  c.start = setup.start;
+  c.origin = setup.origin;
+  return c;
+}
+
+ErrorSummary MonteCarloFlightRun::summary(int estimator, double window_s) const {
+  std::vector<double> v;
+  const auto& e = error_3d_m[static_cast<std::size_t>(estimator)];
+  for (std::size_t k = 0; k < e.size(); ++k)
+    if (std::isfinite(e[k]) && (window_s < 0.0 || time_s[k] < window_s)) v.push_back(e[k]);
+  return summarizeErrors(std::move(v));
+}
+
+MonteCarloFlightRun runMonteCarloFlight(const MonteCarloOptions& options, int index) {
+  MonteCarloFlightRun run;
+  run.setup = monteCarloFlightSetup(options, index);
+  try {
+    auto t0 = Clock::now();
+    const SimulatedFlight f = simulateFlight(monteCarloSimulationConfig(options, run.setup), run.setup.seed);
+    run.simulate_s = secondsSince(t0);
+    run.drawn = f.drawn.describe();
+    run.epochs = f.epochs.size();
+    run.simulated_arcs = f.arcs.size();
+    run.phase_breaks = f.breaks.size();
+    run.time_s.resize(f.epochs.size());
+    for (std::size_t k = 0; k < f.epochs.size(); ++k) run.time_s[k] = f.epochs[k].time - f.epochs.front().time;
+    for (auto& e : run.error_3d_m) e.assign(f.epochs.size(), kNaN);
+    run.filtered_minus_ekf_m.assign(f.epochs.size(), kNaN);
+    const PppConfig config = flightPppConfig(options, f);
+
+    // EKF.
+    t0 = Clock::now();
+    std::vector<std::optional<Eigen::Vector3d>> ekf_positions(f.epochs.size());
+    {
+      PppPipeline pipeline(memoryInputs(f, index), config);
+      EkfEstimator ekf(config);
+      BiasSampler sampler(f, options.bias_bin_s);
+      std::size_t k = 0;
+      pipeline.run(ekf, [&](const PppEpochRecord& rec) {
+        run.error_3d_m[0][k] = error3d(f, k, rec.solution.position_ecef_m);
+        ekf_positions[k] = rec.solution.position_ecef_m;
+        sampler.epoch(k, rec, [&](ArcId a) { return ekf.filter().biasEstimate_m(a); }, run.bias[0]);
+        ++k;
+      });
+    }
+    run.ekf_s = secondsSince(t0);
+
+    // Smoother: filtered during the run, smoothed after it.
+    t0 = Clock::now();
+    {
+      PppConfig smoother_config = config;
+      const bool lag = options.smoother_filtered_lag_s > 0.0;
+      if (lag) smoother_config.smoother.fixed_lag_s = options.smoother_filtered_lag_s;
+      PppPipeline pipeline(memoryInputs(f, index), smoother_config);
+      SmootherEstimator sm(smoother_config);
+      sm.smoother().setRecordGraph(lag);
+      BiasSampler sampler(f, options.bias_bin_s);
+      std::size_t k = 0;
+      const PppRunSummary summary = pipeline.run(sm, [&](const PppEpochRecord& rec) {
+        run.error_3d_m[1][k] = error3d(f, k, rec.solution.position_ecef_m);
+        if (rec.solution.position_ecef_m && ekf_positions[k])
+          run.filtered_minus_ekf_m[k] = (*rec.solution.position_ecef_m - *ekf_positions[k]).norm();
+        sampler.epoch(k, rec, [&](ArcId a) { return sm.smoother().biasEstimate_m(a); }, run.bias[1]);
+        ++k;
+      });
+      run.estimator_arcs = summary.arcs;
+      run.slips_detected = summary.slips;
+      // Smoothed states and biases: the full smoother's estimate after the last epoch.
+      smoother::Values batch;
+      if (lag) batch = sm.smoother().batchSmoothedValues();
+      const smoother::ISAM2& isam = sm.smoother().isam2();
+      auto smoothedValue = [&](smoother::Key key) -> std::optional<smoother::Vector> {
+        if (lag) return batch.exists(key) ? std::optional<smoother::Vector>(batch.at(key)) : std::nullopt;
+        return isam.exists(key) ? std::optional<smoother::Vector>(isam.calculateEstimate(key)) : std::nullopt;
+      };
+      const std::vector<SmoothedEpoch> trajectory =
+          lag ? sm.smoother().trajectoryFrom(batch) : sm.smoother().smoothedTrajectory();
+      // Epoch index from the time (states only for solved epochs).
+      for (const auto& s : trajectory) {
+        const double dt = s.time - f.epochs.front().time;
+        std::size_t k2 = static_cast<std::size_t>(std::max(0.0, std::round(dt * options.rate_hz)));
+        if (k2 >= f.epochs.size() || !(f.epochs[k2].time == s.time)) {
+          k2 = f.epochs.size();
+          for (std::size_t j = 0; j < f.epochs.size(); ++j)
+            if (f.epochs[j].time == s.time) k2 = j;
+          if (k2 == f.epochs.size()) continue;
+        }
+        run.error_3d_m[2][k2] = error3d(f, k2, s.state.position_ecef_m);
+      }
+      for (const auto& [arc, a] : sampler.arcs()) {
+        if (a.simulated_arc == 0 || a.ages.empty()) continue;
+        ++run.bias_arcs_compared;
+        if (a.missed_slip) ++run.bias_arcs_missed_slip;
+        const std::optional<smoother::Vector> b = smoothedValue(biasKey(a.satellite, arc));
+        if (!b) continue;
+        const double err = (*b)(0) - a.truth_m;
+        for (float age : a.ages) run.bias[2].push_back({age, static_cast<float>(err)});
+      }
+    }
+    run.smoother_s = secondsSince(t0);
+  } catch (const std::exception& e) {
+    run.failure = e.what();
+  }
+  return run;
+}
+
+MonteCarloSummary summarizeMonteCarlo(const std::vector<MonteCarloFlightRun>& flights,
+                                      const MonteCarloOptions& options) {
+  MonteCarloSummary s;
+  s.flights = static_cast<int>(flights.size());
+  std::vector<const MonteCarloFlightRun*> ok;
+  for (const auto& f : flights) {
+    if (!f.failure.empty()) {
+      ++s.failed;
+      s.failures.push_back("flight " + std::to_string(f.setup.index) + ": " + f.failure);
+    } else {
+      ok.push_back(&f);
+    }
+    s.simulate_s += f.simulate_s;
+    s.ekf_s += f.ekf_s;
+    s.smoother_s += f.smoother_s;
+    s.bias_arcs_compared += f.bias_arcs_compared;
+    s.bias_arcs_missed_slip += f.bias_arcs_missed_slip;
+  }
+  // Representative flight: median EKF mean (lower middle, ties by index).
+  std::vector<std::pair<double, int>> means;
+  for (std::size_t i = 0; i < flights.size(); ++i)
+    if (flights[i].failure.empty()) {
+      const double m = flights[i].summary(0).mean_m;
+      means.push_back({std::isfinite(m) ? m : std::numeric_limits<double>::infinity(), static_cast<int>(i)});
+    }
+  std::sort(means.begin(), means.end());
+  if (!means.empty()) s.representative = means[(means.size() - 1) / 2].second;
+
+  {
+    std::vector<double> all;
+    std::vector<std::pair<double, double>> vs_time;
+    for (const auto* f : ok)
+      for (std::size_t k = 0; k < f->filtered_minus_ekf_m.size(); ++k)
+        if (std::isfinite(f->filtered_minus_ekf_m[k])) {
+          all.push_back(f->filtered_minus_ekf_m[k]);
+          vs_time.push_back({f->time_s[k], f->filtered_minus_ekf_m[k]});
+        }
+    s.filtered_minus_ekf = summarizeErrors(std::move(all));
+    s.filtered_minus_ekf_vs_time = binQuantiles(vs_time, options.time_bin_s);
+  }
+  for (int e = 0; e < kMonteCarloEstimators; ++e) {
+    const auto ei = static_cast<std::size_t>(e);
+    std::vector<double> all, first, after;
+    std::vector<std::pair<double, double>> vs_time, vs_age;
+    for (const auto* f : ok) {
+      const auto& err = f->error_3d_m[ei];
+      for (std::size_t k = 0; k < err.size(); ++k) {
+        if (!std::isfinite(err[k])) {
+          ++s.epochs_without_solution[ei];
+          continue;
+        }
+        all.push_back(err[k]);
+        (f->time_s[k] < options.first_window_s ? first : after).push_back(err[k]);
+        vs_time.push_back({f->time_s[k], err[k]});
+      }
+      for (const auto& b : f->bias[ei]) vs_age.push_back({b.age_s, b.error_m});
+    }
+    // Convergence times per threshold: median over flights (never = +inf).
+    for (double thr : options.convergence_thresholds_m) {
+      std::vector<double> times;
+      int never = 0;
+      for (const auto* f : ok) {
+        std::vector<double> t_ok, e_ok;
+        for (std::size_t k = 0; k < f->error_3d_m[ei].size(); ++k)
+          if (std::isfinite(f->error_3d_m[ei][k])) {
+            t_ok.push_back(f->time_s[k]);
+            e_ok.push_back(f->error_3d_m[ei][k]);
+          }
+        const std::optional<double> c = e_ok.empty() ? std::nullopt : convergenceTime_s(t_ok, e_ok, thr);
+        if (!c) ++never;
+        times.push_back(c ? *c : std::numeric_limits<double>::infinity());
+      }
+      std::sort(times.begin(), times.end());
+      double med = kNaN;
+      if (!times.empty())
+        med = times.size() % 2 == 1 ? times[times.size() / 2]
+                                    : 0.5 * (times[times.size() / 2 - 1] + times[times.size() / 2]);
+      s.convergence_median_s[ei].push_back(med);
+      s.convergence_never[ei].push_back(never);
+    }
+    s.error_vs_time[ei] = binQuantiles(vs_time, options.time_bin_s);
+    s.bias_vs_age[ei] = binQuantiles(vs_age, options.bias_bin_s);
+    // CDF quantiles.
+    std::sort(all.begin(), all.end());
+    std::sort(first.begin(), first.end());
+    if (s.cdf_levels.empty())
+      for (int j = 0; j <= 1000; ++j) s.cdf_levels.push_back(j / 1000.0);
+    for (double q : s.cdf_levels) {
+      s.cdf_all_m[ei].push_back(percentileSorted(all, q));
+      s.cdf_first_window_m[ei].push_back(percentileSorted(first, q));
+    }
+    s.all[ei] = summarizeErrors(std::move(all));
+    s.first_window[ei] = summarizeErrors(std::move(first));
+    s.after_window[ei] = summarizeErrors(std::move(after));
+    if (s.representative >= 0)
+      s.representative_flight[ei] = flights[static_cast<std::size_t>(s.representative)].summary(e);
+  }
+  return s;
+}
+
+MonteCarloResult runMonteCarlo(const MonteCarloOptions& options, const std::function<void(int, int)>& progress) {
+  const auto t0 = Clock::now();
+  MonteCarloResult result;
+  result.options = options;
+  const int n = std::max(0, options.flights);
+  result.flights.resize(static_cast<std::size_t>(n));
+  unsigned threads = options.threads > 0 ? options.threads : std::max(1u, std::thread::hardware_concurrency());
+  threads = std::min<unsigned>(threads, static_cast<unsigned>(std::max(1, n)));
+  result.threads_used = threads;
+  std::atomic<int> next{0};
+  std::mutex mutex;
+  int done = 0;
+  auto worker = [&]() {
+    for (int i = next++; i < n; i = next++) {
+      MonteCarloFlightRun r = runMonteCarloFlight(options, i);  // fully independent
+      std::lock_guard<std::mutex> lock(mutex);
+      result.flights[static_cast<std::size_t>(i)] = std::move(r);
+      ++done;
+      if (progress) progress(done, n);
+    }
+  };
+  std::vector<std::thread> pool;
+  for (unsigned t = 1; t < threads; ++t) pool.emplace_back(worker);
+  worker();
+  for (auto& t : pool) t.join();
+  result.summary = summarizeMonteCarlo(result.flights, options);
+  result.wall_s = secondsSince(t0);
+  return result;
+}
+
+}  // namespace ppp

@@ -1,0 +1,312 @@
+// Outputs of the Monte Carlo study (monte_carlo.h): Markdown tables, JSON, CSV.
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <stdexcept>
+
+#include "ppp_bayes_tree/evaluation/monte_carlo.h"
+
+namespace ppp {
+namespace {
+
+std::string fmt(const char* format, double v) {
+  if (!std::isfinite(v)) return v > 0 ? "inf" : (v < 0 ? "-inf" : "nan");
+  char b[64];
+  std::snprintf(b, sizeof b, format, v);
+  return b;
+}
+std::string cm(double m) { return fmt("%.1f", 100.0 * m); }
+
+/// JSON number (null for NaN/inf: JSON has neither).
+std::string num(double v) {
+  if (!std::isfinite(v)) return "null";
+  char b[40];
+  std::snprintf(b, sizeof b, "%.10g", v);
+  return b;
+}
+std::string str(const std::string& s) {
+  std::string o = "\"";
+  for (char c : s) {
+    if (c == '"' || c == '\\') {
+      o += '\\';
+      o += c;
+    } else if (static_cast<unsigned char>(c) < 0x20) {
+      char b[8];
+      std::snprintf(b, sizeof b, "\\u%04x", c);
+      o += b;
+    } else {
+      o += c;
+    }
+  }
+  return o + "\"";
+}
+std::string jsonSummary(const ErrorSummary& s) {
+  return "{\"count\": " + std::to_string(s.count) + ", \"median_cm\": " + num(100 * s.median_m) +
+         ", \"mean_cm\": " + num(100 * s.mean_m) + ", \"sigma_cm\": " + num(100 * s.std_m) +
+         ", \"max_cm\": " + num(100 * s.max_m) + "}";
+}
+std::string jsonArray(const std::vector<double>& v) {
+  std::string o = "[";
+  for (std::size_t i = 0; i < v.size(); ++i) o += (i ? ", " : "") + num(v[i]);
+  return o + "]";
+}
+
+std::string profileList(const MonteCarloOptions& o) {
+  std::string s;
+  for (std::size_t i = 0; i < o.profiles.size(); ++i) s += (i ? "," : "") + std::string(flightProfileName(o.profiles[i]));
+  return s;
+}
+
+void writeFile(const std::filesystem::path& path, const std::string& text) {
+  std::ofstream out(path, std::ios::binary);
+  out << text;
+  if (!out) throw std::runtime_error("cannot write " + path.string());
+}
+
+std::string quantileCsv(const std::array<std::vector<QuantileBin>, kMonteCarloEstimators>& bins, const char* t_name) {
+  // Union of the bin starts over the estimators.
+  std::map<double, std::array<const QuantileBin*, kMonteCarloEstimators>> rows;
+  for (int e = 0; e < kMonteCarloEstimators; ++e)
+    for (const auto& b : bins[static_cast<std::size_t>(e)]) rows[b.t_s][static_cast<std::size_t>(e)] = &b;
+  std::ostringstream o;
+  o << t_name;
+  for (int e = 0; e < kMonteCarloEstimators; ++e) {
+    const std::string k = monteCarloEstimatorKey(e);
+    o << ',' << k << "_count," << k << "_p05_m," << k << "_p50_m," << k << "_p95_m," << k << "_abs_p50_m," << k
+      << "_abs_p90_m";
+  }
+  o << '\n';
+  for (const auto& [t, r] : rows) {
+    o << num(t);
+    for (const QuantileBin* b : r) {
+      if (b == nullptr) {
+        o << ",0,,,,,";
+      } else {
+        o << ',' << b->count << ',' << num(b->p05) << ',' << num(b->p50) << ',' << num(b->p95) << ','
+          << num(b->abs_p50) << ',' << num(b->abs_p90);
+      }
+    }
+    o << '\n';
+  }
+  return o.str();
+}
+
+}  // namespace
+
+std::string monteCarloMarkdown(const MonteCarloResult& r) {
+  const MonteCarloSummary& s = r.summary;
+  const MonteCarloOptions& o = r.options;
+  std::ostringstream md;
+  md << "# Monte Carlo: " << s.flights << " simulated flights\n\n";
+  md << "Seed " << o.seed << ", " << fmt("%.1f", o.duration_s / 60.0) << " min at " << fmt("%g", o.rate_hz)
+     << " Hz, profiles " << profileList(o) << "; " << s.failed << " failed. Wall time "
+     << fmt("%.1f", r.wall_s) << " s on " << r.threads_used << " threads (per-flight sums: simulate "
+     << fmt("%.1f", s.simulate_s) << " s, EKF " << fmt("%.1f", s.ekf_s) << " s, smoother "
+     << fmt("%.1f", s.smoother_s) << " s).\n\n";
+  auto table = [&](const std::string& title, const std::array<ErrorSummary, kMonteCarloEstimators>& t) {
+    md << "## " << title << "\n\n| estimator | epochs | median | mean | sigma | max |\n|---|---:|---:|---:|---:|---:|\n";
+    for (int e = 0; e < kMonteCarloEstimators; ++e) {
+      const ErrorSummary& x = t[static_cast<std::size_t>(e)];
+      md << "| " << monteCarloEstimatorLabel(e) << " | " << x.count << " | " << cm(x.median_m) << " | "
+         << cm(x.mean_m) << " | " << cm(x.std_m) << " | " << cm(x.max_m) << " |\n";
+    }
+    md << '\n';
+  };
+  md << "3D position error in cm.\n\n";
+  table("All epochs of all flights", s.all);
+  table("First " + fmt("%g", o.first_window_s / 60.0) + " minutes of each flight", s.first_window);
+  table("After the first " + fmt("%g", o.first_window_s / 60.0) + " minutes (after convergence)", s.after_window);
+  std::string rep = "Representative flight (none)";
+  if (s.representative >= 0) {
+    const auto& f = r.flights[static_cast<std::size_t>(s.representative)];
+    rep = "Representative flight: #" + std::to_string(f.setup.index) + " (" + flightProfileName(f.setup.profile) +
+          ", seed " + std::to_string(f.setup.seed) + "; the flight whose EKF mean is the median of the flights' EKF means)";
+  }
+  table(rep, s.representative_flight);
+
+  md << "## Convergence: median over flights of the time after which the 3D error stays below a threshold\n\n"
+        "| estimator |";
+  for (double t : o.convergence_thresholds_m) md << " < " << cm(t) << " cm |";
+  md << "\n|---|";
+  for (std::size_t i = 0; i < o.convergence_thresholds_m.size(); ++i) md << "---:|";
+  md << '\n';
+  for (int e = 0; e < kMonteCarloEstimators; ++e) {
+    const auto ei = static_cast<std::size_t>(e);
+    md << "| " << monteCarloEstimatorLabel(e) << " |";
+    for (std::size_t i = 0; i < o.convergence_thresholds_m.size(); ++i)
+      md << ' ' << fmt("%.1f", s.convergence_median_s[ei][i] / 60.0) << " min (never: "
+         << s.convergence_never[ei][i] << ") |";
+    md << '\n';
+  }
+  md << "\n## Phase-bias error |estimate - truth| by arc age (median / 90th percentile, cm)\n\n"
+     << "Arcs compared: " << s.bias_arcs_compared << " (of which " << s.bias_arcs_missed_slip
+     << " ran into another simulated arc: compared up to it).\n\n| age |";
+  for (int e = 0; e < kMonteCarloEstimators; ++e) md << ' ' << monteCarloEstimatorLabel(e) << " |";
+  md << "\n|---:|---:|---:|---:|\n";
+  for (double age : {0.0, 60.0, 300.0, 600.0, 900.0, 1200.0, 1790.0}) {
+    bool any = false;
+    std::string row = "| " + fmt("%.0f", age) + " s |";
+    for (int e = 0; e < kMonteCarloEstimators; ++e) {
+      const QuantileBin* hit = nullptr;
+      for (const auto& b : s.bias_vs_age[static_cast<std::size_t>(e)])
+        if (b.t_s <= age + 1e-9 && age < b.t_s + o.bias_bin_s) hit = &b;
+      row += hit ? " " + cm(hit->abs_p50) + " / " + cm(hit->abs_p90) + " |" : " - |";
+      any |= hit != nullptr;
+    }
+    if (any) md << row << '\n';
+  }
+  md << "\n## Smoother filtered vs EKF: |x_EKF - x_filtered| over all epochs (same models and noise)\n\n"
+     << "median " << cm(s.filtered_minus_ekf.median_m) << " cm, mean " << cm(s.filtered_minus_ekf.mean_m)
+     << " cm, max " << cm(s.filtered_minus_ekf.max_m) << " cm over " << s.filtered_minus_ekf.count << " epochs.\n";
+  md << "\nEpochs without a solution:";
+  for (int e = 0; e < kMonteCarloEstimators; ++e)
+    md << ' ' << monteCarloEstimatorLabel(e) << ' ' << s.epochs_without_solution[static_cast<std::size_t>(e)]
+       << (e + 1 < kMonteCarloEstimators ? "," : ".\n");
+  for (const auto& f : s.failures) md << "\n- failed: " << f;
+  return md.str();
+}
+
+std::string monteCarloJson(const MonteCarloResult& r) {
+  const MonteCarloSummary& s = r.summary;
+  const MonteCarloOptions& o = r.options;
+  std::ostringstream j;
+  j << "{\n  \"flights\": " << s.flights << ", \"failed\": " << s.failed << ", \"seed\": " << o.seed
+    << ", \"duration_s\": " << num(o.duration_s) << ", \"rate_hz\": " << num(o.rate_hz)
+    << ", \"profiles\": " << str(profileList(o)) << ", \"first_window_s\": " << num(o.first_window_s)
+    << ",\n  \"threads\": " << r.threads_used << ", \"wall_s\": " << num(r.wall_s)
+    << ", \"simulate_s\": " << num(s.simulate_s) << ", \"ekf_s\": " << num(s.ekf_s)
+    << ", \"smoother_s\": " << num(s.smoother_s) << ",\n  \"estimators\": [";
+  for (int e = 0; e < kMonteCarloEstimators; ++e) j << (e ? ", " : "") << str(monteCarloEstimatorKey(e));
+  j << "],\n  \"representative_flight\": " << s.representative;
+  if (s.representative >= 0) {
+    const auto& f = r.flights[static_cast<std::size_t>(s.representative)];
+    j << ", \"representative_profile\": " << str(flightProfileName(f.setup.profile))
+      << ", \"representative_seed\": " << f.setup.seed;
+  }
+  j << ",\n  \"representative_definition\": "
+    << str("the flight whose EKF mean 3D error is the median of the flights' EKF means (lower middle for an even count)");
+  auto tables = [&](const char* name, const std::array<ErrorSummary, kMonteCarloEstimators>& t) {
+    j << ",\n  " << str(name) << ": {";
+    for (int e = 0; e < kMonteCarloEstimators; ++e)
+      j << (e ? ", " : "") << str(monteCarloEstimatorKey(e)) << ": " << jsonSummary(t[static_cast<std::size_t>(e)]);
+    j << "}";
+  };
+  tables("all_epochs", s.all);
+  tables("first_window", s.first_window);
+  tables("after_window", s.after_window);
+  tables("representative", s.representative_flight);
+  j << ",\n  \"filtered_minus_ekf\": " << jsonSummary(s.filtered_minus_ekf);
+  j << ",\n  \"convergence_thresholds_m\": " << jsonArray(o.convergence_thresholds_m) << ",\n  \"convergence\": {";
+  for (int e = 0; e < kMonteCarloEstimators; ++e) {
+    const auto ei = static_cast<std::size_t>(e);
+    std::vector<double> never(s.convergence_never[ei].begin(), s.convergence_never[ei].end());
+    j << (e ? ", " : "") << str(monteCarloEstimatorKey(e)) << ": {\"median_s\": " << jsonArray(s.convergence_median_s[ei])
+      << ", \"never\": " << jsonArray(never) << "}";
+  }
+  j << "},\n  \"epochs_without_solution\": {";
+  for (int e = 0; e < kMonteCarloEstimators; ++e)
+    j << (e ? ", " : "") << str(monteCarloEstimatorKey(e)) << ": " << s.epochs_without_solution[static_cast<std::size_t>(e)];
+  j << "},\n  \"bias_arcs_compared\": " << s.bias_arcs_compared
+    << ", \"bias_arcs_missed_slip\": " << s.bias_arcs_missed_slip << ",\n  \"failures\": [";
+  for (std::size_t i = 0; i < s.failures.size(); ++i) j << (i ? ", " : "") << str(s.failures[i]);
+  j << "],\n  \"flight_table\": [";
+  for (std::size_t i = 0; i < r.flights.size(); ++i) {
+    const auto& f = r.flights[i];
+    j << (i ? "," : "") << "\n    {\"index\": " << f.setup.index << ", \"seed\": " << f.setup.seed
+      << ", \"profile\": " << str(flightProfileName(f.setup.profile)) << ", \"failed\": " << (f.failure.empty() ? "false" : "true")
+      << ", \"epochs\": " << f.epochs << ", \"simulated_arcs\": " << f.simulated_arcs
+      << ", \"phase_breaks\": " << f.phase_breaks << ", \"estimator_arcs\": " << f.estimator_arcs
+      << ", \"slips_detected\": " << f.slips_detected;
+    for (int e = 0; e < kMonteCarloEstimators; ++e)
+      j << ", " << str(std::string(monteCarloEstimatorKey(e)) + "_mean_cm") << ": " << num(100 * f.summary(e).mean_m);
+    j << "}";
+  }
+  j << "\n  ]\n}\n";
+  return j.str();
+}
+
+void writeMonteCarloOutputs(const MonteCarloResult& r, const std::string& dir) {
+  namespace fs = std::filesystem;
+  fs::create_directories(dir);
+  const fs::path d(dir);
+  const MonteCarloSummary& s = r.summary;
+  writeFile(d / "summary.md", monteCarloMarkdown(r));
+  writeFile(d / "summary.json", monteCarloJson(r));
+
+  std::ostringstream flights;
+  flights << "index,seed,profile,start_gpst,latitude_deg,longitude_deg,height_m,epochs,simulated_arcs,phase_breaks,"
+             "estimator_arcs,slips_detected,failed";
+  for (int e = 0; e < kMonteCarloEstimators; ++e) {
+    const std::string k = monteCarloEstimatorKey(e);
+    flights << ',' << k << "_mean_cm," << k << "_median_cm," << k << "_max_cm," << k << "_first_window_mean_cm";
+  }
+  flights << ",filtered_minus_ekf_max_cm,simulate_s,ekf_s,smoother_s,drawn\n";
+  for (const auto& f : r.flights) {
+    flights << f.setup.index << ',' << f.setup.seed << ',' << flightProfileName(f.setup.profile) << ','
+            << f.setup.start.toString() << ',' << num(f.setup.origin.latitude_rad * kRadToDeg) << ','
+            << num(f.setup.origin.longitude_rad * kRadToDeg) << ',' << num(f.setup.origin.height_m) << ','
+            << f.epochs << ',' << f.simulated_arcs << ',' << f.phase_breaks << ',' << f.estimator_arcs << ','
+            << f.slips_detected << ',' << (f.failure.empty() ? 0 : 1);
+    for (int e = 0; e < kMonteCarloEstimators; ++e) {
+      const ErrorSummary a = f.summary(e), w = f.summary(e, r.options.first_window_s);
+      flights << ',' << num(100 * a.mean_m) << ',' << num(100 * a.median_m) << ',' << num(100 * a.max_m) << ','
+              << num(100 * w.mean_m);
+    }
+    double diff_max = 0.0;
+    for (double v : f.filtered_minus_ekf_m)
+      if (std::isfinite(v)) diff_max = std::max(diff_max, v);
+    flights << ',' << num(100 * diff_max);
+    std::string drawn;
+    for (const auto& x : f.drawn) drawn += (drawn.empty() ? "" : "; ") + x;
+    for (char& c : drawn)
+      if (c == '"' || c == ',') c = (c == ',' ? ';' : '\'');
+    flights << ',' << num(f.simulate_s) << ',' << num(f.ekf_s) << ',' << num(f.smoother_s) << ",\"" << drawn << "\"\n";
+  }
+  writeFile(d / "flights.csv", flights.str());
+
+  std::ostringstream rep;
+  rep << "time_s";
+  for (int e = 0; e < kMonteCarloEstimators; ++e) rep << ',' << monteCarloEstimatorKey(e) << "_3d_m";
+  rep << '\n';
+  if (s.representative >= 0) {
+    const auto& f = r.flights[static_cast<std::size_t>(s.representative)];
+    for (std::size_t k = 0; k < f.time_s.size(); ++k) {
+      rep << num(f.time_s[k]);
+      for (int e = 0; e < kMonteCarloEstimators; ++e) {
+        const double v = f.error_3d_m[static_cast<std::size_t>(e)][k];
+        rep << ',' << (std::isfinite(v) ? num(v) : "");
+      }
+      rep << '\n';
+    }
+  }
+  writeFile(d / "representative_flight.csv", rep.str());
+  writeFile(d / "error_vs_time.csv", quantileCsv(s.error_vs_time, "time_s"));
+  writeFile(d / "bias_convergence.csv", quantileCsv(s.bias_vs_age, "age_s"));
+  std::ostringstream diff;
+  diff << "time_s,count,p50_m,p95_m,p90_m\n";
+  for (const auto& b : s.filtered_minus_ekf_vs_time)
+    diff << num(b.t_s) << ',' << b.count << ',' << num(b.p50) << ',' << num(b.p95) << ',' << num(b.abs_p90) << '\n';
+  writeFile(d / "filtered_minus_ekf.csv", diff.str());
+
+  std::ostringstream cdf;
+  cdf << "fraction";
+  for (int e = 0; e < kMonteCarloEstimators; ++e)
+    cdf << ',' << monteCarloEstimatorKey(e) << "_all_m," << monteCarloEstimatorKey(e) << "_first_window_m";
+  cdf << '\n';
+  for (std::size_t i = 0; i < s.cdf_levels.size(); ++i) {
+    cdf << num(s.cdf_levels[i]);
+    for (int e = 0; e < kMonteCarloEstimators; ++e) {
+      const auto ei = static_cast<std::size_t>(e);
+      cdf << ',' << (i < s.cdf_all_m[ei].size() ? num(s.cdf_all_m[ei][i]) : "") << ','
+          << (i < s.cdf_first_window_m[ei].size() ? num(s.cdf_first_window_m[ei][i]) : "");
+    }
+    cdf << '\n';
+  }
+  writeFile(d / "error_cdf.csv", cdf.str());
+}
+
+}  // namespace ppp

@@ -1,0 +1,218 @@
+// A small Monte Carlo (3 flights of 3 minutes): shape and finiteness of the
+// outputs, JSON that parses, determinism (same seed -> same numbers, whatever
+// the thread count), the flight-seed derivation and the in-memory pipeline.
+#include <gtest/gtest.h>
+#include <yaml-cpp/yaml.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "ppp_bayes_tree/evaluation/monte_carlo.h"
+#include "ppp_bayes_tree/ppp/ppp_pipeline.h"
+#include "ppp_bayes_tree/ppp/ppp_smoother.h"
+#include "ppp_bayes_tree/simulation/gnss_simulator.h"
+#include "ppp_bayes_tree/simulation/random_stream.h"
+#include "test_support.h"
+
+using namespace ppp;
+
+namespace {
+
+MonteCarloOptions smallStudy() {
+  MonteCarloOptions o;
+  o.flights = 3;
+  o.seed = 42;
+  o.duration_s = 180.0;
+  o.profiles = {FlightProfile::Loiter, FlightProfile::Figure8, FlightProfile::Survey};
+  o.first_window_s = 60.0;  // a window shorter than the flights
+  o.threads = 2;
+  return o;
+}
+
+const MonteCarloResult& study() {
+  static const MonteCarloResult r = runMonteCarlo(smallStudy());
+  return r;
+}
+
+std::string readText(const std::filesystem::path& p) {
+  std::ifstream in(p);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+}  // namespace
+
+TEST(MonteCarlo, FlightSetupIsDerivedFromTheSeedAndIndex) {
+  const MonteCarloOptions o = smallStudy();
+  const MonteCarloFlightSetup a = monteCarloFlightSetup(o, 1), b = monteCarloFlightSetup(o, 1);
+  EXPECT_EQ(a.seed, b.seed);
+  EXPECT_EQ(a.seed, RandomStream(42).derive(1).seed());  // the documented derivation
+  EXPECT_NE(a.seed, monteCarloFlightSetup(o, 2).seed);
+  EXPECT_EQ(a.profile, FlightProfile::Figure8);  // round robin: profiles[1 % 3]
+  EXPECT_EQ(monteCarloFlightSetup(o, 3).profile, FlightProfile::Loiter);
+  EXPECT_TRUE(a.start == b.start);
+  EXPECT_LE(std::abs(a.origin.latitude_rad), 60.0 * kDegToRad);
+  // Independent of the number of flights.
+  MonteCarloOptions more = o;
+  more.flights = 50;
+  EXPECT_EQ(monteCarloFlightSetup(more, 1).seed, a.seed);
+}
+
+TEST(MonteCarlo, TablesHaveEveryEstimatorAndWindowWithFiniteValues) {
+  const MonteCarloResult& r = study();
+  const MonteCarloSummary& s = r.summary;
+  ASSERT_EQ(r.flights.size(), 3u);
+  EXPECT_EQ(s.failed, 0) << (s.failures.empty() ? "" : s.failures.front());
+  for (const auto& f : r.flights) {
+    EXPECT_EQ(f.epochs, 181u);  // 3 min at 1 Hz, both ends
+    for (const auto& e : f.error_3d_m) EXPECT_EQ(e.size(), f.epochs);
+  }
+  ASSERT_GE(s.representative, 0);
+  for (int e = 0; e < kMonteCarloEstimators; ++e) {
+    const auto ei = static_cast<std::size_t>(e);
+    for (const ErrorSummary* t : {&s.all[ei], &s.first_window[ei], &s.after_window[ei], &s.representative_flight[ei]}) {
+      EXPECT_GT(t->count, 0u) << monteCarloEstimatorKey(e);
+      EXPECT_TRUE(std::isfinite(t->median_m) && std::isfinite(t->mean_m) && std::isfinite(t->std_m) &&
+                  std::isfinite(t->max_m));
+      EXPECT_LE(t->median_m, t->max_m);
+      EXPECT_LT(t->max_m, 20.0) << "3D error beyond 20 m: the pipeline or the truth is broken";
+    }
+    EXPECT_LT(s.first_window[ei].count, s.all[ei].count);  // the window holds the first minute only
+    EXPECT_EQ(s.first_window[ei].count + s.after_window[ei].count, s.all[ei].count);
+    EXPECT_EQ(s.all[ei].count + s.epochs_without_solution[ei], 3u * 181u);
+    EXPECT_FALSE(s.error_vs_time[ei].empty());
+    EXPECT_FALSE(s.bias_vs_age[ei].empty());
+    for (const auto& b : s.bias_vs_age[ei]) EXPECT_TRUE(std::isfinite(b.p50) && std::isfinite(b.abs_p90));
+    ASSERT_EQ(s.cdf_all_m[ei].size(), s.cdf_levels.size());
+    for (std::size_t j = 1; j < s.cdf_levels.size(); ++j) EXPECT_LE(s.cdf_all_m[ei][j - 1], s.cdf_all_m[ei][j]);
+    EXPECT_EQ(s.convergence_median_s[ei].size(), r.options.convergence_thresholds_m.size());
+  }
+  EXPECT_GT(s.bias_arcs_compared, 0u);
+  // The representative flight is the median of the EKF means.
+  std::vector<double> means;
+  for (const auto& f : r.flights) means.push_back(f.summary(0).mean_m);
+  std::vector<double> sorted = means;
+  std::sort(sorted.begin(), sorted.end());
+  EXPECT_DOUBLE_EQ(means[static_cast<std::size_t>(s.representative)], sorted[1]);
+}
+
+TEST(MonteCarlo, SmootherFilteredFollowsTheEkf) {
+  // Same models and noise: the filtered solutions differ only by relinearization
+  // (measured: < 1 mm on average on these flights; 2 cm is a loose bound).
+  const MonteCarloSummary& s = study().summary;
+  EXPECT_NEAR(s.all[0].mean_m, s.all[1].mean_m, 0.02);
+  EXPECT_LT(s.filtered_minus_ekf.median_m, 0.02);
+}
+
+TEST(MonteCarlo, BiasTruthIsInTheEstimatorConvention) {
+  // Noise-free observations with integer ambiguities and phase breaks: a new
+  // bias starts at phase minus code = the true IF bias exactly, so every bias
+  // error must be ~0; a wrong truth (arc or wind-up convention) would show as
+  // whole IF wind-up wavelengths (10.7 cm) or ambiguity-sized errors. The
+  // a-priori ZWD is set to the truth: a wrong one would move the position and,
+  // through the precise phases, the biases.
+  MonteCarloOptions o = smallStudy();
+  o.simulation.errors = ErrorModelConfig::none();
+  o.simulation.errors.ambiguity.enabled = true;
+  o.simulation.errors.phase_breaks.enabled = true;
+  o.profiles = {FlightProfile::Figure8};
+  o.duration_s = 240.0;
+  const MonteCarloFlightSetup setup = monteCarloFlightSetup(o, 0);
+  const SimulatedFlight f = simulateFlight(monteCarloSimulationConfig(o, setup), setup.seed);
+  ASSERT_FALSE(f.truth.empty());
+  o.ppp.stochastic.initial_zwd_m = f.truth.front().zwd_m;
+  EXPECT_GT(f.breaks.size(), 0u);  // arcs restart inside the flight
+  for (double lag : {0.0, 60.0}) {
+    o.smoother_filtered_lag_s = lag;
+    const MonteCarloFlightRun r = runMonteCarloFlight(o, 0);
+    ASSERT_TRUE(r.failure.empty()) << r.failure;
+    EXPECT_GT(r.bias_arcs_compared, 5u);
+    for (int e = 0; e < kMonteCarloEstimators; ++e) {
+      const auto& b = r.bias[static_cast<std::size_t>(e)];
+      ASSERT_FALSE(b.empty());
+      double worst = 0.0;
+      for (const auto& x : b) worst = std::max(worst, std::abs(static_cast<double>(x.error_m)));
+      EXPECT_LT(worst, 0.01) << monteCarloEstimatorKey(e) << " lag " << lag;
+    }
+  }
+}
+
+TEST(MonteCarlo, FixedLagFilteredAndBatchSmoothedMatchTheFullSmoother) {
+  // The fast mode (filtered from a 60-s fixed-lag smoother, smoothed from the
+  // batch solve of all factors) against one full iSAM2 smoother.
+  MonteCarloOptions o = smallStudy();
+  o.smoother_filtered_lag_s = 60.0;
+  const MonteCarloFlightRun fast = runMonteCarloFlight(o, 0);
+  const MonteCarloFlightRun& full = study().flights[0];
+  ASSERT_TRUE(fast.failure.empty()) << fast.failure;
+  EXPECT_EQ(fast.error_3d_m[0], full.error_3d_m[0]);  // the EKF is the same run
+  for (int e = 1; e < kMonteCarloEstimators; ++e) {
+    double worst = 0.0;
+    for (std::size_t k = 0; k < full.epochs; ++k)
+      worst = std::max(worst, std::abs(fast.error_3d_m[static_cast<std::size_t>(e)][k] -
+                                       full.error_3d_m[static_cast<std::size_t>(e)][k]));
+    EXPECT_LT(worst, 0.01) << monteCarloEstimatorKey(e);
+  }
+}
+
+TEST(MonteCarlo, SameSeedSameNumbersWhateverTheThreadCount) {
+  MonteCarloOptions o = smallStudy();
+  o.flights = 2;
+  o.threads = 1;
+  const MonteCarloResult a = runMonteCarlo(o);
+  for (int i = 0; i < 2; ++i) {
+    const auto& x = a.flights[static_cast<std::size_t>(i)];
+    const auto& y = study().flights[static_cast<std::size_t>(i)];  // 2 threads, 3 flights
+    EXPECT_EQ(x.setup.seed, y.setup.seed);
+    for (int e = 0; e < kMonteCarloEstimators; ++e) {
+      const auto& ex = x.error_3d_m[static_cast<std::size_t>(e)];
+      const auto& ey = y.error_3d_m[static_cast<std::size_t>(e)];
+      ASSERT_EQ(ex.size(), ey.size());
+      for (std::size_t k = 0; k < ex.size(); ++k)
+        if (!(std::isnan(ex[k]) && std::isnan(ey[k]))) ASSERT_EQ(ex[k], ey[k]) << "flight " << i << " epoch " << k;
+      ASSERT_EQ(x.bias[static_cast<std::size_t>(e)].size(), y.bias[static_cast<std::size_t>(e)].size());
+    }
+  }
+  MonteCarloOptions other = o;
+  other.seed = 43;
+  const MonteCarloFlightRun z = runMonteCarloFlight(other, 0);
+  EXPECT_NE(z.error_3d_m[0], a.flights[0].error_3d_m[0]);
+}
+
+TEST(MonteCarlo, OutputsAreWrittenAndTheJsonParses) {
+  const MonteCarloResult& r = study();
+  const std::filesystem::path dir = ppp::test::tempDir("monte_carlo");
+  writeMonteCarloOutputs(r, dir.string());
+  for (const char* f : {"summary.md", "summary.json", "flights.csv", "representative_flight.csv", "error_vs_time.csv",
+                        "bias_convergence.csv", "error_cdf.csv"})
+    EXPECT_TRUE(std::filesystem::exists(dir / f)) << f;
+  // JSON is YAML 1.2: yaml-cpp parses it.
+  const YAML::Node j = YAML::Load(readText(dir / "summary.json"));
+  EXPECT_EQ(j["flights"].as<int>(), 3);
+  for (const char* window : {"all_epochs", "first_window", "after_window", "representative"})
+    for (int e = 0; e < kMonteCarloEstimators; ++e) {
+      const YAML::Node t = j[window][monteCarloEstimatorKey(e)];
+      ASSERT_TRUE(t.IsMap()) << window << " " << monteCarloEstimatorKey(e);
+      for (const char* k : {"median_cm", "mean_cm", "sigma_cm", "max_cm"})
+        EXPECT_TRUE(std::isfinite(t[k].as<double>())) << window << " " << k;
+    }
+  EXPECT_EQ(j["flight_table"].size(), 3u);
+  const std::string md = readText(dir / "summary.md");
+  for (int e = 0; e < kMonteCarloEstimators; ++e) EXPECT_NE(md.find(monteCarloEstimatorLabel(e)), std::string::npos);
+  EXPECT_NE(md.find("First 1 minutes"), std::string::npos);
+  // Representative flight CSV: header + one line per epoch.
+  std::ifstream rep(dir / "representative_flight.csv");
+  std::string line;
+  int lines = 0;
+  while (std::getline(rep, line)) ++lines;
+  EXPECT_EQ(lines, 1 + 181);
+}
+
+TEST(MonteCarlo, InMemoryPipelineAndBatchSmootherRefuseMissingInputs) {
+  EXPECT_THROW(PppPipeline(PppInMemoryInputs{}, PppConfig{}), std::invalid_argument);
+  const PppSmoother not_recording;
+  EXPECT_THROW(not_recording.batchSmoothedValues(), std::logic_error);
+}
