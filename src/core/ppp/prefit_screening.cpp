@@ -76,7 +76,14 @@ std::vector<CodeOutlier> screenCodeOutliers(const std::vector<SatelliteMeasureme
   std::vector<CodeOutlier> rejected;
   std::vector<std::size_t> active(ms.size());
   for (std::size_t i = 0; i < ms.size(); ++i) active[i] = i;
-  while (active.size() > 4) {
+  // An outlier is identifiable only with a redundancy of at least 2 (4 unknowns:
+  // position and clock): with 5 satellites every residual of the fit is the
+  // same multiple of one number, and the deleted residual r / (1 - h) of a
+  // satellite the others barely predict explodes (a 0 m true error showed up
+  // as -3186 m in the Monte Carlo figure-eight flights). So at least 6
+  // satellites, and only satellites with 1 - h >= kMinCheckability are tested.
+  constexpr double kMinCheckability = 0.05;
+  while (active.size() > 5) {
     const int n = static_cast<int>(active.size());
     Eigen::MatrixXd A(n, 4);  // whitened design
     Eigen::VectorXd b(n);     // whitened residuals
@@ -94,7 +101,7 @@ std::vector<CodeOutlier> screenCodeOutliers(const std::vector<SatelliteMeasureme
     double worst_w = 0.0;
     for (int k = 0; k < n; ++k) {
       const double one_minus_h = 1.0 - leverage(k, k);
-      if (one_minus_h < 1e-6) continue;  // not checkable: the others cannot predict it
+      if (one_minus_h < kMinCheckability) continue;  // not checkable: the others barely predict it
       const double w = std::abs(r(k)) / std::sqrt(one_minus_h);
       if (w > worst_w) {
         worst = k;
