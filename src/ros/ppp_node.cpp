@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 
+#include <Eigen/Geometry>
 #include <geometry_msgs/TransformStamped.h>
 #include <nav_msgs/Odometry.h>
 #include <sensor_msgs/NavSatFix.h>
@@ -183,15 +184,15 @@ void PppNode::onCorrections(const ppp_bayes_tree::PreciseCorrections::ConstPtr& 
     issues_.counts[reason] += n;
     warn("corr:" + reason.substr(0, 20), "ppp: corrections: " + reason);
   }
+  if (batch.satellites.empty()) {
+    warn("corr_empty", "ppp: correction batch without a usable satellite ignored");
+    return;
+  }
   last_correction_age_s_ = (ros::Time::now() - msg->header.stamp).toSec();
   if (last_correction_received_ && batch.time < *last_correction_received_ - config_.ros.reset_backwards_threshold_s) {
     warn("corrections_back", "ppp: correction time went backwards by " +
                                  std::to_string(*last_correction_received_ - batch.time) + " s: buffer cleared");
     corrections_.clear();
-  }
-  if (batch.satellites.empty()) {
-    warn("corr_empty", "ppp: correction batch without a usable satellite ignored");
-    return;
   }
   last_correction_received_ = batch.time;
   const ppp::BatchAddResult r = corrections_.add(std::move(batch));
