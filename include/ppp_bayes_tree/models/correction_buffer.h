@@ -76,8 +76,10 @@ class CorrectionBuffer {
   const PreciseEphemeris& ephemeris() const { return ephemeris_; }
   std::optional<GnssTime> newest() const;
   std::optional<GnssTime> oldest() const;
-  /// True when a batch at or after `t` is held (interpolation possible at t).
-  bool covers(const GnssTime& t) const { return !batches_.empty() && batches_.back().time >= t; }
+  /// True when a batch strictly after `t` is held: interpolation is then
+  /// possible at t and over the signal travel time before it even at the first
+  /// batch of a stream (a node therefore waits up to one batch interval).
+  bool covers(const GnssTime& t) const { return !batches_.empty() && batches_.back().time > t; }
   std::size_t size() const { return batches_.size(); }
   /// The newest batch (nullptr when empty).
   const CorrectionBatch* latest() const { return batches_.empty() ? nullptr : &batches_.back(); }
