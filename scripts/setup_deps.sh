@@ -8,6 +8,7 @@ PACKAGES=(
   # build and ROS 1
   catkin libroscpp-dev librosbag-dev libtf2-ros-dev libtf2-eigen-dev libnav-msgs-dev
   libsensor-msgs-dev libgeometry-msgs-dev ros-message-generation libdiagnostic-updater-dev
+  ros-std-msgs ros-geometry-msgs python3-rosbag
   python3-roslaunch python3-rosmaster python3-rostest librostest-dev rosbash rviz
   # numerics, geodesy, compression, configuration files
   libeigen3-dev libsuitesparse-dev libgeographiclib-dev zlib1g-dev libyaml-cpp-dev

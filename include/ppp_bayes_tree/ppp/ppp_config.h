@@ -6,6 +6,7 @@
 //                      are copied from `estimator`)
 //   measurement_model: MeasurementModelOptions, with `signals:` the SignalSelectionOptions
 //   cycle_slip:        CycleSlipOptions (arc tracker)
+//   ros:               the ROS nodes' section (kept raw, bound by the node)
 // (bound by ppp_options_binding.h; the raw nodes are kept as well)
 // Loading is strict: an unknown key, a wrong type or an out-of-range value
 // throws ConfigError naming the file, the key path and the reason. Absent keys
@@ -34,6 +35,10 @@ struct PppConfig {
   /// The raw sections as written (already bound into the three members above).
   YAML::Node measurement_model = YAML::Node(YAML::NodeType::Map);
   YAML::Node cycle_slip = YAML::Node(YAML::NodeType::Map);
+  /// `ros:` the ROS nodes' own section (topics, frames, products, latency),
+  /// kept as written: the core does not read it, the ROS adapter binds it as
+  /// strictly (ppp_bayes_tree/ros/node_options.h).
+  YAML::Node ros = YAML::Node(YAML::NodeType::Map);
   std::string source_name = "<defaults>";  // the file it came from (for later error messages)
 };
 

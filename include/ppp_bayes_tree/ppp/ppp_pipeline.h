@@ -77,6 +77,9 @@ struct PppEpochRecord {
   /// Arc starts other than new satellites, e.g. "G17 arc 11: Melbourne-Wubbena jump 3.2 cycles > 1.0".
   std::vector<std::string> arc_events;
   std::vector<MeasurementResidual> residuals;  // per used satellite
+  /// Covariance of (x, y, z, zwd, clock) [m^2] when solved (zero otherwise).
+  ReceiverCovariance receiver_covariance = ReceiverCovariance::Zero();
+  int active_biases = 0;  // phase-bias states of the estimator after the epoch
 };
 
 /// Postfit residual statistics of one satellite over the run [m].

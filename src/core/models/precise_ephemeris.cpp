@@ -276,6 +276,13 @@ ProductResult<SatelliteOrbit> PreciseEphemeris::orbit(const SatelliteId& sat, co
     }
   }
 
+  // 1b. Streams: cubic Hermite between the bracketing nodes when both have a velocity.
+  if (options_.hermite_between_velocity_nodes) {
+    const OrbitNode& l = nodes[k - 1];
+    const OrbitNode& r = exact ? l : nodes[k];
+    if (auto o = hermite(l, r, t, options_.interpolate_in_inertial_frame)) return R::success(*o);
+  }
+
   // 2. Walk outward collecting up to n_points consecutive usable nodes per side.
   const auto walk = [&](std::size_t start, int step, std::vector<std::size_t>& out) {
     WalkStop stop;
@@ -375,6 +382,40 @@ ProductResult<SatelliteOrbit> PreciseEphemeris::orbit(const SatelliteId& sat, co
   out.window_last = nodes[window.back()].time;
   out.nodes_used = static_cast<int>(window.size());
   return R::success(out);
+}
+
+template <class Node>
+std::optional<SatelliteOrbit> PreciseEphemeris::hermite(const Node& l, const Node& r, const GnssTime& t,
+                                                        bool inertial) {
+  if (!l.velocity_ecef_mps || !r.velocity_ecef_mps || !l.position_ecef_m || !r.position_ecef_m) return std::nullopt;
+  SatelliteOrbit out;
+  out.velocity_source = VelocitySource::Sp3VelocityRecords;
+  out.window_first = l.time;
+  out.window_last = r.time;
+  out.nodes_used = l.time == r.time ? 1 : 2;
+  if (l.time == r.time) {  // exactly on a node: the node's values
+    out.position_ecef_m = *l.position_ecef_m;
+    out.velocity_ecef_mps = *l.velocity_ecef_mps;
+    return out;
+  }
+  // Node states in the non-rotating frame aligned with ECEF at t (velocity: v + omega x r).
+  const auto state = [&](const Node& n, Eigen::Vector3d& p, Eigen::Vector3d& v) {
+    const double dt = n.time - t;
+    p = inertial ? rotateToQueryFrame(*n.position_ecef_m, dt) : *n.position_ecef_m;
+    v = inertial ? rotateToQueryFrame(*n.velocity_ecef_mps + earthRotationCross(*n.position_ecef_m), dt)
+                 : *n.velocity_ecef_mps;
+  };
+  Eigen::Vector3d p0, v0, p1, v1;
+  state(l, p0, v0);
+  state(r, p1, v1);
+  const double h = r.time - l.time, s = (t - l.time) / h, s2 = s * s, s3 = s2 * s;
+  const Eigen::Vector3d pos = (2 * s3 - 3 * s2 + 1) * p0 + (s3 - 2 * s2 + s) * h * v0 + (-2 * s3 + 3 * s2) * p1 +
+                              (s3 - s2) * h * v1;
+  const Eigen::Vector3d vel = ((6 * s2 - 6 * s) * p0 + (-6 * s2 + 6 * s) * p1) / h + (3 * s2 - 4 * s + 1) * v0 +
+                              (3 * s2 - 2 * s) * v1;
+  out.position_ecef_m = pos;
+  out.velocity_ecef_mps = inertial ? Eigen::Vector3d(vel - earthRotationCross(pos)) : vel;
+  return out;
 }
 
 // ------------------------------------------------------------------ clock

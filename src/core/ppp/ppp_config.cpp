@@ -89,6 +89,7 @@ PppConfig parsePppConfig(const std::string& yaml_text, const std::string& source
   readSmoother(top.section("smoother"), config.estimator, config.smoother);
   config.measurement_model = top.rawMapping("measurement_model");
   config.cycle_slip = top.rawMapping("cycle_slip");
+  config.ros = top.rawMapping("ros");
   top.finish();
   bindMeasurementModelOptions(config.measurement_model, source_name, config.model, config.signals);
   bindCycleSlipOptions(config.cycle_slip, source_name, config.cycle_slip_options);

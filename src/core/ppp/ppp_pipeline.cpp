@@ -10,6 +10,7 @@
 #include <stdexcept>
 
 #include "ppp_bayes_tree/io/antex_reader.h"
+#include "ppp_bayes_tree/ppp/ppp_epoch_processor.h"
 #include "ppp_bayes_tree/types/constants.h"
 
 namespace ppp {
@@ -53,7 +54,7 @@ struct PppPipeline::Impl {
   std::optional<BiasSinexFile> bias;
   std::optional<BlqFile> blq;
   const OceanLoadingCoefficients* ocean = nullptr;
-  std::unique_ptr<PppMeasurementModel> model;
+  std::unique_ptr<PppEpochProcessor> processor;
   std::vector<std::string> load_notes;
   std::size_t obs_size = 0;
   bool ran = false;
@@ -99,8 +100,8 @@ PppPipeline::PppPipeline(const PppInputFiles& files, PppConfig config)
                              ", not applied" + (found.note.empty() ? "" : " (" + found.note + ")"));
     }
   }
-  d.model = std::make_unique<PppMeasurementModel>(d.products, std::move(antex), ReceiverAntenna::fromHeader(h),
-                                                  d.ocean, config_.model);
+  d.processor = std::make_unique<PppEpochProcessor>(h, config_, d.products, std::move(antex),
+                                                    d.bias ? &*d.bias : nullptr, d.ocean);
 }
 
 PppPipeline::PppPipeline(const PppInMemoryInputs& inputs, PppConfig config)
@@ -130,7 +131,7 @@ std::string PppPipeline::stationName() const {
 
 std::vector<std::string> PppPipeline::notes() const {
   std::vector<std::string> n = impl_->load_notes;
-  for (const auto& s : impl_->model->antennaSources()) n.push_back("antenna " + s);
+  for (const auto& s : impl_->processor->antennaSources()) n.push_back("antenna " + s);
   return n;
 }
 
@@ -157,65 +158,26 @@ PppRunSummary PppPipeline::run(EpochEstimator& estimator, const EpochCallback& o
   if (header.approx_position_ecef_m && header.approx_position_ecef_m->norm() > 1e6)
     estimator.setApproximatePosition(*header.approx_position_ecef_m);
 
-  SignalSelector selector(header, config_.signals, d.bias ? &*d.bias : nullptr);
-  ArcTracker tracker(config_.cycle_slip_options);
-  WindupTracker windup;
   // Code-reference notes, merged over epochs: text before a trailing
   // satellite list -> union of the satellites.
   std::map<std::string, std::set<std::string>> code_notes;
   std::map<SatelliteId, ResidualAccumulator> acc;
-  std::optional<GnssTime> last_time;
-  std::optional<double> interval_s;
-
+  PppEpochProcessor& processor = *d.processor;
   ObsEpoch epoch;
-  SignalSelectionResult sel;
-  std::vector<DualFrequencyObservation> usable;
-  std::vector<ArcId> arcs;
   PppEpochRecord rec;
-  const std::vector<GnssSystem>& systems = config_.signals.systems;
+  std::vector<std::string> selection_notes;
 
   while (d.nextEpoch(epoch)) {
     ++summary.epochs_read;
-    rec = PppEpochRecord{};
-    rec.solution.time = epoch.time;
-    rec.solution.status = SolutionStatus::NoSolution;
-    for (const auto& s : epoch.satellites)
-      if (std::find(systems.begin(), systems.end(), s.satellite.system) != systems.end()) ++rec.satellites_observed;
-
-    auto refuse = [&](const std::string& why) {
-      rec.refused = true;
-      rec.reason = why;
+    rec = processor.process(epoch, estimator, &selection_notes);
+    if (rec.refused) {
       ++summary.epochs_refused;
-      summary.problems.push_back("epoch " + epoch.time.toString() + " refused: " + why);
+      summary.problems.push_back("epoch " + epoch.time.toString() + " refused: " + rec.reason);
       if (on_epoch) on_epoch(rec);
-    };
-    if (epoch.cycleSlipRecords()) {
-      refuse("cycle-slip records (epoch flag 6), not observations");
       continue;
     }
-    if (last_time && !(epoch.time > *last_time)) {
-      refuse(epoch.time == *last_time ? "duplicate epoch"
-                                      : "time goes backwards by " + std::to_string(*last_time - epoch.time) + " s");
-      continue;
-    }
-    if (last_time) {
-      const double dt = epoch.time - *last_time;
-      if (interval_s && dt > 1.5 * *interval_s) {
-        rec.gap_s = dt;
-        ++summary.data_gaps;
-      }
-      interval_s = interval_s ? std::min(*interval_s, dt) : dt;
-    }
-    last_time = epoch.time;
-
-    // Signal selection.
-    selector.select(epoch, sel);
-    rec.satellites_selected = static_cast<int>(sel.observations.size());
-    for (const auto& s : sel.skipped) {
-      if (std::find(systems.begin(), systems.end(), s.satellite.system) == systems.end()) continue;
-      rec.rejected.push_back({s.satellite, "signals", s.reason});
-    }
-    for (const auto& n : sel.notes) {
+    if (rec.gap_s) ++summary.data_gaps;
+    for (const auto& n : selection_notes) {
       const auto colon = n.rfind(": ");
       std::istringstream sats(colon == std::string::npos ? std::string() : n.substr(colon + 2));
       std::vector<std::string> tokens;
@@ -232,72 +194,16 @@ PppRunSummary PppPipeline::run(EpochEstimator& estimator, const EpochCallback& o
         code_notes[n];
       }
     }
-
-    // Arc tracking: ids, slips, ended arcs.
-    const ArcEpochResult arc_result = tracker.process(epoch.time, sel.observations);
-    if (!arc_result.accepted) {  // cannot happen after the time check above; kept as a guard
-      refuse(arc_result.refusal_reason);
-      continue;
-    }
-    usable.clear();
-    arcs.clear();
-    for (std::size_t i = 0; i < arc_result.satellites.size(); ++i) {
-      const auto& st = arc_result.satellites[i];
-      if (!st.usable) {
-        rec.rejected.push_back({st.satellite, "arcs", st.reason});
-        continue;
-      }
-      if (st.new_arc) {
-        ++rec.new_arcs;
-        ++summary.arcs;
-        if (st.start_reason == ArcStartReason::MelbourneWuebbenaJump ||
-            st.start_reason == ArcStartReason::GeometryFreeJump || st.start_reason == ArcStartReason::LossOfLock)
-          ++rec.slips;
-        if (st.start_reason != ArcStartReason::NewSatellite)
-          rec.arc_events.push_back(st.satellite.toString() + " arc " + std::to_string(st.arc) + ": " + st.reason);
-      }
-      usable.push_back(sel.observations[i]);
-      arcs.push_back(st.arc);
-    }
+    summary.arcs += static_cast<std::size_t>(rec.new_arcs);
     summary.slips += static_cast<std::size_t>(rec.slips);
-
-    // The single measurement model, linearised at whatever state the estimator asks.
-    const MeasurementFunction evaluate = [&](const ReceiverState& state) {
-      EpochMeasurements m;
-      d.model->evaluate(usable, arcs, state, &windup, m);
-      m.time = epoch.time;
-      return m;
-    };
-    EstimatorEpochInput input;
-    input.time = epoch.time;
-    input.evaluate = &evaluate;
-    input.observations = &usable;
-    input.arcs = &arcs;
-    input.ended_arcs = &arc_result.ended;
-    EstimatorEpochResult r = estimator.processEpoch(input);
-
-    rec.status = r.status;
-    rec.reason = r.reason;
-    rec.used = r.used;
-    for (const auto& x : r.rejected) {
-      rec.rejected.push_back({x.satellite, "model", x.reason});
-      acc[x.satellite].rejections++;
-    }
-    rec.residuals = std::move(r.residuals);
-    switch (r.status) {
+    for (const auto& x : rec.rejected)
+      if (x.stage == "model") acc[x.satellite].rejections++;
+    switch (rec.status) {
       case EpochStatus::Ok: ++summary.epochs_solved; break;
       case EpochStatus::NoSolution: ++summary.epochs_no_solution; break;
       case EpochStatus::Failed: ++summary.epochs_failed; break;
     }
-    SolutionEpoch& s = rec.solution;
-    s.satellites_used = static_cast<int>(rec.used.size());
-    s.satellites_rejected = static_cast<int>(rec.rejected.size());
-    if (r.status == EpochStatus::Ok && r.solution) {
-      s.status = SolutionStatus::PppFloat;
-      s.position_ecef_m = r.solution->state.position_ecef_m;
-      s.covariance_ecef_m2 = r.solution->positionCovariance_m2();
-      s.zwd_m = r.solution->state.zwd_m;
-      s.receiver_clock_m = r.solution->state.clock_m;
+    if (rec.status == EpochStatus::Ok && rec.solution.position_ecef_m) {
       for (const auto& res : rec.residuals) {
         auto& a = acc[res.satellite];
         ++a.n;
@@ -313,7 +219,7 @@ PppRunSummary PppPipeline::run(EpochEstimator& estimator, const EpochCallback& o
     for (const auto& x : rec.rejected) summary.rejection_counts[x.stage + ": " + reasonCategory(x.reason)]++;
     if (on_epoch) on_epoch(rec);
   }
-  estimator.arcsEnded(tracker.finish());
+  estimator.arcsEnded(processor.finish());
 
   if (d.reader)
     for (const auto& p : d.reader->report().problems())

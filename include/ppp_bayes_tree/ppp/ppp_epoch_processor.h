@@ -1,0 +1,61 @@
+#pragma once
+// PppEpochProcessor: one observation epoch through the PPP chain, step by step
+// (no ROS, no files): time checks -> signal selection -> arc tracking -> the
+// measurement model -> an EpochEstimator -> a PppEpochRecord.
+// The offline PppPipeline (ppp_solve) streams a RINEX file through it, and the
+// ROS nodes feed it epochs converted from messages with products from a
+// CorrectionBuffer, so that both run exactly the same code per epoch.
+//
+// Time checks: an epoch at or before the last accepted one is refused (counted
+// by the caller, never fatal); a spacing above 1.5 x the smallest spacing seen
+// is reported as a gap. Epoch flag 6 (cycle-slip records) is refused.
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "ppp_bayes_tree/io/bias_sinex_reader.h"
+#include "ppp_bayes_tree/io/obs_epoch.h"
+#include "ppp_bayes_tree/io/rinex_obs_header.h"
+#include "ppp_bayes_tree/models/precise_ephemeris.h"
+#include "ppp_bayes_tree/ppp/ppp_config.h"
+#include "ppp_bayes_tree/ppp/ppp_measurement_model.h"
+#include "ppp_bayes_tree/ppp/ppp_pipeline.h"
+#include "ppp_bayes_tree/ppp/signal_selection.h"
+
+namespace ppp {
+
+class PppEpochProcessor {
+ public:
+  /// `products`, `bias` (nullable) and `ocean` (nullable) must outlive the
+  /// processor; `header` gives the observation types, antenna and GLONASS
+  /// channels (copied).
+  PppEpochProcessor(const RinexObsHeader& header, const PppConfig& config, const PreciseEphemeris& products,
+                    std::vector<AntexSource> antex, const BiasSinexFile* bias,
+                    const OceanLoadingCoefficients* ocean);
+  ~PppEpochProcessor();
+  PppEpochProcessor(const PppEpochProcessor&) = delete;
+  PppEpochProcessor& operator=(const PppEpochProcessor&) = delete;
+
+  /// Processes one epoch through `estimator` (time order). Refused epochs come
+  /// back with `refused` set and the reason. `selection_notes` (nullable)
+  /// receives the signal selection's code-reference notes of the epoch.
+  PppEpochRecord process(const ObsEpoch& epoch, EpochEstimator& estimator,
+                         std::vector<std::string>* selection_notes = nullptr);
+  /// Arcs still open at the end of the data (closes them in the tracker).
+  std::vector<EndedArc> finish();
+
+  /// Replaces the observation types (the signal selector is rebuilt; arcs and
+  /// wind-up continue). The receiver antenna is not changed.
+  void setObservationTypes(const RinexObsHeader& header);
+  const RinexObsHeader& header() const;
+  /// Where each antenna calibration came from (see PppMeasurementModel).
+  std::vector<std::string> antennaSources() const;
+  std::optional<GnssTime> lastTime() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace ppp

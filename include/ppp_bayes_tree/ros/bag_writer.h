@@ -1,0 +1,47 @@
+#pragma once
+// Writing replay bags: gnss/observations per epoch (GnssObservations) and
+// gnss/corrections at the product rate (PreciseCorrections), from RINEX
+// observations + SP3/CLK products (ppp_to_bag) or from a simulated flight.
+// Correction batches are sampled from the products with PreciseEphemeris
+// (orbits Lagrange-interpolated to the batch epochs, clocks exactly at their
+// records), so a node replaying the bag sees the same products as ppp_solve.
+// Bag times are the UTC header stamps; a batch is written 1 ms before an epoch
+// at the same instant, so it arrives first.
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "ppp_bayes_tree/io/obs_epoch.h"
+#include "ppp_bayes_tree/io/rinex_obs_header.h"
+#include "ppp_bayes_tree/models/correction_buffer.h"
+#include "ppp_bayes_tree/models/precise_ephemeris.h"
+
+namespace ppp_ros {
+
+struct BagWriteOptions {
+  std::string observations_topic = "gnss/observations";
+  std::string corrections_topic = "gnss/corrections";
+  double correction_interval_s = 30.0;  // batch spacing (multiples of it in GPST)
+  double margin_s = 60.0;               // batches this far before the first / after the last epoch
+  std::optional<std::size_t> max_epochs;  // write only the first N epochs
+  std::string orbit_source, clock_source, reference_frame, bias_set;  // product reference
+};
+
+struct BagWriteSummary {
+  std::size_t epochs = 0, batches = 0;
+  std::optional<ppp::GnssTime> first, last;
+};
+
+/// Correction batches at multiples of the interval in [first - margin, last + margin]
+/// where the products give a value (satellites without one are left out of the batch).
+std::vector<ppp::CorrectionBatch> sampleCorrections(const ppp::PreciseEphemeris& products, const ppp::GnssTime& first,
+                                                   const ppp::GnssTime& last, const BagWriteOptions& options);
+
+/// Pulls epochs from `next` (returns false at the end) and writes the bag.
+/// Throws rosbag::BagException when the file cannot be written.
+BagWriteSummary writeReplayBag(const std::string& path, const ppp::RinexObsHeader& header,
+                               const std::function<bool(ppp::ObsEpoch&)>& next,
+                               const ppp::PreciseEphemeris& products, const BagWriteOptions& options);
+
+}  // namespace ppp_ros

@@ -1,0 +1,59 @@
+#pragma once
+// The ROS nodes' own options: the `ros:` section of config/ppp.yaml (every key
+// documented there), bound strictly like the core sections (unknown key, wrong
+// type or out-of-range value -> ppp::ConfigError naming the key path).
+// The whole private namespace of a node (~) is one configuration document: the
+// node converts it to YAML (xmlRpcToYaml) and hands it to the core loader
+// (parsePppConfig), which keeps `ros:` raw for bindRosNodeOptions.
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <xmlrpcpp/XmlRpcValue.h>
+#include <yaml-cpp/yaml.h>
+#include <Eigen/Core>
+
+namespace ppp_ros {
+
+struct RosNodeOptions {
+  std::string estimator = "ekf";  // set by the node's main, not by the file
+  // topics (relative to the node's namespace)
+  std::string observations_topic = "gnss/observations";
+  std::string corrections_topic = "gnss/corrections";
+  // products (paths; relative paths are taken from the working directory)
+  std::vector<std::string> atx;
+  std::string bias;  // Bias-SINEX OSB file ("" = none)
+  std::string blq;   // ocean loading ("" = none)
+  // frames (REP-105 / REP-103)
+  std::string earth_frame = "earth";
+  std::string map_frame = "map";
+  std::string odom_frame = "odom";
+  std::string base_frame = "base_link";
+  bool publish_tf = true;
+  /// gnss_antenna lever arm: antenna position in base_link [m] (x forward, y left, z up).
+  Eigen::Vector3d antenna_lever_arm_m = Eigen::Vector3d::Zero();
+  // datum of the map frame
+  std::string datum_mode = "first_fix";  // first_fix | configured
+  double datum_latitude_deg = 0.0, datum_longitude_deg = 0.0, datum_height_m = 0.0;
+  // input handling
+  double correction_wait_s = 35.0;          // longest wait for corrections covering an epoch (data or ROS time)
+  double correction_history_s = 900.0;      // correction batches kept
+  double reset_backwards_threshold_s = 60.0;  // time going back by more resets the estimator
+  std::size_t max_pending_epochs = 1000;
+  // status thresholds
+  double converged_horizontal_sigma_m = 0.10;
+  double converged_vertical_sigma_m = 0.20;
+  // diagnostics
+  double expected_observation_rate_hz = 0.0;  // 0 = not checked
+  double max_correction_latency_s = 10.0;     // latency above: WARN
+  double path_publish_rate_hz = 1.0;
+  std::size_t path_max_poses = 20000;
+};
+
+/// Binds `ros:` (a mapping or null) strictly. Throws ppp::ConfigError.
+RosNodeOptions bindRosNodeOptions(const YAML::Node& ros, const std::string& source_name);
+
+/// Converts a parameter-server value (a struct for a namespace) to YAML.
+YAML::Node xmlRpcToYaml(XmlRpc::XmlRpcValue& value);
+
+}  // namespace ppp_ros

@@ -1,0 +1,127 @@
+#pragma once
+// PppNode: the ROS adapter around one EpochEstimator (ppp_ekf_node: "ekf";
+// ppp_smoother_node: the smoother, same class). Everything per epoch is the
+// core's PppEpochProcessor, exactly as in ppp_solve; the node only converts
+// messages, buffers observations until corrections cover them, and publishes.
+//
+// Subscribes: gnss/observations (GnssObservations), gnss/corrections (PreciseCorrections).
+// Publishes:  ppp/odometry/filtered (nav_msgs/Odometry, map frame, ENU covariance),
+//             ppp/fix (sensor_msgs/NavSatFix, ENU covariance), ppp/status (PppStatus),
+//             ppp/path/filtered (nav_msgs/Path, at ros.diagnostics.path_publish_rate_hz),
+//             /diagnostics (inputs, corrections, solution), TF earth -> map (static),
+//             map -> base_link (or map -> odom when odom -> base_link exists).
+// Service:    set_datum (SetDatum).
+// Parameters: the whole private namespace = config/ppp.yaml (core sections +
+//             `ros:`), loaded strictly at start-up (loadNodeConfig).
+#include <deque>
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+
+#include <diagnostic_updater/diagnostic_updater.h>
+#include <nav_msgs/Path.h>
+#include <ros/ros.h>
+#include <tf2_ros/buffer.h>
+#include <tf2_ros/static_transform_broadcaster.h>
+#include <tf2_ros/transform_broadcaster.h>
+#include <tf2_ros/transform_listener.h>
+
+#include "ppp_bayes_tree/GnssObservations.h"
+#include "ppp_bayes_tree/PppStatus.h"
+#include "ppp_bayes_tree/PreciseCorrections.h"
+#include "ppp_bayes_tree/SetDatum.h"
+#include "ppp_bayes_tree/io/antex_reader.h"
+#include "ppp_bayes_tree/io/bias_sinex_reader.h"
+#include "ppp_bayes_tree/io/blq_reader.h"
+#include "ppp_bayes_tree/models/correction_buffer.h"
+#include "ppp_bayes_tree/ppp/epoch_estimator.h"
+#include "ppp_bayes_tree/ppp/ppp_config.h"
+#include "ppp_bayes_tree/ppp/ppp_epoch_processor.h"
+#include "ppp_bayes_tree/ros/message_conversions.h"
+#include "ppp_bayes_tree/ros/node_options.h"
+
+namespace ppp_ros {
+
+/// The node's configuration: the private namespace through the core loader
+/// plus the `ros:` section. Throws ppp::ConfigError with the key path.
+struct NodeConfig {
+  ppp::PppConfig ppp;
+  RosNodeOptions ros;
+};
+NodeConfig loadNodeConfig(const ros::NodeHandle& private_nh);
+
+/// Solution state of one epoch from the position sigmas (ENU) and thresholds.
+std::uint8_t solutionState(bool solved, const Eigen::Vector3d& sigma_enu_m, const RosNodeOptions& options);
+std::string solutionStateText(std::uint8_t state);
+
+class PppNode {
+ public:
+  /// Throws std::runtime_error / ppp::ConfigError with a clear message on a
+  /// missing or invalid parameter or product file.
+  PppNode(ros::NodeHandle nh, ros::NodeHandle private_nh, const std::string& estimator);
+
+ private:
+  struct Pending {
+    ppp_bayes_tree::GnssObservations::ConstPtr msg;
+    ppp::GnssTime time;
+    ros::Time arrival;
+  };
+  void onObservations(const ppp_bayes_tree::GnssObservations::ConstPtr& msg);
+  void onCorrections(const ppp_bayes_tree::PreciseCorrections::ConstPtr& msg);
+  void onTimer(const ros::TimerEvent&);
+  void onPathTimer(const ros::TimerEvent&);
+  bool onSetDatum(ppp_bayes_tree::SetDatum::Request& req, ppp_bayes_tree::SetDatum::Response& res);
+  void drain();
+  void processEpoch(const Pending& p);
+  void publishSolution(const ppp::PppEpochRecord& rec, const ppp_bayes_tree::PppStatus& status);
+  void setDatum(const Eigen::Vector3d& position_ecef_m);
+  void resetEstimator(const std::string& why);
+  void startProcessor();
+  void warn(const std::string& category, const std::string& text);
+  void diagnoseInputs(diagnostic_updater::DiagnosticStatusWrapper& s);
+  void diagnoseCorrections(diagnostic_updater::DiagnosticStatusWrapper& s);
+  void diagnoseSolution(diagnostic_updater::DiagnosticStatusWrapper& s);
+
+  ros::NodeHandle nh_, pnh_;
+  NodeConfig config_;
+  std::vector<ppp::AntexSource> antex_;
+  std::optional<ppp::BiasSinexFile> bias_;
+  std::optional<ppp::BlqFile> blq_;
+  std::optional<ppp::OceanLoadingCoefficients> ocean_;
+  ppp::CorrectionBuffer corrections_;
+  std::unique_ptr<ppp::EpochEstimator> estimator_;
+  std::unique_ptr<ppp::PppEpochProcessor> processor_;
+  ppp::RinexObsHeader layout_;
+  bool layout_changed_ = false;
+  std::deque<Pending> pending_;
+  std::optional<ppp::GnssTime> last_received_;  // newest observation epoch received
+  std::optional<ppp::GnssTime> last_correction_received_;
+
+  // datum of the map frame
+  std::optional<Eigen::Vector3d> datum_ecef_m_;
+  Eigen::Matrix3d ecef_to_enu_ = Eigen::Matrix3d::Identity();
+
+  ros::Subscriber obs_sub_, corr_sub_;
+  ros::Publisher odom_pub_, fix_pub_, status_pub_, path_pub_;
+  ros::ServiceServer datum_srv_;
+  ros::Timer timer_, path_timer_;
+  tf2_ros::TransformBroadcaster tf_;
+  tf2_ros::StaticTransformBroadcaster static_tf_;
+  tf2_ros::Buffer tf_buffer_;
+  tf2_ros::TransformListener tf_listener_;
+  diagnostic_updater::Updater diagnostics_;
+  nav_msgs::Path path_;
+
+  // counters and figures
+  ppp_bayes_tree::PppStatus counters_;  // the counter fields only
+  ppp_bayes_tree::PppStatus last_status_;
+  bool have_status_ = false;
+  std::size_t obs_received_ = 0, corr_received_ = 0, obs_at_last_diag_ = 0, corr_at_last_diag_ = 0;
+  ros::WallTime last_diag_time_;
+  double last_correction_age_s_ = std::numeric_limits<double>::quiet_NaN();
+  ConversionIssues issues_;
+  std::map<std::string, ros::WallTime> last_warning_;
+};
+
+}  // namespace ppp_ros

@@ -1,0 +1,152 @@
+#include "ppp_bayes_tree/ppp/ppp_epoch_processor.h"
+
+#include <algorithm>
+
+#include "ppp_bayes_tree/ppp/arc_tracker.h"
+
+namespace ppp {
+
+struct PppEpochProcessor::Impl {
+  RinexObsHeader header;
+  PppConfig config;
+  const BiasSinexFile* bias = nullptr;
+  std::unique_ptr<PppMeasurementModel> model;
+  std::unique_ptr<SignalSelector> selector;
+  ArcTracker tracker;
+  WindupTracker windup;
+  std::optional<GnssTime> last_time;
+  std::optional<double> interval_s;
+  // Work buffers reused every epoch.
+  SignalSelectionResult sel;
+  std::vector<DualFrequencyObservation> usable;
+  std::vector<ArcId> arcs;
+
+  Impl(const RinexObsHeader& h, const PppConfig& c, const BiasSinexFile* b)
+      : header(h), config(c), bias(b), tracker(c.cycle_slip_options) {}
+};
+
+PppEpochProcessor::PppEpochProcessor(const RinexObsHeader& header, const PppConfig& config,
+                                     const PreciseEphemeris& products, std::vector<AntexSource> antex,
+                                     const BiasSinexFile* bias, const OceanLoadingCoefficients* ocean)
+    : impl_(std::make_unique<Impl>(header, config, bias)) {
+  impl_->model = std::make_unique<PppMeasurementModel>(products, std::move(antex), ReceiverAntenna::fromHeader(header),
+                                                       ocean, config.model);
+  impl_->selector = std::make_unique<SignalSelector>(impl_->header, config.signals, bias);
+}
+
+PppEpochProcessor::~PppEpochProcessor() = default;
+
+void PppEpochProcessor::setObservationTypes(const RinexObsHeader& header) {
+  impl_->header.obs_types = header.obs_types;
+  impl_->header.scale_factors = header.scale_factors;
+  impl_->header.glonass_channels = header.glonass_channels;
+  impl_->header.phase_shifts = header.phase_shifts;
+  impl_->selector = std::make_unique<SignalSelector>(impl_->header, impl_->config.signals, impl_->bias);
+}
+
+const RinexObsHeader& PppEpochProcessor::header() const { return impl_->header; }
+
+std::vector<std::string> PppEpochProcessor::antennaSources() const { return impl_->model->antennaSources(); }
+
+std::optional<GnssTime> PppEpochProcessor::lastTime() const { return impl_->last_time; }
+
+std::vector<EndedArc> PppEpochProcessor::finish() { return impl_->tracker.finish(); }
+
+PppEpochRecord PppEpochProcessor::process(const ObsEpoch& epoch, EpochEstimator& estimator,
+                                          std::vector<std::string>* selection_notes) {
+  Impl& d = *impl_;
+  const std::vector<GnssSystem>& systems = d.config.signals.systems;
+  const auto processed = [&](GnssSystem s) { return std::find(systems.begin(), systems.end(), s) != systems.end(); };
+  PppEpochRecord rec;
+  rec.solution.time = epoch.time;
+  rec.solution.status = SolutionStatus::NoSolution;
+  for (const auto& s : epoch.satellites)
+    if (processed(s.satellite.system)) ++rec.satellites_observed;
+  if (selection_notes) selection_notes->clear();
+
+  const auto refuse = [&](const std::string& why) {
+    rec.refused = true;
+    rec.reason = why;
+    return rec;
+  };
+  if (epoch.cycleSlipRecords()) return refuse("cycle-slip records (epoch flag 6), not observations");
+  if (d.last_time && !(epoch.time > *d.last_time)) {
+    return refuse(epoch.time == *d.last_time ? "duplicate epoch"
+                                             : "time goes backwards by " + std::to_string(*d.last_time - epoch.time) +
+                                                   " s");
+  }
+  if (d.last_time) {
+    const double dt = epoch.time - *d.last_time;
+    if (d.interval_s && dt > 1.5 * *d.interval_s) rec.gap_s = dt;
+    d.interval_s = d.interval_s ? std::min(*d.interval_s, dt) : dt;
+  }
+  d.last_time = epoch.time;
+
+  // Signal selection.
+  d.selector->select(epoch, d.sel);
+  rec.satellites_selected = static_cast<int>(d.sel.observations.size());
+  for (const auto& s : d.sel.skipped) {
+    if (!processed(s.satellite.system)) continue;
+    rec.rejected.push_back({s.satellite, "signals", s.reason});
+  }
+  if (selection_notes) *selection_notes = d.sel.notes;
+
+  // Arc tracking: ids, slips, ended arcs.
+  const ArcEpochResult arc_result = d.tracker.process(epoch.time, d.sel.observations);
+  if (!arc_result.accepted) return refuse(arc_result.refusal_reason);  // guard: the time check comes first
+  d.usable.clear();
+  d.arcs.clear();
+  for (std::size_t i = 0; i < arc_result.satellites.size(); ++i) {
+    const auto& st = arc_result.satellites[i];
+    if (!st.usable) {
+      rec.rejected.push_back({st.satellite, "arcs", st.reason});
+      continue;
+    }
+    if (st.new_arc) {
+      ++rec.new_arcs;
+      if (st.start_reason == ArcStartReason::MelbourneWuebbenaJump ||
+          st.start_reason == ArcStartReason::GeometryFreeJump || st.start_reason == ArcStartReason::LossOfLock)
+        ++rec.slips;
+      if (st.start_reason != ArcStartReason::NewSatellite)
+        rec.arc_events.push_back(st.satellite.toString() + " arc " + std::to_string(st.arc) + ": " + st.reason);
+    }
+    d.usable.push_back(d.sel.observations[i]);
+    d.arcs.push_back(st.arc);
+  }
+
+  // The single measurement model, linearised at whatever state the estimator asks.
+  const MeasurementFunction evaluate = [&](const ReceiverState& state) {
+    EpochMeasurements m;
+    d.model->evaluate(d.usable, d.arcs, state, &d.windup, m);
+    m.time = epoch.time;
+    return m;
+  };
+  EstimatorEpochInput input;
+  input.time = epoch.time;
+  input.evaluate = &evaluate;
+  input.observations = &d.usable;
+  input.arcs = &d.arcs;
+  input.ended_arcs = &arc_result.ended;
+  EstimatorEpochResult r = estimator.processEpoch(input);
+
+  rec.status = r.status;
+  rec.reason = r.reason;
+  rec.used = r.used;
+  for (const auto& x : r.rejected) rec.rejected.push_back({x.satellite, "model", x.reason});
+  rec.residuals = std::move(r.residuals);
+  SolutionEpoch& s = rec.solution;
+  s.satellites_used = static_cast<int>(rec.used.size());
+  s.satellites_rejected = static_cast<int>(rec.rejected.size());
+  if (r.status == EpochStatus::Ok && r.solution) {
+    s.status = SolutionStatus::PppFloat;
+    s.position_ecef_m = r.solution->state.position_ecef_m;
+    s.covariance_ecef_m2 = r.solution->positionCovariance_m2();
+    s.zwd_m = r.solution->state.zwd_m;
+    s.receiver_clock_m = r.solution->state.clock_m;
+    rec.receiver_covariance = r.solution->covariance;
+  }
+  rec.active_biases = r.active_biases;
+  return rec;
+}
+
+}  // namespace ppp

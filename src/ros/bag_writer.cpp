@@ -1,0 +1,83 @@
+#include "ppp_bayes_tree/ros/bag_writer.h"
+
+#include <cmath>
+#include <set>
+
+#include <rosbag/bag.h>
+
+#include "ppp_bayes_tree/ros/message_conversions.h"
+
+namespace ppp_ros {
+
+std::vector<ppp::CorrectionBatch> sampleCorrections(const ppp::PreciseEphemeris& products, const ppp::GnssTime& first,
+                                                   const ppp::GnssTime& last, const BagWriteOptions& o) {
+  std::vector<ppp::CorrectionBatch> out;
+  const auto step = static_cast<std::int64_t>(std::llround(o.correction_interval_s));
+  if (step <= 0) return out;
+  std::set<ppp::SatelliteId> sats = products.orbitSatellites();
+  for (const auto& s : products.clockSatellites()) sats.insert(s);
+  const std::int64_t from = (first - o.margin_s).wholeSeconds(), to = (last + o.margin_s).wholeSeconds() + 1;
+  for (std::int64_t t_s = (from + step - 1) / step * step; t_s <= to; t_s += step) {
+    const ppp::GnssTime t = ppp::GnssTime::fromGpsSeconds(t_s);
+    ppp::CorrectionBatch b;
+    b.time = t;
+    b.orbit_source = o.orbit_source;
+    b.clock_source = o.clock_source;
+    b.reference_frame = o.reference_frame;
+    b.bias_set = o.bias_set;
+    for (const auto& sat : sats) {
+      const auto orbit = products.orbit(sat, t);
+      const auto clock = products.clock(sat, t);
+      if (!orbit.ok() && !clock.ok()) continue;
+      ppp::SatelliteCorrection c;
+      c.satellite = sat;
+      if (orbit.ok()) {
+        c.position_ecef_m = orbit.value->position_ecef_m;
+        c.velocity_ecef_mps = orbit.value->velocity_ecef_mps;
+      }
+      if (clock.ok()) {
+        c.clock_bias_s = clock.value->clock_bias_s;
+        c.clock_drift_s_per_s = clock.value->clock_drift_s_per_s;
+      }
+      b.satellites.push_back(c);
+    }
+    if (!b.satellites.empty()) out.push_back(std::move(b));
+  }
+  return out;
+}
+
+BagWriteSummary writeReplayBag(const std::string& path, const ppp::RinexObsHeader& header,
+                               const std::function<bool(ppp::ObsEpoch&)>& next, const ppp::PreciseEphemeris& products,
+                               const BagWriteOptions& o) {
+  // Epochs first (converted now: they are small), then the batches over their span.
+  std::vector<ppp_bayes_tree::GnssObservations> epochs;
+  ppp::ObsEpoch e;
+  BagWriteSummary summary;
+  while ((!o.max_epochs || epochs.size() < *o.max_epochs) && next(e)) {
+    if (e.flag != ppp::EpochFlag::Ok && e.flag != ppp::EpochFlag::PowerFailure) continue;
+    if (!summary.first) summary.first = e.time;
+    summary.last = e.time;
+    epochs.push_back(toMessage(e, header));
+  }
+  rosbag::Bag bag(path, rosbag::bagmode::Write);
+  std::vector<ppp::CorrectionBatch> batches;
+  if (summary.first) batches = sampleCorrections(products, *summary.first, *summary.last, o);
+  std::size_t k = 0;
+  for (const auto& m : epochs) {
+    for (; k < batches.size() && utcStamp(batches[k].time) <= m.header.stamp; ++k) {
+      const auto c = toMessage(batches[k]);
+      bag.write(o.corrections_topic, c.header.stamp - ros::Duration(0.001), c);
+    }
+    bag.write(o.observations_topic, m.header.stamp, m);
+  }
+  for (; k < batches.size(); ++k) {
+    const auto c = toMessage(batches[k]);
+    bag.write(o.corrections_topic, c.header.stamp - ros::Duration(0.001), c);
+  }
+  bag.close();
+  summary.epochs = epochs.size();
+  summary.batches = batches.size();
+  return summary;
+}
+
+}  // namespace ppp_ros

@@ -1,0 +1,103 @@
+#include "ppp_bayes_tree/ros/node_options.h"
+
+#include "ppp_bayes_tree/ppp/yaml_section.h"
+
+namespace ppp_ros {
+
+RosNodeOptions bindRosNodeOptions(const YAML::Node& ros, const std::string& source_name) {
+  RosNodeOptions o;
+  ppp::YamlSection s(ros, source_name, "ros");
+  {
+    ppp::YamlSection t = s.section("topics");
+    o.observations_topic = t.text("observations", o.observations_topic);
+    o.corrections_topic = t.text("corrections", o.corrections_topic);
+    t.finish();
+  }
+  {
+    ppp::YamlSection p = s.section("products");
+    o.atx = p.textList("atx", {}, true);
+    o.bias = p.text("bias", "");
+    o.blq = p.text("blq", "");
+    p.finish();
+  }
+  {
+    ppp::YamlSection f = s.section("frames");
+    o.earth_frame = f.text("earth", o.earth_frame);
+    o.map_frame = f.text("map", o.map_frame);
+    o.odom_frame = f.text("odom", o.odom_frame);
+    o.base_frame = f.text("base_link", o.base_frame);
+    o.publish_tf = f.boolean("publish_tf", o.publish_tf);
+    const auto arm = f.textList("antenna_lever_arm_m", {"0", "0", "0"});
+    if (arm.size() != 3) f.fail("antenna_lever_arm_m", "needs 3 numbers [x, y, z]");
+    for (int i = 0; i < 3; ++i) {
+      try {
+        std::size_t used = 0;
+        o.antenna_lever_arm_m[i] = std::stod(arm[i], &used);
+        if (used != arm[i].size()) throw std::invalid_argument("");
+      } catch (const std::exception&) {
+        f.fail("antenna_lever_arm_m", "'" + arm[i] + "' is not a number");
+      }
+    }
+    f.finish();
+  }
+  {
+    ppp::YamlSection d = s.section("datum");
+    o.datum_mode = d.choice("mode", o.datum_mode, {"first_fix", "configured"});
+    o.datum_latitude_deg = d.number("latitude_deg", o.datum_latitude_deg);
+    o.datum_longitude_deg = d.number("longitude_deg", o.datum_longitude_deg);
+    o.datum_height_m = d.number("height_m", o.datum_height_m);
+    if (std::abs(o.datum_latitude_deg) > 90.0) d.fail("latitude_deg", "must be in [-90, 90]");
+    if (std::abs(o.datum_longitude_deg) > 360.0) d.fail("longitude_deg", "must be in [-360, 360]");
+    d.finish();
+  }
+  {
+    ppp::YamlSection i = s.section("input");
+    o.correction_wait_s = i.number("correction_wait_s", o.correction_wait_s, ppp::Bound::NonNegative);
+    o.correction_history_s = i.number("correction_history_s", o.correction_history_s, ppp::Bound::Positive);
+    o.reset_backwards_threshold_s =
+        i.number("reset_backwards_threshold_s", o.reset_backwards_threshold_s, ppp::Bound::Positive);
+    o.max_pending_epochs = static_cast<std::size_t>(i.integer("max_pending_epochs", 1000, 1));
+    i.finish();
+  }
+  {
+    ppp::YamlSection st = s.section("status");
+    o.converged_horizontal_sigma_m =
+        st.number("converged_horizontal_sigma_m", o.converged_horizontal_sigma_m, ppp::Bound::Positive);
+    o.converged_vertical_sigma_m =
+        st.number("converged_vertical_sigma_m", o.converged_vertical_sigma_m, ppp::Bound::Positive);
+    st.finish();
+  }
+  {
+    ppp::YamlSection dg = s.section("diagnostics");
+    o.expected_observation_rate_hz =
+        dg.number("expected_observation_rate_hz", o.expected_observation_rate_hz, ppp::Bound::NonNegative);
+    o.max_correction_latency_s = dg.number("max_correction_latency_s", o.max_correction_latency_s, ppp::Bound::Positive);
+    o.path_publish_rate_hz = dg.number("path_publish_rate_hz", o.path_publish_rate_hz, ppp::Bound::Positive);
+    o.path_max_poses = static_cast<std::size_t>(dg.integer("path_max_poses", 20000, 1));
+    dg.finish();
+  }
+  s.finish();
+  return o;
+}
+
+YAML::Node xmlRpcToYaml(XmlRpc::XmlRpcValue& v) {
+  switch (v.getType()) {
+    case XmlRpc::XmlRpcValue::TypeBoolean: return YAML::Node(static_cast<bool>(v));
+    case XmlRpc::XmlRpcValue::TypeInt: return YAML::Node(static_cast<int>(v));
+    case XmlRpc::XmlRpcValue::TypeDouble: return YAML::Node(static_cast<double>(v));
+    case XmlRpc::XmlRpcValue::TypeString: return YAML::Node(static_cast<std::string>(v));
+    case XmlRpc::XmlRpcValue::TypeArray: {
+      YAML::Node n(YAML::NodeType::Sequence);
+      for (int i = 0; i < v.size(); ++i) n.push_back(xmlRpcToYaml(v[i]));
+      return n;
+    }
+    case XmlRpc::XmlRpcValue::TypeStruct: {
+      YAML::Node n(YAML::NodeType::Map);
+      for (auto it = v.begin(); it != v.end(); ++it) n[it->first] = xmlRpcToYaml(it->second);
+      return n;
+    }
+    default: return YAML::Node();
+  }
+}
+
+}  // namespace ppp_ros

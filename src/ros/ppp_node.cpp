@@ -1,0 +1,486 @@
+#include "ppp_bayes_tree/ros/ppp_node.h"
+
+#include <chrono>
+#include <cmath>
+#include <limits>
+
+#include <Eigen/Geometry>
+#include <geometry_msgs/TransformStamped.h>
+#include <nav_msgs/Odometry.h>
+#include <sensor_msgs/NavSatFix.h>
+
+#include "ppp_bayes_tree/types/constants.h"
+#include "ppp_bayes_tree/types/frames.h"
+
+namespace ppp_ros {
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+std::string baseName(const std::string& path) {
+  const auto slash = path.find_last_of('/');
+  return slash == std::string::npos ? path : path.substr(slash + 1);
+}
+
+geometry_msgs::TransformStamped transform(const std::string& parent, const std::string& child, const ros::Time& stamp,
+                                          const Eigen::Vector3d& t, const Eigen::Quaterniond& q) {
+  geometry_msgs::TransformStamped m;
+  m.header.stamp = stamp;
+  m.header.frame_id = parent;
+  m.child_frame_id = child;
+  m.transform.translation.x = t.x();
+  m.transform.translation.y = t.y();
+  m.transform.translation.z = t.z();
+  m.transform.rotation.w = q.w();
+  m.transform.rotation.x = q.x();
+  m.transform.rotation.y = q.y();
+  m.transform.rotation.z = q.z();
+  return m;
+}
+
+bool isProductRejection(const std::string& reason) {
+  return reason.rfind("no clock", 0) == 0 || reason.rfind("no orbit", 0) == 0;
+}
+
+}  // namespace
+
+NodeConfig loadNodeConfig(const ros::NodeHandle& private_nh) {
+  const std::string source = "ROS parameters " + private_nh.getNamespace();
+  XmlRpc::XmlRpcValue params;
+  YAML::Node root(YAML::NodeType::Map);
+  if (private_nh.getParam(private_nh.getNamespace(), params) && params.getType() == XmlRpc::XmlRpcValue::TypeStruct)
+    root = xmlRpcToYaml(params);
+  YAML::Emitter out;
+  out << root;
+  NodeConfig c;
+  c.ppp = ppp::parsePppConfig(root.size() ? std::string(out.c_str()) : std::string("{}"), source);
+  c.ros = bindRosNodeOptions(c.ppp.ros, source);
+  return c;
+}
+
+std::uint8_t solutionState(bool solved, const Eigen::Vector3d& sigma_enu_m, const RosNodeOptions& o) {
+  if (!solved || !sigma_enu_m.allFinite()) return ppp_bayes_tree::PppStatus::NO_SOLUTION;
+  const double horizontal = std::hypot(sigma_enu_m.x(), sigma_enu_m.y());
+  if (horizontal <= o.converged_horizontal_sigma_m && sigma_enu_m.z() <= o.converged_vertical_sigma_m)
+    return ppp_bayes_tree::PppStatus::CONVERGED;
+  return ppp_bayes_tree::PppStatus::CONVERGING;
+}
+
+std::string solutionStateText(std::uint8_t state) {
+  switch (state) {
+    case ppp_bayes_tree::PppStatus::CONVERGED: return "converged";
+    case ppp_bayes_tree::PppStatus::CONVERGING: return "converging";
+    default: return "no_solution";
+  }
+}
+
+PppNode::PppNode(ros::NodeHandle nh, ros::NodeHandle pnh, const std::string& estimator)
+    : nh_(nh),
+      pnh_(pnh),
+      config_(loadNodeConfig(pnh)),
+      corrections_([&] {
+        ppp::CorrectionBufferOptions o;
+        o.history_s = config_.ros.correction_history_s;
+        return o;
+      }()),
+      tf_listener_(tf_buffer_),
+      diagnostics_(nh, pnh) {
+  config_.ros.estimator = estimator;
+  const RosNodeOptions& o = config_.ros;
+  std::string why;
+  estimator_ = ppp::makeEstimator(estimator, config_.ppp, &why);
+  if (!estimator_) throw std::runtime_error("estimator '" + estimator + "' is not available: " + why);
+  if (o.atx.empty() && (config_.ppp.model.satellite_antenna || config_.ppp.model.receiver_antenna))
+    throw std::runtime_error("parameter ros/products/atx is empty, but measurement_model/corrections/"
+                             "satellite_antenna or receiver_antenna is on: give the ANTEX file(s) or turn them off");
+  for (const auto& p : o.atx) antex_.push_back({baseName(p), ppp::readAntexFile(p)});
+  if (!o.bias.empty()) bias_ = ppp::readBiasSinexFile(o.bias);
+  if (!o.blq.empty()) blq_ = ppp::readBlqFile(o.blq);
+  if (o.datum_mode == "configured") {
+    ppp::Geodetic g{o.datum_latitude_deg * ppp::kDegToRad, o.datum_longitude_deg * ppp::kDegToRad, o.datum_height_m};
+    setDatum(ppp::geodeticToEcef(g));
+  }
+  counters_.estimator = estimator;
+
+  obs_sub_ = nh_.subscribe(o.observations_topic, 2000, &PppNode::onObservations, this);
+  corr_sub_ = nh_.subscribe(o.corrections_topic, 200, &PppNode::onCorrections, this);
+  odom_pub_ = nh_.advertise<nav_msgs::Odometry>("ppp/odometry/filtered", 100);
+  fix_pub_ = nh_.advertise<sensor_msgs::NavSatFix>("ppp/fix", 100);
+  status_pub_ = nh_.advertise<ppp_bayes_tree::PppStatus>("ppp/status", 100);
+  path_pub_ = nh_.advertise<nav_msgs::Path>("ppp/path/filtered", 2, true);
+  datum_srv_ = nh_.advertiseService("set_datum", &PppNode::onSetDatum, this);
+  timer_ = nh_.createTimer(ros::Duration(0.1), &PppNode::onTimer, this);
+  path_timer_ = nh_.createTimer(ros::Duration(1.0 / o.path_publish_rate_hz), &PppNode::onPathTimer, this);
+  path_.header.frame_id = o.map_frame;
+
+  diagnostics_.setHardwareID("ppp_" + estimator);
+  diagnostics_.add("inputs", this, &PppNode::diagnoseInputs);
+  diagnostics_.add("corrections", this, &PppNode::diagnoseCorrections);
+  diagnostics_.add("solution", this, &PppNode::diagnoseSolution);
+  last_diag_time_ = ros::WallTime::now();
+  ROS_INFO_STREAM("ppp_" << estimator << "_node: config from " << config_.ppp.source_name << ", " << antex_.size()
+                         << " ANTEX file(s), bias " << (o.bias.empty() ? "none" : o.bias) << ", waiting for "
+                         << nh_.resolveName(o.observations_topic) << " and " << nh_.resolveName(o.corrections_topic));
+}
+
+void PppNode::warn(const std::string& category, const std::string& text) {
+  // Each case: logged the first time, then at most every 10 s (counted always).
+  const ros::WallTime now = ros::WallTime::now();
+  auto it = last_warning_.find(category);
+  if (it != last_warning_.end() && (now - it->second).toSec() < 10.0) return;
+  last_warning_[category] = now;
+  ROS_WARN_STREAM(text);
+}
+
+void PppNode::setDatum(const Eigen::Vector3d& p) {
+  datum_ecef_m_ = p;
+  const ppp::Geodetic g = ppp::ecefToGeodetic(p);
+  ecef_to_enu_ = ppp::rotationEnuFromEcef(g.latitude_rad, g.longitude_rad);
+  // earth -> map: map axes (E, N, U) expressed in ECEF: columns of R^T.
+  const Eigen::Quaterniond q(Eigen::Matrix3d(ecef_to_enu_.transpose()));
+  static_tf_.sendTransform(transform(config_.ros.earth_frame, config_.ros.map_frame, ros::Time(0), p, q.normalized()));
+  ROS_INFO("map datum: lat %.9f deg, lon %.9f deg, h %.4f m", g.latitude_rad * ppp::kRadToDeg,
+           g.longitude_rad * ppp::kRadToDeg, g.height_m);
+}
+
+bool PppNode::onSetDatum(ppp_bayes_tree::SetDatum::Request& req, ppp_bayes_tree::SetDatum::Response& res) {
+  if (!std::isfinite(req.latitude_deg) || !std::isfinite(req.longitude_deg) || !std::isfinite(req.height_m) ||
+      std::abs(req.latitude_deg) > 90.0 || std::abs(req.height_m) > 1e6) {
+    res.success = false;
+    res.message = "invalid datum (latitude in [-90, 90] deg, finite longitude, |height| < 1000 km)";
+    return true;
+  }
+  setDatum(ppp::geodeticToEcef({req.latitude_deg * ppp::kDegToRad, req.longitude_deg * ppp::kDegToRad, req.height_m}));
+  path_.poses.clear();
+  res.success = true;
+  res.message = "datum set";
+  return true;
+}
+
+void PppNode::resetEstimator(const std::string& why) {
+  ++counters_.estimator_resets;
+  warn("reset", "ppp: estimator reset: " + why);
+  std::string unused;
+  estimator_ = ppp::makeEstimator(config_.ros.estimator, config_.ppp, &unused);
+  processor_.reset();
+  pending_.clear();
+  path_.poses.clear();
+  last_received_.reset();
+}
+
+void PppNode::onCorrections(const ppp_bayes_tree::PreciseCorrections::ConstPtr& msg) {
+  ++corr_received_;
+  ConversionIssues issues;
+  ppp::CorrectionBatch batch;
+  try {
+    batch = fromMessage(*msg, issues);
+  } catch (const std::exception& e) {
+    issues_.add(std::string("correction batch dropped: ") + e.what());
+    warn("corrections_time", std::string("ppp: correction batch dropped: ") + e.what());
+    return;
+  }
+  for (const auto& [reason, n] : issues.counts) {
+    if (reason.find("unknown satellite") != std::string::npos) counters_.corrections_unknown_satellites += n;
+    issues_.counts[reason] += n;
+    warn("corr:" + reason.substr(0, 20), "ppp: corrections: " + reason);
+  }
+  if (batch.satellites.empty()) {
+    warn("corr_empty", "ppp: correction batch without a usable satellite ignored");
+    return;
+  }
+  last_correction_age_s_ = (ros::Time::now() - msg->header.stamp).toSec();
+  if (last_correction_received_ && batch.time < *last_correction_received_ - config_.ros.reset_backwards_threshold_s) {
+    warn("corrections_back", "ppp: correction time went backwards by " +
+                                 std::to_string(*last_correction_received_ - batch.time) + " s: buffer cleared");
+    corrections_.clear();
+  }
+  last_correction_received_ = batch.time;
+  const ppp::BatchAddResult r = corrections_.add(std::move(batch));
+  if (r == ppp::BatchAddResult::Duplicate) warn("corr_dup", "ppp: duplicate correction batch ignored");
+  if (r == ppp::BatchAddResult::TooOld) warn("corr_old", "ppp: correction batch older than the history ignored");
+  drain();
+}
+
+void PppNode::onObservations(const ppp_bayes_tree::GnssObservations::ConstPtr& msg) {
+  ++obs_received_;
+  Pending p;
+  p.msg = msg;
+  p.arrival = ros::Time::now();
+  try {
+    p.time = fromMessageTime(msg->week, msg->seconds_of_week, msg->time_system);
+  } catch (const std::exception& e) {
+    ++counters_.observations_invalid;
+    warn("obs_time", std::string("ppp: observation epoch dropped: ") + e.what());
+    return;
+  }
+  if (last_received_) {
+    const double back = *last_received_ - p.time;
+    if (back == 0.0) {
+      ++counters_.epochs_duplicate;
+      warn("duplicate", "ppp: duplicate epoch " + p.time.toString() + " dropped");
+      return;
+    }
+    if (back > config_.ros.reset_backwards_threshold_s) {
+      resetEstimator("time went backwards by " + std::to_string(back) + " s (threshold " +
+                     std::to_string(config_.ros.reset_backwards_threshold_s) + " s)");
+    } else if (back > 0.0) {
+      ++counters_.epochs_out_of_order;
+      warn("out_of_order", "ppp: out-of-order epoch " + p.time.toString() + " dropped");
+      return;
+    }
+  }
+  last_received_ = p.time;
+  if (msg->satellites.empty()) {
+    ++counters_.empty_epochs;
+    warn("empty", "ppp: empty epoch " + p.time.toString() + " (no satellites): no solution");
+    ppp_bayes_tree::PppStatus s = counters_;
+    s.header.stamp = utcStamp(p.time);
+    s.header.frame_id = config_.ros.map_frame;
+    s.solution_state = ppp_bayes_tree::PppStatus::NO_SOLUTION;
+    s.solution_state_text = "no_solution";
+    s.reason = "empty epoch";
+    status_pub_.publish(s);
+    return;
+  }
+  pending_.push_back(p);
+  drain();
+}
+
+void PppNode::onTimer(const ros::TimerEvent&) { drain(); }
+
+void PppNode::onPathTimer(const ros::TimerEvent&) {
+  if (path_.poses.empty()) return;
+  path_.header.stamp = path_.poses.back().header.stamp;
+  path_pub_.publish(path_);
+}
+
+void PppNode::drain() {
+  const ros::Time now = ros::Time::now();
+  while (!pending_.empty()) {
+    const Pending& p = pending_.front();
+    const bool covered = corrections_.covers(p.time);
+    const bool waited = (now - p.arrival).toSec() > config_.ros.correction_wait_s ||
+                        (last_received_ && *last_received_ - p.time > config_.ros.correction_wait_s) ||
+                        pending_.size() > config_.ros.max_pending_epochs;
+    if (!covered && !waited) break;
+    const Pending front = p;
+    pending_.pop_front();
+    processEpoch(front);
+  }
+  diagnostics_.update();
+}
+
+void PppNode::startProcessor() {
+  const ppp::OceanLoadingCoefficients* ocean = nullptr;
+  if (blq_) {
+    const auto found = blq_->find(layout_.marker_name);
+    if (found.coefficients) ocean = found.coefficients;
+    else warn("blq", "ppp: station '" + layout_.marker_name + "' not in the BLQ file: no ocean loading");
+  }
+  processor_ = std::make_unique<ppp::PppEpochProcessor>(layout_, config_.ppp, corrections_.ephemeris(), antex_,
+                                                         bias_ ? &*bias_ : nullptr, ocean);
+  if (layout_.approx_position_ecef_m) estimator_->setApproximatePosition(*layout_.approx_position_ecef_m);
+  layout_changed_ = false;
+}
+
+void PppNode::processEpoch(const Pending& p) {
+  ppp::ObsEpoch epoch;
+  ConversionIssues issues;
+  try {
+    layout_changed_ |= fromMessage(*p.msg, layout_, epoch, issues);
+  } catch (const std::exception& e) {
+    ++counters_.observations_invalid;
+    warn("obs_convert", std::string("ppp: observation epoch dropped: ") + e.what());
+    return;
+  }
+  for (const auto& [reason, n] : issues.counts) {
+    counters_.observations_invalid += n;
+    issues_.counts[reason] += n;
+    warn("obs:" + reason.substr(0, 24), "ppp: observations: " + reason + " (excluded, counted)");
+  }
+  if (!processor_) startProcessor();
+  else if (layout_changed_) {
+    processor_->setObservationTypes(layout_);
+    layout_changed_ = false;
+  }
+  const auto start = std::chrono::steady_clock::now();
+  const ppp::PppEpochRecord rec = processor_->process(epoch, *estimator_);
+  const double update_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  if (rec.refused) {  // cannot happen after the time checks above, kept as a guard
+    warn("refused", "ppp: epoch refused: " + rec.reason);
+    return;
+  }
+  ++counters_.epochs_processed;
+
+  ppp_bayes_tree::PppStatus s = counters_;
+  s.header.stamp = utcStamp(epoch.time);
+  s.header.frame_id = config_.ros.map_frame;
+  s.reason = rec.reason;
+  s.converged_horizontal_sigma_m = config_.ros.converged_horizontal_sigma_m;
+  s.converged_vertical_sigma_m = config_.ros.converged_vertical_sigma_m;
+  s.satellites_observed = static_cast<std::uint16_t>(rec.satellites_observed);
+  s.satellites_used = static_cast<std::uint16_t>(rec.used.size());
+  s.satellites_rejected = static_cast<std::uint16_t>(rec.rejected.size());
+  for (const auto& u : rec.used) s.used.push_back(u.toString());
+  std::uint16_t late = 0;
+  for (const auto& r : rec.rejected) {
+    s.rejected.push_back(r.satellite.toString() + " " + r.stage + ": " + r.reason);
+    if (r.stage == "model" && isProductRejection(r.reason)) ++late;
+  }
+  s.satellites_without_corrections = late;
+  counters_.corrections_late += late;
+  s.corrections_late = counters_.corrections_late;
+  if (late > 0) warn("late", "ppp: " + std::to_string(late) + " satellite(s) without corrections at " +
+                                 epoch.time.toString() + " excluded (e.g. " + s.rejected.back() + ")");
+  s.update_time_s = update_s;
+  s.correction_latency_s = corrections_.newest() ? epoch.time - *corrections_.newest() : kNaN;
+  s.active_biases = static_cast<std::uint16_t>(rec.active_biases);
+  s.variables_reeliminated = static_cast<std::uint32_t>(ppp::ReceiverState::kDim + rec.active_biases);
+  if (const auto* ekf = dynamic_cast<const ppp::EkfEstimator*>(estimator_.get())) {
+    std::map<ppp::ArcId, std::string> sat_of_arc;
+    for (const auto& r : rec.residuals) sat_of_arc[r.arc] = r.satellite.toString() + " ";
+    for (const ppp::ArcId a : ekf->filter().activeArcs()) s.active_bias_arcs.push_back(sat_of_arc[a] + "arc " + std::to_string(a));
+  }
+  const bool solved = rec.status == ppp::EpochStatus::Ok && rec.solution.position_ecef_m;
+  Eigen::Vector3d sigma_enu = Eigen::Vector3d::Constant(kNaN);
+  s.zwd_m = s.zwd_sigma_m = s.receiver_clock_m = s.receiver_clock_sigma_m = kNaN;
+  if (solved) {
+    if (!datum_ecef_m_) setDatum(*rec.solution.position_ecef_m);
+    const Eigen::Matrix3d cov_enu = ecef_to_enu_ * *rec.solution.covariance_ecef_m2 * ecef_to_enu_.transpose();
+    sigma_enu = cov_enu.diagonal().cwiseMax(0.0).cwiseSqrt();
+    s.zwd_m = rec.solution.zwd_m.value_or(kNaN);
+    s.zwd_sigma_m = std::sqrt(std::max(0.0, rec.receiver_covariance(3, 3)));
+    s.receiver_clock_m = rec.solution.receiver_clock_m.value_or(kNaN);
+    s.receiver_clock_sigma_m = std::sqrt(std::max(0.0, rec.receiver_covariance(4, 4)));
+  }
+  s.sigma_east_m = sigma_enu.x();
+  s.sigma_north_m = sigma_enu.y();
+  s.sigma_up_m = sigma_enu.z();
+  s.solution_state = solutionState(solved, sigma_enu, config_.ros);
+  s.solution_state_text = solutionStateText(s.solution_state);
+  if (rec.status == ppp::EpochStatus::Failed) warn("failed", "ppp: estimator failed at " + epoch.time.toString() + ": " + rec.reason);
+  last_status_ = s;
+  have_status_ = true;
+  if (solved) publishSolution(rec, s);
+  status_pub_.publish(s);
+}
+
+void PppNode::publishSolution(const ppp::PppEpochRecord& rec, const ppp_bayes_tree::PppStatus& status) {
+  const RosNodeOptions& o = config_.ros;
+  const Eigen::Vector3d& p = *rec.solution.position_ecef_m;
+  const Eigen::Matrix3d cov_enu = ecef_to_enu_ * *rec.solution.covariance_ecef_m2 * ecef_to_enu_.transpose();
+  // The estimate is the marker/antenna position; without an attitude source the
+  // lever arm cannot be rotated, so base_link is placed at the antenna (documented).
+  const Eigen::Vector3d enu = ecef_to_enu_ * (p - *datum_ecef_m_);
+  const ros::Time stamp = status.header.stamp;
+
+  nav_msgs::Odometry odom;
+  odom.header.stamp = stamp;
+  odom.header.frame_id = o.map_frame;
+  odom.child_frame_id = o.base_frame;
+  odom.pose.pose.position.x = enu.x();
+  odom.pose.pose.position.y = enu.y();
+  odom.pose.pose.position.z = enu.z();
+  odom.pose.pose.orientation.w = 1.0;
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c) odom.pose.covariance[r * 6 + c] = cov_enu(r, c);
+  for (int i = 3; i < 6; ++i) odom.pose.covariance[i * 6 + i] = 1e6;  // orientation not estimated
+  for (int i = 0; i < 6; ++i) odom.twist.covariance[i * 6 + i] = 1e6;  // twist not estimated
+  odom_pub_.publish(odom);
+
+  sensor_msgs::NavSatFix fix;
+  fix.header.stamp = stamp;
+  fix.header.frame_id = o.base_frame;
+  const ppp::Geodetic g = ppp::ecefToGeodetic(p);
+  fix.latitude = g.latitude_rad * ppp::kRadToDeg;
+  fix.longitude = g.longitude_rad * ppp::kRadToDeg;
+  fix.altitude = g.height_m;
+  const Eigen::Matrix3d r_local = ppp::rotationEnuFromEcef(g.latitude_rad, g.longitude_rad);
+  const Eigen::Matrix3d cov_local = r_local * *rec.solution.covariance_ecef_m2 * r_local.transpose();
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c) fix.position_covariance[r * 3 + c] = cov_local(r, c);  // ENU, m^2 (REP-145)
+  fix.position_covariance_type = sensor_msgs::NavSatFix::COVARIANCE_TYPE_KNOWN;
+  fix.status.status = sensor_msgs::NavSatStatus::STATUS_FIX;
+  fix.status.service = sensor_msgs::NavSatStatus::SERVICE_GPS;
+  fix_pub_.publish(fix);
+
+  geometry_msgs::PoseStamped pose;
+  pose.header = odom.header;
+  pose.pose = odom.pose.pose;
+  path_.poses.push_back(pose);
+  if (path_.poses.size() > o.path_max_poses) path_.poses.erase(path_.poses.begin());
+
+  if (o.publish_tf) {
+    // map -> base_link, or map -> odom when another node publishes odom -> base_link.
+    const Eigen::Quaterniond identity = Eigen::Quaterniond::Identity();
+    std::string err;
+    if (tf_buffer_.canTransform(o.odom_frame, o.base_frame, ros::Time(0), &err)) {
+      const auto ob = tf_buffer_.lookupTransform(o.odom_frame, o.base_frame, ros::Time(0));
+      const Eigen::Quaterniond q_ob(ob.transform.rotation.w, ob.transform.rotation.x, ob.transform.rotation.y,
+                                    ob.transform.rotation.z);
+      const Eigen::Vector3d t_ob(ob.transform.translation.x, ob.transform.translation.y, ob.transform.translation.z);
+      // T_map_odom = T_map_base * T_odom_base^-1
+      const Eigen::Quaterniond q_mo = identity * q_ob.inverse();
+      const Eigen::Vector3d t_mo = enu - q_mo * t_ob;
+      tf_.sendTransform(transform(o.map_frame, o.odom_frame, stamp, t_mo, q_mo));
+    } else {
+      tf_.sendTransform(transform(o.map_frame, o.base_frame, stamp, enu, identity));
+    }
+  }
+}
+
+void PppNode::diagnoseInputs(diagnostic_updater::DiagnosticStatusWrapper& s) {
+  const ros::WallTime now = ros::WallTime::now();
+  const double dt = std::max(1e-3, (now - last_diag_time_).toSec());
+  const double obs_rate = (obs_received_ - obs_at_last_diag_) / dt, corr_rate = (corr_received_ - corr_at_last_diag_) / dt;
+  obs_at_last_diag_ = obs_received_;
+  corr_at_last_diag_ = corr_received_;
+  last_diag_time_ = now;
+  s.add("observation messages", obs_received_);
+  s.add("observation rate [Hz, wall]", obs_rate);
+  s.add("correction messages", corr_received_);
+  s.add("correction rate [Hz, wall]", corr_rate);
+  s.add("pending epochs", pending_.size());
+  s.add("duplicate epochs dropped", counters_.epochs_duplicate);
+  s.add("out-of-order epochs dropped", counters_.epochs_out_of_order);
+  s.add("estimator resets (time backwards)", counters_.estimator_resets);
+  s.add("empty epochs", counters_.empty_epochs);
+  s.add("invalid observations excluded", counters_.observations_invalid);
+  for (const auto& [reason, n] : issues_.counts) s.add(reason, n);
+  if (obs_received_ == 0) s.summary(diagnostic_msgs::DiagnosticStatus::WARN, "no observations received yet");
+  else if (config_.ros.expected_observation_rate_hz > 0 && obs_rate < 0.5 * config_.ros.expected_observation_rate_hz)
+    s.summary(diagnostic_msgs::DiagnosticStatus::WARN, "observation rate below half the expected rate");
+  else s.summary(diagnostic_msgs::DiagnosticStatus::OK, "receiving");
+}
+
+void PppNode::diagnoseCorrections(diagnostic_updater::DiagnosticStatusWrapper& s) {
+  s.add("batches held", corrections_.size());
+  s.add("newest batch", corrections_.newest() ? corrections_.newest()->toString() : std::string("none"));
+  s.add("age of the last batch at arrival [s]", last_correction_age_s_);
+  s.add("satellite-epochs without corrections", counters_.corrections_late);
+  s.add("corrections for unknown satellites", counters_.corrections_unknown_satellites);
+  if (corrections_.size() == 0) s.summary(diagnostic_msgs::DiagnosticStatus::WARN, "no corrections received yet");
+  else if (std::isfinite(last_correction_age_s_) && last_correction_age_s_ > config_.ros.max_correction_latency_s)
+    s.summary(diagnostic_msgs::DiagnosticStatus::WARN, "corrections arrive late");
+  else s.summary(diagnostic_msgs::DiagnosticStatus::OK, "corrections current");
+}
+
+void PppNode::diagnoseSolution(diagnostic_updater::DiagnosticStatusWrapper& s) {
+  s.add("estimator", config_.ros.estimator);
+  s.add("epochs processed", counters_.epochs_processed);
+  if (!have_status_) {
+    s.summary(diagnostic_msgs::DiagnosticStatus::WARN, "no epoch processed yet");
+    return;
+  }
+  s.add("solution state", last_status_.solution_state_text);
+  s.add("satellites used", last_status_.satellites_used);
+  s.add("update time [s]", last_status_.update_time_s);
+  s.add("sigma east/north/up [m]", std::to_string(last_status_.sigma_east_m) + " " +
+                                       std::to_string(last_status_.sigma_north_m) + " " +
+                                       std::to_string(last_status_.sigma_up_m));
+  if (last_status_.solution_state == ppp_bayes_tree::PppStatus::NO_SOLUTION)
+    s.summary(diagnostic_msgs::DiagnosticStatus::WARN, "no solution: " + last_status_.reason);
+  else s.summary(diagnostic_msgs::DiagnosticStatus::OK, last_status_.solution_state_text);
+}
+
+}  // namespace ppp_ros

@@ -1,0 +1,131 @@
+// Conversions ROS messages <-> core types, and the CorrectionBuffer rules.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+
+#include "ppp_bayes_tree/models/correction_buffer.h"
+#include "ppp_bayes_tree/ros/bag_writer.h"
+#include "ppp_bayes_tree/ros/message_conversions.h"
+#include "ppp_bayes_tree/ros/node_options.h"
+#include "ppp_bayes_tree/ppp/ppp_config.h"
+#include "ppp_bayes_tree/simulation/gnss_simulator.h"
+
+namespace {
+
+const ppp::SimulatedFlight& flight() {
+  static const ppp::SimulatedFlight f = [] {
+    ppp::SimulationConfig c;
+    c.duration_s = 120.0;
+    return ppp::simulateFlight(c, 3);
+  }();
+  return f;
+}
+
+}  // namespace
+
+TEST(RosTime, WeekSecondsAndUtcStampOfKnownInstants) {
+  // 2026-05-13 00:00:00 GPST: GPS week 2418 (2026-05-10 is a Sunday), Wednesday = 3 days = 259200 s.
+  const ppp::GnssTime t = ppp::GnssTime::fromCalendar({2026, 5, 13, 0, 0, 0.0});
+  const auto m = ppp_ros::toMessageTime(t);
+  EXPECT_EQ(m.week, 2418);
+  EXPECT_DOUBLE_EQ(m.seconds_of_week, 259200.0);
+  EXPECT_EQ(m.time_system, "GPS");
+  EXPECT_EQ(ppp_ros::fromMessageTime(m.week, m.seconds_of_week, "GPS"), t);
+  // UTC = GPST - 18 s (IERS Bulletin C, since 2017): POSIX 1778630400 is 2026-05-13 00:00:00 UTC.
+  EXPECT_EQ(ppp_ros::utcStamp(t).sec, 1778630400u - 18u);
+  // The same instant read in UTC and back.
+  const auto u = ppp_ros::toMessageTime(t + 0.1234567, ppp::TimeSystem::UTC);
+  EXPECT_DOUBLE_EQ(u.seconds_of_week, 259200.0 - 18.0 + 0.1234567);
+  EXPECT_NEAR(ppp_ros::fromMessageTime(u.week, u.seconds_of_week, u.time_system) - (t + 0.1234567), 0.0, 1e-9);
+  EXPECT_THROW(ppp_ros::fromMessageTime(2418, std::nan(""), "GPS"), std::invalid_argument);
+  EXPECT_THROW(ppp_ros::fromMessageTime(2418, 10.0, "XYZ"), std::invalid_argument);
+}
+
+TEST(RosObservations, RoundTripIsLossless) {
+  const ppp::SimulatedFlight& f = flight();
+  ppp::RinexObsHeader layout;
+  for (std::size_t k = 0; k < 5; ++k) {
+    const ppp::ObsEpoch& e = f.epochs[k];
+    const auto msg = ppp_ros::toMessage(e, f.header);
+    EXPECT_EQ(msg.satellites.size(), e.satellites.size());
+    ppp::ObsEpoch back;
+    ppp_ros::ConversionIssues issues;
+    ppp_ros::fromMessage(msg, layout, back, issues);
+    EXPECT_EQ(issues.total(), 0u);
+    EXPECT_EQ(back.time, e.time);
+    ASSERT_EQ(back.satellites.size(), e.satellites.size());
+    for (std::size_t i = 0; i < e.satellites.size(); ++i) {
+      for (const ppp::Observation* o = e.begin(i); o != e.end(i); ++o) {
+        const ppp::Observation* b = back.find(e.satellites[i].satellite, o->code);
+        ASSERT_NE(b, nullptr) << o->code.toString();
+        EXPECT_EQ(b->value, o->value);
+        EXPECT_EQ(b->lli, o->lli);
+        EXPECT_EQ(b->ssi, o->ssi);
+      }
+    }
+  }
+  EXPECT_EQ(layout.antenna_type, f.header.antenna_type);
+}
+
+TEST(RosObservations, AbsurdValuesAndUnknownIdsAreExcludedAndCounted) {
+  auto msg = ppp_ros::toMessage(flight().epochs[0], flight().header);
+  msg.satellites[0].signals[0].pseudorange_m = std::numeric_limits<double>::infinity();
+  msg.satellites[1].signals[0].pseudorange_m = 12.0;  // below 1000 km: absurd
+  msg.satellites[2].satellite = "??";
+  ppp::RinexObsHeader layout;
+  ppp::ObsEpoch e;
+  ppp_ros::ConversionIssues issues;
+  ppp_ros::fromMessage(msg, layout, e, issues);
+  EXPECT_EQ(issues.counts["observation excluded: non-finite value"], 1u);
+  EXPECT_EQ(issues.counts["observation excluded: pseudorange outside [1e6, 1e8] m"], 1u);
+  EXPECT_EQ(issues.counts["unknown satellite id '??'"], 1u);
+  EXPECT_EQ(e.satellites.size(), msg.satellites.size() - 1);
+}
+
+TEST(CorrectionBuffer, MatchesTheFileProductsAndNeverExtrapolates) {
+  const ppp::SimulatedFlight& f = flight();
+  ppp_ros::BagWriteOptions o;
+  const auto batches = ppp_ros::sampleCorrections(f.products, f.epochs.front().time, f.epochs.back().time, o);
+  ASSERT_GT(batches.size(), 4u);
+  ppp::CorrectionBuffer buffer;
+  for (const auto& b : batches) {
+    // Through the message and back, as the node receives them.
+    ppp_ros::ConversionIssues issues;
+    ASSERT_EQ(buffer.add(ppp_ros::fromMessage(ppp_ros::toMessage(b), issues)), ppp::BatchAddResult::Added);
+    EXPECT_EQ(issues.total(), 0u);
+  }
+  EXPECT_EQ(buffer.add(batches[1]), ppp::BatchAddResult::Duplicate);
+  // Between batches: Hermite orbits within 1 mm of the SP3 Lagrange, clocks identical (both linear in CLK).
+  double worst_orbit = 0.0, worst_clock = 0.0;
+  for (double dt = 0.0; dt < 100.0; dt += 7.3) {
+    const ppp::GnssTime t = f.epochs.front().time + dt;
+    for (const auto& s : batches.front().satellites) {
+      const auto a = buffer.ephemeris().orbit(s.satellite, t), b = f.products.orbit(s.satellite, t);
+      const auto ca = buffer.ephemeris().clock(s.satellite, t), cb = f.products.clock(s.satellite, t);
+      ASSERT_TRUE(a.ok() && b.ok() && ca.ok() && cb.ok()) << a.reason << ca.reason;
+      worst_orbit = std::max(worst_orbit, (a.value->position_ecef_m - b.value->position_ecef_m).norm());
+      worst_clock = std::max(worst_clock, std::abs(ca.value->clock_bias_s - cb.value->clock_bias_s));
+    }
+  }
+  EXPECT_LT(worst_orbit, 1e-3);
+  EXPECT_LT(worst_clock * 299792458.0, 1e-6);
+  // After the newest batch: the reason, no value.
+  const auto late = buffer.ephemeris().clock(batches.front().satellites[0].satellite, *buffer.newest() + 1.0);
+  EXPECT_FALSE(late.ok());
+  EXPECT_EQ(late.status, ppp::ProductStatus::OutsideSpan);
+  const auto late_orbit = buffer.ephemeris().orbit(batches.front().satellites[0].satellite, *buffer.newest() + 1.0);
+  EXPECT_FALSE(late_orbit.ok());
+  EXPECT_FALSE(buffer.covers(*buffer.newest() + 0.5));
+}
+
+TEST(RosNodeOptions, TemplateBindsAndUnknownKeysFail) {
+  const ppp::PppConfig c = ppp::loadPppConfig(std::string(PPP_REPO_DIR) + "/config/ppp.yaml");
+  const auto o = ppp_ros::bindRosNodeOptions(c.ros, "ppp.yaml");
+  EXPECT_EQ(o.map_frame, "map");
+  EXPECT_DOUBLE_EQ(o.correction_wait_s, 35.0);
+  const ppp::PppConfig bad = ppp::parsePppConfig("ros: {frames: {mapp: x}}", "text");
+  EXPECT_THROW(ppp_ros::bindRosNodeOptions(bad.ros, "text"), ppp::ConfigError);
+  const ppp::PppConfig bad2 = ppp::parsePppConfig("ros: {input: {correction_wait_s: -1}}", "text");
+  EXPECT_THROW(ppp_ros::bindRosNodeOptions(bad2.ros, "text"), ppp::ConfigError);
+}
