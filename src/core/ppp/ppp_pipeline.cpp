@@ -110,11 +110,11 @@ PppPipeline::PppPipeline(const PppInMemoryInputs& inputs, PppConfig config)
     throw std::invalid_argument("in-memory pipeline inputs: header, epochs and products are required");
   Impl& d = *impl_;
   d.memory = inputs;
-  d.memory->antex.clear();  // moved into the model below
+  d.memory->antex.clear();  // handed to the processor below
   d.files.obs = inputs.name;
   d.load_notes.push_back("observations: " + inputs.name + " (in-process epochs)");
-  d.model = std::make_unique<PppMeasurementModel>(*inputs.products, inputs.antex,
-                                                  ReceiverAntenna::fromHeader(*inputs.header), nullptr, config_.model);
+  d.processor = std::make_unique<PppEpochProcessor>(*inputs.header, config_, *inputs.products, inputs.antex,
+                                                    nullptr, nullptr);
 }
 
 PppPipeline::~PppPipeline() = default;
