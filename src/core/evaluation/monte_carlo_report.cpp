@@ -1,5 +1,7 @@
 // Outputs of the Monte Carlo study (monte_carlo.h): Markdown tables, JSON, CSV.
 #include <algorithm>
+
+#include "ppp_bayes_tree/evaluation/json_text.h"
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -22,36 +24,14 @@ std::string fmt(const char* format, double v) {
 std::string cm(double m) { return fmt("%.1f", 100.0 * m); }
 
 /// JSON number (null for NaN/inf: JSON has neither).
-std::string num(double v) {
-  if (!std::isfinite(v)) return "null";
-  char b[40];
-  std::snprintf(b, sizeof b, "%.10g", v);
-  return b;
-}
-std::string str(const std::string& s) {
-  std::string o = "\"";
-  for (char c : s) {
-    if (c == '"' || c == '\\') {
-      o += '\\';
-      o += c;
-    } else if (static_cast<unsigned char>(c) < 0x20) {
-      char b[8];
-      std::snprintf(b, sizeof b, "\\u%04x", c);
-      o += b;
-    } else {
-      o += c;
-    }
-  }
-  return o + "\"";
-}
 std::string jsonSummary(const ErrorSummary& s) {
-  return "{\"count\": " + std::to_string(s.count) + ", \"median_cm\": " + num(100 * s.median_m) +
-         ", \"mean_cm\": " + num(100 * s.mean_m) + ", \"sigma_cm\": " + num(100 * s.std_m) +
-         ", \"max_cm\": " + num(100 * s.max_m) + "}";
+  return "{\"count\": " + std::to_string(s.count) + ", \"median_cm\": " + jsonNumber(100 * s.median_m, 10) +
+         ", \"mean_cm\": " + jsonNumber(100 * s.mean_m, 10) + ", \"sigma_cm\": " + jsonNumber(100 * s.std_m, 10) +
+         ", \"max_cm\": " + jsonNumber(100 * s.max_m, 10) + "}";
 }
 std::string jsonArray(const std::vector<double>& v) {
   std::string o = "[";
-  for (std::size_t i = 0; i < v.size(); ++i) o += (i ? ", " : "") + num(v[i]);
+  for (std::size_t i = 0; i < v.size(); ++i) o += (i ? ", " : "") + jsonNumber(v[i], 10);
   return o + "]";
 }
 
@@ -81,13 +61,13 @@ std::string quantileCsv(const std::array<std::vector<QuantileBin>, kMonteCarloEs
   }
   o << '\n';
   for (const auto& [t, r] : rows) {
-    o << num(t);
+    o << jsonNumber(t, 10);
     for (const QuantileBin* b : r) {
       if (b == nullptr) {
         o << ",0,,,,,";
       } else {
-        o << ',' << b->count << ',' << num(b->p05) << ',' << num(b->p50) << ',' << num(b->p95) << ','
-          << num(b->abs_p50) << ',' << num(b->abs_p90);
+        o << ',' << b->count << ',' << jsonNumber(b->p05, 10) << ',' << jsonNumber(b->p50, 10) << ',' << jsonNumber(b->p95, 10) << ','
+          << jsonNumber(b->abs_p50, 10) << ',' << jsonNumber(b->abs_p90, 10);
       }
     }
     o << '\n';
@@ -175,24 +155,24 @@ std::string monteCarloJson(const MonteCarloResult& r) {
   const MonteCarloOptions& o = r.options;
   std::ostringstream j;
   j << "{\n  \"flights\": " << s.flights << ", \"failed\": " << s.failed << ", \"seed\": " << o.seed
-    << ", \"duration_s\": " << num(o.duration_s) << ", \"rate_hz\": " << num(o.rate_hz)
-    << ", \"profiles\": " << str(profileList(o)) << ", \"first_window_s\": " << num(o.first_window_s)
-    << ",\n  \"threads\": " << r.threads_used << ", \"wall_s\": " << num(r.wall_s)
-    << ", \"simulate_s\": " << num(s.simulate_s) << ", \"ekf_s\": " << num(s.ekf_s)
-    << ", \"smoother_s\": " << num(s.smoother_s) << ",\n  \"estimators\": [";
-  for (int e = 0; e < kMonteCarloEstimators; ++e) j << (e ? ", " : "") << str(monteCarloEstimatorKey(e));
+    << ", \"duration_s\": " << jsonNumber(o.duration_s, 10) << ", \"rate_hz\": " << jsonNumber(o.rate_hz, 10)
+    << ", \"profiles\": " << jsonString(profileList(o)) << ", \"first_window_s\": " << jsonNumber(o.first_window_s, 10)
+    << ",\n  \"threads\": " << r.threads_used << ", \"wall_s\": " << jsonNumber(r.wall_s, 10)
+    << ", \"simulate_s\": " << jsonNumber(s.simulate_s, 10) << ", \"ekf_s\": " << jsonNumber(s.ekf_s, 10)
+    << ", \"smoother_s\": " << jsonNumber(s.smoother_s, 10) << ",\n  \"estimators\": [";
+  for (int e = 0; e < kMonteCarloEstimators; ++e) j << (e ? ", " : "") << jsonString(monteCarloEstimatorKey(e));
   j << "],\n  \"representative_flight\": " << s.representative;
   if (s.representative >= 0) {
     const auto& f = r.flights[static_cast<std::size_t>(s.representative)];
-    j << ", \"representative_profile\": " << str(flightProfileName(f.setup.profile))
+    j << ", \"representative_profile\": " << jsonString(flightProfileName(f.setup.profile))
       << ", \"representative_seed\": " << f.setup.seed;
   }
   j << ",\n  \"representative_definition\": "
-    << str("the flight whose EKF mean 3D error is the median of the flights' EKF means (lower middle for an even count)");
+    << jsonString("the flight whose EKF mean 3D error is the median of the flights' EKF means (lower middle for an even count)");
   auto tables = [&](const char* name, const std::array<ErrorSummary, kMonteCarloEstimators>& t) {
-    j << ",\n  " << str(name) << ": {";
+    j << ",\n  " << jsonString(name) << ": {";
     for (int e = 0; e < kMonteCarloEstimators; ++e)
-      j << (e ? ", " : "") << str(monteCarloEstimatorKey(e)) << ": " << jsonSummary(t[static_cast<std::size_t>(e)]);
+      j << (e ? ", " : "") << jsonString(monteCarloEstimatorKey(e)) << ": " << jsonSummary(t[static_cast<std::size_t>(e)]);
     j << "}";
   };
   tables("all_epochs", s.all);
@@ -204,25 +184,25 @@ std::string monteCarloJson(const MonteCarloResult& r) {
   for (int e = 0; e < kMonteCarloEstimators; ++e) {
     const auto ei = static_cast<std::size_t>(e);
     std::vector<double> never(s.convergence_never[ei].begin(), s.convergence_never[ei].end());
-    j << (e ? ", " : "") << str(monteCarloEstimatorKey(e)) << ": {\"median_s\": " << jsonArray(s.convergence_median_s[ei])
+    j << (e ? ", " : "") << jsonString(monteCarloEstimatorKey(e)) << ": {\"median_s\": " << jsonArray(s.convergence_median_s[ei])
       << ", \"never\": " << jsonArray(never) << "}";
   }
   j << "},\n  \"epochs_without_solution\": {";
   for (int e = 0; e < kMonteCarloEstimators; ++e)
-    j << (e ? ", " : "") << str(monteCarloEstimatorKey(e)) << ": " << s.epochs_without_solution[static_cast<std::size_t>(e)];
+    j << (e ? ", " : "") << jsonString(monteCarloEstimatorKey(e)) << ": " << s.epochs_without_solution[static_cast<std::size_t>(e)];
   j << "},\n  \"bias_arcs_compared\": " << s.bias_arcs_compared
     << ", \"bias_arcs_missed_slip\": " << s.bias_arcs_missed_slip << ",\n  \"failures\": [";
-  for (std::size_t i = 0; i < s.failures.size(); ++i) j << (i ? ", " : "") << str(s.failures[i]);
+  for (std::size_t i = 0; i < s.failures.size(); ++i) j << (i ? ", " : "") << jsonString(s.failures[i]);
   j << "],\n  \"flight_table\": [";
   for (std::size_t i = 0; i < r.flights.size(); ++i) {
     const auto& f = r.flights[i];
     j << (i ? "," : "") << "\n    {\"index\": " << f.setup.index << ", \"seed\": " << f.setup.seed
-      << ", \"profile\": " << str(flightProfileName(f.setup.profile)) << ", \"failed\": " << (f.failure.empty() ? "false" : "true")
+      << ", \"profile\": " << jsonString(flightProfileName(f.setup.profile)) << ", \"failed\": " << (f.failure.empty() ? "false" : "true")
       << ", \"epochs\": " << f.epochs << ", \"simulated_arcs\": " << f.simulated_arcs
       << ", \"phase_breaks\": " << f.phase_breaks << ", \"estimator_arcs\": " << f.estimator_arcs
       << ", \"slips_detected\": " << f.slips_detected;
     for (int e = 0; e < kMonteCarloEstimators; ++e)
-      j << ", " << str(std::string(monteCarloEstimatorKey(e)) + "_mean_cm") << ": " << num(100 * f.summary(e).mean_m);
+      j << ", " << jsonString(std::string(monteCarloEstimatorKey(e)) + "_mean_cm") << ": " << jsonNumber(100 * f.summary(e).mean_m, 10);
     j << "}";
   }
   j << "\n  ]\n}\n";
@@ -247,24 +227,24 @@ void writeMonteCarloOutputs(const MonteCarloResult& r, const std::string& dir) {
   flights << ",filtered_minus_ekf_max_cm,simulate_s,ekf_s,smoother_s,drawn\n";
   for (const auto& f : r.flights) {
     flights << f.setup.index << ',' << f.setup.seed << ',' << flightProfileName(f.setup.profile) << ','
-            << f.setup.start.toString() << ',' << num(f.setup.origin.latitude_rad * kRadToDeg) << ','
-            << num(f.setup.origin.longitude_rad * kRadToDeg) << ',' << num(f.setup.origin.height_m) << ','
+            << f.setup.start.toString() << ',' << jsonNumber(f.setup.origin.latitude_rad * kRadToDeg, 10) << ','
+            << jsonNumber(f.setup.origin.longitude_rad * kRadToDeg, 10) << ',' << jsonNumber(f.setup.origin.height_m, 10) << ','
             << f.epochs << ',' << f.simulated_arcs << ',' << f.phase_breaks << ',' << f.estimator_arcs << ','
             << f.slips_detected << ',' << (f.failure.empty() ? 0 : 1);
     for (int e = 0; e < kMonteCarloEstimators; ++e) {
       const ErrorSummary a = f.summary(e), w = f.summary(e, r.options.first_window_s);
-      flights << ',' << num(100 * a.mean_m) << ',' << num(100 * a.median_m) << ',' << num(100 * a.max_m) << ','
-              << num(100 * w.mean_m);
+      flights << ',' << jsonNumber(100 * a.mean_m, 10) << ',' << jsonNumber(100 * a.median_m, 10) << ',' << jsonNumber(100 * a.max_m, 10) << ','
+              << jsonNumber(100 * w.mean_m, 10);
     }
     double diff_max = 0.0;
     for (double v : f.filtered_minus_ekf_m)
       if (std::isfinite(v)) diff_max = std::max(diff_max, v);
-    flights << ',' << num(100 * diff_max);
+    flights << ',' << jsonNumber(100 * diff_max, 10);
     std::string drawn;
     for (const auto& x : f.drawn) drawn += (drawn.empty() ? "" : "; ") + x;
     for (char& c : drawn)
       if (c == '"' || c == ',') c = (c == ',' ? ';' : '\'');
-    flights << ',' << num(f.simulate_s) << ',' << num(f.ekf_s) << ',' << num(f.smoother_s) << ",\"" << drawn << "\"\n";
+    flights << ',' << jsonNumber(f.simulate_s, 10) << ',' << jsonNumber(f.ekf_s, 10) << ',' << jsonNumber(f.smoother_s, 10) << ",\"" << drawn << "\"\n";
   }
   writeFile(d / "flights.csv", flights.str());
 
@@ -275,10 +255,10 @@ void writeMonteCarloOutputs(const MonteCarloResult& r, const std::string& dir) {
   if (s.representative >= 0) {
     const auto& f = r.flights[static_cast<std::size_t>(s.representative)];
     for (std::size_t k = 0; k < f.time_s.size(); ++k) {
-      rep << num(f.time_s[k]);
+      rep << jsonNumber(f.time_s[k], 10);
       for (int e = 0; e < kMonteCarloEstimators; ++e) {
         const double v = f.error_3d_m[static_cast<std::size_t>(e)][k];
-        rep << ',' << (std::isfinite(v) ? num(v) : "");
+        rep << ',' << (std::isfinite(v) ? jsonNumber(v, 10) : "");
       }
       rep << '\n';
     }
@@ -289,7 +269,7 @@ void writeMonteCarloOutputs(const MonteCarloResult& r, const std::string& dir) {
   std::ostringstream diff;
   diff << "time_s,count,p50_m,p95_m,p90_m\n";
   for (const auto& b : s.filtered_minus_ekf_vs_time)
-    diff << num(b.t_s) << ',' << b.count << ',' << num(b.p50) << ',' << num(b.p95) << ',' << num(b.abs_p90) << '\n';
+    diff << jsonNumber(b.t_s, 10) << ',' << b.count << ',' << jsonNumber(b.p50, 10) << ',' << jsonNumber(b.p95, 10) << ',' << jsonNumber(b.abs_p90, 10) << '\n';
   writeFile(d / "filtered_minus_ekf.csv", diff.str());
 
   std::ostringstream cdf;
@@ -298,11 +278,11 @@ void writeMonteCarloOutputs(const MonteCarloResult& r, const std::string& dir) {
     cdf << ',' << monteCarloEstimatorKey(e) << "_all_m," << monteCarloEstimatorKey(e) << "_first_window_m";
   cdf << '\n';
   for (std::size_t i = 0; i < s.cdf_levels.size(); ++i) {
-    cdf << num(s.cdf_levels[i]);
+    cdf << jsonNumber(s.cdf_levels[i], 10);
     for (int e = 0; e < kMonteCarloEstimators; ++e) {
       const auto ei = static_cast<std::size_t>(e);
-      cdf << ',' << (i < s.cdf_all_m[ei].size() ? num(s.cdf_all_m[ei][i]) : "") << ','
-          << (i < s.cdf_first_window_m[ei].size() ? num(s.cdf_first_window_m[ei][i]) : "");
+      cdf << ',' << (i < s.cdf_all_m[ei].size() ? jsonNumber(s.cdf_all_m[ei][i], 10) : "") << ','
+          << (i < s.cdf_first_window_m[ei].size() ? jsonNumber(s.cdf_first_window_m[ei][i], 10) : "");
     }
     cdf << '\n';
   }

@@ -1,5 +1,7 @@
 #include "ppp_bayes_tree/evaluation/position_error_statistics.h"
 
+#include "ppp_bayes_tree/evaluation/json_text.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -18,18 +20,6 @@ std::string fmt(const char* f, double v) {
   char buf[64];
   std::snprintf(buf, sizeof buf, f, v);
   return buf;
-}
-
-std::string jsonNumber(double v) { return std::isfinite(v) ? fmt("%.9g", v) : "null"; }
-
-std::string jsonString(const std::string& s) {
-  std::string out = "\"";
-  for (char c : s) {
-    if (c == '"' || c == '\\') out += '\\', out += c;
-    else if (static_cast<unsigned char>(c) < 0x20) out += fmt("\\u%04x", static_cast<unsigned char>(c));
-    else out += c;
-  }
-  return out + "\"";
 }
 
 std::string minutes(const std::optional<double>& t_s) { return t_s ? fmt("%.1f", *t_s / 60.0) : "never"; }

@@ -1,5 +1,7 @@
 #include "ppp_bayes_tree/ppp/ppp_solve_run.h"
 
+#include "ppp_bayes_tree/evaluation/json_text.h"
+
 #include <algorithm>
 #include <cctype>
 #include <cmath>
@@ -16,30 +18,6 @@
 
 namespace ppp {
 namespace {
-
-std::string jsonText(const std::string& s) {
-  std::string o = "\"";
-  for (char c : s) {
-    if (c == '"' || c == '\\') {
-      o += '\\';
-      o += c;
-    } else if (static_cast<unsigned char>(c) < 0x20) {
-      char buf[8];
-      std::snprintf(buf, sizeof buf, "\\u%04x", c);
-      o += buf;
-    } else {
-      o += c;
-    }
-  }
-  return o + "\"";
-}
-
-std::string jsonNum(double v) {
-  if (!std::isfinite(v)) return "null";
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.6g", v);
-  return buf;
-}
 
 std::ofstream openOut(const std::string& path) {
   std::ofstream out(path, std::ios::binary);
@@ -280,8 +258,8 @@ std::string runSummaryToJson(const PppSolveOutcome& o) {
 std::string runSummaryToJson(const PppSolveOutcome& o, const PppSolutionOutput& output) {
   const PppRunSummary& r = o.run;
   std::ostringstream os;
-  os << "{\n  \"name\": " << jsonText(o.name) << ",\n  \"estimator\": " << jsonText(r.estimator)
-     << ",\n  \"solution\": " << jsonText(output.label) << ",\n";
+  os << "{\n  \"name\": " << jsonString(o.name) << ",\n  \"estimator\": " << jsonString(r.estimator)
+     << ",\n  \"solution\": " << jsonString(output.label) << ",\n";
   os << "  \"statistics\": ";
   if (output.statistics) {
     std::string s = statisticsToJson(*output.statistics, output.label);
@@ -294,31 +272,31 @@ std::string runSummaryToJson(const PppSolveOutcome& o, const PppSolutionOutput& 
      << ", \"no_solution\": " << r.epochs_no_solution << ", \"failed\": " << r.epochs_failed
      << ", \"refused\": " << r.epochs_refused << ", \"data_gaps\": " << r.data_gaps << "},\n";
   os << "  \"arcs\": " << r.arcs << ",\n  \"slips\": " << r.slips << ",\n";
-  os << "  \"processing_time_s\": " << jsonNum(r.processing_time_s) << ",\n";
+  os << "  \"processing_time_s\": " << jsonNumber(r.processing_time_s, 6) << ",\n";
   for (const auto& [key, t] : {std::make_pair("update_time", o.update_time), std::make_pair("epoch_time", o.epoch_time)}) {
     if (!t) continue;
-    os << "  \"" << key << "_ms\": {\"epochs\": " << t->count << ", \"median\": " << jsonNum(t->median_s * 1e3)
-       << ", \"p99\": " << jsonNum(t->p99_s * 1e3) << ", \"max\": " << jsonNum(t->max_s * 1e3) << "},\n";
+    os << "  \"" << key << "_ms\": {\"epochs\": " << t->count << ", \"median\": " << jsonNumber(t->median_s * 1e3, 6)
+       << ", \"p99\": " << jsonNumber(t->p99_s * 1e3, 6) << ", \"max\": " << jsonNumber(t->max_s * 1e3, 6) << "},\n";
   }
   os << "  \"rejections\": {";
   bool first = true;
   for (const auto& [k, n] : r.rejection_counts) {
-    os << (first ? "" : ", ") << jsonText(k) << ": " << n;
+    os << (first ? "" : ", ") << jsonString(k) << ": " << n;
     first = false;
   }
   os << "},\n  \"satellite_residuals\": [";
   for (std::size_t i = 0; i < r.residual_statistics.size(); ++i) {
     const auto& s = r.residual_statistics[i];
-    os << (i ? "," : "") << "\n    {\"sat\": " << jsonText(s.satellite.toString()) << ", \"count\": " << s.count
-       << ", \"rejections\": " << s.rejections << ", \"code_mean_m\": " << jsonNum(s.code_mean_m)
-       << ", \"code_rms_m\": " << jsonNum(s.code_rms_m) << ", \"phase_mean_m\": " << jsonNum(s.phase_mean_m)
-       << ", \"phase_rms_m\": " << jsonNum(s.phase_rms_m) << ", \"phase_max_abs_m\": " << jsonNum(s.phase_max_abs_m)
-       << ", \"elevation_deg\": [" << jsonNum(s.min_elevation_deg) << ", " << jsonNum(s.max_elevation_deg) << "]}";
+    os << (i ? "," : "") << "\n    {\"sat\": " << jsonString(s.satellite.toString()) << ", \"count\": " << s.count
+       << ", \"rejections\": " << s.rejections << ", \"code_mean_m\": " << jsonNumber(s.code_mean_m, 6)
+       << ", \"code_rms_m\": " << jsonNumber(s.code_rms_m, 6) << ", \"phase_mean_m\": " << jsonNumber(s.phase_mean_m, 6)
+       << ", \"phase_rms_m\": " << jsonNumber(s.phase_rms_m, 6) << ", \"phase_max_abs_m\": " << jsonNumber(s.phase_max_abs_m, 6)
+       << ", \"elevation_deg\": [" << jsonNumber(s.min_elevation_deg, 6) << ", " << jsonNumber(s.max_elevation_deg, 6) << "]}";
   }
   os << "\n  ],\n  \"notes\": [";
-  for (std::size_t i = 0; i < r.notes.size(); ++i) os << (i ? "," : "") << "\n    " << jsonText(r.notes[i]);
+  for (std::size_t i = 0; i < r.notes.size(); ++i) os << (i ? "," : "") << "\n    " << jsonString(r.notes[i]);
   os << "\n  ],\n  \"problems\": [";
-  for (std::size_t i = 0; i < r.problems.size(); ++i) os << (i ? "," : "") << "\n    " << jsonText(r.problems[i]);
+  for (std::size_t i = 0; i < r.problems.size(); ++i) os << (i ? "," : "") << "\n    " << jsonString(r.problems[i]);
   os << "\n  ]\n}\n";
   return os.str();
 }
