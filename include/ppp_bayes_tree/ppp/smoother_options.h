@@ -4,17 +4,14 @@
 // screen alike).
 #include <string>
 
+#include "ppp_bayes_tree/ppp/screening_options.h"
 #include "ppp_bayes_tree/smoother/elimination.h"
 
 namespace ppp {
 
 struct PppSmootherOptions {
-  // Screening and bookkeeping: the EKF's meanings (ekf_options.h) and defaults.
-  int min_satellites = 5;
-  double prefit_code_threshold_m = 30.0;
-  double prefit_phase_sigmas = 5.0;
-  bool clock_from_code_median = true;
-  double stale_arc_timeout_s = 300.0;
+  /// Screening and bookkeeping: the EKF's (screening_options.h).
+  ScreeningOptions screening;
   /// Huber kernel on the code and phase factors, width in sigmas (robust = false: Gaussian).
   bool robust = false;
   double huber_width_sigmas = 3.0;
