@@ -93,11 +93,15 @@ void runRandomLinear(Factorization method, bool wildfire, unsigned seed, bool ca
   const BatchResult batch = optimizeBatch(isam.nonlinearFactors(), isam.linearizationPoint(), qrBatch());
   EXPECT_LT(maxDiff(isam.calculateEstimate(), batch.values), 1e-8);
   // Marginals: every variable, and a joint of three.
+  EXPECT_LT(maxDiff(isam.calculateBestEstimate(), batch.values), 1e-8);
   const Values& theta = isam.linearizationPoint();
+  const auto all = isam.bayesTree().marginalCovariances();  // one pass over the tree
+  EXPECT_EQ(all.size(), g.keys.size());
   for (Key k : g.keys) {
     const Matrix m = isam.marginalCovariance(k);
     const Matrix b = batchMarginalCovariance(isam.nonlinearFactors(), theta, {k});
     EXPECT_LT((m - b).cwiseAbs().maxCoeff(), 1e-8) << keyToString(k);
+    EXPECT_LT((all.at(k) - b).cwiseAbs().maxCoeff(), 1e-8) << keyToString(k);
   }
   const KeyVector three{g.keys[2], g.keys[17], g.keys.back()};
   EXPECT_LT((isam.jointMarginalCovariance(three) - batchMarginalCovariance(isam.nonlinearFactors(), theta, three))
@@ -318,6 +322,12 @@ void runPppChain(Factorization method, double tol) {
   const Key last = symbolKey('x', epochs - 1);
   EXPECT_LT((isam.marginalCovariance(last) - batchMarginalCovariance(isam.nonlinearFactors(), theta, {last}))
                 .cwiseAbs().maxCoeff(), tol);
+  // Every variable's marginal from the one-pass recursion equals the per-key one.
+  const auto all = isam.bayesTree().marginalCovariances();
+  for (const auto& [k, v] : theta) {
+    ASSERT_TRUE(all.count(k)) << keyToString(k);
+    EXPECT_LT((all.at(k) - isam.marginalCovariance(k)).cwiseAbs().maxCoeff(), tol) << keyToString(k);
+  }
   const KeyVector joint{symbolKey('x', 3), last, symbolKey('b', "G01", 0)};
   EXPECT_LT((isam.jointMarginalCovariance(joint) - batchMarginalCovariance(isam.nonlinearFactors(), theta, joint))
                 .cwiseAbs().maxCoeff(), tol);

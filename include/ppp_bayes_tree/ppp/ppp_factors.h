@@ -95,6 +95,8 @@ class PppPhaseFactor : public smoother::NonlinearFactor {
                  smoother::NoiseModel::Ptr noise);
   smoother::Vector unwhitenedError(const smoother::Values& x, std::vector<smoother::Matrix>* jacobians) const override;
   const SatellitePrediction& prediction() const { return prediction_; }
+  /// The bias enters with coefficient +1: its linearization point never matters.
+  bool affineIn(smoother::Key key) const override { return key == keys()[1]; }
 
  private:
   SatellitePrediction prediction_;

@@ -19,6 +19,8 @@ struct PppSmootherOptions {
   double relinearize_position_m = 0.01;
   double relinearize_zwd_m = 0.001;
   double relinearize_clock_m = 1.0;
+  /// Only with `robust` (Huber weights depend on the residual): otherwise the phase
+  /// factors are affine in the bias and iSAM2 never relinearizes it (skip_affine_variables).
   double relinearize_bias_m = 0.01;
   /// Check relinearization every this many updates (iSAM2's relinearize_skip).
   int relinearize_skip = 1;

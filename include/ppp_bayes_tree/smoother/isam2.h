@@ -32,6 +32,10 @@ class ISAM2 {
   /// Current estimate theta + delta.
   Values calculateEstimate() const;
   Vector calculateEstimate(Key key) const;
+  /// theta + the delta of a full back-substitution of the current tree (every clique
+  /// solved, whatever the partial back-substitution left): the exact solution of the
+  /// linearized system, for the whole trajectory at once (as GTSAM's calculateBestEstimate).
+  Values calculateBestEstimate() const;
   const Values& linearizationPoint() const { return theta_; }
   const Values& delta() const { return delta_; }
   bool exists(Key key) const { return theta_.exists(key); }
@@ -97,6 +101,18 @@ class ISAM2 {
   BayesTree tree_;
   std::unordered_map<FactorIndex, FactorSlot> factors_;
   std::unordered_map<Key, std::vector<FactorIndex>> variable_index_;
+  /// Per variable: the number of its live factors whose linearization depends on its
+  /// linearization point (see ISAM2Params::skip_affine_variables).
+  std::unordered_map<Key, std::size_t> nonaffine_factors_;
+  /// Skipped affine variables: delta at the last (skipped) relinearization.
+  std::unordered_map<Key, Vector> affine_reference_;
+  bool relinearizable(Key key) const;
+  /// Delta beyond the variable's reference (the delta itself for most variables).
+  bool exceedsThreshold(Key key, const Vector& delta) const;
+  /// Adds the factor to the variable index (and the affine bookkeeping).
+  void indexFactor(FactorIndex index, const NonlinearFactor& factor);
+  /// Removes the factor from the index entry of `key`.
+  void unindexFactor(FactorIndex index, const NonlinearFactor& factor, Key key);
   FactorIndex next_factor_index_ = 0;
   std::size_t update_count_ = 0;
 };

@@ -39,6 +39,16 @@ class NonlinearFactor {
   /// A delta - b with A = sqrt(w) R J and b = -sqrt(w) R e(x).
   virtual JacobianFactor::Ptr linearize(const Values& x) const;
 
+  /// True when the error is affine in variable `key` with a constant coefficient,
+  /// e(x) = g(the other variables) + A x_key (A independent of every variable), as a
+  /// phase factor in its bias or a prior. Default false (the safe answer).
+  virtual bool affineIn(Key /*key*/) const { return false; }
+  /// True when the linearization does not depend on the linearization point of `key`
+  /// beyond the shift of the right-hand side: affineIn(key) and no robust kernel
+  /// (whose weight depends on the residual). Relinearizing such a variable then
+  /// leaves the linear system, and so the solution, unchanged (iSAM2 may skip it).
+  bool linearizationIndependentOf(Key key) const { return !noise_->robust() && affineIn(key); }
+
  private:
   KeyVector keys_;
   NoiseModel::Ptr noise_;

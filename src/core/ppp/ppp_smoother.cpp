@@ -67,6 +67,9 @@ smoother::ISAM2Params PppSmoother::isamParams() const {
   p.relinearize_thresholds_by_symbol['x'] = state;
   p.relinearize_threshold_by_symbol['b'] = options_.relinearize_bias_m;
   p.wildfire_threshold = options_.wildfire_threshold_m;
+  // Without a robust kernel the phase factors are affine in the biases: relinearizing
+  // a bias changes nothing but would re-eliminate every state of its arc.
+  p.skip_affine_variables = true;
   p.factorization = options_.factorization;
   return p;
 }
@@ -136,14 +139,19 @@ std::vector<SmoothedEpoch> PppSmoother::smoothedTrajectory(bool with_covariance)
   std::vector<SmoothedEpoch> out;
   out.reserve(states_.size());
   const smoother::ISAM2& isam = isam2();
+  // One full back-substitution (exact, where the per-update partial one may leave
+  // changes below its threshold in the older states) and one covariance pass.
+  const smoother::Values estimate = isam.calculateBestEstimate();
+  std::unordered_map<Key, smoother::Matrix> covariances;
+  if (with_covariance) covariances = isam.bayesTree().marginalCovariances();
   for (const auto& s : states_) {
     SmoothedEpoch e;
     e.time = s.time;
     e.index = s.index;
     const Key key = stateKey(s.index);
     if (isam.exists(key)) {
-      e.state = ReceiverState::fromVector(isam.calculateEstimate(key));
-      if (with_covariance) e.covariance = ReceiverCovariance(isam.marginalCovariance(key));
+      e.state = ReceiverState::fromVector(estimate.at(key));
+      if (with_covariance) e.covariance = ReceiverCovariance(covariances.at(key));
     } else {
       e.state = s.last_estimate;
     }
