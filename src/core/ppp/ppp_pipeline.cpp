@@ -100,7 +100,9 @@ PppPipeline::PppPipeline(const PppInputFiles& files, PppConfig config)
   std::vector<AntexSource> antex;
   for (const auto& p : files.atx) antex.push_back({baseName(p), readAntexFile(p)});
   if (files.bias) {
-    d.bias = readBiasSinexFile(*files.bias);
+    RecordFilter systems;
+    systems.systems = config_.signals.systems;
+    d.bias = readBiasSinexFile(*files.bias, systems);
     d.load_notes.push_back("code biases: " + baseName(*files.bias) + " (OSB subtracted from the codes)");
   } else {
     d.load_notes.push_back("code biases: no Bias-SINEX file; codes used as observed (product convention)");
