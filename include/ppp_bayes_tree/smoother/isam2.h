@@ -84,7 +84,7 @@ class ISAM2 {
   void removeFactors(const std::vector<FactorIndex>& indices, KeySet& affected, ISAM2Result& result);
   KeySet gatherRelinearizeKeys(const ISAM2UpdateParams& up) const;
   void fluidCheck(const Clique& clique, KeySet& marked) const;
-  void relinearize(const KeySet& relin_keys, KeySet& affected, ISAM2Result& result);
+  void relinearize(const KeySet& relin_keys, KeySet& affected, ISAM2Result& result, bool force);
   void removeTop(const KeySet& affected, KeyVector& top_keys, std::vector<Clique::Ptr>& orphans,
                  std::vector<FactorIndex>& top_factors, ISAM2Result& result);
   std::vector<Clique*> eliminateTop(const KeyVector& top_keys, std::vector<Clique::Ptr>& orphans,
@@ -101,14 +101,17 @@ class ISAM2 {
   BayesTree tree_;
   std::unordered_map<FactorIndex, FactorSlot> factors_;
   std::unordered_map<Key, std::vector<FactorIndex>> variable_index_;
-  /// Per variable: the number of its live factors whose linearization depends on its
-  /// linearization point (see ISAM2Params::skip_affine_variables).
-  std::unordered_map<Key, std::size_t> nonaffine_factors_;
-  /// Skipped affine variables: delta at the last (skipped) relinearization.
+  /// Per variable and component: the number of its live factors whose linearization
+  /// depends on that component's linearization point (ISAM2Params::skip_affine_variables).
+  std::unordered_map<Key, std::vector<std::size_t>> nonaffine_factors_;
+  /// Variables whose relinearization was skipped: delta at the last skipped one.
   std::unordered_map<Key, Vector> affine_reference_;
-  bool relinearizable(Key key) const;
-  /// Delta beyond the variable's reference (the delta itself for most variables).
-  bool exceedsThreshold(Key key, const Vector& delta) const;
+  /// Effective delta (beyond the reference) above the threshold: in any component
+  /// (`any`), in a component that some factor is nonlinear in (`nonlinear`).
+  struct ThresholdCheck {
+    bool any = false, nonlinear = false;
+  };
+  ThresholdCheck checkThreshold(Key key, const Vector& delta) const;
   /// Adds the factor to the variable index (and the affine bookkeeping).
   void indexFactor(FactorIndex index, const NonlinearFactor& factor);
   /// Removes the factor from the index entry of `key`.

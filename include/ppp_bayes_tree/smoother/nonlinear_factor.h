@@ -43,11 +43,18 @@ class NonlinearFactor {
   /// e(x) = g(the other variables) + A x_key (A independent of every variable), as a
   /// phase factor in its bias or a prior. Default false (the safe answer).
   virtual bool affineIn(Key /*key*/) const { return false; }
-  /// True when the linearization does not depend on the linearization point of `key`
-  /// beyond the shift of the right-hand side: affineIn(key) and no robust kernel
-  /// (whose weight depends on the residual). Relinearizing such a variable then
-  /// leaves the linear system, and so the solution, unchanged (iSAM2 may skip it).
-  bool linearizationIndependentOf(Key key) const { return !noise_->robust() && affineIn(key); }
+  /// The same for one component of the variable: the error is affine in that
+  /// component with a constant coefficient and no Jacobian block depends on it (as
+  /// the PPP factors in a state's ZWD and clock). Default: affineIn(key).
+  virtual bool affineInComponent(Key key, int /*component*/) const { return affineIn(key); }
+  /// True when the linearization does not depend on the linearization point of this
+  /// component of `key` beyond the shift of the right-hand side: affine in it and no
+  /// robust kernel (whose weight depends on the residual). Moving only such
+  /// components leaves the linear system, and so the solution, unchanged (iSAM2 may
+  /// then skip the relinearization).
+  bool linearizationIndependentOf(Key key, int component) const {
+    return !noise_->robust() && affineInComponent(key, component);
+  }
 
  private:
   KeyVector keys_;

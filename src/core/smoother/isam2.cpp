@@ -60,7 +60,7 @@ ISAM2Result ISAM2::update(const NonlinearFactorGraph& new_factors, const Values&
   // ---- 3. Relinearize: move theta by delta for marked variables; invalidate the cached
   // linearization of every factor involving them and mark all those factors' variables.
   t = Clock::now();
-  relinearize(relin, affected, result);
+  relinearize(relin, affected, result, up.force_full_relinearization);
   result.step_time_s[2] = secondsSince(t);
 
   // ---- 4. Remove the top of the Bayes tree: the cliques on the paths from the affected
@@ -136,7 +136,12 @@ void ISAM2::removeFactors(const std::vector<FactorIndex>& indices, KeySet& affec
 void ISAM2::indexFactor(FactorIndex index, const NonlinearFactor& factor) {
   for (Key k : factor.keys()) {
     variable_index_[k].push_back(index);
-    if (!factor.linearizationIndependentOf(k)) ++nonaffine_factors_[k];
+    if (!params_.skip_affine_variables) continue;
+    const int dim = static_cast<int>(theta_.at(k).size());
+    auto& counts = nonaffine_factors_[k];
+    counts.resize(static_cast<std::size_t>(dim), 0);
+    for (int c = 0; c < dim; ++c)
+      if (!factor.linearizationIndependentOf(k, c)) ++counts[static_cast<std::size_t>(c)];
   }
 }
 
@@ -145,20 +150,30 @@ void ISAM2::unindexFactor(FactorIndex index, const NonlinearFactor& factor, Key 
   auto pos = std::find(list.begin(), list.end(), index);
   if (pos == list.end()) return;
   list.erase(pos);
-  if (!factor.linearizationIndependentOf(key)) {
-    auto it = nonaffine_factors_.find(key);
-    if (it != nonaffine_factors_.end() && --it->second == 0) nonaffine_factors_.erase(it);
-  }
+  auto it = nonaffine_factors_.find(key);
+  if (it == nonaffine_factors_.end()) return;
+  for (std::size_t c = 0; c < it->second.size(); ++c)
+    if (!factor.linearizationIndependentOf(key, static_cast<int>(c)) && it->second[c] > 0) --it->second[c];
 }
 
-bool ISAM2::relinearizable(Key key) const {
-  return !params_.skip_affine_variables || nonaffine_factors_.count(key) != 0;
-}
-
-bool ISAM2::exceedsThreshold(Key key, const Vector& delta) const {
+ISAM2::ThresholdCheck ISAM2::checkThreshold(Key key, const Vector& delta) const {
   auto ref = affine_reference_.find(key);
-  if (ref == affine_reference_.end()) return params_.exceedsThreshold(key, delta);
-  return params_.exceedsThreshold(key, delta - ref->second);
+  const Vector e = ref == affine_reference_.end() ? delta : Vector(delta - ref->second);
+  ThresholdCheck out;
+  out.any = params_.exceedsThreshold(key, e);
+  if (!out.any || !params_.skip_affine_variables) {
+    out.nonlinear = out.any;
+    return out;
+  }
+  // Only components that some factor is nonlinear in call for a relinearization.
+  auto counts = nonaffine_factors_.find(key);
+  if (counts == nonaffine_factors_.end()) return out;
+  Vector masked = Vector::Zero(e.size());
+  for (Eigen::Index c = 0; c < e.size(); ++c)
+    if (static_cast<std::size_t>(c) < counts->second.size() && counts->second[static_cast<std::size_t>(c)] > 0)
+      masked(c) = e(c);
+  out.nonlinear = params_.exceedsThreshold(key, masked);
+  return out;
 }
 
 // ---------------------------------------------------------------------------
@@ -171,7 +186,7 @@ ISAM2::KeySet ISAM2::gatherRelinearizeKeys(const ISAM2UpdateParams& up) const {
     for (const auto& root : tree_.roots()) fluidCheck(*root, marked);
   } else {
     for (const auto& [k, d] : delta_)
-      if (exceedsThreshold(k, d)) marked.insert(k);
+      if (checkThreshold(k, d).any) marked.insert(k);
   }
   for (Key k : up.no_relin_keys) marked.erase(k);
   return marked;
@@ -182,7 +197,7 @@ void ISAM2::fluidCheck(const Clique& clique, KeySet& marked) const {
   // since back-substitution changes below it are no larger than its own.
   bool any = false;
   for (Key k : clique.frontals)
-    if (exceedsThreshold(k, delta_.at(k))) {
+    if (checkThreshold(k, delta_.at(k)).any) {
       marked.insert(k);
       any = true;
     }
@@ -192,11 +207,13 @@ void ISAM2::fluidCheck(const Clique& clique, KeySet& marked) const {
 
 // ---------------------------------------------------------------------------
 // Step 3
-void ISAM2::relinearize(const KeySet& relin_keys, KeySet& affected, ISAM2Result& result) {
+void ISAM2::relinearize(const KeySet& relin_keys, KeySet& affected, ISAM2Result& result, bool force) {
   std::size_t done = 0;
   for (Key k : relin_keys) {
     Vector& d = delta_.at(k);
-    if (!relinearizable(k)) {  // affine: same linear system; only move the reference
+    if (params_.skip_affine_variables && !force && !checkThreshold(k, d).nonlinear) {
+      // Moved only in components every factor is affine in: the linear system would
+      // not change; move the reference instead (the fluid check sees the step).
       affine_reference_[k] = d;
       continue;
     }
