@@ -8,7 +8,9 @@
 #include "ppp_bayes_tree/io/bias_sinex_reader.h"
 #include "ppp_bayes_tree/io/rinex_obs_reader.h"
 #include "ppp_bayes_tree/models/precise_ephemeris.h"
+#include "ppp_bayes_tree/ppp/ppp_config.h"
 #include "ppp_bayes_tree/ppp/ppp_measurement_model.h"
+#include "ppp_bayes_tree/ppp/ppp_solve_run.h"
 #include "ppp_bayes_tree/ppp/signal_selection.h"
 #include "test_support.h"
 
@@ -60,5 +62,22 @@ struct LoadedDataset {
                                                   ReceiverAntenna::fromHeader(reader->header()), nullptr, options);
   }
 };
+
+/// ppp_solve's request for a dataset, as a user runs real data: the method's
+/// defaults plus the real-data overrides of config/ppp_real_data.yaml.
+inline PppSolveRequest solveRequest(const PppDataset& d, const std::string& out_dir,
+                                    const std::string& estimator = "ekf") {
+  PppSolveRequest r;
+  r.files.obs = d.obs;
+  r.files.sp3 = d.sp3;
+  r.files.clk = d.clk;
+  r.files.atx = d.atx;
+  r.files.bias = d.bia;
+  r.truth_ecef_m = d.truth_ecef_m;
+  r.out_dir = out_dir;
+  r.estimator = estimator;
+  r.config = loadPppConfig(std::string(PPP_REPO_DIR) + "/config/ppp_real_data.yaml");
+  return r;
+}
 
 }  // namespace ppp::test

@@ -6,6 +6,9 @@
 // range + clock + ZWD / sin(el) (+ arc bias for phase), noise-free or with
 // Gaussian noise of the sigmas given to the filter (0.9 m and 9 mm at zenith,
 // / sin(el)).
+#include <gtest/gtest.h>
+
+#include <Eigen/Cholesky>
 #include <Eigen/Core>
 #include <cmath>
 #include <map>
@@ -13,6 +16,7 @@
 #include <set>
 #include <vector>
 
+#include "ppp_bayes_tree/ppp/ekf_ppp.h"
 #include "ppp_bayes_tree/ppp/measurement_function.h"
 
 namespace ppp::sim {
@@ -169,5 +173,52 @@ inline double chiSquareQuantile(double k, double z) {
   return k * std::pow(1.0 - a + z * std::sqrt(a), 3);
 }
 
+/// Runs `epochs` epochs every `dt_s` seconds through an estimator (EkfPpp or
+/// PppSmoother), expecting each to be Ok; returns every epoch's result.
+template <class Estimator>
+auto runEpochs(Estimator& estimator, Simulator& sim, int epochs, double dt_s = 30.0, SimModelOptions model = {}) {
+  std::vector<decltype(estimator.processEpoch(sim.time(), modelOf(sim.epoch(), model)))> out;
+  for (int i = 0; i < epochs; ++i) {
+    if (estimator.initialised()) sim.t_s += dt_s;
+    out.push_back(estimator.processEpoch(sim.time(), modelOf(sim.epoch(), model)));
+    EXPECT_EQ(out.back().status, EpochStatus::Ok) << out.back().reason;
+  }
+  return out;
+}
+
+/// The NEES experiment of the consistency tests: `runs` independent runs (seeds
+/// seed0, seed0 + 1, ...; a different geometry each) with a random-walk truth
+/// (the estimators' process model, q = 5 m/sqrt(s), white clock of 1 km) and
+/// Gaussian noise; returns, per check epoch, the sum over the runs of the
+/// filtered position NEES (chi-square with 3 x runs degrees of freedom).
+/// `make()` returns a fresh estimator.
+template <class Make>
+std::map<int, double> positionNeesSums(Make make, int runs, unsigned seed0, const std::vector<int>& check_epochs,
+                                       SimModelOptions model = {}) {
+  std::map<int, double> nees_sum;
+  std::normal_distribution<double> gauss(0.0, 1.0);
+  for (int run_index = 0; run_index < runs; ++run_index) {
+    Simulator sim;
+    sim.noise = true;
+    sim.rng.seed(seed0 + static_cast<unsigned>(run_index));
+    sim.t_s = 1800.0 * run_index;  // different geometry per run
+    auto estimator = make();
+    for (int i = 0; i <= check_epochs.back(); ++i) {
+      if (i > 0) {
+        sim.t_s += 30.0;
+        for (int a = 0; a < 3; ++a) sim.position(a) += 5.0 * std::sqrt(30.0) * gauss(sim.rng);
+        sim.clock_m = 1000.0 * gauss(sim.rng);
+      }
+      const auto r = estimator.processEpoch(sim.time(), modelOf(sim.epoch(), model));
+      EXPECT_EQ(r.status, EpochStatus::Ok) << r.reason;
+      if (r.status != EpochStatus::Ok) return {};
+      const Eigen::Vector3d e = r.solution->state.position_ecef_m - sim.position;
+      const Eigen::Matrix3d P = r.solution->positionCovariance_m2();
+      for (int c : check_epochs)
+        if (i == c) nees_sum[c] += e.dot(P.ldlt().solve(e));
+    }
+  }
+  return nees_sum;
+}
 
 }  // namespace ppp::sim

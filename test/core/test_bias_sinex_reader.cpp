@@ -85,6 +85,25 @@ TEST(BiasSinexReader, CodeOsbValuesInMetres) {
   EXPECT_FALSE(f.osb(sat("G01"), code("C1C"), gpst(2026, 5, 12, 23, 59, 59.0)));
 }
 
+// A GPS-only reader keeps exactly the GPS rows of the full read (the header count
+// of 14065 then holds with the skipped rows) and gives the same values.
+TEST(BiasSinexReader, SystemFilterKeepsTheGpsRowsOnly) {
+  PPP_REQUIRE_SHARED_DATA();
+  RecordFilter gps;
+  gps.systems = {GnssSystem::GPS};
+  const BiasSinexFile g =
+      readBiasSinexFile(test::dataPath("zim2-2026-133/COD0OPSFIN_20261330000_01D_01D_OSB.BIA.gz"), gps);
+  EXPECT_TRUE(g.report.clean()) << g.report.summary();
+  std::size_t full_gps = 0;
+  for (const auto& r : codFile().records) full_gps += r.system == GnssSystem::GPS;
+  EXPECT_EQ(g.records.size(), full_gps);
+  EXPECT_EQ(g.report.counters().at("rows of other systems skipped"), 14065u - full_gps);
+  for (const auto& r : g.records) EXPECT_EQ(r.system, GnssSystem::GPS);
+  const GnssTime t = gpst(2026, 5, 13, 0, 30);
+  EXPECT_EQ(g.osb(sat("G01"), code("C1C"), t)->value, codFile().osb(sat("G01"), code("C1C"), t)->value);
+  EXPECT_FALSE(g.stationOsb("abmf", GnssSystem::Galileo, code("C1C"), t));
+}
+
 TEST(BiasSinexReader, WhuAbsFileWithExponentValues) {
   PPP_REQUIRE_SHARED_DATA();
   const BiasSinexFile f =

@@ -26,15 +26,9 @@ double positionError(const EkfEpochResult& r, const Simulator& sim) {
   return (r.solution->state.position_ecef_m - sim.position).norm();
 }
 
-/// Runs `epochs` epochs every `dt` seconds, asserting each is Ok.
+/// Runs `epochs` epochs every `dt` seconds (each Ok); returns the last result.
 EkfEpochResult run(EkfPpp& ekf, Simulator& sim, int epochs, double dt = 30.0) {
-  EkfEpochResult last;
-  for (int i = 0; i < epochs; ++i) {
-    if (ekf.initialised()) sim.t_s += dt;
-    last = ekf.processEpoch(sim.time(), modelOf(sim.epoch()));
-    EXPECT_EQ(last.status, EpochStatus::Ok) << last.reason;
-  }
-  return last;
+  return runEpochs(ekf, sim, epochs, dt).back();
 }
 
 const SatelliteId& firstUsed(const EkfEpochResult& r) { return r.used.front(); }
@@ -106,28 +100,9 @@ TEST(EkfPpp, PositionNeesIsWithinChiSquareBounds) {
   model.position.initial_sigma_m = 100.0;
   const int runs = 40;
   const std::vector<int> check_epochs{10, 40};
-  std::map<int, double> nees_sum;
-  std::normal_distribution<double> gauss(0.0, 1.0);
-  for (int run_index = 0; run_index < runs; ++run_index) {
-    Simulator sim;
-    sim.noise = true;
-    sim.rng.seed(1000 + run_index);
-    sim.t_s = 1800.0 * run_index;  // different geometry per run
-    EkfPpp ekf(model);
-    for (int i = 0; i <= check_epochs.back(); ++i) {
-      if (i > 0) {
-        sim.t_s += 30.0;
-        for (int a = 0; a < 3; ++a) sim.position(a) += 5.0 * std::sqrt(30.0) * gauss(sim.rng);
-        sim.clock_m = 1000.0 * gauss(sim.rng);
-      }
-      const auto r = ekf.processEpoch(sim.time(), modelOf(sim.epoch()));
-      ASSERT_EQ(r.status, EpochStatus::Ok) << r.reason;
-      const Eigen::Vector3d e = r.solution->state.position_ecef_m - sim.position;
-      const Eigen::Matrix3d P = r.solution->positionCovariance_m2();
-      for (int c : check_epochs)
-        if (i == c) nees_sum[c] += e.dot(P.ldlt().solve(e));
-    }
-  }
+  std::map<int, double> nees_sum =
+      positionNeesSums([&model] { return EkfPpp(model); }, runs, 1000, check_epochs);
+  ASSERT_FALSE(nees_sum.empty());
   const double dof = 3.0 * runs;
   const double lower = chiSquareQuantile(dof, -2.5758), upper = chiSquareQuantile(dof, 2.5758);  // 99 %
   for (int c : check_epochs) {

@@ -28,15 +28,15 @@ void expectSameDefaults(const PppConfig& c) {
   EXPECT_EQ(c.stochastic.clock.kind, d.stochastic.clock.kind);
   EXPECT_EQ(c.stochastic.phase_bias.initial_sigma_m, d.stochastic.phase_bias.initial_sigma_m);
   EXPECT_EQ(c.stochastic.phase_bias.process_noise_m_per_sqrt_s, d.stochastic.phase_bias.process_noise_m_per_sqrt_s);
-  EXPECT_EQ(c.estimator.min_satellites, d.estimator.min_satellites);
+  EXPECT_EQ(c.estimator.screening.min_satellites, d.estimator.screening.min_satellites);
   EXPECT_EQ(c.estimator.iterations_per_epoch, d.estimator.iterations_per_epoch);
-  EXPECT_EQ(c.estimator.prefit_code_threshold_m, d.estimator.prefit_code_threshold_m);
-  EXPECT_EQ(c.estimator.prefit_phase_sigmas, d.estimator.prefit_phase_sigmas);
+  EXPECT_EQ(c.estimator.screening.prefit_code_threshold_m, d.estimator.screening.prefit_code_threshold_m);
+  EXPECT_EQ(c.estimator.screening.prefit_phase_sigmas, d.estimator.screening.prefit_phase_sigmas);
   EXPECT_EQ(c.estimator.postfit_check, d.estimator.postfit_check);
   EXPECT_EQ(c.estimator.postfit_sigmas, d.estimator.postfit_sigmas);
   EXPECT_EQ(c.estimator.postfit_max_rejections, d.estimator.postfit_max_rejections);
-  EXPECT_EQ(c.estimator.clock_from_code_median, d.estimator.clock_from_code_median);
-  EXPECT_EQ(c.estimator.stale_arc_timeout_s, d.estimator.stale_arc_timeout_s);
+  EXPECT_EQ(c.estimator.screening.clock_from_code_median, d.estimator.screening.clock_from_code_median);
+  EXPECT_EQ(c.estimator.screening.stale_arc_timeout_s, d.estimator.screening.stale_arc_timeout_s);
   EXPECT_EQ(c.start.max_iterations, d.start.max_iterations);
   EXPECT_EQ(c.start.convergence_m, d.start.convergence_m);
   EXPECT_EQ(c.start.min_satellites, d.start.min_satellites);
@@ -120,7 +120,7 @@ cycle_slip:
   EXPECT_EQ(c.stochastic.clock.kind, ppp::ProcessKind::RandomWalk);
   EXPECT_EQ(c.stochastic.clock.process_noise_m_per_sqrt_s, 10.0);
   EXPECT_EQ(c.stochastic.clock.initial_sigma_m, 3e6);  // untouched default
-  EXPECT_EQ(c.estimator.min_satellites, 6);
+  EXPECT_EQ(c.estimator.screening.min_satellites, 6);
   EXPECT_FALSE(c.estimator.postfit_check);
   EXPECT_EQ(c.start.outlier_threshold_m, 12.5);
   // The model sections are bound at load (ppp_options_binding.h); raw copies are kept.

@@ -22,18 +22,7 @@ namespace ppp {
 namespace {
 
 PppSolveRequest zim2Request(const std::string& out_dir) {
-  const test::PppDataset d = test::zim2Dataset();
-  PppSolveRequest r;
-  r.files.obs = d.obs;
-  r.files.sp3 = d.sp3;
-  r.files.clk = d.clk;
-  r.files.atx = d.atx;
-  r.files.bias = d.bia;
-  r.truth_ecef_m = d.truth_ecef_m;
-  r.out_dir = out_dir;
-  // As a user runs real data: the method's defaults plus the real-data overrides.
-  r.config = loadPppConfig(std::string(PPP_REPO_DIR) + "/config/ppp_real_data.yaml");
-  return r;
+  return test::solveRequest(test::zim2Dataset(), out_dir);
 }
 
 std::size_t countLines(const std::string& path) {

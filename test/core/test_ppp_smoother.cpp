@@ -58,13 +58,7 @@ ReceiverState someState() {
 
 std::vector<SmootherEpochResult> runSmoother(PppSmoother& smoother, Simulator& sim, int epochs,
                                              SimModelOptions model = {true}) {
-  std::vector<SmootherEpochResult> out;
-  for (int i = 0; i < epochs; ++i) {
-    if (smoother.initialised()) sim.t_s += 30.0;
-    out.push_back(smoother.processEpoch(sim.time(), modelOf(sim.epoch(), model)));
-    EXPECT_EQ(out.back().status, EpochStatus::Ok) << out.back().reason;
-  }
-  return out;
+  return runEpochs(smoother, sim, epochs, 30.0, model);
 }
 
 }  // namespace
@@ -248,28 +242,9 @@ TEST(PppSmoother, FilteredPositionNeesIsWithinChiSquareBounds) {
   model.position.initial_sigma_m = 100.0;
   const int runs = 40;
   const std::vector<int> check_epochs{10, 25, 40};
-  std::map<int, double> nees_sum;
-  std::normal_distribution<double> gauss(0.0, 1.0);
-  for (int run_index = 0; run_index < runs; ++run_index) {
-    Simulator sim;
-    sim.noise = true;
-    sim.rng.seed(2000 + run_index);
-    sim.t_s = 1800.0 * run_index;
-    PppSmoother smoother(model);
-    for (int i = 0; i <= check_epochs.back(); ++i) {
-      if (i > 0) {
-        sim.t_s += 30.0;
-        for (int a = 0; a < 3; ++a) sim.position(a) += 5.0 * std::sqrt(30.0) * gauss(sim.rng);
-        sim.clock_m = 1000.0 * gauss(sim.rng);
-      }
-      const auto r = smoother.processEpoch(sim.time(), modelOf(sim.epoch(), {true}));
-      ASSERT_EQ(r.status, EpochStatus::Ok) << r.reason;
-      const Eigen::Vector3d e = r.solution->state.position_ecef_m - sim.position;
-      const Eigen::Matrix3d P = r.solution->positionCovariance_m2();
-      for (int c : check_epochs)
-        if (i == c) nees_sum[c] += e.dot(P.ldlt().solve(e));
-    }
-  }
+  std::map<int, double> nees_sum =
+      positionNeesSums([&model] { return PppSmoother(model); }, runs, 2000, check_epochs, {true});
+  ASSERT_FALSE(nees_sum.empty());
   const double dof = 3.0 * runs;
   const double lower = chiSquareQuantile(dof, -1.95996), upper = chiSquareQuantile(dof, 1.95996);  // 95 %
   for (int c : check_epochs) {
@@ -494,8 +469,8 @@ TEST(PppSmoother, ConfigSectionBindsTheOptionsAndSharesTheScreening) {
   EXPECT_DOUBLE_EQ(c.smoother.relinearize_clock_m, 2.5);
   EXPECT_DOUBLE_EQ(c.smoother.relinearize_zwd_m, 0.001);  // default kept
   EXPECT_DOUBLE_EQ(c.smoother.fixed_lag_s, 600.0);
-  EXPECT_EQ(c.smoother.min_satellites, 6);                // from `estimator`
-  EXPECT_DOUBLE_EQ(c.smoother.prefit_phase_sigmas, 4.0);
+  EXPECT_EQ(c.smoother.screening.min_satellites, 6);                // from `estimator`
+  EXPECT_DOUBLE_EQ(c.smoother.screening.prefit_phase_sigmas, 4.0);
   try {
     parsePppConfig("smoother:\n  relinearize_bias: 0.01\n", "inline");
     FAIL() << "unknown key accepted";

@@ -473,3 +473,72 @@ TEST(PreciseEphemeris, CoverageReportsMissingSatellitesAndSpan) {
 
 }  // namespace
 }  // namespace ppp
+
+namespace ppp {
+namespace {
+
+// The WUM day (1-min SP3, 30-s clocks, four systems) read for the CCJ2 hour only.
+TEST(PreciseEphemeris, FilteredLoadEqualsTheFullLoadInsideTheWindow) {
+  PPP_REQUIRE_SHARED_DATA();
+  RecordFilter filter;
+  filter.systems = {GnssSystem::GPS};
+  filter.first = gpst(2021, 7, 29, 0, 0, 0.0);
+  filter.last = gpst(2021, 7, 29, 0, 59, 30.0);
+
+  // SP3: the window widened by 12 epochs (the PreciseEphemeris margin for 10-point
+  // windows) on each side, clamped at the file start 00:00 -> 00:00 .. 01:11 = 72 epochs;
+  // reading stops at the epoch 01:12.
+  Sp3ReadOptions sp3_options;
+  sp3_options.filter = filter;
+  sp3_options.margin_epochs = 12;
+  const Sp3File sp3 = readSp3(test::dataPath(kWumSp3), sp3_options);
+  EXPECT_TRUE(sp3.stopped_after_window);
+  EXPECT_FALSE(sp3.complete);
+  EXPECT_TRUE(sp3.report.clean()) << sp3.report.summary();
+  ASSERT_EQ(sp3.epochs.size(), 72u);
+  EXPECT_EQ(sp3.epochs.back(), gpst(2021, 7, 29, 1, 11, 0.0));
+  for (const auto& [id, records] : sp3.satellites) EXPECT_EQ(id.system, GnssSystem::GPS) << id.toString();
+  EXPECT_GT(sp3.report.counters().at("records of other systems skipped"), 0u);
+
+  // Clock file: GPS AS records inside the window only, the rest counted.
+  RinexClockReadOptions clk_options{false, filter};
+  const RinexClockFile clk = readRinexClock(test::dataPath(kWumClk), clk_options);
+  for (const auto& [id, records] : clk.satellite_clocks) {
+    EXPECT_EQ(id.system, GnssSystem::GPS);
+    ASSERT_FALSE(records.empty());
+    EXPECT_EQ(records.front().time, *filter.first);
+    EXPECT_EQ(records.back().time, *filter.last);
+  }
+  EXPECT_GT(clk.report.counters().at("AS records of other systems skipped"), 0u);
+  EXPECT_GT(clk.report.counters().at("AS records outside the time window skipped"), 0u);
+
+  // Every orbit and clock query of the hour is the full load's, bit for bit.
+  const PreciseEphemeris full = PreciseEphemeris::load({test::dataPath(kWumSp3)}, {test::dataPath(kWumClk)});
+  const PreciseEphemeris part =
+      PreciseEphemeris::load({test::dataPath(kWumSp3)}, {test::dataPath(kWumClk)}, filter);
+  EXPECT_EQ(part.orbitInterval_s(), full.orbitInterval_s());
+  EXPECT_EQ(part.maxClockSpacing_s(), full.maxClockSpacing_s());
+  int compared = 0;
+  for (const SatelliteId& s : full.orbitSatellites()) {
+    if (s.system != GnssSystem::GPS) {
+      EXPECT_FALSE(part.orbit(s, *filter.first).ok()) << s.toString();
+      continue;
+    }
+    for (GnssTime t = *filter.first; !(*filter.last < t); t = t + 30.0) {
+      const auto a = full.orbit(s, t), b = part.orbit(s, t);
+      ASSERT_EQ(a.ok(), b.ok()) << s.toString() << " " << t.toString();
+      if (a.ok()) {
+        EXPECT_EQ(a.value->position_ecef_m, b.value->position_ecef_m);
+        EXPECT_EQ(a.value->velocity_ecef_mps, b.value->velocity_ecef_mps);
+        ++compared;
+      }
+      const auto ca = full.clock(s, t), cb = part.clock(s, t);
+      ASSERT_EQ(ca.ok(), cb.ok()) << s.toString() << " " << t.toString();
+      if (ca.ok()) EXPECT_EQ(ca.value->clock_bias_s, cb.value->clock_bias_s);
+    }
+  }
+  EXPECT_GT(compared, 30 * 100);  // ~31 GPS satellites x 120 epochs
+}
+
+}  // namespace
+}  // namespace ppp

@@ -22,6 +22,7 @@
 #include <tuple>
 #include <vector>
 
+#include "ppp_bayes_tree/io/record_filter.h"
 #include "ppp_bayes_tree/io/file_summary.h"
 #include "ppp_bayes_tree/io/line_source.h"
 #include "ppp_bayes_tree/io/parse_error.h"
@@ -136,6 +137,10 @@ class BiasSinexFile {
 BiasSinexFile readBiasSinex(LineSource& source);
 /// Convenience: opens `path` (plain or gzip). Throws FileOpenError, ParseError.
 BiasSinexFile readBiasSinexFile(const std::string& path);
+/// Same, keeping only the rows of the filter's systems (its time window is not
+/// used: bias rows have validity intervals); the other rows are counted, not parsed.
+BiasSinexFile readBiasSinex(LineSource& source, const RecordFilter& filter);
+BiasSinexFile readBiasSinexFile(const std::string& path, const RecordFilter& filter);
 
 /// ppp_inspect view: version, span, satellites, observable codes per system,
 /// counts per bias type, stations, report.

@@ -21,6 +21,7 @@
 #include "ppp_bayes_tree/io/file_summary.h"
 #include "ppp_bayes_tree/io/line_source.h"
 #include "ppp_bayes_tree/io/parse_error.h"
+#include "ppp_bayes_tree/io/record_filter.h"
 #include "ppp_bayes_tree/types/gnss_time.h"
 #include "ppp_bayes_tree/types/satellite_id.h"
 #include "ppp_bayes_tree/types/time_system.h"
@@ -68,6 +69,10 @@ struct ClockRecord {
 struct RinexClockReadOptions {
   /// Keep AR (receiver clock) records; when false they are only counted.
   bool keep_receiver_clocks = true;
+  /// Satellite (AS) records to keep: other systems are counted before their values
+  /// are parsed, records outside the time window after their epoch is. (No early
+  /// stop: the format does not promise records in time order.)
+  RecordFilter filter;
 };
 
 struct RinexClockFile {

@@ -24,6 +24,7 @@
 #include "ppp_bayes_tree/io/file_summary.h"
 #include "ppp_bayes_tree/io/line_source.h"
 #include "ppp_bayes_tree/io/parse_error.h"
+#include "ppp_bayes_tree/io/record_filter.h"
 #include "ppp_bayes_tree/types/gnss_time.h"
 #include "ppp_bayes_tree/types/satellite_id.h"
 #include "ppp_bayes_tree/types/time_system.h"
@@ -89,6 +90,9 @@ struct Sp3File {
   std::map<SatelliteId, std::vector<Sp3Record>> satellites;
   /// True when the "EOF" line was found.
   bool complete = false;
+  /// True when reading stopped at the first epoch after the filter's window (the
+  /// epochs are strictly increasing, so nothing later could be kept).
+  bool stopped_after_window = false;
   ParseReport report;
 };
 
@@ -98,6 +102,16 @@ struct Sp3File {
 Sp3File readSp3(LineSource& source);
 /// Convenience: opens `path` (throws FileOpenError) and reads it.
 Sp3File readSp3(const std::string& path);
+
+struct Sp3ReadOptions {
+  /// Records to keep; the others are counted, not parsed.
+  RecordFilter filter;
+  /// The time window is widened by this many epoch intervals (header line 2) on each
+  /// side, for the interpolation windows around its edges.
+  int margin_epochs = 0;
+};
+Sp3File readSp3(LineSource& source, const Sp3ReadOptions& options);
+Sp3File readSp3(const std::string& path, const Sp3ReadOptions& options);
 
 /// Summary for ppp_inspect: version, span, interval, epochs, satellites per
 /// system, agency / frame / time system / orbit type, problems.

@@ -127,6 +127,15 @@ class PreciseEphemeris {
   static PreciseEphemeris load(const std::vector<std::string>& sp3_paths,
                                const std::vector<std::string>& clock_paths,
                                PreciseEphemerisOptions options = {});
+  /// Same, keeping only what serves `filter` (systems; the time window of the
+  /// observations): SP3 epochs within interpolation_points + 2 node intervals of
+  /// the window (reading stops after it), clock records within
+  /// kClockWindowMargin_s. Every query inside the window then gives what the
+  /// unfiltered load gives.
+  static PreciseEphemeris load(const std::vector<std::string>& sp3_paths,
+                               const std::vector<std::string>& clock_paths, const RecordFilter& filter,
+                               PreciseEphemerisOptions options = {});
+  static constexpr double kClockWindowMargin_s = 7200.0;
 
   ProductResult<SatelliteOrbit> orbit(const SatelliteId& sat, const GnssTime& t) const;
   ProductResult<SatelliteClock> clock(const SatelliteId& sat, const GnssTime& t) const;

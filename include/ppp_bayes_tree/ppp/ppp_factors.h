@@ -84,6 +84,13 @@ class PppCodeFactor : public smoother::NonlinearFactor {
   smoother::Vector unwhitenedError(const smoother::Values& x, std::vector<smoother::Matrix>* jacobians) const override;
   const SatellitePrediction& prediction() const { return prediction_; }
 
+  /// Affine in the ZWD and clock components (constant coefficients); in the
+  /// position too when the range is not re-evaluated (linear factors).
+  bool affineIn(smoother::Key) const override { return !prediction_.exactRange(); }
+  bool affineInComponent(smoother::Key key, int component) const override {
+    return affineIn(key) || component >= 3;
+  }
+
  private:
   SatellitePrediction prediction_;
 };
@@ -95,6 +102,12 @@ class PppPhaseFactor : public smoother::NonlinearFactor {
                  smoother::NoiseModel::Ptr noise);
   smoother::Vector unwhitenedError(const smoother::Values& x, std::vector<smoother::Matrix>* jacobians) const override;
   const SatellitePrediction& prediction() const { return prediction_; }
+  /// The bias enters with coefficient +1, the state's ZWD and clock with constant
+  /// coefficients (the mapping frozen at x0); the range alone is nonlinear.
+  bool affineIn(smoother::Key key) const override { return key == keys()[1] || !prediction_.exactRange(); }
+  bool affineInComponent(smoother::Key key, int component) const override {
+    return affineIn(key) || component >= 3;
+  }
 
  private:
   SatellitePrediction prediction_;
@@ -107,6 +120,7 @@ class ReceiverRandomWalkFactor : public smoother::NonlinearFactor {
   ReceiverRandomWalkFactor(smoother::Key previous, smoother::Key next, double position_sigma_m,
                            double zwd_sigma_m);
   smoother::Vector unwhitenedError(const smoother::Values& x, std::vector<smoother::Matrix>* jacobians) const override;
+  bool affineIn(smoother::Key) const override { return true; }  // a difference of states
 };
 
 /// Prior on the clock component of one state: error = clock - clock_m.
@@ -115,6 +129,7 @@ class ClockPriorFactor : public smoother::NonlinearFactor {
   ClockPriorFactor(smoother::Key state, double clock_m, double sigma_m);
   smoother::Vector unwhitenedError(const smoother::Values& x, std::vector<smoother::Matrix>* jacobians) const override;
   double clock_m() const { return clock_m_; }
+  bool affineIn(smoother::Key) const override { return true; }
 
  private:
   double clock_m_;

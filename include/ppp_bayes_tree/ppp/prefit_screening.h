@@ -6,11 +6,13 @@
 //  - code outliers by a repeated single-outlier test (Baarda's w-test);
 //  - the phase-minus-code innovation test of arcs that already have a bias.
 #include <cstddef>
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "ppp_bayes_tree/ppp/satellite_measurement.h"
+#include "ppp_bayes_tree/ppp/screening_options.h"
 
 namespace ppp {
 
@@ -51,5 +53,24 @@ std::string codeOutlierReason(const CodeOutlier& outlier, double threshold_m);
 /// sigma_code^2 + sigma_phase^2), else nullopt.
 std::optional<std::string> phaseInnovationRejection(const SatelliteMeasurement& m, double bias_m,
                                                     double bias_variance_m2, double sigmas);
+
+/// An arc's current bias estimate and its variance, for the phase innovation test.
+struct ArcBiasPrior {
+  double bias_m = 0.0;
+  double variance_m2 = 0.0;
+};
+/// The estimator's bias of an arc, nullopt when the arc has none (yet).
+using ArcBiasLookup = std::function<std::optional<ArcBiasPrior>(ArcId)>;
+
+struct PrefitScreeningResult {
+  std::vector<SatelliteMeasurement> kept;  // in the candidates' order
+  std::vector<RejectedSatellite> rejected; // with reasons, code outliers first
+};
+
+/// The prefit screening of one epoch, as both estimators run it: the code
+/// w-test (screenCodeOutliers) over all candidates, then the phase innovation
+/// test of the remaining candidates whose arc has a bias (`bias_of`).
+PrefitScreeningResult screenPrefit(const std::vector<SatelliteMeasurement>& candidates,
+                                   const ScreeningOptions& options, const ArcBiasLookup& bias_of);
 
 }  // namespace ppp

@@ -4,17 +4,14 @@
 // screen alike).
 #include <string>
 
+#include "ppp_bayes_tree/ppp/screening_options.h"
 #include "ppp_bayes_tree/smoother/elimination.h"
 
 namespace ppp {
 
 struct PppSmootherOptions {
-  // Screening and bookkeeping: the EKF's meanings (ekf_options.h) and defaults.
-  int min_satellites = 5;
-  double prefit_code_threshold_m = 30.0;
-  double prefit_phase_sigmas = 5.0;
-  bool clock_from_code_median = true;
-  double stale_arc_timeout_s = 300.0;
+  /// Screening and bookkeeping: the EKF's (screening_options.h).
+  ScreeningOptions screening;
   /// Huber kernel on the code and phase factors, width in sigmas (robust = false: Gaussian).
   bool robust = false;
   double huber_width_sigmas = 3.0;
@@ -22,6 +19,8 @@ struct PppSmootherOptions {
   double relinearize_position_m = 0.01;
   double relinearize_zwd_m = 0.001;
   double relinearize_clock_m = 1.0;
+  /// Only with `robust` (Huber weights depend on the residual): otherwise the phase
+  /// factors are affine in the bias and iSAM2 never relinearizes it (skip_affine_variables).
   double relinearize_bias_m = 0.01;
   /// Check relinearization every this many updates (iSAM2's relinearize_skip).
   int relinearize_skip = 1;

@@ -24,6 +24,9 @@ struct Clique {
   GaussianConditional conditional;
   JacobianFactor::Ptr cached_marginal;       // on the separator
   std::vector<FactorIndex> factor_indices;   // factors whose first-eliminated key is here
+  /// The separator's stacked delta when the frontals were last solved (iSAM2's partial
+  /// back-substitution compares against it, so that small changes cannot pile up).
+  Vector solved_separator_delta;
   Clique* parent = nullptr;
   std::vector<Ptr> children;
 
@@ -55,6 +58,13 @@ class BayesTree {
   /// root-clique variable only the root conditional is touched. Throws
   /// std::out_of_range for an unknown key.
   Matrix jointMarginalCovariance(const KeyVector& keys) const;
+  /// Marginal covariance of every variable, in one top-down pass: with the joint
+  /// covariance C_S of a clique's separator (from its parent's pass), the conditional
+  /// x_F = R^-1 d - G x_S, G = R^-1 S, gives C_FF = R^-1 R^-T + G C_S G^T and
+  /// C_FS = -G C_S (Kaess and Dellaert, "Covariance recovery from a square root
+  /// information matrix", 2009). Linear in the number of cliques, where calling
+  /// jointMarginalCovariance per variable grows with each one's depth.
+  std::unordered_map<Key, Matrix> marginalCovariances() const;
 
   // --- editing (used by ISAM2) ---
   std::vector<Clique::Ptr>& mutableRoots() { return roots_; }

@@ -9,6 +9,7 @@ class BetweenFactor : public NonlinearFactor {
   BetweenFactor(Key key1, Key key2, Vector z, NoiseModel::Ptr noise);
   const Vector& measured() const { return z_; }
   Vector unwhitenedError(const Values& x, std::vector<Matrix>* jacobians) const override;
+  bool affineIn(Key) const override { return true; }  // (x2 - x1) - z
 
  private:
   Vector z_;

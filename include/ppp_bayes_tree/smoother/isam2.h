@@ -32,6 +32,10 @@ class ISAM2 {
   /// Current estimate theta + delta.
   Values calculateEstimate() const;
   Vector calculateEstimate(Key key) const;
+  /// theta + the delta of a full back-substitution of the current tree (every clique
+  /// solved, whatever the partial back-substitution left): the exact solution of the
+  /// linearized system, for the whole trajectory at once (as GTSAM's calculateBestEstimate).
+  Values calculateBestEstimate() const;
   const Values& linearizationPoint() const { return theta_; }
   const Values& delta() const { return delta_; }
   bool exists(Key key) const { return theta_.exists(key); }
@@ -80,7 +84,7 @@ class ISAM2 {
   void removeFactors(const std::vector<FactorIndex>& indices, KeySet& affected, ISAM2Result& result);
   KeySet gatherRelinearizeKeys(const ISAM2UpdateParams& up) const;
   void fluidCheck(const Clique& clique, KeySet& marked) const;
-  void relinearize(const KeySet& relin_keys, KeySet& affected, ISAM2Result& result);
+  void relinearize(const KeySet& relin_keys, KeySet& affected, ISAM2Result& result, bool force);
   void removeTop(const KeySet& affected, KeyVector& top_keys, std::vector<Clique::Ptr>& orphans,
                  std::vector<FactorIndex>& top_factors, ISAM2Result& result);
   std::vector<Clique*> eliminateTop(const KeyVector& top_keys, std::vector<Clique::Ptr>& orphans,
@@ -97,6 +101,21 @@ class ISAM2 {
   BayesTree tree_;
   std::unordered_map<FactorIndex, FactorSlot> factors_;
   std::unordered_map<Key, std::vector<FactorIndex>> variable_index_;
+  /// Per variable and component: the number of its live factors whose linearization
+  /// depends on that component's linearization point (ISAM2Params::skip_affine_variables).
+  std::unordered_map<Key, std::vector<std::size_t>> nonaffine_factors_;
+  /// Variables whose relinearization was skipped: delta at the last skipped one.
+  std::unordered_map<Key, Vector> affine_reference_;
+  /// Effective delta (beyond the reference) above the threshold: in any component
+  /// (`any`), in a component that some factor is nonlinear in (`nonlinear`).
+  struct ThresholdCheck {
+    bool any = false, nonlinear = false;
+  };
+  ThresholdCheck checkThreshold(Key key, const Vector& delta) const;
+  /// Adds the factor to the variable index (and the affine bookkeeping).
+  void indexFactor(FactorIndex index, const NonlinearFactor& factor);
+  /// Removes the factor from the index entry of `key`.
+  void unindexFactor(FactorIndex index, const NonlinearFactor& factor, Key key);
   FactorIndex next_factor_index_ = 0;
   std::size_t update_count_ = 0;
 };

@@ -34,6 +34,15 @@ struct ISAM2Params {
   /// Fluid check: descend the tree from the roots and stop below cliques none of whose
   /// variables needs relinearization; false checks every variable.
   bool fluid_relinearization = true;
+  /// Skip the relinearization of a variable that exceeds its threshold only in
+  /// components that every one of its factors is affine in, with a constant
+  /// coefficient and no robust kernel (NonlinearFactor::linearizationIndependentOf:
+  /// a PPP phase bias; a PPP state's ZWD and clock): relinearizing it would leave the
+  /// linear system unchanged and only re-eliminate every clique of its factors. The
+  /// (fluid) check still sees it move: its current delta becomes its reference and
+  /// the threshold applies to delta - reference, so the descent below it is the same
+  /// as with the relinearization done. A forced full relinearization is not skipped.
+  bool skip_affine_variables = false;
 
   /// Partial ("wildfire") back-substitution (Alg. 7): stop descending where no variable
   /// of a clique changed by more than `wildfire_threshold`. False: full back-substitution.

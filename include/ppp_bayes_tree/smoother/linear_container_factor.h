@@ -13,6 +13,7 @@ class LinearContainerFactor : public NonlinearFactor {
   LinearContainerFactor(const JacobianFactor& factor, const Values& theta0);
   Vector unwhitenedError(const Values& x, std::vector<Matrix>* jacobians) const override;
   JacobianFactor::Ptr linearize(const Values& x) const override;
+  bool affineIn(Key) const override { return true; }  // constant Jacobian A
 
  private:
   JacobianFactor factor_;

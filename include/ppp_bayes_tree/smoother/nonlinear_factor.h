@@ -39,6 +39,23 @@ class NonlinearFactor {
   /// A delta - b with A = sqrt(w) R J and b = -sqrt(w) R e(x).
   virtual JacobianFactor::Ptr linearize(const Values& x) const;
 
+  /// True when the error is affine in variable `key` with a constant coefficient,
+  /// e(x) = g(the other variables) + A x_key (A independent of every variable), as a
+  /// phase factor in its bias or a prior. Default false (the safe answer).
+  virtual bool affineIn(Key /*key*/) const { return false; }
+  /// The same for one component of the variable: the error is affine in that
+  /// component with a constant coefficient and no Jacobian block depends on it (as
+  /// the PPP factors in a state's ZWD and clock). Default: affineIn(key).
+  virtual bool affineInComponent(Key key, int /*component*/) const { return affineIn(key); }
+  /// True when the linearization does not depend on the linearization point of this
+  /// component of `key` beyond the shift of the right-hand side: affine in it and no
+  /// robust kernel (whose weight depends on the residual). Moving only such
+  /// components leaves the linear system, and so the solution, unchanged (iSAM2 may
+  /// then skip the relinearization).
+  bool linearizationIndependentOf(Key key, int component) const {
+    return !noise_->robust() && affineInComponent(key, component);
+  }
+
  private:
   KeyVector keys_;
   NoiseModel::Ptr noise_;

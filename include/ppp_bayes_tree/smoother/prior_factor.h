@@ -10,6 +10,7 @@ class PriorFactor : public NonlinearFactor {
   PriorFactor(Key key, Vector z, NoiseModel::Ptr noise);
   const Vector& prior() const { return z_; }
   Vector unwhitenedError(const Values& x, std::vector<Matrix>* jacobians) const override;
+  bool affineIn(Key) const override { return true; }  // x - z
 
  private:
   Vector z_;

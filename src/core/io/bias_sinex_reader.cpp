@@ -114,7 +114,8 @@ std::string upper(std::string_view s) {
 
 class BiasSinexParser {
  public:
-  BiasSinexParser(LineSource& src, BiasSinexFile& out) : src_(src), out_(out) {}
+  BiasSinexParser(LineSource& src, BiasSinexFile& out, const RecordFilter& filter)
+      : src_(src), out_(out), filter_(filter) {}
   void run();
 
  private:
@@ -128,6 +129,7 @@ class BiasSinexParser {
 
   LineSource& src_;
   BiasSinexFile& out_;
+  RecordFilter filter_;
   RawEpoch creation_, start_, end_;
   std::vector<std::pair<RawEpoch, RawEpoch>> raw_epochs_;  // parallel to out_.records
 };
@@ -221,6 +223,10 @@ void BiasSinexParser::readSolutionLine(const std::string& line) {
   const std::string_view prn = trim(column(line, 11, 3));
   const auto sys = prn.empty() ? std::nullopt : systemFromLetter(prn[0]);
   if (!sys) return problem("malformed PRN field '" + std::string(prn) + "'");
+  if (!filter_.keepsSystem(*sys)) {
+    out_.report.count("rows of other systems skipped");
+    return;
+  }
   r.system = *sys;
   if (prn.size() > 1) {
     r.satellite = SatelliteId::parse(prn);
@@ -325,9 +331,11 @@ void BiasSinexParser::finish() {
     kept.push_back(std::move(r));
   }
   out_.records = std::move(kept);
-  if (out_.header.estimate_count != 0 && out_.header.estimate_count != out_.records.size()) {
+  const auto skipped = out_.report.counters().find("rows of other systems skipped");
+  const std::size_t filtered = skipped == out_.report.counters().end() ? 0 : skipped->second;
+  if (out_.header.estimate_count != 0 && out_.header.estimate_count != out_.records.size() + filtered) {
     out_.report.addProblem(1, "header announces " + std::to_string(out_.header.estimate_count) +
-                                  " estimates, " + std::to_string(out_.records.size()) + " read");
+                                  " estimates, " + std::to_string(out_.records.size() + filtered) + " read");
   }
   for (const auto& r : out_.records) out_.report.count(std::string(biasTypeName(r.type)) + " rows");
   out_.buildIndex();
@@ -419,16 +427,20 @@ std::vector<std::string> BiasSinexFile::stations() const {
   return {names.begin(), names.end()};
 }
 
-BiasSinexFile readBiasSinex(LineSource& source) {
+BiasSinexFile readBiasSinex(LineSource& source) { return readBiasSinex(source, RecordFilter{}); }
+
+BiasSinexFile readBiasSinexFile(const std::string& path) { return readBiasSinexFile(path, RecordFilter{}); }
+
+BiasSinexFile readBiasSinex(LineSource& source, const RecordFilter& filter) {
   BiasSinexFile out;
   out.report.setFile(source.name());
-  BiasSinexParser(source, out).run();
+  BiasSinexParser(source, out, filter).run();
   return out;
 }
 
-BiasSinexFile readBiasSinexFile(const std::string& path) {
+BiasSinexFile readBiasSinexFile(const std::string& path, const RecordFilter& filter) {
   auto source = openLineSource(path);
-  return readBiasSinex(*source);
+  return readBiasSinex(*source, filter);
 }
 
 FileSummary summarizeBiasSinexFile(const std::string& path) {

@@ -244,8 +244,22 @@ class ClockParser {
     const std::size_t line_no = src_.lineNumber();
     long long year_probe = 0;
     const bool old_layout = parseInt(column(line_, 8, 4), year_probe) == FieldStatus::Ok;
-    const std::string name(trim(column(line_, 3, old_layout ? 4 : 9)));
-    const std::string rest(column(line_, old_layout ? 8 : 13, std::string::npos));
+    const std::string_view name_text = trim(column(line_, 3, old_layout ? 4 : 9));
+    if (satellite && !name_text.empty() && !options_.filter.systems.empty()) {
+      const auto sys = systemFromLetter(name_text[0]);
+      if (sys && !options_.filter.keepsSystem(*sys)) {
+        file_.report.count("AS records of other systems skipped");
+        skipContinuation();
+        return;
+      }
+    }
+    if (!satellite && !options_.keep_receiver_clocks) {
+      file_.report.count("AR records skipped");
+      skipContinuation();
+      return;
+    }
+    const std::string name(name_text);
+    const std::string_view rest = column(line_, old_layout ? 8 : 13, std::string::npos);
     const auto t = tokens(rest, 12);
     long long y = 0, mo = 0, d = 0, h = 0, mi = 0, n = 0;
     double s = 0;
@@ -257,6 +271,14 @@ class ClockParser {
       file_.report.addProblem(line_no, "malformed clock record: skipped");
       if (ok && n > 2) skipContinuation();
       return;
+    }
+    if (satellite && (options_.filter.first || options_.filter.last)) {
+      const auto time = toGpst(y, mo, d, h, mi, s);
+      if (time && !options_.filter.keepsTime(*time)) {
+        file_.report.count("AS records outside the time window skipped");
+        if (n > 2) skipContinuation();
+        return;
+      }
     }
     std::array<double, 6> v{};
     std::size_t have = 0;

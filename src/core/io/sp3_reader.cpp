@@ -22,10 +22,13 @@ bool startsWith(std::string_view s, std::string_view prefix) {
 
 class Sp3Parser {
  public:
-  explicit Sp3Parser(LineSource& source) : src_(source) { file_.report.setFile(source.name()); }
+  Sp3Parser(LineSource& source, const Sp3ReadOptions& options) : src_(source), options_(options) {
+    file_.report.setFile(source.name());
+  }
 
   Sp3File run() {
     readHeader();
+    setWindow();
     readRecords();
     return std::move(file_);
   }
@@ -246,6 +249,15 @@ class Sp3Parser {
   }
 
   // ---------------------------------------------------------------- records
+  // The filter's window widened by the margin (no time bound without a valid interval).
+  void setWindow() {
+    const RecordFilter& f = options_.filter;
+    const double margin_s = options_.margin_epochs * file_.header.interval_s;
+    if (!(file_.header.interval_s > 0.0) || !std::isfinite(margin_s)) return;
+    if (f.first) first_ = *f.first - margin_s;
+    if (f.last) last_ = *f.last + margin_s;
+  }
+
   void readRecords() {
     bool epoch_ok = false;
     while (nextLine()) {
@@ -255,6 +267,7 @@ class Sp3Parser {
       }
       if (startsWith(line_, "*")) {
         epoch_ok = readEpochLine();
+        if (file_.stopped_after_window) break;
         continue;
       }
       if (startsWith(line_, "EP") || startsWith(line_, "EV")) {
@@ -270,8 +283,19 @@ class Sp3Parser {
         continue;
       }
       if (!epoch_ok) {
+        if (outside_window_) {
+          file_.report.count("records before the time window skipped");
+          continue;
+        }
         file_.report.addProblem(src_.lineNumber(), "record without a valid epoch line: skipped");
         continue;
+      }
+      if (line_.size() > 1 && !options_.filter.systems.empty()) {
+        const auto sys = systemFromLetter(line_[1] == ' ' ? 'G' : line_[1]);  // SP3-a/b/c: blank = GPS
+        if (sys && !options_.filter.keepsSystem(*sys)) {
+          file_.report.count("records of other systems skipped");
+          continue;
+        }
       }
       if (line_[0] == 'P') readPositionRecord();
       else readVelocityRecord();
@@ -280,10 +304,12 @@ class Sp3Parser {
       file_.report.addProblem(src_.lineNumber(), "compressed stream error: " + *src_.streamError());
     }
     if (src_.overlongLines() > 0) file_.report.count("overlong lines cut", src_.overlongLines());
-    if (!file_.complete) {
+    if (!file_.complete && !file_.stopped_after_window) {
       file_.report.addProblem(src_.lineNumber(), "file ends without the EOF line (truncated?)");
     }
-    if (static_cast<long long>(file_.epochs.size()) != file_.header.epoch_count) {
+    if (first_ || last_) {
+      file_.report.count("epochs outside the time window skipped", skipped_epochs_);
+    } else if (static_cast<long long>(file_.epochs.size()) != file_.header.epoch_count) {
       file_.report.count("epochs read differ from the header count (" +
                          std::to_string(file_.header.epoch_count) + " announced)");
     }
@@ -291,15 +317,26 @@ class Sp3Parser {
 
   bool readEpochLine() {
     last_p_ = nullptr;
+    outside_window_ = false;
     const auto cal = parseCalendar(line_);
     const auto t = cal ? toGpst(*cal) : std::nullopt;
     if (!t) {
       file_.report.addProblem(src_.lineNumber(), "malformed epoch line: its records are skipped");
       return false;
     }
-    if (!file_.epochs.empty() && !(*t > file_.epochs.back())) {
+    if (last_epoch_ && !(*t > *last_epoch_)) {
       file_.report.addProblem(src_.lineNumber(), "epoch " + t->toString() +
                                                      " not after the previous one: its records are skipped");
+      return false;
+    }
+    last_epoch_ = *t;
+    if (last_ && *last_ < *t) {  // strictly increasing epochs: nothing later is kept
+      file_.stopped_after_window = true;
+      return false;
+    }
+    if (first_ && *t < *first_) {
+      outside_window_ = true;
+      ++skipped_epochs_;
       return false;
     }
     file_.epochs.push_back(*t);
@@ -411,6 +448,11 @@ class Sp3Parser {
   }
 
   LineSource& src_;
+  Sp3ReadOptions options_;
+  std::optional<GnssTime> first_, last_;  // the widened window
+  std::optional<GnssTime> last_epoch_;    // last valid epoch line, kept or not
+  bool outside_window_ = false;           // the current epoch is before the window
+  std::size_t skipped_epochs_ = 0;
   std::string line_;
   Sp3File file_;
   Sp3Record* last_p_ = nullptr;
@@ -420,11 +462,18 @@ class Sp3Parser {
 
 }  // namespace
 
-Sp3File readSp3(LineSource& source) { return Sp3Parser(source).run(); }
+Sp3File readSp3(LineSource& source) { return Sp3Parser(source, {}).run(); }
 
 Sp3File readSp3(const std::string& path) {
   auto source = openLineSource(path);
   return readSp3(*source);
+}
+
+Sp3File readSp3(LineSource& source, const Sp3ReadOptions& options) { return Sp3Parser(source, options).run(); }
+
+Sp3File readSp3(const std::string& path, const Sp3ReadOptions& options) {
+  auto source = openLineSource(path);
+  return readSp3(*source, options);
 }
 
 FileSummary summarizeSp3(const Sp3File& file, const std::string& path) {

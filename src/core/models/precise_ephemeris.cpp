@@ -165,14 +165,26 @@ void PreciseEphemeris::addClocks(const RinexClockFile& file) {
 PreciseEphemeris PreciseEphemeris::load(const std::vector<std::string>& sp3_paths,
                                         const std::vector<std::string>& clock_paths,
                                         PreciseEphemerisOptions options) {
+  return load(sp3_paths, clock_paths, RecordFilter{}, options);
+}
+
+PreciseEphemeris PreciseEphemeris::load(const std::vector<std::string>& sp3_paths,
+                                        const std::vector<std::string>& clock_paths, const RecordFilter& filter,
+                                        PreciseEphemerisOptions options) {
   PreciseEphemeris eph(options);
+  Sp3ReadOptions sp3_options;
+  sp3_options.filter = filter;
+  sp3_options.margin_epochs = std::max(2, options.interpolation_points) + 2;
+  RinexClockReadOptions clock_options{false, filter};
+  if (filter.first) clock_options.filter.first = *filter.first - kClockWindowMargin_s;
+  if (filter.last) clock_options.filter.last = *filter.last + kClockWindowMargin_s;
   for (const auto& p : sp3_paths) {
-    const Sp3File f = readSp3(p);
+    const Sp3File f = readSp3(p, sp3_options);
     if (!f.report.clean()) eph.merge_report_.count("problems in " + p, f.report.problemCount());
     eph.addOrbits(f);
   }
   for (const auto& p : clock_paths) {
-    const RinexClockFile f = readRinexClock(p, RinexClockReadOptions{false});
+    const RinexClockFile f = readRinexClock(p, clock_options);
     if (!f.report.clean()) eph.merge_report_.count("problems in " + p, f.report.problemCount());
     eph.addClocks(f);
   }

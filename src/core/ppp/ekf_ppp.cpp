@@ -41,13 +41,10 @@ std::string toString(EpochStatus status) {
 }
 
 std::string EkfOptions::validate() const {
-  if (min_satellites < 1) return "min_satellites must be >= 1";
+  if (auto problem = screening.validate(); !problem.empty()) return problem;
   if (iterations_per_epoch < 1) return "iterations_per_epoch must be >= 1";
-  if (!(prefit_code_threshold_m > 0.0)) return "prefit_code_threshold_m must be > 0";
-  if (!(prefit_phase_sigmas > 0.0)) return "prefit_phase_sigmas must be > 0";
   if (!(postfit_sigmas > 0.0)) return "postfit_sigmas must be > 0";
   if (postfit_max_rejections < 0) return "postfit_max_rejections must be >= 0";
-  if (!(stale_arc_timeout_s >= 0.0)) return "stale_arc_timeout_s must be >= 0";
   return {};
 }
 
@@ -197,7 +194,7 @@ EkfEpochResult EkfPpp::processEpoch(const GnssTime& time, const MeasurementFunct
   result.iterations += 1;
   result.rejected = epoch0.rejected;
   std::vector<SatelliteMeasurement> cand = usableMeasurements(epoch0.used, result.rejected);
-  if (options_.clock_from_code_median) {
+  if (options_.screening.clock_from_code_median) {
     if (const auto shift = medianCodeClockShift_m(cand)) {
       fp.x(4) += *shift;
       applyClockShift(cand, *shift);
@@ -214,30 +211,19 @@ EkfEpochResult EkfPpp::processEpoch(const GnssTime& time, const MeasurementFunct
     }
   }
   for (std::size_t i = fp.biases.size(); i-- > 0;) {
-    if (time - fp.biases[i].last_used > options_.stale_arc_timeout_s) removeBias(fp, i);
+    if (time - fp.biases[i].last_used > options_.screening.stale_arc_timeout_s) removeBias(fp, i);
   }
 
   // 3. Prefit screening.
-  std::vector<bool> keep(cand.size(), true);
-  for (const auto& outlier : screenCodeOutliers(cand, options_.prefit_code_threshold_m)) {
-    keep[outlier.index] = false;
-    result.rejected.push_back({cand[outlier.index].satellite,
-                               codeOutlierReason(outlier, options_.prefit_code_threshold_m)});
-    ++result.prefit_rejections;
-  }
-  for (std::size_t k = 0; k < cand.size(); ++k) {
-    const int slot = findBias(fp, cand[k].arc);
-    if (!keep[k] || slot < 0) continue;
-    if (auto why = phaseInnovationRejection(cand[k], fp.x(kRx + slot), fp.P(kRx + slot, kRx + slot),
-                                            options_.prefit_phase_sigmas)) {
-      keep[k] = false;
-      result.rejected.push_back({cand[k].satellite, *why});
-      ++result.prefit_rejections;
-    }
-  }
-  std::vector<SatelliteMeasurement> screened;
-  for (std::size_t k = 0; k < cand.size(); ++k)
-    if (keep[k]) screened.push_back(cand[k]);
+  PrefitScreeningResult screening =
+      screenPrefit(cand, options_.screening, [&fp](ArcId arc) -> std::optional<ArcBiasPrior> {
+        const int slot = findBias(fp, arc);
+        if (slot < 0) return std::nullopt;
+        return ArcBiasPrior{fp.x(kRx + slot), fp.P(kRx + slot, kRx + slot)};
+      });
+  result.prefit_rejections += static_cast<int>(screening.rejected.size());
+  result.rejected.insert(result.rejected.end(), screening.rejected.begin(), screening.rejected.end());
+  const std::vector<SatelliteMeasurement>& screened = screening.kept;
 
   // 4-6. Update, with postfit rejections (each one restarts from the prediction).
   std::set<SatelliteId> excluded;
@@ -266,9 +252,9 @@ EkfEpochResult EkfPpp::processEpoch(const GnssTime& time, const MeasurementFunct
       rows.push_back(row);
     }
     const int n_sat = static_cast<int>(rows.size());
-    if (n_sat < options_.min_satellites)
+    if (n_sat < options_.screening.min_satellites)
       return giveUp(EpochStatus::NoSolution, std::to_string(n_sat) + " satellites usable after screening, at least " +
-                                                 std::to_string(options_.min_satellites) + " needed");
+                                                 std::to_string(options_.screening.min_satellites) + " needed");
 
     // Iterated update: x_{i+1} = x_pred + K_i (z - h(x_i) - H_i (x_pred - x_i)).
     const Eigen::Index dim = fa.x.size();

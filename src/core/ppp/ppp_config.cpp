@@ -32,15 +32,16 @@ void readStochastic(YamlSection s, StochasticModel& m) {
 }
 
 void readEstimator(YamlSection s, EkfOptions& o, CodeLeastSquaresOptions& start) {
-  o.min_satellites = s.integer("min_satellites", o.min_satellites, 1);
+  ScreeningOptions& sc = o.screening;
+  sc.min_satellites = s.integer("min_satellites", sc.min_satellites, 1);
   o.iterations_per_epoch = s.integer("iterations_per_epoch", o.iterations_per_epoch, 1);
-  o.prefit_code_threshold_m = s.number("prefit_code_threshold_m", o.prefit_code_threshold_m, Bound::Positive);
-  o.prefit_phase_sigmas = s.number("prefit_phase_sigmas", o.prefit_phase_sigmas, Bound::Positive);
+  sc.prefit_code_threshold_m = s.number("prefit_code_threshold_m", sc.prefit_code_threshold_m, Bound::Positive);
+  sc.prefit_phase_sigmas = s.number("prefit_phase_sigmas", sc.prefit_phase_sigmas, Bound::Positive);
   o.postfit_check = s.boolean("postfit_check", o.postfit_check);
   o.postfit_sigmas = s.number("postfit_sigmas", o.postfit_sigmas, Bound::Positive);
   o.postfit_max_rejections = s.integer("postfit_max_rejections", o.postfit_max_rejections, 0);
-  o.clock_from_code_median = s.boolean("clock_from_code_median", o.clock_from_code_median);
-  o.stale_arc_timeout_s = s.number("stale_arc_timeout_s", o.stale_arc_timeout_s, Bound::NonNegative);
+  sc.clock_from_code_median = s.boolean("clock_from_code_median", sc.clock_from_code_median);
+  sc.stale_arc_timeout_s = s.number("stale_arc_timeout_s", sc.stale_arc_timeout_s, Bound::NonNegative);
   {
     YamlSection t = s.section("start");
     start.max_iterations = t.integer("max_iterations", start.max_iterations, 1);
@@ -52,12 +53,8 @@ void readEstimator(YamlSection s, EkfOptions& o, CodeLeastSquaresOptions& start)
   s.finish();
 }
 
-void readSmoother(YamlSection s, const EkfOptions& screening, PppSmootherOptions& o) {
-  o.min_satellites = screening.min_satellites;
-  o.prefit_code_threshold_m = screening.prefit_code_threshold_m;
-  o.prefit_phase_sigmas = screening.prefit_phase_sigmas;
-  o.clock_from_code_median = screening.clock_from_code_median;
-  o.stale_arc_timeout_s = screening.stale_arc_timeout_s;
+void readSmoother(YamlSection s, const ScreeningOptions& screening, PppSmootherOptions& o) {
+  o.screening = screening;  // both estimators screen alike
   o.robust = s.boolean("robust", o.robust);
   o.huber_width_sigmas = s.number("huber_width_sigmas", o.huber_width_sigmas, Bound::Positive);
   o.relinearize_position_m = s.number("relinearize_position_m", o.relinearize_position_m, Bound::Positive);
@@ -86,7 +83,7 @@ PppConfig parsePppConfig(const std::string& yaml_text, const std::string& source
   YamlSection top(root, source_name, "");
   readStochastic(top.section("stochastic"), config.stochastic);
   readEstimator(top.section("estimator"), config.estimator, config.start);
-  readSmoother(top.section("smoother"), config.estimator, config.smoother);
+  readSmoother(top.section("smoother"), config.estimator.screening, config.smoother);
   config.measurement_model = top.rawMapping("measurement_model");
   config.cycle_slip = top.rawMapping("cycle_slip");
   config.ros = top.rawMapping("ros");

@@ -26,6 +26,25 @@ std::size_t fileSize(const std::string& path) {
   return in ? static_cast<std::size_t>(std::max<std::streamoff>(0, in.tellg())) : 0;
 }
 
+/// The products an observation file needs: the systems processed and the span of
+/// its epochs (one extra pass over the file, a few ms; without epochs no window).
+RecordFilter productFilter(const std::string& obs_path, const std::vector<GnssSystem>& systems) {
+  RecordFilter filter;
+  filter.systems = systems;
+  try {
+    RinexObsReader reader = RinexObsReader::open(obs_path);
+    ObsEpoch epoch;
+    while (reader.next(epoch)) {
+      if (!filter.first || epoch.time < *filter.first) filter.first = epoch.time;
+      if (!filter.last || *filter.last < epoch.time) filter.last = epoch.time;
+    }
+  } catch (const std::exception&) {  // reported by the main pass; load without a window
+    filter.first.reset();
+    filter.last.reset();
+  }
+  return filter;
+}
+
 /// Running sums for one satellite's residual statistics.
 struct ResidualAccumulator {
   std::size_t n = 0, rejections = 0;
@@ -75,13 +94,15 @@ PppPipeline::PppPipeline(const PppInputFiles& files, PppConfig config)
   if (files.atx.empty()) throw std::runtime_error("no ANTEX file given (antenna calibrations are required)");
   d.reader = std::make_unique<RinexObsReader>(RinexObsReader::open(files.obs));
   d.obs_size = fileSize(files.obs);
-  d.products = PreciseEphemeris::load(files.sp3, files.clk);
+  d.products = PreciseEphemeris::load(files.sp3, files.clk, productFilter(files.obs, config_.signals.systems));
   if (!d.products.mergeReport().problems().empty() || !d.products.mergeReport().counters().empty())
     d.load_notes.push_back("products merged: " + d.products.mergeReport().summary(5));
   std::vector<AntexSource> antex;
   for (const auto& p : files.atx) antex.push_back({baseName(p), readAntexFile(p)});
   if (files.bias) {
-    d.bias = readBiasSinexFile(*files.bias);
+    RecordFilter systems;
+    systems.systems = config_.signals.systems;
+    d.bias = readBiasSinexFile(*files.bias, systems);
     d.load_notes.push_back("code biases: " + baseName(*files.bias) + " (OSB subtracted from the codes)");
   } else {
     d.load_notes.push_back("code biases: no Bias-SINEX file; codes used as observed (product convention)");

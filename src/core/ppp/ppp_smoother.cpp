@@ -29,10 +29,7 @@ double secondsSince(SteadyClock::time_point t0) {
 }  // namespace
 
 std::string PppSmootherOptions::validate() const {
-  if (min_satellites < 1) return "min_satellites must be >= 1";
-  if (!(prefit_code_threshold_m > 0.0)) return "prefit_code_threshold_m must be > 0";
-  if (!(prefit_phase_sigmas > 0.0)) return "prefit_phase_sigmas must be > 0";
-  if (!(stale_arc_timeout_s >= 0.0)) return "stale_arc_timeout_s must be >= 0";
+  if (auto problem = screening.validate(); !problem.empty()) return problem;
   if (!(huber_width_sigmas > 0.0)) return "huber_width_sigmas must be > 0";
   if (!(relinearize_position_m > 0.0) || !(relinearize_zwd_m > 0.0) || !(relinearize_clock_m > 0.0) ||
       !(relinearize_bias_m > 0.0))
@@ -70,6 +67,9 @@ smoother::ISAM2Params PppSmoother::isamParams() const {
   p.relinearize_thresholds_by_symbol['x'] = state;
   p.relinearize_threshold_by_symbol['b'] = options_.relinearize_bias_m;
   p.wildfire_threshold = options_.wildfire_threshold_m;
+  // Without a robust kernel the phase factors are affine in the biases: relinearizing
+  // a bias changes nothing but would re-eliminate every state of its arc.
+  p.skip_affine_variables = true;
   p.factorization = options_.factorization;
   return p;
 }
@@ -139,14 +139,19 @@ std::vector<SmoothedEpoch> PppSmoother::smoothedTrajectory(bool with_covariance)
   std::vector<SmoothedEpoch> out;
   out.reserve(states_.size());
   const smoother::ISAM2& isam = isam2();
+  // One full back-substitution (exact, where the per-update partial one may leave
+  // changes below its threshold in the older states) and one covariance pass.
+  const smoother::Values estimate = isam.calculateBestEstimate();
+  std::unordered_map<Key, smoother::Matrix> covariances;
+  if (with_covariance) covariances = isam.bayesTree().marginalCovariances();
   for (const auto& s : states_) {
     SmoothedEpoch e;
     e.time = s.time;
     e.index = s.index;
     const Key key = stateKey(s.index);
     if (isam.exists(key)) {
-      e.state = ReceiverState::fromVector(isam.calculateEstimate(key));
-      if (with_covariance) e.covariance = ReceiverCovariance(isam.marginalCovariance(key));
+      e.state = ReceiverState::fromVector(estimate.at(key));
+      if (with_covariance) e.covariance = ReceiverCovariance(covariances.at(key));
     } else {
       e.state = s.last_estimate;
     }
@@ -195,7 +200,7 @@ SmootherEpochResult PppSmoother::processEpoch(const GnssTime& time, const Measur
   result.iterations += 1;
   result.rejected = epoch0.rejected;
   std::vector<SatelliteMeasurement> cand = usableMeasurements(epoch0.used, result.rejected);
-  if (options_.clock_from_code_median) {
+  if (options_.screening.clock_from_code_median) {
     if (const auto shift = medianCodeClockShift_m(cand)) {
       predicted.clock_m += *shift;
       applyClockShift(cand, *shift);
@@ -211,32 +216,21 @@ SmootherEpochResult PppSmoother::processEpoch(const GnssTime& time, const Measur
         break;
       }
   for (auto it = arcs.begin(); it != arcs.end();)
-    it = time - it->second.last_used > options_.stale_arc_timeout_s ? arcs.erase(it) : std::next(it);
+    it = time - it->second.last_used > options_.screening.stale_arc_timeout_s ? arcs.erase(it) : std::next(it);
 
-  std::vector<bool> keep(cand.size(), true);
-  for (const auto& outlier : screenCodeOutliers(cand, options_.prefit_code_threshold_m)) {
-    keep[outlier.index] = false;
-    result.rejected.push_back({cand[outlier.index].satellite,
-                               codeOutlierReason(outlier, options_.prefit_code_threshold_m)});
-    ++result.prefit_rejections;
-  }
-  for (std::size_t k = 0; k < cand.size(); ++k) {
-    auto it = arcs.find(cand[k].arc);
-    if (!keep[k] || it == arcs.end()) continue;
-    if (auto why = phaseInnovationRejection(cand[k], it->second.filtered_m, it->second.filtered_variance_m2,
-                                            options_.prefit_phase_sigmas)) {
-      keep[k] = false;
-      result.rejected.push_back({cand[k].satellite, *why});
-      ++result.prefit_rejections;
-    }
-  }
-  std::vector<SatelliteMeasurement> screened;
-  for (std::size_t k = 0; k < cand.size(); ++k)
-    if (keep[k]) screened.push_back(cand[k]);
+  PrefitScreeningResult screening =
+      screenPrefit(cand, options_.screening, [&arcs](ArcId arc) -> std::optional<ArcBiasPrior> {
+        auto it = arcs.find(arc);
+        if (it == arcs.end()) return std::nullopt;
+        return ArcBiasPrior{it->second.filtered_m, it->second.filtered_variance_m2};
+      });
+  result.prefit_rejections += static_cast<int>(screening.rejected.size());
+  result.rejected.insert(result.rejected.end(), screening.rejected.begin(), screening.rejected.end());
+  const std::vector<SatelliteMeasurement>& screened = screening.kept;
   const int n_sat = static_cast<int>(screened.size());
-  if (n_sat < options_.min_satellites)
+  if (n_sat < options_.screening.min_satellites)
     return finish(EpochStatus::NoSolution, std::to_string(n_sat) + " satellites usable after screening, at least " +
-                                               std::to_string(options_.min_satellites) + " needed");
+                                               std::to_string(options_.screening.min_satellites) + " needed");
 
   // 4. New factors and variables.
   const std::uint32_t index = first ? 0u : states_.back().index + 1;

@@ -133,4 +133,36 @@ std::optional<std::string> phaseInnovationRejection(const SatelliteMeasurement& 
   return std::nullopt;
 }
 
+std::string ScreeningOptions::validate() const {
+  if (min_satellites < 1) return "min_satellites must be >= 1";
+  if (!(prefit_code_threshold_m > 0.0)) return "prefit_code_threshold_m must be > 0";
+  if (!(prefit_phase_sigmas > 0.0)) return "prefit_phase_sigmas must be > 0";
+  if (!(stale_arc_timeout_s >= 0.0)) return "stale_arc_timeout_s must be >= 0";
+  return {};
+}
+
+PrefitScreeningResult screenPrefit(const std::vector<SatelliteMeasurement>& candidates,
+                                   const ScreeningOptions& options, const ArcBiasLookup& bias_of) {
+  PrefitScreeningResult out;
+  std::vector<bool> keep(candidates.size(), true);
+  for (const auto& outlier : screenCodeOutliers(candidates, options.prefit_code_threshold_m)) {
+    keep[outlier.index] = false;
+    out.rejected.push_back(
+        {candidates[outlier.index].satellite, codeOutlierReason(outlier, options.prefit_code_threshold_m)});
+  }
+  for (std::size_t k = 0; k < candidates.size(); ++k) {
+    if (!keep[k]) continue;
+    const std::optional<ArcBiasPrior> bias = bias_of(candidates[k].arc);
+    if (!bias) continue;
+    if (auto why = phaseInnovationRejection(candidates[k], bias->bias_m, bias->variance_m2,
+                                            options.prefit_phase_sigmas)) {
+      keep[k] = false;
+      out.rejected.push_back({candidates[k].satellite, *why});
+    }
+  }
+  for (std::size_t k = 0; k < candidates.size(); ++k)
+    if (keep[k]) out.kept.push_back(candidates[k]);
+  return out;
+}
+
 }  // namespace ppp

@@ -10,27 +10,36 @@
 namespace ppp::smoother {
 namespace {
 
-// Column offsets of the stacked system [x_f x_s | b].
+// Column offsets of the stacked system [x_f x_s | b]. A clique has a few tens of
+// variables at most: a linear search beats building hash maps for every clique.
 struct Layout {
-  std::unordered_map<Key, int> offset;
-  std::unordered_map<Key, int> dim;
+  struct Column {
+    Key key;
+    int offset, dim;
+  };
+  std::vector<Column> columns;
   int nf = 0;
   int ns = 0;
+
+  const Column* find(Key key) const {
+    for (const Column& c : columns)
+      if (c.key == key) return &c;
+    return nullptr;
+  }
 };
 
 Layout makeLayout(const KeyVector& frontals, const std::vector<int>& fdims,
                   const KeyVector& separator, const std::vector<int>& sdims) {
   Layout l;
+  l.columns.reserve(frontals.size() + separator.size());
   int off = 0;
   for (std::size_t i = 0; i < frontals.size(); ++i) {
-    l.offset[frontals[i]] = off;
-    l.dim[frontals[i]] = fdims[i];
+    l.columns.push_back({frontals[i], off, fdims[i]});
     off += fdims[i];
   }
   l.nf = off;
   for (std::size_t i = 0; i < separator.size(); ++i) {
-    l.offset[separator[i]] = off;
-    l.dim[separator[i]] = sdims[i];
+    l.columns.push_back({separator[i], off, sdims[i]});
     off += sdims[i];
   }
   l.ns = off - l.nf;
@@ -46,13 +55,13 @@ Matrix stack(const std::vector<const JacobianFactor*>& factors, const Layout& l)
   int r = 0;
   for (const auto* f : factors) {
     for (std::size_t j = 0; j < f->keys().size(); ++j) {
-      auto it = l.offset.find(f->keys()[j]);
-      if (it == l.offset.end())
+      const Layout::Column* col = l.find(f->keys()[j]);
+      if (!col)
         throw std::invalid_argument("eliminate: factor key " + keyToString(f->keys()[j]) +
                                     " is neither frontal nor separator");
-      if (f->block(j).cols() != l.dim.at(f->keys()[j]))
+      if (f->block(j).cols() != col->dim)
         throw std::invalid_argument("eliminate: dimension mismatch for " + keyToString(f->keys()[j]));
-      ab.block(r, it->second, f->rows(), f->block(j).cols()) = f->block(j);
+      ab.block(r, col->offset, f->rows(), f->block(j).cols()) = f->block(j);
     }
     ab.block(r, n, f->rows(), 1) = f->b();
     r += f->rows();

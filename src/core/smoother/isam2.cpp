@@ -60,7 +60,7 @@ ISAM2Result ISAM2::update(const NonlinearFactorGraph& new_factors, const Values&
   // ---- 3. Relinearize: move theta by delta for marked variables; invalidate the cached
   // linearization of every factor involving them and mark all those factors' variables.
   t = Clock::now();
-  relinearize(relin, affected, result);
+  relinearize(relin, affected, result, up.force_full_relinearization);
   result.step_time_s[2] = secondsSince(t);
 
   // ---- 4. Remove the top of the Bayes tree: the cliques on the paths from the affected
@@ -113,7 +113,7 @@ void ISAM2::addFactorsAndVariables(const NonlinearFactorGraph& new_factors, cons
   for (const auto& f : new_factors) {
     const FactorIndex i = next_factor_index_++;
     factors_.emplace(i, FactorSlot{f, nullptr});
-    for (Key k : f->keys()) variable_index_[k].push_back(i);
+    indexFactor(i, *f);
     result.new_factor_indices.push_back(i);
   }
   result.factors_added = new_factors.size();
@@ -126,13 +126,54 @@ void ISAM2::removeFactors(const std::vector<FactorIndex>& indices, KeySet& affec
     if (it == factors_.end()) continue;  // listed twice
     for (Key k : it->second.factor->keys()) {
       affected.insert(k);
-      auto& list = variable_index_[k];
-      auto pos = std::find(list.begin(), list.end(), i);
-      if (pos != list.end()) list.erase(pos);
+      unindexFactor(i, *it->second.factor, k);
     }
     factors_.erase(it);
     ++result.factors_removed;
   }
+}
+
+void ISAM2::indexFactor(FactorIndex index, const NonlinearFactor& factor) {
+  for (Key k : factor.keys()) {
+    variable_index_[k].push_back(index);
+    if (!params_.skip_affine_variables) continue;
+    const int dim = static_cast<int>(theta_.at(k).size());
+    auto& counts = nonaffine_factors_[k];
+    counts.resize(static_cast<std::size_t>(dim), 0);
+    for (int c = 0; c < dim; ++c)
+      if (!factor.linearizationIndependentOf(k, c)) ++counts[static_cast<std::size_t>(c)];
+  }
+}
+
+void ISAM2::unindexFactor(FactorIndex index, const NonlinearFactor& factor, Key key) {
+  auto& list = variable_index_[key];
+  auto pos = std::find(list.begin(), list.end(), index);
+  if (pos == list.end()) return;
+  list.erase(pos);
+  auto it = nonaffine_factors_.find(key);
+  if (it == nonaffine_factors_.end()) return;
+  for (std::size_t c = 0; c < it->second.size(); ++c)
+    if (!factor.linearizationIndependentOf(key, static_cast<int>(c)) && it->second[c] > 0) --it->second[c];
+}
+
+ISAM2::ThresholdCheck ISAM2::checkThreshold(Key key, const Vector& delta) const {
+  auto ref = affine_reference_.find(key);
+  const Vector e = ref == affine_reference_.end() ? delta : Vector(delta - ref->second);
+  ThresholdCheck out;
+  out.any = params_.exceedsThreshold(key, e);
+  if (!out.any || !params_.skip_affine_variables) {
+    out.nonlinear = out.any;
+    return out;
+  }
+  // Only components that some factor is nonlinear in call for a relinearization.
+  auto counts = nonaffine_factors_.find(key);
+  if (counts == nonaffine_factors_.end()) return out;
+  Vector masked = Vector::Zero(e.size());
+  for (Eigen::Index c = 0; c < e.size(); ++c)
+    if (static_cast<std::size_t>(c) < counts->second.size() && counts->second[static_cast<std::size_t>(c)] > 0)
+      masked(c) = e(c);
+  out.nonlinear = params_.exceedsThreshold(key, masked);
+  return out;
 }
 
 // ---------------------------------------------------------------------------
@@ -145,7 +186,7 @@ ISAM2::KeySet ISAM2::gatherRelinearizeKeys(const ISAM2UpdateParams& up) const {
     for (const auto& root : tree_.roots()) fluidCheck(*root, marked);
   } else {
     for (const auto& [k, d] : delta_)
-      if (params_.exceedsThreshold(k, d)) marked.insert(k);
+      if (checkThreshold(k, d).any) marked.insert(k);
   }
   for (Key k : up.no_relin_keys) marked.erase(k);
   return marked;
@@ -156,7 +197,7 @@ void ISAM2::fluidCheck(const Clique& clique, KeySet& marked) const {
   // since back-substitution changes below it are no larger than its own.
   bool any = false;
   for (Key k : clique.frontals)
-    if (params_.exceedsThreshold(k, delta_.at(k))) {
+    if (checkThreshold(k, delta_.at(k)).any) {
       marked.insert(k);
       any = true;
     }
@@ -166,9 +207,18 @@ void ISAM2::fluidCheck(const Clique& clique, KeySet& marked) const {
 
 // ---------------------------------------------------------------------------
 // Step 3
-void ISAM2::relinearize(const KeySet& relin_keys, KeySet& affected, ISAM2Result& result) {
+void ISAM2::relinearize(const KeySet& relin_keys, KeySet& affected, ISAM2Result& result, bool force) {
+  std::size_t done = 0;
   for (Key k : relin_keys) {
     Vector& d = delta_.at(k);
+    if (params_.skip_affine_variables && !force && !checkThreshold(k, d).nonlinear) {
+      // Moved only in components every factor is affine in: the linear system would
+      // not change; move the reference instead (the fluid check sees the step).
+      affine_reference_[k] = d;
+      continue;
+    }
+    affine_reference_.erase(k);
+    ++done;
     theta_.at(k) += d;
     d.setZero();
     affected.insert(k);
@@ -178,7 +228,7 @@ void ISAM2::relinearize(const KeySet& relin_keys, KeySet& affected, ISAM2Result&
       for (Key other : slot.factor->keys()) affected.insert(other);
     }
   }
-  result.variables_relinearized = relin_keys.size();
+  result.variables_relinearized = done;
 }
 
 const JacobianFactor& ISAM2::linearFactor(FactorIndex index) {
@@ -236,6 +286,8 @@ void ISAM2::eraseVariable(Key key) {
   theta_.erase(key);
   delta_.erase(key);
   variable_index_.erase(key);
+  nonaffine_factors_.erase(key);
+  affine_reference_.erase(key);
   tree_.eraseKey(key);
 }
 
@@ -437,28 +489,34 @@ std::vector<Clique*> ISAM2::eliminateTop(const KeyVector& top_keys, std::vector<
 // Step 7
 void ISAM2::backSubstitute(const std::unordered_set<const Clique*>& new_cliques, ISAM2Result& result) {
   // Alg. 7: top-down; a clique is solved again when it was re-eliminated or when one of its
-  // separator variables changed by more than the threshold; the descent stops below
-  // cliques that were not solved again.
+  // separator variables differs by more than the threshold from its value when the clique
+  // was last solved (not merely since the last update: steps below the threshold would
+  // pile up unseen); the descent stops below cliques that were not solved again.
   const bool wildfire = params_.enable_partial_backsubstitution;
   const double threshold = params_.wildfire_threshold;
-  KeySet changed;
   std::vector<Clique*> stack;
+  Vector sep;
   for (const auto& r : tree_.roots()) stack.push_back(r.get());
   while (!stack.empty()) {
     Clique* c = stack.back();
     stack.pop_back();
-    bool recompute = !wildfire || new_cliques.count(c) != 0;
-    for (std::size_t j = 0; !recompute && j < c->separator.size(); ++j)
-      recompute = changed.count(c->separator[j]) != 0;
+    int n = 0;
+    for (Key k : c->separator) n += static_cast<int>(delta_.at(k).size());
+    sep.resize(n);
+    n = 0;
+    for (Key k : c->separator) {
+      const Vector& d = delta_.at(k);
+      sep.segment(n, d.size()) = d;
+      n += static_cast<int>(d.size());
+    }
+    bool recompute = !wildfire || new_cliques.count(c) != 0 || c->solved_separator_delta.size() != n;
+    if (!recompute && n > 0) recompute = (sep - c->solved_separator_delta).cwiseAbs().maxCoeff() > threshold;
     if (!recompute) continue;
     const Vector x = c->conditional.solve(delta_);
     const auto& cond = c->conditional;
-    for (std::size_t i = 0; i < c->frontals.size(); ++i) {
-      Vector& d = delta_.at(c->frontals[i]);
-      const auto seg = x.segment(cond.frontalOffset(i), cond.frontalDims()[i]);
-      if (wildfire && (seg - d).cwiseAbs().maxCoeff() > threshold) changed.insert(c->frontals[i]);
-      d = seg;
-    }
+    for (std::size_t i = 0; i < c->frontals.size(); ++i)
+      delta_.at(c->frontals[i]) = x.segment(cond.frontalOffset(i), cond.frontalDims()[i]);
+    c->solved_separator_delta = sep;
     ++result.cliques_backsubstituted;
     for (const auto& ch : c->children) stack.push_back(ch.get());
   }
@@ -469,6 +527,16 @@ void ISAM2::backSubstitute(const std::unordered_set<const Clique*>& new_cliques,
 Values ISAM2::calculateEstimate() const { return theta_.retract(delta_); }
 
 Vector ISAM2::calculateEstimate(Key key) const { return theta_.at(key) + delta_.at(key); }
+
+Values ISAM2::calculateBestEstimate() const {
+  Values delta = delta_;
+  for (const Clique* c : tree_.cliquesTopDown()) {  // parents first
+    const Vector x = c->conditional.solve(delta);
+    for (std::size_t i = 0; i < c->frontals.size(); ++i)
+      delta.at(c->frontals[i]) = x.segment(c->conditional.frontalOffset(i), c->conditional.frontalDims()[i]);
+  }
+  return theta_.retract(delta);
+}
 
 std::vector<FactorIndex> ISAM2::factorsOf(Key key) const {
   auto it = variable_index_.find(key);
@@ -529,12 +597,8 @@ KeyVector ISAM2::marginalizeLeaves(const KeyVector& keys) {
     for (FactorIndex i : gone_factors) {
       auto it = factors_.find(i);
       if (it == factors_.end()) continue;
-      for (Key k : it->second.factor->keys()) {
-        if (gone.count(k)) continue;
-        auto& list = variable_index_[k];
-        auto pos = std::find(list.begin(), list.end(), i);
-        if (pos != list.end()) list.erase(pos);
-      }
+      for (Key k : it->second.factor->keys())
+        if (!gone.count(k)) unindexFactor(i, *it->second.factor, k);
       factors_.erase(it);
     }
     Clique* parent = top->parent;
@@ -545,7 +609,7 @@ KeyVector ISAM2::marginalizeLeaves(const KeyVector& keys) {
         const FactorIndex i = next_factor_index_++;
         auto f = std::make_shared<LinearContainerFactor>(*top->cached_marginal, theta_);
         factors_.emplace(i, FactorSlot{f, top->cached_marginal});
-        for (Key k : f->keys()) variable_index_[k].push_back(i);
+        indexFactor(i, *f);
         parent->factor_indices.push_back(i);
       }
       auto& ch = parent->children;
