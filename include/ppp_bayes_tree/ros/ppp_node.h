@@ -40,6 +40,7 @@
 #include <optional>
 #include <string>
 
+#include <Eigen/Geometry>
 #include <diagnostic_updater/diagnostic_updater.h>
 #include <nav_msgs/Path.h>
 #include <nav_msgs/Odometry.h>
