@@ -16,10 +16,10 @@ TEST(EkfNodeSimulated, FinalErrorBelowTheBoundTheOfflineSolverMeets) { g->checkF
 
 TEST(EkfNodeSimulated, TfMapToBaseLinkResolvesWithoutAttitudeAtTheAntennaAndDiagnosticsAreNotError) {
   ASSERT_TRUE(g->ok);
-  // Without an attitude source the lever arm is not applied to base_link: the static
-  // base_link -> gnss_antenna transform still holds it, unrotated, so gnss_antenna is
-  // base_link + lever arm while the fix (the antenna) is at base_link.
-  const Eigen::Vector3d offset = g->checkTfAndDiagnostics();
+  // Without an attitude source the lever arm is not applied: base_link is at the fix
+  // (the antenna position); the static base_link -> gnss_antenna transform still holds
+  // the lever arm, unrotated (identity orientation), as documented in config/ppp.yaml.
+  const Eigen::Vector3d offset = g->checkTfAndDiagnostics("base_link");
   const ppp_ros::NodeConfig config = ppp_ros::loadNodeConfig(ros::NodeHandle("/ppp_ekf_node"));
   ASSERT_GT(config.ros.antenna_lever_arm_m.norm(), 0.1) << "ekf_simulated.test sets a lever arm";
   EXPECT_LT((offset - config.ros.antenna_lever_arm_m).norm(), 1e-6);

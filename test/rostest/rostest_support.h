@@ -282,21 +282,22 @@ struct SimulatedNodeTest {
     EXPECT_LT(node_error, kFinalErrorBound_m);
   }
 
-  /// map -> base_link and earth -> gnss_antenna resolve; the antenna frame is at the
-  /// last fix (1 mm); diagnostics never ERROR. Returns gnss_antenna - base_link in map.
-  Eigen::Vector3d checkTfAndDiagnostics() {
+  /// map -> base_link and earth -> gnss_antenna resolve; `frame_at_fix` (gnss_antenna
+  /// with an attitude, base_link without: ros/lever_arm.h) is at the last fix (1 mm);
+  /// diagnostics never ERROR. Returns gnss_antenna - base_link in the map frame.
+  Eigen::Vector3d checkTfAndDiagnostics(const std::string& frame_at_fix) {
     std::string err;
     EXPECT_TRUE(tf_buffer->canTransform("map", "base_link", ros::Time(0), ros::Duration(3.0), &err)) << err;
     EXPECT_TRUE(tf_buffer->canTransform("earth", "gnss_antenna", ros::Time(0), ros::Duration(3.0), &err)) << err;
     Eigen::Vector3d offset = Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN());
     try {
-      const Eigen::Vector3d antenna_ecef = translation(tf_buffer->lookupTransform("earth", "gnss_antenna", ros::Time(0)));
+      const Eigen::Vector3d at_fix = translation(tf_buffer->lookupTransform("earth", frame_at_fix, ros::Time(0)));
       sensor_msgs::NavSatFix last_fix;
       {
         std::lock_guard<std::mutex> l(out.mutex);
         if (!out.fixes.empty()) last_fix = out.fixes.back();
       }
-      EXPECT_LT((antenna_ecef - fixEcef(last_fix)).norm(), 1e-3) << "gnss_antenna is not at the fix";
+      EXPECT_LT((at_fix - fixEcef(last_fix)).norm(), 1e-3) << frame_at_fix << " is not at the fix";
       offset = translation(tf_buffer->lookupTransform("map", "gnss_antenna", ros::Time(0))) -
                translation(tf_buffer->lookupTransform("map", "base_link", ros::Time(0)));
     } catch (const std::exception& e) {

@@ -108,7 +108,7 @@ TEST(SmootherNodeSimulated, TfMapToBaseLinkAppliesTheLeverArmWithTheAttitude) {
   ASSERT_TRUE(g->ok);
   // gnss_antenna - base_link in the map frame = R(attitude) * lever arm: facing north,
   // body x (0.3 forward) points north and body y (0.1 left) points west.
-  const Eigen::Vector3d offset = g->checkTfAndDiagnostics();
+  const Eigen::Vector3d offset = g->checkTfAndDiagnostics("gnss_antenna");
   EXPECT_LT((offset - Eigen::Vector3d(-0.1, 0.3, 0.8)).norm(), 1e-6) << offset.transpose();
   const auto base = g->tf_buffer->lookupTransform("map", "base_link", ros::Time(0));
   const auto& q = base.transform.rotation;

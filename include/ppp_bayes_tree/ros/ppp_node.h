@@ -29,7 +29,8 @@
 //             attitude within ros.attitude.max_age_s of the epoch) base_link =
 //             antenna - R(attitude) * ros.frames.antenna_lever_arm_m and the odometry/TF
 //             carry the attitude; without one, base_link IS the antenna position with an
-//             identity orientation (logged once).
+//             identity orientation (logged once), and the TF gnss_antenna frame (base_link
+//             + the unrotated lever arm) is not the antenna: ppp/fix is.
 // Service:    set_datum (SetDatum).
 // Parameters: the whole private namespace = config/ppp.yaml (core sections +
 //             `ros:`), loaded strictly at start-up (loadNodeConfig).
