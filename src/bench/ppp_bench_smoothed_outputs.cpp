@@ -77,8 +77,8 @@ void run(const SimulatedFlight& f, PppConfig c, double lag_s) {
     states = est.smoother().smoothedTrajectory(false).size();
     trajectory_end.add(msSince(t0));
   }
-  std::printf("%s (%zu epochs, %zu states):\n", lag_s > 0 ? ("fixed lag " + std::to_string(lag_s) + " s").c_str()
-                                                            : "full smoother", f.epochs.size(), states);
+  if (lag_s > 0) std::printf("fixed lag %.0f s (%zu epochs, %zu states):\n", lag_s, f.epochs.size(), states);
+  else std::printf("full smoother (%zu epochs, %zu states):\n", f.epochs.size(), states);
   update.print("epoch update (processor + smoother)");
   newest.print(lag_s > 0 ? "smoothed odometry: lag boundary + marginal" : "smoothed odometry: newest state + marginal");
   delay10.print("smoothed odometry: delay 10 s + marginal");
