@@ -165,6 +165,7 @@ bool PppNode::onSetDatum(ppp_bayes_tree::SetDatum::Request& req, ppp_bayes_tree:
   }
   setDatum(ppp::geodeticToEcef({req.latitude_deg * ppp::kDegToRad, req.longitude_deg * ppp::kDegToRad, req.height_m}));
   path_.poses.clear();
+  smoothed_path_stale_ = true;  // re-read in the new map frame at the next path period
   res.success = true;
   res.message = "datum set";
   return true;
