@@ -26,6 +26,7 @@ RosNodeOptions bindRosNodeOptions(const YAML::Node& ros, const std::string& sour
     o.map_frame = f.text("map", o.map_frame);
     o.odom_frame = f.text("odom", o.odom_frame);
     o.base_frame = f.text("base_link", o.base_frame);
+    o.antenna_frame = f.text("gnss_antenna", o.antenna_frame);
     o.publish_tf = f.boolean("publish_tf", o.publish_tf);
     const auto arm = f.textList("antenna_lever_arm_m", {"0", "0", "0"});
     if (arm.size() != 3) f.fail("antenna_lever_arm_m", "needs 3 numbers [x, y, z]");
@@ -39,6 +40,12 @@ RosNodeOptions bindRosNodeOptions(const YAML::Node& ros, const std::string& sour
       }
     }
     f.finish();
+  }
+  {
+    ppp::YamlSection a = s.section("attitude");
+    o.attitude_topic = a.text("topic", o.attitude_topic);
+    o.attitude_max_age_s = a.number("max_age_s", o.attitude_max_age_s, ppp::Bound::Positive);
+    a.finish();
   }
   {
     ppp::YamlSection d = s.section("datum");
@@ -75,6 +82,17 @@ RosNodeOptions bindRosNodeOptions(const YAML::Node& ros, const std::string& sour
     o.path_publish_rate_hz = dg.number("path_publish_rate_hz", o.path_publish_rate_hz, ppp::Bound::Positive);
     o.path_max_poses = static_cast<std::size_t>(dg.integer("path_max_poses", 20000, 1));
     dg.finish();
+  }
+  {
+    ppp::YamlSection sm = s.section("smoothed");
+    o.smoothed_path_publish_rate_hz =
+        sm.number("path_publish_rate_hz", o.smoothed_path_publish_rate_hz, ppp::Bound::Positive);
+    if (o.smoothed_path_publish_rate_hz > 10.0)
+      sm.fail("path_publish_rate_hz", "must be in (0, 10] Hz (each publication re-reads the whole trajectory)");
+    o.smoothed_odometry_delay_s = sm.number("odometry_delay_s", o.smoothed_odometry_delay_s, ppp::Bound::NonNegative);
+    if (o.smoothed_odometry_delay_s > 3600.0)
+      sm.fail("odometry_delay_s", "must be in [0, 3600] s (the marginal's cost grows with the delay)");
+    sm.finish();
   }
   s.finish();
   return o;

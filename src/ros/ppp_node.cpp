@@ -9,6 +9,7 @@
 #include <nav_msgs/Odometry.h>
 #include <sensor_msgs/NavSatFix.h>
 
+#include "ppp_bayes_tree/ros/lever_arm.h"
 #include "ppp_bayes_tree/types/constants.h"
 #include "ppp_bayes_tree/types/frames.h"
 
@@ -108,6 +109,16 @@ PppNode::PppNode(ros::NodeHandle nh, ros::NodeHandle pnh, const std::string& est
   fix_pub_ = nh_.advertise<sensor_msgs::NavSatFix>("ppp/fix", 100);
   status_pub_ = nh_.advertise<ppp_bayes_tree::PppStatus>("ppp/status", 100);
   path_pub_ = nh_.advertise<nav_msgs::Path>("ppp/path/filtered", 2, true);
+  if (smoother()) {  // the EKF node does not advertise the smoothed topics
+    smoothed_odom_pub_ = nh_.advertise<nav_msgs::Odometry>("ppp/odometry/smoothed", 100);
+    smoothed_path_pub_ = nh_.advertise<nav_msgs::Path>("ppp/path/smoothed", 2, true);
+    smoothed_path_timer_ =
+        nh_.createTimer(ros::Duration(1.0 / o.smoothed_path_publish_rate_hz), &PppNode::onSmoothedPathTimer, this);
+  }
+  if (!o.attitude_topic.empty()) attitude_sub_ = nh_.subscribe(o.attitude_topic, 200, &PppNode::onAttitude, this);
+  // base_link -> gnss_antenna: the lever arm, fixed in the body.
+  static_tf_.sendTransform(transform(o.base_frame, o.antenna_frame, ros::Time(0), o.antenna_lever_arm_m,
+                                     Eigen::Quaterniond::Identity()));
   datum_srv_ = nh_.advertiseService("set_datum", &PppNode::onSetDatum, this);
   timer_ = nh_.createTimer(ros::Duration(0.1), &PppNode::onTimer, this);
   path_timer_ = nh_.createTimer(ros::Duration(1.0 / o.path_publish_rate_hz), &PppNode::onPathTimer, this);
@@ -120,7 +131,9 @@ PppNode::PppNode(ros::NodeHandle nh, ros::NodeHandle pnh, const std::string& est
   last_diag_time_ = ros::WallTime::now();
   ROS_INFO_STREAM("ppp_" << estimator << "_node: config from " << config_.ppp.source_name << ", " << antex_.size()
                          << " ANTEX file(s), bias " << (o.bias.empty() ? "none" : o.bias) << ", waiting for "
-                         << nh_.resolveName(o.observations_topic) << " and " << nh_.resolveName(o.corrections_topic));
+                         << nh_.resolveName(o.observations_topic) << " and " << nh_.resolveName(o.corrections_topic)
+                         << (o.attitude_topic.empty() ? std::string(", no attitude source")
+                                                      : ", attitude from " + nh_.resolveName(o.attitude_topic)));
 }
 
 void PppNode::warn(const std::string& category, const std::string& text) {
@@ -152,6 +165,7 @@ bool PppNode::onSetDatum(ppp_bayes_tree::SetDatum::Request& req, ppp_bayes_tree:
   }
   setDatum(ppp::geodeticToEcef({req.latitude_deg * ppp::kDegToRad, req.longitude_deg * ppp::kDegToRad, req.height_m}));
   path_.poses.clear();
+  smoothed_path_stale_ = true;  // re-read in the new map frame at the next path period
   res.success = true;
   res.message = "datum set";
   return true;
@@ -165,7 +179,83 @@ void PppNode::resetEstimator(const std::string& why) {
   processor_.reset();
   pending_.clear();
   path_.poses.clear();
+  attitude_of_epoch_.clear();
+  last_smoothed_index_.reset();
+  smoothed_path_stale_ = true;  // publishes the (empty) new trajectory
   last_received_.reset();
+}
+
+void PppNode::onAttitude(const sensor_msgs::Imu::ConstPtr& msg) {
+  ++attitude_received_;
+  const auto& o = msg->orientation;
+  const Eigen::Quaterniond q(o.w, o.x, o.y, o.z);
+  // REP-145: orientation_covariance[0] = -1 means no orientation estimate.
+  if (!validAttitude(q) || msg->orientation_covariance[0] == -1.0 || msg->header.stamp.isZero()) {
+    ++attitude_invalid_;
+    warn("attitude_invalid", "ppp: attitude message without a valid orientation (unit quaternion, covariance[0] != -1, "
+                             "stamp) ignored");
+    return;
+  }
+  Attitude a;
+  a.stamp = msg->header.stamp;
+  a.q_map_base = q.normalized();
+  std::copy(msg->orientation_covariance.begin(), msg->orientation_covariance.end(), a.covariance.begin());
+  attitude_ = a;
+}
+
+void PppNode::attachAttitude(const ros::Time& stamp) {
+  // The newest attitude within max_age of the epoch is this epoch's (kept for the smoothed outputs).
+  if (attitude_ && std::abs((attitude_->stamp - stamp).toSec()) <= config_.ros.attitude_max_age_s) {
+    attitude_of_epoch_[stamp] = *attitude_;
+    while (attitude_of_epoch_.size() > config_.ros.path_max_poses) attitude_of_epoch_.erase(attitude_of_epoch_.begin());
+    return;
+  }
+  if (!lever_arm_note_logged_) {
+    lever_arm_note_logged_ = true;
+    if (config_.ros.attitude_topic.empty())
+      ROS_INFO_STREAM("ppp: no attitude source (ros.attitude.topic): " << config_.ros.base_frame
+                      << " is published at the antenna position (lever arm "
+                      << config_.ros.antenna_lever_arm_m.transpose() << " m not applied)");
+  }
+  if (!config_.ros.attitude_topic.empty()) {
+    ++epochs_without_attitude_;
+    warn("attitude_missing", "ppp: no attitude within " + std::to_string(config_.ros.attitude_max_age_s) +
+                                 " s of the epoch: " + config_.ros.base_frame + " published at the antenna position");
+  }
+}
+
+PppNode::BodyPose PppNode::bodyPose(const Eigen::Vector3d& antenna_enu_m, const ros::Time& stamp) const {
+  BodyPose pose;
+  pose.position_m = antenna_enu_m;
+  const auto it = attitude_of_epoch_.find(stamp);
+  if (it != attitude_of_epoch_.end()) {
+    pose.attitude = &it->second;
+    pose.q_map_base = it->second.q_map_base;
+    pose.position_m = baseLinkFromAntenna(antenna_enu_m, pose.q_map_base, config_.ros.antenna_lever_arm_m);
+  }
+  return pose;
+}
+
+nav_msgs::Odometry PppNode::odometry(const ros::Time& stamp, const BodyPose& pose, const Eigen::Matrix3d& cov) const {
+  nav_msgs::Odometry odom;
+  odom.header.stamp = stamp;
+  odom.header.frame_id = config_.ros.map_frame;
+  odom.child_frame_id = config_.ros.base_frame;
+  odom.pose.pose.position.x = pose.position_m.x();
+  odom.pose.pose.position.y = pose.position_m.y();
+  odom.pose.pose.position.z = pose.position_m.z();
+  odom.pose.pose.orientation.w = pose.q_map_base.w();
+  odom.pose.pose.orientation.x = pose.q_map_base.x();
+  odom.pose.pose.orientation.y = pose.q_map_base.y();
+  odom.pose.pose.orientation.z = pose.q_map_base.z();
+  // Position: the antenna's ENU covariance (the attitude's share through the lever arm is not added).
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c) odom.pose.covariance[r * 6 + c] = cov(r, c);
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c)  // orientation: the attitude source's, else not estimated
+      odom.pose.covariance[(r + 3) * 6 + c + 3] = pose.attitude ? pose.attitude->covariance[r * 3 + c] : (r == c ? 1e6 : 0.0);
+  for (int i = 0; i < 6; ++i) odom.twist.covariance[i * 6 + i] = 1e6;  // twist not estimated
+  return odom;
 }
 
 void PppNode::onCorrections(const ppp_bayes_tree::PreciseCorrections::ConstPtr& msg) {
@@ -254,6 +344,55 @@ void PppNode::onPathTimer(const ros::TimerEvent&) {
   path_pub_.publish(path_);
 }
 
+void PppNode::onSmoothedPathTimer(const ros::TimerEvent&) {
+  // The whole trajectory is re-read at this rate only (O(states), no covariance).
+  const ppp::SmootherEstimator* sm = smoother();
+  if (!sm || !smoothed_path_stale_ || !datum_ecef_m_) return;
+  smoothed_path_stale_ = false;
+  const auto start = std::chrono::steady_clock::now();
+  const std::vector<ppp::SmoothedEpoch> trajectory = sm->smoother().smoothedTrajectory(false);
+  nav_msgs::Path path;
+  path.header.frame_id = config_.ros.map_frame;
+  const std::size_t first = trajectory.size() > config_.ros.path_max_poses ? trajectory.size() - config_.ros.path_max_poses : 0;
+  path.poses.reserve(trajectory.size() - first);
+  for (std::size_t k = first; k < trajectory.size(); ++k) {
+    const ros::Time stamp = utcStamp(trajectory[k].time);
+    const BodyPose body = bodyPose(ecef_to_enu_ * (trajectory[k].state.position_ecef_m - *datum_ecef_m_), stamp);
+    geometry_msgs::PoseStamped pose;
+    pose.header.stamp = stamp;
+    pose.header.frame_id = config_.ros.map_frame;
+    pose.pose.position.x = body.position_m.x();
+    pose.pose.position.y = body.position_m.y();
+    pose.pose.position.z = body.position_m.z();
+    pose.pose.orientation.w = body.q_map_base.w();
+    pose.pose.orientation.x = body.q_map_base.x();
+    pose.pose.orientation.y = body.q_map_base.y();
+    pose.pose.orientation.z = body.q_map_base.z();
+    path.poses.push_back(pose);
+  }
+  if (!path.poses.empty()) path.header.stamp = path.poses.back().header.stamp;
+  smoothed_path_read_s_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  smoothed_path_read_max_s_ = std::max(smoothed_path_read_max_s_, smoothed_path_read_s_);
+  smoothed_path_poses_ = path.poses.size();
+  smoothed_path_pub_.publish(path);
+}
+
+void PppNode::publishSmoothedOdometry(const ppp::GnssTime& newest) {
+  const ppp::SmootherEstimator* sm = smoother();
+  if (!sm || !datum_ecef_m_) return;
+  const ppp::PppSmoother& smoother = sm->smoother();
+  // Delay 0: the lag boundary (fixed lag: the state at t - lag, clamped to the window) or the newest state.
+  double delay_s = config_.ros.smoothed_odometry_delay_s;
+  if (delay_s == 0.0) delay_s = smoother.options().fixed_lag_s;
+  const std::optional<ppp::SmoothedEpoch> e = smoother.smoothedEpochAt(newest - delay_s, true);
+  if (!e || !e->covariance || (last_smoothed_index_ && e->index <= *last_smoothed_index_)) return;
+  last_smoothed_index_ = e->index;
+  const Eigen::Matrix3d cov_ecef = e->covariance->topLeftCorner<3, 3>();
+  const Eigen::Matrix3d cov_enu = ecef_to_enu_ * cov_ecef * ecef_to_enu_.transpose();
+  const ros::Time stamp = utcStamp(e->time);
+  smoothed_odom_pub_.publish(odometry(stamp, bodyPose(ecef_to_enu_ * (e->state.position_ecef_m - *datum_ecef_m_), stamp), cov_enu));
+}
+
 void PppNode::drain() {
   const ros::Time now = ros::Time::now();
   while (!pending_.empty()) {
@@ -335,11 +474,18 @@ void PppNode::processEpoch(const Pending& p) {
   s.update_time_s = update_s;
   s.correction_latency_s = corrections_.newest() ? epoch.time - *corrections_.newest() : kNaN;
   s.active_biases = static_cast<std::uint16_t>(rec.active_biases);
-  s.variables_reeliminated = static_cast<std::uint32_t>(ppp::ReceiverState::kDim + rec.active_biases);
+  std::vector<ppp::ArcId> active_arcs;
   if (const auto* ekf = dynamic_cast<const ppp::EkfEstimator*>(estimator_.get())) {
+    s.variables_reeliminated = static_cast<std::uint32_t>(ppp::ReceiverState::kDim + rec.active_biases);
+    active_arcs = ekf->filter().activeArcs();
+  } else if (const ppp::SmootherEstimator* sm = smoother()) {
+    s.variables_reeliminated = static_cast<std::uint32_t>(sm->lastResult().variables_reeliminated);
+    active_arcs = sm->smoother().activeArcs();
+  }
+  {
     std::map<ppp::ArcId, std::string> sat_of_arc;
     for (const auto& r : rec.residuals) sat_of_arc[r.arc] = r.satellite.toString() + " ";
-    for (const ppp::ArcId a : ekf->filter().activeArcs()) s.active_bias_arcs.push_back(sat_of_arc[a] + "arc " + std::to_string(a));
+    for (const ppp::ArcId a : active_arcs) s.active_bias_arcs.push_back(sat_of_arc[a] + "arc " + std::to_string(a));
   }
   const bool solved = rec.status == ppp::EpochStatus::Ok && rec.solution.position_ecef_m;
   Eigen::Vector3d sigma_enu = Eigen::Vector3d::Constant(kNaN);
@@ -361,36 +507,39 @@ void PppNode::processEpoch(const Pending& p) {
   if (rec.status == ppp::EpochStatus::Failed) warn("failed", "ppp: estimator failed at " + epoch.time.toString() + ": " + rec.reason);
   last_status_ = s;
   have_status_ = true;
-  if (solved) publishSolution(rec, s);
+  if (solved) {
+    attachAttitude(s.header.stamp);
+    publishSolution(rec, s);
+    publishSmoothedOdometry(epoch.time);
+    smoothed_path_stale_ = true;
+  }
   status_pub_.publish(s);
+  if (rec.status == ppp::EpochStatus::Failed && smoother()) {
+    // A failed iSAM2 update leaves its factors in the graph: start a new smoother
+    // (the next epoch starts from the code solution; the smoothed past restarts too).
+    ++smoother_restarts_;
+    std::string unused;
+    estimator_ = ppp::makeEstimator(config_.ros.estimator, config_.ppp, &unused);
+    processor_.reset();
+    last_smoothed_index_.reset();
+  }
 }
 
 void PppNode::publishSolution(const ppp::PppEpochRecord& rec, const ppp_bayes_tree::PppStatus& status) {
   const RosNodeOptions& o = config_.ros;
   const Eigen::Vector3d& p = *rec.solution.position_ecef_m;
   const Eigen::Matrix3d cov_enu = ecef_to_enu_ * *rec.solution.covariance_ecef_m2 * ecef_to_enu_.transpose();
-  // The estimate is the marker/antenna position; without an attitude source the
-  // lever arm cannot be rotated, so base_link is placed at the antenna (documented).
+  // The estimate is the antenna (marker) position; base_link = antenna - R * lever arm
+  // with an attitude for this epoch, else base_link is the antenna position (documented).
   const Eigen::Vector3d enu = ecef_to_enu_ * (p - *datum_ecef_m_);
   const ros::Time stamp = status.header.stamp;
-
-  nav_msgs::Odometry odom;
-  odom.header.stamp = stamp;
-  odom.header.frame_id = o.map_frame;
-  odom.child_frame_id = o.base_frame;
-  odom.pose.pose.position.x = enu.x();
-  odom.pose.pose.position.y = enu.y();
-  odom.pose.pose.position.z = enu.z();
-  odom.pose.pose.orientation.w = 1.0;
-  for (int r = 0; r < 3; ++r)
-    for (int c = 0; c < 3; ++c) odom.pose.covariance[r * 6 + c] = cov_enu(r, c);
-  for (int i = 3; i < 6; ++i) odom.pose.covariance[i * 6 + i] = 1e6;  // orientation not estimated
-  for (int i = 0; i < 6; ++i) odom.twist.covariance[i * 6 + i] = 1e6;  // twist not estimated
+  const BodyPose body = bodyPose(enu, stamp);
+  const nav_msgs::Odometry odom = odometry(stamp, body, cov_enu);
   odom_pub_.publish(odom);
 
   sensor_msgs::NavSatFix fix;
   fix.header.stamp = stamp;
-  fix.header.frame_id = o.base_frame;
+  fix.header.frame_id = o.antenna_frame;  // REP-145: the fix is the antenna's position
   const ppp::Geodetic g = ppp::ecefToGeodetic(p);
   fix.latitude = g.latitude_rad * ppp::kRadToDeg;
   fix.longitude = g.longitude_rad * ppp::kRadToDeg;
@@ -412,7 +561,6 @@ void PppNode::publishSolution(const ppp::PppEpochRecord& rec, const ppp_bayes_tr
 
   if (o.publish_tf) {
     // map -> base_link, or map -> odom when another node publishes odom -> base_link.
-    const Eigen::Quaterniond identity = Eigen::Quaterniond::Identity();
     std::string err;
     if (tf_buffer_.canTransform(o.odom_frame, o.base_frame, ros::Time(0), &err)) {
       const auto ob = tf_buffer_.lookupTransform(o.odom_frame, o.base_frame, ros::Time(0));
@@ -420,11 +568,11 @@ void PppNode::publishSolution(const ppp::PppEpochRecord& rec, const ppp_bayes_tr
                                     ob.transform.rotation.z);
       const Eigen::Vector3d t_ob(ob.transform.translation.x, ob.transform.translation.y, ob.transform.translation.z);
       // T_map_odom = T_map_base * T_odom_base^-1
-      const Eigen::Quaterniond q_mo = identity * q_ob.inverse();
-      const Eigen::Vector3d t_mo = enu - q_mo * t_ob;
+      const Eigen::Quaterniond q_mo = body.q_map_base * q_ob.inverse();
+      const Eigen::Vector3d t_mo = body.position_m - q_mo * t_ob;
       tf_.sendTransform(transform(o.map_frame, o.odom_frame, stamp, t_mo, q_mo));
     } else {
-      tf_.sendTransform(transform(o.map_frame, o.base_frame, stamp, enu, identity));
+      tf_.sendTransform(transform(o.map_frame, o.base_frame, stamp, body.position_m, body.q_map_base));
     }
   }
 }
@@ -446,6 +594,11 @@ void PppNode::diagnoseInputs(diagnostic_updater::DiagnosticStatusWrapper& s) {
   s.add("estimator resets (time backwards)", counters_.estimator_resets);
   s.add("empty epochs", counters_.empty_epochs);
   s.add("invalid observations excluded", counters_.observations_invalid);
+  if (!config_.ros.attitude_topic.empty()) {
+    s.add("attitude messages", attitude_received_);
+    s.add("attitude messages invalid (ignored)", attitude_invalid_);
+    s.add("solved epochs without a current attitude (at the antenna)", epochs_without_attitude_);
+  }
   for (const auto& [reason, n] : issues_.counts) s.add(reason, n);
   if (obs_received_ == 0) s.summary(diagnostic_msgs::DiagnosticStatus::WARN, "no observations received yet");
   else if (config_.ros.expected_observation_rate_hz > 0 && obs_rate < 0.5 * config_.ros.expected_observation_rate_hz)
@@ -478,6 +631,19 @@ void PppNode::diagnoseSolution(diagnostic_updater::DiagnosticStatusWrapper& s) {
   s.add("sigma east/north/up [m]", std::to_string(last_status_.sigma_east_m) + " " +
                                        std::to_string(last_status_.sigma_north_m) + " " +
                                        std::to_string(last_status_.sigma_up_m));
+  if (const ppp::SmootherEstimator* sm = smoother()) {
+    const ppp::SmootherEpochResult& r = sm->lastResult();
+    s.add("smoother: fixed lag [s] (0: full)", sm->smoother().options().fixed_lag_s);
+    s.add("smoother: variables re-eliminated", r.variables_reeliminated);
+    s.add("smoother: variables relinearized", r.variables_relinearized);
+    s.add("smoother: cliques touched", r.cliques_touched);
+    s.add("smoother: variables marginalized", r.variables_marginalized);
+    s.add("smoother: iSAM2 update time [s]", r.update_time_s);
+    s.add("smoother: restarts after a failed update", smoother_restarts_);
+    s.add("smoothed path: poses", smoothed_path_poses_);
+    s.add("smoothed path: last / max re-read time [s]",
+          std::to_string(smoothed_path_read_s_) + " / " + std::to_string(smoothed_path_read_max_s_));
+  }
   if (last_status_.solution_state == ppp_bayes_tree::PppStatus::NO_SOLUTION)
     s.summary(diagnostic_msgs::DiagnosticStatus::WARN, "no solution: " + last_status_.reason);
   else s.summary(diagnostic_msgs::DiagnosticStatus::OK, last_status_.solution_state_text);

@@ -499,3 +499,46 @@ TEST(PppSmoother, PerComponentRelinearizationThresholds) {
   EXPECT_FALSE(p.exceedsThreshold(biasKey(g05, 1), Eigen::VectorXd::Constant(1, 0.009)));
   EXPECT_TRUE(p.exceedsThreshold(biasKey(g05, 1), Eigen::VectorXd::Constant(1, -0.011)));
 }
+
+TEST(PppSmoother, SmoothedEpochAtIsOneStateOfTheTrajectoryAndStopsAtTheLagBoundary) {
+  Simulator sim;
+  sim.noise = true;
+  PppSmoother full;
+  const auto results = runSmoother(full, sim, 40);
+  const auto trajectory = full.smoothedTrajectory(true);
+  EXPECT_FALSE(full.smoothedEpochAt(results.front().time - 1.0).has_value());  // before the first state
+  // The newest state: the filtered one (same information), covariance included.
+  const auto newest = full.smoothedEpochAt(results.back().time, true);
+  ASSERT_TRUE(newest && newest->covariance);
+  EXPECT_EQ(newest->index, trajectory.back().index);
+  EXPECT_LT((newest->state.vector() - results.back().solution->state.vector()).norm(), 1e-9);
+  EXPECT_LT((*newest->covariance - results.back().solution->covariance).norm(),
+            1e-6 * results.back().solution->covariance.norm());
+  // Between epochs 20 and 21 (30 s apart): epoch 20, as the whole-trajectory read gives it.
+  const auto mid = full.smoothedEpochAt(results[20].time + 10.0, true);
+  ASSERT_TRUE(mid && mid->covariance);
+  EXPECT_EQ(mid->time, results[20].time);
+  EXPECT_EQ(mid->index, trajectory[20].index);
+  EXPECT_LT((mid->state.vector() - trajectory[20].state.vector()).norm(), 1e-12);
+  EXPECT_LT((*mid->covariance - *trajectory[20].covariance).norm(), 1e-9 * trajectory[20].covariance->norm());
+
+  // Fixed lag 300 s (10 epochs): an epoch inside the window is itself; an older one
+  // gives the oldest state still in the window (the lag boundary), with a covariance.
+  Simulator sim_lag;
+  sim_lag.noise = true;
+  PppSmootherOptions lagged;
+  lagged.fixed_lag_s = 300.0;
+  PppSmoother lag({}, lagged);
+  const auto r = runSmoother(lag, sim_lag, 60);
+  const auto lag_trajectory = lag.smoothedTrajectory();
+  const auto at_lag = lag.smoothedEpochAt(r.back().time - 300.0, true);
+  ASSERT_TRUE(at_lag && at_lag->covariance);
+  EXPECT_EQ(at_lag->time, r.back().time - 300.0);
+  const auto boundary = lag.smoothedEpochAt(r.front().time, true);
+  ASSERT_TRUE(boundary && boundary->covariance) << "the oldest state in the window has a marginal";
+  EXPECT_GT(boundary->index, 40u);
+  EXPECT_LE(boundary->index, at_lag->index);
+  EXPECT_TRUE(lag.isam2().exists(stateKey(boundary->index)));
+  EXPECT_FALSE(lag.isam2().exists(stateKey(boundary->index - 1)));
+  EXPECT_LT((boundary->state.vector() - lag_trajectory[boundary->index].state.vector()).norm(), 1e-12);
+}

@@ -124,6 +124,14 @@ class PppSmoother {
   /// The whole trajectory re-estimated with all data so far (fixed lag: states
   /// beyond the lag keep their estimate at the lag boundary).
   std::vector<SmoothedEpoch> smoothedTrajectory(bool with_covariance = false) const;
+  /// One state of the smoothed trajectory without re-reading all of them: the newest
+  /// state at or before `time`, from the current estimate (all data so far), with its
+  /// marginal covariance when asked for. With a fixed lag, a state already marginalized
+  /// is replaced by the oldest state still in the window (the lag boundary), which may
+  /// be after `time`. nullopt: no state yet, or every state is after `time`.
+  /// Cost: O(log n) plus the marginal, which grows with the state's depth in the
+  /// Bayes tree (the newest state is in the root clique: cheap).
+  std::optional<SmoothedEpoch> smoothedEpochAt(const GnssTime& time, bool with_covariance = false) const;
 
   const StochasticModel& stochasticModel() const { return model_; }
   const PppSmootherOptions& options() const { return options_; }

@@ -29,9 +29,13 @@ struct RosNodeOptions {
   std::string map_frame = "map";
   std::string odom_frame = "odom";
   std::string base_frame = "base_link";
+  std::string antenna_frame = "gnss_antenna";  // child of base_link at the lever arm (static TF)
   bool publish_tf = true;
   /// gnss_antenna lever arm: antenna position in base_link [m] (x forward, y left, z up).
   Eigen::Vector3d antenna_lever_arm_m = Eigen::Vector3d::Zero();
+  // attitude source for the lever arm (optional)
+  std::string attitude_topic;        // sensor_msgs/Imu, orientation of base_link in the map (ENU); "" = none
+  double attitude_max_age_s = 0.5;   // an attitude farther from the epoch (stamps) is not used
   // datum of the map frame
   std::string datum_mode = "first_fix";  // first_fix | configured
   double datum_latitude_deg = 0.0, datum_longitude_deg = 0.0, datum_height_m = 0.0;
@@ -48,6 +52,9 @@ struct RosNodeOptions {
   double max_correction_latency_s = 10.0;     // latency above: WARN
   double path_publish_rate_hz = 1.0;
   std::size_t path_max_poses = 20000;
+  // smoother node only: ppp/odometry/smoothed and ppp/path/smoothed
+  double smoothed_path_publish_rate_hz = 1.0;
+  double smoothed_odometry_delay_s = 0.0;  // 0: the lag boundary (fixed lag) / the newest state (full smoother)
 };
 
 /// Binds `ros:` (a mapping or null) strictly. Throws ppp::ConfigError.

@@ -1,27 +1,52 @@
 #pragma once
 // PppNode: the ROS adapter around one EpochEstimator (ppp_ekf_node: "ekf";
-// ppp_smoother_node: the smoother, same class). Everything per epoch is the
+// ppp_smoother_node: "smoother", same class). Everything per epoch is the
 // core's PppEpochProcessor, exactly as in ppp_solve; the node only converts
 // messages, buffers observations until corrections cover them, and publishes.
 //
-// Subscribes: gnss/observations (GnssObservations), gnss/corrections (PreciseCorrections).
+// Subscribes: gnss/observations (GnssObservations), gnss/corrections (PreciseCorrections),
+//             optionally an attitude (sensor_msgs/Imu, ros.attitude.topic; see below).
 // Publishes:  ppp/odometry/filtered (nav_msgs/Odometry, map frame, ENU covariance),
-//             ppp/fix (sensor_msgs/NavSatFix, ENU covariance), ppp/status (PppStatus),
-//             ppp/path/filtered (nav_msgs/Path, at ros.diagnostics.path_publish_rate_hz),
-//             /diagnostics (inputs, corrections, solution), TF earth -> map (static),
-//             map -> base_link (or map -> odom when odom -> base_link exists).
+//             ppp/fix (sensor_msgs/NavSatFix in the gnss_antenna frame, ENU covariance),
+//             ppp/status (PppStatus), ppp/path/filtered (nav_msgs/Path, at
+//             ros.diagnostics.path_publish_rate_hz), /diagnostics (inputs, corrections,
+//             solution), TF earth -> map (static), base_link -> gnss_antenna (static, the
+//             lever arm), map -> base_link (or map -> odom when odom -> base_link exists).
+// Smoother node only (the EKF node does not advertise them):
+//             ppp/odometry/smoothed (nav_msgs/Odometry, ENU covariance): after each epoch t,
+//               with smoother.fixed_lag_s > 0 the state at the lag boundary x(t-lag | t)
+//               (the oldest state still in the window: final, the lag no longer changes
+//               it); with the full smoother the newest state x(t | t) (= the filtered
+//               one); with ros.smoothed.odometry_delay_s = d > 0 the newest state at least
+//               d old, x(t-d | t). Each state is published once, in time order.
+//             ppp/path/smoothed (nav_msgs/Path): the whole trajectory re-estimated with
+//               all data so far, re-read only at ros.smoothed.path_publish_rate_hz (never
+//               per epoch); its last pose is the last filtered one.
+//             The status carries the smoother's variables re-eliminated per update; the
+//             diagnostics its iSAM2 update time, relinearized/marginalized variables and
+//             the cost of the last path re-read.
+// Lever arm:  PPP estimates the antenna position. With an attitude source (the newest
+//             attitude within ros.attitude.max_age_s of the epoch) base_link =
+//             antenna - R(attitude) * ros.frames.antenna_lever_arm_m and the odometry/TF
+//             carry the attitude; without one, base_link IS the antenna position with an
+//             identity orientation (logged once), and the TF gnss_antenna frame (base_link
+//             + the unrotated lever arm) is not the antenna: ppp/fix is.
 // Service:    set_datum (SetDatum).
 // Parameters: the whole private namespace = config/ppp.yaml (core sections +
 //             `ros:`), loaded strictly at start-up (loadNodeConfig).
+#include <array>
 #include <deque>
 #include <map>
 #include <memory>
 #include <optional>
 #include <string>
 
+#include <Eigen/Geometry>
 #include <diagnostic_updater/diagnostic_updater.h>
 #include <nav_msgs/Path.h>
+#include <nav_msgs/Odometry.h>
 #include <ros/ros.h>
+#include <sensor_msgs/Imu.h>
 #include <tf2_ros/buffer.h>
 #include <tf2_ros/static_transform_broadcaster.h>
 #include <tf2_ros/transform_broadcaster.h>
@@ -62,6 +87,17 @@ class PppNode {
   PppNode(ros::NodeHandle nh, ros::NodeHandle private_nh, const std::string& estimator);
 
  private:
+  struct Attitude {
+    ros::Time stamp;
+    Eigen::Quaterniond q_map_base = Eigen::Quaterniond::Identity();
+    std::array<double, 9> covariance{};  // orientation covariance of the Imu message [rad^2]
+  };
+  /// base_link pose in the map frame for an antenna position (ENU) at `stamp`.
+  struct BodyPose {
+    Eigen::Vector3d position_m = Eigen::Vector3d::Zero();
+    Eigen::Quaterniond q_map_base = Eigen::Quaterniond::Identity();
+    const Attitude* attitude = nullptr;  // the attitude applied, if any
+  };
   struct Pending {
     ppp_bayes_tree::GnssObservations::ConstPtr msg;
     ppp::GnssTime time;
@@ -69,12 +105,19 @@ class PppNode {
   };
   void onObservations(const ppp_bayes_tree::GnssObservations::ConstPtr& msg);
   void onCorrections(const ppp_bayes_tree::PreciseCorrections::ConstPtr& msg);
+  void onAttitude(const sensor_msgs::Imu::ConstPtr& msg);
   void onTimer(const ros::TimerEvent&);
   void onPathTimer(const ros::TimerEvent&);
+  void onSmoothedPathTimer(const ros::TimerEvent&);
   bool onSetDatum(ppp_bayes_tree::SetDatum::Request& req, ppp_bayes_tree::SetDatum::Response& res);
   void drain();
   void processEpoch(const Pending& p);
   void publishSolution(const ppp::PppEpochRecord& rec, const ppp_bayes_tree::PppStatus& status);
+  void publishSmoothedOdometry(const ppp::GnssTime& newest);
+  void attachAttitude(const ros::Time& stamp);
+  BodyPose bodyPose(const Eigen::Vector3d& antenna_enu_m, const ros::Time& stamp) const;
+  nav_msgs::Odometry odometry(const ros::Time& stamp, const BodyPose& pose, const Eigen::Matrix3d& cov_enu_m2) const;
+  ppp::SmootherEstimator* smoother() const { return dynamic_cast<ppp::SmootherEstimator*>(estimator_.get()); }
   void setDatum(const Eigen::Vector3d& position_ecef_m);
   void resetEstimator(const std::string& why);
   void startProcessor();
@@ -102,16 +145,30 @@ class PppNode {
   std::optional<Eigen::Vector3d> datum_ecef_m_;
   Eigen::Matrix3d ecef_to_enu_ = Eigen::Matrix3d::Identity();
 
-  ros::Subscriber obs_sub_, corr_sub_;
+  ros::Subscriber obs_sub_, corr_sub_, attitude_sub_;
   ros::Publisher odom_pub_, fix_pub_, status_pub_, path_pub_;
+  ros::Publisher smoothed_odom_pub_, smoothed_path_pub_;  // smoother node only
   ros::ServiceServer datum_srv_;
-  ros::Timer timer_, path_timer_;
+  ros::Timer timer_, path_timer_, smoothed_path_timer_;
   tf2_ros::TransformBroadcaster tf_;
   tf2_ros::StaticTransformBroadcaster static_tf_;
   tf2_ros::Buffer tf_buffer_;
   tf2_ros::TransformListener tf_listener_;
   diagnostic_updater::Updater diagnostics_;
   nav_msgs::Path path_;
+
+  // attitude (lever arm): the newest message, and the one applied to each epoch (by stamp)
+  std::optional<Attitude> attitude_;
+  std::map<ros::Time, Attitude> attitude_of_epoch_;
+  bool lever_arm_note_logged_ = false;
+  std::size_t attitude_received_ = 0, attitude_invalid_ = 0, epochs_without_attitude_ = 0;
+
+  // smoother outputs
+  std::optional<std::uint32_t> last_smoothed_index_;  // newest state published on ppp/odometry/smoothed
+  bool smoothed_path_stale_ = false;                   // epochs processed since the last path re-read
+  std::size_t smoother_restarts_ = 0;                  // after a failed update (the graph holds its factors)
+  double smoothed_path_read_s_ = 0.0, smoothed_path_read_max_s_ = 0.0;
+  std::size_t smoothed_path_poses_ = 0;
 
   // counters and figures
   ppp_bayes_tree::PppStatus counters_;  // the counter fields only

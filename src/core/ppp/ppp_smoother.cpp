@@ -160,6 +160,31 @@ std::vector<SmoothedEpoch> PppSmoother::smoothedTrajectory(bool with_covariance)
   return out;
 }
 
+std::optional<SmoothedEpoch> PppSmoother::smoothedEpochAt(const GnssTime& time, bool with_covariance) const {
+  auto after = std::upper_bound(states_.begin(), states_.end(), time,
+                                [](const GnssTime& t, const StateRecord& s) { return t < s.time; });
+  if (after == states_.begin()) return std::nullopt;
+  const smoother::ISAM2& isam = isam2();
+  auto it = std::prev(after);
+  if (!isam.exists(stateKey(it->index))) {
+    // Fixed lag: the marginalized states are a prefix (oldest first); take the oldest kept.
+    const auto kept = std::partition_point(states_.begin(), states_.end(),
+                                           [&](const StateRecord& s) { return !isam.exists(stateKey(s.index)); });
+    if (kept != states_.end()) it = kept;
+  }
+  SmoothedEpoch e;
+  e.time = it->time;
+  e.index = it->index;
+  const Key key = stateKey(it->index);
+  if (isam.exists(key)) {
+    e.state = ReceiverState::fromVector(isam.calculateEstimate(key));
+    if (with_covariance) e.covariance = ReceiverCovariance(isam.marginalCovariance(key));
+  } else {
+    e.state = it->last_estimate;
+  }
+  return e;
+}
+
 SmootherEpochResult PppSmoother::processEpoch(const GnssTime& time, const MeasurementFunction& evaluate) {
   const auto t_start = SteadyClock::now();
   SmootherEpochResult result;
