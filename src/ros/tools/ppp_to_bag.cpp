@@ -3,26 +3,62 @@
 //   ppp_to_bag --obs OBS.rnx --sp3 F [F...] --clk F [F...] [--bia F] [--interval 30]
 //              [--max-epochs N] --out X.bag
 //   ppp_to_bag --simulate loiter|survey|figure8|climb [--duration-min N] [--rate 1|10]
-//              [--seed S] [--config simulation.yaml] --out X.bag
+//              [--seed S] [--config simulation.yaml] [--truth-out TRUTH.csv] --out X.bag
 // Writes gnss/observations (one GnssObservations per epoch) and gnss/corrections
 // (one PreciseCorrections per product epoch, every --interval s: orbits
 // interpolated from the SP3, clocks from the CLK records), stamped in UTC.
+// A simulated flight also gets its truth: truth/path (nav_msgs/Path of the true
+// antenna positions in the earth frame = ECEF, latched, at the first epoch, so
+// RViz shows it beside the estimates through earth -> map), and with
+// --truth-out the truth CSV of the simulator (writeTruthEpochsCsv: time_gpst,
+// gps_week, seconds_of_week, x_m, y_m, z_m, ...), which ppp_bag_report reads.
 // ANTEX/BLQ files are not carried by the bag: the node reads them (ros.products).
+#include <fstream>
 #include <iostream>
 #include <string>
 #include <vector>
 
+#include <nav_msgs/Path.h>
+#include <rosbag/bag.h>
+
 #include "ppp_bayes_tree/io/rinex_obs_reader.h"
 #include "ppp_bayes_tree/ros/bag_writer.h"
+#include "ppp_bayes_tree/ros/message_conversions.h"
 #include "ppp_bayes_tree/simulation/gnss_simulator.h"
+#include "ppp_bayes_tree/simulation/simulation_writers.h"
 
 namespace {
 
 int usage(const std::string& why) {
   std::cerr << "ppp_to_bag: " << why << "\n"
             << "usage: ppp_to_bag --obs OBS --sp3 F [F...] --clk F [F...] [--bia F] [--interval S] [--max-epochs N] --out BAG\n"
-            << "       ppp_to_bag --simulate PROFILE [--duration-min N] [--rate 1|10] [--seed S] [--config YAML] --out BAG\n";
+            << "       ppp_to_bag --simulate PROFILE [--duration-min N] [--rate 1|10] [--seed S] [--config YAML]\n"
+            << "                  [--truth-out TRUTH.csv] --out BAG\n";
   return 2;
+}
+
+/// Appends truth/path (earth frame, latched) at the first epoch's stamp.
+void appendTruthPath(const std::string& bag_path, const ppp::SimulatedFlight& f) {
+  if (f.truth.empty()) return;
+  nav_msgs::Path path;
+  path.header.frame_id = "earth";
+  path.header.stamp = ppp_ros::utcStamp(f.truth.front().trajectory.time);
+  for (const auto& e : f.truth) {
+    geometry_msgs::PoseStamped p;
+    p.header.frame_id = "earth";
+    p.header.stamp = ppp_ros::utcStamp(e.trajectory.time);
+    p.pose.position.x = e.trajectory.position_ecef_m.x();
+    p.pose.position.y = e.trajectory.position_ecef_m.y();
+    p.pose.position.z = e.trajectory.position_ecef_m.z();
+    p.pose.orientation.w = 1.0;
+    path.poses.push_back(p);
+  }
+  rosbag::Bag bag(bag_path, rosbag::bagmode::Append);
+  auto header = boost::make_shared<ros::M_string>();
+  (*header)["latching"] = "1";
+  (*header)["callerid"] = "/ppp_to_bag";
+  bag.write("truth/path", path.header.stamp, path, header);
+  bag.close();
 }
 
 std::string baseName(const std::string& p) {
@@ -33,7 +69,7 @@ std::string baseName(const std::string& p) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  std::string obs, bia, out, profile, sim_config;
+  std::string obs, bia, out, profile, sim_config, truth_out;
   std::vector<std::string> sp3, clk;
   ppp_ros::BagWriteOptions options;
   double duration_min = 10.0, rate = 1.0;
@@ -57,6 +93,7 @@ int main(int argc, char** argv) {
       else if (a == "--out") out = v;
       else if (a == "--simulate") profile = v;
       else if (a == "--config") sim_config = v;
+      else if (a == "--truth-out") truth_out = v;
       else if (a == "--interval") options.correction_interval_s = std::stod(v);
       else if (a == "--max-epochs") options.max_epochs = std::stoul(v);
       else if (a == "--duration-min") duration_min = std::stod(v);
@@ -69,6 +106,7 @@ int main(int argc, char** argv) {
   }
   if (out.empty()) return usage("--out BAG is required");
   if (!(options.correction_interval_s >= 1.0)) return usage("--interval must be >= 1 s");
+  if (!truth_out.empty() && profile.empty()) return usage("--truth-out needs --simulate (real data: give the truth to ppp_bag_report)");
   try {
     ppp_ros::BagWriteSummary s;
     if (!profile.empty()) {
@@ -87,6 +125,14 @@ int main(int argc, char** argv) {
         e = f.epochs[k++];
         return true;
       }, f.products, options);
+      appendTruthPath(out, f);
+      if (!truth_out.empty()) {
+        std::ofstream csv(truth_out);
+        ppp::writeTruthEpochsCsv(csv, f);
+        csv.close();
+        if (!csv) throw std::runtime_error("cannot write the truth CSV " + truth_out);
+        std::cout << "ppp_to_bag: truth of " << f.truth.size() << " epochs -> " << truth_out << "\n";
+      }
     } else {
       if (obs.empty() || sp3.empty() || clk.empty()) return usage("give --obs, --sp3 and --clk (or --simulate)");
       const ppp::PreciseEphemeris products = ppp::PreciseEphemeris::load(sp3, clk);
