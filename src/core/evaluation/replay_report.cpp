@@ -29,6 +29,12 @@ std::string fmt(const char* f, double v) {
   return buf;
 }
 
+std::string fmt(const char* f, const char* text) {
+  char buf[128];
+  std::snprintf(buf, sizeof buf, f, text);
+  return buf;
+}
+
 std::string cm(double m) { return std::isfinite(m) ? fmt("%.2f", m * 100.0) : std::string("-"); }
 
 }  // namespace
