@@ -37,8 +37,8 @@ int usage(const std::string& why) {
   return 2;
 }
 
-/// Appends truth/path (earth frame, latched) at the first epoch's stamp.
-void appendTruthPath(const std::string& bag_path, const ppp::SimulatedFlight& f) {
+/// Writes truth/path (earth frame, latched) at the first epoch's stamp.
+void writeTruthPath(rosbag::Bag& bag, const ppp::SimulatedFlight& f) {
   if (f.truth.empty()) return;
   nav_msgs::Path path;
   path.header.frame_id = "earth";
@@ -53,12 +53,15 @@ void appendTruthPath(const std::string& bag_path, const ppp::SimulatedFlight& f)
     p.pose.orientation.w = 1.0;
     path.poses.push_back(p);
   }
-  rosbag::Bag bag(bag_path, rosbag::bagmode::Append);
+  // A connection header of our own must carry the whole connection description.
   auto header = boost::make_shared<ros::M_string>();
-  (*header)["latching"] = "1";
+  (*header)["topic"] = "truth/path";
+  (*header)["type"] = ros::message_traits::datatype(path);
+  (*header)["md5sum"] = ros::message_traits::md5sum(path);
+  (*header)["message_definition"] = ros::message_traits::definition(path);
   (*header)["callerid"] = "/ppp_to_bag";
+  (*header)["latching"] = "1";  // rosbag play re-publishes it latched
   bag.write("truth/path", path.header.stamp, path, header);
-  bag.close();
 }
 
 std::string baseName(const std::string& p) {
@@ -119,13 +122,13 @@ int main(int argc, char** argv) {
       options.orbit_source = "simulated SP3 (" + std::to_string(int(config.orbit_interval_s)) + " s, interpolated)";
       options.clock_source = "simulated CLK (" + std::to_string(int(config.clock_interval_s)) + " s)";
       options.reference_frame = "IGS20";
+      options.before_close = [&](rosbag::Bag& bag) { writeTruthPath(bag, f); };
       std::size_t k = 0;
       s = ppp_ros::writeReplayBag(out, f.header, [&](ppp::ObsEpoch& e) {
         if (k >= f.epochs.size()) return false;
         e = f.epochs[k++];
         return true;
       }, f.products, options);
-      appendTruthPath(out, f);
       if (!truth_out.empty()) {
         std::ofstream csv(truth_out);
         ppp::writeTruthEpochsCsv(csv, f);
