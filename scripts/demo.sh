@@ -165,7 +165,9 @@ else
   } > "$EXTRA_CONFIG"
   TITLE="$MARKER ($(basename "$OBS")), kinematic GPS PPP, ROS replay"
   echo "=== 2. $DATA -> $INPUT_BAG ==="
-  echo "  observations $(basename "$OBS"), orbits $(basename "$SP3"), clocks $(basename "$CLK"), biases ${BIA:+$(basename "$BIA")}${BIA:-none}"
+  BIA_NAME=none
+  [ -n "$BIA" ] && BIA_NAME="$(basename "$BIA")"
+  echo "  observations $(basename "$OBS"), orbits $(basename "$SP3"), clocks $(basename "$CLK"), biases $BIA_NAME"
   echo "  antennas ${ATX[*]}; truth $TRUTH"
   BIA_ARGS=()
   [ -n "$BIA" ] && BIA_ARGS=(--bia "$BIA")
