@@ -38,7 +38,10 @@ while [[ $# -gt 0 ]]; do
       shift 2 ;;
     -*) echo "unknown option $1" >&2; usage ;;
     *=*) POS_LABELS+=("${1%%=*}"); POS_FILES+=("${1#*=}"); shift ;;
-    *) POS_LABELS+=("ours$([[ ${#POS_FILES[@]} -gt 0 ]] && echo $((${#POS_FILES[@]} + 1)))"); POS_FILES+=("$1"); shift ;;
+    *) # unlabelled: "ours", then "ours2", "ours3", ...
+      label="ours"
+      if [[ ${#POS_FILES[@]} -gt 0 ]]; then label="ours$((${#POS_FILES[@]} + 1))"; fi
+      POS_LABELS+=("$label"); POS_FILES+=("$1"); shift ;;
   esac
 done
 for l in "${POS_LABELS[@]}"; do [[ "$l" != *,* ]] || { echo "label '$l' has a comma" >&2; exit 2; }; done
