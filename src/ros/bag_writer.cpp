@@ -74,6 +74,7 @@ BagWriteSummary writeReplayBag(const std::string& path, const ppp::RinexObsHeade
     const auto c = toMessage(batches[k]);
     bag.write(o.corrections_topic, c.header.stamp - ros::Duration(0.001), c);
   }
+  if (o.before_close) o.before_close(bag);
   bag.close();
   summary.epochs = epochs.size();
   summary.batches = batches.size();

@@ -1,5 +1,6 @@
 #pragma once
-// Position error statistics of a solution against a fixed truth point: the
+// Position error statistics of a solution against a fixed truth point (or a
+// truth trajectory, one position per epoch): the
 // method's RSOS metrics, computed exactly as ../shared/peers/poserr.py does
 // (which produced the README's RTKLIB figures), so that our solutions and
 // RTKLIB's are summarised by the same definitions:
@@ -71,6 +72,12 @@ std::optional<double> convergenceTime_s(const std::vector<double>& time_s, const
 
 PositionErrorStatistics computePositionErrorStatistics(const std::vector<SolutionEpoch>& solution,
                                                        const Eigen::Vector3d& truth_ecef_m,
+                                                       const StatisticsOptions& options = {});
+/// The same against a moving truth (a simulated flight): truth_ecef_m[i] is the
+/// true position at solution[i]'s epoch; ENU errors use the axes at each truth
+/// position. Throws std::invalid_argument when the sizes differ.
+PositionErrorStatistics computePositionErrorStatistics(const std::vector<SolutionEpoch>& solution,
+                                                       const std::vector<Eigen::Vector3d>& truth_ecef_m,
                                                        const StatisticsOptions& options = {});
 
 /// Text table of one solution's statistics (figures in cm, times in minutes).

@@ -17,6 +17,10 @@
 #include "ppp_bayes_tree/models/correction_buffer.h"
 #include "ppp_bayes_tree/models/precise_ephemeris.h"
 
+namespace rosbag {
+class Bag;
+}
+
 namespace ppp_ros {
 
 struct BagWriteOptions {
@@ -26,6 +30,8 @@ struct BagWriteOptions {
   double margin_s = 60.0;               // batches this far before the first / after the last epoch
   std::optional<std::size_t> max_epochs;  // write only the first N epochs
   std::string orbit_source, clock_source, reference_frame, bias_set;  // product reference
+  /// Called with the open bag after the last message (extra topics, e.g. a truth path).
+  std::function<void(rosbag::Bag&)> before_close;
 };
 
 struct BagWriteSummary {

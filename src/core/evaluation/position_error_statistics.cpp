@@ -8,6 +8,7 @@
 #include <limits>
 #include <numeric>
 #include <sstream>
+#include <stdexcept>
 
 #include "ppp_bayes_tree/types/frames.h"
 
@@ -64,19 +65,30 @@ double PositionErrorStatistics::percentile_m(double fraction) const {
 PositionErrorStatistics computePositionErrorStatistics(const std::vector<SolutionEpoch>& solution,
                                                        const Eigen::Vector3d& truth_ecef_m,
                                                        const StatisticsOptions& options) {
+  return computePositionErrorStatistics(solution, std::vector<Eigen::Vector3d>(solution.size(), truth_ecef_m),
+                                        options);
+}
+
+PositionErrorStatistics computePositionErrorStatistics(const std::vector<SolutionEpoch>& solution,
+                                                       const std::vector<Eigen::Vector3d>& truth_ecef_m,
+                                                       const StatisticsOptions& options) {
+  if (truth_ecef_m.size() != solution.size())
+    throw std::invalid_argument("computePositionErrorStatistics: " + std::to_string(truth_ecef_m.size()) +
+                                " truth positions for " + std::to_string(solution.size()) + " epochs");
   PositionErrorStatistics st;
   st.options = options;
   std::optional<GnssTime> t0;
   std::vector<Eigen::Vector3d> enu;
-  for (const auto& e : solution) {
+  for (std::size_t i = 0; i < solution.size(); ++i) {
+    const SolutionEpoch& e = solution[i];
     if (!e.position_ecef_m) {
       ++st.epochs_without_solution;
       continue;
     }
     if (!t0) t0 = e.time;
     st.time_s.push_back(e.time - *t0);
-    st.error_3d_m.push_back((*e.position_ecef_m - truth_ecef_m).norm());
-    enu.push_back(ecefToEnu(*e.position_ecef_m, truth_ecef_m));
+    st.error_3d_m.push_back((*e.position_ecef_m - truth_ecef_m[i]).norm());
+    enu.push_back(ecefToEnu(*e.position_ecef_m, truth_ecef_m[i]));
   }
   st.epochs = st.error_3d_m.size();
   st.all = summarizeErrors(st.error_3d_m);

@@ -3,26 +3,65 @@
 //   ppp_to_bag --obs OBS.rnx --sp3 F [F...] --clk F [F...] [--bia F] [--interval 30]
 //              [--max-epochs N] --out X.bag
 //   ppp_to_bag --simulate loiter|survey|figure8|climb [--duration-min N] [--rate 1|10]
-//              [--seed S] [--config simulation.yaml] --out X.bag
+//              [--seed S] [--config simulation.yaml] [--truth-out TRUTH.csv] --out X.bag
 // Writes gnss/observations (one GnssObservations per epoch) and gnss/corrections
 // (one PreciseCorrections per product epoch, every --interval s: orbits
 // interpolated from the SP3, clocks from the CLK records), stamped in UTC.
+// A simulated flight also gets its truth: truth/path (nav_msgs/Path of the true
+// antenna positions in the earth frame = ECEF, latched, at the first epoch, so
+// RViz shows it beside the estimates through earth -> map), and with
+// --truth-out the truth CSV of the simulator (writeTruthEpochsCsv: time_gpst,
+// gps_week, seconds_of_week, x_m, y_m, z_m, ...), which ppp_bag_report reads.
 // ANTEX/BLQ files are not carried by the bag: the node reads them (ros.products).
+#include <fstream>
 #include <iostream>
 #include <string>
 #include <vector>
 
+#include <nav_msgs/Path.h>
+#include <rosbag/bag.h>
+
 #include "ppp_bayes_tree/io/rinex_obs_reader.h"
 #include "ppp_bayes_tree/ros/bag_writer.h"
+#include "ppp_bayes_tree/ros/message_conversions.h"
 #include "ppp_bayes_tree/simulation/gnss_simulator.h"
+#include "ppp_bayes_tree/simulation/simulation_writers.h"
 
 namespace {
 
 int usage(const std::string& why) {
   std::cerr << "ppp_to_bag: " << why << "\n"
             << "usage: ppp_to_bag --obs OBS --sp3 F [F...] --clk F [F...] [--bia F] [--interval S] [--max-epochs N] --out BAG\n"
-            << "       ppp_to_bag --simulate PROFILE [--duration-min N] [--rate 1|10] [--seed S] [--config YAML] --out BAG\n";
+            << "       ppp_to_bag --simulate PROFILE [--duration-min N] [--rate 1|10] [--seed S] [--config YAML]\n"
+            << "                  [--truth-out TRUTH.csv] --out BAG\n";
   return 2;
+}
+
+/// Writes truth/path (earth frame, latched) at the first epoch's stamp.
+void writeTruthPath(rosbag::Bag& bag, const ppp::SimulatedFlight& f) {
+  if (f.truth.empty()) return;
+  nav_msgs::Path path;
+  path.header.frame_id = "earth";
+  path.header.stamp = ppp_ros::utcStamp(f.truth.front().trajectory.time);
+  for (const auto& e : f.truth) {
+    geometry_msgs::PoseStamped p;
+    p.header.frame_id = "earth";
+    p.header.stamp = ppp_ros::utcStamp(e.trajectory.time);
+    p.pose.position.x = e.trajectory.position_ecef_m.x();
+    p.pose.position.y = e.trajectory.position_ecef_m.y();
+    p.pose.position.z = e.trajectory.position_ecef_m.z();
+    p.pose.orientation.w = 1.0;
+    path.poses.push_back(p);
+  }
+  // A connection header of our own must carry the whole connection description.
+  auto header = boost::make_shared<ros::M_string>();
+  (*header)["topic"] = "truth/path";
+  (*header)["type"] = ros::message_traits::datatype(path);
+  (*header)["md5sum"] = ros::message_traits::md5sum(path);
+  (*header)["message_definition"] = ros::message_traits::definition(path);
+  (*header)["callerid"] = "/ppp_to_bag";
+  (*header)["latching"] = "1";  // rosbag play re-publishes it latched
+  bag.write("truth/path", path.header.stamp, path, header);
 }
 
 std::string baseName(const std::string& p) {
@@ -33,7 +72,7 @@ std::string baseName(const std::string& p) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  std::string obs, bia, out, profile, sim_config;
+  std::string obs, bia, out, profile, sim_config, truth_out;
   std::vector<std::string> sp3, clk;
   ppp_ros::BagWriteOptions options;
   double duration_min = 10.0, rate = 1.0;
@@ -57,6 +96,7 @@ int main(int argc, char** argv) {
       else if (a == "--out") out = v;
       else if (a == "--simulate") profile = v;
       else if (a == "--config") sim_config = v;
+      else if (a == "--truth-out") truth_out = v;
       else if (a == "--interval") options.correction_interval_s = std::stod(v);
       else if (a == "--max-epochs") options.max_epochs = std::stoul(v);
       else if (a == "--duration-min") duration_min = std::stod(v);
@@ -69,6 +109,7 @@ int main(int argc, char** argv) {
   }
   if (out.empty()) return usage("--out BAG is required");
   if (!(options.correction_interval_s >= 1.0)) return usage("--interval must be >= 1 s");
+  if (!truth_out.empty() && profile.empty()) return usage("--truth-out needs --simulate (real data: give the truth to ppp_bag_report)");
   try {
     ppp_ros::BagWriteSummary s;
     if (!profile.empty()) {
@@ -81,12 +122,20 @@ int main(int argc, char** argv) {
       options.orbit_source = "simulated SP3 (" + std::to_string(int(config.orbit_interval_s)) + " s, interpolated)";
       options.clock_source = "simulated CLK (" + std::to_string(int(config.clock_interval_s)) + " s)";
       options.reference_frame = "IGS20";
+      options.before_close = [&](rosbag::Bag& bag) { writeTruthPath(bag, f); };
       std::size_t k = 0;
       s = ppp_ros::writeReplayBag(out, f.header, [&](ppp::ObsEpoch& e) {
         if (k >= f.epochs.size()) return false;
         e = f.epochs[k++];
         return true;
       }, f.products, options);
+      if (!truth_out.empty()) {
+        std::ofstream csv(truth_out);
+        ppp::writeTruthEpochsCsv(csv, f);
+        csv.close();
+        if (!csv) throw std::runtime_error("cannot write the truth CSV " + truth_out);
+        std::cout << "ppp_to_bag: truth of " << f.truth.size() << " epochs -> " << truth_out << "\n";
+      }
     } else {
       if (obs.empty() || sp3.empty() || clk.empty()) return usage("give --obs, --sp3 and --clk (or --simulate)");
       const ppp::PreciseEphemeris products = ppp::PreciseEphemeris::load(sp3, clk);

@@ -1,0 +1,92 @@
+#!/usr/bin/env bash
+# Script test of the main job: scripts/demo.sh end to end on a very short
+# simulated flight (figure 8, 3 min at 1 Hz = 181 epochs, replayed at 20x), with
+# the workspace already built (--no-setup). Asserts:
+#  * demo.sh exits 0 and its output holds the comparison table with the three
+#    rows EKF, smoother filtered and smoother smoothed, each with 181 matched
+#    epochs (the simulator's truth has one position per epoch: every epoch
+#    matches) and 8 finite 3D-error figures (median/mean/sigma/max, all epochs
+#    and first 15 min), and finite node update-time median/p99 [ms];
+#  * the smoothed last epoch equals the smoother's filtered last epoch (the full
+#    smoother's newest state is the filtered one: the same data), so the map ->
+#    ECEF conversion of the smoothed path through the recovered datum is right
+#    (to 1 mm, from the CSVs);
+#  * the per-estimator CSVs, the report JSON, the two PNG plots and the recorded bag exist;
+#  * the demo's roscore is gone after it exits (the exit trap stops it);
+#  * demo.sh --data on a missing directory exits non-zero with a clear message.
+# Writes one JUnit result into the directory given as $1 (scripts/test.sh's extra dir).
+set -uo pipefail
+source "$(dirname "${BASH_SOURCE[0]}")/common.sh"
+OUT="${1:?usage: test_demo.sh RESULT_DIR}"
+mkdir -p "$OUT"
+WORK="$(mktemp -d /tmp/ppp_test_demo.XXXXXX)"
+trap 'rm -rf "$WORK"' EXIT
+
+junit() {  # status message
+  local msg="${2//\"/\'}"
+  msg="${msg//&/and}"; msg="${msg//</(}"; msg="${msg//>/)}"
+  {
+    echo '<?xml version="1.0" encoding="UTF-8"?>'
+    echo '<testsuite name="script_tests" tests="1">'
+    echo '  <testcase classname="script_tests" name="demo">'
+    case "$1" in
+      failed) echo "    <failure message=\"$msg\"/>" ;;
+      skipped) echo "    <skipped message=\"$msg\"/>" ;;
+    esac
+    echo '  </testcase>'
+    echo '</testsuite>'
+  } > "$OUT/script-demo.xml"
+}
+
+for exe in ppp_to_bag ppp_bag_report ppp_ekf_node ppp_smoother_node; do
+  if [ ! -x "$BIN_DIR/$exe" ]; then
+    junit skipped "$exe is not built in $BIN_DIR"
+    echo "test_demo: skipped ($exe not built)"
+    exit 0
+  fi
+done
+
+LOG="$WORK/demo.log"
+timeout 170 "$REPO_DIR/scripts/demo.sh" --no-setup --duration-min 3 --rate 20 --out "$WORK/out" > "$LOG" 2>&1
+rc=$?
+fail=""
+[ $rc -eq 0 ] || fail+="demo.sh exited $rc ($(grep -m1 'ERROR' "$LOG" || tail -1 "$LOG")); "
+
+# Table rows: label, epochs, 8 error figures, 2 convergence cells, "|", update median, p99, "|", processed, dropped.
+num='[0-9]+\.[0-9]+'
+for label in "EKF" "smoother filtered" "smoother smoothed"; do
+  row="$(grep -E "^$label +[0-9]+ \|" "$LOG" | head -1)"
+  if [ -z "$row" ]; then fail+="no table row '$label'; "; continue; fi
+  echo "$row" | grep -qE "^$label +181 \|( +$num){4} \|( +$num){4} \|.*\| +$num +$num \|" \
+    || fail+="row '$label' lacks 181 epochs and finite figures: $row; "
+done
+
+F="$WORK/out"
+for f in sim_figure8_ekf.csv sim_figure8_smoother_filtered.csv sim_figure8_smoother_smoothed.csv sim_figure8_report.json \
+         plots/error_profile.png plots/cdf.png replay/recorded.bag replay/truth.csv; do
+  [ -s "$F/$f" ] || fail+="$f not written; "
+done
+if [ -s "$F/sim_figure8_smoother_filtered.csv" ] && [ -s "$F/sim_figure8_smoother_smoothed.csv" ]; then
+  d="$(/usr/bin/python3 - "$F/sim_figure8_smoother_filtered.csv" "$F/sim_figure8_smoother_smoothed.csv" <<'PY'
+import csv, math, sys
+last = [list(csv.DictReader(open(p)))[-1] for p in sys.argv[1:3]]
+print(f"{math.dist(*[[float(r[c]) for c in ('x_m', 'y_m', 'z_m')] for r in last]):.6f}")
+PY
+)"
+  /usr/bin/python3 -c "import sys; sys.exit(0 if float('$d') < 0.001 else 1)" 2>/dev/null \
+    || fail+="smoothed last epoch differs from the filtered last epoch by $d m (datum conversion?); "
+fi
+port="$(grep -oE 'roscore on port [0-9]+' "$LOG" | grep -oE '[0-9]+$')"
+if [ -n "$port" ] && pgrep -f "roscore -p $port" > /dev/null; then fail+="roscore on port $port still running after demo.sh; "; fi
+
+bad="$("$REPO_DIR/scripts/demo.sh" --no-setup --data "$WORK/no_such_dir" --out "$WORK/bad" 2>&1)"
+brc=$?
+[ $brc -ne 0 ] && echo "$bad" | grep -q "not a directory" || fail+="--data on a missing directory: exit $brc, '$bad'; "
+
+if [[ -n "$fail" ]]; then
+  junit failed "$fail"
+  echo "test_demo: FAILED: $fail"; tail -40 "$LOG"
+else
+  junit passed ""
+  echo "test_demo: ok (demo.sh: table with the three rows, 181 epochs each, finite figures; files written; roscore stopped)"
+fi
