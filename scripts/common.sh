@@ -7,3 +7,21 @@ WS_DIR="${PPP_WS_DIR:-$REPO_DIR/build_ws}"
 BIN_DIR="$WS_DIR/devel/lib/ppp_bayes_tree"
 JOBS="${PPP_JOBS:-$(nproc 2>/dev/null || echo 2)}"
 SHARED_DATA="${PPP_SHARED_DATA:-$(cd "$REPO_DIR/.." && pwd -P)/shared/data}"
+
+# write_junit FILE SUITE NAME STATUS MESSAGE: one JUnit test case (STATUS passed,
+# failed or skipped) for scripts/summarize_tests.py; the message is made XML-safe.
+write_junit() {
+  local file="$1" suite="$2" name="$3" status="$4" msg="${5//\"/\'}"
+  msg="${msg//&/and}"; msg="${msg//</(}"; msg="${msg//>/)}"
+  {
+    echo '<?xml version="1.0" encoding="UTF-8"?>'
+    echo "<testsuite name=\"$suite\" tests=\"1\">"
+    echo "  <testcase classname=\"$suite\" name=\"$name\">"
+    case "$status" in
+      failed) echo "    <failure message=\"$msg\"/>" ;;
+      skipped) echo "    <skipped message=\"$msg\"/>" ;;
+    esac
+    echo "  </testcase>"
+    echo "</testsuite>"
+  } > "$file"
+}

@@ -11,21 +11,7 @@ SECONDS_PER_TARGET="${PPP_FUZZ_SECONDS:-10}"
 FUZZ_BUILD="$WS_DIR/fuzz"
 mkdir -p "$OUT"
 
-junit() {  # name status message
-  local name="$1" status="$2" msg="${3//\"/\'}"
-  msg="${msg//&/and}"; msg="${msg//</(}"; msg="${msg//>/)}"
-  {
-    echo '<?xml version="1.0" encoding="UTF-8"?>'
-    echo "<testsuite name=\"fuzz_smoke\" tests=\"1\">"
-    echo "  <testcase classname=\"fuzz_smoke\" name=\"$name\">"
-    case "$status" in
-      failed) echo "    <failure message=\"$msg\"/>" ;;
-      skipped) echo "    <skipped message=\"$msg\"/>" ;;
-    esac
-    echo "  </testcase>"
-    echo "</testsuite>"
-  } > "$OUT/fuzz-$name.xml"
-}
+junit() { write_junit "$OUT/fuzz-$1.xml" fuzz_smoke "$1" "$2" "$3"; }  # name status message
 
 mapfile -t sources < <(ls "$REPO_DIR"/test/fuzz/fuzz_*.cpp 2>/dev/null)
 if [ ${#sources[@]} -eq 0 ]; then

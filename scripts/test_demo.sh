@@ -22,21 +22,7 @@ mkdir -p "$OUT"
 WORK="$(mktemp -d /tmp/ppp_test_demo.XXXXXX)"
 trap 'rm -rf "$WORK"' EXIT
 
-junit() {  # status message
-  local msg="${2//\"/\'}"
-  msg="${msg//&/and}"; msg="${msg//</(}"; msg="${msg//>/)}"
-  {
-    echo '<?xml version="1.0" encoding="UTF-8"?>'
-    echo '<testsuite name="script_tests" tests="1">'
-    echo '  <testcase classname="script_tests" name="demo">'
-    case "$1" in
-      failed) echo "    <failure message=\"$msg\"/>" ;;
-      skipped) echo "    <skipped message=\"$msg\"/>" ;;
-    esac
-    echo '  </testcase>'
-    echo '</testsuite>'
-  } > "$OUT/script-demo.xml"
-}
+junit() { write_junit "$OUT/script-demo.xml" script_tests demo "$1" "$2"; }  # status message
 
 for exe in ppp_to_bag ppp_bag_report ppp_ekf_node ppp_smoother_node; do
   if [ ! -x "$BIN_DIR/$exe" ]; then

@@ -16,21 +16,7 @@ mkdir -p "$OUT"
 WORK="$(mktemp -d /tmp/ppp_test_plot.XXXXXX)"
 trap 'rm -rf "$WORK"' EXIT
 
-junit() {  # status message
-  local msg="${2//\"/\'}"
-  msg="${msg//&/and}"; msg="${msg//</(}"; msg="${msg//>/)}"
-  {
-    echo '<?xml version="1.0" encoding="UTF-8"?>'
-    echo '<testsuite name="script_tests" tests="1">'
-    echo '  <testcase classname="script_tests" name="plot_solutions">'
-    case "$1" in
-      failed) echo "    <failure message=\"$msg\"/>" ;;
-      skipped) echo "    <skipped message=\"$msg\"/>" ;;
-    esac
-    echo '  </testcase>'
-    echo '</testsuite>'
-  } > "$OUT/script-plot_solutions.xml"
-}
+junit() { write_junit "$OUT/script-plot_solutions.xml" script_tests plot_solutions "$1" "$2"; }  # status message
 
 if ! /usr/bin/python3 -c "import matplotlib" 2>/dev/null; then
   junit skipped "python3-matplotlib not installed"

@@ -50,13 +50,7 @@ int main(int argc, char** argv) {
   const MonteCarloFlightSetup setup = monteCarloFlightSetup(o, index);
   const SimulatedFlight f = simulateFlight(monteCarloSimulationConfig(o, setup), setup.seed);
   // The same configuration as runMonteCarloFlight: the flight's physics, the config's weights.
-  PppConfig c = o.ppp;
-  MeasurementModelOptions m = f.model_options;
-  m.elevation_cutoff_rad = c.model.elevation_cutoff_rad;
-  m.phase_sigma_zenith_m = c.model.phase_sigma_zenith_m;
-  m.code_phase_ratio = c.model.code_phase_ratio;
-  m.scale_sigma_for_ionosphere_free = c.model.scale_sigma_for_ionosphere_free;
-  c.model = m;
+  PppConfig c = flightPppConfig(o.ppp, f);
   PppInMemoryInputs in;
   in.header = &f.header;
   in.epochs = &f.epochs;

@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "ppp_bayes_tree/evaluation/monte_carlo.h"
 #include "ppp_bayes_tree/ppp/epoch_estimator.h"
 #include "ppp_bayes_tree/ppp/ppp_epoch_processor.h"
 #include "ppp_bayes_tree/simulation/gnss_simulator.h"
@@ -96,14 +97,7 @@ int main(int argc, char** argv) {
   sc.duration_s = 60.0 * (argc > 2 ? std::atof(argv[2]) : 30.0);
   sc.rate_hz = argc > 3 ? std::atof(argv[3]) : 1.0;
   const SimulatedFlight f = simulateFlight(sc, 7);
-  PppConfig c = loadPppConfig(config_path);
-  // The flight's physics (as config/ppp_simulated.yaml), the config's weights.
-  MeasurementModelOptions m = f.model_options;
-  m.elevation_cutoff_rad = c.model.elevation_cutoff_rad;
-  m.phase_sigma_zenith_m = c.model.phase_sigma_zenith_m;
-  m.code_phase_ratio = c.model.code_phase_ratio;
-  m.scale_sigma_for_ionosphere_free = c.model.scale_sigma_for_ionosphere_free;
-  c.model = m;
+  PppConfig c = flightPppConfig(loadPppConfig(config_path), f);
   run(f, c, 0.0);
   run(f, c, 60.0);
   return 0;

@@ -52,6 +52,7 @@
 
 #include "ppp_bayes_tree/evaluation/position_error_statistics.h"
 #include "ppp_bayes_tree/ppp/ppp_config.h"
+#include "ppp_bayes_tree/simulation/gnss_simulator.h"
 #include "ppp_bayes_tree/simulation/simulation_config.h"
 
 namespace ppp {
@@ -97,6 +98,10 @@ struct MonteCarloFlightSetup {
   Geodetic origin;
 };
 MonteCarloFlightSetup monteCarloFlightSetup(const MonteCarloOptions& options, int index);
+/// The estimators' configuration for a simulated flight: the flight's physics
+/// (its model options: which corrections the simulator applied) with the
+/// weights and cutoff of `ppp`.
+PppConfig flightPppConfig(const PppConfig& ppp, const SimulatedFlight& f);
 /// The simulation configuration of a flight.
 SimulationConfig monteCarloSimulationConfig(const MonteCarloOptions& options, const MonteCarloFlightSetup& setup);
 

@@ -96,17 +96,6 @@ class BiasSampler {
   std::map<ArcId, ArcRecord> arcs_;
 };
 
-PppConfig flightPppConfig(const MonteCarloOptions& options, const SimulatedFlight& f) {
-  PppConfig c = options.ppp;
-  MeasurementModelOptions m = f.model_options;  // the physics of the simulation
-  m.elevation_cutoff_rad = c.model.elevation_cutoff_rad;  // the estimators' weighting and cutoff
-  m.phase_sigma_zenith_m = c.model.phase_sigma_zenith_m;
-  m.code_phase_ratio = c.model.code_phase_ratio;
-  m.scale_sigma_for_ionosphere_free = c.model.scale_sigma_for_ionosphere_free;
-  c.model = m;
-  return c;
-}
-
 PppInMemoryInputs memoryInputs(const SimulatedFlight& f, int index) {
   PppInMemoryInputs in;
   in.header = &f.header;
@@ -159,6 +148,17 @@ std::vector<QuantileBin> binQuantiles(const std::vector<std::pair<double, double
 }
 
 }  // namespace
+
+PppConfig flightPppConfig(const PppConfig& ppp, const SimulatedFlight& f) {
+  PppConfig c = ppp;
+  MeasurementModelOptions m = f.model_options;  // the physics of the simulation
+  m.elevation_cutoff_rad = c.model.elevation_cutoff_rad;  // the estimators' weighting and cutoff
+  m.phase_sigma_zenith_m = c.model.phase_sigma_zenith_m;
+  m.code_phase_ratio = c.model.code_phase_ratio;
+  m.scale_sigma_for_ionosphere_free = c.model.scale_sigma_for_ionosphere_free;
+  c.model = m;
+  return c;
+}
 
 const char* monteCarloEstimatorKey(int estimator) {
   switch (estimator) {
@@ -230,7 +230,7 @@ MonteCarloFlightRun runMonteCarloFlight(const MonteCarloOptions& options, int in
     for (std::size_t k = 0; k < f.epochs.size(); ++k) run.time_s[k] = f.epochs[k].time - f.epochs.front().time;
     for (auto& e : run.error_3d_m) e.assign(f.epochs.size(), kNaN);
     run.filtered_minus_ekf_m.assign(f.epochs.size(), kNaN);
-    const PppConfig config = flightPppConfig(options, f);
+    const PppConfig config = flightPppConfig(options.ppp, f);
 
     // EKF.
     t0 = Clock::now();
