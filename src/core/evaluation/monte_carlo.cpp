@@ -178,6 +178,12 @@ const char* monteCarloEstimatorLabel(int estimator) {
   return "?";
 }
 
+PppConfig monteCarloDefaultPppConfig() {
+  PppConfig c;
+  c.stochastic.position.initial_sigma_m = 30.0;  // as config/ppp_simulated.yaml (monte_carlo.h)
+  return c;
+}
+
 MonteCarloFlightSetup monteCarloFlightSetup(const MonteCarloOptions& options, int index) {
   MonteCarloFlightSetup s;
   s.index = index;
