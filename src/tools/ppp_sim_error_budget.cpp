@@ -1,15 +1,23 @@
-// ppp_sim_error_budget: per-term error budget of the simulated flights. Runs
-// Monte Carlo flights (the same setup as ppp_monte_carlo: flight seed, start,
-// origin, profile) with the simulator's error terms switched off one at a time
-// and prints the mean (and sd) of the EKF and smoothed position errors per ENU
-// component, so that a systematic offset can be traced to an error term.
+// ppp_sim_error_budget: per-term error budget of simulated flights. Runs Monte
+// Carlo flights (the same setup as ppp_monte_carlo: flight seed, start, origin,
+// profile, the study's default estimator configuration unless --config) with the
+// simulator's error terms switched off one at a time, and prints per estimator
+// (EKF, smoother filtered, smoother smoothed) the mean (sd) of the position error
+// per ENU component [cm], the rms of error / formal sigma (filtered solutions),
+// the smoothed ZWD error, the smoothed formal sigmas at mid-flight and the
+// last-epoch error/sigma: a systematic offset can be traced to an error term or
+// to an estimator prior (how the 1 m start prior was found, monte_carlo.h).
 //
-// usage: ppp_sim_error_budget --seed S [--flight I] [--profile figure8] [--duration-min 25]
-//                             [--rate 1] [--config PPP_YAML] [--sim-config SIMULATION_YAML]
-//                             [--scenarios all,none,-thermal,+products,...] [--after-min 0]
-// scenario "all": every term as configured; "none": every term off;
-// "-term": all but that term; "+term": only that term (terms: thermal, multipath,
-// troposphere, ionosphere, receiver_clock, ambiguity, phase_breaks, products).
+// usage: ppp_sim_error_budget --seed S [--flight I] [--count N] [--profile figure8]
+//                             [--duration-min 25] [--rate 1] [--config PPP_YAML]
+//                             [--sim-config SIMULATION_YAML] [--after-min 0]
+//                             [--scenarios all,none,-thermal,+multipath+phase_breaks,...]
+//                             [--zwd-truth 1]
+// Scenarios: "all" every term as configured; "none" every term off; "-a-b" all
+// but a and b; "+a+b" only a and b (terms: thermal, multipath, troposphere,
+// ionosphere, receiver_clock, ambiguity, phase_breaks, products). --zwd-truth 1:
+// the estimators' a-priori ZWD is the flight's true ZWD with sigma 1 mm
+// (diagnostic: removes the height/ZWD ambiguity).
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
