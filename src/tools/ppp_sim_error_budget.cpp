@@ -157,13 +157,7 @@ int main(int argc, char** argv) {
     SimulationConfig sim = monteCarloSimulationConfig(options, setup);
     sim.errors = scenarioErrors(sim.errors, sc);
     const SimulatedFlight f = simulateFlight(sim, setup.seed);
-    PppConfig c = options.ppp;
-    MeasurementModelOptions m = f.model_options;
-    m.elevation_cutoff_rad = c.model.elevation_cutoff_rad;
-    m.phase_sigma_zenith_m = c.model.phase_sigma_zenith_m;
-    m.code_phase_ratio = c.model.code_phase_ratio;
-    m.scale_sigma_for_ionosphere_free = c.model.scale_sigma_for_ionosphere_free;
-    c.model = m;
+    PppConfig c = flightPppConfig(options.ppp, f);  // the flight's physics, the config's weights
     if (zwd_truth) {
       c.stochastic.initial_zwd_m = f.truth.front().zwd_m;
       c.stochastic.zwd.initial_sigma_m = 0.001;
