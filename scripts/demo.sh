@@ -14,7 +14,7 @@
 #  6. writes per-estimator CSVs, the report JSON and the plots
 #     (scripts/plot_solutions.py) to results/ (git-ignored; or $PPP_DEMO_OUT).
 #
-#   ./scripts/demo.sh                       simulated figure-8 flight, 25 min at 1 Hz, replayed at 15x
+#   ./scripts/demo.sh                       simulated survey flight (lawn-mower mapping lines), 25 min at 1 Hz, replayed at 15x
 #   ./scripts/demo.sh --rviz                the same with RViz (rviz/ppp.rviz; needs a display)
 #   ./scripts/demo.sh --data DIR [--atx F.atx]... [--truth X,Y,Z]
 #                                           your RINEX obs + SP3 + CLK (+ BIA) found in DIR by name
@@ -32,7 +32,7 @@ source "$(dirname "${BASH_SOURCE[0]}")/common.sh"
 die() { echo "demo.sh: ERROR: $*" >&2; exit 1; }
 usage() { sed -n '2,/^set -euo/p' "$0" | sed '$d' | sed 's/^# \{0,1\}//'; exit "${1:-0}"; }
 
-MODE=simulated DATA="" RVIZ=false RATE="" PROFILE=figure8 DURATION_MIN=25 SEED=1 SETUP=true
+MODE=simulated DATA="" RVIZ=false RATE="" PROFILE=survey DURATION_MIN=25 SEED=1 SETUP=true
 TRUTH="" ATX=() OFFLINE_ARGS=()
 OUT="${PPP_DEMO_OUT:-$REPO_DIR/results}"
 while [ $# -gt 0 ]; do

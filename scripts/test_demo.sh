@@ -33,7 +33,7 @@ for exe in ppp_to_bag ppp_bag_report ppp_ekf_node ppp_smoother_node; do
 done
 
 LOG="$WORK/demo.log"
-timeout 170 "$REPO_DIR/scripts/demo.sh" --no-setup --duration-min 3 --rate 20 --out "$WORK/out" > "$LOG" 2>&1
+timeout 170 "$REPO_DIR/scripts/demo.sh" --no-setup --profile figure8 --duration-min 3 --rate 20 --out "$WORK/out" > "$LOG" 2>&1
 rc=$?
 fail=""
 [ $rc -eq 0 ] || fail+="demo.sh exited $rc ($(grep -m1 'ERROR' "$LOG" || tail -1 "$LOG")); "
