@@ -3,6 +3,8 @@
 #include <cmath>
 #include <set>
 
+#include <geometry_msgs/PoseStamped.h>
+#include <nav_msgs/Path.h>
 #include <rosbag/bag.h>
 
 #include "ppp_bayes_tree/ros/message_conversions.h"
@@ -79,6 +81,58 @@ BagWriteSummary writeReplayBag(const std::string& path, const ppp::RinexObsHeade
   summary.epochs = epochs.size();
   summary.batches = batches.size();
   return summary;
+}
+
+namespace {
+
+/// truth/path (earth frame, latched) at the first epoch's stamp.
+void writeTruthPath(rosbag::Bag& bag, const ppp::SimulatedFlight& f, const std::string& callerid) {
+  if (f.truth.empty()) return;
+  nav_msgs::Path path;
+  path.header.frame_id = "earth";
+  path.header.stamp = utcStamp(f.truth.front().trajectory.time);
+  for (const auto& e : f.truth) {
+    geometry_msgs::PoseStamped p;
+    p.header.frame_id = "earth";
+    p.header.stamp = utcStamp(e.trajectory.time);
+    p.pose.position.x = e.trajectory.position_ecef_m.x();
+    p.pose.position.y = e.trajectory.position_ecef_m.y();
+    p.pose.position.z = e.trajectory.position_ecef_m.z();
+    p.pose.orientation.w = 1.0;
+    path.poses.push_back(p);
+  }
+  // A connection header of our own must carry the whole connection description.
+  auto header = boost::make_shared<ros::M_string>();
+  (*header)["topic"] = kTruthPathTopic;
+  (*header)["type"] = ros::message_traits::datatype(path);
+  (*header)["md5sum"] = ros::message_traits::md5sum(path);
+  (*header)["message_definition"] = ros::message_traits::definition(path);
+  (*header)["callerid"] = callerid;
+  (*header)["latching"] = "1";  // rosbag play re-publishes it latched
+  bag.write(kTruthPathTopic, path.header.stamp, path, header);
+}
+
+}  // namespace
+
+BagWriteSummary writeSimulatedFlightBag(const std::string& path, const ppp::SimulatedFlight& flight,
+                                        BagWriteOptions options, const std::string& callerid) {
+  const auto& c = flight.config;
+  if (options.orbit_source.empty())
+    options.orbit_source = "simulated SP3 (" + std::to_string(int(c.orbit_interval_s)) + " s, interpolated)";
+  if (options.clock_source.empty())
+    options.clock_source = "simulated CLK (" + std::to_string(int(c.clock_interval_s)) + " s)";
+  if (options.reference_frame.empty()) options.reference_frame = "IGS20";
+  auto user_before_close = options.before_close;
+  options.before_close = [&](rosbag::Bag& bag) {
+    writeTruthPath(bag, flight, callerid);
+    if (user_before_close) user_before_close(bag);
+  };
+  std::size_t k = 0;
+  return writeReplayBag(path, flight.header, [&](ppp::ObsEpoch& e) {
+    if (k >= flight.epochs.size()) return false;
+    e = flight.epochs[k++];
+    return true;
+  }, flight.products, options);
 }
 
 }  // namespace ppp_ros

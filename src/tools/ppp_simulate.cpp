@@ -4,18 +4,27 @@
 //
 // usage: ppp_simulate --profile loiter|survey|figure8|climb [--trajectory CSV]
 //                     [--rate 1|10] [--duration-min N] [--seed S]
-//                     [--sp3 F --clk F] [--config YAML] --out DIR
+//                     [--sp3 F --clk F] [--config YAML] [--out DIR] [--bag BAG]
+// --out writes the files; --bag writes the flight as a replay bag (gnss/observations,
+// gnss/corrections from the products with error, truth/path), the same as
+// `ppp_to_bag --simulate` but with every simulator input (trajectory, products);
+// --bag needs the catkin build (PPP_WITH_ROSBAG), the plain-CMake core build
+// refuses it with a message. At least one of --out and --bag.
 // The CSV trajectory layout is documented in simulation/flight_trajectory.h,
 // the YAML keys in simulation/simulation_config.h. Command-line values override
 // the YAML. Same seed and inputs -> identical files, byte for byte.
 #include <cstdlib>
 #include <iostream>
 #include <string>
+#include <vector>
 
 #include "ppp_bayes_tree/io/parse_error.h"
 #include "ppp_bayes_tree/ppp/yaml_section.h"
 #include "ppp_bayes_tree/simulation/gnss_simulator.h"
 #include "ppp_bayes_tree/simulation/simulation_writers.h"
+#ifdef PPP_WITH_ROSBAG
+#include "ppp_bayes_tree/ros/bag_writer.h"
+#endif
 
 namespace {
 
@@ -23,7 +32,7 @@ int usage(const std::string& why) {
   std::cerr << "ppp_simulate: " << why << "\n"
             << "usage: ppp_simulate --profile loiter|survey|figure8|climb [--trajectory CSV]\n"
             << "                    [--rate 1|10] [--duration-min N] [--seed S]\n"
-            << "                    [--sp3 F --clk F] [--config YAML] --out DIR\n";
+            << "                    [--sp3 F --clk F] [--config YAML] [--out DIR] [--bag BAG]\n";
   return 2;
 }
 
@@ -36,7 +45,7 @@ bool parseNumber(const std::string& s, double& v) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  std::string profile = "loiter", trajectory, sp3, clk, config_path, out;
+  std::string profile = "loiter", trajectory, sp3, clk, config_path, out, bag;
   std::optional<double> rate, duration_min;
   std::uint64_t seed = 1;
   for (int i = 1; i < argc; ++i) {
@@ -50,6 +59,7 @@ int main(int argc, char** argv) {
     else if (a == "--clk") clk = v;
     else if (a == "--config") config_path = v;
     else if (a == "--out") out = v;
+    else if (a == "--bag") bag = v;
     else if (a == "--rate") {
       if (!parseNumber(v, x) || (x != 1.0 && x != 10.0)) return usage("--rate must be 1 or 10");
       rate = x;
@@ -64,7 +74,11 @@ int main(int argc, char** argv) {
       return usage("unknown option " + a);
     }
   }
-  if (out.empty()) return usage("--out DIR is required");
+  if (out.empty() && bag.empty()) return usage("give --out DIR, --bag BAG or both");
+#ifndef PPP_WITH_ROSBAG
+  if (!bag.empty())
+    return usage("--bag needs the catkin build (this ppp_simulate is the plain-CMake core build without rosbag)");
+#endif
   if (sp3.empty() != clk.empty()) return usage("give --sp3 and --clk together");
   try {
     ppp::SimulationConfig config;
@@ -83,7 +97,15 @@ int main(int argc, char** argv) {
       sources.trajectory = ppp::readTrajectoryCsv(trajectory, start);
     }
     const ppp::SimulatedFlight flight = ppp::simulateFlight(config, seed, sources);
-    const auto written = ppp::writeSimulatedFlight(flight, out);
+    std::vector<std::string> written;
+    if (!out.empty()) written = ppp::writeSimulatedFlight(flight, out);
+#ifdef PPP_WITH_ROSBAG
+    if (!bag.empty()) {
+      const auto s = ppp_ros::writeSimulatedFlightBag(bag, flight, {}, "/ppp_simulate");
+      written.push_back(bag + " (" + std::to_string(s.epochs) + " observation epochs, " +
+                        std::to_string(s.batches) + " correction batches, truth/path)");
+    }
+#endif
     std::cout << "ppp_simulate: " << (trajectory.empty() ? "profile " + profile : "trajectory " + trajectory)
               << ", seed " << seed << ", " << flight.epochs.size() << " epochs at " << config.rate_hz << " Hz ("
               << flight.truth.front().trajectory.time.toString(ppp::TimeSystem::GPS, 0) << " .. "

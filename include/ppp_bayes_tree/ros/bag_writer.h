@@ -16,6 +16,7 @@
 #include "ppp_bayes_tree/io/rinex_obs_header.h"
 #include "ppp_bayes_tree/models/correction_buffer.h"
 #include "ppp_bayes_tree/models/precise_ephemeris.h"
+#include "ppp_bayes_tree/simulation/gnss_simulator.h"
 
 namespace rosbag {
 class Bag;
@@ -49,5 +50,18 @@ std::vector<ppp::CorrectionBatch> sampleCorrections(const ppp::PreciseEphemeris&
 BagWriteSummary writeReplayBag(const std::string& path, const ppp::RinexObsHeader& header,
                                const std::function<bool(ppp::ObsEpoch&)>& next,
                                const ppp::PreciseEphemeris& products, const BagWriteOptions& options);
+
+/// Topic of the simulated truth: nav_msgs/Path of the true antenna positions in
+/// the `earth` frame (ECEF), latched, stamped at the first epoch.
+inline constexpr const char* kTruthPathTopic = "truth/path";
+
+/// A simulated flight as a replay bag: its observation epochs, correction
+/// batches sampled from its products-with-error (flight.products, what an
+/// estimator must use) and its truth path. The product reference fields of
+/// `options` that are empty are filled with the simulator's (orbit and clock
+/// intervals, IGS20). `callerid` names the writing program in the truth
+/// connection header.
+BagWriteSummary writeSimulatedFlightBag(const std::string& path, const ppp::SimulatedFlight& flight,
+                                        BagWriteOptions options, const std::string& callerid);
 
 }  // namespace ppp_ros

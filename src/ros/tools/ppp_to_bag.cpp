@@ -18,9 +18,6 @@
 #include <string>
 #include <vector>
 
-#include <nav_msgs/Path.h>
-#include <rosbag/bag.h>
-
 #include "ppp_bayes_tree/io/rinex_obs_reader.h"
 #include "ppp_bayes_tree/ros/bag_writer.h"
 #include "ppp_bayes_tree/ros/message_conversions.h"
@@ -35,33 +32,6 @@ int usage(const std::string& why) {
             << "       ppp_to_bag --simulate PROFILE [--duration-min N] [--rate 1|10] [--seed S] [--config YAML]\n"
             << "                  [--truth-out TRUTH.csv] --out BAG\n";
   return 2;
-}
-
-/// Writes truth/path (earth frame, latched) at the first epoch's stamp.
-void writeTruthPath(rosbag::Bag& bag, const ppp::SimulatedFlight& f) {
-  if (f.truth.empty()) return;
-  nav_msgs::Path path;
-  path.header.frame_id = "earth";
-  path.header.stamp = ppp_ros::utcStamp(f.truth.front().trajectory.time);
-  for (const auto& e : f.truth) {
-    geometry_msgs::PoseStamped p;
-    p.header.frame_id = "earth";
-    p.header.stamp = ppp_ros::utcStamp(e.trajectory.time);
-    p.pose.position.x = e.trajectory.position_ecef_m.x();
-    p.pose.position.y = e.trajectory.position_ecef_m.y();
-    p.pose.position.z = e.trajectory.position_ecef_m.z();
-    p.pose.orientation.w = 1.0;
-    path.poses.push_back(p);
-  }
-  // A connection header of our own must carry the whole connection description.
-  auto header = boost::make_shared<ros::M_string>();
-  (*header)["topic"] = "truth/path";
-  (*header)["type"] = ros::message_traits::datatype(path);
-  (*header)["md5sum"] = ros::message_traits::md5sum(path);
-  (*header)["message_definition"] = ros::message_traits::definition(path);
-  (*header)["callerid"] = "/ppp_to_bag";
-  (*header)["latching"] = "1";  // rosbag play re-publishes it latched
-  bag.write("truth/path", path.header.stamp, path, header);
 }
 
 std::string baseName(const std::string& p) {
@@ -119,16 +89,7 @@ int main(int argc, char** argv) {
       config.duration_s = duration_min * 60.0;
       config.rate_hz = rate;
       const ppp::SimulatedFlight f = ppp::simulateFlight(config, seed);
-      options.orbit_source = "simulated SP3 (" + std::to_string(int(config.orbit_interval_s)) + " s, interpolated)";
-      options.clock_source = "simulated CLK (" + std::to_string(int(config.clock_interval_s)) + " s)";
-      options.reference_frame = "IGS20";
-      options.before_close = [&](rosbag::Bag& bag) { writeTruthPath(bag, f); };
-      std::size_t k = 0;
-      s = ppp_ros::writeReplayBag(out, f.header, [&](ppp::ObsEpoch& e) {
-        if (k >= f.epochs.size()) return false;
-        e = f.epochs[k++];
-        return true;
-      }, f.products, options);
+      s = ppp_ros::writeSimulatedFlightBag(out, f, options, "/ppp_to_bag");
       if (!truth_out.empty()) {
         std::ofstream csv(truth_out);
         ppp::writeTruthEpochsCsv(csv, f);

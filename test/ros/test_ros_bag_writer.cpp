@@ -1,0 +1,147 @@
+// Replay bags of simulated flights: writeSimulatedFlightBag (used by
+// `ppp_to_bag --simulate` and `ppp_simulate --bag`) read back with rosbag.
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include <unistd.h>
+
+#include <nav_msgs/Path.h>
+#include <rosbag/bag.h>
+#include <rosbag/view.h>
+
+#include "ppp_bayes_tree/ros/bag_writer.h"
+#include "ppp_bayes_tree/ros/message_conversions.h"
+#include "ppp_bayes_tree/simulation/gnss_simulator.h"
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct BagContents {
+  std::vector<ppp_bayes_tree::GnssObservations> observations;
+  std::vector<ppp_bayes_tree::PreciseCorrections> corrections;
+  std::vector<ros::Time> correction_bag_times, observation_bag_times;
+  std::vector<nav_msgs::Path> truth;
+  std::string truth_latching;
+};
+
+BagContents readBag(const std::string& path) {
+  BagContents c;
+  rosbag::Bag bag(path, rosbag::bagmode::Read);
+  for (const rosbag::MessageInstance& m : rosbag::View(bag)) {
+    if (m.getTopic() == "gnss/observations") {
+      c.observations.push_back(*m.instantiate<ppp_bayes_tree::GnssObservations>());
+      c.observation_bag_times.push_back(m.getTime());
+    } else if (m.getTopic() == "gnss/corrections") {
+      c.corrections.push_back(*m.instantiate<ppp_bayes_tree::PreciseCorrections>());
+      c.correction_bag_times.push_back(m.getTime());
+    } else if (m.getTopic() == ppp_ros::kTruthPathTopic) {
+      c.truth.push_back(*m.instantiate<nav_msgs::Path>());
+      const auto h = m.getConnectionHeader();
+      const auto it = h->find("latching");
+      c.truth_latching = it == h->end() ? "" : it->second;
+    }
+  }
+  return c;
+}
+
+ppp::SimulatedFlight shortFlight() {
+  ppp::SimulationConfig config;
+  config.profile = ppp::FlightProfile::Loiter;
+  config.duration_s = 150.0;
+  return ppp::simulateFlight(config, 11);
+}
+
+std::string tempBag(const std::string& name) {
+  const fs::path dir = fs::temp_directory_path() / ("ppp_bag_writer_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  return (dir / name).string();
+}
+
+}  // namespace
+
+TEST(SimulatedFlightBag, HoldsEveryEpochTheProductsWithErrorAndTheTruthPath) {
+  const ppp::SimulatedFlight f = shortFlight();
+  const std::string path = tempBag("flight.bag");
+  const auto summary = ppp_ros::writeSimulatedFlightBag(path, f, {}, "/test");
+  const BagContents c = readBag(path);
+
+  // Every observation epoch, in order, losslessly.
+  ASSERT_EQ(summary.epochs, f.epochs.size());
+  ASSERT_EQ(c.observations.size(), f.epochs.size());
+  ppp::RinexObsHeader layout;
+  for (std::size_t k = 0; k < f.epochs.size(); k += 37) {
+    ppp::ObsEpoch back;
+    ppp_ros::ConversionIssues issues;
+    ppp_ros::fromMessage(c.observations[k], layout, back, issues);
+    EXPECT_EQ(issues.total(), 0u);
+    EXPECT_EQ(back.time, f.epochs[k].time);
+    EXPECT_EQ(back.satellites.size(), f.epochs[k].satellites.size());
+    EXPECT_EQ(c.observation_bag_times[k], ppp_ros::utcStamp(f.epochs[k].time));
+  }
+
+  // Batches every 30 s over [first - 60 s, last + 60 s], each written just before
+  // the epoch at its instant; values are the products WITH error (what an
+  // estimator must use), not the truth the observations were made with.
+  ASSERT_EQ(c.corrections.size(), summary.batches);
+  const double span_s = f.epochs.back().time - f.epochs.front().time;
+  EXPECT_GE(c.corrections.size(), std::size_t(span_s / 30.0) + 4);
+  double max_truth_difference_m = 0.0;
+  for (std::size_t b = 0; b < c.corrections.size(); ++b) {
+    ppp_ros::ConversionIssues issues;
+    const ppp::CorrectionBatch batch = ppp_ros::fromMessage(c.corrections[b], issues);
+    EXPECT_EQ(issues.total(), 0u);
+    EXPECT_EQ(batch.time.wholeSeconds() % 30, 0);
+    EXPECT_EQ(c.correction_bag_times[b], ppp_ros::utcStamp(batch.time) - ros::Duration(0.001));
+    EXPECT_EQ(batch.reference_frame, "IGS20");
+    EXPECT_NE(batch.orbit_source.find("simulated SP3"), std::string::npos);
+    ASSERT_FALSE(batch.satellites.empty());
+    for (const auto& s : batch.satellites) {
+      const auto orbit = f.products.orbit(s.satellite, batch.time);
+      const auto truth = f.truth_products.orbit(s.satellite, batch.time);
+      ASSERT_TRUE(orbit.ok() && s.position_ecef_m);
+      EXPECT_NEAR((*s.position_ecef_m - orbit.value->position_ecef_m).norm(), 0.0, 1e-6);
+      if (truth.ok())
+        max_truth_difference_m =
+            std::max(max_truth_difference_m, (*s.position_ecef_m - truth.value->position_ecef_m).norm());
+    }
+  }
+  EXPECT_GT(max_truth_difference_m, 1e-3) << "the bag must carry the products with error";
+
+  // One latched truth path with every truth epoch, in the earth (ECEF) frame.
+  ASSERT_EQ(c.truth.size(), 1u);
+  EXPECT_EQ(c.truth_latching, "1");
+  EXPECT_EQ(c.truth[0].header.frame_id, "earth");
+  ASSERT_EQ(c.truth[0].poses.size(), f.truth.size());
+  for (std::size_t k = 0; k < f.truth.size(); k += 50) {
+    const auto& p = c.truth[0].poses[k].pose.position;
+    EXPECT_DOUBLE_EQ(p.x, f.truth[k].trajectory.position_ecef_m.x());
+    EXPECT_DOUBLE_EQ(p.y, f.truth[k].trajectory.position_ecef_m.y());
+    EXPECT_DOUBLE_EQ(p.z, f.truth[k].trajectory.position_ecef_m.z());
+  }
+  fs::remove_all(fs::path(path).parent_path());
+}
+
+TEST(SimulatedFlightBag, PppSimulateBagWritesTheSameBagAsTheLibrary) {
+  // `ppp_simulate --bag` (catkin build) and the library call give the same messages.
+  const std::string dir = fs::path(tempBag("x")).parent_path().string();
+  const std::string cli_bag = dir + "/cli.bag", lib_bag = dir + "/lib.bag";
+  const std::string cmd = std::string(PPP_BIN_DIR) + "/ppp_simulate --profile loiter --duration-min 2.5 --seed 11 --bag " +
+                          cli_bag + " > " + dir + "/cli.log 2>&1";
+  ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
+  ppp_ros::writeSimulatedFlightBag(lib_bag, shortFlight(), {}, "/ppp_simulate");
+  const BagContents a = readBag(cli_bag), b = readBag(lib_bag);
+  ASSERT_EQ(a.observations.size(), b.observations.size());
+  ASSERT_EQ(a.corrections.size(), b.corrections.size());
+  ASSERT_EQ(a.truth.size(), 1u);
+  EXPECT_EQ(a.truth[0].poses.size(), b.truth[0].poses.size());
+  for (std::size_t k = 0; k < a.observations.size(); ++k) {
+    ASSERT_EQ(a.observations[k].satellites.size(), b.observations[k].satellites.size()) << k;
+    EXPECT_EQ(a.observations[k].header.stamp, b.observations[k].header.stamp);
+  }
+  fs::remove_all(dir);
+}
