@@ -82,7 +82,8 @@ if [ "$MODE" = offline ]; then
   echo "=== figures: scripts/plot_solutions.py -> $OUT/plots ==="
   /usr/bin/python3 "$REPO_DIR/scripts/plot_solutions.py" --out "$OUT/plots" --title "ZIM2 2026-133, kinematic GPS PPP" \
     "EKF=$OUT/zim2_ekf.csv" "smoother filtered=$OUT/zim2_smoother_filtered.csv" \
-    "smoother smoothed=$OUT/zim2_smoother_smoothed.csv" --biases "smoother=$OUT/zim2_smoother_biases.csv"
+    "smoother smoothed=$OUT/zim2_smoother_smoothed.csv" --biases "smoother=$OUT/zim2_smoother_biases.csv" \
+    --residuals "EKF=$OUT/zim2_ekf_residuals.csv"
   exit 0
 fi
 

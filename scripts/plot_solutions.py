@@ -3,6 +3,7 @@
 
 usage: plot_solutions.py --out DIR [--title T] [--window-min 15] LABEL=FILE.csv [LABEL=FILE.csv ...]
                          [--biases LABEL=FILE_biases.csv ...] [--arcs 4]
+                         [--residuals LABEL=FILE_residuals.csv ...]
 
 Each FILE.csv is a per-epoch solution CSV written by ppp_solve with --truth
 (columns time_gpst, err3d_m, ...). Writes:
@@ -13,9 +14,15 @@ Each FILE.csv is a per-epoch solution CSV written by ppp_solve with --truth
                           minus each arc's final smoothed value (column smoothed_final_m
                           when present, as ppp_solve's <name>_smoother_biases.csv has;
                           else the arc's last value)
-Prints the numbers behind each figure: percentiles of the 3D error, and per plotted
+  DIR/residuals_LABEL.png postfit IF code and phase residuals versus time, one colour per
+                          satellite (when --residuals files are given: ppp_solve's
+                          <name>_<estimator>_residuals.csv, columns time_gpst, sat,
+                          elevation_deg, code_postfit_m, phase_postfit_m; blank = not used)
+Prints the numbers behind each figure: percentiles of the 3D error; per plotted
 arc the first, last and final smoothed value and the time after which the filtered
-bias stays within 5 cm of the final smoothed value.
+bias stays within 5 cm of the final smoothed value; per satellite the epochs, mean
+elevation, and mean and RMS of the postfit code [cm] and phase [mm] residuals (a
+code mean far from 0 over a whole arc is a constant code offset, not noise).
 """
 import argparse
 import csv
@@ -64,6 +71,66 @@ def cdf_points(values):
     return s, [(i + 1) / len(s) for i in range(len(s))]
 
 
+def read_residuals(path):
+    """{sat: [(time, elevation_deg, code_postfit_m or None, phase_postfit_m or None)]}"""
+    per_sat = {}
+    with open(path, newline="") as f:
+        reader = csv.DictReader(f)
+        missing = {"time_gpst", "sat", "elevation_deg", "code_postfit_m", "phase_postfit_m"} - set(reader.fieldnames or [])
+        if missing:
+            sys.exit(f"{path}: missing columns {sorted(missing)}")
+        for line_no, row in enumerate(reader, start=2):
+            try:
+                code = float(row["code_postfit_m"]) if row["code_postfit_m"] else None
+                phase = float(row["phase_postfit_m"]) if row["phase_postfit_m"] else None
+                per_sat.setdefault(row["sat"], []).append(
+                    (parse_time(row["time_gpst"]), float(row["elevation_deg"]), code, phase))
+            except ValueError as err:
+                sys.exit(f"{path}:{line_no}: {err}")
+    if not per_sat:
+        sys.exit(f"{path}: no residual rows")
+    return per_sat
+
+
+def mean_rms(values):
+    if not values:
+        return float("nan"), float("nan")
+    return sum(values) / len(values), (sum(v * v for v in values) / len(values)) ** 0.5
+
+
+def plot_residuals(label, path, start, out_dir):
+    per_sat = read_residuals(path)
+    fig, axes = plt.subplots(2, 1, figsize=(9, 6.5), sharex=True)
+    colours = plt.get_cmap("tab20").colors  # up to 20 satellites in distinct colours
+    print(f"{'residuals':24s} {'sat':>4s} {'epochs':>7s} {'elev deg':>9s} {'code mean cm':>13s} {'code rms cm':>12s} "
+          f"{'phase mean mm':>14s} {'phase rms mm':>13s}")
+    for k, sat in enumerate(sorted(per_sat)):
+        rows = per_sat[sat]
+        colour = colours[k % len(colours)]
+        minutes = [(t - start).total_seconds() / 60 for t, *_ in rows]
+        code = [c for *_, c, _ in rows if c is not None]
+        phase = [p for *_, p in rows if p is not None]
+        axes[0].plot([m for m, r in zip(minutes, rows) if r[2] is not None], [c * 100 for c in code], ".", ms=3, label=sat,
+                     color=colour)
+        axes[1].plot([m for m, r in zip(minutes, rows) if r[3] is not None], [p * 1000 for p in phase], ".", ms=3, color=colour)
+        cm, cr = mean_rms(code)
+        pm, pr = mean_rms(phase)
+        elev = sum(r[1] for r in rows) / len(rows)
+        print(f"{label:24s} {sat:>4s} {len(rows):7d} {elev:9.1f} {cm * 100:13.1f} {cr * 100:12.1f} "
+              f"{pm * 1000:14.1f} {pr * 1000:13.1f}")
+    axes[0].set_ylabel("postfit IF code residual [cm]")
+    axes[1].set_ylabel("postfit IF phase residual [mm]")
+    axes[1].set_xlabel("time since start [min]")
+    axes[0].set_title(f"{label}: postfit residuals per satellite")
+    for ax in axes:
+        ax.axhline(0, color="grey", lw=0.8)
+        ax.grid(True, alpha=0.3)
+    axes[0].legend(fontsize=6, ncol=8, markerscale=3)
+    fig.tight_layout()
+    safe = "".join(ch if ch.isalnum() or ch in "-_" else "_" for ch in label)
+    fig.savefig(os.path.join(out_dir, f"residuals_{safe}.png"), dpi=110)
+
+
 def labelled(items):
     out = []
     for item in items:
@@ -81,6 +148,7 @@ def main():
     ap.add_argument("--window-min", type=float, default=15.0)
     ap.add_argument("--biases", nargs="*", default=[])
     ap.add_argument("--arcs", type=int, default=4, help="arcs to plot (the longest)")
+    ap.add_argument("--residuals", nargs="*", default=[])
     ap.add_argument("solutions", nargs="+")
     args = ap.parse_args()
     os.makedirs(args.out, exist_ok=True)
@@ -161,6 +229,8 @@ def main():
         ax.legend(fontsize=7)
         fig.tight_layout()
         fig.savefig(os.path.join(args.out, "biases.png"), dpi=110)
+    for label, path in labelled(args.residuals):
+        plot_residuals(label, path, start, args.out)
     print(f"figures written to {args.out}")
 
 
