@@ -4,6 +4,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <vector>
 
 namespace ppp {
 
@@ -14,6 +15,10 @@ std::string_view column(std::string_view line, std::size_t start, std::size_t wi
 std::string_view trim(std::string_view text);
 /// True when the text is empty or all blanks.
 bool isBlank(std::string_view text);
+
+/// The comma-separated fields of a CSV line (no quoting), each trimmed; carriage
+/// returns dropped; "a,b," gives three fields, the last empty.
+std::vector<std::string> splitCsvFields(std::string_view line);
 
 /// Result of parsing a numeric field.
 enum class FieldStatus { Ok, Blank, Malformed };

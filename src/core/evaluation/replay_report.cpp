@@ -14,15 +14,6 @@
 namespace ppp {
 namespace {
 
-std::vector<std::string> splitCsv(const std::string& line) {
-  std::vector<std::string> out;
-  std::string cell;
-  std::istringstream in(line);
-  while (std::getline(in, cell, ',')) out.push_back(std::string(trim(cell)));
-  if (!line.empty() && line.back() == ',') out.emplace_back();
-  return out;
-}
-
 std::string fmt(const char* f, double v) {
   char buf[64];
   std::snprintf(buf, sizeof buf, f, v);
@@ -66,7 +57,7 @@ TruthTrajectory readTruthCsv(LineSource& source, ParseReport& report) {
   while (source.next(line) && isBlank(line)) {
   }
   if (isBlank(line)) throw ParseError(source.name(), source.lineNumber(), "empty truth file (no header row)");
-  const std::vector<std::string> header = splitCsv(line);
+  const std::vector<std::string> header = splitCsvFields(line);
   std::map<std::string, std::size_t> col;
   for (std::size_t i = 0; i < header.size(); ++i) col.emplace(header[i], i);
   const char* sow_name = col.count("seconds_of_week") ? "seconds_of_week" : "tow_s";
@@ -82,7 +73,7 @@ TruthTrajectory readTruthCsv(LineSource& source, ParseReport& report) {
   TruthTrajectory truth;
   while (source.next(line)) {
     if (isBlank(line)) continue;
-    const std::vector<std::string> f = splitCsv(line);
+    const std::vector<std::string> f = splitCsvFields(line);
     if (f.size() < need_cols) {
       report.addProblem(source.lineNumber(), "truth row with " + std::to_string(f.size()) + " fields, needs " +
                                                  std::to_string(need_cols));

@@ -19,6 +19,21 @@ std::string_view trim(std::string_view text) {
 
 bool isBlank(std::string_view text) { return trim(text).empty(); }
 
+std::vector<std::string> splitCsvFields(std::string_view line) {
+  std::vector<std::string> out;
+  std::string cur;
+  for (char c : line) {
+    if (c == ',') {
+      out.emplace_back(trim(cur));
+      cur.clear();
+    } else if (c != '\r') {
+      cur += c;
+    }
+  }
+  out.emplace_back(trim(cur));
+  return out;
+}
+
 FieldStatus parseDouble(std::string_view field, double& value) {
   std::string_view t = trim(field);
   if (t.empty()) return FieldStatus::Blank;

@@ -250,25 +250,6 @@ double bodyElevation_rad(const TrajectorySample& sample, const Eigen::Vector3d& 
 
 // ---- CSV trajectories.
 
-namespace {
-
-std::vector<std::string> splitCsv(const std::string& line) {
-  std::vector<std::string> out;
-  std::string cur;
-  for (char c : line) {
-    if (c == ',') {
-      out.push_back(std::string(trim(cur)));
-      cur.clear();
-    } else if (c != '\r') {
-      cur += c;
-    }
-  }
-  out.push_back(std::string(trim(cur)));
-  return out;
-}
-
-}  // namespace
-
 std::vector<TrajectorySample> readTrajectoryCsv(LineSource& source, const GnssTime& start) {
   const std::string file = source.name();
   std::string line;
@@ -282,7 +263,7 @@ std::vector<TrajectorySample> readTrajectoryCsv(LineSource& source, const GnssTi
   constexpr std::size_t kMaxRows = 10'000'000;
   while (source.next(line)) {
     if (isBlank(line) || trim(line).front() == '#') continue;
-    const auto fields = splitCsv(line);
+    const auto fields = splitCsvFields(line);
     if (col.empty()) {
       for (std::size_t i = 0; i < fields.size(); ++i) {
         if (col.count(fields[i])) throw ParseError(file, source.lineNumber(), "column '" + fields[i] + "' repeated");
