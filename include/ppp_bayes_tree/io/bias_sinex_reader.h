@@ -22,10 +22,10 @@
 #include <tuple>
 #include <vector>
 
-#include "ppp_bayes_tree/io/record_filter.h"
 #include "ppp_bayes_tree/io/file_summary.h"
 #include "ppp_bayes_tree/io/line_source.h"
 #include "ppp_bayes_tree/io/parse_error.h"
+#include "ppp_bayes_tree/io/record_filter.h"
 #include "ppp_bayes_tree/types/gnss_time.h"
 #include "ppp_bayes_tree/types/observation_code.h"
 #include "ppp_bayes_tree/types/satellite_id.h"
@@ -133,14 +133,12 @@ class BiasSinexFile {
 };
 
 /// Reads a Bias-SINEX file from a line source. Throws ParseError on a malformed
-/// header line or BIAS/DESCRIPTION block.
-BiasSinexFile readBiasSinex(LineSource& source);
+/// header line or BIAS/DESCRIPTION block. Only the rows of the filter's systems are
+/// kept (its time window is not used: bias rows have validity intervals); the other
+/// rows are counted, not parsed.
+BiasSinexFile readBiasSinex(LineSource& source, const RecordFilter& filter = {});
 /// Convenience: opens `path` (plain or gzip). Throws FileOpenError, ParseError.
-BiasSinexFile readBiasSinexFile(const std::string& path);
-/// Same, keeping only the rows of the filter's systems (its time window is not
-/// used: bias rows have validity intervals); the other rows are counted, not parsed.
-BiasSinexFile readBiasSinex(LineSource& source, const RecordFilter& filter);
-BiasSinexFile readBiasSinexFile(const std::string& path, const RecordFilter& filter);
+BiasSinexFile readBiasSinexFile(const std::string& path, const RecordFilter& filter = {});
 
 /// ppp_inspect view: version, span, satellites, observable codes per system,
 /// counts per bias type, stations, report.

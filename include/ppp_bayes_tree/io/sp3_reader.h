@@ -96,13 +96,6 @@ struct Sp3File {
   ParseReport report;
 };
 
-/// Reads an SP3 file from a line source (plain or gzip). Throws ParseError on a
-/// malformed header; skips malformed records into `report`; a truncated file
-/// keeps what was read (complete == false, a problem is added).
-Sp3File readSp3(LineSource& source);
-/// Convenience: opens `path` (throws FileOpenError) and reads it.
-Sp3File readSp3(const std::string& path);
-
 struct Sp3ReadOptions {
   /// Records to keep; the others are counted, not parsed.
   RecordFilter filter;
@@ -110,8 +103,13 @@ struct Sp3ReadOptions {
   /// side, for the interpolation windows around its edges.
   int margin_epochs = 0;
 };
-Sp3File readSp3(LineSource& source, const Sp3ReadOptions& options);
-Sp3File readSp3(const std::string& path, const Sp3ReadOptions& options);
+
+/// Reads an SP3 file from a line source (plain or gzip). Throws ParseError on a
+/// malformed header; skips malformed records into `report`; a truncated file
+/// keeps what was read (complete == false, a problem is added).
+Sp3File readSp3(LineSource& source, const Sp3ReadOptions& options = {});
+/// Convenience: opens `path` (throws FileOpenError) and reads it.
+Sp3File readSp3(const std::string& path, const Sp3ReadOptions& options = {});
 
 /// Summary for ppp_inspect: version, span, interval, epochs, satellites per
 /// system, agency / frame / time system / orbit type, problems.

@@ -130,6 +130,7 @@ class BiasSinexParser {
   LineSource& src_;
   BiasSinexFile& out_;
   RecordFilter filter_;
+  std::size_t other_system_rows_ = 0;  // skipped by the filter (counted, not parsed)
   RawEpoch creation_, start_, end_;
   std::vector<std::pair<RawEpoch, RawEpoch>> raw_epochs_;  // parallel to out_.records
 };
@@ -225,6 +226,7 @@ void BiasSinexParser::readSolutionLine(const std::string& line) {
   if (!sys) return problem("malformed PRN field '" + std::string(prn) + "'");
   if (!filter_.keepsSystem(*sys)) {
     out_.report.count("rows of other systems skipped");
+    ++other_system_rows_;
     return;
   }
   r.system = *sys;
@@ -331,11 +333,10 @@ void BiasSinexParser::finish() {
     kept.push_back(std::move(r));
   }
   out_.records = std::move(kept);
-  const auto skipped = out_.report.counters().find("rows of other systems skipped");
-  const std::size_t filtered = skipped == out_.report.counters().end() ? 0 : skipped->second;
-  if (out_.header.estimate_count != 0 && out_.header.estimate_count != out_.records.size() + filtered) {
+  const std::size_t read = out_.records.size() + other_system_rows_;
+  if (out_.header.estimate_count != 0 && out_.header.estimate_count != read) {
     out_.report.addProblem(1, "header announces " + std::to_string(out_.header.estimate_count) +
-                                  " estimates, " + std::to_string(out_.records.size() + filtered) + " read");
+                                  " estimates, " + std::to_string(read) + " read");
   }
   for (const auto& r : out_.records) out_.report.count(std::string(biasTypeName(r.type)) + " rows");
   out_.buildIndex();
@@ -426,10 +427,6 @@ std::vector<std::string> BiasSinexFile::stations() const {
   }
   return {names.begin(), names.end()};
 }
-
-BiasSinexFile readBiasSinex(LineSource& source) { return readBiasSinex(source, RecordFilter{}); }
-
-BiasSinexFile readBiasSinexFile(const std::string& path) { return readBiasSinexFile(path, RecordFilter{}); }
 
 BiasSinexFile readBiasSinex(LineSource& source, const RecordFilter& filter) {
   BiasSinexFile out;

@@ -462,13 +462,6 @@ class Sp3Parser {
 
 }  // namespace
 
-Sp3File readSp3(LineSource& source) { return Sp3Parser(source, {}).run(); }
-
-Sp3File readSp3(const std::string& path) {
-  auto source = openLineSource(path);
-  return readSp3(*source);
-}
-
 Sp3File readSp3(LineSource& source, const Sp3ReadOptions& options) { return Sp3Parser(source, options).run(); }
 
 Sp3File readSp3(const std::string& path, const Sp3ReadOptions& options) {
