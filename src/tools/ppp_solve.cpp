@@ -21,7 +21,6 @@
 #include <string>
 #include <vector>
 
-#include "ppp_bayes_tree/io/parse_error.h"
 #include "ppp_bayes_tree/ppp/ppp_solve_run.h"
 
 namespace {
@@ -146,11 +145,7 @@ int main(int argc, char** argv) {
     return solved ? 0 : 1;
   } catch (const ppp::ConfigError& e) {
     std::cerr << "ppp_solve: configuration: " << e.what() << "\n";
-  } catch (const ppp::ParseError& e) {
-    std::cerr << "ppp_solve: " << e.what() << "\n";
-  } catch (const ppp::FileOpenError& e) {
-    std::cerr << "ppp_solve: " << e.what() << "\n";
-  } catch (const std::exception& e) {
+  } catch (const std::exception& e) {  // ParseError, FileOpenError (name the file and line) and the rest
     std::cerr << "ppp_solve: " << e.what() << "\n";
   }
   return 1;

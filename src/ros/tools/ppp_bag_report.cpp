@@ -166,6 +166,22 @@ void pairDatums(const rosbag::Bag& bag, const std::string& topic, NodeRecord& n)
   }
 }
 
+/// The row of one solution: the node's status epochs with their positions, matched to
+/// the truth; solved epochs without a position are left out and said on stderr.
+ppp::ReplayReportRow rowFromPositions(const std::string& label, const std::string& key,
+                                      const std::vector<ppp::ReplayStatusSample>& status,
+                                      std::vector<ppp::ReplayPositionSample> positions, const std::string& position_kind,
+                                      const ppp::TruthTrajectory& truth, const ppp::StatisticsOptions& opt,
+                                      const std::optional<ppp::NodeFigures>& fig) {
+  const ppp::AssembledSolution a = ppp::assembleReplaySolution(status, std::move(positions));
+  if (a.solved_without_position)
+    std::cerr << "ppp_bag_report: " << label << ": " << a.solved_without_position << " solved epochs without "
+              << position_kind << " (left out)\n";
+  ppp::ReplayReportRow row = ppp::buildReplayReportRow(label, key, a.epochs, truth, opt);
+  row.node = fig;
+  return row;
+}
+
 ppp::ReplayReportRow filteredRow(const std::string& label, const std::string& key, const NodeRecord& n,
                                  const ppp::TruthTrajectory& truth, const ppp::StatisticsOptions& opt,
                                  const std::optional<ppp::NodeFigures>& fig) {
@@ -175,13 +191,7 @@ ppp::ReplayReportRow filteredRow(const std::string& label, const std::string& ke
   if (n.fixes.empty())
     return ppp::missingReplayReportRow(label, key, "no /" + n.ns + "/ppp/fix in the bag (" +
                                                        std::to_string(n.status.size()) + " status messages)");
-  const ppp::AssembledSolution a = ppp::assembleReplaySolution(n.status, n.fixes);
-  if (a.solved_without_position)
-    std::cerr << "ppp_bag_report: " << label << ": " << a.solved_without_position
-              << " solved epochs without a fix in the bag (left out)\n";
-  ppp::ReplayReportRow row = ppp::buildReplayReportRow(label, key, a.epochs, truth, opt);
-  row.node = fig;
-  return row;
+  return rowFromPositions(label, key, n.status, n.fixes, "a fix in the bag", truth, opt, fig);
 }
 
 ppp::ReplayReportRow smoothedRow(const NodeRecord& n, const ppp::TruthTrajectory& truth,
@@ -233,13 +243,8 @@ ppp::ReplayReportRow smoothedRow(const NodeRecord& n, const ppp::TruthTrajectory
                                                        "/ppp/odometry/smoothed in the bag (smoother node not running, "
                                                        "or not recorded?)");
   }
-  const ppp::AssembledSolution a = ppp::assembleReplaySolution(n.status, pos);
-  if (a.solved_without_position)
-    std::cerr << "ppp_bag_report: smoother smoothed (from the " << source << "): " << a.solved_without_position
-              << " solved epochs without a smoothed pose (left out)\n";
-  ppp::ReplayReportRow row = ppp::buildReplayReportRow(label, key, a.epochs, truth, opt);
-  row.node = fig;
-  return row;
+  return rowFromPositions(label, key, n.status, std::move(pos), "a smoothed pose (from the " + source + ")", truth,
+                          opt, fig);
 }
 
 bool writeText(const std::string& path, const std::string& text) {
@@ -360,13 +365,9 @@ int main(int argc, char** argv) {
     std::size_t present = 0;
     for (const auto& r : rows) present += r.missing.empty();
     return present == rows.size() ? 0 : present > 0 ? 3 : 1;
-  } catch (const ppp::ParseError& e) {
-    std::cerr << "ppp_bag_report: " << e.what() << "\n";
-  } catch (const ppp::FileOpenError& e) {
-    std::cerr << "ppp_bag_report: " << e.what() << "\n";
   } catch (const rosbag::BagException& e) {
     std::cerr << "ppp_bag_report: bag: " << e.what() << "\n";
-  } catch (const std::exception& e) {
+  } catch (const std::exception& e) {  // ParseError, FileOpenError (name the file and line) and the rest
     std::cerr << "ppp_bag_report: " << e.what() << "\n";
   }
   return 1;
