@@ -236,18 +236,24 @@ PppNode::BodyPose PppNode::bodyPose(const Eigen::Vector3d& antenna_enu_m, const 
   return pose;
 }
 
+geometry_msgs::Pose PppNode::BodyPose::toMsg() const {
+  geometry_msgs::Pose p;
+  p.position.x = position_m.x();
+  p.position.y = position_m.y();
+  p.position.z = position_m.z();
+  p.orientation.w = q_map_base.w();
+  p.orientation.x = q_map_base.x();
+  p.orientation.y = q_map_base.y();
+  p.orientation.z = q_map_base.z();
+  return p;
+}
+
 nav_msgs::Odometry PppNode::odometry(const ros::Time& stamp, const BodyPose& pose, const Eigen::Matrix3d& cov) const {
   nav_msgs::Odometry odom;
   odom.header.stamp = stamp;
   odom.header.frame_id = config_.ros.map_frame;
   odom.child_frame_id = config_.ros.base_frame;
-  odom.pose.pose.position.x = pose.position_m.x();
-  odom.pose.pose.position.y = pose.position_m.y();
-  odom.pose.pose.position.z = pose.position_m.z();
-  odom.pose.pose.orientation.w = pose.q_map_base.w();
-  odom.pose.pose.orientation.x = pose.q_map_base.x();
-  odom.pose.pose.orientation.y = pose.q_map_base.y();
-  odom.pose.pose.orientation.z = pose.q_map_base.z();
+  odom.pose.pose = pose.toMsg();
   // Position: the antenna's ENU covariance (the attitude's share through the lever arm is not added).
   for (int r = 0; r < 3; ++r)
     for (int c = 0; c < 3; ++c) odom.pose.covariance[r * 6 + c] = cov(r, c);
@@ -357,17 +363,10 @@ void PppNode::onSmoothedPathTimer(const ros::TimerEvent&) {
   path.poses.reserve(trajectory.size() - first);
   for (std::size_t k = first; k < trajectory.size(); ++k) {
     const ros::Time stamp = utcStamp(trajectory[k].time);
-    const BodyPose body = bodyPose(ecef_to_enu_ * (trajectory[k].state.position_ecef_m - *datum_ecef_m_), stamp);
     geometry_msgs::PoseStamped pose;
     pose.header.stamp = stamp;
     pose.header.frame_id = config_.ros.map_frame;
-    pose.pose.position.x = body.position_m.x();
-    pose.pose.position.y = body.position_m.y();
-    pose.pose.position.z = body.position_m.z();
-    pose.pose.orientation.w = body.q_map_base.w();
-    pose.pose.orientation.x = body.q_map_base.x();
-    pose.pose.orientation.y = body.q_map_base.y();
-    pose.pose.orientation.z = body.q_map_base.z();
+    pose.pose = bodyPose(ecef_to_enu_ * (trajectory[k].state.position_ecef_m - *datum_ecef_m_), stamp).toMsg();
     path.poses.push_back(pose);
   }
   if (!path.poses.empty()) path.header.stamp = path.poses.back().header.stamp;

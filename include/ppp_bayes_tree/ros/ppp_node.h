@@ -43,6 +43,7 @@
 
 #include <Eigen/Geometry>
 #include <diagnostic_updater/diagnostic_updater.h>
+#include <geometry_msgs/Pose.h>
 #include <nav_msgs/Path.h>
 #include <nav_msgs/Odometry.h>
 #include <ros/ros.h>
@@ -97,6 +98,7 @@ class PppNode {
     Eigen::Vector3d position_m = Eigen::Vector3d::Zero();
     Eigen::Quaterniond q_map_base = Eigen::Quaterniond::Identity();
     const Attitude* attitude = nullptr;  // the attitude applied, if any
+    geometry_msgs::Pose toMsg() const;
   };
   struct Pending {
     ppp_bayes_tree::GnssObservations::ConstPtr msg;
