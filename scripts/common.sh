@@ -25,3 +25,15 @@ write_junit() {
     echo "</testsuite>"
   } > "$file"
 }
+
+# script_test_begin NAME RESULT_DIR: the set-up of a script test (scripts/test_NAME.sh):
+# OUT = RESULT_DIR (created), WORK = a fresh temporary directory removed at exit, and
+# junit STATUS MESSAGE writing its one JUnit result OUT/script-NAME.xml.
+script_test_begin() {
+  SCRIPT_TEST_NAME="$1"
+  OUT="${2:?usage: test_$1.sh RESULT_DIR}"
+  mkdir -p "$OUT"
+  WORK="$(mktemp -d "/tmp/ppp_test_$1.XXXXXX")"
+  trap 'rm -rf "$WORK"' EXIT
+  junit() { write_junit "$OUT/script-$SCRIPT_TEST_NAME.xml" script_tests "$SCRIPT_TEST_NAME" "$1" "$2"; }  # status message
+}

@@ -17,12 +17,7 @@
 # Writes one JUnit result into the directory given as $1 (scripts/test.sh's extra dir).
 set -uo pipefail
 source "$(dirname "${BASH_SOURCE[0]}")/common.sh"
-OUT="${1:?usage: test_demo.sh RESULT_DIR}"
-mkdir -p "$OUT"
-WORK="$(mktemp -d /tmp/ppp_test_demo.XXXXXX)"
-trap 'rm -rf "$WORK"' EXIT
-
-junit() { write_junit "$OUT/script-demo.xml" script_tests demo "$1" "$2"; }  # status message
+script_test_begin demo "${1:-}"   # OUT, WORK (removed at exit), junit STATUS MESSAGE
 
 for exe in ppp_to_bag ppp_bag_report ppp_ekf_node ppp_smoother_node; do
   if [ ! -x "$BIN_DIR/$exe" ]; then

@@ -14,12 +14,7 @@
 # Writes one JUnit result into the directory given as $1 (scripts/test.sh's extra dir).
 set -uo pipefail
 source "$(dirname "${BASH_SOURCE[0]}")/common.sh"
-OUT="${1:?usage: test_plot_solutions.sh RESULT_DIR}"
-mkdir -p "$OUT"
-WORK="$(mktemp -d /tmp/ppp_test_plot.XXXXXX)"
-trap 'rm -rf "$WORK"' EXIT
-
-junit() { write_junit "$OUT/script-plot_solutions.xml" script_tests plot_solutions "$1" "$2"; }  # status message
+script_test_begin plot_solutions "${1:-}"   # OUT, WORK (removed at exit), junit STATUS MESSAGE
 
 if ! /usr/bin/python3 -c "import matplotlib" 2>/dev/null; then
   junit skipped "python3-matplotlib not installed"
