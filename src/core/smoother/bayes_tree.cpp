@@ -63,6 +63,48 @@ std::string BayesTree::checkInvariants() const {
   return "";
 }
 
+RemovedTop BayesTree::removeTop(const KeyVector& keys) {
+  RemovedTop out;
+  // Paths to the roots; a path stops at a clique already removed (its ancestors are).
+  std::unordered_set<const Clique*> removed;
+  std::vector<Clique*> path_order;
+  for (Key k : keys)
+    for (Clique* c = clique(k); c && removed.insert(c).second; c = c->parent) path_order.push_back(c);
+  if (path_order.empty()) return out;
+  for (Clique* c : path_order) {
+    for (const auto& ch : c->children)
+      if (!removed.count(ch.get())) {
+        ch->parent = nullptr;
+        out.orphans.push_back(ch);
+      }
+    for (Key k : c->frontals) {
+      out.frontals.push_back(k);
+      nodes_.erase(k);
+    }
+    out.factor_indices.insert(out.factor_indices.end(), c->factor_indices.begin(), c->factor_indices.end());
+  }
+  // Owning pointers, top-down from the removed roots through removed children (the
+  // removed set is closed under taking the parent).
+  std::unordered_map<const Clique*, Clique::Ptr> owner;
+  owner.reserve(path_order.size());
+  std::vector<Clique::Ptr> kept_roots;
+  std::vector<Clique::Ptr> stack;
+  for (auto& r : roots_) (removed.count(r.get()) ? stack : kept_roots).push_back(std::move(r));
+  roots_ = std::move(kept_roots);
+  while (!stack.empty()) {
+    Clique::Ptr c = std::move(stack.back());
+    stack.pop_back();
+    for (auto& ch : c->children)
+      if (removed.count(ch.get())) stack.push_back(ch);
+    c->children.clear();
+    c->parent = nullptr;
+    owner.emplace(c.get(), std::move(c));
+  }
+  out.cliques.reserve(path_order.size());
+  for (Clique* c : path_order) out.cliques.push_back(std::move(owner.at(c)));
+  return out;
+}
+
 std::unordered_map<Key, Matrix> BayesTree::marginalCovariances() const {
   std::unordered_map<Key, Matrix> out;
   out.reserve(nodes_.size());
