@@ -1,5 +1,6 @@
-// Bayes tree surgery: BayesTree::removeTop on a small hand-built forest (which cliques
-// go, in which order, which subtrees become orphans, what stays consistent).
+// Bayes tree surgery on a small hand-built forest: BayesTree::removeTop (which cliques
+// go, in which order, which subtrees become orphans, what stays consistent) and
+// BayesTree::removeSubtree.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -135,4 +136,22 @@ TEST(SmootherBayesTree, RemoveTopIgnoresUnknownKeysAndRepeatedPaths) {
   EXPECT_EQ(f.tree.checkInvariants(), "");
   EXPECT_EQ(f.tree.numCliques(), 5u);
   EXPECT_EQ(f.tree.roots().size(), 1u);
+}
+
+TEST(SmootherBayesTree, RemoveSubtreeCutsALeafSubtreeAndLeavesAConsistentTree) {
+  Forest f;
+  const Clique::Ptr cut = f.tree.removeSubtree(f.a.get());
+  EXPECT_EQ(cut, f.a);
+  EXPECT_EQ(f.a->parent, nullptr);
+  EXPECT_EQ(f.a->children.size(), 2u);  // the subtree stays whole
+  EXPECT_EQ(f.r->children, (std::vector<Clique::Ptr>{f.b}));
+  for (std::uint32_t i = 0; i < 4; ++i) EXPECT_FALSE(f.tree.contains(x(i)));
+  EXPECT_EQ(f.tree.checkInvariants(), "");
+  EXPECT_EQ(f.tree.numCliques(), 4u);
+  EXPECT_EQ(f.tree.numVariables(), 5u);  // x4, x5, x6, y0, y1
+  // A whole tree goes from the roots.
+  f.tree.removeSubtree(f.s.get());
+  EXPECT_EQ(f.tree.roots(), (std::vector<Clique::Ptr>{f.r}));
+  EXPECT_EQ(f.tree.checkInvariants(), "");
+  EXPECT_EQ(f.tree.numVariables(), 3u);
 }

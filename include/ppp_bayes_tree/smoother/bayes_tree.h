@@ -16,7 +16,8 @@
 
 namespace ppp::smoother {
 
-struct Clique {
+/// Created with std::make_shared (the tree finds a clique's owning pointer from the clique).
+struct Clique : std::enable_shared_from_this<Clique> {
   using Ptr = std::shared_ptr<Clique>;
 
   KeyVector frontals;              // in elimination order
@@ -88,6 +89,10 @@ class BayesTree {
   /// in the node map: once they are re-attached, the tree is consistent again. The
   /// trees not touched stay as they were.
   RemovedTop removeTop(const KeyVector& keys);
+  /// Cuts the subtree rooted at `top` off the tree (from its parent's children, or from
+  /// the roots) and removes its variables from the node map; returns it, detached
+  /// (parent null). Used to marginalize leaf subtrees.
+  Clique::Ptr removeSubtree(Clique* top);
   std::vector<Clique::Ptr>& mutableRoots() { return roots_; }
   void setClique(Key key, Clique* c) { nodes_[key] = c; }
   void eraseKey(Key key) { nodes_.erase(key); }

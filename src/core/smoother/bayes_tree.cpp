@@ -83,26 +83,31 @@ RemovedTop BayesTree::removeTop(const KeyVector& keys) {
     }
     out.factor_indices.insert(out.factor_indices.end(), c->factor_indices.begin(), c->factor_indices.end());
   }
-  // Owning pointers, top-down from the removed roots through removed children (the
-  // removed set is closed under taking the parent).
-  std::unordered_map<const Clique*, Clique::Ptr> owner;
-  owner.reserve(path_order.size());
-  std::vector<Clique::Ptr> kept_roots;
-  std::vector<Clique::Ptr> stack;
-  for (auto& r : roots_) (removed.count(r.get()) ? stack : kept_roots).push_back(std::move(r));
-  roots_ = std::move(kept_roots);
-  while (!stack.empty()) {
-    Clique::Ptr c = std::move(stack.back());
-    stack.pop_back();
-    for (auto& ch : c->children)
-      if (removed.count(ch.get())) stack.push_back(ch);
+  out.cliques.reserve(path_order.size());
+  for (Clique* c : path_order) out.cliques.push_back(c->shared_from_this());
+  for (const Clique::Ptr& c : out.cliques) {  // detach: the orphans and removed children
     c->children.clear();
     c->parent = nullptr;
-    owner.emplace(c.get(), std::move(c));
   }
-  out.cliques.reserve(path_order.size());
-  for (Clique* c : path_order) out.cliques.push_back(std::move(owner.at(c)));
+  roots_.erase(std::remove_if(roots_.begin(), roots_.end(),
+                              [&](const Clique::Ptr& r) { return removed.count(r.get()) != 0; }),
+               roots_.end());
   return out;
+}
+
+Clique::Ptr BayesTree::removeSubtree(Clique* top) {
+  Clique::Ptr owned = top->shared_from_this();
+  std::vector<Clique::Ptr>& siblings = top->parent ? top->parent->children : roots_;
+  siblings.erase(std::find(siblings.begin(), siblings.end(), owned));
+  top->parent = nullptr;
+  std::vector<const Clique*> stack{top};
+  while (!stack.empty()) {
+    const Clique* c = stack.back();
+    stack.pop_back();
+    for (Key k : c->frontals) nodes_.erase(k);
+    for (const auto& ch : c->children) stack.push_back(ch.get());
+  }
+  return owned;
 }
 
 std::unordered_map<Key, Matrix> BayesTree::marginalCovariances() const {

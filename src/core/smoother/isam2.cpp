@@ -579,9 +579,7 @@ KeyVector ISAM2::marginalizeLeaves(const KeyVector& keys) {
         if (!gone.count(k)) unindexFactor(i, *it->second.factor, k);
       factors_.erase(it);
     }
-    Clique* parent = top->parent;
-    std::shared_ptr<Clique> keep_alive;
-    if (parent) {
+    if (Clique* parent = top->parent) {
       // The subtree's information on the rest is its cached marginal on the separator.
       if (top->cached_marginal && top->cached_marginal->rows() > 0) {
         const FactorIndex i = next_factor_index_++;
@@ -590,16 +588,8 @@ KeyVector ISAM2::marginalizeLeaves(const KeyVector& keys) {
         indexFactor(i, *f);
         parent->factor_indices.push_back(i);
       }
-      auto& ch = parent->children;
-      auto it = std::find_if(ch.begin(), ch.end(), [&](const Clique::Ptr& p) { return p.get() == top; });
-      keep_alive = *it;
-      ch.erase(it);
-    } else {
-      auto& roots = tree_.mutableRoots();
-      auto it = std::find_if(roots.begin(), roots.end(), [&](const Clique::Ptr& p) { return p.get() == top; });
-      keep_alive = *it;
-      roots.erase(it);
     }
+    const Clique::Ptr cut = tree_.removeSubtree(top);  // freed at the end of this iteration
     for (Key k : gone) {
       eraseVariable(k);
       done.push_back(k);
