@@ -23,6 +23,7 @@
 #include "ppp_bayes_tree/smoother/between_factor.h"
 #include "ppp_bayes_tree/smoother/fixed_lag_smoother.h"
 #include "ppp_bayes_tree/smoother/isam2.h"
+#include "ppp_bayes_tree/smoother/noise_model_factor_n.h"
 #include "ppp_bayes_tree/smoother/prior_factor.h"
 
 using namespace ppp::smoother;
@@ -31,29 +32,45 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-// Range-like measurement: z = |sat - p| + clock + m * zenith_delay (+ bias).
-class RangeFactor : public NonlinearFactor {
- public:
-  RangeFactor(Key state, const Key* bias, Eigen::Vector3d sat, double m, double z, NoiseModel::Ptr noise)
-      : NonlinearFactor(bias ? KeyVector{state, *bias} : KeyVector{state}, std::move(noise)), sat_(sat), m_(m), z_(z) {}
-  Vector unwhitenedError(const Values& x, std::vector<Matrix>* h) const override {
-    const Vector& s = x.at(keys()[0]);
-    const Eigen::Vector3d d = s.head<3>() - sat_;
+// Range-like measurement: z = |sat - p| + clock + m * zenith_delay (code), + bias (phase).
+struct RangeModel {
+  Eigen::Vector3d sat;
+  double m, z;
+  double predict(const Vector& s, Matrix* h) const {
+    const Eigen::Vector3d d = s.head<3>() - sat;
     const double r = d.norm();
-    double pred = r + s[3] + m_ * s[4];
-    if (keys().size() == 2) pred += x.at(keys()[1])[0];
     if (h) {
       Matrix hs(1, 5);
-      hs << d.x() / r, d.y() / r, d.z() / r, 1.0, m_;
-      (*h)[0] = hs;
-      if (keys().size() == 2) (*h)[1] = Matrix::Ones(1, 1);
+      hs << d.x() / r, d.y() / r, d.z() / r, 1.0, m;
+      *h = hs;
     }
-    return Vector::Constant(1, pred - z_);
+    return r + s[3] + m * s[4];
+  }
+};
+
+class CodeRangeFactor : public NoiseModelFactor1<Vector> {
+ public:
+  CodeRangeFactor(Key state, RangeModel model, NoiseModel::Ptr noise)
+      : NoiseModelFactor1<Vector>(std::move(noise), {state}), model_(model) {}
+  Vector evaluateError(const Vector& s, Matrix* h) const override {
+    return Vector::Constant(1, model_.predict(s, h) - model_.z);
   }
 
  private:
-  Eigen::Vector3d sat_;
-  double m_, z_;
+  RangeModel model_;
+};
+
+class PhaseRangeFactor : public NoiseModelFactor2<Vector, double> {
+ public:
+  PhaseRangeFactor(Key state, Key bias, RangeModel model, NoiseModel::Ptr noise)
+      : NoiseModelFactor2<Vector, double>(std::move(noise), {state, bias}), model_(model) {}
+  Vector evaluateError(const Vector& s, const double& b, Matrix* hs, Matrix* hb) const override {
+    if (hb) *hb = Matrix::Ones(1, 1);
+    return Vector::Constant(1, model_.predict(s, hs) + b - model_.z);
+  }
+
+ private:
+  RangeModel model_;
 };
 
 struct Epoch {
@@ -120,8 +137,9 @@ class Scenario {
       const double m = 1.0 / std::sin(el);
       const Vector x = truth(t);
       const double rho = (sat - x.head<3>()).norm() + x[3] + m * x[4];
-      e.factors.push_back(std::make_shared<RangeFactor>(e.state, nullptr, sat, m, rho + 0.3 * n01(rng_), code_));
-      e.factors.push_back(std::make_shared<RangeFactor>(e.state, &b, sat, m, rho + bias_value_[s] + 0.003 * n01(rng_), phase_));
+      e.factors.push_back(std::make_shared<CodeRangeFactor>(e.state, RangeModel{sat, m, rho + 0.3 * n01(rng_)}, code_));
+      e.factors.push_back(
+          std::make_shared<PhaseRangeFactor>(e.state, b, RangeModel{sat, m, rho + bias_value_[s] + 0.003 * n01(rng_)}, phase_));
       e.newest.push_back(b);
     }
     return e;
@@ -166,7 +184,7 @@ void runSmoother(int epochs, double lag_s, Window early, Window late) {
   if (lag_s > 0) fl = std::make_unique<FixedLagSmoother>(FixedLagParams{lag_s, params});
   else isam = std::make_unique<ISAM2>(params);
   std::vector<double> ms(epochs), reelim(epochs), touched(epochs);
-  std::array<double, 7> step_sum{};
+  std::array<double, ISAM2Result::kNumSteps> step_sum{};
   std::size_t relin_total = 0, marg_total = 0, moved_updates = 0, relin_updates = 0;
   const auto t0 = Clock::now();
   std::printf("  %-8s %10s %10s %10s\n", "epoch", "VmRSS[MB]", "vars", "factors");
@@ -189,7 +207,7 @@ void runSmoother(int epochs, double lag_s, Window early, Window late) {
     touched[t] = static_cast<double>(r.cliquesTouched());
     relin_total += r.variables_relinearized;
     if (r.variables_relinearized) ++relin_updates;
-    for (int i = 0; i < 7; ++i) step_sum[i] += r.step_time_s[i];
+    for (std::size_t i = 0; i < step_sum.size(); ++i) step_sum[i] += r.step_time_s[i];
     if ((t + 1) % std::max(1, epochs / 10) == 0 || t + 1 == epochs) {
       const ISAM2& is = fl ? fl->isam2() : *isam;
       std::printf("  %-8d %10.1f %10zu %10zu\n", t + 1, statusKb("VmRSS:") / 1024.0, is.linearizationPoint().size(),
@@ -212,7 +230,8 @@ void runSmoother(int epochs, double lag_s, Window early, Window late) {
   std::printf("  variables relinearized (total): %zu in %zu updates; marginalized (total): %zu; updates that "
               "re-eliminated due variables to the leaves: %zu\n", relin_total, relin_updates, marg_total, moved_updates);
   std::printf("  mean time per step [us]: ");
-  for (int i = 0; i < 7; ++i) std::printf("%d:%.1f ", i + 1, 1e6 * step_sum[i] / epochs);
+  for (std::size_t i = 0; i < step_sum.size(); ++i)
+    std::printf("%zu %s:%.1f  ", i + 1, ISAM2Result::kStepNames[i], 1e6 * step_sum[i] / epochs);
   std::printf("\n  total wall time %.2f s, peak memory VmHWM %.1f MB\n", wall, statusKb("VmHWM:") / 1024.0);
   const ISAM2& is = fl ? fl->isam2() : *isam;
   std::printf("  final tree: %zu cliques, depth %zu, root clique %zu variables\n", is.bayesTree().numCliques(),

@@ -11,29 +11,23 @@
 #include "ppp_bayes_tree/smoother/batch_solver.h"
 #include "ppp_bayes_tree/smoother/function_factor.h"
 #include "ppp_bayes_tree/smoother/isam2.h"
+#include "ppp_bayes_tree/smoother/noise_model_factor_n.h"
 
 namespace ppp::smoother::test {
 
 /// 2D range-bearing from a pose (x, y, theta) to a landmark (lx, ly): z = [range, bearing].
-class RangeBearingFactor : public NonlinearFactor {
+class RangeBearingFactor : public NoiseModelFactor2<Eigen::Vector3d, Eigen::Vector2d> {
  public:
   RangeBearingFactor(Key pose, Key landmark, Eigen::Vector2d z, NoiseModel::Ptr noise)
-      : NonlinearFactor({pose, landmark}, std::move(noise)), z_(z) {}
-  Vector unwhitenedError(const Values& x, std::vector<Matrix>* h) const override {
-    const Vector& p = x.at(keys()[0]);
-    const Vector& l = x.at(keys()[1]);
+      : NoiseModelFactor2<Eigen::Vector3d, Eigen::Vector2d>(std::move(noise), {pose, landmark}), z_(z) {}
+  Vector evaluateError(const Eigen::Vector3d& p, const Eigen::Vector2d& l, Matrix* hp, Matrix* hl) const override {
     const double dx = l[0] - p[0], dy = l[1] - p[1];
     const double q = dx * dx + dy * dy, r = std::sqrt(q);
     Vector e(2);
     e[0] = r - z_[0];
     e[1] = std::remainder(std::atan2(dy, dx) - p[2] - z_[1], 2 * M_PI);
-    if (h) {
-      Matrix hp(2, 3), hl(2, 2);
-      hp << -dx / r, -dy / r, 0, dy / q, -dx / q, -1;
-      hl << dx / r, dy / r, -dy / q, dx / q;
-      (*h)[0] = hp;
-      (*h)[1] = hl;
-    }
+    if (hp) *hp = (Matrix(2, 3) << -dx / r, -dy / r, 0, dy / q, -dx / q, -1).finished();
+    if (hl) *hl = (Matrix(2, 2) << dx / r, dy / r, -dy / q, dx / q).finished();
     return e;
   }
   static Eigen::Vector2d measure(const Vector& p, const Vector& l) {

@@ -6,6 +6,7 @@
 #include "ppp_bayes_tree/smoother/between_factor.h"
 #include "ppp_bayes_tree/smoother/elimination.h"
 #include "ppp_bayes_tree/smoother/linear_container_factor.h"
+#include "ppp_bayes_tree/smoother/noise_model_factor_n.h"
 #include "ppp_bayes_tree/smoother/numerical_jacobian.h"
 #include "ppp_bayes_tree/smoother/ordering.h"
 #include "ppp_bayes_tree/smoother/prior_factor.h"
@@ -128,6 +129,74 @@ TEST(SmootherFactors, JacobianChecksForEveryFactorType) {
   Values w;
   w.insert(a, Eigen::Vector3d(1.0, 0, 0));
   EXPECT_FALSE(checkJacobians(*wrong, w).ok);
+}
+
+namespace {
+
+// A factor on three value types: a fixed-size 3-vector p, a scalar s, a dynamic vector d:
+// e = [p0 s + d0, p1 - p2 d1] - z.
+class MixedTypesFactor : public NoiseModelFactorN<Eigen::Vector3d, double, Vector> {
+ public:
+  MixedTypesFactor(Key p, Key s, Key d, Eigen::Vector2d z, NoiseModel::Ptr noise)
+      : NoiseModelFactorN(std::move(noise), {p, s, d}), z_(z) {}
+  Vector evaluateError(const Eigen::Vector3d& p, const double& s, const Vector& d, Matrix* hp, Matrix* hs,
+                       Matrix* hd) const override {
+    if (hp) *hp = (Matrix(2, 3) << s, 0, 0, 0, 1, -d(1)).finished();
+    if (hs) *hs = (Matrix(2, 1) << p(0), 0).finished();
+    if (hd) *hd = (Matrix(2, 2) << 1, 0, 0, -p(2)).finished();
+    return Eigen::Vector2d(p(0) * s + d(0), p(1) - p(2) * d(1)) - z_;
+  }
+
+ private:
+  Eigen::Vector2d z_;
+};
+
+}  // namespace
+
+TEST(SmootherFactors, TypedBaseLooksUpConvertsAndLinearizes) {
+  const Key p = symbolKey('p', 0), s = symbolKey('b', "G05", 1), d = symbolKey('d', 0);
+  const Eigen::Vector3d pv(1.5, -2.0, 0.25);
+  const double sv = 3.0;
+  const Eigen::Vector2d dv(0.5, 4.0);
+  Values v;
+  v.insert(p, pv);
+  v.insert(s, Vector::Constant(1, sv));
+  v.insert(d, dv);
+  const auto noise = NoiseModel::sigmas(Eigen::Vector2d(0.5, 2.0));
+  const MixedTypesFactor f(p, s, d, Eigen::Vector2d(1.0, -1.0), noise);
+  EXPECT_EQ(f.key<0>(), p);
+  EXPECT_EQ(f.key<1>(), s);
+  EXPECT_EQ(f.key<2>(), d);
+  EXPECT_EQ(f.keys(), (KeyVector{p, s, d}));
+  // The values found by key, in their types.
+  Matrix hp, hs, hd;
+  const Vector direct = f.evaluateError(pv, sv, dv, &hp, &hs, &hd);
+  const Vector e = f.unwhitenedError(v, nullptr);
+  EXPECT_EQ(e, direct);
+  EXPECT_DOUBLE_EQ(e(0), 1.5 * 3.0 + 0.5 - 1.0);
+  EXPECT_DOUBLE_EQ(e(1), -2.0 - 0.25 * 4.0 + 1.0);
+  const JacobianCheck check = checkJacobians(f, v, 1e-6);
+  EXPECT_TRUE(check.ok) << check.report;
+  // Linearization: A_j = R H_j and b = -R e with R = diag(1/sigma).
+  const JacobianFactor::Ptr lin = f.linearize(v);
+  ASSERT_EQ(lin->keys(), f.keys());
+  EXPECT_EQ(lin->block(0), Matrix(Eigen::Vector2d(2.0, 0.5).asDiagonal() * hp));
+  EXPECT_EQ(lin->block(1), Matrix(Eigen::Vector2d(2.0, 0.5).asDiagonal() * hs));
+  EXPECT_EQ(lin->block(2), Matrix(Eigen::Vector2d(2.0, 0.5).asDiagonal() * hd));
+  EXPECT_EQ(lin->b(), Vector(-noise->whiten(e)));
+  EXPECT_DOUBLE_EQ(f.error(v), 0.5 * noise->whiten(e).squaredNorm());
+  // A value of the wrong dimension for its type is refused, naming the key.
+  for (Key wrong : {p, s}) {
+    Values bad = v;
+    bad.at(wrong) = Vector::Zero(2);
+    try {
+      f.unwhitenedError(bad, nullptr);
+      ADD_FAILURE() << "no exception for " << keyToString(wrong);
+    } catch (const std::invalid_argument& ex) {
+      EXPECT_NE(std::string(ex.what()).find(keyToString(wrong)), std::string::npos) << ex.what();
+    }
+  }
+  EXPECT_THROW(f.unwhitenedError(Values{}, nullptr), std::out_of_range);
 }
 
 TEST(SmootherElimination, CholeskyAndQrAgreeAndMarginalIsSchurComplement) {

@@ -154,3 +154,36 @@ TEST(SmootherFixedLag, MarginalizingAnInteriorVariableReordersItToALeaf) {
     EXPECT_NEAR(isam.marginalCovariance(k)(0, 0), batchMarginalCovariance(all, batch.values, {k})(0, 0), 1e-10);
   }
 }
+
+// The fixed-lag smoother passes iSAM2's result through: a chain whose x2 starts 3 off
+// relinearizes x2 on the next update, which re-linearizes its factors.
+TEST(SmootherFixedLag, ResultCarriesTheFactorsRelinearized) {
+  FixedLagParams p;
+  p.lag_s = 100.0;
+  p.isam2.relinearize_skip = 1;
+  p.isam2.fluid_relinearization = false;
+  p.isam2.wildfire_threshold = 0.0;
+  FixedLagSmoother fl(p);
+  NonlinearFactorGraph g;
+  Values v;
+  std::unordered_map<Key, double> stamps;
+  for (int i = 0; i < 5; ++i) {
+    v.insert(symbolKey('x', i), Vector::Constant(1, i + (i == 2 ? 3.0 : 0.0)));
+    stamps[symbolKey('x', i)] = i;
+    if (i > 0)
+      g.push_back(std::make_shared<BetweenFactor>(symbolKey('x', i - 1), symbolKey('x', i), Vector::Ones(1),
+                                                  NoiseModel::isotropic(1, 0.1)));
+  }
+  g.push_back(std::make_shared<PriorFactor>(symbolKey('x', 0), Vector::Zero(1), NoiseModel::isotropic(1, 0.1)));
+  EXPECT_EQ(fl.update(g, v, stamps).isam2.factors_relinearized, 0u);
+  // Next epoch: x5 after x4; x2 (delta -3) is relinearized with its two between factors.
+  Values v5;
+  v5.insert(symbolKey('x', 5), Vector::Constant(1, 5.0));
+  const FixedLagResult r =
+      fl.update({std::make_shared<BetweenFactor>(symbolKey('x', 4), symbolKey('x', 5), Vector::Ones(1),
+                                                 NoiseModel::isotropic(1, 0.1))},
+                v5, {{symbolKey('x', 5), 5.0}});
+  EXPECT_EQ(r.isam2.variables_relinearized, 1u);
+  EXPECT_EQ(r.isam2.factors_relinearized, 2u);
+  EXPECT_NEAR(fl.calculateEstimate().at(symbolKey('x', 2))(0), 2.0, 1e-9);
+}

@@ -456,19 +456,16 @@ namespace {
 
 // e = sin(x_0) + 2 x_1 + b - z: nonlinear in x's first component, affine (constant
 // coefficients, no Jacobian depending on them) in x's second component and in b.
-class PartlyAffineFactor : public NonlinearFactor {
+class PartlyAffineFactor : public NoiseModelFactor2<Eigen::Vector2d, double> {
  public:
   PartlyAffineFactor(Key x, Key b, double z, double sigma)
-      : NonlinearFactor({x, b}, NoiseModel::isotropic(1, sigma)), z_(z) {}
-  Vector unwhitenedError(const Values& v, std::vector<Matrix>* j) const override {
-    const Vector& x = v.at(keys()[0]);
-    if (j) {
-      (*j)[0] = (Matrix(1, 2) << std::cos(x(0)), 2.0).finished();
-      (*j)[1] = Matrix::Ones(1, 1);
-    }
-    return Vector::Constant(1, std::sin(x(0)) + 2.0 * x(1) + v.at(keys()[1])(0) - z_);
+      : NoiseModelFactor2<Eigen::Vector2d, double>(NoiseModel::isotropic(1, sigma), {x, b}), z_(z) {}
+  Vector evaluateError(const Eigen::Vector2d& x, const double& b, Matrix* hx, Matrix* hb) const override {
+    if (hx) *hx = (Matrix(1, 2) << std::cos(x(0)), 2.0).finished();
+    if (hb) *hb = Matrix::Ones(1, 1);
+    return Vector::Constant(1, std::sin(x(0)) + 2.0 * x(1) + b - z_);
   }
-  bool affineIn(Key k) const override { return k == keys()[1]; }
+  bool affineIn(Key k) const override { return k == key<1>(); }
   bool affineInComponent(Key k, int c) const override { return affineIn(k) || c == 1; }
 
  private:
@@ -521,4 +518,75 @@ TEST(SmootherIsam2, SkippingAffineRelinearizationKeepsTheEstimate) {
   EXPECT_GT(relin_a, 0u);
   EXPECT_LT(relin_b, relin_a);  // the biases, and steps only in x's second component, are skipped
   std::printf("relinearized variables: %zu without skipping, %zu with\n", relin_a, relin_b);
+}
+
+namespace {
+
+// Linear chain x0..x4 (1-d): prior x0 = 0, prior x2 = 2, between x_{i-1} -> x_i = 1. The
+// initial values are the optimum except at the keys in `off`, each 3 too large: after the
+// first update only their deltas exceed the threshold.
+ISAM2 chainWithBadGuesses(const std::vector<int>& off) {
+  ISAM2Params p = exactParams();
+  p.relinearize_skip = 1;
+  p.fluid_relinearization = false;
+  p.relinearize_threshold = 0.1;
+  ISAM2 isam(p);
+  NonlinearFactorGraph g;
+  Values v;
+  for (int i = 0; i < 5; ++i) {
+    const double guess = i + (std::count(off.begin(), off.end(), i) ? 3.0 : 0.0);
+    v.insert(symbolKey('x', i), Vector::Constant(1, guess));
+    if (i > 0)
+      g.push_back(std::make_shared<BetweenFactor>(symbolKey('x', i - 1), symbolKey('x', i), Vector::Ones(1),
+                                                  NoiseModel::isotropic(1, 0.1)));
+  }
+  g.push_back(std::make_shared<PriorFactor>(symbolKey('x', 0), Vector::Zero(1), NoiseModel::isotropic(1, 0.1)));
+  g.push_back(std::make_shared<PriorFactor>(symbolKey('x', 2), Vector::Constant(1, 2.0), NoiseModel::isotropic(1, 0.1)));
+  const ISAM2Result first = isam.update(g, v);
+  EXPECT_TRUE(first.relinearization_checked);
+  EXPECT_EQ(first.factors_relinearized, 0u);  // new factors are linearized, not re-linearized
+  return isam;
+}
+
+}  // namespace
+
+TEST(SmootherIsam2, FactorsRelinearizedCountsTheFactorsOfTheRelinearizedVariables) {
+  const Key x2 = symbolKey('x', 2), x3 = symbolKey('x', 3);
+  {
+    ISAM2 isam = chainWithBadGuesses({2});
+    const ISAM2Result r = isam.update();
+    ASSERT_TRUE(r.relinearization_checked);
+    EXPECT_EQ(r.variables_relinearized, 1u);
+    EXPECT_EQ(isam.factorsOf(x2).size(), 3u);  // two betweens and its prior
+    EXPECT_EQ(r.factors_relinearized, 3u);
+    // Linearized at the optimum now: nothing moves, nothing is relinearized.
+    const ISAM2Result again = isam.update();
+    ASSERT_TRUE(again.relinearization_checked);
+    EXPECT_EQ(again.variables_relinearized, 0u);
+    EXPECT_EQ(again.factors_relinearized, 0u);
+    // A forced full relinearization re-linearizes every factor once.
+    ISAM2UpdateParams all;
+    all.force_full_relinearization = true;
+    const ISAM2Result full = isam.update({}, {}, all);
+    EXPECT_EQ(full.variables_relinearized, 5u);
+    EXPECT_EQ(full.factors_relinearized, isam.numFactors());
+    EXPECT_EQ(full.factors_relinearized, 6u);
+  }
+  {
+    // x2 and x3 share the between factor x2 -> x3: it is counted once (3 + 2 - 1).
+    ISAM2 isam = chainWithBadGuesses({2, 3});
+    const ISAM2Result r = isam.update();
+    EXPECT_EQ(r.variables_relinearized, 2u);
+    EXPECT_EQ(isam.factorsOf(x2).size() + isam.factorsOf(x3).size(), 5u);
+    EXPECT_EQ(r.factors_relinearized, 4u);
+  }
+  {
+    // A new factor on a relinearized variable is linearized for the first time: not counted.
+    ISAM2 isam = chainWithBadGuesses({2});
+    const ISAM2Result r = isam.update(
+        {std::make_shared<PriorFactor>(x2, Vector::Constant(1, 2.0), NoiseModel::isotropic(1, 1.0))});
+    EXPECT_EQ(r.variables_relinearized, 1u);
+    EXPECT_EQ(isam.factorsOf(x2).size(), 4u);
+    EXPECT_EQ(r.factors_relinearized, 3u);
+  }
 }

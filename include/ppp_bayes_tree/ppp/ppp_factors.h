@@ -43,7 +43,7 @@
 
 #include "ppp_bayes_tree/ppp/satellite_measurement.h"
 #include "ppp_bayes_tree/smoother/key.h"
-#include "ppp_bayes_tree/smoother/nonlinear_factor.h"
+#include "ppp_bayes_tree/smoother/noise_model_factor_n.h"
 
 namespace ppp {
 
@@ -78,10 +78,10 @@ class SatellitePrediction {
 };
 
 /// IF pseudorange: error = code(x) - observed code; sigma = code_sigma_m.
-class PppCodeFactor : public smoother::NonlinearFactor {
+class PppCodeFactor : public smoother::NoiseModelFactor1<smoother::Vector> {
  public:
   PppCodeFactor(smoother::Key state, SatellitePrediction prediction, smoother::NoiseModel::Ptr noise);
-  smoother::Vector unwhitenedError(const smoother::Values& x, std::vector<smoother::Matrix>* jacobians) const override;
+  smoother::Vector evaluateError(const smoother::Vector& state, smoother::Matrix* h_state) const override;
   const SatellitePrediction& prediction() const { return prediction_; }
 
   /// Affine in the ZWD and clock components (constant coefficients); in the
@@ -96,15 +96,16 @@ class PppCodeFactor : public smoother::NonlinearFactor {
 };
 
 /// IF carrier phase: error = phase(x) + bias - observed phase; sigma = phase_sigma_m.
-class PppPhaseFactor : public smoother::NonlinearFactor {
+class PppPhaseFactor : public smoother::NoiseModelFactor2<smoother::Vector, double> {
  public:
   PppPhaseFactor(smoother::Key state, smoother::Key bias, SatellitePrediction prediction,
                  smoother::NoiseModel::Ptr noise);
-  smoother::Vector unwhitenedError(const smoother::Values& x, std::vector<smoother::Matrix>* jacobians) const override;
+  smoother::Vector evaluateError(const smoother::Vector& state, const double& bias_m, smoother::Matrix* h_state,
+                                 smoother::Matrix* h_bias) const override;
   const SatellitePrediction& prediction() const { return prediction_; }
   /// The bias enters with coefficient +1, the state's ZWD and clock with constant
   /// coefficients (the mapping frozen at x0); the range alone is nonlinear.
-  bool affineIn(smoother::Key key) const override { return key == keys()[1] || !prediction_.exactRange(); }
+  bool affineIn(smoother::Key key) const override { return key == this->key<1>() || !prediction_.exactRange(); }
   bool affineInComponent(smoother::Key key, int component) const override {
     return affineIn(key) || component >= 3;
   }
@@ -115,19 +116,20 @@ class PppPhaseFactor : public smoother::NonlinearFactor {
 
 /// Random walk of position and ZWD between two states: error = (x2 - x1).head(4),
 /// sigmas (position, position, position, ZWD) [m] over the time step.
-class ReceiverRandomWalkFactor : public smoother::NonlinearFactor {
+class ReceiverRandomWalkFactor : public smoother::NoiseModelFactor2<smoother::Vector, smoother::Vector> {
  public:
   ReceiverRandomWalkFactor(smoother::Key previous, smoother::Key next, double position_sigma_m,
                            double zwd_sigma_m);
-  smoother::Vector unwhitenedError(const smoother::Values& x, std::vector<smoother::Matrix>* jacobians) const override;
+  smoother::Vector evaluateError(const smoother::Vector& previous, const smoother::Vector& next,
+                                 smoother::Matrix* h_previous, smoother::Matrix* h_next) const override;
   bool affineIn(smoother::Key) const override { return true; }  // a difference of states
 };
 
 /// Prior on the clock component of one state: error = clock - clock_m.
-class ClockPriorFactor : public smoother::NonlinearFactor {
+class ClockPriorFactor : public smoother::NoiseModelFactor1<smoother::Vector> {
  public:
   ClockPriorFactor(smoother::Key state, double clock_m, double sigma_m);
-  smoother::Vector unwhitenedError(const smoother::Values& x, std::vector<smoother::Matrix>* jacobians) const override;
+  smoother::Vector evaluateError(const smoother::Vector& state, smoother::Matrix* h_state) const override;
   double clock_m() const { return clock_m_; }
   bool affineIn(smoother::Key) const override { return true; }
 

@@ -16,7 +16,8 @@
 
 namespace ppp::smoother {
 
-struct Clique {
+/// Created with std::make_shared (the tree finds a clique's owning pointer from the clique).
+struct Clique : std::enable_shared_from_this<Clique> {
   using Ptr = std::shared_ptr<Clique>;
 
   KeyVector frontals;              // in elimination order
@@ -31,6 +32,19 @@ struct Clique {
   std::vector<Ptr> children;
 
   int frontalDim() const { return conditional.frontalDim(); }
+};
+
+/// What BayesTree::removeTop cut off: the removed cliques (detached: no children), their
+/// frontal variables and factors, and the orphans, the subtrees that hung below them.
+struct RemovedTop {
+  /// In the order found: the path from each key's clique up to the root (or to a clique
+  /// already removed), the keys taken in the order given.
+  std::vector<Clique::Ptr> cliques;
+  KeyVector frontals;                        // of the removed cliques, in their order
+  std::vector<FactorIndex> factor_indices;   // eliminated in the removed cliques, same order
+  /// Children of removed cliques that were not removed themselves (parent set to null),
+  /// by removed clique, then child order. Their cached marginals stand for them.
+  std::vector<Clique::Ptr> orphans;
 };
 
 class BayesTree {
@@ -67,6 +81,18 @@ class BayesTree {
   std::unordered_map<Key, Matrix> marginalCovariances() const;
 
   // --- editing (used by ISAM2) ---
+  /// Removes the top of the tree above `keys` (Kaess et al. IJRR 2012, Alg. 4 step 1,
+  /// as GTSAM's BayesTree::removeTop): every clique holding one of the keys as a frontal
+  /// variable and all its ancestors up to the root. Keys not in the tree are ignored.
+  /// The removed variables leave the node map. The orphaned subtrees are detached
+  /// (returned, to be re-attached below the re-eliminated top) but their variables stay
+  /// in the node map: once they are re-attached, the tree is consistent again. The
+  /// trees not touched stay as they were.
+  RemovedTop removeTop(const KeyVector& keys);
+  /// Cuts the subtree rooted at `top` off the tree (from its parent's children, or from
+  /// the roots) and removes its variables from the node map; returns it, detached
+  /// (parent null). Used to marginalize leaf subtrees.
+  Clique::Ptr removeSubtree(Clique* top);
   std::vector<Clique::Ptr>& mutableRoots() { return roots_; }
   void setClique(Key key, Clique* c) { nodes_[key] = c; }
   void eraseKey(Key key) { nodes_.erase(key); }

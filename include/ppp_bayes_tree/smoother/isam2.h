@@ -20,10 +20,12 @@ class ISAM2 {
  public:
   explicit ISAM2(ISAM2Params params = {});
 
-  /// One iSAM2 step (Alg. 6 of the paper): add `new_factors` and the new variables
-  /// `new_values` (initial estimates; every new variable must be involved in the graph),
-  /// remove the factors listed in `update_params`, relinearize where needed, re-eliminate
-  /// the affected top of the tree and back-substitute. Throws std::invalid_argument for
+  /// One iSAM2 step (Alg. 6 of the paper), in five steps: (1) add `new_factors` and the
+  /// new variables `new_values` (initial estimates; every new variable must be involved
+  /// in the graph) and remove the factors listed in `update_params`; (2) relinearize the
+  /// variables marked by the (fluid) threshold check; (3) remove the top of the Bayes
+  /// tree above the affected variables (BayesTree::removeTop); (4) re-eliminate it with
+  /// the orphaned subtrees' cached marginals; (5) back-substitute. Throws std::invalid_argument for
   /// an unknown key, a duplicate variable or an unknown factor index, and
   /// IndeterminantSystemError for an under-constrained system.
   ISAM2Result update(const NonlinearFactorGraph& new_factors = {}, const Values& new_values = {},
@@ -78,18 +80,27 @@ class ISAM2 {
   };
   using KeySet = std::unordered_set<Key>;
 
-  // Steps of update().
+  // Steps of update() (see update()).
+  /// Step 1: returns the variables affected by the new and removed factors.
+  KeySet addAndRemoveFactors(const NonlinearFactorGraph& new_factors, const Values& new_values,
+                             const ISAM2UpdateParams& up, ISAM2Result& result);
   void addFactorsAndVariables(const NonlinearFactorGraph& new_factors, const Values& new_values,
                               ISAM2Result& result);
   void removeFactors(const std::vector<FactorIndex>& indices, KeySet& affected, ISAM2Result& result);
+  /// Step 2: marking (fluid check) and relinearization.
   KeySet gatherRelinearizeKeys(const ISAM2UpdateParams& up) const;
   void fluidCheck(const Clique& clique, KeySet& marked) const;
   void relinearize(const KeySet& relin_keys, KeySet& affected, ISAM2Result& result, bool force);
-  void removeTop(const KeySet& affected, KeyVector& top_keys, std::vector<Clique::Ptr>& orphans,
-                 std::vector<FactorIndex>& top_factors, ISAM2Result& result);
-  std::vector<Clique*> eliminateTop(const KeyVector& top_keys, std::vector<Clique::Ptr>& orphans,
-                                    const std::vector<FactorIndex>& top_factors,
-                                    const ISAM2UpdateParams& up, ISAM2Result& result);
+  /// Step 3: the problem to re-eliminate, cut from the tree.
+  struct Top {
+    KeyVector keys;                      // variables to re-eliminate
+    std::vector<FactorIndex> factors;    // live factors of the removed cliques, then the new ones
+    std::vector<Clique::Ptr> orphans;    // subtrees to re-attach
+  };
+  Top removeTop(const KeySet& affected, ISAM2Result& result);
+  /// Step 4: returns the new cliques.
+  std::vector<Clique*> reeliminateTop(const Top& top, const ISAM2UpdateParams& up, ISAM2Result& result);
+  /// Step 5.
   void backSubstitute(const std::unordered_set<const Clique*>& new_cliques, ISAM2Result& result);
 
   const JacobianFactor& linearFactor(FactorIndex index);

@@ -1,7 +1,10 @@
 #pragma once
 // Nonlinear factor interface. A factor supplies only its unwhitened error h(x) - z and
 // the Jacobians of that error with respect to each of its variables; the library whitens
-// with the noise model, applies the robust kernel (IRLS) and linearizes.
+// with the noise model, applies the robust kernel (IRLS) and linearizes. Factors on a
+// fixed number of variables derive from NoiseModelFactorN (noise_model_factor_n.h),
+// which looks the values up by key and hands them over typed; only factors of a
+// run-time number of variables implement unwhitenedError on the Values themselves.
 #include <cstdint>
 #include <memory>
 #include <vector>

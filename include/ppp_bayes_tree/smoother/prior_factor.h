@@ -1,15 +1,15 @@
 #pragma once
 // Prior on one variable: error x - z.
-#include "ppp_bayes_tree/smoother/nonlinear_factor.h"
+#include "ppp_bayes_tree/smoother/noise_model_factor_n.h"
 
 namespace ppp::smoother {
 
-class PriorFactor : public NonlinearFactor {
+class PriorFactor : public NoiseModelFactor1<Vector> {
  public:
   /// Throws std::invalid_argument when z and the noise model differ in dimension.
   PriorFactor(Key key, Vector z, NoiseModel::Ptr noise);
   const Vector& prior() const { return z_; }
-  Vector unwhitenedError(const Values& x, std::vector<Matrix>* jacobians) const override;
+  Vector evaluateError(const Vector& x, Matrix* h) const override;
   bool affineIn(Key) const override { return true; }  // x - z
 
  private:

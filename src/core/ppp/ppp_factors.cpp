@@ -47,58 +47,58 @@ double SatellitePrediction::code_m(const Eigen::VectorXd& x, Row* jacobian) cons
 }
 
 PppCodeFactor::PppCodeFactor(smoother::Key state, SatellitePrediction prediction, smoother::NoiseModel::Ptr noise)
-    : NonlinearFactor({state}, std::move(noise)), prediction_(std::move(prediction)) {}
+    : NoiseModelFactorN(std::move(noise), {state}), prediction_(std::move(prediction)) {}
 
-Vector PppCodeFactor::unwhitenedError(const Values& x, std::vector<Matrix>* jacobians) const {
+Vector PppCodeFactor::evaluateError(const Vector& state, Matrix* h_state) const {
   SatellitePrediction::Row row;
   Vector e(1);
-  e(0) = prediction_.code_m(x.at(keys()[0]), jacobians ? &row : nullptr) - prediction_.measurement().observed_code_m;
-  if (jacobians != nullptr) (*jacobians)[0] = row;
+  e(0) = prediction_.code_m(state, h_state ? &row : nullptr) - prediction_.measurement().observed_code_m;
+  if (h_state != nullptr) *h_state = row;
   return e;
 }
 
 PppPhaseFactor::PppPhaseFactor(smoother::Key state, smoother::Key bias, SatellitePrediction prediction,
                                smoother::NoiseModel::Ptr noise)
-    : NonlinearFactor({state, bias}, std::move(noise)), prediction_(std::move(prediction)) {}
+    : NoiseModelFactorN(std::move(noise), {state, bias}), prediction_(std::move(prediction)) {}
 
-Vector PppPhaseFactor::unwhitenedError(const Values& x, std::vector<Matrix>* jacobians) const {
+Vector PppPhaseFactor::evaluateError(const Vector& state, const double& bias_m, Matrix* h_state,
+                                     Matrix* h_bias) const {
   SatellitePrediction::Row row;
   Vector e(1);
-  e(0) = prediction_.phase_m(x.at(keys()[0]), jacobians ? &row : nullptr) + x.at(keys()[1])(0) -
-         prediction_.measurement().observed_phase_m;
-  if (jacobians != nullptr) {
-    (*jacobians)[0] = row;
-    (*jacobians)[1] = Matrix::Ones(1, 1);
-  }
+  e(0) = prediction_.phase_m(state, h_state ? &row : nullptr) + bias_m - prediction_.measurement().observed_phase_m;
+  if (h_state != nullptr) *h_state = row;
+  if (h_bias != nullptr) *h_bias = Matrix::Ones(1, 1);
   return e;
 }
 
 ReceiverRandomWalkFactor::ReceiverRandomWalkFactor(smoother::Key previous, smoother::Key next,
                                                    double position_sigma_m, double zwd_sigma_m)
-    : NonlinearFactor({previous, next}, smoother::NoiseModel::sigmas(Eigen::Vector4d(
-                                            position_sigma_m, position_sigma_m, position_sigma_m, zwd_sigma_m))) {}
+    : NoiseModelFactorN(smoother::NoiseModel::sigmas(
+                            Eigen::Vector4d(position_sigma_m, position_sigma_m, position_sigma_m, zwd_sigma_m)),
+                        {previous, next}) {}
 
-Vector ReceiverRandomWalkFactor::unwhitenedError(const Values& x, std::vector<Matrix>* jacobians) const {
-  const Vector e = (x.at(keys()[1]) - x.at(keys()[0])).head(4);
-  if (jacobians != nullptr) {
+Vector ReceiverRandomWalkFactor::evaluateError(const Vector& previous, const Vector& next, Matrix* h_previous,
+                                               Matrix* h_next) const {
+  const Vector e = (next - previous).head(4);
+  if (h_previous != nullptr || h_next != nullptr) {
     Matrix j = Matrix::Zero(4, ReceiverState::kDim);
     j.leftCols(4).setIdentity();
-    (*jacobians)[0] = -j;
-    (*jacobians)[1] = j;
+    if (h_previous != nullptr) *h_previous = -j;
+    if (h_next != nullptr) *h_next = j;
   }
   return e;
 }
 
 ClockPriorFactor::ClockPriorFactor(smoother::Key state, double clock_m, double sigma_m)
-    : NonlinearFactor({state}, smoother::NoiseModel::isotropic(1, sigma_m)), clock_m_(clock_m) {}
+    : NoiseModelFactorN(smoother::NoiseModel::isotropic(1, sigma_m), {state}), clock_m_(clock_m) {}
 
-Vector ClockPriorFactor::unwhitenedError(const Values& x, std::vector<Matrix>* jacobians) const {
+Vector ClockPriorFactor::evaluateError(const Vector& state, Matrix* h_state) const {
   Vector e(1);
-  e(0) = x.at(keys()[0])(4) - clock_m_;
-  if (jacobians != nullptr) {
+  e(0) = state(4) - clock_m_;
+  if (h_state != nullptr) {
     Matrix j = Matrix::Zero(1, ReceiverState::kDim);
     j(0, 4) = 1.0;
-    (*jacobians)[0] = j;
+    *h_state = j;
   }
   return e;
 }

@@ -63,6 +63,53 @@ std::string BayesTree::checkInvariants() const {
   return "";
 }
 
+RemovedTop BayesTree::removeTop(const KeyVector& keys) {
+  RemovedTop out;
+  // Paths to the roots; a path stops at a clique already removed (its ancestors are).
+  std::unordered_set<const Clique*> removed;
+  std::vector<Clique*> path_order;
+  for (Key k : keys)
+    for (Clique* c = clique(k); c && removed.insert(c).second; c = c->parent) path_order.push_back(c);
+  if (path_order.empty()) return out;
+  for (Clique* c : path_order) {
+    for (const auto& ch : c->children)
+      if (!removed.count(ch.get())) {
+        ch->parent = nullptr;
+        out.orphans.push_back(ch);
+      }
+    for (Key k : c->frontals) {
+      out.frontals.push_back(k);
+      nodes_.erase(k);
+    }
+    out.factor_indices.insert(out.factor_indices.end(), c->factor_indices.begin(), c->factor_indices.end());
+  }
+  out.cliques.reserve(path_order.size());
+  for (Clique* c : path_order) out.cliques.push_back(c->shared_from_this());
+  for (const Clique::Ptr& c : out.cliques) {  // detach: the orphans and removed children
+    c->children.clear();
+    c->parent = nullptr;
+  }
+  roots_.erase(std::remove_if(roots_.begin(), roots_.end(),
+                              [&](const Clique::Ptr& r) { return removed.count(r.get()) != 0; }),
+               roots_.end());
+  return out;
+}
+
+Clique::Ptr BayesTree::removeSubtree(Clique* top) {
+  Clique::Ptr owned = top->shared_from_this();
+  std::vector<Clique::Ptr>& siblings = top->parent ? top->parent->children : roots_;
+  siblings.erase(std::find(siblings.begin(), siblings.end(), owned));
+  top->parent = nullptr;
+  std::vector<const Clique*> stack{top};
+  while (!stack.empty()) {
+    const Clique* c = stack.back();
+    stack.pop_back();
+    for (Key k : c->frontals) nodes_.erase(k);
+    for (const auto& ch : c->children) stack.push_back(ch.get());
+  }
+  return owned;
+}
+
 std::unordered_map<Key, Matrix> BayesTree::marginalCovariances() const {
   std::unordered_map<Key, Matrix> out;
   out.reserve(nodes_.size());

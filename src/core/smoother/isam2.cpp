@@ -34,60 +34,60 @@ ISAM2Result ISAM2::update(const NonlinearFactorGraph& new_factors, const Values&
   for (FactorIndex i : up.remove_factor_indices)
     if (!factors_.count(i)) throw std::invalid_argument("ISAM2::update: no factor with index " + std::to_string(i));
 
-  // ---- 1. Add the new factors and variables (validated first: no state change on bad input).
+  // ---- 1. Add the new factors and variables (validated first: no state change on bad
+  // input) and remove the listed factors. `affected` collects the variables whose
+  // cliques (and the paths from them to the root) are re-eliminated.
   auto t = Clock::now();
-  addFactorsAndVariables(new_factors, new_values, result);
+  KeySet affected = addAndRemoveFactors(new_factors, new_values, up, result);
   ++update_count_;
-  KeySet affected;  // variables whose cliques (and the paths to the root) get re-eliminated
-  for (const auto& [k, v] : new_values) affected.insert(k);
-  for (FactorIndex i : result.new_factor_indices)
-    for (Key k : factors_.at(i).factor->keys()) affected.insert(k);
-  removeFactors(up.remove_factor_indices, affected, result);
-  for (Key k : up.extra_reelim_keys)
-    if (theta_.exists(k)) affected.insert(k);
-  result.step_time_s[0] = secondsSince(t);
+  result.step_time_s[ISAM2Result::kAddFactors] = secondsSince(t);
 
-  // ---- 2. Mark variables for relinearization (every relinearize_skip updates, fluid check).
+  // ---- 2. Relinearize: every relinearize_skip updates, mark the variables whose delta
+  // exceeds the threshold (fluid check, Alg. 5), move their linearization point by delta
+  // and invalidate the linearization of every factor involving them.
   t = Clock::now();
-  KeySet relin;
   if (params_.enable_relinearization &&
       (up.force_full_relinearization || update_count_ % params_.relinearize_skip == 0)) {
     result.relinearization_checked = true;
-    relin = gatherRelinearizeKeys(up);
+    relinearize(gatherRelinearizeKeys(up), affected, result, up.force_full_relinearization);
   }
-  result.step_time_s[1] = secondsSince(t);
+  result.step_time_s[ISAM2Result::kRelinearize] = secondsSince(t);
 
-  // ---- 3. Relinearize: move theta by delta for marked variables; invalidate the cached
-  // linearization of every factor involving them and mark all those factors' variables.
+  // ---- 3. Remove the top of the Bayes tree above the affected variables (Alg. 4): the
+  // subtrees below it become orphans.
   t = Clock::now();
-  relinearize(relin, affected, result, up.force_full_relinearization);
-  result.step_time_s[2] = secondsSince(t);
+  Top top = removeTop(affected, result);
+  result.step_time_s[ISAM2Result::kRemoveTop] = secondsSince(t);
 
-  // ---- 4. Remove the top of the Bayes tree: the cliques on the paths from the affected
-  // variables to the root. Their children that are not removed become orphans.
-  t = Clock::now();
-  KeyVector top_keys;
-  std::vector<Clique::Ptr> orphans;
-  std::vector<FactorIndex> top_factors;
-  removeTop(affected, top_keys, orphans, top_factors, result);
-  for (FactorIndex i : result.new_factor_indices) top_factors.push_back(i);
-  result.step_time_s[3] = secondsSince(t);
-
-  // ---- 5./6. Re-eliminate the top (with the orphans' cached marginals) under a
+  // ---- 4. Re-eliminate the top's factors and the orphans' cached marginals under a
   // constrained ordering, and re-attach the orphans.
-  std::vector<Clique*> created = eliminateTop(top_keys, orphans, top_factors, up, result);
-
-  // ---- 7. Back-substitution, partial ("wildfire") when enabled.
   t = Clock::now();
-  std::unordered_set<const Clique*> created_set(created.begin(), created.end());
-  backSubstitute(created_set, result);
-  result.step_time_s[6] = secondsSince(t);
+  const std::vector<Clique*> created = reeliminateTop(top, up, result);
+  result.step_time_s[ISAM2Result::kReeliminate] = secondsSince(t);
+
+  // ---- 5. Back-substitution (Alg. 7), partial ("wildfire") when enabled.
+  t = Clock::now();
+  backSubstitute(std::unordered_set<const Clique*>(created.begin(), created.end()), result);
+  result.step_time_s[ISAM2Result::kBackSubstitute] = secondsSince(t);
   result.total_time_s = secondsSince(t_start);
   return result;
 }
 
 // ---------------------------------------------------------------------------
 // Step 1
+ISAM2::KeySet ISAM2::addAndRemoveFactors(const NonlinearFactorGraph& new_factors, const Values& new_values,
+                                         const ISAM2UpdateParams& up, ISAM2Result& result) {
+  addFactorsAndVariables(new_factors, new_values, result);
+  KeySet affected;
+  for (const auto& [k, v] : new_values) affected.insert(k);
+  for (FactorIndex i : result.new_factor_indices)
+    for (Key k : factors_.at(i).factor->keys()) affected.insert(k);
+  removeFactors(up.remove_factor_indices, affected, result);
+  for (Key k : up.extra_reelim_keys)
+    if (theta_.exists(k)) affected.insert(k);
+  return affected;
+}
+
 void ISAM2::addFactorsAndVariables(const NonlinearFactorGraph& new_factors, const Values& new_values,
                                    ISAM2Result& result) {
   KeySet used;
@@ -205,8 +205,6 @@ void ISAM2::fluidCheck(const Clique& clique, KeySet& marked) const {
   for (const auto& ch : clique.children) fluidCheck(*ch, marked);
 }
 
-// ---------------------------------------------------------------------------
-// Step 3
 void ISAM2::relinearize(const KeySet& relin_keys, KeySet& affected, ISAM2Result& result, bool force) {
   std::size_t done = 0;
   for (Key k : relin_keys) {
@@ -224,7 +222,10 @@ void ISAM2::relinearize(const KeySet& relin_keys, KeySet& affected, ISAM2Result&
     affected.insert(k);
     for (FactorIndex i : variable_index_[k]) {
       FactorSlot& slot = factors_.at(i);
-      slot.linear.reset();
+      if (slot.linear) {  // linearized before (not new) and not yet counted in this update
+        slot.linear.reset();
+        ++result.factors_relinearized;
+      }
       for (Key other : slot.factor->keys()) affected.insert(other);
     }
   }
@@ -238,48 +239,31 @@ const JacobianFactor& ISAM2::linearFactor(FactorIndex index) {
 }
 
 // ---------------------------------------------------------------------------
-// Step 4
-void ISAM2::removeTop(const KeySet& affected, KeyVector& top_keys, std::vector<Clique::Ptr>& orphans,
-                      std::vector<FactorIndex>& top_factors, ISAM2Result& result) {
-  std::unordered_set<Clique*> removed;
-  std::vector<Clique*> removed_list;
-  for (Key k : affected)
-    for (Clique* c = tree_.clique(k); c && removed.insert(c).second; c = c->parent)
-      removed_list.push_back(c);
-  for (Clique* c : removed_list) {
-    for (const auto& ch : c->children)
-      if (!removed.count(ch.get())) {
-        ch->parent = nullptr;
-        orphans.push_back(ch);
-      }
-    for (Key k : c->frontals) {
-      top_keys.push_back(k);
-      tree_.eraseKey(k);
-    }
-    for (FactorIndex i : c->factor_indices)
-      if (factors_.count(i)) top_factors.push_back(i);
-  }
+// Step 3
+ISAM2::Top ISAM2::removeTop(const KeySet& affected, ISAM2Result& result) {
+  RemovedTop removed = tree_.removeTop(KeyVector(affected.begin(), affected.end()));
+  Top top;
+  top.keys = std::move(removed.frontals);
+  top.orphans = std::move(removed.orphans);
+  for (FactorIndex i : removed.factor_indices)
+    if (factors_.count(i)) top.factors.push_back(i);  // not removed in step 1
+  for (FactorIndex i : result.new_factor_indices) top.factors.push_back(i);
   // Variables not in the tree yet (new ones).
   for (Key k : affected)
-    if (!tree_.contains(k) && theta_.exists(k) &&
-        std::find(top_keys.begin(), top_keys.end(), k) == top_keys.end())
-      top_keys.push_back(k);
+    if (!tree_.contains(k) && theta_.exists(k) && std::find(top.keys.begin(), top.keys.end(), k) == top.keys.end())
+      top.keys.push_back(k);
   // Unused variables (all their factors removed) leave the problem.
-  top_keys.erase(std::remove_if(top_keys.begin(), top_keys.end(),
+  top.keys.erase(std::remove_if(top.keys.begin(), top.keys.end(),
                                 [&](Key k) {
                                   auto it = variable_index_.find(k);
                                   if (it != variable_index_.end() && !it->second.empty()) return false;
                                   eraseVariable(k);
                                   return true;
                                 }),
-                 top_keys.end());
-  // Drop the removed cliques (they hang below removed roots).
-  auto& roots = tree_.mutableRoots();
-  roots.erase(std::remove_if(roots.begin(), roots.end(),
-                             [&](const Clique::Ptr& r) { return removed.count(r.get()) != 0; }),
-              roots.end());
-  result.cliques_removed = removed_list.size();
-  result.orphans = orphans.size();
+                 top.keys.end());
+  result.cliques_removed = removed.cliques.size();
+  result.orphans = top.orphans.size();
+  return top;
 }
 
 void ISAM2::eraseVariable(Key key) {
@@ -292,18 +276,15 @@ void ISAM2::eraseVariable(Key key) {
 }
 
 // ---------------------------------------------------------------------------
-// Steps 5 and 6
-std::vector<Clique*> ISAM2::eliminateTop(const KeyVector& top_keys, std::vector<Clique::Ptr>& orphans,
-                                         const std::vector<FactorIndex>& top_factors,
-                                         const ISAM2UpdateParams& up, ISAM2Result& result) {
-  auto t = Clock::now();
+// Step 4
+std::vector<Clique*> ISAM2::reeliminateTop(const Top& top, const ISAM2UpdateParams& up, ISAM2Result& result) {
+  const KeyVector& top_keys = top.keys;
+  const std::vector<Clique::Ptr>& orphans = top.orphans;
+  const std::vector<FactorIndex>& top_factors = top.factors;
   const int n = static_cast<int>(top_keys.size());
   result.variables_reeliminated = top_keys.size();
-  if (n == 0) {
-    result.step_time_s[4] = secondsSince(t);
-    return {};
-  }
-  // 5a. Constrained ordering (CCOLAMD): first_keys in the first group, the caller's newest
+  if (n == 0) return {};
+  // 4a. Constrained ordering (CCOLAMD): first_keys in the first group, the caller's newest
   // keys (default: the keys of the new factors) in the last group -> the root clique.
   // Composite groups (first, optional caller group, newest), renumbered 0.. without gaps
   // as CCOLAMD wants.
@@ -353,7 +334,7 @@ std::vector<Clique*> ISAM2::eliminateTop(const KeyVector& top_keys, std::vector<
     return best;
   };
 
-  // 5b. Symbolic elimination into cliques (fundamental supernodes: a variable joins its
+  // 4b. Symbolic elimination into cliques (fundamental supernodes: a variable joins its
   // child clique when that child's separator is exactly the variable plus its own
   // separator, and both lie in the same constraint group). The newest group is gathered
   // into one clique even where it would split (e.g. a new landmark seen once): merging a
@@ -428,7 +409,7 @@ std::vector<Clique*> ISAM2::eliminateTop(const KeyVector& top_keys, std::vector<
     if (!st.empty()) children_at[st.front()].push_back(target);
   }
 
-  // 5c. Numeric elimination, children before parents (by last frontal position).
+  // 4c. Numeric elimination, children before parents (by last frontal position).
   std::vector<int> order;
   for (std::size_t c = 0; c < sym.size(); ++c)
     if (!sym[c].merged) order.push_back(static_cast<int>(c));
@@ -469,24 +450,21 @@ std::vector<Clique*> ISAM2::eliminateTop(const KeyVector& top_keys, std::vector<
     cliques[c] = std::move(clique);
   }
   result.cliques_created = order.size();
-  result.step_time_s[4] = secondsSince(t);
 
-  // ---- 6. Re-attach each orphan below the clique holding the first-eliminated variable of
+  // 4d. Re-attach each orphan below the clique holding the first-eliminated variable of
   // its separator (that clique contains the whole separator).
-  t = Clock::now();
   for (std::size_t c = 0; c < sym.size(); ++c)
     for (int o : sym[c].merged ? std::vector<int>{} : sym[c].orphans) {
       orphans[o]->parent = cliques[c].get();
       cliques[c]->children.push_back(orphans[o]);
     }
-  result.step_time_s[5] = secondsSince(t);
   std::vector<Clique*> created;
   for (int c : order) created.push_back(cliques[c].get());
   return created;
 }
 
 // ---------------------------------------------------------------------------
-// Step 7
+// Step 5
 void ISAM2::backSubstitute(const std::unordered_set<const Clique*>& new_cliques, ISAM2Result& result) {
   // Alg. 7: top-down; a clique is solved again when it was re-eliminated or when one of its
   // separator variables differs by more than the threshold from its value when the clique
@@ -601,9 +579,7 @@ KeyVector ISAM2::marginalizeLeaves(const KeyVector& keys) {
         if (!gone.count(k)) unindexFactor(i, *it->second.factor, k);
       factors_.erase(it);
     }
-    Clique* parent = top->parent;
-    std::shared_ptr<Clique> keep_alive;
-    if (parent) {
+    if (Clique* parent = top->parent) {
       // The subtree's information on the rest is its cached marginal on the separator.
       if (top->cached_marginal && top->cached_marginal->rows() > 0) {
         const FactorIndex i = next_factor_index_++;
@@ -612,16 +588,8 @@ KeyVector ISAM2::marginalizeLeaves(const KeyVector& keys) {
         indexFactor(i, *f);
         parent->factor_indices.push_back(i);
       }
-      auto& ch = parent->children;
-      auto it = std::find_if(ch.begin(), ch.end(), [&](const Clique::Ptr& p) { return p.get() == top; });
-      keep_alive = *it;
-      ch.erase(it);
-    } else {
-      auto& roots = tree_.mutableRoots();
-      auto it = std::find_if(roots.begin(), roots.end(), [&](const Clique::Ptr& p) { return p.get() == top; });
-      keep_alive = *it;
-      roots.erase(it);
     }
+    const Clique::Ptr cut = tree_.removeSubtree(top);  // freed at the end of this iteration
     for (Key k : gone) {
       eraseVariable(k);
       done.push_back(k);

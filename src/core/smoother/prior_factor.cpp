@@ -5,15 +5,14 @@
 namespace ppp::smoother {
 
 PriorFactor::PriorFactor(Key key, Vector z, NoiseModel::Ptr noise)
-    : NonlinearFactor({key}, std::move(noise)), z_(std::move(z)) {
+    : NoiseModelFactor1<Vector>(std::move(noise), {key}), z_(std::move(z)) {
   if (z_.size() != dim()) throw std::invalid_argument("PriorFactor: prior and noise differ in dimension");
 }
 
-Vector PriorFactor::unwhitenedError(const Values& x, std::vector<Matrix>* jacobians) const {
-  const Vector& v = x.at(keys()[0]);
-  if (v.size() != z_.size()) throw std::invalid_argument("PriorFactor: variable dimension mismatch");
-  if (jacobians) (*jacobians)[0] = Matrix::Identity(dim(), dim());
-  return v - z_;
+Vector PriorFactor::evaluateError(const Vector& x, Matrix* h) const {
+  if (x.size() != z_.size()) throw std::invalid_argument("PriorFactor: variable dimension mismatch");
+  if (h) *h = Matrix::Identity(dim(), dim());
+  return x - z_;
 }
 
 }  // namespace ppp::smoother
