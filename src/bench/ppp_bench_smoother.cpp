@@ -96,9 +96,8 @@ int main(int argc, char** argv) {
   if (argc > 2) {
     for (int i = 2; i < argc; ++i) configs.emplace_back(argv[i], loadPppConfig(argv[i]));
   } else {
-    configs.emplace_back("method defaults", PppConfig{});
-    if (std::filesystem::exists("config/ppp_real_data.yaml"))
-      configs.emplace_back("config/ppp_real_data.yaml", loadPppConfig("config/ppp_real_data.yaml"));
+    configs.emplace_back("method table (config/method_table.yaml)", methodTablePppConfig());
+    configs.emplace_back("defaults (the real-data values)", PppConfig{});
   }
   for (auto& [label, config] : configs) {
     adjust(config);

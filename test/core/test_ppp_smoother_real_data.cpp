@@ -51,7 +51,7 @@ TEST(PppSmootherRealData, FactorPredictionMatchesTheFullModelAfterAMetreLevelMov
 
 TEST(PppSmootherRealData, Zim2FilteredAndSmoothedAgainstTheEkf) {
   PPP_REQUIRE_SHARED_DATA();
-  const bench::SmootherRunOutput out = bench::runSmootherAndEkf(bench::zim2Inputs(test::sharedDataDir()), PppConfig{});
+  const bench::SmootherRunOutput out = bench::runSmootherAndEkf(bench::zim2Inputs(test::sharedDataDir()), methodTablePppConfig());
   ASSERT_EQ(out.filtered.size(), 120u);
   std::printf("%s", formatStatisticsComparison({{"EKF", out.ekf_stats},
                                                 {"smoother filtered", out.filtered_stats},
@@ -76,7 +76,7 @@ TEST(PppSmootherRealData, Zim2FilteredAndSmoothedAgainstTheEkf) {
 // the whole ZIM2 hour, through the nonlinear model, the arc tracker and the screening.
 TEST(PppSmootherRealData, Zim2FilteredEqualsTheEkfInTheSameLinearisation) {
   PPP_REQUIRE_SHARED_DATA();
-  PppConfig config;
+  PppConfig config = methodTablePppConfig();
   config.estimator.iterations_per_epoch = 1;
   config.estimator.postfit_check = false;
   config.stochastic.clock.initial_sigma_m = 1e3;
