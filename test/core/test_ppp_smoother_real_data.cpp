@@ -60,7 +60,7 @@ TEST(PppSmootherRealData, Zim2FilteredAndSmoothedAgainstTheEkf) {
   // Smoothed at the last epoch = filtered at the last epoch (consistency test (c)).
   ASSERT_TRUE(out.filtered.back().position_ecef_m.has_value());
   EXPECT_LT((*out.filtered.back().position_ecef_m - *out.smoothed.back().position_ecef_m).norm(), 1e-6);
-  // Regression guards (measured with the method's defaults: EKF 15-min mean 33.1 cm,
+  // Regression guards (measured with the method's table, config/method_table.yaml: EKF 15-min mean 33.1 cm,
   // filtered 33.1 cm, smoothed mean 4.4 cm, final 2.8 cm).
   EXPECT_LT(out.filtered_stats.first_window.mean_m, 1.2 * out.ekf_stats.first_window.mean_m);
   EXPECT_LT(out.filtered_stats.final_error_m, 0.10);
