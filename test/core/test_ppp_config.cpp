@@ -196,8 +196,13 @@ TEST(PppConfig, KeyGivenTwiceIsAnErrorNamingTheFileAndBothLines) {
 TEST(PppConfig, QuotedNumbersAndBoolsAreRefusedWithTheKeyPath) {
   const ConfigError number = errorOf("stochastic:\n  position:\n    initial_sigma_m: \"7\"\n");
   EXPECT_EQ(number.keyPath(), "stochastic.position.initial_sigma_m");
-  EXPECT_NE(number.reason().find("expected a number, got the text \"7\" (quoted)"), std::string::npos)
+  EXPECT_NE(number.reason().find("expected a number, got the text \"7\" (quoted"), std::string::npos)
       << number.what();
+  EXPECT_NE(number.reason().find("write a plain number (without quotes)"), std::string::npos) << number.what();
+  // rosparam (YAML 1.1) reads 1e-4 as text: the error says how to write it.
+  const ConfigError exponent = errorOf("smoother:\n  wildfire_threshold_m: \"1e-4\"\n");
+  EXPECT_EQ(exponent.keyPath(), "smoother.wildfire_threshold_m");
+  EXPECT_NE(exponent.reason().find("write 1.0e-4"), std::string::npos) << exponent.what();
   const ConfigError integer = errorOf("estimator:\n  min_satellites: '6'\n");
   EXPECT_EQ(integer.keyPath(), "estimator.min_satellites");
   EXPECT_NE(integer.reason().find("expected an integer"), std::string::npos) << integer.what();

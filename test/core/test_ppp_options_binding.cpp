@@ -168,14 +168,14 @@ TEST(PppOptionsBinding, ErrorsNameTheKeyPath) {
       // Strict types (issue 16): quoted text is never a number or a bool, YAML 1.1
       // yes/no/on/off are not bools, and a list is never a lone value.
       {"measurement_model: {elevation_cutoff_deg: \"7\"}\n", "measurement_model.elevation_cutoff_deg",
-       "expected a number, got the text \"7\" (quoted)"},
+       "expected a number, got the text \"7\" (quoted"},
       {"measurement_model: {elevation_cutoff_deg: '7'}\n", "measurement_model.elevation_cutoff_deg",
        "expected a number"},
       {"cycle_slip: {melbourne_wuebbena: {window: \"60\"}}\n", "cycle_slip.melbourne_wuebbena.window",
-       "expected an integer, got the text \"60\" (quoted)"},
+       "expected an integer, got the text \"60\" (quoted"},
       {"cycle_slip: {max_gap_s: \"30\"}\n", "cycle_slip.max_gap_s", "expected a number"},
       {"measurement_model: {corrections: {shapiro: \"yes\"}}\n", "measurement_model.corrections.shapiro",
-       "expected true or false, got the text \"yes\" (quoted)"},
+       "expected true or false, got the text \"yes\" (quoted"},
       {"measurement_model: {corrections: {shapiro: yes}}\n", "measurement_model.corrections.shapiro",
        "expected true or false, got 'yes'"},
       {"measurement_model: {corrections: {shapiro: off}}\n", "measurement_model.corrections.shapiro",

@@ -9,8 +9,17 @@ namespace {
 /// parameter of ROS (xmlRpcToYaml tags them alike): text, never a number or a bool.
 bool isQuotedText(const YAML::Node& n) { return n.IsScalar() && n.Tag() == "!"; }
 
+/// What to write instead of quoted text where a number is expected.
+std::string unquoteHint(const YAML::Node& n) {
+  const std::string& t = n.Scalar();
+  // rosparam reads YAML 1.1, where 1e-4 (no dot) is text, not a number.
+  if (t.find_first_of("eE") != std::string::npos && t.find('.') == std::string::npos)
+    return ": write a plain number (without quotes; rosparam reads 1e-4 as text: write 1.0e-4)";
+  return ": write a plain number (without quotes)";
+}
+
 std::string describe(const YAML::Node& n) {
-  if (isQuotedText(n)) return "the text \"" + n.Scalar() + "\" (quoted)";
+  if (isQuotedText(n)) return "the text \"" + n.Scalar() + "\" (quoted, or a string parameter)";
   if (n.IsScalar()) return "'" + n.Scalar() + "'";
   if (n.IsMap()) return "a mapping";
   if (n.IsSequence()) return "a sequence";
@@ -46,7 +55,7 @@ YAML::Node YamlSection::scalar(const std::string& key) {
 double YamlSection::number(const std::string& key, double fallback, Bound bound) {
   const YAML::Node n = scalar(key);
   if (!n.IsDefined()) return fallback;
-  if (isQuotedText(n)) fail(key, "expected a number, got " + describe(n) + ": write it without quotes");
+  if (isQuotedText(n)) fail(key, "expected a number, got " + describe(n) + unquoteHint(n));
   double v = 0.0;
   try {
     v = n.as<double>();
@@ -62,7 +71,7 @@ double YamlSection::number(const std::string& key, double fallback, Bound bound)
 int YamlSection::integer(const std::string& key, int fallback, int minimum) {
   const YAML::Node n = scalar(key);
   if (!n.IsDefined()) return fallback;
-  if (isQuotedText(n)) fail(key, "expected an integer, got " + describe(n) + ": write it without quotes");
+  if (isQuotedText(n)) fail(key, "expected an integer, got " + describe(n) + unquoteHint(n));
   int v = 0;
   try {
     v = n.as<int>();
