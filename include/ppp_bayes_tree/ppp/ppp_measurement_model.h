@@ -98,7 +98,9 @@ struct MeasurementModelOptions {
   DryTroposphereModel dry_troposphere = DryTroposphereModel::ModifiedHopfield;
   /// GMF (Boehm et al. 2006) by default: it fits real data better than the
   /// method's modified Hopfield ray integration (config/method_table.yaml):
-  /// tropical CCJ2 with low satellites, final 3D 11 cm -> 5 cm; ZIM2 neutral.
+  /// with ppp_solve (30 m start prior, mean 3D EKF / smoothed, Hopfield -> GMF):
+  /// tropical CCJ2 with low satellites 31.6 / 15.2 -> 26.1 / 8.41 cm (final 10.4 ->
+  /// 4.2 cm); ZIM2 17.8 / 4.41 -> 18.8 / 3.63 cm.
   TroposphereMapping mapping = TroposphereMapping::Gmf;
   bool solid_earth_tide = true;
   bool ocean_loading = true;  // used only when coefficients are given

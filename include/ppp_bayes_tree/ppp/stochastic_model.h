@@ -17,8 +17,9 @@
 // starts 3 m off) and the phase arcs then hang the trajectory on that start.
 // 30 m (RTKLIB's VAR_POS) leaves the start as a linearisation point only. A
 // sigma from the code solution's own covariance would count the codes twice
-// as well, so the prior stays uninformative. Measured with ppp_solve (mean 3D
-// EKF / smoothed): CCJ2 44 -> 37 cm (with GMF 26.1 / 8.4 cm).
+// as well, so the prior stays uninformative. Measured with ppp_solve (GMF, mean
+// 3D EKF / smoothed, 1 m -> 30 m): CCJ2 35.2 / 8.70 -> 26.1 / 8.41 cm, ZIM2
+// 19.7 / 3.64 -> 18.8 / 3.63 cm.
 //
 // Every process noise is scaled with the real elapsed time dt between two
 // processed epochs (data gaps and "no solution" epochs included):
