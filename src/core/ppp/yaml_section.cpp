@@ -11,10 +11,11 @@ bool isQuotedText(const YAML::Node& n) { return n.IsScalar() && n.Tag() == "!"; 
 
 /// What to write instead of quoted text where a number is expected.
 std::string unquoteHint(const YAML::Node& n) {
-  const std::string& t = n.Scalar();
-  // rosparam reads YAML 1.1, where 1e-4 (no dot) is text, not a number.
-  if (t.find_first_of("eE") != std::string::npos && t.find('.') == std::string::npos)
-    return ": write a plain number (without quotes; rosparam reads 1e-4 as text: write 1.0e-4)";
+  // rosparam reads YAML 1.1, where an exponent number needs a dot and a signed
+  // exponent: 1e-4 and 3.0e6 are text there, 1.0e-4 and 3.0e+6 numbers.
+  if (n.Scalar().find_first_of("eE") != std::string::npos)
+    return ": write a plain number (without quotes; for rosparam (YAML 1.1) with a dot and a signed exponent, "
+           "1.0e-4 or 3.0e+6)";
   return ": write a plain number (without quotes)";
 }
 
