@@ -4,7 +4,8 @@
 // statistics (position_error_statistics.h) and the per-epoch update times.
 // Usage: ppp_bench_smoother [shared_data_dir] [config.yaml ...]
 //   shared_data_dir defaults to $PPP_SHARED_DATA or ../shared/data; each config
-//   (default: the method's defaults, then config/ppp_real_data.yaml when found)
+//   (default: the method's table, config/method_table.yaml, then the defaults,
+//   which are the real-data values)
 //   gives one table per dataset. PPP_SMOOTHER_LAG_S=300 runs the fixed-lag smoother;
 //   PPP_EKF_PLAIN=1 runs the EKF in the smoother's linearisation (1 iteration, no
 //   postfit check). Prints figures, asserts nothing.
@@ -96,9 +97,8 @@ int main(int argc, char** argv) {
   if (argc > 2) {
     for (int i = 2; i < argc; ++i) configs.emplace_back(argv[i], loadPppConfig(argv[i]));
   } else {
-    configs.emplace_back("method defaults", PppConfig{});
-    if (std::filesystem::exists("config/ppp_real_data.yaml"))
-      configs.emplace_back("config/ppp_real_data.yaml", loadPppConfig("config/ppp_real_data.yaml"));
+    configs.emplace_back("method table (config/method_table.yaml)", methodTablePppConfig());
+    configs.emplace_back("defaults (the real-data values)", PppConfig{});
   }
   for (auto& [label, config] : configs) {
     adjust(config);

@@ -28,17 +28,8 @@ RosNodeOptions bindRosNodeOptions(const YAML::Node& ros, const std::string& sour
     o.base_frame = f.text("base_link", o.base_frame);
     o.antenna_frame = f.text("gnss_antenna", o.antenna_frame);
     o.publish_tf = f.boolean("publish_tf", o.publish_tf);
-    const auto arm = f.textList("antenna_lever_arm_m", {"0", "0", "0"});
-    if (arm.size() != 3) f.fail("antenna_lever_arm_m", "needs 3 numbers [x, y, z]");
-    for (int i = 0; i < 3; ++i) {
-      try {
-        std::size_t used = 0;
-        o.antenna_lever_arm_m[i] = std::stod(arm[i], &used);
-        if (used != arm[i].size()) throw std::invalid_argument("");
-      } catch (const std::exception&) {
-        f.fail("antenna_lever_arm_m", "'" + arm[i] + "' is not a number");
-      }
-    }
+    const auto arm = f.numberList("antenna_lever_arm_m", {0.0, 0.0, 0.0}, 3);
+    for (int i = 0; i < 3; ++i) o.antenna_lever_arm_m[i] = arm[static_cast<std::size_t>(i)];
     f.finish();
   }
   {
@@ -103,7 +94,13 @@ YAML::Node xmlRpcToYaml(XmlRpc::XmlRpcValue& v) {
     case XmlRpc::XmlRpcValue::TypeBoolean: return YAML::Node(static_cast<bool>(v));
     case XmlRpc::XmlRpcValue::TypeInt: return YAML::Node(static_cast<int>(v));
     case XmlRpc::XmlRpcValue::TypeDouble: return YAML::Node(static_cast<double>(v));
-    case XmlRpc::XmlRpcValue::TypeString: return YAML::Node(static_cast<std::string>(v));
+    case XmlRpc::XmlRpcValue::TypeString: {
+      // Tagged as a quoted scalar of a file: a string parameter ("7", "true")
+      // is text, refused where a number or a bool is expected (yaml_section.h).
+      YAML::Node n(static_cast<std::string>(v));
+      n.SetTag("!");
+      return n;
+    }
     case XmlRpc::XmlRpcValue::TypeArray: {
       YAML::Node n(YAML::NodeType::Sequence);
       for (int i = 0; i < v.size(); ++i) n.push_back(xmlRpcToYaml(v[i]));

@@ -51,10 +51,8 @@ NodeConfig loadNodeConfig(const ros::NodeHandle& private_nh) {
   YAML::Node root(YAML::NodeType::Map);
   if (private_nh.getParam(private_nh.getNamespace(), params) && params.getType() == XmlRpc::XmlRpcValue::TypeStruct)
     root = xmlRpcToYaml(params);
-  YAML::Emitter out;
-  out << root;
   NodeConfig c;
-  c.ppp = ppp::parsePppConfig(root.size() ? std::string(out.c_str()) : std::string("{}"), source);
+  c.ppp = ppp::bindPppConfig(root, source);  // the XmlRpc types kept (no text round trip)
   c.ros = bindRosNodeOptions(c.ppp.ros, source);
   return c;
 }

@@ -12,10 +12,12 @@
 // 30 min: 2.4 s against 1.2 s per flight). On 10 flights of 30 min both
 // modes agree to 0.1 cm in every per-flight mean (monte_carlo.h).
 // --config: the estimators' configuration (config/ppp.yaml layout), the same for
-// the EKF and the smoother; it replaces the study's default (the config/ppp.yaml
-// defaults with the estimator overrides of config/ppp_simulated.yaml, see
-// monteCarloDefaultPppConfig), so pass a file that holds those overrides too; --sim-config: the simulation error model
-// (config/simulation.yaml layout). Writes DIR/summary.md, summary.json and CSV
+// the EKF and the smoother, loaded over the built-in (real-data) defaults; it
+// replaces the study's default (the method's preset config/method_table.yaml with
+// the 30 m start prior of config/ppp_simulated.yaml, see monteCarloDefaultPppConfig),
+// so pass a file that holds what you want of those; the measurement model is always
+// the simulator's physics (flightPppConfig) with the file's weights and cutoff.
+// --sim-config: the simulation error model (config/simulation.yaml layout). Writes DIR/summary.md, summary.json and CSV
 // files for scripts/plot_monte_carlo.py; prints the tables and the wall time.
 #include <unistd.h>
 

@@ -63,8 +63,8 @@ struct LoadedDataset {
   }
 };
 
-/// ppp_solve's request for a dataset, as a user runs real data: the method's
-/// defaults plus the real-data overrides of config/ppp_real_data.yaml.
+/// ppp_solve's request for a dataset, as a user runs real data: the defaults
+/// (the real-data values: ppp_solve without --config).
 inline PppSolveRequest solveRequest(const PppDataset& d, const std::string& out_dir,
                                     const std::string& estimator = "ekf") {
   PppSolveRequest r;
@@ -76,7 +76,6 @@ inline PppSolveRequest solveRequest(const PppDataset& d, const std::string& out_
   r.truth_ecef_m = d.truth_ecef_m;
   r.out_dir = out_dir;
   r.estimator = estimator;
-  r.config = loadPppConfig(std::string(PPP_REPO_DIR) + "/config/ppp_real_data.yaml");
   return r;
 }
 

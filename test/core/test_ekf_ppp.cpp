@@ -4,7 +4,7 @@
 // a receiver near ZIM2 (47 N, 7.5 E, spherical Earth), IF code and phase =
 // range + clock + ZWD / sin(el) (+ arc bias for phase), noise-free or with
 // Gaussian noise of the sigmas given to the filter (0.9 m and 9 mm at zenith,
-// / sin(el)).
+// / sin(el)). The filter runs with the method's table (methodTableStochasticModel).
 #include <gtest/gtest.h>
 
 #include <Eigen/Eigenvalues>
@@ -70,7 +70,7 @@ TEST(CodeLeastSquares, RejectsACodeOutlierAndReportsTooFewSatellites) {
 
 TEST(EkfPpp, NoiseFreeRecoversTheTruePositionBelowOneMillimetre) {
   Simulator sim;
-  EkfPpp ekf;
+  EkfPpp ekf(methodTableStochasticModel());
   sim.zwd_m = 0.15;  // 5 cm off the a priori 0.1 m: converges through the geometry change
   const auto first = ekf.processEpoch(sim.time(), modelOf(sim.epoch()));
   ASSERT_EQ(first.status, EpochStatus::Ok) << first.reason;
@@ -96,7 +96,7 @@ TEST(EkfPpp, PositionNeesIsWithinChiSquareBounds) {
   // The start is the code least squares of the first epoch, whose error (~2 m
   // here) the method's 1 m a priori does not cover, and which reuses that
   // epoch's code: a consistency test needs an uninformative position prior.
-  StochasticModel model;
+  StochasticModel model = methodTableStochasticModel();
   model.position.initial_sigma_m = 100.0;
   const int runs = 40;
   const std::vector<int> check_epochs{10, 40};
@@ -114,7 +114,7 @@ TEST(EkfPpp, PositionNeesIsWithinChiSquareBounds) {
 TEST(EkfPpp, JosephFormKeepsTheCovarianceSymmetricPositiveDefinite) {
   Simulator sim;
   sim.noise = true;
-  EkfPpp ekf;
+  EkfPpp ekf(methodTableStochasticModel());
   for (int i = 0; i < 200; ++i) {  // 200 epochs at 30 s: satellites set and rise, arcs come and go
     if (i > 0) sim.t_s += 30.0;
     const auto r = ekf.processEpoch(sim.time(), modelOf(sim.epoch()));
@@ -129,7 +129,7 @@ TEST(EkfPpp, JosephFormKeepsTheCovarianceSymmetricPositiveDefinite) {
 
 TEST(EkfPpp, ArcEventsAddReplaceAndRemoveBiases) {
   Simulator sim;
-  EkfPpp ekf;
+  EkfPpp ekf(methodTableStochasticModel());
   auto r = run(ekf, sim, 10);
   const int n_biases = ekf.activeBiasCount();
   EXPECT_EQ(n_biases, static_cast<int>(r.used.size()));
@@ -174,7 +174,7 @@ TEST(EkfPpp, ArcEventsAddReplaceAndRemoveBiases) {
 
 TEST(EkfPpp, TooFewSatellitesIsNoSolutionWithoutStateChange) {
   Simulator sim;
-  EkfPpp ekf;
+  EkfPpp ekf(methodTableStochasticModel());
   run(ekf, sim, 10);
   const Eigen::VectorXd x = ekf.stateVector();
   const Eigen::MatrixXd P = ekf.covarianceMatrix();
@@ -199,7 +199,7 @@ TEST(EkfPpp, TooFewSatellitesIsNoSolutionWithoutStateChange) {
   EXPECT_LT(positionError(next, sim), 1e-3);
 
   // No satellites at all before the start: no solution, not initialised.
-  EkfPpp fresh;
+  EkfPpp fresh(methodTableStochasticModel());
   const auto none = fresh.processEpoch(sim.time(), modelOf({}));
   EXPECT_EQ(none.status, EpochStatus::NoSolution);
   EXPECT_NE(none.reason.find("no initial position"), std::string::npos) << none.reason;
@@ -208,10 +208,10 @@ TEST(EkfPpp, TooFewSatellitesIsNoSolutionWithoutStateChange) {
 
 TEST(EkfPpp, ProcessNoiseScalesWithTheElapsedTime) {
   Simulator sim;
-  EkfPpp ekf;
+  EkfPpp ekf(methodTableStochasticModel());
   run(ekf, sim, 10);
   const Eigen::MatrixXd P = ekf.covarianceMatrix();
-  const StochasticModel m;
+  const StochasticModel m = methodTableStochasticModel();
   for (double dt : {30.0, 600.0}) {
     const Eigen::MatrixXd Pp = ekf.predictedCovariance(dt);
     for (int a = 0; a < 3; ++a) EXPECT_NEAR(Pp(a, a) - P(a, a), 25.0 * dt, 1e-9 * dt);  // q^2 dt, q = 5 m/sqrt(s)
@@ -230,7 +230,7 @@ TEST(EkfPpp, ProcessNoiseScalesWithTheElapsedTime) {
 
 TEST(EkfPpp, PrefitScreeningRejectsA50mCodeOutlierAndAPhaseJump) {
   Simulator sim;
-  EkfPpp ekf;
+  EkfPpp ekf(methodTableStochasticModel());
   run(ekf, sim, 10);
   sim.t_s += 30.0;
   auto obs = sim.epoch();
@@ -258,7 +258,7 @@ TEST(EkfPpp, PostfitCheckRejectsAModerateCodeOutlierOnANewArc) {
     Simulator sim;
     EkfOptions options;
     options.postfit_check = check;
-    EkfPpp ekf(StochasticModel{}, options);
+    EkfPpp ekf(methodTableStochasticModel(), options);
     const auto last = run(ekf, sim, 10);
     const SatelliteId sat = firstUsed(last);
     sim.slip(sat, 0.0);
@@ -289,7 +289,7 @@ TEST(EkfPpp, PostfitCheckRejectsAModerateCodeOutlierOnANewArc) {
 
 TEST(EkfPpp, ReceiverClockJumpOfOneMillisecondIsAbsorbed) {
   Simulator sim;
-  EkfPpp ekf;
+  EkfPpp ekf(methodTableStochasticModel());
   run(ekf, sim, 10);
   sim.clock_m += 299792.458;  // 1 ms clock steering jump
   sim.t_s += 30.0;
@@ -303,7 +303,7 @@ TEST(EkfPpp, ReceiverClockJumpOfOneMillisecondIsAbsorbed) {
 
 TEST(EkfPpp, NonFiniteMeasurementsAreRejectedWithAReasonNeverPropagated) {
   Simulator sim;
-  EkfPpp ekf;
+  EkfPpp ekf(methodTableStochasticModel());
   run(ekf, sim, 5);
   sim.t_s += 30.0;
   auto obs = sim.epoch();
@@ -338,7 +338,7 @@ TEST(EkfPpp, NonFiniteMeasurementsAreRejectedWithAReasonNeverPropagated) {
 
 TEST(EkfPpp, TimeGoingBackwardsFailsAndRollsBack) {
   Simulator sim;
-  EkfPpp ekf;
+  EkfPpp ekf(methodTableStochasticModel());
   run(ekf, sim, 5);
   const Eigen::VectorXd x = ekf.stateVector();
   const auto r = ekf.processEpoch(sim.time() - 30.0, modelOf(sim.epoch()));

@@ -222,3 +222,42 @@ TEST(MonteCarlo, InMemoryPipelineAndBatchSmootherRefuseMissingInputs) {
   const PppSmoother not_recording;
   EXPECT_THROW(not_recording.batchSmoothedValues(), std::logic_error);
 }
+
+// A median convergence time that is never reached (most flights never stay below
+// the threshold) reads "never (N of M flights)", not "inf min".
+TEST(MonteCarlo, ConvergenceNeverReachedIsPrintedAsNeverWithTheCount) {
+  EXPECT_EQ(convergenceTimeText(std::numeric_limits<double>::infinity(), 7, 10), "never (7 of 10 flights)");
+  EXPECT_EQ(convergenceTimeText(750.0, 3, 10), "12.5 min (never: 3)");
+  EXPECT_EQ(convergenceTimeText(std::nan(""), 0, 0), "no flights");
+  // On the study: a threshold of 1 micrometre is never reached by any flight.
+  MonteCarloResult r = study();
+  r.options.convergence_thresholds_m = {1e-6, 100.0};
+  r.summary = summarizeMonteCarlo(r.flights, r.options);
+  for (int e = 0; e < kMonteCarloEstimators; ++e) {
+    const auto ei = static_cast<std::size_t>(e);
+    EXPECT_TRUE(std::isinf(r.summary.convergence_median_s[ei][0]));
+    EXPECT_EQ(r.summary.convergence_never[ei][0], 3);
+    EXPECT_TRUE(std::isfinite(r.summary.convergence_median_s[ei][1]));
+  }
+  const std::string md = monteCarloMarkdown(r);
+  EXPECT_EQ(md.find("inf min"), std::string::npos) << md;
+  EXPECT_NE(md.find("| never (3 of 3 flights) |"), std::string::npos) << md;
+  EXPECT_NE(md.find(" min (never: 0) |"), std::string::npos) << md;
+}
+
+// The study's estimators run the method's preset (config/method_table.yaml) with
+// the 30 m start prior of config/ppp_simulated.yaml, not the real-data defaults.
+TEST(MonteCarlo, DefaultConfigIsTheMethodPresetWithTheSimulatedStartPrior) {
+  const PppConfig study_config = MonteCarloOptions{}.ppp;
+  const PppConfig method = methodTablePppConfig();
+  EXPECT_EQ(study_config.stochastic.position.initial_sigma_m, 30.0);
+  EXPECT_EQ(study_config.stochastic.position.process_noise_m_per_sqrt_s, method.stochastic.position.process_noise_m_per_sqrt_s);
+  EXPECT_EQ(study_config.stochastic.zwd.initial_sigma_m, method.stochastic.zwd.initial_sigma_m);
+  EXPECT_EQ(study_config.stochastic.clock.initial_sigma_m, method.stochastic.clock.initial_sigma_m);
+  EXPECT_EQ(study_config.stochastic.phase_bias.initial_sigma_m, method.stochastic.phase_bias.initial_sigma_m);
+  EXPECT_EQ(study_config.model.mapping, TroposphereMapping::ModifiedHopfield);
+  // A flight's measurement model is the simulator's physics (Hopfield), whatever the config's.
+  const SimulatedFlight f = simulateFlight(monteCarloSimulationConfig(smallStudy(), monteCarloFlightSetup(smallStudy(), 0)),
+                                           monteCarloFlightSetup(smallStudy(), 0).seed);
+  EXPECT_EQ(flightPppConfig(PppConfig{}, f).model.mapping, TroposphereMapping::ModifiedHopfield);
+}

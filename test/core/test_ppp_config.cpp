@@ -1,10 +1,13 @@
-// PppConfig: YAML loading. Defaults equal the method's table (DEVELOPERS.md),
-// the template config/ppp.yaml loads and restates the defaults, and malformed
-// configurations give errors naming the file, the key path and the reason.
+// PppConfig: YAML loading. The defaults are the real-data values, the template
+// config/ppp.yaml loads to exactly them, the preset config/method_table.yaml to
+// the method's table (DEVELOPERS.md), and malformed configurations (keys given
+// twice, quoted numbers, unknown keys...) give errors naming the file, the key
+// path (or lines) and the reason.
 #include <gtest/gtest.h>
 
 #include <fstream>
 #include <random>
+#include <vector>
 
 #include "ppp_bayes_tree/ppp/ppp_config.h"
 #include "test_support.h"
@@ -15,19 +18,19 @@ using ppp::parsePppConfig;
 
 namespace {
 
-void expectSameDefaults(const PppConfig& c) {
-  const PppConfig d;
-  EXPECT_EQ(c.stochastic.position.initial_sigma_m, d.stochastic.position.initial_sigma_m);
-  EXPECT_EQ(c.stochastic.position.process_noise_m_per_sqrt_s, d.stochastic.position.process_noise_m_per_sqrt_s);
-  EXPECT_EQ(c.stochastic.position.kind, d.stochastic.position.kind);
-  EXPECT_EQ(c.stochastic.zwd.initial_sigma_m, d.stochastic.zwd.initial_sigma_m);
-  EXPECT_EQ(c.stochastic.zwd.process_noise_m_per_sqrt_s, d.stochastic.zwd.process_noise_m_per_sqrt_s);
+void expectSameNoise(const ppp::StateNoise& a, const ppp::StateNoise& b, const char* name) {
+  EXPECT_EQ(a.initial_sigma_m, b.initial_sigma_m) << name;
+  EXPECT_EQ(a.process_noise_m_per_sqrt_s, b.process_noise_m_per_sqrt_s) << name;
+  EXPECT_EQ(a.kind, b.kind) << name;
+}
+
+/// Every bound value of two configurations is equal (the raw sections aside).
+void expectSameConfig(const PppConfig& c, const PppConfig& d) {
+  expectSameNoise(c.stochastic.position, d.stochastic.position, "position");
+  expectSameNoise(c.stochastic.zwd, d.stochastic.zwd, "zwd");
+  expectSameNoise(c.stochastic.clock, d.stochastic.clock, "clock");
+  expectSameNoise(c.stochastic.phase_bias, d.stochastic.phase_bias, "phase_bias");
   EXPECT_EQ(c.stochastic.initial_zwd_m, d.stochastic.initial_zwd_m);
-  EXPECT_EQ(c.stochastic.clock.initial_sigma_m, d.stochastic.clock.initial_sigma_m);
-  EXPECT_EQ(c.stochastic.clock.process_noise_m_per_sqrt_s, d.stochastic.clock.process_noise_m_per_sqrt_s);
-  EXPECT_EQ(c.stochastic.clock.kind, d.stochastic.clock.kind);
-  EXPECT_EQ(c.stochastic.phase_bias.initial_sigma_m, d.stochastic.phase_bias.initial_sigma_m);
-  EXPECT_EQ(c.stochastic.phase_bias.process_noise_m_per_sqrt_s, d.stochastic.phase_bias.process_noise_m_per_sqrt_s);
   EXPECT_EQ(c.estimator.screening.min_satellites, d.estimator.screening.min_satellites);
   EXPECT_EQ(c.estimator.iterations_per_epoch, d.estimator.iterations_per_epoch);
   EXPECT_EQ(c.estimator.screening.prefit_code_threshold_m, d.estimator.screening.prefit_code_threshold_m);
@@ -41,7 +44,60 @@ void expectSameDefaults(const PppConfig& c) {
   EXPECT_EQ(c.start.convergence_m, d.start.convergence_m);
   EXPECT_EQ(c.start.min_satellites, d.start.min_satellites);
   EXPECT_EQ(c.start.outlier_threshold_m, d.start.outlier_threshold_m);
+  EXPECT_EQ(c.smoother.robust, d.smoother.robust);
+  EXPECT_EQ(c.smoother.huber_width_sigmas, d.smoother.huber_width_sigmas);
+  EXPECT_EQ(c.smoother.relinearize_position_m, d.smoother.relinearize_position_m);
+  EXPECT_EQ(c.smoother.relinearize_zwd_m, d.smoother.relinearize_zwd_m);
+  EXPECT_EQ(c.smoother.relinearize_clock_m, d.smoother.relinearize_clock_m);
+  EXPECT_EQ(c.smoother.relinearize_bias_m, d.smoother.relinearize_bias_m);
+  EXPECT_EQ(c.smoother.relinearize_skip, d.smoother.relinearize_skip);
+  EXPECT_EQ(c.smoother.wildfire_threshold_m, d.smoother.wildfire_threshold_m);
+  EXPECT_EQ(c.smoother.exact_range, d.smoother.exact_range);
+  EXPECT_EQ(c.smoother.fixed_lag_s, d.smoother.fixed_lag_s);
+  // The file holds degrees: equal to the rounding of deg -> rad.
+  EXPECT_NEAR(c.model.elevation_cutoff_rad, d.model.elevation_cutoff_rad, 1e-15);
+  EXPECT_EQ(c.model.phase_sigma_zenith_m, d.model.phase_sigma_zenith_m);
+  EXPECT_EQ(c.model.code_phase_ratio, d.model.code_phase_ratio);
+  EXPECT_EQ(c.model.scale_sigma_for_ionosphere_free, d.model.scale_sigma_for_ionosphere_free);
+  EXPECT_EQ(c.model.dry_troposphere, d.model.dry_troposphere);
+  EXPECT_EQ(c.model.mapping, d.model.mapping);
+  EXPECT_EQ(c.model.solid_earth_tide, d.model.solid_earth_tide);
+  EXPECT_EQ(c.model.ocean_loading, d.model.ocean_loading);
+  EXPECT_EQ(c.model.phase_windup, d.model.phase_windup);
+  EXPECT_EQ(c.model.satellite_antenna, d.model.satellite_antenna);
+  EXPECT_EQ(c.model.receiver_antenna, d.model.receiver_antenna);
+  EXPECT_EQ(c.model.shapiro, d.model.shapiro);
+  EXPECT_EQ(c.model.exclude_eclipse, d.model.exclude_eclipse);
+  EXPECT_EQ(c.signals.systems, d.signals.systems);
+  EXPECT_EQ(c.signals.require_code_osb, d.signals.require_code_osb);
+  EXPECT_EQ(c.signals.phase_shift, d.signals.phase_shift);
+  for (const auto& [a, b] : {std::pair{&c.signals.gps, &d.signals.gps}, std::pair{&c.signals.galileo, &d.signals.galileo}}) {
+    EXPECT_EQ(a->code1_attributes, b->code1_attributes);
+    EXPECT_EQ(a->code2_attributes, b->code2_attributes);
+    EXPECT_EQ(a->phase1_attributes, b->phase1_attributes);
+    EXPECT_EQ(a->phase2_attributes, b->phase2_attributes);
+  }
+  const ppp::CycleSlipOptions& x = c.cycle_slip_options;
+  const ppp::CycleSlipOptions& y = d.cycle_slip_options;
+  EXPECT_EQ(x.mw_sigma_factor, y.mw_sigma_factor);
+  EXPECT_EQ(x.mw_min_threshold_cycles, y.mw_min_threshold_cycles);
+  EXPECT_EQ(x.mw_initial_sigma_cycles, y.mw_initial_sigma_cycles);
+  EXPECT_EQ(x.mw_min_samples, y.mw_min_samples);
+  EXPECT_EQ(x.mw_window, y.mw_window);
+  EXPECT_EQ(x.gf_threshold_base_m, y.gf_threshold_base_m);
+  EXPECT_EQ(x.gf_threshold_rate_mps, y.gf_threshold_rate_mps);
+  EXPECT_EQ(x.gf_threshold_max_m, y.gf_threshold_max_m);
+  EXPECT_EQ(x.gf_fit_points, y.gf_fit_points);
+  EXPECT_EQ(x.gf_drift_allowance_mps, y.gf_drift_allowance_mps);
+  EXPECT_EQ(x.gf_sigma_factor, y.gf_sigma_factor);
+  EXPECT_EQ(x.gf_min_samples, y.gf_min_samples);
+  EXPECT_EQ(x.max_gap_s, y.max_gap_s);
+  EXPECT_EQ(x.max_gap_intervals, y.max_gap_intervals);
+  EXPECT_EQ(x.default_interval_s, y.default_interval_s);
+  EXPECT_EQ(x.use_loss_of_lock, y.use_loss_of_lock);
 }
+
+void expectSameDefaults(const PppConfig& c) { expectSameConfig(c, PppConfig{}); }
 
 /// The ConfigError of parsing `yaml`, or fails the test.
 ConfigError errorOf(const std::string& yaml) {
@@ -56,11 +112,13 @@ ConfigError errorOf(const std::string& yaml) {
 
 }  // namespace
 
-TEST(PppConfig, EmptyDocumentGivesTheMethodDefaults) {
+TEST(PppConfig, EmptyDocumentGivesTheRealDataDefaults) {
   const PppConfig c = parsePppConfig("", "empty.yaml");
   expectSameDefaults(c);
-  // The method's table (DEVELOPERS.md), restated in issue 3.
-  EXPECT_EQ(c.stochastic.position.initial_sigma_m, 1.0);  // the method's table (DEVELOPERS.md)
+  // The method's table (DEVELOPERS.md) except the start prior and the mapping
+  // (the real-data values of the former config/ppp_real_data.yaml).
+  EXPECT_EQ(c.stochastic.position.initial_sigma_m, 30.0);
+  EXPECT_EQ(c.model.mapping, ppp::TroposphereMapping::Gmf);
   EXPECT_EQ(c.stochastic.position.process_noise_m_per_sqrt_s, 5.0);
   EXPECT_EQ(c.stochastic.zwd.initial_sigma_m, 0.3);
   EXPECT_EQ(c.stochastic.zwd.process_noise_m_per_sqrt_s, 3e-5);
@@ -73,7 +131,128 @@ TEST(PppConfig, EmptyDocumentGivesTheMethodDefaults) {
   EXPECT_EQ(c.measurement_model.size(), 0u);
 }
 
+TEST(PppConfig, MethodTablePresetIsTheMethodsTable) {
+  const PppConfig m = ppp::methodTablePppConfig();
+  // DEVELOPERS.md table 2 and the Hopfield mapping the method used.
+  EXPECT_EQ(m.stochastic.position.initial_sigma_m, 1.0);
+  EXPECT_EQ(m.stochastic.position.process_noise_m_per_sqrt_s, 5.0);
+  EXPECT_EQ(m.stochastic.position.kind, ppp::ProcessKind::RandomWalk);
+  EXPECT_EQ(m.stochastic.zwd.initial_sigma_m, 0.3);
+  EXPECT_EQ(m.stochastic.zwd.process_noise_m_per_sqrt_s, 3e-5);
+  EXPECT_EQ(m.stochastic.clock.initial_sigma_m, 3e6);
+  EXPECT_EQ(m.stochastic.clock.process_noise_m_per_sqrt_s, 2000.0);
+  EXPECT_EQ(m.stochastic.clock.kind, ppp::ProcessKind::White);
+  EXPECT_EQ(m.stochastic.phase_bias.initial_sigma_m, 100.0);
+  EXPECT_EQ(m.stochastic.phase_bias.process_noise_m_per_sqrt_s, 0.0);
+  EXPECT_EQ(m.model.mapping, ppp::TroposphereMapping::ModifiedHopfield);
+  EXPECT_EQ(m.model.dry_troposphere, ppp::DryTroposphereModel::ModifiedHopfield);
+  // The preset file loads to exactly this configuration.
+  expectSameConfig(ppp::loadPppConfig(std::string(PPP_REPO_DIR) + "/config/method_table.yaml"), m);
+  // Apart from the start prior and the mapping it is the defaults.
+  PppConfig d;
+  d.stochastic.position.initial_sigma_m = 1.0;
+  d.model.mapping = ppp::TroposphereMapping::ModifiedHopfield;
+  expectSameConfig(m, d);
+}
+
+TEST(PppConfig, RealDataFileIsTheDefaults) {
+  // Kept for existing command lines: the defaults are the real-data values.
+  expectSameDefaults(ppp::loadPppConfig(std::string(PPP_REPO_DIR) + "/config/ppp_real_data.yaml"));
+  expectSameDefaults(ppp::loadPppConfig(std::string(PPP_REPO_DIR) + "/config/ppp_ros_zim2.yaml"));
+}
+
+// The nodes load these files with rosparam (PyYAML, YAML 1.1), where a number
+// with an exponent needs a dot and a signed exponent (3.0e6 and 1e-4 are text
+// there, refused by the strict binding): every exponent number is written 3.0e+6.
+TEST(PppConfig, ExponentNumbersOfTheConfigFilesAreNumbersForRosparamToo) {
+  int exponents = 0;
+  for (const char* name : {"ppp.yaml", "method_table.yaml", "ppp_simulated.yaml", "ppp_real_data.yaml",
+                           "ppp_ros_zim2.yaml", "simulation.yaml"}) {
+    const YAML::Node root = YAML::LoadFile(std::string(PPP_REPO_DIR) + "/config/" + name);
+    std::vector<YAML::Node> stack{root};
+    while (!stack.empty()) {
+      const YAML::Node n = stack.back();
+      stack.pop_back();
+      if (n.IsMap()) {
+        for (const auto& kv : n) stack.push_back(kv.second);
+      } else if (n.IsSequence()) {
+        for (const auto& item : n) stack.push_back(item);
+      } else if (n.IsScalar() && n.Tag() != "!") {
+        const std::string& t = n.Scalar();
+        const auto e = t.find_first_of("eE");
+        if (e == std::string::npos || t.find_first_not_of("0123456789.eE+-") != std::string::npos) continue;
+        ++exponents;
+        EXPECT_NE(t.find('.'), std::string::npos) << name << ": " << t << " (YAML 1.1 needs a dot)";
+        EXPECT_TRUE(e + 1 < t.size() && (t[e + 1] == '+' || t[e + 1] == '-'))
+            << name << ": " << t << " (YAML 1.1 needs a signed exponent: 3.0e+6)";
+      }
+    }
+  }
+  EXPECT_GT(exponents, 5);
+}
+
+TEST(PppConfig, KeyGivenTwiceIsAnErrorNamingTheFileAndBothLines) {
+  const ConfigError top = errorOf(
+      "measurement_model:\n  elevation_cutoff_deg: 10\nestimator:\n  min_satellites: 6\n"
+      "measurement_model:\n  code_phase_ratio: 100\n");
+  EXPECT_EQ(top.file(), "bad.yaml");
+  EXPECT_EQ(top.keyPath(), "measurement_model");
+  EXPECT_NE(top.reason().find("key given twice in one mapping, at line 1 and line 5"), std::string::npos)
+      << top.what();
+  const ConfigError nested = errorOf("stochastic:\n  clock:\n    initial_sigma_m: 1\n    initial_sigma_m: 2\n");
+  EXPECT_EQ(nested.keyPath(), "stochastic.clock.initial_sigma_m");
+  EXPECT_NE(nested.reason().find("at line 3 and line 4"), std::string::npos) << nested.what();
+  const ConfigError flow = errorOf("ros: {frames: {map: a, map: b}}\n");
+  EXPECT_EQ(flow.keyPath(), "ros.frames.map");
+  // The same key in different mappings is fine.
+  EXPECT_NO_THROW(parsePppConfig("stochastic:\n  position: {initial_sigma_m: 2}\n  zwd: {initial_sigma_m: 2}\n",
+                                 "ok.yaml"));
+  // A file: the error names its path.
+  const std::string path = ::testing::TempDir() + "/ppp_twice.yaml";
+  {
+    std::ofstream out(path);
+    out << "# comment\nstochastic: {}\nstochastic: {}\n";
+  }
+  try {
+    ppp::loadPppConfig(path);
+    ADD_FAILURE() << "expected ConfigError";
+  } catch (const ConfigError& e) {
+    EXPECT_EQ(e.file(), path);
+    EXPECT_NE(std::string(e.what()).find(path + ": stochastic: key given twice in one mapping, at line 2 and line 3"),
+              std::string::npos)
+        << e.what();
+  }
+}
+
+TEST(PppConfig, QuotedNumbersAndBoolsAreRefusedWithTheKeyPath) {
+  const ConfigError number = errorOf("stochastic:\n  position:\n    initial_sigma_m: \"7\"\n");
+  EXPECT_EQ(number.keyPath(), "stochastic.position.initial_sigma_m");
+  EXPECT_NE(number.reason().find("expected a number, got the text \"7\" (quoted"), std::string::npos)
+      << number.what();
+  EXPECT_NE(number.reason().find("write a plain number (without quotes)"), std::string::npos) << number.what();
+  // rosparam (YAML 1.1) reads 1e-4 as text: the error says how to write it.
+  const ConfigError exponent = errorOf("smoother:\n  wildfire_threshold_m: \"1e-4\"\n");
+  EXPECT_EQ(exponent.keyPath(), "smoother.wildfire_threshold_m");
+  EXPECT_NE(exponent.reason().find("1.0e-4 or 3.0e+6"), std::string::npos) << exponent.what();
+  const ConfigError integer = errorOf("estimator:\n  min_satellites: '6'\n");
+  EXPECT_EQ(integer.keyPath(), "estimator.min_satellites");
+  EXPECT_NE(integer.reason().find("expected an integer"), std::string::npos) << integer.what();
+  const ConfigError yes = errorOf("estimator:\n  postfit_check: \"yes\"\n");
+  EXPECT_EQ(yes.keyPath(), "estimator.postfit_check");
+  EXPECT_NE(yes.reason().find("expected true or false"), std::string::npos) << yes.what();
+  EXPECT_EQ(errorOf("smoother: {robust: on}\n").keyPath(), "smoother.robust");
+  EXPECT_EQ(errorOf("smoother: {exact_range: \"false\"}\n").keyPath(), "smoother.exact_range");
+  // The plain spellings are accepted.
+  const PppConfig ok = parsePppConfig("smoother: {robust: True, exact_range: false}\nestimator: {min_satellites: 6}\n",
+                                      "ok.yaml");
+  EXPECT_TRUE(ok.smoother.robust);
+  EXPECT_FALSE(ok.smoother.exact_range);
+  EXPECT_EQ(ok.estimator.screening.min_satellites, 6);
+}
+
 TEST(PppConfig, TemplateLoadsAndRestatesEveryDefault) {
+  // ppp_solve without --config uses the built-in defaults: config/ppp.yaml must
+  // be exactly them.
   const std::string path = std::string(PPP_REPO_DIR) + "/config/ppp.yaml";
   const PppConfig c = ppp::loadPppConfig(path);
   expectSameDefaults(c);

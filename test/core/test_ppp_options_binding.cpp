@@ -49,7 +49,7 @@ measurement_model:
   phase_sigma_zenith_m: 0.004
   code_phase_ratio: 150
   scale_sigma_for_ionosphere_free: false
-  troposphere: {dry_model: saastamoinen, mapping: gmf}
+  troposphere: {dry_model: saastamoinen, mapping: modified_hopfield}
   corrections:
     solid_earth_tide: false
     ocean_loading: false
@@ -62,7 +62,7 @@ measurement_model:
     systems: [Galileo, GPS]
     require_code_osb: false
     phase_shift: restore_original
-    gps: {code1: [C], code2: [L, W], phase1: [W, C], phase2: X}
+    gps: {code1: [C], code2: [L, W], phase1: [W, C], phase2: [X]}
     galileo: {code1: [X], code2: [X, Q], phase1: [X], phase2: [X]}
 )", "m.yaml");
   EXPECT_NEAR(c.model.elevation_cutoff_rad, 10.0 * kDegToRad, 1e-15);
@@ -70,7 +70,7 @@ measurement_model:
   EXPECT_EQ(c.model.code_phase_ratio, 150.0);
   EXPECT_FALSE(c.model.scale_sigma_for_ionosphere_free);
   EXPECT_EQ(c.model.dry_troposphere, DryTroposphereModel::Saastamoinen);
-  EXPECT_EQ(c.model.mapping, TroposphereMapping::Gmf);
+  EXPECT_EQ(c.model.mapping, TroposphereMapping::ModifiedHopfield);  // the default is gmf
   EXPECT_FALSE(c.model.solid_earth_tide || c.model.ocean_loading || c.model.phase_windup || c.model.shapiro ||
                c.model.satellite_antenna || c.model.receiver_antenna || c.model.exclude_eclipse);
   EXPECT_EQ(c.signals.systems, (std::vector<GnssSystem>{GnssSystem::Galileo, GnssSystem::GPS}));
@@ -79,7 +79,7 @@ measurement_model:
   EXPECT_EQ(c.signals.gps.code1_attributes, std::vector<char>{'C'});
   EXPECT_EQ(c.signals.gps.code2_attributes, (std::vector<char>{'L', 'W'}));
   EXPECT_EQ(c.signals.gps.phase1_attributes, (std::vector<char>{'W', 'C'}));
-  EXPECT_EQ(c.signals.gps.phase2_attributes, std::vector<char>{'X'});  // a lone value is a list of one
+  EXPECT_EQ(c.signals.gps.phase2_attributes, std::vector<char>{'X'});  // a list of one
   EXPECT_EQ(c.signals.galileo.code2_attributes, (std::vector<char>{'X', 'Q'}));
   EXPECT_EQ(c.signals.gps.band1, '1');  // bands are not configurable
   EXPECT_EQ(c.signals.galileo.band2, '5');
@@ -165,6 +165,26 @@ TEST(PppOptionsBinding, ErrorsNameTheKeyPath) {
       {"cycle_slip: {max_gap_s: soon}\n", "cycle_slip.max_gap_s", "expected a number"},
       {"cycle_slip: {max_gap_s: -5}\n", "cycle_slip.max_gap_s", "must be > 0"},
       {"cycle_slip: {use_loss_of_lock: sometimes}\n", "cycle_slip.use_loss_of_lock", "expected true or false"},
+      // Strict types (issue 16): quoted text is never a number or a bool, YAML 1.1
+      // yes/no/on/off are not bools, and a list is never a lone value.
+      {"measurement_model: {elevation_cutoff_deg: \"7\"}\n", "measurement_model.elevation_cutoff_deg",
+       "expected a number, got the text \"7\" (quoted"},
+      {"measurement_model: {elevation_cutoff_deg: '7'}\n", "measurement_model.elevation_cutoff_deg",
+       "expected a number"},
+      {"cycle_slip: {melbourne_wuebbena: {window: \"60\"}}\n", "cycle_slip.melbourne_wuebbena.window",
+       "expected an integer, got the text \"60\" (quoted"},
+      {"cycle_slip: {max_gap_s: \"30\"}\n", "cycle_slip.max_gap_s", "expected a number"},
+      {"measurement_model: {corrections: {shapiro: \"yes\"}}\n", "measurement_model.corrections.shapiro",
+       "expected true or false, got the text \"yes\" (quoted"},
+      {"measurement_model: {corrections: {shapiro: yes}}\n", "measurement_model.corrections.shapiro",
+       "expected true or false, got 'yes'"},
+      {"measurement_model: {corrections: {shapiro: off}}\n", "measurement_model.corrections.shapiro",
+       "expected true or false"},
+      {"measurement_model: {corrections: {shapiro: \"true\"}}\n", "measurement_model.corrections.shapiro",
+       "expected true or false"},
+      {"measurement_model: {signals: {systems: GPS}}\n", "measurement_model.signals.systems",
+       "expected a list [a, b, ...], got the single value 'GPS' (a list of one is [GPS])"},
+      {"measurement_model: {signals: {gps: {code1: W}}}\n", "measurement_model.signals.gps.code1", "expected a list"},
   };
   for (const auto& c : cases) {
     const ConfigError e = errorOf(c.yaml);
@@ -191,7 +211,7 @@ TEST(PppOptionsBinding, TemplateRestatesTheModelDefaults) {
 }
 
 TEST(PppOptionsBinding, RealDataConfigOverridesOnlyItsKeys) {
-  // config/ppp_real_data.yaml: 30 m start prior and GMF; everything else the method's defaults.
+  // config/ppp_real_data.yaml sets nothing now: its 30 m start prior and GMF are the defaults.
   const PppConfig c = loadPppConfig(std::string(PPP_REPO_DIR) + "/config/ppp_real_data.yaml");
   const PppConfig d;
   EXPECT_EQ(c.stochastic.position.initial_sigma_m, 30.0);

@@ -2,7 +2,8 @@
 // (the same as the EKF tests): Jacobians of the new factors, the exact-range
 // re-evaluation, equality with the EKF on a linear model, NEES of the filtered
 // position, smoothed = filtered at the last epoch, smoothed = batch optimum,
-// gaps / no-solution epochs, fixed lag, screening and diagnostics.
+// gaps / no-solution epochs, fixed lag, screening and diagnostics. The
+// estimators run with the method's table (methodTableStochasticModel).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -211,7 +212,7 @@ TEST(PppSmoother, FilteredEqualsTheEkfOnALinearModel) {
   // therefore shown with a clock a priori that keeps the EKF well conditioned
   // (1 km, which also caps the white clock's variance per step: min(q^2 dt, sigma0^2));
   // everything else is the default model.
-  StochasticModel conditioned;
+  StochasticModel conditioned = methodTableStochasticModel();
   conditioned.clock.initial_sigma_m = 1e3;
   conditioned.clock.process_noise_m_per_sqrt_s = 100.0;
   for (bool noise : {false, true}) {
@@ -222,10 +223,10 @@ TEST(PppSmoother, FilteredEqualsTheEkfOnALinearModel) {
   }
   // Default model: the smoother against a QR-factorized smoother (1e-6 m) and
   // against the EKF (its rounding: millimetre level).
-  const auto [dq, sq] = ekfVersusSmoother({}, true, smoother::Factorization::Cholesky, true);
+  const auto [dq, sq] = ekfVersusSmoother(methodTableStochasticModel(), true, smoother::Factorization::Cholesky, true);
   EXPECT_LT(dq, 1e-6);
   EXPECT_LT(sq, 1e-6);
-  const auto [de, se] = ekfVersusSmoother({}, true, smoother::Factorization::Cholesky);
+  const auto [de, se] = ekfVersusSmoother(methodTableStochasticModel(), true, smoother::Factorization::Cholesky);
   std::printf("default clock model: smoother Cholesky vs QR %.3g m; EKF vs smoother %.3g m (sigma %.3g)\n", dq, de,
               se);
   EXPECT_LT(de, 0.1);
@@ -238,7 +239,7 @@ TEST(PppSmoother, FilteredEqualsTheEkfOnALinearModel) {
 // chi-square with 120 degrees of freedom (as in the EKF test; uninformative
 // position prior for the same reason: the start reuses the first epoch's code).
 TEST(PppSmoother, FilteredPositionNeesIsWithinChiSquareBounds) {
-  StochasticModel model;
+  StochasticModel model = methodTableStochasticModel();
   model.position.initial_sigma_m = 100.0;
   const int runs = 40;
   const std::vector<int> check_epochs{10, 25, 40};
@@ -259,7 +260,7 @@ TEST(PppSmoother, SmoothedLastEpochEqualsFilteredAndTheTrajectoryIsTheBatchOptim
   Simulator sim;
   sim.noise = true;
   sim.zwd_m = 0.14;
-  PppSmoother smoother;
+  PppSmoother smoother(methodTableStochasticModel());
   const auto results = runSmoother(smoother, sim, 60);
   const auto smoothed = smoother.smoothedTrajectory(true);
   ASSERT_EQ(smoothed.size(), 60u);
@@ -293,7 +294,7 @@ TEST(PppSmoother, SmoothedLastEpochEqualsFilteredAndTheTrajectoryIsTheBatchOptim
 
 TEST(PppSmoother, GapsAndNoSolutionEpochsKeepTheChainOverTheRealElapsedTime) {
   Simulator sim;
-  PppSmoother smoother;
+  PppSmoother smoother(methodTableStochasticModel());
   runSmoother(smoother, sim, 5);
   sim.t_s += 30.0;
   auto obs = sim.epoch();
@@ -332,7 +333,7 @@ TEST(PppSmoother, GapsAndNoSolutionEpochsKeepTheChainOverTheRealElapsedTime) {
 
 TEST(PppSmoother, NewestStateAndObservedBiasesAreInTheRootClique) {
   Simulator sim;
-  PppSmoother smoother;
+  PppSmoother smoother(methodTableStochasticModel());
   const auto results = runSmoother(smoother, sim, 12);
   const auto& roots = smoother.isam2().bayesTree().roots();
   ASSERT_EQ(roots.size(), 1u);
@@ -353,7 +354,7 @@ TEST(PppSmoother, NewestStateAndObservedBiasesAreInTheRootClique) {
 TEST(PppSmoother, RelinearizesFromAPoorStartAndRecoversTheTruthNoiseFree) {
   Simulator sim;
   sim.zwd_m = 0.15;
-  PppSmoother smoother;
+  PppSmoother smoother(methodTableStochasticModel());
   smoother.setApproximatePosition(sim.position + Eigen::Vector3d(5e3, -3e3, 2e3));
   const auto results = runSmoother(smoother, sim, 120);
   std::size_t relinearized = 0;
@@ -375,7 +376,7 @@ TEST(PppSmoother, FixedLagBoundsTheGraphAndKeepsTheFilteredSolution) {
   lagged.fixed_lag_s = 300.0;
   PppSmootherOptions full;
   full.exact_range = false;
-  PppSmoother a({}, lagged), b({}, full);
+  PppSmoother a(methodTableStochasticModel(), lagged), b(methodTableStochasticModel(), full);
   ReceiverState about;
   about.position_ecef_m = sim_a.position;
   about.zwd_m = 0.1;
@@ -400,7 +401,7 @@ TEST(PppSmoother, FixedLagBoundsTheGraphAndKeepsTheFilteredSolution) {
 
 TEST(PppSmoother, PrefitScreeningRejectsACodeOutlierAndAPhaseJumpWithReasons) {
   Simulator sim;
-  PppSmoother smoother;
+  PppSmoother smoother(methodTableStochasticModel());
   runSmoother(smoother, sim, 10);
   sim.t_s += 30.0;
   auto obs = sim.epoch();
@@ -426,7 +427,7 @@ TEST(PppSmoother, HuberKernelLimitsAModerateOutlier) {
     PppSmootherOptions options;
     options.robust = true;
     options.robust = robust;
-    PppSmoother smoother({}, options);
+    PppSmoother smoother(methodTableStochasticModel(), options);
     SatelliteId bad;
     for (int i = 0; i < 20; ++i) {
       if (i > 0) sim.t_s += 30.0;
@@ -447,9 +448,9 @@ TEST(PppSmoother, HuberKernelLimitsAModerateOutlier) {
 TEST(PppSmoother, InvalidOptionsThrowAndTimeBackwardsFails) {
   PppSmootherOptions bad;
   bad.relinearize_position_m = 0.0;
-  EXPECT_THROW(PppSmoother({}, bad), std::invalid_argument);
+  EXPECT_THROW(PppSmoother(methodTableStochasticModel(), bad), std::invalid_argument);
   Simulator sim;
-  PppSmoother smoother;
+  PppSmoother smoother(methodTableStochasticModel());
   runSmoother(smoother, sim, 3);
   sim.t_s -= 30.0;
   const auto r = smoother.processEpoch(sim.time(), modelOf(sim.epoch(), {true}));
@@ -484,7 +485,7 @@ TEST(PppSmoother, ConfigSectionBindsTheOptionsAndSharesTheScreening) {
 
 TEST(PppSmoother, PerComponentRelinearizationThresholds) {
   // The thresholds the smoother gives iSAM2: position 1 cm, ZWD 1 mm, clock 1 m, bias 1 cm.
-  const PppSmoother smoother;
+  const PppSmoother smoother(methodTableStochasticModel());
   const sm::ISAM2Params& p = smoother.isam2().params();
   Eigen::VectorXd d = Eigen::VectorXd::Zero(5);
   d(4) = 0.9;  // clock moved 0.9 m: below 1 m
@@ -503,7 +504,7 @@ TEST(PppSmoother, PerComponentRelinearizationThresholds) {
 TEST(PppSmoother, SmoothedEpochAtIsOneStateOfTheTrajectoryAndStopsAtTheLagBoundary) {
   Simulator sim;
   sim.noise = true;
-  PppSmoother full;
+  PppSmoother full(methodTableStochasticModel());
   const auto results = runSmoother(full, sim, 40);
   const auto trajectory = full.smoothedTrajectory(true);
   EXPECT_FALSE(full.smoothedEpochAt(results.front().time - 1.0).has_value());  // before the first state
@@ -528,7 +529,7 @@ TEST(PppSmoother, SmoothedEpochAtIsOneStateOfTheTrajectoryAndStopsAtTheLagBounda
   sim_lag.noise = true;
   PppSmootherOptions lagged;
   lagged.fixed_lag_s = 300.0;
-  PppSmoother lag({}, lagged);
+  PppSmoother lag(methodTableStochasticModel(), lagged);
   const auto r = runSmoother(lag, sim_lag, 60);
   const auto lag_trajectory = lag.smoothedTrajectory();
   const auto at_lag = lag.smoothedEpochAt(r.back().time - 300.0, true);

@@ -51,7 +51,7 @@ TEST(PppSmootherRealData, FactorPredictionMatchesTheFullModelAfterAMetreLevelMov
 
 TEST(PppSmootherRealData, Zim2FilteredAndSmoothedAgainstTheEkf) {
   PPP_REQUIRE_SHARED_DATA();
-  const bench::SmootherRunOutput out = bench::runSmootherAndEkf(bench::zim2Inputs(test::sharedDataDir()), PppConfig{});
+  const bench::SmootherRunOutput out = bench::runSmootherAndEkf(bench::zim2Inputs(test::sharedDataDir()), methodTablePppConfig());
   ASSERT_EQ(out.filtered.size(), 120u);
   std::printf("%s", formatStatisticsComparison({{"EKF", out.ekf_stats},
                                                 {"smoother filtered", out.filtered_stats},
@@ -60,7 +60,7 @@ TEST(PppSmootherRealData, Zim2FilteredAndSmoothedAgainstTheEkf) {
   // Smoothed at the last epoch = filtered at the last epoch (consistency test (c)).
   ASSERT_TRUE(out.filtered.back().position_ecef_m.has_value());
   EXPECT_LT((*out.filtered.back().position_ecef_m - *out.smoothed.back().position_ecef_m).norm(), 1e-6);
-  // Regression guards (measured with the method's defaults: EKF 15-min mean 33.1 cm,
+  // Regression guards (measured with the method's table, config/method_table.yaml: EKF 15-min mean 33.1 cm,
   // filtered 33.1 cm, smoothed mean 4.4 cm, final 2.8 cm).
   EXPECT_LT(out.filtered_stats.first_window.mean_m, 1.2 * out.ekf_stats.first_window.mean_m);
   EXPECT_LT(out.filtered_stats.final_error_m, 0.10);
@@ -76,7 +76,7 @@ TEST(PppSmootherRealData, Zim2FilteredAndSmoothedAgainstTheEkf) {
 // the whole ZIM2 hour, through the nonlinear model, the arc tracker and the screening.
 TEST(PppSmootherRealData, Zim2FilteredEqualsTheEkfInTheSameLinearisation) {
   PPP_REQUIRE_SHARED_DATA();
-  PppConfig config;
+  PppConfig config = methodTablePppConfig();
   config.estimator.iterations_per_epoch = 1;
   config.estimator.postfit_check = false;
   config.stochastic.clock.initial_sigma_m = 1e3;

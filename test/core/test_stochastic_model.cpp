@@ -1,7 +1,8 @@
-// StochasticModel: the method's defaults (DEVELOPERS.md table, restated in the
-// issue: position 1 m / 5 m/sqrt(s) random walk; ZWD 0.3 m / 3e-5 m/sqrt(s)
-// random walk; clock 3e6 m / 2000 m/sqrt(s) white; phase bias 100 m / 0) and
-// the conversion of process noise to per-epoch variances over dt.
+// StochasticModel: the defaults (the method's table, DEVELOPERS.md, except the
+// position a priori sigma: 30 m instead of 1 m), the method's table itself
+// (methodTableStochasticModel: position 1 m / 5 m/sqrt(s) random walk; ZWD
+// 0.3 m / 3e-5 m/sqrt(s) random walk; clock 3e6 m / 2000 m/sqrt(s) white; phase
+// bias 100 m / 0) and the conversion of process noise to per-epoch variances over dt.
 #include <gtest/gtest.h>
 
 #include "ppp_bayes_tree/ppp/stochastic_model.h"
@@ -10,20 +11,24 @@ using ppp::ProcessKind;
 using ppp::StochasticModel;
 
 TEST(StochasticModel, DefaultsAreTheMethodTable) {
-  const StochasticModel m;
-  // Position a priori: 30 m instead of the table's 1 m (uninformative start, see stochastic_model.h).
-  EXPECT_EQ(m.position.initial_sigma_m, 1.0);  // the method's table (DEVELOPERS.md)
-  EXPECT_EQ(m.position.process_noise_m_per_sqrt_s, 5.0);
-  EXPECT_EQ(m.position.kind, ProcessKind::RandomWalk);
-  EXPECT_EQ(m.zwd.initial_sigma_m, 0.3);
-  EXPECT_EQ(m.zwd.process_noise_m_per_sqrt_s, 3.0e-5);
-  EXPECT_EQ(m.zwd.kind, ProcessKind::RandomWalk);
-  EXPECT_EQ(m.clock.initial_sigma_m, 3.0e6);
-  EXPECT_EQ(m.clock.process_noise_m_per_sqrt_s, 2000.0);
-  EXPECT_EQ(m.clock.kind, ProcessKind::White);
-  EXPECT_EQ(m.phase_bias.initial_sigma_m, 100.0);
-  EXPECT_EQ(m.phase_bias.process_noise_m_per_sqrt_s, 0.0);
-  EXPECT_TRUE(m.validate().empty());
+  const StochasticModel table = ppp::methodTableStochasticModel();
+  EXPECT_EQ(table.position.initial_sigma_m, 1.0);  // the method's table (DEVELOPERS.md)
+  // The defaults: position a priori 30 m (uninformative start, see stochastic_model.h).
+  EXPECT_EQ(StochasticModel{}.position.initial_sigma_m, 30.0);
+  for (const StochasticModel& m : {table, StochasticModel{}}) {
+    EXPECT_EQ(m.position.process_noise_m_per_sqrt_s, 5.0);
+    EXPECT_EQ(m.position.kind, ProcessKind::RandomWalk);
+    EXPECT_EQ(m.zwd.initial_sigma_m, 0.3);
+    EXPECT_EQ(m.zwd.process_noise_m_per_sqrt_s, 3.0e-5);
+    EXPECT_EQ(m.zwd.kind, ProcessKind::RandomWalk);
+    EXPECT_EQ(m.initial_zwd_m, 0.1);
+    EXPECT_EQ(m.clock.initial_sigma_m, 3.0e6);
+    EXPECT_EQ(m.clock.process_noise_m_per_sqrt_s, 2000.0);
+    EXPECT_EQ(m.clock.kind, ProcessKind::White);
+    EXPECT_EQ(m.phase_bias.initial_sigma_m, 100.0);
+    EXPECT_EQ(m.phase_bias.process_noise_m_per_sqrt_s, 0.0);
+    EXPECT_TRUE(m.validate().empty());
+  }
 }
 
 TEST(StochasticModel, RandomWalkVarianceGrowsLinearlyWithDt) {

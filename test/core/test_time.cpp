@@ -99,3 +99,24 @@ TEST(GnssTime, MjdRoundTrip) {
   EXPECT_EQ(t, GnssTime::fromCalendar({2026, 5, 13, 12, 0, 0.0}));
   EXPECT_EQ(t.toString(), "2026-05-13 12:00:00.0000000 GPS");
 }
+
+// Rounding to the printed decimals carries into minute, hour, day, month and
+// year: the text never shows second 60 (the formatter once printed 23:45:60).
+TEST(GnssTime, ToStringRoundingCarriesIntoMinuteHourDayAndYear) {
+  const GnssTime minute = GnssTime::fromCalendar({2020, 6, 25, 23, 46, 0.0});
+  EXPECT_EQ((minute - 0.4).toString(TimeSystem::GPS, 0), "2020-06-25 23:46:00 GPS");      // 59.6 s
+  EXPECT_EQ((minute - 0.9999).toString(TimeSystem::GPS, 0), "2020-06-25 23:45:59 GPS");   // 59.0001 s
+  EXPECT_EQ((minute - 0.00004).toString(TimeSystem::GPS, 4), "2020-06-25 23:46:00.0000 GPS");
+  EXPECT_EQ((minute - 0.0001).toString(TimeSystem::GPS, 3), "2020-06-25 23:46:00.000 GPS");
+  EXPECT_EQ((minute - 0.0001).toString(TimeSystem::GPS, 4), "2020-06-25 23:45:59.9999 GPS");
+  const GnssTime new_year = GnssTime::fromCalendar({2021, 1, 1, 0, 0, 0.0});
+  EXPECT_EQ((new_year - 0.0004).toString(TimeSystem::GPS, 3), "2021-01-01 00:00:00.000 GPS");
+  EXPECT_EQ((new_year - 0.0006).toString(TimeSystem::GPS, 3), "2020-12-31 23:59:59.999 GPS");
+  EXPECT_EQ((new_year - 0.6).toString(TimeSystem::GPS, 0), "2020-12-31 23:59:59 GPS");
+  EXPECT_EQ((new_year - 0.4).toString(TimeSystem::GPS, 0), "2021-01-01 00:00:00 GPS");
+  EXPECT_EQ((new_year - 0.0004).toString(), "2020-12-31 23:59:59.9996000 GPS");  // default 7 decimals
+  // In another time system the carry happens on that system's reading.
+  const GnssTime utc_new_year = GnssTime::fromCalendar({2021, 1, 1, 0, 0, 0.0}, TimeSystem::UTC);
+  EXPECT_EQ((utc_new_year - 0.00002).toString(TimeSystem::UTC, 4), "2021-01-01 00:00:00.0000 UTC");
+  EXPECT_EQ((minute + 0.25).toString(TimeSystem::GPS, 2), "2020-06-25 23:46:00.25 GPS");
+}

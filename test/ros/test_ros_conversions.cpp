@@ -129,3 +129,59 @@ TEST(RosNodeOptions, TemplateBindsAndUnknownKeysFail) {
   const ppp::PppConfig bad2 = ppp::parsePppConfig("ros: {input: {correction_wait_s: -1}}", "text");
   EXPECT_THROW(ppp_ros::bindRosNodeOptions(bad2.ros, "text"), ppp::ConfigError);
 }
+
+// The nodes bind their ROS parameters (XmlRpc-typed) with the core binder: a
+// string parameter is text, refused where a number, a bool or a list is
+// expected (the parameter-server twin of a quoted "7" in a file), with the key path.
+TEST(RosNodeOptions, ParameterServerTypesAreKeptAndStringsAreNeverNumbers) {
+  const auto error_of = [](XmlRpc::XmlRpcValue params) -> std::string {
+    try {
+      const ppp::PppConfig c = ppp::bindPppConfig(ppp_ros::xmlRpcToYaml(params), "ROS parameters /node");
+      ppp_ros::bindRosNodeOptions(c.ros, c.source_name);
+    } catch (const ppp::ConfigError& e) {
+      return e.what();
+    }
+    return "";
+  };
+  XmlRpc::XmlRpcValue ok;
+  ok["stochastic"]["position"]["initial_sigma_m"] = 7;  // an int where a double is expected: fine
+  ok["estimator"]["postfit_check"] = false;
+  ok["measurement_model"]["troposphere"]["mapping"] = std::string("niell");
+  ok["ros"]["status"]["converged_horizontal_sigma_m"] = 0.25;
+  ok["ros"]["products"]["atx"][0] = std::string("/data/a.atx");
+  ok["ros"]["frames"]["antenna_lever_arm_m"][0] = 0.1;
+  ok["ros"]["frames"]["antenna_lever_arm_m"][1] = 0;
+  ok["ros"]["frames"]["antenna_lever_arm_m"][2] = 0.9;
+  EXPECT_EQ(error_of(ok), "");
+  const ppp::PppConfig c = ppp::bindPppConfig(ppp_ros::xmlRpcToYaml(ok), "ROS parameters /node");
+  EXPECT_EQ(c.stochastic.position.initial_sigma_m, 7.0);
+  EXPECT_FALSE(c.estimator.postfit_check);
+  EXPECT_EQ(c.model.mapping, ppp::TroposphereMapping::Niell);
+  const auto o = ppp_ros::bindRosNodeOptions(c.ros, c.source_name);
+  EXPECT_EQ(o.atx, std::vector<std::string>{"/data/a.atx"});
+  EXPECT_DOUBLE_EQ(o.antenna_lever_arm_m.z(), 0.9);
+  EXPECT_DOUBLE_EQ(o.converged_horizontal_sigma_m, 0.25);
+
+  XmlRpc::XmlRpcValue number;
+  number["stochastic"]["position"]["initial_sigma_m"] = std::string("7");
+  EXPECT_NE(error_of(number).find("ROS parameters /node: stochastic.position.initial_sigma_m: expected a number, got "
+                                  "the text \"7\""),
+            std::string::npos)
+      << error_of(number);
+  XmlRpc::XmlRpcValue boolean;
+  boolean["smoother"]["robust"] = std::string("true");
+  EXPECT_NE(error_of(boolean).find("smoother.robust: expected true or false"), std::string::npos) << error_of(boolean);
+  XmlRpc::XmlRpcValue ros_number;
+  ros_number["ros"]["status"]["converged_vertical_sigma_m"] = std::string("0.2");
+  EXPECT_NE(error_of(ros_number).find("ros.status.converged_vertical_sigma_m: expected a number"), std::string::npos)
+      << error_of(ros_number);
+  XmlRpc::XmlRpcValue list;
+  list["ros"]["products"]["atx"] = std::string("/data/a.atx");  // a path list given as one string
+  EXPECT_NE(error_of(list).find("ros.products.atx: expected a list"), std::string::npos) << error_of(list);
+  XmlRpc::XmlRpcValue arm;
+  arm["ros"]["frames"]["antenna_lever_arm_m"][0] = std::string("0.1");
+  arm["ros"]["frames"]["antenna_lever_arm_m"][1] = 0.0;
+  arm["ros"]["frames"]["antenna_lever_arm_m"][2] = 0.0;
+  EXPECT_NE(error_of(arm).find("ros.frames.antenna_lever_arm_m: expected finite numbers"), std::string::npos)
+      << error_of(arm);
+}

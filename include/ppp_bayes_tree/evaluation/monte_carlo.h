@@ -63,10 +63,12 @@ const char* monteCarloEstimatorKey(int estimator);
 /// "EKF", "smoother filtered", "smoother smoothed".
 const char* monteCarloEstimatorLabel(int estimator);
 
-/// The estimators' configuration of the study unless one is given: the defaults
-/// of config/ppp.yaml with the estimator overrides of config/ppp_simulated.yaml
-/// (test_simulation_start_prior checks that the two agree). The one override:
-/// stochastic.position.initial_sigma_m 30 m instead of the method's 1 m. Both
+/// The estimators' configuration of the study unless one is given: the method's
+/// preset (methodTablePppConfig, config/method_table.yaml) with the estimator
+/// override of config/ppp_simulated.yaml (test_simulation_start_prior checks
+/// that they agree; the measurement model is the simulator's, flightPppConfig).
+/// The one override: stochastic.position.initial_sigma_m 30 m instead of the
+/// method's 1 m (the value of the real-data defaults as well). Both
 /// estimators start at a code least-squares solution of the first-epoch codes;
 /// a 1 m prior around it counts those codes twice and claims 1 m where the
 /// simulated first-epoch IF code (multipath 0.4 m / sin(el) per frequency, x3 for
@@ -203,6 +205,11 @@ struct MonteCarloResult {
 /// flight, serialised (never concurrently).
 MonteCarloResult runMonteCarlo(const MonteCarloOptions& options,
                                const std::function<void(int done, int total)>& progress = {});
+
+/// One cell of the convergence table: "12.5 min (never: 3)", or, when the
+/// median itself is never reached (more than half of the flights never stay
+/// below the threshold), "never (7 of 10 flights)" instead of "inf min".
+std::string convergenceTimeText(double median_s, int never, int flights_compared);
 
 /// The tables (figures in cm) as Markdown, and everything as one JSON document.
 std::string monteCarloMarkdown(const MonteCarloResult& result);

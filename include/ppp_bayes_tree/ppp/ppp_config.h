@@ -8,9 +8,12 @@
 //   cycle_slip:        CycleSlipOptions (arc tracker)
 //   ros:               the ROS nodes' section (kept raw, bound by the node)
 // (bound by ppp_options_binding.h; the raw nodes are kept as well)
-// Loading is strict: an unknown key, a wrong type or an out-of-range value
-// throws ConfigError naming the file, the key path and the reason. Absent keys
-// keep their defaults (the method's table in DEVELOPERS.md).
+// Loading is strict: an unknown key, a key given twice in one mapping, a wrong
+// type (a quoted "7" for a number, yes/"true" for a bool, a single value for a
+// list) or an out-of-range value throws ConfigError naming the file, the key path
+// (or the line) and the reason. Absent keys keep their defaults: the values for
+// real receiver data (config/ppp.yaml). The method's table (DEVELOPERS.md) is the
+// preset config/method_table.yaml = methodTablePppConfig().
 #include <yaml-cpp/yaml.h>
 
 #include <string>
@@ -42,7 +45,18 @@ struct PppConfig {
   std::string source_name = "<defaults>";  // the file it came from (for later error messages)
 };
 
-/// Parse YAML text; `source_name` names it in errors. Throws ConfigError.
+/// The method's configuration (DEVELOPERS.md table 2): the defaults with the
+/// method's stochastic model (methodTableStochasticModel: position a priori 1 m)
+/// and its modified Hopfield mapping. config/method_table.yaml loads to it.
+PppConfig methodTablePppConfig();
+
+/// Bind a YAML document (a mapping, or null for an empty one) on top of the
+/// defaults; `source_name` names it in errors. The ROS nodes pass their
+/// parameters here (typed by XmlRpc; strings carry the quoted-scalar tag "!").
+/// Throws ConfigError.
+PppConfig bindPppConfig(const YAML::Node& root, const std::string& source_name);
+/// Parse YAML text; `source_name` names it in errors. A key given twice in one
+/// mapping is an error naming both lines. Throws ConfigError.
 PppConfig parsePppConfig(const std::string& yaml_text, const std::string& source_name);
 /// Load a YAML file. Throws ConfigError (also when the file cannot be read).
 PppConfig loadPppConfig(const std::string& path);

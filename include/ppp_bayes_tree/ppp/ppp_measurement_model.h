@@ -96,10 +96,12 @@ struct MeasurementModelOptions {
   /// Multiply the sigmas by sqrt(alpha^2 + beta^2) for the IF combination.
   bool scale_sigma_for_ionosphere_free = true;
   DryTroposphereModel dry_troposphere = DryTroposphereModel::ModifiedHopfield;
-  /// The method's mapping (the modified Hopfield ray integration) by default.
-  /// GMF fits the real data better (tropical CCJ2 with low satellites: final 3D
-  /// 11 cm -> 5 cm; the ZIM2 hour is neutral): config/ppp_real_data.yaml uses it.
-  TroposphereMapping mapping = TroposphereMapping::ModifiedHopfield;
+  /// GMF (Boehm et al. 2006) by default: it fits real data better than the
+  /// method's modified Hopfield ray integration (config/method_table.yaml):
+  /// with ppp_solve (30 m start prior, mean 3D EKF / smoothed, Hopfield -> GMF):
+  /// tropical CCJ2 with low satellites 31.6 / 15.2 -> 26.1 / 8.41 cm (final 10.4 ->
+  /// 4.2 cm); ZIM2 17.8 / 4.41 -> 18.8 / 3.63 cm.
+  TroposphereMapping mapping = TroposphereMapping::Gmf;
   bool solid_earth_tide = true;
   bool ocean_loading = true;  // used only when coefficients are given
   bool phase_windup = true;

@@ -1,13 +1,25 @@
 #pragma once
 // StochasticModel: a priori sigmas and process noise of the PPP state
 // (position, zenith wet delay, receiver clock, IF phase biases), shared by the
-// EKF and the smoother. Defaults are the method's table (DEVELOPERS.md):
+// EKF and the smoother. The defaults serve real receiver data; they are the
+// method's table (DEVELOPERS.md, methodTableStochasticModel(), the preset
+// config/method_table.yaml) except for the position a priori sigma:
 //
 //   state            a priori sigma   process noise         process
-//   position         1 m (here 30 m)  5 m/sqrt(s)           random walk (kinematic)
+//   position         30 m (table 1 m) 5 m/sqrt(s)           random walk (kinematic)
 //   zenith wet delay 0.3 m            3e-5 m/sqrt(s)        random walk
 //   receiver clock   3e6 m            2000 m/sqrt(s)        white
 //   IF phase bias    100 m            0                     constant per arc
+//
+// Position 30 m: both estimators start at a code least-squares solution of the
+// SAME first-epoch codes, so a prior around it counts those codes twice. The
+// table's 1 m claims 1 m where the ionosphere-free code leaves metres (CCJ2
+// starts 3 m off) and the phase arcs then hang the trajectory on that start.
+// 30 m (RTKLIB's VAR_POS) leaves the start as a linearisation point only. A
+// sigma from the code solution's own covariance would count the codes twice
+// as well, so the prior stays uninformative. Measured with ppp_solve (GMF, mean
+// 3D EKF / smoothed, 1 m -> 30 m): CCJ2 35.2 / 8.70 -> 26.1 / 8.41 cm, ZIM2
+// 19.7 / 3.64 -> 18.8 / 3.63 cm.
 //
 // Every process noise is scaled with the real elapsed time dt between two
 // processed epochs (data gaps and "no solution" epochs included):
@@ -39,11 +51,8 @@ struct StateNoise {
 };
 
 struct StochasticModel {
-  /// Per ECEF axis: the method's 1 m. Note: the filter starts at a code
-  /// least-squares solution of the SAME first-epoch codes, so a tight prior
-  /// counts those codes twice; config/ppp_real_data.yaml uses 30 m (as RTKLIB's
-  /// VAR_POS) for real data (CCJ2 starts 3 m off: mean 3D 44 -> 37 cm).
-  StateNoise position{1.0, 5.0, ProcessKind::RandomWalk};
+  /// Per ECEF axis (30 m: see above; the method's table has 1 m).
+  StateNoise position{30.0, 5.0, ProcessKind::RandomWalk};
   StateNoise zwd{0.3, 3.0e-5, ProcessKind::RandomWalk};
   StateNoise clock{3.0e6, 2000.0, ProcessKind::White};
   StateNoise phase_bias{100.0, 0.0, ProcessKind::RandomWalk};  // q = 0: constant per arc
@@ -54,6 +63,10 @@ struct StochasticModel {
   /// Empty when valid, else the first problem ("clock.initial_sigma_m must be > 0").
   std::string validate() const;
 };
+
+/// The method's table (DEVELOPERS.md; position a priori 1 m): the Monte Carlo
+/// study and the tests that reproduce the method use it.
+StochasticModel methodTableStochasticModel();
 
 std::string toString(ProcessKind kind);
 

@@ -3,6 +3,9 @@
 // Every key must be known: a key that no get/section/raw call asked for is an
 // error at finish(). A wrong type or an out-of-range value is an error naming
 // the file, the key path ("stochastic.clock.initial_sigma_m") and the reason.
+// Types are strict: a quoted scalar ("7", "true"; tag "!") is text, never a
+// number or a bool; a bool is true or false (not YAML 1.1 yes/no/on/off); a
+// list must be a sequence ([a] for one item, never a lone value).
 // Absent keys keep their defaults. Used by PppConfig; the measurement-model and
 // cycle-slip options bind their own sections with it.
 #include <yaml-cpp/yaml.h>
@@ -40,10 +43,12 @@ class YamlSection {
   std::string text(const std::string& key, const std::string& fallback);
   /// One of `allowed` (error lists them).
   std::string choice(const std::string& key, const std::string& fallback, const std::set<std::string>& allowed);
-  /// Sequence of single values (`[W, C]`; a lone value counts as a list of one).
+  /// Sequence of single values (`[W, C]`; a lone value is an error: `[W]`).
   /// An empty sequence is an error unless `allow_empty`.
   std::vector<std::string> textList(const std::string& key, const std::vector<std::string>& fallback,
                                     bool allow_empty = false);
+  /// Sequence of exactly `count` finite numbers (unquoted).
+  std::vector<double> numberList(const std::string& key, const std::vector<double>& fallback, std::size_t count);
   /// Sub-mapping (empty when absent).
   YamlSection section(const std::string& key);
   /// The raw node of a key (bound later by someone else); must be a mapping or absent.

@@ -3,8 +3,9 @@
 // documented there), bound strictly like the core sections (unknown key, wrong
 // type or out-of-range value -> ppp::ConfigError naming the key path).
 // The whole private namespace of a node (~) is one configuration document: the
-// node converts it to YAML (xmlRpcToYaml) and hands it to the core loader
-// (parsePppConfig), which keeps `ros:` raw for bindRosNodeOptions.
+// node converts it to YAML (xmlRpcToYaml) and hands the node to the core binder
+// (ppp::bindPppConfig, no text round trip: the XmlRpc types stay), which keeps
+// `ros:` raw for bindRosNodeOptions.
 #include <optional>
 #include <string>
 #include <vector>
@@ -60,7 +61,9 @@ struct RosNodeOptions {
 /// Binds `ros:` (a mapping or null) strictly. Throws ppp::ConfigError.
 RosNodeOptions bindRosNodeOptions(const YAML::Node& ros, const std::string& source_name);
 
-/// Converts a parameter-server value (a struct for a namespace) to YAML.
+/// Converts a parameter-server value (a struct for a namespace) to YAML. A
+/// string value is tagged "!" like a quoted scalar of a file, so "7" or "true"
+/// given as a string is refused where a number or a bool is expected.
 YAML::Node xmlRpcToYaml(XmlRpc::XmlRpcValue& value);
 
 }  // namespace ppp_ros

@@ -179,7 +179,7 @@ const char* monteCarloEstimatorLabel(int estimator) {
 }
 
 PppConfig monteCarloDefaultPppConfig() {
-  PppConfig c;
+  PppConfig c = methodTablePppConfig();  // config/method_table.yaml
   c.stochastic.position.initial_sigma_m = 30.0;  // as config/ppp_simulated.yaml (monte_carlo.h)
   return c;
 }

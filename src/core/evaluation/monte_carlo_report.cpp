@@ -77,6 +77,13 @@ std::string quantileCsv(const std::array<std::vector<QuantileBin>, kMonteCarloEs
 
 }  // namespace
 
+std::string convergenceTimeText(double median_s, int never, int flights_compared) {
+  if (std::isinf(median_s) && median_s > 0)
+    return "never (" + std::to_string(never) + " of " + std::to_string(flights_compared) + " flights)";
+  if (std::isnan(median_s)) return "no flights";
+  return fmt("%.1f", median_s / 60.0) + " min (never: " + std::to_string(never) + ")";
+}
+
 std::string monteCarloMarkdown(const MonteCarloResult& r) {
   const MonteCarloSummary& s = r.summary;
   const MonteCarloOptions& o = r.options;
@@ -118,8 +125,8 @@ std::string monteCarloMarkdown(const MonteCarloResult& r) {
     const auto ei = static_cast<std::size_t>(e);
     md << "| " << monteCarloEstimatorLabel(e) << " |";
     for (std::size_t i = 0; i < o.convergence_thresholds_m.size(); ++i)
-      md << ' ' << fmt("%.1f", s.convergence_median_s[ei][i] / 60.0) << " min (never: "
-         << s.convergence_never[ei][i] << ") |";
+      md << ' ' << convergenceTimeText(s.convergence_median_s[ei][i], s.convergence_never[ei][i], s.flights - s.failed)
+         << " |";
     md << '\n';
   }
   md << "\n## Phase-bias error |estimate - truth| by arc age (median / 90th percentile, cm)\n\n"

@@ -1,6 +1,7 @@
 #include "ppp_bayes_tree/ppp/ppp_config.h"
 
 #include <fstream>
+#include <map>
 #include <sstream>
 
 namespace ppp {
@@ -68,16 +69,39 @@ void readSmoother(YamlSection s, const ScreeningOptions& screening, PppSmootherO
   s.finish();
 }
 
+/// Throws ConfigError for the first key that appears twice in one mapping
+/// (anywhere in the document), naming its path and both lines.
+void rejectDuplicateKeys(const YAML::Node& node, const std::string& file, const std::string& path) {
+  if (node.IsSequence()) {
+    std::size_t i = 0;
+    for (const auto& item : node) rejectDuplicateKeys(item, file, path + "[" + std::to_string(i++) + "]");
+    return;
+  }
+  if (!node.IsMap()) return;
+  std::map<std::string, int> first_line;  // key -> line (1-based)
+  for (const auto& kv : node) {
+    const std::string key = kv.first.IsScalar() ? kv.first.Scalar() : "<non-scalar key>";
+    const std::string key_path = path.empty() ? key : path + "." + key;
+    const int line = kv.first.Mark().line + 1;
+    const auto [it, inserted] = first_line.emplace(key, line);
+    if (!inserted)
+      throw ConfigError(file, key_path,
+                        "key given twice in one mapping, at line " + std::to_string(it->second) + " and line " +
+                            std::to_string(line) + " (YAML keeps only one: remove or merge one of them)");
+    rejectDuplicateKeys(kv.second, file, key_path);
+  }
+}
+
 }  // namespace
 
-PppConfig parsePppConfig(const std::string& yaml_text, const std::string& source_name) {
-  YAML::Node root;
-  try {
-    root = YAML::Load(yaml_text);
-  } catch (const YAML::Exception& e) {
-    throw ConfigError(source_name, "",
-                      "YAML syntax error at line " + std::to_string(e.mark.line + 1) + ": " + e.msg);
-  }
+PppConfig methodTablePppConfig() {
+  PppConfig c;
+  c.stochastic = methodTableStochasticModel();
+  c.model.mapping = TroposphereMapping::ModifiedHopfield;
+  return c;
+}
+
+PppConfig bindPppConfig(const YAML::Node& root, const std::string& source_name) {
   PppConfig config;
   config.source_name = source_name;
   YamlSection top(root, source_name, "");
@@ -94,6 +118,20 @@ PppConfig parsePppConfig(const std::string& yaml_text, const std::string& source
   if (auto e = config.estimator.validate(); !e.empty()) throw ConfigError(source_name, "estimator", e);
   if (auto e = config.smoother.validate(); !e.empty()) throw ConfigError(source_name, "smoother", e);
   return config;
+}
+
+PppConfig parsePppConfig(const std::string& yaml_text, const std::string& source_name) {
+  YAML::Node root;
+  try {
+    root = YAML::Load(yaml_text);
+  } catch (const YAML::Exception& e) {
+    throw ConfigError(source_name, "",
+                      "YAML syntax error at line " + std::to_string(e.mark.line + 1) + ": " + e.msg);
+  }
+  // yaml-cpp keeps both entries of a key written twice and reads the first:
+  // refuse the document instead (two `measurement_model:` sections, say).
+  rejectDuplicateKeys(root, source_name, "");
+  return bindPppConfig(root, source_name);
 }
 
 PppConfig loadPppConfig(const std::string& path) {

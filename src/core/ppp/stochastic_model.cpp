@@ -12,6 +12,16 @@ double StateNoise::processVariance_m2(double dt_s) const {
   return q2dt;
 }
 
+StochasticModel methodTableStochasticModel() {
+  StochasticModel m;
+  m.position = {1.0, 5.0, ProcessKind::RandomWalk};
+  m.zwd = {0.3, 3.0e-5, ProcessKind::RandomWalk};
+  m.clock = {3.0e6, 2000.0, ProcessKind::White};
+  m.phase_bias = {100.0, 0.0, ProcessKind::RandomWalk};
+  m.initial_zwd_m = 0.1;
+  return m;
+}
+
 std::string toString(ProcessKind kind) { return kind == ProcessKind::White ? "white" : "random_walk"; }
 
 namespace {

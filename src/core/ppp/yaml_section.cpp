@@ -5,7 +5,22 @@
 
 namespace ppp {
 namespace {
+/// A scalar written in quotes (or a block scalar) in a file, or a string
+/// parameter of ROS (xmlRpcToYaml tags them alike): text, never a number or a bool.
+bool isQuotedText(const YAML::Node& n) { return n.IsScalar() && n.Tag() == "!"; }
+
+/// What to write instead of quoted text where a number is expected.
+std::string unquoteHint(const YAML::Node& n) {
+  // rosparam reads YAML 1.1, where an exponent number needs a dot and a signed
+  // exponent: 1e-4 and 3.0e6 are text there, 1.0e-4 and 3.0e+6 numbers.
+  if (n.Scalar().find_first_of("eE") != std::string::npos)
+    return ": write a plain number (without quotes; for rosparam (YAML 1.1) with a dot and a signed exponent, "
+           "1.0e-4 or 3.0e+6)";
+  return ": write a plain number (without quotes)";
+}
+
 std::string describe(const YAML::Node& n) {
+  if (isQuotedText(n)) return "the text \"" + n.Scalar() + "\" (quoted, or a string parameter)";
   if (n.IsScalar()) return "'" + n.Scalar() + "'";
   if (n.IsMap()) return "a mapping";
   if (n.IsSequence()) return "a sequence";
@@ -41,6 +56,7 @@ YAML::Node YamlSection::scalar(const std::string& key) {
 double YamlSection::number(const std::string& key, double fallback, Bound bound) {
   const YAML::Node n = scalar(key);
   if (!n.IsDefined()) return fallback;
+  if (isQuotedText(n)) fail(key, "expected a number, got " + describe(n) + unquoteHint(n));
   double v = 0.0;
   try {
     v = n.as<double>();
@@ -56,6 +72,7 @@ double YamlSection::number(const std::string& key, double fallback, Bound bound)
 int YamlSection::integer(const std::string& key, int fallback, int minimum) {
   const YAML::Node n = scalar(key);
   if (!n.IsDefined()) return fallback;
+  if (isQuotedText(n)) fail(key, "expected an integer, got " + describe(n) + unquoteHint(n));
   int v = 0;
   try {
     v = n.as<int>();
@@ -69,11 +86,14 @@ int YamlSection::integer(const std::string& key, int fallback, int minimum) {
 bool YamlSection::boolean(const std::string& key, bool fallback) {
   const YAML::Node n = scalar(key);
   if (!n.IsDefined()) return fallback;
-  try {
-    return n.as<bool>();
-  } catch (const YAML::Exception&) {
-    fail(key, "expected true or false, got " + describe(n));
+  // YAML 1.2 booleans only: yaml-cpp would also read yes/no/on/off/y/n (YAML 1.1),
+  // and a quoted "true" is text.
+  static const std::set<std::string> kTrue = {"true", "True", "TRUE"}, kFalse = {"false", "False", "FALSE"};
+  if (!isQuotedText(n)) {
+    if (kTrue.count(n.Scalar())) return true;
+    if (kFalse.count(n.Scalar())) return false;
   }
+  fail(key, "expected true or false, got " + describe(n));
 }
 
 std::string YamlSection::text(const std::string& key, const std::string& fallback) {
@@ -102,7 +122,8 @@ std::vector<std::string> YamlSection::textList(const std::string& key, const std
   if (!n.IsDefined()) return fallback;
   std::vector<std::string> out;
   if (n.IsScalar()) {
-    out.push_back(n.Scalar());
+    fail(key, "expected a list [a, b, ...], got the single value " + describe(n) + " (a list of one is [" +
+                  n.Scalar() + "])");
   } else if (n.IsSequence()) {
     for (const auto& item : n) {
       if (!item.IsScalar()) fail(key, "expected a list of single values, got an item that is " + describe(item));
@@ -112,6 +133,32 @@ std::vector<std::string> YamlSection::textList(const std::string& key, const std
     fail(key, "expected a list of values, got " + describe(n));
   }
   if (out.empty() && !allow_empty) fail(key, "must not be empty");
+  return out;
+}
+
+std::vector<double> YamlSection::numberList(const std::string& key, const std::vector<double>& fallback,
+                                            std::size_t count) {
+  known_.insert(key);
+  if (!node_.IsMap()) return fallback;
+  const YAML::Node n = node_[key];
+  if (!n.IsDefined()) return fallback;
+  if (!n.IsSequence()) fail(key, "expected a list of " + std::to_string(count) + " numbers, got " + describe(n));
+  std::vector<double> out;
+  for (const auto& item : n) {
+    double v = 0.0;
+    bool ok = item.IsScalar() && !isQuotedText(item);
+    if (ok) {
+      try {
+        v = item.as<double>();
+      } catch (const YAML::Exception&) {
+        ok = false;
+      }
+    }
+    if (!ok || !std::isfinite(v)) fail(key, "expected finite numbers, got an item that is " + describe(item));
+    out.push_back(v);
+  }
+  if (out.size() != count)
+    fail(key, "expected a list of " + std::to_string(count) + " numbers, got " + std::to_string(out.size()));
   return out;
 }
 

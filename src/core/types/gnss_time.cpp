@@ -1,5 +1,6 @@
 #include "ppp_bayes_tree/types/gnss_time.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <stdexcept>
@@ -184,12 +185,21 @@ int GnssTime::dayOfYear(TimeSystem system) const {
 }
 
 std::string GnssTime::toString(TimeSystem system, int decimals) const {
-  const CalendarTime c = toCalendar(system);
+  // Round the fraction to the printed decimals first and carry a full second
+  // into the whole seconds, so that 23:59:59.99996 prints as the next day's
+  // 00:00:00.0000 (never as second 60). All system offsets are whole seconds.
+  decimals = std::clamp(decimals, 0, 12);
+  std::int64_t scale = 1;
+  for (int i = 0; i < decimals; ++i) scale *= 10;
+  std::int64_t units = std::llround(fraction_s_ * static_cast<double>(scale));
+  const GnssTime whole = fromGpsSeconds(whole_s_ + units / scale);
+  units %= scale;
+  const CalendarTime c = whole.toCalendar(system);
   char buf[96];
-  const int width = decimals > 0 ? decimals + 3 : 2;
-  std::snprintf(buf, sizeof(buf), "%04d-%02d-%02d %02d:%02d:%0*.*f %s", c.year, c.month, c.day,
-                c.hour, c.minute, width, decimals, c.second,
-                std::string(timeSystemCode(system)).c_str());
+  char fraction[24] = "";
+  if (decimals > 0) std::snprintf(fraction, sizeof(fraction), ".%0*lld", decimals, static_cast<long long>(units));
+  std::snprintf(buf, sizeof(buf), "%04d-%02d-%02d %02d:%02d:%02d%s %s", c.year, c.month, c.day, c.hour, c.minute,
+                static_cast<int>(std::lround(c.second)), fraction, std::string(timeSystemCode(system)).c_str());
   return buf;
 }
 
