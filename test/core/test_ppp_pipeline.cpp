@@ -120,7 +120,7 @@ TEST(PppPipeline, ReasonCategoriesCountRejections) {
 TEST(PppPipeline, NoiseFreeSimulationThroughTheRealModelRecoversThePosition) {
   PPP_REQUIRE_SHARED_DATA();
   test::LoadedDataset ds(test::zim2Dataset());
-  SignalSelector selector(ds.reader->header(), {}, ds.bias.get());
+  SignalSelector selector(ds.reader->header(), {}, ds.biases.get());
   ReceiverState truth;
   truth.position_ecef_m = ds.paths.truth_ecef_m;
   truth.zwd_m = 0.12;       // not the filter's a priori 0.1 m

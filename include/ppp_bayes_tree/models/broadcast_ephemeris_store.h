@@ -4,7 +4,8 @@
 // lookup either gives a record / state or says why there is none.
 //
 // As an EphemerisSource it serves the measurement model with broadcast orbits
-// (centre of mass, sigma = the record's URA / SISA) and clocks WITHOUT the
+// (GPS/QZSS/Galileo: antenna phase centre, GLONASS: centre of mass; sigma =
+// the record's URA / SISA) and clocks WITHOUT the
 // relativistic eccentricity term (the model adds its own -2 r.v / c^2). The
 // GPS clock refers to the L1/L2 P(Y) ionosphere-free combination; a Galileo
 // I/NAV clock to E1/E5b (an E1/E5a pair would need the BGD: not applied).

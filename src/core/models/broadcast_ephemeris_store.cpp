@@ -206,8 +206,12 @@ EphemerisAnswer<EphemerisOrbit> BroadcastEphemerisStore::satelliteOrbit(const Sa
   using A = EphemerisAnswer<EphemerisOrbit>;
   const BroadcastLookup s = state(sat, t);
   if (!s) return A::unavailable(broadcastReason(sat), s.unavailable_reason);
-  EphemerisOrbit o{s.state->position_ecef_m, s.state->velocity_ecef_mps, EphemerisReference::CentreOfMass,
-                   std::nullopt};
+  // GPS, QZSS and Galileo broadcast orbits refer to the antenna phase centre
+  // (the control segments' convention, also that of RTCM SSR); GLONASS to the
+  // centre of mass.
+  const EphemerisReference reference = sat.system == GnssSystem::GLONASS ? EphemerisReference::CentreOfMass
+                                                                        : EphemerisReference::AntennaPhaseCentre;
+  EphemerisOrbit o{s.state->position_ecef_m, s.state->velocity_ecef_mps, reference, std::nullopt};
   if (sat.system == GnssSystem::GPS || sat.system == GnssSystem::QZSS) {
     if (const auto r = gps(sat, t)) o.position_sigma_m = r.record->ura_m;
   } else if (sat.system == GnssSystem::Galileo) {
