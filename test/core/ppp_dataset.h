@@ -12,7 +12,7 @@
 #include "ppp_bayes_tree/models/sinex_bias_provider.h"
 #include "ppp_bayes_tree/ppp/ppp_config.h"
 #include "ppp_bayes_tree/ppp/ppp_measurement_model.h"
-#include "ppp_bayes_tree/ppp/ppp_solve_run.h"
+#include "ppp_bayes_tree/app/ppp_solve_run.h"
 #include "ppp_bayes_tree/ppp/signal_selection.h"
 #include "test_support.h"
 

@@ -14,7 +14,7 @@
 #include "ppp_bayes_tree/evaluation/rtklib_pos.h"
 #include "ppp_bayes_tree/ppp/arc_tracker.h"
 #include "ppp_bayes_tree/ppp/epoch_estimator.h"
-#include "ppp_bayes_tree/ppp/ppp_solve_run.h"
+#include "ppp_bayes_tree/app/ppp_solve_run.h"
 #include "ppp_dataset.h"
 #include "test_support.h"
 

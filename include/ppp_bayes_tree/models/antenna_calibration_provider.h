@@ -8,7 +8,7 @@
 
 #include <Eigen/Core>
 
-#include "ppp_bayes_tree/models/antenna_calibration.h"
+#include "ppp_bayes_tree/types/antenna_calibration.h"
 #include "ppp_bayes_tree/types/gnss_time.h"
 #include "ppp_bayes_tree/types/satellite_id.h"
 

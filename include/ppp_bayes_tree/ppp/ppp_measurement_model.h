@@ -78,7 +78,7 @@
 
 #include "ppp_bayes_tree/models/antenna_calibration_provider.h"
 #include "ppp_bayes_tree/models/ephemeris_source.h"
-#include "ppp_bayes_tree/models/ocean_loading_coefficients.h"
+#include "ppp_bayes_tree/types/ocean_loading_coefficients.h"
 #include "ppp_bayes_tree/ppp/dual_frequency_observation.h"
 #include "ppp_bayes_tree/ppp/satellite_measurement.h"
 #include "ppp_bayes_tree/types/constants.h"

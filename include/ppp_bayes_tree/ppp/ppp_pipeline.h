@@ -27,7 +27,7 @@
 #include <string>
 #include <vector>
 
-#include "ppp_bayes_tree/evaluation/solution_epoch.h"
+#include "ppp_bayes_tree/ppp/solution_epoch.h"
 #include "ppp_bayes_tree/io/observation_source.h"
 #include "ppp_bayes_tree/models/antex_calibrations.h"
 #include "ppp_bayes_tree/models/bias_provider.h"
