@@ -18,11 +18,6 @@ namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
-std::string baseName(const std::string& path) {
-  const auto slash = path.find_last_of('/');
-  return slash == std::string::npos ? path : path.substr(slash + 1);
-}
-
 geometry_msgs::TransformStamped transform(const std::string& parent, const std::string& child, const ros::Time& stamp,
                                           const Eigen::Vector3d& t, const Eigen::Quaterniond& q) {
   geometry_msgs::TransformStamped m;
