@@ -2,6 +2,7 @@
 // evaluation per epoch on the real ZIM2 and CCJ2 hours (../shared/data beside
 // the repository, or $PPP_SHARED_DATA). Prints figures, asserts nothing.
 #include "ppp_bayes_tree/models/antex_calibrations.h"
+#include "ppp_bayes_tree/models/precise_ephemeris.h"
 #include "ppp_bayes_tree/models/sinex_bias_provider.h"
 #include <chrono>
 #include <cstdio>

@@ -17,6 +17,8 @@
 #include "ppp_bayes_tree/io/rinex_obs_reader.h"
 #include "ppp_bayes_tree/models/broadcast_ephemeris_store.h"
 #include "ppp_bayes_tree/models/precise_ephemeris.h"
+#include "ppp_bayes_tree/models/correction_buffer.h"
+#include "ppp_bayes_tree/ppp/correction_gate.h"
 #include "ppp_bayes_tree/ppp/epoch_estimator.h"
 #include "ppp_bayes_tree/ppp/ppp_pipeline.h"
 #include "ppp_bayes_tree/ppp/product_set.h"
@@ -97,6 +99,43 @@ PppProducts esbcPreciseProducts(const std::vector<std::string>& atx) {
   auto set = std::make_shared<ProductSet>(ProductSet::load({atx, std::nullopt, std::nullopt, {GnssSystem::GPS}}));
   p.antennas = set->antennas();
   return p;
+}
+
+// CorrectionGate: an epoch waits until a correction batch after it is held, or
+// until it has waited wait_s (arrival clock or newer epochs), or too many wait.
+TEST(PppSources, CorrectionGateReleasesCoveredOrTimedOutEpochs) {
+  CorrectionBuffer corrections;
+  CorrectionGate<int> gate({2.0, 3});
+  const GnssTime t0 = test::gpst(2026, 5, 13);
+  gate.push(t0, 100.0, 1);
+  EXPECT_FALSE(gate.pop(100.5, corrections, t0));  // no corrections yet, not waited
+  CorrectionBatch b;
+  b.time = t0 + 30.0;
+  SatelliteCorrection c;
+  c.satellite = SatelliteId{GnssSystem::GPS, 5};
+  c.position_ecef_m = Eigen::Vector3d(2.0e7, 1.0e7, 1.0e7);
+  c.clock_bias_s = 1e-4;
+  b.satellites.push_back(c);
+  ASSERT_EQ(corrections.add(b), BatchAddResult::Added);
+  const auto first = gate.pop(100.6, corrections, t0);  // covered now
+  ASSERT_TRUE(first);
+  EXPECT_EQ(first->payload, 1);
+  gate.push(t0 + 31.0, 101.0, 2);                      // after the newest batch
+  EXPECT_FALSE(gate.pop(102.0, corrections, t0 + 31.0));
+  const auto waited = gate.pop(103.5, corrections, t0 + 31.0);  // waited 2.5 s > 2 s
+  ASSERT_TRUE(waited);
+  EXPECT_EQ(waited->payload, 2);
+  gate.push(t0 + 32.0, 104.0, 3);
+  gate.push(t0 + 35.0, 104.1, 4);                      // newest epoch 3 s later: 3 has waited
+  const auto by_newer = gate.pop(104.2, corrections, t0 + 35.0);
+  ASSERT_TRUE(by_newer);
+  EXPECT_EQ(by_newer->payload, 3);
+  EXPECT_FALSE(gate.pop(104.2, corrections, t0 + 35.0));
+  for (int k = 5; k <= 7; ++k) gate.push(t0 + 35.0 + 0.1 * k, 104.2, k);  // 4 waiting > max 3
+  const auto overflow = gate.pop(104.3, corrections, t0 + 36.0);  // not waited: only the count
+  ASSERT_TRUE(overflow);
+  EXPECT_EQ(overflow->payload, 4);
+  EXPECT_EQ(gate.size(), 3u);
 }
 
 TEST(PppSources, ReceiverAntennaPolicyKey) {
