@@ -15,7 +15,7 @@
 #include "ppp_bayes_tree/evaluation/monte_carlo.h"
 #include "ppp_bayes_tree/ppp/epoch_estimator.h"
 #include "ppp_bayes_tree/ppp/ppp_pipeline.h"
-#include "ppp_bayes_tree/ppp/ppp_solve_run.h"
+#include "ppp_bayes_tree/app/ppp_solve_run.h"
 #include "ppp_bayes_tree/simulation/gnss_simulator.h"
 
 using namespace ppp;

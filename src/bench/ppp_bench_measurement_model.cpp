@@ -1,6 +1,9 @@
 // Benchmark of the PPP measurement model: signal selection and model
 // evaluation per epoch on the real ZIM2 and CCJ2 hours (../shared/data beside
 // the repository, or $PPP_SHARED_DATA). Prints figures, asserts nothing.
+#include "ppp_bayes_tree/models/antex_calibrations.h"
+#include "ppp_bayes_tree/models/precise_ephemeris.h"
+#include "ppp_bayes_tree/models/sinex_bias_provider.h"
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
@@ -19,11 +22,12 @@ namespace {
 void run(const std::string& label, const std::string& obs, const std::string& sp3, const std::string& clk,
          const std::vector<std::string>& atx, const std::string& bia, const Eigen::Vector3d& position) {
   const PreciseEphemeris products = PreciseEphemeris::load({sp3}, {clk});
-  const BiasSinexFile bias = readBiasSinexFile(bia);
+  const BiasSinexFile bias_file = readBiasSinexFile(bia);
+  const SinexBiasProvider bias(bias_file, bia);
   auto reader = RinexObsReader::open(obs);
   std::vector<AntexSource> antex;
   for (const auto& p : atx) antex.push_back({p, readAntexFile(p)});
-  PppMeasurementModel model(products, std::move(antex), ReceiverAntenna::fromHeader(reader.header()), nullptr);
+  PppMeasurementModel model(products, std::make_shared<AntexCalibrations>(std::move(antex)), ReceiverAntenna::fromHeader(reader.header()), nullptr);
   SignalSelector selector(reader.header(), {}, &bias);
   std::vector<ObsEpoch> epochs;
   ObsEpoch e;

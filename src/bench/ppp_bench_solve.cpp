@@ -11,7 +11,7 @@
 #include <vector>
 #include <algorithm>
 
-#include "ppp_bayes_tree/ppp/ppp_solve_run.h"
+#include "ppp_bayes_tree/app/ppp_solve_run.h"
 
 namespace {
 

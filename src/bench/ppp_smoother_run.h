@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "ppp_bayes_tree/evaluation/position_error_statistics.h"
-#include "ppp_bayes_tree/evaluation/solution_epoch.h"
+#include "ppp_bayes_tree/ppp/solution_epoch.h"
 #include "ppp_bayes_tree/ppp/epoch_estimator.h"
 #include "ppp_bayes_tree/ppp/ppp_pipeline.h"
 

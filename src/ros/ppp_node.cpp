@@ -18,11 +18,6 @@ namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
-std::string baseName(const std::string& path) {
-  const auto slash = path.find_last_of('/');
-  return slash == std::string::npos ? path : path.substr(slash + 1);
-}
-
 geometry_msgs::TransformStamped transform(const std::string& parent, const std::string& child, const ros::Time& stamp,
                                           const Eigen::Vector3d& t, const Eigen::Quaterniond& q) {
   geometry_msgs::TransformStamped m;
@@ -89,12 +84,18 @@ PppNode::PppNode(ros::NodeHandle nh, ros::NodeHandle pnh, const std::string& est
   std::string why;
   estimator_ = ppp::makeEstimator(estimator, config_.ppp, &why);
   if (!estimator_) throw std::runtime_error("estimator '" + estimator + "' is not available: " + why);
-  if (o.atx.empty() && (config_.ppp.model.satellite_antenna || config_.ppp.model.receiver_antenna))
+  if (o.atx.empty() && (config_.ppp.model.satellite_antenna ||
+                        config_.ppp.model.receiver_antenna == ppp::ReceiverAntennaPolicy::Required))
     throw std::runtime_error("parameter ros/products/atx is empty, but measurement_model/corrections/"
-                             "satellite_antenna or receiver_antenna is on: give the ANTEX file(s) or turn them off");
-  for (const auto& p : o.atx) antex_.push_back({baseName(p), ppp::readAntexFile(p)});
-  if (!o.bias.empty()) bias_ = ppp::readBiasSinexFile(o.bias);
-  if (!o.blq.empty()) blq_ = ppp::readBlqFile(o.blq);
+                             "satellite_antenna is on or receiver_antenna is required: give the ANTEX file(s) or "
+                             "turn them off");
+  ppp::ProductFiles files;
+  files.atx = o.atx;
+  if (!o.bias.empty()) files.bias = o.bias;
+  if (!o.blq.empty()) files.blq = o.blq;
+  files.systems = config_.ppp.signals.systems;
+  products_ = ppp::ProductSet::load(files);
+  gate_ = ppp::CorrectionGate<Pending>({o.correction_wait_s, o.max_pending_epochs});
   if (o.datum_mode == "configured") {
     ppp::Geodetic g{o.datum_latitude_deg * ppp::kDegToRad, o.datum_longitude_deg * ppp::kDegToRad, o.datum_height_m};
     setDatum(ppp::geodeticToEcef(g));
@@ -127,7 +128,7 @@ PppNode::PppNode(ros::NodeHandle nh, ros::NodeHandle pnh, const std::string& est
   diagnostics_.add("corrections", this, &PppNode::diagnoseCorrections);
   diagnostics_.add("solution", this, &PppNode::diagnoseSolution);
   last_diag_time_ = ros::WallTime::now();
-  ROS_INFO_STREAM("ppp_" << estimator << "_node: config from " << config_.ppp.source_name << ", " << antex_.size()
+  ROS_INFO_STREAM("ppp_" << estimator << "_node: config from " << config_.ppp.source_name << ", " << products_.antexFiles()
                          << " ANTEX file(s), bias " << (o.bias.empty() ? "none" : o.bias) << ", waiting for "
                          << nh_.resolveName(o.observations_topic) << " and " << nh_.resolveName(o.corrections_topic)
                          << (o.attitude_topic.empty() ? std::string(", no attitude source")
@@ -175,7 +176,7 @@ void PppNode::resetEstimator(const std::string& why) {
   std::string unused;
   estimator_ = ppp::makeEstimator(config_.ros.estimator, config_.ppp, &unused);
   processor_.reset();
-  pending_.clear();
+  gate_.clear();
   path_.poses.clear();
   attitude_of_epoch_.clear();
   last_smoothed_index_.reset();
@@ -336,7 +337,7 @@ void PppNode::onObservations(const ppp_bayes_tree::GnssObservations::ConstPtr& m
     status_pub_.publish(s);
     return;
   }
-  pending_.push_back(p);
+  gate_.push(p.time, p.arrival.toSec(), p);
   drain();
 }
 
@@ -392,29 +393,16 @@ void PppNode::publishSmoothedOdometry(const ppp::GnssTime& newest) {
 
 void PppNode::drain() {
   const ros::Time now = ros::Time::now();
-  while (!pending_.empty()) {
-    const Pending& p = pending_.front();
-    const bool covered = corrections_.covers(p.time);
-    const bool waited = (now - p.arrival).toSec() > config_.ros.correction_wait_s ||
-                        (last_received_ && *last_received_ - p.time > config_.ros.correction_wait_s) ||
-                        pending_.size() > config_.ros.max_pending_epochs;
-    if (!covered && !waited) break;
-    const Pending front = p;
-    pending_.pop_front();
-    processEpoch(front);
-  }
+  while (auto ready = gate_.pop(now.toSec(), corrections_, last_received_)) processEpoch(ready->payload);
   diagnostics_.update();
 }
 
 void PppNode::startProcessor() {
-  const ppp::OceanLoadingCoefficients* ocean = nullptr;
-  if (blq_) {
-    const auto found = blq_->find(layout_.marker_name);
-    if (found.coefficients) ocean = found.coefficients;
-    else warn("blq", "ppp: station '" + layout_.marker_name + "' not in the BLQ file: no ocean loading");
-  }
-  processor_ = std::make_unique<ppp::PppEpochProcessor>(layout_, config_.ppp, corrections_.ephemeris(), antex_,
-                                                         bias_ ? &*bias_ : nullptr, ocean);
+  const ppp::OceanLoadingLookup ocean = products_.oceanLoading(layout_.marker_name);
+  if (!ocean.note.empty() && !ocean.coefficients) warn("blq", "ppp: " + ocean.note);
+  processor_ = std::make_unique<ppp::PppEpochProcessor>(layout_, config_.ppp, corrections_, products_.antennas(),
+                                                         products_.biases(), ocean.coefficients);
+  for (const auto& w : processor_->receiverAntennaWarnings()) warn("antenna:" + w, "ppp: " + w);
   if (layout_.approx_position_ecef_m) estimator_->setApproximatePosition(*layout_.approx_position_ecef_m);
   layout_changed_ = false;
 }
@@ -452,6 +440,7 @@ void PppNode::processEpoch(const Pending& p) {
   s.header.stamp = utcStamp(epoch.time);
   s.header.frame_id = config_.ros.map_frame;
   s.reason = rec.reason;
+  s.warnings = processor_->receiverAntennaWarnings();
   s.converged_horizontal_sigma_m = config_.ros.converged_horizontal_sigma_m;
   s.converged_vertical_sigma_m = config_.ros.converged_vertical_sigma_m;
   s.satellites_observed = static_cast<std::uint16_t>(rec.satellites_observed);
@@ -585,7 +574,7 @@ void PppNode::diagnoseInputs(diagnostic_updater::DiagnosticStatusWrapper& s) {
   s.add("observation rate [Hz, wall]", obs_rate);
   s.add("correction messages", corr_received_);
   s.add("correction rate [Hz, wall]", corr_rate);
-  s.add("pending epochs", pending_.size());
+  s.add("pending epochs", gate_.size());
   s.add("duplicate epochs dropped", counters_.epochs_duplicate);
   s.add("out-of-order epochs dropped", counters_.epochs_out_of_order);
   s.add("estimator resets (time backwards)", counters_.estimator_resets);
@@ -623,6 +612,7 @@ void PppNode::diagnoseSolution(diagnostic_updater::DiagnosticStatusWrapper& s) {
     return;
   }
   s.add("solution state", last_status_.solution_state_text);
+  for (const auto& w : last_status_.warnings) s.add("warning", w);
   s.add("satellites used", last_status_.satellites_used);
   s.add("update time [s]", last_status_.update_time_s);
   s.add("sigma east/north/up [m]", std::to_string(last_status_.sigma_east_m) + " " +
@@ -643,6 +633,8 @@ void PppNode::diagnoseSolution(diagnostic_updater::DiagnosticStatusWrapper& s) {
   }
   if (last_status_.solution_state == ppp_bayes_tree::PppStatus::NO_SOLUTION)
     s.summary(diagnostic_msgs::DiagnosticStatus::WARN, "no solution: " + last_status_.reason);
+  else if (!last_status_.warnings.empty())
+    s.summary(diagnostic_msgs::DiagnosticStatus::WARN, last_status_.solution_state_text + "; " + last_status_.warnings[0]);
   else s.summary(diagnostic_msgs::DiagnosticStatus::OK, last_status_.solution_state_text);
 }
 

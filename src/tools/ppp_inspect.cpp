@@ -11,7 +11,7 @@
 
 #include "ppp_bayes_tree/io/file_summary.h"
 #include "ppp_bayes_tree/io/file_type.h"
-#include "ppp_bayes_tree/io/inspection.h"
+#include "ppp_bayes_tree/app/inspection.h"
 
 namespace {
 

@@ -1,5 +1,5 @@
 // ppp_solve: offline kinematic PPP of one RINEX observation file with precise
-// products (the pipeline of ppp/ppp_pipeline.h; outputs of ppp/ppp_solve_run.h).
+// products (the pipeline of ppp/ppp_pipeline.h; outputs of app/ppp_solve_run.h).
 //
 // usage: ppp_solve --obs F --sp3 F... --clk F... --atx F... [--bia F] [--blq F]
 //                  [--config YAML] [--estimator ekf|smoother|both] [--truth X,Y,Z] [--name N] --out DIR
@@ -11,7 +11,7 @@
 // plus <name>_smoother_epochs.csv, _residuals.csv and _biases.csv, and prints the
 // per-epoch update time median and p99; both runs the EKF and the smoother (one
 // pipeline run each) and prints one table EKF | smoother filtered | smoother smoothed.
-// Prints the statistics (with --truth) and the notes (see ppp/ppp_solve_run.h).
+// Prints the statistics (with --truth) and the notes (see app/ppp_solve_run.h).
 #include <unistd.h>
 
 #include <cstdio>
@@ -21,7 +21,7 @@
 #include <string>
 #include <vector>
 
-#include "ppp_bayes_tree/ppp/ppp_solve_run.h"
+#include "ppp_bayes_tree/app/ppp_solve_run.h"
 
 namespace {
 

@@ -7,10 +7,12 @@
 #include "ppp_bayes_tree/io/antex_reader.h"
 #include "ppp_bayes_tree/io/bias_sinex_reader.h"
 #include "ppp_bayes_tree/io/rinex_obs_reader.h"
+#include "ppp_bayes_tree/models/antex_calibrations.h"
 #include "ppp_bayes_tree/models/precise_ephemeris.h"
+#include "ppp_bayes_tree/models/sinex_bias_provider.h"
 #include "ppp_bayes_tree/ppp/ppp_config.h"
 #include "ppp_bayes_tree/ppp/ppp_measurement_model.h"
-#include "ppp_bayes_tree/ppp/ppp_solve_run.h"
+#include "ppp_bayes_tree/app/ppp_solve_run.h"
 #include "ppp_bayes_tree/ppp/signal_selection.h"
 #include "test_support.h"
 
@@ -50,15 +52,17 @@ struct LoadedDataset {
   std::unique_ptr<RinexObsReader> reader;
   PreciseEphemeris products;
   std::unique_ptr<BiasSinexFile> bias;
+  std::unique_ptr<SinexBiasProvider> biases;  // the bias file as the chain sees it
   std::unique_ptr<PppMeasurementModel> model;
 
   explicit LoadedDataset(PppDataset d, MeasurementModelOptions options = {})
       : paths(std::move(d)), products(PreciseEphemeris::load(paths.sp3, paths.clk)) {
     reader = std::make_unique<RinexObsReader>(RinexObsReader::open(paths.obs));
     bias = std::make_unique<BiasSinexFile>(readBiasSinexFile(paths.bia));
+    biases = std::make_unique<SinexBiasProvider>(*bias, paths.bia.substr(paths.bia.find_last_of('/') + 1));
     std::vector<AntexSource> antex;
     for (const auto& p : paths.atx) antex.push_back({p.substr(p.find_last_of('/') + 1), readAntexFile(p)});
-    model = std::make_unique<PppMeasurementModel>(products, std::move(antex),
+    model = std::make_unique<PppMeasurementModel>(products, std::make_shared<AntexCalibrations>(std::move(antex)),
                                                   ReceiverAntenna::fromHeader(reader->header()), nullptr, options);
   }
 };

@@ -30,7 +30,7 @@ struct CodeOffsets {
 
 /// IF code residuals at the truth over the whole file; per epoch the receiver
 /// clock is the mean residual of the epoch; the ZWD is fixed (see below).
-CodeOffsets hourCodeOffsets(test::LoadedDataset& ds, const BiasSinexFile* osb) {
+CodeOffsets hourCodeOffsets(test::LoadedDataset& ds, const BiasProvider* osb) {
   SignalSelector selector(ds.reader->header(), {}, osb);
   ReceiverState truth;
   truth.position_ecef_m = ds.paths.truth_ecef_m;
@@ -77,7 +77,7 @@ TEST(CodeBiasAlignmentRealData, Zim2OsbHalvesPerSatelliteCodeOffsets) {
   PPP_REQUIRE_SHARED_DATA();
   test::LoadedDataset with_osb(test::zim2Dataset());
   test::LoadedDataset without_osb(test::zim2Dataset());
-  const CodeOffsets a = hourCodeOffsets(with_osb, with_osb.bias.get());
+  const CodeOffsets a = hourCodeOffsets(with_osb, with_osb.biases.get());
   const CodeOffsets b = hourCodeOffsets(without_osb, nullptr);
   std::printf("per-satellite IF code offsets at the truth [m]   with OSB   without\n");
   for (const auto& [sat, m] : a.mean_m) {

@@ -1,11 +1,26 @@
 // The core library (src/core and include/ppp_bayes_tree outside ros/) must build
 // without ROS: this test fails when any of its files includes a ROS, tf2, rosbag
 // or message header.
+//
+// Layering: the dependencies of the core point one way. Each folder (the same
+// name under include/ppp_bayes_tree and src/core) includes only the folders
+// below it (README, "Layout"):
+//   types                         time, satellites, codes, frames, record data types
+//   io          -> types          readers and writers of the file formats
+//   models      -> io             pure models and the product providers
+//   smoother    -> types          the generic incremental smoother (no GNSS)
+//   ppp         -> models, smoother   measurement model, estimators, pipeline
+//   simulation  -> ppp            the flight simulator
+//   evaluation  -> simulation     statistics, solution writers, Monte Carlo
+//   app         -> evaluation     ppp_solve's run, inspection, replay report
+// ("->" includes everything below the named folders; tools and ros sit above app.)
 #include <gtest/gtest.h>
 
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <regex>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -77,4 +92,99 @@ TEST(CoreNoRos, CoreSourcesIncludeNoRosHeader) {
   std::string all;
   for (const auto& h : hits) all += "\n  " + h;
   EXPECT_TRUE(hits.empty()) << "core files include ROS headers:" << all;
+}
+
+namespace {
+
+// The folders each core folder may include (besides itself), transitively closed.
+const std::map<std::string, std::set<std::string>>& allowedIncludes() {
+  static const std::map<std::string, std::set<std::string>> allowed = [] {
+    const std::map<std::string, std::set<std::string>> direct{
+        {"types", {}},
+        {"io", {"types"}},
+        {"models", {"io"}},
+        {"smoother", {"types"}},
+        {"ppp", {"models", "smoother"}},
+        {"simulation", {"ppp"}},
+        {"evaluation", {"simulation"}},
+        {"app", {"evaluation"}},
+    };
+    std::map<std::string, std::set<std::string>> closed;
+    for (const auto& [folder, below] : direct) {
+      std::vector<std::string> todo(below.begin(), below.end());
+      while (!todo.empty()) {
+        const std::string f = todo.back();
+        todo.pop_back();
+        if (!closed[folder].insert(f).second) continue;
+        for (const auto& g : direct.at(f)) todo.push_back(g);
+      }
+      closed[folder];
+    }
+    return closed;
+  }();
+  return allowed;
+}
+
+const std::regex kProjectInclude(R"(^\s*#\s*include\s*"ppp_bayes_tree/([a-z_]+)/)");
+
+/// "file:line: folder includes X" for every include outside the allowed folders.
+std::vector<std::string> layeringViolations(const fs::path& file, const std::string& folder) {
+  std::vector<std::string> out;
+  const auto& allowed = allowedIncludes();
+  const auto it = allowed.find(folder);
+  std::ifstream in(file);
+  std::string line;
+  int n = 0;
+  while (std::getline(in, line)) {
+    ++n;
+    std::smatch m;
+    if (!std::regex_search(line, m, kProjectInclude)) continue;
+    const std::string target = m[1];
+    if (target == folder) continue;
+    if (it == allowed.end() || !it->second.count(target))
+      out.push_back(file.string() + ":" + std::to_string(n) + ": " + folder + " includes " + target);
+  }
+  return out;
+}
+
+}  // namespace
+
+TEST(CoreLayering, DetectorRecognisesUpwardIncludes) {
+  const fs::path tmp = fs::temp_directory_path() / "ppp_core_layering_probe.h";
+  {
+    std::ofstream out(tmp);
+    out << "#include \"ppp_bayes_tree/types/gnss_time.h\"\n#include \"ppp_bayes_tree/io/sp3_reader.h\"\n"
+        << "#include \"ppp_bayes_tree/models/precise_ephemeris.h\"\n#include \"ppp_bayes_tree/ppp/ekf_ppp.h\"\n"
+        << "  #  include \"ppp_bayes_tree/evaluation/monte_carlo.h\"\n";
+  }
+  EXPECT_EQ(layeringViolations(tmp, "io").size(), 3u);      // models, ppp, evaluation
+  EXPECT_EQ(layeringViolations(tmp, "ppp").size(), 1u);     // evaluation
+  EXPECT_EQ(layeringViolations(tmp, "app").size(), 0u);
+  EXPECT_EQ(layeringViolations(tmp, "smoother").size(), 4u);  // all but types
+  EXPECT_EQ(layeringViolations(tmp, "unknown").size(), 5u);   // a new folder must be placed in the table
+  fs::remove(tmp);
+}
+
+TEST(CoreLayering, EachFolderIncludesOnlyTheFoldersBelowIt) {
+  const fs::path repo = PPP_REPO_DIR;
+  std::vector<std::string> hits;
+  std::set<std::string> folders;
+  for (const fs::path root : {repo / "src" / "core", repo / "include" / "ppp_bayes_tree"}) {
+    if (!fs::exists(root)) continue;
+    for (const auto& dir : fs::directory_iterator(root)) {
+      if (!dir.is_directory()) continue;
+      const std::string folder = dir.path().filename().string();
+      if (folder == "ros") continue;  // the ROS adapters sit above the core
+      folders.insert(folder);
+      for (const auto& entry : fs::recursive_directory_iterator(dir.path())) {
+        if (!entry.is_regular_file()) continue;
+        auto v = layeringViolations(entry.path(), folder);
+        hits.insert(hits.end(), v.begin(), v.end());
+      }
+    }
+  }
+  EXPECT_GE(folders.size(), 8u);
+  std::string all;
+  for (const auto& h : hits) all += "\n  " + h;
+  EXPECT_TRUE(hits.empty()) << "includes against the layering:" << all;
 }

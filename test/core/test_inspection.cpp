@@ -7,7 +7,7 @@
 #include <fstream>
 
 #include "ppp_bayes_tree/io/file_type.h"
-#include "ppp_bayes_tree/io/inspection.h"
+#include "ppp_bayes_tree/app/inspection.h"
 #include "ppp_bayes_tree/io/parse_error.h"
 #include "test_support.h"
 

@@ -29,7 +29,7 @@ struct Zim2Epoch {
   std::vector<ArcId> arcs;
   ReceiverState truth;
   explicit Zim2Epoch(MeasurementModelOptions options = {}) : ds(test::zim2Dataset(), options) {
-    SignalSelector selector(ds.reader->header(), {}, ds.bias.get());
+    SignalSelector selector(ds.reader->header(), {}, ds.biases.get());
     ObsEpoch epoch;
     ds.reader->next(epoch);
     ds.reader->next(epoch);  // second epoch: products cover the emission times
@@ -272,7 +272,7 @@ TEST(PppMeasurementModel, StationDisplacementsMoveTheAntennaPhaseCentre) {
   blq.phase_radial_deg[0] = 30.0;
   std::vector<AntexSource> antex;
   antex.push_back({"zim2", readAntexFile(z_on.ds.paths.atx[0])});
-  PppMeasurementModel with_ol(z_on.ds.products, std::move(antex), ReceiverAntenna::fromHeader(z_on.ds.reader->header()),
+  PppMeasurementModel with_ol(z_on.ds.products, std::make_shared<AntexCalibrations>(std::move(antex)), ReceiverAntenna::fromHeader(z_on.ds.reader->header()),
                               &blq, {});
   std::vector<ModelTerms> t_ol;
   with_ol.evaluate(z_on.obs, z_on.arcs, z_on.truth, nullptr, em, &t_ol);

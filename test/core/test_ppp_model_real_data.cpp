@@ -28,7 +28,7 @@ struct CodeCheck {
 
 /// First epoch at the truth position: IF code residuals minus their mean.
 CodeCheck firstEpochCodeResiduals(test::LoadedDataset& ds, const char* label) {
-  SignalSelector selector(ds.reader->header(), {}, ds.bias.get());
+  SignalSelector selector(ds.reader->header(), {}, ds.biases.get());
   ObsEpoch epoch;
   EXPECT_TRUE(ds.reader->next(epoch));
   const auto sel = selector.select(epoch);
@@ -145,7 +145,7 @@ double trendTimesDuration(const std::vector<double>& t, const std::vector<double
 /// Whole file at the truth position: per epoch clock, per arc bias and one ZWD
 /// fitted by least squares to the phase residuals; per arc statistics.
 HourAnalysis analyseHour(test::LoadedDataset& ds, const char* label) {
-  SignalSelector selector(ds.reader->header(), {}, ds.bias.get());
+  SignalSelector selector(ds.reader->header(), {}, ds.biases.get());
   ReceiverState truth;
   truth.position_ecef_m = ds.paths.truth_ecef_m;
   truth.zwd_m = 0.0;  // the fitted ZWD enters through the wet mapping (Jacobian column 3)

@@ -28,7 +28,7 @@ TEST(PppOptionsBinding, EmptySectionsKeepTheStructDefaults) {
   EXPECT_EQ(c.model.mapping, m.mapping);
   EXPECT_EQ(c.model.dry_troposphere, m.dry_troposphere);
   EXPECT_TRUE(c.model.solid_earth_tide && c.model.ocean_loading && c.model.phase_windup && c.model.shapiro &&
-              c.model.satellite_antenna && c.model.receiver_antenna && c.model.exclude_eclipse);
+              c.model.satellite_antenna && c.model.receiver_antenna == ReceiverAntennaPolicy::Warn && c.model.exclude_eclipse);
   const SignalSelectionOptions s;
   EXPECT_EQ(c.signals.systems, s.systems);
   EXPECT_EQ(c.signals.gps.code1_attributes, s.gps.code1_attributes);
@@ -72,7 +72,7 @@ measurement_model:
   EXPECT_EQ(c.model.dry_troposphere, DryTroposphereModel::Saastamoinen);
   EXPECT_EQ(c.model.mapping, TroposphereMapping::ModifiedHopfield);  // the default is gmf
   EXPECT_FALSE(c.model.solid_earth_tide || c.model.ocean_loading || c.model.phase_windup || c.model.shapiro ||
-               c.model.satellite_antenna || c.model.receiver_antenna || c.model.exclude_eclipse);
+               c.model.satellite_antenna || c.model.receiver_antenna != ReceiverAntennaPolicy::Off || c.model.exclude_eclipse);
   EXPECT_EQ(c.signals.systems, (std::vector<GnssSystem>{GnssSystem::Galileo, GnssSystem::GPS}));
   EXPECT_FALSE(c.signals.require_code_osb);
   EXPECT_EQ(c.signals.phase_shift, PhaseShiftHandling::RestoreOriginal);

@@ -14,7 +14,7 @@
 #include "ppp_bayes_tree/evaluation/rtklib_pos.h"
 #include "ppp_bayes_tree/ppp/arc_tracker.h"
 #include "ppp_bayes_tree/ppp/epoch_estimator.h"
-#include "ppp_bayes_tree/ppp/ppp_solve_run.h"
+#include "ppp_bayes_tree/app/ppp_solve_run.h"
 #include "ppp_dataset.h"
 #include "test_support.h"
 
@@ -120,7 +120,7 @@ TEST(PppPipeline, ReasonCategoriesCountRejections) {
 TEST(PppPipeline, NoiseFreeSimulationThroughTheRealModelRecoversThePosition) {
   PPP_REQUIRE_SHARED_DATA();
   test::LoadedDataset ds(test::zim2Dataset());
-  SignalSelector selector(ds.reader->header(), {}, ds.bias.get());
+  SignalSelector selector(ds.reader->header(), {}, ds.biases.get());
   ReceiverState truth;
   truth.position_ecef_m = ds.paths.truth_ecef_m;
   truth.zwd_m = 0.12;       // not the filter's a priori 0.1 m

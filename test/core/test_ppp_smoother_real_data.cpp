@@ -18,7 +18,7 @@ namespace {
 TEST(PppSmootherRealData, FactorPredictionMatchesTheFullModelAfterAMetreLevelMove) {
   PPP_REQUIRE_SHARED_DATA();
   test::LoadedDataset ds(test::zim2Dataset());
-  SignalSelector selector(ds.reader->header(), {}, ds.bias.get());
+  SignalSelector selector(ds.reader->header(), {}, ds.biases.get());
   ObsEpoch epoch;
   ASSERT_TRUE(ds.reader->next(epoch));
   const auto sel = selector.select(epoch);

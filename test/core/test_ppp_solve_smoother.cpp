@@ -15,7 +15,7 @@
 #include <sstream>
 
 #include "ppp_bayes_tree/evaluation/rtklib_pos.h"
-#include "ppp_bayes_tree/ppp/ppp_solve_run.h"
+#include "ppp_bayes_tree/app/ppp_solve_run.h"
 #include "ppp_dataset.h"
 #include "test_support.h"
 

@@ -1,4 +1,4 @@
-// The ROS-free part of ppp_bag_report (evaluation/replay_report.h): truth
+// The ROS-free part of ppp_bag_report (app/replay_report.h): truth
 // matching by time, assembling a node's solution from its status and position
 // samples, the rows with the core statistics, the table/JSON/CSV, the datum.
 // Known values are built into the in-memory data (errors of 1..N cm, etc.).
@@ -7,7 +7,7 @@
 #include <cmath>
 #include <sstream>
 
-#include "ppp_bayes_tree/evaluation/replay_report.h"
+#include "ppp_bayes_tree/app/replay_report.h"
 #include "ppp_bayes_tree/types/frames.h"
 
 namespace {

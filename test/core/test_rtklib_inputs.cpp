@@ -4,7 +4,7 @@
 
 #include <cmath>
 
-#include "ppp_bayes_tree/evaluation/rtklib_inputs.h"
+#include "ppp_bayes_tree/io/rtklib_inputs.h"
 #include "ppp_bayes_tree/io/rinex_nav_reader.h"
 #include "test_support.h"
 

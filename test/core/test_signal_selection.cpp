@@ -5,6 +5,7 @@
 
 #include "ppp_bayes_tree/io/bias_sinex_reader.h"
 #include "ppp_bayes_tree/io/rinex_obs_reader.h"
+#include "ppp_bayes_tree/models/sinex_bias_provider.h"
 #include "ppp_bayes_tree/ppp/signal_selection.h"
 #include "ppp_bayes_tree/types/constants.h"
 #include "test_support.h"
@@ -31,7 +32,8 @@ const DualFrequencyObservation* findObs(const SignalSelectionResult& r, const ch
 TEST(SignalSelection, Zim2GpsPicksC1CC2WWithCodeOsb) {
   PPP_REQUIRE_SHARED_DATA();
   auto reader = RinexObsReader::open(test::dataPath(kZim2Obs));
-  const BiasSinexFile bias = readBiasSinexFile(test::dataPath(kZim2Bia));
+  const BiasSinexFile bias_file = readBiasSinexFile(test::dataPath(kZim2Bia));
+  const SinexBiasProvider bias(bias_file, kZim2Bia);
   ObsEpoch epoch;
   ASSERT_TRUE(reader.next(epoch));
   SignalSelector selector(reader.header(), {}, &bias);
@@ -92,7 +94,8 @@ TEST(SignalSelection, Zim2WithoutBiasFileReportsTheConvention) {
 TEST(SignalSelection, Ccj2GpsAndGalileoWithWumOsb) {
   PPP_REQUIRE_SHARED_DATA();
   auto reader = RinexObsReader::open(test::dataPath(kCcj2Obs));
-  const BiasSinexFile bias = readBiasSinexFile(test::dataPath(kCcj2Bia));
+  const BiasSinexFile bias_file = readBiasSinexFile(test::dataPath(kCcj2Bia));
+  const SinexBiasProvider bias(bias_file, kCcj2Bia);
   ObsEpoch epoch;
   ASSERT_TRUE(reader.next(epoch));
   SignalSelectionOptions options;
@@ -165,16 +168,17 @@ TEST(SignalSelection, MissingOsbSkipsTheSatelliteWhenRequired) {
                                     }),
                      bias.records.end());
   bias.buildIndex();
+  const SinexBiasProvider biases(bias, kZim2Bia);
   ObsEpoch epoch;
   ASSERT_TRUE(reader.next(epoch));
-  const auto r = selectDualFrequency(epoch, reader.header(), {}, &bias);
+  const auto r = selectDualFrequency(epoch, reader.header(), {}, &biases);
   EXPECT_EQ(findObs(r, "G05"), nullptr);
   bool reason = false;
   for (const auto& s : r.skipped) reason |= s.satellite == sat("G05") && s.reason.find("no OSB") != std::string::npos;
   EXPECT_TRUE(reason);
   SignalSelectionOptions lenient;
   lenient.require_code_osb = false;
-  const auto r2 = selectDualFrequency(epoch, reader.header(), lenient, &bias);
+  const auto r2 = selectDualFrequency(epoch, reader.header(), lenient, &biases);
   const auto* g05 = findObs(r2, "G05");
   ASSERT_NE(g05, nullptr);
   EXPECT_FALSE(g05->code1_osb_m.has_value());

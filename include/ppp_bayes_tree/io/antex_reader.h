@@ -21,7 +21,7 @@
 #include "ppp_bayes_tree/io/file_summary.h"
 #include "ppp_bayes_tree/io/line_source.h"
 #include "ppp_bayes_tree/io/parse_error.h"
-#include "ppp_bayes_tree/models/antenna_calibration.h"
+#include "ppp_bayes_tree/types/antenna_calibration.h"
 
 namespace ppp {
 

@@ -21,7 +21,7 @@
 #include "ppp_bayes_tree/io/file_summary.h"
 #include "ppp_bayes_tree/io/line_source.h"
 #include "ppp_bayes_tree/io/parse_error.h"
-#include "ppp_bayes_tree/models/ocean_loading_coefficients.h"
+#include "ppp_bayes_tree/types/ocean_loading_coefficients.h"
 
 namespace ppp {
 

@@ -63,10 +63,6 @@ KeplerConstants galileoKeplerConstants();  // Galileo OS SIS ICD 5.1.1 / 5.1.4
 BroadcastState keplerState(const KeplerOrbit& orbit, const KeplerConstants& constants,
                            const GnssTime& t);
 
-/// Why an orbit cannot be used (non-finite, e outside [0,1), A implausible), or nullopt.
-std::optional<std::string> checkKeplerOrbit(const KeplerOrbit& orbit);
-/// Same for a GLONASS state vector (non-finite, radius below 6400 km or above 100000 km).
-std::optional<std::string> checkGlonassState(const GlonassEphemeris& eph);
 
 /// af0 + af1 dt + af2 dt^2 with dt = t - toc [s].
 double clockPolynomial_s(const ClockPolynomial& clock, const GnssTime& t);

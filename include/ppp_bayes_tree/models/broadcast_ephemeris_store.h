@@ -2,12 +2,20 @@
 // BroadcastEphemerisStore: the broadcast records of one or more navigation files,
 // and the choice of the record to use for a satellite at an instant. Every
 // lookup either gives a record / state or says why there is none.
+//
+// As an EphemerisSource it serves the measurement model with broadcast orbits
+// (GPS/QZSS/Galileo: antenna phase centre, GLONASS: centre of mass; sigma =
+// the record's URA / SISA) and clocks WITHOUT the
+// relativistic eccentricity term (the model adds its own -2 r.v / c^2). The
+// GPS clock refers to the L1/L2 P(Y) ionosphere-free combination; a Galileo
+// I/NAV clock to E1/E5b (an E1/E5a pair would need the BGD: not applied).
 #include <map>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "ppp_bayes_tree/models/broadcast_ephemeris.h"
+#include "ppp_bayes_tree/models/ephemeris_source.h"
 #include "ppp_bayes_tree/types/navigation_records.h"
 
 namespace ppp {
@@ -48,7 +56,7 @@ struct BroadcastLookup {
   explicit operator bool() const { return state.has_value(); }
 };
 
-class BroadcastEphemerisStore {
+class BroadcastEphemerisStore : public EphemerisSource {
  public:
   explicit BroadcastEphemerisStore(EphemerisSelectionOptions options = {}) : options_(options) {}
 
@@ -70,6 +78,11 @@ class BroadcastEphemerisStore {
   /// Position, velocity and clock of any modelled satellite (GPS, QZSS, Galileo,
   /// GLONASS) at GPST t, or the reason it is unavailable.
   BroadcastLookup state(const SatelliteId& sat, const GnssTime& t) const;
+
+  /// EphemerisSource (see above).
+  EphemerisAnswer<EphemerisClock> satelliteClock(const SatelliteId& sat, const GnssTime& t) const override;
+  EphemerisAnswer<EphemerisOrbit> satelliteOrbit(const SatelliteId& sat, const GnssTime& t) const override;
+  std::string describeSource() const override { return "broadcast navigation records"; }
 
   std::size_t size() const;
   const EphemerisSelectionOptions& options() const { return options_; }

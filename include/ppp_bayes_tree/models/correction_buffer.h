@@ -14,6 +14,8 @@
 // give the explicit reason. Batches older than `history_s` before the newest
 // are dropped. A batch at an epoch already held is ignored (the first is kept);
 // a batch older than the newest but inside the history is inserted in order.
+// The buffer is an EphemerisSource (the ROS node's): the same answers as its
+// ephemeris(), with the orbit reference point of `options.reference`.
 #include <cstddef>
 #include <optional>
 #include <string>
@@ -21,6 +23,7 @@
 
 #include <Eigen/Core>
 
+#include "ppp_bayes_tree/models/ephemeris_source.h"
 #include "ppp_bayes_tree/models/precise_ephemeris.h"
 #include "ppp_bayes_tree/types/gnss_time.h"
 #include "ppp_bayes_tree/types/satellite_id.h"
@@ -53,6 +56,8 @@ struct CorrectionBufferOptions {
   PreciseEphemerisOptions interpolation = streamInterpolation();
   /// Batches older than the newest minus this are dropped [s] (> 0).
   double history_s = 900.0;
+  /// The point the batch positions refer to (the PreciseCorrections message: centre of mass).
+  EphemerisReference reference = EphemerisReference::CentreOfMass;
 
   static PreciseEphemerisOptions streamInterpolation() {
     PreciseEphemerisOptions o;
@@ -64,7 +69,7 @@ struct CorrectionBufferOptions {
 
 enum class BatchAddResult { Added, Duplicate, TooOld, InvalidTime };
 
-class CorrectionBuffer {
+class CorrectionBuffer : public EphemerisSource {
  public:
   explicit CorrectionBuffer(CorrectionBufferOptions options = {});
   CorrectionBuffer(const CorrectionBuffer&) = delete;
@@ -74,6 +79,16 @@ class CorrectionBuffer {
   BatchAddResult add(CorrectionBatch batch);
   /// The products of the batches held (same object for the buffer's lifetime).
   const PreciseEphemeris& ephemeris() const { return ephemeris_; }
+  /// EphemerisSource: ephemeris()'s answers (with its edge extension).
+  EphemerisAnswer<EphemerisClock> satelliteClock(const SatelliteId& sat, const GnssTime& t) const override {
+    return ephemeris_.satelliteClock(sat, t);
+  }
+  EphemerisAnswer<EphemerisOrbit> satelliteOrbit(const SatelliteId& sat, const GnssTime& t) const override {
+    auto a = ephemeris_.satelliteOrbit(sat, t);
+    if (a.value) a.value->reference = options_.reference;
+    return a;
+  }
+  std::string describeSource() const override { return "correction stream (precise satellite states)"; }
   std::optional<GnssTime> newest() const;
   std::optional<GnssTime> oldest() const;
   /// True when a batch strictly after `t` is held: interpolation is then

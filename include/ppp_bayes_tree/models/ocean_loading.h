@@ -14,7 +14,7 @@
 
 #include <Eigen/Core>
 
-#include "ppp_bayes_tree/models/ocean_loading_coefficients.h"
+#include "ppp_bayes_tree/types/ocean_loading_coefficients.h"
 #include "ppp_bayes_tree/types/gnss_time.h"
 
 namespace ppp {

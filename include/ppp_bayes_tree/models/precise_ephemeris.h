@@ -20,6 +20,15 @@
 // Nothing is extrapolated: every query returns either a value or the explicit
 // reason why there is none (outside the span, gap, bad-value marker, satellite
 // absent).
+//
+// As an EphemerisSource (satelliteClock / satelliteOrbit, what the measurement
+// model asks) one exception holds at the product edges: products start/end
+// exactly at an observation epoch, so the emission time of that epoch (~70 ms
+// earlier) lies just outside their span. Within kMaxEdgeExtension_s outside the
+// span (and only there) the clock is extended with the slope of its first (last)
+// interval and the orbit by a second-order step from the edge (central gravity
+// only; over 0.1 s the neglected terms are ~1 mm). Positions refer to the centre
+// of mass.
 #include <map>
 #include <optional>
 #include <set>
@@ -31,6 +40,7 @@
 #include "ppp_bayes_tree/io/parse_error.h"
 #include "ppp_bayes_tree/io/rinex_clock_reader.h"
 #include "ppp_bayes_tree/io/sp3_reader.h"
+#include "ppp_bayes_tree/models/ephemeris_source.h"
 #include "ppp_bayes_tree/types/gnss_time.h"
 #include "ppp_bayes_tree/types/satellite_id.h"
 
@@ -47,6 +57,8 @@ enum class ProductStatus {
 };
 
 std::string_view productStatusName(ProductStatus status);
+/// The EphemerisSource reason of a product status (not Ok).
+EphemerisUnavailable ephemerisUnavailable(ProductStatus status);
 
 /// A value, or the reason why it is unavailable.
 template <class T>
@@ -113,9 +125,13 @@ struct ProductSpan {
   GnssTime first, last;
 };
 
-class PreciseEphemeris {
+class PreciseEphemeris : public EphemerisSource {
  public:
   explicit PreciseEphemeris(PreciseEphemerisOptions options = {});
+  PreciseEphemeris(const PreciseEphemeris&) = default;
+  PreciseEphemeris& operator=(const PreciseEphemeris&) = default;
+  PreciseEphemeris(PreciseEphemeris&&) = default;
+  PreciseEphemeris& operator=(PreciseEphemeris&&) = default;
 
   /// Adds one SP3 file; files of consecutive days merge, and an epoch present in
   /// both (the shared midnight) is kept once (the first valid one).
@@ -139,6 +155,13 @@ class PreciseEphemeris {
 
   ProductResult<SatelliteOrbit> orbit(const SatelliteId& sat, const GnssTime& t) const;
   ProductResult<SatelliteClock> clock(const SatelliteId& sat, const GnssTime& t) const;
+
+  /// EphemerisSource: clock() and orbit() plus the edge extension (see above).
+  EphemerisAnswer<EphemerisClock> satelliteClock(const SatelliteId& sat, const GnssTime& t) const override;
+  EphemerisAnswer<EphemerisOrbit> satelliteOrbit(const SatelliteId& sat, const GnssTime& t) const override;
+  std::string describeSource() const override { return "precise products (SP3/CLK)"; }
+  /// Largest distance outside the product span over which the edge is extended.
+  static constexpr double kMaxEdgeExtension_s = 0.2;
 
   std::optional<ProductSpan> orbitSpan() const;
   /// Span of the clock source in use (CLK when loaded, else SP3).

@@ -14,10 +14,11 @@
 #include <string>
 #include <vector>
 
-#include "ppp_bayes_tree/io/bias_sinex_reader.h"
 #include "ppp_bayes_tree/io/obs_epoch.h"
 #include "ppp_bayes_tree/io/rinex_obs_header.h"
-#include "ppp_bayes_tree/models/precise_ephemeris.h"
+#include "ppp_bayes_tree/models/antenna_calibration_provider.h"
+#include "ppp_bayes_tree/models/bias_provider.h"
+#include "ppp_bayes_tree/models/ephemeris_source.h"
 #include "ppp_bayes_tree/ppp/ppp_config.h"
 #include "ppp_bayes_tree/ppp/ppp_measurement_model.h"
 #include "ppp_bayes_tree/ppp/ppp_pipeline.h"
@@ -27,11 +28,11 @@ namespace ppp {
 
 class PppEpochProcessor {
  public:
-  /// `products`, `bias` (nullable) and `ocean` (nullable) must outlive the
-  /// processor; `header` gives the observation types, antenna and GLONASS
-  /// channels (copied).
-  PppEpochProcessor(const RinexObsHeader& header, const PppConfig& config, const PreciseEphemeris& products,
-                    std::vector<AntexSource> antex, const BiasSinexFile* bias,
+  /// `ephemeris`, `biases` (nullable) and `ocean` (nullable) must outlive the
+  /// processor; `antennas` may be null (no calibrations); `header` gives the
+  /// observation types, receiver antenna and GLONASS channels (copied).
+  PppEpochProcessor(const RinexObsHeader& header, const PppConfig& config, const EphemerisSource& ephemeris,
+                    std::shared_ptr<const AntennaCalibrationProvider> antennas, const BiasProvider* biases,
                     const OceanLoadingCoefficients* ocean);
   ~PppEpochProcessor();
   PppEpochProcessor(const PppEpochProcessor&) = delete;
@@ -51,6 +52,8 @@ class PppEpochProcessor {
   const RinexObsHeader& header() const;
   /// Where each antenna calibration came from (see PppMeasurementModel).
   std::vector<std::string> antennaSources() const;
+  /// What the receiver antenna policy "warn" left out (see PppMeasurementModel).
+  const std::vector<std::string>& receiverAntennaWarnings() const;
   std::optional<GnssTime> lastTime() const;
 
  private:

@@ -54,20 +54,31 @@
 // satellite-antenna lookup cache (use one model per thread). The wind-up
 // continuity lives in the caller's WindupTracker.
 //
-// Product edges: the emission time of an epoch at the very start (end) of the
-// products lies ~70 ms outside their span; there (only, within 0.2 s) the clock
-// is extended with the slope of its first (last) interval and the orbit by a
-// second-order step from the reception time (~1 mm).
+// Products: satellite orbits and clocks come from an EphemerisSource (precise
+// files, broadcast records, a correction stream; ephemeris_source.h; the
+// precise files extend their edges by 0.2 s, precise_ephemeris.h). An orbit
+// that refers to the antenna phase centre already holds the satellite PCO,
+// which is then not applied again (the PCV still is). Antenna calibrations come
+// from an AntennaCalibrationProvider (ANTEX files: antex_calibrations.h) for
+// the receiver described by a ReceiverAntenna.
+//
+// Receiver antenna policy (MeasurementModelOptions::receiver_antenna):
+//   Required: without a calibration (or one lacking a frequency of the pair)
+//             every satellite of the system is rejected with the reason;
+//   Warn (default): the model goes on without the receiver PCO/PCV (the DELTA
+//             H/E/N is still applied) and says so once (receiverAntennaWarnings());
+//   Off:      the receiver PCO/PCV is never applied.
 #include <Eigen/Core>
 #include <array>
 #include <optional>
 #include <string>
 #include <vector>
 
-#include "ppp_bayes_tree/io/antex_reader.h"
-#include "ppp_bayes_tree/io/rinex_obs_header.h"
-#include "ppp_bayes_tree/models/ocean_loading_coefficients.h"
-#include "ppp_bayes_tree/models/precise_ephemeris.h"
+#include <memory>
+
+#include "ppp_bayes_tree/models/antenna_calibration_provider.h"
+#include "ppp_bayes_tree/models/ephemeris_source.h"
+#include "ppp_bayes_tree/types/ocean_loading_coefficients.h"
 #include "ppp_bayes_tree/ppp/dual_frequency_observation.h"
 #include "ppp_bayes_tree/ppp/satellite_measurement.h"
 #include "ppp_bayes_tree/types/constants.h"
@@ -80,6 +91,14 @@ enum class TroposphereMapping {
   Niell,
   Gmf,
 };
+
+/// What to do about the receiver antenna calibration (PCO + PCV).
+enum class ReceiverAntennaPolicy {
+  Required,  // a satellite without it is rejected ("missing receiver antenna calibration")
+  Warn,      // go on without it when missing, reported once
+  Off,       // never applied
+};
+std::string_view receiverAntennaPolicyName(ReceiverAntennaPolicy policy);
 
 struct MeasurementModelOptions {
   double elevation_cutoff_rad = 7.0 * kDegToRad;
@@ -106,25 +125,10 @@ struct MeasurementModelOptions {
   bool ocean_loading = true;  // used only when coefficients are given
   bool phase_windup = true;
   bool satellite_antenna = true;  // satellite PCO + PCV (ANTEX)
-  bool receiver_antenna = true;   // receiver PCO + PCV (ANTEX); the DELTA H/E/N is always applied
+  /// Receiver PCO + PCV (ANTEX); the DELTA H/E/N is always applied.
+  ReceiverAntennaPolicy receiver_antenna = ReceiverAntennaPolicy::Warn;
   bool shapiro = true;
   bool exclude_eclipse = true;    // reject satellites in the Earth's shadow (umbra or penumbra)
-};
-
-/// One ANTEX file and the name it is reported under (usually its path).
-struct AntexSource {
-  std::string name;
-  AntexFile file;
-};
-
-/// Receiver antenna description from the RINEX header.
-struct ReceiverAntenna {
-  std::string model;   // "TRM59800.00"
-  std::string radome;  // "SCIS", blank = NONE
-  /// ANTENNA: DELTA H/E/N [m] (up, east, north of the ARP above the marker).
-  Eigen::Vector3d delta_hen_m = Eigen::Vector3d::Zero();
-
-  static ReceiverAntenna fromHeader(const RinexObsHeader& header);
 };
 
 /// Phase wind-up state per satellite: the last value [cycles] and its arc, so
@@ -177,10 +181,10 @@ struct ModelTerms {
 
 class PppMeasurementModel {
  public:
-  /// `products` must outlive the model. ANTEX files are searched in the given
-  /// order: the first file holding an antenna wins (see antennaSources()).
+  /// `ephemeris` must outlive the model. `antennas` may be null (no
+  /// calibrations: the options must then not ask for the satellite antenna).
   /// `ocean_loading` may be nullptr.
-  PppMeasurementModel(const PreciseEphemeris& products, std::vector<AntexSource> antex,
+  PppMeasurementModel(const EphemerisSource& ephemeris, std::shared_ptr<const AntennaCalibrationProvider> antennas,
                       const ReceiverAntenna& receiver_antenna, const OceanLoadingCoefficients* ocean_loading,
                       MeasurementModelOptions options = {});
 
@@ -207,6 +211,10 @@ class PppMeasurementModel {
   std::vector<std::string> antennaSources() const;
   /// The receiver calibration in use (nullptr: not found in any file).
   const AntennaCalibration* receiverCalibration() const { return receiver_calibration_; }
+  /// Under ReceiverAntennaPolicy::Warn: what is missing and not applied, once
+  /// per cause (e.g. "receiver antenna ASH701945E_M SCIS not found in any ANTEX
+  /// file: ..."); empty when nothing is missing (grows as systems are seen).
+  const std::vector<std::string>& receiverAntennaWarnings() const { return receiver_warnings_; }
   /// IF-combined receiver PCO (north, east, up) [m] of a frequency pair of a system.
   std::optional<Eigen::Vector3d> receiverPcoIonosphereFree_m(GnssSystem system, int frequency1, int frequency2,
                                                              double f1_hz, double f2_hz) const;
@@ -214,29 +222,23 @@ class PppMeasurementModel {
  private:
   struct SatelliteAntennaCache {
     const AntennaCalibration* calibration = nullptr;
-    std::size_t file = 0;
+    std::string source;
     std::optional<GnssTime> from, until;
     bool looked_up = false;
     bool reported = false;
   };
-  /// Largest distance from the reception time over which the product edge may
-  /// be extended (see satelliteClock_s).
-  static constexpr double kMaxEdgeExtension_s = 0.2;
-  std::optional<double> satelliteClock_s(const SatelliteId& sat, const GnssTime& t, const GnssTime& t_rx,
-                                         std::string* why) const;
-  bool satelliteOrbit(const SatelliteId& sat, const GnssTime& t, const GnssTime& t_rx, Eigen::Vector3d& position,
-                      Eigen::Vector3d& velocity, std::string* why) const;
-  const AntennaCalibration* satelliteCalibration(const SatelliteId& sat, const GnssTime& t,
-                                                 std::size_t* file) const;
+  const AntennaCalibration* satelliteCalibration(const SatelliteId& sat, const GnssTime& t) const;
+  void warnReceiverAntenna(std::string text) const;
 
-  const PreciseEphemeris& products_;
-  std::vector<AntexSource> antex_;
+  const EphemerisSource& ephemeris_;
+  std::shared_ptr<const AntennaCalibrationProvider> antennas_;
   ReceiverAntenna receiver_antenna_;
   const AntennaCalibration* receiver_calibration_ = nullptr;
   std::string receiver_source_;
   std::optional<OceanLoadingCoefficients> ocean_loading_;
   MeasurementModelOptions options_;
   mutable std::vector<SatelliteAntennaCache> satellite_cache_;  // lookup cache (not model state)
+  mutable std::vector<std::string> receiver_warnings_;          // reported once each
 };
 
 }  // namespace ppp

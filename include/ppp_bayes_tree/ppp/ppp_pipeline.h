@@ -11,6 +11,9 @@
 // wins (notes() says which antenna came from where); an optional Bias-SINEX
 // file aligns the codes; an optional BLQ file gives ocean loading for the
 // station found by the RINEX marker name.
+// The chain itself takes an ObservationSource (file, in-memory epochs, later a
+// decoded stream) and PppProducts (an EphemerisSource, antenna calibrations,
+// biases, ocean loading): the file and in-memory constructors only build those.
 // Bad input never crashes the run: epochs whose time goes backwards or repeats
 // are refused and counted, data gaps are counted, satellites without products
 // are rejected with the product's reason, and an epoch without enough
@@ -24,10 +27,11 @@
 #include <string>
 #include <vector>
 
-#include "ppp_bayes_tree/evaluation/solution_epoch.h"
-#include "ppp_bayes_tree/io/bias_sinex_reader.h"
-#include "ppp_bayes_tree/io/blq_reader.h"
-#include "ppp_bayes_tree/io/rinex_obs_reader.h"
+#include "ppp_bayes_tree/ppp/solution_epoch.h"
+#include "ppp_bayes_tree/io/observation_source.h"
+#include "ppp_bayes_tree/models/antex_calibrations.h"
+#include "ppp_bayes_tree/models/bias_provider.h"
+#include "ppp_bayes_tree/models/ephemeris_source.h"
 #include "ppp_bayes_tree/models/precise_ephemeris.h"
 #include "ppp_bayes_tree/ppp/epoch_estimator.h"
 #include "ppp_bayes_tree/ppp/ppp_config.h"
@@ -52,6 +56,16 @@ struct PppInMemoryInputs {
   const PreciseEphemeris* products = nullptr;
   std::vector<AntexSource> antex;
   std::string name = "in-memory";  // stands for the observation file name in notes
+};
+
+/// The products of a run, whatever they come from. `ephemeris` is required;
+/// the others may be null / empty. `notes` go into the run's notes.
+struct PppProducts {
+  std::shared_ptr<const EphemerisSource> ephemeris;
+  std::shared_ptr<const AntennaCalibrationProvider> antennas;
+  std::shared_ptr<const BiasProvider> biases;
+  std::optional<OceanLoadingCoefficients> ocean;
+  std::vector<std::string> notes;
 };
 
 /// A satellite left out at some stage of an epoch.
@@ -120,6 +134,9 @@ class PppPipeline {
   /// Runs over in-process epochs instead of files (throws std::invalid_argument
   /// when a pointer is null); no Bias-SINEX, no ocean loading.
   PppPipeline(const PppInMemoryInputs& inputs, PppConfig config);
+  /// The general form: any observation source and any products (throws
+  /// std::invalid_argument when the source or the ephemeris is null).
+  PppPipeline(std::unique_ptr<ObservationSource> observations, PppProducts products, PppConfig config);
   ~PppPipeline();
   PppPipeline(const PppPipeline&) = delete;
   PppPipeline& operator=(const PppPipeline&) = delete;
@@ -130,6 +147,8 @@ class PppPipeline {
   const PppConfig& config() const { return config_; }
   /// Notes known before the run (antenna sources grow as satellites are seen).
   std::vector<std::string> notes() const;
+  /// What the receiver antenna policy "warn" left out (once each; see PppMeasurementModel).
+  const std::vector<std::string>& receiverAntennaWarnings() const;
 
   using EpochCallback = std::function<void(const PppEpochRecord&)>;
   /// Runs the whole observation file through `estimator` (once per pipeline:

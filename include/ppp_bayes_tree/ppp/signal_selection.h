@@ -29,14 +29,16 @@
 // special investigations. RINEX 2 and 3.00 files carry no such record. For a
 // float IF solution any constant quarter cycle is absorbed by the arc bias.
 // Phase OSBs of the bias file are NOT applied (float ambiguities absorb them).
+// The biases come from a BiasProvider (bias_provider.h: Bias-SINEX today, SSR
+// later); "bias file" below means any provider.
 #include <array>
 #include <optional>
 #include <string>
 #include <vector>
 
-#include "ppp_bayes_tree/io/bias_sinex_reader.h"
 #include "ppp_bayes_tree/io/obs_epoch.h"
 #include "ppp_bayes_tree/io/rinex_obs_header.h"
+#include "ppp_bayes_tree/models/bias_provider.h"
 #include "ppp_bayes_tree/ppp/dual_frequency_observation.h"
 
 namespace ppp {
@@ -96,8 +98,8 @@ struct SignalSelectionResult {
 /// no allocation once the output vectors have grown (except for skip reasons).
 class SignalSelector {
  public:
-  /// `osb` may be nullptr (no bias file); it must outlive the selector.
-  SignalSelector(const RinexObsHeader& header, SignalSelectionOptions options, const BiasSinexFile* osb);
+  /// `biases` may be nullptr (no bias file); it must outlive the selector.
+  SignalSelector(const RinexObsHeader& header, SignalSelectionOptions options, const BiasProvider* biases);
 
   void select(const ObsEpoch& epoch, SignalSelectionResult& out);
   SignalSelectionResult select(const ObsEpoch& epoch) {
@@ -127,15 +129,14 @@ class SignalSelector {
   double phaseShift_cycles(const SystemColumns& sc, const SatelliteId& sat, const ObservationCode& code) const;
 
   SignalSelectionOptions options_;
-  const BiasSinexFile* osb_;
+  const BiasProvider* biases_;
   std::array<SystemColumns, kNumGnssSystems> systems_;
   std::array<std::vector<ObservationCode>, kNumGnssSystems> types_;
   std::vector<OsbCache> osb_cache_;  // index: satellite index * 2 + slot
-  std::string clock_reference_note_;  // GPS reference from the bias file description
 };
 
 /// Convenience for one epoch (builds a selector each call: prefer SignalSelector in loops).
 SignalSelectionResult selectDualFrequency(const ObsEpoch& epoch, const RinexObsHeader& header,
-                                          const SignalSelectionOptions& options, const BiasSinexFile* osb);
+                                          const SignalSelectionOptions& options, const BiasProvider* biases);
 
 }  // namespace ppp

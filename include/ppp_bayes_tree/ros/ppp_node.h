@@ -57,9 +57,9 @@
 #include "ppp_bayes_tree/PppStatus.h"
 #include "ppp_bayes_tree/PreciseCorrections.h"
 #include "ppp_bayes_tree/SetDatum.h"
-#include "ppp_bayes_tree/io/antex_reader.h"
 #include "ppp_bayes_tree/io/bias_sinex_reader.h"
-#include "ppp_bayes_tree/io/blq_reader.h"
+#include "ppp_bayes_tree/ppp/correction_gate.h"
+#include "ppp_bayes_tree/ppp/product_set.h"
 #include "ppp_bayes_tree/models/correction_buffer.h"
 #include "ppp_bayes_tree/ppp/epoch_estimator.h"
 #include "ppp_bayes_tree/ppp/ppp_config.h"
@@ -130,16 +130,14 @@ class PppNode {
 
   ros::NodeHandle nh_, pnh_;
   NodeConfig config_;
-  std::vector<ppp::AntexSource> antex_;
-  std::optional<ppp::BiasSinexFile> bias_;
-  std::optional<ppp::BlqFile> blq_;
+  ppp::ProductSet products_;  // ANTEX, Bias-SINEX, BLQ (loaded by the core)
   std::optional<ppp::OceanLoadingCoefficients> ocean_;
   ppp::CorrectionBuffer corrections_;
   std::unique_ptr<ppp::EpochEstimator> estimator_;
   std::unique_ptr<ppp::PppEpochProcessor> processor_;
   ppp::RinexObsHeader layout_;
   bool layout_changed_ = false;
-  std::deque<Pending> pending_;
+  ppp::CorrectionGate<Pending> gate_;  // epochs waiting for covering corrections
   std::optional<ppp::GnssTime> last_received_;  // newest observation epoch received
   std::optional<ppp::GnssTime> last_correction_received_;
 

@@ -97,4 +97,9 @@ struct GlonassEphemeris {
   double age_days = 0.0;          // age of operational information E
 };
 
+/// Why an orbit cannot be used (non-finite, e outside [0,1), A implausible), or nullopt.
+std::optional<std::string> checkKeplerOrbit(const KeplerOrbit& orbit);
+/// Same for a GLONASS state vector (non-finite, radius below 6400 km or above 100000 km).
+std::optional<std::string> checkGlonassState(const GlonassEphemeris& eph);
+
 }  // namespace ppp

@@ -6,7 +6,7 @@
 #include <stdexcept>
 
 #include "ppp_bayes_tree/io/fixed_width.h"
-#include "ppp_bayes_tree/models/broadcast_ephemeris.h"
+#include "ppp_bayes_tree/types/navigation_records.h"
 
 namespace ppp {
 

@@ -178,6 +178,48 @@ BroadcastLookup BroadcastEphemerisStore::state(const SatelliteId& sat, const Gns
   return out;
 }
 
+namespace {
+
+EphemerisUnavailable broadcastReason(const SatelliteId& sat) {
+  switch (sat.system) {
+    case GnssSystem::GPS:
+    case GnssSystem::QZSS:
+    case GnssSystem::Galileo:
+    case GnssSystem::GLONASS: return EphemerisUnavailable::NoValidRecord;
+    default: return EphemerisUnavailable::SystemNotModelled;
+  }
+}
+
+}  // namespace
+
+EphemerisAnswer<EphemerisClock> BroadcastEphemerisStore::satelliteClock(const SatelliteId& sat,
+                                                                         const GnssTime& t) const {
+  using A = EphemerisAnswer<EphemerisClock>;
+  const BroadcastLookup s = state(sat, t);
+  if (!s) return A::unavailable(broadcastReason(sat), s.unavailable_reason);
+  // The rate of the relativistic term is left in the drift (a few 1e-12 s/s).
+  return A::success({s.state->clock_bias_s - s.state->relativistic_s, s.state->clock_drift_sps, std::nullopt});
+}
+
+EphemerisAnswer<EphemerisOrbit> BroadcastEphemerisStore::satelliteOrbit(const SatelliteId& sat,
+                                                                         const GnssTime& t) const {
+  using A = EphemerisAnswer<EphemerisOrbit>;
+  const BroadcastLookup s = state(sat, t);
+  if (!s) return A::unavailable(broadcastReason(sat), s.unavailable_reason);
+  // GPS, QZSS and Galileo broadcast orbits refer to the antenna phase centre
+  // (the control segments' convention, also that of RTCM SSR); GLONASS to the
+  // centre of mass.
+  const EphemerisReference reference = sat.system == GnssSystem::GLONASS ? EphemerisReference::CentreOfMass
+                                                                        : EphemerisReference::AntennaPhaseCentre;
+  EphemerisOrbit o{s.state->position_ecef_m, s.state->velocity_ecef_mps, reference, std::nullopt};
+  if (sat.system == GnssSystem::GPS || sat.system == GnssSystem::QZSS) {
+    if (const auto r = gps(sat, t)) o.position_sigma_m = r.record->ura_m;
+  } else if (sat.system == GnssSystem::Galileo) {
+    if (const auto r = galileo(sat, t)) o.position_sigma_m = r.record->sisa_m;
+  }
+  return A::success(o);
+}
+
 std::size_t BroadcastEphemerisStore::size() const {
   std::size_t n = 0;
   for (const auto& [sat, list] : gps_) n += list.size();

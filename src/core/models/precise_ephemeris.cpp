@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <map>
 
+#include "ppp_bayes_tree/models/relativity.h"
 #include "ppp_bayes_tree/types/constants.h"
 
 namespace ppp {
@@ -113,6 +114,85 @@ std::string_view productStatusName(ProductStatus status) {
     case ProductStatus::NotEnoughNodes: return "not enough nodes";
   }
   return "?";
+}
+
+EphemerisUnavailable ephemerisUnavailable(ProductStatus status) {
+  switch (status) {
+    case ProductStatus::Ok:
+    case ProductStatus::NoProducts: return EphemerisUnavailable::NoProducts;
+    case ProductStatus::SatelliteNotInProducts: return EphemerisUnavailable::SatelliteNotInProducts;
+    case ProductStatus::OutsideSpan: return EphemerisUnavailable::OutsideSpan;
+    case ProductStatus::Gap: return EphemerisUnavailable::Gap;
+    case ProductStatus::BadValueMarker: return EphemerisUnavailable::BadValueMarker;
+    case ProductStatus::NotEnoughNodes: return EphemerisUnavailable::NotEnoughNodes;
+  }
+  return EphemerisUnavailable::NoProducts;
+}
+
+std::string_view ephemerisUnavailableName(EphemerisUnavailable reason) {
+  switch (reason) {
+    case EphemerisUnavailable::NoProducts: return "no products";
+    case EphemerisUnavailable::SatelliteNotInProducts: return "satellite not in products";
+    case EphemerisUnavailable::OutsideSpan: return "outside product span";
+    case EphemerisUnavailable::Gap: return "gap";
+    case EphemerisUnavailable::BadValueMarker: return "bad value marker";
+    case EphemerisUnavailable::NotEnoughNodes: return "not enough nodes";
+    case EphemerisUnavailable::NoValidRecord: return "no valid record";
+    case EphemerisUnavailable::SystemNotModelled: return "system not modelled";
+  }
+  return "?";
+}
+
+namespace {
+
+/// The span edge within PreciseEphemeris::kMaxEdgeExtension_s of a time outside the span, if any.
+std::optional<GnssTime> nearEdge(const std::optional<ProductSpan>& span, const GnssTime& t) {
+  if (!span) return std::nullopt;
+  if (t < span->first && span->first - t < PreciseEphemeris::kMaxEdgeExtension_s) return span->first;
+  if (span->last < t && t - span->last < PreciseEphemeris::kMaxEdgeExtension_s) return span->last;
+  return std::nullopt;
+}
+
+}  // namespace
+
+EphemerisAnswer<EphemerisClock> PreciseEphemeris::satelliteClock(const SatelliteId& sat, const GnssTime& t) const {
+  using A = EphemerisAnswer<EphemerisClock>;
+  const auto c = clock(sat, t);
+  if (c.ok()) return A::success({c.value->clock_bias_s, c.value->clock_drift_s_per_s, std::nullopt});
+  // Edge: extend linearly with the slope of the first/last interval.
+  if (c.status == ProductStatus::OutsideSpan) {
+    if (const auto edge = nearEdge(clockSpan(), t)) {
+      const auto r = clock(sat, *edge);
+      if (r.ok() && r.value->clock_drift_s_per_s) {
+        const double bias_s = r.value->clock_bias_s + *r.value->clock_drift_s_per_s * (t - *edge);
+        return A::success({bias_s, r.value->clock_drift_s_per_s, std::nullopt});
+      }
+    }
+  }
+  return A::unavailable(ephemerisUnavailable(c.status), c.reason);
+}
+
+EphemerisAnswer<EphemerisOrbit> PreciseEphemeris::satelliteOrbit(const SatelliteId& sat, const GnssTime& t) const {
+  using A = EphemerisAnswer<EphemerisOrbit>;
+  const auto o = orbit(sat, t);
+  if (o.ok()) {
+    return A::success({o.value->position_ecef_m, o.value->velocity_ecef_mps, EphemerisReference::CentreOfMass,
+                       std::nullopt});
+  }
+  // Edge: a second-order step from the edge (central gravity only).
+  if (o.status == ProductStatus::OutsideSpan) {
+    if (const auto edge = nearEdge(orbitSpan(), t)) {
+      const auto r = orbit(sat, *edge);
+      if (r.ok()) {
+        const double dt = t - *edge;
+        const Eigen::Vector3d& p = r.value->position_ecef_m;
+        const Eigen::Vector3d a = -kGmEarthIers_m3ps2 / std::pow(p.norm(), 3) * p;
+        return A::success({p + r.value->velocity_ecef_mps * dt + 0.5 * a * dt * dt,
+                           r.value->velocity_ecef_mps + a * dt, EphemerisReference::CentreOfMass, std::nullopt});
+      }
+    }
+  }
+  return A::unavailable(ephemerisUnavailable(o.status), o.reason);
 }
 
 PreciseEphemeris::PreciseEphemeris(PreciseEphemerisOptions options) : options_(options) {

@@ -9,7 +9,7 @@ namespace ppp {
 struct PppEpochProcessor::Impl {
   RinexObsHeader header;
   PppConfig config;
-  const BiasSinexFile* bias = nullptr;
+  const BiasProvider* biases = nullptr;
   std::unique_ptr<PppMeasurementModel> model;
   std::unique_ptr<SignalSelector> selector;
   ArcTracker tracker;
@@ -21,17 +21,18 @@ struct PppEpochProcessor::Impl {
   std::vector<DualFrequencyObservation> usable;
   std::vector<ArcId> arcs;
 
-  Impl(const RinexObsHeader& h, const PppConfig& c, const BiasSinexFile* b)
-      : header(h), config(c), bias(b), tracker(c.cycle_slip_options) {}
+  Impl(const RinexObsHeader& h, const PppConfig& c, const BiasProvider* b)
+      : header(h), config(c), biases(b), tracker(c.cycle_slip_options) {}
 };
 
 PppEpochProcessor::PppEpochProcessor(const RinexObsHeader& header, const PppConfig& config,
-                                     const PreciseEphemeris& products, std::vector<AntexSource> antex,
-                                     const BiasSinexFile* bias, const OceanLoadingCoefficients* ocean)
-    : impl_(std::make_unique<Impl>(header, config, bias)) {
-  impl_->model = std::make_unique<PppMeasurementModel>(products, std::move(antex), ReceiverAntenna::fromHeader(header),
-                                                       ocean, config.model);
-  impl_->selector = std::make_unique<SignalSelector>(impl_->header, config.signals, bias);
+                                     const EphemerisSource& ephemeris,
+                                     std::shared_ptr<const AntennaCalibrationProvider> antennas,
+                                     const BiasProvider* biases, const OceanLoadingCoefficients* ocean)
+    : impl_(std::make_unique<Impl>(header, config, biases)) {
+  impl_->model = std::make_unique<PppMeasurementModel>(ephemeris, std::move(antennas),
+                                                       ReceiverAntenna::fromHeader(header), ocean, config.model);
+  impl_->selector = std::make_unique<SignalSelector>(impl_->header, config.signals, biases);
 }
 
 PppEpochProcessor::~PppEpochProcessor() = default;
@@ -41,12 +42,16 @@ void PppEpochProcessor::setObservationTypes(const RinexObsHeader& header) {
   impl_->header.scale_factors = header.scale_factors;
   impl_->header.glonass_channels = header.glonass_channels;
   impl_->header.phase_shifts = header.phase_shifts;
-  impl_->selector = std::make_unique<SignalSelector>(impl_->header, impl_->config.signals, impl_->bias);
+  impl_->selector = std::make_unique<SignalSelector>(impl_->header, impl_->config.signals, impl_->biases);
 }
 
 const RinexObsHeader& PppEpochProcessor::header() const { return impl_->header; }
 
 std::vector<std::string> PppEpochProcessor::antennaSources() const { return impl_->model->antennaSources(); }
+
+const std::vector<std::string>& PppEpochProcessor::receiverAntennaWarnings() const {
+  return impl_->model->receiverAntennaWarnings();
+}
 
 std::optional<GnssTime> PppEpochProcessor::lastTime() const { return impl_->last_time; }
 

@@ -37,38 +37,45 @@ std::optional<double> combine(const std::optional<double>& v1, const std::option
 
 }  // namespace
 
-ReceiverAntenna ReceiverAntenna::fromHeader(const RinexObsHeader& header) {
-  ReceiverAntenna a;
-  a.model = header.antenna_type;
-  a.radome = header.antenna_radome;
-  if (header.antenna_delta_hen_m) a.delta_hen_m = *header.antenna_delta_hen_m;
-  return a;
+std::string_view receiverAntennaPolicyName(ReceiverAntennaPolicy policy) {
+  switch (policy) {
+    case ReceiverAntennaPolicy::Required: return "required";
+    case ReceiverAntennaPolicy::Warn: return "warn";
+    case ReceiverAntennaPolicy::Off: return "off";
+  }
+  return "?";
 }
 
-PppMeasurementModel::PppMeasurementModel(const PreciseEphemeris& products, std::vector<AntexSource> antex,
+PppMeasurementModel::PppMeasurementModel(const EphemerisSource& ephemeris,
+                                         std::shared_ptr<const AntennaCalibrationProvider> antennas,
                                          const ReceiverAntenna& receiver_antenna,
                                          const OceanLoadingCoefficients* ocean_loading,
                                          MeasurementModelOptions options)
-    : products_(products),
-      antex_(std::move(antex)),
+    : ephemeris_(ephemeris),
+      antennas_(std::move(antennas)),
       receiver_antenna_(receiver_antenna),
       options_(options),
       satellite_cache_(static_cast<std::size_t>(kNumGnssSystems) * 100) {
   if (ocean_loading != nullptr) ocean_loading_ = *ocean_loading;
-  const std::string asked =
-      receiver_antenna_.model + " " + (receiver_antenna_.radome.empty() ? "NONE" : receiver_antenna_.radome);
-  // An exact match in any file first (in file order), then a radome substitute.
-  for (int pass = 0; pass < 2 && receiver_calibration_ == nullptr; ++pass) {
-    for (const auto& src : antex_) {
-      const auto lookup = src.file.receiver(receiver_antenna_.model, receiver_antenna_.radome);
-      if (lookup.antenna == nullptr || (pass == 0 && lookup.radome_substituted)) continue;
-      receiver_calibration_ = lookup.antenna;
-      receiver_source_ = "receiver " + asked + ": " + src.name;
-      if (!lookup.note.empty()) receiver_source_ += " (" + lookup.note + ")";
-      break;
-    }
+  if (antennas_) {
+    const ReceiverCalibrationLookup r = antennas_->receiver(receiver_antenna_);
+    receiver_calibration_ = r.calibration;
+    receiver_source_ = r.source;
+  } else {
+    receiver_source_ = "receiver " + receiver_antenna_.name() + ": no antenna calibrations given";
   }
-  if (receiver_calibration_ == nullptr) receiver_source_ = "receiver " + asked + ": not found in any ANTEX file";
+  if (receiver_calibration_ == nullptr && options_.receiver_antenna == ReceiverAntennaPolicy::Warn) {
+    warnReceiverAntenna("receiver antenna " + receiver_antenna_.name() +
+                        (antennas_ ? " not found in any ANTEX file" : ": no antenna calibrations given") +
+                        ": receiver PCO/PCV not applied (DELTA H/E/N applied; "
+                        "measurement_model.corrections.receiver_antenna: warn)");
+  }
+}
+
+void PppMeasurementModel::warnReceiverAntenna(std::string text) const {
+  for (const auto& w : receiver_warnings_)
+    if (w == text) return;
+  receiver_warnings_.push_back(std::move(text));
 }
 
 std::vector<std::string> PppMeasurementModel::antennaSources() const {
@@ -76,31 +83,27 @@ std::vector<std::string> PppMeasurementModel::antennaSources() const {
   for (std::size_t i = 0; i < satellite_cache_.size(); ++i) {
     const auto& c = satellite_cache_[i];
     if (!c.looked_up || c.calibration == nullptr) continue;
-    out.push_back("satellite " + c.calibration->label() + ": " + antex_[c.file].name);
+    out.push_back("satellite " + c.calibration->label() + ": " + c.source);
   }
   return out;
 }
 
-const AntennaCalibration* PppMeasurementModel::satelliteCalibration(const SatelliteId& sat, const GnssTime& t,
-                                                                    std::size_t* file) const {
+const AntennaCalibration* PppMeasurementModel::satelliteCalibration(const SatelliteId& sat,
+                                                                    const GnssTime& t) const {
   auto& c = satellite_cache_[static_cast<std::size_t>(sat.index())];
-  if (c.looked_up && (!c.from || !(t < *c.from)) && (!c.until || !(*c.until < t))) {
-    *file = c.file;
-    return c.calibration;
-  }
+  if (c.looked_up && (!c.from || !(t < *c.from)) && (!c.until || !(*c.until < t))) return c.calibration;
   c = SatelliteAntennaCache{};
   c.looked_up = true;
-  for (std::size_t f = 0; f < antex_.size(); ++f) {
-    if (const auto* a = antex_[f].file.satellite(sat, t)) {
-      c.calibration = a;
-      c.file = f;
-      c.from = a->valid_from;
-      c.until = a->valid_until;
-      break;
+  if (antennas_) {
+    const SatelliteCalibrationLookup found = antennas_->satellite(sat, t);
+    if (found.calibration != nullptr) {
+      c.calibration = found.calibration;
+      c.source = found.source;
+      c.from = found.calibration->valid_from;
+      c.until = found.calibration->valid_until;
     }
   }
   if (c.calibration == nullptr) c.from = c.until = t;  // absent: retry at the next epoch
-  *file = c.file;
   return c.calibration;
 }
 
@@ -112,49 +115,6 @@ std::optional<Eigen::Vector3d> PppMeasurementModel::receiverPcoIonosphereFree_m(
   const auto* b = receiver_calibration_->frequency(system, frequency2);
   if (a == nullptr || b == nullptr) return std::nullopt;
   return ionosphereFreeOffset(a->pco_m, b->pco_m, ionosphereFreeCoefficients(f1_hz, f2_hz));
-}
-
-std::optional<double> PppMeasurementModel::satelliteClock_s(const SatelliteId& sat, const GnssTime& t,
-                                                            const GnssTime& t_rx, std::string* why) const {
-  const auto c = products_.clock(sat, t);
-  if (c.ok()) return c.value->clock_bias_s;
-  // Products start/end exactly at the first/last epoch, so the emission time of
-  // the first epoch (~70 ms earlier) lies just outside: there, and only there,
-  // extend the clock linearly with the slope of its first/last interval.
-  if (c.status == ProductStatus::OutsideSpan && std::abs(t - t_rx) < kMaxEdgeExtension_s) {
-    const auto r = products_.clock(sat, t_rx);
-    if (r.ok() && r.value->clock_drift_s_per_s) {
-      return r.value->clock_bias_s + *r.value->clock_drift_s_per_s * (t - t_rx);
-    }
-  }
-  *why = c.reason;
-  return std::nullopt;
-}
-
-bool PppMeasurementModel::satelliteOrbit(const SatelliteId& sat, const GnssTime& t, const GnssTime& t_rx,
-                                         Eigen::Vector3d& position, Eigen::Vector3d& velocity,
-                                         std::string* why) const {
-  const auto o = products_.orbit(sat, t);
-  if (o.ok()) {
-    position = o.value->position_ecef_m;
-    velocity = o.value->velocity_ecef_mps;
-    return true;
-  }
-  // Same edge case as the clock: a second-order step from the reception time
-  // (central gravity only; over 0.1 s the neglected terms are ~1 mm).
-  if (o.status == ProductStatus::OutsideSpan && std::abs(t - t_rx) < kMaxEdgeExtension_s) {
-    const auto r = products_.orbit(sat, t_rx);
-    if (r.ok()) {
-      const double dt = t - t_rx;
-      const Eigen::Vector3d& p = r.value->position_ecef_m;
-      const Eigen::Vector3d a = -kGmEarthIers_m3ps2 / std::pow(p.norm(), 3) * p;
-      position = p + r.value->velocity_ecef_mps * dt + 0.5 * a * dt * dt;
-      velocity = r.value->velocity_ecef_mps + a * dt;
-      return true;
-    }
-  }
-  *why = o.reason;
-  return false;
 }
 
 void PppMeasurementModel::evaluate(const std::vector<DualFrequencyObservation>& observations,
@@ -234,17 +194,20 @@ void PppMeasurementModel::evaluate(const std::vector<DualFrequencyObservation>& 
       st.sigma_factor = options_.scale_sigma_for_ionosphere_free ? ionosphereFreeNoiseFactor(st.k) : 1.0;
       st.receiver_apc_ecef = station_offset;
       st.ok = true;
-      if (options_.receiver_antenna) {
+      if (options_.receiver_antenna != ReceiverAntennaPolicy::Off) {
+        const bool required = options_.receiver_antenna == ReceiverAntennaPolicy::Required;
         if (receiver_calibration_ == nullptr) {
-          st.ok = false;
+          st.ok = !required;  // Warn: reported once at construction
           st.missing = "missing receiver antenna calibration (" + receiver_source_ + ")";
         } else {
           st.r1 = receiver_calibration_->frequency(sat.system, antexFrequency(st.band1));
           st.r2 = receiver_calibration_->frequency(sat.system, antexFrequency(st.band2));
           if (st.r1 == nullptr || st.r2 == nullptr) {
-            st.ok = false;
+            st.ok = !required;
             st.missing = "missing receiver antenna calibration for " + receiver_calibration_->label() + " " +
                          systemLetter(sat.system) + "0" + st.band1 + "/" + systemLetter(sat.system) + "0" + st.band2;
+            if (!required) warnReceiverAntenna(st.missing + ": receiver PCO/PCV not applied for these signals");
+            st.r1 = st.r2 = nullptr;
           } else {
             const Eigen::Vector3d pco_neu = ionosphereFreeOffset(st.r1->pco_m, st.r2->pco_m, st.k);
             st.receiver_apc_ecef += ecef_from_enu * Eigen::Vector3d(pco_neu.y(), pco_neu.x(), pco_neu.z());
@@ -267,19 +230,22 @@ void PppMeasurementModel::evaluate(const std::vector<DualFrequencyObservation>& 
 
     // ---- satellite clock and position at the emission time (GPST).
     const GnssTime t_nominal = t_rx - code_if / kSpeedOfLight_mps;
-    std::string why;
-    const std::optional<double> dts_opt = satelliteClock_s(sat, t_nominal, t_rx, &why);
-    if (!dts_opt) {
-      reject("no clock: " + why);
+    const EphemerisAnswer<EphemerisClock> clock = ephemeris_.satelliteClock(sat, t_nominal);
+    if (!clock.ok()) {
+      reject("no clock: " + clock.detail);
       continue;
     }
-    const double dts = *dts_opt;
+    const double dts = clock.value->clock_bias_s;
     const GnssTime t_tx = t_nominal - dts;
-    Eigen::Vector3d com_tx, vel_tx;
-    if (!satelliteOrbit(sat, t_tx, t_rx, com_tx, vel_tx, &why)) {
-      reject("no orbit: " + why);
+    const EphemerisAnswer<EphemerisOrbit> orbit = ephemeris_.satelliteOrbit(sat, t_tx);
+    if (!orbit.ok()) {
+      reject("no orbit: " + orbit.detail);
       continue;
     }
+    // An antenna-phase-centre orbit: the position stands for both (the offset is in it).
+    const Eigen::Vector3d& com_tx = orbit.value->position_ecef_m;
+    const Eigen::Vector3d& vel_tx = orbit.value->velocity_ecef_mps;
+    const bool orbit_at_apc = orbit.value->reference == EphemerisReference::AntennaPhaseCentre;
     if (options_.exclude_eclipse && eclipseState(com_tx, sun_moon.sun_ecef_m) != EclipseState::Sunlit) {
       reject("satellite in the Earth's shadow (eclipse)");
       continue;
@@ -291,8 +257,7 @@ void PppMeasurementModel::evaluate(const std::vector<DualFrequencyObservation>& 
     const FrequencyCalibration* s1 = nullptr;
     const FrequencyCalibration* s2 = nullptr;
     if (options_.satellite_antenna) {
-      std::size_t file = 0;
-      const AntennaCalibration* cal = satelliteCalibration(sat, t_rx, &file);
+      const AntennaCalibration* cal = satelliteCalibration(sat, t_rx);
       if (cal != nullptr) {
         s1 = cal->frequency(sat.system, antexFrequency(o.phase1.band));
         s2 = cal->frequency(sat.system, antexFrequency(o.phase2.band));
@@ -302,8 +267,10 @@ void PppMeasurementModel::evaluate(const std::vector<DualFrequencyObservation>& 
                               : "missing satellite antenna calibration for frequencies of " + cal->label());
         continue;
       }
-      const Eigen::Vector3d pco = ionosphereFreeOffset(s1->pco_m, s2->pco_m, st.k);
-      apc_tx += pco.x() * axes.x_ecef + pco.y() * axes.y_ecef + pco.z() * axes.z_ecef;
+      if (!orbit_at_apc) {
+        const Eigen::Vector3d pco = ionosphereFreeOffset(s1->pco_m, s2->pco_m, st.k);
+        apc_tx += pco.x() * axes.x_ecef + pco.y() * axes.y_ecef + pco.z() * axes.z_ecef;
+      }
     }
 
     // ---- Earth rotation during the flight (Sagnac): rotate by omega_e tau, tau = rho / c.
@@ -330,7 +297,7 @@ void PppMeasurementModel::evaluate(const std::vector<DualFrequencyObservation>& 
 
     // ---- antenna phase-centre variations (IF).
     double pcv_r = 0.0, pcv_s = 0.0, nadir = 0.0;
-    if (options_.receiver_antenna) {
+    if (st.r1 != nullptr && st.r2 != nullptr) {
       const double zenith = 0.5 * kPi - elevation;
       const auto v = combine(st.r1->pcv_m(zenith, azimuth), st.r2->pcv_m(zenith, azimuth), st.k);
       if (!v) {

@@ -95,7 +95,12 @@ void bindMeasurementModelOptions(const YAML::Node& node, const std::string& file
     m.ocean_loading = c.boolean("ocean_loading", m.ocean_loading);
     m.phase_windup = c.boolean("phase_windup", m.phase_windup);
     m.satellite_antenna = c.boolean("satellite_antenna", m.satellite_antenna);
-    m.receiver_antenna = c.boolean("receiver_antenna", m.receiver_antenna);
+    // required | warn | off; the former boolean spelling: true = required, false = off.
+    const std::string policy = c.choice("receiver_antenna", std::string(receiverAntennaPolicyName(m.receiver_antenna)),
+                                        {"required", "warn", "off", "true", "false"});
+    m.receiver_antenna = policy == "required" || policy == "true" ? ReceiverAntennaPolicy::Required
+                         : policy == "off" || policy == "false"   ? ReceiverAntennaPolicy::Off
+                                                                  : ReceiverAntennaPolicy::Warn;
     m.shapiro = c.boolean("shapiro", m.shapiro);
     m.exclude_eclipse = c.boolean("exclude_eclipse", m.exclude_eclipse);
     c.finish();

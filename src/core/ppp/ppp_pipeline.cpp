@@ -9,8 +9,10 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "ppp_bayes_tree/io/antex_reader.h"
+#include "ppp_bayes_tree/io/parse_error.h"
+#include "ppp_bayes_tree/io/rinex_obs_reader.h"
 #include "ppp_bayes_tree/ppp/ppp_epoch_processor.h"
+#include "ppp_bayes_tree/ppp/product_set.h"
 #include "ppp_bayes_tree/types/constants.h"
 
 namespace ppp {
@@ -19,11 +21,6 @@ namespace {
 std::string baseName(const std::string& path) {
   const auto slash = path.find_last_of('/');
   return slash == std::string::npos ? path : path.substr(slash + 1);
-}
-
-std::size_t fileSize(const std::string& path) {
-  std::ifstream in(path, std::ios::binary | std::ios::ate);
-  return in ? static_cast<std::size_t>(std::max<std::streamoff>(0, in.tellg())) : 0;
 }
 
 /// The products an observation file needs: the systems processed and the span of
@@ -65,64 +62,55 @@ std::string reasonCategory(const std::string& reason) {
 }
 
 struct PppPipeline::Impl {
-  PppInputFiles files;
-  std::unique_ptr<RinexObsReader> reader;  // file input, or
-  std::optional<PppInMemoryInputs> memory; // in-process epochs
-  std::size_t memory_next = 0;
-  PreciseEphemeris products;
-  std::optional<BiasSinexFile> bias;
-  std::optional<BlqFile> blq;
-  const OceanLoadingCoefficients* ocean = nullptr;
+  std::unique_ptr<ObservationSource> source;
+  PppProducts products;
+  std::optional<std::string> bias_file_name;  // for the code-reference note
   std::unique_ptr<PppEpochProcessor> processor;
   std::vector<std::string> load_notes;
-  std::size_t obs_size = 0;
   bool ran = false;
 
-  const RinexObsHeader& header() const { return reader ? reader->header() : *memory->header; }
-  bool nextEpoch(ObsEpoch& epoch) {
-    if (reader) return reader->next(epoch);
-    if (memory_next >= memory->epochs->size()) return false;
-    epoch = (*memory->epochs)[memory_next++];
-    return true;
+  void start(const PppConfig& config) {
+    processor = std::make_unique<PppEpochProcessor>(source->header(), config, *products.ephemeris,
+                                                    products.antennas, products.biases.get(),
+                                                    products.ocean ? &*products.ocean : nullptr);
   }
 };
+
+PppPipeline::PppPipeline(std::unique_ptr<ObservationSource> observations, PppProducts products, PppConfig config)
+    : config_(std::move(config)), impl_(std::make_unique<Impl>()) {
+  if (!observations || !products.ephemeris)
+    throw std::invalid_argument("pipeline inputs: an observation source and an ephemeris source are required");
+  Impl& d = *impl_;
+  d.source = std::move(observations);
+  d.products = std::move(products);
+  d.load_notes = d.products.notes;
+  d.start(config_);
+}
 
 PppPipeline::PppPipeline(const PppInputFiles& files, PppConfig config)
     : config_(std::move(config)), impl_(std::make_unique<Impl>()) {
   Impl& d = *impl_;
-  d.files = files;
   if (files.atx.empty()) throw std::runtime_error("no ANTEX file given (antenna calibrations are required)");
-  d.reader = std::make_unique<RinexObsReader>(RinexObsReader::open(files.obs));
-  d.obs_size = fileSize(files.obs);
-  d.products = PreciseEphemeris::load(files.sp3, files.clk, productFilter(files.obs, config_.signals.systems));
-  if (!d.products.mergeReport().problems().empty() || !d.products.mergeReport().counters().empty())
-    d.load_notes.push_back("products merged: " + d.products.mergeReport().summary(5));
-  std::vector<AntexSource> antex;
-  for (const auto& p : files.atx) antex.push_back({baseName(p), readAntexFile(p)});
-  if (files.bias) {
-    RecordFilter systems;
-    systems.systems = config_.signals.systems;
-    d.bias = readBiasSinexFile(*files.bias, systems);
-    d.load_notes.push_back("code biases: " + baseName(*files.bias) + " (OSB subtracted from the codes)");
-  } else {
-    d.load_notes.push_back("code biases: no Bias-SINEX file; codes used as observed (product convention)");
+  d.source = std::make_unique<RinexObservationSource>(files.obs);
+  auto ephemeris = std::make_shared<PreciseEphemeris>(
+      PreciseEphemeris::load(files.sp3, files.clk, productFilter(files.obs, config_.signals.systems)));
+  if (!ephemeris->mergeReport().problems().empty() || !ephemeris->mergeReport().counters().empty())
+    d.load_notes.push_back("products merged: " + ephemeris->mergeReport().summary(5));
+  d.products.ephemeris = std::move(ephemeris);
+  auto set = std::make_shared<ProductSet>(ProductSet::load({files.atx, files.bias, files.blq, config_.signals.systems}));
+  for (const auto& n : set->notes()) d.load_notes.push_back(n);
+  d.products.antennas = set->antennas();
+  if (set->biases() != nullptr) {
+    d.products.biases = std::shared_ptr<const BiasProvider>(set, set->biases());
+    d.bias_file_name = baseName(*files.bias);
   }
-  const RinexObsHeader& h = d.reader->header();
   if (files.blq) {
-    d.blq = readBlqFile(*files.blq);
-    const std::string station = h.marker_name.empty() ? stationName() : h.marker_name;
-    const BlqLookup found = d.blq->find(station);
-    d.ocean = found.coefficients;
-    if (d.ocean) {
-      d.load_notes.push_back("ocean loading: station " + d.ocean->station + " from " + baseName(*files.blq) +
-                             (found.note.empty() ? "" : " (" + found.note + ")"));
-    } else {
-      d.load_notes.push_back("ocean loading: station '" + station + "' not in " + baseName(*files.blq) +
-                             ", not applied" + (found.note.empty() ? "" : " (" + found.note + ")"));
-    }
+    const RinexObsHeader& h = d.source->header();
+    const OceanLoadingLookup found = set->oceanLoading(h.marker_name.empty() ? stationName() : h.marker_name);
+    if (found.coefficients) d.products.ocean = *found.coefficients;
+    d.load_notes.push_back(found.note);
   }
-  d.processor = std::make_unique<PppEpochProcessor>(h, config_, d.products, std::move(antex),
-                                                    d.bias ? &*d.bias : nullptr, d.ocean);
+  d.start(config_);
 }
 
 PppPipeline::PppPipeline(const PppInMemoryInputs& inputs, PppConfig config)
@@ -130,21 +118,20 @@ PppPipeline::PppPipeline(const PppInMemoryInputs& inputs, PppConfig config)
   if (!inputs.header || !inputs.epochs || !inputs.products)
     throw std::invalid_argument("in-memory pipeline inputs: header, epochs and products are required");
   Impl& d = *impl_;
-  d.memory = inputs;
-  d.memory->antex.clear();  // handed to the processor below
-  d.files.obs = inputs.name;
+  d.source = std::make_unique<InMemoryObservationSource>(*inputs.header, *inputs.epochs, inputs.name);
+  d.products.ephemeris = std::shared_ptr<const EphemerisSource>(std::shared_ptr<void>(), inputs.products);
+  if (!inputs.antex.empty()) d.products.antennas = std::make_shared<const AntexCalibrations>(inputs.antex);
   d.load_notes.push_back("observations: " + inputs.name + " (in-process epochs)");
-  d.processor = std::make_unique<PppEpochProcessor>(*inputs.header, config_, *inputs.products, inputs.antex,
-                                                    nullptr, nullptr);
+  d.start(config_);
 }
 
 PppPipeline::~PppPipeline() = default;
 
-const RinexObsHeader& PppPipeline::header() const { return impl_->header(); }
+const RinexObsHeader& PppPipeline::header() const { return impl_->source->header(); }
 
 std::string PppPipeline::stationName() const {
-  std::string name = impl_->header().marker_name;
-  if (name.empty()) name = baseName(impl_->files.obs);
+  std::string name = impl_->source->header().marker_name;
+  if (name.empty()) name = baseName(impl_->source->name());
   name = name.substr(0, std::min<std::size_t>(4, name.size()));
   for (auto& c : name) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
   return name;
@@ -153,17 +140,15 @@ std::string PppPipeline::stationName() const {
 std::vector<std::string> PppPipeline::notes() const {
   std::vector<std::string> n = impl_->load_notes;
   for (const auto& s : impl_->processor->antennaSources()) n.push_back("antenna " + s);
+  for (const auto& w : impl_->processor->receiverAntennaWarnings()) n.push_back("warning: " + w);
   return n;
 }
 
-double PppPipeline::progress() const {
-  if (impl_->memory)
-    return impl_->memory->epochs->empty()
-               ? 1.0
-               : static_cast<double>(impl_->memory_next) / static_cast<double>(impl_->memory->epochs->size());
-  if (impl_->obs_size == 0) return 0.0;
-  return std::min(1.0, static_cast<double>(impl_->reader->source().bytesRead()) / impl_->obs_size);
+const std::vector<std::string>& PppPipeline::receiverAntennaWarnings() const {
+  return impl_->processor->receiverAntennaWarnings();
 }
+
+double PppPipeline::progress() const { return impl_->source->progress(); }
 
 PppRunSummary PppPipeline::run(EpochEstimator& estimator, const EpochCallback& on_epoch) {
   Impl& d = *impl_;
@@ -175,7 +160,7 @@ PppRunSummary PppPipeline::run(EpochEstimator& estimator, const EpochCallback& o
   }
   d.ran = true;
   const auto wall_start = std::chrono::steady_clock::now();
-  const RinexObsHeader& header = d.header();
+  const RinexObsHeader& header = d.source->header();
   if (header.approx_position_ecef_m && header.approx_position_ecef_m->norm() > 1e6)
     estimator.setApproximatePosition(*header.approx_position_ecef_m);
 
@@ -188,7 +173,13 @@ PppRunSummary PppPipeline::run(EpochEstimator& estimator, const EpochCallback& o
   PppEpochRecord rec;
   std::vector<std::string> selection_notes;
 
-  while (d.nextEpoch(epoch)) {
+  for (;;) {
+    const ObservationRead read = d.source->next(epoch);
+    if (read == ObservationRead::End) break;
+    if (read == ObservationRead::Error) {
+      const ObservationProblem e = d.source->error().value_or(ObservationProblem{d.source->name(), 0, "read error"});
+      throw ParseError(e.file, e.line, e.reason);
+    }
     ++summary.epochs_read;
     rec = processor.process(epoch, estimator, &selection_notes);
     if (rec.refused) {
@@ -242,9 +233,8 @@ PppRunSummary PppPipeline::run(EpochEstimator& estimator, const EpochCallback& o
   }
   estimator.arcsEnded(processor.finish());
 
-  if (d.reader)
-    for (const auto& p : d.reader->report().problems())
-      summary.problems.push_back(baseName(d.files.obs) + " line " + std::to_string(p.line) + ": " + p.reason);
+  for (const auto& p : d.source->problems())
+    summary.problems.push_back(p.file + " line " + std::to_string(p.line) + ": " + p.reason);
   for (const auto& [sat, a] : acc) {
     SatelliteResidualStatistics st;
     st.satellite = sat;
@@ -268,9 +258,9 @@ PppRunSummary PppPipeline::run(EpochEstimator& estimator, const EpochCallback& o
     for (const auto& sat : sats) note += " " + sat;
     summary.notes.push_back(note);
   }
-  if (code_notes.empty() && d.bias)
+  if (code_notes.empty() && d.products.biases)
     summary.notes.push_back("code reference: codes aligned to the clock reference by the OSB of " +
-                            baseName(*d.files.bias));
+                            d.bias_file_name.value_or(d.products.biases->describeSource()));
   summary.processing_time_s =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
   return summary;

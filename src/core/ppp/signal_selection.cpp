@@ -46,8 +46,9 @@ std::string signalList(char type, char band, const std::vector<char>& attributes
 
 }  // namespace
 
-SignalSelector::SignalSelector(const RinexObsHeader& header, SignalSelectionOptions options, const BiasSinexFile* osb)
-    : options_(std::move(options)), osb_(osb), osb_cache_(static_cast<std::size_t>(kNumGnssSystems) * 100 * 2) {
+SignalSelector::SignalSelector(const RinexObsHeader& header, SignalSelectionOptions options,
+                               const BiasProvider* biases)
+    : options_(std::move(options)), biases_(biases), osb_cache_(static_cast<std::size_t>(kNumGnssSystems) * 100 * 2) {
   for (int s = 0; s < kNumGnssSystems; ++s) types_[s] = header.obs_types[s];
   for (GnssSystem system : options_.systems) {
     auto& sc = systems_[static_cast<int>(system)];
@@ -105,37 +106,16 @@ double SignalSelector::phaseShift_cycles(const SystemColumns& sc, const Satellit
 
 std::optional<double> SignalSelector::codeOsb_m(const SatelliteId& sat, int slot, const ObservationCode& code,
                                                 const GnssTime& t) {
-  if (osb_ == nullptr) return std::nullopt;
+  if (biases_ == nullptr) return std::nullopt;
   OsbCache& c = osb_cache_[static_cast<std::size_t>(sat.index()) * 2 + static_cast<std::size_t>(slot)];
   if (c.valid && c.code == code && (!c.from || !(t < *c.from)) && (!c.until || !(*c.until < t))) return c.value_m;
-  // Refill: look the value up and find the interval over which the same row stays
-  // the answer (its own validity, cut where another row of the same satellite
-  // and code starts, since the row that started last wins).
+  const BiasAnswer a = biases_->codeBias(sat, code, t);
   c = OsbCache{};
   c.valid = true;
   c.code = code;
-  const auto v = osb_->osb(sat, code, t);
-  const BiasRecord* used = nullptr;
-  if (v && v->unit == BiasValueUnit::Metres) {
-    c.value_m = v->value;
-    for (const auto& r : osb_->records) {
-      if (r.line == v->line) {
-        used = &r;
-        break;
-      }
-    }
-  }
-  if (used == nullptr) {  // absent: cached for this instant only (rare, cheap)
-    c.from = t;
-    c.until = t;
-    return c.value_m;
-  }
-  c.from = used->start;
-  c.until = used->end;
-  for (const auto& r : osb_->records) {
-    if (&r == used || r.type != BiasType::OSB || !r.satellite || *r.satellite != sat || r.obs1 != code) continue;
-    if (r.start && t < *r.start && (!c.until || *r.start < *c.until)) c.until = *r.start - 1e-6;
-  }
+  c.value_m = a.value_m;
+  c.from = a.valid_from;
+  c.until = a.valid_until;
   return c.value_m;
 }
 
@@ -179,7 +159,7 @@ void SignalSelector::select(const ObsEpoch& epoch, SignalSelectionResult& out) {
     d.frequency2_hz = sc.frequency2_hz;
     d.code1_m = *c1->value;
     d.code2_m = *c2->value;
-    if (osb_ != nullptr) {
+    if (biases_ != nullptr) {
       d.code1_osb_m = codeOsb_m(sat, 0, d.code1, epoch.time);
       d.code2_osb_m = codeOsb_m(sat, 1, d.code2, epoch.time);
       if (options_.require_code_osb && (!d.code1_osb_m || !d.code2_osb_m)) {
@@ -217,8 +197,8 @@ void SignalSelector::select(const ObsEpoch& epoch, SignalSelectionResult& out) {
 }
 
 SignalSelectionResult selectDualFrequency(const ObsEpoch& epoch, const RinexObsHeader& header,
-                                          const SignalSelectionOptions& options, const BiasSinexFile* osb) {
-  SignalSelector selector(header, options, osb);
+                                          const SignalSelectionOptions& options, const BiasProvider* biases) {
+  SignalSelector selector(header, options, biases);
   return selector.select(epoch);
 }
 

@@ -183,7 +183,7 @@ MeasurementModelOptions simulationModelOptions() {
   o.solid_earth_tide = false;  // a UAV does not move with the crust
   o.ocean_loading = false;
   o.satellite_antenna = false;  // no ANTEX in the simulation
-  o.receiver_antenna = false;
+  o.receiver_antenna = ReceiverAntennaPolicy::Off;
   o.exclude_eclipse = false;
   o.phase_windup = true;
   o.shapiro = true;

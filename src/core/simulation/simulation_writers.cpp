@@ -7,7 +7,7 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "ppp_bayes_tree/evaluation/rtklib_inputs.h"
+#include "ppp_bayes_tree/io/rtklib_inputs.h"
 #include "ppp_bayes_tree/types/constants.h"
 
 namespace ppp {

@@ -4,7 +4,7 @@
 //   ppp_bag_report --bag RECORDED.bag (--truth-csv TRUTH.csv | --truth X,Y,Z) [--input REPLAYED.bag]
 //                  [--ekf-ns /ekf] [--smoother-ns /smoother] [--window-min 15] [--out DIR] [--name NAME]
 //
-// Rows (evaluation/replay_report.h, the core statistics ppp_solve prints):
+// Rows (app/replay_report.h, the core statistics ppp_solve prints):
 //   EKF               <ekf>/ppp/status + <ekf>/ppp/fix (per epoch, ECEF from the NavSatFix)
 //   smoother filtered <smoother>/ppp/status + <smoother>/ppp/fix
 //   smoother smoothed the LAST <smoother>/ppp/path/smoothed message (the whole re-estimated
@@ -36,7 +36,7 @@
 #include <sensor_msgs/NavSatFix.h>
 
 #include "ppp_bayes_tree/PppStatus.h"
-#include "ppp_bayes_tree/evaluation/replay_report.h"
+#include "ppp_bayes_tree/app/replay_report.h"
 #include "ppp_bayes_tree/types/frames.h"
 #include "ppp_bayes_tree/types/time_system.h"
 

@@ -1,4 +1,4 @@
-#include "ppp_bayes_tree/evaluation/replay_report.h"
+#include "ppp_bayes_tree/app/replay_report.h"
 
 #include <algorithm>
 #include <cmath>

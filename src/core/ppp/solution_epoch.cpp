@@ -1,4 +1,4 @@
-#include "ppp_bayes_tree/evaluation/solution_epoch.h"
+#include "ppp_bayes_tree/ppp/solution_epoch.h"
 
 namespace ppp {
 

@@ -1,4 +1,4 @@
-#include "ppp_bayes_tree/models/antenna_calibration.h"
+#include "ppp_bayes_tree/types/antenna_calibration.h"
 
 #include <cstdio>
 #include <cstdlib>

@@ -1,4 +1,4 @@
-#include "ppp_bayes_tree/evaluation/rtklib_inputs.h"
+#include "ppp_bayes_tree/io/rtklib_inputs.h"
 
 #include <cmath>
 #include <cstdio>

@@ -1,4 +1,4 @@
-#include "ppp_bayes_tree/io/inspection.h"
+#include "ppp_bayes_tree/app/inspection.h"
 
 #include <sstream>
 #include <stdexcept>

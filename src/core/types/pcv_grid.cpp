@@ -1,4 +1,4 @@
-#include "ppp_bayes_tree/models/pcv_grid.h"
+#include "ppp_bayes_tree/types/pcv_grid.h"
 
 #include <cmath>
 

@@ -14,7 +14,7 @@
 #include <string>
 #include <vector>
 
-#include "ppp_bayes_tree/models/pcv_grid.h"
+#include "ppp_bayes_tree/types/pcv_grid.h"
 #include "ppp_bayes_tree/types/gnss_time.h"
 #include "ppp_bayes_tree/types/satellite_id.h"
 

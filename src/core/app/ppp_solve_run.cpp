@@ -1,4 +1,4 @@
-#include "ppp_bayes_tree/ppp/ppp_solve_run.h"
+#include "ppp_bayes_tree/app/ppp_solve_run.h"
 
 #include "ppp_bayes_tree/evaluation/json_text.h"
 

@@ -21,10 +21,10 @@
 #include <Eigen/Core>
 
 #include "ppp_bayes_tree/evaluation/position_error_statistics.h"
-#include "ppp_bayes_tree/evaluation/solution_epoch.h"
+#include "ppp_bayes_tree/ppp/solution_epoch.h"
 #include "ppp_bayes_tree/io/line_source.h"
 #include "ppp_bayes_tree/io/parse_error.h"
-#include "ppp_bayes_tree/ppp/ppp_solve_run.h"
+#include "ppp_bayes_tree/app/ppp_solve_run.h"
 
 namespace ppp {
 
