@@ -76,6 +76,7 @@ struct RejectionKey {
   bool operator<(const RejectionKey& o) const {
     return stage != o.stage ? stage < o.stage : reason < o.reason;
   }
+  bool operator==(const RejectionKey& o) const { return stage == o.stage && reason == o.reason; }
 };
 std::string toString(const RejectionKey& key);  // "model: elevation below cutoff"
 
