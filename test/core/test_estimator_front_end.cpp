@@ -215,6 +215,9 @@ TEST(EstimatorFrontEnd, TheSmootherRestartsFromItsLastGoodStateAfterAFailedUpdat
   const auto trajectory = smoother.smoothedTrajectory();
   ASSERT_EQ(trajectory.size(), 20u);  // the states before the restart are kept
   for (const auto& s : trajectory) EXPECT_LT((s.state.position_ecef_m - sim.position).norm(), 1e-3);
+  const auto old = smoother.smoothedEpochAt(trajectory[3].time);  // before the restart: its last estimate
+  ASSERT_TRUE(old);
+  EXPECT_EQ(old->index, trajectory[3].index);
 
   // Through the pipeline's estimator interface the restart is reported the same way.
   EkfPpp ekf;

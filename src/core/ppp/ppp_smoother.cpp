@@ -172,8 +172,9 @@ std::optional<SmoothedEpoch> PppSmoother::smoothedEpochAt(const GnssTime& time, 
   if (after == states_.begin()) return std::nullopt;
   const smoother::ISAM2& isam = isam2();
   auto it = std::prev(after);
-  if (!isam.exists(stateKey(it->index))) {
+  if (lag_ && !isam.exists(stateKey(it->index))) {
     // Fixed lag: the marginalized states are a prefix (oldest first); take the oldest kept.
+    // (A full smoother after a restart: the states before it keep their last estimate.)
     const auto kept = std::partition_point(states_.begin(), states_.end(),
                                            [&](const StateRecord& s) { return !isam.exists(stateKey(s.index)); });
     if (kept != states_.end()) it = kept;
