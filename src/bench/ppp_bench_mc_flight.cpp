@@ -33,7 +33,7 @@ void record(const PppEpochRecord& r, std::vector<Epoch>& out) {
   e.position = r.solution.position_ecef_m;
   e.used = e.position ? static_cast<int>(r.used.size()) : 0;
   for (const auto& x : r.rejected)
-    if (x.stage == "model") e.rejections += x.satellite.toString() + ": " + x.reason.substr(0, 40) + "; ";
+    if (x.stage == RejectionStage::Model) e.rejections += x.satellite.toString() + ": " + x.detail.substr(0, 40) + "; ";
   out.push_back(e);
 }
 
@@ -76,7 +76,8 @@ int main(int argc, char** argv) {
     SmootherEstimator e(cs);
     p.run(e, [&](const PppEpochRecord& r) {
       record(r, filtered);
-      if (!r.refused && e.lastResult().status == EpochStatus::Ok) updates.push_back(e.lastResult().update_time_s);
+      if (!r.refused && e.lastResult().status == EpochStatus::Ok)
+        updates.push_back(e.lastResult().smoother->update_time_s);
     });
     smoother_s = since(t0);
     const auto t1 = Clock::now();

@@ -62,10 +62,10 @@ void report(const std::string& name, const bench::SmootherRunInputs& in, const P
       ++no_solution;
       continue;
     }
-    update.push_back(1e3 * r.update_time_s);
+    update.push_back(1e3 * r.smoother->update_time_s);
     epoch.push_back(1e3 * r.epoch_time_s);
-    reelim.push_back(static_cast<double>(r.variables_reeliminated));
-    relin.push_back(static_cast<double>(r.variables_relinearized));
+    reelim.push_back(static_cast<double>(r.smoother->variables_reeliminated));
+    relin.push_back(static_cast<double>(r.smoother->variables_relinearized));
     biases.push_back(r.active_biases);
   }
   std::printf("  smoother per epoch: iSAM2 update median %.2f ms, p99 %.2f ms, max %.2f ms; estimator step "

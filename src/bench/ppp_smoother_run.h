@@ -22,7 +22,7 @@ struct SmootherRunInputs {
 
 struct SmootherRunOutput {
   std::vector<SolutionEpoch> ekf, filtered, smoothed;
-  std::vector<SmootherEpochResult> smoother_epochs;  // processed epochs (refused ones left out)
+  std::vector<EstimatorEpochResult> smoother_epochs;  // processed epochs (refused ones left out)
   double ekf_run_s = 0.0, smoother_run_s = 0.0;      // whole pipeline runs
   PositionErrorStatistics ekf_stats, filtered_stats, smoothed_stats;
 };
@@ -55,7 +55,7 @@ inline SmootherRunOutput runSmootherAndEkf(const SmootherRunInputs& in, const Pp
     e.time = s.time;
     e.position_ecef_m = s.state.position_ecef_m;
     e.zwd_m = s.state.zwd_m;
-    e.receiver_clock_m = s.state.clock_m;
+    e.receiver_clock_m = s.state.referenceClock_m();
     out.smoothed.push_back(e);
   }
   out.filtered_stats = computePositionErrorStatistics(out.filtered, in.truth_ecef_m);

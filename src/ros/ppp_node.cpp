@@ -34,8 +34,9 @@ geometry_msgs::TransformStamped transform(const std::string& parent, const std::
   return m;
 }
 
-bool isProductRejection(const std::string& reason) {
-  return reason.rfind("no clock", 0) == 0 || reason.rfind("no orbit", 0) == 0;
+bool isProductRejection(const ppp::EpochRejection& r) {
+  return r.stage == ppp::RejectionStage::Model &&
+         (r.reason == ppp::RejectionReason::NoClock || r.reason == ppp::RejectionReason::NoOrbit);
 }
 
 }  // namespace
@@ -351,11 +352,11 @@ void PppNode::onPathTimer(const ros::TimerEvent&) {
 
 void PppNode::onSmoothedPathTimer(const ros::TimerEvent&) {
   // The whole trajectory is re-read at this rate only (O(states), no covariance).
-  const ppp::SmootherEstimator* sm = smoother();
+  const ppp::SmoothedTrajectoryProvider* sm = smoother();
   if (!sm || !smoothed_path_stale_ || !datum_ecef_m_) return;
   smoothed_path_stale_ = false;
   const auto start = std::chrono::steady_clock::now();
-  const std::vector<ppp::SmoothedEpoch> trajectory = sm->smoother().smoothedTrajectory(false);
+  const std::vector<ppp::SmoothedEpoch> trajectory = sm->smoothedTrajectory(false);
   nav_msgs::Path path;
   path.header.frame_id = config_.ros.map_frame;
   const std::size_t first = trajectory.size() > config_.ros.path_max_poses ? trajectory.size() - config_.ros.path_max_poses : 0;
@@ -376,16 +377,16 @@ void PppNode::onSmoothedPathTimer(const ros::TimerEvent&) {
 }
 
 void PppNode::publishSmoothedOdometry(const ppp::GnssTime& newest) {
-  const ppp::SmootherEstimator* sm = smoother();
-  if (!sm || !datum_ecef_m_) return;
-  const ppp::PppSmoother& smoother = sm->smoother();
+  const ppp::SmoothedTrajectoryProvider* smoother = this->smoother();
+  if (!smoother || !datum_ecef_m_) return;
   // Delay 0: the lag boundary (fixed lag: the state at t - lag, clamped to the window) or the newest state.
   double delay_s = config_.ros.smoothed_odometry_delay_s;
-  if (delay_s == 0.0) delay_s = smoother.options().fixed_lag_s;
-  const std::optional<ppp::SmoothedEpoch> e = smoother.smoothedEpochAt(newest - delay_s, true);
+  if (delay_s == 0.0) delay_s = smoother->fixedLag_s();
+  const std::optional<ppp::SmoothedEpoch> e = smoother->smoothedEpochAt(newest - delay_s, true);
   if (!e || !e->covariance || (last_smoothed_index_ && e->index <= *last_smoothed_index_)) return;
   last_smoothed_index_ = e->index;
-  const Eigen::Matrix3d cov_ecef = e->covariance->topLeftCorner<3, 3>();
+  const int p = e->state.layout.position();
+  const Eigen::Matrix3d cov_ecef = e->covariance->block<3, 3>(p, p);
   const Eigen::Matrix3d cov_enu = ecef_to_enu_ * cov_ecef * ecef_to_enu_.transpose();
   const ros::Time stamp = utcStamp(e->time);
   smoothed_odom_pub_.publish(odometry(stamp, bodyPose(ecef_to_enu_ * (e->state.position_ecef_m - *datum_ecef_m_), stamp), cov_enu));
@@ -449,8 +450,8 @@ void PppNode::processEpoch(const Pending& p) {
   for (const auto& u : rec.used) s.used.push_back(u.toString());
   std::uint16_t late = 0;
   for (const auto& r : rec.rejected) {
-    s.rejected.push_back(r.satellite.toString() + " " + r.stage + ": " + r.reason);
-    if (r.stage == "model" && isProductRejection(r.reason)) ++late;
+    s.rejected.push_back(r.satellite.toString() + " " + r.text());
+    if (isProductRejection(r)) ++late;
   }
   s.satellites_without_corrections = late;
   counters_.corrections_late += late;
@@ -460,14 +461,11 @@ void PppNode::processEpoch(const Pending& p) {
   s.update_time_s = update_s;
   s.correction_latency_s = corrections_.newest() ? epoch.time - *corrections_.newest() : kNaN;
   s.active_biases = static_cast<std::uint16_t>(rec.active_biases);
-  std::vector<ppp::ArcId> active_arcs;
-  if (const auto* ekf = dynamic_cast<const ppp::EkfEstimator*>(estimator_.get())) {
-    s.variables_reeliminated = static_cast<std::uint32_t>(ppp::ReceiverState::kDim + rec.active_biases);
-    active_arcs = ekf->filter().activeArcs();
-  } else if (const ppp::SmootherEstimator* sm = smoother()) {
-    s.variables_reeliminated = static_cast<std::uint32_t>(sm->lastResult().variables_reeliminated);
-    active_arcs = sm->smoother().activeArcs();
-  }
+  // The EKF updates its whole state; the smoother re-eliminates the variables it reports.
+  s.variables_reeliminated = static_cast<std::uint32_t>(
+      rec.smoother ? rec.smoother->variables_reeliminated
+                   : static_cast<std::size_t>(estimator_->core().layout().dim() + rec.active_biases));
+  const std::vector<ppp::ArcId> active_arcs = estimator_->core().activeArcs();
   {
     std::map<ppp::ArcId, std::string> sat_of_arc;
     for (const auto& r : rec.residuals) sat_of_arc[r.arc] = r.satellite.toString() + " ";
@@ -481,9 +479,11 @@ void PppNode::processEpoch(const Pending& p) {
     const Eigen::Matrix3d cov_enu = ecef_to_enu_ * *rec.solution.covariance_ecef_m2 * ecef_to_enu_.transpose();
     sigma_enu = cov_enu.diagonal().cwiseMax(0.0).cwiseSqrt();
     s.zwd_m = rec.solution.zwd_m.value_or(kNaN);
-    s.zwd_sigma_m = std::sqrt(std::max(0.0, rec.receiver_covariance(3, 3)));
-    s.receiver_clock_m = rec.solution.receiver_clock_m.value_or(kNaN);
-    s.receiver_clock_sigma_m = std::sqrt(std::max(0.0, rec.receiver_covariance(4, 4)));
+    const ppp::ReceiverStateLayout& layout = rec.state_layout;
+    s.zwd_sigma_m = std::sqrt(std::max(0.0, rec.receiver_covariance(layout.zwd(), layout.zwd())));
+    s.receiver_clock_m = rec.solution.receiver_clock_m.value_or(kNaN);  // the reference system's clock
+    const int clock = layout.firstClock();
+    s.receiver_clock_sigma_m = std::sqrt(std::max(0.0, rec.receiver_covariance(clock, clock)));
   }
   s.sigma_east_m = sigma_enu.x();
   s.sigma_north_m = sigma_enu.y();
@@ -492,6 +492,7 @@ void PppNode::processEpoch(const Pending& p) {
   s.solution_state_text = solutionStateText(s.solution_state);
   if (rec.status == ppp::EpochStatus::Failed) warn("failed", "ppp: estimator failed at " + epoch.time.toString() + ": " + rec.reason);
   last_status_ = s;
+  last_smoother_ = rec.smoother;
   have_status_ = true;
   if (solved) {
     attachAttitude(s.header.stamp);
@@ -500,14 +501,12 @@ void PppNode::processEpoch(const Pending& p) {
     smoothed_path_stale_ = true;
   }
   status_pub_.publish(s);
-  if (rec.status == ppp::EpochStatus::Failed && smoother()) {
-    // A failed iSAM2 update leaves its factors in the graph: start a new smoother
-    // (the next epoch starts from the code solution; the smoothed past restarts too).
-    ++smoother_restarts_;
-    std::string unused;
-    estimator_ = ppp::makeEstimator(config_.ros.estimator, config_.ppp, &unused);
-    processor_.reset();
-    last_smoothed_index_.reset();
+  if (rec.estimator_reset) {
+    // The core restarted the estimator from its last good state (as offline in
+    // ppp_solve); the node only counts and reports it.
+    ++estimator_restarts_;
+    warn("restart", "ppp: estimator restarted from its last good state at " + epoch.time.toString() + ": " +
+                        rec.reason);
   }
 }
 
@@ -618,15 +617,15 @@ void PppNode::diagnoseSolution(diagnostic_updater::DiagnosticStatusWrapper& s) {
   s.add("sigma east/north/up [m]", std::to_string(last_status_.sigma_east_m) + " " +
                                        std::to_string(last_status_.sigma_north_m) + " " +
                                        std::to_string(last_status_.sigma_up_m));
-  if (const ppp::SmootherEstimator* sm = smoother()) {
-    const ppp::SmootherEpochResult& r = sm->lastResult();
-    s.add("smoother: fixed lag [s] (0: full)", sm->smoother().options().fixed_lag_s);
+  s.add("estimator restarts after a failed update", estimator_restarts_);
+  if (const ppp::SmoothedTrajectoryProvider* sm = smoother()) {
+    const ppp::SmootherEpochDiagnostics r = last_smoother_.value_or(ppp::SmootherEpochDiagnostics{});
+    s.add("smoother: fixed lag [s] (0: full)", sm->fixedLag_s());
     s.add("smoother: variables re-eliminated", r.variables_reeliminated);
     s.add("smoother: variables relinearized", r.variables_relinearized);
     s.add("smoother: cliques touched", r.cliques_touched);
     s.add("smoother: variables marginalized", r.variables_marginalized);
     s.add("smoother: iSAM2 update time [s]", r.update_time_s);
-    s.add("smoother: restarts after a failed update", smoother_restarts_);
     s.add("smoothed path: poses", smoothed_path_poses_);
     s.add("smoothed path: last / max re-read time [s]",
           std::to_string(smoothed_path_read_s_) + " / " + std::to_string(smoothed_path_read_max_s_));

@@ -208,7 +208,7 @@ int main(int argc, char** argv) {
       });
       std::printf("  estimator arcs %zu slips %zu gaps %zu solved %zu/%zu;", sum.arcs, sum.slips, sum.data_gaps,
                   sum.epochs_solved, sum.epochs_read);
-      for (const auto& [why, n] : sum.rejection_counts) std::printf(" %s: %zu", why.c_str(), n);
+      for (const auto& [why, n] : sum.rejection_counts) std::printf(" %s: %zu", toString(why).c_str(), n);
       std::printf("\n");
       // Formal sigmas (ENU, ZWD) of the smoothed state in the middle of the flight.
       {

@@ -5,7 +5,8 @@
 // a receiver near ZIM2 (47 N, 7.5 E, spherical Earth), IF code and phase =
 // range + clock + ZWD / sin(el) (+ arc bias for phase), noise-free or with
 // Gaussian noise of the sigmas given to the filter (0.9 m and 9 mm at zenith,
-// / sin(el)).
+// / sin(el)). addGalileo() adds a second constellation whose receiver clock is
+// offset from GPS's (an inter-system bias), seen through its own clock column.
 #include <gtest/gtest.h>
 
 #include <Eigen/Cholesky>
@@ -74,9 +75,17 @@ inline MeasurementFunction modelOf(std::vector<SimObs> obs, SimModelOptions opti
         sin_el = std::max(0.05, sinElevation(s.position_ecef_m, o.sat_pos));
         mapping = 1.0 / sin_el;
       }
-      m.predicted_code_m = range + s.clock_m + s.zwd_m * mapping;
+      const int clock = s.layout.clock(o.sat.system);
+      if (clock < 0) {
+        e.rejected.push_back({o.sat, RejectionReason::NoReceiverClock, "no receiver clock for the system"});
+        continue;
+      }
+      m.predicted_code_m = range + s.clock_m(o.sat.system) + s.zwd_m * mapping;
       m.predicted_phase_m = m.predicted_code_m;
-      m.jacobian << -d.transpose() / range, mapping, 1.0;
+      m.jacobian = Eigen::RowVectorXd::Zero(s.layout.dim());
+      m.jacobian.segment<3>(s.layout.position()) = -d.transpose() / range;
+      m.jacobian(s.layout.zwd()) = mapping;
+      m.jacobian(clock) = 1.0;
       m.observed_code_m = o.code_m;
       m.observed_phase_m = o.phase_m;
       m.code_sigma_m = o.code_sigma_m;
@@ -94,7 +103,7 @@ inline MeasurementFunction modelOf(std::vector<SimObs> obs, SimModelOptions opti
   const EpochMeasurements about = nonlinear(obs, options.linear_about, false);
   return [about, x0 = options.linear_about.vector()](const ReceiverState& s) {
     EpochMeasurements e = about;
-    const Eigen::Matrix<double, ReceiverState::kDim, 1> dx = s.vector() - x0;
+    const Eigen::VectorXd dx = s.vector() - x0;
     for (auto& m : e.used) {
       m.predicted_code_m += m.jacobian.dot(dx);
       m.predicted_phase_m += m.jacobian.dot(dx);
@@ -110,6 +119,7 @@ class Simulator {
                                                            std::sin(47 * kDeg));
   double zwd_m = 0.1;  // = the a priori value (StochasticModel::initial_zwd_m) unless a test says otherwise
   double clock_m = 12345.6;
+  double galileo_clock_offset_m = 0.0;  // Galileo receiver clock - GPS receiver clock (addGalileo)
   double t_s = 0.0;
   bool noise = false;
   std::mt19937 rng{20260513};
@@ -120,6 +130,16 @@ class Simulator {
     for (int p = 0; p < 6; ++p)
       for (int k = 0; k < 5; ++k)
         sats_.push_back({SatelliteId{GnssSystem::GPS, p * 5 + k + 1}, p * 60.0 * kDeg, (k * 72.0 + p * 17.0) * kDeg});
+  }
+
+  /// A Galileo-like constellation (3 planes x 4 satellites, same orbits shifted),
+  /// its receiver clock `offset_m` from GPS's.
+  void addGalileo(double offset_m) {
+    galileo_clock_offset_m = offset_m;
+    for (int p = 0; p < 3; ++p)
+      for (int k = 0; k < 4; ++k)
+        sats_.push_back({SatelliteId{GnssSystem::Galileo, p * 4 + k + 1}, (p * 120.0 + 30.0) * kDeg,
+                         (k * 90.0 + p * 40.0 + 10.0) * kDeg});
   }
 
   GnssTime time() const { return GnssTime::fromGpsWeek(2418, 0.0) + t_s; }
@@ -141,7 +161,8 @@ class Simulator {
       }
       const ArcId arc = arc_[s.id];
       SimObs o{s.id, arc, sp, 0, 0, 0.9 / sin_el, 0.009 / sin_el};
-      const double geometric = (sp - position).norm() + clock_m + zwd_m / sin_el;
+      const double clock = clock_m + (s.id.system == GnssSystem::Galileo ? galileo_clock_offset_m : 0.0);
+      const double geometric = (sp - position).norm() + clock + zwd_m / sin_el;
       o.code_m = geometric + (noise ? o.code_sigma_m * gauss(rng) : 0.0);
       o.phase_m = geometric + bias_m[arc] + (noise ? o.phase_sigma_m * gauss(rng) : 0.0);
       out.push_back(o);

@@ -47,7 +47,7 @@ inline std::vector<TrueStateResidual> trueStateResiduals(const SimulatedFlight& 
     ReceiverState state;
     state.position_ecef_m = te.trajectory.position_ecef_m;
     state.zwd_m = te.zwd_m;
-    state.clock_m = te.clock_m;
+    state.setClock_m(GnssSystem::GPS, te.clock_m);  // the simulator observes GPS only
     model.evaluate(sel.observations, arcs, state, &windup, meas);
     for (const auto& m : meas.used) {
       TrueStateResidual r;

@@ -22,16 +22,16 @@ using namespace ppp::sim;
 
 namespace {
 
-double positionError(const EkfEpochResult& r, const Simulator& sim) {
+double positionError(const EstimatorEpochResult& r, const Simulator& sim) {
   return (r.solution->state.position_ecef_m - sim.position).norm();
 }
 
 /// Runs `epochs` epochs every `dt` seconds (each Ok); returns the last result.
-EkfEpochResult run(EkfPpp& ekf, Simulator& sim, int epochs, double dt = 30.0) {
+EstimatorEpochResult run(EkfPpp& ekf, Simulator& sim, int epochs, double dt = 30.0) {
   return runEpochs(ekf, sim, epochs, dt).back();
 }
 
-const SatelliteId& firstUsed(const EkfEpochResult& r) { return r.used.front(); }
+const SatelliteId& firstUsed(const EstimatorEpochResult& r) { return r.used.front(); }
 
 }  // namespace
 
@@ -42,7 +42,7 @@ TEST(CodeLeastSquares, FromTheEarthCentreRecoversTheTruth) {
   const auto r = codeLeastSquares(modelOf(sim.epoch()), start);
   ASSERT_TRUE(r.ok) << r.reason;
   EXPECT_LT((r.state.position_ecef_m - sim.position).norm(), 1e-6);
-  EXPECT_NEAR(r.state.clock_m, sim.clock_m, 1e-6);
+  EXPECT_NEAR(r.state.clock_m(GnssSystem::GPS), sim.clock_m, 1e-6);
   EXPECT_GE(r.used.size(), 5u);
   EXPECT_LT(r.iterations, 15);
 }
@@ -60,7 +60,7 @@ TEST(CodeLeastSquares, RejectsACodeOutlierAndReportsTooFewSatellites) {
   EXPECT_LT((r.state.position_ecef_m - sim.position).norm(), 1e-6);
   ASSERT_EQ(r.rejected.size(), 1u);
   EXPECT_EQ(r.rejected[0].satellite, obs[2].sat);
-  EXPECT_NE(r.rejected[0].reason.find("code least-squares residual"), std::string::npos) << r.rejected[0].reason;
+  EXPECT_NE(r.rejected[0].detail.find("code least-squares residual"), std::string::npos) << r.rejected[0].detail;
 
   obs.resize(3);
   const auto few = codeLeastSquares(modelOf(obs), start);
@@ -242,11 +242,11 @@ TEST(EkfPpp, PrefitScreeningRejectsA50mCodeOutlierAndAPhaseJump) {
   EXPECT_EQ(r.postfit_rejections, 0);
   ASSERT_EQ(r.rejected.size(), 2u);
   EXPECT_EQ(r.rejected[0].satellite, obs[1].sat);
-  EXPECT_NE(r.rejected[0].reason.find("prefit code residual"), std::string::npos) << r.rejected[0].reason;
-  EXPECT_NE(r.rejected[0].reason.find("> 30.000 m"), std::string::npos) << r.rejected[0].reason;
+  EXPECT_NE(r.rejected[0].detail.find("prefit code residual"), std::string::npos) << r.rejected[0].detail;
+  EXPECT_NE(r.rejected[0].detail.find("> 30.000 m"), std::string::npos) << r.rejected[0].detail;
   EXPECT_EQ(r.rejected[1].satellite, obs[3].sat);
-  EXPECT_NE(r.rejected[1].reason.find("prefit phase-minus-code innovation 20.0"), std::string::npos)
-      << r.rejected[1].reason;
+  EXPECT_NE(r.rejected[1].detail.find("prefit phase-minus-code innovation 20.0"), std::string::npos)
+      << r.rejected[1].detail;
   EXPECT_EQ(r.used.size(), obs.size() - 2);
   EXPECT_LT(positionError(r, sim), 1e-3);  // the outliers did not reach the estimate
 }
@@ -274,7 +274,7 @@ TEST(EkfPpp, PostfitCheckRejectsAModerateCodeOutlierOnANewArc) {
       EXPECT_EQ(r.postfit_rejections, 1);
       ASSERT_EQ(r.rejected.size(), 1u);
       EXPECT_EQ(r.rejected[0].satellite, sat);
-      EXPECT_NE(r.rejected[0].reason.find("postfit code residual"), std::string::npos) << r.rejected[0].reason;
+      EXPECT_NE(r.rejected[0].detail.find("postfit code residual"), std::string::npos) << r.rejected[0].detail;
       EXPECT_FALSE(ekf.biasEstimate_m(sim.arcOf(sat)).has_value());  // its new bias was not kept
       EXPECT_LT(positionError(r, sim), 1e-3);
     } else {
@@ -297,7 +297,7 @@ TEST(EkfPpp, ReceiverClockJumpOfOneMillisecondIsAbsorbed) {
   ASSERT_EQ(r.status, EpochStatus::Ok) << r.reason;
   EXPECT_TRUE(r.rejected.empty());
   EXPECT_LT(positionError(r, sim), 1e-3);
-  EXPECT_NEAR(r.solution->state.clock_m, sim.clock_m, 1e-3);
+  EXPECT_NEAR(r.solution->state.clock_m(GnssSystem::GPS), sim.clock_m, 1e-3);
   for (const auto& res : r.residuals) EXPECT_LT(std::abs(res.code_prefit_m), 1.0);  // clock shifted by the median
 }
 
@@ -313,9 +313,9 @@ TEST(EkfPpp, NonFiniteMeasurementsAreRejectedWithAReasonNeverPropagated) {
   const auto r = ekf.processEpoch(sim.time(), modelOf(obs));
   ASSERT_EQ(r.status, EpochStatus::Ok) << r.reason;
   ASSERT_EQ(r.rejected.size(), 3u);
-  EXPECT_EQ(r.rejected[0].reason, "non-finite observed code");
-  EXPECT_EQ(r.rejected[1].reason, "non-finite observed phase");
-  EXPECT_NE(r.rejected[2].reason.find("invalid code sigma"), std::string::npos);
+  EXPECT_EQ(r.rejected[0].detail, "non-finite observed code");
+  EXPECT_EQ(r.rejected[1].detail, "non-finite observed phase");
+  EXPECT_NE(r.rejected[2].detail.find("invalid code sigma"), std::string::npos);
   EXPECT_TRUE(ekf.stateVector().allFinite());
   EXPECT_TRUE(ekf.covarianceMatrix().allFinite());
   EXPECT_LT(positionError(r, sim), 1e-3);
@@ -332,7 +332,7 @@ TEST(EkfPpp, NonFiniteMeasurementsAreRejectedWithAReasonNeverPropagated) {
   const auto r2 = ekf.processEpoch(sim.time(), flaky);
   ASSERT_EQ(r2.status, EpochStatus::Ok) << r2.reason;
   ASSERT_EQ(r2.rejected.size(), 1u);
-  EXPECT_EQ(r2.rejected[0].reason, "non-finite Jacobian");
+  EXPECT_EQ(r2.rejected[0].detail, "non-finite Jacobian");
   EXPECT_TRUE(ekf.stateVector().allFinite());
 }
 

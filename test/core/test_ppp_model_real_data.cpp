@@ -50,7 +50,7 @@ CodeCheck firstEpochCodeResiduals(test::LoadedDataset& ds, const char* label) {
   Eigen::VectorXd y(em.used.size());
   for (std::size_t k = 0; k < em.used.size(); ++k) {
     a(k, 0) = 1.0;
-    a(k, 1) = em.used[k].jacobian(3);
+    a(k, 1) = em.used[k].jacobian(ReceiverStateLayout().zwd());
     y(k) = em.used[k].codeResidual_m();
   }
   const Eigen::Vector2d x = a.colPivHouseholderQr().solve(y);
@@ -74,7 +74,7 @@ CodeCheck firstEpochCodeResiduals(test::LoadedDataset& ds, const char* label) {
   }
   c.rms_lsq_m = std::sqrt(c.rms_lsq_m / std::max<std::size_t>(1, em.used.size()));
   c.rms_m = std::sqrt(c.rms_m / std::max<std::size_t>(1, em.used.size()));
-  for (const auto& r : em.rejected) std::printf("  rejected %s: %s\n", r.satellite.toString().c_str(), r.reason.c_str());
+  for (const auto& r : em.rejected) std::printf("  rejected %s: %s\n", r.satellite.toString().c_str(), r.detail.c_str());
   std::printf("  RMS %.3f m (mean removed), %.3f m (clock and ZWD fitted), max %.3f m over %zu satellites\n", c.rms_m,
               c.rms_lsq_m, c.max_abs_m, c.used);
   return c;
@@ -193,7 +193,7 @@ HourAnalysis analyseHour(test::LoadedDataset& ds, const char* label) {
       }
       arcs[arc_index[m.arc]].windup_last_cycles = terms[u].windup_cycles;
       rows.push_back({k, arc_index[m.arc], epoch.time - t0, m.codeResidual_m(), m.phaseResidualWithoutBias_m(),
-                      m.jacobian(3), m.elevation_rad * kRadToDeg, 1.0 / (m.code_sigma_m * m.code_sigma_m)});
+                      m.jacobian(ReceiverStateLayout().zwd()), m.elevation_rad * kRadToDeg, 1.0 / (m.code_sigma_m * m.code_sigma_m)});
     }
     ++k;
   }

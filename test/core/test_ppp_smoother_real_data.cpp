@@ -26,11 +26,11 @@ TEST(PppSmootherRealData, FactorPredictionMatchesTheFullModelAfterAMetreLevelMov
   ReceiverState x0;
   x0.position_ecef_m = ds.paths.truth_ecef_m + Eigen::Vector3d(2.0, -1.5, 3.0);
   x0.zwd_m = 0.1;
-  x0.clock_m = 100.0;
+  x0.setClock_m(GnssSystem::GPS, 100.0);
   ReceiverState x1 = x0;
   x1.position_ecef_m += Eigen::Vector3d(-3.0, 2.5, -4.0);  // 5.6 m away
   x1.zwd_m = 0.15;
-  x1.clock_m = 130.0;
+  x1.setClock_m(GnssSystem::GPS, 130.0);
   WindupTracker w0, w1;
   const EpochMeasurements at0 = ds.model->evaluate(sel.observations, arcs, x0, &w0);
   const EpochMeasurements at1 = ds.model->evaluate(sel.observations, arcs, x1, &w1);

@@ -20,6 +20,7 @@ std::vector<SatelliteMeasurement> epoch(int n, double outlier_m) {
     auto& m = ms[static_cast<std::size_t>(i)];
     m.satellite = SatelliteId{GnssSystem::GPS, i + 1};
     // d(range)/d(position) = -line of sight (ENU axes used as ECEF here: geometry only).
+    m.jacobian.resize(5);
     m.jacobian << -std::cos(el) * std::sin(az), -std::cos(el) * std::cos(az), -std::sin(el), 1.0 / std::sin(el), 1.0;
     m.predicted_code_m = 2.0e7;
     m.observed_code_m = 2.0e7 + (i == 0 ? outlier_m : 0.0);

@@ -17,7 +17,7 @@
 #include <map>
 #include <sstream>
 
-#include "ppp_bayes_tree/ppp/ppp_solve_run.h"
+#include "ppp_bayes_tree/app/ppp_solve_run.h"
 #include "ppp_dataset.h"
 #include "test_support.h"
 

@@ -3,7 +3,10 @@
 // does everything up to the linearised measurements (reading, signal selection,
 // arc tracking, the measurement model) and hands each epoch to an estimator
 // through this interface, so that the EKF (EkfEstimator) and the smoother plug
-// into the same pipeline and are fed identical epochs.
+// into the same pipeline and are fed identical epochs. Both run the same epoch
+// front end (PppEstimatorBase); what only a smoother offers is reached through
+// smoothing() (nullptr for a filter), its per-epoch diagnostics through the
+// result's `smoother` part.
 #include <memory>
 #include <string>
 #include <vector>
@@ -12,13 +15,11 @@
 #include "ppp_bayes_tree/ppp/ekf_ppp.h"
 #include "ppp_bayes_tree/ppp/measurement_function.h"
 #include "ppp_bayes_tree/ppp/ppp_config.h"
+#include "ppp_bayes_tree/ppp/ppp_estimator_base.h"
 #include "ppp_bayes_tree/ppp/ppp_smoother.h"
+#include "ppp_bayes_tree/ppp/smoothed_trajectory_provider.h"
 
 namespace ppp {
-
-/// One epoch's result of any estimator (same content as the EKF's: status,
-/// solution, used and rejected satellites with reasons, residuals).
-using EstimatorEpochResult = EkfEpochResult;
 
 /// What the pipeline gives an estimator for one epoch.
 struct EstimatorEpochInput {
@@ -43,6 +44,10 @@ class EpochEstimator {
   virtual EstimatorEpochResult processEpoch(const EstimatorEpochInput& input) = 0;
   /// Arcs that ended without a replacement (end of data).
   virtual void arcsEnded(const std::vector<EndedArc>& ended) = 0;
+  /// The estimator behind: state layout, active arcs, restarts after failures.
+  virtual const PppEstimatorBase& core() const = 0;
+  /// The smoothed trajectory of an estimator that smooths; nullptr for a filter.
+  virtual const SmoothedTrajectoryProvider* smoothing() const { return nullptr; }
 };
 
 /// The forward EKF-PPP (EkfPpp) as an EpochEstimator: ended arcs lose their bias.
@@ -55,6 +60,7 @@ class EkfEstimator : public EpochEstimator {
   }
   EstimatorEpochResult processEpoch(const EstimatorEpochInput& input) override;
   void arcsEnded(const std::vector<EndedArc>& ended) override;
+  const PppEstimatorBase& core() const override { return ekf_; }
   const EkfPpp& filter() const { return ekf_; }
 
  private:
@@ -62,10 +68,10 @@ class EkfEstimator : public EpochEstimator {
 };
 
 /// The PPP smoother (PppSmoother) as an EpochEstimator. processEpoch returns the
-/// FILTERED solution (final for the newest state at that time); after the run,
-/// smoother().smoothedTrajectory() gives the SMOOTHED solution of every solved
-/// epoch, and lastResult() the smoother's own per-epoch diagnostics (variables
-/// relinearized / re-eliminated, update time, new biases).
+/// FILTERED solution (final for the newest state at that time) with the smoother's
+/// own diagnostics (variables relinearized / re-eliminated, update time, new
+/// biases); after the run, smoothing()->smoothedTrajectory() gives the SMOOTHED
+/// solution of every solved epoch.
 class SmootherEstimator : public EpochEstimator {
  public:
   explicit SmootherEstimator(const PppConfig& config);
@@ -75,17 +81,16 @@ class SmootherEstimator : public EpochEstimator {
   }
   EstimatorEpochResult processEpoch(const EstimatorEpochInput& input) override;
   void arcsEnded(const std::vector<EndedArc>& ended) override;
+  const PppEstimatorBase& core() const override { return smoother_; }
+  const SmoothedTrajectoryProvider* smoothing() const override { return &smoother_; }
   const PppSmoother& smoother() const { return smoother_; }
   PppSmoother& smoother() { return smoother_; }
-  const SmootherEpochResult& lastResult() const { return last_; }
+  const EstimatorEpochResult& lastResult() const { return last_; }
 
  private:
   PppSmoother smoother_;
-  SmootherEpochResult last_;
+  EstimatorEpochResult last_;
 };
-
-/// The smoother's epoch result in the common form (diagnostics beyond it dropped).
-EstimatorEpochResult toEstimatorEpochResult(const SmootherEpochResult& r);
 
 /// Estimators by name: "ekf", "smoother" (others: nullptr, with `why` saying so).
 std::unique_ptr<EpochEstimator> makeEstimator(const std::string& name, const PppConfig& config, std::string* why);

@@ -2,8 +2,9 @@
 // Factors of the PPP factor graph on the generic smoother (ppp::smoother).
 //
 // Variables (keys):
-//   x<k>        receiver state of the k-th solved epoch: (x, y, z) ECEF [m], ZWD [m],
-//               receiver clock c*dt [m] (ReceiverState::vector() order);
+//   x<k>        receiver state of the k-th solved epoch in its layout
+//               (receiver_state_layout.h): (x, y, z) ECEF [m], ZWD [m], one receiver
+//               clock c*dt [m] per processed system (ReceiverState::vector() order);
 //   b(G05,arc)  IF carrier-phase bias [m] of one satellite arc (ArcId).
 //
 // Measurement factors: one IF pseudorange factor on x<k> and one IF carrier-phase
@@ -28,9 +29,9 @@
 //
 // Process factors (StochasticModel, dt = real elapsed time between the two solved
 // epochs, data gaps and no-solution epochs included):
-//   position and ZWD random walks: a between factor (x<k>-x<k-1>).head(4) = 0 with
+//   position and ZWD random walks: a between factor on (position, ZWD) of x<k> - x<k-1> with
 //   sigmas sqrt(q^2 dt) (the EKF adds q^2 dt to the predicted variance: identical);
-//   receiver clock WHITE: no between factor on the clock at all. Each epoch's clock is
+//   receiver clocks WHITE: no between factor on a clock at all. Each epoch's clock is
 //   an independent variable with a unary prior (ClockPriorFactor) whose sigma is
 //   sqrt(min(q^2 dt, sigma0^2)) (11 km for 30 s) and whose mean is the EKF's predicted
 //   clock (previous filtered clock shifted by the median code residual): the EKF
@@ -56,20 +57,22 @@ smoother::Key biasKey(const SatelliteId& satellite, ArcId arc);
 /// at any receiver state of its epoch, from the model's evaluation at x0 (see top).
 class SatellitePrediction {
  public:
-  using Row = Eigen::Matrix<double, 1, ReceiverState::kDim>;
+  using Row = Eigen::RowVectorXd;
   SatellitePrediction(const SatelliteMeasurement& m, const ReceiverState& x0, bool exact_range);
 
-  /// Predicted IF code [m] at x (5-vector), and its Jacobian when `jacobian` is non-null.
+  /// Predicted IF code [m] at x (state vector in x0's layout), and its Jacobian when `jacobian` is non-null.
   double code_m(const Eigen::VectorXd& x, Row* jacobian) const;
   /// Predicted IF phase without the bias [m] (code + wind-up).
   double phase_m(const Eigen::VectorXd& x, Row* jacobian) const { return code_m(x, jacobian) + windup_m_; }
 
   const SatelliteMeasurement& measurement() const { return m_; }
+  const ReceiverStateLayout& layout() const { return layout_; }
   bool exactRange() const { return satellite_.has_value(); }
 
  private:
   SatelliteMeasurement m_;
-  Eigen::Matrix<double, ReceiverState::kDim, 1> x0_;
+  ReceiverStateLayout layout_;
+  Eigen::VectorXd x0_;
   double windup_m_ = 0.0;                  // predicted phase - predicted code at x0
   std::optional<Eigen::Vector3d> satellite_;  // s: set when the range is re-evaluated
   Eigen::Vector3d offset_ = Eigen::Vector3d::Zero();    // o
@@ -88,7 +91,7 @@ class PppCodeFactor : public smoother::NoiseModelFactor1<smoother::Vector> {
   /// position too when the range is not re-evaluated (linear factors).
   bool affineIn(smoother::Key) const override { return !prediction_.exactRange(); }
   bool affineInComponent(smoother::Key key, int component) const override {
-    return affineIn(key) || component >= 3;
+    return affineIn(key) || !prediction_.layout().isPosition(component);
   }
 
  private:
@@ -107,33 +110,39 @@ class PppPhaseFactor : public smoother::NoiseModelFactor2<smoother::Vector, doub
   /// coefficients (the mapping frozen at x0); the range alone is nonlinear.
   bool affineIn(smoother::Key key) const override { return key == this->key<1>() || !prediction_.exactRange(); }
   bool affineInComponent(smoother::Key key, int component) const override {
-    return affineIn(key) || component >= 3;
+    return affineIn(key) || !prediction_.layout().isPosition(component);
   }
 
  private:
   SatellitePrediction prediction_;
 };
 
-/// Random walk of position and ZWD between two states: error = (x2 - x1).head(4),
-/// sigmas (position, position, position, ZWD) [m] over the time step.
+/// Random walk of position and ZWD between two states: error = (position, ZWD)
+/// of x2 - x1, sigmas (position, position, position, ZWD) [m] over the time step.
 class ReceiverRandomWalkFactor : public smoother::NoiseModelFactor2<smoother::Vector, smoother::Vector> {
  public:
-  ReceiverRandomWalkFactor(smoother::Key previous, smoother::Key next, double position_sigma_m,
-                           double zwd_sigma_m);
+  ReceiverRandomWalkFactor(smoother::Key previous, smoother::Key next, const ReceiverStateLayout& layout,
+                           double position_sigma_m, double zwd_sigma_m);
   smoother::Vector evaluateError(const smoother::Vector& previous, const smoother::Vector& next,
                                  smoother::Matrix* h_previous, smoother::Matrix* h_next) const override;
   bool affineIn(smoother::Key) const override { return true; }  // a difference of states
+
+ private:
+  ReceiverStateLayout layout_;
 };
 
-/// Prior on the clock component of one state: error = clock - clock_m.
+/// Prior on one clock component (state index `clock_index`) of one state:
+/// error = clock - clock_m.
 class ClockPriorFactor : public smoother::NoiseModelFactor1<smoother::Vector> {
  public:
-  ClockPriorFactor(smoother::Key state, double clock_m, double sigma_m);
+  ClockPriorFactor(smoother::Key state, int clock_index, double clock_m, double sigma_m);
   smoother::Vector evaluateError(const smoother::Vector& state, smoother::Matrix* h_state) const override;
   double clock_m() const { return clock_m_; }
+  int clockIndex() const { return clock_index_; }
   bool affineIn(smoother::Key) const override { return true; }
 
  private:
+  int clock_index_;
   double clock_m_;
 };
 

@@ -1,7 +1,8 @@
 #pragma once
 // PppMeasurementModel: the single ionosphere-free (IF) code and phase model
 // used by both estimators (EKF and smoother factors). For one epoch and a
-// linearisation point X = (marker position ECEF, ZWD, receiver clock c*dt) it
+// linearisation point X = (marker position ECEF, ZWD, receiver clock c*dt of the
+// satellite's system; receiver_state_layout.h) it
 // gives per satellite the observed and predicted IF observables, the Jacobian
 // row d(predicted)/dX, the elevation-dependent sigmas, or the reason why the
 // satellite is rejected.
@@ -28,7 +29,8 @@
 // The Jacobian is the same for code and phase: d/dx = -e + m_d dZHD/dh u
 // (e: unit line of sight receiver -> satellite, ECEF; u: local up; the a-priori
 // dry delay of the standard atmosphere falls by ~0.3 mm per metre of height),
-// d/dZWD = m_w, d/dclock = 1 (the elevation dependence of the mapping and PCV
+// d/dZWD = m_w, d/dclock = 1 in the column of the satellite's own system clock
+// (a system without a clock in the layout: rejected) (the elevation dependence of the mapping and PCV
 // on the position is neglected: ~1e-5 of the position column).
 //
 // Troposphere (troposphere.h), surface values from the standard atmosphere at

@@ -68,18 +68,38 @@ struct PppProducts {
   std::vector<std::string> notes;
 };
 
-/// A satellite left out at some stage of an epoch.
+/// The stage of the chain that left a satellite out.
+enum class RejectionStage { Signals, Arcs, Model };  // model: the model and the estimator's screening
+std::string toString(RejectionStage stage);           // "signals", "arcs", "model"
+
+/// A satellite left out at some stage of an epoch: counted by stage and reason,
+/// the detail is the readable sentence with its values.
 struct EpochRejection {
   SatelliteId satellite;
-  std::string stage;   // "signals", "arcs", "model" (model + estimator screening)
-  std::string reason;
+  RejectionStage stage = RejectionStage::Model;
+  RejectionReason reason = RejectionReason::NonFiniteModel;
+  std::string detail;
+  /// "model: elevation 4.2 deg below cutoff 7.0 deg".
+  std::string text() const { return toString(stage) + ": " + (detail.empty() ? toString(reason) : detail); }
 };
+
+/// What rejections are counted by.
+struct RejectionKey {
+  RejectionStage stage = RejectionStage::Model;
+  RejectionReason reason = RejectionReason::NonFiniteModel;
+  bool operator<(const RejectionKey& o) const {
+    return stage != o.stage ? stage < o.stage : reason < o.reason;
+  }
+  bool operator==(const RejectionKey& o) const { return stage == o.stage && reason == o.reason; }
+};
+std::string toString(const RejectionKey& key);  // "model: elevation below cutoff"
 
 /// One epoch of the run: the solution and what happened.
 struct PppEpochRecord {
   SolutionEpoch solution;  // position (or explicitly none), sigmas, counts, ZWD, clock
   EpochStatus status = EpochStatus::NoSolution;
-  std::string reason;      // why there is no solution ("" when ok)
+  NoSolutionReason no_solution_reason = NoSolutionReason::None;
+  std::string reason;      // why there is no solution, readable ("" when ok)
   bool refused = false;    // time backwards / repeated / special records: not processed at all
   std::optional<double> gap_s;  // set when this epoch follows a data gap (seconds since the previous)
   int satellites_observed = 0;  // satellites of the processed systems in the file
@@ -91,9 +111,14 @@ struct PppEpochRecord {
   /// Arc starts other than new satellites, e.g. "G17 arc 11: Melbourne-Wubbena jump 3.2 cycles > 1.0".
   std::vector<std::string> arc_events;
   std::vector<MeasurementResidual> residuals;  // per used satellite
-  /// Covariance of (x, y, z, zwd, clock) [m^2] when solved (zero otherwise).
-  ReceiverCovariance receiver_covariance = ReceiverCovariance::Zero();
+  /// The receiver state's layout, and its covariance [m^2] when solved (empty otherwise).
+  ReceiverStateLayout state_layout;
+  ReceiverCovariance receiver_covariance;
   int active_biases = 0;  // phase-bias states of the estimator after the epoch
+  /// The estimator restarted from its last good state after this (failed) epoch.
+  bool estimator_reset = false;
+  double estimator_time_s = 0.0;  // the estimator step of the epoch
+  std::optional<SmootherEpochDiagnostics> smoother;  // the smoother's diagnostics
 };
 
 /// Postfit residual statistics of one satellite over the run [m].
@@ -116,8 +141,12 @@ struct PppRunSummary {
   std::size_t data_gaps = 0;
   std::size_t arcs = 0;
   std::size_t slips = 0;
-  /// Rejections counted by their reason's leading words ("elevation", "no orbit", ...).
-  std::map<std::string, std::size_t> rejection_counts;
+  /// Rejections (satellite-epochs) by stage and reason.
+  std::map<RejectionKey, std::size_t> rejection_counts;
+  /// Epochs without a solution by reason.
+  std::map<NoSolutionReason, std::size_t> no_solution_counts;
+  /// Restarts of the estimator from its last good state after a failed update.
+  std::size_t estimator_resets = 0;
   std::vector<SatelliteResidualStatistics> residual_statistics;
   /// Antenna sources, code reference, ocean loading, product notes.
   std::vector<std::string> notes;
@@ -162,8 +191,5 @@ class PppPipeline {
   PppConfig config_;
   std::unique_ptr<Impl> impl_;
 };
-
-/// Leading words of a rejection reason (up to the first digit, ':' or '('), for counting.
-std::string reasonCategory(const std::string& reason);
 
 }  // namespace ppp

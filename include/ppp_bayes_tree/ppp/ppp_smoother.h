@@ -9,28 +9,28 @@
 // factors per satellite and epoch, from the SAME MeasurementFunction the EKF calls,
 // with the same sigmas; optional Huber kernel on them.
 //
-// Per epoch (processEpoch):
-//  1. the first epoch starts from the code least squares (like the EKF);
-//  2. linearise the epoch's measurements ONCE at the predicted state (the last
-//     filtered state; clock shifted by the median code residual), keep the usable ones;
-//  3. prefit screening shared with the EKF (prefit_screening.h): code outliers and the
-//     phase-minus-code innovation against the last filtered bias estimate and variance;
-//     arc bookkeeping as the EKF (a new arc of a satellite replaces its old bias in the
-//     active set, arcs unused for stale_arc_timeout_s leave it);
-//  4. too few satellites: explicit NoSolution, nothing is added to the graph (the next
+// Per epoch (processEpoch): the epoch front end shared with the EKF
+// (PppEstimatorBase: code least-squares start, prediction = the last filtered
+// state with the clocks shifted by the median code residual, usable measurements,
+// arc bookkeeping, prefit screening against the last filtered bias estimate and
+// variance, new-arc bias values, residual records), then the smoother's own step:
+//  1. too few satellites: explicit NoSolution, nothing is added to the graph (the next
 //     between factor spans the real elapsed time from the last solved epoch);
-//  5. ONE iSAM2 update with the new factors; constrained ordering: the new state and
+//  2. ONE iSAM2 update with the new factors; constrained ordering: the new state and
 //     the biases observed in this epoch are eliminated last (root clique), the other
 //     re-eliminated variables oldest first; relinearization thresholds per variable
-//     component (position, ZWD, clock, bias);
-//  6. FILTERED output: the new state's estimate right after the update with its
+//     component (position, ZWD, clocks, bias);
+//  3. FILTERED output: the new state's estimate right after the update with its
 //     marginal covariance (root clique: cheap), plus the biases' filtered marginals
 //     (kept for the next epoch's screening).
 // SMOOTHED output: smoothedTrajectory() re-reads every state from the current
 // estimate (all data so far); with fixed_lag_s > 0 states older than the lag are
 // marginalized (FixedLagSmoother) and keep their last estimate (at the lag boundary).
-// A numerical failure of the update (indeterminate system) gives a Failed epoch; the
-// graph then holds that epoch's factors and the smoother should be reset.
+// A numerical failure of the update (indeterminate system) gives a Failed epoch, and
+// the smoother restarts at once from its last good state: a new graph holding the last
+// filtered state with a prior of its filtered covariance and each active bias with a
+// prior of its filtered estimate and variance (counted in resets(), reported by the
+// result's estimator_reset). The states before the restart keep their last estimate.
 #include <Eigen/Core>
 #include <map>
 #include <memory>
@@ -39,8 +39,10 @@
 #include <vector>
 
 #include "ppp_bayes_tree/ppp/code_least_squares.h"
-#include "ppp_bayes_tree/ppp/ekf_ppp.h"
+#include "ppp_bayes_tree/ppp/estimator_epoch_result.h"
 #include "ppp_bayes_tree/ppp/measurement_function.h"
+#include "ppp_bayes_tree/ppp/ppp_estimator_base.h"
+#include "ppp_bayes_tree/ppp/smoothed_trajectory_provider.h"
 #include "ppp_bayes_tree/ppp/smoother_options.h"
 #include "ppp_bayes_tree/ppp/stochastic_model.h"
 #include "ppp_bayes_tree/smoother/fixed_lag_smoother.h"
@@ -48,65 +50,13 @@
 
 namespace ppp {
 
-/// Filtered estimate of one arc's IF phase bias right after an update.
-struct ArcBiasEstimate {
-  ArcId arc = 0;
-  SatelliteId satellite;
-  double bias_m = 0.0;
-  double sigma_m = 0.0;  // sqrt of the marginal variance
-};
-
-/// Per-epoch result: the filtered solution and diagnostics.
-struct SmootherEpochResult {
-  GnssTime time;
-  EpochStatus status = EpochStatus::NoSolution;
-  std::string reason;                     // empty when Ok
-  std::optional<EpochSolution> solution;  // FILTERED estimate of the new state (only when Ok)
-  double dt_s = 0.0;                      // elapsed since the last solved epoch (0 at the first)
-  std::vector<SatelliteId> used;
-  std::vector<RejectedSatellite> rejected;  // the model's rejections, then the screening's
-  int prefit_rejections = 0;
-  int active_biases = 0;                  // arcs in the active set after the epoch
-  int new_biases = 0;
-  int iterations = 0;                     // measurement-model evaluations
-  std::vector<MeasurementResidual> residuals;  // same order as `used`; postfit at the filtered state
-  std::vector<ArcBiasEstimate> biases;         // filtered biases of the arcs observed this epoch (when Ok)
-  // iSAM2 update diagnostics.
-  std::size_t variables_relinearized = 0;
-  std::size_t variables_reeliminated = 0;
-  std::size_t factors_relinearized = 0;
-  std::size_t cliques_touched = 0;
-  std::size_t variables_marginalized = 0;  // fixed-lag only
-  double update_time_s = 0.0;   // the iSAM2 (or fixed-lag) update
-  double epoch_time_s = 0.0;    // the whole processEpoch (model evaluations included)
-};
-
-/// One state of the smoothed trajectory.
-struct SmoothedEpoch {
-  GnssTime time;
-  std::uint32_t index = 0;  // x<index>
-  ReceiverState state;
-  /// Marginal covariance when asked for and the state is still in the graph.
-  std::optional<ReceiverCovariance> covariance;
-};
-
-class PppSmoother {
+class PppSmoother : public PppEstimatorBase, public SmoothedTrajectoryProvider {
  public:
   explicit PppSmoother(StochasticModel model = {}, PppSmootherOptions options = {},
-                       CodeLeastSquaresOptions start_options = {});
+                       CodeLeastSquaresOptions start_options = {}, ReceiverStateLayout layout = {});
   ~PppSmoother();
   PppSmoother(PppSmoother&&) noexcept;
   PppSmoother& operator=(PppSmoother&&) noexcept;
-
-  /// Starting point of the code least squares of the first epoch (RINEX APPROX POSITION XYZ).
-  void setApproximatePosition(const Eigen::Vector3d& position_ecef_m) { approx_position_ecef_m_ = position_ecef_m; }
-
-  /// Process one epoch. `evaluate` linearises this epoch's measurements at a state;
-  /// it is called during this call only (never stored).
-  SmootherEpochResult processEpoch(const GnssTime& time, const MeasurementFunction& evaluate);
-
-  /// End an arc explicitly (e.g. the arc tracker reports it closed).
-  void removeArc(ArcId arc) { arcs_.erase(arc); }
 
   bool initialised() const { return !states_.empty(); }
   std::optional<GnssTime> lastTime() const;
@@ -114,7 +64,7 @@ class PppSmoother {
   ReceiverState receiverState() const;
   ReceiverCovariance receiverCovariance() const;
   int activeBiasCount() const { return static_cast<int>(arcs_.size()); }
-  std::vector<ArcId> activeArcs() const;
+  std::vector<ArcId> activeArcs() const override;
   /// Current (smoothed) estimate of an arc's bias while it is in the graph.
   std::optional<double> biasEstimate_m(ArcId arc) const;
   /// Current (smoothed) estimate of any arc's bias still in the graph, active or
@@ -123,7 +73,7 @@ class PppSmoother {
 
   /// The whole trajectory re-estimated with all data so far (fixed lag: states
   /// beyond the lag keep their estimate at the lag boundary).
-  std::vector<SmoothedEpoch> smoothedTrajectory(bool with_covariance = false) const;
+  std::vector<SmoothedEpoch> smoothedTrajectory(bool with_covariance = false) const override;
   /// One state of the smoothed trajectory without re-reading all of them: the newest
   /// state at or before `time`, from the current estimate (all data so far), with its
   /// marginal covariance when asked for. With a fixed lag, a state already marginalized
@@ -131,9 +81,12 @@ class PppSmoother {
   /// be after `time`. nullopt: no state yet, or every state is after `time`.
   /// Cost: O(log n) plus the marginal, which grows with the state's depth in the
   /// Bayes tree (the newest state is in the root clique: cheap).
-  std::optional<SmoothedEpoch> smoothedEpochAt(const GnssTime& time, bool with_covariance = false) const;
+  std::optional<SmoothedEpoch> smoothedEpochAt(const GnssTime& time, bool with_covariance = false) const override;
+  double fixedLag_s() const override { return options_.fixed_lag_s; }
+  std::optional<double> smoothedBias_m(const SatelliteId& satellite, ArcId arc) const override {
+    return biasEstimate_m(satellite, arc);
+  }
 
-  const StochasticModel& stochasticModel() const { return model_; }
   const PppSmootherOptions& options() const { return options_; }
   const smoother::ISAM2& isam2() const;
 
@@ -150,11 +103,21 @@ class PppSmoother {
   /// time order (no covariances; states missing from `values` are left out).
   std::vector<SmoothedEpoch> trajectoryFrom(const smoother::Values& values) const;
 
+ protected:
+  bool hasState() const override { return initialised(); }
+  std::optional<GnssTime> lastSolvedTime() const override { return lastTime(); }
+  ReceiverState predict(double dt_s, bool first, const std::optional<ReceiverState>& start) override;
+  std::optional<ArcBiasPrior> predictedBias(ArcId arc) const override;
+  bool solve(const EpochSolveInput& in, EpochSolveOutput& out, EstimatorEpochResult& result) override;
+  bool recoverAfterFailure(EstimatorEpochResult& result) override;
+  void arcRemoved(ArcId arc) override { arcs_.erase(arc); }
+  int biasCount() const override { return activeBiasCount(); }
+  void finishEpoch(EstimatorEpochResult& result) const override;
+
  private:
   struct ArcSlot {
     SatelliteId satellite;
     smoother::Key key = 0;
-    GnssTime last_used;
     std::uint32_t last_state = 0;   // index of the last state it was observed at
     double filtered_m = 0.0;        // filtered estimate and variance after the last update
     double filtered_variance_m2 = 0.0;
@@ -169,10 +132,10 @@ class PppSmoother {
   /// sqrt of a variance, floored so that a zero process noise stays a valid (stiff) sigma.
   static double sigmaOf(double variance_m2);
 
-  StochasticModel model_;
+  /// A new, empty iSAM2 (or fixed-lag smoother).
+  void newGraph();
+
   PppSmootherOptions options_;
-  CodeLeastSquaresOptions start_options_;
-  std::optional<Eigen::Vector3d> approx_position_ecef_m_;
   std::unique_ptr<smoother::ISAM2> isam_;              // full smoother
   std::unique_ptr<smoother::FixedLagSmoother> lag_;    // fixed-lag smoother
   std::vector<StateRecord> states_;

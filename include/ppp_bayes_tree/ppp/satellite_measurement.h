@@ -3,33 +3,53 @@
 // what both estimators (EKF and smoother factors) consume from the single
 // measurement model, so that they cannot drift apart.
 #include <Eigen/Core>
+#include <array>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "ppp_bayes_tree/ppp/dual_frequency_observation.h"
+#include "ppp_bayes_tree/ppp/receiver_state_layout.h"
+#include "ppp_bayes_tree/ppp/rejection_reason.h"
 
 namespace ppp {
 
-/// Receiver state of one epoch: X = (position, zenith wet delay, receiver clock).
+/// Receiver state of one epoch, with named members; vector() / fromVector()
+/// order them by the layout (receiver_state_layout.h): position, ZWD, one
+/// receiver clock per processed system (GPS only: (x, y, z, zwd, clock)).
 struct ReceiverState {
-  static constexpr int kDim = 5;  // x, y, z [m], ZWD [m], clock [m]
+  ReceiverStateLayout layout;
   Eigen::Vector3d position_ecef_m = Eigen::Vector3d::Zero();
   double zwd_m = 0.0;
-  double clock_m = 0.0;  // receiver clock bias times c (absorbs the IF code bias)
 
-  Eigen::Matrix<double, kDim, 1> vector() const {
-    Eigen::Matrix<double, kDim, 1> v;
-    v << position_ecef_m, zwd_m, clock_m;
+  ReceiverState() { clocks_m_.fill(0.0); }
+  explicit ReceiverState(const ReceiverStateLayout& state_layout) : layout(state_layout) { clocks_m_.fill(0.0); }
+
+  /// Receiver clock bias times c [m] of a system (absorbs the system's IF code bias).
+  double clock_m(GnssSystem system) const { return clocks_m_[static_cast<int>(system)]; }
+  void setClock_m(GnssSystem system, double clock_m) { clocks_m_[static_cast<int>(system)] = clock_m; }
+  /// The clock of the layout's first system (the reference system, GPS by default).
+  double referenceClock_m() const { return clock_m(layout.clockSystem(layout.firstClock())); }
+
+  Eigen::VectorXd vector() const {
+    Eigen::VectorXd v(layout.dim());
+    v.segment<ReceiverStateLayout::kPositionSize>(layout.position()) = position_ecef_m;
+    v(layout.zwd()) = zwd_m;
+    for (int i = layout.firstClock(); i < layout.firstClock() + layout.clockCount(); ++i)
+      v(i) = clock_m(layout.clockSystem(i));
     return v;
   }
-  static ReceiverState fromVector(const Eigen::Matrix<double, kDim, 1>& v) {
-    ReceiverState s;
-    s.position_ecef_m = v.head<3>();
-    s.zwd_m = v(3);
-    s.clock_m = v(4);
+  static ReceiverState fromVector(const Eigen::VectorXd& v, const ReceiverStateLayout& layout = {}) {
+    ReceiverState s(layout);
+    s.position_ecef_m = v.segment<ReceiverStateLayout::kPositionSize>(layout.position());
+    s.zwd_m = v(layout.zwd());
+    for (int i = layout.firstClock(); i < layout.firstClock() + layout.clockCount(); ++i)
+      s.setClock_m(layout.clockSystem(i), v(i));
     return s;
   }
+
+ private:
+  std::array<double, kNumGnssSystems> clocks_m_;
 };
 
 struct SatelliteMeasurement {
@@ -42,8 +62,9 @@ struct SatelliteMeasurement {
   // Observed IF observables [m].
   double observed_code_m = 0.0;
   double observed_phase_m = 0.0;
-  /// d(predicted)/d(x, y, z, zwd, clock); identical for code and phase.
-  Eigen::Matrix<double, 1, ReceiverState::kDim> jacobian = Eigen::Matrix<double, 1, ReceiverState::kDim>::Zero();
+  /// d(predicted)/d(receiver state) in the state's layout: position, ZWD, and 1
+  /// in the satellite's own system clock column; identical for code and phase.
+  Eigen::RowVectorXd jacobian;
   // Elevation-dependent standard deviations [m] of the IF observables.
   double code_sigma_m = 0.0;
   double phase_sigma_m = 0.0;
@@ -63,11 +84,15 @@ struct SatelliteMeasurement {
   double phaseResidualWithoutBias_m() const { return observed_phase_m - predicted_phase_m; }
 };
 
-/// A satellite left out of an epoch, with the reason ("elevation 4.2 deg below
-/// cutoff 7 deg", "no orbit: gap ...", "prefit code residual 35 m > 10 m").
+/// A satellite left out of an epoch: the reason (counted), and the readable
+/// detail with its values ("elevation 4.2 deg below cutoff 7.0 deg", "no orbit:
+/// gap ...", "prefit code residual 35 m > 10 m").
 struct RejectedSatellite {
   SatelliteId satellite;
-  std::string reason;
+  RejectionReason reason = RejectionReason::NonFiniteModel;
+  std::string detail;
+  /// The detail, or the reason's name when there is none.
+  std::string text() const { return detail.empty() ? toString(reason) : detail; }
 };
 
 struct EpochMeasurements {

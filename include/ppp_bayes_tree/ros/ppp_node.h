@@ -119,7 +119,8 @@ class PppNode {
   void attachAttitude(const ros::Time& stamp);
   BodyPose bodyPose(const Eigen::Vector3d& antenna_enu_m, const ros::Time& stamp) const;
   nav_msgs::Odometry odometry(const ros::Time& stamp, const BodyPose& pose, const Eigen::Matrix3d& cov_enu_m2) const;
-  ppp::SmootherEstimator* smoother() const { return dynamic_cast<ppp::SmootherEstimator*>(estimator_.get()); }
+  /// The smoothed trajectory when the estimator smooths (nullptr for the EKF).
+  const ppp::SmoothedTrajectoryProvider* smoother() const { return estimator_->smoothing(); }
   void setDatum(const Eigen::Vector3d& position_ecef_m);
   void resetEstimator(const std::string& why);
   void startProcessor();
@@ -166,7 +167,8 @@ class PppNode {
   // smoother outputs
   std::optional<std::uint32_t> last_smoothed_index_;  // newest state published on ppp/odometry/smoothed
   bool smoothed_path_stale_ = false;                   // epochs processed since the last path re-read
-  std::size_t smoother_restarts_ = 0;                  // after a failed update (the graph holds its factors)
+  std::optional<ppp::SmootherEpochDiagnostics> last_smoother_;  // of the last processed epoch
+  std::size_t estimator_restarts_ = 0;                 // after a failed update (the core restarts; counted here)
   double smoothed_path_read_s_ = 0.0, smoothed_path_read_max_s_ = 0.0;
   std::size_t smoothed_path_poses_ = 0;
 

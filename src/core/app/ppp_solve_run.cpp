@@ -49,7 +49,8 @@ void writeSolutionFiles(const PppSolutionOutput& o, const std::optional<Eigen::V
 }
 
 /// The smoothed solution: the filtered epochs with the states re-read from the final estimate.
-std::vector<SolutionEpoch> smoothedSolution(const std::vector<SolutionEpoch>& filtered, const PppSmoother& smoother) {
+std::vector<SolutionEpoch> smoothedSolution(const std::vector<SolutionEpoch>& filtered,
+                                             const SmoothedTrajectoryProvider& smoother) {
   std::map<GnssTime, SmoothedEpoch> by_time;
   for (auto& e : smoother.smoothedTrajectory(true)) by_time.emplace(e.time, e);
   std::vector<SolutionEpoch> out = filtered;
@@ -60,9 +61,10 @@ std::vector<SolutionEpoch> smoothedSolution(const std::vector<SolutionEpoch>& fi
     const SmoothedEpoch& s = it->second;
     e.position_ecef_m = s.state.position_ecef_m;
     e.zwd_m = s.state.zwd_m;
-    e.receiver_clock_m = s.state.clock_m;
+    e.receiver_clock_m = s.state.referenceClock_m();
     if (s.covariance) {
-      e.covariance_ecef_m2 = s.covariance->topLeftCorner<3, 3>();
+      const int p = s.state.layout.position();
+      e.covariance_ecef_m2 = s.covariance->block<3, 3>(p, p);
     } else {
       e.covariance_ecef_m2.reset();  // fixed lag: marginalized states have no covariance
     }
@@ -102,7 +104,7 @@ PppSolveOutcome solvePpp(const PppSolveRequest& req) {
   std::string why;
   auto estimator = makeEstimator(req.estimator, req.config, &why);
   if (!estimator) throw std::invalid_argument(why);
-  const auto* smoother = dynamic_cast<const SmootherEstimator*>(estimator.get());
+  const SmoothedTrajectoryProvider* smoother = estimator->smoothing();
   std::error_code ec;
   std::filesystem::create_directories(req.out_dir, ec);
   if (!std::filesystem::is_directory(req.out_dir)) throw std::runtime_error("cannot create directory " + req.out_dir);
@@ -153,7 +155,7 @@ PppSolveOutcome solvePpp(const PppSolveRequest& req) {
     std::string rej;
     for (const auto& r : rec.rejected) {
       if (!rej.empty()) rej += "; ";
-      rej += r.satellite.toString() + " " + r.stage + ": " + r.reason;
+      rej += r.satellite.toString() + " " + r.text();
     }
     for (const auto& e : rec.arc_events) rej += (rej.empty() ? "" : "; ") + e;
     std::string used;
@@ -163,15 +165,15 @@ PppSolveOutcome solvePpp(const PppSolveRequest& req) {
            << rec.satellites_selected << ',' << rec.used.size() << ',' << rec.rejected.size() << ',' << rec.new_arcs
            << ',' << rec.slips << ',' << (rec.gap_s ? fixed(*rec.gap_s, 1) : "") << ',' << used;
     if (smoother) {
-      const SmootherEpochResult& r = smoother->lastResult();
-      if (!rec.refused && r.time == rec.solution.time) {
-        epochs << ',' << r.active_biases << ',' << r.new_biases << ',' << r.variables_relinearized << ','
+      if (!rec.refused && rec.smoother) {
+        const SmootherEpochDiagnostics& r = *rec.smoother;
+        epochs << ',' << rec.active_biases << ',' << r.new_biases << ',' << r.variables_relinearized << ','
                << r.variables_reeliminated << ',' << r.factors_relinearized << ',' << r.cliques_touched << ','
-               << fixed(r.update_time_s * 1e3, 3) << ',' << fixed(r.epoch_time_s * 1e3, 3);
-        if (r.status == EpochStatus::Ok) {
+               << fixed(r.update_time_s * 1e3, 3) << ',' << fixed(rec.estimator_time_s * 1e3, 3);
+        if (rec.status == EpochStatus::Ok) {
           update_times.push_back(r.update_time_s);
-          epoch_times.push_back(r.epoch_time_s);
-          for (const auto& b : r.biases) bias_rows.push_back({r.time, b});
+          epoch_times.push_back(rec.estimator_time_s);
+          for (const auto& b : r.biases) bias_rows.push_back({rec.solution.time, b});
         }
       } else {
         epochs << ",,,,,,,,";
@@ -199,7 +201,7 @@ PppSolveOutcome solvePpp(const PppSolveRequest& req) {
                                   std::string(smoother ? "smoother FILTERED (newest state after each update)"
                                                        : "forward filter")});
   if (smoother) {
-    out.outputs[1].solution = smoothedSolution(out.outputs[0].solution, smoother->smoother());
+    out.outputs[1].solution = smoothedSolution(out.outputs[0].solution, *smoother);
     writeSolutionFiles(out.outputs[1], req.truth_ecef_m,
                        {source, "kinematic PPP, ionosphere-free float, smoother SMOOTHED (final estimate, all data)"});
     out.update_time = summarizeTimes(update_times);
@@ -211,7 +213,7 @@ PppSolveOutcome solvePpp(const PppSolveRequest& req) {
     for (const auto& row : bias_rows) {
       auto it = final_m.find(row.estimate.arc);
       if (it == final_m.end())
-        it = final_m.emplace(row.estimate.arc, smoother->smoother().biasEstimate_m(row.estimate.satellite,
+        it = final_m.emplace(row.estimate.arc, smoother->smoothedBias_m(row.estimate.satellite,
                                                                                    row.estimate.arc)).first;
       biases << isoTimeText(row.time, 1) << ',' << row.estimate.arc << ',' << row.estimate.satellite.toString()
              << ',' << fixed(row.estimate.bias_m, 4) << ',' << fixed(row.estimate.sigma_m, 4) << ','
@@ -281,10 +283,16 @@ std::string runSummaryToJson(const PppSolveOutcome& o, const PppSolutionOutput& 
   os << "  \"rejections\": {";
   bool first = true;
   for (const auto& [k, n] : r.rejection_counts) {
-    os << (first ? "" : ", ") << jsonString(k) << ": " << n;
+    os << (first ? "" : ", ") << jsonString(toString(k)) << ": " << n;
     first = false;
   }
-  os << "},\n  \"satellite_residuals\": [";
+  os << "},\n  \"no_solution\": {";
+  first = true;
+  for (const auto& [k, n] : r.no_solution_counts) {
+    os << (first ? "" : ", ") << jsonString(toString(k)) << ": " << n;
+    first = false;
+  }
+  os << "},\n  \"estimator_resets\": " << r.estimator_resets << ",\n  \"satellite_residuals\": [";
   for (std::size_t i = 0; i < r.residual_statistics.size(); ++i) {
     const auto& s = r.residual_statistics[i];
     os << (i ? "," : "") << "\n    {\"sat\": " << jsonString(s.satellite.toString()) << ", \"count\": " << s.count
@@ -308,8 +316,14 @@ std::string formatRunReport(const PppRunSummary& r) {
      << " data gaps; " << r.arcs << " arcs, " << r.slips << " slips; " << fixed(r.processing_time_s, 2) << " s\n";
   if (!r.rejection_counts.empty()) {
     os << "rejections (satellite-epochs):\n";
-    for (const auto& [k, n] : r.rejection_counts) os << "  " << n << "  " << k << "\n";
+    for (const auto& [k, n] : r.rejection_counts) os << "  " << n << "  " << toString(k) << "\n";
   }
+  if (!r.no_solution_counts.empty()) {
+    os << "epochs without a solution:\n";
+    for (const auto& [k, n] : r.no_solution_counts) os << "  " << n << "  " << toString(k) << "\n";
+  }
+  if (r.estimator_resets > 0)
+    os << "estimator restarts after a failed update: " << r.estimator_resets << "\n";
   os << "postfit residuals per satellite [mm]:  n  code mean/rms  phase mean/rms/max  elevation [deg]  rejected\n";
   for (const auto& s : r.residual_statistics) {
     if (s.count == 0 && s.rejections == 0) continue;

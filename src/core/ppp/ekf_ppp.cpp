@@ -11,8 +11,6 @@
 namespace ppp {
 namespace {
 
-constexpr int kRx = ReceiverState::kDim;
-
 std::string fmt(double v, int precision = 3) {
   std::ostringstream os;
   os.precision(precision);
@@ -31,15 +29,6 @@ std::string checkCovariance(Eigen::MatrixXd& P) {
 
 }  // namespace
 
-std::string toString(EpochStatus status) {
-  switch (status) {
-    case EpochStatus::Ok: return "ok";
-    case EpochStatus::NoSolution: return "no_solution";
-    case EpochStatus::Failed: return "failed";
-  }
-  return "unknown";
-}
-
 std::string EkfOptions::validate() const {
   if (auto problem = screening.validate(); !problem.empty()) return problem;
   if (iterations_per_epoch < 1) return "iterations_per_epoch must be >= 1";
@@ -50,36 +39,49 @@ std::string EkfOptions::validate() const {
 
 // One row pair (code, phase) of the update.
 struct EkfPpp::Row {
+  std::size_t screened_index = 0;
   SatelliteMeasurement m;  // linearised at the current point
   int bias_index = 0;      // state index of the arc's bias
   bool new_arc = false;
-  double code_prefit_m = 0.0;
   double phase_prefit_m = 0.0;
 };
 
-EkfPpp::EkfPpp(StochasticModel model, EkfOptions options, CodeLeastSquaresOptions start_options)
-    : model_(model), options_(options), start_options_(start_options) {}
+EkfPpp::EkfPpp(StochasticModel model, EkfOptions options, CodeLeastSquaresOptions start_options,
+               ReceiverStateLayout layout)
+    : PppEstimatorBase(model, options.screening, start_options, layout), options_(options) {}
+
+EkfPpp::Filter EkfPpp::initialFilter(const ReceiverState& state) const {
+  ReceiverState s(layout_);
+  s.position_ecef_m = state.position_ecef_m;
+  s.zwd_m = state.zwd_m;
+  for (const GnssSystem system : layout_.clockSystems()) s.setClock_m(system, state.clock_m(system));
+  Filter f;
+  f.x = s.vector();
+  const int n = layout_.dim();
+  f.P = Eigen::MatrixXd::Zero(n, n);
+  for (int i = 0; i < ReceiverStateLayout::kPositionSize; ++i)
+    f.P(layout_.position() + i, layout_.position() + i) = model_.position.initialVariance_m2();
+  f.P(layout_.zwd(), layout_.zwd()) = model_.zwd.initialVariance_m2();
+  for (const GnssSystem system : layout_.clockSystems())
+    f.P(layout_.clock(system), layout_.clock(system)) = model_.clock.initialVariance_m2();
+  return f;
+}
 
 void EkfPpp::initialise(const GnssTime& time, const ReceiverState& state) {
-  f_.x = state.vector();
-  f_.P = Eigen::MatrixXd::Zero(kRx, kRx);
-  for (int i = 0; i < 3; ++i) f_.P(i, i) = model_.position.initialVariance_m2();
-  f_.P(3, 3) = model_.zwd.initialVariance_m2();
-  f_.P(4, 4) = model_.clock.initialVariance_m2();
-  f_.biases.clear();
+  f_ = initialFilter(state);
   last_time_ = time;
   initialised_ = true;
   fresh_ = true;
 }
 
 ReceiverState EkfPpp::receiverState() const {
-  if (!initialised_) return {};
-  return ReceiverState::fromVector(f_.x.head<kRx>());
+  if (!initialised_) return ReceiverState(layout_);
+  return ReceiverState::fromVector(f_.x.head(layout_.dim()), layout_);
 }
 
 ReceiverCovariance EkfPpp::receiverCovariance() const {
-  if (!initialised_) return ReceiverCovariance::Zero();
-  return f_.P.topLeftCorner<kRx, kRx>();
+  if (!initialised_) return ReceiverCovariance::Zero(layout_.dim(), layout_.dim());
+  return f_.P.topLeftCorner(layout_.dim(), layout_.dim());
 }
 
 std::vector<ArcId> EkfPpp::activeArcs() const {
@@ -97,18 +99,19 @@ int EkfPpp::findBias(const Filter& f, ArcId arc) {
 std::optional<double> EkfPpp::biasEstimate_m(ArcId arc) const {
   const int i = findBias(f_, arc);
   if (i < 0) return std::nullopt;
-  return f_.x(kRx + i);
+  return f_.x(layout_.dim() + i);
 }
 
 std::optional<double> EkfPpp::biasSigma_m(ArcId arc) const {
   const int i = findBias(f_, arc);
   if (i < 0) return std::nullopt;
-  return std::sqrt(f_.P(kRx + i, kRx + i));
+  const int k = layout_.dim() + i;
+  return std::sqrt(f_.P(k, k));
 }
 
-void EkfPpp::removeBias(Filter& f, std::size_t slot) {
+void EkfPpp::removeBias(Filter& f, std::size_t slot, int receiver_dim) {
   const int n = static_cast<int>(f.x.size());
-  const int k = kRx + static_cast<int>(slot);
+  const int k = receiver_dim + static_cast<int>(slot);
   const int tail = n - k - 1;
   Eigen::VectorXd x(n - 1);
   x << f.x.head(k), f.x.tail(tail);
@@ -122,128 +125,80 @@ void EkfPpp::removeBias(Filter& f, std::size_t slot) {
   f.biases.erase(f.biases.begin() + static_cast<std::ptrdiff_t>(slot));
 }
 
-void EkfPpp::removeArc(ArcId arc) {
+void EkfPpp::arcRemoved(ArcId arc) {
   const int i = findBias(f_, arc);
-  if (i >= 0) removeBias(f_, static_cast<std::size_t>(i));
+  if (i >= 0) removeBias(f_, static_cast<std::size_t>(i), layout_.dim());
 }
 
-void EkfPpp::predict(Filter& f, double dt_s, bool first) const {
+void EkfPpp::predictFilter(Filter& f, double dt_s, bool first) const {
   if (first) return;  // freshly initialised at this very time: the a priori covariance stands
   const double q_pos = model_.position.processVariance_m2(dt_s);
-  for (int i = 0; i < 3; ++i) f.P(i, i) += q_pos;
-  f.P(3, 3) += model_.zwd.processVariance_m2(dt_s);
-  // White clock: no memory, correlations removed, variance reset.
-  f.P.row(4).setZero();
-  f.P.col(4).setZero();
-  f.P(4, 4) = model_.clock.processVariance_m2(dt_s);
+  for (int i = 0; i < ReceiverStateLayout::kPositionSize; ++i)
+    f.P(layout_.position() + i, layout_.position() + i) += q_pos;
+  f.P(layout_.zwd(), layout_.zwd()) += model_.zwd.processVariance_m2(dt_s);
+  // White clocks: no memory, correlations removed, variance reset.
+  for (const GnssSystem system : layout_.clockSystems()) {
+    const int c = layout_.clock(system);
+    f.P.row(c).setZero();
+    f.P.col(c).setZero();
+    f.P(c, c) = model_.clock.processVariance_m2(dt_s);
+  }
   const double q_bias = model_.phase_bias.processVariance_m2(dt_s);
-  for (Eigen::Index i = kRx; i < f.P.rows(); ++i) f.P(i, i) += q_bias;
+  for (Eigen::Index i = layout_.dim(); i < f.P.rows(); ++i) f.P(i, i) += q_bias;
 }
 
 Eigen::MatrixXd EkfPpp::predictedCovariance(double dt_s) const {
   Filter f = f_;
-  if (initialised_) predict(f, dt_s, false);
+  if (initialised_) predictFilter(f, dt_s, false);
   return f.P;
 }
 
-EkfEpochResult EkfPpp::processEpoch(const GnssTime& time, const MeasurementFunction& evaluate) {
-  EkfEpochResult result;
-  result.time = time;
-  const bool was_initialised = initialised_;
-  const bool was_fresh = fresh_;
-  const GnssTime was_last_time = last_time_;
-  const Filter before = f_;
-  auto giveUp = [&](EpochStatus status, std::string reason) {
-    f_ = before;  // nothing of this epoch is kept
-    initialised_ = was_initialised;
-    fresh_ = was_fresh;
-    last_time_ = was_last_time;
-    result.status = status;
-    result.reason = std::move(reason);
-    result.solution.reset();
-    result.active_biases = activeBiasCount();
-    return result;
-  };
-
-  // Start: single-epoch code least squares.
-  if (!initialised_) {
-    ReceiverState start;
-    start.position_ecef_m = approx_position_ecef_m_.value_or(Eigen::Vector3d::Zero());
-    start.zwd_m = model_.initial_zwd_m;
-    const CodeLeastSquaresResult ls = codeLeastSquares(evaluate, start, start_options_);
-    result.iterations += ls.iterations;
-    if (!ls.ok) {
-      result.rejected = ls.rejected;
-      return giveUp(EpochStatus::NoSolution, "no initial position: " + ls.reason);
-    }
-    initialise(time, ls.state);
+ReceiverState EkfPpp::predict(double dt_s, bool first, const std::optional<ReceiverState>& start) {
+  if (start) {
+    work_ = initialFilter(*start);
+  } else {
+    work_ = f_;
+    predictFilter(work_, dt_s, first);
   }
-  const double dt = time - last_time_;
-  result.dt_s = dt;
-  const bool first = fresh_ && dt == 0.0;
-  if (!std::isfinite(dt) || dt < 0.0 || (dt == 0.0 && !first))
-    return giveUp(EpochStatus::Failed, "epoch " + time.toString() + " is not after the last solved epoch " +
-                                           last_time_.toString());
+  return ReceiverState::fromVector(work_.x.head(layout_.dim()), layout_);
+}
 
-  // 1. Prediction.
-  Filter fp = f_;
-  predict(fp, dt, first);
+std::optional<ArcBiasPrior> EkfPpp::predictedBias(ArcId arc) const {
+  const int slot = findBias(work_, arc);
+  if (slot < 0) return std::nullopt;
+  const int k = layout_.dim() + slot;
+  return ArcBiasPrior{work_.x(k), work_.P(k, k)};
+}
 
-  // 2. Linearise at the prediction; keep finite, unique measurements.
-  const EpochMeasurements epoch0 = evaluate(ReceiverState::fromVector(fp.x.head<kRx>()));
-  result.iterations += 1;
-  result.rejected = epoch0.rejected;
-  std::vector<SatelliteMeasurement> cand = usableMeasurements(epoch0.used, result.rejected);
-  if (options_.screening.clock_from_code_median) {
-    if (const auto shift = medianCodeClockShift_m(cand)) {
-      fp.x(4) += *shift;
-      applyClockShift(cand, *shift);
-    }
+bool EkfPpp::solve(const EpochSolveInput& in, EpochSolveOutput& out, EstimatorEpochResult& result) {
+  const int kRx = layout_.dim();
+  // The prediction with the front end's clock shifts, without the arcs that leave.
+  Filter fp = work_;
+  for (const GnssSystem system : layout_.clockSystems()) fp.x(layout_.clock(system)) = in.predicted.clock_m(system);
+  for (const ArcId arc : in.dropped_arcs) {
+    const int slot = findBias(fp, arc);
+    if (slot >= 0) removeBias(fp, static_cast<std::size_t>(slot), kRx);
   }
 
-  // Arc bookkeeping: a new arc of a satellite replaces its bias; stale arcs go.
-  for (const auto& m : cand) {
-    for (std::size_t i = 0; i < fp.biases.size(); ++i) {
-      if (fp.biases[i].satellite == m.satellite && fp.biases[i].arc != m.arc) {
-        removeBias(fp, i);
-        break;
-      }
-    }
-  }
-  for (std::size_t i = fp.biases.size(); i-- > 0;) {
-    if (time - fp.biases[i].last_used > options_.screening.stale_arc_timeout_s) removeBias(fp, i);
-  }
-
-  // 3. Prefit screening.
-  PrefitScreeningResult screening =
-      screenPrefit(cand, options_.screening, [&fp](ArcId arc) -> std::optional<ArcBiasPrior> {
-        const int slot = findBias(fp, arc);
-        if (slot < 0) return std::nullopt;
-        return ArcBiasPrior{fp.x(kRx + slot), fp.P(kRx + slot, kRx + slot)};
-      });
-  result.prefit_rejections += static_cast<int>(screening.rejected.size());
-  result.rejected.insert(result.rejected.end(), screening.rejected.begin(), screening.rejected.end());
-  const std::vector<SatelliteMeasurement>& screened = screening.kept;
-
-  // 4-6. Update, with postfit rejections (each one restarts from the prediction).
+  // Update, with postfit rejections (each one restarts from the prediction).
   std::set<SatelliteId> excluded;
   for (;;) {
     std::vector<Row> rows;
     Filter fa = fp;
-    for (const auto& m : screened) {
+    for (std::size_t k = 0; k < in.screened.size(); ++k) {
+      const SatelliteMeasurement& m = in.screened[k].m;
       if (excluded.count(m.satellite)) continue;
       Row row;
+      row.screened_index = k;
       row.m = m;
-      row.code_prefit_m = m.codeResidual_m();
       int slot = findBias(fa, m.arc);
-      if (slot < 0) {  // new arc: bias from phase minus code, a priori sigma
-        const double b0 = m.phaseResidualWithoutBias_m() - m.codeResidual_m();
+      if (slot < 0) {  // new arc: the front end's initial value, a priori sigma
         const Eigen::Index n = fa.x.size();
         fa.x.conservativeResize(n + 1);
-        fa.x(n) = b0;
+        fa.x(n) = in.screened[k].new_arc_bias_m;
         fa.P.conservativeResizeLike(Eigen::MatrixXd::Zero(n + 1, n + 1));
         fa.P(n, n) = model_.phase_bias.initialVariance_m2();
-        fa.biases.push_back({m.arc, m.satellite, time});
+        fa.biases.push_back({m.arc, m.satellite});
         slot = static_cast<int>(fa.biases.size()) - 1;
         row.new_arc = true;
       }
@@ -253,8 +208,9 @@ EkfEpochResult EkfPpp::processEpoch(const GnssTime& time, const MeasurementFunct
     }
     const int n_sat = static_cast<int>(rows.size());
     if (n_sat < options_.screening.min_satellites)
-      return giveUp(EpochStatus::NoSolution, std::to_string(n_sat) + " satellites usable after screening, at least " +
-                                                 std::to_string(options_.screening.min_satellites) + " needed");
+      return fail(result, EpochStatus::NoSolution, NoSolutionReason::TooFewSatellites,
+                  std::to_string(n_sat) + " satellites usable after screening, at least " +
+                      std::to_string(options_.screening.min_satellites) + " needed");
 
     // Iterated update: x_{i+1} = x_pred + K_i (z - h(x_i) - H_i (x_pred - x_i)).
     const Eigen::Index dim = fa.x.size();
@@ -265,7 +221,7 @@ EkfEpochResult EkfPpp::processEpoch(const GnssTime& time, const MeasurementFunct
     for (int it = 0; it < options_.iterations_per_epoch && !restart; ++it) {
       if (it > 0) {
         x_lin = x_new;
-        const EpochMeasurements again = evaluate(ReceiverState::fromVector(x_lin.head<kRx>()));
+        const EpochMeasurements again = (*in.evaluate)(ReceiverState::fromVector(x_lin.head(kRx), layout_));
         result.iterations += 1;
         for (auto& row : rows) {
           auto found = std::find_if(again.used.begin(), again.used.end(),
@@ -273,9 +229,10 @@ EkfEpochResult EkfPpp::processEpoch(const GnssTime& time, const MeasurementFunct
           std::string problem = found == again.used.end() ? "left out by the model at re-linearisation"
                                                          : measurementProblem(*found);
           if (problem.empty() && found->arc != row.m.arc) problem = "arc changed at re-linearisation";
+          if (problem.empty() && !matchesLayout(*found, layout_)) problem = "Jacobian outside the state layout";
           if (!problem.empty()) {
             excluded.insert(row.m.satellite);
-            result.rejected.push_back({row.m.satellite, problem});
+            result.rejected.push_back({row.m.satellite, RejectionReason::Relinearisation, problem});
             restart = true;
             break;
           }
@@ -302,10 +259,12 @@ EkfEpochResult EkfPpp::processEpoch(const GnssTime& time, const MeasurementFunct
       S.diagonal() += R;
       Eigen::LDLT<Eigen::MatrixXd> ldlt(S);
       if (ldlt.info() != Eigen::Success || !ldlt.isPositive())
-        return giveUp(EpochStatus::Failed, "innovation covariance not positive definite");
+        return fail(result, EpochStatus::Failed, NoSolutionReason::InnovationNotPositiveDefinite,
+                    "innovation covariance not positive definite");
       K = ldlt.solve(PHt.transpose()).transpose();
       x_new = fa.x + K * y;
-      if (!x_new.allFinite()) return giveUp(EpochStatus::Failed, "non-finite state after the update");
+      if (!x_new.allFinite())
+        return fail(result, EpochStatus::Failed, NoSolutionReason::NonFiniteState, "non-finite state after the update");
     }
     if (restart) continue;
 
@@ -313,7 +272,8 @@ EkfEpochResult EkfPpp::processEpoch(const GnssTime& time, const MeasurementFunct
     const Eigen::MatrixXd IKH = Eigen::MatrixXd::Identity(dim, dim) - K * H;
     Eigen::MatrixXd P = IKH * fa.P * IKH.transpose() + K * R.asDiagonal() * K.transpose();
     if (auto problem = checkCovariance(P); !problem.empty())
-      return giveUp(EpochStatus::Failed, problem + " after the update");
+      return fail(result, EpochStatus::Failed, NoSolutionReason::CovarianceNotPositiveDefinite,
+                  problem + " after the update");
 
     // Postfit residuals at the updated state; optional check.
     const Eigen::VectorXd postfit = y_lin - H * (x_new - x_lin);
@@ -323,10 +283,11 @@ EkfEpochResult EkfPpp::processEpoch(const GnssTime& time, const MeasurementFunct
       if (worst_ratio > options_.postfit_sigmas) {
         const auto& row = rows[static_cast<std::size_t>(worst / 2)];
         excluded.insert(row.m.satellite);
-        result.rejected.push_back({row.m.satellite, std::string("postfit ") + (worst % 2 == 0 ? "code" : "phase") +
-                                                        " residual " + fmt(postfit(worst)) + " m = " +
-                                                        fmt(worst_ratio, 1) + " sigma > " +
-                                                        fmt(options_.postfit_sigmas, 1) + " sigma"});
+        const bool code = worst % 2 == 0;
+        result.rejected.push_back({row.m.satellite, code ? RejectionReason::PostfitCode : RejectionReason::PostfitPhase,
+                                   std::string("postfit ") + (code ? "code" : "phase") + " residual " +
+                                       fmt(postfit(worst)) + " m = " + fmt(worst_ratio, 1) + " sigma > " +
+                                       fmt(options_.postfit_sigmas, 1) + " sigma"});
         ++result.postfit_rejections;
         continue;
       }
@@ -335,34 +296,25 @@ EkfEpochResult EkfPpp::processEpoch(const GnssTime& time, const MeasurementFunct
     // Commit.
     fa.x = x_new;
     fa.P = std::move(P);
-    for (auto& row : rows) fa.biases[static_cast<std::size_t>(row.bias_index - kRx)].last_used = time;
     f_ = std::move(fa);
-    last_time_ = time;
+    last_time_ = in.time;
+    initialised_ = true;
     fresh_ = false;
-    result.status = EpochStatus::Ok;
-    EpochSolution solution;
-    solution.state = receiverState();
-    solution.covariance = receiverCovariance();
-    result.solution = solution;
-    result.active_biases = activeBiasCount();
+    out.solution.state = receiverState();
+    out.solution.covariance = receiverCovariance();
+    out.ambiguities = AmbiguityState::Float;
     for (int k = 0; k < n_sat; ++k) {
       const auto& row = rows[k];
-      result.used.push_back(row.m.satellite);
-      MeasurementResidual r;
-      r.satellite = row.m.satellite;
-      r.arc = row.m.arc;
-      r.new_arc = row.new_arc;
-      r.elevation_rad = row.m.elevation_rad;
-      r.azimuth_rad = row.m.azimuth_rad;
-      r.code_prefit_m = row.code_prefit_m;
-      r.phase_prefit_m = row.phase_prefit_m;
-      r.code_postfit_m = postfit(2 * k);
-      r.phase_postfit_m = postfit(2 * k + 1);
-      r.code_sigma_m = row.m.code_sigma_m;
-      r.phase_sigma_m = row.m.phase_sigma_m;
-      result.residuals.push_back(r);
+      SolvedMeasurement s;
+      s.screened_index = row.screened_index;
+      s.m = row.m;
+      s.new_arc = row.new_arc;
+      s.phase_prefit_m = row.phase_prefit_m;
+      s.code_postfit_m = postfit(2 * k);
+      s.phase_postfit_m = postfit(2 * k + 1);
+      out.rows.push_back(std::move(s));
     }
-    return result;
+    return true;
   }
 }
 

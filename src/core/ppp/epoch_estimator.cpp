@@ -2,7 +2,8 @@
 
 namespace ppp {
 
-EkfEstimator::EkfEstimator(const PppConfig& config) : ekf_(config.stochastic, config.estimator, config.start) {}
+EkfEstimator::EkfEstimator(const PppConfig& config)
+    : ekf_(config.stochastic, config.estimator, config.start, ReceiverStateLayout(config.signals.systems)) {}
 
 EstimatorEpochResult EkfEstimator::processEpoch(const EstimatorEpochInput& input) {
   if (input.ended_arcs) arcsEnded(*input.ended_arcs);
@@ -14,32 +15,16 @@ void EkfEstimator::arcsEnded(const std::vector<EndedArc>& ended) {
 }
 
 SmootherEstimator::SmootherEstimator(const PppConfig& config)
-    : smoother_(config.stochastic, config.smoother, config.start) {}
+    : smoother_(config.stochastic, config.smoother, config.start, ReceiverStateLayout(config.signals.systems)) {}
 
 EstimatorEpochResult SmootherEstimator::processEpoch(const EstimatorEpochInput& input) {
   if (input.ended_arcs) arcsEnded(*input.ended_arcs);
   last_ = smoother_.processEpoch(input.time, *input.evaluate);
-  return toEstimatorEpochResult(last_);
+  return last_;
 }
 
 void SmootherEstimator::arcsEnded(const std::vector<EndedArc>& ended) {
   for (const auto& e : ended) smoother_.removeArc(e.arc);
-}
-
-EstimatorEpochResult toEstimatorEpochResult(const SmootherEpochResult& r) {
-  EstimatorEpochResult e;
-  e.time = r.time;
-  e.status = r.status;
-  e.reason = r.reason;
-  e.solution = r.solution;
-  e.dt_s = r.dt_s;
-  e.used = r.used;
-  e.rejected = r.rejected;
-  e.prefit_rejections = r.prefit_rejections;
-  e.active_biases = r.active_biases;
-  e.iterations = r.iterations;
-  e.residuals = r.residuals;
-  return e;
 }
 
 std::unique_ptr<EpochEstimator> makeEstimator(const std::string& name, const PppConfig& config, std::string* why) {

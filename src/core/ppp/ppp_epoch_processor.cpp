@@ -92,7 +92,7 @@ PppEpochRecord PppEpochProcessor::process(const ObsEpoch& epoch, EpochEstimator&
   rec.satellites_selected = static_cast<int>(d.sel.observations.size());
   for (const auto& s : d.sel.skipped) {
     if (!processed(s.satellite.system)) continue;
-    rec.rejected.push_back({s.satellite, "signals", s.reason});
+    rec.rejected.push_back({s.satellite, RejectionStage::Signals, RejectionReason::SignalSelection, s.reason});
   }
   if (selection_notes) *selection_notes = d.sel.notes;
 
@@ -104,7 +104,7 @@ PppEpochRecord PppEpochProcessor::process(const ObsEpoch& epoch, EpochEstimator&
   for (std::size_t i = 0; i < arc_result.satellites.size(); ++i) {
     const auto& st = arc_result.satellites[i];
     if (!st.usable) {
-      rec.rejected.push_back({st.satellite, "arcs", st.reason});
+      rec.rejected.push_back({st.satellite, RejectionStage::Arcs, RejectionReason::ArcTracking, st.reason});
       continue;
     }
     if (st.new_arc) {
@@ -135,22 +135,27 @@ PppEpochRecord PppEpochProcessor::process(const ObsEpoch& epoch, EpochEstimator&
   EstimatorEpochResult r = estimator.processEpoch(input);
 
   rec.status = r.status;
+  rec.no_solution_reason = r.no_solution_reason;
   rec.reason = r.reason;
   rec.used = r.used;
-  for (const auto& x : r.rejected) rec.rejected.push_back({x.satellite, "model", x.reason});
+  for (const auto& x : r.rejected) rec.rejected.push_back({x.satellite, RejectionStage::Model, x.reason, x.detail});
   rec.residuals = std::move(r.residuals);
   SolutionEpoch& s = rec.solution;
   s.satellites_used = static_cast<int>(rec.used.size());
   s.satellites_rejected = static_cast<int>(rec.rejected.size());
   if (r.status == EpochStatus::Ok && r.solution) {
-    s.status = SolutionStatus::PppFloat;
+    s.status = r.ambiguities == AmbiguityState::Fixed ? SolutionStatus::PppFixed : SolutionStatus::PppFloat;
     s.position_ecef_m = r.solution->state.position_ecef_m;
     s.covariance_ecef_m2 = r.solution->positionCovariance_m2();
     s.zwd_m = r.solution->state.zwd_m;
-    s.receiver_clock_m = r.solution->state.clock_m;
+    s.receiver_clock_m = r.solution->state.referenceClock_m();
+    rec.state_layout = r.solution->state.layout;
     rec.receiver_covariance = r.solution->covariance;
   }
   rec.active_biases = r.active_biases;
+  rec.estimator_reset = r.estimator_reset;
+  rec.estimator_time_s = r.epoch_time_s;
+  rec.smoother = std::move(r.smoother);
   return rec;
 }
 

@@ -15,7 +15,7 @@ smoother::Key biasKey(const SatelliteId& satellite, ArcId arc) {
 }
 
 SatellitePrediction::SatellitePrediction(const SatelliteMeasurement& m, const ReceiverState& x0, bool exact_range)
-    : m_(m), x0_(x0.vector()), windup_m_(m.predicted_phase_m - m.predicted_code_m) {
+    : m_(m), layout_(x0.layout), x0_(x0.vector()), windup_m_(m.predicted_phase_m - m.predicted_code_m) {
   if (exact_range && m.satellite_apc_ecef_m) {
     offset_ = m.receiver_apc_offset_ecef_m;
     const Eigen::Vector3d d = *m.satellite_apc_ecef_m - (x0.position_ecef_m + offset_);
@@ -23,25 +23,31 @@ SatellitePrediction::SatellitePrediction(const SatelliteMeasurement& m, const Re
     if (range0_m_ > 0.0 && std::isfinite(range0_m_)) {
       satellite_ = m.satellite_apc_ecef_m;
       // The model's position partial is -e0 + (dry delay height term): keep the latter.
-      dry_gradient_ = m.jacobian.head<3>().transpose() + d / range0_m_;
+      dry_gradient_ =
+          m.jacobian.segment<ReceiverStateLayout::kPositionSize>(layout_.position()).transpose() + d / range0_m_;
     }
   }
 }
 
 double SatellitePrediction::code_m(const Eigen::VectorXd& x, Row* jacobian) const {
-  const Eigen::Matrix<double, ReceiverState::kDim, 1> dx = x - x0_;
+  constexpr int kPos = ReceiverStateLayout::kPositionSize;
+  const int p = layout_.position();
+  const Eigen::VectorXd dx = x - x0_;
   if (!satellite_) {
     if (jacobian != nullptr) *jacobian = m_.jacobian;
     return m_.predicted_code_m + m_.jacobian.dot(dx);
   }
-  const Eigen::Vector3d d = *satellite_ - (x.head<3>() + offset_);
+  const Eigen::Vector3d d = *satellite_ - (x.segment<kPos>(p) + offset_);
   const double range = d.norm();
-  double h = m_.predicted_code_m + (range - range0_m_) + dry_gradient_.dot(dx.head<3>());
-  h += m_.jacobian(3) * dx(3) + m_.jacobian(4) * dx(4);
+  double h = m_.predicted_code_m + (range - range0_m_) + dry_gradient_.dot(dx.segment<kPos>(p));
+  // ZWD and clocks: the model's constant partials (in state order).
+  double rest = 0.0;
+  for (Eigen::Index i = 0; i < dx.size(); ++i)
+    if (!layout_.isPosition(static_cast<int>(i))) rest += m_.jacobian(i) * dx(i);
+  h += rest;
   if (jacobian != nullptr) {
-    jacobian->head<3>() = (-d / range + dry_gradient_).transpose();
-    (*jacobian)(3) = m_.jacobian(3);
-    (*jacobian)(4) = m_.jacobian(4);
+    *jacobian = m_.jacobian;
+    jacobian->segment<kPos>(p) = (-d / range + dry_gradient_).transpose();
   }
   return h;
 }
@@ -72,32 +78,40 @@ Vector PppPhaseFactor::evaluateError(const Vector& state, const double& bias_m, 
 }
 
 ReceiverRandomWalkFactor::ReceiverRandomWalkFactor(smoother::Key previous, smoother::Key next,
-                                                   double position_sigma_m, double zwd_sigma_m)
+                                                   const ReceiverStateLayout& layout, double position_sigma_m,
+                                                   double zwd_sigma_m)
     : NoiseModelFactorN(smoother::NoiseModel::sigmas(
                             Eigen::Vector4d(position_sigma_m, position_sigma_m, position_sigma_m, zwd_sigma_m)),
-                        {previous, next}) {}
+                        {previous, next}),
+      layout_(layout) {}
 
 Vector ReceiverRandomWalkFactor::evaluateError(const Vector& previous, const Vector& next, Matrix* h_previous,
                                                Matrix* h_next) const {
-  const Vector e = (next - previous).head(4);
+  constexpr int kPos = ReceiverStateLayout::kPositionSize;
+  const Vector d = next - previous;
+  Vector e(kPos + 1);
+  e << d.segment<kPos>(layout_.position()), d(layout_.zwd());
   if (h_previous != nullptr || h_next != nullptr) {
-    Matrix j = Matrix::Zero(4, ReceiverState::kDim);
-    j.leftCols(4).setIdentity();
+    Matrix j = Matrix::Zero(kPos + 1, layout_.dim());
+    j.block<kPos, kPos>(0, layout_.position()).setIdentity();
+    j(kPos, layout_.zwd()) = 1.0;
     if (h_previous != nullptr) *h_previous = -j;
     if (h_next != nullptr) *h_next = j;
   }
   return e;
 }
 
-ClockPriorFactor::ClockPriorFactor(smoother::Key state, double clock_m, double sigma_m)
-    : NoiseModelFactorN(smoother::NoiseModel::isotropic(1, sigma_m), {state}), clock_m_(clock_m) {}
+ClockPriorFactor::ClockPriorFactor(smoother::Key state, int clock_index, double clock_m, double sigma_m)
+    : NoiseModelFactorN(smoother::NoiseModel::isotropic(1, sigma_m), {state}),
+      clock_index_(clock_index),
+      clock_m_(clock_m) {}
 
 Vector ClockPriorFactor::evaluateError(const Vector& state, Matrix* h_state) const {
   Vector e(1);
-  e(0) = state(4) - clock_m_;
+  e(0) = state(clock_index_) - clock_m_;
   if (h_state != nullptr) {
-    Matrix j = Matrix::Zero(1, ReceiverState::kDim);
-    j(0, 4) = 1.0;
+    Matrix j = Matrix::Zero(1, state.size());
+    j(0, clock_index_) = 1.0;
     *h_state = j;
   }
   return e;

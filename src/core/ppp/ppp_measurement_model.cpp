@@ -128,7 +128,7 @@ void PppMeasurementModel::evaluate(const std::vector<DualFrequencyObservation>& 
   out.time = t_rx;
   const Eigen::Vector3d marker = state.position_ecef_m;
   if (!marker.allFinite() || marker.norm() < 1.0e6) {
-    for (const auto& o : observations) out.rejected.push_back({o.satellite, "linearisation point not usable"});
+    for (const auto& o : observations) out.rejected.push_back({o.satellite, RejectionReason::LinearisationPointUnusable, "linearisation point not usable"});
     return;
   }
   const bool arcs_ok = arcs.size() == observations.size();
@@ -182,7 +182,7 @@ void PppMeasurementModel::evaluate(const std::vector<DualFrequencyObservation>& 
   for (std::size_t i = 0; i < observations.size(); ++i) {
     const DualFrequencyObservation& o = observations[i];
     const SatelliteId sat = o.satellite;
-    auto reject = [&](std::string why) { out.rejected.push_back({sat, std::move(why)}); };
+    auto reject = [&](RejectionReason reason, std::string why) { out.rejected.push_back({sat, reason, std::move(why)}); };
     SystemTerms& st = systems[static_cast<int>(sat.system)];
     if (!st.done || st.band1 != o.code1.band || st.band2 != o.code2.band) {
       st = SystemTerms{};
@@ -216,7 +216,13 @@ void PppMeasurementModel::evaluate(const std::vector<DualFrequencyObservation>& 
       }
     }
     if (!st.ok) {
-      reject(st.missing);
+      reject(RejectionReason::MissingAntennaCalibration, st.missing);
+      continue;
+    }
+    const int receiver_clock = state.layout.clock(sat.system);
+    if (receiver_clock < 0) {
+      reject(RejectionReason::NoReceiverClock,
+             std::string("no receiver clock for system ") + systemLetter(sat.system) + " in the state layout");
       continue;
     }
     const Eigen::Vector3d receiver_apc = marker + st.receiver_apc_ecef;
@@ -224,7 +230,7 @@ void PppMeasurementModel::evaluate(const std::vector<DualFrequencyObservation>& 
     const double phase_if = ionosphereFree(o.phase1_cycles * kSpeedOfLight_mps / o.frequency1_hz,
                                            o.phase2_cycles * kSpeedOfLight_mps / o.frequency2_hz, st.k);
     if (!std::isfinite(code_if) || !std::isfinite(phase_if) || code_if < 1.0e7 || code_if > 1.0e8) {
-      reject(format("observed IF code %.3f m / phase not usable", code_if));
+      reject(RejectionReason::ObservationUnusable, format("observed IF code %.3f m / phase not usable", code_if));
       continue;
     }
 
@@ -232,14 +238,14 @@ void PppMeasurementModel::evaluate(const std::vector<DualFrequencyObservation>& 
     const GnssTime t_nominal = t_rx - code_if / kSpeedOfLight_mps;
     const EphemerisAnswer<EphemerisClock> clock = ephemeris_.satelliteClock(sat, t_nominal);
     if (!clock.ok()) {
-      reject("no clock: " + clock.detail);
+      reject(RejectionReason::NoClock, "no clock: " + clock.detail);
       continue;
     }
     const double dts = clock.value->clock_bias_s;
     const GnssTime t_tx = t_nominal - dts;
     const EphemerisAnswer<EphemerisOrbit> orbit = ephemeris_.satelliteOrbit(sat, t_tx);
     if (!orbit.ok()) {
-      reject("no orbit: " + orbit.detail);
+      reject(RejectionReason::NoOrbit, "no orbit: " + orbit.detail);
       continue;
     }
     // An antenna-phase-centre orbit: the position stands for both (the offset is in it).
@@ -247,7 +253,7 @@ void PppMeasurementModel::evaluate(const std::vector<DualFrequencyObservation>& 
     const Eigen::Vector3d& vel_tx = orbit.value->velocity_ecef_mps;
     const bool orbit_at_apc = orbit.value->reference == EphemerisReference::AntennaPhaseCentre;
     if (options_.exclude_eclipse && eclipseState(com_tx, sun_moon.sun_ecef_m) != EclipseState::Sunlit) {
-      reject("satellite in the Earth's shadow (eclipse)");
+      reject(RejectionReason::Eclipse, "satellite in the Earth's shadow (eclipse)");
       continue;
     }
     const SatelliteBodyAxes axes = nominalSatelliteAxes(com_tx, vel_tx, sun_moon.sun_ecef_m);
@@ -263,7 +269,8 @@ void PppMeasurementModel::evaluate(const std::vector<DualFrequencyObservation>& 
         s2 = cal->frequency(sat.system, antexFrequency(o.phase2.band));
       }
       if (s1 == nullptr || s2 == nullptr) {
-        reject(cal == nullptr ? "missing satellite antenna calibration (no ANTEX block valid at the epoch)"
+        reject(RejectionReason::MissingAntennaCalibration,
+               cal == nullptr ? "missing satellite antenna calibration (no ANTEX block valid at the epoch)"
                               : "missing satellite antenna calibration for frequencies of " + cal->label());
         continue;
       }
@@ -290,7 +297,7 @@ void PppMeasurementModel::evaluate(const std::vector<DualFrequencyObservation>& 
     double azimuth = std::atan2(los_enu.x(), los_enu.y());
     if (azimuth < 0.0) azimuth += 2.0 * kPi;
     if (elevation < options_.elevation_cutoff_rad) {
-      reject(format("elevation %.1f deg below cutoff %.1f deg", elevation * kRadToDeg,
+      reject(RejectionReason::BelowElevationCutoff, format("elevation %.1f deg below cutoff %.1f deg", elevation * kRadToDeg,
                     options_.elevation_cutoff_rad * kRadToDeg));
       continue;
     }
@@ -301,7 +308,7 @@ void PppMeasurementModel::evaluate(const std::vector<DualFrequencyObservation>& 
       const double zenith = 0.5 * kPi - elevation;
       const auto v = combine(st.r1->pcv_m(zenith, azimuth), st.r2->pcv_m(zenith, azimuth), st.k);
       if (!v) {
-        reject(format("receiver PCV undefined at zenith %.1f deg", zenith * kRadToDeg));
+        reject(RejectionReason::UndefinedPhaseCentreVariation, format("receiver PCV undefined at zenith %.1f deg", zenith * kRadToDeg));
         continue;
       }
       pcv_r = *v;
@@ -310,7 +317,7 @@ void PppMeasurementModel::evaluate(const std::vector<DualFrequencyObservation>& 
       nadir = std::acos(std::clamp(-los.dot(axes.z_ecef), -1.0, 1.0));
       const auto v = combine(s1->pcv.evaluateNoAzimuth_m(nadir), s2->pcv.evaluateNoAzimuth_m(nadir), st.k);
       if (!v) {
-        reject(format("satellite PCV undefined at nadir %.2f deg", nadir * kRadToDeg));
+        reject(RejectionReason::UndefinedPhaseCentreVariation, format("satellite PCV undefined at nadir %.2f deg", nadir * kRadToDeg));
         continue;
       }
       pcv_s = *v;
@@ -339,13 +346,13 @@ void PppMeasurementModel::evaluate(const std::vector<DualFrequencyObservation>& 
       const std::optional<double> prev = windup != nullptr ? windup->previous(sat, arc) : std::nullopt;
       const auto w = phaseWindup_cycles(axes, receiver_axes, apc, receiver_apc, prev);
       if (!w) {
-        reject("phase wind-up undefined (degenerate geometry)");
+        reject(RejectionReason::UndefinedWindup, "phase wind-up undefined (degenerate geometry)");
         continue;
       }
       windup_cycles = *w;
     }
 
-    const double common = rho + state.clock_m - kSpeedOfLight_mps * (dts + rel_s) + mf.hydrostatic * zhd_m +
+    const double common = rho + state.clock_m(sat.system) - kSpeedOfLight_mps * (dts + rel_s) + mf.hydrostatic * zhd_m +
                           mf.wet * state.zwd_m + shapiro + pcv_r + pcv_s;
     SatelliteMeasurement m;
     m.satellite = sat;
@@ -355,7 +362,10 @@ void PppMeasurementModel::evaluate(const std::vector<DualFrequencyObservation>& 
     m.observed_code_m = code_if;
     m.observed_phase_m = phase_if;
     const Eigen::Vector3d d_position = -los + mf.hydrostatic * zhd_rate * up_ecef;
-    m.jacobian << d_position.transpose(), mf.wet, 1.0;
+    m.jacobian = Eigen::RowVectorXd::Zero(state.layout.dim());
+    m.jacobian.segment<ReceiverStateLayout::kPositionSize>(state.layout.position()) = d_position.transpose();
+    m.jacobian(state.layout.zwd()) = mf.wet;
+    m.jacobian(receiver_clock) = 1.0;  // the satellite's own system clock
     const double sin_el = std::max(std::sin(elevation), 1.0e-3);
     m.phase_sigma_m = options_.phase_sigma_zenith_m * st.sigma_factor / sin_el;
     m.code_sigma_m = m.phase_sigma_m * options_.code_phase_ratio;
@@ -364,7 +374,7 @@ void PppMeasurementModel::evaluate(const std::vector<DualFrequencyObservation>& 
     m.satellite_apc_ecef_m = apc;
     m.receiver_apc_offset_ecef_m = st.receiver_apc_ecef;
     if (!std::isfinite(m.predicted_code_m) || !std::isfinite(m.predicted_phase_m) || !m.jacobian.allFinite()) {
-      reject("non-finite model value");
+      reject(RejectionReason::NonFiniteModel, "non-finite model value");
       continue;
     }
     if (windup != nullptr && options_.phase_windup) windup->update(sat, arc, windup_cycles);

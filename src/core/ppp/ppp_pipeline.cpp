@@ -51,15 +51,16 @@ struct ResidualAccumulator {
 
 }  // namespace
 
-std::string reasonCategory(const std::string& reason) {
-  std::size_t end = 0;
-  while (end < reason.size() && !std::isdigit(static_cast<unsigned char>(reason[end])) && reason[end] != ':' &&
-         reason[end] != '(' && reason[end] != '-' && reason[end] != '+')
-    ++end;
-  std::string c = reason.substr(0, end);
-  while (!c.empty() && (c.back() == ' ' || c.back() == ',' || c.back() == '|')) c.pop_back();
-  return c.empty() ? "other" : c;
+std::string toString(RejectionStage stage) {
+  switch (stage) {
+    case RejectionStage::Signals: return "signals";
+    case RejectionStage::Arcs: return "arcs";
+    case RejectionStage::Model: return "model";
+  }
+  return "unknown";
 }
+
+std::string toString(const RejectionKey& key) { return toString(key.stage) + ": " + toString(key.reason); }
 
 struct PppPipeline::Impl {
   std::unique_ptr<ObservationSource> source;
@@ -209,7 +210,7 @@ PppRunSummary PppPipeline::run(EpochEstimator& estimator, const EpochCallback& o
     summary.arcs += static_cast<std::size_t>(rec.new_arcs);
     summary.slips += static_cast<std::size_t>(rec.slips);
     for (const auto& x : rec.rejected)
-      if (x.stage == "model") acc[x.satellite].rejections++;
+      if (x.stage == RejectionStage::Model) acc[x.satellite].rejections++;
     switch (rec.status) {
       case EpochStatus::Ok: ++summary.epochs_solved; break;
       case EpochStatus::NoSolution: ++summary.epochs_no_solution; break;
@@ -228,7 +229,9 @@ PppRunSummary PppPipeline::run(EpochEstimator& estimator, const EpochCallback& o
         a.el_max = std::max(a.el_max, res.elevation_rad * kRadToDeg);
       }
     }
-    for (const auto& x : rec.rejected) summary.rejection_counts[x.stage + ": " + reasonCategory(x.reason)]++;
+    for (const auto& x : rec.rejected) summary.rejection_counts[{x.stage, x.reason}]++;
+    if (rec.status != EpochStatus::Ok) summary.no_solution_counts[rec.no_solution_reason]++;
+    if (rec.estimator_reset) ++summary.estimator_resets;
     if (on_epoch) on_epoch(rec);
   }
   estimator.arcsEnded(processor.finish());

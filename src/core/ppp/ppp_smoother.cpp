@@ -19,7 +19,6 @@ using smoother::Vector;
 
 namespace {
 
-constexpr int kRx = ReceiverState::kDim;
 using SteadyClock = std::chrono::steady_clock;
 
 double secondsSince(SteadyClock::time_point t0) {
@@ -40,10 +39,17 @@ std::string PppSmootherOptions::validate() const {
   return {};
 }
 
-PppSmoother::PppSmoother(StochasticModel model, PppSmootherOptions options, CodeLeastSquaresOptions start_options)
-    : model_(model), options_(options), start_options_(start_options) {
+PppSmoother::PppSmoother(StochasticModel model, PppSmootherOptions options, CodeLeastSquaresOptions start_options,
+                         ReceiverStateLayout layout)
+    : PppEstimatorBase(model, options.screening, start_options, layout), options_(options) {
   if (auto problem = options_.validate(); !problem.empty()) throw std::invalid_argument(problem);
   if (auto problem = model_.validate(); !problem.empty()) throw std::invalid_argument(problem);
+  newGraph();
+}
+
+void PppSmoother::newGraph() {
+  isam_.reset();
+  lag_.reset();
   if (options_.fixed_lag_s > 0.0) {
     smoother::FixedLagParams p;
     p.lag_s = options_.fixed_lag_s;
@@ -61,9 +67,9 @@ PppSmoother& PppSmoother::operator=(PppSmoother&&) noexcept = default;
 smoother::ISAM2Params PppSmoother::isamParams() const {
   smoother::ISAM2Params p;
   p.relinearize_skip = options_.relinearize_skip;
-  Eigen::VectorXd state(kRx);
-  state << options_.relinearize_position_m, options_.relinearize_position_m, options_.relinearize_position_m,
-      options_.relinearize_zwd_m, options_.relinearize_clock_m;
+  Eigen::VectorXd state = Eigen::VectorXd::Constant(layout_.dim(), options_.relinearize_clock_m);
+  state.segment<ReceiverStateLayout::kPositionSize>(layout_.position()).setConstant(options_.relinearize_position_m);
+  state(layout_.zwd()) = options_.relinearize_zwd_m;
   p.relinearize_thresholds_by_symbol['x'] = state;
   p.relinearize_threshold_by_symbol['b'] = options_.relinearize_bias_m;
   p.wildfire_threshold = options_.wildfire_threshold_m;
@@ -98,7 +104,7 @@ std::vector<SmoothedEpoch> PppSmoother::trajectoryFrom(const smoother::Values& v
     SmoothedEpoch e;
     e.time = s.time;
     e.index = s.index;
-    e.state = ReceiverState::fromVector(v.at(stateKey(s.index)));
+    e.state = ReceiverState::fromVector(v.at(stateKey(s.index)), layout_);
     out.push_back(e);
   }
   return out;
@@ -111,9 +117,9 @@ std::optional<GnssTime> PppSmoother::lastTime() const {
   return states_.back().time;
 }
 
-ReceiverState PppSmoother::receiverState() const { return initialised() ? filtered_.state : ReceiverState{}; }
+ReceiverState PppSmoother::receiverState() const { return initialised() ? filtered_.state : ReceiverState(layout_); }
 ReceiverCovariance PppSmoother::receiverCovariance() const {
-  return initialised() ? filtered_.covariance : ReceiverCovariance::Zero();
+  return initialised() ? filtered_.covariance : ReceiverCovariance::Zero(layout_.dim(), layout_.dim());
 }
 
 std::vector<ArcId> PppSmoother::activeArcs() const {
@@ -150,7 +156,7 @@ std::vector<SmoothedEpoch> PppSmoother::smoothedTrajectory(bool with_covariance)
     e.index = s.index;
     const Key key = stateKey(s.index);
     if (isam.exists(key)) {
-      e.state = ReceiverState::fromVector(estimate.at(key));
+      e.state = ReceiverState::fromVector(estimate.at(key), layout_);
       if (with_covariance) e.covariance = ReceiverCovariance(covariances.at(key));
     } else {
       e.state = s.last_estimate;
@@ -166,8 +172,9 @@ std::optional<SmoothedEpoch> PppSmoother::smoothedEpochAt(const GnssTime& time, 
   if (after == states_.begin()) return std::nullopt;
   const smoother::ISAM2& isam = isam2();
   auto it = std::prev(after);
-  if (!isam.exists(stateKey(it->index))) {
+  if (lag_ && !isam.exists(stateKey(it->index))) {
     // Fixed lag: the marginalized states are a prefix (oldest first); take the oldest kept.
+    // (A full smoother after a restart: the states before it keep their last estimate.)
     const auto kept = std::partition_point(states_.begin(), states_.end(),
                                            [&](const StateRecord& s) { return !isam.exists(stateKey(s.index)); });
     if (kept != states_.end()) it = kept;
@@ -177,7 +184,7 @@ std::optional<SmoothedEpoch> PppSmoother::smoothedEpochAt(const GnssTime& time, 
   e.index = it->index;
   const Key key = stateKey(it->index);
   if (isam.exists(key)) {
-    e.state = ReceiverState::fromVector(isam.calculateEstimate(key));
+    e.state = ReceiverState::fromVector(isam.calculateEstimate(key), layout_);
     if (with_covariance) e.covariance = ReceiverCovariance(isam.marginalCovariance(key));
   } else {
     e.state = it->last_estimate;
@@ -185,127 +192,77 @@ std::optional<SmoothedEpoch> PppSmoother::smoothedEpochAt(const GnssTime& time, 
   return e;
 }
 
-SmootherEpochResult PppSmoother::processEpoch(const GnssTime& time, const MeasurementFunction& evaluate) {
-  const auto t_start = SteadyClock::now();
-  SmootherEpochResult result;
-  result.time = time;
-  auto finish = [&](EpochStatus status, std::string reason) {
-    result.status = status;
-    result.reason = std::move(reason);
-    result.active_biases = activeBiasCount();
-    result.epoch_time_s = secondsSince(t_start);
-    return result;
-  };
+ReceiverState PppSmoother::predict(double, bool, const std::optional<ReceiverState>& start) {
+  return start ? *start : filtered_.state;
+}
 
-  // 1. Predicted state: the code least squares at the first epoch, else the last filtered state.
-  const bool first = !initialised();
-  ReceiverState predicted;
-  if (first) {
-    ReceiverState start;
-    start.position_ecef_m = approx_position_ecef_m_.value_or(Eigen::Vector3d::Zero());
-    start.zwd_m = model_.initial_zwd_m;
-    const CodeLeastSquaresResult ls = codeLeastSquares(evaluate, start, start_options_);
-    result.iterations += ls.iterations;
-    if (!ls.ok) {
-      result.rejected = ls.rejected;
-      return finish(EpochStatus::NoSolution, "no initial position: " + ls.reason);
-    }
-    predicted = ls.state;
-  } else {
-    result.dt_s = time - states_.back().time;
-    if (!std::isfinite(result.dt_s) || result.dt_s <= 0.0)
-      return finish(EpochStatus::Failed, "epoch " + time.toString() + " is not after the last solved epoch " +
-                                             states_.back().time.toString());
-    predicted = filtered_.state;
-  }
-  const double dt = result.dt_s;
+std::optional<ArcBiasPrior> PppSmoother::predictedBias(ArcId arc) const {
+  auto it = arcs_.find(arc);
+  if (it == arcs_.end()) return std::nullopt;
+  return ArcBiasPrior{it->second.filtered_m, it->second.filtered_variance_m2};
+}
 
-  // 2. Linearise once at the prediction; usable measurements; white clock shift.
-  const EpochMeasurements epoch0 = evaluate(predicted);
-  result.iterations += 1;
-  result.rejected = epoch0.rejected;
-  std::vector<SatelliteMeasurement> cand = usableMeasurements(epoch0.used, result.rejected);
-  if (options_.screening.clock_from_code_median) {
-    if (const auto shift = medianCodeClockShift_m(cand)) {
-      predicted.clock_m += *shift;
-      applyClockShift(cand, *shift);
-    }
-  }
+void PppSmoother::finishEpoch(EstimatorEpochResult& result) const {
+  if (!result.smoother) result.smoother.emplace();
+}
 
-  // 3. Arc bookkeeping on a copy (committed only with a solution), then screening.
+bool PppSmoother::solve(const EpochSolveInput& in, EpochSolveOutput& out, EstimatorEpochResult& result) {
+  SmootherEpochDiagnostics& diag = result.smoother.emplace();
+  const int kRx = layout_.dim();
+  const ReceiverState& predicted = in.predicted;
   std::map<ArcId, ArcSlot> arcs = arcs_;
-  for (const auto& m : cand)
-    for (auto it = arcs.begin(); it != arcs.end(); ++it)
-      if (it->second.satellite == m.satellite && it->first != m.arc) {
-        arcs.erase(it);
-        break;
-      }
-  for (auto it = arcs.begin(); it != arcs.end();)
-    it = time - it->second.last_used > options_.screening.stale_arc_timeout_s ? arcs.erase(it) : std::next(it);
+  for (const ArcId arc : in.dropped_arcs) arcs.erase(arc);
 
-  PrefitScreeningResult screening =
-      screenPrefit(cand, options_.screening, [&arcs](ArcId arc) -> std::optional<ArcBiasPrior> {
-        auto it = arcs.find(arc);
-        if (it == arcs.end()) return std::nullopt;
-        return ArcBiasPrior{it->second.filtered_m, it->second.filtered_variance_m2};
-      });
-  result.prefit_rejections += static_cast<int>(screening.rejected.size());
-  result.rejected.insert(result.rejected.end(), screening.rejected.begin(), screening.rejected.end());
-  const std::vector<SatelliteMeasurement>& screened = screening.kept;
-  const int n_sat = static_cast<int>(screened.size());
-  if (n_sat < options_.screening.min_satellites)
-    return finish(EpochStatus::NoSolution, std::to_string(n_sat) + " satellites usable after screening, at least " +
-                                               std::to_string(options_.screening.min_satellites) + " needed");
-
-  // 4. New factors and variables.
-  const std::uint32_t index = first ? 0u : states_.back().index + 1;
+  // New factors and variables.
+  const std::uint32_t index = in.first ? 0u : states_.back().index + 1;
   const Key x = stateKey(index);
   smoother::NonlinearFactorGraph factors;
   smoother::Values values;
   values.insert(x, predicted.vector());
-  if (first) {
-    Eigen::VectorXd sigmas(kRx);
-    sigmas << Eigen::Vector3d::Constant(model_.position.initial_sigma_m), model_.zwd.initial_sigma_m,
-        model_.clock.initial_sigma_m;
+  if (in.first) {
+    Eigen::VectorXd sigmas = Eigen::VectorXd::Constant(kRx, model_.clock.initial_sigma_m);
+    sigmas.segment<ReceiverStateLayout::kPositionSize>(layout_.position()).setConstant(model_.position.initial_sigma_m);
+    sigmas(layout_.zwd()) = model_.zwd.initial_sigma_m;
     factors.push_back(std::make_shared<smoother::PriorFactor>(x, predicted.vector(), NoiseModel::sigmas(sigmas)));
   } else {
     const Key previous = stateKey(states_.back().index);
     factors.push_back(std::make_shared<ReceiverRandomWalkFactor>(
-        previous, x, sigmaOf(model_.position.processVariance_m2(dt)), sigmaOf(model_.zwd.processVariance_m2(dt))));
-    factors.push_back(
-        std::make_shared<ClockPriorFactor>(x, predicted.clock_m, sigmaOf(model_.clock.processVariance_m2(dt))));
+        previous, x, layout_, sigmaOf(model_.position.processVariance_m2(in.dt_s)),
+        sigmaOf(model_.zwd.processVariance_m2(in.dt_s))));
+    for (const GnssSystem system : layout_.clockSystems())
+      factors.push_back(std::make_shared<ClockPriorFactor>(x, layout_.clock(system), predicted.clock_m(system),
+                                                           sigmaOf(model_.clock.processVariance_m2(in.dt_s))));
   }
   auto noise = [&](double sigma) {
     NoiseModel::Ptr n = NoiseModel::isotropic(1, sigma);
     if (options_.robust) n = n->withRobust({smoother::RobustKernel::Type::Huber, options_.huber_width_sigmas});
     return n;
   };
+  const std::size_t n_sat = in.screened.size();
   KeyVector newest{x};
-  std::vector<bool> new_arc(screened.size(), false);
-  std::vector<Key> bias_of(screened.size());
-  std::vector<double> phase_prefit(screened.size());
-  for (std::size_t k = 0; k < screened.size(); ++k) {
-    const SatelliteMeasurement& m = screened[k];
+  std::vector<bool> new_arc(n_sat, false);
+  std::vector<Key> bias_of(n_sat);
+  std::vector<double> phase_prefit(n_sat);
+  for (std::size_t k = 0; k < n_sat; ++k) {
+    const SatelliteMeasurement& m = in.screened[k].m;
     auto it = arcs.find(m.arc);
-    if (it == arcs.end()) {  // new arc: bias from phase minus code, a priori sigma
+    if (it == arcs.end()) {  // new arc: the front end's initial value, a priori sigma
       const Key b = biasKey(m.satellite, m.arc);
-      const double b0 = m.phaseResidualWithoutBias_m() - m.codeResidual_m();
+      const double b0 = in.screened[k].new_arc_bias_m;
       if (isam2().exists(b)) {  // the arc left the active set earlier (stale) and returns
-        it = arcs.emplace(m.arc, ArcSlot{m.satellite, b, time, index, isam2().calculateEstimate(b)(0),
+        it = arcs.emplace(m.arc, ArcSlot{m.satellite, b, index, isam2().calculateEstimate(b)(0),
                                          model_.phase_bias.initialVariance_m2()})
                  .first;
       } else {
         values.insert(b, Vector::Constant(1, b0));
         factors.push_back(std::make_shared<smoother::PriorFactor>(
             b, Vector::Constant(1, b0), NoiseModel::isotropic(1, model_.phase_bias.initial_sigma_m)));
-        it = arcs.emplace(m.arc, ArcSlot{m.satellite, b, time, index, b0, model_.phase_bias.initialVariance_m2()})
-                 .first;
+        it = arcs.emplace(m.arc, ArcSlot{m.satellite, b, index, b0, model_.phase_bias.initialVariance_m2()}).first;
         new_arc[k] = true;
-        ++result.new_biases;
+        ++diag.new_biases;
       }
     }
     ArcSlot& slot = it->second;
-    slot.last_used = time;
     slot.last_state = index;
     bias_of[k] = slot.key;
     phase_prefit[k] = m.phaseResidualWithoutBias_m() - slot.filtered_m;
@@ -315,19 +272,19 @@ SmootherEpochResult PppSmoother::processEpoch(const GnssTime& time, const Measur
     factors.push_back(std::make_shared<PppPhaseFactor>(x, slot.key, prediction, noise(m.phase_sigma_m)));
   }
 
-  // 5. One iSAM2 update, newest state and observed biases in the root.
+  // One iSAM2 update, newest state and observed biases in the root.
   std::map<Key, std::uint32_t> bias_last_state = bias_last_state_;
   for (Key b : bias_of) bias_last_state[b] = index;
   const auto t_update = SteadyClock::now();
   try {
     if (lag_) {
-      std::unordered_map<Key, double> stamps{{x, time - (states_.empty() ? time : states_.front().time)}};
+      std::unordered_map<Key, double> stamps{{x, in.time - (states_.empty() ? in.time : states_.front().time)}};
       const smoother::FixedLagResult r = lag_->update(factors, values, stamps, newest);
-      result.variables_relinearized = r.isam2.variables_relinearized;
-      result.variables_reeliminated = r.isam2.variables_reeliminated;
-      result.factors_relinearized = r.isam2.factors_relinearized;
-      result.cliques_touched = r.isam2.cliquesTouched();
-      result.variables_marginalized = r.variables_marginalized;
+      diag.variables_relinearized = r.isam2.variables_relinearized;
+      diag.variables_reeliminated = r.isam2.variables_reeliminated;
+      diag.factors_relinearized = r.isam2.factors_relinearized;
+      diag.cliques_touched = r.isam2.cliquesTouched();
+      diag.variables_marginalized = r.variables_marginalized;
     } else {
       smoother::ISAM2UpdateParams up;
       up.newest_keys = newest;
@@ -337,73 +294,133 @@ SmootherEpochResult PppSmoother::processEpoch(const GnssTime& time, const Measur
         return it == bias_last_state.end() ? 0 : static_cast<int>(it->second);
       };
       const smoother::ISAM2Result r = isam_->update(factors, values, up);
-      result.variables_relinearized = r.variables_relinearized;
-      result.variables_reeliminated = r.variables_reeliminated;
-      result.factors_relinearized = r.factors_relinearized;
-      result.cliques_touched = r.cliquesTouched();
+      diag.variables_relinearized = r.variables_relinearized;
+      diag.variables_reeliminated = r.variables_reeliminated;
+      diag.factors_relinearized = r.factors_relinearized;
+      diag.cliques_touched = r.cliquesTouched();
     }
   } catch (const std::exception& e) {
-    result.update_time_s = secondsSince(t_update);
-    return finish(EpochStatus::Failed, std::string("smoother update failed: ") + e.what());
+    diag.update_time_s = secondsSince(t_update);
+    return fail(result, EpochStatus::Failed, NoSolutionReason::SmootherUpdateFailed,
+                std::string("smoother update failed: ") + e.what());
   }
-  result.update_time_s = secondsSince(t_update);
+  diag.update_time_s = secondsSince(t_update);
 
-  // 6. Filtered estimate and marginals of the root variables (new state, observed biases).
+  // Filtered estimate and marginals of the root variables (new state, observed biases).
   const smoother::ISAM2& isam = isam2();
   KeyVector marginal_keys{x};
   for (Key b : bias_of) marginal_keys.push_back(b);
   const smoother::Matrix joint = isam.jointMarginalCovariance(marginal_keys);
   EpochSolution solution;
   const Vector x_est = isam.calculateEstimate(x);
-  solution.state = ReceiverState::fromVector(x_est);
-  solution.covariance = joint.topLeftCorner<kRx, kRx>();
+  solution.state = ReceiverState::fromVector(x_est, layout_);
+  solution.covariance = joint.topLeftCorner(kRx, kRx);
   if (!x_est.allFinite() || !solution.covariance.allFinite())
-    return finish(EpochStatus::Failed, "non-finite filtered estimate or covariance");
+    return fail(result, EpochStatus::Failed, NoSolutionReason::NonFiniteFilteredEstimate,
+                "non-finite filtered estimate or covariance");
 
   // Commit.
-  for (std::size_t k = 0; k < screened.size(); ++k) {
-    ArcSlot& slot = arcs.at(screened[k].arc);
+  for (std::size_t k = 0; k < n_sat; ++k) {
+    ArcSlot& slot = arcs.at(in.screened[k].m.arc);
     slot.filtered_m = isam.calculateEstimate(slot.key)(0);
     slot.filtered_variance_m2 = joint(kRx + static_cast<int>(k), kRx + static_cast<int>(k));
-    result.biases.push_back({screened[k].arc, slot.satellite, slot.filtered_m,
-                             std::sqrt(std::max(0.0, slot.filtered_variance_m2))});
+    diag.biases.push_back({in.screened[k].m.arc, slot.satellite, slot.filtered_m,
+                           std::sqrt(std::max(0.0, slot.filtered_variance_m2))});
   }
   arcs_ = std::move(arcs);
   bias_last_state_ = std::move(bias_last_state);
-  states_.push_back({time, index, solution.state});
+  states_.push_back({in.time, index, solution.state});
   if (record_graph_) {
     recorded_factors_.insert(recorded_factors_.end(), factors.begin(), factors.end());
-    for (Key key : values.keys()) recorded_values_.insert(key, values.at(key));
+    for (Key key : values.keys())
+      if (!recorded_values_.exists(key)) recorded_values_.insert(key, values.at(key));
   }
   if (lag_) {  // keep the latest estimate of the states still in the window
     for (auto it = states_.rbegin(); it != states_.rend() && isam.exists(stateKey(it->index)); ++it)
-      it->last_estimate = ReceiverState::fromVector(isam.calculateEstimate(stateKey(it->index)));
+      it->last_estimate = ReceiverState::fromVector(isam.calculateEstimate(stateKey(it->index)), layout_);
     for (auto it = bias_last_state_.begin(); it != bias_last_state_.end();)
       it = isam.exists(it->first) ? std::next(it) : bias_last_state_.erase(it);
   }
   filtered_ = solution;
-  result.solution = solution;
+  out.solution = solution;
+  out.ambiguities = AmbiguityState::Float;
 
   // Residuals: prefit at the prediction, postfit at the filtered state.
-  for (std::size_t k = 0; k < screened.size(); ++k) {
-    const SatelliteMeasurement& m = screened[k];
+  for (std::size_t k = 0; k < n_sat; ++k) {
+    const SatelliteMeasurement& m = in.screened[k].m;
     const SatellitePrediction prediction(m, predicted, options_.exact_range);
-    MeasurementResidual r;
-    r.satellite = m.satellite;
-    r.arc = m.arc;
+    SolvedMeasurement r;
+    r.screened_index = k;
+    r.m = m;
     r.new_arc = new_arc[k];
-    r.elevation_rad = m.elevation_rad;
-    r.azimuth_rad = m.azimuth_rad;
-    r.code_prefit_m = m.codeResidual_m();
     r.phase_prefit_m = phase_prefit[k];
     r.code_postfit_m = m.observed_code_m - prediction.code_m(x_est, nullptr);
     r.phase_postfit_m = m.observed_phase_m - prediction.phase_m(x_est, nullptr) - arcs_.at(m.arc).filtered_m;
-    r.code_sigma_m = m.code_sigma_m;
-    r.phase_sigma_m = m.phase_sigma_m;
-    result.residuals.push_back(r);
-    result.used.push_back(m.satellite);
+    out.rows.push_back(std::move(r));
   }
-  return finish(EpochStatus::Ok, {});
+  return true;
+}
+
+bool PppSmoother::recoverAfterFailure(EstimatorEpochResult& result) {
+  // The failed update may have left its factors in the graph: start a new graph
+  // from the last good state. Keep the current estimate of the old states when it
+  // is still readable (their smoothed values), else their last estimate.
+  if (!states_.empty()) {
+    try {
+      const smoother::Values estimate = isam2().calculateBestEstimate();
+      std::vector<ReceiverState> read;
+      bool finite = true;
+      for (const auto& s : states_) {
+        if (!estimate.exists(stateKey(s.index))) continue;
+        const Vector v = estimate.at(stateKey(s.index));
+        finite = finite && v.allFinite();
+      }
+      if (finite)
+        for (auto& s : states_)
+          if (estimate.exists(stateKey(s.index)))
+            s.last_estimate = ReceiverState::fromVector(estimate.at(stateKey(s.index)), layout_);
+    } catch (const std::exception&) {
+      // keep the last estimates
+    }
+  }
+  newGraph();
+  bias_last_state_.clear();
+  if (states_.empty()) {  // failed at the first epoch: the next one starts afresh
+    arcs_.clear();
+    result.reason += "; smoother restarted (empty graph)";
+    return true;
+  }
+  const StateRecord& last = states_.back();
+  const Key x = stateKey(last.index);
+  smoother::NonlinearFactorGraph factors;
+  smoother::Values values;
+  values.insert(x, filtered_.state.vector());
+  factors.push_back(std::make_shared<smoother::PriorFactor>(x, filtered_.state.vector(),
+                                                            NoiseModel::covariance(filtered_.covariance)));
+  KeyVector newest{x};
+  for (auto& [arc, slot] : arcs_) {
+    values.insert(slot.key, Vector::Constant(1, slot.filtered_m));
+    factors.push_back(std::make_shared<smoother::PriorFactor>(
+        slot.key, Vector::Constant(1, slot.filtered_m), NoiseModel::isotropic(1, sigmaOf(slot.filtered_variance_m2))));
+    slot.last_state = last.index;
+    bias_last_state_[slot.key] = last.index;
+    newest.push_back(slot.key);
+  }
+  try {
+    if (lag_) {
+      std::unordered_map<Key, double> stamps{{x, last.time - states_.front().time}};
+      lag_->update(factors, values, stamps, newest);
+    } else {
+      smoother::ISAM2UpdateParams up;
+      up.newest_keys = newest;
+      isam_->update(factors, values, up);
+    }
+  } catch (const std::exception& e) {
+    result.reason += std::string("; smoother restart failed: ") + e.what();
+    return false;
+  }
+  result.reason += "; smoother restarted from the last filtered state";
+  return true;
 }
 
 }  // namespace ppp

@@ -38,17 +38,22 @@ std::string measurementProblem(const SatelliteMeasurement& m) {
   return {};
 }
 
+bool matchesLayout(const SatelliteMeasurement& m, const ReceiverStateLayout& layout) {
+  return m.jacobian.size() == layout.dim();
+}
+
 std::vector<SatelliteMeasurement> usableMeasurements(const std::vector<SatelliteMeasurement>& used,
                                                      std::vector<RejectedSatellite>& rejected) {
   std::vector<SatelliteMeasurement> out;
   std::set<SatelliteId> seen;
   for (const auto& m : used) {
     if (!seen.insert(m.satellite).second) {
-      rejected.push_back({m.satellite, "duplicate measurement of the satellite in the epoch"});
+      rejected.push_back(
+          {m.satellite, RejectionReason::DuplicateMeasurement, "duplicate measurement of the satellite in the epoch"});
       continue;
     }
     if (auto problem = measurementProblem(m); !problem.empty()) {
-      rejected.push_back({m.satellite, problem});
+      rejected.push_back({m.satellite, RejectionReason::NonFiniteModel, problem});
       continue;
     }
     out.push_back(m);
@@ -56,44 +61,65 @@ std::vector<SatelliteMeasurement> usableMeasurements(const std::vector<Satellite
   return out;
 }
 
-std::optional<double> medianCodeClockShift_m(const std::vector<SatelliteMeasurement>& ms) {
-  if (ms.empty()) return std::nullopt;
+std::optional<double> medianCodeClockShift_m(const std::vector<SatelliteMeasurement>& ms,
+                                             const ReceiverStateLayout& layout, GnssSystem system) {
+  const int clock = layout.clock(system);
+  if (clock < 0) return std::nullopt;
   std::vector<double> code_residuals;
-  for (const auto& m : ms) code_residuals.push_back(m.codeResidual_m() / m.jacobian(4));
+  for (const auto& m : ms)
+    if (m.satellite.system == system) code_residuals.push_back(m.codeResidual_m() / m.jacobian(clock));
+  if (code_residuals.empty()) return std::nullopt;
   const double shift = median(code_residuals);
   if (!std::isfinite(shift)) return std::nullopt;
   return shift;
 }
 
-void applyClockShift(std::vector<SatelliteMeasurement>& ms, double shift_m) {
+void applyClockShift(std::vector<SatelliteMeasurement>& ms, const ReceiverStateLayout& layout, GnssSystem system,
+                     double shift_m) {
+  const int clock = layout.clock(system);
+  if (clock < 0) return;
   for (auto& m : ms) {
-    m.predicted_code_m += m.jacobian(4) * shift_m;
-    m.predicted_phase_m += m.jacobian(4) * shift_m;
+    if (m.satellite.system != system) continue;
+    m.predicted_code_m += m.jacobian(clock) * shift_m;
+    m.predicted_phase_m += m.jacobian(clock) * shift_m;
   }
 }
 
-std::vector<CodeOutlier> screenCodeOutliers(const std::vector<SatelliteMeasurement>& ms, double threshold_m) {
+std::vector<CodeOutlier> screenCodeOutliers(const std::vector<SatelliteMeasurement>& ms, double threshold_m,
+                                            const ReceiverStateLayout& layout) {
   std::vector<CodeOutlier> rejected;
   std::vector<std::size_t> active(ms.size());
   for (std::size_t i = 0; i < ms.size(); ++i) active[i] = i;
-  // An outlier is identifiable only with a redundancy of at least 2 (4 unknowns:
-  // position and clock): with 5 satellites every residual of the fit is the
-  // same multiple of one number, and the deleted residual r / (1 - h) of a
-  // satellite the others barely predict explodes (a 0 m true error showed up
-  // as -3186 m in the Monte Carlo figure-eight flights). So at least 6
+  // An outlier is identifiable only with a redundancy of at least 2 (GPS alone:
+  // 4 unknowns, position and clock): with 5 satellites every residual of the fit
+  // is the same multiple of one number, and the deleted residual r / (1 - h) of
+  // a satellite the others barely predict explodes (a 0 m true error showed up
+  // as -3186 m in the Monte Carlo figure-eight flights). So at least unknowns + 2
   // satellites, and only satellites with 1 - h >= kMinCheckability are tested.
+  // The unknowns: position, and the clock of each system with satellites.
   constexpr double kMinCheckability = 0.05;
-  while (active.size() > 5) {
+  for (;;) {
+    std::vector<int> columns;
+    for (int i = 0; i < ReceiverStateLayout::kPositionSize; ++i) columns.push_back(layout.position() + i);
+    for (const GnssSystem system : layout.clockSystems()) {
+      for (const std::size_t k : active) {
+        if (ms[k].satellite.system == system) {
+          columns.push_back(layout.clock(system));
+          break;
+        }
+      }
+    }
+    const int unknowns = static_cast<int>(columns.size());
+    if (static_cast<int>(active.size()) < unknowns + 2) break;
     const int n = static_cast<int>(active.size());
-    Eigen::MatrixXd A(n, 4);  // whitened design
-    Eigen::VectorXd b(n);     // whitened residuals
+    Eigen::MatrixXd A(n, unknowns);  // whitened design
+    Eigen::VectorXd b(n);            // whitened residuals
     for (int k = 0; k < n; ++k) {
       const auto& m = ms[active[k]];
-      A.row(k) << m.jacobian(0), m.jacobian(1), m.jacobian(2), m.jacobian(4);
-      A.row(k) /= m.code_sigma_m;
+      for (int c = 0; c < unknowns; ++c) A(k, c) = m.jacobian(columns[static_cast<std::size_t>(c)]) / m.code_sigma_m;
       b(k) = m.codeResidual_m() / m.code_sigma_m;
     }
-    Eigen::LDLT<Eigen::Matrix4d> ldlt(A.transpose() * A);
+    Eigen::LDLT<Eigen::MatrixXd> ldlt(A.transpose() * A);
     if (ldlt.info() != Eigen::Success || !ldlt.isPositive() || ldlt.rcond() < 1e-14) break;
     const Eigen::VectorXd r = b - A * ldlt.solve(A.transpose() * b);
     const Eigen::MatrixXd leverage = A * ldlt.solve(A.transpose());
@@ -142,13 +168,14 @@ std::string ScreeningOptions::validate() const {
 }
 
 PrefitScreeningResult screenPrefit(const std::vector<SatelliteMeasurement>& candidates,
-                                   const ScreeningOptions& options, const ArcBiasLookup& bias_of) {
+                                   const ScreeningOptions& options, const ArcBiasLookup& bias_of,
+                                   const ReceiverStateLayout& layout) {
   PrefitScreeningResult out;
   std::vector<bool> keep(candidates.size(), true);
-  for (const auto& outlier : screenCodeOutliers(candidates, options.prefit_code_threshold_m)) {
+  for (const auto& outlier : screenCodeOutliers(candidates, options.prefit_code_threshold_m, layout)) {
     keep[outlier.index] = false;
-    out.rejected.push_back(
-        {candidates[outlier.index].satellite, codeOutlierReason(outlier, options.prefit_code_threshold_m)});
+    out.rejected.push_back({candidates[outlier.index].satellite, RejectionReason::PrefitCode,
+                            codeOutlierReason(outlier, options.prefit_code_threshold_m)});
   }
   for (std::size_t k = 0; k < candidates.size(); ++k) {
     if (!keep[k]) continue;
@@ -157,7 +184,7 @@ PrefitScreeningResult screenPrefit(const std::vector<SatelliteMeasurement>& cand
     if (auto why = phaseInnovationRejection(candidates[k], bias->bias_m, bias->variance_m2,
                                             options.prefit_phase_sigmas)) {
       keep[k] = false;
-      out.rejected.push_back({candidates[k].satellite, *why});
+      out.rejected.push_back({candidates[k].satellite, RejectionReason::PrefitPhase, *why});
     }
   }
   for (std::size_t k = 0; k < candidates.size(); ++k)

@@ -456,7 +456,7 @@ SimulatedFlight simulateFlight(const SimulationConfig& config, std::uint64_t see
     ReceiverState state;
     state.position_ecef_m = ts.position_ecef_m;
     state.zwd_m = te.zwd_m;
-    state.clock_m = te.clock_m;
+    state.setClock_m(GnssSystem::GPS, te.clock_m);  // the simulator observes GPS only
     for (int it = 0; it < 3 && !obs.empty(); ++it) {
       model.evaluate(obs, arc_ids, state, &windup, meas, it == 2 ? &terms : nullptr);
       std::size_t u = 0;
