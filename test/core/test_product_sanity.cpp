@@ -124,3 +124,43 @@ TEST(ProductSanity, CleanRealClocksGiveNoOutlierAndOneMicrosecondIsFound) {
 
 }  // namespace
 }  // namespace ppp
+
+namespace ppp {
+namespace {
+
+TEST(ProductLoad, AClockFileOfAnotherDayIsAnErrorNotAFallbackToTheSp3Clocks) {
+  PPP_REQUIRE_SHARED_DATA();
+  RecordFilter filter;  // the ZIM2 hour, GPS
+  filter.systems = {GnssSystem::GPS};
+  filter.first = test::gpst(2026, 5, 13, 0, 0);
+  filter.last = test::gpst(2026, 5, 13, 0, 59, 30);
+  const std::string wrong_day = test::dataPath("ccj2-2021-210/WUM0MGXRAP_20212100000_01D_30S_CLK.CLK.gz");
+  try {
+    PreciseEphemeris::load({test::dataPath(kZim2Sp3)}, {wrong_day}, filter);
+    FAIL() << "a clock file of 2021 loaded for a 2026 hour";
+  } catch (const ParseError& e) {
+    EXPECT_EQ(e.file(), wrong_day);
+    EXPECT_NE(std::string(e.what()).find("no satellite clock record"), std::string::npos) << e.what();
+  }
+  // The right day loads, with no problem.
+  const PreciseEphemeris right = PreciseEphemeris::load({test::dataPath(kZim2Sp3)}, {test::dataPath(kZim2Clk)}, filter);
+  EXPECT_EQ(right.clockSource(), ClockSource::RinexClock);
+  EXPECT_EQ(right.mergeReport().problemCount(), 0u);
+}
+
+TEST(ProductLoad, OutliersAreReportedAsProblemsAndNotUsed) {
+  PPP_REQUIRE_SHARED_DATA();
+  const std::string dir = test::tempDir("product_load").string();
+  const std::string edited = dir + "/edited.sp3";  // a copy made here, never committed
+  std::ofstream(edited) << editedLine(test::dataPath(kZim2Sp3), 104, "PG15  23339.029670", "PG15  23339.030670");
+  const PreciseEphemeris products = PreciseEphemeris::load({edited}, {test::dataPath(kZim2Clk)});
+  ASSERT_EQ(products.mergeReport().problemCount(), 1u);
+  EXPECT_NE(products.mergeReport().problems()[0].reason.find("G15 orbit at 2026-05-13 00:30:00"), std::string::npos);
+  EXPECT_NE(products.mergeReport().summary().find("1 problem(s)"), std::string::npos);
+  EXPECT_EQ(products.mergeReport().summary().find("no problems found"), std::string::npos);
+  const auto g15 = products.orbit(SatelliteId::parse("G15").value(), test::gpst(2026, 5, 13, 0, 30));
+  EXPECT_EQ(g15.status, ProductStatus::BadValueMarker) << g15.reason;
+}
+
+}  // namespace
+}  // namespace ppp

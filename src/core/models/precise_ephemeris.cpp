@@ -189,8 +189,19 @@ PreciseEphemeris PreciseEphemeris::load(const std::vector<std::string>& sp3_path
     eph.merge_report_.addProblem(0, path + ": " + std::to_string(report.problemCount()) +
                                         " problem(s) while reading" + first);
   };
+  // A file that holds nothing for the observations is a wrong input (another day,
+  // another system), never silently replaced by another source.
+  const auto window = [&filter](const RecordFilter& f) {
+    std::string text = "of " + std::string(filter.systems.empty() ? "any system" : "the processed systems");
+    if (f.first && f.last) text += " between " + timeText(*f.first) + " and " + timeText(*f.last);
+    return text;
+  };
   for (const auto& p : sp3_paths) {
     Sp3File f = readSp3(p, sp3_options);
+    if (filter.active() && f.satellites.empty())
+      throw ParseError(p, 0, "no orbit record " + window(sp3_options.filter) +
+                                " (the observation window): products of another "
+                                 "day or system?");
     readingProblems(p, f.report);
     const std::vector<OrbitOutlier> outliers = findOrbitOutliers(f);
     for (const auto& o : outliers) eph.merge_report_.addProblem(0, p + ": " + o.describe() + "; not used");
@@ -199,6 +210,10 @@ PreciseEphemeris PreciseEphemeris::load(const std::vector<std::string>& sp3_path
   }
   for (const auto& p : clock_paths) {
     RinexClockFile f = readRinexClock(p, clock_options);
+    if (filter.active() && f.satellite_clocks.empty())
+      throw ParseError(p, 0, "no satellite clock record " + window(clock_options.filter) +
+                                 " (the observation window with a 2-h margin): a clock file of another day or "
+                                 "system? (it would otherwise fall back to the SP3 clocks)");
     readingProblems(p, f.report);
     const std::vector<ClockOutlier> outliers = findClockOutliers(f);
     for (const auto& o : outliers) eph.merge_report_.addProblem(0, p + ": " + o.describe() + "; not used");
