@@ -188,6 +188,11 @@ std::unique_ptr<LineSource> openLineSource(const std::string& path) {
   return std::make_unique<GzFileLineSource>(f, path);
 }
 
+std::string overlongLinesProblem(std::size_t count) {
+  return std::to_string(count) + " line(s) longer than " + std::to_string(LineSource::kMaxLineLength / 1024) +
+         " KiB cut and not read: a broken or binary file?";
+}
+
 std::unique_ptr<LineSource> memoryLineSource(std::string bytes, std::string name) {
   return std::make_unique<MemoryLineSource>(std::move(bytes), std::move(name));
 }
