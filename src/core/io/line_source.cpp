@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cerrno>
 #include <cstring>
+#include <filesystem>
 
 #include "ppp_bayes_tree/io/parse_error.h"
 
@@ -181,6 +182,8 @@ void LineSource::unread(std::string line) {
 }
 
 std::unique_ptr<LineSource> openLineSource(const std::string& path) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec)) throw FileOpenError(path + ": cannot open: is a directory, not a file");
   gzFile f = gzopen(path.c_str(), "rb");
   if (f == nullptr) {
     throw FileOpenError(path + ": cannot open: " + std::strerror(errno));
