@@ -312,3 +312,22 @@ TEST(AntexSummary, SummarizesZim2File) {
   EXPECT_TRUE(found);
   EXPECT_TRUE(s.report.clean());
 }
+
+// Issue 16: a line far beyond any ANTEX record (here 20 MB inside the receiver
+// antenna's block, as a broken download or a binary file gives) is cut by the line
+// reader; what it held is lost, so the file's report must say so, not "clean".
+TEST(AntexReader, AnOverlongLineIsAProblemNotSilence) {
+  PPP_REQUIRE_SHARED_DATA();
+  std::string text = ppp::test::readFileBytes(ppp::test::dataPath("antex/igs20_zim2_gps_trim.atx"));
+  const std::size_t block = text.find("TRM59800.00     NONE                                        TYPE / SERIAL NO");
+  ASSERT_NE(block, std::string::npos);
+  const std::size_t after = text.find('\n', block) + 1;
+  text.insert(after, std::string(20'000'000, 'X') + "\n");
+  auto source = memoryLineSource(std::move(text), "broken.atx");
+  const AntexFile file = readAntex(*source);
+  ASSERT_FALSE(file.report.clean());
+  std::string problems;
+  for (const auto& p : file.report.problems()) problems += p.reason + "\n";
+  EXPECT_NE(problems.find("1 line(s) longer than 64 KiB cut"), std::string::npos) << problems;
+  EXPECT_NE(problems.find("antenna block starting at line 825 skipped"), std::string::npos) << problems;
+}

@@ -60,6 +60,10 @@ std::unique_ptr<LineSource> openLineSource(const std::string& path);
 /// Wraps a buffer (plain or gzip); `name` is used in messages.
 std::unique_ptr<LineSource> memoryLineSource(std::string bytes, std::string name = "<memory>");
 
+/// The problem text for lines cut at kMaxLineLength (a broken or binary file:
+/// whatever the cut line held is lost, so a reader reports it as a problem).
+std::string overlongLinesProblem(std::size_t count);
+
 /// True when the first two bytes are the gzip magic 1f 8b.
 bool looksGzip(const unsigned char* data, std::size_t size);
 

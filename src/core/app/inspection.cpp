@@ -10,6 +10,7 @@
 #include "ppp_bayes_tree/io/rinex_nav_reader.h"
 #include "ppp_bayes_tree/io/rinex_obs_reader.h"
 #include "ppp_bayes_tree/models/precise_ephemeris.h"
+#include "ppp_bayes_tree/models/product_sanity.h"
 
 namespace ppp {
 
@@ -19,12 +20,19 @@ FileSummary Inspection::add(const std::string& path) {
     case GnssFileType::CompactRinexObservation:
       observations_.push_back(summarizeObservationFile(path));
       return observations_.back();
-    case GnssFileType::Sp3:
+    case GnssFileType::Sp3: {
       orbits_.push_back(readSp3(path));
-      return summarizeSp3(orbits_.back(), path);
-    case GnssFileType::RinexClock:
+      FileSummary summary = summarizeSp3(orbits_.back(), path);
+      // A single bad value passes the format checks: the leave-one-out orbit check finds it.
+      for (const auto& o : findOrbitOutliers(orbits_.back())) summary.report.addProblem(0, o.describe());
+      return summary;
+    }
+    case GnssFileType::RinexClock: {
       clocks_.push_back(readRinexClock(path));
-      return summarizeClock(clocks_.back(), path);
+      FileSummary summary = summarizeClock(clocks_.back(), path);
+      for (const auto& o : findClockOutliers(clocks_.back())) summary.report.addProblem(0, o.describe());
+      return summary;
+    }
     case GnssFileType::RinexNavigation:
       return summarizeNavFile(path);
     case GnssFileType::Antex:

@@ -130,6 +130,8 @@ void AntexParser::readBody() {
     }
   }
   if (src_.streamError()) out_.report.addProblem(src_.lineNumber(), "read stopped: " + *src_.streamError());
+  if (src_.overlongLines() > 0)
+    out_.report.addProblem(0, overlongLinesProblem(src_.overlongLines()));
 }
 
 void AntexParser::skipBlock(const BlockError& e) {

@@ -305,6 +305,8 @@ void BiasSinexParser::run() {
     }
   }
   if (src_.streamError()) out_.report.addProblem(src_.lineNumber(), "read stopped: " + *src_.streamError());
+  if (src_.overlongLines() > 0)
+    out_.report.addProblem(0, overlongLinesProblem(src_.overlongLines()));
   if (!block.empty()) out_.report.addProblem(src_.lineNumber(), "file ends inside block " + block);
   if (!footer) out_.report.addProblem(src_.lineNumber(), "no %=ENDBIA footer (file truncated?)");
   if (!saw_solution) out_.report.addProblem(src_.lineNumber(), "no BIAS/SOLUTION block");

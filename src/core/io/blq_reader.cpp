@@ -85,6 +85,8 @@ class BlqParser {
       readStation(line);
     }
     if (src_.streamError()) out_.report.addProblem(src_.lineNumber(), "read stopped: " + *src_.streamError());
+    if (src_.overlongLines() > 0)
+      out_.report.addProblem(0, overlongLinesProblem(src_.overlongLines()));
   }
 
  private:

@@ -46,7 +46,9 @@ std::string formatSummary(const FileSummary& s) {
     std::size_t shown = 0;
     for (const auto& p : s.report.problems()) {
       if (shown++ == 20) break;
-      os << "    line " << p.line << ": " << p.reason << "\n";
+      os << "    ";
+      if (p.line > 0) os << "line " << p.line << ": ";
+      os << p.reason << "\n";
     }
     if (s.report.problemCount() > 20) os << "    ... and " << (s.report.problemCount() - 20) << " more\n";
   }

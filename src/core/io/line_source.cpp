@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cerrno>
 #include <cstring>
+#include <filesystem>
 
 #include "ppp_bayes_tree/io/parse_error.h"
 
@@ -181,11 +182,18 @@ void LineSource::unread(std::string line) {
 }
 
 std::unique_ptr<LineSource> openLineSource(const std::string& path) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec)) throw FileOpenError(path + ": cannot open: is a directory, not a file");
   gzFile f = gzopen(path.c_str(), "rb");
   if (f == nullptr) {
     throw FileOpenError(path + ": cannot open: " + std::strerror(errno));
   }
   return std::make_unique<GzFileLineSource>(f, path);
+}
+
+std::string overlongLinesProblem(std::size_t count) {
+  return std::to_string(count) + " line(s) longer than " + std::to_string(LineSource::kMaxLineLength / 1024) +
+         " KiB cut and not read: a broken or binary file?";
 }
 
 std::unique_ptr<LineSource> memoryLineSource(std::string bytes, std::string name) {

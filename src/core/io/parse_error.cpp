@@ -36,7 +36,9 @@ std::string ParseReport::summary(std::size_t max_lines) const {
   std::size_t shown = 0;
   for (const auto& p : problems_) {
     if (shown++ >= max_lines) break;
-    os << "    " << file_ << ":" << p.line << ": " << p.reason << "\n";
+    os << "    " << file_;
+    if (p.line > 0) os << ":" << p.line;
+    os << ": " << p.reason << "\n";
   }
   if (problem_count_ > shown) os << "    ... and " << (problem_count_ - shown) << " more\n";
   return os.str();

@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <map>
 
+#include "ppp_bayes_tree/models/product_sanity.h"
 #include "ppp_bayes_tree/models/relativity.h"
 #include "ppp_bayes_tree/types/constants.h"
 
@@ -258,14 +259,45 @@ PreciseEphemeris PreciseEphemeris::load(const std::vector<std::string>& sp3_path
   RinexClockReadOptions clock_options{false, filter};
   if (filter.first) clock_options.filter.first = *filter.first - kClockWindowMargin_s;
   if (filter.last) clock_options.filter.last = *filter.last + kClockWindowMargin_s;
+  // A file's reading problems and the single bad values the sanity checks find
+  // (product_sanity.h: marked bad, never used) are the products' problems.
+  const auto readingProblems = [&eph](const std::string& path, const ParseReport& report) {
+    if (report.clean()) return;
+    std::string first;
+    if (!report.problems().empty())
+      first = ", first: line " + std::to_string(report.problems().front().line) + ": " + report.problems().front().reason;
+    eph.merge_report_.addProblem(0, path + ": " + std::to_string(report.problemCount()) +
+                                        " problem(s) while reading" + first);
+  };
+  // A file that holds nothing for the observations is a wrong input (another day,
+  // another system), never silently replaced by another source.
+  const auto window = [&filter](const RecordFilter& f) {
+    std::string text = "of " + std::string(filter.systems.empty() ? "any system" : "the processed systems");
+    if (f.first && f.last) text += " between " + timeText(*f.first) + " and " + timeText(*f.last);
+    return text;
+  };
   for (const auto& p : sp3_paths) {
-    const Sp3File f = readSp3(p, sp3_options);
-    if (!f.report.clean()) eph.merge_report_.count("problems in " + p, f.report.problemCount());
+    Sp3File f = readSp3(p, sp3_options);
+    if (filter.active() && f.satellites.empty())
+      throw ParseError(p, 0, "no orbit record " + window(sp3_options.filter) +
+                                " (the observation window): products of another "
+                                 "day or system?");
+    readingProblems(p, f.report);
+    const std::vector<OrbitOutlier> outliers = findOrbitOutliers(f);
+    for (const auto& o : outliers) eph.merge_report_.addProblem(0, p + ": " + o.describe() + "; not used");
+    markOrbitOutliers(f, outliers);
     eph.addOrbits(f);
   }
   for (const auto& p : clock_paths) {
-    const RinexClockFile f = readRinexClock(p, clock_options);
-    if (!f.report.clean()) eph.merge_report_.count("problems in " + p, f.report.problemCount());
+    RinexClockFile f = readRinexClock(p, clock_options);
+    if (filter.active() && f.satellite_clocks.empty())
+      throw ParseError(p, 0, "no satellite clock record " + window(clock_options.filter) +
+                                 " (the observation window with a 2-h margin): a clock file of another day or "
+                                 "system? (it would otherwise fall back to the SP3 clocks)");
+    readingProblems(p, f.report);
+    const std::vector<ClockOutlier> outliers = findClockOutliers(f);
+    for (const auto& o : outliers) eph.merge_report_.addProblem(0, p + ": " + o.describe() + "; not used");
+    markClockOutliers(f, outliers);
     eph.addClocks(f);
   }
   return eph;

@@ -1,0 +1,100 @@
+#pragma once
+// Product sanity checks (issue 16): single bad values in precise orbit and clock
+// products, found by leave-one-out prediction before the products are used, so
+// that one wrong SP3 or CLK record can neither pull an estimate metres off under
+// a centimetre sigma nor pass `ppp_inspect` as "problems: none".
+//
+// Orbit (SP3 P records): each node of a satellite is predicted from its
+// `window_nodes` nearest other usable nodes by Lagrange interpolation in the
+// non-rotating frame aligned with ECEF at the node's time (the same frame as
+// PreciseEphemeris' interpolation); a node whose prediction misses it by more
+// than the threshold is an outlier. A bad node also spoils its neighbours'
+// predictions (by its Lagrange weight, up to about its own error), so outliers are
+// taken one at a time, the worst first, each removed before the others are
+// predicted again. The threshold grows with the node spacing: leave-one-out
+// leaves a double spacing, and a degree-7 fit over 15-min GPS nodes misses a
+// clean node by a few millimetres in the middle of a day and by up to decimetres at
+// its ends, where the window is one-sided; see test_product_sanity for the
+// figures of the real IGS, WUM and GRG files.
+//
+// Clock (RINEX clock AS records): each interior record is predicted by a
+// least-squares line through its two neighbours on each side; the miss less the
+// epoch's median miss over all satellites (a jump of the products' clock datum,
+// common to every satellite, is absorbed by the receiver clock: the WUM rapid
+// clocks of 2021-07-29 hold several hundred such epochs) over the threshold, and
+// the largest within two records (a wrong value spoils its neighbours' predictions
+// by a quarter of its error), is an outlier.
+//
+// Outliers are marked, never repaired: markOrbitOutliers / markClockOutliers turn
+// them into bad-value markers, so that the interpolation refuses the satellite with
+// an explicit reason wherever it would need the value.
+#include <string>
+#include <vector>
+
+#include "ppp_bayes_tree/io/rinex_clock_reader.h"
+#include "ppp_bayes_tree/io/sp3_reader.h"
+#include "ppp_bayes_tree/types/gnss_time.h"
+#include "ppp_bayes_tree/types/satellite_id.h"
+
+namespace ppp {
+
+struct OrbitCheckOptions {
+  /// Nodes of the leave-one-out Lagrange window (degree + 1), at least 3.
+  int window_nodes = 10;
+  /// Threshold of the 3D leave-one-out miss [m] of a node with at least
+  /// window_nodes / 2 - 1 window nodes on each side; a node nearer an end of the
+  /// data (fewer on one side) gets `edge_threshold_m`; a node with none on one side
+  /// (the first and last) would be an extrapolation and is not judged.
+  double threshold_m = 0.30;
+  double edge_threshold_m = 0.50;
+  /// Orbits with an eccentricity above this (from the extreme radii of the
+  /// nodes: the Galileo E14 and E18 at 0.16, QZSS IGSO at 0.075; GPS and nominal
+  /// Galileo below 0.02) get both thresholds times eccentric_orbit_factor: a
+  /// degree-9 fit over 15-min nodes follows them much less well (E18 near perigee
+  /// misses clean nodes by 0.84 m inside the day and 17.7 m at its end, GRG day 177
+  /// of 2020), so that for them only gross errors are found.
+  double eccentricity_limit = 0.03;
+  double eccentric_orbit_factor = 100.0;
+  /// Largest spacing of the nodes around a checked node [s] (a gap ends the window).
+  double max_spacing_s = 3600.0;
+};
+
+struct OrbitOutlier {
+  SatelliteId satellite;
+  GnssTime time;
+  double miss_m = 0.0;       // |leave-one-out prediction - record| (3D)
+  double threshold_m = 0.0;  // the threshold it exceeded
+  std::string describe() const;
+};
+
+struct ClockCheckOptions {
+  /// Threshold of the leave-one-out miss [s] (1 ns = 0.3 m of range).
+  double threshold_s = 1.0e-9;
+  /// Largest spacing between the records of a fit [s].
+  double max_spacing_s = 900.0;
+};
+
+struct ClockOutlier {
+  SatelliteId satellite;
+  GnssTime time;
+  double miss_s = 0.0;
+  double threshold_s = 0.0;
+  std::string describe() const;
+};
+
+/// Leave-one-out check of every satellite's SP3 positions (records already marked
+/// bad are skipped).
+std::vector<OrbitOutlier> findOrbitOutliers(const Sp3File& file, const OrbitCheckOptions& options = {});
+/// The leave-one-out miss of every judged node (one pass, nothing removed), with
+/// the threshold that applies to it: the margin of a file, for ppp_inspect and tests.
+std::vector<OrbitOutlier> orbitLeaveOneOutMisses(const Sp3File& file, const OrbitCheckOptions& options = {});
+/// Turns the outliers into bad-value markers (position_marked_bad, no position).
+void markOrbitOutliers(Sp3File& file, const std::vector<OrbitOutlier>& outliers);
+
+/// Leave-one-out check of every satellite's clock series (AS records).
+std::vector<ClockOutlier> findClockOutliers(const RinexClockFile& file, const ClockCheckOptions& options = {});
+/// Removes the outlying records (a clock file has no bad-value marker: a missing
+/// record makes the interpolation refuse the time with a gap).
+void markClockOutliers(RinexClockFile& file, const std::vector<ClockOutlier>& outliers);
+
+}  // namespace ppp

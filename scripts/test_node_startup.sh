@@ -1,0 +1,64 @@
+#!/usr/bin/env bash
+# Script test (issue 16, "start-up errors that print nothing"): both PPP nodes,
+# started with a bad parameter or a missing product file, exit with code 1 and
+# say on stderr what is wrong (the key path or the file, and the reason); a node
+# started before the master says at once which master it waits for.
+# Runs its own roscore on a free loopback port; every node run is bounded by a
+# timeout. Writes one JUnit result into the directory given as $1.
+set -uo pipefail
+source "$(dirname "${BASH_SOURCE[0]}")/common.sh"
+script_test_begin node_startup "${1:-}"   # OUT, WORK (removed at exit), junit STATUS MESSAGE
+
+for exe in ppp_ekf_node ppp_smoother_node; do
+  if [ ! -x "$BIN_DIR/$exe" ]; then junit skipped "$exe is not built in $BIN_DIR"; echo "test_node_startup: skipped"; exit 0; fi
+done
+# shellcheck disable=SC1091
+source "$WS_DIR/devel/setup.bash"
+free_port() { /usr/bin/python3 -c 'import socket; s=socket.socket(); s.bind(("127.0.0.1", 0)); print(s.getsockname()[1])'; }
+export ROS_HOME="$WORK/ros_home" ROS_LOG_DIR="$WORK/ros_log" ROS_IP=127.0.0.1
+PORT="$(free_port)"
+export ROS_MASTER_URI="http://127.0.0.1:$PORT"
+roscore -p "$PORT" > "$WORK/roscore.log" 2>&1 &
+ROSCORE_PID=$!
+trap 'kill -INT $ROSCORE_PID 2>/dev/null; wait $ROSCORE_PID 2>/dev/null; rm -rf "$WORK"' EXIT
+for _ in $(seq 1 100); do rosparam list >/dev/null 2>&1 && break; sleep 0.2; done
+
+ATX="$SHARED_DATA/antex/igs20_zim2_gps_trim.atx"
+fail=""
+cases=0
+# expect NODE "PARAM:=VALUE ..." "text stderr must hold" ...
+expect() {
+  local node="$1" args="$2"; shift 2
+  cases=$((cases + 1))
+  local err="$WORK/case$cases.err"
+  # shellcheck disable=SC2086
+  timeout 60 "$BIN_DIR/$node" __name:="startup_case$cases" $args > /dev/null 2> "$err"
+  local rc=$?
+  [ $rc -eq 1 ] || fail+="case $cases ($node $args): exit $rc, expected 1; "
+  for want in "$@"; do
+    grep -qF -- "$want" "$err" || fail+="case $cases ($node $args): stderr lacks '$want' (got: $(head -c 300 "$err" | tr '\n' ' ')); "
+  done
+}
+expect ppp_ekf_node "_stochastic/position/inital_sigma_m:=1.0" "ppp_ekf_node: cannot start" "inital_sigma_m" "unknown key"
+expect ppp_smoother_node "_stochastic/position/inital_sigma_m:=1.0" "ppp_smoother_node: cannot start" "inital_sigma_m" "unknown key"
+expect ppp_ekf_node "_estimator/min_satellites:=-3" "min_satellites"
+expect ppp_ekf_node "_measurement_model/troposphere/mapping:=hopfeld" "mapping" "hopfeld"
+expect ppp_ekf_node "_stochastic/zwd/initial_sigma_m:=nan" "initial_sigma_m"
+expect ppp_ekf_node "_ros/products/atx:=[$WORK/missing.atx]" "$WORK/missing.atx"
+expect ppp_ekf_node "_ros/products/atx:=[$ATX] _ros/products/bias:=$WORK/missing.bia" "$WORK/missing.bia"
+expect ppp_ekf_node "_ros/products/atx:=[$ATX] _ros/products/blq:=$WORK/missing.blq" "$WORK/missing.blq"
+
+# Before the master: a port with nothing listening.
+DEAD_PORT="$(free_port)"
+timeout 5 env ROS_MASTER_URI="http://127.0.0.1:$DEAD_PORT" "$BIN_DIR/ppp_ekf_node" > /dev/null 2> "$WORK/nomaster.err"
+grep -qF "waiting for the ROS master at http://127.0.0.1:$DEAD_PORT" "$WORK/nomaster.err" \
+  || fail+="no master: stderr lacks the waiting message (got: $(head -c 300 "$WORK/nomaster.err" | tr '\n' ' ')); "
+cases=$((cases + 1))
+
+if [ -z "$fail" ]; then
+  junit passed ""
+  echo "test_node_startup: passed ($cases cases)"
+else
+  junit failed "$fail"
+  echo "test_node_startup: FAILED: $fail"
+fi
