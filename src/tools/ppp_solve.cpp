@@ -12,6 +12,10 @@
 // per-epoch update time median and p99; both runs the EKF and the smoother (one
 // pipeline run each) and prints one table EKF | smoother filtered | smoother smoothed.
 // Prints the statistics (with --truth) and the notes (see app/ppp_solve_run.h).
+// Exit status: 0 solved; 3 solved, but the inputs had problems (a truncated or
+// broken product file, single bad product values, malformed or refused epochs:
+// listed under "problems", with the satellites the run never used); 1 nothing
+// solved or an error (the file and line named); 2 usage.
 #include <unistd.h>
 
 #include <cstdio>
@@ -142,7 +146,14 @@ int main(int argc, char** argv) {
     if (columns.size() == 1) std::cout << ppp::formatStatisticsTable(columns[0].second, runs[0].name + " " + columns[0].first);
     if (columns.size() > 1) std::cout << runs[0].name << ":\n" << ppp::formatStatisticsComparison(columns);
     std::cout.flush();
-    return solved ? 0 : 1;
+    if (!solved) return 1;
+    for (const auto& out : runs)
+      if (!out.run.problems.empty()) {
+        std::cerr << "ppp_solve: solved, with " << out.run.problems.size()
+                  << " input problem(s) (listed under 'problems' above and in the summary JSON): exit status 3\n";
+        return 3;
+      }
+    return 0;
   } catch (const ppp::ConfigError& e) {
     std::cerr << "ppp_solve: configuration: " << e.what() << "\n";
   } catch (const std::exception& e) {  // ParseError, FileOpenError (name the file and line) and the rest

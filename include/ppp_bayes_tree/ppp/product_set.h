@@ -48,6 +48,10 @@ class ProductSet {
   OceanLoadingLookup oceanLoading(const std::string& station) const;
   /// "code biases: ...", in load order.
   const std::vector<std::string>& notes() const { return notes_; }
+  /// What went wrong while reading the files (truncation, skipped blocks and
+  /// records, cut lines), one line per file: "<file>: N problem(s) while reading,
+  /// first: line L: reason". Whatever such a file lost is missing from the run.
+  const std::vector<std::string>& problems() const { return problems_; }
 
  private:
   std::shared_ptr<const AntexCalibrations> antennas_;
@@ -56,6 +60,7 @@ class ProductSet {
   std::optional<BlqFile> blq_;
   std::string blq_name_;
   std::vector<std::string> notes_;
+  std::vector<std::string> problems_;
 };
 
 }  // namespace ppp

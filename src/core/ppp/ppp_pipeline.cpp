@@ -68,6 +68,8 @@ struct PppPipeline::Impl {
   std::optional<std::string> bias_file_name;  // for the code-reference note
   std::unique_ptr<PppEpochProcessor> processor;
   std::vector<std::string> load_notes;
+  /// What went wrong reading the products (each becomes a problem of every run).
+  std::vector<std::string> load_problems;
   bool ran = false;
 
   void start(const PppConfig& config) {
@@ -97,9 +99,16 @@ PppPipeline::PppPipeline(const PppInputFiles& files, PppConfig config)
       PreciseEphemeris::load(files.sp3, files.clk, productFilter(files.obs, config_.signals.systems)));
   if (!ephemeris->mergeReport().problems().empty() || !ephemeris->mergeReport().counters().empty())
     d.load_notes.push_back("products merged: " + ephemeris->mergeReport().summary(5));
+  for (const auto& p : ephemeris->mergeReport().problems()) d.load_problems.push_back(p.reason);
+  if (ephemeris->mergeReport().problemCount() > ephemeris->mergeReport().problems().size())
+    d.load_problems.push_back("... and " +
+                              std::to_string(ephemeris->mergeReport().problemCount() -
+                                             ephemeris->mergeReport().problems().size()) +
+                              " more problem(s) of the precise products");
   d.products.ephemeris = std::move(ephemeris);
   auto set = std::make_shared<ProductSet>(ProductSet::load({files.atx, files.bias, files.blq, config_.signals.systems}));
   for (const auto& n : set->notes()) d.load_notes.push_back(n);
+  d.load_problems.insert(d.load_problems.end(), set->problems().begin(), set->problems().end());
   d.products.antennas = set->antennas();
   if (set->biases() != nullptr) {
     d.products.biases = std::shared_ptr<const BiasProvider>(set, set->biases());
@@ -160,6 +169,9 @@ PppRunSummary PppPipeline::run(EpochEstimator& estimator, const EpochCallback& o
     return summary;
   }
   d.ran = true;
+  summary.problems = d.load_problems;
+  // Satellites rejected, for naming those an input problem took out of the run.
+  std::map<SatelliteId, std::pair<std::size_t, std::string>> rejected_epochs;  // count, first reason
   const auto wall_start = std::chrono::steady_clock::now();
   const RinexObsHeader& header = d.source->header();
   if (header.approx_position_ecef_m && header.approx_position_ecef_m->norm() > 1e6)
@@ -230,6 +242,10 @@ PppRunSummary PppPipeline::run(EpochEstimator& estimator, const EpochCallback& o
       }
     }
     for (const auto& x : rec.rejected) summary.rejection_counts[{x.stage, x.reason}]++;
+    for (const auto& x : rec.rejected) {
+      auto& r = rejected_epochs[x.satellite];
+      if (r.first++ == 0) r.second = x.text();
+    }
     if (rec.status != EpochStatus::Ok) summary.no_solution_counts[rec.no_solution_reason]++;
     if (rec.estimator_reset) ++summary.estimator_resets;
     if (on_epoch) on_epoch(rec);
@@ -238,6 +254,17 @@ PppRunSummary PppPipeline::run(EpochEstimator& estimator, const EpochCallback& o
 
   for (const auto& p : d.source->problems())
     summary.problems.push_back(p.file + " line " + std::to_string(p.line) + ": " + p.reason);
+  if (!summary.problems.empty()) {
+    // With input problems, name the satellites the run never used.
+    std::string dropped;
+    for (const auto& [sat, r] : rejected_epochs) {
+      auto it = acc.find(sat);
+      if (it != acc.end() && it->second.n > 0) continue;
+      dropped += (dropped.empty() ? "" : "; ") + sat.toString() + " (" + std::to_string(r.first) +
+                 " epoch(s), first: " + r.second + ")";
+    }
+    if (!dropped.empty()) summary.problems.push_back("satellites never used: " + dropped);
+  }
   for (const auto& [sat, a] : acc) {
     SatelliteResidualStatistics st;
     st.satellite = sat;
