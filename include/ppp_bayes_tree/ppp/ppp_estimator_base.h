@@ -96,7 +96,7 @@ class PppEstimatorBase {
   virtual bool hasState() const = 0;
   virtual std::optional<GnssTime> lastSolvedTime() const = 0;
   /// True when the estimator was initialised explicitly at exactly `time`.
-  virtual bool startsAt(const GnssTime& time) const { return false; }
+  virtual bool startsAt(const GnssTime& /*time*/) const { return false; }
   /// The predicted receiver state over dt_s (first: no process noise); from
   /// `start` when the estimator has no state yet. May prepare a working copy.
   virtual ReceiverState predict(double dt_s, bool first, const std::optional<ReceiverState>& start) = 0;
@@ -106,11 +106,11 @@ class PppEstimatorBase {
   /// false it has set the result's status and reason (fail()).
   virtual bool solve(const EpochSolveInput& in, EpochSolveOutput& out, EstimatorEpochResult& result) = 0;
   /// After a Failed solve: restart from the last good state; true when it did.
-  virtual bool recoverAfterFailure(EstimatorEpochResult& result) { return false; }
+  virtual bool recoverAfterFailure(EstimatorEpochResult& /*result*/) { return false; }
   virtual void arcRemoved(ArcId arc) = 0;
   virtual int biasCount() const = 0;
   /// Last touch of every epoch's result (solved or not), e.g. estimator diagnostics.
-  virtual void finishEpoch(EstimatorEpochResult& result) const {}
+  virtual void finishEpoch(EstimatorEpochResult& /*result*/) const {}
 
   static bool fail(EstimatorEpochResult& result, EpochStatus status, NoSolutionReason why, std::string text);
 
