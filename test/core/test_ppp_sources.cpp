@@ -49,6 +49,24 @@ class WindowObservationSource : public ObservationSource {
   GnssTime until_;
 };
 
+/// AntennaCalibrationProvider: satellites from ANTEX files, the receiver from a
+/// calibration held by the caller (e.g. a user's own patch-antenna table).
+class OwnReceiverCalibration : public AntennaCalibrationProvider {
+ public:
+  OwnReceiverCalibration(std::shared_ptr<const AntennaCalibrationProvider> satellites, AntennaCalibration receiver)
+      : satellites_(std::move(satellites)), receiver_(std::move(receiver)) {}
+  ReceiverCalibrationLookup receiver(const ReceiverAntenna& antenna) const override {
+    return {&receiver_, "receiver " + antenna.name() + ": own table"};
+  }
+  SatelliteCalibrationLookup satellite(const SatelliteId& sat, const GnssTime& t) const override {
+    return satellites_->satellite(sat, t);
+  }
+
+ private:
+  std::shared_ptr<const AntennaCalibrationProvider> satellites_;
+  AntennaCalibration receiver_;
+};
+
 /// BiasProvider: a plain table (satellite, code) -> bias, constant in time.
 class TableBiasProvider : public BiasProvider {
  public:
@@ -283,6 +301,36 @@ TEST(PppSources, EsbcRequiredReceiverCalibrationRejectsEverySatellite) {
   EXPECT_EQ(r.summary.epochs_solved, 0u);
   EXPECT_GT(r.summary.rejection_counts.at("model: missing receiver antenna calibration"), 61u * 5u);
   EXPECT_TRUE(pipeline.receiverAntennaWarnings().empty());
+}
+
+// A second antenna calibration provider: the receiver calibration served from
+// memory gives exactly the run with the ANTEX file that holds it.
+TEST(PppSources, OwnReceiverCalibrationProviderGivesTheAntexRun) {
+  PPP_REQUIRE_SHARED_DATA();
+  const PppConfig config = realDataConfig();
+  const GnssTime until = test::gpst(2020, 6, 25, 1, 0);
+  const std::string satellites = test::dataPath("antex/igs20_gps_satellites_trim.atx");
+  const std::string receiver = test::dataPath("antex/igs05_esbc_receiver_trim.atx");
+  PppProducts from_files = esbcPreciseProducts({satellites, receiver});
+  const auto window = [&] {
+    return std::make_unique<WindowObservationSource>(std::make_unique<RinexObservationSource>(esbc(kEsbcObs)), until);
+  };
+  PppPipeline a_run(window(), from_files, config);
+  const RunResult a = runEkf(a_run, config);
+
+  const AntexFile receiver_file = readAntexFile(receiver);
+  const auto lookup = receiver_file.receiver("ASH701945E_M", "SCIS");
+  ASSERT_NE(lookup.antenna, nullptr);
+  PppProducts own = from_files;
+  own.antennas = std::make_shared<OwnReceiverCalibration>(
+      esbcPreciseProducts({satellites}).antennas, *lookup.antenna);
+  PppPipeline b_run(window(), own, config);
+  const RunResult b = runEkf(b_run, config);
+  EXPECT_TRUE(b_run.receiverAntennaWarnings().empty());
+
+  ASSERT_EQ(a.positions.size(), 121u);
+  ASSERT_EQ(b.positions.size(), a.positions.size());
+  for (const auto& [t, p] : a.positions) EXPECT_LT((b.positions.at(t) - p).norm(), 1e-6) << t.toString();
 }
 
 // Broadcast navigation alone through the same chain: metre-level agreement
