@@ -156,7 +156,9 @@ std::vector<OrbitOutlier> satelliteMisses(const SatelliteId& sat, const std::vec
 
 std::vector<OrbitOutlier> orbitLeaveOneOutMisses(const Sp3File& file, const OrbitCheckOptions& options) {
   std::vector<OrbitOutlier> out;
-  for (const auto& [sat, records] : file.satellites) {
+  for (const auto& entry : file.satellites) {  // named: lambdas below capture them
+    const SatelliteId& sat = entry.first;
+    const std::vector<Sp3Record>& records = entry.second;
     const std::vector<GnssTime> times = timesOf(records);
     const auto usable = [&](std::size_t k) { return hasPosition(records[k]); };
     const std::vector<OrbitOutlier> misses = satelliteMisses(sat, records, times, usable, options);
@@ -167,7 +169,9 @@ std::vector<OrbitOutlier> orbitLeaveOneOutMisses(const Sp3File& file, const Orbi
 
 std::vector<OrbitOutlier> findOrbitOutliers(const Sp3File& file, const OrbitCheckOptions& options) {
   std::vector<OrbitOutlier> out;
-  for (const auto& [sat, records] : file.satellites) {
+  for (const auto& entry : file.satellites) {  // named: lambdas below capture them
+    const SatelliteId& sat = entry.first;
+    const std::vector<Sp3Record>& records = entry.second;
     const std::vector<GnssTime> times = timesOf(records);
     std::vector<bool> removed(records.size(), false);
     const auto usable = [&](std::size_t k) { return !removed[k] && hasPosition(records[k]); };
@@ -229,7 +233,9 @@ std::vector<ClockOutlier> findClockOutliers(const RinexClockFile& file, const Cl
   };
   std::map<SatelliteId, std::vector<Miss>> misses;
   std::map<GnssTime, std::vector<double>> by_epoch;
-  for (const auto& [sat, records] : file.satellite_clocks) {
+  for (const auto& entry : file.satellite_clocks) {
+    const SatelliteId& sat = entry.first;
+    const std::vector<ClockRecord>& records = entry.second;
     std::vector<GnssTime> times;
     for (const auto& r : records) times.push_back(r.time);
     const auto usable = [](std::size_t) { return true; };
@@ -260,7 +266,9 @@ std::vector<ClockOutlier> findClockOutliers(const RinexClockFile& file, const Cl
   // A wrong value spoils its neighbours' predictions by a quarter of its error:
   // an outlier is over the threshold and the largest within two records.
   std::vector<ClockOutlier> out;
-  for (const auto& [sat, list] : misses) {
+  for (const auto& entry : misses) {
+    const SatelliteId& sat = entry.first;
+    const auto& list = entry.second;
     const auto& records = file.satellite_clocks.at(sat);
     const auto own = [&](std::size_t k) { return std::abs(list[k].miss_s - common_s[records[list[k].index].time]); };
     for (std::size_t k = 0; k < list.size(); ++k) {
