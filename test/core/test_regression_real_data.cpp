@@ -1,10 +1,11 @@
 // Regression guard of issue 12 ("one estimation core, behaviour unchanged"): the
-// real ZIM2 hour through ppp_solve --estimator both with a pinned configuration
-// (test/fixtures/regression/zim2_config.yaml) must reproduce, epoch by epoch, the
-// positions that main at 6e9aa08 gave before the refactor: the EKF, the smoother's
-// filtered and its smoothed solution, each to 0.1 mm in 3D.
+// real ZIM2 and CCJ2 hours through ppp_solve --estimator both with a pinned
+// configuration (test/fixtures/regression/real_data_config.yaml, both stations) must
+// reproduce, epoch by epoch, the positions that main at 6e9aa08 gave before the
+// refactor: the EKF, the smoother's filtered and its smoothed solution, each to
+// 0.1 mm in 3D.
 //
-// The fixtures test/fixtures/regression/zim2_<tag>.csv (tow_s,x_m,y_m,z_m with
+// The fixtures test/fixtures/regression/<station>_<tag>.csv (tow_s,x_m,y_m,z_m with
 // micrometre digits) were written by this test with PPP_REGENERATE_REGRESSION=1 on
 // that commit. Regenerate them only for a change that is MEANT to move the
 // solution, and say why in the commit.
@@ -28,7 +29,9 @@ constexpr double kTolerance3d_m = 1e-4;  // 0.1 mm, issue 12
 
 using Positions = std::map<long long, Eigen::Vector3d>;  // key: tow in ms
 
-std::string fixtureFile(const std::string& tag) { return test::fixturePath("regression/zim2_" + tag + ".csv"); }
+std::string fixtureFile(const std::string& station, const std::string& tag) {
+  return test::fixturePath("regression/" + station + "_" + tag + ".csv");
+}
 
 Positions readFixture(const std::string& path) {
   Positions out;
@@ -50,11 +53,10 @@ Positions solvedPositions(const std::vector<SolutionEpoch>& solution) {
   return out;
 }
 
-TEST(RegressionZim2, BothEstimatorsReproduceThePreRefactorSolutionsEpochByEpoch) {
-  PPP_REQUIRE_SHARED_DATA();
-  const std::string dir = test::tempDir("regression_zim2").string();
-  PppSolveRequest request = test::solveRequest(test::zim2Dataset(), dir, "both");
-  request.config = loadPppConfig(test::fixturePath("regression/zim2_config.yaml"));
+void checkStation(const std::string& station, const test::PppDataset& dataset) {
+  const std::string dir = test::tempDir("regression_" + station).string();
+  PppSolveRequest request = test::solveRequest(dataset, dir, "both");
+  request.config = loadPppConfig(test::fixturePath("regression/real_data_config.yaml"));
   const std::vector<PppSolveOutcome> runs = solvePppEstimators(request);
   std::map<std::string, std::vector<SolutionEpoch>> solutions;
   for (const auto& run : runs)
@@ -65,7 +67,7 @@ TEST(RegressionZim2, BothEstimatorsReproduceThePreRefactorSolutionsEpochByEpoch)
   for (const auto& [tag, solution] : solutions) {
     const Positions mine = solvedPositions(solution);
     if (regenerate) {
-      std::ofstream out(fixtureFile(tag));
+      std::ofstream out(fixtureFile(station, tag));
       out << "tow_s,x_m,y_m,z_m\n";
       char buf[160];
       for (const auto& [tow_ms, p] : mine) {
@@ -74,19 +76,29 @@ TEST(RegressionZim2, BothEstimatorsReproduceThePreRefactorSolutionsEpochByEpoch)
       }
       continue;
     }
-    const Positions expected = readFixture(fixtureFile(tag));
-    ASSERT_EQ(expected.size(), 120u) << fixtureFile(tag) << ": the 120 solved epochs of the hour";
-    ASSERT_EQ(mine.size(), expected.size()) << tag << ": solved epochs";
+    const Positions expected = readFixture(fixtureFile(station, tag));
+    ASSERT_EQ(expected.size(), 120u) << fixtureFile(station, tag) << ": the 120 solved epochs of the hour";
+    ASSERT_EQ(mine.size(), expected.size()) << station << " " << tag << ": solved epochs";
     double worst_m = 0.0;
     for (const auto& [tow_ms, p] : expected) {
       auto it = mine.find(tow_ms);
       ASSERT_NE(it, mine.end()) << tag << ": epoch " << tow_ms / 1000.0 << " s of week not solved";
       worst_m = std::max(worst_m, (it->second - p).norm());
     }
-    EXPECT_LE(worst_m, kTolerance3d_m) << tag << ": largest 3D difference from the fixture";
-    std::printf("zim2 %s: largest 3D difference from the pre-refactor solution %.4f mm\n", tag.c_str(),
-                worst_m * 1000.0);
+    EXPECT_LE(worst_m, kTolerance3d_m) << station << " " << tag << ": largest 3D difference from the fixture";
+    std::printf("%s %s: largest 3D difference from the pre-refactor solution %.4f mm\n", station.c_str(),
+                tag.c_str(), worst_m * 1000.0);
   }
+}
+
+TEST(RegressionRealData, Zim2BothEstimatorsReproduceThePreRefactorSolutionsEpochByEpoch) {
+  PPP_REQUIRE_SHARED_DATA();
+  checkStation("zim2", test::zim2Dataset());
+}
+
+TEST(RegressionRealData, Ccj2BothEstimatorsReproduceThePreRefactorSolutionsEpochByEpoch) {
+  PPP_REQUIRE_SHARED_DATA();
+  checkStation("ccj2", test::ccj2Dataset());
 }
 
 }  // namespace
