@@ -12,8 +12,10 @@ script_test_begin node_startup "${1:-}"   # OUT, WORK (removed at exit), junit S
 for exe in ppp_ekf_node ppp_smoother_node; do
   if [ ! -x "$BIN_DIR/$exe" ]; then junit skipped "$exe is not built in $BIN_DIR"; echo "test_node_startup: skipped"; exit 0; fi
 done
+set +u  # ROS's setup scripts read unset variables
 # shellcheck disable=SC1091
 source "$WS_DIR/devel/setup.bash"
+set -u
 free_port() { /usr/bin/python3 -c 'import socket; s=socket.socket(); s.bind(("127.0.0.1", 0)); print(s.getsockname()[1])'; }
 export ROS_HOME="$WORK/ros_home" ROS_LOG_DIR="$WORK/ros_log" ROS_IP=127.0.0.1
 PORT="$(free_port)"
@@ -44,9 +46,16 @@ expect ppp_smoother_node "_stochastic/position/inital_sigma_m:=1.0" "ppp_smoothe
 expect ppp_ekf_node "_estimator/min_satellites:=-3" "min_satellites"
 expect ppp_ekf_node "_measurement_model/troposphere/mapping:=hopfeld" "mapping" "hopfeld"
 expect ppp_ekf_node "_stochastic/zwd/initial_sigma_m:=nan" "initial_sigma_m"
-expect ppp_ekf_node "_ros/products/atx:=[$WORK/missing.atx]" "$WORK/missing.atx"
-expect ppp_ekf_node "_ros/products/atx:=[$ATX] _ros/products/bias:=$WORK/missing.bia" "$WORK/missing.bia"
-expect ppp_ekf_node "_ros/products/atx:=[$ATX] _ros/products/blq:=$WORK/missing.blq" "$WORK/missing.blq"
+# A list parameter comes from the parameter server (a command-line _param:= is a scalar).
+atx_list() { rosparam set "/startup_case$((cases + 1))/ros/products/atx" "[$1]"; }
+atx_list "$WORK/missing.atx"
+expect ppp_ekf_node "" "$WORK/missing.atx" "cannot open"
+atx_list "$ATX"
+expect ppp_ekf_node "_ros/products/bias:=$WORK/missing.bia" "$WORK/missing.bia" "cannot open"
+atx_list "$ATX"
+expect ppp_ekf_node "_ros/products/blq:=$WORK/missing.blq" "$WORK/missing.blq" "cannot open"
+# A list given as a single text is refused with the key path.
+expect ppp_ekf_node "_ros/products/atx:=$ATX" "ros.products.atx" "expected a list"
 
 # Before the master: a port with nothing listening.
 DEAD_PORT="$(free_port)"

@@ -69,7 +69,7 @@ TEST(ReceiverStateLayout, GpsAndGalileoHaveOneClockEach) {
 TEST(ReceiverStateLayout, TheRealModelPutsTheClockPartialIntoTheSatellitesSystemColumn) {
   PPP_REQUIRE_SHARED_DATA();
   test::LoadedDataset ds(test::zim2Dataset());
-  SignalSelector selector(ds.reader->header(), {}, ds.bias.get());
+  SignalSelector selector(ds.reader->header(), {}, ds.biases.get());
   ObsEpoch epoch;
   ds.reader->next(epoch);
   ds.reader->next(epoch);  // second epoch: products cover the emission times
