@@ -60,6 +60,9 @@ std::unique_ptr<LineSource> openLineSource(const std::string& path);
 /// Wraps a buffer (plain or gzip); `name` is used in messages.
 std::unique_ptr<LineSource> memoryLineSource(std::string bytes, std::string name = "<memory>");
 
+/// The file name without its directories ("a/b/c.rnx" -> "c.rnx"), as messages name files.
+std::string fileBaseName(const std::string& path);
+
 /// The problem text for lines cut at kMaxLineLength (a broken or binary file:
 /// whatever the cut line held is lost, so a reader reports it as a problem).
 std::string overlongLinesProblem(std::size_t count);

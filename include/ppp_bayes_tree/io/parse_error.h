@@ -56,6 +56,9 @@ class ParseReport {
   bool clean() const { return problem_count_ == 0; }
   /// Multi-line human-readable text: counters, then the stored problems.
   std::string summary(std::size_t max_lines = 20) const;
+  /// One line for a file read with problems: "<file>: N problem(s) while reading,
+  /// first: line L: reason" (empty when clean).
+  std::string headline(const std::string& file) const;
 
  private:
   std::string file_;

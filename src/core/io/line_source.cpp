@@ -191,6 +191,11 @@ std::unique_ptr<LineSource> openLineSource(const std::string& path) {
   return std::make_unique<GzFileLineSource>(f, path);
 }
 
+std::string fileBaseName(const std::string& path) {
+  const auto slash = path.find_last_of('/');
+  return slash == std::string::npos ? path : path.substr(slash + 1);
+}
+
 std::string overlongLinesProblem(std::size_t count) {
   return std::to_string(count) + " line(s) longer than " + std::to_string(LineSource::kMaxLineLength / 1024) +
          " KiB cut and not read: a broken or binary file?";

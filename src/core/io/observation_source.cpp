@@ -3,22 +3,15 @@
 #include <algorithm>
 #include <fstream>
 
+#include "ppp_bayes_tree/io/line_source.h"
 #include "ppp_bayes_tree/io/parse_error.h"
 #include "ppp_bayes_tree/io/rinex_obs_reader.h"
 
 namespace ppp {
-namespace {
-
-std::string baseName(const std::string& path) {
-  const auto slash = path.find_last_of('/');
-  return slash == std::string::npos ? path : path.substr(slash + 1);
-}
-
-}  // namespace
 
 RinexObservationSource::RinexObservationSource(const std::string& path)
     : path_(path),
-      name_(baseName(path)),
+      name_(fileBaseName(path)),
       reader_(std::make_unique<RinexObsReader>(RinexObsReader::open(path))) {
   std::ifstream in(path, std::ios::binary | std::ios::ate);
   size_bytes_ = in ? static_cast<std::size_t>(std::max<std::streamoff>(0, in.tellg())) : 0;
@@ -33,7 +26,7 @@ ObservationRead RinexObservationSource::next(ObsEpoch& epoch) {
   try {
     return reader_->next(epoch) ? ObservationRead::Epoch : ObservationRead::End;
   } catch (const ParseError& e) {
-    error_ = ObservationProblem{e.file().empty() ? name_ : baseName(e.file()), e.line(), e.reason()};
+    error_ = ObservationProblem{e.file().empty() ? name_ : fileBaseName(e.file()), e.line(), e.reason()};
   } catch (const std::exception& e) {
     error_ = ObservationProblem{name_, 0, e.what()};
   }

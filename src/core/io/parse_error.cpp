@@ -44,4 +44,14 @@ std::string ParseReport::summary(std::size_t max_lines) const {
   return os.str();
 }
 
+std::string ParseReport::headline(const std::string& file) const {
+  if (clean()) return {};
+  std::string text = file + ": " + std::to_string(problem_count_) + " problem(s) while reading";
+  if (!problems_.empty()) {
+    const ParseProblem& first = problems_.front();
+    text += ", first: " + (first.line > 0 ? "line " + std::to_string(first.line) + ": " : std::string()) + first.reason;
+  }
+  return text;
+}
+
 }  // namespace ppp

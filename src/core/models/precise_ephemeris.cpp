@@ -262,12 +262,7 @@ PreciseEphemeris PreciseEphemeris::load(const std::vector<std::string>& sp3_path
   // A file's reading problems and the single bad values the sanity checks find
   // (product_sanity.h: marked bad, never used) are the products' problems.
   const auto readingProblems = [&eph](const std::string& path, const ParseReport& report) {
-    if (report.clean()) return;
-    std::string first;
-    if (!report.problems().empty())
-      first = ", first: line " + std::to_string(report.problems().front().line) + ": " + report.problems().front().reason;
-    eph.merge_report_.addProblem(0, path + ": " + std::to_string(report.problemCount()) +
-                                        " problem(s) while reading" + first);
+    if (!report.clean()) eph.merge_report_.addProblem(0, report.headline(path));
   };
   // A file that holds nothing for the observations is a wrong input (another day,
   // another system), never silently replaced by another source.

@@ -9,6 +9,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "ppp_bayes_tree/io/line_source.h"
 #include "ppp_bayes_tree/io/parse_error.h"
 #include "ppp_bayes_tree/io/rinex_obs_reader.h"
 #include "ppp_bayes_tree/ppp/ppp_epoch_processor.h"
@@ -17,11 +18,6 @@
 
 namespace ppp {
 namespace {
-
-std::string baseName(const std::string& path) {
-  const auto slash = path.find_last_of('/');
-  return slash == std::string::npos ? path : path.substr(slash + 1);
-}
 
 /// The products an observation file needs: the systems processed and the span of
 /// its epochs (one extra pass over the file, a few ms; without epochs no window).
@@ -112,7 +108,7 @@ PppPipeline::PppPipeline(const PppInputFiles& files, PppConfig config)
   d.products.antennas = set->antennas();
   if (set->biases() != nullptr) {
     d.products.biases = std::shared_ptr<const BiasProvider>(set, set->biases());
-    d.bias_file_name = baseName(*files.bias);
+    d.bias_file_name = fileBaseName(*files.bias);
   }
   if (files.blq) {
     const RinexObsHeader& h = d.source->header();
@@ -141,7 +137,7 @@ const RinexObsHeader& PppPipeline::header() const { return impl_->source->header
 
 std::string PppPipeline::stationName() const {
   std::string name = impl_->source->header().marker_name;
-  if (name.empty()) name = baseName(impl_->source->name());
+  if (name.empty()) name = fileBaseName(impl_->source->name());
   name = name.substr(0, std::min<std::size_t>(4, name.size()));
   for (auto& c : name) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
   return name;

@@ -18,6 +18,7 @@
 #include <string>
 #include <vector>
 
+#include "ppp_bayes_tree/io/line_source.h"
 #include "ppp_bayes_tree/io/rinex_obs_reader.h"
 #include "ppp_bayes_tree/ros/bag_writer.h"
 #include "ppp_bayes_tree/ros/message_conversions.h"
@@ -32,11 +33,6 @@ int usage(const std::string& why) {
             << "       ppp_to_bag --simulate PROFILE [--duration-min N] [--rate 1|10] [--seed S] [--config YAML]\n"
             << "                  [--truth-out TRUTH.csv] --out BAG\n";
   return 2;
-}
-
-std::string baseName(const std::string& p) {
-  const auto s = p.find_last_of('/');
-  return s == std::string::npos ? p : p.substr(s + 1);
 }
 
 }  // namespace
@@ -101,10 +97,10 @@ int main(int argc, char** argv) {
       if (obs.empty() || sp3.empty() || clk.empty()) return usage("give --obs, --sp3 and --clk (or --simulate)");
       const ppp::PreciseEphemeris products = ppp::PreciseEphemeris::load(sp3, clk);
       auto reader = ppp::RinexObsReader::open(obs);
-      options.orbit_source = baseName(sp3.front()) + " (Lagrange-interpolated)";
-      options.clock_source = baseName(clk.front());
+      options.orbit_source = ppp::fileBaseName(sp3.front()) + " (Lagrange-interpolated)";
+      options.clock_source = ppp::fileBaseName(clk.front());
       options.reference_frame = "IGS20";
-      options.bias_set = bia.empty() ? "" : baseName(bia);
+      options.bias_set = bia.empty() ? "" : ppp::fileBaseName(bia);
       s = ppp_ros::writeReplayBag(out, reader.header(), [&](ppp::ObsEpoch& e) { return reader.next(e); }, products,
                                   options);
     }
