@@ -1,0 +1,59 @@
+#pragma once
+// Rtcm3Framer: cuts an RTCM 3 byte stream, fed in chunks of any size, into
+// frames (RTCM 10403.3, section 4: transport layer).
+//
+//   preamble 0xD3 | 6 reserved bits | 10-bit length N | N payload bytes | CRC-24Q
+//
+// The CRC-24Q (polynomial 0x1864CFB, Qualcomm) covers preamble, length and
+// payload. On a CRC mismatch the framer counts a checksum error and searches
+// for the next preamble from the byte after the false one, so that a frame hidden
+// behind garbage or a false preamble is still found. Bytes skipped while
+// searching are counted as garbage (one problem per run of bytes). finish()
+// reports a frame the stream ended inside.
+#include <cstddef>
+#include <cstdint>
+#include <functional>
+#include <vector>
+
+#include "ppp_bayes_tree/io/stream_problem.h"
+
+namespace ppp {
+
+struct Rtcm3Frame {
+  std::vector<std::uint8_t> payload;  // message bytes, without header and CRC
+  int message_type = 0;               // DF002, the first 12 payload bits (0 when N < 2)
+  std::uint64_t byte_offset = 0;      // of the preamble, from the first byte fed
+  std::uint64_t frame_index = 0;      // 0-based count of good frames
+};
+
+/// CRC-24Q of `size` bytes.
+std::uint32_t crc24q(const std::uint8_t* data, std::size_t size);
+
+/// A complete frame (preamble, length, payload, CRC) around `payload`
+/// (at most 1023 bytes; throws std::length_error otherwise).
+std::vector<std::uint8_t> encodeRtcm3Frame(const std::vector<std::uint8_t>& payload);
+
+class Rtcm3Framer {
+ public:
+  using FrameHandler = std::function<void(const Rtcm3Frame&)>;
+
+  /// Feeds bytes; calls `on_frame` for every complete frame with a good CRC.
+  void feed(const std::uint8_t* data, std::size_t size, const FrameHandler& on_frame);
+  /// The stream ended: a partial frame is counted as truncated.
+  void finish();
+
+  const StreamCounters& counters() const { return counters_; }
+  StreamCounters& counters() { return counters_; }
+
+ private:
+  void flushGarbage();
+  void scan(const FrameHandler& on_frame);
+
+  std::vector<std::uint8_t> buffer_;  // unconsumed bytes
+  std::uint64_t buffer_offset_ = 0;   // stream offset of buffer_[0]
+  std::uint64_t garbage_start_ = 0;
+  std::uint64_t garbage_run_ = 0;     // bytes in the current garbage run
+  StreamCounters counters_;
+};
+
+}  // namespace ppp
