@@ -194,6 +194,7 @@ struct NodeIntegrityTest {
                 estimator.c_str(), stamps_sent, stamps_bad_jumps, stamps_duplicates, s.epochs_processed,
                 s.epochs_time_jump_dropped, s.epochs_duplicate, s.epochs_out_of_order, s.estimator_resets,
                 s.observations_lost);
+    EXPECT_EQ(s.estimator, estimator);
     EXPECT_EQ(s.estimator_resets, 0u) << "an isolated bad stamp must not reset";
     EXPECT_EQ(s.epochs_discarded_at_reset, 0u);
     EXPECT_EQ(s.epochs_time_jump_dropped, stamps_bad_jumps);
