@@ -340,13 +340,18 @@ void PppNode::onCorrections(const ros::MessageEvent<ppp_bayes_tree::PreciseCorre
     last_time_drop_ = "correction batch " + d.time.toString() + " (" + secondsText(d.step_s) + "): " + ppp::text(d.reason);
     warn("corr_jump", "ppp: " + last_time_drop_ + ": dropped (counted)");
   }
+  applyCorrectionOutcome(outcome);
+  drain();
+}
+
+void PppNode::applyCorrectionOutcome(ppp::EpochTimeGuard<ppp::CorrectionBatch>::Outcome& outcome) {
   if (outcome.reset_step_s) {
-    warn("corrections_back", "ppp: correction time went back by " + secondsText(*outcome.reset_step_s) + ", confirmed by " +
-                                 std::to_string(outcome.accepted.size()) + " batches: buffer cleared");
+    warn("corrections_back", "ppp: correction time went back by " + secondsText(*outcome.reset_step_s) + ", confirmed (" +
+                                 std::to_string(outcome.accepted.size()) + " batches): buffer of " +
+                                 std::to_string(corrections_.size()) + " batches cleared");
     corrections_.clear();
   }
   for (auto& e : outcome.accepted) acceptCorrections(std::move(e.payload));
-  drain();
 }
 
 void PppNode::acceptCorrections(ppp::CorrectionBatch batch) {
@@ -388,10 +393,20 @@ void PppNode::onObservations(const ros::MessageEvent<ppp_bayes_tree::GnssObserva
     }
     warn("obs_drop:" + ppp::text(d.reason), "ppp: " + last_time_drop_ + ": dropped (counted)");
   }
-  if (outcome.reset_step_s)
+  if (outcome.reset_step_s) {
     resetEstimator("time went back by " + secondsText(*outcome.reset_step_s) + " (beyond " +
                    std::to_string(config_.ros.reset_backwards_threshold_s) + " s), confirmed by " +
                    std::to_string(outcome.accepted.size()) + " consecutive epochs");
+    // The observations' confirmed loop vouches for correction batches held as a jump back
+    // to the new time line (within the correction history of its first epoch).
+    const std::optional<ppp::GnssTime> held = corr_guard_.firstHeld();
+    const std::optional<ppp::GnssTime>& last = corr_guard_.lastAccepted();
+    if (held && last && *held < *last && !outcome.accepted.empty() &&
+        std::abs(*held - outcome.accepted.front().time) <= config_.ros.correction_history_s) {
+      auto corrections = corr_guard_.confirmHeld();
+      applyCorrectionOutcome(corrections);
+    }
+  }
   if (outcome.forward_jump_s)
     warn("forward_jump", "ppp: time went forward by " + secondsText(*outcome.forward_jump_s) + ", confirmed by " +
                              std::to_string(outcome.accepted.size()) + " consecutive epochs: accepted");

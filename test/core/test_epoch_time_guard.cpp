@@ -152,6 +152,24 @@ TEST(EpochTimeGuard, ConfirmOneResetsAtOnceAndClearReturnsTheHeld) {
   EXPECT_FALSE(g3.lastAccepted());
 }
 
+TEST(EpochTimeGuard, ConfirmHeldReleasesACandidateJumpAtOnce) {
+  Guard g;
+  g.push(kStart + 600.0, 1);
+  g.push(kStart + 630.0, 2);
+  g.push(kStart + 0.0, 3);  // 630 s back: held
+  EXPECT_EQ(g.held(), 1u);
+  EXPECT_EQ(*g.firstHeld(), kStart);
+  const Guard::Outcome o = g.confirmHeld();
+  ASSERT_TRUE(o.reset_step_s);
+  EXPECT_DOUBLE_EQ(*o.reset_step_s, -630.0);
+  ASSERT_EQ(o.accepted.size(), 1u);
+  EXPECT_EQ(o.accepted[0].payload, 3);
+  EXPECT_EQ(*g.lastAccepted(), kStart);
+  const Guard::Outcome none = g.confirmHeld();
+  EXPECT_TRUE(none.accepted.empty());
+  EXPECT_FALSE(none.reset_step_s);
+}
+
 TEST(EpochTimeGuard, ReasonsHaveText) {
   EXPECT_EQ(ppp::text(TimeDropReason::Duplicate), "duplicate stamp");
   EXPECT_NE(ppp::text(TimeDropReason::UnconfirmedJump).find("isolated"), std::string::npos);

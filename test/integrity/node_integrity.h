@@ -304,6 +304,35 @@ struct NodeIntegrityTest {
     EXPECT_TRUE(warned) << "the losses were not reported in the inputs diagnostic";
   }
 
+  /// After the other cases: two epochs beyond the corrections wait in stamps/ (not
+  /// covered), then the flight starts again (a rosbag loop, 371 s back): the reset comes
+  /// with the third epoch of the loop and counts the two epochs it discards.
+  void checkLoopResetsAfterConfirmationAndCountsWhatItDiscards() {
+    ASSERT_NO_FATAL_FAILURE(play());
+    const auto before = stamps.out.lastStatus();
+    const std::size_t n_before = stamps.out.statusCount();
+    for (double shift : {70.0, 71.0}) stamps.obs.publish(toMessage(shifted(epochs.size() - 1, shift), flight.header));
+    ros::WallDuration(0.5).sleep();
+    EXPECT_EQ(stamps.out.statusCount(), n_before) << "the epochs beyond the corrections should wait";
+    stamps.obs.publish(epochs.at(0));
+    stamps.obs.publish(epochs.at(1));
+    ros::WallDuration(0.5).sleep();
+    EXPECT_EQ(stamps.out.lastStatus().estimator_resets, before.estimator_resets) << "reset before the confirmation";
+    stamps.obs.publish(epochs.at(2));
+    ASSERT_TRUE(stamps.out.waitForStatuses(n_before + 3, 10.0)) << "the loop's epochs were not processed";
+    const auto s = stamps.out.lastStatus();
+    std::printf("[ figures  ] %s stamps/ loop: resets %u, epochs discarded at the reset %u, loop epochs processed %u, "
+                "state %s\n",
+                estimator.c_str(), s.estimator_resets - before.estimator_resets,
+                s.epochs_discarded_at_reset - before.epochs_discarded_at_reset,
+                s.epochs_processed - before.epochs_processed, s.solution_state_text.c_str());
+    EXPECT_EQ(s.estimator_resets, before.estimator_resets + 1);
+    EXPECT_EQ(s.epochs_discarded_at_reset, before.epochs_discarded_at_reset + 2);
+    EXPECT_EQ(s.epochs_processed, before.epochs_processed + 3);
+    EXPECT_EQ(s.header.stamp, epochs.at(2).header.stamp);
+    EXPECT_NE(s.solution_state, ppp_bayes_tree::PppStatus::NO_SOLUTION) << s.reason;
+  }
+
   void checkCorrectionsDiagnosticWarnsThenErrors() {
     ASSERT_NO_FATAL_FAILURE(play());
     const auto reports = diagnostics.of("stale/", "corrections");

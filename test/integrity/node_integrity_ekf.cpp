@@ -19,6 +19,10 @@ TEST(EkfNodeIntegrity, CorrectionsDiagnosticGoesWarnThenErrorWhenTheStreamStops)
 
 TEST(EkfNodeIntegrity, BurstOverflowingTheQueueIsCountedProcessedPlusLostEqualsSent) { g->checkBurstDropsAllCounted(); }
 
+TEST(EkfNodeIntegrity, BagLoopResetsOnlyWhenConfirmedAndCountsTheEpochsItDiscards) {
+  g->checkLoopResetsAfterConfirmationAndCountsWhatItDiscards();
+}
+
 int main(int argc, char** argv) {
   testing::InitGoogleTest(&argc, argv);
   ros::init(argc, argv, "node_integrity_ekf");

@@ -19,6 +19,10 @@ TEST(SmootherNodeIntegrity, CorrectionsDiagnosticGoesWarnThenErrorWhenTheStreamS
 
 TEST(SmootherNodeIntegrity, BurstOverflowingTheQueueIsCountedProcessedPlusLostEqualsSent) { g->checkBurstDropsAllCounted(); }
 
+TEST(SmootherNodeIntegrity, BagLoopResetsOnlyWhenConfirmedAndCountsTheEpochsItDiscards) {
+  g->checkLoopResetsAfterConfirmationAndCountsWhatItDiscards();
+}
+
 int main(int argc, char** argv) {
   testing::InitGoogleTest(&argc, argv);
   ros::init(argc, argv, "node_integrity_smoother");

@@ -99,21 +99,25 @@ class EpochTimeGuard {
     // A jump: joins the held candidates when it follows them, else starts new ones.
     if (!held_.empty() && !follows(time - held_.back().time)) dropHeld(out);
     held_.push_back(Entry{time, std::move(payload)});
-    if (held_.size() >= options_.confirm_epochs) {
-      const double jump = held_.front().time - *last_;
-      if (jump < 0.0) out.reset_step_s = jump;
-      else out.forward_jump_s = jump;
-      last_ = held_.back().time;
-      for (auto& e : held_) out.accepted.push_back(std::move(e));
-      held_.clear();
-    }
+    if (held_.size() >= options_.confirm_epochs) confirm(out);
+    return out;
+  }
+
+  /// Confirms the held epochs now (another stream's confirmed jump vouches for them,
+  /// e.g. the observations of a rosbag loop for its correction batches).
+  Outcome confirmHeld() {
+    Outcome out;
+    if (!held_.empty()) confirm(out);
     return out;
   }
 
   /// The newest accepted time (nullopt before the first epoch).
   const std::optional<GnssTime>& lastAccepted() const { return last_; }
-  /// Epochs held as a candidate jump.
+  /// Epochs held as a candidate jump, and the time of the first (nullopt: none).
   std::size_t held() const { return held_.size(); }
+  std::optional<GnssTime> firstHeld() const {
+    return held_.empty() ? std::nullopt : std::optional<GnssTime>(held_.front().time);
+  }
   const EpochTimeGuardOptions& options() const { return options_; }
   /// Forgets everything (held epochs are returned, for counting).
   std::vector<Entry> clear() {
@@ -124,6 +128,14 @@ class EpochTimeGuard {
   }
 
  private:
+  void confirm(Outcome& out) {
+    const double jump = held_.front().time - *last_;
+    if (jump < 0.0) out.reset_step_s = jump;
+    else out.forward_jump_s = jump;
+    last_ = held_.back().time;
+    for (auto& e : held_) out.accepted.push_back(std::move(e));
+    held_.clear();
+  }
   bool follows(double step_s) const { return step_s > 0.0 && step_s <= options_.max_forward_step_s; }
   void dropHeld(Outcome& out) {
     for (auto& e : held_)

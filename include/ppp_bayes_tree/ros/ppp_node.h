@@ -112,6 +112,8 @@ class PppNode {
   void acceptObservation(Pending p);
   /// A correction batch whose stamp the time guard accepted: to the buffer.
   void acceptCorrections(ppp::CorrectionBatch batch);
+  /// Clears the buffer on a confirmed jump back, then adds the released batches.
+  void applyCorrectionOutcome(ppp::EpochTimeGuard<ppp::CorrectionBatch>::Outcome& outcome);
   /// Observations ahead of the corrections [s] (data time or ROS arrival time, the larger).
   std::optional<double> correctionsStale_s() const;
   void onAttitude(const sensor_msgs::Imu::ConstPtr& msg);
