@@ -355,7 +355,6 @@ void PppNode::applyCorrectionOutcome(ppp::EpochTimeGuard<ppp::CorrectionBatch>::
 }
 
 void PppNode::acceptCorrections(ppp::CorrectionBatch batch) {
-  last_correction_received_ = batch.time;
   const ppp::BatchAddResult r = corrections_.add(std::move(batch));
   if (r == ppp::BatchAddResult::Duplicate) warn("corr_dup", "ppp: duplicate correction batch ignored");
   if (r == ppp::BatchAddResult::TooOld) warn("corr_old", "ppp: correction batch older than the history ignored");

@@ -158,7 +158,6 @@ class PppNode {
   std::map<std::string, std::uint32_t> obs_seq_, corr_seq_;
   std::optional<ros::Time> last_obs_arrival_, last_corr_arrival_;
   std::optional<ppp::GnssTime> last_received_;  // newest observation epoch received
-  std::optional<ppp::GnssTime> last_correction_received_;
 
   // datum of the map frame
   std::optional<Eigen::Vector3d> datum_ecef_m_;
