@@ -64,18 +64,22 @@ BagWriteSummary writeReplayBag(const std::string& path, const ppp::RinexObsHeade
   rosbag::Bag bag(path, rosbag::bagmode::Write);
   std::vector<ppp::CorrectionBatch> batches;
   if (summary.first) batches = sampleCorrections(products, *summary.first, *summary.last, o);
+  // header.seq numbers each topic's messages (0, 1, ...) as a live roscpp publisher does:
+  // rosbag play keeps the recorded seq, and the nodes count messages lost on the way
+  // from its gaps (ros.input.observation_queue_size in config/ppp.yaml).
   std::size_t k = 0;
-  for (const auto& m : epochs) {
-    for (; k < batches.size() && utcStamp(batches[k].time) <= m.header.stamp; ++k) {
-      const auto c = toMessage(batches[k]);
-      bag.write(o.corrections_topic, c.header.stamp - ros::Duration(0.001), c);
-    }
+  std::uint32_t obs_seq = 0;
+  const auto writeBatch = [&](std::size_t i) {
+    auto c = toMessage(batches[i]);
+    c.header.seq = static_cast<std::uint32_t>(i);
+    bag.write(o.corrections_topic, c.header.stamp - ros::Duration(0.001), c);
+  };
+  for (auto& m : epochs) {
+    for (; k < batches.size() && utcStamp(batches[k].time) <= m.header.stamp; ++k) writeBatch(k);
+    m.header.seq = obs_seq++;
     bag.write(o.observations_topic, m.header.stamp, m);
   }
-  for (; k < batches.size(); ++k) {
-    const auto c = toMessage(batches[k]);
-    bag.write(o.corrections_topic, c.header.stamp - ros::Duration(0.001), c);
-  }
+  for (; k < batches.size(); ++k) writeBatch(k);
   if (o.before_close) o.before_close(bag);
   bag.close();
   summary.epochs = epochs.size();

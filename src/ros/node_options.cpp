@@ -54,7 +54,15 @@ RosNodeOptions bindRosNodeOptions(const YAML::Node& ros, const std::string& sour
     o.correction_history_s = i.number("correction_history_s", o.correction_history_s, ppp::Bound::Positive);
     o.reset_backwards_threshold_s =
         i.number("reset_backwards_threshold_s", o.reset_backwards_threshold_s, ppp::Bound::Positive);
+    o.max_forward_step_s = i.number("max_forward_step_s", o.max_forward_step_s, ppp::Bound::Positive);
+    o.time_jump_confirm_epochs = static_cast<std::size_t>(i.integer("time_jump_confirm_epochs", 3, 1));
+    if (o.time_jump_confirm_epochs > 100) i.fail("time_jump_confirm_epochs", "must be in [1, 100] epochs");
     o.max_pending_epochs = static_cast<std::size_t>(i.integer("max_pending_epochs", 1000, 1));
+    o.observation_queue_size = static_cast<std::size_t>(i.integer("observation_queue_size", 2000, 1));
+    if (o.observation_queue_size < o.max_pending_epochs)
+      i.fail("observation_queue_size", "must be at least max_pending_epochs (" + std::to_string(o.max_pending_epochs) +
+                                           "): the queue must hold what the correction wait buffers");
+    o.correction_queue_size = static_cast<std::size_t>(i.integer("correction_queue_size", 1000, 1));
     i.finish();
   }
   {
@@ -70,6 +78,13 @@ RosNodeOptions bindRosNodeOptions(const YAML::Node& ros, const std::string& sour
     o.expected_observation_rate_hz =
         dg.number("expected_observation_rate_hz", o.expected_observation_rate_hz, ppp::Bound::NonNegative);
     o.max_correction_latency_s = dg.number("max_correction_latency_s", o.max_correction_latency_s, ppp::Bound::Positive);
+    o.corrections_stale_warn_s =
+        dg.number("corrections_stale_warn_s", o.corrections_stale_warn_s, ppp::Bound::Positive);
+    o.corrections_stale_error_s =
+        dg.number("corrections_stale_error_s", o.corrections_stale_error_s, ppp::Bound::Positive);
+    if (o.corrections_stale_error_s <= o.corrections_stale_warn_s)
+      dg.fail("corrections_stale_error_s", "must exceed corrections_stale_warn_s (" +
+                                               std::to_string(o.corrections_stale_warn_s) + " s)");
     o.path_publish_rate_hz = dg.number("path_publish_rate_hz", o.path_publish_rate_hz, ppp::Bound::Positive);
     o.path_max_poses = static_cast<std::size_t>(dg.integer("path_max_poses", 20000, 1));
     dg.finish();

@@ -1,6 +1,7 @@
 #include "ppp_bayes_tree/ros/ppp_node.h"
 
 #include <chrono>
+#include <cstdio>
 #include <cmath>
 #include <limits>
 
@@ -32,6 +33,27 @@ geometry_msgs::TransformStamped transform(const std::string& parent, const std::
   m.transform.rotation.y = q.y();
   m.transform.rotation.z = q.z();
   return m;
+}
+
+/// Messages missing between the last header.seq of `publisher` and `seq` (roscpp numbers
+/// each publication's messages consecutively). A seq not above the last one (a publisher
+/// that restarted, or one that leaves seq 0) starts counting afresh: no loss counted.
+std::uint32_t sequenceGap(std::map<std::string, std::uint32_t>& last_seq, const std::string& publisher,
+                          std::uint32_t seq) {
+  const auto it = last_seq.find(publisher);
+  if (it == last_seq.end()) {
+    last_seq[publisher] = seq;
+    return 0;
+  }
+  const std::uint32_t previous = it->second;
+  it->second = seq;
+  return seq > previous ? seq - previous - 1 : 0;
+}
+
+std::string secondsText(double s) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%+.3f s", s);
+  return buf;
 }
 
 bool isProductRejection(const ppp::EpochRejection& r) {
@@ -97,14 +119,30 @@ PppNode::PppNode(ros::NodeHandle nh, ros::NodeHandle pnh, const std::string& est
   files.systems = config_.ppp.signals.systems;
   products_ = ppp::ProductSet::load(files);
   gate_ = ppp::CorrectionGate<Pending>({o.correction_wait_s, o.max_pending_epochs});
+  {
+    ppp::EpochTimeGuardOptions g;
+    g.max_forward_step_s = o.max_forward_step_s;
+    g.out_of_order_window_s = o.reset_backwards_threshold_s;
+    g.confirm_epochs = o.time_jump_confirm_epochs;
+    obs_guard_ = ppp::EpochTimeGuard<Pending>(g);
+    // Correction batches: farther apart than the history cannot be interpolated anyway;
+    // out-of-order batches go to the buffer, which orders them and drops duplicates.
+    g.max_forward_step_s = o.correction_history_s;
+    g.drop_out_of_order = false;
+    corr_guard_ = ppp::EpochTimeGuard<ppp::CorrectionBatch>(g);
+  }
   if (o.datum_mode == "configured") {
     ppp::Geodetic g{o.datum_latitude_deg * ppp::kDegToRad, o.datum_longitude_deg * ppp::kDegToRad, o.datum_height_m};
     setDatum(ppp::geodeticToEcef(g));
   }
   counters_.estimator = estimator;
 
-  obs_sub_ = nh_.subscribe(o.observations_topic, 2000, &PppNode::onObservations, this);
-  corr_sub_ = nh_.subscribe(o.corrections_topic, 200, &PppNode::onCorrections, this);
+  // Queues as configured (observations: at least what the correction wait buffers);
+  // whatever is lost before the node anyway is counted from header.seq.
+  obs_sub_ = nh_.subscribe(o.observations_topic, static_cast<std::uint32_t>(o.observation_queue_size),
+                           &PppNode::onObservations, this);
+  corr_sub_ = nh_.subscribe(o.corrections_topic, static_cast<std::uint32_t>(o.correction_queue_size),
+                            &PppNode::onCorrections, this);
   odom_pub_ = nh_.advertise<nav_msgs::Odometry>("ppp/odometry/filtered", 100);
   fix_pub_ = nh_.advertise<sensor_msgs::NavSatFix>("ppp/fix", 100);
   status_pub_ = nh_.advertise<ppp_bayes_tree::PppStatus>("ppp/status", 100);
@@ -173,7 +211,9 @@ bool PppNode::onSetDatum(ppp_bayes_tree::SetDatum::Request& req, ppp_bayes_tree:
 
 void PppNode::resetEstimator(const std::string& why) {
   ++counters_.estimator_resets;
-  warn("reset", "ppp: estimator reset: " + why);
+  counters_.epochs_discarded_at_reset += static_cast<std::uint32_t>(gate_.size());
+  warn("reset", "ppp: estimator reset: " + why + "; " + std::to_string(gate_.size()) +
+                    " epoch(s) waiting for corrections discarded (counted)");
   std::string unused;
   estimator_ = ppp::makeEstimator(config_.ros.estimator, config_.ppp, &unused);
   processor_.reset();
@@ -183,6 +223,7 @@ void PppNode::resetEstimator(const std::string& why) {
   last_smoothed_index_.reset();
   smoothed_path_stale_ = true;  // publishes the (empty) new trajectory
   last_received_.reset();
+  last_output_time_.reset();
 }
 
 void PppNode::onAttitude(const sensor_msgs::Imu::ConstPtr& msg) {
@@ -264,8 +305,15 @@ nav_msgs::Odometry PppNode::odometry(const ros::Time& stamp, const BodyPose& pos
   return odom;
 }
 
-void PppNode::onCorrections(const ppp_bayes_tree::PreciseCorrections::ConstPtr& msg) {
+void PppNode::onCorrections(const ros::MessageEvent<ppp_bayes_tree::PreciseCorrections const>& event) {
+  const ppp_bayes_tree::PreciseCorrections::ConstPtr& msg = event.getMessage();
   ++corr_received_;
+  if (const std::uint32_t lost = sequenceGap(corr_seq_, event.getPublisherName(), msg->header.seq)) {
+    counters_.corrections_lost += lost;
+    warn("corr_lost", "ppp: " + std::to_string(lost) + " correction message(s) lost before the node (header.seq gap "
+                          "from " + event.getPublisherName() + "; queue ros.input.correction_queue_size " +
+                          std::to_string(config_.ros.correction_queue_size) + "): counted");
+  }
   ConversionIssues issues;
   ppp::CorrectionBatch batch;
   try {
@@ -285,23 +333,47 @@ void PppNode::onCorrections(const ppp_bayes_tree::PreciseCorrections::ConstPtr& 
     return;
   }
   last_correction_age_s_ = (ros::Time::now() - msg->header.stamp).toSec();
-  if (last_correction_received_ && batch.time < *last_correction_received_ - config_.ros.reset_backwards_threshold_s) {
-    warn("corrections_back", "ppp: correction time went backwards by " +
-                                 std::to_string(*last_correction_received_ - batch.time) + " s: buffer cleared");
-    corrections_.clear();
+  const ppp::GnssTime time = batch.time;
+  auto outcome = corr_guard_.push(time, std::move(batch));
+  for (const auto& d : outcome.dropped) {
+    ++counters_.corrections_time_jump_dropped;
+    last_time_drop_ = "correction batch " + d.time.toString() + " (" + secondsText(d.step_s) + "): " + ppp::text(d.reason);
+    warn("corr_jump", "ppp: " + last_time_drop_ + ": dropped (counted)");
   }
-  last_correction_received_ = batch.time;
-  const ppp::BatchAddResult r = corrections_.add(std::move(batch));
-  if (r == ppp::BatchAddResult::Duplicate) warn("corr_dup", "ppp: duplicate correction batch ignored");
-  if (r == ppp::BatchAddResult::TooOld) warn("corr_old", "ppp: correction batch older than the history ignored");
+  applyCorrectionOutcome(outcome);
   drain();
 }
 
-void PppNode::onObservations(const ppp_bayes_tree::GnssObservations::ConstPtr& msg) {
+void PppNode::applyCorrectionOutcome(ppp::EpochTimeGuard<ppp::CorrectionBatch>::Outcome& outcome) {
+  if (outcome.reset_step_s) {
+    warn("corrections_back", "ppp: correction time went back by " + secondsText(*outcome.reset_step_s) + ", confirmed (" +
+                                 std::to_string(outcome.accepted.size()) + " batches): buffer of " +
+                                 std::to_string(corrections_.size()) + " batches cleared");
+    corrections_.clear();
+  }
+  for (auto& e : outcome.accepted) acceptCorrections(std::move(e.payload));
+}
+
+void PppNode::acceptCorrections(ppp::CorrectionBatch batch) {
+  const ppp::BatchAddResult r = corrections_.add(std::move(batch));
+  if (r == ppp::BatchAddResult::Duplicate) warn("corr_dup", "ppp: duplicate correction batch ignored");
+  if (r == ppp::BatchAddResult::TooOld) warn("corr_old", "ppp: correction batch older than the history ignored");
+  if (r != ppp::BatchAddResult::Duplicate && r != ppp::BatchAddResult::TooOld) last_corr_arrival_ = ros::Time::now();
+}
+
+void PppNode::onObservations(const ros::MessageEvent<ppp_bayes_tree::GnssObservations const>& event) {
+  const ppp_bayes_tree::GnssObservations::ConstPtr& msg = event.getMessage();
   ++obs_received_;
+  if (const std::uint32_t lost = sequenceGap(obs_seq_, event.getPublisherName(), msg->header.seq)) {
+    counters_.observations_lost += lost;
+    warn("obs_lost", "ppp: " + std::to_string(lost) + " observation message(s) lost before the node (header.seq gap "
+                         "from " + event.getPublisherName() + "; queue ros.input.observation_queue_size " +
+                         std::to_string(config_.ros.observation_queue_size) + "): counted");
+  }
   Pending p;
   p.msg = msg;
   p.arrival = ros::Time::now();
+  last_obs_arrival_ = p.arrival;
   try {
     p.time = fromMessageTime(msg->week, msg->seconds_of_week, msg->time_system);
   } catch (const std::exception& e) {
@@ -309,24 +381,41 @@ void PppNode::onObservations(const ppp_bayes_tree::GnssObservations::ConstPtr& m
     warn("obs_time", std::string("ppp: observation epoch dropped: ") + e.what());
     return;
   }
-  if (last_received_) {
-    const double back = *last_received_ - p.time;
-    if (back == 0.0) {
-      ++counters_.epochs_duplicate;
-      warn("duplicate", "ppp: duplicate epoch " + p.time.toString() + " dropped");
-      return;
+  const ppp::GnssTime time = p.time;
+  auto outcome = obs_guard_.push(time, std::move(p));
+  for (const auto& d : outcome.dropped) {
+    last_time_drop_ = "observation epoch " + d.time.toString() + " (" + secondsText(d.step_s) + "): " + ppp::text(d.reason);
+    switch (d.reason) {
+      case ppp::TimeDropReason::Duplicate: ++counters_.epochs_duplicate; break;
+      case ppp::TimeDropReason::OutOfOrder: ++counters_.epochs_out_of_order; break;
+      case ppp::TimeDropReason::UnconfirmedJump: ++counters_.epochs_time_jump_dropped; break;
     }
-    if (back > config_.ros.reset_backwards_threshold_s) {
-      resetEstimator("time went backwards by " + std::to_string(back) + " s (threshold " +
-                     std::to_string(config_.ros.reset_backwards_threshold_s) + " s)");
-    } else if (back > 0.0) {
-      ++counters_.epochs_out_of_order;
-      warn("out_of_order", "ppp: out-of-order epoch " + p.time.toString() + " dropped");
-      return;
+    warn("obs_drop:" + ppp::text(d.reason), "ppp: " + last_time_drop_ + ": dropped (counted)");
+  }
+  if (outcome.reset_step_s) {
+    resetEstimator("time went back by " + secondsText(*outcome.reset_step_s) + " (beyond " +
+                   std::to_string(config_.ros.reset_backwards_threshold_s) + " s), confirmed by " +
+                   std::to_string(outcome.accepted.size()) + " consecutive epochs");
+    // The observations' confirmed loop vouches for correction batches held as a jump back
+    // to the new time line (within the correction history of its first epoch).
+    const std::optional<ppp::GnssTime> held = corr_guard_.firstHeld();
+    const std::optional<ppp::GnssTime>& last = corr_guard_.lastAccepted();
+    if (held && last && *held < *last && !outcome.accepted.empty() &&
+        std::abs(*held - outcome.accepted.front().time) <= config_.ros.correction_history_s) {
+      auto corrections = corr_guard_.confirmHeld();
+      applyCorrectionOutcome(corrections);
     }
   }
+  if (outcome.forward_jump_s)
+    warn("forward_jump", "ppp: time went forward by " + secondsText(*outcome.forward_jump_s) + ", confirmed by " +
+                             std::to_string(outcome.accepted.size()) + " consecutive epochs: accepted");
+  for (auto& e : outcome.accepted) acceptObservation(std::move(e.payload));
+  drain();
+}
+
+void PppNode::acceptObservation(Pending p) {
   last_received_ = p.time;
-  if (msg->satellites.empty()) {
+  if (p.msg->satellites.empty()) {
     ++counters_.empty_epochs;
     warn("empty", "ppp: empty epoch " + p.time.toString() + " (no satellites): no solution");
     ppp_bayes_tree::PppStatus s = counters_;
@@ -335,11 +424,23 @@ void PppNode::onObservations(const ppp_bayes_tree::GnssObservations::ConstPtr& m
     s.solution_state = ppp_bayes_tree::PppStatus::NO_SOLUTION;
     s.solution_state_text = "no_solution";
     s.reason = "empty epoch";
+    s.corrections_stale_s = correctionsStale_s().value_or(kNaN);
     status_pub_.publish(s);
     return;
   }
-  gate_.push(p.time, p.arrival.toSec(), p);
-  drain();
+  const ppp::GnssTime time = p.time;
+  const double arrival_s = p.arrival.toSec();
+  gate_.push(time, arrival_s, std::move(p));
+}
+
+std::optional<double> PppNode::correctionsStale_s() const {
+  std::optional<double> stale;
+  if (last_received_ && corrections_.newest()) stale = *last_received_ - *corrections_.newest();
+  if (last_obs_arrival_ && last_corr_arrival_) {
+    const double by_arrival = (*last_obs_arrival_ - *last_corr_arrival_).toSec();
+    stale = stale ? std::max(*stale, by_arrival) : by_arrival;
+  }
+  return stale;
 }
 
 void PppNode::onTimer(const ros::TimerEvent&) { drain(); }
@@ -436,6 +537,13 @@ void PppNode::processEpoch(const Pending& p) {
     return;
   }
   ++counters_.epochs_processed;
+  // Outputs never go back in time, one stamp one fix (the time guard and the FIFO gate
+  // ensure it; kept as a guard).
+  const bool publishable = !last_output_time_ || epoch.time > *last_output_time_;
+  if (!publishable) {
+    ++counters_.epochs_out_of_order;
+    warn("output_order", "ppp: solution at " + epoch.time.toString() + " not after the last published one: not published");
+  }
 
   ppp_bayes_tree::PppStatus s = counters_;
   s.header.stamp = utcStamp(epoch.time);
@@ -460,6 +568,7 @@ void PppNode::processEpoch(const Pending& p) {
                                  epoch.time.toString() + " excluded (e.g. " + s.rejected.back() + ")");
   s.update_time_s = update_s;
   s.correction_latency_s = corrections_.newest() ? epoch.time - *corrections_.newest() : kNaN;
+  s.corrections_stale_s = correctionsStale_s().value_or(kNaN);
   s.active_biases = static_cast<std::uint16_t>(rec.active_biases);
   // The EKF updates its whole state; the smoother re-eliminates the variables it reports.
   s.variables_reeliminated = static_cast<std::uint32_t>(
@@ -494,13 +603,16 @@ void PppNode::processEpoch(const Pending& p) {
   last_status_ = s;
   last_smoother_ = rec.smoother;
   have_status_ = true;
-  if (solved) {
-    attachAttitude(s.header.stamp);
-    publishSolution(rec, s);
-    publishSmoothedOdometry(epoch.time);
-    smoothed_path_stale_ = true;
+  if (publishable) {
+    last_output_time_ = epoch.time;
+    if (solved) {
+      attachAttitude(s.header.stamp);
+      publishSolution(rec, s);
+      publishSmoothedOdometry(epoch.time);
+      smoothed_path_stale_ = true;
+    }
+    status_pub_.publish(s);
   }
-  status_pub_.publish(s);
   if (rec.estimator_reset) {
     // The core restarted the estimator from its last good state (as offline in
     // ppp_solve); the node only counts and reports it.
@@ -576,7 +688,14 @@ void PppNode::diagnoseInputs(diagnostic_updater::DiagnosticStatusWrapper& s) {
   s.add("pending epochs", gate_.size());
   s.add("duplicate epochs dropped", counters_.epochs_duplicate);
   s.add("out-of-order epochs dropped", counters_.epochs_out_of_order);
-  s.add("estimator resets (time backwards)", counters_.estimator_resets);
+  s.add("isolated bad stamps dropped (time jump not confirmed)", counters_.epochs_time_jump_dropped);
+  s.add("epochs held as a candidate time jump", obs_guard_.held());
+  s.add("estimator resets (sustained jump back in time)", counters_.estimator_resets);
+  s.add("epochs discarded at resets", counters_.epochs_discarded_at_reset);
+  s.add("observation messages lost before the node (header.seq gaps)", counters_.observations_lost);
+  s.add("correction messages lost before the node (header.seq gaps)", counters_.corrections_lost);
+  s.add("correction batches dropped (isolated bad stamps)", counters_.corrections_time_jump_dropped);
+  s.add("last stamp dropped", last_time_drop_.empty() ? std::string("none") : last_time_drop_);
   s.add("empty epochs", counters_.empty_epochs);
   s.add("invalid observations excluded", counters_.observations_invalid);
   if (!config_.ros.attitude_topic.empty()) {
@@ -585,10 +704,15 @@ void PppNode::diagnoseInputs(diagnostic_updater::DiagnosticStatusWrapper& s) {
     s.add("solved epochs without a current attitude (at the antenna)", epochs_without_attitude_);
   }
   for (const auto& [reason, n] : issues_.counts) s.add(reason, n);
+  const std::size_t lost = std::size_t{counters_.observations_lost} + counters_.corrections_lost;
   if (obs_received_ == 0) s.summary(diagnostic_msgs::DiagnosticStatus::WARN, "no observations received yet");
+  else if (lost > lost_at_last_diag_)
+    s.summary(diagnostic_msgs::DiagnosticStatus::WARN, std::to_string(lost - lost_at_last_diag_) +
+                                                           " message(s) lost before the node since the last report");
   else if (config_.ros.expected_observation_rate_hz > 0 && obs_rate < 0.5 * config_.ros.expected_observation_rate_hz)
     s.summary(diagnostic_msgs::DiagnosticStatus::WARN, "observation rate below half the expected rate");
   else s.summary(diagnostic_msgs::DiagnosticStatus::OK, "receiving");
+  lost_at_last_diag_ = lost;
 }
 
 void PppNode::diagnoseCorrections(diagnostic_updater::DiagnosticStatusWrapper& s) {
@@ -597,7 +721,21 @@ void PppNode::diagnoseCorrections(diagnostic_updater::DiagnosticStatusWrapper& s
   s.add("age of the last batch at arrival [s]", last_correction_age_s_);
   s.add("satellite-epochs without corrections", counters_.corrections_late);
   s.add("corrections for unknown satellites", counters_.corrections_unknown_satellites);
+  s.add("correction messages lost before the node (header.seq gaps)", counters_.corrections_lost);
+  s.add("correction batches dropped (isolated bad stamps)", counters_.corrections_time_jump_dropped);
+  const std::optional<double> stale = correctionsStale_s();
+  s.add("observations ahead of the corrections [s]", stale.value_or(kNaN));
+  s.add("stale thresholds WARN / ERROR [s]", std::to_string(config_.ros.corrections_stale_warn_s) + " / " +
+                                                 std::to_string(config_.ros.corrections_stale_error_s));
   if (corrections_.size() == 0) s.summary(diagnostic_msgs::DiagnosticStatus::WARN, "no corrections received yet");
+  else if (stale && *stale > config_.ros.corrections_stale_error_s)
+    s.summary(diagnostic_msgs::DiagnosticStatus::ERROR,
+              "corrections stopped: observations " + std::to_string(static_cast<long>(*stale)) +
+                  " s ahead of the newest batch " + corrections_.newest()->toString());
+  else if (stale && *stale > config_.ros.corrections_stale_warn_s)
+    s.summary(diagnostic_msgs::DiagnosticStatus::WARN,
+              "corrections stale: observations " + std::to_string(static_cast<long>(*stale)) +
+                  " s ahead of the newest batch");
   else if (std::isfinite(last_correction_age_s_) && last_correction_age_s_ > config_.ros.max_correction_latency_s)
     s.summary(diagnostic_msgs::DiagnosticStatus::WARN, "corrections arrive late");
   else s.summary(diagnostic_msgs::DiagnosticStatus::OK, "corrections current");

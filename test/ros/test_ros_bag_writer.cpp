@@ -83,6 +83,10 @@ TEST(SimulatedFlightBag, HoldsEveryEpochTheProductsWithErrorAndTheTruthPath) {
     EXPECT_EQ(back.satellites.size(), f.epochs[k].satellites.size());
     EXPECT_EQ(c.observation_bag_times[k], ppp_ros::utcStamp(f.epochs[k].time));
   }
+  // header.seq numbers each topic's messages as a live publisher does (rosbag play keeps
+  // it): the nodes count the messages lost on the way from its gaps.
+  for (std::size_t k = 0; k < c.observations.size(); ++k) ASSERT_EQ(c.observations[k].header.seq, k);
+  for (std::size_t b = 0; b < c.corrections.size(); ++b) ASSERT_EQ(c.corrections[b].header.seq, b);
 
   // Batches every 30 s over [first - 60 s, last + 60 s], each written just before
   // the epoch at its instant; values are the products WITH error (what an

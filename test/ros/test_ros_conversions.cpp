@@ -124,6 +124,22 @@ TEST(RosNodeOptions, TemplateBindsAndUnknownKeysFail) {
   const auto o = ppp_ros::bindRosNodeOptions(c.ros, "ppp.yaml");
   EXPECT_EQ(o.map_frame, "map");
   EXPECT_DOUBLE_EQ(o.correction_wait_s, 35.0);
+  // The template documents the built-in defaults of the time guard, queues and staleness.
+  const ppp_ros::RosNodeOptions defaults;
+  EXPECT_EQ(o.time_jump_confirm_epochs, defaults.time_jump_confirm_epochs);
+  EXPECT_DOUBLE_EQ(o.max_forward_step_s, defaults.max_forward_step_s);
+  EXPECT_DOUBLE_EQ(o.reset_backwards_threshold_s, defaults.reset_backwards_threshold_s);
+  EXPECT_EQ(o.observation_queue_size, defaults.observation_queue_size);
+  EXPECT_EQ(o.correction_queue_size, defaults.correction_queue_size);
+  EXPECT_DOUBLE_EQ(o.corrections_stale_warn_s, defaults.corrections_stale_warn_s);
+  EXPECT_DOUBLE_EQ(o.corrections_stale_error_s, defaults.corrections_stale_error_s);
+  // A queue smaller than what the correction wait buffers, and an ERROR threshold not above the WARN one, fail.
+  const ppp::PppConfig small = ppp::parsePppConfig(
+      "ros: {input: {max_pending_epochs: 100, observation_queue_size: 50}}", "text");
+  EXPECT_THROW(ppp_ros::bindRosNodeOptions(small.ros, "text"), ppp::ConfigError);
+  const ppp::PppConfig stale = ppp::parsePppConfig(
+      "ros: {diagnostics: {corrections_stale_warn_s: 60, corrections_stale_error_s: 60}}", "text");
+  EXPECT_THROW(ppp_ros::bindRosNodeOptions(stale.ros, "text"), ppp::ConfigError);
   const ppp::PppConfig bad = ppp::parsePppConfig("ros: {frames: {mapp: x}}", "text");
   EXPECT_THROW(ppp_ros::bindRosNodeOptions(bad.ros, "text"), ppp::ConfigError);
   const ppp::PppConfig bad2 = ppp::parsePppConfig("ros: {input: {correction_wait_s: -1}}", "text");

@@ -221,6 +221,7 @@ struct SimulatedNodeTest {
     EXPECT_EQ(last.estimator, estimator);
     EXPECT_EQ(last.epochs_processed, played);
     EXPECT_EQ(last.epochs_duplicate + last.epochs_out_of_order + last.estimator_resets, 0u);
+    EXPECT_EQ(last.epochs_time_jump_dropped + last.observations_lost + last.corrections_lost, 0u);
     EXPECT_EQ(last.corrections_late, 0u);
     std::vector<double> updates;
     bool converged = false;
@@ -403,11 +404,20 @@ struct SimulatedNodeTest {
   void checkTimeBackwardsResets() {
     ASSERT_TRUE(ok);
     const auto before = out.lastStatus();
-    // A rosbag loop: the first epoch of the flight again (5 min back > 60 s threshold).
-    const auto s = publishAndSettle(epochMessage(0), true);
+    // A rosbag loop: the flight from its first epoch again (5 min back > 60 s threshold).
+    // The jump is held until ros.input.time_jump_confirm_epochs (3) consecutive epochs
+    // confirm it; then the estimator resets and the held epochs are processed.
+    publishAndSettle(epochMessage(0), false);
+    publishAndSettle(epochMessage(1), false);
+    EXPECT_EQ(out.lastStatus().estimator_resets, before.estimator_resets) << "reset before the jump was confirmed";
+    const std::size_t n = out.statusCount();
+    publishAndSettle(epochMessage(2), true);
+    out.waitForStatuses(n + 3, 10.0);
+    const auto s = out.lastStatus();
     EXPECT_EQ(s.estimator_resets, before.estimator_resets + 1);
-    EXPECT_EQ(s.epochs_processed, before.epochs_processed + 1);
-    const auto s2 = publishAndSettle(epochMessage(1), true);
+    EXPECT_EQ(s.epochs_processed, before.epochs_processed + 3) << "the held epochs are processed after the reset";
+    EXPECT_EQ(s.epochs_time_jump_dropped, before.epochs_time_jump_dropped);
+    const auto s2 = publishAndSettle(epochMessage(3), true);
     EXPECT_EQ(s2.epochs_processed, s.epochs_processed + 1);
     EXPECT_NE(s2.solution_state, ppp_bayes_tree::PppStatus::NO_SOLUTION) << s2.reason;
   }

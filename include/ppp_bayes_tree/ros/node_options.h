@@ -43,14 +43,20 @@ struct RosNodeOptions {
   // input handling
   double correction_wait_s = 35.0;          // longest wait for corrections covering an epoch (data or ROS time)
   double correction_history_s = 900.0;      // correction batches kept
-  double reset_backwards_threshold_s = 60.0;  // time going back by more resets the estimator
+  double reset_backwards_threshold_s = 60.0;  // a step back by more is a time jump (resets once confirmed)
+  double max_forward_step_s = 600.0;          // a step forward by more is a time jump (accepted once confirmed)
+  std::size_t time_jump_confirm_epochs = 3;   // consecutive consistent epochs that confirm a time jump
   std::size_t max_pending_epochs = 1000;
+  std::size_t observation_queue_size = 2000;  // subscriber queue [messages] (>= max_pending_epochs)
+  std::size_t correction_queue_size = 1000;   // subscriber queue [messages]
   // status thresholds
   double converged_horizontal_sigma_m = 0.10;
   double converged_vertical_sigma_m = 0.20;
   // diagnostics
   double expected_observation_rate_hz = 0.0;  // 0 = not checked
   double max_correction_latency_s = 10.0;     // latency above: WARN
+  double corrections_stale_warn_s = 60.0;     // observations ahead of the newest correction by more: WARN
+  double corrections_stale_error_s = 180.0;   // ... by more: ERROR (> the WARN threshold)
   double path_publish_rate_hz = 1.0;
   std::size_t path_max_poses = 20000;
   // smoother node only: ppp/odometry/smoothed and ppp/path/smoothed

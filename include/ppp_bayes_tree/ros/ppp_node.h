@@ -62,6 +62,7 @@
 #include "ppp_bayes_tree/ppp/product_set.h"
 #include "ppp_bayes_tree/models/correction_buffer.h"
 #include "ppp_bayes_tree/ppp/epoch_estimator.h"
+#include "ppp_bayes_tree/ppp/epoch_time_guard.h"
 #include "ppp_bayes_tree/ppp/ppp_config.h"
 #include "ppp_bayes_tree/ppp/ppp_epoch_processor.h"
 #include "ppp_bayes_tree/ros/message_conversions.h"
@@ -105,8 +106,16 @@ class PppNode {
     ppp::GnssTime time;
     ros::Time arrival;
   };
-  void onObservations(const ppp_bayes_tree::GnssObservations::ConstPtr& msg);
-  void onCorrections(const ppp_bayes_tree::PreciseCorrections::ConstPtr& msg);
+  void onObservations(const ros::MessageEvent<ppp_bayes_tree::GnssObservations const>& event);
+  void onCorrections(const ros::MessageEvent<ppp_bayes_tree::PreciseCorrections const>& event);
+  /// An observation epoch whose stamp the time guard accepted: to the correction gate.
+  void acceptObservation(Pending p);
+  /// A correction batch whose stamp the time guard accepted: to the buffer.
+  void acceptCorrections(ppp::CorrectionBatch batch);
+  /// Clears the buffer on a confirmed jump back, then adds the released batches.
+  void applyCorrectionOutcome(ppp::EpochTimeGuard<ppp::CorrectionBatch>::Outcome& outcome);
+  /// Observations ahead of the corrections [s] (data time or ROS arrival time, the larger).
+  std::optional<double> correctionsStale_s() const;
   void onAttitude(const sensor_msgs::Imu::ConstPtr& msg);
   void onTimer(const ros::TimerEvent&);
   void onPathTimer(const ros::TimerEvent&);
@@ -139,8 +148,16 @@ class PppNode {
   ppp::RinexObsHeader layout_;
   bool layout_changed_ = false;
   ppp::CorrectionGate<Pending> gate_;  // epochs waiting for covering corrections
+  // Time stamps (epoch_time_guard.h): an isolated bad stamp is dropped, a sustained jump back resets.
+  ppp::EpochTimeGuard<Pending> obs_guard_;
+  ppp::EpochTimeGuard<ppp::CorrectionBatch> corr_guard_;
+  std::optional<ppp::GnssTime> last_output_time_;  // newest epoch published (outputs never go back)
+  std::string last_time_drop_;                     // the last stamp dropped, with the reason (diagnostics)
+  // Messages lost before the node: gaps in header.seq, per publisher (roscpp numbers each
+  // publication's messages; a subscriber or publisher queue overflow leaves a gap).
+  std::map<std::string, std::uint32_t> obs_seq_, corr_seq_;
+  std::optional<ros::Time> last_obs_arrival_, last_corr_arrival_;
   std::optional<ppp::GnssTime> last_received_;  // newest observation epoch received
-  std::optional<ppp::GnssTime> last_correction_received_;
 
   // datum of the map frame
   std::optional<Eigen::Vector3d> datum_ecef_m_;
@@ -177,6 +194,7 @@ class PppNode {
   ppp_bayes_tree::PppStatus last_status_;
   bool have_status_ = false;
   std::size_t obs_received_ = 0, corr_received_ = 0, obs_at_last_diag_ = 0, corr_at_last_diag_ = 0;
+  std::size_t lost_at_last_diag_ = 0;  // messages lost (both topics) at the last inputs diagnostic
   ros::WallTime last_diag_time_;
   double last_correction_age_s_ = std::numeric_limits<double>::quiet_NaN();
   ConversionIssues issues_;
