@@ -17,6 +17,7 @@
 #include "ppp_bayes_tree/io/rtcm_ssr_encoder.h"
 #include "ppp_bayes_tree/models/broadcast_ssr_ephemeris.h"
 #include "ppp_bayes_tree/models/ssr_bias_provider.h"
+#include "fuzz/rtcm_ssr_fuzz_entry.h"
 #include "test_support.h"
 
 namespace ppp {
@@ -448,6 +449,19 @@ TEST(SsrBiasProvider, NegatesSsrBiasesIntoOsbConvention) {
   EXPECT_DOUBLE_EQ(*a.value_m, -1.9);
   EXPECT_FALSE(biases.codeBias(sat(GnssSystem::GPS, 3), *ObservationCode::parse("C2W"), t0 + 10.0).value_m);
   EXPECT_FALSE(biases.codeBias(sat(GnssSystem::GPS, 3), c1c, t0 - 10.0).value_m);
+}
+
+// The fuzz entry over its generated seed corpus (test/fuzz/corpus/rtcm_ssr,
+// written by the encoder: every kind, IGS-SSR, VTEC, garbage/CRC/truncation),
+// so that the entry builds with the normal tests and the seeds run clean.
+TEST(RtcmSsrFuzzCorpus, SeedsRunThroughTheFuzzEntry) {
+  std::size_t n = 0;
+  for (const auto& e : std::filesystem::directory_iterator(std::string(PPP_FUZZ_DIR) + "/corpus/rtcm_ssr")) {
+    const std::string bytes = test::readFileBytes(e.path().string());
+    EXPECT_NO_THROW(fuzz::fuzzRtcmSsr(reinterpret_cast<const std::uint8_t*>(bytes.data()), bytes.size())) << e.path();
+    ++n;
+  }
+  EXPECT_GE(n, 5u);
 }
 
 }  // namespace
