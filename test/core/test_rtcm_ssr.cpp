@@ -17,6 +17,7 @@
 #include "ppp_bayes_tree/io/rtcm_ssr_encoder.h"
 #include "ppp_bayes_tree/models/broadcast_ssr_ephemeris.h"
 #include "ppp_bayes_tree/models/ssr_bias_provider.h"
+#include "ppp_bayes_tree/ppp/ppp_config.h"
 #include "fuzz/rtcm_ssr_fuzz_entry.h"
 #include "test_support.h"
 
@@ -449,6 +450,29 @@ TEST(SsrBiasProvider, NegatesSsrBiasesIntoOsbConvention) {
   EXPECT_DOUBLE_EQ(*a.value_m, -1.9);
   EXPECT_FALSE(biases.codeBias(sat(GnssSystem::GPS, 3), *ObservationCode::parse("C2W"), t0 + 10.0).value_m);
   EXPECT_FALSE(biases.codeBias(sat(GnssSystem::GPS, 3), c1c, t0 - 10.0).value_m);
+}
+
+TEST(SsrConfig, AgeLimitsAreBoundStrictly) {
+  const PppConfig defaults = parsePppConfig("{}", "x.yaml");
+  EXPECT_EQ(defaults.ssr.orbit_max_age_s, 90.0);
+  EXPECT_EQ(defaults.ssr.high_rate_clock_max_age_s, 10.0);
+  const PppConfig c = parsePppConfig("ssr: {orbit_max_age_s: 30, clock_max_age_s: 12.5, bias_max_age_s: 600}", "x.yaml");
+  EXPECT_EQ(c.ssr.orbit_max_age_s, 30.0);
+  EXPECT_EQ(c.ssr.clock_max_age_s, 12.5);
+  EXPECT_EQ(c.ssr.bias_max_age_s, 600.0);
+  EXPECT_THROW(parsePppConfig("ssr: {orbit_max_age_s: -1}", "x.yaml"), ConfigError);
+  EXPECT_THROW(parsePppConfig("ssr: {orbit_age: 10}", "x.yaml"), ConfigError);
+  // The limit acts: a correction of update interval 5 s is valid for max(30, 10) s.
+  SsrCorrectionStore store(c.ssr);
+  SsrMessage m = header(GnssSystem::GPS, SsrMessageKind::Orbit, 0);
+  m.header.epoch = test::gpst(2026, 1, 1);
+  m.header.update_interval_s = 5.0;
+  m.orbits.push_back(orbit(sat(GnssSystem::GPS, 1), 1));
+  ASSERT_TRUE(store.add(m));
+  EXPECT_TRUE(store.orbit(sat(GnssSystem::GPS, 1), *m.header.epoch + 30.0));
+  const auto old = store.orbit(sat(GnssSystem::GPS, 1), *m.header.epoch + 31.0);
+  EXPECT_FALSE(old);
+  EXPECT_TRUE(old.too_old);
 }
 
 // The fuzz entry over its generated seed corpus (test/fuzz/corpus/rtcm_ssr,
