@@ -1,5 +1,6 @@
 // ppp_ssr_check --nav NAV [--nav NAV2 ...] --ssr STREAM --sp3 SP3 [--atx ATX] [--reference apc|com] [--apc l1|if]
-// (--apc: the phase centre of an APC stream, L1 by default as the IGS SSRA streams)
+// (--clk: compare the clocks with RINEX clock files instead of the SP3 clocks;
+//  --apc: the phase centre of an APC stream, L1 by default as the IGS SSRA streams)
 // Compares SSR-corrected broadcast orbits and clocks with a precise SP3 file
 // (evaluation/ssr_check.h). Last line: "orbit 3D RMS <m> m, clock RMS <ns> ns, <N> satellite-epochs".
 #include <iostream>
@@ -9,7 +10,7 @@
 
 namespace {
 int usage() {
-  std::cerr << "usage: ppp_ssr_check --nav NAV [--nav NAV ...] --ssr STREAM --sp3 SP3 [--atx ATX] [--reference apc|com] [--apc l1|if]\n";
+  std::cerr << "usage: ppp_ssr_check --nav NAV [--nav NAV ...] --ssr STREAM --sp3 SP3 [--clk CLK] [--atx ATX] [--reference apc|com] [--apc l1|if]\n";
   return 2;
 }
 }  // namespace
@@ -24,6 +25,7 @@ int main(int argc, char** argv) {
     else if (a == "--ssr" && (v = next())) req.ssr = v;
     else if (a == "--sp3" && (v = next())) req.sp3 = v;
     else if (a == "--atx" && (v = next())) req.atx = v;
+    else if (a == "--clk" && (v = next())) req.clk.emplace_back(v);
     else if (a == "--reference" && (v = next())) {
       const std::string r = v;
       if (r == "apc") req.reference = ppp::EphemerisReference::AntennaPhaseCentre;

@@ -32,6 +32,8 @@ struct SsrCheckRequest {
   std::vector<std::string> nav;
   std::string ssr;
   std::string sp3;
+  /// Optional RINEX clock files: the clocks compared with them instead of the SP3 clocks.
+  std::vector<std::string> clk;
   std::optional<std::string> atx;
   /// The stream's reference point; nullopt: from the stream name (SSRA/SSRC), else APC.
   std::optional<EphemerisReference> reference;

@@ -38,7 +38,7 @@ std::pair<char, char> pcoBands(GnssSystem s) {
 
 std::string SsrCheckResult::lastLine() const {
   char b[160];
-  std::snprintf(b, sizeof b, "orbit 3D RMS %.3f m, clock RMS %.3f ns, %zu satellite-epochs", orbit_rms_3d_m,
+  std::snprintf(b, sizeof b, "orbit 3D RMS %.4f m, clock RMS %.3f ns, %zu satellite-epochs", orbit_rms_3d_m,
                 clock_rms_ns, satellite_epochs);
   return b;
 }
@@ -53,13 +53,13 @@ SsrCheckResult checkSsrAgainstSp3(const SsrCheckRequest& req) {
   }
   // A short SP3 (e.g. an ultra-rapid cut-out of 7 epochs) gets a Lagrange window
   // of all its epochs instead of the default 10.
-  PreciseEphemeris sp3 = PreciseEphemeris::load({req.sp3}, {});
+  PreciseEphemeris sp3 = PreciseEphemeris::load({req.sp3}, req.clk);
   if (const auto span = sp3.orbitSpan(); span && sp3.orbitInterval_s() > 0.0) {
     const int nodes = static_cast<int>(std::lround((span->last - span->first) / sp3.orbitInterval_s())) + 1;
     if (nodes < PreciseEphemerisOptions{}.interpolation_points && nodes >= 2) {
       PreciseEphemerisOptions options;
       options.interpolation_points = nodes;
-      sp3 = PreciseEphemeris::load({req.sp3}, {}, options);
+      sp3 = PreciseEphemeris::load({req.sp3}, req.clk, options);
       out.notes.push_back("SP3 of " + std::to_string(nodes) + " epochs: Lagrange interpolation over all of them");
     }
   }
