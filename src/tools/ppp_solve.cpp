@@ -1,9 +1,10 @@
 // ppp_solve: offline kinematic PPP of one RINEX observation file with precise
 // products (the pipeline of ppp/ppp_pipeline.h; outputs of app/ppp_solve_run.h).
 //
-// usage: ppp_solve --obs F --sp3 F... --clk F... --atx F... [--bia F] [--blq F]
+// usage: ppp_solve --obs F (--sp3 F... --clk F... | --nav F... [--ssr F [--ssr-reference apc|com]])
+//                  --atx F... [--bia F] [--blq F]
 //                  [--config YAML] [--estimator ekf|smoother|both] [--truth X,Y,Z] [--name N] --out DIR
-// Several files may follow --sp3, --clk and --atx (or the option may be repeated).
+// Several files may follow --sp3, --clk, --nav and --atx (or the option may be repeated).
 // ANTEX files are searched in the order given: the first holding an antenna wins.
 // ekf writes DIR/<name>_ekf.csv, .pos (RTKLIB), _summary.json, _epochs.csv and
 // _residuals.csv; smoother writes the FILTERED and the SMOOTHED solutions as
@@ -31,7 +32,8 @@ namespace {
 
 int usage(const std::string& why) {
   std::cerr << "ppp_solve: " << why << "\n"
-            << "usage: ppp_solve --obs F --sp3 F... --clk F... --atx F... [--bia F] [--blq F]\n"
+            << "usage: ppp_solve --obs F (--sp3 F... --clk F... | --nav F... [--ssr F [--ssr-reference apc|com]])\n"
+            << "                 --atx F... [--bia F] [--blq F]\n"
             << "                 [--config YAML] [--estimator ekf|smoother|both] [--truth X,Y,Z] [--name N] --out DIR\n";
   return 2;
 }
@@ -72,8 +74,8 @@ int main(int argc, char** argv) {
       return true;
     };
     std::string v;
-    if (a == "--sp3" || a == "--clk" || a == "--atx") {
-      list = a == "--sp3" ? &req.files.sp3 : a == "--clk" ? &req.files.clk : &req.files.atx;
+    if (a == "--sp3" || a == "--clk" || a == "--atx" || a == "--nav") {
+      list = a == "--sp3" ? &req.files.sp3 : a == "--clk" ? &req.files.clk : a == "--nav" ? &req.files.nav : &req.files.atx;
       if (i + 1 >= argc || argv[i + 1][0] == '-') return usage(a + " needs at least one file");
       continue;
     }
@@ -88,6 +90,13 @@ int main(int argc, char** argv) {
     } else if (a == "--bia") {
       if (!value(v)) return usage("--bia needs a file");
       req.files.bias = v;
+    } else if (a == "--ssr") {
+      if (!value(v)) return usage("--ssr needs an RTCM SSR stream file");
+      req.files.ssr = v;
+    } else if (a == "--ssr-reference") {
+      if (!value(v) || (v != "apc" && v != "com")) return usage("--ssr-reference needs apc or com");
+      req.files.ssr_reference =
+          v == "apc" ? ppp::EphemerisReference::AntennaPhaseCentre : ppp::EphemerisReference::CentreOfMass;
     } else if (a == "--blq") {
       if (!value(v)) return usage("--blq needs a file");
       req.files.blq = v;
@@ -113,8 +122,13 @@ int main(int argc, char** argv) {
   if (req.estimator != "ekf" && req.estimator != "smoother" && req.estimator != "both")
     return usage("unknown --estimator '" + req.estimator + "' (expected ekf, smoother or both)");
   if (req.files.obs.empty()) return usage("--obs is required");
-  if (req.files.sp3.empty()) return usage("--sp3 is required");
-  if (req.files.clk.empty()) return usage("--clk is required");
+  if (req.files.nav.empty()) {
+    if (req.files.sp3.empty()) return usage("--sp3 (or --nav) is required");
+    if (req.files.clk.empty()) return usage("--clk (or --nav) is required");
+    if (req.files.ssr) return usage("--ssr corrects broadcast orbits: it needs --nav");
+  } else if (!req.files.sp3.empty() || !req.files.clk.empty()) {
+    return usage("give either --sp3/--clk or --nav [--ssr], not both");
+  }
   if (req.files.atx.empty()) return usage("--atx is required");
   if (req.out_dir.empty()) return usage("--out is required");
 

@@ -44,6 +44,11 @@ struct PppInputFiles {
   std::string obs;
   std::vector<std::string> sp3, clk, atx;
   std::optional<std::string> bias, blq;
+  /// Broadcast navigation files: orbits and clocks from them instead of SP3/CLK,
+  /// corrected by the SSR stream when one is given (models/broadcast_products.h).
+  std::vector<std::string> nav;
+  std::optional<std::string> ssr;
+  std::optional<EphemerisReference> ssr_reference;  // nullopt: from the stream name
 };
 
 /// In-process inputs (e.g. a simulated flight, simulation/gnss_simulator.h): the

@@ -69,6 +69,14 @@ void readSmoother(YamlSection s, const ScreeningOptions& screening, PppSmootherO
   s.finish();
 }
 
+void readSsr(YamlSection s, SsrAgeLimits& o) {
+  o.orbit_max_age_s = s.number("orbit_max_age_s", o.orbit_max_age_s, Bound::Positive);
+  o.clock_max_age_s = s.number("clock_max_age_s", o.clock_max_age_s, Bound::Positive);
+  o.high_rate_clock_max_age_s = s.number("high_rate_clock_max_age_s", o.high_rate_clock_max_age_s, Bound::Positive);
+  o.bias_max_age_s = s.number("bias_max_age_s", o.bias_max_age_s, Bound::Positive);
+  s.finish();
+}
+
 /// Throws ConfigError for the first key that appears twice in one mapping
 /// (anywhere in the document), naming its path and both lines.
 void rejectDuplicateKeys(const YAML::Node& node, const std::string& file, const std::string& path) {
@@ -108,6 +116,7 @@ PppConfig bindPppConfig(const YAML::Node& root, const std::string& source_name) 
   readStochastic(top.section("stochastic"), config.stochastic);
   readEstimator(top.section("estimator"), config.estimator, config.start);
   readSmoother(top.section("smoother"), config.estimator.screening, config.smoother);
+  readSsr(top.section("ssr"), config.ssr);
   config.measurement_model = top.rawMapping("measurement_model");
   config.cycle_slip = top.rawMapping("cycle_slip");
   config.ros = top.rawMapping("ros");

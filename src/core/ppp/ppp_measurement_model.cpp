@@ -268,7 +268,9 @@ void PppMeasurementModel::evaluate(const std::vector<DualFrequencyObservation>& 
         s1 = cal->frequency(sat.system, antexFrequency(o.phase1.band));
         s2 = cal->frequency(sat.system, antexFrequency(o.phase2.band));
       }
-      if (s1 == nullptr || s2 == nullptr) {
+      // An antenna-phase-centre orbit needs no offset: without a calibration it
+      // goes on without satellite PCV (e.g. Galileo with a GPS-only ANTEX file).
+      if ((s1 == nullptr || s2 == nullptr) && !orbit_at_apc) {
         reject(RejectionReason::MissingAntennaCalibration,
                cal == nullptr ? "missing satellite antenna calibration (no ANTEX block valid at the epoch)"
                               : "missing satellite antenna calibration for frequencies of " + cal->label());
@@ -313,8 +315,8 @@ void PppMeasurementModel::evaluate(const std::vector<DualFrequencyObservation>& 
       }
       pcv_r = *v;
     }
-    if (options_.satellite_antenna) {
-      nadir = std::acos(std::clamp(-los.dot(axes.z_ecef), -1.0, 1.0));
+    if (options_.satellite_antenna) nadir = std::acos(std::clamp(-los.dot(axes.z_ecef), -1.0, 1.0));
+    if (options_.satellite_antenna && s1 != nullptr && s2 != nullptr) {
       const auto v = combine(s1->pcv.evaluateNoAzimuth_m(nadir), s2->pcv.evaluateNoAzimuth_m(nadir), st.k);
       if (!v) {
         reject(RejectionReason::UndefinedPhaseCentreVariation, format("satellite PCV undefined at nadir %.2f deg", nadir * kRadToDeg));

@@ -12,6 +12,7 @@
 #include "ppp_bayes_tree/io/line_source.h"
 #include "ppp_bayes_tree/io/parse_error.h"
 #include "ppp_bayes_tree/io/rinex_obs_reader.h"
+#include "ppp_bayes_tree/models/broadcast_products.h"
 #include "ppp_bayes_tree/ppp/ppp_epoch_processor.h"
 #include "ppp_bayes_tree/ppp/product_set.h"
 #include "ppp_bayes_tree/types/constants.h"
@@ -91,17 +92,26 @@ PppPipeline::PppPipeline(const PppInputFiles& files, PppConfig config)
   Impl& d = *impl_;
   if (files.atx.empty()) throw std::runtime_error("no ANTEX file given (antenna calibrations are required)");
   d.source = std::make_unique<RinexObservationSource>(files.obs);
-  auto ephemeris = std::make_shared<PreciseEphemeris>(
-      PreciseEphemeris::load(files.sp3, files.clk, productFilter(files.obs, config_.signals.systems)));
-  if (!ephemeris->mergeReport().problems().empty() || !ephemeris->mergeReport().counters().empty())
-    d.load_notes.push_back("products merged: " + ephemeris->mergeReport().summary(5));
-  for (const auto& p : ephemeris->mergeReport().problems()) d.load_problems.push_back(p.reason);
-  if (ephemeris->mergeReport().problemCount() > ephemeris->mergeReport().problems().size())
-    d.load_problems.push_back("... and " +
-                              std::to_string(ephemeris->mergeReport().problemCount() -
-                                             ephemeris->mergeReport().problems().size()) +
-                              " more problem(s) of the precise products");
-  d.products.ephemeris = std::move(ephemeris);
+  std::shared_ptr<const BiasProvider> ssr_biases;
+  if (!files.nav.empty()) {
+    BroadcastProducts broadcast = loadBroadcastProducts(files.nav, files.ssr, files.ssr_reference, config_.ssr);
+    d.products.ephemeris = std::move(broadcast.ephemeris);
+    ssr_biases = std::move(broadcast.ssr_biases);
+    d.load_notes.insert(d.load_notes.end(), broadcast.notes.begin(), broadcast.notes.end());
+    d.load_problems.insert(d.load_problems.end(), broadcast.problems.begin(), broadcast.problems.end());
+  } else {
+    auto ephemeris = std::make_shared<PreciseEphemeris>(
+        PreciseEphemeris::load(files.sp3, files.clk, productFilter(files.obs, config_.signals.systems)));
+    if (!ephemeris->mergeReport().problems().empty() || !ephemeris->mergeReport().counters().empty())
+      d.load_notes.push_back("products merged: " + ephemeris->mergeReport().summary(5));
+    for (const auto& p : ephemeris->mergeReport().problems()) d.load_problems.push_back(p.reason);
+    if (ephemeris->mergeReport().problemCount() > ephemeris->mergeReport().problems().size())
+      d.load_problems.push_back("... and " +
+                                std::to_string(ephemeris->mergeReport().problemCount() -
+                                               ephemeris->mergeReport().problems().size()) +
+                                " more problem(s) of the precise products");
+    d.products.ephemeris = std::move(ephemeris);
+  }
   auto set = std::make_shared<ProductSet>(ProductSet::load({files.atx, files.bias, files.blq, config_.signals.systems}));
   for (const auto& n : set->notes()) d.load_notes.push_back(n);
   d.load_problems.insert(d.load_problems.end(), set->problems().begin(), set->problems().end());
@@ -109,6 +119,9 @@ PppPipeline::PppPipeline(const PppInputFiles& files, PppConfig config)
   if (set->biases() != nullptr) {
     d.products.biases = std::shared_ptr<const BiasProvider>(set, set->biases());
     d.bias_file_name = fileBaseName(*files.bias);
+  } else if (ssr_biases) {
+    d.products.biases = ssr_biases;
+    d.load_notes.push_back("code biases: " + ssr_biases->describeSource());
   }
   if (files.blq) {
     const RinexObsHeader& h = d.source->header();

@@ -1,0 +1,34 @@
+#pragma once
+// Broadcast products for a PPP run (ppp_solve --nav FILE... [--ssr FILE]):
+//  - without SSR: the broadcast records alone (BroadcastEphemerisStore), metre
+//    level, and the run notes say so;
+//  - with SSR: BroadcastSsrEphemeris over the decoded stream, its reference
+//    point declared (or taken from the stream name: SSRA = antenna phase centre,
+//    SSRC = centre of mass; otherwise centre of mass), and the stream's code and
+//    phase biases as an SsrBiasProvider (null when the stream has none).
+// Decoding and consistency problems (byte offset, frame index) become problems
+// of the run; SSR epochs are placed in time next to the navigation records.
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "ppp_bayes_tree/models/bias_provider.h"
+#include "ppp_bayes_tree/models/ephemeris_source.h"
+#include "ppp_bayes_tree/models/ssr_correction_store.h"
+
+namespace ppp {
+
+struct BroadcastProducts {
+  std::shared_ptr<const EphemerisSource> ephemeris;
+  std::shared_ptr<const BiasProvider> ssr_biases;  // null without SSR code biases
+  std::vector<std::string> notes;
+  std::vector<std::string> problems;
+};
+
+/// Throws FileOpenError / ParseError on unreadable files.
+BroadcastProducts loadBroadcastProducts(const std::vector<std::string>& nav, const std::optional<std::string>& ssr,
+                                        std::optional<EphemerisReference> ssr_reference = std::nullopt,
+                                        SsrAgeLimits limits = {});
+
+}  // namespace ppp

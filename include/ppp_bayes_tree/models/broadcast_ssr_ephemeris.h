@@ -1,0 +1,108 @@
+#pragma once
+// BroadcastSsrEphemeris: broadcast ephemerides corrected with SSR (RTCM
+// 10403.3, 3.5.12.3-3.5.12.5), as an EphemerisSource.
+//
+// For a satellite at GPST t:
+//   1. the orbit correction in force (SsrCorrectionStore: newest t0 <= t, within
+//      its validity) gives the IOD of the broadcast record it refers to;
+//   2. the broadcast record with THAT issue of data: GPS/QZSS IODE, Galileo
+//      IODnav (I/NAV record preferred: the IGS streams refer the Galileo clock
+//      to I/NAV), GLONASS tb (DF392: the 15-min index of tb in the GLONASS day).
+//      None: the satellite is unavailable (counted once per correction as
+//      SsrWithoutBroadcast by the constructor's check);
+//   3. orbit: X = X_brdc(t) - (e_r dr + e_a da + e_c dc), with
+//      dO = dO0 + dO_dot (t - t0) and the RAC axes from the broadcast ECEF
+//      position r and velocity v: e_a = v/|v|, e_c = r x v/|r x v|, e_r = e_a x e_c;
+//   4. clock: dt = dt_brdc_polynomial(t) + (C0 + C1 (t-t0) + C2 (t-t0)^2 [+ high-rate C]) / c,
+//      without the relativistic term (EphemerisClock convention); the clock
+//      correction must carry the orbit correction's IOD SSR.
+// The orbit refers to the point the stream declares: the antenna phase centre
+// (IGS "SSRA" streams: no satellite PCO to add) or the centre of mass ("SSRC").
+// BeiDou and SBAS: no broadcast model here (SystemNotModelled).
+#include <memory>
+#include <optional>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "ppp_bayes_tree/io/stream_problem.h"
+#include "ppp_bayes_tree/models/broadcast_ephemeris.h"
+#include "ppp_bayes_tree/models/ephemeris_source.h"
+#include "ppp_bayes_tree/models/ssr_correction_store.h"
+#include "ppp_bayes_tree/types/navigation_records.h"
+
+namespace ppp {
+
+struct NavData;
+
+struct BroadcastSsrOptions {
+  /// The point the stream's orbits refer to (declared per stream).
+  EphemerisReference reference = EphemerisReference::AntennaPhaseCentre;
+  /// Add the high-rate clock corrections (messages 1062 / 1068 / ...).
+  bool use_high_rate_clock = true;
+  /// Use broadcast records whose health flags say unhealthy.
+  bool allow_unhealthy = false;
+};
+
+/// The SSR reference point from a stream (mount point) name: "SSRA..." -> antenna
+/// phase centre, "SSRC..." -> centre of mass (IGS real-time service naming);
+/// nullopt when the name says neither.
+std::optional<EphemerisReference> ssrReferenceFromStreamName(const std::string& name);
+
+/// A corrected state with what went into it (for ppp_ssr_check and tests).
+struct SsrCorrectedState {
+  BroadcastState broadcast;        // of the matching record, at t
+  Eigen::Vector3d position_ecef_m = Eigen::Vector3d::Zero();
+  Eigen::Vector3d velocity_ecef_mps = Eigen::Vector3d::Zero();
+  Eigen::Vector3d correction_rac_m = Eigen::Vector3d::Zero();  // radial, along, cross at t
+  double clock_s = 0.0;            // corrected, without the relativistic term
+  double clock_drift_s_per_s = 0.0;
+  double clock_correction_m = 0.0; // dC at t
+  int iod = 0;
+  double orbit_age_s = 0.0, clock_age_s = 0.0;
+};
+
+class BroadcastSsrEphemeris : public EphemerisSource {
+ public:
+  BroadcastSsrEphemeris(const std::vector<NavData>& navigation, std::shared_ptr<const SsrCorrectionStore> ssr,
+                        BroadcastSsrOptions options = {});
+
+  /// The corrected state, or the reason (enum + detail) it is unavailable.
+  EphemerisAnswer<SsrCorrectedState> correctedState(const SatelliteId& sat, const GnssTime& t) const;
+
+  EphemerisAnswer<EphemerisClock> satelliteClock(const SatelliteId& sat, const GnssTime& t) const override;
+  EphemerisAnswer<EphemerisOrbit> satelliteOrbit(const SatelliteId& sat, const GnssTime& t) const override;
+  std::string describeSource() const override;
+
+  /// Orbit corrections whose IOD matches no broadcast record (SsrWithoutBroadcast),
+  /// with their byte offset and frame index; found when constructed.
+  const StreamCounters& consistency() const { return consistency_; }
+  /// Satellites with SSR orbit corrections but no broadcast record at all.
+  const std::set<SatelliteId>& satellitesWithoutBroadcast() const { return satellites_without_broadcast_; }
+  const BroadcastSsrOptions& options() const { return options_; }
+  const SsrCorrectionStore& store() const { return *ssr_; }
+
+ private:
+  struct Record {
+    std::optional<GpsLnavEphemeris> gps;
+    std::optional<GalileoEphemeris> galileo;
+    std::optional<GlonassEphemeris> glonass;
+    GnssTime reference;  // toe / tb
+    int iod = 0;
+  };
+  const Record* findRecord(const SatelliteId& sat, int iod, const GnssTime& t) const;
+  static BroadcastState stateOf(const Record& r, const GnssTime& t);
+  static double polynomialClock_s(const Record& r, const BroadcastState& s);
+
+  std::map<SatelliteId, std::vector<Record>> records_;
+  std::shared_ptr<const SsrCorrectionStore> ssr_;
+  BroadcastSsrOptions options_;
+  StreamCounters consistency_;
+  std::set<SatelliteId> satellites_without_broadcast_;
+};
+
+/// The GLONASS SSR IOD of a record (DF392): the index of tb in the GLONASS day,
+/// in 15-min units (ICD GLONASS 5.1, 4.4: tb), 0..95.
+int glonassSsrIod(const GlonassEphemeris& eph);
+
+}  // namespace ppp

@@ -1,0 +1,104 @@
+#include "ppp_bayes_tree/models/ssr_correction_store.h"
+
+#include <algorithm>
+#include <cstdio>
+
+namespace ppp {
+
+namespace {
+template <class T>
+SsrTimed<T> timed(const T& value, const SsrHeader& h) {
+  SsrTimed<T> e{value, *h.epoch, h.update_interval_s, h.iod_ssr, h.provider_id, h.solution_id, h.byte_offset,
+                h.frame_index};
+  return e;
+}
+template <class Map>
+std::size_t countAll(const Map& m) {
+  std::size_t n = 0;
+  for (const auto& [sat, series] : m) n += series.size();
+  return n;
+}
+template <class Map>
+std::optional<GnssTime> nextEpoch(const Map& m, const SatelliteId& sat, const GnssTime& t0) {
+  const auto it = m.find(sat);
+  if (it == m.end()) return std::nullopt;
+  const auto next = it->second.upper_bound(t0);
+  if (next == it->second.end()) return std::nullopt;
+  return next->first;
+}
+}  // namespace
+
+double SsrCorrectionStore::validity_s(double max_age_s, double update_interval_s) {
+  return std::max(max_age_s, 2.0 * update_interval_s);
+}
+
+bool SsrCorrectionStore::add(const SsrMessage& m) {
+  if (!m.header.epoch) {
+    ++unresolved_;
+    return false;
+  }
+  const SsrHeader& h = m.header;
+  for (const auto& o : m.orbits) orbits_[o.satellite][*h.epoch] = timed(o, h);
+  for (const auto& c : m.clocks) clocks_[c.satellite][*h.epoch] = timed(c, h);
+  for (const auto& c : m.high_rate_clocks) high_rate_clocks_[c.satellite][*h.epoch] = timed(c, h);
+  for (const auto& b : m.code_biases) code_biases_[b.satellite][*h.epoch] = timed(b, h);
+  for (const auto& b : m.phase_biases) phase_biases_[b.satellite][*h.epoch] = timed(b, h);
+  return true;
+}
+
+template <class T>
+SsrPick<T> SsrCorrectionStore::pick(const Series<T>& series, const SatelliteId& sat, const GnssTime& t,
+                                    double max_age_s, const char* what) const {
+  SsrPick<T> out;
+  const auto it = series.find(sat);
+  if (it == series.end() || it->second.empty()) {
+    out.reason = std::string("no SSR ") + what + " for " + sat.toString();
+    return out;
+  }
+  auto after = it->second.upper_bound(t);  // first epoch > t
+  if (after == it->second.begin()) {
+    out.reason = std::string("no SSR ") + what + " for " + sat.toString() + " at or before " + t.toString(TimeSystem::GPS, 1);
+    return out;
+  }
+  const SsrTimed<T>& e = std::prev(after)->second;
+  const double age = t - e.t0;
+  const double validity = validity_s(max_age_s, e.update_interval_s);
+  if (age > validity) {
+    char buf[160];
+    std::snprintf(buf, sizeof buf, "SSR %s for %s is %.0f s old, older than its validity %.0f s", what,
+                  sat.toString().c_str(), age, validity);
+    out.reason = buf;
+    out.too_old = true;
+    return out;
+  }
+  out.entry = &e;
+  return out;
+}
+
+SsrPick<SsrOrbitCorrection> SsrCorrectionStore::orbit(const SatelliteId& sat, const GnssTime& t) const {
+  return pick(orbits_, sat, t, limits_.orbit_max_age_s, "orbit correction");
+}
+SsrPick<SsrClockCorrection> SsrCorrectionStore::clock(const SatelliteId& sat, const GnssTime& t) const {
+  return pick(clocks_, sat, t, limits_.clock_max_age_s, "clock correction");
+}
+SsrPick<SsrHighRateClock> SsrCorrectionStore::highRateClock(const SatelliteId& sat, const GnssTime& t) const {
+  return pick(high_rate_clocks_, sat, t, limits_.high_rate_clock_max_age_s, "high-rate clock");
+}
+SsrPick<SsrCodeBias> SsrCorrectionStore::codeBias(const SatelliteId& sat, const GnssTime& t) const {
+  return pick(code_biases_, sat, t, limits_.bias_max_age_s, "code bias");
+}
+SsrPick<SsrPhaseBias> SsrCorrectionStore::phaseBias(const SatelliteId& sat, const GnssTime& t) const {
+  return pick(phase_biases_, sat, t, limits_.bias_max_age_s, "phase bias");
+}
+std::optional<GnssTime> SsrCorrectionStore::nextCodeBiasEpoch(const SatelliteId& sat, const GnssTime& t0) const {
+  return nextEpoch(code_biases_, sat, t0);
+}
+std::optional<GnssTime> SsrCorrectionStore::nextPhaseBiasEpoch(const SatelliteId& sat, const GnssTime& t0) const {
+  return nextEpoch(phase_biases_, sat, t0);
+}
+std::size_t SsrCorrectionStore::orbitCount() const { return countAll(orbits_); }
+std::size_t SsrCorrectionStore::clockCount() const { return countAll(clocks_); }
+std::size_t SsrCorrectionStore::codeBiasCount() const { return countAll(code_biases_); }
+std::size_t SsrCorrectionStore::phaseBiasCount() const { return countAll(phase_biases_); }
+
+}  // namespace ppp
