@@ -45,6 +45,7 @@
 #include <string>
 
 #include "ppp_bayes_tree/app/stream_convert.h"
+#include "ppp_bayes_tree/io/bit_writer.h"
 #include "ppp_bayes_tree/io/rinex_nav_reader.h"
 #include "ppp_bayes_tree/io/rinex_obs_reader.h"
 #include "ppp_bayes_tree/io/rtcm3_decoder.h"
@@ -393,6 +394,317 @@ TEST(Rtcm3Peer, Msm7MatchesConvbinAndSkipsProprietaryFrame) {
   EXPECT_EQ(run.conversion.counters.problems.front().byte_offset, 0u);
   EXPECT_EQ(run.conversion.counters.frames, 182u);
   for (int type : {1077, 1087, 1097, 1107, 1127, 1006, 1008}) EXPECT_TRUE(by_type.count(type)) << type;
+}
+
+}  // namespace
+}  // namespace ppp
+
+// ---------------------------------------------------------------------------
+// Decoder behaviour on real recordings, modified in memory.
+namespace ppp {
+namespace {
+
+std::vector<std::uint8_t> fileBytes(const std::string& path) {
+  const std::string s = test::readFileBytes(path);
+  return std::vector<std::uint8_t>(s.begin(), s.end());
+}
+
+std::vector<Rtcm3Frame> framesOf(const std::vector<std::uint8_t>& bytes) {
+  std::vector<Rtcm3Frame> frames;
+  Rtcm3Framer framer;
+  framer.feed(bytes.data(), bytes.size(), [&](const Rtcm3Frame& f) { frames.push_back(f); });
+  return frames;
+}
+
+std::vector<std::uint8_t> concat(const std::vector<std::vector<std::uint8_t>>& payloads) {
+  std::vector<std::uint8_t> out;
+  for (const auto& p : payloads) {
+    const auto f = encodeRtcm3Frame(p);
+    out.insert(out.end(), f.begin(), f.end());
+  }
+  return out;
+}
+
+struct Decoded {
+  std::vector<StreamEpoch> epochs;
+  Rtcm3Output nav;
+  StreamCounters counters;
+  GlonassChannels channels;
+};
+
+Decoded decodeAll(const std::vector<std::uint8_t>& bytes, Rtcm3DecoderOptions options, std::size_t chunk = 1 << 20,
+                  Rtcm3Decoder::ForeignFrameHandler foreign = nullptr) {
+  Rtcm3Decoder decoder(std::move(options));
+  if (foreign) decoder.setForeignFrameHandler(foreign);
+  Decoded d;
+  auto take = [&]() {
+    auto& o = decoder.output();
+    d.epochs.insert(d.epochs.end(), o.epochs.begin(), o.epochs.end());
+    d.nav.gps.insert(d.nav.gps.end(), o.gps.begin(), o.gps.end());
+    d.nav.galileo.insert(d.nav.galileo.end(), o.galileo.begin(), o.galileo.end());
+    d.nav.glonass.insert(d.nav.glonass.end(), o.glonass.begin(), o.glonass.end());
+    d.nav.beidou.insert(d.nav.beidou.end(), o.beidou.begin(), o.beidou.end());
+    o.clear();
+  };
+  for (std::size_t i = 0; i < bytes.size();) {
+    const std::size_t step = std::min(chunk == 0 ? 1 + (i * 7919) % 97 : chunk, bytes.size() - i);  // 0: irregular
+    decoder.feed(bytes.data() + i, step);
+    take();
+    i += step;
+  }
+  decoder.finish();
+  take();
+  d.counters = decoder.counters();
+  d.channels = decoder.glonassChannels();
+  return d;
+}
+
+Rtcm3DecoderOptions withDate(const std::string& date) {
+  Rtcm3DecoderOptions o;
+  o.reference_time = parseReferenceDate(date);
+  return o;
+}
+
+const StreamSatellite* findSat(const StreamEpoch& e, const SatelliteId& s) {
+  for (const auto& sat : e.satellites)
+    if (sat.satellite == s) return &sat;
+  return nullptr;
+}
+
+std::size_t countSystem(const StreamEpoch& e, GnssSystem system) {
+  std::size_t n = 0;
+  for (const auto& s : e.satellites) n += s.satellite.system == system ? 1 : 0;
+  return n;
+}
+
+#define REQUIRE_STREAM(path) \
+  if (!fs::exists(path)) GTEST_SKIP() << "stream recording absent: " << (path)
+
+TEST(Rtcm3Decoder, AnyChunkingGivesTheSameEpochs) {
+  const std::string path = rtcmPath("week-rollover-STR24.rtcm3");
+  REQUIRE_STREAM(path);
+  const auto bytes = fileBytes(path);
+  const Decoded whole = decodeAll(bytes, withDate("2018/07/14"));
+  const Decoded pieces = decodeAll(bytes, withDate("2018/07/14"), 0);
+  ASSERT_EQ(whole.epochs.size(), 1134u);
+  ASSERT_EQ(pieces.epochs.size(), whole.epochs.size());
+  for (std::size_t i = 0; i < whole.epochs.size(); i += 97) {
+    ASSERT_EQ(whole.epochs[i].time, pieces.epochs[i].time);
+    ASSERT_EQ(whole.epochs[i].satellites.size(), pieces.epochs[i].satellites.size());
+    EXPECT_EQ(whole.epochs[i].satellites[0].signals[0].pseudorange_m, pieces.epochs[i].satellites[0].signals[0].pseudorange_m);
+  }
+  EXPECT_EQ(whole.nav.gps.size(), pieces.nav.gps.size());
+}
+
+TEST(Rtcm3Decoder, WeekFromGalileoEphemerisWithoutReferenceDate) {
+  // STR24 carries 1045/1046 (12-bit GST week): once one arrives, the MSM epochs are
+  // placed without a reference date, at the same times as with one. The epochs
+  // before it are dropped and counted as unresolved time.
+  const std::string path = rtcmPath("week-rollover-STR24.rtcm3");
+  REQUIRE_STREAM(path);
+  const auto bytes = fileBytes(path);
+  const Decoded with_ref = decodeAll(bytes, withDate("2018/07/14"));
+  const Decoded without = decodeAll(bytes, {});
+  EXPECT_GT(without.counters.count(StreamProblemKind::UnresolvedTime), 0u);
+  ASSERT_GT(without.epochs.size(), 1000u);
+  EXPECT_LT(without.epochs.size(), with_ref.epochs.size());
+  EXPECT_EQ(without.epochs.back().time, with_ref.epochs.back().time);
+  EXPECT_EQ(without.epochs.back().time, test::gpst(2018, 7, 15, 0, 9, 2));  // README: ends 00:09 GPST
+  // GPS records held while the week was unknown are released with the right week.
+  ASSERT_FALSE(without.nav.gps.empty());
+  for (const auto& e : without.nav.gps) EXPECT_LT(std::fabs(e.orbit.toe - with_ref.epochs.front().time), 86400.0);
+}
+
+TEST(Rtcm3Decoder, UnresolvedWeekIsCountedAndNothingIsGuessed) {
+  const std::string path = rtcmPath("msm7.rtcm");
+  REQUIRE_STREAM(path);
+  const Decoded d = decodeAll(fileBytes(path), {});
+  EXPECT_TRUE(d.epochs.empty());
+  EXPECT_EQ(d.counters.count(StreamProblemKind::UnresolvedTime), 179u);  // every MSM frame (README: no ephemeris)
+  ASSERT_GE(d.counters.problems.size(), 2u);
+  EXPECT_EQ(d.counters.problems[1].byte_offset, 479u);
+}
+
+TEST(Rtcm3Decoder, CrcErrorDropsOneMessageAndTheEpochGoesOn) {
+  const std::string path = rtcmPath("msm7.rtcm");
+  REQUIRE_STREAM(path);
+  auto bytes = fileBytes(path);
+  const auto frames = framesOf(bytes);
+  // The tenth Galileo MSM7: corrupt one payload byte.
+  std::size_t k = 0, seen = 0;
+  for (; k < frames.size(); ++k)
+    if (frames[k].message_type == 1097 && ++seen == 10) break;
+  ASSERT_LT(k, frames.size());
+  bytes[frames[k].byte_offset + 20] ^= 0x5A;
+  const Decoded good = decodeAll(fileBytes(path), withDate("2026/11/20"));
+  const Decoded bad = decodeAll(bytes, withDate("2026/11/20"));
+  EXPECT_EQ(bad.counters.count(StreamProblemKind::ChecksumError), 1u);
+  bool found = false;
+  for (const auto& p : bad.counters.problems)
+    if (p.kind == StreamProblemKind::ChecksumError) found = p.byte_offset == frames[k].byte_offset;
+  EXPECT_TRUE(found) << "the CRC error names the frame's byte offset";
+  ASSERT_EQ(bad.epochs.size(), good.epochs.size());
+  std::size_t differing = 0;
+  for (std::size_t i = 0; i < good.epochs.size(); ++i) {
+    if (good.epochs[i].satellites.size() == bad.epochs[i].satellites.size()) continue;
+    ++differing;
+    EXPECT_EQ(countSystem(bad.epochs[i], GnssSystem::Galileo), 0u);
+    EXPECT_EQ(countSystem(bad.epochs[i], GnssSystem::GPS), countSystem(good.epochs[i], GnssSystem::GPS));
+    EXPECT_EQ(countSystem(bad.epochs[i], GnssSystem::BeiDou), countSystem(good.epochs[i], GnssSystem::BeiDou));
+  }
+  EXPECT_EQ(differing, 1u);
+}
+
+TEST(Rtcm3Decoder, GarbageTruncationUnknownAndForeignFrames) {
+  const std::string path = rtcmPath("msm7.rtcm");
+  REQUIRE_STREAM(path);
+  const auto original = fileBytes(path);
+  const auto frames = framesOf(original);
+  std::vector<std::vector<std::uint8_t>> payloads;
+  for (const auto& f : frames) payloads.push_back(f.payload);
+  // An unknown type (4000) in the middle, garbage after the 50th frame, and the
+  // stream cut inside its last frame.
+  BitWriter w;
+  w.putUnsigned(4000, 12);
+  w.putUnsigned(0xABCDEF, 24);
+  payloads.insert(payloads.begin() + 30, w.bytes());
+  auto bytes = concat(payloads);
+  const std::size_t frame50 = framesOf(bytes)[50].byte_offset;
+  const std::vector<std::uint8_t> junk = {0x00, 0xD3, 0x00, 0x05, 0x12, 0x34, 0x56, 0x78, 0x9A, 0x00, 0x00, 0x00, 0x42};
+  bytes.insert(bytes.begin() + static_cast<long>(frame50), junk.begin(), junk.end());
+  bytes.resize(bytes.size() - 10);
+  const Decoded d = decodeAll(bytes, withDate("2026/11/20"));
+  EXPECT_EQ(d.counters.count(StreamProblemKind::UnknownMessage), 1u);
+  EXPECT_EQ(d.counters.count(StreamProblemKind::TruncatedFrame), 1u);
+  EXPECT_GE(d.counters.count(StreamProblemKind::Garbage), 1u);
+  bool garbage_at = false;
+  for (const auto& p : d.counters.problems)
+    if (p.kind == StreamProblemKind::Garbage && p.byte_offset == frame50) garbage_at = true;
+  EXPECT_TRUE(garbage_at);
+  EXPECT_EQ(d.epochs.size(), 36u);  // the cut frame was the last epoch's last message: closed at finish()
+  // A foreign handler (e.g. the SSR decoder) that consumes type 4000: no longer unknown.
+  int consumed = 0;
+  const Decoded f = decodeAll(bytes, withDate("2026/11/20"), 1 << 20, [&](const Rtcm3Frame& fr) {
+    if (fr.message_type != 4000) return false;
+    ++consumed;
+    return true;
+  });
+  EXPECT_EQ(consumed, 1);
+  EXPECT_EQ(f.counters.count(StreamProblemKind::UnknownMessage), 0u);
+}
+
+TEST(Rtcm3Decoder, ShortMsmIsMalformedAndTheOtherSystemsGoOn) {
+  const std::string path = rtcmPath("msm7.rtcm");
+  REQUIRE_STREAM(path);
+  const auto frames = framesOf(fileBytes(path));
+  std::vector<std::vector<std::uint8_t>> payloads;
+  std::size_t cut = 0;
+  for (const auto& f : frames) {
+    payloads.push_back(f.payload);
+    if (f.message_type == 1127 && cut == 0) {  // the first BeiDou MSM7 loses its tail
+      payloads.back().resize(payloads.back().size() / 2);
+      cut = payloads.size();
+    }
+  }
+  const Decoded d = decodeAll(concat(payloads), withDate("2026/11/20"));
+  EXPECT_EQ(d.counters.count(StreamProblemKind::MalformedMessage), 1u);
+  ASSERT_EQ(d.epochs.size(), 36u);
+  EXPECT_EQ(countSystem(d.epochs.front(), GnssSystem::BeiDou), 0u);
+  EXPECT_GT(countSystem(d.epochs.front(), GnssSystem::Galileo), 0u);
+  EXPECT_GT(countSystem(d.epochs[1], GnssSystem::BeiDou), 0u);
+}
+
+TEST(Rtcm3Decoder, InconsistentGpsIodIsRefused) {
+  const std::string path = rtcmPath("week-rollover-STR24.rtcm3");
+  REQUIRE_STREAM(path);
+  const auto frames = framesOf(fileBytes(path));
+  std::vector<std::vector<std::uint8_t>> payloads;
+  int spoiled = 0;
+  for (const auto& f : frames) {
+    payloads.push_back(f.payload);
+    if (f.message_type == 1019 && spoiled == 0) {
+      // IODC (DF071) starts at payload bit 118: flip its last bit, IODE no longer equals its low 8 bits.
+      const std::size_t bit = 118 + 9;
+      payloads.back()[bit / 8] ^= static_cast<std::uint8_t>(0x80u >> (bit % 8));
+      ++spoiled;
+    }
+  }
+  const Decoded good = decodeAll(fileBytes(path), withDate("2018/07/14"));
+  const Decoded bad = decodeAll(concat(payloads), withDate("2018/07/14"));
+  EXPECT_EQ(good.counters.count(StreamProblemKind::InconsistentEphemeris), 0u);
+  EXPECT_EQ(bad.counters.count(StreamProblemKind::InconsistentEphemeris), 1u);
+  EXPECT_EQ(bad.nav.gps.size() + 1, good.nav.gps.size());
+  for (const auto& e : bad.nav.gps) EXPECT_EQ(e.iodc & 0xFF, e.iode);
+}
+
+TEST(Rtcm3Decoder, Msm7RoundTripThroughTheEncoder) {
+  // msm7.rtcm decoded, encoded again with encodeMsm7, decoded again: the same
+  // observations to the MSM7 resolution (GPS, GLONASS with its channels, Galileo,
+  // SBAS, BeiDou; the BeiDou time through BDT and back).
+  const std::string path = rtcmPath("msm7.rtcm");
+  REQUIRE_STREAM(path);
+  const Decoded first = decodeAll(fileBytes(path), withDate("2026/11/20"));
+  ASSERT_EQ(first.epochs.size(), 36u);
+  MsmEncodeOptions enc;
+  enc.glonass_channels = first.channels;
+  std::vector<std::vector<std::uint8_t>> payloads;
+  const GnssSystem systems[] = {GnssSystem::GPS, GnssSystem::GLONASS, GnssSystem::Galileo, GnssSystem::SBAS,
+                                GnssSystem::BeiDou};
+  for (const auto& e : first.epochs) {
+    for (std::size_t k = 0; k < 5; ++k) {
+      enc.more_messages_follow = k + 1 < 5;
+      for (auto& p : encodeMsm7(e, systems[k], enc)) payloads.push_back(std::move(p));
+    }
+  }
+  Rtcm3DecoderOptions options = withDate("2026/11/20");
+  options.glonass_channels = first.channels;
+  const Decoded second = decodeAll(concat(payloads), options);
+  EXPECT_EQ(second.counters.totalProblems(), 0u);
+  ASSERT_EQ(second.epochs.size(), first.epochs.size());
+  std::size_t compared = 0;
+  for (std::size_t i = 0; i < first.epochs.size(); ++i) {
+    const auto& a = first.epochs[i];
+    const auto& b = second.epochs[i];
+    ASSERT_EQ(a.time, b.time);
+    ASSERT_EQ(a.satellites.size(), b.satellites.size());
+    for (const auto& sa : a.satellites) {
+      const StreamSatellite* sb = findSat(b, sa.satellite);
+      ASSERT_NE(sb, nullptr) << sa.satellite.toString();
+      for (const auto& x : sa.signals) {
+        const StreamSignal* y = nullptr;
+        for (const auto& s : sb->signals)
+          if (s.band == x.band && s.attribute == x.attribute) y = &s;
+        ASSERT_NE(y, nullptr);
+        auto near = [](const std::optional<double>& u, const std::optional<double>& v, double tol) {
+          return u.has_value() == v.has_value() && (!u || std::fabs(*u - *v) <= tol);
+        };
+        EXPECT_TRUE(near(x.pseudorange_m, y->pseudorange_m, 1e-6))
+            << sa.satellite.toString() << " " << x.band << x.attribute << " " << x.pseudorange_m.value_or(0) << " "
+            << y->pseudorange_m.value_or(0);
+        EXPECT_TRUE(near(x.carrier_phase_cycles, y->carrier_phase_cycles, 1e-6)) << sa.satellite.toString();
+        EXPECT_TRUE(near(x.doppler_hz, y->doppler_hz, 1e-6)) << sa.satellite.toString();
+        EXPECT_EQ(x.cnr_dbhz, y->cnr_dbhz);
+        EXPECT_EQ(x.lli, y->lli);
+        EXPECT_EQ(x.lock_time_s, y->lock_time_s);
+        ++compared;
+      }
+    }
+  }
+  EXPECT_GT(compared, 4900u);  // every signal of the 36 epochs
+}
+
+TEST(Rtcm3Decoder, LockTimeIndicatorTables) {
+  // RTCM 10403.3 DF402: 0 -> 0, i -> 2^(i+4) ms; DF407: piecewise, 704 -> 67108864 ms.
+  EXPECT_EQ(msmLockTimeDf402_ms(0), 0u);
+  EXPECT_EQ(msmLockTimeDf402_ms(1), 32u);
+  EXPECT_EQ(msmLockTimeDf402_ms(15), 524288u);
+  EXPECT_EQ(msmLockTimeDf407_ms(63), 63u);
+  EXPECT_EQ(msmLockTimeDf407_ms(64), 64u);
+  EXPECT_EQ(msmLockTimeDf407_ms(96), 128u);     // 4 i - 256
+  EXPECT_EQ(msmLockTimeDf407_ms(160), 512u);    // 16 i - 2048
+  EXPECT_EQ(msmLockTimeDf407_ms(703), 67108864u - 1048576u);  // 1048576 i - 671088640
+  EXPECT_EQ(msmLockTimeDf407_ms(704), 67108864u);
+  for (unsigned i = 0; i <= 704; ++i) EXPECT_EQ(msmLockIndicatorDf407(msmLockTimeDf407_ms(i)), i);
 }
 
 }  // namespace

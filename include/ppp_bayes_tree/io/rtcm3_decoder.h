@@ -31,8 +31,10 @@
 // Once known, each new time is placed within half a week (GLONASS: half a day)
 // of the previous one, which carries the decoder across week rollovers. The
 // 10-bit GPS/QZSS ephemeris week never sets the time (it is ambiguous by 1024
-// weeks); such records wait until the time is known. Before that, MSM epochs
-// are dropped and counted as UnresolvedTime.
+// weeks); such records wait until the time is known. Before that, MSM epochs are
+// dropped and counted as UnresolvedTime. A GLONASS MSM without day of week
+// (DF416 = 7) met before any other time of the stream waits for the next MSM of
+// another system, since a reference date alone fixes its day only to +-12 h.
 //
 // Bad input (CRC, truncation, garbage: see Rtcm3Framer; a message shorter than
 // its fields, an ephemeris with inconsistent IODs, an unknown type, an
@@ -180,6 +182,9 @@ class Rtcm3Decoder {
   std::map<int, std::uint64_t> decoded_by_type_;
   std::map<int, std::uint64_t> ignored_by_type_;
   std::uint64_t beidou_gpst_messages_ = 0;
+  bool time_from_stream_ = false;  // time_ set from the stream, not only the reference date
+  bool finishing_ = false;
+  std::vector<Rtcm3Frame> deferred_glonass_;  // GLONASS MSM waiting for the day (see .cpp)
 };
 
 /// MSM signal id (1..32, RTCM 10403.3 tables 3.5-91/96/99/102/105/108) to the RINEX

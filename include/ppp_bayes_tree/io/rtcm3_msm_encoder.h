@@ -6,7 +6,7 @@
 // in tests: decoded -> encoded -> decoded gives the same observations to the
 // MSM7 resolution.
 //
-// Rough range: pseudorange floored to 2^-10 ms; fine pseudorange 2^-29 ms, fine
+// Rough range: the middle of the satellite's pseudoranges on the 2^-10 ms grid; fine pseudorange 2^-29 ms, fine
 // phase range 2^-31 ms, rough rate 1 m/s, fine rate 0.0001 m/s, CNR 1/16 dB-Hz;
 // lock time to the largest DF407 indicator not above it; LLI bit 1 -> DF420.
 // A value outside its field's range is left invalid (the decoder reads it absent).

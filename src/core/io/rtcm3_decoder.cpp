@@ -152,6 +152,11 @@ void Rtcm3Decoder::feed(const std::uint8_t* data, std::size_t size) {
 
 void Rtcm3Decoder::finish() {
   framer_.finish();
+  finishing_ = true;
+  std::vector<Rtcm3Frame> deferred;
+  deferred.swap(deferred_glonass_);
+  for (const auto& g : deferred) decodeMsm(g, GnssSystem::GLONASS, msmTypeInfo(g.message_type)->second);
+  finishing_ = false;
   flushPendingEpoch();
 }
 
@@ -320,6 +325,12 @@ void Rtcm3Decoder::decodeMsm(const Rtcm3Frame& frame, GnssSystem system, int msm
             "ephemeris)");
     return;
   }
+  // A GLONASS time of day without day of week, placed only by a reference date, may
+  // be a day off (a date far in the day); wait for the other systems of the epoch.
+  if (system == GnssSystem::GLONASS && glonass_dow >= 7 && !time_from_stream_ && !finishing_) {
+    if (deferred_glonass_.size() < 64) deferred_glonass_.push_back(frame);
+    return;
+  }
   std::int64_t t_ms = 0;
   const std::int64_t ref_ms = timeMs(*time_);
   if (system == GnssSystem::GLONASS) {
@@ -329,8 +340,13 @@ void Rtcm3Decoder::decodeMsm(const Rtcm3Frame& frame, GnssSystem system, int msm
       problem(StreamProblemKind::MalformedMessage, frame, "GLONASS time of day beyond 24 h");
       return;
     }
-    t_ms = nearest(ref_ms + offset_ms, epoch_ms, kDayMs) - offset_ms;
-    (void)glonass_dow;
+    // With the day of week (DF416, 7 = unknown) the GLONASS time is placed within
+    // the week, as a reference date far in the day cannot; otherwise by day.
+    if (glonass_dow < 7) {
+      t_ms = nearest(ref_ms + offset_ms, glonass_dow * kDayMs + epoch_ms, kWeekMs) - offset_ms;
+    } else {
+      t_ms = nearest(ref_ms + offset_ms, epoch_ms, kDayMs) - offset_ms;
+    }
   } else {
     if (epoch_ms >= kWeekMs) {
       problem(StreamProblemKind::MalformedMessage, frame, "time of week beyond one week");
@@ -350,6 +366,12 @@ void Rtcm3Decoder::decodeMsm(const Rtcm3Frame& frame, GnssSystem system, int msm
     ++beidou_gpst_messages_;
   }
   time_ = t;
+  if (!time_from_stream_) {
+    time_from_stream_ = true;
+    std::vector<Rtcm3Frame> deferred;
+    deferred.swap(deferred_glonass_);
+    for (const auto& g : deferred) decodeMsm(g, GnssSystem::GLONASS, msmTypeInfo(g.message_type)->second);
+  }
 
   if (pending_ && pending_->time != t) flushPendingEpoch();
   if (!pending_) {
@@ -466,6 +488,7 @@ void Rtcm3Decoder::decodeAntennaReceiver(const Rtcm3Frame& frame) {
 void Rtcm3Decoder::setTimeFromEphemeris(const GnssTime& toe) {
   if (time_) return;
   time_ = toe;
+  time_from_stream_ = true;
   for (auto& pending : pending_gps_) resolveGpsWeek(pending);
   pending_gps_.clear();
 }

@@ -113,6 +113,7 @@ std::vector<std::vector<std::uint8_t>> encodeMsm7(const StreamEpoch& epoch, Gnss
     std::vector<int> ext(group.size(), 0);
     for (std::size_t i = 0; i < group.size(); ++i) {
       const auto* s = group[i];
+      double min_pr = 1e300, max_pr = -1e300;
       std::optional<int> channel;
       if (system == GnssSystem::GLONASS) {
         channel = options.glonass_channels.channel(s->satellite.prn);
@@ -126,14 +127,20 @@ std::vector<std::vector<std::uint8_t>> encodeMsm7(const StreamEpoch& epoch, Gnss
         if (!found) continue;
         cells.push_back(Cell{found, carrierWavelength_m(system == GnssSystem::SBAS ? GnssSystem::GPS : system,
                                                         found->band, channel)});
-        if (!rough_m[i] && found->pseudorange_m) {
-          const double units = std::floor(*found->pseudorange_m / kRangeMs_m * 1024.0);  // 2^-10 ms
-          if (units >= 0 && units < 255.0 * 1024.0) rough_m[i] = units / 1024.0 * kRangeMs_m;
+        if (found->pseudorange_m) {
+          min_pr = std::min(min_pr, *found->pseudorange_m);
+          max_pr = std::max(max_pr, *found->pseudorange_m);
         }
         if (!rough_rate[i] && found->doppler_hz && cells.back().wavelength_m) {
           const double rate = std::round(-*found->doppler_hz * *cells.back().wavelength_m);
           if (std::fabs(rate) < 8191.0) rough_rate[i] = rate;
         }
+      }
+      // Rough range: the middle of the satellite's pseudoranges on the 2^-10 ms grid,
+      // so that every signal's fine value (+-2^-10 ms) fits.
+      if (min_pr <= max_pr) {
+        const double units = std::round(0.5 * (min_pr + max_pr) / kRangeMs_m * 1024.0);
+        if (units >= 0 && units < 255.0 * 1024.0) rough_m[i] = units / 1024.0 * kRangeMs_m;
       }
     }
     // Satellite data.
