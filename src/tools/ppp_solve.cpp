@@ -1,7 +1,8 @@
 // ppp_solve: offline kinematic PPP of one RINEX observation file with precise
 // products (the pipeline of ppp/ppp_pipeline.h; outputs of app/ppp_solve_run.h).
 //
-// usage: ppp_solve --obs F (--sp3 F... --clk F... | --nav F... [--ssr F [--ssr-reference apc|com]])
+// usage: ppp_solve (--obs F | --rtcm F [--ref-date YYYY/MM/DD])
+//                  (--sp3 F... --clk F... | --nav F... [--ssr F [--ssr-reference apc|com]])
 //                  --atx F... [--bia F] [--blq F]
 //                  [--config YAML] [--estimator ekf|smoother|both] [--truth X,Y,Z] [--name N] --out DIR
 // Several files may follow --sp3, --clk, --nav and --atx (or the option may be repeated).
@@ -27,12 +28,14 @@
 #include <vector>
 
 #include "ppp_bayes_tree/app/ppp_solve_run.h"
+#include "ppp_bayes_tree/io/stream_format.h"
 
 namespace {
 
 int usage(const std::string& why) {
   std::cerr << "ppp_solve: " << why << "\n"
-            << "usage: ppp_solve --obs F (--sp3 F... --clk F... | --nav F... [--ssr F [--ssr-reference apc|com]])\n"
+            << "usage: ppp_solve (--obs F | --rtcm F [--ref-date YYYY/MM/DD])\n"
+            << "                 (--sp3 F... --clk F... | --nav F... [--ssr F [--ssr-reference apc|com]])\n"
             << "                 --atx F... [--bia F] [--blq F]\n"
             << "                 [--config YAML] [--estimator ekf|smoother|both] [--truth X,Y,Z] [--name N] --out DIR\n";
   return 2;
@@ -87,6 +90,11 @@ int main(int argc, char** argv) {
     list = nullptr;
     if (a == "--obs") {
       if (!value(req.files.obs)) return usage("--obs needs a file");
+    } else if (a == "--rtcm") {
+      if (!value(req.files.rtcm)) return usage("--rtcm needs an RTCM 3 file");
+    } else if (a == "--ref-date") {
+      if (!value(v) || !(req.files.rtcm_reference_time = ppp::parseReferenceDate(v)))
+        return usage("--ref-date needs YYYY/MM/DD");
     } else if (a == "--bia") {
       if (!value(v)) return usage("--bia needs a file");
       req.files.bias = v;
@@ -121,7 +129,7 @@ int main(int argc, char** argv) {
   }
   if (req.estimator != "ekf" && req.estimator != "smoother" && req.estimator != "both")
     return usage("unknown --estimator '" + req.estimator + "' (expected ekf, smoother or both)");
-  if (req.files.obs.empty()) return usage("--obs is required");
+  if (req.files.obs.empty() == req.files.rtcm.empty()) return usage("one of --obs and --rtcm is required");
   if (req.files.nav.empty()) {
     if (req.files.sp3.empty()) return usage("--sp3 (or --nav) is required");
     if (req.files.clk.empty()) return usage("--clk (or --nav) is required");

@@ -1,6 +1,6 @@
 #pragma once
-// Recognises a GNSS file by its content (first lines), whatever its name, and
-// whether it is gzip-compressed.
+// Recognises a GNSS file by its content (first lines, or binary RTCM 3 / UBX
+// frames), whatever its name, and whether it is gzip-compressed.
 #include <string>
 #include <string_view>
 
@@ -16,6 +16,8 @@ enum class GnssFileType {
   Antex,
   BiasSinex,
   Blq,
+  Rtcm3Stream,  // binary: a frame with a good CRC-24Q (io/stream_format.h)
+  UbxStream,    // binary: a UBX frame with a good checksum
   Unknown,
 };
 

@@ -42,6 +42,10 @@ namespace ppp {
 
 struct PppInputFiles {
   std::string obs;
+  /// An RTCM 3 recording as the observation input instead of `obs` (io/rtcm_observation_source.h),
+  /// with the approximate date that places its MSM times (ppp_solve --ref-date).
+  std::string rtcm;
+  std::optional<GnssTime> rtcm_reference_time;
   std::vector<std::string> sp3, clk, atx;
   std::optional<std::string> bias, blq;
   /// Broadcast navigation files: orbits and clocks from them instead of SP3/CLK,

@@ -3,6 +3,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "ppp_bayes_tree/app/stream_inspection.h"
 #include "ppp_bayes_tree/io/antex_reader.h"
 #include "ppp_bayes_tree/io/bias_sinex_reader.h"
 #include "ppp_bayes_tree/io/blq_reader.h"
@@ -41,6 +42,10 @@ FileSummary Inspection::add(const std::string& path) {
       return summarizeBiasSinexFile(path);
     case GnssFileType::Blq:
       return summarizeBlqFile(path);
+    case GnssFileType::Rtcm3Stream:
+      return summarizeStreamFile(path);
+    case GnssFileType::UbxStream:
+      throw std::runtime_error("u-blox UBX streams are recognised but not yet summarised (ppp_stream_inspect)");
     case GnssFileType::RinexMeteo:
       throw std::runtime_error("RINEX meteorological files are recognised but not read by this project");
     case GnssFileType::Unknown:

@@ -2,6 +2,7 @@
 
 #include "ppp_bayes_tree/io/fixed_width.h"
 #include "ppp_bayes_tree/io/line_source.h"
+#include "ppp_bayes_tree/io/stream_format.h"
 
 namespace ppp {
 
@@ -16,6 +17,8 @@ std::string_view fileTypeName(GnssFileType type) {
     case GnssFileType::Antex: return "ANTEX antenna calibration";
     case GnssFileType::BiasSinex: return "Bias-SINEX";
     case GnssFileType::Blq: return "BLQ ocean loading";
+    case GnssFileType::Rtcm3Stream: return "RTCM 3 stream";
+    case GnssFileType::UbxStream: return "u-blox UBX stream";
     case GnssFileType::Unknown: return "unknown";
   }
   return "unknown";
@@ -50,6 +53,11 @@ GnssFileType detectFileTypeFromFirstLine(std::string_view line) {
 }
 
 GnssFileType detectFileType(const std::string& path) {
+  switch (detectStreamFormatOfFile(path)) {
+    case StreamFormat::Rtcm3: return GnssFileType::Rtcm3Stream;
+    case StreamFormat::Ubx: return GnssFileType::UbxStream;
+    case StreamFormat::Unknown: break;
+  }
   auto source = openLineSource(path);
   std::string line;
   // Skip leading blank lines (seen in some BLQ files).

@@ -12,6 +12,7 @@
 #include "ppp_bayes_tree/io/line_source.h"
 #include "ppp_bayes_tree/io/parse_error.h"
 #include "ppp_bayes_tree/io/rinex_obs_reader.h"
+#include "ppp_bayes_tree/io/rtcm_observation_source.h"
 #include "ppp_bayes_tree/models/broadcast_products.h"
 #include "ppp_bayes_tree/ppp/ppp_epoch_processor.h"
 #include "ppp_bayes_tree/ppp/product_set.h"
@@ -91,7 +92,19 @@ PppPipeline::PppPipeline(const PppInputFiles& files, PppConfig config)
     : config_(std::move(config)), impl_(std::make_unique<Impl>()) {
   Impl& d = *impl_;
   if (files.atx.empty()) throw std::runtime_error("no ANTEX file given (antenna calibrations are required)");
-  d.source = std::make_unique<RinexObservationSource>(files.obs);
+  RecordFilter filter;
+  if (!files.rtcm.empty()) {
+    Rtcm3DecoderOptions rtcm_options;
+    rtcm_options.reference_time = files.rtcm_reference_time;
+    auto rtcm = std::make_unique<RtcmObservationSource>(files.rtcm, rtcm_options);
+    filter.systems = config_.signals.systems;
+    if (rtcm->header().time_of_first_obs) filter.first = rtcm->header().time_of_first_obs->time;
+    if (rtcm->header().time_of_last_obs) filter.last = rtcm->header().time_of_last_obs->time;
+    d.source = std::move(rtcm);
+  } else {
+    d.source = std::make_unique<RinexObservationSource>(files.obs);
+    filter = productFilter(files.obs, config_.signals.systems);
+  }
   std::shared_ptr<const BiasProvider> ssr_biases;
   if (!files.nav.empty()) {
     BroadcastProducts broadcast = loadBroadcastProducts(files.nav, files.ssr, files.ssr_reference, config_.ssr);
@@ -100,8 +113,7 @@ PppPipeline::PppPipeline(const PppInputFiles& files, PppConfig config)
     d.load_notes.insert(d.load_notes.end(), broadcast.notes.begin(), broadcast.notes.end());
     d.load_problems.insert(d.load_problems.end(), broadcast.problems.begin(), broadcast.problems.end());
   } else {
-    auto ephemeris = std::make_shared<PreciseEphemeris>(
-        PreciseEphemeris::load(files.sp3, files.clk, productFilter(files.obs, config_.signals.systems)));
+    auto ephemeris = std::make_shared<PreciseEphemeris>(PreciseEphemeris::load(files.sp3, files.clk, filter));
     if (!ephemeris->mergeReport().problems().empty() || !ephemeris->mergeReport().counters().empty())
       d.load_notes.push_back("products merged: " + ephemeris->mergeReport().summary(5));
     for (const auto& p : ephemeris->mergeReport().problems()) d.load_problems.push_back(p.reason);

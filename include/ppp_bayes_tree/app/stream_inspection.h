@@ -1,0 +1,56 @@
+#pragma once
+// What ppp_stream_inspect (and ppp_inspect, for a stream file) tells about a
+// receiver or correction recording: frames per message type, epochs, span, rate
+// and gaps, checksum errors and other problems (with byte offsets), satellites
+// and signals per system, ephemerides, the station. One decode of the file.
+//
+// SSR providers, update intervals and reference point: filled by the SSR decoder
+// (see the `ssr` block, left empty here; the merge adds it).
+#include <map>
+#include <optional>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "ppp_bayes_tree/io/file_summary.h"
+#include "ppp_bayes_tree/io/rtcm3_decoder.h"
+#include "ppp_bayes_tree/io/stream_format.h"
+
+namespace ppp {
+
+struct StreamGap {
+  GnssTime after;  // last epoch before the gap
+  double length_s = 0.0;
+};
+
+struct StreamInspection {
+  std::string path;
+  StreamFormat format = StreamFormat::Unknown;
+  StreamCounters counters;
+  std::map<int, std::uint64_t> decoded_by_type, ignored_by_type;
+  std::size_t epochs = 0;
+  std::optional<GnssTime> first_epoch, last_epoch;
+  std::optional<double> interval_s;  // the most common epoch spacing
+  std::size_t gap_count = 0;         // spacings above 1.5 intervals
+  std::vector<StreamGap> gaps;       // the first 20
+  std::size_t backwards = 0;         // epochs not after the previous one
+  std::map<GnssSystem, std::set<SatelliteId>> satellites;
+  std::map<GnssSystem, std::set<std::string>> signals;  // "1C", "2W"
+  std::map<GnssSystem, std::size_t> ephemeris_records;  // decoded records (repeats included)
+  std::map<GnssSystem, std::set<SatelliteId>> ephemeris_satellites;
+  RtcmStationInfo station;
+  GlonassChannels glonass_channels;
+  std::uint64_t beidou_gpst_messages = 0;
+  /// SSR section (providers, update intervals, reference point): lines added by the
+  /// SSR decoder at merge; empty here.
+  std::vector<std::string> ssr;
+};
+
+/// Decodes the whole file (throws FileOpenError; std::runtime_error for UBX, not yet read here).
+StreamInspection inspectStreamFile(const std::string& path, const Rtcm3DecoderOptions& options = {});
+std::string formatStreamInspection(const StreamInspection& inspection);
+std::string streamInspectionJson(const StreamInspection& inspection);
+/// The ppp_inspect summary of a stream file.
+FileSummary summarizeStreamFile(const std::string& path);
+
+}  // namespace ppp

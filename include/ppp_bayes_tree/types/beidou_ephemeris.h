@@ -1,0 +1,26 @@
+#pragma once
+// BeiDou D1/D2 broadcast ephemeris (BDS-SIS-ICD-B1I 3.0, section 5.2.4; RINEX 3.05
+// table A14; RTCM 10403.3 message 1042). The orbit has the GPS quasi-Keplerian
+// layout; times are kept as GPST instants (BDT = GPST - 14 s), the week and
+// seconds of week as broadcast in BDT.
+#include "ppp_bayes_tree/types/navigation_records.h"
+
+namespace ppp {
+
+struct BeidouEphemeris {
+  SatelliteId satellite;
+  ClockPolynomial clock;  // toc as GPST
+  KeplerOrbit orbit;      // toe as GPST, toe_sow as BDT seconds of week
+  int aode = 0;           // age of data, ephemeris
+  int aodc = 0;           // age of data, clock
+  int bdt_week = 0;       // continuous BDT week (0 = 2006-01-01)
+  int health = 0;         // SatH1 (0 = healthy)
+  int urai = 0;           // user range accuracy index
+  double tgd1_s = 0.0;    // B1I group delay
+  double tgd2_s = 0.0;    // B2I group delay
+
+  /// GEO satellites (PRN 1-5 and 59-63) use the rotated user algorithm (ICD 5.2.4.12).
+  bool isGeo() const { return satellite.prn <= 5 || satellite.prn >= 59; }
+};
+
+}  // namespace ppp

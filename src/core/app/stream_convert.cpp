@@ -1,0 +1,60 @@
+#include "ppp_bayes_tree/app/stream_convert.h"
+
+#include <fstream>
+#include <set>
+#include <stdexcept>
+#include <tuple>
+
+#include "ppp_bayes_tree/io/parse_error.h"
+#include "ppp_bayes_tree/io/rinex_nav_writer.h"
+#include "ppp_bayes_tree/io/rinex_obs_writer.h"
+#include "ppp_bayes_tree/io/rtcm_observation_source.h"
+
+namespace ppp {
+
+StreamConversion convertStreamToRinex(const std::string& input, const std::string& obs_path,
+                                      const std::optional<std::string>& nav_path,
+                                      const Rtcm3DecoderOptions& options) {
+  StreamConversion result;
+  result.format = detectStreamFormatOfFile(input);
+  if (result.format == StreamFormat::Ubx) {
+    throw std::runtime_error(input + ": u-blox UBX is not yet supported by ppp_stream_convert");
+  }
+  if (result.format != StreamFormat::Rtcm3) {
+    throw std::runtime_error(input + ": not an RTCM 3 or UBX stream (no frame with a good checksum found)");
+  }
+  RtcmObservationSource source(input, options);
+  std::ofstream obs_out(obs_path);
+  if (!obs_out) throw FileOpenError("cannot write " + obs_path);
+  RinexObsWriter writer(obs_out);
+  writer.writeHeader(source.header());
+  ObsEpoch epoch;
+  while (source.next(epoch) == ObservationRead::Epoch) {
+    writer.writeEpoch(epoch, source.header());
+    ++result.epochs;
+  }
+  if (nav_path) {
+    std::ofstream nav_out(*nav_path);
+    if (!nav_out) throw FileOpenError("cannot write " + *nav_path);
+    RinexNavWriter nav(nav_out);
+    nav.writeHeader();
+    std::set<std::tuple<int, std::int64_t, int>> seen;
+    const Rtcm3Output& n = source.scanNavigation();
+    auto once = [&](int key, const GnssTime& t, int iod) {
+      return seen.insert({key, t.wholeSeconds(), iod}).second;
+    };
+    for (const auto& e : n.gps)
+      if (once(e.satellite.index(), e.orbit.toe, e.iode)) nav.write(e), ++result.navigation_records;
+    for (const auto& e : n.galileo)
+      if (once(e.satellite.index() + (e.type == GalileoNavType::FNav ? 10000 : 0), e.orbit.toe, e.iod_nav))
+        nav.write(e), ++result.navigation_records;
+    for (const auto& e : n.glonass)
+      if (once(e.satellite.index(), e.tb, e.health)) nav.write(e), ++result.navigation_records;
+    for (const auto& e : n.beidou)
+      if (once(e.satellite.index(), e.orbit.toe, e.aode)) nav.write(e), ++result.navigation_records;
+  }
+  result.counters = source.scanCounters();
+  return result;
+}
+
+}  // namespace ppp

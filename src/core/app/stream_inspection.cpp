@@ -1,0 +1,241 @@
+#include "ppp_bayes_tree/app/stream_inspection.h"
+
+#include <algorithm>
+#include <cstdio>
+#include <memory>
+#include <sstream>
+#include <stdexcept>
+
+#include "ppp_bayes_tree/evaluation/json_text.h"
+#include "ppp_bayes_tree/io/parse_error.h"
+
+namespace ppp {
+namespace {
+
+template <typename Sats>
+void noteEphemeris(StreamInspection& s, const Sats& records) {
+  for (const auto& r : records) {
+    ++s.ephemeris_records[r.satellite.system];
+    s.ephemeris_satellites[r.satellite.system].insert(r.satellite);
+  }
+}
+
+std::string satList(const std::set<SatelliteId>& sats) {
+  std::string out;
+  for (const auto& s : sats) out += (out.empty() ? "" : " ") + s.toString();
+  return out;
+}
+
+}  // namespace
+
+StreamInspection inspectStreamFile(const std::string& path, const Rtcm3DecoderOptions& options) {
+  StreamInspection s;
+  s.path = path;
+  s.format = detectStreamFormatOfFile(path);
+  if (s.format == StreamFormat::Ubx) throw std::runtime_error(path + ": u-blox UBX streams are not yet inspected");
+  if (s.format != StreamFormat::Rtcm3)
+    throw std::runtime_error(path + ": not an RTCM 3 or UBX stream (no frame with a good checksum found)");
+  std::unique_ptr<std::FILE, int (*)(std::FILE*)> f(std::fopen(path.c_str(), "rb"), &std::fclose);
+  if (!f) throw FileOpenError("cannot open " + path);
+  Rtcm3Decoder decoder(options);
+  std::map<long long, std::size_t> spacing_ms;
+  std::optional<GnssTime> previous;
+  std::vector<double> dts;
+  auto drain = [&]() {
+    auto& out = decoder.output();
+    for (const auto& e : out.epochs) {
+      ++s.epochs;
+      if (!s.first_epoch || e.time < *s.first_epoch) s.first_epoch = e.time;
+      if (!s.last_epoch || e.time > *s.last_epoch) s.last_epoch = e.time;
+      if (previous) {
+        const double dt = e.time - *previous;
+        if (dt <= 0.0) ++s.backwards;
+        else {
+          ++spacing_ms[std::llround(dt * 1000.0)];
+          dts.push_back(dt);
+        }
+      }
+      if (!previous || e.time > *previous) previous = e.time;
+      for (const auto& sat : e.satellites) {
+        s.satellites[sat.satellite.system].insert(sat.satellite);
+        for (const auto& sig : sat.signals) s.signals[sat.satellite.system].insert(std::string{sig.band, sig.attribute});
+      }
+    }
+    noteEphemeris(s, out.gps);
+    noteEphemeris(s, out.galileo);
+    noteEphemeris(s, out.glonass);
+    noteEphemeris(s, out.beidou);
+    out.clear();
+  };
+  std::vector<std::uint8_t> chunk(1 << 16);
+  std::size_t n = 0;
+  while ((n = std::fread(chunk.data(), 1, chunk.size(), f.get())) > 0) {
+    decoder.feed(chunk.data(), n);
+    drain();
+  }
+  decoder.finish();
+  drain();
+  s.counters = decoder.counters();
+  s.decoded_by_type = decoder.decodedByType();
+  s.ignored_by_type = decoder.ignoredByType();
+  s.station = decoder.station();
+  s.glonass_channels = decoder.glonassChannels();
+  s.beidou_gpst_messages = decoder.beidouGpstMessages();
+  if (!spacing_ms.empty()) {
+    const auto mode = std::max_element(spacing_ms.begin(), spacing_ms.end(),
+                                       [](const auto& a, const auto& b) { return a.second < b.second; });
+    s.interval_s = mode->first * 1e-3;
+    // Gaps: walk again over the spacings in order.
+    GnssTime t = *s.first_epoch;
+    for (double dt : dts) {
+      if (dt > 1.5 * *s.interval_s) {
+        ++s.gap_count;
+        if (s.gaps.size() < 20) s.gaps.push_back(StreamGap{t, dt});
+      }
+      t += dt;
+    }
+  }
+  return s;
+}
+
+std::string formatStreamInspection(const StreamInspection& s) {
+  std::ostringstream os;
+  os << "== " << s.path << "\n";
+  os << "  type      " << streamFormatName(s.format) << "\n";
+  os << "  bytes     " << s.counters.bytes << ", frames " << s.counters.frames << " with a good CRC\n";
+  os << "  frames per type:";
+  for (const auto& [type, n] : s.counters.frames_by_type) {
+    os << " " << type << "x" << n;
+    if (s.ignored_by_type.count(type)) os << "(not used)";
+  }
+  os << "\n";
+  os << "  epochs    " << s.epochs;
+  if (s.first_epoch)
+    os << ", " << s.first_epoch->toString(TimeSystem::GPS, 1) << " .. " << s.last_epoch->toString(TimeSystem::GPS, 1)
+       << " (" << (*s.last_epoch - *s.first_epoch) << " s)";
+  os << "\n";
+  if (s.interval_s) {
+    char buf[128];
+    std::snprintf(buf, sizeof buf, "  rate      %.3f s (%.2f Hz), %zu gap(s), %zu epoch(s) not after the previous\n",
+                  *s.interval_s, 1.0 / *s.interval_s, s.gap_count, s.backwards);
+    os << buf;
+    for (const auto& g : s.gaps) os << "    gap of " << g.length_s << " s after " << g.after.toString(TimeSystem::GPS, 1) << "\n";
+  }
+  for (const auto& [sys, sats] : s.satellites) {
+    os << "  " << systemName(sys) << ": " << sats.size() << " satellites (" << satList(sats) << "); signals";
+    for (const auto& sig : s.signals.at(sys)) os << " " << sig;
+    os << "\n";
+  }
+  for (const auto& [sys, n] : s.ephemeris_records)
+    os << "  ephemerides " << systemName(sys) << ": " << n << " records, " << s.ephemeris_satellites.at(sys).size()
+       << " satellites\n";
+  if (s.station.station_id) os << "  station   id " << *s.station.station_id << "\n";
+  if (s.station.arp_ecef_m) {
+    char buf[128];
+    std::snprintf(buf, sizeof buf, "  ARP       %.4f %.4f %.4f m ECEF", s.station.arp_ecef_m->x(), s.station.arp_ecef_m->y(),
+                  s.station.arp_ecef_m->z());
+    os << buf;
+    if (s.station.antenna_height_m) os << ", antenna height " << *s.station.antenna_height_m << " m";
+    os << "\n";
+  }
+  if (!s.station.antenna_descriptor.empty()) os << "  antenna   " << s.station.antenna_descriptor << "\n";
+  if (!s.station.receiver_type.empty())
+    os << "  receiver  " << s.station.receiver_type << " " << s.station.receiver_firmware << "\n";
+  if (s.glonass_channels.size() > 0) os << "  GLONASS channels known for " << s.glonass_channels.size() << " slots\n";
+  if (s.beidou_gpst_messages > 0)
+    os << "  note: " << s.beidou_gpst_messages << " BeiDou MSM carried GPST instead of BDT (RTCM 3.2 draft encoder)\n";
+  for (const auto& line : s.ssr) os << "  " << line << "\n";
+  os << "  problems  " << s.counters.totalProblems();
+  if (s.counters.count(StreamProblemKind::ChecksumError) == 0) os << " (no CRC errors)";
+  os << "\n";
+  for (const auto& [kind, n] : s.counters.problems_by_kind) os << "    " << n << " x " << streamProblemKindName(kind) << "\n";
+  for (std::size_t i = 0; i < s.counters.problems.size() && i < 10; ++i)
+    os << "    " << s.counters.problems[i].describe() << "\n";
+  if (s.counters.count(StreamProblemKind::UnresolvedTime) > 0)
+    os << "  the week of the MSM epochs is unknown: give --ref-date YYYY/MM/DD\n";
+  os << "\n";
+  return os.str();
+}
+
+std::string streamInspectionJson(const StreamInspection& s) {
+  std::ostringstream os;
+  os << "{\n  \"path\": " << jsonString(s.path) << ",\n  \"format\": " << jsonString(streamFormatName(s.format))
+     << ",\n  \"bytes\": " << s.counters.bytes << ",\n  \"frames\": " << s.counters.frames << ",\n  \"frames_by_type\": {";
+  bool first = true;
+  for (const auto& [type, n] : s.counters.frames_by_type) {
+    os << (first ? "" : ", ") << "\"" << type << "\": " << n;
+    first = false;
+  }
+  os << "},\n  \"crc_errors\": " << s.counters.count(StreamProblemKind::ChecksumError) << ",\n  \"problems\": {";
+  first = true;
+  for (const auto& [kind, n] : s.counters.problems_by_kind) {
+    os << (first ? "" : ", ") << jsonString(streamProblemKindName(kind)) << ": " << n;
+    first = false;
+  }
+  os << "},\n  \"epochs\": " << s.epochs;
+  if (s.first_epoch) {
+    os << ",\n  \"first_epoch\": " << jsonString(s.first_epoch->toString(TimeSystem::GPS, 3))
+       << ",\n  \"last_epoch\": " << jsonString(s.last_epoch->toString(TimeSystem::GPS, 3))
+       << ",\n  \"span_s\": " << jsonNumber(*s.last_epoch - *s.first_epoch);
+  }
+  if (s.interval_s) os << ",\n  \"interval_s\": " << jsonNumber(*s.interval_s) << ",\n  \"gaps\": " << s.gap_count;
+  os << ",\n  \"systems\": {";
+  first = true;
+  for (const auto& [sys, sats] : s.satellites) {
+    os << (first ? "" : ",") << "\n    " << jsonString(systemName(sys)) << ": {\"satellites\": [";
+    bool f2 = true;
+    for (const auto& sat : sats) {
+      os << (f2 ? "" : ", ") << jsonString(sat.toString());
+      f2 = false;
+    }
+    os << "], \"signals\": [";
+    f2 = true;
+    for (const auto& sig : s.signals.at(sys)) {
+      os << (f2 ? "" : ", ") << jsonString(sig);
+      f2 = false;
+    }
+    os << "]}";
+    first = false;
+  }
+  os << "\n  },\n  \"ephemerides\": {";
+  first = true;
+  for (const auto& [sys, n] : s.ephemeris_records) {
+    os << (first ? "" : ", ") << jsonString(systemName(sys)) << ": {\"records\": " << n
+       << ", \"satellites\": " << s.ephemeris_satellites.at(sys).size() << "}";
+    first = false;
+  }
+  os << "},\n  \"ssr\": [";
+  first = true;
+  for (const auto& line : s.ssr) {
+    os << (first ? "" : ", ") << jsonString(line);
+    first = false;
+  }
+  os << "]\n}\n";
+  return os.str();
+}
+
+FileSummary summarizeStreamFile(const std::string& path) {
+  const StreamInspection s = inspectStreamFile(path);
+  FileSummary f;
+  f.path = path;
+  f.type = std::string(streamFormatName(s.format));
+  f.first_epoch = s.first_epoch;
+  f.last_epoch = s.last_epoch;
+  f.interval_s = s.interval_s;
+  f.epoch_count = s.epochs;
+  f.satellites = s.satellites;
+  for (const auto& [sys, sigs] : s.signals)
+    for (const auto& sig : sigs) f.signals[sys].insert(sig);
+  f.facts.push_back(std::to_string(s.counters.frames) + " frames, " +
+                    std::to_string(s.counters.count(StreamProblemKind::ChecksumError)) + " CRC errors");
+  for (const auto& [sys, n] : s.ephemeris_records)
+    f.facts.push_back(std::string(systemName(sys)) + " ephemerides: " + std::to_string(n));
+  if (!s.station.antenna_descriptor.empty()) f.facts.push_back("antenna " + s.station.antenna_descriptor);
+  if (!s.station.receiver_type.empty()) f.facts.push_back("receiver " + s.station.receiver_type);
+  for (const auto& p : s.counters.problems) f.report.addProblem(0, p.describe());
+  if (s.counters.count(StreamProblemKind::UnresolvedTime) > 0)
+    f.facts.push_back("MSM week unknown: ppp_stream_inspect --ref-date gives the epochs");
+  return f;
+}
+
+}  // namespace ppp
