@@ -1,7 +1,7 @@
 // ppp_solve: offline kinematic PPP of one RINEX observation file with precise
 // products (the pipeline of ppp/ppp_pipeline.h; outputs of app/ppp_solve_run.h).
 //
-// usage: ppp_solve --obs F --sp3 F... --clk F... --atx F... [--bia F] [--blq F]
+// usage: ppp_solve (--obs F | --ubx F) --sp3 F... --clk F... --atx F... [--bia F] [--blq F]
 //                  [--config YAML] [--estimator ekf|smoother|both] [--truth X,Y,Z] [--name N] --out DIR
 // Several files may follow --sp3, --clk and --atx (or the option may be repeated).
 // ANTEX files are searched in the order given: the first holding an antenna wins.
@@ -31,7 +31,7 @@ namespace {
 
 int usage(const std::string& why) {
   std::cerr << "ppp_solve: " << why << "\n"
-            << "usage: ppp_solve --obs F --sp3 F... --clk F... --atx F... [--bia F] [--blq F]\n"
+            << "usage: ppp_solve (--obs F | --ubx F) --sp3 F... --clk F... --atx F... [--bia F] [--blq F]\n"
             << "                 [--config YAML] [--estimator ekf|smoother|both] [--truth X,Y,Z] [--name N] --out DIR\n";
   return 2;
 }
@@ -85,6 +85,9 @@ int main(int argc, char** argv) {
     list = nullptr;
     if (a == "--obs") {
       if (!value(req.files.obs)) return usage("--obs needs a file");
+    } else if (a == "--ubx") {  // a u-blox UBX recording (RXM-RAWX) as the observations
+      if (!value(req.files.obs)) return usage("--ubx needs a file");
+      req.files.obs_format = ppp::ObservationFormat::Ubx;
     } else if (a == "--bia") {
       if (!value(v)) return usage("--bia needs a file");
       req.files.bias = v;
@@ -112,7 +115,7 @@ int main(int argc, char** argv) {
   }
   if (req.estimator != "ekf" && req.estimator != "smoother" && req.estimator != "both")
     return usage("unknown --estimator '" + req.estimator + "' (expected ekf, smoother or both)");
-  if (req.files.obs.empty()) return usage("--obs is required");
+  if (req.files.obs.empty()) return usage("--obs or --ubx is required");
   if (req.files.sp3.empty()) return usage("--sp3 is required");
   if (req.files.clk.empty()) return usage("--clk is required");
   if (req.files.atx.empty()) return usage("--atx is required");

@@ -40,8 +40,13 @@
 
 namespace ppp {
 
+/// The format of PppInputFiles::obs: RINEX/CRX, or a u-blox UBX recording
+/// (io/ubx_observation_source.h; ppp_solve --ubx).
+enum class ObservationFormat { Rinex, Ubx };
+
 struct PppInputFiles {
   std::string obs;
+  ObservationFormat obs_format = ObservationFormat::Rinex;
   std::vector<std::string> sp3, clk, atx;
   std::optional<std::string> bias, blq;
 };

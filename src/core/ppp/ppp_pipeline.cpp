@@ -12,6 +12,7 @@
 #include "ppp_bayes_tree/io/line_source.h"
 #include "ppp_bayes_tree/io/parse_error.h"
 #include "ppp_bayes_tree/io/rinex_obs_reader.h"
+#include "ppp_bayes_tree/io/ubx_observation_source.h"
 #include "ppp_bayes_tree/ppp/ppp_epoch_processor.h"
 #include "ppp_bayes_tree/ppp/product_set.h"
 #include "ppp_bayes_tree/types/constants.h"
@@ -90,9 +91,20 @@ PppPipeline::PppPipeline(const PppInputFiles& files, PppConfig config)
     : config_(std::move(config)), impl_(std::make_unique<Impl>()) {
   Impl& d = *impl_;
   if (files.atx.empty()) throw std::runtime_error("no ANTEX file given (antenna calibrations are required)");
-  d.source = std::make_unique<RinexObservationSource>(files.obs);
-  auto ephemeris = std::make_shared<PreciseEphemeris>(
-      PreciseEphemeris::load(files.sp3, files.clk, productFilter(files.obs, config_.signals.systems)));
+  RecordFilter filter;
+  if (files.obs_format == ObservationFormat::Ubx) {
+    d.source = std::make_unique<UbxObservationSource>(files.obs);
+    filter.systems = config_.signals.systems;
+    const RinexObsHeader& h = d.source->header();
+    if (h.time_of_first_obs && h.time_of_last_obs) {
+      filter.first = h.time_of_first_obs->time;
+      filter.last = h.time_of_last_obs->time;
+    }
+  } else {
+    d.source = std::make_unique<RinexObservationSource>(files.obs);
+    filter = productFilter(files.obs, config_.signals.systems);
+  }
+  auto ephemeris = std::make_shared<PreciseEphemeris>(PreciseEphemeris::load(files.sp3, files.clk, filter));
   if (!ephemeris->mergeReport().problems().empty() || !ephemeris->mergeReport().counters().empty())
     d.load_notes.push_back("products merged: " + ephemeris->mergeReport().summary(5));
   for (const auto& p : ephemeris->mergeReport().problems()) d.load_problems.push_back(p.reason);
