@@ -22,6 +22,7 @@
 #include "ppp_bayes_tree/io/ubx_framer.h"
 #include "ppp_bayes_tree/io/ubx_observation_source.h"
 #include "ppp_bayes_tree/models/broadcast_ephemeris.h"
+#include "fuzz/ubx_fuzz_entry.h"
 #include "test_support.h"
 
 namespace ppp {
@@ -371,6 +372,100 @@ TEST(UbxRealData, EphemeridesEqualConvbin) {
   } else {
     EXPECT_GT(galileo, 0u);
   }
+}
+
+
+// ----------------------------------------------------------------------------
+// The generated seed corpus (test/fuzz/make_ubx_corpus.py): the SFRBX decoders on
+// known field values, and the fuzz entry over every seed.
+
+std::vector<std::uint8_t> seed(const std::string& name) {
+  const std::string bytes = test::readFileBytes(std::string(PPP_FUZZ_DIR) + "/corpus/ubx/" + name);
+  return std::vector<std::uint8_t>(bytes.begin(), bytes.end());
+}
+
+TEST(UbxGeneratedSeeds, LnavAndInavFieldsDecodeToTheirValues) {
+  std::vector<GpsLnavEphemeris> gps;
+  std::vector<GalileoEphemeris> galileo;
+  UbxDecoder::Handlers h;
+  h.on_gps = [&](const GpsLnavEphemeris& e) { gps.push_back(e); };
+  h.on_galileo = [&](const GalileoEphemeris& e) { galileo.push_back(e); };
+  for (const char* name : {"lnav_frame.ubx", "inav_words.ubx"}) {
+    UbxDecoder decoder;
+    const auto bytes = seed(name);
+    decoder.feed(bytes.data(), bytes.size(), h);
+    decoder.finish();
+    EXPECT_EQ(decoder.counters().totalProblems(), 0u) << name;
+  }
+  // Values written by make_ubx_corpus.py (its docstring).
+  ASSERT_EQ(gps.size(), 1u);
+  EXPECT_EQ(gps[0].satellite.toString(), "G07");
+  EXPECT_EQ(gps[0].iodc, 0x14D);
+  EXPECT_EQ(gps[0].iode, 0x4D);
+  EXPECT_DOUBLE_EQ(gps[0].orbit.sqrt_a_sqrtm, 5153.5);
+  EXPECT_EQ(gps[0].orbit.toe, GnssTime::fromGpsWeek(2381, 410400.0));
+  EXPECT_EQ(gps[0].clock.toc, GnssTime::fromGpsWeek(2381, 410400.0));
+  EXPECT_DOUBLE_EQ(gps[0].tgd_s, -4.0 * std::ldexp(1.0, -31));
+  EXPECT_DOUBLE_EQ(gps[0].clock.af0_s, 123456.0 * std::ldexp(1.0, -31));
+  EXPECT_DOUBLE_EQ(gps[0].orbit.omega_dot_radps, -20000.0 * std::ldexp(1.0, -43) * 3.1415926535898);
+  EXPECT_DOUBLE_EQ(gps[0].orbit.m0_rad, 1234567890.0 * std::ldexp(1.0, -31) * 3.1415926535898);
+  ASSERT_EQ(galileo.size(), 1u);
+  EXPECT_EQ(galileo[0].satellite.toString(), "E11");
+  EXPECT_EQ(galileo[0].iod_nav, 77);
+  EXPECT_DOUBLE_EQ(galileo[0].orbit.sqrt_a_sqrtm, 5440.5);
+  EXPECT_EQ(galileo[0].orbit.toe, GnssTime::fromGpsWeek(2381, 410400.0));
+  EXPECT_DOUBLE_EQ(galileo[0].clock.af0_s, -2000000.0 * std::ldexp(1.0, -34));
+  EXPECT_DOUBLE_EQ(galileo[0].bgd_e5a_e1_s, 7.0 * std::ldexp(1.0, -32));
+  EXPECT_DOUBLE_EQ(galileo[0].bgd_e5b_e1_s.value_or(0), 8.0 * std::ldexp(1.0, -32));
+  EXPECT_NEAR(galileo[0].sisa_m.value_or(0), 2.0 + 7 * 0.16, 1e-12);  // index 107 (OS SIS ICD table 89)
+}
+
+TEST(UbxGeneratedSeeds, InconsistentIodAndCorruptPagesAreCounted) {
+  // The LNAV frame with subframe 3's IODE changed: one InconsistentEphemeris, no record.
+  auto bytes = seed("lnav_frame.ubx");
+  UbxDecoder probe;
+  std::vector<std::uint64_t> offsets;
+  UbxFramer framer;
+  framer.feed(bytes.data(), bytes.size(), [&](const UbxFrame& f) { offsets.push_back(f.byte_offset); });
+  ASSERT_EQ(offsets.size(), 4u);  // RAWX + subframes 1-3
+  // Subframe 3 is the last frame: its word 10 holds IODE in data bits 1-8 (ICD bits 271-278).
+  const std::size_t word10 = offsets[3] + 6 + 8 + 4 * 9;
+  std::uint32_t w = bytes[word10] | (bytes[word10 + 1] << 8) | (bytes[word10 + 2] << 16) |
+                    (static_cast<std::uint32_t>(bytes[word10 + 3]) << 24);
+  w ^= 0x01u << 22;  // flip an IODE bit
+  for (int k = 0; k < 4; ++k) bytes[word10 + k] = static_cast<std::uint8_t>(w >> (8 * k));
+  const auto frame3 = encodeUbxFrame(0x02, 0x13,
+                                     std::vector<std::uint8_t>(bytes.begin() + offsets[3] + 6, bytes.end() - 2));
+  std::copy(frame3.begin(), frame3.end(), bytes.begin() + offsets[3]);
+  std::size_t records = 0;
+  UbxDecoder::Handlers h;
+  h.on_gps = [&](const GpsLnavEphemeris&) { ++records; };
+  probe.feed(bytes.data(), bytes.size(), h);
+  EXPECT_EQ(records, 0u);
+  EXPECT_EQ(probe.counters().count(StreamProblemKind::InconsistentEphemeris), 1u);
+  // An I/NAV page with a flipped data bit (checksum re-made for the frame): a CRC-24Q failure.
+  auto inav = seed("inav_words.ubx");
+  UbxFramer framer2;
+  std::vector<UbxFrame> frames;
+  framer2.feed(inav.data(), inav.size(), [&](const UbxFrame& f) { frames.push_back(f); });
+  ASSERT_EQ(frames.size(), 6u);
+  std::vector<std::uint8_t> payload = frames[1].payload;
+  payload[8 + 5] ^= 0x10;
+  const auto corrupt = encodeUbxFrame(0x02, 0x13, payload);
+  UbxDecoder decoder;
+  decoder.feed(corrupt.data(), corrupt.size(), {});
+  EXPECT_EQ(decoder.counters().count(StreamProblemKind::ChecksumError), 1u);
+  EXPECT_NE(decoder.counters().problems.at(0).describe().find("CRC-24Q"), std::string::npos);
+}
+
+TEST(UbxGeneratedSeeds, FuzzEntryOverTheCorpus) {
+  std::size_t n = 0;
+  for (const auto& e : std::filesystem::directory_iterator(std::string(PPP_FUZZ_DIR) + "/corpus/ubx")) {
+    const std::string bytes = test::readFileBytes(e.path().string());
+    EXPECT_NO_THROW(fuzz::fuzzUbx(reinterpret_cast<const std::uint8_t*>(bytes.data()), bytes.size())) << e.path();
+    ++n;
+  }
+  EXPECT_GE(n, 5u);
 }
 
 }  // namespace
