@@ -17,6 +17,7 @@
 #include "ppp_bayes_tree/io/ubx_observation_source.h"
 #include "ppp_bayes_tree/models/broadcast_ephemeris_store.h"
 #include "ppp_bayes_tree/ppp/broadcast_single_point.h"
+#include "ppp_bayes_tree/ppp/ppp_pipeline.h"
 #include "ppp_bayes_tree/types/frames.h"
 #include "test_support.h"
 
@@ -162,6 +163,28 @@ TEST(UbxWalk, BroadcastSinglePointAgainstTheRtkReference) {
   EXPECT_LT(percentile(shape_4hz, 0.5), 8.0);
   EXPECT_LT(percentile(shape_1hz, 0.5), 8.0);
   EXPECT_GT(solved, epochs / 2);
+}
+
+
+TEST(UbxWalk, PipelineReadsAUbxRecordingAsItsObservations) {
+  // ppp_solve --ubx: PppInputFiles with obs_format Ubx. The shared data hold no precise
+  // products of 2025-08-28, so with the ZIM2 products the pipeline must stop with the
+  // UBX file's own observation window in the message (proof that it was decoded).
+  PPP_REQUIRE_SHARED_DATA();
+  const std::string ubx = test::dataPath("streams/ubx/gnss_1730.ubx");
+  if (!std::filesystem::exists(ubx)) GTEST_SKIP() << "UBX recording not found at " << ubx;
+  PppInputFiles files;
+  files.obs = ubx;
+  files.obs_format = ObservationFormat::Ubx;
+  files.sp3 = {test::dataPath("zim2-2026-133/IGS0OPSFIN_20261330000_03H_15M_ORB.SP3")};
+  files.clk = {test::dataPath("zim2-2026-133/IGS0OPSFIN_20261330000_90M_30S_CLK.CLK")};
+  files.atx = {test::dataPath("antex/igs20_zim2_gps_trim.atx")};
+  try {
+    PppPipeline pipeline(files, PppConfig{});
+    FAIL() << "products of 2026 accepted for a 2025 recording";
+  } catch (const std::exception& e) {
+    EXPECT_NE(std::string(e.what()).find("2025-08-28 17:30:40"), std::string::npos) << e.what();
+  }
 }
 
 }  // namespace
