@@ -46,9 +46,9 @@ enum class ObservationFormat { Rinex, Ubx };
 
 struct PppInputFiles {
   std::string obs;
-  ObservationFormat obs_format = ObservationFormat::Rinex;
   std::vector<std::string> sp3, clk, atx;
   std::optional<std::string> bias, blq;
+  ObservationFormat obs_format = ObservationFormat::Rinex;  // last: keeps aggregate initialisers valid
 };
 
 /// In-process inputs (e.g. a simulated flight, simulation/gnss_simulator.h): the
