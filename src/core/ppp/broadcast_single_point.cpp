@@ -240,7 +240,6 @@ BroadcastSinglePointResult broadcastSinglePoint(const ObsEpoch& epoch, const Bro
         result.receiver_clock_m.clear();
         for (const auto& [system, k] : columns)
           if (std::find(live.begin(), live.end(), k) != live.end()) result.receiver_clock_m[system] = clocks(k);
-        if (used == unknowns) break;
         break;
       }
     }
