@@ -1,7 +1,7 @@
 // ppp_solve: offline kinematic PPP of one RINEX observation file with precise
 // products (the pipeline of ppp/ppp_pipeline.h; outputs of app/ppp_solve_run.h).
 //
-// usage: ppp_solve (--obs F | --rtcm F [--ref-date YYYY/MM/DD])
+// usage: ppp_solve (--obs F | --rtcm F [--ref-date YYYY/MM/DD] | --ubx F)
 //                  (--sp3 F... --clk F... | --nav F... [--ssr F [--ssr-reference apc|com]])
 //                  --atx F... [--bia F] [--blq F]
 //                  [--config YAML] [--estimator ekf|smoother|both] [--truth X,Y,Z] [--name N] --out DIR
@@ -34,7 +34,7 @@ namespace {
 
 int usage(const std::string& why) {
   std::cerr << "ppp_solve: " << why << "\n"
-            << "usage: ppp_solve (--obs F | --rtcm F [--ref-date YYYY/MM/DD])\n"
+            << "usage: ppp_solve (--obs F | --rtcm F [--ref-date YYYY/MM/DD] | --ubx F)\n"
             << "                 (--sp3 F... --clk F... | --nav F... [--ssr F [--ssr-reference apc|com]])\n"
             << "                 --atx F... [--bia F] [--blq F]\n"
             << "                 [--config YAML] [--estimator ekf|smoother|both] [--truth X,Y,Z] [--name N] --out DIR\n";
@@ -89,12 +89,16 @@ int main(int argc, char** argv) {
     }
     list = nullptr;
     if (a == "--obs") {
-      if (!value(req.files.obs)) return usage("--obs needs a file");
-    } else if (a == "--rtcm") {
-      if (!value(req.files.rtcm)) return usage("--rtcm needs an RTCM 3 file");
+      if (!req.files.obs.empty() || !value(req.files.obs)) return usage("--obs needs a file (and no --rtcm/--ubx)");
+    } else if (a == "--rtcm") {  // an RTCM 3 recording (MSM) as the observations
+      if (!req.files.obs.empty() || !value(req.files.obs)) return usage("--rtcm needs an RTCM 3 file (and no --obs/--ubx)");
+      req.files.obs_format = ppp::ObservationFormat::Rtcm3;
     } else if (a == "--ref-date") {
       if (!value(v) || !(req.files.rtcm_reference_time = ppp::parseReferenceDate(v)))
         return usage("--ref-date needs YYYY/MM/DD");
+    } else if (a == "--ubx") {  // a u-blox UBX recording (RXM-RAWX) as the observations
+      if (!req.files.obs.empty() || !value(req.files.obs)) return usage("--ubx needs a file (and no --obs/--rtcm)");
+      req.files.obs_format = ppp::ObservationFormat::Ubx;
     } else if (a == "--bia") {
       if (!value(v)) return usage("--bia needs a file");
       req.files.bias = v;
@@ -129,7 +133,7 @@ int main(int argc, char** argv) {
   }
   if (req.estimator != "ekf" && req.estimator != "smoother" && req.estimator != "both")
     return usage("unknown --estimator '" + req.estimator + "' (expected ekf, smoother or both)");
-  if (req.files.obs.empty() == req.files.rtcm.empty()) return usage("one of --obs and --rtcm is required");
+  if (req.files.obs.empty()) return usage("one of --obs, --rtcm and --ubx is required");
   if (req.files.nav.empty()) {
     if (req.files.sp3.empty()) return usage("--sp3 (or --nav) is required");
     if (req.files.clk.empty()) return usage("--clk (or --nav) is required");

@@ -40,11 +40,15 @@
 
 namespace ppp {
 
+/// The format of PppInputFiles::obs: RINEX/CRX, an RTCM 3 recording
+/// (io/rtcm_observation_source.h; ppp_solve --rtcm) or a u-blox UBX recording
+/// (io/ubx_observation_source.h; ppp_solve --ubx).
+enum class ObservationFormat { Rinex, Rtcm3, Ubx };
+
 struct PppInputFiles {
   std::string obs;
-  /// An RTCM 3 recording as the observation input instead of `obs` (io/rtcm_observation_source.h),
-  /// with the approximate date that places its MSM times (ppp_solve --ref-date).
-  std::string rtcm;
+  /// With an RTCM 3 `obs`: the approximate date that places its MSM times
+  /// (ppp_solve --ref-date), when the stream itself cannot.
   std::optional<GnssTime> rtcm_reference_time;
   std::vector<std::string> sp3, clk, atx;
   std::optional<std::string> bias, blq;
@@ -53,6 +57,7 @@ struct PppInputFiles {
   std::vector<std::string> nav;
   std::optional<std::string> ssr;
   std::optional<EphemerisReference> ssr_reference;  // nullopt: from the stream name
+  ObservationFormat obs_format = ObservationFormat::Rinex;  // last: keeps aggregate initialisers valid
 };
 
 /// In-process inputs (e.g. a simulated flight, simulation/gnss_simulator.h): the

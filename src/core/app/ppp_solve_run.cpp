@@ -194,7 +194,7 @@ PppSolveOutcome solvePpp(const PppSolveRequest& req) {
     if (!*f) throw std::runtime_error("write error in " + req.out_dir);
   }
 
-  const std::string source = "ppp_solve estimator " + estimator->name() + ", obs " + (req.files.rtcm.empty() ? req.files.obs : req.files.rtcm);
+  const std::string source = "ppp_solve estimator " + estimator->name() + ", obs " + req.files.obs;
   out.outputs[0].solution = std::move(causal);
   writeSolutionFiles(out.outputs[0], req.truth_ecef_m,
                      {source, "kinematic PPP, ionosphere-free float, " +

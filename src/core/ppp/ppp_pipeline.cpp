@@ -13,6 +13,7 @@
 #include "ppp_bayes_tree/io/parse_error.h"
 #include "ppp_bayes_tree/io/rinex_obs_reader.h"
 #include "ppp_bayes_tree/io/rtcm_observation_source.h"
+#include "ppp_bayes_tree/io/ubx_observation_source.h"
 #include "ppp_bayes_tree/models/broadcast_products.h"
 #include "ppp_bayes_tree/ppp/ppp_epoch_processor.h"
 #include "ppp_bayes_tree/ppp/product_set.h"
@@ -93,14 +94,18 @@ PppPipeline::PppPipeline(const PppInputFiles& files, PppConfig config)
   Impl& d = *impl_;
   if (files.atx.empty()) throw std::runtime_error("no ANTEX file given (antenna calibrations are required)");
   RecordFilter filter;
-  if (!files.rtcm.empty()) {
-    Rtcm3DecoderOptions rtcm_options;
-    rtcm_options.reference_time = files.rtcm_reference_time;
-    auto rtcm = std::make_unique<RtcmObservationSource>(files.rtcm, rtcm_options);
+  if (files.obs_format == ObservationFormat::Rtcm3 || files.obs_format == ObservationFormat::Ubx) {
+    if (files.obs_format == ObservationFormat::Rtcm3) {
+      Rtcm3DecoderOptions rtcm_options;
+      rtcm_options.reference_time = files.rtcm_reference_time;
+      d.source = std::make_unique<RtcmObservationSource>(files.obs, rtcm_options);
+    } else {
+      d.source = std::make_unique<UbxObservationSource>(files.obs);
+    }
     filter.systems = config_.signals.systems;
-    if (rtcm->header().time_of_first_obs) filter.first = rtcm->header().time_of_first_obs->time;
-    if (rtcm->header().time_of_last_obs) filter.last = rtcm->header().time_of_last_obs->time;
-    d.source = std::move(rtcm);
+    const RinexObsHeader& h = d.source->header();
+    if (h.time_of_first_obs) filter.first = h.time_of_first_obs->time;
+    if (h.time_of_last_obs) filter.last = h.time_of_last_obs->time;
   } else {
     d.source = std::make_unique<RinexObservationSource>(files.obs);
     filter = productFilter(files.obs, config_.signals.systems);

@@ -1,0 +1,67 @@
+#pragma once
+// UbxObservationSource: the observation epochs of a u-blox UBX recording
+// (RXM-RAWX, decoded by UbxDecoder) served as an ObservationSource, with the
+// broadcast ephemerides its RXM-SFRBX messages carried.
+//
+// The file is decoded once when the source is opened (a header needs the list
+// of observation types before the first epoch); epochs are then served in order.
+// The header is that of a RINEX 3.04 mixed observation file as convbin writes
+// it: per system, the signals seen, ordered by band then attribute, each with
+// the types C, L, D, S (pseudorange m, phase cycles, Doppler Hz, C/N0 dB-Hz);
+// GLONASS channels from RXM-RAWX freqId. The LLI of a signal goes with its
+// phase observation. Satellites appear in the order of the receiver's RXM-RAWX.
+//
+// The ephemerides are in the io layer's record types; a caller adds them to a
+// BroadcastEphemerisStore (models/broadcast_ephemeris_store.h) with add().
+// Framing and decoding problems (byte offset, frame index) are listed by
+// problems() as "<file>: byte N (frame K), type T: ..." (line 0).
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "ppp_bayes_tree/io/observation_source.h"
+#include "ppp_bayes_tree/io/ubx_decoder.h"
+
+namespace ppp {
+
+/// Broadcast records decoded from RXM-SFRBX, in the order released.
+struct UbxNavigationRecords {
+  std::vector<GpsLnavEphemeris> gps;  // GPS and QZSS LNAV
+  std::vector<GalileoEphemeris> galileo;
+};
+
+/// The header of the decoded epochs (see above), named after `file_name`.
+RinexObsHeader ubxObservationHeader(const std::vector<UbxObservationEpoch>& epochs, const std::string& file_name);
+/// One decoded epoch laid out along the header's type lists (signals the header
+/// does not list are left out).
+void toObsEpoch(const UbxObservationEpoch& in, const RinexObsHeader& header, ObsEpoch& out);
+
+class UbxObservationSource : public ObservationSource {
+ public:
+  /// Reads and decodes the whole file (throws FileOpenError when it cannot be read).
+  explicit UbxObservationSource(const std::string& path, UbxDecoderOptions options = {});
+
+  const RinexObsHeader& header() const override { return header_; }
+  ObservationRead next(ObsEpoch& epoch) override;
+  std::optional<ObservationProblem> error() const override { return std::nullopt; }
+  std::vector<ObservationProblem> problems() const override;
+  double progress() const override;
+  std::string name() const override { return name_; }
+
+  const UbxNavigationRecords& navigation() const { return navigation_; }
+  const std::vector<UbxObservationEpoch>& decodedEpochs() const { return epochs_; }
+  const StreamCounters& counters() const { return counters_; }
+  const UbxDecoderStatistics& statistics() const { return statistics_; }
+
+ private:
+  std::string path_, name_;
+  RinexObsHeader header_;
+  std::vector<UbxObservationEpoch> epochs_;
+  UbxNavigationRecords navigation_;
+  StreamCounters counters_;
+  UbxDecoderStatistics statistics_;
+  std::size_t next_ = 0;
+};
+
+}  // namespace ppp

@@ -1,0 +1,137 @@
+#include "ppp_bayes_tree/io/ubx_observation_source.h"
+
+#include <algorithm>
+#include <fstream>
+#include <set>
+
+#include "ppp_bayes_tree/io/line_source.h"
+#include "ppp_bayes_tree/io/parse_error.h"
+
+namespace ppp {
+namespace {
+
+constexpr ObservableType kTypes[4] = {ObservableType::Pseudorange, ObservableType::CarrierPhase,
+                                      ObservableType::Doppler, ObservableType::SignalStrength};
+
+// Index of the first of the four types of `signal` in the system's list, or -1.
+int signalColumn(const std::vector<ObservationCode>& types, const ObservationCode& signal) {
+  for (std::size_t i = 0; i + 3 < types.size(); i += 4) {
+    if (types[i].band == signal.band && types[i].attribute == signal.attribute) return static_cast<int>(i);
+  }
+  return -1;
+}
+
+}  // namespace
+
+RinexObsHeader ubxObservationHeader(const std::vector<UbxObservationEpoch>& epochs, const std::string& file_name) {
+  RinexObsHeader header;
+  header.version_text = "3.04";
+  header.version = 3.04;
+  header.major_version = 3;
+  header.file_system = 'M';
+  header.program = "ppp_bayes_tree UBX";
+  header.comments.push_back("format: u-blox UBX");
+  header.comments.push_back("log: " + file_name);
+  std::array<std::set<std::pair<char, char>>, kNumGnssSystems> signals;
+  for (const auto& epoch : epochs) {
+    for (const auto& m : epoch.measurements) {
+      signals[static_cast<int>(m.satellite.system)].insert({m.signal.band, m.signal.attribute});
+      if (m.glonass_channel && !header.glonass_channels.channel(m.satellite.prn)) {
+        if (header.glonass_channels.set(m.satellite.prn, *m.glonass_channel)) ++header.glonass_channel_entries;
+      }
+    }
+  }
+  for (int s = 0; s < kNumGnssSystems; ++s) {
+    for (const auto& [band, attribute] : signals[s]) {
+      for (ObservableType type : kTypes) header.obs_types[s].push_back(ObservationCode{type, band, attribute});
+    }
+    header.scale_factors[s].assign(header.obs_types[s].size(), 1.0);
+  }
+  header.epoch_time_system = TimeSystem::GPS;
+  header.signal_strength_unit = "DBHZ";
+  if (!epochs.empty()) {
+    RinexHeaderTime first;
+    first.time = epochs.front().time;
+    first.calendar = first.time.toCalendar();
+    header.time_of_first_obs = first;
+    RinexHeaderTime last;
+    last.time = epochs.back().time;
+    last.calendar = last.time.toCalendar();
+    header.time_of_last_obs = last;
+    for (const auto& e : epochs) {
+      if (e.leap_seconds) {
+        header.leap_seconds = *e.leap_seconds;
+        break;
+      }
+    }
+  }
+  return header;
+}
+
+void toObsEpoch(const UbxObservationEpoch& in, const RinexObsHeader& header, ObsEpoch& out) {
+  out.clear();
+  out.time = in.time;
+  out.flag = EpochFlag::Ok;
+  out.line = 0;
+  for (const auto& m : in.measurements) {
+    const auto& types = header.types(m.satellite.system);
+    const int column = signalColumn(types, m.signal);
+    if (column < 0) continue;
+    auto index = out.indexOf(m.satellite);
+    if (!index) {
+      SatelliteObservations sat;
+      sat.satellite = m.satellite;
+      sat.first = static_cast<std::uint32_t>(out.observations.size());
+      sat.count = static_cast<std::uint32_t>(types.size());
+      for (const auto& code : types) out.observations.push_back(Observation{code, std::nullopt, std::nullopt, std::nullopt});
+      out.satellites.push_back(sat);
+      index = out.satellites.size() - 1;
+    }
+    Observation* obs = out.observations.data() + out.satellites[*index].first + column;
+    obs[0].value = m.pseudorange_m;
+    obs[1].value = m.carrier_phase_cycles;
+    if (m.carrier_phase_cycles && m.lli != 0) obs[1].lli = m.lli;
+    obs[2].value = m.doppler_hz;
+    obs[3].value = m.cn0_dbhz;
+  }
+}
+
+UbxObservationSource::UbxObservationSource(const std::string& path, UbxDecoderOptions options)
+    : path_(path), name_(fileBaseName(path)) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw FileOpenError("cannot open UBX file " + path);
+  UbxDecoder decoder(options);
+  UbxDecoder::Handlers handlers;
+  handlers.on_epoch = [&](const UbxObservationEpoch& e) { epochs_.push_back(e); };
+  handlers.on_gps = [&](const GpsLnavEphemeris& e) { navigation_.gps.push_back(e); };
+  handlers.on_galileo = [&](const GalileoEphemeris& e) { navigation_.galileo.push_back(e); };
+  std::vector<std::uint8_t> chunk(1 << 16);
+  while (in) {
+    in.read(reinterpret_cast<char*>(chunk.data()), static_cast<std::streamsize>(chunk.size()));
+    const std::streamsize got = in.gcount();
+    if (got <= 0) break;
+    decoder.feed(chunk.data(), static_cast<std::size_t>(got), handlers);
+  }
+  decoder.finish();
+  counters_ = decoder.counters();
+  statistics_ = decoder.statistics();
+  header_ = ubxObservationHeader(epochs_, name_);
+}
+
+ObservationRead UbxObservationSource::next(ObsEpoch& epoch) {
+  if (next_ >= epochs_.size()) return ObservationRead::End;
+  toObsEpoch(epochs_[next_++], header_, epoch);
+  return ObservationRead::Epoch;
+}
+
+std::vector<ObservationProblem> UbxObservationSource::problems() const {
+  std::vector<ObservationProblem> out;
+  for (const auto& p : counters_.problems) out.push_back(ObservationProblem{name_, 0, p.describe()});
+  return out;
+}
+
+double UbxObservationSource::progress() const {
+  return epochs_.empty() ? 1.0 : static_cast<double>(next_) / static_cast<double>(epochs_.size());
+}
+
+}  // namespace ppp
