@@ -47,9 +47,6 @@ enum class ObservationFormat { Rinex, Rtcm3, Ubx };
 
 struct PppInputFiles {
   std::string obs;
-  /// With an RTCM 3 `obs`: the approximate date that places its MSM times
-  /// (ppp_solve --ref-date), when the stream itself cannot.
-  std::optional<GnssTime> rtcm_reference_time;
   std::vector<std::string> sp3, clk, atx;
   std::optional<std::string> bias, blq;
   /// Broadcast navigation files: orbits and clocks from them instead of SP3/CLK,
@@ -57,7 +54,11 @@ struct PppInputFiles {
   std::vector<std::string> nav;
   std::optional<std::string> ssr;
   std::optional<EphemerisReference> ssr_reference;  // nullopt: from the stream name
-  ObservationFormat obs_format = ObservationFormat::Rinex;  // last: keeps aggregate initialisers valid
+  // Below: after the fields aggregate initialisers name ({obs, sp3, clk, atx, bias, blq}).
+  ObservationFormat obs_format = ObservationFormat::Rinex;
+  /// With an RTCM 3 `obs`: the approximate date that places its MSM times
+  /// (ppp_solve --ref-date), when the stream itself cannot.
+  std::optional<GnssTime> rtcm_reference_time;
 };
 
 /// In-process inputs (e.g. a simulated flight, simulation/gnss_simulator.h): the
