@@ -3,6 +3,9 @@
 //
 // usage: ppp_solve --obs F --sp3 F... --clk F... --atx F... [--bia F] [--blq F]
 //                  [--config YAML] [--estimator ekf|smoother|both] [--truth X,Y,Z] [--name N] --out DIR
+//                  [--no-product-checks]
+// --no-product-checks skips the SP3/CLK sanity checks (product_sanity.h), only to
+// measure what the estimators' own postfit and consistency tests catch.
 // Several files may follow --sp3, --clk and --atx (or the option may be repeated).
 // ANTEX files are searched in the order given: the first holding an antenna wins.
 // ekf writes DIR/<name>_ekf.csv, .pos (RTKLIB), _summary.json, _epochs.csv and
@@ -32,7 +35,8 @@ namespace {
 int usage(const std::string& why) {
   std::cerr << "ppp_solve: " << why << "\n"
             << "usage: ppp_solve --obs F --sp3 F... --clk F... --atx F... [--bia F] [--blq F]\n"
-            << "                 [--config YAML] [--estimator ekf|smoother|both] [--truth X,Y,Z] [--name N] --out DIR\n";
+            << "                 [--config YAML] [--estimator ekf|smoother|both] [--truth X,Y,Z] [--name N] --out DIR\n"
+            << "                 [--no-product-checks]\n";
   return 2;
 }
 
@@ -85,6 +89,8 @@ int main(int argc, char** argv) {
     list = nullptr;
     if (a == "--obs") {
       if (!value(req.files.obs)) return usage("--obs needs a file");
+    } else if (a == "--no-product-checks") {
+      req.files.check_products = false;
     } else if (a == "--bia") {
       if (!value(v)) return usage("--bia needs a file");
       req.files.bias = v;
