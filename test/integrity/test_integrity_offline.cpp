@@ -160,16 +160,6 @@ PppSolveRequest zim2WithG24Moved(const std::filesystem::path& dir) {
   return r;
 }
 
-TEST(IntegrityOffline, OneBadSp3ValueG24WithoutProductChecksMeasured) {
-  PPP_REQUIRE_SHARED_DATA();
-  const auto dir = test::tempDir("integrity_g24_nocheck");
-  PppSolveRequest request = zim2WithG24Moved(dir);
-  request.files.check_products = false;
-  const Figures bad = solveBoth(request);
-  std::cout << "SP3 G24 +1 m, product checks off: " << describe(bad) << "\n";
-  std::filesystem::remove_all(dir);
-}
-
 TEST(IntegrityOffline, OneBadSp3ValueG24IsFoundAndBothEstimatorsStayWithinTwiceClean) {
   PPP_REQUIRE_SHARED_DATA();
   const auto dir = test::tempDir("integrity_g24");
