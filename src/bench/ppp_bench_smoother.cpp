@@ -83,7 +83,7 @@ void adjust(PppConfig& config) {
   if (std::getenv("PPP_SMOOTHER_ROBUST")) config.smoother.robust = true;
   if (std::getenv("PPP_EKF_PLAIN")) {
     config.estimator.iterations_per_epoch = 1;
-    config.estimator.postfit_check = false;
+    config.estimator.screening.postfit_check = false;
   }
   if (const char* c = std::getenv("PPP_CLOCK_SIGMA_M")) config.stochastic.clock.initial_sigma_m = std::atof(c);
 }

@@ -5,6 +5,9 @@
 //                  (--sp3 F... --clk F... | --nav F... [--ssr F [--ssr-reference apc|com]])
 //                  --atx F... [--bia F] [--blq F]
 //                  [--config YAML] [--estimator ekf|smoother|both] [--truth X,Y,Z] [--name N] --out DIR
+//                  [--no-product-checks]
+// --no-product-checks skips the SP3/CLK sanity checks (product_sanity.h), only to
+// measure what the estimators' own postfit and consistency tests catch.
 // Several files may follow --sp3, --clk, --nav and --atx (or the option may be repeated).
 // ANTEX files are searched in the order given: the first holding an antenna wins.
 // ekf writes DIR/<name>_ekf.csv, .pos (RTKLIB), _summary.json, _epochs.csv and
@@ -37,7 +40,8 @@ int usage(const std::string& why) {
             << "usage: ppp_solve (--obs F | --rtcm F [--ref-date YYYY/MM/DD] | --ubx F)\n"
             << "                 (--sp3 F... --clk F... | --nav F... [--ssr F [--ssr-reference apc|com]])\n"
             << "                 --atx F... [--bia F] [--blq F]\n"
-            << "                 [--config YAML] [--estimator ekf|smoother|both] [--truth X,Y,Z] [--name N] --out DIR\n";
+            << "                 [--config YAML] [--estimator ekf|smoother|both] [--truth X,Y,Z] [--name N] --out DIR\n"
+            << "                 [--no-product-checks]\n";
   return 2;
 }
 
@@ -99,6 +103,8 @@ int main(int argc, char** argv) {
     } else if (a == "--ubx") {  // a u-blox UBX recording (RXM-RAWX) as the observations
       if (!req.files.obs.empty() || !value(req.files.obs)) return usage("--ubx needs a file (and no --obs/--rtcm)");
       req.files.obs_format = ppp::ObservationFormat::Ubx;
+    } else if (a == "--no-product-checks") {
+      req.files.check_products = false;
     } else if (a == "--bia") {
       if (!value(v)) return usage("--bia needs a file");
       req.files.bias = v;

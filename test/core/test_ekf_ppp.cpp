@@ -257,7 +257,7 @@ TEST(EkfPpp, PostfitCheckRejectsAModerateCodeOutlierOnANewArc) {
   for (const bool check : {true, false}) {
     Simulator sim;
     EkfOptions options;
-    options.postfit_check = check;
+    options.screening.postfit_check = check;
     EkfPpp ekf(methodTableStochasticModel(), options);
     const auto last = run(ekf, sim, 10);
     const SatelliteId sat = firstUsed(last);

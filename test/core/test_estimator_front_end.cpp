@@ -126,7 +126,7 @@ TEST(EstimatorFrontEnd, EkfAndSmootherSeeTheSameScreenedSetAndAgreeInTheLinearCa
   conditioned.clock.process_noise_m_per_sqrt_s = 100.0;
   EkfOptions ekf_options;
   ekf_options.iterations_per_epoch = 1;
-  ekf_options.postfit_check = false;
+  ekf_options.screening.postfit_check = false;
   EkfPpp ekf(conditioned, ekf_options, {}, kGpsGalileo);
   PppSmootherOptions options;
   options.exact_range = false;

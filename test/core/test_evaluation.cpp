@@ -216,7 +216,7 @@ TEST(RtklibPos, MalformedRecordsAreSkippedWithReasons) {
 TEST(SolutionCsv, HeaderAndRows) {
   EXPECT_EQ(SolutionCsvWriter::headerRow(true),
             "gps_week,tow_s,time_gpst,x_m,y_m,z_m,lat_deg,lon_deg,height_m,e_err_m,n_err_m,u_err_m,err3d_m,"
-            "sigma_e_m,sigma_n_m,sigma_u_m,sats_used,sats_rejected,zwd_m,clock_m,status");
+            "sigma_e_m,sigma_n_m,sigma_u_m,sats_used,sats_rejected,zwd_m,clock_m,status,integrity");
   auto e = syntheticSolution()[1];  // error (0, 0.3, 0.4) at lat 0 lon 0: E 0.3, N 0.4, U 0
   e.covariance_ecef_m2 = Eigen::Vector3d(0.09, 0.01, 0.04).asDiagonal();  // sigma U 0.3, E 0.1, N 0.2
   e.satellites_rejected = 2;
@@ -225,13 +225,13 @@ TEST(SolutionCsv, HeaderAndRows) {
   const std::string row = SolutionCsvWriter::row(e, kEquatorTruth);
   EXPECT_EQ(row,
             "2418,259500.000,2026-05-13T00:05:00.000,6378137.0000,0.3000,0.4000,0.000003617,0.000002695,0.0000,"
-            "0.3000,0.4000,0.0000,0.5000,0.1000,0.2000,0.3000,8,2,0.1234,-12.5000,ppp-float")
+            "0.3000,0.4000,0.0000,0.5000,0.1000,0.2000,0.3000,8,2,0.1234,-12.5000,ppp-float,unchecked")
       << row;
   SolutionEpoch none;
   none.time = e.time;
   none.status = SolutionStatus::NoSolution;
   EXPECT_EQ(SolutionCsvWriter::row(none, std::nullopt),
-            "2418,259500.000,2026-05-13T00:05:00.000,,,,,,,,,,0,0,,,no-solution");
+            "2418,259500.000,2026-05-13T00:05:00.000,,,,,,,,,,0,0,,,no-solution,unchecked");
   EXPECT_EQ(isoTimeText(GnssTime::fromGpsWeek(2418, 259199.9996)), "2026-05-13T00:00:00.000");
 }
 

@@ -35,9 +35,12 @@ void expectSameConfig(const PppConfig& c, const PppConfig& d) {
   EXPECT_EQ(c.estimator.iterations_per_epoch, d.estimator.iterations_per_epoch);
   EXPECT_EQ(c.estimator.screening.prefit_code_threshold_m, d.estimator.screening.prefit_code_threshold_m);
   EXPECT_EQ(c.estimator.screening.prefit_phase_sigmas, d.estimator.screening.prefit_phase_sigmas);
-  EXPECT_EQ(c.estimator.postfit_check, d.estimator.postfit_check);
-  EXPECT_EQ(c.estimator.postfit_sigmas, d.estimator.postfit_sigmas);
-  EXPECT_EQ(c.estimator.postfit_max_rejections, d.estimator.postfit_max_rejections);
+  EXPECT_EQ(c.estimator.screening.postfit_check, d.estimator.screening.postfit_check);
+  EXPECT_EQ(c.estimator.screening.postfit_sigmas, d.estimator.screening.postfit_sigmas);
+  EXPECT_EQ(c.estimator.screening.postfit_max_rejections, d.estimator.screening.postfit_max_rejections);
+  EXPECT_EQ(c.estimator.screening.consistency_check, d.estimator.screening.consistency_check);
+  EXPECT_EQ(c.estimator.screening.consistency_false_alarm, d.estimator.screening.consistency_false_alarm);
+  EXPECT_EQ(c.estimator.screening.consistency_action, d.estimator.screening.consistency_action);
   EXPECT_EQ(c.estimator.screening.clock_from_code_median, d.estimator.screening.clock_from_code_median);
   EXPECT_EQ(c.estimator.screening.stale_arc_timeout_s, d.estimator.screening.stale_arc_timeout_s);
   EXPECT_EQ(c.start.max_iterations, d.start.max_iterations);
@@ -300,7 +303,7 @@ cycle_slip:
   EXPECT_EQ(c.stochastic.clock.process_noise_m_per_sqrt_s, 10.0);
   EXPECT_EQ(c.stochastic.clock.initial_sigma_m, 3e6);  // untouched default
   EXPECT_EQ(c.estimator.screening.min_satellites, 6);
-  EXPECT_FALSE(c.estimator.postfit_check);
+  EXPECT_FALSE(c.estimator.screening.postfit_check);
   EXPECT_EQ(c.start.outlier_threshold_m, 12.5);
   // The model sections are bound at load (ppp_options_binding.h); raw copies are kept.
   EXPECT_NEAR(c.model.elevation_cutoff_rad, 10.0 * ppp::kDegToRad, 1e-15);

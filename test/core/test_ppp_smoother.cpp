@@ -6,6 +6,7 @@
 // estimators run with the method's table (methodTableStochasticModel).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <Eigen/Dense>
 #include <map>
@@ -13,6 +14,7 @@
 
 #include "ppp_bayes_tree/ppp/ekf_ppp.h"
 #include "ppp_bayes_tree/ppp/ppp_config.h"
+#include "ppp_bayes_tree/ppp/postfit_screening.h"
 #include "ppp_bayes_tree/ppp/ppp_factors.h"
 #include "ppp_bayes_tree/ppp/ppp_smoother.h"
 #include "ppp_bayes_tree/smoother/batch_solver.h"
@@ -147,9 +149,10 @@ std::pair<double, double> ekfVersusSmoother(const StochasticModel& model, bool n
   const SimModelOptions linear{false, true, about};
   EkfOptions ekf_options;
   ekf_options.iterations_per_epoch = 1;
-  ekf_options.postfit_check = false;
+  ekf_options.screening.postfit_check = false;
   EkfPpp ekf(model, ekf_options);
   PppSmootherOptions options;
+  options.screening.postfit_check = false;  // as the EKF's
   options.exact_range = false;
   options.factorization = factorization;
   PppSmoother smoother(model, options);
@@ -420,6 +423,107 @@ TEST(PppSmoother, PrefitScreeningRejectsACodeOutlierAndAPhaseJumpWithReasons) {
   EXPECT_LT((r.solution->state.position_ecef_m - sim.position).norm(), 0.05);
 }
 
+// As the EKF's test (test_ekf_ppp.cpp): on a new arc the phase-minus-code prefit
+// test cannot see a moderate code outlier; the smoother's postfit check (issue 16:
+// it had none) rejects it with the reason and removes its factors from the graph.
+TEST(PppSmoother, PostfitCheckRemovesAModerateCodeOutlierOnANewArcFromTheGraph) {
+  for (const bool check : {true, false}) {
+    Simulator sim;
+    PppSmootherOptions options;
+    options.screening.postfit_check = check;
+    PppSmoother smoother(methodTableStochasticModel(), options);
+    runSmoother(smoother, sim, 10);
+    auto obs0 = sim.epoch();
+    const SatelliteId sat = obs0[0].sat;
+    const ArcId arc = sim.slip(sat, 0.0);
+    sim.t_s += 30.0;
+    auto obs = sim.epoch();
+    const auto it = std::find_if(obs.begin(), obs.end(), [&](const SimObs& o) { return o.sat == sat; });
+    ASSERT_NE(it, obs.end());
+    it->code_m += 15.0;  // below the 30 m prefit threshold, but > 10 sigma
+    const auto r = smoother.processEpoch(sim.time(), modelOf(obs, {true}));
+    ASSERT_EQ(r.status, EpochStatus::Ok) << r.reason;
+    EXPECT_EQ(r.prefit_rejections, 0);
+    const std::size_t bias_factors = smoother.isam2().factorsOf(biasKey(sat, arc)).size();
+    if (check) {
+      EXPECT_EQ(r.postfit_rejections, 1);
+      ASSERT_EQ(r.rejected.size(), 1u);
+      EXPECT_EQ(r.rejected[0].satellite, sat);
+      EXPECT_EQ(r.rejected[0].reason, RejectionReason::PostfitCode);
+      EXPECT_NE(r.rejected[0].detail.find("postfit code residual"), std::string::npos) << r.rejected[0].detail;
+      EXPECT_EQ(r.used.size(), obs.size() - 1);
+      EXPECT_EQ(bias_factors, 1u);  // only its prior: the code and phase factors were removed
+      const auto active = smoother.activeArcs();
+      EXPECT_EQ(std::count(active.begin(), active.end(), arc), 0);  // the new arc did not become active
+      EXPECT_LT((r.solution->state.position_ecef_m - sim.position).norm(), 1e-3);
+      EXPECT_EQ(r.integrity, SolutionIntegrity::Consistent) << r.consistency;
+      // The next epoch goes on, the satellite's arc starting afresh.
+      sim.t_s += 30.0;
+      const auto next = smoother.processEpoch(sim.time(), modelOf(sim.epoch(), {true}));
+      ASSERT_EQ(next.status, EpochStatus::Ok) << next.reason;
+      EXPECT_EQ(next.used.size(), obs.size());
+      EXPECT_LT((next.solution->state.position_ecef_m - sim.position).norm(), 1e-3);
+    } else {
+      EXPECT_EQ(r.postfit_rejections, 0);
+      EXPECT_EQ(bias_factors, 2u);  // prior and phase factor
+      const auto res = std::find_if(r.residuals.begin(), r.residuals.end(),
+                                    [&](const MeasurementResidual& m) { return m.satellite == sat; });
+      ASSERT_NE(res, r.residuals.end());
+      EXPECT_GT(std::abs(res->code_postfit_m), 5.0 * res->code_sigma_m);  // what the check would have caught
+    }
+  }
+}
+
+// The epoch consistency test (postfit_screening.h), same code in both estimators:
+// a code error spread over every satellite that no single postfit residual shows
+// above 5 sigma still makes the weighted postfit sum of squares contradict the
+// covariance; the solution is flagged, its covariance inflated by T / m, or
+// withheld.
+TEST(PppSmoother, AnInconsistentEpochIsFlaggedAndInflatedOrWithheldInBothEstimators) {
+  for (const ConsistencyAction action : {ConsistencyAction::Inflate, ConsistencyAction::Withhold}) {
+    Simulator sim;
+    ScreeningOptions screening;
+    screening.postfit_check = false;
+    screening.consistency_action = action;
+    PppSmootherOptions options;
+    options.screening = screening;
+    EkfOptions ekf_options;
+    ekf_options.screening = screening;
+    PppSmoother smoother(methodTableStochasticModel(), options);
+    EkfPpp ekf(methodTableStochasticModel(), ekf_options);
+    for (int i = 0; i < 10; ++i) {
+      if (i > 0) sim.t_s += 30.0;
+      const auto obs = sim.epoch();
+      for (PppEstimatorBase* e : {static_cast<PppEstimatorBase*>(&smoother), static_cast<PppEstimatorBase*>(&ekf)}) {
+        const auto r = e->processEpoch(sim.time(), modelOf(obs, {true}));
+        ASSERT_EQ(r.status, EpochStatus::Ok) << r.reason;
+        EXPECT_EQ(r.integrity, SolutionIntegrity::Consistent) << r.consistency;  // noise-free: T = 0
+      }
+    }
+    sim.t_s += 30.0;
+    auto obs = sim.epoch();
+    // Code errors of alternating sign, 4.5 code sigmas each (phase errors would go
+    // into the arcs' biases): the fit of position, clock and ZWD takes up only part
+    // of them, and their postfit sum of squares exceeds the quantile.
+    for (std::size_t k = 0; k < obs.size(); ++k) obs[k].code_m += (k % 2 ? 4.5 : -4.5) * obs[k].code_sigma_m;
+    for (PppEstimatorBase* e : {static_cast<PppEstimatorBase*>(&smoother), static_cast<PppEstimatorBase*>(&ekf)}) {
+      const auto r = e->processEpoch(sim.time(), modelOf(obs, {true}));
+      EXPECT_EQ(r.integrity, SolutionIntegrity::Inconsistent) << r.consistency;
+      EXPECT_GT(r.consistency_statistic, chiSquareUpperQuantile(r.consistency_dof, 1e-6)) << r.consistency;
+      EXPECT_NE(r.consistency.find("postfit chi-square"), std::string::npos) << r.consistency;
+      if (action == ConsistencyAction::Inflate) {
+        ASSERT_EQ(r.status, EpochStatus::Ok) << r.reason;
+        EXPECT_GT(r.consistency_variance_factor, 1.0);
+      } else {
+        EXPECT_EQ(r.status, EpochStatus::NoSolution);
+        EXPECT_EQ(r.no_solution_reason, NoSolutionReason::InconsistentSolution);
+        EXPECT_FALSE(r.solution.has_value());
+        EXPECT_NE(r.reason.find("withheld"), std::string::npos) << r.reason;
+      }
+    }
+  }
+}
+
 TEST(PppSmoother, HuberKernelLimitsAModerateOutlier) {
   // A 20 m code error (below the 30 m prefit threshold) on one satellite for the
   // whole run: the Huber kernel down-weights it.
@@ -427,8 +531,8 @@ TEST(PppSmoother, HuberKernelLimitsAModerateOutlier) {
   for (bool robust : {false, true}) {
     Simulator sim;
     PppSmootherOptions options;
-    options.robust = true;
     options.robust = robust;
+    options.screening.postfit_check = false;  // the kernel alone (the postfit test would remove it)
     PppSmoother smoother(methodTableStochasticModel(), options);
     SatelliteId bad;
     for (int i = 0; i < 20; ++i) {

@@ -78,7 +78,7 @@ TEST(PppSmootherRealData, Zim2FilteredEqualsTheEkfInTheSameLinearisation) {
   PPP_REQUIRE_SHARED_DATA();
   PppConfig config = methodTablePppConfig();
   config.estimator.iterations_per_epoch = 1;
-  config.estimator.postfit_check = false;
+  config.estimator.screening.postfit_check = false;
   config.stochastic.clock.initial_sigma_m = 1e3;
   const bench::SmootherRunOutput out = bench::runSmootherAndEkf(bench::zim2Inputs(test::sharedDataDir()), config);
   ASSERT_EQ(out.ekf.size(), out.filtered.size());

@@ -171,7 +171,7 @@ TEST(RosNodeOptions, ParameterServerTypesAreKeptAndStringsAreNeverNumbers) {
   EXPECT_EQ(error_of(ok), "");
   const ppp::PppConfig c = ppp::bindPppConfig(ppp_ros::xmlRpcToYaml(ok), "ROS parameters /node");
   EXPECT_EQ(c.stochastic.position.initial_sigma_m, 7.0);
-  EXPECT_FALSE(c.estimator.postfit_check);
+  EXPECT_FALSE(c.estimator.screening.postfit_check);
   EXPECT_EQ(c.model.mapping, ppp::TroposphereMapping::Niell);
   const auto o = ppp_ros::bindRosNodeOptions(c.ros, c.source_name);
   EXPECT_EQ(o.atx, std::vector<std::string>{"/data/a.atx"});

@@ -119,6 +119,9 @@ struct PreciseEphemerisOptions {
   /// real-time stream is usable as soon as a node at or after the time exists.
   /// Error bound |d4x/dt4| h^4 / 384: ~0.1 mm for GPS at h = 30 s.
   bool hermite_between_velocity_nodes = false;
+  /// load(): find and mark single bad orbit and clock values (product_sanity.h).
+  /// Off only to measure what the estimators catch on their own (test/integrity).
+  bool check_products = true;
 };
 
 struct ProductSpan {

@@ -11,6 +11,7 @@
 
 #include "ppp_bayes_tree/ppp/rejection_reason.h"
 #include "ppp_bayes_tree/ppp/satellite_measurement.h"
+#include "ppp_bayes_tree/ppp/solution_integrity.h"
 
 namespace ppp {
 
@@ -87,6 +88,15 @@ struct EstimatorEpochResult {
   std::vector<RejectedSatellite> rejected;  // the model's rejections, then the estimator's
   int prefit_rejections = 0;
   int postfit_rejections = 0;
+  /// The epoch consistency test of the solution (postfit_screening.h): Inconsistent
+  /// means the covariance was inflated by consistency_variance_factor (or, withheld,
+  /// status NoSolution with InconsistentSolution); the test's sentence is in
+  /// `consistency`. Unchecked without a solution or with the test off.
+  SolutionIntegrity integrity = SolutionIntegrity::Unchecked;
+  double consistency_statistic = 0.0;      // T, weighted postfit sum of squares
+  int consistency_dof = 0;                 // m, measurements
+  double consistency_variance_factor = 1.0;  // T / m when inflated, else 1
+  std::string consistency;                 // readable test result, empty when unchecked
   int active_biases = 0;  // bias states after the epoch
   int iterations = 0;     // measurement-model evaluations
   std::vector<MeasurementResidual> residuals;  // same order as `used`

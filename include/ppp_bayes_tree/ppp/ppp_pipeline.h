@@ -59,6 +59,9 @@ struct PppInputFiles {
   /// With an RTCM 3 `obs`: the approximate date that places its MSM times
   /// (ppp_solve --ref-date), when the stream itself cannot.
   std::optional<GnssTime> rtcm_reference_time;
+  /// The product sanity checks of the SP3 and CLK files (product_sanity.h). Off
+  /// only to measure what the estimators' own checks catch (test/integrity).
+  bool check_products = true;
 };
 
 /// In-process inputs (e.g. a simulated flight, simulation/gnss_simulator.h): the
@@ -115,6 +118,8 @@ struct PppEpochRecord {
   EpochStatus status = EpochStatus::NoSolution;
   NoSolutionReason no_solution_reason = NoSolutionReason::None;
   std::string reason;      // why there is no solution, readable ("" when ok)
+  /// The epoch consistency test's sentence (solution.integrity holds its verdict).
+  std::string consistency;
   bool refused = false;    // time backwards / repeated / special records: not processed at all
   std::optional<double> gap_s;  // set when this epoch follows a data gap (seconds since the previous)
   int satellites_observed = 0;  // satellites of the processed systems in the file
@@ -153,6 +158,9 @@ struct PppRunSummary {
   std::size_t epochs_no_solution = 0;
   std::size_t epochs_failed = 0;
   std::size_t epochs_refused = 0;  // time backwards, duplicates, cycle-slip record epochs
+  /// Epochs whose postfit residuals failed the consistency test (solved with an
+  /// inflated covariance, or withheld: then also counted as no solution).
+  std::size_t epochs_inconsistent = 0;
   std::size_t data_gaps = 0;
   std::size_t arcs = 0;
   std::size_t slips = 0;

@@ -20,9 +20,16 @@
 //     the biases observed in this epoch are eliminated last (root clique), the other
 //     re-eliminated variables oldest first; relinearization thresholds per variable
 //     component (position, ZWD, clocks, bias);
-//  3. FILTERED output: the new state's estimate right after the update with its
+//  3. postfit check (postfit_screening.h, as the EKF's): while the worst normalised
+//     postfit residual at the filtered estimate exceeds postfit_sigmas (at most
+//     postfit_max_rejections times, never below min_satellites), that satellite's
+//     code and phase factors are removed from the graph (an iSAM2 update removing
+//     them) and it is rejected with PostfitCode / PostfitPhase; a removed new arc
+//     keeps only its bias prior and does not become active;
+//  4. FILTERED output: the new state's estimate right after the update with its
 //     marginal covariance (root clique: cheap), plus the biases' filtered marginals
-//     (kept for the next epoch's screening).
+//     (kept for the next epoch's screening). The front end's consistency test
+//     then flags (and inflates or withholds) a solution whose residuals contradict it.
 // SMOOTHED output: smoothedTrajectory() re-reads every state from the current
 // estimate (all data so far); with fixed_lag_s > 0 states older than the lag are
 // marginalized (FixedLagSmoother) and keep their last estimate (at the lag boundary).

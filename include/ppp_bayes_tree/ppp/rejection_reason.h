@@ -43,6 +43,7 @@ enum class NoSolutionReason {
   CovarianceNotPositiveDefinite,
   SmootherUpdateFailed,     // the iSAM2 update threw (indeterminate system)
   NonFiniteFilteredEstimate,
+  InconsistentSolution,     // postfit residuals fail the consistency test (withheld)
 };
 std::string toString(NoSolutionReason reason);
 

@@ -5,6 +5,7 @@
 
 #include <Eigen/Core>
 
+#include "ppp_bayes_tree/ppp/solution_integrity.h"
 #include "ppp_bayes_tree/types/gnss_time.h"
 
 namespace ppp {
@@ -31,6 +32,8 @@ struct SolutionEpoch {
   int satellites_rejected = 0;
   std::optional<double> zwd_m;             // zenith wet delay
   std::optional<double> receiver_clock_m;  // receiver clock times c
+  /// The epoch consistency test of the estimator's solution (solution_integrity.h).
+  SolutionIntegrity integrity = SolutionIntegrity::Unchecked;
 };
 
 }  // namespace ppp

@@ -39,10 +39,12 @@ class FixedLagSmoother {
   explicit FixedLagSmoother(FixedLagParams params = {});
 
   /// `timestamps_s`: timestamps of the new time variables (seconds, any origin);
-  /// `newest_keys`: variables to keep in the root clique (see ISAM2UpdateParams).
+  /// `newest_keys`: variables to keep in the root clique (see ISAM2UpdateParams);
+  /// `remove_factor_indices`: factors to remove (indices from earlier results).
   FixedLagResult update(const NonlinearFactorGraph& new_factors, const Values& new_values,
                         const std::unordered_map<Key, double>& timestamps_s,
-                        const KeyVector& newest_keys = {});
+                        const KeyVector& newest_keys = {},
+                        const std::vector<FactorIndex>& remove_factor_indices = {});
 
   const ISAM2& isam2() const { return isam_; }
   Values calculateEstimate() const { return isam_.calculateEstimate(); }

@@ -138,7 +138,7 @@ PppSolveOutcome solvePpp(const PppSolveRequest& req) {
   out.residuals_path = stem + "_residuals.csv";
 
   std::ofstream epochs = openOut(out.epochs_path), residuals = openOut(out.residuals_path);
-  epochs << "time_gpst,status,reason,observed,selected,used,rejected,new_arcs,slips,gap_s,used_sats";
+  epochs << "time_gpst,status,integrity,consistency,reason,observed,selected,used,rejected,new_arcs,slips,gap_s,used_sats";
   if (smoother)
     epochs << ",active_biases,new_biases,relinearized,reeliminated,factors_relinearized,cliques_touched,"
               "update_ms,epoch_ms";
@@ -161,7 +161,8 @@ PppSolveOutcome solvePpp(const PppSolveRequest& req) {
     std::string used;
     for (const auto& s : rec.used) used += (used.empty() ? "" : " ") + s.toString();
     const std::string status = rec.refused ? "refused" : toString(rec.status);
-    epochs << t << ',' << status << ',' << csvText(rec.reason) << ',' << rec.satellites_observed << ','
+    epochs << t << ',' << status << ',' << toString(rec.solution.integrity) << ',' << csvText(rec.consistency)
+           << ',' << csvText(rec.reason) << ',' << rec.satellites_observed << ','
            << rec.satellites_selected << ',' << rec.used.size() << ',' << rec.rejected.size() << ',' << rec.new_arcs
            << ',' << rec.slips << ',' << (rec.gap_s ? fixed(*rec.gap_s, 1) : "") << ',' << used;
     if (smoother) {
@@ -272,7 +273,8 @@ std::string runSummaryToJson(const PppSolveOutcome& o, const PppSolutionOutput& 
   }
   os << ",\n  \"epochs\": {\"read\": " << r.epochs_read << ", \"solved\": " << r.epochs_solved
      << ", \"no_solution\": " << r.epochs_no_solution << ", \"failed\": " << r.epochs_failed
-     << ", \"refused\": " << r.epochs_refused << ", \"data_gaps\": " << r.data_gaps << "},\n";
+     << ", \"refused\": " << r.epochs_refused << ", \"data_gaps\": " << r.data_gaps
+     << ", \"inconsistent\": " << r.epochs_inconsistent << "},\n";
   os << "  \"arcs\": " << r.arcs << ",\n  \"slips\": " << r.slips << ",\n";
   os << "  \"processing_time_s\": " << jsonNumber(r.processing_time_s, 6) << ",\n";
   for (const auto& [key, t] : {std::make_pair("update_time", o.update_time), std::make_pair("epoch_time", o.epoch_time)}) {
@@ -322,6 +324,9 @@ std::string formatRunReport(const PppRunSummary& r) {
     os << "epochs without a solution:\n";
     for (const auto& [k, n] : r.no_solution_counts) os << "  " << n << "  " << toString(k) << "\n";
   }
+  if (r.epochs_inconsistent > 0)
+    os << "epochs whose residuals contradict their covariance (consistency test): " << r.epochs_inconsistent
+       << " (flagged \"inconsistent\": covariance inflated, or withheld)\n";
   if (r.estimator_resets > 0)
     os << "estimator restarts after a failed update: " << r.estimator_resets << "\n";
   os << "postfit residuals per satellite [mm]:  n  code mean/rms  phase mean/rms/max  elevation [deg]  rejected\n";

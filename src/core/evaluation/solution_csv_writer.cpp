@@ -39,7 +39,7 @@ void SolutionCsvWriter::write(const SolutionEpoch& epoch) { out_ << row(epoch, t
 std::string SolutionCsvWriter::headerRow(bool with_truth) {
   std::string h = "gps_week,tow_s,time_gpst,x_m,y_m,z_m,lat_deg,lon_deg,height_m,";
   if (with_truth) h += "e_err_m,n_err_m,u_err_m,err3d_m,";
-  return h + "sigma_e_m,sigma_n_m,sigma_u_m,sats_used,sats_rejected,zwd_m,clock_m,status";
+  return h + "sigma_e_m,sigma_n_m,sigma_u_m,sats_used,sats_rejected,zwd_m,clock_m,status,integrity";
 }
 
 std::string SolutionCsvWriter::row(const SolutionEpoch& e, const std::optional<Eigen::Vector3d>& truth) {
@@ -75,7 +75,7 @@ std::string SolutionCsvWriter::row(const SolutionEpoch& e, const std::optional<E
   r += std::to_string(e.satellites_used) + "," + std::to_string(e.satellites_rejected) + ",";
   r += (e.zwd_m ? num("%.4f", *e.zwd_m) : std::string()) + ",";
   r += (e.receiver_clock_m ? num("%.4f", *e.receiver_clock_m) : std::string()) + ",";
-  return r + solutionStatusName(e.status);
+  return r + solutionStatusName(e.status) + "," + toString(e.integrity);
 }
 
 }  // namespace ppp

@@ -278,7 +278,7 @@ PreciseEphemeris PreciseEphemeris::load(const std::vector<std::string>& sp3_path
                                 " (the observation window): products of another "
                                  "day or system?");
     readingProblems(p, f.report);
-    const std::vector<OrbitOutlier> outliers = findOrbitOutliers(f);
+    const std::vector<OrbitOutlier> outliers = options.check_products ? findOrbitOutliers(f) : std::vector<OrbitOutlier>{};
     for (const auto& o : outliers) eph.merge_report_.addProblem(0, p + ": " + o.describe() + "; not used");
     markOrbitOutliers(f, outliers);
     eph.addOrbits(f);
@@ -290,7 +290,7 @@ PreciseEphemeris PreciseEphemeris::load(const std::vector<std::string>& sp3_path
                                  " (the observation window with a 2-h margin): a clock file of another day or "
                                  "system? (it would otherwise fall back to the SP3 clocks)");
     readingProblems(p, f.report);
-    const std::vector<ClockOutlier> outliers = findClockOutliers(f);
+    const std::vector<ClockOutlier> outliers = options.check_products ? findClockOutliers(f) : std::vector<ClockOutlier>{};
     for (const auto& o : outliers) eph.merge_report_.addProblem(0, p + ": " + o.describe() + "; not used");
     markClockOutliers(f, outliers);
     eph.addClocks(f);

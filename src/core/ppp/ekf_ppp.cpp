@@ -1,5 +1,6 @@
 #include "ppp_bayes_tree/ppp/ekf_ppp.h"
 
+#include "ppp_bayes_tree/ppp/postfit_screening.h"
 #include "ppp_bayes_tree/ppp/prefit_screening.h"
 
 #include <Eigen/Cholesky>
@@ -10,13 +11,6 @@
 
 namespace ppp {
 namespace {
-
-std::string fmt(double v, int precision = 3) {
-  std::ostringstream os;
-  os.precision(precision);
-  os << std::fixed << v;
-  return os.str();
-}
 
 /// Symmetrise P and check it is finite and positive definite; empty when fine.
 std::string checkCovariance(Eigen::MatrixXd& P) {
@@ -32,8 +26,6 @@ std::string checkCovariance(Eigen::MatrixXd& P) {
 std::string EkfOptions::validate() const {
   if (auto problem = screening.validate(); !problem.empty()) return problem;
   if (iterations_per_epoch < 1) return "iterations_per_epoch must be >= 1";
-  if (!(postfit_sigmas > 0.0)) return "postfit_sigmas must be > 0";
-  if (postfit_max_rejections < 0) return "postfit_max_rejections must be >= 0";
   return {};
 }
 
@@ -275,19 +267,18 @@ bool EkfPpp::solve(const EpochSolveInput& in, EpochSolveOutput& out, EstimatorEp
       return fail(result, EpochStatus::Failed, NoSolutionReason::CovarianceNotPositiveDefinite,
                   problem + " after the update");
 
-    // Postfit residuals at the updated state; optional check.
+    // Postfit residuals at the updated state; optional check (postfit_screening.h).
     const Eigen::VectorXd postfit = y_lin - H * (x_new - x_lin);
-    if (options_.postfit_check && result.postfit_rejections < options_.postfit_max_rejections) {
-      Eigen::Index worst = 0;
-      const double worst_ratio = (postfit.array() / R.array().sqrt()).abs().maxCoeff(&worst);
-      if (worst_ratio > options_.postfit_sigmas) {
-        const auto& row = rows[static_cast<std::size_t>(worst / 2)];
+    const ScreeningOptions& sc = options_.screening;
+    if (sc.postfit_check && result.postfit_rejections < sc.postfit_max_rejections) {
+      std::vector<PostfitResidualPair> pairs(static_cast<std::size_t>(n_sat));
+      for (int k = 0; k < n_sat; ++k)
+        pairs[static_cast<std::size_t>(k)] = {postfit(2 * k), postfit(2 * k + 1), std::sqrt(R(2 * k)),
+                                              std::sqrt(R(2 * k + 1))};
+      if (const auto worst = worstPostfitResidual(pairs, sc.postfit_sigmas)) {
+        const auto& row = rows[worst->index];
         excluded.insert(row.m.satellite);
-        const bool code = worst % 2 == 0;
-        result.rejected.push_back({row.m.satellite, code ? RejectionReason::PostfitCode : RejectionReason::PostfitPhase,
-                                   std::string("postfit ") + (code ? "code" : "phase") + " residual " +
-                                       fmt(postfit(worst)) + " m = " + fmt(worst_ratio, 1) + " sigma > " +
-                                       fmt(options_.postfit_sigmas, 1) + " sigma"});
+        result.rejected.push_back(postfitRejection(row.m.satellite, *worst, sc.postfit_sigmas));
         ++result.postfit_rejections;
         continue;
       }

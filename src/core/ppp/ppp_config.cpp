@@ -38,9 +38,16 @@ void readEstimator(YamlSection s, EkfOptions& o, CodeLeastSquaresOptions& start)
   o.iterations_per_epoch = s.integer("iterations_per_epoch", o.iterations_per_epoch, 1);
   sc.prefit_code_threshold_m = s.number("prefit_code_threshold_m", sc.prefit_code_threshold_m, Bound::Positive);
   sc.prefit_phase_sigmas = s.number("prefit_phase_sigmas", sc.prefit_phase_sigmas, Bound::Positive);
-  o.postfit_check = s.boolean("postfit_check", o.postfit_check);
-  o.postfit_sigmas = s.number("postfit_sigmas", o.postfit_sigmas, Bound::Positive);
-  o.postfit_max_rejections = s.integer("postfit_max_rejections", o.postfit_max_rejections, 0);
+  sc.postfit_check = s.boolean("postfit_check", sc.postfit_check);
+  sc.postfit_sigmas = s.number("postfit_sigmas", sc.postfit_sigmas, Bound::Positive);
+  sc.postfit_max_rejections = s.integer("postfit_max_rejections", sc.postfit_max_rejections, 0);
+  sc.consistency_check = s.boolean("consistency_check", sc.consistency_check);
+  sc.consistency_false_alarm = s.number("consistency_false_alarm", sc.consistency_false_alarm, Bound::Positive);
+  if (!(sc.consistency_false_alarm < 0.5)) s.fail("consistency_false_alarm", "must be < 0.5");
+  {
+    const std::string action = s.choice("consistency_action", toString(sc.consistency_action), {"inflate", "withhold"});
+    sc.consistency_action = action == "withhold" ? ConsistencyAction::Withhold : ConsistencyAction::Inflate;
+  }
   sc.clock_from_code_median = s.boolean("clock_from_code_median", sc.clock_from_code_median);
   sc.stale_arc_timeout_s = s.number("stale_arc_timeout_s", sc.stale_arc_timeout_s, Bound::NonNegative);
   {

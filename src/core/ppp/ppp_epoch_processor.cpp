@@ -137,12 +137,14 @@ PppEpochRecord PppEpochProcessor::process(const ObsEpoch& epoch, EpochEstimator&
   rec.status = r.status;
   rec.no_solution_reason = r.no_solution_reason;
   rec.reason = r.reason;
+  rec.consistency = r.consistency;
   rec.used = r.used;
   for (const auto& x : r.rejected) rec.rejected.push_back({x.satellite, RejectionStage::Model, x.reason, x.detail});
   rec.residuals = std::move(r.residuals);
   SolutionEpoch& s = rec.solution;
   s.satellites_used = static_cast<int>(rec.used.size());
   s.satellites_rejected = static_cast<int>(rec.rejected.size());
+  s.integrity = r.integrity;
   if (r.status == EpochStatus::Ok && r.solution) {
     s.status = r.ambiguities == AmbiguityState::Fixed ? SolutionStatus::PppFixed : SolutionStatus::PppFloat;
     s.position_ecef_m = r.solution->state.position_ecef_m;

@@ -3,6 +3,8 @@
 #include <chrono>
 #include <cmath>
 
+#include "ppp_bayes_tree/ppp/postfit_screening.h"
+
 namespace ppp {
 
 PppEstimatorBase::PppEstimatorBase(StochasticModel model, ScreeningOptions screening,
@@ -170,6 +172,31 @@ EstimatorEpochResult PppEstimatorBase::processEpoch(const GnssTime& time, const 
     r.code_sigma_m = row.m.code_sigma_m;
     r.phase_sigma_m = row.m.phase_sigma_m;
     result.residuals.push_back(r);
+  }
+
+  // 9. Epoch consistency test of the postfit residuals (postfit_screening.h): an
+  // inconsistent solution is flagged, and inflated or withheld.
+  if (screening_.consistency_check) {
+    std::vector<PostfitResidualPair> pairs;
+    pairs.reserve(result.residuals.size());
+    for (const auto& r : result.residuals)
+      pairs.push_back({r.code_postfit_m, r.phase_postfit_m, r.code_sigma_m, r.phase_sigma_m});
+    const ConsistencyTest test = postfitConsistency(pairs, screening_.consistency_false_alarm);
+    result.consistency_statistic = test.statistic;
+    result.consistency_dof = test.dof;
+    result.consistency = test.describe(screening_.consistency_false_alarm);
+    if (test.consistent()) {
+      result.integrity = SolutionIntegrity::Consistent;
+    } else {
+      result.integrity = SolutionIntegrity::Inconsistent;
+      if (screening_.consistency_action == ConsistencyAction::Withhold) {
+        fail(result, EpochStatus::NoSolution, NoSolutionReason::InconsistentSolution,
+             "solution withheld: " + result.consistency);
+      } else {
+        result.consistency_variance_factor = test.varianceFactor();
+        result.solution->covariance *= result.consistency_variance_factor;
+      }
+    }
   }
   return finish();
 }

@@ -118,7 +118,10 @@ PppPipeline::PppPipeline(const PppInputFiles& files, PppConfig config)
     d.load_notes.insert(d.load_notes.end(), broadcast.notes.begin(), broadcast.notes.end());
     d.load_problems.insert(d.load_problems.end(), broadcast.problems.begin(), broadcast.problems.end());
   } else {
-    auto ephemeris = std::make_shared<PreciseEphemeris>(PreciseEphemeris::load(files.sp3, files.clk, filter));
+    PreciseEphemerisOptions ephemeris_options;
+    ephemeris_options.check_products = files.check_products;
+    auto ephemeris =
+        std::make_shared<PreciseEphemeris>(PreciseEphemeris::load(files.sp3, files.clk, filter, ephemeris_options));
     if (!ephemeris->mergeReport().problems().empty() || !ephemeris->mergeReport().counters().empty())
       d.load_notes.push_back("products merged: " + ephemeris->mergeReport().summary(5));
     for (const auto& p : ephemeris->mergeReport().problems()) d.load_problems.push_back(p.reason);
@@ -274,6 +277,7 @@ PppRunSummary PppPipeline::run(EpochEstimator& estimator, const EpochCallback& o
     }
     if (rec.status != EpochStatus::Ok) summary.no_solution_counts[rec.no_solution_reason]++;
     if (rec.estimator_reset) ++summary.estimator_resets;
+    if (rec.solution.integrity == SolutionIntegrity::Inconsistent) ++summary.epochs_inconsistent;
     if (on_epoch) on_epoch(rec);
   }
   estimator.arcsEnded(processor.finish());

@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 
+#include "ppp_bayes_tree/ppp/postfit_screening.h"
 #include "ppp_bayes_tree/ppp/ppp_factors.h"
 #include "ppp_bayes_tree/ppp/prefit_screening.h"
 #include "ppp_bayes_tree/smoother/batch_solver.h"
@@ -243,6 +244,7 @@ bool PppSmoother::solve(const EpochSolveInput& in, EpochSolveOutput& out, Estima
   std::vector<bool> new_arc(n_sat, false);
   std::vector<Key> bias_of(n_sat);
   std::vector<double> phase_prefit(n_sat);
+  std::vector<std::size_t> code_factor(n_sat);  // position of each satellite's code factor in `factors` (phase: +1)
   for (std::size_t k = 0; k < n_sat; ++k) {
     const SatelliteMeasurement& m = in.screened[k].m;
     auto it = arcs.find(m.arc);
@@ -268,6 +270,7 @@ bool PppSmoother::solve(const EpochSolveInput& in, EpochSolveOutput& out, Estima
     phase_prefit[k] = m.phaseResidualWithoutBias_m() - slot.filtered_m;
     newest.push_back(slot.key);
     SatellitePrediction prediction(m, predicted, options_.exact_range);
+    code_factor[k] = factors.size();
     factors.push_back(std::make_shared<PppCodeFactor>(x, prediction, noise(m.code_sigma_m)));
     factors.push_back(std::make_shared<PppPhaseFactor>(x, slot.key, prediction, noise(m.phase_sigma_m)));
   }
@@ -276,6 +279,7 @@ bool PppSmoother::solve(const EpochSolveInput& in, EpochSolveOutput& out, Estima
   std::map<Key, std::uint32_t> bias_last_state = bias_last_state_;
   for (Key b : bias_of) bias_last_state[b] = index;
   const auto t_update = SteadyClock::now();
+  std::vector<smoother::FactorIndex> graph_index;  // of each new factor
   try {
     if (lag_) {
       std::unordered_map<Key, double> stamps{{x, in.time - (states_.empty() ? in.time : states_.front().time)}};
@@ -285,6 +289,7 @@ bool PppSmoother::solve(const EpochSolveInput& in, EpochSolveOutput& out, Estima
       diag.factors_relinearized = r.isam2.factors_relinearized;
       diag.cliques_touched = r.isam2.cliquesTouched();
       diag.variables_marginalized = r.variables_marginalized;
+      graph_index = r.isam2.new_factor_indices;
     } else {
       smoother::ISAM2UpdateParams up;
       up.newest_keys = newest;
@@ -298,18 +303,89 @@ bool PppSmoother::solve(const EpochSolveInput& in, EpochSolveOutput& out, Estima
       diag.variables_reeliminated = r.variables_reeliminated;
       diag.factors_relinearized = r.factors_relinearized;
       diag.cliques_touched = r.cliquesTouched();
+      graph_index = r.new_factor_indices;
     }
   } catch (const std::exception& e) {
     diag.update_time_s = secondsSince(t_update);
     return fail(result, EpochStatus::Failed, NoSolutionReason::SmootherUpdateFailed,
                 std::string("smoother update failed: ") + e.what());
   }
+
+  // Postfit check (postfit_screening.h, as the EKF): the worst satellite's code and
+  // phase factors are removed from the graph and the estimate updated again, never
+  // below min_satellites. A removed new arc keeps only its bias prior (a detached
+  // variable) and is not active; it starts afresh when seen again.
+  const smoother::ISAM2& isam = isam2();
+  std::vector<bool> kept(n_sat, true);
+  std::size_t n_kept = n_sat;
+  std::vector<smoother::FactorIndex> removed_factors;
+  auto postfitPair = [&](std::size_t k, const Vector& x_est) {
+    const SatelliteMeasurement& m = in.screened[k].m;
+    const SatellitePrediction prediction(m, predicted, options_.exact_range);
+    return PostfitResidualPair{m.observed_code_m - prediction.code_m(x_est, nullptr),
+                               m.observed_phase_m - prediction.phase_m(x_est, nullptr) -
+                                   isam.calculateEstimate(bias_of[k])(0),
+                               m.code_sigma_m, m.phase_sigma_m};
+  };
+  const ScreeningOptions& sc = options_.screening;
+  while (sc.postfit_check && result.postfit_rejections < sc.postfit_max_rejections &&
+         static_cast<int>(n_kept) > sc.min_satellites && graph_index.size() == factors.size()) {
+    const Vector x_now = isam.calculateEstimate(x);
+    std::vector<PostfitResidualPair> pairs;
+    std::vector<std::size_t> of_pair;
+    for (std::size_t k = 0; k < n_sat; ++k)
+      if (kept[k]) {
+        pairs.push_back(postfitPair(k, x_now));
+        of_pair.push_back(k);
+      }
+    const auto worst = worstPostfitResidual(pairs, sc.postfit_sigmas);
+    if (!worst) break;
+    const std::size_t k = of_pair[worst->index];
+    const SatelliteMeasurement& m = in.screened[k].m;
+    result.rejected.push_back(postfitRejection(m.satellite, *worst, sc.postfit_sigmas));
+    ++result.postfit_rejections;
+    kept[k] = false;
+    --n_kept;
+    if (new_arc[k]) {
+      arcs.erase(m.arc);
+      --diag.new_biases;
+    }
+    const std::vector<smoother::FactorIndex> remove{graph_index[code_factor[k]], graph_index[code_factor[k] + 1]};
+    removed_factors.insert(removed_factors.end(), remove.begin(), remove.end());
+    KeyVector kept_newest{x};
+    for (std::size_t j = 0; j < n_sat; ++j)
+      if (kept[j]) kept_newest.push_back(bias_of[j]);
+    try {
+      if (lag_) {
+        lag_->update({}, {}, {}, kept_newest, remove);
+      } else {
+        smoother::ISAM2UpdateParams up;
+        up.newest_keys = kept_newest;
+        up.remove_factor_indices = remove;
+        up.ordering_group = [&bias_last_state](Key key) {
+          if (smoother::keySymbol(key) == 'x') return static_cast<int>(smoother::keyIndex(key));
+          auto it = bias_last_state.find(key);
+          return it == bias_last_state.end() ? 0 : static_cast<int>(it->second);
+        };
+        isam_->update({}, {}, up);
+      }
+    } catch (const std::exception& e) {
+      diag.update_time_s = secondsSince(t_update);
+      return fail(result, EpochStatus::Failed, NoSolutionReason::SmootherUpdateFailed,
+                  std::string("smoother update failed (postfit removal of ") + m.satellite.toString() + "): " +
+                      e.what());
+    }
+  }
   diag.update_time_s = secondsSince(t_update);
 
   // Filtered estimate and marginals of the root variables (new state, observed biases).
-  const smoother::ISAM2& isam = isam2();
   KeyVector marginal_keys{x};
-  for (Key b : bias_of) marginal_keys.push_back(b);
+  std::vector<int> marginal_of(n_sat, -1);  // position of each kept bias in the joint marginal
+  for (std::size_t k = 0; k < n_sat; ++k)
+    if (kept[k]) {
+      marginal_of[k] = kRx + static_cast<int>(marginal_keys.size()) - 1;
+      marginal_keys.push_back(bias_of[k]);
+    }
   const smoother::Matrix joint = isam.jointMarginalCovariance(marginal_keys);
   EpochSolution solution;
   const Vector x_est = isam.calculateEstimate(x);
@@ -321,9 +397,10 @@ bool PppSmoother::solve(const EpochSolveInput& in, EpochSolveOutput& out, Estima
 
   // Commit.
   for (std::size_t k = 0; k < n_sat; ++k) {
+    if (!kept[k]) continue;
     ArcSlot& slot = arcs.at(in.screened[k].m.arc);
     slot.filtered_m = isam.calculateEstimate(slot.key)(0);
-    slot.filtered_variance_m2 = joint(kRx + static_cast<int>(k), kRx + static_cast<int>(k));
+    slot.filtered_variance_m2 = joint(marginal_of[k], marginal_of[k]);
     diag.biases.push_back({in.screened[k].m.arc, slot.satellite, slot.filtered_m,
                            std::sqrt(std::max(0.0, slot.filtered_variance_m2))});
   }
@@ -331,7 +408,11 @@ bool PppSmoother::solve(const EpochSolveInput& in, EpochSolveOutput& out, Estima
   bias_last_state_ = std::move(bias_last_state);
   states_.push_back({in.time, index, solution.state});
   if (record_graph_) {
-    recorded_factors_.insert(recorded_factors_.end(), factors.begin(), factors.end());
+    for (std::size_t i = 0; i < factors.size(); ++i) {
+      const bool removed = i < graph_index.size() && std::find(removed_factors.begin(), removed_factors.end(),
+                                                                graph_index[i]) != removed_factors.end();
+      if (!removed) recorded_factors_.push_back(factors[i]);
+    }
     for (Key key : values.keys())
       if (!recorded_values_.exists(key)) recorded_values_.insert(key, values.at(key));
   }
@@ -347,6 +428,7 @@ bool PppSmoother::solve(const EpochSolveInput& in, EpochSolveOutput& out, Estima
 
   // Residuals: prefit at the prediction, postfit at the filtered state.
   for (std::size_t k = 0; k < n_sat; ++k) {
+    if (!kept[k]) continue;
     const SatelliteMeasurement& m = in.screened[k].m;
     const SatellitePrediction prediction(m, predicted, options_.exact_range);
     SolvedMeasurement r;

@@ -164,7 +164,19 @@ std::string ScreeningOptions::validate() const {
   if (!(prefit_code_threshold_m > 0.0)) return "prefit_code_threshold_m must be > 0";
   if (!(prefit_phase_sigmas > 0.0)) return "prefit_phase_sigmas must be > 0";
   if (!(stale_arc_timeout_s >= 0.0)) return "stale_arc_timeout_s must be >= 0";
+  if (!(postfit_sigmas > 0.0)) return "postfit_sigmas must be > 0";
+  if (postfit_max_rejections < 0) return "postfit_max_rejections must be >= 0";
+  if (!(consistency_false_alarm > 0.0 && consistency_false_alarm < 0.5))
+    return "consistency_false_alarm must be in (0, 0.5)";
   return {};
+}
+
+std::string toString(ConsistencyAction action) {
+  switch (action) {
+    case ConsistencyAction::Inflate: return "inflate";
+    case ConsistencyAction::Withhold: return "withhold";
+  }
+  return "unknown";
 }
 
 PrefitScreeningResult screenPrefit(const std::vector<SatelliteMeasurement>& candidates,

@@ -39,6 +39,7 @@ std::string toString(NoSolutionReason reason) {
     case NoSolutionReason::CovarianceNotPositiveDefinite: return "covariance not positive definite";
     case NoSolutionReason::SmootherUpdateFailed: return "smoother update failed";
     case NoSolutionReason::NonFiniteFilteredEstimate: return "non-finite filtered estimate";
+    case NoSolutionReason::InconsistentSolution: return "residuals inconsistent with the covariance";
   }
   return "unknown";
 }

@@ -33,7 +33,8 @@ KeyVector FixedLagSmoother::dueKeys() const {
 
 FixedLagResult FixedLagSmoother::update(const NonlinearFactorGraph& new_factors, const Values& new_values,
                                         const std::unordered_map<Key, double>& timestamps_s,
-                                        const KeyVector& newest_keys) {
+                                        const KeyVector& newest_keys,
+                                        const std::vector<FactorIndex>& remove_factor_indices) {
   for (const auto& [k, t] : timestamps_s) {
     if (!new_values.exists(k) && !isam_.exists(k))
       throw std::invalid_argument("FixedLagSmoother: timestamp for unknown variable " + keyToString(k));
@@ -70,6 +71,7 @@ FixedLagResult FixedLagSmoother::update(const NonlinearFactorGraph& new_factors,
   KeyVector due = dueKeys();
   ISAM2UpdateParams up;
   up.newest_keys = newest_keys;
+  up.remove_factor_indices = remove_factor_indices;
   // Order re-eliminated variables by age bucket, oldest first, so that a bucket falling
   // out of the window is a set of leaf subtrees when it becomes due.
   up.ordering_group = [this](Key k) {
