@@ -192,6 +192,39 @@ std::optional<SmoothedEpoch> PppSmoother::smoothedEpochAt(const GnssTime& time, 
   return e;
 }
 
+void PppSmoother::releaseLeftStates() {
+  if (!sink_ || record_graph_) return;
+  const smoother::ISAM2& isam = isam2();
+  // The newest state is always in the graph, so at least one state stays.
+  while (states_.size() > 1 && !isam.exists(stateKey(states_.front().index))) {
+    SmoothedEpoch e;
+    e.time = states_.front().time;
+    e.index = states_.front().index;
+    e.state = states_.front().last_estimate;
+    if (!handed_out_through_ || e.index > *handed_out_through_) sink_(e);
+    states_.pop_front();
+  }
+}
+
+std::size_t PppSmoother::finishTrajectory() {
+  if (!sink_) return 0;
+  std::vector<SmoothedEpoch> rest = smoothedTrajectory(false);
+  if (handed_out_through_)
+    rest.erase(std::remove_if(rest.begin(), rest.end(),
+                              [&](const SmoothedEpoch& e) { return e.index <= *handed_out_through_; }),
+               rest.end());
+  for (const SmoothedEpoch& e : rest) sink_(e);
+  // Keep the newest state (the next epoch links to it) but never hand it out twice:
+  // from here on only states after it are handed out.
+  if (!states_.empty()) {
+    const StateRecord newest = states_.back();
+    states_.clear();
+    states_.push_back(newest);
+    handed_out_through_ = newest.index;
+  }
+  return rest.size();
+}
+
 ReceiverState PppSmoother::predict(double, bool, const std::optional<ReceiverState>& start) {
   return start ? *start : filtered_.state;
 }
@@ -278,7 +311,7 @@ bool PppSmoother::solve(const EpochSolveInput& in, EpochSolveOutput& out, Estima
   const auto t_update = SteadyClock::now();
   try {
     if (lag_) {
-      std::unordered_map<Key, double> stamps{{x, in.time - (states_.empty() ? in.time : states_.front().time)}};
+      std::unordered_map<Key, double> stamps{{x, time_origin_ ? lagStamp_s(in.time) : 0.0}};
       const smoother::FixedLagResult r = lag_->update(factors, values, stamps, newest);
       diag.variables_relinearized = r.isam2.variables_relinearized;
       diag.variables_reeliminated = r.isam2.variables_reeliminated;
@@ -329,6 +362,7 @@ bool PppSmoother::solve(const EpochSolveInput& in, EpochSolveOutput& out, Estima
   }
   arcs_ = std::move(arcs);
   bias_last_state_ = std::move(bias_last_state);
+  if (!time_origin_) time_origin_ = in.time;
   states_.push_back({in.time, index, solution.state});
   if (record_graph_) {
     recorded_factors_.insert(recorded_factors_.end(), factors.begin(), factors.end());
@@ -341,6 +375,7 @@ bool PppSmoother::solve(const EpochSolveInput& in, EpochSolveOutput& out, Estima
     for (auto it = bias_last_state_.begin(); it != bias_last_state_.end();)
       it = isam.exists(it->first) ? std::next(it) : bias_last_state_.erase(it);
   }
+  releaseLeftStates();
   filtered_ = solution;
   out.solution = solution;
   out.ambiguities = AmbiguityState::Float;
@@ -408,7 +443,7 @@ bool PppSmoother::recoverAfterFailure(EstimatorEpochResult& result) {
   }
   try {
     if (lag_) {
-      std::unordered_map<Key, double> stamps{{x, last.time - states_.front().time}};
+      std::unordered_map<Key, double> stamps{{x, lagStamp_s(last.time)}};
       lag_->update(factors, values, stamps, newest);
     } else {
       smoother::ISAM2UpdateParams up;
