@@ -13,10 +13,13 @@
 //
 // Usage: ppp_bench_live_memory [--hours H] [--rate HZ] [--lag S] [--report-s S]
 //          [--satellites N] [--profile loiter|survey|figure8|climb] [--seed N]
-//          [--csv PATH] [--keep-states]
+//          [--csv PATH] [--keep-states] [--config YAML] [--wildfire-m M]
 //   --lag 0 runs the full smoother. With a lag, the states leaving the window go
 //   to a SmoothedTrajectoryWriter (--csv PATH, else /dev/null) and are dropped from
 //   memory, as in live use; --keep-states keeps them instead (no sink).
+//   --config: a YAML over the defaults (e.g. config/live.yaml; its lag unless --lag
+//   is given); the simulation's physics replace its measurement model as in the
+//   Monte Carlo study (flightPppConfig). --wildfire-m: smoother.wildfire_threshold_m.
 //   Defaults: 24 h at 1 Hz, lag 300 s, report every 3600 s, 30 satellites, loiter.
 // Prints figures, asserts nothing.
 #include <malloc.h>
@@ -28,12 +31,14 @@
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "ppp_bayes_tree/evaluation/monte_carlo.h"
 #include "ppp_bayes_tree/evaluation/smoothed_trajectory_writer.h"
 #include "ppp_bayes_tree/ppp/epoch_estimator.h"
+#include "ppp_bayes_tree/ppp/ppp_config.h"
 #include "ppp_bayes_tree/ppp/ppp_pipeline.h"
 #include "ppp_bayes_tree/simulation/gnss_simulator.h"
 
@@ -57,11 +62,13 @@ double percentile(std::vector<double> v, double p) {
 }
 
 struct Args {
-  double hours = 24.0, rate_hz = 1.0, lag_s = 300.0, report_s = 3600.0;
+  double hours = 24.0, rate_hz = 1.0, lag_s = -1.0, report_s = 3600.0;  // lag < 0: the config's (else 300 s)
   int satellites = 30;
   std::string profile = "loiter", csv;
   std::uint64_t seed = 14;
   bool keep_states = false;
+  std::string config;                 // YAML over the defaults (e.g. config/live.yaml)
+  std::optional<double> wildfire_m;   // smoother.wildfire_threshold_m
 };
 
 Args parse(int argc, char** argv) {
@@ -84,6 +91,8 @@ Args parse(int argc, char** argv) {
     else if (k == "--seed") a.seed = std::strtoull(next().c_str(), nullptr, 10);
     else if (k == "--csv") a.csv = next();
     else if (k == "--keep-states") a.keep_states = true;
+    else if (k == "--config") a.config = next();
+    else if (k == "--wildfire-m") a.wildfire_m = std::atof(next().c_str());
     else {
       std::fprintf(stderr, "unknown argument %s (see the header of ppp_bench_live_memory.cpp)\n", k.c_str());
       std::exit(2);
@@ -126,8 +135,14 @@ int main(int argc, char** argv) {
               static_cast<double>(tracked) / static_cast<double>(std::max<std::size_t>(1, f.epochs.size())),
               rss_start, rss_input);
 
-  PppConfig config = flightPppConfig(PppConfig{}, f);
-  config.smoother.fixed_lag_s = a.lag_s;
+  PppConfig config = flightPppConfig(a.config.empty() ? PppConfig{} : loadPppConfig(a.config), f);
+  if (a.lag_s >= 0.0) config.smoother.fixed_lag_s = a.lag_s;
+  else if (a.config.empty()) config.smoother.fixed_lag_s = 300.0;
+  const double lag_s = config.smoother.fixed_lag_s;
+  if (a.wildfire_m) config.smoother.wildfire_threshold_m = *a.wildfire_m;
+  std::printf("smoother: fixed_lag_s %.1f, wildfire_threshold_m %g, relinearize_position_m %g\n",
+              config.smoother.fixed_lag_s, config.smoother.wildfire_threshold_m,
+              config.smoother.relinearize_position_m);
   PppInMemoryInputs in;
   in.header = &f.header;
   in.epochs = &f.epochs;
@@ -144,7 +159,7 @@ int main(int argc, char** argv) {
   std::unique_ptr<SmoothedTrajectoryWriter> writer;
   std::vector<double> final_err_m;
   std::size_t handed_out = 0;
-  if (a.lag_s > 0.0 && !a.keep_states) {
+  if (lag_s > 0.0 && !a.keep_states) {
     writer = std::make_unique<SmoothedTrajectoryWriter>(a.csv.empty() ? std::string("/dev/null") : a.csv);
     sm.smoother().setMarginalizedStateSink([&](const SmoothedEpoch& e) {
       writer->write(e);
@@ -156,9 +171,14 @@ int main(int argc, char** argv) {
 
   std::printf("%s smoother%s; flight time [h], RSS [MB], RSS growth since the run's start [MB], graph variables, "
               "factors, cliques, states kept, update median/p99/max [ms] in the interval\n",
-              a.lag_s > 0 ? "fixed-lag" : "full", a.lag_s > 0 ? (" (lag " + std::to_string(a.lag_s) + " s)").c_str() : "");
+              lag_s > 0 ? "fixed-lag" : "full", lag_s > 0 ? (" (lag " + std::to_string(lag_s) + " s)").c_str() : "");
   const double rss_run_start = rss_mb();
   std::vector<double> update_ms, interval_ms, filtered_err_m;
+  struct Slow {
+    double ms;
+    std::size_t reelim, relin, marg, touched;
+  };
+  std::vector<Slow> per_epoch;
   std::vector<double> rss_at_report;
   double next_report_s = a.report_s;
   std::size_t epochs = 0, solved = 0;
@@ -182,6 +202,9 @@ int main(int argc, char** argv) {
       ++solved;
       update_ms.push_back(1e3 * rec.smoother->update_time_s);
       interval_ms.push_back(1e3 * rec.smoother->update_time_s);
+      per_epoch.push_back({1e3 * rec.smoother->update_time_s, rec.smoother->variables_reeliminated,
+                           rec.smoother->variables_relinearized, rec.smoother->variables_marginalized,
+                           rec.smoother->cliques_touched});
       const std::size_t k = epochIndex(rec.solution.time);
       if (rec.solution.position_ecef_m && k < truth.size())
         filtered_err_m.push_back((*rec.solution.position_ecef_m - truth[k]).norm());
@@ -201,6 +224,22 @@ int main(int argc, char** argv) {
               static_cast<double>(epochs) / a.rate_hz / run_s, a.rate_hz);
   std::printf("update time over the run: median %.3f ms, p99 %.3f ms, max %.3f ms\n", percentile(update_ms, 0.5),
               percentile(update_ms, 0.99), percentile(update_ms, 1.0));
+  {
+    // What the slowest 1 % of the updates did (medians), against all updates.
+    auto med = [](std::vector<Slow> v, std::size_t Slow::*m) {
+      std::vector<double> x;
+      for (const auto& e : v) x.push_back(static_cast<double>(e.*m));
+      return percentile(x, 0.5);
+    };
+    std::vector<Slow> sorted = per_epoch;
+    std::sort(sorted.begin(), sorted.end(), [](const Slow& l, const Slow& r) { return l.ms > r.ms; });
+    sorted.resize(std::max<std::size_t>(1, sorted.size() / 100));
+    std::printf("per update (median), all / slowest 1 %%: re-eliminated %.0f / %.0f, relinearized %.0f / %.0f, "
+                "marginalized %.0f / %.0f, cliques touched %.0f / %.0f\n",
+                med(per_epoch, &Slow::reelim), med(sorted, &Slow::reelim), med(per_epoch, &Slow::relin),
+                med(sorted, &Slow::relin), med(per_epoch, &Slow::marg), med(sorted, &Slow::marg),
+                med(per_epoch, &Slow::touched), med(sorted, &Slow::touched));
+  }
   if (rss_at_report.size() >= 2) {
     // Flatness after the first hour: the reports from flight time >= 1 h.
     const std::size_t first = std::min<std::size_t>(rss_at_report.size() - 1,
