@@ -308,6 +308,7 @@ bool PppSmoother::solve(const EpochSolveInput& in, EpochSolveOutput& out, Estima
   // One iSAM2 update, newest state and observed biases in the root.
   std::map<Key, std::uint32_t> bias_last_state = bias_last_state_;
   for (Key b : bias_of) bias_last_state[b] = index;
+  smoother::Values marginalized;  // fixed lag: the states and biases this update marginalized
   const auto t_update = SteadyClock::now();
   try {
     if (lag_) {
@@ -318,6 +319,7 @@ bool PppSmoother::solve(const EpochSolveInput& in, EpochSolveOutput& out, Estima
       diag.factors_relinearized = r.isam2.factors_relinearized;
       diag.cliques_touched = r.isam2.cliquesTouched();
       diag.variables_marginalized = r.variables_marginalized;
+      marginalized = r.marginalized_estimates;
     } else {
       smoother::ISAM2UpdateParams up;
       up.newest_keys = newest;
@@ -369,9 +371,14 @@ bool PppSmoother::solve(const EpochSolveInput& in, EpochSolveOutput& out, Estima
     for (Key key : values.keys())
       if (!recorded_values_.exists(key)) recorded_values_.insert(key, values.at(key));
   }
-  if (lag_) {  // keep the latest estimate of the states still in the window
-    for (auto it = states_.rbegin(); it != states_.rend() && isam.exists(stateKey(it->index)); ++it)
-      it->last_estimate = ReceiverState::fromVector(isam.calculateEstimate(stateKey(it->index)), layout_);
+  if (lag_) {  // the marginalized states keep their estimate at marginalization (O(marginalized))
+    for (const auto& [key, value] : marginalized) {
+      if (smoother::keySymbol(key) != 'x' || states_.empty()) continue;
+      const std::uint32_t i = static_cast<std::uint32_t>(smoother::keyIndex(key));
+      const std::uint32_t first = states_.front().index;
+      if (i < first || i - first >= states_.size() || states_[i - first].index != i) continue;
+      states_[i - first].last_estimate = ReceiverState::fromVector(value, layout_);
+    }
     for (auto it = bias_last_state_.begin(); it != bias_last_state_.end();)
       it = isam.exists(it->first) ? std::next(it) : bias_last_state_.erase(it);
   }
