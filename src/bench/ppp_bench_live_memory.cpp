@@ -69,6 +69,21 @@ double percentile(std::vector<double> v, double p) {
   return v[k];
 }
 
+/// Per-epoch figures of the bench itself, in storage sized and touched before the run,
+/// so that the RSS measured during the run is the estimator's, not these records'.
+template <class T>
+struct Record {
+  std::vector<T> v;
+  std::size_t n = 0;
+  void presize(std::size_t size) { v.assign(size, T{}); }
+  void push_back(const T& x) {
+    if (n < v.size()) v[n] = x;
+    else v.push_back(x);
+    ++n;
+  }
+  std::vector<T> values() const { return {v.begin(), v.begin() + static_cast<long>(n)}; }
+};
+
 struct Args {
   double hours = 24.0, rate_hz = 1.0, lag_s = -1.0, report_s = 3600.0;  // lag < 0: the config's (else 300 s)
   int satellites = 30;
@@ -165,7 +180,8 @@ int main(int argc, char** argv) {
     return k < 0 ? truth.size() : static_cast<std::size_t>(k);
   };
   std::unique_ptr<SmoothedTrajectoryWriter> writer;
-  std::vector<double> final_err_m;
+  Record<double> final_err_m;
+  final_err_m.presize(f.epochs.size() + 16);
   std::size_t handed_out = 0;
   if (lag_s > 0.0 && !a.keep_states) {
     writer = std::make_unique<SmoothedTrajectoryWriter>(a.csv.empty() ? std::string("/dev/null") : a.csv);
@@ -180,15 +196,19 @@ int main(int argc, char** argv) {
   std::printf("%s smoother%s; flight time [h], RSS [MB], RSS growth since the run's start [MB], graph variables, "
               "factors, cliques, states kept, update median/p99/max [ms] in the interval\n",
               lag_s > 0 ? "fixed-lag" : "full", lag_s > 0 ? (" (lag " + std::to_string(lag_s) + " s)").c_str() : "");
-  const double rss_run_start = rss_mb();
-  std::vector<double> update_ms, interval_ms, filtered_err_m, epoch_cpu_ms;
+  std::vector<double> interval_ms;
+  interval_ms.reserve(static_cast<std::size_t>(a.report_s * a.rate_hz) + 16);
+  Record<double> update_ms, filtered_err_m, epoch_cpu_ms;
+  for (auto* r : {&update_ms, &filtered_err_m, &epoch_cpu_ms}) r->presize(f.epochs.size() + 16);
   double cpu_last_s = threadCpu_s();
   struct Slow {
     double ms;
     std::size_t reelim, relin, marg, touched;
   };
-  std::vector<Slow> per_epoch;
+  Record<Slow> per_epoch_record;
+  per_epoch_record.presize(f.epochs.size() + 16);
   std::vector<double> rss_at_report;
+  const double rss_run_start = rss_mb();  // the records above included
   double next_report_s = a.report_s;
   std::size_t epochs = 0, solved = 0;
   t0 = Clock::now();
@@ -213,7 +233,7 @@ int main(int argc, char** argv) {
       ++solved;
       update_ms.push_back(1e3 * rec.smoother->update_time_s);
       interval_ms.push_back(1e3 * rec.smoother->update_time_s);
-      per_epoch.push_back({1e3 * rec.smoother->update_time_s, rec.smoother->variables_reeliminated,
+      per_epoch_record.push_back({1e3 * rec.smoother->update_time_s, rec.smoother->variables_reeliminated,
                            rec.smoother->variables_relinearized, rec.smoother->variables_marginalized,
                            rec.smoother->cliques_touched});
       const std::size_t k = epochIndex(rec.solution.time);
@@ -235,10 +255,10 @@ int main(int argc, char** argv) {
               run_s, static_cast<double>(epochs) / run_s,
               static_cast<double>(epochs) / a.rate_hz / run_s, a.rate_hz);
   std::printf("update time over the run (wall clock): median %.3f ms, p99 %.3f ms, max %.3f ms\n",
-              percentile(update_ms, 0.5), percentile(update_ms, 0.99), percentile(update_ms, 1.0));
+              percentile(update_ms.values(), 0.5), percentile(update_ms.values(), 0.99), percentile(update_ms.values(), 1.0));
   std::printf("whole epoch step, CPU time of the thread (model + screening + update + marginalization): median "
               "%.3f ms, p99 %.3f ms, max %.3f ms\n",
-              percentile(epoch_cpu_ms, 0.5), percentile(epoch_cpu_ms, 0.99), percentile(epoch_cpu_ms, 1.0));
+              percentile(epoch_cpu_ms.values(), 0.5), percentile(epoch_cpu_ms.values(), 0.99), percentile(epoch_cpu_ms.values(), 1.0));
   {
     // What the slowest 1 % of the updates did (medians), against all updates.
     auto med = [](std::vector<Slow> v, std::size_t Slow::*m) {
@@ -246,6 +266,7 @@ int main(int argc, char** argv) {
       for (const auto& e : v) x.push_back(static_cast<double>(e.*m));
       return percentile(x, 0.5);
     };
+    const std::vector<Slow> per_epoch = per_epoch_record.values();
     std::vector<Slow> sorted = per_epoch;
     std::sort(sorted.begin(), sorted.end(), [](const Slow& l, const Slow& r) { return l.ms > r.ms; });
     sorted.resize(std::max<std::size_t>(1, sorted.size() / 100));
@@ -265,11 +286,11 @@ int main(int argc, char** argv) {
                 *lo, *hi, 100.0 * (*hi - *lo) / *lo, rss_at_report.back() - rss_run_start,
                 1024.0 * (rss_at_report.back() - rss_run_start) / static_cast<double>(std::max<std::size_t>(1, epochs)));
   }
-  std::printf("3D error vs truth: filtered median %.3f m, p95 %.3f m", percentile(filtered_err_m, 0.5),
-              percentile(filtered_err_m, 0.95));
+  std::printf("3D error vs truth: filtered median %.3f m, p95 %.3f m", percentile(filtered_err_m.values(), 0.5),
+              percentile(filtered_err_m.values(), 0.95));
   if (writer)
-    std::printf("; lag-final (written) median %.3f m, p95 %.3f m; rows written %zu, refused %zu", percentile(final_err_m, 0.5),
-                percentile(final_err_m, 0.95), writer->rowsWritten(), writer->rowsRefused());
+    std::printf("; lag-final (written) median %.3f m, p95 %.3f m; rows written %zu, refused %zu", percentile(final_err_m.values(), 0.5),
+                percentile(final_err_m.values(), 0.95), writer->rowsWritten(), writer->rowsRefused());
   if (lag_s <= 0.0) {  // the full smoother's smoothed trajectory (all data), the reference
     std::vector<double> smoothed_err_m;
     for (const auto& e : sm.smoother().smoothedTrajectory()) {

@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "ppp_bayes_tree/evaluation/lagged_trajectory_output.h"
 #include "ppp_bayes_tree/evaluation/smoothed_trajectory_writer.h"
 #include "ppp_bayes_tree/ppp/ppp_config.h"
 #include "ppp_bayes_tree/ppp/ppp_factors.h"
@@ -180,4 +181,36 @@ TEST(LiveSmoothing, FixedLagStructuresStayWithinBoundsSetByTheLag) {
     EXPECT_GE(handed + s.storedStateCount(), static_cast<std::size_t>(kEpochs));
     EXPECT_GT(max_factors, static_cast<std::size_t>(lag_s / kDt_s) * 2);
   }
+}
+
+TEST(LiveSmoothing, LaggedOutputKeepsOnlyTheNewestStatesAndJoinsThemToTheWindowOnce) {
+  Simulator sim;
+  sim.noise = true;
+  PppSmoother s = lagged(60.0);
+  LaggedTrajectoryOutput out("", 5);  // no file; the 5 newest states handed out
+  out.attach(s);
+  for (int i = 0; i < 60; ++i) step(s, sim, i);
+  ASSERT_GT(out.statesHandedOut(), 40u);
+  ASSERT_EQ(out.recent().size(), 5u);
+  const std::vector<SmoothedEpoch> window = s.smoothedTrajectory();
+  EXPECT_EQ(out.recent().back().index + 1, window.front().index);  // contiguous: nothing lost, nothing twice
+  const std::vector<SmoothedEpoch> joined = out.joined(window, 1000);
+  ASSERT_EQ(joined.size(), 5u + window.size());
+  for (std::size_t k = 1; k < joined.size(); ++k) EXPECT_EQ(joined[k].index, joined[k - 1].index + 1);
+  const std::vector<SmoothedEpoch> last3 = out.joined(window, 3);  // the newest 3 only
+  ASSERT_EQ(last3.size(), 3u);
+  EXPECT_EQ(last3.back().index, window.back().index);
+}
+
+TEST(LiveSmoothing, LiveConfigLoadsAFixedLagOverTheDefaults) {
+  // config/live.yaml over the built-in defaults (= config/ppp.yaml): the keys it names change.
+  const PppConfig c = loadPppConfig(std::string(PPP_REPO_DIR) + "/config/live.yaml");
+  EXPECT_DOUBLE_EQ(c.smoother.fixed_lag_s, 60.0);
+  EXPECT_DOUBLE_EQ(c.smoother.relinearize_position_m, 0.5);
+  EXPECT_DOUBLE_EQ(c.smoother.relinearize_zwd_m, 0.01);
+  EXPECT_DOUBLE_EQ(c.smoother.wildfire_threshold_m, 1.0e-3);
+  EXPECT_EQ(c.smoother.validate(), "");
+  EXPECT_DOUBLE_EQ(c.smoother.relinearize_clock_m, PppConfig{}.smoother.relinearize_clock_m);  // untouched
+  ASSERT_TRUE(c.ros["smoothed"]["trajectory_csv"]);
+  EXPECT_EQ(c.ros["smoothed"]["trajectory_csv"].as<std::string>(), "smoothed_trajectory.csv");
 }
