@@ -80,6 +80,10 @@ PLAY_PID=""
 sleep 2
 kill -INT "$NODE_PID" 2>/dev/null; wait "$NODE_PID" 2>/dev/null || true
 NODE_PID=""
-rows=$(($(wc -l < "$OUT/smoothed_trajectory.csv" 2>/dev/null || echo 1) - 1))
-echo "=== smoothed trajectory: $rows rows in $OUT/smoothed_trajectory.csv (simulated epochs: $((DURATION_MIN * 60 * OBS_RATE + 1)))"
+if [ -f "$OUT/smoothed_trajectory.csv" ]; then
+  rows=$(($(wc -l < "$OUT/smoothed_trajectory.csv") - 1))
+  echo "=== smoothed trajectory: $rows rows in $OUT/smoothed_trajectory.csv (simulated epochs: $((DURATION_MIN * 60 * OBS_RATE + 1)))"
+else
+  echo "=== no smoothed trajectory file (full smoother: ros/smoothed/trajectory_csv is ignored)"
+fi
 echo "=== logs in $OUT"
