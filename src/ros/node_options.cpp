@@ -98,6 +98,7 @@ RosNodeOptions bindRosNodeOptions(const YAML::Node& ros, const std::string& sour
     o.smoothed_odometry_delay_s = sm.number("odometry_delay_s", o.smoothed_odometry_delay_s, ppp::Bound::NonNegative);
     if (o.smoothed_odometry_delay_s > 3600.0)
       sm.fail("odometry_delay_s", "must be in [0, 3600] s (the marginal's cost grows with the delay)");
+    o.smoothed_trajectory_csv = sm.text("trajectory_csv", o.smoothed_trajectory_csv);
     sm.finish();
   }
   s.finish();

@@ -136,6 +136,7 @@ PppNode::PppNode(ros::NodeHandle nh, ros::NodeHandle pnh, const std::string& est
     setDatum(ppp::geodeticToEcef(g));
   }
   counters_.estimator = estimator;
+  attachLaggedOutput();
 
   // Queues as configured (observations: at least what the correction wait buffers);
   // whatever is lost before the node anyway is counted from header.seq.
@@ -209,13 +210,38 @@ bool PppNode::onSetDatum(ppp_bayes_tree::SetDatum::Request& req, ppp_bayes_tree:
   return true;
 }
 
+PppNode::~PppNode() {
+  if (ppp::PppSmoother* sm = laggedSmoother(); sm && lagged_output_) lagged_output_->finish(*sm);
+}
+
+ppp::PppSmoother* PppNode::laggedSmoother() {
+  auto* s = dynamic_cast<ppp::SmootherEstimator*>(estimator_.get());
+  return s && s->smoother().fixedLag_s() > 0.0 ? &s->smoother() : nullptr;
+}
+
+void PppNode::attachLaggedOutput() {
+  ppp::PppSmoother* sm = laggedSmoother();
+  if (!sm) {
+    if (!config_.ros.smoothed_trajectory_csv.empty() && smoother())
+      ROS_WARN("ppp: ros/smoothed/trajectory_csv is ignored: the full smoother (smoother/fixed_lag_s 0) keeps every "
+               "state");
+    return;
+  }
+  if (!lagged_output_)
+    lagged_output_ = std::make_unique<ppp::LaggedTrajectoryOutput>(config_.ros.smoothed_trajectory_csv,
+                                                                   config_.ros.path_max_poses);
+  lagged_output_->attach(*sm);
+}
+
 void PppNode::resetEstimator(const std::string& why) {
   ++counters_.estimator_resets;
   counters_.epochs_discarded_at_reset += static_cast<std::uint32_t>(gate_.size());
   warn("reset", "ppp: estimator reset: " + why + "; " + std::to_string(gate_.size()) +
                     " epoch(s) waiting for corrections discarded (counted)");
   std::string unused;
+  if (ppp::PppSmoother* sm = laggedSmoother(); sm && lagged_output_) lagged_output_->finish(*sm);
   estimator_ = ppp::makeEstimator(config_.ros.estimator, config_.ppp, &unused);
+  attachLaggedOutput();  // the file continues (rows not after the last one are refused and counted)
   processor_.reset();
   gate_.clear();
   path_.poses.clear();
@@ -457,7 +483,9 @@ void PppNode::onSmoothedPathTimer(const ros::TimerEvent&) {
   if (!sm || !smoothed_path_stale_ || !datum_ecef_m_) return;
   smoothed_path_stale_ = false;
   const auto start = std::chrono::steady_clock::now();
-  const std::vector<ppp::SmoothedEpoch> trajectory = sm->smoothedTrajectory(false);
+  const std::vector<ppp::SmoothedEpoch> trajectory =
+      lagged_output_ ? lagged_output_->joined(sm->smoothedTrajectory(false), config_.ros.path_max_poses)
+                     : sm->smoothedTrajectory(false);
   nav_msgs::Path path;
   path.header.frame_id = config_.ros.map_frame;
   const std::size_t first = trajectory.size() > config_.ros.path_max_poses ? trajectory.size() - config_.ros.path_max_poses : 0;
@@ -765,6 +793,12 @@ void PppNode::diagnoseSolution(diagnostic_updater::DiagnosticStatusWrapper& s) {
     s.add("smoother: variables marginalized", r.variables_marginalized);
     s.add("smoother: iSAM2 update time [s]", r.update_time_s);
     s.add("smoothed path: poses", smoothed_path_poses_);
+    if (lagged_output_) {
+      s.add("smoothed trajectory: states past the lag", lagged_output_->statesHandedOut());
+      if (const ppp::SmoothedTrajectoryWriter* w = lagged_output_->writer())
+        s.add("smoothed trajectory: " + w->path() + " rows written / refused",
+              std::to_string(w->rowsWritten()) + " / " + std::to_string(w->rowsRefused()));
+    }
     s.add("smoothed path: last / max re-read time [s]",
           std::to_string(smoothed_path_read_s_) + " / " + std::to_string(smoothed_path_read_max_s_));
   }

@@ -170,7 +170,7 @@ TEST(PppConfig, RealDataFileIsTheDefaults) {
 TEST(PppConfig, ExponentNumbersOfTheConfigFilesAreNumbersForRosparamToo) {
   int exponents = 0;
   for (const char* name : {"ppp.yaml", "method_table.yaml", "ppp_simulated.yaml", "ppp_real_data.yaml",
-                           "ppp_ros_zim2.yaml", "simulation.yaml"}) {
+                           "ppp_ros_zim2.yaml", "simulation.yaml", "live.yaml"}) {
     const YAML::Node root = YAML::LoadFile(std::string(PPP_REPO_DIR) + "/config/" + name);
     std::vector<YAML::Node> stack{root};
     while (!stack.empty()) {

@@ -38,7 +38,15 @@
 // filtered state with a prior of its filtered covariance and each active bias with a
 // prior of its filtered estimate and variance (counted in resets(), reported by the
 // result's estimator_reset). The states before the restart keep their last estimate.
+// LIVE USE (bounded memory): with a marginalized-state sink
+// (setMarginalizedStateSink), every state that leaves the graph (past the lag, or
+// before a restart) is handed once, in time order, to the sink with its final
+// estimate and then forgotten, so that the smoother holds only the states of the
+// window; finishTrajectory() hands the rest at the end of a run. Without a sink
+// every state is kept (smoothedTrajectory() returns them all).
 #include <Eigen/Core>
+#include <deque>
+#include <functional>
 #include <map>
 #include <memory>
 #include <optional>
@@ -97,6 +105,23 @@ class PppSmoother : public PppEstimatorBase, public SmoothedTrajectoryProvider {
   const PppSmootherOptions& options() const { return options_; }
   const smoother::ISAM2& isam2() const;
 
+  /// Receives a state leaving the smoother for good, with its final estimate (no covariance).
+  using StateSink = std::function<void(const SmoothedEpoch&)>;
+  /// Live use: states that leave the graph (marginalized past the lag, or left behind
+  /// by a restart) go to `sink`, once each and in time order, and are dropped from
+  /// memory (unless the graph is recorded, setRecordGraph, which needs them all).
+  /// From then on smoothedTrajectory() holds only the states not yet handed out.
+  /// An empty sink restores the default (every state kept).
+  void setMarginalizedStateSink(StateSink sink) { sink_ = std::move(sink); }
+  /// End of a run: hands every state not yet handed out to the sink, with the
+  /// current best estimate (a full back-substitution), oldest first. Returns the
+  /// number handed out (0 without a sink). Further epochs may follow.
+  std::size_t finishTrajectory();
+  /// States held in memory (the window with a sink; every state without one).
+  std::size_t storedStateCount() const { return states_.size(); }
+  /// Biases whose last state is remembered (fixed lag: those in the graph).
+  std::size_t storedBiasCount() const { return bias_last_state_.size(); }
+
   /// Keep a copy of every factor and new variable of the successful updates (call
   /// before the first epoch), for batchSmoothedValues(). Costs memory O(epochs).
   void setRecordGraph(bool record) { record_graph_ = record; }
@@ -141,11 +166,18 @@ class PppSmoother : public PppEstimatorBase, public SmoothedTrajectoryProvider {
 
   /// A new, empty iSAM2 (or fixed-lag smoother).
   void newGraph();
+  /// Hands the oldest states no longer in the graph to the sink (with a sink).
+  void releaseLeftStates();
+  /// Fixed-lag timestamp of a state [s] since the first state.
+  double lagStamp_s(const GnssTime& time) const { return time - *time_origin_; }
 
   PppSmootherOptions options_;
   std::unique_ptr<smoother::ISAM2> isam_;              // full smoother
   std::unique_ptr<smoother::FixedLagSmoother> lag_;    // fixed-lag smoother
-  std::vector<StateRecord> states_;
+  std::deque<StateRecord> states_;   // oldest first; with a sink: the states not yet handed out
+  std::optional<GnssTime> time_origin_;  // the first state's time (fixed-lag timestamps)
+  StateSink sink_;
+  std::optional<std::uint32_t> handed_out_through_;  // finishTrajectory(): states up to here are out
   std::map<ArcId, ArcSlot> arcs_;                      // the active set
   std::map<smoother::Key, std::uint32_t> bias_last_state_;  // every bias in the graph
   EpochSolution filtered_;

@@ -62,6 +62,7 @@ struct RosNodeOptions {
   // smoother node only: ppp/odometry/smoothed and ppp/path/smoothed
   double smoothed_path_publish_rate_hz = 1.0;
   double smoothed_odometry_delay_s = 0.0;  // 0: the lag boundary (fixed lag) / the newest state (full smoother)
+  std::string smoothed_trajectory_csv;     // fixed lag: states past the lag written here ("" = no file)
 };
 
 /// Binds `ros:` (a mapping or null) strictly. Throws ppp::ConfigError.

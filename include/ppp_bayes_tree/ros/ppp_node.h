@@ -58,6 +58,7 @@
 #include "ppp_bayes_tree/PreciseCorrections.h"
 #include "ppp_bayes_tree/SetDatum.h"
 #include "ppp_bayes_tree/io/bias_sinex_reader.h"
+#include "ppp_bayes_tree/evaluation/lagged_trajectory_output.h"
 #include "ppp_bayes_tree/ppp/correction_gate.h"
 #include "ppp_bayes_tree/ppp/product_set.h"
 #include "ppp_bayes_tree/models/correction_buffer.h"
@@ -87,6 +88,8 @@ class PppNode {
   /// Throws std::runtime_error / ppp::ConfigError with a clear message on a
   /// missing or invalid parameter or product file.
   PppNode(ros::NodeHandle nh, ros::NodeHandle private_nh, const std::string& estimator);
+  /// Fixed lag: hands the rest of the window to the trajectory output (CSV).
+  ~PppNode();
 
  private:
   struct Attitude {
@@ -188,6 +191,13 @@ class PppNode {
   std::size_t estimator_restarts_ = 0;                 // after a failed update (the core restarts; counted here)
   double smoothed_path_read_s_ = 0.0, smoothed_path_read_max_s_ = 0.0;
   std::size_t smoothed_path_poses_ = 0;
+  // Fixed lag (issue 14, bounded memory): the states past the lag go to this output
+  // (ros.smoothed.trajectory_csv, and the newest path_max_poses for ppp/path/smoothed);
+  // the smoother keeps only its window.
+  std::unique_ptr<ppp::LaggedTrajectoryOutput> lagged_output_;
+  /// The lagged output's smoother (nullptr: not a fixed-lag smoother).
+  ppp::PppSmoother* laggedSmoother();
+  void attachLaggedOutput();
 
   // counters and figures
   ppp_bayes_tree::PppStatus counters_;  // the counter fields only

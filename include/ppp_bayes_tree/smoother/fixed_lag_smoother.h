@@ -32,6 +32,9 @@ struct FixedLagResult {
   std::size_t variables_marginalized = 0;
   std::size_t variables_pending = 0;  // due, but not yet at the leaves
   std::size_t variables_moved_to_leaves = 0;  // re-eliminated to bring due ones to the leaves
+  /// The estimate (linearization point + delta) of each variable marginalized by this
+  /// update, as it was just before its removal (after this update's solve): its final value.
+  Values marginalized_estimates;
 };
 
 class FixedLagSmoother {

@@ -193,6 +193,39 @@ std::optional<SmoothedEpoch> PppSmoother::smoothedEpochAt(const GnssTime& time, 
   return e;
 }
 
+void PppSmoother::releaseLeftStates() {
+  if (!sink_ || record_graph_) return;
+  const smoother::ISAM2& isam = isam2();
+  // The newest state is always in the graph, so at least one state stays.
+  while (states_.size() > 1 && !isam.exists(stateKey(states_.front().index))) {
+    SmoothedEpoch e;
+    e.time = states_.front().time;
+    e.index = states_.front().index;
+    e.state = states_.front().last_estimate;
+    if (!handed_out_through_ || e.index > *handed_out_through_) sink_(e);
+    states_.pop_front();
+  }
+}
+
+std::size_t PppSmoother::finishTrajectory() {
+  if (!sink_) return 0;
+  std::vector<SmoothedEpoch> rest = smoothedTrajectory(false);
+  if (handed_out_through_)
+    rest.erase(std::remove_if(rest.begin(), rest.end(),
+                              [&](const SmoothedEpoch& e) { return e.index <= *handed_out_through_; }),
+               rest.end());
+  for (const SmoothedEpoch& e : rest) sink_(e);
+  // Keep the newest state (the next epoch links to it) but never hand it out twice:
+  // from here on only states after it are handed out.
+  if (!states_.empty()) {
+    const StateRecord newest = states_.back();
+    states_.clear();
+    states_.push_back(newest);
+    handed_out_through_ = newest.index;
+  }
+  return rest.size();
+}
+
 ReceiverState PppSmoother::predict(double, bool, const std::optional<ReceiverState>& start) {
   return start ? *start : filtered_.state;
 }
@@ -278,11 +311,12 @@ bool PppSmoother::solve(const EpochSolveInput& in, EpochSolveOutput& out, Estima
   // One iSAM2 update, newest state and observed biases in the root.
   std::map<Key, std::uint32_t> bias_last_state = bias_last_state_;
   for (Key b : bias_of) bias_last_state[b] = index;
+  smoother::Values marginalized;  // fixed lag: the states and biases this update marginalized
   const auto t_update = SteadyClock::now();
   std::vector<smoother::FactorIndex> graph_index;  // of each new factor
   try {
     if (lag_) {
-      std::unordered_map<Key, double> stamps{{x, in.time - (states_.empty() ? in.time : states_.front().time)}};
+      std::unordered_map<Key, double> stamps{{x, time_origin_ ? lagStamp_s(in.time) : 0.0}};
       const smoother::FixedLagResult r = lag_->update(factors, values, stamps, newest);
       diag.variables_relinearized = r.isam2.variables_relinearized;
       diag.variables_reeliminated = r.isam2.variables_reeliminated;
@@ -290,6 +324,7 @@ bool PppSmoother::solve(const EpochSolveInput& in, EpochSolveOutput& out, Estima
       diag.cliques_touched = r.isam2.cliquesTouched();
       diag.variables_marginalized = r.variables_marginalized;
       graph_index = r.isam2.new_factor_indices;
+      marginalized = r.marginalized_estimates;
     } else {
       smoother::ISAM2UpdateParams up;
       up.newest_keys = newest;
@@ -406,6 +441,7 @@ bool PppSmoother::solve(const EpochSolveInput& in, EpochSolveOutput& out, Estima
   }
   arcs_ = std::move(arcs);
   bias_last_state_ = std::move(bias_last_state);
+  if (!time_origin_) time_origin_ = in.time;
   states_.push_back({in.time, index, solution.state});
   if (record_graph_) {
     for (std::size_t i = 0; i < factors.size(); ++i) {
@@ -416,12 +452,18 @@ bool PppSmoother::solve(const EpochSolveInput& in, EpochSolveOutput& out, Estima
     for (Key key : values.keys())
       if (!recorded_values_.exists(key)) recorded_values_.insert(key, values.at(key));
   }
-  if (lag_) {  // keep the latest estimate of the states still in the window
-    for (auto it = states_.rbegin(); it != states_.rend() && isam.exists(stateKey(it->index)); ++it)
-      it->last_estimate = ReceiverState::fromVector(isam.calculateEstimate(stateKey(it->index)), layout_);
+  if (lag_) {  // the marginalized states keep their estimate at marginalization (O(marginalized))
+    for (const auto& [key, value] : marginalized) {
+      if (smoother::keySymbol(key) != 'x' || states_.empty()) continue;
+      const std::uint32_t i = static_cast<std::uint32_t>(smoother::keyIndex(key));
+      const std::uint32_t first = states_.front().index;
+      if (i < first || i - first >= states_.size() || states_[i - first].index != i) continue;
+      states_[i - first].last_estimate = ReceiverState::fromVector(value, layout_);
+    }
     for (auto it = bias_last_state_.begin(); it != bias_last_state_.end();)
       it = isam.exists(it->first) ? std::next(it) : bias_last_state_.erase(it);
   }
+  releaseLeftStates();
   filtered_ = solution;
   out.solution = solution;
   out.ambiguities = AmbiguityState::Float;
@@ -490,7 +532,7 @@ bool PppSmoother::recoverAfterFailure(EstimatorEpochResult& result) {
   }
   try {
     if (lag_) {
-      std::unordered_map<Key, double> stamps{{x, last.time - states_.front().time}};
+      std::unordered_map<Key, double> stamps{{x, lagStamp_s(last.time)}};
       lag_->update(factors, values, stamps, newest);
     } else {
       smoother::ISAM2UpdateParams up;

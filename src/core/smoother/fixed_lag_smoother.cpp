@@ -86,7 +86,10 @@ FixedLagResult FixedLagSmoother::update(const NonlinearFactorGraph& new_factors,
   }
   out.isam2 = isam_.update(new_factors, new_values, up);
   if (!due.empty()) {
+    Values before;
+    for (Key k : due) before.insert(k, isam_.calculateEstimate(k));
     const KeyVector done = isam_.marginalizeLeaves(due);
+    for (Key k : done) out.marginalized_estimates.insert(k, before.at(k));
     out.variables_marginalized = done.size();
     out.variables_pending = due.size() - done.size();
     for (Key k : done) {

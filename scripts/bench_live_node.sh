@@ -1,0 +1,89 @@
+#!/usr/bin/env bash
+# Node-level benchmark of live operation (issue 14, "bounded memory, hours at 10 Hz"):
+# a simulated flight (ppp_to_bag --simulate, GPS constellation) is replayed through
+# ppp_smoother_node with config/ppp.yaml + config/ppp_simulated.yaml + an optional
+# live config (default config/live.yaml: fixed lag, trajectory CSV), as fast as
+# --rate says; prints the node's RSS (/proc/PID/status VmRSS) and CPU share every
+# --sample-s seconds of wall time, and the rows of the smoothed-trajectory CSV.
+# Usage: scripts/bench_live_node.sh [--duration-min M] [--obs-rate 1|10] [--rate R]
+#          [--profile P] [--config YAML|none] [--sample-s S] [--out DIR]
+# Defaults: 60 min at 1 Hz, replayed at 30x, loiter, config/live.yaml, sample 10 s.
+# Needs the catkin build (scripts/build.sh ppp_smoother_node ppp_to_bag). Runs its
+# own roscore on a free loopback port. Prints figures, asserts nothing.
+set -euo pipefail
+source "$(dirname "${BASH_SOURCE[0]}")/common.sh"
+DURATION_MIN=60 OBS_RATE=1 RATE=30 PROFILE=loiter CONFIG="$REPO_DIR/config/live.yaml" SAMPLE_S=10
+OUT="$(mktemp -d /tmp/bench_live_node.XXXXXX)"
+while [ $# -gt 0 ]; do
+  case "$1" in
+    --duration-min) DURATION_MIN="$2"; shift 2 ;;
+    --obs-rate) OBS_RATE="$2"; shift 2 ;;
+    --rate) RATE="$2"; shift 2 ;;
+    --profile) PROFILE="$2"; shift 2 ;;
+    --config) CONFIG="$2"; shift 2 ;;
+    --sample-s) SAMPLE_S="$2"; shift 2 ;;
+    --out) OUT="$2"; mkdir -p "$OUT"; shift 2 ;;
+    *) echo "bench_live_node.sh: unknown argument $1 (see the header)" >&2; exit 2 ;;
+  esac
+done
+for exe in ppp_smoother_node ppp_to_bag; do
+  [ -x "$BIN_DIR/$exe" ] || { echo "bench_live_node.sh: $exe is not built in $BIN_DIR (scripts/build.sh $exe)" >&2; exit 1; }
+done
+set +u; source "$WS_DIR/devel/setup.bash"; set -u
+free_port() { /usr/bin/python3 -c 'import socket; s=socket.socket(); s.bind(("127.0.0.1", 0)); print(s.getsockname()[1])'; }
+export ROS_HOME="$OUT/ros_home" ROS_LOG_DIR="$OUT/ros_log" ROS_IP=127.0.0.1
+PORT="$(free_port)"
+export ROS_MASTER_URI="http://127.0.0.1:$PORT"
+
+BAG="$OUT/input.bag"
+echo "=== simulated flight: $PROFILE, $DURATION_MIN min at $OBS_RATE Hz -> $BAG"
+"$BIN_DIR/ppp_to_bag" --simulate "$PROFILE" --duration-min "$DURATION_MIN" --rate "$OBS_RATE" --seed 14 \
+  --out "$BAG" > "$OUT/ppp_to_bag.log" 2>&1 || { tail -5 "$OUT/ppp_to_bag.log"; exit 1; }
+
+roscore -p "$PORT" > "$OUT/roscore.log" 2>&1 &
+ROSCORE_PID=$!
+NODE_PID="" PLAY_PID=""
+cleanup() {
+  [ -n "$PLAY_PID" ] && kill -INT "$PLAY_PID" 2>/dev/null
+  [ -n "$NODE_PID" ] && kill -INT "$NODE_PID" 2>/dev/null && wait "$NODE_PID" 2>/dev/null
+  kill -INT "$ROSCORE_PID" 2>/dev/null; wait "$ROSCORE_PID" 2>/dev/null
+}
+trap cleanup EXIT
+for _ in $(seq 1 100); do rosparam list >/dev/null 2>&1 && break; sleep 0.2; done
+rosparam set use_sim_time true
+NS=/bench/ppp_smoother_node
+rosparam load "$REPO_DIR/config/ppp.yaml" "$NS"
+rosparam load "$REPO_DIR/config/ppp_simulated.yaml" "$NS"
+[ "$CONFIG" != none ] && rosparam load "$CONFIG" "$NS"
+rosparam set "$NS/ros/smoothed/trajectory_csv" "$OUT/smoothed_trajectory.csv"
+(cd "$OUT" && exec "$BIN_DIR/ppp_smoother_node" __name:=ppp_smoother_node __ns:=/bench \
+   gnss/observations:=/gnss/observations gnss/corrections:=/gnss/corrections > "$OUT/node.log" 2>&1) &
+NODE_PID=$!
+sleep 3
+PID="$(pgrep -P "$NODE_PID" -x ppp_smoother_no || echo "$NODE_PID")"
+echo "=== replay at ${RATE}x (node pid $PID; config ${CONFIG##*/}); wall [s], node RSS [MB], node CPU [% of one core] in the last sample"
+rosbag play --clock -q -r "$RATE" "$BAG" > "$OUT/play.log" 2>&1 &
+PLAY_PID=$!
+HZ="$(getconf CLK_TCK)"
+ticks() { awk '{print $14 + $15}' "/proc/$PID/stat"; }
+t0=$SECONDS last="$(ticks)"
+while kill -0 "$PLAY_PID" 2>/dev/null; do
+  sleep "$SAMPLE_S"
+  [ -r "/proc/$PID/status" ] || break
+  now="$(ticks)"
+  rss="$(awk '/VmRSS/ {printf "%.1f", $2 / 1024}' "/proc/$PID/status")"
+  printf "  %6d s  RSS %7s MB  CPU %5.1f %%\n" $((SECONDS - t0)) "$rss" \
+    "$(awk -v a="$last" -v b="$now" -v hz="$HZ" -v s="$SAMPLE_S" 'BEGIN {print 100 * (b - a) / hz / s}')"
+  last="$now"
+done
+PLAY_PID=""
+sleep 2
+kill -INT "$NODE_PID" 2>/dev/null; wait "$NODE_PID" 2>/dev/null || true
+NODE_PID=""
+if [ -f "$OUT/smoothed_trajectory.csv" ]; then
+  rows=$(($(wc -l < "$OUT/smoothed_trajectory.csv") - 1))
+  echo "=== smoothed trajectory: $rows rows in $OUT/smoothed_trajectory.csv (simulated epochs: $((DURATION_MIN * 60 * OBS_RATE + 1)))"
+else
+  echo "=== no smoothed trajectory file (full smoother: ros/smoothed/trajectory_csv is ignored)"
+fi
+echo "=== logs in $OUT"
