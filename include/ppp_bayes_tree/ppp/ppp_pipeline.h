@@ -42,12 +42,12 @@ namespace ppp {
 
 struct PppInputFiles {
   std::string obs;
+  std::vector<std::string> sp3, clk, atx;
+  std::optional<std::string> bias, blq;
   /// An RTCM 3 recording as the observation input instead of `obs` (io/rtcm_observation_source.h),
   /// with the approximate date that places its MSM times (ppp_solve --ref-date).
   std::string rtcm;
   std::optional<GnssTime> rtcm_reference_time;
-  std::vector<std::string> sp3, clk, atx;
-  std::optional<std::string> bias, blq;
 };
 
 /// In-process inputs (e.g. a simulated flight, simulation/gnss_simulator.h): the
