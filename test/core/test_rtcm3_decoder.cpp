@@ -709,3 +709,33 @@ TEST(Rtcm3Decoder, LockTimeIndicatorTables) {
 
 }  // namespace
 }  // namespace ppp
+
+// The RTCM fuzz entry over its seed corpus (frames made with BitWriter and the MSM7
+// encoder) and over cut pieces of the real recordings, so that the entry builds
+// with the normal tests and the seeds are known not to throw.
+#include "fuzz/rtcm_fuzz_entry.h"
+
+namespace ppp {
+namespace {
+
+TEST(RtcmFuzzCorpus, SeedsAndPiecesOfRecordings) {
+  std::size_t n = 0;
+  for (const auto& e : fs::directory_iterator(std::string(PPP_FUZZ_DIR) + "/corpus/rtcm")) {
+    const std::string bytes = test::readFileBytes(e.path().string());
+    EXPECT_NO_THROW(fuzz::fuzzRtcm(reinterpret_cast<const std::uint8_t*>(bytes.data()), bytes.size())) << e.path();
+    ++n;
+  }
+  EXPECT_GE(n, 4u);
+  for (const std::string name : {"msm7.rtcm", "week-rollover-STR24.rtcm3", "gmsd7_20121014.rtcm3", "clk.rtcm"}) {
+    const std::string path = rtcmPath(name);
+    if (!fs::exists(path)) continue;
+    const std::string bytes = test::readFileBytes(path);
+    for (std::size_t start : {std::size_t{0}, bytes.size() / 3, bytes.size() / 2 + 7})
+      EXPECT_NO_THROW(fuzz::fuzzRtcm(reinterpret_cast<const std::uint8_t*>(bytes.data()) + start,
+                                     std::min<std::size_t>(20000, bytes.size() - start)))
+          << name << " from byte " << start;
+  }
+}
+
+}  // namespace
+}  // namespace ppp

@@ -117,7 +117,7 @@ std::vector<std::vector<std::uint8_t>> encodeMsm7(const StreamEpoch& epoch, Gnss
       std::optional<int> channel;
       if (system == GnssSystem::GLONASS) {
         channel = options.glonass_channels.channel(s->satellite.prn);
-        ext[i] = channel ? *channel + 7 : 15;
+        ext[i] = channel && *channel <= 6 ? *channel + 7 : 15;  // DF419: 0..13 = channel -7..+6
       }
       for (int id : sigs) {
         const StreamSignal* found = nullptr;
