@@ -12,6 +12,7 @@
 #include <sstream>
 
 #include "ppp_dataset.h"
+#include "ppp_bayes_tree/ppp/ambiguity_resolution.h"
 #include "ppp_bayes_tree/ppp/arc_tracker.h"
 #include "ppp_bayes_tree/ppp/phase_bias_consistency.h"
 #include "ppp_bayes_tree/ppp/wide_lane_ambiguity.h"
@@ -242,6 +243,123 @@ TEST(WideLaneAmbiguity, RealZim2WideLanesWithCodeOsbsButNarrowLaneRefused) {
   const auto check = checkPhaseBiasConsistency(d.clk, d.bia, true);
   EXPECT_FALSE(check.consistent());
   EXPECT_EQ(check.text(), "no consistent phase biases: float (clocks IGS, biases COD)");
+}
+
+}  // namespace
+}  // namespace ppp
+
+namespace ppp {
+namespace {
+
+// The narrow lane end to end on a synthetic filter state: IF biases built from
+// known integers, satellite phase OSBs and a receiver bias common to all arcs;
+// MW samples with the same wide lanes. The resolver must fix, and the fixed copy
+// must put every bias on its true value, while the float input is unchanged.
+struct SyntheticArc {
+  ArcId arc;
+  int prn;
+  int n1, nwl;
+  double osb_l1_m, osb_l2_m;
+};
+
+TEST(AmbiguityResolver, FixesSyntheticNarrowLanesAndConstrainsACopy) {
+  const std::vector<SyntheticArc> arcs = {{1, 3, 12, 5, 0.031, -0.044}, {2, 7, -40, 17, -0.12, 0.07},
+                                          {3, 11, 7, -3, 0.2, 0.15},     {4, 19, 101, 44, -0.05, -0.2},
+                                          {5, 22, -9, 0, 0.0, 0.09},     {6, 30, 55, -21, 0.11, 0.013}};
+  TableBiases osb;
+  const double lambda_nl = narrowLaneWavelength_m(kF1, kF2);
+  const auto k_if = ionosphereFreeCoefficients(kF1, kF2);
+  const int receiver_dim = 5;
+  const int n = static_cast<int>(arcs.size());
+  Eigen::VectorXd truth(receiver_dim + n);
+  truth.head(receiver_dim) << 1.0, 2.0, 3.0, 0.1, 5.0;
+  const double receiver_phase_bias_m = 0.4321, receiver_wl_cycles = 0.29;
+  AmbiguityResolutionOptions opt;
+  opt.enabled = true;
+  AmbiguityResolver resolver(opt);
+  std::mt19937 rng(9);
+  std::normal_distribution<double> mw_noise(0.0, 0.2);
+  for (int i = 0; i < n; ++i) {
+    const auto& a = arcs[static_cast<std::size_t>(i)];
+    const SatelliteId sat{GnssSystem::GPS, a.prn};
+    osb.table[{sat, "L1C"}] = a.osb_l1_m;
+    osb.table[{sat, "L2W"}] = a.osb_l2_m;
+    osb.table[{sat, "C1W"}] = 0.0;
+    osb.table[{sat, "C2W"}] = 0.0;
+    truth(receiver_dim + i) = ionosphereFreeAmbiguity_m(kF1, kF2, a.n1, a.nwl) +
+                              ionosphereFree(a.osb_l1_m, a.osb_l2_m, k_if) + receiver_phase_bias_m;
+  }
+  for (int k = 0; k < 60; ++k) {
+    std::vector<DualFrequencyObservation> obs;
+    std::vector<ArcId> ids;
+    for (const auto& a : arcs) {
+      const SatelliteId sat{GnssSystem::GPS, a.prn};
+      // MW = nwl + receiver WL bias + satellite WL bias (from the OSBs) + noise:
+      // built by putting the ambiguities and OSBs on the phases.
+      DualFrequencyObservation o = makeObservation(sat, 2.2e7 + 1000.0 * k, a.n1, a.n1 - a.nwl);
+      o.phase1_cycles += a.osb_l1_m * kF1 / kSpeedOfLight_mps + receiver_wl_cycles + mw_noise(rng);
+      o.phase2_cycles += a.osb_l2_m * kF2 / kSpeedOfLight_mps;
+      o.code1_osb_m = 0.0;
+      o.code2_osb_m = 0.0;
+      obs.push_back(o);
+      ids.push_back(a.arc);
+    }
+    resolver.addEpoch(obs, ids, &osb);
+  }
+  // Float state: truth plus errors well inside its covariance (NL sigma ~0.05 cycles).
+  Eigen::MatrixXd P = Eigen::MatrixXd::Identity(receiver_dim + n, receiver_dim + n) * 1e-4;
+  P.topLeftCorner(receiver_dim, receiver_dim) *= 100.0;
+  P.bottomRightCorner(n, n) += Eigen::MatrixXd::Constant(n, n, 0.01);  // common part (receiver bias)
+  Eigen::VectorXd x = truth;
+  x(receiver_dim + 0) += 0.004;
+  x(receiver_dim + 3) -= 0.003;
+  x.tail(n).array() += 0.05;  // common error: cancels in the single differences
+  std::vector<ArcId> bias_arcs;
+  for (const auto& a : arcs) bias_arcs.push_back(a.arc);
+  AmbiguityFixSummary summary;
+  const Eigen::VectorXd x_before = x;
+  const auto fixed = resolver.resolve(x, P, receiver_dim, bias_arcs, &osb, summary);
+  ASSERT_TRUE(fixed.has_value()) << summary.text();
+  EXPECT_EQ(summary.wide_lanes_fixed, n - 1);
+  EXPECT_EQ(summary.narrow_lanes_fixed, n - 1);
+  EXPECT_GE(summary.ratio, 3.0);
+  // The single differences of the fixed biases equal the true ones (mm).
+  for (int i = 1; i < n; ++i) {
+    const double sd_fixed = fixed->x(receiver_dim + i) - fixed->x(receiver_dim);
+    const double sd_truth = truth(receiver_dim + i) - truth(receiver_dim);
+    EXPECT_NEAR(sd_fixed, sd_truth, 1e-6) << "arc " << arcs[static_cast<std::size_t>(i)].arc;
+  }
+  EXPECT_EQ(x, x_before);  // the float state is not touched
+  EXPECT_LT(fixed->P(receiver_dim + 1, receiver_dim + 1), P(receiver_dim + 1, receiver_dim + 1));
+  // No consistent phase biases: float with the reason.
+  EXPECT_FALSE(resolver.resolve(x, P, receiver_dim, bias_arcs, nullptr, summary).has_value());
+  EXPECT_EQ(summary.float_reason, AmbiguityFloatReason::NoConsistentPhaseBiases);
+}
+
+TEST(AmbiguityResolver, WrongIntegerConstraintIsVisibleAgainstTheFloatState) {
+  // A deliberately wrong integer (one NL cycle, 10.7 cm) applied to a precise
+  // float state moves it by far more than its sigma: the squared norm of the
+  // fix against the float covariance is large, so the ratio test refuses such a
+  // candidate in favour of the right one; the float state stays intact for the
+  // next epoch.
+  const int dim = 3;
+  Eigen::MatrixXd P = Eigen::MatrixXd::Identity(dim, dim) * 1e-4;
+  P(2, 2) = 1e-2;
+  const Eigen::VectorXd x = Eigen::Vector3d(0.0, 0.2140, 5.0);  // x1 = 2 NL cycles of 0.107 m
+  Eigen::MatrixXd A = Eigen::MatrixXd::Zero(1, dim);
+  A(0, 1) = 1.0 / 0.107;
+  const auto right = applyIntegerConstraints(x, P, A, Eigen::VectorXd::Constant(1, 2.0));
+  const auto wrong = applyIntegerConstraints(x, P, A, Eigen::VectorXd::Constant(1, 3.0));
+  ASSERT_TRUE(right && wrong);
+  EXPECT_NEAR(right->x(1), 0.214, 1e-9);
+  EXPECT_NEAR(wrong->x(1), 0.321, 1e-9);
+  const auto norm = [&](const Eigen::VectorXd& xf) {
+    const Eigen::VectorXd d = xf - x;
+    return d(1) * d(1) / P(1, 1);
+  };
+  EXPECT_LT(norm(right->x), 1e-6);
+  EXPECT_GT(norm(wrong->x), 100.0);  // (0.107 / 0.01)^2
+  EXPECT_NEAR(wrong->P(1, 1), 0.0, 1e-12);
 }
 
 }  // namespace

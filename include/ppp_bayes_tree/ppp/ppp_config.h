@@ -6,6 +6,7 @@
 //                      are copied from `estimator`)
 //   measurement_model: MeasurementModelOptions, with `signals:` the SignalSelectionOptions
 //   cycle_slip:        CycleSlipOptions (arc tracker)
+//   ambiguity_resolution: AmbiguityResolutionOptions (PPP-AR: wide lane, LAMBDA)
 //   ros:               the ROS nodes' section (kept raw, bound by the node)
 // (bound by ppp_options_binding.h; the raw nodes are kept as well)
 // Loading is strict: an unknown key, a key given twice in one mapping, a wrong
@@ -18,6 +19,7 @@
 
 #include <string>
 
+#include "ppp_bayes_tree/ppp/ambiguity_resolution.h"
 #include "ppp_bayes_tree/ppp/code_least_squares.h"
 #include "ppp_bayes_tree/ppp/ekf_options.h"
 #include "ppp_bayes_tree/ppp/ppp_options_binding.h"
@@ -35,6 +37,7 @@ struct PppConfig {
   MeasurementModelOptions model;
   SignalSelectionOptions signals;
   CycleSlipOptions cycle_slip_options;
+  AmbiguityResolutionOptions ambiguity_resolution;  // `ambiguity_resolution:` (PPP-AR)
   /// The raw sections as written (already bound into the three members above).
   YAML::Node measurement_model = YAML::Node(YAML::NodeType::Map);
   YAML::Node cycle_slip = YAML::Node(YAML::NodeType::Map);

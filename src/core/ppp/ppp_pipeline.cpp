@@ -12,6 +12,7 @@
 #include "ppp_bayes_tree/io/line_source.h"
 #include "ppp_bayes_tree/io/parse_error.h"
 #include "ppp_bayes_tree/io/rinex_obs_reader.h"
+#include "ppp_bayes_tree/ppp/phase_bias_consistency.h"
 #include "ppp_bayes_tree/ppp/ppp_epoch_processor.h"
 #include "ppp_bayes_tree/ppp/product_set.h"
 #include "ppp_bayes_tree/types/constants.h"
@@ -117,6 +118,19 @@ PppPipeline::PppPipeline(const PppInputFiles& files, PppConfig config)
     d.load_notes.push_back(found.note);
   }
   d.start(config_);
+  if (config_.ambiguity_resolution.enabled) {
+    // PPP-AR needs phase OSBs from the clocks' own analysis centre.
+    bool has_phase = false;
+    if (set->biasFile())
+      for (const auto& r : set->biasFile()->records)
+        if (r.type == BiasType::OSB && r.obs1.type == ObservableType::CarrierPhase) {
+          has_phase = true;
+          break;
+        }
+    const PhaseBiasCheck check = checkPhaseBiasConsistency(files.clk, files.bias, has_phase);
+    d.load_notes.push_back("ambiguity resolution: " + check.text());
+    if (check.consistent()) d.processor->setPhaseBiases(set->biases());
+  }
 }
 
 PppPipeline::PppPipeline(const PppInMemoryInputs& inputs, PppConfig config)
