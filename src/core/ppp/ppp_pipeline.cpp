@@ -173,6 +173,7 @@ double PppPipeline::progress() const { return impl_->source->progress(); }
 PppRunSummary PppPipeline::run(EpochEstimator& estimator, const EpochCallback& on_epoch) {
   Impl& d = *impl_;
   PppRunSummary summary;
+  std::optional<GnssTime> first_solved;  // for the time to first fix
   summary.estimator = estimator.name();
   if (d.ran) {
     summary.problems.push_back("the pipeline has already run (the observation file is streamed once)");
@@ -234,7 +235,14 @@ PppRunSummary PppPipeline::run(EpochEstimator& estimator, const EpochCallback& o
     for (const auto& x : rec.rejected)
       if (x.stage == RejectionStage::Model) acc[x.satellite].rejections++;
     switch (rec.status) {
-      case EpochStatus::Ok: ++summary.epochs_solved; break;
+      case EpochStatus::Ok:
+        ++summary.epochs_solved;
+        if (!first_solved) first_solved = rec.solution.time;
+        if (rec.solution.status == SolutionStatus::PppFixed) {
+          ++summary.epochs_fixed;
+          if (!summary.time_to_first_fix_s) summary.time_to_first_fix_s = rec.solution.time - *first_solved;
+        }
+        break;
       case EpochStatus::NoSolution: ++summary.epochs_no_solution; break;
       case EpochStatus::Failed: ++summary.epochs_failed; break;
     }
