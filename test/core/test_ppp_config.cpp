@@ -57,6 +57,7 @@ void expectSameConfig(const PppConfig& c, const PppConfig& d) {
   const auto& ca = c.ambiguity_resolution;
   const auto& da = d.ambiguity_resolution;
   EXPECT_EQ(ca.enabled, da.enabled);
+  EXPECT_NEAR(ca.min_elevation_rad, da.min_elevation_rad, 1e-15);
   EXPECT_EQ(ca.narrow_lane.ratio_threshold, da.narrow_lane.ratio_threshold);
   EXPECT_EQ(ca.narrow_lane.min_success_rate, da.narrow_lane.min_success_rate);
   EXPECT_EQ(ca.narrow_lane.min_fixed, da.narrow_lane.min_fixed);

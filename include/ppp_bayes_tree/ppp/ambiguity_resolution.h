@@ -45,11 +45,15 @@
 #include "ppp_bayes_tree/ppp/arc_tracker.h"
 #include "ppp_bayes_tree/ppp/integer_least_squares.h"
 #include "ppp_bayes_tree/ppp/wide_lane_ambiguity.h"
+#include "ppp_bayes_tree/types/constants.h"
 
 namespace ppp {
 
 struct AmbiguityResolutionOptions {
   bool enabled = false;
+  /// Arcs below this elevation are not fixed (their float biases carry the
+  /// multipath and mapping errors of low satellites) [rad]; 0 = all. 15 deg.
+  double min_elevation_rad = 15.0 * kDegToRad;
   WideLaneOptions wide_lane;
   IlsOptions narrow_lane;
   /// "" when valid, else the reason.
@@ -102,10 +106,13 @@ class AmbiguityResolver {
 
   /// Resolves against the float filter state x, P whose entries from
   /// `receiver_dim` on are the IF biases [m] of `bias_arcs` (in that order).
+  /// With `elevation_rad` (this epoch's elevation per arc), arcs below
+  /// min_elevation_rad or without an elevation are left float (nor reference).
   /// Returns the fixed copy when fixed; `summary` says what happened.
   std::optional<AmbiguityFixedState> resolve(const Eigen::VectorXd& x, const Eigen::MatrixXd& P, int receiver_dim,
                                              const std::vector<ArcId>& bias_arcs, const BiasProvider* biases,
-                                             AmbiguityFixSummary& summary) const;
+                                             AmbiguityFixSummary& summary,
+                                             const std::map<ArcId, double>* elevation_rad = nullptr) const;
 
   const AmbiguityResolutionOptions& options() const { return options_; }
 

@@ -29,6 +29,7 @@
 // Sigma of an arc's mean: the sample standard deviation of its MW values over
 // sqrt(n), floored at min_sigma_cycles / sqrt(n) and, since MW errors are time
 // correlated (multipath), with n counted as samples / correlation_samples.
+#include <functional>
 #include <map>
 #include <optional>
 #include <string>
@@ -110,8 +111,9 @@ class WideLaneResolver {
   void removeArc(ArcId arc) { arcs_.erase(arc); }
 
   const std::map<ArcId, WideLaneArcMean>& arcs() const { return arcs_; }
-  /// Single differences of the active arcs with at least min_samples samples.
-  WideLaneResolution resolve() const;
+  /// Single differences of the active arcs with at least min_samples samples
+  /// (and, when given, accepted by `eligible`; the reference is one of them).
+  WideLaneResolution resolve(const std::function<bool(ArcId)>& eligible = {}) const;
   const WideLaneOptions& options() const { return options_; }
 
  private:

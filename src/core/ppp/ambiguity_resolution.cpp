@@ -88,14 +88,23 @@ std::optional<AmbiguityFixedState> applyIntegerConstraints(const Eigen::VectorXd
 std::optional<AmbiguityFixedState> AmbiguityResolver::resolve(const Eigen::VectorXd& x, const Eigen::MatrixXd& P,
                                                               int receiver_dim, const std::vector<ArcId>& bias_arcs,
                                                               const BiasProvider* biases,
-                                                              AmbiguityFixSummary& summary) const {
+                                                              AmbiguityFixSummary& summary,
+                                                              const std::map<ArcId, double>* elevation_rad) const {
   summary = AmbiguityFixSummary{};
   if (!options_.enabled) return std::nullopt;
   if (!biases) {
     summary.float_reason = AmbiguityFloatReason::NoConsistentPhaseBiases;
     return std::nullopt;
   }
-  const WideLaneResolution wl = wide_lane_.resolve();
+  auto highEnough = [&](ArcId arc) {
+    if (!elevation_rad || options_.min_elevation_rad <= 0.0) return true;
+    const auto e = elevation_rad->find(arc);
+    return e != elevation_rad->end() && e->second >= options_.min_elevation_rad;
+  };
+  std::map<ArcId, int> slot;
+  for (std::size_t i = 0; i < bias_arcs.size(); ++i)
+    if (highEnough(bias_arcs[i])) slot[bias_arcs[i]] = receiver_dim + static_cast<int>(i);
+  const WideLaneResolution wl = wide_lane_.resolve([&](ArcId arc) { return slot.count(arc) > 0; });
   if (!wl.reference_arc) {
     summary.float_reason = AmbiguityFloatReason::NoWideLaneReference;
     return std::nullopt;
@@ -104,8 +113,6 @@ std::optional<AmbiguityFixedState> AmbiguityResolver::resolve(const Eigen::Vecto
   summary.wide_lane_candidates = static_cast<int>(wl.arcs.size());
   summary.wide_lanes_fixed = wl.fixedCount();
 
-  std::map<ArcId, int> slot;
-  for (std::size_t i = 0; i < bias_arcs.size(); ++i) slot[bias_arcs[i]] = receiver_dim + static_cast<int>(i);
   const auto ref_slot = slot.find(*wl.reference_arc);
   const auto ref_obs = last_observation_.find(*wl.reference_arc);
   if (ref_slot == slot.end() || ref_obs == last_observation_.end()) {

@@ -20,8 +20,10 @@ void EkfEstimator::resolveAmbiguities(const EstimatorEpochInput& input, Estimato
   if (r.status == EpochStatus::Ok && r.solution) {
     const std::vector<ArcId> arcs = ekf_.activeArcs();
     const int receiver_dim = r.solution->state.layout.dim();
+    std::map<ArcId, double> elevation_rad;
+    for (const auto& res : r.residuals) elevation_rad[res.arc] = res.elevation_rad;
     const auto fixed = ambiguity_.resolve(ekf_.stateVector(), ekf_.covarianceMatrix(), receiver_dim, arcs,
-                                          input.phase_biases, summary);
+                                          input.phase_biases, summary, &elevation_rad);
     if (fixed) {
       r.solution->state = ReceiverState::fromVector(fixed->x.head(receiver_dim), r.solution->state.layout);
       r.solution->covariance = fixed->P.topLeftCorner(receiver_dim, receiver_dim);

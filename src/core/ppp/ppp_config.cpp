@@ -56,6 +56,8 @@ void readEstimator(YamlSection s, EkfOptions& o, CodeLeastSquaresOptions& start)
 
 void readAmbiguityResolution(YamlSection s, AmbiguityResolutionOptions& o) {
   o.enabled = s.boolean("enabled", o.enabled);
+  o.min_elevation_rad =
+      s.number("min_elevation_deg", o.min_elevation_rad / kDegToRad, Bound::NonNegative) * kDegToRad;
   o.narrow_lane.ratio_threshold = s.number("ratio_threshold", o.narrow_lane.ratio_threshold, Bound::Positive);
   o.narrow_lane.min_success_rate = s.number("min_success_rate", o.narrow_lane.min_success_rate, Bound::NonNegative);
   o.narrow_lane.min_fixed = s.integer("min_fixed", o.narrow_lane.min_fixed, 1);

@@ -106,11 +106,11 @@ void WideLaneResolver::addValue(ArcId arc, const SatelliteId& satellite, double 
   m.sum_squares += delta * (mw_cycles - m.mean_cycles);
 }
 
-WideLaneResolution WideLaneResolver::resolve() const {
+WideLaneResolution WideLaneResolver::resolve(const std::function<bool(ArcId)>& eligible) const {
   WideLaneResolution out;
   const WideLaneArcMean* ref = nullptr;
   for (const auto& [arc, m] : arcs_) {
-    if (m.samples < options_.min_samples) continue;
+    if (m.samples < options_.min_samples || (eligible && !eligible(arc))) continue;
     if (!ref) {
       ref = &m;
       continue;
@@ -123,7 +123,7 @@ WideLaneResolution WideLaneResolver::resolve() const {
   out.reference_satellite = ref->satellite;
   const double sigma_ref = ref->sigmaOfMean_cycles(options_);
   for (const auto& [arc, m] : arcs_) {
-    if (m.samples < options_.min_samples || arc == ref->arc) continue;
+    if (m.samples < options_.min_samples || arc == ref->arc || (eligible && !eligible(arc))) continue;
     WideLaneFix f;
     f.arc = arc;
     f.satellite = m.satellite;
