@@ -12,6 +12,7 @@
 #include <sstream>
 
 #include "ppp_dataset.h"
+#include "ppp_bayes_tree/models/clock_wide_lane_bias_provider.h"
 #include "ppp_bayes_tree/ppp/ambiguity_resolution.h"
 #include "ppp_bayes_tree/ppp/arc_tracker.h"
 #include "ppp_bayes_tree/ppp/phase_bias_consistency.h"
@@ -360,6 +361,50 @@ TEST(AmbiguityResolver, WrongIntegerConstraintIsVisibleAgainstTheFloatState) {
   EXPECT_LT(norm(right->x), 1e-6);
   EXPECT_GT(norm(wrong->x), 100.0);  // (0.107 / 0.01)^2
   EXPECT_NEAR(wrong->P(1, 1), 0.0, 1e-12);
+}
+
+}  // namespace
+}  // namespace ppp
+
+namespace ppp {
+namespace {
+
+// Comment lines as in the header of GRG0MGXFIN_20201770000_01D_30S_CLK.CLK
+// (esbc-2020-177; the G01 value here is illustrative, the layout is the file's).
+TEST(ClockWideLaneBiases, ParsesGrgHeaderCommentsAndReportsMalformedOnes) {
+  const std::vector<std::string> comments = {
+      "FRAME TX (COM-COF) USED :      -6.1 mm",
+      "WIDELANE SATELLITE FRACTIONNAL BIASES FOR GALILEO",
+      "WL E01 2020   6 25 12  0  0.000000  1   -4.400000E-01  0105",
+      "WL G01 2020   6 25 12  0  0.000000  1   +1.200000E-01  0105",
+      "WL G02 2020   6 25"};
+  const ClockWideLaneBiases wl = parseClockWideLaneBiases(comments);
+  ASSERT_EQ(wl.wide_lane_cycles.size(), 2u);
+  EXPECT_DOUBLE_EQ(wl.wide_lane_cycles.at(*SatelliteId::parse("E01")), -0.44);
+  EXPECT_DOUBLE_EQ(wl.wide_lane_cycles.at(*SatelliteId::parse("G01")), 0.12);
+  ASSERT_EQ(wl.problems.size(), 1u);
+  EXPECT_NE(wl.problems[0].find("comment 5"), std::string::npos) << wl.problems[0];
+}
+
+TEST(ClockWideLaneBiases, PhaseBiasesMoveOnlyTheWideLaneNotTheIonosphereFreeClock) {
+  const SatelliteId g01 = *SatelliteId::parse("G01"), g02 = *SatelliteId::parse("G02");
+  const double w = 0.3;
+  const ClockWideLaneBiasProvider p({{g01, w}}, "GRG test");  // GRG sign: corrected MW = MW + w
+  const GnssTime t;
+  const auto b1 = p.phaseBias(g01, *ObservationCode::parse("L1C"), t).value_m;
+  const auto b2 = p.phaseBias(g01, *ObservationCode::parse("L2W"), t).value_m;
+  ASSERT_TRUE(b1 && b2);
+  // Ionosphere-free combination zero: the integer-recovery clock holds it.
+  EXPECT_NEAR((kF1 * kF1 * *b1 - kF2 * kF2 * *b2) / (kF1 * kF1 - kF2 * kF2), 0.0, 1e-12);
+  // Reference codes (P1/P2) have zero code bias, other codes none; other satellites none.
+  EXPECT_EQ(p.codeBias(g01, *ObservationCode::parse("C1W"), t).value_m, std::optional<double>(0.0));
+  EXPECT_FALSE(p.codeBias(g01, *ObservationCode::parse("C1C"), t).value_m);
+  EXPECT_FALSE(p.phaseBias(g02, *ObservationCode::parse("L1C"), t).value_m);
+  // Melbourne-Wuebbena of clean observations with N1 - N2 = 13 moves by +w.
+  DualFrequencyObservation o = makeObservation(g01, 2.2e7, 17, 4);
+  const CorrectedMelbourneWuebbena mw = correctedMelbourneWuebbena(o, &p);
+  ASSERT_TRUE(mw.mw_cycles) << toString(mw.issue);
+  EXPECT_NEAR(*mw.mw_cycles, 13.0 + w, 1e-6);
 }
 
 }  // namespace

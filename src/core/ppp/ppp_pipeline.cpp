@@ -13,6 +13,8 @@
 #include "ppp_bayes_tree/io/parse_error.h"
 #include "ppp_bayes_tree/io/rinex_obs_reader.h"
 #include "ppp_bayes_tree/ppp/phase_bias_consistency.h"
+#include "ppp_bayes_tree/models/clock_wide_lane_bias_provider.h"
+#include "ppp_bayes_tree/io/rinex_clock_reader.h"
 #include "ppp_bayes_tree/ppp/ppp_epoch_processor.h"
 #include "ppp_bayes_tree/ppp/product_set.h"
 #include "ppp_bayes_tree/types/constants.h"
@@ -46,6 +48,24 @@ struct ResidualAccumulator {
   double el_min = 90.0, el_max = 0.0;
 };
 
+/// The wide-lane satellite biases in the headers of integer-recovery clock
+/// files (GRG convention); nullptr unless every clock file lists them.
+std::unique_ptr<const ClockWideLaneBiasProvider> integerRecoveryClockBiases(const std::vector<std::string>& clock_files,
+                                                                           std::vector<std::string>& problems) {
+  if (clock_files.empty()) return nullptr;
+  std::map<SatelliteId, double> all;
+  for (const auto& path : clock_files) {
+    RinexClockReadOptions options;
+    options.keep_receiver_clocks = false;
+    const RinexClockFile file = readRinexClock(path, options);
+    ClockWideLaneBiases wl = parseClockWideLaneBiases(file.header.comments);
+    for (const auto& p : wl.problems) problems.push_back(fileBaseName(path) + ": " + p);
+    if (wl.wide_lane_cycles.empty()) return nullptr;
+    all.insert(wl.wide_lane_cycles.begin(), wl.wide_lane_cycles.end());
+  }
+  return std::make_unique<const ClockWideLaneBiasProvider>(std::move(all), fileBaseName(clock_files.front()));
+}
+
 }  // namespace
 
 std::string toString(RejectionStage stage) {
@@ -60,6 +80,9 @@ std::string toString(RejectionStage stage) {
 std::string toString(const RejectionKey& key) { return toString(key.stage) + ": " + toString(key.reason); }
 
 struct PppPipeline::Impl {
+  /// PPP-AR biases from integer-recovery clocks; declared before `processor`,
+  /// which holds a pointer to it, so that it is destroyed after it.
+  std::unique_ptr<const ClockWideLaneBiasProvider> clock_wide_lane_biases;
   std::unique_ptr<ObservationSource> source;
   PppProducts products;
   std::optional<std::string> bias_file_name;  // for the code-reference note
@@ -128,8 +151,17 @@ PppPipeline::PppPipeline(const PppInputFiles& files, PppConfig config)
           break;
         }
     const PhaseBiasCheck check = checkPhaseBiasConsistency(files.clk, files.bias, has_phase);
-    d.load_notes.push_back("ambiguity resolution: " + check.text());
-    if (check.consistent()) d.processor->setPhaseBiases(set->biases());
+    if (check.consistent()) {
+      d.load_notes.push_back("ambiguity resolution: " + check.text());
+      d.processor->setPhaseBiases(set->biases());
+    } else if (auto wl = integerRecoveryClockBiases(files.clk, d.load_problems)) {
+      d.load_notes.push_back("ambiguity resolution: integer-recovery clocks with " + std::to_string(wl->size()) +
+                             " wide-lane satellite biases in the clock header");
+      d.processor->setPhaseBiases(wl.get());
+      d.clock_wide_lane_biases = std::move(wl);
+    } else {
+      d.load_notes.push_back("ambiguity resolution: " + check.text());
+    }
   }
 }
 
