@@ -12,6 +12,7 @@
 #include <sstream>
 
 #include "ppp_dataset.h"
+#include "ppp_bayes_tree/io/rinex_clock_reader.h"
 #include "ppp_bayes_tree/models/clock_wide_lane_bias_provider.h"
 #include "ppp_bayes_tree/ppp/ambiguity_resolution.h"
 #include "ppp_bayes_tree/ppp/arc_tracker.h"
@@ -384,6 +385,46 @@ TEST(ClockWideLaneBiases, ParsesGrgHeaderCommentsAndReportsMalformedOnes) {
   EXPECT_DOUBLE_EQ(wl.wide_lane_cycles.at(*SatelliteId::parse("G01")), 0.12);
   ASSERT_EQ(wl.problems.size(), 1u);
   EXPECT_NE(wl.problems[0].find("comment 5"), std::string::npos) << wl.problems[0];
+}
+
+// ESBC 2020-177 with the GRG integer-recovery clock file: the wide-lane
+// satellite biases of its header, added to the Melbourne-Wuebbena means
+// (GRG sign), put the between-satellite single differences at integers; with
+// the opposite sign or without them the fractions spread.
+TEST(ClockWideLaneBiases, RealEsbcWideLanesAreIntegersWithGrgHeaderBiases) {
+  PPP_REQUIRE_SHARED_DATA();
+  const std::string clk = test::dataPath("esbc-2020-177/GRG0MGXFIN_20201770000_01D_30S_CLK.CLK.gz");
+  RinexClockReadOptions clock_options;
+  clock_options.keep_receiver_clocks = false;
+  const ClockWideLaneBiases parsed = parseClockWideLaneBiases(readRinexClock(clk, clock_options).header.comments);
+  EXPECT_TRUE(parsed.problems.empty());
+  ASSERT_GE(parsed.wide_lane_cycles.size(), 30u);
+  const ClockWideLaneBiasProvider grg(parsed.wide_lane_cycles, "GRG"), flipped(parsed.wide_lane_cycles, "GRG", 1.0);
+  auto reader = RinexObsReader::open(test::dataPath("esbc-2020-177/ESBC00DNK_R_20201770000_01D_30S_MO.crx.gz"));
+  SignalSelector selector(reader.header(), SignalSelectionOptions{}, nullptr);
+  ArcTracker tracker;
+  WideLaneResolver with_grg, with_flipped, without;
+  ObsEpoch epoch;
+  while (reader.next(epoch)) {
+    const SignalSelectionResult sel = selector.select(epoch);
+    const ArcEpochResult arcs = tracker.process(epoch.time, sel.observations);
+    if (!arcs.accepted) continue;
+    for (std::size_t i = 0; i < arcs.satellites.size(); ++i) {
+      const auto& s = arcs.satellites[i];
+      if (!s.usable || s.arc == 0) continue;
+      const auto& o = sel.observations[i];
+      if (with_grg.add(s.arc, o, &grg) != WideLaneBiasIssue::None) continue;
+      with_flipped.add(s.arc, o, &flipped);
+      without.addValue(s.arc, o.satellite, melbourneWuebbena_cycles(o));
+    }
+  }
+  const WideLaneResolution a = with_grg.resolve(), b = with_flipped.resolve(), c = without.resolve();
+  std::cout << "ESBC GRG WL (added): " << histogram(a) << "\nESBC GRG WL (subtracted): " << histogram(b)
+            << "\nESBC no WL bias: " << histogram(c) << "\n";
+  ASSERT_GE(a.arcs.size(), 20u);
+  EXPECT_GE(shareWithin(a, 0.2), 0.8);
+  EXPECT_LT(rmsFraction(a), 0.5 * rmsFraction(b));
+  EXPECT_LT(rmsFraction(a), 0.5 * rmsFraction(c));
 }
 
 TEST(ClockWideLaneBiases, PhaseBiasesMoveOnlyTheWideLaneNotTheIonosphereFreeClock) {
