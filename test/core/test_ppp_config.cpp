@@ -57,6 +57,17 @@ void expectSameConfig(const PppConfig& c, const PppConfig& d) {
   EXPECT_EQ(c.smoother.wildfire_threshold_m, d.smoother.wildfire_threshold_m);
   EXPECT_EQ(c.smoother.exact_range, d.smoother.exact_range);
   EXPECT_EQ(c.smoother.fixed_lag_s, d.smoother.fixed_lag_s);
+  const auto& ca = c.ambiguity_resolution;
+  const auto& da = d.ambiguity_resolution;
+  EXPECT_EQ(ca.enabled, da.enabled);
+  EXPECT_NEAR(ca.min_elevation_rad, da.min_elevation_rad, 1e-15);
+  EXPECT_EQ(ca.narrow_lane.ratio_threshold, da.narrow_lane.ratio_threshold);
+  EXPECT_EQ(ca.narrow_lane.min_success_rate, da.narrow_lane.min_success_rate);
+  EXPECT_EQ(ca.narrow_lane.min_fixed, da.narrow_lane.min_fixed);
+  EXPECT_EQ(ca.narrow_lane.partial, da.narrow_lane.partial);
+  EXPECT_EQ(ca.wide_lane.min_samples, da.wide_lane.min_samples);
+  EXPECT_EQ(ca.wide_lane.min_success_rate, da.wide_lane.min_success_rate);
+  EXPECT_EQ(ca.wide_lane.max_fraction_cycles, da.wide_lane.max_fraction_cycles);
   // The file holds degrees: equal to the rounding of deg -> rad.
   EXPECT_NEAR(c.model.elevation_cutoff_rad, d.model.elevation_cutoff_rad, 1e-15);
   EXPECT_EQ(c.model.phase_sigma_zenith_m, d.model.phase_sigma_zenith_m);

@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "ppp_bayes_tree/ppp/ambiguity_resolution.h"
 #include "ppp_bayes_tree/ppp/arc_tracker.h"
 #include "ppp_bayes_tree/ppp/ekf_ppp.h"
 #include "ppp_bayes_tree/ppp/measurement_function.h"
@@ -31,6 +32,9 @@ struct EstimatorEpochInput {
   const std::vector<ArcId>* arcs = nullptr;
   /// Arcs that ended at this epoch (slip, gap) before this epoch's new arcs start.
   const std::vector<EndedArc>* ended_arcs = nullptr;
+  /// Satellite phase OSBs consistent with the clocks (phase_bias_consistency.h);
+  /// nullptr when the products allow no integer ambiguities (float).
+  const BiasProvider* phase_biases = nullptr;
 };
 
 class EpochEstimator {
@@ -62,9 +66,11 @@ class EkfEstimator : public EpochEstimator {
   void arcsEnded(const std::vector<EndedArc>& ended) override;
   const PppEstimatorBase& core() const override { return ekf_; }
   const EkfPpp& filter() const { return ekf_; }
+  void resolveAmbiguities(const EstimatorEpochInput& input, EstimatorEpochResult& r);
 
  private:
   EkfPpp ekf_;
+  AmbiguityResolver ambiguity_;  // PPP-AR on a copy of the filter state
 };
 
 /// The PPP smoother (PppSmoother) as an EpochEstimator. processEpoch returns the

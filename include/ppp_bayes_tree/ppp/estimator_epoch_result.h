@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "ppp_bayes_tree/ppp/ambiguity_resolution.h"
 #include "ppp_bayes_tree/ppp/rejection_reason.h"
 #include "ppp_bayes_tree/ppp/satellite_measurement.h"
 #include "ppp_bayes_tree/ppp/solution_integrity.h"
@@ -104,6 +105,9 @@ struct EstimatorEpochResult {
   bool estimator_reset = false;
   double epoch_time_s = 0.0;  // the whole estimator step (model evaluations included)
   std::optional<SmootherEpochDiagnostics> smoother;  // set by the smoother
+  /// Ambiguity resolution of this epoch (set when it is enabled); the solution
+  /// is the fixed one when ambiguity_fix->fixed() (ambiguities == Fixed).
+  std::optional<AmbiguityFixSummary> ambiguity_fix;
 };
 
 }  // namespace ppp

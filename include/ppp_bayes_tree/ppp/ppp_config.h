@@ -7,6 +7,7 @@
 //   measurement_model: MeasurementModelOptions, with `signals:` the SignalSelectionOptions
 //   cycle_slip:        CycleSlipOptions (arc tracker)
 //   ssr:               SsrAgeLimits (broadcast + SSR orbits and clocks, ppp_solve --nav --ssr)
+//   ambiguity_resolution: AmbiguityResolutionOptions (PPP-AR: wide lane, LAMBDA)
 //   ros:               the ROS nodes' section (kept raw, bound by the node)
 // (bound by ppp_options_binding.h; the raw nodes are kept as well)
 // Loading is strict: an unknown key, a key given twice in one mapping, a wrong
@@ -20,6 +21,7 @@
 #include <string>
 
 #include "ppp_bayes_tree/models/ssr_correction_store.h"
+#include "ppp_bayes_tree/ppp/ambiguity_resolution.h"
 #include "ppp_bayes_tree/ppp/code_least_squares.h"
 #include "ppp_bayes_tree/ppp/ekf_options.h"
 #include "ppp_bayes_tree/ppp/ppp_options_binding.h"
@@ -38,6 +40,7 @@ struct PppConfig {
   SignalSelectionOptions signals;
   CycleSlipOptions cycle_slip_options;
   SsrAgeLimits ssr;
+  AmbiguityResolutionOptions ambiguity_resolution;  // `ambiguity_resolution:` (PPP-AR)
   /// The raw sections as written (already bound into the three members above).
   YAML::Node measurement_model = YAML::Node(YAML::NodeType::Map);
   YAML::Node cycle_slip = YAML::Node(YAML::NodeType::Map);

@@ -45,6 +45,9 @@ class PppEpochProcessor {
                          std::vector<std::string>* selection_notes = nullptr);
   /// Arcs still open at the end of the data (closes them in the tracker).
   std::vector<EndedArc> finish();
+  /// Phase OSBs consistent with the clocks, handed to the estimators for
+  /// ambiguity resolution (nullptr, the default: none, float).
+  void setPhaseBiases(const BiasProvider* phase_biases);
 
   /// Replaces the observation types (the signal selector is rebuilt; arcs and
   /// wind-up continue). The receiver antenna is not changed.

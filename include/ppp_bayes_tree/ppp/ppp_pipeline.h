@@ -176,6 +176,10 @@ struct PppRunSummary {
   /// Problems of the observation file (malformed records skipped) and refusals.
   std::vector<std::string> problems;
   double processing_time_s = 0.0;
+  /// Ambiguity resolution (PPP-AR): solved epochs with fixed ambiguities, and
+  /// the time from the first solved epoch to the first fixed one [s].
+  std::size_t epochs_fixed = 0;
+  std::optional<double> time_to_first_fix_s;
 };
 
 class PppPipeline {

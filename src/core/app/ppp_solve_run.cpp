@@ -277,6 +277,9 @@ std::string runSummaryToJson(const PppSolveOutcome& o, const PppSolutionOutput& 
      << ", \"inconsistent\": " << r.epochs_inconsistent << "},\n";
   os << "  \"arcs\": " << r.arcs << ",\n  \"slips\": " << r.slips << ",\n";
   os << "  \"processing_time_s\": " << jsonNumber(r.processing_time_s, 6) << ",\n";
+  if (r.epochs_fixed > 0)  // PPP-AR ran and fixed (absent otherwise, so float runs keep their keys)
+    os << "  \"epochs_fixed\": " << r.epochs_fixed << ",\n  \"time_to_first_fix_s\": "
+       << jsonNumber(r.time_to_first_fix_s.value_or(0.0), 6) << ",\n";
   for (const auto& [key, t] : {std::make_pair("update_time", o.update_time), std::make_pair("epoch_time", o.epoch_time)}) {
     if (!t) continue;
     os << "  \"" << key << "_ms\": {\"epochs\": " << t->count << ", \"median\": " << jsonNumber(t->median_s * 1e3, 6)
@@ -337,6 +340,13 @@ std::string formatRunReport(const PppRunSummary& r) {
                   s.satellite.toString().c_str(), s.count, s.code_mean_m * 1e3, s.code_rms_m * 1e3,
                   s.phase_mean_m * 1e3, s.phase_rms_m * 1e3, s.phase_max_abs_m * 1e3, s.min_elevation_deg,
                   s.max_elevation_deg, s.rejections);
+    os << buf;
+  }
+  if (r.epochs_fixed > 0) {
+    char buf[160];
+    std::snprintf(buf, sizeof buf, "ambiguities fixed: %zu of %zu solved epochs (%.1f %%), first fix after %.1f min\n",
+                  r.epochs_fixed, r.epochs_solved, 100.0 * r.epochs_fixed / std::max<std::size_t>(1, r.epochs_solved),
+                  r.time_to_first_fix_s.value_or(0.0) / 60.0);
     os << buf;
   }
   os << "notes:\n";

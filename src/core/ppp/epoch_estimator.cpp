@@ -3,15 +3,39 @@
 namespace ppp {
 
 EkfEstimator::EkfEstimator(const PppConfig& config)
-    : ekf_(config.stochastic, config.estimator, config.start, ReceiverStateLayout(config.signals.systems)) {}
+    : ekf_(config.stochastic, config.estimator, config.start, ReceiverStateLayout(config.signals.systems)),
+      ambiguity_(config.ambiguity_resolution) {}
 
 EstimatorEpochResult EkfEstimator::processEpoch(const EstimatorEpochInput& input) {
   if (input.ended_arcs) arcsEnded(*input.ended_arcs);
-  return ekf_.processEpoch(input.time, *input.evaluate);
+  EstimatorEpochResult r = ekf_.processEpoch(input.time, *input.evaluate);
+  if (ambiguity_.options().enabled) resolveAmbiguities(input, r);
+  return r;
+}
+
+void EkfEstimator::resolveAmbiguities(const EstimatorEpochInput& input, EstimatorEpochResult& r) {
+  // The filter stays float; the fixed solution is a constrained copy of it.
+  if (input.observations && input.arcs) ambiguity_.addEpoch(*input.observations, *input.arcs, input.phase_biases);
+  AmbiguityFixSummary summary;
+  if (r.status == EpochStatus::Ok && r.solution) {
+    const std::vector<ArcId> arcs = ekf_.activeArcs();
+    const int receiver_dim = r.solution->state.layout.dim();
+    std::map<ArcId, double> elevation_rad;
+    for (const auto& res : r.residuals) elevation_rad[res.arc] = res.elevation_rad;
+    const auto fixed = ambiguity_.resolve(ekf_.stateVector(), ekf_.covarianceMatrix(), receiver_dim, arcs,
+                                          input.phase_biases, summary, &elevation_rad);
+    if (fixed) {
+      r.solution->state = ReceiverState::fromVector(fixed->x.head(receiver_dim), r.solution->state.layout);
+      r.solution->covariance = fixed->P.topLeftCorner(receiver_dim, receiver_dim);
+      r.ambiguities = AmbiguityState::Fixed;
+    }
+  }
+  r.ambiguity_fix = summary;
 }
 
 void EkfEstimator::arcsEnded(const std::vector<EndedArc>& ended) {
   for (const auto& e : ended) ekf_.removeArc(e.arc);
+  ambiguity_.arcsEnded(ended);
 }
 
 SmootherEstimator::SmootherEstimator(const PppConfig& config)

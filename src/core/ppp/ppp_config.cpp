@@ -61,6 +61,22 @@ void readEstimator(YamlSection s, EkfOptions& o, CodeLeastSquaresOptions& start)
   s.finish();
 }
 
+void readAmbiguityResolution(YamlSection s, AmbiguityResolutionOptions& o) {
+  o.enabled = s.boolean("enabled", o.enabled);
+  o.min_elevation_rad =
+      s.number("min_elevation_deg", o.min_elevation_rad / kDegToRad, Bound::NonNegative) * kDegToRad;
+  o.narrow_lane.ratio_threshold = s.number("ratio_threshold", o.narrow_lane.ratio_threshold, Bound::Positive);
+  o.narrow_lane.min_success_rate = s.number("min_success_rate", o.narrow_lane.min_success_rate, Bound::NonNegative);
+  o.narrow_lane.min_fixed = s.integer("min_fixed", o.narrow_lane.min_fixed, 1);
+  o.narrow_lane.partial = s.boolean("partial", o.narrow_lane.partial);
+  o.wide_lane.min_samples = s.integer("wide_lane_min_samples", o.wide_lane.min_samples, 1);
+  o.wide_lane.min_success_rate =
+      s.number("wide_lane_min_success_rate", o.wide_lane.min_success_rate, Bound::NonNegative);
+  o.wide_lane.max_fraction_cycles =
+      s.number("wide_lane_max_fraction_cycles", o.wide_lane.max_fraction_cycles, Bound::Positive);
+  s.finish();
+}
+
 void readSmoother(YamlSection s, const ScreeningOptions& screening, PppSmootherOptions& o) {
   o.screening = screening;  // both estimators screen alike
   o.robust = s.boolean("robust", o.robust);
@@ -124,6 +140,7 @@ PppConfig bindPppConfig(const YAML::Node& root, const std::string& source_name) 
   readEstimator(top.section("estimator"), config.estimator, config.start);
   readSmoother(top.section("smoother"), config.estimator.screening, config.smoother);
   readSsr(top.section("ssr"), config.ssr);
+  readAmbiguityResolution(top.section("ambiguity_resolution"), config.ambiguity_resolution);
   config.measurement_model = top.rawMapping("measurement_model");
   config.cycle_slip = top.rawMapping("cycle_slip");
   config.ros = top.rawMapping("ros");
@@ -133,6 +150,8 @@ PppConfig bindPppConfig(const YAML::Node& root, const std::string& source_name) 
   if (auto e = config.stochastic.validate(); !e.empty()) throw ConfigError(source_name, "stochastic", e);
   if (auto e = config.estimator.validate(); !e.empty()) throw ConfigError(source_name, "estimator", e);
   if (auto e = config.smoother.validate(); !e.empty()) throw ConfigError(source_name, "smoother", e);
+  if (auto e = config.ambiguity_resolution.validate(); !e.empty())
+    throw ConfigError(source_name, "ambiguity_resolution", e);
   return config;
 }
 

@@ -10,6 +10,7 @@ struct PppEpochProcessor::Impl {
   RinexObsHeader header;
   PppConfig config;
   const BiasProvider* biases = nullptr;
+  const BiasProvider* phase_biases = nullptr;  // consistent with the clocks (PPP-AR)
   std::unique_ptr<PppMeasurementModel> model;
   std::unique_ptr<SignalSelector> selector;
   ArcTracker tracker;
@@ -36,6 +37,8 @@ PppEpochProcessor::PppEpochProcessor(const RinexObsHeader& header, const PppConf
 }
 
 PppEpochProcessor::~PppEpochProcessor() = default;
+
+void PppEpochProcessor::setPhaseBiases(const BiasProvider* phase_biases) { impl_->phase_biases = phase_biases; }
 
 void PppEpochProcessor::setObservationTypes(const RinexObsHeader& header) {
   impl_->header.obs_types = header.obs_types;
@@ -132,6 +135,7 @@ PppEpochRecord PppEpochProcessor::process(const ObsEpoch& epoch, EpochEstimator&
   input.observations = &d.usable;
   input.arcs = &d.arcs;
   input.ended_arcs = &arc_result.ended;
+  input.phase_biases = impl_->phase_biases;
   EstimatorEpochResult r = estimator.processEpoch(input);
 
   rec.status = r.status;

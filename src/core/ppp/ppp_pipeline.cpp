@@ -15,6 +15,9 @@
 #include "ppp_bayes_tree/io/rtcm_observation_source.h"
 #include "ppp_bayes_tree/io/ubx_observation_source.h"
 #include "ppp_bayes_tree/models/broadcast_products.h"
+#include "ppp_bayes_tree/ppp/phase_bias_consistency.h"
+#include "ppp_bayes_tree/models/clock_wide_lane_bias_provider.h"
+#include "ppp_bayes_tree/io/rinex_clock_reader.h"
 #include "ppp_bayes_tree/ppp/ppp_epoch_processor.h"
 #include "ppp_bayes_tree/ppp/product_set.h"
 #include "ppp_bayes_tree/types/constants.h"
@@ -48,6 +51,24 @@ struct ResidualAccumulator {
   double el_min = 90.0, el_max = 0.0;
 };
 
+/// The wide-lane satellite biases in the headers of integer-recovery clock
+/// files (GRG convention); nullptr unless every clock file lists them.
+std::unique_ptr<const ClockWideLaneBiasProvider> integerRecoveryClockBiases(const std::vector<std::string>& clock_files,
+                                                                           std::vector<std::string>& problems) {
+  if (clock_files.empty()) return nullptr;
+  std::map<SatelliteId, double> all;
+  for (const auto& path : clock_files) {
+    RinexClockReadOptions options;
+    options.keep_receiver_clocks = false;
+    const RinexClockFile file = readRinexClock(path, options);
+    ClockWideLaneBiases wl = parseClockWideLaneBiases(file.header.comments);
+    for (const auto& p : wl.problems) problems.push_back(fileBaseName(path) + ": " + p);
+    if (wl.wide_lane_cycles.empty()) return nullptr;
+    all.insert(wl.wide_lane_cycles.begin(), wl.wide_lane_cycles.end());
+  }
+  return std::make_unique<const ClockWideLaneBiasProvider>(std::move(all), fileBaseName(clock_files.front()));
+}
+
 }  // namespace
 
 std::string toString(RejectionStage stage) {
@@ -62,6 +83,9 @@ std::string toString(RejectionStage stage) {
 std::string toString(const RejectionKey& key) { return toString(key.stage) + ": " + toString(key.reason); }
 
 struct PppPipeline::Impl {
+  /// PPP-AR biases from integer-recovery clocks; declared before `processor`,
+  /// which holds a pointer to it, so that it is destroyed after it.
+  std::unique_ptr<const ClockWideLaneBiasProvider> clock_wide_lane_biases;
   std::unique_ptr<ObservationSource> source;
   PppProducts products;
   std::optional<std::string> bias_file_name;  // for the code-reference note
@@ -150,6 +174,28 @@ PppPipeline::PppPipeline(const PppInputFiles& files, PppConfig config)
     d.load_notes.push_back(found.note);
   }
   d.start(config_);
+  if (config_.ambiguity_resolution.enabled) {
+    // PPP-AR needs phase OSBs from the clocks' own analysis centre.
+    bool has_phase = false;
+    if (set->biasFile())
+      for (const auto& r : set->biasFile()->records)
+        if (r.type == BiasType::OSB && r.obs1.type == ObservableType::CarrierPhase) {
+          has_phase = true;
+          break;
+        }
+    const PhaseBiasCheck check = checkPhaseBiasConsistency(files.clk, files.bias, has_phase);
+    if (check.consistent()) {
+      d.load_notes.push_back("ambiguity resolution: " + check.text());
+      d.processor->setPhaseBiases(set->biases());
+    } else if (auto wl = integerRecoveryClockBiases(files.clk, d.load_problems)) {
+      d.load_notes.push_back("ambiguity resolution: integer-recovery clocks with " + std::to_string(wl->size()) +
+                             " wide-lane satellite biases in the clock header");
+      d.processor->setPhaseBiases(wl.get());
+      d.clock_wide_lane_biases = std::move(wl);
+    } else {
+      d.load_notes.push_back("ambiguity resolution: " + check.text());
+    }
+  }
 }
 
 PppPipeline::PppPipeline(const PppInMemoryInputs& inputs, PppConfig config)
@@ -192,6 +238,7 @@ double PppPipeline::progress() const { return impl_->source->progress(); }
 PppRunSummary PppPipeline::run(EpochEstimator& estimator, const EpochCallback& on_epoch) {
   Impl& d = *impl_;
   PppRunSummary summary;
+  std::optional<GnssTime> first_solved;  // for the time to first fix
   summary.estimator = estimator.name();
   if (d.ran) {
     summary.problems.push_back("the pipeline has already run (the observation file is streamed once)");
@@ -253,7 +300,14 @@ PppRunSummary PppPipeline::run(EpochEstimator& estimator, const EpochCallback& o
     for (const auto& x : rec.rejected)
       if (x.stage == RejectionStage::Model) acc[x.satellite].rejections++;
     switch (rec.status) {
-      case EpochStatus::Ok: ++summary.epochs_solved; break;
+      case EpochStatus::Ok:
+        ++summary.epochs_solved;
+        if (!first_solved) first_solved = rec.solution.time;
+        if (rec.solution.status == SolutionStatus::PppFixed) {
+          ++summary.epochs_fixed;
+          if (!summary.time_to_first_fix_s) summary.time_to_first_fix_s = rec.solution.time - *first_solved;
+        }
+        break;
       case EpochStatus::NoSolution: ++summary.epochs_no_solution; break;
       case EpochStatus::Failed: ++summary.epochs_failed; break;
     }

@@ -1,0 +1,67 @@
+#include "ppp_bayes_tree/models/clock_wide_lane_bias_provider.h"
+
+#include <cmath>
+#include <sstream>
+
+#include "ppp_bayes_tree/types/carrier_frequency.h"
+#include "ppp_bayes_tree/types/constants.h"
+
+namespace ppp {
+
+ClockWideLaneBiases parseClockWideLaneBiases(const std::vector<std::string>& comments) {
+  ClockWideLaneBiases out;
+  for (std::size_t i = 0; i < comments.size(); ++i) {
+    const std::string& c = comments[i];
+    if (c.rfind("WL ", 0) != 0) continue;
+    std::istringstream in(c);
+    std::string tag, sat_text;
+    double date[6];
+    int count = 0;
+    double value = 0.0;
+    in >> tag >> sat_text;
+    for (double& d : date) in >> d;
+    in >> count >> value;
+    const auto sat = SatelliteId::parse(sat_text);
+    if (!in || !sat || count < 1 || !std::isfinite(value)) {
+      out.problems.push_back("clock header comment " + std::to_string(i + 1) + " \"" + c +
+                             "\": not a wide-lane bias (WL sat date count value)");
+      continue;
+    }
+    out.wide_lane_cycles[*sat] = value;
+  }
+  return out;
+}
+
+namespace {
+BiasAnswer absent(const GnssTime& t) {
+  BiasAnswer a;
+  a.valid_from = t;
+  a.valid_until = t;
+  return a;
+}
+}  // namespace
+
+BiasAnswer ClockWideLaneBiasProvider::codeBias(const SatelliteId& sat, const ObservationCode& code,
+                                               const GnssTime& t) const {
+  if (sat.system != GnssSystem::GPS || !wide_lane_cycles_.count(sat)) return absent(t);
+  const bool reference = (code.band == '1' || code.band == '2') && (code.attribute == 'W' || code.attribute == 'P');
+  if (!reference) return absent(t);
+  BiasAnswer a;
+  a.value_m = 0.0;
+  return a;
+}
+
+BiasAnswer ClockWideLaneBiasProvider::phaseBias(const SatelliteId& sat, const ObservationCode& code,
+                                                const GnssTime& t) const {
+  const auto w = wide_lane_cycles_.find(sat);
+  if (sat.system != GnssSystem::GPS || w == wide_lane_cycles_.end() || (code.band != '1' && code.band != '2'))
+    return absent(t);
+  const double f1 = *carrierFrequency_hz(GnssSystem::GPS, '1'), f2 = *carrierFrequency_hz(GnssSystem::GPS, '2');
+  // f1 b1 - f2 b2 = s w c and f1^2 b1 = f2^2 b2  =>  b1 = -s w c f2 / (f1 (f1 - f2)).
+  const double b1_m = -sign_ * w->second * kSpeedOfLight_mps * f2 / (f1 * (f1 - f2));
+  BiasAnswer a;
+  a.value_m = code.band == '1' ? b1_m : b1_m * f1 * f1 / (f2 * f2);
+  return a;
+}
+
+}  // namespace ppp
