@@ -4,8 +4,9 @@
 // and gaps, checksum errors and other problems (with byte offsets), satellites
 // and signals per system, ephemerides, the station. One decode of the file.
 //
-// SSR providers, update intervals and reference point: filled by the SSR decoder
-// (see the `ssr` block, left empty here; the merge adds it).
+// RTCM SSR messages go to the SSR decoder (io/rtcm_ssr_decoder.h): providers,
+// solutions, update intervals, datum and counts in the `ssr` block. A u-blox
+// file is read through io/ubx_observation_source.h.
 #include <map>
 #include <optional>
 #include <set>
@@ -41,12 +42,12 @@ struct StreamInspection {
   RtcmStationInfo station;
   GlonassChannels glonass_channels;
   std::uint64_t beidou_gpst_messages = 0;
-  /// SSR section (providers, update intervals, reference point): lines added by the
-  /// SSR decoder at merge; empty here.
+  /// SSR section (providers, solutions, update intervals, datum, counts): the
+  /// SSR decoder's summary lines; empty when the stream holds no SSR.
   std::vector<std::string> ssr;
 };
 
-/// Decodes the whole file (throws FileOpenError; std::runtime_error for UBX, not yet read here).
+/// Decodes the whole file, RTCM 3 or UBX (throws FileOpenError; std::runtime_error for another format).
 StreamInspection inspectStreamFile(const std::string& path, const Rtcm3DecoderOptions& options = {});
 std::string formatStreamInspection(const StreamInspection& inspection);
 std::string streamInspectionJson(const StreamInspection& inspection);

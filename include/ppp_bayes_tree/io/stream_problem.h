@@ -48,6 +48,7 @@ struct StreamCounters {
   std::map<int, std::uint64_t> frames_by_type;  // good frames per message type
   std::map<StreamProblemKind, std::uint64_t> problems_by_kind;
   std::uint64_t garbage_bytes = 0;
+  std::uint64_t nmea_bytes = 0;                 // NMEA text interleaved with UBX frames (not a problem)
   std::vector<StreamProblem> problems;          // the first kMaxKeptProblems
 
   void add(StreamProblem problem);

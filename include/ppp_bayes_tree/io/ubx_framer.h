@@ -6,8 +6,9 @@
 //   0xB5 0x62 | class | id | length (U2, little-endian) | payload | CK_A CK_B
 //
 // The checksum is the 8-bit Fletcher algorithm (RFC 1145) over class, id,
-// length and payload. Other protocols interleaved in the same stream (NMEA,
-// RTCM) are skipped as garbage: one problem per run of skipped bytes. A frame
+// length and payload. NMEA sentences interleaved in the stream (a run of
+// printable text starting with '$') are skipped and counted as NMEA bytes, not
+// as a problem; any other bytes outside frames are garbage: one problem per run. A frame
 // whose checksum fails is counted as a checksum error and the search for the
 // next sync pair restarts at the byte after the false 0xB5, so a frame hidden
 // behind a false sync is still found. A length above kMaxPayloadBytes is
@@ -68,6 +69,7 @@ class UbxFramer {
   std::uint64_t buffer_offset_ = 0;   // stream offset of buffer_[0]
   std::uint64_t garbage_start_ = 0;
   std::uint64_t garbage_run_ = 0;
+  bool garbage_is_nmea_ = false;      // the current run is NMEA text so far
   StreamCounters counters_;
 };
 

@@ -43,9 +43,8 @@ FileSummary Inspection::add(const std::string& path) {
     case GnssFileType::Blq:
       return summarizeBlqFile(path);
     case GnssFileType::Rtcm3Stream:
-      return summarizeStreamFile(path);
     case GnssFileType::UbxStream:
-      throw std::runtime_error("u-blox UBX streams are recognised but not yet summarised (ppp_stream_inspect)");
+      return summarizeStreamFile(path);
     case GnssFileType::RinexMeteo:
       throw std::runtime_error("RINEX meteorological files are recognised but not read by this project");
     case GnssFileType::Unknown:

@@ -9,17 +9,46 @@
 #include "ppp_bayes_tree/io/rinex_nav_writer.h"
 #include "ppp_bayes_tree/io/rinex_obs_writer.h"
 #include "ppp_bayes_tree/io/rtcm_observation_source.h"
+#include "ppp_bayes_tree/io/ubx_observation_source.h"
 
 namespace ppp {
+namespace {
+
+/// RXM-RAWX epochs and the GPS/Galileo records of RXM-SFRBX (io/ubx_observation_source.h).
+StreamConversion convertUbxToRinex(const std::string& input, const std::string& obs_path,
+                                   const std::optional<std::string>& nav_path) {
+  StreamConversion result;
+  result.format = StreamFormat::Ubx;
+  UbxObservationSource source(input);
+  std::ofstream obs_out(obs_path);
+  if (!obs_out) throw FileOpenError("cannot write " + obs_path);
+  RinexObsWriter writer(obs_out);
+  writer.writeHeader(source.header());
+  ObsEpoch epoch;
+  while (source.next(epoch) == ObservationRead::Epoch) {
+    writer.writeEpoch(epoch, source.header());
+    ++result.epochs;
+  }
+  if (nav_path) {
+    std::ofstream nav_out(*nav_path);
+    if (!nav_out) throw FileOpenError("cannot write " + *nav_path);
+    RinexNavWriter nav(nav_out);
+    nav.writeHeader();
+    for (const auto& e : source.navigation().gps) nav.write(e), ++result.navigation_records;
+    for (const auto& e : source.navigation().galileo) nav.write(e), ++result.navigation_records;
+  }
+  result.counters = source.counters();
+  return result;
+}
+
+}  // namespace
 
 StreamConversion convertStreamToRinex(const std::string& input, const std::string& obs_path,
                                       const std::optional<std::string>& nav_path,
                                       const Rtcm3DecoderOptions& options) {
   StreamConversion result;
   result.format = detectStreamFormatOfFile(input);
-  if (result.format == StreamFormat::Ubx) {
-    throw std::runtime_error(input + ": u-blox UBX is not yet supported by ppp_stream_convert");
-  }
+  if (result.format == StreamFormat::Ubx) return convertUbxToRinex(input, obs_path, nav_path);
   if (result.format != StreamFormat::Rtcm3) {
     throw std::runtime_error(input + ": not an RTCM 3 or UBX stream (no frame with a good checksum found)");
   }

@@ -8,6 +8,8 @@
 
 #include "ppp_bayes_tree/evaluation/json_text.h"
 #include "ppp_bayes_tree/io/parse_error.h"
+#include "ppp_bayes_tree/io/rtcm_ssr_decoder.h"
+#include "ppp_bayes_tree/io/ubx_observation_source.h"
 
 namespace ppp {
 namespace {
@@ -26,36 +28,93 @@ std::string satList(const std::set<SatelliteId>& sats) {
   return out;
 }
 
+/// Epoch times in the order received: span, spacing, gaps, epochs not after the previous.
+class EpochTiming {
+ public:
+  void note(StreamInspection& s, const GnssTime& t) {
+    ++s.epochs;
+    if (!s.first_epoch || t < *s.first_epoch) s.first_epoch = t;
+    if (!s.last_epoch || t > *s.last_epoch) s.last_epoch = t;
+    if (previous_) {
+      const double dt = t - *previous_;
+      if (dt <= 0.0) {
+        ++s.backwards;
+      } else {
+        ++spacing_ms_[std::llround(dt * 1000.0)];
+        dts_.push_back(dt);
+      }
+    }
+    if (!previous_ || t > *previous_) previous_ = t;
+  }
+  void finish(StreamInspection& s) const {
+    if (spacing_ms_.empty()) return;
+    const auto mode = std::max_element(spacing_ms_.begin(), spacing_ms_.end(),
+                                       [](const auto& a, const auto& b) { return a.second < b.second; });
+    s.interval_s = mode->first * 1e-3;
+    GnssTime t = *s.first_epoch;
+    for (double dt : dts_) {
+      if (dt > 1.5 * *s.interval_s) {
+        ++s.gap_count;
+        if (s.gaps.size() < 20) s.gaps.push_back(StreamGap{t, dt});
+      }
+      t += dt;
+    }
+  }
+
+ private:
+  std::map<long long, std::size_t> spacing_ms_;
+  std::optional<GnssTime> previous_;
+  std::vector<double> dts_;
+};
+
+/// A u-blox recording: RXM-RAWX epochs and RXM-SFRBX ephemerides (io/ubx_observation_source.h).
+StreamInspection inspectUbxFile(const std::string& path) {
+  StreamInspection s;
+  s.path = path;
+  s.format = StreamFormat::Ubx;
+  UbxObservationSource source(path);
+  EpochTiming timing;
+  ObsEpoch epoch;
+  while (source.next(epoch) == ObservationRead::Epoch) {
+    timing.note(s, epoch.time);
+    for (std::size_t i = 0; i < epoch.satellites.size(); ++i) {
+      const SatelliteId sat = epoch.satellites[i].satellite;
+      s.satellites[sat.system].insert(sat);
+      for (const Observation* o = epoch.begin(i); o != epoch.end(i); ++o)
+        if (o->value) s.signals[sat.system].insert(o->code.signal());
+    }
+  }
+  timing.finish(s);
+  noteEphemeris(s, source.navigation().gps);
+  noteEphemeris(s, source.navigation().galileo);
+  s.counters = source.counters();
+  return s;
+}
+
 }  // namespace
 
 StreamInspection inspectStreamFile(const std::string& path, const Rtcm3DecoderOptions& options) {
   StreamInspection s;
   s.path = path;
   s.format = detectStreamFormatOfFile(path);
-  if (s.format == StreamFormat::Ubx) throw std::runtime_error(path + ": u-blox UBX streams are not yet inspected");
+  if (s.format == StreamFormat::Ubx) return inspectUbxFile(path);
   if (s.format != StreamFormat::Rtcm3)
     throw std::runtime_error(path + ": not an RTCM 3 or UBX stream (no frame with a good checksum found)");
   std::unique_ptr<std::FILE, int (*)(std::FILE*)> f(std::fopen(path.c_str(), "rb"), &std::fclose);
   if (!f) throw FileOpenError("cannot open " + path);
   Rtcm3Decoder decoder(options);
-  std::map<long long, std::size_t> spacing_ms;
-  std::optional<GnssTime> previous;
-  std::vector<double> dts;
+  // SSR messages (1057-1068, 1240-1270, 4076) are the SSR decoder's.
+  RtcmSsrDecoder ssr(options.reference_time);
+  decoder.setForeignFrameHandler([&ssr](const Rtcm3Frame& frame) {
+    const bool decoded = ssr.decode(frame);
+    ssr.takeMessages();
+    return decoded;
+  });
+  EpochTiming timing;
   auto drain = [&]() {
     auto& out = decoder.output();
     for (const auto& e : out.epochs) {
-      ++s.epochs;
-      if (!s.first_epoch || e.time < *s.first_epoch) s.first_epoch = e.time;
-      if (!s.last_epoch || e.time > *s.last_epoch) s.last_epoch = e.time;
-      if (previous) {
-        const double dt = e.time - *previous;
-        if (dt <= 0.0) ++s.backwards;
-        else {
-          ++spacing_ms[std::llround(dt * 1000.0)];
-          dts.push_back(dt);
-        }
-      }
-      if (!previous || e.time > *previous) previous = e.time;
+      timing.note(s, e.time);
       for (const auto& sat : e.satellites) {
         s.satellites[sat.satellite.system].insert(sat.satellite);
         for (const auto& sig : sat.signals) s.signals[sat.satellite.system].insert(std::string{sig.band, sig.attribute});
@@ -75,26 +134,20 @@ StreamInspection inspectStreamFile(const std::string& path, const Rtcm3DecoderOp
   }
   decoder.finish();
   drain();
+  timing.finish(s);
   s.counters = decoder.counters();
+  for (const auto& [kind, count] : ssr.counters().problems_by_kind) s.counters.problems_by_kind[kind] += count;
+  for (const auto& p : ssr.counters().problems)
+    if (s.counters.problems.size() < StreamCounters::kMaxKeptProblems) s.counters.problems.push_back(p);
+  if (ssr.summary().messages > 0) {
+    std::istringstream lines(ssr.summary().format());
+    for (std::string line; std::getline(lines, line);) s.ssr.push_back(line);
+  }
   s.decoded_by_type = decoder.decodedByType();
   s.ignored_by_type = decoder.ignoredByType();
   s.station = decoder.station();
   s.glonass_channels = decoder.glonassChannels();
   s.beidou_gpst_messages = decoder.beidouGpstMessages();
-  if (!spacing_ms.empty()) {
-    const auto mode = std::max_element(spacing_ms.begin(), spacing_ms.end(),
-                                       [](const auto& a, const auto& b) { return a.second < b.second; });
-    s.interval_s = mode->first * 1e-3;
-    // Gaps: walk again over the spacings in order.
-    GnssTime t = *s.first_epoch;
-    for (double dt : dts) {
-      if (dt > 1.5 * *s.interval_s) {
-        ++s.gap_count;
-        if (s.gaps.size() < 20) s.gaps.push_back(StreamGap{t, dt});
-      }
-      t += dt;
-    }
-  }
   return s;
 }
 

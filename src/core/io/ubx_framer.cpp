@@ -51,6 +51,12 @@ std::vector<std::uint8_t> encodeUbxFrame(std::uint8_t message_class, std::uint8_
 
 void UbxFramer::flushGarbage() {
   if (garbage_run_ == 0) return;
+  if (garbage_is_nmea_) {
+    // NMEA sentences the receiver interleaves: another protocol, not damage.
+    counters_.nmea_bytes += garbage_run_;
+    garbage_run_ = 0;
+    return;
+  }
   counters_.garbage_bytes += garbage_run_;
   counters_.add(StreamProblem{StreamProblemKind::Garbage, garbage_start_, counters_.frames, 0,
                               std::to_string(garbage_run_) + " byte(s) outside any UBX frame skipped"});
@@ -66,7 +72,13 @@ void UbxFramer::feed(const std::uint8_t* data, std::size_t size, const FrameHand
 void UbxFramer::scan(const FrameHandler& on_frame) {
   std::size_t pos = 0;
   auto skipByte = [&]() {
-    if (garbage_run_ == 0) garbage_start_ = buffer_offset_ + pos;
+    const std::uint8_t byte = buffer_[pos];
+    if (garbage_run_ == 0) {
+      garbage_start_ = buffer_offset_ + pos;
+      garbage_is_nmea_ = byte == '$';
+    } else {
+      garbage_is_nmea_ = garbage_is_nmea_ && ((byte >= 0x20 && byte < 0x7F) || byte == '\r' || byte == '\n');
+    }
     ++garbage_run_;
     ++pos;
   };
