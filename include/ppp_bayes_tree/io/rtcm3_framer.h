@@ -8,13 +8,15 @@
 // payload. On a CRC mismatch the framer counts a checksum error and searches
 // for the next preamble from the byte after the false one, so that a frame hidden
 // behind garbage or a false preamble is still found. Bytes skipped while
-// searching are counted as garbage (one problem per run of bytes). finish()
+// searching are counted by io/skipped_bytes.h: NMEA text, or garbage (one
+// problem per run of bytes). finish()
 // reports a frame the stream ended inside.
 #include <cstddef>
 #include <cstdint>
 #include <functional>
 #include <vector>
 
+#include "ppp_bayes_tree/io/skipped_bytes.h"
 #include "ppp_bayes_tree/io/stream_problem.h"
 
 namespace ppp {
@@ -46,13 +48,11 @@ class Rtcm3Framer {
   StreamCounters& counters() { return counters_; }
 
  private:
-  void flushGarbage();
   void scan(const FrameHandler& on_frame);
 
   std::vector<std::uint8_t> buffer_;  // unconsumed bytes
   std::uint64_t buffer_offset_ = 0;   // stream offset of buffer_[0]
-  std::uint64_t garbage_start_ = 0;
-  std::uint64_t garbage_run_ = 0;     // bytes in the current garbage run
+  SkippedBytes skipped_{"RTCM 3"};
   StreamCounters counters_;
 };
 

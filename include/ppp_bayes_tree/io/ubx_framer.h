@@ -6,9 +6,9 @@
 //   0xB5 0x62 | class | id | length (U2, little-endian) | payload | CK_A CK_B
 //
 // The checksum is the 8-bit Fletcher algorithm (RFC 1145) over class, id,
-// length and payload. NMEA sentences interleaved in the stream (a run of
-// printable text starting with '$') are skipped and counted as NMEA bytes, not
-// as a problem; any other bytes outside frames are garbage: one problem per run. A frame
+// length and payload. Bytes outside frames are skipped (io/skipped_bytes.h):
+// NMEA text interleaved by the receiver is counted, not a problem; anything
+// else is garbage, one problem per run. A frame
 // whose checksum fails is counted as a checksum error and the search for the
 // next sync pair restarts at the byte after the false 0xB5, so a frame hidden
 // behind a false sync is still found. A length above kMaxPayloadBytes is
@@ -22,6 +22,7 @@
 #include <functional>
 #include <vector>
 
+#include "ppp_bayes_tree/io/skipped_bytes.h"
 #include "ppp_bayes_tree/io/stream_problem.h"
 
 namespace ppp {
@@ -62,14 +63,11 @@ class UbxFramer {
   StreamCounters& counters() { return counters_; }
 
  private:
-  void flushGarbage();
   void scan(const FrameHandler& on_frame);
 
   std::vector<std::uint8_t> buffer_;  // unconsumed bytes
   std::uint64_t buffer_offset_ = 0;   // stream offset of buffer_[0]
-  std::uint64_t garbage_start_ = 0;
-  std::uint64_t garbage_run_ = 0;
-  bool garbage_is_nmea_ = false;      // the current run is NMEA text so far
+  SkippedBytes skipped_{"UBX"};
   StreamCounters counters_;
 };
 

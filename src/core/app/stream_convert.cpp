@@ -14,26 +14,41 @@
 namespace ppp {
 namespace {
 
+/// Every epoch of `source` into a RINEX 3 observation file; the number written.
+std::size_t writeObservations(ObservationSource& source, const std::string& obs_path) {
+  std::ofstream obs_out(obs_path);
+  if (!obs_out) throw FileOpenError("cannot write " + obs_path);
+  RinexObsWriter writer(obs_out);
+  writer.writeHeader(source.header());
+  std::size_t epochs = 0;
+  ObsEpoch epoch;
+  while (source.next(epoch) == ObservationRead::Epoch) {
+    writer.writeEpoch(epoch, source.header());
+    ++epochs;
+  }
+  return epochs;
+}
+
+/// A RINEX 3 navigation file opened and its header written.
+struct RinexNavOutput {
+  explicit RinexNavOutput(const std::string& path) : file(path), writer(file) {
+    if (!file) throw FileOpenError("cannot write " + path);
+    writer.writeHeader();
+  }
+  std::ofstream file;
+  RinexNavWriter writer;
+};
+
 /// RXM-RAWX epochs and the GPS/Galileo records of RXM-SFRBX (io/ubx_observation_source.h).
 StreamConversion convertUbxToRinex(const std::string& input, const std::string& obs_path,
                                    const std::optional<std::string>& nav_path) {
   StreamConversion result;
   result.format = StreamFormat::Ubx;
   UbxObservationSource source(input);
-  std::ofstream obs_out(obs_path);
-  if (!obs_out) throw FileOpenError("cannot write " + obs_path);
-  RinexObsWriter writer(obs_out);
-  writer.writeHeader(source.header());
-  ObsEpoch epoch;
-  while (source.next(epoch) == ObservationRead::Epoch) {
-    writer.writeEpoch(epoch, source.header());
-    ++result.epochs;
-  }
+  result.epochs = writeObservations(source, obs_path);
   if (nav_path) {
-    std::ofstream nav_out(*nav_path);
-    if (!nav_out) throw FileOpenError("cannot write " + *nav_path);
-    RinexNavWriter nav(nav_out);
-    nav.writeHeader();
+    RinexNavOutput out(*nav_path);
+    RinexNavWriter& nav = out.writer;
     for (const auto& e : source.navigation().gps) nav.write(e), ++result.navigation_records;
     for (const auto& e : source.navigation().galileo) nav.write(e), ++result.navigation_records;
   }
@@ -53,20 +68,10 @@ StreamConversion convertStreamToRinex(const std::string& input, const std::strin
     throw std::runtime_error(input + ": not an RTCM 3 or UBX stream (no frame with a good checksum found)");
   }
   RtcmObservationSource source(input, options);
-  std::ofstream obs_out(obs_path);
-  if (!obs_out) throw FileOpenError("cannot write " + obs_path);
-  RinexObsWriter writer(obs_out);
-  writer.writeHeader(source.header());
-  ObsEpoch epoch;
-  while (source.next(epoch) == ObservationRead::Epoch) {
-    writer.writeEpoch(epoch, source.header());
-    ++result.epochs;
-  }
+  result.epochs = writeObservations(source, obs_path);
   if (nav_path) {
-    std::ofstream nav_out(*nav_path);
-    if (!nav_out) throw FileOpenError("cannot write " + *nav_path);
-    RinexNavWriter nav(nav_out);
-    nav.writeHeader();
+    RinexNavOutput out(*nav_path);
+    RinexNavWriter& nav = out.writer;
     std::set<std::tuple<int, std::int64_t, int>> seen;
     const Rtcm3Output& n = source.scanNavigation();
     auto once = [&](int key, const GnssTime& t, int iod) {

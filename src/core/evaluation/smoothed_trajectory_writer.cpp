@@ -7,19 +7,9 @@
 #include "ppp_bayes_tree/io/parse_error.h"
 #include "ppp_bayes_tree/types/constants.h"
 #include "ppp_bayes_tree/types/frames.h"
+#include "ppp_bayes_tree/types/number_text.h"
 
 namespace ppp {
-namespace {
-
-std::string num(const char* fmt, double v) {
-  if (!std::isfinite(v)) return {};
-  char buf[64];
-  std::snprintf(buf, sizeof buf, fmt, v);
-  return buf;
-}
-
-}  // namespace
-
 SmoothedTrajectoryWriter::SmoothedTrajectoryWriter(const std::string& path)
     : file_(std::make_unique<std::ofstream>(path, std::ios::out | std::ios::trunc)), path_(path) {
   if (!*file_) throw FileOpenError("cannot create the smoothed trajectory file " + path);
@@ -52,17 +42,17 @@ std::string SmoothedTrajectoryWriter::headerRow() {
 
 std::string SmoothedTrajectoryWriter::row(const SmoothedEpoch& e) {
   const auto w = e.time.gpsWeek();
-  std::string r = std::to_string(w.week) + "," + num("%.3f", w.seconds_of_week) + "," + isoTimeText(e.time) + ",";
+  std::string r = std::to_string(w.week) + "," + csvNumber("%.3f", w.seconds_of_week) + "," + isoTimeText(e.time) + ",";
   const Eigen::Vector3d& p = e.state.position_ecef_m;
   if (p.allFinite()) {
     const Geodetic g = ecefToGeodetic(p);
-    r += num("%.4f", p.x()) + "," + num("%.4f", p.y()) + "," + num("%.4f", p.z()) + ",";
-    r += num("%.9f", g.latitude_rad / kDegToRad) + "," + num("%.9f", g.longitude_rad / kDegToRad) + "," +
-         num("%.4f", g.height_m) + ",";
+    r += csvNumber("%.4f", p.x()) + "," + csvNumber("%.4f", p.y()) + "," + csvNumber("%.4f", p.z()) + ",";
+    r += csvNumber("%.9f", g.latitude_rad / kDegToRad) + "," + csvNumber("%.9f", g.longitude_rad / kDegToRad) + "," +
+         csvNumber("%.4f", g.height_m) + ",";
   } else {
     r += ",,,,,,";
   }
-  r += num("%.4f", e.state.zwd_m) + "," + num("%.4f", e.state.referenceClock_m()) + ",";
+  r += csvNumber("%.4f", e.state.zwd_m) + "," + csvNumber("%.4f", e.state.referenceClock_m()) + ",";
   return r + std::to_string(e.index);
 }
 

@@ -5,16 +5,10 @@
 
 #include "ppp_bayes_tree/types/constants.h"
 #include "ppp_bayes_tree/types/frames.h"
+#include "ppp_bayes_tree/types/number_text.h"
 
 namespace ppp {
 namespace {
-
-std::string num(const char* fmt, double v) {
-  if (!std::isfinite(v)) return {};
-  char buf[64];
-  std::snprintf(buf, sizeof buf, fmt, v);
-  return buf;
-}
 
 }  // namespace
 
@@ -44,22 +38,22 @@ std::string SolutionCsvWriter::headerRow(bool with_truth) {
 
 std::string SolutionCsvWriter::row(const SolutionEpoch& e, const std::optional<Eigen::Vector3d>& truth) {
   const auto w = e.time.gpsWeek();
-  std::string r = std::to_string(w.week) + "," + num("%.3f", w.seconds_of_week) + "," + isoTimeText(e.time) + ",";
+  std::string r = std::to_string(w.week) + "," + csvNumber("%.3f", w.seconds_of_week) + "," + isoTimeText(e.time) + ",";
   const bool has = e.position_ecef_m && e.position_ecef_m->allFinite();
   if (has) {
     const Eigen::Vector3d& p = *e.position_ecef_m;
     const Geodetic g = ecefToGeodetic(p);
-    r += num("%.4f", p.x()) + "," + num("%.4f", p.y()) + "," + num("%.4f", p.z()) + ",";
-    r += num("%.9f", g.latitude_rad / kDegToRad) + "," + num("%.9f", g.longitude_rad / kDegToRad) + "," +
-         num("%.4f", g.height_m) + ",";
+    r += csvNumber("%.4f", p.x()) + "," + csvNumber("%.4f", p.y()) + "," + csvNumber("%.4f", p.z()) + ",";
+    r += csvNumber("%.9f", g.latitude_rad / kDegToRad) + "," + csvNumber("%.9f", g.longitude_rad / kDegToRad) + "," +
+         csvNumber("%.4f", g.height_m) + ",";
   } else {
     r += ",,,,,,";
   }
   if (truth) {
     if (has) {
       const Eigen::Vector3d enu = ecefToEnu(*e.position_ecef_m, *truth);
-      r += num("%.4f", enu.x()) + "," + num("%.4f", enu.y()) + "," + num("%.4f", enu.z()) + "," +
-           num("%.4f", enu.norm()) + ",";
+      r += csvNumber("%.4f", enu.x()) + "," + csvNumber("%.4f", enu.y()) + "," + csvNumber("%.4f", enu.z()) + "," +
+           csvNumber("%.4f", enu.norm()) + ",";
     } else {
       r += ",,,,";
     }
@@ -68,13 +62,13 @@ std::string SolutionCsvWriter::row(const SolutionEpoch& e, const std::optional<E
     const Geodetic g = ecefToGeodetic(*e.position_ecef_m);
     const Eigen::Matrix3d R = rotationEnuFromEcef(g.latitude_rad, g.longitude_rad);
     const Eigen::Vector3d var = (R * *e.covariance_ecef_m2 * R.transpose()).diagonal();
-    for (int i = 0; i < 3; ++i) r += num("%.4f", std::sqrt(std::max(var(i), 0.0))) + ",";
+    for (int i = 0; i < 3; ++i) r += csvNumber("%.4f", std::sqrt(std::max(var(i), 0.0))) + ",";
   } else {
     r += ",,,";
   }
   r += std::to_string(e.satellites_used) + "," + std::to_string(e.satellites_rejected) + ",";
-  r += (e.zwd_m ? num("%.4f", *e.zwd_m) : std::string()) + ",";
-  r += (e.receiver_clock_m ? num("%.4f", *e.receiver_clock_m) : std::string()) + ",";
+  r += (e.zwd_m ? csvNumber("%.4f", *e.zwd_m) : std::string()) + ",";
+  r += (e.receiver_clock_m ? csvNumber("%.4f", *e.receiver_clock_m) : std::string()) + ",";
   return r + solutionStatusName(e.status) + "," + toString(e.integrity);
 }
 

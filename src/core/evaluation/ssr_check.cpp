@@ -23,11 +23,6 @@
 namespace ppp {
 
 namespace {
-std::string fmt(const char* f, double a) {
-  char b[64];
-  std::snprintf(b, sizeof b, f, a);
-  return b;
-}
 
 /// The two frequencies whose ionosphere-free PCO an APC stream refers to.
 std::pair<char, char> pcoBands(GnssSystem s) {

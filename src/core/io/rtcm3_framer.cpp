@@ -52,14 +52,6 @@ std::vector<std::uint8_t> encodeRtcm3Frame(const std::vector<std::uint8_t>& payl
   return frame;
 }
 
-void Rtcm3Framer::flushGarbage() {
-  if (garbage_run_ == 0) return;
-  counters_.garbage_bytes += garbage_run_;
-  counters_.add(StreamProblem{StreamProblemKind::Garbage, garbage_start_, counters_.frames, 0,
-                              std::to_string(garbage_run_) + " byte(s) outside any RTCM 3 frame skipped"});
-  garbage_run_ = 0;
-}
-
 void Rtcm3Framer::feed(const std::uint8_t* data, std::size_t size, const FrameHandler& on_frame) {
   counters_.bytes += size;
   buffer_.insert(buffer_.end(), data, data + size);
@@ -69,8 +61,7 @@ void Rtcm3Framer::feed(const std::uint8_t* data, std::size_t size, const FrameHa
 void Rtcm3Framer::scan(const FrameHandler& on_frame) {
   std::size_t pos = 0;
   auto skipByte = [&]() {
-    if (garbage_run_ == 0) garbage_start_ = buffer_offset_ + pos;
-    ++garbage_run_;
+    skipped_.skip(buffer_offset_ + pos, buffer_[pos]);
     ++pos;
   };
   while (pos < buffer_.size()) {
@@ -93,7 +84,7 @@ void Rtcm3Framer::scan(const FrameHandler& on_frame) {
                                    frame[kHeaderBytes + length + 2];
     const std::uint32_t computed = crc24q(frame, kHeaderBytes + length);
     if (computed != expected) {
-      flushGarbage();
+      skipped_.flush(counters_);
       const int type = length >= 2 ? static_cast<int>((frame[3] << 4) | (frame[4] >> 4)) : 0;
       counters_.add(StreamProblem{StreamProblemKind::ChecksumError, buffer_offset_ + pos, counters_.frames, type,
                                   "CRC-24Q mismatch over a " + std::to_string(length) +
@@ -101,7 +92,7 @@ void Rtcm3Framer::scan(const FrameHandler& on_frame) {
       skipByte();  // resynchronise from the byte after the false preamble
       continue;
     }
-    flushGarbage();
+    skipped_.flush(counters_);
     Rtcm3Frame out;
     out.payload.assign(frame + kHeaderBytes, frame + kHeaderBytes + length);
     out.message_type = length >= 2 ? static_cast<int>((out.payload[0] << 4) | (out.payload[1] >> 4)) : 0;
@@ -118,19 +109,18 @@ void Rtcm3Framer::scan(const FrameHandler& on_frame) {
 
 void Rtcm3Framer::finish() {
   if (!buffer_.empty()) {
-    flushGarbage();
+    skipped_.flush(counters_);
     if (buffer_[0] == kPreamble) {
       counters_.add(StreamProblem{StreamProblemKind::TruncatedFrame, buffer_offset_, counters_.frames, 0,
                                   "the stream ended " + std::to_string(buffer_.size()) +
                                       " byte(s) into a frame"});
     } else {
-      garbage_start_ = buffer_offset_;
-      garbage_run_ = buffer_.size();
+      for (std::size_t i = 0; i < buffer_.size(); ++i) skipped_.skip(buffer_offset_ + i, buffer_[i]);
     }
     buffer_offset_ += buffer_.size();
     buffer_.clear();
   }
-  flushGarbage();
+  skipped_.flush(counters_);
 }
 
 }  // namespace ppp

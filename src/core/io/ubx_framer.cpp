@@ -49,20 +49,6 @@ std::vector<std::uint8_t> encodeUbxFrame(std::uint8_t message_class, std::uint8_
   return frame;
 }
 
-void UbxFramer::flushGarbage() {
-  if (garbage_run_ == 0) return;
-  if (garbage_is_nmea_) {
-    // NMEA sentences the receiver interleaves: another protocol, not damage.
-    counters_.nmea_bytes += garbage_run_;
-    garbage_run_ = 0;
-    return;
-  }
-  counters_.garbage_bytes += garbage_run_;
-  counters_.add(StreamProblem{StreamProblemKind::Garbage, garbage_start_, counters_.frames, 0,
-                              std::to_string(garbage_run_) + " byte(s) outside any UBX frame skipped"});
-  garbage_run_ = 0;
-}
-
 void UbxFramer::feed(const std::uint8_t* data, std::size_t size, const FrameHandler& on_frame) {
   counters_.bytes += size;
   buffer_.insert(buffer_.end(), data, data + size);
@@ -72,14 +58,7 @@ void UbxFramer::feed(const std::uint8_t* data, std::size_t size, const FrameHand
 void UbxFramer::scan(const FrameHandler& on_frame) {
   std::size_t pos = 0;
   auto skipByte = [&]() {
-    const std::uint8_t byte = buffer_[pos];
-    if (garbage_run_ == 0) {
-      garbage_start_ = buffer_offset_ + pos;
-      garbage_is_nmea_ = byte == '$';
-    } else {
-      garbage_is_nmea_ = garbage_is_nmea_ && ((byte >= 0x20 && byte < 0x7F) || byte == '\r' || byte == '\n');
-    }
-    ++garbage_run_;
+    skipped_.skip(buffer_offset_ + pos, buffer_[pos]);
     ++pos;
   };
   while (pos < buffer_.size()) {
@@ -97,7 +76,7 @@ void UbxFramer::scan(const FrameHandler& on_frame) {
     const int type = (static_cast<int>(frame[2]) << 8) | frame[3];
     const std::size_t length = static_cast<std::size_t>(frame[4]) | (static_cast<std::size_t>(frame[5]) << 8);
     if (length > kMaxPayloadBytes) {
-      flushGarbage();
+      skipped_.flush(counters_);
       counters_.add(StreamProblem{StreamProblemKind::BadLength, buffer_offset_ + pos, counters_.frames, type,
                                   "UBX " + hexType(type) + " length " + std::to_string(length) + " above " +
                                       std::to_string(kMaxPayloadBytes) + " bytes; searching for the next sync"});
@@ -108,14 +87,14 @@ void UbxFramer::scan(const FrameHandler& on_frame) {
     if (buffer_.size() - pos < frame_bytes) break;  // wait for the rest
     const UbxChecksum ck = ubxChecksum(frame + 2, kHeaderBytes - 2 + length);
     if (ck.a != frame[kHeaderBytes + length] || ck.b != frame[kHeaderBytes + length + 1]) {
-      flushGarbage();
+      skipped_.flush(counters_);
       counters_.add(StreamProblem{StreamProblemKind::ChecksumError, buffer_offset_ + pos, counters_.frames, type,
                                   "UBX " + hexType(type) + " Fletcher checksum mismatch over a " +
                                       std::to_string(length) + "-byte payload; searching for the next sync"});
       skipByte();
       continue;
     }
-    flushGarbage();
+    skipped_.flush(counters_);
     UbxFrame out;
     out.message_class = frame[2];
     out.message_id = frame[3];
@@ -133,20 +112,19 @@ void UbxFramer::scan(const FrameHandler& on_frame) {
 
 void UbxFramer::finish() {
   if (!buffer_.empty()) {
-    flushGarbage();
+    skipped_.flush(counters_);
     const bool frame_start = buffer_[0] == kSync1 && (buffer_.size() < 2 || buffer_[1] == kSync2);
     if (frame_start) {
       counters_.add(StreamProblem{StreamProblemKind::TruncatedFrame, buffer_offset_, counters_.frames,
                                   buffer_.size() >= 4 ? ((static_cast<int>(buffer_[2]) << 8) | buffer_[3]) : 0,
                                   "the stream ended " + std::to_string(buffer_.size()) + " byte(s) into a UBX frame"});
     } else {
-      garbage_start_ = buffer_offset_;
-      garbage_run_ = buffer_.size();
+      for (std::size_t i = 0; i < buffer_.size(); ++i) skipped_.skip(buffer_offset_ + i, buffer_[i]);
     }
     buffer_offset_ += buffer_.size();
     buffer_.clear();
   }
-  flushGarbage();
+  skipped_.flush(counters_);
 }
 
 }  // namespace ppp

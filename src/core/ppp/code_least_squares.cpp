@@ -6,19 +6,14 @@
 #include <set>
 #include <sstream>
 
+#include "ppp_bayes_tree/types/number_text.h"
+
 namespace ppp {
 namespace {
 
 bool finiteCode(const SatelliteMeasurement& m) {
   return std::isfinite(m.observed_code_m) && std::isfinite(m.predicted_code_m) && m.jacobian.allFinite() &&
          std::isfinite(m.code_sigma_m) && m.code_sigma_m > 0.0;
-}
-
-std::string fmt(double v, int precision = 3) {
-  std::ostringstream os;
-  os.precision(precision);
-  os << std::fixed << v;
-  return os.str();
 }
 
 }  // namespace
@@ -109,8 +104,8 @@ CodeLeastSquaresResult codeLeastSquares(const MeasurementFunction& evaluate, con
     if (std::abs(r(worst)) > options.outlier_threshold_m && n > needed) {
       outliers.insert(rows[worst]->satellite);
       outlier_reasons.push_back({rows[worst]->satellite, RejectionReason::CodeLeastSquaresOutlier,
-                                 "code least-squares residual " + fmt(r(worst)) + " m > " +
-                                     fmt(options.outlier_threshold_m) + " m"});
+                                 "code least-squares residual " + fixedDecimals(r(worst)) + " m > " +
+                                     fixedDecimals(options.outlier_threshold_m) + " m"});
       iteration = -1;  // restart the iteration count with the outlier removed
       continue;
     }

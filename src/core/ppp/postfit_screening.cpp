@@ -3,15 +3,10 @@
 #include <cmath>
 #include <sstream>
 
+#include "ppp_bayes_tree/types/number_text.h"
+
 namespace ppp {
 namespace {
-
-std::string fmt(double v, int precision = 3) {
-  std::ostringstream os;
-  os.precision(precision);
-  os << std::fixed << v;
-  return os.str();
-}
 
 /// Upper standard-normal quantile z with P(Z > z) = alpha, by bisection on erfc
 /// (exact to double rounding; alpha in (0, 0.5]).
@@ -45,8 +40,8 @@ std::optional<PostfitOutlier> worstPostfitResidual(const std::vector<PostfitResi
 
 RejectedSatellite postfitRejection(const SatelliteId& satellite, const PostfitOutlier& o, double sigmas) {
   return {satellite, o.code ? RejectionReason::PostfitCode : RejectionReason::PostfitPhase,
-          std::string("postfit ") + (o.code ? "code" : "phase") + " residual " + fmt(o.residual_m) + " m = " +
-              fmt(o.normalised, 1) + " sigma > " + fmt(sigmas, 1) + " sigma"};
+          std::string("postfit ") + (o.code ? "code" : "phase") + " residual " + fixedDecimals(o.residual_m) + " m = " +
+              fixedDecimals(o.normalised, 1) + " sigma > " + fixedDecimals(sigmas, 1) + " sigma"};
 }
 
 double chiSquareUpperQuantile(int dof, double alpha) {
@@ -60,7 +55,7 @@ double chiSquareUpperQuantile(int dof, double alpha) {
 
 std::string ConsistencyTest::describe(double alpha) const {
   std::ostringstream os;
-  os << "postfit chi-square " << fmt(statistic, 1) << (consistent() ? " <= " : " > ") << fmt(threshold, 1) << " ("
+  os << "postfit chi-square " << fixedDecimals(statistic, 1) << (consistent() ? " <= " : " > ") << fixedDecimals(threshold, 1) << " ("
      << dof << " measurements; false alarm " << alpha << ")";
   return os.str();
 }

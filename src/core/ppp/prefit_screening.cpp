@@ -6,15 +6,10 @@
 #include <set>
 #include <sstream>
 
+#include "ppp_bayes_tree/types/number_text.h"
+
 namespace ppp {
 namespace {
-
-std::string fmt(double v, int precision = 3) {
-  std::ostringstream os;
-  os.precision(precision);
-  os << std::fixed << v;
-  return os.str();
-}
 
 double median(std::vector<double> v) {
   const std::size_t mid = v.size() / 2;
@@ -32,9 +27,9 @@ std::string measurementProblem(const SatelliteMeasurement& m) {
   if (!std::isfinite(m.predicted_code_m)) return "non-finite predicted code";
   if (!std::isfinite(m.predicted_phase_m)) return "non-finite predicted phase";
   if (!m.jacobian.allFinite()) return "non-finite Jacobian";
-  if (!std::isfinite(m.code_sigma_m) || m.code_sigma_m <= 0.0) return "invalid code sigma " + fmt(m.code_sigma_m);
+  if (!std::isfinite(m.code_sigma_m) || m.code_sigma_m <= 0.0) return "invalid code sigma " + fixedDecimals(m.code_sigma_m);
   if (!std::isfinite(m.phase_sigma_m) || m.phase_sigma_m <= 0.0)
-    return "invalid phase sigma " + fmt(m.phase_sigma_m);
+    return "invalid phase sigma " + fixedDecimals(m.phase_sigma_m);
   return {};
 }
 
@@ -144,8 +139,8 @@ std::vector<CodeOutlier> screenCodeOutliers(const std::vector<SatelliteMeasureme
 }
 
 std::string codeOutlierReason(const CodeOutlier& outlier, double threshold_m) {
-  return "prefit code residual " + fmt(outlier.residual_m) + " m (against a fit to the others) > " +
-         fmt(threshold_m) + " m";
+  return "prefit code residual " + fixedDecimals(outlier.residual_m) + " m (against a fit to the others) > " +
+         fixedDecimals(threshold_m) + " m";
 }
 
 std::optional<std::string> phaseInnovationRejection(const SatelliteMeasurement& m, double bias_m,
@@ -154,8 +149,8 @@ std::optional<std::string> phaseInnovationRejection(const SatelliteMeasurement& 
   const double sigma =
       std::sqrt(bias_variance_m2 + m.code_sigma_m * m.code_sigma_m + m.phase_sigma_m * m.phase_sigma_m);
   if (std::abs(innovation) > sigmas * sigma)
-    return "prefit phase-minus-code innovation " + fmt(innovation) + " m > " + fmt(sigmas, 1) + " sigma (" +
-           fmt(sigma) + " m)";
+    return "prefit phase-minus-code innovation " + fixedDecimals(innovation) + " m > " + fixedDecimals(sigmas, 1) + " sigma (" +
+           fixedDecimals(sigma) + " m)";
   return std::nullopt;
 }
 
