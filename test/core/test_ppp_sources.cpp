@@ -25,29 +25,12 @@
 #include "ppp_bayes_tree/ppp/signal_selection.h"
 #include "ppp_dataset.h"
 #include "test_support.h"
+#include "window_observation_source.h"
 
 namespace ppp {
 namespace {
 
-/// ObservationSource: the epochs of another source up to a time (a window of a day).
-class WindowObservationSource : public ObservationSource {
- public:
-  WindowObservationSource(std::unique_ptr<ObservationSource> inner, GnssTime until)
-      : inner_(std::move(inner)), until_(until) {}
-  const RinexObsHeader& header() const override { return inner_->header(); }
-  ObservationRead next(ObsEpoch& epoch) override {
-    const ObservationRead r = inner_->next(epoch);
-    if (r == ObservationRead::Epoch && until_ < epoch.time) return ObservationRead::End;
-    return r;
-  }
-  std::optional<ObservationProblem> error() const override { return inner_->error(); }
-  double progress() const override { return inner_->progress(); }
-  std::string name() const override { return inner_->name(); }
-
- private:
-  std::unique_ptr<ObservationSource> inner_;
-  GnssTime until_;
-};
+using test::WindowObservationSource;
 
 /// AntennaCalibrationProvider: satellites from ANTEX files, the receiver from a
 /// calibration held by the caller (e.g. a user's own patch-antenna table).

@@ -21,34 +21,18 @@
 #include "ppp_bayes_tree/ppp/ppp_pipeline.h"
 #include "ppp_bayes_tree/ppp/product_set.h"
 #include "test_support.h"
+#include "window_observation_source.h"
 
 namespace ppp {
 namespace {
 
 std::string esbc(const std::string& file) { return test::dataPath("esbc-2020-177/" + file); }
 
-/// The epochs of another source up to a time.
-class Window : public ObservationSource {
- public:
-  Window(std::unique_ptr<ObservationSource> inner, GnssTime until) : inner_(std::move(inner)), until_(until) {}
-  const RinexObsHeader& header() const override { return inner_->header(); }
-  ObservationRead next(ObsEpoch& epoch) override {
-    const ObservationRead r = inner_->next(epoch);
-    if (r == ObservationRead::Epoch && until_ < epoch.time) return ObservationRead::End;
-    return r;
-  }
-  std::optional<ObservationProblem> error() const override { return inner_->error(); }
-  double progress() const override { return inner_->progress(); }
-  std::string name() const override { return inner_->name(); }
-
- private:
-  std::unique_ptr<ObservationSource> inner_;
-  GnssTime until_;
-};
+using test::WindowObservationSource;
 
 std::map<GnssTime, Eigen::Vector3d> runEkf(PppProducts products, const PppConfig& config, const GnssTime& until,
                                            PppRunSummary* summary = nullptr) {
-  PppPipeline pipeline(std::make_unique<Window>(
+  PppPipeline pipeline(std::make_unique<WindowObservationSource>(
                            std::make_unique<RinexObservationSource>(esbc("ESBC00DNK_R_20201770000_01D_30S_MO.crx.gz")), until),
                        std::move(products), config);
   std::string why;
