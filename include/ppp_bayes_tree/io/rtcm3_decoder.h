@@ -127,6 +127,9 @@ class Rtcm3Decoder {
   explicit Rtcm3Decoder(Rtcm3DecoderOptions options = {});
 
   void setForeignFrameHandler(ForeignFrameHandler handler) { foreign_ = std::move(handler); }
+  /// Called after each frame fed has been decoded, and at the end of finish()
+  /// (callers that stamp results with the stream time, io/gnss_stream_decoder.h).
+  void setFrameDecodedHandler(std::function<void()> handler) { after_frame_ = std::move(handler); }
 
   /// Feeds bytes (any chunking); decoded results accumulate in output().
   void feed(const std::uint8_t* data, std::size_t size);
@@ -172,6 +175,7 @@ class Rtcm3Decoder {
   Rtcm3DecoderOptions options_;
   Rtcm3Framer framer_;
   ForeignFrameHandler foreign_;
+  std::function<void()> after_frame_;
   Rtcm3Output output_;
   RtcmStationInfo station_;
   GlonassChannels channels_;            // from the stream (MSM5/7 or 1020)

@@ -147,7 +147,10 @@ Rtcm3Decoder::Rtcm3Decoder(Rtcm3DecoderOptions options) : options_(std::move(opt
 }
 
 void Rtcm3Decoder::feed(const std::uint8_t* data, std::size_t size) {
-  framer_.feed(data, size, [this](const Rtcm3Frame& frame) { decodeFrame(frame); });
+  framer_.feed(data, size, [this](const Rtcm3Frame& frame) {
+    decodeFrame(frame);
+    if (after_frame_) after_frame_();
+  });
 }
 
 void Rtcm3Decoder::finish() {
@@ -158,6 +161,7 @@ void Rtcm3Decoder::finish() {
   for (const auto& g : deferred) decodeMsm(g, GnssSystem::GLONASS, msmTypeInfo(g.message_type)->second);
   finishing_ = false;
   flushPendingEpoch();
+  if (after_frame_) after_frame_();
 }
 
 void Rtcm3Decoder::problem(StreamProblemKind kind, const Rtcm3Frame& frame, std::string detail) {

@@ -1,0 +1,222 @@
+#pragma once
+// LiveGnssInput: the live input engine of the PPP nodes. Raw receiver and
+// correction streams go in as byte chunks (StreamChunk: a serial read, an NTRIP
+// read, an rtcm_msgs/Message, a ublox_msgs message re-framed as UBX); out come
+// observation epochs ready for PppEpochProcessor, and ONE EphemerisSource
+// (broadcast records corrected by SSR) that is updated as navigation records
+// and SSR messages arrive.
+//
+// Architecture (issue 14, "keep one decoding point"): the PPP nodes decode
+// directly, each through this one class, instead of a bridge node publishing
+// our messages. Reason: the node's solution must equal ppp_solve on the same
+// recording to 1 mm, so the nodes must evaluate broadcast+SSR orbits and clocks
+// with the same code as ppp_solve (models/broadcast_ssr_ephemeris.h, the same
+// record choice, the same SSR correction in force). A bridge publishing
+// PreciseCorrections batches would make the nodes interpolate satellite states
+// across SSR clock steps. Decoding costs < 0.1 % of a core (ppp_bench_streams:
+// 4555x real time), so the EKF and smoother nodes side by side can each decode.
+// Transport-only nodes (serial, NTRIP, driver topics) move bytes.
+//
+// Streams. Each stream name gets its own decoder (io/gnss_stream_decoder.h):
+// RTCM 3 (MSM observations, 1019/1020/1045/1046 ephemerides, 1005/1006/1033
+// station, SSR) or UBX (RXM-RAWX, RXM-SFRBX). The observation stream is the
+// first one that yields observation epochs; epochs of any other stream are
+// counted (ignored_epochs), not merged. Navigation records and SSR messages are
+// taken from every stream.
+//
+// Record choice (the same in live and in batch, see BroadcastEphemerisStore /
+// BroadcastSsrEphemeris): a record decoded from a stream carries its reception
+// time, the stream's time (latest decoded observation time) when it was decoded,
+// and serves only instants after that; preloaded RINEX navigation records serve
+// always. With SSR the record is the one with the correction's IOD.
+//
+// Epoch readiness. An observation epoch at T is released:
+//   - PreciseSsr: when an SSR message with epoch >= T has been decoded (the
+//     corrections in force at T are then all known: SSR streams are in time
+//     order) and SSR orbit+clock are in force at T for at least
+//     min_ssr_satellites of the epoch's satellites;
+//   - else after `correction_wait_s`: measured on the observation stream's own
+//     time (a later epoch decoded more than correction_wait_s after T) or, with
+//     arrival times, on the clock given to takeReadyEpochs (now_s minus the
+//     epoch's arrival). Then its mode is PreciseSsr if SSR orbit+clock are in
+//     force at T for min_ssr_satellites of its satellites, else BroadcastOnly
+//     (with broadcast_fallback; without it the epoch goes out as PreciseSsr
+//     and satellites without corrections are rejected by the model);
+//   - at once when no SSR has ever been received and none is expected
+//     (expect_corrections false): BroadcastOnly.
+// The ephemeris answers in the mode of the epoch being processed: the mode is
+// kept per released epoch from T - kMaxSignalTravel_s on (signals travel 64 to
+// 100 ms from MEO satellites, so every query for epoch T falls after that and
+// every query for the epoch before before it, down to 20 Hz).
+// BroadcastOnly answers are broadcast records (BroadcastEphemerisStore) with the
+// orbit and clock sigmas widened to broadcast_orbit_sigma_m /
+// broadcast_clock_sigma_m (larger of those and the record's URA/SISA); the
+// measurement model adds them to the measurement variances when
+// MeasurementModelOptions::ephemeris_sigmas is on (ppp_measurement_model.h).
+// In pure broadcast operation (no correction stream) the answers are exactly
+// BroadcastEphemerisStore's, as ppp_solve --nav gives them.
+//
+// A satellite without an ephemeris at its epoch is counted (satellites_waiting
+// in the status); the model rejects it (the record choice is causal: a record
+// received later would not serve the epoch anyway).
+//
+// Bad bytes never throw: CRC errors, truncation, garbage, unknown messages are
+// counted per stream (LiveStreamStatus::problems). An observation epoch at or
+// before the previous one of its stream is counted (time_backwards) and
+// dropped; a jump back by more than restart_jump_s is a receiver restart: the
+// held epochs are dropped and the jump counted (restarts), the next epochs go
+// out (PppEpochProcessor then refuses the first backwards ones; the node
+// resets as on a bag loop).
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "ppp_bayes_tree/io/obs_epoch.h"
+#include "ppp_bayes_tree/io/rinex_obs_header.h"
+#include "ppp_bayes_tree/io/stream_chunk.h"
+#include "ppp_bayes_tree/io/stream_format.h"
+#include "ppp_bayes_tree/io/stream_problem.h"
+#include "ppp_bayes_tree/models/bias_provider.h"
+#include "ppp_bayes_tree/models/broadcast_ssr_ephemeris.h"
+#include "ppp_bayes_tree/models/ephemeris_source.h"
+#include "ppp_bayes_tree/models/ssr_correction_store.h"
+#include "ppp_bayes_tree/types/glonass_channels.h"
+#include "ppp_bayes_tree/types/gnss_time.h"
+
+namespace ppp {
+
+struct LiveInputOptions {
+  /// Approximate time of the data (within half a week) for MSM and SSR times
+  /// without a week (as ppp_solve --ref-date). nullopt: from the streams
+  /// (Galileo/BeiDou ephemerides, UBX week) or the first preloaded navigation file.
+  std::optional<GnssTime> reference_time;
+  /// SSR evaluation: high-rate clocks (default on), unhealthy records (default off).
+  /// Its `reference` is replaced by `ssr_reference` below.
+  BroadcastSsrOptions ssr;
+  /// The point the SSR orbits refer to. nullopt (default): from the name of the
+  /// first stream that carries SSR ("SSRA..." antenna phase centre, "SSRC..."
+  /// centre of mass), else centre of mass (as ppp_solve --ssr).
+  std::optional<EphemerisReference> ssr_reference;
+  /// Age limits of SSR corrections [s] (defaults: orbit 90, clock 90, high-rate 10, bias 3600).
+  SsrAgeLimits ssr_age_limits;
+  /// How long an observation epoch waits for the corrections covering it [s]
+  /// (default 10 s: IGS SSR latency is 2-6 s).
+  double correction_wait_s = 10.0;
+  /// Hold epochs for corrections even before any SSR message arrived (default
+  /// true: a correction stream is configured). false: without SSR, epochs go
+  /// out at once as BroadcastOnly.
+  bool expect_corrections = true;
+  /// Corrections missing or too old at an epoch: process it with broadcast
+  /// orbits and clocks (default true). false: the epoch goes out as PreciseSsr
+  /// and satellites without corrections are rejected.
+  bool broadcast_fallback = true;
+  /// Orbit / clock sigma reported for broadcast answers in fallback [m] (default
+  /// 2.0 and 2.0: GPS URA and broadcast clock errors are metre level); the
+  /// record's URA/SISA when larger.
+  double broadcast_orbit_sigma_m = 2.0;
+  double broadcast_clock_sigma_m = 2.0;
+  /// PreciseSsr needs SSR orbit+clock in force for at least this many of the
+  /// epoch's satellites (default 4).
+  int min_ssr_satellites = 4;
+  /// Observation stream stalled: no new epoch for this long on the arrival
+  /// clock [s] -> Warn (default 2 s), Error (default 10 s).
+  double stall_warn_s = 2.0;
+  double stall_error_s = 10.0;
+  /// An observation time this far [s] before the previous one is a receiver
+  /// restart (default 60 s); smaller steps back are counted and dropped.
+  double restart_jump_s = 60.0;
+  /// At most this many epochs are held waiting (default 600); the oldest go
+  /// out (as if their wait had passed) when more arrive.
+  std::size_t max_held_epochs = 600;
+  /// SSR corrections and broadcast records older than this before the newest
+  /// released epoch are dropped (bounded memory) [s] (default 6 h).
+  double keep_history_s = 6.0 * 3600.0;
+  /// RINEX navigation files loaded before any stream (records serve from the start).
+  std::vector<std::string> navigation_files;
+  /// GLONASS channels known beforehand (used when the stream gives none).
+  GlonassChannels glonass_channels;
+};
+
+enum class LiveProductMode { PreciseSsr, BroadcastOnly };
+std::string_view liveProductModeName(LiveProductMode mode);  // "precise SSR", "broadcast only"
+
+/// Observation stream health from arrival times (Ok without arrival times).
+enum class StreamStall { Ok, Warn, Error };
+std::string_view streamStallName(StreamStall stall);
+
+struct LiveReadyEpoch {
+  ObsEpoch epoch;  // laid out by header() as it is when takeReadyEpochs returns
+  LiveProductMode mode = LiveProductMode::PreciseSsr;
+};
+
+struct LiveStreamStatus {
+  std::string stream;
+  StreamFormat format = StreamFormat::Rtcm3;
+  std::uint64_t bytes = 0;
+  std::map<int, std::uint64_t> frames_by_type;  // RTCM type / UBX class<<8|id
+  StreamCounters problems;                      // framing + decoding (+ SSR) problems
+  std::uint64_t observation_epochs = 0;         // decoded
+  std::uint64_t ignored_epochs = 0;             // from a stream that is not the observation stream
+  std::uint64_t time_backwards = 0;             // observation epochs not after the previous one (dropped)
+  std::uint64_t restarts = 0;                   // observation time jumps back > restart_jump_s
+  std::size_t ephemerides = 0;                  // navigation records decoded
+  std::uint64_t ssr_messages = 0;
+  std::optional<GnssTime> last_data_time;       // newest observation or SSR epoch decoded
+  /// Newest observation time minus this stream's newest SSR epoch [s] (SSR streams).
+  std::optional<double> ssr_age_s;
+  std::optional<double> last_arrival_s;
+  /// Arrival minus the data's own time (GPST converted to UTC, unix seconds) of
+  /// the last chunk that completed an epoch or SSR message [s].
+  std::optional<double> latency_s;
+  StreamStall stall = StreamStall::Ok;          // observation stream only
+};
+
+class LiveGnssInput {
+ public:
+  /// Throws FileOpenError / ParseError when a navigation file cannot be read.
+  explicit LiveGnssInput(LiveInputOptions options = {});
+  ~LiveGnssInput();
+  LiveGnssInput(const LiveGnssInput&) = delete;
+  LiveGnssInput& operator=(const LiveGnssInput&) = delete;
+
+  /// Feeds bytes of one stream; never throws on bad bytes: counted per stream.
+  void feed(const StreamChunk& chunk);
+  /// The epochs ready now, in time order. `now_s`: the arrival clock (same
+  /// clock as StreamChunk::arrival_time_s) for the wait limit and the stall state.
+  std::vector<LiveReadyEpoch> takeReadyEpochs(std::optional<double> now_s = std::nullopt);
+  /// End of data: every held epoch, with its mode as the corrections known allow.
+  std::vector<LiveReadyEpoch> finish();
+
+  /// Stable for the object's life; updated as records and corrections arrive.
+  const EphemerisSource& ephemeris() const;
+  /// SSR code/phase biases, nullptr while no SSR bias has arrived (then stable).
+  const BiasProvider* biases() const;
+  /// Types seen so far, station/antenna (1005/1006/1033), GLONASS channels.
+  const RinexObsHeader& header() const;
+  /// True once after the observation types (or the station) changed.
+  bool takeHeaderChanged();
+  std::vector<LiveStreamStatus> streams() const;
+  /// The mode of the last released epoch (PreciseSsr before any).
+  LiveProductMode mode() const;
+
+  /// Epochs released per mode, satellites of released epochs without any
+  /// ephemeris at their epoch (counted), epochs dropped (time backwards, restart).
+  std::uint64_t releasedEpochs(LiveProductMode mode) const;
+  std::uint64_t satellitesWithoutEphemeris() const;
+  /// Navigation records and SSR corrections held (bounded by keep_history_s).
+  std::size_t navigationRecords() const;
+  const SsrCorrectionStore& corrections() const;
+
+  /// Queries for epoch T are at emission times > T - kMaxSignalTravel_s.
+  static constexpr double kMaxSignalTravel_s = 0.11;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace ppp
