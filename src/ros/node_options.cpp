@@ -1,8 +1,28 @@
 #include "ppp_bayes_tree/ros/node_options.h"
 
 #include "ppp_bayes_tree/ppp/yaml_section.h"
+#include "ppp_bayes_tree/ros/gnss_stream_subscriber.h"
 
 namespace ppp_ros {
+namespace {
+
+std::vector<LiveStreamTopic> liveTopics(ppp::YamlSection& s, const std::string& key) {
+  std::vector<LiveStreamTopic> topics;
+  for (const std::string& entry : s.textList(key, {}, true)) {
+    LiveStreamTopic t;
+    const std::size_t colon = entry.rfind(':');
+    t.topic = entry.substr(0, colon);
+    if (colon != std::string::npos) {
+      t.format = parseStreamFormatHint(entry.substr(colon + 1));
+      if (!t.format) s.fail(key, "\"" + entry + "\": the format after ':' must be rtcm3 or ubx");
+    }
+    if (t.topic.empty()) s.fail(key, "\"" + entry + "\": empty topic name");
+    topics.push_back(t);
+  }
+  return topics;
+}
+
+}  // namespace
 
 RosNodeOptions bindRosNodeOptions(const YAML::Node& ros, const std::string& source_name) {
   RosNodeOptions o;
@@ -100,6 +120,46 @@ RosNodeOptions bindRosNodeOptions(const YAML::Node& ros, const std::string& sour
       sm.fail("odometry_delay_s", "must be in [0, 3600] s (the marginal's cost grows with the delay)");
     o.smoothed_trajectory_csv = sm.text("trajectory_csv", o.smoothed_trajectory_csv);
     sm.finish();
+  }
+  {
+    ppp::YamlSection l = s.section("live");
+    o.live_observation_topics = liveTopics(l, "observations");
+    o.live_correction_topics = liveTopics(l, "corrections");
+    if (o.live_observation_topics.empty() && !o.live_correction_topics.empty())
+      l.fail("corrections", "correction stream topics need an observation stream topic (ros.live.observations)");
+    o.live_queue_size = static_cast<std::size_t>(l.integer("queue_size", 1000, 1));
+    ppp::LiveInputOptions& in = o.live_input;
+    in.navigation_files = l.textList("navigation_files", {}, true);
+    const std::string date = l.text("reference_date", "");
+    if (!date.empty() && !(in.reference_time = ppp::parseReferenceDate(date)))
+      l.fail("reference_date", "\"" + date + "\" is not YYYY/MM/DD or YYYY/MM/DD HH:MM:SS (GPST)");
+    const std::string reference = l.choice("ssr_reference", "auto", {"auto", "apc", "com"});
+    if (reference == "apc") in.ssr_reference = ppp::EphemerisReference::AntennaPhaseCentre;
+    if (reference == "com") in.ssr_reference = ppp::EphemerisReference::CentreOfMass;
+    in.ssr.use_high_rate_clock = l.boolean("ssr_high_rate_clock", in.ssr.use_high_rate_clock);
+    in.ssr.allow_unhealthy = l.boolean("ssr_allow_unhealthy", in.ssr.allow_unhealthy);
+    in.ssr_age_limits.orbit_max_age_s =
+        l.number("ssr_orbit_max_age_s", in.ssr_age_limits.orbit_max_age_s, ppp::Bound::Positive);
+    in.ssr_age_limits.clock_max_age_s =
+        l.number("ssr_clock_max_age_s", in.ssr_age_limits.clock_max_age_s, ppp::Bound::Positive);
+    in.ssr_age_limits.high_rate_clock_max_age_s =
+        l.number("ssr_high_rate_clock_max_age_s", in.ssr_age_limits.high_rate_clock_max_age_s, ppp::Bound::Positive);
+    in.ssr_age_limits.bias_max_age_s =
+        l.number("ssr_bias_max_age_s", in.ssr_age_limits.bias_max_age_s, ppp::Bound::Positive);
+    in.correction_wait_s = l.number("correction_wait_s", in.correction_wait_s, ppp::Bound::NonNegative);
+    in.expect_corrections = l.boolean("expect_corrections", !o.live_correction_topics.empty());
+    in.broadcast_fallback = l.boolean("broadcast_fallback", in.broadcast_fallback);
+    in.broadcast_orbit_sigma_m = l.number("broadcast_orbit_sigma_m", in.broadcast_orbit_sigma_m, ppp::Bound::Positive);
+    in.broadcast_clock_sigma_m = l.number("broadcast_clock_sigma_m", in.broadcast_clock_sigma_m, ppp::Bound::Positive);
+    in.min_ssr_satellites = l.integer("min_ssr_satellites", in.min_ssr_satellites, 1);
+    in.stall_warn_s = l.number("stall_warn_s", in.stall_warn_s, ppp::Bound::Positive);
+    in.stall_error_s = l.number("stall_error_s", in.stall_error_s, ppp::Bound::Positive);
+    if (in.stall_error_s <= in.stall_warn_s)
+      l.fail("stall_error_s", "must exceed stall_warn_s (" + std::to_string(in.stall_warn_s) + " s)");
+    in.restart_jump_s = l.number("restart_jump_s", in.restart_jump_s, ppp::Bound::Positive);
+    in.max_held_epochs = static_cast<std::size_t>(l.integer("max_held_epochs", static_cast<int>(in.max_held_epochs), 1));
+    in.keep_history_s = l.number("keep_history_s", in.keep_history_s, ppp::Bound::Positive);
+    l.finish();
   }
   s.finish();
   return o;

@@ -140,10 +140,14 @@ PppNode::PppNode(ros::NodeHandle nh, ros::NodeHandle pnh, const std::string& est
 
   // Queues as configured (observations: at least what the correction wait buffers);
   // whatever is lost before the node anyway is counted from header.seq.
-  obs_sub_ = nh_.subscribe(o.observations_topic, static_cast<std::uint32_t>(o.observation_queue_size),
-                           &PppNode::onObservations, this);
-  corr_sub_ = nh_.subscribe(o.corrections_topic, static_cast<std::uint32_t>(o.correction_queue_size),
-                            &PppNode::onCorrections, this);
+  if (o.live()) {
+    startLiveInput();
+  } else {
+    obs_sub_ = nh_.subscribe(o.observations_topic, static_cast<std::uint32_t>(o.observation_queue_size),
+                             &PppNode::onObservations, this);
+    corr_sub_ = nh_.subscribe(o.corrections_topic, static_cast<std::uint32_t>(o.correction_queue_size),
+                              &PppNode::onCorrections, this);
+  }
   odom_pub_ = nh_.advertise<nav_msgs::Odometry>("ppp/odometry/filtered", 100);
   fix_pub_ = nh_.advertise<sensor_msgs::NavSatFix>("ppp/fix", 100);
   status_pub_ = nh_.advertise<ppp_bayes_tree::PppStatus>("ppp/status", 100);
@@ -165,12 +169,17 @@ PppNode::PppNode(ros::NodeHandle nh, ros::NodeHandle pnh, const std::string& est
 
   diagnostics_.setHardwareID("ppp_" + estimator);
   diagnostics_.add("inputs", this, &PppNode::diagnoseInputs);
-  diagnostics_.add("corrections", this, &PppNode::diagnoseCorrections);
+  if (live_) diagnostics_.add("live streams", this, &PppNode::diagnoseLive);
+  else diagnostics_.add("corrections", this, &PppNode::diagnoseCorrections);
   diagnostics_.add("solution", this, &PppNode::diagnoseSolution);
   last_diag_time_ = ros::WallTime::now();
+  std::string inputs = nh_.resolveName(o.observations_topic) + " and " + nh_.resolveName(o.corrections_topic);
+  if (live_) {
+    inputs = "the live streams";
+    for (const auto& sub : stream_subs_) inputs += " " + sub->topic();
+  }
   ROS_INFO_STREAM("ppp_" << estimator << "_node: config from " << config_.ppp.source_name << ", " << products_.antexFiles()
-                         << " ANTEX file(s), bias " << (o.bias.empty() ? "none" : o.bias) << ", waiting for "
-                         << nh_.resolveName(o.observations_topic) << " and " << nh_.resolveName(o.corrections_topic)
+                         << " ANTEX file(s), bias " << (o.bias.empty() ? "none" : o.bias) << ", waiting for " << inputs
                          << (o.attitude_topic.empty() ? std::string(", no attitude source")
                                                       : ", attitude from " + nh_.resolveName(o.attitude_topic)));
 }
@@ -522,16 +531,85 @@ void PppNode::publishSmoothedOdometry(const ppp::GnssTime& newest) {
 }
 
 void PppNode::drain() {
-  const ros::Time now = ros::Time::now();
-  while (auto ready = gate_.pop(now.toSec(), corrections_, last_received_)) processEpoch(ready->payload);
+  if (live_) {
+    drainLive();
+  } else {
+    const ros::Time now = ros::Time::now();
+    while (auto ready = gate_.pop(now.toSec(), corrections_, last_received_)) processEpoch(ready->payload);
+  }
   diagnostics_.update();
+}
+
+void PppNode::startLiveInput() {
+  const RosNodeOptions& o = config_.ros;
+  live_ = std::make_unique<ppp::LiveGnssInput>(o.live_input);  // throws on an unreadable navigation file
+  auto subscribe = [&](const LiveStreamTopic& t, const std::string& stream) {
+    stream_subs_.push_back(std::make_unique<GnssStreamSubscriber>(
+        nh_, t.topic, t.format, static_cast<std::uint32_t>(o.live_queue_size),
+        [this](ppp::StreamChunk&& chunk) { onStreamChunk(std::move(chunk)); }, stream));
+  };
+  // The observation topics are one receiver's (ublox_gps: RXM-RAWX and RXM-SFRBX on two
+  // topics): one stream, so that one decoder sees them all (the SFRBX GPS week comes from
+  // RAWX). Each correction topic is a stream of its own.
+  std::string receiver;
+  for (const auto& t : o.live_observation_topics) receiver += (receiver.empty() ? "" : "+") + nh_.resolveName(t.topic);
+  for (const auto& t : o.live_observation_topics) subscribe(t, receiver);
+  for (const auto& t : o.live_correction_topics) subscribe(t, "");
+}
+
+void PppNode::onStreamChunk(ppp::StreamChunk&& chunk) {
+  live_->feed(chunk);
+  drain();
+}
+
+void PppNode::drainLive() {
+  std::vector<ppp::LiveReadyEpoch> ready = live_->takeReadyEpochs(ros::Time::now().toSec());
+  if (ready.empty()) return;
+  // The epochs are laid out by the header as it is now.
+  if (live_->takeHeaderChanged()) {
+    layout_ = live_->header();
+    layout_changed_ = true;
+  }
+  for (const ppp::LiveReadyEpoch& e : ready) processLiveEpoch(e);
+}
+
+void PppNode::processLiveEpoch(const ppp::LiveReadyEpoch& ready) {
+  const ppp::ObsEpoch& epoch = ready.epoch;
+  ++obs_received_;
+  last_obs_arrival_ = ros::Time::now();
+  // LiveGnssInput drops small steps back; what still goes back is a receiver restart
+  // (a jump beyond ros.live.restart_jump_s): reset as on a bag loop.
+  if (last_output_time_ && epoch.time <= *last_output_time_) {
+    ++live_receiver_restarts_;
+    resetEstimator("receiver restart: observation time went back by " + secondsText(epoch.time - *last_output_time_) +
+                   " (live input)");
+  }
+  last_received_ = epoch.time;
+  const bool broadcast = ready.mode == ppp::LiveProductMode::BroadcastOnly;
+  product_mode_ = broadcast ? ppp_bayes_tree::PppStatus::PRODUCTS_BROADCAST_ONLY
+                            : ppp_bayes_tree::PppStatus::PRODUCTS_PRECISE;
+  product_mode_text_ = std::string(ppp::liveProductModeName(ready.mode));
+  if (broadcast && config_.ros.live_input.expect_corrections)
+    warn("broadcast_only", "ppp: corrections missing or too old at " + epoch.time.toString() +
+                               ": broadcast orbits and clocks only (widened sigmas)");
+  if (epoch.satellites.empty()) {
+    ++counters_.empty_epochs;
+    warn("empty", "ppp: empty epoch " + epoch.time.toString() + " (no satellites): no solution");
+    return;
+  }
+  processObsEpoch(epoch);
 }
 
 void PppNode::startProcessor() {
   const ppp::OceanLoadingLookup ocean = products_.oceanLoading(layout_.marker_name);
   if (!ocean.note.empty() && !ocean.coefficients) warn("blq", "ppp: " + ocean.note);
-  processor_ = std::make_unique<ppp::PppEpochProcessor>(layout_, config_.ppp, corrections_, products_.antennas(),
-                                                         products_.biases(), ocean.coefficients);
+  // Live input: its broadcast + SSR ephemeris, and its SSR biases unless a Bias-SINEX file is given.
+  const ppp::EphemerisSource& ephemeris =
+      live_ ? live_->ephemeris() : static_cast<const ppp::EphemerisSource&>(corrections_);
+  processor_biases_ = products_.biases();
+  if (live_ && !processor_biases_) processor_biases_ = live_->biases();
+  processor_ = std::make_unique<ppp::PppEpochProcessor>(layout_, config_.ppp, ephemeris, products_.antennas(),
+                                                         processor_biases_, ocean.coefficients);
   for (const auto& w : processor_->receiverAntennaWarnings()) warn("antenna:" + w, "ppp: " + w);
   if (layout_.approx_position_ecef_m) estimator_->setApproximatePosition(*layout_.approx_position_ecef_m);
   layout_changed_ = false;
@@ -552,7 +630,13 @@ void PppNode::processEpoch(const Pending& p) {
     issues_.counts[reason] += n;
     warn("obs:" + reason.substr(0, 24), "ppp: observations: " + reason + " (excluded, counted)");
   }
-  if (!processor_) startProcessor();
+  processObsEpoch(epoch);
+}
+
+void PppNode::processObsEpoch(const ppp::ObsEpoch& epoch) {
+  // Live SSR biases arrive after the start: the processor is remade with them (once: then stable).
+  const bool live_biases_arrived = live_ && !products_.biases() && processor_ && live_->biases() != processor_biases_;
+  if (!processor_ || live_biases_arrived) startProcessor();
   else if (layout_changed_) {
     processor_->setObservationTypes(layout_);
     layout_changed_ = false;
@@ -598,6 +682,8 @@ void PppNode::processEpoch(const Pending& p) {
   s.correction_latency_s = corrections_.newest() ? epoch.time - *corrections_.newest() : kNaN;
   s.corrections_stale_s = correctionsStale_s().value_or(kNaN);
   s.active_biases = static_cast<std::uint16_t>(rec.active_biases);
+  s.product_mode = product_mode_;
+  s.product_mode_text = product_mode_text_;
   // The EKF updates its whole state; the smoother re-eliminates the variables it reports.
   s.variables_reeliminated = static_cast<std::uint32_t>(
       rec.smoother ? rec.smoother->variables_reeliminated
@@ -807,6 +893,70 @@ void PppNode::diagnoseSolution(diagnostic_updater::DiagnosticStatusWrapper& s) {
   else if (!last_status_.warnings.empty())
     s.summary(diagnostic_msgs::DiagnosticStatus::WARN, last_status_.solution_state_text + "; " + last_status_.warnings[0]);
   else s.summary(diagnostic_msgs::DiagnosticStatus::OK, last_status_.solution_state_text);
+}
+
+void PppNode::diagnoseLive(diagnostic_updater::DiagnosticStatusWrapper& s) {
+  using diagnostic_msgs::DiagnosticStatus;
+  const double now_s = ros::Time::now().toSec();
+  std::uint8_t level = DiagnosticStatus::OK;
+  std::string summary;
+  auto raise = [&](std::uint8_t l, const std::string& text) {
+    if (l > level || summary.empty()) {  // the first of the worst level
+      summary = text;
+      level = std::max(level, l);
+    }
+  };
+  const bool broadcast = live_->mode() == ppp::LiveProductMode::BroadcastOnly;
+  s.add("product mode", std::string(ppp::liveProductModeName(live_->mode())));
+  s.add("epochs released precise SSR", live_->releasedEpochs(ppp::LiveProductMode::PreciseSsr));
+  s.add("epochs released broadcast only", live_->releasedEpochs(ppp::LiveProductMode::BroadcastOnly));
+  s.add("satellites without an ephemeris at their epoch (waiting)", live_->satellitesWithoutEphemeris());
+  s.add("navigation records held", live_->navigationRecords());
+  s.add("estimator resets at receiver restarts", live_receiver_restarts_);
+  for (const auto& sub : stream_subs_) {
+    const GnssStreamSubscriber::Counters& c = sub->counters();
+    const std::string p = sub->topic() + ": ";
+    s.add(p + "messages (type)", std::to_string(c.messages) + " (" + (c.type.empty() ? "none yet" : c.type) + ")");
+    s.add(p + "messages of a wrong type/MD5 / malformed (dropped)",
+          std::to_string(c.wrong_type) + " / " + std::to_string(c.malformed));
+    if (!c.last_error.empty()) s.add(p + "last error", c.last_error);
+    s.add(p + "reconnects", "not known on a topic (see the transport node's diagnostics)");
+    if (c.wrong_type + c.malformed > 0) raise(DiagnosticStatus::WARN, sub->topic() + ": messages dropped (" + c.last_error + ")");
+  }
+  bool have_observations = false;
+  for (const ppp::LiveStreamStatus& st : live_->streams()) {
+    const std::string p = st.stream + ": ";
+    std::uint64_t frames = 0;
+    for (const auto& [type, n] : st.frames_by_type) frames += n;
+    s.add(p + "format", std::string(ppp::streamFormatName(st.format)));
+    s.add(p + "bytes / frames", std::to_string(st.bytes) + " / " + std::to_string(frames));
+    s.add(p + "CRC/checksum errors", st.problems.count(ppp::StreamProblemKind::ChecksumError));
+    s.add(p + "problems (all kinds)", st.problems.totalProblems());
+    s.add(p + "observation epochs decoded / ignored", std::to_string(st.observation_epochs) + " / " +
+                                                          std::to_string(st.ignored_epochs));
+    s.add(p + "epochs back in time dropped / receiver restarts",
+          std::to_string(st.time_backwards) + " / " + std::to_string(st.restarts));
+    s.add(p + "ephemerides decoded", st.ephemerides);
+    s.add(p + "SSR messages", st.ssr_messages);
+    s.add(p + "SSR age [s]", st.ssr_age_s.value_or(kNaN));
+    s.add(p + "latency [s]", st.latency_s.value_or(kNaN));
+    s.add(p + "since the last chunk [s]", st.last_arrival_s ? now_s - *st.last_arrival_s : kNaN);
+    s.add(p + "stall", std::string(ppp::streamStallName(st.stall)));
+    if (st.observation_epochs > 0) have_observations = true;
+    if (st.stall == ppp::StreamStall::Error)
+      raise(DiagnosticStatus::ERROR, "observation stream " + st.stream + " stalled (ERROR threshold " +
+                                         std::to_string(config_.ros.live_input.stall_error_s) + " s)");
+    else if (st.stall == ppp::StreamStall::Warn)
+      raise(DiagnosticStatus::WARN, "observation stream " + st.stream + " stalled (WARN threshold " +
+                                        std::to_string(config_.ros.live_input.stall_warn_s) + " s)");
+  }
+  if (!have_observations) raise(DiagnosticStatus::WARN, "no observation epoch decoded yet");
+  // Broadcast only is the configured operation without a correction stream (OK), a fallback otherwise (WARN).
+  if (broadcast && config_.ros.live_input.expect_corrections)
+    raise(DiagnosticStatus::WARN, "broadcast only: corrections stopped or too old (widened sigmas)");
+  if (summary.empty())
+    summary = broadcast ? "receiving, broadcast only (no correction stream configured)" : "receiving, precise SSR";
+  s.summary(level, summary);
 }
 
 }  // namespace ppp_ros

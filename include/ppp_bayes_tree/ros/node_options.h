@@ -14,7 +14,17 @@
 #include <yaml-cpp/yaml.h>
 #include <Eigen/Core>
 
+#include "ppp_bayes_tree/app/live_gnss_input.h"
+#include "ppp_bayes_tree/io/stream_format.h"
+
 namespace ppp_ros {
+
+/// One raw stream topic of the live input (ros.live): "topic" or "topic:rtcm3" / "topic:ubx"
+/// (the format hint, used for ppp_bayes_tree/GnssStreamBytes messages without a format).
+struct LiveStreamTopic {
+  std::string topic;
+  std::optional<ppp::StreamFormat> format;
+};
 
 struct RosNodeOptions {
   std::string estimator = "ekf";  // set by the node's main, not by the file
@@ -63,6 +73,13 @@ struct RosNodeOptions {
   double smoothed_path_publish_rate_hz = 1.0;
   double smoothed_odometry_delay_s = 0.0;  // 0: the lag boundary (fixed lag) / the newest state (full smoother)
   std::string smoothed_trajectory_csv;     // fixed lag: states past the lag written here ("" = no file)
+  // live input (issue 14; ros.live): raw stream topics decoded by ppp::LiveGnssInput.
+  // No observation topic = the GnssObservations / PreciseCorrections path (ros.topics).
+  std::vector<LiveStreamTopic> live_observation_topics;
+  std::vector<LiveStreamTopic> live_correction_topics;
+  std::size_t live_queue_size = 1000;  // subscriber queue per stream topic [messages]
+  ppp::LiveInputOptions live_input;
+  bool live() const { return !live_observation_topics.empty(); }
 };
 
 /// Binds `ros:` (a mapping or null) strictly. Throws ppp::ConfigError.

@@ -6,6 +6,18 @@
 //
 // Subscribes: gnss/observations (GnssObservations), gnss/corrections (PreciseCorrections),
 //             optionally an attitude (sensor_msgs/Imu, ros.attitude.topic; see below).
+// Live input (issue 14; ros.live with an observation topic): INSTEAD of the two topics
+//             above, raw receiver and correction streams (rtcm_msgs/Message, mavros_msgs/RTCM,
+//             ublox_msgs/RxmRAWX + RxmSFRBX, GnssStreamBytes; ros/gnss_stream_subscriber.h)
+//             go into one ppp::LiveGnssInput; its ready epochs take the same PppEpochProcessor
+//             path with its ephemeris (broadcast + SSR) and are published the same way.
+//             Why the nodes decode (no bridge node publishing our messages): equality with
+//             ppp_solve to 1 mm needs the same broadcast + SSR evaluation code in the node,
+//             and decoding costs < 0.1 % of a core, so both nodes side by side can decode;
+//             transport-only nodes (ppp_stream_node: serial, TCP, NTRIP, file) move bytes.
+//             A timer takes ready epochs every 0.1 s (ROS clock) so that the broadcast-only
+//             fallback happens when corrections stop. A receiver restart (time back beyond
+//             ros.live.restart_jump_s) resets the estimator as a bag loop does.
 // Publishes:  ppp/odometry/filtered (nav_msgs/Odometry, map frame, ENU covariance),
 //             ppp/fix (sensor_msgs/NavSatFix in the gnss_antenna frame, ENU covariance),
 //             ppp/status (PppStatus), ppp/path/filtered (nav_msgs/Path, at
@@ -57,6 +69,7 @@
 #include "ppp_bayes_tree/PppStatus.h"
 #include "ppp_bayes_tree/PreciseCorrections.h"
 #include "ppp_bayes_tree/SetDatum.h"
+#include "ppp_bayes_tree/app/live_gnss_input.h"
 #include "ppp_bayes_tree/io/bias_sinex_reader.h"
 #include "ppp_bayes_tree/evaluation/lagged_trajectory_output.h"
 #include "ppp_bayes_tree/ppp/correction_gate.h"
@@ -66,6 +79,7 @@
 #include "ppp_bayes_tree/ppp/epoch_time_guard.h"
 #include "ppp_bayes_tree/ppp/ppp_config.h"
 #include "ppp_bayes_tree/ppp/ppp_epoch_processor.h"
+#include "ppp_bayes_tree/ros/gnss_stream_subscriber.h"
 #include "ppp_bayes_tree/ros/message_conversions.h"
 #include "ppp_bayes_tree/ros/node_options.h"
 
@@ -126,6 +140,14 @@ class PppNode {
   bool onSetDatum(ppp_bayes_tree::SetDatum::Request& req, ppp_bayes_tree::SetDatum::Response& res);
   void drain();
   void processEpoch(const Pending& p);
+  /// One epoch through the processor and out (both inputs).
+  void processObsEpoch(const ppp::ObsEpoch& epoch);
+  // live input (ros.live)
+  void startLiveInput();
+  void onStreamChunk(ppp::StreamChunk&& chunk);
+  void drainLive();
+  void processLiveEpoch(const ppp::LiveReadyEpoch& ready);
+  void diagnoseLive(diagnostic_updater::DiagnosticStatusWrapper& s);
   void publishSolution(const ppp::PppEpochRecord& rec, const ppp_bayes_tree::PppStatus& status);
   void publishSmoothedOdometry(const ppp::GnssTime& newest);
   void attachAttitude(const ros::Time& stamp);
@@ -209,6 +231,14 @@ class PppNode {
   double last_correction_age_s_ = std::numeric_limits<double>::quiet_NaN();
   ConversionIssues issues_;
   std::map<std::string, ros::WallTime> last_warning_;
+
+  // live input (ros.live): the subscribers feed live_; its ephemeris replaces corrections_
+  std::unique_ptr<ppp::LiveGnssInput> live_;
+  std::vector<std::unique_ptr<GnssStreamSubscriber>> stream_subs_;
+  std::uint8_t product_mode_ = ppp_bayes_tree::PppStatus::PRODUCTS_PRECISE;  // of the epoch being processed
+  std::string product_mode_text_ = "precise products";
+  const ppp::BiasProvider* processor_biases_ = nullptr;  // the bias provider the processor was made with
+  std::size_t live_receiver_restarts_ = 0;  // resets after the observation time went back
 };
 
 }  // namespace ppp_ros
