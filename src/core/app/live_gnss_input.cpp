@@ -266,9 +266,19 @@ struct LiveGnssInput::Impl : public EphemerisSource {
     return {LiveProductMode::BroadcastOnly, true};
   }
 
+  bool waitedForStation(const HeldEpoch& h) const {
+    if (header.approx_position_ecef_m || options.station_wait_s <= 0.0 || !observation_stream) return true;
+    if (streams.at(*observation_stream).status.format != StreamFormat::Rtcm3) return true;
+    if (held.size() > options.max_held_epochs) return true;
+    if (const auto newest = newestObservation(); newest && *newest - h.epoch.time > options.station_wait_s) return true;
+    if (now_s && h.arrival_s && *now_s - *h.arrival_s > options.station_wait_s) return true;
+    return false;
+  }
+
   bool ready(const HeldEpoch& h, bool finishing) const {
     if (finishing) return true;
     const GnssTime& t = h.epoch.time;
+    if (!waitedForStation(h)) return false;
     const auto latest_ssr = store->latestEpoch();
     if (latest_ssr && !(*latest_ssr < t)) return true;
     if (!latest_ssr && !options.expect_corrections) return true;
