@@ -474,3 +474,45 @@ TEST(LiveGnssInput, GarbageCrcErrorsAndTimeBackwardsAreCountedPerStream) {
 
 }  // namespace
 }  // namespace ppp
+
+namespace ppp {
+namespace {
+
+TEST(LiveGnssInput, UbxRecordingGivesTheEpochsOfPppSolve) {
+  PPP_REQUIRE_SHARED_DATA();
+  // u-blox F9 walk: RXM-RAWX epochs and RXM-SFRBX ephemerides in one stream.
+  // ppp_solve --ubx X --nav X solves no epoch of it today (no approximate
+  // position in a UBX recording: "no initial position"); the live input must
+  // give the same epochs, and the same (absent) solutions.
+  const std::string rec = test::dataPath("streams/ubx/gnss_1730.ubx");
+  const PppConfig config = realDataConfig();
+  const std::vector<std::string> atx = {test::dataPath("antex/igs20_gps_satellites_trim.atx")};
+  PppInputFiles files;
+  files.obs = rec;
+  files.obs_format = ObservationFormat::Ubx;
+  files.nav = {rec};
+  files.atx = atx;
+  const Solutions batch = batchRun(files, config, "ekf");
+
+  std::ifstream in(rec, std::ios::binary);
+  const std::vector<std::uint8_t> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  std::vector<TimedFrame> frames{{0.0, bytes, GnssTime()}};
+  LiveInputOptions options;
+  options.expect_corrections = false;
+  const auto chunks = chunked({{"/ublox", &frames}}, 11, 900);
+  for (auto& c : const_cast<std::vector<StreamChunk>&>(chunks)) c.format = StreamFormat::Ubx;
+  const LiveRun live = liveRun(options, chunks, config, atx, "ekf");
+  const Comparison c = compare(batch, live.solutions);
+  std::printf("UBX broadcast-only: %zu epochs (batch %zu), %zu compared, %zu mismatched, max 3D difference %.6f mm\n",
+              live.solutions.size(), batch.size(), c.compared, c.mismatched, c.max_m * 1e3);
+  EXPECT_EQ(live.solutions.size(), batch.size());
+  EXPECT_EQ(batch.size(), 536u);  // RXM-RAWX epochs (data README)
+  EXPECT_EQ(c.mismatched, 0u);
+  EXPECT_LE(c.max_m, 1e-3);
+  ASSERT_EQ(live.status.size(), 1u);
+  EXPECT_EQ(live.status[0].format, StreamFormat::Ubx);
+  EXPECT_GT(live.status[0].ephemerides, 5u);
+}
+
+}  // namespace
+}  // namespace ppp
