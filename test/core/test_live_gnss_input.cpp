@@ -228,6 +228,7 @@ struct LiveRun {
   Solutions solutions;
   std::vector<LiveStreamStatus> status;
   std::uint64_t precise = 0, broadcast = 0;
+  std::size_t orbit_corrections_held = 0;
 };
 
 LiveRun liveRun(LiveInputOptions options, const std::vector<StreamChunk>& chunks, const PppConfig& config,
@@ -268,6 +269,7 @@ LiveRun liveRun(LiveInputOptions options, const std::vector<StreamChunk>& chunks
   out.status = live.streams();
   out.precise = live.releasedEpochs(LiveProductMode::PreciseSsr);
   out.broadcast = live.releasedEpochs(LiveProductMode::BroadcastOnly);
+  out.orbit_corrections_held = live.corrections().orbitCount();
   return out;
 }
 
@@ -334,6 +336,10 @@ TEST(LiveGnssInput, EsbcMsm7AndSsrChunksEqualTheBatchRun) {
     EXPECT_EQ(c.mismatched, 0u) << estimator;
     EXPECT_LE(c.max_m, 1e-3) << estimator;
     EXPECT_EQ(live.broadcast, 0u) << estimator;
+    // Bounded memory: of the 45 min of 5-s orbit corrections (~6000) only the
+    // last minutes per satellite are held.
+    EXPECT_LT(live.orbit_corrections_held, 32u * 20u) << estimator;
+    std::printf("orbit corrections held at the end: %zu\n", live.orbit_corrections_held);
     for (const auto& st : live.status) EXPECT_EQ(st.problems.totalProblems(), 0u) << st.stream;
   }
 }
