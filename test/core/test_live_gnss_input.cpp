@@ -522,3 +522,49 @@ TEST(LiveGnssInput, UbxRecordingGivesTheEpochsOfPppSolve) {
 
 }  // namespace
 }  // namespace ppp
+
+#include "ppp_bayes_tree/models/broadcast_ephemeris_store.h"
+
+namespace ppp {
+namespace {
+
+TEST(LiveGnssInput, ARecordServesOnlyInstantsAfterItsReception) {
+  PPP_REQUIRE_SHARED_DATA();
+  const NavData nav = readRinexNav(esbc("ESBC00DNK_R_20201770000_01D_MN.rnx"));
+  ASSERT_FALSE(nav.gps.empty());
+  const GpsLnavEphemeris& e = nav.gps.front();
+  const GnssTime received = e.orbit.toe + 10.0;
+  BroadcastEphemerisStore store;
+  ASSERT_FALSE(store.add(e, received).has_value());
+  EXPECT_FALSE(store.satelliteOrbit(e.satellite, e.orbit.toe + 5.0).ok());   // not yet received
+  EXPECT_FALSE(store.satelliteOrbit(e.satellite, received).ok());            // strictly after
+  EXPECT_TRUE(store.satelliteOrbit(e.satellite, e.orbit.toe + 15.0).ok());
+  BroadcastEphemerisStore preloaded;  // a RINEX record (no reception time) serves every instant
+  ASSERT_FALSE(preloaded.add(e).has_value());
+  EXPECT_TRUE(preloaded.satelliteOrbit(e.satellite, e.orbit.toe - 600.0).ok());
+}
+
+TEST(LiveGnssInput, ObservationStreamStallGoesWarnThenError) {
+  PPP_REQUIRE_SHARED_DATA();
+  std::ifstream in(test::dataPath("streams/rtcm/week-rollover-STR24.rtcm3"), std::ios::binary);
+  std::vector<std::uint8_t> bytes(200000);
+  in.read(reinterpret_cast<char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
+  LiveInputOptions options;
+  options.expect_corrections = false;
+  LiveGnssInput live(options);
+  live.feed(StreamChunk{"/dev/ttyACM0", StreamFormat::Rtcm3, bytes, 1000.0});
+  const auto ready = live.takeReadyEpochs(1000.5);
+  EXPECT_GT(ready.size(), 100u);
+  for (const auto& r : ready) EXPECT_EQ(r.mode, LiveProductMode::BroadcastOnly);
+  EXPECT_EQ(live.streams().at(0).stall, StreamStall::Ok);
+  live.takeReadyEpochs(1003.0);
+  EXPECT_EQ(live.streams().at(0).stall, StreamStall::Warn);
+  live.takeReadyEpochs(1011.0);
+  EXPECT_EQ(live.streams().at(0).stall, StreamStall::Error);
+  EXPECT_EQ(live.mode(), LiveProductMode::BroadcastOnly);
+  EXPECT_GT(live.navigationRecords(), 10u);
+  EXPECT_TRUE(live.header().approx_position_ecef_m.has_value());  // 1006
+}
+
+}  // namespace
+}  // namespace ppp
