@@ -568,3 +568,33 @@ TEST(LiveGnssInput, ObservationStreamStallGoesWarnThenError) {
 
 }  // namespace
 }  // namespace ppp
+
+namespace ppp {
+namespace {
+
+TEST(LiveGnssInput, ReceiverRestartWithATimeJumpBackIsCountedAndGoesOn) {
+  PPP_REQUIRE_SHARED_DATA();
+  const EsbcStreams& s = esbcStreams();
+  std::vector<TimedFrame> twice = s.obs;  // the recording played twice, as a looping bag or a restarted receiver
+  for (const auto& f : s.obs) twice.push_back({f.arrival_s + 3600.0, f.bytes, f.data_time});
+  LiveInputOptions options = esbcLiveOptions(s);
+  options.expect_corrections = false;
+  LiveGnssInput live(options);
+  std::size_t released = 0;
+  for (const auto& c : chunked({{"/gnss/rtcm", &twice}}, 21)) {
+    live.feed(c);
+    released += live.takeReadyEpochs(c.arrival_time_s).size();
+  }
+  released += live.finish().size();
+  std::size_t epochs = 0;
+  for (std::size_t i = 0; i < s.obs.size(); ++i)
+    if (i == 0 || s.obs[i].data_time != s.obs[i - 1].data_time) ++epochs;
+  epochs -= 1;  // the 1005 frame's "epoch"
+  ASSERT_EQ(live.streams().size(), 1u);
+  EXPECT_EQ(live.streams()[0].restarts, 1u);
+  EXPECT_EQ(live.streams()[0].time_backwards, 0u);
+  EXPECT_EQ(released, 2 * epochs);
+}
+
+}  // namespace
+}  // namespace ppp
