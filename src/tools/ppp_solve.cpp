@@ -9,6 +9,9 @@
 // --no-product-checks skips the SP3/CLK sanity checks (product_sanity.h), only to
 // measure what the estimators' own postfit and consistency tests catch.
 // Several files may follow --sp3, --clk, --nav and --atx (or the option may be repeated).
+// A --nav file may be RINEX navigation or an RTCM 3 / UBX recording (detected by
+// content): its ephemerides are used from their reception in the stream on, so
+// `--rtcm X --nav X` is broadcast-only PPP from one recording.
 // ANTEX files are searched in the order given: the first holding an antenna wins.
 // ekf writes DIR/<name>_ekf.csv, .pos (RTKLIB), _summary.json, _epochs.csv and
 // _residuals.csv; smoother writes the FILTERED and the SMOOTHED solutions as

@@ -42,6 +42,9 @@
 //     force at T for min_ssr_satellites of its satellites, else BroadcastOnly
 //     (with broadcast_fallback; without it the epoch goes out as PreciseSsr
 //     and satellites without corrections are rejected by the model);
+//   - in every case, an RTCM observation stream's epochs first wait (at most
+//     station_wait_s) for the station position, so that the run starts at the
+//     same epoch with the same approximate position as ppp_solve's;
 //   - at once when no SSR has ever been received and none is expected
 //     (expect_corrections false): BroadcastOnly.
 // The ephemeris answers in the mode of the epoch being processed: the mode is
@@ -106,6 +109,11 @@ struct LiveInputOptions {
   /// How long an observation epoch waits for the corrections covering it [s]
   /// (default 10 s: IGS SSR latency is 2-6 s).
   double correction_wait_s = 10.0;
+  /// An RTCM observation stream's epochs wait for the station position
+  /// (1005/1006 ARP: the run's approximate position, which ppp_solve's scan of a
+  /// recording knows from the start) at most this long [s] (default 30 s;
+  /// stations send it every 5-30 s). 0: no wait. UBX streams never wait.
+  double station_wait_s = 30.0;
   /// Hold epochs for corrections even before any SSR message arrived (default
   /// true: a correction stream is configured). false: without SSR, epochs go
   /// out at once as BroadcastOnly.

@@ -9,9 +9,18 @@
 // relativistic eccentricity term (the model adds its own -2 r.v / c^2). The
 // GPS clock refers to the L1/L2 P(Y) ionosphere-free combination; a Galileo
 // I/NAV clock to E1/E5b (an E1/E5a pair would need the BGD: not applied).
+//
+// Records not yet received (causal choice, the same live and in batch): a
+// record decoded from a receiver or correction stream carries its reception
+// time (the stream's time when it was decoded, io/gnss_stream_decoder.h) and
+// serves only instants AFTER it; a record of a RINEX navigation file (no
+// reception time) serves every instant. So ppp_solve on a recording and the
+// live input (app/live_gnss_input.h) choose the same record for the same
+// data, whatever arrived later.
 #include <map>
 #include <optional>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "ppp_bayes_tree/models/broadcast_ephemeris.h"
@@ -68,6 +77,14 @@ class BroadcastEphemerisStore : public EphemerisSource {
   std::optional<std::string> add(const GpsLnavEphemeris& eph);
   std::optional<std::string> add(const GalileoEphemeris& eph);
   std::optional<std::string> add(const GlonassEphemeris& eph);
+  /// The same for a record received at `received_at` (stream time; nullopt:
+  /// always usable). A repeated record keeps its first reception time.
+  std::optional<std::string> add(const GpsLnavEphemeris& eph, std::optional<GnssTime> received_at);
+  std::optional<std::string> add(const GalileoEphemeris& eph, std::optional<GnssTime> received_at);
+  std::optional<std::string> add(const GlonassEphemeris& eph, std::optional<GnssTime> received_at);
+  /// Drops records whose reference time (toe / tb) is more than `keep_s` before
+  /// `t` (bounded memory in live operation); returns how many were dropped.
+  std::size_t dropOlderThan(const GnssTime& t, double keep_s);
 
   /// The record to use for `sat` at GPST `t`: among the healthy records whose
   /// validity interval contains t, the one with the nearest toe (ties: the later).
@@ -88,7 +105,15 @@ class BroadcastEphemerisStore : public EphemerisSource {
   const EphemerisSelectionOptions& options() const { return options_; }
 
  private:
+  /// Reception times of stream records, by (satellite, reference time, issue of data).
+  using ReceivedKey = std::tuple<SatelliteId, GnssTime, int>;
+  template <typename Record>
+  bool receivedBy(const Record& r, const GnssTime& t) const;
+  template <typename Record>
+  void noteReceived(const Record& r, const std::optional<GnssTime>& received_at);
+
   EphemerisSelectionOptions options_;
+  std::map<ReceivedKey, GnssTime> received_;
   std::map<SatelliteId, std::vector<GpsLnavEphemeris>> gps_;
   std::map<SatelliteId, std::vector<GalileoEphemeris>> galileo_;
   std::map<SatelliteId, std::vector<GlonassEphemeris>> glonass_;

@@ -6,6 +6,11 @@
 //    point declared (or taken from the stream name: SSRA = antenna phase centre,
 //    SSRC = centre of mass; otherwise centre of mass), and the stream's code and
 //    phase biases as an SsrBiasProvider (null when the stream has none).
+// A navigation file may also be an RTCM 3 or UBX stream recording (detected by
+// content): its ephemerides are used, each from its reception time on (the
+// causal rule of BroadcastEphemerisStore, the same as the live input), so that
+// `ppp_solve --rtcm X --nav X` is broadcast-only PPP from one recording;
+// `stream_reference_time` places MSM times without a week (--ref-date).
 // Decoding and consistency problems (byte offset, frame index) become problems
 // of the run; SSR epochs are placed in time next to the navigation records.
 #include <memory>
@@ -29,6 +34,7 @@ struct BroadcastProducts {
 /// Throws FileOpenError / ParseError on unreadable files.
 BroadcastProducts loadBroadcastProducts(const std::vector<std::string>& nav, const std::optional<std::string>& ssr,
                                         std::optional<EphemerisReference> ssr_reference = std::nullopt,
-                                        SsrAgeLimits limits = {});
+                                        SsrAgeLimits limits = {},
+                                        std::optional<GnssTime> stream_reference_time = std::nullopt);
 
 }  // namespace ppp

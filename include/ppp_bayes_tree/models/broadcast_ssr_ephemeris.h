@@ -19,6 +19,11 @@
 // The orbit refers to the point the stream declares: the antenna phase centre
 // (IGS "SSRA" streams: no satellite PCO to add) or the centre of mass ("SSRC").
 // BeiDou and SBAS: no broadcast model here (SystemNotModelled).
+//
+// Incremental use (live, app/live_gnss_input.h): records may be added as they
+// arrive (addRecord) and the SsrCorrectionStore may grow; a record with a
+// reception time serves only instants after it (the causal rule of
+// BroadcastEphemerisStore), so that live and batch choose the same record.
 #include <memory>
 #include <optional>
 #include <set>
@@ -66,6 +71,24 @@ class BroadcastSsrEphemeris : public EphemerisSource {
  public:
   BroadcastSsrEphemeris(const std::vector<NavData>& navigation, std::shared_ptr<const SsrCorrectionStore> ssr,
                         BroadcastSsrOptions options = {});
+  /// No records yet (add them with addRecord); the store may still grow.
+  BroadcastSsrEphemeris(std::shared_ptr<const SsrCorrectionStore> ssr, BroadcastSsrOptions options);
+
+  /// Adds one record (unhealthy ones unless allowed, and ones failing the orbit
+  /// checks, are left out: false), received at `received_at` (stream time;
+  /// nullopt: serves every instant). A repeated record keeps its first reception.
+  bool addRecord(const GpsLnavEphemeris& eph, std::optional<GnssTime> received_at = std::nullopt);
+  bool addRecord(const GalileoEphemeris& eph, std::optional<GnssTime> received_at = std::nullopt);
+  bool addRecord(const GlonassEphemeris& eph, std::optional<GnssTime> received_at = std::nullopt);
+  /// (Re)checks every orbit correction of the store against the records
+  /// (consistency(), satellitesWithoutBroadcast()); the navigation-file
+  /// constructor does it once; after addRecord, call it again when wanted.
+  void checkConsistency();
+  /// Drops records whose toe / tb is more than `keep_s` before `t`; returns how many.
+  std::size_t dropOlderThan(const GnssTime& t, double keep_s);
+  /// The point the orbits refer to (set before the first query).
+  void setReference(EphemerisReference reference) { options_.reference = reference; }
+  std::size_t recordCount() const;
 
   /// The corrected state, or the reason (enum + detail) it is unavailable.
   EphemerisAnswer<SsrCorrectedState> correctedState(const SatelliteId& sat, const GnssTime& t) const;
@@ -89,7 +112,9 @@ class BroadcastSsrEphemeris : public EphemerisSource {
     std::optional<GlonassEphemeris> glonass;
     GnssTime reference;  // toe / tb
     int iod = 0;
+    std::optional<GnssTime> received_at;  // serves instants after it only
   };
+  bool insert(Record r);
   const Record* findRecord(const SatelliteId& sat, int iod, const GnssTime& t) const;
   static BroadcastState stateOf(const Record& r, const GnssTime& t);
   static double polynomialClock_s(const Record& r, const BroadcastState& s);

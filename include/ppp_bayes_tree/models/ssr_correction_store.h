@@ -66,6 +66,12 @@ class SsrCorrectionStore {
 
   /// Every orbit correction (for consistency checks against the broadcast records).
   const std::map<SatelliteId, std::map<GnssTime, SsrTimed<SsrOrbitCorrection>>>& orbits() const { return orbits_; }
+  /// Drops the corrections no query at or after `t` can pick: per satellite and
+  /// kind, those older than the newest one with t0 <= t (bounded memory in live
+  /// operation). Returns how many were dropped.
+  std::size_t dropSupersededBefore(const GnssTime& t);
+  /// The newest SSR epoch stored (nullopt when empty).
+  std::optional<GnssTime> latestEpoch() const { return latest_; }
   std::size_t orbitCount() const;
   std::size_t clockCount() const;
   std::size_t codeBiasCount() const;
@@ -89,6 +95,7 @@ class SsrCorrectionStore {
   Series<SsrCodeBias> code_biases_;
   Series<SsrPhaseBias> phase_biases_;
   std::size_t unresolved_ = 0;
+  std::optional<GnssTime> latest_;
 };
 
 }  // namespace ppp

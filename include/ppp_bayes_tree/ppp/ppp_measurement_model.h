@@ -116,6 +116,13 @@ struct MeasurementModelOptions {
   double code_phase_ratio = 300.0;
   /// Multiply the sigmas by sqrt(alpha^2 + beta^2) for the IF combination.
   bool scale_sigma_for_ionosphere_free = true;
+  /// Add the ephemeris source's orbit and clock sigmas (EphemerisOrbit::
+  /// position_sigma_m, EphemerisClock::clock_sigma_m, when it gives them) to the
+  /// code and phase variances: sigma^2 += orbit^2 + clock^2 (a range error
+  /// common to code and phase). Broadcast records give the URA/SISA, the live
+  /// input's broadcast fallback its widened sigmas (app/live_gnss_input.h);
+  /// precise products and SSR give none. Default false (sigmas as configured).
+  bool ephemeris_sigmas = false;
   DryTroposphereModel dry_troposphere = DryTroposphereModel::ModifiedHopfield;
   /// GMF (Boehm et al. 2006) by default: it fits real data better than the
   /// method's modified Hopfield ray integration (config/method_table.yaml):

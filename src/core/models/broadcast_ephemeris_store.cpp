@@ -79,7 +79,7 @@ EphemerisLookup<Record> select(const std::map<SatelliteId, std::vector<Record>>&
     why << "all " << unhealthy << " record(s) in the validity interval are flagged unhealthy";
   } else {
     why << in_window << " record(s) in the validity interval: " << wrong_type
-        << " of the wrong message type, " << unhealthy << " unhealthy";
+        << " of the wrong message type or not yet received, " << unhealthy << " unhealthy";
   }
   out.unavailable_reason = why.str();
   return out;
@@ -91,6 +91,68 @@ void BroadcastEphemerisStore::add(const NavData& nav) {
   for (const auto& e : nav.gps) add(e);
   for (const auto& e : nav.galileo) add(e);
   for (const auto& e : nav.glonass) add(e);
+}
+
+template <typename Record>
+bool BroadcastEphemerisStore::receivedBy(const Record& r, const GnssTime& t) const {
+  if (received_.empty()) return true;
+  const auto it = received_.find(ReceivedKey{r.satellite, referenceTime(r), issueOfData(r)});
+  return it == received_.end() || it->second < t;
+}
+
+template <typename Record>
+void BroadcastEphemerisStore::noteReceived(const Record& r, const std::optional<GnssTime>& received_at) {
+  if (!received_at) return;
+  received_.emplace(ReceivedKey{r.satellite, referenceTime(r), issueOfData(r)}, *received_at);
+}
+
+std::optional<std::string> BroadcastEphemerisStore::add(const GpsLnavEphemeris& eph,
+                                                        std::optional<GnssTime> received_at) {
+  const std::size_t before = gps_[eph.satellite].size();
+  auto why = add(eph);
+  if (!why && gps_[eph.satellite].size() > before) noteReceived(eph, received_at);
+  return why;
+}
+
+std::optional<std::string> BroadcastEphemerisStore::add(const GalileoEphemeris& eph,
+                                                        std::optional<GnssTime> received_at) {
+  const std::size_t before = galileo_[eph.satellite].size();
+  auto why = add(eph);
+  if (!why && galileo_[eph.satellite].size() > before) noteReceived(eph, received_at);
+  return why;
+}
+
+std::optional<std::string> BroadcastEphemerisStore::add(const GlonassEphemeris& eph,
+                                                        std::optional<GnssTime> received_at) {
+  const std::size_t before = glonass_[eph.satellite].size();
+  auto why = add(eph);
+  if (!why && glonass_[eph.satellite].size() > before) noteReceived(eph, received_at);
+  return why;
+}
+
+namespace {
+template <typename Record, typename Received>
+std::size_t dropOld(std::map<SatelliteId, std::vector<Record>>& store, const GnssTime& t, double keep_s,
+                    Received& received) {
+  std::size_t n = 0;
+  for (auto& [sat, list] : store) {
+    for (auto it = list.begin(); it != list.end();) {
+      if (t - referenceTime(*it) > keep_s) {
+        received.erase({it->satellite, referenceTime(*it), issueOfData(*it)});
+        it = list.erase(it);
+        ++n;
+      } else {
+        ++it;
+      }
+    }
+  }
+  return n;
+}
+}  // namespace
+
+std::size_t BroadcastEphemerisStore::dropOlderThan(const GnssTime& t, double keep_s) {
+  return dropOld(gps_, t, keep_s, received_) + dropOld(galileo_, t, keep_s, received_) +
+         dropOld(glonass_, t, keep_s, received_);
 }
 
 std::optional<std::string> BroadcastEphemerisStore::add(const GpsLnavEphemeris& eph) {
@@ -121,7 +183,7 @@ EphemerisLookup<GpsLnavEphemeris> BroadcastEphemerisStore::gps(const SatelliteId
   return select(
       gps_, sat, t, options_.allow_unhealthy,
       [](const GpsLnavEphemeris& e) { return 0.5 * e.fit_interval_h * 3600.0; },
-      [](const GpsLnavEphemeris&) { return true; });
+      [this, &t](const GpsLnavEphemeris& e) { return receivedBy(e, t); });
 }
 
 EphemerisLookup<GalileoEphemeris> BroadcastEphemerisStore::galileo(const SatelliteId& sat,
@@ -131,9 +193,10 @@ EphemerisLookup<GalileoEphemeris> BroadcastEphemerisStore::galileo(const Satelli
   return select(
       galileo_, sat, t, options_.allow_unhealthy,
       [max_age](const GalileoEphemeris&) { return max_age; },
-      [pref](const GalileoEphemeris& e) {
-        return pref == GalileoPreference::Any ||
-               (pref == GalileoPreference::INavOnly) == (e.type == GalileoNavType::INav);
+      [this, &t, pref](const GalileoEphemeris& e) {
+        return (pref == GalileoPreference::Any ||
+                (pref == GalileoPreference::INavOnly) == (e.type == GalileoNavType::INav)) &&
+               receivedBy(e, t);
       });
 }
 
@@ -143,7 +206,7 @@ EphemerisLookup<GlonassEphemeris> BroadcastEphemerisStore::glonass(const Satelli
   return select(
       glonass_, sat, t, options_.allow_unhealthy,
       [max_age](const GlonassEphemeris&) { return max_age; },
-      [](const GlonassEphemeris&) { return true; });
+      [this, &t](const GlonassEphemeris& e) { return receivedBy(e, t); });
 }
 
 namespace {

@@ -1,28 +1,61 @@
 #include "ppp_bayes_tree/models/broadcast_products.h"
 
+#include "ppp_bayes_tree/io/gnss_stream_decoder.h"
 #include "ppp_bayes_tree/io/line_source.h"
 #include "ppp_bayes_tree/io/rinex_nav_reader.h"
 #include "ppp_bayes_tree/io/rtcm_ssr_decoder.h"
+#include "ppp_bayes_tree/io/stream_format.h"
 #include "ppp_bayes_tree/models/broadcast_ephemeris_store.h"
 #include "ppp_bayes_tree/models/broadcast_ssr_ephemeris.h"
 #include "ppp_bayes_tree/models/ssr_bias_provider.h"
 
 namespace ppp {
 
+namespace {
+
+/// Adds the records of a stream to an ephemeris (store or SSR) with their reception times.
+template <class Target>
+void addReceived(Target target, const ReceivedNavigation& nav) {
+  for (const auto& r : nav.gps) target(r.record, r.received_at);
+  for (const auto& r : nav.galileo) target(r.record, r.received_at);
+  for (const auto& r : nav.glonass) target(r.record, r.received_at);
+}
+
+}  // namespace
+
 BroadcastProducts loadBroadcastProducts(const std::vector<std::string>& nav, const std::optional<std::string>& ssr,
-                                        std::optional<EphemerisReference> ssr_reference, SsrAgeLimits limits) {
+                                        std::optional<EphemerisReference> ssr_reference, SsrAgeLimits limits,
+                                        std::optional<GnssTime> stream_reference_time) {
   BroadcastProducts out;
   std::vector<NavData> navs;
+  std::vector<StreamNavigationFile> streams;
   std::optional<GnssTime> reference_time;
   std::string names;
   for (const auto& path : nav) {
-    navs.push_back(readRinexNav(path));
-    if (!reference_time) reference_time = navs.back().first_toc;
+    if (detectStreamFormatOfFile(path) != StreamFormat::Unknown) {
+      streams.push_back(readStreamNavigation(path, stream_reference_time));
+      const StreamNavigationFile& s = streams.back();
+      if (!reference_time) reference_time = stream_reference_time ? stream_reference_time : s.first_time;
+      out.notes.push_back("navigation records from the " + std::string(streamFormatName(s.format)) + " " +
+                          fileBaseName(path) + ": " + std::to_string(s.navigation.size()) +
+                          " record(s), each used from its reception in the stream on");
+      if (s.counters.totalProblems() > 0) {
+        std::string text = fileBaseName(path) + ": " + std::to_string(s.counters.totalProblems()) +
+                           " problem(s) while decoding";
+        if (!s.counters.problems.empty()) text += ", first: " + s.counters.problems.front().describe();
+        out.problems.push_back(text);
+      }
+    } else {
+      navs.push_back(readRinexNav(path));
+      if (!reference_time) reference_time = navs.back().first_toc;
+    }
     names += (names.empty() ? "" : ", ") + fileBaseName(path);
   }
   if (!ssr) {
     auto store = std::make_shared<BroadcastEphemerisStore>();
     for (const auto& n : navs) store->add(n);
+    for (const auto& s : streams)
+      addReceived([&](const auto& record, const auto& received) { store->add(record, received); }, s.navigation);
     out.ephemeris = store;
     out.notes.push_back("orbits and clocks: broadcast navigation records only (" + names +
                         "): metre-level accuracy, not precise products");
@@ -35,6 +68,11 @@ BroadcastProducts loadBroadcastProducts(const std::vector<std::string>& nav, con
   const auto from_name = ssrReferenceFromStreamName(fileBaseName(*ssr));
   options.reference = ssr_reference ? *ssr_reference : from_name.value_or(EphemerisReference::CentreOfMass);
   auto eph = std::make_shared<BroadcastSsrEphemeris>(navs, store, options);
+  if (!streams.empty()) {
+    for (const auto& s : streams)
+      addReceived([&](const auto& record, const auto& received) { eph->addRecord(record, received); }, s.navigation);
+    eph->checkConsistency();
+  }
   out.notes.push_back("orbits and clocks: " + names + " corrected by SSR stream " + fileBaseName(*ssr) + " (" +
                       std::to_string(stream.summary.messages) + " messages; orbits at the " +
                       (options.reference == EphemerisReference::AntennaPhaseCentre ? "antenna phase centre" : "centre of mass") +

@@ -1,5 +1,6 @@
 #include "ppp_bayes_tree/models/broadcast_ssr_ephemeris.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include <Eigen/Geometry>
@@ -28,38 +29,83 @@ std::optional<EphemerisReference> ssrReferenceFromStreamName(const std::string& 
   return std::nullopt;
 }
 
+BroadcastSsrEphemeris::BroadcastSsrEphemeris(std::shared_ptr<const SsrCorrectionStore> ssr,
+                                             BroadcastSsrOptions options)
+    : ssr_(std::move(ssr)), options_(options) {}
+
+bool BroadcastSsrEphemeris::insert(Record r) {
+  auto& list = records_[r.gps ? r.gps->satellite : r.galileo ? r.galileo->satellite : r.glonass->satellite];
+  const bool inav = r.galileo && isINav(*r.galileo);
+  for (const Record& x : list)
+    if (x.reference == r.reference && x.iod == r.iod && (x.galileo && isINav(*x.galileo)) == inav) return false;
+  list.push_back(std::move(r));
+  return true;
+}
+
+bool BroadcastSsrEphemeris::addRecord(const GpsLnavEphemeris& e, std::optional<GnssTime> received_at) {
+  if (!options_.allow_unhealthy && !isHealthy(e)) return false;
+  if (checkKeplerOrbit(e.orbit)) return false;
+  Record r;
+  r.gps = e;
+  r.reference = e.orbit.toe;
+  r.iod = e.iode;
+  r.received_at = received_at;
+  return insert(std::move(r));
+}
+
+bool BroadcastSsrEphemeris::addRecord(const GalileoEphemeris& e, std::optional<GnssTime> received_at) {
+  if (!options_.allow_unhealthy && !isHealthy(e)) return false;
+  if (checkKeplerOrbit(e.orbit)) return false;
+  Record r;
+  r.galileo = e;
+  r.reference = e.orbit.toe;
+  r.iod = e.iod_nav;
+  r.received_at = received_at;
+  return insert(std::move(r));
+}
+
+bool BroadcastSsrEphemeris::addRecord(const GlonassEphemeris& e, std::optional<GnssTime> received_at) {
+  if (!options_.allow_unhealthy && !isHealthy(e)) return false;
+  if (checkGlonassState(e)) return false;
+  Record r;
+  r.glonass = e;
+  r.reference = e.tb;
+  r.iod = glonassSsrIod(e);
+  r.received_at = received_at;
+  return insert(std::move(r));
+}
+
+std::size_t BroadcastSsrEphemeris::dropOlderThan(const GnssTime& t, double keep_s) {
+  std::size_t n = 0;
+  for (auto& [sat, list] : records_) {
+    const auto before = list.size();
+    list.erase(std::remove_if(list.begin(), list.end(), [&](const Record& r) { return t - r.reference > keep_s; }),
+               list.end());
+    n += before - list.size();
+  }
+  return n;
+}
+
+std::size_t BroadcastSsrEphemeris::recordCount() const {
+  std::size_t n = 0;
+  for (const auto& [sat, list] : records_) n += list.size();
+  return n;
+}
+
 BroadcastSsrEphemeris::BroadcastSsrEphemeris(const std::vector<NavData>& navigation,
                                              std::shared_ptr<const SsrCorrectionStore> ssr, BroadcastSsrOptions options)
     : ssr_(std::move(ssr)), options_(options) {
   for (const NavData& nav : navigation) {
-    for (const auto& e : nav.gps) {
-      if (!options_.allow_unhealthy && !isHealthy(e)) continue;
-      if (checkKeplerOrbit(e.orbit)) continue;
-      Record r;
-      r.gps = e;
-      r.reference = e.orbit.toe;
-      r.iod = e.iode;
-      records_[e.satellite].push_back(r);
-    }
-    for (const auto& e : nav.galileo) {
-      if (!options_.allow_unhealthy && !isHealthy(e)) continue;
-      if (checkKeplerOrbit(e.orbit)) continue;
-      Record r;
-      r.galileo = e;
-      r.reference = e.orbit.toe;
-      r.iod = e.iod_nav;
-      records_[e.satellite].push_back(r);
-    }
-    for (const auto& e : nav.glonass) {
-      if (!options_.allow_unhealthy && !isHealthy(e)) continue;
-      if (checkGlonassState(e)) continue;
-      Record r;
-      r.glonass = e;
-      r.reference = e.tb;
-      r.iod = glonassSsrIod(e);
-      records_[e.satellite].push_back(r);
-    }
+    for (const auto& e : nav.gps) addRecord(e);
+    for (const auto& e : nav.galileo) addRecord(e);
+    for (const auto& e : nav.glonass) addRecord(e);
   }
+  checkConsistency();
+}
+
+void BroadcastSsrEphemeris::checkConsistency() {
+  consistency_ = StreamCounters{};
+  satellites_without_broadcast_.clear();
   if (!ssr_) return;
   // Every orbit correction of a modelled system must find its broadcast record.
   for (const auto& [sat, series] : ssr_->orbits()) {
@@ -91,6 +137,7 @@ const BroadcastSsrEphemeris::Record* BroadcastSsrEphemeris::findRecord(const Sat
   for (const Record& r : it->second) {
     const bool same = sat.system == GnssSystem::GLONASS ? (r.iod % 128) == (iod % 128) : r.iod == iod;
     if (!same) continue;
+    if (r.received_at && !(*r.received_at < t)) continue;  // not yet received at t
     const double d = std::fabs(t - r.reference);
     if (d > 6.0 * 3600.0) continue;  // the same IOD from another day
     const bool inav = r.galileo && isINav(*r.galileo);

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <iterator>
 
 namespace ppp {
 
@@ -38,6 +39,7 @@ bool SsrCorrectionStore::add(const SsrMessage& m) {
     return false;
   }
   const SsrHeader& h = m.header;
+  if (!latest_ || *latest_ < *h.epoch) latest_ = *h.epoch;
   for (const auto& o : m.orbits) orbits_[o.satellite][*h.epoch] = timed(o, h);
   for (const auto& c : m.clocks) clocks_[c.satellite][*h.epoch] = timed(c, h);
   for (const auto& c : m.high_rate_clocks) high_rate_clocks_[c.satellite][*h.epoch] = timed(c, h);
@@ -96,6 +98,26 @@ std::optional<GnssTime> SsrCorrectionStore::nextCodeBiasEpoch(const SatelliteId&
 std::optional<GnssTime> SsrCorrectionStore::nextPhaseBiasEpoch(const SatelliteId& sat, const GnssTime& t0) const {
   return nextEpoch(phase_biases_, sat, t0);
 }
+namespace {
+template <class Series>
+std::size_t dropSuperseded(Series& series, const GnssTime& t) {
+  std::size_t n = 0;
+  for (auto& [sat, by_time] : series) {
+    auto keep = by_time.upper_bound(t);  // first entry after t
+    if (keep == by_time.begin()) continue;
+    --keep;  // the newest entry with t0 <= t: kept
+    n += static_cast<std::size_t>(std::distance(by_time.begin(), keep));
+    by_time.erase(by_time.begin(), keep);
+  }
+  return n;
+}
+}  // namespace
+
+std::size_t SsrCorrectionStore::dropSupersededBefore(const GnssTime& t) {
+  return dropSuperseded(orbits_, t) + dropSuperseded(clocks_, t) + dropSuperseded(high_rate_clocks_, t) +
+         dropSuperseded(code_biases_, t) + dropSuperseded(phase_biases_, t);
+}
+
 std::size_t SsrCorrectionStore::orbitCount() const { return countAll(orbits_); }
 std::size_t SsrCorrectionStore::clockCount() const { return countAll(clocks_); }
 std::size_t SsrCorrectionStore::codeBiasCount() const { return countAll(code_biases_); }

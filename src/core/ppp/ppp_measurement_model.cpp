@@ -371,6 +371,13 @@ void PppMeasurementModel::evaluate(const std::vector<DualFrequencyObservation>& 
     const double sin_el = std::max(std::sin(elevation), 1.0e-3);
     m.phase_sigma_m = options_.phase_sigma_zenith_m * st.sigma_factor / sin_el;
     m.code_sigma_m = m.phase_sigma_m * options_.code_phase_ratio;
+    if (options_.ephemeris_sigmas) {
+      const double orbit_sigma_m = orbit.value->position_sigma_m.value_or(0.0);
+      const double clock_sigma_m = clock.value->clock_sigma_m.value_or(0.0);
+      const double product_var_m2 = orbit_sigma_m * orbit_sigma_m + clock_sigma_m * clock_sigma_m;
+      m.phase_sigma_m = std::sqrt(m.phase_sigma_m * m.phase_sigma_m + product_var_m2);
+      m.code_sigma_m = std::sqrt(m.code_sigma_m * m.code_sigma_m + product_var_m2);
+    }
     m.elevation_rad = elevation;
     m.azimuth_rad = azimuth;
     m.satellite_apc_ecef_m = apc;

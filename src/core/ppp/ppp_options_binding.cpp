@@ -79,6 +79,7 @@ void bindMeasurementModelOptions(const YAML::Node& node, const std::string& file
   m.phase_sigma_zenith_m = s.number("phase_sigma_zenith_m", m.phase_sigma_zenith_m, Bound::Positive);
   m.code_phase_ratio = s.number("code_phase_ratio", m.code_phase_ratio, Bound::Positive);
   m.scale_sigma_for_ionosphere_free = s.boolean("scale_sigma_for_ionosphere_free", m.scale_sigma_for_ionosphere_free);
+  m.ephemeris_sigmas = s.boolean("ephemeris_sigmas", m.ephemeris_sigmas);
   {
     YamlSection t = s.section("troposphere");
     const std::string dry = t.choice("dry_model", toString(m.dry_troposphere), {"modified_hopfield", "saastamoinen"});

@@ -136,7 +136,8 @@ PppPipeline::PppPipeline(const PppInputFiles& files, PppConfig config)
   }
   std::shared_ptr<const BiasProvider> ssr_biases;
   if (!files.nav.empty()) {
-    BroadcastProducts broadcast = loadBroadcastProducts(files.nav, files.ssr, files.ssr_reference, config_.ssr);
+    BroadcastProducts broadcast =
+        loadBroadcastProducts(files.nav, files.ssr, files.ssr_reference, config_.ssr, files.rtcm_reference_time);
     d.products.ephemeris = std::move(broadcast.ephemeris);
     ssr_biases = std::move(broadcast.ssr_biases);
     d.load_notes.insert(d.load_notes.end(), broadcast.notes.begin(), broadcast.notes.end());
