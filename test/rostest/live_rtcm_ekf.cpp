@@ -1,10 +1,10 @@
 // rostest, live input through rtcm_msgs/Message (issue 14): the RTCM 3 recording
-// gmsd7_20121014.rtcm3 (GMSD, MSM7 GPS/GLONASS/QZSS/BeiDou with GPS and GLONASS
+// week-rollover-STR24.rtcm3 (GMSD, MSM7 GPS/GLONASS/QZSS/BeiDou with GPS and GLONASS
 // ephemerides 1019/1020 in the stream, no corrections: broadcast only) published
 // with the exact foreign type name and MD5 through topic_tools::ShapeShifter, to two
 // ppp_ekf_node instances: one RTCM frame per message (/frames/rtcm) and arbitrary
 // chunks cutting through frames (/chunks/rtcm, 1 to 700 bytes). Each node's fixes
-// must equal `ppp_solve --rtcm F --ref-date 2012/10/14 --nav F --estimator ekf` on
+// must equal `ppp_solve --rtcm F --ref-date 2018/07/14 --nav F --estimator ekf` on
 // the same file and configuration epoch by epoch to 1 mm.
 #include <random>
 
@@ -21,10 +21,10 @@ const char* kRtcmMd5 = "883b1fb65b83ccf75497c21f2d63052d";
 TEST(LiveRtcmEkf, FramesAndChunksEqualPppSolveEpochByEpochTo1mm) {
   PPP_REQUIRE_SHARED_DATA();
   using namespace ppp_ros::test;
-  const std::string rtcm = ppp::test::dataPath("streams/rtcm/gmsd7_20121014.rtcm3");
+  const std::string rtcm = ppp::test::dataPath("streams/rtcm/week-rollover-STR24.rtcm3");
   const std::string atx = ppp::test::dataPath("antex/igs20_gps_satellites_trim.atx");
   const std::map<ros::Time, Eigen::Vector3d> offline =
-      pppSolveEkf("--rtcm " + rtcm + " --ref-date 2012/10/14 --nav " + rtcm + " --atx " + atx + " --config " +
+      pppSolveEkf("--rtcm " + rtcm + " --ref-date 2018/07/14 --nav " + rtcm + " --atx " + atx + " --config " +
                       PPP_REPO_DIR + "/config/ppp.yaml",
                   "live_rtcm");
   ASSERT_FALSE(offline.empty()) << "ppp_solve solved no epoch of " << rtcm;
@@ -60,13 +60,13 @@ TEST(LiveRtcmEkf, FramesAndChunksEqualPppSolveEpochByEpochTo1mm) {
       cut = end;
     }
   }
-  ASSERT_GT(frames.size(), 1000u);  // 1143 good frames (ppp_stream_inspect)
+  ASSERT_GT(frames.size(), 6000u);  // 6857 good frames (ppp_stream_inspect)
 
   ros::NodeHandle nh;
   NodeOutputs frames_out, chunks_out;
   frames_out.subscribe(nh, "/frames/");
   chunks_out.subscribe(nh, "/chunks/");
-  publishInOrder(nh, {"/frames/rtcm", "/chunks/rtcm"}, messages, 0.002);
+  publishInOrder(nh, {"/frames/rtcm", "/chunks/rtcm"}, messages, 0.001);
   waitForFixes(frames_out, offline.size() - 1, 60.0);
   waitForFixes(chunks_out, offline.size() - 1, 20.0);
 
