@@ -32,7 +32,8 @@ class ReconnectingByteSource : public ByteSource {
   bool connected() const { return source_ != nullptr && had_data_; }
 
  private:
-  void absorbCounters();
+  void absorbCounters();   // adds the current source's counters to closed_counters_, drops it
+  void refreshCounters();  // counters_ = closed_counters_ + the current source's
 
   Factory factory_;
   std::chrono::milliseconds backoff_min_, backoff_max_, backoff_;
