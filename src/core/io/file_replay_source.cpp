@@ -61,7 +61,9 @@ FileReplaySource::FileReplaySource(std::string path, double speed, double byte_r
 std::string FileReplaySource::describe() const {
   char speed[32];
   std::snprintf(speed, sizeof(speed), "%g", speed_);
-  return "file://" + path_ + "?speed=" + speed + " (" + std::string(streamFormatName(format_)) + ")";
+  std::string text = "file://" + path_ + "?speed=" + speed;
+  if (format_ != StreamFormat::Unknown) text += " (" + std::string(streamFormatName(format_)) + ")";
+  return text;
 }
 
 void FileReplaySource::close() {

@@ -72,7 +72,6 @@ std::string NtripClientSource::describe() const {
 void NtripClientSource::close() {
   connection_.close();
   streaming_ = false;
-  chunked_ = false;
   raw_.clear();
   chunk_left_.reset();
   stream_ended_ = false;
@@ -80,6 +79,8 @@ void NtripClientSource::close() {
 
 std::optional<ByteSourceError> NtripClientSource::openStream(Clock::time_point deadline) {
   const std::string where = options_.host + ":" + std::to_string(options_.port);
+  chunked_ = false;
+  status_line_.clear();
   if (auto error = connection_.connect(options_.host, options_.port, options_.connect_timeout)) {
     error->detail = "caster " + error->detail;
     return error;
