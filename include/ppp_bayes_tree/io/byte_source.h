@@ -50,7 +50,8 @@ struct ByteSourceError {
 enum class ByteSourceStatus {
   Data,     // `size` bytes were written to the buffer (size > 0)
   Timeout,  // nothing within the timeout; the source is still usable
-  Closed,   // the stream ended (end of file, or the peer closed between frames)
+  Closed,   // the stream ended (end of a replayed file; a network peer that closes is
+            // an Error ConnectionLost, a hang-up of a serial device too)
   Error,    // see `error`; the source is closed
 };
 

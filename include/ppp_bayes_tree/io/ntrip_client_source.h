@@ -51,6 +51,7 @@ class NtripClientSource : public ByteSource {
 
   /// "ICY 200 OK" / "HTTP/1.1 200 OK" of the current connection ("" before).
   const std::string& statusLine() const { return status_line_; }
+  /// The current (or last) answer uses chunked transfer encoding.
   bool chunked() const { return chunked_; }
 
  private:

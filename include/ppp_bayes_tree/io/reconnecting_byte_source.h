@@ -29,10 +29,12 @@ class ReconnectingByteSource : public ByteSource {
 
   /// The wait before the next attempt after the latest failure.
   std::chrono::milliseconds currentBackoff() const { return backoff_; }
-  bool connected() const { return source_ != nullptr && had_data_; }
+  /// A source is made and not dropped (after a Timeout from read(): connected).
+  bool hasSource() const { return source_ != nullptr; }
 
  private:
-  void absorbCounters();
+  void absorbCounters();   // adds the current source's counters to closed_counters_, drops it
+  void refreshCounters();  // counters_ = closed_counters_ + the current source's
 
   Factory factory_;
   std::chrono::milliseconds backoff_min_, backoff_max_, backoff_;
