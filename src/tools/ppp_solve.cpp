@@ -2,7 +2,7 @@
 // products (the pipeline of ppp/ppp_pipeline.h; outputs of app/ppp_solve_run.h).
 //
 // usage: ppp_solve (--obs F | --rtcm F [--ref-date YYYY/MM/DD] | --ubx F)
-//                  (--sp3 F... --clk F... | --nav F... [--ssr F [--ssr-reference apc|com]])
+//                  (--sp3 F... --clk F... | --nav F... [--ssr F [--ssr-reference com|apc|apc-l1]])
 //                  --atx F... [--bia F] [--blq F]
 //                  [--config YAML] [--estimator ekf|smoother|both] [--truth X,Y,Z] [--name N] --out DIR
 //                  [--no-product-checks]
@@ -35,13 +35,14 @@
 
 #include "ppp_bayes_tree/app/ppp_solve_run.h"
 #include "ppp_bayes_tree/io/stream_format.h"
+#include "ppp_bayes_tree/models/satellite_reference_point.h"
 
 namespace {
 
 int usage(const std::string& why) {
   std::cerr << "ppp_solve: " << why << "\n"
             << "usage: ppp_solve (--obs F | --rtcm F [--ref-date YYYY/MM/DD] | --ubx F)\n"
-            << "                 (--sp3 F... --clk F... | --nav F... [--ssr F [--ssr-reference apc|com]])\n"
+            << "                 (--sp3 F... --clk F... | --nav F... [--ssr F [--ssr-reference com|apc|apc-l1]])\n"
             << "                 --atx F... [--bia F] [--blq F]\n"
             << "                 [--config YAML] [--estimator ekf|smoother|both] [--truth X,Y,Z] [--name N] --out DIR\n"
             << "                 [--no-product-checks]\n";
@@ -115,9 +116,10 @@ int main(int argc, char** argv) {
       if (!value(v)) return usage("--ssr needs an RTCM SSR stream file");
       req.files.ssr = v;
     } else if (a == "--ssr-reference") {
-      if (!value(v) || (v != "apc" && v != "com")) return usage("--ssr-reference needs apc or com");
-      req.files.ssr_reference =
-          v == "apc" ? ppp::EphemerisReference::AntennaPhaseCentre : ppp::EphemerisReference::CentreOfMass;
+      // com | apc (= apc-if: the ionosphere-free phase centre) | apc-l1 (IGS SSRA);
+      // models/satellite_reference_point.h
+      if (!value(v) || !(req.files.ssr_reference = ppp::parseEphemerisReference(v)))
+        return usage("--ssr-reference needs com, apc (apc-if) or apc-l1");
     } else if (a == "--blq") {
       if (!value(v)) return usage("--blq needs a file");
       req.files.blq = v;

@@ -1,16 +1,19 @@
-// ppp_ssr_check --nav NAV [--nav NAV2 ...] --ssr STREAM --sp3 SP3 [--atx ATX] [--reference apc|com] [--apc l1|if]
+// ppp_ssr_check --nav NAV [--nav NAV2 ...] --ssr STREAM --sp3 SP3 [--atx ATX] [--reference com|apc|apc-l1|apc-if] [--apc l1|if]
 // (--clk: compare the clocks with RINEX clock files instead of the SP3 clocks;
-//  --apc: the phase centre of an APC stream, L1 by default as the IGS SSRA streams)
+//  --reference apc: the antenna phase centre, of L1 unless --apc if, as the IGS SSRA streams;
+//  apc-l1 / apc-if name the phase centre directly; --apc overrides it;
+//  models/satellite_reference_point.h)
 // Compares SSR-corrected broadcast orbits and clocks with a precise SP3 file
 // (evaluation/ssr_check.h). Last line: "orbit 3D RMS <m> m, clock RMS <ns> ns, <N> satellite-epochs".
 #include <iostream>
 #include <string>
 
 #include "ppp_bayes_tree/evaluation/ssr_check.h"
+#include "ppp_bayes_tree/models/satellite_reference_point.h"
 
 namespace {
 int usage() {
-  std::cerr << "usage: ppp_ssr_check --nav NAV [--nav NAV ...] --ssr STREAM --sp3 SP3 [--clk CLK] [--atx ATX] [--reference apc|com] [--apc l1|if]\n";
+  std::cerr << "usage: ppp_ssr_check --nav NAV [--nav NAV ...] --ssr STREAM --sp3 SP3 [--clk CLK] [--atx ATX] [--reference com|apc|apc-l1|apc-if] [--apc l1|if]\n";
   return 2;
 }
 }  // namespace
@@ -28,8 +31,8 @@ int main(int argc, char** argv) {
     else if (a == "--clk" && (v = next())) req.clk.emplace_back(v);
     else if (a == "--reference" && (v = next())) {
       const std::string r = v;
-      if (r == "apc") req.reference = ppp::EphemerisReference::AntennaPhaseCentre;
-      else if (r == "com") req.reference = ppp::EphemerisReference::CentreOfMass;
+      if (r == "apc") req.reference = ppp::EphemerisReference::AntennaPhaseCentreL1;  // this tool's default flavour
+      else if (const auto parsed = ppp::parseEphemerisReference(r)) req.reference = *parsed;
       else return usage();
     } else if (a == "--apc" && (v = next())) {
       const std::string r = v;

@@ -1,9 +1,11 @@
 // ppp_ssr_encode --nav NAV [--nav NAV ...] --sp3 SP3 --clk CLK [--bia BIA] [--atx ATX]
-//                --out STREAM [--reference apc|com] [--interval-s 5] [--systems GER] [--orbit-clock-separate]
+//                --out STREAM [--reference com|apc|apc-l1] [--interval-s 5] [--systems GER] [--orbit-clock-separate]
 // Writes an RTCM 3 SSR stream (orbit+clock 1060/1066/1243, or 1057+1058/...,
 // and code biases 1059/1065/1242 from --bia) that corrects the broadcast
 // ephemeris of NAV towards the precise SP3/CLK products, as an analysis centre
-// would (models/ssr_from_precise.h). --reference apc needs --atx (satellite PCO).
+// would (models/ssr_from_precise.h). --reference apc (= apc-if: the
+// ionosphere-free phase centre) and apc-l1 (the L1 phase centre, as the IGS SSRA
+// streams) need --atx (satellite PCO); models/satellite_reference_point.h.
 // Default: centre of mass, 5 s, all systems the products and the NAV file share.
 #include <fstream>
 #include <iostream>
@@ -16,6 +18,7 @@
 #include "ppp_bayes_tree/io/rtcm_ssr_encoder.h"
 #include "ppp_bayes_tree/models/antex_calibrations.h"
 #include "ppp_bayes_tree/models/precise_ephemeris.h"
+#include "ppp_bayes_tree/models/satellite_reference_point.h"
 #include "ppp_bayes_tree/models/sinex_bias_provider.h"
 #include "ppp_bayes_tree/models/ssr_from_precise.h"
 
@@ -23,7 +26,7 @@ namespace {
 int usage(const std::string& why) {
   if (!why.empty()) std::cerr << "ppp_ssr_encode: " << why << "\n";
   std::cerr << "usage: ppp_ssr_encode --nav NAV [--nav NAV ...] --sp3 SP3 --clk CLK [--bia BIA] [--atx ATX]\n"
-               "                      --out STREAM [--reference apc|com] [--interval-s 5] [--systems GER]\n"
+               "                      --out STREAM [--reference com|apc|apc-if|apc-l1] [--interval-s 5] [--systems GER]\n"
                "                      [--orbit-clock-separate]\n";
   return 2;
 }
@@ -46,9 +49,9 @@ int main(int argc, char** argv) {
     else if (a == "--atx" && value(v)) atx = v;
     else if (a == "--out" && value(v)) out_path = v;
     else if (a == "--reference" && value(v)) {
-      if (v == "apc") options.reference = EphemerisReference::AntennaPhaseCentre;
-      else if (v == "com") options.reference = EphemerisReference::CentreOfMass;
-      else return usage("--reference is apc or com");
+      const auto parsed = parseEphemerisReference(v);
+      if (!parsed) return usage("--reference is com, apc (apc-if) or apc-l1");
+      options.reference = *parsed;
     } else if (a == "--interval-s" && value(v)) {
       try { options.interval_s = std::stod(v); } catch (...) { return usage("--interval-s needs seconds"); }
     } else if (a == "--systems" && value(v)) {
@@ -91,7 +94,7 @@ int main(int argc, char** argv) {
     if (!out) throw std::runtime_error("error writing " + out_path);
     for (const auto& n : r.notes) std::cout << n << "\n";
     std::cout << "reference point: "
-              << (options.reference == EphemerisReference::AntennaPhaseCentre ? "antenna phase centre (ionosphere-free PCO)" : "centre of mass")
+              << ephemerisReferenceName(options.reference)
               << "\n";
     std::cout << "wrote " << out_path << ": " << r.messages.size() << " messages, " << bytes << " bytes, " << r.epochs
               << " epochs at " << options.interval_s << " s, " << r.satellite_epochs << " satellite-epochs\n";

@@ -368,7 +368,7 @@ TEST(SsrCheckRealData, IgsSsraStreamAgreesWithUltraRapidOrbits) {
   req.atx = files.atx;
   const SsrCheckResult r = checkSsrAgainstSp3(req);
   std::cout << formatSsrCheck(r);
-  EXPECT_EQ(r.reference, EphemerisReference::AntennaPhaseCentre);  // from the SSRA name
+  EXPECT_EQ(r.reference, EphemerisReference::AntennaPhaseCentreL1);  // from the SSRA name: the L1 phase centre
   // 30 GPS satellites at the stream's orbit epochs.
   EXPECT_GE(r.satellite_epochs, 90u);
   EXPECT_EQ(r.satellites.size(), 30u);

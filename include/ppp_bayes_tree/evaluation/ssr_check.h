@@ -26,6 +26,8 @@ namespace ppp {
 /// ultra-rapid orbits, GPS III satellites (L1 and L2 PCO 0.50 m apart in
 /// igs20.atx) agree to 5 cm with the L1 PCO and are 0.78 m off radially with the
 /// ionosphere-free PCO, while satellites with equal L1/L2 PCOs agree either way.
+/// (The same conventions as EphemerisReference::AntennaPhaseCentreL1 /
+/// AntennaPhaseCentre, models/satellite_reference_point.h.)
 enum class SsrApcFrequency { FirstFrequency, IonosphereFree };
 
 struct SsrCheckRequest {
@@ -35,9 +37,12 @@ struct SsrCheckRequest {
   /// Optional RINEX clock files: the clocks compared with them instead of the SP3 clocks.
   std::vector<std::string> clk;
   std::optional<std::string> atx;
-  /// The stream's reference point; nullopt: from the stream name (SSRA/SSRC), else APC.
+  /// The stream's reference point; nullopt: from the stream name (SSRA: APC L1,
+  /// SSRC: centre of mass), else APC L1.
   std::optional<EphemerisReference> reference;
-  SsrApcFrequency apc = SsrApcFrequency::FirstFrequency;
+  /// For an antenna-phase-centre reference: which phase centre, overriding the
+  /// one `reference` names (ppp_ssr_check --apc l1|if); nullopt: as `reference` says.
+  std::optional<SsrApcFrequency> apc;
   /// Systems compared (those the SP3 and the broadcast model have).
   std::vector<GnssSystem> systems{GnssSystem::GPS, GnssSystem::Galileo, GnssSystem::GLONASS, GnssSystem::QZSS};
 };
@@ -58,7 +63,7 @@ struct SsrCheckResult {
   double orbit_rms_3d_m = 0.0;
   double clock_rms_ns = 0.0;
   std::size_t clock_satellite_epochs = 0;
-  EphemerisReference reference = EphemerisReference::AntennaPhaseCentre;
+  EphemerisReference reference = EphemerisReference::AntennaPhaseCentreL1;  // as used
   std::string reference_handling;  // one line for people
   std::vector<std::string> notes;  // decoding summary, problems, exclusions
   /// "orbit 3D RMS <m> m, clock RMS <ns> ns, <N> satellite-epochs"

@@ -16,8 +16,11 @@
 //   4. clock: dt = dt_brdc_polynomial(t) + (C0 + C1 (t-t0) + C2 (t-t0)^2 [+ high-rate C]) / c,
 //      without the relativistic term (EphemerisClock convention); the clock
 //      correction must carry the orbit correction's IOD SSR.
-// The orbit refers to the point the stream declares: the antenna phase centre
-// (IGS "SSRA" streams: no satellite PCO to add) or the centre of mass ("SSRC").
+// The orbit refers to the point the stream declares (BroadcastSsrOptions::reference,
+// reported in EphemerisOrbit::reference): the L1 antenna phase centre (IGS
+// "SSRA" streams: the measurement model adds only the IF - L1 PCO difference),
+// the ionosphere-free antenna phase centre (no satellite PCO to add) or the
+// centre of mass ("SSRC"); models/satellite_reference_point.h.
 // BeiDou and SBAS: no broadcast model here (SystemNotModelled).
 //
 // Incremental use (live, app/live_gnss_input.h): records may be added as they
@@ -41,7 +44,8 @@ namespace ppp {
 struct NavData;
 
 struct BroadcastSsrOptions {
-  /// The point the stream's orbits refer to (declared per stream).
+  /// The point the stream's orbits refer to (declared per stream; IGS SSRA
+  /// streams: AntennaPhaseCentreL1, see ssrReferenceFromStreamName).
   EphemerisReference reference = EphemerisReference::AntennaPhaseCentre;
   /// Add the high-rate clock corrections (messages 1062 / 1068 / ...).
   bool use_high_rate_clock = true;
@@ -49,9 +53,10 @@ struct BroadcastSsrOptions {
   bool allow_unhealthy = false;
 };
 
-/// The SSR reference point from a stream (mount point) name: "SSRA..." -> antenna
-/// phase centre, "SSRC..." -> centre of mass (IGS real-time service naming);
-/// nullopt when the name says neither.
+/// The SSR reference point from a stream (mount point) name: "SSRA..." -> the L1
+/// antenna phase centre (AntennaPhaseCentreL1: what the IGS SSRA streams refer
+/// to, satellite_reference_point.h), "SSRC..." -> centre of mass (IGS real-time
+/// service naming); nullopt when the name says neither.
 std::optional<EphemerisReference> ssrReferenceFromStreamName(const std::string& name);
 
 /// A corrected state with what went into it (for ppp_ssr_check and tests).

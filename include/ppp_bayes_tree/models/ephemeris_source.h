@@ -26,11 +26,19 @@
 
 namespace ppp {
 
-/// The point of the satellite a position refers to.
+/// The point of the satellite a position refers to (declared per SSR stream;
+/// models/satellite_reference_point.h turns it into the offset the measurement
+/// model still has to apply).
 enum class EphemerisReference {
-  CentreOfMass,         // the satellite antenna offset is still to be applied
-  AntennaPhaseCentre,   // the offset is in the orbit already (SSR "APC" streams)
+  CentreOfMass,         // the satellite antenna offset is still to be applied (SP3, broadcast, "SSRC" streams)
+  AntennaPhaseCentre,   // the IONOSPHERE-FREE phase centre of the processed pair: the offset is in
+                        // the orbit already (ppp_ssr_encode --reference apc)
+  AntennaPhaseCentreL1, // the phase centre of the FIRST frequency (GPS/QZSS L1, Galileo E1, GLONASS G1):
+                        // IGS "SSRA" streams; the model adds the PCO difference IF - L1
 };
+
+/// "centre of mass", "antenna phase centre (ionosphere-free)", "antenna phase centre (L1)".
+std::string_view ephemerisReferenceName(EphemerisReference reference);
 
 /// Why a source has no value for a satellite at an instant.
 enum class EphemerisUnavailable {

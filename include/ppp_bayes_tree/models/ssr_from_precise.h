@@ -17,7 +17,9 @@
 // X_precise is the SP3 centre of mass, or with reference = AntennaPhaseCentre
 // the centre of mass moved by the satellite's ionosphere-free PCO (L1/L2,
 // E1/E5a; nominal yaw attitude): the point the measurement model expects when
-// it is told the orbit is at the antenna phase centre.
+// it is told the orbit is at the antenna phase centre; with AntennaPhaseCentreL1
+// (as the IGS SSRA streams) moved by the L1 (E1) PCO
+// (models/satellite_reference_point.h).
 #include <memory>
 #include <optional>
 #include <string>

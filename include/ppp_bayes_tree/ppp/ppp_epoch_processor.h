@@ -55,6 +55,8 @@ class PppEpochProcessor {
   const RinexObsHeader& header() const;
   /// Where each antenna calibration came from (see PppMeasurementModel).
   std::vector<std::string> antennaSources() const;
+  /// L1-referenced orbits without a satellite calibration (see PppMeasurementModel).
+  std::vector<std::string> satelliteReferenceNotes() const;
   /// What the receiver antenna policy "warn" left out (see PppMeasurementModel).
   const std::vector<std::string>& receiverAntennaWarnings() const;
   std::optional<GnssTime> lastTime() const;

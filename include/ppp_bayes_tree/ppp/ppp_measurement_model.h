@@ -60,7 +60,9 @@
 // files, broadcast records, a correction stream; ephemeris_source.h; the
 // precise files extend their edges by 0.2 s, precise_ephemeris.h). An orbit
 // that refers to the antenna phase centre already holds the satellite PCO,
-// which is then not applied again (the PCV still is). Antenna calibrations come
+// which is then not applied again (the PCV still is); one at the L1 phase
+// centre (IGS SSRA) gets the IF - L1 PCO difference
+// (satellite_reference_point.h, the one place for the reference point). Antenna calibrations come
 // from an AntennaCalibrationProvider (ANTEX files: antex_calibrations.h) for
 // the receiver described by a ReceiverAntenna.
 //
@@ -185,6 +187,10 @@ struct ModelTerms {
   double sagnac_m = 0.0;                // range change due to the Earth rotation during flight
   double nadir_rad = 0.0;
   Eigen::Vector3d satellite_apc_at_transmission_ecef_m = Eigen::Vector3d::Zero();  // unrotated
+  /// What the model added to the ephemeris orbit to reach the IF phase centre
+  /// (satellite_reference_point.h): the IF PCO for a centre-of-mass orbit, PCO_IF -
+  /// PCO_L1 for an L1 orbit, zero for an IF antenna-phase-centre orbit [m, ECEF].
+  Eigen::Vector3d satellite_reference_offset_ecef_m = Eigen::Vector3d::Zero();
   Eigen::Vector3d receiver_apc_ecef_m = Eigen::Vector3d::Zero();
 };
 
@@ -224,6 +230,10 @@ class PppMeasurementModel {
   /// per cause (e.g. "receiver antenna ASH701945E_M SCIS not found in any ANTEX
   /// file: ..."); empty when nothing is missing (grows as systems are seen).
   const std::vector<std::string>& receiverAntennaWarnings() const { return receiver_warnings_; }
+  /// Satellites whose orbit refers to the L1 antenna phase centre (IGS SSRA)
+  /// but that have no satellite calibration for the IF - L1 PCO difference (taken
+  /// as zero), one line per satellite with its count of satellite-epochs.
+  std::vector<std::string> satelliteReferenceNotes() const;
   /// IF-combined receiver PCO (north, east, up) [m] of a frequency pair of a system.
   std::optional<Eigen::Vector3d> receiverPcoIonosphereFree_m(GnssSystem system, int frequency1, int frequency2,
                                                              double f1_hz, double f2_hz) const;
@@ -248,6 +258,7 @@ class PppMeasurementModel {
   MeasurementModelOptions options_;
   mutable std::vector<SatelliteAntennaCache> satellite_cache_;  // lookup cache (not model state)
   mutable std::vector<std::string> receiver_warnings_;          // reported once each
+  mutable std::vector<std::size_t> l1_reference_without_calibration_;  // per satellite index: counted
 };
 
 }  // namespace ppp

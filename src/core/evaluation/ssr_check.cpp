@@ -17,6 +17,7 @@
 #include "ppp_bayes_tree/models/ionosphere_free.h"
 #include "ppp_bayes_tree/models/precise_ephemeris.h"
 #include "ppp_bayes_tree/models/satellite_attitude.h"
+#include "ppp_bayes_tree/models/satellite_reference_point.h"
 #include "ppp_bayes_tree/models/sun_moon_position.h"
 #include "ppp_bayes_tree/types/carrier_frequency.h"
 
@@ -24,10 +25,16 @@ namespace ppp {
 
 namespace {
 
-/// The two frequencies whose ionosphere-free PCO an APC stream refers to.
-std::pair<char, char> pcoBands(GnssSystem s) {
-  if (s == GnssSystem::Galileo) return {'1', '5'};
-  return {'1', '2'};
+/// The reference point used: the request's (or the stream name's, else APC L1),
+/// with an APC flavour given by `apc` taking precedence.
+EphemerisReference referenceUsed(const SsrCheckRequest& req) {
+  EphemerisReference r = req.reference ? *req.reference
+                                       : ssrReferenceFromStreamName(fileBaseName(req.ssr))
+                                             .value_or(EphemerisReference::AntennaPhaseCentreL1);
+  if (r != EphemerisReference::CentreOfMass && req.apc)
+    r = *req.apc == SsrApcFrequency::FirstFrequency ? EphemerisReference::AntennaPhaseCentreL1
+                                                    : EphemerisReference::AntennaPhaseCentre;
+  return r;
 }
 }  // namespace
 
@@ -67,8 +74,7 @@ SsrCheckResult checkSsrAgainstSp3(const SsrCheckRequest& req) {
   auto store = std::make_shared<SsrCorrectionStore>();
   for (const auto& m : stream.messages) store->add(m);
 
-  out.reference = req.reference ? *req.reference
-                                : ssrReferenceFromStreamName(fileBaseName(req.ssr)).value_or(EphemerisReference::AntennaPhaseCentre);
+  out.reference = referenceUsed(req);
   BroadcastSsrOptions options;
   options.reference = out.reference;
   const BroadcastSsrEphemeris corrected(navs, store, options);
@@ -83,11 +89,12 @@ SsrCheckResult checkSsrAgainstSp3(const SsrCheckRequest& req) {
 
   std::unique_ptr<AntexCalibrations> antex;
   if (req.atx) antex = std::make_unique<AntexCalibrations>(std::vector<AntexSource>{{fileBaseName(*req.atx), readAntexFile(*req.atx)}});
-  const bool apc = out.reference == EphemerisReference::AntennaPhaseCentre;
+  const bool apc = out.reference != EphemerisReference::CentreOfMass;
+  const bool l1 = out.reference == EphemerisReference::AntennaPhaseCentreL1;
   if (!apc) out.reference_handling = "stream at the centre of mass: compared with the SP3 (centre of mass) directly";
   else if (antex)
     out.reference_handling = std::string("stream at the antenna phase centre: SP3 moved to the APC by the ") +
-                             (req.apc == SsrApcFrequency::FirstFrequency ? "L1 (E1)" : "ionosphere-free L1/L2 (E1/E5a)") +
+                             (l1 ? "L1 (E1)" : "ionosphere-free L1/L2 (E1/E5a)") +
                              " satellite PCO of " + fileBaseName(*req.atx) + " (nominal yaw attitude)";
   else out.reference_handling = "stream at the antenna phase centre, no ANTEX given: compared with the SP3 centre of mass as is (differs by the satellite PCO)";
 
@@ -116,15 +123,14 @@ SsrCheckResult checkSsrAgainstSp3(const SsrCheckRequest& req) {
       bool pco_applied = false;
       if (apc && antex) {
         const auto cal = antex->satellite(sat, t);
-        const auto [b1, b2] = pcoBands(sat.system);
-        const FrequencyCalibration* f1 = cal.calibration ? cal.calibration->frequency(sat.system, b1 - '0') : nullptr;
-        const FrequencyCalibration* f2 = cal.calibration ? cal.calibration->frequency(sat.system, b2 - '0') : nullptr;
+        const auto [b1, b2] = ssrIonosphereFreeBands(sat.system);
         const auto fr1 = carrierFrequency_hz(sat.system, b1);
         const auto fr2 = carrierFrequency_hz(sat.system, b2);
-        if (f1 && f2 && fr1 && fr2) {
-          const Eigen::Vector3d pco = req.apc == SsrApcFrequency::FirstFrequency
-                                          ? f1->pco_m
-                                          : ionosphereFreeOffset(f1->pco_m, f2->pco_m, ionosphereFreeCoefficients(*fr1, *fr2));
+        const auto offset = fr1 && fr2 ? satelliteReferenceOffset_m(out.reference, cal.calibration, sat.system, b1, b2,
+                                                                   ionosphereFreeCoefficients(*fr1, *fr2))
+                                       : std::nullopt;
+        if (offset) {
+          const Eigen::Vector3d& pco = *offset;
           const SatelliteBodyAxes axes =
               nominalSatelliteAxes(ref_pos, po.value->velocity_ecef_mps, sunPositionEcef_m(t));
           ref_pos += pco.x() * axes.x_ecef + pco.y() * axes.y_ecef + pco.z() * axes.z_ecef;

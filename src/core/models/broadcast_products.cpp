@@ -75,7 +75,7 @@ BroadcastProducts loadBroadcastProducts(const std::vector<std::string>& nav, con
   }
   out.notes.push_back("orbits and clocks: " + names + " corrected by SSR stream " + fileBaseName(*ssr) + " (" +
                       std::to_string(stream.summary.messages) + " messages; orbits at the " +
-                      (options.reference == EphemerisReference::AntennaPhaseCentre ? "antenna phase centre" : "centre of mass") +
+                      std::string(ephemerisReferenceName(options.reference)) +
                       (ssr_reference ? ", as given" : from_name ? ", from the stream name" : ", by default") + ")");
   const auto describe = [&](const StreamCounters& c, const std::string& what) {
     if (c.totalProblems() == 0) return;

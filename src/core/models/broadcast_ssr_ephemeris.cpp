@@ -24,7 +24,7 @@ int glonassSsrIod(const GlonassEphemeris& eph) {
 std::optional<EphemerisReference> ssrReferenceFromStreamName(const std::string& name) {
   const auto slash = name.find_last_of('/');
   const std::string base = slash == std::string::npos ? name : name.substr(slash + 1);
-  if (base.rfind("SSRA", 0) == 0) return EphemerisReference::AntennaPhaseCentre;
+  if (base.rfind("SSRA", 0) == 0) return EphemerisReference::AntennaPhaseCentreL1;
   if (base.rfind("SSRC", 0) == 0) return EphemerisReference::CentreOfMass;
   return std::nullopt;
 }
@@ -239,7 +239,7 @@ EphemerisAnswer<EphemerisOrbit> BroadcastSsrEphemeris::satelliteOrbit(const Sate
 
 std::string BroadcastSsrEphemeris::describeSource() const {
   return std::string("broadcast navigation records with SSR corrections (orbits at the ") +
-         (options_.reference == EphemerisReference::AntennaPhaseCentre ? "antenna phase centre" : "centre of mass") + ")";
+         std::string(ephemerisReferenceName(options_.reference)) + ")";
 }
 
 }  // namespace ppp

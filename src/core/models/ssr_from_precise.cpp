@@ -14,6 +14,7 @@
 #include "ppp_bayes_tree/models/broadcast_ssr_ephemeris.h"
 #include "ppp_bayes_tree/models/ionosphere_free.h"
 #include "ppp_bayes_tree/models/satellite_attitude.h"
+#include "ppp_bayes_tree/models/satellite_reference_point.h"
 #include "ppp_bayes_tree/models/sun_moon_position.h"
 #include "ppp_bayes_tree/types/carrier_frequency.h"
 #include "ppp_bayes_tree/types/constants.h"
@@ -53,7 +54,6 @@ std::optional<Selected> selectRecord(const BroadcastEphemerisStore& store, const
   }
 }
 
-std::pair<char, char> pcoBands(GnssSystem s) { return s == GnssSystem::Galileo ? std::make_pair('1', '5') : std::make_pair('1', '2'); }
 
 struct Rac {
   Eigen::Vector3d rac = Eigen::Vector3d::Zero();
@@ -67,7 +67,7 @@ SsrFromPreciseResult ssrFromPrecise(const std::vector<NavData>& navigation, cons
                                     const GnssTime& first, const GnssTime& last, const SsrFromPreciseOptions& options) {
   const auto interval_code = ssrUpdateIntervalCode(options.interval_s);
   if (!interval_code) throw std::invalid_argument("SSR interval " + std::to_string(options.interval_s) + " s is not an SSR update interval (DF391)");
-  const bool apc = options.reference == EphemerisReference::AntennaPhaseCentre;
+  const bool apc = options.reference != EphemerisReference::CentreOfMass;
   if (apc && antennas == nullptr) throw std::invalid_argument("SSR at the antenna phase centre needs satellite antenna offsets (ANTEX)");
   EphemerisSelectionOptions selection;
   selection.galileo = GalileoPreference::INavOnly;
@@ -93,12 +93,13 @@ SsrFromPreciseResult ssrFromPrecise(const std::vector<NavData>& navigation, cons
     Eigen::Vector3d x = o.value->position_ecef_m;
     if (apc && o.value->reference == EphemerisReference::CentreOfMass) {
       const auto cal = antennas->satellite(sat, t);
-      const auto [b1, b2] = pcoBands(sat.system);
-      const FrequencyCalibration* f1 = cal.calibration ? cal.calibration->frequency(sat.system, b1 - '0') : nullptr;
-      const FrequencyCalibration* f2 = cal.calibration ? cal.calibration->frequency(sat.system, b2 - '0') : nullptr;
+      const auto [b1, b2] = ssrIonosphereFreeBands(sat.system);
       const auto fr1 = carrierFrequency_hz(sat.system, b1), fr2 = carrierFrequency_hz(sat.system, b2);
-      if (!f1 || !f2 || !fr1 || !fr2) return std::nullopt;
-      const Eigen::Vector3d pco = ionosphereFreeOffset(f1->pco_m, f2->pco_m, ionosphereFreeCoefficients(*fr1, *fr2));
+      if (!fr1 || !fr2) return std::nullopt;
+      const auto offset = satelliteReferenceOffset_m(options.reference, cal.calibration, sat.system, b1, b2,
+                                                     ionosphereFreeCoefficients(*fr1, *fr2));
+      if (!offset) return std::nullopt;
+      const Eigen::Vector3d& pco = *offset;
       const SatelliteBodyAxes axes = nominalSatelliteAxes(x, o.value->velocity_ecef_mps, sunPositionEcef_m(t));
       x += pco.x() * axes.x_ecef + pco.y() * axes.y_ecef + pco.z() * axes.z_ecef;
     }

@@ -52,6 +52,10 @@ const RinexObsHeader& PppEpochProcessor::header() const { return impl_->header; 
 
 std::vector<std::string> PppEpochProcessor::antennaSources() const { return impl_->model->antennaSources(); }
 
+std::vector<std::string> PppEpochProcessor::satelliteReferenceNotes() const {
+  return impl_->model->satelliteReferenceNotes();
+}
+
 const std::vector<std::string>& PppEpochProcessor::receiverAntennaWarnings() const {
   return impl_->model->receiverAntennaWarnings();
 }

@@ -10,6 +10,7 @@
 #include "ppp_bayes_tree/models/relativity.h"
 #include "ppp_bayes_tree/models/satellite_attitude.h"
 #include "ppp_bayes_tree/models/satellite_eclipse.h"
+#include "ppp_bayes_tree/models/satellite_reference_point.h"
 #include "ppp_bayes_tree/models/signal_geometry.h"
 #include "ppp_bayes_tree/models/solid_earth_tide.h"
 #include "ppp_bayes_tree/models/sun_moon_position.h"
@@ -55,7 +56,8 @@ PppMeasurementModel::PppMeasurementModel(const EphemerisSource& ephemeris,
       antennas_(std::move(antennas)),
       receiver_antenna_(receiver_antenna),
       options_(options),
-      satellite_cache_(static_cast<std::size_t>(kNumGnssSystems) * 100) {
+      satellite_cache_(static_cast<std::size_t>(kNumGnssSystems) * 100),
+      l1_reference_without_calibration_(static_cast<std::size_t>(kNumGnssSystems) * 100, 0) {
   if (ocean_loading != nullptr) ocean_loading_ = *ocean_loading;
   if (antennas_) {
     const ReceiverCalibrationLookup r = antennas_->receiver(receiver_antenna_);
@@ -70,6 +72,19 @@ PppMeasurementModel::PppMeasurementModel(const EphemerisSource& ephemeris,
                         ": receiver PCO/PCV not applied (DELTA H/E/N applied; "
                         "measurement_model.corrections.receiver_antenna: warn)");
   }
+}
+
+std::vector<std::string> PppMeasurementModel::satelliteReferenceNotes() const {
+  std::vector<std::string> out;
+  for (std::size_t i = 0; i < l1_reference_without_calibration_.size(); ++i) {
+    const std::size_t n = l1_reference_without_calibration_[i];
+    if (n == 0) continue;
+    out.push_back(SatelliteId{static_cast<GnssSystem>(i / 100), static_cast<int>(i % 100)}.toString() +
+                  ": orbit at the L1 antenna phase centre but no satellite antenna calibration (ANTEX) for it: the "
+                  "ionosphere-free - L1 PCO difference taken as zero in " +
+                  std::to_string(n) + " satellite-epoch(s)");
+  }
+  return out;
 }
 
 void PppMeasurementModel::warnReceiverAntenna(std::string text) const {
@@ -248,20 +263,23 @@ void PppMeasurementModel::evaluate(const std::vector<DualFrequencyObservation>& 
       reject(RejectionReason::NoOrbit, "no orbit: " + orbit.detail);
       continue;
     }
-    // An antenna-phase-centre orbit: the position stands for both (the offset is in it).
+    // An antenna-phase-centre orbit: the position stands for both (the offset,
+    // or with an L1 orbit all but the IF - L1 difference, is in it).
     const Eigen::Vector3d& com_tx = orbit.value->position_ecef_m;
     const Eigen::Vector3d& vel_tx = orbit.value->velocity_ecef_mps;
-    const bool orbit_at_apc = orbit.value->reference == EphemerisReference::AntennaPhaseCentre;
+    const EphemerisReference orbit_reference = orbit.value->reference;
+    const bool orbit_at_apc = orbit_reference != EphemerisReference::CentreOfMass;
     if (options_.exclude_eclipse && eclipseState(com_tx, sun_moon.sun_ecef_m) != EclipseState::Sunlit) {
       reject(RejectionReason::Eclipse, "satellite in the Earth's shadow (eclipse)");
       continue;
     }
     const SatelliteBodyAxes axes = nominalSatelliteAxes(com_tx, vel_tx, sun_moon.sun_ecef_m);
 
-    // ---- satellite antenna offset (IF, body frame).
+    // ---- satellite antenna offset (IF, body frame; satellite_reference_point.h).
     Eigen::Vector3d apc_tx = com_tx;
     const FrequencyCalibration* s1 = nullptr;
     const FrequencyCalibration* s2 = nullptr;
+    Eigen::Vector3d reference_offset_ecef = Eigen::Vector3d::Zero();
     if (options_.satellite_antenna) {
       const AntennaCalibration* cal = satelliteCalibration(sat, t_rx);
       if (cal != nullptr) {
@@ -276,9 +294,16 @@ void PppMeasurementModel::evaluate(const std::vector<DualFrequencyObservation>& 
                               : "missing satellite antenna calibration for frequencies of " + cal->label());
         continue;
       }
-      if (!orbit_at_apc) {
-        const Eigen::Vector3d pco = ionosphereFreeOffset(s1->pco_m, s2->pco_m, st.k);
-        apc_tx += pco.x() * axes.x_ecef + pco.y() * axes.y_ecef + pco.z() * axes.z_ecef;
+      const std::optional<Eigen::Vector3d> pco =
+          ionosphereFreePhaseCentreOffset_m(orbit_reference, cal, sat.system, o.phase1.band, o.phase2.band, st.k);
+      if (pco) {
+        if (orbit_reference != EphemerisReference::AntennaPhaseCentre) {
+          reference_offset_ecef = pco->x() * axes.x_ecef + pco->y() * axes.y_ecef + pco->z() * axes.z_ecef;
+          apc_tx += reference_offset_ecef;
+        }
+      } else {
+        // Only an L1 orbit gets here (a centre-of-mass one without calibration was rejected).
+        ++l1_reference_without_calibration_[static_cast<std::size_t>(sat.index())];
       }
     }
 
@@ -404,6 +429,7 @@ void PppMeasurementModel::evaluate(const std::vector<DualFrequencyObservation>& 
       tm.sagnac_m = rho - (apc_tx - receiver_apc).norm();
       tm.nadir_rad = nadir;
       tm.satellite_apc_at_transmission_ecef_m = apc_tx;
+      tm.satellite_reference_offset_ecef_m = reference_offset_ecef;
       tm.receiver_apc_ecef_m = receiver_apc;
       terms->push_back(tm);
     }

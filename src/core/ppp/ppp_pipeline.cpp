@@ -227,6 +227,7 @@ std::vector<std::string> PppPipeline::notes() const {
   std::vector<std::string> n = impl_->load_notes;
   for (const auto& s : impl_->processor->antennaSources()) n.push_back("antenna " + s);
   for (const auto& w : impl_->processor->receiverAntennaWarnings()) n.push_back("warning: " + w);
+  for (const auto& w : impl_->processor->satelliteReferenceNotes()) n.push_back("warning: " + w);
   return n;
 }
 

@@ -1,0 +1,59 @@
+#include "ppp_bayes_tree/models/satellite_reference_point.h"
+
+namespace ppp {
+
+std::string_view ephemerisReferenceName(EphemerisReference reference) {
+  switch (reference) {
+    case EphemerisReference::CentreOfMass: return "centre of mass";
+    case EphemerisReference::AntennaPhaseCentre: return "antenna phase centre (ionosphere-free)";
+    case EphemerisReference::AntennaPhaseCentreL1: return "antenna phase centre (L1)";
+  }
+  return "?";
+}
+
+char ssrFirstFrequencyBand(GnssSystem system) { return system == GnssSystem::BeiDou ? '2' : '1'; }
+
+std::pair<char, char> ssrIonosphereFreeBands(GnssSystem system) {
+  if (system == GnssSystem::Galileo) return {'1', '5'};
+  if (system == GnssSystem::BeiDou) return {'2', '6'};
+  return {'1', '2'};
+}
+
+std::optional<Eigen::Vector3d> satelliteReferenceOffset_m(EphemerisReference reference,
+                                                          const AntennaCalibration* calibration, GnssSystem system,
+                                                          char band1, char band2, const IonosphereFreeCoefficients& k) {
+  if (reference == EphemerisReference::CentreOfMass) return Eigen::Vector3d::Zero();
+  if (calibration == nullptr) return std::nullopt;
+  if (reference == EphemerisReference::AntennaPhaseCentreL1) {
+    const FrequencyCalibration* f = calibration->frequency(system, ssrFirstFrequencyBand(system) - '0');
+    if (f == nullptr) return std::nullopt;
+    return f->pco_m;
+  }
+  const FrequencyCalibration* f1 = calibration->frequency(system, band1 - '0');
+  const FrequencyCalibration* f2 = calibration->frequency(system, band2 - '0');
+  if (f1 == nullptr || f2 == nullptr) return std::nullopt;
+  return ionosphereFreeOffset(f1->pco_m, f2->pco_m, k);
+}
+
+std::optional<Eigen::Vector3d> ionosphereFreePhaseCentreOffset_m(EphemerisReference orbit_reference,
+                                                                 const AntennaCalibration* calibration,
+                                                                 GnssSystem system, char band1, char band2,
+                                                                 const IonosphereFreeCoefficients& k) {
+  if (orbit_reference == EphemerisReference::AntennaPhaseCentre) return Eigen::Vector3d::Zero();
+  const auto to_if = satelliteReferenceOffset_m(EphemerisReference::AntennaPhaseCentre, calibration, system, band1,
+                                                band2, k);
+  if (!to_if) return std::nullopt;
+  if (orbit_reference == EphemerisReference::CentreOfMass) return to_if;
+  const auto to_ref = satelliteReferenceOffset_m(orbit_reference, calibration, system, band1, band2, k);
+  if (!to_ref) return std::nullopt;
+  return Eigen::Vector3d(*to_if - *to_ref);
+}
+
+std::optional<EphemerisReference> parseEphemerisReference(const std::string& text) {
+  if (text == "com") return EphemerisReference::CentreOfMass;
+  if (text == "apc" || text == "apc-if") return EphemerisReference::AntennaPhaseCentre;
+  if (text == "apc-l1") return EphemerisReference::AntennaPhaseCentreL1;
+  return std::nullopt;
+}
+
+}  // namespace ppp
