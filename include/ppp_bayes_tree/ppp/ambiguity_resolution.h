@@ -109,6 +109,7 @@ enum class AmbiguityFloatReason {
   NarrowLane,               // LAMBDA refused (see ils_reason)
   NumericalFailure,         // the constrained covariance was not positive
   Validating,               // resolveAndHold: too few integers held yet (validation across epochs)
+  FloatsDrifting,           // resolveAndHold: no single difference passed the float consistency window
 };
 std::string toString(AmbiguityFloatReason reason);
 

@@ -41,6 +41,7 @@ std::string toString(AmbiguityFloatReason reason) {
     case AmbiguityFloatReason::NarrowLane: return "narrow lane not fixed";
     case AmbiguityFloatReason::NumericalFailure: return "constrained covariance not positive definite";
     case AmbiguityFloatReason::Validating: return "integers not yet validated across epochs";
+    case AmbiguityFloatReason::FloatsDrifting: return "narrow-lane floats still drift (spread over the window too large)";
   }
   return "unknown";
 }
@@ -388,9 +389,13 @@ std::optional<AmbiguityFixedState> AmbiguityResolver::resolveAndHold(const Eigen
   // The reference is kept while it stays eligible, so that the float history
   // and the validation of its single differences go on.
   const auto eligible = [&](ArcId arc) { return slot.count(arc) > 0; };
-  WideLaneResolution wl;
-  if (reference_arc_ && slot.count(*reference_arc_)) wl = wide_lane_.resolveAgainst(*reference_arc_, eligible);
-  if (!wl.reference_arc) wl = wide_lane_.resolve(eligible);
+  // It gives way to the best-determined arc when that fixes more wide lanes (a
+  // reference whose own wide-lane bias is off leaves its pairs unfixed).
+  WideLaneResolution wl = wide_lane_.resolve(eligible);
+  if (reference_arc_ && slot.count(*reference_arc_) && wl.reference_arc && *wl.reference_arc != *reference_arc_) {
+    WideLaneResolution kept = wide_lane_.resolveAgainst(*reference_arc_, eligible);
+    if (kept.reference_arc && kept.fixedCount() >= wl.fixedCount()) wl = std::move(kept);
+  }
   reference_arc_ = wl.reference_arc;
   if (wl.reference_arc) {
     summary.reference_satellite = wl.reference_satellite;
@@ -488,6 +493,7 @@ std::optional<AmbiguityFixedState> AmbiguityResolver::resolveAndHold(const Eigen
   if (summary.held < options_.narrow_lane.min_fixed) {
     summary.float_reason = summary.held > 0 || !pending_.empty() ? AmbiguityFloatReason::Validating
                            : !wl.reference_arc                   ? AmbiguityFloatReason::NoWideLaneReference
+                           : candidates.empty() && !summary.narrow_lanes.empty() ? AmbiguityFloatReason::FloatsDrifting
                            : candidates.empty()                  ? AmbiguityFloatReason::TooFewWideLanes
                                                                  : AmbiguityFloatReason::NarrowLane;
     return std::nullopt;
