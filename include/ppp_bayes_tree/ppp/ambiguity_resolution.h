@@ -23,7 +23,30 @@
 //     state and covariance: x_fix = x + P A^T (A P A^T)^-1 (y - A x),
 //     P_fix = P - P A^T (A P A^T)^-1 A P. The float filter itself is never
 //     changed, so a wrong fix does not propagate: the next epoch resolves anew
-//     from the float state (no hold yet).
+//     from the float state (resolve()).
+//
+// Validation and hold (resolveAndHold(), what the EKF uses):
+//  5. Consistency of the floats before fixing: a single difference is offered
+//     to the search only when its float value has stayed within
+//     hold.max_float_spread_cycles over the last hold.consistency_epochs epochs
+//     (a float that still drifts carries an unmodelled error or an optimistic
+//     covariance, and its integer is not yet determined).
+//  6. Partial fixing of the best-determined subset: the candidates are ordered
+//     by the sigma of their float and the worst are dropped one by one until the
+//     full-set LAMBDA of the rest passes the ratio test and the success rate
+//     (Teunissen & Verhagen 2009 for the ratio test as a validation; the
+//     subset by precision as in Dong & Bock 1989 / Blewitt 1989's sequential
+//     fixing of the best-determined ambiguities first).
+//  7. Validation across epochs: a single difference's integer must come out
+//     the same in hold.validation_epochs consecutive searches before it is held.
+//  8. Hold: held integers are applied every epoch (as exact conditioning of a
+//     copy of the float state, so the float filter stays free of them) and are
+//     not searched again. Each epoch every held single difference is compared
+//     with its float value conditioned on the OTHER held ones; it is released
+//     (counted, with the reason) when it departs by more than
+//     hold.release_cycles and hold.release_sigma sigmas, when its wide lane
+//     rounds to another integer, or when its arc or reference arc ends.
+//     New candidates are resolved on the state conditioned on the held ones.
 //
 // References: Ge M., Gendt G., Rothacher M., Shi C., Liu J. (2008) Resolution of
 // GPS carrier-phase ambiguities in precise point positioning (PPP) with daily
@@ -37,6 +60,7 @@
 #include <map>
 #include <optional>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include <Eigen/Core>
@@ -49,6 +73,20 @@
 
 namespace ppp {
 
+/// Validation across epochs and hold (resolveAndHold()).
+struct AmbiguityHoldOptions {
+  /// Epochs of float history a single difference needs before it is searched,
+  /// and over which its float may spread by at most max_float_spread_cycles.
+  int consistency_epochs = 10;
+  double max_float_spread_cycles = 0.2;
+  /// Consecutive searches giving the same integer before it is held.
+  int validation_epochs = 5;
+  /// A held integer is released when its float (conditioned on the other held
+  /// ones) departs by more than both of these.
+  double release_cycles = 0.4;
+  double release_sigma = 4.0;
+};
+
 struct AmbiguityResolutionOptions {
   bool enabled = false;
   /// Arcs below this elevation are not fixed (their float biases carry the
@@ -56,6 +94,7 @@ struct AmbiguityResolutionOptions {
   double min_elevation_rad = 15.0 * kDegToRad;
   WideLaneOptions wide_lane;
   IlsOptions narrow_lane;
+  AmbiguityHoldOptions hold;
   /// "" when valid, else the reason.
   std::string validate() const;
 };
@@ -69,8 +108,30 @@ enum class AmbiguityFloatReason {
   TooFewWideLanes,          // fewer fixed wide lanes with a bias state than narrow_lane.min_fixed
   NarrowLane,               // LAMBDA refused (see ils_reason)
   NumericalFailure,         // the constrained covariance was not positive
+  Validating,               // resolveAndHold: too few integers held yet (validation across epochs)
+  FloatsDrifting,           // resolveAndHold: no single difference passed the float consistency window
 };
 std::string toString(AmbiguityFloatReason reason);
+
+/// One narrow-lane single difference of an epoch (diagnostics).
+struct NarrowLaneFloat {
+  ArcId arc = 0, reference_arc = 0;
+  SatelliteId satellite, reference_satellite;
+  long wide_lane_cycles = 0;
+  double float_cycles = 0.0;  // dN1 from the float state
+  double sigma_cycles = 0.0;
+  std::optional<long> held_cycles;  // set when held this epoch
+};
+
+/// Why a held integer was released.
+enum class AmbiguityReleaseReason { FloatDeparted, WideLaneChanged, ArcEnded };
+std::string toString(AmbiguityReleaseReason reason);
+
+struct AmbiguityRelease {
+  SatelliteId satellite, reference_satellite;
+  AmbiguityReleaseReason reason = AmbiguityReleaseReason::FloatDeparted;
+  double departure_cycles = 0.0;  // float - held (FloatDeparted)
+};
 
 /// What one epoch's ambiguity resolution did (diagnostics, CSV, summaries).
 struct AmbiguityFixSummary {
@@ -84,6 +145,11 @@ struct AmbiguityFixSummary {
   double bootstrap_success_rate = 0.0;
   std::optional<SatelliteId> reference_satellite;
   double search_time_s = 0.0;  // decorrelation + search + validation
+  // resolveAndHold() only:
+  std::vector<NarrowLaneFloat> narrow_lanes;  // this epoch's single differences
+  int held = 0;                               // integers held after this epoch
+  int newly_held = 0;                         // of them, validated this epoch
+  std::vector<AmbiguityRelease> released;     // released this epoch
   bool fixed() const { return float_reason == AmbiguityFloatReason::None; }
   /// "fixed 7/9 ratio 5.3 (ref G22)" or "float: ratio test failed (ratio 1.8)".
   std::string text() const;
@@ -114,12 +180,53 @@ class AmbiguityResolver {
                                              AmbiguityFixSummary& summary,
                                              const std::map<ArcId, double>* elevation_rad = nullptr) const;
 
+  /// resolve() with validation across epochs and hold (steps 5-8 above): keeps
+  /// the float history, the integers being validated and the held integers.
+  /// The fixed copy is returned when at least narrow_lane.min_fixed integers
+  /// are held.
+  std::optional<AmbiguityFixedState> resolveAndHold(const Eigen::VectorXd& x, const Eigen::MatrixXd& P,
+                                                    int receiver_dim, const std::vector<ArcId>& bias_arcs,
+                                                    const BiasProvider* biases, AmbiguityFixSummary& summary,
+                                                    const std::map<ArcId, double>* elevation_rad = nullptr);
+  /// Releases every held integer (e.g. after a filter reset); counted.
+  void releaseAll();
+  int heldCount() const { return static_cast<int>(held_.size()); }
+  long releasesTotal() const { return releases_total_; }
+
   const AmbiguityResolutionOptions& options() const { return options_; }
 
  private:
+  /// A single difference: the arc, its reference arc and its wide lane.
+  struct PairKey {
+    ArcId arc = 0, reference_arc = 0;
+    long wide_lane_cycles = 0;
+    bool operator<(const PairKey& o) const {
+      return std::tie(arc, reference_arc, wide_lane_cycles) < std::tie(o.arc, o.reference_arc, o.wide_lane_cycles);
+    }
+  };
+  struct PairRow {
+    PairKey key;
+    SatelliteId satellite, reference_satellite;
+    Eigen::RowVectorXd d;  // dN1 = d x - offset
+    double offset = 0.0;
+  };
+  struct Pending {
+    long integer = 0;
+    int count = 0;
+  };
+  /// The row of a single difference (nullopt when an arc has no slot, no
+  /// observation or no phase bias).
+  std::optional<PairRow> rowOf(const PairKey& key, int dim, const std::map<ArcId, int>& slot,
+                               const BiasProvider* biases) const;
+
   AmbiguityResolutionOptions options_;
   WideLaneResolver wide_lane_{options_.wide_lane};
   std::map<ArcId, DualFrequencyObservation> last_observation_;  // signals and frequencies of each arc
+  std::map<PairKey, std::vector<double>> float_history_;  // recent float dN1 per pair
+  std::map<PairKey, Pending> pending_;
+  std::map<PairKey, long> held_;
+  std::optional<ArcId> reference_arc_;  // kept while eligible
+  long releases_total_ = 0;
 };
 
 /// The constraints A x = y applied to a copy of (x, P) by exact conditioning;

@@ -114,6 +114,9 @@ class WideLaneResolver {
   /// Single differences of the active arcs with at least min_samples samples
   /// (and, when given, accepted by `eligible`; the reference is one of them).
   WideLaneResolution resolve(const std::function<bool(ArcId)>& eligible = {}) const;
+  /// The same against a given reference arc (no reference when that arc has
+  /// fewer than min_samples samples).
+  WideLaneResolution resolveAgainst(ArcId reference_arc, const std::function<bool(ArcId)>& eligible = {}) const;
   const WideLaneOptions& options() const { return options_; }
 
  private:

@@ -1,6 +1,8 @@
 #include "ppp_bayes_tree/ppp/ambiguity_resolution.h"
 
+#include <algorithm>
 #include <chrono>
+#include <numeric>
 #include <cmath>
 #include <cstdio>
 
@@ -21,6 +23,11 @@ std::string AmbiguityResolutionOptions::validate() const {
     return "wide_lane_max_fraction_cycles must be in (0, 0.5]";
   if (!(wide_lane.min_success_rate >= 0.0 && wide_lane.min_success_rate < 1.0))
     return "wide_lane_min_success_rate must be in [0, 1)";
+  if (hold.consistency_epochs < 1) return "consistency_epochs must be >= 1";
+  if (!(hold.max_float_spread_cycles > 0.0)) return "max_float_spread_cycles must be > 0";
+  if (hold.validation_epochs < 1) return "validation_epochs must be >= 1";
+  if (!(hold.release_cycles > 0.0 && hold.release_cycles <= 1.0)) return "release_cycles must be in (0, 1]";
+  if (!(hold.release_sigma > 0.0)) return "release_sigma must be > 0";
   return "";
 }
 
@@ -33,6 +40,17 @@ std::string toString(AmbiguityFloatReason reason) {
     case AmbiguityFloatReason::TooFewWideLanes: return "too few fixed wide lanes";
     case AmbiguityFloatReason::NarrowLane: return "narrow lane not fixed";
     case AmbiguityFloatReason::NumericalFailure: return "constrained covariance not positive definite";
+    case AmbiguityFloatReason::Validating: return "integers not yet validated across epochs";
+    case AmbiguityFloatReason::FloatsDrifting: return "narrow-lane floats still drift (spread over the window too large)";
+  }
+  return "unknown";
+}
+
+std::string toString(AmbiguityReleaseReason reason) {
+  switch (reason) {
+    case AmbiguityReleaseReason::FloatDeparted: return "float departed from the held integer";
+    case AmbiguityReleaseReason::WideLaneChanged: return "wide lane rounds to another integer";
+    case AmbiguityReleaseReason::ArcEnded: return "arc or reference arc ended";
   }
   return "unknown";
 }
@@ -68,7 +86,19 @@ void AmbiguityResolver::arcsEnded(const std::vector<EndedArc>& ended) {
   for (const auto& e : ended) {
     wide_lane_.removeArc(e.arc);
     last_observation_.erase(e.arc);
+    auto touches = [&](const PairKey& k) { return k.arc == e.arc || k.reference_arc == e.arc; };
+    for (auto it = held_.begin(); it != held_.end();) it = touches(it->first) ? held_.erase(it) : std::next(it);
+    for (auto it = pending_.begin(); it != pending_.end();) it = touches(it->first) ? pending_.erase(it) : std::next(it);
+    for (auto it = float_history_.begin(); it != float_history_.end();)
+      it = touches(it->first) ? float_history_.erase(it) : std::next(it);
   }
+}
+
+void AmbiguityResolver::releaseAll() {
+  releases_total_ += static_cast<long>(held_.size());
+  held_.clear();
+  pending_.clear();
+  float_history_.clear();
 }
 
 std::optional<AmbiguityFixedState> applyIntegerConstraints(const Eigen::VectorXd& x, const Eigen::MatrixXd& P,
@@ -179,6 +209,304 @@ std::optional<AmbiguityFixedState> AmbiguityResolver::resolve(const Eigen::Vecto
     return std::nullopt;
   }
   summary.narrow_lanes_fixed = ils.fixed;
+  summary.float_reason = AmbiguityFloatReason::None;
+  return fixed;
+}
+
+namespace {
+
+/// Union-find over arcs: pairs joined by held integers are connected, and a
+/// new single difference between two connected arcs would be a linear
+/// combination of held ones (not independent).
+struct ArcComponents {
+  std::map<ArcId, ArcId> parent;
+  ArcId find(ArcId a) {
+    auto it = parent.find(a);
+    if (it == parent.end()) return parent[a] = a;
+    if (it->second == a) return a;
+    return it->second = find(it->second);
+  }
+  bool join(ArcId a, ArcId b) {
+    const ArcId ra = find(a), rb = find(b);
+    if (ra == rb) return false;
+    parent[ra] = rb;
+    return true;
+  }
+};
+
+}  // namespace
+
+std::optional<AmbiguityResolver::PairRow> AmbiguityResolver::rowOf(const PairKey& key, int dim,
+                                                                   const std::map<ArcId, int>& slot,
+                                                                   const BiasProvider* biases) const {
+  const auto s = slot.find(key.arc), sr = slot.find(key.reference_arc);
+  const auto o = last_observation_.find(key.arc), orf = last_observation_.find(key.reference_arc);
+  if (s == slot.end() || sr == slot.end() || o == last_observation_.end() || orf == last_observation_.end())
+    return std::nullopt;
+  auto ifPhaseBias = [&](const DualFrequencyObservation& obs) -> std::optional<double> {
+    const BiasAnswer b1 = biases->phaseBias(obs.satellite, obs.phase1, obs.time);
+    const BiasAnswer b2 = biases->phaseBias(obs.satellite, obs.phase2, obs.time);
+    if (!b1.value_m || !b2.value_m) return std::nullopt;
+    return ionosphereFree(*b1.value_m, *b2.value_m, ionosphereFreeCoefficients(obs.frequency1_hz, obs.frequency2_hz));
+  };
+  const auto b = ifPhaseBias(o->second), b_ref = ifPhaseBias(orf->second);
+  if (!b || !b_ref) return std::nullopt;
+  const double f1 = o->second.frequency1_hz, f2 = o->second.frequency2_hz;
+  const double lambda_nl = narrowLaneWavelength_m(f1, f2);
+  const double k_wl = ionosphereFreeAmbiguity_m(f1, f2, 0.0, 1.0);
+  PairRow r;
+  r.key = key;
+  r.satellite = o->second.satellite;
+  r.reference_satellite = orf->second.satellite;
+  r.d = Eigen::RowVectorXd::Zero(dim);
+  r.d(s->second) = 1.0 / lambda_nl;
+  r.d(sr->second) = -1.0 / lambda_nl;
+  r.offset = (*b - *b_ref + k_wl * static_cast<double>(key.wide_lane_cycles)) / lambda_nl;
+  return r;
+}
+
+std::optional<AmbiguityFixedState> AmbiguityResolver::resolveAndHold(const Eigen::VectorXd& x,
+                                                                     const Eigen::MatrixXd& P, int receiver_dim,
+                                                                     const std::vector<ArcId>& bias_arcs,
+                                                                     const BiasProvider* biases,
+                                                                     AmbiguityFixSummary& summary,
+                                                                     const std::map<ArcId, double>* elevation_rad) {
+  summary = AmbiguityFixSummary{};
+  if (!options_.enabled) return std::nullopt;
+  if (!biases) {
+    summary.float_reason = AmbiguityFloatReason::NoConsistentPhaseBiases;
+    return std::nullopt;
+  }
+  const AmbiguityHoldOptions& ho = options_.hold;
+  const int dim = static_cast<int>(x.size());
+  std::map<ArcId, int> all_slot, slot;
+  for (std::size_t i = 0; i < bias_arcs.size(); ++i) all_slot[bias_arcs[i]] = receiver_dim + static_cast<int>(i);
+  for (const auto& [arc, index] : all_slot) {
+    bool high = true;
+    if (elevation_rad && options_.min_elevation_rad > 0.0) {
+      const auto e = elevation_rad->find(arc);
+      high = e != elevation_rad->end() && e->second >= options_.min_elevation_rad;
+    }
+    if (high) slot[arc] = index;
+  }
+  auto release = [&](std::map<PairKey, long>::iterator it, AmbiguityReleaseReason why, double departure,
+                     const SatelliteId& sat, const SatelliteId& ref) {
+    summary.released.push_back({sat, ref, why, departure});
+    if (why != AmbiguityReleaseReason::ArcEnded) ++releases_total_;
+    return held_.erase(it);
+  };
+  auto satelliteOf = [&](ArcId arc) {
+    const auto o = last_observation_.find(arc);
+    return o == last_observation_.end() ? SatelliteId{} : o->second.satellite;
+  };
+
+  // Held integers: present rows, wide lanes unchanged.
+  std::vector<PairRow> held_rows;
+  std::vector<long> held_values;
+  const auto& wl_means = wide_lane_.arcs();
+  for (auto it = held_.begin(); it != held_.end();) {
+    const auto row = rowOf(it->first, dim, all_slot, biases);
+    if (!row) {
+      it = release(it, AmbiguityReleaseReason::ArcEnded, 0.0, satelliteOf(it->first.arc),
+                   satelliteOf(it->first.reference_arc));
+      continue;
+    }
+    const auto m = wl_means.find(it->first.arc), mr = wl_means.find(it->first.reference_arc);
+    if (m != wl_means.end() && mr != wl_means.end() &&
+        std::lround(m->second.mean_cycles - mr->second.mean_cycles) != it->first.wide_lane_cycles) {
+      it = release(it, AmbiguityReleaseReason::WideLaneChanged, 0.0, row->satellite, row->reference_satellite);
+      continue;
+    }
+    held_rows.push_back(*row);
+    held_values.push_back(it->second);
+    ++it;
+  }
+  // Each held integer against its float conditioned on the other held ones;
+  // the worst offender (if any) is released this epoch.
+  auto stack = [&](const std::vector<PairRow>& rows, const std::vector<long>& values, int skip, Eigen::MatrixXd& A,
+                   Eigen::VectorXd& y) {
+    const int n = static_cast<int>(rows.size()) - (skip >= 0 ? 1 : 0);
+    A.resize(n, dim);
+    y.resize(n);
+    for (int i = 0, k = 0; i < static_cast<int>(rows.size()); ++i) {
+      if (i == skip) continue;
+      A.row(k) = rows[static_cast<std::size_t>(i)].d;
+      y(k) = static_cast<double>(values[static_cast<std::size_t>(i)]) + rows[static_cast<std::size_t>(i)].offset;
+      ++k;
+    }
+  };
+  {
+    int worst = -1;
+    double worst_score = 0.0, worst_departure = 0.0;
+    for (int i = 0; i < static_cast<int>(held_rows.size()); ++i) {
+      Eigen::MatrixXd A;
+      Eigen::VectorXd y;
+      stack(held_rows, held_values, i, A, y);
+      std::optional<AmbiguityFixedState> c =
+          A.rows() > 0 ? applyIntegerConstraints(x, P, A, y) : AmbiguityFixedState{x, P};
+      if (!c) continue;
+      const PairRow& r = held_rows[static_cast<std::size_t>(i)];
+      const double v = r.d.dot(c->x) - r.offset;
+      const double sigma = std::sqrt(std::max(0.0, (r.d * c->P * r.d.transpose())(0, 0)));
+      const double departure = v - static_cast<double>(held_values[static_cast<std::size_t>(i)]);
+      const double score = sigma > 0.0 ? std::abs(departure) / sigma : std::abs(departure) * 1e9;
+      if (std::abs(departure) > ho.release_cycles && score > ho.release_sigma && score > worst_score)
+        worst = i, worst_score = score, worst_departure = departure;
+    }
+    if (worst >= 0) {
+      const PairRow r = held_rows[static_cast<std::size_t>(worst)];
+      release(held_.find(r.key), AmbiguityReleaseReason::FloatDeparted, worst_departure, r.satellite,
+              r.reference_satellite);
+      held_rows.erase(held_rows.begin() + worst);
+      held_values.erase(held_values.begin() + worst);
+    }
+  }
+  Eigen::VectorXd xc = x;
+  Eigen::MatrixXd Pc = P;
+  if (!held_rows.empty()) {
+    Eigen::MatrixXd A;
+    Eigen::VectorXd y;
+    stack(held_rows, held_values, -1, A, y);
+    auto c = applyIntegerConstraints(x, P, A, y);
+    if (!c) {
+      summary.float_reason = AmbiguityFloatReason::NumericalFailure;
+      return std::nullopt;
+    }
+    xc = c->x;
+    Pc = c->P;
+  }
+  ArcComponents components;
+  for (const auto& r : held_rows) components.join(r.key.arc, r.key.reference_arc);
+  for (std::size_t i = 0; i < held_rows.size(); ++i) {
+    const PairRow& r = held_rows[i];
+    NarrowLaneFloat f{r.key.arc, r.key.reference_arc, r.satellite, r.reference_satellite, r.key.wide_lane_cycles,
+                      r.d.dot(x) - r.offset, std::sqrt(std::max(0.0, (r.d * P * r.d.transpose())(0, 0))),
+                      held_values[i]};
+    summary.narrow_lanes.push_back(f);
+  }
+
+  // New candidates: wide-lane fixed arcs against this epoch's reference.
+  // The reference is kept while it stays eligible, so that the float history
+  // and the validation of its single differences go on.
+  const auto eligible = [&](ArcId arc) { return slot.count(arc) > 0; };
+  // It gives way to the best-determined arc when that fixes more wide lanes (a
+  // reference whose own wide-lane bias is off leaves its pairs unfixed).
+  WideLaneResolution wl = wide_lane_.resolve(eligible);
+  if (reference_arc_ && slot.count(*reference_arc_) && wl.reference_arc && *wl.reference_arc != *reference_arc_) {
+    WideLaneResolution kept = wide_lane_.resolveAgainst(*reference_arc_, eligible);
+    if (kept.reference_arc && kept.fixedCount() >= wl.fixedCount()) wl = std::move(kept);
+  }
+  reference_arc_ = wl.reference_arc;
+  if (wl.reference_arc) {
+    summary.reference_satellite = wl.reference_satellite;
+    summary.wide_lane_candidates = static_cast<int>(wl.arcs.size());
+    summary.wide_lanes_fixed = wl.fixedCount();
+  }
+  std::vector<PairRow> candidates;
+  std::map<PairKey, bool> seen;
+  if (wl.reference_arc) {
+    for (const WideLaneFix& f : wl.arcs) {
+      if (!f.fixed) continue;
+      const PairKey key{f.arc, *wl.reference_arc, f.integer_cycles};
+      const auto row = rowOf(key, dim, slot, biases);
+      if (!row) continue;
+      seen[key] = true;
+      std::vector<double>& h = float_history_[key];
+      h.push_back(row->d.dot(x) - row->offset);
+      if (static_cast<int>(h.size()) > ho.consistency_epochs) h.erase(h.begin());
+      if (held_.count(key) || components.find(f.arc) == components.find(*wl.reference_arc)) continue;
+      NarrowLaneFloat nf{key.arc, key.reference_arc, row->satellite, row->reference_satellite, key.wide_lane_cycles,
+                         h.back(), std::sqrt(std::max(0.0, (row->d * P * row->d.transpose())(0, 0))), std::nullopt};
+      summary.narrow_lanes.push_back(nf);
+      const auto [lo, hi] = std::minmax_element(h.begin(), h.end());
+      if (static_cast<int>(h.size()) < ho.consistency_epochs || *hi - *lo > ho.max_float_spread_cycles) continue;
+      candidates.push_back(*row);
+    }
+  }
+  for (auto it = float_history_.begin(); it != float_history_.end();)
+    it = seen.count(it->first) ? std::next(it) : float_history_.erase(it);
+  summary.narrow_lane_candidates = static_cast<int>(candidates.size());
+
+  // Partial fixing of the best-determined subset (conditioned on the held ones).
+  const int min_subset = held_rows.size() >= static_cast<std::size_t>(options_.narrow_lane.min_fixed)
+                             ? 1
+                             : std::max(1, options_.narrow_lane.min_fixed - static_cast<int>(held_rows.size()));
+  std::vector<double> sigma(candidates.size());
+  for (std::size_t i = 0; i < candidates.size(); ++i)
+    sigma[i] = std::sqrt(std::max(0.0, (candidates[i].d * Pc * candidates[i].d.transpose())(0, 0)));
+  std::vector<std::size_t> order(candidates.size());
+  std::iota(order.begin(), order.end(), 0);
+  std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return sigma[a] < sigma[b]; });
+  std::map<PairKey, long> fixed_now;
+  const auto t0 = std::chrono::steady_clock::now();
+  summary.ils_reason = IlsFloatReason::TooFewAmbiguities;
+  for (int n = static_cast<int>(order.size()); n >= min_subset && n > 0; --n) {
+    Eigen::MatrixXd D(n, dim);
+    Eigen::VectorXd o(n);
+    for (int i = 0; i < n; ++i) {
+      const PairRow& r = candidates[order[static_cast<std::size_t>(i)]];
+      D.row(i) = r.d;
+      o(i) = r.offset;
+    }
+    IlsOptions io = options_.narrow_lane;
+    io.partial = false;
+    io.min_fixed = n;
+    const IlsResult ils = solveIntegerLeastSquares(D * xc - o, D * Pc * D.transpose(), io);
+    summary.ratio = ils.ratio;
+    summary.bootstrap_success_rate = ils.bootstrap_success_rate;
+    summary.ils_reason = ils.float_reason;
+    if (ils.isFixed() && ils.fixed_ambiguities) {
+      for (int i = 0; i < n; ++i)
+        fixed_now[candidates[order[static_cast<std::size_t>(i)]].key] = std::lround((*ils.fixed_ambiguities)(i));
+      break;
+    }
+  }
+  summary.search_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+
+  // Validation across epochs.
+  for (auto it = pending_.begin(); it != pending_.end();)
+    it = fixed_now.count(it->first) ? std::next(it) : pending_.erase(it);
+  for (const auto& [key, integer] : fixed_now) {
+    Pending& p = pending_[key];
+    if (p.count > 0 && p.integer == integer) {
+      ++p.count;
+    } else {
+      p.integer = integer;
+      p.count = 1;
+    }
+    if (p.count >= ho.validation_epochs && components.join(key.arc, key.reference_arc)) {
+      held_[key] = integer;
+      ++summary.newly_held;
+      pending_.erase(key);
+      if (const auto row = rowOf(key, dim, all_slot, biases)) {
+        held_rows.push_back(*row);
+        held_values.push_back(integer);
+      }
+    }
+  }
+  summary.held = static_cast<int>(held_rows.size());
+  for (auto& f : summary.narrow_lanes)
+    if (!f.held_cycles) {
+      const auto h = held_.find(PairKey{f.arc, f.reference_arc, f.wide_lane_cycles});
+      if (h != held_.end()) f.held_cycles = h->second;
+    }
+  if (summary.held < options_.narrow_lane.min_fixed) {
+    summary.float_reason = summary.held > 0 || !pending_.empty() ? AmbiguityFloatReason::Validating
+                           : !wl.reference_arc                   ? AmbiguityFloatReason::NoWideLaneReference
+                           : candidates.empty() && !summary.narrow_lanes.empty() ? AmbiguityFloatReason::FloatsDrifting
+                           : candidates.empty()                  ? AmbiguityFloatReason::TooFewWideLanes
+                                                                 : AmbiguityFloatReason::NarrowLane;
+    return std::nullopt;
+  }
+  Eigen::MatrixXd A;
+  Eigen::VectorXd y;
+  stack(held_rows, held_values, -1, A, y);
+  auto fixed = applyIntegerConstraints(x, P, A, y);
+  if (!fixed) {
+    summary.float_reason = AmbiguityFloatReason::NumericalFailure;
+    return std::nullopt;
+  }
+  summary.narrow_lanes_fixed = summary.held;
   summary.float_reason = AmbiguityFloatReason::None;
   return fixed;
 }

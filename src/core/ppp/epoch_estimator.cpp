@@ -14,7 +14,9 @@ EstimatorEpochResult EkfEstimator::processEpoch(const EstimatorEpochInput& input
 }
 
 void EkfEstimator::resolveAmbiguities(const EstimatorEpochInput& input, EstimatorEpochResult& r) {
-  // The filter stays float; the fixed solution is a constrained copy of it.
+  // The filter stays float; the fixed solution is a constrained copy of it,
+  // conditioned on the integers validated across epochs and held.
+  if (r.estimator_reset) ambiguity_.releaseAll();
   if (input.observations && input.arcs) ambiguity_.addEpoch(*input.observations, *input.arcs, input.phase_biases);
   AmbiguityFixSummary summary;
   if (r.status == EpochStatus::Ok && r.solution) {
@@ -22,8 +24,8 @@ void EkfEstimator::resolveAmbiguities(const EstimatorEpochInput& input, Estimato
     const int receiver_dim = r.solution->state.layout.dim();
     std::map<ArcId, double> elevation_rad;
     for (const auto& res : r.residuals) elevation_rad[res.arc] = res.elevation_rad;
-    const auto fixed = ambiguity_.resolve(ekf_.stateVector(), ekf_.covarianceMatrix(), receiver_dim, arcs,
-                                          input.phase_biases, summary, &elevation_rad);
+    const auto fixed = ambiguity_.resolveAndHold(ekf_.stateVector(), ekf_.covarianceMatrix(), receiver_dim, arcs,
+                                                 input.phase_biases, summary, &elevation_rad);
     if (fixed) {
       r.solution->state = ReceiverState::fromVector(fixed->x.head(receiver_dim), r.solution->state.layout);
       r.solution->covariance = fixed->P.topLeftCorner(receiver_dim, receiver_dim);

@@ -74,6 +74,12 @@ void readAmbiguityResolution(YamlSection s, AmbiguityResolutionOptions& o) {
       s.number("wide_lane_min_success_rate", o.wide_lane.min_success_rate, Bound::NonNegative);
   o.wide_lane.max_fraction_cycles =
       s.number("wide_lane_max_fraction_cycles", o.wide_lane.max_fraction_cycles, Bound::Positive);
+  o.hold.consistency_epochs = s.integer("consistency_epochs", o.hold.consistency_epochs, 1);
+  o.hold.max_float_spread_cycles =
+      s.number("max_float_spread_cycles", o.hold.max_float_spread_cycles, Bound::Positive);
+  o.hold.validation_epochs = s.integer("validation_epochs", o.hold.validation_epochs, 1);
+  o.hold.release_cycles = s.number("release_cycles", o.hold.release_cycles, Bound::Positive);
+  o.hold.release_sigma = s.number("release_sigma", o.hold.release_sigma, Bound::Positive);
   s.finish();
 }
 

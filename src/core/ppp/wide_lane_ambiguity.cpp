@@ -119,6 +119,15 @@ WideLaneResolution WideLaneResolver::resolve(const std::function<bool(ArcId)>& e
     if (s < sr || (s == sr && m.samples > ref->samples)) ref = &m;
   }
   if (!ref) return out;
+  return resolveAgainst(ref->arc, eligible);
+}
+
+WideLaneResolution WideLaneResolver::resolveAgainst(ArcId reference_arc,
+                                                    const std::function<bool(ArcId)>& eligible) const {
+  WideLaneResolution out;
+  const auto r = arcs_.find(reference_arc);
+  if (r == arcs_.end() || r->second.samples < options_.min_samples) return out;
+  const WideLaneArcMean* ref = &r->second;
   out.reference_arc = ref->arc;
   out.reference_satellite = ref->satellite;
   const double sigma_ref = ref->sigmaOfMean_cycles(options_);

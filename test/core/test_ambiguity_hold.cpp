@@ -1,0 +1,283 @@
+// Validation across epochs and hold of the PPP-AR resolver
+// (AmbiguityResolver::resolveAndHold, ppp/ambiguity_resolution.h):
+//  - a deliberately wrong integer (a float biased by one narrow-lane cycle that
+//    the validation accepts) is held, detected once the float moves away from
+//    it, released and counted, and the fixed estimate returns to the truth
+//    within its bounds; the right integer is then validated and held again;
+//  - on CCJ2 (WUM clocks and phase OSBs), the narrow-lane integers held by the
+//    EKF in a static run are checked against their float values across arcs
+//    (integer residuals near 0, histogram printed).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <iostream>
+#include <map>
+#include <random>
+#include <sstream>
+
+#include "ppp_bayes_tree/models/ionosphere_free.h"
+#include "ppp_bayes_tree/ppp/ambiguity_resolution.h"
+#include "ppp_bayes_tree/ppp/epoch_estimator.h"
+#include "ppp_bayes_tree/ppp/ppp_pipeline.h"
+#include "ppp_bayes_tree/types/constants.h"
+#include "ppp_dataset.h"
+#include "test_support.h"
+
+namespace ppp {
+namespace {
+
+constexpr double kF1 = 1575.42e6, kF2 = 1227.60e6;  // GPS L1/L2 (IS-GPS-200)
+
+class TableBiases : public BiasProvider {
+ public:
+  std::map<std::pair<SatelliteId, std::string>, double> table;
+  BiasAnswer codeBias(const SatelliteId& s, const ObservationCode& c, const GnssTime&) const override {
+    return find(s, c);
+  }
+  BiasAnswer phaseBias(const SatelliteId& s, const ObservationCode& c, const GnssTime&) const override {
+    return find(s, c);
+  }
+  std::string describeSource() const override { return "table"; }
+
+ private:
+  BiasAnswer find(const SatelliteId& s, const ObservationCode& c) const {
+    const auto it = table.find({s, c.toString()});
+    BiasAnswer a;
+    if (it != table.end()) a.value_m = it->second;
+    return a;
+  }
+};
+
+struct SyntheticArc {
+  ArcId arc;
+  int prn;
+  int n1, nwl;
+  double osb_l1_m, osb_l2_m;
+};
+
+/// Six arcs with integer ambiguities, satellite OSBs, a receiver phase bias and
+/// a filter covariance in which the biases are correlated with the receiver
+/// states (a wrong integer pulls the position).
+struct SyntheticProblem {
+  std::vector<SyntheticArc> arcs = {{1, 3, 12, 5, 0.031, -0.044}, {2, 7, -40, 17, -0.12, 0.07},
+                                    {3, 11, 7, -3, 0.2, 0.15},     {4, 19, 101, 44, -0.05, -0.2},
+                                    {5, 22, -9, 0, 0.0, 0.09},     {6, 30, 55, -21, 0.11, 0.013}};
+  static constexpr int receiver_dim = 5;
+  TableBiases osb;
+  Eigen::VectorXd truth;
+  Eigen::MatrixXd P;
+  std::vector<ArcId> bias_arcs;
+
+  SyntheticProblem() {
+    const int n = static_cast<int>(arcs.size());
+    const auto k_if = ionosphereFreeCoefficients(kF1, kF2);
+    truth.resize(receiver_dim + n);
+    truth.head(receiver_dim) << 1.0, 2.0, 3.0, 0.1, 5.0;
+    for (int i = 0; i < n; ++i) {
+      const auto& a = arcs[static_cast<std::size_t>(i)];
+      const SatelliteId sat{GnssSystem::GPS, a.prn};
+      osb.table[{sat, "L1C"}] = a.osb_l1_m;
+      osb.table[{sat, "L2W"}] = a.osb_l2_m;
+      truth(receiver_dim + i) = ionosphereFreeAmbiguity_m(kF1, kF2, a.n1, a.nwl) +
+                                ionosphereFree(a.osb_l1_m, a.osb_l2_m, k_if) + 0.4321;
+      bias_arcs.push_back(a.arc);
+    }
+    // x = J z with independent z: receiver states (sigma 5 cm), per-arc biases
+    // (NL sigma ~0.05 cycle) and a common receiver phase bias (10 cm).
+    std::mt19937 rng(4);
+    std::uniform_real_distribution<double> g(-1.0, 1.0);
+    const int dim = receiver_dim + n;
+    Eigen::MatrixXd J = Eigen::MatrixXd::Zero(dim, receiver_dim + n + 1);
+    J.topLeftCorner(receiver_dim, receiver_dim) = 0.05 * Eigen::MatrixXd::Identity(receiver_dim, receiver_dim);
+    for (int i = 0; i < n; ++i) {
+      for (int k = 0; k < 3; ++k) J(receiver_dim + i, k) = 0.05 * g(rng);  // geometry
+      J(receiver_dim + i, receiver_dim + i) = 0.005;
+      J(receiver_dim + i, receiver_dim + n) = 0.1;
+    }
+    P = J * J.transpose();
+  }
+
+  /// MW samples of every arc for `epochs` epochs (wide lanes clearly integer).
+  void feedWideLanes(AmbiguityResolver& resolver, int epochs) const {
+    std::mt19937 rng(9);
+    std::normal_distribution<double> noise(0.0, 0.2);
+    for (int k = 0; k < epochs; ++k) {
+      std::vector<DualFrequencyObservation> obs;
+      std::vector<ArcId> ids;
+      for (const auto& a : arcs) {
+        DualFrequencyObservation o;
+        o.satellite = SatelliteId{GnssSystem::GPS, a.prn};
+        o.code1 = *ObservationCode::parse("C1W");
+        o.code2 = *ObservationCode::parse("C2W");
+        o.phase1 = *ObservationCode::parse("L1C");
+        o.phase2 = *ObservationCode::parse("L2W");
+        o.frequency1_hz = kF1;
+        o.frequency2_hz = kF2;
+        const double range_m = 2.2e7 + 1000.0 * k;
+        o.code1_m = o.code2_m = range_m;
+        o.phase1_cycles = range_m * kF1 / kSpeedOfLight_mps + a.n1 + a.osb_l1_m * kF1 / kSpeedOfLight_mps + 0.29 +
+                          noise(rng);
+        o.phase2_cycles = range_m * kF2 / kSpeedOfLight_mps + (a.n1 - a.nwl) + a.osb_l2_m * kF2 / kSpeedOfLight_mps;
+        o.code1_osb_m = 0.0;
+        o.code2_osb_m = 0.0;
+        obs.push_back(o);
+        ids.push_back(a.arc);
+      }
+      resolver.addEpoch(obs, ids, &osb);
+    }
+  }
+};
+
+TEST(AmbiguityHold, WrongIntegerIsHeldThenDetectedReleasedAndTheEstimateReturns) {
+  SyntheticProblem s;
+  const int rd = SyntheticProblem::receiver_dim;
+  AmbiguityResolutionOptions opt;
+  opt.enabled = true;
+  AmbiguityResolver resolver(opt);
+  s.feedWideLanes(resolver, 60);
+  const double lambda_nl = narrowLaneWavelength_m(kF1, kF2);
+
+  // 1. A float biased by one NL cycle on arc 4 (e.g. an unmodelled
+  //    error during convergence): consistent over the window, so validated and
+  //    held with the wrong integer.
+  Eigen::VectorXd x_bad = s.truth;
+  x_bad(rd + 3) += lambda_nl;
+  AmbiguityFixSummary summary;
+  std::optional<AmbiguityFixedState> fixed;
+  int epoch_held = -1;
+  for (int k = 0; k < 20 && epoch_held < 0; ++k) {
+    fixed = resolver.resolveAndHold(x_bad, s.P, rd, s.bias_arcs, &s.osb, summary);
+    if (fixed) epoch_held = k;
+  }
+  ASSERT_TRUE(fixed.has_value()) << summary.text();
+  // Not before the float history and the repeated searches allow it.
+  EXPECT_GE(epoch_held, opt.hold.consistency_epochs - 1 + opt.hold.validation_epochs - 1);
+  EXPECT_EQ(resolver.heldCount(), 5);
+  const double wrong_sd = (fixed->x(rd + 3) - fixed->x(rd)) - (s.truth(rd + 3) - s.truth(rd));
+  EXPECT_NEAR(std::abs(wrong_sd), lambda_nl, 1e-6);  // the wrong integer is in use
+  {
+    // Kept against the converged float (below), it would pull the position far
+    // outside its bounds: the same five constraints applied to the truth.
+    Eigen::MatrixXd A(5, s.truth.size());
+    Eigen::VectorXd y(5);
+    A.setZero();
+    for (int i = 1; i < 6; ++i) {
+      A(i - 1, rd + i) = 1.0;
+      A(i - 1, rd) = -1.0;
+      y(i - 1) = fixed->x(rd + i) - fixed->x(rd);
+    }
+    const auto kept = applyIntegerConstraints(s.truth, s.P, A, y);
+    ASSERT_TRUE(kept.has_value());
+    double worst = 0.0;
+    for (int k = 0; k < 3; ++k)
+      worst = std::max(worst, std::abs(kept->x(k) - s.truth(k)) / std::sqrt(kept->P(k, k)));
+    EXPECT_GT(worst, 3.0);
+  }
+
+  // 2. The float converges to the truth: the held wrong integer departs from it
+  //    by one cycle and is released (counted, with the reason); the others stay.
+  fixed = resolver.resolveAndHold(s.truth, s.P, rd, s.bias_arcs, &s.osb, summary);
+  ASSERT_EQ(summary.released.size(), 1u);
+  EXPECT_EQ(summary.released[0].reason, AmbiguityReleaseReason::FloatDeparted);
+  EXPECT_EQ(summary.released[0].satellite.prn, 19);
+  EXPECT_GT(std::abs(summary.released[0].departure_cycles), 0.5);
+  EXPECT_EQ(resolver.releasesTotal(), 1);
+  ASSERT_TRUE(fixed.has_value()) << summary.text();  // 4 right ones still held (min_fixed 4)
+  for (int k = 0; k < 3; ++k) {
+    const double sigma = std::sqrt(fixed->P(k, k));
+    EXPECT_LE(std::abs(fixed->x(k) - s.truth(k)), 3.0 * sigma + 1e-9) << "receiver state " << k;
+  }
+
+  // 3. After the float history and the validation, the right integer is held.
+  for (int k = 0; k < 20; ++k) fixed = resolver.resolveAndHold(s.truth, s.P, rd, s.bias_arcs, &s.osb, summary);
+  ASSERT_TRUE(fixed.has_value());
+  EXPECT_EQ(resolver.heldCount(), 5);
+  EXPECT_EQ(resolver.releasesTotal(), 1);
+  for (int i = 1; i < 6; ++i)
+    EXPECT_NEAR(fixed->x(rd + i) - fixed->x(rd), s.truth(rd + i) - s.truth(rd), 1e-6) << "arc " << i + 1;
+  EXPECT_LT((fixed->x.head(3) - s.truth.head(3)).norm(), 1e-6);
+}
+
+TEST(AmbiguityHold, DriftingFloatIsNotSearchedAndAChangedIntegerIsNotHeld) {
+  SyntheticProblem s;
+  const int rd = SyntheticProblem::receiver_dim;
+  AmbiguityResolutionOptions opt;
+  opt.enabled = true;
+  AmbiguityResolver resolver(opt);
+  s.feedWideLanes(resolver, 60);
+  const double lambda_nl = narrowLaneWavelength_m(kF1, kF2);
+  AmbiguityFixSummary summary;
+  // Arc i's float drifts by 0.05 i NL cycles per epoch (every single
+  // difference spreads by at least 0.45 cycle over the 10-epoch window):
+  // nothing may be searched, nothing held.
+  for (int k = 0; k < 40; ++k) {
+    Eigen::VectorXd x = s.truth;
+    for (int i = 0; i < 6; ++i) x(rd + i) += 0.05 * i * lambda_nl * k;
+    EXPECT_FALSE(resolver.resolveAndHold(x, s.P, rd, s.bias_arcs, &s.osb, summary).has_value());
+  }
+  EXPECT_EQ(resolver.heldCount(), 0);
+  EXPECT_EQ(summary.narrow_lane_candidates, 0);
+  EXPECT_EQ(summary.float_reason, AmbiguityFloatReason::FloatsDrifting) << summary.text();
+  EXPECT_FALSE(summary.narrow_lanes.empty());  // the floats are reported
+}
+
+/// The EKF estimator with access to each epoch's ambiguity summary.
+class RecordingEkf : public EpochEstimator {
+ public:
+  explicit RecordingEkf(const PppConfig& c) : ekf_(c) {}
+  std::string name() const override { return "ekf"; }
+  void setApproximatePosition(const Eigen::Vector3d& p) override { ekf_.setApproximatePosition(p); }
+  EstimatorEpochResult processEpoch(const EstimatorEpochInput& in) override {
+    EstimatorEpochResult r = ekf_.processEpoch(in);
+    if (r.ambiguity_fix) last = *r.ambiguity_fix;
+    if (r.ambiguity_fix && r.ambiguity_fix->fixed()) ++fixed_epochs;
+    return r;
+  }
+  void arcsEnded(const std::vector<EndedArc>& e) override { ekf_.arcsEnded(e); }
+  const PppEstimatorBase& core() const override { return ekf_.core(); }
+  AmbiguityFixSummary last;
+  int fixed_epochs = 0;
+
+ private:
+  EkfEstimator ekf_;
+};
+
+TEST(AmbiguityHold, RealCcj2HeldNarrowLanesAreIntegersAcrossArcs) {
+  PPP_REQUIRE_SHARED_DATA();
+  const test::PppDataset d = test::ccj2Dataset();
+  PppInputFiles files;
+  files.obs = d.obs;
+  files.sp3 = d.sp3;
+  files.clk = d.clk;
+  files.atx = d.atx;
+  files.bias = d.bia;
+  // Static (no position process noise): the float position is then well
+  // determined and the single differences show what the products and models
+  // leave in them.
+  const PppConfig config = parsePppConfig(
+      "stochastic:\n  position:\n    process_noise_m_per_sqrt_s: 0.0\nambiguity_resolution:\n  enabled: true\n",
+      "static PPP-AR");
+  PppPipeline pipeline(files, config);
+  RecordingEkf ekf(config);
+  pipeline.run(ekf, [](const PppEpochRecord&) {});
+  const AmbiguityFixSummary& s = ekf.last;
+  int bins[5] = {0, 0, 0, 0, 0};
+  int held = 0;
+  for (const auto& n : s.narrow_lanes) {
+    std::cout << "  " << n.satellite.toString() << "-" << n.reference_satellite.toString() << " WL "
+              << n.wide_lane_cycles << " NL float " << n.float_cycles << " +- " << n.sigma_cycles
+              << (n.held_cycles ? " held " + std::to_string(*n.held_cycles) : std::string(" float")) << "\n";
+    if (!n.held_cycles) continue;
+    ++held;
+    const double residual = n.float_cycles - static_cast<double>(*n.held_cycles);
+    ++bins[std::min(4, static_cast<int>(std::abs(residual) * 10.0))];
+    EXPECT_LT(std::abs(residual), 0.25) << n.satellite.toString();
+  }
+  std::cout << "CCJ2 static, held NL |float - integer| <0.1: " << bins[0] << ", 0.1-0.2: " << bins[1]
+            << ", 0.2-0.3: " << bins[2] << ", 0.3-0.4: " << bins[3] << ", 0.4-0.5: " << bins[4] << " (" << held
+            << " held, " << ekf.fixed_epochs << " fixed epochs, " << s.text() << ")\n";
+  EXPECT_GE(held, config.ambiguity_resolution.narrow_lane.min_fixed);
+}
+
+}  // namespace
+}  // namespace ppp
