@@ -38,7 +38,7 @@ struct PppSmootherOptions {
   /// validation of the held fixes: a fix whose float value (the graph's estimate
   /// without the fixes) lies more than fix_rejection_sigmas float sigmas AND more
   /// than fix_rejection_min_cycles from its integer is removed.
-  double fixed_ambiguity_sigma_cycles = 1e-3;
+  double fixed_ambiguity_sigma_cycles = 0.01;
   double fix_rejection_sigmas = 4.0;
   double fix_rejection_min_cycles = 0.25;
 
