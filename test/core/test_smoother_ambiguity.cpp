@@ -306,3 +306,30 @@ TEST(SmootherAmbiguity, AWrongFixIsDetectedAndRemovedAndTheEstimateReturns) {
   EXPECT_LT(worst_after, 1e-3);
   EXPECT_LT(meanOver(wrong.smoothed_error_m, 0, f.epochs.size()), meanOver(flo.smoothed_error_m, 0, f.epochs.size()) + 1e-3);
 }
+
+// Fixed lag (60 s): the fixes are held while their biases are in the window;
+// once a bias is marginalized its fix lives on in the marginal prior (no longer
+// removable) and leaves the held set. The filtered solution keeps the fix.
+TEST(SmootherAmbiguity, FixedLagKeepsTheFixThroughMarginalization) {
+  const ArFlight& a = arFlight();
+  const SimulatedFlight& f = a.flight;
+  PppConfig lag = a.config, lag_float = a.float_config;
+  lag.smoother.fixed_lag_s = 60.0;
+  lag_float.smoother.fixed_lag_s = 60.0;
+  SmootherEstimator* sm = nullptr;
+  const FlightRun fix = runSmoother(f, lag, {}, &sm);
+  const std::size_t removed = sm->smoother().fixesRemoved();
+  const FlightRun flo = runSmoother(f, lag_float);
+  const std::size_t first = firstFixed(fix);
+  std::size_t fixed_epochs = 0;
+  for (const auto& e : fix.epochs) fixed_epochs += e.fixed ? 1 : 0;
+  std::vector<double> e_fix, e_flo;
+  for (std::size_t k = 0; k < f.epochs.size(); ++k) e_fix.push_back(error3d(f, fix, k)), e_flo.push_back(error3d(f, flo, k));
+  const double after_fix = meanOver(e_fix, first, f.epochs.size()), after_float = meanOver(e_flo, first, f.epochs.size());
+  std::printf("fixed lag 60 s: first fix %zu, fixed %zu of %zu, removed %zu; filtered mean 3D after the first fix "
+              "%.4f m (float %.4f m)\n", first, fixed_epochs, fix.epochs.size(), removed, after_fix, after_float);
+  ASSERT_LT(first, fix.epochs.size() - 60);
+  EXPECT_GT(fixed_epochs, fix.epochs.size() / 3);
+  EXPECT_EQ(removed, 0u);
+  EXPECT_LT(after_fix, 0.7 * after_float);
+}

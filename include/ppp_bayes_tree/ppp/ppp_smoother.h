@@ -38,6 +38,15 @@
 // filtered state with a prior of its filtered covariance and each active bias with a
 // prior of its filtered estimate and variance (counted in resets(), reported by the
 // result's estimator_reset). The states before the restart keep their last estimate.
+// AMBIGUITY RESOLUTION (issue 15; SmootherEstimator drives it with the EKF's
+// AmbiguityResolver): after each update the resolver decides on the filtered
+// joint of the newest state and the observed biases (root clique: cheap); the
+// accepted integers enter the graph as IntegerAmbiguityFactors (held fixes,
+// integer_ambiguity_factor.h), so the smoothed trajectory improves before the fix
+// epoch too. Each epoch the held fixes are validated against the float solution of
+// all data (validateHeldFixes) and a wrong one is removed from the graph. Fixed
+// lag: a held fix whose biases are marginalized becomes part of the marginal
+// prior (it can no longer be removed).
 // LIVE USE (bounded memory): with a marginalized-state sink
 // (setMarginalizedStateSink), every state that leaves the graph (past the lag, or
 // before a restart) is handed once, in time order, to the sink with its final
