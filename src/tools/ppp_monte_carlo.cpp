@@ -5,6 +5,10 @@
 //                        [--profiles loiter,survey,figure8,climb] [--threads N]
 //                        [--config PPP_YAML] [--sim-config SIMULATION_YAML]
 //                        [--fixed-origin] [--fixed-start] [--smoother-lag 60]
+//                        [--ambiguity-resolution]
+// --ambiguity-resolution: integer ambiguity resolution (PPP-AR) on in both
+// estimators, the flights simulated with satellite phase biases published as
+// phase OSBs (errors.ambiguity.satellite_phase_biases).
 // --smoother-lag L (default 60 s): the smoother's FILTERED solution comes from the
 // fixed-lag smoother with lag L (bounded cost per epoch) and its SMOOTHED solution
 // from the batch solve of all its factors (the full smoother's MAP estimate);
@@ -40,7 +44,8 @@ int usage(const std::string& why) {
             << "usage: ppp_monte_carlo --flights N --seed S --out DIR [--duration-min 30] [--rate 1]\n"
             << "                       [--profiles loiter,survey,figure8,climb] [--threads N]\n"
             << "                       [--config PPP_YAML] [--sim-config SIMULATION_YAML]\n"
-            << "                       [--fixed-origin] [--fixed-start] [--smoother-lag 60]\n";
+            << "                       [--fixed-origin] [--fixed-start] [--smoother-lag 60]\n"
+            << "                       [--ambiguity-resolution]\n";
   return 2;
 }
 
@@ -96,12 +101,16 @@ int main(int argc, char** argv) {
   options.flights = 0;
   options.smoother_filtered_lag_s = 60.0;
   std::string out, config_path, sim_config_path, profiles;
-  bool have_seed = false;
+  bool have_seed = false, ambiguity_resolution = false;
   double duration_min = 30.0;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "--fixed-origin") {
       options.randomize_origin = false;
+      continue;
+    }
+    if (a == "--ambiguity-resolution") {
+      ambiguity_resolution = true;
       continue;
     }
     if (a == "--fixed-start") {
@@ -154,6 +163,10 @@ int main(int argc, char** argv) {
     }
     if (!config_path.empty()) options.ppp = ppp::loadPppConfig(config_path);
     if (!sim_config_path.empty()) options.simulation = ppp::loadSimulationConfig(sim_config_path);
+    if (ambiguity_resolution) {  // PPP-AR in both estimators, on flights with published phase OSBs
+      options.ppp.ambiguity_resolution.enabled = true;
+      options.simulation.errors.ambiguity.satellite_phase_biases = true;
+    }
   } catch (const std::exception& e) {
     std::cerr << "ppp_monte_carlo: " << e.what() << "\n";
     return 2;

@@ -158,6 +158,11 @@ struct AmbiguityFixSummary {
 struct AmbiguityFixedState {
   Eigen::VectorXd x;
   Eigen::MatrixXd P;
+  /// The accepted integer constraints A x = y on the float state (A [1/m] over
+  /// the whole state, zero on the receiver part; y [cycles]): what a smoother
+  /// adds to its graph (integer_ambiguity_factor.h) instead of conditioning a copy.
+  Eigen::MatrixXd constraint_rows;
+  Eigen::VectorXd constraint_values;
 };
 
 class AmbiguityResolver {

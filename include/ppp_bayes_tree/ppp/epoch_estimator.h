@@ -92,9 +92,17 @@ class SmootherEstimator : public EpochEstimator {
   const PppSmoother& smoother() const { return smoother_; }
   PppSmoother& smoother() { return smoother_; }
   const EstimatorEpochResult& lastResult() const { return last_; }
+  /// PPP-AR (when enabled): the same AmbiguityResolver decision as the EKF's, on
+  /// the smoother's filtered joint (root clique); a fix is held in the graph
+  /// (PppSmoother::holdIntegerConstraints) after the held fixes were validated
+  /// (PppSmoother::validateHeldFixes). The result's solution is then the filtered
+  /// solution with the fixes; FIXED while held fixes cover at least
+  /// narrow_lane.min_fixed of this epoch's arcs.
+  void resolveAmbiguities(const EstimatorEpochInput& input, EstimatorEpochResult& r);
 
  private:
   PppSmoother smoother_;
+  AmbiguityResolver ambiguity_;
   EstimatorEpochResult last_;
 };
 

@@ -73,6 +73,9 @@ struct PppInMemoryInputs {
   const std::vector<ObsEpoch>* epochs = nullptr;
   const PreciseEphemeris* products = nullptr;
   std::vector<AntexSource> antex;
+  /// Satellite phase OSBs consistent with `products`' clocks (e.g. a simulated
+  /// flight's); used by ambiguity resolution when enabled. nullptr: float.
+  const BiasProvider* phase_biases = nullptr;
   std::string name = "in-memory";  // stands for the observation file name in notes
 };
 

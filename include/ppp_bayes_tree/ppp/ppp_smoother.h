@@ -38,6 +38,15 @@
 // filtered state with a prior of its filtered covariance and each active bias with a
 // prior of its filtered estimate and variance (counted in resets(), reported by the
 // result's estimator_reset). The states before the restart keep their last estimate.
+// AMBIGUITY RESOLUTION (issue 15; SmootherEstimator drives it with the EKF's
+// AmbiguityResolver): after each update the resolver decides on the filtered
+// joint of the newest state and the observed biases (root clique: cheap); the
+// accepted integers enter the graph as IntegerAmbiguityFactors (held fixes,
+// integer_ambiguity_factor.h), so the smoothed trajectory improves before the fix
+// epoch too. Each epoch the held fixes are validated against the float solution of
+// all data (validateHeldFixes) and a wrong one is removed from the graph. Fixed
+// lag: a held fix whose biases are marginalized becomes part of the marginal
+// prior (it can no longer be removed).
 // LIVE USE (bounded memory): with a marginalized-state sink
 // (setMarginalizedStateSink), every state that leaves the graph (past the lag, or
 // before a restart) is handed once, in time order, to the sink with its final
@@ -122,6 +131,50 @@ class PppSmoother : public PppEstimatorBase, public SmoothedTrajectoryProvider {
   /// Biases whose last state is remembered (fixed lag: those in the graph).
   std::size_t storedBiasCount() const { return bias_last_state_.size(); }
 
+  // Ambiguity resolution (the decision is the caller's AmbiguityResolver, as for
+  // the EKF; SmootherEstimator drives it). A fix is HELD in the graph as
+  // IntegerAmbiguityFactors (integer_ambiguity_factor.h), so that iSAM2 carries it
+  // into every state of the fixed arcs, before the fix epoch too.
+  /// The filtered joint of the newest state and the biases observed at the last
+  /// epoch (the root clique, read right after the update): x = [receiver state,
+  /// biases of `arcs`] [m], P its covariance. What the resolver fixes on.
+  struct FilteredJoint {
+    Eigen::VectorXd x;
+    Eigen::MatrixXd P;
+    std::vector<ArcId> arcs;
+  };
+  const FilteredJoint& filteredJoint() const { return joint_; }
+  /// The filtered solution of the newest state (after any fix added or removed).
+  const EpochSolution& filteredSolution() const { return filtered_; }
+  /// Adds the integer constraints A x = y (rows over filteredJoint()'s layout, zero
+  /// on the receiver part; y [cycles]) as factors with sigma
+  /// fixed_ambiguity_sigma_cycles, except the rows that the held fixes already imply
+  /// (their variance under the joint below (3 sigma)^2); one iSAM2 update; refreshes
+  /// the filtered solution and joint. Returns the number of factors added; throws
+  /// what the update throws.
+  int holdIntegerConstraints(const Eigen::MatrixXd& A, const Eigen::VectorXd& y);
+  /// Validates the held fixes whose arcs were all observed at the last epoch
+  /// against the float solution of all data so far (the joint with the fixes' own
+  /// information taken out again, exactly: Q_float^-1 = C_fix^-1 - Sigma_fix^-1):
+  /// a fix whose float value lies more than fix_rejection_sigmas float sigmas and
+  /// fix_rejection_min_cycles from its integer is wrong; its factor is removed
+  /// (remove_factor_indices) and the filtered solution refreshed. Returns the
+  /// number removed. Fixed lag: a fix whose biases were marginalized is part of the
+  /// marginal prior from then on (no longer removable) and leaves the held set.
+  int validateHeldFixes();
+  /// Held fixes whose arcs were all observed at the last epoch.
+  int heldFixCount() const;
+  /// A fix held in the graph: its factor (an IntegerAmbiguityFactor), its index in
+  /// the graph and the arcs of its bias keys (same order).
+  struct HeldFix {
+    smoother::FactorIndex index = 0;
+    std::vector<ArcId> arcs;
+    smoother::NonlinearFactor::Ptr factor;
+  };
+  const std::vector<HeldFix>& heldFixes() const { return held_; }
+  /// Fixes removed as wrong so far.
+  std::size_t fixesRemoved() const { return fixes_removed_; }
+
   /// Keep a copy of every factor and new variable of the successful updates (call
   /// before the first epoch), for batchSmoothedValues(). Costs memory O(epochs).
   void setRecordGraph(bool record) { record_graph_ = record; }
@@ -168,6 +221,12 @@ class PppSmoother : public PppEstimatorBase, public SmoothedTrajectoryProvider {
   void newGraph();
   /// Hands the oldest states no longer in the graph to the sink (with a sink).
   void releaseLeftStates();
+  /// One update that adds and/or removes factors (no new variables), newest state
+  /// and the last joint's biases in the root; returns the new factors' indices.
+  std::vector<smoother::FactorIndex> updateGraph(const smoother::NonlinearFactorGraph& add,
+                                                 const std::vector<smoother::FactorIndex>& remove);
+  /// Re-reads the filtered joint, solution and the joint's bias slots.
+  void refreshFiltered();
   /// Fixed-lag timestamp of a state [s] since the first state.
   double lagStamp_s(const GnssTime& time) const { return time - *time_origin_; }
 
@@ -181,6 +240,9 @@ class PppSmoother : public PppEstimatorBase, public SmoothedTrajectoryProvider {
   std::map<ArcId, ArcSlot> arcs_;                      // the active set
   std::map<smoother::Key, std::uint32_t> bias_last_state_;  // every bias in the graph
   EpochSolution filtered_;
+  FilteredJoint joint_;
+  std::vector<HeldFix> held_;
+  std::size_t fixes_removed_ = 0;
   bool record_graph_ = false;
   smoother::NonlinearFactorGraph recorded_factors_;
   smoother::Values recorded_values_;  // initial values; refreshed from the estimate when solving

@@ -48,6 +48,7 @@
 #include "ppp_bayes_tree/ppp/ppp_measurement_model.h"
 #include "ppp_bayes_tree/simulation/flight_trajectory.h"
 #include "ppp_bayes_tree/simulation/gps_constellation.h"
+#include "ppp_bayes_tree/simulation/simulated_phase_biases.h"
 #include "ppp_bayes_tree/simulation/simulation_config.h"
 
 namespace ppp {
@@ -129,6 +130,9 @@ struct SimulatedFlight {
   std::vector<TruthEpoch> truth;
   std::vector<TruthArc> arcs;       // index = id - 1
   std::vector<PhaseBreak> breaks;
+  /// The satellite phase OSBs of the products (errors.ambiguity.satellite_phase_biases;
+  /// empty otherwise): what PPP-AR needs besides orbits and clocks.
+  SimulatedPhaseBiases phase_biases;
   /// The measurement-model options the observations were generated with
   /// (elevation cutoff aside): estimators must use the same.
   MeasurementModelOptions model_options;

@@ -18,7 +18,7 @@
 //     ionosphere:     { enabled, vtec_min_tecu, vtec_max_tecu, vtec_rate_max_tecu_per_h, shell_height_km }
 //     receiver_clock: { enabled, initial_sigma_s, random_walk_sigma_s, drift_sigma_s_per_s,
 //                       step_s, steps_per_hour }
-//     ambiguity:      { enabled, max_abs_cycles }
+//     ambiguity:      { enabled, max_abs_cycles, satellite_phase_biases }
 //     phase_breaks:   { enabled, body_elevation_mask_deg, reacquisition_s }
 //     products:       { enabled, orbit_sigma_m, clock_sigma_m, scale_half_range }
 #include <optional>
@@ -84,9 +84,17 @@ struct ErrorModelConfig {
     double steps_per_hour = 2.0;
   } receiver_clock;
   /// Integer ambiguities N1, N2 uniform in [-max, max] per arc (disabled: 0).
+  /// With satellite_phase_biases, each satellite's phase carries a constant
+  /// fractional bias per frequency (the uncalibrated phase delay, UPD), uniform in
+  /// [-0.5, 0.5) cycle, which the "precise products" publish as phase OSBs
+  /// (SimulatedFlight::phase_biases, consistent with the product clocks: the
+  /// clocks carry no phase part), so that integer ambiguity resolution works on
+  /// simulated data as on real products. Off by default (the float studies'
+  /// observations stay bit-identical; the float biases absorb the UPD anyway).
   struct Ambiguity {
     bool enabled = true;
     int max_abs_cycles = 1000;
+    bool satellite_phase_biases = false;
   } ambiguity;
   /// Airframe masking: a satellite whose elevation above the body's x-y plane is
   /// below the mask is not tracked; it is tracked again (new arc, new

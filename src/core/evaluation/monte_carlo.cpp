@@ -101,6 +101,7 @@ PppInMemoryInputs memoryInputs(const SimulatedFlight& f, int index) {
   in.header = &f.header;
   in.epochs = &f.epochs;
   in.products = &f.products;
+  if (!f.phase_biases.empty()) in.phase_biases = &f.phase_biases;
   in.name = "flight " + std::to_string(index);
   return in;
 }

@@ -208,6 +208,8 @@ std::optional<AmbiguityFixedState> AmbiguityResolver::resolve(const Eigen::Vecto
     summary.float_reason = AmbiguityFloatReason::NumericalFailure;
     return std::nullopt;
   }
+  fixed->constraint_rows = A;
+  fixed->constraint_values = y;
   summary.narrow_lanes_fixed = ils.fixed;
   summary.float_reason = AmbiguityFloatReason::None;
   return fixed;

@@ -1,5 +1,7 @@
 #include "ppp_bayes_tree/ppp/epoch_estimator.h"
 
+#include <algorithm>
+
 namespace ppp {
 
 EkfEstimator::EkfEstimator(const PppConfig& config)
@@ -41,16 +43,57 @@ void EkfEstimator::arcsEnded(const std::vector<EndedArc>& ended) {
 }
 
 SmootherEstimator::SmootherEstimator(const PppConfig& config)
-    : smoother_(config.stochastic, config.smoother, config.start, ReceiverStateLayout(config.signals.systems)) {}
+    : smoother_(config.stochastic, config.smoother, config.start, ReceiverStateLayout(config.signals.systems)),
+      ambiguity_(config.ambiguity_resolution) {}
 
 EstimatorEpochResult SmootherEstimator::processEpoch(const EstimatorEpochInput& input) {
   if (input.ended_arcs) arcsEnded(*input.ended_arcs);
   last_ = smoother_.processEpoch(input.time, *input.evaluate);
+  if (ambiguity_.options().enabled) resolveAmbiguities(input, last_);
   return last_;
+}
+
+void SmootherEstimator::resolveAmbiguities(const EstimatorEpochInput& input, EstimatorEpochResult& r) {
+  // The decision is the resolver's (as for the EKF); the smoother holds the fix in its graph.
+  if (input.observations && input.arcs) ambiguity_.addEpoch(*input.observations, *input.arcs, input.phase_biases);
+  AmbiguityFixSummary summary;
+  if (r.status == EpochStatus::Ok && r.solution) {
+    bool changed = false;
+    try {
+      changed = smoother_.validateHeldFixes() > 0;
+      const PppSmoother::FilteredJoint& joint = smoother_.filteredJoint();
+      const int receiver_dim = r.solution->state.layout.dim();
+      std::map<ArcId, double> elevation_rad;
+      for (const auto& res : r.residuals) elevation_rad[res.arc] = res.elevation_rad;
+      const auto fixed = ambiguity_.resolve(joint.x, joint.P, receiver_dim, joint.arcs, input.phase_biases, summary,
+                                            &elevation_rad);
+      if (fixed) changed = smoother_.holdIntegerConstraints(fixed->constraint_rows, fixed->constraint_values) > 0 ||
+                           changed;
+    } catch (const std::exception& e) {
+      summary.float_reason = AmbiguityFloatReason::NumericalFailure;
+      r.reason += std::string("; ambiguity fix not applied: ") + e.what();
+    }
+    const int held = smoother_.heldFixCount();
+    if (changed) {
+      r.solution->state = smoother_.filteredSolution().state;
+      r.solution->covariance = smoother_.filteredSolution().covariance;
+    }
+    if (held >= std::max(1, ambiguity_.options().narrow_lane.min_fixed)) {
+      r.ambiguities = AmbiguityState::Fixed;
+      if (!summary.fixed()) {  // held from earlier epochs while this epoch's search refused
+        summary.float_reason = AmbiguityFloatReason::None;
+        summary.narrow_lanes_fixed = held;
+      }
+    } else if (summary.fixed()) {
+      summary.float_reason = AmbiguityFloatReason::NarrowLane;  // fewer held than required
+    }
+  }
+  r.ambiguity_fix = summary;
 }
 
 void SmootherEstimator::arcsEnded(const std::vector<EndedArc>& ended) {
   for (const auto& e : ended) smoother_.removeArc(e.arc);
+  ambiguity_.arcsEnded(ended);
 }
 
 std::unique_ptr<EpochEstimator> makeEstimator(const std::string& name, const PppConfig& config, std::string* why) {

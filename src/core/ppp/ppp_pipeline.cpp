@@ -209,6 +209,14 @@ PppPipeline::PppPipeline(const PppInMemoryInputs& inputs, PppConfig config)
   if (!inputs.antex.empty()) d.products.antennas = std::make_shared<const AntexCalibrations>(inputs.antex);
   d.load_notes.push_back("observations: " + inputs.name + " (in-process epochs)");
   d.start(config_);
+  if (config_.ambiguity_resolution.enabled) {
+    if (inputs.phase_biases) {
+      d.load_notes.push_back("ambiguity resolution: " + inputs.phase_biases->describeSource());
+      d.processor->setPhaseBiases(inputs.phase_biases);
+    } else {
+      d.load_notes.push_back("ambiguity resolution: no phase biases given: float");
+    }
+  }
 }
 
 PppPipeline::~PppPipeline() = default;

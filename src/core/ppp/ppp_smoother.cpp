@@ -4,6 +4,10 @@
 #include <chrono>
 #include <cmath>
 
+#include <Eigen/Cholesky>
+#include <Eigen/LU>
+
+#include "ppp_bayes_tree/ppp/integer_ambiguity_factor.h"
 #include "ppp_bayes_tree/ppp/postfit_screening.h"
 #include "ppp_bayes_tree/ppp/ppp_factors.h"
 #include "ppp_bayes_tree/ppp/prefit_screening.h"
@@ -37,6 +41,9 @@ std::string PppSmootherOptions::validate() const {
   if (relinearize_skip < 1) return "relinearize_skip must be >= 1";
   if (!(wildfire_threshold_m >= 0.0)) return "wildfire_threshold_m must be >= 0";
   if (!(fixed_lag_s >= 0.0)) return "fixed_lag_s must be >= 0 (0: full smoother)";
+  if (!(fixed_ambiguity_sigma_cycles > 0.0)) return "fixed_ambiguity_sigma_cycles must be > 0";
+  if (!(fix_rejection_sigmas > 0.0) || !(fix_rejection_min_cycles > 0.0))
+    return "fix_rejection_sigmas and fix_rejection_min_cycles must be > 0";
   return {};
 }
 
@@ -431,6 +438,15 @@ bool PppSmoother::solve(const EpochSolveInput& in, EpochSolveOutput& out, Estima
                 "non-finite filtered estimate or covariance");
 
   // Commit.
+  joint_ = FilteredJoint{};
+  joint_.P = joint;
+  joint_.x = Eigen::VectorXd::Zero(joint.rows());
+  joint_.x.head(kRx) = x_est;
+  for (std::size_t k = 0; k < n_sat; ++k)
+    if (kept[k]) {
+      joint_.arcs.push_back(in.screened[k].m.arc);
+      joint_.x(marginal_of[k]) = isam.calculateEstimate(bias_of[k])(0);
+    }
   for (std::size_t k = 0; k < n_sat; ++k) {
     if (!kept[k]) continue;
     ArcSlot& slot = arcs.at(in.screened[k].m.arc);
@@ -462,6 +478,14 @@ bool PppSmoother::solve(const EpochSolveInput& in, EpochSolveOutput& out, Estima
     }
     for (auto it = bias_last_state_.begin(); it != bias_last_state_.end();)
       it = isam.exists(it->first) ? std::next(it) : bias_last_state_.erase(it);
+    // A held fix on a marginalized bias now lives in the marginal prior: permanent.
+    held_.erase(std::remove_if(held_.begin(), held_.end(),
+                               [&](const HeldFix& h) {
+                                 for (Key k : h.factor->keys())
+                                   if (!isam.exists(k)) return true;
+                                 return false;
+                               }),
+                held_.end());
   }
   releaseLeftStates();
   filtered_ = solution;
@@ -509,6 +533,8 @@ bool PppSmoother::recoverAfterFailure(EstimatorEpochResult& result) {
   }
   newGraph();
   bias_last_state_.clear();
+  held_.clear();  // the restart's priors carry the fixed estimates, not the factors
+  joint_ = FilteredJoint{};
   if (states_.empty()) {  // failed at the first epoch: the next one starts afresh
     arcs_.clear();
     result.reason += "; smoother restarted (empty graph)";
@@ -545,6 +571,157 @@ bool PppSmoother::recoverAfterFailure(EstimatorEpochResult& result) {
   }
   result.reason += "; smoother restarted from the last filtered state";
   return true;
+}
+
+std::vector<smoother::FactorIndex> PppSmoother::updateGraph(const smoother::NonlinearFactorGraph& add,
+                                                            const std::vector<smoother::FactorIndex>& remove) {
+  KeyVector newest;
+  if (!states_.empty()) newest.push_back(stateKey(states_.back().index));
+  for (ArcId arc : joint_.arcs)
+    if (auto it = arcs_.find(arc); it != arcs_.end()) newest.push_back(it->second.key);
+  std::vector<smoother::FactorIndex> indices;
+  if (lag_) {
+    indices = lag_->update(add, {}, {}, newest, remove).isam2.new_factor_indices;
+  } else {
+    smoother::ISAM2UpdateParams up;
+    up.newest_keys = newest;
+    up.remove_factor_indices = remove;
+    const std::map<Key, std::uint32_t>& last = bias_last_state_;
+    up.ordering_group = [&last](Key key) {
+      if (smoother::keySymbol(key) == 'x') return static_cast<int>(smoother::keyIndex(key));
+      auto it = last.find(key);
+      return it == last.end() ? 0 : static_cast<int>(it->second);
+    };
+    indices = isam_->update(add, {}, up).new_factor_indices;
+  }
+  if (record_graph_) {
+    for (const auto& f : add) recorded_factors_.push_back(f);
+    for (const smoother::FactorIndex i : remove) {
+      const auto h = std::find_if(held_.begin(), held_.end(), [i](const HeldFix& x) { return x.index == i; });
+      if (h == held_.end()) continue;
+      recorded_factors_.erase(std::remove(recorded_factors_.begin(), recorded_factors_.end(), h->factor),
+                              recorded_factors_.end());
+    }
+  }
+  return indices;
+}
+
+void PppSmoother::refreshFiltered() {
+  if (states_.empty()) return;
+  const smoother::ISAM2& isam = isam2();
+  const int kRx = layout_.dim();
+  const Key x = stateKey(states_.back().index);
+  KeyVector keys{x};
+  for (ArcId arc : joint_.arcs) keys.push_back(arcs_.at(arc).key);
+  const smoother::Matrix P = isam.jointMarginalCovariance(keys);
+  joint_.P = P;
+  joint_.x = Eigen::VectorXd::Zero(P.rows());
+  joint_.x.head(kRx) = isam.calculateEstimate(x);
+  for (std::size_t j = 0; j < joint_.arcs.size(); ++j) {
+    const int i = kRx + static_cast<int>(j);
+    ArcSlot& slot = arcs_.at(joint_.arcs[j]);
+    slot.filtered_m = isam.calculateEstimate(slot.key)(0);
+    slot.filtered_variance_m2 = P(i, i);
+    joint_.x(i) = slot.filtered_m;
+  }
+  filtered_.state = ReceiverState::fromVector(joint_.x.head(kRx), layout_);
+  filtered_.covariance = P.topLeftCorner(kRx, kRx);
+  states_.back().last_estimate = filtered_.state;
+}
+
+int PppSmoother::heldFixCount() const {
+  int n = 0;
+  for (const HeldFix& h : held_) {
+    bool all = true;
+    for (ArcId a : h.arcs) all = all && std::find(joint_.arcs.begin(), joint_.arcs.end(), a) != joint_.arcs.end();
+    n += all ? 1 : 0;
+  }
+  return n;
+}
+
+int PppSmoother::holdIntegerConstraints(const Eigen::MatrixXd& A, const Eigen::VectorXd& y) {
+  const int kRx = layout_.dim();
+  if (A.cols() != joint_.x.size() || A.rows() != y.size())
+    throw std::invalid_argument("holdIntegerConstraints: constraint rows do not match the filtered joint");
+  const double sigma = options_.fixed_ambiguity_sigma_cycles;
+  smoother::NonlinearFactorGraph add;
+  std::vector<std::vector<ArcId>> add_arcs;
+  for (int r = 0; r < A.rows(); ++r) {
+    const Eigen::RowVectorXd a = A.row(r);
+    const double variance = (a * joint_.P * a.transpose())(0, 0);
+    if (variance < 9.0 * sigma * sigma) continue;  // implied by the held fixes
+    KeyVector keys;
+    std::vector<double> coefficients;
+    std::vector<ArcId> arcs;
+    for (int j = kRx; j < A.cols(); ++j) {
+      if (a(j) == 0.0) continue;
+      const ArcId arc = joint_.arcs[static_cast<std::size_t>(j - kRx)];
+      keys.push_back(arcs_.at(arc).key);
+      coefficients.push_back(a(j));
+      arcs.push_back(arc);
+    }
+    if (keys.empty()) continue;
+    add.push_back(std::make_shared<IntegerAmbiguityFactor>(keys, coefficients, y(r), sigma));
+    add_arcs.push_back(std::move(arcs));
+  }
+  if (add.empty()) return 0;
+  const std::vector<smoother::FactorIndex> indices = updateGraph(add, {});
+  for (std::size_t i = 0; i < add.size() && i < indices.size(); ++i)
+    held_.push_back(HeldFix{indices[i], add_arcs[i], add[i]});
+  refreshFiltered();
+  return static_cast<int>(add.size());
+}
+
+int PppSmoother::validateHeldFixes() {
+  const int kRx = layout_.dim();
+  std::vector<std::size_t> candidates;
+  std::map<ArcId, int> column;
+  for (std::size_t j = 0; j < joint_.arcs.size(); ++j) column[joint_.arcs[j]] = kRx + static_cast<int>(j);
+  for (std::size_t h = 0; h < held_.size(); ++h) {
+    bool all = true;
+    for (ArcId a : held_[h].arcs) all = all && column.count(a) > 0;
+    if (all) candidates.push_back(h);
+  }
+  const int k = static_cast<int>(candidates.size());
+  if (k == 0) return 0;
+  Eigen::MatrixXd A = Eigen::MatrixXd::Zero(k, joint_.x.size());
+  Eigen::VectorXd y(k), w(k);
+  for (int i = 0; i < k; ++i) {
+    const HeldFix& h = held_[candidates[static_cast<std::size_t>(i)]];
+    const auto* f = static_cast<const IntegerAmbiguityFactor*>(h.factor.get());
+    for (std::size_t j = 0; j < h.arcs.size(); ++j) A(i, column.at(h.arcs[j])) += f->coefficients_per_m()[j];
+    y(i) = f->value_cycles();
+    w(i) = 1.0 / (f->sigma_cycles() * f->sigma_cycles());
+  }
+  // The fixes' information taken out of the joint: the float of all data so far.
+  const Eigen::MatrixXd C_fix = A * joint_.P * A.transpose();
+  const Eigen::VectorXd c_fix = A * joint_.x;
+  const Eigen::FullPivLU<Eigen::MatrixXd> lu(C_fix);
+  if (!lu.isInvertible()) return 0;
+  const Eigen::MatrixXd C_inv = lu.inverse();
+  Eigen::MatrixXd info = C_inv;
+  info.diagonal() -= w;
+  const Eigen::LLT<Eigen::MatrixXd> llt(0.5 * (info + info.transpose()));
+  if (llt.info() != Eigen::Success) return 0;  // not resolvable numerically: keep the fixes
+  const Eigen::MatrixXd Q = llt.solve(Eigen::MatrixXd::Identity(k, k));
+  const Eigen::VectorXd c_float = Q * (C_inv * c_fix - w.cwiseProduct(y));
+  std::vector<smoother::FactorIndex> remove;
+  for (int i = 0; i < k; ++i) {
+    const double d = std::abs(c_float(i) - y(i));
+    const double s = std::sqrt(std::max(0.0, Q(i, i)));
+    if (d > options_.fix_rejection_sigmas * s && d > options_.fix_rejection_min_cycles)
+      remove.push_back(held_[candidates[static_cast<std::size_t>(i)]].index);
+  }
+  if (remove.empty()) return 0;
+  updateGraph({}, remove);
+  held_.erase(std::remove_if(held_.begin(), held_.end(),
+                             [&](const HeldFix& h) {
+                               return std::find(remove.begin(), remove.end(), h.index) != remove.end();
+                             }),
+              held_.end());
+  fixes_removed_ += remove.size();
+  refreshFiltered();
+  return static_cast<int>(remove.size());
 }
 
 }  // namespace ppp

@@ -28,7 +28,7 @@ enum StreamTag : std::uint64_t {
   kTagProducts,
   kTagPerSatellite = 1000,  // + 100 * term + satellite index
 };
-enum SatelliteTerm : std::uint64_t { kSatAmbiguity = 0, kSatMultipath, kSatThermal };
+enum SatelliteTerm : std::uint64_t { kSatAmbiguity = 0, kSatMultipath, kSatThermal, kSatPhaseBias };
 
 constexpr double kIonosphereConstant = 40.3e16;  // m^3/s^2 per TECU (first-order term 40.3 TEC / f^2)
 constexpr double kEarthRadiusIonosphere_m = 6371.0e3;
@@ -342,6 +342,11 @@ SimulatedFlight simulateFlight(const SimulationConfig& config, std::uint64_t see
       const std::uint64_t base = kTagPerSatellite + static_cast<std::uint64_t>(s.index());
       sats.emplace_back(s, root.derive(base + 100 * kSatAmbiguity), root.derive(base + 100 * kSatMultipath),
                       root.derive(base + 100 * kSatThermal));
+      if (err.ambiguity.satellite_phase_biases) {  // UPD per frequency, published as phase OSB
+        RandomStream upd = root.derive(base + 100 * kSatPhaseBias);
+        const double u1 = upd.uniform(-0.5, 0.5), u2 = upd.uniform(-0.5, 0.5);
+        f.phase_biases.set(s, u1, u2, lambda1, lambda2);
+      }
     }
   }
   MeasurementModelOptions gen_options = f.model_options;
@@ -515,10 +520,13 @@ SimulatedFlight simulateFlight(const SimulationConfig& config, std::uint64_t see
       }
       const TruthArc& arc = f.arcs[s.arc - 1];
       const double G = sig.nondispersive_m, I1 = sig.ionosphere_l1_m, I2 = gamma * I1;
+      const SimulatedPhaseBiases::Upd upd = f.phase_biases.upd(s.sat);
       const double p1 = G + I1 + sig.multipath1_m + sig.code_noise1_m;
       const double p2 = G + I2 + sig.multipath2_m + sig.code_noise2_m;
-      const double l1 = (G - I1 + sig.phase_noise1_m) / lambda1 + sig.windup_cycles + static_cast<double>(arc.n1_cycles);
-      const double l2 = (G - I2 + sig.phase_noise2_m) / lambda2 + sig.windup_cycles + static_cast<double>(arc.n2_cycles);
+      const double l1 = (G - I1 + sig.phase_noise1_m) / lambda1 + sig.windup_cycles + static_cast<double>(arc.n1_cycles) +
+                        upd.l1_cycles;
+      const double l2 = (G - I2 + sig.phase_noise2_m) / lambda2 + sig.windup_cycles + static_cast<double>(arc.n2_cycles) +
+                        upd.l2_cycles;
       const bool lli = config.loss_of_lock_flags && s.first_epoch_of_arc && arc.after_phase_break;
       s.first_epoch_of_arc = false;
       s.last_tracked = t;

@@ -111,6 +111,7 @@ void readErrors(YamlSection s, ErrorModelConfig& e) {
     e.ambiguity.enabled = a.boolean("enabled", e.ambiguity.enabled);
     e.ambiguity.max_abs_cycles = a.integer("max_abs_cycles", e.ambiguity.max_abs_cycles, 0);
     if (e.ambiguity.max_abs_cycles > 1000000) a.fail("max_abs_cycles", "must be <= 1000000");
+    e.ambiguity.satellite_phase_biases = a.boolean("satellite_phase_biases", e.ambiguity.satellite_phase_biases);
     a.finish();
   }
   {
