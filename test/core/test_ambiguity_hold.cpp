@@ -21,32 +21,13 @@
 #include "ppp_bayes_tree/ppp/ppp_pipeline.h"
 #include "ppp_bayes_tree/types/constants.h"
 #include "ppp_dataset.h"
+#include "table_biases.h"
 #include "test_support.h"
 
 namespace ppp {
 namespace {
 
 constexpr double kF1 = 1575.42e6, kF2 = 1227.60e6;  // GPS L1/L2 (IS-GPS-200)
-
-class TableBiases : public BiasProvider {
- public:
-  std::map<std::pair<SatelliteId, std::string>, double> table;
-  BiasAnswer codeBias(const SatelliteId& s, const ObservationCode& c, const GnssTime&) const override {
-    return find(s, c);
-  }
-  BiasAnswer phaseBias(const SatelliteId& s, const ObservationCode& c, const GnssTime&) const override {
-    return find(s, c);
-  }
-  std::string describeSource() const override { return "table"; }
-
- private:
-  BiasAnswer find(const SatelliteId& s, const ObservationCode& c) const {
-    const auto it = table.find({s, c.toString()});
-    BiasAnswer a;
-    if (it != table.end()) a.value_m = it->second;
-    return a;
-  }
-};
 
 struct SyntheticArc {
   ArcId arc;

@@ -12,6 +12,7 @@
 #include <sstream>
 
 #include "ppp_dataset.h"
+#include "table_biases.h"
 #include "ppp_bayes_tree/io/rinex_clock_reader.h"
 #include "ppp_bayes_tree/models/clock_wide_lane_bias_provider.h"
 #include "ppp_bayes_tree/ppp/ambiguity_resolution.h"
@@ -24,27 +25,6 @@ namespace ppp {
 namespace {
 
 constexpr double kF1 = 1575.42e6, kF2 = 1227.60e6;  // GPS L1/L2 (IS-GPS-200)
-
-/// A bias provider with fixed per-satellite OSBs [m], for the synthetic tests.
-class TableBiases : public BiasProvider {
- public:
-  std::map<std::pair<SatelliteId, std::string>, double> table;
-  BiasAnswer codeBias(const SatelliteId& s, const ObservationCode& c, const GnssTime&) const override {
-    return find(s, c);
-  }
-  BiasAnswer phaseBias(const SatelliteId& s, const ObservationCode& c, const GnssTime&) const override {
-    return find(s, c);
-  }
-  std::string describeSource() const override { return "table"; }
-
- private:
-  BiasAnswer find(const SatelliteId& s, const ObservationCode& c) const {
-    const auto it = table.find({s, c.toString()});
-    BiasAnswer a;
-    if (it != table.end()) a.value_m = it->second;
-    return a;
-  }
-};
 
 DualFrequencyObservation makeObservation(const SatelliteId& sat, double range_m, int n1, int n2) {
   DualFrequencyObservation o;
