@@ -14,6 +14,8 @@ PACKAGES=(
   libeigen3-dev libsuitesparse-dev libgeographiclib-dev zlib1g-dev libyaml-cpp-dev
   # tests, benchmarks, fuzzing (clang's libFuzzer), plots, the peer we measure against
   libgtest-dev libbenchmark-dev clang libclang-rt-14-dev python3-matplotlib rtklib
+  # the serial-port tests (a pseudo-terminal pair), the RViz screenshot (a virtual display)
+  socat xvfb x11-apps
 )
 
 missing=()
