@@ -319,7 +319,10 @@ TEST(BroadcastEphemerisStore, SaysWhyAStateIsUnavailable) {
             std::string::npos)
       << s.unavailable_reason;
   s = store.state(*SatelliteId::parse("C01"), gpst(2020, 6, 25, 4, 0, 0));
-  EXPECT_EQ(s.unavailable_reason, "C01: broadcast orbits of BeiDou are not modelled");
+  // BeiDou is modelled (models/broadcast_ephemeris.h); the fixture has no C01 record.
+  EXPECT_EQ(s.unavailable_reason, "no broadcast record for C01");
+  s = store.state(*SatelliteId::parse("I01"), gpst(2020, 6, 25, 4, 0, 0));
+  EXPECT_EQ(s.unavailable_reason, "I01: broadcast orbits of IRNSS are not modelled");
   // GLONASS: 30 min validity around tb (23:15:18 GPST).
   EXPECT_TRUE(store.state(*SatelliteId::parse("R01"), gpst(2020, 6, 24, 23, 45, 18)));
   EXPECT_FALSE(store.state(*SatelliteId::parse("R01"), gpst(2020, 6, 24, 23, 45, 19)));

@@ -263,7 +263,7 @@ TEST(RinexNavReader, SummaryListsSpanSatellitesAndFacts) {
   };
   EXPECT_TRUE(has("ionospheric corrections: GAL GPSA GPSB"));
   EXPECT_TRUE(has("leap seconds 14"));
-  EXPECT_TRUE(has("records: GPS LNAV 3, QZSS LNAV 1, Galileo I/NAV 1, Galileo F/NAV 1, GLONASS 1"));
+  EXPECT_TRUE(has("records: GPS LNAV 3, QZSS LNAV 1, Galileo I/NAV 1, Galileo F/NAV 1, GLONASS 1, BeiDou 0"));
 }
 
 // ---------------------------------------------------------------------------

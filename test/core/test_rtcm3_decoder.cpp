@@ -33,6 +33,12 @@
 //    open epoch, discards the GPS/GLONASS/QZSS cells of every epoch (its output
 //    holds BeiDou only). We compare our BeiDou with convbin's 14 s later, and our
 //    other systems with convbin run on the same stream without the BeiDou frames.
+//  - BeiDou navigation records (1042), compared field by field as printed:
+//    the transmission time (RINEX A14 field 27). RTCM 1042 carries none: convbin
+//    writes its stream time at decoding, we write toe (as for GPS and Galileo).
+//    The URA is written in metres by both: the BDS-SIS-ICD nominal value
+//    2^(1+N/2) / 2^(N-2), which convbin's table rounds to 2.8 / 5.7 / 11.3 for
+//    N = 1, 3, 5 (we print the exact value; compared as the index it stands for).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -53,6 +59,7 @@
 #include "ppp_bayes_tree/io/rtcm_observation_source.h"
 #include "ppp_bayes_tree/io/stream_format.h"
 #include "ppp_bayes_tree/models/broadcast_ephemeris.h"
+#include "rinex_nav_fields.h"
 #include "test_support.h"
 
 namespace ppp {
@@ -280,6 +287,57 @@ void compareNavigation(const fs::path& peer_path, const fs::path& ours_path, std
     for (double dt : {-900.0, 0.0, 900.0})
       check(p.satellite.toString(), satelliteState(p, p.tb + dt), satelliteState(*o, p.tb + dt));
   }
+  for (const auto& p : peer.beidou) {
+    const BeidouEphemeris* o = nullptr;
+    for (const auto& e : ours.beidou)
+      if (e.satellite == p.satellite && e.orbit.toe == p.orbit.toe && e.aode == p.aode) o = &e;
+    if (!o) {
+      failures.push_back(p.satellite.toString() + " toe " + p.orbit.toe.toString() + ": no record of ours");
+      continue;
+    }
+    for (double dt : {-3600.0, 0.0, 3600.0})
+      check(p.satellite.toString(), satelliteState(p, p.orbit.toe + dt), satelliteState(*o, p.orbit.toe + dt));
+  }
+}
+
+/// BeiDou records field by field as printed (RINEX 3.04 table A14), with the
+/// by-design differences of the header comment named. Returns the fields compared.
+std::size_t compareBeidouFields(const fs::path& peer_path, const fs::path& ours_path,
+                                std::map<std::string, std::size_t>& named, std::vector<std::string>& failures) {
+  const auto peer = test::readRawNavRecords(peer_path.string(), "C");
+  const auto ours = test::readRawNavRecords(ours_path.string(), "C");
+  std::size_t compared = 0;
+  for (const auto& p : peer) {
+    const test::RawNavRecord* o = nullptr;
+    for (const auto& e : ours)
+      if (e.satellite == p.satellite && e.epoch == p.epoch && e.fields.size() > 3 && p.fields.size() > 3 &&
+          e.fields[3] == p.fields[3])
+        o = &e;
+    if (!o) {
+      failures.push_back(p.satellite + " " + p.epoch + ": no record of ours");
+      continue;
+    }
+    for (std::size_t k = 0; k < 29 && k < p.fields.size(); ++k) {
+      const std::string where = p.satellite + " " + p.epoch + " field " + std::to_string(k);
+      const std::optional<double> a = p.fields[k];
+      const std::optional<double> b = k < o->fields.size() ? o->fields[k] : std::nullopt;
+      ++compared;
+      if (!a && !b) continue;
+      if (!a || !b) {
+        failures.push_back(where + ": printed by one writer only");
+        continue;
+      }
+      if (test::agreesToPrintedPrecision(*a, p.text[k], *b, o->text[k])) continue;
+      if (k == 27) {
+        ++named["BeiDou transmission time: convbin's stream time, ours toe (1042 has none)"];
+      } else if (k == 23 && beidouUraIndex(*a) == beidouUraIndex(*b)) {
+        ++named["BeiDou URA: convbin's rounded nominal value"];
+      } else {
+        failures.push_back(where + ": peer " + p.text[k] + ", ours " + o->text[k]);
+      }
+    }
+  }
+  return compared;
 }
 
 struct PeerRun {
@@ -332,6 +390,25 @@ TEST(Rtcm3Peer, WeekRolloverStr24MatchesConvbin) {
   for (const auto& f : nav_failures) std::printf("  FAIL %s\n", f.c_str());
   EXPECT_GT(nav_compared, 100u);
   EXPECT_TRUE(nav_failures.empty());
+
+  // BeiDou 1042 records field by field (README: the recording carries 1042).
+  std::map<std::string, std::size_t> named;
+  std::vector<std::string> field_failures;
+  const std::size_t fields = compareBeidouFields(run.peer_nav, run.our_nav, named, field_failures);
+  const NavData peer_nav = readRinexNav(run.peer_nav.string());
+  const NavData our_nav = readRinexNav(run.our_nav.string());
+  std::printf("week-rollover-STR24 BeiDou: %zu records (peer), %zu (ours), %zu fields compared\n",
+              peer_nav.beidou.size(), our_nav.beidou.size(), fields);
+  for (const auto& [what, n] : named) std::printf("  named case: %s: %zu\n", what.c_str(), n);
+  for (const auto& f : field_failures) std::printf("  FAIL %s\n", f.c_str());
+  EXPECT_GE(peer_nav.beidou.size(), 10u);
+  EXPECT_EQ(our_nav.beidou.size(), peer_nav.beidou.size());
+  EXPECT_EQ(fields, 29u * peer_nav.beidou.size());
+  EXPECT_TRUE(field_failures.empty());
+  // GEO records are among them (C01-C05: the rotated user algorithm).
+  std::size_t geo = 0;
+  for (const auto& e : our_nav.beidou) geo += e.isGeo();
+  EXPECT_GT(geo, 0u);
 }
 
 TEST(Rtcm3Peer, Gmsd7MatchesConvbin) {

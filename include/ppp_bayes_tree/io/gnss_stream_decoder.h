@@ -25,6 +25,7 @@
 #include "ppp_bayes_tree/io/stream_format.h"
 #include "ppp_bayes_tree/io/stream_problem.h"
 #include "ppp_bayes_tree/io/ubx_decoder.h"
+#include "ppp_bayes_tree/types/beidou_ephemeris.h"
 #include "ppp_bayes_tree/types/navigation_records.h"
 
 namespace ppp {
@@ -41,11 +42,13 @@ struct ReceivedNavigation {
   std::vector<ReceivedRecord<GpsLnavEphemeris>> gps;  // GPS and QZSS LNAV
   std::vector<ReceivedRecord<GalileoEphemeris>> galileo;
   std::vector<ReceivedRecord<GlonassEphemeris>> glonass;
-  std::size_t size() const { return gps.size() + galileo.size() + glonass.size(); }
+  std::vector<ReceivedRecord<BeidouEphemeris>> beidou;
+  std::size_t size() const { return gps.size() + galileo.size() + glonass.size() + beidou.size(); }
   void clear() {
     gps.clear();
     galileo.clear();
     glonass.clear();
+    beidou.clear();
   }
 };
 

@@ -3,8 +3,9 @@
 //  - RINEX 2.10/2.11 GPS ("N") and GLONASS ("G") navigation files,
 //  - RINEX 3.00-3.05 navigation files, single-system and mixed,
 //  - RINEX 4.00/4.01/4.02 navigation files ("> EPH G01 LNAV" record headers).
-// GPS LNAV, QZSS LNAV, Galileo I/NAV and F/NAV and GLONASS FDMA records are
-// decoded; BeiDou, SBAS, NavIC/IRNSS records, RINEX 4 CNAV/CNV2/... messages
+// GPS LNAV, QZSS LNAV, Galileo I/NAV and F/NAV, GLONASS FDMA and BeiDou D1/D2
+// records (RINEX 3.05 table A14, RINEX 4 "D1"/"D2") are decoded; SBAS,
+// NavIC/IRNSS records, RINEX 4 CNAV/CNV1/CNV2/... messages
 // and RINEX 4 STO/EOP/ION records are skipped and counted in the report.
 //
 // Bad input (project policy): a malformed header throws ParseError(file, line,
@@ -19,6 +20,7 @@
 #include "ppp_bayes_tree/io/file_summary.h"
 #include "ppp_bayes_tree/io/line_source.h"
 #include "ppp_bayes_tree/io/parse_error.h"
+#include "ppp_bayes_tree/types/beidou_ephemeris.h"
 #include "ppp_bayes_tree/types/glonass_channels.h"
 #include "ppp_bayes_tree/types/navigation_records.h"
 
@@ -59,6 +61,8 @@ struct NavData {
   /// Galileo I/NAV and F/NAV records, both kept (see GalileoEphemeris::type).
   std::vector<GalileoEphemeris> galileo;
   std::vector<GlonassEphemeris> glonass;
+  /// BeiDou D1 (MEO/IGSO) and D2 (GEO) records.
+  std::vector<BeidouEphemeris> beidou;
   /// GLONASS FDMA channel numbers from the records' frequency numbers.
   GlonassChannels glonass_channels;
   /// Every satellite that had a record, decoded or skipped.
@@ -70,7 +74,7 @@ struct NavData {
   /// malformed ones are problems.
   ParseReport report;
 
-  std::size_t recordCount() const { return gps.size() + galileo.size() + glonass.size(); }
+  std::size_t recordCount() const { return gps.size() + galileo.size() + glonass.size() + beidou.size(); }
 };
 
 /// Reads a navigation file from a line source (plain or gzip).

@@ -21,6 +21,7 @@
 #include <vector>
 
 #include "ppp_bayes_tree/io/observation_source.h"
+#include "ppp_bayes_tree/io/rtcm_observation_source.h"
 #include "ppp_bayes_tree/io/ubx_decoder.h"
 
 namespace ppp {
@@ -33,8 +34,14 @@ struct UbxNavigationRecords {
 
 /// The header of the decoded epochs (see above), named after `file_name`.
 RinexObsHeader ubxObservationHeader(const std::vector<UbxObservationEpoch>& epochs, const std::string& file_name);
+/// A decoded UBX epoch as the stream epoch both receiver formats share (the
+/// form the live input takes, io/gnss_stream_decoder.h): satellites in RXM-RAWX
+/// order, per signal its band/attribute, pseudorange and phase when valid,
+/// Doppler, C/N0, LLI and lock time.
+StreamEpoch toStreamEpoch(const UbxObservationEpoch& in);
 /// One decoded epoch laid out along the header's type lists (signals the header
-/// does not list are left out).
+/// does not list are left out): toStreamEpoch, then streamEpochToObsEpoch
+/// (io/rtcm_observation_source.h), the one conversion of both paths.
 void toObsEpoch(const UbxObservationEpoch& in, const RinexObsHeader& header, ObsEpoch& out);
 
 class UbxObservationSource : public ObservationSource {

@@ -6,6 +6,16 @@
 //    algorithm for ephemeris determination), clock 20.3.3.3.3.1.
 //  - Galileo I/NAV and F/NAV: Galileo OS SIS ICD (issue 2.1) section 5.1.1
 //    (table 59) with the Galileo GM, and 5.1.4 with the Galileo value of F.
+//  - BeiDou D1/D2: BDS-SIS-ICD-B1I (version 2.0, 2013; 3.0, 2019) section
+//    5.2.4.12, table 5-11 (user algorithm for ephemeris parameters), with the
+//    CGCS2000 constants GM = 3.986004418e14 m^3/s^2 and Omega_e = 7.2921150e-5
+//    rad/s (5.2.4.12 / 3.2). MEO and IGSO satellites as GPS. GEO satellites
+//    (C01-C05, C59-C63): the node longitude omits the Earth rotation since toe,
+//    the position so found is rotated by -5 deg about X and then by
+//    Omega_e (t - toe) about Z: X = R_Z(Omega_e tk) R_X(-5 deg) X_GK. Times in
+//    the record are GPST instants (BDT = GPST - 14 s); toe_sow is BDT seconds
+//    of the BDT week, the epoch to which Omega0 refers. Clock: 5.2.4.10 with F
+//    of the CGCS2000 GM; the broadcast clock refers to B3I (TGD1 B1I, TGD2 B2I).
 //  - GLONASS FDMA: 4th-order Runge-Kutta integration of the PZ-90 equations of
 //    motion of the GLONASS ICD (edition 5.1, appendix A.3.1.2), clock per 3.3.3.
 //
@@ -18,6 +28,7 @@
 #include <optional>
 #include <string>
 
+#include "ppp_bayes_tree/types/beidou_ephemeris.h"
 #include "ppp_bayes_tree/types/navigation_records.h"
 
 namespace ppp {
@@ -55,6 +66,7 @@ struct KeplerConstants {
 };
 KeplerConstants gpsKeplerConstants();      // IS-GPS-200 20.3.3.4.3 / 20.3.3.3.3.1
 KeplerConstants galileoKeplerConstants();  // Galileo OS SIS ICD 5.1.1 / 5.1.4
+KeplerConstants beidouKeplerConstants();   // BDS-SIS-ICD-B1I 5.2.4.10 / 5.2.4.12
 
 /// Position, velocity and the relativistic term from a Keplerian orbit at GPST t
 /// (clock fields: relativistic part only). Velocity is the analytic time
@@ -70,6 +82,10 @@ double clockPolynomial_s(const ClockPolynomial& clock, const GnssTime& t);
 /// Full states: position, velocity, clock bias = polynomial + relativistic term.
 BroadcastState satelliteState(const GpsLnavEphemeris& eph, const GnssTime& t);
 BroadcastState satelliteState(const GalileoEphemeris& eph, const GnssTime& t);
+/// BeiDou: MEO/IGSO as keplerState with the BeiDou constants; GEO (eph.isGeo())
+/// with the rotated algorithm of the header comment (velocity differentiated
+/// through both rotations).
+BroadcastState satelliteState(const BeidouEphemeris& eph, const GnssTime& t);
 /// GLONASS: -TauN + GammaN (t - tb) and the integrated orbit. Integration takes
 /// 60 s Runge-Kutta steps from tb to t; |t - tb| is limited by the caller
 /// (the ephemeris store uses 15 min + margin).
@@ -94,5 +110,7 @@ std::optional<double> galileoE1ClockCorrection_s(const GalileoEphemeris& eph, do
 bool isHealthy(const GpsLnavEphemeris& eph);
 bool isHealthy(const GalileoEphemeris& eph);
 bool isHealthy(const GlonassEphemeris& eph);
+/// BeiDou: SatH1 == 0 (BDS-SIS-ICD-B1I 5.2.4.6).
+bool isHealthy(const BeidouEphemeris& eph);
 
 }  // namespace ppp

@@ -4,11 +4,13 @@
 // lookup either gives a record / state or says why there is none.
 //
 // As an EphemerisSource it serves the measurement model with broadcast orbits
-// (GPS/QZSS/Galileo: antenna phase centre, GLONASS: centre of mass; sigma =
-// the record's URA / SISA) and clocks WITHOUT the
+// (GPS/QZSS/Galileo/BeiDou: antenna phase centre, GLONASS: centre of mass;
+// sigma = the record's URA / SISA) and clocks WITHOUT the
 // relativistic eccentricity term (the model adds its own -2 r.v / c^2). The
 // GPS clock refers to the L1/L2 P(Y) ionosphere-free combination; a Galileo
-// I/NAV clock to E1/E5b (an E1/E5a pair would need the BGD: not applied).
+// I/NAV clock to E1/E5b (an E1/E5a pair would need the BGD: not applied); a
+// BeiDou clock to B3I. BeiDou records sit in their own list: adding them never
+// changes the record chosen for a GPS, QZSS, Galileo or GLONASS satellite.
 //
 // Records not yet received (causal choice, the same live and in batch): a
 // record decoded from a receiver or correction stream carries its reception
@@ -45,6 +47,10 @@ struct EphemerisSelectionOptions {
   /// (ICD 5.1, 4.4), so 15 min suffice in a complete file; 30 min (as RTKLIB's
   /// MAXDTOE_GLO) bridges one missing record at a cost of metres.
   double glonass_max_age_s = 30.0 * 60.0;
+  /// BeiDou: |t - toe| <= this. Records are uploaded hourly with toe at the hour
+  /// (BDS-SIS-ICD-B1I 5.2.4: ephemeris update period 1 h); 4 h either side as
+  /// for Galileo bridges gaps at metre-level cost.
+  double beidou_max_age_s = 4.0 * 3600.0;
   GalileoPreference galileo = GalileoPreference::INavOnly;
   /// Use records whose health flags say unhealthy (never by default).
   bool allow_unhealthy = false;
@@ -77,11 +83,13 @@ class BroadcastEphemerisStore : public EphemerisSource {
   std::optional<std::string> add(const GpsLnavEphemeris& eph);
   std::optional<std::string> add(const GalileoEphemeris& eph);
   std::optional<std::string> add(const GlonassEphemeris& eph);
+  std::optional<std::string> add(const BeidouEphemeris& eph);
   /// The same for a record received at `received_at` (stream time; nullopt:
   /// always usable). A repeated record keeps its first reception time.
   std::optional<std::string> add(const GpsLnavEphemeris& eph, std::optional<GnssTime> received_at);
   std::optional<std::string> add(const GalileoEphemeris& eph, std::optional<GnssTime> received_at);
   std::optional<std::string> add(const GlonassEphemeris& eph, std::optional<GnssTime> received_at);
+  std::optional<std::string> add(const BeidouEphemeris& eph, std::optional<GnssTime> received_at);
   /// Drops records whose reference time (toe / tb) is more than `keep_s` before
   /// `t` (bounded memory in live operation); returns how many were dropped.
   std::size_t dropOlderThan(const GnssTime& t, double keep_s);
@@ -91,9 +99,10 @@ class BroadcastEphemerisStore : public EphemerisSource {
   EphemerisLookup<GpsLnavEphemeris> gps(const SatelliteId& sat, const GnssTime& t) const;
   EphemerisLookup<GalileoEphemeris> galileo(const SatelliteId& sat, const GnssTime& t) const;
   EphemerisLookup<GlonassEphemeris> glonass(const SatelliteId& sat, const GnssTime& t) const;
+  EphemerisLookup<BeidouEphemeris> beidou(const SatelliteId& sat, const GnssTime& t) const;
 
   /// Position, velocity and clock of any modelled satellite (GPS, QZSS, Galileo,
-  /// GLONASS) at GPST t, or the reason it is unavailable.
+  /// GLONASS, BeiDou) at GPST t, or the reason it is unavailable.
   BroadcastLookup state(const SatelliteId& sat, const GnssTime& t) const;
 
   /// EphemerisSource (see above).
@@ -117,6 +126,7 @@ class BroadcastEphemerisStore : public EphemerisSource {
   std::map<SatelliteId, std::vector<GpsLnavEphemeris>> gps_;
   std::map<SatelliteId, std::vector<GalileoEphemeris>> galileo_;
   std::map<SatelliteId, std::vector<GlonassEphemeris>> glonass_;
+  std::map<SatelliteId, std::vector<BeidouEphemeris>> beidou_;
 };
 
 }  // namespace ppp

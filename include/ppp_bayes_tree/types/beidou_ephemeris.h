@@ -3,6 +3,8 @@
 // table A14; RTCM 10403.3 message 1042). The orbit has the GPS quasi-Keplerian
 // layout; times are kept as GPST instants (BDT = GPST - 14 s), the week and
 // seconds of week as broadcast in BDT.
+#include <optional>
+
 #include "ppp_bayes_tree/types/navigation_records.h"
 
 namespace ppp {
@@ -15,12 +17,27 @@ struct BeidouEphemeris {
   int aodc = 0;           // age of data, clock
   int bdt_week = 0;       // continuous BDT week (0 = 2006-01-01)
   int health = 0;         // SatH1 (0 = healthy)
-  int urai = 0;           // user range accuracy index
-  double tgd1_s = 0.0;    // B1I group delay
-  double tgd2_s = 0.0;    // B2I group delay
+  double ura_m = 2.0;     // user range accuracy (RINEX: metres; broadcast as URAI, see beidouUra_m)
+  double tgd1_s = 0.0;    // B1I group delay (relative to B3I)
+  double tgd2_s = 0.0;    // B2I group delay (relative to B3I)
+  std::optional<double> transmission_sow;  // BDT seconds of week; nullopt when the source has none (RTCM 1042)
 
   /// GEO satellites (PRN 1-5 and 59-63) use the rotated user algorithm (ICD 5.2.4.12).
   bool isGeo() const { return satellite.prn <= 5 || satellite.prn >= 59; }
 };
+
+/// BDT week 0 began 2006-01-01 00:00:00 UTC = GPS week 1356 (BDS-SIS-ICD-B1I 5.1.2);
+/// BDT = GPST - 14 s.
+constexpr int kBdtWeekZeroGpsWeek = 1356;
+constexpr double kGpstMinusBdt_s = 14.0;
+/// The GPST instant of BDT week `bdt_week`, second `bdt_sow`.
+GnssTime fromBdtWeek(int bdt_week, double bdt_sow);
+
+/// URA [m] of a URA index N (BDS-SIS-ICD-B1I 3.0, 5.2.4.5, the GPS definition of
+/// IS-GPS-200 20.3.3.3.1.3): 2^(1 + N/2) for N <= 6, 2^(N - 2) for 6 < N < 15;
+/// N = 15 (no accuracy prediction) gives 8192 m, as RINEX writers do.
+double beidouUra_m(int index);
+/// The URA index whose nominal value is nearest to `ura_m` (inverse of beidouUra_m).
+int beidouUraIndex(double ura_m);
 
 }  // namespace ppp

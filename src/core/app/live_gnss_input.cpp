@@ -210,6 +210,8 @@ struct LiveGnssInput::Impl : public EphemerisSource {
       broadcast.add(r.record, r.received_at);
       corrected->addRecord(r.record, r.received_at);
     }
+    // BeiDou: broadcast store only (the SSR-corrected ephemeris has no BeiDou model).
+    for (const auto& r : nav.beidou) broadcast.add(r.record, r.received_at);
     s.status.ephemerides += nav.size();
     std::optional<GnssTime> newest_data;
     for (const auto& m : out.ssr) {

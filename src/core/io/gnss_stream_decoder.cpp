@@ -4,39 +4,9 @@
 #include <memory>
 
 #include "ppp_bayes_tree/io/parse_error.h"
+#include "ppp_bayes_tree/io/ubx_observation_source.h"  // toStreamEpoch: the one UBX epoch conversion
 
 namespace ppp {
-
-namespace {
-
-StreamEpoch toStreamEpoch(const UbxObservationEpoch& in) {
-  StreamEpoch out;
-  out.time = in.time;
-  out.byte_offset = in.byte_offset;
-  out.frame_index = in.frame_index;
-  for (const auto& m : in.measurements) {
-    StreamSatellite* sat = nullptr;
-    for (auto& s : out.satellites)
-      if (s.satellite == m.satellite) sat = &s;
-    if (sat == nullptr) {
-      out.satellites.push_back(StreamSatellite{m.satellite, {}});
-      sat = &out.satellites.back();
-    }
-    StreamSignal s;
-    s.band = m.signal.band;
-    s.attribute = m.signal.attribute;
-    s.pseudorange_m = m.pseudorange_m;
-    s.carrier_phase_cycles = m.carrier_phase_cycles;
-    s.doppler_hz = m.doppler_hz;
-    s.cnr_dbhz = m.cn0_dbhz;
-    s.lli = m.lli;
-    s.lock_time_s = m.lock_time_s;
-    sat->signals.push_back(s);
-  }
-  return out;
-}
-
-}  // namespace
 
 GnssStreamDecoder::GnssStreamDecoder(StreamFormat format, Rtcm3DecoderOptions rtcm_options,
                                      UbxDecoderOptions ubx_options)
@@ -100,7 +70,8 @@ void GnssStreamDecoder::afterRtcmFrame() {
   for (const auto& e : out.gps) output_.navigation.gps.push_back({e, now});
   for (const auto& e : out.galileo) output_.navigation.galileo.push_back({e, now});
   for (const auto& e : out.glonass) output_.navigation.glonass.push_back({e, now});
-  out.clear();  // BeiDou records: no broadcast model (models/broadcast_ephemeris.h)
+  for (const auto& e : out.beidou) output_.navigation.beidou.push_back({e, now});
+  out.clear();
   if (!held_ssr_.empty() && now) drainSsr();
 }
 
@@ -151,6 +122,7 @@ StreamNavigationFile readStreamNavigation(const std::string& path, std::optional
     out.navigation.gps.insert(out.navigation.gps.end(), n.gps.begin(), n.gps.end());
     out.navigation.galileo.insert(out.navigation.galileo.end(), n.galileo.begin(), n.galileo.end());
     out.navigation.glonass.insert(out.navigation.glonass.end(), n.glonass.begin(), n.glonass.end());
+    out.navigation.beidou.insert(out.navigation.beidou.end(), n.beidou.begin(), n.beidou.end());
     o.clear();
   };
   std::size_t n = 0;

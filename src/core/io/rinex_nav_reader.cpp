@@ -422,6 +422,9 @@ class BodyParser {
       case GnssSystem::GLONASS:
         if (!msg.empty() && msg != "FDMA") return skip(sat, msg);
         return decodeGlonass(rec, sat);
+      case GnssSystem::BeiDou:
+        if (!msg.empty() && msg != "D1" && msg != "D2") return skip(sat, msg);
+        return decodeBeidou(rec, sat);
       default:
         return skip(sat, msg);
     }
@@ -542,6 +545,31 @@ class BodyParser {
     out_.galileo.push_back(e);
   }
 
+  // RINEX 3.05 table A14: toc in BDT, toe as BDT seconds of the BDT week (field 21).
+  void decodeBeidou(const RawRecord& rec, const SatelliteId& sat) {
+    const Fields f = fieldsOf(rec);
+    const std::size_t l0 = rec.first_line;
+    BeidouEphemeris e;
+    e.satellite = sat;
+    decodeKepler(rec, f, TimeSystem::BeiDou, e.clock, e.orbit);
+    e.aode = integer(required(f, 3, l0, "AODE"), 0, 255, f.line_of[3], "AODE");
+    e.bdt_week = integer(required(f, 21, l0, "BDT week"), 0, 100000, f.line_of[21], "BDT week");
+    e.ura_m = required(f, 23, l0, "SV accuracy");
+    e.health = integer(required(f, 24, l0, "SatH1"), 0, 511, f.line_of[24], "SatH1");
+    e.tgd1_s = required(f, 25, l0, "TGD1");
+    e.tgd2_s = required(f, 26, l0, "TGD2");
+    e.transmission_sow = optional(f, 27);
+    e.aodc = integer(optional(f, 28).value_or(0), 0, 255, f.line_of[28], "AODC");
+    // toe from the BDT week as written (decodeKepler's GPS-week guess does not apply).
+    GnssTime toe = fromBdtWeek(e.bdt_week, e.orbit.toe_sow);
+    const double d = toe - e.clock.toc;
+    if (d > 302400.0) toe -= 604800.0;
+    if (d < -302400.0) toe += 604800.0;
+    e.orbit.toe = toe;
+    noteToc(e.clock.toc);
+    out_.beidou.push_back(e);
+  }
+
   void decodeGlonass(const RawRecord& rec, const SatelliteId& sat) {
     const Fields f = fieldsOf(rec);
     const std::size_t l0 = rec.first_line;
@@ -608,7 +636,8 @@ FileSummary summarizeNavFile(const std::string& path) {
   for (const auto& e : nav.galileo) (e.type == GalileoNavType::FNav ? fnav : inav)++;
   std::ostringstream records;
   records << "records: GPS LNAV " << gps << ", QZSS LNAV " << qzss << ", Galileo I/NAV " << inav
-          << ", Galileo F/NAV " << fnav << ", GLONASS " << nav.glonass.size();
+          << ", Galileo F/NAV " << fnav << ", GLONASS " << nav.glonass.size() << ", BeiDou "
+          << nav.beidou.size();
   s.facts.push_back(records.str());
   if (!nav.header.ionospheric_corrections.empty()) {
     std::string f = "ionospheric corrections:";

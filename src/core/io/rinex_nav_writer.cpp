@@ -92,9 +92,10 @@ void RinexNavWriter::write(const BeidouEphemeris& e) {
   orbitLine(o.cuc_rad, o.eccentricity, o.cus_rad, o.sqrt_a_sqrtm);
   orbitLine(o.toe_sow, o.cic_rad, o.omega0_rad, o.cis_rad);
   orbitLine(o.i0_rad, o.crc_m, o.omega_rad, o.omega_dot_radps);
-  orbitLine(o.idot_radps, 0.0, e.bdt_week, 0.0, 3);
-  orbitLine(e.urai, e.health, e.tgd1_s, e.tgd2_s);
-  orbitLine(o.toe_sow, e.aodc, 0, 0, 2);
+  orbitLine(o.idot_radps, 0.0, e.bdt_week, 0.0);
+  orbitLine(e.ura_m, e.health, e.tgd1_s, e.tgd2_s);
+  // Transmission time: RTCM 1042 carries none; toe then stands in (as for the other systems).
+  orbitLine(e.transmission_sow.value_or(o.toe_sow), e.aodc, 0, 0, 2);
 }
 
 }  // namespace ppp

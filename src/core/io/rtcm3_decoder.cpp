@@ -14,8 +14,6 @@ namespace {
 constexpr double kRangeMs_m = kSpeedOfLight_mps * 0.001;  // range of 1 ms of light time
 constexpr std::int64_t kWeekMs = 604800LL * 1000;
 constexpr std::int64_t kDayMs = 86400LL * 1000;
-constexpr int kBdtWeekOffset = 1356;  // GPS week of BDT week 0 (2006-01-01)
-constexpr double kBdtMinusGpst_s = -14.0;
 
 // RTCM 10403.3 MSM signal tables, id 1..32 -> RINEX band and attribute ("" reserved).
 const std::array<const char*, 32> kGpsSignals = {
@@ -757,7 +755,7 @@ void Rtcm3Decoder::decodeBeidou(const Rtcm3Frame& frame) {
   KeplerOrbit& o = e.orbit;
   const int prn = static_cast<int>(r.u(6));
   const int week13 = static_cast<int>(r.u(13));
-  e.urai = static_cast<int>(r.u(4));
+  e.ura_m = beidouUra_m(static_cast<int>(r.u(4)));
   o.idot_radps = r.s(14) * p2(-43) * kPi;
   e.aode = static_cast<int>(r.u(5));
   const double toc_sow = r.u(17) * 8.0;
@@ -798,17 +796,17 @@ void Rtcm3Decoder::decodeBeidou(const Rtcm3Frame& frame) {
   }
   int week = week13;
   if (time_) {
-    const int now = time_->gpsWeek().week - kBdtWeekOffset;
+    const int now = time_->gpsWeek().week - kBdtWeekZeroGpsWeek;
     week += ((now - week + 4096) / 8192) * 8192;
   }
   if (time_) {
-    const double dt = (GnssTime::fromGpsWeek(week + kBdtWeekOffset, o.toe_sow) - kBdtMinusGpst_s) - *time_;
+    const double dt = fromBdtWeek(week, o.toe_sow) - *time_;
     if (dt < -302400.0) ++week;
     else if (dt >= 302400.0) --week;
   }
   e.bdt_week = week;
-  o.toe = GnssTime::fromGpsWeek(week + kBdtWeekOffset, o.toe_sow) - kBdtMinusGpst_s;
-  GnssTime toc = GnssTime::fromGpsWeek(week + kBdtWeekOffset, toc_sow) - kBdtMinusGpst_s;
+  o.toe = fromBdtWeek(week, o.toe_sow);
+  GnssTime toc = fromBdtWeek(week, toc_sow);
   if (toc - o.toe > 302400.0) toc -= 604800.0;
   else if (toc - o.toe < -302400.0) toc += 604800.0;
   e.clock.toc = toc;

@@ -13,14 +13,6 @@ namespace {
 constexpr ObservableType kTypes[4] = {ObservableType::Pseudorange, ObservableType::CarrierPhase,
                                       ObservableType::Doppler, ObservableType::SignalStrength};
 
-// Index of the first of the four types of `signal` in the system's list, or -1.
-int signalColumn(const std::vector<ObservationCode>& types, const ObservationCode& signal) {
-  for (std::size_t i = 0; i + 3 < types.size(); i += 4) {
-    if (types[i].band == signal.band && types[i].attribute == signal.attribute) return static_cast<int>(i);
-  }
-  return -1;
-}
-
 }  // namespace
 
 RinexObsHeader ubxObservationHeader(const std::vector<UbxObservationEpoch>& epochs, const std::string& file_name) {
@@ -68,32 +60,36 @@ RinexObsHeader ubxObservationHeader(const std::vector<UbxObservationEpoch>& epoc
   return header;
 }
 
-void toObsEpoch(const UbxObservationEpoch& in, const RinexObsHeader& header, ObsEpoch& out) {
-  out.clear();
+StreamEpoch toStreamEpoch(const UbxObservationEpoch& in) {
+  StreamEpoch out;
   out.time = in.time;
-  out.flag = EpochFlag::Ok;
-  out.line = 0;
+  out.byte_offset = in.byte_offset;
+  out.frame_index = in.frame_index;
   for (const auto& m : in.measurements) {
-    const auto& types = header.types(m.satellite.system);
-    const int column = signalColumn(types, m.signal);
-    if (column < 0) continue;
-    auto index = out.indexOf(m.satellite);
-    if (!index) {
-      SatelliteObservations sat;
-      sat.satellite = m.satellite;
-      sat.first = static_cast<std::uint32_t>(out.observations.size());
-      sat.count = static_cast<std::uint32_t>(types.size());
-      for (const auto& code : types) out.observations.push_back(Observation{code, std::nullopt, std::nullopt, std::nullopt});
-      out.satellites.push_back(sat);
-      index = out.satellites.size() - 1;
+    StreamSatellite* sat = nullptr;
+    for (auto& s : out.satellites)
+      if (s.satellite == m.satellite) sat = &s;
+    if (sat == nullptr) {
+      out.satellites.push_back(StreamSatellite{m.satellite, {}});
+      sat = &out.satellites.back();
     }
-    Observation* obs = out.observations.data() + out.satellites[*index].first + column;
-    obs[0].value = m.pseudorange_m;
-    obs[1].value = m.carrier_phase_cycles;
-    if (m.carrier_phase_cycles && m.lli != 0) obs[1].lli = m.lli;
-    obs[2].value = m.doppler_hz;
-    obs[3].value = m.cn0_dbhz;
+    StreamSignal s;
+    s.band = m.signal.band;
+    s.attribute = m.signal.attribute;
+    s.pseudorange_m = m.pseudorange_m;
+    s.carrier_phase_cycles = m.carrier_phase_cycles;
+    s.doppler_hz = m.doppler_hz;
+    s.cnr_dbhz = m.cn0_dbhz;
+    s.lli = m.lli;
+    s.lock_time_s = m.lock_time_s;
+    sat->signals.push_back(s);
   }
+  return out;
+}
+
+void toObsEpoch(const UbxObservationEpoch& in, const RinexObsHeader& header, ObsEpoch& out) {
+  streamEpochToObsEpoch(toStreamEpoch(in), header, out);
+  out.line = 0;
 }
 
 UbxObservationSource::UbxObservationSource(const std::string& path, UbxDecoderOptions options)

@@ -18,6 +18,10 @@ constexpr double kGlonassJ2 = 1082625.75e-9;
 constexpr double kGlonassEarthRotation_radps = 7.2921150e-5;
 constexpr double kGlonassStep_s = 30.0;
 
+// BDS-SIS-ICD-B1I 5.2.4.12: CGCS2000 Earth rotation rate and the GEO tilt (-5 deg about X).
+constexpr double kBeidouEarthRotation_radps = 7.2921150e-5;
+constexpr double kBeidouGeoTilt_rad = -5.0 * kPi / 180.0;
+
 // Wraps an angle into [-pi, pi).
 double wrapPi(double angle_rad) {
   double a = std::fmod(angle_rad + kPi, 2.0 * kPi);
@@ -139,6 +143,37 @@ BroadcastState satelliteState(const GalileoEphemeris& eph, const GnssTime& t) {
   return withClock(keplerState(eph.orbit, galileoKeplerConstants(), t), eph.clock, t);
 }
 
+KeplerConstants beidouKeplerConstants() {
+  // BDS-SIS-ICD-B1I 5.2.4.12: mu = 3.986004418e14 (CGCS2000), Omega_e = 7.2921150e-5;
+  // F = -2 sqrt(mu) / c^2 (5.2.4.10), the Galileo value since the GM is the same.
+  return {kGmGalileo_m3ps2, kBeidouEarthRotation_radps, kRelativisticF_Galileo};
+}
+
+BroadcastState satelliteState(const BeidouEphemeris& eph, const GnssTime& t) {
+  const KeplerConstants k = beidouKeplerConstants();
+  if (!eph.isGeo()) return withClock(keplerState(eph.orbit, k, t), eph.clock, t);
+  // GEO (BDS-SIS-ICD-B1I 5.2.4.12, table 5-11, the GEO rows): Omega_k = Omega0 +
+  // OmegaDot tk - Omega_e toe. keplerState with no Earth rotation and Omega0
+  // shifted by -Omega_e toe gives exactly X_GK and its time derivative.
+  KeplerOrbit inertial = eph.orbit;
+  inertial.omega0_rad -= k.earth_rotation_radps * eph.orbit.toe_sow;
+  BroadcastState s = keplerState(inertial, {k.gm_m3ps2, 0.0, k.relativistic_f}, t);
+  const double tk = t - eph.orbit.toe;
+  const double phi = k.earth_rotation_radps * tk;
+  const double cz = std::cos(phi), sz = std::sin(phi);
+  const double cx = std::cos(kBeidouGeoTilt_rad), sx = std::sin(kBeidouGeoTilt_rad);
+  // R_X(a) = [1 0 0; 0 cos a  sin a; 0 -sin a  cos a], R_Z(a) = [cos a  sin a 0; -sin a  cos a 0; 0 0 1].
+  Eigen::Matrix3d rx, rz, rz_dot;
+  rx << 1, 0, 0, 0, cx, sx, 0, -sx, cx;
+  rz << cz, sz, 0, -sz, cz, 0, 0, 0, 1;
+  rz_dot << -sz, cz, 0, -cz, -sz, 0, 0, 0, 0;
+  rz_dot *= k.earth_rotation_radps;
+  const Eigen::Vector3d p_gk = s.position_ecef_m, v_gk = s.velocity_ecef_mps;
+  s.position_ecef_m = rz * rx * p_gk;
+  s.velocity_ecef_mps = rz * rx * v_gk + rz_dot * rx * p_gk;
+  return withClock(s, eph.clock, t);
+}
+
 namespace {
 
 struct GlonassDerivative {
@@ -217,5 +252,7 @@ bool isHealthy(const GalileoEphemeris& eph) {
 }
 
 bool isHealthy(const GlonassEphemeris& eph) { return eph.health == 0; }
+
+bool isHealthy(const BeidouEphemeris& eph) { return eph.health == 0; }
 
 }  // namespace ppp

@@ -12,10 +12,12 @@ namespace {
 const GnssTime& referenceTime(const GpsLnavEphemeris& e) { return e.orbit.toe; }
 const GnssTime& referenceTime(const GalileoEphemeris& e) { return e.orbit.toe; }
 const GnssTime& referenceTime(const GlonassEphemeris& e) { return e.tb; }
+const GnssTime& referenceTime(const BeidouEphemeris& e) { return e.orbit.toe; }
 
 int issueOfData(const GpsLnavEphemeris& e) { return e.iode; }
 int issueOfData(const GalileoEphemeris& e) { return e.iod_nav * 2 + (e.type == GalileoNavType::FNav); }
 int issueOfData(const GlonassEphemeris&) { return 0; }
+int issueOfData(const BeidouEphemeris& e) { return e.aode; }
 
 std::string hours(double seconds) {
   std::ostringstream os;
@@ -91,6 +93,7 @@ void BroadcastEphemerisStore::add(const NavData& nav) {
   for (const auto& e : nav.gps) add(e);
   for (const auto& e : nav.galileo) add(e);
   for (const auto& e : nav.glonass) add(e);
+  for (const auto& e : nav.beidou) add(e);
 }
 
 template <typename Record>
@@ -130,6 +133,14 @@ std::optional<std::string> BroadcastEphemerisStore::add(const GlonassEphemeris& 
   return why;
 }
 
+std::optional<std::string> BroadcastEphemerisStore::add(const BeidouEphemeris& eph,
+                                                        std::optional<GnssTime> received_at) {
+  const std::size_t before = beidou_[eph.satellite].size();
+  auto why = add(eph);
+  if (!why && beidou_[eph.satellite].size() > before) noteReceived(eph, received_at);
+  return why;
+}
+
 namespace {
 template <typename Record, typename Received>
 std::size_t dropOld(std::map<SatelliteId, std::vector<Record>>& store, const GnssTime& t, double keep_s,
@@ -152,7 +163,7 @@ std::size_t dropOld(std::map<SatelliteId, std::vector<Record>>& store, const Gns
 
 std::size_t BroadcastEphemerisStore::dropOlderThan(const GnssTime& t, double keep_s) {
   return dropOld(gps_, t, keep_s, received_) + dropOld(galileo_, t, keep_s, received_) +
-         dropOld(glonass_, t, keep_s, received_);
+         dropOld(glonass_, t, keep_s, received_) + dropOld(beidou_, t, keep_s, received_);
 }
 
 std::optional<std::string> BroadcastEphemerisStore::add(const GpsLnavEphemeris& eph) {
@@ -175,6 +186,13 @@ std::optional<std::string> BroadcastEphemerisStore::add(const GlonassEphemeris& 
   if (auto why = checkGlonassState(eph)) return why;
   if (eph.satellite.system != GnssSystem::GLONASS) return std::string("not a GLONASS satellite");
   insertUnique(glonass_[eph.satellite], eph);
+  return std::nullopt;
+}
+
+std::optional<std::string> BroadcastEphemerisStore::add(const BeidouEphemeris& eph) {
+  if (auto why = checkKeplerOrbit(eph.orbit)) return why;
+  if (eph.satellite.system != GnssSystem::BeiDou) return std::string("not a BeiDou satellite");
+  insertUnique(beidou_[eph.satellite], eph);
   return std::nullopt;
 }
 
@@ -209,6 +227,15 @@ EphemerisLookup<GlonassEphemeris> BroadcastEphemerisStore::glonass(const Satelli
       [this, &t](const GlonassEphemeris& e) { return receivedBy(e, t); });
 }
 
+EphemerisLookup<BeidouEphemeris> BroadcastEphemerisStore::beidou(const SatelliteId& sat,
+                                                                 const GnssTime& t) const {
+  const double max_age = options_.beidou_max_age_s;
+  return select(
+      beidou_, sat, t, options_.allow_unhealthy,
+      [max_age](const BeidouEphemeris&) { return max_age; },
+      [this, &t](const BeidouEphemeris& e) { return receivedBy(e, t); });
+}
+
 namespace {
 template <typename Record>
 BroadcastLookup toState(const EphemerisLookup<Record>& lookup, const GnssTime& t) {
@@ -231,6 +258,8 @@ BroadcastLookup BroadcastEphemerisStore::state(const SatelliteId& sat, const Gns
       return toState(galileo(sat, t), t);
     case GnssSystem::GLONASS:
       return toState(glonass(sat, t), t);
+    case GnssSystem::BeiDou:
+      return toState(beidou(sat, t), t);
     default:
       break;
   }
@@ -248,7 +277,8 @@ EphemerisUnavailable broadcastReason(const SatelliteId& sat) {
     case GnssSystem::GPS:
     case GnssSystem::QZSS:
     case GnssSystem::Galileo:
-    case GnssSystem::GLONASS: return EphemerisUnavailable::NoValidRecord;
+    case GnssSystem::GLONASS:
+    case GnssSystem::BeiDou: return EphemerisUnavailable::NoValidRecord;
     default: return EphemerisUnavailable::SystemNotModelled;
   }
 }
@@ -269,7 +299,7 @@ EphemerisAnswer<EphemerisOrbit> BroadcastEphemerisStore::satelliteOrbit(const Sa
   using A = EphemerisAnswer<EphemerisOrbit>;
   const BroadcastLookup s = state(sat, t);
   if (!s) return A::unavailable(broadcastReason(sat), s.unavailable_reason);
-  // GPS, QZSS and Galileo broadcast orbits refer to the antenna phase centre
+  // GPS, QZSS, Galileo and BeiDou broadcast orbits refer to the antenna phase centre
   // (the control segments' convention, also that of RTCM SSR); GLONASS to the
   // centre of mass.
   const EphemerisReference reference = sat.system == GnssSystem::GLONASS ? EphemerisReference::CentreOfMass
@@ -279,6 +309,8 @@ EphemerisAnswer<EphemerisOrbit> BroadcastEphemerisStore::satelliteOrbit(const Sa
     if (const auto r = gps(sat, t)) o.position_sigma_m = r.record->ura_m;
   } else if (sat.system == GnssSystem::Galileo) {
     if (const auto r = galileo(sat, t)) o.position_sigma_m = r.record->sisa_m;
+  } else if (sat.system == GnssSystem::BeiDou) {
+    if (const auto r = beidou(sat, t)) o.position_sigma_m = r.record->ura_m;
   }
   return A::success(o);
 }
@@ -288,6 +320,7 @@ std::size_t BroadcastEphemerisStore::size() const {
   for (const auto& [sat, list] : gps_) n += list.size();
   for (const auto& [sat, list] : galileo_) n += list.size();
   for (const auto& [sat, list] : glonass_) n += list.size();
+  for (const auto& [sat, list] : beidou_) n += list.size();
   return n;
 }
 

@@ -13,7 +13,8 @@ namespace ppp {
 
 namespace {
 
-/// Adds the records of a stream to an ephemeris (store or SSR) with their reception times.
+/// Adds the records of a stream to an ephemeris (store or SSR) with their reception times
+/// (BeiDou records: to the store only, see loadBroadcastProducts).
 template <class Target>
 void addReceived(Target target, const ReceivedNavigation& nav) {
   for (const auto& r : nav.gps) target(r.record, r.received_at);
@@ -54,8 +55,10 @@ BroadcastProducts loadBroadcastProducts(const std::vector<std::string>& nav, con
   if (!ssr) {
     auto store = std::make_shared<BroadcastEphemerisStore>();
     for (const auto& n : navs) store->add(n);
-    for (const auto& s : streams)
+    for (const auto& s : streams) {
       addReceived([&](const auto& record, const auto& received) { store->add(record, received); }, s.navigation);
+      for (const auto& r : s.navigation.beidou) store->add(r.record, r.received_at);
+    }
     out.ephemeris = store;
     out.notes.push_back("orbits and clocks: broadcast navigation records only (" + names +
                         "): metre-level accuracy, not precise products");
