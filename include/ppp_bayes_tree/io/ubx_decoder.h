@@ -55,7 +55,21 @@
 //    checked (ChecksumError), alert pages skipped; words 1-4 kept per IODnav,
 //    released with the latest word 5 (BGDs, health, week); word 4's SVID must be
 //    the satellite's (InconsistentEphemeris).
-//  - GPS/QZSS CNAV (L2C, L5), Galileo F/NAV and E6, BeiDou, GLONASS and SBAS
+//  - GLONASS L1OF/L2OF strings (sigId 0, 2; GLONASS ICD 5.1, 4.4 and 4.7): each
+//    string's Hamming code is checked (ChecksumError: the string is dropped);
+//    strings 1-4 of one frame (same frame id in SFRBX word 4) make a record,
+//    released with string 4; string 4's slot n must be the satellite's
+//    (InconsistentEphemeris). tb and tk (Moscow day) are placed on the day of
+//    the latest RXM-RAWX (UnresolvedTime before one); the channel is freqId - 7.
+//  - BeiDou D1 (MEO/IGSO) subframes 1-3 and D2 (GEO: C01-C05, C59-C63)
+//    subframe 1 pages 1-10 (sigId 0-3: B1I and B2I, D1 or D2 by the
+//    satellite; BDS-SIS-ICD-B1I 2.0/3.0, 5.2 and 5.3): every word's BCH(15,11)
+//    parity is checked (ChecksumError: the subframe / page is dropped); the
+//    parts make a record when their SOW are those of one frame (D1: 6 s
+//    apart; D2: pages 3 s apart) and toc = toe (else InconsistentEphemeris).
+//    The 13-bit BDT week is resolved with the receiver week. Bit layouts:
+//    src/core/io/ubx_nav_layout.h.
+//  - GPS/QZSS CNAV (L2C, L5), Galileo F/NAV and E6, BeiDou B1C/B2a/B3I and SBAS
 //    messages are framed and counted (navigation_not_decoded) but not decoded.
 // A record repeated with the same issue of data and toe is released once.
 //
@@ -63,6 +77,7 @@
 // MGA, LOG, SEC, HNR are UBX classes this decoder knows and does not use
 // (NAV-PVT etc.): counted in frames_by_type and known_not_used. Any other class
 // is an UnknownMessage problem.
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <functional>
@@ -73,6 +88,7 @@
 
 #include "ppp_bayes_tree/io/stream_problem.h"
 #include "ppp_bayes_tree/io/ubx_framer.h"
+#include "ppp_bayes_tree/types/beidou_ephemeris.h"
 #include "ppp_bayes_tree/types/gnss_time.h"
 #include "ppp_bayes_tree/types/navigation_records.h"
 #include "ppp_bayes_tree/types/observation_code.h"
@@ -127,7 +143,7 @@ struct UbxDecoderStatistics {
   std::map<std::pair<int, int>, std::uint64_t> unmapped_signals;   // (gnssId, sigId)
   std::map<std::pair<int, int>, std::uint64_t> navigation_words;   // SFRBX per (gnssId, sigId)
   std::map<std::pair<int, int>, std::uint64_t> navigation_not_decoded;
-  std::uint64_t gps_ephemerides = 0, galileo_ephemerides = 0;
+  std::uint64_t gps_ephemerides = 0, galileo_ephemerides = 0, glonass_ephemerides = 0, beidou_ephemerides = 0;
   std::uint64_t known_not_used = 0;                          // frames of known, unused types
 };
 
@@ -137,6 +153,8 @@ class UbxDecoder {
     std::function<void(const UbxObservationEpoch&)> on_epoch;
     std::function<void(const GpsLnavEphemeris&)> on_gps;      // GPS and QZSS LNAV
     std::function<void(const GalileoEphemeris&)> on_galileo;
+    std::function<void(const GlonassEphemeris&)> on_glonass;
+    std::function<void(const BeidouEphemeris&)> on_beidou;
   };
 
   explicit UbxDecoder(UbxDecoderOptions options = {}) : options_(options) {}
@@ -166,12 +184,24 @@ class UbxDecoder {
     std::map<int, std::map<int, std::vector<std::uint8_t>>> words_by_iod;  // iod -> type -> 16 bytes
     std::optional<std::vector<std::uint8_t>> word5;
   };
+  struct GlonassFrame {
+    std::uint32_t frame_id = 0;
+    std::array<std::optional<std::array<std::uint8_t, 38>>, 4> strings;  // strings 1-4
+  };
+  struct BeidouFrame {
+    std::array<std::optional<std::array<std::uint8_t, 38>>, 10> units;  // D1 subframes 1-3 / D2 pages 1-10
+    std::array<long, 10> sow{};
+  };
 
   void frame(const UbxFrame& frame, const Handlers& handlers);
   void rawx(const UbxFrame& frame, const Handlers& handlers);
   void sfrbx(const UbxFrame& frame, const Handlers& handlers);
   void lnav(const UbxFrame& frame, const SatelliteId& sat, const Handlers& handlers);
   void inav(const UbxFrame& frame, const SatelliteId& sat, const Handlers& handlers);
+  void glonassString(const UbxFrame& frame, const SatelliteId& sat, const Handlers& handlers);
+  void beidouSubframe(const UbxFrame& frame, const SatelliteId& sat, const Handlers& handlers);
+  void releaseBeidou(const UbxFrame& frame, const SatelliteId& sat, BeidouFrame& parts, bool geo,
+                     const Handlers& handlers);
   void problem(const UbxFrame& frame, StreamProblemKind kind, std::string detail);
 
   UbxDecoderOptions options_;
@@ -184,6 +214,10 @@ class UbxDecoder {
   std::map<SatelliteId, InavState> inav_;
   std::map<SatelliteId, std::pair<int, GnssTime>> last_gps_;      // iodc, toe released
   std::map<SatelliteId, std::pair<int, GnssTime>> last_galileo_;  // iod, toe released
+  std::map<SatelliteId, GlonassFrame> glonass_;
+  std::map<SatelliteId, GnssTime> last_glonass_;                   // tb released
+  std::map<SatelliteId, BeidouFrame> beidou_;
+  std::map<SatelliteId, std::pair<int, GnssTime>> last_beidou_;   // aode, toe released
 };
 
 }  // namespace ppp

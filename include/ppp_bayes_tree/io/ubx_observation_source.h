@@ -30,6 +30,8 @@ namespace ppp {
 struct UbxNavigationRecords {
   std::vector<GpsLnavEphemeris> gps;  // GPS and QZSS LNAV
   std::vector<GalileoEphemeris> galileo;
+  std::vector<GlonassEphemeris> glonass;
+  std::vector<BeidouEphemeris> beidou;  // D1 and D2 (GEO)
 };
 
 /// The header of the decoded epochs (see above), named after `file_name`.

@@ -39,7 +39,7 @@ struct RinexNavOutput {
   RinexNavWriter writer;
 };
 
-/// RXM-RAWX epochs and the GPS/Galileo records of RXM-SFRBX (io/ubx_observation_source.h).
+/// RXM-RAWX epochs and the GPS/Galileo/GLONASS/BeiDou records of RXM-SFRBX (io/ubx_observation_source.h).
 StreamConversion convertUbxToRinex(const std::string& input, const std::string& obs_path,
                                    const std::optional<std::string>& nav_path) {
   StreamConversion result;
@@ -51,6 +51,8 @@ StreamConversion convertUbxToRinex(const std::string& input, const std::string& 
     RinexNavWriter& nav = out.writer;
     for (const auto& e : source.navigation().gps) nav.write(e), ++result.navigation_records;
     for (const auto& e : source.navigation().galileo) nav.write(e), ++result.navigation_records;
+    for (const auto& e : source.navigation().glonass) nav.write(e), ++result.navigation_records;
+    for (const auto& e : source.navigation().beidou) nav.write(e), ++result.navigation_records;
   }
   result.counters = source.counters();
   return result;

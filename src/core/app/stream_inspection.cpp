@@ -87,6 +87,8 @@ StreamInspection inspectUbxFile(const std::string& path) {
   timing.finish(s);
   noteEphemeris(s, source.navigation().gps);
   noteEphemeris(s, source.navigation().galileo);
+  noteEphemeris(s, source.navigation().glonass);
+  noteEphemeris(s, source.navigation().beidou);
   s.counters = source.counters();
   return s;
 }

@@ -25,6 +25,10 @@ GnssStreamDecoder::GnssStreamDecoder(StreamFormat format, Rtcm3DecoderOptions rt
     ubx_handlers_.on_galileo = [this](const GalileoEphemeris& e) {
       output_.navigation.galileo.push_back({e, ubx_time_});
     };
+    ubx_handlers_.on_glonass = [this](const GlonassEphemeris& e) {
+      output_.navigation.glonass.push_back({e, ubx_time_});
+    };
+    ubx_handlers_.on_beidou = [this](const BeidouEphemeris& e) { output_.navigation.beidou.push_back({e, ubx_time_}); };
   } else {
     rtcm_.emplace(std::move(rtcm_options));
     rtcm_->setForeignFrameHandler([this](const Rtcm3Frame& f) { return ssrFrame(f); });

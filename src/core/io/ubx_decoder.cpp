@@ -7,6 +7,7 @@
 #include <string>
 
 #include "ppp_bayes_tree/io/rtcm3_framer.h"  // crc24q (Galileo I/NAV pages use CRC-24Q too)
+#include "ubx_nav_layout.h"
 
 namespace ppp {
 namespace {
@@ -323,12 +324,17 @@ void UbxDecoder::sfrbx(const UbxFrame& f, const Handlers& handlers) {
   const bool lnav_signal = (gnss == kGnssGps || gnss == kGnssQzss) && sig == 0 && words >= 10;
   // sigId 0 only on u-blox M8 (reserved there, E1-B the only data signal); 1 E1-B, 5 E5b-I.
   const bool inav_signal = gnss == kGnssGalileo && (sig == 0 || sig == 1 || sig == 5) && words >= 8;
-  if (!sat || !(lnav_signal || inav_signal)) {
+  // GLONASS L1OF / L2OF strings; BeiDou B1I / B2I D1 and D2.
+  const bool glonass_signal = gnss == kGnssGlonass && (sig == 0 || sig == 2) && words >= 4;
+  const bool beidou_signal = gnss == kGnssBeidou && sig >= 0 && sig <= 3 && words >= 10;
+  if (!sat || !(lnav_signal || inav_signal || glonass_signal || beidou_signal)) {
     ++statistics_.navigation_not_decoded[{gnss, sig}];
     return;
   }
   if (lnav_signal) lnav(f, *sat, handlers);
-  else inav(f, *sat, handlers);
+  else if (inav_signal) inav(f, *sat, handlers);
+  else if (glonass_signal) glonassString(f, *sat, handlers);
+  else beidouSubframe(f, *sat, handlers);
 }
 
 void UbxDecoder::lnav(const UbxFrame& f, const SatelliteId& sat, const Handlers& handlers) {
@@ -538,6 +544,224 @@ void UbxDecoder::inav(const UbxFrame& f, const SatelliteId& sat, const Handlers&
     ++statistics_.galileo_ephemerides;
     if (handlers.on_galileo) handlers.on_galileo(eph);
   }
+}
+
+void UbxDecoder::glonassString(const UbxFrame& f, const SatelliteId& sat, const Handlers& handlers) {
+  using namespace ubx_nav;
+  // The string: words 0-2 MSB first (b85 = word 0 bit 31); word 3's upper half: frame id.
+  Unit s{};
+  for (int w = 0; w < 3; ++w) setBits(s, 32 * w, 32, u4(f.payload.data() + 8 + 4 * w));
+  const std::uint32_t frame_id = u4(f.payload.data() + 8 + 12) >> 16;
+  if (!glonassHammingOk(s)) {
+    problem(f, StreamProblemKind::ChecksumError, sat.toString() + " GLONASS string Hamming code check failed (ICD 4.7)");
+    return;
+  }
+  const int m = static_cast<int>(getBits(s, 1, 4));
+  if (m < 1 || m > 15) {
+    problem(f, StreamProblemKind::MalformedMessage, sat.toString() + " GLONASS string number 0");
+    return;
+  }
+  if (m > 4) return;  // almanac and time scale strings: not used
+  GlonassFrame& frame = glonass_[sat];
+  if (frame.frame_id != frame_id) frame = GlonassFrame{frame_id, {}};
+  frame.strings[static_cast<std::size_t>(m - 1)] = s;
+  if (m != 4) return;
+  for (const auto& str : frame.strings)
+    if (!str) return;
+  std::array<Unit, 4> u{*frame.strings[0], *frame.strings[1], *frame.strings[2], *frame.strings[3]};
+  frame.strings = {};
+  const int slot = static_cast<int>(readField(u, glo::kSlot));
+  if (slot != sat.prn) {
+    problem(f, StreamProblemKind::InconsistentEphemeris,
+            sat.toString() + " GLONASS string 4 names slot " + std::to_string(slot) + ": not used");
+    return;
+  }
+  if (!last_time_) {
+    problem(f, StreamProblemKind::UnresolvedTime,
+            sat.toString() + " GLONASS ephemeris before any RXM-RAWX: the day of tb cannot be resolved");
+    return;
+  }
+  GlonassEphemeris eph;
+  eph.satellite = sat;
+  eph.frequency_channel = static_cast<int>(f.payload[3]) - 7;
+  const bool sm = true;  // sign-magnitude numbers
+  eph.position_m = 1e3 * Eigen::Vector3d(readField(u, glo::kX, sm), readField(u, glo::kY, sm), readField(u, glo::kZ, sm));
+  eph.velocity_mps = 1e3 * Eigen::Vector3d(readField(u, glo::kVx, sm), readField(u, glo::kVy, sm), readField(u, glo::kVz, sm));
+  eph.acceleration_mps2 =
+      1e3 * Eigen::Vector3d(readField(u, glo::kAx, sm), readField(u, glo::kAy, sm), readField(u, glo::kAz, sm));
+  eph.gamma_n = readField(u, glo::kGammaN, sm);
+  eph.minus_tau_n_s = -readField(u, glo::kTauN, sm);
+  eph.health = static_cast<int>(readField(u, glo::kBn)) >> 2;  // Bn MSB
+  eph.age_days = readField(u, glo::kEn);
+  // tb and tk are Moscow times (UTC + 3 h) of the day around the receiver time.
+  const GnssTime now = *last_time_;
+  const double offset_s = now.offsetToSystem_s(TimeSystem::GLONASS);
+  const GnssTime moscow_now = now + offset_s;
+  const double moscow_sod = std::fmod(moscow_now.gpsWeek().seconds_of_week, 86400.0);
+  auto nearestInDay = [&](double sod) {
+    double d = sod - moscow_sod;
+    if (d > 43200.0) d -= 86400.0;
+    if (d < -43200.0) d += 86400.0;
+    return now + d;  // GPST: the Moscow offset cancels in the difference
+  };
+  const int tb = static_cast<int>(readField(u, glo::kTb));
+  eph.tb = nearestInDay(tb * 900.0);
+  const double tk_sod = readField(u, glo::kTkHours) * 3600.0 + readField(u, glo::kTkMinutes) * 60.0 +
+                        readField(u, glo::kTkHalfMinute) * 30.0;
+  const GnssTime tk = nearestInDay(tk_sod);
+  eph.message_frame_time_s = (tk + tk.offsetToSystem_s(TimeSystem::UTC)).gpsWeek().seconds_of_week;
+  if (const auto why = checkGlonassState(eph)) {
+    problem(f, StreamProblemKind::MalformedMessage, sat.toString() + ": " + *why);
+    return;
+  }
+  const auto last = last_glonass_.find(sat);
+  if (last != last_glonass_.end() && last->second == eph.tb) return;
+  last_glonass_[sat] = eph.tb;
+  ++statistics_.glonass_ephemerides;
+  if (handlers.on_glonass) handlers.on_glonass(eph);
+}
+
+void UbxDecoder::beidouSubframe(const UbxFrame& f, const SatelliteId& sat, const Handlers& handlers) {
+  using namespace ubx_nav;
+  Unit u{};
+  for (int w = 0; w < 10; ++w) setBits(u, 30 * w, 30, u4(f.payload.data() + 8 + 4 * w) & 0x3FFFFFFFu);
+  const bool geo = sat.prn <= 5 || sat.prn >= 59;
+  const char* kind = geo ? "D2" : "D1";
+  if (!bdsParityOk(u)) {
+    problem(f, StreamProblemKind::ChecksumError, sat.toString() + " BeiDou " + kind + " word parity (BCH) check failed");
+    return;
+  }
+  if (getBits(u, 0, 11) != 0x712u) {  // preamble 11100010010
+    problem(f, StreamProblemKind::MalformedMessage, sat.toString() + " BeiDou subframe without the preamble");
+    return;
+  }
+  const int fra = static_cast<int>(getBits(u, 15, 3));
+  const long sow = static_cast<long>((getBits(u, 18, 8) << 12) | getBits(u, 30, 12));
+  BeidouFrame& parts = beidou_[sat];
+  if (geo) {
+    if (fra != 1) return;  // D2 subframes 2-5: integrity, almanac, time: not used
+    const int page = static_cast<int>(getBits(u, 42, 4));
+    if (page < 1 || page > 10) return;
+    parts.units[static_cast<std::size_t>(page - 1)] = u;
+    parts.sow[static_cast<std::size_t>(page - 1)] = sow;
+    if (page == 10) releaseBeidou(f, sat, parts, true, handlers);
+  } else {
+    if (fra < 1 || fra > 3) return;  // subframes 4-5: almanac
+    parts.units[static_cast<std::size_t>(fra - 1)] = u;
+    parts.sow[static_cast<std::size_t>(fra - 1)] = sow;
+    if (fra == 3) releaseBeidou(f, sat, parts, false, handlers);
+  }
+}
+
+void UbxDecoder::releaseBeidou(const UbxFrame& f, const SatelliteId& sat, BeidouFrame& parts, bool geo,
+                               const Handlers& handlers) {
+  using namespace ubx_nav;
+  // D1: subframes 1-3 of one frame, 6 s apart. D2: pages 1 and 3-10 of subframe 1,
+  // one per 3-s frame (page 2, ionosphere, is not needed).
+  const int count = geo ? 10 : 3;
+  for (int k = 0; k < count; ++k) {
+    if (geo && k == 1) continue;
+    if (!parts.units[static_cast<std::size_t>(k)]) return;
+    const long expected = parts.sow[0] + (geo ? 3L * k : 6L * k);
+    if (parts.sow[static_cast<std::size_t>(k)] != expected) return;  // parts of different frames: wait
+  }
+  const long sow1 = parts.sow[0];  // transmission of subframe 1 / page 1 (BDT)
+  BeidouEphemeris eph;
+  eph.satellite = sat;
+  KeplerOrbit& o = eph.orbit;
+  int week13 = 0, urai = 0;
+  double toc_sow = 0.0;
+  if (geo) {
+    std::array<Unit, 10> p{};
+    for (int k = 0; k < 10; ++k)
+      if (parts.units[static_cast<std::size_t>(k)]) p[static_cast<std::size_t>(k)] = *parts.units[static_cast<std::size_t>(k)];
+    eph.health = static_cast<int>(readField(p, d2::kSatH1));
+    eph.aodc = static_cast<int>(readField(p, d2::kAodc));
+    urai = static_cast<int>(readField(p, d2::kUrai));
+    week13 = static_cast<int>(readField(p, d2::kWeek));
+    toc_sow = readField(p, d2::kToc);
+    eph.tgd1_s = readField(p, d2::kTgd1);
+    eph.tgd2_s = readField(p, d2::kTgd2);
+    eph.clock.af0_s = readField(p, d2::kA0);
+    eph.clock.af1_sps = readField(p, d2::kA1);
+    eph.clock.af2_sps2 = readField(p, d2::kA2);
+    eph.aode = static_cast<int>(readField(p, d2::kAode));
+    o.delta_n_radps = readField(p, d2::kDeltaN) * kIcdPi;
+    o.cuc_rad = readField(p, d2::kCuc);
+    o.m0_rad = readField(p, d2::kM0) * kIcdPi;
+    o.cus_rad = readField(p, d2::kCus);
+    o.eccentricity = readField(p, d2::kE);
+    o.sqrt_a_sqrtm = readField(p, d2::kSqrtA);
+    o.cic_rad = readField(p, d2::kCic);
+    o.cis_rad = readField(p, d2::kCis);
+    o.toe_sow = readField(p, d2::kToe);
+    o.i0_rad = readField(p, d2::kI0) * kIcdPi;
+    o.crc_m = readField(p, d2::kCrc);
+    o.crs_m = readField(p, d2::kCrs);
+    o.omega_dot_radps = readField(p, d2::kOmegaDot) * kIcdPi;
+    o.omega0_rad = readField(p, d2::kOmega0) * kIcdPi;
+    o.omega_rad = readField(p, d2::kOmega) * kIcdPi;
+    o.idot_radps = readField(p, d2::kIdot) * kIcdPi;
+  } else {
+    const std::array<Unit, 3> s{*parts.units[0], *parts.units[1], *parts.units[2]};
+    eph.health = static_cast<int>(readField(s, d1::kSatH1));
+    eph.aodc = static_cast<int>(readField(s, d1::kAodc));
+    urai = static_cast<int>(readField(s, d1::kUrai));
+    week13 = static_cast<int>(readField(s, d1::kWeek));
+    toc_sow = readField(s, d1::kToc);
+    eph.tgd1_s = readField(s, d1::kTgd1);
+    eph.tgd2_s = readField(s, d1::kTgd2);
+    eph.clock.af2_sps2 = readField(s, d1::kA2);
+    eph.clock.af0_s = readField(s, d1::kA0);
+    eph.clock.af1_sps = readField(s, d1::kA1);
+    eph.aode = static_cast<int>(readField(s, d1::kAode));
+    o.delta_n_radps = readField(s, d1::kDeltaN) * kIcdPi;
+    o.cuc_rad = readField(s, d1::kCuc);
+    o.m0_rad = readField(s, d1::kM0) * kIcdPi;
+    o.eccentricity = readField(s, d1::kE);
+    o.cus_rad = readField(s, d1::kCus);
+    o.crc_m = readField(s, d1::kCrc);
+    o.crs_m = readField(s, d1::kCrs);
+    o.sqrt_a_sqrtm = readField(s, d1::kSqrtA);
+    o.toe_sow = (readField(s, d1::kToeMsb) * 32768.0 + readField(s, d1::kToeLsb)) * 8.0;
+    o.i0_rad = readField(s, d1::kI0) * kIcdPi;
+    o.cic_rad = readField(s, d1::kCic);
+    o.omega_dot_radps = readField(s, d1::kOmegaDot) * kIcdPi;
+    o.cis_rad = readField(s, d1::kCis);
+    o.idot_radps = readField(s, d1::kIdot) * kIcdPi;
+    o.omega0_rad = readField(s, d1::kOmega0) * kIcdPi;
+    o.omega_rad = readField(s, d1::kOmega) * kIcdPi;
+  }
+  parts = BeidouFrame{};
+  if (toc_sow != o.toe_sow) {
+    problem(f, StreamProblemKind::InconsistentEphemeris,
+            sat.toString() + " BeiDou toc " + std::to_string(static_cast<long>(toc_sow)) + " s differs from toe " +
+                std::to_string(static_cast<long>(o.toe_sow)) + " s: not used");
+    return;
+  }
+  if (const auto why = checkKeplerOrbit(o)) {
+    problem(f, StreamProblemKind::MalformedMessage, sat.toString() + ": " + *why);
+    return;
+  }
+  const int week = week_ ? resolveWeek(week13, 8192, *week_ - kBdtWeekZeroGpsWeek) : week13;
+  eph.ura_m = beidouUra_m(urai);
+  const double transmission_sow = static_cast<double>(sow1);
+  const GnssTime transmission = fromBdtWeek(week, transmission_sow);
+  auto nearest = [&](double sow_bdt) {
+    GnssTime t = fromBdtWeek(week, sow_bdt);
+    if (t - transmission > 302400.0) t -= 604800.0;
+    if (t - transmission < -302400.0) t += 604800.0;
+    return t;
+  };
+  o.toe = nearest(o.toe_sow);
+  eph.clock.toc = nearest(toc_sow);
+  eph.bdt_week = (o.toe - kGpstMinusBdt_s).gpsWeek().week - kBdtWeekZeroGpsWeek;
+  eph.transmission_sow = transmission_sow;
+  const auto last = last_beidou_.find(sat);
+  if (last != last_beidou_.end() && last->second.first == eph.aode && last->second.second == o.toe) return;
+  last_beidou_[sat] = {eph.aode, o.toe};
+  ++statistics_.beidou_ephemerides;
+  if (handlers.on_beidou) handlers.on_beidou(eph);
 }
 
 }  // namespace ppp

@@ -101,6 +101,8 @@ UbxObservationSource::UbxObservationSource(const std::string& path, UbxDecoderOp
   handlers.on_epoch = [&](const UbxObservationEpoch& e) { epochs_.push_back(e); };
   handlers.on_gps = [&](const GpsLnavEphemeris& e) { navigation_.gps.push_back(e); };
   handlers.on_galileo = [&](const GalileoEphemeris& e) { navigation_.galileo.push_back(e); };
+  handlers.on_glonass = [&](const GlonassEphemeris& e) { navigation_.glonass.push_back(e); };
+  handlers.on_beidou = [&](const BeidouEphemeris& e) { navigation_.beidou.push_back(e); };
   std::vector<std::uint8_t> chunk(1 << 16);
   while (in) {
     in.read(reinterpret_cast<char*>(chunk.data()), static_cast<std::streamsize>(chunk.size()));
