@@ -39,6 +39,11 @@
 //    The URA is written in metres by both: the BDS-SIS-ICD nominal value
 //    2^(1+N/2) / 2^(N-2), which convbin's table rounds to 2.8 / 5.7 / 11.3 for
 //    N = 1, 3, 5 (we print the exact value; compared as the index it stands for).
+//  - QZSS navigation records (1044), field by field: the transmission time as
+//    for BeiDou; the URA: convbin writes the nominal value of the index (RTKLIB
+//    ura_nominal), we the upper bound of IS-GPS-200 20.3.3.3.1.3 as for GPS
+//    (compared as the index); the L2 P data flag: 1044 has none, convbin writes
+//    1, we 0.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -300,12 +305,24 @@ void compareNavigation(const fs::path& peer_path, const fs::path& ours_path, std
   }
 }
 
-/// BeiDou records field by field as printed (RINEX 3.04 table A14), with the
-/// by-design differences of the header comment named. Returns the fields compared.
-std::size_t compareBeidouFields(const fs::path& peer_path, const fs::path& ours_path,
-                                std::map<std::string, std::size_t>& named, std::vector<std::string>& failures) {
-  const auto peer = test::readRawNavRecords(peer_path.string(), "C");
-  const auto ours = test::readRawNavRecords(ours_path.string(), "C");
+/// URA index of a printed GPS/QZSS URA value: the first IS-GPS-200 upper bound at or
+/// above it (20.3.3.3.1.3), so that a nominal and an upper-bound value of one index agree.
+int gpsUraIndexOf(double ura_m) {
+  static const double upper[] = {2.4, 3.4, 4.85, 6.85, 9.65, 13.65, 24.0, 48.0,
+                                 96.0, 192.0, 384.0, 768.0, 1536.0, 3072.0, 6144.0};
+  for (int i = 0; i < 15; ++i)
+    if (ura_m <= upper[i]) return i;
+  return 15;
+}
+
+/// BeiDou ('C', RINEX 3.04 table A14) or QZSS ('J', A12) records field by field as
+/// printed, with the by-design differences of the header comment named. Returns
+/// the fields compared.
+std::size_t compareNavFields(const fs::path& peer_path, const fs::path& ours_path, char system,
+                             std::map<std::string, std::size_t>& named, std::vector<std::string>& failures) {
+  const auto peer = test::readRawNavRecords(peer_path.string(), std::string(1, system));
+  const auto ours = test::readRawNavRecords(ours_path.string(), std::string(1, system));
+  const std::string name = system == 'C' ? "BeiDou" : "QZSS";
   std::size_t compared = 0;
   for (const auto& p : peer) {
     const test::RawNavRecord* o = nullptr;
@@ -329,9 +346,13 @@ std::size_t compareBeidouFields(const fs::path& peer_path, const fs::path& ours_
       }
       if (test::agreesToPrintedPrecision(*a, p.text[k], *b, o->text[k])) continue;
       if (k == 27) {
-        ++named["BeiDou transmission time: convbin's stream time, ours toe (1042 has none)"];
-      } else if (k == 23 && beidouUraIndex(*a) == beidouUraIndex(*b)) {
+        ++named[name + " transmission time: convbin's stream time, ours toe (the message has none)"];
+      } else if (k == 23 && system == 'C' && beidouUraIndex(*a) == beidouUraIndex(*b)) {
         ++named["BeiDou URA: convbin's rounded nominal value"];
+      } else if (k == 23 && system == 'J' && gpsUraIndexOf(*a) == gpsUraIndexOf(*b)) {
+        ++named["QZSS URA: convbin's nominal value, ours the upper bound of the index"];
+      } else if (k == 22 && system == 'J' && *a == 1.0 && *b == 0.0) {
+        ++named["QZSS L2 P data flag: 1044 has none (convbin 1, ours 0)"];
       } else {
         failures.push_back(where + ": peer " + p.text[k] + ", ours " + o->text[k]);
       }
@@ -394,7 +415,7 @@ TEST(Rtcm3Peer, WeekRolloverStr24MatchesConvbin) {
   // BeiDou 1042 records field by field (README: the recording carries 1042).
   std::map<std::string, std::size_t> named;
   std::vector<std::string> field_failures;
-  const std::size_t fields = compareBeidouFields(run.peer_nav, run.our_nav, named, field_failures);
+  const std::size_t fields = compareNavFields(run.peer_nav, run.our_nav, 'C', named, field_failures);
   const NavData peer_nav = readRinexNav(run.peer_nav.string());
   const NavData our_nav = readRinexNav(run.our_nav.string());
   std::printf("week-rollover-STR24 BeiDou: %zu records (peer), %zu (ours), %zu fields compared\n",
@@ -409,6 +430,16 @@ TEST(Rtcm3Peer, WeekRolloverStr24MatchesConvbin) {
   std::size_t geo = 0;
   for (const auto& e : our_nav.beidou) geo += e.isGeo();
   EXPECT_GT(geo, 0u);
+
+  // QZSS 1044 records field by field (three 1044 frames in the recording).
+  std::map<std::string, std::size_t> qzss_named;
+  std::vector<std::string> qzss_failures;
+  const std::size_t qzss_fields = compareNavFields(run.peer_nav, run.our_nav, 'J', qzss_named, qzss_failures);
+  std::printf("week-rollover-STR24 QZSS: %zu fields compared\n", qzss_fields);
+  for (const auto& [what, n] : qzss_named) std::printf("  named case: %s: %zu\n", what.c_str(), n);
+  for (const auto& f : qzss_failures) std::printf("  FAIL %s\n", f.c_str());
+  EXPECT_GE(qzss_fields, 29u);
+  EXPECT_TRUE(qzss_failures.empty());
 }
 
 TEST(Rtcm3Peer, Gmsd7MatchesConvbin) {

@@ -62,7 +62,10 @@ void RinexNavWriter::write(const GpsLnavEphemeris& e) {
   orbitLine(o.i0_rad, o.crc_m, o.omega_rad, o.omega_dot_radps);
   orbitLine(o.idot_radps, e.codes_on_l2, e.week, e.l2p_data_flag);
   orbitLine(e.ura_m, e.health, e.tgd_s, e.iodc);
-  orbitLine(e.transmission_sow.value_or(o.toe_sow), e.fit_interval_h, 0, 0, 2);
+  // Fit interval: GPS in hours (RINEX 3.04 A6); QZSS the fit interval flag, 0 = 2 h,
+  // 1 = more (A12; IS-QZSS-PNT 4.1.2.4).
+  const double fit = e.satellite.system == GnssSystem::QZSS ? (e.fit_interval_h > 2.0 ? 1.0 : 0.0) : e.fit_interval_h;
+  orbitLine(e.transmission_sow.value_or(o.toe_sow), fit, 0, 0, 2);
 }
 
 void RinexNavWriter::write(const GalileoEphemeris& e) {
