@@ -130,6 +130,32 @@ TEST(BeidouEphemeris, ConsecutiveRecordsOverlapAtTheMetreLevel) {
   EXPECT_GE(satellites, 25);
 }
 
+TEST(BeidouEphemeris, BeidouRecordsLeaveTheOtherSystemsChoicesAlone) {
+  REQUIRE_ESBC_NAV();
+  // The same file with and without its BeiDou records: every GPS and Galileo
+  // lookup of the day gives the same record and the same state.
+  BroadcastEphemerisStore with, without;
+  with.add(esbc());
+  NavData no_bds = esbc();
+  no_bds.beidou.clear();
+  without.add(no_bds);
+  EXPECT_EQ(with.size(), without.size() + esbc().beidou.size());
+  int compared = 0;
+  for (const SatelliteId& sat : esbc().satellites) {
+    if (sat.system != GnssSystem::GPS && sat.system != GnssSystem::Galileo) continue;
+    for (int minute = 0; minute < 24 * 60; minute += 20) {
+      const GnssTime t = gpst(2020, 6, 25) + minute * 60.0;
+      const BroadcastLookup a = with.state(sat, t), b = without.state(sat, t);
+      ASSERT_EQ(static_cast<bool>(a), static_cast<bool>(b)) << sat.toString() << " " << t.toString();
+      if (!a) continue;
+      EXPECT_EQ(a.state->position_ecef_m, b.state->position_ecef_m);
+      EXPECT_EQ(a.state->clock_bias_s, b.state->clock_bias_s);
+      ++compared;
+    }
+  }
+  EXPECT_GT(compared, 1000);
+}
+
 bool haveRnx2rtkp() { return std::system("command -v rnx2rtkp > /dev/null 2>&1") == 0; }
 
 TEST(BeidouEphemeris, MatchesRtklibOnTheEsbcRecords) {
