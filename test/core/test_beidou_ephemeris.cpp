@@ -18,8 +18,12 @@
 // GLONASS and Galileo only: no precise BeiDou orbit is at hand for the day, so
 // the metre-level check is (a) the peer, (b) the GEO's position on the
 // geostationary arc (C05 at 58.75 deg E, BDS open service performance standard),
-// which a wrong or missing -5 deg rotation misses by kilometres, and (c) the
-// overlap of consecutive hourly records.
+// which a wrong or missing -5 deg rotation misses by kilometres, (c) the
+// overlap of consecutive hourly records, and (d) the station's own BeiDou
+// pseudoranges (ESBC00DNK_R_20201770000_01D_30S_MO.crx.gz, 00:00-03:00): the
+// B1I/B3I (C05: B1I/B2I) ionosphere-free range minus the geometric range from the broadcast
+// orbit and clock, the troposphere (modified Hopfield, standard atmosphere) and
+// the epoch's common receiver clock, per satellite at the metre level.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -31,7 +35,11 @@
 #include <sstream>
 #include <string>
 
+#include "ppp_bayes_tree/io/hatanaka_decoder.h"
 #include "ppp_bayes_tree/io/rinex_nav_reader.h"
+#include "ppp_bayes_tree/io/rinex_obs_reader.h"
+#include "ppp_bayes_tree/models/troposphere.h"
+#include "ppp_bayes_tree/types/frames.h"
 #include "ppp_bayes_tree/models/broadcast_ephemeris.h"
 #include "ppp_bayes_tree/models/broadcast_ephemeris_store.h"
 #include "ppp_bayes_tree/types/constants.h"
@@ -154,6 +162,89 @@ TEST(BeidouEphemeris, BeidouRecordsLeaveTheOtherSystemsChoicesAlone) {
     }
   }
   EXPECT_GT(compared, 1000);
+}
+
+TEST(BeidouEphemeris, StationPseudorangesFitTheBroadcastOrbitsAtTheMetreLevel) {
+  REQUIRE_ESBC_NAV();
+  const std::string obs_path = test::dataPath("esbc-2020-177/ESBC00DNK_R_20201770000_01D_30S_MO.crx.gz");
+  if (!fs::exists(obs_path)) GTEST_SKIP() << "ESBC observations absent: " << obs_path;
+  BroadcastEphemerisStore store;
+  store.add(esbc());
+  // Header APPROX POSITION (the receiver's own, metre level; enough for a metre-level check).
+  const Eigen::Vector3d station(3582105.2910, 532589.7313, 5232754.8054);
+  const Geodetic geo = ecefToGeodetic(station);
+  const SurfaceMeteo meteo = standardAtmosphere(geo.height_m);
+  // B1I with B3I, or with B2I where the receiver has no B3I (C05 at ESBC): BDS-SIS-ICD-B1I
+  // 3.0 / B3I 1.0 carrier frequencies.
+  const double f1 = 1561.098e6, f2 = 1207.14e6, f3 = 1268.52e6;
+  const ObservationCode c2i{ObservableType::Pseudorange, '2', 'I'}, c6i{ObservableType::Pseudorange, '6', 'I'},
+      c7i{ObservableType::Pseudorange, '7', 'I'};
+  RinexObsReader reader(openObservationSource(obs_path));
+  ObsEpoch epoch;
+  std::map<SatelliteId, std::pair<double, int>> sum2;  // per satellite: sum of squares, count
+  int epochs = 0;
+  while (reader.next(epoch) && epoch.time < gpst(2020, 6, 25, 3, 0, 0)) {
+    std::vector<std::pair<SatelliteId, double>> raw;  // IF range minus modelled range, receiver clock not removed
+    for (const auto& so : epoch.satellites) {
+      const SatelliteId sat = so.satellite;
+      if (sat.system != GnssSystem::BeiDou) continue;
+      const Observation* p1 = epoch.find(sat, c2i);
+      const Observation* p3 = epoch.find(sat, c6i);
+      const bool b3 = p3 && p3->value;
+      if (!b3) p3 = epoch.find(sat, c7i);
+      if (!p1 || !p3 || !p1->value || !p3->value) continue;
+      const double fb = b3 ? f3 : f2;
+      const double k1 = f1 * f1 / (f1 * f1 - fb * fb), kb = fb * fb / (f1 * f1 - fb * fb);
+      const double p_if = k1 * *p1->value - kb * *p3->value;
+      const auto rec = store.beidou(sat, epoch.time);
+      if (!rec) continue;
+      // Transmission time by iteration on the range; Earth rotation during the flight.
+      GnssTime t_tx = epoch.time - p_if / kSpeedOfLight_mps;
+      BroadcastState st;
+      double range = 0.0;
+      for (int it = 0; it < 3; ++it) {
+        st = satelliteState(*rec.record, t_tx);
+        const double tau = (st.position_ecef_m - station).norm() / kSpeedOfLight_mps;
+        const double a = 7.2921150e-5 * tau;  // CGCS2000 rotation rate
+        const Eigen::Vector3d rotated(std::cos(a) * st.position_ecef_m.x() + std::sin(a) * st.position_ecef_m.y(),
+                                      -std::sin(a) * st.position_ecef_m.x() + std::cos(a) * st.position_ecef_m.y(),
+                                      st.position_ecef_m.z());
+        range = (rotated - station).norm();
+        t_tx = epoch.time - range / kSpeedOfLight_mps - st.clock_bias_s;
+      }
+      const double elevation = azimuthElevation(station, st.position_ecef_m).elevation_rad;
+      if (elevation < 10.0 * kDegToRad) continue;
+      const TroposphereDelays trop = modifiedHopfieldSlantDelays(meteo, elevation, geo.height_m);
+      // The broadcast clock refers to B3I; B1I sees it minus TGD1, B2I minus TGD2
+      // (BDS-SIS-ICD-B1I 5.2.4.10).
+      const double clock_if = st.clock_bias_s - k1 * rec.record->tgd1_s + (b3 ? 0.0 : kb * rec.record->tgd2_s);
+      raw.push_back({sat, p_if - range + kSpeedOfLight_mps * clock_if - trop.hydrostatic_m - trop.wet_m});
+    }
+    if (raw.size() < 5) continue;
+    std::vector<double> values;
+    for (const auto& [sat, v] : raw) values.push_back(v);
+    std::nth_element(values.begin(), values.begin() + values.size() / 2, values.end());
+    const double clock = values[values.size() / 2];  // the epoch's receiver clock (median)
+    for (const auto& [sat, v] : raw) {
+      sum2[sat].first += (v - clock) * (v - clock);
+      sum2[sat].second += 1;
+    }
+    ++epochs;
+  }
+  std::printf("ESBC BeiDou ionosphere-free pseudorange minus broadcast range, %d epochs (00:00-03:00, el > 10 deg):\n", epochs);
+  int satellites = 0, geo_satellites = 0;
+  for (const auto& [sat, s] : sum2) {
+    if (s.second < 20) continue;
+    const double rms = std::sqrt(s.first / s.second);
+    const bool is_geo = sat.prn <= 5 || sat.prn >= 59;
+    std::printf("  %s%s %3d epochs: RMS %.2f m\n", sat.toString().c_str(), is_geo ? " (GEO)" : "", s.second, rms);
+    EXPECT_LT(rms, 10.0) << sat.toString();
+    ++satellites;
+    geo_satellites += is_geo;
+  }
+  EXPECT_GE(epochs, 300);
+  EXPECT_GE(satellites, 8);
+  EXPECT_GE(geo_satellites, 1);
 }
 
 bool haveRnx2rtkp() { return std::system("command -v rnx2rtkp > /dev/null 2>&1") == 0; }
