@@ -377,3 +377,66 @@ TEST(RinexNavReader, FuzzCorpusReplaysWithoutCrashing) {
   }
   EXPECT_GE(files, 5u);
 }
+
+// BeiDou records (RINEX 3.05 table A14; RINEX 4 "> EPH C.. D1/D2"). Values from
+// ESBC00DNK_R_20201770000_01D_MN.rnx (esbc-2020-177), copied into the text.
+namespace {
+const char* kBeidouHeader =
+    "     3.05           NAVIGATION DATA     MIXED               RINEX VERSION / TYPE\n"
+    "                                                            END OF HEADER\n";
+const char* kC05 =
+    "C05 2020 06 25 00 00 00-5.159442080185e-04-6.710987321412e-11 0.000000000000e+00\n"
+    "     1.000000000000e+00-5.662656250000e+02-1.811504027843e-09-5.810297336492e-01\n"
+    "    -1.882389187813e-05 3.793594660237e-04 5.378387868404e-07 6.493369304657e+03\n"
+    "     3.456000000000e+05-3.911554813385e-08 3.102197701912e+00 6.286427378654e-08\n"
+    "     1.114144101831e-01-1.862500000000e+01-1.428005199908e+00 2.799759478363e-09\n"
+    "     4.578762152394e-10 0.000000000000e+00 7.550000000000e+02\n"
+    "     2.000000000000e+00 0.000000000000e+00 1.000000000000e-10-9.300000000000e-09\n"
+    "     3.456276000000e+05 0.000000000000e+00\n";
+}  // namespace
+
+TEST(RinexNavReader, DecodesBeidouRecordsInBdt) {
+  auto source = memoryLineSource(std::string(kBeidouHeader) + kC05, "bds.nav");
+  const NavData nav = readRinexNav(*source);
+  EXPECT_TRUE(nav.report.clean()) << nav.report.summary();
+  ASSERT_EQ(nav.beidou.size(), 1u);
+  const BeidouEphemeris& e = nav.beidou[0];
+  EXPECT_EQ(e.satellite.toString(), "C05");
+  EXPECT_TRUE(e.isGeo());
+  // toc 2020-06-25 00:00:00 BDT = 00:00:14 GPST; toe 345600 s of BDT week 755 is the same instant.
+  EXPECT_EQ(e.clock.toc, gpst(2020, 6, 25, 0, 0, 14));
+  EXPECT_EQ(e.orbit.toe, e.clock.toc);
+  EXPECT_EQ(e.bdt_week, 755);
+  EXPECT_EQ(e.aode, 1);
+  EXPECT_DOUBLE_EQ(e.ura_m, 2.0);
+  EXPECT_DOUBLE_EQ(e.tgd1_s, 1.0e-10);
+  EXPECT_DOUBLE_EQ(e.tgd2_s, -9.3e-09);
+  ASSERT_TRUE(e.transmission_sow);
+  EXPECT_DOUBLE_EQ(*e.transmission_sow, 345627.6);
+  EXPECT_EQ(e.aodc, 0);
+  EXPECT_EQ(nav.recordCount(), 1u);
+}
+
+TEST(RinexNavReaderMalformed, TruncatedBeidouRecordIsReportedAndTheNextKept) {
+  // The first C05 record loses its last two lines (BROADCAST ORBIT - 6 and - 7).
+  std::string cut(kC05);
+  cut = cut.substr(0, cut.find("     2.000000000000e+00"));
+  auto source = memoryLineSource(std::string(kBeidouHeader) + cut + kC05, "bds_cut.nav");
+  const NavData nav = readRinexNav(*source);
+  EXPECT_EQ(nav.beidou.size(), 1u);
+  ASSERT_EQ(nav.report.problemCount(), 1u);
+  EXPECT_EQ(nav.report.problems()[0].line, 3u);
+  EXPECT_NE(nav.report.problems()[0].reason.find("SV accuracy"), std::string::npos) << nav.report.problems()[0].reason;
+}
+
+TEST(RinexNavReader, ReadsRinex4BeidouD2Records) {
+  std::string body(kC05);
+  const std::string text = "     4.00           NAVIGATION DATA     MIXED               RINEX VERSION / TYPE\n"
+                           "                                                            END OF HEADER\n"
+                           "> EPH C05 D2\n" + body +
+                           "> EPH C05 CNV1\n" + body;
+  auto source = memoryLineSource(text, "bds_v4.nav");
+  const NavData nav = readRinexNav(*source);
+  ASSERT_EQ(nav.beidou.size(), 1u);
+  EXPECT_EQ(nav.report.counters().at("BeiDou CNV1 records skipped (not modelled)"), 1u);
+}
