@@ -45,7 +45,9 @@ TEST(LiveRtcmLaunch, EkfAndSmootherEqualPppSolveEpochByEpochTo1mm) {
   ros::NodeHandle nh;
   LiveLaunchOutputs out;
   out.subscribe(nh);
-  publishInOrder(nh, {"/gnss/receiver"}, messages, 0.001, 2);  // both nodes subscribed
+  // 3 ms apart (19 min of data in about 12 s): the nodes' outputs (publisher queues of 100)
+  // come at about 100 epochs/s, which this test node reads even on a loaded machine.
+  publishInOrder(nh, {"/gnss/receiver"}, messages, 0.003, 2);  // both nodes subscribed
   waitForFixes(out.ekf, offline.ekf.size() - 1, 60.0);
   waitForFixes(out.smoother, offline.smoother_filtered.size() - 1, 30.0);
   out.expectEqualTo(offline, "rtcm_msgs/Message chunks on /gnss/receiver");

@@ -1,9 +1,9 @@
 // rostest, serial end to end into the PPP nodes (issue 14): a pseudo-terminal pair made
 // by socat (pty,raw,echo=0,link=A pty,raw,echo=0,link=B) as the serial line; the test
 // writes week-rollover-STR24.rtcm3 into A, with 41 garbage bytes (no RTCM 3 preamble
-// 0xD3 among them) after every 25th frame, 4 KiB every 10 ms (a pty has no baud rate:
-// 19 min of data in about 4 s; the nodes' subscriber queues hold the whole file,
-// test/rostest/live_str24.yaml). ppp_stream_node (started by the test) reads
+// 0xD3 among them) after every 25th frame, 4 KiB every 40 ms (a pty has no baud rate:
+// 19 min of data in about 13 s; the nodes' subscriber queues hold the whole file,
+// test/rostest/live_str24.yaml; their outputs come at about 90 epochs/s). ppp_stream_node (started by the test) reads
 // serial://B?baud=115200 and publishes /gnss/receiver for ppp_ekf_node and
 // ppp_smoother_node of launch/live.launch (example b). No frame may be lost and each
 // node's fixes must equal ppp_solve's on the file (EKF; smoother filtered) at every
@@ -93,7 +93,7 @@ TEST(LiveSerial, SocatPtyToStreamNodeToBothNodesEqualsPppSolveTo1mm) {
     const ssize_t n = ::write(fd, line.data() + done, std::min<std::size_t>(4096, line.size() - done));
     ASSERT_GT(n, 0) << "write to " << a << " failed at byte " << done;
     done += static_cast<std::size_t>(n);
-    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    std::this_thread::sleep_for(std::chrono::milliseconds(40));
   }
   EXPECT_TRUE(stream.waitFor("frames published", std::to_string(frames), 30.0))
       << stream.value("frames published") << " of " << frames << " frames published";

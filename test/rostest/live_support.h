@@ -192,6 +192,13 @@ struct LiveLaunchOutputs {
                           reference.smoother_filtered);
     for (NodeOutputs* o : {&ekf, &smoother}) {
       ASSERT_FALSE(o->statuses.empty()) << what;
+      const auto& last = o->statuses.back();
+      std::printf("[ figures  ] %s, %s: %zu statuses received, last: %lu epochs processed, %lu duplicate, %lu out of "
+                  "order, %lu resets\n",
+                  what.c_str(), last.estimator.c_str(), o->statuses.size(),
+                  static_cast<unsigned long>(last.epochs_processed), static_cast<unsigned long>(last.epochs_duplicate),
+                  static_cast<unsigned long>(last.epochs_out_of_order),
+                  static_cast<unsigned long>(last.estimator_resets));
       EXPECT_EQ(o->statuses.back().product_mode, ppp_bayes_tree::PppStatus::PRODUCTS_BROADCAST_ONLY) << what;
       EXPECT_EQ(o->statuses.back().observations_lost, 0u) << what;
     }
