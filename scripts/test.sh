@@ -3,7 +3,9 @@
 # catkin (and rostests as they come), then a short libFuzzer smoke run of every
 # reader, then the script tests (scripts/test_plot_solutions.sh, and
 # scripts/test_demo.sh: the main-job demo end to end on a 3-min simulated flight;
-# scripts/test_node_startup.sh: start-up errors of both nodes reach stderr).
+# scripts/test_node_startup.sh: start-up errors of the nodes reach stderr;
+# scripts/test_live_replay.sh: a bag of a live run's raw topics replayed through
+# launch/live.launch gives the live run's output).
 # Closes with "N passed, N failed, N skipped"; exits non-zero on any failure.
 set -uo pipefail
 source "$(dirname "${BASH_SOURCE[0]}")/common.sh"
@@ -41,6 +43,7 @@ echo "=== script tests ==="
 "$REPO_DIR/scripts/test_plot_solutions.sh" "$EXTRA"
 "$REPO_DIR/scripts/test_demo.sh" "$EXTRA"
 "$REPO_DIR/scripts/test_node_startup.sh" "$EXTRA"
+"$REPO_DIR/scripts/test_live_replay.sh" "$EXTRA"
 
 echo "=== summary ==="
 /usr/bin/python3 "$REPO_DIR/scripts/summarize_tests.py" "$RESULTS" "$EXTRA"

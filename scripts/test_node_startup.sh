@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Script test (issue 16, "start-up errors that print nothing"): both PPP nodes,
+# Script test (issue 16, "start-up errors that print nothing"): both PPP nodes (and
+# ppp_stream_node, which shares their start-up: ros/node_main.h runNode),
 # started with a bad parameter or a missing product file, exit with code 1 and
 # say on stderr what is wrong (the key path or the file, and the reason); a node
 # started before the master says at once which master it waits for.
@@ -9,7 +10,7 @@ set -uo pipefail
 source "$(dirname "${BASH_SOURCE[0]}")/common.sh"
 script_test_begin node_startup "${1:-}"   # OUT, WORK (removed at exit), junit STATUS MESSAGE
 
-for exe in ppp_ekf_node ppp_smoother_node; do
+for exe in ppp_ekf_node ppp_smoother_node ppp_stream_node; do
   if [ ! -x "$BIN_DIR/$exe" ]; then junit skipped "$exe is not built in $BIN_DIR"; echo "test_node_startup: skipped"; exit 0; fi
 done
 set +u  # ROS's setup scripts read unset variables
@@ -56,6 +57,10 @@ atx_list "$ATX"
 expect ppp_ekf_node "_ros/products/blq:=$WORK/missing.blq" "$WORK/missing.blq" "cannot open"
 # A list given as a single text is refused with the key path.
 expect ppp_ekf_node "_ros/products/atx:=$ATX" "ros.products.atx" "expected a list"
+
+# ppp_stream_node shares the start-up (ros/node_main.h runNode).
+expect ppp_stream_node "" "ppp_stream_node: cannot start" "parameter ~input" "is required"
+expect ppp_stream_node "_input:=serial:///dev/ttyACM0?baud=12345" "ppp_stream_node: cannot start" "baud=12345"
 
 # Before the master: a port with nothing listening.
 DEAD_PORT="$(free_port)"

@@ -8,7 +8,7 @@
 
 namespace ppp_ros {
 
-int runPppNode(int argc, char** argv, const std::string& node_name, const std::string& estimator) {
+int runNode(int argc, char** argv, const std::string& node_name, const std::function<void(ros::NodeHandle&)>& run) {
   ros::init(argc, argv, node_name);
   if (!ros::master::check()) {
     std::cerr << node_name << ": waiting for the ROS master at " << ros::master::getURI()
@@ -16,8 +16,7 @@ int runPppNode(int argc, char** argv, const std::string& node_name, const std::s
   }
   ros::NodeHandle keep_ros_up;  // outlives the node: the log stays open while a start-up error unwinds
   try {
-    PppNode node(keep_ros_up, ros::NodeHandle("~"), estimator);
-    ros::spin();
+    run(keep_ros_up);
   } catch (const std::exception& e) {
     const std::string text = node_name + ": cannot start: " + e.what();
     std::cerr << text << std::endl;
@@ -25,6 +24,13 @@ int runPppNode(int argc, char** argv, const std::string& node_name, const std::s
     return 1;
   }
   return 0;
+}
+
+int runPppNode(int argc, char** argv, const std::string& node_name, const std::string& estimator) {
+  return runNode(argc, argv, node_name, [&](ros::NodeHandle& nh) {
+    PppNode node(nh, ros::NodeHandle("~"), estimator);
+    ros::spin();
+  });
 }
 
 }  // namespace ppp_ros

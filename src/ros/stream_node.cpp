@@ -1,12 +1,12 @@
 #include "ppp_bayes_tree/ros/stream_node.h"
 
-#include <iostream>
 #include <stdexcept>
 
 #include <ros/serialization.h>
 
 #include "ppp_bayes_tree/GnssStreamBytes.h"
 #include "ppp_bayes_tree/io/byte_source_spec.h"
+#include "ppp_bayes_tree/ros/node_main.h"
 
 namespace ppp_ros {
 namespace {
@@ -247,22 +247,10 @@ void StreamNode::diagnose(diagnostic_updater::DiagnosticStatusWrapper& s) {
 }
 
 int runStreamNode(int argc, char** argv, const std::string& node_name) {
-  ros::init(argc, argv, node_name);
-  if (!ros::master::check()) {
-    std::cerr << node_name << ": waiting for the ROS master at " << ros::master::getURI()
-              << " (start roscore, or set ROS_MASTER_URI)" << std::endl;
-  }
-  ros::NodeHandle keep_ros_up;  // outlives the node: the log stays open while a start-up error unwinds
-  try {
-    StreamNode node(keep_ros_up, ros::NodeHandle("~"));
+  return runNode(argc, argv, node_name, [](ros::NodeHandle& nh) {
+    StreamNode node(nh, ros::NodeHandle("~"));
     node.run();
-  } catch (const std::exception& e) {
-    const std::string text = node_name + ": cannot start: " + e.what();
-    std::cerr << text << std::endl;
-    ROS_FATAL_STREAM(text);
-    return 1;
-  }
-  return 0;
+  });
 }
 
 }  // namespace ppp_ros

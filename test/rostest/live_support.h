@@ -2,16 +2,27 @@
 // Helpers of the live-input rostests (live_*.cpp, issue 14): publish a real
 // recording as foreign stream messages (exact type name and MD5, through
 // topic_tools::ShapeShifter), run the ppp_solve binary on the same recording as
-// the reference, and compare a node's fixes with it epoch by epoch.
+// the reference, and compare a node's fixes with it epoch by epoch; for the
+// end-to-end tests through launch/live.launch: both nodes' outputs, a
+// ppp_stream_node started by the test (ports picked at run time) and its diagnostics.
 #include <gtest/gtest.h>
 
+#include <fcntl.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <memory>
+#include <mutex>
 #include <sstream>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include <Eigen/Core>
@@ -52,23 +63,13 @@ inline void publishInOrder(ros::NodeHandle& nh, const std::vector<std::string>& 
   }
 }
 
-/// Runs `ppp_solve <args> --estimator ekf --name live --out DIR` (exit 0, 3, or 1 with a CSV) and reads
-/// DIR/live_ekf.csv: UTC stamp -> ECEF position of the epochs with a solution
-/// (`rows`: every epoch row, with a solution or not).
-inline std::map<ros::Time, Eigen::Vector3d> pppSolveEkf(const std::string& args, const std::string& tag,
-                                                        std::size_t* rows = nullptr) {
-  const std::filesystem::path dir = ppp::test::tempDir(tag);
-  const std::string cmd = std::string(PPP_BIN_DIR) + "/ppp_solve " + args + " --estimator ekf --name live --out " +
-                          dir.string() + " > " + (dir / "ppp_solve.log").string() + " 2>&1";
-  const int rc = std::system(cmd.c_str());
-  const int exit_code = WIFEXITED(rc) ? WEXITSTATUS(rc) : -1;
-  // 1 = nothing solved, with the CSV written: the caller checks the rows.
-  EXPECT_TRUE(exit_code == 0 || exit_code == 3 || (exit_code == 1 && std::filesystem::exists(dir / "live_ekf.csv")))
-      << cmd << " exited " << exit_code << ":\n"
-                                                << ppp::test::readFileBytes((dir / "ppp_solve.log").string());
+/// Reads a solution CSV of ppp_solve (DIR/<name>_ekf.csv, _smoother_filtered.csv): UTC
+/// stamp -> ECEF position of the epochs with a solution (`rows`: every epoch row).
+inline std::map<ros::Time, Eigen::Vector3d> readPppSolveCsv(const std::filesystem::path& csv,
+                                                            std::size_t* rows = nullptr) {
   std::map<ros::Time, Eigen::Vector3d> out;
   if (rows) *rows = 0;
-  std::ifstream in(dir / "live_ekf.csv");
+  std::ifstream in(csv);
   std::string line;
   std::getline(in, line);
   std::vector<std::string> names;
@@ -79,7 +80,7 @@ inline std::map<ros::Time, Eigen::Vector3d> pppSolveEkf(const std::string& args,
   auto column = [&](const std::string& name) {
     for (std::size_t i = 0; i < names.size(); ++i)
       if (names[i] == name) return i;
-    ADD_FAILURE() << "no column " << name << " in " << (dir / "live_ekf.csv");
+    ADD_FAILURE() << "no column " << name << " in " << csv;
     return std::size_t{0};
   };
   const std::size_t week = column("gps_week"), tow = column("tow_s"), x = column("x_m"), y = column("y_m"),
@@ -93,6 +94,43 @@ inline std::map<ros::Time, Eigen::Vector3d> pppSolveEkf(const std::string& args,
     const ppp::GnssTime t = ppp::GnssTime::fromGpsWeek(std::stoi(f[week]), std::stod(f[tow]));
     out[utcStamp(t)] = Eigen::Vector3d(std::stod(f[x]), std::stod(f[y]), std::stod(f[z]));
   }
+  return out;
+}
+
+/// Runs `ppp_solve <args> --estimator <estimator> --name live --out DIR` (exit 0, 3, or 1
+/// with a CSV: nothing solved, the caller checks the rows); returns DIR.
+inline std::filesystem::path runPppSolve(const std::string& args, const std::string& estimator,
+                                         const std::string& tag) {
+  const std::filesystem::path dir = ppp::test::tempDir(tag);
+  const std::string cmd = std::string(PPP_BIN_DIR) + "/ppp_solve " + args + " --estimator " + estimator +
+                          " --name live --out " + dir.string() + " > " + (dir / "ppp_solve.log").string() + " 2>&1";
+  const int rc = std::system(cmd.c_str());
+  const int exit_code = WIFEXITED(rc) ? WEXITSTATUS(rc) : -1;
+  const std::filesystem::path first = dir / (estimator == "smoother" ? "live_smoother_filtered.csv" : "live_ekf.csv");
+  EXPECT_TRUE(exit_code == 0 || exit_code == 3 || (exit_code == 1 && std::filesystem::exists(first)))
+      << cmd << " exited " << exit_code << ":\n"
+      << ppp::test::readFileBytes((dir / "ppp_solve.log").string());
+  return dir;
+}
+
+/// `ppp_solve <args> --estimator ekf`: UTC stamp -> ECEF position of the epochs with a solution
+/// (`rows`: every epoch row, with a solution or not).
+inline std::map<ros::Time, Eigen::Vector3d> pppSolveEkf(const std::string& args, const std::string& tag,
+                                                        std::size_t* rows = nullptr) {
+  return readPppSolveCsv(runPppSolve(args, "ekf", tag) / "live_ekf.csv", rows);
+}
+
+/// `ppp_solve <args> --estimator both`: the EKF's and the smoother's FILTERED solutions (the
+/// smoother node's ppp/fix is its filtered estimate, the newest state), and their epoch rows.
+struct PppSolveBoth {
+  std::map<ros::Time, Eigen::Vector3d> ekf, smoother_filtered;
+  std::size_t ekf_rows = 0, smoother_rows = 0;
+};
+inline PppSolveBoth pppSolveBoth(const std::string& args, const std::string& tag) {
+  const std::filesystem::path dir = runPppSolve(args, "both", tag);
+  PppSolveBoth out;
+  out.ekf = readPppSolveCsv(dir / "live_ekf.csv", &out.ekf_rows);
+  out.smoother_filtered = readPppSolveCsv(dir / "live_smoother_filtered.csv", &out.smoother_rows);
   return out;
 }
 
@@ -136,6 +174,165 @@ inline void waitForFixes(NodeOutputs& out, std::size_t n, double timeout_s, doub
     if (now_n >= n && (ros::WallTime::now() - last_change).toSec() > quiet_s) return;
     ros::WallDuration(0.1).sleep();
   }
+}
+
+/// The outputs of launch/live.launch's two nodes: ekf/ppp/* and smoother/ppp/*.
+struct LiveLaunchOutputs {
+  NodeOutputs ekf, smoother;
+  void subscribe(ros::NodeHandle& nh) {
+    ekf.subscribe(nh, "/ekf/");
+    smoother.subscribe(nh, "/smoother/");
+  }
+  /// Both nodes' fixes equal ppp_solve's (EKF; smoother filtered) epoch by epoch to 1 mm,
+  /// every epoch but perhaps the last; broadcast only, as configured (no correction stream).
+  void expectEqualTo(const PppSolveBoth& reference, const std::string& what) {
+    std::lock_guard<std::mutex> l1(ekf.mutex), l2(smoother.mutex);
+    expectEqualToPppSolve(what + ", ppp_ekf_node vs ppp_solve EKF", ekf.fixes, reference.ekf);
+    expectEqualToPppSolve(what + ", ppp_smoother_node vs ppp_solve smoother filtered", smoother.fixes,
+                          reference.smoother_filtered);
+    for (NodeOutputs* o : {&ekf, &smoother}) {
+      ASSERT_FALSE(o->statuses.empty()) << what;
+      const auto& last = o->statuses.back();
+      std::printf("[ figures  ] %s, %s: %zu statuses received, last: %lu epochs processed, %lu duplicate, %lu out of "
+                  "order, %lu resets\n",
+                  what.c_str(), last.estimator.c_str(), o->statuses.size(),
+                  static_cast<unsigned long>(last.epochs_processed), static_cast<unsigned long>(last.epochs_duplicate),
+                  static_cast<unsigned long>(last.epochs_out_of_order),
+                  static_cast<unsigned long>(last.estimator_resets));
+      EXPECT_EQ(o->statuses.back().product_mode, ppp_bayes_tree::PppStatus::PRODUCTS_BROADCAST_ONLY) << what;
+      EXPECT_EQ(o->statuses.back().observations_lost, 0u) << what;
+    }
+    EXPECT_EQ(ekf.statuses.back().estimator, "ekf");
+    EXPECT_EQ(smoother.statuses.back().estimator, "smoother");
+  }
+};
+
+/// Waits (wall time) until the master lists `n` subscribers of `topic`.
+inline bool waitForSubscriberCount(const std::string& topic, std::size_t n, double timeout_s) {
+  const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(timeout_s);
+  while (ros::WallTime::now() < end) {
+    XmlRpc::XmlRpcValue args, result, payload;
+    args[0] = ros::this_node::getName();
+    if (ros::master::execute("getSystemState", args, result, payload, false) && payload.size() >= 2) {
+      XmlRpc::XmlRpcValue& subscribers = payload[1];
+      for (int i = 0; i < subscribers.size(); ++i)
+        if (static_cast<std::string>(subscribers[i][0]) == topic &&
+            static_cast<std::size_t>(subscribers[i][1].size()) >= n)
+          return true;
+    }
+    ros::WallDuration(0.1).sleep();
+  }
+  return false;
+}
+
+/// The key/value pairs of the /diagnostics task "stream" of one ppp_stream_node (status
+/// name "<node name>: stream"), the latest of each key.
+struct StreamNodeDiagnostics {
+  std::mutex mutex;
+  std::map<std::string, std::string> values;
+  std::uint8_t worst_level = 0;
+  ros::Subscriber sub;
+  void subscribe(ros::NodeHandle& nh, const std::string& node_name) {
+    sub = nh.subscribe<diagnostic_msgs::DiagnosticArray>(
+        "/diagnostics", 1000, [this, name = node_name + ": stream"](const auto& m) {
+          for (const auto& status : m->status) {
+            if (status.name != name) continue;
+            std::lock_guard<std::mutex> l(mutex);
+            worst_level = std::max<std::uint8_t>(worst_level, status.level);
+            for (const auto& kv : status.values) values[kv.key] = kv.value;
+          }
+        });
+  }
+  std::string value(const std::string& key) {
+    std::lock_guard<std::mutex> l(mutex);
+    const auto it = values.find(key);
+    return it == values.end() ? "" : it->second;
+  }
+  /// Waits (wall time) until `key` reads `want`.
+  bool waitFor(const std::string& key, const std::string& want, double timeout_s) {
+    const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(timeout_s);
+    while (ros::WallTime::now() < end) {
+      if (value(key) == want) return true;
+      ros::WallDuration(0.05).sleep();
+    }
+    return value(key) == want;
+  }
+};
+
+/// A child process (argv[0] a path; stdout and stderr to `log`), stopped on destruction:
+/// SIGINT (a ROS node shuts down cleanly), SIGKILL after 5 s.
+class ChildProcess {
+ public:
+  ChildProcess(const std::vector<std::string>& argv, const std::string& log) {
+    std::vector<char*> args;  // built before fork: the child of a threaded process only execs
+    for (const auto& a : argv) args.push_back(const_cast<char*>(a.c_str()));
+    args.push_back(nullptr);
+    pid_ = ::fork();
+    if (pid_ == 0) {
+      const int fd = ::open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+      if (fd >= 0) {
+        ::dup2(fd, 1);
+        ::dup2(fd, 2);
+      }
+      ::execvp(args[0], args.data());
+      ::_exit(127);
+    }
+  }
+  ~ChildProcess() { stop(); }
+  ChildProcess(const ChildProcess&) = delete;
+  ChildProcess& operator=(const ChildProcess&) = delete;
+  bool started() const { return pid_ > 0; }
+  /// Whether it still runs.
+  bool running() {
+    if (pid_ <= 0) return false;
+    int status = 0;
+    if (::waitpid(pid_, &status, WNOHANG) == pid_) {
+      pid_ = -1;
+      return false;
+    }
+    return true;
+  }
+  void stop() {
+    if (!running()) return;
+    ::kill(pid_, SIGINT);
+    for (int i = 0; i < 50; ++i) {
+      if (::waitpid(pid_, nullptr, WNOHANG) == pid_) {
+        pid_ = -1;
+        return;
+      }
+      std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    }
+    ::kill(pid_, SIGKILL);
+    ::waitpid(pid_, nullptr, 0);
+    pid_ = -1;
+  }
+
+ private:
+  pid_t pid_ = -1;
+};
+
+/// ppp_stream_node started by the test as `node_name`, reading `input` (a spec,
+/// io/byte_source_spec.h), publishing RTCM 3 on /gnss/receiver (what launch/live.launch
+/// example b's nodes read), its diagnostics every 0.2 s. The test picks its ports at run
+/// time, so the node cannot come from the launch file.
+inline std::unique_ptr<ChildProcess> startStreamNode(const std::string& node_name, const std::string& input,
+                                                     const std::string& log) {
+  return std::make_unique<ChildProcess>(
+      std::vector<std::string>{std::string(PPP_BIN_DIR) + "/ppp_stream_node", "__name:=" + node_name,
+                               "_input:=" + input, "_format:=rtcm3", "_output_topic:=/gnss/receiver",
+                               "_queue_size:=20000", "_diagnostic_period:=0.2"},
+      log);
+}
+
+/// The ppp_solve reference of week-rollover-STR24.rtcm3 as live.launch runs the nodes
+/// (config/ppp.yaml + config/live.yaml; test/rostest/live_str24.yaml: reference date,
+/// broadcast only): `ppp_solve --rtcm F --ref-date 2018/07/14 --nav F --config config/live.yaml
+/// --estimator both`.
+inline PppSolveBoth pppSolveStr24Live(const std::string& rtcm, const std::string& tag) {
+  const std::string atx = ppp::test::dataPath("antex/igs20_gps_satellites_trim.atx");
+  return pppSolveBoth("--rtcm " + rtcm + " --ref-date 2018/07/14 --nav " + rtcm + " --atx " + atx + " --config " +
+                          PPP_REPO_DIR + "/config/live.yaml",
+                      tag);
 }
 
 }  // namespace ppp_ros::test

@@ -91,7 +91,7 @@ class StreamNode {
   diagnostic_updater::Updater diagnostics_;
 };
 
-/// The whole main() of ppp_stream_node: 0 after shutdown, 1 when it could not start.
+/// The whole main() of ppp_stream_node (ros/node_main.h runNode): 0 after shutdown, 1 when it could not start.
 int runStreamNode(int argc, char** argv, const std::string& node_name);
 
 }  // namespace ppp_ros
