@@ -409,6 +409,13 @@ std::optional<AmbiguityFixedState> AmbiguityResolver::resolveAndHold(const Eigen
     summary.wide_lane_candidates = static_cast<int>(wl.arcs.size());
     summary.wide_lanes_fixed = wl.fixedCount();
   }
+  // A float further from an integer than both max_fraction_cycles and
+  // kGateSigmas of its own sigma carries an error its covariance does not
+  // hold (an imprecise float is left to the search's success rate and ratio test).
+  constexpr double kGateSigmas = 3.0;
+  const auto offInteger = [&](double fraction_cycles, double sigma_cycles) {
+    return std::abs(fraction_cycles) > ho.max_fraction_cycles && std::abs(fraction_cycles) > kGateSigmas * sigma_cycles;
+  };
   std::vector<PairRow> candidates;
   int gated = 0;  // steady floats refused by the candidate gate
   std::map<PairKey, bool> seen;
@@ -430,7 +437,7 @@ std::optional<AmbiguityFixedState> AmbiguityResolver::resolveAndHold(const Eigen
       if (static_cast<int>(h.size()) < ho.consistency_epochs || *hi - *lo > ho.max_float_spread_cycles) continue;
       const double conditioned = row->d.dot(xc) - row->offset;
       const double conditioned_sigma = std::sqrt(std::max(0.0, (row->d * Pc * row->d.transpose())(0, 0)));
-      if (std::abs(conditioned - std::round(conditioned)) > ho.max_fraction_cycles ||
+      if (offInteger(conditioned - std::round(conditioned), conditioned_sigma) ||
           conditioned_sigma > ho.max_sigma_cycles) {
         ++gated;
         continue;
@@ -467,12 +474,16 @@ std::optional<AmbiguityFixedState> AmbiguityResolver::resolveAndHold(const Eigen
     io.partial = false;
     io.min_fixed = n;
     const Eigen::VectorXd a_hat = D * xc - o;
-    const IlsResult ils = solveIntegerLeastSquares(a_hat, D * Pc * D.transpose(), io);
+    const Eigen::MatrixXd Q = D * Pc * D.transpose();
+    const IlsResult ils = solveIntegerLeastSquares(a_hat, Q, io);
     summary.ratio = ils.ratio;
     summary.bootstrap_success_rate = ils.bootstrap_success_rate;
     summary.ils_reason = ils.float_reason;
-    if (ils.isFixed() && ils.fixed_ambiguities &&
-        (*ils.fixed_ambiguities - a_hat).cwiseAbs().maxCoeff() > ho.max_fraction_cycles) {
+    bool far = false;
+    if (ils.isFixed() && ils.fixed_ambiguities)
+      for (int i = 0; i < n; ++i)
+        far = far || offInteger(a_hat(i) - (*ils.fixed_ambiguities)(i), std::sqrt(std::max(0.0, Q(i, i))));
+    if (far) {
       summary.ils_reason = IlsFloatReason::IntegerFarFromFloat;
       continue;
     }
