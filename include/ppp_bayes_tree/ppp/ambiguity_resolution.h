@@ -32,8 +32,8 @@
 //     (a float that still drifts carries an unmodelled error or an optimistic
 //     covariance, and its integer is not yet determined).
 //     Candidate gate (Ge et al. 2008): the float conditioned on the held
-//     integers must lie within hold.max_fraction_cycles of an integer with a
-//     sigma below hold.max_sigma_cycles.
+//     integers must lie within hold.max_fraction_cycles or 3 of its sigmas of
+//     an integer, with a sigma below hold.max_sigma_cycles.
 //  6. Partial fixing of the best-determined subset: the candidates are ordered
 //     by the sigma of their float and the worst are dropped one by one until the
 //     full-set LAMBDA of the rest passes the ratio test and the success rate,
@@ -83,11 +83,12 @@ struct AmbiguityHoldOptions {
   /// and over which its float may spread by at most max_float_spread_cycles.
   int consistency_epochs = 10;
   double max_float_spread_cycles = 0.2;
-  /// Candidate gate (Ge et al. 2008 sec. 3, as PRIDE PPP-AR applies it): a
+  /// Candidate gate (Ge et al. 2008: a narrow lane is fixed only with a small
+  /// fractional part and sigma; PRIDE PPP-AR applies it so): a
   /// single difference is offered to the search only when its float,
-  /// conditioned on the held integers, lies within max_fraction_cycles of an
-  /// integer and its sigma is below max_sigma_cycles; and an integer the search
-  /// returns is accepted only within max_fraction_cycles of its float (the
+  /// conditioned on the held integers, lies within max_fraction_cycles or 3
+  /// of its sigmas of an integer and its sigma is below max_sigma_cycles; and
+  /// an integer the search returns is accepted by the same rule (the
   /// search may otherwise pick, through the correlations, an integer 0.5 cycle
   /// away when all floats share a bias the covariance does not hold).
   /// PRIDE PPP-AR uses 0.15 / 0.15 in its batch; here 0.25 cycle (measured on
