@@ -31,9 +31,13 @@
 //     hold.max_float_spread_cycles over the last hold.consistency_epochs epochs
 //     (a float that still drifts carries an unmodelled error or an optimistic
 //     covariance, and its integer is not yet determined).
+//     Candidate gate (Ge et al. 2008): the float conditioned on the held
+//     integers must lie within hold.max_fraction_cycles or 3 of its sigmas of
+//     an integer, with a sigma below hold.max_sigma_cycles.
 //  6. Partial fixing of the best-determined subset: the candidates are ordered
 //     by the sigma of their float and the worst are dropped one by one until the
-//     full-set LAMBDA of the rest passes the ratio test and the success rate
+//     full-set LAMBDA of the rest passes the ratio test and the success rate,
+//     with every integer within hold.max_fraction_cycles of its float
 //     (Teunissen & Verhagen 2009 for the ratio test as a validation; the
 //     subset by precision as in Dong & Bock 1989 / Blewitt 1989's sequential
 //     fixing of the best-determined ambiguities first).
@@ -79,6 +83,19 @@ struct AmbiguityHoldOptions {
   /// and over which its float may spread by at most max_float_spread_cycles.
   int consistency_epochs = 10;
   double max_float_spread_cycles = 0.2;
+  /// Candidate gate (Ge et al. 2008: a narrow lane is fixed only with a small
+  /// fractional part and sigma; PRIDE PPP-AR applies it so): a
+  /// single difference is offered to the search only when its float,
+  /// conditioned on the held integers, lies within max_fraction_cycles or 3
+  /// of its sigmas of an integer and its sigma is below max_sigma_cycles; and
+  /// an integer the search returns is accepted by the same rule (the
+  /// search may otherwise pick, through the correlations, an integer 0.5 cycle
+  /// away when all floats share a bias the covariance does not hold).
+  /// PRIDE PPP-AR uses 0.15 / 0.15 in its batch; here 0.25 cycle (measured on
+  /// the ESBC day in real time, doc/ar_real_data.md) and 1 cycle (the sigma
+  /// gate made no difference there; LAMBDA's success rate covers it).
+  double max_fraction_cycles = 0.25;
+  double max_sigma_cycles = 1.0;
   /// Consecutive searches giving the same integer before it is held.
   int validation_epochs = 5;
   /// A held integer is released when its float (conditioned on the other held
@@ -110,6 +127,7 @@ enum class AmbiguityFloatReason {
   NumericalFailure,         // the constrained covariance was not positive
   Validating,               // resolveAndHold: too few integers held yet (validation across epochs)
   FloatsDrifting,           // resolveAndHold: no single difference passed the float consistency window
+  FloatsOffInteger,         // resolveAndHold: the steady floats all failed the candidate gate
 };
 std::string toString(AmbiguityFloatReason reason);
 
@@ -149,6 +167,11 @@ struct AmbiguityFixSummary {
   std::vector<NarrowLaneFloat> narrow_lanes;  // this epoch's single differences
   int held = 0;                               // integers held after this epoch
   int newly_held = 0;                         // of them, validated this epoch
+  /// The held integers' residual test: T = r^T (A P A^T)^-1 r, r = the held
+  /// single differences' floats minus their integers [cycles], m = their number;
+  /// under the model T ~ chi-square(m) (Teunissen 1998, the ambiguity residual).
+  double held_residual_statistic = 0.0;
+  int held_residual_dof = 0;
   std::vector<AmbiguityRelease> released;     // released this epoch
   bool fixed() const { return float_reason == AmbiguityFloatReason::None; }
   /// "fixed 7/9 ratio 5.3 (ref G22)" or "float: ratio test failed (ratio 1.8)".

@@ -28,6 +28,9 @@ std::string AmbiguityResolutionOptions::validate() const {
   if (hold.validation_epochs < 1) return "validation_epochs must be >= 1";
   if (!(hold.release_cycles > 0.0 && hold.release_cycles <= 1.0)) return "release_cycles must be in (0, 1]";
   if (!(hold.release_sigma > 0.0)) return "release_sigma must be > 0";
+  if (!(hold.max_fraction_cycles > 0.0 && hold.max_fraction_cycles <= 0.5))
+    return "narrow_lane_max_fraction_cycles must be in (0, 0.5]";
+  if (!(hold.max_sigma_cycles > 0.0)) return "narrow_lane_max_sigma_cycles must be > 0";
   return "";
 }
 
@@ -42,6 +45,8 @@ std::string toString(AmbiguityFloatReason reason) {
     case AmbiguityFloatReason::NumericalFailure: return "constrained covariance not positive definite";
     case AmbiguityFloatReason::Validating: return "integers not yet validated across epochs";
     case AmbiguityFloatReason::FloatsDrifting: return "narrow-lane floats still drift (spread over the window too large)";
+    case AmbiguityFloatReason::FloatsOffInteger:
+      return "narrow-lane floats too far from an integer or too uncertain (candidate gate)";
   }
   return "unknown";
 }
@@ -404,7 +409,15 @@ std::optional<AmbiguityFixedState> AmbiguityResolver::resolveAndHold(const Eigen
     summary.wide_lane_candidates = static_cast<int>(wl.arcs.size());
     summary.wide_lanes_fixed = wl.fixedCount();
   }
+  // A float further from an integer than both max_fraction_cycles and
+  // kGateSigmas of its own sigma carries an error its covariance does not
+  // hold (an imprecise float is left to the search's success rate and ratio test).
+  constexpr double kGateSigmas = 3.0;
+  const auto offInteger = [&](double fraction_cycles, double sigma_cycles) {
+    return std::abs(fraction_cycles) > ho.max_fraction_cycles && std::abs(fraction_cycles) > kGateSigmas * sigma_cycles;
+  };
   std::vector<PairRow> candidates;
+  int gated = 0;  // steady floats refused by the candidate gate
   std::map<PairKey, bool> seen;
   if (wl.reference_arc) {
     for (const WideLaneFix& f : wl.arcs) {
@@ -422,6 +435,13 @@ std::optional<AmbiguityFixedState> AmbiguityResolver::resolveAndHold(const Eigen
       summary.narrow_lanes.push_back(nf);
       const auto [lo, hi] = std::minmax_element(h.begin(), h.end());
       if (static_cast<int>(h.size()) < ho.consistency_epochs || *hi - *lo > ho.max_float_spread_cycles) continue;
+      const double conditioned = row->d.dot(xc) - row->offset;
+      const double conditioned_sigma = std::sqrt(std::max(0.0, (row->d * Pc * row->d.transpose())(0, 0)));
+      if (offInteger(conditioned - std::round(conditioned), conditioned_sigma) ||
+          conditioned_sigma > ho.max_sigma_cycles) {
+        ++gated;
+        continue;
+      }
       candidates.push_back(*row);
     }
   }
@@ -453,10 +473,20 @@ std::optional<AmbiguityFixedState> AmbiguityResolver::resolveAndHold(const Eigen
     IlsOptions io = options_.narrow_lane;
     io.partial = false;
     io.min_fixed = n;
-    const IlsResult ils = solveIntegerLeastSquares(D * xc - o, D * Pc * D.transpose(), io);
+    const Eigen::VectorXd a_hat = D * xc - o;
+    const Eigen::MatrixXd Q = D * Pc * D.transpose();
+    const IlsResult ils = solveIntegerLeastSquares(a_hat, Q, io);
     summary.ratio = ils.ratio;
     summary.bootstrap_success_rate = ils.bootstrap_success_rate;
     summary.ils_reason = ils.float_reason;
+    bool far = false;
+    if (ils.isFixed() && ils.fixed_ambiguities)
+      for (int i = 0; i < n; ++i)
+        far = far || offInteger(a_hat(i) - (*ils.fixed_ambiguities)(i), std::sqrt(std::max(0.0, Q(i, i))));
+    if (far) {
+      summary.ils_reason = IlsFloatReason::IntegerFarFromFloat;
+      continue;
+    }
     if (ils.isFixed() && ils.fixed_ambiguities) {
       for (int i = 0; i < n; ++i)
         fixed_now[candidates[order[static_cast<std::size_t>(i)]].key] = std::lround((*ils.fixed_ambiguities)(i));
@@ -495,6 +525,7 @@ std::optional<AmbiguityFixedState> AmbiguityResolver::resolveAndHold(const Eigen
   if (summary.held < options_.narrow_lane.min_fixed) {
     summary.float_reason = summary.held > 0 || !pending_.empty() ? AmbiguityFloatReason::Validating
                            : !wl.reference_arc                   ? AmbiguityFloatReason::NoWideLaneReference
+                           : candidates.empty() && gated > 0     ? AmbiguityFloatReason::FloatsOffInteger
                            : candidates.empty() && !summary.narrow_lanes.empty() ? AmbiguityFloatReason::FloatsDrifting
                            : candidates.empty()                  ? AmbiguityFloatReason::TooFewWideLanes
                                                                  : AmbiguityFloatReason::NarrowLane;
@@ -503,6 +534,14 @@ std::optional<AmbiguityFixedState> AmbiguityResolver::resolveAndHold(const Eigen
   Eigen::MatrixXd A;
   Eigen::VectorXd y;
   stack(held_rows, held_values, -1, A, y);
+  {
+    const Eigen::VectorXd r = A * x - y;
+    const Eigen::LLT<Eigen::MatrixXd> llt(A * P * A.transpose());
+    if (llt.info() == Eigen::Success) {
+      summary.held_residual_statistic = r.dot(llt.solve(r));
+      summary.held_residual_dof = static_cast<int>(r.size());
+    }
+  }
   auto fixed = applyIntegerConstraints(x, P, A, y);
   if (!fixed) {
     summary.float_reason = AmbiguityFloatReason::NumericalFailure;

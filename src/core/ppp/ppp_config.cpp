@@ -79,6 +79,8 @@ void readAmbiguityResolution(YamlSection s, AmbiguityResolutionOptions& o) {
       s.number("max_float_spread_cycles", o.hold.max_float_spread_cycles, Bound::Positive);
   o.hold.validation_epochs = s.integer("validation_epochs", o.hold.validation_epochs, 1);
   o.hold.release_cycles = s.number("release_cycles", o.hold.release_cycles, Bound::Positive);
+  o.hold.max_fraction_cycles = s.number("narrow_lane_max_fraction_cycles", o.hold.max_fraction_cycles, Bound::Positive);
+  o.hold.max_sigma_cycles = s.number("narrow_lane_max_sigma_cycles", o.hold.max_sigma_cycles, Bound::Positive);
   o.hold.release_sigma = s.number("release_sigma", o.hold.release_sigma, Bound::Positive);
   s.finish();
 }
