@@ -243,16 +243,18 @@ std::vector<TimedFrame> CasterStreamBuilder::navigationFrames() const {
       const double tx_s = r.transmission.toGpsSecondsDouble();
       if (tx_s > end_s) break;
       const double next_s = i + 1 < list.size() ? list[i + 1]->transmission.toGpsSecondsDouble() : end_s + 1.0;
+      double first_send_s = tx_s;
       if (tx_s < start_s) {
         // Transmitted before the stream starts: sent ahead of the first epoch when still of use.
         if (first_->toGpsSecondsDouble() - r.reference.toGpsSecondsDouble() > options_.max_record_age_s) continue;
-        sends.push_back({start_s - 1.0, r.preamble_rank, &r});
+        first_send_s = start_s - 1.0;
+        sends.push_back({first_send_s, r.preamble_rank, &r});
       } else {
         sends.push_back({tx_s, 3, &r});
       }
       // Repeats until the next record of the key is transmitted (or the stream ends).
       if (options_.ephemeris_repeat_s > 0.0)
-        for (double t = std::max(tx_s, start_s) + options_.ephemeris_repeat_s; t < next_s && t <= end_s;
+        for (double t = first_send_s + options_.ephemeris_repeat_s; t < next_s && t <= end_s;
              t += options_.ephemeris_repeat_s)
           sends.push_back({t, 3, &r});
     }
@@ -276,7 +278,7 @@ std::vector<TimedFrame> CasterStreamBuilder::observationFrames() const {
     for (double t = start_s - 1.0; t <= end_s; t += options_.station_repeat_s > 0 ? options_.station_repeat_s : 1e300) {
       for (const auto& f : frames) {
         const int type = static_cast<int>((f[3] << 4) | (f[4] >> 4));
-        station.push_back({t, f, *first_, type});
+        station.push_back({t, f, *first_ + (t - start_s), type});
       }
     }
   }
