@@ -1,7 +1,8 @@
 // LiveGnssInput (app/live_gnss_input.h): byte chunks of receiver and
 // correction streams in, epochs and one live ephemeris out; the PPP on them
 // must equal ppp_solve's on the same recordings (the nodes' 1 mm promise).
-//  a) ESBC 2020-177, 45 min: the RINEX observations made into an MSM7 stream,
+//  a) ESBC 2020-177, 45 min: the RINEX observations made into an MSM7 stream
+//     by ppp_stream_make's builder (io/caster_stream_builder.h),
 //     the GRG SP3/CLK made into an SSR stream against the station's broadcast
 //     file (ppp_ssr_encode's core), both cut into random chunks and fed
 //     interleaved in arrival order; EKF and smoother epoch by epoch against
