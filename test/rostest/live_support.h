@@ -52,23 +52,25 @@ inline void publishInOrder(ros::NodeHandle& nh, const std::vector<std::string>& 
   }
 }
 
-/// Runs `ppp_solve <args> --estimator ekf --name live --out DIR` (exit 0, 3, or 1 with a CSV) and reads
-/// DIR/live_ekf.csv: UTC stamp -> ECEF position of the epochs with a solution
+/// Runs `ppp_solve <args> --estimator E --name live --out DIR` (exit 0, 3, or 1 with a CSV) and reads
+/// DIR/live_E.csv (smoother: live_smoother_filtered.csv): UTC stamp -> ECEF position of the epochs with a solution
 /// (`rows`: every epoch row, with a solution or not).
-inline std::map<ros::Time, Eigen::Vector3d> pppSolveEkf(const std::string& args, const std::string& tag,
-                                                        std::size_t* rows = nullptr) {
+inline std::map<ros::Time, Eigen::Vector3d> pppSolve(const std::string& args, const std::string& tag,
+                                                     const std::string& estimator, std::size_t* rows = nullptr) {
   const std::filesystem::path dir = ppp::test::tempDir(tag);
-  const std::string cmd = std::string(PPP_BIN_DIR) + "/ppp_solve " + args + " --estimator ekf --name live --out " +
-                          dir.string() + " > " + (dir / "ppp_solve.log").string() + " 2>&1";
+  const std::string cmd = std::string(PPP_BIN_DIR) + "/ppp_solve " + args + " --estimator " + estimator +
+                          " --name live --out " + dir.string() + " > " + (dir / "ppp_solve.log").string() + " 2>&1";
+  // The smoother's per-epoch (filtered) solutions are what its node publishes on ppp/fix.
+  const std::string csv = estimator == "smoother" ? "live_smoother_filtered.csv" : "live_" + estimator + ".csv";
   const int rc = std::system(cmd.c_str());
   const int exit_code = WIFEXITED(rc) ? WEXITSTATUS(rc) : -1;
   // 1 = nothing solved, with the CSV written: the caller checks the rows.
-  EXPECT_TRUE(exit_code == 0 || exit_code == 3 || (exit_code == 1 && std::filesystem::exists(dir / "live_ekf.csv")))
+  EXPECT_TRUE(exit_code == 0 || exit_code == 3 || (exit_code == 1 && std::filesystem::exists(dir / csv)))
       << cmd << " exited " << exit_code << ":\n"
                                                 << ppp::test::readFileBytes((dir / "ppp_solve.log").string());
   std::map<ros::Time, Eigen::Vector3d> out;
   if (rows) *rows = 0;
-  std::ifstream in(dir / "live_ekf.csv");
+  std::ifstream in(dir / csv);
   std::string line;
   std::getline(in, line);
   std::vector<std::string> names;
@@ -79,7 +81,7 @@ inline std::map<ros::Time, Eigen::Vector3d> pppSolveEkf(const std::string& args,
   auto column = [&](const std::string& name) {
     for (std::size_t i = 0; i < names.size(); ++i)
       if (names[i] == name) return i;
-    ADD_FAILURE() << "no column " << name << " in " << (dir / "live_ekf.csv");
+    ADD_FAILURE() << "no column " << name << " in " << (dir / csv);
     return std::size_t{0};
   };
   const std::size_t week = column("gps_week"), tow = column("tow_s"), x = column("x_m"), y = column("y_m"),
@@ -94,6 +96,12 @@ inline std::map<ros::Time, Eigen::Vector3d> pppSolveEkf(const std::string& args,
     out[utcStamp(t)] = Eigen::Vector3d(std::stod(f[x]), std::stod(f[y]), std::stod(f[z]));
   }
   return out;
+}
+
+/// pppSolve with --estimator ekf.
+inline std::map<ros::Time, Eigen::Vector3d> pppSolveEkf(const std::string& args, const std::string& tag,
+                                                        std::size_t* rows = nullptr) {
+  return pppSolve(args, tag, "ekf", rows);
 }
 
 /// The node's fixes against ppp_solve's: every fix has a ppp_solve epoch within 1 ms
