@@ -1,4 +1,5 @@
-// RTCM 3 ephemeris encoder (io/rtcm3_ephemeris_encoder.h): 1019/1045/1046 for
+// RTCM 3 ephemeris encoder (io/rtcm3_ephemeris_encoder.h): the 1019/1042/1044/
+// 1045/1046 frames of the real STR2 recording re-encoded bit for bit; 1019/1045/1046 for
 // every real record of the ESBC 2020-177 broadcast file, 1020 for the GLONASS
 // records of the STR2 and GMSD recordings (the ESBC file has no GLONASS),
 // encoded, framed and decoded again by our Rtcm3Decoder, and by the peer:
@@ -222,6 +223,75 @@ TEST(Rtcm3EphemerisEncoder, GlonassRecordsOfRealRecordingsRoundTripExactly) {
     }
   }
   std::printf("[ figures  ] %zu GLONASS 1020 records of STR2 and GMSD re-encoded and decoded: equal\n", compared);
+}
+
+TEST(Rtcm3EphemerisEncoder, RealRecordingFramesAreReEncodedBitForBit) {
+  PPP_REQUIRE_SHARED_DATA();
+  // STR2's 1019/1042/1044/1045/1046 frames (a Trimble NetR9, 2018): each decoded,
+  // then encoded again, must give the receiver's own payload bit for bit (these
+  // messages have no field our records leave out, the reserved bits being zero),
+  // but for the week field of records sent in another week than their toe's.
+  // 1020 carries fields no record keeps (almanac health, P1-P4, NT, tauC, ...): its
+  // round trip is the field test above.
+  const std::string bytes = test::readFileBytes(test::dataPath("streams/rtcm/week-rollover-STR24.rtcm3"));
+  Rtcm3DecoderOptions options;
+  options.reference_time = test::gpst(2018, 7, 14, 23, 55);
+  Rtcm3Decoder decoder(options);
+  std::map<int, std::size_t> equal, unequal, week_of_transmission;
+  Rtcm3Framer framer;
+  framer.feed(reinterpret_cast<const std::uint8_t*>(bytes.data()), bytes.size(), [&](const Rtcm3Frame& f) {
+    const int t = f.message_type;
+    if (t != 1019 && t != 1042 && t != 1044 && t != 1045 && t != 1046) return;
+    decoder.output().clear();
+    decoder.decodeFrame(f);
+    const Rtcm3Output& out = decoder.output();
+    std::vector<std::uint8_t> again;
+    if (!out.gps.empty()) again = encodeEphemerisPayload(out.gps.front());
+    else if (!out.galileo.empty()) again = encodeEphemerisPayload(out.galileo.front());
+    else if (!out.beidou.empty()) again = encodeEphemerisPayload(out.beidou.front());
+    // The week field (DF076 / DF289 / DF489): the receiver writes the week of
+    // transmission, we the week of toe (as RTKLIB reads it: rtcm3.c decode_type1019,
+    // gpst2time(week, toes)); they differ by one for a record sent in another week
+    // than its toe's (GPS: sent on Saturday for a Sunday toe; Galileo: a Saturday toe
+    // still sent after midnight), which this recording, across a week boundary, holds.
+    const auto [week_at, week_bits] = t == 1044 ? std::make_pair(446, 10)
+                                      : t == 1019 ? std::make_pair(18, 10)
+                                      : t == 1042 ? std::make_pair(18, 13)
+                                                  : std::make_pair(18, 12);
+    auto field = [](const std::vector<std::uint8_t>& v, int at, int n) {
+      std::int64_t x = 0;
+      for (int i = at; i < at + n; ++i) x = (x << 1) | ((v[i / 8] >> (7 - i % 8)) & 1);
+      return x;
+    };
+    auto masked = [&](std::vector<std::uint8_t> v) {
+      for (int i = week_at; i < week_at + week_bits; ++i) v[i / 8] &= static_cast<std::uint8_t>(~(0x80u >> (i % 8)));
+      return v;
+    };
+    if (again == f.payload) {
+      ++equal[t];
+    } else if (again.size() == f.payload.size() && masked(again) == masked(f.payload) &&
+               std::abs(field(again, week_at, week_bits) - field(f.payload, week_at, week_bits)) == 1) {
+      ++week_of_transmission[t];
+    } else {
+      ++unequal[t];
+      std::string bits;  // the payload bits that differ
+      for (std::size_t i = 0; i < std::max(again.size(), f.payload.size()) * 8; ++i) {
+        const auto bit = [i](const std::vector<std::uint8_t>& v) { return i / 8 < v.size() ? (v[i / 8] >> (7 - i % 8)) & 1 : 2; };
+        if (bit(again) != bit(f.payload)) bits += " " + std::to_string(i);
+      }
+      ADD_FAILURE() << "type " << t << " frame " << f.frame_index << " differs after decoding and encoding at bits"
+                    << bits.substr(0, 120) << " (sizes " << again.size() << ", " << f.payload.size() << ")";
+    }
+  });
+  std::string figures;
+  for (const auto& [t, n] : equal) figures += " " + std::to_string(t) + ":" + std::to_string(n);
+  std::string weeks;
+  for (const auto& [t, n] : week_of_transmission) weeks += " " + std::to_string(t) + ":" + std::to_string(n);
+  std::printf("[ figures  ] STR2 ephemeris frames re-encoded bit for bit:%s; equal but the week field (week of "
+              "transmission, ours of toe, one apart):%s\n", figures.c_str(), weeks.c_str());
+  for (const int t : {1042, 1045, 1046}) EXPECT_GT(equal[t], 0u) << t;
+  for (const int t : {1019, 1045}) EXPECT_GT(equal[t] + week_of_transmission[t], 10u) << t;
+  EXPECT_TRUE(unequal.empty());
 }
 
 TEST(Rtcm3EphemerisEncoder, FieldIndexTables) {

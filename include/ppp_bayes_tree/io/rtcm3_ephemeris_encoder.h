@@ -4,6 +4,7 @@
 //  - 1019 GPS LNAV and 1044 QZSS LNAV (GpsLnavEphemeris, by the satellite's system);
 //  - 1020 GLONASS (GlonassEphemeris);
 //  - 1045 Galileo F/NAV and 1046 Galileo I/NAV (GalileoEphemeris, by its type);
+//  - 1042 BeiDou D1/D2 (BeidouEphemeris; BDS-SIS-ICD-B1I 5.2.4 scale factors);
 // so that a processed day's navigation file can be sent as a caster would
 // (ppp_stream_make). Scale factors are those of the ICDs (IS-GPS-200 table
 // 20-III, Galileo OS SIS ICD table 60, GLONASS ICD 5.1 table 4.5).
@@ -21,6 +22,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "ppp_bayes_tree/types/beidou_ephemeris.h"
 #include "ppp_bayes_tree/types/navigation_records.h"
 
 namespace ppp {
@@ -31,11 +33,14 @@ std::vector<std::uint8_t> encodeEphemerisPayload(const GpsLnavEphemeris& eph);
 std::vector<std::uint8_t> encodeEphemerisPayload(const GlonassEphemeris& eph);
 /// 1045 (F/NAV) or 1046 (I/NAV) payload.
 std::vector<std::uint8_t> encodeEphemerisPayload(const GalileoEphemeris& eph);
+/// 1042 payload.
+std::vector<std::uint8_t> encodeEphemerisPayload(const BeidouEphemeris& eph);
 
-/// The RTCM message type the record is sent as (1019, 1020, 1044, 1045, 1046).
+/// The RTCM message type the record is sent as (1019, 1020, 1042, 1044, 1045, 1046).
 int ephemerisMessageType(const GpsLnavEphemeris& eph);
 int ephemerisMessageType(const GlonassEphemeris& eph);
 int ephemerisMessageType(const GalileoEphemeris& eph);
+int ephemerisMessageType(const BeidouEphemeris& eph);
 
 /// GPS URA index (4 bits) of an accuracy in metres: the smallest index whose
 /// nominal value is not below it (15 beyond the table).

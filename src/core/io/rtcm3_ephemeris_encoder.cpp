@@ -69,6 +69,7 @@ int ephemerisMessageType(const GpsLnavEphemeris& eph) {
 }
 int ephemerisMessageType(const GlonassEphemeris&) { return 1020; }
 int ephemerisMessageType(const GalileoEphemeris& eph) { return eph.type == GalileoNavType::FNav ? 1045 : 1046; }
+int ephemerisMessageType(const BeidouEphemeris&) { return 1042; }
 
 std::vector<std::uint8_t> encodeEphemerisPayload(const GpsLnavEphemeris& e) {
   const bool qzss = e.satellite.system == GnssSystem::QZSS;
@@ -206,6 +207,45 @@ std::vector<std::uint8_t> encodeEphemerisPayload(const GalileoEphemeris& e) {
     w.putUnsigned(static_cast<std::uint64_t>(e.health & 1), 1);         // E1-B DVS
     w.putUnsigned(0, 2);                                                // reserved
   }
+  return w.bytes();
+}
+
+std::vector<std::uint8_t> encodeEphemerisPayload(const BeidouEphemeris& e) {
+  if (e.satellite.system != GnssSystem::BeiDou || e.satellite.prn < 1 || e.satellite.prn > 63)
+    throw std::invalid_argument("1042 ephemeris: no satellite number for " + e.satellite.toString());
+  const KeplerOrbit& o = e.orbit;
+  constexpr double kBdtMinusGpst_s = -14.0;
+  const double toc_bdt_sow = secondsOfWeek(e.clock.toc + kBdtMinusGpst_s);
+  BitWriter w;
+  w.putUnsigned(1042, 12);
+  w.putUnsigned(static_cast<std::uint64_t>(e.satellite.prn), 6);
+  w.putUnsigned(static_cast<std::uint64_t>(((e.bdt_week % 8192) + 8192) % 8192), 13);
+  w.putUnsigned(static_cast<std::uint64_t>(e.urai), 4);
+  w.putSigned(semicircles(o.idot_radps, -43), 14);
+  w.putUnsigned(static_cast<std::uint64_t>(e.aode), 5);
+  w.putUnsigned(static_cast<std::uint64_t>(q(toc_bdt_sow, 8.0)), 17);
+  w.putSigned(q(e.clock.af2_sps2, p2(-66)), 11);
+  w.putSigned(q(e.clock.af1_sps, p2(-50)), 22);
+  w.putSigned(q(e.clock.af0_s, p2(-33)), 24);
+  w.putUnsigned(static_cast<std::uint64_t>(e.aodc), 5);
+  w.putSigned(q(o.crs_m, p2(-6)), 18);
+  w.putSigned(semicircles(o.delta_n_radps, -43), 16);
+  w.putSigned(semicircles(o.m0_rad, -31), 32);
+  w.putSigned(q(o.cuc_rad, p2(-31)), 18);
+  w.putUnsigned(static_cast<std::uint64_t>(q(o.eccentricity, p2(-33))), 32);
+  w.putSigned(q(o.cus_rad, p2(-31)), 18);
+  w.putUnsigned(static_cast<std::uint64_t>(q(o.sqrt_a_sqrtm, p2(-19))), 32);
+  w.putUnsigned(static_cast<std::uint64_t>(q(o.toe_sow, 8.0)), 17);
+  w.putSigned(q(o.cic_rad, p2(-31)), 18);
+  w.putSigned(semicircles(o.omega0_rad, -31), 32);
+  w.putSigned(q(o.cis_rad, p2(-31)), 18);
+  w.putSigned(semicircles(o.i0_rad, -31), 32);
+  w.putSigned(q(o.crc_m, p2(-6)), 18);
+  w.putSigned(semicircles(o.omega_rad, -31), 32);
+  w.putSigned(semicircles(o.omega_dot_radps, -43), 24);
+  w.putSigned(q(e.tgd1_s, 1e-10), 10);
+  w.putSigned(q(e.tgd2_s, 1e-10), 10);
+  w.putUnsigned(static_cast<std::uint64_t>(e.health & 1), 1);
   return w.bytes();
 }
 
