@@ -16,18 +16,8 @@
 namespace ppp {
 namespace {
 
-constexpr double kWeek_s = 604800.0;
-
 const GnssSystem kMsmSystems[] = {GnssSystem::GPS,  GnssSystem::GLONASS, GnssSystem::Galileo,
                                   GnssSystem::SBAS, GnssSystem::QZSS,    GnssSystem::BeiDou};
-
-/// The instant of `sow` (seconds of the GPS week) nearest to `near`.
-GnssTime nearestSecondsOfWeek(const GnssTime& near, double sow) {
-  GnssTime t = GnssTime::fromGpsWeek(near.gpsWeek().week, sow);
-  if (t - near > kWeek_s / 2) t -= kWeek_s;
-  else if (near - t > kWeek_s / 2) t += kWeek_s;
-  return t;
-}
 
 void putText(BitWriter& w, const std::string& text) {
   const std::string s = text.substr(0, 31);  // DF228-DF232: up to 31 characters
@@ -175,27 +165,9 @@ void CasterStreamBuilder::addNavigation(const NavData& nav) {
     r.preamble_rank = rank;
     records_.push_back(std::move(r));
   };
-  for (const auto& e : nav.galileo)
-    add(e, e.orbit.toe, e.transmission_sow ? nearestSecondsOfWeek(e.orbit.toe, *e.transmission_sow) : e.orbit.toe, 0);
-  for (const auto& g : nav.glonass) {
-    // tk: seconds of the UTC week (RINEX 3.05 A10), or of the UTC day in some files.
-    const double utc_minus_gpst = g.tb.offsetToSystem_s(TimeSystem::UTC);
-    const GnssTime tb_utc = g.tb + utc_minus_gpst;
-    const double tk = g.message_frame_time_s;
-    GnssTime tx_utc;
-    if (tk >= 86400.0) {
-      tx_utc = nearestSecondsOfWeek(tb_utc, tk);
-    } else {
-      const double day_start_s = std::floor(tb_utc.toGpsSecondsDouble() / 86400.0) * 86400.0;
-      tx_utc = GnssTime::fromGpsSeconds(static_cast<std::int64_t>(day_start_s), 0.0) + tk;
-      if (tb_utc - tx_utc > 43200.0) tx_utc += 86400.0;
-      else if (tx_utc - tb_utc > 43200.0) tx_utc -= 86400.0;
-    }
-    const GnssTime t = tx_utc - utc_minus_gpst;
-    add(g, g.tb, t, 1);
-  }
-  for (const auto& e : nav.gps)
-    add(e, e.orbit.toe, e.transmission_sow ? nearestSecondsOfWeek(e.orbit.toe, *e.transmission_sow) : e.orbit.toe, 2);
+  for (const auto& e : nav.galileo) add(e, e.orbit.toe, transmissionTime(e).value_or(e.orbit.toe), 0);
+  for (const auto& g : nav.glonass) add(g, g.tb, transmissionTime(g), 1);
+  for (const auto& e : nav.gps) add(e, e.orbit.toe, transmissionTime(e).value_or(e.orbit.toe), 2);
 }
 
 void CasterStreamBuilder::addSsrStream(const std::vector<std::uint8_t>& bytes, std::optional<GnssTime> reference) {
