@@ -1,7 +1,8 @@
 // LiveGnssInput (app/live_gnss_input.h): byte chunks of receiver and
 // correction streams in, epochs and one live ephemeris out; the PPP on them
 // must equal ppp_solve's on the same recordings (the nodes' 1 mm promise).
-//  a) ESBC 2020-177, 45 min: the RINEX observations made into an MSM7 stream,
+//  a) ESBC 2020-177, 45 min: the RINEX observations made into an MSM7 stream
+//     by ppp_stream_make's builder (io/caster_stream_builder.h),
 //     the GRG SP3/CLK made into an SSR stream against the station's broadcast
 //     file (ppp_ssr_encode's core), both cut into random chunks and fed
 //     interleaved in arrival order; EKF and smoother epoch by epoch against
@@ -21,11 +22,10 @@
 #include <random>
 
 #include "ppp_bayes_tree/app/live_gnss_input.h"
-#include "ppp_bayes_tree/io/bit_writer.h"
+#include "ppp_bayes_tree/io/caster_stream_builder.h"
 #include "ppp_bayes_tree/io/rinex_nav_reader.h"
 #include "ppp_bayes_tree/io/rinex_obs_reader.h"
 #include "ppp_bayes_tree/io/rtcm3_framer.h"
-#include "ppp_bayes_tree/io/rtcm3_msm_encoder.h"
 #include "ppp_bayes_tree/io/rtcm_ssr_encoder.h"
 #include "ppp_bayes_tree/models/precise_ephemeris.h"
 #include "ppp_bayes_tree/models/ssr_from_precise.h"
@@ -41,72 +41,6 @@ namespace ppp {
 namespace {
 
 std::string esbc(const std::string& file) { return test::dataPath("esbc-2020-177/" + file); }
-
-/// One frame of a stream and when it arrives (GPST seconds, as a double).
-struct TimedFrame {
-  double arrival_s = 0.0;
-  std::vector<std::uint8_t> bytes;
-  GnssTime data_time;  // the epoch it belongs to
-};
-
-/// A RINEX epoch as a decoded stream epoch (GPS only): per signal C/L/D/S, the
-/// LLI of the phase, and a lock time counted from the start of the signal's arc.
-StreamEpoch toStreamEpoch(const ObsEpoch& in, std::map<std::pair<SatelliteId, std::string>, GnssTime>& arc_start) {
-  StreamEpoch out;
-  out.time = in.time;
-  for (std::size_t i = 0; i < in.satellites.size(); ++i) {
-    const SatelliteId sat = in.satellites[i].satellite;
-    if (sat.system != GnssSystem::GPS) continue;
-    StreamSatellite s{sat, {}};
-    for (const Observation* o = in.begin(i); o != in.end(i); ++o) {
-      if (!o->value) continue;
-      StreamSignal* sig = nullptr;
-      for (auto& x : s.signals)
-        if (x.band == o->code.band && x.attribute == o->code.attribute) sig = &x;
-      if (sig == nullptr) {
-        StreamSignal x;
-        x.band = o->code.band;
-        x.attribute = o->code.attribute;
-        s.signals.push_back(x);
-        sig = &s.signals.back();
-      }
-      switch (o->code.type) {
-        case ObservableType::Pseudorange: sig->pseudorange_m = o->value; break;
-        case ObservableType::CarrierPhase:
-          sig->carrier_phase_cycles = o->value;
-          sig->lli = o->lli.value_or(0);
-          break;
-        case ObservableType::Doppler: sig->doppler_hz = o->value; break;
-        case ObservableType::SignalStrength: sig->cnr_dbhz = o->value; break;
-        default: break;
-      }
-    }
-    for (auto& x : s.signals) {
-      const auto key = std::make_pair(sat, std::string{x.band, x.attribute});
-      auto it = arc_start.find(key);
-      if (it == arc_start.end() || (x.lli & 1) || !x.carrier_phase_cycles) it = arc_start.insert_or_assign(key, in.time).first;
-      x.lock_time_s = in.time - it->second;
-    }
-    if (!s.signals.empty()) out.satellites.push_back(std::move(s));
-  }
-  return out;
-}
-
-/// A 1005 station frame (RTCM 10403.3 3.5.3, DF025-DF027 in 0.1 mm): the ARP
-/// that gives the run its approximate position, as a reference station sends it.
-std::vector<std::uint8_t> station1005(const Eigen::Vector3d& arp_ecef_m) {
-  BitWriter w;
-  w.putUnsigned(1005, 12);
-  w.putUnsigned(1, 12);  // station id
-  w.putUnsigned(0, 6);   // ITRF realisation year
-  w.putUnsigned(0b1000, 4);  // GPS, no GLONASS, no Galileo, not a reference-station indicator
-  w.putSigned(std::llround(arp_ecef_m.x() * 1e4), 38);
-  w.putUnsigned(0, 2);  // single receiver oscillator, reserved
-  w.putSigned(std::llround(arp_ecef_m.y() * 1e4), 38);
-  w.putUnsigned(0, 2);  // quarter cycle indicator
-  w.putSigned(std::llround(arp_ecef_m.z() * 1e4), 38);
-  return encodeRtcm3Frame(w.bytes());
-}
 
 std::vector<std::uint8_t> concat(const std::vector<TimedFrame>& frames) {
   std::vector<std::uint8_t> all;
@@ -136,28 +70,33 @@ const EsbcStreams& esbcStreams() {
     s.dir = test::tempDir("live_esbc").string();
     s.nav_path = esbc("ESBC00DNK_R_20201770000_01D_MN.rnx");
     s.atx = {test::dataPath("antex/igs20_gps_satellites_trim.atx"), test::dataPath("antex/igs05_esbc_receiver_trim.atx")};
+    // The caster stream builder (ppp_stream_make's): station 1006/1033 once, GPS
+    // MSM7 0.5 s after each epoch, no ephemerides (the nodes take the RINEX file).
+    CasterStreamOptions options;
+    options.systems = {GnssSystem::GPS};
+    options.station_repeat_s = 0.0;
+    CasterStreamBuilder builder(options);
     test::WindowObservationSource rinex(
         std::make_unique<RinexObservationSource>(esbc("ESBC00DNK_R_20201770000_01D_30S_MO.crx.gz")), s.until);
-    ObsEpoch epoch;
-    std::map<std::pair<SatelliteId, std::string>, GnssTime> arcs;
-    MsmEncodeOptions enc;
-    enc.station_id = 1;
     EXPECT_TRUE(rinex.header().approx_position_ecef_m.has_value());
-    s.obs.push_back({s.start.toGpsSecondsDouble() - 1.0, station1005(rinex.header().approx_position_ecef_m.value_or(
-                                                              Eigen::Vector3d::Zero())), s.start - 1.0});
-    while (rinex.next(epoch) == ObservationRead::Epoch) {
-      const StreamEpoch e = toStreamEpoch(epoch, arcs);
-      for (const auto& payload : encodeMsm7(e, GnssSystem::GPS, enc))
-        s.obs.push_back({e.time.toGpsSecondsDouble() + 0.5, encodeRtcm3Frame(payload), e.time});
-    }
+    builder.setStation(rinex.header());
+    ObsEpoch epoch;
+    while (rinex.next(epoch) == ObservationRead::Epoch) builder.addEpoch(epoch);
     const auto precise = PreciseEphemeris::load({esbc("GRG0MGXFIN_20201770000_01D_15M_ORB.SP3.gz")},
                                                 {esbc("GRG0MGXFIN_20201770000_01D_30S_CLK.CLK.gz")});
-    SsrFromPreciseOptions options;
-    options.systems = {GnssSystem::GPS};
-    const SsrFromPreciseResult ssr =
-        ssrFromPrecise({readRinexNav(s.nav_path)}, precise, nullptr, nullptr, s.start - 60.0, s.until + 60.0, options);
-    for (const auto& m : ssr.messages)
-      s.ssr.push_back({m.header.epoch->toGpsSecondsDouble() + 2.0, encodeSsrFrame(m), *m.header.epoch});
+    SsrFromPreciseOptions ssr_options;
+    ssr_options.systems = {GnssSystem::GPS};
+    const SsrFromPreciseResult ssr = ssrFromPrecise({readRinexNav(s.nav_path)}, precise, nullptr, nullptr,
+                                                    s.start - 60.0, s.until + 60.0, ssr_options);
+    std::vector<std::uint8_t> ssr_bytes;  // SSR 5 s, centre of mass, arriving 2 s after their epoch
+    for (const auto& m : ssr.messages) {
+      const auto f = encodeSsrFrame(m);
+      ssr_bytes.insert(ssr_bytes.end(), f.begin(), f.end());
+    }
+    builder.addSsrStream(ssr_bytes, s.start);
+    EXPECT_EQ(builder.counters().totalProblems(), 0u);
+    s.obs = builder.observationFrames();
+    s.ssr = builder.ssrFrames();
     s.obs_path = s.dir + "/ESBC_msm7.rtcm3";
     s.ssr_path = s.dir + "/SSRC00TST_esbc.rtcm3";
     writeFile(s.obs_path, concat(s.obs));
@@ -589,7 +528,7 @@ TEST(LiveGnssInput, ReceiverRestartWithATimeJumpBackIsCountedAndGoesOn) {
   std::size_t epochs = 0;
   for (std::size_t i = 0; i < s.obs.size(); ++i)
     if (i == 0 || s.obs[i].data_time != s.obs[i - 1].data_time) ++epochs;
-  epochs -= 1;  // the 1005 frame's "epoch"
+  epochs -= 1;  // the station frames (1006, 1033) sent ahead of the first epoch
   ASSERT_EQ(live.streams().size(), 1u);
   EXPECT_EQ(live.streams()[0].restarts, 1u);
   EXPECT_EQ(live.streams()[0].time_backwards, 0u);

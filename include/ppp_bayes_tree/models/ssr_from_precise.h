@@ -6,7 +6,8 @@
 //
 // At every epoch t0 on the interval grid, for every satellite with a precise
 // orbit and clock and a broadcast record a user would select at t0
-// (BroadcastEphemerisStore: healthy, valid, nearest toe; Galileo I/NAV):
+// (BroadcastEphemerisStore: healthy, valid, nearest toe among the records already
+// transmitted at t0 by their RINEX transmission time; Galileo I/NAV):
 //   dX(t)   = X_brdc(t) - X_precise(t)     (so that X = X_brdc - dX, RTCM sign)
 //   dr, da, dc = dX . (e_r, e_a, e_c)     (RAC axes of the broadcast r, v at t)
 //   rates   = (RAC(t0 + U) - RAC(t0)) / U (forward difference over the interval U,

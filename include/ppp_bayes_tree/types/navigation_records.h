@@ -102,4 +102,12 @@ std::optional<std::string> checkKeplerOrbit(const KeplerOrbit& orbit);
 /// Same for a GLONASS state vector (non-finite, radius below 6400 km or above 100000 km).
 std::optional<std::string> checkGlonassState(const GlonassEphemeris& eph);
 
+/// The record's transmission time of message (RINEX 3.05 A6/A8) as an instant: its
+/// seconds of week placed within half a week of toe; nullopt when the file gives none.
+std::optional<GnssTime> transmissionTime(const GpsLnavEphemeris& eph);
+std::optional<GnssTime> transmissionTime(const GalileoEphemeris& eph);
+/// GLONASS: the message frame time tk (RINEX 3.05 A10: seconds of the UTC week, or of
+/// the UTC day in some files) as the GPST instant nearest tb.
+GnssTime transmissionTime(const GlonassEphemeris& eph);
+
 }  // namespace ppp

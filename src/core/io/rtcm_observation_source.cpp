@@ -5,9 +5,15 @@
 
 #include "ppp_bayes_tree/io/line_source.h"
 #include "ppp_bayes_tree/io/parse_error.h"
+#include "ppp_bayes_tree/io/rtcm_ssr_decoder.h"
 
 namespace ppp {
 namespace {
+
+/// SSR frames in the observation stream (a caster stream carrying corrections
+/// too, as ppp_stream_make writes) belong to the correction input (--ssr): left
+/// alone here, not counted as unknown messages.
+bool isCorrectionFrame(const Rtcm3Frame& frame) { return RtcmSsrDecoder::isSsrMessageType(frame.message_type); }
 
 constexpr std::size_t kChunkBytes = 1 << 16;
 
@@ -122,6 +128,7 @@ RtcmObservationSource::RtcmObservationSource(const std::string& path, Rtcm3Decod
   // Scan.
   auto f = openBinary(path);
   Rtcm3Decoder scan(options_);
+  scan.setForeignFrameHandler(isCorrectionFrame);
   StreamSignalInventory inventory;
   std::optional<GnssTime> first, last;
   std::vector<std::uint8_t> chunk(kChunkBytes);
@@ -172,6 +179,7 @@ RtcmObservationSource::RtcmObservationSource(const std::string& path, Rtcm3Decod
   Rtcm3DecoderOptions stream_options = options_;
   stream_options.glonass_channels = header_.glonass_channels;
   decoder_ = std::make_unique<Rtcm3Decoder>(stream_options);
+  decoder_->setForeignFrameHandler(isCorrectionFrame);
   file_ = openBinary(path);
 }
 

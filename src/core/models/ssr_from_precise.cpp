@@ -72,7 +72,13 @@ SsrFromPreciseResult ssrFromPrecise(const std::vector<NavData>& navigation, cons
   EphemerisSelectionOptions selection;
   selection.galileo = GalileoPreference::INavOnly;
   BroadcastEphemerisStore store(selection);
-  for (const auto& nav : navigation) store.add(nav);
+  // As an analysis centre: at t0 only records already transmitted (RINEX transmission
+  // time of message) can be corrected; a record without one serves every instant.
+  for (const auto& nav : navigation) {
+    for (const auto& e : nav.gps) store.add(e, transmissionTime(e));
+    for (const auto& e : nav.galileo) store.add(e, transmissionTime(e));
+    for (const auto& e : nav.glonass) store.add(e, std::optional<GnssTime>(transmissionTime(e)));
+  }
   std::set<SatelliteId> satellites;
   for (const auto& nav : navigation)
     for (const auto& s : nav.satellites)

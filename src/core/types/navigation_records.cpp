@@ -1,6 +1,7 @@
 #include "ppp_bayes_tree/types/navigation_records.h"
 
 #include <cmath>
+#include <cstdint>
 #include <initializer_list>
 
 namespace ppp {
@@ -56,6 +57,45 @@ std::optional<std::string> checkGlonassState(const GlonassEphemeris& eph) {
     return "GLONASS velocity or acceleration implausibly large";
   }
   return std::nullopt;
+}
+
+namespace {
+
+/// The instant of `sow` (seconds of the GPS week) nearest to `near`.
+GnssTime nearestSecondsOfWeek(const GnssTime& near, double sow) {
+  constexpr double kWeek_s = 604800.0;
+  GnssTime t = GnssTime::fromGpsWeek(near.gpsWeek().week, sow);
+  if (t - near > kWeek_s / 2) t -= kWeek_s;
+  else if (near - t > kWeek_s / 2) t += kWeek_s;
+  return t;
+}
+
+}  // namespace
+
+std::optional<GnssTime> transmissionTime(const GpsLnavEphemeris& eph) {
+  if (!eph.transmission_sow) return std::nullopt;
+  return nearestSecondsOfWeek(eph.orbit.toe, *eph.transmission_sow);
+}
+
+std::optional<GnssTime> transmissionTime(const GalileoEphemeris& eph) {
+  if (!eph.transmission_sow) return std::nullopt;
+  return nearestSecondsOfWeek(eph.orbit.toe, *eph.transmission_sow);
+}
+
+GnssTime transmissionTime(const GlonassEphemeris& eph) {
+  const double utc_minus_gpst = eph.tb.offsetToSystem_s(TimeSystem::UTC);
+  const GnssTime tb_utc = eph.tb + utc_minus_gpst;
+  const double tk = eph.message_frame_time_s;
+  GnssTime tx_utc;
+  if (tk >= 86400.0) {
+    tx_utc = nearestSecondsOfWeek(tb_utc, tk);
+  } else {
+    const double day_start_s = std::floor(tb_utc.toGpsSecondsDouble() / 86400.0) * 86400.0;
+    tx_utc = GnssTime::fromGpsSeconds(static_cast<std::int64_t>(day_start_s), 0.0) + tk;
+    if (tb_utc - tx_utc > 43200.0) tx_utc += 86400.0;
+    else if (tx_utc - tb_utc > 43200.0) tx_utc -= 86400.0;
+  }
+  return tx_utc - utc_minus_gpst;
 }
 
 }  // namespace ppp

@@ -1,0 +1,252 @@
+#include "ppp_bayes_tree/io/rtcm3_ephemeris_encoder.h"
+
+#include <cmath>
+#include <optional>
+#include <stdexcept>
+#include <string>
+
+#include "ppp_bayes_tree/io/bit_writer.h"
+#include "ppp_bayes_tree/types/constants.h"
+
+namespace ppp {
+namespace {
+
+constexpr double kDay_s = 86400.0;
+constexpr double kMoscowMinusUtc_s = 3.0 * 3600.0;
+
+double p2(int e) { return std::ldexp(1.0, e); }
+
+/// value / scale, rounded to the nearest integer.
+std::int64_t q(double value, double scale) { return std::llround(value / scale); }
+/// A semicircle quantity (value in radians) on a 2^e grid of semicircles.
+std::int64_t semicircles(double value_rad, int e) { return std::llround(value_rad / kPi / p2(e)); }
+
+double secondsOfWeek(const GnssTime& t) { return t.gpsWeek().seconds_of_week; }
+
+/// The 16 Kepler fields shared by 1019/1044/1045/1046, from crs to omega dot (DF
+/// order of the messages; toe written by `put_toe`).
+template <class PutToe>
+void putKepler(BitWriter& w, const KeplerOrbit& o, PutToe put_toe) {
+  w.putSigned(q(o.crs_m, p2(-5)), 16);
+  w.putSigned(semicircles(o.delta_n_radps, -43), 16);
+  w.putSigned(semicircles(o.m0_rad, -31), 32);
+  w.putSigned(q(o.cuc_rad, p2(-29)), 16);
+  w.putUnsigned(static_cast<std::uint64_t>(q(o.eccentricity, p2(-33))), 32);
+  w.putSigned(q(o.cus_rad, p2(-29)), 16);
+  w.putUnsigned(static_cast<std::uint64_t>(q(o.sqrt_a_sqrtm, p2(-19))), 32);
+  put_toe();
+  w.putSigned(q(o.cic_rad, p2(-29)), 16);
+  w.putSigned(semicircles(o.omega0_rad, -31), 32);
+  w.putSigned(q(o.cis_rad, p2(-29)), 16);
+  w.putSigned(semicircles(o.i0_rad, -31), 32);
+  w.putSigned(q(o.crc_m, p2(-5)), 16);
+  w.putSigned(semicircles(o.omega_rad, -31), 32);
+  w.putSigned(semicircles(o.omega_dot_radps, -43), 24);
+}
+
+}  // namespace
+
+int gpsUraIndex(double ura_m) {
+  static const double table[] = {2.4, 3.4, 4.85, 6.85, 9.65, 13.65, 24.0, 48.0,
+                                 96.0, 192.0, 384.0, 768.0, 1536.0, 3072.0, 6144.0};
+  for (int i = 0; i < 15; ++i)
+    if (ura_m <= table[i]) return i;
+  return 15;
+}
+
+int galileoSisaIndex(const std::optional<double>& sisa_m) {
+  if (!sisa_m || !std::isfinite(*sisa_m) || *sisa_m < 0.0) return 255;
+  const double s = *sisa_m;
+  if (s < 0.5) return static_cast<int>(std::lround(s / 0.01));
+  if (s < 1.0) return 50 + static_cast<int>(std::lround((s - 0.5) / 0.02));
+  if (s < 2.0) return 75 + static_cast<int>(std::lround((s - 1.0) / 0.04));
+  if (s <= 6.0) return 100 + static_cast<int>(std::lround((s - 2.0) / 0.16));
+  return 255;
+}
+
+int ephemerisMessageType(const GpsLnavEphemeris& eph) {
+  return eph.satellite.system == GnssSystem::QZSS ? 1044 : 1019;
+}
+int ephemerisMessageType(const GlonassEphemeris&) { return 1020; }
+int ephemerisMessageType(const GalileoEphemeris& eph) { return eph.type == GalileoNavType::FNav ? 1045 : 1046; }
+int ephemerisMessageType(const BeidouEphemeris&) { return 1042; }
+
+std::vector<std::uint8_t> encodeEphemerisPayload(const GpsLnavEphemeris& e) {
+  const bool qzss = e.satellite.system == GnssSystem::QZSS;
+  if (qzss ? (e.satellite.prn < 1 || e.satellite.prn > 10)
+           : (e.satellite.system != GnssSystem::GPS || e.satellite.prn < 1 || e.satellite.prn > 32)) {
+    throw std::invalid_argument("1019/1044 ephemeris: no satellite number for " + e.satellite.toString());
+  }
+  const KeplerOrbit& o = e.orbit;
+  const int week10 = o.toe.gpsWeek().week % 1024;
+  const std::int64_t toc16 = q(secondsOfWeek(e.clock.toc), 16.0);
+  const std::int64_t toe16 = q(o.toe_sow, 16.0);
+  BitWriter w;
+  w.putUnsigned(static_cast<std::uint64_t>(ephemerisMessageType(e)), 12);
+  if (!qzss) {
+    w.putUnsigned(static_cast<std::uint64_t>(e.satellite.prn), 6);
+    w.putUnsigned(static_cast<std::uint64_t>(week10), 10);
+    w.putUnsigned(static_cast<std::uint64_t>(gpsUraIndex(e.ura_m)), 4);
+    w.putUnsigned(static_cast<std::uint64_t>(e.codes_on_l2), 2);
+    w.putSigned(semicircles(o.idot_radps, -43), 14);
+    w.putUnsigned(static_cast<std::uint64_t>(e.iode), 8);
+    w.putUnsigned(static_cast<std::uint64_t>(toc16), 16);
+    w.putSigned(q(e.clock.af2_sps2, p2(-55)), 8);
+    w.putSigned(q(e.clock.af1_sps, p2(-43)), 16);
+    w.putSigned(q(e.clock.af0_s, p2(-31)), 22);
+    w.putUnsigned(static_cast<std::uint64_t>(e.iodc), 10);
+  } else {
+    w.putUnsigned(static_cast<std::uint64_t>(e.satellite.prn), 4);
+    w.putUnsigned(static_cast<std::uint64_t>(toc16), 16);
+    w.putSigned(q(e.clock.af2_sps2, p2(-55)), 8);
+    w.putSigned(q(e.clock.af1_sps, p2(-43)), 16);
+    w.putSigned(q(e.clock.af0_s, p2(-31)), 22);
+    w.putUnsigned(static_cast<std::uint64_t>(e.iode), 8);
+  }
+  putKepler(w, o, [&] { w.putUnsigned(static_cast<std::uint64_t>(toe16), 16); });
+  if (!qzss) {
+    w.putSigned(q(e.tgd_s, p2(-31)), 8);
+    w.putUnsigned(static_cast<std::uint64_t>(e.health), 6);
+    w.putUnsigned(static_cast<std::uint64_t>(e.l2p_data_flag), 1);
+    w.putFlag(e.fit_interval_h > 4.0);  // DF137: 0 = 4 h, 1 = more than 4 h
+  } else {
+    w.putSigned(semicircles(o.idot_radps, -43), 14);
+    w.putUnsigned(static_cast<std::uint64_t>(e.codes_on_l2), 2);
+    w.putUnsigned(static_cast<std::uint64_t>(week10), 10);
+    w.putUnsigned(static_cast<std::uint64_t>(gpsUraIndex(e.ura_m)), 4);
+    w.putUnsigned(static_cast<std::uint64_t>(e.health), 6);
+    w.putSigned(q(e.tgd_s, p2(-31)), 8);
+    w.putUnsigned(static_cast<std::uint64_t>(e.iodc), 10);
+    w.putFlag(e.fit_interval_h > 2.0);  // DF187: 0 = 2 h, 1 = more than 2 h
+  }
+  return w.bytes();
+}
+
+std::vector<std::uint8_t> encodeEphemerisPayload(const GlonassEphemeris& g) {
+  if (g.satellite.system != GnssSystem::GLONASS || g.satellite.prn < 1 || g.satellite.prn > 63)
+    throw std::invalid_argument("1020 ephemeris: no slot number for " + g.satellite.toString());
+  // tk: RINEX gives the message frame time as seconds of the UTC week (or day);
+  // the message holds the Moscow time of day in 30-s steps.
+  const double tk_tod = std::fmod(std::fmod(g.message_frame_time_s + kMoscowMinusUtc_s, kDay_s) + kDay_s, kDay_s);
+  const int tk_s = static_cast<int>(std::floor(tk_tod + 1e-6));
+  // tb: the Moscow time of day of the reference epoch in 15-min steps (1..96).
+  const GnssTime tb_glo = g.tb + g.tb.offsetToSystem_s(TimeSystem::GLONASS);
+  const double tb_tod = std::fmod(std::fmod(tb_glo.toGpsSecondsDouble(), kDay_s) + kDay_s, kDay_s);
+  int tb = static_cast<int>(std::lround(tb_tod / 900.0));
+  if (tb == 0) tb = 96;  // 24:00 of the day before: the same instant modulo the day
+  BitWriter w;
+  w.putUnsigned(1020, 12);
+  w.putUnsigned(static_cast<std::uint64_t>(g.satellite.prn), 6);
+  w.putUnsigned(static_cast<std::uint64_t>(g.frequency_channel + 7), 5);
+  w.putUnsigned(0, 1);  // almanac health
+  w.putUnsigned(0, 1);  // almanac health availability
+  w.putUnsigned(0, 2);  // P1
+  w.putUnsigned(static_cast<std::uint64_t>(tk_s / 3600), 5);
+  w.putUnsigned(static_cast<std::uint64_t>((tk_s % 3600) / 60), 6);
+  w.putUnsigned((tk_s % 60) >= 30 ? 1u : 0u, 1);
+  w.putUnsigned(static_cast<std::uint64_t>(g.health & 1), 1);  // Bn MSB
+  w.putUnsigned(0, 1);                                          // P2
+  w.putUnsigned(static_cast<std::uint64_t>(tb), 7);
+  for (int axis = 0; axis < 3; ++axis) {
+    w.putSignMagnitude(q(g.velocity_mps[axis] * 1e-3, p2(-20)), 24);
+    w.putSignMagnitude(q(g.position_m[axis] * 1e-3, p2(-11)), 27);
+    w.putSignMagnitude(q(g.acceleration_mps2[axis] * 1e-3, p2(-30)), 5);
+  }
+  w.putUnsigned(0, 1);  // P3
+  w.putSignMagnitude(q(g.gamma_n, p2(-40)), 11);
+  w.putUnsigned(0, 2);  // P
+  w.putUnsigned(0, 1);  // ln (third string)
+  w.putSignMagnitude(q(-g.minus_tau_n_s, p2(-30)), 22);
+  w.putSignMagnitude(0, 5);  // delta tau
+  w.putUnsigned(static_cast<std::uint64_t>(std::lround(g.age_days)), 5);
+  // Fields no decoder of ours reads, present so that the message has its full
+  // 360 bits (RTCM 10403.3 table 3.5-12): P4, FT, NT, M, additional data
+  // availability, NA, tauC, N4, tauGPS, ln (fifth string), reserved.
+  w.putUnsigned(0, 1);
+  w.putUnsigned(15, 4);  // FT: accuracy not given
+  w.putUnsigned(0, 11);
+  w.putUnsigned(1, 2);  // M: GLONASS-M
+  w.putUnsigned(0, 1);  // no additional data
+  w.putUnsigned(0, 11);
+  w.putSignMagnitude(0, 32);
+  w.putUnsigned(0, 5);
+  w.putSignMagnitude(0, 22);
+  w.putUnsigned(0, 1);
+  w.putUnsigned(0, 7);
+  return w.bytes();
+}
+
+std::vector<std::uint8_t> encodeEphemerisPayload(const GalileoEphemeris& e) {
+  if (e.satellite.system != GnssSystem::Galileo || e.satellite.prn < 1 || e.satellite.prn > 63)
+    throw std::invalid_argument("1045/1046 ephemeris: no satellite number for " + e.satellite.toString());
+  const KeplerOrbit& o = e.orbit;
+  const bool fnav = e.type == GalileoNavType::FNav;
+  const int gst_week = ((o.toe.gpsWeek().week - 1024) % 4096 + 4096) % 4096;
+  BitWriter w;
+  w.putUnsigned(static_cast<std::uint64_t>(ephemerisMessageType(e)), 12);
+  w.putUnsigned(static_cast<std::uint64_t>(e.satellite.prn), 6);
+  w.putUnsigned(static_cast<std::uint64_t>(gst_week), 12);
+  w.putUnsigned(static_cast<std::uint64_t>(e.iod_nav), 10);
+  w.putUnsigned(static_cast<std::uint64_t>(galileoSisaIndex(e.sisa_m)), 8);
+  w.putSigned(semicircles(o.idot_radps, -43), 14);
+  w.putUnsigned(static_cast<std::uint64_t>(q(secondsOfWeek(e.clock.toc), 60.0)), 14);
+  w.putSigned(q(e.clock.af2_sps2, p2(-59)), 6);
+  w.putSigned(q(e.clock.af1_sps, p2(-46)), 21);
+  w.putSigned(q(e.clock.af0_s, p2(-34)), 31);
+  putKepler(w, o, [&] { w.putUnsigned(static_cast<std::uint64_t>(q(o.toe_sow, 60.0)), 14); });
+  w.putSigned(q(e.bgd_e5a_e1_s, p2(-32)), 10);
+  if (fnav) {
+    w.putUnsigned(static_cast<std::uint64_t>((e.health >> 4) & 3), 2);  // E5a HS
+    w.putUnsigned(static_cast<std::uint64_t>((e.health >> 3) & 1), 1);  // E5a DVS
+    w.putUnsigned(0, 7);                                                // reserved
+  } else {
+    w.putSigned(q(e.bgd_e5b_e1_s.value_or(0.0), p2(-32)), 10);
+    w.putUnsigned(static_cast<std::uint64_t>((e.health >> 7) & 3), 2);  // E5b HS
+    w.putUnsigned(static_cast<std::uint64_t>((e.health >> 6) & 1), 1);  // E5b DVS
+    w.putUnsigned(static_cast<std::uint64_t>((e.health >> 1) & 3), 2);  // E1-B HS
+    w.putUnsigned(static_cast<std::uint64_t>(e.health & 1), 1);         // E1-B DVS
+    w.putUnsigned(0, 2);                                                // reserved
+  }
+  return w.bytes();
+}
+
+std::vector<std::uint8_t> encodeEphemerisPayload(const BeidouEphemeris& e) {
+  if (e.satellite.system != GnssSystem::BeiDou || e.satellite.prn < 1 || e.satellite.prn > 63)
+    throw std::invalid_argument("1042 ephemeris: no satellite number for " + e.satellite.toString());
+  const KeplerOrbit& o = e.orbit;
+  constexpr double kBdtMinusGpst_s = -14.0;
+  const double toc_bdt_sow = secondsOfWeek(e.clock.toc + kBdtMinusGpst_s);
+  BitWriter w;
+  w.putUnsigned(1042, 12);
+  w.putUnsigned(static_cast<std::uint64_t>(e.satellite.prn), 6);
+  w.putUnsigned(static_cast<std::uint64_t>(((e.bdt_week % 8192) + 8192) % 8192), 13);
+  w.putUnsigned(static_cast<std::uint64_t>(e.urai), 4);
+  w.putSigned(semicircles(o.idot_radps, -43), 14);
+  w.putUnsigned(static_cast<std::uint64_t>(e.aode), 5);
+  w.putUnsigned(static_cast<std::uint64_t>(q(toc_bdt_sow, 8.0)), 17);
+  w.putSigned(q(e.clock.af2_sps2, p2(-66)), 11);
+  w.putSigned(q(e.clock.af1_sps, p2(-50)), 22);
+  w.putSigned(q(e.clock.af0_s, p2(-33)), 24);
+  w.putUnsigned(static_cast<std::uint64_t>(e.aodc), 5);
+  w.putSigned(q(o.crs_m, p2(-6)), 18);
+  w.putSigned(semicircles(o.delta_n_radps, -43), 16);
+  w.putSigned(semicircles(o.m0_rad, -31), 32);
+  w.putSigned(q(o.cuc_rad, p2(-31)), 18);
+  w.putUnsigned(static_cast<std::uint64_t>(q(o.eccentricity, p2(-33))), 32);
+  w.putSigned(q(o.cus_rad, p2(-31)), 18);
+  w.putUnsigned(static_cast<std::uint64_t>(q(o.sqrt_a_sqrtm, p2(-19))), 32);
+  w.putUnsigned(static_cast<std::uint64_t>(q(o.toe_sow, 8.0)), 17);
+  w.putSigned(q(o.cic_rad, p2(-31)), 18);
+  w.putSigned(semicircles(o.omega0_rad, -31), 32);
+  w.putSigned(q(o.cis_rad, p2(-31)), 18);
+  w.putSigned(semicircles(o.i0_rad, -31), 32);
+  w.putSigned(q(o.crc_m, p2(-6)), 18);
+  w.putSigned(semicircles(o.omega_rad, -31), 32);
+  w.putSigned(semicircles(o.omega_dot_radps, -43), 24);
+  w.putSigned(q(e.tgd1_s, 1e-10), 10);
+  w.putSigned(q(e.tgd2_s, 1e-10), 10);
+  w.putUnsigned(static_cast<std::uint64_t>(e.health & 1), 1);
+  return w.bytes();
+}
+
+}  // namespace ppp
