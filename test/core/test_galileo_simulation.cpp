@@ -13,6 +13,7 @@
 #include "ppp_bayes_tree/models/ionosphere_free.h"
 #include "ppp_bayes_tree/ppp/epoch_estimator.h"
 #include "ppp_bayes_tree/ppp/ppp_pipeline.h"
+#include "ppp_bayes_tree/ppp/yaml_section.h"
 #include "ppp_bayes_tree/simulation/gnss_simulator.h"
 #include "ppp_bayes_tree/simulation/gps_constellation.h"
 #include "ppp_bayes_tree/types/carrier_frequency.h"
@@ -194,4 +195,52 @@ TEST(GalileoSimulation, GpsGalileoFlightConvergesWithTwoClocks) {
   // and the phases over the arcs: decimetres, against an offset of metres.
   EXPECT_LT(std::abs(offset_last), 0.5);
   EXPECT_GT(std::abs(f.drawn.galileo_clock_offset_s * kSpeedOfLight_mps), 1.0);  // seed 3: 18.7 m (a real test)
+}
+
+// Galileo has its own random streams (geometry, clocks, clock offset, per
+// satellite): adding it leaves every GPS observation of a flight bit-identical,
+// so GPS-only studies keep their numbers.
+TEST(GalileoSimulation, AddingGalileoLeavesTheGpsObservationsUnchanged) {
+  SimulationConfig c;
+  c.duration_s = 60.0;
+  const SimulatedFlight g = simulateFlight(c, 5);
+  c.systems = {GnssSystem::GPS, GnssSystem::Galileo};
+  const SimulatedFlight ge = simulateFlight(c, 5);
+  ASSERT_EQ(g.epochs.size(), ge.epochs.size());
+  std::size_t compared = 0, galileo = 0;
+  for (std::size_t e = 0; e < g.epochs.size(); ++e) {
+    std::vector<std::pair<std::string, double>> a, b;
+    for (const auto& so : g.epochs[e].satellites)
+      for (std::uint32_t i = 0; i < so.count; ++i) {
+        const auto& o = g.epochs[e].observations[so.first + i];
+        a.push_back({so.satellite.toString() + o.code.toString(), *o.value});
+      }
+    for (const auto& so : ge.epochs[e].satellites) {
+      if (so.satellite.system != GnssSystem::GPS) {
+        ++galileo;
+        continue;
+      }
+      for (std::uint32_t i = 0; i < so.count; ++i) {
+        const auto& o = ge.epochs[e].observations[so.first + i];
+        b.push_back({so.satellite.toString() + o.code.toString(), *o.value});
+      }
+    }
+    ASSERT_EQ(a, b) << "epoch " << e;
+    compared += a.size();
+  }
+  EXPECT_GT(compared, 1000u);
+  EXPECT_GT(galileo, 100u);
+  EXPECT_EQ(g.truth.back().clock_m, ge.truth.back().clock_m);
+}
+
+TEST(GalileoSimulation, ConfigurationSpellsTheSystems) {
+  const SimulationConfig ge = parseSimulationConfig("constellation: { systems: GE, galileo_satellites: 22 }", "t.yaml");
+  ASSERT_EQ(ge.systems.size(), 2u);
+  EXPECT_TRUE(ge.simulates(GnssSystem::Galileo));
+  EXPECT_EQ(ge.galileo_satellites, 22);
+  EXPECT_FALSE(SimulationConfig{}.simulates(GnssSystem::Galileo));
+  EXPECT_THROW(parseSimulationConfig("constellation: { systems: GR }", "t.yaml"), ConfigError);
+  SimulationConfig bad;
+  bad.systems = {GnssSystem::GPS, GnssSystem::BeiDou};
+  EXPECT_THROW(simulateFlight(bad, 1), std::invalid_argument);
 }
