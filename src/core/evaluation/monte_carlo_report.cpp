@@ -211,7 +211,16 @@ std::string monteCarloJson(const MonteCarloResult& r) {
     j << (e ? ", " : "") << jsonString(monteCarloEstimatorKey(e)) << ": {\"median_s\": " << jsonArray(s.convergence_median_s[ei])
       << ", \"never\": " << jsonArray(never) << "}";
   }
-  j << "},\n  \"epochs_without_solution\": {";
+  j << "}";
+  if (o.ppp.ambiguity_resolution.enabled) {  // fixed share and time to first fix (EKF, smoother)
+    j << ",\n  \"ambiguity_resolution\": {";
+    for (std::size_t e = 0; e < 2; ++e)
+      j << (e ? ", " : "") << jsonString(e == 0 ? "ekf" : "smoother") << ": {\"fixed_share\": "
+        << jsonNumber(s.fixed_share[e], 10) << ", \"first_fix_median_s\": " << jsonNumber(s.first_fix_median_s[e], 10)
+        << ", \"never_fixed\": " << s.never_fixed[e] << "}";
+    j << "}";
+  }
+  j << ",\n  \"epochs_without_solution\": {";
   for (int e = 0; e < kMonteCarloEstimators; ++e)
     j << (e ? ", " : "") << jsonString(monteCarloEstimatorKey(e)) << ": " << s.epochs_without_solution[static_cast<std::size_t>(e)];
   j << "},\n  \"bias_arcs_compared\": " << s.bias_arcs_compared
