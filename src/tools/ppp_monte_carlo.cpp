@@ -5,7 +5,9 @@
 //                        [--profiles loiter,survey,figure8,climb] [--threads N]
 //                        [--config PPP_YAML] [--sim-config SIMULATION_YAML]
 //                        [--fixed-origin] [--fixed-start] [--smoother-lag 60]
-//                        [--ambiguity-resolution]
+//                        [--ambiguity-resolution] [--systems G|GE]
+// --systems GE: GPS L1/L2 and Galileo E1/E5a (nominal Walker 24/3/1), one
+// receiver clock per system in both estimators (default G: GPS only).
 // --ambiguity-resolution: integer ambiguity resolution (PPP-AR) on in both
 // estimators, the flights simulated with satellite phase biases published as
 // phase OSBs (errors.ambiguity.satellite_phase_biases).
@@ -45,7 +47,7 @@ int usage(const std::string& why) {
             << "                       [--profiles loiter,survey,figure8,climb] [--threads N]\n"
             << "                       [--config PPP_YAML] [--sim-config SIMULATION_YAML]\n"
             << "                       [--fixed-origin] [--fixed-start] [--smoother-lag 60]\n"
-            << "                       [--ambiguity-resolution]\n";
+            << "                       [--ambiguity-resolution] [--systems G|GE]\n";
   return 2;
 }
 
@@ -102,6 +104,7 @@ int main(int argc, char** argv) {
   options.smoother_filtered_lag_s = 60.0;
   std::string out, config_path, sim_config_path, profiles;
   bool have_seed = false, ambiguity_resolution = false;
+  std::string systems;  // empty: the simulation configuration's (default G)
   double duration_min = 30.0;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
@@ -124,6 +127,10 @@ int main(int argc, char** argv) {
     else if (a == "--config") config_path = v;
     else if (a == "--sim-config") sim_config_path = v;
     else if (a == "--profiles") profiles = v;
+    else if (a == "--systems") {
+      if (v != "G" && v != "GE") return usage("--systems must be G or GE");
+      systems = v;
+    }
     else if (a == "--smoother-lag") {
       if (!parseNumber(v, x) || x < 0.0) return usage("--smoother-lag must be >= 0 s");
       options.smoother_filtered_lag_s = x;
@@ -163,6 +170,8 @@ int main(int argc, char** argv) {
     }
     if (!config_path.empty()) options.ppp = ppp::loadPppConfig(config_path);
     if (!sim_config_path.empty()) options.simulation = ppp::loadSimulationConfig(sim_config_path);
+    if (systems == "G") options.simulation.systems = {ppp::GnssSystem::GPS};
+    if (systems == "GE") options.simulation.systems = {ppp::GnssSystem::GPS, ppp::GnssSystem::Galileo};
     if (ambiguity_resolution) {  // PPP-AR in both estimators, on flights with published phase OSBs
       options.ppp.ambiguity_resolution.enabled = true;
       options.simulation.errors.ambiguity.satellite_phase_biases = true;

@@ -119,7 +119,7 @@ struct MonteCarloFlightSetup {
 MonteCarloFlightSetup monteCarloFlightSetup(const MonteCarloOptions& options, int index);
 /// The estimators' configuration for a simulated flight: the flight's physics
 /// (its model options: which corrections the simulator applied) with the
-/// weights and cutoff of `ppp`.
+/// weights and cutoff of `ppp`, and the flight's systems (one receiver clock each).
 PppConfig flightPppConfig(const PppConfig& ppp, const SimulatedFlight& f);
 /// The simulation configuration of a flight.
 SimulationConfig monteCarloSimulationConfig(const MonteCarloOptions& options, const MonteCarloFlightSetup& setup);
@@ -139,6 +139,8 @@ struct MonteCarloFlightRun {
   /// Per estimator and epoch: 3D error [m], NaN when that epoch has no solution.
   std::array<std::vector<double>, kMonteCarloEstimators> error_3d_m;
   std::array<std::vector<BiasErrorSample>, kMonteCarloEstimators> bias;
+  /// Per epoch: the EKF's and the smoother's filtered solution FIXED (PPP-AR) [0, 1].
+  std::array<std::vector<char>, 2> fixed;
   /// Per epoch |x_EKF - x_smoother filtered| [m], NaN unless both have a solution.
   std::vector<double> filtered_minus_ekf_m;
   std::size_t bias_arcs_compared = 0;      // estimator arcs with samples (smoother run)
@@ -174,6 +176,13 @@ struct MonteCarloSummary {
   /// and the number of flights that never converge.
   std::array<std::vector<double>, kMonteCarloEstimators> convergence_median_s;
   std::array<std::vector<int>, kMonteCarloEstimators> convergence_never;
+  /// PPP-AR, [0] EKF, [1] smoother (filtered; its fixes are in the smoothed
+  /// solution too): fixed epochs / epochs with a solution, the median over flights
+  /// of the time to the first fixed epoch (a flight never fixed counts as +inf),
+  /// and the flights never fixed.
+  std::array<double, 2> fixed_share{};
+  std::array<double, 2> first_fix_median_s{};
+  std::array<int, 2> never_fixed{};
   /// 3D error versus time since the flight start, over flights [m].
   std::array<std::vector<QuantileBin>, kMonteCarloEstimators> error_vs_time;
   /// Bias error versus arc age [m].

@@ -35,5 +35,8 @@ struct GpsSp3Summary {
   std::size_t satellites = 0;
 };
 GpsSp3Summary gpsOnlySp3(const Sp3File& sp3);
+/// The same writer for the satellites of `systems` ("%c M" when not GPS only;
+/// the simulator's products with Galileo). gpsOnlySp3 = sp3Copy(sp3, {GPS}).
+GpsSp3Summary sp3Copy(const Sp3File& sp3, const std::vector<GnssSystem>& systems);
 
 }  // namespace ppp

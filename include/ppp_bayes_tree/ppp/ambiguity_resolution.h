@@ -25,7 +25,7 @@
 //     changed, so a wrong fix does not propagate: the next epoch resolves anew
 //     from the float state (resolve()).
 //
-// Validation and hold (resolveAndHold(), what the EKF uses):
+// Validation and hold (resolveAndHold(), what the EKF and the smoother use):
 //  5. Consistency of the floats before fixing: a single difference is offered
 //     to the search only when its float value has stayed within
 //     hold.max_float_spread_cycles over the last hold.consistency_epochs epochs
@@ -147,6 +147,7 @@ std::string toString(AmbiguityReleaseReason reason);
 
 struct AmbiguityRelease {
   SatelliteId satellite, reference_satellite;
+  ArcId arc = 0, reference_arc = 0;  // the single difference's arcs (a smoother removes its factor by them)
   AmbiguityReleaseReason reason = AmbiguityReleaseReason::FloatDeparted;
   double departure_cycles = 0.0;  // float - held (FloatDeparted)
 };
@@ -218,6 +219,11 @@ class AmbiguityResolver {
                                                     const std::map<ArcId, double>* elevation_rad = nullptr);
   /// Releases every held integer (e.g. after a filter reset); counted.
   void releaseAll();
+  /// Holds an integer decided outside the search (dN1 of `arc` against
+  /// `reference_arc` with that wide lane), e.g. one restored after a restart,
+  /// or a deliberately wrong one in a wrong-fix injection test. From the next
+  /// resolveAndHold() on it is validated and released like a searched one.
+  void holdInteger(ArcId arc, ArcId reference_arc, long wide_lane_cycles, long narrow_lane_cycles);
   int heldCount() const { return static_cast<int>(held_.size()); }
   long releasesTotal() const { return releases_total_; }
 

@@ -92,13 +92,16 @@ class SmootherEstimator : public EpochEstimator {
   const PppSmoother& smoother() const { return smoother_; }
   PppSmoother& smoother() { return smoother_; }
   const EstimatorEpochResult& lastResult() const { return last_; }
-  /// PPP-AR (when enabled): the same AmbiguityResolver decision as the EKF's, on
-  /// the smoother's filtered joint (root clique); a fix is held in the graph
-  /// (PppSmoother::holdIntegerConstraints) after the held fixes were validated
-  /// (PppSmoother::validateHeldFixes). The result's solution is then the filtered
-  /// solution with the fixes; FIXED while held fixes cover at least
-  /// narrow_lane.min_fixed of this epoch's arcs.
+  /// PPP-AR (when enabled): the EKF's decision path, AmbiguityResolver::resolveAndHold,
+  /// on the smoother's float joint (PppSmoother::floatJoint: root clique, held
+  /// fixes taken out); the held integers are held in the graph
+  /// (PppSmoother::holdIntegerConstraints) and one released as wrong is removed
+  /// (PppSmoother::releaseFixes). The result's solution is then the filtered
+  /// solution with the fixes; FIXED when the resolver holds at least
+  /// narrow_lane.min_fixed integers (as the EKF).
   void resolveAmbiguities(const EstimatorEpochInput& input, EstimatorEpochResult& r);
+  /// The resolver (e.g. to hold an integer restored after a restart).
+  AmbiguityResolver& resolver() { return ambiguity_; }
 
  private:
   PppSmoother smoother_;

@@ -39,14 +39,18 @@
 // prior of its filtered estimate and variance (counted in resets(), reported by the
 // result's estimator_reset). The states before the restart keep their last estimate.
 // AMBIGUITY RESOLUTION (issue 15; SmootherEstimator drives it with the EKF's
-// AmbiguityResolver): after each update the resolver decides on the filtered
-// joint of the newest state and the observed biases (root clique: cheap); the
-// accepted integers enter the graph as IntegerAmbiguityFactors (held fixes,
-// integer_ambiguity_factor.h), so the smoothed trajectory improves before the fix
-// epoch too. Each epoch the held fixes are validated against the float solution of
-// all data (validateHeldFixes) and a wrong one is removed from the graph. Fixed
-// lag: a held fix whose biases are marginalized becomes part of the marginal
-// prior (it can no longer be removed).
+// AmbiguityResolver and its one decision path, resolveAndHold: consistency
+// window, partial fixing, validation across epochs, hold, release): after each
+// update the resolver decides on the float joint of the newest state and the
+// observed biases (root clique: cheap; floatJoint() takes the held fixes'
+// information out again); the held integers enter the graph as
+// IntegerAmbiguityFactors (integer_ambiguity_factor.h), so the smoothed trajectory
+// improves before the fix epoch too. A held integer the resolver releases as
+// wrong (float departed, wide lane changed) is removed from the graph
+// (releaseFixes: remove_factor_indices); one released because its arc ended stays
+// (it still constrains the arc's bias over its epochs). Fixed lag: a held fix whose
+// biases are marginalized becomes part of the marginal prior (it can no longer be
+// removed).
 // LIVE USE (bounded memory): with a marginalized-state sink
 // (setMarginalizedStateSink), every state that leaves the graph (past the lag, or
 // before a restart) is handed once, in time order, to the sink with its final
@@ -60,6 +64,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "ppp_bayes_tree/ppp/code_least_squares.h"
@@ -148,20 +153,21 @@ class PppSmoother : public PppEstimatorBase, public SmoothedTrajectoryProvider {
   const EpochSolution& filteredSolution() const { return filtered_; }
   /// Adds the integer constraints A x = y (rows over filteredJoint()'s layout, zero
   /// on the receiver part; y [cycles]) as factors with sigma
-  /// fixed_ambiguity_sigma_cycles, except the rows that the held fixes already imply
-  /// (their variance under the joint below (3 sigma)^2); one iSAM2 update; refreshes
-  /// the filtered solution and joint. Returns the number of factors added; throws
-  /// what the update throws.
+  /// fixed_ambiguity_sigma_cycles, except the rows on the arcs of a fix already
+  /// held (the resolver's held set is passed every epoch); one iSAM2 update;
+  /// refreshes the filtered solution and joint. Returns the number of factors
+  /// added; throws what the update throws.
   int holdIntegerConstraints(const Eigen::MatrixXd& A, const Eigen::VectorXd& y);
-  /// Validates the held fixes whose arcs were all observed at the last epoch
-  /// against the float solution of all data so far (the joint with the fixes' own
-  /// information taken out again, exactly: Q_float^-1 = C_fix^-1 - Sigma_fix^-1):
-  /// a fix whose float value lies more than fix_rejection_sigmas float sigmas and
-  /// fix_rejection_min_cycles from its integer is wrong; its factor is removed
-  /// (remove_factor_indices) and the filtered solution refreshed. Returns the
-  /// number removed. Fixed lag: a fix whose biases were marginalized is part of the
-  /// marginal prior from then on (no longer removable) and leaves the held set.
-  int validateHeldFixes();
+  /// The filtered joint WITHOUT the held fixes (the float solution of all data so
+  /// far): the information of every held fix whose arcs are all in the joint is
+  /// taken out exactly (fixes on arcs outside it stay in: they can no longer be
+  /// separated from the marginal). What the resolver decides on, as the EKF's
+  /// float state. nullopt: not separable numerically.
+  std::optional<FilteredJoint> floatJoint() const;
+  /// Removes the held fixes on these single differences (arc pairs, either order)
+  /// from the graph (remove_factor_indices: a wrong fix released by the resolver),
+  /// counted in fixesRemoved(); refreshes the filtered solution. Returns the number removed.
+  int releaseFixes(const std::vector<std::pair<ArcId, ArcId>>& pairs);
   /// Held fixes whose arcs were all observed at the last epoch.
   int heldFixCount() const;
   /// A fix held in the graph: its factor (an IntegerAmbiguityFactor), its index in

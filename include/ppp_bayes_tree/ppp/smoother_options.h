@@ -34,13 +34,10 @@ struct PppSmootherOptions {
   /// 0: full smoother (every state kept); > 0: fixed-lag smoother with this lag [s].
   double fixed_lag_s = 0.0;
   /// Ambiguity resolution (when enabled in the PPP config): sigma of each fixed
-  /// ambiguity's factor [narrow-lane cycles] (integer_ambiguity_factor.h), and the
-  /// validation of the held fixes: a fix whose float value (the graph's estimate
-  /// without the fixes) lies more than fix_rejection_sigmas float sigmas AND more
-  /// than fix_rejection_min_cycles from its integer is removed.
+  /// ambiguity's factor [narrow-lane cycles] (integer_ambiguity_factor.h). Which
+  /// fixes are held and when one is released is the AmbiguityResolver's decision
+  /// (resolveAndHold, the EKF's path; its hold options).
   double fixed_ambiguity_sigma_cycles = 0.01;
-  double fix_rejection_sigmas = 4.0;
-  double fix_rejection_min_cycles = 0.25;
 
   /// Empty when valid, else the first problem.
   std::string validate() const;

@@ -1,6 +1,8 @@
 #pragma once
 // GNSS observation simulator for UAV flights (issue 6): dual-frequency GPS
-// L1/L2 pseudoranges and carrier phases along a trajectory, with the error
+// L1/L2 (and, with config.systems GE, Galileo E1/E5a on the nominal Walker
+// 24/3/1 constellation, with its own receiver clock = GPS clock + a constant
+// offset; issue 15) pseudoranges and carrier phases along a trajectory, with the error
 // model of SimulationConfig, plus the "precise products" (truth + product
 // error) and the truth (position, ZWD, clock, arc biases).
 //
@@ -33,6 +35,11 @@
 // model; truth[k] belongs to epochs[k]. simulateFlight() has no shared state
 // and can run concurrently on different threads. A PppMeasurementModel keeps a
 // reference to `products`: do not move the SimulatedFlight while it is in use.
+//
+// Galileo satellites need nothing else from the products: the simulation and the
+// estimators use no satellite antenna calibration (simulationModelOptions():
+// satellite_antenna off, zero PCO for every satellite), so the shared ANTEX
+// files' lack of Galileo entries does not arise.
 //
 // Determinism: every random quantity comes from RandomStream sub-streams of the
 // seed (one per error term and satellite), so the same seed and configuration
@@ -68,6 +75,7 @@ struct DrawnParameters {
   double vtec0_tecu = 0.0, vtec_rate_tecu_per_h = 0.0;
   double clock_initial_s = 0.0, clock_drift_s_per_s = 0.0;
   int clock_steps = 0;
+  double galileo_clock_offset_s = 0.0;  // Galileo receiver clock - GPS receiver clock
   double phase_sigma_l1_m = 0.0, phase_sigma_l2_m = 0.0;
   double orbit_error_rms_m = 0.0, clock_error_rms_m = 0.0;  // over satellites, at the flight midpoint
   std::vector<std::string> describe() const;
@@ -111,7 +119,8 @@ struct SignalTruth {
 struct TruthEpoch {
   TrajectorySample trajectory;  // time, position, velocity, attitude
   double zwd_m = 0.0;           // true zenith wet delay at the receiver
-  double clock_m = 0.0;         // c * receiver clock offset
+  double clock_m = 0.0;         // c * receiver clock offset (GPS)
+  double galileo_clock_m = 0.0; // c * Galileo receiver clock offset (Galileo simulated; else 0)
   std::vector<SignalTruth> signals;  // tracked satellites, same order as the ObsEpoch
 };
 

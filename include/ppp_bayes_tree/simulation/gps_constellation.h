@@ -15,6 +15,11 @@
 // (Greenwich meridian aligned with the inertial x axis at t_ref).
 // Velocities (ECEF) include the -omega x r term.
 //
+// Galileo (galileoWalkerOptions): Walker 24/3/1 at 23 222 km altitude over the
+// equatorial radius (semi-major axis 29 600.137 km, period 14 h 04 min), inclination
+// 56 deg, GM of the Galileo OS SIS ICD; satellites E01..E24, planes k mod 3.
+// Several constellations are sampled separately and merged (mergeProducts).
+//
 // Satellite clocks: bias uniform in +-0.5 ms and drift uniform in +-1e-11 s/s
 // per satellite (typical broadcast af0/af1 sizes), drawn from the seed.
 #include <Eigen/Core>
@@ -23,12 +28,15 @@
 
 #include "ppp_bayes_tree/io/rinex_clock_reader.h"
 #include "ppp_bayes_tree/io/sp3_reader.h"
+#include "ppp_bayes_tree/types/constants.h"
 #include "ppp_bayes_tree/types/gnss_time.h"
 #include "ppp_bayes_tree/types/satellite_id.h"
 
 namespace ppp {
 
 struct WalkerConstellationOptions {
+  GnssSystem system = GnssSystem::GPS;  // satellites are <system><k+1>
+  double gm_m3ps2 = kGmGps_m3ps2;       // of the system's ICD (its broadcast orbits)
   int satellites = 30;                  // 24..32
   int planes = 6;
   int phasing = 1;                      // Walker F
@@ -52,10 +60,18 @@ struct KeplerianElements {
   double mean_anomaly_rad = 0.0;        // at t_ref
 };
 
+/// The nominal Galileo constellation: Walker 24/3/1, 23 222 km altitude, 56 deg.
+WalkerConstellationOptions galileoWalkerOptions();
+/// Galileo nominal altitude over the equatorial radius [m] (issue 15; ESA).
+constexpr double kGalileoAltitude_m = 23222.0e3;
+
 class WalkerConstellation {
  public:
   explicit WalkerConstellation(WalkerConstellationOptions options = {});
   const std::vector<KeplerianElements>& satellites() const { return elements_; }
+  const WalkerConstellationOptions& options() const { return options_; }
+  /// Orbital period 2 pi sqrt(a^3 / GM) [s].
+  double period_s() const;
   /// ECEF position and velocity of satellite i at t.
   void state(std::size_t i, const GnssTime& t, Eigen::Vector3d& position_ecef_m,
              Eigen::Vector3d& velocity_ecef_mps) const;
@@ -81,6 +97,10 @@ struct ProductSampling {
 /// Samples the nominal constellation; clock biases/drifts drawn from `clock_seed`.
 TruthProducts sampleWalkerProducts(const WalkerConstellation& constellation, const ProductSampling& sampling,
                                    std::uint64_t clock_seed);
+
+/// Adds the satellites of `other` (same sampling epochs) to `into`; the clock
+/// header's system becomes 'M' when the systems differ.
+void mergeProducts(TruthProducts& into, const TruthProducts& other);
 
 /// The GPS part of real products, restricted to [first, last] (records outside dropped).
 TruthProducts restrictProducts(const Sp3File& sp3, const RinexClockFile& clk, const GnssTime& first,

@@ -8,7 +8,7 @@
 // YAML layout (every key optional; the defaults are those below):
 //   flight:        { rate_hz, duration_min, start: "2026-05-13 10:00:00",
 //                    origin: { latitude_deg, longitude_deg, height_m } }
-//   constellation: { satellites, orbit_interval_s, clock_interval_s }
+//   constellation: { satellites, systems: G|GE, galileo_satellites, orbit_interval_s, clock_interval_s }
 //   observations:  { elevation_mask_deg, loss_of_lock_flags, quantize, marker_name }
 //   errors:
 //     thermal:        { enabled, code_sigma_m, phase: fixed|wavelength_fraction,
@@ -17,16 +17,18 @@
 //     troposphere:    { enabled, dry_scale_min, dry_scale_max, wet_scale_min, wet_scale_max }
 //     ionosphere:     { enabled, vtec_min_tecu, vtec_max_tecu, vtec_rate_max_tecu_per_h, shell_height_km }
 //     receiver_clock: { enabled, initial_sigma_s, random_walk_sigma_s, drift_sigma_s_per_s,
-//                       step_s, steps_per_hour }
+//                       step_s, steps_per_hour, galileo_offset_sigma_s }
 //     ambiguity:      { enabled, max_abs_cycles, satellite_phase_biases }
 //     phase_breaks:   { enabled, body_elevation_mask_deg, reacquisition_s }
 //     products:       { enabled, orbit_sigma_m, clock_sigma_m, scale_half_range }
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "ppp_bayes_tree/simulation/flight_trajectory.h"
 #include "ppp_bayes_tree/types/constants.h"
 #include "ppp_bayes_tree/types/gnss_time.h"
+#include "ppp_bayes_tree/types/satellite_id.h"
 
 namespace ppp {
 
@@ -82,6 +84,10 @@ struct ErrorModelConfig {
     double drift_sigma_s_per_s = 1.0e-8;
     double step_s = 100.0e-9;
     double steps_per_hour = 2.0;
+    /// Galileo's receiver clock = GPS's + a constant offset ~ N(0, sigma) per
+    /// flight (the receiver's inter-system code bias and GGTO seen together),
+    /// estimated as its own clock term (one clock per system).
+    double galileo_offset_sigma_s = 30.0e-9;
   } receiver_clock;
   /// Integer ambiguities N1, N2 uniform in [-max, max] per arc (disabled: 0).
   /// With satellite_phase_biases, each satellite's phase carries a constant
@@ -131,6 +137,11 @@ struct SimulationConfig {
   std::optional<GnssTime> start;
   Geodetic origin = defaultSimulationOrigin();
   int satellites = 30;                 // nominal constellation: 24..32
+  /// Simulated systems: GPS L1/L2 always; Galileo E1/E5a (nominal Walker
+  /// 24/3/1, galileoWalkerOptions) when listed. Real SP3 sources: GPS only.
+  std::vector<GnssSystem> systems{GnssSystem::GPS};
+  int galileo_satellites = 24;
+  bool simulates(GnssSystem system) const;
   double orbit_interval_s = 300.0;     // written products
   double clock_interval_s = 30.0;
   double elevation_mask_rad = 5.0 * kDegToRad;  // local elevation below which nothing is tracked

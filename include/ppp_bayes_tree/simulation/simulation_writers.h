@@ -30,7 +30,7 @@ std::string rinexObsText(const RinexObsHeader& header, const std::vector<ObsEpoc
 
 /// RINEX clock 3.00 text of the AS records (epochs in GPST).
 std::string rinexClockText(const RinexClockFile& clocks);
-/// SP3-c text (GPS satellites only, through gpsOnlySp3).
+/// SP3-c text of every system in `sp3` (sp3Copy; GPS only: gpsOnlySp3's text).
 std::string sp3Text(const Sp3File& sp3);
 
 /// truth.csv: one row per epoch:

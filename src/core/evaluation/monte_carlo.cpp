@@ -28,10 +28,11 @@ double secondsSince(Clock::time_point t0) { return std::chrono::duration<double>
 /// derives its streams from small tags of the same seed).
 constexpr std::uint64_t kSetupStreamTag = 0x4d6f6e7465436172ULL;  // "MonteCar"
 
-/// IF wind-up wavelength c / (f1 + f2) of GPS L1/L2 (ppp_measurement_model.cpp).
-double gpsWindupWavelength_m() {
-  const double f1 = *carrierFrequency_hz(GnssSystem::GPS, '1');
-  const double f2 = *carrierFrequency_hz(GnssSystem::GPS, '2');
+/// IF wind-up wavelength c / (f1 + f2) of a system's simulated pair
+/// (ppp_measurement_model.cpp): GPS L1/L2 10.7 cm, Galileo E1/E5a 10.9 cm.
+double windupWavelength_m(GnssSystem system) {
+  const double f1 = *carrierFrequency_hz(system, '1');
+  const double f2 = *carrierFrequency_hz(system, system == GnssSystem::GPS ? '2' : '5');
   return kSpeedOfLight_mps / (f1 + f2);
 }
 
@@ -50,7 +51,7 @@ struct ArcRecord {
 /// Samples the bias errors of one estimator's run from the epoch records.
 class BiasSampler {
  public:
-  BiasSampler(const SimulatedFlight& f, double bin_s) : f_(f), bin_s_(bin_s), lambda_w_(gpsWindupWavelength_m()) {}
+  BiasSampler(const SimulatedFlight& f, double bin_s) : f_(f), bin_s_(bin_s) {}
 
   /// `estimate(arc)`: the estimator's current bias estimate.
   template <class Estimate>
@@ -67,7 +68,8 @@ class BiasSampler {
           a.valid = false;
         } else {
           a.simulated_arc = s->arc;
-          a.truth_m = f_.arcs[s->arc - 1].bias_if_m + lambda_w_ * std::round(s->windup_cycles);
+          a.truth_m = f_.arcs[s->arc - 1].bias_if_m +
+                      windupWavelength_m(r.satellite.system) * std::round(s->windup_cycles);
         }
         it = arcs_.emplace(r.arc, std::move(a)).first;
       }
@@ -92,7 +94,7 @@ class BiasSampler {
 
  private:
   const SimulatedFlight& f_;
-  double bin_s_, lambda_w_;
+  double bin_s_;
   std::map<ArcId, ArcRecord> arcs_;
 };
 
@@ -158,6 +160,7 @@ PppConfig flightPppConfig(const PppConfig& ppp, const SimulatedFlight& f) {
   m.code_phase_ratio = c.model.code_phase_ratio;
   m.scale_sigma_for_ionosphere_free = c.model.scale_sigma_for_ionosphere_free;
   c.model = m;
+  c.signals.systems = f.config.systems;
   return c;
 }
 
@@ -236,6 +239,7 @@ MonteCarloFlightRun runMonteCarloFlight(const MonteCarloOptions& options, int in
     run.time_s.resize(f.epochs.size());
     for (std::size_t k = 0; k < f.epochs.size(); ++k) run.time_s[k] = f.epochs[k].time - f.epochs.front().time;
     for (auto& e : run.error_3d_m) e.assign(f.epochs.size(), kNaN);
+    for (auto& x : run.fixed) x.assign(f.epochs.size(), 0);
     run.filtered_minus_ekf_m.assign(f.epochs.size(), kNaN);
     const PppConfig config = flightPppConfig(options.ppp, f);
 
@@ -249,6 +253,7 @@ MonteCarloFlightRun runMonteCarloFlight(const MonteCarloOptions& options, int in
       std::size_t k = 0;
       pipeline.run(ekf, [&](const PppEpochRecord& rec) {
         run.error_3d_m[0][k] = error3d(f, k, rec.solution.position_ecef_m);
+        run.fixed[0][k] = rec.solution.status == SolutionStatus::PppFixed ? 1 : 0;
         ekf_positions[k] = rec.solution.position_ecef_m;
         sampler.epoch(k, rec, [&](ArcId a) { return ekf.filter().biasEstimate_m(a); }, run.bias[0]);
         ++k;
@@ -269,6 +274,7 @@ MonteCarloFlightRun runMonteCarloFlight(const MonteCarloOptions& options, int in
       std::size_t k = 0;
       const PppRunSummary summary = pipeline.run(sm, [&](const PppEpochRecord& rec) {
         run.error_3d_m[1][k] = error3d(f, k, rec.solution.position_ecef_m);
+        run.fixed[1][k] = rec.solution.status == SolutionStatus::PppFixed ? 1 : 0;
         if (rec.solution.position_ecef_m && ekf_positions[k])
           run.filtered_minus_ekf_m[k] = (*rec.solution.position_ecef_m - *ekf_positions[k]).norm();
         sampler.epoch(k, rec, [&](ArcId a) { return sm.smoother().biasEstimate_m(a); }, run.bias[1]);
@@ -354,6 +360,29 @@ MonteCarloSummary summarizeMonteCarlo(const std::vector<MonteCarloFlightRun>& fl
         }
     s.filtered_minus_ekf = summarizeErrors(std::move(all));
     s.filtered_minus_ekf_vs_time = binQuantiles(vs_time, options.time_bin_s);
+  }
+  for (std::size_t e = 0; e < 2; ++e) {  // PPP-AR: fixed share and time to first fix
+    std::size_t solved = 0, fixed = 0;
+    std::vector<double> first_fix;
+    for (const auto* f : ok) {
+      std::optional<double> t;
+      const std::size_t ei = e == 0 ? 0 : 1;
+      for (std::size_t k = 0; k < f->fixed[e].size() && k < f->error_3d_m[ei].size(); ++k) {
+        if (!std::isfinite(f->error_3d_m[ei][k])) continue;
+        ++solved;
+        if (!f->fixed[e][k]) continue;
+        ++fixed;
+        if (!t) t = f->time_s[k];
+      }
+      if (!t) ++s.never_fixed[e];
+      first_fix.push_back(t ? *t : std::numeric_limits<double>::infinity());
+    }
+    s.fixed_share[e] = solved ? static_cast<double>(fixed) / static_cast<double>(solved) : kNaN;
+    std::sort(first_fix.begin(), first_fix.end());
+    s.first_fix_median_s[e] = first_fix.empty() ? kNaN
+                              : first_fix.size() % 2 == 1
+                                  ? first_fix[first_fix.size() / 2]
+                                  : 0.5 * (first_fix[first_fix.size() / 2 - 1] + first_fix[first_fix.size() / 2]);
   }
   for (int e = 0; e < kMonteCarloEstimators; ++e) {
     const auto ei = static_cast<std::size_t>(e);

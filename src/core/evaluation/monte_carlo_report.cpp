@@ -75,6 +75,12 @@ std::string quantileCsv(const std::array<std::vector<QuantileBin>, kMonteCarloEs
   return o.str();
 }
 
+std::string systemsText(const MonteCarloOptions& o) {
+  std::string t;
+  for (GnssSystem sys : o.simulation.systems) t += systemLetter(sys);
+  return t;
+}
+
 }  // namespace
 
 std::string convergenceTimeText(double median_s, int never, int flights_compared) {
@@ -90,7 +96,8 @@ std::string monteCarloMarkdown(const MonteCarloResult& r) {
   std::ostringstream md;
   md << "# Monte Carlo: " << s.flights << " simulated flights\n\n";
   md << "Seed " << o.seed << ", " << fmt("%.1f", o.duration_s / 60.0) << " min at " << fmt("%g", o.rate_hz)
-     << " Hz, profiles " << profileList(o) << "; " << s.failed << " failed. Wall time "
+     << " Hz, profiles " << profileList(o) << ", systems " << systemsText(o) << ", ambiguity resolution "
+     << (o.ppp.ambiguity_resolution.enabled ? "on" : "off") << "; " << s.failed << " failed. Wall time "
      << fmt("%.1f", r.wall_s) << " s on " << r.threads_used << " threads (per-flight sums: simulate "
      << fmt("%.1f", s.simulate_s) << " s, EKF " << fmt("%.1f", s.ekf_s) << " s, smoother "
      << fmt("%.1f", s.smoother_s) << " s).\n\n";
@@ -128,6 +135,16 @@ std::string monteCarloMarkdown(const MonteCarloResult& r) {
       md << ' ' << convergenceTimeText(s.convergence_median_s[ei][i], s.convergence_never[ei][i], s.flights - s.failed)
          << " |";
     md << '\n';
+  }
+  if (o.ppp.ambiguity_resolution.enabled) {
+    md << "\n## Ambiguity resolution: fixed epochs and time to first fix\n\n"
+          "| estimator | fixed share | median time to first fix |\n|---|---:|---:|\n";
+    for (int e = 0; e < 2; ++e)
+      md << "| " << (e == 0 ? "EKF" : "smoother (filtered; fixes held in the graph)") << " | "
+         << fmt("%.1f %%", 100.0 * s.fixed_share[static_cast<std::size_t>(e)]) << " | "
+         << convergenceTimeText(s.first_fix_median_s[static_cast<std::size_t>(e)], s.never_fixed[static_cast<std::size_t>(e)],
+                                s.flights - s.failed)
+         << " |\n";
   }
   md << "\n## Phase-bias error |estimate - truth| by arc age (median / 90th percentile, cm)\n\n"
      << "Arcs compared: " << s.bias_arcs_compared << " (of which " << s.bias_arcs_missed_slip
@@ -194,7 +211,16 @@ std::string monteCarloJson(const MonteCarloResult& r) {
     j << (e ? ", " : "") << jsonString(monteCarloEstimatorKey(e)) << ": {\"median_s\": " << jsonArray(s.convergence_median_s[ei])
       << ", \"never\": " << jsonArray(never) << "}";
   }
-  j << "},\n  \"epochs_without_solution\": {";
+  j << "}";
+  if (o.ppp.ambiguity_resolution.enabled) {  // fixed share and time to first fix (EKF, smoother)
+    j << ",\n  \"ambiguity_resolution\": {";
+    for (std::size_t e = 0; e < 2; ++e)
+      j << (e ? ", " : "") << jsonString(e == 0 ? "ekf" : "smoother") << ": {\"fixed_share\": "
+        << jsonNumber(s.fixed_share[e], 10) << ", \"first_fix_median_s\": " << jsonNumber(s.first_fix_median_s[e], 10)
+        << ", \"never_fixed\": " << s.never_fixed[e] << "}";
+    j << "}";
+  }
+  j << ",\n  \"epochs_without_solution\": {";
   for (int e = 0; e < kMonteCarloEstimators; ++e)
     j << (e ? ", " : "") << jsonString(monteCarloEstimatorKey(e)) << ": " << s.epochs_without_solution[static_cast<std::size_t>(e)];
   j << "},\n  \"bias_arcs_compared\": " << s.bias_arcs_compared

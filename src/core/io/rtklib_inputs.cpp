@@ -1,5 +1,6 @@
 #include "ppp_bayes_tree/io/rtklib_inputs.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <map>
@@ -105,10 +106,14 @@ ClockNavigationSummary gpsNavigationFromClocks(const std::vector<const RinexCloc
   return out;
 }
 
-GpsSp3Summary gpsOnlySp3(const Sp3File& sp3) {
+GpsSp3Summary gpsOnlySp3(const Sp3File& sp3) { return sp3Copy(sp3, {GnssSystem::GPS}); }
+
+GpsSp3Summary sp3Copy(const Sp3File& sp3, const std::vector<GnssSystem>& systems) {
+  const bool gps_only = systems.size() == 1 && systems.front() == GnssSystem::GPS;
   std::vector<SatelliteId> sats;
   for (const auto& [sat, records] : sp3.satellites)
-    if (sat.system == GnssSystem::GPS && !records.empty()) sats.push_back(sat);
+    if (std::find(systems.begin(), systems.end(), sat.system) != systems.end() && !records.empty())
+      sats.push_back(sat);
   // Epochs that hold at least one GPS record.
   std::map<GnssTime, std::vector<std::pair<SatelliteId, const Sp3Record*>>> epochs;
   for (const auto& sat : sats)
@@ -147,7 +152,8 @@ GpsSp3Summary gpsOnlySp3(const Sp3File& sp3) {
     for (std::size_t k = 0; k < 17; ++k) acc += "  0";  // accuracy unknown
     t += "++       " + acc + "\n";
   }
-  t += "%c G  cc GPS ccc cccc cccc cccc cccc ccccc ccccc ccccc ccccc\n";
+  t += gps_only ? "%c G  cc GPS ccc cccc cccc cccc cccc ccccc ccccc ccccc ccccc\n"
+                : "%c M  cc GPS ccc cccc cccc cccc cccc ccccc ccccc ccccc ccccc\n";
   t += "%c cc cc ccc ccc cccc cccc cccc cccc ccccc ccccc ccccc ccccc\n";
   // Floating-point bases of the record standard deviations, kept so that the
   // records' exponents (which RTKLIB turns into orbit/clock variances) mean the same.
@@ -156,7 +162,8 @@ GpsSp3Summary gpsOnlySp3(const Sp3File& sp3) {
   t += "%f  0.0000000  0.000000000  0.00000000000  0.000000000000000\n";
   t += "%i    0    0    0    0      0      0      0      0         0\n";
   t += "%i    0    0    0    0      0      0      0      0         0\n";
-  t += "/* GPS-ONLY COPY WRITTEN BY PPP_RTKLIB_INPUTS (PPP_BAYES_TREE)\n";
+  t += gps_only ? "/* GPS-ONLY COPY WRITTEN BY PPP_RTKLIB_INPUTS (PPP_BAYES_TREE)\n"
+                : "/* COPY WRITTEN BY PPP_BAYES_TREE\n";
   t += "/* FROM AN SP3 FILE READ BY OUR SP3 READER, TIMES IN GPST\n";
   t += "/*\n/*\n";
   for (const auto& [time, recs] : epochs) {

@@ -106,6 +106,12 @@ void AmbiguityResolver::releaseAll() {
   float_history_.clear();
 }
 
+void AmbiguityResolver::holdInteger(ArcId arc, ArcId reference_arc, long wide_lane_cycles, long narrow_lane_cycles) {
+  const PairKey key{arc, reference_arc, wide_lane_cycles};
+  pending_.erase(key);
+  held_[key] = narrow_lane_cycles;
+}
+
 std::optional<AmbiguityFixedState> applyIntegerConstraints(const Eigen::VectorXd& x, const Eigen::MatrixXd& P,
                                                            const Eigen::MatrixXd& A, const Eigen::VectorXd& y) {
   const Eigen::MatrixXd PAt = P * A.transpose();
@@ -298,7 +304,7 @@ std::optional<AmbiguityFixedState> AmbiguityResolver::resolveAndHold(const Eigen
   }
   auto release = [&](std::map<PairKey, long>::iterator it, AmbiguityReleaseReason why, double departure,
                      const SatelliteId& sat, const SatelliteId& ref) {
-    summary.released.push_back({sat, ref, why, departure});
+    summary.released.push_back({sat, ref, it->first.arc, it->first.reference_arc, why, departure});
     if (why != AmbiguityReleaseReason::ArcEnded) ++releases_total_;
     return held_.erase(it);
   };
@@ -547,6 +553,8 @@ std::optional<AmbiguityFixedState> AmbiguityResolver::resolveAndHold(const Eigen
     summary.float_reason = AmbiguityFloatReason::NumericalFailure;
     return std::nullopt;
   }
+  fixed->constraint_rows = A;  // the held integers: what the smoother keeps as factors
+  fixed->constraint_values = y;
   summary.narrow_lanes_fixed = summary.held;
   summary.float_reason = AmbiguityFloatReason::None;
   return fixed;

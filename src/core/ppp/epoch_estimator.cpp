@@ -54,39 +54,39 @@ EstimatorEpochResult SmootherEstimator::processEpoch(const EstimatorEpochInput& 
 }
 
 void SmootherEstimator::resolveAmbiguities(const EstimatorEpochInput& input, EstimatorEpochResult& r) {
-  // The decision is the resolver's (as for the EKF); the smoother holds the fix in its graph.
+  // The EKF's decision path (resolveAndHold) on the smoother's float joint; the
+  // held integers are factors of the graph, a wrong one released is removed.
+  if (r.estimator_reset) ambiguity_.releaseAll();  // a restart drops the graph's fixes
   if (input.observations && input.arcs) ambiguity_.addEpoch(*input.observations, *input.arcs, input.phase_biases);
   AmbiguityFixSummary summary;
   if (r.status == EpochStatus::Ok && r.solution) {
     bool changed = false;
     try {
-      changed = smoother_.validateHeldFixes() > 0;
-      const PppSmoother::FilteredJoint& joint = smoother_.filteredJoint();
-      const int receiver_dim = r.solution->state.layout.dim();
-      std::map<ArcId, double> elevation_rad;
-      for (const auto& res : r.residuals) elevation_rad[res.arc] = res.elevation_rad;
-      const auto fixed = ambiguity_.resolve(joint.x, joint.P, receiver_dim, joint.arcs, input.phase_biases, summary,
-                                            &elevation_rad);
-      if (fixed) changed = smoother_.holdIntegerConstraints(fixed->constraint_rows, fixed->constraint_values) > 0 ||
-                           changed;
+      const std::optional<PppSmoother::FilteredJoint> joint = smoother_.floatJoint();
+      if (!joint) {
+        summary.float_reason = AmbiguityFloatReason::NumericalFailure;
+      } else {
+        const int receiver_dim = r.solution->state.layout.dim();
+        std::map<ArcId, double> elevation_rad;
+        for (const auto& res : r.residuals) elevation_rad[res.arc] = res.elevation_rad;
+        const auto fixed = ambiguity_.resolveAndHold(joint->x, joint->P, receiver_dim, joint->arcs,
+                                                     input.phase_biases, summary, &elevation_rad);
+        std::vector<std::pair<ArcId, ArcId>> wrong;
+        for (const AmbiguityRelease& rel : summary.released)
+          if (rel.reason != AmbiguityReleaseReason::ArcEnded) wrong.emplace_back(rel.arc, rel.reference_arc);
+        if (!wrong.empty()) changed = smoother_.releaseFixes(wrong) > 0;
+        if (fixed)
+          changed = smoother_.holdIntegerConstraints(fixed->constraint_rows, fixed->constraint_values) > 0 || changed;
+      }
     } catch (const std::exception& e) {
       summary.float_reason = AmbiguityFloatReason::NumericalFailure;
       r.reason += std::string("; ambiguity fix not applied: ") + e.what();
     }
-    const int held = smoother_.heldFixCount();
     if (changed) {
       r.solution->state = smoother_.filteredSolution().state;
       r.solution->covariance = smoother_.filteredSolution().covariance;
     }
-    if (held >= std::max(1, ambiguity_.options().narrow_lane.min_fixed)) {
-      r.ambiguities = AmbiguityState::Fixed;
-      if (!summary.fixed()) {  // held from earlier epochs while this epoch's search refused
-        summary.float_reason = AmbiguityFloatReason::None;
-        summary.narrow_lanes_fixed = held;
-      }
-    } else if (summary.fixed()) {
-      summary.float_reason = AmbiguityFloatReason::NarrowLane;  // fewer held than required
-    }
+    if (summary.fixed()) r.ambiguities = AmbiguityState::Fixed;
   }
   r.ambiguity_fix = summary;
 }

@@ -42,8 +42,6 @@ std::string PppSmootherOptions::validate() const {
   if (!(wildfire_threshold_m >= 0.0)) return "wildfire_threshold_m must be >= 0";
   if (!(fixed_lag_s >= 0.0)) return "fixed_lag_s must be >= 0 (0: full smoother)";
   if (!(fixed_ambiguity_sigma_cycles > 0.0)) return "fixed_ambiguity_sigma_cycles must be > 0";
-  if (!(fix_rejection_sigmas > 0.0) || !(fix_rejection_min_cycles > 0.0))
-    return "fix_rejection_sigmas and fix_rejection_min_cycles must be > 0";
   return {};
 }
 
@@ -642,14 +640,14 @@ int PppSmoother::heldFixCount() const {
 int PppSmoother::holdIntegerConstraints(const Eigen::MatrixXd& A, const Eigen::VectorXd& y) {
   const int kRx = layout_.dim();
   if (A.cols() != joint_.x.size() || A.rows() != y.size())
-    throw std::invalid_argument("holdIntegerConstraints: constraint rows do not match the filtered joint");
+    throw std::invalid_argument("holdIntegerConstraints: constraint rows do not match the filtered joint (" +
+                                std::to_string(A.rows()) + "x" + std::to_string(A.cols()) + ", " +
+                                std::to_string(y.size()) + " values; joint " + std::to_string(joint_.x.size()) + ")");
   const double sigma = options_.fixed_ambiguity_sigma_cycles;
   smoother::NonlinearFactorGraph add;
   std::vector<std::vector<ArcId>> add_arcs;
   for (int r = 0; r < A.rows(); ++r) {
     const Eigen::RowVectorXd a = A.row(r);
-    const double variance = (a * joint_.P * a.transpose())(0, 0);
-    if (variance < 9.0 * sigma * sigma) continue;  // implied by the held fixes
     KeyVector keys;
     std::vector<double> coefficients;
     std::vector<ArcId> arcs;
@@ -661,6 +659,14 @@ int PppSmoother::holdIntegerConstraints(const Eigen::MatrixXd& A, const Eigen::V
       arcs.push_back(arc);
     }
     if (keys.empty()) continue;
+    std::vector<ArcId> sorted = arcs;
+    std::sort(sorted.begin(), sorted.end());
+    const bool held = std::any_of(held_.begin(), held_.end(), [&](const HeldFix& h) {
+      std::vector<ArcId> other = h.arcs;
+      std::sort(other.begin(), other.end());
+      return other == sorted;
+    });
+    if (held) continue;  // already held in the graph
     add.push_back(std::make_shared<IntegerAmbiguityFactor>(keys, coefficients, y(r), sigma));
     add_arcs.push_back(std::move(arcs));
   }
@@ -672,45 +678,54 @@ int PppSmoother::holdIntegerConstraints(const Eigen::MatrixXd& A, const Eigen::V
   return static_cast<int>(add.size());
 }
 
-int PppSmoother::validateHeldFixes() {
+std::optional<PppSmoother::FilteredJoint> PppSmoother::floatJoint() const {
+  // The held fixes whose arcs are all in the joint are factors on joint variables
+  // only, so their information comes out of the joint marginal exactly:
+  // P_float^-1 = P^-1 - A^T W A, i.e. (Woodbury) P_float = P + P A^T S^-1 A P with
+  // S = W^-1 - A P A^T (positive: the fixed variance of A x is below its factor's),
+  // and x_float = x + P_float A^T W (A x - y).
   const int kRx = layout_.dim();
-  std::vector<std::size_t> candidates;
   std::map<ArcId, int> column;
   for (std::size_t j = 0; j < joint_.arcs.size(); ++j) column[joint_.arcs[j]] = kRx + static_cast<int>(j);
-  for (std::size_t h = 0; h < held_.size(); ++h) {
+  std::vector<const HeldFix*> in_joint;
+  for (const HeldFix& h : held_) {
     bool all = true;
-    for (ArcId a : held_[h].arcs) all = all && column.count(a) > 0;
-    if (all) candidates.push_back(h);
+    for (ArcId a : h.arcs) all = all && column.count(a) > 0;
+    if (all) in_joint.push_back(&h);
   }
-  const int k = static_cast<int>(candidates.size());
-  if (k == 0) return 0;
+  const int k = static_cast<int>(in_joint.size());
+  if (k == 0) return joint_;
   Eigen::MatrixXd A = Eigen::MatrixXd::Zero(k, joint_.x.size());
   Eigen::VectorXd y(k), w(k);
   for (int i = 0; i < k; ++i) {
-    const HeldFix& h = held_[candidates[static_cast<std::size_t>(i)]];
+    const HeldFix& h = *in_joint[static_cast<std::size_t>(i)];
     const auto* f = static_cast<const IntegerAmbiguityFactor*>(h.factor.get());
     for (std::size_t j = 0; j < h.arcs.size(); ++j) A(i, column.at(h.arcs[j])) += f->coefficients_per_m()[j];
     y(i) = f->value_cycles();
     w(i) = 1.0 / (f->sigma_cycles() * f->sigma_cycles());
   }
-  // The fixes' information taken out of the joint: the float of all data so far.
-  const Eigen::MatrixXd C_fix = A * joint_.P * A.transpose();
-  const Eigen::VectorXd c_fix = A * joint_.x;
-  const Eigen::FullPivLU<Eigen::MatrixXd> lu(C_fix);
-  if (!lu.isInvertible()) return 0;
-  const Eigen::MatrixXd C_inv = lu.inverse();
-  Eigen::MatrixXd info = C_inv;
-  info.diagonal() -= w;
-  const Eigen::LLT<Eigen::MatrixXd> llt(0.5 * (info + info.transpose()));
-  if (llt.info() != Eigen::Success) return 0;  // not resolvable numerically: keep the fixes
-  const Eigen::MatrixXd Q = llt.solve(Eigen::MatrixXd::Identity(k, k));
-  const Eigen::VectorXd c_float = Q * (C_inv * c_fix - w.cwiseProduct(y));
+  const Eigen::MatrixXd PAt = joint_.P * A.transpose();
+  Eigen::MatrixXd S = -A * PAt;
+  S.diagonal() += w.cwiseInverse();
+  const Eigen::LLT<Eigen::MatrixXd> llt(0.5 * (S + S.transpose()));
+  if (llt.info() != Eigen::Success) return std::nullopt;
+  FilteredJoint out;
+  out.arcs = joint_.arcs;
+  out.P = joint_.P + PAt * llt.solve(PAt.transpose());
+  out.P = 0.5 * (out.P + out.P.transpose());
+  out.x = joint_.x + out.P * A.transpose() * w.cwiseProduct(A * joint_.x - y);
+  return out;
+}
+
+int PppSmoother::releaseFixes(const std::vector<std::pair<ArcId, ArcId>>& pairs) {
   std::vector<smoother::FactorIndex> remove;
-  for (int i = 0; i < k; ++i) {
-    const double d = std::abs(c_float(i) - y(i));
-    const double s = std::sqrt(std::max(0.0, Q(i, i)));
-    if (d > options_.fix_rejection_sigmas * s && d > options_.fix_rejection_min_cycles)
-      remove.push_back(held_[candidates[static_cast<std::size_t>(i)]].index);
+  for (const HeldFix& h : held_) {
+    if (h.arcs.size() != 2) continue;
+    for (const auto& [a, b] : pairs)
+      if ((h.arcs[0] == a && h.arcs[1] == b) || (h.arcs[0] == b && h.arcs[1] == a)) {
+        remove.push_back(h.index);
+        break;
+      }
   }
   if (remove.empty()) return 0;
   updateGraph({}, remove);

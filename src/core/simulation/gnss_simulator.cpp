@@ -1,6 +1,7 @@
 #include "ppp_bayes_tree/simulation/gnss_simulator.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <map>
@@ -26,8 +27,52 @@ enum StreamTag : std::uint64_t {
   kTagIonosphere,
   kTagReceiverClock,
   kTagProducts,
-  kTagPerSatellite = 1000,  // + 100 * term + satellite index
+  kTagGalileoConstellation,
+  kTagGalileoClocks,
+  kTagGalileoClockOffset,
+  kTagPerSatellite = 1000,  // GPS: + 100 * term + satellite index (< 1000)
+  kTagPerOtherSatellite = 1000000,  // other systems: + 1000 * satellite index + 100 * term
 };
+
+/// The dual-frequency signals simulated for a system: GPS C1C/L1C/C1W/C2W/L2W
+/// (the IF code of C1W/C2W), Galileo E1/E5a C1C/L1C/C5Q/L5Q.
+struct SystemSignals {
+  double f1 = 0.0, f2 = 0.0, lambda1 = 0.0, lambda2 = 0.0, gamma = 0.0;
+  IonosphereFreeCoefficients k_if{};
+  ObservationCode code1, code2, phase1, phase2;
+  std::vector<ObservationCode> obs_types;  // RINEX order; C1C carries the band-1 code
+  double phase_sigma1 = 0.0, phase_sigma2 = 0.0;
+};
+
+SystemSignals systemSignals(GnssSystem system, const ErrorModelConfig::Thermal& th) {
+  SystemSignals g;
+  const bool gps = system == GnssSystem::GPS;
+  g.f1 = *carrierFrequency_hz(system, '1');
+  g.f2 = *carrierFrequency_hz(system, gps ? '2' : '5');
+  g.lambda1 = kSpeedOfLight_mps / g.f1;
+  g.lambda2 = kSpeedOfLight_mps / g.f2;
+  g.gamma = (g.f1 * g.f1) / (g.f2 * g.f2);
+  g.k_if = ionosphereFreeCoefficients(g.f1, g.f2);
+  const ObservationCode c1c = *ObservationCode::parse("C1C"), l1c = *ObservationCode::parse("L1C");
+  if (gps) {
+    g.code1 = *ObservationCode::parse("C1W");
+    g.code2 = *ObservationCode::parse("C2W");
+    g.phase1 = l1c;
+    g.phase2 = *ObservationCode::parse("L2W");
+    g.obs_types = {c1c, l1c, g.code1, g.code2, g.phase2};
+  } else {
+    g.code1 = c1c;
+    g.code2 = *ObservationCode::parse("C5Q");
+    g.phase1 = l1c;
+    g.phase2 = *ObservationCode::parse("L5Q");
+    g.obs_types = {c1c, l1c, g.code2, g.phase2};
+  }
+  g.phase_sigma1 = !th.enabled ? 0.0 : th.phase_mode == PhaseNoiseMode::FixedSigma ? th.phase_sigma_m
+                                                                                   : th.phase_sigma_cycles * g.lambda1;
+  g.phase_sigma2 = !th.enabled ? 0.0 : th.phase_mode == PhaseNoiseMode::FixedSigma ? th.phase_sigma_m
+                                                                                   : th.phase_sigma_cycles * g.lambda2;
+  return g;
+}
 enum SatelliteTerm : std::uint64_t { kSatAmbiguity = 0, kSatMultipath, kSatThermal, kSatPhaseBias };
 
 constexpr double kIonosphereConstant = 40.3e16;  // m^3/s^2 per TECU (first-order term 40.3 TEC / f^2)
@@ -166,7 +211,7 @@ struct SatelliteState {
 }  // namespace
 
 std::vector<std::string> DrawnParameters::describe() const {
-  return {
+  std::vector<std::string> out{
       format("troposphere dry scale %.4f", dry_scale) + format(", wet scale %.4f", wet_scale),
       format("ionosphere VTEC %.2f TECU", vtec0_tecu) + format(" + %.2f TECU/h", vtec_rate_tecu_per_h),
       format("receiver clock offset %.3f ns", clock_initial_s * 1e9) +
@@ -175,6 +220,9 @@ std::vector<std::string> DrawnParameters::describe() const {
       format("product orbit error RMS %.4f m per component", orbit_error_rms_m) +
           format(", clock error RMS %.4f m", clock_error_rms_m),
   };
+  if (galileo_clock_offset_s != 0.0)
+    out.push_back(format("Galileo receiver clock - GPS receiver clock %.3f ns", galileo_clock_offset_s * 1e9));
+  return out;
 }
 
 MeasurementModelOptions simulationModelOptions() {
@@ -196,6 +244,15 @@ SimulatedFlight simulateFlight(const SimulationConfig& config, std::uint64_t see
   if (!(config.rate_hz > 0.0)) throw std::invalid_argument("simulation: rate must be positive");
   if (sources.sp3.has_value() != sources.clk.has_value())
     throw std::invalid_argument("simulation: give both an SP3 and a clock file, or neither");
+  for (GnssSystem sys : config.systems)
+    if (sys != GnssSystem::GPS && sys != GnssSystem::Galileo)
+      throw std::invalid_argument(std::string("simulation: system ") + std::string(systemName(sys)) +
+                                  " is not simulated (GPS and Galileo only)");
+  if (!config.simulates(GnssSystem::GPS))
+    throw std::invalid_argument("simulation: GPS must be among the simulated systems (the reference clock)");
+  const bool galileo = config.simulates(GnssSystem::Galileo);
+  if (galileo && sources.sp3)
+    throw std::invalid_argument("simulation: Galileo needs the nominal constellation (real SP3 products: GPS part only)");
   const ErrorModelConfig& err = config.errors;
   const RandomStream root(seed);
   SimulatedFlight f;
@@ -249,6 +306,15 @@ SimulatedFlight simulateFlight(const SimulationConfig& config, std::uint64_t see
     w.raan_offset_rad = geometry.uniform(0.0, 2.0 * kPi);
     w.mean_anomaly_offset_rad = geometry.uniform(0.0, 2.0 * kPi);
     truth = sampleWalkerProducts(WalkerConstellation(w), s, root.derive(kTagSatelliteClocks).seed());
+    if (galileo) {  // own geometry and clock streams: the GPS draws stay as they are
+      WalkerConstellationOptions e = galileoWalkerOptions();
+      e.satellites = config.galileo_satellites;
+      e.reference_time = s.first;
+      RandomStream g = root.derive(kTagGalileoConstellation);
+      e.raan_offset_rad = g.uniform(0.0, 2.0 * kPi);
+      e.mean_anomaly_offset_rad = g.uniform(0.0, 2.0 * kPi);
+      mergeProducts(truth, sampleWalkerProducts(WalkerConstellation(e), s, root.derive(kTagGalileoClocks).seed()));
+    }
   }
   avoidSp3ZeroMarker(truth.orbits);
   f.truth_sp3_text = sp3Text(truth.orbits);
@@ -278,30 +344,25 @@ SimulatedFlight simulateFlight(const SimulationConfig& config, std::uint64_t see
     if (err.ionosphere.enabled) f.drawn.vtec0_tecu = v, f.drawn.vtec_rate_tecu_per_h = rate;
   }
   const std::vector<double> clock_s = receiverClock(traj, err.receiver_clock, root.derive(kTagReceiverClock), f.drawn);
-  const double f1 = *carrierFrequency_hz(GnssSystem::GPS, '1');
-  const double f2 = *carrierFrequency_hz(GnssSystem::GPS, '2');
-  const double lambda1 = kSpeedOfLight_mps / f1, lambda2 = kSpeedOfLight_mps / f2;
-  const double gamma = (f1 * f1) / (f2 * f2);
-  const IonosphereFreeCoefficients k_if = ionosphereFreeCoefficients(f1, f2);
+  if (galileo && err.receiver_clock.enabled) {
+    RandomStream g = root.derive(kTagGalileoClockOffset);
+    f.drawn.galileo_clock_offset_s = g.normal(err.receiver_clock.galileo_offset_sigma_s);
+  }
   const auto& th = err.thermal;
   const double code_sigma = th.enabled ? th.code_sigma_m : 0.0;
-  const double phase_sigma1 =
-      !th.enabled ? 0.0 : th.phase_mode == PhaseNoiseMode::FixedSigma ? th.phase_sigma_m : th.phase_sigma_cycles * lambda1;
-  const double phase_sigma2 =
-      !th.enabled ? 0.0 : th.phase_mode == PhaseNoiseMode::FixedSigma ? th.phase_sigma_m : th.phase_sigma_cycles * lambda2;
-  f.drawn.phase_sigma_l1_m = phase_sigma1;
-  f.drawn.phase_sigma_l2_m = phase_sigma2;
+  std::array<SystemSignals, kNumGnssSystems> signals{};
+  for (GnssSystem sys : config.systems) signals[static_cast<int>(sys)] = systemSignals(sys, th);
+  const SystemSignals& gps = signals[static_cast<int>(GnssSystem::GPS)];
+  f.drawn.phase_sigma_l1_m = gps.phase_sigma1;
+  f.drawn.phase_sigma_l2_m = gps.phase_sigma2;
 
   // ---- RINEX header.
-  const ObservationCode c1c = *ObservationCode::parse("C1C"), l1c = *ObservationCode::parse("L1C"),
-                        c1w = *ObservationCode::parse("C1W"), c2w = *ObservationCode::parse("C2W"),
-                        l2w = *ObservationCode::parse("L2W");
   {
     RinexObsHeader& h = f.header;
     h.version_text = "3.04";
     h.version = 3.04;
     h.major_version = 3;
-    h.file_system = 'G';
+    h.file_system = galileo ? 'M' : 'G';
     h.program = "ppp_simulate";
     h.run_by = "ppp_bayes_tree";
     const CalendarTime c = t0.toCalendar(TimeSystem::GPS);
@@ -321,8 +382,10 @@ SimulatedFlight simulateFlight(const SimulationConfig& config, std::uint64_t see
     h.antenna_radome = "NONE";
     h.antenna_delta_hen_m = Eigen::Vector3d::Zero();
     h.approx_position_ecef_m = traj.front().position_ecef_m;
-    h.obs_types[static_cast<int>(GnssSystem::GPS)] = {c1c, l1c, c1w, c2w, l2w};
-    h.scale_factors[static_cast<int>(GnssSystem::GPS)] = std::vector<double>(5, 1.0);
+    for (GnssSystem sys : config.systems) {
+      h.obs_types[static_cast<int>(sys)] = signals[static_cast<int>(sys)].obs_types;
+      h.scale_factors[static_cast<int>(sys)] = std::vector<double>(signals[static_cast<int>(sys)].obs_types.size(), 1.0);
+    }
     h.interval_s = traj[1].time - traj[0].time;
     h.time_of_first_obs = RinexHeaderTime{t0.toCalendar(TimeSystem::GPS), TimeSystem::GPS, t0};
     h.time_of_last_obs = RinexHeaderTime{t1.toCalendar(TimeSystem::GPS), TimeSystem::GPS, t1};
@@ -338,17 +401,21 @@ SimulatedFlight simulateFlight(const SimulationConfig& config, std::uint64_t see
     const auto orbit_sats = f.truth_products.orbitSatellites();
     const auto clock_sats = f.truth_products.clockSatellites();
     for (const auto& s : orbit_sats) {
-      if (s.system != GnssSystem::GPS || !clock_sats.count(s)) continue;
-      const std::uint64_t base = kTagPerSatellite + static_cast<std::uint64_t>(s.index());
+      if (!config.simulates(s.system) || !clock_sats.count(s)) continue;
+      const std::uint64_t base = s.system == GnssSystem::GPS
+                                     ? kTagPerSatellite + static_cast<std::uint64_t>(s.index())
+                                     : kTagPerOtherSatellite + 1000 * static_cast<std::uint64_t>(s.index());
       sats.emplace_back(s, root.derive(base + 100 * kSatAmbiguity), root.derive(base + 100 * kSatMultipath),
                       root.derive(base + 100 * kSatThermal));
       if (err.ambiguity.satellite_phase_biases) {  // UPD per frequency, published as phase OSB
         RandomStream upd = root.derive(base + 100 * kSatPhaseBias);
         const double u1 = upd.uniform(-0.5, 0.5), u2 = upd.uniform(-0.5, 0.5);
-        f.phase_biases.set(s, u1, u2, lambda1, lambda2);
+        const SystemSignals& g = signals[static_cast<int>(s.system)];
+        f.phase_biases.set(s, u1, u2, g.lambda1, g.lambda2);
       }
     }
   }
+  const ReceiverStateLayout layout(config.systems);  // one receiver clock per system
   MeasurementModelOptions gen_options = f.model_options;
   gen_options.elevation_cutoff_rad = -0.5 * kPi;  // the simulator applies its own masks
   const PppMeasurementModel model(f.truth_products, {}, ReceiverAntenna{}, nullptr, gen_options);
@@ -362,7 +429,9 @@ SimulatedFlight simulateFlight(const SimulationConfig& config, std::uint64_t see
       a.n1_cycles = s.ambiguity_rng.uniformInt(-err.ambiguity.max_abs_cycles, err.ambiguity.max_abs_cycles);
       a.n2_cycles = s.ambiguity_rng.uniformInt(-err.ambiguity.max_abs_cycles, err.ambiguity.max_abs_cycles);
     }
-    a.bias_if_m = ionosphereFree(lambda1 * static_cast<double>(a.n1_cycles), lambda2 * static_cast<double>(a.n2_cycles), k_if);
+    const SystemSignals& g = signals[static_cast<int>(s.sat.system)];
+    a.bias_if_m = ionosphereFree(g.lambda1 * static_cast<double>(a.n1_cycles),
+                                 g.lambda2 * static_cast<double>(a.n2_cycles), g.k_if);
     a.after_phase_break = after_break;
     f.arcs.push_back(a);
     s.arc = a.id;
@@ -391,6 +460,7 @@ SimulatedFlight simulateFlight(const SimulationConfig& config, std::uint64_t see
     TruthEpoch te;
     te.trajectory = ts;
     te.clock_m = clock_s[k] * kSpeedOfLight_mps;
+    if (galileo) te.galileo_clock_m = te.clock_m + f.drawn.galileo_clock_offset_s * kSpeedOfLight_mps;
     const SurfaceMeteo meteo = standardAtmosphere(geo.height_m);
     te.zwd_m = f.drawn.wet_scale * modifiedHopfieldZenithDelays(meteo, geo.height_m).wet_m;
 
@@ -446,9 +516,11 @@ SimulatedFlight simulateFlight(const SimulationConfig& config, std::uint64_t see
       DualFrequencyObservation d;
       d.satellite = s.sat;
       d.time = t;
-      d.code1 = c1w, d.code2 = c2w, d.phase1 = l1c, d.phase2 = l2w;
-      d.frequency1_hz = f1, d.frequency2_hz = f2;
-      const double guess = (o.value->position_ecef_m - ts.position_ecef_m).norm() + te.clock_m -
+      const SystemSignals& g = signals[static_cast<int>(s.sat.system)];
+      d.code1 = g.code1, d.code2 = g.code2, d.phase1 = g.phase1, d.phase2 = g.phase2;
+      d.frequency1_hz = g.f1, d.frequency2_hz = g.f2;
+      const double rx_clock_m = s.sat.system == GnssSystem::Galileo ? te.galileo_clock_m : te.clock_m;
+      const double guess = (o.value->position_ecef_m - ts.position_ecef_m).norm() + rx_clock_m -
                            kSpeedOfLight_mps * c.value->clock_bias_s;
       d.code1_m = d.code2_m = std::clamp(guess, 1.5e7, 9.0e7);
       obs.push_back(d);
@@ -458,10 +530,11 @@ SimulatedFlight simulateFlight(const SimulationConfig& config, std::uint64_t see
     }
 
     // ---- non-dispersive part through the measurement model (fixed point on the code).
-    ReceiverState state;
+    ReceiverState state(layout);
     state.position_ecef_m = ts.position_ecef_m;
     state.zwd_m = te.zwd_m;
-    state.setClock_m(GnssSystem::GPS, te.clock_m);  // the simulator observes GPS only
+    state.setClock_m(GnssSystem::GPS, te.clock_m);
+    state.setClock_m(GnssSystem::Galileo, te.galileo_clock_m);
     for (int it = 0; it < 3 && !obs.empty(); ++it) {
       model.evaluate(obs, arc_ids, state, &windup, meas, it == 2 ? &terms : nullptr);
       std::size_t u = 0;
@@ -484,6 +557,8 @@ SimulatedFlight simulateFlight(const SimulationConfig& config, std::uint64_t see
       const SatelliteMeasurement& m = meas.used[u];
       const ModelTerms& tm = terms[u];
       SatelliteState& s = sats[obs_sat[j]];
+      const SystemSignals& g = signals[static_cast<int>(s.sat.system)];
+      const double f1 = g.f1, lambda1 = g.lambda1, lambda2 = g.lambda2, gamma = g.gamma;
       SignalTruth sig;
       sig.satellite = s.sat;
       sig.arc = s.arc;
@@ -515,8 +590,8 @@ SimulatedFlight simulateFlight(const SimulationConfig& config, std::uint64_t see
       if (th.enabled) {
         sig.code_noise1_m = s.thermal_rng.normal(code_sigma);
         sig.code_noise2_m = s.thermal_rng.normal(code_sigma);
-        sig.phase_noise1_m = s.thermal_rng.normal(phase_sigma1);
-        sig.phase_noise2_m = s.thermal_rng.normal(phase_sigma2);
+        sig.phase_noise1_m = s.thermal_rng.normal(g.phase_sigma1);
+        sig.phase_noise2_m = s.thermal_rng.normal(g.phase_sigma2);
       }
       const TruthArc& arc = f.arcs[s.arc - 1];
       const double G = sig.nondispersive_m, I1 = sig.ionosphere_l1_m, I2 = gamma * I1;
@@ -536,14 +611,15 @@ SimulatedFlight simulateFlight(const SimulationConfig& config, std::uint64_t see
       SatelliteObservations so;
       so.satellite = s.sat;
       so.first = static_cast<std::uint32_t>(epoch.observations.size());
-      so.count = 5;
+      so.count = static_cast<std::uint32_t>(g.obs_types.size());
       epoch.satellites.push_back(so);
       const bool qz = config.quantize;
-      epoch.observations.push_back({c1c, quantize(p1, qz), std::nullopt, std::nullopt});
-      epoch.observations.push_back({l1c, quantize(l1, qz), lli ? std::optional<std::uint8_t>(1) : std::nullopt, std::nullopt});
-      epoch.observations.push_back({c1w, quantize(p1, qz), std::nullopt, std::nullopt});
-      epoch.observations.push_back({c2w, quantize(p2, qz), std::nullopt, std::nullopt});
-      epoch.observations.push_back({l2w, quantize(l2, qz), lli ? std::optional<std::uint8_t>(1) : std::nullopt, std::nullopt});
+      const auto flag = lli ? std::optional<std::uint8_t>(1) : std::nullopt;
+      for (const ObservationCode& code : g.obs_types) {  // RINEX order
+        const bool band1 = code.band == '1', phase = code.type == ObservableType::CarrierPhase;
+        const double v = phase ? (band1 ? l1 : l2) : (band1 ? p1 : p2);
+        epoch.observations.push_back({code, quantize(v, qz), phase ? flag : std::nullopt, std::nullopt});
+      }
       te.signals.push_back(sig);
     }
     f.epochs.push_back(std::move(epoch));

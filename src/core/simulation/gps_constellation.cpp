@@ -10,8 +10,10 @@
 namespace ppp {
 
 WalkerConstellation::WalkerConstellation(WalkerConstellationOptions o) : options_(o) {
-  if (o.satellites < 1 || o.satellites > 32 || o.planes < 1 || o.planes > o.satellites)
-    throw std::invalid_argument("Walker constellation: 1..32 satellites and 1..satellites planes");
+  if (o.satellites < 1 || o.satellites > 36 || o.planes < 1 || o.planes > o.satellites)
+    throw std::invalid_argument("Walker constellation: 1..36 satellites and 1..satellites planes");
+  if (!(o.gm_m3ps2 > 0.0) || !(o.semi_major_axis_m > 0.0))
+    throw std::invalid_argument("Walker constellation: GM and semi-major axis must be positive");
   const int T = o.satellites, P = o.planes;
   std::vector<int> in_plane(static_cast<std::size_t>(P), 0);
   for (int k = 0; k < T; ++k) ++in_plane[static_cast<std::size_t>(k % P)];
@@ -21,7 +23,7 @@ WalkerConstellation::WalkerConstellation(WalkerConstellationOptions o) : options
     const int n = in_plane[static_cast<std::size_t>(plane)];
     const int j = slot[static_cast<std::size_t>(plane)]++;
     KeplerianElements e;
-    e.satellite = SatelliteId{GnssSystem::GPS, k + 1};
+    e.satellite = SatelliteId{o.system, k + 1};
     e.semi_major_axis_m = o.semi_major_axis_m;
     e.eccentricity = o.eccentricity;
     e.inclination_rad = o.inclination_rad;
@@ -32,12 +34,30 @@ WalkerConstellation::WalkerConstellation(WalkerConstellationOptions o) : options
   }
 }
 
+WalkerConstellationOptions galileoWalkerOptions() {
+  WalkerConstellationOptions o;
+  o.system = GnssSystem::Galileo;
+  o.gm_m3ps2 = kGmGalileo_m3ps2;
+  o.satellites = 24;
+  o.planes = 3;
+  o.phasing = 1;
+  o.semi_major_axis_m = kWgs84SemiMajorAxis_m + kGalileoAltitude_m;
+  o.inclination_rad = 56.0 * kDegToRad;
+  return o;
+}
+
+double WalkerConstellation::period_s() const {
+  const double a = options_.semi_major_axis_m;
+  return 2.0 * kPi * std::sqrt(a * a * a / options_.gm_m3ps2);
+}
+
 void WalkerConstellation::state(std::size_t i, const GnssTime& t, Eigen::Vector3d& position,
                                 Eigen::Vector3d& velocity) const {
   const KeplerianElements& e = elements_.at(i);
   const double dt = t - options_.reference_time;
   const double a = e.semi_major_axis_m, ecc = e.eccentricity;
-  const double n = std::sqrt(kGmGps_m3ps2 / (a * a * a));
+  const double gm = options_.gm_m3ps2;
+  const double n = std::sqrt(gm / (a * a * a));
   const double M = std::remainder(e.mean_anomaly_rad + n * dt, 2.0 * kPi);
   double E = M;  // Kepler's equation by Newton iteration
   for (int it = 0; it < 20; ++it) {
@@ -47,7 +67,7 @@ void WalkerConstellation::state(std::size_t i, const GnssTime& t, Eigen::Vector3
   }
   const double cosE = std::cos(E), sinE = std::sin(E);
   const double r_pf_x = a * (cosE - ecc), r_pf_y = a * std::sqrt(1.0 - ecc * ecc) * sinE;
-  const double rdot_factor = std::sqrt(kGmGps_m3ps2 * a) / (a * (1.0 - ecc * cosE));
+  const double rdot_factor = std::sqrt(gm * a) / (a * (1.0 - ecc * cosE));
   const double v_pf_x = -rdot_factor * sinE, v_pf_y = rdot_factor * std::sqrt(1.0 - ecc * ecc) * cosE;
   // Perifocal -> inertial: R3(-RAAN) R1(-i) R3(-omega).
   const double cO = std::cos(e.raan_rad), sO = std::sin(e.raan_rad), ci = std::cos(e.inclination_rad),
@@ -91,7 +111,9 @@ RinexClockHeader clockHeader(const std::vector<SatelliteId>& sats) {
   RinexClockHeader h;
   h.version_text = "3.00";
   h.version = 3.0;
-  h.satellite_system = 'G';
+  h.satellite_system = sats.empty() ? 'G' : systemLetter(sats.front().system);
+  for (const auto& s : sats)
+    if (s.system != sats.front().system) h.satellite_system = 'M';
   h.program = "ppp_simulate";
   h.run_by = "ppp_bayes_tree";
   h.data_types = {"AS"};
@@ -146,6 +168,22 @@ TruthProducts sampleWalkerProducts(const WalkerConstellation& constellation, con
     }
   }
   return out;
+}
+
+void mergeProducts(TruthProducts& into, const TruthProducts& other) {
+  if (into.orbits.epochs != other.orbits.epochs)
+    throw std::invalid_argument("mergeProducts: the orbit samples differ in their epochs");
+  for (const auto& [sat, recs] : other.orbits.satellites) {
+    into.orbits.satellites[sat] = recs;
+    into.orbits.header.satellites.push_back(sat);
+  }
+  for (const auto& [sat, recs] : other.clocks.satellite_clocks) {
+    into.clocks.satellite_clocks[sat] = recs;
+    into.clocks.header.prn_list.push_back(sat);
+  }
+  into.clocks.header.satellite_count = static_cast<int>(into.clocks.header.prn_list.size());
+  if (other.clocks.header.satellite_system != into.clocks.header.satellite_system)
+    into.clocks.header.satellite_system = 'M';
 }
 
 TruthProducts restrictProducts(const Sp3File& sp3, const RinexClockFile& clk, const GnssTime& first,

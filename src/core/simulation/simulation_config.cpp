@@ -1,5 +1,6 @@
 #include "ppp_bayes_tree/simulation/simulation_config.h"
 
+#include <algorithm>
 #include <cstdio>
 #include <fstream>
 #include <sstream>
@@ -19,6 +20,10 @@ ErrorModelConfig ErrorModelConfig::none() {
   e.phase_breaks.enabled = false;
   e.products.enabled = false;
   return e;
+}
+
+bool SimulationConfig::simulates(GnssSystem system) const {
+  return std::find(systems.begin(), systems.end(), system) != systems.end();
 }
 
 double defaultProfileDuration_s(FlightProfile profile) {
@@ -103,6 +108,8 @@ void readErrors(YamlSection s, ErrorModelConfig& e) {
     r.drift_sigma_s_per_s = c.number("drift_sigma_s_per_s", r.drift_sigma_s_per_s, Bound::NonNegative);
     r.step_s = c.number("step_s", r.step_s, Bound::NonNegative);
     r.steps_per_hour = c.number("steps_per_hour", r.steps_per_hour, Bound::NonNegative);
+    r.galileo_offset_sigma_s = c.number("galileo_offset_sigma_s", r.galileo_offset_sigma_s, Bound::NonNegative);
+    if (r.galileo_offset_sigma_s > 1e-3) c.fail("galileo_offset_sigma_s", "must be <= 1 ms");
     if (r.initial_sigma_s > 1e-3) c.fail("initial_sigma_s", "must be <= 1 ms");
     c.finish();
   }
@@ -169,6 +176,14 @@ SimulationConfig parseSimulationConfig(const std::string& yaml_text, const std::
       auto k = top.section("constellation");
       c.satellites = k.integer("satellites", c.satellites, 24);
       if (c.satellites > 32) k.fail("satellites", "must be 24..32");
+      if (k.has("systems")) {
+        const std::string t = k.text("systems", "G");
+        if (t == "G") c.systems = {GnssSystem::GPS};
+        else if (t == "GE") c.systems = {GnssSystem::GPS, GnssSystem::Galileo};
+        else k.fail("systems", "must be G or GE");
+      }
+      c.galileo_satellites = k.integer("galileo_satellites", c.galileo_satellites, 1);
+      if (c.galileo_satellites > 36) k.fail("galileo_satellites", "must be 1..36");
       c.orbit_interval_s = k.number("orbit_interval_s", c.orbit_interval_s, Bound::Positive);
       c.clock_interval_s = k.number("clock_interval_s", c.clock_interval_s, Bound::Positive);
       k.finish();

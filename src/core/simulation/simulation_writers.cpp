@@ -1,5 +1,6 @@
 #include "ppp_bayes_tree/simulation/simulation_writers.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -104,7 +105,8 @@ std::string rinexObsText(const RinexObsHeader& header, const std::vector<ObsEpoc
 std::string rinexClockText(const RinexClockFile& clocks) {
   const RinexClockHeader& h = clocks.header;
   std::string t;
-  t += headerLine(fmt("%9.2f           C                   G", 3.00), "RINEX VERSION / TYPE");
+  const std::string system(1, h.satellite_system == 'M' ? 'M' : 'G');  // GPS, or GPS+Galileo (mixed)
+  t += headerLine(fmt("%9.2f           C                   ", 3.00) + system, "RINEX VERSION / TYPE");
   t += headerLine(fmt("%-20.20s%-20.20s%-20.20s", h.program.c_str(), h.run_by.c_str(), h.date.c_str()),
                   "PGM / RUN BY / DATE");
   t += headerLine("GPS", "TIME SYSTEM ID");
@@ -134,7 +136,13 @@ std::string rinexClockText(const RinexClockFile& clocks) {
   return t;
 }
 
-std::string sp3Text(const Sp3File& sp3) { return gpsOnlySp3(sp3).text; }
+std::string sp3Text(const Sp3File& sp3) {
+  std::vector<GnssSystem> systems;
+  for (const auto& [sat, records] : sp3.satellites)
+    if (std::find(systems.begin(), systems.end(), sat.system) == systems.end()) systems.push_back(sat.system);
+  if (systems.empty()) systems.push_back(GnssSystem::GPS);
+  return sp3Copy(sp3, systems).text;
+}
 
 void writeTruthEpochsCsv(std::ostream& out, const SimulatedFlight& f) {
   out << "time_gpst,gps_week,seconds_of_week,x_m,y_m,z_m,latitude_deg,longitude_deg,height_m,vx_mps,vy_mps,vz_mps,"
