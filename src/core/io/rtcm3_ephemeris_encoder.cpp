@@ -220,7 +220,7 @@ std::vector<std::uint8_t> encodeEphemerisPayload(const BeidouEphemeris& e) {
   w.putUnsigned(1042, 12);
   w.putUnsigned(static_cast<std::uint64_t>(e.satellite.prn), 6);
   w.putUnsigned(static_cast<std::uint64_t>(((e.bdt_week % 8192) + 8192) % 8192), 13);
-  w.putUnsigned(static_cast<std::uint64_t>(e.urai), 4);
+  w.putUnsigned(static_cast<std::uint64_t>(beidouUraIndex(e.ura_m)), 4);
   w.putSigned(semicircles(o.idot_radps, -43), 14);
   w.putUnsigned(static_cast<std::uint64_t>(e.aode), 5);
   w.putUnsigned(static_cast<std::uint64_t>(q(toc_bdt_sow, 8.0)), 17);
