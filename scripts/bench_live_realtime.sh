@@ -22,8 +22,11 @@
 #     epochs and over those after the smoother's window is full;
 #   - end-to-end latency: the wall time the status arrives at the monitor minus the
 #     transport's header.stamp of the epoch's last MSM frame (transport + decoding +
-#     estimator + publication), median/p99/max; and the nodes' own (chunk arrival ->
-#     solution published).
+#     estimator + publication), median/p99/max, over all epochs and without the first 30 s
+#     (start-up: the frames published before the nodes' subscriptions connect are lost,
+#     among them the first station frame 1005/1006, so the first epochs wait for the next
+#     one, up to 10 s: ros.live station wait, app/live_gnss_input.h); and the nodes' own
+#     (subscriber callback of the epoch's last chunk -> solution published).
 # Fixed lag: --lag-s (default 600 s of data time for a recording: at 10x a 1 Hz recording
 # gives the smoother a window of 600 states, as config/live.yaml's 60 s at a true 10 Hz does).
 #
@@ -34,12 +37,12 @@
 # (fixed lag 60 s = 600 states).
 #
 # Usage: scripts/bench_live_realtime.sh [--stream FILE] [--speed S] [--ref-date YYYY/MM/DD]
-#          [--lag-s L] [--rate-hz R] [--leap-s N] [--atx FILE] [--tail-s T] [--out DIR]
+#          [--lag-s L] [--rate-hz R] [--leap-s N] [--atx FILE] [--tail-s T] [--sample-s S] [--out DIR]
 #        scripts/bench_live_realtime.sh --simulate MIN [--profile P] [--out DIR]
 #   --rate-hz: the recording's epoch rate (default 1), only to count the epochs before
 #   the smoother's window is full (lag x rate). --leap-s: GPST - UTC of the recording
 #   (default 18). --tail-s: wall seconds after the replay ends before the figures are
-#   taken (default 5).
+#   taken (default 5). --sample-s: period of the CPU lines printed during the run (default 10).
 # Needs the catkin build: scripts/build.sh ppp_stream_node ppp_ekf_node ppp_smoother_node
 # ppp_bench_live_stream ppp_bayes_tree_generate_messages_py. Runs its own roscore on a free
 # loopback port.
@@ -47,6 +50,7 @@ set -euo pipefail
 source "$(dirname "${BASH_SOURCE[0]}")/common.sh"
 STREAM="$SHARED_DATA/streams/rtcm/week-rollover-STR24.rtcm3" SPEED=10 REF_DATE=2018/07/14 LAG_S=600 RATE_HZ=1
 LEAP_S=18 ATX="$SHARED_DATA/antex/igs20_gps_satellites_trim.atx" TAIL_S=5 SIMULATE_MIN="" PROFILE=loiter NAV=""
+SAMPLE_S=10
 EXTRA_CONFIG=""
 OUT="$(mktemp -d /tmp/bench_live_realtime.XXXXXX)"
 while [ $# -gt 0 ]; do
@@ -59,6 +63,7 @@ while [ $# -gt 0 ]; do
     --leap-s) LEAP_S="$2"; shift 2 ;;
     --atx) ATX="$2"; shift 2 ;;
     --tail-s) TAIL_S="$2"; shift 2 ;;
+    --sample-s) SAMPLE_S="$2"; shift 2 ;;
     --simulate) SIMULATE_MIN="$2"; shift 2 ;;
     --profile) PROFILE="$2"; shift 2 ;;
     --out) OUT="$2"; mkdir -p "$OUT"; shift 2 ;;
@@ -140,9 +145,24 @@ declare -a t_start
 for i in 0 1 2; do t_start[$i]="$(ticks "${procs[$i]}")"; done
 wall_start="$(date +%s.%N)"
 echo "=== replay of ${STREAM##*/} at ${SPEED}x into ppp_ekf_node + ppp_smoother_node (live, lag ${LAG_S} s); logs in $OUT"
+echo "    wall [s], CPU [% of one core] in the last ${SAMPLE_S} s: ${names[*]}"
+declare -a t_last
+for i in 0 1 2; do t_last[$i]="${t_start[$i]}"; done
+t_sample=$SECONDS t0=$SECONDS
 until grep -q "ended after" "$OUT/receiver_stream.log" 2>/dev/null; do
   kill -0 "$STREAM_PID" 2>/dev/null || { echo "ppp_stream_node stopped:"; tail -5 "$OUT/receiver_stream.log"; exit 1; }
   sleep 1
+  if [ $((SECONDS - t_sample)) -ge "$SAMPLE_S" ]; then
+    line="$(printf "  %6d s " $((SECONDS - t0)))"
+    for i in 0 1 2; do
+      now="$(ticks "${procs[$i]}")"
+      line+="$(awk -v a="${t_last[$i]}" -v b="$now" -v hz="$HZ" -v s=$((SECONDS - t_sample)) \
+        'BEGIN {printf "  %6.1f", 100 * (b - a) / hz / s}')"
+      t_last[$i]="$now"
+    done
+    echo "$line"
+    t_sample=$SECONDS
+  fi
 done
 sleep "$TAIL_S"
 wall_end="$(date +%s.%N)"
@@ -178,7 +198,7 @@ def diag(ns):
     return {}
 wire = m["epochs_on_wire"]
 span = (m["last_frame_wall"] or 0) - (m["first_frame_wall"] or 0)
-print("replay: %.0fx, %d frames, %d epochs on the wire in %.1f s of wall time = %.2f epochs/s; frames lost before the "
+print("replay: %.0fx, %d frames, %d epochs on the wire (as the monitor saw them) in %.1f s of wall time = %.2f epochs/s; frames lost before the "
       "monitor (seq gaps): %d" % (speed, m["frames"], wire, span, wire / span if span > 0 else float("nan"),
                                   m["frame_seq_gaps"]))
 print("CPU over %.1f s of wall time (/proc utime+stime; a shared, loaded machine: the per-epoch figures are the "
@@ -186,6 +206,8 @@ print("CPU over %.1f s of wall time (/proc utime+stime; a shared, loaded machine
 for name, s in cpu.items():
     print("  %-18s %6.2f %% of one core, %6.3f ms per epoch" % (name, 100 * s / wall, 1e3 * s / wire if wire else float("nan")))
 full_window = int(lag_s * rate_hz)
+published = next((int(d["values"].get("frames published", 0)) for name, d in m["diagnostics"].items()
+                  if name.endswith(": stream")), 0)
 for ns, label in (("ekf", "ppp_ekf_node"), ("smoother", "ppp_smoother_node")):
     n = m["nodes"]["/" + ns]
     d = diag(ns)
@@ -196,8 +218,14 @@ for ns, label in (("ekf", "ppp_ekf_node"), ("smoother", "ppp_smoother_node")):
     lost = sum(int(v) for k, v in d.items() if k.endswith("messages lost before the node (header.seq gaps)"))
     conv, dec, est = f("input CPU: message conversion [s]"), f("input CPU: decoding and release (LiveGnssInput) [s]"), f("estimator CPU [s]")
     print("%s:" % label)
-    print("  epochs: on the wire %d, decoded %d, solutions out %d (solved %d), dropped %d; messages lost at the "
-          "node's queue %d" % (wire, decoded, n["statuses"], n["solved"], wire - n["statuses"], lost))
+    received = sum(int(v.split(" ")[0]) for k, v in d.items() if k.endswith(": messages (type)"))
+    print("  epochs: on the wire %d, decoded %d, solutions out %d (solved %d); dropped (on the wire after the "
+          "node's first solution, no solution out) %d%s; on the wire before it %d" %
+          (wire, decoded, n["statuses"], n["solved"], n["dropped"],
+           " (GPST mod 1 h [s]: %s)" % " ".join("%.1f" % k for k in n["dropped_gpst_mod_hour_s"][:5])
+           if n["dropped"] else "", n["before_first_solution"]))
+    print("  frames: %d published by the transport, %d received by the node, lost on the way (header.seq gaps) %d, "
+          "published before its subscription connected %d" % (published, received, lost, published - received - lost))
     print("  input CPU (conversion %.3f s + decoding %.3f s) = %.3f %% of one core, %.3f ms per epoch; estimator CPU "
           "%.2f s = %.2f %% of one core, %.2f ms per epoch" % (conv, dec, 100 * (conv + dec) / wall,
                                                              1e3 * (conv + dec) / decoded if decoded else float("nan"),
@@ -206,9 +234,10 @@ for ns, label in (("ekf", "ppp_ekf_node"), ("smoother", "ppp_smoother_node")):
     print("  update time (wall) median / p99 / max [ms]: all %d epochs %s" % (len(u), ms(u)) +
           ("; after the window is full (epoch > %d): %s" % (full_window, ms(u[full_window:]))
            if ns == "smoother" and len(u) > full_window else ""))
-    print("  end-to-end latency (transport read -> status received, wall) median / p99 / max [ms]: %s (%d epochs, %d "
-          "unmatched)" % (ms(n["latency_s"]), len(n["latency_s"]), n["unmatched"]))
-    print("  node's own latency (chunk arrival -> published) median / p99 / max [ms]: %.1f / %.1f / %.1f" %
+    print("  end-to-end latency (transport read of the epoch's last frame -> status received, wall) median / p99 / "
+          "max [ms]: %s (%d epochs); after the first 30 s of the replay: %s (%d epochs)" %
+          (ms(n["latency_s"]), len(n["latency_s"]), ms(n["latency_steady_s"]), len(n["latency_steady_s"])))
+    print("  in-node latency (callback of the epoch's last chunk -> published) median / p99 / max [ms]: %.1f / %.1f / %.1f" %
           (1e3 * f("latency median [s]"), 1e3 * f("latency p99 [s]"), 1e3 * f("latency max [s]")))
 EOF
 echo "=== logs and monitor.json in $OUT"

@@ -81,9 +81,10 @@ class Monitor:
         self.last_seq = None
         self.first_frame_wall = None
         self.last_frame_wall = None
-        self.nodes = {ns: {"statuses": 0, "solved": 0, "update_s": [], "latency_s": [], "unmatched": 0,
-                           "first_wall": None, "last_wall": None}
-                      for ns in args.nodes}
+        # Per node: (epoch key, wall time received, update_time_s, solved) of every status;
+        # matched with the wire epochs at the end (a status may arrive before this
+        # process has handled the frames of its epoch).
+        self.statuses = {ns: [] for ns in args.nodes}
         self.diagnostics = {}
         rospy.Subscriber(args.receiver_topic, rospy.AnyMsg, self.on_frame, queue_size=10000)
         for ns in args.nodes:
@@ -127,18 +128,7 @@ class Monitor:
         key = (msg.header.stamp.secs * 1000 + int(round(msg.header.stamp.nsecs * 1e-6)) +
                self.args.leap_s * 1000) % HOUR_MS
         with self.lock:
-            n = self.nodes[ns]
-            n["statuses"] += 1
-            if n["first_wall"] is None:
-                n["first_wall"] = now
-            n["last_wall"] = now
-            if msg.solution_state != PppStatus.NO_SOLUTION:
-                n["solved"] += 1
-            n["update_s"].append(msg.update_time_s)
-            if key in self.epoch_stamp:
-                n["latency_s"].append(now - self.epoch_stamp[key])
-            else:
-                n["unmatched"] += 1
+            self.statuses[ns].append((key, now, msg.update_time_s, msg.solution_state != PppStatus.NO_SOLUTION))
 
     def on_diagnostics(self, msg):
         # DiagnosticArray: Header (seq, stamp, frame_id), DiagnosticStatus[] (int8 level, string
@@ -180,9 +170,32 @@ class Monitor:
 
     def summary(self):
         with self.lock:
-            return {"frames": self.frames, "frame_seq_gaps": self.seq_gaps, "epochs_on_wire": len(self.epoch_stamp),
+            wire = set(self.epoch_stamp)
+            nodes = {}
+            for ns, statuses in self.statuses.items():
+                keys = set(k for k, _, _, _ in statuses)
+                # Epochs on the wire with no solution out, from the node's first solution on (those
+                # before it went by while the node was starting: counted apart).
+                first = next((i for i, k in enumerate(self.epoch_order) if k in keys), len(self.epoch_order))
+                missing = [k for k in self.epoch_order[first:] if k not in keys]
+                nodes[ns] = {
+                    "statuses": len(statuses), "solved": sum(1 for s in statuses if s[3]),
+                    "update_s": [s[2] for s in statuses],
+                    # transport read of the epoch's last MSM frame -> status received here
+                    "latency_s": [t - self.epoch_stamp[k] for k, t, _, _ in statuses if k in self.epoch_stamp],
+                    # the same without the start-up (statuses received in the first --steady-after-s
+                    # of the replay: epochs held for the first station frame 1005/1006, see the script)
+                    "latency_steady_s": [t - self.epoch_stamp[k] for k, t, _, _ in statuses
+                                         if k in self.epoch_stamp and self.first_frame_wall is not None
+                                         and t - self.first_frame_wall > self.args.steady_after_s],
+                    "not_on_wire": len(keys - wire),
+                    "dropped": len(missing),
+                    "before_first_solution": first,
+                    "dropped_gpst_mod_hour_s": [k / 1000.0 for k in missing[:20]],
+                }
+            return {"frames": self.frames, "frame_seq_gaps": self.seq_gaps, "epochs_on_wire": len(wire),
                     "first_frame_wall": self.first_frame_wall, "last_frame_wall": self.last_frame_wall,
-                    "nodes": self.nodes, "diagnostics": self.diagnostics}
+                    "nodes": nodes, "diagnostics": self.diagnostics}
 
 
 def main():
@@ -190,6 +203,8 @@ def main():
     p.add_argument("--receiver-topic", default="/gnss/receiver")
     p.add_argument("--nodes", nargs="+", default=["/ekf", "/smoother"], help="namespaces of the PPP nodes")
     p.add_argument("--leap-s", type=int, default=18, help="GPST - UTC [s]")
+    p.add_argument("--steady-after-s", type=float, default=30.0,
+                   help="latency_steady_s: statuses received later than this after the first frame [s]")
     p.add_argument("--out", required=True, help="JSON summary written at SIGINT")
     args = p.parse_args(rospy.myargv()[1:])
     rospy.init_node("live_realtime_monitor", disable_signals=True)

@@ -952,7 +952,9 @@ void PppNode::diagnoseLive(diagnostic_updater::DiagnosticStatusWrapper& s) {
   s.add("estimator CPU [s]", estimator_cpu_s_);
   s.add("estimator CPU per processed epoch [ms]", per_epoch_ms(estimator_cpu_s_, counters_.epochs_processed));
   const std::vector<double> latency(live_latency_s_.begin(), live_latency_s_.end());
-  s.add("latency epochs (arrival -> published, the last " + std::to_string(kLatencyWindow) + " at most)", latency.size());
+  s.add("latency epochs (callback of the epoch's last chunk -> solution published, the last " +
+            std::to_string(kLatencyWindow) + " at most)",
+        latency.size());
   s.add("latency median [s]", quantile(latency, 0.5));
   s.add("latency p99 [s]", quantile(latency, 0.99));
   s.add("latency max [s]", latency.empty() ? kNaN : *std::max_element(latency.begin(), latency.end()));

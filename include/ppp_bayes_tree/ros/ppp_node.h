@@ -241,9 +241,10 @@ class PppNode {
   std::size_t live_receiver_restarts_ = 0;  // resets after the observation time went back
   // Cost figures of the live path (diagnostics "live streams"; scripts/bench_live_realtime.sh):
   // thread CPU time in LiveGnssInput (feed: framing + decoding; takeReadyEpochs: release),
-  // in the estimator (PppEpochProcessor::process, every input), and the end-to-end latency
-  // (arrival of the chunk completing an epoch -> its solution published, ROS clock) of the
-  // last kLatencyWindow epochs (bounded).
+  // in the estimator (PppEpochProcessor::process, every input), and the in-node latency
+  // (subscriber callback of the chunk completing an epoch -> its solution published, ROS
+  // clock; time waiting in the subscriber queue is not in it) of the last kLatencyWindow
+  // epochs (bounded).
   static constexpr std::size_t kLatencyWindow = 1000;
   double live_decode_cpu_s_ = 0.0, estimator_cpu_s_ = 0.0;
   std::deque<double> live_latency_s_;
