@@ -4,6 +4,7 @@
 #include <cctype>
 #include <cmath>
 #include <cstring>
+#include <time.h>
 
 #include <ros/message_traits.h>
 
@@ -280,13 +281,32 @@ void GnssStreamSubscriber::onMessage(const ros::MessageEvent<topic_tools::ShapeS
     error("topic " + topic_ + " from " + event.getPublisherName() + ": " + why + ": message dropped (counted)");
     return;
   }
+  const auto thread_cpu_s = [] {
+    timespec ts{};
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+    return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
+  };
+  const double cpu0_s = thread_cpu_s();
   std::vector<std::uint8_t> buffer(msg->size());
   ros::serialization::OStream out(buffer.data(), static_cast<std::uint32_t>(buffer.size()));
   msg->write(out);
+  // header.seq (the first field of the types with a header): gaps are messages lost on the way.
+  const bool has_header = *type == StreamMessageType::RtcmMessage || *type == StreamMessageType::MavrosRtcm ||
+                          *type == StreamMessageType::GnssStreamBytes;
+  if (has_header && buffer.size() >= 4) {
+    const std::uint32_t seq = std::uint32_t(buffer[0]) | (std::uint32_t(buffer[1]) << 8) |
+                              (std::uint32_t(buffer[2]) << 16) | (std::uint32_t(buffer[3]) << 24);
+    const auto [it, first] = last_seq_.emplace(event.getPublisherName(), seq);
+    if (!first) {
+      if (seq > it->second + 1) counters_.lost += seq - it->second - 1;
+      it->second = seq;  // a step back (publisher restarted) starts counting anew
+    }
+  }
   try {
     ppp::StreamChunk chunk = streamChunkFromMessage(*type, stream_, buffer.data(), buffer.size(), format_hint_);
     chunk.arrival_time_s = counters_.last_arrival->toSec();
     counters_.bytes += chunk.bytes.size();
+    counters_.conversion_cpu_s += thread_cpu_s() - cpu0_s;
     on_chunk_(std::move(chunk));
   } catch (const StreamMessageError& e) {
     ++counters_.malformed;

@@ -1,5 +1,8 @@
 #include "ppp_bayes_tree/ros/ppp_node.h"
 
+#include <time.h>
+
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <cmath>
@@ -18,6 +21,20 @@ namespace ppp_ros {
 namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+/// CPU time of the calling thread [s] (the cost figures stay meaningful on a loaded machine).
+double threadCpu_s() {
+  timespec ts{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
+}
+
+/// The p-quantile (0..1, nearest rank) of `v` (NaN when empty).
+double quantile(std::vector<double> v, double p) {
+  if (v.empty()) return kNaN;
+  std::sort(v.begin(), v.end());
+  return v[std::min(v.size() - 1, static_cast<std::size_t>(p * static_cast<double>(v.size())))];
+}
 
 geometry_msgs::TransformStamped transform(const std::string& parent, const std::string& child, const ros::Time& stamp,
                                           const Eigen::Vector3d& t, const Eigen::Quaterniond& q) {
@@ -558,12 +575,16 @@ void PppNode::startLiveInput() {
 }
 
 void PppNode::onStreamChunk(ppp::StreamChunk&& chunk) {
+  const double cpu0_s = threadCpu_s();
   live_->feed(chunk);
+  live_decode_cpu_s_ += threadCpu_s() - cpu0_s;
   drain();
 }
 
 void PppNode::drainLive() {
+  const double cpu0_s = threadCpu_s();
   std::vector<ppp::LiveReadyEpoch> ready = live_->takeReadyEpochs(ros::Time::now().toSec());
+  live_decode_cpu_s_ += threadCpu_s() - cpu0_s;
   if (ready.empty()) return;
   // The epochs are laid out by the header as it is now.
   if (live_->takeHeaderChanged()) {
@@ -598,6 +619,10 @@ void PppNode::processLiveEpoch(const ppp::LiveReadyEpoch& ready) {
     return;
   }
   processObsEpoch(epoch);
+  if (ready.arrival_s) {
+    live_latency_s_.push_back(ros::Time::now().toSec() - *ready.arrival_s);
+    if (live_latency_s_.size() > kLatencyWindow) live_latency_s_.pop_front();
+  }
 }
 
 void PppNode::startProcessor() {
@@ -642,7 +667,9 @@ void PppNode::processObsEpoch(const ppp::ObsEpoch& epoch) {
     layout_changed_ = false;
   }
   const auto start = std::chrono::steady_clock::now();
+  const double cpu0_s = threadCpu_s();
   const ppp::PppEpochRecord rec = processor_->process(epoch, *estimator_);
+  estimator_cpu_s_ += threadCpu_s() - cpu0_s;
   const double update_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   if (rec.refused) {  // cannot happen after the time checks above, kept as a guard
     warn("refused", "ppp: epoch refused: " + rec.reason);
@@ -913,10 +940,31 @@ void PppNode::diagnoseLive(diagnostic_updater::DiagnosticStatusWrapper& s) {
   s.add("satellites without an ephemeris at their epoch (waiting)", live_->satellitesWithoutEphemeris());
   s.add("navigation records held", live_->navigationRecords());
   s.add("estimator resets at receiver restarts", live_receiver_restarts_);
+  // Cost figures (thread CPU time, so meaningful on a loaded machine) and latency.
+  std::uint64_t decoded_epochs = 0;
+  for (const ppp::LiveStreamStatus& st : live_->streams()) decoded_epochs += st.observation_epochs;
+  double conversion_cpu_s = 0.0;
+  for (const auto& sub : stream_subs_) conversion_cpu_s += sub->counters().conversion_cpu_s;
+  const auto per_epoch_ms = [](double cpu_s, std::uint64_t n) { return n > 0 ? 1e3 * cpu_s / static_cast<double>(n) : kNaN; };
+  s.add("input CPU: message conversion [s]", conversion_cpu_s);
+  s.add("input CPU: decoding and release (LiveGnssInput) [s]", live_decode_cpu_s_);
+  s.add("input CPU per decoded epoch [ms]", per_epoch_ms(conversion_cpu_s + live_decode_cpu_s_, decoded_epochs));
+  s.add("estimator CPU [s]", estimator_cpu_s_);
+  s.add("estimator CPU per processed epoch [ms]", per_epoch_ms(estimator_cpu_s_, counters_.epochs_processed));
+  const std::vector<double> latency(live_latency_s_.begin(), live_latency_s_.end());
+  s.add("latency epochs (callback of the epoch's last chunk -> solution published, the last " +
+            std::to_string(kLatencyWindow) + " at most)",
+        latency.size());
+  s.add("latency median [s]", quantile(latency, 0.5));
+  s.add("latency p99 [s]", quantile(latency, 0.99));
+  s.add("latency max [s]", latency.empty() ? kNaN : *std::max_element(latency.begin(), latency.end()));
   for (const auto& sub : stream_subs_) {
     const GnssStreamSubscriber::Counters& c = sub->counters();
     const std::string p = sub->topic() + ": ";
     s.add(p + "messages (type)", std::to_string(c.messages) + " (" + (c.type.empty() ? "none yet" : c.type) + ")");
+    s.add(p + "messages lost before the node (header.seq gaps)", c.lost);
+    if (c.lost > 0) raise(DiagnosticStatus::WARN, sub->topic() + ": " + std::to_string(c.lost) +
+                                                      " message(s) lost before the node (a queue overflowed)");
     s.add(p + "messages of a wrong type/MD5 / malformed (dropped)",
           std::to_string(c.wrong_type) + " / " + std::to_string(c.malformed));
     if (!c.last_error.empty()) s.add(p + "last error", c.last_error);

@@ -106,6 +106,9 @@ StreamNode::StreamNode(ros::NodeHandle nh, ros::NodeHandle pnh)
 
 void StreamNode::publishFrame(const std::vector<std::uint8_t>& bytes) {
   std_msgs::Header header;
+  // Numbered here (roscpp numbers only typed publications, not ShapeShifter ones), so that
+  // a subscriber sees lost messages as header.seq gaps.
+  header.seq = static_cast<std::uint32_t>(published_);
   header.stamp = ros::Time::now();
   header.frame_id = options_.frame_id;
   if (!advertised_) advertise();

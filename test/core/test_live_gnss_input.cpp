@@ -18,11 +18,14 @@
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
+#include <iterator>
 #include <map>
 #include <random>
 
 #include "ppp_bayes_tree/app/live_gnss_input.h"
 #include "ppp_bayes_tree/io/caster_stream_builder.h"
+#include "ppp_bayes_tree/io/bit_writer.h"
+#include "ppp_bayes_tree/io/file_replay_source.h"
 #include "ppp_bayes_tree/io/rinex_nav_reader.h"
 #include "ppp_bayes_tree/io/rinex_obs_reader.h"
 #include "ppp_bayes_tree/io/rtcm3_framer.h"
@@ -533,6 +536,58 @@ TEST(LiveGnssInput, ReceiverRestartWithATimeJumpBackIsCountedAndGoesOn) {
   EXPECT_EQ(live.streams()[0].restarts, 1u);
   EXPECT_EQ(live.streams()[0].time_backwards, 0u);
   EXPECT_EQ(released, 2 * epochs);
+}
+
+}  // namespace
+}  // namespace ppp
+
+namespace ppp {
+namespace {
+
+// The end-to-end latency the nodes report (ppp_node.h, scripts/bench_live_realtime.sh)
+// is measured from LiveReadyEpoch::arrival_s: the arrival of the chunk that completed
+// the epoch. On a real recording fed one frame per chunk (arrival = the frame's index),
+// broadcast only: each epoch is released by the chunk holding its last MSM frame (the
+// multiple-message bit 0 of RTCM 10403.3 DF393 closes the epoch; no wait for the next
+// epoch's first frame) and carries that chunk's arrival.
+TEST(LiveGnssInput, AnEpochGoesOutWithTheArrivalOfItsLastMsmFrame) {
+  PPP_REQUIRE_SHARED_DATA();
+  std::ifstream in(test::dataPath("streams/rtcm/week-rollover-STR24.rtcm3"), std::ios::binary);
+  const std::vector<std::uint8_t> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  ASSERT_GT(bytes.size(), 1000000u);
+  std::vector<Rtcm3Frame> frames;
+  Rtcm3Framer framer;
+  framer.feed(bytes.data(), bytes.size(), [&](const Rtcm3Frame& f) { frames.push_back(f); });
+  // Index of the last frame of each epoch (GPS/Galileo/QZSS/BeiDou MSM time of week, modulo
+  // 1 s-rounding-safe milliseconds; GLONASS MSM carries a time of day and is not timed here).
+  std::map<long long, std::size_t> last_frame_of_epoch;
+  for (std::size_t k = 0; k < frames.size(); ++k)
+    if (const auto tow_s = rtcm3EpochTimeOfWeek_s(frames[k].payload))
+      last_frame_of_epoch[std::llround(*tow_s * 1000.0)] = k;
+  LiveInputOptions options;
+  options.expect_corrections = false;
+  options.station_wait_s = 0.0;
+  options.reference_time = GnssTime::fromCalendar({2018, 7, 14, 0, 0, 0.0}, TimeSystem::GPS);
+  LiveGnssInput live(options);
+  std::size_t released = 0, at_last_frame = 0;
+  for (std::size_t k = 0; k < frames.size(); ++k) {
+    live.feed(StreamChunk{"/gnss/receiver", StreamFormat::Rtcm3, encodeRtcm3Frame(frames[k].payload),
+                          static_cast<double>(k)});
+    for (const LiveReadyEpoch& r : live.takeReadyEpochs(static_cast<double>(k))) {
+      ++released;
+      ASSERT_TRUE(r.arrival_s.has_value());
+      EXPECT_EQ(*r.arrival_s, static_cast<double>(k));
+      const double tow_s = std::fmod(r.epoch.time.toGpsSecondsDouble(), 604800.0);
+      const auto it = last_frame_of_epoch.find(std::llround(tow_s * 1000.0));
+      ASSERT_NE(it, last_frame_of_epoch.end()) << r.epoch.time.toString();
+      if (it->second == k) ++at_last_frame;
+    }
+  }
+  // The recording's epochs (1,134 MSM4 frames of each of GLONASS, Galileo, QZSS and BeiDou; GPS
+  // misses one), all released on the way, none held to the end.
+  EXPECT_EQ(released, 1134u);
+  EXPECT_EQ(at_last_frame, released);
+  EXPECT_TRUE(live.finish().empty());
 }
 
 }  // namespace

@@ -159,6 +159,10 @@ std::string_view streamStallName(StreamStall stall);
 struct LiveReadyEpoch {
   ObsEpoch epoch;  // laid out by header() as it is when takeReadyEpochs returns
   LiveProductMode mode = LiveProductMode::PreciseSsr;
+  /// Arrival time of the chunk that completed the epoch (StreamChunk::arrival_time_s,
+  /// same clock); nullopt without arrival times. The node's end-to-end latency is
+  /// measured from it (time published minus this).
+  std::optional<double> arrival_s;
 };
 
 struct LiveStreamStatus {

@@ -34,6 +34,7 @@
 // counted per topic (diagnostics); the message is dropped, never a crash.
 #include <cstdint>
 #include <functional>
+#include <map>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -94,6 +95,13 @@ class GnssStreamSubscriber {
     std::string type;                // the publisher's type of the last message ("" = none yet)
     std::string last_error;          // the last wrong-type / malformed message, with the reason
     std::optional<ros::Time> last_arrival;
+    /// Messages lost before the node: gaps in header.seq per publisher (types with a
+    /// header; a subscriber or publisher queue overflow leaves a gap). A publisher that
+    /// does not number its messages (seq constant) shows none.
+    std::size_t lost = 0;
+    /// Thread CPU time spent turning messages into chunks (re-serializing, checking,
+    /// re-framing RAWX/SFRBX as UBX) [s]; the decoding itself is LiveGnssInput's.
+    double conversion_cpu_s = 0.0;
   };
 
   /// Subscribes `topic` (relative to nh's namespace); chunks go to `on_chunk` with
@@ -118,6 +126,7 @@ class GnssStreamSubscriber {
   Counters counters_;
   ros::Subscriber sub_;
   ros::WallTime last_error_log_;
+  std::map<std::string, std::uint32_t> last_seq_;  // per publisher (caller id)
 };
 
 }  // namespace ppp_ros

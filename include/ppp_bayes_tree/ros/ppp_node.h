@@ -239,6 +239,15 @@ class PppNode {
   std::string product_mode_text_ = "precise products";
   const ppp::BiasProvider* processor_biases_ = nullptr;  // the bias provider the processor was made with
   std::size_t live_receiver_restarts_ = 0;  // resets after the observation time went back
+  // Cost figures of the live path (diagnostics "live streams"; scripts/bench_live_realtime.sh):
+  // thread CPU time in LiveGnssInput (feed: framing + decoding; takeReadyEpochs: release),
+  // in the estimator (PppEpochProcessor::process, every input), and the in-node latency
+  // (subscriber callback of the chunk completing an epoch -> its solution published, ROS
+  // clock; time waiting in the subscriber queue is not in it) of the last kLatencyWindow
+  // epochs (bounded).
+  static constexpr std::size_t kLatencyWindow = 1000;
+  double live_decode_cpu_s_ = 0.0, estimator_cpu_s_ = 0.0;
+  std::deque<double> live_latency_s_;
 };
 
 }  // namespace ppp_ros

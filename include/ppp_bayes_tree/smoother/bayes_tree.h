@@ -79,6 +79,15 @@ class BayesTree {
   /// information matrix", 2009). Linear in the number of cliques, where calling
   /// jointMarginalCovariance per variable grows with each one's depth.
   std::unordered_map<Key, Matrix> marginalCovariances() const;
+  /// Marginal covariance of one variable by the same top-down recursion, along the path
+  /// from the root to the variable's clique only: time linear in that path's length,
+  /// memory of one clique's joint. jointMarginalCovariance({key}) instead stacks a dense
+  /// R over the whole path (n x n for n variable dimensions on it): for the oldest state
+  /// of a fixed-lag window, whose path spans the window (10 Hz, lag 60 s: about 600
+  /// states), that was about 20 ms and 100+ MB of page faults per call
+  /// (scripts/bench_live_realtime.sh: the smoother node fell 19 s behind at 10 epochs/s).
+  /// Throws std::out_of_range for an unknown key.
+  Matrix marginalCovariance(Key key) const;
 
   // --- editing (used by ISAM2) ---
   /// Removes the top of the tree above `keys` (Kaess et al. IJRR 2012, Alg. 4 step 1,

@@ -43,7 +43,7 @@ class ISAM2 {
   bool exists(Key key) const { return theta_.exists(key); }
 
   /// Marginal covariance of one variable (of the linearized system at theta).
-  Matrix marginalCovariance(Key key) const { return tree_.jointMarginalCovariance({key}); }
+  Matrix marginalCovariance(Key key) const { return tree_.marginalCovariance(key); }
   /// Joint marginal covariance of a few variables, blocks in the order given.
   Matrix jointMarginalCovariance(const KeyVector& keys) const {
     return tree_.jointMarginalCovariance(keys);

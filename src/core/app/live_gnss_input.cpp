@@ -303,6 +303,7 @@ struct LiveGnssInput::Impl : public EphemerisSource {
       ++released[span.mode];
       LiveReadyEpoch r;
       r.mode = span.mode;
+      r.arrival_s = h.arrival_s;
       streamEpochToObsEpoch(h.epoch, header, r.epoch);
       for (const auto& sat : r.epoch.satellites) {
         const GnssSystem sys = sat.satellite.system;

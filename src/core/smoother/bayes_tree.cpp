@@ -110,60 +110,84 @@ Clique::Ptr BayesTree::removeSubtree(Clique* top) {
   return owned;
 }
 
+namespace {
+
+/// Joint covariance of one clique's variables (frontals, then separator) and where each
+/// variable sits in it.
+struct CliqueJoint {
+  Matrix cov;
+  std::unordered_map<Key, std::pair<int, int>> at;  // offset, dim
+};
+
+/// The clique's joint from its parent's (nullptr for a root): with the separator's joint
+/// C_S read from the parent's, the conditional x_F = R^-1 d - G x_S, G = R^-1 S, gives
+/// C_FF = R^-1 R^-T + G C_S G^T and C_FS = -G C_S (Kaess and Dellaert 2009).
+CliqueJoint cliqueJoint(const Clique& c, const CliqueJoint* parent) {
+  const GaussianConditional& cond = c.conditional;
+  const int nf = cond.frontalDim();
+  CliqueJoint j;
+  int ns = 0;
+  for (std::size_t p = 0; p < cond.parents().size(); ++p) {
+    j.at[cond.parents()[p]] = {nf + ns, static_cast<int>(cond.S()[p].cols())};
+    ns += static_cast<int>(cond.S()[p].cols());
+  }
+  Matrix cs(ns, ns);  // separator joint, read from the parent's
+  if (ns > 0)
+    for (const auto& [ka, pa] : j.at)
+      for (const auto& [kb, pb] : j.at) {
+        const auto qa = parent->at.at(ka), qb = parent->at.at(kb);
+        cs.block(pa.first - nf, pb.first - nf, pa.second, pb.second) =
+            parent->cov.block(qa.first, qb.first, qa.second, qb.second);
+      }
+  Matrix rinv = Matrix::Identity(nf, nf);
+  cond.R().triangularView<Eigen::Upper>().solveInPlace(rinv);
+  Matrix g(nf, ns);  // R^-1 S
+  for (std::size_t p = 0, col = 0; p < cond.parents().size(); ++p) {
+    g.middleCols(static_cast<Eigen::Index>(col), cond.S()[p].cols()) = cond.S()[p];
+    col += static_cast<std::size_t>(cond.S()[p].cols());
+  }
+  cond.R().triangularView<Eigen::Upper>().solveInPlace(g);
+  j.cov.resize(nf + ns, nf + ns);
+  const Matrix gcs = g * cs;
+  j.cov.topLeftCorner(nf, nf) = rinv * rinv.transpose() + gcs * g.transpose();
+  j.cov.topRightCorner(nf, ns) = -gcs;
+  j.cov.bottomLeftCorner(ns, nf) = -gcs.transpose();
+  j.cov.bottomRightCorner(ns, ns) = cs;
+  for (std::size_t i = 0; i < cond.frontals().size(); ++i)
+    j.at[cond.frontals()[i]] = {cond.frontalOffset(i), cond.frontalDims()[i]};
+  return j;
+}
+
+}  // namespace
+
 std::unordered_map<Key, Matrix> BayesTree::marginalCovariances() const {
   std::unordered_map<Key, Matrix> out;
   out.reserve(nodes_.size());
-  // Joint covariance of each clique's variables (frontals, then separator), kept until
-  // its last child has read its separator block from it.
-  struct Joint {
-    Matrix cov;
-    std::unordered_map<Key, std::pair<int, int>> at;  // offset, dim
-    std::size_t children_left = 0;
-  };
-  std::unordered_map<const Clique*, Joint> joints;
+  // Each clique's joint is kept until its last child has read its separator block from it.
+  std::unordered_map<const Clique*, std::pair<CliqueJoint, std::size_t>> joints;  // joint, children left
   for (const Clique* c : cliquesTopDown()) {
+    const CliqueJoint* parent = c->parent ? &joints.at(c->parent).first : nullptr;
+    CliqueJoint j = cliqueJoint(*c, parent);
+    if (c->parent && --joints.at(c->parent).second == 0) joints.erase(c->parent);
     const GaussianConditional& cond = c->conditional;
-    const int nf = cond.frontalDim();
-    Joint j;
-    int ns = 0;
-    for (std::size_t p = 0; p < cond.parents().size(); ++p) {
-      j.at[cond.parents()[p]] = {nf + ns, static_cast<int>(cond.S()[p].cols())};
-      ns += static_cast<int>(cond.S()[p].cols());
-    }
-    Matrix cs(ns, ns);  // separator joint, read from the parent's
-    if (ns > 0) {
-      Joint& parent = joints.at(c->parent);
-      for (const auto& [ka, pa] : j.at)
-        for (const auto& [kb, pb] : j.at) {
-          const auto qa = parent.at.at(ka), qb = parent.at.at(kb);
-          cs.block(pa.first - nf, pb.first - nf, pa.second, pb.second) =
-              parent.cov.block(qa.first, qb.first, qa.second, qb.second);
-        }
-      if (--parent.children_left == 0) joints.erase(c->parent);
-    }
-    Matrix rinv = Matrix::Identity(nf, nf);
-    cond.R().triangularView<Eigen::Upper>().solveInPlace(rinv);
-    Matrix g(nf, ns);  // R^-1 S
-    for (std::size_t p = 0, col = 0; p < cond.parents().size(); ++p) {
-      g.middleCols(static_cast<Eigen::Index>(col), cond.S()[p].cols()) = cond.S()[p];
-      col += static_cast<std::size_t>(cond.S()[p].cols());
-    }
-    cond.R().triangularView<Eigen::Upper>().solveInPlace(g);
-    j.cov.resize(nf + ns, nf + ns);
-    const Matrix gcs = g * cs;
-    j.cov.topLeftCorner(nf, nf) = rinv * rinv.transpose() + gcs * g.transpose();
-    j.cov.topRightCorner(nf, ns) = -gcs;
-    j.cov.bottomLeftCorner(ns, nf) = -gcs.transpose();
-    j.cov.bottomRightCorner(ns, ns) = cs;
     for (std::size_t i = 0; i < cond.frontals().size(); ++i) {
       const int off = cond.frontalOffset(i), dim = cond.frontalDims()[i];
-      j.at[cond.frontals()[i]] = {off, dim};
       out[cond.frontals()[i]] = j.cov.block(off, off, dim, dim);
     }
-    j.children_left = c->children.size();
-    if (j.children_left > 0) joints.emplace(c, std::move(j));
+    if (!c->children.empty()) joints.emplace(c, std::make_pair(std::move(j), c->children.size()));
   }
   return out;
+}
+
+Matrix BayesTree::marginalCovariance(Key key) const {
+  const Clique* target = clique(key);
+  if (!target) throw std::out_of_range("marginalCovariance: no variable " + keyToString(key));
+  std::vector<const Clique*> path;  // the key's clique up to its root
+  for (const Clique* c = target; c; c = c->parent) path.push_back(c);
+  CliqueJoint joint;
+  for (auto it = path.rbegin(); it != path.rend(); ++it) joint = cliqueJoint(**it, it == path.rbegin() ? nullptr : &joint);
+  const auto [off, dim] = joint.at.at(key);
+  return joint.cov.block(off, off, dim, dim);
 }
 
 Matrix BayesTree::jointMarginalCovariance(const KeyVector& keys) const {
