@@ -29,11 +29,7 @@ done
 for exe in ppp_smoother_node ppp_to_bag; do
   [ -x "$BIN_DIR/$exe" ] || { echo "bench_live_node.sh: $exe is not built in $BIN_DIR (scripts/build.sh $exe)" >&2; exit 1; }
 done
-set +u; source "$WS_DIR/devel/setup.bash"; set -u
-free_port() { /usr/bin/python3 -c 'import socket; s=socket.socket(); s.bind(("127.0.0.1", 0)); print(s.getsockname()[1])'; }
-export ROS_HOME="$OUT/ros_home" ROS_LOG_DIR="$OUT/ros_log" ROS_IP=127.0.0.1
-PORT="$(free_port)"
-export ROS_MASTER_URI="http://127.0.0.1:$PORT"
+private_ros_master "$OUT"
 
 BAG="$OUT/input.bag"
 echo "=== simulated flight: $PROFILE, $DURATION_MIN min at $OBS_RATE Hz -> $BAG"

@@ -83,11 +83,7 @@ if [ -n "$SIMULATE_MIN" ]; then
 fi
 [ -r "$STREAM" ] || { echo "bench_live_realtime.sh: cannot read the stream $STREAM" >&2; exit 1; }
 [ -r "$ATX" ] || { echo "bench_live_realtime.sh: cannot read the ANTEX file $ATX" >&2; exit 1; }
-set +u; source "$WS_DIR/devel/setup.bash"; set -u
-free_port() { /usr/bin/python3 -c 'import socket; s=socket.socket(); s.bind(("127.0.0.1", 0)); print(s.getsockname()[1])'; }
-export ROS_HOME="$OUT/ros_home" ROS_LOG_DIR="$OUT/ros_log" ROS_IP=127.0.0.1
-PORT="$(free_port)"
-export ROS_MASTER_URI="http://127.0.0.1:$PORT"
+private_ros_master "$OUT"
 
 roscore -p "$PORT" > "$OUT/roscore.log" 2>&1 &
 ROSCORE_PID=$!

@@ -37,3 +37,19 @@ script_test_begin() {
   trap 'rm -rf "$WORK"' EXIT
   junit() { write_junit "$OUT/script-$SCRIPT_TEST_NAME.xml" script_tests "$SCRIPT_TEST_NAME" "$1" "$2"; }  # status message
 }
+
+# free_port: a free TCP port on the loopback interface (the kernel picks it).
+free_port() { /usr/bin/python3 -c 'import socket; s=socket.socket(); s.bind(("127.0.0.1", 0)); print(s.getsockname()[1])'; }
+
+# private_ros_master DIR: the environment of a run with its own ROS master on a free
+# loopback port: sources the workspace's devel/setup.bash, sets ROS_HOME and ROS_LOG_DIR
+# under DIR, ROS_IP, PORT and ROS_MASTER_URI. The caller starts `roscore -p "$PORT"`.
+private_ros_master() {
+  set +u  # ROS's setup scripts read unset variables
+  # shellcheck disable=SC1091
+  source "$WS_DIR/devel/setup.bash"
+  set -u
+  export ROS_HOME="$1/ros_home" ROS_LOG_DIR="$1/ros_log" ROS_IP=127.0.0.1
+  PORT="$(free_port)"
+  export ROS_MASTER_URI="http://127.0.0.1:$PORT"
+}

@@ -29,14 +29,7 @@ ATX="$SHARED_DATA/antex/igs20_gps_satellites_trim.atx"
 [ -f "$RTCM" ] && [ -f "$ATX" ] || skip "no shared datasets at $SHARED_DATA (set PPP_SHARED_DATA)"
 FEED_BYTES=491520  # the first 480 KiB of the recording: about 7 min of data, 2,500 frames
 
-set +u  # ROS's setup scripts read unset variables
-# shellcheck disable=SC1091
-source "$WS_DIR/devel/setup.bash"
-set -u
-free_port() { /usr/bin/python3 -c 'import socket; s=socket.socket(); s.bind(("127.0.0.1", 0)); print(s.getsockname()[1])'; }
-export ROS_HOME="$WORK/ros_home" ROS_LOG_DIR="$WORK/ros_log" ROS_IP=127.0.0.1
-PORT="$(free_port)"
-export ROS_MASTER_URI="http://127.0.0.1:$PORT"
+private_ros_master "$WORK"
 
 PIDS=()  # process groups started here (setsid): stopped at exit, newest first
 stop_group() {  # pid: SIGINT to its process group, then KILL

@@ -13,14 +13,7 @@ script_test_begin node_startup "${1:-}"   # OUT, WORK (removed at exit), junit S
 for exe in ppp_ekf_node ppp_smoother_node ppp_stream_node; do
   if [ ! -x "$BIN_DIR/$exe" ]; then junit skipped "$exe is not built in $BIN_DIR"; echo "test_node_startup: skipped"; exit 0; fi
 done
-set +u  # ROS's setup scripts read unset variables
-# shellcheck disable=SC1091
-source "$WS_DIR/devel/setup.bash"
-set -u
-free_port() { /usr/bin/python3 -c 'import socket; s=socket.socket(); s.bind(("127.0.0.1", 0)); print(s.getsockname()[1])'; }
-export ROS_HOME="$WORK/ros_home" ROS_LOG_DIR="$WORK/ros_log" ROS_IP=127.0.0.1
-PORT="$(free_port)"
-export ROS_MASTER_URI="http://127.0.0.1:$PORT"
+private_ros_master "$WORK"
 roscore -p "$PORT" > "$WORK/roscore.log" 2>&1 &
 ROSCORE_PID=$!
 trap 'kill -INT $ROSCORE_PID 2>/dev/null; wait $ROSCORE_PID 2>/dev/null; rm -rf "$WORK"' EXIT

@@ -42,6 +42,7 @@
 #include "ppp_bayes_tree/ppp/ppp_config.h"
 #include "ppp_bayes_tree/ppp/ppp_pipeline.h"
 #include "ppp_bayes_tree/simulation/gnss_simulator.h"
+#include "ppp_bayes_tree/types/thread_cpu_time.h"
 
 using namespace ppp;
 
@@ -53,13 +54,6 @@ double rss_mb() {
   while (std::getline(in, line))
     if (line.rfind("VmRSS:", 0) == 0) return std::atof(line.c_str() + 6) / 1024.0;
   return -1.0;
-}
-
-/// CPU time of this thread [s] (the figures stay meaningful on a loaded machine).
-double threadCpu_s() {
-  timespec ts{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
 }
 
 double percentile(std::vector<double> v, double p) {

@@ -35,6 +35,7 @@
 #include <Eigen/Geometry>
 
 #include "ppp_bayes_tree/io/bit_writer.h"
+#include "ppp_bayes_tree/io/caster_stream_builder.h"
 #include "ppp_bayes_tree/io/rinex_nav_writer.h"
 #include "ppp_bayes_tree/io/rtcm3_framer.h"
 #include "ppp_bayes_tree/io/rtcm3_msm_encoder.h"
@@ -67,46 +68,14 @@ std::vector<std::uint8_t> station1005(const Eigen::Vector3d& arp_ecef_m) {
   return encodeRtcm3Frame(w.bytes());
 }
 
-/// A simulated epoch as a receiver's stream epoch: per signal C/L/D/S, the LLI of
-/// the phase, and the lock time counted from the start of the signal's arc.
+/// A simulated epoch as a receiver's stream epoch (the caster builder's conversion:
+/// per signal C/L/D/S, the LLI of the phase, the lock time counted from the start of
+/// the signal's arc), with a C/N0 where the simulator writes none (MSM7 carries one).
 StreamEpoch toStreamEpoch(const ObsEpoch& in, std::map<std::pair<SatelliteId, std::string>, GnssTime>& arc_start) {
-  StreamEpoch out;
-  out.time = in.time;
-  for (std::size_t i = 0; i < in.satellites.size(); ++i) {
-    const SatelliteId sat = in.satellites[i].satellite;
-    StreamSatellite s{sat, {}};
-    for (const Observation* o = in.begin(i); o != in.end(i); ++o) {
-      if (!o->value) continue;
-      StreamSignal* sig = nullptr;
-      for (auto& x : s.signals)
-        if (x.band == o->code.band && x.attribute == o->code.attribute) sig = &x;
-      if (sig == nullptr) {
-        StreamSignal x;
-        x.band = o->code.band;
-        x.attribute = o->code.attribute;
-        s.signals.push_back(x);
-        sig = &s.signals.back();
-      }
-      switch (o->code.type) {
-        case ObservableType::Pseudorange: sig->pseudorange_m = o->value; break;
-        case ObservableType::CarrierPhase:
-          sig->carrier_phase_cycles = o->value;
-          sig->lli = o->lli.value_or(0);
-          break;
-        case ObservableType::Doppler: sig->doppler_hz = o->value; break;
-        case ObservableType::SignalStrength: sig->cnr_dbhz = o->value; break;
-        default: break;
-      }
-    }
-    for (auto& x : s.signals) {
-      if (!x.cnr_dbhz) x.cnr_dbhz = 45.0;  // MSM7 carries one; the simulator writes none
-      const auto key = std::make_pair(sat, std::string{x.band, x.attribute});
-      auto it = arc_start.find(key);
-      if (it == arc_start.end() || (x.lli & 1) || !x.carrier_phase_cycles) it = arc_start.insert_or_assign(key, in.time).first;
-      x.lock_time_s = in.time - it->second;
-    }
-    if (!s.signals.empty()) out.satellites.push_back(std::move(s));
-  }
+  StreamEpoch out = streamEpochFromRinex(in, arc_start, {});
+  for (auto& s : out.satellites)
+    for (auto& x : s.signals)
+      if (!x.cnr_dbhz) x.cnr_dbhz = 45.0;
   return out;
 }
 

@@ -10,6 +10,7 @@
 
 #include "ppp_bayes_tree/GnssStreamBytes.h"
 #include "ppp_bayes_tree/io/ubx_framer.h"
+#include "ppp_bayes_tree/types/thread_cpu_time.h"
 
 namespace ppp_ros {
 namespace {
@@ -281,12 +282,7 @@ void GnssStreamSubscriber::onMessage(const ros::MessageEvent<topic_tools::ShapeS
     error("topic " + topic_ + " from " + event.getPublisherName() + ": " + why + ": message dropped (counted)");
     return;
   }
-  const auto thread_cpu_s = [] {
-    timespec ts{};
-    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-    return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
-  };
-  const double cpu0_s = thread_cpu_s();
+  const double cpu0_s = ppp::threadCpu_s();
   std::vector<std::uint8_t> buffer(msg->size());
   ros::serialization::OStream out(buffer.data(), static_cast<std::uint32_t>(buffer.size()));
   msg->write(out);
@@ -306,7 +302,7 @@ void GnssStreamSubscriber::onMessage(const ros::MessageEvent<topic_tools::ShapeS
     ppp::StreamChunk chunk = streamChunkFromMessage(*type, stream_, buffer.data(), buffer.size(), format_hint_);
     chunk.arrival_time_s = counters_.last_arrival->toSec();
     counters_.bytes += chunk.bytes.size();
-    counters_.conversion_cpu_s += thread_cpu_s() - cpu0_s;
+    counters_.conversion_cpu_s += ppp::threadCpu_s() - cpu0_s;
     on_chunk_(std::move(chunk));
   } catch (const StreamMessageError& e) {
     ++counters_.malformed;

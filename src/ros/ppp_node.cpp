@@ -16,18 +16,12 @@
 #include "ppp_bayes_tree/ros/lever_arm.h"
 #include "ppp_bayes_tree/types/constants.h"
 #include "ppp_bayes_tree/types/frames.h"
+#include "ppp_bayes_tree/types/thread_cpu_time.h"
 
 namespace ppp_ros {
 namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-
-/// CPU time of the calling thread [s] (the cost figures stay meaningful on a loaded machine).
-double threadCpu_s() {
-  timespec ts{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
-}
 
 /// The p-quantile (0..1, nearest rank) of `v` (NaN when empty).
 double quantile(std::vector<double> v, double p) {
@@ -575,16 +569,16 @@ void PppNode::startLiveInput() {
 }
 
 void PppNode::onStreamChunk(ppp::StreamChunk&& chunk) {
-  const double cpu0_s = threadCpu_s();
+  const double cpu0_s = ppp::threadCpu_s();
   live_->feed(chunk);
-  live_decode_cpu_s_ += threadCpu_s() - cpu0_s;
+  live_decode_cpu_s_ += ppp::threadCpu_s() - cpu0_s;
   drain();
 }
 
 void PppNode::drainLive() {
-  const double cpu0_s = threadCpu_s();
+  const double cpu0_s = ppp::threadCpu_s();
   std::vector<ppp::LiveReadyEpoch> ready = live_->takeReadyEpochs(ros::Time::now().toSec());
-  live_decode_cpu_s_ += threadCpu_s() - cpu0_s;
+  live_decode_cpu_s_ += ppp::threadCpu_s() - cpu0_s;
   if (ready.empty()) return;
   // The epochs are laid out by the header as it is now.
   if (live_->takeHeaderChanged()) {
@@ -667,9 +661,9 @@ void PppNode::processObsEpoch(const ppp::ObsEpoch& epoch) {
     layout_changed_ = false;
   }
   const auto start = std::chrono::steady_clock::now();
-  const double cpu0_s = threadCpu_s();
+  const double cpu0_s = ppp::threadCpu_s();
   const ppp::PppEpochRecord rec = processor_->process(epoch, *estimator_);
-  estimator_cpu_s_ += threadCpu_s() - cpu0_s;
+  estimator_cpu_s_ += ppp::threadCpu_s() - cpu0_s;
   const double update_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   if (rec.refused) {  // cannot happen after the time checks above, kept as a guard
     warn("refused", "ppp: epoch refused: " + rec.reason);

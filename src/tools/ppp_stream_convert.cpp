@@ -60,13 +60,7 @@ int main(int argc, char** argv) {
                 obs_path.c_str());
     if (!nav_path.empty()) std::printf(", %zu navigation records to %s", records, nav_path.c_str());
     std::printf("\n");
-    for (const auto& [kind, count] : c.problems_by_kind)
-      std::printf("  %llu x %s\n", static_cast<unsigned long long>(count), std::string(streamProblemKindName(kind)).c_str());
-    std::size_t shown = 0;
-    for (const auto& p : c.problems) {
-      if (++shown > 20) break;
-      std::printf("  %s\n", p.describe().c_str());
-    }
+    std::fputs(c.problemLines().c_str(), stdout);
     return 0;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "ppp_stream_convert: %s\n", e.what());

@@ -146,13 +146,7 @@ int main(int argc, char** argv) {
     for (const auto& [type, n] : builder.framesByType()) types += " " + std::to_string(type) + ":" + std::to_string(n);
     std::printf("frames per type:%s\n", types.c_str());
     const StreamCounters& c = builder.counters();
-    for (const auto& [kind, count] : c.problems_by_kind)
-      std::printf("  %llu x %s\n", static_cast<unsigned long long>(count), std::string(streamProblemKindName(kind)).c_str());
-    std::size_t shown = 0;
-    for (const auto& p : c.problems) {
-      if (++shown > 20) break;
-      std::printf("  %s\n", p.describe().c_str());
-    }
+    std::fputs(c.problemLines().c_str(), stdout);
     return 0;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "ppp_stream_make: %s\n", e.what());

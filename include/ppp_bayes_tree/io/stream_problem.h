@@ -54,6 +54,9 @@ struct StreamCounters {
   void add(StreamProblem problem);
   std::uint64_t count(StreamProblemKind kind) const;
   std::uint64_t totalProblems() const;
+  /// For people: one line "  N x <kind>" per kind, then "  <describe()>" for the first
+  /// `max_listed` problems kept (the tools print it after their summary line).
+  std::string problemLines(std::size_t max_listed = 20) const;
 };
 
 }  // namespace ppp

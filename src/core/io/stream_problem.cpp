@@ -45,4 +45,12 @@ std::uint64_t StreamCounters::totalProblems() const {
   return total;
 }
 
+std::string StreamCounters::problemLines(std::size_t max_listed) const {
+  std::string out;
+  for (const auto& [kind, count] : problems_by_kind)
+    out += "  " + std::to_string(count) + " x " + std::string(streamProblemKindName(kind)) + "\n";
+  for (std::size_t i = 0; i < problems.size() && i < max_listed; ++i) out += "  " + problems[i].describe() + "\n";
+  return out;
+}
+
 }  // namespace ppp
