@@ -135,15 +135,15 @@ int main(int argc, char** argv) {
     }
     for (const auto& n : nav_paths) builder.addNavigation(readRinexNav(n));
     if (!ssr_path.empty()) builder.addSsrStream(readBytes(ssr_path));
-    const auto frames = builder.allFrames();
-    writeFrames(out_path, frames);
+    const CasterStream stream = builder.build();
+    writeFrames(out_path, stream.frames);
     std::size_t bytes = 0;
-    for (const auto& f : frames) bytes += f.bytes.size();
+    for (const auto& f : stream.frames) bytes += f.bytes.size();
     std::printf("%s: %zu frames, %zu bytes; %zu epochs %s .. %s, %zu broadcast records\n", out_path.c_str(),
-                frames.size(), bytes, builder.epochs(), builder.firstEpoch()->toString().c_str(),
-                builder.lastEpoch()->toString().c_str(), builder.recordsSent());
+                stream.frames.size(), bytes, builder.epochs(), builder.firstEpoch()->toString().c_str(),
+                builder.lastEpoch()->toString().c_str(), stream.records_sent);
     std::string types;
-    for (const auto& [type, n] : builder.framesByType()) types += " " + std::to_string(type) + ":" + std::to_string(n);
+    for (const auto& [type, n] : stream.frames_by_type) types += " " + std::to_string(type) + ":" + std::to_string(n);
     std::printf("frames per type:%s\n", types.c_str());
     const StreamCounters& c = builder.counters();
     std::fputs(c.problemLines().c_str(), stdout);

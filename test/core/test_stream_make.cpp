@@ -102,8 +102,9 @@ const Made& made() {
                                                  static_cast<std::streamsize>(ssr_bytes.size()));
     builder.addSsrStream(ssr_bytes);
     EXPECT_EQ(builder.counters().totalProblems(), 0u);
-    m.frames = builder.allFrames();
-    m.records_sent = builder.recordsSent();
+    const CasterStream stream = builder.build();
+    m.frames = stream.frames;
+    m.records_sent = stream.records_sent;
     m.made = m.dir + "/ESBC_made.rtcm3";
     writeFrames(m.made, m.frames);
     return m;

@@ -49,6 +49,13 @@ struct TimedFrame {
   int message_type = 0;
 };
 
+/// A made stream: its frames in arrival order and what they hold.
+struct CasterStream {
+  std::vector<TimedFrame> frames;
+  std::map<int, std::size_t> frames_by_type;
+  std::size_t records_sent = 0;  // broadcast records sent (first sends, not repeats)
+};
+
 struct CasterStreamOptions {
   int station_id = 1;
   double observation_latency_s = 0.5;
@@ -94,15 +101,12 @@ class CasterStreamBuilder {
   std::vector<TimedFrame> observationFrames() const;
   /// The correction stream: the SSR frames, in arrival order.
   std::vector<TimedFrame> ssrFrames() const;
-  /// Both merged in arrival order (one caster stream).
-  std::vector<TimedFrame> allFrames() const;
+  /// Both merged in arrival order (one caster stream), with its figures.
+  CasterStream build() const;
 
   std::size_t epochs() const { return epochs_; }
   std::optional<GnssTime> firstEpoch() const { return first_; }
   std::optional<GnssTime> lastEpoch() const { return last_; }
-  /// Frames per message type in allFrames(), and records sent (first sends, not repeats).
-  std::map<int, std::size_t> framesByType() const;
-  std::size_t recordsSent() const;
   /// Problems met (SSR frames left out, records that could not be encoded).
   const StreamCounters& counters() const { return counters_; }
 
@@ -116,6 +120,8 @@ class CasterStreamBuilder {
     std::vector<std::uint8_t> frame;
   };
   std::vector<TimedFrame> navigationFrames() const;
+  /// observationFrames() around the navigation frames given.
+  std::vector<TimedFrame> observationFrames(const std::vector<TimedFrame>& navigation) const;
 
   CasterStreamOptions options_;
   std::optional<RinexObsHeader> station_;
@@ -125,7 +131,7 @@ class CasterStreamBuilder {
   std::vector<Record> records_;
   std::optional<GnssTime> first_, last_;
   std::size_t epochs_ = 0;
-  mutable StreamCounters counters_;
+  StreamCounters counters_;
 };
 
 /// Writes the frames' bytes in order (throws FileOpenError when it cannot).

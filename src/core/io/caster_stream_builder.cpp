@@ -238,7 +238,9 @@ std::vector<TimedFrame> CasterStreamBuilder::navigationFrames() const {
   return out;
 }
 
-std::vector<TimedFrame> CasterStreamBuilder::observationFrames() const {
+std::vector<TimedFrame> CasterStreamBuilder::observationFrames() const { return observationFrames(navigationFrames()); }
+
+std::vector<TimedFrame> CasterStreamBuilder::observationFrames(const std::vector<TimedFrame>& nav) const {
   std::vector<TimedFrame> out;
   if (!first_) return out;
   // Station: ahead of everything, then every station_repeat_s.
@@ -255,7 +257,6 @@ std::vector<TimedFrame> CasterStreamBuilder::observationFrames() const {
     }
   }
   out = station;
-  const auto nav = navigationFrames();
   out.insert(out.end(), nav.begin(), nav.end());
   out.insert(out.end(), msm_.begin(), msm_.end());
   std::stable_sort(out.begin(), out.end(), [](const TimedFrame& a, const TimedFrame& b) { return a.arrival_s < b.arrival_s; });
@@ -271,24 +272,19 @@ std::vector<TimedFrame> CasterStreamBuilder::ssrFrames() const {
   return out;
 }
 
-std::vector<TimedFrame> CasterStreamBuilder::allFrames() const {
-  std::vector<TimedFrame> out = observationFrames();
+CasterStream CasterStreamBuilder::build() const {
+  const std::vector<TimedFrame> nav = navigationFrames();
+  CasterStream stream;
+  stream.frames = observationFrames(nav);
   const auto ssr = ssrFrames();
-  out.insert(out.end(), ssr.begin(), ssr.end());
-  std::stable_sort(out.begin(), out.end(), [](const TimedFrame& a, const TimedFrame& b) { return a.arrival_s < b.arrival_s; });
-  return out;
-}
-
-std::map<int, std::size_t> CasterStreamBuilder::framesByType() const {
-  std::map<int, std::size_t> out;
-  for (const auto& f : allFrames()) ++out[f.message_type];
-  return out;
-}
-
-std::size_t CasterStreamBuilder::recordsSent() const {
-  std::set<std::vector<std::uint8_t>> unique;
-  for (const auto& f : navigationFrames()) unique.insert(f.bytes);
-  return unique.size();
+  stream.frames.insert(stream.frames.end(), ssr.begin(), ssr.end());
+  std::stable_sort(stream.frames.begin(), stream.frames.end(),
+                   [](const TimedFrame& a, const TimedFrame& b) { return a.arrival_s < b.arrival_s; });
+  for (const auto& f : stream.frames) ++stream.frames_by_type[f.message_type];
+  std::set<std::vector<std::uint8_t>> records;
+  for (const auto& f : nav) records.insert(f.bytes);
+  stream.records_sent = records.size();
+  return stream;
 }
 
 void writeFrames(const std::string& path, const std::vector<TimedFrame>& frames) {
