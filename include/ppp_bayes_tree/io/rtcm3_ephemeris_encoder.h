@@ -12,7 +12,7 @@
 // Values are rounded to the field's resolution. What a message cannot carry
 // comes back different after decoding, by design:
 //  - GPS URA: the 4-bit index (IS-GPS-200 20.3.3.3.1.3) of the smallest table value
-//    not below the accuracy (RINEX 2.0 m -> index 0 -> 2.4 m);
+//    not below the accuracy (RINEX 2.0 m -> index 0 -> 2.4 m; types/broadcast_accuracy.h);
 //  - GPS fit interval: only "4 h" or "more than 4 h" (decoded as 6 h);
 //  - Galileo data sources: fixed by the message (1045: 258, 1046: 517);
 //  - GLONASS tk: 30-s steps; tb: 15-min steps (both Moscow time of day);
@@ -23,6 +23,7 @@
 #include <vector>
 
 #include "ppp_bayes_tree/types/beidou_ephemeris.h"
+#include "ppp_bayes_tree/types/broadcast_accuracy.h"
 #include "ppp_bayes_tree/types/navigation_records.h"
 
 namespace ppp {
@@ -41,11 +42,5 @@ int ephemerisMessageType(const GpsLnavEphemeris& eph);
 int ephemerisMessageType(const GlonassEphemeris& eph);
 int ephemerisMessageType(const GalileoEphemeris& eph);
 int ephemerisMessageType(const BeidouEphemeris& eph);
-
-/// GPS URA index (4 bits) of an accuracy in metres: the smallest index whose
-/// nominal value is not below it (15 beyond the table).
-int gpsUraIndex(double ura_m);
-/// Galileo SISA index (8 bits, OS SIS ICD 5.1.12) of an accuracy, 255 (NAPA) for none.
-int galileoSisaIndex(const std::optional<double>& sisa_m);
 
 }  // namespace ppp

@@ -5,6 +5,7 @@
 #include <string>
 
 #include "ppp_bayes_tree/io/bit_reader.h"
+#include "ppp_bayes_tree/types/broadcast_accuracy.h"
 #include "ppp_bayes_tree/types/carrier_frequency.h"
 #include "ppp_bayes_tree/types/constants.h"
 
@@ -76,21 +77,6 @@ std::string trim(std::string s) {
   std::size_t b = 0;
   while (b < s.size() && s[b] == ' ') ++b;
   return s.substr(b);
-}
-
-double gpsUra_m(int index) {
-  static const double table[] = {2.4, 3.4, 4.85, 6.85, 9.65, 13.65, 24.0, 48.0,
-                                 96.0, 192.0, 384.0, 768.0, 1536.0, 3072.0, 6144.0};
-  return index >= 0 && index < 15 ? table[index] : 6144.0;
-}
-
-std::optional<double> galileoSisa_m(int index) {
-  if (index < 0 || index >= 255) return std::nullopt;  // 255: NAPA
-  if (index < 50) return 0.01 * index;
-  if (index < 75) return 0.5 + 0.02 * (index - 50);
-  if (index < 100) return 1.0 + 0.04 * (index - 75);
-  if (index < 126) return 2.0 + 0.16 * (index - 100);
-  return std::nullopt;
 }
 
 }  // namespace

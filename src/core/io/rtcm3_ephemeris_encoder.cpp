@@ -46,24 +46,6 @@ void putKepler(BitWriter& w, const KeplerOrbit& o, PutToe put_toe) {
 
 }  // namespace
 
-int gpsUraIndex(double ura_m) {
-  static const double table[] = {2.4, 3.4, 4.85, 6.85, 9.65, 13.65, 24.0, 48.0,
-                                 96.0, 192.0, 384.0, 768.0, 1536.0, 3072.0, 6144.0};
-  for (int i = 0; i < 15; ++i)
-    if (ura_m <= table[i]) return i;
-  return 15;
-}
-
-int galileoSisaIndex(const std::optional<double>& sisa_m) {
-  if (!sisa_m || !std::isfinite(*sisa_m) || *sisa_m < 0.0) return 255;
-  const double s = *sisa_m;
-  if (s < 0.5) return static_cast<int>(std::lround(s / 0.01));
-  if (s < 1.0) return 50 + static_cast<int>(std::lround((s - 0.5) / 0.02));
-  if (s < 2.0) return 75 + static_cast<int>(std::lround((s - 1.0) / 0.04));
-  if (s <= 6.0) return 100 + static_cast<int>(std::lround((s - 2.0) / 0.16));
-  return 255;
-}
-
 int ephemerisMessageType(const GpsLnavEphemeris& eph) {
   return eph.satellite.system == GnssSystem::QZSS ? 1044 : 1019;
 }

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "ppp_bayes_tree/io/rtcm3_framer.h"  // crc24q (Galileo I/NAV pages use CRC-24Q too)
+#include "ppp_bayes_tree/types/broadcast_accuracy.h"
 #include "ubx_nav_layout.h"
 
 namespace ppp {
@@ -71,14 +72,6 @@ bool knownClass(int message_class) {
   }
 }
 
-// GPS URA index -> metres (IS-GPS-200 20.3.3.3.1.3, the upper bound of each range;
-// index 15: no accuracy prediction, kept as the largest value).
-double gpsUraMetres(int index) {
-  static constexpr double kUra[16] = {2.4,   3.4,   4.85,   6.85,   9.65,   13.65,  24.0,   48.0,
-                                      96.0,  192.0, 384.0,  768.0,  1536.0, 3072.0, 6144.0, 6144.0};
-  return kUra[index & 15];
-}
-
 // Curve-fit interval [h] from the fit interval flag and IODC (IS-GPS-200 20.3.4.4, table 20-XII).
 double gpsFitIntervalHours(int flag, int iodc) {
   if (flag == 0) return 4.0;
@@ -91,15 +84,6 @@ double gpsFitIntervalHours(int flag, int iodc) {
   if ((iodc >= 764 && iodc <= 767) || (iodc >= 1008 && iodc <= 1010)) return 122.0;
   if (iodc >= 1011 && iodc <= 1020) return 146.0;
   return 6.0;
-}
-
-// Galileo SISA index -> metres (Galileo OS SIS ICD 5.1.12, table 89); nullopt: NAPA / spare.
-std::optional<double> galileoSisaMetres(int index) {
-  if (index < 50) return index * 0.01;
-  if (index < 75) return 0.5 + (index - 50) * 0.02;
-  if (index < 100) return 1.0 + (index - 75) * 0.04;
-  if (index < 126) return 2.0 + (index - 100) * 0.16;
-  return std::nullopt;
 }
 
 // The instant with seconds of week `sow` nearest to `reference` (a week change
@@ -392,7 +376,7 @@ void UbxDecoder::lnav(const UbxFrame& f, const SatelliteId& sat, const Handlers&
   eph.satellite = sat;
   const int week = resolveWeek(static_cast<int>(U(0, 61, 10)), 1024, *week_);
   eph.codes_on_l2 = static_cast<int>(U(0, 71, 2));
-  eph.ura_m = gpsUraMetres(static_cast<int>(U(0, 73, 4)));
+  eph.ura_m = gpsUra_m(static_cast<int>(U(0, 73, 4)));
   eph.health = static_cast<int>(U(0, 77, 6));
   eph.l2p_data_flag = static_cast<int>(U(0, 91, 1));
   eph.tgd_s = S(0, 197, 8) * std::ldexp(1.0, -31);
@@ -511,7 +495,7 @@ void UbxDecoder::inav(const UbxFrame& f, const SatelliteId& sat, const Handlers&
     o.cus_rad = S(w3, 72, 16) * std::ldexp(1.0, -29);
     o.crc_m = S(w3, 88, 16) * std::ldexp(1.0, -5);
     o.crs_m = S(w3, 104, 16) * std::ldexp(1.0, -5);
-    eph.sisa_m = galileoSisaMetres(static_cast<int>(U(w3, 120, 8)));
+    eph.sisa_m = galileoSisa_m(static_cast<int>(U(w3, 120, 8)));
     o.cic_rad = S(w4, 22, 16) * std::ldexp(1.0, -29);
     o.cis_rad = S(w4, 38, 16) * std::ldexp(1.0, -29);
     const double toc_sow = U(w4, 54, 14) * 60.0;
