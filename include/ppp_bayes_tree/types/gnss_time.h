@@ -82,6 +82,14 @@ class GnssTime {
   double fraction_s_ = 0.0;  // [0, 1)
 };
 
+/// `t` moved by whole weeks to within half a week of `near`: broadcast times
+/// given as seconds of week lie in the week whose instant is nearest to a
+/// known time (IS-GPS-200 20.3.3.4.3: a difference beyond +-302400 s crosses a
+/// week). Exactly half a week stays.
+GnssTime withinHalfWeek(const GnssTime& near, GnssTime t);
+/// The instant with GPS seconds of week `sow` nearest to `near`.
+GnssTime nearestSecondsOfWeek(const GnssTime& near, double sow);
+
 /// Days from 1970-01-01 for a proleptic Gregorian date (negative before 1970).
 std::int64_t daysFromCivil(int year, int month, int day);
 /// True when (year, month, day) is a valid Gregorian date.

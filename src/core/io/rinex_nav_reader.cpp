@@ -449,10 +449,11 @@ class BodyParser {
     }
   }
 
-  // Clock and the sixteen orbit elements shared by LNAV and Galileo records
-  // (RINEX 3.05 tables A6 and A8, fields 1-20).
+  // Clock and the sixteen orbit elements shared by LNAV, Galileo and BeiDou
+  // records (RINEX 3.05 tables A6, A8 and A14, fields 1-20). With `bdt_week`
+  // (BeiDou), toe lies in the BDT week of field 21, which is returned there.
   void decodeKepler(const RawRecord& rec, const Fields& f, TimeSystem ts, ClockPolynomial& clock,
-                    KeplerOrbit& o) const {
+                    KeplerOrbit& o, int* bdt_week = nullptr) const {
     const std::size_t l0 = rec.first_line;
     clock.toc = toGpst(epochOf(rec), ts, l0);
     clock.af0_s = required(f, 0, l0, "af0");
@@ -476,13 +477,14 @@ class BodyParser {
     o.idot_radps = required(f, 19, l0, "IDOT");
     if (auto why = checkKeplerOrbit(o)) throw RecordError(l0, *why);
     // Full toe: the instant with the broadcast seconds of week nearest to toc
-    // (IS-GPS-200 20.3.3.4.3: a difference beyond +-302400 s crosses a week).
-    const GpsWeekTime w = clock.toc.gpsWeek();
-    GnssTime toe = GnssTime::fromGpsWeek(w.week, o.toe_sow);
-    const double d = toe - clock.toc;
-    if (d > 302400.0) toe -= 604800.0;
-    if (d < -302400.0) toe += 604800.0;
-    o.toe = toe;
+    // (IS-GPS-200 20.3.3.4.3: a difference beyond +-302400 s crosses a week);
+    // BeiDou: from the BDT week as written.
+    if (bdt_week) {
+      *bdt_week = integer(required(f, 21, l0, "BDT week"), 0, 100000, f.line_of[21], "BDT week");
+      o.toe = withinHalfWeek(clock.toc, fromBdtWeek(*bdt_week, o.toe_sow));
+    } else {
+      o.toe = nearestSecondsOfWeek(clock.toc, o.toe_sow);
+    }
   }
 
   void decodeLnav(const RawRecord& rec, const SatelliteId& sat) {
@@ -551,21 +553,14 @@ class BodyParser {
     const std::size_t l0 = rec.first_line;
     BeidouEphemeris e;
     e.satellite = sat;
-    decodeKepler(rec, f, TimeSystem::BeiDou, e.clock, e.orbit);
+    decodeKepler(rec, f, TimeSystem::BeiDou, e.clock, e.orbit, &e.bdt_week);
     e.aode = integer(required(f, 3, l0, "AODE"), 0, 255, f.line_of[3], "AODE");
-    e.bdt_week = integer(required(f, 21, l0, "BDT week"), 0, 100000, f.line_of[21], "BDT week");
     e.ura_m = required(f, 23, l0, "SV accuracy");
     e.health = integer(required(f, 24, l0, "SatH1"), 0, 511, f.line_of[24], "SatH1");
     e.tgd1_s = required(f, 25, l0, "TGD1");
     e.tgd2_s = required(f, 26, l0, "TGD2");
     e.transmission_sow = optional(f, 27);
     e.aodc = integer(optional(f, 28).value_or(0), 0, 255, f.line_of[28], "AODC");
-    // toe from the BDT week as written (decodeKepler's GPS-week guess does not apply).
-    GnssTime toe = fromBdtWeek(e.bdt_week, e.orbit.toe_sow);
-    const double d = toe - e.clock.toc;
-    if (d > 302400.0) toe -= 604800.0;
-    if (d < -302400.0) toe += 604800.0;
-    e.orbit.toe = toe;
     noteToc(e.clock.toc);
     out_.beidou.push_back(e);
   }

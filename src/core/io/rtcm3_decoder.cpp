@@ -492,10 +492,7 @@ void Rtcm3Decoder::resolveGpsWeek(PendingGps& pending) {
   eph.week = week;
   eph.orbit.toe = GnssTime::fromGpsWeek(week, eph.orbit.toe_sow);
   const double toc_sow = eph.clock.toc.toGpsSecondsDouble();  // held as seconds of week until now
-  GnssTime toc = GnssTime::fromGpsWeek(week, toc_sow);
-  if (toc - eph.orbit.toe > 302400.0) toc -= 604800.0;
-  else if (toc - eph.orbit.toe < -302400.0) toc += 604800.0;
-  eph.clock.toc = toc;
+  eph.clock.toc = withinHalfWeek(eph.orbit.toe, GnssTime::fromGpsWeek(week, toc_sow));
   output_.gps.push_back(eph);
 }
 
@@ -725,10 +722,7 @@ void Rtcm3Decoder::decodeGalileo(const Rtcm3Frame& frame) {
   e.week = week;
   o.toe = GnssTime::fromGpsWeek(week, o.toe_sow);
   // toc is within the week of toe, allowing for a week crossing between them.
-  GnssTime toc = GnssTime::fromGpsWeek(week, toc_sow);
-  if (toc - o.toe > 302400.0) toc -= 604800.0;
-  else if (toc - o.toe < -302400.0) toc += 604800.0;
-  e.clock.toc = toc;
+  e.clock.toc = withinHalfWeek(o.toe, GnssTime::fromGpsWeek(week, toc_sow));
   ++decoded_by_type_[frame.message_type];
   setTimeFromEphemeris(o.toe);
   output_.galileo.push_back(e);
@@ -792,10 +786,7 @@ void Rtcm3Decoder::decodeBeidou(const Rtcm3Frame& frame) {
   }
   e.bdt_week = week;
   o.toe = fromBdtWeek(week, o.toe_sow);
-  GnssTime toc = fromBdtWeek(week, toc_sow);
-  if (toc - o.toe > 302400.0) toc -= 604800.0;
-  else if (toc - o.toe < -302400.0) toc += 604800.0;
-  e.clock.toc = toc;
+  e.clock.toc = withinHalfWeek(o.toe, fromBdtWeek(week, toc_sow));
   ++decoded_by_type_[frame.message_type];
   setTimeFromEphemeris(o.toe);
   output_.beidou.push_back(e);

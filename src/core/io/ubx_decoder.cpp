@@ -86,17 +86,6 @@ double gpsFitIntervalHours(int flag, int iodc) {
   return 6.0;
 }
 
-// The instant with seconds of week `sow` nearest to `reference` (a week change
-// lies between them when they differ by more than half a week).
-GnssTime nearestWeekTime(const GnssTime& reference, double sow) {
-  const GpsWeekTime w = reference.gpsWeek();
-  GnssTime t = GnssTime::fromGpsWeek(w.week, sow);
-  const double d = t - reference;
-  if (d > 302400.0) t -= 604800.0;
-  if (d < -302400.0) t += 604800.0;
-  return t;
-}
-
 int resolveWeek(int truncated, int modulus, int reference) {
   const double k = std::round(static_cast<double>(reference - truncated) / modulus);
   return truncated + modulus * static_cast<int>(k);
@@ -407,8 +396,8 @@ void UbxDecoder::lnav(const UbxFrame& f, const SatelliteId& sat, const Handlers&
   // Transmission: the start of subframe 1 (its HOW count gives the start of subframe 2).
   const GnssTime transmission = GnssTime::fromGpsWeek(week, 0.0) + (frame.tow_count[0] - 1) * 6.0;
   eph.transmission_sow = transmission.gpsWeek().seconds_of_week;
-  o.toe = nearestWeekTime(transmission, o.toe_sow);
-  eph.clock.toc = nearestWeekTime(transmission, toc_sow);
+  o.toe = nearestSecondsOfWeek(transmission, o.toe_sow);
+  eph.clock.toc = nearestSecondsOfWeek(transmission, toc_sow);
   eph.week = o.toe.gpsWeek().week;
   const auto last = last_gps_.find(sat);
   if (last != last_gps_.end() && last->second.first == iodc && last->second.second == o.toe) return;
@@ -517,8 +506,8 @@ void UbxDecoder::inav(const UbxFrame& f, const SatelliteId& sat, const Handlers&
     const int week = week_ ? resolveWeek(gst_week + 1024, 4096, *week_) : gst_week + 1024;
     const GnssTime transmission = GnssTime::fromGpsWeek(week, tow_s);
     eph.transmission_sow = tow_s;
-    o.toe = nearestWeekTime(transmission, o.toe_sow);
-    eph.clock.toc = nearestWeekTime(transmission, toc_sow);
+    o.toe = nearestSecondsOfWeek(transmission, o.toe_sow);
+    eph.clock.toc = nearestSecondsOfWeek(transmission, toc_sow);
     eph.week = o.toe.gpsWeek().week;
     const int sig = f.payload[2];
     eph.data_sources = (sig == 5 ? (1 << 2) : (1 << 0)) | (1 << 9);  // I/NAV E1-B or E5b-I; clock E5b/E1
@@ -731,14 +720,8 @@ void UbxDecoder::releaseBeidou(const UbxFrame& f, const SatelliteId& sat, Beidou
   eph.ura_m = beidouUra_m(urai);
   const double transmission_sow = static_cast<double>(sow1);
   const GnssTime transmission = fromBdtWeek(week, transmission_sow);
-  auto nearest = [&](double sow_bdt) {
-    GnssTime t = fromBdtWeek(week, sow_bdt);
-    if (t - transmission > 302400.0) t -= 604800.0;
-    if (t - transmission < -302400.0) t += 604800.0;
-    return t;
-  };
-  o.toe = nearest(o.toe_sow);
-  eph.clock.toc = nearest(toc_sow);
+  o.toe = withinHalfWeek(transmission, fromBdtWeek(week, o.toe_sow));
+  eph.clock.toc = withinHalfWeek(transmission, fromBdtWeek(week, toc_sow));
   eph.bdt_week = (o.toe - kGpstMinusBdt_s).gpsWeek().week - kBdtWeekZeroGpsWeek;
   eph.transmission_sow = transmission_sow;
   const auto last = last_beidou_.find(sat);

@@ -216,4 +216,15 @@ GnssTime& GnssTime::operator+=(double dt_s) {
   return *this;
 }
 
+GnssTime withinHalfWeek(const GnssTime& near, GnssTime t) {
+  const double d = t - near;
+  if (d > kSecondsPerWeek / 2) t -= static_cast<double>(kSecondsPerWeek);
+  else if (d < -kSecondsPerWeek / 2) t += static_cast<double>(kSecondsPerWeek);
+  return t;
+}
+
+GnssTime nearestSecondsOfWeek(const GnssTime& near, double sow) {
+  return withinHalfWeek(near, GnssTime::fromGpsWeek(near.gpsWeek().week, sow));
+}
+
 }  // namespace ppp

@@ -59,19 +59,6 @@ std::optional<std::string> checkGlonassState(const GlonassEphemeris& eph) {
   return std::nullopt;
 }
 
-namespace {
-
-/// The instant of `sow` (seconds of the GPS week) nearest to `near`.
-GnssTime nearestSecondsOfWeek(const GnssTime& near, double sow) {
-  constexpr double kWeek_s = 604800.0;
-  GnssTime t = GnssTime::fromGpsWeek(near.gpsWeek().week, sow);
-  if (t - near > kWeek_s / 2) t -= kWeek_s;
-  else if (near - t > kWeek_s / 2) t += kWeek_s;
-  return t;
-}
-
-}  // namespace
-
 std::optional<GnssTime> transmissionTime(const GpsLnavEphemeris& eph) {
   if (!eph.transmission_sow) return std::nullopt;
   return nearestSecondsOfWeek(eph.orbit.toe, *eph.transmission_sow);
