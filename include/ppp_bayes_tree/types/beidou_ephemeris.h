@@ -26,12 +26,8 @@ struct BeidouEphemeris {
   bool isGeo() const { return satellite.prn <= 5 || satellite.prn >= 59; }
 };
 
-/// BDT week 0 began 2006-01-01 00:00:00 UTC = GPS week 1356 (BDS-SIS-ICD-B1I 5.1.2);
-/// BDT = GPST - 14 s.
-constexpr int kBdtWeekZeroGpsWeek = 1356;
-constexpr double kGpstMinusBdt_s = 14.0;
-/// The GPST instant of BDT week `bdt_week`, second `bdt_sow`.
-GnssTime fromBdtWeek(int bdt_week, double bdt_sow);
+// BDT: kGpstMinusBdt_s, kBdtWeekZeroGpsWeek (types/time_system.h), fromBdtWeek,
+// toBdtWeek (types/gnss_time.h).
 
 /// URA [m] of a URA index N (BDS-SIS-ICD-B1I 3.0, 5.2.4.5, the GPS definition of
 /// IS-GPS-200 20.3.3.3.1.3): 2^(1 + N/2) for N <= 6, 2^(N - 2) for 6 < N < 15;

@@ -82,6 +82,16 @@ class GnssTime {
   double fraction_s_ = 0.0;  // [0, 1)
 };
 
+/// The GPST instant of BDT week `bdt_week` (continuous, 0 = 2006-01-01), second `bdt_sow`.
+GnssTime fromBdtWeek(int bdt_week, double bdt_sow);
+/// BDT week (continuous) and BDT seconds of week of the GPST instant `t` (inverse of fromBdtWeek).
+GpsWeekTime toBdtWeek(const GnssTime& t);
+/// GLONASS time of day [s] (Moscow day, UTC(SU) + 3 h) of the GPST instant `t`.
+double glonassSecondsOfDay(const GnssTime& t);
+/// GLONASS time of day [s] of a UTC reading given as seconds of the UTC day or
+/// week (any multiple of the day, either sign).
+double glonassSecondsOfDayFromUtc(double utc_s);
+
 /// `t` moved by whole weeks to within half a week of `near`: broadcast times
 /// given as seconds of week lie in the week whose instant is nearest to a
 /// known time (IS-GPS-200 20.3.3.4.3: a difference beyond +-302400 s crosses a

@@ -20,6 +20,13 @@ enum class TimeSystem : std::uint8_t {
   TAI,
 };
 
+/// BDT = GPST - 14 s (BDS-SIS-ICD-B1I 3.0, 5.1.2: BDT started 2006-01-01 00:00:00
+/// UTC, when GPST - UTC was 14 s); BDT week 0 is GPS week 1356.
+constexpr double kGpstMinusBdt_s = 14.0;
+constexpr int kBdtWeekZeroGpsWeek = 1356;
+/// GLONASS time = UTC(SU) + 3 h (GLONASS ICD edition 5.1, 3.3.3).
+constexpr double kGlonassMinusUtc_s = 3.0 * 3600.0;
+
 /// Three-letter RINEX code ("GPS", "GAL", "BDT", "QZS", "UTC", "GLO", "TAI").
 std::string_view timeSystemCode(TimeSystem system);
 /// Parses a RINEX time-system code; nullopt when unknown.

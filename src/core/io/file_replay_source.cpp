@@ -40,7 +40,7 @@ std::optional<double> rtcm3EpochTimeOfWeek_s(const std::vector<std::uint8_t>& pa
   const double tow_ms = static_cast<double>(bits(payload, 24, 30));
   if (tow_ms >= kSecondsPerWeek * 1000.0) return std::nullopt;
   double tow_s = tow_ms / 1000.0;
-  if (bds_msm) tow_s = std::fmod(tow_s + 14.0, kSecondsPerWeek);  // BDT + 14 s = GPST
+  if (bds_msm) tow_s = std::fmod(tow_s + kGpstMinusBdt_s, kSecondsPerWeek);  // BDT -> GPST
   return tow_s;
 }
 

@@ -349,7 +349,7 @@ void Rtcm3Decoder::decodeMsm(const Rtcm3Frame& frame, GnssSystem system, int msm
   // Encoders of the RTCM 3.2 drafts (e.g. 2012 receiver firmware) wrote GPST in the
   // BeiDou MSM: within an open multiple-message epoch such a message reads exactly
   // 14 s late. It belongs to the open epoch.
-  if (system == GnssSystem::BeiDou && pending_ && t - pending_->time == 14.0) {
+  if (system == GnssSystem::BeiDou && pending_ && t - pending_->time == kGpstMinusBdt_s) {
     t = pending_->time;
     ++beidou_gpst_messages_;
   }

@@ -11,9 +11,6 @@
 namespace ppp {
 namespace {
 
-constexpr double kDay_s = 86400.0;
-constexpr double kMoscowMinusUtc_s = 3.0 * 3600.0;
-
 double p2(int e) { return std::ldexp(1.0, e); }
 
 /// value / scale, rounded to the nearest integer.
@@ -109,12 +106,10 @@ std::vector<std::uint8_t> encodeEphemerisPayload(const GlonassEphemeris& g) {
     throw std::invalid_argument("1020 ephemeris: no slot number for " + g.satellite.toString());
   // tk: RINEX gives the message frame time as seconds of the UTC week (or day);
   // the message holds the Moscow time of day in 30-s steps.
-  const double tk_tod = std::fmod(std::fmod(g.message_frame_time_s + kMoscowMinusUtc_s, kDay_s) + kDay_s, kDay_s);
+  const double tk_tod = glonassSecondsOfDayFromUtc(g.message_frame_time_s);
   const int tk_s = static_cast<int>(std::floor(tk_tod + 1e-6));
   // tb: the Moscow time of day of the reference epoch in 15-min steps (1..96).
-  const GnssTime tb_glo = g.tb + g.tb.offsetToSystem_s(TimeSystem::GLONASS);
-  const double tb_tod = std::fmod(std::fmod(tb_glo.toGpsSecondsDouble(), kDay_s) + kDay_s, kDay_s);
-  int tb = static_cast<int>(std::lround(tb_tod / 900.0));
+  int tb = static_cast<int>(std::lround(glonassSecondsOfDay(g.tb) / 900.0));
   if (tb == 0) tb = 96;  // 24:00 of the day before: the same instant modulo the day
   BitWriter w;
   w.putUnsigned(1020, 12);
@@ -196,8 +191,7 @@ std::vector<std::uint8_t> encodeEphemerisPayload(const BeidouEphemeris& e) {
   if (e.satellite.system != GnssSystem::BeiDou || e.satellite.prn < 1 || e.satellite.prn > 63)
     throw std::invalid_argument("1042 ephemeris: no satellite number for " + e.satellite.toString());
   const KeplerOrbit& o = e.orbit;
-  constexpr double kBdtMinusGpst_s = -14.0;
-  const double toc_bdt_sow = secondsOfWeek(e.clock.toc + kBdtMinusGpst_s);
+  const double toc_bdt_sow = toBdtWeek(e.clock.toc).seconds_of_week;
   BitWriter w;
   w.putUnsigned(1042, 12);
   w.putUnsigned(static_cast<std::uint64_t>(e.satellite.prn), 6);

@@ -91,7 +91,7 @@ std::vector<std::vector<std::uint8_t>> encodeMsm7(const StreamEpoch& epoch, Gnss
       w.putUnsigned(static_cast<std::uint64_t>(((days % 7) + 7) % 7), 3);
       w.putUnsigned(static_cast<std::uint64_t>(tod), 27);
     } else {
-      const double sow = (system == GnssSystem::BeiDou ? epoch.time - 14.0 : epoch.time).gpsWeek().seconds_of_week;
+      const double sow = (system == GnssSystem::BeiDou ? toBdtWeek(epoch.time) : epoch.time.gpsWeek()).seconds_of_week;
       w.putUnsigned(static_cast<std::uint64_t>(std::llround(sow * 1000.0)) % 604800000ULL, 30);
     }
     w.putFlag(multiple);

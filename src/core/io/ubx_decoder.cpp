@@ -568,9 +568,7 @@ void UbxDecoder::glonassString(const UbxFrame& f, const SatelliteId& sat, const 
   eph.age_days = readField(u, glo::kEn);
   // tb and tk are Moscow times (UTC + 3 h) of the day around the receiver time.
   const GnssTime now = *last_time_;
-  const double offset_s = now.offsetToSystem_s(TimeSystem::GLONASS);
-  const GnssTime moscow_now = now + offset_s;
-  const double moscow_sod = std::fmod(moscow_now.gpsWeek().seconds_of_week, 86400.0);
+  const double moscow_sod = glonassSecondsOfDay(now);
   auto nearestInDay = [&](double sod) {
     double d = sod - moscow_sod;
     if (d > 43200.0) d -= 86400.0;
@@ -722,7 +720,7 @@ void UbxDecoder::releaseBeidou(const UbxFrame& f, const SatelliteId& sat, Beidou
   const GnssTime transmission = fromBdtWeek(week, transmission_sow);
   o.toe = withinHalfWeek(transmission, fromBdtWeek(week, o.toe_sow));
   eph.clock.toc = withinHalfWeek(transmission, fromBdtWeek(week, toc_sow));
-  eph.bdt_week = (o.toe - kGpstMinusBdt_s).gpsWeek().week - kBdtWeekZeroGpsWeek;
+  eph.bdt_week = toBdtWeek(o.toe).week;
   eph.transmission_sow = transmission_sow;
   const auto last = last_beidou_.find(sat);
   if (last != last_beidou_.end() && last->second.first == eph.aode && last->second.second == o.toe) return;

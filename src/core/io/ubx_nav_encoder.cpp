@@ -66,12 +66,11 @@ std::vector<UbxFrameBytes> encodeGlonassSfrbx(const GlonassEphemeris& eph, std::
   put(s, glo::kSlot, eph.satellite.prn, "slot n");
   put(s, glo::kM, 1.0, "M");
   // tb: 15-min index of the Moscow day; tk: Moscow time of day to 30 s.
-  const double moscow_tb = std::fmod((eph.tb + eph.tb.offsetToSystem_s(TimeSystem::GLONASS)).gpsWeek().seconds_of_week, 86400.0);
-  const double tb_index = moscow_tb / 900.0;
+  const double tb_index = glonassSecondsOfDay(eph.tb) / 900.0;
   if (std::fabs(tb_index - std::round(tb_index)) > 1e-6)
     throw std::invalid_argument("SFRBX encoder: GLONASS tb is not on a 15-min boundary of the Moscow day");
   put(s, glo::kTb, std::round(tb_index), "tb");
-  const double tk_sod = std::fmod(eph.message_frame_time_s + 3 * 3600.0, 86400.0);
+  const double tk_sod = glonassSecondsOfDayFromUtc(eph.message_frame_time_s);
   const int tk30 = static_cast<int>(std::floor(tk_sod / 30.0 + 1e-9));
   put(s, glo::kTkHours, tk30 / 120, "tk hours");
   put(s, glo::kTkMinutes, (tk30 / 2) % 60, "tk minutes");
@@ -93,7 +92,7 @@ std::vector<UbxFrameBytes> encodeBeidouSfrbx(const BeidouEphemeris& eph, std::ui
   const KeplerOrbit& o = eph.orbit;
   const int urai = beidouUraIndex(eph.ura_m);
   const int week13 = eph.bdt_week % 8192;
-  const double toc_sow = std::fmod((eph.clock.toc - kGpstMinusBdt_s).gpsWeek().seconds_of_week, 604800.0);
+  const double toc_sow = toBdtWeek(eph.clock.toc).seconds_of_week;
   std::vector<UbxFrameBytes> out;
   auto emit = [&](Unit& u, int fra, std::uint32_t part_sow, int sig) {
     setBits(u, 0, 11, 0x712u);  // preamble

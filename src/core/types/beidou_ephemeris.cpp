@@ -4,10 +4,6 @@
 
 namespace ppp {
 
-GnssTime fromBdtWeek(int bdt_week, double bdt_sow) {
-  return GnssTime::fromGpsWeek(bdt_week + kBdtWeekZeroGpsWeek, bdt_sow) + kGpstMinusBdt_s;
-}
-
 double beidouUra_m(int index) {
   if (index < 0 || index >= 15) return 8192.0;
   if (index <= 6) return std::pow(2.0, 1.0 + 0.5 * index);

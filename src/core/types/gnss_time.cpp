@@ -12,7 +12,6 @@ constexpr std::int64_t kSecondsPerDay = 86400;
 constexpr std::int64_t kSecondsPerWeek = 604800;
 constexpr std::int64_t kGpsEpochMjd = 44244;  // 1980-01-06
 constexpr int kGpsMinusTaiS = -19;            // GPST = TAI - 19 s
-constexpr int kBdtMinusGpstS = -14;           // BDT = GPST - 14 s
 
 std::int64_t floorDiv(std::int64_t a, std::int64_t b) {
   std::int64_t q = a / b;
@@ -84,7 +83,7 @@ double GnssTime::offsetToSystem_s(TimeSystem system) const {
     case TimeSystem::QZSS:
       return 0.0;
     case TimeSystem::BeiDou:
-      return kBdtMinusGpstS;
+      return -kGpstMinusBdt_s;
     case TimeSystem::TAI:
       return -kGpsMinusTaiS;
     case TimeSystem::UTC:
@@ -95,7 +94,7 @@ double GnssTime::offsetToSystem_s(TimeSystem system) const {
       reading = whole_s_ - (leap + kGpsMinusTaiS);
       leap = leapSecondsForUtcReading(reading);
       const double utc_offset = -static_cast<double>(leap + kGpsMinusTaiS);
-      return system == TimeSystem::UTC ? utc_offset : utc_offset + 3 * 3600.0;
+      return system == TimeSystem::UTC ? utc_offset : utc_offset + kGlonassMinusUtc_s;
     }
   }
   return 0.0;
@@ -116,12 +115,13 @@ GnssTime GnssTime::fromCalendar(const CalendarTime& c, TimeSystem system) {
     case TimeSystem::QZSS:
       return reading;
     case TimeSystem::BeiDou:
-      return reading - kBdtMinusGpstS;
+      return reading + kGpstMinusBdt_s;
     case TimeSystem::TAI:
       return reading + kGpsMinusTaiS;
     case TimeSystem::UTC:
     case TimeSystem::GLONASS: {
-      std::int64_t utc_whole = reading_whole - (system == TimeSystem::GLONASS ? 3 * 3600 : 0);
+      std::int64_t utc_whole =
+          reading_whole - (system == TimeSystem::GLONASS ? static_cast<std::int64_t>(kGlonassMinusUtc_s) : 0);
       const int leap = leapSecondsForUtcReading(utc_whole);
       return fromGpsSeconds(utc_whole + leap + kGpsMinusTaiS, c.second);
     }
@@ -214,6 +214,26 @@ GnssTime& GnssTime::operator+=(double dt_s) {
     whole_s_ += 1;
   }
   return *this;
+}
+
+GnssTime fromBdtWeek(int bdt_week, double bdt_sow) {
+  return GnssTime::fromGpsWeek(bdt_week + kBdtWeekZeroGpsWeek, bdt_sow) + kGpstMinusBdt_s;
+}
+
+GpsWeekTime toBdtWeek(const GnssTime& t) {
+  GpsWeekTime w = (t - kGpstMinusBdt_s).gpsWeek();
+  w.week -= kBdtWeekZeroGpsWeek;
+  return w;
+}
+
+double glonassSecondsOfDay(const GnssTime& t) {
+  return std::fmod((t + t.offsetToSystem_s(TimeSystem::GLONASS)).gpsWeek().seconds_of_week,
+                   static_cast<double>(kSecondsPerDay));
+}
+
+double glonassSecondsOfDayFromUtc(double utc_s) {
+  const double day_s = static_cast<double>(kSecondsPerDay);
+  return std::fmod(std::fmod(utc_s + kGlonassMinusUtc_s, day_s) + day_s, day_s);
 }
 
 GnssTime withinHalfWeek(const GnssTime& near, GnssTime t) {
