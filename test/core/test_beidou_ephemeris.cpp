@@ -236,7 +236,7 @@ TEST(BeidouEphemeris, StationPseudorangesFitTheBroadcastOrbitsAtTheMetreLevel) {
   for (const auto& [sat, s] : sum2) {
     if (s.second < 20) continue;
     const double rms = std::sqrt(s.first / s.second);
-    const bool is_geo = sat.prn <= 5 || sat.prn >= 59;
+    const bool is_geo = isBeidouGeo(sat.prn);
     std::printf("  %s%s %3d epochs: RMS %.2f m\n", sat.toString().c_str(), is_geo ? " (GEO)" : "", s.second, rms);
     EXPECT_LT(rms, 10.0) << sat.toString();
     ++satellites;

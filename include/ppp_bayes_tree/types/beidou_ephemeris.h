@@ -22,9 +22,14 @@ struct BeidouEphemeris {
   double tgd2_s = 0.0;    // B2I group delay (relative to B3I)
   std::optional<double> transmission_sow;  // BDT seconds of week; nullopt when the source has none (RTCM 1042)
 
-  /// GEO satellites (PRN 1-5 and 59-63) use the rotated user algorithm (ICD 5.2.4.12).
-  bool isGeo() const { return satellite.prn <= 5 || satellite.prn >= 59; }
+  /// GEO satellites use the rotated user algorithm (ICD 5.2.4.12); see isBeidouGeo.
+  bool isGeo() const;
 };
+
+/// BeiDou GEO satellites: PRN 1-5 and 59-63 (BDS-SIS-ICD-B1I 3.0, 5.2.4.12 and
+/// 5.3: GEO satellites broadcast D2, the others D1).
+constexpr bool isBeidouGeo(int prn) { return prn <= 5 || prn >= 59; }
+inline bool BeidouEphemeris::isGeo() const { return isBeidouGeo(satellite.prn); }
 
 // BDT: kGpstMinusBdt_s, kBdtWeekZeroGpsWeek (types/time_system.h), fromBdtWeek,
 // toBdtWeek (types/gnss_time.h).

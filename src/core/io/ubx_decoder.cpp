@@ -596,7 +596,7 @@ void UbxDecoder::beidouSubframe(const UbxFrame& f, const SatelliteId& sat, const
   using namespace ubx_nav;
   Unit u{};
   for (int w = 0; w < 10; ++w) setBits(u, 30 * w, 30, u4(f.payload.data() + 8 + 4 * w) & 0x3FFFFFFFu);
-  const bool geo = sat.prn <= 5 || sat.prn >= 59;
+  const bool geo = isBeidouGeo(sat.prn);
   const char* kind = geo ? "D2" : "D1";
   if (!bdsParityOk(u)) {
     problem(f, StreamProblemKind::ChecksumError, sat.toString() + " BeiDou " + kind + " word parity (BCH) check failed");
