@@ -18,6 +18,10 @@ constexpr double kRelativisticF_Galileo = -4.442807309e-10;
 constexpr double kWgs84SemiMajorAxis_m = 6378137.0;
 constexpr double kWgs84Flattening = 1.0 / 298.257223563;
 constexpr double kPi = 3.1415926535897932;
+/// The value of pi the navigation message ICDs define for the semicircle
+/// conversion (IS-GPS-200 20.3.3.4.3; Galileo OS SIS ICD 5.1.1; BDS-SIS-ICD-B1I
+/// 5.2.4.1), used where broadcast words are decoded or encoded bit for bit.
+constexpr double kIcdPi = 3.1415926535898;
 constexpr double kDegToRad = kPi / 180.0;
 constexpr double kRadToDeg = 180.0 / kPi;
 

@@ -15,9 +15,6 @@ namespace {
 
 constexpr int kGnssGps = 0, kGnssSbas = 1, kGnssGalileo = 2, kGnssBeidou = 3, kGnssQzss = 5, kGnssGlonass = 6,
               kGnssNavic = 7;
-// The value of pi the ICDs define for the semicircle conversion (IS-GPS-200
-// 20.3.3.4.3; Galileo OS SIS ICD 5.1.1).
-constexpr double kIcdPi = 3.1415926535898;
 
 // Little-endian fields (UBX is little-endian: interface description 3.3).
 std::uint16_t u2(const std::uint8_t* p) { return static_cast<std::uint16_t>(p[0] | (p[1] << 8)); }
@@ -640,69 +637,12 @@ void UbxDecoder::releaseBeidou(const UbxFrame& f, const SatelliteId& sat, Beidou
   BeidouEphemeris eph;
   eph.satellite = sat;
   KeplerOrbit& o = eph.orbit;
-  int week13 = 0, urai = 0;
-  double toc_sow = 0.0;
-  if (geo) {
-    std::array<Unit, 10> p{};
-    for (int k = 0; k < 10; ++k)
-      if (parts.units[static_cast<std::size_t>(k)]) p[static_cast<std::size_t>(k)] = *parts.units[static_cast<std::size_t>(k)];
-    eph.health = static_cast<int>(readField(p, d2::kSatH1));
-    eph.aodc = static_cast<int>(readField(p, d2::kAodc));
-    urai = static_cast<int>(readField(p, d2::kUrai));
-    week13 = static_cast<int>(readField(p, d2::kWeek));
-    toc_sow = readField(p, d2::kToc);
-    eph.tgd1_s = readField(p, d2::kTgd1);
-    eph.tgd2_s = readField(p, d2::kTgd2);
-    eph.clock.af0_s = readField(p, d2::kA0);
-    eph.clock.af1_sps = readField(p, d2::kA1);
-    eph.clock.af2_sps2 = readField(p, d2::kA2);
-    eph.aode = static_cast<int>(readField(p, d2::kAode));
-    o.delta_n_radps = readField(p, d2::kDeltaN) * kIcdPi;
-    o.cuc_rad = readField(p, d2::kCuc);
-    o.m0_rad = readField(p, d2::kM0) * kIcdPi;
-    o.cus_rad = readField(p, d2::kCus);
-    o.eccentricity = readField(p, d2::kE);
-    o.sqrt_a_sqrtm = readField(p, d2::kSqrtA);
-    o.cic_rad = readField(p, d2::kCic);
-    o.cis_rad = readField(p, d2::kCis);
-    o.toe_sow = readField(p, d2::kToe);
-    o.i0_rad = readField(p, d2::kI0) * kIcdPi;
-    o.crc_m = readField(p, d2::kCrc);
-    o.crs_m = readField(p, d2::kCrs);
-    o.omega_dot_radps = readField(p, d2::kOmegaDot) * kIcdPi;
-    o.omega0_rad = readField(p, d2::kOmega0) * kIcdPi;
-    o.omega_rad = readField(p, d2::kOmega) * kIcdPi;
-    o.idot_radps = readField(p, d2::kIdot) * kIcdPi;
-  } else {
-    const std::array<Unit, 3> s{*parts.units[0], *parts.units[1], *parts.units[2]};
-    eph.health = static_cast<int>(readField(s, d1::kSatH1));
-    eph.aodc = static_cast<int>(readField(s, d1::kAodc));
-    urai = static_cast<int>(readField(s, d1::kUrai));
-    week13 = static_cast<int>(readField(s, d1::kWeek));
-    toc_sow = readField(s, d1::kToc);
-    eph.tgd1_s = readField(s, d1::kTgd1);
-    eph.tgd2_s = readField(s, d1::kTgd2);
-    eph.clock.af2_sps2 = readField(s, d1::kA2);
-    eph.clock.af0_s = readField(s, d1::kA0);
-    eph.clock.af1_sps = readField(s, d1::kA1);
-    eph.aode = static_cast<int>(readField(s, d1::kAode));
-    o.delta_n_radps = readField(s, d1::kDeltaN) * kIcdPi;
-    o.cuc_rad = readField(s, d1::kCuc);
-    o.m0_rad = readField(s, d1::kM0) * kIcdPi;
-    o.eccentricity = readField(s, d1::kE);
-    o.cus_rad = readField(s, d1::kCus);
-    o.crc_m = readField(s, d1::kCrc);
-    o.crs_m = readField(s, d1::kCrs);
-    o.sqrt_a_sqrtm = readField(s, d1::kSqrtA);
-    o.toe_sow = (readField(s, d1::kToeMsb) * 32768.0 + readField(s, d1::kToeLsb)) * 8.0;
-    o.i0_rad = readField(s, d1::kI0) * kIcdPi;
-    o.cic_rad = readField(s, d1::kCic);
-    o.omega_dot_radps = readField(s, d1::kOmegaDot) * kIcdPi;
-    o.cis_rad = readField(s, d1::kCis);
-    o.idot_radps = readField(s, d1::kIdot) * kIcdPi;
-    o.omega0_rad = readField(s, d1::kOmega0) * kIcdPi;
-    o.omega_rad = readField(s, d1::kOmega) * kIcdPi;
-  }
+  std::array<Unit, 10> u{};
+  for (int k = 0; k < count; ++k)
+    if (parts.units[static_cast<std::size_t>(k)]) u[static_cast<std::size_t>(k)] = *parts.units[static_cast<std::size_t>(k)];
+  const BdsBroadcast broadcast = readBeidou(u, geo ? kBdsD2 : kBdsD1, eph);
+  const int week13 = broadcast.week13, urai = broadcast.urai;
+  const double toc_sow = broadcast.toc_sow;
   parts = BeidouFrame{};
   if (toc_sow != o.toe_sow) {
     problem(f, StreamProblemKind::InconsistentEphemeris,

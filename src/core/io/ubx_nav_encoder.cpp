@@ -3,7 +3,6 @@
 #include <cmath>
 #include <cstring>
 #include <stdexcept>
-#include <type_traits>
 #include <string>
 
 #include "ppp_bayes_tree/io/ubx_framer.h"
@@ -14,22 +13,8 @@ namespace {
 
 using namespace ubx_nav;
 
-constexpr double kIcdPi = 3.1415926535898;  // BDS-SIS-ICD / GLONASS ICD value for semicircles
-
 void putU4(std::vector<std::uint8_t>& p, std::size_t at, std::uint32_t v) {
   for (int i = 0; i < 4; ++i) p[at + static_cast<std::size_t>(i)] = static_cast<std::uint8_t>(v >> (8 * i));
-}
-
-template <std::size_t N, typename F>
-void put(std::array<Unit, N>& units, const F& field, double value, const char* name, bool sign_magnitude = false) {
-  bool ok;
-  if constexpr (std::is_same_v<F, D2Field>) {
-    ok = writeField(units, field, value);
-  } else {
-    ok = writeField(units, field, value, sign_magnitude);
-  }
-  if (!ok) throw std::invalid_argument(std::string("SFRBX encoder: ") + name + " = " + std::to_string(value) +
-                                       " does not fit its broadcast field");
 }
 
 UbxFrameBytes sfrbxFrame(int gnss_id, int sv_id, int sig_id, int freq_id, const std::vector<std::uint32_t>& words) {
@@ -50,31 +35,31 @@ std::vector<UbxFrameBytes> encodeGlonassSfrbx(const GlonassEphemeris& eph, std::
   std::array<Unit, 5> s{};
   const bool sm = true;
   for (int m = 1; m <= 5; ++m) setBits(s[static_cast<std::size_t>(m - 1)], 1, 4, static_cast<std::uint64_t>(m));
-  put(s, glo::kX, eph.position_m.x() * 1e-3, "x", sm);
-  put(s, glo::kY, eph.position_m.y() * 1e-3, "y", sm);
-  put(s, glo::kZ, eph.position_m.z() * 1e-3, "z", sm);
-  put(s, glo::kVx, eph.velocity_mps.x() * 1e-3, "vx", sm);
-  put(s, glo::kVy, eph.velocity_mps.y() * 1e-3, "vy", sm);
-  put(s, glo::kVz, eph.velocity_mps.z() * 1e-3, "vz", sm);
-  put(s, glo::kAx, eph.acceleration_mps2.x() * 1e-3, "ax", sm);
-  put(s, glo::kAy, eph.acceleration_mps2.y() * 1e-3, "ay", sm);
-  put(s, glo::kAz, eph.acceleration_mps2.z() * 1e-3, "az", sm);
-  put(s, glo::kGammaN, eph.gamma_n, "gamma_n", sm);
-  put(s, glo::kTauN, -eph.minus_tau_n_s, "tau_n", sm);
-  put(s, glo::kBn, eph.health ? 4.0 : 0.0, "Bn");
-  put(s, glo::kEn, eph.age_days, "E_n");
-  put(s, glo::kSlot, eph.satellite.prn, "slot n");
-  put(s, glo::kM, 1.0, "M");
+  putField(s, glo::kX, eph.position_m.x() * 1e-3, "x", sm);
+  putField(s, glo::kY, eph.position_m.y() * 1e-3, "y", sm);
+  putField(s, glo::kZ, eph.position_m.z() * 1e-3, "z", sm);
+  putField(s, glo::kVx, eph.velocity_mps.x() * 1e-3, "vx", sm);
+  putField(s, glo::kVy, eph.velocity_mps.y() * 1e-3, "vy", sm);
+  putField(s, glo::kVz, eph.velocity_mps.z() * 1e-3, "vz", sm);
+  putField(s, glo::kAx, eph.acceleration_mps2.x() * 1e-3, "ax", sm);
+  putField(s, glo::kAy, eph.acceleration_mps2.y() * 1e-3, "ay", sm);
+  putField(s, glo::kAz, eph.acceleration_mps2.z() * 1e-3, "az", sm);
+  putField(s, glo::kGammaN, eph.gamma_n, "gamma_n", sm);
+  putField(s, glo::kTauN, -eph.minus_tau_n_s, "tau_n", sm);
+  putField(s, glo::kBn, eph.health ? 4.0 : 0.0, "Bn");
+  putField(s, glo::kEn, eph.age_days, "E_n");
+  putField(s, glo::kSlot, eph.satellite.prn, "slot n");
+  putField(s, glo::kM, 1.0, "M");
   // tb: 15-min index of the Moscow day; tk: Moscow time of day to 30 s.
   const double tb_index = glonassSecondsOfDay(eph.tb) / 900.0;
   if (std::fabs(tb_index - std::round(tb_index)) > 1e-6)
     throw std::invalid_argument("SFRBX encoder: GLONASS tb is not on a 15-min boundary of the Moscow day");
-  put(s, glo::kTb, std::round(tb_index), "tb");
+  putField(s, glo::kTb, std::round(tb_index), "tb");
   const double tk_sod = glonassSecondsOfDayFromUtc(eph.message_frame_time_s);
   const int tk30 = static_cast<int>(std::floor(tk_sod / 30.0 + 1e-9));
-  put(s, glo::kTkHours, tk30 / 120, "tk hours");
-  put(s, glo::kTkMinutes, (tk30 / 2) % 60, "tk minutes");
-  put(s, glo::kTkHalfMinute, tk30 % 2, "tk 30 s");
+  putField(s, glo::kTkHours, tk30 / 120, "tk hours");
+  putField(s, glo::kTkMinutes, (tk30 / 2) % 60, "tk minutes");
+  putField(s, glo::kTkHalfMinute, tk30 % 2, "tk 30 s");
   std::vector<UbxFrameBytes> out;
   for (auto& str : s) {
     setGlonassHamming(str);
@@ -89,7 +74,6 @@ std::vector<UbxFrameBytes> encodeGlonassSfrbx(const GlonassEphemeris& eph, std::
 
 std::vector<UbxFrameBytes> encodeBeidouSfrbx(const BeidouEphemeris& eph, std::uint32_t sow) {
   const bool geo = eph.isGeo();
-  const KeplerOrbit& o = eph.orbit;
   const int urai = beidouUraIndex(eph.ura_m);
   const int week13 = eph.bdt_week % 8192;
   const double toc_sow = toBdtWeek(eph.clock.toc).seconds_of_week;
@@ -104,71 +88,15 @@ std::vector<UbxFrameBytes> encodeBeidouSfrbx(const BeidouEphemeris& eph, std::ui
     for (int w = 0; w < 10; ++w) words[static_cast<std::size_t>(w)] = static_cast<std::uint32_t>(getBits(u, 30 * w, 30));
     out.push_back(sfrbxFrame(3, eph.satellite.prn, sig, 0, words));
   };
+  std::array<Unit, 10> u{};
+  writeBeidou(u, geo ? kBdsD2 : kBdsD1, eph, {urai, week13, toc_sow});
   if (!geo) {
-    std::array<Unit, 3> s{};
-    put(s, d1::kSatH1, eph.health, "SatH1");
-    put(s, d1::kAodc, eph.aodc, "AODC");
-    put(s, d1::kUrai, urai, "URAI");
-    put(s, d1::kWeek, week13, "WN");
-    put(s, d1::kToc, toc_sow, "toc");
-    put(s, d1::kTgd1, eph.tgd1_s, "TGD1");
-    put(s, d1::kTgd2, eph.tgd2_s, "TGD2");
-    put(s, d1::kA2, eph.clock.af2_sps2, "a2");
-    put(s, d1::kA0, eph.clock.af0_s, "a0");
-    put(s, d1::kA1, eph.clock.af1_sps, "a1");
-    put(s, d1::kAode, eph.aode, "AODE");
-    put(s, d1::kDeltaN, o.delta_n_radps / kIcdPi, "delta n");
-    put(s, d1::kCuc, o.cuc_rad, "Cuc");
-    put(s, d1::kM0, o.m0_rad / kIcdPi, "M0");
-    put(s, d1::kE, o.eccentricity, "e");
-    put(s, d1::kCus, o.cus_rad, "Cus");
-    put(s, d1::kCrc, o.crc_m, "Crc");
-    put(s, d1::kCrs, o.crs_m, "Crs");
-    put(s, d1::kSqrtA, o.sqrt_a_sqrtm, "sqrt(A)");
-    const long toe8 = std::lround(o.toe_sow / 8.0);
-    put(s, d1::kToeMsb, static_cast<double>(toe8 >> 15), "toe");
-    put(s, d1::kToeLsb, static_cast<double>(toe8 & 0x7FFF), "toe");
-    put(s, d1::kI0, o.i0_rad / kIcdPi, "i0");
-    put(s, d1::kCic, o.cic_rad, "Cic");
-    put(s, d1::kOmegaDot, o.omega_dot_radps / kIcdPi, "OmegaDot");
-    put(s, d1::kCis, o.cis_rad, "Cis");
-    put(s, d1::kIdot, o.idot_radps / kIcdPi, "IDOT");
-    put(s, d1::kOmega0, o.omega0_rad / kIcdPi, "Omega0");
-    put(s, d1::kOmega, o.omega_rad / kIcdPi, "omega");
-    for (int k = 0; k < 3; ++k) emit(s[static_cast<std::size_t>(k)], k + 1, sow + 6u * static_cast<std::uint32_t>(k), 0);
+    for (int k = 0; k < 3; ++k) emit(u[static_cast<std::size_t>(k)], k + 1, sow + 6u * static_cast<std::uint32_t>(k), 0);
     return out;
   }
-  std::array<Unit, 10> p{};
-  put(p, d2::kSatH1, eph.health, "SatH1");
-  put(p, d2::kAodc, eph.aodc, "AODC");
-  put(p, d2::kUrai, urai, "URAI");
-  put(p, d2::kWeek, week13, "WN");
-  put(p, d2::kToc, toc_sow, "toc");
-  put(p, d2::kTgd1, eph.tgd1_s, "TGD1");
-  put(p, d2::kTgd2, eph.tgd2_s, "TGD2");
-  put(p, d2::kA0, eph.clock.af0_s, "a0");
-  put(p, d2::kA1, eph.clock.af1_sps, "a1");
-  put(p, d2::kA2, eph.clock.af2_sps2, "a2");
-  put(p, d2::kAode, eph.aode, "AODE");
-  put(p, d2::kDeltaN, o.delta_n_radps / kIcdPi, "delta n");
-  put(p, d2::kCuc, o.cuc_rad, "Cuc");
-  put(p, d2::kM0, o.m0_rad / kIcdPi, "M0");
-  put(p, d2::kCus, o.cus_rad, "Cus");
-  put(p, d2::kE, o.eccentricity, "e");
-  put(p, d2::kSqrtA, o.sqrt_a_sqrtm, "sqrt(A)");
-  put(p, d2::kCic, o.cic_rad, "Cic");
-  put(p, d2::kCis, o.cis_rad, "Cis");
-  put(p, d2::kToe, o.toe_sow, "toe");
-  put(p, d2::kI0, o.i0_rad / kIcdPi, "i0");
-  put(p, d2::kCrc, o.crc_m, "Crc");
-  put(p, d2::kCrs, o.crs_m, "Crs");
-  put(p, d2::kOmegaDot, o.omega_dot_radps / kIcdPi, "OmegaDot");
-  put(p, d2::kOmega0, o.omega0_rad / kIcdPi, "Omega0");
-  put(p, d2::kOmega, o.omega_rad / kIcdPi, "omega");
-  put(p, d2::kIdot, o.idot_radps / kIcdPi, "IDOT");
   for (int k = 0; k < 10; ++k) {
-    setBits(p[static_cast<std::size_t>(k)], 42, 4, static_cast<std::uint64_t>(k + 1));  // Pnum
-    emit(p[static_cast<std::size_t>(k)], 1, sow + 3u * static_cast<std::uint32_t>(k), 1);
+    setBits(u[static_cast<std::size_t>(k)], 42, 4, static_cast<std::uint64_t>(k + 1));  // Pnum
+    emit(u[static_cast<std::size_t>(k)], 1, sow + 3u * static_cast<std::uint32_t>(k), 1);
   }
   return out;
 }

@@ -26,6 +26,12 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <stdexcept>
+#include <string>
+#include <type_traits>
+
+#include "ppp_bayes_tree/types/beidou_ephemeris.h"
+#include "ppp_bayes_tree/types/constants.h"
 
 namespace ppp::ubx_nav {
 
@@ -34,9 +40,8 @@ struct BitPart {
   int length = 0;
 };
 
-/// One broadcast parameter: `unit` = D1 subframe 0-2 (subframes 1-3), D2 page
-/// 0-9 (subframe 1 pages 1-10), GLONASS string 0-3 (strings 1-4); its bits are
-/// the parts concatenated; value = integer * scale.
+/// One GLONASS broadcast parameter: `unit` = string 0-3 (strings 1-4); its bits
+/// are the parts concatenated; value = integer * scale (BeiDou: BdsField below).
 struct Field {
   int unit = 0;
   std::array<BitPart, 3> parts{};
@@ -53,83 +58,88 @@ constexpr double p2(int e) {
 }
 
 // ---------------------------------------------------------------------------
-// BeiDou D1 (BDS-SIS-ICD-B1I 5.2.4, figures 5-5 to 5-7): subframes 1-3.
-// Common to every subframe: FraID 15/3, SOW 18/8 + 30/12.
-// ---------------------------------------------------------------------------
-namespace d1 {
-constexpr Field kSatH1{0, {{{42, 1}}}, false, 1};
-constexpr Field kAodc{0, {{{43, 5}}}, false, 1};
-constexpr Field kUrai{0, {{{48, 4}}}, false, 1};
-constexpr Field kWeek{0, {{{60, 13}}}, false, 1};
-constexpr Field kToc{0, {{{73, 9}, {90, 8}}}, false, 8.0};
-constexpr Field kTgd1{0, {{{98, 10}}}, true, 0.1e-9};
-constexpr Field kTgd2{0, {{{108, 4}, {120, 6}}}, true, 0.1e-9};
-constexpr Field kA2{0, {{{214, 11}}}, true, p2(-66)};
-constexpr Field kA0{0, {{{225, 7}, {240, 17}}}, true, p2(-33)};
-constexpr Field kA1{0, {{{257, 5}, {270, 17}}}, true, p2(-50)};
-constexpr Field kAode{0, {{{287, 5}}}, false, 1};
-constexpr Field kDeltaN{1, {{{42, 10}, {60, 6}}}, true, p2(-43)};    // semicircles/s
-constexpr Field kCuc{1, {{{66, 16}, {90, 2}}}, true, p2(-31)};
-constexpr Field kM0{1, {{{92, 20}, {120, 12}}}, true, p2(-31)};      // semicircles
-constexpr Field kE{1, {{{132, 10}, {150, 22}}}, false, p2(-33)};
-constexpr Field kCus{1, {{{180, 18}}}, true, p2(-31)};
-constexpr Field kCrc{1, {{{198, 4}, {210, 14}}}, true, p2(-6)};
-constexpr Field kCrs{1, {{{224, 8}, {240, 10}}}, true, p2(-6)};
-constexpr Field kSqrtA{1, {{{250, 12}, {270, 20}}}, false, p2(-19)};
-constexpr Field kToeMsb{1, {{{290, 2}}}, false, 1};                  // toe = (MSB << 15 | LSB) * 8 s
-constexpr Field kToeLsb{2, {{{42, 10}, {60, 5}}}, false, 1};
-constexpr Field kI0{2, {{{65, 17}, {90, 15}}}, true, p2(-31)};       // semicircles
-constexpr Field kCic{2, {{{105, 7}, {120, 11}}}, true, p2(-31)};
-constexpr Field kOmegaDot{2, {{{131, 11}, {150, 13}}}, true, p2(-43)};
-constexpr Field kCis{2, {{{163, 9}, {180, 9}}}, true, p2(-31)};
-constexpr Field kIdot{2, {{{189, 13}, {210, 1}}}, true, p2(-43)};
-constexpr Field kOmega0{2, {{{211, 21}, {240, 11}}}, true, p2(-31)};
-constexpr Field kOmega{2, {{{251, 11}, {270, 21}}}, true, p2(-31)};
-}  // namespace d1
-
-// ---------------------------------------------------------------------------
+// BeiDou D1 (BDS-SIS-ICD-B1I 5.2.4, figures 5-5 to 5-7): subframes 1-3, units
+// 0-2. Common to every subframe: FraID 15/3, SOW 18/8 + 30/12.
 // BeiDou D2 (BDS-SIS-ICD-B1I 5.3.3, figure 5-10 and table 5-13): subframe 1,
-// pages 1-10; page number Pnum 42/4. Fields split over two pages are listed
-// as one field whose parts lie in two units: `unit` is the page of the MSB
-// part, `second_unit` that of the LSB part (see D2Field).
+// pages 1-10, units 0-9; page number Pnum 42/4.
+// A field may be split over two units (D2 fields over two pages, the D1 toe
+// over subframes 2 and 3): `msb_unit` holds the MSB part, `lsb_unit` the LSB
+// part (-1: not split).
 // ---------------------------------------------------------------------------
-struct D2Field {
+struct BdsField {
   int msb_unit = 0;
   std::array<BitPart, 3> msb{};
-  int lsb_unit = -1;  // -1: not split over pages
+  int lsb_unit = -1;  // -1: not split over units
   std::array<BitPart, 3> lsb{};
   bool is_signed = false;
   double scale = 1.0;
 };
-namespace d2 {
-constexpr D2Field kSatH1{0, {{{46, 1}}}, -1, {}, false, 1};
-constexpr D2Field kAodc{0, {{{47, 5}}}, -1, {}, false, 1};
-constexpr D2Field kUrai{0, {{{60, 4}}}, -1, {}, false, 1};
-constexpr D2Field kWeek{0, {{{64, 13}}}, -1, {}, false, 1};
-constexpr D2Field kToc{0, {{{77, 5}, {90, 12}}}, -1, {}, false, 8.0};
-constexpr D2Field kTgd1{0, {{{102, 10}}}, -1, {}, true, 0.1e-9};
-constexpr D2Field kTgd2{0, {{{120, 10}}}, -1, {}, true, 0.1e-9};
-constexpr D2Field kA0{2, {{{100, 12}, {120, 12}}}, -1, {}, true, p2(-33)};
-constexpr D2Field kA1{2, {{{132, 4}}}, 3, {{{46, 6}, {60, 12}}}, true, p2(-50)};
-constexpr D2Field kA2{3, {{{72, 10}, {90, 1}}}, -1, {}, true, p2(-66)};
-constexpr D2Field kAode{3, {{{91, 5}}}, -1, {}, false, 1};
-constexpr D2Field kDeltaN{3, {{{96, 16}}}, -1, {}, true, p2(-43)};
-constexpr D2Field kCuc{3, {{{120, 14}}}, 4, {{{46, 4}}}, true, p2(-31)};
-constexpr D2Field kM0{4, {{{50, 2}, {60, 22}, {90, 8}}}, -1, {}, true, p2(-31)};
-constexpr D2Field kCus{4, {{{98, 14}, {120, 4}}}, -1, {}, true, p2(-31)};
-constexpr D2Field kE{4, {{{124, 10}}}, 5, {{{46, 6}, {60, 16}}}, false, p2(-33)};
-constexpr D2Field kSqrtA{5, {{{76, 6}, {90, 22}, {120, 4}}}, -1, {}, false, p2(-19)};
-constexpr D2Field kCic{5, {{{124, 10}}}, 6, {{{46, 6}, {60, 2}}}, true, p2(-31)};
-constexpr D2Field kCis{6, {{{62, 18}}}, -1, {}, true, p2(-31)};
-constexpr D2Field kToe{6, {{{80, 2}, {90, 15}}}, -1, {}, false, 8.0};
-constexpr D2Field kI0{6, {{{105, 7}, {120, 14}}}, 7, {{{46, 6}, {60, 5}}}, true, p2(-31)};
-constexpr D2Field kCrc{7, {{{65, 17}, {90, 1}}}, -1, {}, true, p2(-6)};
-constexpr D2Field kCrs{7, {{{91, 18}}}, -1, {}, true, p2(-6)};
-constexpr D2Field kOmegaDot{7, {{{109, 3}, {120, 16}}}, 8, {{{46, 5}}}, true, p2(-43)};
-constexpr D2Field kOmega0{8, {{{51, 1}, {60, 22}, {90, 9}}}, -1, {}, true, p2(-31)};
-constexpr D2Field kOmega{8, {{{99, 13}, {120, 14}}}, 9, {{{46, 5}}}, true, p2(-31)};
-constexpr D2Field kIdot{9, {{{51, 1}, {60, 13}}}, -1, {}, true, p2(-43)};
-}  // namespace d2
+
+/// Where each ephemeris parameter of a D1 frame or a D2 page set lies.
+struct BdsLayout {
+  BdsField sat_h1, aodc, urai, week, toc, tgd1, tgd2, a0, a1, a2, aode;
+  BdsField delta_n, cuc, m0, e, cus, crc, crs, sqrt_a, toe, i0, cic, omega_dot, cis, idot, omega0, omega;
+};
+
+// Angles in semicircles (and semicircles/s), times in s, clock terms in s, s/s, s/s^2.
+constexpr BdsLayout kBdsD1{
+    /* sat_h1    */ {0, {{{42, 1}}}, -1, {}, false, 1},
+    /* aodc      */ {0, {{{43, 5}}}, -1, {}, false, 1},
+    /* urai      */ {0, {{{48, 4}}}, -1, {}, false, 1},
+    /* week      */ {0, {{{60, 13}}}, -1, {}, false, 1},
+    /* toc       */ {0, {{{73, 9}, {90, 8}}}, -1, {}, false, 8.0},
+    /* tgd1      */ {0, {{{98, 10}}}, -1, {}, true, 0.1e-9},
+    /* tgd2      */ {0, {{{108, 4}, {120, 6}}}, -1, {}, true, 0.1e-9},
+    /* a0        */ {0, {{{225, 7}, {240, 17}}}, -1, {}, true, p2(-33)},
+    /* a1        */ {0, {{{257, 5}, {270, 17}}}, -1, {}, true, p2(-50)},
+    /* a2        */ {0, {{{214, 11}}}, -1, {}, true, p2(-66)},
+    /* aode      */ {0, {{{287, 5}}}, -1, {}, false, 1},
+    /* delta_n   */ {1, {{{42, 10}, {60, 6}}}, -1, {}, true, p2(-43)},
+    /* cuc       */ {1, {{{66, 16}, {90, 2}}}, -1, {}, true, p2(-31)},
+    /* m0        */ {1, {{{92, 20}, {120, 12}}}, -1, {}, true, p2(-31)},
+    /* e         */ {1, {{{132, 10}, {150, 22}}}, -1, {}, false, p2(-33)},
+    /* cus       */ {1, {{{180, 18}}}, -1, {}, true, p2(-31)},
+    /* crc       */ {1, {{{198, 4}, {210, 14}}}, -1, {}, true, p2(-6)},
+    /* crs       */ {1, {{{224, 8}, {240, 10}}}, -1, {}, true, p2(-6)},
+    /* sqrt_a    */ {1, {{{250, 12}, {270, 20}}}, -1, {}, false, p2(-19)},
+    /* toe       */ {1, {{{290, 2}}}, 2, {{{42, 10}, {60, 5}}}, false, 8.0},
+    /* i0        */ {2, {{{65, 17}, {90, 15}}}, -1, {}, true, p2(-31)},
+    /* cic       */ {2, {{{105, 7}, {120, 11}}}, -1, {}, true, p2(-31)},
+    /* omega_dot */ {2, {{{131, 11}, {150, 13}}}, -1, {}, true, p2(-43)},
+    /* cis       */ {2, {{{163, 9}, {180, 9}}}, -1, {}, true, p2(-31)},
+    /* idot      */ {2, {{{189, 13}, {210, 1}}}, -1, {}, true, p2(-43)},
+    /* omega0    */ {2, {{{211, 21}, {240, 11}}}, -1, {}, true, p2(-31)},
+    /* omega     */ {2, {{{251, 11}, {270, 21}}}, -1, {}, true, p2(-31)},
+};
+constexpr BdsLayout kBdsD2{
+    /* sat_h1    */ {0, {{{46, 1}}}, -1, {}, false, 1},
+    /* aodc      */ {0, {{{47, 5}}}, -1, {}, false, 1},
+    /* urai      */ {0, {{{60, 4}}}, -1, {}, false, 1},
+    /* week      */ {0, {{{64, 13}}}, -1, {}, false, 1},
+    /* toc       */ {0, {{{77, 5}, {90, 12}}}, -1, {}, false, 8.0},
+    /* tgd1      */ {0, {{{102, 10}}}, -1, {}, true, 0.1e-9},
+    /* tgd2      */ {0, {{{120, 10}}}, -1, {}, true, 0.1e-9},
+    /* a0        */ {2, {{{100, 12}, {120, 12}}}, -1, {}, true, p2(-33)},
+    /* a1        */ {2, {{{132, 4}}}, 3, {{{46, 6}, {60, 12}}}, true, p2(-50)},
+    /* a2        */ {3, {{{72, 10}, {90, 1}}}, -1, {}, true, p2(-66)},
+    /* aode      */ {3, {{{91, 5}}}, -1, {}, false, 1},
+    /* delta_n   */ {3, {{{96, 16}}}, -1, {}, true, p2(-43)},
+    /* cuc       */ {3, {{{120, 14}}}, 4, {{{46, 4}}}, true, p2(-31)},
+    /* m0        */ {4, {{{50, 2}, {60, 22}, {90, 8}}}, -1, {}, true, p2(-31)},
+    /* e         */ {4, {{{124, 10}}}, 5, {{{46, 6}, {60, 16}}}, false, p2(-33)},
+    /* cus       */ {4, {{{98, 14}, {120, 4}}}, -1, {}, true, p2(-31)},
+    /* crc       */ {7, {{{65, 17}, {90, 1}}}, -1, {}, true, p2(-6)},
+    /* crs       */ {7, {{{91, 18}}}, -1, {}, true, p2(-6)},
+    /* sqrt_a    */ {5, {{{76, 6}, {90, 22}, {120, 4}}}, -1, {}, false, p2(-19)},
+    /* toe       */ {6, {{{80, 2}, {90, 15}}}, -1, {}, false, 8.0},
+    /* i0        */ {6, {{{105, 7}, {120, 14}}}, 7, {{{46, 6}, {60, 5}}}, true, p2(-31)},
+    /* cic       */ {5, {{{124, 10}}}, 6, {{{46, 6}, {60, 2}}}, true, p2(-31)},
+    /* omega_dot */ {7, {{{109, 3}, {120, 16}}}, 8, {{{46, 5}}}, true, p2(-43)},
+    /* cis       */ {6, {{{62, 18}}}, -1, {}, true, p2(-31)},
+    /* idot      */ {9, {{{51, 1}, {60, 13}}}, -1, {}, true, p2(-43)},
+    /* omega0    */ {8, {{{51, 1}, {60, 22}, {90, 9}}}, -1, {}, true, p2(-31)},
+    /* omega     */ {8, {{{99, 13}, {120, 14}}}, 9, {{{46, 5}}}, true, p2(-31)},
+};
 
 // ---------------------------------------------------------------------------
 // GLONASS strings 1-4 (GLONASS ICD 5.1 table 4.5; index = 85 - bit number).
@@ -253,7 +263,7 @@ bool writeField(std::array<Unit, N>& units, const Field& f, double value, bool s
   return true;
 }
 template <std::size_t N>
-double readField(const std::array<Unit, N>& units, const D2Field& f) {
+double readField(const std::array<Unit, N>& units, const BdsField& f) {
   int bits = 0;
   std::uint64_t raw = getParts(units[static_cast<std::size_t>(f.msb_unit)], f.msb, bits);
   if (f.lsb_unit >= 0) {
@@ -265,7 +275,7 @@ double readField(const std::array<Unit, N>& units, const D2Field& f) {
   return toSigned(raw, bits, f.is_signed, false) * f.scale;
 }
 template <std::size_t N>
-bool writeField(std::array<Unit, N>& units, const D2Field& f, double value) {
+bool writeField(std::array<Unit, N>& units, const BdsField& f, double value) {
   int msb_bits = 0, lsb_bits = 0;
   for (const auto& p : f.msb) msb_bits += p.length;
   if (f.lsb_unit >= 0)
@@ -276,6 +286,99 @@ bool writeField(std::array<Unit, N>& units, const D2Field& f, double value) {
   setParts(units[static_cast<std::size_t>(f.msb_unit)], f.msb, raw, lsb_bits);
   if (f.lsb_unit >= 0) setParts(units[static_cast<std::size_t>(f.lsb_unit)], f.lsb, raw, 0);
   return true;
+}
+/// writeField, throwing std::invalid_argument that names the parameter when
+/// the value does not fit its field (the SFRBX encoder).
+template <std::size_t N, typename F>
+void putField(std::array<Unit, N>& units, const F& field, double value, const char* name,
+              bool sign_magnitude = false) {
+  bool ok;
+  if constexpr (std::is_same_v<F, BdsField>) {
+    ok = writeField(units, field, value);
+  } else {
+    ok = writeField(units, field, value, sign_magnitude);
+  }
+  if (!ok)
+    throw std::invalid_argument(std::string("SFRBX encoder: ") + name + " = " + std::to_string(value) +
+                                " does not fit its broadcast field");
+}
+
+/// What a D1 frame / D2 page set broadcasts beside the record's values as kept:
+/// the URA index, the 13-bit BDT week and toc (BDT seconds of week).
+struct BdsBroadcast {
+  int urai = 0;
+  int week13 = 0;
+  double toc_sow = 0.0;
+};
+
+/// The ephemeris parameters of D1 subframes 1-3 or D2 pages 1-10 (`layout`
+/// kBdsD1 / kBdsD2) into `eph` (angles from semicircles with kIcdPi); toe and
+/// toc are left as seconds of week (orbit.toe_sow, the returned toc_sow).
+inline BdsBroadcast readBeidou(const std::array<Unit, 10>& u, const BdsLayout& l, BeidouEphemeris& eph) {
+  KeplerOrbit& o = eph.orbit;
+  BdsBroadcast b;
+  eph.health = static_cast<int>(readField(u, l.sat_h1));
+  eph.aodc = static_cast<int>(readField(u, l.aodc));
+  b.urai = static_cast<int>(readField(u, l.urai));
+  b.week13 = static_cast<int>(readField(u, l.week));
+  b.toc_sow = readField(u, l.toc);
+  eph.tgd1_s = readField(u, l.tgd1);
+  eph.tgd2_s = readField(u, l.tgd2);
+  eph.clock.af0_s = readField(u, l.a0);
+  eph.clock.af1_sps = readField(u, l.a1);
+  eph.clock.af2_sps2 = readField(u, l.a2);
+  eph.aode = static_cast<int>(readField(u, l.aode));
+  o.delta_n_radps = readField(u, l.delta_n) * kIcdPi;
+  o.cuc_rad = readField(u, l.cuc);
+  o.m0_rad = readField(u, l.m0) * kIcdPi;
+  o.eccentricity = readField(u, l.e);
+  o.cus_rad = readField(u, l.cus);
+  o.crc_m = readField(u, l.crc);
+  o.crs_m = readField(u, l.crs);
+  o.sqrt_a_sqrtm = readField(u, l.sqrt_a);
+  o.toe_sow = readField(u, l.toe);
+  o.i0_rad = readField(u, l.i0) * kIcdPi;
+  o.cic_rad = readField(u, l.cic);
+  o.omega_dot_radps = readField(u, l.omega_dot) * kIcdPi;
+  o.cis_rad = readField(u, l.cis);
+  o.idot_radps = readField(u, l.idot) * kIcdPi;
+  o.omega0_rad = readField(u, l.omega0) * kIcdPi;
+  o.omega_rad = readField(u, l.omega) * kIcdPi;
+  return b;
+}
+
+/// The inverse of readBeidou: writes the record's parameters into `u`; throws
+/// std::invalid_argument naming a parameter that does not fit its field.
+inline void writeBeidou(std::array<Unit, 10>& u, const BdsLayout& l, const BeidouEphemeris& eph,
+                        const BdsBroadcast& b) {
+  const KeplerOrbit& o = eph.orbit;
+  putField(u, l.sat_h1, eph.health, "SatH1");
+  putField(u, l.aodc, eph.aodc, "AODC");
+  putField(u, l.urai, b.urai, "URAI");
+  putField(u, l.week, b.week13, "WN");
+  putField(u, l.toc, b.toc_sow, "toc");
+  putField(u, l.tgd1, eph.tgd1_s, "TGD1");
+  putField(u, l.tgd2, eph.tgd2_s, "TGD2");
+  putField(u, l.a0, eph.clock.af0_s, "a0");
+  putField(u, l.a1, eph.clock.af1_sps, "a1");
+  putField(u, l.a2, eph.clock.af2_sps2, "a2");
+  putField(u, l.aode, eph.aode, "AODE");
+  putField(u, l.delta_n, o.delta_n_radps / kIcdPi, "delta n");
+  putField(u, l.cuc, o.cuc_rad, "Cuc");
+  putField(u, l.m0, o.m0_rad / kIcdPi, "M0");
+  putField(u, l.e, o.eccentricity, "e");
+  putField(u, l.cus, o.cus_rad, "Cus");
+  putField(u, l.crc, o.crc_m, "Crc");
+  putField(u, l.crs, o.crs_m, "Crs");
+  putField(u, l.sqrt_a, o.sqrt_a_sqrtm, "sqrt(A)");
+  putField(u, l.toe, o.toe_sow, "toe");
+  putField(u, l.i0, o.i0_rad / kIcdPi, "i0");
+  putField(u, l.cic, o.cic_rad, "Cic");
+  putField(u, l.omega_dot, o.omega_dot_radps / kIcdPi, "OmegaDot");
+  putField(u, l.cis, o.cis_rad, "Cis");
+  putField(u, l.idot, o.idot_radps / kIcdPi, "IDOT");
+  putField(u, l.omega0, o.omega0_rad / kIcdPi, "Omega0");
+  putField(u, l.omega, o.omega_rad / kIcdPi, "omega");
 }
 
 // ---------------------------------------------------------------------------
