@@ -8,6 +8,7 @@
 #include "ppp_bayes_tree/types/broadcast_accuracy.h"
 #include "ppp_bayes_tree/types/carrier_frequency.h"
 #include "ppp_bayes_tree/types/constants.h"
+#include "rtcm3_ephemeris_layout.h"
 
 namespace ppp {
 namespace {
@@ -64,7 +65,7 @@ std::int64_t nearest(std::int64_t reference, std::int64_t value_in_period, std::
   return t;
 }
 
-double p2(int e) { return std::ldexp(1.0, e); }
+using rtcm_eph::p2;
 
 std::string readText(BitReader& r, int n) {
   std::string s;
@@ -525,21 +526,7 @@ void Rtcm3Decoder::decodeGpsQzss(const Rtcm3Frame& frame) {
     e.clock.af0_s = r.s(22) * p2(-31);
     e.iode = static_cast<int>(r.u(8));
   }
-  o.crs_m = r.s(16) * p2(-5);
-  o.delta_n_radps = r.s(16) * p2(-43) * kPi;
-  o.m0_rad = r.s(32) * p2(-31) * kPi;
-  o.cuc_rad = r.s(16) * p2(-29);
-  o.eccentricity = r.u(32) * p2(-33);
-  o.cus_rad = r.s(16) * p2(-29);
-  o.sqrt_a_sqrtm = r.u(32) * p2(-19);
-  o.toe_sow = r.u(16) * 16.0;
-  o.cic_rad = r.s(16) * p2(-29);
-  o.omega0_rad = r.s(32) * p2(-31) * kPi;
-  o.cis_rad = r.s(16) * p2(-29);
-  o.i0_rad = r.s(32) * p2(-31) * kPi;
-  o.crc_m = r.s(16) * p2(-5);
-  o.omega_rad = r.s(32) * p2(-31) * kPi;
-  o.omega_dot_radps = r.s(24) * p2(-43) * kPi;
+  rtcm_eph::readKepler(r, rtcm_eph::kKeplerLnav, o);
   if (!qzss) {
     e.tgd_s = r.s(8) * p2(-31);
     e.health = static_cast<int>(r.u(6));
@@ -662,21 +649,7 @@ void Rtcm3Decoder::decodeGalileo(const Rtcm3Frame& frame) {
   e.clock.af2_sps2 = r.s(6) * p2(-59);
   e.clock.af1_sps = r.s(21) * p2(-46);
   e.clock.af0_s = r.s(31) * p2(-34);
-  o.crs_m = r.s(16) * p2(-5);
-  o.delta_n_radps = r.s(16) * p2(-43) * kPi;
-  o.m0_rad = r.s(32) * p2(-31) * kPi;
-  o.cuc_rad = r.s(16) * p2(-29);
-  o.eccentricity = r.u(32) * p2(-33);
-  o.cus_rad = r.s(16) * p2(-29);
-  o.sqrt_a_sqrtm = r.u(32) * p2(-19);
-  o.toe_sow = r.u(14) * 60.0;
-  o.cic_rad = r.s(16) * p2(-29);
-  o.omega0_rad = r.s(32) * p2(-31) * kPi;
-  o.cis_rad = r.s(16) * p2(-29);
-  o.i0_rad = r.s(32) * p2(-31) * kPi;
-  o.crc_m = r.s(16) * p2(-5);
-  o.omega_rad = r.s(32) * p2(-31) * kPi;
-  o.omega_dot_radps = r.s(24) * p2(-43) * kPi;
+  rtcm_eph::readKepler(r, rtcm_eph::kKeplerGalileo, o);
   e.bgd_e5a_e1_s = r.s(10) * p2(-32);
   if (fnav) {
     const int hs = static_cast<int>(r.u(2));
@@ -743,21 +716,7 @@ void Rtcm3Decoder::decodeBeidou(const Rtcm3Frame& frame) {
   e.clock.af1_sps = r.s(22) * p2(-50);
   e.clock.af0_s = r.s(24) * p2(-33);
   e.aodc = static_cast<int>(r.u(5));
-  o.crs_m = r.s(18) * p2(-6);
-  o.delta_n_radps = r.s(16) * p2(-43) * kPi;
-  o.m0_rad = r.s(32) * p2(-31) * kPi;
-  o.cuc_rad = r.s(18) * p2(-31);
-  o.eccentricity = r.u(32) * p2(-33);
-  o.cus_rad = r.s(18) * p2(-31);
-  o.sqrt_a_sqrtm = r.u(32) * p2(-19);
-  o.toe_sow = r.u(17) * 8.0;
-  o.cic_rad = r.s(18) * p2(-31);
-  o.omega0_rad = r.s(32) * p2(-31) * kPi;
-  o.cis_rad = r.s(18) * p2(-31);
-  o.i0_rad = r.s(32) * p2(-31) * kPi;
-  o.crc_m = r.s(18) * p2(-6);
-  o.omega_rad = r.s(32) * p2(-31) * kPi;
-  o.omega_dot_radps = r.s(24) * p2(-43) * kPi;
+  rtcm_eph::readKepler(r, rtcm_eph::kKeplerBeidou, o);
   e.tgd1_s = r.s(10) * 1e-10;
   e.tgd2_s = r.s(10) * 1e-10;
   e.health = static_cast<int>(r.u(1));

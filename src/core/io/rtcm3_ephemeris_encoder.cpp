@@ -7,39 +7,16 @@
 
 #include "ppp_bayes_tree/io/bit_writer.h"
 #include "ppp_bayes_tree/types/constants.h"
+#include "rtcm3_ephemeris_layout.h"
 
 namespace ppp {
 namespace {
 
-double p2(int e) { return std::ldexp(1.0, e); }
-
-/// value / scale, rounded to the nearest integer.
-std::int64_t q(double value, double scale) { return std::llround(value / scale); }
-/// A semicircle quantity (value in radians) on a 2^e grid of semicircles.
-std::int64_t semicircles(double value_rad, int e) { return std::llround(value_rad / kPi / p2(e)); }
+using rtcm_eph::p2;
+using rtcm_eph::q;
+using rtcm_eph::semicircles;
 
 double secondsOfWeek(const GnssTime& t) { return t.gpsWeek().seconds_of_week; }
-
-/// The 16 Kepler fields shared by 1019/1044/1045/1046, from crs to omega dot (DF
-/// order of the messages; toe written by `put_toe`).
-template <class PutToe>
-void putKepler(BitWriter& w, const KeplerOrbit& o, PutToe put_toe) {
-  w.putSigned(q(o.crs_m, p2(-5)), 16);
-  w.putSigned(semicircles(o.delta_n_radps, -43), 16);
-  w.putSigned(semicircles(o.m0_rad, -31), 32);
-  w.putSigned(q(o.cuc_rad, p2(-29)), 16);
-  w.putUnsigned(static_cast<std::uint64_t>(q(o.eccentricity, p2(-33))), 32);
-  w.putSigned(q(o.cus_rad, p2(-29)), 16);
-  w.putUnsigned(static_cast<std::uint64_t>(q(o.sqrt_a_sqrtm, p2(-19))), 32);
-  put_toe();
-  w.putSigned(q(o.cic_rad, p2(-29)), 16);
-  w.putSigned(semicircles(o.omega0_rad, -31), 32);
-  w.putSigned(q(o.cis_rad, p2(-29)), 16);
-  w.putSigned(semicircles(o.i0_rad, -31), 32);
-  w.putSigned(q(o.crc_m, p2(-5)), 16);
-  w.putSigned(semicircles(o.omega_rad, -31), 32);
-  w.putSigned(semicircles(o.omega_dot_radps, -43), 24);
-}
 
 }  // namespace
 
@@ -59,7 +36,6 @@ std::vector<std::uint8_t> encodeEphemerisPayload(const GpsLnavEphemeris& e) {
   const KeplerOrbit& o = e.orbit;
   const int week10 = o.toe.gpsWeek().week % 1024;
   const std::int64_t toc16 = q(secondsOfWeek(e.clock.toc), 16.0);
-  const std::int64_t toe16 = q(o.toe_sow, 16.0);
   BitWriter w;
   w.putUnsigned(static_cast<std::uint64_t>(ephemerisMessageType(e)), 12);
   if (!qzss) {
@@ -82,7 +58,7 @@ std::vector<std::uint8_t> encodeEphemerisPayload(const GpsLnavEphemeris& e) {
     w.putSigned(q(e.clock.af0_s, p2(-31)), 22);
     w.putUnsigned(static_cast<std::uint64_t>(e.iode), 8);
   }
-  putKepler(w, o, [&] { w.putUnsigned(static_cast<std::uint64_t>(toe16), 16); });
+  rtcm_eph::putKepler(w, rtcm_eph::kKeplerLnav, o);
   if (!qzss) {
     w.putSigned(q(e.tgd_s, p2(-31)), 8);
     w.putUnsigned(static_cast<std::uint64_t>(e.health), 6);
@@ -170,7 +146,7 @@ std::vector<std::uint8_t> encodeEphemerisPayload(const GalileoEphemeris& e) {
   w.putSigned(q(e.clock.af2_sps2, p2(-59)), 6);
   w.putSigned(q(e.clock.af1_sps, p2(-46)), 21);
   w.putSigned(q(e.clock.af0_s, p2(-34)), 31);
-  putKepler(w, o, [&] { w.putUnsigned(static_cast<std::uint64_t>(q(o.toe_sow, 60.0)), 14); });
+  rtcm_eph::putKepler(w, rtcm_eph::kKeplerGalileo, o);
   w.putSigned(q(e.bgd_e5a_e1_s, p2(-32)), 10);
   if (fnav) {
     w.putUnsigned(static_cast<std::uint64_t>((e.health >> 4) & 3), 2);  // E5a HS
@@ -204,21 +180,7 @@ std::vector<std::uint8_t> encodeEphemerisPayload(const BeidouEphemeris& e) {
   w.putSigned(q(e.clock.af1_sps, p2(-50)), 22);
   w.putSigned(q(e.clock.af0_s, p2(-33)), 24);
   w.putUnsigned(static_cast<std::uint64_t>(e.aodc), 5);
-  w.putSigned(q(o.crs_m, p2(-6)), 18);
-  w.putSigned(semicircles(o.delta_n_radps, -43), 16);
-  w.putSigned(semicircles(o.m0_rad, -31), 32);
-  w.putSigned(q(o.cuc_rad, p2(-31)), 18);
-  w.putUnsigned(static_cast<std::uint64_t>(q(o.eccentricity, p2(-33))), 32);
-  w.putSigned(q(o.cus_rad, p2(-31)), 18);
-  w.putUnsigned(static_cast<std::uint64_t>(q(o.sqrt_a_sqrtm, p2(-19))), 32);
-  w.putUnsigned(static_cast<std::uint64_t>(q(o.toe_sow, 8.0)), 17);
-  w.putSigned(q(o.cic_rad, p2(-31)), 18);
-  w.putSigned(semicircles(o.omega0_rad, -31), 32);
-  w.putSigned(q(o.cis_rad, p2(-31)), 18);
-  w.putSigned(semicircles(o.i0_rad, -31), 32);
-  w.putSigned(q(o.crc_m, p2(-6)), 18);
-  w.putSigned(semicircles(o.omega_rad, -31), 32);
-  w.putSigned(semicircles(o.omega_dot_radps, -43), 24);
+  rtcm_eph::putKepler(w, rtcm_eph::kKeplerBeidou, o);
   w.putSigned(q(e.tgd1_s, 1e-10), 10);
   w.putSigned(q(e.tgd2_s, 1e-10), 10);
   w.putUnsigned(static_cast<std::uint64_t>(e.health & 1), 1);
