@@ -120,6 +120,10 @@ class BroadcastEphemerisStore : public EphemerisSource {
   bool receivedBy(const Record& r, const GnssTime& t) const;
   template <typename Record>
   void noteReceived(const Record& r, const std::optional<GnssTime>& received_at);
+  /// add(eph), noting `received_at` when the record is new to `store` (its system's list).
+  template <typename Record>
+  std::optional<std::string> addReceived(std::map<SatelliteId, std::vector<Record>>& store, const Record& eph,
+                                         const std::optional<GnssTime>& received_at);
 
   EphemerisSelectionOptions options_;
   std::map<ReceivedKey, GnssTime> received_;

@@ -109,36 +109,34 @@ void BroadcastEphemerisStore::noteReceived(const Record& r, const std::optional<
   received_.emplace(ReceivedKey{r.satellite, referenceTime(r), issueOfData(r)}, *received_at);
 }
 
+template <typename Record>
+std::optional<std::string> BroadcastEphemerisStore::addReceived(std::map<SatelliteId, std::vector<Record>>& store,
+                                                                const Record& eph,
+                                                                const std::optional<GnssTime>& received_at) {
+  const std::size_t before = store[eph.satellite].size();
+  auto why = add(eph);
+  if (!why && store[eph.satellite].size() > before) noteReceived(eph, received_at);
+  return why;
+}
+
 std::optional<std::string> BroadcastEphemerisStore::add(const GpsLnavEphemeris& eph,
                                                         std::optional<GnssTime> received_at) {
-  const std::size_t before = gps_[eph.satellite].size();
-  auto why = add(eph);
-  if (!why && gps_[eph.satellite].size() > before) noteReceived(eph, received_at);
-  return why;
+  return addReceived(gps_, eph, received_at);
 }
 
 std::optional<std::string> BroadcastEphemerisStore::add(const GalileoEphemeris& eph,
                                                         std::optional<GnssTime> received_at) {
-  const std::size_t before = galileo_[eph.satellite].size();
-  auto why = add(eph);
-  if (!why && galileo_[eph.satellite].size() > before) noteReceived(eph, received_at);
-  return why;
+  return addReceived(galileo_, eph, received_at);
 }
 
 std::optional<std::string> BroadcastEphemerisStore::add(const GlonassEphemeris& eph,
                                                         std::optional<GnssTime> received_at) {
-  const std::size_t before = glonass_[eph.satellite].size();
-  auto why = add(eph);
-  if (!why && glonass_[eph.satellite].size() > before) noteReceived(eph, received_at);
-  return why;
+  return addReceived(glonass_, eph, received_at);
 }
 
 std::optional<std::string> BroadcastEphemerisStore::add(const BeidouEphemeris& eph,
                                                         std::optional<GnssTime> received_at) {
-  const std::size_t before = beidou_[eph.satellite].size();
-  auto why = add(eph);
-  if (!why && beidou_[eph.satellite].size() > before) noteReceived(eph, received_at);
-  return why;
+  return addReceived(beidou_, eph, received_at);
 }
 
 namespace {
