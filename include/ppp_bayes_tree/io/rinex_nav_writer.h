@@ -23,6 +23,11 @@ class RinexNavWriter {
  private:
   void epochLine(const SatelliteId& sat, const GnssTime& t, TimeSystem system, double a, double b, double c);
   void orbitLine(double a, double b, double c, double d, int count = 4);
+  /// The epoch line (toc and clock terms) and broadcast orbits 1-4 shared by
+  /// LNAV, Galileo and BeiDou records (issue of data, then the Kepler elements
+  /// from Crs to OMEGA DOT; the reader's decodeKepler, fields 1-20).
+  void keplerLines(const SatelliteId& sat, TimeSystem system, const ClockPolynomial& clock, double issue_of_data,
+                   const KeplerOrbit& o);
   std::ostream& out_;
 };
 

@@ -53,13 +53,18 @@ void RinexNavWriter::orbitLine(double a, double b, double c, double d, int count
   out_ << "\n";
 }
 
-void RinexNavWriter::write(const GpsLnavEphemeris& e) {
-  const KeplerOrbit& o = e.orbit;
-  epochLine(e.satellite, e.clock.toc, TimeSystem::GPS, e.clock.af0_s, e.clock.af1_sps, e.clock.af2_sps2);
-  orbitLine(e.iode, o.crs_m, o.delta_n_radps, o.m0_rad);
+void RinexNavWriter::keplerLines(const SatelliteId& sat, TimeSystem system, const ClockPolynomial& clock,
+                                 double issue_of_data, const KeplerOrbit& o) {
+  epochLine(sat, clock.toc, system, clock.af0_s, clock.af1_sps, clock.af2_sps2);
+  orbitLine(issue_of_data, o.crs_m, o.delta_n_radps, o.m0_rad);
   orbitLine(o.cuc_rad, o.eccentricity, o.cus_rad, o.sqrt_a_sqrtm);
   orbitLine(o.toe_sow, o.cic_rad, o.omega0_rad, o.cis_rad);
   orbitLine(o.i0_rad, o.crc_m, o.omega_rad, o.omega_dot_radps);
+}
+
+void RinexNavWriter::write(const GpsLnavEphemeris& e) {
+  const KeplerOrbit& o = e.orbit;
+  keplerLines(e.satellite, TimeSystem::GPS, e.clock, e.iode, o);
   orbitLine(o.idot_radps, e.codes_on_l2, e.week, e.l2p_data_flag);
   orbitLine(e.ura_m, e.health, e.tgd_s, e.iodc);
   // Fit interval: GPS in hours (RINEX 3.04 A6); QZSS the fit interval flag, 0 = 2 h,
@@ -70,11 +75,7 @@ void RinexNavWriter::write(const GpsLnavEphemeris& e) {
 
 void RinexNavWriter::write(const GalileoEphemeris& e) {
   const KeplerOrbit& o = e.orbit;
-  epochLine(e.satellite, e.clock.toc, TimeSystem::GPS, e.clock.af0_s, e.clock.af1_sps, e.clock.af2_sps2);
-  orbitLine(e.iod_nav, o.crs_m, o.delta_n_radps, o.m0_rad);
-  orbitLine(o.cuc_rad, o.eccentricity, o.cus_rad, o.sqrt_a_sqrtm);
-  orbitLine(o.toe_sow, o.cic_rad, o.omega0_rad, o.cis_rad);
-  orbitLine(o.i0_rad, o.crc_m, o.omega_rad, o.omega_dot_radps);
+  keplerLines(e.satellite, TimeSystem::GPS, e.clock, e.iod_nav, o);
   orbitLine(o.idot_radps, e.data_sources, e.week, 0.0, 3);
   orbitLine(e.sisa_m.value_or(-1.0), e.health, e.bgd_e5a_e1_s, e.bgd_e5b_e1_s.value_or(0.0));
   orbitLine(e.transmission_sow.value_or(o.toe_sow), 0, 0, 0, 1);
@@ -90,11 +91,7 @@ void RinexNavWriter::write(const GlonassEphemeris& e) {
 
 void RinexNavWriter::write(const BeidouEphemeris& e) {
   const KeplerOrbit& o = e.orbit;
-  epochLine(e.satellite, e.clock.toc, TimeSystem::BeiDou, e.clock.af0_s, e.clock.af1_sps, e.clock.af2_sps2);
-  orbitLine(e.aode, o.crs_m, o.delta_n_radps, o.m0_rad);
-  orbitLine(o.cuc_rad, o.eccentricity, o.cus_rad, o.sqrt_a_sqrtm);
-  orbitLine(o.toe_sow, o.cic_rad, o.omega0_rad, o.cis_rad);
-  orbitLine(o.i0_rad, o.crc_m, o.omega_rad, o.omega_dot_radps);
+  keplerLines(e.satellite, TimeSystem::BeiDou, e.clock, e.aode, o);
   orbitLine(o.idot_radps, 0.0, e.bdt_week, 0.0);
   orbitLine(e.ura_m, e.health, e.tgd1_s, e.tgd2_s);
   // Transmission time: RTCM 1042 carries none; toe then stands in (as for the other systems).
