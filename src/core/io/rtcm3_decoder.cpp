@@ -67,6 +67,19 @@ std::int64_t nearest(std::int64_t reference, std::int64_t value_in_period, std::
 
 using rtcm_eph::p2;
 
+/// The continuous week of a broadcast week number `truncated` (counted modulo
+/// `modulus`) nearest to `week_now`, then moved by one where toe (`toe_at(week)`)
+/// would lie more than half a week from `now` (the broadcast week may be that
+/// of transmission).
+template <class ToeAt>
+int resolveBroadcastWeek(int truncated, int modulus, int week_now, const GnssTime& now, ToeAt toe_at) {
+  int week = truncated + ((week_now - truncated + modulus / 2) / modulus) * modulus;
+  const double dt = toe_at(week) - now;
+  if (dt < -302400.0) ++week;
+  else if (dt >= 302400.0) --week;
+  return week;
+}
+
 std::string readText(BitReader& r, int n) {
   std::string s;
   for (int i = 0; i < n; ++i) s.push_back(static_cast<char>(r.u(8)));
@@ -484,12 +497,9 @@ void Rtcm3Decoder::setTimeFromEphemeris(const GnssTime& toe) {
 
 void Rtcm3Decoder::resolveGpsWeek(PendingGps& pending) {
   // The 10-bit week nearest to the current time; toe within half a week of it.
-  const int week_now = time_->gpsWeek().week;
-  int week = pending.week10 + ((week_now - pending.week10 + 512) / 1024) * 1024;
   GpsLnavEphemeris& eph = pending.eph;
-  double dt = GnssTime::fromGpsWeek(week, eph.orbit.toe_sow) - *time_;
-  if (dt < -302400.0) ++week;
-  else if (dt >= 302400.0) --week;
+  const int week = resolveBroadcastWeek(pending.week10, 1024, time_->gpsWeek().week, *time_,
+                                        [&](int w) { return GnssTime::fromGpsWeek(w, eph.orbit.toe_sow); });
   eph.week = week;
   eph.orbit.toe = GnssTime::fromGpsWeek(week, eph.orbit.toe_sow);
   const double toc_sow = eph.clock.toc.toGpsSecondsDouble();  // held as seconds of week until now
@@ -682,15 +692,9 @@ void Rtcm3Decoder::decodeGalileo(const Rtcm3Frame& frame) {
   }
   int week = gst_week + 1024;  // GST week 0 = GPS week 1024
   if (time_) {
-    // The 12-bit GST week rolls over every 4096 weeks; keep the one nearest the current time.
-    const int now = time_->gpsWeek().week;
-    week += ((now - week + 2048) / 4096) * 4096;
-  }
-  if (time_) {
-    // The broadcast week may be that of transmission: keep toe within half a week of now.
-    const double dt = GnssTime::fromGpsWeek(week, o.toe_sow) - *time_;
-    if (dt < -302400.0) ++week;
-    else if (dt >= 302400.0) --week;
+    // The 12-bit GST week rolls over every 4096 weeks: the one nearest the current time.
+    week = resolveBroadcastWeek(week, 4096, time_->gpsWeek().week, *time_,
+                                [&](int w) { return GnssTime::fromGpsWeek(w, o.toe_sow); });
   }
   e.week = week;
   o.toe = GnssTime::fromGpsWeek(week, o.toe_sow);
@@ -735,13 +739,8 @@ void Rtcm3Decoder::decodeBeidou(const Rtcm3Frame& frame) {
   }
   int week = week13;
   if (time_) {
-    const int now = time_->gpsWeek().week - kBdtWeekZeroGpsWeek;
-    week += ((now - week + 4096) / 8192) * 8192;
-  }
-  if (time_) {
-    const double dt = fromBdtWeek(week, o.toe_sow) - *time_;
-    if (dt < -302400.0) ++week;
-    else if (dt >= 302400.0) --week;
+    week = resolveBroadcastWeek(week13, 8192, time_->gpsWeek().week - kBdtWeekZeroGpsWeek, *time_,
+                                [&](int w) { return fromBdtWeek(w, o.toe_sow); });
   }
   e.bdt_week = week;
   o.toe = fromBdtWeek(week, o.toe_sow);
