@@ -34,9 +34,9 @@ std::vector<std::uint8_t> generateHour(std::size_t* messages) {
       SsrMessage m;
       m.header.system = sys;
       m.header.update_interval_code = 2;
-      double sow = t.gpsWeek().seconds_of_week;
-      if (sys == GnssSystem::GLONASS) sow = std::fmod(sow + 10800.0 - 18.0, 86400.0);
-      if (sys == GnssSystem::BeiDou) sow -= 14.0;
+      double sow = t.gpsWeek().seconds_of_week;  // the SSR epoch time in the system's own time scale
+      if (sys == GnssSystem::GLONASS) sow = glonassSecondsOfDay(t);
+      if (sys == GnssSystem::BeiDou) sow = toBdtWeek(t).seconds_of_week;
       m.header.epoch_time_s = static_cast<std::uint32_t>(sow);
       SsrMessage orbit = m, code = m, phase = m;
       orbit.header.kind = SsrMessageKind::Combined;
