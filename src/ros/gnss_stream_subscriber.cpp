@@ -4,7 +4,6 @@
 #include <cctype>
 #include <cmath>
 #include <cstring>
-#include <time.h>
 
 #include <ros/message_traits.h>
 

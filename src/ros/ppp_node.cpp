@@ -1,7 +1,5 @@
 #include "ppp_bayes_tree/ros/ppp_node.h"
 
-#include <time.h>
-
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
