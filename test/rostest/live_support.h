@@ -239,7 +239,6 @@ inline bool waitForSubscriberCount(const std::string& topic, std::size_t n, doub
 struct StreamNodeDiagnostics {
   std::mutex mutex;
   std::map<std::string, std::string> values;
-  std::uint8_t worst_level = 0;
   ros::Subscriber sub;
   void subscribe(ros::NodeHandle& nh, const std::string& node_name) {
     sub = nh.subscribe<diagnostic_msgs::DiagnosticArray>(
@@ -247,7 +246,6 @@ struct StreamNodeDiagnostics {
           for (const auto& status : m->status) {
             if (status.name != name) continue;
             std::lock_guard<std::mutex> l(mutex);
-            worst_level = std::max<std::uint8_t>(worst_level, status.level);
             for (const auto& kv : status.values) values[kv.key] = kv.value;
           }
         });
@@ -290,7 +288,6 @@ class ChildProcess {
   ~ChildProcess() { stop(); }
   ChildProcess(const ChildProcess&) = delete;
   ChildProcess& operator=(const ChildProcess&) = delete;
-  bool started() const { return pid_ > 0; }
   /// Whether it still runs.
   bool running() {
     if (pid_ <= 0) return false;
