@@ -22,9 +22,6 @@
 
 namespace {
 
-const char* kRtcmType = "rtcm_msgs/Message";
-const char* kRtcmMd5 = "883b1fb65b83ccf75497c21f2d63052d";
-
 std::string esbc(const std::string& file) { return ppp::test::dataPath("esbc-2020-177/" + file); }
 
 }  // namespace
@@ -81,8 +78,7 @@ TEST(LiveEsbcSsr, EkfAndSmootherNodesEqualPppSolveOnTheMadeStreams) {
     ssr_frames += correction ? 1 : 0;
     ephemeris_frames += (f.message_type == 1019 || f.message_type == 1045 || f.message_type == 1046) ? 1 : 0;
     const auto* begin = reinterpret_cast<const std::uint8_t*>(bytes.data()) + f.byte_offset;
-    m.message = shapeShifter(kRtcmType, kRtcmMd5, kRtcmMessageDefinition,
-                             serializeHeaderAndBytes(std::vector<std::uint8_t>(begin, begin + f.payload.size() + 6), ++seq));
+    m.message = rtcmMessage(std::vector<std::uint8_t>(begin, begin + f.payload.size() + 6), ++seq);
     messages.push_back(std::move(m));
   });
   EXPECT_EQ(framer.counters().totalProblems(), 0u);

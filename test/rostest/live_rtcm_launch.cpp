@@ -12,13 +12,6 @@
 
 #include "rostest/live_support.h"
 
-namespace {
-
-const char* kRtcmType = "rtcm_msgs/Message";
-const char* kRtcmMd5 = "883b1fb65b83ccf75497c21f2d63052d";
-
-}  // namespace
-
 TEST(LiveRtcmLaunch, EkfAndSmootherEqualPppSolveEpochByEpochTo1mm) {
   PPP_REQUIRE_SHARED_DATA();
   using namespace ppp_ros::test;
@@ -36,8 +29,7 @@ TEST(LiveRtcmLaunch, EkfAndSmootherEqualPppSolveEpochByEpochTo1mm) {
   for (std::size_t cut = 0; cut < bytes.size();) {
     const std::size_t end = std::min(bytes.size(), cut + size(random));
     StreamMessage m;
-    m.message = shapeShifter(kRtcmType, kRtcmMd5, kRtcmMessageDefinition,
-                             serializeHeaderAndBytes(std::vector<std::uint8_t>(data + cut, data + end), ++seq));
+    m.message = rtcmMessage(std::vector<std::uint8_t>(data + cut, data + end), ++seq);
     messages.push_back(std::move(m));
     cut = end;
   }
