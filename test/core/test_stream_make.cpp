@@ -277,6 +277,9 @@ TEST(StreamMake, EsbcRecordsAreSentFromTheirTransmissionTimeAndRepeated) {
 TEST(StreamMake, PppOnTheMadeStreamEqualsTheRinexRun) {
   PPP_REQUIRE_SHARED_DATA();
   const Made& m = made();
+  // The stream's observations at RINEX precision (ppp_stream_convert's RINEX), for c).
+  const std::string converted = m.dir + "/made.rnx";
+  convertStreamToRinex(m.made, converted, std::nullopt, {});
   for (const std::string estimator : {"ekf", "smoother"}) {
     const Fixes rinex = run(rinexFiles(m), estimator);
     ASSERT_GT(rinex.size(), 85u);
@@ -285,8 +288,6 @@ TEST(StreamMake, PppOnTheMadeStreamEqualsTheRinexRun) {
     nav_from_stream.nav = {m.made};
     const Difference b = compare(run(nav_from_stream, estimator), rinex, m.start);
     // c) The stream's observations at RINEX precision (ppp_stream_convert's RINEX).
-    const std::string converted = m.dir + "/made_" + estimator + ".rnx";
-    convertStreamToRinex(m.made, converted, std::nullopt, {});
     PppInputFiles obs_converted = rinexFiles(m);
     obs_converted.obs = converted;
     obs_converted.nav = {m.made};
