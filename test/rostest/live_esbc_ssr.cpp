@@ -10,48 +10,27 @@
 // (/smoother). Each node's fixes must equal `ppp_solve --rtcm MADE --ref-date
 // 2020/06/25 --nav MADE --ssr SSR` with its estimator, epoch by epoch to 1 mm, in
 // precise (SSR) mode throughout.
-#include <fstream>
-
 #include "ppp_bayes_tree/io/rinex_nav_reader.h"
 #include "ppp_bayes_tree/io/rtcm3_framer.h"
 #include "ppp_bayes_tree/io/rtcm_ssr_decoder.h"
-#include "ppp_bayes_tree/io/rtcm_ssr_encoder.h"
-#include "ppp_bayes_tree/models/precise_ephemeris.h"
-#include "ppp_bayes_tree/models/ssr_from_precise.h"
+#include "esbc_stream_fixture.h"
 #include "rostest/live_support.h"
-
-namespace {
-
-std::string esbc(const std::string& file) { return ppp::test::dataPath("esbc-2020-177/" + file); }
-
-}  // namespace
 
 TEST(LiveEsbcSsr, EkfAndSmootherNodesEqualPppSolveOnTheMadeStreams) {
   PPP_REQUIRE_SHARED_DATA();
   using namespace ppp_ros::test;
+  using ppp::test::esbcPath;
   const std::filesystem::path dir = ppp::test::tempDir("live_esbc_ssr");
   const ppp::GnssTime start = ppp::test::gpst(2020, 6, 25, 0, 30, 0), until = start + 2700.0;
-  const std::string nav = esbc("ESBC00DNK_R_20201770000_01D_MN.rnx");
+  const std::string nav = esbcPath("ESBC00DNK_R_20201770000_01D_MN.rnx");
 
   // The SSR stream (ppp_ssr_encode's core) for the window and a minute around it.
   const std::string ssr = (dir / "SSRC00TST_esbc.rtcm3").string();
-  {
-    const auto precise = ppp::PreciseEphemeris::load({esbc("GRG0MGXFIN_20201770000_01D_15M_ORB.SP3.gz")},
-                                                     {esbc("GRG0MGXFIN_20201770000_01D_30S_CLK.CLK.gz")});
-    ppp::SsrFromPreciseOptions options;
-    options.systems = {ppp::GnssSystem::GPS};
-    const auto made = ppp::ssrFromPrecise({ppp::readRinexNav(nav)}, precise, nullptr, nullptr, start - 60.0,
-                                          until + 60.0, options);
-    std::ofstream out(ssr, std::ios::binary);
-    for (const auto& m : made.messages) {
-      const auto f = ppp::encodeSsrFrame(m);
-      out.write(reinterpret_cast<const char*>(f.data()), static_cast<std::streamsize>(f.size()));
-    }
-  }
+  ppp::test::writeFileBytes(ssr, ppp::test::esbcGpsSsrStream(ppp::readRinexNav(nav), start - 60.0, until + 60.0));
   // The caster stream (ppp_stream_make), SSR interleaved.
   const std::string stream = (dir / "ESBC_made.rtcm3").string();
   const std::string make = std::string(PPP_BIN_DIR) + "/ppp_stream_make --obs " +
-                           esbc("ESBC00DNK_R_20201770000_01D_30S_MO.crx.gz") + " --nav " + nav + " --ssr " + ssr +
+                           esbcPath("ESBC00DNK_R_20201770000_01D_30S_MO.crx.gz") + " --nav " + nav + " --ssr " + ssr +
                            " --start '2020/06/25 00:30:00' --duration 2700 --out " + stream + " > " +
                            (dir / "make.log").string() + " 2>&1";
   ASSERT_EQ(std::system(make.c_str()), 0) << make << "\n" << ppp::test::readFileBytes((dir / "make.log").string());
