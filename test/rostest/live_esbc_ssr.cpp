@@ -7,9 +7,10 @@
 // foreign type name and MD5 (topic_tools::ShapeShifter), one frame per message in
 // the caster's order: observations and ephemerides on /esbc/rtcm, SSR on /esbc/ssr.
 // Two nodes take them side by side: ppp_ekf_node (/ekf) and ppp_smoother_node
-// (/smoother). Each node's fixes must equal `ppp_solve --rtcm MADE --ref-date
-// 2020/06/25 --nav MADE --ssr SSR` with its estimator, epoch by epoch to 1 mm, in
-// precise (SSR) mode throughout.
+// (/smoother). Each node's fixes must equal those of one `ppp_solve --rtcm MADE
+// --ref-date 2020/06/25 --nav MADE --ssr SSR --estimator both` with its estimator
+// (the smoother's filtered solution), epoch by epoch to 1 mm, in precise (SSR) mode
+// throughout.
 #include "ppp_bayes_tree/io/rinex_nav_reader.h"
 #include "ppp_bayes_tree/io/rtcm3_framer.h"
 #include "ppp_bayes_tree/io/rtcm_ssr_decoder.h"
@@ -39,10 +40,9 @@ TEST(LiveEsbcSsr, EkfAndSmootherNodesEqualPppSolveOnTheMadeStreams) {
                            " --atx " + ppp::test::dataPath("antex/igs20_gps_satellites_trim.atx") + " " +
                            ppp::test::dataPath("antex/igs05_esbc_receiver_trim.atx") + " --config " + PPP_REPO_DIR +
                            "/config/ppp.yaml";
-  const auto offline_ekf = pppSolve(args, "live_esbc_ekf", "ekf");
-  const auto offline_smoother = pppSolve(args, "live_esbc_smoother", "smoother");
-  ASSERT_GT(offline_ekf.size(), 80u) << "ppp_solve solved too few epochs of " << stream;
-  ASSERT_GT(offline_smoother.size(), 80u);
+  const PppSolveBoth offline = pppSolveBoth(args, "live_esbc");
+  ASSERT_GT(offline.ekf.size(), 80u) << "ppp_solve solved too few epochs of " << stream;
+  ASSERT_GT(offline.smoother_filtered.size(), 80u);
 
   // One rtcm_msgs/Message per frame, in the caster's order; SSR on the correction topic.
   const std::string bytes = ppp::test::readFileBytes(stream);
@@ -71,12 +71,12 @@ TEST(LiveEsbcSsr, EkfAndSmootherNodesEqualPppSolveOnTheMadeStreams) {
   ekf_out.subscribe(nh, "/ekf/");
   smoother_out.subscribe(nh, "/smoother/");
   publishInOrder(nh, {"/esbc/rtcm", "/esbc/ssr"}, messages, 0.002, 2);
-  waitForFixes(ekf_out, offline_ekf.size() - 1, 60.0);
-  waitForFixes(smoother_out, offline_smoother.size() - 1, 30.0);
+  waitForFixes(ekf_out, offline.ekf.size() - 1, 60.0);
+  waitForFixes(smoother_out, offline.smoother_filtered.size() - 1, 30.0);
 
   std::lock_guard<std::mutex> l1(ekf_out.mutex), l2(smoother_out.mutex);
-  expectEqualToPppSolve("ppp_ekf_node, MSM7 + ephemerides + SSR", ekf_out.fixes, offline_ekf);
-  expectEqualToPppSolve("ppp_smoother_node, MSM7 + ephemerides + SSR", smoother_out.fixes, offline_smoother);
+  expectEqualToPppSolve("ppp_ekf_node, MSM7 + ephemerides + SSR", ekf_out.fixes, offline.ekf);
+  expectEqualToPppSolve("ppp_smoother_node, MSM7 + ephemerides + SSR", smoother_out.fixes, offline.smoother_filtered);
   for (const auto* out : {&ekf_out, &smoother_out}) {
     ASSERT_FALSE(out->statuses.empty());
     for (const auto& s : out->statuses) EXPECT_EQ(s.product_mode, ppp_bayes_tree::PppStatus::PRODUCTS_PRECISE);

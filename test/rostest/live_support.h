@@ -120,15 +120,6 @@ inline std::map<ros::Time, Eigen::Vector3d> pppSolveEkf(const std::string& args,
   return readPppSolveCsv(runPppSolve(args, "ekf", tag) / "live_ekf.csv", rows);
 }
 
-/// `ppp_solve <args> --estimator <estimator>` (ekf or smoother): UTC stamp -> ECEF position of
-/// the epochs with a solution; the smoother's are its FILTERED ones (what its node publishes on
-/// ppp/fix). `rows`: every epoch row, with a solution or not.
-inline std::map<ros::Time, Eigen::Vector3d> pppSolve(const std::string& args, const std::string& tag,
-                                                     const std::string& estimator, std::size_t* rows = nullptr) {
-  const std::string csv = estimator == "smoother" ? "live_smoother_filtered.csv" : "live_" + estimator + ".csv";
-  return readPppSolveCsv(runPppSolve(args, estimator, tag) / csv, rows);
-}
-
 /// `ppp_solve <args> --estimator both`: the EKF's and the smoother's FILTERED solutions (the
 /// smoother node's ppp/fix is its filtered estimate, the newest state), and their epoch rows.
 struct PppSolveBoth {
