@@ -73,12 +73,4 @@ TEST(LiveRtcmEkf, FramesAndChunksEqualPppSolveEpochByEpochTo1mm) {
     if (name.find("live streams") != std::string::npos) EXPECT_LT(level, diagnostic_msgs::DiagnosticStatus::ERROR) << name;
 }
 
-int main(int argc, char** argv) {
-  testing::InitGoogleTest(&argc, argv);
-  ros::init(argc, argv, "rostest_live_rtcm_ekf");
-  ros::AsyncSpinner spinner(2);
-  spinner.start();
-  const int rc = RUN_ALL_TESTS();
-  spinner.stop();
-  return rc;
-}
+int main(int argc, char** argv) { return ppp_ros::test::liveRostestMain(argc, argv, "rostest_live_rtcm_ekf"); }
