@@ -29,19 +29,11 @@ ATX="$SHARED_DATA/antex/igs20_gps_satellites_trim.atx"
 [ -f "$RTCM" ] && [ -f "$ATX" ] || skip "no shared datasets at $SHARED_DATA (set PPP_SHARED_DATA)"
 FEED_BYTES=491520  # the first 480 KiB of the recording: about 7 min of data, 2,500 frames
 
-private_ros_master "$WORK"
-
-PIDS=()  # process groups started here (setsid): stopped at exit, newest first
-stop_group() {  # pid: SIGINT to its process group, then KILL
-  local pid="$1" k
-  kill -0 "$pid" 2>/dev/null || return 0
-  kill -INT -- "-$pid" 2>/dev/null
-  for k in $(seq 1 50); do kill -0 "$pid" 2>/dev/null || return 0; sleep 0.2; done
-  kill -KILL -- "-$pid" 2>/dev/null
-}
+PIDS=()  # process groups started here (setsid): stopped at exit, newest first (stop_group)
 cleanup() {
   local i
   for ((i = ${#PIDS[@]} - 1; i >= 0; i--)); do stop_group "${PIDS[$i]}"; done
+  stop_ros_master
   if [ -n "${PPP_TEST_KEEP_WORK:-}" ]; then echo "test_live_replay: logs and bags kept in $WORK"; else rm -rf "$WORK"; fi
 }
 trap cleanup EXIT
@@ -58,9 +50,7 @@ finish() {
   exit 0
 }
 
-start "$WORK/roscore.log" roscore -p "$PORT"
-for _ in $(seq 1 100); do rosparam get /rosdistro > /dev/null 2>&1 && break; sleep 0.2; done
-rosparam get /rosdistro > /dev/null 2>&1 || { fail="roscore did not come up on port $PORT"; finish ""; }
+private_ros_master "$WORK" || { fail="roscore did not come up on port $PORT"; finish ""; }
 
 # wait_nodes SECONDS QUIET (started before the data flows): until both nodes' ppp/status
 # went quiet for QUIET s after at least one message each (the run is processed), or
