@@ -29,6 +29,13 @@ done
 for exe in ppp_smoother_node ppp_to_bag; do
   [ -x "$BIN_DIR/$exe" ] || { echo "bench_live_node.sh: $exe is not built in $BIN_DIR (scripts/build.sh $exe)" >&2; exit 1; }
 done
+NODE_PID="" PLAY_PID=""
+cleanup() {
+  [ -n "$PLAY_PID" ] && kill -INT "$PLAY_PID" 2>/dev/null
+  [ -n "$NODE_PID" ] && kill -INT "$NODE_PID" 2>/dev/null && wait "$NODE_PID" 2>/dev/null
+  stop_ros_master
+}
+trap cleanup EXIT
 private_ros_master "$OUT"
 
 BAG="$OUT/input.bag"
@@ -36,16 +43,6 @@ echo "=== simulated flight: $PROFILE, $DURATION_MIN min at $OBS_RATE Hz -> $BAG"
 "$BIN_DIR/ppp_to_bag" --simulate "$PROFILE" --duration-min "$DURATION_MIN" --rate "$OBS_RATE" --seed 14 \
   --out "$BAG" > "$OUT/ppp_to_bag.log" 2>&1 || { tail -5 "$OUT/ppp_to_bag.log"; exit 1; }
 
-roscore -p "$PORT" > "$OUT/roscore.log" 2>&1 &
-ROSCORE_PID=$!
-NODE_PID="" PLAY_PID=""
-cleanup() {
-  [ -n "$PLAY_PID" ] && kill -INT "$PLAY_PID" 2>/dev/null
-  [ -n "$NODE_PID" ] && kill -INT "$NODE_PID" 2>/dev/null && wait "$NODE_PID" 2>/dev/null
-  kill -INT "$ROSCORE_PID" 2>/dev/null; wait "$ROSCORE_PID" 2>/dev/null
-}
-trap cleanup EXIT
-for _ in $(seq 1 100); do rosparam list >/dev/null 2>&1 && break; sleep 0.2; done
 rosparam set use_sim_time true
 NS=/bench/ppp_smoother_node
 rosparam load "$REPO_DIR/config/ppp.yaml" "$NS"

@@ -83,18 +83,14 @@ if [ -n "$SIMULATE_MIN" ]; then
 fi
 [ -r "$STREAM" ] || { echo "bench_live_realtime.sh: cannot read the stream $STREAM" >&2; exit 1; }
 [ -r "$ATX" ] || { echo "bench_live_realtime.sh: cannot read the ANTEX file $ATX" >&2; exit 1; }
-private_ros_master "$OUT"
-
-roscore -p "$PORT" > "$OUT/roscore.log" 2>&1 &
-ROSCORE_PID=$!
 PIDS=()  # started here, stopped in reverse order
 cleanup() {
   for ((i = ${#PIDS[@]} - 1; i >= 0; i--)); do kill -INT "${PIDS[$i]}" 2>/dev/null || true; done
   for pid in "${PIDS[@]}"; do wait "$pid" 2>/dev/null || true; done
-  kill -INT "$ROSCORE_PID" 2>/dev/null; wait "$ROSCORE_PID" 2>/dev/null || true
+  stop_ros_master
 }
 trap cleanup EXIT
-for _ in $(seq 1 100); do rosparam list >/dev/null 2>&1 && break; sleep 0.2; done
+private_ros_master "$OUT"
 
 start_ppp_node() {  # estimator namespace
   local exe="ppp_$1_node" ns="/$2" node="$2/ppp_$1_node"

@@ -41,9 +41,22 @@ script_test_begin() {
 # free_port: a free TCP port on the loopback interface (the kernel picks it).
 free_port() { /usr/bin/python3 -c 'import socket; s=socket.socket(); s.bind(("127.0.0.1", 0)); print(s.getsockname()[1])'; }
 
-# private_ros_master DIR: the environment of a run with its own ROS master on a free
-# loopback port: sources the workspace's devel/setup.bash, sets ROS_HOME and ROS_LOG_DIR
-# under DIR, ROS_IP, PORT and ROS_MASTER_URI. The caller starts `roscore -p "$PORT"`.
+# stop_group PID: SIGINT to the process group PID leads (a command started with setsid),
+# SIGKILL to the group when PID still runs after 10 s.
+stop_group() {
+  local pid="$1" k
+  [ -n "$pid" ] && kill -0 "$pid" 2>/dev/null || return 0
+  kill -INT -- "-$pid" 2>/dev/null || true
+  for k in $(seq 1 50); do kill -0 "$pid" 2>/dev/null || return 0; sleep 0.2; done
+  kill -KILL -- "-$pid" 2>/dev/null || true
+}
+
+# private_ros_master DIR: a run with its own ROS master on a free loopback port: sources
+# the workspace's devel/setup.bash, sets ROS_HOME and ROS_LOG_DIR under DIR, ROS_IP, PORT
+# and ROS_MASTER_URI, starts roscore (its own process group, pid ROSCORE_PID, log
+# DIR/roscore.log) and waits until it answers (20 s at most). Returns 1 with a message on
+# stderr when it did not come up. The caller stops it with stop_ros_master (in its EXIT
+# trap, set before this call, after the nodes it started).
 private_ros_master() {
   set +u  # ROS's setup scripts read unset variables
   # shellcheck disable=SC1091
@@ -52,4 +65,22 @@ private_ros_master() {
   export ROS_HOME="$1/ros_home" ROS_LOG_DIR="$1/ros_log" ROS_IP=127.0.0.1
   PORT="$(free_port)"
   export ROS_MASTER_URI="http://127.0.0.1:$PORT"
+  setsid roscore -p "$PORT" > "$1/roscore.log" 2>&1 &
+  ROSCORE_PID=$!
+  local i
+  for i in $(seq 1 100); do
+    rosparam get /rosdistro > /dev/null 2>&1 && return 0
+    kill -0 "$ROSCORE_PID" 2>/dev/null || break
+    sleep 0.2
+  done
+  echo "roscore did not come up on port $PORT (see $1/roscore.log)" >&2
+  return 1
+}
+
+# stop_ros_master: stops the roscore of private_ros_master (stop_group), if it runs.
+stop_ros_master() {
+  [ -n "${ROSCORE_PID:-}" ] || return 0
+  stop_group "$ROSCORE_PID"
+  wait "$ROSCORE_PID" 2>/dev/null || true
+  ROSCORE_PID=""
 }

@@ -20,7 +20,7 @@ source "$(dirname "${BASH_SOURCE[0]}")/common.sh"
 script_test_begin live_replay "${1:-}"   # OUT, WORK (removed at exit), junit STATUS MESSAGE
 
 skip() { junit skipped "$1"; echo "test_live_replay: skipped ($1)"; exit 0; }
-for exe in ppp_ekf_node ppp_smoother_node ppp_stream_node; do
+for exe in ppp_ekf_node ppp_smoother_node ppp_stream_node ppp_stream_inspect; do
   [ -x "$BIN_DIR/$exe" ] || skip "$exe is not built in $BIN_DIR"
 done
 command -v str2str > /dev/null 2>&1 || skip "RTKLIB str2str is not installed (Debian package rtklib)"
@@ -29,19 +29,11 @@ ATX="$SHARED_DATA/antex/igs20_gps_satellites_trim.atx"
 [ -f "$RTCM" ] && [ -f "$ATX" ] || skip "no shared datasets at $SHARED_DATA (set PPP_SHARED_DATA)"
 FEED_BYTES=491520  # the first 480 KiB of the recording: about 7 min of data, 2,500 frames
 
-private_ros_master "$WORK"
-
-PIDS=()  # process groups started here (setsid): stopped at exit, newest first
-stop_group() {  # pid: SIGINT to its process group, then KILL
-  local pid="$1" k
-  kill -0 "$pid" 2>/dev/null || return 0
-  kill -INT -- "-$pid" 2>/dev/null
-  for k in $(seq 1 50); do kill -0 "$pid" 2>/dev/null || return 0; sleep 0.2; done
-  kill -KILL -- "-$pid" 2>/dev/null
-}
+PIDS=()  # process groups started here (setsid): stopped at exit, newest first (stop_group)
 cleanup() {
   local i
   for ((i = ${#PIDS[@]} - 1; i >= 0; i--)); do stop_group "${PIDS[$i]}"; done
+  stop_ros_master
   if [ -n "${PPP_TEST_KEEP_WORK:-}" ]; then echo "test_live_replay: logs and bags kept in $WORK"; else rm -rf "$WORK"; fi
 }
 trap cleanup EXIT
@@ -58,9 +50,7 @@ finish() {
   exit 0
 }
 
-start "$WORK/roscore.log" roscore -p "$PORT"
-for _ in $(seq 1 100); do rosparam get /rosdistro > /dev/null 2>&1 && break; sleep 0.2; done
-rosparam get /rosdistro > /dev/null 2>&1 || { fail="roscore did not come up on port $PORT"; finish ""; }
+private_ros_master "$WORK" || { fail="roscore did not come up on port $PORT"; finish ""; }
 
 # wait_nodes SECONDS QUIET (started before the data flows): until both nodes' ppp/status
 # went quiet for QUIET s after at least one message each (the run is processed), or
@@ -157,26 +147,13 @@ stop_group "$RECORD_REPLAY"; stop_group "$REPLAY_LAUNCH"
 [ -f "$WORK/replay.bag" ] || { fail+="the replay wrote no replay.bag"; finish ""; }
 
 # ---------------------------------------------------------------- 3. compare
-result="$(/usr/bin/python3 - "$WORK/raw.bag" "$WORK/live.bag" "$WORK/replay.bag" "$RTCM" "$FEED_BYTES" <<'PY'
+# The RTCM 3 frames with a good CRC-24Q in the bytes fed (ppp_stream_inspect --json "frames").
+head -c "$FEED_BYTES" "$RTCM" > "$WORK/fed.rtcm3"
+frames="$("$BIN_DIR/ppp_stream_inspect" "$WORK/fed.rtcm3" --json 2> "$WORK/inspect.err" \
+  | /usr/bin/python3 -c 'import json, sys; print(json.load(sys.stdin)["frames"])')"
+[[ "$frames" =~ ^[0-9]+$ ]] || { fail+="ppp_stream_inspect gave no frame count for the bytes fed ($(head -c 300 "$WORK/inspect.err")); "; finish ""; }
+result="$(/usr/bin/python3 - "$WORK/raw.bag" "$WORK/live.bag" "$WORK/replay.bag" "$frames" <<'PY'
 import math, sys, rosbag
-def crc24q(b):
-    crc = 0
-    for byte in b:
-        crc ^= byte << 16
-        for _ in range(8):
-            crc <<= 1
-            if crc & 0x1000000: crc ^= 0x1864CFB
-    return crc & 0xFFFFFF
-def good_frames(data):  # RTCM 3 frames with a good CRC-24Q
-    n, i = 0, 0
-    while i + 6 <= len(data):
-        if data[i] == 0xD3 and data[i + 1] & 0xFC == 0:
-            end = i + 3 + (((data[i + 1] & 3) << 8) | data[i + 2]) + 3
-            if end <= len(data) and crc24q(data[i:end - 3]) == int.from_bytes(data[end - 3:end], "big"):
-                n, i = n + 1, end
-                continue
-        i += 1
-    return n
 def ecef(m):
     a, f = 6378137.0, 1 / 298.257223563
     e2 = f * (2 - f)
@@ -194,7 +171,7 @@ with rosbag.Bag(sys.argv[1]) as raw:
     raw_msgs = info.message_count if info else 0
     raw_type = info.msg_type if info else "none"
 live, replay = fixes(sys.argv[2]), fixes(sys.argv[3])
-frames = good_frames(open(sys.argv[4], "rb").read()[:int(sys.argv[5])])
+frames = int(sys.argv[4])
 problems, figures = [], [f"raw.bag: {raw_msgs} {raw_type} messages ({frames} frames fed)"]
 if raw_type != "rtcm_msgs/Message": problems.append(f"/gnss/receiver recorded as {raw_type}")
 if raw_msgs != frames:  # rosbag record drops when its 100-message subscriber queue overflows

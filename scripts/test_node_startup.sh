@@ -13,11 +13,10 @@ script_test_begin node_startup "${1:-}"   # OUT, WORK (removed at exit), junit S
 for exe in ppp_ekf_node ppp_smoother_node ppp_stream_node; do
   if [ ! -x "$BIN_DIR/$exe" ]; then junit skipped "$exe is not built in $BIN_DIR"; echo "test_node_startup: skipped"; exit 0; fi
 done
-private_ros_master "$WORK"
-roscore -p "$PORT" > "$WORK/roscore.log" 2>&1 &
-ROSCORE_PID=$!
-trap 'kill -INT $ROSCORE_PID 2>/dev/null; wait $ROSCORE_PID 2>/dev/null; rm -rf "$WORK"' EXIT
-for _ in $(seq 1 100); do rosparam list >/dev/null 2>&1 && break; sleep 0.2; done
+trap 'stop_ros_master; rm -rf "$WORK"' EXIT
+if ! private_ros_master "$WORK"; then
+  junit failed "roscore did not come up on port $PORT"; echo "test_node_startup: FAILED: no roscore"; exit 0
+fi
 
 ATX="$SHARED_DATA/antex/igs20_zim2_gps_trim.atx"
 fail=""

@@ -7,11 +7,13 @@
 // with the reason when the directory is absent, so the run reports it as skipped.
 #include <gtest/gtest.h>
 
+#include <cstdint>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include "ppp_bayes_tree/types/gnss_time.h"
 
@@ -39,6 +41,12 @@ inline std::string readFileBytes(const std::string& path) {
   std::ostringstream os;
   os << in.rdbuf();
   return os.str();
+}
+
+/// Writes `bytes` to `path` (binary, replacing the file).
+inline void writeFileBytes(const std::string& path, const std::vector<std::uint8_t>& bytes) {
+  std::ofstream out(path, std::ios::binary);
+  out.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
 }
 
 /// A calendar date and time read in `system` (GPS by default), as a GnssTime.

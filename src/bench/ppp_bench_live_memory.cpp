@@ -37,6 +37,7 @@
 #include <vector>
 
 #include "ppp_bayes_tree/evaluation/monte_carlo.h"
+#include "ppp_bayes_tree/evaluation/quantile.h"
 #include "ppp_bayes_tree/evaluation/smoothed_trajectory_writer.h"
 #include "ppp_bayes_tree/ppp/epoch_estimator.h"
 #include "ppp_bayes_tree/ppp/ppp_config.h"
@@ -54,13 +55,6 @@ double rss_mb() {
   while (std::getline(in, line))
     if (line.rfind("VmRSS:", 0) == 0) return std::atof(line.c_str() + 6) / 1024.0;
   return -1.0;
-}
-
-double percentile(std::vector<double> v, double p) {
-  if (v.empty()) return NAN;
-  std::sort(v.begin(), v.end());
-  const std::size_t k = std::min(v.size() - 1, static_cast<std::size_t>(p * static_cast<double>(v.size())));
-  return v[k];
 }
 
 /// Per-epoch figures of the bench itself, in storage sized and touched before the run,
@@ -213,8 +207,8 @@ int main(int argc, char** argv) {
     std::printf("  %6.2f h  RSS %7.1f  +%7.1f  vars %6zu  factors %7zu  cliques %6zu  states %7zu  update %.3f / "
                 "%.3f / %.3f\n",
                 flight_s / 3600.0, rss, rss - rss_run_start, isam.linearizationPoint().size(), isam.numFactors(),
-                isam.bayesTree().numCliques(), sm.smoother().storedStateCount(), percentile(interval_ms, 0.5),
-                percentile(interval_ms, 0.99), percentile(interval_ms, 1.0));
+                isam.bayesTree().numCliques(), sm.smoother().storedStateCount(), quantile(interval_ms, 0.5),
+                quantile(interval_ms, 0.99), quantile(interval_ms, 1.0));
     std::fflush(stdout);
     interval_ms.clear();
   };
@@ -249,16 +243,16 @@ int main(int argc, char** argv) {
               run_s, static_cast<double>(epochs) / run_s,
               static_cast<double>(epochs) / a.rate_hz / run_s, a.rate_hz);
   std::printf("update time over the run (wall clock): median %.3f ms, p99 %.3f ms, max %.3f ms\n",
-              percentile(update_ms.values(), 0.5), percentile(update_ms.values(), 0.99), percentile(update_ms.values(), 1.0));
+              quantile(update_ms.values(), 0.5), quantile(update_ms.values(), 0.99), quantile(update_ms.values(), 1.0));
   std::printf("whole epoch step, CPU time of the thread (model + screening + update + marginalization): median "
               "%.3f ms, p99 %.3f ms, max %.3f ms\n",
-              percentile(epoch_cpu_ms.values(), 0.5), percentile(epoch_cpu_ms.values(), 0.99), percentile(epoch_cpu_ms.values(), 1.0));
+              quantile(epoch_cpu_ms.values(), 0.5), quantile(epoch_cpu_ms.values(), 0.99), quantile(epoch_cpu_ms.values(), 1.0));
   {
     // What the slowest 1 % of the updates did (medians), against all updates.
     auto med = [](std::vector<Slow> v, std::size_t Slow::*m) {
       std::vector<double> x;
       for (const auto& e : v) x.push_back(static_cast<double>(e.*m));
-      return percentile(x, 0.5);
+      return quantile(x, 0.5);
     };
     const std::vector<Slow> per_epoch = per_epoch_record.values();
     std::vector<Slow> sorted = per_epoch;
@@ -280,19 +274,19 @@ int main(int argc, char** argv) {
                 *lo, *hi, 100.0 * (*hi - *lo) / *lo, rss_at_report.back() - rss_run_start,
                 1024.0 * (rss_at_report.back() - rss_run_start) / static_cast<double>(std::max<std::size_t>(1, epochs)));
   }
-  std::printf("3D error vs truth: filtered median %.3f m, p95 %.3f m", percentile(filtered_err_m.values(), 0.5),
-              percentile(filtered_err_m.values(), 0.95));
+  std::printf("3D error vs truth: filtered median %.3f m, p95 %.3f m", quantile(filtered_err_m.values(), 0.5),
+              quantile(filtered_err_m.values(), 0.95));
   if (writer)
-    std::printf("; lag-final (written) median %.3f m, p95 %.3f m; rows written %zu, refused %zu", percentile(final_err_m.values(), 0.5),
-                percentile(final_err_m.values(), 0.95), writer->rowsWritten(), writer->rowsRefused());
+    std::printf("; lag-final (written) median %.3f m, p95 %.3f m; rows written %zu, refused %zu", quantile(final_err_m.values(), 0.5),
+                quantile(final_err_m.values(), 0.95), writer->rowsWritten(), writer->rowsRefused());
   if (lag_s <= 0.0) {  // the full smoother's smoothed trajectory (all data), the reference
     std::vector<double> smoothed_err_m;
     for (const auto& e : sm.smoother().smoothedTrajectory()) {
       const std::size_t k = epochIndex(e.time);
       if (k < truth.size()) smoothed_err_m.push_back((e.state.position_ecef_m - truth[k]).norm());
     }
-    std::printf("; full smoothed median %.3f m, p95 %.3f m", percentile(smoothed_err_m, 0.5),
-                percentile(smoothed_err_m, 0.95));
+    std::printf("; full smoothed median %.3f m, p95 %.3f m", quantile(smoothed_err_m, 0.5),
+                quantile(smoothed_err_m, 0.95));
   }
   std::printf("\n");
   return 0;

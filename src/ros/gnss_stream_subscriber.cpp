@@ -4,7 +4,6 @@
 #include <cctype>
 #include <cmath>
 #include <cstring>
-#include <time.h>
 
 #include <ros/message_traits.h>
 
@@ -19,6 +18,10 @@ constexpr std::uint8_t kUbxClassRxm = 0x02;
 constexpr std::uint8_t kUbxIdRawx = 0x15;
 constexpr std::uint8_t kUbxIdSfrbx = 0x13;
 constexpr std::size_t kRawxMeasBytes = 32;  // UBX-RXM-RAWX repeated block
+
+std::uint32_t littleEndianU32(const std::uint8_t* p) {
+  return std::uint32_t(p[0]) | (std::uint32_t(p[1]) << 8) | (std::uint32_t(p[2]) << 16) | (std::uint32_t(p[3]) << 24);
+}
 
 /// Reads ROS serialization (little endian) with bounds checks naming the field.
 class RosReader {
@@ -40,10 +43,7 @@ class RosReader {
     const std::uint8_t* p = take(2, field);
     return static_cast<std::uint16_t>(p[0] | (p[1] << 8));
   }
-  std::uint32_t u32(const std::string& field) {
-    const std::uint8_t* p = take(4, field);
-    return std::uint32_t(p[0]) | (std::uint32_t(p[1]) << 8) | (std::uint32_t(p[2]) << 16) | (std::uint32_t(p[3]) << 24);
-  }
+  std::uint32_t u32(const std::string& field) { return littleEndianU32(take(4, field)); }
   /// A variable array's length (uint32), checked against the bytes left.
   std::uint32_t arrayLength(const std::string& field, std::size_t element_bytes) {
     const std::size_t at = offset_;
@@ -53,10 +53,12 @@ class RosReader {
                                               " byte(s) beyond the message (" + std::to_string(left()) + " left)");
     return n;
   }
-  void header(const std::string& field) {
-    take(12, field + ".seq/stamp");
+  /// A std_msgs/Header; returns its seq.
+  std::uint32_t header(const std::string& field) {
+    const std::uint32_t seq = littleEndianU32(take(12, field + ".seq/stamp"));
     const std::uint32_t n = arrayLength(field + ".frame_id", 1);
     take(n, field + ".frame_id");
+    return seq;
   }
   std::string string(const std::string& field) {
     const std::uint32_t n = arrayLength(field, 1);
@@ -203,7 +205,8 @@ std::optional<ppp::StreamFormat> parseStreamFormatHint(const std::string& text) 
 }
 
 ppp::StreamChunk streamChunkFromMessage(StreamMessageType type, const std::string& topic, const std::uint8_t* data,
-                                        std::size_t size, std::optional<ppp::StreamFormat> format_hint) {
+                                        std::size_t size, std::optional<ppp::StreamFormat> format_hint,
+                                        std::optional<std::uint32_t>* header_seq) {
   ppp::StreamChunk chunk;
   chunk.stream = topic;
   RosReader r(data, size);
@@ -211,7 +214,8 @@ ppp::StreamChunk streamChunkFromMessage(StreamMessageType type, const std::strin
     case StreamMessageType::RtcmMessage:
     case StreamMessageType::MavrosRtcm: {
       const std::string field = type == StreamMessageType::RtcmMessage ? "message" : "data";
-      r.header("header");
+      const std::uint32_t seq = r.header("header");
+      if (header_seq) *header_seq = seq;
       chunk.format = ppp::StreamFormat::Rtcm3;
       chunk.bytes = r.bytes(field);
       r.finish(streamMessageTypeName(type));
@@ -226,7 +230,8 @@ ppp::StreamChunk streamChunkFromMessage(StreamMessageType type, const std::strin
       chunk.bytes = sfrbxFrame(r);
       break;
     case StreamMessageType::GnssStreamBytes: {
-      r.header("header");
+      const std::uint32_t seq = r.header("header");
+      if (header_seq) *header_seq = seq;
       const std::size_t at = r.offset();
       const std::string format = r.string("format");
       chunk.bytes = r.bytes("data");
@@ -286,28 +291,27 @@ void GnssStreamSubscriber::onMessage(const ros::MessageEvent<topic_tools::ShapeS
   std::vector<std::uint8_t> buffer(msg->size());
   ros::serialization::OStream out(buffer.data(), static_cast<std::uint32_t>(buffer.size()));
   msg->write(out);
-  // header.seq (the first field of the types with a header): gaps are messages lost on the way.
-  const bool has_header = *type == StreamMessageType::RtcmMessage || *type == StreamMessageType::MavrosRtcm ||
-                          *type == StreamMessageType::GnssStreamBytes;
-  if (has_header && buffer.size() >= 4) {
-    const std::uint32_t seq = std::uint32_t(buffer[0]) | (std::uint32_t(buffer[1]) << 8) |
-                              (std::uint32_t(buffer[2]) << 16) | (std::uint32_t(buffer[3]) << 24);
-    const auto [it, first] = last_seq_.emplace(event.getPublisherName(), seq);
-    if (!first) {
-      if (seq > it->second + 1) counters_.lost += seq - it->second - 1;
-      it->second = seq;  // a step back (publisher restarted) starts counting anew
-    }
-  }
+  std::optional<ppp::StreamChunk> chunk;
+  std::optional<std::uint32_t> seq;  // header.seq of the types with a header
   try {
-    ppp::StreamChunk chunk = streamChunkFromMessage(*type, stream_, buffer.data(), buffer.size(), format_hint_);
-    chunk.arrival_time_s = counters_.last_arrival->toSec();
-    counters_.bytes += chunk.bytes.size();
-    counters_.conversion_cpu_s += ppp::threadCpu_s() - cpu0_s;
-    on_chunk_(std::move(chunk));
+    chunk = streamChunkFromMessage(*type, stream_, buffer.data(), buffer.size(), format_hint_, &seq);
   } catch (const StreamMessageError& e) {
     ++counters_.malformed;
     error("topic " + topic_ + ", type " + datatype + ": malformed message (" + e.what() + "): dropped (counted)");
   }
+  // Gaps in header.seq are messages lost on the way (also counted when the message is malformed after its header).
+  if (seq) {
+    const auto [it, first] = last_seq_.try_emplace(event.getPublisherName(), *seq);
+    if (!first) {
+      if (*seq > it->second + 1) counters_.lost += *seq - it->second - 1;
+      it->second = *seq;  // a step back (publisher restarted) starts counting anew
+    }
+  }
+  if (!chunk) return;
+  chunk->arrival_time_s = counters_.last_arrival->toSec();
+  counters_.bytes += chunk->bytes.size();
+  counters_.conversion_cpu_s += ppp::threadCpu_s() - cpu0_s;
+  on_chunk_(std::move(*chunk));
 }
 
 }  // namespace ppp_ros

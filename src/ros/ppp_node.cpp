@@ -1,7 +1,5 @@
 #include "ppp_bayes_tree/ros/ppp_node.h"
 
-#include <time.h>
-
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -13,6 +11,7 @@
 #include <nav_msgs/Odometry.h>
 #include <sensor_msgs/NavSatFix.h>
 
+#include "ppp_bayes_tree/evaluation/quantile.h"
 #include "ppp_bayes_tree/ros/lever_arm.h"
 #include "ppp_bayes_tree/types/constants.h"
 #include "ppp_bayes_tree/types/frames.h"
@@ -22,13 +21,6 @@ namespace ppp_ros {
 namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-
-/// The p-quantile (0..1, nearest rank) of `v` (NaN when empty).
-double quantile(std::vector<double> v, double p) {
-  if (v.empty()) return kNaN;
-  std::sort(v.begin(), v.end());
-  return v[std::min(v.size() - 1, static_cast<std::size_t>(p * static_cast<double>(v.size())))];
-}
 
 geometry_msgs::TransformStamped transform(const std::string& parent, const std::string& child, const ros::Time& stamp,
                                           const Eigen::Vector3d& t, const Eigen::Quaterniond& q) {
@@ -945,13 +937,14 @@ void PppNode::diagnoseLive(diagnostic_updater::DiagnosticStatusWrapper& s) {
   s.add("input CPU per decoded epoch [ms]", per_epoch_ms(conversion_cpu_s + live_decode_cpu_s_, decoded_epochs));
   s.add("estimator CPU [s]", estimator_cpu_s_);
   s.add("estimator CPU per processed epoch [ms]", per_epoch_ms(estimator_cpu_s_, counters_.epochs_processed));
-  const std::vector<double> latency(live_latency_s_.begin(), live_latency_s_.end());
+  std::vector<double> latency(live_latency_s_.begin(), live_latency_s_.end());
+  std::sort(latency.begin(), latency.end());
   s.add("latency epochs (callback of the epoch's last chunk -> solution published, the last " +
             std::to_string(kLatencyWindow) + " at most)",
         latency.size());
-  s.add("latency median [s]", quantile(latency, 0.5));
-  s.add("latency p99 [s]", quantile(latency, 0.99));
-  s.add("latency max [s]", latency.empty() ? kNaN : *std::max_element(latency.begin(), latency.end()));
+  s.add("latency median [s]", ppp::quantileOfSorted(latency, 0.5));
+  s.add("latency p99 [s]", ppp::quantileOfSorted(latency, 0.99));
+  s.add("latency max [s]", ppp::quantileOfSorted(latency, 1.0));
   for (const auto& sub : stream_subs_) {
     const GnssStreamSubscriber::Counters& c = sub->counters();
     const std::string p = sub->topic() + ": ";

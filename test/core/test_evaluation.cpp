@@ -1,13 +1,15 @@
 // Evaluation: position error statistics (hand-computed values, and the numbers
 // ../shared/peers/poserr.py prints for the same files), RTKLIB .pos writer and
-// reader, per-epoch CSV writer.
+// reader, per-epoch CSV writer, quantiles (evaluation/quantile.h).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <sstream>
 
 #include "ppp_bayes_tree/evaluation/position_error_statistics.h"
+#include "ppp_bayes_tree/evaluation/quantile.h"
 #include "ppp_bayes_tree/evaluation/rtklib_pos.h"
 #include "ppp_bayes_tree/evaluation/solution_csv_writer.h"
 #include "fuzz/rtklib_pos_fuzz_entry.h"
@@ -34,6 +36,22 @@ std::vector<SolutionEpoch> syntheticSolution() {
     out.push_back(e);
   }
   return out;
+}
+
+TEST(Quantile, ValueAtIndexFloorPnOfTheSortedValues) {
+  // Sorted: 1 2 3 4 5 6 7 8 9 10 -> index floor(p 10).
+  const std::vector<double> v = {7.0, 3.0, 10.0, 1.0, 9.0, 2.0, 8.0, 5.0, 4.0, 6.0};
+  EXPECT_EQ(quantile(v, 0.0), 1.0);
+  EXPECT_EQ(quantile(v, 0.5), 6.0);   // index 5: the upper of the two middle values
+  EXPECT_EQ(quantile(v, 0.99), 10.0);  // index 9
+  EXPECT_EQ(quantile(v, 0.95), 10.0);
+  EXPECT_EQ(quantile(v, 0.85), 9.0);   // index 8
+  EXPECT_EQ(quantile(v, 1.0), 10.0);   // clamped to the last
+  std::vector<double> sorted = v;
+  std::sort(sorted.begin(), sorted.end());
+  for (const double p : {0.0, 0.25, 0.5, 0.99, 1.0}) EXPECT_EQ(quantileOfSorted(sorted, p), quantile(v, p)) << p;
+  EXPECT_TRUE(std::isnan(quantile({}, 0.5)));
+  EXPECT_EQ(quantile({4.2}, 0.99), 4.2);
 }
 
 TEST(PositionErrorStatistics, HandComputedValues) {

@@ -6,34 +6,30 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <fstream>
 #include <map>
 
 #include "ppp_bayes_tree/io/rinex_nav_reader.h"
 #include "ppp_bayes_tree/io/rinex_obs_reader.h"
-#include "ppp_bayes_tree/io/rtcm_ssr_encoder.h"
 #include "ppp_bayes_tree/models/broadcast_products.h"
 #include "ppp_bayes_tree/models/broadcast_ssr_ephemeris.h"
-#include "ppp_bayes_tree/models/precise_ephemeris.h"
-#include "ppp_bayes_tree/models/ssr_from_precise.h"
 #include "ppp_bayes_tree/ppp/epoch_estimator.h"
 #include "ppp_bayes_tree/ppp/ppp_config.h"
 #include "ppp_bayes_tree/ppp/ppp_pipeline.h"
 #include "ppp_bayes_tree/ppp/product_set.h"
+#include "esbc_stream_fixture.h"
 #include "test_support.h"
 #include "window_observation_source.h"
 
 namespace ppp {
 namespace {
 
-std::string esbc(const std::string& file) { return test::dataPath("esbc-2020-177/" + file); }
-
+using test::esbcPath;
 using test::WindowObservationSource;
 
 std::map<GnssTime, Eigen::Vector3d> runEkf(PppProducts products, const PppConfig& config, const GnssTime& until,
                                            PppRunSummary* summary = nullptr) {
   PppPipeline pipeline(std::make_unique<WindowObservationSource>(
-                           std::make_unique<RinexObservationSource>(esbc("ESBC00DNK_R_20201770000_01D_30S_MO.crx.gz")), until),
+                           std::make_unique<RinexObservationSource>(esbcPath("ESBC00DNK_R_20201770000_01D_30S_MO.crx.gz")), until),
                        std::move(products), config);
   std::string why;
   auto estimator = makeEstimator("ekf", config, &why);
@@ -75,25 +71,17 @@ TEST(SsrEndToEnd, EsbcBroadcastPlusEncodedSsrMatchesPreciseProducts) {
   const GnssTime until = test::gpst(2020, 6, 25, 3, 0, 0);
   const std::vector<std::string> atx = {test::dataPath("antex/igs20_gps_satellites_trim.atx"),
                                         test::dataPath("antex/igs05_esbc_receiver_trim.atx")};
-  auto precise = std::make_shared<PreciseEphemeris>(PreciseEphemeris::load(
-      {esbc("GRG0MGXFIN_20201770000_01D_15M_ORB.SP3.gz")}, {esbc("GRG0MGXFIN_20201770000_01D_30S_CLK.CLK.gz")}));
-  const std::string nav_path = esbc("ESBC00DNK_R_20201770000_01D_MN.rnx");
+  auto precise = std::make_shared<PreciseEphemeris>(test::esbcGrgPrecise());
+  const std::string nav_path = esbcPath("ESBC00DNK_R_20201770000_01D_MN.rnx");
   const NavData nav = readRinexNav(nav_path);
 
   // 1. The SSR stream (GPS, centre of mass, 5 s), written as RTCM 3 frames.
-  SsrFromPreciseOptions options;
-  options.systems = {GnssSystem::GPS};
+  SsrFromPreciseOptions options = test::esbcGpsSsrOptions();
   const SsrFromPreciseResult ssr = ssrFromPrecise({nav}, *precise, nullptr, nullptr, start, until + 60.0, options);
   EXPECT_EQ(ssr.epochs, 3u * 720u + 13u);  // 00:00:00 .. 03:01:00 every 5 s
   const auto dir = test::tempDir("ssr_e2e");
   const std::string stream_path = (dir / "SSRC00TST_esbc.rtcm3").string();
-  {
-    std::ofstream out(stream_path, std::ios::binary);
-    for (const auto& m : ssr.messages) {
-      const auto frame = encodeSsrFrame(m);
-      out.write(reinterpret_cast<const char*>(frame.data()), static_cast<std::streamsize>(frame.size()));
-    }
-  }
+  test::writeFileBytes(stream_path, test::ssrStreamBytes(ssr));
   // 2. Decoded and applied as ppp_solve --nav --ssr does (the name says centre of mass).
   const BroadcastProducts broadcast = loadBroadcastProducts({nav_path}, stream_path);
   EXPECT_TRUE(broadcast.problems.empty()) << broadcast.problems.front();
@@ -165,11 +153,7 @@ TEST(SsrEndToEnd, EsbcBroadcastPlusEncodedSsrMatchesPreciseProducts) {
     options.reference = reference;
     const SsrFromPreciseResult r = ssrFromPrecise({nav}, *precise, set->antennas().get(), nullptr, start, until + 60.0, options);
     const std::string path = (dir / name).string();
-    std::ofstream out(path, std::ios::binary);
-    for (const auto& m : r.messages) {
-      const auto frame = encodeSsrFrame(m);
-      out.write(reinterpret_cast<const char*>(frame.data()), static_cast<std::streamsize>(frame.size()));
-    }
+    test::writeFileBytes(path, test::ssrStreamBytes(r));
     return path;
   };
   const std::string apc_path = writeStream(EphemerisReference::AntennaPhaseCentre, "APCIF0TST_esbc.rtcm3");

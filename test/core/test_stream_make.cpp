@@ -36,18 +36,14 @@
 #include "ppp_bayes_tree/io/rtcm3_ephemeris_encoder.h"
 #include "ppp_bayes_tree/io/rtcm3_framer.h"
 #include "ppp_bayes_tree/io/rtcm_ssr_decoder.h"
-#include "ppp_bayes_tree/io/rtcm_ssr_encoder.h"
-#include "ppp_bayes_tree/models/precise_ephemeris.h"
-#include "ppp_bayes_tree/models/ssr_from_precise.h"
 #include "ppp_bayes_tree/ppp/epoch_estimator.h"
 #include "ppp_bayes_tree/ppp/ppp_config.h"
 #include "ppp_bayes_tree/ppp/ppp_pipeline.h"
+#include "esbc_stream_fixture.h"
 #include "test_support.h"
 
 namespace ppp {
 namespace {
-
-std::string esbc(const std::string& file) { return test::dataPath("esbc-2020-177/" + file); }
 
 struct Made {
   GnssTime start, until;
@@ -65,10 +61,10 @@ const Made& made() {
     m.start = test::gpst(2020, 6, 25, 0, 0, 0);
     m.until = test::gpst(2020, 6, 25, 0, 45, 0);
     m.dir = test::tempDir("stream_make").string();
-    m.nav = esbc("ESBC00DNK_R_20201770000_01D_MN.rnx");
+    m.nav = test::esbcPath("ESBC00DNK_R_20201770000_01D_MN.rnx");
     m.atx = {test::dataPath("antex/igs20_gps_satellites_trim.atx"), test::dataPath("antex/igs05_esbc_receiver_trim.atx")};
     // The RINEX window (as read: the values round trip through the writer).
-    RinexObservationSource source(esbc("ESBC00DNK_R_20201770000_01D_30S_MO.crx.gz"));
+    RinexObservationSource source(test::esbcPath("ESBC00DNK_R_20201770000_01D_30S_MO.crx.gz"));
     CasterStreamBuilder builder;  // the tool's defaults
     builder.setStation(source.header());
     m.rinex_window = m.dir + "/ESBC_window.rnx";
@@ -87,19 +83,9 @@ const Made& made() {
     m.records_in_file = nav.recordCount();
     builder.addNavigation(nav);
     // SSR for the window (GPS, 5 s, centre of mass), as ppp_ssr_encode makes it.
-    const auto precise = PreciseEphemeris::load({esbc("GRG0MGXFIN_20201770000_01D_15M_ORB.SP3.gz")},
-                                                {esbc("GRG0MGXFIN_20201770000_01D_30S_CLK.CLK.gz")});
-    SsrFromPreciseOptions options;
-    options.systems = {GnssSystem::GPS};
-    const SsrFromPreciseResult ssr = ssrFromPrecise({nav}, precise, nullptr, nullptr, m.start - 60.0, m.until + 60.0, options);
-    std::vector<std::uint8_t> ssr_bytes;
-    for (const auto& msg : ssr.messages) {
-      const auto f = encodeSsrFrame(msg);
-      ssr_bytes.insert(ssr_bytes.end(), f.begin(), f.end());
-    }
+    const std::vector<std::uint8_t> ssr_bytes = test::esbcGpsSsrStream(nav, m.start - 60.0, m.until + 60.0);
     m.ssr = m.dir + "/SSRC00TST_esbc.rtcm3";
-    std::ofstream(m.ssr, std::ios::binary).write(reinterpret_cast<const char*>(ssr_bytes.data()),
-                                                 static_cast<std::streamsize>(ssr_bytes.size()));
+    test::writeFileBytes(m.ssr, ssr_bytes);
     builder.addSsrStream(ssr_bytes);
     EXPECT_EQ(builder.counters().totalProblems(), 0u);
     const CasterStream stream = builder.build();
@@ -278,6 +264,9 @@ TEST(StreamMake, EsbcRecordsAreSentFromTheirTransmissionTimeAndRepeated) {
 TEST(StreamMake, PppOnTheMadeStreamEqualsTheRinexRun) {
   PPP_REQUIRE_SHARED_DATA();
   const Made& m = made();
+  // The stream's observations at RINEX precision (ppp_stream_convert's RINEX), for c).
+  const std::string converted = m.dir + "/made.rnx";
+  convertStreamToRinex(m.made, converted, std::nullopt, {});
   for (const std::string estimator : {"ekf", "smoother"}) {
     const Fixes rinex = run(rinexFiles(m), estimator);
     ASSERT_GT(rinex.size(), 85u);
@@ -286,8 +275,6 @@ TEST(StreamMake, PppOnTheMadeStreamEqualsTheRinexRun) {
     nav_from_stream.nav = {m.made};
     const Difference b = compare(run(nav_from_stream, estimator), rinex, m.start);
     // c) The stream's observations at RINEX precision (ppp_stream_convert's RINEX).
-    const std::string converted = m.dir + "/made_" + estimator + ".rnx";
-    convertStreamToRinex(m.made, converted, std::nullopt, {});
     PppInputFiles obs_converted = rinexFiles(m);
     obs_converted.obs = converted;
     obs_converted.nav = {m.made};

@@ -16,6 +16,10 @@
 
 namespace ppp_ros::test {
 
+// rtcm_msgs/Message: the type name and MD5 of issue 14.
+inline const char* kRtcmMessageType = "rtcm_msgs/Message";
+inline const char* kRtcmMessageMd5 = "883b1fb65b83ccf75497c21f2d63052d";
+
 // Full definitions as `rosmsg show` prints them (what a publisher announces); the
 // subscriber checks name and MD5 only.
 inline const char* kRtcmMessageDefinition =
@@ -77,6 +81,11 @@ inline topic_tools::ShapeShifter shapeShifter(const std::string& datatype, const
   ros::serialization::IStream in(serialized.data(), static_cast<std::uint32_t>(serialized.size()));
   s.read(in);
   return s;
+}
+
+/// One rtcm_msgs/Message (header.seq `seq`) carrying `bytes`, as a ShapeShifter.
+inline topic_tools::ShapeShifter rtcmMessage(const std::vector<std::uint8_t>& bytes, std::uint32_t seq) {
+  return shapeShifter(kRtcmMessageType, kRtcmMessageMd5, kRtcmMessageDefinition, serializeHeaderAndBytes(bytes, seq));
 }
 
 }  // namespace ppp_ros::test

@@ -7,54 +7,31 @@
 // foreign type name and MD5 (topic_tools::ShapeShifter), one frame per message in
 // the caster's order: observations and ephemerides on /esbc/rtcm, SSR on /esbc/ssr.
 // Two nodes take them side by side: ppp_ekf_node (/ekf) and ppp_smoother_node
-// (/smoother). Each node's fixes must equal `ppp_solve --rtcm MADE --ref-date
-// 2020/06/25 --nav MADE --ssr SSR` with its estimator, epoch by epoch to 1 mm, in
-// precise (SSR) mode throughout.
-#include <fstream>
-
+// (/smoother). Each node's fixes must equal those of one `ppp_solve --rtcm MADE
+// --ref-date 2020/06/25 --nav MADE --ssr SSR --estimator both` with its estimator
+// (the smoother's filtered solution), epoch by epoch to 1 mm, in precise (SSR) mode
+// throughout.
 #include "ppp_bayes_tree/io/rinex_nav_reader.h"
 #include "ppp_bayes_tree/io/rtcm3_framer.h"
 #include "ppp_bayes_tree/io/rtcm_ssr_decoder.h"
-#include "ppp_bayes_tree/io/rtcm_ssr_encoder.h"
-#include "ppp_bayes_tree/models/precise_ephemeris.h"
-#include "ppp_bayes_tree/models/ssr_from_precise.h"
+#include "esbc_stream_fixture.h"
 #include "rostest/live_support.h"
-
-namespace {
-
-const char* kRtcmType = "rtcm_msgs/Message";
-const char* kRtcmMd5 = "883b1fb65b83ccf75497c21f2d63052d";
-
-std::string esbc(const std::string& file) { return ppp::test::dataPath("esbc-2020-177/" + file); }
-
-}  // namespace
 
 TEST(LiveEsbcSsr, EkfAndSmootherNodesEqualPppSolveOnTheMadeStreams) {
   PPP_REQUIRE_SHARED_DATA();
   using namespace ppp_ros::test;
+  using ppp::test::esbcPath;
   const std::filesystem::path dir = ppp::test::tempDir("live_esbc_ssr");
   const ppp::GnssTime start = ppp::test::gpst(2020, 6, 25, 0, 30, 0), until = start + 2700.0;
-  const std::string nav = esbc("ESBC00DNK_R_20201770000_01D_MN.rnx");
+  const std::string nav = esbcPath("ESBC00DNK_R_20201770000_01D_MN.rnx");
 
   // The SSR stream (ppp_ssr_encode's core) for the window and a minute around it.
   const std::string ssr = (dir / "SSRC00TST_esbc.rtcm3").string();
-  {
-    const auto precise = ppp::PreciseEphemeris::load({esbc("GRG0MGXFIN_20201770000_01D_15M_ORB.SP3.gz")},
-                                                     {esbc("GRG0MGXFIN_20201770000_01D_30S_CLK.CLK.gz")});
-    ppp::SsrFromPreciseOptions options;
-    options.systems = {ppp::GnssSystem::GPS};
-    const auto made = ppp::ssrFromPrecise({ppp::readRinexNav(nav)}, precise, nullptr, nullptr, start - 60.0,
-                                          until + 60.0, options);
-    std::ofstream out(ssr, std::ios::binary);
-    for (const auto& m : made.messages) {
-      const auto f = ppp::encodeSsrFrame(m);
-      out.write(reinterpret_cast<const char*>(f.data()), static_cast<std::streamsize>(f.size()));
-    }
-  }
+  ppp::test::writeFileBytes(ssr, ppp::test::esbcGpsSsrStream(ppp::readRinexNav(nav), start - 60.0, until + 60.0));
   // The caster stream (ppp_stream_make), SSR interleaved.
   const std::string stream = (dir / "ESBC_made.rtcm3").string();
   const std::string make = std::string(PPP_BIN_DIR) + "/ppp_stream_make --obs " +
-                           esbc("ESBC00DNK_R_20201770000_01D_30S_MO.crx.gz") + " --nav " + nav + " --ssr " + ssr +
+                           esbcPath("ESBC00DNK_R_20201770000_01D_30S_MO.crx.gz") + " --nav " + nav + " --ssr " + ssr +
                            " --start '2020/06/25 00:30:00' --duration 2700 --out " + stream + " > " +
                            (dir / "make.log").string() + " 2>&1";
   ASSERT_EQ(std::system(make.c_str()), 0) << make << "\n" << ppp::test::readFileBytes((dir / "make.log").string());
@@ -63,10 +40,9 @@ TEST(LiveEsbcSsr, EkfAndSmootherNodesEqualPppSolveOnTheMadeStreams) {
                            " --atx " + ppp::test::dataPath("antex/igs20_gps_satellites_trim.atx") + " " +
                            ppp::test::dataPath("antex/igs05_esbc_receiver_trim.atx") + " --config " + PPP_REPO_DIR +
                            "/config/ppp.yaml";
-  const auto offline_ekf = pppSolve(args, "live_esbc_ekf", "ekf");
-  const auto offline_smoother = pppSolve(args, "live_esbc_smoother", "smoother");
-  ASSERT_GT(offline_ekf.size(), 80u) << "ppp_solve solved too few epochs of " << stream;
-  ASSERT_GT(offline_smoother.size(), 80u);
+  const PppSolveBoth offline = pppSolveBoth(args, "live_esbc");
+  ASSERT_GT(offline.ekf.size(), 80u) << "ppp_solve solved too few epochs of " << stream;
+  ASSERT_GT(offline.smoother_filtered.size(), 80u);
 
   // One rtcm_msgs/Message per frame, in the caster's order; SSR on the correction topic.
   const std::string bytes = ppp::test::readFileBytes(stream);
@@ -81,8 +57,7 @@ TEST(LiveEsbcSsr, EkfAndSmootherNodesEqualPppSolveOnTheMadeStreams) {
     ssr_frames += correction ? 1 : 0;
     ephemeris_frames += (f.message_type == 1019 || f.message_type == 1045 || f.message_type == 1046) ? 1 : 0;
     const auto* begin = reinterpret_cast<const std::uint8_t*>(bytes.data()) + f.byte_offset;
-    m.message = shapeShifter(kRtcmType, kRtcmMd5, kRtcmMessageDefinition,
-                             serializeHeaderAndBytes(std::vector<std::uint8_t>(begin, begin + f.payload.size() + 6), ++seq));
+    m.message = rtcmMessage(std::vector<std::uint8_t>(begin, begin + f.payload.size() + 6), ++seq);
     messages.push_back(std::move(m));
   });
   EXPECT_EQ(framer.counters().totalProblems(), 0u);
@@ -96,24 +71,16 @@ TEST(LiveEsbcSsr, EkfAndSmootherNodesEqualPppSolveOnTheMadeStreams) {
   ekf_out.subscribe(nh, "/ekf/");
   smoother_out.subscribe(nh, "/smoother/");
   publishInOrder(nh, {"/esbc/rtcm", "/esbc/ssr"}, messages, 0.002, 2);
-  waitForFixes(ekf_out, offline_ekf.size() - 1, 60.0);
-  waitForFixes(smoother_out, offline_smoother.size() - 1, 30.0);
+  waitForFixes(ekf_out, offline.ekf.size() - 1, 60.0);
+  waitForFixes(smoother_out, offline.smoother_filtered.size() - 1, 30.0);
 
   std::lock_guard<std::mutex> l1(ekf_out.mutex), l2(smoother_out.mutex);
-  expectEqualToPppSolve("ppp_ekf_node, MSM7 + ephemerides + SSR", ekf_out.fixes, offline_ekf);
-  expectEqualToPppSolve("ppp_smoother_node, MSM7 + ephemerides + SSR", smoother_out.fixes, offline_smoother);
+  expectEqualToPppSolve("ppp_ekf_node, MSM7 + ephemerides + SSR", ekf_out.fixes, offline.ekf);
+  expectEqualToPppSolve("ppp_smoother_node, MSM7 + ephemerides + SSR", smoother_out.fixes, offline.smoother_filtered);
   for (const auto* out : {&ekf_out, &smoother_out}) {
     ASSERT_FALSE(out->statuses.empty());
     for (const auto& s : out->statuses) EXPECT_EQ(s.product_mode, ppp_bayes_tree::PppStatus::PRODUCTS_PRECISE);
   }
 }
 
-int main(int argc, char** argv) {
-  testing::InitGoogleTest(&argc, argv);
-  ros::init(argc, argv, "rostest_live_esbc_ssr");
-  ros::AsyncSpinner spinner(2);
-  spinner.start();
-  const int rc = RUN_ALL_TESTS();
-  spinner.stop();
-  return rc;
-}
+int main(int argc, char** argv) { return ppp_ros::test::liveRostestMain(argc, argv, "rostest_live_esbc_ssr"); }

@@ -16,11 +16,10 @@ TEST(LiveNtrip, Str2strCasterToStreamNodeToBothNodesEqualsPppSolveTo1mm) {
   PPP_REQUIRE_SHARED_DATA();
   if (!ppp::test::str2strAvailable()) GTEST_SKIP() << "RTKLIB str2str is not installed (Debian package rtklib)";
   using namespace ppp_ros::test;
-  const std::string rtcm = ppp::test::dataPath("streams/rtcm/week-rollover-STR24.rtcm3");
-  const PppSolveBoth offline = pppSolveStr24Live(rtcm, "live_ntrip");
-  ASSERT_GT(offline.ekf.size(), 1000u) << "ppp_solve solved too few epochs of " << rtcm;
+  PppSolveBoth offline;
+  ASSERT_NO_FATAL_FAILURE(solveStr24Live("live_ntrip", &offline));
 
-  const std::string recording = ppp::test::readFileBytes(rtcm);
+  const std::string recording = ppp::test::readFileBytes(str24Recording());
   ppp::Rtcm3Framer framer;
   std::size_t frames = 0;
   framer.feed(reinterpret_cast<const std::uint8_t*>(recording.data()), recording.size(),
@@ -31,25 +30,18 @@ TEST(LiveNtrip, Str2strCasterToStreamNodeToBothNodesEqualsPppSolveTo1mm) {
   ros::NodeHandle nh;
   LiveLaunchOutputs out;
   out.subscribe(nh);
-  StreamNodeDiagnostics stream;
-  stream.subscribe(nh, "receiver_stream");
 
   const int port = ppp::test::freeLoopbackPort();
   ppp::test::Str2str caster("ntripc://rover:secret@:" + std::to_string(port) + "/STR24");
   ASSERT_TRUE(caster.running());
-  const std::string log = (ppp::test::tempDir("live_ntrip") / "ppp_stream_node.log").string();
-  auto node = startStreamNode("receiver_stream",
-                              "ntrip://rover:secret@127.0.0.1:" + std::to_string(port) +
-                                  "/STR24?version=2&reconnect_min_s=0.2&reconnect_max_s=1&stall_timeout_s=60",
-                              log);
   // Connected (the caster answered), and both PPP nodes subscribe to the stream node's topic.
-  const ros::WallTime until = ros::WallTime::now() + ros::WallDuration(30.0);
-  while (ros::WallTime::now() < until && (stream.value("connects").empty() || stream.value("connects") == "0"))
-    ros::WallDuration(0.05).sleep();
-  ASSERT_EQ(stream.value("connects"), "1") << "ppp_stream_node did not connect: " << stream.value("last error")
-                                           << "\n" << ppp::test::readFileBytes(log);
-  ASSERT_TRUE(waitForSubscriberCount("/gnss/receiver", 2, 30.0)) << "the PPP nodes do not subscribe /gnss/receiver";
-  ros::WallDuration(1.0).sleep();  // the TCPROS connections settle
+  StreamNodeDiagnostics stream;
+  std::unique_ptr<ChildProcess> node;
+  ASSERT_NO_FATAL_FAILURE(startConnectedStreamNode(
+      nh,
+      "ntrip://rover:secret@127.0.0.1:" + std::to_string(port) +
+          "/STR24?version=2&reconnect_min_s=0.2&reconnect_max_s=1&stall_timeout_s=60",
+      (ppp::test::tempDir("live_ntrip") / "ppp_stream_node.log").string(), stream, &node));
 
   // 2 KiB per write, 20 ms apart (Str2str::write): 100 KiB/s, 19 min of data in 13 s; the
   // nodes' outputs (publisher queues of 100) then come at about 90 epochs/s, which this test
@@ -57,12 +49,8 @@ TEST(LiveNtrip, Str2strCasterToStreamNodeToBothNodesEqualsPppSolveTo1mm) {
   for (std::size_t done = 0; done < recording.size(); done += 2048)
     ASSERT_TRUE(caster.write(recording.substr(done, 2048)));
   caster.closeInput();
-  EXPECT_TRUE(stream.waitFor("frames published", std::to_string(frames), 30.0))
-      << stream.value("frames published") << " of " << frames << " frames published";
-  waitForFixes(out.ekf, offline.ekf.size() - 1, 60.0);
-  waitForFixes(out.smoother, offline.smoother_filtered.size() - 1, 30.0);
-
-  out.expectEqualTo(offline, "NTRIP (str2str) -> ppp_stream_node -> /gnss/receiver");
+  expectAllFramesPublished(stream, frames);
+  waitAndExpectEqualTo(out, offline, "NTRIP (str2str) -> ppp_stream_node -> /gnss/receiver");
   EXPECT_EQ(stream.value("bytes"), std::to_string(recording.size()));
   EXPECT_EQ(stream.value("CRC errors"), "0");
   EXPECT_EQ(stream.value("garbage bytes"), std::to_string(framer.counters().garbage_bytes));
@@ -74,12 +62,4 @@ TEST(LiveNtrip, Str2strCasterToStreamNodeToBothNodesEqualsPppSolveTo1mm) {
               stream.value("garbage bytes").c_str(), stream.value("CRC errors").c_str());
 }
 
-int main(int argc, char** argv) {
-  testing::InitGoogleTest(&argc, argv);
-  ros::init(argc, argv, "rostest_live_ntrip");
-  ros::AsyncSpinner spinner(2);
-  spinner.start();
-  const int rc = RUN_ALL_TESTS();
-  spinner.stop();
-  return rc;
-}
+int main(int argc, char** argv) { return ppp_ros::test::liveRostestMain(argc, argv, "rostest_live_ntrip"); }

@@ -11,13 +11,6 @@
 #include "ppp_bayes_tree/io/rtcm3_framer.h"
 #include "rostest/live_support.h"
 
-namespace {
-
-const char* kRtcmType = "rtcm_msgs/Message";
-const char* kRtcmMd5 = "883b1fb65b83ccf75497c21f2d63052d";
-
-}  // namespace
-
 TEST(LiveRtcmEkf, FramesAndChunksEqualPppSolveEpochByEpochTo1mm) {
   PPP_REQUIRE_SHARED_DATA();
   using namespace ppp_ros::test;
@@ -36,8 +29,7 @@ TEST(LiveRtcmEkf, FramesAndChunksEqualPppSolveEpochByEpochTo1mm) {
   auto add = [&](std::size_t publisher, std::size_t begin, std::size_t end) {
     StreamMessage m;
     m.publisher = publisher;
-    m.message = shapeShifter(kRtcmType, kRtcmMd5, kRtcmMessageDefinition,
-                             serializeHeaderAndBytes(std::vector<std::uint8_t>(data + begin, data + end), ++seq));
+    m.message = rtcmMessage(std::vector<std::uint8_t>(data + begin, data + end), ++seq);
     messages.push_back(std::move(m));
   };
   // Publisher 0: one frame per message, in file order.
@@ -81,12 +73,4 @@ TEST(LiveRtcmEkf, FramesAndChunksEqualPppSolveEpochByEpochTo1mm) {
     if (name.find("live streams") != std::string::npos) EXPECT_LT(level, diagnostic_msgs::DiagnosticStatus::ERROR) << name;
 }
 
-int main(int argc, char** argv) {
-  testing::InitGoogleTest(&argc, argv);
-  ros::init(argc, argv, "rostest_live_rtcm_ekf");
-  ros::AsyncSpinner spinner(2);
-  spinner.start();
-  const int rc = RUN_ALL_TESTS();
-  spinner.stop();
-  return rc;
-}
+int main(int argc, char** argv) { return ppp_ros::test::liveRostestMain(argc, argv, "rostest_live_rtcm_ekf"); }

@@ -12,22 +12,14 @@
 
 #include "rostest/live_support.h"
 
-namespace {
-
-const char* kRtcmType = "rtcm_msgs/Message";
-const char* kRtcmMd5 = "883b1fb65b83ccf75497c21f2d63052d";
-
-}  // namespace
-
 TEST(LiveRtcmLaunch, EkfAndSmootherEqualPppSolveEpochByEpochTo1mm) {
   PPP_REQUIRE_SHARED_DATA();
   using namespace ppp_ros::test;
-  const std::string rtcm = ppp::test::dataPath("streams/rtcm/week-rollover-STR24.rtcm3");
-  const PppSolveBoth offline = pppSolveStr24Live(rtcm, "live_rtcm_launch");
-  ASSERT_GT(offline.ekf.size(), 1000u) << "ppp_solve solved too few epochs of " << rtcm;
+  PppSolveBoth offline;
+  ASSERT_NO_FATAL_FAILURE(solveStr24Live("live_rtcm_launch", &offline));
   ASSERT_GT(offline.smoother_filtered.size(), 1000u);
 
-  const std::string bytes = ppp::test::readFileBytes(rtcm);
+  const std::string bytes = ppp::test::readFileBytes(str24Recording());
   const auto* data = reinterpret_cast<const std::uint8_t*>(bytes.data());
   std::vector<StreamMessage> messages;
   std::mt19937 random(1414);
@@ -36,8 +28,7 @@ TEST(LiveRtcmLaunch, EkfAndSmootherEqualPppSolveEpochByEpochTo1mm) {
   for (std::size_t cut = 0; cut < bytes.size();) {
     const std::size_t end = std::min(bytes.size(), cut + size(random));
     StreamMessage m;
-    m.message = shapeShifter(kRtcmType, kRtcmMd5, kRtcmMessageDefinition,
-                             serializeHeaderAndBytes(std::vector<std::uint8_t>(data + cut, data + end), ++seq));
+    m.message = rtcmMessage(std::vector<std::uint8_t>(data + cut, data + end), ++seq);
     messages.push_back(std::move(m));
     cut = end;
   }
@@ -48,20 +39,10 @@ TEST(LiveRtcmLaunch, EkfAndSmootherEqualPppSolveEpochByEpochTo1mm) {
   // 3 ms apart (19 min of data in about 12 s): the nodes' outputs (publisher queues of 100)
   // come at about 100 epochs/s, which this test node reads even on a loaded machine.
   publishInOrder(nh, {"/gnss/receiver"}, messages, 0.003, 2);  // both nodes subscribed
-  waitForFixes(out.ekf, offline.ekf.size() - 1, 60.0);
-  waitForFixes(out.smoother, offline.smoother_filtered.size() - 1, 30.0);
-  out.expectEqualTo(offline, "rtcm_msgs/Message chunks on /gnss/receiver");
+  waitAndExpectEqualTo(out, offline, "rtcm_msgs/Message chunks on /gnss/receiver");
   std::lock_guard<std::mutex> l(out.ekf.mutex);
   for (const auto& [name, level] : out.ekf.worst_diagnostic)
     if (name.find("live streams") != std::string::npos) EXPECT_LT(level, diagnostic_msgs::DiagnosticStatus::ERROR) << name;
 }
 
-int main(int argc, char** argv) {
-  testing::InitGoogleTest(&argc, argv);
-  ros::init(argc, argv, "rostest_live_rtcm_launch");
-  ros::AsyncSpinner spinner(2);
-  spinner.start();
-  const int rc = RUN_ALL_TESTS();
-  spinner.stop();
-  return rc;
-}
+int main(int argc, char** argv) { return ppp_ros::test::liveRostestMain(argc, argv, "rostest_live_rtcm_launch"); }

@@ -28,12 +28,11 @@ TEST(LiveSerial, SocatPtyToStreamNodeToBothNodesEqualsPppSolveTo1mm) {
   PPP_REQUIRE_SHARED_DATA();
   if (!socatAvailable()) GTEST_SKIP() << "socat is not installed (Debian package socat)";
   using namespace ppp_ros::test;
-  const std::string rtcm = ppp::test::dataPath("streams/rtcm/week-rollover-STR24.rtcm3");
-  const PppSolveBoth offline = pppSolveStr24Live(rtcm, "live_serial");
-  ASSERT_GT(offline.ekf.size(), 1000u) << "ppp_solve solved too few epochs of " << rtcm;
+  PppSolveBoth offline;
+  ASSERT_NO_FATAL_FAILURE(solveStr24Live("live_serial", &offline));
 
   // The line: the recording with garbage after every 25th frame.
-  const std::string recording = ppp::test::readFileBytes(rtcm);
+  const std::string recording = ppp::test::readFileBytes(str24Recording());
   std::string line;
   std::size_t frames = 0, injected = 0;
   {
@@ -72,16 +71,9 @@ TEST(LiveSerial, SocatPtyToStreamNodeToBothNodesEqualsPppSolveTo1mm) {
   LiveLaunchOutputs out;
   out.subscribe(nh);
   StreamNodeDiagnostics stream;
-  stream.subscribe(nh, "receiver_stream");
-  const std::string log = (dir / "ppp_stream_node.log").string();
-  auto node = startStreamNode("receiver_stream", "serial://" + b + "?baud=115200", log);
-  const ros::WallTime until = ros::WallTime::now() + ros::WallDuration(30.0);
-  while (ros::WallTime::now() < until && (stream.value("connects").empty() || stream.value("connects") == "0"))
-    ros::WallDuration(0.05).sleep();
-  ASSERT_EQ(stream.value("connects"), "1") << "ppp_stream_node did not open " << b << ": "
-                                           << stream.value("last error") << "\n" << ppp::test::readFileBytes(log);
-  ASSERT_TRUE(waitForSubscriberCount("/gnss/receiver", 2, 30.0)) << "the PPP nodes do not subscribe /gnss/receiver";
-  ros::WallDuration(1.0).sleep();  // the TCPROS connections settle
+  std::unique_ptr<ChildProcess> node;
+  ASSERT_NO_FATAL_FAILURE(startConnectedStreamNode(nh, "serial://" + b + "?baud=115200",
+                                                   (dir / "ppp_stream_node.log").string(), stream, &node));
 
   const int fd = ::open(a.c_str(), O_WRONLY | O_NOCTTY);
   ASSERT_GE(fd, 0) << a;
@@ -95,13 +87,9 @@ TEST(LiveSerial, SocatPtyToStreamNodeToBothNodesEqualsPppSolveTo1mm) {
     done += static_cast<std::size_t>(n);
     std::this_thread::sleep_for(std::chrono::milliseconds(40));
   }
-  EXPECT_TRUE(stream.waitFor("frames published", std::to_string(frames), 30.0))
-      << stream.value("frames published") << " of " << frames << " frames published";
-  waitForFixes(out.ekf, offline.ekf.size() - 1, 60.0);
-  waitForFixes(out.smoother, offline.smoother_filtered.size() - 1, 30.0);
+  expectAllFramesPublished(stream, frames);
+  waitAndExpectEqualTo(out, offline, "serial (socat pty) -> ppp_stream_node -> /gnss/receiver");
   ::close(fd);
-
-  out.expectEqualTo(offline, "serial (socat pty) -> ppp_stream_node -> /gnss/receiver");
   EXPECT_EQ(stream.value("bytes"), std::to_string(line.size()));
   EXPECT_EQ(stream.value("CRC errors"), "0");
   EXPECT_EQ(stream.value("garbage bytes"), std::to_string(reference.counters().garbage_bytes))
@@ -114,12 +102,4 @@ TEST(LiveSerial, SocatPtyToStreamNodeToBothNodesEqualsPppSolveTo1mm) {
               stream.value("CRC errors").c_str());
 }
 
-int main(int argc, char** argv) {
-  testing::InitGoogleTest(&argc, argv);
-  ros::init(argc, argv, "rostest_live_serial");
-  ros::AsyncSpinner spinner(2);
-  spinner.start();
-  const int rc = RUN_ALL_TESTS();
-  spinner.stop();
-  return rc;
-}
+int main(int argc, char** argv) { return ppp_ros::test::liveRostestMain(argc, argv, "rostest_live_serial"); }

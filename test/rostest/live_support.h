@@ -120,15 +120,6 @@ inline std::map<ros::Time, Eigen::Vector3d> pppSolveEkf(const std::string& args,
   return readPppSolveCsv(runPppSolve(args, "ekf", tag) / "live_ekf.csv", rows);
 }
 
-/// `ppp_solve <args> --estimator <estimator>` (ekf or smoother): UTC stamp -> ECEF position of
-/// the epochs with a solution; the smoother's are its FILTERED ones (what its node publishes on
-/// ppp/fix). `rows`: every epoch row, with a solution or not.
-inline std::map<ros::Time, Eigen::Vector3d> pppSolve(const std::string& args, const std::string& tag,
-                                                     const std::string& estimator, std::size_t* rows = nullptr) {
-  const std::string csv = estimator == "smoother" ? "live_smoother_filtered.csv" : "live_" + estimator + ".csv";
-  return readPppSolveCsv(runPppSolve(args, estimator, tag) / csv, rows);
-}
-
 /// `ppp_solve <args> --estimator both`: the EKF's and the smoother's FILTERED solutions (the
 /// smoother node's ppp/fix is its filtered estimate, the newest state), and their epoch rows.
 struct PppSolveBoth {
@@ -239,7 +230,6 @@ inline bool waitForSubscriberCount(const std::string& topic, std::size_t n, doub
 struct StreamNodeDiagnostics {
   std::mutex mutex;
   std::map<std::string, std::string> values;
-  std::uint8_t worst_level = 0;
   ros::Subscriber sub;
   void subscribe(ros::NodeHandle& nh, const std::string& node_name) {
     sub = nh.subscribe<diagnostic_msgs::DiagnosticArray>(
@@ -247,7 +237,6 @@ struct StreamNodeDiagnostics {
           for (const auto& status : m->status) {
             if (status.name != name) continue;
             std::lock_guard<std::mutex> l(mutex);
-            worst_level = std::max<std::uint8_t>(worst_level, status.level);
             for (const auto& kv : status.values) values[kv.key] = kv.value;
           }
         });
@@ -290,7 +279,6 @@ class ChildProcess {
   ~ChildProcess() { stop(); }
   ChildProcess(const ChildProcess&) = delete;
   ChildProcess& operator=(const ChildProcess&) = delete;
-  bool started() const { return pid_ > 0; }
   /// Whether it still runs.
   bool running() {
     if (pid_ <= 0) return false;
@@ -342,6 +330,60 @@ inline PppSolveBoth pppSolveStr24Live(const std::string& rtcm, const std::string
   return pppSolveBoth("--rtcm " + rtcm + " --ref-date 2018/07/14 --nav " + rtcm + " --atx " + atx + " --config " +
                           PPP_REPO_DIR + "/config/live.yaml",
                       tag);
+}
+
+/// The recording of the STR24 end-to-end tests (live_rtcm_launch, live_ntrip, live_serial):
+/// GMSD, MSM7 + GPS/GLONASS ephemerides, across a week boundary.
+inline std::string str24Recording() { return ppp::test::dataPath("streams/rtcm/week-rollover-STR24.rtcm3"); }
+
+/// Their set-up: pppSolveStr24Live of str24Recording() into `offline`, which must have solved
+/// more than 1000 EKF epochs (call through ASSERT_NO_FATAL_FAILURE).
+inline void solveStr24Live(const std::string& tag, PppSolveBoth* offline) {
+  *offline = pppSolveStr24Live(str24Recording(), tag);
+  ASSERT_GT(offline->ekf.size(), 1000u) << "ppp_solve solved too few epochs of " << str24Recording();
+}
+
+/// Starts ppp_stream_node "receiver_stream" on `input` (startStreamNode; log `log`) into
+/// `node`, its diagnostics into `stream`, and waits until it has connected (diagnostics
+/// "connects" 1) and both PPP nodes subscribe /gnss/receiver, the TCPROS connections
+/// settled (call through ASSERT_NO_FATAL_FAILURE).
+inline void startConnectedStreamNode(ros::NodeHandle& nh, const std::string& input, const std::string& log,
+                                     StreamNodeDiagnostics& stream, std::unique_ptr<ChildProcess>* node) {
+  stream.subscribe(nh, "receiver_stream");
+  *node = startStreamNode("receiver_stream", input, log);
+  const ros::WallTime until = ros::WallTime::now() + ros::WallDuration(30.0);
+  while (ros::WallTime::now() < until && (stream.value("connects").empty() || stream.value("connects") == "0"))
+    ros::WallDuration(0.05).sleep();
+  ASSERT_EQ(stream.value("connects"), "1") << "ppp_stream_node did not connect: " << stream.value("last error")
+                                           << "\n" << ppp::test::readFileBytes(log);
+  ASSERT_TRUE(waitForSubscriberCount("/gnss/receiver", 2, 30.0)) << "the PPP nodes do not subscribe /gnss/receiver";
+  ros::WallDuration(1.0).sleep();  // the TCPROS connections settle
+}
+
+/// The stream node published all `frames` (its diagnostics, within 30 s).
+inline void expectAllFramesPublished(StreamNodeDiagnostics& stream, std::size_t frames) {
+  EXPECT_TRUE(stream.waitFor("frames published", std::to_string(frames), 30.0))
+      << stream.value("frames published") << " of " << frames << " frames published";
+}
+
+/// The ending of the end-to-end tests through launch/live.launch: waits until both nodes
+/// gave a fix at every ppp_solve epoch but perhaps the last (and went quiet), then
+/// LiveLaunchOutputs::expectEqualTo.
+inline void waitAndExpectEqualTo(LiveLaunchOutputs& out, const PppSolveBoth& offline, const std::string& what) {
+  waitForFixes(out.ekf, offline.ekf.size() - 1, 60.0);
+  waitForFixes(out.smoother, offline.smoother_filtered.size() - 1, 30.0);
+  out.expectEqualTo(offline, what);
+}
+
+/// main() of a live rostest: gtest, ros::init as `node_name`, two spinner threads.
+inline int liveRostestMain(int argc, char** argv, const std::string& node_name) {
+  testing::InitGoogleTest(&argc, argv);
+  ros::init(argc, argv, node_name);
+  ros::AsyncSpinner spinner(2);
+  spinner.start();
+  const int rc = RUN_ALL_TESTS();
+  spinner.stop();
+  return rc;
 }
 
 }  // namespace ppp_ros::test

@@ -80,9 +80,11 @@ std::optional<ppp::StreamFormat> parseStreamFormatHint(const std::string& text);
 
 /// One serialized message (ROS serialization) of `type` -> its chunk (stream =
 /// `topic`, no arrival time). `format_hint`: GnssStreamBytes without a format.
-/// Throws StreamMessageError.
+/// `header_seq` (optional): set to header.seq for the types with a header, as soon as
+/// the header is read (also when the message then throws). Throws StreamMessageError.
 ppp::StreamChunk streamChunkFromMessage(StreamMessageType type, const std::string& topic, const std::uint8_t* data,
-                                        std::size_t size, std::optional<ppp::StreamFormat> format_hint = std::nullopt);
+                                        std::size_t size, std::optional<ppp::StreamFormat> format_hint = std::nullopt,
+                                        std::optional<std::uint32_t>* header_seq = nullptr);
 
 class GnssStreamSubscriber {
  public:
