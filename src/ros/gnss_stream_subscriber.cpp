@@ -257,7 +257,11 @@ GnssStreamSubscriber::GnssStreamSubscriber(ros::NodeHandle& nh, const std::strin
       stream_(stream_name.empty() ? topic_ : stream_name),
       format_hint_(format_hint),
       on_chunk_(std::move(on_chunk)) {
-  sub_ = nh.subscribe(topic, queue_size, &GnssStreamSubscriber::onMessage, this);
+  // TCP_NODELAY: a stream's messages are small and frequent; with Nagle's algorithm (and the
+  // peer's delayed ACK) one topic's messages can stall for tens of ms while another topic of
+  // the same receiver (ublox_gps: RxmRAWX and RxmSFRBX) goes on, which reorders the receiver's
+  // one byte stream at this node (and adds latency).
+  sub_ = nh.subscribe(topic, queue_size, &GnssStreamSubscriber::onMessage, this, ros::TransportHints().tcpNoDelay());
 }
 
 void GnssStreamSubscriber::error(const std::string& text) {
