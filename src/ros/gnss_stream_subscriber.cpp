@@ -255,6 +255,19 @@ ppp::StreamChunk streamChunkFromMessage(StreamMessageType type, const std::strin
   return chunk;
 }
 
+void GnssStreamSubscriber::releaseHeld() {
+  if (held_.empty()) return;
+  const ros::Time now = ros::Time::now();
+  if (now.isZero()) return;
+  counters_.last_arrival = now;
+  std::vector<ppp::StreamChunk> held;
+  held.swap(held_);
+  for (auto& chunk : held) {
+    chunk.arrival_time_s = now.toSec();
+    on_chunk_(std::move(chunk));
+  }
+}
+
 GnssStreamSubscriber::GnssStreamSubscriber(ros::NodeHandle& nh, const std::string& topic,
                                            std::optional<ppp::StreamFormat> format_hint, std::uint32_t queue_size,
                                            ChunkHandler on_chunk, const std::string& stream_name)
@@ -262,7 +275,11 @@ GnssStreamSubscriber::GnssStreamSubscriber(ros::NodeHandle& nh, const std::strin
       stream_(stream_name.empty() ? topic_ : stream_name),
       format_hint_(format_hint),
       on_chunk_(std::move(on_chunk)) {
-  sub_ = nh.subscribe(topic, queue_size, &GnssStreamSubscriber::onMessage, this);
+  // TCP_NODELAY: a stream's messages are small and frequent; with Nagle's algorithm (and the
+  // peer's delayed ACK) one topic's messages can stall for tens of ms while another topic of
+  // the same receiver (ublox_gps: RxmRAWX and RxmSFRBX) goes on, which reorders the receiver's
+  // one byte stream at this node (and adds latency).
+  sub_ = nh.subscribe(topic, queue_size, &GnssStreamSubscriber::onMessage, this, ros::TransportHints().tcpNoDelay());
 }
 
 void GnssStreamSubscriber::error(const std::string& text) {
@@ -277,7 +294,11 @@ void GnssStreamSubscriber::error(const std::string& text) {
 void GnssStreamSubscriber::onMessage(const ros::MessageEvent<topic_tools::ShapeShifter const>& event) {
   const topic_tools::ShapeShifter::ConstPtr& msg = event.getMessage();
   ++counters_.messages;
-  counters_.last_arrival = ros::Time::now();
+  const ros::Time now = ros::Time::now();  // zero only under sim time before the first /clock
+  if (!now.isZero()) {
+    releaseHeld();
+    counters_.last_arrival = now;
+  }
   const std::string datatype = msg->getDataType(), md5 = msg->getMD5Sum();
   counters_.type = datatype;
   std::string why;
@@ -308,9 +329,14 @@ void GnssStreamSubscriber::onMessage(const ros::MessageEvent<topic_tools::ShapeS
     }
   }
   if (!chunk) return;
-  chunk->arrival_time_s = counters_.last_arrival->toSec();
   counters_.bytes += chunk->bytes.size();
   counters_.conversion_cpu_s += ppp::threadCpu_s() - cpu0_s;
+  if (now.isZero()) {  // no valid clock yet: held (in order) until there is one
+    ++counters_.held_for_clock;
+    held_.push_back(std::move(*chunk));
+    return;
+  }
+  chunk->arrival_time_s = now.toSec();
   on_chunk_(std::move(*chunk));
 }
 

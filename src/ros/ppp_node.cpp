@@ -481,7 +481,12 @@ std::optional<double> PppNode::correctionsStale_s() const {
   return stale;
 }
 
-void PppNode::onTimer(const ros::TimerEvent&) { drain(); }
+void PppNode::onTimer(const ros::TimerEvent&) {
+  // A ros::Timer runs on the ROS clock: under sim time only once /clock has come, so
+  // the live chunks held for a valid clock go on from here too (gnss_stream_subscriber.h).
+  for (auto& sub : stream_subs_) sub->releaseHeld();
+  drain();
+}
 
 void PppNode::onPathTimer(const ros::TimerEvent&) {
   if (path_.poses.empty()) return;
@@ -950,6 +955,7 @@ void PppNode::diagnoseLive(diagnostic_updater::DiagnosticStatusWrapper& s) {
     const std::string p = sub->topic() + ": ";
     s.add(p + "messages (type)", std::to_string(c.messages) + " (" + (c.type.empty() ? "none yet" : c.type) + ")");
     s.add(p + "messages lost before the node (header.seq gaps)", c.lost);
+    s.add(p + "messages held until the ROS clock was valid (sim time before /clock)", c.held_for_clock);
     if (c.lost > 0) raise(DiagnosticStatus::WARN, sub->topic() + ": " + std::to_string(c.lost) +
                                                       " message(s) lost before the node (a queue overflowed)");
     s.add(p + "messages of a wrong type/MD5 / malformed (dropped)",

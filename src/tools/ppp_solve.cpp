@@ -4,11 +4,13 @@
 // usage: ppp_solve (--obs F | --rtcm F [--ref-date YYYY/MM/DD] | --ubx F)
 //                  (--sp3 F... --clk F... | --nav F... [--ssr F [--ssr-reference com|apc|apc-l1]])
 //                  --atx F... [--bia F] [--blq F]
-//                  [--config YAML] [--estimator ekf|smoother|both] [--truth X,Y,Z] [--name N] --out DIR
+//                  [--config YAML...] [--estimator ekf|smoother|both] [--truth X,Y,Z] [--name N] --out DIR
 //                  [--no-product-checks]
+// Several --config files are laid one on another in order, as the nodes load
+// config/ppp.yaml and its overrides (ppp_config.h: mappings merge, a later value wins).
 // --no-product-checks skips the SP3/CLK sanity checks (product_sanity.h), only to
 // measure what the estimators' own postfit and consistency tests catch.
-// Several files may follow --sp3, --clk, --nav and --atx (or the option may be repeated).
+// Several files may follow --sp3, --clk, --nav, --atx and --config (or the option may be repeated).
 // A --nav file may be RINEX navigation or an RTCM 3 / UBX recording (detected by
 // content): its ephemerides are used from their reception in the stream on, so
 // `--rtcm X --nav X` is broadcast-only PPP from one recording.
@@ -44,7 +46,7 @@ int usage(const std::string& why) {
             << "usage: ppp_solve (--obs F | --rtcm F [--ref-date YYYY/MM/DD] | --ubx F)\n"
             << "                 (--sp3 F... --clk F... | --nav F... [--ssr F [--ssr-reference com|apc|apc-l1]])\n"
             << "                 --atx F... [--bia F] [--blq F]\n"
-            << "                 [--config YAML] [--estimator ekf|smoother|both] [--truth X,Y,Z] [--name N] --out DIR\n"
+            << "                 [--config YAML...] [--estimator ekf|smoother|both] [--truth X,Y,Z] [--name N] --out DIR\n"
             << "                 [--no-product-checks]\n";
   return 2;
 }
@@ -75,7 +77,7 @@ void drawProgress(double fraction, const ppp::PppEpochRecord& rec) {
 
 int main(int argc, char** argv) {
   ppp::PppSolveRequest req;
-  std::string config_path;
+  std::vector<std::string> config_paths;
   std::vector<std::string>* list = nullptr;  // the multi-file option being filled
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
@@ -85,8 +87,12 @@ int main(int argc, char** argv) {
       return true;
     };
     std::string v;
-    if (a == "--sp3" || a == "--clk" || a == "--atx" || a == "--nav") {
-      list = a == "--sp3" ? &req.files.sp3 : a == "--clk" ? &req.files.clk : a == "--nav" ? &req.files.nav : &req.files.atx;
+    if (a == "--sp3" || a == "--clk" || a == "--atx" || a == "--nav" || a == "--config") {
+      list = a == "--sp3"    ? &req.files.sp3
+             : a == "--clk"  ? &req.files.clk
+             : a == "--nav"  ? &req.files.nav
+             : a == "--config" ? &config_paths
+                             : &req.files.atx;
       if (i + 1 >= argc || argv[i + 1][0] == '-') return usage(a + " needs at least one file");
       continue;
     }
@@ -123,8 +129,6 @@ int main(int argc, char** argv) {
     } else if (a == "--blq") {
       if (!value(v)) return usage("--blq needs a file");
       req.files.blq = v;
-    } else if (a == "--config") {
-      if (!value(config_path)) return usage("--config needs a YAML file");
     } else if (a == "--estimator") {
       if (!value(req.estimator)) return usage("--estimator needs ekf, smoother or both");
     } else if (a == "--truth") {
@@ -156,7 +160,7 @@ int main(int argc, char** argv) {
   if (req.out_dir.empty()) return usage("--out is required");
 
   try {
-    if (!config_path.empty()) req.config = ppp::loadPppConfig(config_path);
+    if (!config_paths.empty()) req.config = ppp::loadPppConfig(config_paths);
     const bool tty = isatty(STDERR_FILENO) != 0;
     if (tty) req.on_epoch = drawProgress;
     const std::vector<ppp::PppSolveOutcome> runs = ppp::solvePppEstimators(req);

@@ -377,6 +377,36 @@ TEST(PppConfig, SyntaxErrorAndMissingFile) {
   }
 }
 
+TEST(PppConfig, SeveralFilesAreLaidOnOneAnotherAsTheNodesParameters) {
+  // ppp_solve --config config/ppp.yaml config/live.yaml extra.yaml gives what the nodes
+  // bind from the same files loaded into one parameter namespace: mappings merge key by
+  // key, a later scalar or sequence replaces an earlier one.
+  const std::string repo = PPP_REPO_DIR;
+  const auto dir = ppp::test::tempDir("config_layers");
+  const std::string extra = (dir / "extra.yaml").string();
+  std::ofstream(extra) << "measurement_model:\n  signals:\n    systems: [GPS, Galileo]\n"
+                          "smoother:\n  fixed_lag_s: 30.0\nros:\n  live:\n    expect_corrections: false\n";
+  const PppConfig c = ppp::loadPppConfig(std::vector<std::string>{repo + "/config/ppp.yaml", repo + "/config/live.yaml", extra});
+  EXPECT_EQ(c.smoother.fixed_lag_s, 30.0);             // extra.yaml over live.yaml's 60
+  EXPECT_EQ(c.smoother.relinearize_position_m, 0.5);   // live.yaml over ppp.yaml's 0.01
+  EXPECT_EQ(c.signals.systems, (std::vector<ppp::GnssSystem>{ppp::GnssSystem::GPS, ppp::GnssSystem::Galileo}));
+  EXPECT_EQ(c.ros["smoothed"]["trajectory_csv"].as<std::string>(), "smoothed_trajectory.csv");  // live.yaml kept
+  EXPECT_FALSE(c.ros["live"]["expect_corrections"].as<bool>());                                 // extra.yaml added
+  EXPECT_EQ(c.source_name, repo + "/config/ppp.yaml + " + repo + "/config/live.yaml + " + extra);
+  // One file alone is loadPppConfig(path); none is the defaults.
+  EXPECT_EQ(ppp::loadPppConfig(std::vector<std::string>{repo + "/config/live.yaml"}).smoother.fixed_lag_s, 60.0);
+  EXPECT_EQ(ppp::loadPppConfig(std::vector<std::string>{}).smoother.fixed_lag_s, PppConfig{}.smoother.fixed_lag_s);
+  // A key written twice is refused naming the file that has it.
+  const std::string twice = (dir / "twice.yaml").string();
+  std::ofstream(twice) << "smoother:\n  fixed_lag_s: 1.0\n  fixed_lag_s: 2.0\n";
+  try {
+    ppp::loadPppConfig(std::vector<std::string>{repo + "/config/live.yaml", twice});
+    ADD_FAILURE() << "expected ConfigError";
+  } catch (const ConfigError& e) {
+    EXPECT_EQ(e.file(), twice) << e.what();
+  }
+}
+
 TEST(PppConfig, GarbageAndMutatedTemplatesOnlyEverThrowConfigError) {
   const std::string base = ppp::test::readFileBytes(std::string(PPP_REPO_DIR) + "/config/ppp.yaml");
   ASSERT_FALSE(base.empty());

@@ -145,7 +145,9 @@ inline void expectEqualToPppSolve(const std::string& what, const std::vector<sen
     auto it = offline.lower_bound(f.header.stamp - ros::Duration(1e-3));
     ASSERT_TRUE(it != offline.end() && std::abs((it->first - f.header.stamp).toSec()) < 1e-3)
         << what << ": no ppp_solve epoch at " << f.header.stamp;
-    worst = std::max(worst, (fixEcef(f) - it->second).norm());
+    const double d = (fixEcef(f) - it->second).norm();
+    if (std::getenv("PPP_LIVE_DEBUG")) std::printf("%s: %.3f %.6f m\n", what.c_str(), f.header.stamp.toSec(), d);
+    worst = std::max(worst, d);
     ++matched;
   }
   std::printf("[ figures  ] %s: %zu node fixes, %zu ppp_solve epochs; largest difference %.3g mm\n", what.c_str(),

@@ -27,6 +27,9 @@ struct EstimatorEpochInput {
   GnssTime time;
   /// Linearises this epoch's measurements at any receiver state (the single model).
   const MeasurementFunction* evaluate = nullptr;
+  /// The start model (PppMeasurementModel::evaluateStart) for a start without an
+  /// approximate position (PppEstimatorBase::processEpoch); nullable.
+  const MeasurementFunction* evaluate_start = nullptr;
   /// The usable dual-frequency observations and their arc ids (same order).
   const std::vector<DualFrequencyObservation>* observations = nullptr;
   const std::vector<ArcId>* arcs = nullptr;

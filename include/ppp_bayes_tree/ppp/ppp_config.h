@@ -19,6 +19,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include <string>
+#include <vector>
 
 #include "ppp_bayes_tree/models/ssr_correction_store.h"
 #include "ppp_bayes_tree/ppp/ambiguity_resolution.h"
@@ -66,5 +67,12 @@ PppConfig bindPppConfig(const YAML::Node& root, const std::string& source_name);
 PppConfig parsePppConfig(const std::string& yaml_text, const std::string& source_name);
 /// Load a YAML file. Throws ConfigError (also when the file cannot be read).
 PppConfig loadPppConfig(const std::string& path);
+/// Load YAML files laid one on another in order, as the nodes' parameters are
+/// (config/ppp.yaml, then overrides such as config/live.yaml): a later file's
+/// mappings merge key by key into the earlier ones', its scalars and sequences
+/// replace theirs. Syntax and duplicate keys are checked per file (errors name
+/// the file); errors of the merged values name "a.yaml + b.yaml". No file: the
+/// defaults. Throws ConfigError.
+PppConfig loadPppConfig(const std::vector<std::string>& paths);
 
 }  // namespace ppp

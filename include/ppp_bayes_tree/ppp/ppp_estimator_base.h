@@ -6,8 +6,11 @@
 //
 // processEpoch, per epoch:
 //  1. start: without a state, the single-epoch code least squares from the
-//     approximate position (its failure: NoSolution "no initial position");
-//     otherwise the time must advance (else Failed);
+//     approximate position; without one, from the Earth centre: first with the
+//     start model (`evaluate_start`, PppMeasurementModel::evaluateStart: no
+//     troposphere, no elevation cutoff), then from that point with the full
+//     model (either failure: NoSolution "no initial position", with the
+//     reason); otherwise the time must advance (else Failed);
 //  2. predict() (the estimator): the receiver state at this epoch;
 //  3. linearise once at the prediction, keep the usable measurements, shift each
 //     system's white clock by the median of its code residuals (option);
@@ -44,10 +47,16 @@ class PppEstimatorBase {
   /// Starting point of the code least squares of the first epoch (RINEX APPROX
   /// POSITION XYZ); the Earth centre otherwise.
   void setApproximatePosition(const Eigen::Vector3d& position_ecef_m) { approx_position_ecef_m_ = position_ecef_m; }
+  const std::optional<Eigen::Vector3d>& approximatePosition() const { return approx_position_ecef_m_; }
 
   /// Process one epoch in time order. `evaluate` linearises this epoch's
   /// measurements at a state; it is called during this call only.
-  EstimatorEpochResult processEpoch(const GnssTime& time, const MeasurementFunction& evaluate);
+  /// `evaluate_start` (nullable) is the start model, used only when the
+  /// estimator starts without an approximate position (step 1); without it
+  /// such a start is tried from the Earth centre with `evaluate` (which the
+  /// full model refuses there: "no initial position").
+  EstimatorEpochResult processEpoch(const GnssTime& time, const MeasurementFunction& evaluate,
+                                    const MeasurementFunction* evaluate_start = nullptr);
 
   /// End an arc explicitly (e.g. the arc tracker reports it closed).
   void removeArc(ArcId arc);

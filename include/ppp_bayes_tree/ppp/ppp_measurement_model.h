@@ -218,6 +218,22 @@ class PppMeasurementModel {
     return out;
   }
 
+  /// The start model: what the code least squares of the first epoch uses when no
+  /// approximate position is known, so that it can iterate from the Earth centre
+  /// (after RTKLIB pntpos.c, whose first iteration applies neither troposphere
+  /// nor elevation mask). Per satellite the IF code predicted from the geometric
+  /// range of the ephemeris position (its reference point as given: no satellite
+  /// PCO) with the Earth rotation during the flight, the receiver clock of the
+  /// satellite's system and the satellite clock with its relativistic term; no
+  /// troposphere, no elevation cutoff, no antenna, tide, wind-up, Shapiro or
+  /// eclipse terms (metres to tens of metres: a start, refined by the full model).
+  /// Usable at any position, the Earth centre included; one code sigma for all
+  /// satellites (the zenith code sigma). Jacobian: -e for the position, 1 for the
+  /// system's clock, 0 for the ZWD. Rejected with the reason: no receiver clock
+  /// for the system, unusable code, no clock, no orbit.
+  void evaluateStart(const std::vector<DualFrequencyObservation>& observations, const ReceiverState& state,
+                     EpochMeasurements& out) const;
+
   const MeasurementModelOptions& options() const { return options_; }
   /// Where each antenna calibration came from, e.g. "receiver TRM59800.00 SCIS:
   /// igs20_zim2_gps_trim.atx (TRM59800.00 SCIS not found, using TRM59800.00 NONE)",

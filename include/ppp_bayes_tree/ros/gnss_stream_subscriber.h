@@ -25,6 +25,15 @@
 // RxmSFRBX.msg, last changed in fc92537, 2018-08-10), MD5 computed with genmsg 0.6
 // (gentools.compute_md5): RxmRAWX a2df4b27b6a2a1565e42f5669dbb11b5 (= issue 14),
 // RxmSFRBX c76473d828cc8e80de3a2d83cd6b9dff.
+// Arrival time (StreamChunk::arrival_time_s, which LiveGnssInput's waits for the
+// station and the corrections, its latency and its stall state are measured in):
+// ros::Time::now() at the message. Under sim time (use_sim_time: a bag replayed
+// with rosbag play --clock, launch/live.launch example c) that clock is zero
+// until this node has its first /clock message, which can come after the bag's
+// first messages (separate connections; at 10 Hz many): such a message is held,
+// its order kept, and handed on stamped with the first valid time (at the next
+// message or releaseHeld()), never with time zero, which would make an epoch
+// look as old as the bag's time (no wait for its corrections, wrong latency).
 // ROS serialization (wiki.ros.org/roscpp/Overview/MessagesSerializationAndAdaptingTypes,
 // "Serialization"): little endian, a variable array or string = uint32 length +
 // elements, a fixed array = its elements only, a time = uint32 sec + uint32 nsec.
@@ -104,6 +113,9 @@ class GnssStreamSubscriber {
     /// Thread CPU time spent turning messages into chunks (re-serializing, checking,
     /// re-framing RAWX/SFRBX as UBX) [s]; the decoding itself is LiveGnssInput's.
     double conversion_cpu_s = 0.0;
+    /// Messages that arrived before the ROS clock was valid (sim time before the first
+    /// /clock), held and handed on with the first valid time.
+    std::size_t held_for_clock = 0;
   };
 
   /// Subscribes `topic` (relative to nh's namespace); chunks go to `on_chunk` with
@@ -116,6 +128,9 @@ class GnssStreamSubscriber {
 
   const std::string& topic() const { return topic_; }  // resolved name
   const Counters& counters() const { return counters_; }
+  /// Hands on the chunks held for the clock, stamped now, once the ROS clock is valid
+  /// (the node calls it from its timer, which runs only then); nothing otherwise.
+  void releaseHeld();
 
  private:
   void onMessage(const ros::MessageEvent<topic_tools::ShapeShifter const>& event);
@@ -129,6 +144,7 @@ class GnssStreamSubscriber {
   ros::Subscriber sub_;
   ros::WallTime last_error_log_;
   std::map<std::string, std::uint32_t> last_seq_;  // per publisher (caller id)
+  std::vector<ppp::StreamChunk> held_;             // arrived before the clock was valid, in order
 };
 
 }  // namespace ppp_ros

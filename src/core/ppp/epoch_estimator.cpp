@@ -10,7 +10,7 @@ EkfEstimator::EkfEstimator(const PppConfig& config)
 
 EstimatorEpochResult EkfEstimator::processEpoch(const EstimatorEpochInput& input) {
   if (input.ended_arcs) arcsEnded(*input.ended_arcs);
-  EstimatorEpochResult r = ekf_.processEpoch(input.time, *input.evaluate);
+  EstimatorEpochResult r = ekf_.processEpoch(input.time, *input.evaluate, input.evaluate_start);
   if (ambiguity_.options().enabled) resolveAmbiguities(input, r);
   return r;
 }
@@ -48,7 +48,7 @@ SmootherEstimator::SmootherEstimator(const PppConfig& config)
 
 EstimatorEpochResult SmootherEstimator::processEpoch(const EstimatorEpochInput& input) {
   if (input.ended_arcs) arcsEnded(*input.ended_arcs);
-  last_ = smoother_.processEpoch(input.time, *input.evaluate);
+  last_ = smoother_.processEpoch(input.time, *input.evaluate, input.evaluate_start);
   if (ambiguity_.options().enabled) resolveAmbiguities(input, last_);
   return last_;
 }

@@ -177,13 +177,54 @@ PppConfig parsePppConfig(const std::string& yaml_text, const std::string& source
   return bindPppConfig(root, source_name);
 }
 
-PppConfig loadPppConfig(const std::string& path) {
+PppConfig loadPppConfig(const std::string& path) { return loadPppConfig(std::vector<std::string>{path}); }
+
+namespace {
+
+/// One YAML file as a document: syntax and duplicate keys checked, naming the file.
+YAML::Node readConfigDocument(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw ConfigError(path, "", "cannot open the file");
   std::ostringstream os;
   os << in.rdbuf();
   if (in.bad()) throw ConfigError(path, "", "read error");
-  return parsePppConfig(os.str(), path);
+  YAML::Node root;
+  try {
+    root = YAML::Load(os.str());
+  } catch (const YAML::Exception& e) {
+    throw ConfigError(path, "", "YAML syntax error at line " + std::to_string(e.mark.line + 1) + ": " + e.msg);
+  }
+  rejectDuplicateKeys(root, path, "");
+  return root;
+}
+
+/// `over` laid on `base` as the ROS parameter server does with rosparam load:
+/// mappings merge key by key, anything else (scalars, sequences) replaces.
+YAML::Node layered(const YAML::Node& base, const YAML::Node& over) {
+  if (!base.IsMap() || !over.IsMap()) return YAML::Clone(over);
+  YAML::Node out = YAML::Clone(base);
+  for (const auto& kv : over) {
+    const std::string key = kv.first.as<std::string>();
+    const YAML::Node existing = base[key];  // const lookup: inserts nothing
+    out[key] = existing.IsDefined() ? layered(existing, kv.second) : YAML::Clone(kv.second);
+  }
+  return out;
+}
+
+}  // namespace
+
+PppConfig loadPppConfig(const std::vector<std::string>& paths) {
+  if (paths.empty()) return PppConfig{};
+  YAML::Node root;
+  std::string source;
+  for (const auto& path : paths) {
+    const YAML::Node document = readConfigDocument(path);
+    if (!document.IsNull() && !document.IsMap())
+      throw ConfigError(path, "", "the document must be a mapping of sections");
+    root = source.empty() ? document : (document.IsNull() ? root : layered(root, document));
+    source += (source.empty() ? "" : " + ") + path;
+  }
+  return bindPppConfig(root, source);
 }
 
 }  // namespace ppp

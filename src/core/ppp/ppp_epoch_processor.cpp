@@ -133,9 +133,17 @@ PppEpochRecord PppEpochProcessor::process(const ObsEpoch& epoch, EpochEstimator&
     m.time = epoch.time;
     return m;
   };
+  // The start model, for an estimator that starts without an approximate position.
+  const MeasurementFunction evaluate_start = [&](const ReceiverState& state) {
+    EpochMeasurements m;
+    d.model->evaluateStart(d.usable, state, m);
+    m.time = epoch.time;
+    return m;
+  };
   EstimatorEpochInput input;
   input.time = epoch.time;
   input.evaluate = &evaluate;
+  input.evaluate_start = &evaluate_start;
   input.observations = &d.usable;
   input.arcs = &d.arcs;
   input.ended_arcs = &arc_result.ended;

@@ -24,7 +24,8 @@ void PppEstimatorBase::removeArc(ArcId arc) {
   arcRemoved(arc);
 }
 
-EstimatorEpochResult PppEstimatorBase::processEpoch(const GnssTime& time, const MeasurementFunction& evaluate) {
+EstimatorEpochResult PppEstimatorBase::processEpoch(const GnssTime& time, const MeasurementFunction& evaluate,
+                                                    const MeasurementFunction* evaluate_start) {
   const auto t_start = std::chrono::steady_clock::now();
   EstimatorEpochResult result;
   result.time = time;
@@ -43,6 +44,19 @@ EstimatorEpochResult PppEstimatorBase::processEpoch(const GnssTime& time, const 
     ReceiverState s(layout_);
     s.position_ecef_m = approx_position_ecef_m_.value_or(Eigen::Vector3d::Zero());
     s.zwd_m = model_.initial_zwd_m;
+    if (!approx_position_ecef_m_ && evaluate_start != nullptr) {
+      // No approximate position: the start model from the Earth centre gives one.
+      const CodeLeastSquaresResult coarse = codeLeastSquares(*evaluate_start, s, start_options_);
+      result.iterations += coarse.iterations;
+      if (!coarse.ok) {
+        result.rejected = coarse.rejected;
+        fail(result, EpochStatus::NoSolution, NoSolutionReason::NoInitialPosition,
+             "no initial position: no approximate position, start model from the Earth centre: " + coarse.reason);
+        return finish();
+      }
+      s.position_ecef_m = coarse.state.position_ecef_m;
+      for (const GnssSystem system : layout_.clockSystems()) s.setClock_m(system, coarse.state.clock_m(system));
+    }
     const CodeLeastSquaresResult ls = codeLeastSquares(evaluate, s, start_options_);
     result.iterations += ls.iterations;
     if (!ls.ok) {

@@ -436,4 +436,73 @@ void PppMeasurementModel::evaluate(const std::vector<DualFrequencyObservation>& 
   }
 }
 
+void PppMeasurementModel::evaluateStart(const std::vector<DualFrequencyObservation>& observations,
+                                        const ReceiverState& state, EpochMeasurements& out) const {
+  out.used.clear();
+  out.rejected.clear();
+  if (observations.empty()) return;
+  const GnssTime t_rx = observations.front().time;
+  out.time = t_rx;
+  const Eigen::Vector3d receiver = state.position_ecef_m;
+  for (const DualFrequencyObservation& o : observations) {
+    const SatelliteId sat = o.satellite;
+    auto reject = [&](RejectionReason reason, std::string why) { out.rejected.push_back({sat, reason, std::move(why)}); };
+    const int receiver_clock = state.layout.clock(sat.system);
+    if (receiver_clock < 0) {
+      reject(RejectionReason::NoReceiverClock,
+             std::string("no receiver clock for system ") + systemLetter(sat.system) + " in the state layout");
+      continue;
+    }
+    const IonosphereFreeCoefficients k = ionosphereFreeCoefficients(o.frequency1_hz, o.frequency2_hz);
+    const double code_if = ionosphereFree(o.code1_m, o.code2_m, k);
+    const double phase_if = ionosphereFree(o.phase1_cycles * kSpeedOfLight_mps / o.frequency1_hz,
+                                           o.phase2_cycles * kSpeedOfLight_mps / o.frequency2_hz, k);
+    if (!std::isfinite(code_if) || code_if < 1.0e7 || code_if > 1.0e8) {
+      reject(RejectionReason::ObservationUnusable, format("observed IF code %.3f m not usable", code_if));
+      continue;
+    }
+    const GnssTime t_nominal = t_rx - code_if / kSpeedOfLight_mps;
+    const EphemerisAnswer<EphemerisClock> clock = ephemeris_.satelliteClock(sat, t_nominal);
+    if (!clock.ok()) {
+      reject(RejectionReason::NoClock, "no clock: " + clock.detail);
+      continue;
+    }
+    const double dts = clock.value->clock_bias_s;
+    const EphemerisAnswer<EphemerisOrbit> orbit = ephemeris_.satelliteOrbit(sat, t_nominal - dts);
+    if (!orbit.ok()) {
+      reject(RejectionReason::NoOrbit, "no orbit: " + orbit.detail);
+      continue;
+    }
+    const Eigen::Vector3d& sat_tx = orbit.value->position_ecef_m;
+    double tau = (sat_tx - receiver).norm() / kSpeedOfLight_mps;
+    Eigen::Vector3d sat_rx = sat_tx;
+    for (int it = 0; it < 3; ++it) {
+      sat_rx = rotateForEarthRotation(sat_tx, tau);
+      tau = (sat_rx - receiver).norm() / kSpeedOfLight_mps;
+    }
+    const Eigen::Vector3d diff = sat_rx - receiver;
+    const double rho = diff.norm();
+    const Eigen::Vector3d los = diff / rho;
+    const double rel_s = relativisticClockCorrection_s(sat_tx, orbit.value->velocity_ecef_mps);
+    SatelliteMeasurement m;
+    m.satellite = sat;
+    m.predicted_code_m = rho + state.clock_m(sat.system) - kSpeedOfLight_mps * (dts + rel_s);
+    m.predicted_phase_m = m.predicted_code_m;
+    m.observed_code_m = code_if;
+    m.observed_phase_m = phase_if;
+    m.jacobian = Eigen::RowVectorXd::Zero(state.layout.dim());
+    m.jacobian.segment<ReceiverStateLayout::kPositionSize>(state.layout.position()) = -los.transpose();
+    m.jacobian(receiver_clock) = 1.0;
+    const double sigma_factor = options_.scale_sigma_for_ionosphere_free ? ionosphereFreeNoiseFactor(k) : 1.0;
+    m.phase_sigma_m = options_.phase_sigma_zenith_m * sigma_factor;
+    m.code_sigma_m = m.phase_sigma_m * options_.code_phase_ratio;
+    m.satellite_apc_ecef_m = sat_rx;
+    if (!std::isfinite(m.predicted_code_m) || !m.jacobian.allFinite()) {
+      reject(RejectionReason::NonFiniteModel, "non-finite model value");
+      continue;
+    }
+    out.used.push_back(m);
+  }
+}
+
 }  // namespace ppp
