@@ -128,6 +128,7 @@ enum class AmbiguityFloatReason {
   Validating,               // resolveAndHold: too few integers held yet (validation across epochs)
   FloatsDrifting,           // resolveAndHold: no single difference passed the float consistency window
   FloatsOffInteger,         // resolveAndHold: the steady floats all failed the candidate gate
+  IntegerFarFromFloat,      // resolveAndHold: the search's integers failed the candidate gate (last subset tried)
 };
 std::string toString(AmbiguityFloatReason reason);
 
@@ -187,6 +188,10 @@ struct AmbiguityFixedState {
   /// adds to its graph (integer_ambiguity_factor.h) instead of conditioning a copy.
   Eigen::MatrixXd constraint_rows;
   Eigen::VectorXd constraint_values;
+  /// r^T (A P A^T)^-1 r with r = A x - y: the constraints' residual statistic
+  /// against the float state (chi-square with A.rows() degrees of freedom under
+  /// the model; applyIntegerConstraints() computes it with the same factorisation).
+  double constraint_residual_statistic = 0.0;
 };
 
 class AmbiguityResolver {
@@ -263,7 +268,8 @@ class AmbiguityResolver {
   long releases_total_ = 0;
 };
 
-/// The constraints A x = y applied to a copy of (x, P) by exact conditioning;
+/// The constraints A x = y applied to a copy of (x, P) by exact conditioning
+/// (with constraint_residual_statistic; constraint_rows/values are left empty);
 /// nullopt when A P A^T is not positive definite.
 std::optional<AmbiguityFixedState> applyIntegerConstraints(const Eigen::VectorXd& x, const Eigen::MatrixXd& P,
                                                            const Eigen::MatrixXd& A, const Eigen::VectorXd& y);
