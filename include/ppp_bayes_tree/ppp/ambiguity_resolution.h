@@ -51,6 +51,8 @@
 //     hold.release_cycles and hold.release_sigma sigmas, when its wide lane
 //     rounds to another integer, or when its arc or reference arc ends.
 //     New candidates are resolved on the state conditioned on the held ones.
+//     When an arc ends, the held integers through it are re-expressed between
+//     the arcs it linked (hold.rereference_on_arc_end).
 //
 // References: Ge M., Gendt G., Rothacher M., Shi C., Liu J. (2008) Resolution of
 // GPS carrier-phase ambiguities in precise point positioning (PPP) with daily
@@ -102,6 +104,11 @@ struct AmbiguityHoldOptions {
   /// ones) departs by more than both of these.
   double release_cycles = 0.4;
   double release_sigma = 4.0;
+  /// When an arc ends, the held integers through it are re-expressed between
+  /// the arcs it linked (N(a - e) - N(b - e) = N(a - b), the same for the wide
+  /// lanes), so that the held set survives the end of its reference arc instead
+  /// of being validated again from nothing.
+  bool rereference_on_arc_end = true;
 };
 
 struct AmbiguityResolutionOptions {

@@ -97,7 +97,28 @@ void AmbiguityResolver::arcsEnded(const std::vector<EndedArc>& ended) {
     wide_lane_.removeArc(e.arc);
     last_observation_.erase(e.arc);
     auto touches = [&](const PairKey& k) { return k.arc == e.arc || k.reference_arc == e.arc; };
-    for (auto it = held_.begin(); it != held_.end();) it = touches(it->first) ? held_.erase(it) : std::next(it);
+    // The held single differences through the ended arc, as (other arc - ended arc).
+    struct Through {
+      ArcId arc;
+      long wide_lane_cycles, narrow_lane_cycles;
+    };
+    std::vector<Through> through;
+    for (auto it = held_.begin(); it != held_.end();) {
+      if (!touches(it->first)) {
+        ++it;
+        continue;
+      }
+      if (it->first.reference_arc == e.arc)
+        through.push_back({it->first.arc, it->first.wide_lane_cycles, it->second});
+      else
+        through.push_back({it->first.reference_arc, -it->first.wide_lane_cycles, -it->second});
+      it = held_.erase(it);
+    }
+    // Their differences stay integers (the held pairs form a forest, so none is held yet).
+    if (options_.hold.rereference_on_arc_end)
+      for (std::size_t i = 1; i < through.size(); ++i)
+        held_[PairKey{through[i].arc, through[0].arc, through[i].wide_lane_cycles - through[0].wide_lane_cycles}] =
+            through[i].narrow_lane_cycles - through[0].narrow_lane_cycles;
     for (auto it = pending_.begin(); it != pending_.end();) it = touches(it->first) ? pending_.erase(it) : std::next(it);
     for (auto it = float_history_.begin(); it != float_history_.end();)
       it = touches(it->first) ? float_history_.erase(it) : std::next(it);
