@@ -174,7 +174,7 @@ int main(int argc, char** argv) {
       nl_csv << "time_s,satellite,reference,wide_lane,float_cycles,sigma_cycles,held_cycles\n";
     }
     const std::size_t first_hour = 120;  // solved epochs (30 s)
-    std::size_t solved = 0, after = 0, fixed_after = 0, wrong = 0, moved = 0, float_wrong = 0;
+    std::size_t solved = 0, after = 0, fixed_after = 0, wrong = 0, wrong_float_too = 0, moved = 0, float_wrong = 0;
     std::optional<double> first_fix_s;
     std::optional<GnssTime> first_time;
     std::vector<Eigen::Vector3d> fixed_enu, float_enu;
@@ -230,20 +230,24 @@ int main(int argc, char** argv) {
       ++fixed_after;
       fixed_enu.push_back(enu);
       if (enu.norm() > 0.10) ++wrong;
+      if (enu.norm() > 0.10 && float_enu_now && float_enu_now->norm() > 0.10) ++wrong_float_too;
       if (float_enu_now && (enu - *float_enu_now).norm() > 0.05) ++moved;
       if (e.fix && e.fix->held_residual_dof > 0)
         t_over_m.push_back(e.fix->held_residual_statistic / e.fix->held_residual_dof);
     }
     const Eigen::Vector3d rms_fixed = rmsAboutMean(fixed_enu), rms_float = rmsAboutMean(float_enu);
+    char first_fix_buf[32] = "never";
+    if (first_fix_s) std::snprintf(first_fix_buf, sizeof first_fix_buf, "%.1f", *first_fix_s / 60.0);
+    const std::string first_fix_text = first_fix_buf;
     std::printf("reference (float static, last solved epoch) ECEF %.4f %.4f %.4f m\n", reference->x(), reference->y(),
                 reference->z());
     std::printf("solved %zu epochs, after the first hour %zu\n", solved, after);
     std::printf("float: %zu epochs > 10 cm after the first hour; RMS E/N/U about the mean %.2f / %.2f / %.2f cm\n",
                 float_wrong, 100 * rms_float.x(), 100 * rms_float.y(), 100 * rms_float.z());
-    std::printf("PPP-AR: first fix %s min; fixed after the first hour %zu (%.1f %%); fixed > 10 cm: %zu; "
+    std::printf("PPP-AR: first fix %s min; fixed after the first hour %zu (%.1f %%); fixed > 10 cm: %zu (float too: %zu); "
                 "moved > 5 cm from the float: %zu; fixed RMS E/N/U %.2f / %.2f / %.2f cm\n",
-                first_fix_s ? std::to_string(*first_fix_s / 60.0).c_str() : "never", fixed_after,
-                after ? 100.0 * static_cast<double>(fixed_after) / static_cast<double>(after) : 0.0, wrong, moved,
+                first_fix_text.c_str(), fixed_after,
+                after ? 100.0 * static_cast<double>(fixed_after) / static_cast<double>(after) : 0.0, wrong, wrong_float_too, moved,
                 100 * rms_fixed.x(), 100 * rms_fixed.y(), 100 * rms_fixed.z());
     std::printf("held set T/m over the fixed epochs after the first hour: 10/50/90/99 %% = %.1f / %.1f / %.1f / %.1f\n",
                 quantile(t_over_m, 0.10), quantile(t_over_m, 0.50), quantile(t_over_m, 0.90),
