@@ -68,6 +68,10 @@ class RecordingEkf : public EpochEstimator {
 std::vector<EpochOut> runEkf(const PppInputFiles& files, const std::string& yaml, const std::string& name) {
   const PppConfig config = parsePppConfig(yaml, name);
   PppPipeline pipeline(files, config);
+  if (config.ambiguity_resolution.enabled)  // the products' verdicts (antenna model, phase biases)
+    for (const auto& n : pipeline.notes())
+      if (n.find("ambiguity resolution") != std::string::npos || n.find("antenna model") != std::string::npos)
+        std::cout << name << ": " << n << "\n";
   RecordingEkf ekf(config);
   std::vector<EpochOut> out;
   pipeline.run(ekf, [&](const PppEpochRecord& r) {

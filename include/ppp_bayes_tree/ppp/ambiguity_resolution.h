@@ -119,6 +119,11 @@ struct AmbiguityResolutionOptions {
   WideLaneOptions wide_lane;
   IlsOptions narrow_lane;
   AmbiguityHoldOptions hold;
+  /// Fix even when the satellite antenna model of the products (SP3/clock header)
+  /// differs from the ANTEX's (antenna_model_consistency.h); false: such a run
+  /// stays float with the reason named. Off by default: a PCO difference leaves a
+  /// constant narrow-lane offset per satellite (ESBC: up to 0.3 cycle).
+  bool allow_antenna_model_mismatch = false;
   /// "" when valid, else the reason.
   std::string validate() const;
 };
