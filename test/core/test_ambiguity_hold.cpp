@@ -180,6 +180,60 @@ TEST(AmbiguityHold, WrongIntegerIsHeldThenDetectedReleasedAndTheEstimateReturns)
   EXPECT_LT((fixed->x.head(3) - s.truth.head(3)).norm(), 1e-6);
 }
 
+TEST(AmbiguityHold, HeldIntegersSurviveTheEndOfTheirReferenceArc) {
+  // Five integers held against one reference arc; the reference arc ends. With
+  // hold.rereference_on_arc_end the held set is re-expressed between the other
+  // arcs (N(a - e) - N(b - e) = N(a - b)) and the next epoch is fixed at once
+  // with the true differences; without it nothing is held and the integers are
+  // searched and validated again.
+  SyntheticProblem s;
+  const int rd = SyntheticProblem::receiver_dim;
+  for (const bool rereference : {true, false}) {
+    AmbiguityResolutionOptions opt;
+    opt.enabled = true;
+    opt.hold.rereference_on_arc_end = rereference;
+    AmbiguityResolver resolver(opt);
+    s.feedWideLanes(resolver, 60);
+    AmbiguityFixSummary summary;
+    std::optional<AmbiguityFixedState> fixed;
+    for (int k = 0; k < 20 && resolver.heldCount() < 5; ++k)
+      fixed = resolver.resolveAndHold(s.truth, s.P, rd, s.bias_arcs, &s.osb, summary);
+    ASSERT_EQ(resolver.heldCount(), 5) << summary.text();
+    ASSERT_TRUE(summary.reference_satellite.has_value());
+    // The reference arc ends: it leaves the state.
+    int gone = -1;
+    for (int i = 0; i < static_cast<int>(s.arcs.size()); ++i)
+      if (s.arcs[static_cast<std::size_t>(i)].prn == summary.reference_satellite->prn) gone = i;
+    ASSERT_GE(gone, 0);
+    EndedArc ended;
+    ended.satellite = *summary.reference_satellite;
+    ended.arc = s.arcs[static_cast<std::size_t>(gone)].arc;
+    resolver.arcsEnded({ended});
+    EXPECT_EQ(resolver.heldCount(), rereference ? 4 : 0);
+    std::vector<int> keep;
+    for (int i = 0; i < static_cast<int>(s.truth.size()); ++i)
+      if (i != rd + gone) keep.push_back(i);
+    const int n = static_cast<int>(keep.size());
+    Eigen::VectorXd x(n);
+    Eigen::MatrixXd P(n, n);
+    for (int i = 0; i < n; ++i) {
+      x(i) = s.truth(keep[static_cast<std::size_t>(i)]);
+      for (int j = 0; j < n; ++j) P(i, j) = s.P(keep[static_cast<std::size_t>(i)], keep[static_cast<std::size_t>(j)]);
+    }
+    std::vector<ArcId> arcs = s.bias_arcs;
+    arcs.erase(arcs.begin() + gone);
+    fixed = resolver.resolveAndHold(x, P, rd, arcs, &s.osb, summary);
+    if (!rereference) {
+      EXPECT_FALSE(fixed.has_value()) << summary.text();
+      continue;
+    }
+    ASSERT_TRUE(fixed.has_value()) << summary.text();
+    EXPECT_EQ(summary.held, 4);
+    EXPECT_TRUE(summary.released.empty());
+    for (int i = rd + 1; i < n; ++i) EXPECT_NEAR(fixed->x(i) - fixed->x(rd), x(i) - x(rd), 1e-6) << "state " << i;
+  }
+}
+
 TEST(AmbiguityHold, DriftingFloatIsNotSearchedAndAChangedIntegerIsNotHeld) {
   SyntheticProblem s;
   const int rd = SyntheticProblem::receiver_dim;
@@ -259,12 +313,15 @@ class RecordingEkf : public EpochEstimator {
     EstimatorEpochResult r = ekf_.processEpoch(in);
     if (r.ambiguity_fix) last = *r.ambiguity_fix;
     if (r.ambiguity_fix && r.ambiguity_fix->fixed()) ++fixed_epochs;
+    if (keep_all) all.push_back(r.ambiguity_fix);
     return r;
   }
   void arcsEnded(const std::vector<EndedArc>& e) override { ekf_.arcsEnded(e); }
   const PppEstimatorBase& core() const override { return ekf_.core(); }
   AmbiguityFixSummary last;
   int fixed_epochs = 0;
+  bool keep_all = false;  // every epoch's summary in `all` (in processing order)
+  std::vector<std::optional<AmbiguityFixSummary>> all;
 
  private:
   EkfEstimator ekf_;
@@ -283,7 +340,9 @@ TEST(AmbiguityHold, RealCcj2HeldNarrowLanesAreIntegersAcrossArcs) {
   // determined and the single differences show what the products and models
   // leave in them.
   const PppConfig config = parsePppConfig(
-      "stochastic:\n  position:\n    process_noise_m_per_sqrt_s: 0.0\nambiguity_resolution:\n  enabled: true\n",
+      "stochastic:\n  position:\n    process_noise_m_per_sqrt_s: 0.0\nambiguity_resolution:\n  enabled: true\n"
+      // WUM made its products with igs14_2148, the ANTEX is IGS20: measured as it is.
+      "  allow_antenna_model_mismatch: true\n",
       "static PPP-AR");
   PppPipeline pipeline(files, config);
   RecordingEkf ekf(config);
@@ -311,8 +370,9 @@ TEST(AmbiguityHold, RealEsbcStaticFixesStayNearTheDaysFloatPosition) {
   // ESBC 2020-177, GRG integer-recovery clocks (wide-lane biases in the clock
   // header), static EKF over the whole day. No external truth: the reference is
   // the day's own float static position (the last solved epoch). After the
-  // first hour at least 85 % of the epochs are fixed (79.9 % without the
-  // candidate gate, 86.2 % with it; doc/ar_real_data.md) and no fixed epoch is
+  // first hour at least 89.5 % of the epochs are fixed (79.9 % without the
+  // candidate gate, 86.2 % with it, 89.9 % when the held integers also survive
+  // the end of their reference arc; ppp_ar_study --static, doc/ar_real_data.md) and no fixed epoch is
   // more than 10 cm from the reference (the wrong-fix criterion).
   PPP_REQUIRE_SHARED_DATA();
   PppInputFiles files;
@@ -333,7 +393,8 @@ TEST(AmbiguityHold, RealEsbcStaticFixesStayNearTheDaysFloatPosition) {
   };
   std::vector<std::pair<Eigen::Vector3d, bool>> floats, fixes;
   run(static_yaml, floats);
-  run(static_yaml + "ambiguity_resolution:\n  enabled: true\n", fixes);
+  // GRG made its products with igs14_2108, the ANTEX is IGS20: the mismatch is measured as it is.
+  run(static_yaml + "ambiguity_resolution:\n  enabled: true\n  allow_antenna_model_mismatch: true\n", fixes);
   ASSERT_GT(floats.size(), 2000u);
   ASSERT_GT(fixes.size(), 2000u);
   const Eigen::Vector3d reference = floats.back().first;
@@ -352,8 +413,89 @@ TEST(AmbiguityHold, RealEsbcStaticFixesStayNearTheDaysFloatPosition) {
   std::cout << "ESBC static: fixed " << fixed << " of " << after << " epochs after the first hour (" << 100.0 * share
             << " %), largest 3D distance from the day's float position: fixed " << 100.0 * worst_fixed_m
             << " cm, float " << 100.0 * worst_float_m << " cm\n";
-  EXPECT_GE(share, 0.85);
+  EXPECT_GE(share, 0.895);
   EXPECT_LT(worst_fixed_m, 0.10);
+}
+
+TEST(AmbiguityHold, RealEsbcKinematicOffsetsAreConstantPerSingleDifference) {
+  // ESBC 2020-177, GRG integer-recovery clocks, kinematic EKF with AR (the
+  // defaults), judged against the day's float static position (the last solved
+  // epoch). Measured with ppp_ar_study (doc/ar_real_data.md): 78.1 % of the
+  // epochs after the first hour fixed (77.7 % before the held integers survived
+  // the end of their reference arc), 96 fixed epochs > 10 cm (66 of them where
+  // the float is > 10 cm too), first fix 119.5 min.
+  // The held narrow lanes' floats lie 0.14 cycle RMS from their integers but
+  // only 0.026 cycle about their own single difference's mean over the day: the
+  // offsets are constant per satellite (a model/product mismatch: GRG made its
+  // clocks with igs14_2108.atx, we use IGS20 satellite antennas), not noise the
+  // covariance misses (the held floats' formal sigma is 0.036 cycle median).
+  PPP_REQUIRE_SHARED_DATA();
+  PppInputFiles files;
+  files.obs = test::dataPath("esbc-2020-177/ESBC00DNK_R_20201770000_01D_30S_MO.crx.gz");
+  files.sp3 = {test::dataPath("esbc-2020-177/GRG0MGXFIN_20201770000_01D_15M_ORB.SP3.gz")};
+  files.clk = {test::dataPath("esbc-2020-177/GRG0MGXFIN_20201770000_01D_30S_CLK.CLK.gz")};
+  files.atx = {test::dataPath("antex/igs20_gps_satellites_trim.atx"),
+               test::dataPath("antex/igs05_esbc_receiver_trim.atx")};
+  std::optional<Eigen::Vector3d> reference;
+  {
+    const PppConfig config =
+        parsePppConfig("stochastic:\n  position:\n    process_noise_m_per_sqrt_s: 0.0\n", "ESBC static float");
+    PppPipeline pipeline(files, config);
+    EkfEstimator ekf(config);
+    pipeline.run(ekf, [&](const PppEpochRecord& r) {
+      if (r.solution.position_ecef_m) reference = r.solution.position_ecef_m;
+    });
+  }
+  ASSERT_TRUE(reference.has_value());
+  const PppConfig config = parsePppConfig(
+      "ambiguity_resolution:\n  enabled: true\n  allow_antenna_model_mismatch: true\n",  // IGS14 products, IGS20 ANTEX
+      "ESBC kinematic AR");
+  PppPipeline pipeline(files, config);
+  RecordingEkf ekf(config);
+  ekf.keep_all = true;
+  std::vector<std::pair<Eigen::Vector3d, bool>> solved;
+  std::vector<std::size_t> summary_of;  // index into ekf.all of each solved epoch
+  pipeline.run(ekf, [&](const PppEpochRecord& r) {
+    if (!r.solution.position_ecef_m) return;
+    solved.emplace_back(*r.solution.position_ecef_m, r.solution.status == SolutionStatus::PppFixed);
+    summary_of.push_back(ekf.all.size() - 1);
+  });
+  ASSERT_GT(solved.size(), 2000u);
+  const std::size_t first_hour = 120;  // 30-s epochs
+  int after = 0, fixed = 0, wrong = 0;
+  std::map<std::pair<int, int>, std::vector<double>> residuals;  // (satellite, reference) -> float - integer
+  for (std::size_t i = first_hour; i < solved.size(); ++i) {
+    ++after;
+    if (!solved[i].second) continue;
+    ++fixed;
+    if ((solved[i].first - *reference).norm() > 0.10) ++wrong;
+    const auto& summary = ekf.all[summary_of[i]];
+    if (!summary) continue;
+    for (const auto& n : summary->narrow_lanes)
+      if (n.held_cycles)
+        residuals[{n.satellite.prn, n.reference_satellite.prn}].push_back(n.float_cycles -
+                                                                          static_cast<double>(*n.held_cycles));
+  }
+  double sum_sq = 0.0, within_sq = 0.0;
+  std::size_t count = 0;
+  for (const auto& [pair, r] : residuals) {
+    double mean = 0.0;
+    for (double v : r) mean += v;
+    mean /= static_cast<double>(r.size());
+    for (double v : r) sum_sq += v * v, within_sq += (v - mean) * (v - mean);
+    count += r.size();
+  }
+  ASSERT_GT(count, 10000u);
+  const double rms = std::sqrt(sum_sq / count), within = std::sqrt(within_sq / count);
+  const double share = static_cast<double>(fixed) / after;
+  std::cout << "ESBC kinematic AR: fixed " << fixed << " of " << after << " epochs after the first hour (" << 100.0 * share
+            << " %), " << wrong << " fixed epochs > 10 cm from the day's float static position; held NL float - integer: "
+            << "RMS " << rms << " cycle, about each single difference's mean " << within << " cycle (" << count
+            << " values, " << residuals.size() << " single differences)\n";
+  EXPECT_GE(share, 0.780);
+  EXPECT_LE(wrong, 96);
+  EXPECT_GT(rms, 0.10);
+  EXPECT_LT(within, 0.04);
 }
 
 }  // namespace

@@ -51,6 +51,8 @@
 //     hold.release_cycles and hold.release_sigma sigmas, when its wide lane
 //     rounds to another integer, or when its arc or reference arc ends.
 //     New candidates are resolved on the state conditioned on the held ones.
+//     When an arc ends, the held integers through it are re-expressed between
+//     the arcs it linked (hold.rereference_on_arc_end).
 //
 // References: Ge M., Gendt G., Rothacher M., Shi C., Liu J. (2008) Resolution of
 // GPS carrier-phase ambiguities in precise point positioning (PPP) with daily
@@ -102,6 +104,11 @@ struct AmbiguityHoldOptions {
   /// ones) departs by more than both of these.
   double release_cycles = 0.4;
   double release_sigma = 4.0;
+  /// When an arc ends, the held integers through it are re-expressed between
+  /// the arcs it linked (N(a - e) - N(b - e) = N(a - b), the same for the wide
+  /// lanes), so that the held set survives the end of its reference arc instead
+  /// of being validated again from nothing.
+  bool rereference_on_arc_end = true;
 };
 
 struct AmbiguityResolutionOptions {
@@ -112,6 +119,11 @@ struct AmbiguityResolutionOptions {
   WideLaneOptions wide_lane;
   IlsOptions narrow_lane;
   AmbiguityHoldOptions hold;
+  /// Fix even when the satellite antenna model of the products (SP3/clock header)
+  /// differs from the ANTEX's (antenna_model_consistency.h); false: such a run
+  /// stays float with the reason named. Off by default: a PCO difference leaves a
+  /// constant narrow-lane offset per satellite (ESBC: up to 0.3 cycle).
+  bool allow_antenna_model_mismatch = false;
   /// "" when valid, else the reason.
   std::string validate() const;
 };
@@ -128,6 +140,7 @@ enum class AmbiguityFloatReason {
   Validating,               // resolveAndHold: too few integers held yet (validation across epochs)
   FloatsDrifting,           // resolveAndHold: no single difference passed the float consistency window
   FloatsOffInteger,         // resolveAndHold: the steady floats all failed the candidate gate
+  IntegerFarFromFloat,      // resolveAndHold: the search's integers failed the candidate gate (last subset tried)
 };
 std::string toString(AmbiguityFloatReason reason);
 
@@ -187,6 +200,10 @@ struct AmbiguityFixedState {
   /// adds to its graph (integer_ambiguity_factor.h) instead of conditioning a copy.
   Eigen::MatrixXd constraint_rows;
   Eigen::VectorXd constraint_values;
+  /// r^T (A P A^T)^-1 r with r = A x - y: the constraints' residual statistic
+  /// against the float state (chi-square with A.rows() degrees of freedom under
+  /// the model; applyIntegerConstraints() computes it with the same factorisation).
+  double constraint_residual_statistic = 0.0;
 };
 
 class AmbiguityResolver {
@@ -263,7 +280,8 @@ class AmbiguityResolver {
   long releases_total_ = 0;
 };
 
-/// The constraints A x = y applied to a copy of (x, P) by exact conditioning;
+/// The constraints A x = y applied to a copy of (x, P) by exact conditioning
+/// (with constraint_residual_statistic; constraint_rows/values are left empty);
 /// nullopt when A P A^T is not positive definite.
 std::optional<AmbiguityFixedState> applyIntegerConstraints(const Eigen::VectorXd& x, const Eigen::MatrixXd& P,
                                                            const Eigen::MatrixXd& A, const Eigen::VectorXd& y);

@@ -97,9 +97,9 @@ class SmootherEstimator : public EpochEstimator {
   const EstimatorEpochResult& lastResult() const { return last_; }
   /// PPP-AR (when enabled): the EKF's decision path, AmbiguityResolver::resolveAndHold,
   /// on the smoother's float joint (PppSmoother::floatJoint: root clique, held
-  /// fixes taken out); the held integers are held in the graph
-  /// (PppSmoother::holdIntegerConstraints) and one released as wrong is removed
-  /// (PppSmoother::releaseFixes). The result's solution is then the filtered
+  /// fixes taken out); the held integers are held in the graph and one released
+  /// as wrong is removed, both in one update (PppSmoother::updateFixes). The
+  /// result's solution is then the filtered
   /// solution with the fixes; FIXED when the resolver holds at least
   /// narrow_lane.min_fixed integers (as the EKF).
   void resolveAmbiguities(const EstimatorEpochInput& input, EstimatorEpochResult& r);

@@ -97,7 +97,6 @@ enum class IlsFloatReason {
   TooFewAmbiguities,  // fewer than min_fixed ambiguities offered
   LowSuccessRate,     // not even min_fixed decorrelated ambiguities reach the success rate
   RatioTestFailed,    // no subset of at least min_fixed passed the ratio test
-  IntegerFarFromFloat,  // (AmbiguityResolver) an accepted integer lies too far from its float
 };
 std::string toString(IlsFloatReason reason);
 

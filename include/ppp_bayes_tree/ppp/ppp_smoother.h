@@ -158,6 +158,15 @@ class PppSmoother : public PppEstimatorBase, public SmoothedTrajectoryProvider {
   /// refreshes the filtered solution and joint. Returns the number of factors
   /// added; throws what the update throws.
   int holdIntegerConstraints(const Eigen::MatrixXd& A, const Eigen::VectorXd& y);
+  /// releaseFixes(release) and holdIntegerConstraints(A, y) in ONE iSAM2 update
+  /// (the removed factors' indices and the new factors together) and one refresh
+  /// of the filtered solution: what the estimator does each epoch. A may have no
+  /// rows. Returns the fixes removed and added; throws what the update throws.
+  struct FixChanges {
+    int removed = 0, added = 0;
+  };
+  FixChanges updateFixes(const std::vector<std::pair<ArcId, ArcId>>& release, const Eigen::MatrixXd& A,
+                         const Eigen::VectorXd& y);
   /// The filtered joint WITHOUT the held fixes (the float solution of all data so
   /// far): the information of every held fix whose arcs are all in the joint is
   /// taken out exactly (fixes on arcs outside it stay in: they can no longer be
@@ -168,14 +177,14 @@ class PppSmoother : public PppEstimatorBase, public SmoothedTrajectoryProvider {
   /// from the graph (remove_factor_indices: a wrong fix released by the resolver),
   /// counted in fixesRemoved(); refreshes the filtered solution. Returns the number removed.
   int releaseFixes(const std::vector<std::pair<ArcId, ArcId>>& pairs);
-  /// Held fixes whose arcs were all observed at the last epoch.
-  int heldFixCount() const;
   /// A fix held in the graph: its factor (an IntegerAmbiguityFactor), its index in
-  /// the graph and the arcs of its bias keys (same order).
+  /// the graph and the arcs of its bias keys (same order as the factor's
+  /// coefficients); sorted_arcs: the same arcs sorted (the fix's identity).
   struct HeldFix {
     smoother::FactorIndex index = 0;
     std::vector<ArcId> arcs;
     smoother::NonlinearFactor::Ptr factor;
+    std::vector<ArcId> sorted_arcs;
   };
   const std::vector<HeldFix>& heldFixes() const { return held_; }
   /// Fixes removed as wrong so far.

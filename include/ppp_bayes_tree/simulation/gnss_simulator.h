@@ -166,6 +166,14 @@ struct SimulatedFlight {
   }
 };
 
+/// The dual-frequency pair (RINEX bands) the simulator transmits for a system
+/// and the estimator combines ionosphere-free: GPS L1/L2 ('1', '2'), Galileo
+/// E1/E5a ('1', '5').
+struct SimulatedBands {
+  char band1 = '1', band2 = '2';
+};
+SimulatedBands simulatedIonosphereFreeBands(GnssSystem system);
+
 /// Measurement-model options matching the simulation physics (elevation cutoff
 /// 7 deg as the estimator default; no ANTEX, tides or ocean loading; no eclipse
 /// exclusion; wind-up, Shapiro on; modified Hopfield dry delay and mapping).

@@ -9,6 +9,7 @@
 #include <mutex>
 #include <thread>
 
+#include "ppp_bayes_tree/models/ionosphere_free.h"
 #include "ppp_bayes_tree/ppp/epoch_estimator.h"
 #include "ppp_bayes_tree/ppp/ppp_factors.h"
 #include "ppp_bayes_tree/ppp/ppp_pipeline.h"
@@ -24,16 +25,25 @@ constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 double secondsSince(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
+/// Median (mean of the two middle values for an even count; +inf counts as a
+/// value); NaN when empty.
+double medianOf(std::vector<double> v) {
+  if (v.empty()) return kNaN;
+  std::sort(v.begin(), v.end());
+  const std::size_t h = v.size() / 2;
+  return v.size() % 2 == 1 ? v[h] : 0.5 * (v[h - 1] + v[h]);
+}
+
 /// Tag of the Monte Carlo's own sub-stream of a flight seed (the simulator
 /// derives its streams from small tags of the same seed).
 constexpr std::uint64_t kSetupStreamTag = 0x4d6f6e7465436172ULL;  // "MonteCar"
 
-/// IF wind-up wavelength c / (f1 + f2) of a system's simulated pair
-/// (ppp_measurement_model.cpp): GPS L1/L2 10.7 cm, Galileo E1/E5a 10.9 cm.
-double windupWavelength_m(GnssSystem system) {
-  const double f1 = *carrierFrequency_hz(system, '1');
-  const double f2 = *carrierFrequency_hz(system, system == GnssSystem::GPS ? '2' : '5');
-  return kSpeedOfLight_mps / (f1 + f2);
+/// The IF wind-up wavelength of a system's simulated pair is its narrow-lane
+/// wavelength c / (f1 + f2) (ppp_measurement_model.cpp): GPS L1/L2 10.7 cm,
+/// Galileo E1/E5a 10.9 cm.
+double simulatedNarrowLaneWavelength_m(GnssSystem system) {
+  const SimulatedBands bands = simulatedIonosphereFreeBands(system);
+  return narrowLaneWavelength_m(*carrierFrequency_hz(system, bands.band1), *carrierFrequency_hz(system, bands.band2));
 }
 
 /// Bias bookkeeping of one estimator arc.
@@ -69,7 +79,7 @@ class BiasSampler {
         } else {
           a.simulated_arc = s->arc;
           a.truth_m = f_.arcs[s->arc - 1].bias_if_m +
-                      windupWavelength_m(r.satellite.system) * std::round(s->windup_cycles);
+                      simulatedNarrowLaneWavelength_m(r.satellite.system) * std::round(s->windup_cycles);
         }
         it = arcs_.emplace(r.arc, std::move(a)).first;
       }
@@ -366,9 +376,9 @@ MonteCarloSummary summarizeMonteCarlo(const std::vector<MonteCarloFlightRun>& fl
     std::vector<double> first_fix;
     for (const auto* f : ok) {
       std::optional<double> t;
-      const std::size_t ei = e == 0 ? 0 : 1;
-      for (std::size_t k = 0; k < f->fixed[e].size() && k < f->error_3d_m[ei].size(); ++k) {
-        if (!std::isfinite(f->error_3d_m[ei][k])) continue;
+      // fixed[0] / fixed[1] belong to the EKF / filtered, error_3d_m[0] / [1] likewise.
+      for (std::size_t k = 0; k < f->fixed[e].size() && k < f->error_3d_m[e].size(); ++k) {
+        if (!std::isfinite(f->error_3d_m[e][k])) continue;
         ++solved;
         if (!f->fixed[e][k]) continue;
         ++fixed;
@@ -378,11 +388,7 @@ MonteCarloSummary summarizeMonteCarlo(const std::vector<MonteCarloFlightRun>& fl
       first_fix.push_back(t ? *t : std::numeric_limits<double>::infinity());
     }
     s.fixed_share[e] = solved ? static_cast<double>(fixed) / static_cast<double>(solved) : kNaN;
-    std::sort(first_fix.begin(), first_fix.end());
-    s.first_fix_median_s[e] = first_fix.empty() ? kNaN
-                              : first_fix.size() % 2 == 1
-                                  ? first_fix[first_fix.size() / 2]
-                                  : 0.5 * (first_fix[first_fix.size() / 2 - 1] + first_fix[first_fix.size() / 2]);
+    s.first_fix_median_s[e] = medianOf(std::move(first_fix));
   }
   for (int e = 0; e < kMonteCarloEstimators; ++e) {
     const auto ei = static_cast<std::size_t>(e);
@@ -416,12 +422,7 @@ MonteCarloSummary summarizeMonteCarlo(const std::vector<MonteCarloFlightRun>& fl
         if (!c) ++never;
         times.push_back(c ? *c : std::numeric_limits<double>::infinity());
       }
-      std::sort(times.begin(), times.end());
-      double med = kNaN;
-      if (!times.empty())
-        med = times.size() % 2 == 1 ? times[times.size() / 2]
-                                    : 0.5 * (times[times.size() / 2 - 1] + times[times.size() / 2]);
-      s.convergence_median_s[ei].push_back(med);
+      s.convergence_median_s[ei].push_back(medianOf(std::move(times)));
       s.convergence_never[ei].push_back(never);
     }
     s.error_vs_time[ei] = binQuantiles(vs_time, options.time_bin_s);

@@ -47,6 +47,8 @@ std::string toString(AmbiguityFloatReason reason) {
     case AmbiguityFloatReason::FloatsDrifting: return "narrow-lane floats still drift (spread over the window too large)";
     case AmbiguityFloatReason::FloatsOffInteger:
       return "narrow-lane floats too far from an integer or too uncertain (candidate gate)";
+    case AmbiguityFloatReason::IntegerFarFromFloat:
+      return "an integer the search returned lies too far from its float (candidate gate)";
   }
   return "unknown";
 }
@@ -73,6 +75,9 @@ std::string AmbiguityFixSummary::text() const {
     std::snprintf(buf, sizeof buf, ": %s (ratio %.2f, %d candidates)", toString(ils_reason).c_str(), ratio,
                   narrow_lane_candidates);
     s += buf;
+  } else if (float_reason == AmbiguityFloatReason::IntegerFarFromFloat) {
+    std::snprintf(buf, sizeof buf, " (ratio %.2f, %d candidates)", ratio, narrow_lane_candidates);
+    s += buf;
   }
   return s;
 }
@@ -92,7 +97,28 @@ void AmbiguityResolver::arcsEnded(const std::vector<EndedArc>& ended) {
     wide_lane_.removeArc(e.arc);
     last_observation_.erase(e.arc);
     auto touches = [&](const PairKey& k) { return k.arc == e.arc || k.reference_arc == e.arc; };
-    for (auto it = held_.begin(); it != held_.end();) it = touches(it->first) ? held_.erase(it) : std::next(it);
+    // The held single differences through the ended arc, as (other arc - ended arc).
+    struct Through {
+      ArcId arc;
+      long wide_lane_cycles, narrow_lane_cycles;
+    };
+    std::vector<Through> through;
+    for (auto it = held_.begin(); it != held_.end();) {
+      if (!touches(it->first)) {
+        ++it;
+        continue;
+      }
+      if (it->first.reference_arc == e.arc)
+        through.push_back({it->first.arc, it->first.wide_lane_cycles, it->second});
+      else
+        through.push_back({it->first.reference_arc, -it->first.wide_lane_cycles, -it->second});
+      it = held_.erase(it);
+    }
+    // Their differences stay integers (the held pairs form a forest, so none is held yet).
+    if (options_.hold.rereference_on_arc_end)
+      for (std::size_t i = 1; i < through.size(); ++i)
+        held_[PairKey{through[i].arc, through[0].arc, through[i].wide_lane_cycles - through[0].wide_lane_cycles}] =
+            through[i].narrow_lane_cycles - through[0].narrow_lane_cycles;
     for (auto it = pending_.begin(); it != pending_.end();) it = touches(it->first) ? pending_.erase(it) : std::next(it);
     for (auto it = float_history_.begin(); it != float_history_.end();)
       it = touches(it->first) ? float_history_.erase(it) : std::next(it);
@@ -112,18 +138,44 @@ void AmbiguityResolver::holdInteger(ArcId arc, ArcId reference_arc, long wide_la
   held_[key] = narrow_lane_cycles;
 }
 
+namespace {
+
+/// Exact conditioning of (x, P) on A x = y with ONE factorisation of
+/// S = A P A^T, which also gives u = S^-1 (A x - y) and, on request, diag(S^-1):
+/// the leave-one-out test of each constraint against the others needs only
+/// these (with K = S^-1, the float of row i conditioned on the other rows lies
+/// u_i / K_ii from its value y_i, with sigma K_ii^-1/2: the w-test identity of
+/// the conditional mean and variance of a Gaussian).
+struct Conditioning {
+  AmbiguityFixedState state;
+  Eigen::VectorXd u;           // S^-1 (A x - y)
+  Eigen::VectorXd s_inv_diag;  // diag(S^-1), when asked for
+};
+
+std::optional<Conditioning> conditionOn(const Eigen::VectorXd& x, const Eigen::MatrixXd& P, const Eigen::MatrixXd& A,
+                                        const Eigen::VectorXd& y, bool leave_one_out) {
+  const Eigen::MatrixXd PAt = P * A.transpose();
+  const Eigen::LLT<Eigen::MatrixXd> llt(A * PAt);
+  if (llt.info() != Eigen::Success) return std::nullopt;
+  Conditioning c;
+  const Eigen::VectorXd r = A * x - y;
+  c.u = llt.solve(r);
+  c.state.x = x - PAt * c.u;
+  c.state.P = P - PAt * llt.solve(PAt.transpose());
+  c.state.P = 0.5 * (c.state.P + c.state.P.transpose());
+  c.state.constraint_residual_statistic = r.dot(c.u);
+  if (leave_one_out) c.s_inv_diag = llt.solve(Eigen::MatrixXd::Identity(A.rows(), A.rows())).diagonal();
+  if (!c.state.x.allFinite() || !c.state.P.allFinite()) return std::nullopt;
+  return c;
+}
+
+}  // namespace
+
 std::optional<AmbiguityFixedState> applyIntegerConstraints(const Eigen::VectorXd& x, const Eigen::MatrixXd& P,
                                                            const Eigen::MatrixXd& A, const Eigen::VectorXd& y) {
-  const Eigen::MatrixXd PAt = P * A.transpose();
-  const Eigen::MatrixXd S = A * PAt;
-  const Eigen::LLT<Eigen::MatrixXd> llt(S);
-  if (llt.info() != Eigen::Success) return std::nullopt;
-  AmbiguityFixedState out;
-  out.x = x + PAt * llt.solve(y - A * x);
-  out.P = P - PAt * llt.solve(PAt.transpose());
-  out.P = 0.5 * (out.P + out.P.transpose());
-  if (!out.x.allFinite() || !out.P.allFinite()) return std::nullopt;
-  return out;
+  auto c = conditionOn(x, P, A, y, false);
+  if (!c) return std::nullopt;
+  return std::move(c->state);
 }
 
 std::optional<AmbiguityFixedState> AmbiguityResolver::resolve(const Eigen::VectorXd& x, const Eigen::MatrixXd& P,
@@ -334,8 +386,9 @@ std::optional<AmbiguityFixedState> AmbiguityResolver::resolveAndHold(const Eigen
     held_values.push_back(it->second);
     ++it;
   }
-  // Each held integer against its float conditioned on the other held ones;
-  // the worst offender (if any) is released this epoch.
+  // Each held integer against its float conditioned on the other held ones
+  // (leave-one-out from the one factorisation of the held set); the worst
+  // offender (if any) is released this epoch.
   auto stack = [&](const std::vector<PairRow>& rows, const std::vector<long>& values, int skip, Eigen::MatrixXd& A,
                    Eigen::VectorXd& y) {
     const int n = static_cast<int>(rows.size()) - (skip >= 0 ? 1 : 0);
@@ -348,21 +401,22 @@ std::optional<AmbiguityFixedState> AmbiguityResolver::resolveAndHold(const Eigen
       ++k;
     }
   };
-  {
+  // The float state conditioned on the held integers (nullopt: none held, or
+  // not positive definite).
+  std::optional<Conditioning> held_state;
+  if (!held_rows.empty()) {
+    Eigen::MatrixXd A;
+    Eigen::VectorXd y;
+    stack(held_rows, held_values, -1, A, y);
+    held_state = conditionOn(x, P, A, y, true);
+  }
+  if (held_state) {
     int worst = -1;
     double worst_score = 0.0, worst_departure = 0.0;
     for (int i = 0; i < static_cast<int>(held_rows.size()); ++i) {
-      Eigen::MatrixXd A;
-      Eigen::VectorXd y;
-      stack(held_rows, held_values, i, A, y);
-      std::optional<AmbiguityFixedState> c =
-          A.rows() > 0 ? applyIntegerConstraints(x, P, A, y) : AmbiguityFixedState{x, P};
-      if (!c) continue;
-      const PairRow& r = held_rows[static_cast<std::size_t>(i)];
-      const double v = r.d.dot(c->x) - r.offset;
-      const double sigma = std::sqrt(std::max(0.0, (r.d * c->P * r.d.transpose())(0, 0)));
-      const double departure = v - static_cast<double>(held_values[static_cast<std::size_t>(i)]);
-      const double score = sigma > 0.0 ? std::abs(departure) / sigma : std::abs(departure) * 1e9;
+      const double k_ii = held_state->s_inv_diag(i);
+      const double departure = held_state->u(i) / k_ii;
+      const double score = std::abs(departure) * std::sqrt(k_ii);  // |departure| / sigma
       if (std::abs(departure) > ho.release_cycles && score > ho.release_sigma && score > worst_score)
         worst = i, worst_score = score, worst_departure = departure;
     }
@@ -372,22 +426,21 @@ std::optional<AmbiguityFixedState> AmbiguityResolver::resolveAndHold(const Eigen
               r.reference_satellite);
       held_rows.erase(held_rows.begin() + worst);
       held_values.erase(held_values.begin() + worst);
+      held_state.reset();
+      if (!held_rows.empty()) {
+        Eigen::MatrixXd A;
+        Eigen::VectorXd y;
+        stack(held_rows, held_values, -1, A, y);
+        held_state = conditionOn(x, P, A, y, false);
+      }
     }
   }
-  Eigen::VectorXd xc = x;
-  Eigen::MatrixXd Pc = P;
-  if (!held_rows.empty()) {
-    Eigen::MatrixXd A;
-    Eigen::VectorXd y;
-    stack(held_rows, held_values, -1, A, y);
-    auto c = applyIntegerConstraints(x, P, A, y);
-    if (!c) {
-      summary.float_reason = AmbiguityFloatReason::NumericalFailure;
-      return std::nullopt;
-    }
-    xc = c->x;
-    Pc = c->P;
+  if (!held_rows.empty() && !held_state) {
+    summary.float_reason = AmbiguityFloatReason::NumericalFailure;
+    return std::nullopt;
   }
+  const Eigen::VectorXd& xc = held_state ? held_state->state.x : x;
+  const Eigen::MatrixXd& Pc = held_state ? held_state->state.P : P;
   ArcComponents components;
   for (const auto& r : held_rows) components.join(r.key.arc, r.key.reference_arc);
   for (std::size_t i = 0; i < held_rows.size(); ++i) {
@@ -423,6 +476,7 @@ std::optional<AmbiguityFixedState> AmbiguityResolver::resolveAndHold(const Eigen
     return std::abs(fraction_cycles) > ho.max_fraction_cycles && std::abs(fraction_cycles) > kGateSigmas * sigma_cycles;
   };
   std::vector<PairRow> candidates;
+  std::vector<double> candidate_sigma;  // conditioned on the held integers [cycles]
   int gated = 0;  // steady floats refused by the candidate gate
   std::map<PairKey, bool> seen;
   if (wl.reference_arc) {
@@ -449,6 +503,7 @@ std::optional<AmbiguityFixedState> AmbiguityResolver::resolveAndHold(const Eigen
         continue;
       }
       candidates.push_back(*row);
+      candidate_sigma.push_back(conditioned_sigma);
     }
   }
   for (auto it = float_history_.begin(); it != float_history_.end();)
@@ -459,15 +514,14 @@ std::optional<AmbiguityFixedState> AmbiguityResolver::resolveAndHold(const Eigen
   const int min_subset = held_rows.size() >= static_cast<std::size_t>(options_.narrow_lane.min_fixed)
                              ? 1
                              : std::max(1, options_.narrow_lane.min_fixed - static_cast<int>(held_rows.size()));
-  std::vector<double> sigma(candidates.size());
-  for (std::size_t i = 0; i < candidates.size(); ++i)
-    sigma[i] = std::sqrt(std::max(0.0, (candidates[i].d * Pc * candidates[i].d.transpose())(0, 0)));
   std::vector<std::size_t> order(candidates.size());
   std::iota(order.begin(), order.end(), 0);
-  std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return sigma[a] < sigma[b]; });
+  std::sort(order.begin(), order.end(),
+            [&](std::size_t a, std::size_t b) { return candidate_sigma[a] < candidate_sigma[b]; });
   std::map<PairKey, long> fixed_now;
   const auto t0 = std::chrono::steady_clock::now();
   summary.ils_reason = IlsFloatReason::TooFewAmbiguities;
+  bool integer_far = false;  // the last subset tried was refused by the candidate gate
   for (int n = static_cast<int>(order.size()); n >= min_subset && n > 0; --n) {
     Eigen::MatrixXd D(n, dim);
     Eigen::VectorXd o(n);
@@ -485,14 +539,11 @@ std::optional<AmbiguityFixedState> AmbiguityResolver::resolveAndHold(const Eigen
     summary.ratio = ils.ratio;
     summary.bootstrap_success_rate = ils.bootstrap_success_rate;
     summary.ils_reason = ils.float_reason;
-    bool far = false;
+    integer_far = false;
     if (ils.isFixed() && ils.fixed_ambiguities)
       for (int i = 0; i < n; ++i)
-        far = far || offInteger(a_hat(i) - (*ils.fixed_ambiguities)(i), std::sqrt(std::max(0.0, Q(i, i))));
-    if (far) {
-      summary.ils_reason = IlsFloatReason::IntegerFarFromFloat;
-      continue;
-    }
+        integer_far = integer_far || offInteger(a_hat(i) - (*ils.fixed_ambiguities)(i), std::sqrt(std::max(0.0, Q(i, i))));
+    if (integer_far) continue;
     if (ils.isFixed() && ils.fixed_ambiguities) {
       for (int i = 0; i < n; ++i)
         fixed_now[candidates[order[static_cast<std::size_t>(i)]].key] = std::lround((*ils.fixed_ambiguities)(i));
@@ -534,25 +585,26 @@ std::optional<AmbiguityFixedState> AmbiguityResolver::resolveAndHold(const Eigen
                            : candidates.empty() && gated > 0     ? AmbiguityFloatReason::FloatsOffInteger
                            : candidates.empty() && !summary.narrow_lanes.empty() ? AmbiguityFloatReason::FloatsDrifting
                            : candidates.empty()                  ? AmbiguityFloatReason::TooFewWideLanes
+                           : integer_far                         ? AmbiguityFloatReason::IntegerFarFromFloat
                                                                  : AmbiguityFloatReason::NarrowLane;
     return std::nullopt;
   }
   Eigen::MatrixXd A;
   Eigen::VectorXd y;
   stack(held_rows, held_values, -1, A, y);
-  {
-    const Eigen::VectorXd r = A * x - y;
-    const Eigen::LLT<Eigen::MatrixXd> llt(A * P * A.transpose());
-    if (llt.info() == Eigen::Success) {
-      summary.held_residual_statistic = r.dot(llt.solve(r));
-      summary.held_residual_dof = static_cast<int>(r.size());
-    }
+  // Nothing newly held: the held set is the one already conditioned on above.
+  std::optional<AmbiguityFixedState> fixed;
+  if (summary.newly_held == 0 && held_state) {
+    fixed = std::move(held_state->state);
+  } else if (auto c = conditionOn(x, P, A, y, false)) {
+    fixed = std::move(c->state);
   }
-  auto fixed = applyIntegerConstraints(x, P, A, y);
   if (!fixed) {
     summary.float_reason = AmbiguityFloatReason::NumericalFailure;
     return std::nullopt;
   }
+  summary.held_residual_statistic = fixed->constraint_residual_statistic;
+  summary.held_residual_dof = static_cast<int>(A.rows());
   fixed->constraint_rows = A;  // the held integers: what the smoother keeps as factors
   fixed->constraint_values = y;
   summary.narrow_lanes_fixed = summary.held;

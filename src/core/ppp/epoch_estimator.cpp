@@ -74,9 +74,12 @@ void SmootherEstimator::resolveAmbiguities(const EstimatorEpochInput& input, Est
         std::vector<std::pair<ArcId, ArcId>> wrong;
         for (const AmbiguityRelease& rel : summary.released)
           if (rel.reason != AmbiguityReleaseReason::ArcEnded) wrong.emplace_back(rel.arc, rel.reference_arc);
-        if (!wrong.empty()) changed = smoother_.releaseFixes(wrong) > 0;
-        if (fixed)
-          changed = smoother_.holdIntegerConstraints(fixed->constraint_rows, fixed->constraint_values) > 0 || changed;
+        // Removals and additions in one graph update.
+        const Eigen::MatrixXd none(0, joint->x.size());
+        const PppSmoother::FixChanges c =
+            smoother_.updateFixes(wrong, fixed ? fixed->constraint_rows : none,
+                                  fixed ? fixed->constraint_values : Eigen::VectorXd(0));
+        changed = c.removed > 0 || c.added > 0;
       }
     } catch (const std::exception& e) {
       summary.float_reason = AmbiguityFloatReason::NumericalFailure;

@@ -182,7 +182,6 @@ std::string toString(IlsFloatReason reason) {
     case IlsFloatReason::TooFewAmbiguities: return "too few ambiguities";
     case IlsFloatReason::LowSuccessRate: return "bootstrapped success rate too low";
     case IlsFloatReason::RatioTestFailed: return "ratio test failed";
-    case IlsFloatReason::IntegerFarFromFloat: return "an integer lies too far from its float";
   }
   return "unknown";
 }

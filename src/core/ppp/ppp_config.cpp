@@ -82,6 +82,8 @@ void readAmbiguityResolution(YamlSection s, AmbiguityResolutionOptions& o) {
   o.hold.max_fraction_cycles = s.number("narrow_lane_max_fraction_cycles", o.hold.max_fraction_cycles, Bound::Positive);
   o.hold.max_sigma_cycles = s.number("narrow_lane_max_sigma_cycles", o.hold.max_sigma_cycles, Bound::Positive);
   o.hold.release_sigma = s.number("release_sigma", o.hold.release_sigma, Bound::Positive);
+  o.hold.rereference_on_arc_end = s.boolean("rereference_held", o.hold.rereference_on_arc_end);
+  o.allow_antenna_model_mismatch = s.boolean("allow_antenna_model_mismatch", o.allow_antenna_model_mismatch);
   s.finish();
 }
 

@@ -15,6 +15,7 @@
 #include "ppp_bayes_tree/io/rtcm_observation_source.h"
 #include "ppp_bayes_tree/io/ubx_observation_source.h"
 #include "ppp_bayes_tree/models/broadcast_products.h"
+#include "ppp_bayes_tree/ppp/antenna_model_consistency.h"
 #include "ppp_bayes_tree/ppp/phase_bias_consistency.h"
 #include "ppp_bayes_tree/models/clock_wide_lane_bias_provider.h"
 #include "ppp_bayes_tree/io/rinex_clock_reader.h"
@@ -175,7 +176,27 @@ PppPipeline::PppPipeline(const PppInputFiles& files, PppConfig config)
     d.load_notes.push_back(found.note);
   }
   d.start(config_);
-  if (config_.ambiguity_resolution.enabled) {
+  // The satellite antenna model the products were made with against the ANTEX's.
+  std::optional<AntennaModelCheck> antenna_model;
+  if (set->antennas() && !(files.sp3.empty() && files.clk.empty())) {
+    std::vector<std::string> product_models;
+    for (const auto* list : {&files.sp3, &files.clk})
+      for (const auto& f : *list) {
+        try {
+          product_models.push_back(productAntennaModel(f));
+        } catch (const std::exception&) {  // unreadable products are reported by their readers
+        }
+      }
+    antenna_model = checkAntennaModelConsistency(product_models, satelliteAntennaModels(*set->antennas()));
+    d.load_notes.push_back((antenna_model->different() ? "warning: " : "") + antenna_model->text());
+  }
+  if (config_.ambiguity_resolution.enabled && antenna_model && antenna_model->different() &&
+      !config_.ambiguity_resolution.allow_antenna_model_mismatch) {
+    d.load_notes.push_back("ambiguity resolution: refused: " + antenna_model->text() +
+                           ": float (ambiguity_resolution.allow_antenna_model_mismatch: true to fix anyway)");
+  } else if (config_.ambiguity_resolution.enabled) {
+    if (antenna_model && antenna_model->different())
+      d.load_notes.push_back("ambiguity resolution: antenna model mismatch allowed (allow_antenna_model_mismatch)");
     // PPP-AR needs phase OSBs from the clocks' own analysis centre.
     bool has_phase = false;
     if (set->biasFile())

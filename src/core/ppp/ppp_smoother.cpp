@@ -627,22 +627,34 @@ void PppSmoother::refreshFiltered() {
   states_.back().last_estimate = filtered_.state;
 }
 
-int PppSmoother::heldFixCount() const {
-  int n = 0;
-  for (const HeldFix& h : held_) {
-    bool all = true;
-    for (ArcId a : h.arcs) all = all && std::find(joint_.arcs.begin(), joint_.arcs.end(), a) != joint_.arcs.end();
-    n += all ? 1 : 0;
-  }
-  return n;
+int PppSmoother::holdIntegerConstraints(const Eigen::MatrixXd& A, const Eigen::VectorXd& y) {
+  return updateFixes({}, A, y).added;
 }
 
-int PppSmoother::holdIntegerConstraints(const Eigen::MatrixXd& A, const Eigen::VectorXd& y) {
+int PppSmoother::releaseFixes(const std::vector<std::pair<ArcId, ArcId>>& pairs) {
+  return updateFixes(pairs, Eigen::MatrixXd(0, joint_.x.size()), Eigen::VectorXd(0)).removed;
+}
+
+PppSmoother::FixChanges PppSmoother::updateFixes(const std::vector<std::pair<ArcId, ArcId>>& release,
+                                                 const Eigen::MatrixXd& A, const Eigen::VectorXd& y) {
   const int kRx = layout_.dim();
-  if (A.cols() != joint_.x.size() || A.rows() != y.size())
-    throw std::invalid_argument("holdIntegerConstraints: constraint rows do not match the filtered joint (" +
+  if (A.rows() != y.size() || (A.rows() > 0 && A.cols() != joint_.x.size()))
+    throw std::invalid_argument("updateFixes: constraint rows do not match the filtered joint (" +
                                 std::to_string(A.rows()) + "x" + std::to_string(A.cols()) + ", " +
                                 std::to_string(y.size()) + " values; joint " + std::to_string(joint_.x.size()) + ")");
+  // The held fixes on the released single differences (either order) leave the graph.
+  std::vector<smoother::FactorIndex> remove;
+  for (const HeldFix& h : held_) {
+    if (h.arcs.size() != 2) continue;
+    for (const auto& [a, b] : release)
+      if ((h.arcs[0] == a && h.arcs[1] == b) || (h.arcs[0] == b && h.arcs[1] == a)) {
+        remove.push_back(h.index);
+        break;
+      }
+  }
+  const auto removed = [&remove](const HeldFix& h) {
+    return std::find(remove.begin(), remove.end(), h.index) != remove.end();
+  };
   const double sigma = options_.fixed_ambiguity_sigma_cycles;
   smoother::NonlinearFactorGraph add;
   std::vector<std::vector<ArcId>> add_arcs;
@@ -661,21 +673,23 @@ int PppSmoother::holdIntegerConstraints(const Eigen::MatrixXd& A, const Eigen::V
     if (keys.empty()) continue;
     std::vector<ArcId> sorted = arcs;
     std::sort(sorted.begin(), sorted.end());
-    const bool held = std::any_of(held_.begin(), held_.end(), [&](const HeldFix& h) {
-      std::vector<ArcId> other = h.arcs;
-      std::sort(other.begin(), other.end());
-      return other == sorted;
-    });
+    const bool held = std::any_of(held_.begin(), held_.end(),
+                                  [&](const HeldFix& h) { return h.sorted_arcs == sorted && !removed(h); });
     if (held) continue;  // already held in the graph
     add.push_back(std::make_shared<IntegerAmbiguityFactor>(keys, coefficients, y(r), sigma));
     add_arcs.push_back(std::move(arcs));
   }
-  if (add.empty()) return 0;
-  const std::vector<smoother::FactorIndex> indices = updateGraph(add, {});
-  for (std::size_t i = 0; i < add.size() && i < indices.size(); ++i)
-    held_.push_back(HeldFix{indices[i], add_arcs[i], add[i]});
+  if (add.empty() && remove.empty()) return {};
+  const std::vector<smoother::FactorIndex> indices = updateGraph(add, remove);
+  held_.erase(std::remove_if(held_.begin(), held_.end(), removed), held_.end());
+  fixes_removed_ += remove.size();
+  for (std::size_t i = 0; i < add.size() && i < indices.size(); ++i) {
+    std::vector<ArcId> sorted = add_arcs[i];
+    std::sort(sorted.begin(), sorted.end());
+    held_.push_back(HeldFix{indices[i], add_arcs[i], add[i], std::move(sorted)});
+  }
   refreshFiltered();
-  return static_cast<int>(add.size());
+  return {static_cast<int>(remove.size()), static_cast<int>(add.size())};
 }
 
 std::optional<PppSmoother::FilteredJoint> PppSmoother::floatJoint() const {
@@ -683,7 +697,8 @@ std::optional<PppSmoother::FilteredJoint> PppSmoother::floatJoint() const {
   // only, so their information comes out of the joint marginal exactly:
   // P_float^-1 = P^-1 - A^T W A, i.e. (Woodbury) P_float = P + P A^T S^-1 A P with
   // S = W^-1 - A P A^T (positive: the fixed variance of A x is below its factor's),
-  // and x_float = x + P_float A^T W (A x - y).
+  // and x_float = x + P_float A^T W (A x - y) = x + P A^T S^-1 (A x - y)
+  // (P_float A^T W = P A^T W + P A^T S^-1 (W^-1 - S) W = P A^T S^-1).
   const int kRx = layout_.dim();
   std::map<ArcId, int> column;
   for (std::size_t j = 0; j < joint_.arcs.size(); ++j) column[joint_.arcs[j]] = kRx + static_cast<int>(j);
@@ -713,30 +728,9 @@ std::optional<PppSmoother::FilteredJoint> PppSmoother::floatJoint() const {
   out.arcs = joint_.arcs;
   out.P = joint_.P + PAt * llt.solve(PAt.transpose());
   out.P = 0.5 * (out.P + out.P.transpose());
-  out.x = joint_.x + out.P * A.transpose() * w.cwiseProduct(A * joint_.x - y);
+  out.x = joint_.x + PAt * llt.solve(A * joint_.x - y);
   return out;
 }
 
-int PppSmoother::releaseFixes(const std::vector<std::pair<ArcId, ArcId>>& pairs) {
-  std::vector<smoother::FactorIndex> remove;
-  for (const HeldFix& h : held_) {
-    if (h.arcs.size() != 2) continue;
-    for (const auto& [a, b] : pairs)
-      if ((h.arcs[0] == a && h.arcs[1] == b) || (h.arcs[0] == b && h.arcs[1] == a)) {
-        remove.push_back(h.index);
-        break;
-      }
-  }
-  if (remove.empty()) return 0;
-  updateGraph({}, remove);
-  held_.erase(std::remove_if(held_.begin(), held_.end(),
-                             [&](const HeldFix& h) {
-                               return std::find(remove.begin(), remove.end(), h.index) != remove.end();
-                             }),
-              held_.end());
-  fixes_removed_ += remove.size();
-  refreshFiltered();
-  return static_cast<int>(remove.size());
-}
 
 }  // namespace ppp

@@ -16,6 +16,11 @@
 #include "ppp_bayes_tree/types/constants.h"
 
 namespace ppp {
+
+SimulatedBands simulatedIonosphereFreeBands(GnssSystem system) {
+  return system == GnssSystem::GPS ? SimulatedBands{'1', '2'} : SimulatedBands{'1', '5'};
+}
+
 namespace {
 
 // Sub-stream tags of the seed (RandomStream::derive), one per purpose, so that
@@ -47,8 +52,9 @@ struct SystemSignals {
 SystemSignals systemSignals(GnssSystem system, const ErrorModelConfig::Thermal& th) {
   SystemSignals g;
   const bool gps = system == GnssSystem::GPS;
-  g.f1 = *carrierFrequency_hz(system, '1');
-  g.f2 = *carrierFrequency_hz(system, gps ? '2' : '5');
+  const SimulatedBands bands = simulatedIonosphereFreeBands(system);
+  g.f1 = *carrierFrequency_hz(system, bands.band1);
+  g.f2 = *carrierFrequency_hz(system, bands.band2);
   g.lambda1 = kSpeedOfLight_mps / g.f1;
   g.lambda2 = kSpeedOfLight_mps / g.f2;
   g.gamma = (g.f1 * g.f1) / (g.f2 * g.f2);

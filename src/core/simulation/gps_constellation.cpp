@@ -111,9 +111,9 @@ RinexClockHeader clockHeader(const std::vector<SatelliteId>& sats) {
   RinexClockHeader h;
   h.version_text = "3.00";
   h.version = 3.0;
+  // One system per call (one constellation, or real products' GPS part);
+  // mergeProducts() marks a merged header 'M'.
   h.satellite_system = sats.empty() ? 'G' : systemLetter(sats.front().system);
-  for (const auto& s : sats)
-    if (s.system != sats.front().system) h.satellite_system = 'M';
   h.program = "ppp_simulate";
   h.run_by = "ppp_bayes_tree";
   h.data_types = {"AS"};
