@@ -11,6 +11,7 @@
 #include "ppp_bayes_tree/io/rtcm_ssr_encoder.h"
 #include "ppp_bayes_tree/models/precise_ephemeris.h"
 #include "ppp_bayes_tree/models/ssr_from_precise.h"
+#include "ppp_bayes_tree/ppp/ppp_pipeline.h"
 #include "ppp_bayes_tree/types/gnss_time.h"
 #include "test_support.h"
 
@@ -23,6 +24,17 @@ inline std::string esbcPath(const std::string& file) { return dataPath("esbc-202
 inline PreciseEphemeris esbcGrgPrecise() {
   return PreciseEphemeris::load({esbcPath("GRG0MGXFIN_20201770000_01D_15M_ORB.SP3.gz")},
                                 {esbcPath("GRG0MGXFIN_20201770000_01D_30S_CLK.CLK.gz")});
+}
+
+/// The day's PPP inputs with the GRG products: the 30 s observations, the GRG SP3/CLK,
+/// the IGS20 GPS satellite antennas and the ESBC receiver antenna (shared data README).
+inline PppInputFiles esbcGrgInputFiles() {
+  PppInputFiles files;
+  files.obs = esbcPath("ESBC00DNK_R_20201770000_01D_30S_MO.crx.gz");
+  files.sp3 = {esbcPath("GRG0MGXFIN_20201770000_01D_15M_ORB.SP3.gz")};
+  files.clk = {esbcPath("GRG0MGXFIN_20201770000_01D_30S_CLK.CLK.gz")};
+  files.atx = {dataPath("antex/igs20_gps_satellites_trim.atx"), dataPath("antex/igs05_esbc_receiver_trim.atx")};
+  return files;
 }
 
 /// The options of the tests' SSR streams: GPS only; 5 s, centre of mass, combined

@@ -21,6 +21,7 @@
 #include "ppp_bayes_tree/ppp/epoch_estimator.h"
 #include "ppp_bayes_tree/ppp/ppp_pipeline.h"
 #include "ppp_bayes_tree/types/constants.h"
+#include "esbc_stream_fixture.h"
 #include "ppp_dataset.h"
 #include "table_biases.h"
 #include "test_support.h"
@@ -375,12 +376,7 @@ TEST(AmbiguityHold, RealEsbcStaticFixesStayNearTheDaysFloatPosition) {
   // the end of their reference arc; ppp_ar_study --static, doc/ar_real_data.md) and no fixed epoch is
   // more than 10 cm from the reference (the wrong-fix criterion).
   PPP_REQUIRE_SHARED_DATA();
-  PppInputFiles files;
-  files.obs = test::dataPath("esbc-2020-177/ESBC00DNK_R_20201770000_01D_30S_MO.crx.gz");
-  files.sp3 = {test::dataPath("esbc-2020-177/GRG0MGXFIN_20201770000_01D_15M_ORB.SP3.gz")};
-  files.clk = {test::dataPath("esbc-2020-177/GRG0MGXFIN_20201770000_01D_30S_CLK.CLK.gz")};
-  files.atx = {test::dataPath("antex/igs20_gps_satellites_trim.atx"),
-               test::dataPath("antex/igs05_esbc_receiver_trim.atx")};
+  const PppInputFiles files = test::esbcGrgInputFiles();
   const std::string static_yaml = "stochastic:\n  position:\n    process_noise_m_per_sqrt_s: 0.0\n";
   auto run = [&](const std::string& yaml, std::vector<std::pair<Eigen::Vector3d, bool>>& out) {
     const PppConfig config = parsePppConfig(yaml, "ESBC static");
@@ -430,12 +426,7 @@ TEST(AmbiguityHold, RealEsbcKinematicOffsetsAreConstantPerSingleDifference) {
   // clocks with igs14_2108.atx, we use IGS20 satellite antennas), not noise the
   // covariance misses (the held floats' formal sigma is 0.036 cycle median).
   PPP_REQUIRE_SHARED_DATA();
-  PppInputFiles files;
-  files.obs = test::dataPath("esbc-2020-177/ESBC00DNK_R_20201770000_01D_30S_MO.crx.gz");
-  files.sp3 = {test::dataPath("esbc-2020-177/GRG0MGXFIN_20201770000_01D_15M_ORB.SP3.gz")};
-  files.clk = {test::dataPath("esbc-2020-177/GRG0MGXFIN_20201770000_01D_30S_CLK.CLK.gz")};
-  files.atx = {test::dataPath("antex/igs20_gps_satellites_trim.atx"),
-               test::dataPath("antex/igs05_esbc_receiver_trim.atx")};
+  const PppInputFiles files = test::esbcGrgInputFiles();
   std::optional<Eigen::Vector3d> reference;
   {
     const PppConfig config =

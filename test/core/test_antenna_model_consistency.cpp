@@ -13,6 +13,7 @@
 #include "ppp_bayes_tree/ppp/antenna_model_consistency.h"
 #include "ppp_bayes_tree/ppp/ppp_config.h"
 #include "ppp_bayes_tree/ppp/ppp_pipeline.h"
+#include "esbc_stream_fixture.h"
 #include "ppp_dataset.h"
 #include "test_support.h"
 
@@ -87,12 +88,7 @@ TEST(AntennaModelConsistency, RealProductHeaders) {
 
 TEST(AntennaModelConsistency, RealEsbcIgs14ProductsWithIgs20AntexRefuseAr) {
   PPP_REQUIRE_SHARED_DATA();
-  PppInputFiles files;
-  files.obs = test::dataPath("esbc-2020-177/ESBC00DNK_R_20201770000_01D_30S_MO.crx.gz");
-  files.sp3 = {test::dataPath("esbc-2020-177/GRG0MGXFIN_20201770000_01D_15M_ORB.SP3.gz")};
-  files.clk = {test::dataPath("esbc-2020-177/GRG0MGXFIN_20201770000_01D_30S_CLK.CLK.gz")};
-  files.atx = {test::dataPath("antex/igs20_gps_satellites_trim.atx"),
-               test::dataPath("antex/igs05_esbc_receiver_trim.atx")};
+  const PppInputFiles files = test::esbcGrgInputFiles();
   const std::string verdict =
       "satellite antenna model differs from the products' (products IGS14_2108, ANTEX IGS20_2417)";
   {
