@@ -8,7 +8,6 @@
 // node's fixes must equal `ppp_solve --rtcm F --ref-date 2018/07/14 --nav F --config
 // config/live.yaml` EKF, and the smoother node's fixes (its filtered estimate, the
 // newest state) that run's smoother filtered solution, epoch by epoch to 1 mm.
-#include <random>
 
 #include "rostest/live_support.h"
 
@@ -19,19 +18,8 @@ TEST(LiveRtcmLaunch, EkfAndSmootherEqualPppSolveEpochByEpochTo1mm) {
   ASSERT_NO_FATAL_FAILURE(solveStr24Live("live_rtcm_launch", &offline));
   ASSERT_GT(offline.smoother_filtered.size(), 1000u);
 
-  const std::string bytes = ppp::test::readFileBytes(str24Recording());
-  const auto* data = reinterpret_cast<const std::uint8_t*>(bytes.data());
-  std::vector<StreamMessage> messages;
-  std::mt19937 random(1414);
-  std::uniform_int_distribution<std::size_t> size(1, 700);
-  std::uint32_t seq = 0;
-  for (std::size_t cut = 0; cut < bytes.size();) {
-    const std::size_t end = std::min(bytes.size(), cut + size(random));
-    StreamMessage m;
-    m.message = rtcmMessage(std::vector<std::uint8_t>(data + cut, data + end), ++seq);
-    messages.push_back(std::move(m));
-    cut = end;
-  }
+  const std::vector<StreamMessage> messages =
+      rtcmChunkMessages(ppp::test::readFileBytes(str24Recording()), 1414);
 
   ros::NodeHandle nh;
   LiveLaunchOutputs out;

@@ -11,7 +11,6 @@
 // to 1 mm, the epochs of the held chunks included.
 #include <rosgraph_msgs/Clock.h>
 
-#include <random>
 
 #include "rostest/live_support.h"
 
@@ -28,19 +27,8 @@ TEST(LiveSimClock, ChunksBeforeTheFirstClockAreHeldAndTheFixesEqualPppSolve) {
   PppSolveBoth offline;
   ASSERT_NO_FATAL_FAILURE(solveStr24Live("live_sim_clock", &offline));
 
-  const std::string bytes = ppp::test::readFileBytes(rtcm);
-  const auto* data = reinterpret_cast<const std::uint8_t*>(bytes.data());
-  std::vector<StreamMessage> messages;
-  std::mt19937 random(2718);
-  std::uniform_int_distribution<std::size_t> size(1, 700);
-  std::uint32_t seq = 0;
-  for (std::size_t cut = 0; cut < bytes.size();) {
-    const std::size_t end = std::min(bytes.size(), cut + size(random));
-    StreamMessage m;
-    m.message = rtcmMessage(std::vector<std::uint8_t>(data + cut, data + end), ++seq);
-    messages.push_back(std::move(m));
-    cut = end;
-  }
+  const std::vector<StreamMessage> messages =
+      rtcmChunkMessages(ppp::test::readFileBytes(rtcm), 2718);
   ASSERT_GT(messages.size(), 2 * kBeforeClock);
 
   ros::NodeHandle nh;

@@ -12,6 +12,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
@@ -20,6 +21,7 @@
 #include <map>
 #include <memory>
 #include <mutex>
+#include <random>
 #include <sstream>
 #include <string>
 #include <thread>
@@ -42,6 +44,25 @@ struct StreamMessage {
   std::size_t publisher = 0;
   topic_tools::ShapeShifter message;
 };
+
+/// `bytes` cut into rtcm_msgs/Message chunks of 1-700 bytes (sizes drawn from a
+/// std::mt19937 seeded with `seed`; header.seq 1, 2, ...), for `publisher` 0: an NTRIP
+/// client's chunking of a stream, frames split anywhere.
+inline std::vector<StreamMessage> rtcmChunkMessages(const std::string& bytes, unsigned seed) {
+  const auto* data = reinterpret_cast<const std::uint8_t*>(bytes.data());
+  std::vector<StreamMessage> messages;
+  std::mt19937 random(seed);
+  std::uniform_int_distribution<std::size_t> size(1, 700);
+  std::uint32_t seq = 0;
+  for (std::size_t cut = 0; cut < bytes.size();) {
+    const std::size_t end = std::min(bytes.size(), cut + size(random));
+    StreamMessage m;
+    m.message = rtcmMessage(std::vector<std::uint8_t>(data + cut, data + end), ++seq);
+    messages.push_back(std::move(m));
+    cut = end;
+  }
+  return messages;
+}
 
 /// Advertises every (topic, message type) of `messages`' publishers, waits until each has
 /// `subscribers` subscribers, then publishes them in order, `spacing_s` apart (wall time:
