@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <optional>
 
 #include "ppp_bayes_tree/models/ionosphere_free.h"
 #include "ppp_bayes_tree/models/ocean_loading.h"
@@ -34,6 +35,32 @@ std::optional<double> combine(const std::optional<double>& v1, const std::option
                               const IonosphereFreeCoefficients& k) {
   if (!v1 || !v2) return std::nullopt;
   return ionosphereFree(*v1, *v2, k);
+}
+
+/// The satellite clock at the nominal emission time (t_rx minus the code's travel
+/// time) and the orbit at the emission time corrected by that clock: the first step
+/// of the full and of the start model. Without them the satellite is `reject`ed
+/// (NoClock / NoOrbit, with the source's detail) and there is no value.
+struct EmissionEphemeris {
+  EphemerisClock clock;
+  EphemerisOrbit orbit;
+};
+
+template <typename Reject>
+std::optional<EmissionEphemeris> ephemerisAtEmission(const EphemerisSource& ephemeris, const SatelliteId& sat,
+                                                     const GnssTime& t_rx, double code_m, Reject&& reject) {
+  const GnssTime t_nominal = t_rx - code_m / kSpeedOfLight_mps;
+  const EphemerisAnswer<EphemerisClock> clock = ephemeris.satelliteClock(sat, t_nominal);
+  if (!clock.ok()) {
+    reject(RejectionReason::NoClock, "no clock: " + clock.detail);
+    return std::nullopt;
+  }
+  const EphemerisAnswer<EphemerisOrbit> orbit = ephemeris.satelliteOrbit(sat, t_nominal - clock.value->clock_bias_s);
+  if (!orbit.ok()) {
+    reject(RejectionReason::NoOrbit, "no orbit: " + orbit.detail);
+    return std::nullopt;
+  }
+  return EmissionEphemeris{*clock.value, *orbit.value};
 }
 
 }  // namespace
@@ -250,24 +277,14 @@ void PppMeasurementModel::evaluate(const std::vector<DualFrequencyObservation>& 
     }
 
     // ---- satellite clock and position at the emission time (GPST).
-    const GnssTime t_nominal = t_rx - code_if / kSpeedOfLight_mps;
-    const EphemerisAnswer<EphemerisClock> clock = ephemeris_.satelliteClock(sat, t_nominal);
-    if (!clock.ok()) {
-      reject(RejectionReason::NoClock, "no clock: " + clock.detail);
-      continue;
-    }
-    const double dts = clock.value->clock_bias_s;
-    const GnssTime t_tx = t_nominal - dts;
-    const EphemerisAnswer<EphemerisOrbit> orbit = ephemeris_.satelliteOrbit(sat, t_tx);
-    if (!orbit.ok()) {
-      reject(RejectionReason::NoOrbit, "no orbit: " + orbit.detail);
-      continue;
-    }
+    const std::optional<EmissionEphemeris> emission = ephemerisAtEmission(ephemeris_, sat, t_rx, code_if, reject);
+    if (!emission) continue;
+    const double dts = emission->clock.clock_bias_s;
     // An antenna-phase-centre orbit: the position stands for both (the offset,
     // or with an L1 orbit all but the IF - L1 difference, is in it).
-    const Eigen::Vector3d& com_tx = orbit.value->position_ecef_m;
-    const Eigen::Vector3d& vel_tx = orbit.value->velocity_ecef_mps;
-    const EphemerisReference orbit_reference = orbit.value->reference;
+    const Eigen::Vector3d& com_tx = emission->orbit.position_ecef_m;
+    const Eigen::Vector3d& vel_tx = emission->orbit.velocity_ecef_mps;
+    const EphemerisReference orbit_reference = emission->orbit.reference;
     const bool orbit_at_apc = orbit_reference != EphemerisReference::CentreOfMass;
     if (options_.exclude_eclipse && eclipseState(com_tx, sun_moon.sun_ecef_m) != EclipseState::Sunlit) {
       reject(RejectionReason::Eclipse, "satellite in the Earth's shadow (eclipse)");
@@ -397,8 +414,8 @@ void PppMeasurementModel::evaluate(const std::vector<DualFrequencyObservation>& 
     m.phase_sigma_m = options_.phase_sigma_zenith_m * st.sigma_factor / sin_el;
     m.code_sigma_m = m.phase_sigma_m * options_.code_phase_ratio;
     if (options_.ephemeris_sigmas) {
-      const double orbit_sigma_m = orbit.value->position_sigma_m.value_or(0.0);
-      const double clock_sigma_m = clock.value->clock_sigma_m.value_or(0.0);
+      const double orbit_sigma_m = emission->orbit.position_sigma_m.value_or(0.0);
+      const double clock_sigma_m = emission->clock.clock_sigma_m.value_or(0.0);
       const double product_var_m2 = orbit_sigma_m * orbit_sigma_m + clock_sigma_m * clock_sigma_m;
       m.phase_sigma_m = std::sqrt(m.phase_sigma_m * m.phase_sigma_m + product_var_m2);
       m.code_sigma_m = std::sqrt(m.code_sigma_m * m.code_sigma_m + product_var_m2);
@@ -461,19 +478,10 @@ void PppMeasurementModel::evaluateStart(const std::vector<DualFrequencyObservati
       reject(RejectionReason::ObservationUnusable, format("observed IF code %.3f m not usable", code_if));
       continue;
     }
-    const GnssTime t_nominal = t_rx - code_if / kSpeedOfLight_mps;
-    const EphemerisAnswer<EphemerisClock> clock = ephemeris_.satelliteClock(sat, t_nominal);
-    if (!clock.ok()) {
-      reject(RejectionReason::NoClock, "no clock: " + clock.detail);
-      continue;
-    }
-    const double dts = clock.value->clock_bias_s;
-    const EphemerisAnswer<EphemerisOrbit> orbit = ephemeris_.satelliteOrbit(sat, t_nominal - dts);
-    if (!orbit.ok()) {
-      reject(RejectionReason::NoOrbit, "no orbit: " + orbit.detail);
-      continue;
-    }
-    const Eigen::Vector3d& sat_tx = orbit.value->position_ecef_m;
+    const std::optional<EmissionEphemeris> emission = ephemerisAtEmission(ephemeris_, sat, t_rx, code_if, reject);
+    if (!emission) continue;
+    const double dts = emission->clock.clock_bias_s;
+    const Eigen::Vector3d& sat_tx = emission->orbit.position_ecef_m;
     double tau = (sat_tx - receiver).norm() / kSpeedOfLight_mps;
     Eigen::Vector3d sat_rx = sat_tx;
     for (int it = 0; it < 3; ++it) {
@@ -483,7 +491,7 @@ void PppMeasurementModel::evaluateStart(const std::vector<DualFrequencyObservati
     const Eigen::Vector3d diff = sat_rx - receiver;
     const double rho = diff.norm();
     const Eigen::Vector3d los = diff / rho;
-    const double rel_s = relativisticClockCorrection_s(sat_tx, orbit.value->velocity_ecef_mps);
+    const double rel_s = relativisticClockCorrection_s(sat_tx, emission->orbit.velocity_ecef_mps);
     SatelliteMeasurement m;
     m.satellite = sat;
     m.predicted_code_m = rho + state.clock_m(sat.system) - kSpeedOfLight_mps * (dts + rel_s);
