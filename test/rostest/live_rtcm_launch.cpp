@@ -18,7 +18,7 @@ TEST(LiveRtcmLaunch, EkfAndSmootherEqualPppSolveEpochByEpochTo1mm) {
   ASSERT_NO_FATAL_FAILURE(solveStr24Live("live_rtcm_launch", &offline));
   ASSERT_GT(offline.smoother_filtered.size(), 1000u);
 
-  const std::vector<StreamMessage> messages =
+  std::vector<StreamMessage> messages =
       rtcmChunkMessages(ppp::test::readFileBytes(str24Recording()), 1414);
 
   ros::NodeHandle nh;

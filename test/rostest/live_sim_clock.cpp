@@ -27,7 +27,7 @@ TEST(LiveSimClock, ChunksBeforeTheFirstClockAreHeldAndTheFixesEqualPppSolve) {
   PppSolveBoth offline;
   ASSERT_NO_FATAL_FAILURE(solveStr24Live("live_sim_clock", &offline));
 
-  const std::vector<StreamMessage> messages =
+  std::vector<StreamMessage> messages =
       rtcmChunkMessages(ppp::test::readFileBytes(rtcm), 2718);
   ASSERT_GT(messages.size(), 2 * kBeforeClock);
 
