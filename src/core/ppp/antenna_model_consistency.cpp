@@ -4,18 +4,12 @@
 #include <cctype>
 #include <set>
 
+#include "ppp_bayes_tree/io/fixed_width.h"
 #include "ppp_bayes_tree/io/line_source.h"
 #include "ppp_bayes_tree/models/antex_calibrations.h"
 
 namespace ppp {
 namespace {
-
-std::string trim(const std::string& s) {
-  const auto b = s.find_first_not_of(" \t\r");
-  if (b == std::string::npos) return "";
-  const auto e = s.find_last_not_of(" \t\r");
-  return s.substr(b, e - b + 1);
-}
 
 void addDistinct(std::vector<std::string>& v, const std::string& s) {
   if (!s.empty() && std::find(v.begin(), v.end(), s) == v.end()) v.push_back(s);
@@ -54,9 +48,9 @@ std::string productAntennaModel(const std::string& path) {
     }
     if (line.size() > 1 && line[0] == '*' && line[1] == ' ') break;  // SP3 data begin
     if (line.size() >= 60) {
-      const std::string label = trim(line.substr(60));
+      const std::string_view label = trim(column(line, 60, 20));
       if (label == "SYS / PCVS APPLIED") {
-        std::string name = trim(line.substr(20, 40));
+        std::string name(trim(column(line, 20, 40)));
         const auto dot = name.find_last_of('.');
         if (dot != std::string::npos) name = name.substr(0, dot);
         if (!name.empty()) return name;
@@ -72,7 +66,7 @@ std::vector<std::string> satelliteAntennaModels(const AntexCalibrations& antex) 
   std::vector<std::string> out;
   for (const auto& f : antex.files())
     for (const auto& a : f.file.antennas)
-      if (a.isSatellite()) addDistinct(out, trim(a.sinex_code));
+      if (a.isSatellite()) addDistinct(out, std::string(trim(a.sinex_code)));
   return out;
 }
 
@@ -81,7 +75,7 @@ AntennaModelCheck checkAntennaModelConsistency(const std::vector<std::string>& p
   AntennaModelCheck out;
   std::set<std::string> product_families, antex_families;
   for (const auto& named : product_models) {
-    std::string m = trim(named);  // "igs14_2108" (clock file name) and "IGS14_2108" (SP3) are one model
+    std::string m(trim(named));  // "igs14_2108" (clock file name) and "IGS14_2108" (SP3) are one model
     for (auto& c : m) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
     addDistinct(out.product_models, m);
     if (!antennaModelFamily(m).empty()) product_families.insert(antennaModelFamily(m));
