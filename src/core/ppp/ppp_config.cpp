@@ -165,7 +165,10 @@ PppConfig bindPppConfig(const YAML::Node& root, const std::string& source_name) 
   return config;
 }
 
-PppConfig parsePppConfig(const std::string& yaml_text, const std::string& source_name) {
+namespace {
+
+/// One YAML document: syntax and duplicate keys checked, errors naming `source_name`.
+YAML::Node parseConfigDocument(const std::string& yaml_text, const std::string& source_name) {
   YAML::Node root;
   try {
     root = YAML::Load(yaml_text);
@@ -176,28 +179,27 @@ PppConfig parsePppConfig(const std::string& yaml_text, const std::string& source
   // yaml-cpp keeps both entries of a key written twice and reads the first:
   // refuse the document instead (two `measurement_model:` sections, say).
   rejectDuplicateKeys(root, source_name, "");
-  return bindPppConfig(root, source_name);
+  return root;
+}
+
+}  // namespace
+
+PppConfig parsePppConfig(const std::string& yaml_text, const std::string& source_name) {
+  return bindPppConfig(parseConfigDocument(yaml_text, source_name), source_name);
 }
 
 PppConfig loadPppConfig(const std::string& path) { return loadPppConfig(std::vector<std::string>{path}); }
 
 namespace {
 
-/// One YAML file as a document: syntax and duplicate keys checked, naming the file.
+/// One YAML file as a document (parseConfigDocument), errors naming the file.
 YAML::Node readConfigDocument(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw ConfigError(path, "", "cannot open the file");
   std::ostringstream os;
   os << in.rdbuf();
   if (in.bad()) throw ConfigError(path, "", "read error");
-  YAML::Node root;
-  try {
-    root = YAML::Load(os.str());
-  } catch (const YAML::Exception& e) {
-    throw ConfigError(path, "", "YAML syntax error at line " + std::to_string(e.mark.line + 1) + ": " + e.msg);
-  }
-  rejectDuplicateKeys(root, path, "");
-  return root;
+  return parseConfigDocument(os.str(), path);
 }
 
 /// `over` laid on `base` as the ROS parameter server does with rosparam load:
