@@ -60,6 +60,7 @@ void expectSameConfig(const PppConfig& c, const PppConfig& d) {
   const auto& ca = c.ambiguity_resolution;
   const auto& da = d.ambiguity_resolution;
   EXPECT_EQ(ca.enabled, da.enabled);
+  EXPECT_EQ(ca.mode, da.mode);
   EXPECT_NEAR(ca.min_elevation_rad, da.min_elevation_rad, 1e-15);
   EXPECT_EQ(ca.narrow_lane.ratio_threshold, da.narrow_lane.ratio_threshold);
   EXPECT_EQ(ca.narrow_lane.min_success_rate, da.narrow_lane.min_success_rate);
@@ -83,6 +84,7 @@ void expectSameConfig(const PppConfig& c, const PppConfig& d) {
   EXPECT_EQ(c.model.shapiro, d.model.shapiro);
   EXPECT_EQ(c.model.exclude_eclipse, d.model.exclude_eclipse);
   EXPECT_EQ(c.signals.systems, d.signals.systems);
+  EXPECT_EQ(c.signals.systems_from_products, d.signals.systems_from_products);
   EXPECT_EQ(c.signals.require_code_osb, d.signals.require_code_osb);
   EXPECT_EQ(c.signals.phase_shift, d.signals.phase_shift);
   for (const auto& [a, b] : {std::pair{&c.signals.gps, &d.signals.gps}, std::pair{&c.signals.galileo, &d.signals.galileo}}) {

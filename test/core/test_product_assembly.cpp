@@ -106,7 +106,7 @@ TEST(ProductAssembly, Ccj2AutoFixesWithWumOsbsAndIgs14Antennas) {
   EXPECT_TRUE(hasNote(a.notes(), "systems: GPS, Galileo (every system of GPS, Galileo that the products and the "
                                  "satellite antennas cover)"));
   // An explicit list is kept as written.
-  const PppConfig gps_only = parsePppConfig("signals:\n  systems: [GPS]\n", "gps");
+  const PppConfig gps_only = parsePppConfig("measurement_model:\n  signals:\n    systems: [GPS]\n", "gps");
   EXPECT_EQ(ProductAssembly::assemble(ccj2Inputs({kIgs14}), gps_only).config().signals.systems,
             std::vector<GnssSystem>{GnssSystem::GPS});
 }
