@@ -32,14 +32,21 @@ std::size_t notesStartingWith(const std::vector<std::string>& notes, const std::
       std::count_if(notes.begin(), notes.end(), [&](const std::string& n) { return n.rfind(prefix, 0) == 0; }));
 }
 
-/// CCJ2's WUM products with the given ANTEX files.
-ProductAssemblyInputs ccj2Inputs(const std::vector<std::string>& atx) {
-  const test::PppDataset d = test::ccj2Dataset();
+/// A dataset's products as the assembly's inputs.
+ProductAssemblyInputs assemblyInputs(const test::PppDataset& d) {
   ProductAssemblyInputs in;
   in.sp3 = d.sp3;
   in.clk = d.clk;
+  in.atx = d.atx;
   in.bias = d.bia;
+  return in;
+}
+
+/// CCJ2's WUM products with the given ANTEX files.
+ProductAssemblyInputs ccj2Inputs(const std::vector<std::string>& atx) {
+  ProductAssemblyInputs in = assemblyInputs(test::ccj2Dataset());
   in.blq = test::dataPath("oceanload/ccj2_fes2004.blq");
+  in.atx.clear();
   for (const auto& a : atx) in.atx.push_back(test::dataPath(a));
   return in;
 }
@@ -113,13 +120,7 @@ TEST(ProductAssembly, Ccj2AutoFixesWithWumOsbsAndIgs14Antennas) {
 
 TEST(ProductAssembly, Zim2StaysFloatWithoutConsistentPhaseBiases) {
   PPP_REQUIRE_SHARED_DATA();
-  const test::PppDataset d = test::zim2Dataset();
-  ProductAssemblyInputs in;
-  in.sp3 = d.sp3;
-  in.clk = d.clk;
-  in.atx = d.atx;
-  in.bias = d.bia;
-  const ProductAssembly a = ProductAssembly::assemble(in, PppConfig{});
+  const ProductAssembly a = ProductAssembly::assemble(assemblyInputs(test::zim2Dataset()), PppConfig{});
   const ArGateVerdict& gate = a.arGate();
   EXPECT_FALSE(gate.fix);
   EXPECT_EQ(gate.reason, ArGateReason::NoConsistentPhaseBiases);
@@ -201,14 +202,7 @@ TEST(ProductAssembly, StreamedProductsGoThroughTheSameGate) {
 
 TEST(ProductAssembly, PppSolvePipelineUsesTheAssembly) {
   PPP_REQUIRE_SHARED_DATA();
-  const test::PppDataset d = test::zim2Dataset();
-  PppInputFiles files;
-  files.obs = d.obs;
-  files.sp3 = d.sp3;
-  files.clk = d.clk;
-  files.atx = d.atx;
-  files.bias = d.bia;
-  const PppPipeline pipeline(files, PppConfig{});
+  const PppPipeline pipeline(test::inputFiles(test::zim2Dataset()), PppConfig{});
   ASSERT_NE(pipeline.productAssembly(), nullptr);
   EXPECT_EQ(pipeline.productAssembly()->arGate().reason, ArGateReason::NoConsistentPhaseBiases);
   EXPECT_EQ(pipeline.config().signals.systems, std::vector<GnssSystem>{GnssSystem::GPS});

@@ -110,6 +110,8 @@ struct ArGateVerdict {
   std::string text() const;
 };
 
+struct OrbitClockProducts;
+
 class ProductAssembly {
  public:
   /// Reads and checks the products (throws FileOpenError / ParseError on unreadable
@@ -147,6 +149,14 @@ class ProductAssembly {
   bool acceptStreamedPhaseBiases(const BiasProvider* provider, PhaseInformation kind);
 
  private:
+  // The steps of assemble().
+  void resolveSystems(const ProductAssemblyInputs& in, const std::vector<GnssSystem>& candidates,
+                      const OrbitClockProducts& orbit_clock);
+  void checkSatelliteAntennas(const ProductAssemblyInputs& in, const std::vector<std::string>& product_models,
+                              const OrbitClockProducts& orbit_clock);
+  void decideArGate(const ProductAssemblyInputs& in, const OrbitClockProducts& orbit_clock);
+  void findPhaseInformation(const ProductAssemblyInputs& in, const OrbitClockProducts& orbit_clock);
+
   PppConfig config_;
   std::shared_ptr<ProductSet> set_;
   std::shared_ptr<const EphemerisSource> ephemeris_;
