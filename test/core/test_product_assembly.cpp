@@ -167,12 +167,25 @@ TEST(ProductAssembly, StreamedProductsGoThroughTheSameGate) {
   streamed.sp3.clear();
   streamed.clk.clear();
   {
-    // Nothing declared about the stream: its antenna model is not known -> auto stays float.
-    const ProductAssembly a = ProductAssembly::assemble(streamed, PppConfig{});
+    // Nothing declared about the stream: its antenna model is not known -> auto stays float
+    // (the resolver runs, without phase biases it leaves the float as it is).
+    ProductAssembly a = ProductAssembly::assemble(streamed, PppConfig{});
     EXPECT_FALSE(a.arGate().fix);
     EXPECT_EQ(a.arGate().reason, ArGateReason::AntennaModelUnknown);
     EXPECT_EQ(a.ephemeris(), nullptr);
-    EXPECT_FALSE(a.config().ambiguity_resolution.enabled);
+    EXPECT_EQ(a.phaseBiases(), nullptr);
+    EXPECT_TRUE(a.config().ambiguity_resolution.enabled);
+    EXPECT_EQ(a.antennas()->satelliteFamily(), "");
+    // The stream declares WUM's clocks and model (e.g. with its first message): decided again.
+    StreamedProductInfo wum;
+    wum.clock_centre = "WHU";
+    wum.antenna_model = "IGS14_2148";
+    EXPECT_TRUE(a.declareStreamedProducts(wum));
+    EXPECT_TRUE(a.arGate().fix) << a.arGate().text();
+    EXPECT_EQ(a.arGate().phase, PhaseInformation::AnalysisCentreOsb);
+    EXPECT_EQ(a.antennas()->satelliteFamily(), "IGS14");
+    EXPECT_EQ(a.phaseBiases(), a.codeBiases().get());
+    EXPECT_FALSE(a.declareStreamedProducts(wum));  // nothing new
   }
   // Declared like the WUM files: the same verdict and the same biases as from the files.
   streamed.streamed.clock_centre = "WHU";

@@ -190,6 +190,7 @@ std::string ArGateVerdict::text() const {
 
 ProductAssembly ProductAssembly::assemble(const ProductAssemblyInputs& in, const PppConfig& config) {
   ProductAssembly a;
+  a.inputs_ = in;
   a.config_ = config;
   if (!in.sp3.empty() != !in.clk.empty() && in.nav.empty())
     throw std::invalid_argument("product inputs: SP3 and clock files go together");
@@ -213,6 +214,7 @@ ProductAssembly ProductAssembly::assemble(const ProductAssemblyInputs& in, const
   files.systems = candidates;
   files.satellite_family = commonFamily(product_models);
   a.set_ = std::make_shared<ProductSet>(ProductSet::load(files));
+  a.antennas_ = a.set_->antennas();
   a.notes_.insert(a.notes_.end(), a.set_->notes().begin(), a.set_->notes().end());
   a.problems_.insert(a.problems_.end(), a.set_->problems().begin(), a.set_->problems().end());
 
@@ -306,9 +308,10 @@ void ProductAssembly::decideArGate(const ProductAssemblyInputs& in, const OrbitC
     v.reason = v.fix ? ArGateReason::Fixing : ArGateReason::NoConsistentPhaseBiases;
   }
   // The resolver runs: always with `true` (as before `auto`); with auto when the
-  // gate fixes, or when streamed phase biases may still let it.
+  // gate fixes, or when the stream may still let it (its declarations and phase
+  // biases come later; without phase biases the resolver leaves the float as it is).
   config_.ambiguity_resolution.enabled =
-      v.mode == AmbiguityResolutionMode::On || v.fix || (antennas_ok && in.streamedOrbitsAndClocks());
+      v.mode == AmbiguityResolutionMode::On || v.fix || in.streamedOrbitsAndClocks();
   notes_.push_back(v.text());
 }
 
@@ -363,6 +366,8 @@ void ProductAssembly::findPhaseInformation(const ProductAssemblyInputs& in, cons
 bool ProductAssembly::acceptStreamedPhaseBiases(const BiasProvider* provider, PhaseInformation kind) {
   ArGateVerdict& v = verdict_;
   if (v.mode == AmbiguityResolutionMode::Off || provider == nullptr || kind == PhaseInformation::None) return false;
+  streamed_phase_biases_ = provider;  // kept for declareStreamedProducts, even when refused now
+  streamed_phase_kind_ = kind;
   if (v.reason == ArGateReason::AntennaModelDifferent || v.reason == ArGateReason::AntennaModelUnknown) return false;
   if (v.fix && phase_biases_ == provider) return false;
   if (v.fix && v.phase != PhaseInformation::SsrPhaseBiases && kind == PhaseInformation::SsrPhaseBiases)
@@ -374,6 +379,26 @@ bool ProductAssembly::acceptStreamedPhaseBiases(const BiasProvider* provider, Ph
   v.detail = provider->describeSource();
   config_.ambiguity_resolution.enabled = true;
   notes_.push_back(v.text());
+  return true;
+}
+
+bool ProductAssembly::declareStreamedProducts(const StreamedProductInfo& info) {
+  if (!inputs_.streamedOrbitsAndClocks()) return false;
+  if (info.clock_centre == inputs_.streamed.clock_centre && info.antenna_model == inputs_.streamed.antenna_model)
+    return false;
+  inputs_.streamed.clock_centre = info.clock_centre;
+  inputs_.streamed.antenna_model = info.antenna_model;
+  const std::vector<std::string> models = productAntennaModels(inputs_);
+  const std::string family = commonFamily(models);
+  if (antennas_ && family != antennas_->satelliteFamily())
+    antennas_ = std::make_shared<const AntexCalibrations>(antennas_->files(), family);
+  const OrbitClockProducts streamed;  // orbits and clocks not known before the run
+  antenna_check_.reset();
+  if (antennas_ && !models.empty()) checkSatelliteAntennas(inputs_, models, streamed);
+  verdict_ = ArGateVerdict{};
+  phase_biases_ = nullptr;
+  decideArGate(inputs_, streamed);
+  if (streamed_phase_biases_) acceptStreamedPhaseBiases(streamed_phase_biases_, streamed_phase_kind_);
   return true;
 }
 
