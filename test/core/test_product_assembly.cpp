@@ -213,6 +213,32 @@ TEST(ProductAssembly, StreamedProductsGoThroughTheSameGate) {
   EXPECT_FALSE(live.acceptStreamedPhaseBiases(files.codeBiases().get(), PhaseInformation::SsrPhaseBiases));
 }
 
+TEST(ProductAssembly, BroadcastAndSsrFilesGoThroughTheSameGate) {
+  PPP_REQUIRE_SHARED_DATA();
+  // ppp_solve --nav --ssr: IGS's SSRA03IGS0 recording carries code biases, no phase biases (1059/1242/1260 only).
+  ProductAssemblyInputs in;
+  in.nav = {test::dataPath("streams/ssr/BRDC00WRD_S_20261880000_01D_MN_GPS_SSR_20261881400.rnx")};
+  in.ssr = test::dataPath("streams/ssr/SSRA03IGS0_2026188140760_3epoch.rtcm3");
+  in.stream_reference_time = GnssTime::fromCalendar({2026, 7, 7, 14, 0, 0.0}, TimeSystem::GPS);
+  in.atx = {test::dataPath("antex/igs20_gps_satellites_trim.atx")};
+  const ProductAssembly automatic = ProductAssembly::assemble(in, PppConfig{});
+  EXPECT_NE(automatic.ephemeris(), nullptr);
+  ASSERT_NE(automatic.codeBiases(), nullptr);
+  EXPECT_NE(automatic.codeBiases()->describeSource().find("SSR"), std::string::npos);
+  // The SSR stream names no satellite antenna model: auto stays float.
+  EXPECT_EQ(automatic.arGate().reason, ArGateReason::AntennaModelUnknown);
+  EXPECT_EQ(automatic.phaseBiases(), nullptr);
+  // Only GPS satellites in the ANTEX file: Galileo skipped.
+  EXPECT_EQ(automatic.config().signals.systems, std::vector<GnssSystem>{GnssSystem::GPS});
+  EXPECT_TRUE(hasNote(automatic.notes(), "systems: Galileo skipped: no satellite antenna calibrations in the ANTEX files"));
+  // true: the antennas are not held against it, but there are no phase biases.
+  const ProductAssembly on =
+      ProductAssembly::assemble(in, parsePppConfig("ambiguity_resolution:\n  enabled: true\n", "on"));
+  EXPECT_EQ(on.arGate().reason, ArGateReason::NoConsistentPhaseBiases);
+  EXPECT_EQ(on.arGate().detail, "the SSR stream carries no phase biases");
+  EXPECT_TRUE(on.config().ambiguity_resolution.enabled);
+}
+
 TEST(ProductAssembly, PppSolvePipelineUsesTheAssembly) {
   PPP_REQUIRE_SHARED_DATA();
   const PppPipeline pipeline(test::inputFiles(test::zim2Dataset()), PppConfig{});
