@@ -668,11 +668,11 @@ void PppNode::processObsEpoch(const ppp::ObsEpoch& epoch) {
   // Live SSR biases arrive after the start: the processor is remade with them (once: then stable).
   const bool live_biases_arrived = live_ && !products_.codeBiases() && processor_ && live_->biases() != processor_biases_;
   if (!processor_ || live_biases_arrived) startProcessor();
-  else if (acceptLivePhaseBiases()) processor_->setPhaseBiases(products_.phaseBiases());
   else if (layout_changed_) {
     processor_->setObservationTypes(layout_);
     layout_changed_ = false;
   }
+  if (acceptLivePhaseBiases()) processor_->setPhaseBiases(products_.phaseBiases());
   const auto start = std::chrono::steady_clock::now();
   const double cpu0_s = ppp::threadCpu_s();
   const ppp::PppEpochRecord rec = processor_->process(epoch, *estimator_);
