@@ -331,12 +331,7 @@ class RecordingEkf : public EpochEstimator {
 TEST(AmbiguityHold, RealCcj2HeldNarrowLanesAreIntegersAcrossArcs) {
   PPP_REQUIRE_SHARED_DATA();
   const test::PppDataset d = test::ccj2Dataset();
-  PppInputFiles files;
-  files.obs = d.obs;
-  files.sp3 = d.sp3;
-  files.clk = d.clk;
-  files.atx = d.atx;
-  files.bias = d.bia;
+  const PppInputFiles files = test::inputFiles(d);
   // Static (no position process noise): the float position is then well
   // determined and the single differences show what the products and models
   // leave in them.
