@@ -14,7 +14,13 @@
 // A --nav file may be RINEX navigation or an RTCM 3 / UBX recording (detected by
 // content): its ephemerides are used from their reception in the stream on, so
 // `--rtcm X --nav X` is broadcast-only PPP from one recording.
-// ANTEX files are searched in the order given: the first holding an antenna wins.
+// ANTEX files are searched in the order given: the first holding an antenna wins,
+// except that a satellite's antenna comes first from the family the products name
+// (IGS14, IGS20: so igs14.atx and igs20.atx may be given together, in any order).
+// The products decide the defaults (ppp/product_assembly.h, printed in the notes):
+// the systems (every one of GPS | Galileo the products and antennas cover) and
+// PPP-AR (ambiguity_resolution.enabled: auto fixes only with phase information
+// consistent with the clocks and the products' satellite antenna model).
 // ekf writes DIR/<name>_ekf.csv, .pos (RTKLIB), _summary.json, _epochs.csv and
 // _residuals.csv; smoother writes the FILTERED and the SMOOTHED solutions as
 // <name>_smoother_filtered.* and <name>_smoother_smoothed.* (csv, pos, summary.json),
