@@ -177,10 +177,12 @@ int main(int argc, char** argv) {
     std::ofstream csv, nl_csv;
     if (!csv_path.empty()) {
       csv.open(csv_path);
+      csv.precision(12);  // GPS seconds to the millisecond
       csv << "time_s,fixed,ar_e_m,ar_n_m,ar_u_m,float_e_m,float_n_m,float_u_m,held,T,m,reason\n";
     }
     if (!nl_csv_path.empty()) {
       nl_csv.open(nl_csv_path);
+      nl_csv.precision(12);
       nl_csv << "time_s,satellite,reference,wide_lane,float_cycles,sigma_cycles,held_cycles\n";
     }
     const std::size_t first_hour = 120;  // solved epochs (30 s)
