@@ -181,6 +181,34 @@ TEST(AmbiguityHold, WrongIntegerIsHeldThenDetectedReleasedAndTheEstimateReturns)
   EXPECT_LT((fixed->x.head(3) - s.truth.head(3)).norm(), 1e-6);
 }
 
+// Fewer validation epochs for a subset whose bootstrapped success rate reaches
+// fast_validation_success_rate (here the floats sit on their integers, but the
+// subset's success rate is 0.68: the geometry part of the covariance); below
+// it, and with 1 (the default), validation_epochs.
+TEST(AmbiguityHold, HighSuccessRateSubsetIsHeldAfterFewerValidationEpochs) {
+  SyntheticProblem s;
+  const int rd = SyntheticProblem::receiver_dim;
+  const auto firstHeld = [&](double fast_success_rate) {
+    AmbiguityResolutionOptions opt;
+    opt.enabled = true;
+    opt.hold.fast_validation_success_rate = fast_success_rate;
+    opt.hold.fast_validation_epochs = 2;
+    AmbiguityResolver resolver(opt);
+    s.feedWideLanes(resolver, 60);
+    AmbiguityFixSummary summary;
+    for (int k = 0; k < 30; ++k) {
+      if (resolver.resolveAndHold(s.truth, s.P, rd, s.bias_arcs, &s.osb, summary)) {
+        return k;
+      }
+    }
+    return -1;
+  };
+  const AmbiguityHoldOptions defaults;
+  EXPECT_EQ(firstHeld(1.0), defaults.consistency_epochs - 1 + defaults.validation_epochs - 1);
+  EXPECT_EQ(firstHeld(0.9), defaults.consistency_epochs - 1 + defaults.validation_epochs - 1);
+  EXPECT_EQ(firstHeld(0.5), defaults.consistency_epochs - 1 + 2 - 1);
+}
+
 TEST(AmbiguityHold, HeldIntegersSurviveTheEndOfTheirReferenceArc) {
   // Five integers held against one reference arc; the reference arc ends. With
   // hold.rereference_on_arc_end the held set is re-expressed between the other
@@ -327,6 +355,96 @@ class RecordingEkf : public EpochEstimator {
  private:
   EkfEstimator ekf_;
 };
+
+/// The EKF estimator with a wrong integer injected at one epoch: the held
+/// Galileo narrow lane with the smallest sigma gets its integer + 1.
+class InjectingEkf : public EpochEstimator {
+ public:
+  InjectingEkf(const PppConfig& c, int inject_at) : ekf_(c), inject_at_(inject_at) {}
+  std::string name() const override { return "ekf"; }
+  void setApproximatePosition(const Eigen::Vector3d& p) override { ekf_.setApproximatePosition(p); }
+  EstimatorEpochResult processEpoch(const EstimatorEpochInput& in) override {
+    EstimatorEpochResult r = ekf_.processEpoch(in);
+    if (r.ambiguity_fix && injected && !released_at)
+      for (const auto& rel : r.ambiguity_fix->released)
+        if (rel.arc == injected->arc && rel.reference_arc == injected->reference_arc) {
+          released_at = epoch_;
+          release = rel;
+        }
+    if (epoch_ == inject_at_ && r.ambiguity_fix) {
+      const NarrowLaneFloat* best = nullptr;
+      for (const auto& nl : r.ambiguity_fix->narrow_lanes)
+        if (nl.held_cycles && nl.satellite.system == GnssSystem::Galileo && (!best || nl.sigma_cycles < best->sigma_cycles))
+          best = &nl;
+      if (best) {
+        injected = *best;
+        ekf_.resolver().holdInteger(best->arc, best->reference_arc, best->wide_lane_cycles, *best->held_cycles + 1);
+      }
+    }
+    ++epoch_;
+    return r;
+  }
+  void arcsEnded(const std::vector<EndedArc>& e) override { ekf_.arcsEnded(e); }
+  const PppEstimatorBase& core() const override { return ekf_.core(); }
+  std::optional<NarrowLaneFloat> injected;
+  std::optional<int> released_at;
+  std::optional<AmbiguityRelease> release;
+
+ private:
+  EkfEstimator ekf_;
+  int inject_at_ = -1;
+  int epoch_ = 0;
+};
+
+// Wrong-fix injection on the EKF with GPS + Galileo (ESBC, GRG integer clocks
+// with their GPS and Galileo wide-lane biases, IGS14 satellite antennas as the
+// products): one held Galileo integer replaced by a wrong one (+1 narrow-lane
+// cycle) at 60 min is released at the next epoch (its float, conditioned on the
+// other held integers, departs by about a cycle) before it moves the fixed
+// solution; the solution stays within 1 cm of the clean run's.
+TEST(AmbiguityHold, RealEsbcGalileoWrongIntegerInjectedIntoTheEkfIsReleased) {
+  PPP_REQUIRE_SHARED_DATA();
+  PppInputFiles files = test::esbcGrgInputFiles();
+  files.atx = {test::dataPath("antex/igs14_2178_satellites.atx"), test::dataPath("antex/igs05_esbc_receiver_trim.atx")};
+  const PppConfig config = parsePppConfig(
+      "measurement_model:\n  signals:\n    systems: [GPS, Galileo]\nambiguity_resolution:\n  enabled: true\n",
+      "ESBC GPS + Galileo AR");
+  const auto run = [&](EpochEstimator& estimator) {
+    PppPipeline pipeline(files, config);
+    std::vector<std::pair<std::optional<Eigen::Vector3d>, bool>> out;
+    pipeline.run(estimator, [&](const PppEpochRecord& r) {
+      out.emplace_back(r.solution.position_ecef_m, r.solution.status == SolutionStatus::PppFixed);
+    });
+    return out;
+  };
+  const int inject_at = 120;  // 60 min (30-s epochs)
+  InjectingEkf clean_ekf(config, -1), wrong_ekf(config, inject_at);
+  const auto clean = run(clean_ekf);
+  const auto wrong = run(wrong_ekf);
+  ASSERT_EQ(clean.size(), wrong.size());
+  ASSERT_TRUE(wrong_ekf.injected.has_value()) << "no held Galileo integer at the injection epoch";
+  std::cout << "injected " << wrong_ekf.injected->satellite.toString() << "-"
+            << wrong_ekf.injected->reference_satellite.toString() << " float " << wrong_ekf.injected->float_cycles
+            << " sigma " << wrong_ekf.injected->sigma_cycles << " held " << *wrong_ekf.injected->held_cycles
+            << " -> " << *wrong_ekf.injected->held_cycles + 1 << "; released at epoch "
+            << (wrong_ekf.released_at ? std::to_string(*wrong_ekf.released_at) : std::string("never")) << "\n";
+  EXPECT_EQ(wrong_ekf.injected->reference_satellite.system, GnssSystem::Galileo);
+  ASSERT_TRUE(wrong_ekf.released_at.has_value());
+  EXPECT_EQ(*wrong_ekf.released_at, inject_at + 1);
+  EXPECT_EQ(wrong_ekf.release->reason, AmbiguityReleaseReason::FloatDeparted);
+  EXPECT_NEAR(std::abs(wrong_ekf.release->departure_cycles), 1.0, 0.3);
+  double worst_m = 0.0;
+  int fixed_after = 0;
+  for (std::size_t k = inject_at; k < clean.size(); ++k) {
+    if (!clean[k].first || !wrong[k].first) continue;
+    worst_m = std::max(worst_m, (*clean[k].first - *wrong[k].first).norm());
+    fixed_after += wrong[k].second ? 1 : 0;
+  }
+  std::cout << "largest |injected run - clean run| from the injection on: " << 100.0 * worst_m << " cm; fixed epochs "
+            << fixed_after << "\n";
+  EXPECT_LT(worst_m, 0.01);
+  EXPECT_GT(fixed_after, 2000);
+}
 
 TEST(AmbiguityHold, RealCcj2HeldNarrowLanesAreIntegersAcrossArcs) {
   PPP_REQUIRE_SHARED_DATA();
