@@ -356,15 +356,17 @@ class RecordingEkf : public EpochEstimator {
   EkfEstimator ekf_;
 };
 
-/// The EKF estimator with a wrong integer injected at one epoch: the held
-/// Galileo narrow lane with the smallest sigma gets its integer + 1.
-class InjectingEkf : public EpochEstimator {
+/// An estimator (EkfEstimator or SmootherEstimator: both have resolver()) with
+/// a wrong integer injected at one epoch: the held Galileo narrow lane with the
+/// smallest sigma gets its integer + 1.
+template <typename Estimator>
+class Injecting : public EpochEstimator {
  public:
-  InjectingEkf(const PppConfig& c, int inject_at) : ekf_(c), inject_at_(inject_at) {}
-  std::string name() const override { return "ekf"; }
-  void setApproximatePosition(const Eigen::Vector3d& p) override { ekf_.setApproximatePosition(p); }
+  Injecting(const PppConfig& c, int inject_at) : estimator_(c), inject_at_(inject_at) {}
+  std::string name() const override { return estimator_.name(); }
+  void setApproximatePosition(const Eigen::Vector3d& p) override { estimator_.setApproximatePosition(p); }
   EstimatorEpochResult processEpoch(const EstimatorEpochInput& in) override {
-    EstimatorEpochResult r = ekf_.processEpoch(in);
+    EstimatorEpochResult r = estimator_.processEpoch(in);
     if (r.ambiguity_fix && injected && !released_at)
       for (const auto& rel : r.ambiguity_fix->released)
         if (rel.arc == injected->arc && rel.reference_arc == injected->reference_arc) {
@@ -378,23 +380,80 @@ class InjectingEkf : public EpochEstimator {
           best = &nl;
       if (best) {
         injected = *best;
-        ekf_.resolver().holdInteger(best->arc, best->reference_arc, best->wide_lane_cycles, *best->held_cycles + 1);
+        estimator_.resolver().holdInteger(best->arc, best->reference_arc, best->wide_lane_cycles,
+                                          *best->held_cycles + 1);
       }
     }
     ++epoch_;
     return r;
   }
-  void arcsEnded(const std::vector<EndedArc>& e) override { ekf_.arcsEnded(e); }
-  const PppEstimatorBase& core() const override { return ekf_.core(); }
+  void arcsEnded(const std::vector<EndedArc>& e) override { estimator_.arcsEnded(e); }
+  const PppEstimatorBase& core() const override { return estimator_.core(); }
   std::optional<NarrowLaneFloat> injected;
   std::optional<int> released_at;
   std::optional<AmbiguityRelease> release;
 
  private:
-  EkfEstimator ekf_;
+  Estimator estimator_;
   int inject_at_ = -1;
   int epoch_ = 0;
 };
+
+struct InjectionOutcome {
+  std::vector<std::pair<std::optional<Eigen::Vector3d>, bool>> clean, wrong;  // filtered position, fixed
+  std::optional<NarrowLaneFloat> injected;
+  std::optional<int> released_at;
+  std::optional<AmbiguityRelease> release;
+};
+
+/// The clean run and the run with the injection of the same inputs.
+template <typename Estimator>
+InjectionOutcome runInjection(const PppInputFiles& files, const PppConfig& config, int inject_at) {
+  const auto run = [&](EpochEstimator& estimator) {
+    PppPipeline pipeline(files, config);
+    std::vector<std::pair<std::optional<Eigen::Vector3d>, bool>> out;
+    pipeline.run(estimator, [&](const PppEpochRecord& r) {
+      out.emplace_back(r.solution.position_ecef_m, r.solution.status == SolutionStatus::PppFixed);
+    });
+    return out;
+  };
+  Injecting<Estimator> clean(config, -1), wrong(config, inject_at);
+  InjectionOutcome o;
+  o.clean = run(clean);
+  o.wrong = run(wrong);
+  o.injected = wrong.injected;
+  o.released_at = wrong.released_at;
+  o.release = wrong.release;
+  if (o.injected)
+    std::cout << "injected " << o.injected->satellite.toString() << "-" << o.injected->reference_satellite.toString()
+              << " float " << o.injected->float_cycles << " sigma " << o.injected->sigma_cycles << " held "
+              << *o.injected->held_cycles << " -> " << *o.injected->held_cycles + 1 << "; released at epoch "
+              << (o.released_at ? std::to_string(*o.released_at) : std::string("never")) << "\n";
+  return o;
+}
+
+/// The injection released at the next epoch as departed by about a cycle, and
+/// the filtered solution within 1 cm of the clean run's from then on.
+void expectInjectionReleased(const InjectionOutcome& o, int inject_at, int min_fixed_after) {
+  ASSERT_EQ(o.clean.size(), o.wrong.size());
+  ASSERT_TRUE(o.injected.has_value()) << "no held Galileo integer at the injection epoch";
+  EXPECT_EQ(o.injected->reference_satellite.system, GnssSystem::Galileo);
+  ASSERT_TRUE(o.released_at.has_value());
+  EXPECT_EQ(*o.released_at, inject_at + 1);
+  EXPECT_EQ(o.release->reason, AmbiguityReleaseReason::FloatDeparted);
+  EXPECT_NEAR(std::abs(o.release->departure_cycles), 1.0, 0.3);
+  double worst_m = 0.0;
+  int fixed_after = 0;
+  for (std::size_t k = static_cast<std::size_t>(inject_at); k < o.clean.size(); ++k) {
+    if (!o.clean[k].first || !o.wrong[k].first) continue;
+    worst_m = std::max(worst_m, (*o.clean[k].first - *o.wrong[k].first).norm());
+    fixed_after += o.wrong[k].second ? 1 : 0;
+  }
+  std::cout << "largest |injected run - clean run| from the injection on: " << 100.0 * worst_m << " cm; fixed epochs "
+            << fixed_after << "\n";
+  EXPECT_LT(worst_m, 0.01);
+  EXPECT_GE(fixed_after, min_fixed_after);
+}
 
 // Wrong-fix injection on the EKF with GPS + Galileo (ESBC, GRG integer clocks
 // with their GPS and Galileo wide-lane biases, IGS14 satellite antennas as the
@@ -409,41 +468,29 @@ TEST(AmbiguityHold, RealEsbcGalileoWrongIntegerInjectedIntoTheEkfIsReleased) {
   const PppConfig config = parsePppConfig(
       "measurement_model:\n  signals:\n    systems: [GPS, Galileo]\nambiguity_resolution:\n  enabled: true\n",
       "ESBC GPS + Galileo AR");
-  const auto run = [&](EpochEstimator& estimator) {
-    PppPipeline pipeline(files, config);
-    std::vector<std::pair<std::optional<Eigen::Vector3d>, bool>> out;
-    pipeline.run(estimator, [&](const PppEpochRecord& r) {
-      out.emplace_back(r.solution.position_ecef_m, r.solution.status == SolutionStatus::PppFixed);
-    });
-    return out;
-  };
   const int inject_at = 120;  // 60 min (30-s epochs)
-  InjectingEkf clean_ekf(config, -1), wrong_ekf(config, inject_at);
-  const auto clean = run(clean_ekf);
-  const auto wrong = run(wrong_ekf);
-  ASSERT_EQ(clean.size(), wrong.size());
-  ASSERT_TRUE(wrong_ekf.injected.has_value()) << "no held Galileo integer at the injection epoch";
-  std::cout << "injected " << wrong_ekf.injected->satellite.toString() << "-"
-            << wrong_ekf.injected->reference_satellite.toString() << " float " << wrong_ekf.injected->float_cycles
-            << " sigma " << wrong_ekf.injected->sigma_cycles << " held " << *wrong_ekf.injected->held_cycles
-            << " -> " << *wrong_ekf.injected->held_cycles + 1 << "; released at epoch "
-            << (wrong_ekf.released_at ? std::to_string(*wrong_ekf.released_at) : std::string("never")) << "\n";
-  EXPECT_EQ(wrong_ekf.injected->reference_satellite.system, GnssSystem::Galileo);
-  ASSERT_TRUE(wrong_ekf.released_at.has_value());
-  EXPECT_EQ(*wrong_ekf.released_at, inject_at + 1);
-  EXPECT_EQ(wrong_ekf.release->reason, AmbiguityReleaseReason::FloatDeparted);
-  EXPECT_NEAR(std::abs(wrong_ekf.release->departure_cycles), 1.0, 0.3);
-  double worst_m = 0.0;
-  int fixed_after = 0;
-  for (std::size_t k = inject_at; k < clean.size(); ++k) {
-    if (!clean[k].first || !wrong[k].first) continue;
-    worst_m = std::max(worst_m, (*clean[k].first - *wrong[k].first).norm());
-    fixed_after += wrong[k].second ? 1 : 0;
-  }
-  std::cout << "largest |injected run - clean run| from the injection on: " << 100.0 * worst_m << " cm; fixed epochs "
-            << fixed_after << "\n";
-  EXPECT_LT(worst_m, 0.01);
-  EXPECT_GT(fixed_after, 2000);
+  expectInjectionReleased(runInjection<EkfEstimator>(files, config, inject_at), inject_at, 2000);
+}
+
+// The same on the smoother (the held integers are factors of its graph; the
+// released one's factor is removed, PppSmoother::updateFixes), on CCJ2 with
+// WUM clocks and phase OSBs, GPS + Galileo, injected at 40 min of the hour.
+TEST(AmbiguityHold, RealCcj2GalileoWrongIntegerInjectedIntoTheSmootherIsReleased) {
+  PPP_REQUIRE_SHARED_DATA();
+  const test::PppDataset d = test::ccj2Dataset();
+  PppInputFiles files;
+  files.obs = d.obs;
+  files.sp3 = d.sp3;
+  files.clk = d.clk;
+  files.bias = d.bia;
+  files.atx = {test::dataPath("antex/igs14_2178_satellites.atx"), test::dataPath("antex/igs20_zim2_gps_trim.atx")};
+  const PppConfig config = parsePppConfig(
+      "measurement_model:\n  signals:\n    systems: [GPS, Galileo]\nambiguity_resolution:\n  enabled: true\n"
+      // WUM's IGS14_2148 satellite model; the receiver file holds IGS20 satellites too (not used).
+      "  allow_antenna_model_mismatch: true\n",
+      "CCJ2 GPS + Galileo AR");
+  const int inject_at = 80;  // 40 min
+  expectInjectionReleased(runInjection<SmootherEstimator>(files, config, inject_at), inject_at, 30);
 }
 
 TEST(AmbiguityHold, RealCcj2HeldNarrowLanesAreIntegersAcrossArcs) {
