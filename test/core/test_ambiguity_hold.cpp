@@ -356,6 +356,18 @@ class RecordingEkf : public EpochEstimator {
   EkfEstimator ekf_;
 };
 
+/// CCJ2's files (WUM products and phase OSBs, the dataset's ANTEX).
+PppInputFiles ccj2InputFiles() {
+  const test::PppDataset d = test::ccj2Dataset();
+  PppInputFiles files;
+  files.obs = d.obs;
+  files.sp3 = d.sp3;
+  files.clk = d.clk;
+  files.atx = d.atx;
+  files.bias = d.bia;
+  return files;
+}
+
 /// An estimator (EkfEstimator or SmootherEstimator: both have resolver()) with
 /// a wrong integer injected at one epoch: the held Galileo narrow lane with the
 /// smallest sigma gets its integer + 1.
@@ -477,12 +489,7 @@ TEST(AmbiguityHold, RealEsbcGalileoWrongIntegerInjectedIntoTheEkfIsReleased) {
 // WUM clocks and phase OSBs, GPS + Galileo, injected at 40 min of the hour.
 TEST(AmbiguityHold, RealCcj2GalileoWrongIntegerInjectedIntoTheSmootherIsReleased) {
   PPP_REQUIRE_SHARED_DATA();
-  const test::PppDataset d = test::ccj2Dataset();
-  PppInputFiles files;
-  files.obs = d.obs;
-  files.sp3 = d.sp3;
-  files.clk = d.clk;
-  files.bias = d.bia;
+  PppInputFiles files = ccj2InputFiles();
   files.atx = {test::dataPath("antex/igs14_2178_satellites.atx"), test::dataPath("antex/igs20_zim2_gps_trim.atx")};
   const PppConfig config = parsePppConfig(
       "measurement_model:\n  signals:\n    systems: [GPS, Galileo]\nambiguity_resolution:\n  enabled: true\n"
@@ -495,13 +502,7 @@ TEST(AmbiguityHold, RealCcj2GalileoWrongIntegerInjectedIntoTheSmootherIsReleased
 
 TEST(AmbiguityHold, RealCcj2HeldNarrowLanesAreIntegersAcrossArcs) {
   PPP_REQUIRE_SHARED_DATA();
-  const test::PppDataset d = test::ccj2Dataset();
-  PppInputFiles files;
-  files.obs = d.obs;
-  files.sp3 = d.sp3;
-  files.clk = d.clk;
-  files.atx = d.atx;
-  files.bias = d.bia;
+  const PppInputFiles files = ccj2InputFiles();
   // Static (no position process noise): the float position is then well
   // determined and the single differences show what the products and models
   // leave in them.
