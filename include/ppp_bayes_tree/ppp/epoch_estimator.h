@@ -70,6 +70,8 @@ class EkfEstimator : public EpochEstimator {
   const PppEstimatorBase& core() const override { return ekf_; }
   const EkfPpp& filter() const { return ekf_; }
   void resolveAmbiguities(const EstimatorEpochInput& input, EstimatorEpochResult& r);
+  /// The resolver (e.g. to hold an integer restored after a restart).
+  AmbiguityResolver& resolver() { return ambiguity_; }
 
  private:
   EkfPpp ekf_;
