@@ -154,6 +154,21 @@ TEST(PppSources, ReceiverAntennaPolicyKey) {
             ReceiverAntennaPolicy::Warn);
 }
 
+TEST(PppSources, ReceiverFrequencySubstitutionKey) {
+  const auto substitution = [](const std::string& value) {
+    return parsePppConfig("measurement_model:\n  corrections:\n    receiver_frequency_substitution: " + value + "\n",
+                          "p.yaml")
+        .model.receiver_frequency_substitution;
+  };
+  EXPECT_EQ(substitution("gps"), ReceiverFrequencySubstitution::Gps);
+  EXPECT_EQ(substitution("none"), ReceiverFrequencySubstitution::None);
+  EXPECT_ANY_THROW(substitution("galileo"));
+  EXPECT_EQ(parsePppConfig("measurement_model: {}\n", "p.yaml").model.receiver_frequency_substitution,
+            ReceiverFrequencySubstitution::Gps);
+  EXPECT_EQ(loadPppConfig(std::string(PPP_REPO_DIR) + "/config/ppp.yaml").model.receiver_frequency_substitution,
+            ReceiverFrequencySubstitution::Gps);
+}
+
 TEST(PppSources, InMemoryObservationsGiveTheFileRun) {
   PPP_REQUIRE_SHARED_DATA();
   const test::PppDataset ds = test::zim2Dataset();
