@@ -1,8 +1,9 @@
 // PPP measurement model: Jacobian against central differences, known values
-// (IF coefficients, Sagnac, receiver PCO IF combination from the ZIM2 ANTEX,
+// (IF coefficients, Sagnac, receiver PCO IF combination from the ZIM2 ANTEX, the GPS
+// receiver calibration standing in for Galileo on ESBC,
 // eclipse and cutoff rejection), and a noise-free self-consistency test (data
 // synthesised by the model itself: zero residuals at the truth, Gauss-Newton
-// recovers the truth). Real products: ZIM2 (IGS final) from ../shared/data.
+// recovers the truth). Real products: ZIM2 (IGS final), ESBC (GRG) from ../shared/data.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -283,6 +284,104 @@ TEST(PppMeasurementModel, StationDisplacementsMoveTheAntennaPhaseCentre) {
   const Eigen::Vector3d ol = rotationEnuFromEcef(g.latitude_rad, g.longitude_rad).transpose() * ol_enu;
   EXPECT_GT(std::abs(ol_enu.z()), 1e-4);
   EXPECT_NEAR((t_ol.front().receiver_apc_ecef_m - t_on.front().receiver_apc_ecef_m - ol).norm(), 0.0, 1e-9);
+}
+
+// ESBC (ASH701945E_M SCIS of igs05_esbc_receiver_trim.atx: G01/G02 only),
+// GPS + Galileo, GRG products, the IGS14 satellite antennas (Galileo ones
+// included): with the default substitution the Galileo satellites get the
+// receiver PCO of G01/G02 in their own E1/E5a ionosphere-free combination and a
+// receiver PCV, named in one note; with "none" they get neither, and the
+// "missing" warning instead.
+struct EsbcGalileoEpoch {
+  std::unique_ptr<RinexObsReader> reader;
+  PreciseEphemeris products;
+  std::unique_ptr<PppMeasurementModel> model;
+  std::vector<DualFrequencyObservation> obs;
+  std::vector<ArcId> arcs;
+  ReceiverState state{ReceiverStateLayout({GnssSystem::GPS, GnssSystem::Galileo})};
+
+  static std::string esbc(const std::string& file) { return test::dataPath("esbc-2020-177/" + file); }
+  explicit EsbcGalileoEpoch(ReceiverFrequencySubstitution substitution)
+      : reader(std::make_unique<RinexObsReader>(RinexObsReader::open(esbc("ESBC00DNK_R_20201770000_01D_30S_MO.crx.gz")))),
+        products(PreciseEphemeris::load({esbc("GRG0MGXFIN_20201770000_01D_15M_ORB.SP3.gz")},
+                                        {esbc("GRG0MGXFIN_20201770000_01D_30S_CLK.CLK.gz")})) {
+    std::vector<AntexSource> antex;
+    for (const std::string name : {"igs14_2178_satellites.atx", "igs05_esbc_receiver_trim.atx"})
+      antex.push_back({name, readAntexFile(test::dataPath("antex/" + name))});
+    MeasurementModelOptions options;
+    options.receiver_frequency_substitution = substitution;
+    model = std::make_unique<PppMeasurementModel>(products, std::make_shared<AntexCalibrations>(std::move(antex)),
+                                                  ReceiverAntenna::fromHeader(reader->header()), nullptr, options);
+    SignalSelectionOptions selection;
+    selection.systems = {GnssSystem::GPS, GnssSystem::Galileo};
+    selection.systems_from_products = false;
+    SignalSelector selector(reader->header(), selection, nullptr);
+    ObsEpoch epoch;
+    reader->next(epoch);
+    reader->next(epoch);
+    obs = selector.select(epoch).observations;
+    for (std::size_t i = 0; i < obs.size(); ++i) arcs.push_back(static_cast<ArcId>(i + 1));
+    state.position_ecef_m = *reader->header().approx_position_ecef_m;
+    state.zwd_m = 0.1;
+  }
+  /// Terms of the used satellites of one system.
+  std::vector<ModelTerms> terms(GnssSystem system) const {
+    std::vector<ModelTerms> all, out;
+    EpochMeasurements em;
+    model->evaluate(obs, arcs, state, nullptr, em, &all);
+    for (const auto& t : all)
+      if (t.satellite.system == system) out.push_back(t);
+    return out;
+  }
+};
+
+TEST(PppMeasurementModel, GalileoTakesTheGpsReceiverCalibrationOnEsbc) {
+  PPP_REQUIRE_SHARED_DATA();
+  EsbcGalileoEpoch gps_values(ReceiverFrequencySubstitution::Gps);
+  EsbcGalileoEpoch none(ReceiverFrequencySubstitution::None);
+  const auto gps_sats = gps_values.terms(GnssSystem::GPS);
+  const auto galileo = gps_values.terms(GnssSystem::Galileo);
+  const auto galileo_none = none.terms(GnssSystem::Galileo);
+  ASSERT_GE(gps_sats.size(), 5u);
+  ASSERT_GE(galileo.size(), 4u);
+  // "none" (warn): used uncorrected; with the GPS values a Galileo satellite below
+  // the calibration's grid (igs05: zenith 0-80 deg) is rejected like a GPS one.
+  ASSERT_GE(galileo_none.size(), galileo.size());
+
+  // Expected: igs05_esbc_receiver_trim.atx ASH701945E_M SCIS G01/G02 PCOs in the
+  // E1/E5a ionosphere-free combination (alpha 2.2606), against GPS's L1/L2 one.
+  const AntennaCalibration* rx = gps_values.model->receiverCalibration();
+  ASSERT_NE(rx, nullptr);
+  ASSERT_EQ(rx->frequency(GnssSystem::Galileo, 1), nullptr);  // the file holds GPS only
+  const Eigen::Vector3d g1 = rx->frequency(GnssSystem::GPS, 1)->pco_m, g2 = rx->frequency(GnssSystem::GPS, 2)->pco_m;
+  const Eigen::Vector3d neu_gps = ionosphereFreeOffset(g1, g2, ionosphereFreeCoefficients(kF1, kF2));
+  const Eigen::Vector3d neu_gal = ionosphereFreeOffset(g1, g2, ionosphereFreeCoefficients(kF1, 1176.45e6));
+  const Geodetic geo = ecefToGeodetic(gps_values.state.position_ecef_m);
+  const Eigen::Matrix3d ecef_from_enu = rotationEnuFromEcef(geo.latitude_rad, geo.longitude_rad).transpose();
+  const auto enu = [](const Eigen::Vector3d& neu) { return Eigen::Vector3d(neu.y(), neu.x(), neu.z()); };
+  const Eigen::Vector3d gps_apc = gps_sats.front().receiver_apc_ecef_m;
+  for (std::size_t i = 0; i < galileo.size(); ++i) {
+    EXPECT_NEAR((galileo[i].receiver_apc_ecef_m - gps_apc - ecef_from_enu * enu(neu_gal - neu_gps)).norm(), 0.0, 1e-9)
+        << galileo[i].satellite.toString();
+    EXPECT_NE(galileo[i].receiver_pcv_m, 0.0) << galileo[i].satellite.toString();
+  }
+  for (const auto& t : galileo_none) {
+    // "none": no receiver PCO (the station displacements only) and no PCV.
+    EXPECT_NEAR((t.receiver_apc_ecef_m - gps_apc + ecef_from_enu * enu(neu_gps)).norm(), 0.0, 1e-9);
+    EXPECT_EQ(t.receiver_pcv_m, 0.0);
+  }
+  EXPECT_GT(neu_gal.z(), 0.03);  // several centimetres up that "none" leaves in the Galileo ranges
+
+  // One note naming the substitution (the model evaluated twice above: still one).
+  gps_values.terms(GnssSystem::Galileo);
+  const auto& notes = gps_values.model->receiverAntennaWarnings();
+  ASSERT_EQ(notes.size(), 1u);
+  EXPECT_EQ(notes[0],
+            "receiver antenna ASH701945E_M SCIS: no Galileo calibration, GPS L1/L2 values used for E1/E5a "
+            "(measurement_model.corrections.receiver_frequency_substitution: gps)");
+  const auto& missing = none.model->receiverAntennaWarnings();
+  ASSERT_EQ(missing.size(), 1u);
+  EXPECT_EQ(missing[0].find("missing receiver antenna calibration for ASH701945E_M SCIS E01/E05"), 0u) << missing[0];
 }
 
 }  // namespace

@@ -154,6 +154,21 @@ TEST(PppSources, ReceiverAntennaPolicyKey) {
             ReceiverAntennaPolicy::Warn);
 }
 
+TEST(PppSources, ReceiverFrequencySubstitutionKey) {
+  const auto substitution = [](const std::string& value) {
+    return parsePppConfig("measurement_model:\n  corrections:\n    receiver_frequency_substitution: " + value + "\n",
+                          "p.yaml")
+        .model.receiver_frequency_substitution;
+  };
+  EXPECT_EQ(substitution("gps"), ReceiverFrequencySubstitution::Gps);
+  EXPECT_EQ(substitution("none"), ReceiverFrequencySubstitution::None);
+  EXPECT_ANY_THROW(substitution("galileo"));
+  EXPECT_EQ(parsePppConfig("measurement_model: {}\n", "p.yaml").model.receiver_frequency_substitution,
+            ReceiverFrequencySubstitution::Gps);
+  EXPECT_EQ(loadPppConfig(std::string(PPP_REPO_DIR) + "/config/ppp.yaml").model.receiver_frequency_substitution,
+            ReceiverFrequencySubstitution::Gps);
+}
+
 TEST(PppSources, InMemoryObservationsGiveTheFileRun) {
   PPP_REQUIRE_SHARED_DATA();
   const test::PppDataset ds = test::zim2Dataset();
@@ -285,6 +300,54 @@ TEST(PppSources, EsbcRequiredReceiverCalibrationRejectsEverySatellite) {
   EXPECT_GT(r.summary.rejection_counts.at({RejectionStage::Model, RejectionReason::MissingAntennaCalibration}),
             61u * 5u);
   EXPECT_TRUE(pipeline.receiverAntennaWarnings().empty());
+}
+
+// ESBC GPS + Galileo, receiver ASH701945E_M SCIS from igs05 (G01/G02 only): the
+// run uses the GPS receiver values for Galileo E1/E5a and says so in one note,
+// with no "missing receiver antenna calibration" warning; with "none" the
+// former warning comes back (once) and the Galileo positions differ.
+TEST(PppSources, EsbcGalileoUsesTheGpsReceiverCalibrationWithOneNote) {
+  PPP_REQUIRE_SHARED_DATA();
+  PppConfig config = realDataConfig();
+  config.signals.systems = {GnssSystem::GPS, GnssSystem::Galileo};
+  config.signals.systems_from_products = false;
+  ASSERT_EQ(config.model.receiver_frequency_substitution, ReceiverFrequencySubstitution::Gps);
+  PppProducts products;
+  products.ephemeris = std::make_shared<PreciseEphemeris>(PreciseEphemeris::load(
+      {esbc("GRG0MGXFIN_20201770000_01D_15M_ORB.SP3.gz")}, {esbc("GRG0MGXFIN_20201770000_01D_30S_CLK.CLK.gz")}));
+  products.antennas = std::make_shared<ProductSet>(
+      ProductSet::load({{test::dataPath("antex/igs14_2178_satellites.atx"),
+                         test::dataPath("antex/igs05_esbc_receiver_trim.atx")},
+                        std::nullopt, std::nullopt, config.signals.systems}))->antennas();
+  const auto run = [&](const PppConfig& c, std::vector<std::string>* warnings) {
+    PppPipeline pipeline(std::make_unique<WindowObservationSource>(
+                             std::make_unique<RinexObservationSource>(esbc(kEsbcObs)), test::gpst(2020, 6, 25, 0, 10)),
+                         products, c);
+    RunResult r = runEkf(pipeline, c);
+    *warnings = pipeline.receiverAntennaWarnings();
+    return r;
+  };
+  std::vector<std::string> warnings;
+  const RunResult gps = run(config, &warnings);
+  ASSERT_EQ(gps.positions.size(), 21u);  // 00:00:00 .. 00:10:00
+  const std::string note =
+      "receiver antenna ASH701945E_M SCIS: no Galileo calibration, GPS L1/L2 values used for E1/E5a "
+      "(measurement_model.corrections.receiver_frequency_substitution: gps)";
+  ASSERT_EQ(warnings.size(), 1u);
+  EXPECT_EQ(warnings[0], note);
+  EXPECT_EQ(std::count(gps.notes.begin(), gps.notes.end(), "warning: " + note), 1);
+  for (const auto& n : gps.notes) EXPECT_EQ(n.find("missing receiver antenna"), std::string::npos) << n;
+
+  PppConfig none_config = config;
+  none_config.model.receiver_frequency_substitution = ReceiverFrequencySubstitution::None;
+  const RunResult none = run(none_config, &warnings);
+  ASSERT_EQ(warnings.size(), 1u);
+  EXPECT_EQ(warnings[0].find("missing receiver antenna calibration for ASH701945E_M SCIS E01/E05"), 0u)
+      << warnings[0];
+  ASSERT_EQ(none.positions.size(), gps.positions.size());
+  double largest_m = 0.0;
+  for (const auto& [t, p] : gps.positions) largest_m = std::max(largest_m, (none.positions.at(t) - p).norm());
+  EXPECT_GT(largest_m, 1e-3);  // the Galileo ranges moved by the receiver PCO/PCV
 }
 
 // A second antenna calibration provider: the receiver calibration served from

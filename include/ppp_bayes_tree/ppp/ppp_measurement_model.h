@@ -72,6 +72,10 @@
 //   Warn (default): the model goes on without the receiver PCO/PCV (the DELTA
 //             H/E/N is still applied) and says so once (receiverAntennaWarnings());
 //   Off:      the receiver PCO/PCV is never applied.
+// A non-GPS frequency the receiver block lacks first takes the GPS calibration
+// of receiver_frequency_substitution.h (receiver_frequency_substitution: Gps,
+// default; named once in receiverAntennaWarnings()), so only a frequency without
+// a stand-in is "missing".
 #include <Eigen/Core>
 #include <array>
 #include <optional>
@@ -82,6 +86,7 @@
 
 #include "ppp_bayes_tree/models/antenna_calibration_provider.h"
 #include "ppp_bayes_tree/models/ephemeris_source.h"
+#include "ppp_bayes_tree/models/receiver_frequency_substitution.h"
 #include "ppp_bayes_tree/types/ocean_loading_coefficients.h"
 #include "ppp_bayes_tree/ppp/dual_frequency_observation.h"
 #include "ppp_bayes_tree/ppp/satellite_measurement.h"
@@ -138,6 +143,9 @@ struct MeasurementModelOptions {
   bool satellite_antenna = true;  // satellite PCO + PCV (ANTEX)
   /// Receiver PCO + PCV (ANTEX); the DELTA H/E/N is always applied.
   ReceiverAntennaPolicy receiver_antenna = ReceiverAntennaPolicy::Warn;
+  /// A non-GPS frequency missing from the receiver calibration: the GPS stand-in
+  /// of receiver_frequency_substitution.h (Gps) or missing (None).
+  ReceiverFrequencySubstitution receiver_frequency_substitution = ReceiverFrequencySubstitution::Gps;
   bool shapiro = true;
   bool exclude_eclipse = true;    // reject satellites in the Earth's shadow (umbra or penumbra)
 };
@@ -244,7 +252,9 @@ class PppMeasurementModel {
   const AntennaCalibration* receiverCalibration() const { return receiver_calibration_; }
   /// Under ReceiverAntennaPolicy::Warn: what is missing and not applied, once
   /// per cause (e.g. "receiver antenna ASH701945E_M SCIS not found in any ANTEX
-  /// file: ..."); empty when nothing is missing (grows as systems are seen).
+  /// file: ..."); and, under any policy, each GPS stand-in in use ("receiver
+  /// antenna ASH701945E_M SCIS: no Galileo calibration, GPS L1/L2 values used for
+  /// E1/E5a ..."); empty when nothing is missing (grows as systems are seen).
   const std::vector<std::string>& receiverAntennaWarnings() const { return receiver_warnings_; }
   /// Satellites whose orbit refers to the L1 antenna phase centre (IGS SSRA)
   /// but that have no satellite calibration for the IF - L1 PCO difference (taken

@@ -153,8 +153,9 @@ std::optional<Eigen::Vector3d> PppMeasurementModel::receiverPcoIonosphereFree_m(
                                                                                  int frequency2, double f1_hz,
                                                                                  double f2_hz) const {
   if (receiver_calibration_ == nullptr) return std::nullopt;
-  const auto* a = receiver_calibration_->frequency(system, frequency1);
-  const auto* b = receiver_calibration_->frequency(system, frequency2);
+  const auto policy = options_.receiver_frequency_substitution;
+  const auto* a = receiverFrequencyCalibration(*receiver_calibration_, system, frequency1, policy).calibration;
+  const auto* b = receiverFrequencyCalibration(*receiver_calibration_, system, frequency2, policy).calibration;
   if (a == nullptr || b == nullptr) return std::nullopt;
   return ionosphereFreeOffset(a->pco_m, b->pco_m, ionosphereFreeCoefficients(f1_hz, f2_hz));
 }
@@ -242,8 +243,16 @@ void PppMeasurementModel::evaluate(const std::vector<DualFrequencyObservation>& 
           st.ok = !required;  // Warn: reported once at construction
           st.missing = "missing receiver antenna calibration (" + receiver_source_ + ")";
         } else {
-          st.r1 = receiver_calibration_->frequency(sat.system, antexFrequency(st.band1));
-          st.r2 = receiver_calibration_->frequency(sat.system, antexFrequency(st.band2));
+          const ReceiverFrequencyLookup r1 = receiverFrequencyCalibration(
+              *receiver_calibration_, sat.system, antexFrequency(st.band1), options_.receiver_frequency_substitution);
+          const ReceiverFrequencyLookup r2 = receiverFrequencyCalibration(
+              *receiver_calibration_, sat.system, antexFrequency(st.band2), options_.receiver_frequency_substitution);
+          st.r1 = r1.calibration;
+          st.r2 = r2.calibration;
+          if (st.r1 != nullptr && st.r2 != nullptr && (r1.substituted || r2.substituted)) {
+            warnReceiverAntenna(receiverSubstitutionNote(*receiver_calibration_, sat.system, antexFrequency(st.band1),
+                                                         r1, antexFrequency(st.band2), r2));
+          }
           if (st.r1 == nullptr || st.r2 == nullptr) {
             st.ok = !required;
             st.missing = "missing receiver antenna calibration for " + receiver_calibration_->label() + " " +

@@ -106,6 +106,11 @@ void bindMeasurementModelOptions(const YAML::Node& node, const std::string& file
     m.receiver_antenna = policy == "required" || policy == "true" ? ReceiverAntennaPolicy::Required
                          : policy == "off" || policy == "false"   ? ReceiverAntennaPolicy::Off
                                                                   : ReceiverAntennaPolicy::Warn;
+    const std::string substitution =
+        c.choice("receiver_frequency_substitution",
+                 std::string(receiverFrequencySubstitutionName(m.receiver_frequency_substitution)), {"gps", "none"});
+    m.receiver_frequency_substitution =
+        substitution == "none" ? ReceiverFrequencySubstitution::None : ReceiverFrequencySubstitution::Gps;
     m.shapiro = c.boolean("shapiro", m.shapiro);
     m.exclude_eclipse = c.boolean("exclude_eclipse", m.exclude_eclipse);
     c.finish();
