@@ -71,6 +71,11 @@ BagWriteSummary writeReplayBag(const std::string& path, const ppp::RinexObsHeade
   std::uint32_t obs_seq = 0;
   const auto writeBatch = [&](std::size_t i) {
     auto c = toMessage(batches[i]);
+    if (o.ar_biases) {
+      std::vector<ppp::SatelliteId> sats;
+      for (const auto& sc : batches[i].satellites) sats.push_back(sc.satellite);
+      addBiases(c, ppp::sampleBiases(*o.ar_biases, batches[i].time, header, sats));
+    }
     c.header.seq = static_cast<std::uint32_t>(i);
     bag.write(o.corrections_topic, c.header.stamp - ros::Duration(0.001), c);
   };

@@ -31,6 +31,12 @@ struct BagWriteOptions {
   double margin_s = 60.0;               // batches this far before the first / after the last epoch
   std::optional<std::size_t> max_epochs;  // write only the first N epochs
   std::string orbit_source, clock_source, reference_frame, bias_set;  // product reference
+  /// Satellite biases for integer ambiguity resolution consistent with the clocks
+  /// (phase OSBs of the clocks' analysis centre, or the wide-lane biases of
+  /// integer-recovery clocks): each batch carries their values at its epoch for
+  /// the code and phase types of the observation header (PreciseCorrections
+  /// ar_bias_source, satellites[].biases). nullptr: none (a node stays float).
+  const ppp::BiasProvider* ar_biases = nullptr;
   /// Called with the open bag after the last message (extra topics, e.g. a truth path).
   std::function<void(rosbag::Bag&)> before_close;
 };

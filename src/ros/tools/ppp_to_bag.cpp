@@ -13,12 +13,23 @@
 // --truth-out the truth CSV of the simulator (writeTruthEpochsCsv: time_gpst,
 // gps_week, seconds_of_week, x_m, y_m, z_m, ...), which ppp_bag_report reads.
 // ANTEX/BLQ files are not carried by the bag: the node reads them (ros.products).
+// Satellite biases for integer ambiguity resolution (--ar-biases auto, the
+// default): the batches carry, per satellite and observed signal, the code and
+// phase OSBs that make the ambiguities integer with the batch's clocks
+// (PreciseCorrections ar_bias_source, satellites[].biases): the --bia file's
+// phase OSBs when they come from the clocks' analysis centre, else the wide-lane
+// biases of integer-recovery clocks (GRG) from the clock header; none otherwise
+// (said on the output). --ar-biases none leaves them out.
 #include <fstream>
 #include <iostream>
 #include <string>
 #include <vector>
 
 #include "ppp_bayes_tree/io/line_source.h"
+#include "ppp_bayes_tree/io/rinex_clock_reader.h"
+#include "ppp_bayes_tree/models/clock_wide_lane_bias_provider.h"
+#include "ppp_bayes_tree/ppp/phase_bias_consistency.h"
+#include "ppp_bayes_tree/ppp/product_set.h"
 #include "ppp_bayes_tree/io/rinex_obs_reader.h"
 #include "ppp_bayes_tree/ros/bag_writer.h"
 #include "ppp_bayes_tree/ros/message_conversions.h"
@@ -29,16 +40,62 @@ namespace {
 
 int usage(const std::string& why) {
   std::cerr << "ppp_to_bag: " << why << "\n"
-            << "usage: ppp_to_bag --obs OBS --sp3 F [F...] --clk F [F...] [--bia F] [--interval S] [--max-epochs N] --out BAG\n"
+            << "usage: ppp_to_bag --obs OBS --sp3 F [F...] --clk F [F...] [--bia F] [--interval S] [--max-epochs N]\n"
+            << "                  [--ar-biases auto|none] --out BAG\n"
             << "       ppp_to_bag --simulate PROFILE [--duration-min N] [--rate 1|10] [--seed S] [--config YAML]\n"
             << "                  [--truth-out TRUTH.csv] --out BAG\n";
   return 2;
 }
 
+/// The satellite biases for ambiguity resolution the products offer (see the top
+/// comment); `note` says which, or why none.
+struct ArBiases {
+  std::optional<ppp::ProductSet> set;
+  std::unique_ptr<ppp::ClockWideLaneBiasProvider> clock_wide_lanes;
+  const ppp::BiasProvider* provider = nullptr;
+  std::string note;
+};
+
+std::unique_ptr<ArBiases> loadArBiases(const std::vector<std::string>& clk, const std::string& bia) {
+  auto out = std::make_unique<ArBiases>();
+  bool has_phase = false;
+  if (!bia.empty()) {
+    ppp::ProductFiles files;
+    files.bias = bia;
+    files.systems = {ppp::GnssSystem::GPS, ppp::GnssSystem::Galileo};
+    out->set = ppp::ProductSet::load(files);
+    for (const auto& r : out->set->biasFile()->records)
+      if (r.type == ppp::BiasType::OSB && r.obs1.type == ppp::ObservableType::CarrierPhase) has_phase = true;
+  }
+  const ppp::PhaseBiasCheck check =
+      ppp::checkPhaseBiasConsistency(clk, bia.empty() ? std::nullopt : std::optional<std::string>(bia), has_phase);
+  if (check.consistent()) {
+    out->provider = out->set->biases();
+    out->note = check.text();
+    return out;
+  }
+  std::map<ppp::SatelliteId, double> wide_lanes;
+  for (const auto& path : clk) {
+    ppp::RinexClockReadOptions options;
+    options.keep_receiver_clocks = false;
+    const ppp::ClockWideLaneBiases wl = ppp::parseClockWideLaneBiases(ppp::readRinexClock(path, options).header.comments);
+    if (wl.wide_lane_cycles.empty()) {
+      out->note = check.text();
+      return out;
+    }
+    wide_lanes.insert(wl.wide_lane_cycles.begin(), wl.wide_lane_cycles.end());
+  }
+  out->clock_wide_lanes =
+      std::make_unique<ppp::ClockWideLaneBiasProvider>(std::move(wide_lanes), ppp::fileBaseName(clk.front()));
+  out->provider = out->clock_wide_lanes.get();
+  out->note = out->provider->describeSource();
+  return out;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
-  std::string obs, bia, out, profile, sim_config, truth_out;
+  std::string obs, bia, out, profile, sim_config, truth_out, ar_biases = "auto";
   std::vector<std::string> sp3, clk;
   ppp_ros::BagWriteOptions options;
   double duration_min = 10.0, rate = 1.0;
@@ -63,6 +120,7 @@ int main(int argc, char** argv) {
       else if (a == "--simulate") profile = v;
       else if (a == "--config") sim_config = v;
       else if (a == "--truth-out") truth_out = v;
+      else if (a == "--ar-biases") ar_biases = v;
       else if (a == "--interval") options.correction_interval_s = std::stod(v);
       else if (a == "--max-epochs") options.max_epochs = std::stoul(v);
       else if (a == "--duration-min") duration_min = std::stod(v);
@@ -74,6 +132,7 @@ int main(int argc, char** argv) {
     }
   }
   if (out.empty()) return usage("--out BAG is required");
+  if (ar_biases != "auto" && ar_biases != "none") return usage("--ar-biases must be auto or none, not " + ar_biases);
   if (!(options.correction_interval_s >= 1.0)) return usage("--interval must be >= 1 s");
   if (!truth_out.empty() && profile.empty()) return usage("--truth-out needs --simulate (real data: give the truth to ppp_bag_report)");
   try {
@@ -101,6 +160,13 @@ int main(int argc, char** argv) {
       options.clock_source = ppp::fileBaseName(clk.front());
       options.reference_frame = "IGS20";
       options.bias_set = bia.empty() ? "" : ppp::fileBaseName(bia);
+      std::unique_ptr<ArBiases> biases;
+      if (ar_biases == "auto") {
+        biases = loadArBiases(clk, bia);
+        options.ar_biases = biases->provider;
+        std::cout << "ppp_to_bag: biases for ambiguity resolution: " << (biases->provider ? "" : "none: ")
+                  << biases->note << "\n";
+      }
       s = ppp_ros::writeReplayBag(out, reader.header(), [&](ppp::ObsEpoch& e) { return reader.next(e); }, products,
                                   options);
     }
