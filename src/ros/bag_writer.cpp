@@ -131,6 +131,8 @@ BagWriteSummary writeSimulatedFlightBag(const std::string& path, const ppp::Simu
   if (options.clock_source.empty())
     options.clock_source = "simulated CLK (" + std::to_string(int(c.clock_interval_s)) + " s)";
   if (options.reference_frame.empty()) options.reference_frame = "IGS20";
+  // The flight's satellite phase OSBs (errors.ambiguity.satellite_phase_biases), consistent with its clocks.
+  if (!options.ar_biases && !flight.phase_biases.empty()) options.ar_biases = &flight.phase_biases;
   auto user_before_close = options.before_close;
   options.before_close = [&](rosbag::Bag& bag) {
     writeTruthPath(bag, flight, callerid);

@@ -265,6 +265,7 @@ void PppNode::resetEstimator(const std::string& why) {
   last_received_.reset();
   last_output_time_.reset();
   epochs_fixed_ = 0;
+  ambiguity_releases_ = 0;
   first_solved_.reset();
   first_fixed_.reset();
 }
@@ -1063,7 +1064,11 @@ void PppNode::setFixState(const ppp::PppEpochRecord& rec, bool solved, ppp_bayes
     s.ambiguities_fixed = static_cast<std::uint16_t>(std::max(0, rec.ambiguity_fix->held));
     s.wide_lanes_fixed = static_cast<std::uint16_t>(std::max(0, rec.ambiguity_fix->wide_lanes_fixed));
     s.ratio = rec.ambiguity_fix->ratio;
+    s.ambiguities_released = static_cast<std::uint16_t>(rec.ambiguity_fix->released.size());
+    for (const ppp::AmbiguityRelease& r : rec.ambiguity_fix->released)
+      if (r.reason != ppp::AmbiguityReleaseReason::ArcEnded) ++ambiguity_releases_;
   }
+  s.ambiguity_releases = ambiguity_releases_;
   s.epochs_fixed = epochs_fixed_;
   if (first_fixed_) s.first_fix_stamp = utcStamp(*first_fixed_);
   s.time_to_first_fix_s = first_fixed_ && first_solved_ ? *first_fixed_ - *first_solved_ : kNaN;
@@ -1075,6 +1080,7 @@ void PppNode::diagnoseAmbiguities(diagnostic_updater::DiagnosticStatusWrapper& s
   s.add("enabled", enabled);
   s.add("phase information", phase_biases_.provider ? phase_biases_.source : std::string("none"));
   s.add("epochs fixed", epochs_fixed_);
+  s.add("held integers released (float departed, wide lane changed)", ambiguity_releases_);
   s.add("time to first fix [s]", first_fixed_ && first_solved_ ? *first_fixed_ - *first_solved_ : kNaN);
   s.add("first fix", first_fixed_ ? first_fixed_->toString() : std::string("none yet"));
   if (have_status_) {

@@ -265,7 +265,7 @@ class PppNode {
   ppp::StreamBiasProvider stream_biases_;
   PhaseBiasChoice phase_biases_;
   bool phase_bias_logged_ = false;
-  std::uint32_t epochs_fixed_ = 0;
+  std::uint32_t epochs_fixed_ = 0, ambiguity_releases_ = 0;
   std::optional<ppp::GnssTime> first_solved_, first_fixed_;
 
   // live input (ros.live): the subscribers feed live_; its ephemeris replaces corrections_
