@@ -108,20 +108,25 @@ PppNode::PppNode(ros::NodeHandle nh, ros::NodeHandle pnh, const std::string& est
       stream_biases_(config_.ros.correction_history_s) {
   config_.ros.estimator = estimator;
   const RosNodeOptions& o = config_.ros;
-  std::string why;
-  estimator_ = ppp::makeEstimator(estimator, config_.ppp, &why);
-  if (!estimator_) throw std::runtime_error("estimator '" + estimator + "' is not available: " + why);
   if (o.atx.empty() && (config_.ppp.model.satellite_antenna ||
                         config_.ppp.model.receiver_antenna == ppp::ReceiverAntennaPolicy::Required))
     throw std::runtime_error("parameter ros/products/atx is empty, but measurement_model/corrections/"
                              "satellite_antenna is on or receiver_antenna is required: give the ANTEX file(s) or "
                              "turn them off");
-  ppp::ProductFiles files;
-  files.atx = o.atx;
-  if (!o.bias.empty()) files.bias = o.bias;
-  if (!o.blq.empty()) files.blq = o.blq;
-  files.systems = config_.ppp.signals.systems;
-  products_ = ppp::ProductSet::load(files);
+  // The products (the core's one assembly, as ppp_solve): they resolve the
+  // systems and the PPP-AR gate, so the estimator is made from their config.
+  ppp::ProductAssemblyInputs products_in;
+  products_in.atx = o.atx;
+  if (!o.bias.empty()) products_in.bias = o.bias;
+  if (!o.blq.empty()) products_in.blq = o.blq;
+  products_ = ppp::ProductAssembly::assemble(products_in, config_.ppp);
+  config_.ppp = products_.config();
+  for (const auto& n : products_.notes()) ROS_INFO_STREAM("ppp_" << estimator << "_node: " << n);
+  const ppp::ArGateVerdict& ar = products_.arGate();
+  if (ar.mode != ppp::AmbiguityResolutionMode::Off && !ar.fix) ROS_WARN_STREAM("ppp: " << ar.text());
+  std::string why;
+  estimator_ = ppp::makeEstimator(estimator, config_.ppp, &why);
+  if (!estimator_) throw std::runtime_error("estimator '" + estimator + "' is not available: " + why);
   gate_ = ppp::CorrectionGate<Pending>({o.correction_wait_s, o.max_pending_epochs});
   {
     ppp::EpochTimeGuardOptions g;
@@ -632,14 +637,24 @@ void PppNode::startProcessor() {
   // Live input: its broadcast + SSR ephemeris, and its SSR biases unless a Bias-SINEX file is given.
   const ppp::EphemerisSource& ephemeris =
       live_ ? live_->ephemeris() : static_cast<const ppp::EphemerisSource&>(corrections_);
-  processor_biases_ = products_.biases();
+  processor_biases_ = products_.codeBiases().get();
   if (live_ && !processor_biases_) processor_biases_ = live_->biases();
   processor_ = std::make_unique<ppp::PppEpochProcessor>(layout_, config_.ppp, ephemeris, products_.antennas(),
                                                          processor_biases_, ocean.coefficients);
+  acceptLivePhaseBiases();
+  if (products_.phaseBiases()) processor_->setPhaseBiases(products_.phaseBiases());
   for (const auto& w : processor_->receiverAntennaWarnings()) warn("antenna:" + w, "ppp: " + w);
   phase_biases_ = {};  // the new processor gets the phase information at its first epoch
   if (layout_.approx_position_ecef_m) estimator_->setApproximatePosition(*layout_.approx_position_ecef_m);
   layout_changed_ = false;
+}
+
+bool PppNode::acceptLivePhaseBiases() {
+  // SSR phase biases of the live feed: the assembly's gate decides (once they arrive).
+  if (!live_ || !live_->hasPhaseBiases()) return false;
+  if (!products_.acceptStreamedPhaseBiases(live_->biases(), ppp::PhaseInformation::SsrPhaseBiases)) return false;
+  ROS_INFO_STREAM("ppp: " << products_.arGate().text());
+  return true;
 }
 
 void PppNode::processEpoch(const Pending& p) {
@@ -662,8 +677,9 @@ void PppNode::processEpoch(const Pending& p) {
 
 void PppNode::processObsEpoch(const ppp::ObsEpoch& epoch) {
   // Live SSR biases arrive after the start: the processor is remade with them (once: then stable).
-  const bool live_biases_arrived = live_ && !products_.biases() && processor_ && live_->biases() != processor_biases_;
+  const bool live_biases_arrived = live_ && !products_.codeBiases() && processor_ && live_->biases() != processor_biases_;
   if (!processor_ || live_biases_arrived) startProcessor();
+  else if (acceptLivePhaseBiases()) processor_->setPhaseBiases(products_.phaseBiases());
   else if (layout_changed_) {
     processor_->setObservationTypes(layout_);
     layout_changed_ = false;

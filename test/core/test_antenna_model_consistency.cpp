@@ -96,10 +96,13 @@ TEST(AntennaModelConsistency, RealEsbcIgs14ProductsWithIgs20AntexRefuseAr) {
     const PppPipeline pipeline(files, config);
     const auto notes = pipeline.notes();
     EXPECT_TRUE(hasNote(notes, "warning: " + verdict));
-    EXPECT_TRUE(hasNote(notes, "ambiguity resolution: refused: " + verdict +
-                                   ": float (ambiguity_resolution.allow_antenna_model_mismatch: true to fix anyway)"));
+    EXPECT_TRUE(hasNote(notes, "ambiguity resolution: float (enabled: true): satellite antenna model differs from the "
+                               "products' (products IGS14_2108, ANTEX IGS20_2417; "
+                               "ambiguity_resolution.allow_antenna_model_mismatch: true to fix anyway)"));
     EXPECT_FALSE(hasNote(notes, "ambiguity resolution: integer-recovery clocks with 66 wide-lane satellite biases in "
                                 "the clock header"));
+    ASSERT_NE(pipeline.productAssembly(), nullptr);
+    EXPECT_EQ(pipeline.productAssembly()->phaseBiases(), nullptr);
   }
   {
     const PppConfig config =
@@ -109,10 +112,22 @@ TEST(AntennaModelConsistency, RealEsbcIgs14ProductsWithIgs20AntexRefuseAr) {
     EXPECT_TRUE(hasNote(notes, "ambiguity resolution: antenna model mismatch allowed (allow_antenna_model_mismatch)"));
     EXPECT_TRUE(hasNote(notes, "ambiguity resolution: integer-recovery clocks with 66 wide-lane satellite biases in "
                                "the clock header"));
+    EXPECT_NE(pipeline.productAssembly()->phaseBiases(), nullptr);
+  }
+  {
+    // The default (auto): float, with the antenna reason; the resolver does not run.
+    const PppPipeline pipeline(files, parsePppConfig("", "auto"));
+    const ArGateVerdict& gate = pipeline.productAssembly()->arGate();
+    EXPECT_EQ(gate.mode, AmbiguityResolutionMode::Auto);
+    EXPECT_FALSE(gate.fix);
+    EXPECT_EQ(gate.reason, ArGateReason::AntennaModelDifferent);
+    EXPECT_TRUE(hasNote(pipeline.notes(), "ambiguity resolution: float (enabled: auto): satellite antenna model "
+                                          "differs from the products' (products IGS14_2108, ANTEX IGS20_2417)"));
+    EXPECT_FALSE(pipeline.config().ambiguity_resolution.enabled);
   }
   {
     // Float: the warning only.
-    const PppPipeline pipeline(files, parsePppConfig("", "float"));
+    const PppPipeline pipeline(files, parsePppConfig("ambiguity_resolution:\n  enabled: false\n", "float"));
     const auto notes = pipeline.notes();
     EXPECT_TRUE(hasNote(notes, "warning: " + verdict));
     EXPECT_TRUE(std::none_of(notes.begin(), notes.end(), [](const std::string& n) {

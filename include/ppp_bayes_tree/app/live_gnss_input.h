@@ -207,6 +207,9 @@ class LiveGnssInput {
   const EphemerisSource& ephemeris() const;
   /// SSR code/phase biases, nullptr while no SSR bias has arrived (then stable).
   const BiasProvider* biases() const;
+  /// True once the streams carried SSR phase biases (then biases() serves them:
+  /// the product assembly decides whether they are used for PPP-AR).
+  bool hasPhaseBiases() const;
   /// Types seen so far, station/antenna (1005/1006/1033), GLONASS channels.
   const RinexObsHeader& header() const;
   /// True once after the observation types (or the station) changed.

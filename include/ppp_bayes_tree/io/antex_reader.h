@@ -7,6 +7,9 @@
 // Antenna blocks: "START OF ANTENNA" .. "END OF ANTENNA". A malformed block is
 // skipped (report.addProblem) and reading resumes at the next START OF ANTENNA.
 // RMS blocks ("START OF FREQ RMS" .. "END OF FREQ RMS") are skipped and counted.
+// Satellite blocks whose code lies outside its system's PRN range (old test
+// satellites such as GIOVE E51/E52 in the IGS files) are skipped and listed in
+// skipped_satellite_codes, not reported as problems.
 //
 // Limits (so that absurd input cannot allocate without bound or divide by
 // zero): DZEN > 0 with at most kMaxZenithNodes nodes, DAZI = 0 or 360/DAZI an
@@ -52,6 +55,10 @@ class AntexFile {
   AntexHeader header;
   std::vector<AntennaCalibration> antennas;
   ParseReport report;
+  /// Satellite codes of blocks skipped because the PRN is outside the system's
+  /// range (e.g. "E51", "E52": the GIOVE test satellites of the IGS files), each
+  /// once, in file order. Not a problem of the file: counted in the report.
+  std::vector<std::string> skipped_satellite_codes;
 
   /// The satellite antenna block of `satellite` valid at `t` (validity period
   /// from VALID FROM / VALID UNTIL); when periods overlap, the one that started

@@ -89,6 +89,8 @@ struct RinexClockFile {
 RinexClockFile readRinexClock(LineSource& source, const RinexClockReadOptions& options = {});
 /// Convenience: opens `path` (plain or gzip; throws FileOpenError) and reads it.
 RinexClockFile readRinexClock(const std::string& path, const RinexClockReadOptions& options = {});
+/// The header only (the file is read up to END OF HEADER). Throws like readRinexClock.
+RinexClockHeader readRinexClockHeader(const std::string& path);
 
 /// Summary for ppp_inspect: version, span, interval (most common spacing),
 /// epochs, satellites per system, analysis center, time system, stations.

@@ -27,6 +27,7 @@ namespace ppp {
 struct BroadcastProducts {
   std::shared_ptr<const EphemerisSource> ephemeris;
   std::shared_ptr<const BiasProvider> ssr_biases;  // null without SSR code biases
+  bool ssr_phase_biases = false;                   // the SSR stream carries phase biases
   std::vector<std::string> notes;
   std::vector<std::string> problems;
 };

@@ -111,7 +111,21 @@ struct AmbiguityHoldOptions {
   bool rereference_on_arc_end = true;
 };
 
+/// What `ambiguity_resolution.enabled` asks for (product_assembly.h decides Auto).
+enum class AmbiguityResolutionMode {
+  Off,   // false: float
+  On,    // true: fix with whatever consistent phase information there is
+  Auto,  // auto (default): fix only where it is sound (consistent phase information, the products' antennas)
+};
+std::string toString(AmbiguityResolutionMode mode);  // "false", "true", "auto"
+
 struct AmbiguityResolutionOptions {
+  /// What the configuration asks for. The product assembly (product_assembly.h)
+  /// turns it into `enabled` for the run: Off -> false, On -> true, Auto -> the
+  /// gate's verdict.
+  AmbiguityResolutionMode mode = AmbiguityResolutionMode::Auto;
+  /// Whether the estimator's resolver runs. Code that sets it true without the
+  /// assembly gets the resolver as before (`mode` is then read as On).
   bool enabled = false;
   /// Arcs below this elevation are not fixed (their float biases carry the
   /// multipath and mapping errors of low satellites) [rad]; 0 = all. 15 deg.
@@ -120,8 +134,8 @@ struct AmbiguityResolutionOptions {
   IlsOptions narrow_lane;
   AmbiguityHoldOptions hold;
   /// Fix even when the satellite antenna model of the products (SP3/clock header)
-  /// differs from the ANTEX's (antenna_model_consistency.h); false: such a run
-  /// stays float with the reason named. Off by default: a PCO difference leaves a
+  /// differs from the ANTEX's, or (auto) is not known (antenna_model_consistency.h);
+  /// false: such a run stays float with the reason named. Off by default: a PCO difference leaves a
   /// constant narrow-lane offset per satellite (ESBC: up to 0.3 cycle).
   bool allow_antenna_model_mismatch = false;
   /// "" when valid, else the reason.

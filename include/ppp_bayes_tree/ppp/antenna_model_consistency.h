@@ -18,12 +18,15 @@
 // satellite antenna block (e.g. "IGS20_2417"). Models are compared by family:
 // the name up to its first '_' or '.', upper case ("IGS14", "IGS20"); the
 // week suffix only dates a release of the same frame.
+#include <optional>
 #include <string>
 #include <vector>
 
-namespace ppp {
+#include "ppp_bayes_tree/models/antex_calibrations.h"  // antennaModelFamily
+#include "ppp_bayes_tree/types/gnss_time.h"
+#include "ppp_bayes_tree/types/satellite_id.h"
 
-class AntexCalibrations;
+namespace ppp {
 
 enum class AntennaModelConsistency {
   Consistent,
@@ -36,6 +39,8 @@ struct AntennaModelCheck {
   std::vector<std::string> product_models;  // as named in the headers, distinct, e.g. "IGS14_2108"
   std::vector<std::string> antex_models;    // SINEX codes of the satellite antennas, distinct
   bool different() const { return verdict == AntennaModelConsistency::Different; }
+  /// "products IGS14_2108, ANTEX IGS20_2417" (the names compared).
+  std::string models() const;
   /// "satellite antenna model consistent with the products (IGS20: products IGS20_2417, ANTEX IGS20_2423)",
   /// "satellite antenna model differs from the products' (products IGS14_2108, ANTEX IGS20_2417)" or
   /// "satellite antenna model not judged (products: not stated, ANTEX IGS20_2417)".
@@ -47,11 +52,15 @@ struct AntennaModelCheck {
 /// Empty when the header names none. Throws FileOpenError when the file cannot be opened.
 std::string productAntennaModel(const std::string& path);
 
-/// "IGS14" for "IGS14_2108", "igs14_2108.atx" or "IGS14"; "" for "".
-std::string antennaModelFamily(const std::string& model);
-
 /// The distinct SINEX codes of the satellite antenna blocks of the files ("" codes left out).
 std::vector<std::string> satelliteAntennaModels(const AntexCalibrations& antex);
+
+/// The distinct SINEX codes of the blocks that serve `satellites` (at `t`; without
+/// a time, each satellite's latest block), as AntexCalibrations picks them: the
+/// antennas a run actually uses. Satellites without a block are left out.
+std::vector<std::string> usedSatelliteAntennaModels(const AntexCalibrations& antex,
+                                                    const std::vector<SatelliteId>& satellites,
+                                                    const std::optional<GnssTime>& t);
 
 AntennaModelCheck checkAntennaModelConsistency(const std::vector<std::string>& product_models,
                                                const std::vector<std::string>& antex_models);

@@ -81,6 +81,8 @@ struct PppInMemoryInputs {
 
 /// The products of a run, whatever they come from. `ephemeris` is required;
 /// the others may be null / empty. `notes` go into the run's notes.
+class ProductAssembly;
+
 struct PppProducts {
   std::shared_ptr<const EphemerisSource> ephemeris;
   std::shared_ptr<const AntennaCalibrationProvider> antennas;
@@ -192,7 +194,12 @@ class PppPipeline {
  public:
   /// Loads the products and opens the observation file (header only).
   /// Throws FileOpenError / ParseError (inputs) or std::runtime_error (no ANTEX).
+  /// The products come from the product assembly (product_assembly.h): config()
+  /// then holds the systems and the PPP-AR switch it resolved; make the
+  /// estimator from config() (an estimator for other systems runs its own).
   PppPipeline(const PppInputFiles& files, PppConfig config);
+  /// The product assembly of a file run (nullptr for the other constructors).
+  const ProductAssembly* productAssembly() const;
   /// Runs over in-process epochs instead of files (throws std::invalid_argument
   /// when a pointer is null); no Bias-SINEX, no ocean loading.
   PppPipeline(const PppInMemoryInputs& inputs, PppConfig config);
@@ -221,6 +228,7 @@ class PppPipeline {
 
  private:
   struct Impl;
+  void adoptEstimatorSystems(const EpochEstimator& estimator);
   PppConfig config_;
   std::unique_ptr<Impl> impl_;
 };

@@ -22,6 +22,8 @@ struct ProductFiles {
   std::optional<std::string> bias, blq;
   /// Systems processed: the bias file is read for these only.
   std::vector<GnssSystem> systems{GnssSystem::GPS};
+  /// The satellite antenna family taken first (AntexCalibrations; "" = file order).
+  std::string satellite_family;
 };
 
 /// Ocean loading of a station: the coefficients (nullptr: none) and a note.
@@ -46,7 +48,7 @@ class ProductSet {
   const BiasSinexFile* biasFile() const { return bias_file_.get(); }
   /// The station's ocean loading (by marker name) from the BLQ file.
   OceanLoadingLookup oceanLoading(const std::string& station) const;
-  /// "code biases: ...", in load order.
+  /// "code biases: ...", "ANTEX ...: ... skipped", in load order.
   const std::vector<std::string>& notes() const { return notes_; }
   /// What went wrong while reading the files (truncation, skipped blocks and
   /// records, cut lines), one line per file: "<file>: N problem(s) while reading,

@@ -64,8 +64,13 @@ struct SignalSelectionOptions {
   SystemSignalPriority gps{'1', '2', {'W', 'C'}, {'W', 'L', 'X'}, {'C', 'W'}, {'W', 'L', 'X'}};
   /// Galileo E1/E5a: C1C, C1X and C5Q, C5X; phases likewise.
   SystemSignalPriority galileo{'1', '5', {'C', 'X'}, {'Q', 'X'}, {'C', 'X'}, {'Q', 'X'}};
-  /// Systems processed (default GPS only); others are skipped with a reason.
+  /// Systems processed; others are skipped with a reason.
   std::vector<GnssSystem> systems{GnssSystem::GPS};
+  /// true (default; no `signals.systems` key): the product assembly
+  /// (product_assembly.h) processes every system of GPS | Galileo that the
+  /// products and the satellite antennas cover and writes them into `systems`
+  /// (which holds GPS for code that runs without the assembly). false: exactly `systems`.
+  bool systems_from_products = true;
   /// With a bias file: skip a satellite when an OSB of a selected code is
   /// missing (true), or use the code uncorrected and say so (false).
   bool require_code_osb = true;

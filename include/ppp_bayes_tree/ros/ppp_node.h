@@ -82,7 +82,7 @@
 #include "ppp_bayes_tree/io/bias_sinex_reader.h"
 #include "ppp_bayes_tree/evaluation/lagged_trajectory_output.h"
 #include "ppp_bayes_tree/ppp/correction_gate.h"
-#include "ppp_bayes_tree/ppp/product_set.h"
+#include "ppp_bayes_tree/ppp/product_assembly.h"
 #include "ppp_bayes_tree/models/correction_buffer.h"
 #include "ppp_bayes_tree/models/stream_bias_provider.h"
 #include "ppp_bayes_tree/ppp/epoch_estimator.h"
@@ -178,6 +178,9 @@ class PppNode {
   const ppp::SmoothedTrajectoryProvider* smoother() const { return estimator_->smoothing(); }
   void setDatum(const Eigen::Vector3d& position_ecef_m);
   void resetEstimator(const std::string& why);
+  /// Hands the live feed's SSR phase biases to the product assembly's PPP-AR gate;
+  /// true when the processor must get the new phaseBiases().
+  bool acceptLivePhaseBiases();
   void startProcessor();
   void warn(const std::string& category, const std::string& text);
   void diagnoseInputs(diagnostic_updater::DiagnosticStatusWrapper& s);
@@ -193,7 +196,7 @@ class PppNode {
 
   ros::NodeHandle nh_, pnh_;
   NodeConfig config_;
-  ppp::ProductSet products_;  // ANTEX, Bias-SINEX, BLQ (loaded by the core)
+  ppp::ProductAssembly products_;  // ANTEX, Bias-SINEX, BLQ, the systems and the PPP-AR gate (core)
   std::optional<ppp::OceanLoadingCoefficients> ocean_;
   ppp::CorrectionBuffer corrections_;
   std::unique_ptr<ppp::EpochEstimator> estimator_;

@@ -385,6 +385,8 @@ const EphemerisSource& LiveGnssInput::ephemeris() const { return *impl_; }
 
 const BiasProvider* LiveGnssInput::biases() const { return impl_->bias_provider.get(); }
 
+bool LiveGnssInput::hasPhaseBiases() const { return impl_->bias_provider && impl_->store->phaseBiasCount() > 0; }
+
 const RinexObsHeader& LiveGnssInput::header() const { return impl_->header; }
 
 bool LiveGnssInput::takeHeaderChanged() {

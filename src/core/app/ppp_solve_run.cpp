@@ -102,14 +102,16 @@ TimingSummary summarizeTimes(std::vector<double> t) {
 
 PppSolveOutcome solvePpp(const PppSolveRequest& req) {
   std::string why;
-  auto estimator = makeEstimator(req.estimator, req.config, &why);
-  if (!estimator) throw std::invalid_argument(why);
-  const SmoothedTrajectoryProvider* smoother = estimator->smoothing();
+  if (!makeEstimator(req.estimator, req.config, &why)) throw std::invalid_argument(why);  // before reading products
   std::error_code ec;
   std::filesystem::create_directories(req.out_dir, ec);
   if (!std::filesystem::is_directory(req.out_dir)) throw std::runtime_error("cannot create directory " + req.out_dir);
 
+  // The products first: they decide the systems and PPP-AR (product_assembly.h).
   PppPipeline pipeline(req.files, req.config);
+  auto estimator = makeEstimator(req.estimator, pipeline.config(), &why);
+  if (!estimator) throw std::invalid_argument(why);
+  const SmoothedTrajectoryProvider* smoother = estimator->smoothing();
   PppSolveOutcome out;
   out.name = req.name;
   if (out.name.empty()) {

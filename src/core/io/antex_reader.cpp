@@ -3,6 +3,7 @@
 // columns 61-80; field positions below follow its format column.
 #include "ppp_bayes_tree/io/antex_reader.h"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <utility>
@@ -14,6 +15,13 @@ namespace ppp {
 namespace {
 
 std::string_view labelOf(std::string_view line) { return trim(column(line, 60, 20)); }
+
+/// A satellite block whose code is well formed but outside the PRN range of its
+/// system (e.g. the GIOVE test satellites E51, E52 of the IGS files): not an
+/// input problem; the block is skipped and its code listed.
+struct OutOfRangeSatellite {
+  std::string code;
+};
 
 /// Aborts the antenna block being read; `line` and `reason` go to the report.
 struct BlockError {
@@ -124,6 +132,12 @@ void AntexParser::readBody() {
         out_.report.addProblem(e.line, "antenna block starting at line " + std::to_string(start) +
                                            " skipped: " + e.reason);
         skipBlock(e);
+      } catch (const OutOfRangeSatellite& s) {
+        out_.report.count("satellite antenna blocks skipped (code outside the system's PRN range)");
+        if (std::find(out_.skipped_satellite_codes.begin(), out_.skipped_satellite_codes.end(), s.code) ==
+            out_.skipped_satellite_codes.end())
+          out_.skipped_satellite_codes.push_back(s.code);
+        skipBlock(BlockError{src_.lineNumber(), ""});
       }
     } else if (!isBlank(line)) {
       out_.report.addProblem(src_.lineNumber(), "line outside an antenna block ignored");
@@ -169,7 +183,7 @@ void AntexParser::parseTypeSerial(const std::string& line, AntennaCalibration& a
   if (a.model.empty()) throw error("empty antenna type");
   if (isSatelliteCode(serial) && !svn.empty()) {
     a.satellite = SatelliteId::parse(serial);
-    if (!a.satellite) throw error("satellite code '" + std::string(serial) + "' out of range");
+    if (!a.satellite) throw OutOfRangeSatellite{std::string(serial)};
     a.svn = std::string(svn);
     a.cospar_id = std::string(trim(column(line, 50, 10)));
   } else {

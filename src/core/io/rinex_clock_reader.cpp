@@ -416,6 +416,20 @@ RinexClockFile readRinexClock(const std::string& path, const RinexClockReadOptio
   return readRinexClock(*source, options);
 }
 
+RinexClockHeader readRinexClockHeader(const std::string& path) {
+  auto source = openLineSource(path);
+  std::string text, line;
+  while (source->next(line)) {
+    text += line;
+    text += '\n';
+    if (line.size() >= 60 && trim(column(line, 60, 20)) == "END OF HEADER") break;
+  }
+  auto header_only = memoryLineSource(std::move(text), source->name());
+  RinexClockReadOptions options;
+  options.keep_receiver_clocks = false;
+  return readRinexClock(*header_only, options).header;
+}
+
 FileSummary summarizeClock(const RinexClockFile& file, const std::string& path) {
   const RinexClockHeader& h = file.header;
   FileSummary s;

@@ -90,6 +90,7 @@ BroadcastProducts loadBroadcastProducts(const std::vector<std::string>& nav, con
   describe(eph->consistency(), "SSR correction(s) without a broadcast record of their IOD");
   if (store->codeBiasCount() > 0 || store->phaseBiasCount() > 0)
     out.ssr_biases = std::make_shared<SsrBiasProvider>(store, fileBaseName(*ssr));
+  out.ssr_phase_biases = store->phaseBiasCount() > 0;
   out.ephemeris = eph;
   return out;
 }

@@ -34,6 +34,15 @@ std::string AmbiguityResolutionOptions::validate() const {
   return "";
 }
 
+std::string toString(AmbiguityResolutionMode mode) {
+  switch (mode) {
+    case AmbiguityResolutionMode::Off: return "false";
+    case AmbiguityResolutionMode::On: return "true";
+    case AmbiguityResolutionMode::Auto: return "auto";
+  }
+  return "unknown";
+}
+
 std::string toString(AmbiguityFloatReason reason) {
   switch (reason) {
     case AmbiguityFloatReason::None: return "fixed";

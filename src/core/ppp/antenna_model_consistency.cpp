@@ -23,15 +23,6 @@ std::string joined(const std::vector<std::string>& v) {
 
 }  // namespace
 
-std::string antennaModelFamily(const std::string& model) {
-  std::string out;
-  for (char c : trim(model)) {
-    if (c == '_' || c == '.') break;
-    out.push_back(static_cast<char>(std::toupper(static_cast<unsigned char>(c))));
-  }
-  return out;
-}
-
 std::string productAntennaModel(const std::string& path) {
   auto src = openLineSource(path);
   std::string line;
@@ -70,6 +61,15 @@ std::vector<std::string> satelliteAntennaModels(const AntexCalibrations& antex) 
   return out;
 }
 
+std::vector<std::string> usedSatelliteAntennaModels(const AntexCalibrations& antex,
+                                                    const std::vector<SatelliteId>& satellites,
+                                                    const std::optional<GnssTime>& t) {
+  std::vector<std::string> out;
+  for (const auto& sat : satellites)
+    if (const auto* a = antex.satelliteBlock(sat, t).calibration) addDistinct(out, std::string(trim(a->sinex_code)));
+  return out;
+}
+
 AntennaModelCheck checkAntennaModelConsistency(const std::vector<std::string>& product_models,
                                                const std::vector<std::string>& antex_models) {
   AntennaModelCheck out;
@@ -94,8 +94,12 @@ AntennaModelCheck checkAntennaModelConsistency(const std::vector<std::string>& p
   return out;
 }
 
+std::string AntennaModelCheck::models() const {
+  return "products " + joined(product_models) + ", ANTEX " + joined(antex_models);
+}
+
 std::string AntennaModelCheck::text() const {
-  const std::string which = "products " + joined(product_models) + ", ANTEX " + joined(antex_models);
+  const std::string which = models();
   switch (verdict) {
     case AntennaModelConsistency::Consistent:
       return "satellite antenna model consistent with the products (" + antennaModelFamily(product_models.front()) +

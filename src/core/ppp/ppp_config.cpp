@@ -62,7 +62,14 @@ void readEstimator(YamlSection s, EkfOptions& o, CodeLeastSquaresOptions& start)
 }
 
 void readAmbiguityResolution(YamlSection s, AmbiguityResolutionOptions& o) {
-  o.enabled = s.boolean("enabled", o.enabled);
+  {
+    // true | false | auto (a YAML bool or the word auto).
+    const std::string fallback = o.enabled ? "true" : toString(o.mode);
+    const std::string v = s.choice("enabled", fallback, {"true", "false", "auto"});
+    o.mode = v == "true" ? AmbiguityResolutionMode::On
+                         : v == "false" ? AmbiguityResolutionMode::Off : AmbiguityResolutionMode::Auto;
+    o.enabled = o.mode == AmbiguityResolutionMode::On;
+  }
   o.min_elevation_rad =
       s.number("min_elevation_deg", o.min_elevation_rad / kDegToRad, Bound::NonNegative) * kDegToRad;
   o.narrow_lane.ratio_threshold = s.number("ratio_threshold", o.narrow_lane.ratio_threshold, Bound::Positive);

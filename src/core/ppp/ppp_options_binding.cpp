@@ -30,6 +30,7 @@ void readPriority(YamlSection s, SystemSignalPriority& p) {
 }
 
 void readSignals(YamlSection s, SignalSelectionOptions& o) {
+  if (s.has("systems")) o.systems_from_products = false;
   std::vector<std::string> names;
   for (auto sys : o.systems) names.emplace_back(systemName(sys));
   std::vector<GnssSystem> systems;

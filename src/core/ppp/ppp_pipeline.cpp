@@ -8,6 +8,7 @@
 #include <set>
 #include <sstream>
 #include <stdexcept>
+#include <tuple>
 
 #include "ppp_bayes_tree/io/line_source.h"
 #include "ppp_bayes_tree/io/parse_error.h"
@@ -15,34 +16,28 @@
 #include "ppp_bayes_tree/io/rtcm_observation_source.h"
 #include "ppp_bayes_tree/io/ubx_observation_source.h"
 #include "ppp_bayes_tree/models/broadcast_products.h"
-#include "ppp_bayes_tree/ppp/antenna_model_consistency.h"
-#include "ppp_bayes_tree/ppp/phase_bias_consistency.h"
-#include "ppp_bayes_tree/models/clock_wide_lane_bias_provider.h"
-#include "ppp_bayes_tree/io/rinex_clock_reader.h"
 #include "ppp_bayes_tree/ppp/ppp_epoch_processor.h"
-#include "ppp_bayes_tree/ppp/product_set.h"
+#include "ppp_bayes_tree/ppp/product_assembly.h"
 #include "ppp_bayes_tree/types/constants.h"
 
 namespace ppp {
 namespace {
 
-/// The products an observation file needs: the systems processed and the span of
-/// its epochs (one extra pass over the file, a few ms; without epochs no window).
-RecordFilter productFilter(const std::string& obs_path, const std::vector<GnssSystem>& systems) {
-  RecordFilter filter;
-  filter.systems = systems;
+/// The span of an observation file's epochs (one extra pass over the file, a few
+/// ms); unset when it cannot be read (reported by the main pass).
+std::pair<std::optional<GnssTime>, std::optional<GnssTime>> observationSpan(const std::string& obs_path) {
+  std::optional<GnssTime> first, last;
   try {
     RinexObsReader reader = RinexObsReader::open(obs_path);
     ObsEpoch epoch;
     while (reader.next(epoch)) {
-      if (!filter.first || epoch.time < *filter.first) filter.first = epoch.time;
-      if (!filter.last || *filter.last < epoch.time) filter.last = epoch.time;
+      if (!first || epoch.time < *first) first = epoch.time;
+      if (!last || *last < epoch.time) last = epoch.time;
     }
-  } catch (const std::exception&) {  // reported by the main pass; load without a window
-    filter.first.reset();
-    filter.last.reset();
+  } catch (const std::exception&) {
+    return {};
   }
-  return filter;
+  return {first, last};
 }
 
 /// Running sums for one satellite's residual statistics.
@@ -51,24 +46,6 @@ struct ResidualAccumulator {
   double code_sum = 0, code_sq = 0, phase_sum = 0, phase_sq = 0, phase_max = 0;
   double el_min = 90.0, el_max = 0.0;
 };
-
-/// The wide-lane satellite biases in the headers of integer-recovery clock
-/// files (GRG convention); nullptr unless every clock file lists them.
-std::unique_ptr<const ClockWideLaneBiasProvider> integerRecoveryClockBiases(const std::vector<std::string>& clock_files,
-                                                                           std::vector<std::string>& problems) {
-  if (clock_files.empty()) return nullptr;
-  std::map<SatelliteId, double> all;
-  for (const auto& path : clock_files) {
-    RinexClockReadOptions options;
-    options.keep_receiver_clocks = false;
-    const RinexClockFile file = readRinexClock(path, options);
-    ClockWideLaneBiases wl = parseClockWideLaneBiases(file.header.comments);
-    for (const auto& p : wl.problems) problems.push_back(fileBaseName(path) + ": " + p);
-    if (wl.wide_lane_cycles.empty()) return nullptr;
-    all.insert(wl.wide_lane_cycles.begin(), wl.wide_lane_cycles.end());
-  }
-  return std::make_unique<const ClockWideLaneBiasProvider>(std::move(all), fileBaseName(clock_files.front()));
-}
 
 }  // namespace
 
@@ -84,9 +61,10 @@ std::string toString(RejectionStage stage) {
 std::string toString(const RejectionKey& key) { return toString(key.stage) + ": " + toString(key.reason); }
 
 struct PppPipeline::Impl {
-  /// PPP-AR biases from integer-recovery clocks; declared before `processor`,
-  /// which holds a pointer to it, so that it is destroyed after it.
-  std::unique_ptr<const ClockWideLaneBiasProvider> clock_wide_lane_biases;
+  /// The products of a file run (and the phase-bias provider the processor
+  /// points to); declared before `processor`, so that it is destroyed after it.
+  std::optional<ProductAssembly> assembly;
+  const BiasProvider* phase_biases = nullptr;  // what the processor was given (PPP-AR)
   std::unique_ptr<ObservationSource> source;
   PppProducts products;
   std::optional<std::string> bias_file_name;  // for the code-reference note
@@ -100,6 +78,7 @@ struct PppPipeline::Impl {
     processor = std::make_unique<PppEpochProcessor>(source->header(), config, *products.ephemeris,
                                                     products.antennas, products.biases.get(),
                                                     products.ocean ? &*products.ocean : nullptr);
+    if (phase_biases) processor->setPhaseBiases(phase_biases);
   }
 };
 
@@ -118,7 +97,7 @@ PppPipeline::PppPipeline(const PppInputFiles& files, PppConfig config)
     : config_(std::move(config)), impl_(std::make_unique<Impl>()) {
   Impl& d = *impl_;
   if (files.atx.empty()) throw std::runtime_error("no ANTEX file given (antenna calibrations are required)");
-  RecordFilter filter;
+  ProductAssemblyInputs in;
   if (files.obs_format == ObservationFormat::Rtcm3 || files.obs_format == ObservationFormat::Ubx) {
     if (files.obs_format == ObservationFormat::Rtcm3) {
       Rtcm3DecoderOptions rtcm_options;
@@ -127,97 +106,33 @@ PppPipeline::PppPipeline(const PppInputFiles& files, PppConfig config)
     } else {
       d.source = std::make_unique<UbxObservationSource>(files.obs);
     }
-    filter.systems = config_.signals.systems;
     const RinexObsHeader& h = d.source->header();
-    if (h.time_of_first_obs) filter.first = h.time_of_first_obs->time;
-    if (h.time_of_last_obs) filter.last = h.time_of_last_obs->time;
+    if (h.time_of_first_obs) in.first = h.time_of_first_obs->time;
+    if (h.time_of_last_obs) in.last = h.time_of_last_obs->time;
   } else {
     d.source = std::make_unique<RinexObservationSource>(files.obs);
-    filter = productFilter(files.obs, config_.signals.systems);
+    std::tie(in.first, in.last) = observationSpan(files.obs);
   }
-  std::shared_ptr<const BiasProvider> ssr_biases;
-  if (!files.nav.empty()) {
-    BroadcastProducts broadcast =
-        loadBroadcastProducts(files.nav, files.ssr, files.ssr_reference, config_.ssr, files.rtcm_reference_time);
-    d.products.ephemeris = std::move(broadcast.ephemeris);
-    ssr_biases = std::move(broadcast.ssr_biases);
-    d.load_notes.insert(d.load_notes.end(), broadcast.notes.begin(), broadcast.notes.end());
-    d.load_problems.insert(d.load_problems.end(), broadcast.problems.begin(), broadcast.problems.end());
-  } else {
-    PreciseEphemerisOptions ephemeris_options;
-    ephemeris_options.check_products = files.check_products;
-    auto ephemeris =
-        std::make_shared<PreciseEphemeris>(PreciseEphemeris::load(files.sp3, files.clk, filter, ephemeris_options));
-    if (!ephemeris->mergeReport().problems().empty() || !ephemeris->mergeReport().counters().empty())
-      d.load_notes.push_back("products merged: " + ephemeris->mergeReport().summary(5));
-    for (const auto& p : ephemeris->mergeReport().problems()) d.load_problems.push_back(p.reason);
-    if (ephemeris->mergeReport().problemCount() > ephemeris->mergeReport().problems().size())
-      d.load_problems.push_back("... and " +
-                                std::to_string(ephemeris->mergeReport().problemCount() -
-                                               ephemeris->mergeReport().problems().size()) +
-                                " more problem(s) of the precise products");
-    d.products.ephemeris = std::move(ephemeris);
-  }
-  auto set = std::make_shared<ProductSet>(ProductSet::load({files.atx, files.bias, files.blq, config_.signals.systems}));
-  for (const auto& n : set->notes()) d.load_notes.push_back(n);
-  d.load_problems.insert(d.load_problems.end(), set->problems().begin(), set->problems().end());
-  d.products.antennas = set->antennas();
-  if (set->biases() != nullptr) {
-    d.products.biases = std::shared_ptr<const BiasProvider>(set, set->biases());
-    d.bias_file_name = fileBaseName(*files.bias);
-  } else if (ssr_biases) {
-    d.products.biases = ssr_biases;
-    d.load_notes.push_back("code biases: " + ssr_biases->describeSource());
-  }
-  if (files.blq) {
-    const RinexObsHeader& h = d.source->header();
-    const OceanLoadingLookup found = set->oceanLoading(h.marker_name.empty() ? stationName() : h.marker_name);
-    if (found.coefficients) d.products.ocean = *found.coefficients;
-    d.load_notes.push_back(found.note);
-  }
+  in.sp3 = files.sp3;
+  in.clk = files.clk;
+  in.nav = files.nav;
+  in.ssr = files.ssr;
+  in.ssr_reference = files.ssr_reference;
+  in.stream_reference_time = files.rtcm_reference_time;
+  in.check_products = files.check_products;
+  in.atx = files.atx;
+  in.bias = files.bias;
+  in.blq = files.blq;
+  d.assembly = ProductAssembly::assemble(in, config_);
+  const ProductAssembly& products = *d.assembly;
+  config_ = products.config();
+  const RinexObsHeader& h = d.source->header();
+  d.products = products.products(h.marker_name.empty() ? stationName() : h.marker_name);
+  d.load_notes = d.products.notes;
+  d.load_problems = products.problems();
+  if (files.bias && products.codeBiases()) d.bias_file_name = fileBaseName(*files.bias);
+  d.phase_biases = products.phaseBiases();
   d.start(config_);
-  // The satellite antenna model the products were made with against the ANTEX's.
-  std::optional<AntennaModelCheck> antenna_model;
-  if (set->antennas() && !(files.sp3.empty() && files.clk.empty())) {
-    std::vector<std::string> product_models;
-    for (const auto* list : {&files.sp3, &files.clk})
-      for (const auto& f : *list) {
-        try {
-          product_models.push_back(productAntennaModel(f));
-        } catch (const std::exception&) {  // unreadable products are reported by their readers
-        }
-      }
-    antenna_model = checkAntennaModelConsistency(product_models, satelliteAntennaModels(*set->antennas()));
-    d.load_notes.push_back((antenna_model->different() ? "warning: " : "") + antenna_model->text());
-  }
-  if (config_.ambiguity_resolution.enabled && antenna_model && antenna_model->different() &&
-      !config_.ambiguity_resolution.allow_antenna_model_mismatch) {
-    d.load_notes.push_back("ambiguity resolution: refused: " + antenna_model->text() +
-                           ": float (ambiguity_resolution.allow_antenna_model_mismatch: true to fix anyway)");
-  } else if (config_.ambiguity_resolution.enabled) {
-    if (antenna_model && antenna_model->different())
-      d.load_notes.push_back("ambiguity resolution: antenna model mismatch allowed (allow_antenna_model_mismatch)");
-    // PPP-AR needs phase OSBs from the clocks' own analysis centre.
-    bool has_phase = false;
-    if (set->biasFile())
-      for (const auto& r : set->biasFile()->records)
-        if (r.type == BiasType::OSB && r.obs1.type == ObservableType::CarrierPhase) {
-          has_phase = true;
-          break;
-        }
-    const PhaseBiasCheck check = checkPhaseBiasConsistency(files.clk, files.bias, has_phase);
-    if (check.consistent()) {
-      d.load_notes.push_back("ambiguity resolution: " + check.text());
-      d.processor->setPhaseBiases(set->biases());
-    } else if (auto wl = integerRecoveryClockBiases(files.clk, d.load_problems)) {
-      d.load_notes.push_back("ambiguity resolution: integer-recovery clocks with " + std::to_string(wl->size()) +
-                             " wide-lane satellite biases in the clock header");
-      d.processor->setPhaseBiases(wl.get());
-      d.clock_wide_lane_biases = std::move(wl);
-    } else {
-      d.load_notes.push_back("ambiguity resolution: " + check.text());
-    }
-  }
 }
 
 PppPipeline::PppPipeline(const PppInMemoryInputs& inputs, PppConfig config)
@@ -233,6 +148,7 @@ PppPipeline::PppPipeline(const PppInMemoryInputs& inputs, PppConfig config)
   if (config_.ambiguity_resolution.enabled) {
     if (inputs.phase_biases) {
       d.load_notes.push_back("ambiguity resolution: " + inputs.phase_biases->describeSource());
+      d.phase_biases = inputs.phase_biases;
       d.processor->setPhaseBiases(inputs.phase_biases);
     } else {
       d.load_notes.push_back("ambiguity resolution: no phase biases given: float");
@@ -241,6 +157,10 @@ PppPipeline::PppPipeline(const PppInMemoryInputs& inputs, PppConfig config)
 }
 
 PppPipeline::~PppPipeline() = default;
+
+const ProductAssembly* PppPipeline::productAssembly() const {
+  return impl_->assembly ? &*impl_->assembly : nullptr;
+}
 
 const RinexObsHeader& PppPipeline::header() const { return impl_->source->header(); }
 
@@ -266,6 +186,19 @@ const std::vector<std::string>& PppPipeline::receiverAntennaWarnings() const {
 
 double PppPipeline::progress() const { return impl_->source->progress(); }
 
+void PppPipeline::adoptEstimatorSystems(const EpochEstimator& estimator) {
+  // The estimator's state holds one clock per system: an estimator made from
+  // another configuration than config() (e.g. the caller's, before the products
+  // named the systems) processes its own systems, said in the notes.
+  const std::vector<GnssSystem> systems = estimator.core().layout().clockSystems();
+  if (systems == config_.signals.systems) return;
+  std::string names;
+  for (auto s : systems) names += (names.empty() ? "" : ", ") + std::string(systemName(s));
+  impl_->load_notes.push_back("systems: " + names + " (those of the estimator's state)");
+  config_.signals.systems = systems;
+  impl_->start(config_);
+}
+
 PppRunSummary PppPipeline::run(EpochEstimator& estimator, const EpochCallback& on_epoch) {
   Impl& d = *impl_;
   PppRunSummary summary;
@@ -276,6 +209,7 @@ PppRunSummary PppPipeline::run(EpochEstimator& estimator, const EpochCallback& o
     return summary;
   }
   d.ran = true;
+  adoptEstimatorSystems(estimator);
   summary.problems = d.load_problems;
   // Satellites rejected, for naming those an input problem took out of the run.
   std::map<SatelliteId, std::pair<std::size_t, std::string>> rejected_epochs;  // count, first reason

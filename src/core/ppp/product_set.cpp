@@ -11,9 +11,16 @@ ProductSet ProductSet::load(const ProductFiles& files) {
     std::vector<AntexSource> antex;
     for (const auto& p : files.atx) {
       antex.push_back({fileBaseName(p), readAntexFile(p)});
-      if (!antex.back().file.report.clean()) set.problems_.push_back(antex.back().file.report.headline(p));
+      const AntexFile& file = antex.back().file;
+      if (!file.report.clean()) set.problems_.push_back(file.report.headline(p));
+      if (!file.skipped_satellite_codes.empty()) {
+        std::string codes;
+        for (const auto& c : file.skipped_satellite_codes) codes += " " + c;
+        set.notes_.push_back("ANTEX " + antex.back().name + ": satellite blocks outside the systems' PRN ranges skipped:" +
+                             codes);
+      }
     }
-    set.antennas_ = std::make_shared<const AntexCalibrations>(std::move(antex));
+    set.antennas_ = std::make_shared<const AntexCalibrations>(std::move(antex), files.satellite_family);
   }
   if (files.bias) {
     RecordFilter systems;

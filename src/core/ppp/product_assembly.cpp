@@ -1,0 +1,379 @@
+#include "ppp_bayes_tree/ppp/product_assembly.h"
+
+#include <algorithm>
+#include <map>
+#include <set>
+
+#include "ppp_bayes_tree/io/line_source.h"
+#include "ppp_bayes_tree/io/record_filter.h"
+#include "ppp_bayes_tree/io/rinex_clock_reader.h"
+#include "ppp_bayes_tree/models/broadcast_products.h"
+#include "ppp_bayes_tree/models/clock_wide_lane_bias_provider.h"
+#include "ppp_bayes_tree/models/precise_ephemeris.h"
+
+namespace ppp {
+namespace {
+
+/// The systems the estimators can process (an ionosphere-free pair each).
+const std::vector<GnssSystem> kSupportedSystems = {GnssSystem::GPS, GnssSystem::Galileo};
+
+std::string systemList(const std::vector<GnssSystem>& systems) {
+  std::string out;
+  for (auto s : systems) out += (out.empty() ? "" : ", ") + std::string(systemName(s));
+  return out.empty() ? std::string("none") : out;
+}
+
+/// What the orbit and clock inputs gave: the ephemeris, its notes and problems,
+/// the satellites it carries (empty: not known before the run) and the SSR biases.
+struct OrbitClockProducts {
+  std::shared_ptr<const EphemerisSource> ephemeris;
+  std::set<SatelliteId> satellites;
+  bool satellites_known = false;
+  std::shared_ptr<const BiasProvider> ssr_biases;
+  bool ssr_phase_biases = false;
+};
+
+OrbitClockProducts loadOrbitsAndClocks(const ProductAssemblyInputs& in, const PppConfig& config,
+                                       const RecordFilter& filter, std::vector<std::string>& notes,
+                                       std::vector<std::string>& problems) {
+  OrbitClockProducts out;
+  if (!in.nav.empty()) {
+    BroadcastProducts broadcast = loadBroadcastProducts(in.nav, in.ssr, in.ssr_reference, config.ssr,
+                                                        in.stream_reference_time);
+    out.ephemeris = std::move(broadcast.ephemeris);
+    out.ssr_biases = std::move(broadcast.ssr_biases);
+    out.ssr_phase_biases = broadcast.ssr_phase_biases;
+    notes.insert(notes.end(), broadcast.notes.begin(), broadcast.notes.end());
+    problems.insert(problems.end(), broadcast.problems.begin(), broadcast.problems.end());
+    return out;
+  }
+  if (in.sp3.empty() && in.clk.empty()) return out;  // streamed
+  PreciseEphemerisOptions options;
+  options.check_products = in.check_products;
+  auto ephemeris = std::make_shared<PreciseEphemeris>(PreciseEphemeris::load(in.sp3, in.clk, filter, options));
+  const ParseReport& merge = ephemeris->mergeReport();
+  if (!merge.problems().empty() || !merge.counters().empty()) notes.push_back("products merged: " + merge.summary(5));
+  for (const auto& p : merge.problems()) problems.push_back(p.reason);
+  if (merge.problemCount() > merge.problems().size())
+    problems.push_back("... and " + std::to_string(merge.problemCount() - merge.problems().size()) +
+                       " more problem(s) of the precise products");
+  // A satellite is carried when it has orbits, and clocks when clock files are given.
+  const std::set<SatelliteId> orbits = ephemeris->orbitSatellites();
+  const std::set<SatelliteId> clocks = in.clk.empty() ? orbits : ephemeris->clockSatellites();
+  std::set_intersection(orbits.begin(), orbits.end(), clocks.begin(), clocks.end(),
+                        std::inserter(out.satellites, out.satellites.begin()));
+  out.satellites_known = true;
+  out.ephemeris = std::move(ephemeris);
+  return out;
+}
+
+/// The satellite antenna models the products name (headers, or the stream's declaration).
+std::vector<std::string> productAntennaModels(const ProductAssemblyInputs& in) {
+  std::vector<std::string> models;
+  for (const auto* list : {&in.sp3, &in.clk})
+    for (const auto& f : *list) {
+      try {
+        models.push_back(productAntennaModel(f));
+      } catch (const std::exception&) {  // unreadable products are reported by their readers
+      }
+    }
+  if (in.streamedOrbitsAndClocks() && !in.streamed.antenna_model.empty()) models.push_back(in.streamed.antenna_model);
+  return models;
+}
+
+/// The one family the named models share ("" when none is named or they differ).
+std::string commonFamily(const std::vector<std::string>& models) {
+  std::set<std::string> families;
+  for (const auto& m : models)
+    if (!antennaModelFamily(m).empty()) families.insert(antennaModelFamily(m));
+  return families.size() == 1 ? *families.begin() : std::string();
+}
+
+/// Whether the ANTEX files hold a satellite block of `system` for one of `satellites`
+/// (any satellite of the system when the list is empty).
+bool antennasCover(const AntexCalibrations& antex, GnssSystem system, const std::set<SatelliteId>& satellites) {
+  for (const auto& f : antex.files())
+    for (const auto& a : f.file.antennas) {
+      if (!a.satellite || a.satellite->system != system) continue;
+      if (satellites.empty() || satellites.count(*a.satellite)) return true;
+    }
+  return false;
+}
+
+/// The satellites whose antennas the run uses: those the products carry, else
+/// every satellite of the systems that the ANTEX files hold.
+std::vector<SatelliteId> satellitesInUse(const OrbitClockProducts& products, const AntexCalibrations& antex,
+                                         const std::vector<GnssSystem>& systems) {
+  std::set<SatelliteId> out;
+  const auto processed = [&](const SatelliteId& s) {
+    return std::find(systems.begin(), systems.end(), s.system) != systems.end();
+  };
+  if (products.satellites_known) {
+    for (const auto& s : products.satellites)
+      if (processed(s)) out.insert(s);
+  } else {
+    for (const auto& f : antex.files())
+      for (const auto& a : f.file.antennas)
+        if (a.satellite && processed(*a.satellite)) out.insert(*a.satellite);
+  }
+  return {out.begin(), out.end()};
+}
+
+/// The wide-lane satellite biases in the headers of integer-recovery clock files
+/// (GRG convention); nullptr unless every clock file lists them.
+std::shared_ptr<const ClockWideLaneBiasProvider> integerRecoveryClockBiases(
+    const std::vector<RinexClockHeader>& headers, const std::vector<std::string>& clock_files,
+    std::vector<std::string>& problems) {
+  if (headers.empty()) return nullptr;
+  std::map<SatelliteId, double> all;
+  for (std::size_t i = 0; i < headers.size(); ++i) {
+    ClockWideLaneBiases wl = parseClockWideLaneBiases(headers[i].comments);
+    for (const auto& p : wl.problems) problems.push_back(fileBaseName(clock_files[i]) + ": " + p);
+    if (wl.wide_lane_cycles.empty()) return nullptr;
+    all.insert(wl.wide_lane_cycles.begin(), wl.wide_lane_cycles.end());
+  }
+  return std::make_shared<const ClockWideLaneBiasProvider>(std::move(all), fileBaseName(clock_files.front()));
+}
+
+bool hasPhaseOsb(const BiasSinexFile* file) {
+  if (file == nullptr) return false;
+  return std::any_of(file->records.begin(), file->records.end(), [](const BiasRecord& r) {
+    return r.type == BiasType::OSB && r.obs1.type == ObservableType::CarrierPhase;
+  });
+}
+
+/// Whether the satellite antennas let the gate fix in `mode`.
+bool antennasAllowFixing(const std::optional<AntennaModelCheck>& check, AmbiguityResolutionMode mode,
+                         bool allow_mismatch, ArGateReason& reason) {
+  const AntennaModelConsistency v = check ? check->verdict : AntennaModelConsistency::Unknown;
+  if (v == AntennaModelConsistency::Consistent || allow_mismatch) return true;
+  if (v == AntennaModelConsistency::Different) {
+    reason = ArGateReason::AntennaModelDifferent;
+    return false;
+  }
+  if (mode == AmbiguityResolutionMode::On) return true;  // true: only a known difference refuses
+  reason = ArGateReason::AntennaModelUnknown;
+  return false;
+}
+
+}  // namespace
+
+std::string toString(PhaseInformation p) {
+  switch (p) {
+    case PhaseInformation::None: return "no phase information";
+    case PhaseInformation::AnalysisCentreOsb: return "phase OSBs of the clocks' analysis centre";
+    case PhaseInformation::IntegerRecoveryClocks: return "integer-recovery clocks";
+    case PhaseInformation::SsrPhaseBiases: return "SSR phase biases";
+  }
+  return "unknown";
+}
+
+std::string toString(ArGateReason r) {
+  switch (r) {
+    case ArGateReason::Fixing: return "fixing";
+    case ArGateReason::Disabled: return "disabled";
+    case ArGateReason::NoConsistentPhaseBiases: return "no consistent phase biases";
+    case ArGateReason::AntennaModelDifferent: return "satellite antenna model differs from the products'";
+    case ArGateReason::AntennaModelUnknown: return "satellite antenna model of the products not known";
+  }
+  return "unknown";
+}
+
+std::string ArGateVerdict::text() const {
+  std::string out = "ambiguity resolution: " + std::string(fix ? "fixing" : "float") + " (enabled: " +
+                    toString(mode) + "): ";
+  out += fix ? toString(phase) : toString(reason);
+  if (!detail.empty()) out += " (" + detail + ")";
+  return out;
+}
+
+ProductAssembly ProductAssembly::assemble(const ProductAssemblyInputs& in, const PppConfig& config) {
+  ProductAssembly a;
+  a.config_ = config;
+  if (!in.sp3.empty() != !in.clk.empty() && in.nav.empty())
+    throw std::invalid_argument("product inputs: SP3 and clock files go together");
+  const SignalSelectionOptions& signals = config.signals;
+  const std::vector<GnssSystem> candidates = signals.systems_from_products ? kSupportedSystems : signals.systems;
+
+  // Orbits and clocks, for the candidate systems and the observations' span.
+  RecordFilter filter;
+  filter.systems = candidates;
+  filter.first = in.first;
+  filter.last = in.last;
+  OrbitClockProducts orbit_clock = loadOrbitsAndClocks(in, config, filter, a.notes_, a.problems_);
+  a.ephemeris_ = orbit_clock.ephemeris;
+
+  // ANTEX (satellites of the products' family first), Bias-SINEX, BLQ.
+  const std::vector<std::string> product_models = productAntennaModels(in);
+  ProductFiles files;
+  files.atx = in.atx;
+  files.bias = in.bias;
+  files.blq = in.blq;
+  files.systems = candidates;
+  files.satellite_family = commonFamily(product_models);
+  a.set_ = std::make_shared<ProductSet>(ProductSet::load(files));
+  a.notes_.insert(a.notes_.end(), a.set_->notes().begin(), a.set_->notes().end());
+  a.problems_.insert(a.problems_.end(), a.set_->problems().begin(), a.set_->problems().end());
+  const auto antex = a.set_->antennas();
+
+  // The systems: every candidate that the products and the satellite antennas cover.
+  if (signals.systems_from_products) {
+    std::vector<GnssSystem> systems;
+    for (GnssSystem s : candidates) {
+      std::set<SatelliteId> carried;
+      for (const auto& sat : orbit_clock.satellites)
+        if (sat.system == s) carried.insert(sat);
+      const bool declared = in.streamed.systems.empty() ||
+                            std::find(in.streamed.systems.begin(), in.streamed.systems.end(), s) !=
+                                in.streamed.systems.end();
+      std::string why;
+      if (orbit_clock.satellites_known && carried.empty()) why = "no orbits and clocks in the products";
+      else if (in.streamedOrbitsAndClocks() && !declared) why = "not carried by the product stream";
+      else if (config.model.satellite_antenna && antex && !antennasCover(*antex, s, carried))
+        why = "no satellite antenna calibrations in the ANTEX files";
+      if (why.empty()) systems.push_back(s);
+      else a.notes_.push_back("systems: " + std::string(systemName(s)) + " skipped: " + why);
+    }
+    if (systems.empty()) {
+      a.notes_.push_back("systems: none covered by the products and the antennas; processing " +
+                         systemList(signals.systems) + " as configured");
+    } else {
+      a.config_.signals.systems = systems;
+      a.notes_.push_back("systems: " + systemList(systems) + " (every system of " + systemList(kSupportedSystems) +
+                         " that the products and the satellite antennas cover)");
+    }
+  }
+  const std::vector<GnssSystem>& systems = a.config_.signals.systems;
+
+  // The satellite antennas in use against the products' model.
+  if (antex && !product_models.empty()) {
+    const std::vector<SatelliteId> in_use = satellitesInUse(orbit_clock, *antex, systems);
+    a.antenna_check_ = checkAntennaModelConsistency(product_models, usedSatelliteAntennaModels(*antex, in_use, in.first));
+    if (antex->files().size() > 1 && !antex->satelliteFamily().empty()) {
+      std::map<std::string, std::size_t> by_file;
+      for (const auto& sat : in_use)
+        if (const auto found = antex->satelliteBlock(sat, in.first); found.calibration) ++by_file[found.source];
+      std::string from;
+      for (const auto& [name, n] : by_file) from += (from.empty() ? "" : ", ") + std::to_string(n) + " from " + name;
+      a.notes_.push_back("satellite antennas: the products' family " + antex->satelliteFamily() +
+                         " taken first of " + std::to_string(antex->files().size()) + " ANTEX files (" +
+                         (from.empty() ? std::string("no satellite in use") : from) + ")");
+    }
+    a.notes_.push_back((a.antenna_check_->different() ? "warning: " : "") + a.antenna_check_->text());
+  }
+
+  // Code biases: the Bias-SINEX file's, else the SSR recording's.
+  if (a.set_->biases() != nullptr) {
+    a.code_biases_ = std::shared_ptr<const BiasProvider>(a.set_, a.set_->biases());
+  } else if (orbit_clock.ssr_biases) {
+    a.code_biases_ = orbit_clock.ssr_biases;
+    a.notes_.push_back("code biases: " + orbit_clock.ssr_biases->describeSource());
+  }
+
+  // The PPP-AR gate.
+  const AmbiguityResolutionOptions& ar = config.ambiguity_resolution;
+  ArGateVerdict& v = a.verdict_;
+  v.mode = ar.enabled ? AmbiguityResolutionMode::On : ar.mode;
+  if (v.mode == AmbiguityResolutionMode::Off) {
+    v.reason = ArGateReason::Disabled;
+    a.config_.ambiguity_resolution.enabled = false;
+    return a;
+  }
+  ArGateReason antenna_reason = ArGateReason::Fixing;
+  const bool antennas_ok = antennasAllowFixing(a.antenna_check_, v.mode, ar.allow_antenna_model_mismatch, antenna_reason);
+  if (!antennas_ok) {
+    v.reason = antenna_reason;
+    v.detail = a.antenna_check_ ? a.antenna_check_->models() : "the products name no satellite antenna model";
+    if (v.mode == AmbiguityResolutionMode::On) v.detail += "; ambiguity_resolution.allow_antenna_model_mismatch: true to fix anyway";
+  } else {
+    if (a.antenna_check_ && a.antenna_check_->verdict != AntennaModelConsistency::Consistent)
+      a.notes_.push_back("ambiguity resolution: antenna model mismatch allowed (allow_antenna_model_mismatch)");
+    // The phase information, in order: OSBs of the clocks' centre, integer-recovery clocks, SSR.
+    if (!in.clk.empty()) {
+      std::vector<RinexClockHeader> headers;
+      std::vector<ProductOrigin> clocks;
+      for (const auto& f : in.clk) {
+        headers.push_back(readRinexClockHeader(f));
+        clocks.push_back({f, clockHeaderCentre(headers.back())});
+      }
+      std::optional<ProductOrigin> bias;
+      if (in.bias) bias = ProductOrigin{*in.bias, a.set_->biasFile() ? a.set_->biasFile()->header.file_agency : ""};
+      const PhaseBiasCheck check = checkPhaseBiasConsistency(clocks, bias, hasPhaseOsb(a.set_->biasFile()));
+      if (check.consistent()) {
+        v.phase = PhaseInformation::AnalysisCentreOsb;
+        a.phase_biases_ = a.set_->biases();
+        v.detail = check.clock_centre + (check.from_headers ? ", from the headers" : ", from the file names");
+        a.notes_.push_back("ambiguity resolution: " + check.text());
+      } else if (auto wl = integerRecoveryClockBiases(headers, in.clk, a.problems_)) {
+        v.phase = PhaseInformation::IntegerRecoveryClocks;
+        a.notes_.push_back("ambiguity resolution: integer-recovery clocks with " + std::to_string(wl->size()) +
+                           " wide-lane satellite biases in the clock header");
+        v.detail = std::to_string(wl->size()) + " wide-lane satellite biases in the clock header";
+        a.phase_biases_ = wl.get();
+        a.owned_phase_biases_ = std::move(wl);
+      } else {
+        v.detail = check.why();
+      }
+    } else if (!in.nav.empty()) {
+      if (orbit_clock.ssr_phase_biases) {
+        v.phase = PhaseInformation::SsrPhaseBiases;
+        a.phase_biases_ = orbit_clock.ssr_biases.get();
+        v.detail = orbit_clock.ssr_biases->describeSource();
+      } else {
+        v.detail = in.ssr ? "the SSR stream carries no phase biases" : "broadcast orbits and clocks without SSR";
+      }
+    } else {  // streamed: a Bias-SINEX file of the stream's clock centre, else the stream's own biases later
+      const std::string agency = a.set_->biasFile() ? a.set_->biasFile()->header.file_agency : "";
+      if (hasPhaseOsb(a.set_->biasFile()) && !agency.empty() && agency == in.streamed.clock_centre) {
+        v.phase = PhaseInformation::AnalysisCentreOsb;
+        a.phase_biases_ = a.set_->biases();
+        v.detail = agency + ", the stream's clock centre";
+      } else {
+        v.detail = "no phase biases from the stream yet";
+      }
+    }
+    v.fix = v.phase != PhaseInformation::None;
+    v.reason = v.fix ? ArGateReason::Fixing : ArGateReason::NoConsistentPhaseBiases;
+  }
+  // The resolver runs: always with `true` (as before `auto`); with auto when the
+  // gate fixes, or when streamed phase biases may still let it.
+  a.config_.ambiguity_resolution.enabled =
+      v.mode == AmbiguityResolutionMode::On || v.fix || (antennas_ok && in.streamedOrbitsAndClocks());
+  a.notes_.push_back(v.text());
+  return a;
+}
+
+bool ProductAssembly::acceptStreamedPhaseBiases(const BiasProvider* provider, PhaseInformation kind) {
+  ArGateVerdict& v = verdict_;
+  if (v.mode == AmbiguityResolutionMode::Off || provider == nullptr || kind == PhaseInformation::None) return false;
+  if (v.reason == ArGateReason::AntennaModelDifferent || v.reason == ArGateReason::AntennaModelUnknown) return false;
+  if (v.fix && phase_biases_ == provider) return false;
+  if (v.fix && v.phase != PhaseInformation::SsrPhaseBiases && kind == PhaseInformation::SsrPhaseBiases)
+    return false;  // a consistent Bias-SINEX file stays
+  phase_biases_ = provider;
+  v.phase = kind;
+  v.fix = true;
+  v.reason = ArGateReason::Fixing;
+  v.detail = provider->describeSource();
+  config_.ambiguity_resolution.enabled = true;
+  notes_.push_back(v.text());
+  return true;
+}
+
+OceanLoadingLookup ProductAssembly::oceanLoading(const std::string& station) const {
+  return set_ ? set_->oceanLoading(station) : OceanLoadingLookup{};
+}
+
+PppProducts ProductAssembly::products(const std::string& station) const {
+  PppProducts p;
+  p.ephemeris = ephemeris_;
+  p.antennas = antennas();
+  p.biases = code_biases_;
+  const OceanLoadingLookup ocean = oceanLoading(station);
+  if (ocean.coefficients) p.ocean = *ocean.coefficients;
+  p.notes = notes_;
+  if (!ocean.note.empty()) p.notes.push_back(ocean.note);
+  return p;
+}
+
+}  // namespace ppp

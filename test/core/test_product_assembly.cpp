@@ -1,0 +1,219 @@
+// The product assembly (product_assembly.h) on the real product sets: the IGS14
+// satellite ANTEX reads cleanly, satellite antennas are taken from the products'
+// family whatever the order of the ANTEX files, the systems default to those the
+// products and antennas cover, and the PPP-AR gate's verdicts (auto) for ZIM2
+// (IGS clocks + CODE biases: float), CCJ2 (WUM clocks + WUM OSBs + IGS14: fixes),
+// ESBC (GRG integer-recovery clocks + IGS14: fixes) and streamed products.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <string>
+#include <vector>
+
+#include "ppp_bayes_tree/io/antex_reader.h"
+#include "ppp_bayes_tree/ppp/ppp_config.h"
+#include "ppp_bayes_tree/ppp/ppp_pipeline.h"
+#include "ppp_bayes_tree/ppp/product_assembly.h"
+#include "ppp_dataset.h"
+#include "test_support.h"
+
+namespace ppp {
+namespace {
+
+const std::string kIgs14 = "antex/igs14_2178_satellites.atx";
+const std::string kIgs20Zim2 = "antex/igs20_zim2_gps_trim.atx";  // receiver file that also holds IGS20 GPS satellites
+
+bool hasNote(const std::vector<std::string>& notes, const std::string& text) {
+  return std::any_of(notes.begin(), notes.end(), [&](const std::string& n) { return n == text; });
+}
+
+std::size_t notesStartingWith(const std::vector<std::string>& notes, const std::string& prefix) {
+  return static_cast<std::size_t>(
+      std::count_if(notes.begin(), notes.end(), [&](const std::string& n) { return n.rfind(prefix, 0) == 0; }));
+}
+
+/// CCJ2's WUM products with the given ANTEX files.
+ProductAssemblyInputs ccj2Inputs(const std::vector<std::string>& atx) {
+  const test::PppDataset d = test::ccj2Dataset();
+  ProductAssemblyInputs in;
+  in.sp3 = d.sp3;
+  in.clk = d.clk;
+  in.bias = d.bia;
+  in.blq = test::dataPath("oceanload/ccj2_fes2004.blq");
+  for (const auto& a : atx) in.atx.push_back(test::dataPath(a));
+  return in;
+}
+
+TEST(ProductAssembly, RealIgs14AntexReadsWithoutProblems) {
+  PPP_REQUIRE_SHARED_DATA();
+  const AntexFile file = readAntexFile(test::dataPath(kIgs14));
+  EXPECT_TRUE(file.report.clean()) << file.report.summary();
+  // The GIOVE test satellites (E51, E52) are outside Galileo's PRN range: skipped, listed once each.
+  EXPECT_EQ(file.skipped_satellite_codes, (std::vector<std::string>{"E51", "E52"}));
+  EXPECT_GT(file.satelliteCount(), 200u);
+  ProductFiles files;
+  files.atx = {test::dataPath(kIgs14)};
+  const ProductSet set = ProductSet::load(files);
+  EXPECT_TRUE(set.problems().empty());
+  EXPECT_EQ(notesStartingWith(set.notes(), "ANTEX igs14_2178_satellites.atx:"), 1u);
+  EXPECT_TRUE(hasNote(set.notes(), "ANTEX igs14_2178_satellites.atx: satellite blocks outside the systems' PRN "
+                                   "ranges skipped: E51 E52"));
+}
+
+TEST(ProductAssembly, Ccj2SatelliteAntennasFromTheProductsFamilyInEitherOrder) {
+  PPP_REQUIRE_SHARED_DATA();
+  for (const auto& order : {std::vector<std::string>{kIgs14, kIgs20Zim2}, std::vector<std::string>{kIgs20Zim2, kIgs14}}) {
+    SCOPED_TRACE(order.front());
+    const ProductAssembly a = ProductAssembly::assemble(ccj2Inputs(order), PppConfig{});
+    EXPECT_TRUE(a.problems().empty()) << a.problems().front();
+    EXPECT_EQ(a.antennas()->satelliteFamily(), "IGS14");
+    // Every satellite in use (GPS and Galileo of the WUM products) from the IGS14 file.
+    EXPECT_EQ(notesStartingWith(a.notes(), "satellite antennas: the products' family IGS14 taken first of 2 ANTEX "
+                                           "files ("),
+              1u);
+    for (const auto& n : a.notes())
+      if (n.rfind("satellite antennas:", 0) == 0) {
+        EXPECT_NE(n.find(" from igs14_2178_satellites.atx)"), std::string::npos) << n;
+        EXPECT_EQ(n.find("igs20_zim2_gps_trim.atx"), std::string::npos) << n;
+      }
+    EXPECT_TRUE(hasNote(a.notes(), "satellite antenna model consistent with the products (IGS14: products "
+                                   "IGS14_2148, ANTEX IGS14_2178)"));
+    // The G01 block in use is IGS14's even when the IGS20 file comes first.
+    const auto g01 = a.antennas()->satellite(*SatelliteId::parse("G01"), GnssTime::fromCalendar({2021, 7, 29, 0, 0, 0.0}, TimeSystem::GPS));
+    ASSERT_NE(g01.calibration, nullptr);
+    EXPECT_EQ(g01.source, "igs14_2178_satellites.atx");
+    EXPECT_EQ(antennaModelFamily(g01.calibration->sinex_code), "IGS14");
+  }
+}
+
+TEST(ProductAssembly, Ccj2AutoFixesWithWumOsbsAndIgs14Antennas) {
+  PPP_REQUIRE_SHARED_DATA();
+  const ProductAssembly a = ProductAssembly::assemble(ccj2Inputs({kIgs14, kIgs20Zim2}), PppConfig{});
+  const ArGateVerdict& gate = a.arGate();
+  EXPECT_EQ(gate.mode, AmbiguityResolutionMode::Auto);
+  EXPECT_TRUE(gate.fix);
+  EXPECT_EQ(gate.reason, ArGateReason::Fixing);
+  EXPECT_EQ(gate.phase, PhaseInformation::AnalysisCentreOsb);
+  // The centres from the headers: the clock file's "PGM / RUN BY" WHU, the Bias-SINEX agency WHU.
+  EXPECT_TRUE(hasNote(a.notes(), "ambiguity resolution: phase biases consistent with the clocks (WHU, from the headers)"));
+  EXPECT_TRUE(hasNote(a.notes(), "ambiguity resolution: fixing (enabled: auto): phase OSBs of the clocks' analysis "
+                                 "centre (WHU, from the headers)"));
+  EXPECT_NE(a.phaseBiases(), nullptr);
+  EXPECT_EQ(a.phaseBiases(), a.codeBiases().get());  // the Bias-SINEX file serves both
+  EXPECT_TRUE(a.config().ambiguity_resolution.enabled);
+  // WUM carries GPS and Galileo, the IGS14 file has both: both are processed.
+  EXPECT_EQ(a.config().signals.systems, (std::vector<GnssSystem>{GnssSystem::GPS, GnssSystem::Galileo}));
+  EXPECT_TRUE(hasNote(a.notes(), "systems: GPS, Galileo (every system of GPS, Galileo that the products and the "
+                                 "satellite antennas cover)"));
+  // An explicit list is kept as written.
+  const PppConfig gps_only = parsePppConfig("signals:\n  systems: [GPS]\n", "gps");
+  EXPECT_EQ(ProductAssembly::assemble(ccj2Inputs({kIgs14}), gps_only).config().signals.systems,
+            std::vector<GnssSystem>{GnssSystem::GPS});
+}
+
+TEST(ProductAssembly, Zim2StaysFloatWithoutConsistentPhaseBiases) {
+  PPP_REQUIRE_SHARED_DATA();
+  const test::PppDataset d = test::zim2Dataset();
+  ProductAssemblyInputs in;
+  in.sp3 = d.sp3;
+  in.clk = d.clk;
+  in.atx = d.atx;
+  in.bias = d.bia;
+  const ProductAssembly a = ProductAssembly::assemble(in, PppConfig{});
+  const ArGateVerdict& gate = a.arGate();
+  EXPECT_FALSE(gate.fix);
+  EXPECT_EQ(gate.reason, ArGateReason::NoConsistentPhaseBiases);
+  EXPECT_EQ(toString(gate.reason), "no consistent phase biases");
+  // IGS combined clocks ("ANALYSIS CENTER" IGS) with CODE's biases (agency COD).
+  EXPECT_EQ(gate.text(), "ambiguity resolution: float (enabled: auto): no consistent phase biases (clocks IGS, biases COD)");
+  EXPECT_TRUE(hasNote(a.notes(), gate.text()));
+  EXPECT_EQ(a.phaseBiases(), nullptr);
+  EXPECT_FALSE(a.config().ambiguity_resolution.enabled);  // the float run is the one before `auto`
+  // GPS-only products: Galileo is skipped with the reason.
+  EXPECT_EQ(a.config().signals.systems, std::vector<GnssSystem>{GnssSystem::GPS});
+  EXPECT_TRUE(hasNote(a.notes(), "systems: Galileo skipped: no orbits and clocks in the products"));
+}
+
+TEST(ProductAssembly, EsbcIntegerRecoveryClocksFixWithIgs14Antennas) {
+  PPP_REQUIRE_SHARED_DATA();
+  ProductAssemblyInputs in;
+  in.sp3 = {test::dataPath("esbc-2020-177/GRG0MGXFIN_20201770000_01D_15M_ORB.SP3.gz")};
+  in.clk = {test::dataPath("esbc-2020-177/GRG0MGXFIN_20201770000_01D_30S_CLK.CLK.gz")};
+  in.atx = {test::dataPath(kIgs14), test::dataPath("antex/igs05_esbc_receiver_trim.atx")};
+  const ProductAssembly a = ProductAssembly::assemble(in, PppConfig{});
+  EXPECT_TRUE(a.problems().empty()) << a.problems().front();
+  const ArGateVerdict& gate = a.arGate();
+  EXPECT_TRUE(gate.fix) << gate.text();
+  EXPECT_EQ(gate.phase, PhaseInformation::IntegerRecoveryClocks);
+  EXPECT_TRUE(hasNote(a.notes(), "ambiguity resolution: integer-recovery clocks with 66 wide-lane satellite biases in "
+                                 "the clock header"));
+  EXPECT_NE(a.phaseBiases(), nullptr);
+  EXPECT_TRUE(hasNote(a.notes(), "satellite antenna model consistent with the products (IGS14: products IGS14_2108, "
+                                 "ANTEX IGS14_2178)"));
+  EXPECT_EQ(a.config().signals.systems, (std::vector<GnssSystem>{GnssSystem::GPS, GnssSystem::Galileo}));
+  // Off: no verdict note, no phase biases.
+  const ProductAssembly off =
+      ProductAssembly::assemble(in, parsePppConfig("ambiguity_resolution:\n  enabled: false\n", "off"));
+  EXPECT_EQ(off.arGate().reason, ArGateReason::Disabled);
+  EXPECT_EQ(off.phaseBiases(), nullptr);
+  EXPECT_FALSE(off.config().ambiguity_resolution.enabled);
+}
+
+TEST(ProductAssembly, StreamedProductsGoThroughTheSameGate) {
+  PPP_REQUIRE_SHARED_DATA();
+  // The node's inputs: the same ANTEX and bias files, orbits and clocks from a topic.
+  ProductAssemblyInputs streamed = ccj2Inputs({kIgs20Zim2, kIgs14});
+  streamed.sp3.clear();
+  streamed.clk.clear();
+  {
+    // Nothing declared about the stream: its antenna model is not known -> auto stays float.
+    const ProductAssembly a = ProductAssembly::assemble(streamed, PppConfig{});
+    EXPECT_FALSE(a.arGate().fix);
+    EXPECT_EQ(a.arGate().reason, ArGateReason::AntennaModelUnknown);
+    EXPECT_EQ(a.ephemeris(), nullptr);
+    EXPECT_FALSE(a.config().ambiguity_resolution.enabled);
+  }
+  // Declared like the WUM files: the same verdict and the same biases as from the files.
+  streamed.streamed.clock_centre = "WHU";
+  streamed.streamed.antenna_model = "IGS14_2148";
+  const ProductAssembly node = ProductAssembly::assemble(streamed, PppConfig{});
+  const ProductAssembly files = ProductAssembly::assemble(ccj2Inputs({kIgs20Zim2, kIgs14}), PppConfig{});
+  EXPECT_TRUE(node.arGate().fix) << node.arGate().text();
+  EXPECT_EQ(node.arGate().phase, files.arGate().phase);
+  EXPECT_EQ(node.antennas()->satelliteFamily(), files.antennas()->satelliteFamily());
+  EXPECT_EQ(node.config().signals.systems, files.config().signals.systems);
+  EXPECT_EQ(node.config().ambiguity_resolution.enabled, files.config().ambiguity_resolution.enabled);
+  // Streamed SSR phase biases do not replace a consistent Bias-SINEX file.
+  ProductAssembly node_ssr = ProductAssembly::assemble(streamed, PppConfig{});
+  EXPECT_FALSE(node_ssr.acceptStreamedPhaseBiases(files.codeBiases().get(), PhaseInformation::SsrPhaseBiases));
+  EXPECT_EQ(node_ssr.phaseBiases(), node_ssr.codeBiases().get());
+  // Without the bias file, the stream's phase biases are taken when they arrive.
+  streamed.bias.reset();
+  ProductAssembly live = ProductAssembly::assemble(streamed, PppConfig{});
+  EXPECT_FALSE(live.arGate().fix);
+  EXPECT_EQ(live.arGate().reason, ArGateReason::NoConsistentPhaseBiases);
+  EXPECT_TRUE(live.config().ambiguity_resolution.enabled);  // the resolver waits for them
+  EXPECT_TRUE(live.acceptStreamedPhaseBiases(files.codeBiases().get(), PhaseInformation::SsrPhaseBiases));
+  EXPECT_TRUE(live.arGate().fix);
+  EXPECT_EQ(live.phaseBiases(), files.codeBiases().get());
+  EXPECT_FALSE(live.acceptStreamedPhaseBiases(files.codeBiases().get(), PhaseInformation::SsrPhaseBiases));
+}
+
+TEST(ProductAssembly, PppSolvePipelineUsesTheAssembly) {
+  PPP_REQUIRE_SHARED_DATA();
+  const test::PppDataset d = test::zim2Dataset();
+  PppInputFiles files;
+  files.obs = d.obs;
+  files.sp3 = d.sp3;
+  files.clk = d.clk;
+  files.atx = d.atx;
+  files.bias = d.bia;
+  const PppPipeline pipeline(files, PppConfig{});
+  ASSERT_NE(pipeline.productAssembly(), nullptr);
+  EXPECT_EQ(pipeline.productAssembly()->arGate().reason, ArGateReason::NoConsistentPhaseBiases);
+  EXPECT_EQ(pipeline.config().signals.systems, std::vector<GnssSystem>{GnssSystem::GPS});
+  EXPECT_TRUE(hasNote(pipeline.notes(), pipeline.productAssembly()->arGate().text()));
+}
+
+}  // namespace
+}  // namespace ppp
