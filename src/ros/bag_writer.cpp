@@ -75,7 +75,9 @@ BagWriteSummary writeReplayBag(const std::string& path, const ppp::RinexObsHeade
       std::vector<ppp::SatelliteId> sats;
       for (const auto& sc : batches[i].satellites) sats.push_back(sc.satellite);
       addBiases(c, ppp::sampleBiases(*o.ar_biases, batches[i].time, header, sats));
+      c.ar_bias_kind = o.ar_bias_kind;
     }
+    c.antenna_model = o.antenna_model;
     c.header.seq = static_cast<std::uint32_t>(i);
     bag.write(o.corrections_topic, c.header.stamp - ros::Duration(0.001), c);
   };
@@ -132,7 +134,10 @@ BagWriteSummary writeSimulatedFlightBag(const std::string& path, const ppp::Simu
     options.clock_source = "simulated CLK (" + std::to_string(int(c.clock_interval_s)) + " s)";
   if (options.reference_frame.empty()) options.reference_frame = "IGS20";
   // The flight's satellite phase OSBs (errors.ambiguity.satellite_phase_biases), consistent with its clocks.
-  if (!options.ar_biases && !flight.phase_biases.empty()) options.ar_biases = &flight.phase_biases;
+  if (!options.ar_biases && !flight.phase_biases.empty()) {
+    options.ar_biases = &flight.phase_biases;
+    options.ar_bias_kind = ppp_bayes_tree::PreciseCorrections::AR_BIASES_ANALYSIS_CENTRE_OSB;
+  }
   auto user_before_close = options.before_close;
   options.before_close = [&](rosbag::Bag& bag) {
     writeTruthPath(bag, flight, callerid);

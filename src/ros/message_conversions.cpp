@@ -402,4 +402,27 @@ ppp::SatelliteBiasBatch biasesFromMessage(const ppp_bayes_tree::PreciseCorrectio
   return out;
 }
 
+namespace {
+/// PreciseCorrections.ar_bias_kind values and the phase information they stand for.
+constexpr std::pair<std::uint8_t, ppp::PhaseInformation> kArBiasKinds[] = {
+    {ppp_bayes_tree::PreciseCorrections::AR_BIASES_NONE, ppp::PhaseInformation::None},
+    {ppp_bayes_tree::PreciseCorrections::AR_BIASES_ANALYSIS_CENTRE_OSB, ppp::PhaseInformation::AnalysisCentreOsb},
+    {ppp_bayes_tree::PreciseCorrections::AR_BIASES_INTEGER_RECOVERY_CLOCKS,
+     ppp::PhaseInformation::IntegerRecoveryClocks},
+    {ppp_bayes_tree::PreciseCorrections::AR_BIASES_SSR, ppp::PhaseInformation::SsrPhaseBiases},
+};
+}  // namespace
+
+ppp::PhaseInformation phaseInformation(std::uint8_t ar_bias_kind) {
+  for (const auto& [kind, phase] : kArBiasKinds)
+    if (kind == ar_bias_kind) return phase;
+  return ppp::PhaseInformation::None;
+}
+
+std::uint8_t arBiasKind(ppp::PhaseInformation phase) {
+  for (const auto& [kind, p] : kArBiasKinds)
+    if (p == phase) return kind;
+  return ppp_bayes_tree::PreciseCorrections::AR_BIASES_NONE;
+}
+
 }  // namespace ppp_ros

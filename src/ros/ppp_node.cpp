@@ -115,18 +115,10 @@ PppNode::PppNode(ros::NodeHandle nh, ros::NodeHandle pnh, const std::string& est
                              "turn them off");
   // The products (the core's one assembly, as ppp_solve): they resolve the
   // systems and the PPP-AR gate, so the estimator is made from their config.
-  ppp::ProductAssemblyInputs products_in;
-  products_in.atx = o.atx;
-  if (!o.bias.empty()) products_in.bias = o.bias;
-  if (!o.blq.empty()) products_in.blq = o.blq;
-  products_ = ppp::ProductAssembly::assemble(products_in, config_.ppp);
-  config_.ppp = products_.config();
-  for (const auto& n : products_.notes()) ROS_INFO_STREAM("ppp_" << estimator << "_node: " << n);
-  const ppp::ArGateVerdict& ar = products_.arGate();
-  if (ar.mode != ppp::AmbiguityResolutionMode::Off && !ar.fix) ROS_WARN_STREAM("ppp: " << ar.text());
-  std::string why;
-  estimator_ = ppp::makeEstimator(estimator, config_.ppp, &why);
-  if (!estimator_) throw std::runtime_error("estimator '" + estimator + "' is not available: " + why);
+  // Streamed corrections declare their products (systems, clock centre, antenna model)
+  // with the first batch: assembled again then (assembleProducts), before any epoch.
+  configured_ppp_ = config_.ppp;
+  assembleProducts(ppp::StreamedProductInfo{});
   gate_ = ppp::CorrectionGate<Pending>({o.correction_wait_s, o.max_pending_epochs});
   {
     ppp::EpochTimeGuardOptions g;
@@ -382,6 +374,8 @@ void PppNode::onCorrections(const ros::MessageEvent<ppp_bayes_tree::PreciseCorre
     warn("corr_empty", "ppp: correction batch without a usable satellite ignored");
     return;
   }
+  declareStreamedProducts(*msg, input.batch);
+  if (!input.biases.biases.empty()) stream_bias_kind_ = phaseInformation(msg->ar_bias_kind);
   last_correction_age_s_ = (ros::Time::now() - msg->header.stamp).toSec();
   const ppp::GnssTime time = input.batch.time;
   auto outcome = corr_guard_.push(time, std::move(input));
@@ -641,8 +635,6 @@ void PppNode::startProcessor() {
   if (live_ && !processor_biases_) processor_biases_ = live_->biases();
   processor_ = std::make_unique<ppp::PppEpochProcessor>(layout_, config_.ppp, ephemeris, products_.antennas(),
                                                          processor_biases_, ocean.coefficients);
-  acceptLivePhaseBiases();
-  if (products_.phaseBiases()) processor_->setPhaseBiases(products_.phaseBiases());
   for (const auto& w : processor_->receiverAntennaWarnings()) warn("antenna:" + w, "ppp: " + w);
   phase_biases_ = {};  // the new processor gets the phase information at its first epoch
   if (layout_.approx_position_ecef_m) estimator_->setApproximatePosition(*layout_.approx_position_ecef_m);
@@ -679,7 +671,6 @@ void PppNode::processObsEpoch(const ppp::ObsEpoch& epoch) {
   // Live SSR biases arrive after the start: the processor is remade with them (once: then stable).
   const bool live_biases_arrived = live_ && !products_.codeBiases() && processor_ && live_->biases() != processor_biases_;
   if (!processor_ || live_biases_arrived) startProcessor();
-  else if (acceptLivePhaseBiases()) processor_->setPhaseBiases(products_.phaseBiases());
   else if (layout_changed_) {
     processor_->setObservationTypes(layout_);
     layout_changed_ = false;
@@ -1031,18 +1022,47 @@ void PppNode::diagnoseLive(diagnostic_updater::DiagnosticStatusWrapper& s) {
   s.summary(level, summary);
 }
 
-PppNode::PhaseBiasChoice PppNode::choosePhaseBiases() const {
-  if (!config_.ppp.ambiguity_resolution.enabled) return {nullptr, "ambiguity resolution off"};
-  // SSR phase biases of the live correction stream (RTCM 1265-1270, IGS-SSR).
-  if (live_) {
-    if (live_->biases() && live_->corrections().phaseBiasCount() > 0)
-      return {live_->biases(), "SSR phase biases of the live correction stream"};
-    return {nullptr, "no phase biases: the live correction stream has sent no SSR phase bias (RTCM 1265-1270, "
-                     "IGS-SSR) yet"};
-  }
-  if (!stream_biases_.empty()) return {&stream_biases_, stream_biases_.source()};
-  return {nullptr, "no phase biases in the corrections (PreciseCorrections ar_bias_source empty: ppp_to_bag with "
-                   "integer-recovery clocks or phase OSBs of the clocks' analysis centre)"};
+PppNode::PhaseBiasChoice PppNode::choosePhaseBiases() {
+  // Streamed phase information goes to the product assembly's PPP-AR gate, which
+  // decides (as for ppp_solve): the live feed's SSR phase biases (RTCM 1265-1270,
+  // IGS-SSR), or the biases the correction batches carry.
+  if (live_) acceptLivePhaseBiases();
+  else if (!stream_biases_.empty() && stream_bias_kind_ != ppp::PhaseInformation::None &&
+           products_.acceptStreamedPhaseBiases(&stream_biases_, stream_bias_kind_))
+    ROS_INFO_STREAM("ppp: " << products_.arGate().text());
+  if (const ppp::BiasProvider* p = products_.phaseBiases()) return {p, p->describeSource()};
+  if (products_.arGate().mode == ppp::AmbiguityResolutionMode::Off) return {nullptr, "ambiguity resolution off"};
+  return {nullptr, products_.arGate().text()};
+}
+
+void PppNode::assembleProducts(const ppp::StreamedProductInfo& streamed) {
+  const RosNodeOptions& o = config_.ros;
+  ppp::ProductAssemblyInputs in;
+  in.atx = o.atx;
+  if (!o.bias.empty()) in.bias = o.bias;
+  if (!o.blq.empty()) in.blq = o.blq;
+  in.streamed = streamed;
+  products_ = ppp::ProductAssembly::assemble(in, configured_ppp_);
+  config_.ppp = products_.config();
+  for (const auto& n : products_.notes()) ROS_INFO_STREAM("ppp_" << config_.ros.estimator << "_node: " << n);
+  std::string why;
+  estimator_ = ppp::makeEstimator(config_.ros.estimator, config_.ppp, &why);
+  if (!estimator_) throw std::runtime_error("estimator '" + config_.ros.estimator + "' is not available: " + why);
+  attachLaggedOutput();
+}
+
+void PppNode::declareStreamedProducts(const ppp_bayes_tree::PreciseCorrections& msg, const ppp::CorrectionBatch& batch) {
+  // Once, at the first batch, before any epoch: what the stream carries decides the
+  // systems and the PPP-AR gate (the antenna model of its orbits and clocks).
+  if (streamed_declared_ || live_ || processor_) return;
+  streamed_declared_ = true;
+  ppp::StreamedProductInfo info;
+  for (const auto& c : batch.satellites)
+    if (std::find(info.systems.begin(), info.systems.end(), c.satellite.system) == info.systems.end())
+      info.systems.push_back(c.satellite.system);
+  info.clock_centre = ppp::analysisCentreOfProductFile(msg.clock_source).value_or("");
+  info.antenna_model = msg.antenna_model;
+  assembleProducts(info);
 }
 
 void PppNode::updatePhaseBiases() {
@@ -1051,17 +1071,17 @@ void PppNode::updatePhaseBiases() {
   phase_biases_ = std::move(choice);
   if (!changed && phase_bias_logged_) return;
   processor_->setPhaseBiases(phase_biases_.provider);
-  if (!config_.ppp.ambiguity_resolution.enabled) return;
+  if (!arEnabled()) return;
   if (phase_biases_.provider)
     ROS_INFO_STREAM("ppp: ambiguity resolution with " << phase_biases_.source);
   else if (!phase_bias_logged_)  // once: the status and diagnostics carry it per epoch
-    ROS_WARN_STREAM("ppp: ambiguity resolution is on, but " << phase_biases_.source << ": float");
+    ROS_WARN_STREAM("ppp: " << phase_biases_.source);
   phase_bias_logged_ = true;
 }
 
 void PppNode::setFixState(const ppp::PppEpochRecord& rec, bool solved, ppp_bayes_tree::PppStatus& s) {
   using ppp_bayes_tree::PppStatus;
-  s.ambiguity_resolution_enabled = config_.ppp.ambiguity_resolution.enabled;
+  s.ambiguity_resolution_enabled = arEnabled();
   s.phase_bias_source = phase_biases_.provider ? phase_biases_.source : "";
   const bool fixed = solved && rec.solution.status == ppp::SolutionStatus::PppFixed;
   if (solved && !first_solved_) first_solved_ = rec.solution.time;
@@ -1092,7 +1112,7 @@ void PppNode::setFixState(const ppp::PppEpochRecord& rec, bool solved, ppp_bayes
 
 void PppNode::diagnoseAmbiguities(diagnostic_updater::DiagnosticStatusWrapper& s) {
   using diagnostic_msgs::DiagnosticStatus;
-  const bool enabled = config_.ppp.ambiguity_resolution.enabled;
+  const bool enabled = arEnabled();
   s.add("enabled", enabled);
   s.add("phase information", phase_biases_.provider ? phase_biases_.source : std::string("none"));
   s.add("epochs fixed", epochs_fixed_);
@@ -1108,7 +1128,7 @@ void PppNode::diagnoseAmbiguities(diagnostic_updater::DiagnosticStatusWrapper& s
   }
   if (!enabled) s.summary(DiagnosticStatus::OK, "off (float)");
   else if (!have_status_) s.summary(DiagnosticStatus::OK, "on, no epoch processed yet");
-  else if (!phase_biases_.provider) s.summary(DiagnosticStatus::WARN, "on, but " + phase_biases_.source + ": float");
+  else if (!phase_biases_.provider) s.summary(DiagnosticStatus::WARN, phase_biases_.source);
   else if (have_status_ && last_status_.fix_state == ppp_bayes_tree::PppStatus::FIX_FIXED)
     s.summary(DiagnosticStatus::OK, "fixed (" + std::to_string(last_status_.ambiguities_fixed) + " held)");
   else s.summary(DiagnosticStatus::OK, have_status_ ? "float: " + last_status_.float_reason : "no epoch yet");

@@ -37,6 +37,8 @@ struct BagWriteOptions {
   /// the code and phase types of the observation header (PreciseCorrections
   /// ar_bias_source, satellites[].biases). nullptr: none (a node stays float).
   const ppp::BiasProvider* ar_biases = nullptr;
+  std::uint8_t ar_bias_kind = 0;  // PreciseCorrections.ar_bias_kind of ar_biases (AR_BIASES_*)
+  std::string antenna_model;      // PreciseCorrections.antenna_model ("" = not known)
   /// Called with the open bag after the last message (extra topics, e.g. a truth path).
   std::function<void(rosbag::Bag&)> before_close;
 };

@@ -19,6 +19,7 @@
 #include "ppp_bayes_tree/io/rinex_obs_header.h"
 #include "ppp_bayes_tree/models/correction_buffer.h"
 #include "ppp_bayes_tree/models/stream_bias_provider.h"
+#include "ppp_bayes_tree/ppp/product_assembly.h"
 #include "ppp_bayes_tree/types/gnss_time.h"
 
 namespace ppp_ros {
@@ -67,5 +68,8 @@ void addBiases(ppp_bayes_tree::PreciseCorrections& msg, const ppp::SatelliteBias
 /// skips that bias, counted with the reason. Throws std::invalid_argument when the
 /// batch time is invalid.
 ppp::SatelliteBiasBatch biasesFromMessage(const ppp_bayes_tree::PreciseCorrections& msg, ConversionIssues& issues);
+/// PreciseCorrections.ar_bias_kind <-> the product assembly's phase information (unknown values: None).
+ppp::PhaseInformation phaseInformation(std::uint8_t ar_bias_kind);
+std::uint8_t arBiasKind(ppp::PhaseInformation phase);
 
 }  // namespace ppp_ros

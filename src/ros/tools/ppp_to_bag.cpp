@@ -26,10 +26,8 @@
 #include <vector>
 
 #include "ppp_bayes_tree/io/line_source.h"
-#include "ppp_bayes_tree/io/rinex_clock_reader.h"
-#include "ppp_bayes_tree/models/clock_wide_lane_bias_provider.h"
-#include "ppp_bayes_tree/ppp/phase_bias_consistency.h"
-#include "ppp_bayes_tree/ppp/product_set.h"
+#include "ppp_bayes_tree/ppp/antenna_model_consistency.h"
+#include "ppp_bayes_tree/ppp/product_assembly.h"
 #include "ppp_bayes_tree/io/rinex_obs_reader.h"
 #include "ppp_bayes_tree/ros/bag_writer.h"
 #include "ppp_bayes_tree/ros/message_conversions.h"
@@ -47,49 +45,17 @@ int usage(const std::string& why) {
   return 2;
 }
 
-/// The satellite biases for ambiguity resolution the products offer (see the top
-/// comment); `note` says which, or why none.
-struct ArBiases {
-  std::optional<ppp::ProductSet> set;
-  std::unique_ptr<ppp::ClockWideLaneBiasProvider> clock_wide_lanes;
-  const ppp::BiasProvider* provider = nullptr;
-  std::string note;
-};
-
-std::unique_ptr<ArBiases> loadArBiases(const std::vector<std::string>& clk, const std::string& bia) {
-  auto out = std::make_unique<ArBiases>();
-  bool has_phase = false;
-  if (!bia.empty()) {
-    ppp::ProductFiles files;
-    files.bias = bia;
-    files.systems = {ppp::GnssSystem::GPS, ppp::GnssSystem::Galileo};
-    out->set = ppp::ProductSet::load(files);
-    for (const auto& r : out->set->biasFile()->records)
-      if (r.type == ppp::BiasType::OSB && r.obs1.type == ppp::ObservableType::CarrierPhase) has_phase = true;
-  }
-  const ppp::PhaseBiasCheck check =
-      ppp::checkPhaseBiasConsistency(clk, bia.empty() ? std::nullopt : std::optional<std::string>(bia), has_phase);
-  if (check.consistent()) {
-    out->provider = out->set->biases();
-    out->note = check.text();
-    return out;
-  }
-  std::map<ppp::SatelliteId, double> wide_lanes;
-  for (const auto& path : clk) {
-    ppp::RinexClockReadOptions options;
-    options.keep_receiver_clocks = false;
-    const ppp::ClockWideLaneBiases wl = ppp::parseClockWideLaneBiases(ppp::readRinexClock(path, options).header.comments);
-    if (wl.wide_lane_cycles.empty()) {
-      out->note = check.text();
-      return out;
-    }
-    wide_lanes.insert(wl.wide_lane_cycles.begin(), wl.wide_lane_cycles.end());
-  }
-  out->clock_wide_lanes =
-      std::make_unique<ppp::ClockWideLaneBiasProvider>(std::move(wide_lanes), ppp::fileBaseName(clk.front()));
-  out->provider = out->clock_wide_lanes.get();
-  out->note = out->provider->describeSource();
-  return out;
+/// The product assembly of the files with ambiguity resolution on: its PPP-AR gate
+/// picks the phase information (see the top comment).
+ppp::ProductAssembly assembleForBiases(const std::vector<std::string>& sp3, const std::vector<std::string>& clk,
+                                       const std::string& bia) {
+  ppp::ProductAssemblyInputs in;
+  in.sp3 = sp3;
+  in.clk = clk;
+  if (!bia.empty()) in.bias = bia;
+  ppp::PppConfig config;
+  config.ambiguity_resolution.enabled = true;
+  return ppp::ProductAssembly::assemble(in, config);
 }
 
 }  // namespace
@@ -160,12 +126,18 @@ int main(int argc, char** argv) {
       options.clock_source = ppp::fileBaseName(clk.front());
       options.reference_frame = "IGS20";
       options.bias_set = bia.empty() ? "" : ppp::fileBaseName(bia);
-      std::unique_ptr<ArBiases> biases;
+      try {
+        options.antenna_model = ppp::productAntennaModel(clk.front());
+      } catch (const std::exception&) {  // no model named: the bag says "not known"
+      }
+      std::optional<ppp::ProductAssembly> assembly;
       if (ar_biases == "auto") {
-        biases = loadArBiases(clk, bia);
-        options.ar_biases = biases->provider;
-        std::cout << "ppp_to_bag: biases for ambiguity resolution: " << (biases->provider ? "" : "none: ")
-                  << biases->note << "\n";
+        assembly = assembleForBiases(sp3, clk, bia);
+        options.ar_biases = assembly->phaseBiases();
+        options.ar_bias_kind = ppp_ros::arBiasKind(assembly->arGate().phase);
+        std::cout << "ppp_to_bag: biases for ambiguity resolution: "
+                  << (options.ar_biases ? options.ar_biases->describeSource() : "none: " + assembly->arGate().text())
+                  << "\n";
       }
       s = ppp_ros::writeReplayBag(out, reader.header(), [&](ppp::ObsEpoch& e) { return reader.next(e); }, products,
                                   options);
