@@ -1044,6 +1044,8 @@ void PppNode::assembleProducts(const ppp::StreamedProductInfo& streamed) {
   in.streamed = streamed;
   products_ = ppp::ProductAssembly::assemble(in, configured_ppp_);
   config_.ppp = products_.config();
+  // A fixed-lag smoother hands its (here empty) window to the output before it is replaced.
+  if (ppp::PppSmoother* sm = laggedSmoother(); sm && lagged_output_) lagged_output_->finish(*sm);
   for (const auto& n : products_.notes()) ROS_INFO_STREAM("ppp_" << config_.ros.estimator << "_node: " << n);
   std::string why;
   estimator_ = ppp::makeEstimator(config_.ros.estimator, config_.ppp, &why);
