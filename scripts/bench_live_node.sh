@@ -41,7 +41,7 @@ done
 NODE_PID="" PLAY_PID="" RECORDER_PID=""
 cleanup() {
   [ -n "$PLAY_PID" ] && kill -INT "$PLAY_PID" 2>/dev/null
-  [ -n "$RECORDER_PID" ] && kill -INT "$RECORDER_PID" 2>/dev/null
+  [ -n "$RECORDER_PID" ] && kill -TERM "$RECORDER_PID" 2>/dev/null
   [ -n "$NODE_PID" ] && kill -INT "$NODE_PID" 2>/dev/null && wait "$NODE_PID" 2>/dev/null
   stop_ros_master
 }
@@ -97,7 +97,7 @@ PLAY_PID=""
 sleep 2
 kill -INT "$NODE_PID" 2>/dev/null; wait "$NODE_PID" 2>/dev/null || true
 NODE_PID=""
-kill -INT "$RECORDER_PID" 2>/dev/null; wait "$RECORDER_PID" 2>/dev/null || true
+kill -TERM "$RECORDER_PID" 2>/dev/null; wait "$RECORDER_PID" 2>/dev/null || true  # TERM: a background job ignores INT
 RECORDER_PID=""
 /usr/bin/python3 - "$OUT/statuses.txt" <<'PY'
 import sys

@@ -113,12 +113,19 @@ PppNode::PppNode(ros::NodeHandle nh, ros::NodeHandle pnh, const std::string& est
     throw std::runtime_error("parameter ros/products/atx is empty, but measurement_model/corrections/"
                              "satellite_antenna is on or receiver_antenna is required: give the ANTEX file(s) or "
                              "turn them off");
-  // The products (the core's one assembly, as ppp_solve): they resolve the
-  // systems and the PPP-AR gate, so the estimator is made from their config.
-  // Streamed corrections declare their products (systems, clock centre, antenna model)
-  // with the first batch: assembled again then (assembleProducts), before any epoch.
-  configured_ppp_ = config_.ppp;
-  assembleProducts(ppp::StreamedProductInfo{});
+  // The products (the core's one assembly, as ppp_solve): they resolve the systems and
+  // the PPP-AR gate, so the estimator is made from their config. Streamed corrections
+  // declare their clock centre and antenna model with the first batch (declareStreamedProducts).
+  ppp::ProductAssemblyInputs products_in;
+  products_in.atx = o.atx;
+  if (!o.bias.empty()) products_in.bias = o.bias;
+  if (!o.blq.empty()) products_in.blq = o.blq;
+  products_ = ppp::ProductAssembly::assemble(products_in, config_.ppp);
+  config_.ppp = products_.config();
+  for (const auto& n : products_.notes()) ROS_INFO_STREAM("ppp_" << estimator << "_node: " << n);
+  std::string why;
+  estimator_ = ppp::makeEstimator(estimator, config_.ppp, &why);
+  if (!estimator_) throw std::runtime_error("estimator '" + estimator + "' is not available: " + why);
   gate_ = ppp::CorrectionGate<Pending>({o.correction_wait_s, o.max_pending_epochs});
   {
     ppp::EpochTimeGuardOptions g;
@@ -675,7 +682,7 @@ void PppNode::processObsEpoch(const ppp::ObsEpoch& epoch) {
     processor_->setObservationTypes(layout_);
     layout_changed_ = false;
   }
-  updatePhaseBiases();
+  updatePhaseBiases();  // the live SSR phase biases and the batches' biases through the assembly's gate
   const auto start = std::chrono::steady_clock::now();
   const double cpu0_s = ppp::threadCpu_s();
   const ppp::PppEpochRecord rec = processor_->process(epoch, *estimator_);
@@ -1035,28 +1042,10 @@ PppNode::PhaseBiasChoice PppNode::choosePhaseBiases() {
   return {nullptr, products_.arGate().text()};
 }
 
-void PppNode::assembleProducts(const ppp::StreamedProductInfo& streamed) {
-  const RosNodeOptions& o = config_.ros;
-  ppp::ProductAssemblyInputs in;
-  in.atx = o.atx;
-  if (!o.bias.empty()) in.bias = o.bias;
-  if (!o.blq.empty()) in.blq = o.blq;
-  in.streamed = streamed;
-  products_ = ppp::ProductAssembly::assemble(in, configured_ppp_);
-  config_.ppp = products_.config();
-  // A fixed-lag smoother hands its (here empty) window to the output before it is replaced.
-  if (ppp::PppSmoother* sm = laggedSmoother(); sm && lagged_output_) lagged_output_->finish(*sm);
-  for (const auto& n : products_.notes()) ROS_INFO_STREAM("ppp_" << config_.ros.estimator << "_node: " << n);
-  std::string why;
-  estimator_ = ppp::makeEstimator(config_.ros.estimator, config_.ppp, &why);
-  if (!estimator_) throw std::runtime_error("estimator '" + config_.ros.estimator + "' is not available: " + why);
-  attachLaggedOutput();
-}
-
 void PppNode::declareStreamedProducts(const ppp_bayes_tree::PreciseCorrections& msg, const ppp::CorrectionBatch& batch) {
-  // Once, at the first batch, before any epoch: what the stream carries decides the
-  // systems and the PPP-AR gate (the antenna model of its orbits and clocks).
-  if (streamed_declared_ || live_ || processor_) return;
+  // Once, at the first batch: the clock centre and the antenna model
+  // of the stream's orbits and clocks decide the satellite antennas and the PPP-AR gate.
+  if (streamed_declared_ || live_) return;
   streamed_declared_ = true;
   ppp::StreamedProductInfo info;
   for (const auto& c : batch.satellites)
@@ -1064,7 +1053,12 @@ void PppNode::declareStreamedProducts(const ppp_bayes_tree::PreciseCorrections& 
       info.systems.push_back(c.satellite.system);
   info.clock_centre = ppp::analysisCentreOfProductFile(msg.clock_source).value_or("");
   info.antenna_model = msg.antenna_model;
-  assembleProducts(info);
+  if (!products_.declareStreamedProducts(info)) return;
+  ROS_INFO_STREAM("ppp: the correction stream declares "
+                  << (info.clock_centre.empty() ? "no clock centre" : "clocks of " + info.clock_centre) << " and "
+                  << (info.antenna_model.empty() ? "no antenna model" : "antenna model " + info.antenna_model) << ": "
+                  << products_.arGate().text());
+  if (processor_) startProcessor();  // the antennas may have changed
 }
 
 void PppNode::updatePhaseBiases() {

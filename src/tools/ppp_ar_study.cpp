@@ -68,11 +68,12 @@ class RecordingEkf : public EpochEstimator {
 std::vector<EpochOut> runEkf(const PppInputFiles& files, const std::string& yaml, const std::string& name) {
   const PppConfig config = parsePppConfig(yaml, name);
   PppPipeline pipeline(files, config);
-  if (config.ambiguity_resolution.enabled)  // the products' verdicts (antenna model, phase biases)
+  if (config.ambiguity_resolution.mode != AmbiguityResolutionMode::Off)  // the products' verdicts
     for (const auto& n : pipeline.notes())
-      if (n.find("ambiguity resolution") != std::string::npos || n.find("antenna model") != std::string::npos)
+      if (n.find("ambiguity resolution") != std::string::npos || n.find("antenna model") != std::string::npos ||
+          n.rfind("systems:", 0) == 0 || n.rfind("satellite antennas:", 0) == 0)
         std::cout << name << ": " << n << "\n";
-  RecordingEkf ekf(config);
+  RecordingEkf ekf(pipeline.config());  // the systems and the AR switch the products decided
   std::vector<EpochOut> out;
   pipeline.run(ekf, [&](const PppEpochRecord& r) {
     EpochOut e;

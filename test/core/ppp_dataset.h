@@ -67,16 +67,23 @@ struct LoadedDataset {
   }
 };
 
+/// The dataset's files as ppp_solve's inputs.
+inline PppInputFiles inputFiles(const PppDataset& d) {
+  PppInputFiles f;
+  f.obs = d.obs;
+  f.sp3 = d.sp3;
+  f.clk = d.clk;
+  f.atx = d.atx;
+  f.bias = d.bia;
+  return f;
+}
+
 /// ppp_solve's request for a dataset, as a user runs real data: the defaults
 /// (the real-data values: ppp_solve without --config).
 inline PppSolveRequest solveRequest(const PppDataset& d, const std::string& out_dir,
                                     const std::string& estimator = "ekf") {
   PppSolveRequest r;
-  r.files.obs = d.obs;
-  r.files.sp3 = d.sp3;
-  r.files.clk = d.clk;
-  r.files.atx = d.atx;
-  r.files.bias = d.bia;
+  r.files = inputFiles(d);
   r.truth_ecef_m = d.truth_ecef_m;
   r.out_dir = out_dir;
   r.estimator = estimator;

@@ -13,6 +13,7 @@
 #include "ppp_bayes_tree/ppp/antenna_model_consistency.h"
 #include "ppp_bayes_tree/ppp/ppp_config.h"
 #include "ppp_bayes_tree/ppp/ppp_pipeline.h"
+#include "ppp_bayes_tree/ppp/product_assembly.h"
 #include "esbc_stream_fixture.h"
 #include "ppp_dataset.h"
 #include "test_support.h"

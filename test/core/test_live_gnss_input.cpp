@@ -39,7 +39,7 @@
 #include "ppp_bayes_tree/ppp/ppp_config.h"
 #include "ppp_bayes_tree/ppp/ppp_epoch_processor.h"
 #include "ppp_bayes_tree/ppp/ppp_pipeline.h"
-#include "ppp_bayes_tree/ppp/product_set.h"
+#include "ppp_bayes_tree/ppp/product_assembly.h"
 #include "test_support.h"
 #include "window_observation_source.h"
 
@@ -157,7 +157,7 @@ using Solutions = std::map<GnssTime, EpochResult>;
 Solutions batchRun(const PppInputFiles& files, const PppConfig& config, const std::string& estimator_name) {
   PppPipeline pipeline(files, config);
   std::string why;
-  auto estimator = makeEstimator(estimator_name, config, &why);
+  auto estimator = makeEstimator(estimator_name, pipeline.config(), &why);  // the products' systems and AR
   EXPECT_TRUE(estimator) << why;
   Solutions out;
   pipeline.run(*estimator, [&](const PppEpochRecord& rec) {
@@ -179,9 +179,14 @@ struct LiveRun {
 LiveRun liveRun(LiveInputOptions options, const std::vector<StreamChunk>& chunks, const PppConfig& config,
                 const std::vector<std::string>& atx, const std::string& estimator_name) {
   LiveGnssInput live(std::move(options));
-  const auto set = std::make_shared<ProductSet>(ProductSet::load({atx, std::nullopt, std::nullopt, config.signals.systems}));
+  // As the node: the products through the assembly (streamed orbits and clocks), the
+  // estimator and the processor from its configuration, the SSR phase biases through its gate.
+  ProductAssemblyInputs products_in;
+  products_in.atx = atx;
+  ProductAssembly products = ProductAssembly::assemble(products_in, config);
+  const PppConfig& run_config = products.config();
   std::string why;
-  auto estimator = makeEstimator(estimator_name, config, &why);
+  auto estimator = makeEstimator(estimator_name, run_config, &why);
   EXPECT_TRUE(estimator) << why;
   std::unique_ptr<PppEpochProcessor> processor;
   bool approximate_set = false;
@@ -189,12 +194,14 @@ LiveRun liveRun(LiveInputOptions options, const std::vector<StreamChunk>& chunks
   auto process = [&](std::vector<LiveReadyEpoch> ready) {
     if (ready.empty()) return;
     if (!processor) {
-      processor = std::make_unique<PppEpochProcessor>(live.header(), config, live.ephemeris(), set->antennas(),
+      processor = std::make_unique<PppEpochProcessor>(live.header(), run_config, live.ephemeris(), products.antennas(),
                                                       live.biases(), nullptr);
       live.takeHeaderChanged();
     } else if (live.takeHeaderChanged()) {
       processor->setObservationTypes(live.header());
     }
+    if (live.hasPhaseBiases() && products.acceptStreamedPhaseBiases(live.biases(), PhaseInformation::SsrPhaseBiases))
+      processor->setPhaseBiases(products.phaseBiases());
     if (!approximate_set && live.header().approx_position_ecef_m && live.header().approx_position_ecef_m->norm() > 1e6) {
       estimator->setApproximatePosition(*live.header().approx_position_ecef_m);
       approximate_set = true;

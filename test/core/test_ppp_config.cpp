@@ -60,6 +60,7 @@ void expectSameConfig(const PppConfig& c, const PppConfig& d) {
   const auto& ca = c.ambiguity_resolution;
   const auto& da = d.ambiguity_resolution;
   EXPECT_EQ(ca.enabled, da.enabled);
+  EXPECT_EQ(ca.mode, da.mode);
   EXPECT_NEAR(ca.min_elevation_rad, da.min_elevation_rad, 1e-15);
   EXPECT_EQ(ca.narrow_lane.ratio_threshold, da.narrow_lane.ratio_threshold);
   EXPECT_EQ(ca.narrow_lane.min_success_rate, da.narrow_lane.min_success_rate);
@@ -83,6 +84,7 @@ void expectSameConfig(const PppConfig& c, const PppConfig& d) {
   EXPECT_EQ(c.model.shapiro, d.model.shapiro);
   EXPECT_EQ(c.model.exclude_eclipse, d.model.exclude_eclipse);
   EXPECT_EQ(c.signals.systems, d.signals.systems);
+  EXPECT_EQ(c.signals.systems_from_products, d.signals.systems_from_products);
   EXPECT_EQ(c.signals.require_code_osb, d.signals.require_code_osb);
   EXPECT_EQ(c.signals.phase_shift, d.signals.phase_shift);
   for (const auto& [a, b] : {std::pair{&c.signals.gps, &d.signals.gps}, std::pair{&c.signals.galileo, &d.signals.galileo}}) {
@@ -429,4 +431,31 @@ TEST(PppConfig, GarbageAndMutatedTemplatesOnlyEverThrowConfigError) {
     }
   }
   EXPECT_GT(errors, 50);  // the fuzzing did produce malformed documents
+}
+
+TEST(PppConfig, AmbiguityResolutionAndSystemsDefaultToAuto) {
+  // Defaults: the products decide (product_assembly.h).
+  const PppConfig d = ppp::parsePppConfig("", "defaults");
+  EXPECT_EQ(d.ambiguity_resolution.mode, ppp::AmbiguityResolutionMode::Auto);
+  EXPECT_FALSE(d.ambiguity_resolution.enabled);  // the assembly turns it on where it is sound
+  EXPECT_TRUE(d.signals.systems_from_products);
+  const auto mode = [](const std::string& value) {
+    return ppp::parsePppConfig("ambiguity_resolution:\n  enabled: " + value + "\n", value).ambiguity_resolution;
+  };
+  EXPECT_EQ(mode("true").mode, ppp::AmbiguityResolutionMode::On);
+  EXPECT_TRUE(mode("true").enabled);
+  EXPECT_EQ(mode("false").mode, ppp::AmbiguityResolutionMode::Off);
+  EXPECT_FALSE(mode("false").enabled);
+  EXPECT_EQ(mode("auto").mode, ppp::AmbiguityResolutionMode::Auto);
+  EXPECT_THROW(mode("yes"), ppp::ConfigError);
+  // systems: a list is kept as written, `auto` (or no key) lets the products decide.
+  const PppConfig listed = ppp::parsePppConfig("measurement_model:\n  signals:\n    systems: [GPS]\n", "list");
+  EXPECT_FALSE(listed.signals.systems_from_products);
+  EXPECT_EQ(listed.signals.systems, std::vector<ppp::GnssSystem>{ppp::GnssSystem::GPS});
+  EXPECT_TRUE(ppp::parsePppConfig("measurement_model:\n  signals:\n    systems: auto\n", "auto")
+                  .signals.systems_from_products);
+  // config/ppp.yaml writes both as auto.
+  const PppConfig file = ppp::loadPppConfig(std::vector<std::string>{std::string(PPP_REPO_DIR) + "/config/ppp.yaml"});
+  EXPECT_EQ(file.ambiguity_resolution.mode, ppp::AmbiguityResolutionMode::Auto);
+  EXPECT_TRUE(file.signals.systems_from_products);
 }

@@ -32,14 +32,21 @@ std::size_t notesStartingWith(const std::vector<std::string>& notes, const std::
       std::count_if(notes.begin(), notes.end(), [&](const std::string& n) { return n.rfind(prefix, 0) == 0; }));
 }
 
-/// CCJ2's WUM products with the given ANTEX files.
-ProductAssemblyInputs ccj2Inputs(const std::vector<std::string>& atx) {
-  const test::PppDataset d = test::ccj2Dataset();
+/// A dataset's products as the assembly's inputs.
+ProductAssemblyInputs assemblyInputs(const test::PppDataset& d) {
   ProductAssemblyInputs in;
   in.sp3 = d.sp3;
   in.clk = d.clk;
+  in.atx = d.atx;
   in.bias = d.bia;
+  return in;
+}
+
+/// CCJ2's WUM products with the given ANTEX files.
+ProductAssemblyInputs ccj2Inputs(const std::vector<std::string>& atx) {
+  ProductAssemblyInputs in = assemblyInputs(test::ccj2Dataset());
   in.blq = test::dataPath("oceanload/ccj2_fes2004.blq");
+  in.atx.clear();
   for (const auto& a : atx) in.atx.push_back(test::dataPath(a));
   return in;
 }
@@ -106,20 +113,14 @@ TEST(ProductAssembly, Ccj2AutoFixesWithWumOsbsAndIgs14Antennas) {
   EXPECT_TRUE(hasNote(a.notes(), "systems: GPS, Galileo (every system of GPS, Galileo that the products and the "
                                  "satellite antennas cover)"));
   // An explicit list is kept as written.
-  const PppConfig gps_only = parsePppConfig("signals:\n  systems: [GPS]\n", "gps");
+  const PppConfig gps_only = parsePppConfig("measurement_model:\n  signals:\n    systems: [GPS]\n", "gps");
   EXPECT_EQ(ProductAssembly::assemble(ccj2Inputs({kIgs14}), gps_only).config().signals.systems,
             std::vector<GnssSystem>{GnssSystem::GPS});
 }
 
 TEST(ProductAssembly, Zim2StaysFloatWithoutConsistentPhaseBiases) {
   PPP_REQUIRE_SHARED_DATA();
-  const test::PppDataset d = test::zim2Dataset();
-  ProductAssemblyInputs in;
-  in.sp3 = d.sp3;
-  in.clk = d.clk;
-  in.atx = d.atx;
-  in.bias = d.bia;
-  const ProductAssembly a = ProductAssembly::assemble(in, PppConfig{});
+  const ProductAssembly a = ProductAssembly::assemble(assemblyInputs(test::zim2Dataset()), PppConfig{});
   const ArGateVerdict& gate = a.arGate();
   EXPECT_FALSE(gate.fix);
   EXPECT_EQ(gate.reason, ArGateReason::NoConsistentPhaseBiases);
@@ -166,12 +167,25 @@ TEST(ProductAssembly, StreamedProductsGoThroughTheSameGate) {
   streamed.sp3.clear();
   streamed.clk.clear();
   {
-    // Nothing declared about the stream: its antenna model is not known -> auto stays float.
-    const ProductAssembly a = ProductAssembly::assemble(streamed, PppConfig{});
+    // Nothing declared about the stream: its antenna model is not known -> auto stays float
+    // (the resolver runs, without phase biases it leaves the float as it is).
+    ProductAssembly a = ProductAssembly::assemble(streamed, PppConfig{});
     EXPECT_FALSE(a.arGate().fix);
     EXPECT_EQ(a.arGate().reason, ArGateReason::AntennaModelUnknown);
     EXPECT_EQ(a.ephemeris(), nullptr);
-    EXPECT_FALSE(a.config().ambiguity_resolution.enabled);
+    EXPECT_EQ(a.phaseBiases(), nullptr);
+    EXPECT_TRUE(a.config().ambiguity_resolution.enabled);
+    EXPECT_EQ(a.antennas()->satelliteFamily(), "");
+    // The stream declares WUM's clocks and model (e.g. with its first message): decided again.
+    StreamedProductInfo wum;
+    wum.clock_centre = "WHU";
+    wum.antenna_model = "IGS14_2148";
+    EXPECT_TRUE(a.declareStreamedProducts(wum));
+    EXPECT_TRUE(a.arGate().fix) << a.arGate().text();
+    EXPECT_EQ(a.arGate().phase, PhaseInformation::AnalysisCentreOsb);
+    EXPECT_EQ(a.antennas()->satelliteFamily(), "IGS14");
+    EXPECT_EQ(a.phaseBiases(), a.codeBiases().get());
+    EXPECT_FALSE(a.declareStreamedProducts(wum));  // nothing new
   }
   // Declared like the WUM files: the same verdict and the same biases as from the files.
   streamed.streamed.clock_centre = "WHU";
@@ -199,16 +213,35 @@ TEST(ProductAssembly, StreamedProductsGoThroughTheSameGate) {
   EXPECT_FALSE(live.acceptStreamedPhaseBiases(files.codeBiases().get(), PhaseInformation::SsrPhaseBiases));
 }
 
+TEST(ProductAssembly, BroadcastAndSsrFilesGoThroughTheSameGate) {
+  PPP_REQUIRE_SHARED_DATA();
+  // ppp_solve --nav --ssr: IGS's SSRA03IGS0 recording carries code biases, no phase biases (1059/1242/1260 only).
+  ProductAssemblyInputs in;
+  in.nav = {test::dataPath("streams/ssr/BRDC00WRD_S_20261880000_01D_MN_GPS_SSR_20261881400.rnx")};
+  in.ssr = test::dataPath("streams/ssr/SSRA03IGS0_2026188140760_3epoch.rtcm3");
+  in.stream_reference_time = GnssTime::fromCalendar({2026, 7, 7, 14, 0, 0.0}, TimeSystem::GPS);
+  in.atx = {test::dataPath("antex/igs20_gps_satellites_trim.atx")};
+  const ProductAssembly automatic = ProductAssembly::assemble(in, PppConfig{});
+  EXPECT_NE(automatic.ephemeris(), nullptr);
+  ASSERT_NE(automatic.codeBiases(), nullptr);
+  EXPECT_NE(automatic.codeBiases()->describeSource().find("SSR"), std::string::npos);
+  // The SSR stream names no satellite antenna model: auto stays float.
+  EXPECT_EQ(automatic.arGate().reason, ArGateReason::AntennaModelUnknown);
+  EXPECT_EQ(automatic.phaseBiases(), nullptr);
+  // Only GPS satellites in the ANTEX file: Galileo skipped.
+  EXPECT_EQ(automatic.config().signals.systems, std::vector<GnssSystem>{GnssSystem::GPS});
+  EXPECT_TRUE(hasNote(automatic.notes(), "systems: Galileo skipped: no satellite antenna calibrations in the ANTEX files"));
+  // true: the antennas are not held against it, but there are no phase biases.
+  const ProductAssembly on =
+      ProductAssembly::assemble(in, parsePppConfig("ambiguity_resolution:\n  enabled: true\n", "on"));
+  EXPECT_EQ(on.arGate().reason, ArGateReason::NoConsistentPhaseBiases);
+  EXPECT_EQ(on.arGate().detail, "the SSR stream carries no phase biases");
+  EXPECT_TRUE(on.config().ambiguity_resolution.enabled);
+}
+
 TEST(ProductAssembly, PppSolvePipelineUsesTheAssembly) {
   PPP_REQUIRE_SHARED_DATA();
-  const test::PppDataset d = test::zim2Dataset();
-  PppInputFiles files;
-  files.obs = d.obs;
-  files.sp3 = d.sp3;
-  files.clk = d.clk;
-  files.atx = d.atx;
-  files.bias = d.bia;
-  const PppPipeline pipeline(files, PppConfig{});
+  const PppPipeline pipeline(test::inputFiles(test::zim2Dataset()), PppConfig{});
   ASSERT_NE(pipeline.productAssembly(), nullptr);
   EXPECT_EQ(pipeline.productAssembly()->arGate().reason, ArGateReason::NoConsistentPhaseBiases);
   EXPECT_EQ(pipeline.config().signals.systems, std::vector<GnssSystem>{GnssSystem::GPS});

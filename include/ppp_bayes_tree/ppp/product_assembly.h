@@ -110,6 +110,8 @@ struct ArGateVerdict {
   std::string text() const;
 };
 
+struct OrbitClockProducts;
+
 class ProductAssembly {
  public:
   /// Reads and checks the products (throws FileOpenError / ParseError on unreadable
@@ -124,7 +126,8 @@ class ProductAssembly {
   const PppConfig& config() const { return config_; }
   /// Orbits and clocks; nullptr when streamed.
   std::shared_ptr<const EphemerisSource> ephemeris() const { return ephemeris_; }
-  std::shared_ptr<const AntexCalibrations> antennas() const { return set_ ? set_->antennas() : nullptr; }
+  /// The ANTEX files' calibrations, satellites of the products' family first.
+  std::shared_ptr<const AntexCalibrations> antennas() const { return antennas_; }
   /// Code biases: the Bias-SINEX file's, else the SSR recording's; nullptr: none
   /// (a streamed SSR provider is the caller's: LiveGnssInput::biases()).
   std::shared_ptr<const BiasProvider> codeBiases() const { return code_biases_; }
@@ -145,14 +148,32 @@ class ProductAssembly {
   /// biases): the gate is decided again with them. `provider` must outlive the
   /// assembly's use. Returns true when phaseBiases() changed.
   bool acceptStreamedPhaseBiases(const BiasProvider* provider, PhaseInformation kind);
+  /// The product stream declared what it carries (e.g. with its first message: the
+  /// clock centre, the satellite antenna model): the antennas (satellite family)
+  /// and the gate are decided again; the systems stay (the estimator is made).
+  /// Returns true when something changed: then antennas() and phaseBiases() are
+  /// to be handed to a new epoch processor. False for file products.
+  bool declareStreamedProducts(const StreamedProductInfo& info);
 
  private:
+  // The steps of assemble().
+  void resolveSystems(const ProductAssemblyInputs& in, const std::vector<GnssSystem>& candidates,
+                      const OrbitClockProducts& orbit_clock);
+  void checkSatelliteAntennas(const ProductAssemblyInputs& in, const std::vector<std::string>& product_models,
+                              const OrbitClockProducts& orbit_clock);
+  void decideArGate(const ProductAssemblyInputs& in, const OrbitClockProducts& orbit_clock);
+  void findPhaseInformation(const ProductAssemblyInputs& in, const OrbitClockProducts& orbit_clock);
+
+  ProductAssemblyInputs inputs_;
   PppConfig config_;
   std::shared_ptr<ProductSet> set_;
+  std::shared_ptr<const AntexCalibrations> antennas_;
   std::shared_ptr<const EphemerisSource> ephemeris_;
   std::shared_ptr<const BiasProvider> code_biases_;
   std::shared_ptr<const BiasProvider> owned_phase_biases_;  // integer-recovery clock biases
   const BiasProvider* phase_biases_ = nullptr;              // the provider the gate judged
+  const BiasProvider* streamed_phase_biases_ = nullptr;     // accepted from the stream, with its kind
+  PhaseInformation streamed_phase_kind_ = PhaseInformation::None;
   std::optional<AntennaModelCheck> antenna_check_;
   ArGateVerdict verdict_;
   std::vector<std::string> notes_, problems_;

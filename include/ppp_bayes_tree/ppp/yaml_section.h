@@ -57,6 +57,8 @@ class YamlSection {
   void finish() const;
 
   bool has(const std::string& key) const { return node_.IsMap() && node_[key].IsDefined(); }
+  /// The key is given as a single value (not a list or mapping).
+  bool hasScalar(const std::string& key) const { return has(key) && node_[key].IsScalar(); }
   std::string keyPath(const std::string& key) const { return path_.empty() ? key : path_ + "." + key; }
   const std::string& file() const { return file_; }
   [[noreturn]] void fail(const std::string& key, const std::string& reason) const;

@@ -188,10 +188,7 @@ class PppNode {
   void diagnoseSolution(diagnostic_updater::DiagnosticStatusWrapper& s);
   // ambiguity resolution (ambiguity_resolution.enabled)
   PhaseBiasChoice choosePhaseBiases();
-  /// Assembles the products (ANTEX, Bias-SINEX, BLQ, the systems, the PPP-AR gate) for
-  /// what the correction stream declares, and makes the estimator from their config.
-  void assembleProducts(const ppp::StreamedProductInfo& streamed);
-  /// At the first correction batch (before any epoch): its systems, clock centre and antenna model.
+  /// At the first correction batch: its systems, clock centre and antenna model to the assembly.
   void declareStreamedProducts(const ppp_bayes_tree::PreciseCorrections& msg, const ppp::CorrectionBatch& batch);
   bool arEnabled() const { return products_.arGate().mode != ppp::AmbiguityResolutionMode::Off; }
   /// Hands the processor the phase information of this epoch; logs when it changes.
@@ -273,7 +270,6 @@ class PppNode {
   // use (its source text), and the fix figures since the start or the last reset
   ppp::StreamBiasProvider stream_biases_;
   ppp::PhaseInformation stream_bias_kind_ = ppp::PhaseInformation::None;  // what the batches declare
-  ppp::PppConfig configured_ppp_;  // the parameters as given (the assembly resolves systems and AR)
   bool streamed_declared_ = false;
   PhaseBiasChoice phase_biases_;
   bool phase_bias_logged_ = false;

@@ -8,10 +8,25 @@ EkfEstimator::EkfEstimator(const PppConfig& config)
     : ekf_(config.stochastic, config.estimator, config.start, ReceiverStateLayout(config.signals.systems)),
       ambiguity_(config.ambiguity_resolution) {}
 
+namespace {
+
+/// Without phase biases nothing can be fixed: the epoch stays float with that
+/// reason, without the resolver's work (a streamed run resolves from the start
+/// and gets its phase biases later, product_assembly.h).
+bool floatWithoutPhaseBiases(const EstimatorEpochInput& input, EstimatorEpochResult& r) {
+  if (input.phase_biases) return false;
+  AmbiguityFixSummary summary;
+  summary.float_reason = AmbiguityFloatReason::NoConsistentPhaseBiases;
+  r.ambiguity_fix = summary;
+  return true;
+}
+
+}  // namespace
+
 EstimatorEpochResult EkfEstimator::processEpoch(const EstimatorEpochInput& input) {
   if (input.ended_arcs) arcsEnded(*input.ended_arcs);
   EstimatorEpochResult r = ekf_.processEpoch(input.time, *input.evaluate, input.evaluate_start);
-  if (ambiguity_.options().enabled) resolveAmbiguities(input, r);
+  if (ambiguity_.options().enabled && !floatWithoutPhaseBiases(input, r)) resolveAmbiguities(input, r);
   return r;
 }
 
@@ -49,7 +64,7 @@ SmootherEstimator::SmootherEstimator(const PppConfig& config)
 EstimatorEpochResult SmootherEstimator::processEpoch(const EstimatorEpochInput& input) {
   if (input.ended_arcs) arcsEnded(*input.ended_arcs);
   last_ = smoother_.processEpoch(input.time, *input.evaluate, input.evaluate_start);
-  if (ambiguity_.options().enabled) resolveAmbiguities(input, last_);
+  if (ambiguity_.options().enabled && !floatWithoutPhaseBiases(input, last_)) resolveAmbiguities(input, last_);
   return last_;
 }
 

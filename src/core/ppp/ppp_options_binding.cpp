@@ -30,11 +30,14 @@ void readPriority(YamlSection s, SystemSignalPriority& p) {
 }
 
 void readSignals(YamlSection s, SignalSelectionOptions& o) {
-  if (s.has("systems")) o.systems_from_products = false;
+  // `auto` (or no key): the systems the products and antennas cover; a list: exactly those.
+  const bool automatic = s.hasScalar("systems") && s.text("systems", "") == "auto";
+  if (automatic) o.systems_from_products = true;
+  else if (s.has("systems")) o.systems_from_products = false;
   std::vector<std::string> names;
   for (auto sys : o.systems) names.emplace_back(systemName(sys));
   std::vector<GnssSystem> systems;
-  for (const auto& n : s.textList("systems", names)) {
+  for (const auto& n : automatic ? names : s.textList("systems", names)) {
     GnssSystem sys;
     if (n == "GPS" || n == "G") {
       sys = GnssSystem::GPS;

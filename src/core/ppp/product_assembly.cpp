@@ -12,6 +12,17 @@
 #include "ppp_bayes_tree/models/precise_ephemeris.h"
 
 namespace ppp {
+
+/// What the orbit and clock inputs gave: the ephemeris, the satellites it carries
+/// (satellites_known false: not known before the run) and the SSR biases.
+struct OrbitClockProducts {
+  std::shared_ptr<const EphemerisSource> ephemeris;
+  std::set<SatelliteId> satellites;
+  bool satellites_known = false;
+  std::shared_ptr<const BiasProvider> ssr_biases;
+  bool ssr_phase_biases = false;
+};
+
 namespace {
 
 /// The systems the estimators can process (an ionosphere-free pair each).
@@ -22,16 +33,6 @@ std::string systemList(const std::vector<GnssSystem>& systems) {
   for (auto s : systems) out += (out.empty() ? "" : ", ") + std::string(systemName(s));
   return out.empty() ? std::string("none") : out;
 }
-
-/// What the orbit and clock inputs gave: the ephemeris, its notes and problems,
-/// the satellites it carries (empty: not known before the run) and the SSR biases.
-struct OrbitClockProducts {
-  std::shared_ptr<const EphemerisSource> ephemeris;
-  std::set<SatelliteId> satellites;
-  bool satellites_known = false;
-  std::shared_ptr<const BiasProvider> ssr_biases;
-  bool ssr_phase_biases = false;
-};
 
 OrbitClockProducts loadOrbitsAndClocks(const ProductAssemblyInputs& in, const PppConfig& config,
                                        const RecordFilter& filter, std::vector<std::string>& notes,
@@ -189,18 +190,19 @@ std::string ArGateVerdict::text() const {
 
 ProductAssembly ProductAssembly::assemble(const ProductAssemblyInputs& in, const PppConfig& config) {
   ProductAssembly a;
+  a.inputs_ = in;
   a.config_ = config;
   if (!in.sp3.empty() != !in.clk.empty() && in.nav.empty())
     throw std::invalid_argument("product inputs: SP3 and clock files go together");
-  const SignalSelectionOptions& signals = config.signals;
-  const std::vector<GnssSystem> candidates = signals.systems_from_products ? kSupportedSystems : signals.systems;
+  const std::vector<GnssSystem> candidates =
+      config.signals.systems_from_products ? kSupportedSystems : config.signals.systems;
 
   // Orbits and clocks, for the candidate systems and the observations' span.
   RecordFilter filter;
   filter.systems = candidates;
   filter.first = in.first;
   filter.last = in.last;
-  OrbitClockProducts orbit_clock = loadOrbitsAndClocks(in, config, filter, a.notes_, a.problems_);
+  const OrbitClockProducts orbit_clock = loadOrbitsAndClocks(in, config, filter, a.notes_, a.problems_);
   a.ephemeris_ = orbit_clock.ephemeris;
 
   // ANTEX (satellites of the products' family first), Bias-SINEX, BLQ.
@@ -212,55 +214,12 @@ ProductAssembly ProductAssembly::assemble(const ProductAssemblyInputs& in, const
   files.systems = candidates;
   files.satellite_family = commonFamily(product_models);
   a.set_ = std::make_shared<ProductSet>(ProductSet::load(files));
+  a.antennas_ = a.set_->antennas();
   a.notes_.insert(a.notes_.end(), a.set_->notes().begin(), a.set_->notes().end());
   a.problems_.insert(a.problems_.end(), a.set_->problems().begin(), a.set_->problems().end());
-  const auto antex = a.set_->antennas();
 
-  // The systems: every candidate that the products and the satellite antennas cover.
-  if (signals.systems_from_products) {
-    std::vector<GnssSystem> systems;
-    for (GnssSystem s : candidates) {
-      std::set<SatelliteId> carried;
-      for (const auto& sat : orbit_clock.satellites)
-        if (sat.system == s) carried.insert(sat);
-      const bool declared = in.streamed.systems.empty() ||
-                            std::find(in.streamed.systems.begin(), in.streamed.systems.end(), s) !=
-                                in.streamed.systems.end();
-      std::string why;
-      if (orbit_clock.satellites_known && carried.empty()) why = "no orbits and clocks in the products";
-      else if (in.streamedOrbitsAndClocks() && !declared) why = "not carried by the product stream";
-      else if (config.model.satellite_antenna && antex && !antennasCover(*antex, s, carried))
-        why = "no satellite antenna calibrations in the ANTEX files";
-      if (why.empty()) systems.push_back(s);
-      else a.notes_.push_back("systems: " + std::string(systemName(s)) + " skipped: " + why);
-    }
-    if (systems.empty()) {
-      a.notes_.push_back("systems: none covered by the products and the antennas; processing " +
-                         systemList(signals.systems) + " as configured");
-    } else {
-      a.config_.signals.systems = systems;
-      a.notes_.push_back("systems: " + systemList(systems) + " (every system of " + systemList(kSupportedSystems) +
-                         " that the products and the satellite antennas cover)");
-    }
-  }
-  const std::vector<GnssSystem>& systems = a.config_.signals.systems;
-
-  // The satellite antennas in use against the products' model.
-  if (antex && !product_models.empty()) {
-    const std::vector<SatelliteId> in_use = satellitesInUse(orbit_clock, *antex, systems);
-    a.antenna_check_ = checkAntennaModelConsistency(product_models, usedSatelliteAntennaModels(*antex, in_use, in.first));
-    if (antex->files().size() > 1 && !antex->satelliteFamily().empty()) {
-      std::map<std::string, std::size_t> by_file;
-      for (const auto& sat : in_use)
-        if (const auto found = antex->satelliteBlock(sat, in.first); found.calibration) ++by_file[found.source];
-      std::string from;
-      for (const auto& [name, n] : by_file) from += (from.empty() ? "" : ", ") + std::to_string(n) + " from " + name;
-      a.notes_.push_back("satellite antennas: the products' family " + antex->satelliteFamily() +
-                         " taken first of " + std::to_string(antex->files().size()) + " ANTEX files (" +
-                         (from.empty() ? std::string("no satellite in use") : from) + ")");
-    }
-    a.notes_.push_back((a.antenna_check_->different() ? "warning: " : "") + a.antenna_check_->text());
-  }
+  if (config.signals.systems_from_products) a.resolveSystems(in, candidates, orbit_clock);
+  if (a.antennas() && !product_models.empty()) a.checkSatelliteAntennas(in, product_models, orbit_clock);
 
   // Code biases: the Bias-SINEX file's, else the SSR recording's.
   if (a.set_->biases() != nullptr) {
@@ -269,83 +228,146 @@ ProductAssembly ProductAssembly::assemble(const ProductAssemblyInputs& in, const
     a.code_biases_ = orbit_clock.ssr_biases;
     a.notes_.push_back("code biases: " + orbit_clock.ssr_biases->describeSource());
   }
+  a.decideArGate(in, orbit_clock);
+  return a;
+}
 
-  // The PPP-AR gate.
-  const AmbiguityResolutionOptions& ar = config.ambiguity_resolution;
-  ArGateVerdict& v = a.verdict_;
+void ProductAssembly::resolveSystems(const ProductAssemblyInputs& in, const std::vector<GnssSystem>& candidates,
+                                     const OrbitClockProducts& orbit_clock) {
+  // Every candidate that the products and the satellite antennas cover.
+  const auto antex = antennas();
+  std::vector<GnssSystem> systems;
+  for (GnssSystem s : candidates) {
+    std::set<SatelliteId> carried;
+    for (const auto& sat : orbit_clock.satellites)
+      if (sat.system == s) carried.insert(sat);
+    const auto& declared = in.streamed.systems;
+    std::string why;
+    if (orbit_clock.satellites_known && carried.empty()) {
+      why = "no orbits and clocks in the products";
+    } else if (in.streamedOrbitsAndClocks() && !declared.empty() &&
+               std::find(declared.begin(), declared.end(), s) == declared.end()) {
+      why = "not carried by the product stream";
+    } else if (config_.model.satellite_antenna && antex && !antennasCover(*antex, s, carried)) {
+      why = "no satellite antenna calibrations in the ANTEX files";
+    }
+    if (why.empty()) systems.push_back(s);
+    else notes_.push_back("systems: " + std::string(systemName(s)) + " skipped: " + why);
+  }
+  if (systems.empty()) {
+    notes_.push_back("systems: none covered by the products and the antennas; processing " +
+                     systemList(config_.signals.systems) + " as configured");
+    return;
+  }
+  config_.signals.systems = systems;
+  notes_.push_back("systems: " + systemList(systems) + " (every system of " + systemList(kSupportedSystems) +
+                   " that the products and the satellite antennas cover)");
+}
+
+void ProductAssembly::checkSatelliteAntennas(const ProductAssemblyInputs& in,
+                                             const std::vector<std::string>& product_models,
+                                             const OrbitClockProducts& orbit_clock) {
+  // The satellite antennas in use against the products' model.
+  const auto antex = antennas();
+  const std::vector<SatelliteId> in_use = satellitesInUse(orbit_clock, *antex, config_.signals.systems);
+  antenna_check_ = checkAntennaModelConsistency(product_models, usedSatelliteAntennaModels(*antex, in_use, in.first));
+  if (antex->files().size() > 1 && !antex->satelliteFamily().empty()) {
+    std::map<std::string, std::size_t> by_file;
+    for (const auto& sat : in_use)
+      if (const auto found = antex->satelliteBlock(sat, in.first); found.calibration) ++by_file[found.source];
+    std::string from;
+    for (const auto& [name, n] : by_file) from += (from.empty() ? "" : ", ") + std::to_string(n) + " from " + name;
+    notes_.push_back("satellite antennas: the products' family " + antex->satelliteFamily() + " taken first of " +
+                     std::to_string(antex->files().size()) + " ANTEX files (" +
+                     (from.empty() ? std::string("no satellite in use") : from) + ")");
+  }
+  notes_.push_back((antenna_check_->different() ? "warning: " : "") + antenna_check_->text());
+}
+
+void ProductAssembly::decideArGate(const ProductAssemblyInputs& in, const OrbitClockProducts& orbit_clock) {
+  const AmbiguityResolutionOptions& ar = config_.ambiguity_resolution;
+  ArGateVerdict& v = verdict_;
   v.mode = ar.enabled ? AmbiguityResolutionMode::On : ar.mode;
   if (v.mode == AmbiguityResolutionMode::Off) {
     v.reason = ArGateReason::Disabled;
-    a.config_.ambiguity_resolution.enabled = false;
-    return a;
+    config_.ambiguity_resolution.enabled = false;
+    return;
   }
   ArGateReason antenna_reason = ArGateReason::Fixing;
-  const bool antennas_ok = antennasAllowFixing(a.antenna_check_, v.mode, ar.allow_antenna_model_mismatch, antenna_reason);
+  const bool antennas_ok = antennasAllowFixing(antenna_check_, v.mode, ar.allow_antenna_model_mismatch, antenna_reason);
   if (!antennas_ok) {
     v.reason = antenna_reason;
-    v.detail = a.antenna_check_ ? a.antenna_check_->models() : "the products name no satellite antenna model";
-    if (v.mode == AmbiguityResolutionMode::On) v.detail += "; ambiguity_resolution.allow_antenna_model_mismatch: true to fix anyway";
+    v.detail = antenna_check_ ? antenna_check_->models() : "the products name no satellite antenna model";
+    if (v.mode == AmbiguityResolutionMode::On)
+      v.detail += "; ambiguity_resolution.allow_antenna_model_mismatch: true to fix anyway";
   } else {
-    if (a.antenna_check_ && a.antenna_check_->verdict != AntennaModelConsistency::Consistent)
-      a.notes_.push_back("ambiguity resolution: antenna model mismatch allowed (allow_antenna_model_mismatch)");
-    // The phase information, in order: OSBs of the clocks' centre, integer-recovery clocks, SSR.
-    if (!in.clk.empty()) {
-      std::vector<RinexClockHeader> headers;
-      std::vector<ProductOrigin> clocks;
-      for (const auto& f : in.clk) {
-        headers.push_back(readRinexClockHeader(f));
-        clocks.push_back({f, clockHeaderCentre(headers.back())});
-      }
-      std::optional<ProductOrigin> bias;
-      if (in.bias) bias = ProductOrigin{*in.bias, a.set_->biasFile() ? a.set_->biasFile()->header.file_agency : ""};
-      const PhaseBiasCheck check = checkPhaseBiasConsistency(clocks, bias, hasPhaseOsb(a.set_->biasFile()));
-      if (check.consistent()) {
-        v.phase = PhaseInformation::AnalysisCentreOsb;
-        a.phase_biases_ = a.set_->biases();
-        v.detail = check.clock_centre + (check.from_headers ? ", from the headers" : ", from the file names");
-        a.notes_.push_back("ambiguity resolution: " + check.text());
-      } else if (auto wl = integerRecoveryClockBiases(headers, in.clk, a.problems_)) {
-        v.phase = PhaseInformation::IntegerRecoveryClocks;
-        a.notes_.push_back("ambiguity resolution: integer-recovery clocks with " + std::to_string(wl->size()) +
-                           " wide-lane satellite biases in the clock header");
-        v.detail = std::to_string(wl->size()) + " wide-lane satellite biases in the clock header";
-        a.phase_biases_ = wl.get();
-        a.owned_phase_biases_ = std::move(wl);
-      } else {
-        v.detail = check.why();
-      }
-    } else if (!in.nav.empty()) {
-      if (orbit_clock.ssr_phase_biases) {
-        v.phase = PhaseInformation::SsrPhaseBiases;
-        a.phase_biases_ = orbit_clock.ssr_biases.get();
-        v.detail = orbit_clock.ssr_biases->describeSource();
-      } else {
-        v.detail = in.ssr ? "the SSR stream carries no phase biases" : "broadcast orbits and clocks without SSR";
-      }
-    } else {  // streamed: a Bias-SINEX file of the stream's clock centre, else the stream's own biases later
-      const std::string agency = a.set_->biasFile() ? a.set_->biasFile()->header.file_agency : "";
-      if (hasPhaseOsb(a.set_->biasFile()) && !agency.empty() && agency == in.streamed.clock_centre) {
-        v.phase = PhaseInformation::AnalysisCentreOsb;
-        a.phase_biases_ = a.set_->biases();
-        v.detail = agency + ", the stream's clock centre";
-      } else {
-        v.detail = "no phase biases from the stream yet";
-      }
-    }
+    if (antenna_check_ && antenna_check_->verdict != AntennaModelConsistency::Consistent)
+      notes_.push_back("ambiguity resolution: antenna model mismatch allowed (allow_antenna_model_mismatch)");
+    findPhaseInformation(in, orbit_clock);
     v.fix = v.phase != PhaseInformation::None;
     v.reason = v.fix ? ArGateReason::Fixing : ArGateReason::NoConsistentPhaseBiases;
   }
   // The resolver runs: always with `true` (as before `auto`); with auto when the
-  // gate fixes, or when streamed phase biases may still let it.
-  a.config_.ambiguity_resolution.enabled =
-      v.mode == AmbiguityResolutionMode::On || v.fix || (antennas_ok && in.streamedOrbitsAndClocks());
-  a.notes_.push_back(v.text());
-  return a;
+  // gate fixes, or when the stream may still let it (its declarations and phase
+  // biases come later; without phase biases the resolver leaves the float as it is).
+  config_.ambiguity_resolution.enabled =
+      v.mode == AmbiguityResolutionMode::On || v.fix || in.streamedOrbitsAndClocks();
+  notes_.push_back(v.text());
+}
+
+void ProductAssembly::findPhaseInformation(const ProductAssemblyInputs& in, const OrbitClockProducts& orbit_clock) {
+  // In order: OSBs of the clocks' centre, integer-recovery clocks, SSR phase biases.
+  ArGateVerdict& v = verdict_;
+  const BiasSinexFile* bias_file = set_->biasFile();
+  if (!in.clk.empty()) {
+    std::vector<RinexClockHeader> headers;
+    std::vector<ProductOrigin> clocks;
+    for (const auto& f : in.clk) {
+      headers.push_back(readRinexClockHeader(f));
+      clocks.push_back({f, clockHeaderCentre(headers.back())});
+    }
+    std::optional<ProductOrigin> bias;
+    if (in.bias) bias = ProductOrigin{*in.bias, bias_file ? bias_file->header.file_agency : ""};
+    const PhaseBiasCheck check = checkPhaseBiasConsistency(clocks, bias, hasPhaseOsb(bias_file));
+    if (check.consistent()) {
+      v.phase = PhaseInformation::AnalysisCentreOsb;
+      phase_biases_ = set_->biases();
+      v.detail = check.clock_centre + (check.from_headers ? ", from the headers" : ", from the file names");
+      notes_.push_back("ambiguity resolution: " + check.text());
+    } else if (auto wl = integerRecoveryClockBiases(headers, in.clk, problems_)) {
+      v.phase = PhaseInformation::IntegerRecoveryClocks;
+      v.detail = std::to_string(wl->size()) + " wide-lane satellite biases in the clock header";
+      notes_.push_back("ambiguity resolution: integer-recovery clocks with " + v.detail);
+      phase_biases_ = wl.get();
+      owned_phase_biases_ = std::move(wl);
+    } else {
+      v.detail = check.why();
+    }
+  } else if (!in.nav.empty()) {
+    if (orbit_clock.ssr_phase_biases) {
+      v.phase = PhaseInformation::SsrPhaseBiases;
+      phase_biases_ = orbit_clock.ssr_biases.get();
+      v.detail = orbit_clock.ssr_biases->describeSource();
+    } else {
+      v.detail = in.ssr ? "the SSR stream carries no phase biases" : "broadcast orbits and clocks without SSR";
+    }
+  } else {  // streamed: a Bias-SINEX file of the stream's clock centre, else the stream's own biases later
+    const std::string agency = bias_file ? bias_file->header.file_agency : "";
+    if (hasPhaseOsb(bias_file) && !agency.empty() && agency == in.streamed.clock_centre) {
+      v.phase = PhaseInformation::AnalysisCentreOsb;
+      phase_biases_ = set_->biases();
+      v.detail = agency + ", the stream's clock centre";
+    } else {
+      v.detail = "no phase biases from the stream yet";
+    }
+  }
 }
 
 bool ProductAssembly::acceptStreamedPhaseBiases(const BiasProvider* provider, PhaseInformation kind) {
   ArGateVerdict& v = verdict_;
   if (v.mode == AmbiguityResolutionMode::Off || provider == nullptr || kind == PhaseInformation::None) return false;
+  streamed_phase_biases_ = provider;  // kept for declareStreamedProducts, even when refused now
+  streamed_phase_kind_ = kind;
   if (v.reason == ArGateReason::AntennaModelDifferent || v.reason == ArGateReason::AntennaModelUnknown) return false;
   if (v.fix && phase_biases_ == provider) return false;
   if (v.fix && v.phase != PhaseInformation::SsrPhaseBiases && kind == PhaseInformation::SsrPhaseBiases)
@@ -357,6 +379,26 @@ bool ProductAssembly::acceptStreamedPhaseBiases(const BiasProvider* provider, Ph
   v.detail = provider->describeSource();
   config_.ambiguity_resolution.enabled = true;
   notes_.push_back(v.text());
+  return true;
+}
+
+bool ProductAssembly::declareStreamedProducts(const StreamedProductInfo& info) {
+  if (!inputs_.streamedOrbitsAndClocks()) return false;
+  if (info.clock_centre == inputs_.streamed.clock_centre && info.antenna_model == inputs_.streamed.antenna_model)
+    return false;
+  inputs_.streamed.clock_centre = info.clock_centre;
+  inputs_.streamed.antenna_model = info.antenna_model;
+  const std::vector<std::string> models = productAntennaModels(inputs_);
+  const std::string family = commonFamily(models);
+  if (antennas_ && family != antennas_->satelliteFamily())
+    antennas_ = std::make_shared<const AntexCalibrations>(antennas_->files(), family);
+  const OrbitClockProducts streamed;  // orbits and clocks not known before the run
+  antenna_check_.reset();
+  if (antennas_ && !models.empty()) checkSatelliteAntennas(inputs_, models, streamed);
+  verdict_ = ArGateVerdict{};
+  phase_biases_ = nullptr;
+  decideArGate(inputs_, streamed);
+  if (streamed_phase_biases_) acceptStreamedPhaseBiases(streamed_phase_biases_, streamed_phase_kind_);
   return true;
 }
 
