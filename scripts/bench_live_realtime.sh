@@ -36,9 +36,13 @@
 # with config/ppp_simulated.yaml (the simulation's physics) and config/live.yaml as is
 # (fixed lag 60 s = 600 states).
 #
+# --config YAML (repeatable): laid over the nodes' configuration after config/live.yaml,
+# e.g. a file with "ambiguity_resolution: {enabled: true}" to measure the update time with
+# integer ambiguity resolution on.
 # Usage: scripts/bench_live_realtime.sh [--stream FILE] [--speed S] [--ref-date YYYY/MM/DD]
-#          [--lag-s L] [--rate-hz R] [--leap-s N] [--atx FILE] [--tail-s T] [--sample-s S] [--out DIR]
-#        scripts/bench_live_realtime.sh --simulate MIN [--profile P] [--out DIR]
+#          [--lag-s L] [--rate-hz R] [--leap-s N] [--atx FILE] [--tail-s T] [--sample-s S]
+#          [--config YAML] [--out DIR]
+#        scripts/bench_live_realtime.sh --simulate MIN [--profile P] [--config YAML] [--out DIR]
 #   --rate-hz: the recording's epoch rate (default 1), only to count the epochs before
 #   the smoother's window is full (lag x rate). --leap-s: GPST - UTC of the recording
 #   (default 18). --tail-s: wall seconds after the replay ends before the figures are
@@ -52,6 +56,7 @@ STREAM="$SHARED_DATA/streams/rtcm/week-rollover-STR24.rtcm3" SPEED=10 REF_DATE=2
 LEAP_S=18 ATX="$SHARED_DATA/antex/igs20_gps_satellites_trim.atx" TAIL_S=5 SIMULATE_MIN="" PROFILE=loiter NAV=""
 SAMPLE_S=10
 EXTRA_CONFIG=""
+USER_CONFIGS=()
 OUT="$(mktemp -d /tmp/bench_live_realtime.XXXXXX)"
 while [ $# -gt 0 ]; do
   case "$1" in
@@ -66,6 +71,8 @@ while [ $# -gt 0 ]; do
     --sample-s) SAMPLE_S="$2"; shift 2 ;;
     --simulate) SIMULATE_MIN="$2"; shift 2 ;;
     --profile) PROFILE="$2"; shift 2 ;;
+    --config) [ -r "$2" ] || { echo "bench_live_realtime.sh: cannot read --config $2" >&2; exit 2; }
+              USER_CONFIGS+=("$(readlink -f "$2")"); shift 2 ;;
     --out) OUT="$2"; mkdir -p "$OUT"; shift 2 ;;
     *) echo "bench_live_realtime.sh: unknown argument $1 (see the header)" >&2; exit 2 ;;
   esac
@@ -97,6 +104,7 @@ start_ppp_node() {  # estimator namespace
   rosparam load "$REPO_DIR/config/ppp.yaml" "/$node"
   [ -n "$EXTRA_CONFIG" ] && rosparam load "$EXTRA_CONFIG" "/$node"
   rosparam load "$REPO_DIR/config/live.yaml" "/$node"
+  for c in ${USER_CONFIGS[@]+"${USER_CONFIGS[@]}"}; do rosparam load "$c" "/$node"; done
   [ -n "$NAV" ] && rosparam set "/$node/ros/live/navigation_files" "[$NAV]"
   rosparam set "/$node/ros/products/atx" "[$ATX]"
   rosparam set "/$node/ros/live/observations" "[/gnss/receiver]"

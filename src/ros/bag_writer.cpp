@@ -71,6 +71,13 @@ BagWriteSummary writeReplayBag(const std::string& path, const ppp::RinexObsHeade
   std::uint32_t obs_seq = 0;
   const auto writeBatch = [&](std::size_t i) {
     auto c = toMessage(batches[i]);
+    if (o.ar_biases) {
+      std::vector<ppp::SatelliteId> sats;
+      for (const auto& sc : batches[i].satellites) sats.push_back(sc.satellite);
+      addBiases(c, ppp::sampleBiases(*o.ar_biases, batches[i].time, header, sats));
+      c.ar_bias_kind = o.ar_bias_kind;
+    }
+    c.antenna_model = o.antenna_model;
     c.header.seq = static_cast<std::uint32_t>(i);
     bag.write(o.corrections_topic, c.header.stamp - ros::Duration(0.001), c);
   };
@@ -126,6 +133,11 @@ BagWriteSummary writeSimulatedFlightBag(const std::string& path, const ppp::Simu
   if (options.clock_source.empty())
     options.clock_source = "simulated CLK (" + std::to_string(int(c.clock_interval_s)) + " s)";
   if (options.reference_frame.empty()) options.reference_frame = "IGS20";
+  // The flight's satellite phase OSBs (errors.ambiguity.satellite_phase_biases), consistent with its clocks.
+  if (!options.ar_biases && !flight.phase_biases.empty()) {
+    options.ar_biases = &flight.phase_biases;
+    options.ar_bias_kind = ppp_bayes_tree::PreciseCorrections::AR_BIASES_ANALYSIS_CENTRE_OSB;
+  }
   auto user_before_close = options.before_close;
   options.before_close = [&](rosbag::Bag& bag) {
     writeTruthPath(bag, flight, callerid);

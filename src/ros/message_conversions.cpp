@@ -351,4 +351,78 @@ ppp::CorrectionBatch fromMessage(const ppp_bayes_tree::PreciseCorrections& msg, 
   return b;
 }
 
+void addBiases(ppp_bayes_tree::PreciseCorrections& msg, const ppp::SatelliteBiasBatch& biases) {
+  msg.ar_bias_source = biases.source;
+  for (auto& c : msg.satellites) {
+    const auto sat = ppp::SatelliteId::parse(c.satellite);
+    const auto it = sat ? biases.biases.find(*sat) : biases.biases.end();
+    if (it == biases.biases.end()) continue;
+    for (const ppp::ObservableBias& b : it->second) {
+      ppp_bayes_tree::ObservableBias m;
+      m.observable = b.code.toString();
+      m.bias_m = b.bias_m;
+      c.biases.push_back(m);
+    }
+  }
+}
+
+ppp::SatelliteBiasBatch biasesFromMessage(const ppp_bayes_tree::PreciseCorrections& msg, ConversionIssues& issues) {
+  constexpr double kAbsurdBias_m = 1000.0;  // OSBs are metres to tens of metres
+  ppp::SatelliteBiasBatch out;
+  out.time = fromMessageTime(msg.week, msg.seconds_of_week, msg.time_system);
+  out.source = msg.ar_bias_source;
+  if (msg.ar_bias_source.empty()) {
+    for (const auto& c : msg.satellites)
+      if (!c.biases.empty()) {
+        issues.add("satellite biases without ar_bias_source ignored");
+        break;
+      }
+    return out;
+  }
+  for (const auto& c : msg.satellites) {
+    if (c.biases.empty()) continue;
+    const auto sat = ppp::SatelliteId::parse(c.satellite);
+    if (!sat) continue;  // counted by fromMessage
+    std::vector<ppp::ObservableBias> biases;
+    for (const auto& b : c.biases) {
+      const auto code = ppp::ObservationCode::parse(b.observable);
+      if (!code || b.observable.size() != 3 || (code->type != ppp::ObservableType::Pseudorange &&
+                                                code->type != ppp::ObservableType::CarrierPhase)) {
+        issues.add("satellite bias of an unknown observable '" + b.observable.substr(0, 8) + "' ignored");
+        continue;
+      }
+      if (!std::isfinite(b.bias_m) || std::abs(b.bias_m) >= kAbsurdBias_m) {
+        issues.add("absurd satellite bias excluded");
+        continue;
+      }
+      biases.push_back({*code, b.bias_m});
+    }
+    if (!biases.empty()) out.biases[*sat] = std::move(biases);
+  }
+  return out;
+}
+
+namespace {
+/// PreciseCorrections.ar_bias_kind values and the phase information they stand for.
+constexpr std::pair<std::uint8_t, ppp::PhaseInformation> kArBiasKinds[] = {
+    {ppp_bayes_tree::PreciseCorrections::AR_BIASES_NONE, ppp::PhaseInformation::None},
+    {ppp_bayes_tree::PreciseCorrections::AR_BIASES_ANALYSIS_CENTRE_OSB, ppp::PhaseInformation::AnalysisCentreOsb},
+    {ppp_bayes_tree::PreciseCorrections::AR_BIASES_INTEGER_RECOVERY_CLOCKS,
+     ppp::PhaseInformation::IntegerRecoveryClocks},
+    {ppp_bayes_tree::PreciseCorrections::AR_BIASES_SSR, ppp::PhaseInformation::SsrPhaseBiases},
+};
+}  // namespace
+
+ppp::PhaseInformation phaseInformation(std::uint8_t ar_bias_kind) {
+  for (const auto& [kind, phase] : kArBiasKinds)
+    if (kind == ar_bias_kind) return phase;
+  return ppp::PhaseInformation::None;
+}
+
+std::uint8_t arBiasKind(ppp::PhaseInformation phase) {
+  for (const auto& [kind, p] : kArBiasKinds)
+    if (p == phase) return kind;
+  return ppp_bayes_tree::PreciseCorrections::AR_BIASES_NONE;
+}
+
 }  // namespace ppp_ros

@@ -104,7 +104,8 @@ PppNode::PppNode(ros::NodeHandle nh, ros::NodeHandle pnh, const std::string& est
         return o;
       }()),
       tf_listener_(tf_buffer_),
-      diagnostics_(nh, pnh) {
+      diagnostics_(nh, pnh),
+      stream_biases_(config_.ros.correction_history_s) {
   config_.ros.estimator = estimator;
   const RosNodeOptions& o = config_.ros;
   if (o.atx.empty() && (config_.ppp.model.satellite_antenna ||
@@ -112,8 +113,9 @@ PppNode::PppNode(ros::NodeHandle nh, ros::NodeHandle pnh, const std::string& est
     throw std::runtime_error("parameter ros/products/atx is empty, but measurement_model/corrections/"
                              "satellite_antenna is on or receiver_antenna is required: give the ANTEX file(s) or "
                              "turn them off");
-  // The products (the core's one assembly, as ppp_solve): they resolve the
-  // systems and the PPP-AR gate, so the estimator is made from their config.
+  // The products (the core's one assembly, as ppp_solve): they resolve the systems and
+  // the PPP-AR gate, so the estimator is made from their config. Streamed corrections
+  // declare their clock centre and antenna model with the first batch (declareStreamedProducts).
   ppp::ProductAssemblyInputs products_in;
   products_in.atx = o.atx;
   if (!o.bias.empty()) products_in.bias = o.bias;
@@ -121,8 +123,6 @@ PppNode::PppNode(ros::NodeHandle nh, ros::NodeHandle pnh, const std::string& est
   products_ = ppp::ProductAssembly::assemble(products_in, config_.ppp);
   config_.ppp = products_.config();
   for (const auto& n : products_.notes()) ROS_INFO_STREAM("ppp_" << estimator << "_node: " << n);
-  const ppp::ArGateVerdict& ar = products_.arGate();
-  if (ar.mode != ppp::AmbiguityResolutionMode::Off && !ar.fix) ROS_WARN_STREAM("ppp: " << ar.text());
   std::string why;
   estimator_ = ppp::makeEstimator(estimator, config_.ppp, &why);
   if (!estimator_) throw std::runtime_error("estimator '" + estimator + "' is not available: " + why);
@@ -137,7 +137,7 @@ PppNode::PppNode(ros::NodeHandle nh, ros::NodeHandle pnh, const std::string& est
     // out-of-order batches go to the buffer, which orders them and drops duplicates.
     g.max_forward_step_s = o.correction_history_s;
     g.drop_out_of_order = false;
-    corr_guard_ = ppp::EpochTimeGuard<ppp::CorrectionBatch>(g);
+    corr_guard_ = ppp::EpochTimeGuard<CorrectionInput>(g);
   }
   if (o.datum_mode == "configured") {
     ppp::Geodetic g{o.datum_latitude_deg * ppp::kDegToRad, o.datum_longitude_deg * ppp::kDegToRad, o.datum_height_m};
@@ -180,6 +180,7 @@ PppNode::PppNode(ros::NodeHandle nh, ros::NodeHandle pnh, const std::string& est
   if (live_) diagnostics_.add("live streams", this, &PppNode::diagnoseLive);
   else diagnostics_.add("corrections", this, &PppNode::diagnoseCorrections);
   diagnostics_.add("solution", this, &PppNode::diagnoseSolution);
+  diagnostics_.add("ambiguity resolution", this, &PppNode::diagnoseAmbiguities);
   last_diag_time_ = ros::WallTime::now();
   std::string inputs = nh_.resolveName(o.observations_topic) + " and " + nh_.resolveName(o.corrections_topic);
   if (live_) {
@@ -267,6 +268,10 @@ void PppNode::resetEstimator(const std::string& why) {
   smoothed_path_stale_ = true;  // publishes the (empty) new trajectory
   last_received_.reset();
   last_output_time_.reset();
+  epochs_fixed_ = 0;
+  ambiguity_releases_ = 0;
+  first_solved_.reset();
+  first_fixed_.reset();
 }
 
 void PppNode::onAttitude(const sensor_msgs::Imu::ConstPtr& msg) {
@@ -358,9 +363,10 @@ void PppNode::onCorrections(const ros::MessageEvent<ppp_bayes_tree::PreciseCorre
                           std::to_string(config_.ros.correction_queue_size) + "): counted");
   }
   ConversionIssues issues;
-  ppp::CorrectionBatch batch;
+  CorrectionInput input;
   try {
-    batch = fromMessage(*msg, issues);
+    input.batch = fromMessage(*msg, issues);
+    input.biases = biasesFromMessage(*msg, issues);
   } catch (const std::exception& e) {
     issues_.add(std::string("correction batch dropped: ") + e.what());
     warn("corrections_time", std::string("ppp: correction batch dropped: ") + e.what());
@@ -371,13 +377,15 @@ void PppNode::onCorrections(const ros::MessageEvent<ppp_bayes_tree::PreciseCorre
     issues_.counts[reason] += n;
     warn("corr:" + reason.substr(0, 20), "ppp: corrections: " + reason);
   }
-  if (batch.satellites.empty()) {
+  if (input.batch.satellites.empty()) {
     warn("corr_empty", "ppp: correction batch without a usable satellite ignored");
     return;
   }
+  declareStreamedProducts(*msg, input.batch);
+  if (!input.biases.biases.empty()) stream_bias_kind_ = phaseInformation(msg->ar_bias_kind);
   last_correction_age_s_ = (ros::Time::now() - msg->header.stamp).toSec();
-  const ppp::GnssTime time = batch.time;
-  auto outcome = corr_guard_.push(time, std::move(batch));
+  const ppp::GnssTime time = input.batch.time;
+  auto outcome = corr_guard_.push(time, std::move(input));
   for (const auto& d : outcome.dropped) {
     ++counters_.corrections_time_jump_dropped;
     last_time_drop_ = "correction batch " + d.time.toString() + " (" + secondsText(d.step_s) + "): " + ppp::text(d.reason);
@@ -387,18 +395,20 @@ void PppNode::onCorrections(const ros::MessageEvent<ppp_bayes_tree::PreciseCorre
   drain();
 }
 
-void PppNode::applyCorrectionOutcome(ppp::EpochTimeGuard<ppp::CorrectionBatch>::Outcome& outcome) {
+void PppNode::applyCorrectionOutcome(ppp::EpochTimeGuard<CorrectionInput>::Outcome& outcome) {
   if (outcome.reset_step_s) {
     warn("corrections_back", "ppp: correction time went back by " + secondsText(*outcome.reset_step_s) + ", confirmed (" +
                                  std::to_string(outcome.accepted.size()) + " batches): buffer of " +
                                  std::to_string(corrections_.size()) + " batches cleared");
     corrections_.clear();
+    stream_biases_.clear();
   }
   for (auto& e : outcome.accepted) acceptCorrections(std::move(e.payload));
 }
 
-void PppNode::acceptCorrections(ppp::CorrectionBatch batch) {
-  const ppp::BatchAddResult r = corrections_.add(std::move(batch));
+void PppNode::acceptCorrections(CorrectionInput input) {
+  const ppp::BatchAddResult r = corrections_.add(std::move(input.batch));
+  if (r == ppp::BatchAddResult::Added) stream_biases_.add(input.biases);
   if (r == ppp::BatchAddResult::Duplicate) warn("corr_dup", "ppp: duplicate correction batch ignored");
   if (r == ppp::BatchAddResult::TooOld) warn("corr_old", "ppp: correction batch older than the history ignored");
   if (r != ppp::BatchAddResult::Duplicate && r != ppp::BatchAddResult::TooOld) last_corr_arrival_ = ros::Time::now();
@@ -467,6 +477,7 @@ void PppNode::acceptObservation(Pending p) {
     s.solution_state = ppp_bayes_tree::PppStatus::NO_SOLUTION;
     s.solution_state_text = "no_solution";
     s.reason = "empty epoch";
+    setFixState(ppp::PppEpochRecord{}, false, s);
     s.corrections_stale_s = correctionsStale_s().value_or(kNaN);
     status_pub_.publish(s);
     return;
@@ -631,9 +642,8 @@ void PppNode::startProcessor() {
   if (live_ && !processor_biases_) processor_biases_ = live_->biases();
   processor_ = std::make_unique<ppp::PppEpochProcessor>(layout_, config_.ppp, ephemeris, products_.antennas(),
                                                          processor_biases_, ocean.coefficients);
-  acceptLivePhaseBiases();
-  if (products_.phaseBiases()) processor_->setPhaseBiases(products_.phaseBiases());
   for (const auto& w : processor_->receiverAntennaWarnings()) warn("antenna:" + w, "ppp: " + w);
+  phase_biases_ = {};  // the new processor gets the phase information at its first epoch
   if (layout_.approx_position_ecef_m) estimator_->setApproximatePosition(*layout_.approx_position_ecef_m);
   layout_changed_ = false;
 }
@@ -672,7 +682,7 @@ void PppNode::processObsEpoch(const ppp::ObsEpoch& epoch) {
     processor_->setObservationTypes(layout_);
     layout_changed_ = false;
   }
-  if (acceptLivePhaseBiases()) processor_->setPhaseBiases(products_.phaseBiases());
+  updatePhaseBiases();  // the live SSR phase biases and the batches' biases through the assembly's gate
   const auto start = std::chrono::steady_clock::now();
   const double cpu0_s = ppp::threadCpu_s();
   const ppp::PppEpochRecord rec = processor_->process(epoch, *estimator_);
@@ -747,6 +757,7 @@ void PppNode::processObsEpoch(const ppp::ObsEpoch& epoch) {
   s.sigma_up_m = sigma_enu.z();
   s.solution_state = solutionState(solved, sigma_enu, config_.ros);
   s.solution_state_text = solutionStateText(s.solution_state);
+  setFixState(rec, solved, s);
   if (rec.status == ppp::EpochStatus::Failed) warn("failed", "ppp: estimator failed at " + epoch.time.toString() + ": " + rec.reason);
   last_status_ = s;
   last_smoother_ = rec.smoother;
@@ -794,7 +805,9 @@ void PppNode::publishSolution(const ppp::PppEpochRecord& rec, const ppp_bayes_tr
   for (int r = 0; r < 3; ++r)
     for (int c = 0; c < 3; ++c) fix.position_covariance[r * 3 + c] = cov_local(r, c);  // ENU, m^2 (REP-145)
   fix.position_covariance_type = sensor_msgs::NavSatFix::COVARIANCE_TYPE_KNOWN;
-  fix.status.status = sensor_msgs::NavSatStatus::STATUS_FIX;
+  // Carrier-phase fixed: STATUS_GBAS_FIX, as ublox_gps reports an RTK fix (doc/ros_interface.md).
+  fix.status.status = status.fix_state == ppp_bayes_tree::PppStatus::FIX_FIXED ? sensor_msgs::NavSatStatus::STATUS_GBAS_FIX
+                                                                               : sensor_msgs::NavSatStatus::STATUS_FIX;
   fix.status.service = sensor_msgs::NavSatStatus::SERVICE_GPS;
   fix_pub_.publish(fix);
 
@@ -1014,6 +1027,107 @@ void PppNode::diagnoseLive(diagnostic_updater::DiagnosticStatusWrapper& s) {
   if (summary.empty())
     summary = broadcast ? "receiving, broadcast only (no correction stream configured)" : "receiving, precise SSR";
   s.summary(level, summary);
+}
+
+PppNode::PhaseBiasChoice PppNode::choosePhaseBiases() {
+  // Streamed phase information goes to the product assembly's PPP-AR gate, which
+  // decides (as for ppp_solve): the live feed's SSR phase biases (RTCM 1265-1270,
+  // IGS-SSR), or the biases the correction batches carry.
+  if (live_) acceptLivePhaseBiases();
+  else if (!stream_biases_.empty() && stream_bias_kind_ != ppp::PhaseInformation::None &&
+           products_.acceptStreamedPhaseBiases(&stream_biases_, stream_bias_kind_))
+    ROS_INFO_STREAM("ppp: " << products_.arGate().text());
+  if (const ppp::BiasProvider* p = products_.phaseBiases()) return {p, p->describeSource()};
+  if (products_.arGate().mode == ppp::AmbiguityResolutionMode::Off) return {nullptr, "ambiguity resolution off"};
+  return {nullptr, products_.arGate().text()};
+}
+
+void PppNode::declareStreamedProducts(const ppp_bayes_tree::PreciseCorrections& msg, const ppp::CorrectionBatch& batch) {
+  // Once, at the first batch: the clock centre and the antenna model
+  // of the stream's orbits and clocks decide the satellite antennas and the PPP-AR gate.
+  if (streamed_declared_ || live_) return;
+  streamed_declared_ = true;
+  ppp::StreamedProductInfo info;
+  for (const auto& c : batch.satellites)
+    if (std::find(info.systems.begin(), info.systems.end(), c.satellite.system) == info.systems.end())
+      info.systems.push_back(c.satellite.system);
+  info.clock_centre = ppp::analysisCentreOfProductFile(msg.clock_source).value_or("");
+  info.antenna_model = msg.antenna_model;
+  if (!products_.declareStreamedProducts(info)) return;
+  ROS_INFO_STREAM("ppp: the correction stream declares "
+                  << (info.clock_centre.empty() ? "no clock centre" : "clocks of " + info.clock_centre) << " and "
+                  << (info.antenna_model.empty() ? "no antenna model" : "antenna model " + info.antenna_model) << ": "
+                  << products_.arGate().text());
+  if (processor_) startProcessor();  // the antennas may have changed
+}
+
+void PppNode::updatePhaseBiases() {
+  PhaseBiasChoice choice = choosePhaseBiases();
+  const bool changed = choice.provider != phase_biases_.provider || choice.source != phase_biases_.source;
+  phase_biases_ = std::move(choice);
+  if (!changed && phase_bias_logged_) return;
+  processor_->setPhaseBiases(phase_biases_.provider);
+  if (!arEnabled()) return;
+  if (phase_biases_.provider)
+    ROS_INFO_STREAM("ppp: ambiguity resolution with " << phase_biases_.source);
+  else if (!phase_bias_logged_)  // once: the status and diagnostics carry it per epoch
+    ROS_WARN_STREAM("ppp: " << phase_biases_.source);
+  phase_bias_logged_ = true;
+}
+
+void PppNode::setFixState(const ppp::PppEpochRecord& rec, bool solved, ppp_bayes_tree::PppStatus& s) {
+  using ppp_bayes_tree::PppStatus;
+  s.ambiguity_resolution_enabled = arEnabled();
+  s.phase_bias_source = phase_biases_.provider ? phase_biases_.source : "";
+  const bool fixed = solved && rec.solution.status == ppp::SolutionStatus::PppFixed;
+  if (solved && !first_solved_) first_solved_ = rec.solution.time;
+  if (fixed) {
+    ++epochs_fixed_;
+    if (!first_fixed_) first_fixed_ = rec.solution.time;
+  }
+  s.fix_state = !solved ? PppStatus::FIX_NO_SOLUTION : fixed ? PppStatus::FIX_FIXED : PppStatus::FIX_FLOAT;
+  s.fix_state_text = !solved ? "no_solution" : fixed ? "fixed" : "float";
+  if (fixed) s.float_reason = "";
+  else if (!s.ambiguity_resolution_enabled) s.float_reason = "ambiguity resolution off";
+  else if (!phase_biases_.provider) s.float_reason = phase_biases_.source;
+  else if (rec.ambiguity_fix) s.float_reason = rec.ambiguity_fix->text();
+  else s.float_reason = solved ? "" : "no solution";
+  if (rec.ambiguity_fix) {
+    s.ambiguities_fixed = static_cast<std::uint16_t>(std::max(0, rec.ambiguity_fix->held));
+    s.wide_lanes_fixed = static_cast<std::uint16_t>(std::max(0, rec.ambiguity_fix->wide_lanes_fixed));
+    s.ratio = rec.ambiguity_fix->ratio;
+    s.ambiguities_released = static_cast<std::uint16_t>(rec.ambiguity_fix->released.size());
+    for (const ppp::AmbiguityRelease& r : rec.ambiguity_fix->released)
+      if (r.reason != ppp::AmbiguityReleaseReason::ArcEnded) ++ambiguity_releases_;
+  }
+  s.ambiguity_releases = ambiguity_releases_;
+  s.epochs_fixed = epochs_fixed_;
+  if (first_fixed_) s.first_fix_stamp = utcStamp(*first_fixed_);
+  s.time_to_first_fix_s = first_fixed_ && first_solved_ ? *first_fixed_ - *first_solved_ : kNaN;
+}
+
+void PppNode::diagnoseAmbiguities(diagnostic_updater::DiagnosticStatusWrapper& s) {
+  using diagnostic_msgs::DiagnosticStatus;
+  const bool enabled = arEnabled();
+  s.add("enabled", enabled);
+  s.add("phase information", phase_biases_.provider ? phase_biases_.source : std::string("none"));
+  s.add("epochs fixed", epochs_fixed_);
+  s.add("held integers released (float departed, wide lane changed)", ambiguity_releases_);
+  s.add("time to first fix [s]", first_fixed_ && first_solved_ ? *first_fixed_ - *first_solved_ : kNaN);
+  s.add("first fix", first_fixed_ ? first_fixed_->toString() : std::string("none yet"));
+  if (have_status_) {
+    s.add("fix state", last_status_.fix_state_text);
+    s.add("float reason", last_status_.float_reason);
+    s.add("ambiguities held", last_status_.ambiguities_fixed);
+    s.add("wide lanes fixed", last_status_.wide_lanes_fixed);
+    s.add("ratio", last_status_.ratio);
+  }
+  if (!enabled) s.summary(DiagnosticStatus::OK, "off (float)");
+  else if (!have_status_) s.summary(DiagnosticStatus::OK, "on, no epoch processed yet");
+  else if (!phase_biases_.provider) s.summary(DiagnosticStatus::WARN, phase_biases_.source);
+  else if (have_status_ && last_status_.fix_state == ppp_bayes_tree::PppStatus::FIX_FIXED)
+    s.summary(DiagnosticStatus::OK, "fixed (" + std::to_string(last_status_.ambiguities_fixed) + " held)");
+  else s.summary(DiagnosticStatus::OK, have_status_ ? "float: " + last_status_.float_reason : "no epoch yet");
 }
 
 }  // namespace ppp_ros

@@ -5,6 +5,7 @@
 #include <limits>
 
 #include "ppp_bayes_tree/models/correction_buffer.h"
+#include "ppp_bayes_tree/models/stream_bias_provider.h"
 #include "ppp_bayes_tree/ros/bag_writer.h"
 #include "ppp_bayes_tree/ros/message_conversions.h"
 #include "ppp_bayes_tree/ros/node_options.h"
@@ -200,4 +201,103 @@ TEST(RosNodeOptions, ParameterServerTypesAreKeptAndStringsAreNeverNumbers) {
   arm["ros"]["frames"]["antenna_lever_arm_m"][2] = 0.0;
   EXPECT_NE(error_of(arm).find("ros.frames.antenna_lever_arm_m: expected finite numbers"), std::string::npos)
       << error_of(arm);
+}
+
+TEST(StreamBiases, ThroughTheMessagesTheyAnswerAsTheProductsFromTheirBatchOn) {
+  // A simulated flight whose products carry phase OSBs (constant UPDs, code OSB 0):
+  // each batch message carries them for the header's code and phase types; the
+  // node's StreamBiasProvider answers exactly the products' values from the first
+  // batch on, and nothing before it.
+  ppp::SimulationConfig c;
+  c.duration_s = 120.0;
+  c.errors.ambiguity.satellite_phase_biases = true;
+  const ppp::SimulatedFlight f = ppp::simulateFlight(c, 5);
+  ASSERT_FALSE(f.phase_biases.empty());
+  ppp_ros::BagWriteOptions o;
+  const auto batches = ppp_ros::sampleCorrections(f.products, f.epochs.front().time, f.epochs.back().time, o);
+  ASSERT_GT(batches.size(), 4u);
+  ppp::StreamBiasProvider stream;
+  std::size_t carried = 0;
+  for (const auto& b : batches) {
+    auto msg = ppp_ros::toMessage(b);
+    std::vector<ppp::SatelliteId> sats;
+    for (const auto& s : b.satellites) sats.push_back(s.satellite);
+    ppp_ros::addBiases(msg, ppp::sampleBiases(f.phase_biases, b.time, f.header, sats));
+    EXPECT_EQ(msg.ar_bias_source, f.phase_biases.describeSource());
+    for (const auto& s : msg.satellites) carried += s.biases.size();
+    ppp_ros::ConversionIssues issues;
+    stream.add(ppp_ros::biasesFromMessage(msg, issues));
+    EXPECT_EQ(issues.total(), 0u);
+  }
+  ASSERT_GT(carried, 0u);
+  const ppp::SatelliteId sat = batches.front().satellites.front().satellite;
+  const ppp::ObservationCode l1 = *ppp::ObservationCode::parse("L1C"), c1 = *ppp::ObservationCode::parse("C1C");
+  EXPECT_FALSE(stream.phaseBias(sat, l1, batches.front().time - 1.0).value_m) << "before the first batch";
+  std::size_t compared = 0;
+  for (const auto& e : f.epochs) {
+    if (e.time < batches.front().time) continue;
+    for (const auto& so : e.satellites)
+      for (const ppp::ObservationCode& code : f.header.types(so.satellite.system)) {
+        const bool phase = code.type == ppp::ObservableType::CarrierPhase;
+        if (!phase && code.type != ppp::ObservableType::Pseudorange) continue;
+        const auto want = phase ? f.phase_biases.phaseBias(so.satellite, code, e.time)
+                                : f.phase_biases.codeBias(so.satellite, code, e.time);
+        const auto got = phase ? stream.phaseBias(so.satellite, code, e.time) : stream.codeBias(so.satellite, code, e.time);
+        ASSERT_EQ(want.value_m.has_value(), got.value_m.has_value()) << so.satellite.toString() << " " << code.toString();
+        if (want.value_m) EXPECT_EQ(*want.value_m, *got.value_m);
+        ++compared;
+      }
+  }
+  EXPECT_GT(compared, 100u);
+  EXPECT_TRUE(stream.codeBias(sat, c1, f.epochs.back().time).value_m.has_value() ==
+              f.phase_biases.codeBias(sat, c1, f.epochs.back().time).value_m.has_value());
+}
+
+TEST(StreamBiases, BadBiasesAreExcludedAndCountedANewerBatchReplacesAndOldOnesAreDropped) {
+  ppp::CorrectionBatch b;
+  b.time = ppp::GnssTime::fromGpsWeek(2100, 3600.0);
+  b.satellites.resize(1);
+  b.satellites[0].satellite = *ppp::SatelliteId::parse("G05");
+  b.satellites[0].clock_bias_s = 1e-4;
+  auto msg = ppp_ros::toMessage(b);
+  ppp_bayes_tree::ObservableBias ok, unknown, absurd, nan;
+  ok.observable = "L1C";
+  ok.bias_m = 0.05;
+  unknown.observable = "Q1C";
+  unknown.bias_m = 0.1;
+  absurd.observable = "L2W";
+  absurd.bias_m = 5000.0;
+  nan.observable = "C1C";
+  nan.bias_m = std::numeric_limits<double>::quiet_NaN();
+  msg.satellites[0].biases = {ok, unknown, absurd, nan};
+  ppp_ros::ConversionIssues issues;
+  // Biases without their source are not used (nobody vouches that they go with the clocks).
+  EXPECT_TRUE(ppp_ros::biasesFromMessage(msg, issues).biases.empty());
+  EXPECT_EQ(issues.total(), 1u);
+  msg.ar_bias_source = "test biases";
+  issues = {};
+  const ppp::SatelliteBiasBatch batch = ppp_ros::biasesFromMessage(msg, issues);
+  EXPECT_EQ(issues.total(), 3u);  // unknown observable, absurd, NaN
+  ASSERT_EQ(batch.biases.size(), 1u);
+  ASSERT_EQ(batch.biases.begin()->second.size(), 1u);
+
+  ppp::StreamBiasProvider stream(600.0);
+  stream.add(batch);
+  const ppp::SatelliteId g05 = *ppp::SatelliteId::parse("G05");
+  const ppp::ObservationCode l1 = *ppp::ObservationCode::parse("L1C");
+  EXPECT_EQ(*stream.phaseBias(g05, l1, b.time + 10.0).value_m, 0.05);
+  EXPECT_NE(stream.describeSource().find("test biases"), std::string::npos);
+  ppp::SatelliteBiasBatch newer = batch;
+  newer.time = b.time + 30.0;
+  newer.biases.begin()->second[0].bias_m = 0.07;
+  stream.add(newer);
+  EXPECT_EQ(*stream.phaseBias(g05, l1, b.time + 10.0).value_m, 0.05);  // the older batch's epoch
+  EXPECT_EQ(*stream.phaseBias(g05, l1, b.time + 40.0).value_m, 0.07);
+  ppp::SatelliteBiasBatch much_later = newer;
+  much_later.time = b.time + 1000.0;
+  much_later.biases.begin()->second[0].bias_m = 0.09;
+  stream.add(much_later);
+  EXPECT_EQ(stream.batches(), 1u);  // the two first are older than the 600 s history: dropped
+  EXPECT_EQ(*stream.phaseBias(g05, l1, b.time + 1000.0).value_m, 0.09);
+  EXPECT_FALSE(stream.phaseBias(g05, l1, b.time + 500.0).value_m);
 }

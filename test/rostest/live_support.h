@@ -85,9 +85,11 @@ inline void publishInOrder(ros::NodeHandle& nh, const std::vector<std::string>& 
 }
 
 /// Reads a solution CSV of ppp_solve (DIR/<name>_ekf.csv, _smoother_filtered.csv): UTC
-/// stamp -> ECEF position of the epochs with a solution (`rows`: every epoch row).
+/// stamp -> ECEF position of the epochs with a solution (`rows`: every epoch row; `fixed`:
+/// stamp -> whether the epoch's status is ppp-fixed).
 inline std::map<ros::Time, Eigen::Vector3d> readPppSolveCsv(const std::filesystem::path& csv,
-                                                            std::size_t* rows = nullptr) {
+                                                            std::size_t* rows = nullptr,
+                                                            std::map<ros::Time, bool>* fixed = nullptr) {
   std::map<ros::Time, Eigen::Vector3d> out;
   if (rows) *rows = 0;
   std::ifstream in(csv);
@@ -105,7 +107,7 @@ inline std::map<ros::Time, Eigen::Vector3d> readPppSolveCsv(const std::filesyste
     return std::size_t{0};
   };
   const std::size_t week = column("gps_week"), tow = column("tow_s"), x = column("x_m"), y = column("y_m"),
-                    z = column("z_m");
+                    z = column("z_m"), status = fixed ? column("status") : 0;
   while (std::getline(in, line)) {
     std::vector<std::string> f;
     std::stringstream ss(line);
@@ -114,6 +116,7 @@ inline std::map<ros::Time, Eigen::Vector3d> readPppSolveCsv(const std::filesyste
     if (f.size() <= z || f[x].empty()) continue;  // no solution at this epoch
     const ppp::GnssTime t = ppp::GnssTime::fromGpsWeek(std::stoi(f[week]), std::stod(f[tow]));
     out[utcStamp(t)] = Eigen::Vector3d(std::stod(f[x]), std::stod(f[y]), std::stod(f[z]));
+    if (fixed) (*fixed)[utcStamp(t)] = f.size() > status && f[status] == "ppp-fixed";
   }
   return out;
 }

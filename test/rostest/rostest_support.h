@@ -44,14 +44,14 @@
 
 namespace ppp_ros::test {
 
-/// Publishes the bag's two topics at `speed` x real time (bag time spacing / speed);
-/// `before_observation` (optional) runs just before each observation message.
-inline std::size_t playBag(const std::string& path, ros::Publisher& obs, ros::Publisher& corr, double speed,
-                           const std::function<void(const ppp_bayes_tree::GnssObservations&)>& before_observation = {}) {
+/// Hands the bag's observation and correction messages to the callbacks at `speed` x real
+/// time (bag time spacing / speed); returns the observation messages.
+inline std::size_t playBagTo(const std::string& path, double speed,
+                             const std::function<void(const ppp_bayes_tree::GnssObservations&)>& on_observation,
+                             const std::function<void(const ppp_bayes_tree::PreciseCorrections&)>& on_corrections) {
   rosbag::Bag bag(path, rosbag::bagmode::Read);
   rosbag::View view(bag);
   std::size_t epochs = 0;
-  ros::Time previous;
   const ros::WallTime start = ros::WallTime::now();
   ros::Time first;
   for (const rosbag::MessageInstance& m : view) {
@@ -61,14 +61,26 @@ inline std::size_t playBag(const std::string& path, ros::Publisher& obs, ros::Pu
     const ros::WallDuration wait = due - ros::WallTime::now();
     if (wait > ros::WallDuration(0)) wait.sleep();
     if (auto o = m.instantiate<ppp_bayes_tree::GnssObservations>()) {
-      if (before_observation) before_observation(*o);
-      obs.publish(o);
+      on_observation(*o);
       ++epochs;
     } else if (auto c = m.instantiate<ppp_bayes_tree::PreciseCorrections>()) {
-      corr.publish(c);
+      on_corrections(*c);
     }
   }
   return epochs;
+}
+
+/// Publishes the bag's two topics at `speed` x real time (bag time spacing / speed);
+/// `before_observation` (optional) runs just before each observation message.
+inline std::size_t playBag(const std::string& path, ros::Publisher& obs, ros::Publisher& corr, double speed,
+                           const std::function<void(const ppp_bayes_tree::GnssObservations&)>& before_observation = {}) {
+  return playBagTo(
+      path, speed,
+      [&](const ppp_bayes_tree::GnssObservations& o) {
+        if (before_observation) before_observation(o);
+        obs.publish(o);
+      },
+      [&](const ppp_bayes_tree::PreciseCorrections& c) { corr.publish(c); });
 }
 
 /// Everything the node publishes, collected under a mutex.

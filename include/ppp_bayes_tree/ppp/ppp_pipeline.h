@@ -144,6 +144,9 @@ struct PppEpochRecord {
   bool estimator_reset = false;
   double estimator_time_s = 0.0;  // the estimator step of the epoch
   std::optional<SmootherEpochDiagnostics> smoother;  // the smoother's diagnostics
+  /// Ambiguity resolution of the epoch (set when ambiguity_resolution is enabled);
+  /// solution.status is PppFixed when ambiguity_fix->fixed().
+  std::optional<AmbiguityFixSummary> ambiguity_fix;
 };
 
 /// Postfit residual statistics of one satellite over the run [m].

@@ -31,6 +31,14 @@ struct BagWriteOptions {
   double margin_s = 60.0;               // batches this far before the first / after the last epoch
   std::optional<std::size_t> max_epochs;  // write only the first N epochs
   std::string orbit_source, clock_source, reference_frame, bias_set;  // product reference
+  /// Satellite biases for integer ambiguity resolution consistent with the clocks
+  /// (phase OSBs of the clocks' analysis centre, or the wide-lane biases of
+  /// integer-recovery clocks): each batch carries their values at its epoch for
+  /// the code and phase types of the observation header (PreciseCorrections
+  /// ar_bias_source, satellites[].biases). nullptr: none (a node stays float).
+  const ppp::BiasProvider* ar_biases = nullptr;
+  std::uint8_t ar_bias_kind = 0;  // PreciseCorrections.ar_bias_kind of ar_biases (AR_BIASES_*)
+  std::string antenna_model;      // PreciseCorrections.antenna_model ("" = not known)
   /// Called with the open bag after the last message (extra topics, e.g. a truth path).
   std::function<void(rosbag::Bag&)> before_close;
 };
@@ -59,8 +67,9 @@ inline constexpr const char* kTruthPathTopic = "truth/path";
 /// batches sampled from its products-with-error (flight.products, what an
 /// estimator must use) and its truth path. The product reference fields of
 /// `options` that are empty are filled with the simulator's (orbit and clock
-/// intervals, IGS20). `callerid` names the writing program in the truth
-/// connection header.
+/// intervals, IGS20); `ar_biases` unset: the flight's satellite phase OSBs when it
+/// draws them (errors.ambiguity.satellite_phase_biases). `callerid` names the
+/// writing program in the truth connection header.
 BagWriteSummary writeSimulatedFlightBag(const std::string& path, const ppp::SimulatedFlight& flight,
                                         BagWriteOptions options, const std::string& callerid);
 

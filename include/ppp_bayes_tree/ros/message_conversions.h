@@ -1,7 +1,7 @@
 #pragma once
 // Conversions between the package's ROS messages and the core types:
 //   GnssObservations  <-> ObsEpoch + the receiver part of a RinexObsHeader
-//   PreciseCorrections <-> CorrectionBatch
+//   PreciseCorrections <-> CorrectionBatch (+ SatelliteBiasBatch: the biases for ambiguity resolution)
 //   GNSS time          <-> week / seconds of week / time system, UTC ros::Time stamps
 // Lossless for a RINEX 3 epoch: every C/L/D/S observation of a code, its LLI
 // and SSI, other observation types, the epoch flag and the clock offset.
@@ -18,6 +18,8 @@
 #include "ppp_bayes_tree/io/obs_epoch.h"
 #include "ppp_bayes_tree/io/rinex_obs_header.h"
 #include "ppp_bayes_tree/models/correction_buffer.h"
+#include "ppp_bayes_tree/models/stream_bias_provider.h"
+#include "ppp_bayes_tree/ppp/product_assembly.h"
 #include "ppp_bayes_tree/types/gnss_time.h"
 
 namespace ppp_ros {
@@ -56,5 +58,18 @@ bool fromMessage(const ppp_bayes_tree::GnssObservations& msg, ppp::RinexObsHeade
 ppp_bayes_tree::PreciseCorrections toMessage(const ppp::CorrectionBatch& batch);
 /// Throws std::invalid_argument when the batch time is invalid.
 ppp::CorrectionBatch fromMessage(const ppp_bayes_tree::PreciseCorrections& msg, ConversionIssues& issues);
+
+/// The satellite biases for integer ambiguity resolution into a batch message:
+/// ar_bias_source and satellites[].biases of the satellites the message carries
+/// (a satellite without corrections gets none).
+void addBiases(ppp_bayes_tree::PreciseCorrections& msg, const ppp::SatelliteBiasBatch& biases);
+/// The message's satellites[].biases (empty without ar_bias_source). An unknown
+/// satellite or observable code, or a non-finite or absurd value (|bias| >= 1000 m),
+/// skips that bias, counted with the reason. Throws std::invalid_argument when the
+/// batch time is invalid.
+ppp::SatelliteBiasBatch biasesFromMessage(const ppp_bayes_tree::PreciseCorrections& msg, ConversionIssues& issues);
+/// PreciseCorrections.ar_bias_kind <-> the product assembly's phase information (unknown values: None).
+ppp::PhaseInformation phaseInformation(std::uint8_t ar_bias_kind);
+std::uint8_t arBiasKind(ppp::PhaseInformation phase);
 
 }  // namespace ppp_ros

@@ -19,7 +19,9 @@
 //             fallback happens when corrections stop. A receiver restart (time back beyond
 //             ros.live.restart_jump_s) resets the estimator as a bag loop does.
 // Publishes:  ppp/odometry/filtered (nav_msgs/Odometry, map frame, ENU covariance),
-//             ppp/fix (sensor_msgs/NavSatFix in the gnss_antenna frame, ENU covariance),
+//             ppp/fix (sensor_msgs/NavSatFix in the gnss_antenna frame, ENU covariance;
+//               status STATUS_GBAS_FIX when the ambiguities are fixed, STATUS_FIX when float,
+//               as ublox_gps reports carrier-phase fixed solutions),
 //             ppp/status (PppStatus), ppp/path/filtered (nav_msgs/Path, at
 //             ros.diagnostics.path_publish_rate_hz), /diagnostics (inputs, corrections,
 //             solution), TF earth -> map (static), base_link -> gnss_antenna (static, the
@@ -43,6 +45,13 @@
 //             carry the attitude; without one, base_link IS the antenna position with an
 //             identity orientation (logged once), and the TF gnss_antenna frame (base_link
 //             + the unrotated lever arm) is not the antenna: ppp/fix is.
+// Ambiguity resolution (ambiguity_resolution.enabled): the phase information comes from
+//             the corrections (PreciseCorrections ar_bias_source and satellites[].biases),
+//             on the live input from SSR phase biases (RTCM 1265-1270, IGS-SSR), or from a
+//             Bias-SINEX file with phase OSBs of the clocks' analysis centre (ros.products.bias);
+//             without any the node stays float and says so (log once, status, diagnostics).
+//             The smoother holds the integers as factors of its graph: the smoothed outputs
+//             after a fix carry them back.
 // Service:    set_datum (SetDatum).
 // Parameters: the whole private namespace = config/ppp.yaml (core sections +
 //             `ros:`), loaded strictly at start-up (loadNodeConfig).
@@ -75,6 +84,7 @@
 #include "ppp_bayes_tree/ppp/correction_gate.h"
 #include "ppp_bayes_tree/ppp/product_assembly.h"
 #include "ppp_bayes_tree/models/correction_buffer.h"
+#include "ppp_bayes_tree/models/stream_bias_provider.h"
 #include "ppp_bayes_tree/ppp/epoch_estimator.h"
 #include "ppp_bayes_tree/ppp/epoch_time_guard.h"
 #include "ppp_bayes_tree/ppp/ppp_config.h"
@@ -118,6 +128,17 @@ class PppNode {
     const Attitude* attitude = nullptr;  // the attitude applied, if any
     geometry_msgs::Pose toMsg() const;
   };
+  /// A correction batch and its satellite biases for ambiguity resolution (one message).
+  struct CorrectionInput {
+    ppp::CorrectionBatch batch;
+    ppp::SatelliteBiasBatch biases;
+  };
+  /// Where the phase information for ambiguity resolution comes from (provider
+  /// nullptr: none, with the reason in `source`).
+  struct PhaseBiasChoice {
+    const ppp::BiasProvider* provider = nullptr;
+    std::string source;
+  };
   struct Pending {
     ppp_bayes_tree::GnssObservations::ConstPtr msg;
     ppp::GnssTime time;
@@ -128,9 +149,9 @@ class PppNode {
   /// An observation epoch whose stamp the time guard accepted: to the correction gate.
   void acceptObservation(Pending p);
   /// A correction batch whose stamp the time guard accepted: to the buffer.
-  void acceptCorrections(ppp::CorrectionBatch batch);
+  void acceptCorrections(CorrectionInput input);
   /// Clears the buffer on a confirmed jump back, then adds the released batches.
-  void applyCorrectionOutcome(ppp::EpochTimeGuard<ppp::CorrectionBatch>::Outcome& outcome);
+  void applyCorrectionOutcome(ppp::EpochTimeGuard<CorrectionInput>::Outcome& outcome);
   /// Observations ahead of the corrections [s] (data time or ROS arrival time, the larger).
   std::optional<double> correctionsStale_s() const;
   void onAttitude(const sensor_msgs::Imu::ConstPtr& msg);
@@ -165,6 +186,16 @@ class PppNode {
   void diagnoseInputs(diagnostic_updater::DiagnosticStatusWrapper& s);
   void diagnoseCorrections(diagnostic_updater::DiagnosticStatusWrapper& s);
   void diagnoseSolution(diagnostic_updater::DiagnosticStatusWrapper& s);
+  // ambiguity resolution (ambiguity_resolution.enabled)
+  PhaseBiasChoice choosePhaseBiases();
+  /// At the first correction batch: its systems, clock centre and antenna model to the assembly.
+  void declareStreamedProducts(const ppp_bayes_tree::PreciseCorrections& msg, const ppp::CorrectionBatch& batch);
+  bool arEnabled() const { return products_.arGate().mode != ppp::AmbiguityResolutionMode::Off; }
+  /// Hands the processor the phase information of this epoch; logs when it changes.
+  void updatePhaseBiases();
+  /// The fix state fields of the status from the epoch's record.
+  void setFixState(const ppp::PppEpochRecord& rec, bool solved, ppp_bayes_tree::PppStatus& s);
+  void diagnoseAmbiguities(diagnostic_updater::DiagnosticStatusWrapper& s);
 
   ros::NodeHandle nh_, pnh_;
   NodeConfig config_;
@@ -178,7 +209,7 @@ class PppNode {
   ppp::CorrectionGate<Pending> gate_;  // epochs waiting for covering corrections
   // Time stamps (epoch_time_guard.h): an isolated bad stamp is dropped, a sustained jump back resets.
   ppp::EpochTimeGuard<Pending> obs_guard_;
-  ppp::EpochTimeGuard<ppp::CorrectionBatch> corr_guard_;
+  ppp::EpochTimeGuard<CorrectionInput> corr_guard_;
   std::optional<ppp::GnssTime> last_output_time_;  // newest epoch published (outputs never go back)
   std::string last_time_drop_;                     // the last stamp dropped, with the reason (diagnostics)
   // Messages lost before the node: gaps in header.seq, per publisher (roscpp numbers each
@@ -234,6 +265,16 @@ class PppNode {
   double last_correction_age_s_ = std::numeric_limits<double>::quiet_NaN();
   ConversionIssues issues_;
   std::map<std::string, ros::WallTime> last_warning_;
+
+  // ambiguity resolution: the corrections' satellite biases, the phase information in
+  // use (its source text), and the fix figures since the start or the last reset
+  ppp::StreamBiasProvider stream_biases_;
+  ppp::PhaseInformation stream_bias_kind_ = ppp::PhaseInformation::None;  // what the batches declare
+  bool streamed_declared_ = false;
+  PhaseBiasChoice phase_biases_;
+  bool phase_bias_logged_ = false;
+  std::uint32_t epochs_fixed_ = 0, ambiguity_releases_ = 0;
+  std::optional<ppp::GnssTime> first_solved_, first_fixed_;
 
   // live input (ros.live): the subscribers feed live_; its ephemeris replaces corrections_
   std::unique_ptr<ppp::LiveGnssInput> live_;

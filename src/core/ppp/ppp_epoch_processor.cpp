@@ -174,6 +174,7 @@ PppEpochRecord PppEpochProcessor::process(const ObsEpoch& epoch, EpochEstimator&
   rec.estimator_reset = r.estimator_reset;
   rec.estimator_time_s = r.epoch_time_s;
   rec.smoother = std::move(r.smoother);
+  rec.ambiguity_fix = std::move(r.ambiguity_fix);
   return rec;
 }
 

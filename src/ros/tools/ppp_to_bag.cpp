@@ -13,12 +13,21 @@
 // --truth-out the truth CSV of the simulator (writeTruthEpochsCsv: time_gpst,
 // gps_week, seconds_of_week, x_m, y_m, z_m, ...), which ppp_bag_report reads.
 // ANTEX/BLQ files are not carried by the bag: the node reads them (ros.products).
+// Satellite biases for integer ambiguity resolution (--ar-biases auto, the
+// default): the batches carry, per satellite and observed signal, the code and
+// phase OSBs that make the ambiguities integer with the batch's clocks
+// (PreciseCorrections ar_bias_source, satellites[].biases): the --bia file's
+// phase OSBs when they come from the clocks' analysis centre, else the wide-lane
+// biases of integer-recovery clocks (GRG) from the clock header; none otherwise
+// (said on the output). --ar-biases none leaves them out.
 #include <fstream>
 #include <iostream>
 #include <string>
 #include <vector>
 
 #include "ppp_bayes_tree/io/line_source.h"
+#include "ppp_bayes_tree/ppp/antenna_model_consistency.h"
+#include "ppp_bayes_tree/ppp/product_assembly.h"
 #include "ppp_bayes_tree/io/rinex_obs_reader.h"
 #include "ppp_bayes_tree/ros/bag_writer.h"
 #include "ppp_bayes_tree/ros/message_conversions.h"
@@ -29,16 +38,30 @@ namespace {
 
 int usage(const std::string& why) {
   std::cerr << "ppp_to_bag: " << why << "\n"
-            << "usage: ppp_to_bag --obs OBS --sp3 F [F...] --clk F [F...] [--bia F] [--interval S] [--max-epochs N] --out BAG\n"
+            << "usage: ppp_to_bag --obs OBS --sp3 F [F...] --clk F [F...] [--bia F] [--interval S] [--max-epochs N]\n"
+            << "                  [--ar-biases auto|none] --out BAG\n"
             << "       ppp_to_bag --simulate PROFILE [--duration-min N] [--rate 1|10] [--seed S] [--config YAML]\n"
             << "                  [--truth-out TRUTH.csv] --out BAG\n";
   return 2;
 }
 
+/// The product assembly of the files with ambiguity resolution on: its PPP-AR gate
+/// picks the phase information (see the top comment).
+ppp::ProductAssembly assembleForBiases(const std::vector<std::string>& sp3, const std::vector<std::string>& clk,
+                                       const std::string& bia) {
+  ppp::ProductAssemblyInputs in;
+  in.sp3 = sp3;
+  in.clk = clk;
+  if (!bia.empty()) in.bias = bia;
+  ppp::PppConfig config;
+  config.ambiguity_resolution.enabled = true;
+  return ppp::ProductAssembly::assemble(in, config);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
-  std::string obs, bia, out, profile, sim_config, truth_out;
+  std::string obs, bia, out, profile, sim_config, truth_out, ar_biases = "auto";
   std::vector<std::string> sp3, clk;
   ppp_ros::BagWriteOptions options;
   double duration_min = 10.0, rate = 1.0;
@@ -63,6 +86,7 @@ int main(int argc, char** argv) {
       else if (a == "--simulate") profile = v;
       else if (a == "--config") sim_config = v;
       else if (a == "--truth-out") truth_out = v;
+      else if (a == "--ar-biases") ar_biases = v;
       else if (a == "--interval") options.correction_interval_s = std::stod(v);
       else if (a == "--max-epochs") options.max_epochs = std::stoul(v);
       else if (a == "--duration-min") duration_min = std::stod(v);
@@ -74,6 +98,7 @@ int main(int argc, char** argv) {
     }
   }
   if (out.empty()) return usage("--out BAG is required");
+  if (ar_biases != "auto" && ar_biases != "none") return usage("--ar-biases must be auto or none, not " + ar_biases);
   if (!(options.correction_interval_s >= 1.0)) return usage("--interval must be >= 1 s");
   if (!truth_out.empty() && profile.empty()) return usage("--truth-out needs --simulate (real data: give the truth to ppp_bag_report)");
   try {
@@ -101,6 +126,19 @@ int main(int argc, char** argv) {
       options.clock_source = ppp::fileBaseName(clk.front());
       options.reference_frame = "IGS20";
       options.bias_set = bia.empty() ? "" : ppp::fileBaseName(bia);
+      try {
+        options.antenna_model = ppp::productAntennaModel(clk.front());
+      } catch (const std::exception&) {  // no model named: the bag says "not known"
+      }
+      std::optional<ppp::ProductAssembly> assembly;
+      if (ar_biases == "auto") {
+        assembly = assembleForBiases(sp3, clk, bia);
+        options.ar_biases = assembly->phaseBiases();
+        options.ar_bias_kind = ppp_ros::arBiasKind(assembly->arGate().phase);
+        std::cout << "ppp_to_bag: biases for ambiguity resolution: "
+                  << (options.ar_biases ? options.ar_biases->describeSource() : "none: " + assembly->arGate().text())
+                  << "\n";
+      }
       s = ppp_ros::writeReplayBag(out, reader.header(), [&](ppp::ObsEpoch& e) { return reader.next(e); }, products,
                                   options);
     }
