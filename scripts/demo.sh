@@ -127,7 +127,7 @@ if [ "$MODE" = simulated ]; then
   EXTRA_CONFIG="$WORK/ambiguities.yaml"
   {
     echo "# written by scripts/demo.sh: the simulated flight's systems and the ambiguity mode ($AR_TEXT)"
-    echo "signals: {systems: [GPS, Galileo]}"
+    echo "measurement_model: {signals: {systems: [GPS, Galileo]}}"
     echo "ambiguity_resolution: {enabled: $AR}"
   } > "$EXTRA_CONFIG"
   TRUTH_ARGS=(--truth-csv "$WORK/truth.csv")
