@@ -10,17 +10,21 @@
 // the RMS E/N/U about their mean of the fixed (and the float) positions after
 // the first hour, the held set's residual statistic T/m (chi-square(m)/m under
 // the model, AmbiguityFixSummary::held_residual_statistic) and the held narrow
-// lanes' integer residuals (float - integer) per single difference and per hour.
+// lanes' integer residuals (float - integer) per system (histogram), per single
+// difference and per hour, and each system's held integers and reference.
 //
 // Usage:
-//   ppp_ar_study --obs O --sp3 S --clk C --atx A [--atx A2] [--static]
+//   ppp_ar_study --obs O --sp3 S --clk C --atx A [--atx A2] [--bia B] [--blq L] [--static]
 //                [--ar key=value]... [--yaml TEXT] [--csv FILE] [--nl-csv FILE]
+//   --bia B          Bias-SINEX OSB file (phase OSBs of the clocks' analysis centre)
+//   --blq L          ocean loading BLQ file
 //   --ar key=value   an ambiguity_resolution key for the AR run (config/ppp.yaml)
 //   --yaml TEXT      further YAML for all three runs (not stochastic.position)
 //   --static         the float and AR runs static as well (else kinematic)
 //   --csv FILE       per epoch: time, fixed, E/N/U of AR and float [m], T, m, reason
 //   --nl-csv FILE    per epoch and single difference: float, sigma, held integer
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -108,8 +112,8 @@ Eigen::Vector3d rmsAboutMean(const std::vector<Eigen::Vector3d>& enu) {
 
 int usage(const std::string& why) {
   std::cerr << "ppp_ar_study: " << why
-            << "\nusage: ppp_ar_study --obs O --sp3 S --clk C --atx A [--atx A2] [--static] [--ar key=value]..."
-               " [--yaml TEXT] [--csv FILE] [--nl-csv FILE]\n";
+            << "\nusage: ppp_ar_study --obs O --sp3 S --clk C --atx A [--atx A2] [--bia B] [--blq L] [--static]"
+               " [--ar key=value]... [--yaml TEXT] [--csv FILE] [--nl-csv FILE]\n";
   return 2;
 }
 
@@ -131,12 +135,14 @@ int main(int argc, char** argv) {
     if (a == "--static") {
       static_runs = true;
     } else if (a == "--obs" || a == "--sp3" || a == "--clk" || a == "--atx" || a == "--ar" || a == "--yaml" ||
-               a == "--csv" || a == "--nl-csv") {
+               a == "--csv" || a == "--nl-csv" || a == "--bia" || a == "--blq") {
       if (!value(v)) return usage(a + " needs a value");
       if (a == "--obs") files.obs = v;
       if (a == "--sp3") files.sp3.push_back(v);
       if (a == "--clk") files.clk.push_back(v);
       if (a == "--atx") files.atx.push_back(v);
+      if (a == "--bia") files.bias = v;
+      if (a == "--blq") files.blq = v;
       if (a == "--yaml") extra_yaml = v + "\n";
       if (a == "--csv") csv_path = v;
       if (a == "--nl-csv") nl_csv_path = v;
@@ -171,14 +177,17 @@ int main(int argc, char** argv) {
     std::ofstream csv, nl_csv;
     if (!csv_path.empty()) {
       csv.open(csv_path);
+      csv.precision(12);  // GPS seconds to the millisecond
       csv << "time_s,fixed,ar_e_m,ar_n_m,ar_u_m,float_e_m,float_n_m,float_u_m,held,T,m,reason\n";
     }
     if (!nl_csv_path.empty()) {
       nl_csv.open(nl_csv_path);
+      nl_csv.precision(12);
       nl_csv << "time_s,satellite,reference,wide_lane,float_cycles,sigma_cycles,held_cycles\n";
     }
     const std::size_t first_hour = 120;  // solved epochs (30 s)
-    std::size_t solved = 0, after = 0, fixed_after = 0, wrong = 0, wrong_float_too = 0, moved = 0, float_wrong = 0;
+    std::size_t solved = 0, after = 0, fixed_after = 0, wrong = 0, wrong_float_too = 0, wrong_float_good = 0, moved = 0,
+                float_wrong = 0;
     std::optional<double> first_fix_s;
     std::optional<GnssTime> first_time;
     std::vector<Eigen::Vector3d> fixed_enu, float_enu;
@@ -189,7 +198,8 @@ int main(int argc, char** argv) {
     };
     std::map<std::string, PairStats> per_pair;
     std::map<int, PairStats> per_hour;
-    int bins[5] = {0, 0, 0, 0, 0};
+    std::map<GnssSystem, std::array<int, 5>> bins;  // per system: |float - integer| in 0.1-cycle bins
+    std::map<GnssSystem, std::size_t> fixed_epochs_with_system;  // fixed epochs (after 1 h) holding its integers
     for (const auto& e : fixes) {
       if (!e.position) continue;
       if (!first_time) first_time = e.time;
@@ -208,7 +218,7 @@ int main(int argc, char** argv) {
                    << (nl.held_cycles ? std::to_string(*nl.held_cycles) : std::string()) << '\n';
           if (!nl.held_cycles || index < first_hour) continue;
           const double r = nl.float_cycles - static_cast<double>(*nl.held_cycles);
-          ++bins[std::min(4, static_cast<int>(std::abs(r) * 10.0))];
+          ++bins[nl.satellite.system][static_cast<std::size_t>(std::min(4, static_cast<int>(std::abs(r) * 10.0)))];
           PairStats& p = per_pair[nl.satellite.toString() + "-" + nl.reference_satellite.toString()];
           ++p.n, p.sum += r, p.sum2 += r * r;
           PairStats& h = per_hour[static_cast<int>(hour)];
@@ -235,6 +245,10 @@ int main(int argc, char** argv) {
       fixed_enu.push_back(enu);
       if (enu.norm() > 0.10) ++wrong;
       if (enu.norm() > 0.10 && float_enu_now && float_enu_now->norm() > 0.10) ++wrong_float_too;
+      if (enu.norm() > 0.10 && float_enu_now && float_enu_now->norm() <= 0.10) ++wrong_float_good;
+      if (e.fix)
+        for (const SystemAmbiguitySummary& sys : e.fix->systems)
+          if (sys.held > 0) ++fixed_epochs_with_system[sys.system];
       if (float_enu_now && (enu - *float_enu_now).norm() > 0.05) ++moved;
       if (e.fix && e.fix->held_residual_dof > 0)
         t_over_m.push_back(e.fix->held_residual_statistic / e.fix->held_residual_dof);
@@ -248,20 +262,25 @@ int main(int argc, char** argv) {
     std::printf("solved %zu epochs, after the first hour %zu\n", solved, after);
     std::printf("float: %zu epochs > 10 cm after the first hour; RMS E/N/U about the mean %.2f / %.2f / %.2f cm\n",
                 float_wrong, 100 * rms_float.x(), 100 * rms_float.y(), 100 * rms_float.z());
-    std::printf("PPP-AR: first fix %s min; fixed after the first hour %zu (%.1f %%); fixed > 10 cm: %zu (float too: %zu); "
-                "moved > 5 cm from the float: %zu; fixed RMS E/N/U %.2f / %.2f / %.2f cm\n",
+    std::printf("PPP-AR: first fix %s min; fixed after the first hour %zu (%.1f %%); fixed > 10 cm: %zu (float too: %zu, "
+                "float within 10 cm: %zu); moved > 5 cm from the float: %zu; fixed RMS E/N/U %.2f / %.2f / %.2f cm\n",
                 first_fix_text.c_str(), fixed_after,
-                after ? 100.0 * static_cast<double>(fixed_after) / static_cast<double>(after) : 0.0, wrong, wrong_float_too, moved,
-                100 * rms_fixed.x(), 100 * rms_fixed.y(), 100 * rms_fixed.z());
+                after ? 100.0 * static_cast<double>(fixed_after) / static_cast<double>(after) : 0.0, wrong, wrong_float_too,
+                wrong_float_good, moved, 100 * rms_fixed.x(), 100 * rms_fixed.y(), 100 * rms_fixed.z());
+    for (const auto& [system, n] : fixed_epochs_with_system)
+      std::printf("  %s: integers held in %zu of the fixed epochs after the first hour\n",
+                  std::string(systemName(system)).c_str(), n);
     std::printf("held set T/m over the fixed epochs after the first hour: 10/50/90/99 %% = %.1f / %.1f / %.1f / %.1f\n",
                 quantile(t_over_m, 0.10), quantile(t_over_m, 0.50), quantile(t_over_m, 0.90),
                 quantile(t_over_m, 0.99));
-    const int total = bins[0] + bins[1] + bins[2] + bins[3] + bins[4];
-    std::printf("held NL |float - integer| (after the first hour, %d values) 0-0.1 / 0.1-0.2 / 0.2-0.3 / 0.3-0.4 / "
-                "0.4-0.5: %.1f / %.1f / %.1f / %.1f / %.1f %%\n",
-                total, 100.0 * bins[0] / std::max(1, total), 100.0 * bins[1] / std::max(1, total),
-                100.0 * bins[2] / std::max(1, total), 100.0 * bins[3] / std::max(1, total),
-                100.0 * bins[4] / std::max(1, total));
+    for (const auto& [system, b] : bins) {
+      const int total = b[0] + b[1] + b[2] + b[3] + b[4];
+      std::printf("held NL |float - integer| %s (after the first hour, %d values) 0-0.1 / 0.1-0.2 / 0.2-0.3 / 0.3-0.4 / "
+                  "0.4-0.5: %.1f / %.1f / %.1f / %.1f / %.1f %%\n",
+                  std::string(systemName(system)).c_str(), total, 100.0 * b[0] / std::max(1, total),
+                  100.0 * b[1] / std::max(1, total), 100.0 * b[2] / std::max(1, total),
+                  100.0 * b[3] / std::max(1, total), 100.0 * b[4] / std::max(1, total));
+    }
     std::printf("per single difference (held epochs, mean / RMS of float - integer [cycles]):\n");
     for (const auto& [pair, p] : per_pair)
       if (p.n >= 20)

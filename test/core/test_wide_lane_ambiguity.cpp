@@ -5,6 +5,7 @@
 // OSBs (clock-free wide lane fine; narrow lane refused by the product rule).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <iostream>
 #include <map>
@@ -143,9 +144,11 @@ struct RealWideLanes {
 /// Runs signal selection (with the dataset's OSBs), arc tracking and MW
 /// accumulation over a whole dataset; arcs are resolved at their end (all arcs
 /// kept, so that arcs ended by slips count too).
-RealWideLanes runRealWideLanes(const test::PppDataset& d) {
+RealWideLanes runRealWideLanes(const test::PppDataset& d, std::vector<GnssSystem> systems = {GnssSystem::GPS}) {
   test::LoadedDataset data(d);
-  SignalSelector selector(data.reader->header(), SignalSelectionOptions{}, data.biases.get());
+  SignalSelectionOptions selection;
+  selection.systems = std::move(systems);
+  SignalSelector selector(data.reader->header(), selection, data.biases.get());
   ArcTracker tracker;
   WideLaneResolver with_osb, without_osb;
   RealWideLanes out;
@@ -190,6 +193,14 @@ double rmsFraction(const WideLaneResolution& r) {
   return r.arcs.empty() ? 0.0 : std::sqrt(s / r.arcs.size());
 }
 
+double medianFraction(const WideLaneResolution& r) {
+  std::vector<double> v;
+  for (const auto& f : r.arcs) v.push_back(std::abs(f.fraction_cycles));
+  if (v.empty()) return 0.0;
+  std::sort(v.begin(), v.end());
+  return v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
+}
+
 TEST(WideLaneAmbiguity, RealCcj2WideLanesAreIntegersWithWumPhaseOsbs) {
   PPP_REQUIRE_SHARED_DATA();
   const RealWideLanes r = runRealWideLanes(test::ccj2Dataset());
@@ -208,6 +219,26 @@ TEST(WideLaneAmbiguity, RealCcj2WideLanesAreIntegersWithWumPhaseOsbs) {
   EXPECT_GE(shareWithin(r.with_osb, 0.2), 0.8);
   EXPECT_LT(rmsFraction(r.with_osb), 0.5 * rmsFraction(r.without_osb));
   EXPECT_GE(r.with_osb.fixedCount(), static_cast<int>(r.with_osb.arcs.size()) * 3 / 4);
+}
+
+// Galileo E1/E5a with the WUM phase OSBs (L1C/L1X, L5Q/L5X in the ABS.BIA):
+// the single differences between Galileo satellites sit at integers. Six
+// Galileo arcs in the hour; one (E19, measured 0.49 cycle off) is not near an
+// integer, so the median fraction is compared, not the RMS.
+TEST(WideLaneAmbiguity, RealCcj2GalileoWideLanesAreIntegersWithWumPhaseOsbs) {
+  PPP_REQUIRE_SHARED_DATA();
+  const RealWideLanes r = runRealWideLanes(test::ccj2Dataset(), {GnssSystem::Galileo});
+  std::cout << "CCJ2 Galileo WUM OSB: " << histogram(r.with_osb) << ", RMS fraction " << rmsFraction(r.with_osb)
+            << "\nCCJ2 Galileo no OSB: " << histogram(r.without_osb) << ", RMS fraction "
+            << rmsFraction(r.without_osb) << "\n";
+  for (const auto& f : r.with_osb.arcs)
+    std::cout << "  " << f.satellite.toString() << " arc " << f.arc << " WL " << f.float_cycles << " +- "
+              << f.sigma_cycles << (f.fixed ? " fixed " : " float ") << f.integer_cycles << "\n";
+  ASSERT_GE(r.with_osb.arcs.size(), 5u);
+  EXPECT_EQ(r.with_osb.reference_satellite.system, GnssSystem::Galileo);
+  EXPECT_GE(shareWithin(r.with_osb, 0.2), 0.8);
+  EXPECT_LT(medianFraction(r.with_osb), 0.5 * medianFraction(r.without_osb));
+  EXPECT_GE(r.with_osb.fixedCount(), 4);
 }
 
 TEST(WideLaneAmbiguity, RealZim2WideLanesWithCodeOsbsButNarrowLaneRefused) {
@@ -318,6 +349,126 @@ TEST(AmbiguityResolver, FixesSyntheticNarrowLanesAndConstrainsACopy) {
   EXPECT_EQ(summary.float_reason, AmbiguityFloatReason::NoConsistentPhaseBiases);
 }
 
+// GPS L1/L2 and Galileo E1/E5a together: each system has its own receiver
+// wide-lane and phase bias (different per system, as receiver hardware delays
+// and the inter-system clock difference are), so single differences are formed
+// within a system against that system's reference; the Galileo ones refer to a
+// Galileo satellite. Both resolve() and resolveAndHold() fix every arc but the
+// two references and put the within-system single differences on the truth.
+TEST(AmbiguityResolver, GpsAndGalileoEachHaveTheirOwnReference) {
+  constexpr double kE1 = 1575.42e6, kE5a = 1176.45e6;  // Galileo OS SIS ICD 2.1, table 2
+  struct Arc {
+    ArcId arc;
+    SatelliteId sat;
+    int n1, nwl;
+    double osb1_m, osb2_m;
+  };
+  const std::vector<Arc> arcs = {
+      {1, {GnssSystem::GPS, 3}, 12, 5, 0.031, -0.044},  {2, {GnssSystem::GPS, 7}, -40, 17, -0.12, 0.07},
+      {3, {GnssSystem::GPS, 11}, 7, -3, 0.2, 0.15},     {4, {GnssSystem::GPS, 19}, 101, 44, -0.05, -0.2},
+      {5, {GnssSystem::Galileo, 1}, 33, -8, 0.07, 0.02}, {6, {GnssSystem::Galileo, 4}, -17, 2, -0.09, 0.11},
+      {7, {GnssSystem::Galileo, 12}, 5, 13, 0.15, -0.06}, {8, {GnssSystem::Galileo, 26}, 61, -1, 0.0, 0.04}};
+  struct Receiver {
+    double f1_hz, f2_hz;
+    const char *c1, *c2, *l1, *l2;
+    double wl_cycles, phase_m;
+  };
+  const std::map<GnssSystem, Receiver> receiver = {
+      {GnssSystem::GPS, {kF1, kF2, "C1W", "C2W", "L1C", "L2W", 0.29, 0.4321}},
+      {GnssSystem::Galileo, {kE1, kE5a, "C1C", "C5Q", "L1C", "L5Q", -0.37, -1.7391}}};
+  TableBiases osb;
+  const int receiver_dim = 5, n = static_cast<int>(arcs.size());
+  Eigen::VectorXd truth(receiver_dim + n);
+  truth.head(receiver_dim) << 1.0, 2.0, 3.0, 0.1, 5.0;
+  for (int i = 0; i < n; ++i) {
+    const Arc& a = arcs[static_cast<std::size_t>(i)];
+    const Receiver& r = receiver.at(a.sat.system);
+    osb.table[{a.sat, r.l1}] = a.osb1_m;
+    osb.table[{a.sat, r.l2}] = a.osb2_m;
+    osb.table[{a.sat, r.c1}] = 0.0;
+    osb.table[{a.sat, r.c2}] = 0.0;
+    truth(receiver_dim + i) = ionosphereFreeAmbiguity_m(r.f1_hz, r.f2_hz, a.n1, a.nwl) +
+                              ionosphereFree(a.osb1_m, a.osb2_m, ionosphereFreeCoefficients(r.f1_hz, r.f2_hz)) +
+                              r.phase_m;
+  }
+  AmbiguityResolutionOptions opt;
+  opt.enabled = true;
+  opt.narrow_lane.min_fixed = 3;
+  AmbiguityResolver resolver(opt);
+  std::mt19937 rng(5);
+  std::normal_distribution<double> mw_noise(0.0, 0.2);
+  for (int k = 0; k < 60; ++k) {
+    std::vector<DualFrequencyObservation> obs;
+    std::vector<ArcId> ids;
+    for (const Arc& a : arcs) {
+      const Receiver& r = receiver.at(a.sat.system);
+      DualFrequencyObservation o;
+      o.satellite = a.sat;
+      o.code1 = *ObservationCode::parse(r.c1);
+      o.code2 = *ObservationCode::parse(r.c2);
+      o.phase1 = *ObservationCode::parse(r.l1);
+      o.phase2 = *ObservationCode::parse(r.l2);
+      o.frequency1_hz = r.f1_hz;
+      o.frequency2_hz = r.f2_hz;
+      const double range_m = 2.4e7 + 1000.0 * k;
+      o.code1_m = o.code2_m = range_m;
+      o.phase1_cycles = range_m * r.f1_hz / kSpeedOfLight_mps + a.n1 + a.osb1_m * r.f1_hz / kSpeedOfLight_mps +
+                        r.wl_cycles + mw_noise(rng);
+      o.phase2_cycles = range_m * r.f2_hz / kSpeedOfLight_mps + (a.n1 - a.nwl) + a.osb2_m * r.f2_hz / kSpeedOfLight_mps;
+      o.code1_osb_m = 0.0;
+      o.code2_osb_m = 0.0;
+      obs.push_back(o);
+      ids.push_back(a.arc);
+    }
+    resolver.addEpoch(obs, ids, &osb);
+  }
+  Eigen::MatrixXd P = Eigen::MatrixXd::Identity(receiver_dim + n, receiver_dim + n) * 1e-4;
+  P.topLeftCorner(receiver_dim, receiver_dim) *= 100.0;
+  P.bottomRightCorner(n, n) += Eigen::MatrixXd::Constant(n, n, 0.01);
+  std::vector<ArcId> bias_arcs;
+  for (const Arc& a : arcs) bias_arcs.push_back(a.arc);
+  const auto checkWithinSystems = [&](const AmbiguityFixedState& fixed, const char* what) {
+    for (int i = 0; i < n; ++i)
+      for (int j = 0; j < n; ++j) {
+        if (arcs[static_cast<std::size_t>(i)].sat.system != arcs[static_cast<std::size_t>(j)].sat.system) continue;
+        EXPECT_NEAR(fixed.x(receiver_dim + i) - fixed.x(receiver_dim + j),
+                    truth(receiver_dim + i) - truth(receiver_dim + j), 1e-6)
+            << what << ": arcs " << i + 1 << " " << j + 1;
+      }
+  };
+  AmbiguityFixSummary summary;
+  const auto fixed = resolver.resolve(truth, P, receiver_dim, bias_arcs, &osb, summary);
+  ASSERT_TRUE(fixed.has_value()) << summary.text();
+  EXPECT_EQ(summary.wide_lanes_fixed, n - 2);
+  EXPECT_EQ(summary.narrow_lanes_fixed, n - 2);
+  ASSERT_EQ(summary.systems.size(), 2u);
+  EXPECT_EQ(summary.systems[0].system, GnssSystem::GPS);
+  EXPECT_EQ(summary.systems[0].reference_satellite.system, GnssSystem::GPS);
+  EXPECT_EQ(summary.systems[1].system, GnssSystem::Galileo);
+  EXPECT_EQ(summary.systems[1].reference_satellite.system, GnssSystem::Galileo);
+  EXPECT_EQ(summary.systems[1].wide_lanes_fixed, 3);
+  checkWithinSystems(*fixed, "resolve");
+
+  // The same through validation and hold: every held single difference stays
+  // within its system, and each system's integers are held.
+  std::optional<AmbiguityFixedState> held;
+  for (int k = 0; k < 30 && !(held && resolver.heldCount() == n - 2); ++k)
+    held = resolver.resolveAndHold(truth, P, receiver_dim, bias_arcs, &osb, summary);
+  ASSERT_TRUE(held.has_value()) << summary.text();
+  EXPECT_EQ(resolver.heldCount(), n - 2);
+  int held_galileo = 0;
+  for (const NarrowLaneFloat& f : summary.narrow_lanes) {
+    EXPECT_EQ(f.satellite.system, f.reference_satellite.system) << f.satellite.toString();
+    if (f.held_cycles && f.satellite.system == GnssSystem::Galileo) ++held_galileo;
+  }
+  EXPECT_EQ(held_galileo, 3);
+  ASSERT_EQ(summary.systems.size(), 2u);
+  EXPECT_EQ(summary.systems[1].held, 3);
+  checkWithinSystems(*held, "resolveAndHold");
+  EXPECT_NE(summary.text().find(summary.systems[1].reference_satellite.toString()), std::string::npos)
+      << summary.text();
+}
+
 TEST(AmbiguityResolver, WrongIntegerConstraintIsVisibleAgainstTheFloatState) {
   // A deliberately wrong integer (one NL cycle, 10.7 cm) applied to a precise
   // float state moves it by far more than its sigma: the squared norm of the
@@ -357,14 +508,18 @@ TEST(ClockWideLaneBiases, ParsesGrgHeaderCommentsAndReportsMalformedOnes) {
       "FRAME TX (COM-COF) USED :      -6.1 mm",
       "WIDELANE SATELLITE FRACTIONNAL BIASES FOR GALILEO",
       "WL E01 2020   6 25 12  0  0.000000  1   -4.400000E-01  0105",
-      "WL G01 2020   6 25 12  0  0.000000  1   +1.200000E-01  0105",
-      "WL G02 2020   6 25"};
+      "WL G01 2020   6 25 12  0  0.000000  1   +1.200000E-01  0102",
+      "WL G02 2020   6 25",
+      "WL E02 2020   6 25 12  0  0.000000  1   +1.000000E-02  0107"};
   const ClockWideLaneBiases wl = parseClockWideLaneBiases(comments);
   ASSERT_EQ(wl.wide_lane_cycles.size(), 2u);
   EXPECT_DOUBLE_EQ(wl.wide_lane_cycles.at(*SatelliteId::parse("E01")), -0.44);
   EXPECT_DOUBLE_EQ(wl.wide_lane_cycles.at(*SatelliteId::parse("G01")), 0.12);
-  ASSERT_EQ(wl.problems.size(), 1u);
+  ASSERT_EQ(wl.problems.size(), 2u);
   EXPECT_NE(wl.problems[0].find("comment 5"), std::string::npos) << wl.problems[0];
+  // A Galileo wide lane of another pair (E1/E5b) is not the E1/E5a one used here.
+  EXPECT_NE(wl.problems[1].find("comment 6"), std::string::npos) << wl.problems[1];
+  EXPECT_NE(wl.problems[1].find("0105"), std::string::npos) << wl.problems[1];
 }
 
 // ESBC 2020-177 with the GRG integer-recovery clock file: the wide-lane
@@ -405,6 +560,83 @@ TEST(ClockWideLaneBiases, RealEsbcWideLanesAreIntegersWithGrgHeaderBiases) {
   EXPECT_GE(shareWithin(a, 0.2), 0.8);
   EXPECT_LT(rmsFraction(a), 0.5 * rmsFraction(b));
   EXPECT_LT(rmsFraction(a), 0.5 * rmsFraction(c));
+}
+
+// The same for Galileo E1/E5a (header lines "WL Ennn ... 0105"): the GRG
+// Galileo wide-lane biases with the GRG sign put the Galileo single differences
+// at integers.
+TEST(ClockWideLaneBiases, RealEsbcGalileoWideLanesAreIntegersWithGrgHeaderBiases) {
+  PPP_REQUIRE_SHARED_DATA();
+  const std::string clk = test::dataPath("esbc-2020-177/GRG0MGXFIN_20201770000_01D_30S_CLK.CLK.gz");
+  RinexClockReadOptions clock_options;
+  clock_options.keep_receiver_clocks = false;
+  const ClockWideLaneBiases parsed = parseClockWideLaneBiases(readRinexClock(clk, clock_options).header.comments);
+  EXPECT_TRUE(parsed.problems.empty());
+  int galileo = 0;
+  for (const auto& [sat, w] : parsed.wide_lane_cycles) galileo += sat.system == GnssSystem::Galileo ? 1 : 0;
+  ASSERT_GE(galileo, 20);
+  const ClockWideLaneBiasProvider grg(parsed.wide_lane_cycles, "GRG"), flipped(parsed.wide_lane_cycles, "GRG", 1.0);
+  auto reader = RinexObsReader::open(test::dataPath("esbc-2020-177/ESBC00DNK_R_20201770000_01D_30S_MO.crx.gz"));
+  SignalSelectionOptions selection;
+  selection.systems = {GnssSystem::Galileo};
+  SignalSelector selector(reader.header(), selection, nullptr);
+  ArcTracker tracker;
+  WideLaneResolver with_grg, with_flipped, without;
+  ObsEpoch epoch;
+  while (reader.next(epoch)) {
+    const SignalSelectionResult sel = selector.select(epoch);
+    const ArcEpochResult arcs = tracker.process(epoch.time, sel.observations);
+    if (!arcs.accepted) continue;
+    for (std::size_t i = 0; i < arcs.satellites.size(); ++i) {
+      const auto& s = arcs.satellites[i];
+      if (!s.usable || s.arc == 0) continue;
+      const auto& o = sel.observations[i];
+      if (with_grg.add(s.arc, o, &grg) != WideLaneBiasIssue::None) continue;
+      with_flipped.add(s.arc, o, &flipped);
+      without.addValue(s.arc, o.satellite, melbourneWuebbena_cycles(o));
+    }
+  }
+  const WideLaneResolution a = with_grg.resolve(), b = with_flipped.resolve(), c = without.resolve();
+  std::cout << "ESBC Galileo GRG WL (added): " << histogram(a) << "\nESBC Galileo GRG WL (subtracted): "
+            << histogram(b) << "\nESBC Galileo no WL bias: " << histogram(c) << "\n";
+  ASSERT_GE(a.arcs.size(), 15u);
+  EXPECT_EQ(a.reference_satellite.system, GnssSystem::Galileo);
+  EXPECT_GE(shareWithin(a, 0.2), 0.8);
+  EXPECT_LT(rmsFraction(a), 0.5 * rmsFraction(b));
+  EXPECT_LT(rmsFraction(a), 0.5 * rmsFraction(c));
+}
+
+TEST(ClockWideLaneBiases, GalileoE1E5aPhaseBiasesMoveOnlyTheWideLane) {
+  constexpr double kE1 = 1575.42e6, kE5a = 1176.45e6;  // Galileo OS SIS ICD 2.1, table 2
+  const SatelliteId e11 = *SatelliteId::parse("E11");
+  const double w = -0.21;
+  const ClockWideLaneBiasProvider p({{e11, w}}, "GRG test");
+  const GnssTime t;
+  const auto b1 = p.phaseBias(e11, *ObservationCode::parse("L1C"), t).value_m;
+  const auto b5 = p.phaseBias(e11, *ObservationCode::parse("L5Q"), t).value_m;
+  ASSERT_TRUE(b1 && b5);
+  EXPECT_NEAR((kE1 * kE1 * *b1 - kE5a * kE5a * *b5) / (kE1 * kE1 - kE5a * kE5a), 0.0, 1e-12);
+  // E5b is not the pair of the header's Galileo wide lanes (0105).
+  EXPECT_FALSE(p.phaseBias(e11, *ObservationCode::parse("L7Q"), t).value_m);
+  EXPECT_EQ(p.codeBias(e11, *ObservationCode::parse("C1C"), t).value_m, std::optional<double>(0.0));
+  EXPECT_EQ(p.codeBias(e11, *ObservationCode::parse("C5Q"), t).value_m, std::optional<double>(0.0));
+  EXPECT_FALSE(p.codeBias(e11, *ObservationCode::parse("C7Q"), t).value_m);
+  // MW of clean E1/E5a observations with N1 - N5 = 9 moves by +w (GRG sign).
+  DualFrequencyObservation o;
+  o.satellite = e11;
+  o.code1 = *ObservationCode::parse("C1C");
+  o.code2 = *ObservationCode::parse("C5Q");
+  o.phase1 = *ObservationCode::parse("L1C");
+  o.phase2 = *ObservationCode::parse("L5Q");
+  o.frequency1_hz = kE1;
+  o.frequency2_hz = kE5a;
+  const double range_m = 2.5e7;
+  o.code1_m = o.code2_m = range_m;
+  o.phase1_cycles = range_m * kE1 / kSpeedOfLight_mps + 20;
+  o.phase2_cycles = range_m * kE5a / kSpeedOfLight_mps + 11;
+  const CorrectedMelbourneWuebbena mw = correctedMelbourneWuebbena(o, &p);
+  ASSERT_TRUE(mw.mw_cycles) << toString(mw.issue);
+  EXPECT_NEAR(*mw.mw_cycles, 9.0 + w, 1e-6);
 }
 
 TEST(ClockWideLaneBiases, PhaseBiasesMoveOnlyTheWideLaneNotTheIonosphereFreeClock) {

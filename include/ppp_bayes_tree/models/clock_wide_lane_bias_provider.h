@@ -13,15 +13,32 @@
 // ionosphere-free combination is zero (f1^2 b1 = f2^2 b2: the clocks already
 // hold it) and whose Melbourne-Wuebbena phase part (f1 b1 - f2 b2)/(f1 - f2) is
 // sign * w * lambda_wl. The code biases are zero for the clocks' reference codes
-// (P1/P2: C1W/C2W, "SYS / DCBS APPLIED" P1C1) and absent for the others.
-// GPS only (the shared ANTEX holds GPS satellites only).
+// and absent for the others.
+//
+// The frequency pair and reference codes per system (the GRG header names the
+// pair in the last field of each line: "0102" GPS L1/L2, "0105" Galileo E1/E5a):
+//   GPS      L1/L2   codes C1W/C2W (P1/P2; "SYS / DCBS APPLIED" P1C1)
+//   Galileo  E1/E5a  codes C1C/C5Q (or the combined C1X/C5X)
+// A line whose pair differs from its system's (e.g. Galileo E1/E5b) is reported
+// as a problem and not used.
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "ppp_bayes_tree/models/bias_provider.h"
 
 namespace ppp {
+
+/// The signals a system's integer-recovery clock wide-lane bias refers to.
+struct ClockWideLaneSignals {
+  GnssSystem system = GnssSystem::GPS;
+  char band1 = '1', band2 = '2';
+  std::string code_attributes1, code_attributes2;  // the clocks' reference codes
+  std::string header_pair;                         // the header's frequency field, e.g. "0102"
+};
+/// The table above; nullopt for a system without integer-recovery wide lanes here.
+std::optional<ClockWideLaneSignals> clockWideLaneSignals(GnssSystem system);
 
 struct ClockWideLaneBiases {
   std::map<SatelliteId, double> wide_lane_cycles;

@@ -6,14 +6,18 @@
 // Per epoch:
 //  1. Wide lane: Melbourne-Wuebbena means per arc with the satellite OSBs
 //     removed, single-differenced against a reference arc and fixed by rounding
-//     (wide_lane_ambiguity.h).
+//     (wide_lane_ambiguity.h). One reference arc PER SYSTEM: each system has
+//     its own receiver clock, code and phase biases (GPS L1/L2, Galileo E1/E5a
+//     differ in frequencies and hardware), so a single difference between
+//     satellites of two systems is not an integer; the wide and narrow lanes of
+//     every system are single-differenced within that system only.
 //  2. Narrow lane: with the OSB-corrected IF bias B'_s = B_s - b_s (b_s the IF
 //     combination of the satellite's phase OSBs of the selected phases) and the
 //     IF ambiguity written as lambda_NL N1 + c f2 / (f1^2 - f2^2) N_WL
 //     (models/ionosphere_free.h), the between-satellite single difference
 //         dN1_s = (B'_s - B'_ref - k_WL dN_WL_s) / lambda_NL
 //     is a float integer free of the receiver biases (the receiver clock and
-//     the receiver phase bias are common to all satellites and cancel; this is
+//     the receiver phase bias are common to all satellites of a system and cancel; this is
 //     why single differences against a reference arc are fixed, not undifferenced
 //     ambiguities). The reference arc is the wide lane's. dN1 is linear in the
 //     filter state, dN1 = D x - o, so its covariance is D P D^T.
@@ -165,6 +169,17 @@ struct AmbiguityRelease {
   double departure_cycles = 0.0;  // float - held (FloatDeparted)
 };
 
+/// One system's part of an epoch's ambiguity resolution (each system has its
+/// own reference arc).
+struct SystemAmbiguitySummary {
+  GnssSystem system = GnssSystem::GPS;
+  SatelliteId reference_satellite;
+  int wide_lane_candidates = 0;
+  int wide_lanes_fixed = 0;
+  int narrow_lane_candidates = 0;  // resolveAndHold: offered to the search
+  int held = 0;                    // resolveAndHold: integers held after this epoch
+};
+
 /// What one epoch's ambiguity resolution did (diagnostics, CSV, summaries).
 struct AmbiguityFixSummary {
   AmbiguityFloatReason float_reason = AmbiguityFloatReason::Disabled;
@@ -175,7 +190,10 @@ struct AmbiguityFixSummary {
   int narrow_lanes_fixed = 0;      // integer constraints applied
   double ratio = 0.0;
   double bootstrap_success_rate = 0.0;
+  /// The reference of the first system with one (GPS before Galileo); every
+  /// system's reference is in `systems`.
   std::optional<SatelliteId> reference_satellite;
+  std::vector<SystemAmbiguitySummary> systems;  // the systems with a wide-lane reference this epoch
   double search_time_s = 0.0;  // decorrelation + search + validation
   // resolveAndHold() only:
   std::vector<NarrowLaneFloat> narrow_lanes;  // this epoch's single differences
@@ -188,7 +206,7 @@ struct AmbiguityFixSummary {
   int held_residual_dof = 0;
   std::vector<AmbiguityRelease> released;     // released this epoch
   bool fixed() const { return float_reason == AmbiguityFloatReason::None; }
-  /// "fixed 7/9 ratio 5.3 (ref G22)" or "float: ratio test failed (ratio 1.8)".
+  /// "fixed 7/9 ratio 5.3 (ref G22 E05, WL 8/9)" or "float: ratio test failed (ratio 1.8)".
   std::string text() const;
 };
 
@@ -269,6 +287,13 @@ class AmbiguityResolver {
   /// observation or no phase bias).
   std::optional<PairRow> rowOf(const PairKey& key, int dim, const std::map<ArcId, int>& slot,
                                const BiasProvider* biases) const;
+  /// The wide lanes of each system among the `slot` arcs against that system's
+  /// best-determined arc (resolve()).
+  std::vector<WideLaneResolution> wideLanesPerSystem(const std::map<ArcId, int>& slot) const;
+  /// The same, keeping each system's reference of the last epoch while it is
+  /// eligible and fixes as many wide lanes (resolveAndHold()).
+  std::vector<WideLaneResolution> wideLanesPerSystemKeepingReferences(const std::map<ArcId, int>& slot);
+  std::optional<GnssSystem> systemOf(ArcId arc) const;
 
   AmbiguityResolutionOptions options_;
   WideLaneResolver wide_lane_{options_.wide_lane};
@@ -276,7 +301,7 @@ class AmbiguityResolver {
   std::map<PairKey, std::vector<double>> float_history_;  // recent float dN1 per pair
   std::map<PairKey, Pending> pending_;
   std::map<PairKey, long> held_;
-  std::optional<ArcId> reference_arc_;  // kept while eligible
+  std::map<GnssSystem, ArcId> reference_arcs_;  // one per system, kept while eligible
   long releases_total_ = 0;
 };
 

@@ -8,6 +8,16 @@
 
 namespace ppp {
 
+std::optional<ClockWideLaneSignals> clockWideLaneSignals(GnssSystem system) {
+  static const ClockWideLaneSignals kTable[] = {
+      {GnssSystem::GPS, '1', '2', "WP", "WP", "0102"},
+      {GnssSystem::Galileo, '1', '5', "CX", "QX", "0105"},
+  };
+  for (const auto& row : kTable)
+    if (row.system == system) return row;
+  return std::nullopt;
+}
+
 ClockWideLaneBiases parseClockWideLaneBiases(const std::vector<std::string>& comments) {
   ClockWideLaneBiases out;
   for (std::size_t i = 0; i < comments.size(); ++i) {
@@ -27,6 +37,15 @@ ClockWideLaneBiases parseClockWideLaneBiases(const std::vector<std::string>& com
                              "\": not a wide-lane bias (WL sat date count value)");
       continue;
     }
+    std::string pair;  // optional frequency field ("0102", "0105")
+    in >> pair;
+    const auto signals = clockWideLaneSignals(sat->system);
+    if (!pair.empty() && signals && pair != signals->header_pair) {
+      out.problems.push_back("clock header comment " + std::to_string(i + 1) + " \"" + c + "\": frequency pair " +
+                             pair + " is not the " + std::string(systemName(sat->system)) + " pair " +
+                             signals->header_pair);
+      continue;
+    }
     out.wide_lane_cycles[*sat] = value;
   }
   return out;
@@ -43,8 +62,11 @@ BiasAnswer absent(const GnssTime& t) {
 
 BiasAnswer ClockWideLaneBiasProvider::codeBias(const SatelliteId& sat, const ObservationCode& code,
                                                const GnssTime& t) const {
-  if (sat.system != GnssSystem::GPS || !wide_lane_cycles_.count(sat)) return absent(t);
-  const bool reference = (code.band == '1' || code.band == '2') && (code.attribute == 'W' || code.attribute == 'P');
+  const auto signals = clockWideLaneSignals(sat.system);
+  if (!signals || !wide_lane_cycles_.count(sat)) return absent(t);
+  const bool reference =
+      (code.band == signals->band1 && signals->code_attributes1.find(code.attribute) != std::string::npos) ||
+      (code.band == signals->band2 && signals->code_attributes2.find(code.attribute) != std::string::npos);
   if (!reference) return absent(t);
   BiasAnswer a;
   a.value_m = 0.0;
@@ -54,13 +76,16 @@ BiasAnswer ClockWideLaneBiasProvider::codeBias(const SatelliteId& sat, const Obs
 BiasAnswer ClockWideLaneBiasProvider::phaseBias(const SatelliteId& sat, const ObservationCode& code,
                                                 const GnssTime& t) const {
   const auto w = wide_lane_cycles_.find(sat);
-  if (sat.system != GnssSystem::GPS || w == wide_lane_cycles_.end() || (code.band != '1' && code.band != '2'))
+  const auto signals = clockWideLaneSignals(sat.system);
+  if (!signals || w == wide_lane_cycles_.end() || (code.band != signals->band1 && code.band != signals->band2))
     return absent(t);
-  const double f1 = *carrierFrequency_hz(GnssSystem::GPS, '1'), f2 = *carrierFrequency_hz(GnssSystem::GPS, '2');
+  const auto f1_hz = carrierFrequency_hz(sat.system, signals->band1), f2_hz = carrierFrequency_hz(sat.system, signals->band2);
+  if (!f1_hz || !f2_hz) return absent(t);
+  const double f1 = *f1_hz, f2 = *f2_hz;
   // f1 b1 - f2 b2 = s w c and f1^2 b1 = f2^2 b2  =>  b1 = -s w c f2 / (f1 (f1 - f2)).
   const double b1_m = -sign_ * w->second * kSpeedOfLight_mps * f2 / (f1 * (f1 - f2));
   BiasAnswer a;
-  a.value_m = code.band == '1' ? b1_m : b1_m * f1 * f1 / (f2 * f2);
+  a.value_m = code.band == signals->band1 ? b1_m : b1_m * f1 * f1 / (f2 * f2);
   return a;
 }
 

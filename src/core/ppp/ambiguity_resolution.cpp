@@ -63,8 +63,10 @@ std::string toString(AmbiguityReleaseReason reason) {
 }
 
 std::string AmbiguityFixSummary::text() const {
-  char buf[160];
-  const std::string ref = reference_satellite ? reference_satellite->toString() : "-";
+  char buf[200];
+  std::string ref;
+  for (const SystemAmbiguitySummary& sys : systems) ref += (ref.empty() ? "" : " ") + sys.reference_satellite.toString();
+  if (ref.empty()) ref = reference_satellite ? reference_satellite->toString() : "-";
   if (fixed()) {
     std::snprintf(buf, sizeof buf, "fixed %d/%d ratio %.1f (ref %s, WL %d/%d)", narrow_lanes_fixed,
                   narrow_lane_candidates, ratio, ref.c_str(), wide_lanes_fixed, wide_lane_candidates);
@@ -178,6 +180,77 @@ std::optional<AmbiguityFixedState> applyIntegerConstraints(const Eigen::VectorXd
   return std::move(c->state);
 }
 
+std::optional<GnssSystem> AmbiguityResolver::systemOf(ArcId arc) const {
+  const auto m = wide_lane_.arcs().find(arc);
+  if (m == wide_lane_.arcs().end()) return std::nullopt;
+  return m->second.satellite.system;
+}
+
+namespace {
+
+/// The systems of the `slot` arcs with a wide-lane mean, in enum order (GPS first).
+template <typename SystemOf>
+std::vector<GnssSystem> systemsOfArcs(const std::map<ArcId, int>& slot, const SystemOf& system_of) {
+  std::vector<GnssSystem> systems;
+  for (const auto& [arc, index] : slot)
+    if (const std::optional<GnssSystem> sys = system_of(arc))
+      if (std::find(systems.begin(), systems.end(), *sys) == systems.end()) systems.push_back(*sys);
+  std::sort(systems.begin(), systems.end());
+  return systems;
+}
+
+/// Each system's reference and wide-lane counts into the summary.
+void recordWideLanes(const std::vector<WideLaneResolution>& per_system, AmbiguityFixSummary& summary) {
+  for (const WideLaneResolution& wl : per_system) {
+    SystemAmbiguitySummary sys;
+    sys.system = wl.reference_satellite.system;
+    sys.reference_satellite = wl.reference_satellite;
+    sys.wide_lane_candidates = static_cast<int>(wl.arcs.size());
+    sys.wide_lanes_fixed = wl.fixedCount();
+    summary.systems.push_back(sys);
+    summary.wide_lane_candidates += sys.wide_lane_candidates;
+    summary.wide_lanes_fixed += sys.wide_lanes_fixed;
+    if (!summary.reference_satellite) summary.reference_satellite = wl.reference_satellite;
+  }
+}
+
+}  // namespace
+
+std::vector<WideLaneResolution> AmbiguityResolver::wideLanesPerSystem(const std::map<ArcId, int>& slot) const {
+  std::vector<WideLaneResolution> out;
+  for (const GnssSystem system : systemsOfArcs(slot, [&](ArcId a) { return systemOf(a); })) {
+    WideLaneResolution wl =
+        wide_lane_.resolve([&](ArcId arc) { return slot.count(arc) > 0 && systemOf(arc) == system; });
+    if (wl.reference_arc) out.push_back(std::move(wl));
+  }
+  return out;
+}
+
+std::vector<WideLaneResolution> AmbiguityResolver::wideLanesPerSystemKeepingReferences(
+    const std::map<ArcId, int>& slot) {
+  std::vector<WideLaneResolution> out;
+  std::map<GnssSystem, ArcId> kept_references;
+  for (const GnssSystem system : systemsOfArcs(slot, [&](ArcId a) { return systemOf(a); })) {
+    const auto eligible = [&](ArcId arc) { return slot.count(arc) > 0 && systemOf(arc) == system; };
+    // The reference is kept while it stays eligible, so that the float history
+    // and the validation of its single differences go on. It gives way to the
+    // best-determined arc when that fixes more wide lanes (a reference whose own
+    // wide-lane bias is off leaves its pairs unfixed).
+    WideLaneResolution wl = wide_lane_.resolve(eligible);
+    const auto previous = reference_arcs_.find(system);
+    if (previous != reference_arcs_.end() && eligible(previous->second) && wl.reference_arc &&
+        *wl.reference_arc != previous->second) {
+      WideLaneResolution kept = wide_lane_.resolveAgainst(previous->second, eligible);
+      if (kept.reference_arc && kept.fixedCount() >= wl.fixedCount()) wl = std::move(kept);
+    }
+    if (!wl.reference_arc) continue;
+    kept_references[system] = *wl.reference_arc;
+    out.push_back(std::move(wl));
+  }
+  reference_arcs_ = std::move(kept_references);
+  return out;
+}
+
 std::optional<AmbiguityFixedState> AmbiguityResolver::resolve(const Eigen::VectorXd& x, const Eigen::MatrixXd& P,
                                                               int receiver_dim, const std::vector<ArcId>& bias_arcs,
                                                               const BiasProvider* biases,
@@ -197,51 +270,22 @@ std::optional<AmbiguityFixedState> AmbiguityResolver::resolve(const Eigen::Vecto
   std::map<ArcId, int> slot;
   for (std::size_t i = 0; i < bias_arcs.size(); ++i)
     if (highEnough(bias_arcs[i])) slot[bias_arcs[i]] = receiver_dim + static_cast<int>(i);
-  const WideLaneResolution wl = wide_lane_.resolve([&](ArcId arc) { return slot.count(arc) > 0; });
-  if (!wl.reference_arc) {
-    summary.float_reason = AmbiguityFloatReason::NoWideLaneReference;
-    return std::nullopt;
-  }
-  summary.reference_satellite = wl.reference_satellite;
-  summary.wide_lane_candidates = static_cast<int>(wl.arcs.size());
-  summary.wide_lanes_fixed = wl.fixedCount();
-
-  const auto ref_slot = slot.find(*wl.reference_arc);
-  const auto ref_obs = last_observation_.find(*wl.reference_arc);
-  if (ref_slot == slot.end() || ref_obs == last_observation_.end()) {
-    summary.float_reason = AmbiguityFloatReason::NoWideLaneReference;
-    return std::nullopt;
-  }
-  // IF combination of an arc's satellite phase OSBs [m]; nullopt when missing.
-  auto ifPhaseBias = [&](const DualFrequencyObservation& o) -> std::optional<double> {
-    const BiasAnswer b1 = biases->phaseBias(o.satellite, o.phase1, o.time);
-    const BiasAnswer b2 = biases->phaseBias(o.satellite, o.phase2, o.time);
-    if (!b1.value_m || !b2.value_m) return std::nullopt;
-    return ionosphereFree(*b1.value_m, *b2.value_m, ionosphereFreeCoefficients(o.frequency1_hz, o.frequency2_hz));
-  };
-  const auto b_ref = ifPhaseBias(ref_obs->second);
-  if (!b_ref) {
-    summary.float_reason = AmbiguityFloatReason::NoWideLaneReference;
-    return std::nullopt;
-  }
+  const std::vector<WideLaneResolution> per_system = wideLanesPerSystem(slot);
+  recordWideLanes(per_system, summary);
   const int dim = static_cast<int>(x.size());
   std::vector<Eigen::RowVectorXd> rows;
   std::vector<double> offsets;
-  for (const WideLaneFix& f : wl.arcs) {
-    if (!f.fixed) continue;
-    const auto s = slot.find(f.arc);
-    const auto o = last_observation_.find(f.arc);
-    if (s == slot.end() || o == last_observation_.end()) continue;
-    const auto b = ifPhaseBias(o->second);
-    if (!b) continue;
-    const double f1 = o->second.frequency1_hz, f2 = o->second.frequency2_hz;
-    const double lambda_nl = narrowLaneWavelength_m(f1, f2);
-    const double k_wl = ionosphereFreeAmbiguity_m(f1, f2, 0.0, 1.0);
-    Eigen::RowVectorXd row = Eigen::RowVectorXd::Zero(dim);
-    row(s->second) = 1.0 / lambda_nl;
-    row(ref_slot->second) = -1.0 / lambda_nl;
-    rows.push_back(row);
-    offsets.push_back((*b - *b_ref + k_wl * static_cast<double>(f.integer_cycles)) / lambda_nl);
+  for (const WideLaneResolution& wl : per_system)
+    for (const WideLaneFix& f : wl.arcs) {
+      if (!f.fixed) continue;
+      const auto row = rowOf(PairKey{f.arc, *wl.reference_arc, f.integer_cycles}, dim, slot, biases);
+      if (!row) continue;
+      rows.push_back(row->d);
+      offsets.push_back(row->offset);
+    }
+  if (per_system.empty()) {
+    summary.float_reason = AmbiguityFloatReason::NoWideLaneReference;
+    return std::nullopt;
   }
   const int m = static_cast<int>(rows.size());
   summary.narrow_lane_candidates = m;
@@ -451,23 +495,9 @@ std::optional<AmbiguityFixedState> AmbiguityResolver::resolveAndHold(const Eigen
     summary.narrow_lanes.push_back(f);
   }
 
-  // New candidates: wide-lane fixed arcs against this epoch's reference.
-  // The reference is kept while it stays eligible, so that the float history
-  // and the validation of its single differences go on.
-  const auto eligible = [&](ArcId arc) { return slot.count(arc) > 0; };
-  // It gives way to the best-determined arc when that fixes more wide lanes (a
-  // reference whose own wide-lane bias is off leaves its pairs unfixed).
-  WideLaneResolution wl = wide_lane_.resolve(eligible);
-  if (reference_arc_ && slot.count(*reference_arc_) && wl.reference_arc && *wl.reference_arc != *reference_arc_) {
-    WideLaneResolution kept = wide_lane_.resolveAgainst(*reference_arc_, eligible);
-    if (kept.reference_arc && kept.fixedCount() >= wl.fixedCount()) wl = std::move(kept);
-  }
-  reference_arc_ = wl.reference_arc;
-  if (wl.reference_arc) {
-    summary.reference_satellite = wl.reference_satellite;
-    summary.wide_lane_candidates = static_cast<int>(wl.arcs.size());
-    summary.wide_lanes_fixed = wl.fixedCount();
-  }
+  // New candidates: wide-lane fixed arcs against this epoch's reference of their system.
+  const std::vector<WideLaneResolution> per_system = wideLanesPerSystemKeepingReferences(slot);
+  recordWideLanes(per_system, summary);
   // A float further from an integer than both max_fraction_cycles and
   // kGateSigmas of its own sigma carries an error its covariance does not
   // hold (an imprecise float is left to the search's success rate and ratio test).
@@ -479,7 +509,8 @@ std::optional<AmbiguityFixedState> AmbiguityResolver::resolveAndHold(const Eigen
   std::vector<double> candidate_sigma;  // conditioned on the held integers [cycles]
   int gated = 0;  // steady floats refused by the candidate gate
   std::map<PairKey, bool> seen;
-  if (wl.reference_arc) {
+  for (std::size_t si = 0; si < per_system.size(); ++si) {
+    const WideLaneResolution& wl = per_system[si];
     for (const WideLaneFix& f : wl.arcs) {
       if (!f.fixed) continue;
       const PairKey key{f.arc, *wl.reference_arc, f.integer_cycles};
@@ -504,6 +535,7 @@ std::optional<AmbiguityFixedState> AmbiguityResolver::resolveAndHold(const Eigen
       }
       candidates.push_back(*row);
       candidate_sigma.push_back(conditioned_sigma);
+      ++summary.systems[si].narrow_lane_candidates;
     }
   }
   for (auto it = float_history_.begin(); it != float_history_.end();)
@@ -574,6 +606,10 @@ std::optional<AmbiguityFixedState> AmbiguityResolver::resolveAndHold(const Eigen
     }
   }
   summary.held = static_cast<int>(held_rows.size());
+  for (SystemAmbiguitySummary& sys : summary.systems)
+    sys.held = static_cast<int>(std::count_if(held_rows.begin(), held_rows.end(), [&](const PairRow& r) {
+      return r.satellite.system == sys.system;
+    }));
   for (auto& f : summary.narrow_lanes)
     if (!f.held_cycles) {
       const auto h = held_.find(PairKey{f.arc, f.reference_arc, f.wide_lane_cycles});
@@ -581,7 +617,7 @@ std::optional<AmbiguityFixedState> AmbiguityResolver::resolveAndHold(const Eigen
     }
   if (summary.held < options_.narrow_lane.min_fixed) {
     summary.float_reason = summary.held > 0 || !pending_.empty() ? AmbiguityFloatReason::Validating
-                           : !wl.reference_arc                   ? AmbiguityFloatReason::NoWideLaneReference
+                           : per_system.empty()                  ? AmbiguityFloatReason::NoWideLaneReference
                            : candidates.empty() && gated > 0     ? AmbiguityFloatReason::FloatsOffInteger
                            : candidates.empty() && !summary.narrow_lanes.empty() ? AmbiguityFloatReason::FloatsDrifting
                            : candidates.empty()                  ? AmbiguityFloatReason::TooFewWideLanes
