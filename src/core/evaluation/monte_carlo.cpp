@@ -111,30 +111,6 @@ class BiasSampler {
   std::map<ArcId, ArcRecord> arcs_;
 };
 
-/// An estimator that passes every call on and keeps the last epoch's
-/// ambiguity-resolution summary (the pipeline's records do not carry it).
-class FixRecordingEstimator : public EpochEstimator {
- public:
-  explicit FixRecordingEstimator(EpochEstimator& inner) : inner_(inner) {}
-  std::string name() const override { return inner_.name(); }
-  void setApproximatePosition(const Eigen::Vector3d& position_ecef_m) override {
-    inner_.setApproximatePosition(position_ecef_m);
-  }
-  EstimatorEpochResult processEpoch(const EstimatorEpochInput& input) override {
-    EstimatorEpochResult r = inner_.processEpoch(input);
-    last_fix_ = r.ambiguity_fix;
-    return r;
-  }
-  void arcsEnded(const std::vector<EndedArc>& ended) override { inner_.arcsEnded(ended); }
-  const PppEstimatorBase& core() const override { return inner_.core(); }
-  const SmoothedTrajectoryProvider* smoothing() const override { return inner_.smoothing(); }
-  const std::optional<AmbiguityFixSummary>& lastFix() const { return last_fix_; }
-
- private:
-  EpochEstimator& inner_;
-  std::optional<AmbiguityFixSummary> last_fix_;
-};
-
 /// Compares one estimator's held integers with the simulator's (HeldIntegerCheck
 /// in monte_carlo.h), epoch by epoch.
 class HeldIntegerChecker {
@@ -343,16 +319,15 @@ MonteCarloFlightRun runMonteCarloFlight(const MonteCarloOptions& options, int in
     {
       PppPipeline pipeline(memoryInputs(f, index), config);
       EkfEstimator ekf(config);
-      FixRecordingEstimator recording(ekf);
       BiasSampler sampler(f, options.bias_bin_s);
       HeldIntegerChecker checker(f);
       std::size_t k = 0;
-      pipeline.run(recording, [&](const PppEpochRecord& rec) {
+      pipeline.run(ekf, [&](const PppEpochRecord& rec) {
         run.error_3d_m[0][k] = error3d(f, k, rec.solution.position_ecef_m);
         run.fixed[0][k] = rec.solution.status == SolutionStatus::PppFixed ? 1 : 0;
         ekf_positions[k] = rec.solution.position_ecef_m;
         sampler.epoch(k, rec, [&](ArcId a) { return ekf.filter().biasEstimate_m(a); }, run.bias[0]);
-        checker.epoch(recording.lastFix(), run.fixed[0][k] != 0, sampler.arcs(), run.held_check[0]);
+        checker.epoch(ekf.lastResult().ambiguity_fix, run.fixed[0][k] != 0, sampler.arcs(), run.held_check[0]);
         ++k;
       });
     }

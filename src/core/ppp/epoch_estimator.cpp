@@ -10,9 +10,9 @@ EkfEstimator::EkfEstimator(const PppConfig& config)
 
 EstimatorEpochResult EkfEstimator::processEpoch(const EstimatorEpochInput& input) {
   if (input.ended_arcs) arcsEnded(*input.ended_arcs);
-  EstimatorEpochResult r = ekf_.processEpoch(input.time, *input.evaluate, input.evaluate_start);
-  if (ambiguity_.options().enabled) resolveAmbiguities(input, r);
-  return r;
+  last_ = ekf_.processEpoch(input.time, *input.evaluate, input.evaluate_start);
+  if (ambiguity_.options().enabled) resolveAmbiguities(input, last_);
+  return last_;
 }
 
 void EkfEstimator::resolveAmbiguities(const EstimatorEpochInput& input, EstimatorEpochResult& r) {
