@@ -46,7 +46,9 @@
 //     subset by precision as in Dong & Bock 1989 / Blewitt 1989's sequential
 //     fixing of the best-determined ambiguities first).
 //  7. Validation across epochs: a single difference's integer must come out
-//     the same in hold.validation_epochs consecutive searches before it is held.
+//     the same in hold.validation_epochs consecutive searches before it is held
+//     (hold.fast_validation_epochs when the accepted subset's bootstrapped
+//     success rate reaches hold.fast_validation_success_rate).
 //  8. Hold: held integers are applied every epoch (as exact conditioning of a
 //     copy of the float state, so the float filter stays free of them) and are
 //     not searched again. Each epoch every held single difference is compared
@@ -104,6 +106,15 @@ struct AmbiguityHoldOptions {
   double max_sigma_cycles = 1.0;
   /// Consecutive searches giving the same integer before it is held.
   int validation_epochs = 5;
+  /// Fewer of them for a well-determined subset: when the bootstrapped success
+  /// rate (Teunissen 1998, a sharp lower bound of the integer least-squares
+  /// success rate) of the subset the search accepted this epoch is at least
+  /// fast_validation_success_rate, its integers are held after
+  /// fast_validation_epochs consecutive equal searches (the success rate says
+  /// the integer is determined; the repetition still guards against a float
+  /// that jumps). 1 - 1e-5 and 2: measured on ESBC and CCJ2 (doc/ar_real_data.md).
+  double fast_validation_success_rate = 0.99999;
+  int fast_validation_epochs = 2;
   /// A held integer is released when its float (conditioned on the other held
   /// ones) departs by more than both of these.
   double release_cycles = 0.4;

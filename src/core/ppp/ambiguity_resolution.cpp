@@ -26,6 +26,9 @@ std::string AmbiguityResolutionOptions::validate() const {
   if (hold.consistency_epochs < 1) return "consistency_epochs must be >= 1";
   if (!(hold.max_float_spread_cycles > 0.0)) return "max_float_spread_cycles must be > 0";
   if (hold.validation_epochs < 1) return "validation_epochs must be >= 1";
+  if (hold.fast_validation_epochs < 1) return "fast_validation_epochs must be >= 1";
+  if (!(hold.fast_validation_success_rate >= 0.0 && hold.fast_validation_success_rate <= 1.0))
+    return "fast_validation_success_rate must be in [0, 1]";
   if (!(hold.release_cycles > 0.0 && hold.release_cycles <= 1.0)) return "release_cycles must be in (0, 1]";
   if (!(hold.release_sigma > 0.0)) return "release_sigma must be > 0";
   if (!(hold.max_fraction_cycles > 0.0 && hold.max_fraction_cycles <= 0.5))
@@ -584,7 +587,10 @@ std::optional<AmbiguityFixedState> AmbiguityResolver::resolveAndHold(const Eigen
   }
   summary.search_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 
-  // Validation across epochs.
+  // Validation across epochs (fewer epochs for a subset whose success rate says it is determined).
+  const int needed_epochs = !fixed_now.empty() && summary.bootstrap_success_rate >= ho.fast_validation_success_rate
+                                ? std::min(ho.fast_validation_epochs, ho.validation_epochs)
+                                : ho.validation_epochs;
   for (auto it = pending_.begin(); it != pending_.end();)
     it = fixed_now.count(it->first) ? std::next(it) : pending_.erase(it);
   for (const auto& [key, integer] : fixed_now) {
@@ -595,7 +601,7 @@ std::optional<AmbiguityFixedState> AmbiguityResolver::resolveAndHold(const Eigen
       p.integer = integer;
       p.count = 1;
     }
-    if (p.count >= ho.validation_epochs && components.join(key.arc, key.reference_arc)) {
+    if (p.count >= needed_epochs && components.join(key.arc, key.reference_arc)) {
       held_[key] = integer;
       ++summary.newly_held;
       pending_.erase(key);

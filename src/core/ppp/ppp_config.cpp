@@ -78,6 +78,9 @@ void readAmbiguityResolution(YamlSection s, AmbiguityResolutionOptions& o) {
   o.hold.max_float_spread_cycles =
       s.number("max_float_spread_cycles", o.hold.max_float_spread_cycles, Bound::Positive);
   o.hold.validation_epochs = s.integer("validation_epochs", o.hold.validation_epochs, 1);
+  o.hold.fast_validation_success_rate =
+      s.number("fast_validation_success_rate", o.hold.fast_validation_success_rate, Bound::NonNegative);
+  o.hold.fast_validation_epochs = s.integer("fast_validation_epochs", o.hold.fast_validation_epochs, 1);
   o.hold.release_cycles = s.number("release_cycles", o.hold.release_cycles, Bound::Positive);
   o.hold.max_fraction_cycles = s.number("narrow_lane_max_fraction_cycles", o.hold.max_fraction_cycles, Bound::Positive);
   o.hold.max_sigma_cycles = s.number("narrow_lane_max_sigma_cycles", o.hold.max_sigma_cycles, Bound::Positive);
