@@ -14,7 +14,7 @@
 #  * the per-estimator CSVs, the report JSON, the two PNG plots and the recorded bag exist;
 #  * the demo's roscore is gone after it exits (the exit trap stops it);
 #  * PPP-AR (the demo's default): on a longer simulated flight (survey, DEMO_AR_MIN
-#    min, GPS + Galileo with phase biases, replayed at 30x) every row of the
+#    min, GPS + Galileo with phase biases, replayed at 20x) every row of the
 #    table has a fixed share > 0 and a time to first fix, and the smoothed mean 3D
 #    error with AR is not worse (by more than 1 mm) than with float ambiguities
 #    (demo.sh --float) on the same flight;
@@ -67,7 +67,7 @@ DEMO_AR_MIN="${DEMO_AR_MIN:-12}"
 for mode in ar float; do
   extra=()
   [ "$mode" = float ] && extra=(--float)
-  timeout 240 "$REPO_DIR/scripts/demo.sh" --no-setup --profile survey --duration-min "$DEMO_AR_MIN" --rate 30 \
+  timeout 240 "$REPO_DIR/scripts/demo.sh" --no-setup --profile survey --duration-min "$DEMO_AR_MIN" --rate 20 \
     "${extra[@]}" --out "$WORK/$mode" > "$WORK/demo_$mode.log" 2>&1 \
     || fail+="demo.sh ($mode, survey $DEMO_AR_MIN min) exited non-zero ($(grep -m1 'ERROR' "$WORK/demo_$mode.log" || tail -1 "$WORK/demo_$mode.log")); "
 done
