@@ -181,6 +181,34 @@ TEST(AmbiguityHold, WrongIntegerIsHeldThenDetectedReleasedAndTheEstimateReturns)
   EXPECT_LT((fixed->x.head(3) - s.truth.head(3)).norm(), 1e-6);
 }
 
+// Fewer validation epochs for a subset whose bootstrapped success rate reaches
+// fast_validation_success_rate (here the floats sit on their integers, but the
+// subset's success rate is 0.68: the geometry part of the covariance); below
+// it, and with 1 (the default), validation_epochs.
+TEST(AmbiguityHold, HighSuccessRateSubsetIsHeldAfterFewerValidationEpochs) {
+  SyntheticProblem s;
+  const int rd = SyntheticProblem::receiver_dim;
+  const auto firstHeld = [&](double fast_success_rate) {
+    AmbiguityResolutionOptions opt;
+    opt.enabled = true;
+    opt.hold.fast_validation_success_rate = fast_success_rate;
+    opt.hold.fast_validation_epochs = 2;
+    AmbiguityResolver resolver(opt);
+    s.feedWideLanes(resolver, 60);
+    AmbiguityFixSummary summary;
+    for (int k = 0; k < 30; ++k) {
+      if (resolver.resolveAndHold(s.truth, s.P, rd, s.bias_arcs, &s.osb, summary)) {
+        return k;
+      }
+    }
+    return -1;
+  };
+  const AmbiguityHoldOptions defaults;
+  EXPECT_EQ(firstHeld(1.0), defaults.consistency_epochs - 1 + defaults.validation_epochs - 1);
+  EXPECT_EQ(firstHeld(0.9), defaults.consistency_epochs - 1 + defaults.validation_epochs - 1);
+  EXPECT_EQ(firstHeld(0.5), defaults.consistency_epochs - 1 + 2 - 1);
+}
+
 TEST(AmbiguityHold, HeldIntegersSurviveTheEndOfTheirReferenceArc) {
   // Five integers held against one reference arc; the reference arc ends. With
   // hold.rereference_on_arc_end the held set is re-expressed between the other
@@ -328,8 +356,8 @@ class RecordingEkf : public EpochEstimator {
   EkfEstimator ekf_;
 };
 
-TEST(AmbiguityHold, RealCcj2HeldNarrowLanesAreIntegersAcrossArcs) {
-  PPP_REQUIRE_SHARED_DATA();
+/// CCJ2's files (WUM products and phase OSBs, the dataset's ANTEX).
+PppInputFiles ccj2InputFiles() {
   const test::PppDataset d = test::ccj2Dataset();
   PppInputFiles files;
   files.obs = d.obs;
@@ -337,6 +365,144 @@ TEST(AmbiguityHold, RealCcj2HeldNarrowLanesAreIntegersAcrossArcs) {
   files.clk = d.clk;
   files.atx = d.atx;
   files.bias = d.bia;
+  return files;
+}
+
+/// An estimator (EkfEstimator or SmootherEstimator: both have resolver()) with
+/// a wrong integer injected at one epoch: the held Galileo narrow lane with the
+/// smallest sigma gets its integer + 1.
+template <typename Estimator>
+class Injecting : public EpochEstimator {
+ public:
+  Injecting(const PppConfig& c, int inject_at) : estimator_(c), inject_at_(inject_at) {}
+  std::string name() const override { return estimator_.name(); }
+  void setApproximatePosition(const Eigen::Vector3d& p) override { estimator_.setApproximatePosition(p); }
+  EstimatorEpochResult processEpoch(const EstimatorEpochInput& in) override {
+    EstimatorEpochResult r = estimator_.processEpoch(in);
+    if (r.ambiguity_fix && injected && !released_at)
+      for (const auto& rel : r.ambiguity_fix->released)
+        if (rel.arc == injected->arc && rel.reference_arc == injected->reference_arc) {
+          released_at = epoch_;
+          release = rel;
+        }
+    if (epoch_ == inject_at_ && r.ambiguity_fix) {
+      const NarrowLaneFloat* best = nullptr;
+      for (const auto& nl : r.ambiguity_fix->narrow_lanes)
+        if (nl.held_cycles && nl.satellite.system == GnssSystem::Galileo && (!best || nl.sigma_cycles < best->sigma_cycles))
+          best = &nl;
+      if (best) {
+        injected = *best;
+        estimator_.resolver().holdInteger(best->arc, best->reference_arc, best->wide_lane_cycles,
+                                          *best->held_cycles + 1);
+      }
+    }
+    ++epoch_;
+    return r;
+  }
+  void arcsEnded(const std::vector<EndedArc>& e) override { estimator_.arcsEnded(e); }
+  const PppEstimatorBase& core() const override { return estimator_.core(); }
+  std::optional<NarrowLaneFloat> injected;
+  std::optional<int> released_at;
+  std::optional<AmbiguityRelease> release;
+
+ private:
+  Estimator estimator_;
+  int inject_at_ = -1;
+  int epoch_ = 0;
+};
+
+struct InjectionOutcome {
+  std::vector<std::pair<std::optional<Eigen::Vector3d>, bool>> clean, wrong;  // filtered position, fixed
+  std::optional<NarrowLaneFloat> injected;
+  std::optional<int> released_at;
+  std::optional<AmbiguityRelease> release;
+};
+
+/// The clean run and the run with the injection of the same inputs.
+template <typename Estimator>
+InjectionOutcome runInjection(const PppInputFiles& files, const PppConfig& config, int inject_at) {
+  const auto run = [&](EpochEstimator& estimator) {
+    PppPipeline pipeline(files, config);
+    std::vector<std::pair<std::optional<Eigen::Vector3d>, bool>> out;
+    pipeline.run(estimator, [&](const PppEpochRecord& r) {
+      out.emplace_back(r.solution.position_ecef_m, r.solution.status == SolutionStatus::PppFixed);
+    });
+    return out;
+  };
+  Injecting<Estimator> clean(config, -1), wrong(config, inject_at);
+  InjectionOutcome o;
+  o.clean = run(clean);
+  o.wrong = run(wrong);
+  o.injected = wrong.injected;
+  o.released_at = wrong.released_at;
+  o.release = wrong.release;
+  if (o.injected)
+    std::cout << "injected " << o.injected->satellite.toString() << "-" << o.injected->reference_satellite.toString()
+              << " float " << o.injected->float_cycles << " sigma " << o.injected->sigma_cycles << " held "
+              << *o.injected->held_cycles << " -> " << *o.injected->held_cycles + 1 << "; released at epoch "
+              << (o.released_at ? std::to_string(*o.released_at) : std::string("never")) << "\n";
+  return o;
+}
+
+/// The injection released at the next epoch as departed by about a cycle, and
+/// the filtered solution within 1 cm of the clean run's from then on.
+void expectInjectionReleased(const InjectionOutcome& o, int inject_at, int min_fixed_after) {
+  ASSERT_EQ(o.clean.size(), o.wrong.size());
+  ASSERT_TRUE(o.injected.has_value()) << "no held Galileo integer at the injection epoch";
+  EXPECT_EQ(o.injected->reference_satellite.system, GnssSystem::Galileo);
+  ASSERT_TRUE(o.released_at.has_value());
+  EXPECT_EQ(*o.released_at, inject_at + 1);
+  EXPECT_EQ(o.release->reason, AmbiguityReleaseReason::FloatDeparted);
+  EXPECT_NEAR(std::abs(o.release->departure_cycles), 1.0, 0.3);
+  double worst_m = 0.0;
+  int fixed_after = 0;
+  for (std::size_t k = static_cast<std::size_t>(inject_at); k < o.clean.size(); ++k) {
+    if (!o.clean[k].first || !o.wrong[k].first) continue;
+    worst_m = std::max(worst_m, (*o.clean[k].first - *o.wrong[k].first).norm());
+    fixed_after += o.wrong[k].second ? 1 : 0;
+  }
+  std::cout << "largest |injected run - clean run| from the injection on: " << 100.0 * worst_m << " cm; fixed epochs "
+            << fixed_after << "\n";
+  EXPECT_LT(worst_m, 0.01);
+  EXPECT_GE(fixed_after, min_fixed_after);
+}
+
+// Wrong-fix injection on the EKF with GPS + Galileo (ESBC, GRG integer clocks
+// with their GPS and Galileo wide-lane biases, IGS14 satellite antennas as the
+// products): one held Galileo integer replaced by a wrong one (+1 narrow-lane
+// cycle) at 60 min is released at the next epoch (its float, conditioned on the
+// other held integers, departs by about a cycle) before it moves the fixed
+// solution; the solution stays within 1 cm of the clean run's.
+TEST(AmbiguityHold, RealEsbcGalileoWrongIntegerInjectedIntoTheEkfIsReleased) {
+  PPP_REQUIRE_SHARED_DATA();
+  PppInputFiles files = test::esbcGrgInputFiles();
+  files.atx = {test::dataPath("antex/igs14_2178_satellites.atx"), test::dataPath("antex/igs05_esbc_receiver_trim.atx")};
+  const PppConfig config = parsePppConfig(
+      "measurement_model:\n  signals:\n    systems: [GPS, Galileo]\nambiguity_resolution:\n  enabled: true\n",
+      "ESBC GPS + Galileo AR");
+  const int inject_at = 120;  // 60 min (30-s epochs)
+  expectInjectionReleased(runInjection<EkfEstimator>(files, config, inject_at), inject_at, 2000);
+}
+
+// The same on the smoother (the held integers are factors of its graph; the
+// released one's factor is removed, PppSmoother::updateFixes), on CCJ2 with
+// WUM clocks and phase OSBs, GPS + Galileo, injected at 40 min of the hour.
+TEST(AmbiguityHold, RealCcj2GalileoWrongIntegerInjectedIntoTheSmootherIsReleased) {
+  PPP_REQUIRE_SHARED_DATA();
+  PppInputFiles files = ccj2InputFiles();
+  files.atx = {test::dataPath("antex/igs14_2178_satellites.atx"), test::dataPath("antex/igs20_zim2_gps_trim.atx")};
+  const PppConfig config = parsePppConfig(
+      "measurement_model:\n  signals:\n    systems: [GPS, Galileo]\nambiguity_resolution:\n  enabled: true\n"
+      // WUM's IGS14_2148 satellite model; the receiver file holds IGS20 satellites too (not used).
+      "  allow_antenna_model_mismatch: true\n",
+      "CCJ2 GPS + Galileo AR");
+  const int inject_at = 80;  // 40 min
+  expectInjectionReleased(runInjection<SmootherEstimator>(files, config, inject_at), inject_at, 30);
+}
+
+TEST(AmbiguityHold, RealCcj2HeldNarrowLanesAreIntegersAcrossArcs) {
+  PPP_REQUIRE_SHARED_DATA();
+  const PppInputFiles files = ccj2InputFiles();
   // Static (no position process noise): the float position is then well
   // determined and the single differences show what the products and models
   // leave in them.

@@ -68,6 +68,16 @@ void expectSameConfig(const PppConfig& c, const PppConfig& d) {
   EXPECT_EQ(ca.wide_lane.min_samples, da.wide_lane.min_samples);
   EXPECT_EQ(ca.wide_lane.min_success_rate, da.wide_lane.min_success_rate);
   EXPECT_EQ(ca.wide_lane.max_fraction_cycles, da.wide_lane.max_fraction_cycles);
+  EXPECT_EQ(ca.hold.consistency_epochs, da.hold.consistency_epochs);
+  EXPECT_EQ(ca.hold.max_float_spread_cycles, da.hold.max_float_spread_cycles);
+  EXPECT_EQ(ca.hold.validation_epochs, da.hold.validation_epochs);
+  EXPECT_EQ(ca.hold.require_subset_success_rate, da.hold.require_subset_success_rate);
+  EXPECT_EQ(ca.hold.fast_validation_success_rate, da.hold.fast_validation_success_rate);
+  EXPECT_EQ(ca.hold.fast_validation_epochs, da.hold.fast_validation_epochs);
+  EXPECT_EQ(ca.hold.max_fraction_cycles, da.hold.max_fraction_cycles);
+  EXPECT_EQ(ca.hold.max_sigma_cycles, da.hold.max_sigma_cycles);
+  EXPECT_EQ(ca.hold.release_cycles, da.hold.release_cycles);
+  EXPECT_EQ(ca.hold.release_sigma, da.hold.release_sigma);
   // The file holds degrees: equal to the rounding of deg -> rad.
   EXPECT_NEAR(c.model.elevation_cutoff_rad, d.model.elevation_cutoff_rad, 1e-15);
   EXPECT_EQ(c.model.phase_sigma_zenith_m, d.model.phase_sigma_zenith_m);

@@ -522,63 +522,24 @@ TEST(ClockWideLaneBiases, ParsesGrgHeaderCommentsAndReportsMalformedOnes) {
   EXPECT_NE(wl.problems[1].find("0105"), std::string::npos) << wl.problems[1];
 }
 
-// ESBC 2020-177 with the GRG integer-recovery clock file: the wide-lane
-// satellite biases of its header, added to the Melbourne-Wuebbena means
-// (GRG sign), put the between-satellite single differences at integers; with
-// the opposite sign or without them the fractions spread.
-TEST(ClockWideLaneBiases, RealEsbcWideLanesAreIntegersWithGrgHeaderBiases) {
-  PPP_REQUIRE_SHARED_DATA();
-  const std::string clk = test::dataPath("esbc-2020-177/GRG0MGXFIN_20201770000_01D_30S_CLK.CLK.gz");
-  RinexClockReadOptions clock_options;
-  clock_options.keep_receiver_clocks = false;
-  const ClockWideLaneBiases parsed = parseClockWideLaneBiases(readRinexClock(clk, clock_options).header.comments);
-  EXPECT_TRUE(parsed.problems.empty());
-  ASSERT_GE(parsed.wide_lane_cycles.size(), 30u);
-  const ClockWideLaneBiasProvider grg(parsed.wide_lane_cycles, "GRG"), flipped(parsed.wide_lane_cycles, "GRG", 1.0);
-  auto reader = RinexObsReader::open(test::dataPath("esbc-2020-177/ESBC00DNK_R_20201770000_01D_30S_MO.crx.gz"));
-  SignalSelector selector(reader.header(), SignalSelectionOptions{}, nullptr);
-  ArcTracker tracker;
-  WideLaneResolver with_grg, with_flipped, without;
-  ObsEpoch epoch;
-  while (reader.next(epoch)) {
-    const SignalSelectionResult sel = selector.select(epoch);
-    const ArcEpochResult arcs = tracker.process(epoch.time, sel.observations);
-    if (!arcs.accepted) continue;
-    for (std::size_t i = 0; i < arcs.satellites.size(); ++i) {
-      const auto& s = arcs.satellites[i];
-      if (!s.usable || s.arc == 0) continue;
-      const auto& o = sel.observations[i];
-      if (with_grg.add(s.arc, o, &grg) != WideLaneBiasIssue::None) continue;
-      with_flipped.add(s.arc, o, &flipped);
-      without.addValue(s.arc, o.satellite, melbourneWuebbena_cycles(o));
-    }
-  }
-  const WideLaneResolution a = with_grg.resolve(), b = with_flipped.resolve(), c = without.resolve();
-  std::cout << "ESBC GRG WL (added): " << histogram(a) << "\nESBC GRG WL (subtracted): " << histogram(b)
-            << "\nESBC no WL bias: " << histogram(c) << "\n";
-  ASSERT_GE(a.arcs.size(), 20u);
-  EXPECT_GE(shareWithin(a, 0.2), 0.8);
-  EXPECT_LT(rmsFraction(a), 0.5 * rmsFraction(b));
-  EXPECT_LT(rmsFraction(a), 0.5 * rmsFraction(c));
-}
+/// ESBC 2020-177's wide lanes of `system` with the GRG clock header biases added
+/// (the GRG sign), subtracted, and without them; every arc resolved at the end.
+struct EsbcClockWideLanes {
+  ClockWideLaneBiases parsed;
+  WideLaneResolution added, subtracted, without;
+};
 
-// The same for Galileo E1/E5a (header lines "WL Ennn ... 0105"): the GRG
-// Galileo wide-lane biases with the GRG sign put the Galileo single differences
-// at integers.
-TEST(ClockWideLaneBiases, RealEsbcGalileoWideLanesAreIntegersWithGrgHeaderBiases) {
-  PPP_REQUIRE_SHARED_DATA();
+EsbcClockWideLanes runEsbcClockWideLanes(GnssSystem system) {
   const std::string clk = test::dataPath("esbc-2020-177/GRG0MGXFIN_20201770000_01D_30S_CLK.CLK.gz");
   RinexClockReadOptions clock_options;
   clock_options.keep_receiver_clocks = false;
-  const ClockWideLaneBiases parsed = parseClockWideLaneBiases(readRinexClock(clk, clock_options).header.comments);
-  EXPECT_TRUE(parsed.problems.empty());
-  int galileo = 0;
-  for (const auto& [sat, w] : parsed.wide_lane_cycles) galileo += sat.system == GnssSystem::Galileo ? 1 : 0;
-  ASSERT_GE(galileo, 20);
-  const ClockWideLaneBiasProvider grg(parsed.wide_lane_cycles, "GRG"), flipped(parsed.wide_lane_cycles, "GRG", 1.0);
+  EsbcClockWideLanes out;
+  out.parsed = parseClockWideLaneBiases(readRinexClock(clk, clock_options).header.comments);
+  const ClockWideLaneBiasProvider grg(out.parsed.wide_lane_cycles, "GRG"),
+      flipped(out.parsed.wide_lane_cycles, "GRG", 1.0);
   auto reader = RinexObsReader::open(test::dataPath("esbc-2020-177/ESBC00DNK_R_20201770000_01D_30S_MO.crx.gz"));
   SignalSelectionOptions selection;
-  selection.systems = {GnssSystem::Galileo};
+  selection.systems = {system};
   SignalSelector selector(reader.header(), selection, nullptr);
   ArcTracker tracker;
   WideLaneResolver with_grg, with_flipped, without;
@@ -596,14 +557,46 @@ TEST(ClockWideLaneBiases, RealEsbcGalileoWideLanesAreIntegersWithGrgHeaderBiases
       without.addValue(s.arc, o.satellite, melbourneWuebbena_cycles(o));
     }
   }
-  const WideLaneResolution a = with_grg.resolve(), b = with_flipped.resolve(), c = without.resolve();
-  std::cout << "ESBC Galileo GRG WL (added): " << histogram(a) << "\nESBC Galileo GRG WL (subtracted): "
-            << histogram(b) << "\nESBC Galileo no WL bias: " << histogram(c) << "\n";
-  ASSERT_GE(a.arcs.size(), 15u);
-  EXPECT_EQ(a.reference_satellite.system, GnssSystem::Galileo);
-  EXPECT_GE(shareWithin(a, 0.2), 0.8);
-  EXPECT_LT(rmsFraction(a), 0.5 * rmsFraction(b));
-  EXPECT_LT(rmsFraction(a), 0.5 * rmsFraction(c));
+  out.added = with_grg.resolve();
+  out.subtracted = with_flipped.resolve();
+  out.without = without.resolve();
+  const std::string name(systemName(system));
+  std::cout << "ESBC " << name << " GRG WL (added): " << histogram(out.added) << "\nESBC " << name
+            << " GRG WL (subtracted): " << histogram(out.subtracted) << "\nESBC " << name
+            << " no WL bias: " << histogram(out.without) << "\n";
+  return out;
+}
+
+// ESBC 2020-177 with the GRG integer-recovery clock file: the wide-lane
+// satellite biases of its header, added to the Melbourne-Wuebbena means
+// (GRG sign), put the between-satellite single differences at integers; with
+// the opposite sign or without them the fractions spread.
+TEST(ClockWideLaneBiases, RealEsbcWideLanesAreIntegersWithGrgHeaderBiases) {
+  PPP_REQUIRE_SHARED_DATA();
+  const EsbcClockWideLanes r = runEsbcClockWideLanes(GnssSystem::GPS);
+  EXPECT_TRUE(r.parsed.problems.empty());
+  ASSERT_GE(r.parsed.wide_lane_cycles.size(), 30u);
+  ASSERT_GE(r.added.arcs.size(), 20u);
+  EXPECT_GE(shareWithin(r.added, 0.2), 0.8);
+  EXPECT_LT(rmsFraction(r.added), 0.5 * rmsFraction(r.subtracted));
+  EXPECT_LT(rmsFraction(r.added), 0.5 * rmsFraction(r.without));
+}
+
+// The same for Galileo E1/E5a (header lines "WL Ennn ... 0105"): the GRG
+// Galileo wide-lane biases with the GRG sign put the Galileo single differences
+// at integers.
+TEST(ClockWideLaneBiases, RealEsbcGalileoWideLanesAreIntegersWithGrgHeaderBiases) {
+  PPP_REQUIRE_SHARED_DATA();
+  const EsbcClockWideLanes r = runEsbcClockWideLanes(GnssSystem::Galileo);
+  EXPECT_TRUE(r.parsed.problems.empty());
+  int galileo = 0;
+  for (const auto& [sat, w] : r.parsed.wide_lane_cycles) galileo += sat.system == GnssSystem::Galileo ? 1 : 0;
+  ASSERT_GE(galileo, 20);
+  ASSERT_GE(r.added.arcs.size(), 15u);
+  EXPECT_EQ(r.added.reference_satellite.system, GnssSystem::Galileo);
+  EXPECT_GE(shareWithin(r.added, 0.2), 0.8);
+  EXPECT_LT(rmsFraction(r.added), 0.5 * rmsFraction(r.subtracted));
+  EXPECT_LT(rmsFraction(r.added), 0.5 * rmsFraction(r.without));
 }
 
 TEST(ClockWideLaneBiases, GalileoE1E5aPhaseBiasesMoveOnlyTheWideLane) {

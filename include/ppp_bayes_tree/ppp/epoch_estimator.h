@@ -72,6 +72,8 @@ class EkfEstimator : public EpochEstimator {
   /// The last epoch's result (with its ambiguity summary), as SmootherEstimator's.
   const EstimatorEpochResult& lastResult() const { return last_; }
   void resolveAmbiguities(const EstimatorEpochInput& input, EstimatorEpochResult& r);
+  /// The resolver (e.g. to hold an integer restored after a restart).
+  AmbiguityResolver& resolver() { return ambiguity_; }
 
  private:
   EkfPpp ekf_;

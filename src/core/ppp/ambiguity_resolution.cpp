@@ -570,7 +570,13 @@ std::optional<AmbiguityFixedState> AmbiguityResolver::resolveAndHold(const Eigen
     io.min_fixed = n;
     const Eigen::VectorXd a_hat = D * xc - o;
     const Eigen::MatrixXd Q = D * Pc * D.transpose();
-    const IlsResult ils = solveIntegerLeastSquares(a_hat, Q, io);
+    IlsResult ils = solveIntegerLeastSquares(a_hat, Q, io);
+    if (ho.require_subset_success_rate && ils.isFixed() &&
+        ils.bootstrap_success_rate < options_.narrow_lane.min_success_rate) {
+      ils.fixed = 0;  // the ratio passed, but the subset is not determined well enough
+      ils.fixed_ambiguities.reset();
+      ils.float_reason = IlsFloatReason::LowSuccessRate;
+    }
     summary.ratio = ils.ratio;
     summary.bootstrap_success_rate = ils.bootstrap_success_rate;
     summary.ils_reason = ils.float_reason;
@@ -588,7 +594,8 @@ std::optional<AmbiguityFixedState> AmbiguityResolver::resolveAndHold(const Eigen
   summary.search_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 
   // Validation across epochs (fewer epochs for a subset whose success rate says it is determined).
-  const int needed_epochs = !fixed_now.empty() && summary.bootstrap_success_rate >= ho.fast_validation_success_rate
+  const int needed_epochs = !fixed_now.empty() && ho.fast_validation_success_rate < 1.0 &&
+                                    summary.bootstrap_success_rate >= ho.fast_validation_success_rate
                                 ? std::min(ho.fast_validation_epochs, ho.validation_epochs)
                                 : ho.validation_epochs;
   for (auto it = pending_.begin(); it != pending_.end();)

@@ -77,6 +77,8 @@ void readAmbiguityResolution(YamlSection s, AmbiguityResolutionOptions& o) {
   o.hold.consistency_epochs = s.integer("consistency_epochs", o.hold.consistency_epochs, 1);
   o.hold.max_float_spread_cycles =
       s.number("max_float_spread_cycles", o.hold.max_float_spread_cycles, Bound::Positive);
+  o.hold.require_subset_success_rate =
+      s.boolean("require_subset_success_rate", o.hold.require_subset_success_rate);
   o.hold.validation_epochs = s.integer("validation_epochs", o.hold.validation_epochs, 1);
   o.hold.fast_validation_success_rate =
       s.number("fast_validation_success_rate", o.hold.fast_validation_success_rate, Bound::NonNegative);
