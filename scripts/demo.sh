@@ -2,25 +2,30 @@
 # The main job (issue 7), on a fresh machine with no data given:
 #  1. installs what is missing (setup_deps.sh) and builds (build.sh);
 #  2. makes a replay bag: a simulated UAV flight (ppp_to_bag --simulate, with its
-#     truth trajectory), or your own files with --data DIR;
+#     truth trajectory; GPS + Galileo with integer ambiguities and the satellite
+#     phase biases published with the products, config/simulation_ar.yaml), or
+#     your own files with --data DIR;
 #  3. runs its own roscore (a free port), both nodes side by side and the bag
 #     replay: launch/compare.launch (ppp_ekf_node in ns ekf, ppp_smoother_node in
 #     ns smoother, one rosbag player);
 #  4. records the nodes' outputs (rosbag record of /ekf/ppp/* and /smoother/ppp/*);
 #  5. prints ONE comparison table (ppp_bag_report: EKF, smoother filtered and
 #     smoother smoothed against the truth, 3D error median/mean/sigma/max over all
-#     epochs and the first 15 min, time to stay below 10 / 5 cm, node update time
-#     median/p99, epochs processed/dropped);
+#     epochs and the first 15 min, time to stay below 10 / 5 cm, PPP-AR fixed
+#     share and time to first fix, node update time median/p99, epochs
+#     processed/dropped);
 #  6. writes per-estimator CSVs, the report JSON and the plots
 #     (scripts/plot_solutions.py) to results/ (git-ignored; or $PPP_DEMO_OUT).
 #
-#   ./scripts/demo.sh                       simulated survey flight (lawn-mower mapping lines), 25 min at 1 Hz, replayed at 15x
+#   ./scripts/demo.sh                       simulated survey flight (lawn-mower mapping lines), 25 min at 1 Hz, replayed at 15x,
+#                                           GPS + Galileo, both nodes with integer ambiguity resolution (PPP-AR)
+#   ./scripts/demo.sh --float               the same flight with float ambiguities (ambiguity_resolution.enabled false)
 #   ./scripts/demo.sh --rviz                the same with RViz (rviz/ppp.rviz; needs a display)
 #   ./scripts/demo.sh --data DIR [--atx F.atx]... [--truth X,Y,Z]
 #                                           your RINEX obs + SP3 + CLK (+ BIA) found in DIR by name
 #   ./scripts/demo.sh --offline [FILE...]   the offline flow: ppp_inspect + ppp_solve --estimator both
 #                                           on ZIM2 (../shared/data), or ppp_inspect on your files
-# Options: --profile loiter|survey|figure8|climb, --duration-min N, --seed S (simulation),
+# Options: --profile loiter|survey|figure8|climb, --duration-min N, --seed S, --float (simulation),
 #          --rate R (replay speed factor; default 15 simulated, 30 --data), --out DIR,
 #          --no-setup (skip setup_deps.sh/build.sh: already built).
 # Exits non-zero with a message when a step fails; roscore and the nodes are
@@ -32,7 +37,7 @@ source "$(dirname "${BASH_SOURCE[0]}")/common.sh"
 die() { echo "demo.sh: ERROR: $*" >&2; exit 1; }
 usage() { sed -n '2,/^set -euo/p' "$0" | sed '$d' | sed 's/^# \{0,1\}//'; exit "${1:-0}"; }
 
-MODE=simulated DATA="" RVIZ=false RATE="" PROFILE=survey DURATION_MIN=25 SEED=1 SETUP=true
+MODE=simulated DATA="" RVIZ=false RATE="" PROFILE=survey DURATION_MIN=25 SEED=1 SETUP=true AR=true
 TRUTH="" ATX=() OFFLINE_ARGS=()
 OUT="${PPP_DEMO_OUT:-$REPO_DIR/results}"
 while [ $# -gt 0 ]; do
@@ -48,6 +53,7 @@ while [ $# -gt 0 ]; do
     --seed) SEED="${2:?}"; shift 2 ;;
     --out) OUT="${2:?}"; shift 2 ;;
     --no-setup) SETUP=false; shift ;;
+    --float) AR=false; shift ;;
     -h|--help) usage 0 ;;
     *) echo "demo.sh: unknown argument $1" >&2; usage 2 ;;
   esac
@@ -108,12 +114,22 @@ find_one() {  # dir regex what
 
 if [ "$MODE" = simulated ]; then
   NAME="sim_$PROFILE"
-  TITLE="simulated $PROFILE flight, ${DURATION_MIN} min at 1 Hz, ROS replay"
+  AR_TEXT="integer ambiguity resolution"
+  $AR || AR_TEXT="float ambiguities"
+  TITLE="simulated $PROFILE flight, ${DURATION_MIN} min at 1 Hz, GPS + Galileo, $AR_TEXT, ROS replay"
   RATE="${RATE:-15}"
-  echo "=== 2. simulated UAV flight: $PROFILE, $DURATION_MIN min at 1 Hz (seed $SEED) -> $INPUT_BAG ==="
+  echo "=== 2. simulated UAV flight: $PROFILE, $DURATION_MIN min at 1 Hz, GPS + Galileo with phase biases (seed $SEED) -> $INPUT_BAG ==="
   "$BIN_DIR/ppp_to_bag" --simulate "$PROFILE" --duration-min "$DURATION_MIN" --rate 1 --seed "$SEED" \
-    --truth-out "$WORK/truth.csv" --out "$INPUT_BAG" || die "ppp_to_bag --simulate failed"
+    --config "$REPO_DIR/config/simulation_ar.yaml" --truth-out "$WORK/truth.csv" --out "$INPUT_BAG" \
+    || die "ppp_to_bag --simulate failed"
   OVERRIDES="$REPO_DIR/config/ppp_simulated.yaml"
+  # Both systems of the flight, and PPP-AR on (the bag's corrections carry the phase biases).
+  EXTRA_CONFIG="$WORK/ambiguities.yaml"
+  {
+    echo "# written by scripts/demo.sh: the simulated flight's systems and the ambiguity mode ($AR_TEXT)"
+    echo "measurement_model: {signals: {systems: [GPS, Galileo]}}"
+    echo "ambiguity_resolution: {enabled: $AR}"
+  } > "$EXTRA_CONFIG"
   TRUTH_ARGS=(--truth-csv "$WORK/truth.csv")
 else
   [ -d "$DATA" ] || die "--data $DATA: not a directory"

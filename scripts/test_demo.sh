@@ -13,6 +13,11 @@
 #    (to 1 mm, from the CSVs);
 #  * the per-estimator CSVs, the report JSON, the two PNG plots and the recorded bag exist;
 #  * the demo's roscore is gone after it exits (the exit trap stops it);
+#  * PPP-AR (the demo's default): on a longer simulated flight (survey, DEMO_AR_MIN
+#    min, GPS + Galileo with phase biases, replayed at 20x) every row of the
+#    table has a fixed share > 0 and a time to first fix, and the smoothed mean 3D
+#    error with AR is not worse (by more than 1 mm) than with float ambiguities
+#    (demo.sh --float) on the same flight;
 #  * demo.sh --data on a missing directory exits non-zero with a clear message.
 # Writes one JUnit result into the directory given as $1 (scripts/test.sh's extra dir).
 set -uo pipefail
@@ -57,6 +62,37 @@ PY
   /usr/bin/python3 -c "import sys; sys.exit(0 if float('$d') < 0.001 else 1)" 2>/dev/null \
     || fail+="smoothed last epoch differs from the filtered last epoch by $d m (datum conversion?); "
 fi
+# PPP-AR against float on one flight (the same seed and profile: the same bag).
+DEMO_AR_MIN="${DEMO_AR_MIN:-12}"
+for mode in ar float; do
+  extra=()
+  [ "$mode" = float ] && extra=(--float)
+  timeout 240 "$REPO_DIR/scripts/demo.sh" --no-setup --profile survey --duration-min "$DEMO_AR_MIN" --rate 20 \
+    "${extra[@]}" --out "$WORK/$mode" > "$WORK/demo_$mode.log" 2>&1 \
+    || fail+="demo.sh ($mode, survey $DEMO_AR_MIN min) exited non-zero ($(grep -m1 'ERROR' "$WORK/demo_$mode.log" || tail -1 "$WORK/demo_$mode.log")); "
+done
+# PPP-AR cells: "| fixed% 1st-fix |" after the convergence cells.
+for label in "EKF" "smoother filtered" "smoother smoothed"; do
+  row="$(grep -E "^$label +[0-9]+ \|" "$WORK/demo_ar.log" | head -1)"
+  cells="$(echo "$row" | awk -F'|' '{print $5}')"
+  share="$(echo "$cells" | awk '{print $1}')" first="$(echo "$cells" | awk '{print $2}')"
+  /usr/bin/python3 -c "import sys; sys.exit(0 if float('${share:-0}') > 0 else 1)" 2>/dev/null \
+    || fail+="PPP-AR: row '$label' has no fixed epoch (fixed% '${share}'): $row; "
+  [[ "$first" =~ ^$num$ ]] || fail+="PPP-AR: row '$label' has no time to first fix ('$first'); "
+done
+cmp="$(/usr/bin/python3 - "$WORK/ar/sim_survey_report.json" "$WORK/float/sim_survey_report.json" <<'PY' 2>&1
+import json, sys
+def smoothed_mean(path):
+    for r in json.load(open(path))["rows"]:
+        if r["key"] == "smoother_smoothed":
+            return r["statistics"]["all_epochs"]["mean_m"]
+ar, fl = (smoothed_mean(p) for p in sys.argv[1:3])
+print(f"smoothed mean 3D error: AR {100 * ar:.2f} cm, float {100 * fl:.2f} cm")
+sys.exit(0 if ar <= fl + 0.001 else 1)
+PY
+)" || fail+="PPP-AR: $cmp (AR worse than float on the same flight); "
+echo "test_demo: $cmp"
+
 port="$(grep -oE 'roscore on port [0-9]+' "$LOG" | grep -oE '[0-9]+$')"
 if [ -n "$port" ] && pgrep -f "roscore -p $port" > /dev/null; then fail+="roscore on port $port still running after demo.sh; "; fi
 
@@ -69,5 +105,5 @@ if [[ -n "$fail" ]]; then
   echo "test_demo: FAILED: $fail"; tail -40 "$LOG"
 else
   junit passed ""
-  echo "test_demo: ok (demo.sh: table with the three rows, 181 epochs each, finite figures; files written; roscore stopped)"
+  echo "test_demo: ok (demo.sh: table with the three rows, 181 epochs each, finite figures; files written; roscore stopped; PPP-AR fixes in every row, smoothed AR not worse than float)"
 fi

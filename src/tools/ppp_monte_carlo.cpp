@@ -5,7 +5,7 @@
 //                        [--profiles loiter,survey,figure8,climb] [--threads N]
 //                        [--config PPP_YAML] [--sim-config SIMULATION_YAML]
 //                        [--fixed-origin] [--fixed-start] [--smoother-lag 60]
-//                        [--ambiguity-resolution] [--systems G|GE]
+//                        [--ambiguity-resolution] [--systems G|GE] [--configurations LIST]
 // --systems GE: GPS L1/L2 and Galileo E1/E5a (nominal Walker 24/3/1), one
 // receiver clock per system in both estimators (default G: GPS only).
 // --ambiguity-resolution: integer ambiguity resolution (PPP-AR) on in both
@@ -25,15 +25,26 @@
 // the simulator's physics (flightPppConfig) with the file's weights and cutoff.
 // --sim-config: the simulation error model (config/simulation.yaml layout). Writes DIR/summary.md, summary.json and CSV
 // files for scripts/plot_monte_carlo.py; prints the tables and the wall time.
+// --configurations LIST (comma-separated, or "all"): gps_float, gps_ar,
+// gps_galileo_float, gps_galileo_ar, one study each over the same flights (same
+// seed; every configuration simulates the satellite phase biases, so float and AR
+// see the same observations; monte_carlo.h MonteCarloConfiguration), written to
+// DIR/<name>/, then DIR/comparison.md: one table of the first-15-min median and
+// mean, the time to 10 cm, the fixed share, the time to first fix and the wrong
+// holds per configuration and estimator, beside the method's Table 3. Replaces
+// --systems and --ambiguity-resolution.
 #include <unistd.h>
 
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
+#include <fstream>
 #include <iostream>
 #include <mutex>
 #include <sstream>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "ppp_bayes_tree/evaluation/monte_carlo.h"
 #include "ppp_bayes_tree/io/parse_error.h"
@@ -47,7 +58,8 @@ int usage(const std::string& why) {
             << "                       [--profiles loiter,survey,figure8,climb] [--threads N]\n"
             << "                       [--config PPP_YAML] [--sim-config SIMULATION_YAML]\n"
             << "                       [--fixed-origin] [--fixed-start] [--smoother-lag 60]\n"
-            << "                       [--ambiguity-resolution] [--systems G|GE]\n";
+            << "                       [--ambiguity-resolution] [--systems G|GE]\n"
+            << "                       [--configurations all|gps_float,gps_ar,gps_galileo_float,gps_galileo_ar]\n";
   return 2;
 }
 
@@ -96,6 +108,32 @@ class Progress {
   int last_decile_ = 0;
 };
 
+std::string allConfigurationNames() {
+  std::string names;
+  for (const auto& c : ppp::monteCarloConfigurations()) names += (names.empty() ? "" : ",") + c.name;
+  return names;
+}
+
+/// Runs one study, writes its outputs into `dir` and prints its tables; false
+/// when the outputs cannot be written or every flight failed.
+bool runStudy(const ppp::MonteCarloOptions& options, const std::string& dir, ppp::MonteCarloResult* keep = nullptr) {
+  Progress progress(options.flights);
+  ppp::MonteCarloResult result = ppp::runMonteCarlo(options, [&](int done, int) { progress.update(done); });
+  try {
+    ppp::writeMonteCarloOutputs(result, dir);
+  } catch (const std::exception& e) {
+    std::cerr << "ppp_monte_carlo: " << e.what() << "\n";
+    return false;
+  }
+  std::cout << ppp::monteCarloMarkdown(result) << "\n";
+  std::printf("Wall time: %.1f s (%d flights, %u threads). Outputs in %s\n", result.wall_s, options.flights,
+              result.threads_used, dir.c_str());
+  std::fflush(stdout);
+  const bool ok = result.summary.failed < options.flights;
+  if (keep) *keep = std::move(result);
+  return ok;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -105,6 +143,7 @@ int main(int argc, char** argv) {
   std::string out, config_path, sim_config_path, profiles;
   bool have_seed = false, ambiguity_resolution = false;
   std::string systems;  // empty: the simulation configuration's (default G)
+  std::vector<ppp::MonteCarloConfiguration> configurations;
   double duration_min = 30.0;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
@@ -127,6 +166,16 @@ int main(int argc, char** argv) {
     else if (a == "--config") config_path = v;
     else if (a == "--sim-config") sim_config_path = v;
     else if (a == "--profiles") profiles = v;
+    else if (a == "--configurations") {
+      std::stringstream ss(v == "all" ? allConfigurationNames() : v);
+      std::string name;
+      while (std::getline(ss, name, ',')) {
+        const ppp::MonteCarloConfiguration* c = ppp::findMonteCarloConfiguration(name);
+        if (c == nullptr) return usage("unknown configuration '" + name + "' (expected all or " + allConfigurationNames() + ")");
+        configurations.push_back(*c);
+      }
+      if (configurations.empty()) return usage("--configurations is empty");
+    }
     else if (a == "--systems") {
       if (v != "G" && v != "GE") return usage("--systems must be G or GE");
       systems = v;
@@ -159,6 +208,8 @@ int main(int argc, char** argv) {
   if (out.empty()) return usage("--out DIR is required");
   if (options.flights == 0) return usage("--flights N is required");
   if (!have_seed) return usage("--seed S is required (explicit seeds only)");
+  if (!configurations.empty() && (ambiguity_resolution || !systems.empty()))
+    return usage("--configurations sets the systems and ambiguity resolution: leave out --systems and --ambiguity-resolution");
   options.duration_s = duration_min * 60.0;
   try {
     if (!profiles.empty()) {
@@ -182,16 +233,21 @@ int main(int argc, char** argv) {
   }
   if (const std::string why = options.ppp.smoother.validate(); !why.empty()) return usage("smoother options: " + why);
 
-  Progress progress(options.flights);
-  const ppp::MonteCarloResult result = ppp::runMonteCarlo(options, [&](int done, int) { progress.update(done); });
-  try {
-    ppp::writeMonteCarloOutputs(result, out);
-  } catch (const std::exception& e) {
-    std::cerr << "ppp_monte_carlo: " << e.what() << "\n";
+  if (configurations.empty()) return runStudy(options, out) ? 0 : 1;
+  std::vector<std::pair<std::string, ppp::MonteCarloResult>> studies;
+  bool ok = true;
+  for (const auto& c : configurations) {
+    std::cerr << "configuration " << c.name << "\n";
+    studies.emplace_back(c.name, ppp::MonteCarloResult{});
+    ok = runStudy(ppp::withConfiguration(options, c), out + "/" + c.name, &studies.back().second) && ok;
+  }
+  const std::string comparison = ppp::monteCarloComparisonMarkdown(studies);
+  std::ofstream file(out + "/comparison.md", std::ios::binary);
+  file << comparison;
+  if (!file) {
+    std::cerr << "ppp_monte_carlo: cannot write " << out << "/comparison.md\n";
     return 1;
   }
-  std::cout << ppp::monteCarloMarkdown(result) << "\n";
-  std::printf("Wall time: %.1f s (%d flights, %u threads). Outputs in %s\n", result.wall_s, options.flights,
-              result.threads_used, out.c_str());
-  return result.summary.failed == options.flights ? 1 : 0;
+  std::cout << comparison << "\n";
+  return ok ? 0 : 1;
 }

@@ -234,6 +234,38 @@ TEST(ReplayReport, TableJsonAndCsvCarryTheRows) {
   EXPECT_EQ(n, 40);
 }
 
+TEST(ReplayReport, FixedEpochsGiveTheFixedShareAndTheTimeToFirstFix) {
+  // 40 solved epochs, 1 s apart; the node says fixed from epoch 10 on, except epoch 20.
+  const ppp::TruthTrajectory truth = eastwardTruth(40);
+  std::vector<ppp::ReplayStatusSample> status(40);
+  std::vector<ppp::ReplayPositionSample> pos(40);
+  for (int k = 0; k < 40; ++k) {
+    status[k].time = pos[k].time = truth.time[k];
+    status[k].solved = true;
+    status[k].ambiguities_fixed = k >= 10 && k != 20;
+    pos[k].position_ecef_m = truth.position_ecef_m[k];
+  }
+  const ppp::AssembledSolution a = ppp::assembleReplaySolution(status, pos);
+  ASSERT_EQ(a.epochs.size(), 40u);
+  EXPECT_EQ(a.epochs[9].status, ppp::SolutionStatus::PppFloat);
+  EXPECT_EQ(a.epochs[10].status, ppp::SolutionStatus::PppFixed);
+  const ppp::ReplayReportRow row = ppp::buildReplayReportRow("EKF", "ekf", a.epochs, truth);
+  EXPECT_EQ(row.fix.solved_epochs, 40u);
+  EXPECT_EQ(row.fix.fixed_epochs, 29u);
+  ASSERT_TRUE(row.fix.time_to_first_fix_s.has_value());
+  EXPECT_DOUBLE_EQ(*row.fix.time_to_first_fix_s, 10.0);
+  const std::string table = ppp::formatReplayReport({row});
+  EXPECT_NE(table.find("fixed% 1st fix"), std::string::npos) << table;
+  EXPECT_NE(table.find("|   72.5     0.2 |"), std::string::npos) << table;  // 29/40, 10 s = 0.17 min
+  const std::string json = ppp::replayReportJson({row});
+  EXPECT_NE(json.find("\"fixed_epochs\": 29"), std::string::npos) << json;
+  EXPECT_NE(json.find("\"time_to_first_fix_s\": 10"), std::string::npos) << json;
+  // A float run: no fixed epoch, "never".
+  const ppp::ReplayReportRow float_row = ppp::buildReplayReportRow("EKF", "ekf", offsetSolution(truth, 40), truth);
+  EXPECT_FALSE(float_row.fix.time_to_first_fix_s.has_value());
+  EXPECT_NE(ppp::formatReplayReport({float_row}).find("|    0.0   never |"), std::string::npos);
+}
+
 TEST(MapDatum, RecoveredFromOnePositionKnownInBothFrames) {
   // A map datum at ZIM2 and a point 5 km east, 3 km south, 120 m up of it.
   const Eigen::Vector3d enu(5000.0, -3000.0, 120.0);

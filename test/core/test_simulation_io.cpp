@@ -216,6 +216,20 @@ TEST(SimulationIo, TemplateConfigurationHoldsTheDefaults) {
   EXPECT_NEAR(t.errors.phase_breaks.body_elevation_mask_rad, d.errors.phase_breaks.body_elevation_mask_rad, 1e-15);
   EXPECT_EQ(t.errors.products.scale_half_range, d.errors.products.scale_half_range);
   EXPECT_EQ(t.errors.ambiguity.max_abs_cycles, d.errors.ambiguity.max_abs_cycles);
+  EXPECT_EQ(t.errors.ambiguity.satellite_phase_biases, d.errors.ambiguity.satellite_phase_biases);
+}
+
+// The demo's preset (scripts/demo.sh): GPS + Galileo, integer ambiguities, the
+// phase biases published, products consistent with them; the rest the defaults.
+TEST(SimulationIo, ArPresetIsGpsGalileoWithPhaseBiasesAndConsistentProducts) {
+  const SimulationConfig t = loadSimulationConfig(std::string(PPP_REPO_DIR) + "/config/simulation_ar.yaml");
+  const SimulationConfig d;
+  EXPECT_EQ(t.systems, (std::vector<GnssSystem>{GnssSystem::GPS, GnssSystem::Galileo}));
+  EXPECT_TRUE(t.errors.ambiguity.enabled);
+  EXPECT_TRUE(t.errors.ambiguity.satellite_phase_biases);
+  EXPECT_FALSE(t.errors.products.enabled);
+  EXPECT_EQ(t.errors.multipath.sigma_m, d.errors.multipath.sigma_m);
+  EXPECT_EQ(t.errors.thermal.code_sigma_m, d.errors.thermal.code_sigma_m);
 }
 
 TEST(SimulationIo, ProductsMustCoverTheFlight) {

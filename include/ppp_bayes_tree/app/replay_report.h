@@ -60,6 +60,8 @@ struct ReplayStatusSample {
   int satellites_used = 0, satellites_rejected = 0;
   std::optional<double> zwd_m, receiver_clock_m;
   std::optional<double> update_time_s;  // absent for an epoch the node did not process (empty epoch)
+  /// The epoch's solution is conditioned on held integer ambiguities (PPP-AR).
+  bool ambiguities_fixed = false;
   // the node's counters since start
   std::size_t epochs_processed = 0, epochs_duplicate = 0, epochs_out_of_order = 0, estimator_resets = 0;
 };
@@ -102,6 +104,16 @@ struct NodeFigures {
 NodeFigures replayNodeFigures(const std::string& name, const std::vector<ReplayStatusSample>& status,
                               std::optional<std::size_t> input_epochs = std::nullopt);
 
+/// PPP-AR figures of a solution: the epochs with a position, those fixed
+/// (SolutionStatus::PppFixed), and the time from the first epoch with a
+/// position to the first fixed one (nullopt when none is fixed).
+struct ReplayFixFigures {
+  std::size_t solved_epochs = 0, fixed_epochs = 0;
+  std::optional<double> time_to_first_fix_s;
+  double fixedShare() const;  // fixed / solved, 0 without solved epochs
+};
+ReplayFixFigures replayFixFigures(const std::vector<SolutionEpoch>& solution);
+
 struct ReplayReportRow {
   std::string label;    // "EKF", "smoother filtered", "smoother smoothed"
   std::string key;      // "ekf", "smoother_filtered", "smoother_smoothed" (file names)
@@ -110,6 +122,7 @@ struct ReplayReportRow {
   std::vector<Eigen::Vector3d> truth_ecef_m;  // the truth of each of them
   std::size_t unmatched_epochs = 0;           // left out: no truth at their time
   PositionErrorStatistics statistics;
+  ReplayFixFigures fix;  // of `solution`
   std::optional<NodeFigures> node;
 };
 
@@ -123,7 +136,8 @@ ReplayReportRow missingReplayReportRow(const std::string& label, const std::stri
 
 /// The comparison table: one line per row (3D error median, mean, sigma, max in
 /// cm over all epochs and over the first window; time to stay below each
-/// convergence threshold; node update time median/p99 in ms; epochs processed /
+/// convergence threshold; PPP-AR: fixed share of the solved epochs [%] and time
+/// to first fix [min]; node update time median/p99 in ms; epochs processed /
 /// dropped), then one line per missing row with its reason.
 std::string formatReplayReport(const std::vector<ReplayReportRow>& rows);
 /// {"rows": [{label, key, missing, unmatched_epochs, statistics (statisticsToJson), node}]}.

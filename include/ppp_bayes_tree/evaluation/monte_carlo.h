@@ -129,6 +129,36 @@ struct BiasErrorSample {
   float error_m = 0.0f;  // estimate - truth (estimator convention, see above)
 };
 
+/// PPP-AR against the simulator's integers, for one estimator (on one flight or
+/// summed over flights). Each held single difference (arc, reference arc, wide
+/// lane and narrow-lane integer, as AmbiguityFixSummary::narrow_lanes reports it;
+/// counted once however long it is held) is compared with the truth of the
+/// simulated arcs behind its two estimator arcs:
+///  * wide lane: dN_WL = (N1 - N2)_s - (N1 - N2)_ref (the wind-up is the same
+///    whole cycles on both frequencies and cancels);
+///  * narrow lane: the resolver's dN1 = (B'_s - B'_ref - k_WL dN_WL) / lambda_NL
+///    (ambiguity_resolution.h; k_WL and lambda_NL of the satellite's pair)
+///    evaluated on the TRUE IF biases B' in the estimator's convention
+///    (TruthArc::bias_if_m plus lambda_NL times the wind-up integer, as the
+///    phase-bias errors above; the satellite UPD is the published OSB).
+/// For two satellites of one system this is the integer N1_s - N1_ref; across
+/// systems (other wavelengths, e.g. a Galileo satellite against a GPS reference)
+/// it is in general not an integer. A hold is WRONG when its wide lane differs
+/// from the truth or its narrow-lane integer is more than
+/// kWrongHoldThresholdCycles from the true dN1 (a wrong integer of one system is
+/// a whole cycle off; a cross-system hold is as wrong as its distance).
+constexpr double kWrongHoldThresholdCycles = 0.25;
+struct HeldIntegerCheck {
+  std::size_t held = 0;           // distinct held single differences compared with the truth
+  std::size_t wrong = 0;          // of them, wrong (see above)
+  std::size_t cross_system = 0;   // of `held`, between satellites of different systems
+  std::size_t not_compared = 0;   // an arc ran into another simulated arc (a missed slip)
+  std::size_t fixed_epochs = 0;   // epochs with a fixed solution
+  std::size_t fixed_epochs_with_wrong_hold = 0;  // of them, holding at least one wrong integer
+  double max_abs_error_cycles = 0.0;  // |held - true dN1| over the holds with the right wide lane
+  void add(const HeldIntegerCheck& other);
+};
+
 struct MonteCarloFlightRun {
   MonteCarloFlightSetup setup;
   std::vector<std::string> drawn;  // DrawnParameters::describe()
@@ -141,6 +171,8 @@ struct MonteCarloFlightRun {
   std::array<std::vector<BiasErrorSample>, kMonteCarloEstimators> bias;
   /// Per epoch: the EKF's and the smoother's filtered solution FIXED (PPP-AR) [0, 1].
   std::array<std::vector<char>, 2> fixed;
+  /// [0] EKF, [1] smoother: the held integers against the truth (PPP-AR on).
+  std::array<HeldIntegerCheck, 2> held_check;
   /// Per epoch |x_EKF - x_smoother filtered| [m], NaN unless both have a solution.
   std::vector<double> filtered_minus_ekf_m;
   std::size_t bias_arcs_compared = 0;      // estimator arcs with samples (smoother run)
@@ -183,6 +215,8 @@ struct MonteCarloSummary {
   std::array<double, 2> fixed_share{};
   std::array<double, 2> first_fix_median_s{};
   std::array<int, 2> never_fixed{};
+  /// The held integers against the truth, summed over flights.
+  std::array<HeldIntegerCheck, 2> held_check;
   /// 3D error versus time since the flight start, over flights [m].
   std::array<std::vector<QuantileBin>, kMonteCarloEstimators> error_vs_time;
   /// Bias error versus arc age [m].
@@ -214,6 +248,47 @@ struct MonteCarloResult {
 /// flight, serialised (never concurrently).
 MonteCarloResult runMonteCarlo(const MonteCarloOptions& options,
                                const std::function<void(int done, int total)>& progress = {});
+
+/// One configuration of the float / PPP-AR comparison (ppp_monte_carlo
+/// --configurations): the simulated and processed systems, and PPP-AR in both
+/// estimators or not. Every configuration simulates the satellite phase biases
+/// (errors.ambiguity.satellite_phase_biases, published as phase OSBs), so that
+/// the float and the AR study of a system set run on the SAME observations
+/// (the float biases absorb the constant UPDs) and differ only in the fixing.
+/// The products are the truth (errors.products off): the simulator's product
+/// errors (orbit and clock errors drawn independently per satellite, 5 cm each)
+/// are not consistent with the published phase biases, as the clocks of an
+/// integer-clock analysis centre are (they absorb the radial orbit error and
+/// are estimated with the phase biases): with them the true single-difference
+/// narrow lanes are off integers by up to half a cycle and more, and the
+/// resolver holds wrong integers (seed 7, 4 flights of 30 min, gps_ar with
+/// product errors: 6 of 6 holds wrong by 1-4 cycles; without: 0 of 40).
+struct MonteCarloConfiguration {
+  std::string name;  // gps_float, gps_ar, gps_galileo_float, gps_galileo_ar
+  std::vector<GnssSystem> systems;
+  bool ambiguity_resolution = false;
+};
+/// The four configurations, in that order.
+const std::vector<MonteCarloConfiguration>& monteCarloConfigurations();
+/// The configuration of that name; nullptr when none.
+const MonteCarloConfiguration* findMonteCarloConfiguration(const std::string& name);
+/// `options` with the configuration's systems, phase biases and PPP-AR switch.
+MonteCarloOptions withConfiguration(MonteCarloOptions options, const MonteCarloConfiguration& configuration);
+
+/// The method's published Monte Carlo figures (its Table 3: 3D error over the
+/// first 15 min of its flights, median / mean [cm], as published), printed beside ours.
+struct MethodTableRow {
+  const char* estimator;
+  double first_window_median_cm, first_window_mean_cm;
+};
+constexpr MethodTableRow kMethodTable3[] = {{"graph (smoother)", 117.76, 188.79}, {"Kalman filter", 295.15, 665.35}};
+
+/// One table over several studies of the same flights (e.g. the four
+/// configurations): per configuration and estimator the first-window median and
+/// mean 3D error, the median time to stay below 10 cm, and with PPP-AR the fixed
+/// share, the median time to first fix and the wrong holds; then the method's
+/// Table 3 rows.
+std::string monteCarloComparisonMarkdown(const std::vector<std::pair<std::string, MonteCarloResult>>& studies);
 
 /// One cell of the convergence table: "12.5 min (never: 3)", or, when the
 /// median itself is never reached (more than half of the flights never stay

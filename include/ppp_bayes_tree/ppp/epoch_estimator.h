@@ -69,6 +69,8 @@ class EkfEstimator : public EpochEstimator {
   void arcsEnded(const std::vector<EndedArc>& ended) override;
   const PppEstimatorBase& core() const override { return ekf_; }
   const EkfPpp& filter() const { return ekf_; }
+  /// The last epoch's result (with its ambiguity summary), as SmootherEstimator's.
+  const EstimatorEpochResult& lastResult() const { return last_; }
   void resolveAmbiguities(const EstimatorEpochInput& input, EstimatorEpochResult& r);
   /// The resolver (e.g. to hold an integer restored after a restart).
   AmbiguityResolver& resolver() { return ambiguity_; }
@@ -76,6 +78,7 @@ class EkfEstimator : public EpochEstimator {
  private:
   EkfPpp ekf_;
   AmbiguityResolver ambiguity_;  // PPP-AR on a copy of the filter state
+  EstimatorEpochResult last_;
 };
 
 /// The PPP smoother (PppSmoother) as an EpochEstimator. processEpoch returns the

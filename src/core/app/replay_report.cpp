@@ -153,7 +153,7 @@ AssembledSolution assembleReplaySolution(const std::vector<ReplayStatusSample>& 
       continue;
     }
     used[*k] = true;
-    e.status = SolutionStatus::PppFloat;
+    e.status = s.ambiguities_fixed ? SolutionStatus::PppFixed : SolutionStatus::PppFloat;
     e.position_ecef_m = unique[*k].position_ecef_m;
     e.covariance_ecef_m2 = unique[*k].covariance_ecef_m2;
     e.zwd_m = s.zwd_m;
@@ -198,6 +198,24 @@ std::size_t NodeFigures::dropped() const {
   return epochs_duplicate + epochs_out_of_order;
 }
 
+double ReplayFixFigures::fixedShare() const {
+  return solved_epochs > 0 ? static_cast<double>(fixed_epochs) / static_cast<double>(solved_epochs) : 0.0;
+}
+
+ReplayFixFigures replayFixFigures(const std::vector<SolutionEpoch>& solution) {
+  ReplayFixFigures f;
+  std::optional<GnssTime> first_solved;
+  for (const auto& e : solution) {
+    if (!e.position_ecef_m) continue;
+    ++f.solved_epochs;
+    if (!first_solved) first_solved = e.time;
+    if (e.status != SolutionStatus::PppFixed) continue;
+    ++f.fixed_epochs;
+    if (!f.time_to_first_fix_s) f.time_to_first_fix_s = e.time - *first_solved;
+  }
+  return f;
+}
+
 ReplayReportRow buildReplayReportRow(const std::string& label, const std::string& key,
                                      std::vector<SolutionEpoch> solution, const TruthTrajectory& truth,
                                      const StatisticsOptions& statistics, const TruthMatchOptions& match) {
@@ -216,6 +234,7 @@ ReplayReportRow buildReplayReportRow(const std::string& label, const std::string
     row.truth_ecef_m.push_back(*t);
   }
   row.statistics = computePositionErrorStatistics(row.solution, row.truth_ecef_m, statistics);
+  row.fix = replayFixFigures(row.solution);
   if (row.statistics.epochs == 0)
     row.missing = row.solution.empty() ? "no epoch matched the truth in time (" + std::to_string(row.unmatched_epochs) +
                                              " epochs outside it)"
@@ -239,15 +258,16 @@ std::string formatReplayReport(const std::vector<ReplayReportRow>& rows) {
   char buf[512];
   const std::string w = fmt("%g", window_min);
   const int conv_width = std::max(0, static_cast<int>(7 * thresholds.size()) - 1);
-  std::snprintf(buf, sizeof buf, "%-26s | %-31s | %-31s |%s%-*s | %-16s | %s\n", "", "3D error, all epochs [cm]",
+  std::snprintf(buf, sizeof buf, "%-26s | %-31s | %-31s |%s%-*s | %-14s | %-16s | %s\n", "", "3D error, all epochs [cm]",
                 ("3D error, first " + w + " min [cm]").c_str(), thresholds.empty() ? "" : " ", conv_width,
-                thresholds.empty() ? "" : "conv. [min]", "node update [ms]", "node epochs");
+                thresholds.empty() ? "" : "conv. [min]", "PPP-AR", "node update [ms]", "node epochs");
   os << buf;
   std::snprintf(buf, sizeof buf, "%-18s %7s | %7s %7s %7s %7s | %7s %7s %7s %7s |", "estimator", "epochs", "median",
                 "mean", "sigma", "max", "median", "mean", "sigma", "max");
   os << buf;
   for (double thr : thresholds) os << fmt(" %6s", ("<" + fmt("%g", thr * 100.0) + "cm").c_str());
-  os << " | " << fmt("%7s", "median") << fmt(" %8s", "p99") << " | processed dropped\n";
+  os << " | " << fmt("%6s", "fixed%") << fmt(" %7s", "1st fix") << " | " << fmt("%7s", "median") << fmt(" %8s", "p99")
+     << " | processed dropped\n";
   for (const auto& r : rows) {
     if (!r.missing.empty()) continue;
     const auto& s = r.statistics;
@@ -260,6 +280,8 @@ std::string formatReplayReport(const std::vector<ReplayReportRow>& rows) {
       const auto& c = k < s.convergence.size() ? s.convergence[k].time_s : std::nullopt;
       os << fmt(" %6s", c ? fmt("%.1f", *c / 60.0).c_str() : "never");
     }
+    os << " | " << fmt("%6.1f", 100.0 * r.fix.fixedShare())
+       << fmt(" %7s", r.fix.time_to_first_fix_s ? fmt("%.1f", *r.fix.time_to_first_fix_s / 60.0).c_str() : "never");
     if (r.node && r.node->update_time.count > 0) {
       os << " | " << fmt("%7.2f", r.node->update_time.median_s * 1e3) << fmt(" %8.2f", r.node->update_time.p99_s * 1e3);
       os << " | " << fmt("%9.0f", static_cast<double>(r.node->epochs_processed))
@@ -284,7 +306,10 @@ std::string replayReportJson(const std::vector<ReplayReportRow>& rows) {
     const auto& r = rows[i];
     os << (i ? ",\n  " : "\n  ") << "{\"label\": " << jsonString(r.label) << ", \"key\": " << jsonString(r.key)
        << ", \"missing\": " << (r.missing.empty() ? "null" : jsonString(r.missing))
-       << ", \"unmatched_epochs\": " << r.unmatched_epochs << ", \"statistics\": "
+       << ", \"unmatched_epochs\": " << r.unmatched_epochs << ", \"solved_epochs\": " << r.fix.solved_epochs
+       << ", \"fixed_epochs\": " << r.fix.fixed_epochs << ", \"fixed_share\": " << jsonNumber(r.fix.fixedShare())
+       << ", \"time_to_first_fix_s\": " << (r.fix.time_to_first_fix_s ? jsonNumber(*r.fix.time_to_first_fix_s) : "null")
+       << ", \"statistics\": "
        << (r.missing.empty() ? statisticsToJson(r.statistics, r.label) : "null") << ", \"node\": ";
     if (!r.node) {
       os << "null}";

@@ -8,6 +8,7 @@
 #include <map>
 #include <mutex>
 #include <thread>
+#include <tuple>
 
 #include "ppp_bayes_tree/models/ionosphere_free.h"
 #include "ppp_bayes_tree/ppp/epoch_estimator.h"
@@ -52,6 +53,7 @@ struct ArcRecord {
   GnssTime first_time;
   ArcId simulated_arc = 0;
   double truth_m = 0.0;
+  long windup_cycles = 0;  // the wind-up integer between the simulator's and the estimator's convention
   bool valid = true;       // still inside its simulated arc
   bool missed_slip = false;
   long last_bin = -1;
@@ -78,8 +80,9 @@ class BiasSampler {
           a.valid = false;
         } else {
           a.simulated_arc = s->arc;
+          a.windup_cycles = std::lround(s->windup_cycles);
           a.truth_m = f_.arcs[s->arc - 1].bias_if_m +
-                      simulatedNarrowLaneWavelength_m(r.satellite.system) * std::round(s->windup_cycles);
+                      simulatedNarrowLaneWavelength_m(r.satellite.system) * static_cast<double>(a.windup_cycles);
         }
         it = arcs_.emplace(r.arc, std::move(a)).first;
       }
@@ -106,6 +109,63 @@ class BiasSampler {
   const SimulatedFlight& f_;
   double bin_s_;
   std::map<ArcId, ArcRecord> arcs_;
+};
+
+/// Compares one estimator's held integers with the simulator's (HeldIntegerCheck
+/// in monte_carlo.h), epoch by epoch.
+class HeldIntegerChecker {
+ public:
+  explicit HeldIntegerChecker(const SimulatedFlight& f) : f_(f) {}
+
+  /// `arcs`: the estimator arcs' truth bookkeeping (BiasSampler::arcs(), updated
+  /// for this epoch first).
+  void epoch(const std::optional<AmbiguityFixSummary>& fix, bool fixed, const std::map<ArcId, ArcRecord>& arcs,
+             HeldIntegerCheck& out) {
+    if (fixed) ++out.fixed_epochs;
+    if (!fix) return;
+    bool wrong_now = false;
+    for (const NarrowLaneFloat& n : fix->narrow_lanes) {
+      if (!n.held_cycles) continue;
+      const Key key{n.arc, n.reference_arc, n.wide_lane_cycles, *n.held_cycles};
+      auto it = verdicts_.find(key);
+      if (it == verdicts_.end()) it = verdicts_.emplace(key, judge(n, arcs, out)).first;
+      wrong_now = wrong_now || it->second == Verdict::Wrong;
+    }
+    if (fixed && wrong_now) ++out.fixed_epochs_with_wrong_hold;
+  }
+
+ private:
+  using Key = std::tuple<ArcId, ArcId, long, long>;
+  enum class Verdict { Right, Wrong, NotCompared };
+
+  Verdict judge(const NarrowLaneFloat& n, const std::map<ArcId, ArcRecord>& arcs, HeldIntegerCheck& out) const {
+    const auto a = arcs.find(n.arc), r = arcs.find(n.reference_arc);
+    if (a == arcs.end() || r == arcs.end() || !a->second.valid || !r->second.valid || a->second.simulated_arc == 0 ||
+        r->second.simulated_arc == 0) {
+      ++out.not_compared;
+      return Verdict::NotCompared;
+    }
+    const TruthArc& ta = f_.arcs[a->second.simulated_arc - 1];
+    const TruthArc& tr = f_.arcs[r->second.simulated_arc - 1];
+    ++out.held;
+    if (n.satellite.system != n.reference_satellite.system) ++out.cross_system;
+    const long true_wide_lane = static_cast<long>((ta.n1_cycles - ta.n2_cycles) - (tr.n1_cycles - tr.n2_cycles));
+    const SimulatedBands bands = simulatedIonosphereFreeBands(n.satellite.system);
+    const double f1 = *carrierFrequency_hz(n.satellite.system, bands.band1);
+    const double f2 = *carrierFrequency_hz(n.satellite.system, bands.band2);
+    const double k_wl = ionosphereFreeAmbiguity_m(f1, f2, 0.0, 1.0);
+    const double true_dn1 = (a->second.truth_m - r->second.truth_m - k_wl * static_cast<double>(n.wide_lane_cycles)) /
+                            narrowLaneWavelength_m(f1, f2);
+    const double error = static_cast<double>(*n.held_cycles) - true_dn1;
+    const bool right_wide_lane = n.wide_lane_cycles == true_wide_lane;
+    if (right_wide_lane) out.max_abs_error_cycles = std::max(out.max_abs_error_cycles, std::abs(error));
+    if (right_wide_lane && std::abs(error) <= kWrongHoldThresholdCycles) return Verdict::Right;
+    ++out.wrong;
+    return Verdict::Wrong;
+  }
+
+  const SimulatedFlight& f_;
+  std::map<Key, Verdict> verdicts_;
 };
 
 PppInMemoryInputs memoryInputs(const SimulatedFlight& f, int index) {
@@ -260,12 +320,14 @@ MonteCarloFlightRun runMonteCarloFlight(const MonteCarloOptions& options, int in
       PppPipeline pipeline(memoryInputs(f, index), config);
       EkfEstimator ekf(config);
       BiasSampler sampler(f, options.bias_bin_s);
+      HeldIntegerChecker checker(f);
       std::size_t k = 0;
       pipeline.run(ekf, [&](const PppEpochRecord& rec) {
         run.error_3d_m[0][k] = error3d(f, k, rec.solution.position_ecef_m);
         run.fixed[0][k] = rec.solution.status == SolutionStatus::PppFixed ? 1 : 0;
         ekf_positions[k] = rec.solution.position_ecef_m;
         sampler.epoch(k, rec, [&](ArcId a) { return ekf.filter().biasEstimate_m(a); }, run.bias[0]);
+        checker.epoch(ekf.lastResult().ambiguity_fix, run.fixed[0][k] != 0, sampler.arcs(), run.held_check[0]);
         ++k;
       });
     }
@@ -281,6 +343,7 @@ MonteCarloFlightRun runMonteCarloFlight(const MonteCarloOptions& options, int in
       SmootherEstimator sm(smoother_config);
       sm.smoother().setRecordGraph(lag);
       BiasSampler sampler(f, options.bias_bin_s);
+      HeldIntegerChecker checker(f);
       std::size_t k = 0;
       const PppRunSummary summary = pipeline.run(sm, [&](const PppEpochRecord& rec) {
         run.error_3d_m[1][k] = error3d(f, k, rec.solution.position_ecef_m);
@@ -288,6 +351,7 @@ MonteCarloFlightRun runMonteCarloFlight(const MonteCarloOptions& options, int in
         if (rec.solution.position_ecef_m && ekf_positions[k])
           run.filtered_minus_ekf_m[k] = (*rec.solution.position_ecef_m - *ekf_positions[k]).norm();
         sampler.epoch(k, rec, [&](ArcId a) { return sm.smoother().biasEstimate_m(a); }, run.bias[1]);
+        checker.epoch(sm.lastResult().ambiguity_fix, run.fixed[1][k] != 0, sampler.arcs(), run.held_check[1]);
         ++k;
       });
       run.estimator_arcs = summary.arcs;
@@ -329,6 +393,16 @@ MonteCarloFlightRun runMonteCarloFlight(const MonteCarloOptions& options, int in
     run.failure = e.what();
   }
   return run;
+}
+
+void HeldIntegerCheck::add(const HeldIntegerCheck& o) {
+  held += o.held;
+  wrong += o.wrong;
+  cross_system += o.cross_system;
+  not_compared += o.not_compared;
+  fixed_epochs += o.fixed_epochs;
+  fixed_epochs_with_wrong_hold += o.fixed_epochs_with_wrong_hold;
+  max_abs_error_cycles = std::max(max_abs_error_cycles, o.max_abs_error_cycles);
 }
 
 MonteCarloSummary summarizeMonteCarlo(const std::vector<MonteCarloFlightRun>& flights,
@@ -387,6 +461,7 @@ MonteCarloSummary summarizeMonteCarlo(const std::vector<MonteCarloFlightRun>& fl
       if (!t) ++s.never_fixed[e];
       first_fix.push_back(t ? *t : std::numeric_limits<double>::infinity());
     }
+    for (const auto* f : ok) s.held_check[e].add(f->held_check[e]);
     s.fixed_share[e] = solved ? static_cast<double>(fixed) / static_cast<double>(solved) : kNaN;
     s.first_fix_median_s[e] = medianOf(std::move(first_fix));
   }
@@ -443,6 +518,30 @@ MonteCarloSummary summarizeMonteCarlo(const std::vector<MonteCarloFlightRun>& fl
       s.representative_flight[ei] = flights[static_cast<std::size_t>(s.representative)].summary(e);
   }
   return s;
+}
+
+const std::vector<MonteCarloConfiguration>& monteCarloConfigurations() {
+  static const std::vector<MonteCarloConfiguration> kConfigurations = {
+      {"gps_float", {GnssSystem::GPS}, false},
+      {"gps_ar", {GnssSystem::GPS}, true},
+      {"gps_galileo_float", {GnssSystem::GPS, GnssSystem::Galileo}, false},
+      {"gps_galileo_ar", {GnssSystem::GPS, GnssSystem::Galileo}, true},
+  };
+  return kConfigurations;
+}
+
+const MonteCarloConfiguration* findMonteCarloConfiguration(const std::string& name) {
+  for (const auto& c : monteCarloConfigurations())
+    if (c.name == name) return &c;
+  return nullptr;
+}
+
+MonteCarloOptions withConfiguration(MonteCarloOptions options, const MonteCarloConfiguration& configuration) {
+  options.simulation.systems = configuration.systems;
+  options.simulation.errors.ambiguity.satellite_phase_biases = true;
+  options.simulation.errors.products.enabled = false;  // products consistent with the phase biases (monte_carlo.h)
+  options.ppp.ambiguity_resolution.enabled = configuration.ambiguity_resolution;
+  return options;
 }
 
 MonteCarloResult runMonteCarlo(const MonteCarloOptions& options, const std::function<void(int, int)>& progress) {

@@ -137,14 +137,23 @@ std::string monteCarloMarkdown(const MonteCarloResult& r) {
     md << '\n';
   }
   if (o.ppp.ambiguity_resolution.enabled) {
-    md << "\n## Ambiguity resolution: fixed epochs and time to first fix\n\n"
-          "| estimator | fixed share | median time to first fix |\n|---|---:|---:|\n";
-    for (int e = 0; e < 2; ++e)
-      md << "| " << (e == 0 ? "EKF" : "smoother (filtered; fixes held in the graph)") << " | "
-         << fmt("%.1f %%", 100.0 * s.fixed_share[static_cast<std::size_t>(e)]) << " | "
-         << convergenceTimeText(s.first_fix_median_s[static_cast<std::size_t>(e)], s.never_fixed[static_cast<std::size_t>(e)],
-                                s.flights - s.failed)
-         << " |\n";
+    md << "\n## Ambiguity resolution: fixed epochs, time to first fix, held integers against the truth\n\n"
+          "Fixed share: fixed epochs / epochs with a solution. The smoothed solution is the smoother's graph "
+          "after the last epoch, with the integers it holds then: its fix figures are the filtered run's. "
+          "Held integers: distinct held single differences compared with the simulator's integers (cross-system: "
+          "between satellites of two systems); wrong: wide lane off, or narrow lane more than "
+       << fmt("%g", kWrongHoldThresholdCycles)
+       << " cycle from the truth.\n\n"
+          "| estimator | fixed share | median time to first fix | held integers (cross-system) | wrong | "
+          "fixed epochs holding a wrong integer | max abs(held - truth) [cycles] |\n|---|---:|---:|---:|---:|---:|---:|\n";
+    for (int e = 0; e < kMonteCarloEstimators; ++e) {
+      const std::size_t i = e == 0 ? 0 : 1;  // the smoothed solution has the filtered run's fixes
+      const HeldIntegerCheck& h = s.held_check[i];
+      md << "| " << monteCarloEstimatorLabel(e) << " | " << fmt("%.1f %%", 100.0 * s.fixed_share[i]) << " | "
+         << convergenceTimeText(s.first_fix_median_s[i], s.never_fixed[i], s.flights - s.failed) << " | " << h.held
+         << " (" << h.cross_system << ") | " << h.wrong << " | " << h.fixed_epochs_with_wrong_hold << " of "
+         << h.fixed_epochs << " | " << fmt("%.3f", h.max_abs_error_cycles) << " |\n";
+    }
   }
   md << "\n## Phase-bias error |estimate - truth| by arc age (median / 90th percentile, cm)\n\n"
      << "Arcs compared: " << s.bias_arcs_compared << " (of which " << s.bias_arcs_missed_slip
@@ -171,6 +180,50 @@ std::string monteCarloMarkdown(const MonteCarloResult& r) {
     md << ' ' << monteCarloEstimatorLabel(e) << ' ' << s.epochs_without_solution[static_cast<std::size_t>(e)]
        << (e + 1 < kMonteCarloEstimators ? "," : ".\n");
   for (const auto& f : s.failures) md << "\n- failed: " << f;
+  return md.str();
+}
+
+std::string monteCarloComparisonMarkdown(const std::vector<std::pair<std::string, MonteCarloResult>>& studies) {
+  std::ostringstream md;
+  md << "# Monte Carlo: float and PPP-AR, the same flights\n\n";
+  if (!studies.empty()) {
+    const MonteCarloOptions& o = studies.front().second.options;
+    md << studies.front().second.summary.flights << " flights of " << fmt("%.1f", o.duration_s / 60.0) << " min at "
+       << fmt("%g", o.rate_hz) << " Hz, seed " << o.seed << ", profiles " << profileList(o)
+       << ". 3D error in cm over the first " << fmt("%g", o.first_window_s / 60.0)
+       << " min of each flight; time to 10 cm: median over flights of the time after which the error stays "
+          "below 10 cm. Fix figures of the smoothed solution: the filtered run's (the same graph).\n\n";
+  }
+  md << "| configuration | estimator | first-window median | first-window mean | time to < 10 cm | fixed share | "
+        "median time to first fix | wrong holds / held |\n|---|---|---:|---:|---:|---:|---:|---:|\n";
+  for (const auto& [name, r] : studies) {
+    const MonteCarloSummary& s = r.summary;
+    const auto& thresholds = r.options.convergence_thresholds_m;
+    const auto ten = std::find_if(thresholds.begin(), thresholds.end(), [](double t) { return std::abs(t - 0.1) < 1e-9; });
+    const bool ar = r.options.ppp.ambiguity_resolution.enabled;
+    for (int e = 0; e < kMonteCarloEstimators; ++e) {
+      const auto ei = static_cast<std::size_t>(e);
+      const std::size_t fi = e == 0 ? 0 : 1;
+      md << "| " << name << " | " << monteCarloEstimatorLabel(e) << " | " << cm(s.first_window[ei].median_m) << " | "
+         << cm(s.first_window[ei].mean_m) << " | ";
+      if (ten != thresholds.end()) {
+        const auto ti = static_cast<std::size_t>(ten - thresholds.begin());
+        md << convergenceTimeText(s.convergence_median_s[ei][ti], s.convergence_never[ei][ti], s.flights - s.failed);
+      } else {
+        md << "-";
+      }
+      if (ar) {
+        md << " | " << fmt("%.1f %%", 100.0 * s.fixed_share[fi]) << " | "
+           << convergenceTimeText(s.first_fix_median_s[fi], s.never_fixed[fi], s.flights - s.failed) << " | "
+           << s.held_check[fi].wrong << " / " << s.held_check[fi].held << " |\n";
+      } else {
+        md << " | - | - | - |\n";
+      }
+    }
+  }
+  for (const MethodTableRow& m : kMethodTable3)
+    md << "| the method's Table 3 | " << m.estimator << " | " << fmt("%.2f", m.first_window_median_cm) << " | "
+       << fmt("%.2f", m.first_window_mean_cm) << " | - | - | - | - |\n";
   return md.str();
 }
 
@@ -217,7 +270,12 @@ std::string monteCarloJson(const MonteCarloResult& r) {
     for (std::size_t e = 0; e < 2; ++e)
       j << (e ? ", " : "") << jsonString(e == 0 ? "ekf" : "smoother") << ": {\"fixed_share\": "
         << jsonNumber(s.fixed_share[e], 10) << ", \"first_fix_median_s\": " << jsonNumber(s.first_fix_median_s[e], 10)
-        << ", \"never_fixed\": " << s.never_fixed[e] << "}";
+        << ", \"never_fixed\": " << s.never_fixed[e] << ", \"held_integers\": " << s.held_check[e].held
+        << ", \"held_cross_system\": " << s.held_check[e].cross_system << ", \"wrong_holds\": " << s.held_check[e].wrong
+        << ", \"holds_not_compared\": " << s.held_check[e].not_compared
+        << ", \"fixed_epochs\": " << s.held_check[e].fixed_epochs
+        << ", \"fixed_epochs_with_wrong_hold\": " << s.held_check[e].fixed_epochs_with_wrong_hold
+        << ", \"max_abs_hold_error_cycles\": " << jsonNumber(s.held_check[e].max_abs_error_cycles, 10) << "}";
     j << "}";
   }
   j << ",\n  \"epochs_without_solution\": {";
@@ -257,7 +315,8 @@ void writeMonteCarloOutputs(const MonteCarloResult& r, const std::string& dir) {
     const std::string k = monteCarloEstimatorKey(e);
     flights << ',' << k << "_mean_cm," << k << "_median_cm," << k << "_max_cm," << k << "_first_window_mean_cm";
   }
-  flights << ",filtered_minus_ekf_max_cm,simulate_s,ekf_s,smoother_s,drawn\n";
+  flights << ",filtered_minus_ekf_max_cm,ekf_held_integers,ekf_wrong_holds,smoother_held_integers,smoother_wrong_holds,"
+             "simulate_s,ekf_s,smoother_s,drawn\n";
   for (const auto& f : r.flights) {
     flights << f.setup.index << ',' << f.setup.seed << ',' << flightProfileName(f.setup.profile) << ','
             << f.setup.start.toString() << ',' << jsonNumber(f.setup.origin.latitude_rad * kRadToDeg, 10) << ','
@@ -273,6 +332,7 @@ void writeMonteCarloOutputs(const MonteCarloResult& r, const std::string& dir) {
     for (double v : f.filtered_minus_ekf_m)
       if (std::isfinite(v)) diff_max = std::max(diff_max, v);
     flights << ',' << jsonNumber(100 * diff_max, 10);
+    for (const HeldIntegerCheck& h : f.held_check) flights << ',' << h.held << ',' << h.wrong;
     std::string drawn;
     for (const auto& x : f.drawn) drawn += (drawn.empty() ? "" : "; ") + x;
     for (char& c : drawn)

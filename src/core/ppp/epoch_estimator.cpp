@@ -25,9 +25,9 @@ bool floatWithoutPhaseBiases(const EstimatorEpochInput& input, EstimatorEpochRes
 
 EstimatorEpochResult EkfEstimator::processEpoch(const EstimatorEpochInput& input) {
   if (input.ended_arcs) arcsEnded(*input.ended_arcs);
-  EstimatorEpochResult r = ekf_.processEpoch(input.time, *input.evaluate, input.evaluate_start);
-  if (ambiguity_.options().enabled && !floatWithoutPhaseBiases(input, r)) resolveAmbiguities(input, r);
-  return r;
+  last_ = ekf_.processEpoch(input.time, *input.evaluate, input.evaluate_start);
+  if (ambiguity_.options().enabled && !floatWithoutPhaseBiases(input, last_)) resolveAmbiguities(input, last_);
+  return last_;
 }
 
 void EkfEstimator::resolveAmbiguities(const EstimatorEpochInput& input, EstimatorEpochResult& r) {

@@ -11,6 +11,9 @@
 //                     trajectory), else the newest <smoother>/ppp/odometry/smoothed per epoch;
 //                     map (ENU) poses go to ECEF through the node's datum, recovered from its
 //                     ppp/fix + ppp/odometry/filtered pairs (mapDatumFromPair)
+// PPP-AR: fixed share and time to first fix per row; an epoch is fixed when the
+// node's ppp/fix of its stamp has NavSatStatus STATUS_GBAS_FIX (the smoothed row
+// takes the smoother's epochs: the same graph with its held integers).
 // Node figures: update time median/p99 (ppp/status update_time_s), epochs processed, and
 // dropped = observation epochs of --input not processed (else the duplicate/out-of-order counts).
 // A missing topic gives a clear line and the other rows are still printed.
@@ -84,6 +87,8 @@ struct NodeRecord {
   std::vector<ppp::ReplayStatusSample> status;
   std::vector<ppp::ReplayPositionSample> fixes;
   std::map<std::int64_t, Eigen::Vector3d> fix_by_stamp_ns;  // for the datum pairs
+  std::vector<std::int64_t> status_stamp_ns;                 // of `status`, same order
+  std::set<std::int64_t> carrier_fixed_stamp_ns;             // fixes with NavSatStatus STATUS_GBAS_FIX
   std::vector<std::pair<ros::Time, Eigen::Vector3d>> datums;  // (bag time, datum) from fix + filtered odometry
   std::size_t odometry_filtered = 0;
   nav_msgs::Path::ConstPtr last_smoothed_path;
@@ -119,6 +124,7 @@ void readNode(const rosbag::MessageInstance& m, const std::string& rel, NodeReco
     x.epochs_out_of_order = s->epochs_out_of_order;
     x.estimator_resets = s->estimator_resets;
     n.status.push_back(x);
+    n.status_stamp_ns.push_back(stampNs(s->header.stamp));
   } else if (rel == "ppp/fix") {
     const auto f = m.instantiate<sensor_msgs::NavSatFix>();
     if (!f || !std::isfinite(f->latitude) || !std::isfinite(f->longitude) || !std::isfinite(f->altitude)) return;
@@ -135,6 +141,7 @@ void readNode(const rosbag::MessageInstance& m, const std::string& rel, NodeReco
     }
     n.fixes.push_back(p);
     n.fix_by_stamp_ns[stampNs(f->header.stamp)] = p.position_ecef_m;
+    if (f->status.status == sensor_msgs::NavSatStatus::STATUS_GBAS_FIX) n.carrier_fixed_stamp_ns.insert(stampNs(f->header.stamp));
   } else if (rel == "ppp/odometry/filtered") {
     const auto o = m.instantiate<nav_msgs::Odometry>();
     if (!o) return;
@@ -149,6 +156,14 @@ void readNode(const rosbag::MessageInstance& m, const std::string& rel, NodeReco
     const auto o = m.instantiate<nav_msgs::Odometry>();
     if (o) n.smoothed_odometry.emplace_back(m.getTime(), o);
   }
+}
+
+/// Marks the status epochs whose fix says carrier-phase fixed (PPP-AR: the nodes
+/// publish NavSatStatus STATUS_GBAS_FIX for a solution on held integer ambiguities,
+/// as ROS GNSS drivers do for carrier-fixed RTK; README "ROS 1 nodes").
+void markFixedEpochs(NodeRecord& n) {
+  for (std::size_t i = 0; i < n.status.size() && i < n.status_stamp_ns.size(); ++i)
+    n.status[i].ambiguities_fixed = n.carrier_fixed_stamp_ns.count(n.status_stamp_ns[i]) > 0;
 }
 
 /// The node's map datums: each filtered odometry paired with the fix of the same stamp
@@ -328,6 +343,8 @@ int main(int argc, char** argv) {
         if (topic.rfind(prefix, 0) == 0) readNode(m, topic.substr(prefix.size()), *n);
       }
     }
+    markFixedEpochs(ekf);
+    markFixedEpochs(smoother);
     pairDatums(bag, ekf_ns + "/ppp/odometry/filtered", ekf);
     pairDatums(bag, smoother_ns + "/ppp/odometry/filtered", smoother);
     std::cout << "ppp_bag_report: " << bag_path << ": " << view.size() << " messages on " << topics.size()
