@@ -46,12 +46,8 @@ TEST(LiveEsbcSsrAr, EkfNodeFixesWithSsrPhaseBiasesAsPppSolve) {
 
   const std::string ssr = (dir / "SSRC00TST_esbc.rtcm3").string();
   ppp::test::writeFileBytes(ssr, esbcSsrStreamWithPhaseBiases(ppp::readRinexNav(nav), start - 60.0, until + 60.0));
-  const std::string stream = (dir / "ESBC_made.rtcm3").string();
-  const std::string make = std::string(PPP_BIN_DIR) + "/ppp_stream_make --obs " +
-                           esbcPath("ESBC00DNK_R_20201770000_01D_30S_MO.crx.gz") + " --nav " + nav + " --ssr " + ssr +
-                           " --start '2020/06/25 00:05:00' --duration 3600 --out " + stream + " > " +
-                           (dir / "make.log").string() + " 2>&1";
-  ASSERT_EQ(std::system(make.c_str()), 0) << make << "\n" << ppp::test::readFileBytes((dir / "make.log").string());
+  const std::string stream = makeEsbcCasterStream(dir, nav, ssr, "2020/06/25 00:05:00", 3600);
+  ASSERT_FALSE(::testing::Test::HasFailure());
 
   const std::string args = "--rtcm " + stream + " --ref-date 2020/06/25 --nav " + stream + " --ssr " + ssr +
                            " --atx " + ppp::test::dataPath("antex/igs14_2178_satellites.atx") + " " +

@@ -183,6 +183,20 @@ inline void expectEqualToPppSolve(const std::string& what, const std::vector<sen
   EXPECT_LT(worst, 1e-3) << what;
 }
 
+/// The ESBC 2020-177 day as one caster stream (the ppp_stream_make binary): the 30 s
+/// observations from `start` ("2020/06/25 00:30:00") for `duration_s`, the broadcast file
+/// `nav`, the SSR frames of `ssr`; writes dir/ESBC_made.rtcm3 and returns its path.
+inline std::string makeEsbcCasterStream(const std::filesystem::path& dir, const std::string& nav,
+                                        const std::string& ssr, const std::string& start, int duration_s) {
+  const std::string stream = (dir / "ESBC_made.rtcm3").string();
+  const std::string make = std::string(PPP_BIN_DIR) + "/ppp_stream_make --obs " +
+                           ppp::test::dataPath("esbc-2020-177/ESBC00DNK_R_20201770000_01D_30S_MO.crx.gz") +
+                           " --nav " + nav + " --ssr " + ssr + " --start '" + start + "' --duration " +
+                           std::to_string(duration_s) + " --out " + stream + " > " + (dir / "make.log").string() + " 2>&1";
+  EXPECT_EQ(std::system(make.c_str()), 0) << make << "\n" << ppp::test::readFileBytes((dir / "make.log").string());
+  return stream;
+}
+
 /// One row of a ppp_solve solution CSV with a position.
 struct SolvedEpoch {
   Eigen::Vector3d position_ecef_m;
