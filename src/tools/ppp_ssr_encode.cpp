@@ -7,6 +7,14 @@
 // ionosphere-free phase centre) and apc-l1 (the L1 phase centre, as the IGS SSRA
 // streams) need --atx (satellite PCO); models/satellite_reference_point.h.
 // Default: centre of mass, 5 s, all systems the products and the NAV file share.
+// Integer-recovery clocks (the clock header lists wide-lane satellite biases, "WL"
+// comment lines of the CNES/CLS GRG products): phase biases 1265 (GPS L1/L2) and
+// 1267 (Galileo E1/E5a) with the integer indicators set, whose ionosphere-free
+// combination is zero and whose wide lane is the header's
+// (models/clock_wide_lane_bias_provider.h); without --bia, the code biases are
+// then those of the clocks' reference codes (zero: C1W/C2W, C1C/C5Q, C1X/C5X).
+// --no-phase-biases leaves them out. The stream carries no antenna model: a user
+// of it declares the products' one (config ssr.antenna_model, e.g. IGS14 for GRG).
 #include <fstream>
 #include <iostream>
 #include <string>
@@ -16,7 +24,9 @@
 #include "ppp_bayes_tree/io/line_source.h"
 #include "ppp_bayes_tree/io/rinex_nav_reader.h"
 #include "ppp_bayes_tree/io/rtcm_ssr_encoder.h"
+#include "ppp_bayes_tree/io/rinex_clock_reader.h"
 #include "ppp_bayes_tree/models/antex_calibrations.h"
+#include "ppp_bayes_tree/models/clock_wide_lane_bias_provider.h"
 #include "ppp_bayes_tree/models/precise_ephemeris.h"
 #include "ppp_bayes_tree/models/satellite_reference_point.h"
 #include "ppp_bayes_tree/models/sinex_bias_provider.h"
@@ -27,7 +37,7 @@ int usage(const std::string& why) {
   if (!why.empty()) std::cerr << "ppp_ssr_encode: " << why << "\n";
   std::cerr << "usage: ppp_ssr_encode --nav NAV [--nav NAV ...] --sp3 SP3 --clk CLK [--bia BIA] [--atx ATX]\n"
                "                      --out STREAM [--reference com|apc|apc-if|apc-l1] [--interval-s 5] [--systems GER]\n"
-               "                      [--orbit-clock-separate]\n";
+               "                      [--orbit-clock-separate] [--no-phase-biases]\n";
   return 2;
 }
 }  // namespace
@@ -38,6 +48,7 @@ int main(int argc, char** argv) {
   std::optional<std::string> bia, atx;
   std::string out_path;
   SsrFromPreciseOptions options;
+  bool phase_biases_wanted = true;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     const auto value = [&](std::string& v) { if (i + 1 >= argc) return false; v = argv[++i]; return true; };
@@ -62,6 +73,7 @@ int main(int argc, char** argv) {
         options.systems.push_back(*s);
       }
     } else if (a == "--orbit-clock-separate") options.combined = false;
+    else if (a == "--no-phase-biases") phase_biases_wanted = false;
     else return usage("unknown or incomplete argument " + a);
   }
   if (nav.empty() || sp3.empty() || clk.empty() || out_path.empty()) return usage("--nav, --sp3, --clk and --out are required");
@@ -77,12 +89,26 @@ int main(int argc, char** argv) {
       bias_file = std::make_unique<BiasSinexFile>(readBiasSinexFile(*bia));
       biases = std::make_unique<SinexBiasProvider>(*bias_file, fileBaseName(*bia));
     }
+    // Integer phase biases from the wide-lane biases of integer-recovery clocks.
+    std::shared_ptr<const ClockWideLaneBiasProvider> wide_lane;
+    if (phase_biases_wanted) {
+      std::vector<RinexClockHeader> headers;
+      for (const auto& c : clk) headers.push_back(readRinexClockHeader(c));
+      std::vector<std::string> problems;
+      wide_lane = integerRecoveryClockBiases(headers, clk, problems);
+      for (const auto& p : problems) std::cerr << "ppp_ssr_encode: " << p << "\n";
+      std::cout << (wide_lane ? "phase biases: " + std::to_string(wide_lane->size()) +
+                                    " wide-lane satellite biases of the integer-recovery clocks"
+                              : std::string("phase biases: none (the clock header lists no wide-lane biases)"))
+                << "\n";
+    }
+    const BiasProvider* code_biases = biases ? static_cast<const BiasProvider*>(biases.get()) : wide_lane.get();
     const auto orbit_span = precise.orbitSpan();
     const auto clock_span = precise.clockSpan();
     if (!orbit_span || !clock_span) throw std::runtime_error("no precise orbits or clocks loaded");
     const GnssTime first = std::max(orbit_span->first, clock_span->first);
     const GnssTime last = std::min(orbit_span->last, clock_span->last);
-    const SsrFromPreciseResult r = ssrFromPrecise(navs, precise, antennas.get(), biases.get(), first, last, options);
+    const SsrFromPreciseResult r = ssrFromPrecise(navs, precise, antennas.get(), code_biases, first, last, options, wide_lane.get());
     std::ofstream out(out_path, std::ios::binary);
     if (!out) throw std::runtime_error("cannot write " + out_path);
     std::size_t bytes = 0;

@@ -11,9 +11,12 @@
 #include <vector>
 
 #include "ppp_bayes_tree/io/antex_reader.h"
+#include "ppp_bayes_tree/io/rinex_clock_reader.h"
+#include "ppp_bayes_tree/models/clock_wide_lane_bias_provider.h"
 #include "ppp_bayes_tree/ppp/ppp_config.h"
 #include "ppp_bayes_tree/ppp/ppp_pipeline.h"
 #include "ppp_bayes_tree/ppp/product_assembly.h"
+#include "esbc_stream_fixture.h"
 #include "ppp_dataset.h"
 #include "test_support.h"
 
@@ -237,6 +240,43 @@ TEST(ProductAssembly, BroadcastAndSsrFilesGoThroughTheSameGate) {
   EXPECT_EQ(on.arGate().reason, ArGateReason::NoConsistentPhaseBiases);
   EXPECT_EQ(on.arGate().detail, "the SSR stream carries no phase biases");
   EXPECT_TRUE(on.config().ambiguity_resolution.enabled);
+}
+
+TEST(ProductAssembly, SsrPhaseBiasesFixWhenTheStreamsAntennaModelIsStated) {
+  PPP_REQUIRE_SHARED_DATA();
+  // ppp_solve --nav --ssr on a stream ppp_ssr_encode made from the GRG products with
+  // the phase biases of their integer-recovery clocks (one hour, GPS and Galileo).
+  const std::string clk = test::esbcPath("GRG0MGXFIN_20201770000_01D_30S_CLK.CLK.gz");
+  std::vector<std::string> problems;
+  const auto wide_lane = integerRecoveryClockBiases({readRinexClockHeader(clk)}, {clk}, problems);
+  ASSERT_NE(wide_lane, nullptr);
+  ProductAssemblyInputs in;
+  in.nav = {test::esbcPath("ESBC00DNK_R_20201770000_01D_MN.rnx")};
+  const GnssTime start = test::gpst(2020, 6, 25, 1, 0, 0);
+  SsrFromPreciseOptions options;
+  options.systems = {GnssSystem::GPS, GnssSystem::Galileo};
+  const auto dir = test::tempDir("assembly_ssr_phase");
+  in.ssr = (dir / "SSRC00TST_esbc.rtcm3").string();
+  test::writeFileBytes(*in.ssr, test::ssrStreamBytes(ssrFromPrecise({readRinexNav(in.nav.front())}, test::esbcGrgPrecise(),
+                                                                     nullptr, wide_lane.get(), start, start + 600.0,
+                                                                     options, wide_lane.get())));
+  in.atx = {test::dataPath(kIgs14), test::dataPath("antex/igs05_esbc_receiver_trim.atx")};
+  // RTCM SSR names no antenna model: auto stays float until the configuration states it.
+  const ProductAssembly unknown = ProductAssembly::assemble(in, PppConfig{});
+  EXPECT_EQ(unknown.arGate().reason, ArGateReason::AntennaModelUnknown);
+  EXPECT_EQ(unknown.phaseBiases(), nullptr);
+  const ProductAssembly igs14 = ProductAssembly::assemble(in, parsePppConfig("ssr:\n  antenna_model: IGS14\n", "igs14"));
+  EXPECT_EQ(igs14.arGate().reason, ArGateReason::Fixing);
+  EXPECT_EQ(igs14.arGate().phase, PhaseInformation::SsrPhaseBiases);
+  ASSERT_NE(igs14.phaseBiases(), nullptr);
+  EXPECT_EQ(igs14.phaseBiases(), igs14.codeBiases().get());
+  EXPECT_EQ(igs14.config().signals.systems, (std::vector<GnssSystem>{GnssSystem::GPS, GnssSystem::Galileo}));
+  EXPECT_TRUE(igs14.config().ambiguity_resolution.enabled);
+  // A model other than the ANTEX satellites' refuses.
+  const ProductAssembly igs20 = ProductAssembly::assemble(in, parsePppConfig("ssr:\n  antenna_model: IGS20\n", "igs20"));
+  EXPECT_EQ(igs20.arGate().reason, ArGateReason::AntennaModelDifferent);
+  EXPECT_EQ(igs20.phaseBiases(), nullptr);
+  std::filesystem::remove_all(dir);
 }
 
 TEST(ProductAssembly, PppSolvePipelineUsesTheAssembly) {

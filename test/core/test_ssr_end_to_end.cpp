@@ -7,11 +7,16 @@
 
 #include <cmath>
 #include <map>
+#include <set>
 
+#include "ppp_bayes_tree/io/rinex_clock_reader.h"
 #include "ppp_bayes_tree/io/rinex_nav_reader.h"
 #include "ppp_bayes_tree/io/rinex_obs_reader.h"
 #include "ppp_bayes_tree/models/broadcast_products.h"
 #include "ppp_bayes_tree/models/broadcast_ssr_ephemeris.h"
+#include "ppp_bayes_tree/models/clock_wide_lane_bias_provider.h"
+#include "ppp_bayes_tree/ppp/wide_lane_ambiguity.h"
+#include "ppp_bayes_tree/types/carrier_frequency.h"
 #include "ppp_bayes_tree/ppp/epoch_estimator.h"
 #include "ppp_bayes_tree/ppp/ppp_config.h"
 #include "ppp_bayes_tree/ppp/ppp_pipeline.h"
@@ -220,6 +225,98 @@ TEST(SsrEndToEnd, EsbcBroadcastPlusEncodedSsrMatchesPreciseProducts) {
             << " mm, max " << ac.max_m * 1e3 << " mm over " << ac.n << " epochs\n";
   EXPECT_EQ(ac.n, 241u);
   EXPECT_LT(ac.rms_m, 0.05);  // measured 2.8 cm: the missing satellite PCV in a 1-3 h float solution
+  std::filesystem::remove_all(dir);
+}
+
+// The phase biases ppp_ssr_encode makes from the GRG integer-recovery clocks (the
+// clock header's "WL" lines), written as RTCM 1265/1267, decoded as ppp_solve
+// --nav --ssr does and given to the resolver's Melbourne-Wuebbena correction,
+// correct the wide lane as the clock-header provider does, to 1e-4 cycle (the
+// DF482 grid is 0.1 mm; the encoder picks the grid points that keep the wide lane).
+TEST(SsrEndToEnd, EncodedPhaseBiasesCorrectTheWideLaneAsTheClockHeader) {
+  PPP_REQUIRE_SHARED_DATA();
+  const std::string clk = esbcPath("GRG0MGXFIN_20201770000_01D_30S_CLK.CLK.gz");
+  std::vector<std::string> problems;
+  const auto header_biases = integerRecoveryClockBiases({readRinexClockHeader(clk)}, {clk}, problems);
+  ASSERT_NE(header_biases, nullptr);
+  EXPECT_TRUE(problems.empty());
+  const std::string nav_path = esbcPath("ESBC00DNK_R_20201770000_01D_MN.rnx");
+  const GnssTime start = test::gpst(2020, 6, 25, 1, 0, 0);
+  SsrFromPreciseOptions options;
+  options.systems = {GnssSystem::GPS, GnssSystem::Galileo};
+  const SsrFromPreciseResult ssr = ssrFromPrecise({readRinexNav(nav_path)}, test::esbcGrgPrecise(), nullptr,
+                                                  header_biases.get(), start, start + 60.0, options,
+                                                  header_biases.get());
+  std::map<GnssSystem, std::size_t> phase_messages;
+  std::set<SatelliteId> streamed;  // satellites with SSR orbits, clocks and biases
+  for (const auto& m : ssr.messages) {
+    if (m.header.kind != SsrMessageKind::PhaseBias) continue;
+    ++phase_messages[m.header.system];
+    for (const auto& p : m.phase_biases)
+      for (const auto& b : p.biases) {
+        streamed.insert(p.satellite);
+        EXPECT_TRUE(b.integer) << p.satellite.toString();
+        EXPECT_EQ(b.widelane_integer, 2);
+      }
+  }
+  EXPECT_GE(phase_messages[GnssSystem::GPS], 13u);  // 13 epochs 01:00:00 .. 01:01:00
+  EXPECT_GE(phase_messages[GnssSystem::Galileo], 13u);
+  const auto dir = test::tempDir("ssr_phase_biases");
+  const std::string stream_path = (dir / "SSRC00TST_esbc.rtcm3").string();
+  test::writeFileBytes(stream_path, test::ssrStreamBytes(ssr));
+  const BroadcastProducts broadcast = loadBroadcastProducts({nav_path}, stream_path);
+  EXPECT_TRUE(broadcast.problems.empty()) << broadcast.problems.front();
+  ASSERT_TRUE(broadcast.ssr_phase_biases);
+  ASSERT_NE(broadcast.ssr_biases, nullptr);
+
+  // The signals ESBC tracks: GPS C1C/L1C + C2W/L2W, Galileo C1C/L1C + C5Q/L5Q; the
+  // code OSBs as the selection leaves them (none for C1C: the MW asks the provider).
+  const auto code = [](ObservableType type, char band, char attribute) {
+    ObservationCode c;
+    c.type = type;
+    c.band = band;
+    c.attribute = attribute;
+    return c;
+  };
+  std::size_t compared = 0, corrected = 0;
+  std::map<GnssSystem, std::size_t> compared_by_system;
+  double max_difference_cycles = 0.0;
+  for (int i = 0; i < 2; ++i) {
+    const GnssSystem system = i == 0 ? GnssSystem::GPS : GnssSystem::Galileo;
+    const char band2 = system == GnssSystem::GPS ? '2' : '5';
+    const char attribute2 = system == GnssSystem::GPS ? 'W' : 'Q';
+    for (int prn = 1; prn <= 36; ++prn) {
+      DualFrequencyObservation o;
+      o.satellite = SatelliteId{system, prn};
+      o.time = start + 35.0;
+      o.code1 = code(ObservableType::Pseudorange, '1', system == GnssSystem::GPS ? 'W' : 'C');
+      o.code2 = code(ObservableType::Pseudorange, band2, attribute2);
+      o.phase1 = code(ObservableType::CarrierPhase, '1', 'C');
+      o.phase2 = code(ObservableType::CarrierPhase, band2, attribute2);
+      o.frequency1_hz = *carrierFrequency_hz(system, '1');
+      o.frequency2_hz = *carrierFrequency_hz(system, band2);
+      o.code1_m = 2.2e7 + 3.1;
+      o.code2_m = 2.2e7 + 4.7;
+      o.phase1_cycles = 1.156e8 + 0.37;
+      o.phase2_cycles = 0.9e8 + 0.81;
+      const CorrectedMelbourneWuebbena by_header = correctedMelbourneWuebbena(o, header_biases.get());
+      if (!by_header.mw_cycles || !streamed.count(o.satellite)) continue;
+      const CorrectedMelbourneWuebbena by_ssr = correctedMelbourneWuebbena(o, broadcast.ssr_biases.get());
+      ASSERT_TRUE(by_ssr.mw_cycles) << o.satellite.toString() << ": " << toString(by_ssr.issue);
+      const double d = std::abs(*by_ssr.mw_cycles - *by_header.mw_cycles);
+      max_difference_cycles = std::max(max_difference_cycles, d);
+      EXPECT_LT(d, 1e-4) << o.satellite.toString();
+      ++compared;
+      ++compared_by_system[system];
+      if (std::abs(*by_header.mw_cycles - melbourneWuebbena_cycles(o)) > 0.01) ++corrected;
+    }
+  }
+  std::printf("[ figures  ] %zu satellites compared (%zu with a wide-lane bias above 0.01 cycle), max |MW ssr - MW header| %.2e cycle\n",
+              compared, corrected, max_difference_cycles);
+  std::printf("[ figures  ] GPS %zu, Galileo %zu\n", compared_by_system[GnssSystem::GPS], compared_by_system[GnssSystem::Galileo]);
+  EXPECT_GE(compared_by_system[GnssSystem::GPS], 10u);  // satellites with a header bias and SSR records
+  EXPECT_GE(compared_by_system[GnssSystem::Galileo], 10u);
+  EXPECT_GE(corrected, 25u);  // 29 of 55
   std::filesystem::remove_all(dir);
 }
 

@@ -39,52 +39,6 @@ constexpr double kInjectAfterFirstFix_s = 15.0 * 60.0;  // the injection: 15 min
 // Half a narrow-lane cycle of the GPS ionosphere-free ambiguity: c / (f1 + f2) / 2 [m].
 constexpr double kInjectedPhaseBias_m = 0.5 * 299792458.0 / (1575.42e6 + 1227.60e6);
 
-/// One row of a ppp_solve solution CSV with a position.
-struct SolvedEpoch {
-  Eigen::Vector3d position_ecef_m;
-  bool fixed = false;
-};
-
-/// ppp_solve's CSV: UTC stamp -> position and fix state ("status" ppp-fixed).
-std::map<ros::Time, SolvedEpoch> readSolutionCsv(const std::filesystem::path& csv) {
-  std::map<ros::Time, bool> fixed;
-  std::map<ros::Time, SolvedEpoch> out;
-  for (const auto& [stamp, p] : readPppSolveCsv(csv, nullptr, &fixed)) out[stamp] = {p, fixed.at(stamp)};
-  return out;
-}
-
-/// The node's fixes and statuses against ppp_solve: the same epochs, positions within
-/// 1 mm, the same fix state in PppStatus and NavSatFix; returns the fixed epochs.
-std::size_t expectSameFixes(const std::string& what, NodeOutputs& out, const std::map<ros::Time, SolvedEpoch>& offline) {
-  std::lock_guard<std::mutex> l(out.mutex);
-  std::map<ros::Time, std::uint8_t> fix_state;
-  for (const auto& s : out.statuses) fix_state[s.header.stamp] = s.fix_state;
-  double worst_m = 0.0;
-  std::size_t fixed = 0, state_mismatch = 0;
-  for (const auto& f : out.fixes) {
-    const auto it = offline.find(f.header.stamp);
-    if (it == offline.end()) {
-      ADD_FAILURE() << what << ": no ppp_solve epoch at " << f.header.stamp;
-      continue;
-    }
-    worst_m = std::max(worst_m, (fixEcef(f) - it->second.position_ecef_m).norm());
-    const bool node_fixed = fix_state[f.header.stamp] == ppp_bayes_tree::PppStatus::FIX_FIXED;
-    state_mismatch += node_fixed != it->second.fixed ? 1 : 0;
-    EXPECT_EQ(f.status.status, node_fixed ? sensor_msgs::NavSatStatus::STATUS_GBAS_FIX
-                                          : sensor_msgs::NavSatStatus::STATUS_FIX) << what << " at " << f.header.stamp;
-    fixed += node_fixed ? 1 : 0;
-  }
-  std::size_t offline_fixed = 0;
-  for (const auto& [stamp, e] : offline) offline_fixed += e.fixed ? 1 : 0;
-  std::printf("[ figures  ] %s: %zu node fixes (%zu fixed), %zu ppp_solve epochs (%zu fixed); largest difference "
-              "%.3g mm; fix state differs at %zu epochs\n",
-              what.c_str(), out.fixes.size(), fixed, offline.size(), offline_fixed, worst_m * 1e3, state_mismatch);
-  EXPECT_EQ(out.fixes.size(), offline.size()) << what;
-  EXPECT_LT(worst_m, 1e-3) << what;
-  EXPECT_EQ(state_mismatch, 0u) << what;
-  return fixed;
-}
-
 /// The last status: AR on with the clocks' wide-lane biases, the counters and the first fix as ppp_solve's.
 void expectStatusFigures(const std::string& what, NodeOutputs& out, const std::map<ros::Time, SolvedEpoch>& offline) {
   std::lock_guard<std::mutex> l(out.mutex);

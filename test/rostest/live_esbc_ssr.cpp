@@ -29,12 +29,8 @@ TEST(LiveEsbcSsr, EkfAndSmootherNodesEqualPppSolveOnTheMadeStreams) {
   const std::string ssr = (dir / "SSRC00TST_esbc.rtcm3").string();
   ppp::test::writeFileBytes(ssr, ppp::test::esbcGpsSsrStream(ppp::readRinexNav(nav), start - 60.0, until + 60.0));
   // The caster stream (ppp_stream_make), SSR interleaved.
-  const std::string stream = (dir / "ESBC_made.rtcm3").string();
-  const std::string make = std::string(PPP_BIN_DIR) + "/ppp_stream_make --obs " +
-                           esbcPath("ESBC00DNK_R_20201770000_01D_30S_MO.crx.gz") + " --nav " + nav + " --ssr " + ssr +
-                           " --start '2020/06/25 00:30:00' --duration 2700 --out " + stream + " > " +
-                           (dir / "make.log").string() + " 2>&1";
-  ASSERT_EQ(std::system(make.c_str()), 0) << make << "\n" << ppp::test::readFileBytes((dir / "make.log").string());
+  const std::string stream = makeEsbcCasterStream(dir, nav, ssr, "2020/06/25 00:30:00", 2700);
+  ASSERT_FALSE(::testing::Test::HasFailure());
 
   const std::string args = "--rtcm " + stream + " --ref-date 2020/06/25 --nav " + stream + " --ssr " + ssr +
                            " --atx " + ppp::test::dataPath("antex/igs20_gps_satellites_trim.atx") + " " +

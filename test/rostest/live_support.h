@@ -29,6 +29,7 @@
 
 #include <Eigen/Core>
 #include <ros/ros.h>
+#include <sensor_msgs/NavSatStatus.h>
 #include <topic_tools/shape_shifter.h>
 
 #include "ppp_bayes_tree/ros/message_conversions.h"
@@ -180,6 +181,66 @@ inline void expectEqualToPppSolve(const std::string& what, const std::vector<sen
   // completeness the decoder cannot tell before the next one arrives may stay held.
   EXPECT_GE(matched + 1, offline.size()) << what;
   EXPECT_LT(worst, 1e-3) << what;
+}
+
+/// The ESBC 2020-177 day as one caster stream (the ppp_stream_make binary): the 30 s
+/// observations from `start` ("2020/06/25 00:30:00") for `duration_s`, the broadcast file
+/// `nav`, the SSR frames of `ssr`; writes dir/ESBC_made.rtcm3 and returns its path.
+inline std::string makeEsbcCasterStream(const std::filesystem::path& dir, const std::string& nav,
+                                        const std::string& ssr, const std::string& start, int duration_s) {
+  const std::string stream = (dir / "ESBC_made.rtcm3").string();
+  const std::string make = std::string(PPP_BIN_DIR) + "/ppp_stream_make --obs " +
+                           ppp::test::dataPath("esbc-2020-177/ESBC00DNK_R_20201770000_01D_30S_MO.crx.gz") +
+                           " --nav " + nav + " --ssr " + ssr + " --start '" + start + "' --duration " +
+                           std::to_string(duration_s) + " --out " + stream + " > " + (dir / "make.log").string() + " 2>&1";
+  EXPECT_EQ(std::system(make.c_str()), 0) << make << "\n" << ppp::test::readFileBytes((dir / "make.log").string());
+  return stream;
+}
+
+/// One row of a ppp_solve solution CSV with a position.
+struct SolvedEpoch {
+  Eigen::Vector3d position_ecef_m;
+  bool fixed = false;
+};
+
+/// ppp_solve's CSV: UTC stamp -> position and fix state ("status" ppp-fixed).
+inline std::map<ros::Time, SolvedEpoch> readSolutionCsv(const std::filesystem::path& csv) {
+  std::map<ros::Time, bool> fixed;
+  std::map<ros::Time, SolvedEpoch> out;
+  for (const auto& [stamp, p] : readPppSolveCsv(csv, nullptr, &fixed)) out[stamp] = {p, fixed.at(stamp)};
+  return out;
+}
+
+/// The node's fixes and statuses against ppp_solve: the same epochs, positions within
+/// 1 mm, the same fix state in PppStatus and NavSatFix; returns the fixed epochs.
+inline std::size_t expectSameFixes(const std::string& what, NodeOutputs& out, const std::map<ros::Time, SolvedEpoch>& offline) {
+  std::lock_guard<std::mutex> l(out.mutex);
+  std::map<ros::Time, std::uint8_t> fix_state;
+  for (const auto& s : out.statuses) fix_state[s.header.stamp] = s.fix_state;
+  double worst_m = 0.0;
+  std::size_t fixed = 0, state_mismatch = 0;
+  for (const auto& f : out.fixes) {
+    const auto it = offline.find(f.header.stamp);
+    if (it == offline.end()) {
+      ADD_FAILURE() << what << ": no ppp_solve epoch at " << f.header.stamp;
+      continue;
+    }
+    worst_m = std::max(worst_m, (fixEcef(f) - it->second.position_ecef_m).norm());
+    const bool node_fixed = fix_state[f.header.stamp] == ppp_bayes_tree::PppStatus::FIX_FIXED;
+    state_mismatch += node_fixed != it->second.fixed ? 1 : 0;
+    EXPECT_EQ(f.status.status, node_fixed ? sensor_msgs::NavSatStatus::STATUS_GBAS_FIX
+                                          : sensor_msgs::NavSatStatus::STATUS_FIX) << what << " at " << f.header.stamp;
+    fixed += node_fixed ? 1 : 0;
+  }
+  std::size_t offline_fixed = 0;
+  for (const auto& [stamp, e] : offline) offline_fixed += e.fixed ? 1 : 0;
+  std::printf("[ figures  ] %s: %zu node fixes (%zu fixed), %zu ppp_solve epochs (%zu fixed); largest difference "
+              "%.3g mm; fix state differs at %zu epochs\n",
+              what.c_str(), out.fixes.size(), fixed, offline.size(), offline_fixed, worst_m * 1e3, state_mismatch);
+  EXPECT_EQ(out.fixes.size(), offline.size()) << what;
+  EXPECT_LT(worst_m, 1e-3) << what;
+  EXPECT_EQ(state_mismatch, 0u) << what;
+  return fixed;
 }
 
 /// Waits (wall time) until `out` received `n` fixes and none for `quiet_s`, or the timeout.

@@ -22,10 +22,12 @@
 // A line whose pair differs from its system's (e.g. Galileo E1/E5b) is reported
 // as a problem and not used.
 #include <map>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
 
+#include "ppp_bayes_tree/io/rinex_clock_reader.h"
 #include "ppp_bayes_tree/models/bias_provider.h"
 
 namespace ppp {
@@ -68,5 +70,12 @@ class ClockWideLaneBiasProvider : public BiasProvider {
   std::string source_;
   double sign_ = -1.0;
 };
+
+/// The wide-lane satellite biases in the headers of integer-recovery clock files
+/// (`headers` read from `clock_files`, in order; GRG sign); nullptr unless every
+/// clock file lists them. Malformed WL lines go to `problems`, with the file name.
+std::shared_ptr<const ClockWideLaneBiasProvider> integerRecoveryClockBiases(
+    const std::vector<RinexClockHeader>& headers, const std::vector<std::string>& clock_files,
+    std::vector<std::string>& problems);
 
 }  // namespace ppp

@@ -15,6 +15,15 @@
 //             uses the velocity difference)
 //   C0      = c (dt_precise(t0) - dt_brdc_polynomial(t0)),  C1 likewise, C2 = 0
 //   code bias = -OSB (SSR biases are added to the measurement)
+//   phase bias = -OSB of the phase-bias provider (e.g. the wide-lane biases of
+//             integer-recovery clocks, ClockWideLaneBiasProvider: L1/L2, E1/E5a
+//             biases with a zero ionosphere-free combination and the header's
+//             wide lane), one per RTCM signal id the provider answers, with the
+//             integer, wide-lane integer (2: with every other signal) indicators
+//             set and discontinuity counter 0 (the biases are constant); yaw
+//             and yaw rate 0 (not sent: the user applies its attitude model);
+//             DF486/DF487 set (the biases keep the dispersive and the MW
+//             combination consistent). Messages 1265 (GPS), 1267 (Galileo).
 // X_precise is the SP3 centre of mass, or with reference = AntennaPhaseCentre
 // the centre of mass moved by the satellite's ionosphere-free PCO (L1/L2,
 // E1/E5a; nominal yaw attitude): the point the measurement model expects when
@@ -56,10 +65,12 @@ struct SsrFromPreciseResult {
 
 /// Builds the messages for [first, last] (whole seconds; first rounded up to the
 /// interval grid). `antennas` is needed for reference = AntennaPhaseCentre;
-/// `biases` (may be null) gives the code biases. Throws std::invalid_argument on
+/// `biases` (may be null) gives the code biases, `phase_biases` (may be null) the
+/// integer phase biases (phase-bias messages, same epochs). Throws std::invalid_argument on
 /// an interval that is not an SSR update interval, or APC without antennas.
 SsrFromPreciseResult ssrFromPrecise(const std::vector<NavData>& navigation, const EphemerisSource& precise,
                                     const AntennaCalibrationProvider* antennas, const BiasProvider* biases,
-                                    const GnssTime& first, const GnssTime& last, const SsrFromPreciseOptions& options);
+                                    const GnssTime& first, const GnssTime& last, const SsrFromPreciseOptions& options,
+                                    const BiasProvider* phase_biases = nullptr);
 
 }  // namespace ppp

@@ -6,7 +6,8 @@
 //                      are copied from `estimator`)
 //   measurement_model: MeasurementModelOptions, with `signals:` the SignalSelectionOptions
 //   cycle_slip:        CycleSlipOptions (arc tracker)
-//   ssr:               SsrAgeLimits (broadcast + SSR orbits and clocks, ppp_solve --nav --ssr)
+//   ssr:               SsrStreamOptions (broadcast + SSR orbits and clocks, ppp_solve --nav --ssr,
+//                      the nodes' live SSR feed): age limits and the stream's antenna model
 //   ambiguity_resolution: AmbiguityResolutionOptions (PPP-AR: wide lane, LAMBDA)
 //   ros:               the ROS nodes' section (kept raw, bound by the node)
 // (bound by ppp_options_binding.h; the raw nodes are kept as well)
@@ -32,6 +33,14 @@
 
 namespace ppp {
 
+/// `ssr:` the age limits, and the satellite antenna model of the SSR stream's
+/// orbits and clocks (RTCM SSR carries none; its provider states it, e.g. IGS20 for
+/// the IGS SSR streams, IGS14 for a stream made by ppp_ssr_encode from GRG products).
+/// Empty: not known (ambiguity_resolution.enabled: auto then stays float).
+struct SsrStreamOptions : SsrAgeLimits {
+  std::string antenna_model;
+};
+
 struct PppConfig {
   StochasticModel stochastic;
   EkfOptions estimator;
@@ -40,7 +49,7 @@ struct PppConfig {
   MeasurementModelOptions model;
   SignalSelectionOptions signals;
   CycleSlipOptions cycle_slip_options;
-  SsrAgeLimits ssr;
+  SsrStreamOptions ssr;
   AmbiguityResolutionOptions ambiguity_resolution;  // `ambiguity_resolution:` (PPP-AR)
   /// The raw sections as written (already bound into the three members above).
   YAML::Node measurement_model = YAML::Node(YAML::NodeType::Map);

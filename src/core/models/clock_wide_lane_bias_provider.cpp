@@ -3,6 +3,7 @@
 #include <cmath>
 #include <sstream>
 
+#include "ppp_bayes_tree/io/line_source.h"
 #include "ppp_bayes_tree/types/carrier_frequency.h"
 #include "ppp_bayes_tree/types/constants.h"
 
@@ -87,6 +88,20 @@ BiasAnswer ClockWideLaneBiasProvider::phaseBias(const SatelliteId& sat, const Ob
   BiasAnswer a;
   a.value_m = code.band == signals->band1 ? b1_m : b1_m * f1 * f1 / (f2 * f2);
   return a;
+}
+
+std::shared_ptr<const ClockWideLaneBiasProvider> integerRecoveryClockBiases(
+    const std::vector<RinexClockHeader>& headers, const std::vector<std::string>& clock_files,
+    std::vector<std::string>& problems) {
+  if (headers.empty()) return nullptr;
+  std::map<SatelliteId, double> all;
+  for (std::size_t i = 0; i < headers.size(); ++i) {
+    ClockWideLaneBiases wl = parseClockWideLaneBiases(headers[i].comments);
+    for (const auto& p : wl.problems) problems.push_back(fileBaseName(clock_files[i]) + ": " + p);
+    if (wl.wide_lane_cycles.empty()) return nullptr;
+    all.insert(wl.wide_lane_cycles.begin(), wl.wide_lane_cycles.end());
+  }
+  return std::make_shared<const ClockWideLaneBiasProvider>(std::move(all), fileBaseName(clock_files.front()));
 }
 
 }  // namespace ppp

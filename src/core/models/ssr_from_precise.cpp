@@ -55,6 +55,88 @@ std::optional<Selected> selectRecord(const BroadcastEphemerisStore& store, const
 }
 
 
+constexpr double kPhaseBiasStep_m = 1e-4;  // DF482 resolution
+
+/// OSBs b1, b2 [m] of two bands (f1 > f2) on the DF482 grid: of the grid points
+/// within 4 steps of each, the one whose wide-lane (Melbourne-Wuebbena phase)
+/// combination (f1 b1 - f2 b2)/(f1 - f2) is nearest the unrounded one, among those
+/// whose ionosphere-free combination stays within one step of it. Rounding each
+/// alone would move the wide lane by up to 5e-4 cycle (GPS); this keeps it below 1e-5.
+std::pair<double, double> wideLanePreservingGrid(double b1_m, double b2_m, double f1_hz, double f2_hz) {
+  const double n1 = std::round(b1_m / kPhaseBiasStep_m), n2 = std::round(b2_m / kPhaseBiasStep_m);
+  const auto wl = [&](double x1, double x2) { return (f1_hz * x1 - f2_hz * x2) / (f1_hz - f2_hz); };
+  const auto iono_free = [&](double x1, double x2) {
+    return (f1_hz * f1_hz * x1 - f2_hz * f2_hz * x2) / (f1_hz * f1_hz - f2_hz * f2_hz);
+  };
+  std::pair<double, double> best{n1 * kPhaseBiasStep_m, n2 * kPhaseBiasStep_m};
+  double best_error_m = std::abs(wl(best.first, best.second) - wl(b1_m, b2_m));
+  for (int d1 = -4; d1 <= 4; ++d1)
+    for (int d2 = -4; d2 <= 4; ++d2) {
+      const double x1 = (n1 + d1) * kPhaseBiasStep_m, x2 = (n2 + d2) * kPhaseBiasStep_m;
+      if (std::abs(iono_free(x1, x2) - iono_free(b1_m, b2_m)) > kPhaseBiasStep_m) continue;
+      const double error_m = std::abs(wl(x1, x2) - wl(b1_m, b2_m));
+      if (error_m < best_error_m) {
+        best_error_m = error_m;
+        best = {x1, x2};
+      }
+    }
+  return best;
+}
+
+/// The SSR phase biases (-OSB) `provider` answers for `sat` at t0, one per RTCM
+/// signal id; with two bands, their values on the grid by wideLanePreservingGrid.
+std::optional<SsrPhaseBias> integerPhaseBiases(const BiasProvider& provider, const SatelliteId& sat, const GnssTime& t0) {
+  SsrPhaseBias p;
+  p.satellite = sat;
+  std::map<char, double> osb_by_band_m;  // the first answer of each band
+  for (int id = 0; id < 32; ++id) {
+    auto code = ssrSignalCode(sat.system, id, false);
+    if (!code) continue;
+    code->type = ObservableType::CarrierPhase;
+    const BiasAnswer a = provider.phaseBias(sat, *code, t0);
+    if (!a.value_m || std::abs(*a.value_m) > 50.0) continue;  // DF482: +-52.4287 m
+    osb_by_band_m.emplace(code->band, *a.value_m);
+    SsrSignalPhaseBias s;
+    s.signal_id = id;
+    s.code = code;
+    s.integer = true;
+    s.widelane_integer = 2;
+    s.discontinuity_counter = 0;
+    s.bias_m = -*a.value_m;
+    p.biases.push_back(s);
+  }
+  if (p.biases.empty()) return std::nullopt;
+  if (osb_by_band_m.size() == 2) {
+    const auto [band_low, band_high] = std::make_pair(osb_by_band_m.begin()->first, osb_by_band_m.rbegin()->first);
+    const auto f_low = carrierFrequency_hz(sat.system, band_low), f_high = carrierFrequency_hz(sat.system, band_high);
+    if (f_low && f_high && *f_low != *f_high) {
+      const bool low_first = *f_low > *f_high;  // band 1 (L1/E1) is the higher frequency
+      const char b1 = low_first ? band_low : band_high, b2 = low_first ? band_high : band_low;
+      const auto [g1, g2] = wideLanePreservingGrid(osb_by_band_m[b1], osb_by_band_m[b2],
+                                                    std::max(*f_low, *f_high), std::min(*f_low, *f_high));
+      for (auto& s : p.biases)
+        if (s.code->band == b1 && std::abs(-s.bias_m - osb_by_band_m[b1]) < 1e-12) s.bias_m = -g1;
+        else if (s.code->band == b2 && std::abs(-s.bias_m - osb_by_band_m[b2]) < 1e-12) s.bias_m = -g2;
+    }
+  }
+  return p;
+}
+
+/// The end of the phase-bias message that starts at list[first]: at most
+/// `per_message` satellites and 1023 payload bytes (RTCM 10403.3 1265-1270: a
+/// 69-bit header with the satellite count, 28 bits per satellite, 32 per signal).
+std::size_t phaseBiasMessageEnd(const std::vector<SsrPhaseBias>& list, std::size_t first, std::size_t per_message) {
+  constexpr std::size_t kHeaderBits = 69, kSatelliteBits = 28, kSignalBits = 32, kPayloadBits = 1023 * 8;
+  std::size_t bits = kHeaderBits, end = first;
+  while (end < list.size() && end - first < per_message) {
+    const std::size_t add = kSatelliteBits + kSignalBits * list[end].biases.size();
+    if (end > first && bits + add > kPayloadBits) break;
+    bits += add;
+    ++end;
+  }
+  return end;
+}
+
 struct Rac {
   Eigen::Vector3d rac = Eigen::Vector3d::Zero();
   double clock_m = 0.0;
@@ -64,7 +146,8 @@ struct Rac {
 
 SsrFromPreciseResult ssrFromPrecise(const std::vector<NavData>& navigation, const EphemerisSource& precise,
                                     const AntennaCalibrationProvider* antennas, const BiasProvider* biases,
-                                    const GnssTime& first, const GnssTime& last, const SsrFromPreciseOptions& options) {
+                                    const GnssTime& first, const GnssTime& last, const SsrFromPreciseOptions& options,
+                                    const BiasProvider* phase_biases) {
   const auto interval_code = ssrUpdateIntervalCode(options.interval_s);
   if (!interval_code) throw std::invalid_argument("SSR interval " + std::to_string(options.interval_s) + " s is not an SSR update interval (DF391)");
   const bool apc = options.reference != EphemerisReference::CentreOfMass;
@@ -129,6 +212,7 @@ SsrFromPreciseResult ssrFromPrecise(const std::vector<NavData>& navigation, cons
     const GnssTime t0 = GnssTime::fromGpsSeconds(t_s);
     std::map<GnssSystem, std::vector<std::pair<SsrOrbitCorrection, SsrClockCorrection>>> per_system;
     std::map<GnssSystem, std::vector<SsrCodeBias>> bias_per_system;
+    std::map<GnssSystem, std::vector<SsrPhaseBias>> phase_per_system;
     for (const SatelliteId& sat : satellites) {
       const auto sel = selectRecord(store, sat, t0);
       if (!sel) {
@@ -179,6 +263,8 @@ SsrFromPreciseResult ssrFromPrecise(const std::vector<NavData>& navigation, cons
         }
         if (!cb.biases.empty()) bias_per_system[sat.system].push_back(cb);
       }
+      if (phase_biases != nullptr)
+        if (auto pb = integerPhaseBiases(*phase_biases, sat, t0)) phase_per_system[sat.system].push_back(std::move(*pb));
     }
     if (per_system.empty()) continue;
     out.epochs += 1;
@@ -226,6 +312,16 @@ SsrFromPreciseResult ssrFromPrecise(const std::vector<NavData>& navigation, cons
         SsrMessage m = makeHeader(sys, SsrMessageKind::CodeBias);
         m.header.multiple_message = end < list.size();
         m.code_biases.assign(list.begin() + static_cast<std::ptrdiff_t>(i), list.begin() + static_cast<std::ptrdiff_t>(end));
+        out.messages.push_back(std::move(m));
+      }
+    }
+    for (const auto& [sys, list] : phase_per_system) {
+      for (std::size_t i = 0, end = 0; i < list.size(); i = end) {
+        end = phaseBiasMessageEnd(list, i, per_message);
+        SsrMessage m = makeHeader(sys, SsrMessageKind::PhaseBias);
+        m.header.multiple_message = end < list.size();
+        m.dispersive_consistent = m.mw_consistent = true;
+        m.phase_biases.assign(list.begin() + static_cast<std::ptrdiff_t>(i), list.begin() + static_cast<std::ptrdiff_t>(end));
         out.messages.push_back(std::move(m));
       }
     }

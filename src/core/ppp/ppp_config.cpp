@@ -114,11 +114,12 @@ void readSmoother(YamlSection s, const ScreeningOptions& screening, PppSmootherO
   s.finish();
 }
 
-void readSsr(YamlSection s, SsrAgeLimits& o) {
+void readSsr(YamlSection s, SsrStreamOptions& o) {
   o.orbit_max_age_s = s.number("orbit_max_age_s", o.orbit_max_age_s, Bound::Positive);
   o.clock_max_age_s = s.number("clock_max_age_s", o.clock_max_age_s, Bound::Positive);
   o.high_rate_clock_max_age_s = s.number("high_rate_clock_max_age_s", o.high_rate_clock_max_age_s, Bound::Positive);
   o.bias_max_age_s = s.number("bias_max_age_s", o.bias_max_age_s, Bound::Positive);
+  o.antenna_model = s.text("antenna_model", o.antenna_model);
   s.finish();
 }
 

@@ -69,7 +69,8 @@ OrbitClockProducts loadOrbitsAndClocks(const ProductAssemblyInputs& in, const Pp
 }
 
 /// The satellite antenna models the products name (headers, or the stream's declaration).
-std::vector<std::string> productAntennaModels(const ProductAssemblyInputs& in) {
+/// An SSR recording's model is the one the configuration states (ssr.antenna_model).
+std::vector<std::string> productAntennaModels(const ProductAssemblyInputs& in, const std::string& ssr_antenna_model) {
   std::vector<std::string> models;
   for (const auto* list : {&in.sp3, &in.clk})
     for (const auto& f : *list) {
@@ -79,6 +80,7 @@ std::vector<std::string> productAntennaModels(const ProductAssemblyInputs& in) {
       }
     }
   if (in.streamedOrbitsAndClocks() && !in.streamed.antenna_model.empty()) models.push_back(in.streamed.antenna_model);
+  if (!in.nav.empty() && in.ssr && !ssr_antenna_model.empty()) models.push_back(ssr_antenna_model);
   return models;
 }
 
@@ -118,22 +120,6 @@ std::vector<SatelliteId> satellitesInUse(const OrbitClockProducts& products, con
         if (a.satellite && processed(*a.satellite)) out.insert(*a.satellite);
   }
   return {out.begin(), out.end()};
-}
-
-/// The wide-lane satellite biases in the headers of integer-recovery clock files
-/// (GRG convention); nullptr unless every clock file lists them.
-std::shared_ptr<const ClockWideLaneBiasProvider> integerRecoveryClockBiases(
-    const std::vector<RinexClockHeader>& headers, const std::vector<std::string>& clock_files,
-    std::vector<std::string>& problems) {
-  if (headers.empty()) return nullptr;
-  std::map<SatelliteId, double> all;
-  for (std::size_t i = 0; i < headers.size(); ++i) {
-    ClockWideLaneBiases wl = parseClockWideLaneBiases(headers[i].comments);
-    for (const auto& p : wl.problems) problems.push_back(fileBaseName(clock_files[i]) + ": " + p);
-    if (wl.wide_lane_cycles.empty()) return nullptr;
-    all.insert(wl.wide_lane_cycles.begin(), wl.wide_lane_cycles.end());
-  }
-  return std::make_shared<const ClockWideLaneBiasProvider>(std::move(all), fileBaseName(clock_files.front()));
 }
 
 bool hasPhaseOsb(const BiasSinexFile* file) {
@@ -206,7 +192,7 @@ ProductAssembly ProductAssembly::assemble(const ProductAssemblyInputs& in, const
   a.ephemeris_ = orbit_clock.ephemeris;
 
   // ANTEX (satellites of the products' family first), Bias-SINEX, BLQ.
-  const std::vector<std::string> product_models = productAntennaModels(in);
+  const std::vector<std::string> product_models = productAntennaModels(in, config.ssr.antenna_model);
   ProductFiles files;
   files.atx = in.atx;
   files.bias = in.bias;
@@ -388,7 +374,7 @@ bool ProductAssembly::declareStreamedProducts(const StreamedProductInfo& info) {
     return false;
   inputs_.streamed.clock_centre = info.clock_centre;
   inputs_.streamed.antenna_model = info.antenna_model;
-  const std::vector<std::string> models = productAntennaModels(inputs_);
+  const std::vector<std::string> models = productAntennaModels(inputs_, config_.ssr.antenna_model);
   const std::string family = commonFamily(models);
   if (antennas_ && family != antennas_->satelliteFamily())
     antennas_ = std::make_shared<const AntexCalibrations>(antennas_->files(), family);
