@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Node-level benchmark of live operation (issue 14, "bounded memory, hours at 10 Hz"):
+# Node-level benchmark of live operation ("bounded memory, hours at 10 Hz"):
 # a simulated flight (ppp_to_bag --simulate, GPS constellation) is replayed through
 # ppp_smoother_node with config/ppp.yaml + config/ppp_simulated.yaml + an optional
 # live config (default config/live.yaml: fixed lag, trajectory CSV), as fast as

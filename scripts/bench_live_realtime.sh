@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Real-time benchmark of the live path (issue 14, "no dropped epochs at 10 Hz real-time
+# Real-time benchmark of the live path ("no dropped epochs at 10 Hz real-time
 # speed", "decoding and bridge CPU under 5 % of one core at 10 Hz"): an RTCM 3 recording
 # is replayed by ppp_stream_node (file://...?speed=S, paced by its MSM epoch times, as a
 # receiver on a serial port would deliver it: one rtcm_msgs/Message per frame on

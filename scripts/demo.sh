@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The main job (issue 7), on a fresh machine with no data given:
+# The main job, on a fresh machine with no data given:
 #  1. installs what is missing (setup_deps.sh) and builds (build.sh);
 #  2. makes a replay bag: a simulated UAV flight (ppp_to_bag --simulate, with its
 #     truth trajectory; GPS + Galileo with integer ambiguities and the satellite

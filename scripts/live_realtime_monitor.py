@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-# Observer of a live run for scripts/bench_live_realtime.sh (issue 14, "no dropped
+# Observer of a live run for scripts/bench_live_realtime.sh ("no dropped
 # epochs at 10 Hz real-time speed"; prints figures, asserts nothing). Run with
 # /usr/bin/python3 (ROS modules) after sourcing build_ws/devel/setup.bash.
 #

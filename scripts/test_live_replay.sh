@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Script test (issue 14, "record and replay"): a bag recorded from the raw topics of
+# Script test ("record and replay"): a bag recorded from the raw topics of
 # a live run, replayed through launch/live.launch example:=c, gives the same output
 # as the live run, epoch by epoch to 1 mm.
 #  1. live run: RTKLIB's str2str as an NTRIP caster on a free loopback port, fed

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Script test (issue 16, "start-up errors that print nothing"): both PPP nodes (and
+# Script test ("start-up errors that print nothing"): both PPP nodes (and
 # ppp_stream_node, which shares their start-up: ros/node_main.h runNode),
 # started with a bad parameter or a missing product file, exit with code 1 and
 # say on stderr what is wrong (the key path or the file, and the reason); a node

@@ -1,5 +1,5 @@
-// Memory and update time of the PPP smoother over a long live-like run (issue 14,
-// "bounded memory, hours at 10 Hz"), in the core without ROS: a simulated flight
+// Memory and update time of the PPP smoother over a long live-like run
+// ("bounded memory, hours at 10 Hz"), in the core without ROS: a simulated flight
 // (simulation/gnss_simulator.h, nominal GPS constellation of --satellites, all
 // error terms of the default error model) is run through the offline pipeline
 // (PppPipeline, in-memory inputs) into the smoother, fixed lag or full. Prints,

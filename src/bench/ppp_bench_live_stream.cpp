@@ -1,5 +1,5 @@
 // ppp_bench_live_stream: the input of a TRUE 10 Hz live run for
-// scripts/bench_live_realtime.sh --simulate (issue 14, "no dropped epochs at 10 Hz
+// scripts/bench_live_realtime.sh --simulate ("no dropped epochs at 10 Hz
 // real-time speed"). A simulated flight (simulation/gnss_simulator.h: nominal GPS
 // constellation, every error term of the default error model) at --rate Hz is
 // written as a receiver's RTCM 3 stream: per epoch one MSM7 GPS message

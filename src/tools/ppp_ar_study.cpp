@@ -1,5 +1,5 @@
 // ppp_ar_study: what integer ambiguity resolution (PPP-AR) does on a real day,
-// judged against the day's own float static position (issue 15's ESBC
+// judged against the day's own float static position (the ESBC
 // criterion: there is no external truth there).
 //
 // Three EKF runs of the same inputs: float static (the reference: its last

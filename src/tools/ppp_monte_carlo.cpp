@@ -1,5 +1,5 @@
 // ppp_monte_carlo: the method's Monte Carlo study over simulated UAV flights
-// (issue 6; evaluation/monte_carlo.h documents what is computed).
+// (evaluation/monte_carlo.h documents what is computed).
 //
 // usage: ppp_monte_carlo --flights N --seed S --out DIR [--duration-min 30] [--rate 1]
 //                        [--profiles loiter,survey,figure8,climb] [--threads N]

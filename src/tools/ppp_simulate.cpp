@@ -1,4 +1,4 @@
-// ppp_simulate: simulates one UAV flight (issue 6) and writes its GPS L1/L2
+// ppp_simulate: simulates one UAV flight and writes its GPS L1/L2
 // RINEX 3.04 observations, the "precise products" (truth + product error,
 // SP3-c and RINEX clock), the truth products and the truth CSV files.
 //

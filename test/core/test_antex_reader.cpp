@@ -313,7 +313,7 @@ TEST(AntexSummary, SummarizesZim2File) {
   EXPECT_TRUE(s.report.clean());
 }
 
-// Issue 16: a line far beyond any ANTEX record (here 20 MB inside the receiver
+// A line far beyond any ANTEX record (here 20 MB inside the receiver
 // antenna's block, as a broken download or a binary file gives) is cut by the line
 // reader; what it held is lost, so the file's report must say so, not "clean".
 TEST(AntexReader, AnOverlongLineIsAProblemNotSilence) {

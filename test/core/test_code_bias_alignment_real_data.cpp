@@ -1,4 +1,4 @@
-// Real-data guard of the Bias-SINEX OSB alignment of the codes (issue 3, ZIM2
+// Real-data guard of the Bias-SINEX OSB alignment of the codes (ZIM2
 // convergence study): over the ZIM2 hour, at the truth position, the
 // per-satellite IF code offsets (hour mean of the code residual after the
 // receiver clock of each epoch) must be about HALVED by CODE's OSBs, applied as

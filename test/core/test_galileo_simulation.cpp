@@ -1,4 +1,4 @@
-// Galileo in the simulator (issue 15): the nominal Walker 24/3/1 constellation at
+// Galileo in the simulator: the nominal Walker 24/3/1 constellation at
 // 23 222 km (geometry, period, planes), E1/E5a observations with their own
 // receiver clock and integer ambiguities, and a GPS+Galileo simulated flight
 // solved by the EKF with one receiver clock per system.

@@ -1,4 +1,4 @@
-// Input errors that must name the file and say what is wrong (issue 16): a
+// Input errors that must name the file and say what is wrong: a
 // directory given where a file is expected is "a directory", never an "empty file".
 #include <gtest/gtest.h>
 
@@ -40,7 +40,7 @@ TEST(InputErrors, ADirectoryIsNamedAsADirectory) {
 namespace ppp {
 namespace {
 
-// Issue 16: a Bias-SINEX .gz cut at 2.5 % of its bytes used to run through with
+// A Bias-SINEX .gz cut at 2.5 % of its bytes used to run through with
 // exit 0 and 7 of the 12 satellites silently dropped. Now the run's problems name
 // the file and what its reader found, and the satellites the run never used.
 TEST(InputErrors, ATruncatedBiasFileIsAProblemOfTheRunNamingTheSatellitesDropped) {

@@ -1,4 +1,4 @@
-// Live smoothing with bounded memory (issue 14): the fixed-lag PppSmoother hands
+// Live smoothing with bounded memory: the fixed-lag PppSmoother hands
 // each state leaving its window to a sink (setMarginalizedStateSink) and forgets
 // it; SmoothedTrajectoryWriter writes those states as CSV rows. On the synthetic
 // generator of ppp_simulator.h (10 s epochs, satellites rising and setting, cycle

@@ -1,6 +1,6 @@
 // PppConfig: YAML loading. The defaults are the real-data values, the template
 // config/ppp.yaml loads to exactly them, the preset config/method_table.yaml to
-// the method's table (DEVELOPERS.md), and malformed configurations (keys given
+// the method's table, and malformed configurations (keys given
 // twice, quoted numbers, unknown keys...) give errors naming the file, the key
 // path (or lines) and the reason.
 #include <gtest/gtest.h>
@@ -141,7 +141,7 @@ ConfigError errorOf(const std::string& yaml) {
 TEST(PppConfig, EmptyDocumentGivesTheRealDataDefaults) {
   const PppConfig c = parsePppConfig("", "empty.yaml");
   expectSameDefaults(c);
-  // The method's table (DEVELOPERS.md) except the start prior and the mapping
+  // The method's table except the start prior and the mapping
   // (the real-data values of the former config/ppp_real_data.yaml).
   EXPECT_EQ(c.stochastic.position.initial_sigma_m, 30.0);
   EXPECT_EQ(c.model.mapping, ppp::TroposphereMapping::Gmf);
@@ -159,7 +159,7 @@ TEST(PppConfig, EmptyDocumentGivesTheRealDataDefaults) {
 
 TEST(PppConfig, MethodTablePresetIsTheMethodsTable) {
   const PppConfig m = ppp::methodTablePppConfig();
-  // DEVELOPERS.md table 2 and the Hopfield mapping the method used.
+  // The method's table and the Hopfield mapping the method used.
   EXPECT_EQ(m.stochastic.position.initial_sigma_m, 1.0);
   EXPECT_EQ(m.stochastic.position.process_noise_m_per_sqrt_s, 5.0);
   EXPECT_EQ(m.stochastic.position.kind, ppp::ProcessKind::RandomWalk);

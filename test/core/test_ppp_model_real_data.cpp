@@ -276,7 +276,7 @@ HourAnalysis analyseHour(test::LoadedDataset& ds, const char* label) {
       arcs[a].code_mean_m = sum[a] / cnt[a];
       arcs[a].code_rms_m = std::sqrt(sum2[a] / cnt[a]);
     }
-    // Phase minus the code-derived clock (the brief's diagnostic), ZWD from the code fit.
+    // Phase minus the code-derived clock (a standard diagnostic), ZWD from the code fit.
     std::vector<std::vector<double>> ts(n_arcs), rs(n_arcs);
     for (const auto& r : rows) {
       ts[r.arc_index].push_back(r.t);

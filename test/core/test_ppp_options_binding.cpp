@@ -165,7 +165,7 @@ TEST(PppOptionsBinding, ErrorsNameTheKeyPath) {
       {"cycle_slip: {max_gap_s: soon}\n", "cycle_slip.max_gap_s", "expected a number"},
       {"cycle_slip: {max_gap_s: -5}\n", "cycle_slip.max_gap_s", "must be > 0"},
       {"cycle_slip: {use_loss_of_lock: sometimes}\n", "cycle_slip.use_loss_of_lock", "expected true or false"},
-      // Strict types (issue 16): quoted text is never a number or a bool, YAML 1.1
+      // Strict types: quoted text is never a number or a bool, YAML 1.1
       // yes/no/on/off are not bools, and a list is never a lone value.
       {"measurement_model: {elevation_cutoff_deg: \"7\"}\n", "measurement_model.elevation_cutoff_deg",
        "expected a number, got the text \"7\" (quoted"},

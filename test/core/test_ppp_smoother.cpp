@@ -424,8 +424,8 @@ TEST(PppSmoother, PrefitScreeningRejectsACodeOutlierAndAPhaseJumpWithReasons) {
 }
 
 // As the EKF's test (test_ekf_ppp.cpp): on a new arc the phase-minus-code prefit
-// test cannot see a moderate code outlier; the smoother's postfit check (issue 16:
-// it had none) rejects it with the reason and removes its factors from the graph.
+// test cannot see a moderate code outlier; the smoother's postfit check (it
+// had none before) rejects it with the reason and removes its factors from the graph.
 TEST(PppSmoother, PostfitCheckRemovesAModerateCodeOutlierOnANewArcFromTheGraph) {
   for (const bool check : {true, false}) {
     Simulator sim;

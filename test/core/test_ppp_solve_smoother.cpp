@@ -1,7 +1,7 @@
 // ppp_solve --estimator smoother|both end to end on the real ZIM2 hour, through
 // solvePppEstimators (what the tool calls): every written file exists and the
 // .pos files read back through our reader with the written positions; the
-// smoothed solution's last epoch equals the filtered one (issue 5, consistency:
+// smoothed solution's last epoch equals the filtered one (consistency:
 // the smoothed and the filtered estimate of the newest state are the same
 // estimate); the smoothed mean 3D error is below the EKF's (a loose regression
 // guard; the accuracy targets are measured and reported by ppp_solve itself);

@@ -1,4 +1,4 @@
-// Product sanity checks (models/product_sanity.h, issue 16): a single bad SP3 or
+// Product sanity checks (models/product_sanity.h): a single bad SP3 or
 // CLK value is found by leave-one-out prediction, and the clean real products of
 // ../shared/data give no false alarm.
 #include <gtest/gtest.h>
@@ -56,7 +56,7 @@ TEST(ProductSanity, CleanRealOrbitsGiveNoOutlier) {
 
 TEST(ProductSanity, OneMetreOnOneSp3ValueIsFoundAndOnlyThatNode) {
   PPP_REQUIRE_SHARED_DATA();
-  // Line 104 of the ZIM2 SP3: G15 at 00:30, X 23339.029670 km (issue 16's case), +1 m.
+  // Line 104 of the ZIM2 SP3: G15 at 00:30, X 23339.029670 km (the reported case), +1 m.
   const Sp3File file =
       readSp3Text(editedLine(test::dataPath(kZim2Sp3), 104, "PG15  23339.029670", "PG15  23339.030670"), "edited.sp3");
   const std::vector<OrbitOutlier> outliers = findOrbitOutliers(file);

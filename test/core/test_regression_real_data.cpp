@@ -1,4 +1,4 @@
-// Regression guard of issue 12 ("one estimation core, behaviour unchanged"): the
+// Regression guard ("one estimation core, behaviour unchanged"): the
 // real ZIM2 and CCJ2 hours through ppp_solve --estimator both with a pinned
 // configuration (test/fixtures/regression/real_data_config.yaml, both stations) must
 // reproduce, epoch by epoch, the positions that main at 6e9aa08 gave before the
@@ -25,7 +25,7 @@
 namespace ppp {
 namespace {
 
-constexpr double kTolerance3d_m = 1e-4;  // 0.1 mm, issue 12
+constexpr double kTolerance3d_m = 1e-4;  // 0.1 mm
 
 using Positions = std::map<long long, Eigen::Vector3d>;  // key: tow in ms
 

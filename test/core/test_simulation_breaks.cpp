@@ -1,4 +1,4 @@
-// Attitude-dependent phase breaks (issue 6): in the banked turns of the
+// Attitude-dependent phase breaks: in the banked turns of the
 // figure-eight the airframe masks satellites; each reacquisition starts a new
 // arc with a new ambiguity (an injected cycle slip), and the project's
 // preprocessing (ArcTracker, default options) detects >= 99 % of them.

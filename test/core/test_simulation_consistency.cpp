@@ -1,7 +1,7 @@
 // The simulator's observations against the project's measurement model: with
 // every error term off (or only terms the model represents exactly: receiver
 // clock, ambiguities, ionosphere which the IF combination removes), the
-// residuals at the true state are below 1 mm (issue 6, first test).
+// residuals at the true state are below 1 mm (first test).
 #include <gtest/gtest.h>
 
 #include <algorithm>

@@ -1,5 +1,5 @@
 // Each error term of the simulator, enabled alone, has the statistics of its
-// setting (issue 6): sample sigma within 10 % over a long run, Gauss-Markov
+// setting: sample sigma within 10 % over a long run, Gauss-Markov
 // autocorrelation exp(-1) at lag tau, the ionosphere dispersive and removed by
 // the IF combination, product errors of the configured size.
 #include <gtest/gtest.h>

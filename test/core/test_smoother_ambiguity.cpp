@@ -1,4 +1,4 @@
-// Ambiguity resolution in the Bayes-tree smoother (issue 15): the fixed-ambiguity
+// Ambiguity resolution in the Bayes-tree smoother: the fixed-ambiguity
 // factor, the smoother's held fixes against a batch solve of the same graph,
 // the fixes on simulated flights with integer ambiguities and published satellite
 // phase biases (true integers, the smoothed trajectory improved before the fix
@@ -39,7 +39,7 @@ MonteCarloOptions arStudy(double minutes, FlightProfile profile = FlightProfile:
   o.simulation.errors.ambiguity.satellite_phase_biases = true;
   // Orbit and clock errors of several cm per satellite (products: enabled) are not
   // integer-consistent with the phase biases, as IGS clocks are not with CODE's
-  // biases (issue 15): the tests need products consistent with their biases.
+  // biases: the tests need products consistent with their biases.
   o.simulation.errors.products.enabled = false;
   o.ppp.ambiguity_resolution.enabled = true;
   return o;

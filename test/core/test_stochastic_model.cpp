@@ -1,4 +1,4 @@
-// StochasticModel: the defaults (the method's table, DEVELOPERS.md, except the
+// StochasticModel: the defaults (the method's table, except the
 // position a priori sigma: 30 m instead of 1 m), the method's table itself
 // (methodTableStochasticModel: position 1 m / 5 m/sqrt(s) random walk; ZWD
 // 0.3 m / 3e-5 m/sqrt(s) random walk; clock 3e6 m / 2000 m/sqrt(s) white; phase
@@ -12,7 +12,7 @@ using ppp::StochasticModel;
 
 TEST(StochasticModel, DefaultsAreTheMethodTable) {
   const StochasticModel table = ppp::methodTableStochasticModel();
-  EXPECT_EQ(table.position.initial_sigma_m, 1.0);  // the method's table (DEVELOPERS.md)
+  EXPECT_EQ(table.position.initial_sigma_m, 1.0);  // the method's table
   // The defaults: position a priori 30 m (uninformative start, see stochastic_model.h).
   EXPECT_EQ(StochasticModel{}.position.initial_sigma_m, 30.0);
   for (const StochasticModel& m : {table, StochasticModel{}}) {

@@ -1,4 +1,4 @@
-// Integrity regression suite, offline (issue 16, "never confidently wrong, every
+// Integrity regression suite, offline ("never confidently wrong, every
 // loss counted, every start-up error said"): the broken and mismatched inputs of
 // the issue, replayed through ppp_solve's run (solvePppEstimators, both
 // estimators) on copies made here at run time from ../shared/data (never
@@ -106,7 +106,7 @@ std::string joined(const std::vector<std::string>& lines) {
   return s;
 }
 
-// Issue 16: "Move one SP3 record by 1 m: line 104 of the ZIM2 SP3, G15 X
+// "Move one SP3 record by 1 m: line 104 of the ZIM2 SP3, G15 X
 // 23339.029670 -> 23339.030670": the smoother was 9.25 m (filtered) and 2.7 m
 // (smoothed) off with a 3 cm sigma.
 PppSolveRequest zim2WithG15Moved(const std::filesystem::path& dir) {
@@ -129,7 +129,7 @@ TEST(IntegrityOffline, OneBadSp3ValueG15IsFoundAndBothEstimatorsStayWithinTwiceC
 }
 
 // The same error with the product sanity check off: what the estimators' own
-// postfit residual tests catch. Before issue 16 the smoother ran none.
+// postfit residual tests catch. Before, the smoother ran none.
 TEST(IntegrityOffline, OneBadSp3ValueG15WithoutProductChecksIsCaughtByBothEstimatorsPostfitTests) {
   PPP_REQUIRE_SHARED_DATA();
   const auto dir = test::tempDir("integrity_g15_nocheck");

@@ -16,7 +16,7 @@
 
 namespace ppp_ros::test {
 
-// rtcm_msgs/Message: the type name and MD5 of issue 14.
+// rtcm_msgs/Message: its type name and MD5.
 inline const char* kRtcmMessageType = "rtcm_msgs/Message";
 inline const char* kRtcmMessageMd5 = "883b1fb65b83ccf75497c21f2d63052d";
 

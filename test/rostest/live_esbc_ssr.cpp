@@ -1,4 +1,4 @@
-// rostest, live input with corrections through rtcm_msgs/Message (issue 14, proof 1):
+// rostest, live input with corrections through rtcm_msgs/Message:
 // the ESBC 2020-177 window 00:30-01:15 (30 s) made into one caster stream by the
 // ppp_stream_make binary (1006/1033, MSM7 of every system, the broadcast file's
 // records 1019/1045/1046 from their transmission time with repeats) and an SSR

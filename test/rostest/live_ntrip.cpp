@@ -1,4 +1,4 @@
-// rostest, NTRIP end to end into the PPP nodes (issue 14): str2str (RTKLIB) as an
+// rostest, NTRIP end to end into the PPP nodes: str2str (RTKLIB) as an
 // NTRIP v2 caster on a free loopback port -> ppp_stream_node (started by the test with
 // ntrip://rover:secret@127.0.0.1:PORT/STR24) -> rtcm_msgs/Message on /gnss/receiver ->
 // ppp_ekf_node and ppp_smoother_node of launch/live.launch (example b). The test writes

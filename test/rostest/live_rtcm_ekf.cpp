@@ -1,4 +1,4 @@
-// rostest, live input through rtcm_msgs/Message (issue 14): the RTCM 3 recording
+// rostest, live input through rtcm_msgs/Message: the RTCM 3 recording
 // week-rollover-STR24.rtcm3 (GMSD, MSM7 GPS/GLONASS/QZSS/BeiDou with GPS and GLONASS
 // ephemerides 1019/1020 in the stream, no corrections: broadcast only) published
 // with the exact foreign type name and MD5 through topic_tools::ShapeShifter, to two

@@ -1,4 +1,4 @@
-// rostest, live input through launch/live.launch (issue 14): ppp_ekf_node and
+// rostest, live input through launch/live.launch: ppp_ekf_node and
 // ppp_smoother_node side by side on the same raw topic, configured as live.launch
 // configures them (config/ppp.yaml + config/live.yaml, i.e. the fixed-lag smoother;
 // test/rostest/live_str24.yaml: reference date, broadcast only). The recording

@@ -1,4 +1,4 @@
-// rostest, serial end to end into the PPP nodes (issue 14): a pseudo-terminal pair made
+// rostest, serial end to end into the PPP nodes: a pseudo-terminal pair made
 // by socat (pty,raw,echo=0,link=A pty,raw,echo=0,link=B) as the serial line; the test
 // writes week-rollover-STR24.rtcm3 into A, with 41 garbage bytes (no RTCM 3 preamble
 // 0xD3 among them) after every 25th frame, 4 KiB every 40 ms (a pty has no baud rate:

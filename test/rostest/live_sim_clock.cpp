@@ -1,4 +1,4 @@
-// rostest, live input under sim time (issue 14, launch/live.launch example c): with
+// rostest, live input under sim time (launch/live.launch example c): with
 // use_sim_time the ROS clock of a node is zero until its first /clock message, and a
 // replayed bag's first messages can reach it before that (separate connections). The
 // test publishes week-rollover-STR24.rtcm3 as rtcm_msgs/Message chunks (as

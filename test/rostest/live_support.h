@@ -1,5 +1,5 @@
 #pragma once
-// Helpers of the live-input rostests (live_*.cpp, issue 14): publish a real
+// Helpers of the live-input rostests (live_*.cpp): publish a real
 // recording as foreign stream messages (exact type name and MD5, through
 // topic_tools::ShapeShifter), run the ppp_solve binary on the same recording as
 // the reference, and compare a node's fixes with it epoch by epoch; for the

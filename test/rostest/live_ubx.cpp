@@ -1,4 +1,4 @@
-// rostest, live input through ublox_gps's messages (issue 14): the u-blox recording
+// rostest, live input through ublox_gps's messages: the u-blox recording
 // gnss_1730.ubx (F9, 536 RXM-RAWX epochs at 4 Hz, 2,328 RXM-SFRBX) decoded by this
 // test into ublox_msgs/RxmRAWX and ublox_msgs/RxmSFRBX (the ROS serialization of their
 // definitions, test/ros/ublox_ros_messages.h), published with the exact type names and

@@ -6,7 +6,7 @@
 // (broadcast records corrected by SSR) that is updated as navigation records
 // and SSR messages arrive.
 //
-// Architecture (issue 14, "keep one decoding point"): the PPP nodes decode
+// Architecture ("keep one decoding point"): the PPP nodes decode
 // directly, each through this one class, instead of a bridge node publishing
 // our messages. Reason: the node's solution must equal ppp_solve on the same
 // recording to 1 mm, so the nodes must evaluate broadcast+SSR orbits and clocks

@@ -1,6 +1,6 @@
 #pragma once
 // LaggedTrajectoryOutput: what a live run does with the states a fixed-lag
-// PppSmoother lets go (issue 14). Attached as the smoother's marginalized-state
+// PppSmoother lets go. Attached as the smoother's marginalized-state
 // sink, it writes each state once to an optional SmoothedTrajectoryWriter (CSV,
 // incremental) and keeps only the newest `keep_recent` of them for display (e.g.
 // ppp/path/smoothed = recent() followed by the smoother's window), so memory stays

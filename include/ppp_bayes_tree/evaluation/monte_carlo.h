@@ -1,5 +1,5 @@
 #pragma once
-// Monte Carlo evaluation over simulated UAV flights (issue 6): the method's
+// Monte Carlo evaluation over simulated UAV flights: the method's
 // study. Each flight is simulated in process (simulateFlight) and run through
 // the offline pipeline (PppPipeline over in-process epochs: signal selection,
 // arc tracking, the measurement model) by the EKF and by the smoother, with the

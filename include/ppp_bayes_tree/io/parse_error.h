@@ -1,7 +1,7 @@
 #pragma once
 // Typed errors and per-file problem reports shared by every reader.
 //
-// Policy (DEVELOPERS.md, "Bad input"): a malformed *header* throws ParseError
+// Policy: a malformed *header* throws ParseError
 // naming the file, the line and the reason; a malformed *record* is skipped,
 // counted in the file's ParseReport, and reading goes on.
 #include <cstddef>

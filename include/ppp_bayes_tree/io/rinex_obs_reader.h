@@ -2,7 +2,7 @@
 // RinexObsReader: streams the epochs of a RINEX observation file (2.10/2.11,
 // 3.02-3.05, 4.00), plain, gzip or Compact RINEX (Hatanaka), one at a time.
 //
-// Bad input (DEVELOPERS.md policy): a malformed header throws ParseError from
+// Bad input: a malformed header throws ParseError from
 // the constructor / open(). A malformed epoch or record is skipped with
 // report().addProblem(line, reason) and reading resynchronises on the next
 // epoch line. Special records (event flags 2-5) are skipped and counted. Time

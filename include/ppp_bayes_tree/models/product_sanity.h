@@ -1,5 +1,5 @@
 #pragma once
-// Product sanity checks (issue 16): single bad values in precise orbit and clock
+// Product sanity checks: single bad values in precise orbit and clock
 // products, found by leave-one-out prediction before the products are used, so
 // that one wrong SP3 or CLK record can neither pull an estimate metres off under
 // a centimetre sigma nor pass `ppp_inspect` as "problems: none".

@@ -15,7 +15,7 @@
 // type (a quoted "7" for a number, yes/"true" for a bool, a single value for a
 // list) or an out-of-range value throws ConfigError naming the file, the key path
 // (or the line) and the reason. Absent keys keep their defaults: the values for
-// real receiver data (config/ppp.yaml). The method's table (DEVELOPERS.md) is the
+// real receiver data (config/ppp.yaml). The method's table is the
 // preset config/method_table.yaml = methodTablePppConfig().
 #include <yaml-cpp/yaml.h>
 
@@ -61,7 +61,7 @@ struct PppConfig {
   std::string source_name = "<defaults>";  // the file it came from (for later error messages)
 };
 
-/// The method's configuration (DEVELOPERS.md table 2): the defaults with the
+/// The method's configuration (config/method_table.yaml): the defaults with the
 /// method's stochastic model (methodTableStochasticModel: position a priori 1 m)
 /// and its modified Hopfield mapping. config/method_table.yaml loads to it.
 PppConfig methodTablePppConfig();

@@ -38,7 +38,7 @@
 // filtered state with a prior of its filtered covariance and each active bias with a
 // prior of its filtered estimate and variance (counted in resets(), reported by the
 // result's estimator_reset). The states before the restart keep their last estimate.
-// AMBIGUITY RESOLUTION (issue 15; SmootherEstimator drives it with the EKF's
+// AMBIGUITY RESOLUTION (SmootherEstimator drives it with the EKF's
 // AmbiguityResolver and its one decision path, resolveAndHold: consistency
 // window, partial fixing, validation across epochs, hold, release): after each
 // update the resolver decides on the float joint of the newest state and the

@@ -2,7 +2,7 @@
 // StochasticModel: a priori sigmas and process noise of the PPP state
 // (position, zenith wet delay, receiver clock, IF phase biases), shared by the
 // EKF and the smoother. The defaults serve real receiver data; they are the
-// method's table (DEVELOPERS.md, methodTableStochasticModel(), the preset
+// method's table (methodTableStochasticModel(), the preset
 // config/method_table.yaml) except for the position a priori sigma:
 //
 //   state            a priori sigma   process noise         process
@@ -64,7 +64,7 @@ struct StochasticModel {
   std::string validate() const;
 };
 
-/// The method's table (DEVELOPERS.md; position a priori 1 m): the Monte Carlo
+/// The method's table (position a priori 1 m): the Monte Carlo
 /// study and the tests that reproduce the method use it.
 StochasticModel methodTableStochasticModel();
 

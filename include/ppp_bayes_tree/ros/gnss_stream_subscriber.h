@@ -1,6 +1,6 @@
 #pragma once
 // GnssStreamSubscriber: one ROS topic carrying a raw GNSS stream, of a message
-// type that is not in this package (issue 14). The topic is subscribed with
+// type that is not in this package. The topic is subscribed with
 // topic_tools::ShapeShifter; the type is recognised at run time by its name AND
 // its MD5 (the publisher's connection header), and every message becomes one
 // ppp::StreamChunk (stream = the resolved topic name) for ppp::LiveGnssInput,
@@ -20,10 +20,10 @@
 //   ppp_bayes_tree/GnssStreamBytes (Header header, string format, uint8[] data):
 //                           format "rtcm3" or "ubx" (case-insensitive; "" = the
 //                           topic's format hint, else detected from the bytes).
-// MD5s and definitions: rtcm_msgs and mavros_msgs as given in issue 14; ublox_msgs
+// MD5s and definitions: rtcm_msgs and mavros_msgs as their packages define them; ublox_msgs
 // from KumarRobotics/ublox master (ublox_msgs/msg/RxmRAWX.msg, RxmRAWX_Meas.msg,
 // RxmSFRBX.msg, last changed in fc92537, 2018-08-10), MD5 computed with genmsg 0.6
-// (gentools.compute_md5): RxmRAWX a2df4b27b6a2a1565e42f5669dbb11b5 (= issue 14),
+// (gentools.compute_md5): RxmRAWX a2df4b27b6a2a1565e42f5669dbb11b5,
 // RxmSFRBX c76473d828cc8e80de3a2d83cd6b9dff.
 // Arrival time (StreamChunk::arrival_time_s, which LiveGnssInput's waits for the
 // station and the corrections, its latency and its stall state are measured in):

@@ -73,7 +73,7 @@ struct RosNodeOptions {
   double smoothed_path_publish_rate_hz = 1.0;
   double smoothed_odometry_delay_s = 0.0;  // 0: the lag boundary (fixed lag) / the newest state (full smoother)
   std::string smoothed_trajectory_csv;     // fixed lag: states past the lag written here ("" = no file)
-  // live input (issue 14; ros.live): raw stream topics decoded by ppp::LiveGnssInput.
+  // live input (ros.live): raw stream topics decoded by ppp::LiveGnssInput.
   // No observation topic = the GnssObservations / PreciseCorrections path (ros.topics).
   std::vector<LiveStreamTopic> live_observation_topics;
   std::vector<LiveStreamTopic> live_correction_topics;

@@ -6,7 +6,7 @@
 //
 // Subscribes: gnss/observations (GnssObservations), gnss/corrections (PreciseCorrections),
 //             optionally an attitude (sensor_msgs/Imu, ros.attitude.topic; see below).
-// Live input (issue 14; ros.live with an observation topic): INSTEAD of the two topics
+// Live input (ros.live with an observation topic): INSTEAD of the two topics
 //             above, raw receiver and correction streams (rtcm_msgs/Message, mavros_msgs/RTCM,
 //             ublox_msgs/RxmRAWX + RxmSFRBX, GnssStreamBytes; ros/gnss_stream_subscriber.h)
 //             go into one ppp::LiveGnssInput; its ready epochs take the same PppEpochProcessor
@@ -247,7 +247,7 @@ class PppNode {
   std::size_t estimator_restarts_ = 0;                 // after a failed update (the core restarts; counted here)
   double smoothed_path_read_s_ = 0.0, smoothed_path_read_max_s_ = 0.0;
   std::size_t smoothed_path_poses_ = 0;
-  // Fixed lag (issue 14, bounded memory): the states past the lag go to this output
+  // Fixed lag (bounded memory): the states past the lag go to this output
   // (ros.smoothed.trajectory_csv, and the newest path_max_poses for ppp/path/smoothed);
   // the smoother keeps only its window.
   std::unique_ptr<ppp::LaggedTrajectoryOutput> lagged_output_;

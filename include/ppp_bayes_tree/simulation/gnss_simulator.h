@@ -1,8 +1,8 @@
 #pragma once
-// GNSS observation simulator for UAV flights (issue 6): dual-frequency GPS
+// GNSS observation simulator for UAV flights: dual-frequency GPS
 // L1/L2 (and, with config.systems GE, Galileo E1/E5a on the nominal Walker
 // 24/3/1 constellation, with its own receiver clock = GPS clock + a constant
-// offset; issue 15) pseudoranges and carrier phases along a trajectory, with the error
+// offset) pseudoranges and carrier phases along a trajectory, with the error
 // model of SimulationConfig, plus the "precise products" (truth + product
 // error) and the truth (position, ZWD, clock, arc biases).
 //

@@ -62,7 +62,7 @@ struct KeplerianElements {
 
 /// The nominal Galileo constellation: Walker 24/3/1, 23 222 km altitude, 56 deg.
 WalkerConstellationOptions galileoWalkerOptions();
-/// Galileo nominal altitude over the equatorial radius [m] (issue 15; ESA).
+/// Galileo nominal altitude over the equatorial radius [m] (ESA).
 constexpr double kGalileoAltitude_m = 23222.0e3;
 
 class WalkerConstellation {

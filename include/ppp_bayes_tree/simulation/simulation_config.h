@@ -1,6 +1,6 @@
 #pragma once
 // SimulationConfig: everything the simulator needs besides the seed, with the
-// error model of issue 6 (the method's varied parameters). Each error term has
+// error model of the method (the method's varied parameters). Each error term has
 // an `enabled` flag so that it can be switched on alone; ErrorModelConfig::none()
 // gives the noise-free simulation. Loaded strictly from YAML (YamlSection: an
 // unknown key, a wrong type or an out-of-range value throws ConfigError).
