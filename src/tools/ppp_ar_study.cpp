@@ -51,24 +51,6 @@ struct EpochOut {
 };
 
 /// The EKF estimator recording each epoch's ambiguity summary.
-class RecordingEkf : public EpochEstimator {
- public:
-  explicit RecordingEkf(const PppConfig& c) : ekf_(c) {}
-  std::string name() const override { return "ekf"; }
-  void setApproximatePosition(const Eigen::Vector3d& p) override { ekf_.setApproximatePosition(p); }
-  EstimatorEpochResult processEpoch(const EstimatorEpochInput& in) override {
-    EstimatorEpochResult r = ekf_.processEpoch(in);
-    last = r.ambiguity_fix;
-    return r;
-  }
-  void arcsEnded(const std::vector<EndedArc>& e) override { ekf_.arcsEnded(e); }
-  const PppEstimatorBase& core() const override { return ekf_.core(); }
-  std::optional<AmbiguityFixSummary> last;
-
- private:
-  EkfEstimator ekf_;
-};
-
 std::vector<EpochOut> runEkf(const PppInputFiles& files, const std::string& yaml, const std::string& name) {
   const PppConfig config = parsePppConfig(yaml, name);
   PppPipeline pipeline(files, config);
@@ -77,15 +59,14 @@ std::vector<EpochOut> runEkf(const PppInputFiles& files, const std::string& yaml
       if (n.find("ambiguity resolution") != std::string::npos || n.find("antenna model") != std::string::npos ||
           n.rfind("systems:", 0) == 0 || n.rfind("satellite antennas:", 0) == 0)
         std::cout << name << ": " << n << "\n";
-  RecordingEkf ekf(pipeline.config());  // the systems and the AR switch the products decided
+  EkfEstimator ekf(pipeline.config());  // the systems and the AR switch the products decided
   std::vector<EpochOut> out;
   pipeline.run(ekf, [&](const PppEpochRecord& r) {
     EpochOut e;
     e.time = r.solution.time;
     e.position = r.solution.position_ecef_m;
     e.fixed = r.solution.status == SolutionStatus::PppFixed;
-    e.fix = ekf.last;
-    ekf.last.reset();
+    e.fix = r.ambiguity_fix;
     out.push_back(std::move(e));
   });
   return out;

@@ -264,6 +264,16 @@ TEST(WideLaneAmbiguity, RealZim2WideLanesWithCodeOsbsButNarrowLaneRefused) {
 namespace ppp {
 namespace {
 
+/// A float state covariance [m^2] for the synthetic resolver tests: 1 cm sigma on
+/// the bias states and 10 cm on the receiver part, with a 10 cm part common to all
+/// biases (a receiver phase bias, which cancels in the single differences).
+Eigen::MatrixXd floatCovariance(int receiver_dim, int n) {
+  Eigen::MatrixXd P = Eigen::MatrixXd::Identity(receiver_dim + n, receiver_dim + n) * 1e-4;
+  P.topLeftCorner(receiver_dim, receiver_dim) *= 100.0;
+  P.bottomRightCorner(n, n) += Eigen::MatrixXd::Constant(n, n, 0.01);
+  return P;
+}
+
 // The narrow lane end to end on a synthetic filter state: IF biases built from
 // known integers, satellite phase OSBs and a receiver bias common to all arcs;
 // MW samples with the same wide lanes. The resolver must fix, and the fixed copy
@@ -320,9 +330,7 @@ TEST(AmbiguityResolver, FixesSyntheticNarrowLanesAndConstrainsACopy) {
     resolver.addEpoch(obs, ids, &osb);
   }
   // Float state: truth plus errors well inside its covariance (NL sigma ~0.05 cycles).
-  Eigen::MatrixXd P = Eigen::MatrixXd::Identity(receiver_dim + n, receiver_dim + n) * 1e-4;
-  P.topLeftCorner(receiver_dim, receiver_dim) *= 100.0;
-  P.bottomRightCorner(n, n) += Eigen::MatrixXd::Constant(n, n, 0.01);  // common part (receiver bias)
+  const Eigen::MatrixXd P = floatCovariance(receiver_dim, n);
   Eigen::VectorXd x = truth;
   x(receiver_dim + 0) += 0.004;
   x(receiver_dim + 3) -= 0.003;
@@ -422,9 +430,7 @@ TEST(AmbiguityResolver, GpsAndGalileoEachHaveTheirOwnReference) {
     }
     resolver.addEpoch(obs, ids, &osb);
   }
-  Eigen::MatrixXd P = Eigen::MatrixXd::Identity(receiver_dim + n, receiver_dim + n) * 1e-4;
-  P.topLeftCorner(receiver_dim, receiver_dim) *= 100.0;
-  P.bottomRightCorner(n, n) += Eigen::MatrixXd::Constant(n, n, 0.01);
+  const Eigen::MatrixXd P = floatCovariance(receiver_dim, n);
   std::vector<ArcId> bias_arcs;
   for (const Arc& a : arcs) bias_arcs.push_back(a.arc);
   const auto checkWithinSystems = [&](const AmbiguityFixedState& fixed, const char* what) {
