@@ -11,6 +11,7 @@
 // refused, unknown mountpoint). Exit: 0, 1 on error (nothing recorded or a
 // permanent error), 2 usage.
 #include <csignal>
+#include <cstdlib>
 #include <cstdio>
 #include <cstring>
 #include <fstream>
@@ -19,6 +20,7 @@
 #include <vector>
 
 #include "ppp_bayes_tree/io/byte_source_spec.h"
+#include "ppp_bayes_tree/io/ntrip_credentials.h"
 #include "ppp_bayes_tree/io/rtcm3_framer.h"
 #include "ppp_bayes_tree/io/stream_format.h"
 #include "ppp_bayes_tree/io/ubx_framer.h"
@@ -64,6 +66,7 @@ int main(int argc, char** argv) {
   ppp::ByteSourceSpec spec;
   try {
     spec = ppp::parseByteSourceSpec(spec_text);
+    ppp::resolveNtripCredentials(spec, std::getenv(ppp::kNtripCredentialsEnvironment));
   } catch (const ppp::ByteSourceSpecError& e) {
     std::fprintf(stderr, "ppp_stream_record: %s\n", e.what());
     return 2;
