@@ -169,10 +169,56 @@ TEST(LiveNtripSecrets, PasswordAppearsNowhere) {
                                      : ros_home ? std::filesystem::path(ros_home) / "log"
                                                 : std::filesystem::path(home ? home : "/tmp") / ".ros" / "log";
   std::size_t ros_files = 0;
-  const std::string ros_logs = allFilesUnder(logs / run_id, &ros_files);
-  std::printf("[ figures  ] %zu files of the ROS log directory %s searched, %zu bytes of bag\n", ros_files,
-              (logs / run_id).c_str(), bag_bytes.size());
+  std::string ros_logs = allFilesUnder(logs / run_id, &ros_files);
+  // The roslaunch / rostest log of this run sits beside the run's directory.
+  std::error_code ec;
+  const auto recent = std::filesystem::file_time_type::clock::now() - std::chrono::minutes(5);
+  for (const auto& entry : std::filesystem::directory_iterator(logs, ec)) {
+    if (!entry.is_regular_file() || entry.last_write_time() < recent) continue;
+    ros_logs += ppp::test::readFileBytes(entry.path().string());
+    ++ros_files;
+  }
+  EXPECT_GT(ros_files, 0u) << "no log file of the run found under " << logs;
+  std::printf("[ figures  ] %zu log files of the run under %s searched, %zu bytes of bag\n", ros_files,
+              logs.c_str(), bag_bytes.size());
   EXPECT_FALSE(holdsPassword(ros_logs)) << "the password is in a file under " << (logs / run_id);
+}
+
+// Absurd node parameters refuse the start with the key and the range (stderr); the same
+// node with a sane value runs. ppp_stream_node: ~diagnostic_period 0 (was: /diagnostics at
+// the loop's rate, ~90 Hz), ~input file:// of a directory (was: "the replayed file ended");
+// ppp_smoother_node: smoother/fixed_lag_s 1e9, estimator/min_satellites 1000.
+TEST(LiveNodeParameters, AbsurdValuesRefuseTheStartSaneOnesRun) {
+  using namespace ppp_ros::test;
+  const auto dir = ppp::test::tempDir("live_node_parameters");
+  const auto recording = dir / "empty.rtcm3";
+  std::ofstream(recording) << "";
+  const std::string stream_node = std::string(PPP_BIN_DIR) + "/ppp_stream_node";
+  const std::string smoother_node = std::string(PPP_BIN_DIR) + "/ppp_smoother_node";
+  struct Case {
+    std::string name;
+    std::vector<std::string> argv;
+    std::string expected;  // in stderr
+  };
+  const std::vector<Case> faulty = {
+      {"diagnostic_period_0",
+       {stream_node, "__name:=period0", "_input:=file://" + recording.string(), "_diagnostic_period:=0.0"},
+       "~diagnostic_period must be in [0.1, 3600] s"},
+      {"file_of_directory", {stream_node, "__name:=filedir", "_input:=file://" + dir.string()}, "is a directory"},
+      {"fixed_lag_1e9", {smoother_node, "__name:=lag1e9", "_smoother/fixed_lag_s:=1.0e+9"},
+       "smoother.fixed_lag_s: must be in [0, 3600]"},
+      {"min_satellites_1000", {smoother_node, "__name:=minsat1000", "_estimator/min_satellites:=1000"},
+       "estimator.min_satellites: must be in [1, 100]"},
+  };
+  for (const Case& c : faulty) {
+    const std::string err = failedStart(c.name, c.argv, dir);
+    EXPECT_NE(err.find(c.expected), std::string::npos) << c.name << ": " << err;
+  }
+  // Clean: a period of 1 s and a real file: the node runs (still up after 3 s).
+  ChildProcess sane({stream_node, "__name:=period1", "_input:=file://" + recording.string(), "_diagnostic_period:=1.0"},
+                    (dir / "sane.log").string());
+  ros::WallDuration(3.0).sleep();
+  EXPECT_TRUE(sane.running()) << ppp::test::readFileBytes((dir / "sane.log").string());
 }
 
 }  // namespace

@@ -132,7 +132,10 @@ ByteSourceSpec parseByteSourceSpec(const std::string& text) {
     }
     const auto slash = hostpart.find('/');
     if (slash == std::string::npos || slash + 1 == hostpart.size()) {
-      bad(shown, "no mountpoint (ntrip://user:password@host:port/MOUNT)");
+      bad(shown, std::string("no mountpoint (ntrip://host:port/MOUNT)") +
+                     (query.find('@') != std::string::npos
+                          ? "; a '?' in the user or the password must be written %3F (or use credentials=)"
+                          : ""));
     }
     spec.mountpoint = hostpart.substr(slash + 1);
     if (spec.mountpoint.find_first_of("/ ") != std::string::npos) {
