@@ -15,6 +15,8 @@
 #include <rosgraph_msgs/Clock.h>
 #include <rosgraph_msgs/Log.h>
 
+#include "rostest/live_support.h"
+
 namespace {
 
 struct Observed {
@@ -85,10 +87,4 @@ TEST(LiveSimTime, StaleUseSimTimeIsSaidUntilAClockComes) {
 
 }  // namespace
 
-int main(int argc, char** argv) {
-  testing::InitGoogleTest(&argc, argv);
-  ros::init(argc, argv, "integrity_live_sim_time");
-  ros::AsyncSpinner spinner(2);
-  spinner.start();
-  return RUN_ALL_TESTS();
-}
+int main(int argc, char** argv) { return ppp_ros::test::liveRostestMain(argc, argv, "integrity_live_sim_time"); }
