@@ -9,6 +9,7 @@
 //  * launch/ppp_smoother.launch: a bounded (fixed-lag) smoother by default, the full one on request.
 #include <gtest/gtest.h>
 #include <sys/stat.h>
+#include <sys/wait.h>
 
 #include <array>
 #include <cstdio>
@@ -17,6 +18,7 @@
 #include <string>
 
 #include "core/loopback_servers.h"
+#include "test_support.h"
 #include "ppp_bayes_tree/io/byte_source_spec.h"
 #include "ppp_bayes_tree/io/credential_mask.h"
 #include "ppp_bayes_tree/io/ntrip_client_source.h"
@@ -223,6 +225,45 @@ TEST(LiveConfigRanges, AbsurdWellTypedValuesAreRefusedWithKeyPathAndRange) {
     EXPECT_NO_THROW(ppp::loadPppConfig(std::vector<std::string>{std::string(PPP_REPO_DIR) + "/config/ppp.yaml", path}))
         << path;
   }
+}
+
+/// ppp_solve's exit code and output (stdout + stderr) on the ZIM2 hour with `config` laid over config/ppp.yaml.
+int solveZim2(const std::string& config, const std::string& estimator, std::string* output) {
+  const std::string d = ppp::test::dataPath("zim2-2026-133");
+  const auto dir = tempDir("zim2_" + estimator);
+  const auto yaml = dir / "bounds.yaml";
+  std::ofstream(yaml) << config;
+  const std::string command = std::string(PPP_BIN_DIR) + "/ppp_solve --obs " + d +
+                              "/ZIM200CHE_R_20261330000_01H_30S_MO.rnx --sp3 " + d +
+                              "/IGS0OPSFIN_20261330000_03H_15M_ORB.SP3 --clk " + d +
+                              "/IGS0OPSFIN_20261330000_90M_30S_CLK.CLK --atx " +
+                              ppp::test::dataPath("antex/igs20_zim2_gps_trim.atx") + " --bia " + d +
+                              "/COD0OPSFIN_20261330000_01D_01D_OSB.BIA.gz --config " + PPP_REPO_DIR +
+                              "/config/ppp.yaml " + yaml.string() + " --estimator " + estimator + " --out " +
+                              dir.string() + " 2>&1";
+  output->clear();
+  FILE* p = ::popen(command.c_str(), "r");
+  if (!p) return -1;
+  std::array<char, 4096> buffer{};
+  while (std::size_t n = std::fread(buffer.data(), 1, buffer.size(), p)) output->append(buffer.data(), n);
+  return WEXITSTATUS(::pclose(p));
+}
+
+TEST(LiveConfigRanges, BothEstimatorsSolveEveryZim2EpochAtTheStochasticBoundsAndBeyondIsRefused) {
+  PPP_REQUIRE_SHARED_DATA();
+  // At the upper bounds of the a priori sigmas both estimators solve all 120 epochs of the hour
+  // (the data README: 120 epochs); 1e300 made the EKF fail every epoch while the smoother solved them.
+  const std::string at_bounds =
+      "stochastic:\n  position: {initial_sigma_m: 10000.0, process_noise_m_per_sqrt_s: 1000.0}\n"
+      "  clock: {initial_sigma_m: 1.0e+8}\n  phase_bias: {initial_sigma_m: 10000.0}\n  zwd: {initial_sigma_m: 10.0}\n";
+  for (const std::string estimator : {"ekf", "smoother"}) {
+    std::string out;
+    EXPECT_EQ(solveZim2(at_bounds, estimator, &out), 0) << out;
+    EXPECT_NE(out.find("epochs: 120 read, 120 solved"), std::string::npos) << estimator << ": " << out;
+  }
+  std::string out;
+  EXPECT_NE(solveZim2("stochastic:\n  position: {initial_sigma_m: 1.0e+300}\n", "ekf", &out), 0) << out;
+  EXPECT_NE(out.find("stochastic.position.initial_sigma_m: must be in (0, 10000]"), std::string::npos) << out;
 }
 
 TEST(LiveConfigRanges, FileSpecOfADirectoryIsRefusedAtStart) {
