@@ -15,6 +15,7 @@
 #include <cstdio>
 #include <cstring>
 #include <fstream>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -83,7 +84,13 @@ int main(int argc, char** argv) {
   std::signal(SIGINT, onSignal);
   std::signal(SIGTERM, onSignal);
 
-  auto source = ppp::openByteSource(spec);
+  std::unique_ptr<ppp::ByteSource> source;
+  try {
+    source = ppp::openByteSource(spec);  // refuses e.g. a directory given as file://
+  } catch (const ppp::ByteSourceSpecError& e) {
+    std::fprintf(stderr, "ppp_stream_record: %s\n", e.what());
+    return 2;
+  }
   std::fprintf(stderr, "ppp_stream_record: recording %s to %s\n", source->describe().c_str(), out_path.c_str());
   ppp::Rtcm3Framer rtcm;
   ppp::UbxFramer ubx;
