@@ -64,12 +64,18 @@
 // received later would not serve the epoch anyway).
 //
 // Bad bytes never throw: CRC errors, truncation, garbage, unknown messages are
-// counted per stream (LiveStreamStatus::problems). An observation epoch at or
-// before the previous one of its stream is counted (time_backwards) and
-// dropped; a jump back by more than restart_jump_s is a receiver restart: the
-// held epochs are dropped and the jump counted (restarts), the next epochs go
-// out (PppEpochProcessor then refuses the first backwards ones; the node
-// resets as on a bag loop).
+// counted per stream (LiveStreamStatus::problems). Observation epoch times
+// pass the epoch-time policy that the offline readers apply too
+// (io/epoch_time_screen.h), so ppp_solve --rtcm/--ubx and the live input give
+// the same epochs: an epoch at the previous time or up to restart_jump_s before
+// it is dropped (time_backwards); any other jump (a week one too high, a time
+// of week days ahead, a jump back beyond restart_jump_s) is held until 3
+// epochs confirm the new time line. An isolated outlier is dropped and counted
+// (time_outliers; each listed among the problems as EpochTimeRefused with its
+// byte offset), and the stream goes on. A confirmed jump back is a receiver
+// restart: the epochs waiting for corrections are dropped and it is counted
+// (restarts), the next epochs go out (the node resets as on a bag loop); a
+// confirmed jump forward (an outage) is counted (forward_jumps).
 #include <cstdint>
 #include <map>
 #include <memory>
@@ -134,8 +140,9 @@ struct LiveInputOptions {
   /// clock [s] -> Warn (default 2 s), Error (default 10 s).
   double stall_warn_s = 2.0;
   double stall_error_s = 10.0;
-  /// An observation time this far [s] before the previous one is a receiver
-  /// restart (default 60 s); smaller steps back are counted and dropped.
+  /// An observation time this far [s] before the previous one is a jump back,
+  /// a receiver restart once confirmed (default 60 s); smaller steps back are
+  /// counted and dropped.
   double restart_jump_s = 60.0;
   /// At most this many epochs are held waiting (default 600); the oldest go
   /// out (as if their wait had passed) when more arrive.
@@ -174,7 +181,9 @@ struct LiveStreamStatus {
   std::uint64_t observation_epochs = 0;         // decoded
   std::uint64_t ignored_epochs = 0;             // from a stream that is not the observation stream
   std::uint64_t time_backwards = 0;             // observation epochs not after the previous one (dropped)
-  std::uint64_t restarts = 0;                   // observation time jumps back > restart_jump_s
+  std::uint64_t restarts = 0;                   // confirmed observation time jumps back > restart_jump_s
+  std::uint64_t time_outliers = 0;              // isolated time jumps not confirmed (dropped)
+  std::uint64_t forward_jumps = 0;              // confirmed jumps forward (an outage beyond 600 s)
   std::size_t ephemerides = 0;                  // navigation records decoded
   std::uint64_t ssr_messages = 0;
   std::optional<GnssTime> last_data_time;       // newest observation or SSR epoch decoded

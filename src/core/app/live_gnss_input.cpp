@@ -5,6 +5,7 @@
 #include <deque>
 #include <sstream>
 
+#include "ppp_bayes_tree/io/epoch_time_screen.h"
 #include "ppp_bayes_tree/io/gnss_stream_decoder.h"
 #include "ppp_bayes_tree/io/rinex_nav_reader.h"
 #include "ppp_bayes_tree/io/rtcm_observation_source.h"
@@ -45,16 +46,18 @@ struct ModeSpan {
   bool widened = false;  // broadcast answers with the fallback sigmas
 };
 
-struct StreamState {
-  std::unique_ptr<GnssStreamDecoder> decoder;
-  LiveStreamStatus status;
-  std::optional<GnssTime> last_epoch;  // newest accepted observation time
-  std::optional<GnssTime> last_ssr;    // newest SSR epoch of this stream
-};
-
 struct HeldEpoch {
   StreamEpoch epoch;
   std::optional<double> arrival_s;
+};
+
+struct StreamState {
+  std::unique_ptr<GnssStreamDecoder> decoder;
+  LiveStreamStatus status;
+  /// The epoch-time policy of the offline readers (io/epoch_time_screen.h).
+  std::unique_ptr<EpochTimeScreen<HeldEpoch>> screen;
+  std::optional<GnssTime> last_epoch;  // newest accepted observation time
+  std::optional<GnssTime> last_ssr;    // newest SSR epoch of this stream
 };
 
 }  // namespace
@@ -139,6 +142,9 @@ struct LiveGnssInput::Impl : public EphemerisSource {
     StreamState s;
     s.decoder = std::make_unique<GnssStreamDecoder>(format, rtcm);
     if (reference) s.decoder->setSsrReferenceTime(*reference);
+    EpochTimeGuardOptions time_policy = streamEpochTimeOptions();
+    time_policy.out_of_order_window_s = options.restart_jump_s;
+    s.screen = std::make_unique<EpochTimeScreen<HeldEpoch>>(time_policy);
     s.status.stream = chunk.stream;
     s.status.format = format;
     stream_order.push_back(chunk.stream);
@@ -170,16 +176,24 @@ struct LiveGnssInput::Impl : public EphemerisSource {
     }
   }
 
+  /// An observation epoch through the stream's time policy: isolated bad times
+  /// are dropped (counted by reason), a confirmed jump back is a receiver restart.
+  void screenEpoch(StreamState& s, StreamEpoch&& e, const std::optional<double>& arrival_s) {
+    const GnssTime t = e.time;
+    const EpochOrigin origin{e.byte_offset, e.frame_index, 0};
+    applyScreen(s, s.screen->push(t, origin, HeldEpoch{std::move(e), arrival_s}));
+  }
+  void applyScreen(StreamState& s, EpochTimeScreen<HeldEpoch>::Result&& r) {
+    const EpochTimeScreen<HeldEpoch>& screen = *s.screen;
+    s.status.time_backwards = screen.dropped(TimeDropReason::Duplicate) + screen.dropped(TimeDropReason::OutOfOrder);
+    s.status.time_outliers = screen.dropped(TimeDropReason::UnconfirmedJump);
+    s.status.restarts = screen.resets();
+    s.status.forward_jumps = screen.forwardJumps();
+    if (r.reset_step_s) held.clear();  // receiver restart: what was held belongs to the old run
+    for (auto& kept : r.accepted) acceptEpoch(s, std::move(kept.payload.epoch), kept.payload.arrival_s);
+  }
+
   void acceptEpoch(StreamState& s, StreamEpoch&& e, const std::optional<double>& arrival_s) {
-    if (s.last_epoch && !(*s.last_epoch < e.time)) {
-      if (*s.last_epoch - e.time > options.restart_jump_s) {
-        ++s.status.restarts;  // receiver restart: what was held belongs to the old run
-        held.clear();
-      } else {
-        ++s.status.time_backwards;
-        return;
-      }
-    }
     s.last_epoch = e.time;
     ++s.status.observation_epochs;
     const auto before = inventory.signals;
@@ -237,7 +251,7 @@ struct LiveGnssInput::Impl : public EphemerisSource {
           ++s.status.ignored_epochs;
           continue;
         }
-        acceptEpoch(s, std::move(e), arrival_s);
+        screenEpoch(s, std::move(e), arrival_s);
       }
     }
     if (observation_stream && *observation_stream == s.status.stream) refreshHeader(*s.decoder);
@@ -377,6 +391,8 @@ std::vector<LiveReadyEpoch> LiveGnssInput::finish() {
     StreamState& s = d.streams.at(name);
     s.decoder->finish();
     d.drain(s, std::nullopt);
+    s.screen->finish();  // epochs still held on an unconfirmed time line are outliers
+    d.applyScreen(s, {});
   }
   return d.release(true);
 }
@@ -403,6 +419,7 @@ std::vector<LiveStreamStatus> LiveGnssInput::streams() const {
     const StreamState& s = d.streams.at(name);
     LiveStreamStatus st = s.status;
     st.problems = s.decoder->counters();
+    for (const auto& p : s.screen->counters().problems) st.problems.add(p);
     const StreamCounters& ssr = s.decoder->ssrCounters();
     for (const auto& [kind, n] : ssr.problems_by_kind) st.problems.problems_by_kind[kind] += n;
     for (const auto& p : ssr.problems)

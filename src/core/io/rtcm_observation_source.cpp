@@ -4,6 +4,7 @@
 #include <string>
 
 #include "ppp_bayes_tree/io/line_source.h"
+#include "ppp_bayes_tree/io/epoch_time_screen.h"
 #include "ppp_bayes_tree/io/parse_error.h"
 #include "ppp_bayes_tree/io/rtcm_ssr_decoder.h"
 
@@ -16,6 +17,8 @@ namespace {
 bool isCorrectionFrame(const Rtcm3Frame& frame) { return RtcmSsrDecoder::isSsrMessageType(frame.message_type); }
 
 constexpr std::size_t kChunkBytes = 1 << 16;
+
+EpochOrigin epochOrigin(const StreamEpoch& e) { return EpochOrigin{e.byte_offset, e.frame_index, 0}; }
 
 std::unique_ptr<std::FILE, int (*)(std::FILE*)> openBinary(const std::string& path) {
   std::unique_ptr<std::FILE, int (*)(std::FILE*)> f(std::fopen(path.c_str(), "rb"), &std::fclose);
@@ -132,13 +135,16 @@ RtcmObservationSource::RtcmObservationSource(const std::string& path, Rtcm3Decod
   StreamSignalInventory inventory;
   std::optional<GnssTime> first, last;
   std::vector<std::uint8_t> chunk(kChunkBytes);
+  EpochTimeScreen<StreamEpoch> scan_screen;  // the epochs the streaming pass will serve
   auto drain = [&]() {
     auto& out = scan.output();
     for (const auto& e : out.epochs) {
-      inventory.add(e);
-      if (!first || e.time < *first) first = e.time;
-      if (!last || e.time > *last) last = e.time;
-      ++scan_epochs_;
+      for (const auto& kept : scan_screen.push(e.time, epochOrigin(e), e).accepted) {
+        inventory.add(kept.payload);
+        if (!first || kept.time < *first) first = kept.time;
+        if (!last || kept.time > *last) last = kept.time;
+        ++scan_epochs_;
+      }
     }
     out.epochs.clear();
     scan_nav_.gps.insert(scan_nav_.gps.end(), out.gps.begin(), out.gps.end());
@@ -200,7 +206,12 @@ bool RtcmObservationSource::fill() {
       finished_ = true;
     }
     auto& out = decoder_->output();
-    queue_.swap(out.epochs);
+    for (auto& e : out.epochs) {
+      const GnssTime t = e.time;
+      const EpochOrigin origin = epochOrigin(e);
+      for (auto& kept : screen_.push(t, origin, std::move(e)).accepted) queue_.push_back(std::move(kept.payload));
+    }
+    if (finished_) screen_.finish();
     out.clear();
   }
   return true;
@@ -215,6 +226,7 @@ ObservationRead RtcmObservationSource::next(ObsEpoch& epoch) {
 std::vector<ObservationProblem> RtcmObservationSource::problems() const {
   std::vector<ObservationProblem> out;
   for (const auto& p : decoder_->counters().problems) out.push_back(ObservationProblem{path_, 0, p.describe()});
+  for (const auto& p : screen_.counters().problems) out.push_back(ObservationProblem{path_, 0, p.describe()});
   return out;
 }
 
