@@ -51,6 +51,9 @@
 // kept per released epoch from T - kMaxSignalTravel_s on (signals travel 64 to
 // 100 ms from MEO satellites, so every query for epoch T falls after that and
 // every query for the epoch before before it, down to 20 Hz).
+// The SSR code and phase biases (biases()) apply only to PreciseSsr epochs; in
+// BroadcastOnly epochs they have no say (BiasAnswer::applies false): the codes
+// are used as observed, as the broadcast clocks expect, and no OSB is required.
 // BroadcastOnly answers are broadcast records (BroadcastEphemerisStore) with the
 // orbit and clock sigmas widened to broadcast_orbit_sigma_m /
 // broadcast_clock_sigma_m (larger of those and the record's URA/SISA); the

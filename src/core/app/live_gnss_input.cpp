@@ -242,7 +242,12 @@ struct LiveGnssInput::Impl : public EphemerisSource {
       if (!newest_data || *newest_data < *m.header.epoch) newest_data = *m.header.epoch;
     }
     if (!bias_provider && (store->codeBiasCount() > 0 || store->phaseBiasCount() > 0))
-      bias_provider = std::make_shared<SsrBiasProvider>(store, s.status.stream);
+      // The SSR biases belong to the SSR-corrected clocks: in the broadcast fallback
+      // they do not apply (codes as observed, as the broadcast clocks expect).
+      bias_provider = std::make_shared<SsrBiasProvider>(
+          store, s.status.stream, [this](const SatelliteId&, const GnssTime& t) {
+            return spanAt(t).mode == LiveProductMode::PreciseSsr;
+          });
     if (!out.epochs.empty()) {
       if (!observation_stream) observation_stream = s.status.stream;
       for (auto& e : out.epochs) {
