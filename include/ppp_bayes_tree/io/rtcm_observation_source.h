@@ -46,9 +46,21 @@ void streamEpochToObsEpoch(const StreamEpoch& in, const RinexObsHeader& header, 
 /// Header fields from the station description (marker name = station id, 4 digits).
 void fillStationHeader(const RtcmStationInfo& station, RinexObsHeader& header);
 
+/// With a reference date given for MSM times (ppp_solve --ref-date), checks it
+/// against what the stream itself says: the broadcast weeks of its GPS/QZSS,
+/// Galileo and BeiDou ephemerides (Rtcm3Decoder::weekEvidence: each record's
+/// toe in the week it was sent with, against the stream's time the date gave).
+/// When most of them (of at least 3) disagree by more than a day, the sentence
+/// naming the date, the epochs' times and the evidence (counts, median offset
+/// in days, the date the stream gives); nullopt otherwise.
+std::optional<std::string> referenceDateContradiction(const GnssTime& reference, const GnssTime& first,
+                                                      const GnssTime& last, const BroadcastWeekEvidence& evidence);
+
 class RtcmObservationSource : public ObservationSource {
  public:
-  /// Scans the file (throws FileOpenError when it cannot be opened).
+  /// Scans the file (throws FileOpenError when it cannot be opened, ParseError
+  /// when a reference date given contradicts the stream's ephemerides:
+  /// referenceDateContradiction).
   explicit RtcmObservationSource(const std::string& path, Rtcm3DecoderOptions options = {});
   ~RtcmObservationSource() override;
 

@@ -1,5 +1,7 @@
 #include "ppp_bayes_tree/io/rtcm_observation_source.h"
 
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <string>
 
@@ -17,6 +19,8 @@ namespace {
 bool isCorrectionFrame(const Rtcm3Frame& frame) { return RtcmSsrDecoder::isSsrMessageType(frame.message_type); }
 
 constexpr std::size_t kChunkBytes = 1 << 16;
+
+constexpr std::size_t kMinWeekEvidenceRecords = 3;
 
 EpochOrigin epochOrigin(const StreamEpoch& e) { return EpochOrigin{e.byte_offset, e.frame_index, 0}; }
 
@@ -37,6 +41,29 @@ std::optional<double> observable(const StreamSignal& s, ObservableType type) {
 }
 
 }  // namespace
+
+std::optional<std::string> referenceDateContradiction(const GnssTime& reference, const GnssTime& first,
+                                                      const GnssTime& last, const BroadcastWeekEvidence& evidence) {
+  // Most ephemerides counted must disagree (a few stale or odd records do not decide).
+  if (evidence.records < kMinWeekEvidenceRecords || 2 * evidence.disagreement_s.size() <= evidence.records)
+    return std::nullopt;
+  std::vector<double> off = evidence.disagreement_s;
+  std::nth_element(off.begin(), off.begin() + static_cast<std::ptrdiff_t>(off.size() / 2), off.end());
+  const double median_s = off[off.size() / 2];
+  const CalendarTime given = reference.toCalendar(TimeSystem::GPS);
+  const CalendarTime stream = (first + median_s).toCalendar(TimeSystem::GPS);
+  char text[640];
+  std::snprintf(text, sizeof text,
+                "the reference date %04d/%02d/%02d (--ref-date) places the epochs at %s to %s, but %zu of the "
+                "stream's %zu ephemerides (GPS/QZSS, Galileo, BeiDou; their weeks as broadcast) have their "
+                "reference time %.1f days %s (median): the date is wrong, the stream says about %04d/%02d/%02d "
+                "(without --ref-date, Galileo/BeiDou ephemerides place the epochs)",
+                given.year, given.month, given.day, first.toString(TimeSystem::GPS, 0).c_str(),
+                last.toString(TimeSystem::GPS, 0).c_str(), evidence.disagreement_s.size(), evidence.records,
+                std::fabs(median_s) / 86400.0, median_s < 0.0 ? "earlier" : "later", stream.year, stream.month,
+                stream.day);
+  return std::string(text);
+}
 
 void StreamSignalInventory::add(const StreamEpoch& epoch) {
   for (const auto& sat : epoch.satellites) {
@@ -163,6 +190,10 @@ RtcmObservationSource::RtcmObservationSource(const std::string& path, Rtcm3Decod
   drain();
   scan_counters_ = scan.counters();
   station_ = scan.station();
+  if (options_.reference_time && first && last) {
+    if (const auto why = referenceDateContradiction(*options_.reference_time, *first, *last, scan.weekEvidence()))
+      throw ParseError(path, 0, *why);
+  }
 
   header_.version_text = "3.04";
   header_.version = 3.04;
