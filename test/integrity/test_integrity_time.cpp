@@ -162,6 +162,7 @@ struct LiveOutcome {
   std::vector<LiveStreamStatus> status;
   std::size_t solved = 0, broadcast_only = 0;
   bool ssr_biases_applied = false;  // some SSR code bias applied at a released epoch
+  std::vector<std::string> time_events;  // LiveGnssInput::takeTimeEvents (the node logs them)
 };
 
 LiveOutcome runLive(const Bytes& obs, StreamFormat format, const PppConfig* config, const Bytes* ssr = nullptr,
@@ -182,6 +183,7 @@ LiveOutcome runLive(const Bytes& obs, StreamFormat format, const PppConfig* conf
     EXPECT_TRUE(estimator) << why;
   }
   auto process = [&](const std::vector<LiveReadyEpoch>& ready) {
+    for (auto& e : live.takeTimeEvents()) out.time_events.push_back(std::move(e));
     for (const auto& r : ready) {
       out.times.push_back(r.epoch.time);
       out.broadcast_only += r.mode == LiveProductMode::BroadcastOnly;
@@ -264,6 +266,7 @@ TEST(IntegrityTime, OneUbxEpochWithItsWeekOneTooHighCostsThatEpochOnly) {
   EXPECT_EQ(s.time_backwards, 0u);
   EXPECT_EQ(s.problems.count(StreamProblemKind::EpochTimeRefused), 1u);
   EXPECT_GE(live.solved + 1, clean.run.epochs_solved);
+  EXPECT_TRUE(anyContains(live.time_events, "byte " + std::to_string(offset), "isolated time jump"));
   std::printf("live: %zu epochs, %zu solved, %llu outlier(s), %llu restart(s)\n", live.times.size(), live.solved,
               static_cast<unsigned long long>(s.time_outliers), static_cast<unsigned long long>(s.restarts));
 }
@@ -293,6 +296,8 @@ TEST(IntegrityTime, OneRtcmFrameTwoDaysAheadCostsThatFrameOnlyOfflineAndLive) {
   const LiveStreamStatus& s = observationStatus(live);
   EXPECT_EQ(s.time_outliers, 1u);
   EXPECT_EQ(s.restarts, 0u);  // before: a receiver restart
+  ASSERT_EQ(live.time_events.size(), 1u);
+  EXPECT_NE(live.time_events[0].find("byte " + std::to_string(offset)), std::string::npos) << live.time_events[0];
 }
 
 TEST(IntegrityTime, StaleSsrFallsBackToBroadcastWithoutItsBiases) {

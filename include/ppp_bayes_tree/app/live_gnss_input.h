@@ -227,6 +227,10 @@ class LiveGnssInput {
   /// True once after the observation types (or the station) changed.
   bool takeHeaderChanged();
   std::vector<LiveStreamStatus> streams() const;
+  /// What the epoch-time policy did since the last call, one sentence each (an
+  /// epoch dropped, with its stream, byte offset, time and reason; a confirmed
+  /// receiver restart), for the log; at most 100 are kept between calls.
+  std::vector<std::string> takeTimeEvents();
   /// The mode of the last released epoch (PreciseSsr before any).
   LiveProductMode mode() const;
 

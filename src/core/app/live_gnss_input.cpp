@@ -58,6 +58,7 @@ struct StreamState {
   std::unique_ptr<EpochTimeScreen<HeldEpoch>> screen;
   std::optional<GnssTime> last_epoch;  // newest accepted observation time
   std::optional<GnssTime> last_ssr;    // newest SSR epoch of this stream
+  std::size_t time_problems_reported = 0;  // of screen->counters().problems
 };
 
 }  // namespace
@@ -75,6 +76,8 @@ struct LiveGnssInput::Impl : public EphemerisSource {
   std::optional<std::string> observation_stream;
   std::optional<GnssTime> reference;  // for week-less SSR times
   std::deque<HeldEpoch> held;
+  static constexpr std::size_t kMaxTimeEvents = 100;  // until taken
+  std::vector<std::string> time_events;               // takeTimeEvents()
   StreamSignalInventory inventory;
   RinexObsHeader header;
   std::string station_key;
@@ -189,7 +192,17 @@ struct LiveGnssInput::Impl : public EphemerisSource {
     s.status.time_outliers = screen.dropped(TimeDropReason::UnconfirmedJump);
     s.status.restarts = screen.resets();
     s.status.forward_jumps = screen.forwardJumps();
-    if (r.reset_step_s) held.clear();  // receiver restart: what was held belongs to the old run
+    const auto& problems = screen.counters().problems;
+    for (; s.time_problems_reported < problems.size(); ++s.time_problems_reported)
+      if (time_events.size() < kMaxTimeEvents)
+        time_events.push_back(s.status.stream + ": " + problems[s.time_problems_reported].describe());
+    if (r.reset_step_s) {
+      held.clear();  // receiver restart: what was held belongs to the old run
+      if (time_events.size() < kMaxTimeEvents)
+        time_events.push_back(s.status.stream + ": observation time went back by " +
+                              std::to_string(static_cast<long long>(std::llround(-*r.reset_step_s))) +
+                              " s, confirmed by the following epochs: receiver restart");
+    }
     for (auto& kept : r.accepted) acceptEpoch(s, std::move(kept.payload.epoch), kept.payload.arrival_s);
   }
 
@@ -400,6 +413,12 @@ std::vector<LiveReadyEpoch> LiveGnssInput::finish() {
     d.applyScreen(s, {});
   }
   return d.release(true);
+}
+
+std::vector<std::string> LiveGnssInput::takeTimeEvents() {
+  std::vector<std::string> out;
+  out.swap(impl_->time_events);
+  return out;
 }
 
 const EphemerisSource& LiveGnssInput::ephemeris() const { return *impl_; }
