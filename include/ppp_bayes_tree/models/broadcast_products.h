@@ -25,8 +25,13 @@
 
 namespace ppp {
 
+class BroadcastSsrEphemeris;
+
 struct BroadcastProducts {
   std::shared_ptr<const EphemerisSource> ephemeris;
+  /// With SSR: the SSR-corrected broadcast ephemeris inside `ephemeris` (which
+  /// falls back to the broadcast records where its corrections are too old); null without SSR.
+  std::shared_ptr<const BroadcastSsrEphemeris> corrected;
   std::shared_ptr<const BiasProvider> ssr_biases;  // null without SSR code biases
   bool ssr_phase_biases = false;                   // the SSR stream carries phase biases
   std::vector<std::string> notes;

@@ -139,6 +139,7 @@ BroadcastProducts loadBroadcastProducts(const std::vector<std::string>& nav, con
         [fallback](const SatelliteId& sat, const GnssTime& t) { return fallback->ssrInForce(sat, t); });
   out.ssr_phase_biases = store->phaseBiasCount() > 0;
   out.ephemeris = fallback;
+  out.corrected = eph;
   return out;
 }
 
