@@ -1011,6 +1011,7 @@ void PppNode::diagnoseLive(diagnostic_updater::DiagnosticStatusWrapper& s) {
           std::to_string(st.time_backwards) + " / " + std::to_string(st.restarts));
     s.add(p + "epoch time outliers dropped / forward jumps",
           std::to_string(st.time_outliers) + " / " + std::to_string(st.forward_jumps));
+    if (!st.reference_date_warning.empty()) raise(DiagnosticStatus::WARN, p + st.reference_date_warning);
     s.add(p + "ephemerides decoded", st.ephemerides);
     s.add(p + "SSR messages", st.ssr_messages);
     s.add(p + "SSR age [s]", st.ssr_age_s.value_or(kNaN));

@@ -14,7 +14,8 @@
 //    code biases do not apply, the epochs are solved as without the stream, and
 //    the run notes say so with the corrections' age;
 //  - a --ref-date one week off for STR24: refused, naming the date and the
-//    stream's ephemerides that contradict it; the right date is accepted;
+//    stream's ephemerides that contradict it (live: a warning in the stream
+//    status and the log); the right date is accepted;
 //  - broadcast URA in metres: the nominal value of IS-GPS-200 20.3.3.3.1.1 (4.0 m
 //    for index 2, as RINEX and convbin write), on STR24's 1019/1044 records; the
 //    QZSS L2P data flag 1.
@@ -166,9 +167,10 @@ struct LiveOutcome {
 };
 
 LiveOutcome runLive(const Bytes& obs, StreamFormat format, const PppConfig* config, const Bytes* ssr = nullptr,
-                    bool expect_corrections = false) {
+                    bool expect_corrections = false, std::optional<GnssTime> reference_time = std::nullopt) {
   LiveInputOptions options;
   options.expect_corrections = expect_corrections;
+  options.reference_time = reference_time;
   LiveGnssInput live(options);
   LiveOutcome out;
   std::unique_ptr<ProductAssembly> products;
@@ -349,6 +351,14 @@ TEST(IntegrityTime, ARefDateOneWeekOffIsRefusedNamingTheDateAndTheEvidence) {
       EXPECT_NE(what.find("week-rollover-STR24.rtcm3"), std::string::npos) << what;
     }
   }
+  // Live (the nodes' ros.live reference date): said in the stream status and once as an event.
+  const Bytes bytes = readBytes(str24());
+  const LiveOutcome live_wrong = runLive(bytes, StreamFormat::Rtcm3, nullptr, nullptr, false, parseReferenceDate("2018/07/21"));
+  const LiveOutcome live_right = runLive(bytes, StreamFormat::Rtcm3, nullptr, nullptr, false, parseReferenceDate("2018/07/14"));
+  EXPECT_NE(observationStatus(live_wrong).reference_date_warning.find("2018/07/21"), std::string::npos);
+  EXPECT_TRUE(anyContains(live_wrong.time_events, "2018/07/21", "ephemerides"));
+  EXPECT_EQ(observationStatus(live_right).reference_date_warning, "");
+  EXPECT_TRUE(live_right.time_events.empty());
 }
 
 TEST(IntegrityTime, BroadcastUraIsTheNominalValueOfItsIndex) {

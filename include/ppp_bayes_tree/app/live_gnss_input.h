@@ -105,6 +105,8 @@ struct LiveInputOptions {
   /// Approximate time of the data (within half a week) for MSM and SSR times
   /// without a week (as ppp_solve --ref-date). nullopt: from the streams
   /// (Galileo/BeiDou ephemerides, UBX week) or the first preloaded navigation file.
+  /// Checked against the observation stream's ephemeris weeks: a contradiction
+  /// is reported (LiveStreamStatus::reference_date_warning), where ppp_solve refuses.
   std::optional<GnssTime> reference_time;
   /// SSR evaluation: high-rate clocks (default on), unhealthy records (default off).
   /// Its `reference` is replaced by `ssr_reference` below.
@@ -197,6 +199,11 @@ struct LiveStreamStatus {
   /// the last chunk that completed an epoch or SSR message [s].
   std::optional<double> latency_s;
   StreamStall stall = StreamStall::Ok;          // observation stream only
+  /// Non-empty when LiveInputOptions::reference_time is contradicted by the
+  /// stream's own ephemeris weeks (io/rtcm_observation_source.h,
+  /// referenceDateContradiction: the date, the epochs' times, the evidence);
+  /// also given once by takeTimeEvents().
+  std::string reference_date_warning;
 };
 
 class LiveGnssInput {

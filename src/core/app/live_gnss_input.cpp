@@ -59,6 +59,7 @@ struct StreamState {
   std::optional<GnssTime> last_epoch;  // newest accepted observation time
   std::optional<GnssTime> last_ssr;    // newest SSR epoch of this stream
   std::size_t time_problems_reported = 0;  // of screen->counters().problems
+  std::optional<GnssTime> first_epoch;     // first accepted observation time
 };
 
 }  // namespace
@@ -206,7 +207,20 @@ struct LiveGnssInput::Impl : public EphemerisSource {
     for (auto& kept : r.accepted) acceptEpoch(s, std::move(kept.payload.epoch), kept.payload.arrival_s);
   }
 
+  /// A reference date given (options.reference_time) that the stream's own
+  /// ephemeris weeks contradict: said once per stream (status and time events).
+  void checkReferenceDate(StreamState& s) {
+    if (!options.reference_time || !s.first_epoch || !s.last_epoch || !s.status.reference_date_warning.empty()) return;
+    const BroadcastWeekEvidence* evidence = s.decoder->weekEvidence();
+    if (!evidence) return;
+    if (const auto why = referenceDateContradiction(*options.reference_time, *s.first_epoch, *s.last_epoch, *evidence)) {
+      s.status.reference_date_warning = *why;
+      if (time_events.size() < kMaxTimeEvents) time_events.push_back(s.status.stream + ": " + *why);
+    }
+  }
+
   void acceptEpoch(StreamState& s, StreamEpoch&& e, const std::optional<double>& arrival_s) {
+    if (!s.first_epoch) s.first_epoch = e.time;
     s.last_epoch = e.time;
     ++s.status.observation_epochs;
     const auto before = inventory.signals;
@@ -272,7 +286,10 @@ struct LiveGnssInput::Impl : public EphemerisSource {
         screenEpoch(s, std::move(e), arrival_s);
       }
     }
-    if (observation_stream && *observation_stream == s.status.stream) refreshHeader(*s.decoder);
+    if (observation_stream && *observation_stream == s.status.stream) {
+      refreshHeader(*s.decoder);
+      checkReferenceDate(s);
+    }
     if (newest_data) {
       if (!s.status.last_data_time || *s.status.last_data_time < *newest_data) s.status.last_data_time = *newest_data;
       if (arrival_s) s.status.latency_s = *arrival_s - unixSeconds(*newest_data);
