@@ -6,7 +6,7 @@
 //    RXM-RAWX): ppp_solve --ubx and the live input (LiveGnssInput, as the nodes
 //    run it) drop that epoch only, counted with its reason and byte offset, and
 //    give the same epochs; the fixes of the clean run are recovered (all but the
-//    dropped epoch's); no restart is counted;
+//    dropped epoch's); no restart is counted; the same when it is the first epoch;
 //  - one RTCM 3 MSM frame (STR24, the 300th 1074) with its time of week two days
 //    ahead: the same, offline and live alike;
 //  - an SSR stream of another day (SSRA03IGS0 of 2026-07-07 against the walk of
@@ -271,6 +271,28 @@ TEST(IntegrityTime, OneUbxEpochWithItsWeekOneTooHighCostsThatEpochOnly) {
   EXPECT_TRUE(anyContains(live.time_events, "byte " + std::to_string(offset), "isolated time jump"));
   std::printf("live: %zu epochs, %zu solved, %llu outlier(s), %llu restart(s)\n", live.times.size(), live.solved,
               static_cast<unsigned long long>(s.time_outliers), static_cast<unsigned long long>(s.restarts));
+}
+
+TEST(IntegrityTime, ABadFirstUbxEpochCostsThatEpochOnly) {
+  // The first epoch is not believed alone: the start-up waits for a time line.
+  PPP_REQUIRE_SHARED_DATA();
+  std::size_t offset = 0;
+  const Bytes bad_bytes = ubxWithBadWeek(0, offset);
+  const std::string bad = writeTemp("ubx_first", "gnss_1730_badfirst.ubx", bad_bytes);
+  const PppConfig config = ubxConfig();
+  const PppSolveOutcome clean = solve(ubxWalk(), ObservationFormat::Ubx, config);
+  const PppSolveOutcome faulty = solve(bad, ObservationFormat::Ubx, config);
+  std::printf("ubx first epoch week+1: clean %zu read %zu solved; faulty %zu read %zu solved %zu refused\n",
+              clean.run.epochs_read, clean.run.epochs_solved, faulty.run.epochs_read, faulty.run.epochs_solved,
+              faulty.run.epochs_refused);
+  EXPECT_EQ(faulty.run.epochs_read, clean.run.epochs_read - 1);
+  EXPECT_EQ(faulty.run.epochs_refused, 0u);
+  EXPECT_GE(faulty.run.epochs_solved + 1, clean.run.epochs_solved);
+  UbxObservationSource offline(bad);
+  const LiveOutcome live = runLive(bad_bytes, StreamFormat::Ubx, nullptr);
+  EXPECT_EQ(live.times, offlineTimes(offline));
+  EXPECT_EQ(observationStatus(live).time_outliers, 1u);
+  EXPECT_EQ(observationStatus(live).restarts, 0u);
 }
 
 TEST(IntegrityTime, OneRtcmFrameTwoDaysAheadCostsThatFrameOnlyOfflineAndLive) {

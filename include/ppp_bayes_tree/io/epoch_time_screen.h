@@ -18,7 +18,11 @@
 //    follows the accepted time line first, the held epochs were isolated
 //    outliers, each dropped (UnconfirmedJump). One bad epoch therefore costs
 //    that epoch only, never the rest of the stream.
-//  - finish(): epochs still held at the end of the stream are dropped as unconfirmed.
+//  - at start-up no epoch is believed alone: the first confirm_epochs epochs
+//    that follow each other set the time line (an earlier epoch off it, e.g. a
+//    bad first epoch, is dropped as unconfirmed), then the rules above apply;
+//  - finish(): epochs still held at the end of the stream are dropped as
+//    unconfirmed (a stream shorter than the start-up gives its longest line).
 // Every dropped epoch is counted by reason and reported as a StreamProblem of
 // kind EpochTimeRefused that names its byte offset, frame index, its time and
 // the accepted time it departs from (counters()).
@@ -67,13 +71,24 @@ class EpochTimeScreen {
   explicit EpochTimeScreen(EpochTimeGuardOptions options = streamEpochTimeOptions()) : guard_(options) {}
 
   Result push(const GnssTime& time, const EpochOrigin& origin, Payload payload) {
+    if (!started_) return start(time, Item{origin, std::move(payload)});
     return take(guard_.push(time, Item{origin, std::move(payload)}));
   }
-  /// End of the stream: what is still held is dropped (unconfirmed); the screen starts afresh.
-  void finish() {
+  /// End of the stream: a stream shorter than the start-up gives its longest
+  /// time line; what is still held is dropped (unconfirmed); the screen starts afresh.
+  Result finish() {
+    Result r;
+    if (!started_ && !lines_.empty()) {
+      std::size_t longest = 0;
+      for (std::size_t k = 1; k < lines_.size(); ++k)
+        if (lines_[k].size() > lines_[longest].size()) longest = k;
+      r = settle(longest);
+    }
     const std::optional<GnssTime> last = guard_.lastAccepted();
     for (auto& e : guard_.clear())
       drop(TimeDropReason::UnconfirmedJump, e.time, last ? e.time - *last : 0.0, e.payload.origin);
+    started_ = false;
+    return r;
   }
 
   /// EpochTimeRefused problems, one per dropped epoch (with byte offsets).
@@ -94,6 +109,59 @@ class EpochTimeScreen {
   };
   using Guard = EpochTimeGuard<Item>;
 
+  struct Pending {
+    GnssTime time;
+    Item item;
+  };
+  static constexpr std::size_t kMaxStartLines = 8;
+
+  /// Start-up: the first epoch is not believed alone. Epochs gather in
+  /// candidate time lines (each epoch joins the line it follows); the first line
+  /// of confirm_epochs epochs is the stream's time line, the others' epochs are
+  /// dropped as unconfirmed. So a bad first epoch costs that epoch only too.
+  Result start(const GnssTime& t, Item item) {
+    const EpochTimeGuardOptions& o = guard_.options();
+    for (std::size_t k = 0; k < lines_.size(); ++k) {
+      const double step = t - lines_[k].back().time;
+      if (step == 0.0) {
+        drop(TimeDropReason::Duplicate, t, step, item.origin);
+        return {};
+      }
+      if (step > 0.0 && step <= o.max_forward_step_s) {
+        lines_[k].push_back(Pending{t, std::move(item)});
+        return lines_[k].size() >= o.confirm_epochs ? settle(k) : Result{};
+      }
+    }
+    if (!lines_.empty()) {
+      const double step = t - lines_.back().back().time;
+      if (o.drop_out_of_order && step < 0.0 && step >= -o.out_of_order_window_s) {
+        drop(TimeDropReason::OutOfOrder, t, step, item.origin);
+        return {};
+      }
+    }
+    if (lines_.size() >= kMaxStartLines) {
+      for (auto& e : lines_.front())
+        drop(TimeDropReason::UnconfirmedJump, e.time, e.time - t, e.item.origin);
+      lines_.erase(lines_.begin());
+    }
+    lines_.push_back({Pending{t, std::move(item)}});
+    return lines_.back().size() >= o.confirm_epochs ? settle(lines_.size() - 1) : Result{};
+  }
+  /// Line `chosen` becomes the time line: its epochs are accepted, the others dropped.
+  Result settle(std::size_t chosen) {
+    started_ = true;
+    std::vector<Pending> line = std::move(lines_[chosen]);
+    for (std::size_t k = 0; k < lines_.size(); ++k)
+      if (k != chosen)
+        for (auto& e : lines_[k])
+          drop(TimeDropReason::UnconfirmedJump, e.time, e.time - line.front().time, e.item.origin);
+    lines_.clear();
+    Result r;
+    for (auto& e : line)
+      for (auto& a : take(guard_.push(e.time, std::move(e.item))).accepted) r.accepted.push_back(std::move(a));
+    return r;
+  }
+
   Result take(typename Guard::Outcome&& out) {
     Result r;
     for (auto& d : out.dropped) drop(d.reason, d.time, d.step_s, d.payload.origin);
@@ -110,6 +178,8 @@ class EpochTimeScreen {
   }
 
   Guard guard_;
+  bool started_ = false;                   // a time line is established
+  std::vector<std::vector<Pending>> lines_;  // candidate time lines at start-up
   StreamCounters counters_;
   std::map<TimeDropReason, std::uint64_t> dropped_;
   std::uint64_t resets_ = 0, forward_jumps_ = 0;

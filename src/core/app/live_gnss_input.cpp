@@ -426,8 +426,7 @@ std::vector<LiveReadyEpoch> LiveGnssInput::finish() {
     StreamState& s = d.streams.at(name);
     s.decoder->finish();
     d.drain(s, std::nullopt);
-    s.screen->finish();  // epochs still held on an unconfirmed time line are outliers
-    d.applyScreen(s, {});
+    d.applyScreen(s, s.screen->finish());  // what is still held on an unconfirmed time line: outliers
   }
   return d.release(true);
 }

@@ -163,16 +163,17 @@ RtcmObservationSource::RtcmObservationSource(const std::string& path, Rtcm3Decod
   std::optional<GnssTime> first, last;
   std::vector<std::uint8_t> chunk(kChunkBytes);
   EpochTimeScreen<StreamEpoch> scan_screen;  // the epochs the streaming pass will serve
+  auto keep = [&](const EpochTimeScreen<StreamEpoch>::Result& r) {
+    for (const auto& kept : r.accepted) {
+      inventory.add(kept.payload);
+      if (!first || kept.time < *first) first = kept.time;
+      if (!last || kept.time > *last) last = kept.time;
+      ++scan_epochs_;
+    }
+  };
   auto drain = [&]() {
     auto& out = scan.output();
-    for (const auto& e : out.epochs) {
-      for (const auto& kept : scan_screen.push(e.time, epochOrigin(e), e).accepted) {
-        inventory.add(kept.payload);
-        if (!first || kept.time < *first) first = kept.time;
-        if (!last || kept.time > *last) last = kept.time;
-        ++scan_epochs_;
-      }
-    }
+    for (const auto& e : out.epochs) keep(scan_screen.push(e.time, epochOrigin(e), e));
     out.epochs.clear();
     scan_nav_.gps.insert(scan_nav_.gps.end(), out.gps.begin(), out.gps.end());
     scan_nav_.galileo.insert(scan_nav_.galileo.end(), out.galileo.begin(), out.galileo.end());
@@ -188,6 +189,7 @@ RtcmObservationSource::RtcmObservationSource(const std::string& path, Rtcm3Decod
   }
   scan.finish();
   drain();
+  keep(scan_screen.finish());
   scan_counters_ = scan.counters();
   station_ = scan.station();
   if (options_.reference_time && first && last) {
@@ -242,7 +244,8 @@ bool RtcmObservationSource::fill() {
       const EpochOrigin origin = epochOrigin(e);
       for (auto& kept : screen_.push(t, origin, std::move(e)).accepted) queue_.push_back(std::move(kept.payload));
     }
-    if (finished_) screen_.finish();
+    if (finished_)
+      for (auto& kept : screen_.finish().accepted) queue_.push_back(std::move(kept.payload));
     out.clear();
   }
   return true;

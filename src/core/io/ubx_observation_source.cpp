@@ -131,7 +131,7 @@ void UbxObservationSource::screenEpochTimes() {
     const UbxObservationEpoch& e = epochs_[i];
     take(screen.push(e.time, EpochOrigin{e.byte_offset, e.frame_index, kUbxRawxType}, i));
   }
-  screen.finish();
+  take(screen.finish());
   epochs_ = std::move(kept);
   time_screen_ = screen.counters();
   for (const auto& p : time_screen_.problems) counters_.add(p);
