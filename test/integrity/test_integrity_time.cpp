@@ -237,23 +237,47 @@ bool anyContains(const std::vector<std::string>& lines, const std::string& a, co
   return false;
 }
 
+/// The faulty run lost the bad epoch only: one epoch fewer read, none refused,
+/// every fix of the clean run but at most that epoch's.
+void expectOnlyTheBadEpochLost(const std::string& what, const PppSolveOutcome& clean, const PppSolveOutcome& faulty) {
+  std::printf("%s: clean %zu read %zu solved; faulty %zu read %zu solved %zu refused\n", what.c_str(),
+              clean.run.epochs_read, clean.run.epochs_solved, faulty.run.epochs_read, faulty.run.epochs_solved,
+              faulty.run.epochs_refused);
+  EXPECT_EQ(faulty.run.epochs_read, clean.run.epochs_read - 1) << what;
+  EXPECT_EQ(faulty.run.epochs_refused, 0u) << what;
+  EXPECT_GE(faulty.run.epochs_solved + 1, clean.run.epochs_solved) << what;
+}
+
+/// The walk with one RXM-RAWX a week late, written to a temporary file, and
+/// ppp_solve --ubx F --nav F on the clean and on the faulty recording.
+struct UbxWeekCase {
+  std::size_t offset = 0;  // of the edited frame
+  Bytes bytes;
+  std::string path;
+  PppSolveOutcome clean, faulty;
+};
+
+UbxWeekCase ubxWeekCase(std::size_t rawx_index, const PppConfig& config) {
+  UbxWeekCase c;
+  c.bytes = ubxWithBadWeek(rawx_index, c.offset);
+  c.path = writeTemp("ubx_week", "gnss_1730_badweek.ubx", c.bytes);
+  c.clean = solve(ubxWalk(), ObservationFormat::Ubx, config);
+  c.faulty = solve(c.path, ObservationFormat::Ubx, config);
+  return c;
+}
+
 // ---------------------------------------------------------------------------
 TEST(IntegrityTime, OneUbxEpochWithItsWeekOneTooHighCostsThatEpochOnly) {
   PPP_REQUIRE_SHARED_DATA();
-  std::size_t offset = 0;
-  const Bytes bad_bytes = ubxWithBadWeek(200, offset);
-  const std::string bad = writeTemp("ubx_week", "gnss_1730_badweek.ubx", bad_bytes);
   const PppConfig config = ubxConfig();
-
-  // Offline: ppp_solve --ubx F --nav F.
-  const PppSolveOutcome clean = solve(ubxWalk(), ObservationFormat::Ubx, config);
-  const PppSolveOutcome faulty = solve(bad, ObservationFormat::Ubx, config);
-  std::printf("ubx week+1 at byte %zu: clean %zu read %zu solved; faulty %zu read %zu solved\n", offset,
-              clean.run.epochs_read, clean.run.epochs_solved, faulty.run.epochs_read, faulty.run.epochs_solved);
+  const UbxWeekCase c = ubxWeekCase(200, config);
+  const std::size_t offset = c.offset;
+  const Bytes& bad_bytes = c.bytes;
+  const std::string& bad = c.path;
+  const PppSolveOutcome& clean = c.clean;
+  const PppSolveOutcome& faulty = c.faulty;
   EXPECT_EQ(clean.run.epochs_read, 536u);  // RXM-RAWX epochs (data README)
-  EXPECT_EQ(faulty.run.epochs_read, clean.run.epochs_read - 1);
-  EXPECT_GE(faulty.run.epochs_solved + 1, clean.run.epochs_solved);  // before: 18 of 338
-  EXPECT_EQ(faulty.run.epochs_refused, 0u);
+  expectOnlyTheBadEpochLost("ubx week+1 at byte " + std::to_string(offset), clean, faulty);  // before: 18 of 338
   EXPECT_TRUE(anyContains(faulty.run.problems, "byte " + std::to_string(offset), "isolated time jump"));
 
   // Live: the same epochs, the outlier counted with its reason, no restart.
@@ -276,20 +300,10 @@ TEST(IntegrityTime, OneUbxEpochWithItsWeekOneTooHighCostsThatEpochOnly) {
 TEST(IntegrityTime, ABadFirstUbxEpochCostsThatEpochOnly) {
   // The first epoch is not believed alone: the start-up waits for a time line.
   PPP_REQUIRE_SHARED_DATA();
-  std::size_t offset = 0;
-  const Bytes bad_bytes = ubxWithBadWeek(0, offset);
-  const std::string bad = writeTemp("ubx_first", "gnss_1730_badfirst.ubx", bad_bytes);
-  const PppConfig config = ubxConfig();
-  const PppSolveOutcome clean = solve(ubxWalk(), ObservationFormat::Ubx, config);
-  const PppSolveOutcome faulty = solve(bad, ObservationFormat::Ubx, config);
-  std::printf("ubx first epoch week+1: clean %zu read %zu solved; faulty %zu read %zu solved %zu refused\n",
-              clean.run.epochs_read, clean.run.epochs_solved, faulty.run.epochs_read, faulty.run.epochs_solved,
-              faulty.run.epochs_refused);
-  EXPECT_EQ(faulty.run.epochs_read, clean.run.epochs_read - 1);
-  EXPECT_EQ(faulty.run.epochs_refused, 0u);
-  EXPECT_GE(faulty.run.epochs_solved + 1, clean.run.epochs_solved);
-  UbxObservationSource offline(bad);
-  const LiveOutcome live = runLive(bad_bytes, StreamFormat::Ubx, nullptr);
+  const UbxWeekCase c = ubxWeekCase(0, ubxConfig());
+  expectOnlyTheBadEpochLost("ubx first epoch week+1", c.clean, c.faulty);
+  UbxObservationSource offline(c.path);
+  const LiveOutcome live = runLive(c.bytes, StreamFormat::Ubx, nullptr);
   EXPECT_EQ(live.times, offlineTimes(offline));
   EXPECT_EQ(observationStatus(live).time_outliers, 1u);
   EXPECT_EQ(observationStatus(live).restarts, 0u);
