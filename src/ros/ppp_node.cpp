@@ -613,6 +613,7 @@ void PppNode::drainLive() {
   const double cpu0_s = ppp::threadCpu_s();
   std::vector<ppp::LiveReadyEpoch> ready = live_->takeReadyEpochs(ros::Time::now().toSec());
   live_decode_cpu_s_ += ppp::threadCpu_s() - cpu0_s;
+  for (const std::string& event : live_->takeTimeEvents()) warn("epoch_time", "ppp: " + event);
   if (ready.empty()) return;
   // The epochs are laid out by the header as it is now.
   if (live_->takeHeaderChanged()) {
@@ -1027,6 +1028,9 @@ void PppNode::diagnoseLive(diagnostic_updater::DiagnosticStatusWrapper& s) {
                                                           std::to_string(st.ignored_epochs));
     s.add(p + "epochs back in time dropped / receiver restarts",
           std::to_string(st.time_backwards) + " / " + std::to_string(st.restarts));
+    s.add(p + "epoch time outliers dropped / forward jumps",
+          std::to_string(st.time_outliers) + " / " + std::to_string(st.forward_jumps));
+    if (!st.reference_date_warning.empty()) raise(DiagnosticStatus::WARN, p + st.reference_date_warning);
     s.add(p + "ephemerides decoded", st.ephemerides);
     s.add(p + "SSR messages", st.ssr_messages);
     s.add(p + "SSR age [s]", st.ssr_age_s.value_or(kNaN));

@@ -25,6 +25,7 @@ enum class StreamProblemKind {
   UnresolvedTime,       // a time that cannot be placed (no week known)
   SsrWithoutBroadcast,  // an SSR correction for an IOD with no broadcast record
   SsrTooOld,            // an SSR correction older than its validity
+  EpochTimeRefused,     // an observation epoch whose time does not continue the stream (io/epoch_time_screen.h)
 };
 
 std::string_view streamProblemKindName(StreamProblemKind kind);
