@@ -5,7 +5,7 @@
 // exactly once (accepted or dropped). The bad stamps are the cases of issue #16.
 #include <gtest/gtest.h>
 
-#include "ppp_bayes_tree/ppp/epoch_time_guard.h"
+#include "ppp_bayes_tree/io/epoch_time_guard.h"
 
 namespace {
 

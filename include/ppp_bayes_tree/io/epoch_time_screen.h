@@ -5,7 +5,7 @@
 // (app/live_gnss_input.h) screen their decoded epochs through it, so that a
 // recording gives the same epochs offline and live.
 //
-// It is EpochTimeGuard (ppp/epoch_time_guard.h, the rule the nodes apply to
+// It is EpochTimeGuard (io/epoch_time_guard.h, the rule the nodes apply to
 // message stamps) applied to decoded epoch times, with the options of
 // streamEpochTimeOptions():
 //  - an epoch after the last accepted one by at most max_forward_step_s: accepted;
@@ -34,7 +34,7 @@
 #include <vector>
 
 #include "ppp_bayes_tree/io/stream_problem.h"
-#include "ppp_bayes_tree/ppp/epoch_time_guard.h"
+#include "ppp_bayes_tree/io/epoch_time_guard.h"
 #include "ppp_bayes_tree/types/gnss_time.h"
 
 namespace ppp {

@@ -86,7 +86,7 @@
 #include "ppp_bayes_tree/models/correction_buffer.h"
 #include "ppp_bayes_tree/models/stream_bias_provider.h"
 #include "ppp_bayes_tree/ppp/epoch_estimator.h"
-#include "ppp_bayes_tree/ppp/epoch_time_guard.h"
+#include "ppp_bayes_tree/io/epoch_time_guard.h"
 #include "ppp_bayes_tree/ppp/ppp_config.h"
 #include "ppp_bayes_tree/ppp/ppp_epoch_processor.h"
 #include "ppp_bayes_tree/ros/gnss_stream_subscriber.h"
