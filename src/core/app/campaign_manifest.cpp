@@ -29,6 +29,13 @@ namespace {
 
 const std::set<std::string> kTopKeys = {"campaign", "slurm", "ppp", "monte_carlo"};
 
+/// The value of `key` in a mapping, a null node when absent (never yaml-cpp's invalid node).
+YAML::Node childOrNull(const YAML::Node& map, const std::string& key) {
+  for (const auto& kv : map)
+    if (kv.first.as<std::string>() == key) return kv.second;
+  return YAML::Node();
+}
+
 std::string lineText(const YAML::Node& node) { return "line " + std::to_string(node.Mark().line + 1); }
 
 /// A day of a date range, with the placeholder values of its paths.
@@ -320,13 +327,13 @@ CampaignManifest loadCampaignManifest(const std::string& path) {
   CampaignManifest m;
   m.path = path;
   const std::string manifest_dir = fs::absolute(path).parent_path().lexically_normal().string();
-  YamlSection campaign(doc["campaign"], path, "campaign");
+  YamlSection campaign(childOrNull(doc, "campaign"), path, "campaign");
   m.name = campaign.text("name", fs::path(path).stem().string());
   m.data_root = resolve(manifest_dir, campaign.text("data_root", manifest_dir));
   campaign.finish();
-  m.resources = readResources(YamlSection(doc["slurm"], path, "slurm"));
+  m.resources = readResources(YamlSection(childOrNull(doc, "slurm"), path, "slurm"));
   for (const char* list : {"ppp", "monte_carlo"}) {
-    const YAML::Node entries = doc[list];
+    const YAML::Node entries = childOrNull(doc, list);
     if (!entries.IsDefined() || entries.IsNull()) continue;
     if (!entries.IsSequence()) throw ConfigError(path, list, "must be a list of entries (" + lineText(entries) + ")");
     for (std::size_t i = 0; i < entries.size(); ++i) {
