@@ -11,6 +11,8 @@
 #     resubmission; the long task is cancelled mid-run (scancel): the campaign ends
 #     with it failed (the Slurm state named) and the others done; the next
 #     invocation runs that job only (the others' markers untouched) and ends done;
+#     with one resubmission allowed, the same cancellation is resubmitted and done in
+#     the same invocation;
 #  4. a Monte Carlo study of 40 flights (2 min, GPS + Galileo) as 4 shards through
 #     Slurm equals one 40-flight ppp_monte_carlo run with the same seed: the CDF,
 #     error-versus-time, bias-convergence and representative-flight tables byte for
@@ -113,18 +115,22 @@ n_files=$(find "$WORK/slurm6/jobs" -path '*/output/*' -type f | wc -l)
 [ "$n_files" -ge 30 ] || note "only $n_files output files compared"
 
 # 3. Cancel a running task; the next invocation runs that job only.
+cancel_long_task() {  # OUT_DIR: cancels the esbcday task of round 0 once it runs; CANCELLED = its task id
+  local list="$1/slurm/round0.list" i k task
+  CANCELLED=""
+  for i in $(seq 1 300); do
+    if [ -f "$list" ]; then
+      k=$(grep -n '/esbcday$' "$list" | cut -d: -f1)
+      task=$(squeue -h -r -o '%i %T' 2>/dev/null | awk -v k="_$k" '$1 ~ k"$" && $2 == "RUNNING" {print $1}')
+      if [ -n "$task" ]; then sleep 0.5; scancel "$task" && CANCELLED="$task"; return; fi
+    fi
+    sleep 0.1
+  done
+}
 "$CAMPAIGN" run "$WORK/seven.yaml" --out "$WORK/kill" --slurm --poll-s 0.3 --max-resubmits 0 --no-plot > "$WORK/kill.log" 2>&1 &
 campaign_pid=$!
-cancelled=""
-for i in $(seq 1 300); do
-  list="$WORK/kill/slurm/round0.list"
-  if [ -f "$list" ]; then
-    k=$(grep -n '/esbcday$' "$list" | cut -d: -f1)
-    task=$(squeue -h -r -o '%i %T' 2>/dev/null | awk -v k="_$k" '$1 ~ k"$" && $2 == "RUNNING" {print $1}')
-    if [ -n "$task" ]; then sleep 0.5; scancel "$task" && cancelled="$task"; break; fi
-  fi
-  sleep 0.1
-done
+cancel_long_task "$WORK/kill"
+cancelled="$CANCELLED"
 wait "$campaign_pid"
 rc=$?
 [ -n "$cancelled" ] || note "the long task was never seen running"
@@ -140,6 +146,18 @@ after=$(stat -c '%n %y' "$WORK"/kill/jobs/{zim2,ccj2_*,esbc_*}/done.json 2>/dev/
 [ "$before" = "$after" ] || note "the re-run touched finished jobs"
 [ -f "$WORK/kill/jobs/esbcday/done.json" ] || note "the cancelled job did not finish on the re-run"
 cmp -s "$WORK/kill/jobs/esbc_2020-177_h02/output/esbc_ekf.csv" "$WORK/local/jobs/esbc_2020-177_h02/output/esbc_ekf.csv" || note "resumed outputs differ from the local run"
+
+# 3b. With resubmission: the cancelled task is resubmitted within the same invocation.
+"$CAMPAIGN" run "$WORK/seven.yaml" --out "$WORK/resubmit" --slurm --poll-s 0.3 --max-resubmits 1 --no-plot > "$WORK/resubmit.log" 2>&1 &
+campaign_pid=$!
+cancel_long_task "$WORK/resubmit"
+wait "$campaign_pid"
+rc=$?
+[ -n "$CANCELLED" ] || note "resubmission: the long task was never seen running"
+[ $rc -eq 0 ] || note "resubmission: the campaign exited $rc (0 expected: the cancelled job resubmitted and done)"
+grep -q "resubmitting 1 job(s)" "$WORK/resubmit.log" || note "resubmission: no resubmission of the cancelled job: $(grep ppp_campaign "$WORK/resubmit.log" | tail -3)"
+[ -f "$WORK/resubmit/jobs/esbcday/done.json" ] || note "resubmission: the cancelled job is not done"
+[ "$(ls "$WORK"/resubmit/slurm/round*.list | wc -l)" -eq 2 ] || note "resubmission: not exactly two submissions"
 
 # 4. Monte Carlo: 40 flights as 4 Slurm shards = one 40-flight run.
 cat > "$WORK/mc.yaml" << EOF
