@@ -21,12 +21,15 @@
 //   task logs in OUT/slurm/), progress from squeue, exit states from sacct (or
 //   scontrol when accounting is off); tasks that ended without finishing are
 //   resubmitted up to --max-resubmits times. Both run the same run-job, so the
-//   outputs are the same bytes whichever ran them.
+//   outputs are the same bytes whichever ran them. One run at a time per OUT (a
+//   lock); an array an earlier, stopped run left in the queue must end first.
 // summary: the summary of the jobs as they are (nothing runs).
 // run-job: runs one prepared job directory (what both backends start).
 // The plot: scripts/plot_campaign.py OUT (python3 with matplotlib), unless --no-plot.
 // Exit status: 0 every job done; 1 jobs failed or were interrupted (listed in the
 // summary; run again to re-run them); 2 usage, a bad manifest or missing inputs.
+#include <fcntl.h>
+#include <sys/file.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -283,8 +286,25 @@ std::map<int, std::string> slurmQueue(const std::string& array_id, bool& ended) 
   return q;
 }
 
+/// The array a previous invocation left in the queue (the campaign process was
+/// stopped while it ran): its id when squeue still lists it, else "".
+std::string arrayStillQueued(const std::string& marker) {
+  std::ifstream in(marker);
+  std::string id;
+  if (!(in >> id) || id.find_first_not_of("0123456789") != std::string::npos) return "";
+  bool ended = true;
+  slurmQueue(id, ended);
+  return ended ? "" : id;
+}
+
 bool runSlurm(const SlurmSettings& s, std::vector<PendingJob> jobs, int already_done, int total) {
   ProgressLine progress(total);
+  const std::string marker = (fs::path(s.out) / "slurm" / "active_array").string();
+  if (const std::string id = arrayStillQueued(marker); !id.empty()) {
+    std::cerr << "ppp_campaign: array job " << id << " of this campaign is still queued or running (an earlier "
+              << "invocation was stopped): wait for it or scancel " << id << ", then run again\n";
+    return false;
+  }
   int round = 0;
   for (;; ++round) {
     std::string why;
@@ -293,6 +313,7 @@ bool runSlurm(const SlurmSettings& s, std::vector<PendingJob> jobs, int already_
       std::cerr << "ppp_campaign: " << why << "\n";
       return false;
     }
+    ppp::writeFileAtomically(marker, array_id + "\n");
     std::cerr << "ppp_campaign: submitted array job " << array_id << " (" << jobs.size() << " tasks, round " << round
               << ")\n";
     for (;;) {
@@ -309,6 +330,8 @@ bool runSlurm(const SlurmSettings& s, std::vector<PendingJob> jobs, int already_
       if (ended) break;
       std::this_thread::sleep_for(std::chrono::duration<double>(s.poll_s));
     }
+    std::error_code ec;
+    fs::remove(marker, ec);
     const auto ends = slurmTaskEnds(array_id);
     std::vector<PendingJob> again;
     for (std::size_t k = 0; k < jobs.size(); ++k) {
@@ -377,6 +400,13 @@ int commandCheck(const ppp::CampaignManifest& manifest, const Options& o, const 
 
 int commandRun(const ppp::CampaignManifest& manifest, const Options& o) {
   fs::create_directories(fs::path(o.out) / "jobs");
+  // One invocation at a time per campaign directory (held until exit).
+  const std::string lock_path = (fs::path(o.out) / ".lock").string();
+  const int lock = ::open(lock_path.c_str(), O_CREAT | O_RDWR | O_CLOEXEC, 0644);
+  if (lock < 0 || ::flock(lock, LOCK_EX | LOCK_NB) != 0) {
+    std::cerr << "ppp_campaign: another ppp_campaign run is working in " << o.out << " (" << lock_path << ")\n";
+    return 1;
+  }
   std::ifstream src(manifest.path, std::ios::binary);
   std::ostringstream text;
   text << src.rdbuf();
