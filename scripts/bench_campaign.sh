@@ -4,12 +4,13 @@
 #  1. overhead: the 24 one-hour jobs of the ESBC day (GPS + Galileo, PPP-AR with
 #     the GRG integer clocks; --estimator, default both) through the local pool
 #     (--jobs 2) and through a private single-node Slurm cluster of 2 CPUs
-#     (scripts/slurm_local.sh; needs root, slurm-wlm and munge): wall times, the
-#     ratio Slurm / local, and the mean job time;
+#     (scripts/slurm_local.sh; needs root, slurm-wlm and munge), one job per array
+#     task and --jobs-per-task (default 6) jobs per task: wall times, the ratios
+#     Slurm / local, and the mean job time;
 #  2. Monte Carlo: N flights (default 1000; 30 min at 1 Hz, GPS + Galileo, the
 #     method's simulation as ppp_monte_carlo runs it) as shards of 50 flights
 #     through the local pool: wall time and flights per core-minute.
-# usage: scripts/bench_campaign.sh [--flights N] [--estimator ekf|smoother|both]
+# usage: scripts/bench_campaign.sh [--flights N] [--estimator ekf|smoother|both] [--jobs-per-task K]
 #                                   [--skip-slurm] [--skip-mc]
 # Run it niced on a shared machine: other load makes the figures noisy.
 set -uo pipefail
@@ -18,15 +19,17 @@ source "$REPO_DIR/scripts/slurm_local.sh"
 
 FLIGHTS=1000
 ESTIMATOR=both
+PER_TASK=6
 SKIP_SLURM=0
 SKIP_MC=0
 while [ $# -gt 0 ]; do
   case "$1" in
     --flights) FLIGHTS="$2"; shift 2 ;;
     --estimator) ESTIMATOR="$2"; shift 2 ;;
+    --jobs-per-task) PER_TASK="$2"; shift 2 ;;
     --skip-slurm) SKIP_SLURM=1; shift ;;
     --skip-mc) SKIP_MC=1; shift ;;
-    *) echo "usage: $0 [--flights N] [--estimator ekf|smoother|both] [--skip-slurm] [--skip-mc]" >&2; exit 2 ;;
+    *) echo "usage: $0 [--flights N] [--estimator ekf|smoother|both] [--jobs-per-task K] [--skip-slurm] [--skip-mc]" >&2; exit 2 ;;
   esac
 done
 CAMPAIGN="$BIN_DIR/ppp_campaign"
@@ -63,15 +66,18 @@ if [ -d "$SHARED_DATA/esbc-2020-177" ]; then
     start_local_slurm "$WORK/slurm" 2
     rc=$?
     if [ $rc -eq 0 ]; then
-      t2=$(now)
-      "$CAMPAIGN" run "$WORK/esbc24.yaml" --out "$WORK/slurm_out" --slurm --poll-s 0.2 --no-plot > "$WORK/slurm.log" 2>&1 \
-        || { echo "bench_campaign: the Slurm campaign failed:"; tail -5 "$WORK/slurm.log"; }
-      t3=$(now)
-      slurm_s=$(elapsed "$t2" "$t3")
-      same="identical"
-      diff -r -q -x timing.json -x log.txt -x slurm "$WORK/local" "$WORK/slurm_out" > /dev/null || same="DIFFERENT"
-      echo "overhead: the same through Slurm (1 array of 24 tasks, 2 CPUs): $slurm_s s; ratio Slurm / local" \
-           "$(awk -v a="$local_s" -v b="$slurm_s" 'BEGIN {printf "%.3f", b / a}') (target <= 1.15); outputs $same"
+      for per_task in 1 $PER_TASK; do
+        t2=$(now)
+        "$CAMPAIGN" run "$WORK/esbc24.yaml" --out "$WORK/slurm_$per_task" --slurm --jobs-per-task "$per_task" \
+          --poll-s 0.2 --no-plot > "$WORK/slurm_$per_task.log" 2>&1 \
+          || { echo "bench_campaign: the Slurm campaign failed:"; tail -5 "$WORK/slurm_$per_task.log"; }
+        t3=$(now)
+        slurm_s=$(elapsed "$t2" "$t3")
+        same="identical"
+        diff -r -q -x timing.json -x log.txt -x slurm "$WORK/local" "$WORK/slurm_$per_task" > /dev/null || same="DIFFERENT"
+        echo "overhead: the same through Slurm (2 CPUs, $per_task job(s) per array task): $slurm_s s; ratio Slurm / local" \
+             "$(awk -v a="$local_s" -v b="$slurm_s" 'BEGIN {printf "%.3f", b / a}') (target <= 1.15); outputs $same"
+      done
       stop_local_slurm
     else
       echo "overhead: Slurm not measured: ${SLURM_SKIP_REASON:-the cluster did not come up (see $WORK/slurm/log)}"

@@ -63,7 +63,7 @@ SelectType=select/cons_tres
 SelectTypeParameters=CR_CPU
 SchedulerType=sched/builtin
 # run the scheduler on every submission and job end (default: at most every 2 s)
-SchedulerParameters=sched_min_interval=20000
+SchedulerParameters=sched_min_interval=20000,batch_sched_delay=0
 MpiDefault=none
 ReturnToService=2
 MinJobAge=600

@@ -7,7 +7,7 @@
 // usage: ppp_campaign check MANIFEST [--out DIR]
 //        ppp_campaign run MANIFEST --out DIR [--local | --slurm] [--jobs N]
 //                     [--partition P] [--time HH:MM:SS] [--mem M] [--max-resubmits N]
-//                     [--poll-s S] [--no-plot]
+//                     [--jobs-per-task K] [--poll-s S] [--no-plot]
 //        ppp_campaign summary MANIFEST --out DIR [--no-plot]
 //        ppp_campaign run-job JOB_DIR
 // check: expands the manifest, checks every input (missing files are named) and
@@ -20,7 +20,8 @@
 //   run (resources from the manifest's slurm section, overridden by the flags;
 //   task logs in OUT/slurm/), progress from squeue, exit states from sacct (or
 //   scontrol when accounting is off); tasks that ended without finishing are
-//   resubmitted up to --max-resubmits times. Both run the same run-job, so the
+//   resubmitted up to --max-resubmits times. --jobs-per-task K bundles K jobs
+//   into one array task (run one after another), for jobs of a few seconds. Both run the same run-job, so the
 //   outputs are the same bytes whichever ran them. One run at a time per OUT (a
 //   lock); an array an earlier, stopped run left in the queue must end first.
 // summary: the summary of the jobs as they are (nothing runs).
@@ -60,7 +61,7 @@ int usage(const std::string& why) {
             << "usage: ppp_campaign check MANIFEST [--out DIR]\n"
             << "       ppp_campaign run MANIFEST --out DIR [--local | --slurm] [--jobs N]\n"
             << "                    [--partition P] [--time HH:MM:SS] [--mem M] [--max-resubmits N]\n"
-            << "                    [--poll-s S] [--no-plot]\n"
+            << "                    [--jobs-per-task K] [--poll-s S] [--no-plot]\n"
             << "       ppp_campaign summary MANIFEST --out DIR [--no-plot]\n"
             << "       ppp_campaign run-job JOB_DIR\n";
   return 2;
@@ -72,7 +73,7 @@ struct Options {
   unsigned jobs = 0;
   double poll_s = 1.0;
   std::optional<std::string> partition, time_limit, mem;
-  std::optional<int> max_resubmits;
+  std::optional<int> max_resubmits, jobs_per_task;
 };
 
 double secondsSince(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
@@ -251,12 +252,18 @@ std::string submitArray(const SlurmSettings& s, const std::vector<PendingJob>& j
   std::string listing;
   for (const auto& j : jobs) listing += j.dir + "\n";
   ppp::writeFileAtomically(list, listing);
-  ppp::writeFileAtomically(script, "#!/bin/sh\n# ppp_campaign " + s.name + ", round " + std::to_string(round) +
-                                       ": array task k runs line k of " + list + "\n" +
-                                       "exec " + shellQuote(selfExecutable()) + " run-job \"$(sed -n \"${SLURM_ARRAY_TASK_ID}p\" " +
-                                       shellQuote(list) + ")\"\n");
+  const std::size_t per_task = static_cast<std::size_t>(std::max(1, s.resources.jobs_per_task));
+  const std::size_t tasks = (jobs.size() + per_task - 1) / per_task;
+  ppp::writeFileAtomically(
+      script, "#!/bin/bash\n# ppp_campaign " + s.name + ", round " + std::to_string(round) + ": array task k runs lines " +
+                  "(k-1)*" + std::to_string(per_task) + "+1 .. k*" + std::to_string(per_task) + " of " + list +
+                  ", one job after another\nfirst=$(( (SLURM_ARRAY_TASK_ID - 1) * " + std::to_string(per_task) +
+                  " + 1 ))\nlast=$(( first + " + std::to_string(per_task - 1) + " ))\nstatus=0\n" +
+                  "while IFS= read -r dir; do\n  " + shellQuote(selfExecutable()) +
+                  " run-job \"$dir\" || status=1\ndone < <(sed -n \"${first},${last}p\" " + shellQuote(list) +
+                  ")\nexit $status\n");
   std::string cmd = "sbatch --parsable --job-name=" + shellQuote("ppp_campaign_" + s.name) +
-                    " --array=1-" + std::to_string(jobs.size()) + " --time=" + shellQuote(s.resources.time_limit) +
+                    " --array=1-" + std::to_string(tasks) + " --time=" + shellQuote(s.resources.time_limit) +
                     " --mem=" + shellQuote(s.resources.mem) + " --cpus-per-task=" +
                     std::to_string(s.resources.cpus_per_task) + " --chdir=" + shellQuote(s.out) + " --output=" +
                     shellQuote((dir / "%A_%a.log").string());
@@ -333,6 +340,7 @@ bool runSlurm(const SlurmSettings& s, std::vector<PendingJob> jobs, int already_
     std::error_code ec;
     fs::remove(marker, ec);
     const auto ends = slurmTaskEnds(array_id);
+    const std::size_t per_task = static_cast<std::size_t>(std::max(1, s.resources.jobs_per_task));
     std::vector<PendingJob> again;
     for (std::size_t k = 0; k < jobs.size(); ++k) {
       const auto st = ppp::campaignJobStatus(jobs[k].dir);
@@ -341,12 +349,13 @@ bool runSlurm(const SlurmSettings& s, std::vector<PendingJob> jobs, int already_
         continue;
       }
       if (st.state != ppp::CampaignJobState::Failed) {
-        auto it = ends.find(static_cast<int>(k + 1));
+        const int task = static_cast<int>(k / per_task + 1);
+        auto it = ends.find(task);
         const std::string how = it == ends.end() ? "ended without finishing (state unknown: no accounting record)"
                                                  : "ended " + it->second.state + ", exit code " + it->second.exit_code;
-        ppp::markCampaignJobFailed(jobs[k].dir, "Slurm task " + array_id + "_" + std::to_string(k + 1) + " " + how +
+        ppp::markCampaignJobFailed(jobs[k].dir, "Slurm task " + array_id + "_" + std::to_string(task) + " " + how +
                                                     " (log " + s.out + "/slurm/" + array_id + "_" +
-                                                    std::to_string(k + 1) + ".log)");
+                                                    std::to_string(task) + ".log)");
       }
       again.push_back(jobs[k]);
     }
@@ -428,6 +437,7 @@ int commandRun(const ppp::CampaignManifest& manifest, const Options& o) {
       if (o.time_limit) s.resources.time_limit = *o.time_limit;
       if (o.mem) s.resources.mem = *o.mem;
       if (o.max_resubmits) s.resources.max_resubmits = *o.max_resubmits;
+      if (o.jobs_per_task) s.resources.jobs_per_task = *o.jobs_per_task;
       s.name = manifest.name;
       s.out = fs::absolute(o.out).string();
       s.poll_s = o.poll_s;
@@ -462,6 +472,9 @@ bool parseOptions(int argc, char** argv, Options& o, std::string& why) {
     } else if (a == "--partition" || a == "--time" || a == "--mem") {
       if (!value(v)) return (why = a + " needs a value", false);
       (a == "--partition" ? o.partition : a == "--time" ? o.time_limit : o.mem) = v;
+    } else if (a == "--jobs-per-task") {
+      if (!value(v) || std::atoi(v.c_str()) < 1) return (why = "--jobs-per-task needs a count >= 1", false);
+      o.jobs_per_task = std::atoi(v.c_str());
     } else if (a == "--max-resubmits") {
       if (!value(v) || v.find_first_not_of("0123456789") != std::string::npos || v.empty())
         return (why = "--max-resubmits needs a count >= 0", false);

@@ -8,7 +8,7 @@
 //                                             resolve against it (itself relative to
 //                                             the manifest's directory; default: that directory)
 //   slurm:     {partition: P, time_limit: "HH:MM:SS", mem: "2G", cpus_per_task: 1,
-//               max_resubmits: 1}             resources of each array task
+//               max_resubmits: 1, jobs_per_task: 1}   resources of each array task
 //   ppp:       a list of stations (or recordings), each
 //     {station: S, obs: PATTERN, sp3: [PATTERN...], clk: [...], nav: [...], atx: [...],
 //      bia: PATTERN, blq: PATTERN, config: [YAML...], estimator: ekf|smoother|both,
@@ -86,6 +86,9 @@ struct CampaignResources {
   std::string time_limit = "01:00:00";
   std::string mem = "2G";
   int cpus_per_task = 1;
+  /// Jobs one array task runs one after another: more than 1 bundles short jobs,
+  /// so that the scheduler's per-task start-up (about a second) is paid once per bundle.
+  int jobs_per_task = 1;
   int max_resubmits = 1;  // a task that ended without finishing is resubmitted this many times
 };
 

@@ -284,6 +284,7 @@ CampaignResources readResources(YamlSection s) {
   r.time_limit = s.text("time_limit", r.time_limit);
   r.mem = s.text("mem", r.mem);
   r.cpus_per_task = s.integer("cpus_per_task", r.cpus_per_task, 1);
+  r.jobs_per_task = s.integer("jobs_per_task", r.jobs_per_task, 1);
   r.max_resubmits = s.integer("max_resubmits", r.max_resubmits, 0);
   s.finish();
   return r;
