@@ -5,7 +5,7 @@
 #  1. a manifest naming a missing file is refused before anything runs: exit 2,
 #     the file named, no output directory, nothing queued;
 #  2. a 6-job campaign over the shared datasets (ZIM2, CCJ2, ESBC hours 0-3) run by
-#     the local pool and by Slurm writes the same bytes (every job output, marker
+#     the local pool and by Slurm (2 jobs per array task) writes the same bytes (every job output, marker
 #     and the summary files; only timing.json, the logs and slurm/ differ);
 #  3. the same campaign plus a long job (ESBC whole day, smoother) on Slurm with no
 #     resubmission; the long task is cancelled mid-run (scancel): the campaign ends
@@ -102,7 +102,7 @@ grep -q "job lost: sp3 $D/zim2-2026-133/NO_SUCH.SP3: no such file" "$WORK/missin
 t0=$(date +%s.%N)
 "$CAMPAIGN" run "$WORK/six.yaml" --out "$WORK/local" --local --jobs 2 --no-plot > "$WORK/local.log" 2>&1 || note "local campaign exited $?: $(tail -3 "$WORK/local.log")"
 t1=$(date +%s.%N)
-"$CAMPAIGN" run "$WORK/six.yaml" --out "$WORK/slurm6" --slurm --poll-s 0.3 --no-plot > "$WORK/slurm6.log" 2>&1 || note "slurm campaign exited $?: $(tail -3 "$WORK/slurm6.log")"
+"$CAMPAIGN" run "$WORK/six.yaml" --out "$WORK/slurm6" --slurm --jobs-per-task 2 --poll-s 0.3 --no-plot > "$WORK/slurm6.log" 2>&1 || note "slurm campaign exited $?: $(tail -3 "$WORK/slurm6.log")"
 t2=$(date +%s.%N)
 awk -v a="$t0" -v b="$t1" -v c="$t2" 'BEGIN {printf "test_campaign_slurm: 6 jobs local %.1f s, slurm %.1f s\n", b - a, c - b}'
 n_done=$(ls "$WORK"/slurm6/jobs/*/done.json 2>/dev/null | wc -l)
