@@ -243,8 +243,34 @@ struct SlurmSettings {
   double poll_s = 1.0;
 };
 
+/// The cluster's MaxArraySize (array indices 0 .. MaxArraySize - 1; Slurm's default 1001).
+std::size_t maxArraySize() {
+  std::istringstream lines(capture("scontrol show config 2>/dev/null"));
+  std::string line;
+  while (std::getline(lines, line)) {
+    if (line.rfind("MaxArraySize", 0) != 0) continue;
+    const auto eq = line.find('=');
+    if (eq != std::string::npos) return static_cast<std::size_t>(std::max(2, std::atoi(line.c_str() + eq + 1)));
+  }
+  return 1001;
+}
+
+/// Jobs per array task: the manifest's (or --jobs-per-task), raised when the array
+/// would have more tasks than the cluster allows (said on stderr).
+std::size_t jobsPerTask(const SlurmSettings& s, std::size_t jobs) {
+  std::size_t per_task = static_cast<std::size_t>(std::max(1, s.resources.jobs_per_task));
+  const std::size_t max_tasks = maxArraySize() - 1;  // indices 1 .. MaxArraySize - 1
+  if ((jobs + per_task - 1) / per_task > max_tasks) {
+    per_task = (jobs + max_tasks - 1) / max_tasks;
+    std::cerr << "ppp_campaign: " << jobs << " jobs exceed the cluster's MaxArraySize: " << per_task
+              << " jobs per array task\n";
+  }
+  return per_task;
+}
+
 /// Submits one array over `jobs`; returns the array job id ("" when sbatch failed: `why`).
-std::string submitArray(const SlurmSettings& s, const std::vector<PendingJob>& jobs, int round, std::string& why) {
+std::string submitArray(const SlurmSettings& s, const std::vector<PendingJob>& jobs, std::size_t per_task, int round,
+                        std::string& why) {
   const fs::path dir = fs::path(s.out) / "slurm";
   fs::create_directories(dir);
   const std::string list = (dir / ("round" + std::to_string(round) + ".list")).string();
@@ -252,7 +278,6 @@ std::string submitArray(const SlurmSettings& s, const std::vector<PendingJob>& j
   std::string listing;
   for (const auto& j : jobs) listing += j.dir + "\n";
   ppp::writeFileAtomically(list, listing);
-  const std::size_t per_task = static_cast<std::size_t>(std::max(1, s.resources.jobs_per_task));
   const std::size_t tasks = (jobs.size() + per_task - 1) / per_task;
   ppp::writeFileAtomically(
       script, "#!/bin/bash\n# ppp_campaign " + s.name + ", round " + std::to_string(round) + ": array task k runs lines " +
@@ -315,14 +340,15 @@ bool runSlurm(const SlurmSettings& s, std::vector<PendingJob> jobs, int already_
   int round = 0;
   for (;; ++round) {
     std::string why;
-    const std::string array_id = submitArray(s, jobs, round, why);
+    const std::size_t per_task = jobsPerTask(s, jobs.size());
+    const std::string array_id = submitArray(s, jobs, per_task, round, why);
     if (array_id.empty()) {
       std::cerr << "ppp_campaign: " << why << "\n";
       return false;
     }
     ppp::writeFileAtomically(marker, array_id + "\n");
-    std::cerr << "ppp_campaign: submitted array job " << array_id << " (" << jobs.size() << " tasks, round " << round
-              << ")\n";
+    std::cerr << "ppp_campaign: submitted array job " << array_id << " (" << jobs.size() << " jobs in "
+              << (jobs.size() + per_task - 1) / per_task << " tasks, round " << round << ")\n";
     for (;;) {
       bool ended = false;
       const auto queue = slurmQueue(array_id, ended);
@@ -340,7 +366,6 @@ bool runSlurm(const SlurmSettings& s, std::vector<PendingJob> jobs, int already_
     std::error_code ec;
     fs::remove(marker, ec);
     const auto ends = slurmTaskEnds(array_id);
-    const std::size_t per_task = static_cast<std::size_t>(std::max(1, s.resources.jobs_per_task));
     std::vector<PendingJob> again;
     for (std::size_t k = 0; k < jobs.size(); ++k) {
       const auto st = ppp::campaignJobStatus(jobs[k].dir);
