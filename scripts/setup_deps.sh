@@ -16,6 +16,8 @@ PACKAGES=(
   libgtest-dev libbenchmark-dev clang libclang-rt-14-dev python3-matplotlib rtklib
   # the serial-port tests (a pseudo-terminal pair), the RViz screenshot (a virtual display)
   socat xvfb x11-apps
+  # campaigns on a cluster: the single-node Slurm of scripts/test_campaign_slurm.sh
+  slurm-wlm munge
 )
 
 missing=()

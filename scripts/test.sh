@@ -5,7 +5,8 @@
 # scripts/test_demo.sh: the main-job demo end to end on a 3-min simulated flight;
 # scripts/test_node_startup.sh: start-up errors of the nodes reach stderr;
 # scripts/test_live_replay.sh: a bag of a live run's raw topics replayed through
-# launch/live.launch gives the live run's output).
+# launch/live.launch gives the live run's output; scripts/test_campaign_slurm.sh:
+# ppp_campaign on a private single-node Slurm cluster against the local pool).
 # Closes with "N passed, N failed, N skipped"; exits non-zero on any failure.
 set -uo pipefail
 source "$(dirname "${BASH_SOURCE[0]}")/common.sh"
@@ -44,6 +45,7 @@ echo "=== script tests ==="
 "$REPO_DIR/scripts/test_demo.sh" "$EXTRA"
 "$REPO_DIR/scripts/test_node_startup.sh" "$EXTRA"
 "$REPO_DIR/scripts/test_live_replay.sh" "$EXTRA"
+"$REPO_DIR/scripts/test_campaign_slurm.sh" "$EXTRA"
 
 echo "=== summary ==="
 /usr/bin/python3 "$REPO_DIR/scripts/summarize_tests.py" "$RESULTS" "$EXTRA"

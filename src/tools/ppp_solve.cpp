@@ -5,7 +5,9 @@
 //                  (--sp3 F... --clk F... | --nav F... [--ssr F [--ssr-reference com|apc|apc-l1]])
 //                  --atx F... [--bia F] [--blq F]
 //                  [--config YAML...] [--estimator ekf|smoother|both] [--truth X,Y,Z] [--name N] --out DIR
-//                  [--no-product-checks]
+//                  [--no-product-checks] [--start "YYYY/MM/DD HH:MM:SS"] [--end "YYYY/MM/DD HH:MM:SS"]
+// --start/--end (GPST): only the epochs in [start, end) are processed (e.g. one
+// hour of a day file; io/time_window_source.h); either may be given alone.
 // Several --config files are laid one on another in order, as the nodes load
 // config/ppp.yaml and its overrides (ppp_config.h: mappings merge, a later value wins).
 // --no-product-checks skips the SP3/CLK sanity checks (product_sanity.h), only to
@@ -53,7 +55,7 @@ int usage(const std::string& why) {
             << "                 (--sp3 F... --clk F... | --nav F... [--ssr F [--ssr-reference com|apc|apc-l1]])\n"
             << "                 --atx F... [--bia F] [--blq F]\n"
             << "                 [--config YAML...] [--estimator ekf|smoother|both] [--truth X,Y,Z] [--name N] --out DIR\n"
-            << "                 [--no-product-checks]\n";
+            << "                 [--no-product-checks] [--start \"YYYY/MM/DD HH:MM:SS\"] [--end \"YYYY/MM/DD HH:MM:SS\"]\n";
   return 2;
 }
 
@@ -119,6 +121,10 @@ int main(int argc, char** argv) {
     } else if (a == "--ubx") {  // a u-blox UBX recording (RXM-RAWX) as the observations
       if (!req.files.obs.empty() || !value(req.files.obs)) return usage("--ubx needs a file (and no --obs/--rtcm)");
       req.files.obs_format = ppp::ObservationFormat::Ubx;
+    } else if (a == "--start" || a == "--end") {  // GPST window [start, end)
+      std::optional<ppp::GnssTime>& bound = a == "--start" ? req.files.window.start : req.files.window.end;
+      if (i + 1 >= argc || !(bound = ppp::parseReferenceDate(argv[++i])))
+        return usage(a + " needs a GPST time YYYY/MM/DD or \"YYYY/MM/DD HH:MM:SS\"");
     } else if (a == "--no-product-checks") {
       req.files.check_products = false;
     } else if (a == "--bia") {
@@ -164,6 +170,8 @@ int main(int argc, char** argv) {
   }
   if (req.files.atx.empty()) return usage("--atx is required");
   if (req.out_dir.empty()) return usage("--out is required");
+  if (req.files.window.start && req.files.window.end && *req.files.window.end <= *req.files.window.start)
+    return usage("--end must be after --start");
 
   try {
     if (!config_paths.empty()) req.config = ppp::loadPppConfig(config_paths);

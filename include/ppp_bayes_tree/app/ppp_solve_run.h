@@ -45,6 +45,11 @@ struct PppSolveRequest {
   std::string out_dir;
   /// Output file prefix; empty = the station name in lower case ("zim2").
   std::string name;
+  /// false: the run's outputs hold no wall-clock figures (processing_time_s and
+  /// the smoother's update/epoch times are left out of the summary JSON, their
+  /// epochs-CSV cells empty), so that two runs of the same inputs write the same
+  /// bytes (campaigns: app/campaign_job.h). The outcome still carries them.
+  bool write_timings = true;
   /// Called after each epoch with the fraction of the observation file read.
   std::function<void(double fraction, const PppEpochRecord&)> on_epoch;
 };
@@ -90,7 +95,8 @@ std::vector<PppSolveOutcome> solvePppEstimators(const PppSolveRequest& request);
 /// Readable report: notes, epoch counts, rejection counts, per-satellite residuals.
 std::string formatRunReport(const PppRunSummary& run);
 /// The summary JSON document of one output (as written to <name>_<tag>_summary.json).
-std::string runSummaryToJson(const PppSolveOutcome& outcome, const PppSolutionOutput& output);
+/// `timings` false: without the wall-clock figures (PppSolveRequest::write_timings).
+std::string runSummaryToJson(const PppSolveOutcome& outcome, const PppSolutionOutput& output, bool timings = true);
 /// The same for the first output.
 std::string runSummaryToJson(const PppSolveOutcome& outcome);
 

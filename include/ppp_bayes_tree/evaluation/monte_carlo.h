@@ -84,6 +84,11 @@ PppConfig monteCarloDefaultPppConfig();
 
 struct MonteCarloOptions {
   int flights = 100;
+  /// The index of the first flight: a shard of a larger study runs the flights
+  /// first_flight .. first_flight + flights - 1 (each flight depends only on the
+  /// seed and its index, so shards merge into the whole study exactly:
+  /// evaluation/monte_carlo_records.h).
+  int first_flight = 0;
   std::uint64_t seed = 1;
   double duration_s = 1800.0;
   double rate_hz = 1.0;

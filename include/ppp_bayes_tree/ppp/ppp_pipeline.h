@@ -29,6 +29,7 @@
 
 #include "ppp_bayes_tree/ppp/solution_epoch.h"
 #include "ppp_bayes_tree/io/observation_source.h"
+#include "ppp_bayes_tree/io/time_window_source.h"
 #include "ppp_bayes_tree/models/antex_calibrations.h"
 #include "ppp_bayes_tree/models/bias_provider.h"
 #include "ppp_bayes_tree/models/ephemeris_source.h"
@@ -62,6 +63,9 @@ struct PppInputFiles {
   /// The product sanity checks of the SP3 and CLK files (product_sanity.h). Off
   /// only to measure what the estimators' own checks catch (test/integrity).
   bool check_products = true;
+  /// Only the epochs inside this window [start, end) GPST are processed (ppp_solve
+  /// --start/--end; io/time_window_source.h); the products are checked over it.
+  ObservationWindow window;
 };
 
 /// In-process inputs (e.g. a simulated flight, simulation/gnss_simulator.h): the

@@ -171,8 +171,9 @@ PppSolveOutcome solvePpp(const PppSolveRequest& req) {
       if (!rec.refused && rec.smoother) {
         const SmootherEpochDiagnostics& r = *rec.smoother;
         epochs << ',' << rec.active_biases << ',' << r.new_biases << ',' << r.variables_relinearized << ','
-               << r.variables_reeliminated << ',' << r.factors_relinearized << ',' << r.cliques_touched << ','
-               << fixed(r.update_time_s * 1e3, 3) << ',' << fixed(rec.estimator_time_s * 1e3, 3);
+               << r.variables_reeliminated << ',' << r.factors_relinearized << ',' << r.cliques_touched << ',';
+        if (req.write_timings) epochs << fixed(r.update_time_s * 1e3, 3) << ',' << fixed(rec.estimator_time_s * 1e3, 3);
+        else epochs << ',';
         if (rec.status == EpochStatus::Ok) {
           update_times.push_back(r.update_time_s);
           epoch_times.push_back(rec.estimator_time_s);
@@ -228,7 +229,7 @@ PppSolveOutcome solvePpp(const PppSolveRequest& req) {
   for (auto& o : out.outputs) {
     if (req.truth_ecef_m) o.statistics = computePositionErrorStatistics(o.solution, *req.truth_ecef_m);
     std::ofstream json = openOut(o.json_path);
-    json << runSummaryToJson(out, o);
+    json << runSummaryToJson(out, o, req.write_timings);
     if (!json) throw std::runtime_error("cannot write " + o.json_path);
   }
   out.solution = out.outputs[0].solution;
@@ -260,7 +261,7 @@ std::string runSummaryToJson(const PppSolveOutcome& o) {
   return runSummaryToJson(o, o.outputs.front());
 }
 
-std::string runSummaryToJson(const PppSolveOutcome& o, const PppSolutionOutput& output) {
+std::string runSummaryToJson(const PppSolveOutcome& o, const PppSolutionOutput& output, bool timings) {
   const PppRunSummary& r = o.run;
   std::ostringstream os;
   os << "{\n  \"name\": " << jsonString(o.name) << ",\n  \"estimator\": " << jsonString(r.estimator)
@@ -278,12 +279,12 @@ std::string runSummaryToJson(const PppSolveOutcome& o, const PppSolutionOutput& 
      << ", \"refused\": " << r.epochs_refused << ", \"data_gaps\": " << r.data_gaps
      << ", \"inconsistent\": " << r.epochs_inconsistent << "},\n";
   os << "  \"arcs\": " << r.arcs << ",\n  \"slips\": " << r.slips << ",\n";
-  os << "  \"processing_time_s\": " << jsonNumber(r.processing_time_s, 6) << ",\n";
+  if (timings) os << "  \"processing_time_s\": " << jsonNumber(r.processing_time_s, 6) << ",\n";
   if (r.epochs_fixed > 0)  // PPP-AR ran and fixed (absent otherwise, so float runs keep their keys)
     os << "  \"epochs_fixed\": " << r.epochs_fixed << ",\n  \"time_to_first_fix_s\": "
        << jsonNumber(r.time_to_first_fix_s.value_or(0.0), 6) << ",\n";
   for (const auto& [key, t] : {std::make_pair("update_time", o.update_time), std::make_pair("epoch_time", o.epoch_time)}) {
-    if (!t) continue;
+    if (!t || !timings) continue;
     os << "  \"" << key << "_ms\": {\"epochs\": " << t->count << ", \"median\": " << jsonNumber(t->median_s * 1e3, 6)
        << ", \"p99\": " << jsonNumber(t->p99_s * 1e3, 6) << ", \"max\": " << jsonNumber(t->max_s * 1e3, 6) << "},\n";
   }

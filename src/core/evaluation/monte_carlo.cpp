@@ -558,7 +558,7 @@ MonteCarloResult runMonteCarlo(const MonteCarloOptions& options, const std::func
   int done = 0;
   auto worker = [&]() {
     for (int i = next++; i < n; i = next++) {
-      MonteCarloFlightRun r = runMonteCarloFlight(options, i);  // fully independent
+      MonteCarloFlightRun r = runMonteCarloFlight(options, options.first_flight + i);  // fully independent
       std::lock_guard<std::mutex> lock(mutex);
       result.flights[static_cast<std::size_t>(i)] = std::move(r);
       ++done;

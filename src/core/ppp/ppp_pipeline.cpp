@@ -25,12 +25,16 @@ namespace {
 
 /// The span of an observation file's epochs (one extra pass over the file, a few
 /// ms); unset when it cannot be read (reported by the main pass).
-std::pair<std::optional<GnssTime>, std::optional<GnssTime>> observationSpan(const std::string& obs_path) {
+/// With a window: the span of the epochs inside it (the pass stops after its end).
+std::pair<std::optional<GnssTime>, std::optional<GnssTime>> observationSpan(const std::string& obs_path,
+                                                                            const ObservationWindow& window) {
   std::optional<GnssTime> first, last;
   try {
     RinexObsReader reader = RinexObsReader::open(obs_path);
     ObsEpoch epoch;
     while (reader.next(epoch)) {
+      if (window.end && epoch.time >= *window.end) break;
+      if (!window.contains(epoch.time)) continue;
       if (!first || epoch.time < *first) first = epoch.time;
       if (!last || *last < epoch.time) last = epoch.time;
     }
@@ -111,7 +115,12 @@ PppPipeline::PppPipeline(const PppInputFiles& files, PppConfig config)
     if (h.time_of_last_obs) in.last = h.time_of_last_obs->time;
   } else {
     d.source = std::make_unique<RinexObservationSource>(files.obs);
-    std::tie(in.first, in.last) = observationSpan(files.obs);
+    std::tie(in.first, in.last) = observationSpan(files.obs, files.window);
+  }
+  if (files.window.bounded()) {
+    d.source = std::make_unique<TimeWindowObservationSource>(std::move(d.source), files.window);
+    if (in.first && files.window.start && *in.first < *files.window.start) in.first = files.window.start;
+    if (in.last && files.window.end && *in.last >= *files.window.end) in.last = *files.window.end - 1e-3;
   }
   in.sp3 = files.sp3;
   in.clk = files.clk;

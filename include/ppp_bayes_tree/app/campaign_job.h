@@ -1,0 +1,86 @@
+#pragma once
+// One job of a campaign (app/campaign_manifest.h) in its own directory, run by
+// whatever backend (a local process pool, a Slurm array task: the tool
+// ppp_campaign), with the same bytes written whichever ran it:
+//
+//   <campaign>/jobs/<id>/job.yaml     the job's specification (every concrete input)
+//                        work/        outputs being written (an attempt in progress)
+//                        output/      the complete outputs (work/ renamed when finished)
+//                        done.json    the finished marker: written (to a temporary
+//                                     name, then renamed) only after output/ is
+//                                     complete; holds the job's result figures and
+//                                     the digest of job.yaml it was run from
+//                        failed.json  why the last attempt failed
+//                        timing.json  wall time and host of the last attempt (not an
+//                                     output: it differs from run to run)
+//
+// A job is DONE when done.json exists and names the digest of the current
+// job.yaml (a changed manifest re-runs the jobs it changed); FAILED with a
+// failed.json; INTERRUPTED when an attempt left work/ (or output/) behind without
+// a marker (killed, cancelled, node lost); PENDING otherwise. Re-running a
+// campaign runs every job that is not DONE, and only those.
+//
+// PPP jobs write ppp_solve's outputs (app/ppp_solve_run.h) without wall-clock
+// figures (PppSolveRequest::write_timings false); Monte Carlo shards write their
+// flights' records (evaluation/monte_carlo_records.h) as flights.mcr.
+#include <limits>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "ppp_bayes_tree/app/campaign_manifest.h"
+
+namespace ppp {
+
+/// The job's specification as YAML (job.yaml), and back. parseCampaignJob throws
+/// ConfigError naming the file and key.
+std::string campaignJobYaml(const CampaignJob& job);
+CampaignJob parseCampaignJob(const std::string& yaml_text, const std::string& file);
+/// 64-bit FNV-1a of a text, 16 hex digits (the digest of job.yaml).
+std::string fnv1aHex(const std::string& text);
+
+enum class CampaignJobState { Pending, Done, Failed, Interrupted };
+const char* toString(CampaignJobState state);  // "pending", "done", "failed", "interrupted"
+
+/// The figures of a finished job (done.json "result"); NaN / -1 when not known
+/// (no truth: no errors; a float run: no fixed share).
+struct CampaignJobResult {
+  static constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+  // PPP
+  std::size_t epochs_read = 0, epochs_solved = 0, problems = 0;
+  double mean_3d_m = kNaN, first_window_mean_3d_m = kNaN;  // with a truth
+  double time_to_10cm_s = kNaN;  // with a truth; +inf when never below 10 cm to the end
+  double fixed_share = kNaN;     // fixed epochs / solved epochs (PPP-AR), NaN when float
+  // Monte Carlo shard
+  int flights = 0, flights_failed = 0;
+};
+
+struct CampaignJobStatus {
+  CampaignJobState state = CampaignJobState::Pending;
+  std::string reason;  // failed / interrupted: why
+  std::optional<CampaignJobResult> result;  // done
+};
+
+/// The state of the job in `job_dir` from its files (see above).
+CampaignJobStatus campaignJobStatus(const std::string& job_dir);
+
+/// Creates the job directory and writes job.yaml (atomically) unless the job is
+/// DONE with this very specification. Returns true when the job must run.
+/// A job whose specification changed loses its old marker and outputs.
+bool prepareCampaignJob(const std::string& job_dir, const CampaignJob& job);
+
+/// Runs the job of `job_dir` (its job.yaml): clears a previous attempt, writes
+/// into work/, renames work/ to output/, then writes done.json. On failure
+/// writes failed.json with the reason (the exception's text, naming the file and
+/// line). Never throws; returns the job's status afterwards.
+CampaignJobStatus runCampaignJob(const std::string& job_dir);
+
+/// Records a failure seen by the backend (the process was killed, a Slurm task
+/// ended without finishing): failed.json with `reason`, unless the job is DONE.
+void markCampaignJobFailed(const std::string& job_dir, const std::string& reason);
+
+/// Writes `text` to `path` atomically (a temporary file in the same directory,
+/// flushed, then renamed). Throws std::runtime_error when it cannot.
+void writeFileAtomically(const std::string& path, const std::string& text);
+
+}  // namespace ppp

@@ -1,0 +1,120 @@
+#pragma once
+// A campaign: many independent jobs (PPP of RINEX/CRX files with precise or
+// broadcast products; Monte Carlo shards of a simulated-flight study), listed in
+// a YAML manifest and expanded here into concrete jobs. The manifest layout
+// (config/campaign_example.yaml is a complete, commented example):
+//
+//   campaign:  {name: N, data_root: DIR}      data_root: relative input paths
+//                                             resolve against it (itself relative to
+//                                             the manifest's directory; default: that directory)
+//   slurm:     {partition: P, time_limit: "HH:MM:SS", mem: "2G", cpus_per_task: 1,
+//               max_resubmits: 1, jobs_per_task: 1}   resources of each array task
+//   ppp:       a list of stations (or recordings), each
+//     {station: S, obs: PATTERN, sp3: [PATTERN...], clk: [...], nav: [...], atx: [...],
+//      bia: PATTERN, blq: PATTERN, config: [YAML...], estimator: ekf|smoother|both,
+//      truth: [X, Y, Z], format: rinex|rtcm|ubx,
+//      dates: {first: YYYY-MM-DD, last: YYYY-MM-DD}, hours: [FIRST, LAST]}
+//   monte_carlo: a list of studies, each
+//     {study: S, seed: N, flights: N, flights_per_job: N, duration_min: 30, rate_hz: 1,
+//      systems: G|GE, ambiguity_resolution: false, smoother_lag_s: 60,
+//      profiles: [loiter, ...], config: PPP_YAML, sim_config: SIMULATION_YAML}
+//
+// Expansion of a ppp entry: with `dates`, one job per day; the placeholders
+// {yyyy} {yy} {doy} {mm} {dd} {gpsweek} {dow} in every path are that day's. Then
+// `obs` is a glob (glob(3): * ? [..]): one job per matching file; every product
+// pattern is a glob too, all its matches given to the job (sorted). With
+// `hours: [a, b]` each of those jobs becomes one job per hour a..b of its day
+// (GPST window [h, h+1) h; io/time_window_source.h). Job ids:
+// <station>[_<yyyy>-<doy>][_h<HH>][_<obs file stem>, when the glob matched several].
+// A Monte Carlo study becomes ceil(flights / flights_per_job) shards of
+// consecutive flights, <study>_f<first>-<last>; every flight depends only on
+// (seed, index), so the shards merge into the one-run study exactly
+// (evaluation/monte_carlo_records.h).
+//
+// Nothing here runs anything or knows about Slurm: the tool ppp_campaign does.
+#include <Eigen/Core>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "ppp_bayes_tree/evaluation/monte_carlo.h"
+#include "ppp_bayes_tree/ppp/ppp_pipeline.h"
+
+namespace ppp {
+
+enum class CampaignJobKind { Ppp, MonteCarloShard };
+const char* toString(CampaignJobKind kind);  // "ppp", "monte_carlo"
+
+/// One PPP run (ppp_solve's inputs; the window splits a day file into hours).
+struct CampaignPppJob {
+  PppInputFiles files;
+  std::vector<std::string> config;  // PPP configuration files, laid one on another
+  std::string estimator = "ekf";    // ekf | smoother | both
+  std::optional<Eigen::Vector3d> truth_ecef_m;
+};
+
+/// One shard of a Monte Carlo study: flights first_flight .. first_flight + flights - 1
+/// of a study of study_flights flights (ppp_monte_carlo's options).
+struct CampaignMonteCarloShard {
+  std::uint64_t seed = 1;
+  int study_flights = 0;
+  int first_flight = 0;
+  int flights = 0;
+  double duration_min = 30.0;
+  double rate_hz = 1.0;
+  std::string systems;  // G | GE; empty: the simulation configuration's (GPS by default)
+  bool ambiguity_resolution = false;
+  double smoother_lag_s = 60.0;
+  std::vector<std::string> profiles;  // empty: the study's default round robin
+  std::string config, sim_config;     // empty: the defaults
+};
+
+struct CampaignJob {
+  std::string id;  // unique in the campaign; a file name
+  CampaignJobKind kind = CampaignJobKind::Ppp;
+  std::string group;  // the station (ppp) or the study (monte_carlo)
+  std::string date;   // "2020-06-25" when the entry has dates, else ""
+  int hour = -1;      // the hour of an hourly job, else -1
+  CampaignPppJob ppp;
+  CampaignMonteCarloShard monte_carlo;
+};
+
+/// Slurm resources of every array task (ppp_campaign --slurm; flags override).
+struct CampaignResources {
+  std::string partition;           // empty: the cluster's default partition
+  std::string time_limit = "01:00:00";
+  std::string mem = "2G";
+  int cpus_per_task = 1;
+  /// Jobs one array task runs one after another: more than 1 bundles short jobs,
+  /// so that the scheduler's per-task start-up (about a second) is paid once per bundle.
+  int jobs_per_task = 1;
+  int max_resubmits = 1;  // a task that ended without finishing is resubmitted this many times
+};
+
+struct CampaignManifest {
+  std::string path;  // the manifest file
+  std::string name;
+  std::string data_root;
+  CampaignResources resources;
+  std::vector<CampaignJob> jobs;  // in manifest order
+};
+
+/// Reads and expands a manifest. Throws ConfigError (file, key path, line: an
+/// unknown key, a wrong type, a bad date, a duplicate job id...) or
+/// FileOpenError. A glob that matches nothing is not an error here: the job
+/// keeps the pattern and campaignInputProblems names it.
+CampaignManifest loadCampaignManifest(const std::string& path);
+
+/// Every input of every job that is missing or unreadable ("job zim2: sp3
+/// /data/x.SP3: no such file"), and configuration files that do not load.
+/// Empty: the campaign may run.
+std::vector<std::string> campaignInputProblems(const CampaignManifest& manifest);
+
+/// ppp_monte_carlo's options for a shard (threads 1: one core per job).
+/// Throws ConfigError when its config or sim_config does not load.
+MonteCarloOptions monteCarloShardOptions(const CampaignMonteCarloShard& shard);
+/// The options of the whole study a shard belongs to (first_flight 0, all flights).
+MonteCarloOptions monteCarloStudyOptions(const CampaignMonteCarloShard& shard);
+
+}  // namespace ppp

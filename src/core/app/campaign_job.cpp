@@ -1,0 +1,397 @@
+#include "ppp_bayes_tree/app/campaign_job.h"
+
+#include <unistd.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <sstream>
+
+#include <yaml-cpp/yaml.h>
+
+#include "ppp_bayes_tree/app/ppp_solve_run.h"
+#include "ppp_bayes_tree/evaluation/json_text.h"
+#include "ppp_bayes_tree/evaluation/monte_carlo_records.h"
+#include "ppp_bayes_tree/io/stream_format.h"
+#include "ppp_bayes_tree/ppp/yaml_section.h"
+
+namespace ppp {
+namespace fs = std::filesystem;
+namespace {
+
+constexpr const char* kSpecFile = "job.yaml";
+constexpr const char* kDoneFile = "done.json";
+constexpr const char* kFailedFile = "failed.json";
+constexpr const char* kTimingFile = "timing.json";
+constexpr const char* kRecordsFile = "flights.mcr";
+
+std::string path(const std::string& dir, const char* name) { return (fs::path(dir) / name).string(); }
+
+std::string readText(const std::string& file) {
+  std::ifstream in(file, std::ios::binary);
+  if (!in) return {};
+  std::ostringstream os;
+  os << in.rdbuf();
+  return os.str();
+}
+
+/// "YYYY/MM/DD HH:MM:SS" GPST (whole seconds: windows start on the hour).
+std::string windowTimeText(const GnssTime& t) {
+  const CalendarTime c = t.toCalendar();
+  char b[40];
+  std::snprintf(b, sizeof b, "%04d/%02d/%02d %02d:%02d:%02d", c.year, c.month, c.day, c.hour, c.minute,
+                static_cast<int>(std::floor(c.second + 1e-6)));
+  return b;
+}
+
+const char* formatName(ObservationFormat f) {
+  switch (f) {
+    case ObservationFormat::Rtcm3: return "rtcm";
+    case ObservationFormat::Ubx: return "ubx";
+    case ObservationFormat::Rinex: break;
+  }
+  return "rinex";
+}
+
+void emitList(YAML::Emitter& y, const char* key, const std::vector<std::string>& values) {
+  y << YAML::Key << key << YAML::Value << YAML::Flow << YAML::BeginSeq;
+  for (const auto& v : values) y << v;
+  y << YAML::EndSeq;
+}
+
+std::string resultJson(const CampaignJob& job, const CampaignJobResult& r) {
+  std::ostringstream os;
+  os << "{";
+  if (job.kind == CampaignJobKind::Ppp) {
+    const std::string ttc = std::isinf(r.time_to_10cm_s) ? "\"never\"" : jsonNumber(r.time_to_10cm_s, 17);
+    os << "\"epochs_read\": " << r.epochs_read << ", \"epochs_solved\": " << r.epochs_solved
+       << ", \"problems\": " << r.problems << ", \"mean_3d_m\": " << jsonNumber(r.mean_3d_m, 17)
+       << ", \"first_window_mean_3d_m\": " << jsonNumber(r.first_window_mean_3d_m, 17)
+       << ", \"time_to_10cm_s\": " << ttc << ", \"fixed_share\": " << jsonNumber(r.fixed_share, 17);
+  } else {
+    os << "\"flights\": " << r.flights << ", \"flights_failed\": " << r.flights_failed;
+  }
+  os << "}";
+  return os.str();
+}
+
+double numberOrNaN(const YAML::Node& n) {
+  if (!n.IsDefined() || n.IsNull()) return CampaignJobResult::kNaN;
+  const std::string s = n.as<std::string>();
+  if (s == "never") return std::numeric_limits<double>::infinity();
+  return n.as<double>();
+}
+
+CampaignJobResult parseResult(const YAML::Node& r) {
+  CampaignJobResult out;
+  if (!r.IsMap()) return out;
+  if (r["epochs_read"]) out.epochs_read = r["epochs_read"].as<std::size_t>();
+  if (r["epochs_solved"]) out.epochs_solved = r["epochs_solved"].as<std::size_t>();
+  if (r["problems"]) out.problems = r["problems"].as<std::size_t>();
+  out.mean_3d_m = numberOrNaN(r["mean_3d_m"]);
+  out.first_window_mean_3d_m = numberOrNaN(r["first_window_mean_3d_m"]);
+  out.time_to_10cm_s = numberOrNaN(r["time_to_10cm_s"]);
+  out.fixed_share = numberOrNaN(r["fixed_share"]);
+  if (r["flights"]) out.flights = r["flights"].as<int>();
+  if (r["flights_failed"]) out.flights_failed = r["flights_failed"].as<int>();
+  return out;
+}
+
+CampaignJobResult runPppJob(const CampaignJob& job, const std::string& work_dir) {
+  PppSolveRequest req;
+  req.files = job.ppp.files;
+  if (!job.ppp.config.empty()) req.config = loadPppConfig(job.ppp.config);
+  req.estimator = job.ppp.estimator;
+  req.truth_ecef_m = job.ppp.truth_ecef_m;
+  req.out_dir = work_dir;
+  req.name = job.group;
+  req.write_timings = false;
+  const std::vector<PppSolveOutcome> runs = solvePppEstimators(req);
+  for (const auto& out : runs) std::cout << "=== estimator " << out.run.estimator << " ===\n" << formatRunReport(out.run);
+  const PppSolveOutcome& first = runs.front();
+  if (first.run.epochs_solved == 0)
+    throw std::runtime_error("no epoch solved (" + std::to_string(first.run.epochs_read) + " read) from " +
+                             job.ppp.files.obs);
+  CampaignJobResult r;
+  r.epochs_read = first.run.epochs_read;
+  r.epochs_solved = first.run.epochs_solved;
+  r.problems = first.run.problems.size();
+  r.fixed_share = static_cast<double>(first.run.epochs_fixed) / static_cast<double>(first.run.epochs_solved);
+  if (first.statistics) {
+    r.mean_3d_m = first.statistics->all.mean_m;
+    r.first_window_mean_3d_m = first.statistics->first_window.mean_m;
+    r.time_to_10cm_s = std::numeric_limits<double>::infinity();
+    for (const auto& c : first.statistics->convergence)
+      if (std::abs(c.threshold_m - 0.10) < 1e-9 && c.time_s) r.time_to_10cm_s = *c.time_s;
+  }
+  return r;
+}
+
+CampaignJobResult runMonteCarloJob(const CampaignJob& job, const std::string& work_dir, std::string& timing) {
+  const MonteCarloOptions options = monteCarloShardOptions(job.monte_carlo);
+  MonteCarloResult result = runMonteCarlo(options);
+  writeMonteCarloFlightRecords(result.flights, path(work_dir, kRecordsFile));
+  std::ostringstream t;
+  t << ", \"flights\": [";
+  for (std::size_t i = 0; i < result.flights.size(); ++i) {
+    const auto& f = result.flights[i];
+    t << (i ? ", " : "") << "[" << f.setup.index << ", " << jsonNumber(f.simulate_s, 6) << ", "
+      << jsonNumber(f.ekf_s, 6) << ", " << jsonNumber(f.smoother_s, 6) << "]";
+  }
+  t << "]";
+  timing = t.str();
+  std::cout << "Monte Carlo shard: flights " << options.first_flight << ".." << options.first_flight + options.flights - 1
+            << " of " << job.monte_carlo.study_flights << ", " << result.summary.failed << " failed\n";
+  for (const auto& f : result.summary.failures) std::cout << "  " << f << "\n";
+  CampaignJobResult r;
+  r.flights = result.summary.flights;
+  r.flights_failed = result.summary.failed;
+  if (r.flights_failed == r.flights) throw std::runtime_error("every flight of the shard failed");
+  return r;
+}
+
+std::string hostName() {
+  char b[256] = {0};
+  if (gethostname(b, sizeof b - 1) != 0) return "unknown";
+  return b;
+}
+
+}  // namespace
+
+std::string fnv1aHex(const std::string& text) {
+  std::uint64_t h = 1469598103934665603ull;
+  for (unsigned char c : text) {
+    h ^= c;
+    h *= 1099511628211ull;
+  }
+  char b[20];
+  std::snprintf(b, sizeof b, "%016llx", static_cast<unsigned long long>(h));
+  return b;
+}
+
+const char* toString(CampaignJobState state) {
+  switch (state) {
+    case CampaignJobState::Pending: return "pending";
+    case CampaignJobState::Done: return "done";
+    case CampaignJobState::Failed: return "failed";
+    case CampaignJobState::Interrupted: return "interrupted";
+  }
+  return "unknown";
+}
+
+void writeFileAtomically(const std::string& target, const std::string& text) {
+  const std::string tmp = target + ".tmp." + std::to_string(::getpid());
+  {
+    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+    out << text;
+    out.flush();
+    if (!out) throw std::runtime_error("cannot write " + tmp);
+  }
+  std::error_code ec;
+  fs::rename(tmp, target, ec);
+  if (ec) {
+    fs::remove(tmp, ec);
+    throw std::runtime_error("cannot rename " + tmp + " to " + target);
+  }
+}
+
+std::string campaignJobYaml(const CampaignJob& job) {
+  YAML::Emitter y;
+  y.SetDoublePrecision(17);
+  y << YAML::BeginMap;
+  y << YAML::Key << "id" << YAML::Value << job.id;
+  y << YAML::Key << "kind" << YAML::Value << toString(job.kind);
+  y << YAML::Key << "group" << YAML::Value << job.group;
+  y << YAML::Key << "date" << YAML::Value << job.date;
+  y << YAML::Key << "hour" << YAML::Value << job.hour;
+  if (job.kind == CampaignJobKind::Ppp) {
+    const PppInputFiles& f = job.ppp.files;
+    y << YAML::Key << "obs" << YAML::Value << f.obs;
+    y << YAML::Key << "format" << YAML::Value << formatName(f.obs_format);
+    if (f.rtcm_reference_time) y << YAML::Key << "reference_date" << YAML::Value << windowTimeText(*f.rtcm_reference_time);
+    emitList(y, "sp3", f.sp3);
+    emitList(y, "clk", f.clk);
+    emitList(y, "nav", f.nav);
+    emitList(y, "atx", f.atx);
+    y << YAML::Key << "bia" << YAML::Value << f.bias.value_or("");
+    y << YAML::Key << "blq" << YAML::Value << f.blq.value_or("");
+    emitList(y, "config", job.ppp.config);
+    y << YAML::Key << "estimator" << YAML::Value << job.ppp.estimator;
+    if (job.ppp.truth_ecef_m) {
+      y << YAML::Key << "truth" << YAML::Value << YAML::Flow << YAML::BeginSeq;
+      for (int k = 0; k < 3; ++k) y << (*job.ppp.truth_ecef_m)(k);
+      y << YAML::EndSeq;
+    }
+    if (f.window.start) y << YAML::Key << "start" << YAML::Value << windowTimeText(*f.window.start);
+    if (f.window.end) y << YAML::Key << "end" << YAML::Value << windowTimeText(*f.window.end);
+  } else {
+    const CampaignMonteCarloShard& m = job.monte_carlo;
+    y << YAML::Key << "seed" << YAML::Value << std::to_string(m.seed);
+    y << YAML::Key << "study_flights" << YAML::Value << m.study_flights;
+    y << YAML::Key << "first_flight" << YAML::Value << m.first_flight;
+    y << YAML::Key << "flights" << YAML::Value << m.flights;
+    y << YAML::Key << "duration_min" << YAML::Value << m.duration_min;
+    y << YAML::Key << "rate_hz" << YAML::Value << m.rate_hz;
+    y << YAML::Key << "systems" << YAML::Value << m.systems;
+    y << YAML::Key << "ambiguity_resolution" << YAML::Value << m.ambiguity_resolution;
+    y << YAML::Key << "smoother_lag_s" << YAML::Value << m.smoother_lag_s;
+    emitList(y, "profiles", m.profiles);
+    y << YAML::Key << "config" << YAML::Value << m.config;
+    y << YAML::Key << "sim_config" << YAML::Value << m.sim_config;
+  }
+  y << YAML::EndMap;
+  return std::string(y.c_str()) + "\n";
+}
+
+CampaignJob parseCampaignJob(const std::string& text, const std::string& file) {
+  YAML::Node node;
+  try {
+    node = YAML::Load(text);
+  } catch (const YAML::Exception& e) {
+    throw ConfigError(file, "", "line " + std::to_string(e.mark.line + 1) + ": " + e.msg);
+  }
+  YamlSection s(node, file, "");
+  CampaignJob job;
+  job.id = s.text("id", "");
+  const std::string kind = s.choice("kind", "ppp", {"ppp", "monte_carlo"});
+  job.kind = kind == "ppp" ? CampaignJobKind::Ppp : CampaignJobKind::MonteCarloShard;
+  job.group = s.text("group", "");
+  job.date = s.text("date", "");
+  job.hour = static_cast<int>(s.number("hour", -1));
+  auto time = [&](const char* key) -> std::optional<GnssTime> {
+    if (!s.has(key)) return std::nullopt;
+    auto t = parseReferenceDate(s.text(key, ""));
+    if (!t) s.fail(key, "needs YYYY/MM/DD HH:MM:SS");
+    return t;
+  };
+  if (job.kind == CampaignJobKind::Ppp) {
+    PppInputFiles& f = job.ppp.files;
+    f.obs = s.text("obs", "");
+    const std::string format = s.choice("format", "rinex", {"rinex", "rtcm", "ubx"});
+    f.obs_format = format == "rtcm" ? ObservationFormat::Rtcm3 : format == "ubx" ? ObservationFormat::Ubx
+                                                                                 : ObservationFormat::Rinex;
+    f.rtcm_reference_time = time("reference_date");
+    f.sp3 = s.textList("sp3", {}, true);
+    f.clk = s.textList("clk", {}, true);
+    f.nav = s.textList("nav", {}, true);
+    f.atx = s.textList("atx", {}, true);
+    if (const std::string b = s.text("bia", ""); !b.empty()) f.bias = b;
+    if (const std::string b = s.text("blq", ""); !b.empty()) f.blq = b;
+    job.ppp.config = s.textList("config", {}, true);
+    job.ppp.estimator = s.choice("estimator", "ekf", {"ekf", "smoother", "both"});
+    if (s.has("truth")) {
+      const auto t = s.numberList("truth", {}, 3);
+      job.ppp.truth_ecef_m = Eigen::Vector3d(t[0], t[1], t[2]);
+    }
+    f.window.start = time("start");
+    f.window.end = time("end");
+  } else {
+    CampaignMonteCarloShard& m = job.monte_carlo;
+    const std::string seed = s.text("seed", "1");
+    m.seed = std::stoull(seed);
+    m.study_flights = s.integer("study_flights", 0, 1);
+    m.first_flight = s.integer("first_flight", 0, 0);
+    m.flights = s.integer("flights", 0, 1);
+    m.duration_min = s.number("duration_min", 30.0, Bound::Positive);
+    m.rate_hz = s.number("rate_hz", 1.0, Bound::Positive);
+    m.systems = s.text("systems", "");
+    m.ambiguity_resolution = s.boolean("ambiguity_resolution", false);
+    m.smoother_lag_s = s.number("smoother_lag_s", 60.0, Bound::NonNegative);
+    m.profiles = s.textList("profiles", {}, true);
+    m.config = s.text("config", "");
+    m.sim_config = s.text("sim_config", "");
+  }
+  s.finish();
+  return job;
+}
+
+CampaignJobStatus campaignJobStatus(const std::string& job_dir) {
+  CampaignJobStatus st;
+  std::error_code ec;
+  const std::string spec = readText(path(job_dir, kSpecFile));
+  if (fs::exists(path(job_dir, kDoneFile), ec)) {
+    try {
+      const YAML::Node done = YAML::LoadFile(path(job_dir, kDoneFile));
+      if (done["spec_digest"] && done["spec_digest"].as<std::string>() == fnv1aHex(spec)) {
+        st.state = CampaignJobState::Done;
+        st.result = parseResult(done["result"]);
+        return st;
+      }
+    } catch (const YAML::Exception&) {
+      // an unreadable marker is no marker: the job runs again
+    }
+  }
+  if (fs::exists(path(job_dir, kFailedFile), ec)) {
+    st.state = CampaignJobState::Failed;
+    try {
+      const YAML::Node failed = YAML::LoadFile(path(job_dir, kFailedFile));
+      st.reason = failed["reason"] ? failed["reason"].as<std::string>() : "";
+    } catch (const YAML::Exception&) {
+      st.reason = "unreadable " + path(job_dir, kFailedFile);
+    }
+    return st;
+  }
+  if (fs::exists(path(job_dir, "work"), ec) || fs::exists(path(job_dir, "output"), ec)) {
+    st.state = CampaignJobState::Interrupted;
+    st.reason = "an attempt ended without finishing (killed, cancelled or its node lost)";
+  }
+  return st;
+}
+
+bool prepareCampaignJob(const std::string& job_dir, const CampaignJob& job) {
+  fs::create_directories(job_dir);
+  const std::string spec = campaignJobYaml(job);
+  if (readText(path(job_dir, kSpecFile)) == spec && campaignJobStatus(job_dir).state == CampaignJobState::Done)
+    return false;
+  std::error_code ec;
+  fs::remove(path(job_dir, kDoneFile), ec);  // a marker of another specification
+  writeFileAtomically(path(job_dir, kSpecFile), spec);
+  return true;
+}
+
+void markCampaignJobFailed(const std::string& job_dir, const std::string& reason) {
+  if (campaignJobStatus(job_dir).state == CampaignJobState::Done) return;
+  writeFileAtomically(path(job_dir, kFailedFile), "{\"reason\": " + jsonString(reason) + "}\n");
+}
+
+CampaignJobStatus runCampaignJob(const std::string& job_dir) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const std::string work = path(job_dir, "work"), output = path(job_dir, "output");
+  std::string timing_extra;
+  try {
+    const std::string spec = readText(path(job_dir, kSpecFile));
+    if (spec.empty()) throw std::runtime_error("no job specification " + path(job_dir, kSpecFile));
+    const CampaignJob job = parseCampaignJob(spec, path(job_dir, kSpecFile));
+    std::error_code ec;
+    for (const char* marker : {kDoneFile, kFailedFile}) fs::remove(path(job_dir, marker), ec);
+    fs::remove_all(work, ec);
+    fs::remove_all(output, ec);
+    fs::create_directories(work);
+    const CampaignJobResult result = job.kind == CampaignJobKind::Ppp ? runPppJob(job, work)
+                                                                      : runMonteCarloJob(job, work, timing_extra);
+    fs::rename(work, output);  // the outputs are complete ...
+    writeFileAtomically(path(job_dir, kDoneFile),  // ... and only then the marker
+                        "{\"id\": " + jsonString(job.id) + ", \"spec_digest\": " + jsonString(fnv1aHex(spec)) +
+                            ", \"result\": " + resultJson(job, result) + "}\n");
+  } catch (const std::exception& e) {
+    try {
+      writeFileAtomically(path(job_dir, kFailedFile), "{\"reason\": " + jsonString(e.what()) + "}\n");
+    } catch (const std::exception& e2) {
+      std::cerr << "ppp_campaign: " << e2.what() << "\n";
+    }
+    std::cerr << "ppp_campaign: job " << job_dir << " failed: " << e.what() << "\n";
+  }
+  const double wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  try {
+    writeFileAtomically(path(job_dir, kTimingFile), "{\"wall_s\": " + jsonNumber(wall_s, 6) + ", \"host\": " +
+                                                        jsonString(hostName()) + timing_extra + "}\n");
+  } catch (const std::exception&) {
+    // timing is informative only
+  }
+  return campaignJobStatus(job_dir);
+}
+
+}  // namespace ppp

@@ -1,0 +1,254 @@
+#include "ppp_bayes_tree/app/campaign_summary.h"
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <map>
+#include <sstream>
+#include <tuple>
+
+#include <yaml-cpp/yaml.h>
+
+#include "ppp_bayes_tree/evaluation/json_text.h"
+#include "ppp_bayes_tree/evaluation/monte_carlo_records.h"
+
+namespace ppp {
+namespace fs = std::filesystem;
+namespace {
+
+std::string fmt(const char* f, double v) {
+  if (!std::isfinite(v)) return std::isinf(v) ? "never" : "";
+  char b[48];
+  std::snprintf(b, sizeof b, f, v);
+  return b;
+}
+
+std::string csvField(std::string s) {
+  for (auto& c : s)
+    if (c == '"') c = '\'';
+  return "\"" + s + "\"";
+}
+
+/// Per-flight wall times of a shard (timing.json), by flight index.
+void readFlightTimes(const std::string& job_dir, std::map<int, std::array<double, 3>>& times) {
+  try {
+    const YAML::Node t = YAML::LoadFile((fs::path(job_dir) / "timing.json").string());
+    for (const auto& f : t["flights"])
+      times[f[0].as<int>()] = {f[1].as<double>(), f[2].as<double>(), f[3].as<double>()};
+  } catch (const std::exception&) {
+    // no timing: the merged study shows zero times
+  }
+}
+
+}  // namespace
+
+std::string campaignJobDir(const std::string& campaign_dir, const std::string& job_id) {
+  return (fs::path(campaign_dir) / "jobs" / job_id).string();
+}
+
+CampaignSummary summarizeCampaign(const CampaignManifest& manifest, const std::string& campaign_dir) {
+  CampaignSummary s;
+  s.name = manifest.name;
+  std::vector<std::string> study_order;
+  for (const auto& job : manifest.jobs) {
+    CampaignJobRow row{job, campaignJobStatus(campaignJobDir(campaign_dir, job.id))};
+    switch (row.status.state) {
+      case CampaignJobState::Done: ++s.done; break;
+      case CampaignJobState::Failed: ++s.failed; break;
+      case CampaignJobState::Interrupted: ++s.interrupted; break;
+      case CampaignJobState::Pending: ++s.pending; break;
+    }
+    s.jobs.push_back(std::move(row));
+  }
+  std::map<std::string, std::vector<const CampaignJobRow*>> shards;
+  for (const auto& row : s.jobs) {
+    if (row.job.kind != CampaignJobKind::MonteCarloShard) continue;
+    if (!shards.count(row.job.group)) study_order.push_back(row.job.group);
+    shards[row.job.group].push_back(&row);
+  }
+  for (const auto& study : study_order) {
+    const auto& list = shards[study];
+    CampaignStudyRow row;
+    row.study = study;
+    row.shards = static_cast<int>(list.size());
+    for (const auto* r : list) row.shards_done += r->status.state == CampaignJobState::Done;
+    if (row.shards_done == row.shards) {
+      try {
+        const MonteCarloOptions options = monteCarloStudyOptions(list.front()->job.monte_carlo);
+        std::vector<std::vector<MonteCarloFlightRun>> records;
+        std::map<int, std::array<double, 3>> times;
+        for (const auto* r : list) {
+          const std::string dir = campaignJobDir(campaign_dir, r->job.id);
+          records.push_back(readMonteCarloFlightRecords((fs::path(dir) / "output" / "flights.mcr").string(), options));
+          readFlightTimes(dir, times);
+        }
+        MonteCarloResult merged = mergeMonteCarloShards(options, std::move(records));
+        for (auto& f : merged.flights) {
+          auto it = times.find(f.setup.index);
+          if (it == times.end()) continue;
+          std::tie(f.simulate_s, f.ekf_s, f.smoother_s) = std::tuple(it->second[0], it->second[1], it->second[2]);
+          merged.summary.simulate_s += f.simulate_s;
+          merged.summary.ekf_s += f.ekf_s;
+          merged.summary.smoother_s += f.smoother_s;
+        }
+        merged.threads_used = 1;
+        row.merged = std::move(merged);
+      } catch (const std::exception& e) {
+        row.problem = e.what();
+      }
+    }
+    s.studies.push_back(std::move(row));
+  }
+  return s;
+}
+
+std::string campaignSummaryCsv(const CampaignSummary& s) {
+  std::ostringstream os;
+  os << "id,kind,group,date,hour,state,epochs_read,epochs_solved,mean_3d_cm,first15_mean_3d_cm,time_to_10cm_min,"
+        "fixed_share,flights,flights_failed,reason\n";
+  for (const auto& row : s.jobs) {
+    const CampaignJob& j = row.job;
+    os << j.id << ',' << toString(j.kind) << ',' << j.group << ',' << j.date << ','
+       << (j.hour >= 0 ? std::to_string(j.hour) : "") << ',' << toString(row.status.state) << ',';
+    if (row.status.result) {
+      const CampaignJobResult& r = *row.status.result;
+      if (j.kind == CampaignJobKind::Ppp) {
+        os << r.epochs_read << ',' << r.epochs_solved << ',' << fmt("%.2f", r.mean_3d_m * 100.0) << ','
+           << fmt("%.2f", r.first_window_mean_3d_m * 100.0) << ',' << fmt("%.2f", r.time_to_10cm_s / 60.0) << ','
+           << fmt("%.4f", r.fixed_share) << ",,";
+      } else {
+        os << ",,,,,," << r.flights << ',' << r.flights_failed;
+      }
+    } else {
+      os << ",,,,,,,";
+    }
+    os << ',' << (row.status.reason.empty() ? "" : csvField(row.status.reason)) << '\n';
+  }
+  return os.str();
+}
+
+std::string campaignSummaryJson(const CampaignSummary& s) {
+  std::ostringstream j;
+  j << "{\n  \"campaign\": " << jsonString(s.name) << ",\n  \"jobs_total\": " << s.jobs.size()
+    << ", \"done\": " << s.done << ", \"failed\": " << s.failed << ", \"interrupted\": " << s.interrupted
+    << ", \"pending\": " << s.pending << ",\n  \"jobs\": [";
+  for (std::size_t i = 0; i < s.jobs.size(); ++i) {
+    const auto& row = s.jobs[i];
+    const CampaignJob& job = row.job;
+    j << (i ? "," : "") << "\n    {\"id\": " << jsonString(job.id) << ", \"kind\": " << jsonString(toString(job.kind))
+      << ", \"group\": " << jsonString(job.group) << ", \"date\": " << jsonString(job.date)
+      << ", \"hour\": " << (job.hour >= 0 ? std::to_string(job.hour) : "null")
+      << ", \"state\": " << jsonString(toString(row.status.state));
+    if (row.status.result) {
+      const CampaignJobResult& r = *row.status.result;
+      if (job.kind == CampaignJobKind::Ppp)
+        j << ", \"epochs_read\": " << r.epochs_read << ", \"epochs_solved\": " << r.epochs_solved
+          << ", \"problems\": " << r.problems << ", \"mean_3d_m\": " << jsonNumber(r.mean_3d_m, 10)
+          << ", \"first_window_mean_3d_m\": " << jsonNumber(r.first_window_mean_3d_m, 10) << ", \"time_to_10cm_s\": "
+          << (std::isinf(r.time_to_10cm_s) ? "\"never\"" : jsonNumber(r.time_to_10cm_s, 10))
+          << ", \"fixed_share\": " << jsonNumber(r.fixed_share, 10);
+      else
+        j << ", \"flights\": " << r.flights << ", \"flights_failed\": " << r.flights_failed;
+    }
+    if (!row.status.reason.empty()) j << ", \"reason\": " << jsonString(row.status.reason);
+    j << "}";
+  }
+  j << "\n  ],\n  \"monte_carlo\": [";
+  for (std::size_t i = 0; i < s.studies.size(); ++i) {
+    const auto& st = s.studies[i];
+    j << (i ? "," : "") << "\n    {\"study\": " << jsonString(st.study) << ", \"shards\": " << st.shards
+      << ", \"shards_done\": " << st.shards_done;
+    if (!st.problem.empty()) j << ", \"problem\": " << jsonString(st.problem);
+    if (st.merged) {
+      const MonteCarloSummary& m = st.merged->summary;
+      j << ", \"flights\": " << m.flights << ", \"failed\": " << m.failed << ", \"estimators\": {";
+      for (int e = 0; e < kMonteCarloEstimators; ++e) {
+        const auto k = static_cast<std::size_t>(e);
+        j << (e ? ", " : "") << jsonString(monteCarloEstimatorKey(e)) << ": {\"mean_3d_m\": "
+          << jsonNumber(m.all[k].mean_m, 10) << ", \"first_window_median_3d_m\": " << jsonNumber(m.first_window[k].median_m, 10)
+          << ", \"first_window_mean_3d_m\": " << jsonNumber(m.first_window[k].mean_m, 10) << "}";
+      }
+      j << "}, \"outputs\": " << jsonString("monte_carlo/" + st.study);
+    }
+    j << "}";
+  }
+  j << "\n  ]\n}\n";
+  return j.str();
+}
+
+std::string campaignSummaryMarkdown(const CampaignSummary& s) {
+  std::ostringstream md;
+  md << "# Campaign " << s.name << "\n\n" << s.jobs.size() << " jobs: " << s.done << " done, " << s.failed
+     << " failed, " << s.interrupted << " interrupted, " << s.pending << " not run.\n\n";
+  bool any_ppp = false;
+  for (const auto& row : s.jobs) any_ppp |= row.job.kind == CampaignJobKind::Ppp;
+  if (any_ppp) {
+    md << "| job | station | date | hour | state | epochs solved | mean 3D [cm] | first 15 min mean [cm] | < 10 cm from "
+          "[min] | fixed share |\n|---|---|---|---:|---|---:|---:|---:|---:|---:|\n";
+    for (const auto& row : s.jobs) {
+      if (row.job.kind != CampaignJobKind::Ppp) continue;
+      md << "| " << row.job.id << " | " << row.job.group << " | " << row.job.date << " | "
+         << (row.job.hour >= 0 ? std::to_string(row.job.hour) : "") << " | " << toString(row.status.state) << " | ";
+      if (row.status.result) {
+        const CampaignJobResult& r = *row.status.result;
+        md << r.epochs_solved << "/" << r.epochs_read << " | " << fmt("%.2f", r.mean_3d_m * 100.0) << " | "
+           << fmt("%.2f", r.first_window_mean_3d_m * 100.0) << " | " << fmt("%.1f", r.time_to_10cm_s / 60.0) << " | "
+           << fmt("%.3f", r.fixed_share) << " |\n";
+      } else {
+        md << " | | | | |\n";
+      }
+    }
+    md << "\nErrors need the station's truth in the manifest (empty otherwise).\n\n";
+  }
+  for (const auto& st : s.studies) {
+    md << "## Monte Carlo study " << st.study << ": " << st.shards_done << " of " << st.shards << " shards done\n\n";
+    if (!st.problem.empty()) md << "Not merged: " << st.problem << "\n\n";
+    if (!st.merged) continue;
+    const MonteCarloSummary& m = st.merged->summary;
+    md << m.flights << " flights (" << m.failed << " failed); tables in monte_carlo/" << st.study << "/summary.md\n\n"
+       << "| estimator | mean 3D [cm] | first 15 min median [cm] | first 15 min mean [cm] |\n|---|---:|---:|---:|\n";
+    for (int e = 0; e < kMonteCarloEstimators; ++e) {
+      const auto k = static_cast<std::size_t>(e);
+      md << "| " << monteCarloEstimatorLabel(e) << " | " << fmt("%.2f", m.all[k].mean_m * 100.0) << " | "
+         << fmt("%.2f", m.first_window[k].median_m * 100.0) << " | " << fmt("%.2f", m.first_window[k].mean_m * 100.0)
+         << " |\n";
+    }
+    md << "\n";
+  }
+  if (s.failed + s.interrupted > 0) {
+    md << "## Failures\n\n";
+    for (const auto& row : s.jobs)
+      if (row.status.state == CampaignJobState::Failed || row.status.state == CampaignJobState::Interrupted)
+        md << "- " << row.job.id << " (" << toString(row.status.state) << "): " << row.status.reason << "\n";
+    md << "\n";
+  }
+  return md.str();
+}
+
+void writeCampaignSummary(const CampaignSummary& s, const std::string& dir) {
+  fs::create_directories(dir);
+  writeFileAtomically((fs::path(dir) / "summary.csv").string(), campaignSummaryCsv(s));
+  writeFileAtomically((fs::path(dir) / "summary.json").string(), campaignSummaryJson(s));
+  writeFileAtomically((fs::path(dir) / "summary.md").string(), campaignSummaryMarkdown(s));
+  for (const auto& st : s.studies)
+    if (st.merged) writeMonteCarloOutputs(*st.merged, (fs::path(dir) / "monte_carlo" / st.study).string());
+}
+
+std::string formatCampaignProgress(const CampaignProgress& p) {
+  const int finished = p.done + p.failed;
+  const int waiting = std::max(0, p.total - finished - p.running);
+  auto clock = [](double s) {
+    const int t = static_cast<int>(s + 0.5);
+    char b[32];
+    std::snprintf(b, sizeof b, "%d:%02d", t / 60, t % 60);
+    return std::string(b);
+  };
+  std::string left = "?";
+  if (finished > 0) left = clock(p.elapsed_s / finished * (p.total - finished));
+  if (finished == p.total) left = "0:00";
+  return std::to_string(p.done) + "/" + std::to_string(p.total) + " done, " + std::to_string(p.failed) + " failed, " +
+         std::to_string(p.running) + " running, " + std::to_string(waiting) + " waiting; " + clock(p.elapsed_s) +
+         " elapsed, ~" + left + " left";
+}
+
+}  // namespace ppp

@@ -1,0 +1,558 @@
+// ppp_campaign: many independent jobs (PPP of station days, day files split into
+// hours, Monte Carlo shards) from one YAML manifest, on this machine's cores or
+// on a Slurm cluster, resumable, with one summary at the end
+// (app/campaign_manifest.h: the manifest; app/campaign_job.h: the job
+// directories and markers; app/campaign_summary.h: the summary).
+//
+// usage: ppp_campaign check MANIFEST [--out DIR]
+//        ppp_campaign run MANIFEST --out DIR [--local | --slurm] [--jobs N]
+//                     [--partition P] [--time HH:MM:SS] [--mem M] [--max-resubmits N]
+//                     [--jobs-per-task K] [--poll-s S] [--no-plot]
+//        ppp_campaign summary MANIFEST --out DIR [--no-plot]
+//        ppp_campaign run-job JOB_DIR
+// check: expands the manifest, checks every input (missing files are named) and
+//   lists the jobs (with --out, their states). Exit 0 when the campaign may run.
+// run: refuses the whole campaign when an input is missing (nothing is created or
+//   submitted); then runs every job that is not done, writes the summary and
+//   prints it. --local (default): a pool of --jobs processes (default: the cores),
+//   each job a subprocess `ppp_campaign run-job DIR` (a crash ends that job only;
+//   its output goes to DIR/log.txt). --slurm: one `sbatch --array` over the jobs to
+//   run (resources from the manifest's slurm section, overridden by the flags;
+//   task logs in OUT/slurm/), progress from squeue, exit states from sacct (or
+//   scontrol when accounting is off); tasks that ended without finishing are
+//   resubmitted up to --max-resubmits times. --jobs-per-task K bundles K jobs
+//   into one array task (run one after another), for jobs of a few seconds. Both run the same run-job, so the
+//   outputs are the same bytes whichever ran them. One run at a time per OUT (a
+//   lock); an array an earlier, stopped run left in the queue must end first.
+// summary: the summary of the jobs as they are (nothing runs).
+// run-job: runs one prepared job directory (what both backends start).
+// The plot: scripts/plot_campaign.py OUT (python3 with matplotlib), unless --no-plot.
+// Exit status: 0 every job done; 1 jobs failed or were interrupted (listed in the
+// summary; run again to re-run them); 2 usage, a bad manifest or missing inputs.
+#include <fcntl.h>
+#include <sys/file.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <map>
+#include <optional>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "ppp_bayes_tree/app/campaign_summary.h"
+#include "ppp_bayes_tree/io/parse_error.h"
+#include "ppp_bayes_tree/ppp/yaml_section.h"
+
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+
+namespace {
+
+int usage(const std::string& why) {
+  std::cerr << "ppp_campaign: " << why << "\n"
+            << "usage: ppp_campaign check MANIFEST [--out DIR]\n"
+            << "       ppp_campaign run MANIFEST --out DIR [--local | --slurm] [--jobs N]\n"
+            << "                    [--partition P] [--time HH:MM:SS] [--mem M] [--max-resubmits N]\n"
+            << "                    [--jobs-per-task K] [--poll-s S] [--no-plot]\n"
+            << "       ppp_campaign summary MANIFEST --out DIR [--no-plot]\n"
+            << "       ppp_campaign run-job JOB_DIR\n";
+  return 2;
+}
+
+struct Options {
+  std::string command, manifest, out;
+  bool slurm = false, plot = true;
+  unsigned jobs = 0;
+  double poll_s = 1.0;
+  std::optional<std::string> partition, time_limit, mem;
+  std::optional<int> max_resubmits, jobs_per_task;
+};
+
+double secondsSince(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+std::string selfExecutable() {
+  std::error_code ec;
+  const fs::path p = fs::read_symlink("/proc/self/exe", ec);
+  return ec ? std::string("ppp_campaign") : p.string();
+}
+
+/// A command's standard output (and its exit status).
+std::string capture(const std::string& command, int* status = nullptr) {
+  std::string out;
+  FILE* pipe = ::popen(command.c_str(), "r");
+  if (!pipe) {
+    if (status) *status = -1;
+    return out;
+  }
+  char buf[4096];
+  std::size_t n;
+  while ((n = std::fread(buf, 1, sizeof buf, pipe)) > 0) out.append(buf, n);
+  const int st = ::pclose(pipe);
+  if (status) *status = WIFEXITED(st) ? WEXITSTATUS(st) : -1;
+  return out;
+}
+
+std::string shellQuote(const std::string& s) {
+  std::string q = "'";
+  for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return q + "'";
+}
+
+/// Progress on stderr: redrawn in place on a terminal, else a line when it changes.
+class ProgressLine {
+ public:
+  explicit ProgressLine(int total) : tty_(isatty(STDERR_FILENO) != 0), t0_(Clock::now()) { p_.total = total; }
+  void show(int done, int failed, int running) {
+    p_.done = done;
+    p_.failed = failed;
+    p_.running = running;
+    p_.elapsed_s = secondsSince(t0_);
+    const std::string line = ppp::formatCampaignProgress(p_);
+    if (tty_) {
+      std::fprintf(stderr, "\r%s   ", line.c_str());
+    } else if (done != last_done_ || failed != last_failed_ || running != last_running_) {
+      std::fprintf(stderr, "%s\n", line.c_str());
+    }
+    last_done_ = done;
+    last_failed_ = failed;
+    last_running_ = running;
+    std::fflush(stderr);
+  }
+  void finish() {
+    if (tty_) std::fprintf(stderr, "\n");
+  }
+
+ private:
+  bool tty_;
+  Clock::time_point t0_;
+  ppp::CampaignProgress p_;
+  int last_done_ = -1, last_failed_ = -1, last_running_ = -1;
+};
+
+struct PendingJob {
+  std::string id, dir;
+};
+
+// ---------------------------------------------------------------------------
+// Local backend: a pool of subprocesses `ppp_campaign run-job DIR`.
+// ---------------------------------------------------------------------------
+pid_t spawnJob(const std::string& exe, const std::string& dir) {
+  const std::string log = (fs::path(dir) / "log.txt").string();
+  const pid_t pid = ::fork();
+  if (pid != 0) return pid;  // parent (or -1)
+  std::FILE* f = std::freopen(log.c_str(), "w", stdout);
+  if (f) ::dup2(STDOUT_FILENO, STDERR_FILENO);
+  ::execl(exe.c_str(), exe.c_str(), "run-job", dir.c_str(), static_cast<char*>(nullptr));
+  std::perror("ppp_campaign: exec");
+  ::_exit(127);
+}
+
+std::string exitText(int status) {
+  if (WIFSIGNALED(status)) return "killed by signal " + std::to_string(WTERMSIG(status));
+  return "exited with status " + std::to_string(WEXITSTATUS(status));
+}
+
+void runLocal(const std::vector<PendingJob>& jobs, int already_done, int total, unsigned slots) {
+  const std::string exe = selfExecutable();
+  if (slots == 0) slots = std::max(1u, std::thread::hardware_concurrency());
+  std::map<pid_t, const PendingJob*> running;
+  std::size_t next = 0;
+  int done = already_done, failed = 0;
+  ProgressLine progress(total);
+  progress.show(done, failed, 0);
+  while (next < jobs.size() || !running.empty()) {
+    while (next < jobs.size() && running.size() < slots) {
+      const pid_t pid = spawnJob(exe, jobs[next].dir);
+      if (pid < 0) {
+        ppp::markCampaignJobFailed(jobs[next].dir, "could not start a process (fork failed)");
+        ++failed;
+      } else {
+        running[pid] = &jobs[next];
+      }
+      ++next;
+    }
+    progress.show(done, failed, static_cast<int>(running.size()));
+    int status = 0;
+    const pid_t pid = ::waitpid(-1, &status, 0);
+    if (pid < 0) break;
+    auto it = running.find(pid);
+    if (it == running.end()) continue;
+    const PendingJob& job = *it->second;
+    running.erase(it);
+    ppp::CampaignJobStatus st = ppp::campaignJobStatus(job.dir);
+    if (st.state != ppp::CampaignJobState::Done && st.state != ppp::CampaignJobState::Failed)
+      ppp::markCampaignJobFailed(job.dir, "run-job " + exitText(status) + " without finishing (see " + job.dir + "/log.txt)");
+    if (ppp::campaignJobStatus(job.dir).state == ppp::CampaignJobState::Done) ++done;
+    else ++failed;
+  }
+  progress.show(done, failed, 0);
+  progress.finish();
+}
+
+// ---------------------------------------------------------------------------
+// Slurm backend: one array job per round, squeue for progress, sacct/scontrol
+// for the exit states, resubmission of what did not finish.
+// ---------------------------------------------------------------------------
+struct SlurmTaskEnd {
+  std::string state, exit_code;
+};
+
+/// Task index -> end state of an array job: sacct, or scontrol when accounting is off.
+std::map<int, SlurmTaskEnd> slurmTaskEnds(const std::string& array_id) {
+  std::map<int, SlurmTaskEnd> ends;
+  int status = 0;
+  const std::string sacct = capture("sacct -n -P -X -j " + array_id + " -o JobID,State,ExitCode 2>/dev/null", &status);
+  if (status == 0) {
+    std::istringstream lines(sacct);
+    std::string line;
+    while (std::getline(lines, line)) {  // 123_4|CANCELLED by 0|0:15
+      const auto us = line.find('_'), bar1 = line.find('|'), bar2 = line.rfind('|');
+      if (us == std::string::npos || bar1 == std::string::npos || bar1 == bar2 || us > bar1) continue;
+      ends[std::atoi(line.c_str() + us + 1)] = {line.substr(bar1 + 1, bar2 - bar1 - 1), line.substr(bar2 + 1)};
+    }
+    if (!ends.empty()) return ends;
+  }
+  const std::string show = capture("scontrol -o show job " + array_id + " 2>/dev/null");
+  std::istringstream lines(show);
+  std::string line;
+  auto field = [](const std::string& l, const std::string& key) {
+    const auto at = l.find(" " + key + "=");
+    if (at == std::string::npos) return std::string();
+    const auto from = at + key.size() + 2;
+    return l.substr(from, l.find(' ', from) - from);
+  };
+  while (std::getline(lines, line)) {
+    const std::string task = field(line, "ArrayTaskId");
+    if (task.empty() || task.find_first_not_of("0123456789") != std::string::npos) continue;
+    ends[std::stoi(task)] = {field(line, "JobState"), field(line, "ExitCode")};
+  }
+  return ends;
+}
+
+struct SlurmSettings {
+  ppp::CampaignResources resources;
+  std::string name, out;
+  double poll_s = 1.0;
+};
+
+/// The cluster's MaxArraySize (array indices 0 .. MaxArraySize - 1; Slurm's default 1001).
+std::size_t maxArraySize() {
+  std::istringstream lines(capture("scontrol show config 2>/dev/null"));
+  std::string line;
+  while (std::getline(lines, line)) {
+    if (line.rfind("MaxArraySize", 0) != 0) continue;
+    const auto eq = line.find('=');
+    if (eq != std::string::npos) return static_cast<std::size_t>(std::max(2, std::atoi(line.c_str() + eq + 1)));
+  }
+  return 1001;
+}
+
+/// Jobs per array task: the manifest's (or --jobs-per-task), raised when the array
+/// would have more tasks than the cluster allows (said on stderr).
+std::size_t jobsPerTask(const SlurmSettings& s, std::size_t jobs) {
+  std::size_t per_task = static_cast<std::size_t>(std::max(1, s.resources.jobs_per_task));
+  const std::size_t max_tasks = maxArraySize() - 1;  // indices 1 .. MaxArraySize - 1
+  if ((jobs + per_task - 1) / per_task > max_tasks) {
+    per_task = (jobs + max_tasks - 1) / max_tasks;
+    std::cerr << "ppp_campaign: " << jobs << " jobs exceed the cluster's MaxArraySize: " << per_task
+              << " jobs per array task\n";
+  }
+  return per_task;
+}
+
+/// Submits one array over `jobs`; returns the array job id ("" when sbatch failed: `why`).
+std::string submitArray(const SlurmSettings& s, const std::vector<PendingJob>& jobs, std::size_t per_task, int round,
+                        std::string& why) {
+  const fs::path dir = fs::path(s.out) / "slurm";
+  fs::create_directories(dir);
+  const std::string list = (dir / ("round" + std::to_string(round) + ".list")).string();
+  const std::string script = (dir / ("round" + std::to_string(round) + ".sh")).string();
+  std::string listing;
+  for (const auto& j : jobs) listing += j.dir + "\n";
+  ppp::writeFileAtomically(list, listing);
+  const std::size_t tasks = (jobs.size() + per_task - 1) / per_task;
+  ppp::writeFileAtomically(
+      script, "#!/bin/bash\n# ppp_campaign " + s.name + ", round " + std::to_string(round) + ": array task k runs lines " +
+                  "(k-1)*" + std::to_string(per_task) + "+1 .. k*" + std::to_string(per_task) + " of " + list +
+                  ", one job after another\nfirst=$(( (SLURM_ARRAY_TASK_ID - 1) * " + std::to_string(per_task) +
+                  " + 1 ))\nlast=$(( first + " + std::to_string(per_task - 1) + " ))\nstatus=0\n" +
+                  "while IFS= read -r dir; do\n  " + shellQuote(selfExecutable()) +
+                  " run-job \"$dir\" || status=1\ndone < <(sed -n \"${first},${last}p\" " + shellQuote(list) +
+                  ")\nexit $status\n");
+  std::string cmd = "sbatch --parsable --job-name=" + shellQuote("ppp_campaign_" + s.name) +
+                    " --array=1-" + std::to_string(tasks) + " --time=" + shellQuote(s.resources.time_limit) +
+                    " --mem=" + shellQuote(s.resources.mem) + " --cpus-per-task=" +
+                    std::to_string(s.resources.cpus_per_task) + " --chdir=" + shellQuote(s.out) + " --output=" +
+                    shellQuote((dir / "%A_%a.log").string());
+  if (!s.resources.partition.empty()) cmd += " --partition=" + shellQuote(s.resources.partition);
+  cmd += " " + shellQuote(script) + " 2>&1";
+  int status = 0;
+  std::string out = capture(cmd, &status);
+  while (!out.empty() && (out.back() == '\n' || out.back() == ' ')) out.pop_back();
+  const std::string id = out.substr(0, out.find(';'));
+  if (status != 0 || id.empty() || id.find_first_not_of("0123456789") != std::string::npos) {
+    why = "sbatch failed (exit " + std::to_string(status) + "): " + out;
+    return "";
+  }
+  return id;
+}
+
+/// Task index -> squeue state of a running array (empty when it has ended).
+std::map<int, std::string> slurmQueue(const std::string& array_id, bool& ended) {
+  int status = 0;
+  const std::string out = capture("squeue -h -r -j " + array_id + " -o '%K %T' 2>/dev/null", &status);
+  std::map<int, std::string> q;
+  std::istringstream lines(out);
+  int task = 0;
+  std::string state;
+  while (lines >> task >> state) q[task] = state;
+  ended = q.empty();  // an ended (or purged) array has no line (squeue may even fail on it)
+  return q;
+}
+
+/// The array a previous invocation left in the queue (the campaign process was
+/// stopped while it ran): its id when squeue still lists it, else "".
+std::string arrayStillQueued(const std::string& marker) {
+  std::ifstream in(marker);
+  std::string id;
+  if (!(in >> id) || id.find_first_not_of("0123456789") != std::string::npos) return "";
+  bool ended = true;
+  slurmQueue(id, ended);
+  return ended ? "" : id;
+}
+
+bool runSlurm(const SlurmSettings& s, std::vector<PendingJob> jobs, int already_done, int total) {
+  ProgressLine progress(total);
+  const std::string marker = (fs::path(s.out) / "slurm" / "active_array").string();
+  if (const std::string id = arrayStillQueued(marker); !id.empty()) {
+    std::cerr << "ppp_campaign: array job " << id << " of this campaign is still queued or running (an earlier "
+              << "invocation was stopped): wait for it or scancel " << id << ", then run again\n";
+    return false;
+  }
+  int round = 0;
+  for (;; ++round) {
+    std::string why;
+    const std::size_t per_task = jobsPerTask(s, jobs.size());
+    const std::string array_id = submitArray(s, jobs, per_task, round, why);
+    if (array_id.empty()) {
+      std::cerr << "ppp_campaign: " << why << "\n";
+      return false;
+    }
+    ppp::writeFileAtomically(marker, array_id + "\n");
+    std::cerr << "ppp_campaign: submitted array job " << array_id << " (" << jobs.size() << " jobs in "
+              << (jobs.size() + per_task - 1) / per_task << " tasks, round " << round << ")\n";
+    for (;;) {
+      bool ended = false;
+      const auto queue = slurmQueue(array_id, ended);
+      int running = 0, done = already_done, failed = 0;
+      for (const auto& [task, state] : queue) running += state == "RUNNING" || state == "COMPLETING";
+      for (const auto& j : jobs) {
+        const auto st = ppp::campaignJobStatus(j.dir).state;
+        done += st == ppp::CampaignJobState::Done;
+        failed += st == ppp::CampaignJobState::Failed;
+      }
+      progress.show(done, failed, running);
+      if (ended) break;
+      std::this_thread::sleep_for(std::chrono::duration<double>(s.poll_s));
+    }
+    std::error_code ec;
+    fs::remove(marker, ec);
+    const auto ends = slurmTaskEnds(array_id);
+    std::vector<PendingJob> again;
+    for (std::size_t k = 0; k < jobs.size(); ++k) {
+      const auto st = ppp::campaignJobStatus(jobs[k].dir);
+      if (st.state == ppp::CampaignJobState::Done) {
+        ++already_done;
+        continue;
+      }
+      if (st.state != ppp::CampaignJobState::Failed) {
+        const int task = static_cast<int>(k / per_task + 1);
+        auto it = ends.find(task);
+        const std::string how = it == ends.end() ? "ended without finishing (state unknown: no accounting record)"
+                                                 : "ended " + it->second.state + ", exit code " + it->second.exit_code;
+        ppp::markCampaignJobFailed(jobs[k].dir, "Slurm task " + array_id + "_" + std::to_string(task) + " " + how +
+                                                    " (log " + s.out + "/slurm/" + array_id + "_" +
+                                                    std::to_string(task) + ".log)");
+      }
+      again.push_back(jobs[k]);
+    }
+    progress.finish();
+    if (again.empty()) return true;
+    if (round >= s.resources.max_resubmits) {
+      std::cerr << "ppp_campaign: " << again.size() << " job(s) did not finish after " << round + 1
+                << " submission(s); run the campaign again to re-run them\n";
+      return true;
+    }
+    std::cerr << "ppp_campaign: resubmitting " << again.size() << " job(s) that did not finish\n";
+    jobs = std::move(again);
+  }
+}
+
+// ---------------------------------------------------------------------------
+
+void plotSummary(const std::string& out) {
+#ifdef PPP_SCRIPTS_DIR
+  const std::string script = std::string(PPP_SCRIPTS_DIR) + "/plot_campaign.py";
+  if (!fs::exists(script) || !fs::exists("/usr/bin/python3")) return;
+  int status = 0;
+  const std::string text = capture("/usr/bin/python3 " + shellQuote(script) + " " + shellQuote(out) + " 2>&1", &status);
+  if (status != 0) std::cerr << "ppp_campaign: the plot failed (the summary files are written):\n" << text;
+  else std::cout << text;
+#else
+  (void)out;
+#endif
+}
+
+int writeSummary(const ppp::CampaignManifest& manifest, const Options& o) {
+  const ppp::CampaignSummary summary = ppp::summarizeCampaign(manifest, o.out);
+  ppp::writeCampaignSummary(summary, o.out);
+  std::cout << ppp::campaignSummaryMarkdown(summary);
+  for (const auto& st : summary.studies)
+    if (st.merged) std::cout << "Monte Carlo study " << st.study << " merged: " << o.out << "/monte_carlo/" << st.study << "/\n";
+  std::cout << "summary: " << o.out << "/summary.csv, summary.json, summary.md\n";
+  if (o.plot) plotSummary(o.out);
+  return summary.done == static_cast<int>(summary.jobs.size()) ? 0 : 1;
+}
+
+int commandCheck(const ppp::CampaignManifest& manifest, const Options& o, const std::vector<std::string>& problems) {
+  for (const auto& job : manifest.jobs) {
+    std::cout << job.id << "  " << ppp::toString(job.kind) << "  " << job.group;
+    if (!o.out.empty()) std::cout << "  " << ppp::toString(ppp::campaignJobStatus(ppp::campaignJobDir(o.out, job.id)).state);
+    std::cout << "\n";
+  }
+  std::cout << manifest.jobs.size() << " jobs; " << problems.size() << " input problem(s)\n";
+  return problems.empty() ? 0 : 2;
+}
+
+int commandRun(const ppp::CampaignManifest& manifest, const Options& o) {
+  fs::create_directories(fs::path(o.out) / "jobs");
+  // One invocation at a time per campaign directory (held until exit).
+  const std::string lock_path = (fs::path(o.out) / ".lock").string();
+  const int lock = ::open(lock_path.c_str(), O_CREAT | O_RDWR | O_CLOEXEC, 0644);
+  if (lock < 0 || ::flock(lock, LOCK_EX | LOCK_NB) != 0) {
+    std::cerr << "ppp_campaign: another ppp_campaign run is working in " << o.out << " (" << lock_path << ")\n";
+    return 1;
+  }
+  std::ifstream src(manifest.path, std::ios::binary);
+  std::ostringstream text;
+  text << src.rdbuf();
+  ppp::writeFileAtomically((fs::path(o.out) / "manifest.yaml").string(), text.str());
+  std::vector<PendingJob> pending;
+  for (const auto& job : manifest.jobs) {
+    const std::string dir = fs::absolute(ppp::campaignJobDir(o.out, job.id)).string();
+    if (ppp::prepareCampaignJob(dir, job)) pending.push_back({job.id, dir});
+  }
+  const int total = static_cast<int>(manifest.jobs.size());
+  const int already = total - static_cast<int>(pending.size());
+  std::cerr << "ppp_campaign: " << total << " jobs: " << already << " already done, " << pending.size() << " to run ("
+            << (o.slurm ? "slurm" : "local") << ")\n";
+  if (!pending.empty()) {
+    if (o.slurm) {
+      SlurmSettings s;
+      s.resources = manifest.resources;
+      if (o.partition) s.resources.partition = *o.partition;
+      if (o.time_limit) s.resources.time_limit = *o.time_limit;
+      if (o.mem) s.resources.mem = *o.mem;
+      if (o.max_resubmits) s.resources.max_resubmits = *o.max_resubmits;
+      if (o.jobs_per_task) s.resources.jobs_per_task = *o.jobs_per_task;
+      s.name = manifest.name;
+      s.out = fs::absolute(o.out).string();
+      s.poll_s = o.poll_s;
+      if (!runSlurm(s, pending, already, total)) return 1;
+    } else {
+      runLocal(pending, already, total, o.jobs);
+    }
+  }
+  return writeSummary(manifest, o);
+}
+
+bool parseOptions(int argc, char** argv, Options& o, std::string& why) {
+  for (int i = 2; i < argc; ++i) {
+    const std::string a = argv[i];
+    auto value = [&](std::string& dst) {
+      if (i + 1 >= argc) return false;
+      dst = argv[++i];
+      return true;
+    };
+    std::string v;
+    if (a == "--local") o.slurm = false;
+    else if (a == "--slurm") o.slurm = true;
+    else if (a == "--no-plot") o.plot = false;
+    else if (a == "--out") {
+      if (!value(o.out)) return (why = "--out needs a directory", false);
+    } else if (a == "--jobs") {
+      if (!value(v) || std::atoi(v.c_str()) < 1) return (why = "--jobs needs a count >= 1", false);
+      o.jobs = static_cast<unsigned>(std::atoi(v.c_str()));
+    } else if (a == "--poll-s") {
+      if (!value(v) || !(std::atof(v.c_str()) > 0.0)) return (why = "--poll-s needs seconds > 0", false);
+      o.poll_s = std::atof(v.c_str());
+    } else if (a == "--partition" || a == "--time" || a == "--mem") {
+      if (!value(v)) return (why = a + " needs a value", false);
+      (a == "--partition" ? o.partition : a == "--time" ? o.time_limit : o.mem) = v;
+    } else if (a == "--jobs-per-task") {
+      if (!value(v) || std::atoi(v.c_str()) < 1) return (why = "--jobs-per-task needs a count >= 1", false);
+      o.jobs_per_task = std::atoi(v.c_str());
+    } else if (a == "--max-resubmits") {
+      if (!value(v) || v.find_first_not_of("0123456789") != std::string::npos || v.empty())
+        return (why = "--max-resubmits needs a count >= 0", false);
+      o.max_resubmits = std::atoi(v.c_str());
+    } else if (!a.empty() && a[0] != '-' && o.manifest.empty()) {
+      o.manifest = a;
+    } else {
+      return (why = "unexpected argument " + a, false);
+    }
+  }
+  return true;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc < 2) return usage("a command is required");
+  Options o;
+  o.command = argv[1];
+  if (o.command == "-h" || o.command == "--help") {
+    usage("help");
+    return 0;
+  }
+  if (o.command == "run-job") {
+    if (argc != 3) return usage("run-job needs one job directory");
+    const ppp::CampaignJobStatus st = ppp::runCampaignJob(argv[2]);
+    return st.state == ppp::CampaignJobState::Done ? 0 : 1;
+  }
+  if (o.command != "check" && o.command != "run" && o.command != "summary")
+    return usage("unknown command '" + o.command + "'");
+  std::string why;
+  if (!parseOptions(argc, argv, o, why)) return usage(why);
+  if (o.manifest.empty()) return usage(o.command + " needs a manifest");
+  if (o.command != "check" && o.out.empty()) return usage(o.command + " needs --out DIR");
+  try {
+    const ppp::CampaignManifest manifest = ppp::loadCampaignManifest(o.manifest);
+    const std::vector<std::string> problems = ppp::campaignInputProblems(manifest);
+    for (const auto& p : problems) std::cerr << "ppp_campaign: " << p << "\n";
+    if (o.command == "check") return commandCheck(manifest, o, problems);
+    if (o.command == "summary") return writeSummary(manifest, o);
+    if (!problems.empty()) {
+      std::cerr << "ppp_campaign: refused: " << problems.size() << " input problem(s) in " << o.manifest
+                << "; nothing was run\n";
+      return 2;
+    }
+    return commandRun(manifest, o);
+  } catch (const ppp::ConfigError& e) {
+    std::cerr << "ppp_campaign: manifest: " << e.what() << "\n";
+  } catch (const ppp::FileOpenError& e) {
+    std::cerr << "ppp_campaign: " << e.what() << "\n";
+  } catch (const std::exception& e) {
+    std::cerr << "ppp_campaign: " << e.what() << "\n";
+    return 1;
+  }
+  return 2;
+}
