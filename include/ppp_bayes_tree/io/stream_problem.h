@@ -25,6 +25,7 @@ enum class StreamProblemKind {
   UnresolvedTime,       // a time that cannot be placed (no week known)
   SsrWithoutBroadcast,  // an SSR correction for an IOD with no broadcast record
   SsrTooOld,            // an SSR correction older than its validity
+  ImplausibleValue,     // a value beyond its physical bound (e.g. a bias: io/bias_bounds.h), not used
 };
 
 std::string_view streamProblemKindName(StreamProblemKind kind);

@@ -31,7 +31,11 @@
 //    lines of the clock header: Laurichesse et al. 2009, Navigation 56(2)), or
 //    SSR phase biases (they are made with the stream's clocks); and (b) the
 //    satellite antennas in use are of the products' model
-//    (antenna_model_consistency.h). Otherwise float, with the reason;
+//    (antenna_model_consistency.h). Otherwise float, with the reason. Phase
+//    inputs are checked first (io/bias_bounds.h): implausible phase OSB rows,
+//    conflicting duplicates and wide-lane lines are problems with their file and
+//    line and are not used; when nothing usable is left the reason says so
+//    (PhaseInformationRefused);
 //  - true: fixes with whatever consistent phase information there is; refuses only
 //    a known antenna-model difference (the behaviour before `auto`).
 // allow_antenna_model_mismatch lets both fix despite a different or unknown model.
@@ -40,6 +44,7 @@
 #include <string>
 #include <vector>
 
+#include "ppp_bayes_tree/io/rinex_clock_reader.h"
 #include "ppp_bayes_tree/models/antex_calibrations.h"
 #include "ppp_bayes_tree/models/bias_provider.h"
 #include "ppp_bayes_tree/models/ephemeris_source.h"
@@ -96,6 +101,8 @@ enum class ArGateReason {
   NoConsistentPhaseBiases,  // no phase information consistent with the clocks
   AntennaModelDifferent,    // the satellite antennas in use are not of the products' model
   AntennaModelUnknown,      // (auto) the products' or the ANTEX's model is not known
+  PhaseInformationRefused,  // the phase information there was is refused (io/bias_bounds.h): every
+                            // phase OSB row, or every wide-lane line of the clock header
 };
 std::string toString(ArGateReason r);  // "fixing", "disabled", "no consistent phase biases", ...
 
@@ -162,11 +169,13 @@ class ProductAssembly {
   void checkSatelliteAntennas(const ProductAssemblyInputs& in, const std::vector<std::string>& product_models,
                               const OrbitClockProducts& orbit_clock);
   void decideArGate(const ProductAssemblyInputs& in, const OrbitClockProducts& orbit_clock);
-  void findPhaseInformation(const ProductAssemblyInputs& in, const OrbitClockProducts& orbit_clock);
+  /// Sets verdict_.phase and detail; true when the phase information there was is refused.
+  bool findPhaseInformation(const ProductAssemblyInputs& in, const OrbitClockProducts& orbit_clock);
 
   ProductAssemblyInputs inputs_;
   PppConfig config_;
   std::shared_ptr<ProductSet> set_;
+  std::vector<RinexClockHeader> clock_headers_;  // of inputs_.clk, read once
   std::shared_ptr<const AntexCalibrations> antennas_;
   std::shared_ptr<const EphemerisSource> ephemeris_;
   std::shared_ptr<const BiasProvider> code_biases_;
