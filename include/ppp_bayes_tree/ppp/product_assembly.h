@@ -77,6 +77,10 @@ struct ProductAssemblyInputs {
   bool check_products = true;                       // product sanity checks of SP3/CLK
   /// Neither precise nor broadcast files: the orbits and clocks are streamed.
   StreamedProductInfo streamed;
+  /// The streamed orbits and clocks are a live SSR feed (RTCM SSR, IGS-SSR): it names
+  /// no satellite antenna model, the configuration's ssr.antenna_model is taken for it
+  /// (as for an SSR recording); empty there: not known, auto stays float and says so.
+  bool live_ssr = false;
   std::vector<std::string> atx;
   std::optional<std::string> bias, blq;
   /// The observations' span (products outside it are not read; the antenna

@@ -68,6 +68,12 @@ OrbitClockProducts loadOrbitsAndClocks(const ProductAssemblyInputs& in, const Pp
   return out;
 }
 
+/// Whether the orbits and clocks are SSR corrections (a recording or a live feed),
+/// whose satellite antenna model the configuration states (ssr.antenna_model).
+bool fromSsr(const ProductAssemblyInputs& in) {
+  return (!in.nav.empty() && in.ssr) || (in.streamedOrbitsAndClocks() && in.live_ssr);
+}
+
 /// The satellite antenna models the products name (SP3 and clock headers, or the
 /// stream's declaration). An SSR recording's model is the one the configuration
 /// states (ssr.antenna_model).
@@ -83,8 +89,16 @@ std::vector<std::string> productAntennaModels(const ProductAssemblyInputs& in,
   }
   for (const auto& h : clock_headers) models.push_back(h.pcvs_applied);
   if (in.streamedOrbitsAndClocks() && !in.streamed.antenna_model.empty()) models.push_back(in.streamed.antenna_model);
-  if (!in.nav.empty() && in.ssr && !ssr_antenna_model.empty()) models.push_back(ssr_antenna_model);
+  else if (fromSsr(in) && !ssr_antenna_model.empty()) models.push_back(ssr_antenna_model);
   return models;
+}
+
+/// Why the gate knows no satellite antenna model of the products.
+std::string unknownAntennaModelDetail(const ProductAssemblyInputs& in, const std::string& ssr_antenna_model) {
+  if (fromSsr(in) && ssr_antenna_model.empty())
+    return "SSR streams name no satellite antenna model: set ssr.antenna_model to the provider's (IGS20 for the "
+           "IGS real-time service's streams)";
+  return "the products name no satellite antenna model";
 }
 
 /// The one family the named models share ("" when none is named or they differ).
@@ -289,7 +303,7 @@ void ProductAssembly::decideArGate(const ProductAssemblyInputs& in, const OrbitC
   const bool antennas_ok = antennasAllowFixing(antenna_check_, v.mode, ar.allow_antenna_model_mismatch, antenna_reason);
   if (!antennas_ok) {
     v.reason = antenna_reason;
-    v.detail = antenna_check_ ? antenna_check_->models() : "the products name no satellite antenna model";
+    v.detail = antenna_check_ ? antenna_check_->models() : unknownAntennaModelDetail(in, config_.ssr.antenna_model);
     if (v.mode == AmbiguityResolutionMode::On)
       v.detail += "; ambiguity_resolution.allow_antenna_model_mismatch: true to fix anyway";
   } else {
