@@ -84,6 +84,15 @@ struct BiasRowsRefused {
   std::size_t beyond_bound = 0;  // |value| above its bound
   std::size_t conflicting = 0;   // conflicting duplicates (every row of the conflict)
   std::size_t phase_rows = 0;    // of both, the phase (L) rows
+  std::size_t first_phase_line = 0;  // the first refused phase row (0: none) and why
+  std::string first_phase_reason;
+  void countPhaseRow(std::size_t line, const std::string& reason) {
+    ++phase_rows;
+    if (first_phase_line == 0) {
+      first_phase_line = line;
+      first_phase_reason = reason;
+    }
+  }
 };
 
 /// "%=BIA" header line: version, agencies, creation time, data span, mode, count.

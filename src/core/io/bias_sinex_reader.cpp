@@ -260,7 +260,7 @@ void BiasSinexParser::readSolutionLine(const std::string& line) {
   const BiasKind kind = r.obs1.type == ObservableType::CarrierPhase ? BiasKind::Phase : BiasKind::Code;
   if (const auto beyond = biasBeyondBound(kind, r.value, r.unit == BiasUnit::Cycles)) {
     ++out_.refused.beyond_bound;
-    if (kind == BiasKind::Phase) ++out_.refused.phase_rows;
+    if (kind == BiasKind::Phase) out_.refused.countPhaseRow(n, *beyond + ": row not used");
     return problem(*beyond + ": row not used");
   }
   double sd = 0.0;
@@ -389,13 +389,15 @@ void BiasSinexParser::dropConflictingDuplicates() {
                              (first.satellite ? first.satellite->toString() : first.station) + " " +
                              first.obs1.toString();
     out_.refused.conflicting += indices.size();
-    if (first.obs1.type == ObservableType::CarrierPhase) out_.refused.phase_rows += indices.size();
+    const bool phase = first.obs1.type == ObservableType::CarrierPhase;
+    if (phase) out_.refused.phase_rows += 1;  // the first row; the others with their problem below
     for (std::size_t k = 1; k < indices.size(); ++k) {
       const BiasRecord& r = out_.records[indices[k]];
       std::ostringstream os;
       os << what << " conflicts with line " << first.line << " (same observable and validity, value " << r.value
          << " against " << first.value << "): neither row used";
       out_.report.addProblem(r.line, os.str());
+      if (phase) out_.refused.countPhaseRow(r.line, os.str());
     }
   }
   std::vector<BiasRecord> kept;

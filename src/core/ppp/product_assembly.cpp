@@ -329,9 +329,8 @@ std::string refusedPhaseRows(const BiasSinexFile* file, const std::string& path)
   if (file == nullptr || file->refused.phase_rows == 0) return {};
   std::string out = std::to_string(file->refused.phase_rows) + " phase bias rows of " + fileBaseName(path) +
                     " refused as implausible";
-  const auto& problems = file->report.problems();
-  if (!problems.empty())
-    out += " (first: line " + std::to_string(problems.front().line) + ": " + problems.front().reason + ")";
+  if (file->refused.first_phase_line > 0)
+    out += " (first: line " + std::to_string(file->refused.first_phase_line) + ": " + file->refused.first_phase_reason + ")";
   return out;
 }
 
