@@ -18,6 +18,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <filesystem>
 #include <fstream>
 #include <functional>
 #include <string>
@@ -56,6 +57,18 @@ std::vector<std::size_t> copyEdited(const std::string& from, const std::string& 
   return changed;
 }
 
+/// A test's directory of made inputs (copies of the shared files, up to 18 MB each),
+/// removed when the test ends.
+struct MadeInputs {
+  explicit MadeInputs(const std::string& tag) : dir(test::tempDir(tag)) {}
+  ~MadeInputs() {
+    std::error_code ignored;
+    std::filesystem::remove_all(dir, ignored);
+  }
+  std::filesystem::path operator/(const std::string& name) const { return dir / name; }
+  std::filesystem::path dir;
+};
+
 bool isSatellitePhaseOsb(const std::string& line) {
   return line.rfind(" OSB ", 0) == 0 && line.size() > 90 && line[25] == 'L' && line[11] != ' ';
 }
@@ -77,7 +90,7 @@ bool anyContains(const std::vector<std::string>& texts, const std::string& part)
 
 TEST(AmbiguityInputs, PhaseOsbsOfAbsurdMagnitudeAreRefusedWithTheirLineAndTheGateSaysWhy) {
   PPP_REQUIRE_SHARED_DATA();
-  const auto dir = test::tempDir("ambiguity_inputs_osb");
+  const MadeInputs dir("ambiguity_inputs_osb");
   const std::string faulty = (dir / "WUM0MGXRAP_20212100000_01D_01D_ABS.BIA").string();
   const std::vector<std::size_t> edited = copyEdited(test::dataPath(kWumBias), faulty, [](std::size_t, std::string& l) {
     if (!isSatellitePhaseOsb(l)) return false;
@@ -119,7 +132,7 @@ TEST(AmbiguityInputs, PhaseOsbsOfAbsurdMagnitudeAreRefusedWithTheirLineAndTheGat
 
 TEST(AmbiguityInputs, ConflictingDuplicateBiasSinexRowsAreReportedWithBothLinesAndNeitherIsUsed) {
   PPP_REQUIRE_SHARED_DATA();
-  const auto dir = test::tempDir("ambiguity_inputs_duplicates");
+  const MadeInputs dir("ambiguity_inputs_duplicates");
   const std::string conflicting = (dir / "conflicting.bia").string(), repeated = (dir / "repeated.bia").string();
   std::size_t original = 0;
   std::string row;
@@ -197,7 +210,7 @@ void setWideLaneValue(std::string& line, const std::string& value) {
 
 TEST(AmbiguityInputs, WideLaneValuesBeyondTheBoundAndGarbageLinesAreRefusedWithTheirLine) {
   PPP_REQUIRE_SHARED_DATA();
-  const auto dir = test::tempDir("ambiguity_inputs_wl");
+  const MadeInputs dir("ambiguity_inputs_wl");
   const std::string clean_clk = test::dataPath(kGrgClock);
   const IntegerRecoveryClockBiases clean = readIntegerRecoveryClockBiases({readRinexClockHeader(clean_clk)}, {clean_clk});
   ASSERT_NE(clean.provider, nullptr);
@@ -238,7 +251,7 @@ TEST(AmbiguityInputs, WideLaneValuesBeyondTheBoundAndGarbageLinesAreRefusedWithT
 
 TEST(AmbiguityInputs, AClockHeaderWithoutUsableWideLanesKeepsTheRunFloatAndSaysWhy) {
   PPP_REQUIRE_SHARED_DATA();
-  const auto dir = test::tempDir("ambiguity_inputs_wl_gate");
+  const MadeInputs dir("ambiguity_inputs_wl_gate");
   const std::string huge = (dir / "GRG0MGXFIN_20201770000_01D_30S_CLK.CLK").string();
   grgHeaderEdited(huge, [](std::string& l) { setWideLaneValue(l, "1e300"); });
   ProductAssemblyInputs in;
@@ -267,7 +280,7 @@ TEST(AmbiguityInputs, AClockHeaderWithoutUsableWideLanesKeepsTheRunFloatAndSaysW
 
 TEST(AmbiguityInputs, RenamedWumFilesGiveTheSameGateFromTheirHeaders) {
   PPP_REQUIRE_SHARED_DATA();
-  const auto dir = test::tempDir("ambiguity_inputs_renamed");
+  const MadeInputs dir("ambiguity_inputs_renamed");
   const std::string bias = (dir / "phase_biases_ccj2.bia").string(), clk = (dir / "clocks_ccj2.clk").string();
   copyEdited(test::dataPath(kWumBias), bias, [](std::size_t, std::string&) { return false; });
   copyEdited(test::ccj2Dataset().clk.front(), clk, [](std::size_t, std::string&) { return false; });
