@@ -121,7 +121,7 @@ PppNode::PppNode(ros::NodeHandle nh, ros::NodeHandle pnh, const std::string& est
   if (!o.bias.empty()) products_in.bias = o.bias;
   if (!o.blq.empty()) products_in.blq = o.blq;
   // The live SSR feed carries no antenna model: the configuration states it (ssr.antenna_model).
-  if (o.live() && !o.live_correction_topics.empty()) products_in.streamed.antenna_model = config_.ppp.ssr.antenna_model;
+  products_in.live_ssr = o.live() && !o.live_correction_topics.empty();
   products_ = ppp::ProductAssembly::assemble(products_in, config_.ppp);
   config_.ppp = products_.config();
   for (const auto& n : products_.notes()) ROS_INFO_STREAM("ppp_" << estimator << "_node: " << n);

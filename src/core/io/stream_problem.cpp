@@ -17,6 +17,7 @@ std::string_view streamProblemKindName(StreamProblemKind kind) {
     case StreamProblemKind::SsrWithoutBroadcast: return "SSR without broadcast record";
     case StreamProblemKind::SsrTooOld: return "SSR older than its validity";
     case StreamProblemKind::EpochTimeRefused: return "epoch time refused";
+    case StreamProblemKind::ImplausibleValue: return "implausible value";
   }
   return "unknown problem";
 }
