@@ -67,8 +67,8 @@ struct WideLaneOptions {
   double min_sigma_cycles = 0.15;    // floor of the per-epoch MW sigma [WL cycles]
   /// Correlation time of the MW errors [s] (0 = white). 15 s, the code
   /// multipath's (StochasticModel::code_correlation_time_s): 1.3 epochs per
-  /// independent sample at 30 s, 30 at 1 Hz (a fixed count of 4 epochs made 1 Hz
-  /// MW means 7.5 times too confident and left 30-s data slower than needed).
+  /// independent sample at 30 s, 30 at 1 Hz (the former fixed count of 4 epochs
+  /// gave 1-Hz MW means a variance 7.5 times too small).
   double correlation_time_s = 15.0;
   double min_success_rate = 0.999;   // rounding success probability to fix
   double max_fraction_cycles = 0.25; // largest |float - integer| accepted
