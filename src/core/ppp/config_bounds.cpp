@@ -22,6 +22,7 @@ const std::map<std::string, ConfigUpperBound>& bounds() {
       {"stochastic.clock.process_noise_m_per_sqrt_s", {1.0e7, "the clock is re-estimated per epoch anyway"}},
       {"stochastic.phase_bias.initial_sigma_m", {1.0e4, "phase minus code is known to tens of metres"}},
       {"stochastic.phase_bias.process_noise_m_per_sqrt_s", {10.0, "an ambiguity is constant over its arc"}},
+      {"stochastic.code_correlation_time_s", {3600.0, "multipath decorrelates within minutes"}},
       // estimator
       {"estimator.min_satellites", {100, "no receiver tracks more satellites at once"}},
       {"estimator.iterations_per_epoch", {20, "the linearisation converges in 2-3 iterations"}},
@@ -74,6 +75,8 @@ const std::map<std::string, ConfigUpperBound>& bounds() {
       {"ambiguity_resolution.ratio_threshold", {1000.0, "no search passes a larger ratio"}},
       {"ambiguity_resolution.min_fixed", {100, "no epoch has more ambiguities"}},
       {"ambiguity_resolution.wide_lane_min_samples", {100000, "more than a day of 1 Hz epochs"}},
+      {"ambiguity_resolution.wide_lane_correlation_time_s", {3600.0, "multipath decorrelates within minutes"}},
+      {"ambiguity_resolution.small_subset_max_size", {100, "no epoch has more ambiguities"}},
       {"ambiguity_resolution.consistency_epochs", {100000, "more than a day of 1 Hz epochs"}},
       {"ambiguity_resolution.max_float_spread_cycles", {10.0, "a wider spread is no consistency"}},
       {"ambiguity_resolution.narrow_lane_max_sigma_cycles", {10.0, "a wider sigma is no candidate"}},
