@@ -63,7 +63,10 @@ PY
     || fail+="smoothed last epoch differs from the filtered last epoch by $d m (datum conversion?); "
 fi
 # PPP-AR against float on one flight (the same seed and profile: the same bag).
-DEMO_AR_MIN="${DEMO_AR_MIN:-12}"
+# 16 min: with the code weighted for its time correlation (stochastic.code_correlation_time_s)
+# this flight (survey, seed 1) first fixes after 12.8 min (ppp_bag_solve on its bag: 19.8 % of
+# the epochs fixed, smoothed mean 1.19 cm against 2.96 cm float); a 12-min flight ends unfixed.
+DEMO_AR_MIN="${DEMO_AR_MIN:-16}"
 for mode in ar float; do
   extra=()
   [ "$mode" = float ] && extra=(--float)
