@@ -83,6 +83,22 @@ struct BiasRow {
   ArcBiasEstimate estimate;
 };
 
+/// Statistics against a moving truth: the solution epochs at the path's times (within 1 ms).
+PositionErrorStatistics statisticsAlongPath(const std::vector<SolutionEpoch>& solution,
+                                            const std::vector<std::pair<GnssTime, Eigen::Vector3d>>& path) {
+  std::vector<SolutionEpoch> matched;
+  std::vector<Eigen::Vector3d> truth;
+  std::size_t k = 0;
+  for (const auto& e : solution) {
+    while (k < path.size() && path[k].first - e.time < -1e-3) ++k;
+    if (k == path.size()) break;
+    if (std::abs(path[k].first - e.time) > 1e-3) continue;
+    matched.push_back(e);
+    truth.push_back(path[k].second);
+  }
+  return computePositionErrorStatistics(matched, truth);
+}
+
 }  // namespace
 
 TimingSummary summarizeTimes(std::vector<double> t) {
@@ -108,7 +124,9 @@ PppSolveOutcome solvePpp(const PppSolveRequest& req) {
   if (!std::filesystem::is_directory(req.out_dir)) throw std::runtime_error("cannot create directory " + req.out_dir);
 
   // The products first: they decide the systems and PPP-AR (product_assembly.h).
-  PppPipeline pipeline(req.files, req.config);
+  std::unique_ptr<PppPipeline> owned_pipeline =
+      req.make_pipeline ? req.make_pipeline(req.config) : std::make_unique<PppPipeline>(req.files, req.config);
+  PppPipeline& pipeline = *owned_pipeline;
   auto estimator = makeEstimator(req.estimator, pipeline.config(), &why);
   if (!estimator) throw std::invalid_argument(why);
   const SmoothedTrajectoryProvider* smoother = estimator->smoothing();
@@ -228,6 +246,7 @@ PppSolveOutcome solvePpp(const PppSolveRequest& req) {
   }
   for (auto& o : out.outputs) {
     if (req.truth_ecef_m) o.statistics = computePositionErrorStatistics(o.solution, *req.truth_ecef_m);
+    else if (!req.truth_path_ecef_m.empty()) o.statistics = statisticsAlongPath(o.solution, req.truth_path_ecef_m);
     std::ofstream json = openOut(o.json_path);
     json << runSummaryToJson(out, o, req.write_timings);
     if (!json) throw std::runtime_error("cannot write " + o.json_path);
