@@ -70,6 +70,15 @@ std::vector<std::map<std::string, std::string>> readCsv(const fs::path& p) {
   return rows;
 }
 
+/// A figure of the "all_epochs" statistics of a summary JSON (NaN when absent).
+double allEpochsFigure(const std::string& json, const std::string& key) {
+  const std::size_t all = json.find("\"all_epochs\"");
+  if (all == std::string::npos) return std::nan("");
+  const std::size_t at = json.find("\"" + key + "\": ", all);
+  if (at == std::string::npos) return std::nan("");
+  return std::stod(json.substr(at + key.size() + 4));
+}
+
 class BagSolve : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
@@ -127,8 +136,17 @@ TEST_F(BagSolve, PositionsEqualPppSolveOnTheSameFlightWithin1mm) {
   EXPECT_GT(compared, 150u);
   EXPECT_LE(worst_m, 1e-3) << "largest 3D difference ppp_bag_solve - ppp_solve over " << compared << " epochs";
   // The bag's truth/path gives the statistics (ppp_solve here had no truth).
+  // The same truth from the simulator's truth CSV gives the same statistics.
   const std::string summary = readText(out / "sim_ekf_summary.json");
   EXPECT_NE(summary.find("\"statistics\""), std::string::npos) << summary.substr(0, 400);
+  const fs::path with_csv = dir_ / "bag_out_csv";
+  ASSERT_EQ(run(bag_solve + " --no-truth-path --truth-csv " + (files / "truth.csv").string() + " --out " +
+                with_csv.string()),
+            0);
+  const std::string csv_summary = readText(with_csv / "sim_ekf_summary.json");
+  EXPECT_EQ(allEpochsFigure(csv_summary, "count"), 181.0);
+  EXPECT_NEAR(allEpochsFigure(csv_summary, "mean_m"), allEpochsFigure(summary, "mean_m"), 1e-4)
+      << "truth.csv holds positions to 0.1 mm";
 }
 
 TEST_F(BagSolve, RefusesAMissingBagAndABagWithoutGnssTopics) {
@@ -176,13 +194,9 @@ TEST_F(BagSolve, CampaignOfTwoBagJobsRunsResumesAndSummarises) {
   ASSERT_EQ(run(kBin + "/ppp_bag_solve " + (dir_ / "bags" / "flight_a.bag").string() + " --config " + kConfigs +
                 " --name flight --no-timings --out " + direct.string()),
             0);
-  const std::string json = readText(direct / "flight_ekf_summary.json");
-  const std::size_t all = json.find("\"all_epochs\"");
-  ASSERT_NE(all, std::string::npos);
-  const std::size_t mean = json.find("\"mean_m\": ", all);
-  ASSERT_NE(mean, std::string::npos);
   char expected[32];
-  std::snprintf(expected, sizeof expected, "%.2f", std::stod(json.substr(mean + 10)) * 100.0);
+  std::snprintf(expected, sizeof expected, "%.2f",
+                allEpochsFigure(readText(direct / "flight_ekf_summary.json"), "mean_m") * 100.0);
   EXPECT_EQ(rows[0].at("mean_3d_cm"), expected);
   EXPECT_EQ(readText(direct / "flight_ekf.csv"), readText(out / "jobs" / rows[0].at("id") / "output" / "flight_ekf.csv"));
   EXPECT_EQ(rows[0].at("id"), "flight_flight_a");

@@ -16,7 +16,7 @@
 //      dates: {first: YYYY-MM-DD, last: YYYY-MM-DD}, hours: [FIRST, LAST]}
 //   bags:      a list of ROS replay bags (gnss/observations + gnss/corrections), each
 //     {name: N, bag: PATTERN, config: [YAML...], estimator: ekf|smoother|both,
-//      atx: [...], bia: PATTERN, blq: PATTERN, truth: [X, Y, Z]}
+//      atx: [...], bia: PATTERN, blq: PATTERN, truth: [X, Y, Z] | truth_csv: PATTERN}
 //   monte_carlo: a list of studies, each
 //     {study: S, seed: N, flights: N, flights_per_job: N, duration_min: 30, rate_hz: 1,
 //      systems: G|GE, ambiguity_resolution: false, smoother_lag_s: 60,
@@ -32,7 +32,8 @@
 // A bags entry: `bag` is a glob, one job per matching bag, id <name>[_<bag stem>,
 // when it matched several]; the job runs the ROS tool ppp_bag_solve (the
 // executable next to the running ppp_campaign) and writes ppp_solve's outputs; the
-// truth is `truth`, else the bag's truth/path when it has one (a simulated flight).
+// truth is `truth` (a point) or `truth_csv` (a trajectory: gps_week,
+// seconds_of_week, x_m, y_m, z_m), else the bag's truth/path when it has one.
 // A Monte Carlo study becomes ceil(flights / flights_per_job) shards of
 // consecutive flights, <study>_f<first>-<last>; every flight depends only on
 // (seed, index), so the shards merge into the one-run study exactly
@@ -61,6 +62,7 @@ struct CampaignPppJob {
   std::vector<std::string> config;  // PPP configuration files, laid one on another
   std::string estimator = "ekf";    // ekf | smoother | both
   std::optional<Eigen::Vector3d> truth_ecef_m;
+  std::string truth_csv;  // bag jobs: a truth trajectory (ppp_bag_solve --truth-csv); empty: none
 };
 
 /// One shard of a Monte Carlo study: flights first_flight .. first_flight + flights - 1

@@ -31,7 +31,6 @@
 #include <memory>
 #include <optional>
 #include <string>
-#include <utility>
 #include <vector>
 
 #include "ppp_bayes_tree/evaluation/position_error_statistics.h"
@@ -44,9 +43,10 @@ struct PppSolveRequest {
   PppConfig config;
   std::string estimator = "ekf";
   std::optional<Eigen::Vector3d> truth_ecef_m;
-  /// A moving truth instead (a simulated flight's true antenna path, in time
-  /// order): the statistics use the solution epochs at its times (within 1 ms).
-  std::vector<std::pair<GnssTime, Eigen::Vector3d>> truth_path_ecef_m;
+  /// A moving truth instead (a simulated flight's true antenna path, e.g.
+  /// TruthTrajectory::at of app/replay_report.h): the truth at an epoch, nullopt
+  /// when it has none (the epoch is left out of the statistics). Empty: no truth.
+  std::function<std::optional<Eigen::Vector3d>(const GnssTime&)> truth_at;
   std::string out_dir;
   /// Output file prefix; empty = the station name in lower case ("zim2").
   std::string name;

@@ -155,6 +155,7 @@ std::vector<std::string> bagSolverArguments(const CampaignJob& job, const std::s
     a.push_back("--truth");
     for (int k = 0; k < 3; ++k) a.push_back(jsonNumber((*job.ppp.truth_ecef_m)(k), 17));
   }
+  if (!job.ppp.truth_csv.empty()) a.insert(a.end(), {"--truth-csv", job.ppp.truth_csv});
   return a;
 }
 
@@ -326,6 +327,7 @@ std::string campaignJobYaml(const CampaignJob& job) {
     emitList(y, "config", job.ppp.config);
     y << YAML::Key << "estimator" << YAML::Value << job.ppp.estimator;
     emitTruth(y, job.ppp.truth_ecef_m);
+    y << YAML::Key << "truth_csv" << YAML::Value << job.ppp.truth_csv;
   } else if (job.kind == CampaignJobKind::Ppp) {
     const PppInputFiles& f = job.ppp.files;
     y << YAML::Key << "obs" << YAML::Value << f.obs;
@@ -396,6 +398,7 @@ CampaignJob parseCampaignJob(const std::string& text, const std::string& file) {
     job.ppp.config = s.textList("config", {}, true);
     job.ppp.estimator = s.choice("estimator", "ekf", {"ekf", "smoother", "both"});
     readTruth();
+    job.ppp.truth_csv = s.text("truth_csv", "");
   } else if (job.kind == CampaignJobKind::Ppp) {
     PppInputFiles& f = job.ppp.files;
     f.obs = s.text("obs", "");

@@ -261,6 +261,10 @@ void expandBagEntry(const YAML::Node& node, const std::string& file, const std::
     const auto t = s.numberList("truth", {}, 3);
     job.ppp.truth_ecef_m = Eigen::Vector3d(t[0], t[1], t[2]);
   }
+  if (const std::string t = s.text("truth_csv", ""); !t.empty()) {
+    if (job.ppp.truth_ecef_m) s.fail("truth_csv", "give truth or truth_csv, not both (" + lineText(node) + ")");
+    job.ppp.truth_csv = expandAll({t}, data_root, std::nullopt).front();
+  }
   s.finish();
   const std::vector<std::string> bags = expandGlob(resolve(data_root, pattern));
   for (const auto& bag : bags) {
@@ -426,6 +430,7 @@ std::vector<std::string> campaignInputProblems(const CampaignManifest& manifest)
       for (const auto& p : f.atx) problemIfMissing(job, "atx", p, problems);
       if (f.bias) problemIfMissing(job, "bia", *f.bias, problems);
       if (f.blq) problemIfMissing(job, "blq", *f.blq, problems);
+      if (!job.ppp.truth_csv.empty()) problemIfMissing(job, "truth_csv", job.ppp.truth_csv, problems);
       checkConfig(job, job.ppp.config, false);
       if (!bag_solver_checked) {
         bag_solver_checked = true;

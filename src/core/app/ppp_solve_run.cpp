@@ -83,20 +83,18 @@ struct BiasRow {
   ArcBiasEstimate estimate;
 };
 
-/// Statistics against a moving truth: the solution epochs at the path's times (within 1 ms).
-PositionErrorStatistics statisticsAlongPath(const std::vector<SolutionEpoch>& solution,
-                                            const std::vector<std::pair<GnssTime, Eigen::Vector3d>>& path) {
+/// Statistics against a moving truth: the solution epochs it has a truth for.
+PositionErrorStatistics statisticsAlong(const std::vector<SolutionEpoch>& solution,
+                                        const std::function<std::optional<Eigen::Vector3d>(const GnssTime&)>& truth_at) {
   std::vector<SolutionEpoch> matched;
-  std::vector<Eigen::Vector3d> truth;
-  std::size_t k = 0;
+  std::vector<Eigen::Vector3d> truth_ecef_m;
   for (const auto& e : solution) {
-    while (k < path.size() && path[k].first - e.time < -1e-3) ++k;
-    if (k == path.size()) break;
-    if (std::abs(path[k].first - e.time) > 1e-3) continue;
-    matched.push_back(e);
-    truth.push_back(path[k].second);
+    if (const auto t = truth_at(e.time)) {
+      matched.push_back(e);
+      truth_ecef_m.push_back(*t);
+    }
   }
-  return computePositionErrorStatistics(matched, truth);
+  return computePositionErrorStatistics(matched, truth_ecef_m);
 }
 
 }  // namespace
@@ -246,7 +244,7 @@ PppSolveOutcome solvePpp(const PppSolveRequest& req) {
   }
   for (auto& o : out.outputs) {
     if (req.truth_ecef_m) o.statistics = computePositionErrorStatistics(o.solution, *req.truth_ecef_m);
-    else if (!req.truth_path_ecef_m.empty()) o.statistics = statisticsAlongPath(o.solution, req.truth_path_ecef_m);
+    else if (req.truth_at) o.statistics = statisticsAlong(o.solution, req.truth_at);
     std::ofstream json = openOut(o.json_path);
     json << runSummaryToJson(out, o, req.write_timings);
     if (!json) throw std::runtime_error("cannot write " + o.json_path);

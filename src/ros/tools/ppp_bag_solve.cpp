@@ -2,8 +2,8 @@
 // as fast as the CPU allows).
 //
 //   ppp_bag_solve BAG --out DIR [--name N] [--config YAML [YAML...]] [--estimator ekf|smoother|both]
-//                 [--atx F [F...]] [--bia F] [--blq F] [--truth X Y Z] [--no-truth-path]
-//                 [--no-timings] [--result JSON]
+//                 [--atx F [F...]] [--bia F] [--blq F] [--truth X Y Z | --truth-csv F]
+//                 [--no-truth-path] [--no-timings] [--result JSON]
 //
 // Reads gnss/observations (GnssObservations) and gnss/corrections
 // (PreciseCorrections) with the rosbag C++ API, through the nodes' conversions
@@ -13,8 +13,10 @@
 // (PppPipeline: the same PppEpochProcessor per epoch as ppp_solve and the nodes)
 // with the corrections as its ephemeris (CorrectionBuffer over every batch of the
 // bag). Writes ppp_solve's outputs (app/ppp_solve_run.h) into DIR. The truth:
-// --truth X Y Z (ECEF, m), else the bag's truth/path (a simulated flight's true
-// antenna path) unless --no-truth-path. --result writes the figures a campaign
+// --truth X Y Z (ECEF, m), or --truth-csv F (a trajectory: gps_week,
+// seconds_of_week, x_m, y_m, z_m; app/replay_report.h readTruthCsv), else the
+// bag's truth/path (a simulated flight's true antenna path) unless --no-truth-path.
+// --result writes the figures a campaign
 // records for the job (app/campaign_job.h). Float only: the batches' satellite
 // biases for ambiguity resolution are not used (said on the output). Exit status: 0 solved, 1 failed (the reason on stderr), 2 usage.
 #include <cmath>
@@ -30,6 +32,7 @@
 
 #include "ppp_bayes_tree/app/campaign_job.h"
 #include "ppp_bayes_tree/app/ppp_solve_run.h"
+#include "ppp_bayes_tree/app/replay_report.h"
 #include "ppp_bayes_tree/ros/bag_writer.h"
 #include "ppp_bayes_tree/ros/message_conversions.h"
 
@@ -38,7 +41,7 @@ namespace {
 int usage(const std::string& why) {
   std::cerr << "ppp_bag_solve: " << why << "\n"
             << "usage: ppp_bag_solve BAG --out DIR [--name N] [--config YAML...] [--estimator ekf|smoother|both]\n"
-            << "                     [--atx F...] [--bia F] [--blq F] [--truth X Y Z] [--no-truth-path]\n"
+            << "                     [--atx F...] [--bia F] [--blq F] [--truth X Y Z | --truth-csv F] [--no-truth-path]\n"
             << "                     [--no-timings] [--result JSON]\n";
   return 2;
 }
@@ -53,7 +56,7 @@ struct BagContents {
   std::vector<ppp::CorrectionBatch> batches;
   std::optional<ppp::StreamedProductInfo> streamed;  // from the first batch
   std::size_t batches_with_ar_biases = 0;            // batches declaring biases for ambiguity resolution
-  std::vector<std::pair<ppp::GnssTime, Eigen::Vector3d>> truth_path_ecef_m;
+  ppp::TruthTrajectory truth_path;  // truth/path (a simulated flight)
   ppp_ros::ConversionIssues issues;
   std::vector<std::string> problems;  // "gnss/observations message 12: ..." (skipped)
 };
@@ -112,12 +115,14 @@ BagContents readBag(const std::string& path) {
       } catch (const std::invalid_argument& e) {
         c.problems.push_back(path + ": " + topic + " message " + std::to_string(i) + ": " + e.what());
       }
-    } else if (topic == ppp_ros::kTruthPathTopic && c.truth_path_ecef_m.empty()) {
+    } else if (topic == ppp_ros::kTruthPathTopic && c.truth_path.empty()) {
       if (auto msg = m.instantiate<nav_msgs::Path>()) {
-        for (const auto& p : msg->poses)
-          c.truth_path_ecef_m.emplace_back(
-              ppp_ros::fromUtcStamp(p.header.stamp),
-              Eigen::Vector3d(p.pose.position.x, p.pose.position.y, p.pose.position.z));
+        for (const auto& p : msg->poses) {
+          const ppp::GnssTime t = ppp_ros::fromUtcStamp(p.header.stamp);
+          if (!c.truth_path.time.empty() && !(c.truth_path.time.back() < t)) continue;  // strictly increasing
+          c.truth_path.time.push_back(t);
+          c.truth_path.position_ecef_m.emplace_back(p.pose.position.x, p.pose.position.y, p.pose.position.z);
+        }
       }
     }
   }
@@ -126,7 +131,7 @@ BagContents readBag(const std::string& path) {
 }
 
 struct Options {
-  std::string bag, out, name, result;
+  std::string bag, out, name, result, truth_csv;
   std::vector<std::string> config, atx;
   std::string bia, blq, estimator = "ekf";
   std::optional<Eigen::Vector3d> truth;
@@ -155,6 +160,16 @@ std::unique_ptr<ppp::PppPipeline> bagPipeline(const BagContents& bag, const Opti
                            o.bag);
   auto source = std::make_unique<ppp::InMemoryObservationSource>(bag.layout, bag.epochs, o.bag);
   return std::make_unique<ppp::PppPipeline>(std::move(source), std::move(products), assembly.config());
+}
+
+/// The moving truth: --truth-csv, else the bag's truth/path (unless --no-truth-path).
+ppp::TruthTrajectory truthTrajectory(const BagContents& bag, const Options& o) {
+  if (o.truth_csv.empty()) return o.truth_path ? bag.truth_path : ppp::TruthTrajectory{};
+  ppp::ParseReport report(o.truth_csv);
+  ppp::TruthTrajectory truth = ppp::readTruthCsv(o.truth_csv, report);
+  if (!report.clean()) std::cerr << "ppp_bag_solve: truth " << report.summary();
+  if (truth.empty()) throw std::runtime_error("no truth position in " + o.truth_csv);
+  return truth;
 }
 
 std::optional<Options> parseArguments(int argc, char** argv, std::string& why) {
@@ -191,10 +206,12 @@ std::optional<Options> parseArguments(int argc, char** argv, std::string& why) {
     else if (a == "--bia") o.bia = v;
     else if (a == "--blq") o.blq = v;
     else if (a == "--result") o.result = v;
+    else if (a == "--truth-csv") o.truth_csv = v;
     else return why = "unknown option " + a, std::nullopt;
   }
   if (o.bag.empty()) return why = "give the BAG", std::nullopt;
   if (o.out.empty()) return why = "--out DIR is required", std::nullopt;
+  if (o.truth && !o.truth_csv.empty()) return why = "give --truth or --truth-csv, not both", std::nullopt;
   return o;
 }
 
@@ -211,7 +228,7 @@ int main(int argc, char** argv) {
     if (bag.batches.empty()) throw std::runtime_error(o.bag + ": no PreciseCorrections on gnss/corrections");
     std::cout << "ppp_bag_solve: " << o.bag << ": " << bag.epochs.size() << " observation epochs, "
               << bag.batches.size() << " correction batches"
-              << (bag.truth_path_ecef_m.empty() ? "" : ", a truth path") << "\n";
+              << (bag.truth_path.empty() ? "" : ", a truth path") << "\n";
     for (const auto& p : bag.problems) std::cerr << "ppp_bag_solve: skipped " << p << "\n";
     for (const auto& [reason, n] : bag.issues.counts)
       std::cerr << "ppp_bag_solve: " << n << " x " << reason << "\n";
@@ -220,7 +237,8 @@ int main(int argc, char** argv) {
     if (!o.config.empty()) req.config = ppp::loadPppConfig(o.config);
     req.estimator = o.estimator;
     req.truth_ecef_m = o.truth;
-    if (!o.truth && o.truth_path) req.truth_path_ecef_m = bag.truth_path_ecef_m;
+    const ppp::TruthTrajectory truth = o.truth ? ppp::TruthTrajectory{} : truthTrajectory(bag, o);
+    if (!truth.empty()) req.truth_at = [&truth](const ppp::GnssTime& t) { return truth.at(t); };
     req.out_dir = o.out;
     req.name = o.name;
     req.write_timings = o.timings;
