@@ -72,10 +72,17 @@ void emitList(YAML::Emitter& y, const char* key, const std::vector<std::string>&
   y << YAML::EndSeq;
 }
 
-void emitTruth(YAML::Emitter& y, const std::optional<Eigen::Vector3d>& truth_ecef_m) {
-  if (!truth_ecef_m) return;
+/// The keys ppp and bag jobs share: atx, bia, blq, config, estimator, truth.
+void emitRunSettings(YAML::Emitter& y, const CampaignPppJob& job) {
+  const PppInputFiles& f = job.files;
+  emitList(y, "atx", f.atx);
+  y << YAML::Key << "bia" << YAML::Value << f.bias.value_or("");
+  y << YAML::Key << "blq" << YAML::Value << f.blq.value_or("");
+  emitList(y, "config", job.config);
+  y << YAML::Key << "estimator" << YAML::Value << job.estimator;
+  if (!job.truth_ecef_m) return;
   y << YAML::Key << "truth" << YAML::Value << YAML::Flow << YAML::BeginSeq;
-  for (int k = 0; k < 3; ++k) y << (*truth_ecef_m)(k);
+  for (int k = 0; k < 3; ++k) y << (*job.truth_ecef_m)(k);
   y << YAML::EndSeq;
 }
 
@@ -321,12 +328,7 @@ std::string campaignJobYaml(const CampaignJob& job) {
   if (job.kind == CampaignJobKind::Bag) {
     const PppInputFiles& f = job.ppp.files;
     y << YAML::Key << "bag" << YAML::Value << f.obs;
-    emitList(y, "atx", f.atx);
-    y << YAML::Key << "bia" << YAML::Value << f.bias.value_or("");
-    y << YAML::Key << "blq" << YAML::Value << f.blq.value_or("");
-    emitList(y, "config", job.ppp.config);
-    y << YAML::Key << "estimator" << YAML::Value << job.ppp.estimator;
-    emitTruth(y, job.ppp.truth_ecef_m);
+    emitRunSettings(y, job.ppp);
     y << YAML::Key << "truth_csv" << YAML::Value << job.ppp.truth_csv;
   } else if (job.kind == CampaignJobKind::Ppp) {
     const PppInputFiles& f = job.ppp.files;
@@ -336,12 +338,7 @@ std::string campaignJobYaml(const CampaignJob& job) {
     emitList(y, "sp3", f.sp3);
     emitList(y, "clk", f.clk);
     emitList(y, "nav", f.nav);
-    emitList(y, "atx", f.atx);
-    y << YAML::Key << "bia" << YAML::Value << f.bias.value_or("");
-    y << YAML::Key << "blq" << YAML::Value << f.blq.value_or("");
-    emitList(y, "config", job.ppp.config);
-    y << YAML::Key << "estimator" << YAML::Value << job.ppp.estimator;
-    emitTruth(y, job.ppp.truth_ecef_m);
+    emitRunSettings(y, job.ppp);
     if (f.window.start) y << YAML::Key << "start" << YAML::Value << windowTimeText(*f.window.start);
     if (f.window.end) y << YAML::Key << "end" << YAML::Value << windowTimeText(*f.window.end);
   } else {
@@ -384,20 +381,21 @@ CampaignJob parseCampaignJob(const std::string& text, const std::string& file) {
     if (!t) s.fail(key, "needs YYYY/MM/DD HH:MM:SS");
     return t;
   };
-  auto readTruth = [&] {
-    if (!s.has("truth")) return;
-    const auto t = s.numberList("truth", {}, 3);
-    job.ppp.truth_ecef_m = Eigen::Vector3d(t[0], t[1], t[2]);
-  };
-  if (job.kind == CampaignJobKind::Bag) {
+  // The keys ppp and bag jobs share (emitRunSettings).
+  auto readRunSettings = [&] {
     PppInputFiles& f = job.ppp.files;
-    f.obs = s.text("bag", "");
     f.atx = s.textList("atx", {}, true);
     if (const std::string b = s.text("bia", ""); !b.empty()) f.bias = b;
     if (const std::string b = s.text("blq", ""); !b.empty()) f.blq = b;
     job.ppp.config = s.textList("config", {}, true);
     job.ppp.estimator = s.choice("estimator", "ekf", {"ekf", "smoother", "both"});
-    readTruth();
+    if (!s.has("truth")) return;
+    const auto t = s.numberList("truth", {}, 3);
+    job.ppp.truth_ecef_m = Eigen::Vector3d(t[0], t[1], t[2]);
+  };
+  if (job.kind == CampaignJobKind::Bag) {
+    job.ppp.files.obs = s.text("bag", "");
+    readRunSettings();
     job.ppp.truth_csv = s.text("truth_csv", "");
   } else if (job.kind == CampaignJobKind::Ppp) {
     PppInputFiles& f = job.ppp.files;
@@ -409,12 +407,7 @@ CampaignJob parseCampaignJob(const std::string& text, const std::string& file) {
     f.sp3 = s.textList("sp3", {}, true);
     f.clk = s.textList("clk", {}, true);
     f.nav = s.textList("nav", {}, true);
-    f.atx = s.textList("atx", {}, true);
-    if (const std::string b = s.text("bia", ""); !b.empty()) f.bias = b;
-    if (const std::string b = s.text("blq", ""); !b.empty()) f.blq = b;
-    job.ppp.config = s.textList("config", {}, true);
-    job.ppp.estimator = s.choice("estimator", "ekf", {"ekf", "smoother", "both"});
-    readTruth();
+    readRunSettings();
     f.window.start = time("start");
     f.window.end = time("end");
   } else {
