@@ -10,7 +10,8 @@
 // and the correction stream's interpolation of the batches reproduces the SP3/CLK
 // interpolation at the 1 mm level (the nodes, which use the same conversions and
 // correction buffer, equal ppp_solve within 1 mm: rostest ar_esbc_bag). So each
-// epoch's position must agree within 1 mm.
+// epoch's position must agree within 1 mm. The same holds with ambiguity
+// resolution on real data (ESBC, below; skipped without the shared data).
 #include <gtest/gtest.h>
 
 #include <unistd.h>
@@ -27,6 +28,8 @@
 
 #include <rosbag/bag.h>
 #include <std_msgs/String.h>
+
+#include "test_support.h"
 
 namespace {
 
@@ -147,6 +150,50 @@ TEST_F(BagSolve, PositionsEqualPppSolveOnTheSameFlightWithin1mm) {
   EXPECT_EQ(allEpochsFigure(csv_summary, "count"), 181.0);
   EXPECT_NEAR(allEpochsFigure(csv_summary, "mean_m"), allEpochsFigure(summary, "mean_m"), 1e-4)
       << "truth.csv holds positions to 0.1 mm";
+}
+
+// Integer ambiguity resolution from the batches' biases: the first 2 h of ESBC
+// 2020-177 made into a bag by ppp_to_bag from the GRG products (integer-recovery
+// clocks: every batch carries the wide-lane satellite biases of the clock header),
+// against ppp_solve on the same 2 h of the files with the same configuration (the
+// rostest ar_esbc_bag's: the nodes equal ppp_solve there). Both estimators: the
+// same fix state at every epoch, positions within 1 mm.
+TEST_F(BagSolve, AmbiguityResolutionFromTheBatchesBiasesEqualsPppSolve) {
+  PPP_REQUIRE_SHARED_DATA();
+  const std::string esbc = ppp::test::dataPath("esbc-2020-177/");
+  const std::string obs = esbc + "ESBC00DNK_R_20201770000_01D_30S_MO.crx.gz";
+  const std::string products = " --sp3 " + esbc + "GRG0MGXFIN_20201770000_01D_15M_ORB.SP3.gz --clk " + esbc +
+                               "GRG0MGXFIN_20201770000_01D_30S_CLK.CLK.gz";
+  const std::string atx = " --atx " + ppp::test::dataPath("antex/igs14_2178_satellites.atx") + " " +
+                          ppp::test::dataPath("antex/igs05_esbc_receiver_trim.atx");
+  const std::string config = " --config " + kRepo + "/config/ppp.yaml " + kRepo + "/test/rostest/ar_esbc.yaml";
+  const fs::path bag = dir_ / "esbc_2h.bag", ref = dir_ / "esbc_ref", out = dir_ / "esbc_bag";
+  ASSERT_EQ(run(kBin + "/ppp_to_bag --obs " + obs + products + " --max-epochs 240 --out " + bag.string()), 0);
+  ASSERT_EQ(run(kBin + "/ppp_solve --obs " + obs + products + atx + config +
+                " --end \"2020/06/25 02:00:00\" --estimator both --name e --out " + ref.string()),
+            0);
+  ASSERT_EQ(run(kBin + "/ppp_bag_solve " + bag.string() + atx + config + " --estimator both --name e --out " +
+                out.string()),
+            0);
+  for (const char* tag : {"ekf", "smoother_filtered", "smoother_smoothed"}) {
+    const auto a = readCsv(ref / ("e_" + std::string(tag) + ".csv"));
+    const auto b = readCsv(out / ("e_" + std::string(tag) + ".csv"));
+    ASSERT_EQ(a.size(), 240u) << tag;
+    ASSERT_EQ(b.size(), a.size()) << tag;
+    std::size_t fixed = 0;
+    double worst_m = 0.0;
+    for (std::size_t i = 0; i < a.size(); ++i) {
+      ASSERT_EQ(a[i].at("time_gpst"), b[i].at("time_gpst"));
+      EXPECT_EQ(a[i].at("status"), b[i].at("status")) << tag << " epoch " << i;
+      fixed += a[i].at("status") == "ppp-fixed";
+      if (a[i].at("x_m").empty() || b[i].at("x_m").empty()) continue;
+      double d2 = 0.0;
+      for (const char* k : {"x_m", "y_m", "z_m"}) d2 += std::pow(std::stod(a[i].at(k)) - std::stod(b[i].at(k)), 2);
+      worst_m = std::max(worst_m, std::sqrt(d2));
+    }
+    EXPECT_GT(fixed, 150u) << tag << ": ppp_solve fixes most of the 2 h (first fix after about 16 min)";
+    EXPECT_LE(worst_m, 1e-3) << tag;
+  }
 }
 
 TEST_F(BagSolve, RefusesAMissingBagAndABagWithoutGnssTopics) {

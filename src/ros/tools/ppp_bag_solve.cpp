@@ -17,8 +17,9 @@
 // seconds_of_week, x_m, y_m, z_m; app/replay_report.h readTruthCsv), else the
 // bag's truth/path (a simulated flight's true antenna path) unless --no-truth-path.
 // --result writes the figures a campaign
-// records for the job (app/campaign_job.h). Float only: the batches' satellite
-// biases for ambiguity resolution are not used (said on the output). Exit status: 0 solved, 1 failed (the reason on stderr), 2 usage.
+// records for the job (app/campaign_job.h). Ambiguity resolution
+// (ambiguity_resolution.enabled): the batches' satellite biases (ar_bias_kind,
+// satellites[].biases) go to the product assembly's PPP-AR gate, as in the nodes. Exit status: 0 solved, 1 failed (the reason on stderr), 2 usage.
 #include <cmath>
 #include <iostream>
 #include <limits>
@@ -55,7 +56,8 @@ struct BagContents {
   std::vector<ppp::ObsEpoch> epochs;  // in bag order
   std::vector<ppp::CorrectionBatch> batches;
   std::optional<ppp::StreamedProductInfo> streamed;  // from the first batch
-  std::size_t batches_with_ar_biases = 0;            // batches declaring biases for ambiguity resolution
+  std::vector<ppp::SatelliteBiasBatch> ar_biases;   // the batches' biases for ambiguity resolution
+  ppp::PhaseInformation ar_bias_kind = ppp::PhaseInformation::None;  // what the batches declare
   ppp::TruthTrajectory truth_path;  // truth/path (a simulated flight)
   ppp_ros::ConversionIssues issues;
   std::vector<std::string> problems;  // "gnss/observations message 12: ..." (skipped)
@@ -110,7 +112,11 @@ BagContents readBag(const std::string& path) {
       try {
         ppp::CorrectionBatch batch = ppp_ros::fromMessage(*msg, c.issues);
         if (!c.streamed) c.streamed = ppp_ros::streamedProductInfo(*msg, batch);
-        if (ppp_ros::phaseInformation(msg->ar_bias_kind) != ppp::PhaseInformation::None) ++c.batches_with_ar_biases;
+        ppp::SatelliteBiasBatch biases = ppp_ros::biasesFromMessage(*msg, c.issues);
+        if (!biases.biases.empty()) {
+          c.ar_bias_kind = ppp_ros::phaseInformation(msg->ar_bias_kind);
+          c.ar_biases.push_back(std::move(biases));
+        }
         c.batches.push_back(std::move(batch));
       } catch (const std::invalid_argument& e) {
         c.problems.push_back(path + ": " + topic + " message " + std::to_string(i) + ": " + e.what());
@@ -147,15 +153,19 @@ std::unique_ptr<ppp::PppPipeline> bagPipeline(const BagContents& bag, const Opti
   if (!o.blq.empty()) in.blq = o.blq;
   ppp::ProductAssembly assembly = ppp::ProductAssembly::assemble(in, config);
   if (bag.streamed) assembly.declareStreamedProducts(*bag.streamed);
-  if (bag.batches_with_ar_biases > 0 && assembly.arGate().mode != ppp::AmbiguityResolutionMode::Off)
-    std::cout << "ppp_bag_solve: the satellite biases for ambiguity resolution of " << bag.batches_with_ar_biases
-              << " batches are not used: the solution is float\n";
+  // The batches' satellite biases to the assembly's PPP-AR gate, as the nodes hand theirs.
+  auto stream_biases = std::make_shared<ppp::StreamBiasProvider>(std::numeric_limits<double>::infinity());
+  for (const auto& b : bag.ar_biases) stream_biases->add(b);
+  if (!stream_biases->empty() && bag.ar_bias_kind != ppp::PhaseInformation::None)
+    assembly.acceptStreamedPhaseBiases(stream_biases.get(), bag.ar_bias_kind);
+  std::cout << "ppp_bag_solve: " << assembly.arGate().text() << "\n";
   ppp::CorrectionBufferOptions buffer_options;
   buffer_options.history_s = std::numeric_limits<double>::infinity();  // every batch of the bag
   auto corrections = std::make_shared<ppp::CorrectionBuffer>(buffer_options);
   for (const auto& b : bag.batches) corrections->add(b);
   ppp::PppProducts products = assembly.products(bag.layout.marker_name);
   products.ephemeris = corrections;
+  if (assembly.phaseBiases() == stream_biases.get()) products.phase_biases = stream_biases;
   products.notes.push_back("orbits and clocks: " + std::to_string(bag.batches.size()) + " correction batches of " +
                            o.bag);
   auto source = std::make_unique<ppp::InMemoryObservationSource>(bag.layout, bag.epochs, o.bag);
