@@ -16,10 +16,12 @@
 // --truth X Y Z (ECEF, m), or --truth-csv F (a trajectory: gps_week,
 // seconds_of_week, x_m, y_m, z_m; app/replay_report.h readTruthCsv), else the
 // bag's truth/path (a simulated flight's true antenna path) unless --no-truth-path.
-// --result writes the figures a campaign
-// records for the job (app/campaign_job.h). Ambiguity resolution
-// (ambiguity_resolution.enabled): the batches' satellite biases (ar_bias_kind,
-// satellites[].biases) go to the product assembly's PPP-AR gate, as in the nodes. Exit status: 0 solved, 1 failed (the reason on stderr), 2 usage.
+// --result writes the figures a campaign records for the job (app/campaign_job.h).
+// Ambiguity resolution (ambiguity_resolution.enabled): the batches' satellite
+// biases (ar_bias_kind, satellites[].biases) go to the product assembly's PPP-AR
+// gate, as in the nodes. Messages that do not convert are skipped and named
+// (topic and message index); conversion issues are counted with their reason.
+// Exit status: 0 solved, 1 failed (the reason on stderr), 2 usage.
 #include <cmath>
 #include <iostream>
 #include <limits>
@@ -162,7 +164,10 @@ std::unique_ptr<ppp::PppPipeline> bagPipeline(const BagContents& bag, const Opti
   ppp::CorrectionBufferOptions buffer_options;
   buffer_options.history_s = std::numeric_limits<double>::infinity();  // every batch of the bag
   auto corrections = std::make_shared<ppp::CorrectionBuffer>(buffer_options);
-  for (const auto& b : bag.batches) corrections->add(b);
+  std::size_t refused = 0;  // duplicate batch times, or batches out of time order
+  for (const auto& b : bag.batches) refused += corrections->add(b) != ppp::BatchAddResult::Added;
+  if (refused > 0) std::cerr << "ppp_bag_solve: " << refused << " correction batches refused (repeated or out of order)\n";
+  for (const auto& p : assembly.problems()) std::cerr << "ppp_bag_solve: products: " << p << "\n";
   ppp::PppProducts products = assembly.products(bag.layout.marker_name);
   products.ephemeris = corrections;
   if (assembly.phaseBiases() == stream_biases.get()) products.phase_biases = stream_biases;
