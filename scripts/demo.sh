@@ -234,7 +234,8 @@ if $RVIZ; then
   elif [ -z "${DISPLAY:-}" ]; then echo "demo.sh: --rviz: no DISPLAY (no graphical session): RViz not started; the run goes on without it"
   else echo "demo.sh: --rviz: rviz is not installed: RViz not started"; fi
 fi
-LAUNCH_ARGS=(bag:="$INPUT_BAG" rate:="$RATE" overrides:="$OVERRIDES" record:=true record_out:="$RECORDED_BAG"
+# smoother_memory:=full: the demo's bag is minutes long, and its table compares the full smoother.
+LAUNCH_ARGS=(bag:="$INPUT_BAG" rate:="$RATE" overrides:="$OVERRIDES" smoother_memory:=full record:=true record_out:="$RECORDED_BAG"
              rviz:="$RVIZ_ARG")
 [ -n "$EXTRA_CONFIG" ] && LAUNCH_ARGS+=(extra_config:="$EXTRA_CONFIG")
 [ -n "${PPP_DEMO_SMOOTHER_LAUNCH:-}" ] && LAUNCH_ARGS+=(smoother_launch:="$PPP_DEMO_SMOOTHER_LAUNCH")  # tests only

@@ -9,6 +9,7 @@
 
 #include "ppp_bayes_tree/GnssStreamBytes.h"
 #include "ppp_bayes_tree/io/ubx_framer.h"
+#include "ppp_bayes_tree/io/untrusted_text.h"
 #include "ppp_bayes_tree/types/thread_cpu_time.h"
 
 namespace ppp_ros {
@@ -283,12 +284,13 @@ GnssStreamSubscriber::GnssStreamSubscriber(ros::NodeHandle& nh, const std::strin
 }
 
 void GnssStreamSubscriber::error(const std::string& text) {
-  counters_.last_error = text;
+  // The text quotes what a publisher's connection header says (type, MD5, caller id): escaped.
+  counters_.last_error = ppp::printableText(text, 400);
   // Each message is counted; the log at most once a second per topic.
   const ros::WallTime now = ros::WallTime::now();
   if (!last_error_log_.isZero() && (now - last_error_log_).toSec() < 1.0) return;
   last_error_log_ = now;
-  ROS_ERROR_STREAM("ppp: " << text);
+  ROS_ERROR_STREAM("ppp: " << counters_.last_error);
 }
 
 void GnssStreamSubscriber::onMessage(const ros::MessageEvent<topic_tools::ShapeShifter const>& event) {
@@ -300,7 +302,7 @@ void GnssStreamSubscriber::onMessage(const ros::MessageEvent<topic_tools::ShapeS
     counters_.last_arrival = now;
   }
   const std::string datatype = msg->getDataType(), md5 = msg->getMD5Sum();
-  counters_.type = datatype;
+  counters_.type = ppp::printableText(datatype);
   std::string why;
   const std::optional<StreamMessageType> type = recogniseStreamMessageType(datatype, md5, &why);
   if (!type) {

@@ -4,6 +4,7 @@
 
 #include <iostream>
 
+#include "ppp_bayes_tree/io/credential_mask.h"
 #include "ppp_bayes_tree/ros/ppp_node.h"
 
 namespace ppp_ros {
@@ -18,7 +19,8 @@ int runNode(int argc, char** argv, const std::string& node_name, const std::func
   try {
     run(keep_ros_up);
   } catch (const std::exception& e) {
-    const std::string text = node_name + ": cannot start: " + e.what();
+    // Masked: a start-up error may quote an input spec (and its password) however mistyped.
+    const std::string text = ppp::maskCredentials(node_name + ": cannot start: " + e.what());
     std::cerr << text << std::endl;
     ROS_FATAL_STREAM(text);
     return 1;

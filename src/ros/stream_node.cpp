@@ -1,11 +1,14 @@
 #include "ppp_bayes_tree/ros/stream_node.h"
 
+#include <cstdlib>
 #include <stdexcept>
 
 #include <ros/serialization.h>
 
 #include "ppp_bayes_tree/GnssStreamBytes.h"
 #include "ppp_bayes_tree/io/byte_source_spec.h"
+#include "ppp_bayes_tree/io/credential_mask.h"
+#include "ppp_bayes_tree/io/ntrip_credentials.h"
 #include "ppp_bayes_tree/ros/node_main.h"
 
 namespace ppp_ros {
@@ -14,6 +17,10 @@ namespace {
 using Clock = std::chrono::steady_clock;
 constexpr std::size_t kWindowKeepBytes = 128 * 1024;  // > the largest frame (UBX 8192 + 8)
 constexpr std::size_t kDetectBytes = 64 * 1024;        // give up detecting the format after this
+
+/// An input error as shown in the log and the diagnostics: its detail quotes the caster's
+/// answer already escaped (io/untrusted_text.h), and any spec in it is masked.
+std::string shownError(const ppp::ByteSourceError& error) { return ppp::maskCredentials(error.describe()); }
 
 template <typename T>
 T param(const ros::NodeHandle& pnh, const std::string& key, const T& fallback) {
@@ -70,7 +77,17 @@ std::vector<std::uint8_t> rtcmMessageBytes(const topic_tools::ShapeShifter& mess
 StreamNodeOptions loadStreamNodeOptions(const ros::NodeHandle& pnh) {
   StreamNodeOptions o;
   if (!pnh.getParam("input", o.input) || o.input.empty()) {
-    throw std::runtime_error("parameter ~input (the input spec, e.g. ntrip://user:password@host:2101/MOUNT) is required");
+    throw std::runtime_error("parameter ~input (the input spec, e.g. ntrip://user@host:2101/MOUNT?credentials=PATH) "
+                             "is required");
+  }
+  // A password written into the spec leaves the parameter server at once (masked copy),
+  // before anything can fail: rosparam get shows "***" from here on.
+  if (const std::string masked = ppp::maskCredentials(o.input); masked != o.input) {
+    pnh.setParam("input", masked);
+    ROS_WARN_STREAM("ppp_stream_node: the input spec ~input carries a password: replaced by *** in the parameter "
+                    "server, but it may remain in the launch log and the shell history; give it with credentials=PATH "
+                    "(a file readable by you only) or the environment variable "
+                    << ppp::kNtripCredentialsEnvironment << " instead (io/ntrip_credentials.h)");
   }
   o.format = param<std::string>(pnh, "format", o.format);
   if (!o.format.empty() && o.format != "rtcm3" && o.format != "ubx") {
@@ -81,16 +98,28 @@ StreamNodeOptions loadStreamNodeOptions(const ros::NodeHandle& pnh) {
   o.queue_size = param<int>(pnh, "queue_size", o.queue_size);
   o.stall_warn_s = param<double>(pnh, "stall_warn_s", o.stall_warn_s);
   o.stall_error_s = param<double>(pnh, "stall_error_s", o.stall_error_s);
-  if (o.queue_size < 1) throw std::runtime_error("parameter ~queue_size must be >= 1");
+  // Ranges (config/stream.yaml states them).
+  if (o.queue_size < 1 || o.queue_size > 1000000)
+    throw std::runtime_error("parameter ~queue_size must be in [1, 1000000] messages");
   if (!(o.stall_warn_s > 0.0) || !(o.stall_error_s >= o.stall_warn_s)) {
     throw std::runtime_error("parameters ~stall_warn_s > 0 and ~stall_error_s >= ~stall_warn_s are required");
   }
+  if (o.stall_warn_s > 3600.0 || o.stall_error_s > 86400.0)
+    throw std::runtime_error("parameters ~stall_warn_s must be <= 3600 s and ~stall_error_s <= 86400 s");
+  // diagnostic_updater reads ~diagnostic_period itself (0 would publish as fast as the loop runs).
+  const double period_s = param<double>(pnh, "diagnostic_period", 1.0);
+  if (!(period_s >= 0.1 && period_s <= 3600.0))
+    throw std::runtime_error("parameter ~diagnostic_period must be in [0.1, 3600] s, got " + std::to_string(period_s));
   return o;
 }
 
 StreamNode::StreamNode(ros::NodeHandle nh, ros::NodeHandle pnh)
     : options_(loadStreamNodeOptions(pnh)), nh_(nh), pnh_(pnh), start_time_(Clock::now()), diagnostics_(nh, pnh) {
-  const ppp::ByteSourceSpec spec = ppp::parseByteSourceSpec(options_.input);  // throws with the reason
+  ppp::ByteSourceSpec spec = ppp::parseByteSourceSpec(options_.input);  // throws with the reason (masked)
+  const ppp::CredentialSource credentials =
+      ppp::resolveNtripCredentials(spec, std::getenv(ppp::kNtripCredentialsEnvironment));
+  if (credentials == ppp::CredentialSource::File || credentials == ppp::CredentialSource::Environment)
+    ROS_INFO_STREAM("ppp_stream_node: NTRIP user and password from " << ppp::credentialSourceText(credentials));
   std::string format = options_.format.empty() ? spec.format.value_or("") : options_.format;
   if (format == "rtcm3") format_ = ppp::StreamFormat::Rtcm3;
   if (format == "ubx") format_ = ppp::StreamFormat::Ubx;
@@ -98,6 +127,7 @@ StreamNode::StreamNode(ros::NodeHandle nh, ros::NodeHandle pnh)
   if (format_ != ppp::StreamFormat::Unknown) advertise();  // subscribers connect before the first frame
   diagnostics_.setHardwareID(source_->describe());
   diagnostics_.add("stream", this, &StreamNode::diagnose);
+  sim_clock_watch_ = std::make_unique<SimClockWatch>(nh_, "ppp_stream_node");
   ROS_INFO_STREAM("ppp_stream_node: reading " << source_->describe() << ", publishing "
                                               << (format.empty() ? std::string("(format detected from the content)")
                                                                  : format)
@@ -200,9 +230,9 @@ void StreamNode::run() {
                                             << " bytes, " << published_ << " frames published");
       } else if (got.status == ppp::ByteSourceStatus::Error) {
         if (ppp::isPermanentByteSourceError(got.error->kind)) {
-          ROS_ERROR_STREAM("ppp_stream_node: " << source_->describe() << ": " << got.error->describe());
+          ROS_ERROR_STREAM("ppp_stream_node: " << source_->describe() << ": " << shownError(*got.error));
         } else {
-          ROS_WARN_STREAM("ppp_stream_node: " << source_->describe() << ": " << got.error->describe());
+          ROS_WARN_STREAM("ppp_stream_node: " << source_->describe() << ": " << shownError(*got.error));
         }
       }
     }
@@ -230,16 +260,16 @@ void StreamNode::diagnose(diagnostic_updater::DiagnosticStatusWrapper& s) {
   for (const auto& [kind, count] : c.errors_by_kind) {
     s.add("errors: " + std::string(ppp::byteSourceErrorKindName(kind)), count);
   }
-  s.add("last error", c.last_error ? c.last_error->describe() : std::string("none"));
+  s.add("last error", c.last_error ? shownError(*c.last_error) : std::string("none"));
   const double age_s = std::chrono::duration<double>(Clock::now() - last_byte_time_.value_or(start_time_)).count();
   s.add("seconds since last byte", age_s);
   if (ended_) {
     s.summary(diagnostic_msgs::DiagnosticStatus::OK, "the replayed file ended");
   } else if (c.last_error && ppp::isPermanentByteSourceError(c.last_error->kind) && age_s > options_.stall_warn_s) {
-    s.summary(diagnostic_msgs::DiagnosticStatus::ERROR, c.last_error->describe());
+    s.summary(diagnostic_msgs::DiagnosticStatus::ERROR, shownError(*c.last_error));
   } else if (age_s > options_.stall_error_s) {
     s.summaryf(diagnostic_msgs::DiagnosticStatus::ERROR, "no byte for %.1f s%s", age_s,
-               c.last_error ? (" (" + c.last_error->describe() + ")").c_str() : "");
+               c.last_error ? (" (" + shownError(*c.last_error) + ")").c_str() : "");
   } else if (age_s > options_.stall_warn_s) {
     s.summaryf(diagnostic_msgs::DiagnosticStatus::WARN, "no byte for %.1f s", age_s);
   } else if (format_ == ppp::StreamFormat::Unknown && stream_bytes_ > 0) {

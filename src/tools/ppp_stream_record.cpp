@@ -11,14 +11,17 @@
 // refused, unknown mountpoint). Exit: 0, 1 on error (nothing recorded or a
 // permanent error), 2 usage.
 #include <csignal>
+#include <cstdlib>
 #include <cstdio>
 #include <cstring>
 #include <fstream>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "ppp_bayes_tree/io/byte_source_spec.h"
+#include "ppp_bayes_tree/io/ntrip_credentials.h"
 #include "ppp_bayes_tree/io/rtcm3_framer.h"
 #include "ppp_bayes_tree/io/stream_format.h"
 #include "ppp_bayes_tree/io/ubx_framer.h"
@@ -64,6 +67,7 @@ int main(int argc, char** argv) {
   ppp::ByteSourceSpec spec;
   try {
     spec = ppp::parseByteSourceSpec(spec_text);
+    ppp::resolveNtripCredentials(spec, std::getenv(ppp::kNtripCredentialsEnvironment));
   } catch (const ppp::ByteSourceSpecError& e) {
     std::fprintf(stderr, "ppp_stream_record: %s\n", e.what());
     return 2;
@@ -80,7 +84,13 @@ int main(int argc, char** argv) {
   std::signal(SIGINT, onSignal);
   std::signal(SIGTERM, onSignal);
 
-  auto source = ppp::openByteSource(spec);
+  std::unique_ptr<ppp::ByteSource> source;
+  try {
+    source = ppp::openByteSource(spec);  // refuses e.g. a directory given as file://
+  } catch (const ppp::ByteSourceSpecError& e) {
+    std::fprintf(stderr, "ppp_stream_record: %s\n", e.what());
+    return 2;
+  }
   std::fprintf(stderr, "ppp_stream_record: recording %s to %s\n", source->describe().c_str(), out_path.c_str());
   ppp::Rtcm3Framer rtcm;
   ppp::UbxFramer ubx;

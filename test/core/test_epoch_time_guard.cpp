@@ -2,10 +2,10 @@
 // epoch re-sent 100 s late) is dropped with its reason and never resets; a
 // sustained jump back (a rosbag loop) resets only once `confirm_epochs`
 // consistent epochs confirm it, and releases them; every epoch pushed comes out
-// exactly once (accepted or dropped). The bad stamps are the cases of issue #16.
+// exactly once (accepted or dropped). The bad stamps are the cases.
 #include <gtest/gtest.h>
 
-#include "ppp_bayes_tree/ppp/epoch_time_guard.h"
+#include "ppp_bayes_tree/io/epoch_time_guard.h"
 
 namespace {
 

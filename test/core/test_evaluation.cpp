@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <sstream>
 
@@ -181,6 +182,40 @@ TEST(RtklibPos, RecordLayoutMatchesRtklib) {
   EXPECT_NE(formatPosRecord(e, {}).find("  -0.5000"), std::string::npos);
   e.position_ecef_m.reset();
   EXPECT_EQ(formatPosRecord(e, {}), "");
+}
+
+TEST(RtklibPos, FixedEpochsHaveQ1AndTheirRatio) {
+  // RTKLIB 2.4.3 writes Q 1 (SOLQ_FIX) and the ratio factor of the ambiguity
+  // validation in the last column (%6.1f, capped at 999.9); float PPP is Q 6, ratio 0.
+  SolutionEpoch e;
+  e.time = GnssTime::fromGpsWeek(2418, 259200.0);
+  e.position_ecef_m = Eigen::Vector3d(4331299.8984, 567537.3331, 4633134.3006);
+  e.satellites_used = 12;
+  e.status = SolutionStatus::PppFixed;
+  e.ambiguity_ratio = 5.34;
+  const std::string line = "2418 259200.000   4331299.8984    567537.3331   4633134.3006   %d  12   0.0000   0.0000   "
+                           "0.0000   0.0000   0.0000   0.0000   0.00 %6.1f\n";
+  const auto expected = [&](int q, double ratio) {
+    char buf[256];
+    std::snprintf(buf, sizeof buf, line.c_str(), q, ratio);
+    return std::string(buf);
+  };
+  EXPECT_EQ(formatPosRecord(e, {}), expected(1, 5.3));
+  e.ambiguity_ratio = 12345.0;
+  EXPECT_EQ(formatPosRecord(e, {}), expected(1, 999.9));
+  e.status = SolutionStatus::PppFloat;  // a ratio without a fix is not written
+  EXPECT_EQ(formatPosRecord(e, {}), expected(6, 0.0));
+  // Written and read back.
+  e.status = SolutionStatus::PppFixed;
+  e.ambiguity_ratio = 5.34;
+  auto src = memoryLineSource(formatPosHeader({}) + formatPosRecord(e, {}), "fixed.pos");
+  const PosFile file = readRtklibPos(*src);
+  ASSERT_EQ(file.records.size(), 1u);
+  EXPECT_EQ(file.records[0].quality, 1);
+  EXPECT_DOUBLE_EQ(*file.records[0].ratio, 5.3);
+  const auto epochs = toSolutionEpochs(file);
+  EXPECT_EQ(epochs[0].status, SolutionStatus::PppFixed);
+  EXPECT_DOUBLE_EQ(*epochs[0].ambiguity_ratio, 5.3);
 }
 
 TEST(RtklibPos, ReadsRtklibXyzTowAndLlhCalendarFiles) {

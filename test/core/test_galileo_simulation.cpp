@@ -148,6 +148,11 @@ TEST(GalileoSimulation, GpsGalileoFlightConvergesWithTwoClocks) {
   o.duration_s = 900.0;
   o.profiles = {FlightProfile::Loiter};
   o.simulation.systems = {GnssSystem::GPS, GnssSystem::Galileo};
+  // White code weighting, with which the bounds below were measured: first 2 min
+  // 1.485 m, last 5 min 0.487 m. With the 15-s Gauss-Markov code model (1-Hz code
+  // weighted 30x less) the start is better and the end a little worse on this
+  // flight: 0.840 m and 0.503 m, so "halved" and "< 0.5 m" no longer both hold.
+  o.ppp.stochastic.code_correlation_time_s = 0.0;
   const MonteCarloFlightSetup setup = monteCarloFlightSetup(o, 0);
   const SimulatedFlight f = simulateFlight(monteCarloSimulationConfig(o, setup), setup.seed);
   const PppConfig config = flightPppConfig(o.ppp, f);

@@ -31,6 +31,7 @@ void expectSameConfig(const PppConfig& c, const PppConfig& d) {
   expectSameNoise(c.stochastic.clock, d.stochastic.clock, "clock");
   expectSameNoise(c.stochastic.phase_bias, d.stochastic.phase_bias, "phase_bias");
   EXPECT_EQ(c.stochastic.initial_zwd_m, d.stochastic.initial_zwd_m);
+  EXPECT_EQ(c.stochastic.code_correlation_time_s, d.stochastic.code_correlation_time_s);
   EXPECT_EQ(c.estimator.screening.min_satellites, d.estimator.screening.min_satellites);
   EXPECT_EQ(c.estimator.iterations_per_epoch, d.estimator.iterations_per_epoch);
   EXPECT_EQ(c.estimator.screening.prefit_code_threshold_m, d.estimator.screening.prefit_code_threshold_m);
@@ -68,11 +69,13 @@ void expectSameConfig(const PppConfig& c, const PppConfig& d) {
   EXPECT_EQ(ca.narrow_lane.partial, da.narrow_lane.partial);
   EXPECT_EQ(ca.wide_lane.min_samples, da.wide_lane.min_samples);
   EXPECT_EQ(ca.wide_lane.min_success_rate, da.wide_lane.min_success_rate);
+  EXPECT_EQ(ca.wide_lane.correlation_time_s, da.wide_lane.correlation_time_s);
   EXPECT_EQ(ca.wide_lane.max_fraction_cycles, da.wide_lane.max_fraction_cycles);
   EXPECT_EQ(ca.hold.consistency_epochs, da.hold.consistency_epochs);
   EXPECT_EQ(ca.hold.max_float_spread_cycles, da.hold.max_float_spread_cycles);
   EXPECT_EQ(ca.hold.validation_epochs, da.hold.validation_epochs);
   EXPECT_EQ(ca.hold.require_subset_success_rate, da.hold.require_subset_success_rate);
+  EXPECT_EQ(ca.hold.small_subset_max_size, da.hold.small_subset_max_size);
   EXPECT_EQ(ca.hold.fast_validation_success_rate, da.hold.fast_validation_success_rate);
   EXPECT_EQ(ca.hold.fast_validation_epochs, da.hold.fast_validation_epochs);
   EXPECT_EQ(ca.hold.max_fraction_cycles, da.hold.max_fraction_cycles);
@@ -311,6 +314,7 @@ TEST(PppConfig, ValuesAreBound) {
 stochastic:
   position: {initial_sigma_m: 2.5, process_noise_m_per_sqrt_s: 0.0}
   clock: {process: random_walk, process_noise_m_per_sqrt_s: 10}
+  code_correlation_time_s: 40
 estimator:
   min_satellites: 6
   postfit_check: false
@@ -319,7 +323,13 @@ measurement_model:
   elevation_cutoff_deg: 10
 cycle_slip:
   melbourne_wuebbena: {sigma_factor: 4}
+ambiguity_resolution:
+  wide_lane_correlation_time_s: 20
+  small_subset_max_size: 1
 )", "x.yaml");
+  EXPECT_EQ(c.stochastic.code_correlation_time_s, 40.0);
+  EXPECT_EQ(c.ambiguity_resolution.wide_lane.correlation_time_s, 20.0);
+  EXPECT_EQ(c.ambiguity_resolution.hold.small_subset_max_size, 1);
   EXPECT_EQ(c.stochastic.position.initial_sigma_m, 2.5);
   EXPECT_EQ(c.stochastic.position.process_noise_m_per_sqrt_s, 0.0);
   EXPECT_EQ(c.stochastic.clock.kind, ppp::ProcessKind::RandomWalk);
@@ -366,6 +376,11 @@ TEST(PppConfig, MalformedConfigsNameFileKeyAndReason) {
       {"stochastic: 3\n", "stochastic", "expected a mapping"},
       {"measurement_model: [a, b]\n", "measurement_model", "expected a mapping"},
       {"estimator:\n  start:\n    min_satellites: 3\n", "estimator.start.min_satellites", "must be >= 4"},
+      {"stochastic:\n  code_correlation_time_s: -1\n", "stochastic.code_correlation_time_s", "must be >= 0"},
+      {"ambiguity_resolution:\n  wide_lane_correlation_time_s: -5\n",
+       "ambiguity_resolution.wide_lane_correlation_time_s", "must be >= 0"},
+      {"ambiguity_resolution:\n  small_subset_max_size: -1\n", "ambiguity_resolution.small_subset_max_size",
+       "must be >= 0"},
   };
   for (const auto& c : cases) {
     const ConfigError e = errorOf(c.yaml);

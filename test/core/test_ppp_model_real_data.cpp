@@ -252,7 +252,7 @@ HourAnalysis analyseHour(test::LoadedDataset& ds, const char* label) {
     }
     Eigen::VectorXd x = nm.ldlt().solve(b);
     h.zwd_code_m = x(k);  // for the record: poorly determined by code alone
-    // The brief's diagnostic: receiver clock per epoch = weighted mean of the code
+    // A diagnostic: receiver clock per epoch = weighted mean of the code
     // residuals, with the wet delay from the phase fit.
     std::vector<double> sw(k, 0.0), swr(k, 0.0);
     for (const auto& r : rows) {

@@ -216,6 +216,40 @@ TEST(ProductAssembly, StreamedProductsGoThroughTheSameGate) {
   EXPECT_FALSE(live.acceptStreamedPhaseBiases(files.codeBiases().get(), PhaseInformation::SsrPhaseBiases));
 }
 
+TEST(ProductAssembly, LiveSsrFeedTakesItsAntennaModelFromTheConfigurationAndSaysWhenItIsNotSet) {
+  PPP_REQUIRE_SHARED_DATA();
+  // The node on a live SSR feed (ros.live corrections): streamed orbits and clocks, no
+  // Bias-SINEX, IGS20 satellite antennas. RTCM SSR names no antenna model.
+  ProductAssemblyInputs live;
+  live.atx = {test::dataPath("antex/igs20_gps_satellites_trim.atx")};
+  live.live_ssr = true;
+  const ProductAssembly unset = ProductAssembly::assemble(live, PppConfig{});  // ppp.yaml: ""
+  EXPECT_FALSE(unset.arGate().fix);
+  EXPECT_EQ(unset.arGate().reason, ArGateReason::AntennaModelUnknown);
+  EXPECT_EQ(unset.arGate().text(),
+            "ambiguity resolution: float (enabled: auto): satellite antenna model of the products not known (SSR "
+            "streams name no satellite antenna model: set ssr.antenna_model to the provider's (IGS20 for the IGS "
+            "real-time service's streams))");
+  // config/live.yaml's IGS20 with IGS20 antennas: the gate waits for the feed's phase biases, then fixes.
+  const std::string repo = PPP_REPO_DIR;
+  const PppConfig live_yaml = loadPppConfig(std::vector<std::string>{repo + "/config/ppp.yaml", repo + "/config/live.yaml"});
+  ASSERT_EQ(live_yaml.ssr.antenna_model, "IGS20");
+  ProductAssembly igs20 = ProductAssembly::assemble(live, live_yaml);
+  EXPECT_EQ(igs20.arGate().reason, ArGateReason::NoConsistentPhaseBiases) << igs20.arGate().text();
+  EXPECT_EQ(igs20.arGate().detail, "no phase biases from the stream yet");
+  EXPECT_EQ(igs20.antennas()->satelliteFamily(), "IGS20");
+  ProductAssembly reference = ProductAssembly::assemble(ccj2Inputs({kIgs14}), PppConfig{});
+  EXPECT_TRUE(igs20.acceptStreamedPhaseBiases(reference.codeBiases().get(), PhaseInformation::SsrPhaseBiases));
+  EXPECT_TRUE(igs20.arGate().fix);
+  // A model the antennas do not match: float, with that reason.
+  const ProductAssembly igs14 =
+      ProductAssembly::assemble(live, parsePppConfig("ssr:\n  antenna_model: IGS14\n", "igs14 stream"));
+  EXPECT_EQ(igs14.arGate().reason, ArGateReason::AntennaModelDifferent);
+  // Without live_ssr (a bag's stream, which declares its model itself) the configuration is not taken.
+  live.live_ssr = false;
+  EXPECT_EQ(ProductAssembly::assemble(live, live_yaml).arGate().detail, "the products name no satellite antenna model");
+}
+
 TEST(ProductAssembly, BroadcastAndSsrFilesGoThroughTheSameGate) {
   PPP_REQUIRE_SHARED_DATA();
   // ppp_solve --nav --ssr: IGS's SSRA03IGS0 recording carries code biases, no phase biases (1059/1242/1260 only).

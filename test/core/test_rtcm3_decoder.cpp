@@ -36,14 +36,11 @@
 //  - BeiDou navigation records (1042), compared field by field as printed:
 //    the transmission time (RINEX A14 field 27). RTCM 1042 carries none: convbin
 //    writes its stream time at decoding, we write toe (as for GPS and Galileo).
-//    The URA is written in metres by both: the BDS-SIS-ICD nominal value
-//    2^(1+N/2) / 2^(N-2), which convbin's table rounds to 2.8 / 5.7 / 11.3 for
-//    N = 1, 3, 5 (we print the exact value; compared as the index it stands for).
+//    The URA is written in metres by both, the same value: the nominal URA of
+//    the index (IS-GPS-200 20.3.3.3.1.1, types/broadcast_accuracy.h).
 //  - QZSS navigation records (1044), field by field: the transmission time as
-//    for BeiDou; the URA: convbin writes the nominal value of the index (RTKLIB
-//    ura_nominal), we the upper bound of IS-GPS-200 20.3.3.3.1.3 as for GPS
-//    (compared as the index); the L2 P data flag: 1044 has none, convbin writes
-//    1, we 0.
+//    for BeiDou; the URA as for BeiDou; the L2 P data flag (1044 has none) 1 in
+//    both (IS-QZSS-PNT fixes it to 1).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -305,16 +302,6 @@ void compareNavigation(const fs::path& peer_path, const fs::path& ours_path, std
   }
 }
 
-/// URA index of a printed GPS/QZSS URA value: the first IS-GPS-200 upper bound at or
-/// above it (20.3.3.3.1.3), so that a nominal and an upper-bound value of one index agree.
-int gpsUraIndexOf(double ura_m) {
-  static const double upper[] = {2.4, 3.4, 4.85, 6.85, 9.65, 13.65, 24.0, 48.0,
-                                 96.0, 192.0, 384.0, 768.0, 1536.0, 3072.0, 6144.0};
-  for (int i = 0; i < 15; ++i)
-    if (ura_m <= upper[i]) return i;
-  return 15;
-}
-
 /// BeiDou ('C', RINEX 3.04 table A14) or QZSS ('J', A12) records field by field as
 /// printed, with the by-design differences of the header comment named. Returns
 /// the fields compared.
@@ -347,12 +334,6 @@ std::size_t compareNavFields(const fs::path& peer_path, const fs::path& ours_pat
       if (test::agreesToPrintedPrecision(*a, p.text[k], *b, o->text[k])) continue;
       if (k == 27) {
         ++named[name + " transmission time: convbin's stream time, ours toe (the message has none)"];
-      } else if (k == 23 && system == 'C' && beidouUraIndex(*a) == beidouUraIndex(*b)) {
-        ++named["BeiDou URA: convbin's rounded nominal value"];
-      } else if (k == 23 && system == 'J' && gpsUraIndexOf(*a) == gpsUraIndexOf(*b)) {
-        ++named["QZSS URA: convbin's nominal value, ours the upper bound of the index"];
-      } else if (k == 22 && system == 'J' && *a == 1.0 && *b == 0.0) {
-        ++named["QZSS L2 P data flag: 1044 has none (convbin 1, ours 0)"];
       } else {
         failures.push_back(where + ": peer " + p.text[k] + ", ours " + o->text[k]);
       }

@@ -90,7 +90,7 @@ TEST(SsrEndToEnd, EsbcBroadcastPlusEncodedSsrMatchesPreciseProducts) {
   // 2. Decoded and applied as ppp_solve --nav --ssr does (the name says centre of mass).
   const BroadcastProducts broadcast = loadBroadcastProducts({nav_path}, stream_path);
   EXPECT_TRUE(broadcast.problems.empty()) << broadcast.problems.front();
-  const auto* corrected = dynamic_cast<const BroadcastSsrEphemeris*>(broadcast.ephemeris.get());
+  const auto* corrected = broadcast.corrected.get();
   ASSERT_NE(corrected, nullptr);
   EXPECT_EQ(corrected->options().reference, EphemerisReference::CentreOfMass);
 
@@ -164,14 +164,15 @@ TEST(SsrEndToEnd, EsbcBroadcastPlusEncodedSsrMatchesPreciseProducts) {
   const std::string apc_path = writeStream(EphemerisReference::AntennaPhaseCentre, "APCIF0TST_esbc.rtcm3");
   const std::string l1_path = writeStream(EphemerisReference::AntennaPhaseCentreL1, "SSRA00TST_esbc.rtcm3");
   PppProducts c_full;
-  c_full.ephemeris = loadBroadcastProducts({nav_path}, apc_path, EphemerisReference::AntennaPhaseCentre).ephemeris;
+  const BroadcastProducts c_products = loadBroadcastProducts({nav_path}, apc_path, EphemerisReference::AntennaPhaseCentre);
+  c_full.ephemeris = c_products.ephemeris;
   c_full.antennas = set->antennas();
   const auto pc_full = runEkf(c_full, config, until);
   const Agreement ac_full = agreement(pa, pc_full, start);
   std::cout << "ESBC 01:00-03:00, broadcast + APC (IF) SSR vs SP3/CLK: 3D RMS " << ac_full.rms_m * 1e3 << " mm, max "
             << ac_full.max_m * 1e3 << " mm\n";
   const BroadcastProducts l1_products = loadBroadcastProducts({nav_path}, l1_path);
-  const auto* l1_eph = dynamic_cast<const BroadcastSsrEphemeris*>(l1_products.ephemeris.get());
+  const auto* l1_eph = l1_products.corrected.get();
   ASSERT_NE(l1_eph, nullptr);
   EXPECT_EQ(l1_eph->options().reference, EphemerisReference::AntennaPhaseCentreL1);  // from the SSRA name
   // The GPS III satellite G18 is in the stream at its L1 phase centre, as in the
@@ -182,7 +183,7 @@ TEST(SsrEndToEnd, EsbcBroadcastPlusEncodedSsrMatchesPreciseProducts) {
     const SatelliteId g18{GnssSystem::GPS, 18};
     const GnssTime t = start + 3600.0;
     const auto l1_orbit = l1_eph->correctedState(g18, t);
-    const auto if_orbit = dynamic_cast<const BroadcastSsrEphemeris*>(c_full.ephemeris.get())->correctedState(g18, t);
+    const auto if_orbit = c_products.corrected->correctedState(g18, t);
     ASSERT_TRUE(l1_orbit.ok() && if_orbit.ok());
     const Eigen::Vector3d up = if_orbit.value->position_ecef_m.normalized();
     EXPECT_NEAR((l1_orbit.value->position_ecef_m - if_orbit.value->position_ecef_m).dot(up), 0.7514, 0.002);

@@ -86,9 +86,10 @@ TEST(WideLaneAmbiguity, RoundingFixesSingleDifferencesWhenPrecise) {
   const std::vector<std::pair<ArcId, int>> truth = {{1, 3}, {2, -8}, {3, 12}, {4, 0}};
   std::mt19937 rng(3);
   std::normal_distribution<double> noise(0.0, 0.2);
+  const auto at = [](int k) { return GnssTime::fromGpsSeconds(1300000000 + 30 * k); };  // 30 s epochs
   for (int k = 0; k < 120; ++k)
     for (const auto& [arc, n] : truth)
-      r.addValue(arc, SatelliteId{GnssSystem::GPS, static_cast<int>(arc)}, n + 0.37 + noise(rng));
+      r.addValue(arc, SatelliteId{GnssSystem::GPS, static_cast<int>(arc)}, n + 0.37 + noise(rng), at(k));
   const WideLaneResolution res = r.resolve();
   ASSERT_TRUE(res.reference_arc.has_value());
   EXPECT_EQ(res.arcs.size(), 3u);
@@ -105,12 +106,12 @@ TEST(WideLaneAmbiguity, RoundingFixesSingleDifferencesWhenPrecise) {
   EXPECT_EQ(res.fixedCount(), 3);
   // After 3 epochs nothing is eligible; a fraction near 0.5 is never fixed.
   WideLaneResolver young(opt);
-  for (int k = 0; k < 3; ++k) young.addValue(1, SatelliteId{GnssSystem::GPS, 1}, 0.0);
+  for (int k = 0; k < 3; ++k) young.addValue(1, SatelliteId{GnssSystem::GPS, 1}, 0.0, at(k));
   EXPECT_FALSE(young.resolve().reference_arc.has_value());
   WideLaneResolver half(opt);
   for (int k = 0; k < 200; ++k) {
-    half.addValue(1, SatelliteId{GnssSystem::GPS, 1}, 0.0);
-    half.addValue(2, SatelliteId{GnssSystem::GPS, 2}, 2.48);
+    half.addValue(1, SatelliteId{GnssSystem::GPS, 1}, 0.0, at(k));
+    half.addValue(2, SatelliteId{GnssSystem::GPS, 2}, 2.48, at(k));
   }
   const auto h = half.resolve();
   ASSERT_EQ(h.arcs.size(), 1u);
@@ -163,7 +164,7 @@ RealWideLanes runRealWideLanes(const test::PppDataset& d, std::vector<GnssSystem
       const auto& o = sel.observations[i];
       const auto issue = with_osb.add(s.arc, o, data.biases.get());
       ++out.issues[issue];
-      without_osb.addValue(s.arc, o.satellite, melbourneWuebbena_cycles(o));
+      without_osb.addValue(s.arc, o.satellite, melbourneWuebbena_cycles(o), o.time);
     }
   }
   out.with_osb = with_osb.resolve();
@@ -560,7 +561,7 @@ EsbcClockWideLanes runEsbcClockWideLanes(GnssSystem system) {
       const auto& o = sel.observations[i];
       if (with_grg.add(s.arc, o, &grg) != WideLaneBiasIssue::None) continue;
       with_flipped.add(s.arc, o, &flipped);
-      without.addValue(s.arc, o.satellite, melbourneWuebbena_cycles(o));
+      without.addValue(s.arc, o.satellite, melbourneWuebbena_cycles(o), o.time);
     }
   }
   out.added = with_grg.resolve();

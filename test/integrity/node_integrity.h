@@ -1,5 +1,5 @@
 #pragma once
-// Node integrity cases of issue #16 (test/integrity/node_integrity_<estimator>.test):
+// Node integrity cases (test/integrity/node_integrity_<estimator>.test):
 // four nodes of one estimator in the namespaces clean/, stamps/, burst/ and stale/
 // get the simulated loiter flight of the rostests (5 min at 1 Hz, 30 s corrections,
 // seed 7) made into a bag by this test:

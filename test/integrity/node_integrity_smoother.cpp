@@ -1,4 +1,4 @@
-// rostest: ppp_smoother_node against the node integrity cases of issue #16 (bad stamps,
+// rostest: ppp_smoother_node against the node integrity cases (bad stamps,
 // a late re-sent epoch, a duplicated stamp, a burst overflowing the queue,
 // corrections stopping): node_integrity.h.
 #include "integrity/node_integrity.h"

@@ -32,6 +32,8 @@
 #include <sensor_msgs/NavSatStatus.h>
 #include <topic_tools/shape_shifter.h>
 
+#include "ppp_bayes_tree/io/rtcm3_framer.h"
+#include "ppp_bayes_tree/io/rtcm_ssr_decoder.h"
 #include "ppp_bayes_tree/ros/message_conversions.h"
 #include "ppp_bayes_tree/types/gnss_time.h"
 #include "ros/ublox_ros_messages.h"
@@ -195,6 +197,58 @@ inline std::string makeEsbcCasterStream(const std::filesystem::path& dir, const 
                            std::to_string(duration_s) + " --out " + stream + " > " + (dir / "make.log").string() + " 2>&1";
   EXPECT_EQ(std::system(make.c_str()), 0) << make << "\n" << ppp::test::readFileBytes((dir / "make.log").string());
   return stream;
+}
+
+/// The set-up of the ESBC live SSR rostests (live_esbc_ssr, live_esbc_ssr_ar): an SSR
+/// stream made by ppp_ssr_encode's code, the caster stream ppp_stream_make makes with it,
+/// and that stream as the nodes get it: one rtcm_msgs/Message per frame in the caster's
+/// order, SSR on publisher 1 (the correction topic), the rest on 0 (the observation topic).
+struct EsbcSsrLiveCase {
+  std::string ssr, stream;  // dir/SSRC00TST_esbc.rtcm3, dir/ESBC_made.rtcm3
+  std::vector<StreamMessage> messages;
+  std::map<int, std::size_t> frames_by_type;
+  std::size_t ssr_frames = 0;
+  std::size_t framing_problems = 0;
+  std::size_t frames(std::initializer_list<int> types) const {
+    std::size_t n = 0;
+    for (int t : types) n += frames_by_type.count(t) ? frames_by_type.at(t) : 0;
+    return n;
+  }
+  /// ppp_solve's inputs for the case: `--rtcm STREAM --ref-date 2020/06/25 --nav STREAM --ssr SSR
+  /// --atx ATX... --config CONFIG...` (configs relative to the repository).
+  std::string pppSolveArgs(const std::vector<std::string>& atx, const std::vector<std::string>& configs) const {
+    std::string args = "--rtcm " + stream + " --ref-date 2020/06/25 --nav " + stream + " --ssr " + ssr + " --atx";
+    for (const auto& a : atx) args += " " + ppp::test::dataPath(a);
+    args += " --config";
+    for (const auto& c : configs) args += " " + std::string(PPP_REPO_DIR) + "/" + c;
+    return args;
+  }
+};
+
+/// Writes `ssr_bytes` and makes the caster stream from `start` ("2020/06/25 00:30:00") for
+/// `duration_s` into `dir` (call through ASSERT_NO_FATAL_FAILURE).
+inline void makeEsbcSsrLiveCase(const std::filesystem::path& dir, const std::vector<std::uint8_t>& ssr_bytes,
+                                const std::string& start, int duration_s, EsbcSsrLiveCase* out) {
+  EsbcSsrLiveCase& c = *out;
+  c.ssr = (dir / "SSRC00TST_esbc.rtcm3").string();
+  ppp::test::writeFileBytes(c.ssr, ssr_bytes);
+  c.stream = makeEsbcCasterStream(dir, ppp::test::dataPath("esbc-2020-177/ESBC00DNK_R_20201770000_01D_MN.rnx"), c.ssr, start,
+                                  duration_s);
+  ASSERT_FALSE(::testing::Test::HasFailure());
+  const std::string bytes = ppp::test::readFileBytes(c.stream);
+  std::uint32_t seq = 0;
+  ppp::Rtcm3Framer framer;
+  framer.feed(reinterpret_cast<const std::uint8_t*>(bytes.data()), bytes.size(), [&](const ppp::Rtcm3Frame& f) {
+    StreamMessage m;
+    const bool correction = ppp::RtcmSsrDecoder::isSsrMessageType(f.message_type);
+    m.publisher = correction ? 1 : 0;
+    c.ssr_frames += correction ? 1 : 0;
+    ++c.frames_by_type[f.message_type];
+    const auto* begin = reinterpret_cast<const std::uint8_t*>(bytes.data()) + f.byte_offset;
+    m.message = rtcmMessage(std::vector<std::uint8_t>(begin, begin + f.payload.size() + 6), ++seq);
+    c.messages.push_back(std::move(m));
+  });
+  c.framing_problems = framer.counters().totalProblems();
 }
 
 /// One row of a ppp_solve solution CSV with a position.

@@ -51,6 +51,9 @@
 // kept per released epoch from T - kMaxSignalTravel_s on (signals travel 64 to
 // 100 ms from MEO satellites, so every query for epoch T falls after that and
 // every query for the epoch before before it, down to 20 Hz).
+// The SSR code and phase biases (biases()) apply only to PreciseSsr epochs; in
+// BroadcastOnly epochs they have no say (BiasAnswer::applies false): the codes
+// are used as observed, as the broadcast clocks expect, and no OSB is required.
 // BroadcastOnly answers are broadcast records (BroadcastEphemerisStore) with the
 // orbit and clock sigmas widened to broadcast_orbit_sigma_m /
 // broadcast_clock_sigma_m (larger of those and the record's URA/SISA); the
@@ -64,12 +67,18 @@
 // received later would not serve the epoch anyway).
 //
 // Bad bytes never throw: CRC errors, truncation, garbage, unknown messages are
-// counted per stream (LiveStreamStatus::problems). An observation epoch at or
-// before the previous one of its stream is counted (time_backwards) and
-// dropped; a jump back by more than restart_jump_s is a receiver restart: the
-// held epochs are dropped and the jump counted (restarts), the next epochs go
-// out (PppEpochProcessor then refuses the first backwards ones; the node
-// resets as on a bag loop).
+// counted per stream (LiveStreamStatus::problems). Observation epoch times
+// pass the epoch-time policy that the offline readers apply too
+// (io/epoch_time_screen.h), so ppp_solve --rtcm/--ubx and the live input give
+// the same epochs: an epoch at the previous time or up to restart_jump_s before
+// it is dropped (time_backwards); any other jump (a week one too high, a time
+// of week days ahead, a jump back beyond restart_jump_s) is held until 3
+// epochs confirm the new time line. An isolated outlier is dropped and counted
+// (time_outliers; each listed among the problems as EpochTimeRefused with its
+// byte offset), and the stream goes on. A confirmed jump back is a receiver
+// restart: the epochs waiting for corrections are dropped and it is counted
+// (restarts), the next epochs go out (the node resets as on a bag loop); a
+// confirmed jump forward (an outage) is counted (forward_jumps).
 #include <cstdint>
 #include <map>
 #include <memory>
@@ -96,6 +105,8 @@ struct LiveInputOptions {
   /// Approximate time of the data (within half a week) for MSM and SSR times
   /// without a week (as ppp_solve --ref-date). nullopt: from the streams
   /// (Galileo/BeiDou ephemerides, UBX week) or the first preloaded navigation file.
+  /// Checked against the observation stream's ephemeris weeks: a contradiction
+  /// is reported (LiveStreamStatus::reference_date_warning), where ppp_solve refuses.
   std::optional<GnssTime> reference_time;
   /// SSR evaluation: high-rate clocks (default on), unhealthy records (default off).
   /// Its `reference` is replaced by `ssr_reference` below.
@@ -134,8 +145,9 @@ struct LiveInputOptions {
   /// clock [s] -> Warn (default 2 s), Error (default 10 s).
   double stall_warn_s = 2.0;
   double stall_error_s = 10.0;
-  /// An observation time this far [s] before the previous one is a receiver
-  /// restart (default 60 s); smaller steps back are counted and dropped.
+  /// An observation time this far [s] before the previous one is a jump back,
+  /// a receiver restart once confirmed (default 60 s); smaller steps back are
+  /// counted and dropped.
   double restart_jump_s = 60.0;
   /// At most this many epochs are held waiting (default 600); the oldest go
   /// out (as if their wait had passed) when more arrive.
@@ -174,7 +186,9 @@ struct LiveStreamStatus {
   std::uint64_t observation_epochs = 0;         // decoded
   std::uint64_t ignored_epochs = 0;             // from a stream that is not the observation stream
   std::uint64_t time_backwards = 0;             // observation epochs not after the previous one (dropped)
-  std::uint64_t restarts = 0;                   // observation time jumps back > restart_jump_s
+  std::uint64_t restarts = 0;                   // confirmed observation time jumps back > restart_jump_s
+  std::uint64_t time_outliers = 0;              // isolated time jumps not confirmed (dropped)
+  std::uint64_t forward_jumps = 0;              // confirmed jumps forward (an outage beyond 600 s)
   std::size_t ephemerides = 0;                  // navigation records decoded
   std::uint64_t ssr_messages = 0;
   std::optional<GnssTime> last_data_time;       // newest observation or SSR epoch decoded
@@ -185,6 +199,11 @@ struct LiveStreamStatus {
   /// the last chunk that completed an epoch or SSR message [s].
   std::optional<double> latency_s;
   StreamStall stall = StreamStall::Ok;          // observation stream only
+  /// Non-empty when LiveInputOptions::reference_time is contradicted by the
+  /// stream's own ephemeris weeks (io/rtcm_observation_source.h,
+  /// referenceDateContradiction: the date, the epochs' times, the evidence);
+  /// also given once by takeTimeEvents().
+  std::string reference_date_warning;
 };
 
 class LiveGnssInput {
@@ -215,6 +234,10 @@ class LiveGnssInput {
   /// True once after the observation types (or the station) changed.
   bool takeHeaderChanged();
   std::vector<LiveStreamStatus> streams() const;
+  /// What the epoch-time policy did since the last call, one sentence each (an
+  /// epoch dropped, with its stream, byte offset, time and reason; a confirmed
+  /// receiver restart), for the log; at most 100 are kept between calls.
+  std::vector<std::string> takeTimeEvents();
   /// The mode of the last released epoch (PreciseSsr before any).
   LiveProductMode mode() const;
 

@@ -9,7 +9,11 @@
 // calendar "yyyy/mm/dd hh:mm:ss.sss" (out-timeform=hms). Fields are separated by
 // blanks; numbers are written %14.4f (xyz), %14.9f (lat/lon), %10.4f (height),
 // %3d (Q, ns), %8.4f (sd), %6.2f (age), %6.1f (ratio). The sd columns hold
-// sqrt(|c|) * sign(c) of the covariance elements (RTKLIB sqvar()).
+// sqrt(|c|) * sign(c) of the covariance elements (RTKLIB sqvar()). Q follows
+// RTKLIB's SOLQ_*: 1 for a solution on fixed integer ambiguities (PPP-AR), 6 for
+// PPP float, 5 single. The ratio column holds the ratio test value of the integer
+// search of a fixed epoch (RTKLIB's "ratio factor of ambiguity validation", capped
+// at 999.9), 0 for float epochs; age is 0 (no differential corrections).
 //
 // The reader accepts both coordinate and time forms (RTKLIB files end lines in
 // CRLF: LineSource strips it), GPST and UTC times (the "%  GPST" / "%  UTC" column

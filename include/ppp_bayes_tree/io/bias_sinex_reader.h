@@ -14,6 +14,12 @@
 // several rows cover an instant, the one that started last wins. Start-only
 // (time-stamp) rows are applied piecewise constant from their start; the
 // format's optional linear interpolation between stamps is not implemented.
+//
+// Rows are checked (io/bias_bounds.h): a value beyond its bound (phase 100 ns,
+// code 1000 ns) is a problem of its line and the row is not used. Rows of the same
+// satellite (or station), type, observables and validity interval: repeats of the
+// same value are counted and the first is kept; different values conflict, each
+// later row is a problem naming the first row's line, and none of them is used.
 #include <cstddef>
 #include <map>
 #include <optional>
@@ -73,6 +79,22 @@ struct BiasValue {
   std::size_t line = 0;  // the row used (the first one for a derived DSB)
 };
 
+/// Rows read but not used because they cannot be trusted.
+struct BiasRowsRefused {
+  std::size_t beyond_bound = 0;  // |value| above its bound
+  std::size_t conflicting = 0;   // conflicting duplicates (every row of the conflict)
+  std::size_t phase_rows = 0;    // of both, the phase (L) rows
+  std::size_t first_phase_line = 0;  // the first refused phase row (0: none) and why
+  std::string first_phase_reason;
+  void countPhaseRow(std::size_t line, const std::string& reason) {
+    ++phase_rows;
+    if (first_phase_line == 0) {
+      first_phase_line = line;
+      first_phase_reason = reason;
+    }
+  }
+};
+
 /// "%=BIA" header line: version, agencies, creation time, data span, mode, count.
 struct BiasSinexHeader {
   std::string version;      // "1.00"
@@ -106,6 +128,7 @@ class BiasSinexFile {
   std::vector<std::pair<std::string, std::string>> reference;
   std::vector<BiasRecord> records;
   ParseReport report;
+  BiasRowsRefused refused;
 
   /// Satellite OSB of `code` valid at `t`; nullopt when absent.
   std::optional<BiasValue> osb(const SatelliteId& sat, const ObservationCode& code, const GnssTime& t) const;

@@ -14,6 +14,9 @@
 // tcp, ntrip:             connect_timeout_s=5, stall_timeout_s=10 (no byte for this
 //                         long: the connection is dropped and counted as a stall)
 // ntrip:                  port default 2101; version=1|2 (default 2);
+//                         credentials=PATH: user and password from a file readable by
+//                         its owner only (io/ntrip_credentials.h; also the variable
+//                         PPP_NTRIP_CREDENTIALS), so that the spec carries no password;
 //                         gga_period_s (> 0: send GGA upstream at this period, needs
 //                         lat [deg], lon [deg], h [m, ellipsoidal]).
 // file:                   speed=1 (real time x factor; 0 = as fast as read),
@@ -21,7 +24,8 @@
 //                         frames carry no epoch time.
 //
 // parseByteSourceSpec throws ByteSourceSpecError with a message naming the
-// offending part. describe() and every log line omit the password.
+// offending part. describe(), every error and every log line omit the password
+// (io/credential_mask.h maskCredentials, robust to mistyped specs).
 #include <memory>
 #include <optional>
 #include <stdexcept>
@@ -58,6 +62,7 @@ struct ByteSourceSpec {
   std::string mountpoint;
   std::string user;
   std::string password;
+  std::string credentials_file;  // credentials=PATH (io/ntrip_credentials.h); read by resolveNtripCredentials
   int ntrip_version = 2;
   std::optional<double> gga_period_s;
   std::optional<double> gga_latitude_deg;

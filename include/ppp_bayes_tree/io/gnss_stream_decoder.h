@@ -92,6 +92,9 @@ class GnssStreamDecoder {
   const GlonassChannels& glonassChannels() const;
   /// The stream's latest time (nullopt while unknown).
   std::optional<GnssTime> currentTime() const;
+  /// RTCM: what the ephemerides' broadcast weeks say about the stream's time
+  /// (Rtcm3Decoder::weekEvidence); nullptr for UBX (RXM-RAWX carries the week).
+  const BroadcastWeekEvidence* weekEvidence() const { return rtcm_ ? &rtcm_->weekEvidence() : nullptr; }
 
  private:
   void afterRtcmFrame();

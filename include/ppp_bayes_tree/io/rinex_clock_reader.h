@@ -51,6 +51,8 @@ struct RinexClockHeader {
   std::optional<int> satellite_count;   // "# OF SOLN SATS"
   std::vector<SatelliteId> prn_list;    // "PRN LIST"
   std::vector<std::string> comments;
+  std::vector<std::size_t> comment_lines;  // the file line of each comment (parallel to comments)
+  std::string pcvs_applied;  // the first "SYS / PCVS APPLIED" source, extension removed ("igs14_2108")
   std::size_t header_lines = 0;
 };
 

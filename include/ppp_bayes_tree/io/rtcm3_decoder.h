@@ -118,6 +118,16 @@ struct Rtcm3Output {
   }
 };
 
+/// What the broadcast weeks of the GPS/QZSS, Galileo and BeiDou ephemerides say
+/// about the stream's time (placed by a reference date, or by the stream): a
+/// record agrees when its toe, in the week it was sent with, lies within a day
+/// of the stream's time (a toe early in its week may come with the week before,
+/// that of transmission: the nearer reading counts).
+struct BroadcastWeekEvidence {
+  std::size_t records = 0;             // records counted (agreeing or not)
+  std::vector<double> disagreement_s;  // toe as sent minus the stream's time, of those not agreeing [s]
+};
+
 class Rtcm3Decoder {
  public:
   /// A handler for frames of types this decoder does not read (e.g. SSR);
@@ -140,6 +150,8 @@ class Rtcm3Decoder {
 
   Rtcm3Output& output() { return output_; }
   const StreamCounters& counters() const { return framer_.counters(); }
+  /// The ephemerides' broadcast weeks against the stream's time (a wrong reference date shows here).
+  const BroadcastWeekEvidence& weekEvidence() const { return week_evidence_; }
   const RtcmStationInfo& station() const { return station_; }
   const GlonassChannels& glonassChannels() const { return channels_; }
   /// Messages decoded per type (a subset of counters().frames_by_type).
@@ -152,6 +164,8 @@ class Rtcm3Decoder {
   const std::optional<GnssTime>& currentTime() const { return time_; }
 
  private:
+  void noteWeekEvidence(const GnssTime& toe_as_sent, double toe_sow);
+  BroadcastWeekEvidence week_evidence_;
   struct PendingGps {
     GpsLnavEphemeris eph;
     int week10 = 0;

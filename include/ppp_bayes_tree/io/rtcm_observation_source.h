@@ -10,8 +10,13 @@
 // it starts with the channels learned by the scan, so GLONASS phases are complete
 // from the first epoch even when the first 1020 comes later.
 //
-// Problems of the stream (CRC errors, garbage, unknown types, unresolved time)
-// are listed by problems() with their byte offset and frame index.
+// Both passes screen the epoch times with the streams' epoch-time policy
+// (io/epoch_time_screen.h, as the live input does): an isolated epoch with a bad
+// time (e.g. one MSM frame's time of week days ahead) is dropped and listed, and
+// neither decides the header's time span nor stops the epochs after it.
+//
+// Problems of the stream (CRC errors, garbage, unknown types, unresolved time,
+// epoch times refused) are listed by problems() with their byte offset and frame index.
 #include <array>
 #include <cstdio>
 #include <map>
@@ -19,6 +24,7 @@
 #include <string>
 #include <vector>
 
+#include "ppp_bayes_tree/io/epoch_time_screen.h"
 #include "ppp_bayes_tree/io/observation_source.h"
 #include "ppp_bayes_tree/io/rtcm3_decoder.h"
 
@@ -40,9 +46,21 @@ void streamEpochToObsEpoch(const StreamEpoch& in, const RinexObsHeader& header, 
 /// Header fields from the station description (marker name = station id, 4 digits).
 void fillStationHeader(const RtcmStationInfo& station, RinexObsHeader& header);
 
+/// With a reference date given for MSM times (ppp_solve --ref-date), checks it
+/// against what the stream itself says: the broadcast weeks of its GPS/QZSS,
+/// Galileo and BeiDou ephemerides (Rtcm3Decoder::weekEvidence: each record's
+/// toe in the week it was sent with, against the stream's time the date gave).
+/// When most of them (of at least 3) disagree by more than a day, the sentence
+/// naming the date, the epochs' times and the evidence (counts, median offset
+/// in days, the date the stream gives); nullopt otherwise.
+std::optional<std::string> referenceDateContradiction(const GnssTime& reference, const GnssTime& first,
+                                                      const GnssTime& last, const BroadcastWeekEvidence& evidence);
+
 class RtcmObservationSource : public ObservationSource {
  public:
-  /// Scans the file (throws FileOpenError when it cannot be opened).
+  /// Scans the file (throws FileOpenError when it cannot be opened, ParseError
+  /// when a reference date given contradicts the stream's ephemerides:
+  /// referenceDateContradiction).
   explicit RtcmObservationSource(const std::string& path, Rtcm3DecoderOptions options = {});
   ~RtcmObservationSource() override;
 
@@ -58,6 +76,8 @@ class RtcmObservationSource : public ObservationSource {
   const Rtcm3Output& scanNavigation() const { return scan_nav_; }
   const RtcmStationInfo& station() const { return station_; }
   std::size_t scanEpochs() const { return scan_epochs_; }
+  /// The epochs the time policy dropped so far (streaming pass), with reasons and byte offsets.
+  const StreamCounters& timeScreen() const { return screen_.counters(); }
 
  private:
   bool fill();
@@ -72,6 +92,7 @@ class RtcmObservationSource : public ObservationSource {
   std::size_t size_bytes_ = 0, read_bytes_ = 0;
   std::unique_ptr<std::FILE, int (*)(std::FILE*)> file_{nullptr, &std::fclose};
   std::unique_ptr<Rtcm3Decoder> decoder_;
+  EpochTimeScreen<StreamEpoch> screen_;
   std::vector<StreamEpoch> queue_;
   std::size_t queue_next_ = 0;
   bool finished_ = false;

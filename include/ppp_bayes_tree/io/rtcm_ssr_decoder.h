@@ -81,6 +81,8 @@ class RtcmSsrDecoder {
 
  private:
   void problem(StreamProblemKind kind, const Rtcm3Frame& frame, std::string detail);
+  /// Drops the code and phase biases beyond their bounds (io/bias_bounds.h), each a problem.
+  void refuseImplausibleBiases(const Rtcm3Frame& frame, SsrMessage& m);
   std::optional<GnssTime> resolveEpoch(const SsrHeader& header, bool igs) const;
 
   std::optional<GnssTime> reference_;

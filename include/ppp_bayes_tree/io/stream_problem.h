@@ -25,6 +25,8 @@ enum class StreamProblemKind {
   UnresolvedTime,       // a time that cannot be placed (no week known)
   SsrWithoutBroadcast,  // an SSR correction for an IOD with no broadcast record
   SsrTooOld,            // an SSR correction older than its validity
+  EpochTimeRefused,     // an observation epoch whose time does not continue the stream (io/epoch_time_screen.h)
+  ImplausibleValue,     // a value beyond its physical bound (e.g. a bias: io/bias_bounds.h), not used
 };
 
 std::string_view streamProblemKindName(StreamProblemKind kind);

@@ -8,7 +8,10 @@
 //
 // RXM-RAWX (0x02 0x15). Time: GnssTime::fromGpsWeek(week, rcvTow) (rcvTow is
 // "approximately aligned to GPS time": the receiver clock offset stays in it, as
-// in RINEX); leapS is kept when recStat bit 0 says it is valid. Per measurement:
+// in RINEX); leapS is kept when recStat bit 0 says it is valid. An epoch with the
+// time of the previous one is dropped (MalformedMessage); every other time order
+// (a step back, a week one too high) is judged by the stream's epoch-time policy
+// (io/epoch_time_screen.h), not here. Per measurement:
 //  - pseudorange when trkStat bit 0 (prValid);
 //  - carrier phase when trkStat bit 1 (cpValid), cpMes != -0.5 and cpStdev
 //    (4 bits, 0.004 cycles each) <= options.max_phase_stdev_index (5 = RTKLIB's

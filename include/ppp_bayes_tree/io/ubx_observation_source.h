@@ -13,6 +13,9 @@
 //
 // The ephemerides are in the io layer's record types; a caller adds them to a
 // BroadcastEphemerisStore (models/broadcast_ephemeris_store.h) with add().
+// The decoded epochs pass the streams' epoch-time policy (io/epoch_time_screen.h,
+// as in the live input): an isolated epoch with a bad time (a week one too high)
+// is dropped and listed, the epochs after it are served.
 // Framing and decoding problems (byte offset, frame index) are listed by
 // problems() as "<file>: byte N (frame K), type T: ..." (line 0).
 #include <memory>
@@ -60,7 +63,10 @@ class UbxObservationSource : public ObservationSource {
 
   const UbxNavigationRecords& navigation() const { return navigation_; }
   const std::vector<UbxObservationEpoch>& decodedEpochs() const { return epochs_; }
+  /// Decoding problems and the epochs the time policy dropped (EpochTimeRefused).
   const StreamCounters& counters() const { return counters_; }
+  /// The epochs the time policy dropped, each with its reason and byte offset.
+  const StreamCounters& timeScreen() const { return time_screen_; }
   const UbxDecoderStatistics& statistics() const { return statistics_; }
 
  private:
@@ -68,7 +74,10 @@ class UbxObservationSource : public ObservationSource {
   RinexObsHeader header_;
   std::vector<UbxObservationEpoch> epochs_;
   UbxNavigationRecords navigation_;
+  void screenEpochTimes();
+
   StreamCounters counters_;
+  StreamCounters time_screen_;
   UbxDecoderStatistics statistics_;
   std::size_t next_ = 0;
 };

@@ -22,6 +22,11 @@ struct BiasAnswer {
   /// The same answer holds over [valid_from, valid_until] (nullopt = unbounded).
   /// An absent bias holds for the asked instant only.
   std::optional<GnssTime> valid_from, valid_until;
+  /// false: the provider has no say at this instant, e.g. SSR biases while the
+  /// SSR orbit and clock corrections are too old and broadcast orbits and clocks
+  /// serve (their clocks refer to the codes as observed): the signal is used
+  /// without a bias and none is required.
+  bool applies = true;
 };
 
 class BiasProvider {

@@ -2,7 +2,8 @@
 // Broadcast products for a PPP run (ppp_solve --nav FILE... [--ssr FILE]):
 //  - without SSR: the broadcast records alone (BroadcastEphemerisStore), metre
 //    level, and the run notes say so;
-//  - with SSR: BroadcastSsrEphemeris over the decoded stream, its reference
+//  - with SSR: BroadcastSsrEphemeris over the decoded stream (falling back to
+//    the broadcast records where its corrections are too old), its reference
 //    point declared (or taken from the stream name: SSRA = antenna phase centre,
 //    SSRC = centre of mass; otherwise centre of mass), and the stream's code and
 //    phase biases as an SsrBiasProvider (null when the stream has none).
@@ -24,18 +25,32 @@
 
 namespace ppp {
 
+class BroadcastSsrEphemeris;
+
 struct BroadcastProducts {
   std::shared_ptr<const EphemerisSource> ephemeris;
+  /// With SSR: the SSR-corrected broadcast ephemeris inside `ephemeris` (which
+  /// falls back to the broadcast records where its corrections are too old); null without SSR.
+  std::shared_ptr<const BroadcastSsrEphemeris> corrected;
   std::shared_ptr<const BiasProvider> ssr_biases;  // null without SSR code biases
   bool ssr_phase_biases = false;                   // the SSR stream carries phase biases
   std::vector<std::string> notes;
   std::vector<std::string> problems;
 };
 
-/// Throws FileOpenError / ParseError on unreadable files.
+/// The first and last observation epoch of a run.
+struct ObservationSpan {
+  GnssTime first, last;
+};
+
+/// Throws FileOpenError / ParseError on unreadable files. With SSR, the
+/// ephemeris falls back to the broadcast records where the corrections are too
+/// old (models/ssr_broadcast_fallback.h); with `observation_span`, a note says
+/// when that is so at its first or last epoch, and how old the corrections are.
 BroadcastProducts loadBroadcastProducts(const std::vector<std::string>& nav, const std::optional<std::string>& ssr,
                                         std::optional<EphemerisReference> ssr_reference = std::nullopt,
                                         SsrAgeLimits limits = {},
-                                        std::optional<GnssTime> stream_reference_time = std::nullopt);
+                                        std::optional<GnssTime> stream_reference_time = std::nullopt,
+                                        std::optional<ObservationSpan> observation_span = std::nullopt);
 
 }  // namespace ppp

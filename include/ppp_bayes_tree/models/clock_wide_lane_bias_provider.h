@@ -19,8 +19,9 @@
 // pair in the last field of each line: "0102" GPS L1/L2, "0105" Galileo E1/E5a):
 //   GPS      L1/L2   codes C1W/C2W (P1/P2; "SYS / DCBS APPLIED" P1C1)
 //   Galileo  E1/E5a  codes C1C/C5Q (or the combined C1X/C5X)
-// A line whose pair differs from its system's (e.g. Galileo E1/E5b) is reported
-// as a problem and not used.
+// A line whose pair differs from its system's (e.g. Galileo E1/E5b), that is not
+// "WL sat date count value", or whose value is beyond 5 wide-lane cycles
+// (io/bias_bounds.h) is reported as a problem with its file line and not used.
 #include <map>
 #include <memory>
 #include <optional>
@@ -44,12 +45,16 @@ std::optional<ClockWideLaneSignals> clockWideLaneSignals(GnssSystem system);
 
 struct ClockWideLaneBiases {
   std::map<SatelliteId, double> wide_lane_cycles;
-  std::vector<std::string> problems;  // malformed WL comment lines, with the line
+  std::vector<std::string> problems;  // refused WL comment lines, with the line
+  std::size_t lines = 0;              // "WL " comment lines read
+  std::size_t refused = 0;            // of them, refused
 };
 
 /// Reads the "WL Xnn ..." comments of a clock header (comments as stored by the
-/// RINEX clock reader, trimmed, without the "COMMENT" label).
-ClockWideLaneBiases parseClockWideLaneBiases(const std::vector<std::string>& comments);
+/// RINEX clock reader, trimmed, without the "COMMENT" label; `lines` their file
+/// lines, RinexClockHeader::comment_lines: problems name them, else the comment's index).
+ClockWideLaneBiases parseClockWideLaneBiases(const std::vector<std::string>& comments,
+                                             const std::vector<std::size_t>& lines = {});
 
 class ClockWideLaneBiasProvider : public BiasProvider {
  public:
@@ -71,9 +76,20 @@ class ClockWideLaneBiasProvider : public BiasProvider {
   double sign_ = -1.0;
 };
 
-/// The wide-lane satellite biases in the headers of integer-recovery clock files
-/// (`headers` read from `clock_files`, in order; GRG sign); nullptr unless every
-/// clock file lists them. Malformed WL lines go to `problems`, with the file name.
+/// The wide-lane satellite biases of integer-recovery clock headers.
+struct IntegerRecoveryClockBiases {
+  std::shared_ptr<const ClockWideLaneBiasProvider> provider;  // nullptr unless every clock file lists usable ones
+  std::vector<std::string> problems;  // "<file>: line <n> (comment \"...\"): <why>"
+  std::size_t lines = 0, refused = 0;  // WL comment lines read and refused, over the files
+  /// Why there is no provider although the headers hold WL lines ("" otherwise):
+  /// "all 66 wide-lane lines of the clock header refused (first: ...)".
+  std::string whyNone() const;
+};
+/// Reads them from `headers` (read from `clock_files`, in order; GRG sign).
+IntegerRecoveryClockBiases readIntegerRecoveryClockBiases(const std::vector<RinexClockHeader>& headers,
+                                                          const std::vector<std::string>& clock_files);
+
+/// The provider of readIntegerRecoveryClockBiases; its problems go to `problems`.
 std::shared_ptr<const ClockWideLaneBiasProvider> integerRecoveryClockBiases(
     const std::vector<RinexClockHeader>& headers, const std::vector<std::string>& clock_files,
     std::vector<std::string>& problems);

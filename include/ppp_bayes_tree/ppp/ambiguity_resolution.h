@@ -41,7 +41,8 @@
 //  6. Partial fixing of the best-determined subset: the candidates are ordered
 //     by the sigma of their float and the worst are dropped one by one until the
 //     full-set LAMBDA of the rest passes the ratio test (and, with
-//     hold.require_subset_success_rate, the bootstrapped success rate
+//     hold.require_subset_success_rate, or for a subset of at most
+//     hold.small_subset_max_size integers, the bootstrapped success rate
 //     narrow_lane.min_success_rate), with every integer within
 //     hold.max_fraction_cycles of its float
 //     (Teunissen & Verhagen 2009 for the ratio test as a validation; the
@@ -115,6 +116,16 @@ struct AmbiguityHoldOptions {
   /// kinematic subsets of the first half hour stay below 0.999 although their
   /// integers are right: no fixed epoch > 10 cm from the truth either way).
   bool require_subset_success_rate = false;
+  /// Subsets of at most this many integers must reach the bootstrapped success
+  /// rate narrow_lane.min_success_rate as well as the ratio test, whatever
+  /// require_subset_success_rate says (0 = none). The ratio test is a weak test
+  /// in few dimensions (Verhagen & Teunissen 2013: its failure rate at a fixed
+  /// threshold grows as the dimension drops): for one integer, ratio 3 accepts any
+  /// float within 0.37 cycle of an integer, whatever its sigma. Such small subsets
+  /// are what partial fixing adds to an existing held set (min_fixed - held),
+  /// while the first fix needs min_fixed integers together and keeps the ratio
+  /// test alone, so this costs no time to first fix (doc/ar_real_data.md).
+  int small_subset_max_size = 3;
   /// Consecutive searches giving the same integer before it is held.
   int validation_epochs = 5;
   /// Fewer of them for a well-determined subset: when the bootstrapped success

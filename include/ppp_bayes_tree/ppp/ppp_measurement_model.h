@@ -48,7 +48,9 @@
 // configuration ../shared/peers/rtklib-ppp-kinematic.conf) is scaled for the IF
 // combination by sqrt(alpha^2 + beta^2) (2.98 for GPS L1/L2; RTKLIB uses 3), and
 // the code sigma is code_phase_ratio (default 300; RTKLIB stats-eratio1 is 100) times
-// the phase sigma.
+// the phase sigma. These are the sigmas of one sample (screening); the estimators
+// weight the code with the variance inflated for its time correlation over the
+// epoch interval (StochasticModel::code_correlation_time_s, time_correlated_noise.h).
 //
 // Threading and cost: evaluate() is const and allocation-free once the output
 // vectors have grown (except rejection reason strings); about 3 us per

@@ -31,7 +31,11 @@
 //    lines of the clock header: Laurichesse et al. 2009, Navigation 56(2)), or
 //    SSR phase biases (they are made with the stream's clocks); and (b) the
 //    satellite antennas in use are of the products' model
-//    (antenna_model_consistency.h). Otherwise float, with the reason;
+//    (antenna_model_consistency.h). Otherwise float, with the reason. Phase
+//    inputs are checked first (io/bias_bounds.h): implausible phase OSB rows,
+//    conflicting duplicates and wide-lane lines are problems with their file and
+//    line and are not used; when nothing usable is left the reason says so
+//    (PhaseInformationRefused);
 //  - true: fixes with whatever consistent phase information there is; refuses only
 //    a known antenna-model difference (the behaviour before `auto`).
 // allow_antenna_model_mismatch lets both fix despite a different or unknown model.
@@ -40,6 +44,7 @@
 #include <string>
 #include <vector>
 
+#include "ppp_bayes_tree/io/rinex_clock_reader.h"
 #include "ppp_bayes_tree/models/antex_calibrations.h"
 #include "ppp_bayes_tree/models/bias_provider.h"
 #include "ppp_bayes_tree/models/ephemeris_source.h"
@@ -72,6 +77,10 @@ struct ProductAssemblyInputs {
   bool check_products = true;                       // product sanity checks of SP3/CLK
   /// Neither precise nor broadcast files: the orbits and clocks are streamed.
   StreamedProductInfo streamed;
+  /// The streamed orbits and clocks are a live SSR feed (RTCM SSR, IGS-SSR): it names
+  /// no satellite antenna model, the configuration's ssr.antenna_model is taken for it
+  /// (as for an SSR recording); empty there: not known, auto stays float and says so.
+  bool live_ssr = false;
   std::vector<std::string> atx;
   std::optional<std::string> bias, blq;
   /// The observations' span (products outside it are not read; the antenna
@@ -96,6 +105,8 @@ enum class ArGateReason {
   NoConsistentPhaseBiases,  // no phase information consistent with the clocks
   AntennaModelDifferent,    // the satellite antennas in use are not of the products' model
   AntennaModelUnknown,      // (auto) the products' or the ANTEX's model is not known
+  PhaseInformationRefused,  // the phase information there was is refused (io/bias_bounds.h): every
+                            // phase OSB row, or every wide-lane line of the clock header
 };
 std::string toString(ArGateReason r);  // "fixing", "disabled", "no consistent phase biases", ...
 
@@ -162,11 +173,13 @@ class ProductAssembly {
   void checkSatelliteAntennas(const ProductAssemblyInputs& in, const std::vector<std::string>& product_models,
                               const OrbitClockProducts& orbit_clock);
   void decideArGate(const ProductAssemblyInputs& in, const OrbitClockProducts& orbit_clock);
-  void findPhaseInformation(const ProductAssemblyInputs& in, const OrbitClockProducts& orbit_clock);
+  /// Sets verdict_.phase and detail; true when the phase information there was is refused.
+  bool findPhaseInformation(const ProductAssemblyInputs& in, const OrbitClockProducts& orbit_clock);
 
   ProductAssemblyInputs inputs_;
   PppConfig config_;
   std::shared_ptr<ProductSet> set_;
+  std::vector<RinexClockHeader> clock_headers_;  // of inputs_.clk, read once
   std::shared_ptr<const AntexCalibrations> antennas_;
   std::shared_ptr<const EphemerisSource> ephemeris_;
   std::shared_ptr<const BiasProvider> code_biases_;

@@ -127,10 +127,14 @@ class SignalSelector {
     bool valid = false;
     ObservationCode code;
     std::optional<double> value_m;
+    bool applies = true;  // BiasAnswer::applies
     std::optional<GnssTime> from, until;
   };
 
-  std::optional<double> codeOsb_m(const SatelliteId& sat, int slot, const ObservationCode& code, const GnssTime& t);
+  /// The code OSB of a signal, nullopt when the provider has none; `applies` is
+  /// set false when the provider has no say at `t` (BiasAnswer::applies).
+  std::optional<double> codeOsb_m(const SatelliteId& sat, int slot, const ObservationCode& code, const GnssTime& t,
+                                  bool& applies);
   double phaseShift_cycles(const SystemColumns& sc, const SatelliteId& sat, const ObservationCode& code) const;
 
   SignalSelectionOptions options_;

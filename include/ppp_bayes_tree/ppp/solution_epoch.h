@@ -32,6 +32,11 @@ struct SolutionEpoch {
   int satellites_rejected = 0;
   std::optional<double> zwd_m;             // zenith wet delay
   std::optional<double> receiver_clock_m;  // receiver clock times c
+  /// The ratio test value of the integer search behind a fixed solution
+  /// (AmbiguityFixSummary::ratio of this epoch's search when it passed, else of the
+  /// latest one that passed since the solution became fixed: held integers are not
+  /// searched again every epoch); nullopt unless status is PppFixed.
+  std::optional<double> ambiguity_ratio;
   /// The epoch consistency test of the estimator's solution (solution_integrity.h).
   SolutionIntegrity integrity = SolutionIntegrity::Unchecked;
 };

@@ -29,6 +29,16 @@
 //    min(q^2 dt, sigma0^2) (2000^2 m^2/s x dt, i.e. 11 km for 30 s; the a priori
 //    3e6 m (10 ms) applies to the first epoch and caps long gaps). The value kept
 //    as the predicted mean only serves as the linearisation point.
+//
+// Code noise correlation (time_correlated_noise.h): code multipath is a
+// Gauss-Markov error with a correlation time of seconds to minutes, so code
+// samples taken closer than that are not independent. Each code variance of
+// the update (EKF) or code factor (smoother) is multiplied by (1 + rho) / (1 - rho),
+// rho = exp(-dt / code_correlation_time_s), dt the interval since the last
+// solved epoch (1 at the first epoch and after long gaps): the code then brings
+// the same information per second at 1 Hz as at 30 s, and the float covariance
+// holds the correlated code error instead of averaging it away at the sampling
+// rate. The screening keeps the white sigma (one sample's variance is unchanged).
 #include <string>
 
 namespace ppp {
@@ -59,6 +69,13 @@ struct StochasticModel {
   /// A priori value of the zenith wet delay [m] (not in the method's table:
   /// a typical mid-latitude value; the 0.3 m a priori sigma covers it).
   double initial_zwd_m = 0.1;
+  /// Correlation time of the code errors [s] (first-order Gauss-Markov); 0 =
+  /// white (no inflation). See above and config/ppp.yaml.
+  double code_correlation_time_s = 15.0;
+
+  /// Variance factor (1 + rho) / (1 - rho) of a code sample dt_s after the
+  /// previous solved epoch (>= 1; 1 for white code, dt_s <= 0 or a long gap).
+  double codeVarianceFactor(double dt_s) const;
 
   /// Empty when valid, else the first problem ("clock.initial_sigma_m must be > 0").
   std::string validate() const;

@@ -26,9 +26,13 @@
 // P >= min_success_rate and its distance to the nearest integer is at most
 // max_fraction_cycles (a guard against unmodelled biases, which P ignores).
 //
-// Sigma of an arc's mean: the sample standard deviation of its MW values over
-// sqrt(n), floored at min_sigma_cycles / sqrt(n) and, since MW errors are time
-// correlated (multipath), with n counted as samples / correlation_samples.
+// Sigma of an arc's mean: the sample standard deviation of its MW values
+// (floored at min_sigma_cycles) over sqrt(n_eff). MW errors are time correlated
+// (code multipath), so n_eff is the number of independent samples of a
+// first-order Gauss-Markov error with correlation time correlation_time_s at the
+// arc's mean sampling interval (time_correlated_noise.h, Bartlett 1946): the
+// averaging length is a time, and 30 s and 1 Hz data reach the same sigma after
+// the same time (about duration / (2 tau) independent samples when dt << tau).
 #include <functional>
 #include <map>
 #include <optional>
@@ -61,7 +65,11 @@ double melbourneWuebbena_cycles(const DualFrequencyObservation& obs);
 struct WideLaneOptions {
   int min_samples = 10;              // epochs of an arc before it may be fixed
   double min_sigma_cycles = 0.15;    // floor of the per-epoch MW sigma [WL cycles]
-  double correlation_samples = 4.0;  // epochs per independent MW sample
+  /// Correlation time of the MW errors [s] (0 = white). 15 s, the code
+  /// multipath's (StochasticModel::code_correlation_time_s): 1.3 epochs per
+  /// independent sample at 30 s, 30 at 1 Hz (the former fixed count of 4 epochs
+  /// gave 1-Hz MW means a variance 7.5 times too small).
+  double correlation_time_s = 15.0;
   double min_success_rate = 0.999;   // rounding success probability to fix
   double max_fraction_cycles = 0.25; // largest |float - integer| accepted
 };
@@ -73,6 +81,9 @@ struct WideLaneArcMean {
   int samples = 0;
   double mean_cycles = 0.0;
   double sum_squares = 0.0;  // of deviations from the mean (Welford)
+  std::optional<GnssTime> first_time, last_time;  // of the samples
+  /// Mean interval between the samples [s] (0 with fewer than two).
+  double meanInterval_s() const;
   /// Sigma of the mean [WL cycles] under the options' noise model.
   double sigmaOfMean_cycles(const WideLaneOptions& options) const;
 };
@@ -105,8 +116,8 @@ class WideLaneResolver {
   /// Adds one corrected MW sample to `arc`; returns the issue when the
   /// observation could not be corrected (nothing added then).
   WideLaneBiasIssue add(ArcId arc, const DualFrequencyObservation& obs, const BiasProvider* biases);
-  /// Adds an already corrected MW value [WL cycles].
-  void addValue(ArcId arc, const SatelliteId& satellite, double mw_cycles);
+  /// Adds an already corrected MW value [WL cycles] observed at `time`.
+  void addValue(ArcId arc, const SatelliteId& satellite, double mw_cycles, const GnssTime& time);
   /// Forgets an arc (ended: slip, gap, satellite set).
   void removeArc(ArcId arc) { arcs_.erase(arc); }
 

@@ -86,12 +86,13 @@
 #include "ppp_bayes_tree/models/correction_buffer.h"
 #include "ppp_bayes_tree/models/stream_bias_provider.h"
 #include "ppp_bayes_tree/ppp/epoch_estimator.h"
-#include "ppp_bayes_tree/ppp/epoch_time_guard.h"
+#include "ppp_bayes_tree/io/epoch_time_guard.h"
 #include "ppp_bayes_tree/ppp/ppp_config.h"
 #include "ppp_bayes_tree/ppp/ppp_epoch_processor.h"
 #include "ppp_bayes_tree/ros/gnss_stream_subscriber.h"
 #include "ppp_bayes_tree/ros/message_conversions.h"
 #include "ppp_bayes_tree/ros/node_options.h"
+#include "ppp_bayes_tree/ros/sim_clock_watch.h"
 
 namespace ppp_ros {
 
@@ -178,6 +179,8 @@ class PppNode {
   const ppp::SmoothedTrajectoryProvider* smoother() const { return estimator_->smoothing(); }
   void setDatum(const Eigen::Vector3d& position_ecef_m);
   void resetEstimator(const std::string& why);
+  /// At start (smoother node): full smoother = warn what it costs; fixed lag = where the states go.
+  void announceSmootherCost() const;
   /// Hands the live feed's SSR phase biases to the product assembly's PPP-AR gate;
   /// true when the processor must get the new phaseBiases().
   bool acceptLivePhaseBiases();
@@ -232,6 +235,7 @@ class PppNode {
   tf2_ros::Buffer tf_buffer_;
   tf2_ros::TransformListener tf_listener_;
   diagnostic_updater::Updater diagnostics_;
+  std::unique_ptr<SimClockWatch> sim_clock_watch_;  // says so while /use_sim_time waits for /clock
   nav_msgs::Path path_;
 
   // attitude (lever arm): the newest message, and the one applied to each epoch (by stamp)

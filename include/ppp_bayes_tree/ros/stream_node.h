@@ -33,6 +33,7 @@
 #include "ppp_bayes_tree/io/rtcm3_framer.h"
 #include "ppp_bayes_tree/io/stream_format.h"
 #include "ppp_bayes_tree/io/ubx_framer.h"
+#include "ppp_bayes_tree/ros/sim_clock_watch.h"
 
 namespace ppp_ros {
 
@@ -89,6 +90,7 @@ class StreamNode {
   std::optional<std::chrono::steady_clock::time_point> last_byte_time_;
   std::chrono::steady_clock::time_point start_time_;
   diagnostic_updater::Updater diagnostics_;
+  std::unique_ptr<SimClockWatch> sim_clock_watch_;  // says so while /use_sim_time waits for /clock
 };
 
 /// The whole main() of ppp_stream_node (ros/node_main.h runNode): 0 after shutdown, 1 when it could not start.

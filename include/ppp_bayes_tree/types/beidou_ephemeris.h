@@ -35,10 +35,10 @@ inline bool BeidouEphemeris::isGeo() const { return isBeidouGeo(satellite.prn); 
 // toBdtWeek (types/gnss_time.h).
 
 /// URA [m] of a URA index N (BDS-SIS-ICD-B1I 3.0, 5.2.4.5, the GPS definition of
-/// IS-GPS-200 20.3.3.3.1.3): 2^(1 + N/2) for N <= 6, 2^(N - 2) for 6 < N < 15;
-/// N = 15 (no accuracy prediction) gives 8192 m, as RINEX writers do.
+/// IS-GPS-200 20.3.3.3.1.1): the one table of types/broadcast_accuracy.h (nominal
+/// 2.0, 2.8, 4.0, 5.7, 8.0, 11.3, 16, 32 ... 4096 m; N = 15 gives 8192 m, as RINEX writers do).
 double beidouUra_m(int index);
-/// The URA index whose nominal value is nearest to `ura_m` (inverse of beidouUra_m).
+/// The URA index of `ura_m` (the range it falls in; inverse of beidouUra_m).
 int beidouUraIndex(double ura_m);
 
 }  // namespace ppp

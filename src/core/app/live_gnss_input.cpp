@@ -5,6 +5,7 @@
 #include <deque>
 #include <sstream>
 
+#include "ppp_bayes_tree/io/epoch_time_screen.h"
 #include "ppp_bayes_tree/io/gnss_stream_decoder.h"
 #include "ppp_bayes_tree/io/rinex_nav_reader.h"
 #include "ppp_bayes_tree/io/rtcm_observation_source.h"
@@ -45,16 +46,20 @@ struct ModeSpan {
   bool widened = false;  // broadcast answers with the fallback sigmas
 };
 
-struct StreamState {
-  std::unique_ptr<GnssStreamDecoder> decoder;
-  LiveStreamStatus status;
-  std::optional<GnssTime> last_epoch;  // newest accepted observation time
-  std::optional<GnssTime> last_ssr;    // newest SSR epoch of this stream
-};
-
 struct HeldEpoch {
   StreamEpoch epoch;
   std::optional<double> arrival_s;
+};
+
+struct StreamState {
+  std::unique_ptr<GnssStreamDecoder> decoder;
+  LiveStreamStatus status;
+  /// The epoch-time policy of the offline readers (io/epoch_time_screen.h).
+  std::unique_ptr<EpochTimeScreen<HeldEpoch>> screen;
+  std::optional<GnssTime> last_epoch;  // newest accepted observation time
+  std::optional<GnssTime> last_ssr;    // newest SSR epoch of this stream
+  std::size_t time_problems_reported = 0;  // of screen->counters().problems
+  std::optional<GnssTime> first_epoch;     // first accepted observation time
 };
 
 }  // namespace
@@ -72,6 +77,8 @@ struct LiveGnssInput::Impl : public EphemerisSource {
   std::optional<std::string> observation_stream;
   std::optional<GnssTime> reference;  // for week-less SSR times
   std::deque<HeldEpoch> held;
+  static constexpr std::size_t kMaxTimeEvents = 100;  // until taken
+  std::vector<std::string> time_events;               // takeTimeEvents()
   StreamSignalInventory inventory;
   RinexObsHeader header;
   std::string station_key;
@@ -139,6 +146,9 @@ struct LiveGnssInput::Impl : public EphemerisSource {
     StreamState s;
     s.decoder = std::make_unique<GnssStreamDecoder>(format, rtcm);
     if (reference) s.decoder->setSsrReferenceTime(*reference);
+    EpochTimeGuardOptions time_policy = streamEpochTimeOptions();
+    time_policy.out_of_order_window_s = options.restart_jump_s;
+    s.screen = std::make_unique<EpochTimeScreen<HeldEpoch>>(time_policy);
     s.status.stream = chunk.stream;
     s.status.format = format;
     stream_order.push_back(chunk.stream);
@@ -170,16 +180,47 @@ struct LiveGnssInput::Impl : public EphemerisSource {
     }
   }
 
-  void acceptEpoch(StreamState& s, StreamEpoch&& e, const std::optional<double>& arrival_s) {
-    if (s.last_epoch && !(*s.last_epoch < e.time)) {
-      if (*s.last_epoch - e.time > options.restart_jump_s) {
-        ++s.status.restarts;  // receiver restart: what was held belongs to the old run
-        held.clear();
-      } else {
-        ++s.status.time_backwards;
-        return;
-      }
+  /// An observation epoch through the stream's time policy: isolated bad times
+  /// are dropped (counted by reason), a confirmed jump back is a receiver restart.
+  void screenEpoch(StreamState& s, StreamEpoch&& e, const std::optional<double>& arrival_s) {
+    const GnssTime t = e.time;
+    const EpochOrigin origin{e.byte_offset, e.frame_index, 0};
+    applyScreen(s, s.screen->push(t, origin, HeldEpoch{std::move(e), arrival_s}));
+  }
+  void applyScreen(StreamState& s, EpochTimeScreen<HeldEpoch>::Result&& r) {
+    const EpochTimeScreen<HeldEpoch>& screen = *s.screen;
+    s.status.time_backwards = screen.dropped(TimeDropReason::Duplicate) + screen.dropped(TimeDropReason::OutOfOrder);
+    s.status.time_outliers = screen.dropped(TimeDropReason::UnconfirmedJump);
+    s.status.restarts = screen.resets();
+    s.status.forward_jumps = screen.forwardJumps();
+    const auto& problems = screen.counters().problems;
+    for (; s.time_problems_reported < problems.size(); ++s.time_problems_reported)
+      if (time_events.size() < kMaxTimeEvents)
+        time_events.push_back(s.status.stream + ": " + problems[s.time_problems_reported].describe());
+    if (r.reset_step_s) {
+      held.clear();  // receiver restart: what was held belongs to the old run
+      if (time_events.size() < kMaxTimeEvents)
+        time_events.push_back(s.status.stream + ": observation time went back by " +
+                              std::to_string(static_cast<long long>(std::llround(-*r.reset_step_s))) +
+                              " s, confirmed by the following epochs: receiver restart");
     }
+    for (auto& kept : r.accepted) acceptEpoch(s, std::move(kept.payload.epoch), kept.payload.arrival_s);
+  }
+
+  /// A reference date given (options.reference_time) that the stream's own
+  /// ephemeris weeks contradict: said once per stream (status and time events).
+  void checkReferenceDate(StreamState& s) {
+    if (!options.reference_time || !s.first_epoch || !s.last_epoch || !s.status.reference_date_warning.empty()) return;
+    const BroadcastWeekEvidence* evidence = s.decoder->weekEvidence();
+    if (!evidence) return;
+    if (const auto why = referenceDateContradiction(*options.reference_time, *s.first_epoch, *s.last_epoch, *evidence)) {
+      s.status.reference_date_warning = *why;
+      if (time_events.size() < kMaxTimeEvents) time_events.push_back(s.status.stream + ": " + *why);
+    }
+  }
+
+  void acceptEpoch(StreamState& s, StreamEpoch&& e, const std::optional<double>& arrival_s) {
+    if (!s.first_epoch) s.first_epoch = e.time;
     s.last_epoch = e.time;
     ++s.status.observation_epochs;
     const auto before = inventory.signals;
@@ -228,7 +269,12 @@ struct LiveGnssInput::Impl : public EphemerisSource {
       if (!newest_data || *newest_data < *m.header.epoch) newest_data = *m.header.epoch;
     }
     if (!bias_provider && (store->codeBiasCount() > 0 || store->phaseBiasCount() > 0))
-      bias_provider = std::make_shared<SsrBiasProvider>(store, s.status.stream);
+      // The SSR biases belong to the SSR-corrected clocks: in the broadcast fallback
+      // they do not apply (codes as observed, as the broadcast clocks expect).
+      bias_provider = std::make_shared<SsrBiasProvider>(
+          store, s.status.stream, [this](const SatelliteId&, const GnssTime& t) {
+            return spanAt(t).mode == LiveProductMode::PreciseSsr;
+          });
     if (!out.epochs.empty()) {
       if (!observation_stream) observation_stream = s.status.stream;
       for (auto& e : out.epochs) {
@@ -237,10 +283,13 @@ struct LiveGnssInput::Impl : public EphemerisSource {
           ++s.status.ignored_epochs;
           continue;
         }
-        acceptEpoch(s, std::move(e), arrival_s);
+        screenEpoch(s, std::move(e), arrival_s);
       }
     }
-    if (observation_stream && *observation_stream == s.status.stream) refreshHeader(*s.decoder);
+    if (observation_stream && *observation_stream == s.status.stream) {
+      refreshHeader(*s.decoder);
+      checkReferenceDate(s);
+    }
     if (newest_data) {
       if (!s.status.last_data_time || *s.status.last_data_time < *newest_data) s.status.last_data_time = *newest_data;
       if (arrival_s) s.status.latency_s = *arrival_s - unixSeconds(*newest_data);
@@ -377,8 +426,15 @@ std::vector<LiveReadyEpoch> LiveGnssInput::finish() {
     StreamState& s = d.streams.at(name);
     s.decoder->finish();
     d.drain(s, std::nullopt);
+    d.applyScreen(s, s.screen->finish());  // what is still held on an unconfirmed time line: outliers
   }
   return d.release(true);
+}
+
+std::vector<std::string> LiveGnssInput::takeTimeEvents() {
+  std::vector<std::string> out;
+  out.swap(impl_->time_events);
+  return out;
 }
 
 const EphemerisSource& LiveGnssInput::ephemeris() const { return *impl_; }
@@ -403,6 +459,7 @@ std::vector<LiveStreamStatus> LiveGnssInput::streams() const {
     const StreamState& s = d.streams.at(name);
     LiveStreamStatus st = s.status;
     st.problems = s.decoder->counters();
+    for (const auto& p : s.screen->counters().problems) st.problems.add(p);
     const StreamCounters& ssr = s.decoder->ssrCounters();
     for (const auto& [kind, n] : ssr.problems_by_kind) st.problems.problems_by_kind[kind] += n;
     for (const auto& p : ssr.problems)

@@ -79,6 +79,15 @@ bool parseCalendar(const std::string& date, const std::string& clock, TimeSystem
 
 }  // namespace
 
+namespace {
+/// The ratio column: the AR ratio of a fixed epoch, capped at 999.9 as RTKLIB caps
+/// it (rtkpos.c: MIN(s[1]/s[0], 999.9)) to keep the %6.1f column; 0 otherwise.
+double posRatio(const SolutionEpoch& e) {
+  if (e.status != SolutionStatus::PppFixed || !e.ambiguity_ratio || !std::isfinite(*e.ambiguity_ratio)) return 0.0;
+  return std::min(*e.ambiguity_ratio, 999.9);
+}
+}  // namespace
+
 std::string formatPosHeader(const PosWriterOptions& o) {
   std::string h = "% program   : " + o.program + "\n";
   for (const auto& c : o.comment_lines) h += "% " + c + "\n";
@@ -101,7 +110,8 @@ std::string formatPosRecord(const SolutionEpoch& e, const PosWriterOptions& o) {
   return formatTime(e.time, o) +
          format(" %14.4f %14.4f %14.4f %3d %3d", p.x(), p.y(), p.z(), rtklibQuality(e.status), e.satellites_used) +
          format(" %8.4f %8.4f %8.4f %8.4f %8.4f %8.4f %6.2f %6.1f\n", signedSqrt(q(0, 0)), signedSqrt(q(1, 1)),
-                signedSqrt(q(2, 2)), signedSqrt(q(0, 1)), signedSqrt(q(1, 2)), signedSqrt(q(2, 0)), 0.0, 0.0);
+                signedSqrt(q(2, 2)), signedSqrt(q(0, 1)), signedSqrt(q(1, 2)), signedSqrt(q(2, 0)), 0.0,
+                posRatio(e));
 }
 
 RtklibPosWriter::RtklibPosWriter(std::ostream& out, PosWriterOptions options)
@@ -211,6 +221,7 @@ std::vector<SolutionEpoch> toSolutionEpochs(const PosFile& file) {
     e.status = r.quality == 1 ? SolutionStatus::PppFixed
                : r.quality == 5 ? SolutionStatus::Single
                                 : SolutionStatus::PppFloat;
+    if (e.status == SolutionStatus::PppFixed && r.ratio) e.ambiguity_ratio = r.ratio;
     out.push_back(e);
   }
   return out;

@@ -8,9 +8,11 @@
 #include <cctype>
 #include <cmath>
 #include <set>
+#include <sstream>
 #include <stdexcept>
 
 #include "ppp_bayes_tree/io/fixed_width.h"
+#include "ppp_bayes_tree/io/bias_bounds.h"
 #include "ppp_bayes_tree/types/constants.h"
 
 namespace ppp {
@@ -126,6 +128,7 @@ class BiasSinexParser {
   void readDescriptionLine(const std::string& line);
   void readSolutionLine(const std::string& line);
   void finish();
+  void dropConflictingDuplicates();
 
   LineSource& src_;
   BiasSinexFile& out_;
@@ -254,6 +257,12 @@ void BiasSinexParser::readSolutionLine(const std::string& line) {
   else if (unit == "cyc") r.unit = BiasUnit::Cycles;
   else return problem("unsupported unit '" + std::string(unit) + "'");
   if (parseDouble(column(line, 70, 21), r.value) != FieldStatus::Ok) return problem("malformed bias value");
+  const BiasKind kind = r.obs1.type == ObservableType::CarrierPhase ? BiasKind::Phase : BiasKind::Code;
+  if (const auto beyond = biasBeyondBound(kind, r.value, r.unit == BiasUnit::Cycles)) {
+    ++out_.refused.beyond_bound;
+    if (kind == BiasKind::Phase) out_.refused.countPhaseRow(n, *beyond + ": row not used");
+    return problem(*beyond + ": row not used");
+  }
   double sd = 0.0;
   switch (parseDouble(column(line, 92, 11), sd)) {
     case FieldStatus::Ok:
@@ -335,13 +344,66 @@ void BiasSinexParser::finish() {
     kept.push_back(std::move(r));
   }
   out_.records = std::move(kept);
-  const std::size_t read = out_.records.size() + other_system_rows_;
+  const std::size_t read = out_.records.size() + other_system_rows_ + out_.refused.beyond_bound;
+  dropConflictingDuplicates();
   if (out_.header.estimate_count != 0 && out_.header.estimate_count != read) {
     out_.report.addProblem(1, "header announces " + std::to_string(out_.header.estimate_count) +
                                   " estimates, " + std::to_string(read) + " read");
   }
   for (const auto& r : out_.records) out_.report.count(std::string(biasTypeName(r.type)) + " rows");
   out_.buildIndex();
+}
+
+/// Rows for the same owner, bias type, observables and validity: the same value
+/// is a repeat (counted, the first row kept); different values conflict. Of
+/// conflicting rows none is used (neither can be trusted over the other), each
+/// reported naming the first row's line.
+void BiasSinexParser::dropConflictingDuplicates() {
+  using Bound = std::pair<bool, double>;  // (open, GPS seconds)
+  const auto bound = [](const std::optional<GnssTime>& t) {
+    return t ? Bound{false, t->toGpsSecondsDouble()} : Bound{true, 0.0};
+  };
+  using Slot = std::tuple<std::string, std::string, int, std::string, std::string, Bound, Bound>;
+  std::map<Slot, std::vector<std::size_t>> rows;
+  for (std::size_t i = 0; i < out_.records.size(); ++i) {
+    const BiasRecord& r = out_.records[i];
+    rows[Slot{r.satellite ? r.satellite->toString() : std::string(), r.station + "/" + systemLetter(r.system),
+              static_cast<int>(r.type), r.obs1.toString(), r.obs2 ? r.obs2->toString() : std::string(),
+              bound(r.start), bound(r.end)}]
+        .push_back(i);
+  }
+  std::vector<bool> drop(out_.records.size(), false);
+  for (const auto& [slot, indices] : rows) {
+    if (indices.size() < 2) continue;
+    const BiasRecord& first = out_.records[indices.front()];
+    const bool conflict = std::any_of(indices.begin() + 1, indices.end(), [&](std::size_t i) {
+      return out_.records[i].value != first.value || out_.records[i].unit != first.unit;
+    });
+    for (std::size_t k = 1; k < indices.size(); ++k) drop[indices[k]] = true;
+    if (!conflict) {
+      out_.report.count("repeated rows (same value) ignored", indices.size() - 1);
+      continue;
+    }
+    drop[indices.front()] = true;
+    const std::string what = std::string(biasTypeName(first.type)) + " " +
+                             (first.satellite ? first.satellite->toString() : first.station) + " " +
+                             first.obs1.toString();
+    out_.refused.conflicting += indices.size();
+    const bool phase = first.obs1.type == ObservableType::CarrierPhase;
+    if (phase) out_.refused.phase_rows += 1;  // the first row; the others with their problem below
+    for (std::size_t k = 1; k < indices.size(); ++k) {
+      const BiasRecord& r = out_.records[indices[k]];
+      std::ostringstream os;
+      os << what << " conflicts with line " << first.line << " (same observable and validity, value " << r.value
+         << " against " << first.value << "): neither row used";
+      out_.report.addProblem(r.line, os.str());
+      if (phase) out_.refused.countPhaseRow(r.line, os.str());
+    }
+  }
+  std::vector<BiasRecord> kept;
+  for (std::size_t i = 0; i < out_.records.size(); ++i)
+    if (!drop[i]) kept.push_back(std::move(out_.records[i]));
+  out_.records = std::move(kept);
 }
 
 BiasValue toValue(const BiasRecord& r) {

@@ -3,9 +3,11 @@
 #include <cctype>
 #include <cmath>
 #include <cstdlib>
+#include <filesystem>
 #include <map>
 #include <set>
 
+#include "ppp_bayes_tree/io/credential_mask.h"
 #include "ppp_bayes_tree/io/file_replay_source.h"
 #include "ppp_bayes_tree/io/ntrip_client_source.h"
 #include "ppp_bayes_tree/io/reconnecting_byte_source.h"
@@ -91,15 +93,8 @@ void parseHostPort(const std::string& text, std::optional<int> default_port, Byt
 ByteSourceSpec parseByteSourceSpec(const std::string& text) {
   ByteSourceSpec spec;
   const auto scheme_end = text.find("://");
-  // Shown in errors before the password is known: hide anything between ':' and '@' of ntrip.
-  std::string shown = text;
-  if (text.rfind("ntrip://", 0) == 0) {
-    const auto at = text.rfind('@', text.find('?'));
-    const auto colon = text.find(':', 8);
-    if (at != std::string::npos && colon != std::string::npos && colon < at) {
-      shown = text.substr(0, colon + 1) + "***" + text.substr(at);
-    }
-  }
+  // Shown in errors and logs: the password hidden however the spec is mistyped.
+  const std::string shown = maskCredentials(text);
   if (scheme_end == std::string::npos) {
     bad(shown, "no scheme; expected serial://, tcp://, ntrip:// or file://");
   }
@@ -137,14 +132,17 @@ ByteSourceSpec parseByteSourceSpec(const std::string& text) {
     }
     const auto slash = hostpart.find('/');
     if (slash == std::string::npos || slash + 1 == hostpart.size()) {
-      bad(shown, "no mountpoint (ntrip://user:password@host:port/MOUNT)");
+      bad(shown, std::string("no mountpoint (ntrip://host:port/MOUNT)") +
+                     (query.find('@') != std::string::npos
+                          ? "; a '?' in the user or the password must be written %3F (or use credentials=)"
+                          : ""));
     }
     spec.mountpoint = hostpart.substr(slash + 1);
     if (spec.mountpoint.find_first_of("/ ") != std::string::npos) {
       bad(shown, "mountpoint '" + spec.mountpoint + "' holds '/' or a space");
     }
     parseHostPort(hostpart.substr(0, slash), 2101, spec, shown);
-    allowed.insert({"connect_timeout_s", "stall_timeout_s", "version", "gga_period_s", "lat", "lon", "h"});
+    allowed.insert({"connect_timeout_s", "stall_timeout_s", "version", "gga_period_s", "lat", "lon", "h", "credentials"});
   } else if (scheme == "file") {
     spec.kind = ByteSourceKind::File;
     if (rest.empty()) bad(shown, "no path (file:///path/x.rtcm3)");
@@ -187,6 +185,9 @@ ByteSourceSpec parseByteSourceSpec(const std::string& text) {
     } else if (key == "gga_period_s") {
       spec.gga_period_s = number(key, value, shown);
       if (*spec.gga_period_s <= 0.0) bad(shown, "gga_period_s must be > 0 s");
+    } else if (key == "credentials") {
+      if (value.empty()) bad(shown, "credentials= needs the path of a credentials file");
+      spec.credentials_file = value;
     } else if (key == "lat") {
       spec.gga_latitude_deg = number(key, value, shown);
       if (std::fabs(*spec.gga_latitude_deg) > 90.0) bad(shown, "lat=" + value + " is outside -90..90 deg");
@@ -247,6 +248,9 @@ std::unique_ptr<ByteSource> openSingleByteSource(const ByteSourceSpec& spec) {
       return std::make_unique<NtripClientSource>(options);
     }
     case ByteSourceKind::File: {
+      std::error_code ec;
+      if (std::filesystem::is_directory(spec.path, ec))
+        bad(spec.text_without_password, spec.path + " is a directory, not a recording (file:///path/x.rtcm3)");
       StreamFormat format = StreamFormat::Unknown;
       if (spec.format) format = *spec.format == "ubx" ? StreamFormat::Ubx : StreamFormat::Rtcm3;
       return std::make_unique<FileReplaySource>(spec.path, spec.speed, spec.byte_rate_bytes_per_s, format);

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
 #include <thread>
 
 namespace ppp {
@@ -80,6 +81,9 @@ void FileReplaySource::close() {
 }
 
 std::optional<ByteSourceError> FileReplaySource::open() {
+  std::error_code ec;
+  if (std::filesystem::is_directory(path_, ec))  // an ifstream opens a directory and reads nothing
+    return ByteSourceError{ByteSourceErrorKind::OpenFailed, path_ + ": is a directory, not a recording"};
   file_.open(path_, std::ios::binary);
   if (!file_) {
     return ByteSourceError{ByteSourceErrorKind::OpenFailed, path_ + ": " + std::strerror(errno)};

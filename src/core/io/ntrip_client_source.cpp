@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "ppp_bayes_tree/io/nmea_gga.h"
+#include "ppp_bayes_tree/io/untrusted_text.h"
 
 namespace ppp {
 namespace {
@@ -113,18 +114,19 @@ std::optional<ByteSourceError> NtripClientSource::openStream(Clock::time_point d
     const bool closed = got.status == ByteSourceStatus::Closed;
     header.append(reinterpret_cast<const char*>(chunk), got.size);
     const std::string line = firstLine(header);
+    const std::string shown_line = printableText(line);  // the caster's text, escaped for logs
     const bool line_done = header.find('\n') != std::string::npos;
     if (line_done && line.rfind("ICY 200", 0) == 0) {
       // v1 answer: the stream follows the status line (and, for some casters, a blank line).
       std::size_t body = header.find('\n') + 1;
       if (header.compare(body, 2, "\r\n") == 0) body += 2;
-      status_line_ = line;
+      status_line_ = shown_line;
       raw_.assign(header.begin() + static_cast<long>(body), header.end());
       return std::nullopt;
     }
     const std::size_t end = header.find("\r\n\r\n");
     if (line_done && (end != std::string::npos || closed)) {
-      status_line_ = line;
+      status_line_ = shown_line;
       const std::string fields = lower(header.substr(0, end == std::string::npos ? header.size() : end));
       if (line.rfind("SOURCETABLE", 0) == 0 ||
           (fields.find("content-type: gnss/sourcetable") != std::string::npos)) {
@@ -137,15 +139,15 @@ std::optional<ByteSourceError> NtripClientSource::openStream(Clock::time_point d
       if (code == 401 || code == 403) {
         return ByteSourceError{ByteSourceErrorKind::AuthenticationRefused,
                                "caster " + where + " refused user '" + options_.user + "' for /" +
-                                   options_.mountpoint + " (" + line + ")"};
+                                   options_.mountpoint + " (" + shown_line + ")"};
       }
       if (code == 404) {
         return ByteSourceError{ByteSourceErrorKind::UnknownMountpoint,
-                               "caster " + where + " has no mountpoint '" + options_.mountpoint + "' (" + line + ")"};
+                               "caster " + where + " has no mountpoint '" + options_.mountpoint + "' (" + shown_line + ")"};
       }
       if (line.rfind("HTTP/", 0) != 0 || code != 200) {
         return ByteSourceError{ByteSourceErrorKind::ProtocolError,
-                               "caster " + where + " answered '" + line + "' to the request for /" + options_.mountpoint};
+                               "caster " + where + " answered '" + shown_line + "' to the request for /" + options_.mountpoint};
       }
       chunked_ = fields.find("transfer-encoding: chunked") != std::string::npos;
       if (end == std::string::npos) return std::nullopt;
@@ -154,7 +156,7 @@ std::optional<ByteSourceError> NtripClientSource::openStream(Clock::time_point d
     }
     if (closed) {
       return ByteSourceError{ByteSourceErrorKind::ConnectionLost,
-                             "caster " + where + " closed the connection before answering ('" + line + "')"};
+                             "caster " + where + " closed the connection before answering ('" + shown_line + "')"};
     }
     if (header.size() > kMaxHeaderBytes) {
       return ByteSourceError{ByteSourceErrorKind::ProtocolError,
@@ -218,7 +220,8 @@ std::size_t NtripClientSource::takePayload(std::uint8_t* buffer, std::size_t cap
       ++digits;
     }
     if (digits == 0 || digits > 8) {
-      error = ByteSourceError{ByteSourceErrorKind::ProtocolError, "chunked transfer: bad chunk size line '" + line + "'"};
+      error = ByteSourceError{ByteSourceErrorKind::ProtocolError,
+                              "chunked transfer: bad chunk size line '" + printableText(line) + "'"};
       break;
     }
     pos = static_cast<std::size_t>(lf - raw_.begin()) + 1;

@@ -141,6 +141,13 @@ class ClockParser {
       h.date = std::string(trim(column(content, 40, 20)));
     } else if (label == "COMMENT") {
       h.comments.emplace_back(trim(content));
+      h.comment_lines.push_back(src_.lineNumber());
+    } else if (label == "SYS / PCVS APPLIED") {
+      // A1,1X,A17,1X,A40: system, program, source (the ANTEX file name).
+      std::string source(trim(column(content, 20, 40)));
+      const auto dot = source.find_last_of('.');
+      if (dot != std::string::npos) source = source.substr(0, dot);
+      if (!source.empty() && h.pcvs_applied.empty()) h.pcvs_applied = source;
     } else if (label == "TIME SYSTEM ID") {
       const std::string code(trim(content));
       const auto ts = parseTimeSystem(code);

@@ -80,6 +80,12 @@ int resolveBroadcastWeek(int truncated, int modulus, int week_now, const GnssTim
   return week;
 }
 
+/// The week a truncated broadcast week stands for, nearest to `week_now`,
+/// without the half-week move (what the record itself says).
+int broadcastWeekAsSent(int truncated, int modulus, int week_now) {
+  return truncated + ((week_now - truncated + modulus / 2) / modulus) * modulus;
+}
+
 std::string readText(BitReader& r, int n) {
   std::string s;
   for (int i = 0; i < n; ++i) s.push_back(static_cast<char>(r.u(8)));
@@ -495,9 +501,22 @@ void Rtcm3Decoder::setTimeFromEphemeris(const GnssTime& toe) {
   pending_gps_.clear();
 }
 
+void Rtcm3Decoder::noteWeekEvidence(const GnssTime& toe_as_sent, double toe_sow) {
+  // Agreement: toe within a day of the stream's time. A toe early in its week
+  // may have been sent with the week before (the week of transmission): the
+  // nearer of the two readings counts.
+  double off_s = toe_as_sent - *time_;
+  if (toe_sow < 86400.0 && std::fabs(off_s + 604800.0) < std::fabs(off_s)) off_s += 604800.0;
+  ++week_evidence_.records;
+  if (std::fabs(off_s) > 86400.0) week_evidence_.disagreement_s.push_back(off_s);
+}
+
 void Rtcm3Decoder::resolveGpsWeek(PendingGps& pending) {
   // The 10-bit week nearest to the current time; toe within half a week of it.
   GpsLnavEphemeris& eph = pending.eph;
+  noteWeekEvidence(GnssTime::fromGpsWeek(broadcastWeekAsSent(pending.week10, 1024, time_->gpsWeek().week),
+                                         eph.orbit.toe_sow),
+                   eph.orbit.toe_sow);
   const int week = resolveBroadcastWeek(pending.week10, 1024, time_->gpsWeek().week, *time_,
                                         [&](int w) { return GnssTime::fromGpsWeek(w, eph.orbit.toe_sow); });
   eph.week = week;
@@ -551,6 +570,9 @@ void Rtcm3Decoder::decodeGpsQzss(const Rtcm3Frame& frame) {
     e.tgd_s = r.s(8) * p2(-31);
     e.iodc = static_cast<int>(r.u(10));
     e.fit_interval_h = r.u(1) ? 4.0 : 2.0;  // DF187: 0 = 2 h, 1 = more than 2 h
+    // 1044 has no L2P data flag: QZSS broadcasts no L2 P-code navigation data, its
+    // subframe 1 flag is fixed to 1 (IS-QZSS-PNT), and RINEX/convbin write 1.
+    e.l2p_data_flag = 1;
   }
   if (!r.ok()) {
     problem(StreamProblemKind::MalformedMessage, frame, "ephemeris message shorter than its fields");
@@ -692,6 +714,8 @@ void Rtcm3Decoder::decodeGalileo(const Rtcm3Frame& frame) {
   }
   int week = gst_week + 1024;  // GST week 0 = GPS week 1024
   if (time_) {
+    noteWeekEvidence(GnssTime::fromGpsWeek(broadcastWeekAsSent(week, 4096, time_->gpsWeek().week), o.toe_sow),
+                     o.toe_sow);
     // The 12-bit GST week rolls over every 4096 weeks: the one nearest the current time.
     week = resolveBroadcastWeek(week, 4096, time_->gpsWeek().week, *time_,
                                 [&](int w) { return GnssTime::fromGpsWeek(w, o.toe_sow); });
@@ -739,6 +763,9 @@ void Rtcm3Decoder::decodeBeidou(const Rtcm3Frame& frame) {
   }
   int week = week13;
   if (time_) {
+    noteWeekEvidence(
+        fromBdtWeek(broadcastWeekAsSent(week13, 8192, time_->gpsWeek().week - kBdtWeekZeroGpsWeek), o.toe_sow),
+        o.toe_sow);
     week = resolveBroadcastWeek(week13, 8192, time_->gpsWeek().week - kBdtWeekZeroGpsWeek, *time_,
                                 [&](int w) { return fromBdtWeek(w, o.toe_sow); });
   }

@@ -1,9 +1,12 @@
 #include "ppp_bayes_tree/io/rtcm_observation_source.h"
 
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <string>
 
 #include "ppp_bayes_tree/io/line_source.h"
+#include "ppp_bayes_tree/io/epoch_time_screen.h"
 #include "ppp_bayes_tree/io/parse_error.h"
 #include "ppp_bayes_tree/io/rtcm_ssr_decoder.h"
 
@@ -16,6 +19,10 @@ namespace {
 bool isCorrectionFrame(const Rtcm3Frame& frame) { return RtcmSsrDecoder::isSsrMessageType(frame.message_type); }
 
 constexpr std::size_t kChunkBytes = 1 << 16;
+
+constexpr std::size_t kMinWeekEvidenceRecords = 3;
+
+EpochOrigin epochOrigin(const StreamEpoch& e) { return EpochOrigin{e.byte_offset, e.frame_index, 0}; }
 
 std::unique_ptr<std::FILE, int (*)(std::FILE*)> openBinary(const std::string& path) {
   std::unique_ptr<std::FILE, int (*)(std::FILE*)> f(std::fopen(path.c_str(), "rb"), &std::fclose);
@@ -34,6 +41,29 @@ std::optional<double> observable(const StreamSignal& s, ObservableType type) {
 }
 
 }  // namespace
+
+std::optional<std::string> referenceDateContradiction(const GnssTime& reference, const GnssTime& first,
+                                                      const GnssTime& last, const BroadcastWeekEvidence& evidence) {
+  // Most ephemerides counted must disagree (a few stale or odd records do not decide).
+  if (evidence.records < kMinWeekEvidenceRecords || 2 * evidence.disagreement_s.size() <= evidence.records)
+    return std::nullopt;
+  std::vector<double> off = evidence.disagreement_s;
+  std::nth_element(off.begin(), off.begin() + static_cast<std::ptrdiff_t>(off.size() / 2), off.end());
+  const double median_s = off[off.size() / 2];
+  const CalendarTime given = reference.toCalendar(TimeSystem::GPS);
+  const CalendarTime stream = (first + median_s).toCalendar(TimeSystem::GPS);
+  char text[640];
+  std::snprintf(text, sizeof text,
+                "the reference date %04d/%02d/%02d (--ref-date) places the epochs at %s to %s, but %zu of the "
+                "stream's %zu ephemerides (GPS/QZSS, Galileo, BeiDou; their weeks as broadcast) have their "
+                "reference time %.1f days %s (median): the date is wrong, the stream says about %04d/%02d/%02d "
+                "(without --ref-date, Galileo/BeiDou ephemerides place the epochs)",
+                given.year, given.month, given.day, first.toString(TimeSystem::GPS, 0).c_str(),
+                last.toString(TimeSystem::GPS, 0).c_str(), evidence.disagreement_s.size(), evidence.records,
+                std::fabs(median_s) / 86400.0, median_s < 0.0 ? "earlier" : "later", stream.year, stream.month,
+                stream.day);
+  return std::string(text);
+}
 
 void StreamSignalInventory::add(const StreamEpoch& epoch) {
   for (const auto& sat : epoch.satellites) {
@@ -132,14 +162,18 @@ RtcmObservationSource::RtcmObservationSource(const std::string& path, Rtcm3Decod
   StreamSignalInventory inventory;
   std::optional<GnssTime> first, last;
   std::vector<std::uint8_t> chunk(kChunkBytes);
-  auto drain = [&]() {
-    auto& out = scan.output();
-    for (const auto& e : out.epochs) {
-      inventory.add(e);
-      if (!first || e.time < *first) first = e.time;
-      if (!last || e.time > *last) last = e.time;
+  EpochTimeScreen<StreamEpoch> scan_screen;  // the epochs the streaming pass will serve
+  auto keep = [&](const EpochTimeScreen<StreamEpoch>::Result& r) {
+    for (const auto& kept : r.accepted) {
+      inventory.add(kept.payload);
+      if (!first || kept.time < *first) first = kept.time;
+      if (!last || kept.time > *last) last = kept.time;
       ++scan_epochs_;
     }
+  };
+  auto drain = [&]() {
+    auto& out = scan.output();
+    for (const auto& e : out.epochs) keep(scan_screen.push(e.time, epochOrigin(e), e));
     out.epochs.clear();
     scan_nav_.gps.insert(scan_nav_.gps.end(), out.gps.begin(), out.gps.end());
     scan_nav_.galileo.insert(scan_nav_.galileo.end(), out.galileo.begin(), out.galileo.end());
@@ -155,8 +189,13 @@ RtcmObservationSource::RtcmObservationSource(const std::string& path, Rtcm3Decod
   }
   scan.finish();
   drain();
+  keep(scan_screen.finish());
   scan_counters_ = scan.counters();
   station_ = scan.station();
+  if (options_.reference_time && first && last) {
+    if (const auto why = referenceDateContradiction(*options_.reference_time, *first, *last, scan.weekEvidence()))
+      throw ParseError(path, 0, *why);
+  }
 
   header_.version_text = "3.04";
   header_.version = 3.04;
@@ -200,7 +239,13 @@ bool RtcmObservationSource::fill() {
       finished_ = true;
     }
     auto& out = decoder_->output();
-    queue_.swap(out.epochs);
+    for (auto& e : out.epochs) {
+      const GnssTime t = e.time;
+      const EpochOrigin origin = epochOrigin(e);
+      for (auto& kept : screen_.push(t, origin, std::move(e)).accepted) queue_.push_back(std::move(kept.payload));
+    }
+    if (finished_)
+      for (auto& kept : screen_.finish().accepted) queue_.push_back(std::move(kept.payload));
     out.clear();
   }
   return true;
@@ -215,6 +260,7 @@ ObservationRead RtcmObservationSource::next(ObsEpoch& epoch) {
 std::vector<ObservationProblem> RtcmObservationSource::problems() const {
   std::vector<ObservationProblem> out;
   for (const auto& p : decoder_->counters().problems) out.push_back(ObservationProblem{path_, 0, p.describe()});
+  for (const auto& p : screen_.counters().problems) out.push_back(ObservationProblem{path_, 0, p.describe()});
   return out;
 }
 

@@ -6,6 +6,7 @@
 
 #include "ppp_bayes_tree/io/bit_reader.h"
 #include "ppp_bayes_tree/io/parse_error.h"
+#include "ppp_bayes_tree/io/bias_bounds.h"
 #include "rtcm_ssr_layout.h"
 
 namespace ppp {
@@ -33,6 +34,27 @@ void RtcmSsrDecoder::problem(StreamProblemKind kind, const Rtcm3Frame& frame, st
   p.message_type = frame.message_type;
   p.detail = std::move(detail);
   counters_.add(std::move(p));
+}
+
+void RtcmSsrDecoder::refuseImplausibleBiases(const Rtcm3Frame& frame, SsrMessage& m) {
+  const auto refuse = [&](auto& satellites, BiasKind kind) {
+    for (auto& sat : satellites) {
+      auto& biases = sat.biases;
+      for (auto it = biases.begin(); it != biases.end();) {
+        const auto beyond = biasBeyondBound_m(kind, it->bias_m);
+        if (!beyond) {
+          ++it;
+          continue;
+        }
+        problem(StreamProblemKind::ImplausibleValue, frame,
+                sat.satellite.toString() + " signal " + std::to_string(it->signal_id) + ": " + *beyond +
+                    ": bias not used");
+        it = biases.erase(it);
+      }
+    }
+  };
+  refuse(m.code_biases, BiasKind::Code);
+  refuse(m.phase_biases, BiasKind::Phase);
 }
 
 std::optional<GnssTime> RtcmSsrDecoder::resolveEpoch(const SsrHeader& h, bool igs) const {
@@ -128,6 +150,8 @@ bool RtcmSsrDecoder::decode(const Rtcm3Frame& frame) {
     problem(StreamProblemKind::MalformedMessage, frame,
             "satellite id " + std::to_string(b.raw_id) + " outside the " + std::string(systemName(m.header.system)) +
                 " range: satellite skipped");
+
+  refuseImplausibleBiases(frame, m);
 
   m.header.epoch = resolveEpoch(m.header, igs);
   if (!m.header.epoch) {

@@ -16,6 +16,8 @@ std::string_view streamProblemKindName(StreamProblemKind kind) {
     case StreamProblemKind::UnresolvedTime: return "unresolved time";
     case StreamProblemKind::SsrWithoutBroadcast: return "SSR without broadcast record";
     case StreamProblemKind::SsrTooOld: return "SSR older than its validity";
+    case StreamProblemKind::EpochTimeRefused: return "epoch time refused";
+    case StreamProblemKind::ImplausibleValue: return "implausible value";
   }
   return "unknown problem";
 }

@@ -221,10 +221,12 @@ void UbxDecoder::rawx(const UbxFrame& f, const Handlers& handlers) {
   epoch.clock_reset = (status & 0x02) != 0;
   epoch.byte_offset = f.byte_offset;
   epoch.frame_index = f.frame_index;
-  if (last_time_ && epoch.time <= *last_time_) {
+  // The same epoch sent again is dropped here (it would count its lock times twice);
+  // any other time order is the stream's epoch-time policy (io/epoch_time_screen.h),
+  // so that one epoch with a bad week does not decide the time of the next ones.
+  if (last_time_ && epoch.time == *last_time_) {
     problem(f, StreamProblemKind::MalformedMessage,
-            "RXM-RAWX time " + epoch.time.toString() + " not after the previous epoch " + last_time_->toString() +
-                ": epoch dropped");
+            "RXM-RAWX time " + epoch.time.toString() + " repeats the previous epoch: epoch dropped");
     return;
   }
   last_time_ = epoch.time;

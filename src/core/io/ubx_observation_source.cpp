@@ -4,11 +4,14 @@
 #include <fstream>
 #include <set>
 
+#include "ppp_bayes_tree/io/epoch_time_screen.h"
 #include "ppp_bayes_tree/io/line_source.h"
 #include "ppp_bayes_tree/io/parse_error.h"
 
 namespace ppp {
 namespace {
+
+constexpr int kUbxRawxType = 0x0215;  // RXM-RAWX, class << 8 | id
 
 constexpr ObservableType kTypes[4] = {ObservableType::Pseudorange, ObservableType::CarrierPhase,
                                       ObservableType::Doppler, ObservableType::SignalStrength};
@@ -112,8 +115,26 @@ UbxObservationSource::UbxObservationSource(const std::string& path, UbxDecoderOp
   }
   decoder.finish();
   counters_ = decoder.counters();
+  screenEpochTimes();
   statistics_ = decoder.statistics();
   header_ = ubxObservationHeader(epochs_, name_);
+}
+
+void UbxObservationSource::screenEpochTimes() {
+  EpochTimeScreen<std::size_t> screen;
+  std::vector<UbxObservationEpoch> kept;
+  kept.reserve(epochs_.size());
+  auto take = [&](EpochTimeScreen<std::size_t>::Result&& r) {
+    for (const auto& e : r.accepted) kept.push_back(std::move(epochs_[e.payload]));
+  };
+  for (std::size_t i = 0; i < epochs_.size(); ++i) {
+    const UbxObservationEpoch& e = epochs_[i];
+    take(screen.push(e.time, EpochOrigin{e.byte_offset, e.frame_index, kUbxRawxType}, i));
+  }
+  take(screen.finish());
+  epochs_ = std::move(kept);
+  time_screen_ = screen.counters();
+  for (const auto& p : time_screen_.problems) counters_.add(p);
 }
 
 ObservationRead UbxObservationSource::next(ObsEpoch& epoch) {

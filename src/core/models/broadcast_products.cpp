@@ -1,5 +1,8 @@
 #include "ppp_bayes_tree/models/broadcast_products.h"
 
+#include <iomanip>
+#include <sstream>
+
 #include "ppp_bayes_tree/io/gnss_stream_decoder.h"
 #include "ppp_bayes_tree/io/line_source.h"
 #include "ppp_bayes_tree/io/rinex_nav_reader.h"
@@ -7,6 +10,7 @@
 #include "ppp_bayes_tree/io/stream_format.h"
 #include "ppp_bayes_tree/models/broadcast_ephemeris_store.h"
 #include "ppp_bayes_tree/models/broadcast_ssr_ephemeris.h"
+#include "ppp_bayes_tree/models/ssr_broadcast_fallback.h"
 #include "ppp_bayes_tree/models/ssr_bias_provider.h"
 
 namespace ppp {
@@ -24,9 +28,43 @@ void addReceived(Target target, const ReceivedNavigation& nav) {
 
 }  // namespace
 
+namespace {
+
+/// A note when the corrections are too old at the first or last observation
+/// epoch: the broadcast fallback serves there (and says how old they were).
+void noteStaleCorrections(const SsrBroadcastFallback& fallback, const SsrCorrectionStore& store,
+                          const std::string& stream, const std::optional<ObservationSpan>& span,
+                          std::vector<std::string>& notes) {
+  if (!span) return;
+  std::string where;
+  for (const GnssTime& t : {span->first, span->last}) {
+    if (fallback.preciseAt(t)) continue;
+    std::ostringstream os;
+    os << (where.empty() ? "" : "; ") << "at " << t.toString(TimeSystem::GPS, 0) << " ";
+    std::optional<GnssTime> newest;
+    for (const auto& [sat, series] : store.orbits()) {
+      auto it = series.upper_bound(t);
+      if (it != series.begin() && (!newest || *newest < std::prev(it)->first)) newest = std::prev(it)->first;
+    }
+    if (newest) os << "the newest orbit correction is " << std::fixed << std::setprecision(0) << (t - *newest) << " s old";
+    else os << "no orbit correction yet";
+    where += os.str();
+  }
+  if (where.empty()) return;
+  std::ostringstream os;
+  os << "broadcast fallback: the SSR corrections of " << stream << " are missing or too old (orbit validity "
+     << std::fixed << std::setprecision(0) << store.limits().orbit_max_age_s << " s) " << where
+     << ": where fewer than 4 satellites have corrections in force, broadcast orbits and clocks serve (sigmas at least "
+        "2 m) and the SSR code biases are not applied (codes as observed, as the broadcast clocks expect)";
+  notes.push_back(os.str());
+}
+
+}  // namespace
+
 BroadcastProducts loadBroadcastProducts(const std::vector<std::string>& nav, const std::optional<std::string>& ssr,
                                         std::optional<EphemerisReference> ssr_reference, SsrAgeLimits limits,
-                                        std::optional<GnssTime> stream_reference_time) {
+                                        std::optional<GnssTime> stream_reference_time,
+                                        std::optional<ObservationSpan> observation_span) {
   BroadcastProducts out;
   std::vector<NavData> navs;
   std::vector<StreamNavigationFile> streams;
@@ -71,11 +109,17 @@ BroadcastProducts loadBroadcastProducts(const std::vector<std::string>& nav, con
   const auto from_name = ssrReferenceFromStreamName(fileBaseName(*ssr));
   options.reference = ssr_reference ? *ssr_reference : from_name.value_or(EphemerisReference::CentreOfMass);
   auto eph = std::make_shared<BroadcastSsrEphemeris>(navs, store, options);
+  auto broadcast = std::make_shared<BroadcastEphemerisStore>();
+  for (const auto& n : navs) broadcast->add(n);
   if (!streams.empty()) {
-    for (const auto& s : streams)
+    for (const auto& s : streams) {
       addReceived([&](const auto& record, const auto& received) { eph->addRecord(record, received); }, s.navigation);
+      addReceived([&](const auto& record, const auto& received) { broadcast->add(record, received); }, s.navigation);
+      for (const auto& r : s.navigation.beidou) broadcast->add(r.record, r.received_at);
+    }
     eph->checkConsistency();
   }
+  auto fallback = std::make_shared<SsrBroadcastFallback>(eph, broadcast);
   out.notes.push_back("orbits and clocks: " + names + " corrected by SSR stream " + fileBaseName(*ssr) + " (" +
                       std::to_string(stream.summary.messages) + " messages; orbits at the " +
                       std::string(ephemerisReferenceName(options.reference)) +
@@ -88,10 +132,14 @@ BroadcastProducts loadBroadcastProducts(const std::vector<std::string>& nav, con
   };
   describe(stream.counters, "problem(s) while decoding");
   describe(eph->consistency(), "SSR correction(s) without a broadcast record of their IOD");
+  noteStaleCorrections(*fallback, *store, fileBaseName(*ssr), observation_span, out.notes);
   if (store->codeBiasCount() > 0 || store->phaseBiasCount() > 0)
-    out.ssr_biases = std::make_shared<SsrBiasProvider>(store, fileBaseName(*ssr));
+    out.ssr_biases = std::make_shared<SsrBiasProvider>(
+        store, fileBaseName(*ssr),
+        [fallback](const SatelliteId& sat, const GnssTime& t) { return fallback->ssrInForce(sat, t); });
   out.ssr_phase_biases = store->phaseBiasCount() > 0;
-  out.ephemeris = eph;
+  out.ephemeris = fallback;
+  out.corrected = eph;
   return out;
 }
 

@@ -4,6 +4,7 @@
 #include <sstream>
 
 #include "ppp_bayes_tree/io/line_source.h"
+#include "ppp_bayes_tree/io/bias_bounds.h"
 #include "ppp_bayes_tree/types/carrier_frequency.h"
 #include "ppp_bayes_tree/types/constants.h"
 
@@ -19,11 +20,20 @@ std::optional<ClockWideLaneSignals> clockWideLaneSignals(GnssSystem system) {
   return std::nullopt;
 }
 
-ClockWideLaneBiases parseClockWideLaneBiases(const std::vector<std::string>& comments) {
+ClockWideLaneBiases parseClockWideLaneBiases(const std::vector<std::string>& comments,
+                                             const std::vector<std::size_t>& lines) {
   ClockWideLaneBiases out;
   for (std::size_t i = 0; i < comments.size(); ++i) {
     const std::string& c = comments[i];
     if (c.rfind("WL ", 0) != 0) continue;
+    ++out.lines;
+    const std::string where =
+        (i < lines.size() ? "line " + std::to_string(lines[i]) : "clock header comment " + std::to_string(i + 1)) +
+        " \"" + c + "\"";
+    const auto refuse = [&](const std::string& why) {
+      ++out.refused;
+      out.problems.push_back(where + ": " + why);
+    };
     std::istringstream in(c);
     std::string tag, sat_text;
     double date[6];
@@ -33,18 +43,20 @@ ClockWideLaneBiases parseClockWideLaneBiases(const std::vector<std::string>& com
     for (double& d : date) in >> d;
     in >> count >> value;
     const auto sat = SatelliteId::parse(sat_text);
-    if (!in || !sat || count < 1 || !std::isfinite(value)) {
-      out.problems.push_back("clock header comment " + std::to_string(i + 1) + " \"" + c +
-                             "\": not a wide-lane bias (WL sat date count value)");
+    if (!in || !sat || count < 1) {
+      refuse("not a wide-lane bias (WL sat date count value)");
+      continue;
+    }
+    if (const auto beyond = wideLaneBiasBeyondBound(value)) {
+      refuse(*beyond + ": not used");
       continue;
     }
     std::string pair;  // optional frequency field ("0102", "0105")
     in >> pair;
     const auto signals = clockWideLaneSignals(sat->system);
     if (!pair.empty() && signals && pair != signals->header_pair) {
-      out.problems.push_back("clock header comment " + std::to_string(i + 1) + " \"" + c + "\": frequency pair " +
-                             pair + " is not the " + std::string(systemName(sat->system)) + " pair " +
-                             signals->header_pair);
+      refuse("frequency pair " + pair + " is not the " + std::string(systemName(sat->system)) + " pair " +
+             signals->header_pair);
       continue;
     }
     out.wide_lane_cycles[*sat] = value;
@@ -90,18 +102,41 @@ BiasAnswer ClockWideLaneBiasProvider::phaseBias(const SatelliteId& sat, const Ob
   return a;
 }
 
+IntegerRecoveryClockBiases readIntegerRecoveryClockBiases(const std::vector<RinexClockHeader>& headers,
+                                                          const std::vector<std::string>& clock_files) {
+  IntegerRecoveryClockBiases out;
+  if (headers.empty()) return out;
+  std::map<SatelliteId, double> all;
+  bool every_file = true;
+  for (std::size_t i = 0; i < headers.size(); ++i) {
+    const ClockWideLaneBiases wl = parseClockWideLaneBiases(headers[i].comments, headers[i].comment_lines);
+    for (const auto& p : wl.problems) out.problems.push_back(fileBaseName(clock_files[i]) + ": " + p);
+    out.lines += wl.lines;
+    out.refused += wl.refused;
+    every_file = every_file && !wl.wide_lane_cycles.empty();
+    all.insert(wl.wide_lane_cycles.begin(), wl.wide_lane_cycles.end());
+  }
+  if (every_file)
+    out.provider = std::make_shared<const ClockWideLaneBiasProvider>(std::move(all), fileBaseName(clock_files.front()));
+  return out;
+}
+
+std::string IntegerRecoveryClockBiases::whyNone() const {
+  if (provider || lines == 0) return {};
+  std::string out = refused == lines
+                        ? "all " + std::to_string(lines) + " wide-lane lines of the clock header refused"
+                        : "a clock file without usable wide-lane lines (" + std::to_string(refused) + " of " +
+                              std::to_string(lines) + " refused)";
+  if (!problems.empty()) out += " (first: " + problems.front() + ")";
+  return out;
+}
+
 std::shared_ptr<const ClockWideLaneBiasProvider> integerRecoveryClockBiases(
     const std::vector<RinexClockHeader>& headers, const std::vector<std::string>& clock_files,
     std::vector<std::string>& problems) {
-  if (headers.empty()) return nullptr;
-  std::map<SatelliteId, double> all;
-  for (std::size_t i = 0; i < headers.size(); ++i) {
-    ClockWideLaneBiases wl = parseClockWideLaneBiases(headers[i].comments);
-    for (const auto& p : wl.problems) problems.push_back(fileBaseName(clock_files[i]) + ": " + p);
-    if (wl.wide_lane_cycles.empty()) return nullptr;
-    all.insert(wl.wide_lane_cycles.begin(), wl.wide_lane_cycles.end());
-  }
-  return std::make_shared<const ClockWideLaneBiasProvider>(std::move(all), fileBaseName(clock_files.front()));
+  IntegerRecoveryClockBiases read = readIntegerRecoveryClockBiases(headers, clock_files);
+  problems.insert(problems.end(), read.problems.begin(), read.problems.end());
+  return read.provider;
 }
 
 }  // namespace ppp

@@ -25,16 +25,32 @@ BiasAnswer answer(const Pick& pick, const ObservationCode& code, const GnssTime&
   out.valid_from = out.valid_until = t;
   return out;
 }
+
+/// "No say" at `t` (the broadcast fallback is in force there).
+BiasAnswer notInForce(const GnssTime& t) {
+  BiasAnswer out;
+  out.applies = false;
+  out.valid_from = out.valid_until = t;
+  return out;
+}
 }  // namespace
 
+BiasAnswer SsrBiasProvider::bounded(BiasAnswer a, const GnssTime& t) const {
+  // With a fallback the mode may change at any epoch: the answer holds for `t` only.
+  if (in_force_) a.valid_from = a.valid_until = t;
+  return a;
+}
+
 BiasAnswer SsrBiasProvider::codeBias(const SatelliteId& sat, const ObservationCode& code, const GnssTime& t) const {
-  return answer(ssr_->codeBias(sat, t), code, t, ssr_->limits().bias_max_age_s,
-                [&](const GnssTime& t0) { return ssr_->nextCodeBiasEpoch(sat, t0); });
+  if (in_force_ && !in_force_(sat, t)) return notInForce(t);
+  return bounded(answer(ssr_->codeBias(sat, t), code, t, ssr_->limits().bias_max_age_s,
+                [&](const GnssTime& t0) { return ssr_->nextCodeBiasEpoch(sat, t0); }), t);
 }
 
 BiasAnswer SsrBiasProvider::phaseBias(const SatelliteId& sat, const ObservationCode& code, const GnssTime& t) const {
-  return answer(ssr_->phaseBias(sat, t), code, t, ssr_->limits().bias_max_age_s,
-                [&](const GnssTime& t0) { return ssr_->nextPhaseBiasEpoch(sat, t0); });
+  if (in_force_ && !in_force_(sat, t)) return notInForce(t);
+  return bounded(answer(ssr_->phaseBias(sat, t), code, t, ssr_->limits().bias_max_age_s,
+                [&](const GnssTime& t0) { return ssr_->nextPhaseBiasEpoch(sat, t0); }), t);
 }
 
 }  // namespace ppp

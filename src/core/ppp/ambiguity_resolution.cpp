@@ -19,6 +19,9 @@ std::string AmbiguityResolutionOptions::validate() const {
     return "min_success_rate must be in [0, 1)";
   if (narrow_lane.min_fixed < 1) return "min_fixed must be >= 1";
   if (wide_lane.min_samples < 1) return "wide_lane_min_samples must be >= 1";
+  if (!(std::isfinite(wide_lane.correlation_time_s) && wide_lane.correlation_time_s >= 0.0))
+    return "wide_lane_correlation_time_s must be a finite value >= 0";
+  if (hold.small_subset_max_size < 0) return "small_subset_max_size must be >= 0";
   if (!(wide_lane.max_fraction_cycles > 0.0 && wide_lane.max_fraction_cycles <= 0.5))
     return "wide_lane_max_fraction_cycles must be in (0, 0.5]";
   if (!(wide_lane.min_success_rate >= 0.0 && wide_lane.min_success_rate < 1.0))
@@ -580,7 +583,7 @@ std::optional<AmbiguityFixedState> AmbiguityResolver::resolveAndHold(const Eigen
     const Eigen::VectorXd a_hat = D * xc - o;
     const Eigen::MatrixXd Q = D * Pc * D.transpose();
     IlsResult ils = solveIntegerLeastSquares(a_hat, Q, io);
-    if (ho.require_subset_success_rate && ils.isFixed() &&
+    if ((ho.require_subset_success_rate || n <= ho.small_subset_max_size) && ils.isFixed() &&
         ils.bootstrap_success_rate < options_.narrow_lane.min_success_rate) {
       ils.fixed = 0;  // the ratio passed, but the subset is not determined well enough
       ils.fixed_ambiguities.reset();

@@ -205,6 +205,8 @@ bool EkfPpp::solve(const EpochSolveInput& in, EpochSolveOutput& out, EstimatorEp
                       std::to_string(options_.screening.min_satellites) + " needed");
 
     // Iterated update: x_{i+1} = x_pred + K_i (z - h(x_i) - H_i (x_pred - x_i)).
+    // The code variances carry the correlation of the code errors over dt (stochastic_model.h).
+    const double code_variance_factor = model_.codeVarianceFactor(in.dt_s);
     const Eigen::Index dim = fa.x.size();
     Eigen::VectorXd x_lin = fa.x, x_new = fa.x;
     Eigen::MatrixXd H, K;
@@ -240,7 +242,7 @@ bool EkfPpp::solve(const EpochSolveInput& in, EpochSolveOutput& out, EstimatorEp
         H.block(2 * k, 0, 1, kRx) = row.m.jacobian;
         H.block(2 * k + 1, 0, 1, kRx) = row.m.jacobian;
         H(2 * k + 1, row.bias_index) = 1.0;
-        R(2 * k) = row.m.code_sigma_m * row.m.code_sigma_m;
+        R(2 * k) = row.m.code_sigma_m * row.m.code_sigma_m * code_variance_factor;
         R(2 * k + 1) = row.m.phase_sigma_m * row.m.phase_sigma_m;
         y_lin(2 * k) = row.m.codeResidual_m();
         y_lin(2 * k + 1) = row.m.phaseResidualWithoutBias_m() - x_lin(row.bias_index);

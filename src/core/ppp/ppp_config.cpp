@@ -29,6 +29,7 @@ void readStochastic(YamlSection s, StochasticModel& m) {
   }
   readNoise(s.section("clock"), m.clock, true);
   readNoise(s.section("phase_bias"), m.phase_bias, false);
+  m.code_correlation_time_s = s.number("code_correlation_time_s", m.code_correlation_time_s, Bound::NonNegative);
   s.finish();
 }
 
@@ -77,6 +78,8 @@ void readAmbiguityResolution(YamlSection s, AmbiguityResolutionOptions& o) {
   o.narrow_lane.min_fixed = s.integer("min_fixed", o.narrow_lane.min_fixed, 1);
   o.narrow_lane.partial = s.boolean("partial", o.narrow_lane.partial);
   o.wide_lane.min_samples = s.integer("wide_lane_min_samples", o.wide_lane.min_samples, 1);
+  o.wide_lane.correlation_time_s =
+      s.number("wide_lane_correlation_time_s", o.wide_lane.correlation_time_s, Bound::NonNegative);
   o.wide_lane.min_success_rate =
       s.number("wide_lane_min_success_rate", o.wide_lane.min_success_rate, Bound::NonNegative);
   o.wide_lane.max_fraction_cycles =
@@ -86,6 +89,7 @@ void readAmbiguityResolution(YamlSection s, AmbiguityResolutionOptions& o) {
       s.number("max_float_spread_cycles", o.hold.max_float_spread_cycles, Bound::Positive);
   o.hold.require_subset_success_rate =
       s.boolean("require_subset_success_rate", o.hold.require_subset_success_rate);
+  o.hold.small_subset_max_size = s.integer("small_subset_max_size", o.hold.small_subset_max_size, 0);
   o.hold.validation_epochs = s.integer("validation_epochs", o.hold.validation_epochs, 1);
   o.hold.fast_validation_success_rate =
       s.number("fast_validation_success_rate", o.hold.fast_validation_success_rate, Bound::NonNegative);

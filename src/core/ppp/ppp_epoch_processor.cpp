@@ -17,6 +17,9 @@ struct PppEpochProcessor::Impl {
   WindupTracker windup;
   std::optional<GnssTime> last_time;
   std::optional<double> interval_s;
+  /// The ratio of the latest integer search that passed while the solution stays
+  /// fixed (held integers need no search every epoch): SolutionEpoch::ambiguity_ratio.
+  std::optional<double> fix_ratio;
   // Work buffers reused every epoch.
   SignalSelectionResult sel;
   std::vector<DualFrequencyObservation> usable;
@@ -25,6 +28,19 @@ struct PppEpochProcessor::Impl {
   Impl(const RinexObsHeader& h, const PppConfig& c, const BiasProvider* b)
       : header(h), config(c), biases(b), tracker(c.cycle_slip_options) {}
 };
+
+namespace {
+
+/// A fixed epoch's ratio: this epoch's search when it passed, else the latest that
+/// passed since the solution became fixed (the held integers'); nullopt when none.
+void recordFixRatio(std::optional<double>& fix_ratio, SolutionEpoch& s, const EstimatorEpochResult& r) {
+  if (s.status != SolutionStatus::PppFixed || !r.ambiguity_fix) return;
+  const AmbiguityFixSummary& f = *r.ambiguity_fix;
+  if (f.ils_reason == IlsFloatReason::None && f.ratio > 0.0) fix_ratio = f.ratio;
+  s.ambiguity_ratio = fix_ratio;
+}
+
+}  // namespace
 
 PppEpochProcessor::PppEpochProcessor(const RinexObsHeader& header, const PppConfig& config,
                                      const EphemerisSource& ephemeris,
@@ -163,6 +179,7 @@ PppEpochRecord PppEpochProcessor::process(const ObsEpoch& epoch, EpochEstimator&
   s.integrity = r.integrity;
   if (r.status == EpochStatus::Ok && r.solution) {
     s.status = r.ambiguities == AmbiguityState::Fixed ? SolutionStatus::PppFixed : SolutionStatus::PppFloat;
+    recordFixRatio(impl_->fix_ratio, s, r);
     s.position_ecef_m = r.solution->state.position_ecef_m;
     s.covariance_ecef_m2 = r.solution->positionCovariance_m2();
     s.zwd_m = r.solution->state.zwd_m;
@@ -170,6 +187,7 @@ PppEpochRecord PppEpochProcessor::process(const ObsEpoch& epoch, EpochEstimator&
     rec.state_layout = r.solution->state.layout;
     rec.receiver_covariance = r.solution->covariance;
   }
+  if (s.status != SolutionStatus::PppFixed) impl_->fix_ratio.reset();
   rec.active_biases = r.active_biases;
   rec.estimator_reset = r.estimator_reset;
   rec.estimator_time_s = r.epoch_time_s;

@@ -272,6 +272,8 @@ bool PppSmoother::solve(const EpochSolveInput& in, EpochSolveOutput& out, Estima
       factors.push_back(std::make_shared<ClockPriorFactor>(x, layout_.clock(system), predicted.clock_m(system),
                                                            sigmaOf(model_.clock.processVariance_m2(in.dt_s))));
   }
+  // The code sigmas carry the correlation of the code errors over dt (stochastic_model.h).
+  const double code_sigma_factor = std::sqrt(model_.codeVarianceFactor(in.dt_s));
   auto noise = [&](double sigma) {
     NoiseModel::Ptr n = NoiseModel::isotropic(1, sigma);
     if (options_.robust) n = n->withRobust({smoother::RobustKernel::Type::Huber, options_.huber_width_sigmas});
@@ -309,7 +311,7 @@ bool PppSmoother::solve(const EpochSolveInput& in, EpochSolveOutput& out, Estima
     newest.push_back(slot.key);
     SatellitePrediction prediction(m, predicted, options_.exact_range);
     code_factor[k] = factors.size();
-    factors.push_back(std::make_shared<PppCodeFactor>(x, prediction, noise(m.code_sigma_m)));
+    factors.push_back(std::make_shared<PppCodeFactor>(x, prediction, noise(m.code_sigma_m * code_sigma_factor)));
     factors.push_back(std::make_shared<PppPhaseFactor>(x, slot.key, prediction, noise(m.phase_sigma_m)));
   }
 

@@ -39,8 +39,10 @@ OrbitClockProducts loadOrbitsAndClocks(const ProductAssemblyInputs& in, const Pp
                                        std::vector<std::string>& problems) {
   OrbitClockProducts out;
   if (!in.nav.empty()) {
+    std::optional<ObservationSpan> span;
+    if (in.first && in.last) span = ObservationSpan{*in.first, *in.last};
     BroadcastProducts broadcast = loadBroadcastProducts(in.nav, in.ssr, in.ssr_reference, config.ssr,
-                                                        in.stream_reference_time);
+                                                        in.stream_reference_time, span);
     out.ephemeris = std::move(broadcast.ephemeris);
     out.ssr_biases = std::move(broadcast.ssr_biases);
     out.ssr_phase_biases = broadcast.ssr_phase_biases;
@@ -68,20 +70,37 @@ OrbitClockProducts loadOrbitsAndClocks(const ProductAssemblyInputs& in, const Pp
   return out;
 }
 
-/// The satellite antenna models the products name (headers, or the stream's declaration).
-/// An SSR recording's model is the one the configuration states (ssr.antenna_model).
-std::vector<std::string> productAntennaModels(const ProductAssemblyInputs& in, const std::string& ssr_antenna_model) {
+/// Whether the orbits and clocks are SSR corrections (a recording or a live feed),
+/// whose satellite antenna model the configuration states (ssr.antenna_model).
+bool fromSsr(const ProductAssemblyInputs& in) {
+  return (!in.nav.empty() && in.ssr) || (in.streamedOrbitsAndClocks() && in.live_ssr);
+}
+
+/// The satellite antenna models the products name (SP3 and clock headers, or the
+/// stream's declaration). An SSR recording's model is the one the configuration
+/// states (ssr.antenna_model).
+std::vector<std::string> productAntennaModels(const ProductAssemblyInputs& in,
+                                              const std::vector<RinexClockHeader>& clock_headers,
+                                              const std::string& ssr_antenna_model) {
   std::vector<std::string> models;
-  for (const auto* list : {&in.sp3, &in.clk})
-    for (const auto& f : *list) {
-      try {
-        models.push_back(productAntennaModel(f));
-      } catch (const std::exception&) {  // unreadable products are reported by their readers
-      }
+  for (const auto& f : in.sp3) {
+    try {
+      models.push_back(productAntennaModel(f));
+    } catch (const std::exception&) {  // unreadable products are reported by their readers
     }
+  }
+  for (const auto& h : clock_headers) models.push_back(h.pcvs_applied);
   if (in.streamedOrbitsAndClocks() && !in.streamed.antenna_model.empty()) models.push_back(in.streamed.antenna_model);
-  if (!in.nav.empty() && in.ssr && !ssr_antenna_model.empty()) models.push_back(ssr_antenna_model);
+  else if (fromSsr(in) && !ssr_antenna_model.empty()) models.push_back(ssr_antenna_model);
   return models;
+}
+
+/// Why the gate knows no satellite antenna model of the products.
+std::string unknownAntennaModelDetail(const ProductAssemblyInputs& in, const std::string& ssr_antenna_model) {
+  if (fromSsr(in) && ssr_antenna_model.empty())
+    return "SSR streams name no satellite antenna model: set ssr.antenna_model to the provider's (IGS20 for the "
+           "IGS real-time service's streams)";
+  return "the products name no satellite antenna model";
 }
 
 /// The one family the named models share ("" when none is named or they differ).
@@ -162,6 +181,7 @@ std::string toString(ArGateReason r) {
     case ArGateReason::NoConsistentPhaseBiases: return "no consistent phase biases";
     case ArGateReason::AntennaModelDifferent: return "satellite antenna model differs from the products'";
     case ArGateReason::AntennaModelUnknown: return "satellite antenna model of the products not known";
+    case ArGateReason::PhaseInformationRefused: return "phase information refused as implausible";
   }
   return "unknown";
 }
@@ -192,7 +212,9 @@ ProductAssembly ProductAssembly::assemble(const ProductAssemblyInputs& in, const
   a.ephemeris_ = orbit_clock.ephemeris;
 
   // ANTEX (satellites of the products' family first), Bias-SINEX, BLQ.
-  const std::vector<std::string> product_models = productAntennaModels(in, config.ssr.antenna_model);
+  for (const auto& f : in.clk) a.clock_headers_.push_back(readRinexClockHeader(f));  // read once
+  const std::vector<std::string> product_models =
+      productAntennaModels(in, a.clock_headers_, config.ssr.antenna_model);
   ProductFiles files;
   files.atx = in.atx;
   files.bias = in.bias;
@@ -283,15 +305,16 @@ void ProductAssembly::decideArGate(const ProductAssemblyInputs& in, const OrbitC
   const bool antennas_ok = antennasAllowFixing(antenna_check_, v.mode, ar.allow_antenna_model_mismatch, antenna_reason);
   if (!antennas_ok) {
     v.reason = antenna_reason;
-    v.detail = antenna_check_ ? antenna_check_->models() : "the products name no satellite antenna model";
+    v.detail = antenna_check_ ? antenna_check_->models() : unknownAntennaModelDetail(in, config_.ssr.antenna_model);
     if (v.mode == AmbiguityResolutionMode::On)
       v.detail += "; ambiguity_resolution.allow_antenna_model_mismatch: true to fix anyway";
   } else {
     if (antenna_check_ && antenna_check_->verdict != AntennaModelConsistency::Consistent)
       notes_.push_back("ambiguity resolution: antenna model mismatch allowed (allow_antenna_model_mismatch)");
-    findPhaseInformation(in, orbit_clock);
+    const bool refused = findPhaseInformation(in, orbit_clock);
     v.fix = v.phase != PhaseInformation::None;
-    v.reason = v.fix ? ArGateReason::Fixing : ArGateReason::NoConsistentPhaseBiases;
+    v.reason = v.fix ? ArGateReason::Fixing
+                     : (refused ? ArGateReason::PhaseInformationRefused : ArGateReason::NoConsistentPhaseBiases);
   }
   // The resolver runs: always with `true` (as before `auto`); with auto when the
   // gate fixes, or when the stream may still let it (its declarations and phase
@@ -301,34 +324,62 @@ void ProductAssembly::decideArGate(const ProductAssemblyInputs& in, const OrbitC
   notes_.push_back(v.text());
 }
 
-void ProductAssembly::findPhaseInformation(const ProductAssemblyInputs& in, const OrbitClockProducts& orbit_clock) {
+namespace {
+
+/// "<n> phase rows of <file> refused (first: line L: ...)"; "" when none was.
+std::string refusedPhaseRows(const BiasSinexFile* file, const std::string& path) {
+  if (file == nullptr || file->refused.phase_rows == 0) return {};
+  std::string out = std::to_string(file->refused.phase_rows) + " phase bias rows of " + fileBaseName(path) +
+                    " refused as implausible";
+  if (file->refused.first_phase_line > 0)
+    out += " (first: line " + std::to_string(file->refused.first_phase_line) + ": " + file->refused.first_phase_reason + ")";
+  return out;
+}
+
+}  // namespace
+
+bool ProductAssembly::findPhaseInformation(const ProductAssemblyInputs& in, const OrbitClockProducts& orbit_clock) {
   // In order: OSBs of the clocks' centre, integer-recovery clocks, SSR phase biases.
   ArGateVerdict& v = verdict_;
   const BiasSinexFile* bias_file = set_->biasFile();
+  const std::string refused_rows = in.bias ? refusedPhaseRows(bias_file, *in.bias) : std::string();
   if (!in.clk.empty()) {
-    std::vector<RinexClockHeader> headers;
     std::vector<ProductOrigin> clocks;
-    for (const auto& f : in.clk) {
-      headers.push_back(readRinexClockHeader(f));
-      clocks.push_back({f, clockHeaderCentre(headers.back())});
-    }
+    for (std::size_t i = 0; i < in.clk.size(); ++i) clocks.push_back({in.clk[i], clockHeaderCentre(clock_headers_[i])});
     std::optional<ProductOrigin> bias;
     if (in.bias) bias = ProductOrigin{*in.bias, bias_file ? bias_file->header.file_agency : ""};
     const PhaseBiasCheck check = checkPhaseBiasConsistency(clocks, bias, hasPhaseOsb(bias_file));
+    IntegerRecoveryClockBiases wl = readIntegerRecoveryClockBiases(clock_headers_, in.clk);
     if (check.consistent()) {
       v.phase = PhaseInformation::AnalysisCentreOsb;
       phase_biases_ = set_->biases();
       v.detail = check.clock_centre + (check.from_headers ? ", from the headers" : ", from the file names");
       notes_.push_back("ambiguity resolution: " + check.text());
-    } else if (auto wl = integerRecoveryClockBiases(headers, in.clk, problems_)) {
-      v.phase = PhaseInformation::IntegerRecoveryClocks;
-      v.detail = std::to_string(wl->size()) + " wide-lane satellite biases in the clock header";
-      notes_.push_back("ambiguity resolution: integer-recovery clocks with " + v.detail);
-      phase_biases_ = wl.get();
-      owned_phase_biases_ = std::move(wl);
-    } else {
-      v.detail = check.why();
+      if (!refused_rows.empty()) notes_.push_back("ambiguity resolution: " + refused_rows + "; not fixed where missing");
+      return false;
     }
+    problems_.insert(problems_.end(), wl.problems.begin(), wl.problems.end());
+    if (wl.provider) {
+      v.phase = PhaseInformation::IntegerRecoveryClocks;
+      v.detail = std::to_string(wl.provider->size()) + " wide-lane satellite biases in the clock header";
+      notes_.push_back("ambiguity resolution: integer-recovery clocks with " + v.detail);
+      if (wl.refused > 0)
+        notes_.push_back("ambiguity resolution: " + std::to_string(wl.refused) + " of " + std::to_string(wl.lines) +
+                         " wide-lane lines of the clock header refused; their satellites are not fixed");
+      phase_biases_ = wl.provider.get();
+      owned_phase_biases_ = std::move(wl.provider);
+      return false;
+    }
+    // Nothing usable: say why, the refused inputs first.
+    if (check.verdict == PhaseBiasConsistency::NoPhaseBiases && !refused_rows.empty()) {
+      v.detail = refused_rows;
+      return true;
+    }
+    if (!wl.whyNone().empty()) {
+      v.detail = wl.whyNone();
+      return true;
+    }
+    v.detail = check.why();
   } else if (!in.nav.empty()) {
     if (orbit_clock.ssr_phase_biases) {
       v.phase = PhaseInformation::SsrPhaseBiases;
@@ -347,6 +398,7 @@ void ProductAssembly::findPhaseInformation(const ProductAssemblyInputs& in, cons
       v.detail = "no phase biases from the stream yet";
     }
   }
+  return false;
 }
 
 bool ProductAssembly::acceptStreamedPhaseBiases(const BiasProvider* provider, PhaseInformation kind) {
@@ -374,7 +426,7 @@ bool ProductAssembly::declareStreamedProducts(const StreamedProductInfo& info) {
     return false;
   inputs_.streamed.clock_centre = info.clock_centre;
   inputs_.streamed.antenna_model = info.antenna_model;
-  const std::vector<std::string> models = productAntennaModels(inputs_, config_.ssr.antenna_model);
+  const std::vector<std::string> models = productAntennaModels(inputs_, clock_headers_, config_.ssr.antenna_model);
   const std::string family = commonFamily(models);
   if (antennas_ && family != antennas_->satelliteFamily())
     antennas_ = std::make_shared<const AntexCalibrations>(antennas_->files(), family);

@@ -105,17 +105,23 @@ double SignalSelector::phaseShift_cycles(const SystemColumns& sc, const Satellit
 }
 
 std::optional<double> SignalSelector::codeOsb_m(const SatelliteId& sat, int slot, const ObservationCode& code,
-                                                const GnssTime& t) {
+                                                const GnssTime& t, bool& applies) {
+  applies = true;
   if (biases_ == nullptr) return std::nullopt;
   OsbCache& c = osb_cache_[static_cast<std::size_t>(sat.index()) * 2 + static_cast<std::size_t>(slot)];
-  if (c.valid && c.code == code && (!c.from || !(t < *c.from)) && (!c.until || !(*c.until < t))) return c.value_m;
+  if (c.valid && c.code == code && (!c.from || !(t < *c.from)) && (!c.until || !(*c.until < t))) {
+    applies = c.applies;
+    return c.value_m;
+  }
   const BiasAnswer a = biases_->codeBias(sat, code, t);
   c = OsbCache{};
   c.valid = true;
   c.code = code;
-  c.value_m = a.value_m;
+  c.value_m = a.applies ? a.value_m : std::nullopt;
+  c.applies = a.applies;
   c.from = a.valid_from;
   c.until = a.valid_until;
+  applies = c.applies;
   return c.value_m;
 }
 
@@ -160,9 +166,13 @@ void SignalSelector::select(const ObsEpoch& epoch, SignalSelectionResult& out) {
     d.code1_m = *c1->value;
     d.code2_m = *c2->value;
     if (biases_ != nullptr) {
-      d.code1_osb_m = codeOsb_m(sat, 0, d.code1, epoch.time);
-      d.code2_osb_m = codeOsb_m(sat, 1, d.code2, epoch.time);
-      if (options_.require_code_osb && (!d.code1_osb_m || !d.code2_osb_m)) {
+      bool applies1 = true, applies2 = true;
+      d.code1_osb_m = codeOsb_m(sat, 0, d.code1, epoch.time, applies1);
+      d.code2_osb_m = codeOsb_m(sat, 1, d.code2, epoch.time, applies2);
+      if (!applies1 || !applies2) {
+        d.code1_osb_m.reset();  // the bias source has no say now (e.g. SSR too old: broadcast clocks)
+        d.code2_osb_m.reset();
+      } else if (options_.require_code_osb && (!d.code1_osb_m || !d.code2_osb_m)) {
         out.skipped.push_back({sat, "no OSB in the bias file for " + (d.code1_osb_m ? d.code2 : d.code1).toString()});
         continue;
       }

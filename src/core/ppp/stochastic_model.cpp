@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "ppp_bayes_tree/ppp/time_correlated_noise.h"
+
 namespace ppp {
 
 double StateNoise::processVariance_m2(double dt_s) const {
@@ -20,6 +22,10 @@ StochasticModel methodTableStochasticModel() {
   m.phase_bias = {100.0, 0.0, ProcessKind::RandomWalk};
   m.initial_zwd_m = 0.1;
   return m;
+}
+
+double StochasticModel::codeVarianceFactor(double dt_s) const {
+  return gaussMarkovVarianceFactor(dt_s, code_correlation_time_s);
 }
 
 std::string toString(ProcessKind kind) { return kind == ProcessKind::White ? "white" : "random_walk"; }
@@ -42,6 +48,8 @@ std::string StochasticModel::validate() const {
     if (auto e = checkNoise(name, *noise); !e.empty()) return e;
   }
   if (!std::isfinite(initial_zwd_m)) return "zwd.initial_m must be finite";
+  if (!std::isfinite(code_correlation_time_s) || code_correlation_time_s < 0.0)
+    return "code_correlation_time_s must be a finite value >= 0";
   return {};
 }
 

@@ -5,6 +5,7 @@
 #include <limits>
 
 #include "ppp_bayes_tree/models/ionosphere_free.h"
+#include "ppp_bayes_tree/ppp/time_correlated_noise.h"
 #include "ppp_bayes_tree/types/constants.h"
 
 namespace ppp {
@@ -77,8 +78,14 @@ double WideLaneArcMean::sigmaOfMean_cycles(const WideLaneOptions& options) const
   if (samples <= 0) return std::numeric_limits<double>::infinity();
   const double sample_sigma = samples > 1 ? std::sqrt(sum_squares / (samples - 1)) : 0.0;
   const double sigma = std::max(sample_sigma, options.min_sigma_cycles);
-  const double independent = std::max(1.0, samples / std::max(1.0, options.correlation_samples));
+  const double independent =
+      std::max(1.0, gaussMarkovEffectiveSamples(samples, meanInterval_s(), options.correlation_time_s));
   return sigma / std::sqrt(independent);
+}
+
+double WideLaneArcMean::meanInterval_s() const {
+  if (samples < 2 || !first_time || !last_time) return 0.0;
+  return (*last_time - *first_time) / (samples - 1);
 }
 
 int WideLaneResolution::fixedCount() const {
@@ -91,15 +98,17 @@ WideLaneBiasIssue WideLaneResolver::add(ArcId arc, const DualFrequencyObservatio
                                         const BiasProvider* biases) {
   const CorrectedMelbourneWuebbena mw = correctedMelbourneWuebbena(obs, biases);
   if (!mw.mw_cycles) return mw.issue;
-  addValue(arc, obs.satellite, *mw.mw_cycles);
+  addValue(arc, obs.satellite, *mw.mw_cycles, obs.time);
   return WideLaneBiasIssue::None;
 }
 
-void WideLaneResolver::addValue(ArcId arc, const SatelliteId& satellite, double mw_cycles) {
+void WideLaneResolver::addValue(ArcId arc, const SatelliteId& satellite, double mw_cycles, const GnssTime& time) {
   if (!std::isfinite(mw_cycles)) return;
   WideLaneArcMean& m = arcs_[arc];
   m.arc = arc;
   m.satellite = satellite;
+  if (!m.first_time) m.first_time = time;
+  m.last_time = time;
   ++m.samples;
   const double delta = mw_cycles - m.mean_cycles;
   m.mean_cycles += delta / m.samples;

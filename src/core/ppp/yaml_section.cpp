@@ -3,6 +3,8 @@
 #include <cmath>
 #include <sstream>
 
+#include "ppp_bayes_tree/ppp/config_bounds.h"
+
 namespace ppp {
 namespace {
 /// A scalar written in quotes (or a block scalar) in a file, or a string
@@ -17,6 +19,13 @@ std::string unquoteHint(const YAML::Node& n) {
     return ": write a plain number (without quotes; for rosparam (YAML 1.1) with a dot and a signed exponent, "
            "1.0e-4 or 3.0e+6)";
   return ": write a plain number (without quotes)";
+}
+
+/// A bound as written in the messages: 3600, 1e+08, 0.5.
+std::string numberText(double v) {
+  std::ostringstream os;
+  os << v;
+  return os.str();
 }
 
 std::string describe(const YAML::Node& n) {
@@ -66,6 +75,11 @@ double YamlSection::number(const std::string& key, double fallback, Bound bound)
   if (!std::isfinite(v)) fail(key, "expected a finite number, got " + describe(n));
   if (bound == Bound::NonNegative && v < 0.0) fail(key, "must be >= 0, got " + n.Scalar());
   if (bound == Bound::Positive && v <= 0.0) fail(key, "must be > 0, got " + n.Scalar());
+  if (const auto upper = configUpperBound(keyPath(key)); upper && v > upper->max) {
+    const char* low = bound == Bound::Positive ? "(0, " : bound == Bound::NonNegative ? "[0, " : "(-inf, ";
+    fail(key, "must be in " + std::string(low) + numberText(upper->max) + "] (" + upper->reason + "), got " +
+                  n.Scalar());
+  }
   return v;
 }
 
@@ -80,6 +94,9 @@ int YamlSection::integer(const std::string& key, int fallback, int minimum) {
     fail(key, "expected an integer, got " + describe(n));
   }
   if (v < minimum) fail(key, "must be >= " + std::to_string(minimum) + ", got " + n.Scalar());
+  if (const auto upper = configUpperBound(keyPath(key)); upper && v > upper->max)
+    fail(key, "must be in [" + std::to_string(minimum) + ", " + numberText(upper->max) + "] (" + upper->reason +
+                  "), got " + n.Scalar());
   return v;
 }
 

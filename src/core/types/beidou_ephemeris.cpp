@@ -1,26 +1,13 @@
 #include "ppp_bayes_tree/types/beidou_ephemeris.h"
 
-#include <cmath>
+#include "ppp_bayes_tree/types/broadcast_accuracy.h"
 
 namespace ppp {
 
-double beidouUra_m(int index) {
-  if (index < 0 || index >= 15) return 8192.0;
-  if (index <= 6) return std::pow(2.0, 1.0 + 0.5 * index);
-  return std::pow(2.0, index - 2.0);
-}
+// BDS-SIS-ICD-B1I 5.2.4.5 defines the URA index as IS-GPS-200 does: one table
+// (types/broadcast_accuracy.h), the nominal values RINEX and convbin write.
+double beidouUra_m(int index) { return gpsUra_m(index); }
 
-int beidouUraIndex(double ura_m) {
-  int best = 15;
-  double best_distance = INFINITY;
-  for (int n = 0; n < 16; ++n) {
-    const double d = std::fabs(std::log(beidouUra_m(n)) - std::log(std::fmax(ura_m, 1e-3)));
-    if (d < best_distance) {
-      best_distance = d;
-      best = n;
-    }
-  }
-  return best;
-}
+int beidouUraIndex(double ura_m) { return gpsUraIndex(ura_m); }
 
 }  // namespace ppp

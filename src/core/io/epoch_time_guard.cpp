@@ -1,4 +1,4 @@
-#include "ppp_bayes_tree/ppp/epoch_time_guard.h"
+#include "ppp_bayes_tree/io/epoch_time_guard.h"
 
 namespace ppp {
 
