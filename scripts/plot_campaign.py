@@ -3,8 +3,8 @@
 
 usage: plot_campaign.py DIR   -> DIR/summary.png
 
-Top: per PPP job, the mean 3D error and the first-15-min mean 3D error [cm]
-(jobs with a truth), grouped by station and ordered as in the manifest; jobs that
+Top: per PPP job (stations and bags), the mean 3D error and the first-15-min mean 3D error [cm]
+(jobs with a truth), grouped by station (or bag entry) and ordered as in the manifest; jobs that
 did not finish are marked. Bottom: the fixed share of the PPP-AR jobs. Prints the
 path of the figure.
 """
@@ -30,7 +30,7 @@ def main():
         return 2
     out = sys.argv[1]
     with open(f"{out}/summary.csv", newline="") as f:
-        rows = [r for r in csv.DictReader(f) if r["kind"] == "ppp"]
+        rows = [r for r in csv.DictReader(f) if r["kind"] in ("ppp", "bag")]
     if not rows:
         print("plot_campaign: no PPP jobs to plot")
         return 0

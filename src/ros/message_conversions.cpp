@@ -1,9 +1,12 @@
 #include "ppp_bayes_tree/ros/message_conversions.h"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
+
+#include "ppp_bayes_tree/ppp/phase_bias_consistency.h"
 
 namespace ppp_ros {
 namespace {
@@ -114,6 +117,18 @@ ros::Time utcStamp(const ppp::GnssTime& t) {
   const std::int64_t utc = t.wholeSeconds() + static_cast<std::int64_t>(std::llround(t.offsetToSystem_s(ppp::TimeSystem::UTC)));
   const auto nsec = static_cast<std::uint32_t>(std::min(999999999.0, std::round(t.fraction() * 1e9)));
   return ros::Time(static_cast<std::uint32_t>(std::max<std::int64_t>(0, utc + kGpsEpochUnix_s)), nsec);
+}
+
+ppp::GnssTime fromUtcStamp(const ros::Time& stamp) {
+  const std::int64_t utc = static_cast<std::int64_t>(stamp.sec) - kGpsEpochUnix_s;
+  const double fraction = stamp.nsec * 1e-9;
+  // GPST = UTC - offset(GPST -> UTC): iterate once for a leap second between the two.
+  ppp::GnssTime t = ppp::GnssTime::fromGpsSeconds(utc, fraction);
+  for (int i = 0; i < 2; ++i) {
+    const double offset = t.offsetToSystem_s(ppp::TimeSystem::UTC);
+    t = ppp::GnssTime::fromGpsSeconds(utc - static_cast<std::int64_t>(std::llround(offset)), fraction);
+  }
+  return t;
 }
 
 ppp_bayes_tree::GnssObservations toMessage(const ppp::ObsEpoch& epoch, const ppp::RinexObsHeader& header) {
@@ -423,6 +438,17 @@ std::uint8_t arBiasKind(ppp::PhaseInformation phase) {
   for (const auto& [kind, p] : kArBiasKinds)
     if (p == phase) return kind;
   return ppp_bayes_tree::PreciseCorrections::AR_BIASES_NONE;
+}
+
+ppp::StreamedProductInfo streamedProductInfo(const ppp_bayes_tree::PreciseCorrections& msg,
+                                             const ppp::CorrectionBatch& batch) {
+  ppp::StreamedProductInfo info;
+  for (const auto& c : batch.satellites)
+    if (std::find(info.systems.begin(), info.systems.end(), c.satellite.system) == info.systems.end())
+      info.systems.push_back(c.satellite.system);
+  info.clock_centre = ppp::analysisCentreOfProductFile(msg.clock_source).value_or("");
+  info.antenna_model = msg.antenna_model;
+  return info;
 }
 
 }  // namespace ppp_ros

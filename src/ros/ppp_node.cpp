@@ -1072,12 +1072,7 @@ void PppNode::declareStreamedProducts(const ppp_bayes_tree::PreciseCorrections& 
   // of the stream's orbits and clocks decide the satellite antennas and the PPP-AR gate.
   if (streamed_declared_ || live_) return;
   streamed_declared_ = true;
-  ppp::StreamedProductInfo info;
-  for (const auto& c : batch.satellites)
-    if (std::find(info.systems.begin(), info.systems.end(), c.satellite.system) == info.systems.end())
-      info.systems.push_back(c.satellite.system);
-  info.clock_centre = ppp::analysisCentreOfProductFile(msg.clock_source).value_or("");
-  info.antenna_model = msg.antenna_model;
+  const ppp::StreamedProductInfo info = streamedProductInfo(msg, batch);
   if (!products_.declareStreamedProducts(info)) return;
   ROS_INFO_STREAM("ppp: the correction stream declares "
                   << (info.clock_centre.empty() ? "no clock centre" : "clocks of " + info.clock_centre) << " and "

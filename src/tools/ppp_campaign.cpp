@@ -1,5 +1,6 @@
 // ppp_campaign: many independent jobs (PPP of station days, day files split into
-// hours, Monte Carlo shards) from one YAML manifest, on this machine's cores or
+// hours, ROS replay bags through the ROS tool ppp_bag_solve beside this
+// executable, Monte Carlo shards) from one YAML manifest, on this machine's cores or
 // on a Slurm cluster, resumable, with one summary at the end
 // (app/campaign_manifest.h: the manifest; app/campaign_job.h: the job
 // directories and markers; app/campaign_summary.h: the summary).

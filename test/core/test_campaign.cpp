@@ -124,6 +124,41 @@ ppp:
   EXPECT_NE(problems[1].find("matches no file"), std::string::npos) << problems[1];
 }
 
+TEST(CampaignManifest, BagEntriesExpandToOneJobPerBagAndAreChecked) {
+  const fs::path dir = test::tempDir("campaign_bags");
+  touch(dir / "flights" / "f1.bag");
+  touch(dir / "flights" / "f2.bag");
+  touch(dir / "truth.csv");
+  const CampaignManifest manifest = loadCampaignManifest(writeManifest(dir, R"(
+campaign: {data_root: .}
+bags:
+  - {name: uav, bag: "flights/*.bag", estimator: both, truth_csv: truth.csv}
+  - {name: lost, bag: flights/f3.bag, truth: [1, 2, 3]}
+)").string());
+  ASSERT_EQ(manifest.jobs.size(), 3u);
+  EXPECT_EQ(manifest.jobs[0].id, "uav_f1");
+  EXPECT_EQ(manifest.jobs[1].id, "uav_f2");
+  EXPECT_EQ(manifest.jobs[2].id, "lost");
+  for (const auto& job : manifest.jobs) {
+    EXPECT_EQ(job.kind, CampaignJobKind::Bag);
+    const std::string yaml = campaignJobYaml(job);
+    EXPECT_EQ(campaignJobYaml(parseCampaignJob(yaml, "job.yaml")), yaml) << job.id;
+  }
+  EXPECT_EQ(manifest.jobs[1].ppp.files.obs, (dir / "flights" / "f2.bag").string());
+  EXPECT_EQ(manifest.jobs[1].ppp.truth_csv, (dir / "truth.csv").string());
+  EXPECT_EQ(manifest.jobs[1].ppp.estimator, "both");
+  // The missing bag is named; this test binary has no ppp_bag_solve beside it
+  // only in the core (plain CMake) build, which is then named as well.
+  const auto problems = campaignInputProblems(manifest);
+  ASSERT_GE(problems.size(), 1u);
+  EXPECT_NE(problems[0].find("job lost: bag " + (dir / "flights" / "f3.bag").string() + ": no such file"),
+            std::string::npos)
+      << problems[0];
+  const bool solver_built = fs::exists(campaignBagSolverPath());
+  EXPECT_EQ(problems.size(), solver_built ? 1u : 2u);
+  if (!solver_built) EXPECT_NE(problems[1].find("ppp_bag_solve"), std::string::npos) << problems[1];
+}
+
 TEST(CampaignManifest, BadManifestsNameTheKey) {
   const fs::path dir = test::tempDir("campaign_bad");
   auto error = [&](const std::string& text) {

@@ -35,6 +35,9 @@ TEST(RosTime, WeekSecondsAndUtcStampOfKnownInstants) {
   EXPECT_EQ(ppp_ros::fromMessageTime(m.week, m.seconds_of_week, "GPS"), t);
   // UTC = GPST - 18 s (IERS Bulletin C, since 2017): POSIX 1778630400 is 2026-05-13 00:00:00 UTC.
   EXPECT_EQ(ppp_ros::utcStamp(t).sec, 1778630400u - 18u);
+  // ...and back from the stamp (ppp_bag_solve reads truth/path stamps so).
+  EXPECT_EQ(ppp_ros::fromUtcStamp(ros::Time(1778630400u - 18u, 0)), t);
+  EXPECT_NEAR(ppp_ros::fromUtcStamp(ppp_ros::utcStamp(t + 0.25)) - (t + 0.25), 0.0, 1e-9);
   // The same instant read in UTC and back.
   const auto u = ppp_ros::toMessageTime(t + 0.1234567, ppp::TimeSystem::UTC);
   EXPECT_DOUBLE_EQ(u.seconds_of_week, 259200.0 - 18.0 + 0.1234567);

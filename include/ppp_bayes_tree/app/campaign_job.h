@@ -13,6 +13,7 @@
 //                        failed.json  why the last attempt failed
 //                        timing.json  wall time and host of the last attempt (not an
 //                                     output: it differs from run to run)
+//                        ppp_bag_solve.log  (bag jobs) the tool's console output
 //
 // A job is DONE when done.json exists and names the digest of the current
 // job.yaml (a changed manifest re-runs the jobs it changed); FAILED with a
@@ -21,14 +22,18 @@
 // campaign runs every job that is not DONE, and only those.
 //
 // PPP jobs write ppp_solve's outputs (app/ppp_solve_run.h) without wall-clock
-// figures (PppSolveRequest::write_timings false); Monte Carlo shards write their
-// flights' records (evaluation/monte_carlo_records.h) as flights.mcr.
+// figures (PppSolveRequest::write_timings false); bag jobs the same, written by
+// the ROS tool ppp_bag_solve run as a subprocess (its figures in
+// output/bag_result.json, its console output in ppp_bag_solve.log beside
+// timing.json, not an output); Monte Carlo
+// shards write their flights' records (evaluation/monte_carlo_records.h) as flights.mcr.
 #include <limits>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "ppp_bayes_tree/app/campaign_manifest.h"
+#include "ppp_bayes_tree/app/ppp_solve_run.h"
 
 namespace ppp {
 
@@ -60,6 +65,15 @@ struct CampaignJobStatus {
   std::string reason;  // failed / interrupted: why
   std::optional<CampaignJobResult> result;  // done
 };
+
+/// The figures of a PPP run from its first outcome (the causal solution), and
+/// as done.json's "result" object (ppp_bag_solve --result writes it for a bag job).
+CampaignJobResult campaignPppResult(const PppSolveOutcome& first);
+std::string campaignPppResultJson(const PppSolveOutcome& first);
+
+/// The ROS tool bag jobs run: ppp_bag_solve in the directory of the running
+/// executable (ppp_campaign's, devel/lib/ppp_bayes_tree in the catkin build).
+std::string campaignBagSolverPath();
 
 /// The state of the job in `job_dir` from its files (see above).
 CampaignJobStatus campaignJobStatus(const std::string& job_dir);

@@ -1,6 +1,6 @@
 #pragma once
 // A campaign: many independent jobs (PPP of RINEX/CRX files with precise or
-// broadcast products; Monte Carlo shards of a simulated-flight study), listed in
+// broadcast products; PPP of ROS replay bags; Monte Carlo shards of a simulated-flight study), listed in
 // a YAML manifest and expanded here into concrete jobs. The manifest layout
 // (config/campaign_example.yaml is a complete, commented example):
 //
@@ -14,6 +14,9 @@
 //      bia: PATTERN, blq: PATTERN, config: [YAML...], estimator: ekf|smoother|both,
 //      truth: [X, Y, Z], format: rinex|rtcm|ubx,
 //      dates: {first: YYYY-MM-DD, last: YYYY-MM-DD}, hours: [FIRST, LAST]}
+//   bags:      a list of ROS replay bags (gnss/observations + gnss/corrections), each
+//     {name: N, bag: PATTERN, config: [YAML...], estimator: ekf|smoother|both,
+//      atx: [...], bia: PATTERN, blq: PATTERN, truth: [X, Y, Z] | truth_csv: PATTERN}
 //   monte_carlo: a list of studies, each
 //     {study: S, seed: N, flights: N, flights_per_job: N, duration_min: 30, rate_hz: 1,
 //      systems: G|GE, ambiguity_resolution: false, smoother_lag_s: 60,
@@ -26,6 +29,11 @@
 // `hours: [a, b]` each of those jobs becomes one job per hour a..b of its day
 // (GPST window [h, h+1) h; io/time_window_source.h). Job ids:
 // <station>[_<yyyy>-<doy>][_h<HH>][_<obs file stem>, when the glob matched several].
+// A bags entry: `bag` is a glob, one job per matching bag, id <name>[_<bag stem>,
+// when it matched several]; the job runs the ROS tool ppp_bag_solve (the
+// executable next to the running ppp_campaign) and writes ppp_solve's outputs; the
+// truth is `truth` (a point) or `truth_csv` (a trajectory: gps_week,
+// seconds_of_week, x_m, y_m, z_m), else the bag's truth/path when it has one.
 // A Monte Carlo study becomes ceil(flights / flights_per_job) shards of
 // consecutive flights, <study>_f<first>-<last>; every flight depends only on
 // (seed, index), so the shards merge into the one-run study exactly
@@ -43,15 +51,18 @@
 
 namespace ppp {
 
-enum class CampaignJobKind { Ppp, MonteCarloShard };
-const char* toString(CampaignJobKind kind);  // "ppp", "monte_carlo"
+enum class CampaignJobKind { Ppp, Bag, MonteCarloShard };
+const char* toString(CampaignJobKind kind);  // "ppp", "bag", "monte_carlo"
 
 /// One PPP run (ppp_solve's inputs; the window splits a day file into hours).
+/// A bag job uses files.obs (the bag), atx, bias, blq and the rest; the orbits
+/// and clocks are the bag's corrections.
 struct CampaignPppJob {
   PppInputFiles files;
   std::vector<std::string> config;  // PPP configuration files, laid one on another
   std::string estimator = "ekf";    // ekf | smoother | both
   std::optional<Eigen::Vector3d> truth_ecef_m;
+  std::string truth_csv;  // bag jobs: a truth trajectory (ppp_bag_solve --truth-csv); empty: none
 };
 
 /// One shard of a Monte Carlo study: flights first_flight .. first_flight + flights - 1
@@ -73,10 +84,10 @@ struct CampaignMonteCarloShard {
 struct CampaignJob {
   std::string id;  // unique in the campaign; a file name
   CampaignJobKind kind = CampaignJobKind::Ppp;
-  std::string group;  // the station (ppp) or the study (monte_carlo)
+  std::string group;  // the station (ppp), the name (bag) or the study (monte_carlo)
   std::string date;   // "2020-06-25" when the entry has dates, else ""
   int hour = -1;      // the hour of an hourly job, else -1
-  CampaignPppJob ppp;
+  CampaignPppJob ppp;  // ppp and bag jobs
   CampaignMonteCarloShard monte_carlo;
 };
 
@@ -107,7 +118,8 @@ struct CampaignManifest {
 CampaignManifest loadCampaignManifest(const std::string& path);
 
 /// Every input of every job that is missing or unreadable ("job zim2: sp3
-/// /data/x.SP3: no such file"), and configuration files that do not load.
+/// /data/x.SP3: no such file"), configuration files that do not load, and
+/// bag jobs without the ROS tool ppp_bag_solve (campaignBagSolverPath()).
 /// Empty: the campaign may run.
 std::vector<std::string> campaignInputProblems(const CampaignManifest& manifest);
 

@@ -28,6 +28,7 @@
 // end-to-end test calls it too.
 #include <Eigen/Core>
 #include <functional>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -42,6 +43,10 @@ struct PppSolveRequest {
   PppConfig config;
   std::string estimator = "ekf";
   std::optional<Eigen::Vector3d> truth_ecef_m;
+  /// A moving truth instead (a simulated flight's true antenna path, e.g.
+  /// TruthTrajectory::at of app/replay_report.h): the truth at an epoch, nullopt
+  /// when it has none (the epoch is left out of the statistics). Empty: no truth.
+  std::function<std::optional<Eigen::Vector3d>(const GnssTime&)> truth_at;
   std::string out_dir;
   /// Output file prefix; empty = the station name in lower case ("zim2").
   std::string name;
@@ -50,6 +55,11 @@ struct PppSolveRequest {
   /// epochs-CSV cells empty), so that two runs of the same inputs write the same
   /// bytes (campaigns: app/campaign_job.h). The outcome still carries them.
   bool write_timings = true;
+  /// When set, the run's pipeline comes from it (given the request's config)
+  /// instead of `files`: other inputs than files, e.g. the epochs and corrections
+  /// of a ROS bag (the ROS tool ppp_bag_solve). `files.obs` still names the data
+  /// in the outputs.
+  std::function<std::unique_ptr<PppPipeline>(const PppConfig&)> make_pipeline;
   /// Called after each epoch with the fraction of the observation file read.
   std::function<void(double fraction, const PppEpochRecord&)> on_epoch;
 };

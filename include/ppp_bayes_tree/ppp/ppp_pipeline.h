@@ -93,6 +93,9 @@ struct PppProducts {
   std::shared_ptr<const BiasProvider> biases;
   std::optional<OceanLoadingCoefficients> ocean;
   std::vector<std::string> notes;
+  /// The phase information for ambiguity resolution (the general constructor
+  /// only; nullptr: float). A file run takes its product assembly's.
+  std::shared_ptr<const BiasProvider> phase_biases;
 };
 
 /// The stage of the chain that left a satellite out.

@@ -36,6 +36,8 @@ MessageTime toMessageTime(const ppp::GnssTime& t, ppp::TimeSystem system = ppp::
 ppp::GnssTime fromMessageTime(std::uint16_t week, double seconds_of_week, const std::string& time_system);
 /// UTC stamp of a GNSS instant (GPST minus the leap seconds), as ROS expects.
 ros::Time utcStamp(const ppp::GnssTime& t);
+/// The GNSS instant (GPST) of a UTC stamp: the inverse of utcStamp.
+ppp::GnssTime fromUtcStamp(const ros::Time& stamp);
 
 /// Counts of the problems found while converting incoming messages (reason -> count).
 struct ConversionIssues {
@@ -68,6 +70,12 @@ void addBiases(ppp_bayes_tree::PreciseCorrections& msg, const ppp::SatelliteBias
 /// skips that bias, counted with the reason. Throws std::invalid_argument when the
 /// batch time is invalid.
 ppp::SatelliteBiasBatch biasesFromMessage(const ppp_bayes_tree::PreciseCorrections& msg, ConversionIssues& issues);
+/// What a correction stream declares about its products, from its first batch
+/// (message and converted batch): the systems it carries, the analysis centre of
+/// its clocks (clock_source) and its satellite antenna model (for the product
+/// assembly's satellite antennas and PPP-AR gate).
+ppp::StreamedProductInfo streamedProductInfo(const ppp_bayes_tree::PreciseCorrections& msg,
+                                             const ppp::CorrectionBatch& batch);
 /// PreciseCorrections.ar_bias_kind <-> the product assembly's phase information (unknown values: None).
 ppp::PhaseInformation phaseInformation(std::uint8_t ar_bias_kind);
 std::uint8_t arBiasKind(ppp::PhaseInformation phase);

@@ -1,6 +1,12 @@
 #include "ppp_bayes_tree/app/campaign_job.h"
 
+#include <fcntl.h>
+#include <spawn.h>
+#include <sys/wait.h>
 #include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
 
 #include <chrono>
 #include <cmath>
@@ -18,6 +24,8 @@
 #include "ppp_bayes_tree/io/stream_format.h"
 #include "ppp_bayes_tree/ppp/yaml_section.h"
 
+extern char** environ;
+
 namespace ppp {
 namespace fs = std::filesystem;
 namespace {
@@ -27,6 +35,8 @@ constexpr const char* kDoneFile = "done.json";
 constexpr const char* kFailedFile = "failed.json";
 constexpr const char* kTimingFile = "timing.json";
 constexpr const char* kRecordsFile = "flights.mcr";
+constexpr const char* kBagResultFile = "bag_result.json";
+constexpr const char* kBagLogFile = "ppp_bag_solve.log";
 
 std::string path(const std::string& dir, const char* name) { return (fs::path(dir) / name).string(); }
 
@@ -62,10 +72,24 @@ void emitList(YAML::Emitter& y, const char* key, const std::vector<std::string>&
   y << YAML::EndSeq;
 }
 
+/// The keys ppp and bag jobs share: atx, bia, blq, config, estimator, truth.
+void emitRunSettings(YAML::Emitter& y, const CampaignPppJob& job) {
+  const PppInputFiles& f = job.files;
+  emitList(y, "atx", f.atx);
+  y << YAML::Key << "bia" << YAML::Value << f.bias.value_or("");
+  y << YAML::Key << "blq" << YAML::Value << f.blq.value_or("");
+  emitList(y, "config", job.config);
+  y << YAML::Key << "estimator" << YAML::Value << job.estimator;
+  if (!job.truth_ecef_m) return;
+  y << YAML::Key << "truth" << YAML::Value << YAML::Flow << YAML::BeginSeq;
+  for (int k = 0; k < 3; ++k) y << (*job.truth_ecef_m)(k);
+  y << YAML::EndSeq;
+}
+
 std::string resultJson(const CampaignJob& job, const CampaignJobResult& r) {
   std::ostringstream os;
   os << "{";
-  if (job.kind == CampaignJobKind::Ppp) {
+  if (job.kind != CampaignJobKind::MonteCarloShard) {
     const std::string ttc = std::isinf(r.time_to_10cm_s) ? "\"never\"" : jsonNumber(r.time_to_10cm_s, 17);
     os << "\"epochs_read\": " << r.epochs_read << ", \"epochs_solved\": " << r.epochs_solved
        << ", \"problems\": " << r.problems << ", \"mean_3d_m\": " << jsonNumber(r.mean_3d_m, 17)
@@ -115,19 +139,84 @@ CampaignJobResult runPppJob(const CampaignJob& job, const std::string& work_dir)
   if (first.run.epochs_solved == 0)
     throw std::runtime_error("no epoch solved (" + std::to_string(first.run.epochs_read) + " read) from " +
                              job.ppp.files.obs);
-  CampaignJobResult r;
-  r.epochs_read = first.run.epochs_read;
-  r.epochs_solved = first.run.epochs_solved;
-  r.problems = first.run.problems.size();
-  r.fixed_share = static_cast<double>(first.run.epochs_fixed) / static_cast<double>(first.run.epochs_solved);
-  if (first.statistics) {
-    r.mean_3d_m = first.statistics->all.mean_m;
-    r.first_window_mean_3d_m = first.statistics->first_window.mean_m;
-    r.time_to_10cm_s = std::numeric_limits<double>::infinity();
-    for (const auto& c : first.statistics->convergence)
-      if (std::abs(c.threshold_m - 0.10) < 1e-9 && c.time_s) r.time_to_10cm_s = *c.time_s;
+  return campaignPppResult(first);
+}
+
+/// The arguments of ppp_bag_solve for a bag job writing into `work_dir`.
+std::vector<std::string> bagSolverArguments(const CampaignJob& job, const std::string& work_dir) {
+  const PppInputFiles& f = job.ppp.files;
+  std::vector<std::string> a = {campaignBagSolverPath(), f.obs, "--out", work_dir, "--name", job.group,
+                                "--estimator", job.ppp.estimator, "--no-timings",
+                                "--result", path(work_dir, kBagResultFile)};
+  if (!job.ppp.config.empty()) {
+    a.push_back("--config");
+    a.insert(a.end(), job.ppp.config.begin(), job.ppp.config.end());
   }
-  return r;
+  if (!f.atx.empty()) {
+    a.push_back("--atx");
+    a.insert(a.end(), f.atx.begin(), f.atx.end());
+  }
+  if (f.bias) a.insert(a.end(), {"--bia", *f.bias});
+  if (f.blq) a.insert(a.end(), {"--blq", *f.blq});
+  if (job.ppp.truth_ecef_m) {
+    a.push_back("--truth");
+    for (int k = 0; k < 3; ++k) a.push_back(jsonNumber((*job.ppp.truth_ecef_m)(k), 17));
+  }
+  if (!job.ppp.truth_csv.empty()) a.insert(a.end(), {"--truth-csv", job.ppp.truth_csv});
+  return a;
+}
+
+/// Runs ppp_bag_solve (a ROS tool: the core does not read bags) with its console
+/// output to `log`; returns its exit status, or a text saying how it ended.
+std::string runProcess(const std::vector<std::string>& args, const std::string& log) {
+  std::vector<char*> argv;
+  for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+  argv.push_back(nullptr);
+  posix_spawn_file_actions_t actions;
+  posix_spawn_file_actions_init(&actions);
+  posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  posix_spawn_file_actions_adddup2(&actions, STDOUT_FILENO, STDERR_FILENO);
+  pid_t pid = 0;
+  const int rc = posix_spawn(&pid, argv[0], &actions, nullptr, argv.data(), environ);
+  posix_spawn_file_actions_destroy(&actions);
+  if (rc != 0) return "cannot start " + args[0] + ": " + std::strerror(rc);
+  int status = 0;
+  while (waitpid(pid, &status, 0) < 0)
+    if (errno != EINTR) return "lost " + args[0] + ": " + std::strerror(errno);
+  if (WIFEXITED(status)) return WEXITSTATUS(status) == 0 ? "" : "exit status " + std::to_string(WEXITSTATUS(status));
+  if (WIFSIGNALED(status)) return "killed by signal " + std::to_string(WTERMSIG(status));
+  return "ended abnormally";
+}
+
+/// The last lines of a log (the reason a tool gives on failure).
+std::string logTail(const std::string& log, std::size_t lines) {
+  const std::string text = readText(log);
+  std::size_t pos = text.size(), n = 0;
+  while (pos > 0 && n <= lines) {
+    pos = text.rfind('\n', pos - 1);
+    if (pos == std::string::npos) { pos = 0; break; }
+    ++n;
+  }
+  std::string tail = text.substr(pos);
+  while (!tail.empty() && (tail.front() == '\n')) tail.erase(tail.begin());
+  while (!tail.empty() && (tail.back() == '\n')) tail.pop_back();
+  return tail;
+}
+
+CampaignJobResult runBagJob(const CampaignJob& job, const std::string& work_dir) {
+  const std::string solver = campaignBagSolverPath();
+  if (::access(solver.c_str(), X_OK) != 0)
+    throw std::runtime_error("bag jobs run " + solver + ", which is not there: the ROS tools are built by the "
+                             "catkin build only");
+  const std::string log = path(fs::path(work_dir).parent_path().string(), kBagLogFile);  // not an output
+  const std::string ended = runProcess(bagSolverArguments(job, work_dir), log);
+  if (!ended.empty()) throw std::runtime_error("ppp_bag_solve on " + job.ppp.files.obs + ": " + ended + ": " + logTail(log, 2));
+  const std::string result = path(work_dir, kBagResultFile);
+  try {
+    return parseResult(YAML::LoadFile(result));
+  } catch (const YAML::Exception& e) {
+    throw std::runtime_error("ppp_bag_solve wrote no readable " + result + ": " + e.msg);
+  }
 }
 
 CampaignJobResult runMonteCarloJob(const CampaignJob& job, const std::string& work_dir, std::string& timing) {
@@ -160,6 +249,35 @@ std::string hostName() {
 }
 
 }  // namespace
+
+CampaignJobResult campaignPppResult(const PppSolveOutcome& first) {
+  CampaignJobResult r;
+  r.epochs_read = first.run.epochs_read;
+  r.epochs_solved = first.run.epochs_solved;
+  r.problems = first.run.problems.size();
+  r.fixed_share = first.run.epochs_solved == 0 ? CampaignJobResult::kNaN
+                                               : static_cast<double>(first.run.epochs_fixed) /
+                                                     static_cast<double>(first.run.epochs_solved);
+  if (first.statistics) {
+    r.mean_3d_m = first.statistics->all.mean_m;
+    r.first_window_mean_3d_m = first.statistics->first_window.mean_m;
+    r.time_to_10cm_s = std::numeric_limits<double>::infinity();
+    for (const auto& c : first.statistics->convergence)
+      if (std::abs(c.threshold_m - 0.10) < 1e-9 && c.time_s) r.time_to_10cm_s = *c.time_s;
+  }
+  return r;
+}
+
+std::string campaignPppResultJson(const PppSolveOutcome& first) {
+  CampaignJob ppp_job;
+  return resultJson(ppp_job, campaignPppResult(first));
+}
+
+std::string campaignBagSolverPath() {
+  std::error_code ec;
+  const fs::path self = fs::read_symlink("/proc/self/exe", ec);
+  return (ec ? fs::path("ppp_bag_solve") : self.parent_path() / "ppp_bag_solve").string();
+}
 
 std::string fnv1aHex(const std::string& text) {
   std::uint64_t h = 1469598103934665603ull;
@@ -207,7 +325,12 @@ std::string campaignJobYaml(const CampaignJob& job) {
   y << YAML::Key << "group" << YAML::Value << job.group;
   y << YAML::Key << "date" << YAML::Value << job.date;
   y << YAML::Key << "hour" << YAML::Value << job.hour;
-  if (job.kind == CampaignJobKind::Ppp) {
+  if (job.kind == CampaignJobKind::Bag) {
+    const PppInputFiles& f = job.ppp.files;
+    y << YAML::Key << "bag" << YAML::Value << f.obs;
+    emitRunSettings(y, job.ppp);
+    y << YAML::Key << "truth_csv" << YAML::Value << job.ppp.truth_csv;
+  } else if (job.kind == CampaignJobKind::Ppp) {
     const PppInputFiles& f = job.ppp.files;
     y << YAML::Key << "obs" << YAML::Value << f.obs;
     y << YAML::Key << "format" << YAML::Value << formatName(f.obs_format);
@@ -215,16 +338,7 @@ std::string campaignJobYaml(const CampaignJob& job) {
     emitList(y, "sp3", f.sp3);
     emitList(y, "clk", f.clk);
     emitList(y, "nav", f.nav);
-    emitList(y, "atx", f.atx);
-    y << YAML::Key << "bia" << YAML::Value << f.bias.value_or("");
-    y << YAML::Key << "blq" << YAML::Value << f.blq.value_or("");
-    emitList(y, "config", job.ppp.config);
-    y << YAML::Key << "estimator" << YAML::Value << job.ppp.estimator;
-    if (job.ppp.truth_ecef_m) {
-      y << YAML::Key << "truth" << YAML::Value << YAML::Flow << YAML::BeginSeq;
-      for (int k = 0; k < 3; ++k) y << (*job.ppp.truth_ecef_m)(k);
-      y << YAML::EndSeq;
-    }
+    emitRunSettings(y, job.ppp);
     if (f.window.start) y << YAML::Key << "start" << YAML::Value << windowTimeText(*f.window.start);
     if (f.window.end) y << YAML::Key << "end" << YAML::Value << windowTimeText(*f.window.end);
   } else {
@@ -256,8 +370,8 @@ CampaignJob parseCampaignJob(const std::string& text, const std::string& file) {
   YamlSection s(node, file, "");
   CampaignJob job;
   job.id = s.text("id", "");
-  const std::string kind = s.choice("kind", "ppp", {"ppp", "monte_carlo"});
-  job.kind = kind == "ppp" ? CampaignJobKind::Ppp : CampaignJobKind::MonteCarloShard;
+  const std::string kind = s.choice("kind", "ppp", {"ppp", "bag", "monte_carlo"});
+  job.kind = kind == "ppp" ? CampaignJobKind::Ppp : kind == "bag" ? CampaignJobKind::Bag : CampaignJobKind::MonteCarloShard;
   job.group = s.text("group", "");
   job.date = s.text("date", "");
   job.hour = static_cast<int>(s.number("hour", -1));
@@ -267,7 +381,23 @@ CampaignJob parseCampaignJob(const std::string& text, const std::string& file) {
     if (!t) s.fail(key, "needs YYYY/MM/DD HH:MM:SS");
     return t;
   };
-  if (job.kind == CampaignJobKind::Ppp) {
+  // The keys ppp and bag jobs share (emitRunSettings).
+  auto readRunSettings = [&] {
+    PppInputFiles& f = job.ppp.files;
+    f.atx = s.textList("atx", {}, true);
+    if (const std::string b = s.text("bia", ""); !b.empty()) f.bias = b;
+    if (const std::string b = s.text("blq", ""); !b.empty()) f.blq = b;
+    job.ppp.config = s.textList("config", {}, true);
+    job.ppp.estimator = s.choice("estimator", "ekf", {"ekf", "smoother", "both"});
+    if (!s.has("truth")) return;
+    const auto t = s.numberList("truth", {}, 3);
+    job.ppp.truth_ecef_m = Eigen::Vector3d(t[0], t[1], t[2]);
+  };
+  if (job.kind == CampaignJobKind::Bag) {
+    job.ppp.files.obs = s.text("bag", "");
+    readRunSettings();
+    job.ppp.truth_csv = s.text("truth_csv", "");
+  } else if (job.kind == CampaignJobKind::Ppp) {
     PppInputFiles& f = job.ppp.files;
     f.obs = s.text("obs", "");
     const std::string format = s.choice("format", "rinex", {"rinex", "rtcm", "ubx"});
@@ -277,15 +407,7 @@ CampaignJob parseCampaignJob(const std::string& text, const std::string& file) {
     f.sp3 = s.textList("sp3", {}, true);
     f.clk = s.textList("clk", {}, true);
     f.nav = s.textList("nav", {}, true);
-    f.atx = s.textList("atx", {}, true);
-    if (const std::string b = s.text("bia", ""); !b.empty()) f.bias = b;
-    if (const std::string b = s.text("blq", ""); !b.empty()) f.blq = b;
-    job.ppp.config = s.textList("config", {}, true);
-    job.ppp.estimator = s.choice("estimator", "ekf", {"ekf", "smoother", "both"});
-    if (s.has("truth")) {
-      const auto t = s.numberList("truth", {}, 3);
-      job.ppp.truth_ecef_m = Eigen::Vector3d(t[0], t[1], t[2]);
-    }
+    readRunSettings();
     f.window.start = time("start");
     f.window.end = time("end");
   } else {
@@ -370,8 +492,9 @@ CampaignJobStatus runCampaignJob(const std::string& job_dir) {
     fs::remove_all(work, ec);
     fs::remove_all(output, ec);
     fs::create_directories(work);
-    const CampaignJobResult result = job.kind == CampaignJobKind::Ppp ? runPppJob(job, work)
-                                                                      : runMonteCarloJob(job, work, timing_extra);
+    const CampaignJobResult result = job.kind == CampaignJobKind::Ppp   ? runPppJob(job, work)
+                                     : job.kind == CampaignJobKind::Bag ? runBagJob(job, work)
+                                                                        : runMonteCarloJob(job, work, timing_extra);
     fs::rename(work, output);  // the outputs are complete ...
     writeFileAtomically(path(job_dir, kDoneFile),  // ... and only then the marker
                         "{\"id\": " + jsonString(job.id) + ", \"spec_digest\": " + jsonString(fnv1aHex(spec)) +

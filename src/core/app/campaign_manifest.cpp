@@ -1,6 +1,7 @@
 #include "ppp_bayes_tree/app/campaign_manifest.h"
 
 #include <glob.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <cstdio>
@@ -9,6 +10,7 @@
 #include <map>
 #include <set>
 
+#include "ppp_bayes_tree/app/campaign_job.h"
 #include "ppp_bayes_tree/io/parse_error.h"
 #include "ppp_bayes_tree/io/stream_format.h"
 #include "ppp_bayes_tree/ppp/yaml_section.h"
@@ -20,6 +22,7 @@ namespace fs = std::filesystem;
 const char* toString(CampaignJobKind kind) {
   switch (kind) {
     case CampaignJobKind::Ppp: return "ppp";
+    case CampaignJobKind::Bag: return "bag";
     case CampaignJobKind::MonteCarloShard: return "monte_carlo";
   }
   return "unknown";
@@ -27,7 +30,7 @@ const char* toString(CampaignJobKind kind) {
 
 namespace {
 
-const std::set<std::string> kTopKeys = {"campaign", "slurm", "ppp", "monte_carlo"};
+const std::set<std::string> kTopKeys = {"campaign", "slurm", "ppp", "bags", "monte_carlo"};
 
 /// The value of `key` in a mapping, a null node when absent (never yaml-cpp's invalid node).
 YAML::Node childOrNull(const YAML::Node& map, const std::string& key) {
@@ -109,7 +112,7 @@ bool validId(const std::string& s) {
 
 std::string fileStem(const std::string& path) {
   std::string stem = fs::path(path).filename().string();
-  for (const char* ext : {".gz", ".Z", ".crx", ".rnx", ".CRX", ".RNX"})
+  for (const char* ext : {".gz", ".Z", ".crx", ".rnx", ".CRX", ".RNX", ".bag"})
     if (stem.size() > std::string(ext).size() && stem.compare(stem.size() - std::string(ext).size(), std::string::npos, ext) == 0)
       stem.resize(stem.size() - std::string(ext).size());
   for (char& c : stem)
@@ -237,6 +240,41 @@ void expandPppEntry(const PppEntry& e, const std::string& data_root, const std::
   }
 }
 
+/// A bags entry: one job per bag the pattern matches.
+void expandBagEntry(const YAML::Node& node, const std::string& file, const std::string& path,
+                    const std::string& data_root, const std::string& manifest_dir, std::vector<CampaignJob>& jobs) {
+  YamlSection s(node, file, path);
+  const std::string name = s.text("name", "");
+  if (!validId(name)) s.fail("name", "needs a name of letters, digits, '-', '_' or '.' (" + lineText(node) + ")");
+  const std::string pattern = s.text("bag", "");
+  if (pattern.empty()) s.fail("bag", "a bag (or glob) is required (" + lineText(node) + ")");
+  CampaignJob job;
+  job.kind = CampaignJobKind::Bag;
+  job.group = name;
+  PppInputFiles& f = job.ppp.files;
+  f.atx = expandAll(s.textList("atx", {}), data_root, std::nullopt);
+  if (const std::string b = s.text("bia", ""); !b.empty()) f.bias = expandAll({b}, data_root, std::nullopt).front();
+  if (const std::string b = s.text("blq", ""); !b.empty()) f.blq = expandAll({b}, data_root, std::nullopt).front();
+  for (const auto& c : s.textList("config", {}, true)) job.ppp.config.push_back(resolve(manifest_dir, c));
+  job.ppp.estimator = s.choice("estimator", "ekf", {"ekf", "smoother", "both"});
+  if (s.has("truth")) {
+    const auto t = s.numberList("truth", {}, 3);
+    job.ppp.truth_ecef_m = Eigen::Vector3d(t[0], t[1], t[2]);
+  }
+  if (const std::string t = s.text("truth_csv", ""); !t.empty()) {
+    if (job.ppp.truth_ecef_m) s.fail("truth_csv", "give truth or truth_csv, not both (" + lineText(node) + ")");
+    job.ppp.truth_csv = expandAll({t}, data_root, std::nullopt).front();
+  }
+  s.finish();
+  const std::vector<std::string> bags = expandGlob(resolve(data_root, pattern));
+  for (const auto& bag : bags) {
+    CampaignJob b = job;
+    b.id = bags.size() > 1 ? name + "_" + fileStem(bag) : name;
+    b.ppp.files.obs = bag;
+    jobs.push_back(std::move(b));
+  }
+}
+
 void readMonteCarloEntry(const YAML::Node& node, const std::string& file, const std::string& path,
                          const std::string& manifest_dir, std::vector<CampaignJob>& jobs) {
   YamlSection s(node, file, path);
@@ -319,11 +357,13 @@ void problemIfMissing(const CampaignJob& job, const char* what, const std::strin
 
 CampaignManifest loadCampaignManifest(const std::string& path) {
   const YAML::Node doc = loadYamlFile(path);
-  if (!doc.IsMap()) throw ConfigError(path, "", "a campaign manifest is a mapping (campaign, slurm, ppp, monte_carlo)");
+  if (!doc.IsMap())
+    throw ConfigError(path, "", "a campaign manifest is a mapping (campaign, slurm, ppp, bags, monte_carlo)");
   for (const auto& kv : doc) {
     const std::string key = kv.first.as<std::string>();
     if (!kTopKeys.count(key))
-      throw ConfigError(path, key, "unknown key (" + lineText(kv.first) + "; expected campaign, slurm, ppp, monte_carlo)");
+      throw ConfigError(path, key,
+                        "unknown key (" + lineText(kv.first) + "; expected campaign, slurm, ppp, bags, monte_carlo)");
   }
   CampaignManifest m;
   m.path = path;
@@ -333,7 +373,7 @@ CampaignManifest loadCampaignManifest(const std::string& path) {
   m.data_root = resolve(manifest_dir, campaign.text("data_root", manifest_dir));
   campaign.finish();
   m.resources = readResources(YamlSection(childOrNull(doc, "slurm"), path, "slurm"));
-  for (const char* list : {"ppp", "monte_carlo"}) {
+  for (const char* list : {"ppp", "bags", "monte_carlo"}) {
     const YAML::Node entries = childOrNull(doc, list);
     if (!entries.IsDefined() || entries.IsNull()) continue;
     if (!entries.IsSequence()) throw ConfigError(path, list, "must be a list of entries (" + lineText(entries) + ")");
@@ -341,11 +381,13 @@ CampaignManifest loadCampaignManifest(const std::string& path) {
       const std::string key_path = std::string(list) + "[" + std::to_string(i) + "]";
       if (std::string(list) == "ppp")
         expandPppEntry(readPppEntry(entries[i], path, key_path), m.data_root, manifest_dir, m.jobs);
+      else if (std::string(list) == "bags")
+        expandBagEntry(entries[i], path, key_path, m.data_root, manifest_dir, m.jobs);
       else
         readMonteCarloEntry(entries[i], path, key_path, manifest_dir, m.jobs);
     }
   }
-  if (m.jobs.empty()) throw ConfigError(path, "", "no jobs: give a ppp or monte_carlo list");
+  if (m.jobs.empty()) throw ConfigError(path, "", "no jobs: give a ppp, bags or monte_carlo list");
   std::set<std::string> ids;
   for (const auto& j : m.jobs)
     if (!ids.insert(j.id).second)
@@ -356,6 +398,7 @@ CampaignManifest loadCampaignManifest(const std::string& path) {
 std::vector<std::string> campaignInputProblems(const CampaignManifest& manifest) {
   std::vector<std::string> problems;
   std::set<std::string> configs_checked;
+  bool bag_solver_checked = false;
   auto checkConfig = [&](const CampaignJob& job, const std::vector<std::string>& paths, bool simulation) {
     for (const auto& c : paths) problemIfMissing(job, simulation ? "sim_config" : "config", c, problems);
     const std::string key = (simulation ? "sim:" : "ppp:") + [&] {
@@ -381,6 +424,21 @@ std::vector<std::string> campaignInputProblems(const CampaignManifest& manifest)
       if (f.bias) problemIfMissing(job, "bia", *f.bias, problems);
       if (f.blq) problemIfMissing(job, "blq", *f.blq, problems);
       checkConfig(job, job.ppp.config, false);
+    } else if (job.kind == CampaignJobKind::Bag) {
+      const PppInputFiles& f = job.ppp.files;
+      problemIfMissing(job, "bag", f.obs, problems);
+      for (const auto& p : f.atx) problemIfMissing(job, "atx", p, problems);
+      if (f.bias) problemIfMissing(job, "bia", *f.bias, problems);
+      if (f.blq) problemIfMissing(job, "blq", *f.blq, problems);
+      if (!job.ppp.truth_csv.empty()) problemIfMissing(job, "truth_csv", job.ppp.truth_csv, problems);
+      checkConfig(job, job.ppp.config, false);
+      if (!bag_solver_checked) {
+        bag_solver_checked = true;
+        const std::string solver = campaignBagSolverPath();
+        if (::access(solver.c_str(), X_OK) != 0)
+          problems.push_back("job " + job.id + ": bag jobs run " + solver +
+                             ", which is not there: the ROS tools are built by the catkin build only");
+      }
     } else {
       if (!job.monte_carlo.config.empty()) checkConfig(job, {job.monte_carlo.config}, false);
       if (!job.monte_carlo.sim_config.empty()) checkConfig(job, {job.monte_carlo.sim_config}, true);

@@ -112,7 +112,7 @@ std::string campaignSummaryCsv(const CampaignSummary& s) {
        << (j.hour >= 0 ? std::to_string(j.hour) : "") << ',' << toString(row.status.state) << ',';
     if (row.status.result) {
       const CampaignJobResult& r = *row.status.result;
-      if (j.kind == CampaignJobKind::Ppp) {
+      if (j.kind != CampaignJobKind::MonteCarloShard) {
         os << r.epochs_read << ',' << r.epochs_solved << ',' << fmt("%.2f", r.mean_3d_m * 100.0) << ','
            << fmt("%.2f", r.first_window_mean_3d_m * 100.0) << ',' << fmt("%.2f", r.time_to_10cm_s / 60.0) << ','
            << fmt("%.4f", r.fixed_share) << ",,";
@@ -141,7 +141,7 @@ std::string campaignSummaryJson(const CampaignSummary& s) {
       << ", \"state\": " << jsonString(toString(row.status.state));
     if (row.status.result) {
       const CampaignJobResult& r = *row.status.result;
-      if (job.kind == CampaignJobKind::Ppp)
+      if (job.kind != CampaignJobKind::MonteCarloShard)
         j << ", \"epochs_read\": " << r.epochs_read << ", \"epochs_solved\": " << r.epochs_solved
           << ", \"problems\": " << r.problems << ", \"mean_3d_m\": " << jsonNumber(r.mean_3d_m, 10)
           << ", \"first_window_mean_3d_m\": " << jsonNumber(r.first_window_mean_3d_m, 10) << ", \"time_to_10cm_s\": "
@@ -181,12 +181,12 @@ std::string campaignSummaryMarkdown(const CampaignSummary& s) {
   md << "# Campaign " << s.name << "\n\n" << s.jobs.size() << " jobs: " << s.done << " done, " << s.failed
      << " failed, " << s.interrupted << " interrupted, " << s.pending << " not run.\n\n";
   bool any_ppp = false;
-  for (const auto& row : s.jobs) any_ppp |= row.job.kind == CampaignJobKind::Ppp;
+  for (const auto& row : s.jobs) any_ppp |= row.job.kind != CampaignJobKind::MonteCarloShard;
   if (any_ppp) {
     md << "| job | station | date | hour | state | epochs solved | mean 3D [cm] | first 15 min mean [cm] | < 10 cm from "
           "[min] | fixed share |\n|---|---|---|---:|---|---:|---:|---:|---:|---:|\n";
     for (const auto& row : s.jobs) {
-      if (row.job.kind != CampaignJobKind::Ppp) continue;
+      if (row.job.kind == CampaignJobKind::MonteCarloShard) continue;
       md << "| " << row.job.id << " | " << row.job.group << " | " << row.job.date << " | "
          << (row.job.hour >= 0 ? std::to_string(row.job.hour) : "") << " | " << toString(row.status.state) << " | ";
       if (row.status.result) {
@@ -198,7 +198,7 @@ std::string campaignSummaryMarkdown(const CampaignSummary& s) {
         md << " | | | | |\n";
       }
     }
-    md << "\nErrors need the station's truth in the manifest (empty otherwise).\n\n";
+    md << "\nErrors need a truth: the manifest's, or a bag's truth/path (empty otherwise).\n\n";
   }
   for (const auto& st : s.studies) {
     md << "## Monte Carlo study " << st.study << ": " << st.shards_done << " of " << st.shards << " shards done\n\n";

@@ -83,6 +83,20 @@ struct BiasRow {
   ArcBiasEstimate estimate;
 };
 
+/// Statistics against a moving truth: the solution epochs it has a truth for.
+PositionErrorStatistics statisticsAlong(const std::vector<SolutionEpoch>& solution,
+                                        const std::function<std::optional<Eigen::Vector3d>(const GnssTime&)>& truth_at) {
+  std::vector<SolutionEpoch> matched;
+  std::vector<Eigen::Vector3d> truth_ecef_m;
+  for (const auto& e : solution) {
+    if (const auto t = truth_at(e.time)) {
+      matched.push_back(e);
+      truth_ecef_m.push_back(*t);
+    }
+  }
+  return computePositionErrorStatistics(matched, truth_ecef_m);
+}
+
 }  // namespace
 
 TimingSummary summarizeTimes(std::vector<double> t) {
@@ -108,7 +122,9 @@ PppSolveOutcome solvePpp(const PppSolveRequest& req) {
   if (!std::filesystem::is_directory(req.out_dir)) throw std::runtime_error("cannot create directory " + req.out_dir);
 
   // The products first: they decide the systems and PPP-AR (product_assembly.h).
-  PppPipeline pipeline(req.files, req.config);
+  std::unique_ptr<PppPipeline> owned_pipeline =
+      req.make_pipeline ? req.make_pipeline(req.config) : std::make_unique<PppPipeline>(req.files, req.config);
+  PppPipeline& pipeline = *owned_pipeline;
   auto estimator = makeEstimator(req.estimator, pipeline.config(), &why);
   if (!estimator) throw std::invalid_argument(why);
   const SmoothedTrajectoryProvider* smoother = estimator->smoothing();
@@ -228,6 +244,7 @@ PppSolveOutcome solvePpp(const PppSolveRequest& req) {
   }
   for (auto& o : out.outputs) {
     if (req.truth_ecef_m) o.statistics = computePositionErrorStatistics(o.solution, *req.truth_ecef_m);
+    else if (req.truth_at) o.statistics = statisticsAlong(o.solution, req.truth_at);
     std::ofstream json = openOut(o.json_path);
     json << runSummaryToJson(out, o, req.write_timings);
     if (!json) throw std::runtime_error("cannot write " + o.json_path);

@@ -94,6 +94,7 @@ PppPipeline::PppPipeline(std::unique_ptr<ObservationSource> observations, PppPro
   d.source = std::move(observations);
   d.products = std::move(products);
   d.load_notes = d.products.notes;
+  d.phase_biases = d.products.phase_biases.get();
   d.start(config_);
 }
 
