@@ -4,7 +4,7 @@
 // the X20 one, UBX-22004887, for the L5/E6/B1C/B2a signal ids), sections
 // "UBX-RXM-RAWX", "UBX-RXM-SFRBX", "Signal identifiers" and "Navigation data
 // subframes"; IS-GPS-200 (20.3.2-20.3.3: LNAV subframes 1-3); Galileo OS SIS ICD
-// issue 2.1 (4.3.2-4.3.5, 5.1: I/NAV pages and word types 1-5).
+// version 2.1 (4.3.2-4.3.5, 5.1: I/NAV pages and word types 1-5).
 //
 // RXM-RAWX (0x02 0x15). Time: GnssTime::fromGpsWeek(week, rcvTow) (rcvTow is
 // "approximately aligned to GPS time": the receiver clock offset stays in it, as

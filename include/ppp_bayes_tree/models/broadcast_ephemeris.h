@@ -4,7 +4,7 @@
 //
 //  - GPS LNAV / QZSS LNAV: IS-GPS-200 section 20.3.3.4.3, table 20-IV (user
 //    algorithm for ephemeris determination), clock 20.3.3.3.3.1.
-//  - Galileo I/NAV and F/NAV: Galileo OS SIS ICD (issue 2.1) section 5.1.1
+//  - Galileo I/NAV and F/NAV: Galileo OS SIS ICD (version 2.1) section 5.1.1
 //    (table 59) with the Galileo GM, and 5.1.4 with the Galileo value of F.
 //  - BeiDou D1/D2: BDS-SIS-ICD-B1I (version 2.0, 2013; 3.0, 2019) section
 //    5.2.4.12, table 5-11 (user algorithm for ephemeris parameters), with the
