@@ -65,28 +65,17 @@ struct BagContents {
   std::vector<std::string> problems;  // "gnss/observations message 12: ..." (skipped)
 };
 
-/// Reads the bag in two passes over the observations: the first grows the layout
-/// to every code the bag holds, the second converts each epoch with that final
-/// layout, so that every epoch's slices follow one header (as a RINEX file's).
+/// Reads the bag once. The layout grows as new codes appear; the epochs converted
+/// before its last change are converted again from their kept messages with the
+/// final layout, so that every epoch's slices follow one header (as a RINEX file's).
 BagContents readBag(const std::string& path) {
   rosbag::Bag bag(path, rosbag::bagmode::Read);  // throws rosbag::BagException naming the file
   const std::string obs_topic = ppp_ros::BagWriteOptions{}.observations_topic;
   const std::string corr_topic = ppp_ros::BagWriteOptions{}.corrections_topic;
   BagContents c;
   rosbag::View view(bag);
-  {
-    ppp::ObsEpoch scratch;
-    ppp_ros::ConversionIssues ignored;
-    for (const rosbag::MessageInstance& m : view) {
-      if (relativeTopic(m.getTopic()) != obs_topic) continue;
-      if (auto msg = m.instantiate<ppp_bayes_tree::GnssObservations>()) {
-        try {
-          ppp_ros::fromMessage(*msg, c.layout, scratch, ignored);
-        } catch (const std::invalid_argument&) {  // counted in the second pass
-        }
-      }
-    }
-  }
+  std::vector<ppp_bayes_tree::GnssObservations::ConstPtr> converted;  // the message of each of c.epochs
+  std::size_t layout_settled = 0;  // epochs before this index were converted with an earlier layout
   std::size_t obs_index = 0, corr_index = 0;
   for (const rosbag::MessageInstance& m : view) {
     const std::string topic = relativeTopic(m.getTopic());
@@ -99,8 +88,9 @@ BagContents readBag(const std::string& path) {
       }
       ppp::ObsEpoch epoch;
       try {
-        ppp_ros::fromMessage(*msg, c.layout, epoch, c.issues);
+        if (ppp_ros::fromMessage(*msg, c.layout, epoch, c.issues)) layout_settled = c.epochs.size() + 1;
         c.epochs.push_back(std::move(epoch));
+        converted.push_back(msg);
       } catch (const std::invalid_argument& e) {
         c.problems.push_back(path + ": " + topic + " message " + std::to_string(i) + ": " + e.what());
       }
@@ -135,6 +125,9 @@ BagContents readBag(const std::string& path) {
     }
   }
   bag.close();
+  ppp_ros::ConversionIssues counted_once;  // the first conversion counted them
+  for (std::size_t i = 0; i + 1 < layout_settled; ++i)
+    ppp_ros::fromMessage(*converted[i], c.layout, c.epochs[i], counted_once);
   return c;
 }
 
