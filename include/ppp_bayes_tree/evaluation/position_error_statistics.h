@@ -2,7 +2,7 @@
 // Position error statistics of a solution against a fixed truth point (or a
 // truth trajectory, one position per epoch): the
 // method's RSOS metrics, computed exactly as ../shared/peers/poserr.py does
-// (which produced the README's RTKLIB figures), so that our solutions and
+// (which produced the RTKLIB figures of ../shared/data/README.md), so that our solutions and
 // RTKLIB's are summarised by the same definitions:
 //  * 3D error per epoch = |x - truth| (root sum of squares of the ECEF errors);
 //  * median (mean of the two middle values for an even count), mean, population

@@ -160,7 +160,7 @@ void readNode(const rosbag::MessageInstance& m, const std::string& rel, NodeReco
 
 /// Marks the status epochs whose fix says carrier-phase fixed (PPP-AR: the nodes
 /// publish NavSatStatus STATUS_GBAS_FIX for a solution on held integer ambiguities,
-/// as ROS GNSS drivers do for carrier-fixed RTK; README "ROS 1 nodes").
+/// as ROS GNSS drivers do for carrier-fixed RTK; doc/ros_interface.md).
 void markFixedEpochs(NodeRecord& n) {
   for (std::size_t i = 0; i < n.status.size() && i < n.status_stamp_ns.size(); ++i)
     n.status[i].ambiguities_fixed = n.carrier_fixed_stamp_ns.count(n.status_stamp_ns[i]) > 0;
