@@ -11,6 +11,7 @@
 
 #include "ppp_bayes_tree/evaluation/json_text.h"
 #include "ppp_bayes_tree/evaluation/monte_carlo_records.h"
+#include "ppp_bayes_tree/types/text_format.h"
 
 namespace ppp {
 namespace fs = std::filesystem;
@@ -18,9 +19,7 @@ namespace {
 
 std::string fmt(const char* f, double v) {
   if (!std::isfinite(v)) return std::isinf(v) ? "never" : "";
-  char b[48];
-  std::snprintf(b, sizeof b, f, v);
-  return b;
+  return format(f, v);
 }
 
 std::string csvField(std::string s) {

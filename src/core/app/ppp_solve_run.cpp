@@ -15,6 +15,7 @@
 #include "ppp_bayes_tree/evaluation/rtklib_pos.h"
 #include "ppp_bayes_tree/evaluation/solution_csv_writer.h"
 #include "ppp_bayes_tree/types/constants.h"
+#include "ppp_bayes_tree/types/number_text.h"
 
 namespace ppp {
 namespace {
@@ -23,12 +24,6 @@ std::ofstream openOut(const std::string& path) {
   std::ofstream out(path, std::ios::binary);
   if (!out) throw std::runtime_error("cannot write " + path);
   return out;
-}
-
-std::string fixed(double v, int decimals) {
-  char buf[48];
-  std::snprintf(buf, sizeof buf, "%.*f", decimals, v);
-  return buf;
 }
 
 /// Writes one solution as CSV and .pos.
@@ -182,13 +177,13 @@ PppSolveOutcome solvePpp(const PppSolveRequest& req) {
     epochs << t << ',' << status << ',' << toString(rec.solution.integrity) << ',' << csvText(rec.consistency)
            << ',' << csvText(rec.reason) << ',' << rec.satellites_observed << ','
            << rec.satellites_selected << ',' << rec.used.size() << ',' << rec.rejected.size() << ',' << rec.new_arcs
-           << ',' << rec.slips << ',' << (rec.gap_s ? fixed(*rec.gap_s, 1) : "") << ',' << used;
+           << ',' << rec.slips << ',' << (rec.gap_s ? fixedDecimals(*rec.gap_s, 1) : "") << ',' << used;
     if (smoother) {
       if (!rec.refused && rec.smoother) {
         const SmootherEpochDiagnostics& r = *rec.smoother;
         epochs << ',' << rec.active_biases << ',' << r.new_biases << ',' << r.variables_relinearized << ','
                << r.variables_reeliminated << ',' << r.factors_relinearized << ',' << r.cliques_touched << ',';
-        if (req.write_timings) epochs << fixed(r.update_time_s * 1e3, 3) << ',' << fixed(rec.estimator_time_s * 1e3, 3);
+        if (req.write_timings) epochs << fixedDecimals(r.update_time_s * 1e3, 3) << ',' << fixedDecimals(rec.estimator_time_s * 1e3, 3);
         else epochs << ',';
         if (rec.status == EpochStatus::Ok) {
           update_times.push_back(r.update_time_s);
@@ -202,10 +197,10 @@ PppSolveOutcome solvePpp(const PppSolveRequest& req) {
     epochs << ',' << csvText(rej) << '\n';
     for (const auto& r : rec.residuals) {
       residuals << t << ',' << r.satellite.toString() << ',' << r.arc << ',' << (r.new_arc ? 1 : 0) << ','
-                << fixed(r.elevation_rad * kRadToDeg, 2) << ',' << fixed(r.azimuth_rad * kRadToDeg, 2) << ','
-                << fixed(r.code_prefit_m, 4) << ',' << fixed(r.phase_prefit_m, 4) << ','
-                << fixed(r.code_postfit_m, 4) << ',' << fixed(r.phase_postfit_m, 4) << ','
-                << fixed(r.code_sigma_m, 4) << ',' << fixed(r.phase_sigma_m, 4) << '\n';
+                << fixedDecimals(r.elevation_rad * kRadToDeg, 2) << ',' << fixedDecimals(r.azimuth_rad * kRadToDeg, 2) << ','
+                << fixedDecimals(r.code_prefit_m, 4) << ',' << fixedDecimals(r.phase_prefit_m, 4) << ','
+                << fixedDecimals(r.code_postfit_m, 4) << ',' << fixedDecimals(r.phase_postfit_m, 4) << ','
+                << fixedDecimals(r.code_sigma_m, 4) << ',' << fixedDecimals(r.phase_sigma_m, 4) << '\n';
     }
     if (req.on_epoch) req.on_epoch(pipeline.progress(), rec);
   });
@@ -236,8 +231,8 @@ PppSolveOutcome solvePpp(const PppSolveRequest& req) {
         it = final_m.emplace(row.estimate.arc, smoother->smoothedBias_m(row.estimate.satellite,
                                                                                    row.estimate.arc)).first;
       biases << isoTimeText(row.time, 1) << ',' << row.estimate.arc << ',' << row.estimate.satellite.toString()
-             << ',' << fixed(row.estimate.bias_m, 4) << ',' << fixed(row.estimate.sigma_m, 4) << ','
-             << (it->second ? fixed(*it->second, 4) : "") << '\n';
+             << ',' << fixedDecimals(row.estimate.bias_m, 4) << ',' << fixedDecimals(row.estimate.sigma_m, 4) << ','
+             << (it->second ? fixedDecimals(*it->second, 4) : "") << '\n';
     }
     biases.flush();
     if (!biases) throw std::runtime_error("cannot write " + out.biases_path);
@@ -338,7 +333,7 @@ std::string formatRunReport(const PppRunSummary& r) {
   std::ostringstream os;
   os << "epochs: " << r.epochs_read << " read, " << r.epochs_solved << " solved, " << r.epochs_no_solution
      << " no solution, " << r.epochs_failed << " failed, " << r.epochs_refused << " refused; " << r.data_gaps
-     << " data gaps; " << r.arcs << " arcs, " << r.slips << " slips; " << fixed(r.processing_time_s, 2) << " s\n";
+     << " data gaps; " << r.arcs << " arcs, " << r.slips << " slips; " << fixedDecimals(r.processing_time_s, 2) << " s\n";
   if (!r.rejection_counts.empty()) {
     os << "rejections (satellite-epochs):\n";
     for (const auto& [k, n] : r.rejection_counts) os << "  " << n << "  " << toString(k) << "\n";

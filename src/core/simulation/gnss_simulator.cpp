@@ -14,6 +14,7 @@
 #include "ppp_bayes_tree/simulation/simulation_writers.h"
 #include "ppp_bayes_tree/types/carrier_frequency.h"
 #include "ppp_bayes_tree/types/constants.h"
+#include "ppp_bayes_tree/types/text_format.h"
 
 namespace ppp {
 
@@ -83,12 +84,6 @@ enum SatelliteTerm : std::uint64_t { kSatAmbiguity = 0, kSatMultipath, kSatTherm
 
 constexpr double kIonosphereConstant = 40.3e16;  // m^3/s^2 per TECU (first-order term 40.3 TEC / f^2)
 constexpr double kEarthRadiusIonosphere_m = 6371.0e3;
-
-std::string format(const char* fmt, double a) {
-  char buf[128];
-  std::snprintf(buf, sizeof buf, fmt, a);
-  return buf;
-}
 
 double quantize(double v, bool on) { return on ? std::round(v * 1000.0) / 1000.0 : v; }
 
