@@ -27,6 +27,7 @@
 #include "ppp_bayes_tree/io/epoch_time_screen.h"
 #include "ppp_bayes_tree/io/observation_source.h"
 #include "ppp_bayes_tree/io/rtcm3_decoder.h"
+#include "ppp_bayes_tree/io/stream_pump.h"
 
 namespace ppp {
 
@@ -95,7 +96,7 @@ class RtcmObservationSource : public ObservationSource {
   EpochTimeScreen<StreamEpoch> screen_;
   std::vector<StreamEpoch> queue_;
   std::size_t queue_next_ = 0;
-  bool finished_ = false;
+  std::unique_ptr<StreamPump> pump_;  // the streaming pass over file_
   std::optional<ObservationProblem> error_;
 };
 

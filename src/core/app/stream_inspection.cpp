@@ -9,6 +9,7 @@
 #include "ppp_bayes_tree/evaluation/json_text.h"
 #include "ppp_bayes_tree/io/parse_error.h"
 #include "ppp_bayes_tree/io/rtcm_ssr_decoder.h"
+#include "ppp_bayes_tree/io/stream_pump.h"
 #include "ppp_bayes_tree/io/ubx_observation_source.h"
 
 namespace ppp {
@@ -128,14 +129,8 @@ StreamInspection inspectStreamFile(const std::string& path, const Rtcm3DecoderOp
     noteEphemeris(s, out.beidou);
     out.clear();
   };
-  std::vector<std::uint8_t> chunk(1 << 16);
-  std::size_t n = 0;
-  while ((n = std::fread(chunk.data(), 1, chunk.size(), f.get())) > 0) {
-    decoder.feed(chunk.data(), n);
-    drain();
-  }
-  decoder.finish();
-  drain();
+  StreamPump(f.get(), path).run({[&](const std::uint8_t* data, std::size_t size) { decoder.feed(data, size); },
+                                 [&]() { decoder.finish(); }, drain});
   timing.finish(s);
   s.counters = decoder.counters();
   for (const auto& [kind, count] : ssr.counters().problems_by_kind) s.counters.problems_by_kind[kind] += count;
