@@ -10,7 +10,9 @@
 // one TruncatedFrame at the frame's first byte.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
+#include <functional>
 #include <map>
 #include <string>
 #include <type_traits>
@@ -39,52 +41,55 @@ struct RealFrame {
   int message_type = 0;
 };
 
-/// The first `count` RTCM 3 frames of a file that starts with a frame, cut by
-/// their length fields (RTCM 10403.3 section 4).
-std::vector<RealFrame> firstRtcmFrames(const std::string& path, std::size_t count) {
-  const std::string file = test::readFileBytes(path);
-  std::vector<RealFrame> frames;
-  std::size_t pos = 0;
-  while (frames.size() < count) {
-    EXPECT_LT(pos + 3, file.size());
-    EXPECT_EQ(static_cast<std::uint8_t>(file[pos]), 0xD3) << "no preamble at byte " << pos;
-    const std::size_t length = ((static_cast<std::uint8_t>(file[pos + 1]) & 0x03u) << 8) |
-                               static_cast<std::uint8_t>(file[pos + 2]);
-    RealFrame f;
-    f.bytes.assign(file.begin() + pos, file.begin() + pos + length + 6);
-    f.payload.assign(f.bytes.begin() + 3, f.bytes.end() - 3);
-    f.message_type = (f.payload[0] << 4) | (f.payload[1] >> 4);
-    const std::uint32_t crc = (std::uint32_t{f.bytes[length + 3]} << 16) | (std::uint32_t{f.bytes[length + 4]} << 8) |
-                              f.bytes[length + 5];
-    EXPECT_EQ(crc24q(f.bytes.data(), length + 3), crc) << "frame at byte " << pos;
-    pos += f.bytes.size();
-    frames.push_back(std::move(f));
-  }
-  return frames;
+/// Where a format keeps a frame's length, type and check.
+struct FrameLayout {
+  Bytes sync;                     // the first bytes of every frame
+  std::size_t header_bytes = 0;   // sync and header, before the payload
+  std::size_t check_bytes = 0;    // after the payload
+  std::function<std::size_t(const std::uint8_t* header)> payload_length;
+  std::function<int(const Bytes& frame)> message_type;
+  std::function<bool(const Bytes& frame)> check_holds;
+};
+
+/// RTCM 10403.3 section 4: 0xD3, 10-bit length, payload, CRC-24Q.
+FrameLayout rtcmLayout() {
+  return {{0xD3}, 3, 3, [](const std::uint8_t* h) { return (std::size_t{h[1] & 0x03u} << 8) | h[2]; },
+          [](const Bytes& f) { return (f[3] << 4) | (f[4] >> 4); },
+          [](const Bytes& f) {
+            const std::size_t n = f.size() - 3;
+            return crc24q(f.data(), n) == ((std::uint32_t{f[n]} << 16) | (std::uint32_t{f[n + 1]} << 8) | f[n + 2]);
+          }};
 }
 
-/// The first `count` UBX frames of a file that starts with a frame
-/// (UBX-18010854 section 3.2).
-std::vector<RealFrame> firstUbxFrames(const std::string& path, std::size_t count) {
-  const std::string file = test::readFileBytes(path);
+/// UBX-18010854 section 3.2: 0xB5 0x62, class, id, length U2, payload, CK_A CK_B.
+FrameLayout ubxLayout() {
+  return {{0xB5, 0x62}, 6, 2, [](const std::uint8_t* h) { return h[4] | (std::size_t{h[5]} << 8); },
+          [](const Bytes& f) { return (f[2] << 8) | f[3]; },
+          [](const Bytes& f) {
+            const UbxChecksum ck = ubxChecksum(f.data() + 2, f.size() - 4);
+            return ck.a == f[f.size() - 2] && ck.b == f[f.size() - 1];
+          }};
+}
+
+/// The first `count` frames of a file that starts with a frame, each cut by its
+/// own length field and its check verified.
+std::vector<RealFrame> firstFrames(const std::string& path, std::size_t count, const FrameLayout& layout) {
+  const std::string text = test::readFileBytes(path);
+  const Bytes file(text.begin(), text.end());
   std::vector<RealFrame> frames;
   std::size_t pos = 0;
-  while (frames.size() < count) {
-    EXPECT_LT(pos + 6, file.size());
-    EXPECT_EQ(static_cast<std::uint8_t>(file[pos]), 0xB5) << "no sync at byte " << pos;
-    EXPECT_EQ(static_cast<std::uint8_t>(file[pos + 1]), 0x62) << "no sync at byte " << pos;
-    const std::size_t length = static_cast<std::uint8_t>(file[pos + 4]) |
-                               (static_cast<std::size_t>(static_cast<std::uint8_t>(file[pos + 5])) << 8);
+  while (frames.size() < count && pos + layout.header_bytes <= file.size()) {
+    EXPECT_TRUE(std::equal(layout.sync.begin(), layout.sync.end(), file.begin() + pos)) << "no sync at byte " << pos;
+    const std::size_t length = layout.payload_length(file.data() + pos);
     RealFrame f;
-    f.bytes.assign(file.begin() + pos, file.begin() + pos + length + 8);
-    f.payload.assign(f.bytes.begin() + 6, f.bytes.end() - 2);
-    f.message_type = (f.bytes[2] << 8) | f.bytes[3];
-    const UbxChecksum ck = ubxChecksum(f.bytes.data() + 2, length + 4);
-    EXPECT_EQ(ck.a, f.bytes[length + 6]) << "frame at byte " << pos;
-    EXPECT_EQ(ck.b, f.bytes[length + 7]) << "frame at byte " << pos;
+    f.bytes.assign(file.begin() + pos, file.begin() + pos + layout.header_bytes + length + layout.check_bytes);
+    f.payload.assign(f.bytes.begin() + layout.header_bytes, f.bytes.end() - layout.check_bytes);
+    f.message_type = layout.message_type(f.bytes);
+    EXPECT_TRUE(layout.check_holds(f.bytes)) << "frame at byte " << pos;
     pos += f.bytes.size();
     frames.push_back(std::move(f));
   }
+  EXPECT_EQ(frames.size(), count) << path;
   return frames;
 }
 
@@ -121,6 +126,7 @@ Bytes concat(const std::vector<Bytes>& pieces) {
 
 template <class Framer>
 void expectSameFramesAtEverySplit(const std::vector<RealFrame>& frames) {
+  ASSERT_EQ(frames.size(), 2u);
   const Bytes stream = concat({frames[0].bytes, frames[1].bytes});
   for (std::size_t split = 0; split <= stream.size(); ++split) {
     Framer framer;
@@ -149,6 +155,7 @@ void expectSameFramesAtEverySplit(const std::vector<RealFrame>& frames) {
 /// of good frames before each; the frames at their offsets after the garbage.
 template <class Framer>
 void expectGarbageCountedAtItsOffsets(const std::vector<RealFrame>& frames, const Bytes& before, const Bytes& between) {
+  ASSERT_EQ(frames.size(), 2u);
   const Bytes stream = concat({before, frames[0].bytes, between, frames[1].bytes});
   for (std::size_t chunk : {std::size_t{1}, stream.size()}) {
     std::vector<Bytes> parts;
@@ -181,6 +188,7 @@ void expectGarbageCountedAtItsOffsets(const std::vector<RealFrame>& frames, cons
 /// byte 0, and frame 1 found right after (resynchronisation), in any chunking.
 template <class Framer>
 void expectChecksumErrorThenResync(const std::vector<RealFrame>& frames, std::size_t payload_start) {
+  ASSERT_EQ(frames.size(), 2u);
   Bytes bad = frames[0].bytes;
   bad[payload_start + 10] ^= 0x10;
   const Bytes stream = concat({bad, frames[1].bytes});
@@ -211,6 +219,7 @@ void expectChecksumErrorThenResync(const std::vector<RealFrame>& frames, std::si
 /// Frame 0 whole, then frame 1 without its last byte.
 template <class Framer>
 void expectTruncatedFrameAtItsStart(const std::vector<RealFrame>& frames) {
+  ASSERT_EQ(frames.size(), 2u);
   Bytes stream = concat({frames[0].bytes, frames[1].bytes});
   stream.pop_back();
   Framer framer;
@@ -227,8 +236,10 @@ void expectTruncatedFrameAtItsStart(const std::vector<RealFrame>& frames) {
   EXPECT_EQ(c.garbage_bytes, 0u);
 }
 
-std::vector<RealFrame> rtcmFrames() { return firstRtcmFrames(test::dataPath("streams/rtcm/gmsd7_20121014.rtcm3"), 2); }
-std::vector<RealFrame> ubxFrames() { return firstUbxFrames(test::dataPath("streams/ubx/gnss_1730.ubx"), 2); }
+std::vector<RealFrame> rtcmFrames() {
+  return firstFrames(test::dataPath("streams/rtcm/gmsd7_20121014.rtcm3"), 2, rtcmLayout());
+}
+std::vector<RealFrame> ubxFrames() { return firstFrames(test::dataPath("streams/ubx/gnss_1730.ubx"), 2, ubxLayout()); }
 
 // Garbage without a sync byte, and garbage holding a false sync: RTCM 0xD3 with
 // reserved bits set, UBX 0xB5 not followed by 0x62.
@@ -240,6 +251,7 @@ const Bytes kUbxGarbageBetween = {0x01, 0xB5, 0x61, 0x02, 0x03, 0x04, 0x05};
 TEST(FramerBase, RtcmFramesSplitAtEveryBytePosition) {
   REQUIRE_STREAMS();
   const auto frames = rtcmFrames();
+  ASSERT_EQ(frames.size(), 2u);
   ASSERT_EQ(frames[0].message_type, 1077);  // README: MSM7 GPS first, then GLONASS
   ASSERT_EQ(frames[1].message_type, 1087);
   expectSameFramesAtEverySplit<Rtcm3Framer>(frames);
@@ -248,6 +260,7 @@ TEST(FramerBase, RtcmFramesSplitAtEveryBytePosition) {
 TEST(FramerBase, UbxFramesSplitAtEveryBytePosition) {
   REQUIRE_STREAMS();
   const auto frames = ubxFrames();
+  ASSERT_EQ(frames.size(), 2u);
   ASSERT_EQ(frames[0].message_type, 0x0215);  // RXM-RAWX
   expectSameFramesAtEverySplit<UbxFramer>(frames);
 }

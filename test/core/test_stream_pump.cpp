@@ -35,7 +35,19 @@ struct Recorder {
             },
             [this]() { calls.push_back("finish"); }, [this]() { calls.push_back("drain"); }};
   }
+  std::uint64_t bytes_read = 0;  // what run() returned
+  bool finished = false;
 };
+
+/// Opens `path` and pumps it to its end in chunks of `chunk` bytes.
+Recorder pumpWhole(const std::string& path, std::size_t chunk) {
+  File f = openForReading(path);
+  Recorder r;
+  StreamPump pump(f.get(), path, chunk);
+  r.bytes_read = pump.run(r.steps());
+  r.finished = pump.finished();
+  return r;
+}
 
 std::vector<std::uint8_t> countingBytes(std::size_t n) {
   std::vector<std::uint8_t> out(n);
@@ -57,12 +69,9 @@ class StreamPumpTest : public ::testing::Test {
 
 TEST_F(StreamPumpTest, WholeChunksThenEndOfFile) {
   const auto data = countingBytes(8);
-  const std::string path = write("eight.bin", data);
-  File f = openForReading(path);
-  Recorder r;
-  StreamPump pump(f.get(), path, 4);
-  EXPECT_EQ(pump.run(r.steps()), 8u);
-  EXPECT_TRUE(pump.finished());
+  const Recorder r = pumpWhole(write("eight.bin", data), 4);
+  EXPECT_EQ(r.bytes_read, 8u);
+  EXPECT_TRUE(r.finished);
   // The end is found by a read that returns nothing: no empty feed.
   EXPECT_EQ(r.calls, (std::vector<std::string>{"feed 4", "drain", "feed 4", "drain", "finish", "drain"}));
   EXPECT_EQ(r.bytes, data);
@@ -72,21 +81,16 @@ TEST_F(StreamPumpTest, AFileShorterThanOneChunk) {
   const auto data = countingBytes(3);
   const std::string path = write("three.bin", data);
   for (std::size_t chunk : {std::size_t{4}, StreamPump::kDefaultChunkBytes}) {
-    File f = openForReading(path);
-    Recorder r;
-    StreamPump pump(f.get(), path, chunk);
-    EXPECT_EQ(pump.run(r.steps()), 3u);
+    const Recorder r = pumpWhole(path, chunk);
+    EXPECT_EQ(r.bytes_read, 3u);
     EXPECT_EQ(r.calls, (std::vector<std::string>{"feed 3", "drain", "finish", "drain"})) << "chunk " << chunk;
     EXPECT_EQ(r.bytes, data);
   }
 }
 
 TEST_F(StreamPumpTest, AnEmptyFileIsFinishedAndDrainedOnce) {
-  const std::string path = write("empty.bin", {});
-  File f = openForReading(path);
-  Recorder r;
-  StreamPump pump(f.get(), path);
-  EXPECT_EQ(pump.run(r.steps()), 0u);
+  const Recorder r = pumpWhole(write("empty.bin", {}), StreamPump::kDefaultChunkBytes);
+  EXPECT_EQ(r.bytes_read, 0u);
   EXPECT_EQ(r.calls, (std::vector<std::string>{"finish", "drain"}));
 }
 
@@ -144,10 +148,8 @@ TEST(StreamPump, ARealRecordingReadThroughThePumpInAnyChunkSize) {
   if (!std::filesystem::exists(path)) GTEST_SKIP() << "no recording at " << path;
   const std::string whole = test::readFileBytes(path);
   for (std::size_t chunk : {std::size_t{1000}, std::size_t{65536}, std::size_t{1} << 20}) {
-    File f = openForReading(path);
-    Recorder r;
-    StreamPump pump(f.get(), path, chunk);
-    EXPECT_EQ(pump.run(r.steps()), whole.size());
+    const Recorder r = pumpWhole(path, chunk);
+    EXPECT_EQ(r.bytes_read, whole.size());
     EXPECT_EQ(std::string(r.bytes.begin(), r.bytes.end()), whole);
     EXPECT_EQ(r.calls.size(), 2 * ((whole.size() + chunk - 1) / chunk) + 2) << "chunk " << chunk;
   }
