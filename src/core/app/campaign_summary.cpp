@@ -1,7 +1,6 @@
 #include "ppp_bayes_tree/app/campaign_summary.h"
 
 #include <cmath>
-#include <cstdio>
 #include <filesystem>
 #include <map>
 #include <sstream>
@@ -238,9 +237,7 @@ std::string formatCampaignProgress(const CampaignProgress& p) {
   const int waiting = std::max(0, p.total - finished - p.running);
   auto clock = [](double s) {
     const int t = static_cast<int>(s + 0.5);
-    char b[32];
-    std::snprintf(b, sizeof b, "%d:%02d", t / 60, t % 60);
-    return std::string(b);
+    return format("%d:%02d", t / 60, t % 60);
   };
   std::string left = "?";
   if (finished > 0) left = clock(p.elapsed_s / finished * (p.total - finished));

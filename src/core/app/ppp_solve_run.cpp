@@ -5,7 +5,6 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
-#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -16,6 +15,7 @@
 #include "ppp_bayes_tree/evaluation/solution_csv_writer.h"
 #include "ppp_bayes_tree/types/constants.h"
 #include "ppp_bayes_tree/types/number_text.h"
+#include "ppp_bayes_tree/types/text_format.h"
 
 namespace ppp {
 namespace {
@@ -350,19 +350,14 @@ std::string formatRunReport(const PppRunSummary& r) {
   os << "postfit residuals per satellite [mm]:  n  code mean/rms  phase mean/rms/max  elevation [deg]  rejected\n";
   for (const auto& s : r.residual_statistics) {
     if (s.count == 0 && s.rejections == 0) continue;
-    char buf[200];
-    std::snprintf(buf, sizeof buf, "  %s %4zu  %6.0f %6.0f   %5.1f %5.1f %5.1f   %4.1f-%4.1f  %zu\n",
-                  s.satellite.toString().c_str(), s.count, s.code_mean_m * 1e3, s.code_rms_m * 1e3,
-                  s.phase_mean_m * 1e3, s.phase_rms_m * 1e3, s.phase_max_abs_m * 1e3, s.min_elevation_deg,
-                  s.max_elevation_deg, s.rejections);
-    os << buf;
+    os << format("  %s %4zu  %6.0f %6.0f   %5.1f %5.1f %5.1f   %4.1f-%4.1f  %zu\n", s.satellite.toString().c_str(),
+                 s.count, s.code_mean_m * 1e3, s.code_rms_m * 1e3, s.phase_mean_m * 1e3, s.phase_rms_m * 1e3,
+                 s.phase_max_abs_m * 1e3, s.min_elevation_deg, s.max_elevation_deg, s.rejections);
   }
   if (r.epochs_fixed > 0) {
-    char buf[160];
-    std::snprintf(buf, sizeof buf, "ambiguities fixed: %zu of %zu solved epochs (%.1f %%), first fix after %.1f min\n",
-                  r.epochs_fixed, r.epochs_solved, 100.0 * r.epochs_fixed / std::max<std::size_t>(1, r.epochs_solved),
-                  r.time_to_first_fix_s.value_or(0.0) / 60.0);
-    os << buf;
+    os << format("ambiguities fixed: %zu of %zu solved epochs (%.1f %%), first fix after %.1f min\n", r.epochs_fixed,
+                 r.epochs_solved, 100.0 * r.epochs_fixed / std::max<std::size_t>(1, r.epochs_solved),
+                 r.time_to_first_fix_s.value_or(0.0) / 60.0);
   }
   os << "notes:\n";
   for (const auto& n : r.notes) os << "  " << n << "\n";

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <map>
 #include <sstream>
 
@@ -244,27 +243,23 @@ std::string formatReplayReport(const std::vector<ReplayReportRow>& rows) {
   const double window_min =
       rows.empty() ? 15.0 : rows.front().statistics.options.convergence_window_s / 60.0;
   std::vector<double> thresholds = rows.empty() ? std::vector<double>{} : rows.front().statistics.options.convergence_thresholds_m;
-  char buf[512];
   const std::string w = format("%g", window_min);
   const int conv_width = std::max(0, static_cast<int>(7 * thresholds.size()) - 1);
-  std::snprintf(buf, sizeof buf, "%-26s | %-31s | %-31s |%s%-*s | %-14s | %-16s | %s\n", "", "3D error, all epochs [cm]",
-                ("3D error, first " + w + " min [cm]").c_str(), thresholds.empty() ? "" : " ", conv_width,
-                thresholds.empty() ? "" : "conv. [min]", "PPP-AR", "node update [ms]", "node epochs");
-  os << buf;
-  std::snprintf(buf, sizeof buf, "%-18s %7s | %7s %7s %7s %7s | %7s %7s %7s %7s |", "estimator", "epochs", "median",
-                "mean", "sigma", "max", "median", "mean", "sigma", "max");
-  os << buf;
+  os << format("%-26s | %-31s | %-31s |%s%-*s | %-14s | %-16s | %s\n", "", "3D error, all epochs [cm]",
+               ("3D error, first " + w + " min [cm]").c_str(), thresholds.empty() ? "" : " ", conv_width,
+               thresholds.empty() ? "" : "conv. [min]", "PPP-AR", "node update [ms]", "node epochs");
+  os << format("%-18s %7s | %7s %7s %7s %7s | %7s %7s %7s %7s |", "estimator", "epochs", "median", "mean", "sigma",
+               "max", "median", "mean", "sigma", "max");
   for (double thr : thresholds) os << format(" %6s", ("<" + format("%g", thr * 100.0) + "cm").c_str());
   os << " | " << format("%6s", "fixed%") << format(" %7s", "1st fix") << " | " << format("%7s", "median") << format(" %8s", "p99")
      << " | processed dropped\n";
   for (const auto& r : rows) {
     if (!r.missing.empty()) continue;
     const auto& s = r.statistics;
-    std::snprintf(buf, sizeof buf, "%-18s %7zu | %7s %7s %7s %7s | %7s %7s %7s %7s |", r.label.substr(0, 18).c_str(),
-                  s.epochs, cm(s.all.median_m).c_str(), cm(s.all.mean_m).c_str(), cm(s.all.std_m).c_str(),
-                  cm(s.all.max_m).c_str(), cm(s.first_window.median_m).c_str(), cm(s.first_window.mean_m).c_str(),
-                  cm(s.first_window.std_m).c_str(), cm(s.first_window.max_m).c_str());
-    os << buf;
+    os << format("%-18s %7zu | %7s %7s %7s %7s | %7s %7s %7s %7s |", r.label.substr(0, 18).c_str(), s.epochs,
+                 cm(s.all.median_m).c_str(), cm(s.all.mean_m).c_str(), cm(s.all.std_m).c_str(), cm(s.all.max_m).c_str(),
+                 cm(s.first_window.median_m).c_str(), cm(s.first_window.mean_m).c_str(),
+                 cm(s.first_window.std_m).c_str(), cm(s.first_window.max_m).c_str());
     for (std::size_t k = 0; k < thresholds.size(); ++k) {
       const auto& c = k < s.convergence.size() ? s.convergence[k].time_s : std::nullopt;
       os << format(" %6s", c ? format("%.1f", *c / 60.0).c_str() : "never");

@@ -3,7 +3,6 @@
 
 #include "ppp_bayes_tree/evaluation/json_text.h"
 #include <cmath>
-#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <map>

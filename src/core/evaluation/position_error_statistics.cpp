@@ -4,7 +4,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <limits>
 #include <numeric>
 #include <sstream>
@@ -120,13 +119,8 @@ std::string formatStatisticsComparison(
   int width = 12;  // widened to the longest label ("smoother filtered")
   for (const auto& c : columns) width = std::max(width, static_cast<int>(std::min<std::size_t>(c.first.size(), 40)));
   auto row = [&](const std::string& name, auto cell) {
-    char buf[96];
-    std::snprintf(buf, sizeof buf, "%-30s", name.c_str());
-    os << buf;
-    for (const auto& [label, st] : columns) {
-      std::snprintf(buf, sizeof buf, " %*s", width, cell(st).substr(0, 40).c_str());
-      os << buf;
-    }
+    os << format("%-30s", name.c_str());
+    for (const auto& [label, st] : columns) os << format(" %*s", width, cell(st).substr(0, 40).c_str());
     os << "\n";
   };
   auto cm = [](double m) { return std::isfinite(m) ? format("%.2f", m * 100.0) : std::string("-"); };

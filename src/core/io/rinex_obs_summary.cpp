@@ -1,7 +1,6 @@
 // summarizeObservationFile: what ppp_inspect shows for a RINEX observation file.
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <map>
 
 #include "ppp_bayes_tree/io/rinex_obs_reader.h"

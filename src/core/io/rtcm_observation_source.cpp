@@ -10,6 +10,7 @@
 #include "ppp_bayes_tree/io/parse_error.h"
 #include "ppp_bayes_tree/io/rtcm_ssr_decoder.h"
 #include "ppp_bayes_tree/io/stream_pump.h"
+#include "ppp_bayes_tree/types/text_format.h"
 
 namespace ppp {
 namespace {
@@ -51,9 +52,7 @@ std::optional<std::string> referenceDateContradiction(const GnssTime& reference,
   const double median_s = off[off.size() / 2];
   const CalendarTime given = reference.toCalendar(TimeSystem::GPS);
   const CalendarTime stream = (first + median_s).toCalendar(TimeSystem::GPS);
-  char text[640];
-  std::snprintf(text, sizeof text,
-                "the reference date %04d/%02d/%02d (--ref-date) places the epochs at %s to %s, but %zu of the "
+  return format("the reference date %04d/%02d/%02d (--ref-date) places the epochs at %s to %s, but %zu of the "
                 "stream's %zu ephemerides (GPS/QZSS, Galileo, BeiDou; their weeks as broadcast) have their "
                 "reference time %.1f days %s (median): the date is wrong, the stream says about %04d/%02d/%02d "
                 "(without --ref-date, Galileo/BeiDou ephemerides place the epochs)",
@@ -61,7 +60,6 @@ std::optional<std::string> referenceDateContradiction(const GnssTime& reference,
                 last.toString(TimeSystem::GPS, 0).c_str(), evidence.disagreement_s.size(), evidence.records,
                 std::fabs(median_s) / 86400.0, median_s < 0.0 ? "earlier" : "later", stream.year, stream.month,
                 stream.day);
-  return std::string(text);
 }
 
 void StreamSignalInventory::add(const StreamEpoch& epoch) {
@@ -130,9 +128,7 @@ void streamEpochToObsEpoch(const StreamEpoch& in, const RinexObsHeader& header, 
 
 void fillStationHeader(const RtcmStationInfo& station, RinexObsHeader& header) {
   if (station.station_id) {
-    char buf[16];
-    std::snprintf(buf, sizeof buf, "%04d", *station.station_id);
-    header.marker_name = buf;
+    header.marker_name = format("%04d", *station.station_id);
   }
   header.receiver_type = station.receiver_type;
   header.receiver_version = station.receiver_firmware;

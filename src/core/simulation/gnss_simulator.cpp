@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <cstdio>
 #include <map>
 #include <stdexcept>
 
@@ -367,10 +366,8 @@ SimulatedFlight simulateFlight(const SimulationConfig& config, std::uint64_t see
     h.program = "ppp_simulate";
     h.run_by = "ppp_bayes_tree";
     const CalendarTime c = t0.toCalendar(TimeSystem::GPS);
-    char date[32];
-    std::snprintf(date, sizeof date, "%04d%02d%02d %02d%02d%02d GPS", c.year, c.month, c.day, c.hour, c.minute,
-                  static_cast<int>(c.second));
-    h.date = date;
+    h.date = format("%04d%02d%02d %02d%02d%02d GPS", c.year, c.month, c.day, c.hour, c.minute,
+                    static_cast<int>(c.second));
     h.marker_name = config.marker_name;
     h.marker_type = "NON_GEODETIC";
     h.observer = "simulation";
