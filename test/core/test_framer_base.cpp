@@ -118,6 +118,14 @@ std::vector<Delivered> feedParts(Framer& framer, const std::vector<Bytes>& parts
   return out;
 }
 
+/// `stream` cut into pieces of `chunk` bytes (the last one shorter).
+std::vector<Bytes> chunked(const Bytes& stream, std::size_t chunk) {
+  std::vector<Bytes> parts;
+  for (std::size_t i = 0; i < stream.size(); i += chunk)
+    parts.emplace_back(stream.begin() + i, stream.begin() + std::min(stream.size(), i + chunk));
+  return parts;
+}
+
 Bytes concat(const std::vector<Bytes>& pieces) {
   Bytes out;
   for (const Bytes& p : pieces) out.insert(out.end(), p.begin(), p.end());
@@ -158,11 +166,8 @@ void expectGarbageCountedAtItsOffsets(const std::vector<RealFrame>& frames, cons
   ASSERT_EQ(frames.size(), 2u);
   const Bytes stream = concat({before, frames[0].bytes, between, frames[1].bytes});
   for (std::size_t chunk : {std::size_t{1}, stream.size()}) {
-    std::vector<Bytes> parts;
-    for (std::size_t i = 0; i < stream.size(); i += chunk)
-      parts.emplace_back(stream.begin() + i, stream.begin() + std::min(stream.size(), i + chunk));
     Framer framer;
-    const auto got = feedParts(framer, parts);
+    const auto got = feedParts(framer, chunked(stream, chunk));
     ASSERT_EQ(got.size(), 2u) << "chunk " << chunk;
     EXPECT_EQ(got[0].byte_offset, before.size());
     EXPECT_EQ(got[1].byte_offset, before.size() + frames[0].bytes.size() + between.size());
@@ -193,11 +198,8 @@ void expectChecksumErrorThenResync(const std::vector<RealFrame>& frames, std::si
   bad[payload_start + 10] ^= 0x10;
   const Bytes stream = concat({bad, frames[1].bytes});
   for (std::size_t chunk : {std::size_t{1}, std::size_t{13}, stream.size()}) {
-    std::vector<Bytes> parts;
-    for (std::size_t i = 0; i < stream.size(); i += chunk)
-      parts.emplace_back(stream.begin() + i, stream.begin() + std::min(stream.size(), i + chunk));
     Framer framer;
-    const auto got = feedParts(framer, parts);
+    const auto got = feedParts(framer, chunked(stream, chunk));
     ASSERT_EQ(got.size(), 1u) << "chunk " << chunk;
     EXPECT_EQ(got[0].payload, frames[1].payload);
     EXPECT_EQ(got[0].byte_offset, bad.size());
