@@ -59,9 +59,10 @@ std::optional<std::string> referenceDateContradiction(const GnssTime& reference,
 
 class RtcmObservationSource : public ObservationSource {
  public:
-  /// Scans the file (throws FileOpenError when it cannot be opened, ParseError
-  /// when a reference date given contradicts the stream's ephemerides:
-  /// referenceDateContradiction).
+  /// Scans the file (throws FileOpenError when it cannot be opened or read,
+  /// ParseError when a reference date given contradicts the stream's
+  /// ephemerides: referenceDateContradiction). A read error in the streaming
+  /// pass after the scan is error(), naming the file and the byte offset.
   explicit RtcmObservationSource(const std::string& path, Rtcm3DecoderOptions options = {});
   ~RtcmObservationSource() override;
 
