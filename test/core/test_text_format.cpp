@@ -1,6 +1,7 @@
 // format() (types/text_format.h): the whole text whatever its length, the same
 // text as printf for the conversions the library uses; and the helpers built on
-// it (csvNumber, ubxTypeText), which used to cut at fixed 64- to 512-byte buffers.
+// it (csvNumber, ubxTypeText, minutesSecondsText), which used to cut at fixed
+// 16- to 512-byte buffers.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -51,6 +52,10 @@ TEST(TextFormat, TextBuiltOnFormatIsWhole) {
   EXPECT_EQ(csvNumber("%.4f", std::nan("")), "");
   EXPECT_EQ(ubxTypeText(0x0215), "0x02 0x15");  // RXM-RAWX
   EXPECT_EQ(ubxTypeText(0x0A09), "0x0A 0x09");
+  EXPECT_EQ(minutesSecondsText(725.4), "12:05");  // rounded to the second
+  EXPECT_EQ(minutesSecondsText(59.6), "1:00");
+  EXPECT_EQ(minutesSecondsText(0.0), "0:00");
+  EXPECT_EQ(minutesSecondsText(600000.0), "10000:00");
 }
 
 }  // namespace

@@ -10,6 +10,7 @@
 
 #include "ppp_bayes_tree/evaluation/json_text.h"
 #include "ppp_bayes_tree/evaluation/monte_carlo_records.h"
+#include "ppp_bayes_tree/types/number_text.h"
 #include "ppp_bayes_tree/types/text_format.h"
 
 namespace ppp {
@@ -235,15 +236,11 @@ void writeCampaignSummary(const CampaignSummary& s, const std::string& dir) {
 std::string formatCampaignProgress(const CampaignProgress& p) {
   const int finished = p.done + p.failed;
   const int waiting = std::max(0, p.total - finished - p.running);
-  auto clock = [](double s) {
-    const int t = static_cast<int>(s + 0.5);
-    return format("%d:%02d", t / 60, t % 60);
-  };
   std::string left = "?";
-  if (finished > 0) left = clock(p.elapsed_s / finished * (p.total - finished));
+  if (finished > 0) left = minutesSecondsText(p.elapsed_s / finished * (p.total - finished));
   if (finished == p.total) left = "0:00";
   return std::to_string(p.done) + "/" + std::to_string(p.total) + " done, " + std::to_string(p.failed) + " failed, " +
-         std::to_string(p.running) + " running, " + std::to_string(waiting) + " waiting; " + clock(p.elapsed_s) +
+         std::to_string(p.running) + " running, " + std::to_string(waiting) + " waiting; " + minutesSecondsText(p.elapsed_s) +
          " elapsed, ~" + left + " left";
 }
 

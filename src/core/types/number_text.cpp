@@ -19,4 +19,9 @@ std::string csvNumber(const char* printf_format, double value) {
   return format(printf_format, value);
 }
 
+std::string minutesSecondsText(double seconds) {
+  const int t = static_cast<int>(seconds + 0.5);
+  return format("%d:%02d", t / 60, t % 60);
+}
+
 }  // namespace ppp
