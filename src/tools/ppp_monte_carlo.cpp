@@ -49,6 +49,7 @@
 #include "ppp_bayes_tree/evaluation/monte_carlo.h"
 #include "ppp_bayes_tree/io/parse_error.h"
 #include "ppp_bayes_tree/ppp/yaml_section.h"
+#include "ppp_bayes_tree/types/number_text.h"
 
 namespace {
 
@@ -69,13 +70,6 @@ bool parseNumber(const std::string& s, double& v) {
   return !s.empty() && end != s.c_str() && *end == '\0';
 }
 
-std::string clockText(double s) {
-  char b[32];
-  const int t = static_cast<int>(s + 0.5);
-  std::snprintf(b, sizeof b, "%d:%02d", t / 60, t % 60);
-  return b;
-}
-
 /// Progress on stderr: a bar redrawn in place on a terminal, else a line per 10 %.
 class Progress {
  public:
@@ -86,15 +80,15 @@ class Progress {
     if (tty_) {
       const int width = 30, filled = total_ > 0 ? width * done / total_ : width;
       std::fprintf(stderr, "\r[%s%s] %d/%d flights, %s elapsed, ~%s left ", std::string(filled, '#').c_str(),
-                   std::string(width - filled, '.').c_str(), done, total_, clockText(elapsed).c_str(),
-                   clockText(left).c_str());
+                   std::string(width - filled, '.').c_str(), done, total_, ppp::minutesSecondsText(elapsed).c_str(),
+                   ppp::minutesSecondsText(left).c_str());
       if (done == total_) std::fprintf(stderr, "\n");
     } else {
       const int decile = total_ > 0 ? 10 * done / total_ : 10;
       if (decile > last_decile_) {
         last_decile_ = decile;
         std::fprintf(stderr, "%3d%% (%d/%d flights), %s elapsed, ~%s left\n", 10 * decile, done, total_,
-                     clockText(elapsed).c_str(), clockText(left).c_str());
+                     ppp::minutesSecondsText(elapsed).c_str(), ppp::minutesSecondsText(left).c_str());
       }
     }
     std::fflush(stderr);

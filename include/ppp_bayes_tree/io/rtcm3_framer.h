@@ -10,14 +10,14 @@
 // behind garbage or a false preamble is still found. Bytes skipped while
 // searching are counted by io/skipped_bytes.h: NMEA text, or garbage (one
 // problem per run of bytes). finish()
-// reports a frame the stream ended inside.
+// reports a frame the stream ended inside. The search itself is
+// io/framer_base.h; this file holds the RTCM 3 rules.
 #include <cstddef>
 #include <cstdint>
 #include <functional>
 #include <vector>
 
-#include "ppp_bayes_tree/io/skipped_bytes.h"
-#include "ppp_bayes_tree/io/stream_problem.h"
+#include "ppp_bayes_tree/io/framer_base.h"
 
 namespace ppp {
 
@@ -35,25 +35,20 @@ std::uint32_t crc24q(const std::uint8_t* data, std::size_t size);
 /// (at most 1023 bytes; throws std::length_error otherwise).
 std::vector<std::uint8_t> encodeRtcm3Frame(const std::vector<std::uint8_t>& payload);
 
-class Rtcm3Framer {
+class Rtcm3Framer : public FramerBase {
  public:
   using FrameHandler = std::function<void(const Rtcm3Frame&)>;
+
+  Rtcm3Framer() : FramerBase("RTCM 3") {}
 
   /// Feeds bytes; calls `on_frame` for every complete frame with a good CRC.
   void feed(const std::uint8_t* data, std::size_t size, const FrameHandler& on_frame);
   /// The stream ended: a partial frame is counted as truncated.
-  void finish();
-
-  const StreamCounters& counters() const { return counters_; }
-  StreamCounters& counters() { return counters_; }
+  void finish() { finishBytes(); }
 
  private:
-  void scan(const FrameHandler& on_frame);
-
-  std::vector<std::uint8_t> buffer_;  // unconsumed bytes
-  std::uint64_t buffer_offset_ = 0;   // stream offset of buffer_[0]
-  SkippedBytes skipped_{"RTCM 3"};
-  StreamCounters counters_;
+  FrameCandidate examine(const std::uint8_t* data, std::size_t available) const override;
+  std::optional<FrameFault> truncatedFrame(const std::uint8_t* data, std::size_t available) const override;
 };
 
 }  // namespace ppp

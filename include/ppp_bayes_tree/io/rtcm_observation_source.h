@@ -27,6 +27,7 @@
 #include "ppp_bayes_tree/io/epoch_time_screen.h"
 #include "ppp_bayes_tree/io/observation_source.h"
 #include "ppp_bayes_tree/io/rtcm3_decoder.h"
+#include "ppp_bayes_tree/io/stream_pump.h"
 
 namespace ppp {
 
@@ -58,9 +59,10 @@ std::optional<std::string> referenceDateContradiction(const GnssTime& reference,
 
 class RtcmObservationSource : public ObservationSource {
  public:
-  /// Scans the file (throws FileOpenError when it cannot be opened, ParseError
-  /// when a reference date given contradicts the stream's ephemerides:
-  /// referenceDateContradiction).
+  /// Scans the file (throws FileOpenError when it cannot be opened or read,
+  /// ParseError when a reference date given contradicts the stream's
+  /// ephemerides: referenceDateContradiction). A read error in the streaming
+  /// pass after the scan is error(), naming the file and the byte offset.
   explicit RtcmObservationSource(const std::string& path, Rtcm3DecoderOptions options = {});
   ~RtcmObservationSource() override;
 
@@ -95,7 +97,7 @@ class RtcmObservationSource : public ObservationSource {
   EpochTimeScreen<StreamEpoch> screen_;
   std::vector<StreamEpoch> queue_;
   std::size_t queue_next_ = 0;
-  bool finished_ = false;
+  std::unique_ptr<StreamPump> pump_;  // the streaming pass over file_
   std::optional<ObservationProblem> error_;
 };
 

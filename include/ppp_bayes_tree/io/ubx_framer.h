@@ -16,14 +16,15 @@
 // measurements, has 16 + 32*255 = 8176 bytes) and the search restarts the same
 // way. finish() reports a frame the stream ended inside.
 //
-// Frames are counted per message type class<<8 | id (RXM-RAWX = 0x0215).
+// Frames are counted per message type class<<8 | id (RXM-RAWX = 0x0215). The
+// search itself is io/framer_base.h; this file holds the UBX rules.
 #include <cstddef>
 #include <cstdint>
 #include <functional>
+#include <string>
 #include <vector>
 
-#include "ppp_bayes_tree/io/skipped_bytes.h"
-#include "ppp_bayes_tree/io/stream_problem.h"
+#include "ppp_bayes_tree/io/framer_base.h"
 
 namespace ppp {
 
@@ -44,31 +45,29 @@ struct UbxChecksum {
 };
 UbxChecksum ubxChecksum(const std::uint8_t* data, std::size_t size);
 
+/// A message type class<<8 | id as problem texts name it: "0x02 0x15".
+std::string ubxTypeText(int type);
+
 /// A complete UBX frame around `payload` (at most 65535 bytes; throws
 /// std::length_error otherwise).
 std::vector<std::uint8_t> encodeUbxFrame(std::uint8_t message_class, std::uint8_t message_id,
                                          const std::vector<std::uint8_t>& payload);
 
-class UbxFramer {
+class UbxFramer : public FramerBase {
  public:
   static constexpr std::size_t kMaxPayloadBytes = 8192;
   using FrameHandler = std::function<void(const UbxFrame&)>;
 
+  UbxFramer() : FramerBase("UBX") {}
+
   /// Feeds bytes; calls `on_frame` for every complete frame with a good checksum.
   void feed(const std::uint8_t* data, std::size_t size, const FrameHandler& on_frame);
   /// The stream ended: a partial frame is counted as truncated.
-  void finish();
-
-  const StreamCounters& counters() const { return counters_; }
-  StreamCounters& counters() { return counters_; }
+  void finish() { finishBytes(); }
 
  private:
-  void scan(const FrameHandler& on_frame);
-
-  std::vector<std::uint8_t> buffer_;  // unconsumed bytes
-  std::uint64_t buffer_offset_ = 0;   // stream offset of buffer_[0]
-  SkippedBytes skipped_{"UBX"};
-  StreamCounters counters_;
+  FrameCandidate examine(const std::uint8_t* data, std::size_t available) const override;
+  std::optional<FrameFault> truncatedFrame(const std::uint8_t* data, std::size_t available) const override;
 };
 
 }  // namespace ppp

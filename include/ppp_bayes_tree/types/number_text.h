@@ -12,4 +12,7 @@ std::string fixedDecimals(double value, int decimals = 3);
 /// empty text for NaN or infinity (a blank CSV field, never "nan").
 std::string csvNumber(const char* printf_format, double value);
 
+/// A duration as minutes and seconds, rounded to the second ("12:05"), for progress lines.
+std::string minutesSecondsText(double seconds);
+
 }  // namespace ppp

@@ -1,7 +1,6 @@
 #include "ppp_bayes_tree/app/campaign_summary.h"
 
 #include <cmath>
-#include <cstdio>
 #include <filesystem>
 #include <map>
 #include <sstream>
@@ -11,6 +10,8 @@
 
 #include "ppp_bayes_tree/evaluation/json_text.h"
 #include "ppp_bayes_tree/evaluation/monte_carlo_records.h"
+#include "ppp_bayes_tree/types/number_text.h"
+#include "ppp_bayes_tree/types/text_format.h"
 
 namespace ppp {
 namespace fs = std::filesystem;
@@ -18,9 +19,7 @@ namespace {
 
 std::string fmt(const char* f, double v) {
   if (!std::isfinite(v)) return std::isinf(v) ? "never" : "";
-  char b[48];
-  std::snprintf(b, sizeof b, f, v);
-  return b;
+  return format(f, v);
 }
 
 std::string csvField(std::string s) {
@@ -237,17 +236,11 @@ void writeCampaignSummary(const CampaignSummary& s, const std::string& dir) {
 std::string formatCampaignProgress(const CampaignProgress& p) {
   const int finished = p.done + p.failed;
   const int waiting = std::max(0, p.total - finished - p.running);
-  auto clock = [](double s) {
-    const int t = static_cast<int>(s + 0.5);
-    char b[32];
-    std::snprintf(b, sizeof b, "%d:%02d", t / 60, t % 60);
-    return std::string(b);
-  };
   std::string left = "?";
-  if (finished > 0) left = clock(p.elapsed_s / finished * (p.total - finished));
+  if (finished > 0) left = minutesSecondsText(p.elapsed_s / finished * (p.total - finished));
   if (finished == p.total) left = "0:00";
   return std::to_string(p.done) + "/" + std::to_string(p.total) + " done, " + std::to_string(p.failed) + " failed, " +
-         std::to_string(p.running) + " running, " + std::to_string(waiting) + " waiting; " + clock(p.elapsed_s) +
+         std::to_string(p.running) + " running, " + std::to_string(waiting) + " waiting; " + minutesSecondsText(p.elapsed_s) +
          " elapsed, ~" + left + " left";
 }
 

@@ -5,7 +5,6 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
-#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -15,6 +14,8 @@
 #include "ppp_bayes_tree/evaluation/rtklib_pos.h"
 #include "ppp_bayes_tree/evaluation/solution_csv_writer.h"
 #include "ppp_bayes_tree/types/constants.h"
+#include "ppp_bayes_tree/types/number_text.h"
+#include "ppp_bayes_tree/types/text_format.h"
 
 namespace ppp {
 namespace {
@@ -23,12 +24,6 @@ std::ofstream openOut(const std::string& path) {
   std::ofstream out(path, std::ios::binary);
   if (!out) throw std::runtime_error("cannot write " + path);
   return out;
-}
-
-std::string fixed(double v, int decimals) {
-  char buf[48];
-  std::snprintf(buf, sizeof buf, "%.*f", decimals, v);
-  return buf;
 }
 
 /// Writes one solution as CSV and .pos.
@@ -182,13 +177,13 @@ PppSolveOutcome solvePpp(const PppSolveRequest& req) {
     epochs << t << ',' << status << ',' << toString(rec.solution.integrity) << ',' << csvText(rec.consistency)
            << ',' << csvText(rec.reason) << ',' << rec.satellites_observed << ','
            << rec.satellites_selected << ',' << rec.used.size() << ',' << rec.rejected.size() << ',' << rec.new_arcs
-           << ',' << rec.slips << ',' << (rec.gap_s ? fixed(*rec.gap_s, 1) : "") << ',' << used;
+           << ',' << rec.slips << ',' << (rec.gap_s ? fixedDecimals(*rec.gap_s, 1) : "") << ',' << used;
     if (smoother) {
       if (!rec.refused && rec.smoother) {
         const SmootherEpochDiagnostics& r = *rec.smoother;
         epochs << ',' << rec.active_biases << ',' << r.new_biases << ',' << r.variables_relinearized << ','
                << r.variables_reeliminated << ',' << r.factors_relinearized << ',' << r.cliques_touched << ',';
-        if (req.write_timings) epochs << fixed(r.update_time_s * 1e3, 3) << ',' << fixed(rec.estimator_time_s * 1e3, 3);
+        if (req.write_timings) epochs << fixedDecimals(r.update_time_s * 1e3, 3) << ',' << fixedDecimals(rec.estimator_time_s * 1e3, 3);
         else epochs << ',';
         if (rec.status == EpochStatus::Ok) {
           update_times.push_back(r.update_time_s);
@@ -202,10 +197,10 @@ PppSolveOutcome solvePpp(const PppSolveRequest& req) {
     epochs << ',' << csvText(rej) << '\n';
     for (const auto& r : rec.residuals) {
       residuals << t << ',' << r.satellite.toString() << ',' << r.arc << ',' << (r.new_arc ? 1 : 0) << ','
-                << fixed(r.elevation_rad * kRadToDeg, 2) << ',' << fixed(r.azimuth_rad * kRadToDeg, 2) << ','
-                << fixed(r.code_prefit_m, 4) << ',' << fixed(r.phase_prefit_m, 4) << ','
-                << fixed(r.code_postfit_m, 4) << ',' << fixed(r.phase_postfit_m, 4) << ','
-                << fixed(r.code_sigma_m, 4) << ',' << fixed(r.phase_sigma_m, 4) << '\n';
+                << fixedDecimals(r.elevation_rad * kRadToDeg, 2) << ',' << fixedDecimals(r.azimuth_rad * kRadToDeg, 2) << ','
+                << fixedDecimals(r.code_prefit_m, 4) << ',' << fixedDecimals(r.phase_prefit_m, 4) << ','
+                << fixedDecimals(r.code_postfit_m, 4) << ',' << fixedDecimals(r.phase_postfit_m, 4) << ','
+                << fixedDecimals(r.code_sigma_m, 4) << ',' << fixedDecimals(r.phase_sigma_m, 4) << '\n';
     }
     if (req.on_epoch) req.on_epoch(pipeline.progress(), rec);
   });
@@ -236,8 +231,8 @@ PppSolveOutcome solvePpp(const PppSolveRequest& req) {
         it = final_m.emplace(row.estimate.arc, smoother->smoothedBias_m(row.estimate.satellite,
                                                                                    row.estimate.arc)).first;
       biases << isoTimeText(row.time, 1) << ',' << row.estimate.arc << ',' << row.estimate.satellite.toString()
-             << ',' << fixed(row.estimate.bias_m, 4) << ',' << fixed(row.estimate.sigma_m, 4) << ','
-             << (it->second ? fixed(*it->second, 4) : "") << '\n';
+             << ',' << fixedDecimals(row.estimate.bias_m, 4) << ',' << fixedDecimals(row.estimate.sigma_m, 4) << ','
+             << (it->second ? fixedDecimals(*it->second, 4) : "") << '\n';
     }
     biases.flush();
     if (!biases) throw std::runtime_error("cannot write " + out.biases_path);
@@ -338,7 +333,7 @@ std::string formatRunReport(const PppRunSummary& r) {
   std::ostringstream os;
   os << "epochs: " << r.epochs_read << " read, " << r.epochs_solved << " solved, " << r.epochs_no_solution
      << " no solution, " << r.epochs_failed << " failed, " << r.epochs_refused << " refused; " << r.data_gaps
-     << " data gaps; " << r.arcs << " arcs, " << r.slips << " slips; " << fixed(r.processing_time_s, 2) << " s\n";
+     << " data gaps; " << r.arcs << " arcs, " << r.slips << " slips; " << fixedDecimals(r.processing_time_s, 2) << " s\n";
   if (!r.rejection_counts.empty()) {
     os << "rejections (satellite-epochs):\n";
     for (const auto& [k, n] : r.rejection_counts) os << "  " << n << "  " << toString(k) << "\n";
@@ -355,19 +350,14 @@ std::string formatRunReport(const PppRunSummary& r) {
   os << "postfit residuals per satellite [mm]:  n  code mean/rms  phase mean/rms/max  elevation [deg]  rejected\n";
   for (const auto& s : r.residual_statistics) {
     if (s.count == 0 && s.rejections == 0) continue;
-    char buf[200];
-    std::snprintf(buf, sizeof buf, "  %s %4zu  %6.0f %6.0f   %5.1f %5.1f %5.1f   %4.1f-%4.1f  %zu\n",
-                  s.satellite.toString().c_str(), s.count, s.code_mean_m * 1e3, s.code_rms_m * 1e3,
-                  s.phase_mean_m * 1e3, s.phase_rms_m * 1e3, s.phase_max_abs_m * 1e3, s.min_elevation_deg,
-                  s.max_elevation_deg, s.rejections);
-    os << buf;
+    os << format("  %s %4zu  %6.0f %6.0f   %5.1f %5.1f %5.1f   %4.1f-%4.1f  %zu\n", s.satellite.toString().c_str(),
+                 s.count, s.code_mean_m * 1e3, s.code_rms_m * 1e3, s.phase_mean_m * 1e3, s.phase_rms_m * 1e3,
+                 s.phase_max_abs_m * 1e3, s.min_elevation_deg, s.max_elevation_deg, s.rejections);
   }
   if (r.epochs_fixed > 0) {
-    char buf[160];
-    std::snprintf(buf, sizeof buf, "ambiguities fixed: %zu of %zu solved epochs (%.1f %%), first fix after %.1f min\n",
-                  r.epochs_fixed, r.epochs_solved, 100.0 * r.epochs_fixed / std::max<std::size_t>(1, r.epochs_solved),
-                  r.time_to_first_fix_s.value_or(0.0) / 60.0);
-    os << buf;
+    os << format("ambiguities fixed: %zu of %zu solved epochs (%.1f %%), first fix after %.1f min\n", r.epochs_fixed,
+                 r.epochs_solved, 100.0 * r.epochs_fixed / std::max<std::size_t>(1, r.epochs_solved),
+                 r.time_to_first_fix_s.value_or(0.0) / 60.0);
   }
   os << "notes:\n";
   for (const auto& n : r.notes) os << "  " << n << "\n";

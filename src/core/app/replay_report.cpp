@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <map>
 #include <sstream>
 
@@ -10,23 +9,12 @@
 #include "ppp_bayes_tree/evaluation/solution_csv_writer.h"
 #include "ppp_bayes_tree/io/fixed_width.h"
 #include "ppp_bayes_tree/types/frames.h"
+#include "ppp_bayes_tree/types/text_format.h"
 
 namespace ppp {
 namespace {
 
-std::string fmt(const char* f, double v) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, f, v);
-  return buf;
-}
-
-std::string fmt(const char* f, const char* text) {
-  char buf[128];
-  std::snprintf(buf, sizeof buf, f, text);
-  return buf;
-}
-
-std::string cm(double m) { return std::isfinite(m) ? fmt("%.2f", m * 100.0) : std::string("-"); }
+std::string cm(double m) { return std::isfinite(m) ? format("%.2f", m * 100.0) : std::string("-"); }
 
 }  // namespace
 
@@ -255,39 +243,35 @@ std::string formatReplayReport(const std::vector<ReplayReportRow>& rows) {
   const double window_min =
       rows.empty() ? 15.0 : rows.front().statistics.options.convergence_window_s / 60.0;
   std::vector<double> thresholds = rows.empty() ? std::vector<double>{} : rows.front().statistics.options.convergence_thresholds_m;
-  char buf[512];
-  const std::string w = fmt("%g", window_min);
+  const std::string w = format("%g", window_min);
   const int conv_width = std::max(0, static_cast<int>(7 * thresholds.size()) - 1);
-  std::snprintf(buf, sizeof buf, "%-26s | %-31s | %-31s |%s%-*s | %-14s | %-16s | %s\n", "", "3D error, all epochs [cm]",
-                ("3D error, first " + w + " min [cm]").c_str(), thresholds.empty() ? "" : " ", conv_width,
-                thresholds.empty() ? "" : "conv. [min]", "PPP-AR", "node update [ms]", "node epochs");
-  os << buf;
-  std::snprintf(buf, sizeof buf, "%-18s %7s | %7s %7s %7s %7s | %7s %7s %7s %7s |", "estimator", "epochs", "median",
-                "mean", "sigma", "max", "median", "mean", "sigma", "max");
-  os << buf;
-  for (double thr : thresholds) os << fmt(" %6s", ("<" + fmt("%g", thr * 100.0) + "cm").c_str());
-  os << " | " << fmt("%6s", "fixed%") << fmt(" %7s", "1st fix") << " | " << fmt("%7s", "median") << fmt(" %8s", "p99")
+  os << format("%-26s | %-31s | %-31s |%s%-*s | %-14s | %-16s | %s\n", "", "3D error, all epochs [cm]",
+               ("3D error, first " + w + " min [cm]").c_str(), thresholds.empty() ? "" : " ", conv_width,
+               thresholds.empty() ? "" : "conv. [min]", "PPP-AR", "node update [ms]", "node epochs");
+  os << format("%-18s %7s | %7s %7s %7s %7s | %7s %7s %7s %7s |", "estimator", "epochs", "median", "mean", "sigma",
+               "max", "median", "mean", "sigma", "max");
+  for (double thr : thresholds) os << format(" %6s", ("<" + format("%g", thr * 100.0) + "cm").c_str());
+  os << " | " << format("%6s", "fixed%") << format(" %7s", "1st fix") << " | " << format("%7s", "median") << format(" %8s", "p99")
      << " | processed dropped\n";
   for (const auto& r : rows) {
     if (!r.missing.empty()) continue;
     const auto& s = r.statistics;
-    std::snprintf(buf, sizeof buf, "%-18s %7zu | %7s %7s %7s %7s | %7s %7s %7s %7s |", r.label.substr(0, 18).c_str(),
-                  s.epochs, cm(s.all.median_m).c_str(), cm(s.all.mean_m).c_str(), cm(s.all.std_m).c_str(),
-                  cm(s.all.max_m).c_str(), cm(s.first_window.median_m).c_str(), cm(s.first_window.mean_m).c_str(),
-                  cm(s.first_window.std_m).c_str(), cm(s.first_window.max_m).c_str());
-    os << buf;
+    os << format("%-18s %7zu | %7s %7s %7s %7s | %7s %7s %7s %7s |", r.label.substr(0, 18).c_str(), s.epochs,
+                 cm(s.all.median_m).c_str(), cm(s.all.mean_m).c_str(), cm(s.all.std_m).c_str(), cm(s.all.max_m).c_str(),
+                 cm(s.first_window.median_m).c_str(), cm(s.first_window.mean_m).c_str(),
+                 cm(s.first_window.std_m).c_str(), cm(s.first_window.max_m).c_str());
     for (std::size_t k = 0; k < thresholds.size(); ++k) {
       const auto& c = k < s.convergence.size() ? s.convergence[k].time_s : std::nullopt;
-      os << fmt(" %6s", c ? fmt("%.1f", *c / 60.0).c_str() : "never");
+      os << format(" %6s", c ? format("%.1f", *c / 60.0).c_str() : "never");
     }
-    os << " | " << fmt("%6.1f", 100.0 * r.fix.fixedShare())
-       << fmt(" %7s", r.fix.time_to_first_fix_s ? fmt("%.1f", *r.fix.time_to_first_fix_s / 60.0).c_str() : "never");
+    os << " | " << format("%6.1f", 100.0 * r.fix.fixedShare())
+       << format(" %7s", r.fix.time_to_first_fix_s ? format("%.1f", *r.fix.time_to_first_fix_s / 60.0).c_str() : "never");
     if (r.node && r.node->update_time.count > 0) {
-      os << " | " << fmt("%7.2f", r.node->update_time.median_s * 1e3) << fmt(" %8.2f", r.node->update_time.p99_s * 1e3);
-      os << " | " << fmt("%9.0f", static_cast<double>(r.node->epochs_processed))
-         << fmt(" %7.0f", static_cast<double>(r.node->dropped()));
+      os << " | " << format("%7.2f", r.node->update_time.median_s * 1e3) << format(" %8.2f", r.node->update_time.p99_s * 1e3);
+      os << " | " << format("%9.0f", static_cast<double>(r.node->epochs_processed))
+         << format(" %7.0f", static_cast<double>(r.node->dropped()));
     } else {
-      os << " | " << fmt("%7s", "-") << fmt(" %8s", "-") << " | " << fmt("%9s", "-") << fmt(" %7s", "-");
+      os << " | " << format("%7s", "-") << format(" %8s", "-") << " | " << format("%9s", "-") << format(" %7s", "-");
     }
     os << "\n";
   }

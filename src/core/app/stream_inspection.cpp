@@ -9,7 +9,9 @@
 #include "ppp_bayes_tree/evaluation/json_text.h"
 #include "ppp_bayes_tree/io/parse_error.h"
 #include "ppp_bayes_tree/io/rtcm_ssr_decoder.h"
+#include "ppp_bayes_tree/io/stream_pump.h"
 #include "ppp_bayes_tree/io/ubx_observation_source.h"
+#include "ppp_bayes_tree/types/text_format.h"
 
 namespace ppp {
 namespace {
@@ -128,14 +130,8 @@ StreamInspection inspectStreamFile(const std::string& path, const Rtcm3DecoderOp
     noteEphemeris(s, out.beidou);
     out.clear();
   };
-  std::vector<std::uint8_t> chunk(1 << 16);
-  std::size_t n = 0;
-  while ((n = std::fread(chunk.data(), 1, chunk.size(), f.get())) > 0) {
-    decoder.feed(chunk.data(), n);
-    drain();
-  }
-  decoder.finish();
-  drain();
+  StreamPump(f.get(), path).run({[&](const std::uint8_t* data, std::size_t size) { decoder.feed(data, size); },
+                                 [&]() { decoder.finish(); }, drain});
   timing.finish(s);
   s.counters = decoder.counters();
   for (const auto& [kind, count] : ssr.counters().problems_by_kind) s.counters.problems_by_kind[kind] += count;
@@ -170,10 +166,8 @@ std::string formatStreamInspection(const StreamInspection& s) {
        << " (" << (*s.last_epoch - *s.first_epoch) << " s)";
   os << "\n";
   if (s.interval_s) {
-    char buf[128];
-    std::snprintf(buf, sizeof buf, "  rate      %.3f s (%.2f Hz), %zu gap(s), %zu epoch(s) not after the previous\n",
-                  *s.interval_s, 1.0 / *s.interval_s, s.gap_count, s.backwards);
-    os << buf;
+    os << format("  rate      %.3f s (%.2f Hz), %zu gap(s), %zu epoch(s) not after the previous\n", *s.interval_s,
+                 1.0 / *s.interval_s, s.gap_count, s.backwards);
     for (const auto& g : s.gaps) os << "    gap of " << g.length_s << " s after " << g.after.toString(TimeSystem::GPS, 1) << "\n";
   }
   for (const auto& [sys, sats] : s.satellites) {
@@ -186,10 +180,8 @@ std::string formatStreamInspection(const StreamInspection& s) {
        << " satellites\n";
   if (s.station.station_id) os << "  station   id " << *s.station.station_id << "\n";
   if (s.station.arp_ecef_m) {
-    char buf[128];
-    std::snprintf(buf, sizeof buf, "  ARP       %.4f %.4f %.4f m ECEF", s.station.arp_ecef_m->x(), s.station.arp_ecef_m->y(),
-                  s.station.arp_ecef_m->z());
-    os << buf;
+    os << format("  ARP       %.4f %.4f %.4f m ECEF", s.station.arp_ecef_m->x(), s.station.arp_ecef_m->y(),
+                 s.station.arp_ecef_m->z());
     if (s.station.antenna_height_m) os << ", antenna height " << *s.station.antenna_height_m << " m";
     os << "\n";
   }

@@ -3,7 +3,6 @@
 
 #include "ppp_bayes_tree/evaluation/json_text.h"
 #include <cmath>
-#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -11,15 +10,14 @@
 #include <stdexcept>
 
 #include "ppp_bayes_tree/evaluation/monte_carlo.h"
+#include "ppp_bayes_tree/types/text_format.h"
 
 namespace ppp {
 namespace {
 
-std::string fmt(const char* format, double v) {
+std::string fmt(const char* printf_format, double v) {
   if (!std::isfinite(v)) return v > 0 ? "inf" : (v < 0 ? "-inf" : "nan");
-  char b[64];
-  std::snprintf(b, sizeof b, format, v);
-  return b;
+  return format(printf_format, v);
 }
 std::string cm(double m) { return fmt("%.1f", 100.0 * m); }
 

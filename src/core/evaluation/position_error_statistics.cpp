@@ -4,26 +4,20 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <limits>
 #include <numeric>
 #include <sstream>
 #include <stdexcept>
 
 #include "ppp_bayes_tree/types/frames.h"
+#include "ppp_bayes_tree/types/text_format.h"
 
 namespace ppp {
 namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
-std::string fmt(const char* f, double v) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, f, v);
-  return buf;
-}
-
-std::string minutes(const std::optional<double>& t_s) { return t_s ? fmt("%.1f", *t_s / 60.0) : "never"; }
+std::string minutes(const std::optional<double>& t_s) { return t_s ? format("%.1f", *t_s / 60.0) : "never"; }
 
 }  // namespace
 
@@ -125,16 +119,11 @@ std::string formatStatisticsComparison(
   int width = 12;  // widened to the longest label ("smoother filtered")
   for (const auto& c : columns) width = std::max(width, static_cast<int>(std::min<std::size_t>(c.first.size(), 40)));
   auto row = [&](const std::string& name, auto cell) {
-    char buf[96];
-    std::snprintf(buf, sizeof buf, "%-30s", name.c_str());
-    os << buf;
-    for (const auto& [label, st] : columns) {
-      std::snprintf(buf, sizeof buf, " %*s", width, cell(st).substr(0, 40).c_str());
-      os << buf;
-    }
+    os << format("%-30s", name.c_str());
+    for (const auto& [label, st] : columns) os << format(" %*s", width, cell(st).substr(0, 40).c_str());
     os << "\n";
   };
-  auto cm = [](double m) { return std::isfinite(m) ? fmt("%.2f", m * 100.0) : std::string("-"); };
+  auto cm = [](double m) { return std::isfinite(m) ? format("%.2f", m * 100.0) : std::string("-"); };
   row("", [&](const PositionErrorStatistics& st) {
     for (const auto& c : columns)
       if (&c.second == &st) return c.first;
@@ -147,19 +136,19 @@ std::string formatStatisticsComparison(
   row("3D median [cm]", [&](const auto& st) { return cm(st.all.median_m); });
   row("3D std [cm]", [&](const auto& st) { return cm(st.all.std_m); });
   row("3D max [cm]", [&](const auto& st) { return cm(st.all.max_m); });
-  const std::string w = fmt("%g", columns.empty() ? 15.0 : columns.front().second.options.convergence_window_s / 60.0);
+  const std::string w = format("%g", columns.empty() ? 15.0 : columns.front().second.options.convergence_window_s / 60.0);
   row("first " + w + " min median [cm]", [&](const auto& st) { return cm(st.first_window.median_m); });
   row("first " + w + " min mean [cm]", [&](const auto& st) { return cm(st.first_window.mean_m); });
   row("first " + w + " min max [cm]", [&](const auto& st) { return cm(st.first_window.max_m); });
   const std::size_t n_thr = columns.empty() ? 0 : columns.front().second.convergence.size();
   for (std::size_t k = 0; k < n_thr; ++k) {
     const double thr = columns.front().second.convergence[k].threshold_m;
-    row("< " + fmt("%g", thr * 100.0) + " cm from [min]", [&](const auto& st) {
+    row("< " + format("%g", thr * 100.0) + " cm from [min]", [&](const auto& st) {
       return k < st.convergence.size() && st.epochs ? minutes(st.convergence[k].time_s) : std::string("-");
     });
   }
   row("final 3D [cm]", [&](const auto& st) { return cm(st.final_error_m); });
-  const std::string t = fmt("%g", columns.empty() ? 30.0 : columns.front().second.options.tail_window_s / 60.0);
+  const std::string t = format("%g", columns.empty() ? 30.0 : columns.front().second.options.tail_window_s / 60.0);
   const char* axes[3] = {"E", "N", "U"};
   for (int a = 0; a < 3; ++a)
     row("last " + t + " min RMS " + axes[a] + " [cm]", [&](const auto& st) { return cm(st.tail_enu_rms_m(a)); });

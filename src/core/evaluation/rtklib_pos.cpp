@@ -8,18 +8,12 @@
 #include "ppp_bayes_tree/io/fixed_width.h"
 #include "ppp_bayes_tree/types/constants.h"
 #include "ppp_bayes_tree/types/frames.h"
+#include "ppp_bayes_tree/types/text_format.h"
 
 namespace ppp {
 namespace {
 
 constexpr double kSecondsPerWeek = 604800.0;
-
-template <typename... Args>
-std::string format(const char* fmt, Args... args) {
-  char buf[256];
-  std::snprintf(buf, sizeof buf, fmt, args...);
-  return buf;
-}
 
 /// `time` rounded to `decimals` fractional digits of a second.
 GnssTime roundTime(const GnssTime& time, int decimals) {

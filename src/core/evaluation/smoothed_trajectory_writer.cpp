@@ -1,13 +1,13 @@
 #include "ppp_bayes_tree/evaluation/smoothed_trajectory_writer.h"
 
 #include <cmath>
-#include <cstdio>
 
 #include "ppp_bayes_tree/evaluation/solution_csv_writer.h"
 #include "ppp_bayes_tree/io/parse_error.h"
 #include "ppp_bayes_tree/types/constants.h"
 #include "ppp_bayes_tree/types/frames.h"
 #include "ppp_bayes_tree/types/number_text.h"
+#include "ppp_bayes_tree/types/text_format.h"
 
 namespace ppp {
 SmoothedTrajectoryWriter::SmoothedTrajectoryWriter(const std::string& path)
@@ -24,10 +24,8 @@ SmoothedTrajectoryWriter::SmoothedTrajectoryWriter(std::ostream& out) : out_(&ou
 bool SmoothedTrajectoryWriter::write(const SmoothedEpoch& epoch) {
   if (last_time_ && !(*last_time_ < epoch.time)) {
     ++refused_;
-    char buf[160];
-    std::snprintf(buf, sizeof buf, "%s: state x%u at %s refused: not after the last row (%s)", path_.c_str(),
-                  epoch.index, isoTimeText(epoch.time).c_str(), isoTimeText(*last_time_).c_str());
-    last_problem_ = buf;
+    last_problem_ = format("%s: state x%u at %s refused: not after the last row (%s)", path_.c_str(), epoch.index,
+                           isoTimeText(epoch.time).c_str(), isoTimeText(*last_time_).c_str());
     return false;
   }
   *out_ << row(epoch) << "\n" << std::flush;

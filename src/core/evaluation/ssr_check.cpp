@@ -4,7 +4,6 @@
 #include <cmath>
 
 #include <Eigen/Geometry>
-#include <cstdio>
 #include <set>
 #include <sstream>
 
@@ -20,6 +19,7 @@
 #include "ppp_bayes_tree/models/satellite_reference_point.h"
 #include "ppp_bayes_tree/models/sun_moon_position.h"
 #include "ppp_bayes_tree/types/carrier_frequency.h"
+#include "ppp_bayes_tree/types/text_format.h"
 
 namespace ppp {
 
@@ -39,10 +39,8 @@ EphemerisReference referenceUsed(const SsrCheckRequest& req) {
 }  // namespace
 
 std::string SsrCheckResult::lastLine() const {
-  char b[160];
-  std::snprintf(b, sizeof b, "orbit 3D RMS %.4f m, clock RMS %.3f ns, %zu satellite-epochs", orbit_rms_3d_m,
-                clock_rms_ns, satellite_epochs);
-  return b;
+  return format("orbit 3D RMS %.4f m, clock RMS %.3f ns, %zu satellite-epochs", orbit_rms_3d_m, clock_rms_ns,
+                satellite_epochs);
 }
 
 SsrCheckResult checkSsrAgainstSp3(const SsrCheckRequest& req) {
@@ -199,11 +197,9 @@ std::string formatSsrCheck(const SsrCheckResult& r) {
   o << "reference point: " << r.reference_handling << "\n";
   o << "sat  epochs  3D_rms_m  radial_m  along_m  cross_m  clock_epochs  clock_rms_ns  pco\n";
   for (const auto& s : r.satellites) {
-    char b[200];
-    std::snprintf(b, sizeof b, "%s %7zu %9.3f %9.3f %8.3f %8.3f %13zu %13.3f  %s\n", s.satellite.toString().c_str(),
-                  s.epochs, s.orbit_rms_3d_m, s.radial_rms_m, s.along_rms_m, s.cross_rms_m, s.clock_epochs,
-                  s.clock_rms_ns, s.pco_applied ? "yes" : "no");
-    o << b;
+    o << format("%s %7zu %9.3f %9.3f %8.3f %8.3f %13zu %13.3f  %s\n", s.satellite.toString().c_str(), s.epochs,
+                s.orbit_rms_3d_m, s.radial_rms_m, s.along_rms_m, s.cross_rms_m, s.clock_epochs, s.clock_rms_ns,
+                s.pco_applied ? "yes" : "no");
   }
   o << r.lastLine() << "\n";
   return o.str();

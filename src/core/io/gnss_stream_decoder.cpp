@@ -4,6 +4,7 @@
 #include <memory>
 
 #include "ppp_bayes_tree/io/parse_error.h"
+#include "ppp_bayes_tree/io/stream_pump.h"
 #include "ppp_bayes_tree/io/ubx_observation_source.h"  // toStreamEpoch: the one UBX epoch conversion
 
 namespace ppp {
@@ -118,7 +119,6 @@ StreamNavigationFile readStreamNavigation(const std::string& path, std::optional
   Rtcm3DecoderOptions options;
   options.reference_time = reference_time;
   GnssStreamDecoder decoder(out.format == StreamFormat::Ubx ? StreamFormat::Ubx : StreamFormat::Rtcm3, options);
-  std::vector<std::uint8_t> chunk(1 << 16);
   auto drain = [&]() {
     auto& o = decoder.output();
     if (!out.first_time && decoder.currentTime()) out.first_time = decoder.currentTime();
@@ -129,13 +129,8 @@ StreamNavigationFile readStreamNavigation(const std::string& path, std::optional
     out.navigation.beidou.insert(out.navigation.beidou.end(), n.beidou.begin(), n.beidou.end());
     o.clear();
   };
-  std::size_t n = 0;
-  while ((n = std::fread(chunk.data(), 1, chunk.size(), f.get())) > 0) {
-    decoder.feed(chunk.data(), n);
-    drain();
-  }
-  decoder.finish();
-  drain();
+  StreamPump(f.get(), path).run({[&](const std::uint8_t* data, std::size_t size) { decoder.feed(data, size); },
+                                 [&]() { decoder.finish(); }, drain});
   out.counters = decoder.counters();
   return out;
 }

@@ -1,20 +1,14 @@
 // summarizeObservationFile: what ppp_inspect shows for a RINEX observation file.
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <map>
 
 #include "ppp_bayes_tree/io/rinex_obs_reader.h"
+#include "ppp_bayes_tree/types/number_text.h"
 
 namespace ppp {
 
 namespace {
-
-std::string fixed(double v, int decimals) {
-  char buf[64];
-  std::snprintf(buf, sizeof(buf), "%.*f", decimals, v);
-  return buf;
-}
 
 /// Median of epoch differences from a bounded histogram (differences rounded to
 /// the millisecond), so that memory stays bounded whatever the file size.
@@ -53,11 +47,11 @@ void addHeaderFacts(const RinexObsHeader& h, FileSummary& s) {
   f.push_back("antenna " + h.antenna_type + " " + h.radomeOrNone() + " #" + h.antenna_number);
   if (h.approx_position_ecef_m) {
     const auto& p = *h.approx_position_ecef_m;
-    f.push_back("approx position ECEF " + fixed(p.x(), 4) + " " + fixed(p.y(), 4) + " " + fixed(p.z(), 4) + " m");
+    f.push_back("approx position ECEF " + fixedDecimals(p.x(), 4) + " " + fixedDecimals(p.y(), 4) + " " + fixedDecimals(p.z(), 4) + " m");
   }
   if (h.antenna_delta_hen_m) {
     const auto& d = *h.antenna_delta_hen_m;
-    f.push_back("antenna delta H/E/N " + fixed(d.x(), 4) + " " + fixed(d.y(), 4) + " " + fixed(d.z(), 4) + " m");
+    f.push_back("antenna delta H/E/N " + fixedDecimals(d.x(), 4) + " " + fixedDecimals(d.y(), 4) + " " + fixedDecimals(d.z(), 4) + " m");
   }
   f.push_back(std::string("epoch time system ") + std::string(timeSystemCode(h.epoch_time_system)));
   if (h.glonass_channel_entries > 0) {
@@ -65,7 +59,7 @@ void addHeaderFacts(const RinexObsHeader& h, FileSummary& s) {
   }
   if (!h.phase_shifts.empty()) f.push_back("SYS / PHASE SHIFT records: " + std::to_string(h.phase_shifts.size()));
   if (h.leap_seconds) f.push_back("leap seconds " + std::to_string(*h.leap_seconds));
-  if (h.interval_s) f.push_back("header interval " + fixed(*h.interval_s, 3) + " s");
+  if (h.interval_s) f.push_back("header interval " + fixedDecimals(*h.interval_s, 3) + " s");
   if (h.isRinex2()) {
     std::string types = "RINEX 2 observation types:";
     for (const auto& t : h.rinex2_obs_types) types += " " + t;

@@ -53,74 +53,40 @@ std::vector<std::uint8_t> encodeRtcm3Frame(const std::vector<std::uint8_t>& payl
 }
 
 void Rtcm3Framer::feed(const std::uint8_t* data, std::size_t size, const FrameHandler& on_frame) {
-  counters_.bytes += size;
-  buffer_.insert(buffer_.end(), data, data + size);
-  scan(on_frame);
-}
-
-void Rtcm3Framer::scan(const FrameHandler& on_frame) {
-  std::size_t pos = 0;
-  auto skipByte = [&]() {
-    skipped_.skip(buffer_offset_ + pos, buffer_[pos]);
-    ++pos;
-  };
-  while (pos < buffer_.size()) {
-    if (buffer_[pos] != kPreamble) {
-      skipByte();
-      continue;
-    }
-    if (buffer_.size() - pos < kHeaderBytes) break;  // wait for the length
-    const std::size_t length = (static_cast<std::size_t>(buffer_[pos + 1] & 0x03u) << 8) | buffer_[pos + 2];
-    if ((buffer_[pos + 1] & 0xFCu) != 0) {
-      // Reserved bits set: not a frame start (RTCM 10403.3 requires them zero).
-      skipByte();
-      continue;
-    }
-    const std::size_t frame_bytes = kHeaderBytes + length + kCrcBytes;
-    if (buffer_.size() - pos < frame_bytes) break;  // wait for the rest
-    const std::uint8_t* frame = buffer_.data() + pos;
-    const std::uint32_t expected = (static_cast<std::uint32_t>(frame[kHeaderBytes + length]) << 16) |
-                                   (static_cast<std::uint32_t>(frame[kHeaderBytes + length + 1]) << 8) |
-                                   frame[kHeaderBytes + length + 2];
-    const std::uint32_t computed = crc24q(frame, kHeaderBytes + length);
-    if (computed != expected) {
-      skipped_.flush(counters_);
-      const int type = length >= 2 ? static_cast<int>((frame[3] << 4) | (frame[4] >> 4)) : 0;
-      counters_.add(StreamProblem{StreamProblemKind::ChecksumError, buffer_offset_ + pos, counters_.frames, type,
-                                  "CRC-24Q mismatch over a " + std::to_string(length) +
-                                      "-byte frame; searching for the next preamble"});
-      skipByte();  // resynchronise from the byte after the false preamble
-      continue;
-    }
-    skipped_.flush(counters_);
+  feedBytes(data, size, [&on_frame](const FrameBytes& bytes) {
     Rtcm3Frame out;
-    out.payload.assign(frame + kHeaderBytes, frame + kHeaderBytes + length);
-    out.message_type = length >= 2 ? static_cast<int>((out.payload[0] << 4) | (out.payload[1] >> 4)) : 0;
-    out.byte_offset = buffer_offset_ + pos;
-    out.frame_index = counters_.frames;
-    ++counters_.frames;
-    ++counters_.frames_by_type[out.message_type];
-    pos += frame_bytes;
+    out.payload.assign(bytes.data + kHeaderBytes, bytes.data + bytes.size - kCrcBytes);
+    out.message_type = bytes.message_type;
+    out.byte_offset = bytes.byte_offset;
+    out.frame_index = bytes.frame_index;
     on_frame(out);
-  }
-  buffer_.erase(buffer_.begin(), buffer_.begin() + static_cast<std::ptrdiff_t>(pos));
-  buffer_offset_ += pos;
+  });
 }
 
-void Rtcm3Framer::finish() {
-  if (!buffer_.empty()) {
-    skipped_.flush(counters_);
-    if (buffer_[0] == kPreamble) {
-      counters_.add(StreamProblem{StreamProblemKind::TruncatedFrame, buffer_offset_, counters_.frames, 0,
-                                  "the stream ended " + std::to_string(buffer_.size()) +
-                                      " byte(s) into a frame"});
-    } else {
-      for (std::size_t i = 0; i < buffer_.size(); ++i) skipped_.skip(buffer_offset_ + i, buffer_[i]);
-    }
-    buffer_offset_ += buffer_.size();
-    buffer_.clear();
+FrameCandidate Rtcm3Framer::examine(const std::uint8_t* data, std::size_t available) const {
+  if (data[0] != kPreamble) return FrameCandidate::notAFrame();
+  if (available < kHeaderBytes) return FrameCandidate::needMoreBytes();  // wait for the length
+  // Reserved bits set: not a frame start (RTCM 10403.3 requires them zero).
+  if ((data[1] & 0xFCu) != 0) return FrameCandidate::notAFrame();
+  const std::size_t length = (static_cast<std::size_t>(data[1] & 0x03u) << 8) | data[2];
+  const std::size_t frame_bytes = kHeaderBytes + length + kCrcBytes;
+  if (available < frame_bytes) return FrameCandidate::needMoreBytes();  // wait for the rest
+  const int type = length >= 2 ? static_cast<int>((data[3] << 4) | (data[4] >> 4)) : 0;
+  const std::uint32_t expected = (static_cast<std::uint32_t>(data[kHeaderBytes + length]) << 16) |
+                                 (static_cast<std::uint32_t>(data[kHeaderBytes + length + 1]) << 8) |
+                                 data[kHeaderBytes + length + 2];
+  if (crc24q(data, kHeaderBytes + length) != expected) {
+    return FrameCandidate::rejected({StreamProblemKind::ChecksumError, type,
+                                     "CRC-24Q mismatch over a " + std::to_string(length) +
+                                         "-byte frame; searching for the next preamble"});
   }
-  skipped_.flush(counters_);
+  return FrameCandidate::good(frame_bytes, type);
+}
+
+std::optional<FrameFault> Rtcm3Framer::truncatedFrame(const std::uint8_t* data, std::size_t available) const {
+  if (data[0] != kPreamble) return std::nullopt;
+  return FrameFault{StreamProblemKind::TruncatedFrame, 0,
+                    "the stream ended " + std::to_string(available) + " byte(s) into a frame"};
 }
 
 }  // namespace ppp

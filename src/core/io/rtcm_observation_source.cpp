@@ -9,6 +9,8 @@
 #include "ppp_bayes_tree/io/epoch_time_screen.h"
 #include "ppp_bayes_tree/io/parse_error.h"
 #include "ppp_bayes_tree/io/rtcm_ssr_decoder.h"
+#include "ppp_bayes_tree/io/stream_pump.h"
+#include "ppp_bayes_tree/types/text_format.h"
 
 namespace ppp {
 namespace {
@@ -17,8 +19,6 @@ namespace {
 /// too, as ppp_stream_make writes) belong to the correction input (--ssr): left
 /// alone here, not counted as unknown messages.
 bool isCorrectionFrame(const Rtcm3Frame& frame) { return RtcmSsrDecoder::isSsrMessageType(frame.message_type); }
-
-constexpr std::size_t kChunkBytes = 1 << 16;
 
 constexpr std::size_t kMinWeekEvidenceRecords = 3;
 
@@ -52,9 +52,7 @@ std::optional<std::string> referenceDateContradiction(const GnssTime& reference,
   const double median_s = off[off.size() / 2];
   const CalendarTime given = reference.toCalendar(TimeSystem::GPS);
   const CalendarTime stream = (first + median_s).toCalendar(TimeSystem::GPS);
-  char text[640];
-  std::snprintf(text, sizeof text,
-                "the reference date %04d/%02d/%02d (--ref-date) places the epochs at %s to %s, but %zu of the "
+  return format("the reference date %04d/%02d/%02d (--ref-date) places the epochs at %s to %s, but %zu of the "
                 "stream's %zu ephemerides (GPS/QZSS, Galileo, BeiDou; their weeks as broadcast) have their "
                 "reference time %.1f days %s (median): the date is wrong, the stream says about %04d/%02d/%02d "
                 "(without --ref-date, Galileo/BeiDou ephemerides place the epochs)",
@@ -62,7 +60,6 @@ std::optional<std::string> referenceDateContradiction(const GnssTime& reference,
                 last.toString(TimeSystem::GPS, 0).c_str(), evidence.disagreement_s.size(), evidence.records,
                 std::fabs(median_s) / 86400.0, median_s < 0.0 ? "earlier" : "later", stream.year, stream.month,
                 stream.day);
-  return std::string(text);
 }
 
 void StreamSignalInventory::add(const StreamEpoch& epoch) {
@@ -131,9 +128,7 @@ void streamEpochToObsEpoch(const StreamEpoch& in, const RinexObsHeader& header, 
 
 void fillStationHeader(const RtcmStationInfo& station, RinexObsHeader& header) {
   if (station.station_id) {
-    char buf[16];
-    std::snprintf(buf, sizeof buf, "%04d", *station.station_id);
-    header.marker_name = buf;
+    header.marker_name = format("%04d", *station.station_id);
   }
   header.receiver_type = station.receiver_type;
   header.receiver_version = station.receiver_firmware;
@@ -161,7 +156,6 @@ RtcmObservationSource::RtcmObservationSource(const std::string& path, Rtcm3Decod
   scan.setForeignFrameHandler(isCorrectionFrame);
   StreamSignalInventory inventory;
   std::optional<GnssTime> first, last;
-  std::vector<std::uint8_t> chunk(kChunkBytes);
   EpochTimeScreen<StreamEpoch> scan_screen;  // the epochs the streaming pass will serve
   auto keep = [&](const EpochTimeScreen<StreamEpoch>::Result& r) {
     for (const auto& kept : r.accepted) {
@@ -181,14 +175,8 @@ RtcmObservationSource::RtcmObservationSource(const std::string& path, Rtcm3Decod
     scan_nav_.beidou.insert(scan_nav_.beidou.end(), out.beidou.begin(), out.beidou.end());
     out.clear();
   };
-  std::size_t n = 0;
-  while ((n = std::fread(chunk.data(), 1, chunk.size(), f.get())) > 0) {
-    size_bytes_ += n;
-    scan.feed(chunk.data(), n);
-    drain();
-  }
-  scan.finish();
-  drain();
+  size_bytes_ = StreamPump(f.get(), path).run(
+      {[&](const std::uint8_t* data, std::size_t size) { scan.feed(data, size); }, [&]() { scan.finish(); }, drain});
   keep(scan_screen.finish());
   scan_counters_ = scan.counters();
   station_ = scan.station();
@@ -220,39 +208,45 @@ RtcmObservationSource::RtcmObservationSource(const std::string& path, Rtcm3Decod
   decoder_ = std::make_unique<Rtcm3Decoder>(stream_options);
   decoder_->setForeignFrameHandler(isCorrectionFrame);
   file_ = openBinary(path);
+  pump_ = std::make_unique<StreamPump>(file_.get(), path);
 }
 
 RtcmObservationSource::~RtcmObservationSource() = default;
 
 bool RtcmObservationSource::fill() {
-  std::vector<std::uint8_t> chunk(kChunkBytes);
-  while (queue_next_ >= queue_.size()) {
-    queue_.clear();
-    queue_next_ = 0;
-    if (finished_) return false;
-    const std::size_t n = std::fread(chunk.data(), 1, chunk.size(), file_.get());
-    if (n > 0) {
-      read_bytes_ += n;
-      decoder_->feed(chunk.data(), n);
-    } else {
-      decoder_->finish();
-      finished_ = true;
-    }
+  auto queue_decoded = [this]() {
     auto& out = decoder_->output();
     for (auto& e : out.epochs) {
       const GnssTime t = e.time;
       const EpochOrigin origin = epochOrigin(e);
       for (auto& kept : screen_.push(t, origin, std::move(e)).accepted) queue_.push_back(std::move(kept.payload));
     }
-    if (finished_)
+    if (pump_->finished())
       for (auto& kept : screen_.finish().accepted) queue_.push_back(std::move(kept.payload));
     out.clear();
+  };
+  const StreamPumpSteps steps{[this](const std::uint8_t* data, std::size_t size) {
+                                read_bytes_ += size;
+                                decoder_->feed(data, size);
+                              },
+                              [this]() { decoder_->finish(); }, queue_decoded};
+  while (queue_next_ >= queue_.size()) {
+    queue_.clear();
+    queue_next_ = 0;
+    if (pump_->finished()) return false;
+    pump_->step(steps);
   }
   return true;
 }
 
 ObservationRead RtcmObservationSource::next(ObsEpoch& epoch) {
-  if (!fill()) return ObservationRead::End;
+  if (error_) return ObservationRead::Error;
+  try {
+    if (!fill()) return ObservationRead::End;
+  } catch (const FileOpenError& e) {  // a read error (io/stream_pump.h)
+    error_ = ObservationProblem{name_, 0, e.what()};
+    return ObservationRead::Error;
+  }
   streamEpochToObsEpoch(queue_[queue_next_++], header_, epoch);
   return ObservationRead::Epoch;
 }

@@ -2,7 +2,6 @@
 
 #include <array>
 #include <cmath>
-#include <cstdio>
 #include <cstring>
 #include <string>
 
@@ -51,12 +50,6 @@ std::int64_t bitsS(const std::uint8_t* data, std::size_t start, int count) {
 }
 void setBit(std::uint8_t* data, std::size_t bit, bool value) {
   if (value) data[bit / 8] = static_cast<std::uint8_t>(data[bit / 8] | (0x80u >> (bit % 8)));
-}
-
-std::string hexType(int type) {
-  char text[16];
-  std::snprintf(text, sizeof text, "0x%02X 0x%02X", (type >> 8) & 0xFF, type & 0xFF);
-  return text;
 }
 
 bool knownClass(int message_class) {
@@ -186,7 +179,7 @@ void UbxDecoder::frame(const UbxFrame& f, const Handlers& handlers) {
   } else if (knownClass(f.message_class)) {
     ++statistics_.known_not_used;
   } else {
-    problem(f, StreamProblemKind::UnknownMessage, "UBX class/id " + hexType(type) + " is not a UBX class we know");
+    problem(f, StreamProblemKind::UnknownMessage, "UBX class/id " + ubxTypeText(type) + " is not a UBX class we know");
   }
 }
 

@@ -1,12 +1,14 @@
 #include "ppp_bayes_tree/io/ubx_observation_source.h"
 
 #include <algorithm>
-#include <fstream>
+#include <cstdio>
+#include <memory>
 #include <set>
 
 #include "ppp_bayes_tree/io/epoch_time_screen.h"
 #include "ppp_bayes_tree/io/line_source.h"
 #include "ppp_bayes_tree/io/parse_error.h"
+#include "ppp_bayes_tree/io/stream_pump.h"
 
 namespace ppp {
 namespace {
@@ -97,7 +99,7 @@ void toObsEpoch(const UbxObservationEpoch& in, const RinexObsHeader& header, Obs
 
 UbxObservationSource::UbxObservationSource(const std::string& path, UbxDecoderOptions options)
     : path_(path), name_(fileBaseName(path)) {
-  std::ifstream in(path, std::ios::binary);
+  std::unique_ptr<std::FILE, int (*)(std::FILE*)> in(std::fopen(path.c_str(), "rb"), &std::fclose);
   if (!in) throw FileOpenError("cannot open UBX file " + path);
   UbxDecoder decoder(options);
   UbxDecoder::Handlers handlers;
@@ -106,14 +108,9 @@ UbxObservationSource::UbxObservationSource(const std::string& path, UbxDecoderOp
   handlers.on_galileo = [&](const GalileoEphemeris& e) { navigation_.galileo.push_back(e); };
   handlers.on_glonass = [&](const GlonassEphemeris& e) { navigation_.glonass.push_back(e); };
   handlers.on_beidou = [&](const BeidouEphemeris& e) { navigation_.beidou.push_back(e); };
-  std::vector<std::uint8_t> chunk(1 << 16);
-  while (in) {
-    in.read(reinterpret_cast<char*>(chunk.data()), static_cast<std::streamsize>(chunk.size()));
-    const std::streamsize got = in.gcount();
-    if (got <= 0) break;
-    decoder.feed(chunk.data(), static_cast<std::size_t>(got), handlers);
-  }
-  decoder.finish();
+  StreamPump(in.get(), path).run(
+      {[&](const std::uint8_t* data, std::size_t size) { decoder.feed(data, size, handlers); },
+       [&]() { decoder.finish(); }, nullptr});  // the handlers take what is decoded
   counters_ = decoder.counters();
   screenEpochTimes();
   statistics_ = decoder.statistics();

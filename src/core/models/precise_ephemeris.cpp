@@ -2,29 +2,21 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <map>
 
 #include "ppp_bayes_tree/models/product_sanity.h"
 #include "ppp_bayes_tree/models/relativity.h"
 #include "ppp_bayes_tree/types/constants.h"
+#include "ppp_bayes_tree/types/text_format.h"
 
 namespace ppp {
 namespace {
 
 std::string timeText(const GnssTime& t) { return t.toString(TimeSystem::GPS, 0); }
 
-std::string minutesText(double seconds) {
-  char buf[64];
-  std::snprintf(buf, sizeof(buf), "%.1f min", seconds / 60.0);
-  return buf;
-}
+std::string minutesText(double seconds) { return format("%.1f min", seconds / 60.0); }
 
-std::string secondsText(double seconds) {
-  char buf[64];
-  std::snprintf(buf, sizeof(buf), "%.1f s", seconds);
-  return buf;
-}
+std::string secondsText(double seconds) { return format("%.1f s", seconds); }
 
 /// Lagrange basis values w[j] = l_j(x) and derivatives dw[j] = l_j'(x) for the
 /// nodes tau[0..n-1] (distinct). Plain products: n is small (~10).

@@ -3,12 +3,12 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <limits>
 #include <map>
 #include <optional>
 
 #include "ppp_bayes_tree/types/constants.h"
+#include "ppp_bayes_tree/types/text_format.h"
 
 namespace ppp {
 namespace {
@@ -29,12 +29,6 @@ Eigen::Vector3d lagrange(const std::vector<double>& tau, const std::vector<Eigen
     sum += w * values[j];
   }
   return sum;
-}
-
-std::string number(const char* format, double v) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, format, v);
-  return buf;
 }
 
 /// Indices of the `count` usable nodes nearest in time to node i (i itself
@@ -73,12 +67,12 @@ std::vector<std::size_t> nearestNodes(const std::vector<GnssTime>& times, std::s
 
 std::string OrbitOutlier::describe() const {
   return satellite.toString() + " orbit at " + time.toString(TimeSystem::GPS, 0) + ": leave-one-out miss " +
-         number("%.3f", miss_m) + " m > " + number("%.3f", threshold_m) + " m (a single bad SP3 value)";
+         format("%.3f", miss_m) + " m > " + format("%.3f", threshold_m) + " m (a single bad SP3 value)";
 }
 
 std::string ClockOutlier::describe() const {
   return satellite.toString() + " clock at " + time.toString(TimeSystem::GPS, 0) + ": leave-one-out miss " +
-         number("%.3f", miss_s * 1e9) + " ns > " + number("%.3f", threshold_s * 1e9) +
+         format("%.3f", miss_s * 1e9) + " ns > " + format("%.3f", threshold_s * 1e9) +
          " ns (a clock spike or jump)";
 }
 

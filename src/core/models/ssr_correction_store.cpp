@@ -1,8 +1,9 @@
 #include "ppp_bayes_tree/models/ssr_correction_store.h"
 
 #include <algorithm>
-#include <cstdio>
 #include <iterator>
+
+#include "ppp_bayes_tree/types/text_format.h"
 
 namespace ppp {
 
@@ -66,10 +67,8 @@ SsrPick<T> SsrCorrectionStore::pick(const Series<T>& series, const SatelliteId& 
   const double age = t - e.t0;
   const double validity = validity_s(max_age_s, e.update_interval_s);
   if (age > validity) {
-    char buf[160];
-    std::snprintf(buf, sizeof buf, "SSR %s for %s is %.0f s old, older than its validity %.0f s", what,
-                  sat.toString().c_str(), age, validity);
-    out.reason = buf;
+    out.reason = format("SSR %s for %s is %.0f s old, older than its validity %.0f s", what, sat.toString().c_str(),
+                        age, validity);
     out.too_old = true;
     return out;
   }

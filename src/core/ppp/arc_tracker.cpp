@@ -2,21 +2,14 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <set>
 
 #include "ppp_bayes_tree/models/ionosphere_free.h"
 #include "ppp_bayes_tree/types/constants.h"
+#include "ppp_bayes_tree/types/text_format.h"
 
 namespace ppp {
 namespace {
-
-template <typename... Args>
-std::string format(const char* fmt, Args... args) {
-  char buf[160];
-  std::snprintf(buf, sizeof buf, fmt, args...);
-  return buf;
-}
 
 bool finiteObservation(const DualFrequencyObservation& o) {
   return std::isfinite(o.code1_m) && std::isfinite(o.code2_m) && std::isfinite(o.phase1_cycles) &&

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <optional>
 
 #include "ppp_bayes_tree/models/ionosphere_free.h"
@@ -17,15 +16,10 @@
 #include "ppp_bayes_tree/models/sun_moon_position.h"
 #include "ppp_bayes_tree/models/troposphere.h"
 #include "ppp_bayes_tree/types/frames.h"
+#include "ppp_bayes_tree/types/text_format.h"
 
 namespace ppp {
 namespace {
-
-std::string format(const char* fmt, double a, double b = 0.0) {
-  char buf[160];
-  std::snprintf(buf, sizeof buf, fmt, a, b);
-  return buf;
-}
 
 /// ANTEX frequency number of a RINEX band (ANTEX 1.4: G01/G02/G05, E01/E05...).
 int antexFrequency(char band) { return band - '0'; }

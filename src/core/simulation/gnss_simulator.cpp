@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <cstdio>
 #include <map>
 #include <stdexcept>
 
@@ -14,6 +13,7 @@
 #include "ppp_bayes_tree/simulation/simulation_writers.h"
 #include "ppp_bayes_tree/types/carrier_frequency.h"
 #include "ppp_bayes_tree/types/constants.h"
+#include "ppp_bayes_tree/types/text_format.h"
 
 namespace ppp {
 
@@ -83,12 +83,6 @@ enum SatelliteTerm : std::uint64_t { kSatAmbiguity = 0, kSatMultipath, kSatTherm
 
 constexpr double kIonosphereConstant = 40.3e16;  // m^3/s^2 per TECU (first-order term 40.3 TEC / f^2)
 constexpr double kEarthRadiusIonosphere_m = 6371.0e3;
-
-std::string format(const char* fmt, double a) {
-  char buf[128];
-  std::snprintf(buf, sizeof buf, fmt, a);
-  return buf;
-}
 
 double quantize(double v, bool on) { return on ? std::round(v * 1000.0) / 1000.0 : v; }
 
@@ -372,10 +366,8 @@ SimulatedFlight simulateFlight(const SimulationConfig& config, std::uint64_t see
     h.program = "ppp_simulate";
     h.run_by = "ppp_bayes_tree";
     const CalendarTime c = t0.toCalendar(TimeSystem::GPS);
-    char date[32];
-    std::snprintf(date, sizeof date, "%04d%02d%02d %02d%02d%02d GPS", c.year, c.month, c.day, c.hour, c.minute,
-                  static_cast<int>(c.second));
-    h.date = date;
+    h.date = format("%04d%02d%02d %02d%02d%02d GPS", c.year, c.month, c.day, c.hour, c.minute,
+                    static_cast<int>(c.second));
     h.marker_name = config.marker_name;
     h.marker_type = "NON_GEODETIC";
     h.observer = "simulation";

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -10,56 +9,50 @@
 
 #include "ppp_bayes_tree/io/rtklib_inputs.h"
 #include "ppp_bayes_tree/types/constants.h"
+#include "ppp_bayes_tree/types/text_format.h"
 
 namespace ppp {
 namespace {
 
-template <typename... Args>
-std::string fmt(const char* f, Args... args) {
-  char buf[512];
-  std::snprintf(buf, sizeof buf, f, args...);
-  return buf;
-}
-
 /// RINEX header line: content in columns 1-60, label in 61-80.
 std::string headerLine(const std::string& content, const char* label) {
-  return fmt("%-60.60s%-20s\n", content.c_str(), label);
+  return format("%-60.60s%-20s\n", content.c_str(), label);
 }
 
 std::string headerTime(const CalendarTime& c) {
-  return fmt("  %4d    %02d    %02d    %02d    %02d   %10.7f     GPS", c.year, c.month, c.day, c.hour, c.minute,
+  return format("  %4d    %02d    %02d    %02d    %02d   %10.7f     GPS", c.year, c.month, c.day, c.hour, c.minute,
              c.second);
 }
 
-std::string sow(const GnssTime& t) { return fmt("%.3f", t.gpsWeek().seconds_of_week); }
+std::string sow(const GnssTime& t) { return format("%.3f", t.gpsWeek().seconds_of_week); }
 
 }  // namespace
 
 void writeRinexObs(std::ostream& out, const RinexObsHeader& h, const std::vector<ObsEpoch>& epochs) {
-  out << headerLine(fmt("%9.2f           OBSERVATION DATA    %c: %s", 3.04, h.file_system,
+  out << headerLine(format("%9.2f           OBSERVATION DATA    %c: %s", 3.04, h.file_system,
                         h.file_system == 'M' ? "MIXED" : h.file_system == 'G' ? "GPS" : "GNSS"),
                     "RINEX VERSION / TYPE");
-  out << headerLine(fmt("%-20.20s%-20.20s%-20.20s", h.program.c_str(), h.run_by.c_str(), h.date.c_str()),
+  out << headerLine(format("%-20.20s%-20.20s%-20.20s", h.program.c_str(), h.run_by.c_str(), h.date.c_str()),
                     "PGM / RUN BY / DATE");
   for (const auto& c : h.comments) out << headerLine(c, "COMMENT");
   out << headerLine(h.marker_name, "MARKER NAME");
   if (!h.marker_type.empty()) out << headerLine(h.marker_type, "MARKER TYPE");
-  out << headerLine(fmt("%-20.20s%-40.40s", h.observer.c_str(), h.agency.c_str()), "OBSERVER / AGENCY");
-  out << headerLine(fmt("%-20.20s%-20.20s%-20.20s", h.receiver_number.c_str(), h.receiver_type.c_str(),
+  out << headerLine(format("%-20.20s%-40.40s", h.observer.c_str(), h.agency.c_str()), "OBSERVER / AGENCY");
+  out << headerLine(format("%-20.20s%-20.20s%-20.20s", h.receiver_number.c_str(), h.receiver_type.c_str(),
                         h.receiver_version.c_str()),
                     "REC # / TYPE / VERS");
-  out << headerLine(fmt("%-20.20s%-16.16s%-4.4s", h.antenna_number.c_str(), h.antenna_type.c_str(),
+  out << headerLine(format("%-20.20s%-16.16s%-4.4s", h.antenna_number.c_str(), h.antenna_type.c_str(),
                         h.radomeOrNone().c_str()),
                     "ANT # / TYPE");
   const Eigen::Vector3d p = h.approx_position_ecef_m.value_or(Eigen::Vector3d::Zero());
-  out << headerLine(fmt("%14.4f%14.4f%14.4f", p.x(), p.y(), p.z()), "APPROX POSITION XYZ");
+  out << headerLine(format("%14.4f%14.4f%14.4f", p.x(), p.y(), p.z()), "APPROX POSITION XYZ");
   const Eigen::Vector3d d = h.antenna_delta_hen_m.value_or(Eigen::Vector3d::Zero());
-  out << headerLine(fmt("%14.4f%14.4f%14.4f", d.x(), d.y(), d.z()), "ANTENNA: DELTA H/E/N");
+  out << headerLine(format("%14.4f%14.4f%14.4f", d.x(), d.y(), d.z()), "ANTENNA: DELTA H/E/N");
   // SYS / # / OBS TYPES: A1,2X,I3,13(1X,A3), continuation lines 6X,13(1X,A3).
   for (int s = 0; s < kNumGnssSystems; ++s) {
     const auto& types = h.obs_types[static_cast<std::size_t>(s)];
     if (types.empty()) continue;
-    std::string line = fmt("%c  %3zu", systemLetter(static_cast<GnssSystem>(s)), types.size());
+    std::string line = format("%c  %3zu", systemLetter(static_cast<GnssSystem>(s)), types.size());
     for (std::size_t i = 0; i < types.size(); ++i) {
       if (i > 0 && i % 13 == 0) {
         out << headerLine(line, "SYS / # / OBS TYPES");
@@ -69,7 +62,7 @@ void writeRinexObs(std::ostream& out, const RinexObsHeader& h, const std::vector
     }
     out << headerLine(line, "SYS / # / OBS TYPES");
   }
-  if (h.interval_s) out << headerLine(fmt("%10.3f", *h.interval_s), "INTERVAL");
+  if (h.interval_s) out << headerLine(format("%10.3f", *h.interval_s), "INTERVAL");
   if (h.time_of_first_obs) out << headerLine(headerTime(h.time_of_first_obs->calendar), "TIME OF FIRST OBS");
   if (h.time_of_last_obs) out << headerLine(headerTime(h.time_of_last_obs->calendar), "TIME OF LAST OBS");
   out << headerLine("", "END OF HEADER");
@@ -77,13 +70,13 @@ void writeRinexObs(std::ostream& out, const RinexObsHeader& h, const std::vector
   std::string line;
   for (const auto& e : epochs) {
     const CalendarTime c = e.time.toCalendar(TimeSystem::GPS);
-    out << fmt("> %4d %02d %02d %02d %02d%11.7f  %d%3zu\n", c.year, c.month, c.day, c.hour, c.minute, c.second,
+    out << format("> %4d %02d %02d %02d %02d%11.7f  %d%3zu\n", c.year, c.month, c.day, c.hour, c.minute, c.second,
                static_cast<int>(e.flag), e.satellites.size());
     for (std::size_t i = 0; i < e.satellites.size(); ++i) {
       line = e.satellites[i].satellite.toString();
       for (const Observation* o = e.begin(i); o != e.end(i); ++o) {
         if (o->value && std::abs(*o->value) < 1e10) {
-          line += fmt("%14.3f", *o->value);
+          line += format("%14.3f", *o->value);
         } else {
           line += std::string(14, ' ');
         }
@@ -106,17 +99,17 @@ std::string rinexClockText(const RinexClockFile& clocks) {
   const RinexClockHeader& h = clocks.header;
   std::string t;
   const std::string system(1, h.satellite_system == 'M' ? 'M' : 'G');  // GPS, or GPS+Galileo (mixed)
-  t += headerLine(fmt("%9.2f           C                   ", 3.00) + system, "RINEX VERSION / TYPE");
-  t += headerLine(fmt("%-20.20s%-20.20s%-20.20s", h.program.c_str(), h.run_by.c_str(), h.date.c_str()),
+  t += headerLine(format("%9.2f           C                   ", 3.00) + system, "RINEX VERSION / TYPE");
+  t += headerLine(format("%-20.20s%-20.20s%-20.20s", h.program.c_str(), h.run_by.c_str(), h.date.c_str()),
                   "PGM / RUN BY / DATE");
   t += headerLine("GPS", "TIME SYSTEM ID");
   t += headerLine("     1    AS", "# / TYPES OF DATA");
-  t += headerLine(fmt("%-3.3s  %-55.55s", h.analysis_center_id.c_str(), h.analysis_center_name.c_str()),
+  t += headerLine(format("%-3.3s  %-55.55s", h.analysis_center_id.c_str(), h.analysis_center_name.c_str()),
                   "ANALYSIS CENTER");
   std::vector<SatelliteId> sats;
   for (const auto& [sat, recs] : clocks.satellite_clocks)
     if (!recs.empty()) sats.push_back(sat);
-  t += headerLine(fmt("%6zu", sats.size()), "# OF SOLN SATS");
+  t += headerLine(format("%6zu", sats.size()), "# OF SOLN SATS");
   for (std::size_t i = 0; i < sats.size(); i += 15) {
     std::string ids;
     for (std::size_t k = i; k < std::min(sats.size(), i + 15); ++k) ids += sats[k].toString() + " ";
@@ -130,7 +123,7 @@ std::string rinexClockText(const RinexClockFile& clocks) {
   for (const auto& [time, values] : epochs) {
     const CalendarTime c = time.toCalendar(TimeSystem::GPS);
     for (const auto& [sat, v] : values)
-      t += fmt("AS %-4.4s %4d %02d %02d %02d %02d %9.6f  1   %19.12E\n", sat.toString().c_str(), c.year, c.month,
+      t += format("AS %-4.4s %4d %02d %02d %02d %02d %9.6f  1   %19.12E\n", sat.toString().c_str(), c.year, c.month,
                c.day, c.hour, c.minute, c.second, v);
   }
   return t;
@@ -152,12 +145,12 @@ void writeTruthEpochsCsv(std::ostream& out, const SimulatedFlight& f) {
     const Geodetic g = ecefToGeodetic(s.position_ecef_m);
     const auto w = s.time.gpsWeek();
     out << s.time.toString(TimeSystem::GPS, 3)
-        << fmt(",%d,%.3f,%.4f,%.4f,%.4f,%.9f,%.9f,%.4f", w.week, w.seconds_of_week, s.position_ecef_m.x(),
+        << format(",%d,%.3f,%.4f,%.4f,%.4f,%.9f,%.9f,%.4f", w.week, w.seconds_of_week, s.position_ecef_m.x(),
                s.position_ecef_m.y(), s.position_ecef_m.z(), g.latitude_rad * kRadToDeg, g.longitude_rad * kRadToDeg,
                g.height_m)
-        << fmt(",%.4f,%.4f,%.4f,%.4f,%.4f,%.4f", s.velocity_ecef_mps.x(), s.velocity_ecef_mps.y(),
+        << format(",%.4f,%.4f,%.4f,%.4f,%.4f,%.4f", s.velocity_ecef_mps.x(), s.velocity_ecef_mps.y(),
                s.velocity_ecef_mps.z(), s.roll_rad * kRadToDeg, s.pitch_rad * kRadToDeg, s.yaw_rad * kRadToDeg)
-        << fmt(",%.5f,%.4f,%zu\n", e.zwd_m, e.clock_m, e.signals.size());
+        << format(",%.5f,%.4f,%zu\n", e.zwd_m, e.clock_m, e.signals.size());
   }
 }
 
@@ -167,8 +160,8 @@ void writeTruthArcsCsv(std::ostream& out, const SimulatedFlight& f) {
     const std::string t = sow(e.trajectory.time);
     for (const auto& s : e.signals) {
       const TruthArc& a = f.arcs[s.arc - 1];
-      out << t << ',' << s.satellite.toString() << ',' << s.arc << fmt(",%.4f", a.bias_if_m) << ',' << a.n1_cycles << ','
-          << a.n2_cycles << fmt(",%.3f,%.3f\n", s.elevation_rad * kRadToDeg, s.body_elevation_rad * kRadToDeg);
+      out << t << ',' << s.satellite.toString() << ',' << s.arc << format(",%.4f", a.bias_if_m) << ',' << a.n1_cycles << ','
+          << a.n2_cycles << format(",%.3f,%.3f\n", s.elevation_rad * kRadToDeg, s.body_elevation_rad * kRadToDeg);
     }
   }
 }
@@ -177,7 +170,7 @@ void writeArcListCsv(std::ostream& out, const SimulatedFlight& f) {
   out << "arc,satellite,first_sow,last_sow,epochs,n1_cycles,n2_cycles,bias_if_m,after_phase_break\n";
   for (const auto& a : f.arcs)
     out << a.id << ',' << a.satellite.toString() << ',' << sow(a.first_time) << ',' << sow(a.last_time) << ','
-        << a.epochs << ',' << a.n1_cycles << ',' << a.n2_cycles << fmt(",%.4f,", a.bias_if_m)
+        << a.epochs << ',' << a.n1_cycles << ',' << a.n2_cycles << format(",%.4f,", a.bias_if_m)
         << (a.after_phase_break ? 1 : 0) << '\n';
 }
 
@@ -185,8 +178,8 @@ void writeBreaksCsv(std::ostream& out, const SimulatedFlight& f) {
   out << "satellite,last_tracked_sow,reacquired_sow,previous_arc,new_arc,min_body_elevation_deg,max_roll_deg\n";
   for (const auto& b : f.breaks)
     out << b.satellite.toString() << ',' << sow(b.last_tracked) << ',' << sow(b.reacquired) << ',' << b.previous_arc
-        << ',' << b.new_arc << fmt(",%.3f", b.min_body_elevation_rad * kRadToDeg)
-        << fmt(",%.3f\n", b.max_roll_rad * kRadToDeg);
+        << ',' << b.new_arc << format(",%.3f", b.min_body_elevation_rad * kRadToDeg)
+        << format(",%.3f\n", b.max_roll_rad * kRadToDeg);
 }
 
 std::vector<std::string> writeSimulatedFlight(const SimulatedFlight& f, const std::string& directory) {

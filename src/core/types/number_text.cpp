@@ -1,8 +1,9 @@
 #include "ppp_bayes_tree/types/number_text.h"
 
 #include <cmath>
-#include <cstdio>
 #include <sstream>
+
+#include "ppp_bayes_tree/types/text_format.h"
 
 namespace ppp {
 
@@ -15,9 +16,12 @@ std::string fixedDecimals(double value, int decimals) {
 
 std::string csvNumber(const char* printf_format, double value) {
   if (!std::isfinite(value)) return {};
-  char buf[64];
-  std::snprintf(buf, sizeof buf, printf_format, value);
-  return buf;
+  return format(printf_format, value);
+}
+
+std::string minutesSecondsText(double seconds) {
+  const int t = static_cast<int>(seconds + 0.5);
+  return format("%d:%02d", t / 60, t % 60);
 }
 
 }  // namespace ppp
