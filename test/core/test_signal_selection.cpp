@@ -143,8 +143,8 @@ TEST(SignalSelection, PriorityIsConfigurable) {
   ObsEpoch epoch;
   ASSERT_TRUE(reader.next(epoch));
   SignalSelectionOptions options;
-  options.gps.code2_attributes = {'X', 'W'};
-  options.gps.phase2_attributes = {'X', 'W'};
+  options.priorities[GnssSystem::GPS].code2_attributes = {'X', 'W'};
+  options.priorities[GnssSystem::GPS].phase2_attributes = {'X', 'W'};
   const auto r = selectDualFrequency(epoch, reader.header(), options, nullptr);
   ASSERT_FALSE(r.observations.empty());
   for (const auto& o : r.observations) {

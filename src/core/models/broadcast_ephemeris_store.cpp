@@ -4,6 +4,7 @@
 #include <sstream>
 
 #include "ppp_bayes_tree/io/rinex_nav_reader.h"
+#include "ppp_bayes_tree/types/carrier_frequency.h"
 
 namespace ppp {
 
@@ -270,6 +271,12 @@ BroadcastLookup BroadcastEphemerisStore::state(const SatelliteId& sat, const Gns
 
 namespace {
 
+/// f1^2 / (f1^2 - f3^2) of BeiDou B1I (RINEX band 2) and B3I (band 6).
+double beidouB1iB3iTgd1Factor() {
+  const double f1 = *carrierFrequency_hz(GnssSystem::BeiDou, '2'), f3 = *carrierFrequency_hz(GnssSystem::BeiDou, '6');
+  return f1 * f1 / (f1 * f1 - f3 * f3);
+}
+
 EphemerisUnavailable broadcastReason(const SatelliteId& sat) {
   switch (sat.system) {
     case GnssSystem::GPS:
@@ -289,7 +296,14 @@ EphemerisAnswer<EphemerisClock> BroadcastEphemerisStore::satelliteClock(const Sa
   const BroadcastLookup s = state(sat, t);
   if (!s) return A::unavailable(broadcastReason(sat), s.unavailable_reason);
   // The rate of the relativistic term is left in the drift (a few 1e-12 s/s).
-  return A::success({s.state->clock_bias_s - s.state->relativistic_s, s.state->clock_drift_sps, std::nullopt});
+  double clock_bias_s = s.state->clock_bias_s - s.state->relativistic_s;
+  if (sat.system == GnssSystem::BeiDou) {
+    // The BeiDou clock refers to B3I; B1I sees it minus TGD1 (BDS-SIS-ICD-B1I 3.0,
+    // 5.2.4.10), so the B1I/B3I ionosphere-free combination sees it minus
+    // f1^2 / (f1^2 - f3^2) TGD1.
+    if (const auto r = beidou(sat, t)) clock_bias_s -= beidouB1iB3iTgd1Factor() * r.record->tgd1_s;
+  }
+  return A::success({clock_bias_s, s.state->clock_drift_sps, std::nullopt});
 }
 
 EphemerisAnswer<EphemerisOrbit> BroadcastEphemerisStore::satelliteOrbit(const SatelliteId& sat,
