@@ -147,11 +147,11 @@ TEST(PppOptionsBinding, ErrorsNameTheKeyPath) {
        "expected GPS, Galileo or BeiDou"},
       {"measurement_model: {signals: {systems: [GPS, G]}}\n", "measurement_model.signals.systems", "given twice"},
       {"measurement_model: {signals: {systems: []}}\n", "measurement_model.signals.systems", "must not be empty"},
-      {"measurement_model: {signals: {gps: {code1: [WC]}}}\n", "measurement_model.signals.priorities[GnssSystem::GPS].code1",
+      {"measurement_model: {signals: {gps: {code1: [WC]}}}\n", "measurement_model.signals.gps.code1",
        "tracking-mode letters"},
-      {"measurement_model: {signals: {gps: {code1: {W: 1}}}}\n", "measurement_model.signals.priorities[GnssSystem::GPS].code1",
+      {"measurement_model: {signals: {gps: {code1: {W: 1}}}}\n", "measurement_model.signals.gps.code1",
        "expected a list"},
-      {"measurement_model: {signals: {gps: {code3: [W]}}}\n", "measurement_model.signals.priorities[GnssSystem::GPS].code3", "unknown key"},
+      {"measurement_model: {signals: {gps: {code3: [W]}}}\n", "measurement_model.signals.gps.code3", "unknown key"},
       {"measurement_model: {signals: {phase_shift: ignore}}\n", "measurement_model.signals.phase_shift",
        "expected one of"},
       {"measurement_model: {signals: 1}\n", "measurement_model.signals", "expected a mapping"},
@@ -184,7 +184,7 @@ TEST(PppOptionsBinding, ErrorsNameTheKeyPath) {
        "expected true or false"},
       {"measurement_model: {signals: {systems: GPS}}\n", "measurement_model.signals.systems",
        "expected a list [a, b, ...], got the single value 'GPS' (a list of one is [GPS])"},
-      {"measurement_model: {signals: {gps: {code1: W}}}\n", "measurement_model.signals.priorities[GnssSystem::GPS].code1", "expected a list"},
+      {"measurement_model: {signals: {gps: {code1: W}}}\n", "measurement_model.signals.gps.code1", "expected a list"},
   };
   for (const auto& c : cases) {
     const ConfigError e = errorOf(c.yaml);

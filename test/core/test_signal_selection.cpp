@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include "ppp_bayes_tree/io/bias_sinex_reader.h"
+#include "ppp_bayes_tree/io/hatanaka_decoder.h"
 #include "ppp_bayes_tree/io/rinex_obs_reader.h"
 #include "ppp_bayes_tree/models/sinex_bias_provider.h"
 #include "ppp_bayes_tree/ppp/signal_selection.h"
@@ -135,6 +136,53 @@ TEST(SignalSelection, Ccj2GpsAndGalileoWithWumOsb) {
   EXPECT_NEAR(*g01->code1_osb_m, ns(9.7876), 1e-9);
   EXPECT_NEAR(*g01->code2_osb_m, ns(17.6826), 1e-9);
   EXPECT_NEAR(g01->code1_m, *epoch.find(sat("G01"), code("C1C"))->value - ns(9.7876), 1e-9);
+}
+
+// The table's rows (RINEX 3.05 table A2 bands): GPS L1/L2, Galileo E1/E5a,
+// BeiDou B1I/B3I; GLONASS (FDMA) and the other systems have none.
+TEST(SignalSelection, TableHasOneRowPerSystemWithAnIfPair) {
+  std::vector<GnssSystem> systems;
+  for (const auto& row : signalTable()) systems.push_back(row.system);
+  EXPECT_EQ(systems, (std::vector<GnssSystem>{GnssSystem::GPS, GnssSystem::Galileo, GnssSystem::BeiDou}));
+  EXPECT_EQ(signalTableRow(GnssSystem::GLONASS), nullptr);
+  EXPECT_EQ(signalTableRow(GnssSystem::QZSS), nullptr);
+  EXPECT_EQ(signalTableRow(GnssSystem::BeiDou)->priority.band1, '2');
+  EXPECT_EQ(signalTableRow(GnssSystem::BeiDou)->priority.band2, '6');
+  EXPECT_EQ(signalTableRow(GnssSystem::Galileo)->priority.band2, '5');
+  EXPECT_EQ(automaticSignalSystems(), (std::vector<GnssSystem>{GnssSystem::GPS, GnssSystem::Galileo}));
+  EXPECT_EQ(signalTableSystemNames(), "GPS, Galileo or BeiDou");
+  const SignalSelectionOptions options;
+  EXPECT_EQ(options.priorities.find(GnssSystem::GLONASS), nullptr);
+  EXPECT_EQ(options.priorities[GnssSystem::GPS].code1_attributes, (std::vector<char>{'W', 'C'}));
+  EXPECT_THROW(SignalSelectionOptions().priorities[GnssSystem::SBAS], std::out_of_range);
+}
+
+// ESBC (SEPT POLARX5) BeiDou types: C2I C6I C7I L2I L6I L7I: B1I/B3I by the I
+// attribute; the GEO C05 has no B3I at ESBC (test_beidou_ephemeris) and is skipped.
+TEST(SignalSelection, EsbcBeidouPicksB1iB3i) {
+  PPP_REQUIRE_SHARED_DATA();
+  RinexObsReader reader(openObservationSource(test::dataPath("esbc-2020-177/ESBC00DNK_R_20201770000_01D_30S_MO.crx.gz")));
+  ObsEpoch epoch;
+  ASSERT_TRUE(reader.next(epoch));
+  SignalSelectionOptions options;
+  options.systems = {GnssSystem::BeiDou};
+  SignalSelector selector(reader.header(), options, nullptr);
+  const auto r = selector.select(epoch);
+  ASSERT_GE(r.observations.size(), 5u);
+  for (const auto& o : r.observations) {
+    EXPECT_EQ(o.satellite.system, GnssSystem::BeiDou);
+    EXPECT_EQ(o.code1, code("C2I"));
+    EXPECT_EQ(o.code2, code("C6I"));
+    EXPECT_EQ(o.phase1, code("L2I"));
+    EXPECT_EQ(o.phase2, code("L6I"));
+    EXPECT_DOUBLE_EQ(o.frequency1_hz, 1561.098e6);  // BDS-SIS-ICD-B1I 3.0
+    EXPECT_DOUBLE_EQ(o.frequency2_hz, 1268.52e6);   // BDS-SIS-ICD-B3I 1.0
+  }
+  bool c05_skipped = false;
+  for (const auto& s : r.skipped)
+    if (s.satellite == sat("C05")) c05_skipped = s.reason == "missing code band 2 phase band 2";
+  EXPECT_TRUE(c05_skipped);
+  EXPECT_TRUE(r.notes.empty());  // no clock-reference note: the row states none for BeiDou
 }
 
 TEST(SignalSelection, PriorityIsConfigurable) {
