@@ -384,7 +384,7 @@ void Rtcm3Decoder::decodeMsm(const Rtcm3Frame& frame, GnssSystem system, int msm
       problem(StreamProblemKind::MalformedMessage, frame, "time of week beyond one week");
       return;
     }
-    const std::int64_t shift_ms = system == GnssSystem::BeiDou ? 14000 : 0;  // BDT -> GPST
+    const std::int64_t shift_ms = std::llround(gpstMinusWeekTime_s(system).value_or(0.0) * 1000.0);  // BDT -> GPST
     std::int64_t tow = epoch_ms + shift_ms;
     if (tow >= kWeekMs) tow -= kWeekMs;
     t_ms = nearest(ref_ms, tow, kWeekMs);
