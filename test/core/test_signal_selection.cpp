@@ -23,6 +23,18 @@ SatelliteId sat(const char* s) { return *SatelliteId::parse(s); }
 ObservationCode code(const char* s) { return *ObservationCode::parse(s); }
 double ns(double v) { return v * 1e-9 * kSpeedOfLight_mps; }
 
+/// The selected signals and carrier frequencies of one observation.
+void expectSignals(const DualFrequencyObservation& o, GnssSystem system, const char* code1, const char* code2,
+                   const char* phase1, const char* phase2, double f1_hz, double f2_hz) {
+  EXPECT_EQ(o.satellite.system, system);
+  EXPECT_EQ(o.code1, code(code1));
+  EXPECT_EQ(o.code2, code(code2));
+  EXPECT_EQ(o.phase1, code(phase1));
+  EXPECT_EQ(o.phase2, code(phase2));
+  EXPECT_DOUBLE_EQ(o.frequency1_hz, f1_hz);
+  EXPECT_DOUBLE_EQ(o.frequency2_hz, f2_hz);
+}
+
 const DualFrequencyObservation* findObs(const SignalSelectionResult& r, const char* s) {
   for (const auto& o : r.observations) {
     if (o.satellite == sat(s)) return &o;
@@ -43,13 +55,7 @@ TEST(SignalSelection, Zim2GpsPicksC1CC2WWithCodeOsb) {
   // the default priority C1W, C1C gives C1C; C2W and L1C / L2W.
   ASSERT_GE(r.observations.size(), 10u);
   for (const auto& o : r.observations) {
-    EXPECT_EQ(o.satellite.system, GnssSystem::GPS);
-    EXPECT_EQ(o.code1, code("C1C"));
-    EXPECT_EQ(o.code2, code("C2W"));
-    EXPECT_EQ(o.phase1, code("L1C"));
-    EXPECT_EQ(o.phase2, code("L2W"));
-    EXPECT_DOUBLE_EQ(o.frequency1_hz, 1575.42e6);
-    EXPECT_DOUBLE_EQ(o.frequency2_hz, 1227.60e6);
+    expectSignals(o, GnssSystem::GPS, "C1C", "C2W", "L1C", "L2W", 1575.42e6, 1227.60e6);
   }
   // Non-GPS satellites are skipped with the reason (default: GPS only).
   bool galileo_skipped = false;
@@ -169,15 +175,9 @@ TEST(SignalSelection, EsbcBeidouPicksB1iB3i) {
   SignalSelector selector(reader.header(), options, nullptr);
   const auto r = selector.select(epoch);
   ASSERT_GE(r.observations.size(), 5u);
-  for (const auto& o : r.observations) {
-    EXPECT_EQ(o.satellite.system, GnssSystem::BeiDou);
-    EXPECT_EQ(o.code1, code("C2I"));
-    EXPECT_EQ(o.code2, code("C6I"));
-    EXPECT_EQ(o.phase1, code("L2I"));
-    EXPECT_EQ(o.phase2, code("L6I"));
-    EXPECT_DOUBLE_EQ(o.frequency1_hz, 1561.098e6);  // BDS-SIS-ICD-B1I 3.0
-    EXPECT_DOUBLE_EQ(o.frequency2_hz, 1268.52e6);   // BDS-SIS-ICD-B3I 1.0
-  }
+  // Carriers: BDS-SIS-ICD-B1I 3.0 (B1I 1561.098 MHz), BDS-SIS-ICD-B3I 1.0 (B3I 1268.52 MHz).
+  for (const auto& o : r.observations)
+    expectSignals(o, GnssSystem::BeiDou, "C2I", "C6I", "L2I", "L6I", 1561.098e6, 1268.52e6);
   bool c05_skipped = false;
   for (const auto& s : r.skipped)
     if (s.satellite == sat("C05")) c05_skipped = s.reason == "missing code band 2 phase band 2";

@@ -15,9 +15,9 @@ namespace ppp {
 //  - BeiDou B1I/B3I (C2I/C6I): the broadcast clock refers to B3I and its TGD1 gives
 //    the B1I/B3I IF combination (BDS-SIS-ICD-B1I 3.0, 5.2.4.10; the broadcast store
 //    serves that combination's clock); the IGS MGEX BeiDou clocks refer to C2I/C6I
-//    too. Not automatic: the products of the usual runs (IGS / CODE GPS, GRG) carry
-//    no BeiDou, and the BeiDou satellite antenna offsets of IGS14 are nominal
-//    values (manufacturer's), so a run takes BeiDou only when the configuration lists it.
+//    too. Not automatic: a run takes BeiDou only when the configuration lists it,
+//    so that products which carry BeiDou (e.g. WHU's MGEX products) leave the
+//    results of an existing `auto` configuration as they were.
 const std::vector<SignalTableRow>& signalTable() {
   static const std::vector<SignalTableRow> table = {
       {GnssSystem::GPS, "gps", {'1', '2', {'W', 'C'}, {'W', 'L', 'X'}, {'C', 'W'}, {'W', 'L', 'X'}}, true, 'W', 'W'},
