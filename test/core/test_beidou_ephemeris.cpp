@@ -138,6 +138,36 @@ TEST(BeidouEphemeris, ConsecutiveRecordsOverlapAtTheMetreLevel) {
   EXPECT_GE(satellites, 25);
 }
 
+// As an EphemerisSource the store serves the BeiDou clock of the B1I/B3I
+// ionosphere-free pair, the BeiDou pair of PPP: the record's B3I clock minus
+// f1^2 / (f1^2 - f3^2) TGD1 (BDS-SIS-ICD-B1I 3.0, 5.2.4.10: B1I sees the clock
+// minus TGD1; f1 = 1561.098 MHz, f3 = 1268.52 MHz). GPS clocks are served as broadcast.
+TEST(BeidouEphemeris, StoreClockIsTheB1iB3iIonosphereFreeClock) {
+  REQUIRE_ESBC_NAV();
+  BroadcastEphemerisStore store;
+  store.add(esbc());
+  const double f1 = 1561.098, f3 = 1268.52, gamma = f1 * f1 / (f1 * f1 - f3 * f3);
+  int compared = 0, nonzero_tgd = 0;
+  for (const SatelliteId& sat : esbc().satellites) {
+    if (sat.system != GnssSystem::BeiDou && sat.system != GnssSystem::GPS) continue;
+    const GnssTime t = gpst(2020, 6, 25, 12, 20);
+    const BroadcastLookup st = store.state(sat, t);
+    if (!st) continue;
+    const auto clock = store.satelliteClock(sat, t);
+    ASSERT_TRUE(clock.ok()) << sat.toString();
+    double expected_s = st.state->clock_bias_s - st.state->relativistic_s;
+    if (sat.system == GnssSystem::BeiDou) {
+      const double tgd1_s = store.beidou(sat, t).record->tgd1_s;
+      expected_s -= gamma * tgd1_s;
+      nonzero_tgd += tgd1_s != 0.0;
+    }
+    EXPECT_NEAR(clock.value->clock_bias_s, expected_s, 1e-15) << sat.toString();
+    ++compared;
+  }
+  EXPECT_GE(compared, 40);
+  EXPECT_GE(nonzero_tgd, 10);  // the file's TGD1 values are ns-level, nonzero
+}
+
 TEST(BeidouEphemeris, BeidouRecordsLeaveTheOtherSystemsChoicesAlone) {
   REQUIRE_ESBC_NAV();
   // The same file with and without its BeiDou records: every GPS and Galileo

@@ -100,7 +100,11 @@ void expectSameConfig(const PppConfig& c, const PppConfig& d) {
   EXPECT_EQ(c.signals.systems_from_products, d.signals.systems_from_products);
   EXPECT_EQ(c.signals.require_code_osb, d.signals.require_code_osb);
   EXPECT_EQ(c.signals.phase_shift, d.signals.phase_shift);
-  for (const auto& [a, b] : {std::pair{&c.signals.gps, &d.signals.gps}, std::pair{&c.signals.galileo, &d.signals.galileo}}) {
+  for (const auto& row : ppp::signalTable()) {  // every system's row of the signal table
+    const ppp::SystemSignalPriority* a = &c.signals.priorities[row.system];
+    const ppp::SystemSignalPriority* b = &d.signals.priorities[row.system];
+    EXPECT_EQ(a->band1, b->band1);
+    EXPECT_EQ(a->band2, b->band2);
     EXPECT_EQ(a->code1_attributes, b->code1_attributes);
     EXPECT_EQ(a->code2_attributes, b->code2_attributes);
     EXPECT_EQ(a->phase1_attributes, b->phase1_attributes);

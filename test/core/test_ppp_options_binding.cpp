@@ -31,9 +31,9 @@ TEST(PppOptionsBinding, EmptySectionsKeepTheStructDefaults) {
               c.model.satellite_antenna && c.model.receiver_antenna == ReceiverAntennaPolicy::Warn && c.model.exclude_eclipse);
   const SignalSelectionOptions s;
   EXPECT_EQ(c.signals.systems, s.systems);
-  EXPECT_EQ(c.signals.gps.code1_attributes, s.gps.code1_attributes);
-  EXPECT_EQ(c.signals.gps.code2_attributes, s.gps.code2_attributes);
-  EXPECT_EQ(c.signals.galileo.phase2_attributes, s.galileo.phase2_attributes);
+  EXPECT_EQ(c.signals.priorities[GnssSystem::GPS].code1_attributes, s.priorities[GnssSystem::GPS].code1_attributes);
+  EXPECT_EQ(c.signals.priorities[GnssSystem::GPS].code2_attributes, s.priorities[GnssSystem::GPS].code2_attributes);
+  EXPECT_EQ(c.signals.priorities[GnssSystem::Galileo].phase2_attributes, s.priorities[GnssSystem::Galileo].phase2_attributes);
   EXPECT_TRUE(c.signals.require_code_osb);
   const CycleSlipOptions k;
   EXPECT_EQ(c.cycle_slip_options.mw_sigma_factor, k.mw_sigma_factor);
@@ -76,13 +76,13 @@ measurement_model:
   EXPECT_EQ(c.signals.systems, (std::vector<GnssSystem>{GnssSystem::Galileo, GnssSystem::GPS}));
   EXPECT_FALSE(c.signals.require_code_osb);
   EXPECT_EQ(c.signals.phase_shift, PhaseShiftHandling::RestoreOriginal);
-  EXPECT_EQ(c.signals.gps.code1_attributes, std::vector<char>{'C'});
-  EXPECT_EQ(c.signals.gps.code2_attributes, (std::vector<char>{'L', 'W'}));
-  EXPECT_EQ(c.signals.gps.phase1_attributes, (std::vector<char>{'W', 'C'}));
-  EXPECT_EQ(c.signals.gps.phase2_attributes, std::vector<char>{'X'});  // a list of one
-  EXPECT_EQ(c.signals.galileo.code2_attributes, (std::vector<char>{'X', 'Q'}));
-  EXPECT_EQ(c.signals.gps.band1, '1');  // bands are not configurable
-  EXPECT_EQ(c.signals.galileo.band2, '5');
+  EXPECT_EQ(c.signals.priorities[GnssSystem::GPS].code1_attributes, std::vector<char>{'C'});
+  EXPECT_EQ(c.signals.priorities[GnssSystem::GPS].code2_attributes, (std::vector<char>{'L', 'W'}));
+  EXPECT_EQ(c.signals.priorities[GnssSystem::GPS].phase1_attributes, (std::vector<char>{'W', 'C'}));
+  EXPECT_EQ(c.signals.priorities[GnssSystem::GPS].phase2_attributes, std::vector<char>{'X'});  // a list of one
+  EXPECT_EQ(c.signals.priorities[GnssSystem::Galileo].code2_attributes, (std::vector<char>{'X', 'Q'}));
+  EXPECT_EQ(c.signals.priorities[GnssSystem::GPS].band1, '1');  // bands are not configurable
+  EXPECT_EQ(c.signals.priorities[GnssSystem::Galileo].band2, '5');
   const PppConfig n = parsePppConfig("measurement_model: {troposphere: {mapping: niell}}\n", "n.yaml");
   EXPECT_EQ(n.model.mapping, TroposphereMapping::Niell);
 }
@@ -144,7 +144,7 @@ TEST(PppOptionsBinding, ErrorsNameTheKeyPath) {
        "expected true or false"},
       {"measurement_model: {corrections: {iono: true}}\n", "measurement_model.corrections.iono", "unknown key"},
       {"measurement_model: {signals: {systems: [GPS, GLONASS]}}\n", "measurement_model.signals.systems",
-       "expected GPS or Galileo"},
+       "expected GPS, Galileo or BeiDou"},
       {"measurement_model: {signals: {systems: [GPS, G]}}\n", "measurement_model.signals.systems", "given twice"},
       {"measurement_model: {signals: {systems: []}}\n", "measurement_model.signals.systems", "must not be empty"},
       {"measurement_model: {signals: {gps: {code1: [WC]}}}\n", "measurement_model.signals.gps.code1",
@@ -202,8 +202,8 @@ TEST(PppOptionsBinding, TemplateRestatesTheModelDefaults) {
   EXPECT_EQ(c.model.code_phase_ratio, m.code_phase_ratio);
   const SignalSelectionOptions s;
   EXPECT_EQ(c.signals.systems, s.systems);
-  EXPECT_EQ(c.signals.gps.code2_attributes, s.gps.code2_attributes);
-  EXPECT_EQ(c.signals.galileo.code1_attributes, s.galileo.code1_attributes);
+  EXPECT_EQ(c.signals.priorities[GnssSystem::GPS].code2_attributes, s.priorities[GnssSystem::GPS].code2_attributes);
+  EXPECT_EQ(c.signals.priorities[GnssSystem::Galileo].code1_attributes, s.priorities[GnssSystem::Galileo].code1_attributes);
   const CycleSlipOptions k;
   EXPECT_EQ(c.cycle_slip_options.gf_threshold_rate_mps, k.gf_threshold_rate_mps);
   EXPECT_EQ(c.cycle_slip_options.mw_window, k.mw_window);

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include "ppp_bayes_tree/io/bias_sinex_reader.h"
+#include "ppp_bayes_tree/io/hatanaka_decoder.h"
 #include "ppp_bayes_tree/io/rinex_obs_reader.h"
 #include "ppp_bayes_tree/models/sinex_bias_provider.h"
 #include "ppp_bayes_tree/ppp/signal_selection.h"
@@ -21,6 +22,18 @@ const char* kCcj2Bia = "ccj2-2021-210/WUM0MGXRAP_20212100000_01D_01D_ABS.BIA.gz"
 SatelliteId sat(const char* s) { return *SatelliteId::parse(s); }
 ObservationCode code(const char* s) { return *ObservationCode::parse(s); }
 double ns(double v) { return v * 1e-9 * kSpeedOfLight_mps; }
+
+/// The selected signals and carrier frequencies of one observation.
+void expectSignals(const DualFrequencyObservation& o, GnssSystem system, const char* code1, const char* code2,
+                   const char* phase1, const char* phase2, double f1_hz, double f2_hz) {
+  EXPECT_EQ(o.satellite.system, system);
+  EXPECT_EQ(o.code1, code(code1));
+  EXPECT_EQ(o.code2, code(code2));
+  EXPECT_EQ(o.phase1, code(phase1));
+  EXPECT_EQ(o.phase2, code(phase2));
+  EXPECT_DOUBLE_EQ(o.frequency1_hz, f1_hz);
+  EXPECT_DOUBLE_EQ(o.frequency2_hz, f2_hz);
+}
 
 const DualFrequencyObservation* findObs(const SignalSelectionResult& r, const char* s) {
   for (const auto& o : r.observations) {
@@ -42,13 +55,7 @@ TEST(SignalSelection, Zim2GpsPicksC1CC2WWithCodeOsb) {
   // the default priority C1W, C1C gives C1C; C2W and L1C / L2W.
   ASSERT_GE(r.observations.size(), 10u);
   for (const auto& o : r.observations) {
-    EXPECT_EQ(o.satellite.system, GnssSystem::GPS);
-    EXPECT_EQ(o.code1, code("C1C"));
-    EXPECT_EQ(o.code2, code("C2W"));
-    EXPECT_EQ(o.phase1, code("L1C"));
-    EXPECT_EQ(o.phase2, code("L2W"));
-    EXPECT_DOUBLE_EQ(o.frequency1_hz, 1575.42e6);
-    EXPECT_DOUBLE_EQ(o.frequency2_hz, 1227.60e6);
+    expectSignals(o, GnssSystem::GPS, "C1C", "C2W", "L1C", "L2W", 1575.42e6, 1227.60e6);
   }
   // Non-GPS satellites are skipped with the reason (default: GPS only).
   bool galileo_skipped = false;
@@ -137,14 +144,55 @@ TEST(SignalSelection, Ccj2GpsAndGalileoWithWumOsb) {
   EXPECT_NEAR(g01->code1_m, *epoch.find(sat("G01"), code("C1C"))->value - ns(9.7876), 1e-9);
 }
 
+// The table's rows (RINEX 3.05 table A2 bands): GPS L1/L2, Galileo E1/E5a,
+// BeiDou B1I/B3I; GLONASS (FDMA) and the other systems have none.
+TEST(SignalSelection, TableHasOneRowPerSystemWithAnIfPair) {
+  std::vector<GnssSystem> systems;
+  for (const auto& row : signalTable()) systems.push_back(row.system);
+  EXPECT_EQ(systems, (std::vector<GnssSystem>{GnssSystem::GPS, GnssSystem::Galileo, GnssSystem::BeiDou}));
+  EXPECT_EQ(signalTableRow(GnssSystem::GLONASS), nullptr);
+  EXPECT_EQ(signalTableRow(GnssSystem::QZSS), nullptr);
+  EXPECT_EQ(signalTableRow(GnssSystem::BeiDou)->priority.band1, '2');
+  EXPECT_EQ(signalTableRow(GnssSystem::BeiDou)->priority.band2, '6');
+  EXPECT_EQ(signalTableRow(GnssSystem::Galileo)->priority.band2, '5');
+  EXPECT_EQ(automaticSignalSystems(), (std::vector<GnssSystem>{GnssSystem::GPS, GnssSystem::Galileo}));
+  EXPECT_EQ(signalTableSystemNames(), "GPS, Galileo or BeiDou");
+  const SignalSelectionOptions options;
+  EXPECT_EQ(options.priorities.find(GnssSystem::GLONASS), nullptr);
+  EXPECT_EQ(options.priorities[GnssSystem::GPS].code1_attributes, (std::vector<char>{'W', 'C'}));
+  EXPECT_THROW(SignalSelectionOptions().priorities[GnssSystem::SBAS], std::out_of_range);
+}
+
+// ESBC (SEPT POLARX5) BeiDou types: C2I C6I C7I L2I L6I L7I: B1I/B3I by the I
+// attribute; the GEO C05 has no B3I at ESBC (test_beidou_ephemeris) and is skipped.
+TEST(SignalSelection, EsbcBeidouPicksB1iB3i) {
+  PPP_REQUIRE_SHARED_DATA();
+  RinexObsReader reader(openObservationSource(test::dataPath("esbc-2020-177/ESBC00DNK_R_20201770000_01D_30S_MO.crx.gz")));
+  ObsEpoch epoch;
+  ASSERT_TRUE(reader.next(epoch));
+  SignalSelectionOptions options;
+  options.systems = {GnssSystem::BeiDou};
+  SignalSelector selector(reader.header(), options, nullptr);
+  const auto r = selector.select(epoch);
+  ASSERT_GE(r.observations.size(), 5u);
+  // Carriers: BDS-SIS-ICD-B1I 3.0 (B1I 1561.098 MHz), BDS-SIS-ICD-B3I 1.0 (B3I 1268.52 MHz).
+  for (const auto& o : r.observations)
+    expectSignals(o, GnssSystem::BeiDou, "C2I", "C6I", "L2I", "L6I", 1561.098e6, 1268.52e6);
+  bool c05_skipped = false;
+  for (const auto& s : r.skipped)
+    if (s.satellite == sat("C05")) c05_skipped = s.reason == "missing code band 2 phase band 2";
+  EXPECT_TRUE(c05_skipped);
+  EXPECT_TRUE(r.notes.empty());  // no clock-reference note: the row states none for BeiDou
+}
+
 TEST(SignalSelection, PriorityIsConfigurable) {
   PPP_REQUIRE_SHARED_DATA();
   auto reader = RinexObsReader::open(test::dataPath(kCcj2Obs));
   ObsEpoch epoch;
   ASSERT_TRUE(reader.next(epoch));
   SignalSelectionOptions options;
-  options.gps.code2_attributes = {'X', 'W'};
-  options.gps.phase2_attributes = {'X', 'W'};
+  options.priorities[GnssSystem::GPS].code2_attributes = {'X', 'W'};
+  options.priorities[GnssSystem::GPS].phase2_attributes = {'X', 'W'};
   const auto r = selectDualFrequency(epoch, reader.header(), options, nullptr);
   ASSERT_FALSE(r.observations.empty());
   for (const auto& o : r.observations) {

@@ -215,5 +215,10 @@ std::uint32_t msmLockTimeDf402_ms(unsigned indicator);
 std::uint32_t msmLockTimeDf407_ms(unsigned indicator);
 /// The RTCM message type's system and MSM number (4..7) for 1071..1137; nullopt otherwise.
 std::optional<std::pair<GnssSystem, int>> msmTypeInfo(int message_type);
+/// The inverse: the message type of a system's MSM1..7 (1077 = GPS MSM7), nullopt
+/// for a system whose signals are not tabled here (NavIC) or another MSM number.
+std::optional<int> msmMessageType(GnssSystem system, int msm);
+/// The MSM satellite id (DF394 bit 1..64) of a satellite: the PRN; SBAS PRN - 119 (S20 = PRN 120 -> 1).
+int msmSatelliteId(const SatelliteId& sat);
 
 }  // namespace ppp

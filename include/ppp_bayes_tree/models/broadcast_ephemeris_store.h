@@ -8,8 +8,11 @@
 // sigma = the record's URA / SISA) and clocks WITHOUT the
 // relativistic eccentricity term (the model adds its own -2 r.v / c^2). The
 // GPS clock refers to the L1/L2 P(Y) ionosphere-free combination; a Galileo
-// I/NAV clock to E1/E5b (an E1/E5a pair would need the BGD: not applied); a
-// BeiDou clock to B3I. BeiDou records sit in their own list: adding them never
+// I/NAV clock to E1/E5b (an E1/E5a pair would need the BGD: not applied). A
+// BeiDou record's clock refers to B3I; satelliteClock() serves it for the
+// B1I/B3I ionosphere-free combination (TGD1 applied, BDS-SIS-ICD-B1I 3.0
+// 5.2.4.10), the BeiDou pair of the PPP signal table, while state() keeps the
+// record's B3I clock. BeiDou records sit in their own list: adding them never
 // changes the record chosen for a GPS, QZSS, Galileo or GLONASS satellite.
 //
 // Records not yet received (causal choice, the same live and in batch): a

@@ -72,6 +72,10 @@ struct SsrCorrectedState {
   double orbit_age_s = 0.0, clock_age_s = 0.0;
 };
 
+/// Whether the SSR-corrected broadcast model covers `system` (GPS, QZSS, Galileo,
+/// GLONASS; BeiDou and SBAS have none here).
+bool ssrBroadcastModelled(GnssSystem system);
+
 class BroadcastSsrEphemeris : public EphemerisSource {
  public:
   BroadcastSsrEphemeris(const std::vector<NavData>& navigation, std::shared_ptr<const SsrCorrectionStore> ssr,

@@ -1,9 +1,16 @@
 #pragma once
 // Signal selection for the ionosphere-free (IF) PPP model: picks, per satellite
 // of an ObsEpoch, the two codes and two phases of the configured frequency pair
-// (GPS L1/L2, Galileo E1/E5a) by a configurable tracking-mode priority, aligns
-// the codes to the clock product's code reference and fills
+// (GPS L1/L2, Galileo E1/E5a, BeiDou B1I/B3I) by a configurable tracking-mode
+// priority, aligns the codes to the clock product's code reference and fills
 // DualFrequencyObservation.
+//
+// The frequency pair and the priorities of each system are one row of the
+// signal table (signalTable(), indexed by system; the same form as the
+// per-system code priority table of RTKLIB 2.4.3, Takasu 2013). A system
+// without a row has no IF pair here: GLONASS FDMA (one frequency per channel,
+// inter-frequency code biases) is a different model, QZSS / SBAS / IRNSS are
+// not processed. Adding a system = adding its row.
 //
 // Code alignment (Bias-SINEX 1.00, S. Schaer 2016, sec. 3.3 / 4.3.x "OSB"):
 // an observable-specific bias B_obs is defined so that the bias-free
@@ -54,22 +61,62 @@ struct SystemSignalPriority {
   std::vector<char> phase2_attributes;
 };
 
+/// One row of the signal table: a system that has an ionosphere-free pair here.
+struct SignalTableRow {
+  GnssSystem system = GnssSystem::GPS;
+  /// Its section under measurement_model.signals (config/ppp.yaml).
+  const char* config_key = "";
+  /// The default pair and priorities (the configuration may change the priorities).
+  SystemSignalPriority priority;
+  /// Processed by `signals.systems: auto` when the products and antennas cover it;
+  /// false: only when listed in `signals.systems`.
+  bool automatic = false;
+  /// Tracking modes of the band-1 / band-2 codes the usual clock products refer
+  /// to (GPS: C1W/C2W, the IGS convention), '\0' when the row states none. Other
+  /// codes used without a bias file are reported in the epoch notes.
+  char clock_reference1 = '\0';
+  char clock_reference2 = '\0';
+};
+
+/// The signal table, in the order of GnssSystem (rows: GPS, Galileo, BeiDou).
+const std::vector<SignalTableRow>& signalTable();
+/// The row of `system`, nullptr when the system has no IF pair here.
+const SignalTableRow* signalTableRow(GnssSystem system);
+/// The systems of the table whose row is `automatic`, in table order.
+std::vector<GnssSystem> automaticSignalSystems();
+/// The table's systems as a list for messages: "GPS, Galileo or BeiDou".
+std::string signalTableSystemNames();
+
+/// Per system priorities (index: GnssSystem), from the table's defaults; a
+/// system without a row has none.
+class SignalPriorities {
+ public:
+  SignalPriorities();
+  /// nullptr when the system has no row in the signal table.
+  const SystemSignalPriority* find(GnssSystem system) const;
+  /// The row of a system of the table (std::out_of_range otherwise).
+  SystemSignalPriority& operator[](GnssSystem system);
+  const SystemSignalPriority& operator[](GnssSystem system) const;
+
+ private:
+  std::array<std::optional<SystemSignalPriority>, kNumGnssSystems> rows_;
+};
+
 enum class PhaseShiftHandling {
   AsWritten,        // RINEX 3.01+: the file values are already aligned (default)
   RestoreOriginal,  // subtract the reported correction: original phase
 };
 
 struct SignalSelectionOptions {
-  /// GPS L1/L2: codes C1W then C1C, C2W then C2L, C2X; phases L1C, L1W and L2W, L2L, L2X.
-  SystemSignalPriority gps{'1', '2', {'W', 'C'}, {'W', 'L', 'X'}, {'C', 'W'}, {'W', 'L', 'X'}};
-  /// Galileo E1/E5a: C1C, C1X and C5Q, C5X; phases likewise.
-  SystemSignalPriority galileo{'1', '5', {'C', 'X'}, {'Q', 'X'}, {'C', 'X'}, {'Q', 'X'}};
+  /// Frequency pair and priorities per system (defaults: signalTable()).
+  SignalPriorities priorities;
   /// Systems processed; others are skipped with a reason.
   std::vector<GnssSystem> systems{GnssSystem::GPS};
   /// true (default; no `signals.systems` key): the product assembly
-  /// (product_assembly.h) processes every system of GPS | Galileo that the
-  /// products and the satellite antennas cover and writes them into `systems`
-  /// (which holds GPS for code that runs without the assembly). false: exactly `systems`.
+  /// (product_assembly.h) processes every automatic system of the table
+  /// (GPS | Galileo) that the products and the satellite antennas cover and
+  /// writes them into `systems` (which holds GPS for code that runs without
+  /// the assembly). false: exactly `systems`.
   bool systems_from_products = true;
   /// With a bias file: skip a satellite when an OSB of a selected code is
   /// missing (true), or use the code uncorrected and say so (false).
@@ -120,6 +167,7 @@ class SignalSelector {
     std::string missing;  // why the system cannot be used with this header ("" = usable)
     std::vector<int> code1, code2, phase1, phase2;  // columns in priority order
     double frequency1_hz = 0.0, frequency2_hz = 0.0;
+    char clock_reference1 = '\0', clock_reference2 = '\0';  // SignalTableRow
     std::vector<std::pair<ObservationCode, double>> phase_shifts;  // all-satellite records
     std::vector<PhaseShift> satellite_phase_shifts;               // per-satellite records
   };

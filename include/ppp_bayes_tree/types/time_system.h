@@ -8,6 +8,8 @@
 #include <string>
 #include <string_view>
 
+#include "ppp_bayes_tree/types/satellite_id.h"
+
 namespace ppp {
 
 enum class TimeSystem : std::uint8_t {
@@ -26,6 +28,12 @@ constexpr double kGpstMinusBdt_s = 14.0;
 constexpr int kBdtWeekZeroGpsWeek = 1356;
 /// GLONASS time = UTC(SU) + 3 h (GLONASS ICD edition 5.1, 3.3.3).
 constexpr double kGlonassMinusUtc_s = 3.0 * 3600.0;
+
+/// GPST minus a system's time of week [s], for the systems whose time counts weeks
+/// in step with GPST: BeiDou 14 s (BDT), GPS, Galileo (GST), QZSS, SBAS and NavIC 0.
+/// nullopt for GLONASS, whose time is UTC(SU) + 3 h with leap seconds (a time of
+/// day, placed by each reader with GnssTime::offsetToSystem_s).
+std::optional<double> gpstMinusWeekTime_s(GnssSystem system);
 
 /// Three-letter RINEX code ("GPS", "GAL", "BDT", "QZS", "UTC", "GLO", "TAI").
 std::string_view timeSystemCode(TimeSystem system);

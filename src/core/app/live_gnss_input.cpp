@@ -355,9 +355,7 @@ struct LiveGnssInput::Impl : public EphemerisSource {
       r.arrival_s = h.arrival_s;
       streamEpochToObsEpoch(h.epoch, header, r.epoch);
       for (const auto& sat : r.epoch.satellites) {
-        const GnssSystem sys = sat.satellite.system;
-        if (sys != GnssSystem::GPS && sys != GnssSystem::Galileo && sys != GnssSystem::GLONASS && sys != GnssSystem::QZSS)
-          continue;
+        if (!ssrBroadcastModelled(sat.satellite.system)) continue;
         if (!satelliteClock(sat.satellite, h.epoch.time - 0.075).ok()) ++without_ephemeris;
       }
       out.push_back(std::move(r));

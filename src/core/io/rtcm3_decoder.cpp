@@ -2,6 +2,7 @@
 
 #include <array>
 #include <cmath>
+#include <iterator>
 #include <string>
 
 #include "ppp_bayes_tree/io/bit_reader.h"
@@ -37,16 +38,34 @@ const std::array<const char*, 32> kBeidouSignals = {
     "",   "2I", "2Q", "2X", "",   "",   "",   "6I", "6Q", "6X", "",   "",   "",   "7I", "7Q", "7X",
     "",   "",   "",   "",   "",   "5D", "5P", "5X", "",   "",   "",   "",   "",   "1D", "1P", "1X"};
 
-const std::array<const char*, 32>* signalTable(GnssSystem system) {
-  switch (system) {
-    case GnssSystem::GPS: return &kGpsSignals;
-    case GnssSystem::GLONASS: return &kGlonassSignals;
-    case GnssSystem::Galileo: return &kGalileoSignals;
-    case GnssSystem::SBAS: return &kSbasSignals;
-    case GnssSystem::QZSS: return &kQzssSignals;
-    case GnssSystem::BeiDou: return &kBeidouSignals;
-    default: return nullptr;
+/// The MSM systems (RTCM 10403.3 3.5.12): one row each, in the order of their
+/// message groups (1071-1077 GPS, 1081-1087 GLONASS, ... 1131-1137 NavIC).
+struct MsmSystemRow {
+  GnssSystem system;
+  const std::array<const char*, 32>* signals;  // nullptr: no signal table here (not decoded)
+  int prn_minus_id;                            // PRN = DF394 satellite id + this (SBAS: PRN 120 = id 1 = "S20")
+};
+const MsmSystemRow kMsmSystems[] = {
+    {GnssSystem::GPS, &kGpsSignals, 0},    {GnssSystem::GLONASS, &kGlonassSignals, 0},
+    {GnssSystem::Galileo, &kGalileoSignals, 0}, {GnssSystem::SBAS, &kSbasSignals, 19},
+    {GnssSystem::QZSS, &kQzssSignals, 0},  {GnssSystem::BeiDou, &kBeidouSignals, 0},
+    {GnssSystem::IRNSS, nullptr, 0},
+};
+constexpr int kFirstMsmGroup = 1070;
+
+/// The row and group index of a system, nullptr when MSM has none.
+const MsmSystemRow* msmRow(GnssSystem system, int* group = nullptr) {
+  for (int k = 0; k < static_cast<int>(std::size(kMsmSystems)); ++k) {
+    if (kMsmSystems[k].system != system) continue;
+    if (group != nullptr) *group = k;
+    return &kMsmSystems[k];
   }
+  return nullptr;
+}
+
+const std::array<const char*, 32>* signalTable(GnssSystem system) {
+  const MsmSystemRow* row = msmRow(system);
+  return row != nullptr ? row->signals : nullptr;
 }
 
 std::int64_t timeMs(const GnssTime& t) {
@@ -134,16 +153,21 @@ std::optional<std::pair<GnssSystem, int>> msmTypeInfo(int type) {
   if (type < 1071 || type > 1137) return std::nullopt;
   const int msm = type % 10;
   if (msm < 1 || msm > 7) return std::nullopt;
-  switch ((type - 1070) / 10) {
-    case 0: return std::make_pair(GnssSystem::GPS, msm);
-    case 1: return std::make_pair(GnssSystem::GLONASS, msm);
-    case 2: return std::make_pair(GnssSystem::Galileo, msm);
-    case 3: return std::make_pair(GnssSystem::SBAS, msm);
-    case 4: return std::make_pair(GnssSystem::QZSS, msm);
-    case 5: return std::make_pair(GnssSystem::BeiDou, msm);
-    case 6: return std::make_pair(GnssSystem::IRNSS, msm);
-    default: return std::nullopt;
-  }
+  const int group = (type - kFirstMsmGroup) / 10;
+  if (group >= static_cast<int>(std::size(kMsmSystems))) return std::nullopt;
+  return std::make_pair(kMsmSystems[group].system, msm);
+}
+
+std::optional<int> msmMessageType(GnssSystem system, int msm) {
+  int group = 0;
+  const MsmSystemRow* row = msmRow(system, &group);
+  if (row == nullptr || row->signals == nullptr || msm < 1 || msm > 7) return std::nullopt;
+  return kFirstMsmGroup + 10 * group + msm;
+}
+
+int msmSatelliteId(const SatelliteId& sat) {
+  const MsmSystemRow* row = msmRow(sat.system);
+  return sat.prn - (row != nullptr ? row->prn_minus_id : 0);
 }
 
 Rtcm3Decoder::Rtcm3Decoder(Rtcm3DecoderOptions options) : options_(std::move(options)) {
@@ -360,7 +384,7 @@ void Rtcm3Decoder::decodeMsm(const Rtcm3Frame& frame, GnssSystem system, int msm
       problem(StreamProblemKind::MalformedMessage, frame, "time of week beyond one week");
       return;
     }
-    const std::int64_t shift_ms = system == GnssSystem::BeiDou ? 14000 : 0;  // BDT -> GPST
+    const std::int64_t shift_ms = std::llround(gpstMinusWeekTime_s(system).value_or(0.0) * 1000.0);  // BDT -> GPST
     std::int64_t tow = epoch_ms + shift_ms;
     if (tow >= kWeekMs) tow -= kWeekMs;
     t_ms = nearest(ref_ms, tow, kWeekMs);
@@ -391,8 +415,7 @@ void Rtcm3Decoder::decodeMsm(const Rtcm3Frame& frame, GnssSystem system, int msm
 
   std::size_t j = 0;
   for (std::size_t i = 0; i < nsat; ++i) {
-    SatelliteId sat{system, sats[i]};
-    if (system == GnssSystem::SBAS) sat.prn = sats[i] + 19;   // PRN 120 + (id - 1) -> "S20"
+    SatelliteId sat{system, sats[i] + msmRow(system)->prn_minus_id};  // SBAS: PRN 120 + (id - 1) -> "S20"
     std::optional<int> channel;
     if (system == GnssSystem::GLONASS) {
       if (extended && ext[i] <= 13) channel = ext[i] - 7;
@@ -408,8 +431,7 @@ void Rtcm3Decoder::decodeMsm(const Rtcm3Frame& frame, GnssSystem system, int msm
       StreamSignal s;
       s.band = code->first;
       s.attribute = code->second;
-      const auto freq = carrierFrequency_hz(system == GnssSystem::SBAS ? GnssSystem::GPS : system, s.band,
-                                            channel);
+      const auto freq = carrierFrequency_hz(system, s.band, channel);
       if (rough_m[i] && fine_pr[c]) s.pseudorange_m = *rough_m[i] + *fine_pr[c];
       if (rough_m[i] && fine_cp[c] && freq) s.carrier_phase_cycles = (*rough_m[i] + *fine_cp[c]) * *freq / kSpeedOfLight_mps;
       if (rate_mps[i] && fine_rate[c] && freq) s.doppler_hz = -(*rate_mps[i] + *fine_rate[c]) * *freq / kSpeedOfLight_mps;

@@ -14,22 +14,6 @@ namespace {
 
 constexpr double kRangeMs_m = kSpeedOfLight_mps * 0.001;
 
-int messageType(GnssSystem system) {
-  switch (system) {
-    case GnssSystem::GPS: return 1077;
-    case GnssSystem::GLONASS: return 1087;
-    case GnssSystem::Galileo: return 1097;
-    case GnssSystem::SBAS: return 1107;
-    case GnssSystem::QZSS: return 1117;
-    case GnssSystem::BeiDou: return 1127;
-    default: return 0;
-  }
-}
-
-int msmSatelliteId(const SatelliteId& sat) {
-  return sat.system == GnssSystem::SBAS ? sat.prn - 19 : sat.prn;
-}
-
 }  // namespace
 
 unsigned msmLockIndicatorDf407(std::uint32_t lock_ms) {
@@ -50,7 +34,7 @@ std::vector<std::vector<std::uint8_t>> encodeMsm7(const StreamEpoch& epoch, Gnss
     return msmSatelliteId(a->satellite) < msmSatelliteId(b->satellite);
   });
   std::vector<std::vector<std::uint8_t>> out;
-  const int type = messageType(system);
+  const int type = msmMessageType(system, 7).value_or(0);
   if (sats.empty() || type == 0) return out;
 
   // Split the satellites into groups whose cells fit 64.
@@ -125,8 +109,7 @@ std::vector<std::vector<std::uint8_t>> encodeMsm7(const StreamEpoch& epoch, Gnss
           if (msmSignalId(system, sig.band, sig.attribute) == id) found = &sig;
         w.putFlag(found != nullptr);
         if (!found) continue;
-        cells.push_back(Cell{found, carrierWavelength_m(system == GnssSystem::SBAS ? GnssSystem::GPS : system,
-                                                        found->band, channel)});
+        cells.push_back(Cell{found, carrierWavelength_m(system, found->band, channel)});
         if (found->pseudorange_m) {
           min_pr = std::min(min_pr, *found->pseudorange_m);
           max_pr = std::max(max_pr, *found->pseudorange_m);

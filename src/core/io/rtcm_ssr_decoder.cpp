@@ -71,7 +71,7 @@ std::optional<GnssTime> RtcmSsrDecoder::resolveEpoch(const SsrHeader& h, bool ig
     return GnssTime::fromGpsSeconds(static_cast<std::int64_t>(std::llround(t_glo - offset_s)));
   }
   double sow = h.epoch_time_s;
-  if (h.system == GnssSystem::BeiDou) sow += kGpstMinusBdt_s;  // BDT -> GPST
+  sow += gpstMinusWeekTime_s(h.system).value_or(0.0);  // BDT -> GPST
   const GpsWeekTime w = ref.gpsWeek();
   double t = static_cast<double>(w.week) * kWeek_s + sow;
   const double ref_s = ref.toGpsSecondsDouble();

@@ -24,38 +24,70 @@ struct TypeInfo {
   SsrMessageKind kind = SsrMessageKind::Orbit;
 };
 
+/// Bits of the satellite id and of the issue of data per system.
+struct SatelliteFieldBits {
+  int id = 6, iod = 8, iod_aux = 0;  // iod_aux: BeiDou toe modulo / SBAS IODCRC
+  int prn_offset = 0;                // SatelliteId::prn = raw id + prn_offset
+};
+
+/// The SSR systems, one row each.
+struct SsrSystemRow {
+  GnssSystem system;
+  /// RTCM group i: messages 1057 + 6 i (GPS, GLONASS) or 1240 + 6 (i - 2) (the
+  /// others), in the kind order orbit, clock, code bias, combined, URA, high-rate
+  /// clock; phase biases 1265 + i.
+  int rtcm_index;
+  /// IGS-SSR group g (IDF002): messages 20 g + 1 ... 20 g + 7.
+  int igs_group;
+  /// RTCM satellite id and issue-of-data fields.
+  SatelliteFieldBits rtcm_bits;
+  /// IGS-SSR: 6-bit id, 8-bit IOD for every system (IDF011, IDF012); the PRN offset.
+  int igs_prn_offset;
+};
+inline constexpr SsrSystemRow kSsrSystems[] = {
+    {GnssSystem::GPS, 0, 1, {6, 8, 0, 0}, 0},       // DF068, DF071
+    {GnssSystem::GLONASS, 1, 2, {5, 8, 0, 0}, 0},   // DF384, DF392
+    {GnssSystem::Galileo, 2, 3, {6, 10, 0, 0}, 0},  // DF252, DF459 IODnav
+    {GnssSystem::QZSS, 3, 4, {4, 8, 0, 0}, 0},      // DF249, DF460
+    {GnssSystem::SBAS, 4, 6, {6, 9, 24, 20}, 19},   // DF?, t0 modulo 9 bits + IODCRC 24 bits
+    // toe modulo 10 bits (in iod), then IOD 8 bits (in iod_aux); see satelliteFieldBits
+    {GnssSystem::BeiDou, 5, 5, {6, 10, 8, 1}, 0},
+};
+inline const SsrSystemRow* ssrSystemRow(GnssSystem system) {
+  for (const auto& row : kSsrSystems)
+    if (row.system == system) return &row;
+  return nullptr;
+}
+inline const SsrSystemRow* ssrSystemRow(int SsrSystemRow::*group, int value) {
+  for (const auto& row : kSsrSystems)
+    if (row.*group == value) return &row;
+  return nullptr;
+}
+
 /// RTCM message type -> system and kind (nullopt: not an RTCM SSR type).
 inline std::optional<TypeInfo> rtcmTypeInfo(int type) {
   static constexpr SsrMessageKind kinds[6] = {SsrMessageKind::Orbit, SsrMessageKind::Clock,
                                               SsrMessageKind::CodeBias, SsrMessageKind::Combined,
                                               SsrMessageKind::Ura, SsrMessageKind::HighRateClock};
-  if (type >= 1057 && type <= 1062) return TypeInfo{GnssSystem::GPS, kinds[type - 1057]};
-  if (type >= 1063 && type <= 1068) return TypeInfo{GnssSystem::GLONASS, kinds[type - 1063]};
-  if (type >= 1240 && type <= 1263) {
-    static constexpr GnssSystem systems[4] = {GnssSystem::Galileo, GnssSystem::QZSS, GnssSystem::SBAS,
-                                              GnssSystem::BeiDou};
-    return TypeInfo{systems[(type - 1240) / 6], kinds[(type - 1240) % 6]};
-  }
   if (type == 1264) return TypeInfo{GnssSystem::GPS, SsrMessageKind::Vtec};
-  if (type >= 1265 && type <= 1270) {
-    static constexpr GnssSystem systems[6] = {GnssSystem::GPS, GnssSystem::GLONASS, GnssSystem::Galileo,
-                                              GnssSystem::QZSS, GnssSystem::SBAS, GnssSystem::BeiDou};
-    return TypeInfo{systems[type - 1265], SsrMessageKind::PhaseBias};
+  if (type >= 1265 && type <= 1270)
+    return TypeInfo{ssrSystemRow(&SsrSystemRow::rtcm_index, type - 1265)->system, SsrMessageKind::PhaseBias};
+  int index = -1, k = 0;
+  if (type >= 1057 && type <= 1068) {
+    index = (type - 1057) / 6;
+    k = (type - 1057) % 6;
+  } else if (type >= 1240 && type <= 1263) {
+    index = 2 + (type - 1240) / 6;
+    k = (type - 1240) % 6;
   }
-  return std::nullopt;
+  if (index < 0) return std::nullopt;
+  return TypeInfo{ssrSystemRow(&SsrSystemRow::rtcm_index, index)->system, kinds[k]};
 }
 inline int rtcmType(const TypeInfo& info) {
   if (info.kind == SsrMessageKind::Vtec) return 1264;
-  int sys_index = 0;
-  switch (info.system) {
-    case GnssSystem::GPS: sys_index = 0; break;
-    case GnssSystem::GLONASS: sys_index = 1; break;
-    case GnssSystem::Galileo: sys_index = 2; break;
-    case GnssSystem::QZSS: sys_index = 3; break;
-    case GnssSystem::SBAS: sys_index = 4; break;
-    case GnssSystem::BeiDou: sys_index = 5; break;
-    default: return 0;
-  }
+  const SsrSystemRow* row = ssrSystemRow(info.system);
+  if (row == nullptr) return 0;
+  const int sys_index = row->rtcm_index;
   if (info.kind == SsrMessageKind::PhaseBias) return 1265 + sys_index;
   int k = 0;
   switch (info.kind) {
@@ -79,25 +111,16 @@ inline std::optional<TypeInfo> igsTypeInfo(int subtype) {
                                               SsrMessageKind::Combined, SsrMessageKind::HighRateClock,
                                               SsrMessageKind::CodeBias, SsrMessageKind::PhaseBias,
                                               SsrMessageKind::Ura};
-  static constexpr GnssSystem systems[6] = {GnssSystem::GPS, GnssSystem::GLONASS, GnssSystem::Galileo,
-                                            GnssSystem::QZSS, GnssSystem::BeiDou, GnssSystem::SBAS};
   if (subtype < 21 || subtype > 127) return std::nullopt;
-  const int group = subtype / 20 - 1, offset = subtype % 20;
-  if (group < 0 || group > 5 || offset < 1 || offset > 7) return std::nullopt;
-  return TypeInfo{systems[group], kinds[offset - 1]};
+  const int group = subtype / 20, offset = subtype % 20;
+  const SsrSystemRow* row = ssrSystemRow(&SsrSystemRow::igs_group, group);
+  if (row == nullptr || offset < 1 || offset > 7) return std::nullopt;
+  return TypeInfo{row->system, kinds[offset - 1]};
 }
 inline int igsSubtype(const TypeInfo& info) {
   if (info.kind == SsrMessageKind::Vtec) return 201;
-  int group = 0;
-  switch (info.system) {
-    case GnssSystem::GPS: group = 1; break;
-    case GnssSystem::GLONASS: group = 2; break;
-    case GnssSystem::Galileo: group = 3; break;
-    case GnssSystem::QZSS: group = 4; break;
-    case GnssSystem::BeiDou: group = 5; break;
-    case GnssSystem::SBAS: group = 6; break;
-    default: return 0;
-  }
+  const SsrSystemRow* row = ssrSystemRow(info.system);
+  if (row == nullptr) return 0;
   int k = 0;
   switch (info.kind) {
     case SsrMessageKind::Orbit: k = 1; break;
@@ -109,29 +132,19 @@ inline int igsSubtype(const TypeInfo& info) {
     case SsrMessageKind::Ura: k = 7; break;
     default: return 0;
   }
-  return 20 * group + k;
+  return 20 * row->igs_group + k;
 }
 
-/// Bits of the satellite id and of the issue of data per system.
-struct SatelliteFieldBits {
-  int id = 6, iod = 8, iod_aux = 0;  // iod_aux: BeiDou toe modulo / SBAS IODCRC
-  int prn_offset = 0;                // SatelliteId::prn = raw id + prn_offset
-};
 /// `bds_rtklib`: the BeiDou layout of RTKLIB-derived encoders (Swift's
 /// gnss-converters): toe modulo 10 bits + IODCRC 24 bits; the IGS streams
-/// (BKG's encoder) send toe modulo 10 bits + IOD 8 bits.
+/// (BKG's encoder) send toe modulo 10 bits + IOD 8 bits (the table's row).
 inline SatelliteFieldBits satelliteFieldBits(GnssSystem system, bool igs, bool bds_rtklib = false) {
-  if (igs) {  // IGS-SSR: 6-bit id, 8-bit IOD for every system (IDF011, IDF012)
-    return SatelliteFieldBits{6, 8, 0, system == GnssSystem::SBAS ? 19 : 0};
-  }
-  switch (system) {
-    case GnssSystem::GLONASS: return {5, 8, 0, 0};    // DF384, DF392
-    case GnssSystem::Galileo: return {6, 10, 0, 0};   // DF252, DF459 IODnav
-    case GnssSystem::QZSS: return {4, 8, 0, 0};       // DF249, DF460
-    case GnssSystem::SBAS: return {6, 9, 24, 20};     // DF?, t0 modulo 9 bits + IODCRC 24 bits
-    case GnssSystem::BeiDou: return bds_rtklib ? SatelliteFieldBits{6, 10, 24, 1} : SatelliteFieldBits{6, 10, 8, 1};    // toe modulo 10 bits (in iod), then IOD 8 bits (in iod_aux)
-    default: return {6, 8, 0, 0};                     // GPS DF068, DF071
-  }
+  const SsrSystemRow* row = ssrSystemRow(system);
+  if (igs) return SatelliteFieldBits{6, 8, 0, row != nullptr ? row->igs_prn_offset : 0};
+  if (row == nullptr) return SatelliteFieldBits{6, 8, 0, 0};
+  SatelliteFieldBits bits = row->rtcm_bits;
+  if (bds_rtklib && system == GnssSystem::BeiDou) bits.iod_aux = 24;
+  return bits;
 }
 
 /// Reading side: fields go from the bits into the values.

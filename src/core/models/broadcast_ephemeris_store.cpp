@@ -4,6 +4,7 @@
 #include <sstream>
 
 #include "ppp_bayes_tree/io/rinex_nav_reader.h"
+#include "ppp_bayes_tree/types/carrier_frequency.h"
 
 namespace ppp {
 
@@ -235,82 +236,92 @@ EphemerisLookup<BeidouEphemeris> BroadcastEphemerisStore::beidou(const Satellite
 }
 
 namespace {
-template <typename Record>
-BroadcastLookup toState(const EphemerisLookup<Record>& lookup, const GnssTime& t) {
-  BroadcastLookup out;
-  if (!lookup) {
-    out.unavailable_reason = lookup.unavailable_reason;
-    return out;
+
+/// Calls f with the store's lookup of `sat` at `t` (one branch on the system:
+/// each system's record is its own type and model); nullopt for a system
+/// without broadcast orbits here.
+template <typename F>
+auto visitLookup(const BroadcastEphemerisStore& store, const SatelliteId& sat, const GnssTime& t, F&& f)
+    -> std::optional<decltype(f(store.gps(sat, t)))> {
+  switch (sat.system) {
+    case GnssSystem::GPS:
+    case GnssSystem::QZSS: return f(store.gps(sat, t));
+    case GnssSystem::Galileo: return f(store.galileo(sat, t));
+    case GnssSystem::GLONASS: return f(store.glonass(sat, t));
+    case GnssSystem::BeiDou: return f(store.beidou(sat, t));
+    default: return std::nullopt;
   }
-  out.state = satelliteState(*lookup.record, t);
-  return out;
 }
+
+std::string notModelled(const SatelliteId& sat) {
+  return sat.toString() + ": broadcast orbits of " + std::string(systemName(sat.system)) + " are not modelled";
+}
+
+// What the EphemerisSource answers beside the state, per record type.
+
+/// Orbit sigma: the record's URA (GPS/QZSS, BeiDou) or SISA (Galileo); GLONASS records carry none.
+std::optional<double> positionSigma_m(const GpsLnavEphemeris& e) { return e.ura_m; }
+std::optional<double> positionSigma_m(const GalileoEphemeris& e) { return e.sisa_m; }
+std::optional<double> positionSigma_m(const GlonassEphemeris&) { return std::nullopt; }
+std::optional<double> positionSigma_m(const BeidouEphemeris& e) { return e.ura_m; }
+
+/// GPS, QZSS, Galileo and BeiDou broadcast orbits refer to the antenna phase
+/// centre (the control segments' convention, also that of RTCM SSR); GLONASS to
+/// the centre of mass.
+template <typename Record>
+EphemerisReference orbitReference(const Record&) { return EphemerisReference::AntennaPhaseCentre; }
+EphemerisReference orbitReference(const GlonassEphemeris&) { return EphemerisReference::CentreOfMass; }
+
+/// What the ionosphere-free pair's clock lacks against the record's clock [s]:
+/// none where the record's clock is that pair's (GPS L1/L2 P(Y); Galileo I/NAV
+/// E1/E5b, the E1/E5a BGD not applied; GLONASS). BeiDou: the clock refers to
+/// B3I and B1I sees it minus TGD1 (BDS-SIS-ICD-B1I 3.0, 5.2.4.10), so the
+/// B1I/B3I ionosphere-free combination sees it minus f1^2 / (f1^2 - f3^2) TGD1.
+template <typename Record>
+double ionosphereFreeClockOffset_s(const Record&) { return 0.0; }
+double ionosphereFreeClockOffset_s(const BeidouEphemeris& e) {
+  const double f1 = *carrierFrequency_hz(GnssSystem::BeiDou, '2'), f3 = *carrierFrequency_hz(GnssSystem::BeiDou, '6');
+  return f1 * f1 / (f1 * f1 - f3 * f3) * e.tgd1_s;
+}
+
 }  // namespace
 
 BroadcastLookup BroadcastEphemerisStore::state(const SatelliteId& sat, const GnssTime& t) const {
-  switch (sat.system) {
-    case GnssSystem::GPS:
-    case GnssSystem::QZSS:
-      return toState(gps(sat, t), t);
-    case GnssSystem::Galileo:
-      return toState(galileo(sat, t), t);
-    case GnssSystem::GLONASS:
-      return toState(glonass(sat, t), t);
-    case GnssSystem::BeiDou:
-      return toState(beidou(sat, t), t);
-    default:
-      break;
-  }
-  BroadcastLookup out;
-  out.unavailable_reason =
-      sat.toString() + ": broadcast orbits of " + std::string(systemName(sat.system)) +
-      " are not modelled";
-  return out;
+  const auto out = visitLookup(*this, sat, t, [&t](const auto& lookup) {
+    BroadcastLookup l;
+    if (!lookup) l.unavailable_reason = lookup.unavailable_reason;
+    else l.state = satelliteState(*lookup.record, t);
+    return l;
+  });
+  if (out) return *out;
+  BroadcastLookup l;
+  l.unavailable_reason = notModelled(sat);
+  return l;
 }
-
-namespace {
-
-EphemerisUnavailable broadcastReason(const SatelliteId& sat) {
-  switch (sat.system) {
-    case GnssSystem::GPS:
-    case GnssSystem::QZSS:
-    case GnssSystem::Galileo:
-    case GnssSystem::GLONASS:
-    case GnssSystem::BeiDou: return EphemerisUnavailable::NoValidRecord;
-    default: return EphemerisUnavailable::SystemNotModelled;
-  }
-}
-
-}  // namespace
 
 EphemerisAnswer<EphemerisClock> BroadcastEphemerisStore::satelliteClock(const SatelliteId& sat,
                                                                          const GnssTime& t) const {
   using A = EphemerisAnswer<EphemerisClock>;
-  const BroadcastLookup s = state(sat, t);
-  if (!s) return A::unavailable(broadcastReason(sat), s.unavailable_reason);
-  // The rate of the relativistic term is left in the drift (a few 1e-12 s/s).
-  return A::success({s.state->clock_bias_s - s.state->relativistic_s, s.state->clock_drift_sps, std::nullopt});
+  const auto out = visitLookup(*this, sat, t, [&t](const auto& lookup) {
+    if (!lookup) return A::unavailable(EphemerisUnavailable::NoValidRecord, lookup.unavailable_reason);
+    const BroadcastState s = satelliteState(*lookup.record, t);
+    // The rate of the relativistic term is left in the drift (a few 1e-12 s/s).
+    return A::success({s.clock_bias_s - s.relativistic_s - ionosphereFreeClockOffset_s(*lookup.record),
+                       s.clock_drift_sps, std::nullopt});
+  });
+  return out ? *out : A::unavailable(EphemerisUnavailable::SystemNotModelled, notModelled(sat));
 }
 
 EphemerisAnswer<EphemerisOrbit> BroadcastEphemerisStore::satelliteOrbit(const SatelliteId& sat,
                                                                          const GnssTime& t) const {
   using A = EphemerisAnswer<EphemerisOrbit>;
-  const BroadcastLookup s = state(sat, t);
-  if (!s) return A::unavailable(broadcastReason(sat), s.unavailable_reason);
-  // GPS, QZSS, Galileo and BeiDou broadcast orbits refer to the antenna phase centre
-  // (the control segments' convention, also that of RTCM SSR); GLONASS to the
-  // centre of mass.
-  const EphemerisReference reference = sat.system == GnssSystem::GLONASS ? EphemerisReference::CentreOfMass
-                                                                        : EphemerisReference::AntennaPhaseCentre;
-  EphemerisOrbit o{s.state->position_ecef_m, s.state->velocity_ecef_mps, reference, std::nullopt};
-  if (sat.system == GnssSystem::GPS || sat.system == GnssSystem::QZSS) {
-    if (const auto r = gps(sat, t)) o.position_sigma_m = r.record->ura_m;
-  } else if (sat.system == GnssSystem::Galileo) {
-    if (const auto r = galileo(sat, t)) o.position_sigma_m = r.record->sisa_m;
-  } else if (sat.system == GnssSystem::BeiDou) {
-    if (const auto r = beidou(sat, t)) o.position_sigma_m = r.record->ura_m;
-  }
-  return A::success(o);
+  const auto out = visitLookup(*this, sat, t, [&t](const auto& lookup) {
+    if (!lookup) return A::unavailable(EphemerisUnavailable::NoValidRecord, lookup.unavailable_reason);
+    const BroadcastState s = satelliteState(*lookup.record, t);
+    return A::success(EphemerisOrbit{s.position_ecef_m, s.velocity_ecef_mps, orbitReference(*lookup.record),
+                                     positionSigma_m(*lookup.record)});
+  });
+  return out ? *out : A::unavailable(EphemerisUnavailable::SystemNotModelled, notModelled(sat));
 }
 
 std::size_t BroadcastEphemerisStore::size() const {

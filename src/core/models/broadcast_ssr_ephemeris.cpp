@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iterator>
 
 #include <Eigen/Geometry>
 #include <cstdio>
@@ -103,13 +104,18 @@ BroadcastSsrEphemeris::BroadcastSsrEphemeris(const std::vector<NavData>& navigat
   checkConsistency();
 }
 
+bool ssrBroadcastModelled(GnssSystem system) {
+  constexpr GnssSystem kModelled[] = {GnssSystem::GPS, GnssSystem::QZSS, GnssSystem::Galileo, GnssSystem::GLONASS};
+  return std::find(std::begin(kModelled), std::end(kModelled), system) != std::end(kModelled);
+}
+
 void BroadcastSsrEphemeris::checkConsistency() {
   consistency_ = StreamCounters{};
   satellites_without_broadcast_.clear();
   if (!ssr_) return;
   // Every orbit correction of a modelled system must find its broadcast record.
   for (const auto& [sat, series] : ssr_->orbits()) {
-    if (sat.system == GnssSystem::BeiDou || sat.system == GnssSystem::SBAS) continue;
+    if (!ssrBroadcastModelled(sat.system)) continue;
     if (records_.find(sat) == records_.end()) {
       satellites_without_broadcast_.insert(sat);  // no navigation data at all: not a stream problem
       continue;
@@ -163,8 +169,7 @@ double BroadcastSsrEphemeris::polynomialClock_s(const Record& /*r*/, const Broad
 EphemerisAnswer<SsrCorrectedState> BroadcastSsrEphemeris::correctedState(const SatelliteId& sat,
                                                                        const GnssTime& t) const {
   using Answer = EphemerisAnswer<SsrCorrectedState>;
-  if (sat.system != GnssSystem::GPS && sat.system != GnssSystem::QZSS && sat.system != GnssSystem::Galileo &&
-      sat.system != GnssSystem::GLONASS)
+  if (!ssrBroadcastModelled(sat.system))
     return Answer::unavailable(EphemerisUnavailable::SystemNotModelled,
                                std::string("no broadcast model for ") + std::string(systemName(sat.system)));
   if (!ssr_) return Answer::unavailable(EphemerisUnavailable::NoProducts, "no SSR corrections loaded");

@@ -11,12 +11,34 @@ std::string_view ephemerisReferenceName(EphemerisReference reference) {
   return "?";
 }
 
-char ssrFirstFrequencyBand(GnssSystem system) { return system == GnssSystem::BeiDou ? '2' : '1'; }
+namespace {
+
+/// The SSR reference signals of the systems whose bands differ from GPS L1/L2
+/// (satellite_reference_point.h); every other system: bands 1 and 2.
+struct SsrBandRow {
+  GnssSystem system;
+  char first;              // AntennaPhaseCentreL1: the first frequency
+  char if_band1, if_band2;  // AntennaPhaseCentre: the ionosphere-free pair
+};
+constexpr SsrBandRow kSsrBands[] = {
+    {GnssSystem::Galileo, '1', '1', '5'},  // E1, E1/E5a
+    {GnssSystem::BeiDou, '2', '2', '6'},   // B1I, B1I/B3I
+};
+constexpr SsrBandRow kDefaultSsrBands{GnssSystem::GPS, '1', '1', '2'};
+
+const SsrBandRow& ssrBands(GnssSystem system) {
+  for (const auto& row : kSsrBands)
+    if (row.system == system) return row;
+  return kDefaultSsrBands;
+}
+
+}  // namespace
+
+char ssrFirstFrequencyBand(GnssSystem system) { return ssrBands(system).first; }
 
 std::pair<char, char> ssrIonosphereFreeBands(GnssSystem system) {
-  if (system == GnssSystem::Galileo) return {'1', '5'};
-  if (system == GnssSystem::BeiDou) return {'2', '6'};
-  return {'1', '2'};
+  const SsrBandRow& row = ssrBands(system);
+  return {row.if_band1, row.if_band2};
 }
 
 std::optional<Eigen::Vector3d> satelliteReferenceOffset_m(EphemerisReference reference,

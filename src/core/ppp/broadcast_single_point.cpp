@@ -3,6 +3,7 @@
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
+#include <vector>
 
 #include "ppp_bayes_tree/models/troposphere.h"
 #include "ppp_bayes_tree/types/carrier_frequency.h"
@@ -20,7 +21,27 @@ struct Candidate {
   int system_column = 0;
 };
 
-const Observation* firstPresent(const ObsEpoch& epoch, const SatelliteId& sat, std::initializer_list<const char*> codes) {
+/// The code pair of a system for the single-point solution, best first, and the
+/// receiver clock it shares (QZSS: GPS time). GPS/QZSS L1 C/A with L2C, L2 P(Y) or
+/// L5; Galileo E1 with E5a or E5b.
+struct SinglePointRow {
+  GnssSystem system;
+  GnssSystem clock_system;
+  std::vector<const char*> code1, code2;
+};
+const SinglePointRow kSinglePointRows[] = {
+    {GnssSystem::GPS, GnssSystem::GPS, {"C1C"}, {"C2L", "C2S", "C2X", "C2W", "C5Q", "C5I", "C5X"}},
+    {GnssSystem::QZSS, GnssSystem::GPS, {"C1C"}, {"C2L", "C2S", "C2X", "C2W", "C5Q", "C5I", "C5X"}},
+    {GnssSystem::Galileo, GnssSystem::Galileo, {"C1C", "C1B", "C1X"}, {"C5Q", "C5I", "C5X", "C7Q", "C7I", "C7X"}},
+};
+
+const SinglePointRow* singlePointRow(GnssSystem system) {
+  for (const auto& row : kSinglePointRows)
+    if (row.system == system) return &row;
+  return nullptr;
+}
+
+const Observation* firstPresent(const ObsEpoch& epoch, const SatelliteId& sat, const std::vector<const char*>& codes) {
   for (const char* text : codes) {
     const auto code = ObservationCode::parse(text);
     const Observation* o = code ? epoch.find(sat, *code) : nullptr;
@@ -52,12 +73,10 @@ std::optional<double> IonosphereFreePair::phase_m() const {
 
 IonosphereFreePair ionosphereFreePair(const ObsEpoch& epoch, const SatelliteId& sat) {
   IonosphereFreePair pair;
-  const bool gps = sat.system == GnssSystem::GPS || sat.system == GnssSystem::QZSS;
-  const bool galileo = sat.system == GnssSystem::Galileo;
-  if (!gps && !galileo) return pair;
-  const Observation* p1 = gps ? firstPresent(epoch, sat, {"C1C"}) : firstPresent(epoch, sat, {"C1C", "C1B", "C1X"});
-  const Observation* p2 = gps ? firstPresent(epoch, sat, {"C2L", "C2S", "C2X", "C2W", "C5Q", "C5I", "C5X"})
-                              : firstPresent(epoch, sat, {"C5Q", "C5I", "C5X", "C7Q", "C7I", "C7X"});
+  const SinglePointRow* row = singlePointRow(sat.system);
+  if (row == nullptr) return pair;
+  const Observation* p1 = firstPresent(epoch, sat, row->code1);
+  const Observation* p2 = firstPresent(epoch, sat, row->code2);
   if (!p1 || !p2) return pair;
   const auto f1 = carrierFrequency_hz(sat.system, p1->code.band);
   const auto f2 = carrierFrequency_hz(sat.system, p2->code.band);
@@ -116,8 +135,6 @@ BroadcastSinglePointResult broadcastSinglePoint(const ObsEpoch& epoch, const Bro
   std::map<GnssSystem, int> columns;
   for (const auto& entry : epoch.satellites) {
     const SatelliteId sat = entry.satellite;
-    const bool gps = sat.system == GnssSystem::GPS || sat.system == GnssSystem::QZSS;
-    const bool galileo = sat.system == GnssSystem::Galileo;
     const IonosphereFreePair pair = ionosphereFreePair(epoch, sat);
     if (!pair.hasCode()) continue;
     const Observation* p1 = pair.code1;
@@ -139,14 +156,15 @@ BroadcastSinglePointResult broadcastSinglePoint(const ObsEpoch& epoch, const Bro
     }
     if (!state) continue;
     double clock_s = state.state->clock_bias_s;
-    if (galileo && p2->code.band == '5') {
+    // A Galileo I/NAV clock refers to E1/E5b; an E1/E5a pair takes the difference of the two BGDs.
+    if (sat.system == GnssSystem::Galileo && p2->code.band == '5') {
       const auto record = ephemerides.galileo(sat, t_tx);
       if (!record || !record.record->bgd_e5b_e1_s) continue;
       clock_s += record.record->bgd_e5a_e1_s - *record.record->bgd_e5b_e1_s;
     }
     c.position_ecef_m = state.state->position_ecef_m;
     c.clock_m = clock_s * kSpeedOfLight_mps;
-    const GnssSystem system = gps ? GnssSystem::GPS : GnssSystem::Galileo;  // QZSS shares GPS time
+    const GnssSystem system = singlePointRow(sat.system)->clock_system;
     c.system_column = columns.emplace(system, static_cast<int>(columns.size())).first->second;
     candidates.push_back(c);
   }

@@ -38,14 +38,14 @@ void readSignals(YamlSection s, SignalSelectionOptions& o) {
   for (auto sys : o.systems) names.emplace_back(systemName(sys));
   std::vector<GnssSystem> systems;
   for (const auto& n : automatic ? names : s.textList("systems", names)) {
-    GnssSystem sys;
-    if (n == "GPS" || n == "G") {
-      sys = GnssSystem::GPS;
-    } else if (n == "Galileo" || n == "E") {
-      sys = GnssSystem::Galileo;
-    } else {
-      s.fail("systems", "expected GPS or Galileo (the systems with an IF frequency pair), got '" + n + "'");
-    }
+    // A system of the signal table, by name ("BeiDou") or RINEX letter ("C").
+    const auto row = std::find_if(signalTable().begin(), signalTable().end(), [&n](const SignalTableRow& r) {
+      return n == systemName(r.system) || n == std::string(1, systemLetter(r.system));
+    });
+    if (row == signalTable().end())
+      s.fail("systems", "expected " + signalTableSystemNames() + " (the systems with an IF frequency pair), got '" +
+                            n + "'");
+    const GnssSystem sys = row->system;
     if (std::find(systems.begin(), systems.end(), sys) != systems.end()) s.fail("systems", "'" + n + "' given twice");
     systems.push_back(sys);
   }
@@ -55,8 +55,7 @@ void readSignals(YamlSection s, SignalSelectionOptions& o) {
                                      o.phase_shift == PhaseShiftHandling::AsWritten ? "as_written" : "restore_original",
                                      {"as_written", "restore_original"});
   o.phase_shift = shift == "as_written" ? PhaseShiftHandling::AsWritten : PhaseShiftHandling::RestoreOriginal;
-  readPriority(s.section("gps"), o.gps);
-  readPriority(s.section("galileo"), o.galileo);
+  for (const auto& row : signalTable()) readPriority(s.section(row.config_key), o.priorities[row.system]);
   s.finish();
 }
 

@@ -25,9 +25,6 @@ struct OrbitClockProducts {
 
 namespace {
 
-/// The systems the estimators can process (an ionosphere-free pair each).
-const std::vector<GnssSystem> kSupportedSystems = {GnssSystem::GPS, GnssSystem::Galileo};
-
 std::string systemList(const std::vector<GnssSystem>& systems) {
   std::string out;
   for (auto s : systems) out += (out.empty() ? "" : ", ") + std::string(systemName(s));
@@ -201,7 +198,7 @@ ProductAssembly ProductAssembly::assemble(const ProductAssemblyInputs& in, const
   if (!in.sp3.empty() != !in.clk.empty() && in.nav.empty())
     throw std::invalid_argument("product inputs: SP3 and clock files go together");
   const std::vector<GnssSystem> candidates =
-      config.signals.systems_from_products ? kSupportedSystems : config.signals.systems;
+      config.signals.systems_from_products ? automaticSignalSystems() : config.signals.systems;
 
   // Orbits and clocks, for the candidate systems and the observations' span.
   RecordFilter filter;
@@ -268,7 +265,7 @@ void ProductAssembly::resolveSystems(const ProductAssemblyInputs& in, const std:
     return;
   }
   config_.signals.systems = systems;
-  notes_.push_back("systems: " + systemList(systems) + " (every system of " + systemList(kSupportedSystems) +
+  notes_.push_back("systems: " + systemList(systems) + " (every system of " + systemList(automaticSignalSystems()) +
                    " that the products and the satellite antennas cover)");
 }
 

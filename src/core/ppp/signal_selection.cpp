@@ -2,17 +2,76 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 
 #include "ppp_bayes_tree/types/carrier_frequency.h"
 
 namespace ppp {
-namespace {
 
-const SystemSignalPriority* priorityOf(const SignalSelectionOptions& o, GnssSystem system) {
-  if (system == GnssSystem::GPS) return &o.gps;
-  if (system == GnssSystem::Galileo) return &o.galileo;
+// The signal table. Pairs and codes: RINEX 3.05 table A2 (tracking modes per band).
+//  - GPS L1/L2 with the P(Y) codes first: the IGS clocks refer to the C1W/C2W IF
+//    combination (Bias-SINEX: SATELLITE_CLOCK_REFERENCE_OBSERVABLES C1W C2W).
+//  - Galileo E1/E5a (C1C/C5Q or the pilot+data X modes), the IGS MGEX reference pair.
+//  - BeiDou B1I/B3I (C2I/C6I): the broadcast clock refers to B3I and its TGD1 gives
+//    the B1I/B3I IF combination (BDS-SIS-ICD-B1I 3.0, 5.2.4.10; the broadcast store
+//    serves that combination's clock); the IGS MGEX BeiDou clocks refer to C2I/C6I
+//    too. Not automatic: a run takes BeiDou only when the configuration lists it,
+//    so that products which carry BeiDou (e.g. WHU's MGEX products) leave the
+//    results of an existing `auto` configuration as they were.
+const std::vector<SignalTableRow>& signalTable() {
+  static const std::vector<SignalTableRow> table = {
+      {GnssSystem::GPS, "gps", {'1', '2', {'W', 'C'}, {'W', 'L', 'X'}, {'C', 'W'}, {'W', 'L', 'X'}}, true, 'W', 'W'},
+      {GnssSystem::Galileo, "galileo", {'1', '5', {'C', 'X'}, {'Q', 'X'}, {'C', 'X'}, {'Q', 'X'}}, true},
+      {GnssSystem::BeiDou, "beidou", {'2', '6', {'I', 'X'}, {'I', 'X'}, {'I', 'X'}, {'I', 'X'}}, false},
+  };
+  return table;
+}
+
+const SignalTableRow* signalTableRow(GnssSystem system) {
+  for (const auto& row : signalTable())
+    if (row.system == system) return &row;
   return nullptr;
 }
+
+std::vector<GnssSystem> automaticSignalSystems() {
+  std::vector<GnssSystem> out;
+  for (const auto& row : signalTable())
+    if (row.automatic) out.push_back(row.system);
+  return out;
+}
+
+std::string signalTableSystemNames() {
+  const auto& table = signalTable();
+  std::string out;
+  for (std::size_t k = 0; k < table.size(); ++k) {
+    if (k > 0) out += k + 1 == table.size() ? " or " : ", ";
+    out += systemName(table[k].system);
+  }
+  return out;
+}
+
+SignalPriorities::SignalPriorities() {
+  for (const auto& row : signalTable()) rows_[static_cast<int>(row.system)] = row.priority;
+}
+
+const SystemSignalPriority* SignalPriorities::find(GnssSystem system) const {
+  const auto& row = rows_[static_cast<int>(system)];
+  return row ? &*row : nullptr;
+}
+
+SystemSignalPriority& SignalPriorities::operator[](GnssSystem system) {
+  auto& row = rows_[static_cast<int>(system)];
+  if (!row) throw std::out_of_range(std::string(systemName(system)) + " has no row in the signal table");
+  return *row;
+}
+
+const SystemSignalPriority& SignalPriorities::operator[](GnssSystem system) const {
+  const SystemSignalPriority* row = find(system);
+  if (row == nullptr) throw std::out_of_range(std::string(systemName(system)) + " has no row in the signal table");
+  return *row;
+}
+
+namespace {
 
 std::vector<int> columns(const std::vector<ObservationCode>& types, ObservableType type, char band,
                          const std::vector<char>& attributes) {
@@ -52,13 +111,18 @@ SignalSelector::SignalSelector(const RinexObsHeader& header, SignalSelectionOpti
   for (int s = 0; s < kNumGnssSystems; ++s) types_[s] = header.obs_types[s];
   for (GnssSystem system : options_.systems) {
     auto& sc = systems_[static_cast<int>(system)];
-    const SystemSignalPriority* p = priorityOf(options_, system);
+    const SystemSignalPriority* p = options_.priorities.find(system);
     if (p == nullptr) {
-      sc.missing = std::string(systemName(system)) + " is not supported for the IF model (GPS and Galileo only)";
+      sc.missing = std::string(systemName(system)) + " is not supported for the IF model (" +
+                   signalTableSystemNames() + " only)";
       sc.enabled = true;
       continue;
     }
     sc.enabled = true;
+    if (const SignalTableRow* row = signalTableRow(system)) {
+      sc.clock_reference1 = row->clock_reference1;
+      sc.clock_reference2 = row->clock_reference2;
+    }
     const auto& types = header.types(system);
     sc.code1 = columns(types, ObservableType::Pseudorange, p->band1, p->code1_attributes);
     sc.code2 = columns(types, ObservableType::Pseudorange, p->band2, p->code2_attributes);
@@ -178,7 +242,8 @@ void SignalSelector::select(const ObsEpoch& epoch, SignalSelectionResult& out) {
       }
       if (d.code1_osb_m) d.code1_m -= *d.code1_osb_m;  // Bias-SINEX 1.00: corrected = observed - OSB
       if (d.code2_osb_m) d.code2_m -= *d.code2_osb_m;
-    } else if (sat.system == GnssSystem::GPS && (d.code1.attribute != 'W' || d.code2.attribute != 'W')) {
+    } else if (sc.clock_reference1 != '\0' &&
+               (d.code1.attribute != sc.clock_reference1 || d.code2.attribute != sc.clock_reference2)) {
       unaligned += ' ';
       unaligned += sat.toString();
     }

@@ -18,54 +18,42 @@ constexpr double kG3_hz = 1202.025e6;  // GLONASS CDMA L3OC
 constexpr double kS_hz = 2492.028e6;   // NavIC S band
 }  // namespace
 
+namespace {
+
+/// CDMA carriers: one row per system and RINEX band (RINEX 3.05 table A23).
+struct CarrierRow {
+  GnssSystem system;
+  char band;
+  double frequency_hz;
+};
+
+constexpr CarrierRow kCarriers[] = {
+    // clang-format off
+    {GnssSystem::GPS, '1', kL1_hz}, {GnssSystem::GPS, '2', kL2_hz}, {GnssSystem::GPS, '5', kL5_hz},
+    {GnssSystem::GLONASS, '3', kG3_hz}, {GnssSystem::GLONASS, '4', kG1a_hz}, {GnssSystem::GLONASS, '6', kG2a_hz},
+    {GnssSystem::Galileo, '1', kL1_hz}, {GnssSystem::Galileo, '5', kL5_hz}, {GnssSystem::Galileo, '7', kE5b_hz},
+        {GnssSystem::Galileo, '8', kE5_hz}, {GnssSystem::Galileo, '6', kE6_hz},
+    {GnssSystem::BeiDou, '1', kL1_hz}, {GnssSystem::BeiDou, '2', kB1I_hz}, {GnssSystem::BeiDou, '5', kL5_hz},
+        {GnssSystem::BeiDou, '7', kE5b_hz}, {GnssSystem::BeiDou, '8', kE5_hz}, {GnssSystem::BeiDou, '6', kB3_hz},
+    {GnssSystem::QZSS, '1', kL1_hz}, {GnssSystem::QZSS, '2', kL2_hz}, {GnssSystem::QZSS, '5', kL5_hz},
+        {GnssSystem::QZSS, '6', kE6_hz},
+    {GnssSystem::SBAS, '1', kL1_hz}, {GnssSystem::SBAS, '5', kL5_hz},
+    {GnssSystem::IRNSS, '5', kL5_hz}, {GnssSystem::IRNSS, '9', kS_hz},
+    // clang-format on
+};
+
+}  // namespace
+
 std::optional<double> carrierFrequency_hz(GnssSystem system, char band,
                                           std::optional<int> glonass_channel) {
-  switch (system) {
-    case GnssSystem::GPS:
-      if (band == '1') return kL1_hz;
-      if (band == '2') return kL2_hz;
-      if (band == '5') return kL5_hz;
-      break;
-    case GnssSystem::GLONASS:
-      if (band == '1' || band == '2') {
-        if (!glonass_channel || *glonass_channel < -7 || *glonass_channel > 13) return std::nullopt;
-        return band == '1' ? kGlonassG1Base_hz + kGlonassG1Step_hz * *glonass_channel
-                           : kGlonassG2Base_hz + kGlonassG2Step_hz * *glonass_channel;
-      }
-      if (band == '3') return kG3_hz;
-      if (band == '4') return kG1a_hz;
-      if (band == '6') return kG2a_hz;
-      break;
-    case GnssSystem::Galileo:
-      if (band == '1') return kL1_hz;
-      if (band == '5') return kL5_hz;
-      if (band == '7') return kE5b_hz;
-      if (band == '8') return kE5_hz;
-      if (band == '6') return kE6_hz;
-      break;
-    case GnssSystem::BeiDou:
-      if (band == '1') return kL1_hz;
-      if (band == '2') return kB1I_hz;
-      if (band == '5') return kL5_hz;
-      if (band == '7') return kE5b_hz;
-      if (band == '8') return kE5_hz;
-      if (band == '6') return kB3_hz;
-      break;
-    case GnssSystem::QZSS:
-      if (band == '1') return kL1_hz;
-      if (band == '2') return kL2_hz;
-      if (band == '5') return kL5_hz;
-      if (band == '6') return kE6_hz;
-      break;
-    case GnssSystem::SBAS:
-      if (band == '1') return kL1_hz;
-      if (band == '5') return kL5_hz;
-      break;
-    case GnssSystem::IRNSS:
-      if (band == '5') return kL5_hz;
-      if (band == '9') return kS_hz;
-      break;
+  // GLONASS FDMA G1/G2: a different carrier per frequency channel, not a table row.
+  if (system == GnssSystem::GLONASS && (band == '1' || band == '2')) {
+    if (!glonass_channel || *glonass_channel < -7 || *glonass_channel > 13) return std::nullopt;
+    return band == '1' ? kGlonassG1Base_hz + kGlonassG1Step_hz * *glonass_channel
+                       : kGlonassG2Base_hz + kGlonassG2Step_hz * *glonass_channel;
   }
+  for (const auto& row : kCarriers)
+    if (row.system == system && row.band == band) return row.frequency_hz;
   return std::nullopt;
 }
 

@@ -4,56 +4,60 @@
 
 namespace ppp {
 
+namespace {
+
+/// One row per system, in the order of GnssSystem.
+struct SystemRow {
+  GnssSystem system;
+  char letter;            // RINEX 3.05 sec. 3.5
+  std::string_view name;
+  int max_prn;            // largest number accepted
+  int full_prn_offset;    // numbers above it are full PRNs written instead (SBAS 120-158, QZSS 193-202); 0: none
+};
+
+constexpr SystemRow kSystems[kNumGnssSystems] = {
+    {GnssSystem::GPS, 'G', "GPS", 32, 0},
+    {GnssSystem::GLONASS, 'R', "GLONASS", 30, 0},  // slots 1-24 in use, spares up to 30
+    {GnssSystem::Galileo, 'E', "Galileo", 36, 0},
+    {GnssSystem::BeiDou, 'C', "BeiDou", 65, 0},
+    {GnssSystem::QZSS, 'J', "QZSS", 10, 192},
+    {GnssSystem::SBAS, 'S', "SBAS", 58, 100},      // PRN 120-158
+    {GnssSystem::IRNSS, 'I', "IRNSS", 14, 0},
+};
+
+constexpr bool inEnumOrder() {
+  for (int k = 0; k < kNumGnssSystems; ++k)
+    if (static_cast<int>(kSystems[k].system) != k) return false;
+  return true;
+}
+static_assert(inEnumOrder(), "kSystems is indexed by GnssSystem");
+
+const SystemRow* rowOf(GnssSystem system) {
+  const auto k = static_cast<std::size_t>(system);
+  return k < static_cast<std::size_t>(kNumGnssSystems) ? &kSystems[k] : nullptr;
+}
+
+}  // namespace
+
 char systemLetter(GnssSystem system) {
-  switch (system) {
-    case GnssSystem::GPS: return 'G';
-    case GnssSystem::GLONASS: return 'R';
-    case GnssSystem::Galileo: return 'E';
-    case GnssSystem::BeiDou: return 'C';
-    case GnssSystem::QZSS: return 'J';
-    case GnssSystem::SBAS: return 'S';
-    case GnssSystem::IRNSS: return 'I';
-  }
-  return '?';
+  const SystemRow* row = rowOf(system);
+  return row != nullptr ? row->letter : '?';
 }
 
 std::optional<GnssSystem> systemFromLetter(char letter) {
-  switch (letter) {
-    case 'G': return GnssSystem::GPS;
-    case 'R': return GnssSystem::GLONASS;
-    case 'E': return GnssSystem::Galileo;
-    case 'C': return GnssSystem::BeiDou;
-    case 'J': return GnssSystem::QZSS;
-    case 'S': return GnssSystem::SBAS;
-    case 'I': return GnssSystem::IRNSS;
-    default: return std::nullopt;
-  }
+  for (const auto& row : kSystems)
+    if (row.letter == letter) return row.system;
+  return std::nullopt;
 }
 
 std::string_view systemName(GnssSystem system) {
-  switch (system) {
-    case GnssSystem::GPS: return "GPS";
-    case GnssSystem::GLONASS: return "GLONASS";
-    case GnssSystem::Galileo: return "Galileo";
-    case GnssSystem::BeiDou: return "BeiDou";
-    case GnssSystem::QZSS: return "QZSS";
-    case GnssSystem::SBAS: return "SBAS";
-    case GnssSystem::IRNSS: return "IRNSS";
-  }
-  return "unknown";
+  const SystemRow* row = rowOf(system);
+  return row != nullptr ? row->name : "unknown";
 }
 
 int SatelliteId::maxPrn(GnssSystem system) {
-  switch (system) {
-    case GnssSystem::GPS: return 32;
-    case GnssSystem::GLONASS: return 30;  // slots 1-24 in use, spares up to 30
-    case GnssSystem::Galileo: return 36;
-    case GnssSystem::BeiDou: return 65;
-    case GnssSystem::QZSS: return 10;
-    case GnssSystem::SBAS: return 58;     // PRN 120-158
-    case GnssSystem::IRNSS: return 14;
-  }
-  return 0;
+  const SystemRow* row = rowOf(system);
+  return row != nullptr ? row->max_prn : 0;
 }
 
 std::optional<SatelliteId> SatelliteId::parse(std::string_view text) {
@@ -84,8 +88,7 @@ std::optional<SatelliteId> SatelliteId::parse(std::string_view text) {
   }
   if (digits == 0) return std::nullopt;
   // SBAS and QZSS are sometimes written with their full PRN (120-158, 193-202).
-  if (id.system == GnssSystem::SBAS && value >= 100) value -= 100;
-  if (id.system == GnssSystem::QZSS && value >= 193) value -= 192;
+  if (const int offset = rowOf(id.system)->full_prn_offset; offset > 0 && value > offset) value -= offset;
   if (value < 1 || value > maxPrn(id.system)) return std::nullopt;
   id.prn = value;
   return id;

@@ -49,17 +49,23 @@ constexpr std::array<const char*, 32> kIgsBds = {"2I", "2Q", "", "6I", "6Q", "",
                                                  "1P", "", "5D", "5P", "", "1A", "", "", "6A"};
 constexpr std::array<const char*, 32> kIgsSbs = {"1C", "5I", "5Q"};
 
+/// Signal id tables per system: RTCM 10403.3 and IGS-SSR v1.00 (above).
+struct SsrSignalRow {
+  GnssSystem system;
+  const std::array<const char*, 32>* rtcm;
+  const std::array<const char*, 32>* igs;
+};
+constexpr SsrSignalRow kSignalTables[] = {
+    {GnssSystem::GPS, &kRtcmGps, &kIgsGps},     {GnssSystem::GLONASS, &kRtcmGlo, &kIgsGlo},
+    {GnssSystem::Galileo, &kRtcmGal, &kIgsGal}, {GnssSystem::QZSS, &kRtcmQzs, &kIgsQzs},
+    {GnssSystem::SBAS, &kRtcmSbs, &kIgsSbs},    {GnssSystem::BeiDou, &kRtcmBds, &kIgsBds},
+};
+
 const std::array<const char*, 32>& table(GnssSystem system, bool igs) {
   static constexpr std::array<const char*, 32> kNone{};
-  switch (system) {
-    case GnssSystem::GPS: return igs ? kIgsGps : kRtcmGps;
-    case GnssSystem::GLONASS: return igs ? kIgsGlo : kRtcmGlo;
-    case GnssSystem::Galileo: return igs ? kIgsGal : kRtcmGal;
-    case GnssSystem::QZSS: return igs ? kIgsQzs : kRtcmQzs;
-    case GnssSystem::SBAS: return igs ? kIgsSbs : kRtcmSbs;
-    case GnssSystem::BeiDou: return igs ? kIgsBds : kRtcmBds;
-    default: return kNone;
-  }
+  for (const auto& row : kSignalTables)
+    if (row.system == system) return igs ? *row.igs : *row.rtcm;
+  return kNone;
 }
 }  // namespace
 

@@ -6,6 +6,23 @@
 
 namespace ppp {
 
+namespace {
+/// GPST minus the system's time of week, indexed by GnssSystem (header above).
+constexpr std::array<std::optional<double>, kNumGnssSystems> kGpstMinusWeekTime_s = {
+    0.0,              // GPS
+    std::nullopt,     // GLONASS: a time of day, with UTC's leap seconds
+    0.0,              // Galileo GST
+    kGpstMinusBdt_s,  // BeiDou BDT
+    0.0,              // QZSS
+    0.0,              // SBAS (network time steered to GPST)
+    0.0,              // NavIC (IRNWT, week aligned with GPST)
+};
+}  // namespace
+
+std::optional<double> gpstMinusWeekTime_s(GnssSystem system) {
+  return kGpstMinusWeekTime_s[static_cast<std::size_t>(system)];
+}
+
 std::string_view timeSystemCode(TimeSystem system) {
   switch (system) {
     case TimeSystem::GPS: return "GPS";
