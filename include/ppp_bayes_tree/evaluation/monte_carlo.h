@@ -282,6 +282,9 @@ MonteCarloOptions withConfiguration(MonteCarloOptions options, const MonteCarloC
 
 /// The method's published Monte Carlo figures (its Table 3: 3D error over the
 /// first 15 min of its flights, median / mean [cm], as published), printed beside ours.
+/// The method: Watson and Gross (2018), "Evaluation of kinematic precise point
+/// positioning convergence with an incremental graph optimizer", IEEE/ION PLANS 2018,
+/// arXiv:1804.04197.
 struct MethodTableRow {
   const char* estimator;
   double first_window_median_cm, first_window_mean_cm;
