@@ -117,6 +117,16 @@ Eigen::Vector3d enuError(const Eigen::Vector3d& est, const Eigen::Vector3d& trut
   return rotationEnuFromEcef(g.latitude_rad, g.longitude_rad) * (est - truth);
 }
 
+constexpr const char* kUsage =
+    "usage: ppp_sim_error_budget --seed S [--flight I] [--count N] [--profile figure8]\n"
+    "                            [--duration-min 25] [--rate 1] [--config PPP_YAML]\n"
+    "                            [--sim-config SIMULATION_YAML] [--after-min 0]\n"
+    "                            [--scenarios all,none,-thermal,+multipath+phase_breaks,...]\n"
+    "                            [--zwd-truth 1]\n"
+    "Scenarios: \"all\" every term as configured; \"none\" every term off; \"-a-b\" all but a and b;\n"
+    "\"+a+b\" only a and b (terms: thermal, multipath, troposphere, ionosphere, receiver_clock,\n"
+    "ambiguity, phase_breaks, products).\n";
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -126,6 +136,17 @@ int main(int argc, char** argv) {
   double after_min = 0.0;
   std::string scenarios = "all,none";
   bool zwd_truth = false;  // diagnostic: the estimators' ZWD prior = the truth, sigma 1 mm
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    if (a == "-h" || a == "--help") {
+      std::fputs(kUsage, stdout);
+      return 0;
+    }
+  }
+  if ((argc - 1) % 2 != 0) {
+    std::fprintf(stderr, "option %s has no value\n%s", argv[argc - 1], kUsage);
+    return 2;
+  }
   for (int i = 1; i + 1 < argc; i += 2) {
     const std::string a = argv[i], v = argv[i + 1];
     if (a == "--seed") options.seed = std::strtoull(v.c_str(), nullptr, 10);
@@ -140,7 +161,7 @@ int main(int argc, char** argv) {
     else if (a == "--zwd-truth") zwd_truth = v == "1";
     else if (a == "--after-min") after_min = std::atof(v.c_str());
     else {
-      std::cerr << "unknown option " << a << "\n";
+      std::cerr << "unknown option " << a << "\n" << kUsage;
       return 2;
     }
   }
