@@ -1,18 +1,39 @@
 #pragma once
-// Messages for the tests of the node's parts (test_node_*.cpp), built field by field.
+// Messages and a warning sink for the tests of the node's parts (test_node_*.cpp), built field by field.
 #include <cmath>
 #include <cstdint>
 #include <limits>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include <boost/make_shared.hpp>
 
 #include "ppp_bayes_tree/GnssObservations.h"
 #include "ppp_bayes_tree/PreciseCorrections.h"
 #include "ppp_bayes_tree/ros/message_conversions.h"
+#include "ppp_bayes_tree/ros/throttled_warnings.h"
 #include "ppp_bayes_tree/types/gnss_time.h"
 
 namespace node_test {
+
+/// The warnings a part would log, in order.
+struct Warnings {
+  std::vector<std::pair<std::string, std::string>> logged;
+  ppp_ros::WarningSink sink() {
+    return [this](const std::string& c, const std::string& t) { logged.emplace_back(c, t); };
+  }
+  bool has(const std::string& category, const std::string& text_part) const {
+    for (const auto& [c, t] : logged)
+      if (c == category && t.find(text_part) != std::string::npos) return true;
+    return false;
+  }
+};
+
+/// A sink for warnings a test does not look at.
+inline ppp_ros::WarningSink ignoreWarnings() {
+  return [](const std::string&, const std::string&) {};
+}
 
 /// 2026-05-13 00:00:00 GPST (GPS week 2418, Wednesday).
 inline ppp::GnssTime day() { return ppp::GnssTime::fromCalendar({2026, 5, 13, 0, 0, 0.0}); }

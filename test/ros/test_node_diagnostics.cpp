@@ -23,10 +23,6 @@ using ppp_ros::NodeDiagnostics;
 using ppp_ros::NodeInputs;
 using ppp_ros::NodeOutputs;
 
-ppp_ros::WarningSink ignore() {
-  return [](const std::string&, const std::string&) {};
-}
-
 std::optional<std::string> value(const DiagnosticStatusWrapper& s, const std::string& key) {
   for (const auto& kv : s.values)
     if (kv.key == key) return kv.value;
@@ -51,8 +47,8 @@ void correct(NodeInputs& in, const ppp::GnssTime& t, std::uint32_t seq, const ro
 
 TEST(NodeDiagnostics, InputsWarnWithoutObservationsAndOnLossesSinceTheLastReport) {
   ppp_ros::RosNodeOptions o;
-  NodeInputs in(o, ignore());
-  NodeOutputs out(o, ignore());
+  NodeInputs in(o, node_test::ignoreWarnings());
+  NodeOutputs out(o, node_test::ignoreWarnings());
   NodeDiagnostics diagnostics(o, kStart);
   DiagnosticStatusWrapper s0;
   diagnostics.inputs(s0, in, out.attitudeCounters(), kStart + ros::WallDuration(1.0));
@@ -83,8 +79,8 @@ TEST(NodeDiagnostics, InputsWarnWithoutObservationsAndOnLossesSinceTheLastReport
 TEST(NodeDiagnostics, InputsWarnBelowHalfTheExpectedRate) {
   ppp_ros::RosNodeOptions o;
   o.expected_observation_rate_hz = 10.0;
-  NodeInputs in(o, ignore());
-  NodeOutputs out(o, ignore());
+  NodeInputs in(o, node_test::ignoreWarnings());
+  NodeOutputs out(o, node_test::ignoreWarnings());
   NodeDiagnostics diagnostics(o, kStart);
   for (std::uint32_t k = 0; k < 4; ++k) observe(in, day() + k, k + 1);
   DiagnosticStatusWrapper s;
@@ -97,7 +93,7 @@ TEST(NodeDiagnostics, CorrectionsLevelsFollowTheStaleThresholds) {
   ppp_ros::RosNodeOptions o;  // stale WARN 60 s, ERROR 180 s; late arrival WARN 10 s
   NodeDiagnostics diagnostics(o, kStart);
   {
-    NodeInputs in(o, ignore());
+    NodeInputs in(o, node_test::ignoreWarnings());
     DiagnosticStatusWrapper s;
     diagnostics.corrections(s, in);
     EXPECT_EQ(s.level, DiagnosticStatus::WARN);
@@ -113,7 +109,7 @@ TEST(NodeDiagnostics, CorrectionsLevelsFollowTheStaleThresholds) {
                         Case{100.0, DiagnosticStatus::WARN, "corrections stale: observations 100 s ahead of the newest batch"},
                         Case{200.0, DiagnosticStatus::ERROR,
                              "corrections stopped: observations 200 s ahead of the newest batch " + t.toString()}}) {
-    NodeInputs in(o, ignore());
+    NodeInputs in(o, node_test::ignoreWarnings());
     correct(in, t, 1, ppp_ros::utcStamp(t));  // arrives at its own stamp: age 0
     observe(in, t + c.observations_ahead_s, 1, ppp_ros::utcStamp(t));
     DiagnosticStatusWrapper s;
@@ -123,7 +119,7 @@ TEST(NodeDiagnostics, CorrectionsLevelsFollowTheStaleThresholds) {
     EXPECT_EQ(value(s, "batches held"), "1");
   }
   // Current but arriving 15 s after their stamp: late.
-  NodeInputs in(o, ignore());
+  NodeInputs in(o, node_test::ignoreWarnings());
   correct(in, t, 1, ppp_ros::utcStamp(t) + ros::Duration(15.0));
   DiagnosticStatusWrapper s;
   diagnostics.corrections(s, in);
@@ -134,8 +130,8 @@ TEST(NodeDiagnostics, CorrectionsLevelsFollowTheStaleThresholds) {
 TEST(NodeDiagnostics, SolutionReportsTheLastStatus) {
   ppp_ros::RosNodeOptions o;
   o.estimator = "ekf";
-  NodeInputs in(o, ignore());
-  NodeOutputs out(o, ignore());
+  NodeInputs in(o, node_test::ignoreWarnings());
+  NodeOutputs out(o, node_test::ignoreWarnings());
   NodeDiagnostics diagnostics(o, kStart);
   DiagnosticStatusWrapper s0;
   diagnostics.solution(s0, in, out, nullptr, 0);
@@ -175,7 +171,7 @@ TEST(NodeDiagnostics, SolutionReportsTheLastStatus) {
 TEST(NodeDiagnostics, AmbiguityResolutionLevels) {
   // doc/ros_ambiguity_resolution.md: OK "float: ..." / "fixed (N held)", WARN without phase information.
   ppp_ros::RosNodeOptions o;
-  NodeOutputs out(o, ignore());
+  NodeOutputs out(o, node_test::ignoreWarnings());
   NodeDiagnostics diagnostics(o, kStart);
   ppp::StreamBiasProvider provider(900.0);
   const ppp_ros::PhaseBiasChoice with{&provider, "stream phase biases"};
@@ -205,7 +201,7 @@ TEST(NodeDiagnostics, AmbiguityResolutionLevels) {
 
 TEST(NodeDiagnostics, LiveStreamsWarnBeforeTheFirstEpochAndOnBroadcastFallback) {
   ppp_ros::RosNodeOptions o;
-  NodeInputs in(o, ignore());
+  NodeInputs in(o, node_test::ignoreWarnings());
   in.startLive(o.live_input);
   NodeDiagnostics diagnostics(o, kStart);
   const std::vector<std::unique_ptr<ppp_ros::GnssStreamSubscriber>> no_subscribers;

@@ -15,20 +15,8 @@ namespace {
 using node_test::corrections;
 using node_test::day;
 using node_test::observations;
+using node_test::Warnings;
 using ppp_ros::NodeInputs;
-
-/// The warnings a part would log, in order.
-struct Warnings {
-  std::vector<std::pair<std::string, std::string>> logged;
-  ppp_ros::WarningSink sink() {
-    return [this](const std::string& c, const std::string& t) { logged.emplace_back(c, t); };
-  }
-  bool has(const std::string& category, const std::string& text_part) const {
-    for (const auto& [c, t] : logged)
-      if (c == category && t.find(text_part) != std::string::npos) return true;
-    return false;
-  }
-};
 
 const ros::Time kArrival(1778630400.0);
 

@@ -22,10 +22,6 @@ using node_test::equator;
 using node_test::solvedRecord;
 using ppp_ros::NodeOutputs;
 
-ppp_ros::WarningSink ignore() {
-  return [](const std::string&, const std::string&) {};
-}
-
 /// Phase information from a provider (only its presence matters to the outputs).
 struct WithPhaseBiases {
   ppp::StreamBiasProvider provider{900.0};
@@ -73,7 +69,7 @@ TEST(NodeOutputs, SolutionStateFromTheSigmasAndThresholds) {
 }
 
 TEST(NodeOutputs, FixedEpochGivesTheStatusFixFieldsAndGbasFix) {
-  NodeOutputs out(ppp_ros::RosNodeOptions{}, ignore());
+  NodeOutputs out(ppp_ros::RosNodeOptions{}, node_test::ignoreWarnings());
   WithPhaseBiases phase;
   out.setDatum(equator());
   ppp_bayes_tree::PppStatus counters;
@@ -122,7 +118,7 @@ TEST(NodeOutputs, FixedEpochGivesTheStatusFixFieldsAndGbasFix) {
 }
 
 TEST(NodeOutputs, FloatReasonSaysWhyWithoutPhaseInformation) {
-  NodeOutputs out(ppp_ros::RosNodeOptions{}, ignore());
+  NodeOutputs out(ppp_ros::RosNodeOptions{}, node_test::ignoreWarnings());
   out.setDatum(equator());
   const ppp::PppEpochRecord rec = solvedRecord(day(), equator(), false);
   const auto off = out.epochStatus(day(), rec, {}, {}, {nullptr, "ambiguity resolution off"}, false);
@@ -159,7 +155,7 @@ TEST(NodeOutputs, LateCorrectionsAreCountedInTheStatusAndWarned) {
 
 TEST(NodeOutputs, SolutionGoesToOdometryPathAndTf) {
   ppp_ros::RosNodeOptions o;
-  NodeOutputs out(o, ignore());
+  NodeOutputs out(o, node_test::ignoreWarnings());
   EXPECT_FALSE(out.filteredPath());
   // The map datum at the first fix: earth -> map rotates map east onto ECEF +Y there.
   const geometry_msgs::TransformStamped datum = out.setDatum(equator());
@@ -209,7 +205,7 @@ TEST(NodeOutputs, AttitudeMovesBaseLinkByTheLeverArm) {
   ppp_ros::RosNodeOptions o;
   o.attitude_topic = "imu";
   o.antenna_lever_arm_m = Eigen::Vector3d(0.0, 0.0, 1.0);  // antenna 1 m above base_link
-  NodeOutputs out(o, ignore());
+  NodeOutputs out(o, node_test::ignoreWarnings());
   out.setDatum(equator());
   sensor_msgs::Imu imu;
   imu.header.stamp = ppp_ros::utcStamp(day());
@@ -245,7 +241,7 @@ TEST(NodeOutputs, SmoothedUpdateRewritesThePath) {
   const ppp::SmoothedTrajectoryProvider& smoother = *estimator.smoothing();
 
   ppp_ros::RosNodeOptions o;
-  NodeOutputs out(o, ignore());
+  NodeOutputs out(o, node_test::ignoreWarnings());
   std::vector<ros::Time> smoothed_stamps;
   std::size_t solved = 0;
   Eigen::Vector3d datum = Eigen::Vector3d::Zero();
