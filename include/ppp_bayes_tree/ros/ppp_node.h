@@ -55,18 +55,16 @@
 // Service:    set_datum (SetDatum).
 // Parameters: the whole private namespace = config/ppp.yaml (core sections +
 //             `ros:`), loaded strictly at start-up (loadNodeConfig).
-#include <array>
-#include <deque>
-#include <map>
+// Parts:     node_inputs.h (messages -> core types, time guard, correction gate,
+//             header.seq gaps, live input), node_outputs.h (status, odometry, fix, TF,
+//             paths, smoothed outputs and file), node_diagnostics.h (/diagnostics).
+//             The node keeps the set-up and the per-epoch call.
 #include <memory>
 #include <optional>
 #include <string>
+#include <vector>
 
-#include <Eigen/Geometry>
 #include <diagnostic_updater/diagnostic_updater.h>
-#include <geometry_msgs/Pose.h>
-#include <nav_msgs/Path.h>
-#include <nav_msgs/Odometry.h>
 #include <ros/ros.h>
 #include <sensor_msgs/Imu.h>
 #include <tf2_ros/buffer.h>
@@ -78,21 +76,17 @@
 #include "ppp_bayes_tree/PppStatus.h"
 #include "ppp_bayes_tree/PreciseCorrections.h"
 #include "ppp_bayes_tree/SetDatum.h"
-#include "ppp_bayes_tree/app/live_gnss_input.h"
-#include "ppp_bayes_tree/io/bias_sinex_reader.h"
-#include "ppp_bayes_tree/evaluation/lagged_trajectory_output.h"
-#include "ppp_bayes_tree/ppp/correction_gate.h"
-#include "ppp_bayes_tree/ppp/product_assembly.h"
-#include "ppp_bayes_tree/models/correction_buffer.h"
-#include "ppp_bayes_tree/models/stream_bias_provider.h"
 #include "ppp_bayes_tree/ppp/epoch_estimator.h"
-#include "ppp_bayes_tree/io/epoch_time_guard.h"
 #include "ppp_bayes_tree/ppp/ppp_config.h"
 #include "ppp_bayes_tree/ppp/ppp_epoch_processor.h"
+#include "ppp_bayes_tree/ppp/product_assembly.h"
 #include "ppp_bayes_tree/ros/gnss_stream_subscriber.h"
-#include "ppp_bayes_tree/ros/message_conversions.h"
+#include "ppp_bayes_tree/ros/node_diagnostics.h"
+#include "ppp_bayes_tree/ros/node_inputs.h"
 #include "ppp_bayes_tree/ros/node_options.h"
+#include "ppp_bayes_tree/ros/node_outputs.h"
 #include "ppp_bayes_tree/ros/sim_clock_watch.h"
+#include "ppp_bayes_tree/ros/throttled_warnings.h"
 
 namespace ppp_ros {
 
@@ -104,10 +98,6 @@ struct NodeConfig {
 };
 NodeConfig loadNodeConfig(const ros::NodeHandle& private_nh);
 
-/// Solution state of one epoch from the position sigmas (ENU) and thresholds.
-std::uint8_t solutionState(bool solved, const Eigen::Vector3d& sigma_enu_m, const RosNodeOptions& options);
-std::string solutionStateText(std::uint8_t state);
-
 class PppNode {
  public:
   /// Throws std::runtime_error / ppp::ConfigError with a clear message on a
@@ -117,115 +107,63 @@ class PppNode {
   ~PppNode();
 
  private:
-  struct Attitude {
-    ros::Time stamp;
-    Eigen::Quaterniond q_map_base = Eigen::Quaterniond::Identity();
-    std::array<double, 9> covariance{};  // orientation covariance of the Imu message [rad^2]
-  };
-  /// base_link pose in the map frame for an antenna position (ENU) at `stamp`.
-  struct BodyPose {
-    Eigen::Vector3d position_m = Eigen::Vector3d::Zero();
-    Eigen::Quaterniond q_map_base = Eigen::Quaterniond::Identity();
-    const Attitude* attitude = nullptr;  // the attitude applied, if any
-    geometry_msgs::Pose toMsg() const;
-  };
-  /// A correction batch and its satellite biases for ambiguity resolution (one message).
-  struct CorrectionInput {
-    ppp::CorrectionBatch batch;
-    ppp::SatelliteBiasBatch biases;
-  };
-  /// Where the phase information for ambiguity resolution comes from (provider
-  /// nullptr: none, with the reason in `source`).
-  struct PhaseBiasChoice {
-    const ppp::BiasProvider* provider = nullptr;
-    std::string source;
-  };
-  struct Pending {
-    ppp_bayes_tree::GnssObservations::ConstPtr msg;
-    ppp::GnssTime time;
-    ros::Time arrival;
-  };
+  // set-up
+  void assembleProducts();
+  void subscribe();
+  void advertise();
+  void addDiagnostics();
+  void logStart() const;
+  void startLiveInput();
+  /// At start (smoother node): full smoother = warn what it costs; fixed lag = where the states go.
+  void announceSmootherCost() const;
+  // inputs
   void onObservations(const ros::MessageEvent<ppp_bayes_tree::GnssObservations const>& event);
   void onCorrections(const ros::MessageEvent<ppp_bayes_tree::PreciseCorrections const>& event);
-  /// An observation epoch whose stamp the time guard accepted: to the correction gate.
-  void acceptObservation(Pending p);
-  /// A correction batch whose stamp the time guard accepted: to the buffer.
-  void acceptCorrections(CorrectionInput input);
-  /// Clears the buffer on a confirmed jump back, then adds the released batches.
-  void applyCorrectionOutcome(ppp::EpochTimeGuard<CorrectionInput>::Outcome& outcome);
-  /// Observations ahead of the corrections [s] (data time or ROS arrival time, the larger).
-  std::optional<double> correctionsStale_s() const;
-  void onAttitude(const sensor_msgs::Imu::ConstPtr& msg);
+  void onStreamChunk(ppp::StreamChunk&& chunk);
   void onTimer(const ros::TimerEvent&);
+  void drain();
+  void drainLive();
+  void processLiveEpoch(const ppp::LiveReadyEpoch& ready);
+  // the epoch
+  /// One epoch through the processor and out (both inputs).
+  void processObsEpoch(const ppp::ObsEpoch& epoch);
+  void startProcessor();
+  EpochFigures epochFigures(const ppp::ObsEpoch& epoch, const ppp::PppEpochRecord& rec, double update_s) const;
+  void publishSolution(const ppp::GnssTime& time, const ppp::PppEpochRecord& rec,
+                       const ppp_bayes_tree::PppStatus& status);
+  void publishEmptyEpoch(const ppp::GnssTime& time);
+  void resetEstimator(const std::string& why);
+  // outputs on timers and services
   void onPathTimer(const ros::TimerEvent&);
   void onSmoothedPathTimer(const ros::TimerEvent&);
   bool onSetDatum(ppp_bayes_tree::SetDatum::Request& req, ppp_bayes_tree::SetDatum::Response& res);
-  void drain();
-  void processEpoch(const Pending& p);
-  /// One epoch through the processor and out (both inputs).
-  void processObsEpoch(const ppp::ObsEpoch& epoch);
-  // live input (ros.live)
-  void startLiveInput();
-  void onStreamChunk(ppp::StreamChunk&& chunk);
-  void drainLive();
-  void processLiveEpoch(const ppp::LiveReadyEpoch& ready);
-  void diagnoseLive(diagnostic_updater::DiagnosticStatusWrapper& s);
-  void publishSolution(const ppp::PppEpochRecord& rec, const ppp_bayes_tree::PppStatus& status);
-  void publishSmoothedOdometry(const ppp::GnssTime& newest);
-  void attachAttitude(const ros::Time& stamp);
-  BodyPose bodyPose(const Eigen::Vector3d& antenna_enu_m, const ros::Time& stamp) const;
-  nav_msgs::Odometry odometry(const ros::Time& stamp, const BodyPose& pose, const Eigen::Matrix3d& cov_enu_m2) const;
+  void setDatum(const Eigen::Vector3d& position_ecef_m);
   /// The smoothed trajectory when the estimator smooths (nullptr for the EKF).
   const ppp::SmoothedTrajectoryProvider* smoother() const { return estimator_->smoothing(); }
-  void setDatum(const Eigen::Vector3d& position_ecef_m);
-  void resetEstimator(const std::string& why);
-  /// At start (smoother node): full smoother = warn what it costs; fixed lag = where the states go.
-  void announceSmootherCost() const;
-  /// Hands the live feed's SSR phase biases to the product assembly's PPP-AR gate;
-  /// true when the processor must get the new phaseBiases().
-  bool acceptLivePhaseBiases();
-  void startProcessor();
-  void warn(const std::string& category, const std::string& text);
-  void diagnoseInputs(diagnostic_updater::DiagnosticStatusWrapper& s);
-  void diagnoseCorrections(diagnostic_updater::DiagnosticStatusWrapper& s);
-  void diagnoseSolution(diagnostic_updater::DiagnosticStatusWrapper& s);
   // ambiguity resolution (ambiguity_resolution.enabled)
-  PhaseBiasChoice choosePhaseBiases();
-  /// At the first correction batch: its systems, clock centre and antenna model to the assembly.
-  void declareStreamedProducts(const ppp_bayes_tree::PreciseCorrections& msg, const ppp::CorrectionBatch& batch);
   bool arEnabled() const { return products_.arGate().mode != ppp::AmbiguityResolutionMode::Off; }
   /// Hands the processor the phase information of this epoch; logs when it changes.
   void updatePhaseBiases();
-  /// The fix state fields of the status from the epoch's record.
-  void setFixState(const ppp::PppEpochRecord& rec, bool solved, ppp_bayes_tree::PppStatus& s);
-  void diagnoseAmbiguities(diagnostic_updater::DiagnosticStatusWrapper& s);
 
   ros::NodeHandle nh_, pnh_;
   NodeConfig config_;
+  ThrottledWarnings warnings_;
+  NodeInputs inputs_;
+  NodeOutputs outputs_;
+  NodeDiagnostics diagnosis_;
   ppp::ProductAssembly products_;  // ANTEX, Bias-SINEX, BLQ, the systems and the PPP-AR gate (core)
-  std::optional<ppp::OceanLoadingCoefficients> ocean_;
-  ppp::CorrectionBuffer corrections_;
   std::unique_ptr<ppp::EpochEstimator> estimator_;
   std::unique_ptr<ppp::PppEpochProcessor> processor_;
-  ppp::RinexObsHeader layout_;
-  bool layout_changed_ = false;
-  ppp::CorrectionGate<Pending> gate_;  // epochs waiting for covering corrections
-  // Time stamps (epoch_time_guard.h): an isolated bad stamp is dropped, a sustained jump back resets.
-  ppp::EpochTimeGuard<Pending> obs_guard_;
-  ppp::EpochTimeGuard<CorrectionInput> corr_guard_;
-  std::optional<ppp::GnssTime> last_output_time_;  // newest epoch published (outputs never go back)
-  std::string last_time_drop_;                     // the last stamp dropped, with the reason (diagnostics)
-  // Messages lost before the node: gaps in header.seq, per publisher (roscpp numbers each
-  // publication's messages; a subscriber or publisher queue overflow leaves a gap).
-  std::map<std::string, std::uint32_t> obs_seq_, corr_seq_;
-  std::optional<ros::Time> last_obs_arrival_, last_corr_arrival_;
-  std::optional<ppp::GnssTime> last_received_;  // newest observation epoch received
-
-  // datum of the map frame
-  std::optional<Eigen::Vector3d> datum_ecef_m_;
-  Eigen::Matrix3d ecef_to_enu_ = Eigen::Matrix3d::Identity();
+  const ppp::BiasProvider* processor_biases_ = nullptr;  // the bias provider the processor was made with
+  std::optional<ppp::GnssTime> last_output_time_;        // newest epoch published (outputs never go back)
+  std::size_t estimator_restarts_ = 0;  // after a failed update (the core restarts; counted here)
+  double estimator_cpu_s_ = 0.0;        // thread CPU time in PppEpochProcessor::process
+  // ambiguity resolution: the phase information in use (its source text)
+  PhaseBiasChoice phase_biases_;
+  bool phase_bias_logged_ = false;
 
   ros::Subscriber obs_sub_, corr_sub_, attitude_sub_;
+  std::vector<std::unique_ptr<GnssStreamSubscriber>> stream_subs_;  // live input
   ros::Publisher odom_pub_, fix_pub_, status_pub_, path_pub_;
   ros::Publisher smoothed_odom_pub_, smoothed_path_pub_;  // smoother node only
   ros::ServiceServer datum_srv_;
@@ -236,66 +174,6 @@ class PppNode {
   tf2_ros::TransformListener tf_listener_;
   diagnostic_updater::Updater diagnostics_;
   std::unique_ptr<SimClockWatch> sim_clock_watch_;  // says so while /use_sim_time waits for /clock
-  nav_msgs::Path path_;
-
-  // attitude (lever arm): the newest message, and the one applied to each epoch (by stamp)
-  std::optional<Attitude> attitude_;
-  std::map<ros::Time, Attitude> attitude_of_epoch_;
-  bool lever_arm_note_logged_ = false;
-  std::size_t attitude_received_ = 0, attitude_invalid_ = 0, epochs_without_attitude_ = 0;
-
-  // smoother outputs
-  std::optional<std::uint32_t> last_smoothed_index_;  // newest state published on ppp/odometry/smoothed
-  bool smoothed_path_stale_ = false;                   // epochs processed since the last path re-read
-  std::optional<ppp::SmootherEpochDiagnostics> last_smoother_;  // of the last processed epoch
-  std::size_t estimator_restarts_ = 0;                 // after a failed update (the core restarts; counted here)
-  double smoothed_path_read_s_ = 0.0, smoothed_path_read_max_s_ = 0.0;
-  std::size_t smoothed_path_poses_ = 0;
-  // Fixed lag (bounded memory): the states past the lag go to this output
-  // (ros.smoothed.trajectory_csv, and the newest path_max_poses for ppp/path/smoothed);
-  // the smoother keeps only its window.
-  std::unique_ptr<ppp::LaggedTrajectoryOutput> lagged_output_;
-  /// The lagged output's smoother (nullptr: not a fixed-lag smoother).
-  ppp::PppSmoother* laggedSmoother();
-  void attachLaggedOutput();
-
-  // counters and figures
-  ppp_bayes_tree::PppStatus counters_;  // the counter fields only
-  ppp_bayes_tree::PppStatus last_status_;
-  bool have_status_ = false;
-  std::size_t obs_received_ = 0, corr_received_ = 0, obs_at_last_diag_ = 0, corr_at_last_diag_ = 0;
-  std::size_t lost_at_last_diag_ = 0;  // messages lost (both topics) at the last inputs diagnostic
-  ros::WallTime last_diag_time_;
-  double last_correction_age_s_ = std::numeric_limits<double>::quiet_NaN();
-  ConversionIssues issues_;
-  std::map<std::string, ros::WallTime> last_warning_;
-
-  // ambiguity resolution: the corrections' satellite biases, the phase information in
-  // use (its source text), and the fix figures since the start or the last reset
-  ppp::StreamBiasProvider stream_biases_;
-  ppp::PhaseInformation stream_bias_kind_ = ppp::PhaseInformation::None;  // what the batches declare
-  bool streamed_declared_ = false;
-  PhaseBiasChoice phase_biases_;
-  bool phase_bias_logged_ = false;
-  std::uint32_t epochs_fixed_ = 0, ambiguity_releases_ = 0;
-  std::optional<ppp::GnssTime> first_solved_, first_fixed_;
-
-  // live input (ros.live): the subscribers feed live_; its ephemeris replaces corrections_
-  std::unique_ptr<ppp::LiveGnssInput> live_;
-  std::vector<std::unique_ptr<GnssStreamSubscriber>> stream_subs_;
-  std::uint8_t product_mode_ = ppp_bayes_tree::PppStatus::PRODUCTS_PRECISE;  // of the epoch being processed
-  std::string product_mode_text_ = "precise products";
-  const ppp::BiasProvider* processor_biases_ = nullptr;  // the bias provider the processor was made with
-  std::size_t live_receiver_restarts_ = 0;  // resets after the observation time went back
-  // Cost figures of the live path (diagnostics "live streams"; scripts/bench_live_realtime.sh):
-  // thread CPU time in LiveGnssInput (feed: framing + decoding; takeReadyEpochs: release),
-  // in the estimator (PppEpochProcessor::process, every input), and the in-node latency
-  // (subscriber callback of the chunk completing an epoch -> its solution published, ROS
-  // clock; time waiting in the subscriber queue is not in it) of the last kLatencyWindow
-  // epochs (bounded).
-  static constexpr std::size_t kLatencyWindow = 1000;
-  double live_decode_cpu_s_ = 0.0, estimator_cpu_s_ = 0.0;
-  std::deque<double> live_latency_s_;
 };
 
 }  // namespace ppp_ros

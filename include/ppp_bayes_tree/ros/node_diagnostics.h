@@ -1,0 +1,52 @@
+#pragma once
+// The ROS node's diagnostics (ppp_node.h, /diagnostics): the tasks "inputs",
+// "corrections" (or "live streams" on the live input), "solution" and "ambiguity
+// resolution", each filling a DiagnosticStatusWrapper from the counters and state of
+// the node's inputs (node_inputs.h) and outputs (node_outputs.h). Levels: ERROR when
+// the corrections stopped (observations ahead by more than the ERROR threshold) or an
+// observation stream stalled past its ERROR threshold; WARN for losses, stale or late
+// corrections, no input yet, no solution, a float solution without phase information.
+#include <memory>
+#include <vector>
+
+#include <diagnostic_updater/DiagnosticStatusWrapper.h>
+#include <ros/time.h>
+
+#include "ppp_bayes_tree/ros/gnss_stream_subscriber.h"
+#include "ppp_bayes_tree/ros/node_inputs.h"
+#include "ppp_bayes_tree/ros/node_outputs.h"
+#include "ppp_bayes_tree/ros/node_options.h"
+
+namespace ppp_ros {
+
+class NodeDiagnostics {
+ public:
+  /// `start`: the wall time the first input rate is counted from.
+  NodeDiagnostics(const RosNodeOptions& options, ros::WallTime start);
+
+  /// "inputs": messages and rates since the last report (wall clock `now`), stamps dropped,
+  /// resets, messages lost before the node, the attitude source.
+  void inputs(diagnostic_updater::DiagnosticStatusWrapper& s, const NodeInputs& in, const AttitudeCounters& attitude,
+              ros::WallTime now);
+  /// "corrections" (topic input): the buffer, the batches' age and how far the observations are ahead.
+  void corrections(diagnostic_updater::DiagnosticStatusWrapper& s, const NodeInputs& in) const;
+  /// "solution": the last status; the smoother's figures when `smoother` is not nullptr.
+  void solution(diagnostic_updater::DiagnosticStatusWrapper& s, const NodeInputs& in, const NodeOutputs& out,
+                const ppp::SmoothedTrajectoryProvider* smoother, std::size_t estimator_restarts) const;
+  /// "live streams" (live input): product mode, cost figures, each subscriber and stream
+  /// (`now_s`: ROS time, the clock of the chunks' arrival).
+  void live(diagnostic_updater::DiagnosticStatusWrapper& s, const NodeInputs& in,
+            const std::vector<std::unique_ptr<GnssStreamSubscriber>>& subscribers, double estimator_cpu_s,
+            double now_s) const;
+  /// "ambiguity resolution": the phase information and the fix figures.
+  void ambiguities(diagnostic_updater::DiagnosticStatusWrapper& s, bool enabled, const PhaseBiasChoice& phase,
+                   const NodeOutputs& out) const;
+
+ private:
+  RosNodeOptions options_;
+  std::size_t obs_at_last_diag_ = 0, corr_at_last_diag_ = 0;
+  std::size_t lost_at_last_diag_ = 0;  // messages lost (both topics) at the last inputs diagnostic
+  ros::WallTime last_diag_time_;
+};
+
+}  // namespace ppp_ros
