@@ -34,6 +34,7 @@
 #include <vector>
 
 #include "ppp_bayes_tree/evaluation/position_error_statistics.h"
+#include "ppp_bayes_tree/ppp/estimator_registry.h"
 #include "ppp_bayes_tree/ppp/ppp_pipeline.h"
 
 namespace ppp {
@@ -41,7 +42,7 @@ namespace ppp {
 struct PppSolveRequest {
   PppInputFiles files;
   PppConfig config;
-  std::string estimator = "ekf";
+  std::string estimator = std::string(kDefaultEstimator);  // a registered name or "both" (estimator_registry.h)
   std::optional<Eigen::Vector3d> truth_ecef_m;
   /// A moving truth instead (a simulated flight's true antenna path, e.g.
   /// TruthTrajectory::at of app/replay_report.h): the truth at an epoch, nullopt
