@@ -352,6 +352,9 @@ class AmbiguityResolver {
   /// observation or no phase bias).
   std::optional<PairRow> rowOf(const PairKey& key, int dim, const std::map<ArcId, int>& slot,
                                const BiasProvider* biases) const;
+  /// The rows of the wide-lane fixed single differences of `per_system` (resolve()).
+  std::vector<PairRow> wideLaneFixedRows(const std::vector<WideLaneResolution>& per_system, int dim,
+                                         const std::map<ArcId, int>& slot, const BiasProvider* biases) const;
   /// The wide lanes of each system among the `slot` arcs against that system's
   /// best-determined arc (resolve()).
   std::vector<WideLaneResolution> wideLanesPerSystem(const std::map<ArcId, int>& slot) const;

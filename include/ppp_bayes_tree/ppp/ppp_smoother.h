@@ -261,6 +261,9 @@ class PppSmoother : public PppEstimatorBase, public SmoothedTrajectoryProvider {
 
   /// A new, empty iSAM2 (or fixed-lag smoother).
   void newGraph();
+  /// Before a restart: the old states keep the current estimate when it is still
+  /// readable and finite (their smoothed values), else their last estimate.
+  void keepReadableEstimates();
   /// Hands the oldest states no longer in the graph to the sink (with a sink).
   void releaseLeftStates();
   /// One update that adds and/or removes factors (no new variables), newest state

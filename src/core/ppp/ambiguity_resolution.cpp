@@ -214,6 +214,14 @@ std::vector<GnssSystem> systemsOfArcs(const std::map<ArcId, int>& slot, const Sy
   return systems;
 }
 
+/// An arc high enough to be fixed: no elevations given, no minimum, or its
+/// elevation at least min_elevation_rad.
+bool highEnoughToFix(ArcId arc, const std::map<ArcId, double>* elevation_rad, double min_elevation_rad) {
+  if (!elevation_rad || min_elevation_rad <= 0.0) return true;
+  const auto e = elevation_rad->find(arc);
+  return e != elevation_rad->end() && e->second >= min_elevation_rad;
+}
+
 /// Each system's reference and wide-lane counts into the summary.
 void recordWideLanes(const std::vector<WideLaneResolution>& per_system, AmbiguityFixSummary& summary) {
   for (const WideLaneResolution& wl : per_system) {
@@ -266,6 +274,19 @@ std::vector<WideLaneResolution> AmbiguityResolver::wideLanesPerSystemKeepingRefe
   return out;
 }
 
+std::vector<AmbiguityResolver::PairRow> AmbiguityResolver::wideLaneFixedRows(
+    const std::vector<WideLaneResolution>& per_system, int dim, const std::map<ArcId, int>& slot,
+    const BiasProvider* biases) const {
+  std::vector<PairRow> rows;
+  for (const WideLaneResolution& wl : per_system)
+    for (const WideLaneFix& f : wl.arcs) {
+      if (!f.fixed) continue;
+      if (auto row = rowOf(PairKey{f.arc, *wl.reference_arc, f.integer_cycles}, dim, slot, biases))
+        rows.push_back(std::move(*row));
+    }
+  return rows;
+}
+
 std::optional<AmbiguityFixedState> AmbiguityResolver::resolve(const Eigen::VectorXd& x, const Eigen::MatrixXd& P,
                                                               int receiver_dim, const std::vector<ArcId>& bias_arcs,
                                                               const BiasProvider* biases,
@@ -277,27 +298,14 @@ std::optional<AmbiguityFixedState> AmbiguityResolver::resolve(const Eigen::Vecto
     summary.float_reason = AmbiguityFloatReason::NoConsistentPhaseBiases;
     return std::nullopt;
   }
-  auto highEnough = [&](ArcId arc) {
-    if (!elevation_rad || options_.min_elevation_rad <= 0.0) return true;
-    const auto e = elevation_rad->find(arc);
-    return e != elevation_rad->end() && e->second >= options_.min_elevation_rad;
-  };
   std::map<ArcId, int> slot;
   for (std::size_t i = 0; i < bias_arcs.size(); ++i)
-    if (highEnough(bias_arcs[i])) slot[bias_arcs[i]] = receiver_dim + static_cast<int>(i);
+    if (highEnoughToFix(bias_arcs[i], elevation_rad, options_.min_elevation_rad))
+      slot[bias_arcs[i]] = receiver_dim + static_cast<int>(i);
   const std::vector<WideLaneResolution> per_system = wideLanesPerSystem(slot);
   recordWideLanes(per_system, summary);
   const int dim = static_cast<int>(x.size());
-  std::vector<Eigen::RowVectorXd> rows;
-  std::vector<double> offsets;
-  for (const WideLaneResolution& wl : per_system)
-    for (const WideLaneFix& f : wl.arcs) {
-      if (!f.fixed) continue;
-      const auto row = rowOf(PairKey{f.arc, *wl.reference_arc, f.integer_cycles}, dim, slot, biases);
-      if (!row) continue;
-      rows.push_back(row->d);
-      offsets.push_back(row->offset);
-    }
+  const std::vector<PairRow> rows = wideLaneFixedRows(per_system, dim, slot, biases);
   if (per_system.empty()) {
     summary.float_reason = AmbiguityFloatReason::NoWideLaneReference;
     return std::nullopt;
@@ -310,7 +318,7 @@ std::optional<AmbiguityFixedState> AmbiguityResolver::resolve(const Eigen::Vecto
   }
   Eigen::MatrixXd D(m, dim);
   Eigen::VectorXd o(m);
-  for (int i = 0; i < m; ++i) D.row(i) = rows[static_cast<std::size_t>(i)], o(i) = offsets[static_cast<std::size_t>(i)];
+  for (int i = 0; i < m; ++i) D.row(i) = rows[static_cast<std::size_t>(i)].d, o(i) = rows[static_cast<std::size_t>(i)].offset;
   const Eigen::VectorXd n1_float = D * x - o;
   const Eigen::MatrixXd Q = D * P * D.transpose();
   const auto t0 = std::chrono::steady_clock::now();
@@ -500,14 +508,8 @@ std::optional<AmbiguityFixedState> AmbiguityResolver::resolveAndHold(const Eigen
 void AmbiguityResolver::slotArcs(int receiver_dim, const std::vector<ArcId>& bias_arcs,
                                  const std::map<ArcId, double>* elevation_rad, HoldEpoch& e) const {
   for (std::size_t i = 0; i < bias_arcs.size(); ++i) e.all_slot[bias_arcs[i]] = receiver_dim + static_cast<int>(i);
-  for (const auto& [arc, index] : e.all_slot) {
-    bool high = true;
-    if (elevation_rad && options_.min_elevation_rad > 0.0) {
-      const auto el = elevation_rad->find(arc);
-      high = el != elevation_rad->end() && el->second >= options_.min_elevation_rad;
-    }
-    if (high) e.slot[arc] = index;
-  }
+  for (const auto& [arc, index] : e.all_slot)
+    if (highEnoughToFix(arc, elevation_rad, options_.min_elevation_rad)) e.slot[arc] = index;
 }
 
 std::map<AmbiguityResolver::PairKey, long>::iterator AmbiguityResolver::release(

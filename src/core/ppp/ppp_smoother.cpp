@@ -600,26 +600,8 @@ std::vector<PppEstimatorBase::SolvedMeasurement> PppSmoother::residualRows(const
 
 bool PppSmoother::recoverAfterFailure(EstimatorEpochResult& result) {
   // The failed update may have left its factors in the graph: start a new graph
-  // from the last good state. Keep the current estimate of the old states when it
-  // is still readable (their smoothed values), else their last estimate.
-  if (!states_.empty()) {
-    try {
-      const smoother::Values estimate = isam2().calculateBestEstimate();
-      std::vector<ReceiverState> read;
-      bool finite = true;
-      for (const auto& s : states_) {
-        if (!estimate.exists(stateKey(s.index))) continue;
-        const Vector v = estimate.at(stateKey(s.index));
-        finite = finite && v.allFinite();
-      }
-      if (finite)
-        for (auto& s : states_)
-          if (estimate.exists(stateKey(s.index)))
-            s.last_estimate = ReceiverState::fromVector(estimate.at(stateKey(s.index)), layout_);
-    } catch (const std::exception&) {
-      // keep the last estimates
-    }
-  }
+  // from the last good state.
+  keepReadableEstimates();
   newGraph();
   bias_last_state_.clear();
   held_.clear();  // the restart's priors carry the fixed estimates, not the factors
@@ -660,6 +642,25 @@ bool PppSmoother::recoverAfterFailure(EstimatorEpochResult& result) {
   }
   result.reason += "; smoother restarted from the last filtered state";
   return true;
+}
+
+void PppSmoother::keepReadableEstimates() {
+  if (states_.empty()) return;
+  try {
+    const smoother::Values estimate = isam2().calculateBestEstimate();
+    bool finite = true;
+    for (const auto& s : states_) {
+      if (!estimate.exists(stateKey(s.index))) continue;
+      const Vector v = estimate.at(stateKey(s.index));
+      finite = finite && v.allFinite();
+    }
+    if (finite)
+      for (auto& s : states_)
+        if (estimate.exists(stateKey(s.index)))
+          s.last_estimate = ReceiverState::fromVector(estimate.at(stateKey(s.index)), layout_);
+  } catch (const std::exception&) {
+    // keep the last estimates
+  }
 }
 
 std::vector<smoother::FactorIndex> PppSmoother::updateGraph(const smoother::NonlinearFactorGraph& add,
