@@ -94,9 +94,11 @@ TEST(EstimatorRegistry, UnknownNameIsRefusedWithTheRegisteredNames) {
 
 // Each registered estimator, made by its factory, through the offline pipeline
 // on a 4-minute simulated loiter flight (GPS, the Monte Carlo's error model and
-// estimator configuration): it solves nearly every epoch and converges to the
-// decimetre level; a smoothing estimator's smoothed trajectory covers the solved
-// epochs.
+// estimator configuration): it solves nearly every epoch and converges below
+// 1 m (measured at seed 7: 241 of 241 epochs solved by both, mean 3D error of
+// the last minute 0.643 m EKF, 0.644 m smoother filtered: the code-dominated
+// start of a 4-minute flight); a smoothing estimator's smoothed trajectory
+// covers the solved epochs.
 TEST(EstimatorRegistry, EveryRegisteredEstimatorSolvesASimulatedFlight) {
   MonteCarloOptions o;
   o.flights = 1;
