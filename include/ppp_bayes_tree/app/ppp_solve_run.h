@@ -1,7 +1,8 @@
 #pragma once
 // One ppp_solve run: the pipeline with one estimator, written to a directory.
 // Each SOLUTION of the run (the EKF's; the smoother's filtered and smoothed ones)
-// is written under its tag T ("ekf", "smoother_filtered", "smoother_smoothed"):
+// is written under its tag T ("ekf", "smoother_filtered", "smoother_smoothed";
+// solutionOutputs of ppp/estimator_registry.h):
 //   <name>_<T>.csv                    per-epoch solution (SolutionCsvWriter)
 //   <name>_<T>.pos                    RTKLIB-compatible xyz .pos (RtklibPosWriter)
 //   <name>_<T>_summary.json           statistics (with a truth), run counts,
