@@ -5,6 +5,7 @@
 //                  (--sp3 F... --clk F... | --nav F... [--ssr F [--ssr-reference com|apc|apc-l1]])
 //                  --atx F... [--bia F] [--blq F]
 //                  [--config YAML...] [--estimator ekf|smoother|both] [--truth X,Y,Z] [--name N] --out DIR
+// (the estimators: ppp/estimator_registry.h; --help lists them)
 //                  [--no-product-checks] [--start "YYYY/MM/DD HH:MM:SS"] [--end "YYYY/MM/DD HH:MM:SS"]
 // --start/--end (GPST): only the epochs in [start, end) are processed (e.g. one
 // hour of a day file; io/time_window_source.h); either may be given alone.
@@ -46,6 +47,7 @@
 #include "ppp_bayes_tree/app/ppp_solve_run.h"
 #include "ppp_bayes_tree/io/stream_format.h"
 #include "ppp_bayes_tree/models/satellite_reference_point.h"
+#include "ppp_bayes_tree/ppp/estimator_registry.h"
 
 namespace {
 
@@ -54,8 +56,12 @@ int usage(const std::string& why) {
             << "usage: ppp_solve (--obs F | --rtcm F [--ref-date YYYY/MM/DD] | --ubx F)\n"
             << "                 (--sp3 F... --clk F... | --nav F... [--ssr F [--ssr-reference com|apc|apc-l1]])\n"
             << "                 --atx F... [--bia F] [--blq F]\n"
-            << "                 [--config YAML...] [--estimator ekf|smoother|both] [--truth X,Y,Z] [--name N] --out DIR\n"
-            << "                 [--no-product-checks] [--start \"YYYY/MM/DD HH:MM:SS\"] [--end \"YYYY/MM/DD HH:MM:SS\"]\n";
+            << "                 [--config YAML...] [--estimator " << ppp::registeredEstimatorNames("|") << '|'
+            << ppp::kAllEstimators << "] [--truth X,Y,Z] [--name N] --out DIR\n"
+            << "                 [--no-product-checks] [--start \"YYYY/MM/DD HH:MM:SS\"] [--end \"YYYY/MM/DD HH:MM:SS\"]\n"
+            << "estimators (--estimator; default " << ppp::kDefaultEstimator << ", "
+            << ppp::kAllEstimators << ": each in turn):\n";
+  for (const ppp::EstimatorEntry& e : ppp::kEstimators) std::cerr << "  " << e.name << ": " << e.description << "\n";
   return 2;
 }
 
@@ -142,7 +148,9 @@ int main(int argc, char** argv) {
       if (!value(v)) return usage("--blq needs a file");
       req.files.blq = v;
     } else if (a == "--estimator") {
-      if (!value(req.estimator)) return usage("--estimator needs ekf, smoother or both");
+      if (!value(req.estimator))
+        return usage("--estimator needs " + ppp::registeredEstimatorNames(", ") + " or " +
+                     std::string(ppp::kAllEstimators));
     } else if (a == "--truth") {
       Eigen::Vector3d t;
       if (i + 1 >= argc || !parseTruth(argv[++i], t)) return usage("--truth needs X,Y,Z in metres (ECEF)");
@@ -158,8 +166,7 @@ int main(int argc, char** argv) {
       return usage("unknown option " + a);
     }
   }
-  if (req.estimator != "ekf" && req.estimator != "smoother" && req.estimator != "both")
-    return usage("unknown --estimator '" + req.estimator + "' (expected ekf, smoother or both)");
+  if (std::string why; !ppp::selectEstimators(req.estimator, &why)) return usage("--estimator: " + why);
   if (req.files.obs.empty()) return usage("one of --obs, --rtcm and --ubx is required");
   if (req.files.nav.empty()) {
     if (req.files.sp3.empty()) return usage("--sp3 (or --nav) is required");

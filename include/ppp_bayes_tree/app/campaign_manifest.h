@@ -60,7 +60,7 @@ const char* toString(CampaignJobKind kind);  // "ppp", "bag", "monte_carlo"
 struct CampaignPppJob {
   PppInputFiles files;
   std::vector<std::string> config;  // PPP configuration files, laid one on another
-  std::string estimator = "ekf";    // ekf | smoother | both
+  std::string estimator = std::string(kDefaultEstimator);  // a registered name or "both" (estimator_registry.h)
   std::optional<Eigen::Vector3d> truth_ecef_m;
   std::string truth_csv;  // bag jobs: a truth trajectory (ppp_bag_solve --truth-csv); empty: none
 };

@@ -1,7 +1,8 @@
 #pragma once
 // One ppp_solve run: the pipeline with one estimator, written to a directory.
 // Each SOLUTION of the run (the EKF's; the smoother's filtered and smoothed ones)
-// is written under its tag T ("ekf", "smoother_filtered", "smoother_smoothed"):
+// is written under its tag T ("ekf", "smoother_filtered", "smoother_smoothed";
+// solutionOutputs of ppp/estimator_registry.h):
 //   <name>_<T>.csv                    per-epoch solution (SolutionCsvWriter)
 //   <name>_<T>.pos                    RTKLIB-compatible xyz .pos (RtklibPosWriter)
 //   <name>_<T>_summary.json           statistics (with a truth), run counts,
@@ -34,6 +35,7 @@
 #include <vector>
 
 #include "ppp_bayes_tree/evaluation/position_error_statistics.h"
+#include "ppp_bayes_tree/ppp/estimator_registry.h"
 #include "ppp_bayes_tree/ppp/ppp_pipeline.h"
 
 namespace ppp {
@@ -41,7 +43,7 @@ namespace ppp {
 struct PppSolveRequest {
   PppInputFiles files;
   PppConfig config;
-  std::string estimator = "ekf";
+  std::string estimator = std::string(kDefaultEstimator);  // a registered name or "both" (estimator_registry.h)
   std::optional<Eigen::Vector3d> truth_ecef_m;
   /// A moving truth instead (a simulated flight's true antenna path, e.g.
   /// TruthTrajectory::at of app/replay_report.h): the truth at an epoch, nullopt

@@ -48,20 +48,39 @@
 #include <cstdint>
 #include <functional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "ppp_bayes_tree/evaluation/position_error_statistics.h"
+#include "ppp_bayes_tree/ppp/estimator_registry.h"
 #include "ppp_bayes_tree/ppp/ppp_config.h"
 #include "ppp_bayes_tree/simulation/gnss_simulator.h"
 #include "ppp_bayes_tree/simulation/simulation_config.h"
 
 namespace ppp {
 
-constexpr int kMonteCarloEstimators = 3;
+/// The estimators the study compares, by their registered names
+/// (estimator_registry.h): the EKF, the reference that chooses the
+/// representative flight, and the smoother, whose filtered solution is compared
+/// with the EKF's epoch by epoch and whose smoothed one is read from its graph.
+inline constexpr std::array<std::string_view, 2> kMonteCarloStudy{"ekf", "smoother"};
+
+/// The number of solutions of the studied estimators (the columns of the tables).
+constexpr int monteCarloSolutionCount() {
+  int n = 0;
+  for (const std::string_view name : kMonteCarloStudy)
+    for (const EstimatorEntry& e : kEstimators)
+      if (e.name == name) n += e.solutionCount();
+  return n;
+}
+constexpr int kMonteCarloEstimators = monteCarloSolutionCount();
+static_assert(kMonteCarloEstimators == 3, "the study's columns: EKF, smoother filtered, smoother smoothed");
+
+/// The studied estimators' solutions in order (solutionOutputs of each): keys
 /// 0 "ekf", 1 "smoother_filtered", 2 "smoother_smoothed" (keys of the outputs).
-const char* monteCarloEstimatorKey(int estimator);
+std::string monteCarloEstimatorKey(int estimator);
 /// "EKF", "smoother filtered", "smoother smoothed".
-const char* monteCarloEstimatorLabel(int estimator);
+std::string monteCarloEstimatorLabel(int estimator);
 
 /// The estimators' configuration of the study unless one is given: the method's
 /// preset (methodTablePppConfig, config/method_table.yaml) with the estimator

@@ -298,7 +298,21 @@ class AmbiguityResolver {
   /// resolve() with validation across epochs and hold (steps 5-8 above): keeps
   /// the float history, the integers being validated and the held integers.
   /// The fixed copy is returned when at least narrow_lane.min_fixed integers
-  /// are held.
+  /// are held. Its named steps:
+  ///  1. slotArcs: the state index of every bias arc, and the arcs high enough
+  ///     for new candidates (min_elevation_rad);
+  ///  2. keepPresentHeld: held integers whose arc ended or whose wide lane
+  ///     changed are released;
+  ///  3. conditionOnHeld: each held integer against its float conditioned on
+  ///     the other held ones (hold, step 8 above); the worst offender is
+  ///     released; the float is conditioned on the rest;
+  ///  4. recordHeld: the held single differences into the summary;
+  ///  5. gatherCandidates: wide-lane fixed pairs, steady in the float history,
+  ///     through the candidate gate (step 5 above);
+  ///  6. searchBestSubset: partial fixing (step 6 above);
+  ///  7. validateAndHold: validation across epochs (step 7 above), then hold;
+  ///  8. applyHeld: the held integers applied to a copy of the float state, or
+  ///     the reason it stays float.
   std::optional<AmbiguityFixedState> resolveAndHold(const Eigen::VectorXd& x, const Eigen::MatrixXd& P,
                                                     int receiver_dim, const std::vector<ArcId>& bias_arcs,
                                                     const BiasProvider* biases, AmbiguityFixSummary& summary,
@@ -338,6 +352,9 @@ class AmbiguityResolver {
   /// observation or no phase bias).
   std::optional<PairRow> rowOf(const PairKey& key, int dim, const std::map<ArcId, int>& slot,
                                const BiasProvider* biases) const;
+  /// The rows of the wide-lane fixed single differences of `per_system` (resolve()).
+  std::vector<PairRow> wideLaneFixedRows(const std::vector<WideLaneResolution>& per_system, int dim,
+                                         const std::map<ArcId, int>& slot, const BiasProvider* biases) const;
   /// The wide lanes of each system among the `slot` arcs against that system's
   /// best-determined arc (resolve()).
   std::vector<WideLaneResolution> wideLanesPerSystem(const std::map<ArcId, int>& slot) const;
@@ -345,6 +362,24 @@ class AmbiguityResolver {
   /// eligible and fixes as many wide lanes (resolveAndHold()).
   std::vector<WideLaneResolution> wideLanesPerSystemKeepingReferences(const std::map<ArcId, int>& slot);
   std::optional<GnssSystem> systemOf(ArcId arc) const;
+
+  /// The state carried between the steps of resolveAndHold (defined with them).
+  struct HoldEpoch;
+  void slotArcs(int receiver_dim, const std::vector<ArcId>& bias_arcs, const std::map<ArcId, double>* elevation_rad,
+                HoldEpoch& e) const;
+  void keepPresentHeld(HoldEpoch& e);
+  bool conditionOnHeld(HoldEpoch& e);
+  void recordHeld(HoldEpoch& e) const;
+  void gatherCandidates(HoldEpoch& e);
+  void searchBestSubset(HoldEpoch& e) const;
+  void validateAndHold(HoldEpoch& e);
+  std::optional<AmbiguityFixedState> applyHeld(HoldEpoch& e) const;
+  AmbiguityFloatReason floatReason(const HoldEpoch& e) const;
+  /// Releases a held integer (counted unless its arc ended) into the summary.
+  std::map<PairKey, long>::iterator release(std::map<PairKey, long>::iterator it, AmbiguityReleaseReason why,
+                                            double departure, const SatelliteId& sat, const SatelliteId& ref,
+                                            AmbiguityFixSummary& summary);
+  SatelliteId satelliteOf(ArcId arc) const;
 
   AmbiguityResolutionOptions options_;
   WideLaneResolver wide_lane_{options_.wide_lane};

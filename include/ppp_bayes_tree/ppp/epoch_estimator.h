@@ -117,7 +117,8 @@ class SmootherEstimator : public EpochEstimator {
   EstimatorEpochResult last_;
 };
 
-/// Estimators by name: "ekf", "smoother" (others: nullptr, with `why` saying so).
+/// Estimators by name, as registered in estimator_registry.h (others: nullptr,
+/// with `why` saying so).
 std::unique_ptr<EpochEstimator> makeEstimator(const std::string& name, const PppConfig& config, std::string* why);
 
 }  // namespace ppp

@@ -4,27 +4,34 @@
 // screened measurements; each estimator implements only its solve step (like a
 // FilterBase with processMeasurement and the filter's own predict/correct).
 //
-// processEpoch, per epoch:
-//  1. start: without a state, the single-epoch code least squares from the
-//     approximate position; without one, from the Earth centre: first with the
+// processEpoch, per epoch, nine named steps:
+//  1. startOrAdvance: without a state, the single-epoch code least squares from
+//     the approximate position; without one, from the Earth centre: first with the
 //     start model (`evaluate_start`, PppMeasurementModel::evaluateStart: no
 //     troposphere, no elevation cutoff), then from that point with the full
 //     model (either failure: NoSolution "no initial position", with the
 //     reason); otherwise the time must advance (else Failed);
 //  2. predict() (the estimator): the receiver state at this epoch;
-//  3. linearise once at the prediction, keep the usable measurements, shift each
-//     system's white clock by the median of its code residuals (option);
-//  4. arc bookkeeping: a new arc of a satellite replaces its bias, arcs unused for
+//  3. lineariseAtPrediction: linearise once at the prediction, keep the usable
+//     measurements, shift each system's white clock by the median of its code
+//     residuals (option);
+//  4. bookArcs: a new arc of a satellite replaces its bias, arcs unused for
 //     stale_arc_timeout_s leave the active set (committed only with a solution);
-//  5. prefit screening (prefit_screening.h) against the estimator's bias priors;
-//     too few satellites: NoSolution;
-//  6. the initial value of each new arc's bias: phase minus code residual;
-//  7. solve() (the estimator): its update; on a failed update the estimator may
-//     restart from its last good state (recoverAfterFailure), counted in resets();
-//  8. the residual records and the active set.
+//  5. screenAgainstPriors: prefit screening (prefit_screening.h) against the
+//     estimator's bias priors; too few satellites: NoSolution;
+//  6. withInitialBiases: the initial value of each new arc's bias: phase minus
+//     code residual;
+//  7. solveOrRecover: solve() (the estimator), its update; on a failed update the
+//     estimator may restart from its last good state (recoverAfterFailure),
+//     counted in resets();
+//  8. commitEpoch: the active set and the residual records;
+//  9. testConsistency (option): the epoch consistency test of the postfit
+//     residuals (postfit_screening.h); an inconsistent solution is flagged, and
+//     its covariance inflated or the solution withheld.
 // A failed or unsolved epoch leaves the estimator as it was before the epoch
 // (or restarted, when estimator_reset is reported).
 #include <Eigen/Core>
+#include <chrono>
 #include <map>
 #include <optional>
 #include <string>
@@ -133,6 +140,25 @@ class PppEstimatorBase {
     SatelliteId satellite;
     GnssTime last_used;
   };
+  // The steps of processEpoch (numbered as in the comment at the top).
+  EstimatorEpochResult finished(EstimatorEpochResult result, std::chrono::steady_clock::time_point t_start) const;
+  bool startOrAdvance(const MeasurementFunction& evaluate, const MeasurementFunction* evaluate_start,
+                      EpochSolveInput& in, std::optional<ReceiverState>& start, EstimatorEpochResult& result) const;
+  std::vector<SatelliteMeasurement> lineariseAtPrediction(const MeasurementFunction& evaluate,
+                                                          ReceiverState& predicted,
+                                                          EstimatorEpochResult& result) const;
+  std::map<ArcId, ActiveArc> bookArcs(const std::vector<SatelliteMeasurement>& usable, const GnssTime& time,
+                                      std::vector<ArcId>& dropped_arcs) const;
+  std::optional<std::vector<SatelliteMeasurement>> screenAgainstPriors(
+      const std::vector<SatelliteMeasurement>& usable, const std::map<ArcId, ActiveArc>& arcs,
+      EstimatorEpochResult& result) const;
+  static std::vector<ScreenedMeasurement> withInitialBiases(std::vector<SatelliteMeasurement> kept,
+                                                            const std::map<ArcId, ActiveArc>& arcs);
+  bool solveOrRecover(const EpochSolveInput& in, EpochSolveOutput& out, EstimatorEpochResult& result);
+  void commitEpoch(const EpochSolveInput& in, EpochSolveOutput out, std::map<ArcId, ActiveArc> arcs,
+                   EstimatorEpochResult& result);
+  void testConsistency(EstimatorEpochResult& result) const;
+
   std::optional<Eigen::Vector3d> approx_position_ecef_m_;
   std::map<ArcId, ActiveArc> arcs_;  // the active set
   int resets_ = 0;

@@ -217,6 +217,22 @@ class PppMeasurementModel {
   /// size). `windup` (nullable) carries the wind-up continuity: pass the same
   /// tracker every epoch; it is updated for each used satellite. `terms`
   /// (nullable) receives the per-satellite model terms of the used satellites.
+  /// Its named steps (a rejected satellite leaves at the step that rejects it):
+  ///  1. epochTerms: local frame, Sun/Moon, station displacements (tides,
+  ///     ocean loading, DELTA H/E/N), troposphere constants, once per epoch;
+  ///  2. systemTerms: per system and frequency pair, on first use: IF
+  ///     coefficients, wind-up wavelength, sigma factor, receiver PCO (IF);
+  ///  3. observedCombinations: the receiver clock of the system and the
+  ///     observed IF code and phase;
+  ///  4. satelliteAtEmission: clock and orbit at the emission time, eclipse,
+  ///     nominal attitude, satellite antenna offset (IF);
+  ///  5. signalGeometry: Earth rotation during the flight, line of sight,
+  ///     elevation and azimuth, elevation cutoff;
+  ///  6. phaseCentreVariations: receiver and satellite PCV (IF);
+  ///  7. troposphereMapping: the dry and wet mapping functions;
+  ///  8. phaseWindup: the wind-up [cycles], continuous along the arc;
+  ///  9. addMeasurement: relativity, Shapiro, the predicted observables, the
+  ///     Jacobian row and the sigmas (and modelTerms, on request).
   void evaluate(const std::vector<DualFrequencyObservation>& observations, const std::vector<ArcId>& arcs,
                 const ReceiverState& state, WindupTracker* windup, EpochMeasurements& out,
                 std::vector<ModelTerms>* terms = nullptr) const;
@@ -274,6 +290,25 @@ class PppMeasurementModel {
     bool looked_up = false;
     bool reported = false;
   };
+  // The steps of evaluate() and what they carry (defined with them).
+  struct EpochTerms;
+  struct SystemTerms;
+  struct SatelliteEvaluation;
+  EpochTerms epochTerms(const Eigen::Vector3d& marker, const GnssTime& t_rx) const;
+  const SystemTerms& systemTerms(const DualFrequencyObservation& o, const EpochTerms& epoch, SystemTerms& st) const;
+  bool observedCombinations(SatelliteEvaluation& sv, const EpochTerms& epoch, const ReceiverState& state,
+                            EpochMeasurements& out) const;
+  bool satelliteAtEmission(SatelliteEvaluation& sv, const EpochTerms& epoch, EpochMeasurements& out) const;
+  bool signalGeometry(SatelliteEvaluation& sv, const EpochTerms& epoch, EpochMeasurements& out) const;
+  bool phaseCentreVariations(SatelliteEvaluation& sv, EpochMeasurements& out) const;
+  void troposphereMapping(SatelliteEvaluation& sv, const EpochTerms& epoch) const;
+  bool phaseWindup(SatelliteEvaluation& sv, const EpochTerms& epoch, const WindupTracker* windup,
+                   EpochMeasurements& out) const;
+  void addMeasurement(const SatelliteEvaluation& sv, const EpochTerms& epoch, const ReceiverState& state,
+                      WindupTracker* windup, EpochMeasurements& out, std::vector<ModelTerms>* terms) const;
+  ModelTerms modelTerms(const SatelliteEvaluation& sv, const EpochTerms& epoch, double shapiro_m,
+                        double relativistic_s) const;
+
   const AntennaCalibration* satelliteCalibration(const SatelliteId& sat, const GnssTime& t) const;
   void warnReceiverAntenna(std::string text) const;
 

@@ -13,23 +13,35 @@
 // (PppEstimatorBase: code least-squares start, prediction = the last filtered
 // state with the clocks shifted by the median code residual, usable measurements,
 // arc bookkeeping, prefit screening against the last filtered bias estimate and
-// variance, new-arc bias values, residual records), then the smoother's own step:
-//  1. too few satellites: explicit NoSolution, nothing is added to the graph (the next
-//     between factor spans the real elapsed time from the last solved epoch);
-//  2. ONE iSAM2 update with the new factors; constrained ordering: the new state and
-//     the biases observed in this epoch are eliminated last (root clique), the other
-//     re-eliminated variables oldest first; relinearization thresholds per variable
-//     component (position, ZWD, clocks, bias);
-//  3. postfit check (postfit_screening.h, as the EKF's): while the worst normalised
+// variance, new-arc bias values, residual records), then the smoother's own
+// solve(), in named steps (too few satellites never get here: an explicit
+// NoSolution, nothing is added to the graph, and the next between factor spans the
+// real elapsed time from the last solved epoch):
+//  1. addStateFactors: the new state x<k>, with its prior (first epoch) or the
+//     position/ZWD random walk from the last state and the white clock priors;
+//  2. addMeasurementFactors: each satellite's IF code and phase factors, and a
+//     bias variable with its prior per new arc (an arc that returns after going
+//     stale keeps its variable);
+//  3. updateWithNewFactors: ONE iSAM2 update with the new factors; constrained
+//     ordering: the new state and the biases observed in this epoch are
+//     eliminated last (root clique), the other re-eliminated variables oldest
+//     first; relinearization thresholds per variable component (position, ZWD,
+//     clocks, bias);
+//  4. postfitCheck (postfit_screening.h, as the EKF's): while the worst normalised
 //     postfit residual at the filtered estimate exceeds postfit_sigmas (at most
 //     postfit_max_rejections times, never below min_satellites), that satellite's
-//     code and phase factors are removed from the graph (an iSAM2 update removing
-//     them) and it is rejected with PostfitCode / PostfitPhase; a removed new arc
-//     keeps only its bias prior and does not become active;
-//  4. FILTERED output: the new state's estimate right after the update with its
-//     marginal covariance (root clique: cheap), plus the biases' filtered marginals
-//     (kept for the next epoch's screening). The front end's consistency test
-//     then flags (and inflates or withholds) a solution whose residuals contradict it.
+//     code and phase factors are removed from the graph (removeSatellite: an
+//     iSAM2 update removing them) and it is rejected with PostfitCode /
+//     PostfitPhase; a removed new arc keeps only its bias prior and does not
+//     become active;
+//  5. filteredMarginals: the FILTERED output, the new state's estimate right
+//     after the update with its marginal covariance (root clique: cheap), plus the
+//     biases' filtered marginals (kept for the next epoch's screening);
+//  6. commitEpoch: the filtered joint, the active set, the state record, the
+//     recorded graph (option) and, with a fixed lag, the marginalized states;
+//  7. residualRows: prefit at the prediction, postfit at the filtered state.
+// The front end's consistency test then flags (and inflates or withholds) a
+// solution whose residuals contradict it.
 // SMOOTHED output: smoothedTrajectory() re-reads every state from the current
 // estimate (all data so far); with fixed_lag_s > 0 states older than the lag are
 // marginalized (FixedLagSmoother) and keep their last estimate (at the lag boundary).
@@ -228,12 +240,30 @@ class PppSmoother : public PppEstimatorBase, public SmoothedTrajectoryProvider {
     ReceiverState last_estimate;  // refreshed after each update while in the graph
   };
 
+  /// The state carried between the steps of solve() (defined with them).
+  struct SolveEpoch;
+  void addStateFactors(SolveEpoch& e) const;
+  void addMeasurementFactors(SolveEpoch& e) const;
+  bool updateWithNewFactors(SolveEpoch& e, EstimatorEpochResult& result);
+  bool postfitCheck(SolveEpoch& e, EstimatorEpochResult& result);
+  bool removeSatellite(SolveEpoch& e, std::size_t k, EstimatorEpochResult& result);
+  bool filteredMarginals(SolveEpoch& e, EstimatorEpochResult& result) const;
+  void commitEpoch(SolveEpoch& e);
+  void recordEpochGraph(const SolveEpoch& e);
+  void forgetMarginalized(const smoother::Values& marginalized);
+  std::vector<SolvedMeasurement> residualRows(const SolveEpoch& e) const;
+  /// The noise of a code or phase factor (Huber kernel with options_.robust).
+  smoother::NoiseModel::Ptr measurementNoise(double sigma) const;
+
   smoother::ISAM2Params isamParams() const;
   /// sqrt of a variance, floored so that a zero process noise stays a valid (stiff) sigma.
   static double sigmaOf(double variance_m2);
 
   /// A new, empty iSAM2 (or fixed-lag smoother).
   void newGraph();
+  /// Before a restart: the old states keep the current estimate when it is still
+  /// readable and finite (their smoothed values), else their last estimate.
+  void keepReadableEstimates();
   /// Hands the oldest states no longer in the graph to the sink (with a sink).
   void releaseLeftStates();
   /// One update that adds and/or removes factors (no new variables), newest state

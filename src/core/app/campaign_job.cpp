@@ -22,6 +22,7 @@
 #include "ppp_bayes_tree/evaluation/json_text.h"
 #include "ppp_bayes_tree/evaluation/monte_carlo_records.h"
 #include "ppp_bayes_tree/io/stream_format.h"
+#include "ppp_bayes_tree/ppp/estimator_registry.h"
 #include "ppp_bayes_tree/ppp/yaml_section.h"
 
 extern char** environ;
@@ -388,7 +389,7 @@ CampaignJob parseCampaignJob(const std::string& text, const std::string& file) {
     if (const std::string b = s.text("bia", ""); !b.empty()) f.bias = b;
     if (const std::string b = s.text("blq", ""); !b.empty()) f.blq = b;
     job.ppp.config = s.textList("config", {}, true);
-    job.ppp.estimator = s.choice("estimator", "ekf", {"ekf", "smoother", "both"});
+    job.ppp.estimator = s.choice("estimator", std::string(kDefaultEstimator), estimatorChoices());
     if (!s.has("truth")) return;
     const auto t = s.numberList("truth", {}, 3);
     job.ppp.truth_ecef_m = Eigen::Vector3d(t[0], t[1], t[2]);

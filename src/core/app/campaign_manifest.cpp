@@ -13,6 +13,7 @@
 #include "ppp_bayes_tree/app/campaign_job.h"
 #include "ppp_bayes_tree/io/parse_error.h"
 #include "ppp_bayes_tree/io/stream_format.h"
+#include "ppp_bayes_tree/ppp/estimator_registry.h"
 #include "ppp_bayes_tree/ppp/yaml_section.h"
 #include "ppp_bayes_tree/simulation/flight_trajectory.h"
 
@@ -151,7 +152,7 @@ PppEntry readPppEntry(const YAML::Node& node, const std::string& file, const std
   e.obs = s.text("obs", "");
   if (e.obs.empty()) s.fail("obs", "an observation file (or glob) is required (" + lineText(node) + ")");
   e.format = s.choice("format", "rinex", {"rinex", "rtcm", "ubx"});
-  e.estimator = s.choice("estimator", "ekf", {"ekf", "smoother", "both"});
+  e.estimator = s.choice("estimator", std::string(kDefaultEstimator), estimatorChoices());
   e.sp3 = s.textList("sp3", {}, true);
   e.clk = s.textList("clk", {}, true);
   e.nav = s.textList("nav", {}, true);
@@ -256,7 +257,7 @@ void expandBagEntry(const YAML::Node& node, const std::string& file, const std::
   if (const std::string b = s.text("bia", ""); !b.empty()) f.bias = expandAll({b}, data_root, std::nullopt).front();
   if (const std::string b = s.text("blq", ""); !b.empty()) f.blq = expandAll({b}, data_root, std::nullopt).front();
   for (const auto& c : s.textList("config", {}, true)) job.ppp.config.push_back(resolve(manifest_dir, c));
-  job.ppp.estimator = s.choice("estimator", "ekf", {"ekf", "smoother", "both"});
+  job.ppp.estimator = s.choice("estimator", std::string(kDefaultEstimator), estimatorChoices());
   if (s.has("truth")) {
     const auto t = s.numberList("truth", {}, 3);
     job.ppp.truth_ecef_m = Eigen::Vector3d(t[0], t[1], t[2]);

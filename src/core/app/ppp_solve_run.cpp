@@ -13,6 +13,7 @@
 
 #include "ppp_bayes_tree/evaluation/rtklib_pos.h"
 #include "ppp_bayes_tree/evaluation/solution_csv_writer.h"
+#include "ppp_bayes_tree/ppp/estimator_registry.h"
 #include "ppp_bayes_tree/types/constants.h"
 #include "ppp_bayes_tree/types/number_text.h"
 #include "ppp_bayes_tree/types/text_format.h"
@@ -112,6 +113,7 @@ TimingSummary summarizeTimes(std::vector<double> t) {
 PppSolveOutcome solvePpp(const PppSolveRequest& req) {
   std::string why;
   if (!makeEstimator(req.estimator, req.config, &why)) throw std::invalid_argument(why);  // before reading products
+  const EstimatorEntry& entry = *findEstimator(req.estimator);
   std::error_code ec;
   std::filesystem::create_directories(req.out_dir, ec);
   if (!std::filesystem::is_directory(req.out_dir)) throw std::runtime_error("cannot create directory " + req.out_dir);
@@ -140,13 +142,8 @@ PppSolveOutcome solvePpp(const PppSolveRequest& req) {
     o.json_path = prefix + tag + "_summary.json";
     out.outputs.push_back(std::move(o));
   };
-  if (smoother) {
-    addOutput("smoother filtered", "smoother_filtered");
-    addOutput("smoother smoothed", "smoother_smoothed");
-    out.biases_path = stem + "_biases.csv";
-  } else {
-    addOutput(estimator->name(), estimator->name());
-  }
+  for (const EstimatorSolution& solution : solutionOutputs(entry)) addOutput(solution.label, solution.tag);
+  if (smoother) out.biases_path = stem + "_biases.csv";
   out.epochs_path = stem + "_epochs.csv";
   out.residuals_path = stem + "_residuals.csv";
 
@@ -253,11 +250,14 @@ PppSolveOutcome solvePpp(const PppSolveRequest& req) {
 }
 
 std::vector<PppSolveOutcome> solvePppEstimators(const PppSolveRequest& req) {
-  if (req.estimator != "both") return {solvePpp(req)};
+  std::string why;
+  const auto selected = selectEstimators(req.estimator, &why);
+  if (!selected) throw std::invalid_argument(why);
+  if (req.estimator != kAllEstimators) return {solvePpp(req)};
   std::vector<PppSolveOutcome> out;
-  for (const char* e : {"ekf", "smoother"}) {
+  for (const EstimatorEntry* e : *selected) {
     PppSolveRequest r = req;
-    r.estimator = e;
+    r.estimator = std::string(e->name);
     out.push_back(solvePpp(r));
   }
   return out;

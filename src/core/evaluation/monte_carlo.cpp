@@ -234,22 +234,28 @@ PppConfig flightPppConfig(const PppConfig& ppp, const SimulatedFlight& f) {
   return c;
 }
 
-const char* monteCarloEstimatorKey(int estimator) {
-  switch (estimator) {
-    case 0: return "ekf";
-    case 1: return "smoother_filtered";
-    case 2: return "smoother_smoothed";
+namespace {
+
+/// The solution `index` of the studied estimators (kMonteCarloStudy, in order).
+std::optional<EstimatorSolution> studiedSolution(int index) {
+  for (const std::string_view name : kMonteCarloStudy) {
+    const std::vector<EstimatorSolution> solutions = solutionOutputs(*findEstimator(name));
+    if (index < static_cast<int>(solutions.size())) return solutions[static_cast<std::size_t>(index)];
+    index -= static_cast<int>(solutions.size());
   }
-  return "?";
+  return std::nullopt;
 }
 
-const char* monteCarloEstimatorLabel(int estimator) {
-  switch (estimator) {
-    case 0: return "EKF";
-    case 1: return "smoother filtered";
-    case 2: return "smoother smoothed";
-  }
-  return "?";
+}  // namespace
+
+std::string monteCarloEstimatorKey(int estimator) {
+  const auto s = estimator >= 0 ? studiedSolution(estimator) : std::nullopt;
+  return s ? s->tag : "?";
+}
+
+std::string monteCarloEstimatorLabel(int estimator) {
+  const auto s = estimator >= 0 ? studiedSolution(estimator) : std::nullopt;
+  return s ? s->table_label : "?";
 }
 
 PppConfig monteCarloDefaultPppConfig() {

@@ -266,7 +266,7 @@ std::string monteCarloJson(const MonteCarloResult& r) {
   if (o.ppp.ambiguity_resolution.enabled) {  // fixed share and time to first fix (EKF, smoother)
     j << ",\n  \"ambiguity_resolution\": {";
     for (std::size_t e = 0; e < 2; ++e)
-      j << (e ? ", " : "") << jsonString(e == 0 ? "ekf" : "smoother") << ": {\"fixed_share\": "
+      j << (e ? ", " : "") << jsonString(kMonteCarloStudy[e]) << ": {\"fixed_share\": "
         << jsonNumber(s.fixed_share[e], 10) << ", \"first_fix_median_s\": " << jsonNumber(s.first_fix_median_s[e], 10)
         << ", \"never_fixed\": " << s.never_fixed[e] << ", \"held_integers\": " << s.held_check[e].held
         << ", \"held_cross_system\": " << s.held_check[e].cross_system << ", \"wrong_holds\": " << s.held_check[e].wrong

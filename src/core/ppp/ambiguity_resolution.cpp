@@ -214,6 +214,14 @@ std::vector<GnssSystem> systemsOfArcs(const std::map<ArcId, int>& slot, const Sy
   return systems;
 }
 
+/// An arc high enough to be fixed: no elevations given, no minimum, or its
+/// elevation at least min_elevation_rad.
+bool highEnoughToFix(ArcId arc, const std::map<ArcId, double>* elevation_rad, double min_elevation_rad) {
+  if (!elevation_rad || min_elevation_rad <= 0.0) return true;
+  const auto e = elevation_rad->find(arc);
+  return e != elevation_rad->end() && e->second >= min_elevation_rad;
+}
+
 /// Each system's reference and wide-lane counts into the summary.
 void recordWideLanes(const std::vector<WideLaneResolution>& per_system, AmbiguityFixSummary& summary) {
   for (const WideLaneResolution& wl : per_system) {
@@ -266,6 +274,19 @@ std::vector<WideLaneResolution> AmbiguityResolver::wideLanesPerSystemKeepingRefe
   return out;
 }
 
+std::vector<AmbiguityResolver::PairRow> AmbiguityResolver::wideLaneFixedRows(
+    const std::vector<WideLaneResolution>& per_system, int dim, const std::map<ArcId, int>& slot,
+    const BiasProvider* biases) const {
+  std::vector<PairRow> rows;
+  for (const WideLaneResolution& wl : per_system)
+    for (const WideLaneFix& f : wl.arcs) {
+      if (!f.fixed) continue;
+      if (auto row = rowOf(PairKey{f.arc, *wl.reference_arc, f.integer_cycles}, dim, slot, biases))
+        rows.push_back(std::move(*row));
+    }
+  return rows;
+}
+
 std::optional<AmbiguityFixedState> AmbiguityResolver::resolve(const Eigen::VectorXd& x, const Eigen::MatrixXd& P,
                                                               int receiver_dim, const std::vector<ArcId>& bias_arcs,
                                                               const BiasProvider* biases,
@@ -277,27 +298,14 @@ std::optional<AmbiguityFixedState> AmbiguityResolver::resolve(const Eigen::Vecto
     summary.float_reason = AmbiguityFloatReason::NoConsistentPhaseBiases;
     return std::nullopt;
   }
-  auto highEnough = [&](ArcId arc) {
-    if (!elevation_rad || options_.min_elevation_rad <= 0.0) return true;
-    const auto e = elevation_rad->find(arc);
-    return e != elevation_rad->end() && e->second >= options_.min_elevation_rad;
-  };
   std::map<ArcId, int> slot;
   for (std::size_t i = 0; i < bias_arcs.size(); ++i)
-    if (highEnough(bias_arcs[i])) slot[bias_arcs[i]] = receiver_dim + static_cast<int>(i);
+    if (highEnoughToFix(bias_arcs[i], elevation_rad, options_.min_elevation_rad))
+      slot[bias_arcs[i]] = receiver_dim + static_cast<int>(i);
   const std::vector<WideLaneResolution> per_system = wideLanesPerSystem(slot);
   recordWideLanes(per_system, summary);
   const int dim = static_cast<int>(x.size());
-  std::vector<Eigen::RowVectorXd> rows;
-  std::vector<double> offsets;
-  for (const WideLaneResolution& wl : per_system)
-    for (const WideLaneFix& f : wl.arcs) {
-      if (!f.fixed) continue;
-      const auto row = rowOf(PairKey{f.arc, *wl.reference_arc, f.integer_cycles}, dim, slot, biases);
-      if (!row) continue;
-      rows.push_back(row->d);
-      offsets.push_back(row->offset);
-    }
+  const std::vector<PairRow> rows = wideLaneFixedRows(per_system, dim, slot, biases);
   if (per_system.empty()) {
     summary.float_reason = AmbiguityFloatReason::NoWideLaneReference;
     return std::nullopt;
@@ -310,7 +318,7 @@ std::optional<AmbiguityFixedState> AmbiguityResolver::resolve(const Eigen::Vecto
   }
   Eigen::MatrixXd D(m, dim);
   Eigen::VectorXd o(m);
-  for (int i = 0; i < m; ++i) D.row(i) = rows[static_cast<std::size_t>(i)], o(i) = offsets[static_cast<std::size_t>(i)];
+  for (int i = 0; i < m; ++i) D.row(i) = rows[static_cast<std::size_t>(i)].d, o(i) = rows[static_cast<std::size_t>(i)].offset;
   const Eigen::VectorXd n1_float = D * x - o;
   const Eigen::MatrixXd Q = D * P * D.transpose();
   const auto t0 = std::chrono::steady_clock::now();
@@ -389,6 +397,69 @@ std::optional<AmbiguityResolver::PairRow> AmbiguityResolver::rowOf(const PairKey
   return r;
 }
 
+/// The state carried between the steps of resolveAndHold.
+struct AmbiguityResolver::HoldEpoch {
+  HoldEpoch(const Eigen::VectorXd& x_float, const Eigen::MatrixXd& P_float, const BiasProvider* bias_provider,
+            AmbiguityFixSummary& fix_summary)
+      : x(x_float), P(P_float), dim(static_cast<int>(x_float.size())), biases(bias_provider), summary(fix_summary) {}
+
+  const Eigen::VectorXd& x;  // the float state and covariance
+  const Eigen::MatrixXd& P;
+  int dim;
+  const BiasProvider* biases;
+  AmbiguityFixSummary& summary;
+  std::map<ArcId, int> all_slot;  // every bias arc: its state index
+  std::map<ArcId, int> slot;      // those high enough for new candidates
+  // Step 2-3: the held integers (rows, values) and the float conditioned on them
+  // (nullopt: none held, or not positive definite).
+  std::vector<PairRow> held_rows;
+  std::vector<long> held_values;
+  std::optional<Conditioning> held_state;
+  ArcComponents components;  // arcs joined by held integers
+  // Step 5: the candidates (sigma conditioned on the held integers [cycles]).
+  std::vector<WideLaneResolution> per_system;
+  std::vector<PairRow> candidates;
+  std::vector<double> candidate_sigma;
+  int gated = 0;  // steady floats refused by the candidate gate
+  // Step 6: the integers of the accepted subset.
+  std::map<PairKey, long> fixed_now;
+  bool integer_far = false;  // the last subset tried was refused by the candidate gate
+
+  const Eigen::VectorXd& conditionedX() const { return held_state ? held_state->state.x : x; }
+  const Eigen::MatrixXd& conditionedP() const { return held_state ? held_state->state.P : P; }
+};
+
+namespace {
+
+/// The constraints A x = y of held rows and their integers.
+template <typename Row>
+void stackConstraints(const std::vector<Row>& rows, const std::vector<long>& values, int dim, Eigen::MatrixXd& A,
+                      Eigen::VectorXd& y) {
+  const int n = static_cast<int>(rows.size());
+  A.resize(n, dim);
+  y.resize(n);
+  for (int i = 0; i < n; ++i) {
+    A.row(i) = rows[static_cast<std::size_t>(i)].d;
+    y(i) = static_cast<double>(values[static_cast<std::size_t>(i)]) + rows[static_cast<std::size_t>(i)].offset;
+  }
+}
+
+/// The candidate gate: a float further from an integer than both
+/// max_fraction_cycles and kGateSigmas of its own sigma carries an error its
+/// covariance does not hold (an imprecise float is left to the search's success
+/// rate and ratio test).
+bool offInteger(double fraction_cycles, double sigma_cycles, double max_fraction_cycles) {
+  constexpr double kGateSigmas = 3.0;
+  return std::abs(fraction_cycles) > max_fraction_cycles && std::abs(fraction_cycles) > kGateSigmas * sigma_cycles;
+}
+
+/// The sigma [cycles] of a single difference d x under the covariance P.
+double pairSigma_cycles(const Eigen::RowVectorXd& d, const Eigen::MatrixXd& P) {
+  return std::sqrt(std::max(0.0, (d * P * d.transpose())(0, 0)));
+}
+
+}  // namespace
+
 std::optional<AmbiguityFixedState> AmbiguityResolver::resolveAndHold(const Eigen::VectorXd& x,
                                                                      const Eigen::MatrixXd& P, int receiver_dim,
                                                                      const std::vector<ArcId>& bias_arcs,
@@ -401,187 +472,196 @@ std::optional<AmbiguityFixedState> AmbiguityResolver::resolveAndHold(const Eigen
     summary.float_reason = AmbiguityFloatReason::NoConsistentPhaseBiases;
     return std::nullopt;
   }
-  const AmbiguityHoldOptions& ho = options_.hold;
-  const int dim = static_cast<int>(x.size());
-  std::map<ArcId, int> all_slot, slot;
-  for (std::size_t i = 0; i < bias_arcs.size(); ++i) all_slot[bias_arcs[i]] = receiver_dim + static_cast<int>(i);
-  for (const auto& [arc, index] : all_slot) {
-    bool high = true;
-    if (elevation_rad && options_.min_elevation_rad > 0.0) {
-      const auto e = elevation_rad->find(arc);
-      high = e != elevation_rad->end() && e->second >= options_.min_elevation_rad;
-    }
-    if (high) slot[arc] = index;
-  }
-  auto release = [&](std::map<PairKey, long>::iterator it, AmbiguityReleaseReason why, double departure,
-                     const SatelliteId& sat, const SatelliteId& ref) {
-    summary.released.push_back({sat, ref, it->first.arc, it->first.reference_arc, why, departure});
-    if (why != AmbiguityReleaseReason::ArcEnded) ++releases_total_;
-    return held_.erase(it);
-  };
-  auto satelliteOf = [&](ArcId arc) {
-    const auto o = last_observation_.find(arc);
-    return o == last_observation_.end() ? SatelliteId{} : o->second.satellite;
-  };
+  HoldEpoch e(x, P, biases, summary);
 
-  // Held integers: present rows, wide lanes unchanged.
-  std::vector<PairRow> held_rows;
-  std::vector<long> held_values;
+  // 1. The state index of every bias arc, and the arcs high enough for new candidates.
+  slotArcs(receiver_dim, bias_arcs, elevation_rad, e);
+
+  // 2. The held integers whose arcs are present and whose wide lanes are unchanged.
+  keepPresentHeld(e);
+
+  // 3. Each held integer against its float conditioned on the other held ones;
+  // the worst offender (if any) is released; the float conditioned on the rest.
+  if (!conditionOnHeld(e)) {
+    summary.float_reason = AmbiguityFloatReason::NumericalFailure;
+    return std::nullopt;
+  }
+
+  // 4. The held single differences into the summary (float, sigma, integer).
+  recordHeld(e);
+
+  // 5. New candidates: wide-lane fixed arcs against this epoch's reference of
+  // their system, steady over the float history and through the candidate gate.
+  gatherCandidates(e);
+
+  // 6. Partial fixing of the best-determined subset (conditioned on the held ones).
+  searchBestSubset(e);
+
+  // 7. Validation across epochs; a validated independent integer is held.
+  validateAndHold(e);
+
+  // 8. The held integers applied to a copy of the float state (or why it stays float).
+  return applyHeld(e);
+}
+
+// Step 1
+void AmbiguityResolver::slotArcs(int receiver_dim, const std::vector<ArcId>& bias_arcs,
+                                 const std::map<ArcId, double>* elevation_rad, HoldEpoch& e) const {
+  for (std::size_t i = 0; i < bias_arcs.size(); ++i) e.all_slot[bias_arcs[i]] = receiver_dim + static_cast<int>(i);
+  for (const auto& [arc, index] : e.all_slot)
+    if (highEnoughToFix(arc, elevation_rad, options_.min_elevation_rad)) e.slot[arc] = index;
+}
+
+std::map<AmbiguityResolver::PairKey, long>::iterator AmbiguityResolver::release(
+    std::map<PairKey, long>::iterator it, AmbiguityReleaseReason why, double departure, const SatelliteId& sat,
+    const SatelliteId& ref, AmbiguityFixSummary& summary) {
+  summary.released.push_back({sat, ref, it->first.arc, it->first.reference_arc, why, departure});
+  if (why != AmbiguityReleaseReason::ArcEnded) ++releases_total_;
+  return held_.erase(it);
+}
+
+SatelliteId AmbiguityResolver::satelliteOf(ArcId arc) const {
+  const auto o = last_observation_.find(arc);
+  return o == last_observation_.end() ? SatelliteId{} : o->second.satellite;
+}
+
+// Step 2
+void AmbiguityResolver::keepPresentHeld(HoldEpoch& e) {
   const auto& wl_means = wide_lane_.arcs();
   for (auto it = held_.begin(); it != held_.end();) {
-    const auto row = rowOf(it->first, dim, all_slot, biases);
+    const auto row = rowOf(it->first, e.dim, e.all_slot, e.biases);
     if (!row) {
       it = release(it, AmbiguityReleaseReason::ArcEnded, 0.0, satelliteOf(it->first.arc),
-                   satelliteOf(it->first.reference_arc));
+                   satelliteOf(it->first.reference_arc), e.summary);
       continue;
     }
     const auto m = wl_means.find(it->first.arc), mr = wl_means.find(it->first.reference_arc);
     if (m != wl_means.end() && mr != wl_means.end() &&
         std::lround(m->second.mean_cycles - mr->second.mean_cycles) != it->first.wide_lane_cycles) {
-      it = release(it, AmbiguityReleaseReason::WideLaneChanged, 0.0, row->satellite, row->reference_satellite);
+      it = release(it, AmbiguityReleaseReason::WideLaneChanged, 0.0, row->satellite, row->reference_satellite,
+                   e.summary);
       continue;
     }
-    held_rows.push_back(*row);
-    held_values.push_back(it->second);
+    e.held_rows.push_back(*row);
+    e.held_values.push_back(it->second);
     ++it;
   }
-  // Each held integer against its float conditioned on the other held ones
-  // (leave-one-out from the one factorisation of the held set); the worst
-  // offender (if any) is released this epoch.
-  auto stack = [&](const std::vector<PairRow>& rows, const std::vector<long>& values, int skip, Eigen::MatrixXd& A,
-                   Eigen::VectorXd& y) {
-    const int n = static_cast<int>(rows.size()) - (skip >= 0 ? 1 : 0);
-    A.resize(n, dim);
-    y.resize(n);
-    for (int i = 0, k = 0; i < static_cast<int>(rows.size()); ++i) {
-      if (i == skip) continue;
-      A.row(k) = rows[static_cast<std::size_t>(i)].d;
-      y(k) = static_cast<double>(values[static_cast<std::size_t>(i)]) + rows[static_cast<std::size_t>(i)].offset;
-      ++k;
-    }
-  };
-  // The float state conditioned on the held integers (nullopt: none held, or
-  // not positive definite).
-  std::optional<Conditioning> held_state;
-  if (!held_rows.empty()) {
+}
+
+// Step 3: leave-one-out from the one factorisation of the held set.
+bool AmbiguityResolver::conditionOnHeld(HoldEpoch& e) {
+  const AmbiguityHoldOptions& ho = options_.hold;
+  if (!e.held_rows.empty()) {
     Eigen::MatrixXd A;
     Eigen::VectorXd y;
-    stack(held_rows, held_values, -1, A, y);
-    held_state = conditionOn(x, P, A, y, true);
+    stackConstraints(e.held_rows, e.held_values, e.dim, A, y);
+    e.held_state = conditionOn(e.x, e.P, A, y, true);
   }
-  if (held_state) {
+  if (e.held_state) {
     int worst = -1;
     double worst_score = 0.0, worst_departure = 0.0;
-    for (int i = 0; i < static_cast<int>(held_rows.size()); ++i) {
-      const double k_ii = held_state->s_inv_diag(i);
-      const double departure = held_state->u(i) / k_ii;
+    for (int i = 0; i < static_cast<int>(e.held_rows.size()); ++i) {
+      const double k_ii = e.held_state->s_inv_diag(i);
+      const double departure = e.held_state->u(i) / k_ii;
       const double score = std::abs(departure) * std::sqrt(k_ii);  // |departure| / sigma
       if (std::abs(departure) > ho.release_cycles && score > ho.release_sigma && score > worst_score)
         worst = i, worst_score = score, worst_departure = departure;
     }
     if (worst >= 0) {
-      const PairRow r = held_rows[static_cast<std::size_t>(worst)];
+      const PairRow r = e.held_rows[static_cast<std::size_t>(worst)];
       release(held_.find(r.key), AmbiguityReleaseReason::FloatDeparted, worst_departure, r.satellite,
-              r.reference_satellite);
-      held_rows.erase(held_rows.begin() + worst);
-      held_values.erase(held_values.begin() + worst);
-      held_state.reset();
-      if (!held_rows.empty()) {
+              r.reference_satellite, e.summary);
+      e.held_rows.erase(e.held_rows.begin() + worst);
+      e.held_values.erase(e.held_values.begin() + worst);
+      e.held_state.reset();
+      if (!e.held_rows.empty()) {
         Eigen::MatrixXd A;
         Eigen::VectorXd y;
-        stack(held_rows, held_values, -1, A, y);
-        held_state = conditionOn(x, P, A, y, false);
+        stackConstraints(e.held_rows, e.held_values, e.dim, A, y);
+        e.held_state = conditionOn(e.x, e.P, A, y, false);
       }
     }
   }
-  if (!held_rows.empty() && !held_state) {
-    summary.float_reason = AmbiguityFloatReason::NumericalFailure;
-    return std::nullopt;
-  }
-  const Eigen::VectorXd& xc = held_state ? held_state->state.x : x;
-  const Eigen::MatrixXd& Pc = held_state ? held_state->state.P : P;
-  ArcComponents components;
-  for (const auto& r : held_rows) components.join(r.key.arc, r.key.reference_arc);
-  for (std::size_t i = 0; i < held_rows.size(); ++i) {
-    const PairRow& r = held_rows[i];
-    NarrowLaneFloat f{r.key.arc, r.key.reference_arc, r.satellite, r.reference_satellite, r.key.wide_lane_cycles,
-                      r.d.dot(x) - r.offset, std::sqrt(std::max(0.0, (r.d * P * r.d.transpose())(0, 0))),
-                      held_values[i]};
-    summary.narrow_lanes.push_back(f);
-  }
+  return e.held_rows.empty() || e.held_state.has_value();
+}
 
-  // New candidates: wide-lane fixed arcs against this epoch's reference of their system.
-  const std::vector<WideLaneResolution> per_system = wideLanesPerSystemKeepingReferences(slot);
-  recordWideLanes(per_system, summary);
-  // A float further from an integer than both max_fraction_cycles and
-  // kGateSigmas of its own sigma carries an error its covariance does not
-  // hold (an imprecise float is left to the search's success rate and ratio test).
-  constexpr double kGateSigmas = 3.0;
-  const auto offInteger = [&](double fraction_cycles, double sigma_cycles) {
-    return std::abs(fraction_cycles) > ho.max_fraction_cycles && std::abs(fraction_cycles) > kGateSigmas * sigma_cycles;
-  };
-  std::vector<PairRow> candidates;
-  std::vector<double> candidate_sigma;  // conditioned on the held integers [cycles]
-  int gated = 0;  // steady floats refused by the candidate gate
+// Step 4
+void AmbiguityResolver::recordHeld(HoldEpoch& e) const {
+  for (const auto& r : e.held_rows) e.components.join(r.key.arc, r.key.reference_arc);
+  for (std::size_t i = 0; i < e.held_rows.size(); ++i) {
+    const PairRow& r = e.held_rows[i];
+    NarrowLaneFloat f{r.key.arc, r.key.reference_arc, r.satellite, r.reference_satellite, r.key.wide_lane_cycles,
+                      r.d.dot(e.x) - r.offset, pairSigma_cycles(r.d, e.P), e.held_values[i]};
+    e.summary.narrow_lanes.push_back(f);
+  }
+}
+
+// Step 5
+void AmbiguityResolver::gatherCandidates(HoldEpoch& e) {
+  const AmbiguityHoldOptions& ho = options_.hold;
+  e.per_system = wideLanesPerSystemKeepingReferences(e.slot);
+  recordWideLanes(e.per_system, e.summary);
   std::map<PairKey, bool> seen;
-  for (std::size_t si = 0; si < per_system.size(); ++si) {
-    const WideLaneResolution& wl = per_system[si];
+  for (std::size_t si = 0; si < e.per_system.size(); ++si) {
+    const WideLaneResolution& wl = e.per_system[si];
     for (const WideLaneFix& f : wl.arcs) {
       if (!f.fixed) continue;
       const PairKey key{f.arc, *wl.reference_arc, f.integer_cycles};
-      const auto row = rowOf(key, dim, slot, biases);
+      const auto row = rowOf(key, e.dim, e.slot, e.biases);
       if (!row) continue;
       seen[key] = true;
       std::vector<double>& h = float_history_[key];
-      h.push_back(row->d.dot(x) - row->offset);
+      h.push_back(row->d.dot(e.x) - row->offset);
       if (static_cast<int>(h.size()) > ho.consistency_epochs) h.erase(h.begin());
-      if (held_.count(key) || components.find(f.arc) == components.find(*wl.reference_arc)) continue;
+      if (held_.count(key) || e.components.find(f.arc) == e.components.find(*wl.reference_arc)) continue;
       NarrowLaneFloat nf{key.arc, key.reference_arc, row->satellite, row->reference_satellite, key.wide_lane_cycles,
-                         h.back(), std::sqrt(std::max(0.0, (row->d * P * row->d.transpose())(0, 0))), std::nullopt};
-      summary.narrow_lanes.push_back(nf);
+                         h.back(), pairSigma_cycles(row->d, e.P), std::nullopt};
+      e.summary.narrow_lanes.push_back(nf);
       const auto [lo, hi] = std::minmax_element(h.begin(), h.end());
       if (static_cast<int>(h.size()) < ho.consistency_epochs || *hi - *lo > ho.max_float_spread_cycles) continue;
-      const double conditioned = row->d.dot(xc) - row->offset;
-      const double conditioned_sigma = std::sqrt(std::max(0.0, (row->d * Pc * row->d.transpose())(0, 0)));
-      if (offInteger(conditioned - std::round(conditioned), conditioned_sigma) ||
+      const double conditioned = row->d.dot(e.conditionedX()) - row->offset;
+      const double conditioned_sigma = pairSigma_cycles(row->d, e.conditionedP());
+      if (offInteger(conditioned - std::round(conditioned), conditioned_sigma, ho.max_fraction_cycles) ||
           conditioned_sigma > ho.max_sigma_cycles) {
-        ++gated;
+        ++e.gated;
         continue;
       }
-      candidates.push_back(*row);
-      candidate_sigma.push_back(conditioned_sigma);
-      ++summary.systems[si].narrow_lane_candidates;
+      e.candidates.push_back(*row);
+      e.candidate_sigma.push_back(conditioned_sigma);
+      ++e.summary.systems[si].narrow_lane_candidates;
     }
   }
   for (auto it = float_history_.begin(); it != float_history_.end();)
     it = seen.count(it->first) ? std::next(it) : float_history_.erase(it);
-  summary.narrow_lane_candidates = static_cast<int>(candidates.size());
+  e.summary.narrow_lane_candidates = static_cast<int>(e.candidates.size());
+}
 
-  // Partial fixing of the best-determined subset (conditioned on the held ones).
-  const int min_subset = held_rows.size() >= static_cast<std::size_t>(options_.narrow_lane.min_fixed)
+// Step 6
+void AmbiguityResolver::searchBestSubset(HoldEpoch& e) const {
+  const AmbiguityHoldOptions& ho = options_.hold;
+  AmbiguityFixSummary& summary = e.summary;
+  const int min_subset = e.held_rows.size() >= static_cast<std::size_t>(options_.narrow_lane.min_fixed)
                              ? 1
-                             : std::max(1, options_.narrow_lane.min_fixed - static_cast<int>(held_rows.size()));
-  std::vector<std::size_t> order(candidates.size());
+                             : std::max(1, options_.narrow_lane.min_fixed - static_cast<int>(e.held_rows.size()));
+  std::vector<std::size_t> order(e.candidates.size());
   std::iota(order.begin(), order.end(), 0);
   std::sort(order.begin(), order.end(),
-            [&](std::size_t a, std::size_t b) { return candidate_sigma[a] < candidate_sigma[b]; });
-  std::map<PairKey, long> fixed_now;
+            [&](std::size_t a, std::size_t b) { return e.candidate_sigma[a] < e.candidate_sigma[b]; });
   const auto t0 = std::chrono::steady_clock::now();
   summary.ils_reason = IlsFloatReason::TooFewAmbiguities;
-  bool integer_far = false;  // the last subset tried was refused by the candidate gate
   for (int n = static_cast<int>(order.size()); n >= min_subset && n > 0; --n) {
-    Eigen::MatrixXd D(n, dim);
+    Eigen::MatrixXd D(n, e.dim);
     Eigen::VectorXd o(n);
     for (int i = 0; i < n; ++i) {
-      const PairRow& r = candidates[order[static_cast<std::size_t>(i)]];
+      const PairRow& r = e.candidates[order[static_cast<std::size_t>(i)]];
       D.row(i) = r.d;
       o(i) = r.offset;
     }
     IlsOptions io = options_.narrow_lane;
     io.partial = false;
     io.min_fixed = n;
-    const Eigen::VectorXd a_hat = D * xc - o;
-    const Eigen::MatrixXd Q = D * Pc * D.transpose();
+    const Eigen::VectorXd a_hat = D * e.conditionedX() - o;
+    const Eigen::MatrixXd Q = D * e.conditionedP() * D.transpose();
     IlsResult ils = solveIntegerLeastSquares(a_hat, Q, io);
     if ((ho.require_subset_success_rate || n <= ho.small_subset_max_size) && ils.isFixed() &&
         ils.bootstrap_success_rate < options_.narrow_lane.min_success_rate) {
@@ -592,27 +672,31 @@ std::optional<AmbiguityFixedState> AmbiguityResolver::resolveAndHold(const Eigen
     summary.ratio = ils.ratio;
     summary.bootstrap_success_rate = ils.bootstrap_success_rate;
     summary.ils_reason = ils.float_reason;
-    integer_far = false;
+    e.integer_far = false;
     if (ils.isFixed() && ils.fixed_ambiguities)
       for (int i = 0; i < n; ++i)
-        integer_far = integer_far || offInteger(a_hat(i) - (*ils.fixed_ambiguities)(i), std::sqrt(std::max(0.0, Q(i, i))));
-    if (integer_far) continue;
+        e.integer_far = e.integer_far || offInteger(a_hat(i) - (*ils.fixed_ambiguities)(i),
+                                                    std::sqrt(std::max(0.0, Q(i, i))), ho.max_fraction_cycles);
+    if (e.integer_far) continue;
     if (ils.isFixed() && ils.fixed_ambiguities) {
       for (int i = 0; i < n; ++i)
-        fixed_now[candidates[order[static_cast<std::size_t>(i)]].key] = std::lround((*ils.fixed_ambiguities)(i));
+        e.fixed_now[e.candidates[order[static_cast<std::size_t>(i)]].key] = std::lround((*ils.fixed_ambiguities)(i));
       break;
     }
   }
   summary.search_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
 
-  // Validation across epochs (fewer epochs for a subset whose success rate says it is determined).
-  const int needed_epochs = !fixed_now.empty() && ho.fast_validation_success_rate < 1.0 &&
-                                    summary.bootstrap_success_rate >= ho.fast_validation_success_rate
+// Step 7: fewer epochs for a subset whose success rate says it is determined.
+void AmbiguityResolver::validateAndHold(HoldEpoch& e) {
+  const AmbiguityHoldOptions& ho = options_.hold;
+  const int needed_epochs = !e.fixed_now.empty() && ho.fast_validation_success_rate < 1.0 &&
+                                    e.summary.bootstrap_success_rate >= ho.fast_validation_success_rate
                                 ? std::min(ho.fast_validation_epochs, ho.validation_epochs)
                                 : ho.validation_epochs;
   for (auto it = pending_.begin(); it != pending_.end();)
-    it = fixed_now.count(it->first) ? std::next(it) : pending_.erase(it);
-  for (const auto& [key, integer] : fixed_now) {
+    it = e.fixed_now.count(it->first) ? std::next(it) : pending_.erase(it);
+  for (const auto& [key, integer] : e.fixed_now) {
     Pending& p = pending_[key];
     if (p.count > 0 && p.integer == integer) {
       ++p.count;
@@ -620,19 +704,24 @@ std::optional<AmbiguityFixedState> AmbiguityResolver::resolveAndHold(const Eigen
       p.integer = integer;
       p.count = 1;
     }
-    if (p.count >= needed_epochs && components.join(key.arc, key.reference_arc)) {
+    if (p.count >= needed_epochs && e.components.join(key.arc, key.reference_arc)) {
       held_[key] = integer;
-      ++summary.newly_held;
+      ++e.summary.newly_held;
       pending_.erase(key);
-      if (const auto row = rowOf(key, dim, all_slot, biases)) {
-        held_rows.push_back(*row);
-        held_values.push_back(integer);
+      if (const auto row = rowOf(key, e.dim, e.all_slot, e.biases)) {
+        e.held_rows.push_back(*row);
+        e.held_values.push_back(integer);
       }
     }
   }
-  summary.held = static_cast<int>(held_rows.size());
+}
+
+// Step 8
+std::optional<AmbiguityFixedState> AmbiguityResolver::applyHeld(HoldEpoch& e) const {
+  AmbiguityFixSummary& summary = e.summary;
+  summary.held = static_cast<int>(e.held_rows.size());
   for (SystemAmbiguitySummary& sys : summary.systems)
-    sys.held = static_cast<int>(std::count_if(held_rows.begin(), held_rows.end(), [&](const PairRow& r) {
+    sys.held = static_cast<int>(std::count_if(e.held_rows.begin(), e.held_rows.end(), [&](const PairRow& r) {
       return r.satellite.system == sys.system;
     }));
   for (auto& f : summary.narrow_lanes)
@@ -641,23 +730,17 @@ std::optional<AmbiguityFixedState> AmbiguityResolver::resolveAndHold(const Eigen
       if (h != held_.end()) f.held_cycles = h->second;
     }
   if (summary.held < options_.narrow_lane.min_fixed) {
-    summary.float_reason = summary.held > 0 || !pending_.empty() ? AmbiguityFloatReason::Validating
-                           : per_system.empty()                  ? AmbiguityFloatReason::NoWideLaneReference
-                           : candidates.empty() && gated > 0     ? AmbiguityFloatReason::FloatsOffInteger
-                           : candidates.empty() && !summary.narrow_lanes.empty() ? AmbiguityFloatReason::FloatsDrifting
-                           : candidates.empty()                  ? AmbiguityFloatReason::TooFewWideLanes
-                           : integer_far                         ? AmbiguityFloatReason::IntegerFarFromFloat
-                                                                 : AmbiguityFloatReason::NarrowLane;
+    summary.float_reason = floatReason(e);
     return std::nullopt;
   }
   Eigen::MatrixXd A;
   Eigen::VectorXd y;
-  stack(held_rows, held_values, -1, A, y);
-  // Nothing newly held: the held set is the one already conditioned on above.
+  stackConstraints(e.held_rows, e.held_values, e.dim, A, y);
+  // Nothing newly held: the held set is the one already conditioned on in step 3.
   std::optional<AmbiguityFixedState> fixed;
-  if (summary.newly_held == 0 && held_state) {
-    fixed = std::move(held_state->state);
-  } else if (auto c = conditionOn(x, P, A, y, false)) {
+  if (summary.newly_held == 0 && e.held_state) {
+    fixed = std::move(e.held_state->state);
+  } else if (auto c = conditionOn(e.x, e.P, A, y, false)) {
     fixed = std::move(c->state);
   }
   if (!fixed) {
@@ -671,6 +754,17 @@ std::optional<AmbiguityFixedState> AmbiguityResolver::resolveAndHold(const Eigen
   summary.narrow_lanes_fixed = summary.held;
   summary.float_reason = AmbiguityFloatReason::None;
   return fixed;
+}
+
+AmbiguityFloatReason AmbiguityResolver::floatReason(const HoldEpoch& e) const {
+  const AmbiguityFixSummary& summary = e.summary;
+  return summary.held > 0 || !pending_.empty()                          ? AmbiguityFloatReason::Validating
+         : e.per_system.empty()                                        ? AmbiguityFloatReason::NoWideLaneReference
+         : e.candidates.empty() && e.gated > 0                         ? AmbiguityFloatReason::FloatsOffInteger
+         : e.candidates.empty() && !summary.narrow_lanes.empty()       ? AmbiguityFloatReason::FloatsDrifting
+         : e.candidates.empty()                                        ? AmbiguityFloatReason::TooFewWideLanes
+         : e.integer_far                                               ? AmbiguityFloatReason::IntegerFarFromFloat
+                                                                       : AmbiguityFloatReason::NarrowLane;
 }
 
 }  // namespace ppp

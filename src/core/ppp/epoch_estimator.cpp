@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include "ppp_bayes_tree/ppp/estimator_registry.h"
+
 namespace ppp {
 
 EkfEstimator::EkfEstimator(const PppConfig& config)
@@ -114,12 +116,21 @@ void SmootherEstimator::arcsEnded(const std::vector<EndedArc>& ended) {
   ambiguity_.arcsEnded(ended);
 }
 
+std::unique_ptr<EpochEstimator> makeEkfEstimator(const PppConfig& config) {
+  return std::make_unique<EkfEstimator>(config);
+}
+
+std::unique_ptr<EpochEstimator> makeSmootherEstimator(const PppConfig& config) {
+  return std::make_unique<SmootherEstimator>(config);
+}
+
 std::unique_ptr<EpochEstimator> makeEstimator(const std::string& name, const PppConfig& config, std::string* why) {
-  if (name == "ekf") return std::make_unique<EkfEstimator>(config);
-  if (name == "smoother") return std::make_unique<SmootherEstimator>(config);
+  if (const EstimatorEntry* e = findEstimator(name)) return e->make(config);
   if (why) {
-    *why = name == "both" ? "estimator 'both' is run by the caller as 'ekf' and 'smoother' (one pipeline each)"
-                          : "unknown estimator '" + name + "' (expected ekf or smoother)";
+    *why = name == kAllEstimators ? "estimator '" + name + "' is run by the caller as " +
+                                        registeredEstimatorNames(" and ") + " (one pipeline each)"
+                                  : "unknown estimator '" + name + "' (expected " +
+                                        registeredEstimatorNames(" or ") + ")";
   }
   return nullptr;
 }

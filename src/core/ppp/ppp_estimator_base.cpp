@@ -29,62 +29,97 @@ EstimatorEpochResult PppEstimatorBase::processEpoch(const GnssTime& time, const 
   const auto t_start = std::chrono::steady_clock::now();
   EstimatorEpochResult result;
   result.time = time;
-  auto finish = [&]() {
-    result.active_biases = biasCount();
-    finishEpoch(result);
-    result.epoch_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
-    return result;
-  };
+  EpochSolveInput in;
+  in.time = time;
+  in.evaluate = &evaluate;
 
   // 1. Start from the code least squares, or check that time advances.
   std::optional<ReceiverState> start;
-  double dt = 0.0;
-  bool first = true;
-  if (!hasState()) {
-    ReceiverState s(layout_);
-    s.position_ecef_m = approx_position_ecef_m_.value_or(Eigen::Vector3d::Zero());
-    s.zwd_m = model_.initial_zwd_m;
-    if (!approx_position_ecef_m_ && evaluate_start != nullptr) {
-      // No approximate position: the start model from the Earth centre gives one.
-      const CodeLeastSquaresResult coarse = codeLeastSquares(*evaluate_start, s, start_options_);
-      result.iterations += coarse.iterations;
-      if (!coarse.ok) {
-        result.rejected = coarse.rejected;
-        fail(result, EpochStatus::NoSolution, NoSolutionReason::NoInitialPosition,
-             "no initial position: no approximate position, start model from the Earth centre: " + coarse.reason);
-        return finish();
-      }
-      s.position_ecef_m = coarse.state.position_ecef_m;
-      for (const GnssSystem system : layout_.clockSystems()) s.setClock_m(system, coarse.state.clock_m(system));
-    }
-    const CodeLeastSquaresResult ls = codeLeastSquares(evaluate, s, start_options_);
-    result.iterations += ls.iterations;
-    if (!ls.ok) {
-      result.rejected = ls.rejected;
-      fail(result, EpochStatus::NoSolution, NoSolutionReason::NoInitialPosition, "no initial position: " + ls.reason);
-      return finish();
-    }
-    start = ls.state;
-  } else {
-    const GnssTime last = *lastSolvedTime();
-    dt = time - last;
-    result.dt_s = dt;
-    first = startsAt(time) && dt == 0.0;
-    if (!(std::isfinite(dt) && dt > 0.0) && !first) {
-      fail(result, EpochStatus::Failed, NoSolutionReason::EpochNotAfterLastSolved,
-           "epoch " + time.toString() + " is not after the last solved epoch " + last.toString());
-      return finish();
-    }
-  }
+  if (!startOrAdvance(evaluate, evaluate_start, in, start, result)) return finished(std::move(result), t_start);
 
-  // 2-3. Prediction; linearise once there; usable measurements; white clock shifts.
-  EpochSolveInput in;
-  in.time = time;
-  in.dt_s = dt;
-  in.first = first;
-  in.evaluate = &evaluate;
-  in.predicted = predict(dt, first, start);
-  const EpochMeasurements epoch0 = evaluate(in.predicted);
+  // 2. The estimator's prediction.
+  in.predicted = predict(in.dt_s, in.first, start);
+
+  // 3. Linearise once at the prediction; usable measurements; white clock shifts.
+  std::vector<SatelliteMeasurement> usable = lineariseAtPrediction(evaluate, in.predicted, result);
+
+  // 4. Arc bookkeeping on a copy of the active set.
+  std::map<ArcId, ActiveArc> arcs = bookArcs(usable, time, in.dropped_arcs);
+
+  // 5. Prefit screening against the estimator's bias priors.
+  std::optional<std::vector<SatelliteMeasurement>> kept = screenAgainstPriors(usable, arcs, result);
+  if (!kept) return finished(std::move(result), t_start);
+
+  // 6. New arcs: initial bias from phase minus code.
+  in.screened = withInitialBiases(std::move(*kept), arcs);
+
+  // 7. The estimator's update (a restart from the last good state after a failure).
+  EpochSolveOutput out;
+  if (!solveOrRecover(in, out, result)) return finished(std::move(result), t_start);
+
+  // 8. Commit the active set; residual records.
+  commitEpoch(in, std::move(out), std::move(arcs), result);
+
+  // 9. Epoch consistency test of the postfit residuals.
+  if (screening_.consistency_check) testConsistency(result);
+  return finished(std::move(result), t_start);
+}
+
+EstimatorEpochResult PppEstimatorBase::finished(EstimatorEpochResult result,
+                                                std::chrono::steady_clock::time_point t_start) const {
+  result.active_biases = biasCount();
+  finishEpoch(result);
+  result.epoch_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
+  return result;
+}
+
+// Step 1
+bool PppEstimatorBase::startOrAdvance(const MeasurementFunction& evaluate, const MeasurementFunction* evaluate_start,
+                                      EpochSolveInput& in, std::optional<ReceiverState>& start,
+                                      EstimatorEpochResult& result) const {
+  in.dt_s = 0.0;
+  in.first = true;
+  if (hasState()) {
+    const GnssTime last = *lastSolvedTime();
+    in.dt_s = in.time - last;
+    result.dt_s = in.dt_s;
+    in.first = startsAt(in.time) && in.dt_s == 0.0;
+    if (!(std::isfinite(in.dt_s) && in.dt_s > 0.0) && !in.first)
+      return fail(result, EpochStatus::Failed, NoSolutionReason::EpochNotAfterLastSolved,
+                  "epoch " + in.time.toString() + " is not after the last solved epoch " + last.toString());
+    return true;
+  }
+  ReceiverState s(layout_);
+  s.position_ecef_m = approx_position_ecef_m_.value_or(Eigen::Vector3d::Zero());
+  s.zwd_m = model_.initial_zwd_m;
+  if (!approx_position_ecef_m_ && evaluate_start != nullptr) {
+    // No approximate position: the start model from the Earth centre gives one.
+    const CodeLeastSquaresResult coarse = codeLeastSquares(*evaluate_start, s, start_options_);
+    result.iterations += coarse.iterations;
+    if (!coarse.ok) {
+      result.rejected = coarse.rejected;
+      return fail(result, EpochStatus::NoSolution, NoSolutionReason::NoInitialPosition,
+                  "no initial position: no approximate position, start model from the Earth centre: " + coarse.reason);
+    }
+    s.position_ecef_m = coarse.state.position_ecef_m;
+    for (const GnssSystem system : layout_.clockSystems()) s.setClock_m(system, coarse.state.clock_m(system));
+  }
+  const CodeLeastSquaresResult ls = codeLeastSquares(evaluate, s, start_options_);
+  result.iterations += ls.iterations;
+  if (!ls.ok) {
+    result.rejected = ls.rejected;
+    return fail(result, EpochStatus::NoSolution, NoSolutionReason::NoInitialPosition,
+                "no initial position: " + ls.reason);
+  }
+  start = ls.state;
+  return true;
+}
+
+// Step 3
+std::vector<SatelliteMeasurement> PppEstimatorBase::lineariseAtPrediction(const MeasurementFunction& evaluate,
+                                                                          ReceiverState& predicted,
+                                                                          EstimatorEpochResult& result) const {
+  const EpochMeasurements epoch0 = evaluate(predicted);
   result.iterations += 1;
   result.rejected = epoch0.rejected;
   std::vector<SatelliteMeasurement> cand = usableMeasurements(epoch0.used, result.rejected);
@@ -100,35 +135,46 @@ EstimatorEpochResult PppEstimatorBase::processEpoch(const GnssTime& time, const 
   if (screening_.clock_from_code_median) {
     for (const GnssSystem system : layout_.clockSystems()) {
       if (const auto shift = medianCodeClockShift_m(cand, layout_, system)) {
-        in.predicted.setClock_m(system, in.predicted.clock_m(system) + *shift);
+        predicted.setClock_m(system, predicted.clock_m(system) + *shift);
         applyClockShift(cand, layout_, system, *shift);
       }
     }
   }
+  return cand;
+}
 
-  // 4. Arc bookkeeping on a copy: a new arc of a satellite replaces its bias; stale arcs go.
+// Step 4
+std::map<ArcId, PppEstimatorBase::ActiveArc> PppEstimatorBase::bookArcs(
+    const std::vector<SatelliteMeasurement>& usable, const GnssTime& time, std::vector<ArcId>& dropped_arcs) const {
   std::map<ArcId, ActiveArc> arcs = arcs_;
-  for (const auto& m : cand) {
+  // A new arc of a satellite replaces its bias.
+  for (const auto& m : usable) {
     for (auto it = arcs.begin(); it != arcs.end(); ++it) {
       if (it->second.satellite == m.satellite && it->first != m.arc) {
-        in.dropped_arcs.push_back(it->first);
+        dropped_arcs.push_back(it->first);
         arcs.erase(it);
         break;
       }
     }
   }
+  // Stale arcs go.
   for (auto it = arcs.begin(); it != arcs.end();) {
     if (time - it->second.last_used > screening_.stale_arc_timeout_s) {
-      in.dropped_arcs.push_back(it->first);
+      dropped_arcs.push_back(it->first);
       it = arcs.erase(it);
     } else {
       ++it;
     }
   }
+  return arcs;
+}
 
-  // 5. Prefit screening against the estimator's bias priors.
+// Step 5
+std::optional<std::vector<SatelliteMeasurement>> PppEstimatorBase::screenAgainstPriors(
+    const std::vector<SatelliteMeasurement>& usable, const std::map<ArcId, ActiveArc>& arcs,
+    EstimatorEpochResult& result) const {
   PrefitScreeningResult screening =
-      screenPrefit(cand, screening_, [&](ArcId arc) -> std::optional<ArcBiasPrior> {
+      screenPrefit(usable, screening_, [&](ArcId arc) -> std::optional<ArcBiasPrior> {
         if (!arcs.count(arc)) return std::nullopt;
         return predictedBias(arc);
       },
@@ -140,31 +186,40 @@ EstimatorEpochResult PppEstimatorBase::processEpoch(const GnssTime& time, const 
     fail(result, EpochStatus::NoSolution, NoSolutionReason::TooFewSatellites,
          std::to_string(n_sat) + " satellites usable after screening, at least " +
              std::to_string(screening_.min_satellites) + " needed");
-    return finish();
+    return std::nullopt;
   }
+  return std::move(screening.kept);
+}
 
-  // 6. New arcs: initial bias from phase minus code.
-  in.screened.reserve(screening.kept.size());
-  for (auto& m : screening.kept) {
+// Step 6
+std::vector<PppEstimatorBase::ScreenedMeasurement> PppEstimatorBase::withInitialBiases(
+    std::vector<SatelliteMeasurement> kept, const std::map<ArcId, ActiveArc>& arcs) {
+  std::vector<ScreenedMeasurement> screened;
+  screened.reserve(kept.size());
+  for (auto& m : kept) {
     ScreenedMeasurement s;
     s.active_arc = arcs.count(m.arc) > 0;
     s.new_arc_bias_m = m.phaseResidualWithoutBias_m() - m.codeResidual_m();
     s.m = std::move(m);
-    in.screened.push_back(std::move(s));
+    screened.push_back(std::move(s));
   }
+  return screened;
+}
 
-  // 7. The estimator's update.
-  EpochSolveOutput out;
-  if (!solve(in, out, result)) {
-    if (result.status == EpochStatus::Failed && recoverAfterFailure(result)) {
-      result.estimator_reset = true;
-      ++resets_;
-    }
-    return finish();
+// Step 7
+bool PppEstimatorBase::solveOrRecover(const EpochSolveInput& in, EpochSolveOutput& out, EstimatorEpochResult& result) {
+  if (solve(in, out, result)) return true;
+  if (result.status == EpochStatus::Failed && recoverAfterFailure(result)) {
+    result.estimator_reset = true;
+    ++resets_;
   }
+  return false;
+}
 
-  // 8. Commit the active set; residual records.
-  for (const auto& row : out.rows) arcs[row.m.arc] = ActiveArc{row.m.satellite, time};
+// Step 8
+void PppEstimatorBase::commitEpoch(const EpochSolveInput& in, EpochSolveOutput out, std::map<ArcId, ActiveArc> arcs,
+                                   EstimatorEpochResult& result) {
+  for (const auto& row : out.rows) arcs[row.m.arc] = ActiveArc{row.m.satellite, in.time};
   arcs_ = std::move(arcs);
   result.status = EpochStatus::Ok;
   result.no_solution_reason = NoSolutionReason::None;
@@ -187,32 +242,30 @@ EstimatorEpochResult PppEstimatorBase::processEpoch(const GnssTime& time, const 
     r.phase_sigma_m = row.m.phase_sigma_m;
     result.residuals.push_back(r);
   }
+}
 
-  // 9. Epoch consistency test of the postfit residuals (postfit_screening.h): an
-  // inconsistent solution is flagged, and inflated or withheld.
-  if (screening_.consistency_check) {
-    std::vector<PostfitResidualPair> pairs;
-    pairs.reserve(result.residuals.size());
-    for (const auto& r : result.residuals)
-      pairs.push_back({r.code_postfit_m, r.phase_postfit_m, r.code_sigma_m, r.phase_sigma_m});
-    const ConsistencyTest test = postfitConsistency(pairs, screening_.consistency_false_alarm);
-    result.consistency_statistic = test.statistic;
-    result.consistency_dof = test.dof;
-    result.consistency = test.describe(screening_.consistency_false_alarm);
-    if (test.consistent()) {
-      result.integrity = SolutionIntegrity::Consistent;
-    } else {
-      result.integrity = SolutionIntegrity::Inconsistent;
-      if (screening_.consistency_action == ConsistencyAction::Withhold) {
-        fail(result, EpochStatus::NoSolution, NoSolutionReason::InconsistentSolution,
-             "solution withheld: " + result.consistency);
-      } else {
-        result.consistency_variance_factor = test.varianceFactor();
-        result.solution->covariance *= result.consistency_variance_factor;
-      }
-    }
+// Step 9 (postfit_screening.h): an inconsistent solution is flagged, and inflated or withheld.
+void PppEstimatorBase::testConsistency(EstimatorEpochResult& result) const {
+  std::vector<PostfitResidualPair> pairs;
+  pairs.reserve(result.residuals.size());
+  for (const auto& r : result.residuals)
+    pairs.push_back({r.code_postfit_m, r.phase_postfit_m, r.code_sigma_m, r.phase_sigma_m});
+  const ConsistencyTest test = postfitConsistency(pairs, screening_.consistency_false_alarm);
+  result.consistency_statistic = test.statistic;
+  result.consistency_dof = test.dof;
+  result.consistency = test.describe(screening_.consistency_false_alarm);
+  if (test.consistent()) {
+    result.integrity = SolutionIntegrity::Consistent;
+    return;
   }
-  return finish();
+  result.integrity = SolutionIntegrity::Inconsistent;
+  if (screening_.consistency_action == ConsistencyAction::Withhold) {
+    fail(result, EpochStatus::NoSolution, NoSolutionReason::InconsistentSolution,
+         "solution withheld: " + result.consistency);
+  } else {
+    result.consistency_variance_factor = test.varianceFactor();
+    result.solution->covariance *= result.consistency_variance_factor;
+  }
 }
 
 }  // namespace ppp

@@ -245,292 +245,363 @@ void PppSmoother::finishEpoch(EstimatorEpochResult& result) const {
   if (!result.smoother) result.smoother.emplace();
 }
 
-bool PppSmoother::solve(const EpochSolveInput& in, EpochSolveOutput& out, EstimatorEpochResult& result) {
-  SmootherEpochDiagnostics& diag = result.smoother.emplace();
-  const int kRx = layout_.dim();
-  const ReceiverState& predicted = in.predicted;
-  std::map<ArcId, ArcSlot> arcs = arcs_;
-  for (const ArcId arc : in.dropped_arcs) arcs.erase(arc);
+/// The state carried between the steps of solve().
+struct PppSmoother::SolveEpoch {
+  SolveEpoch(const EpochSolveInput& input, SmootherEpochDiagnostics& diagnostics, std::map<ArcId, ArcSlot> active)
+      : in(input), diag(diagnostics), arcs(std::move(active)), n_sat(input.screened.size()), new_arc(n_sat, false),
+        bias_of(n_sat), phase_prefit(n_sat), code_factor(n_sat), kept(n_sat, true), n_kept(n_sat) {}
 
-  // New factors and variables.
-  const std::uint32_t index = in.first ? 0u : states_.back().index + 1;
-  const Key x = stateKey(index);
+  const EpochSolveInput& in;
+  SmootherEpochDiagnostics& diag;
+  std::map<ArcId, ArcSlot> arcs;  // the active set after this epoch (committed in step 6)
+  std::size_t n_sat;              // screened satellites
+  // Steps 1-2: the new state, factors and variables.
+  std::uint32_t index = 0;
+  Key x = 0;
   smoother::NonlinearFactorGraph factors;
   smoother::Values values;
-  values.insert(x, predicted.vector());
+  KeyVector newest;                        // eliminated last (root clique)
+  std::vector<bool> new_arc;               // per satellite: a new bias variable
+  std::vector<Key> bias_of;                // per satellite: its bias variable
+  std::vector<double> phase_prefit;        // per satellite: at the prediction, minus the bias prior
+  std::vector<std::size_t> code_factor;    // position of each satellite's code factor in `factors` (phase: +1)
+  // Steps 3-4: the update and the postfit check.
+  std::map<Key, std::uint32_t> bias_last_state;
+  smoother::Values marginalized;                   // fixed lag: the states and biases this update marginalized
+  std::vector<smoother::FactorIndex> graph_index;  // of each new factor
+  SteadyClock::time_point t_update;
+  std::vector<bool> kept;
+  std::size_t n_kept;
+  std::vector<smoother::FactorIndex> removed_factors;
+  // Step 5: the filtered joint of the new state and the kept biases.
+  smoother::Matrix joint;
+  std::vector<int> marginal_of;  // position of each kept bias in the joint marginal
+  Vector x_est;
+  EpochSolution solution;
+};
+
+namespace {
+
+/// The constrained ordering: states by index, biases by the last state they
+/// were observed at (eliminated after it), oldest first.
+std::function<int(Key)> orderingByLastState(const std::map<Key, std::uint32_t>& bias_last_state) {
+  return [&bias_last_state](Key key) {
+    if (smoother::keySymbol(key) == 'x') return static_cast<int>(smoother::keyIndex(key));
+    auto it = bias_last_state.find(key);
+    return it == bias_last_state.end() ? 0 : static_cast<int>(it->second);
+  };
+}
+
+}  // namespace
+
+bool PppSmoother::solve(const EpochSolveInput& in, EpochSolveOutput& out, EstimatorEpochResult& result) {
+  SolveEpoch e(in, result.smoother.emplace(), arcs_);
+  for (const ArcId arc : in.dropped_arcs) e.arcs.erase(arc);
+
+  // 1. The new state with its prior (first) or its random walk and clock priors.
+  addStateFactors(e);
+
+  // 2. Each satellite's code and phase factors; a bias variable per new arc.
+  addMeasurementFactors(e);
+
+  // 3. One iSAM2 update, newest state and observed biases in the root.
+  if (!updateWithNewFactors(e, result)) return false;
+
+  // 4. Postfit check: the worst satellite's factors are removed while it fails.
+  if (!postfitCheck(e, result)) return false;
+  e.diag.update_time_s = secondsSince(e.t_update);
+
+  // 5. Filtered estimate and marginals of the root variables (new state, kept biases).
+  if (!filteredMarginals(e, result)) return false;
+
+  // 6. Commit the filtered joint, active set, state record and graph bookkeeping.
+  commitEpoch(e);
+  out.solution = e.solution;
+  out.ambiguities = AmbiguityState::Float;
+
+  // 7. Residuals: prefit at the prediction, postfit at the filtered state.
+  out.rows = residualRows(e);
+  return true;
+}
+
+smoother::NoiseModel::Ptr PppSmoother::measurementNoise(double sigma) const {
+  NoiseModel::Ptr n = NoiseModel::isotropic(1, sigma);
+  if (options_.robust) n = n->withRobust({smoother::RobustKernel::Type::Huber, options_.huber_width_sigmas});
+  return n;
+}
+
+// Step 1
+void PppSmoother::addStateFactors(SolveEpoch& e) const {
+  const EpochSolveInput& in = e.in;
+  const ReceiverState& predicted = in.predicted;
+  e.index = in.first ? 0u : states_.back().index + 1;
+  e.x = stateKey(e.index);
+  e.values.insert(e.x, predicted.vector());
   if (in.first) {
-    Eigen::VectorXd sigmas = Eigen::VectorXd::Constant(kRx, model_.clock.initial_sigma_m);
+    Eigen::VectorXd sigmas = Eigen::VectorXd::Constant(layout_.dim(), model_.clock.initial_sigma_m);
     sigmas.segment<ReceiverStateLayout::kPositionSize>(layout_.position()).setConstant(model_.position.initial_sigma_m);
     sigmas(layout_.zwd()) = model_.zwd.initial_sigma_m;
-    factors.push_back(std::make_shared<smoother::PriorFactor>(x, predicted.vector(), NoiseModel::sigmas(sigmas)));
+    e.factors.push_back(std::make_shared<smoother::PriorFactor>(e.x, predicted.vector(), NoiseModel::sigmas(sigmas)));
   } else {
     const Key previous = stateKey(states_.back().index);
-    factors.push_back(std::make_shared<ReceiverRandomWalkFactor>(
-        previous, x, layout_, sigmaOf(model_.position.processVariance_m2(in.dt_s)),
+    e.factors.push_back(std::make_shared<ReceiverRandomWalkFactor>(
+        previous, e.x, layout_, sigmaOf(model_.position.processVariance_m2(in.dt_s)),
         sigmaOf(model_.zwd.processVariance_m2(in.dt_s))));
     for (const GnssSystem system : layout_.clockSystems())
-      factors.push_back(std::make_shared<ClockPriorFactor>(x, layout_.clock(system), predicted.clock_m(system),
-                                                           sigmaOf(model_.clock.processVariance_m2(in.dt_s))));
+      e.factors.push_back(std::make_shared<ClockPriorFactor>(e.x, layout_.clock(system), predicted.clock_m(system),
+                                                             sigmaOf(model_.clock.processVariance_m2(in.dt_s))));
   }
+}
+
+// Step 2
+void PppSmoother::addMeasurementFactors(SolveEpoch& e) const {
+  const EpochSolveInput& in = e.in;
   // The code sigmas carry the correlation of the code errors over dt (stochastic_model.h).
   const double code_sigma_factor = std::sqrt(model_.codeVarianceFactor(in.dt_s));
-  auto noise = [&](double sigma) {
-    NoiseModel::Ptr n = NoiseModel::isotropic(1, sigma);
-    if (options_.robust) n = n->withRobust({smoother::RobustKernel::Type::Huber, options_.huber_width_sigmas});
-    return n;
-  };
-  const std::size_t n_sat = in.screened.size();
-  KeyVector newest{x};
-  std::vector<bool> new_arc(n_sat, false);
-  std::vector<Key> bias_of(n_sat);
-  std::vector<double> phase_prefit(n_sat);
-  std::vector<std::size_t> code_factor(n_sat);  // position of each satellite's code factor in `factors` (phase: +1)
-  for (std::size_t k = 0; k < n_sat; ++k) {
+  e.newest = KeyVector{e.x};
+  for (std::size_t k = 0; k < e.n_sat; ++k) {
     const SatelliteMeasurement& m = in.screened[k].m;
-    auto it = arcs.find(m.arc);
-    if (it == arcs.end()) {  // new arc: the front end's initial value, a priori sigma
+    auto it = e.arcs.find(m.arc);
+    if (it == e.arcs.end()) {  // new arc: the front end's initial value, a priori sigma
       const Key b = biasKey(m.satellite, m.arc);
       const double b0 = in.screened[k].new_arc_bias_m;
       if (isam2().exists(b)) {  // the arc left the active set earlier (stale) and returns
-        it = arcs.emplace(m.arc, ArcSlot{m.satellite, b, index, isam2().calculateEstimate(b)(0),
-                                         model_.phase_bias.initialVariance_m2()})
+        it = e.arcs.emplace(m.arc, ArcSlot{m.satellite, b, e.index, isam2().calculateEstimate(b)(0),
+                                           model_.phase_bias.initialVariance_m2()})
                  .first;
       } else {
-        values.insert(b, Vector::Constant(1, b0));
-        factors.push_back(std::make_shared<smoother::PriorFactor>(
+        e.values.insert(b, Vector::Constant(1, b0));
+        e.factors.push_back(std::make_shared<smoother::PriorFactor>(
             b, Vector::Constant(1, b0), NoiseModel::isotropic(1, model_.phase_bias.initial_sigma_m)));
-        it = arcs.emplace(m.arc, ArcSlot{m.satellite, b, index, b0, model_.phase_bias.initialVariance_m2()}).first;
-        new_arc[k] = true;
-        ++diag.new_biases;
+        it = e.arcs.emplace(m.arc, ArcSlot{m.satellite, b, e.index, b0, model_.phase_bias.initialVariance_m2()}).first;
+        e.new_arc[k] = true;
+        ++e.diag.new_biases;
       }
     }
     ArcSlot& slot = it->second;
-    slot.last_state = index;
-    bias_of[k] = slot.key;
-    phase_prefit[k] = m.phaseResidualWithoutBias_m() - slot.filtered_m;
-    newest.push_back(slot.key);
-    SatellitePrediction prediction(m, predicted, options_.exact_range);
-    code_factor[k] = factors.size();
-    factors.push_back(std::make_shared<PppCodeFactor>(x, prediction, noise(m.code_sigma_m * code_sigma_factor)));
-    factors.push_back(std::make_shared<PppPhaseFactor>(x, slot.key, prediction, noise(m.phase_sigma_m)));
+    slot.last_state = e.index;
+    e.bias_of[k] = slot.key;
+    e.phase_prefit[k] = m.phaseResidualWithoutBias_m() - slot.filtered_m;
+    e.newest.push_back(slot.key);
+    SatellitePrediction prediction(m, in.predicted, options_.exact_range);
+    e.code_factor[k] = e.factors.size();
+    e.factors.push_back(
+        std::make_shared<PppCodeFactor>(e.x, prediction, measurementNoise(m.code_sigma_m * code_sigma_factor)));
+    e.factors.push_back(std::make_shared<PppPhaseFactor>(e.x, slot.key, prediction, measurementNoise(m.phase_sigma_m)));
   }
+}
 
-  // One iSAM2 update, newest state and observed biases in the root.
-  std::map<Key, std::uint32_t> bias_last_state = bias_last_state_;
-  for (Key b : bias_of) bias_last_state[b] = index;
-  smoother::Values marginalized;  // fixed lag: the states and biases this update marginalized
-  const auto t_update = SteadyClock::now();
-  std::vector<smoother::FactorIndex> graph_index;  // of each new factor
+// Step 3
+bool PppSmoother::updateWithNewFactors(SolveEpoch& e, EstimatorEpochResult& result) {
+  SmootherEpochDiagnostics& diag = e.diag;
+  e.bias_last_state = bias_last_state_;
+  for (Key b : e.bias_of) e.bias_last_state[b] = e.index;
+  e.t_update = SteadyClock::now();
   try {
     if (lag_) {
-      std::unordered_map<Key, double> stamps{{x, time_origin_ ? lagStamp_s(in.time) : 0.0}};
-      const smoother::FixedLagResult r = lag_->update(factors, values, stamps, newest);
+      std::unordered_map<Key, double> stamps{{e.x, time_origin_ ? lagStamp_s(e.in.time) : 0.0}};
+      const smoother::FixedLagResult r = lag_->update(e.factors, e.values, stamps, e.newest);
       diag.variables_relinearized = r.isam2.variables_relinearized;
       diag.variables_reeliminated = r.isam2.variables_reeliminated;
       diag.factors_relinearized = r.isam2.factors_relinearized;
       diag.cliques_touched = r.isam2.cliquesTouched();
       diag.variables_marginalized = r.variables_marginalized;
-      graph_index = r.isam2.new_factor_indices;
-      marginalized = r.marginalized_estimates;
+      e.graph_index = r.isam2.new_factor_indices;
+      e.marginalized = r.marginalized_estimates;
     } else {
       smoother::ISAM2UpdateParams up;
-      up.newest_keys = newest;
-      up.ordering_group = [&bias_last_state](Key key) {
-        if (smoother::keySymbol(key) == 'x') return static_cast<int>(smoother::keyIndex(key));
-        auto it = bias_last_state.find(key);
-        return it == bias_last_state.end() ? 0 : static_cast<int>(it->second);
-      };
-      const smoother::ISAM2Result r = isam_->update(factors, values, up);
+      up.newest_keys = e.newest;
+      up.ordering_group = orderingByLastState(e.bias_last_state);
+      const smoother::ISAM2Result r = isam_->update(e.factors, e.values, up);
       diag.variables_relinearized = r.variables_relinearized;
       diag.variables_reeliminated = r.variables_reeliminated;
       diag.factors_relinearized = r.factors_relinearized;
       diag.cliques_touched = r.cliquesTouched();
-      graph_index = r.new_factor_indices;
+      e.graph_index = r.new_factor_indices;
     }
-  } catch (const std::exception& e) {
-    diag.update_time_s = secondsSince(t_update);
+  } catch (const std::exception& ex) {
+    diag.update_time_s = secondsSince(e.t_update);
     return fail(result, EpochStatus::Failed, NoSolutionReason::SmootherUpdateFailed,
-                std::string("smoother update failed: ") + e.what());
+                std::string("smoother update failed: ") + ex.what());
   }
+  return true;
+}
 
-  // Postfit check (postfit_screening.h, as the EKF): the worst satellite's code and
-  // phase factors are removed from the graph and the estimate updated again, never
-  // below min_satellites. A removed new arc keeps only its bias prior (a detached
-  // variable) and is not active; it starts afresh when seen again.
+// Step 4 (postfit_screening.h, as the EKF): the worst satellite's code and phase
+// factors are removed from the graph and the estimate updated again, never below
+// min_satellites. A removed new arc keeps only its bias prior (a detached
+// variable) and is not active; it starts afresh when seen again.
+bool PppSmoother::postfitCheck(SolveEpoch& e, EstimatorEpochResult& result) {
   const smoother::ISAM2& isam = isam2();
-  std::vector<bool> kept(n_sat, true);
-  std::size_t n_kept = n_sat;
-  std::vector<smoother::FactorIndex> removed_factors;
   auto postfitPair = [&](std::size_t k, const Vector& x_est) {
-    const SatelliteMeasurement& m = in.screened[k].m;
-    const SatellitePrediction prediction(m, predicted, options_.exact_range);
+    const SatelliteMeasurement& m = e.in.screened[k].m;
+    const SatellitePrediction prediction(m, e.in.predicted, options_.exact_range);
     return PostfitResidualPair{m.observed_code_m - prediction.code_m(x_est, nullptr),
                                m.observed_phase_m - prediction.phase_m(x_est, nullptr) -
-                                   isam.calculateEstimate(bias_of[k])(0),
+                                   isam.calculateEstimate(e.bias_of[k])(0),
                                m.code_sigma_m, m.phase_sigma_m};
   };
   const ScreeningOptions& sc = options_.screening;
   while (sc.postfit_check && result.postfit_rejections < sc.postfit_max_rejections &&
-         static_cast<int>(n_kept) > sc.min_satellites && graph_index.size() == factors.size()) {
-    const Vector x_now = isam.calculateEstimate(x);
+         static_cast<int>(e.n_kept) > sc.min_satellites && e.graph_index.size() == e.factors.size()) {
+    const Vector x_now = isam.calculateEstimate(e.x);
     std::vector<PostfitResidualPair> pairs;
     std::vector<std::size_t> of_pair;
-    for (std::size_t k = 0; k < n_sat; ++k)
-      if (kept[k]) {
+    for (std::size_t k = 0; k < e.n_sat; ++k)
+      if (e.kept[k]) {
         pairs.push_back(postfitPair(k, x_now));
         of_pair.push_back(k);
       }
     const auto worst = worstPostfitResidual(pairs, sc.postfit_sigmas);
     if (!worst) break;
     const std::size_t k = of_pair[worst->index];
-    const SatelliteMeasurement& m = in.screened[k].m;
+    const SatelliteMeasurement& m = e.in.screened[k].m;
     result.rejected.push_back(postfitRejection(m.satellite, *worst, sc.postfit_sigmas));
     ++result.postfit_rejections;
-    kept[k] = false;
-    --n_kept;
-    if (new_arc[k]) {
-      arcs.erase(m.arc);
-      --diag.new_biases;
-    }
-    const std::vector<smoother::FactorIndex> remove{graph_index[code_factor[k]], graph_index[code_factor[k] + 1]};
-    removed_factors.insert(removed_factors.end(), remove.begin(), remove.end());
-    KeyVector kept_newest{x};
-    for (std::size_t j = 0; j < n_sat; ++j)
-      if (kept[j]) kept_newest.push_back(bias_of[j]);
-    try {
-      if (lag_) {
-        lag_->update({}, {}, {}, kept_newest, remove);
-      } else {
-        smoother::ISAM2UpdateParams up;
-        up.newest_keys = kept_newest;
-        up.remove_factor_indices = remove;
-        up.ordering_group = [&bias_last_state](Key key) {
-          if (smoother::keySymbol(key) == 'x') return static_cast<int>(smoother::keyIndex(key));
-          auto it = bias_last_state.find(key);
-          return it == bias_last_state.end() ? 0 : static_cast<int>(it->second);
-        };
-        isam_->update({}, {}, up);
-      }
-    } catch (const std::exception& e) {
-      diag.update_time_s = secondsSince(t_update);
-      return fail(result, EpochStatus::Failed, NoSolutionReason::SmootherUpdateFailed,
-                  std::string("smoother update failed (postfit removal of ") + m.satellite.toString() + "): " +
-                      e.what());
-    }
-  }
-  diag.update_time_s = secondsSince(t_update);
-
-  // Filtered estimate and marginals of the root variables (new state, observed biases).
-  KeyVector marginal_keys{x};
-  std::vector<int> marginal_of(n_sat, -1);  // position of each kept bias in the joint marginal
-  for (std::size_t k = 0; k < n_sat; ++k)
-    if (kept[k]) {
-      marginal_of[k] = kRx + static_cast<int>(marginal_keys.size()) - 1;
-      marginal_keys.push_back(bias_of[k]);
-    }
-  const smoother::Matrix joint = isam.jointMarginalCovariance(marginal_keys);
-  EpochSolution solution;
-  const Vector x_est = isam.calculateEstimate(x);
-  solution.state = ReceiverState::fromVector(x_est, layout_);
-  solution.covariance = joint.topLeftCorner(kRx, kRx);
-  if (!x_est.allFinite() || !solution.covariance.allFinite())
-    return fail(result, EpochStatus::Failed, NoSolutionReason::NonFiniteFilteredEstimate,
-                "non-finite filtered estimate or covariance");
-
-  // Commit.
-  joint_ = FilteredJoint{};
-  joint_.P = joint;
-  joint_.x = Eigen::VectorXd::Zero(joint.rows());
-  joint_.x.head(kRx) = x_est;
-  for (std::size_t k = 0; k < n_sat; ++k)
-    if (kept[k]) {
-      joint_.arcs.push_back(in.screened[k].m.arc);
-      joint_.x(marginal_of[k]) = isam.calculateEstimate(bias_of[k])(0);
-    }
-  for (std::size_t k = 0; k < n_sat; ++k) {
-    if (!kept[k]) continue;
-    ArcSlot& slot = arcs.at(in.screened[k].m.arc);
-    slot.filtered_m = isam.calculateEstimate(slot.key)(0);
-    slot.filtered_variance_m2 = joint(marginal_of[k], marginal_of[k]);
-    diag.biases.push_back({in.screened[k].m.arc, slot.satellite, slot.filtered_m,
-                           std::sqrt(std::max(0.0, slot.filtered_variance_m2))});
-  }
-  arcs_ = std::move(arcs);
-  bias_last_state_ = std::move(bias_last_state);
-  if (!time_origin_) time_origin_ = in.time;
-  states_.push_back({in.time, index, solution.state});
-  if (record_graph_) {
-    for (std::size_t i = 0; i < factors.size(); ++i) {
-      const bool removed = i < graph_index.size() && std::find(removed_factors.begin(), removed_factors.end(),
-                                                                graph_index[i]) != removed_factors.end();
-      if (!removed) recorded_factors_.push_back(factors[i]);
-    }
-    for (Key key : values.keys())
-      if (!recorded_values_.exists(key)) recorded_values_.insert(key, values.at(key));
-  }
-  if (lag_) {  // the marginalized states keep their estimate at marginalization (O(marginalized))
-    for (const auto& [key, value] : marginalized) {
-      if (smoother::keySymbol(key) != 'x' || states_.empty()) continue;
-      const std::uint32_t i = static_cast<std::uint32_t>(smoother::keyIndex(key));
-      const std::uint32_t first = states_.front().index;
-      if (i < first || i - first >= states_.size() || states_[i - first].index != i) continue;
-      states_[i - first].last_estimate = ReceiverState::fromVector(value, layout_);
-    }
-    for (auto it = bias_last_state_.begin(); it != bias_last_state_.end();)
-      it = isam.exists(it->first) ? std::next(it) : bias_last_state_.erase(it);
-    // A held fix on a marginalized bias now lives in the marginal prior: permanent.
-    held_.erase(std::remove_if(held_.begin(), held_.end(),
-                               [&](const HeldFix& h) {
-                                 for (Key k : h.factor->keys())
-                                   if (!isam.exists(k)) return true;
-                                 return false;
-                               }),
-                held_.end());
-  }
-  releaseLeftStates();
-  filtered_ = solution;
-  out.solution = solution;
-  out.ambiguities = AmbiguityState::Float;
-
-  // Residuals: prefit at the prediction, postfit at the filtered state.
-  for (std::size_t k = 0; k < n_sat; ++k) {
-    if (!kept[k]) continue;
-    const SatelliteMeasurement& m = in.screened[k].m;
-    const SatellitePrediction prediction(m, predicted, options_.exact_range);
-    SolvedMeasurement r;
-    r.screened_index = k;
-    r.m = m;
-    r.new_arc = new_arc[k];
-    r.phase_prefit_m = phase_prefit[k];
-    r.code_postfit_m = m.observed_code_m - prediction.code_m(x_est, nullptr);
-    r.phase_postfit_m = m.observed_phase_m - prediction.phase_m(x_est, nullptr) - arcs_.at(m.arc).filtered_m;
-    out.rows.push_back(std::move(r));
+    if (!removeSatellite(e, k, result)) return false;
   }
   return true;
 }
 
+bool PppSmoother::removeSatellite(SolveEpoch& e, std::size_t k, EstimatorEpochResult& result) {
+  const SatelliteMeasurement& m = e.in.screened[k].m;
+  e.kept[k] = false;
+  --e.n_kept;
+  if (e.new_arc[k]) {
+    e.arcs.erase(m.arc);
+    --e.diag.new_biases;
+  }
+  const std::vector<smoother::FactorIndex> remove{e.graph_index[e.code_factor[k]],
+                                                  e.graph_index[e.code_factor[k] + 1]};
+  e.removed_factors.insert(e.removed_factors.end(), remove.begin(), remove.end());
+  KeyVector kept_newest{e.x};
+  for (std::size_t j = 0; j < e.n_sat; ++j)
+    if (e.kept[j]) kept_newest.push_back(e.bias_of[j]);
+  try {
+    if (lag_) {
+      lag_->update({}, {}, {}, kept_newest, remove);
+    } else {
+      smoother::ISAM2UpdateParams up;
+      up.newest_keys = kept_newest;
+      up.remove_factor_indices = remove;
+      up.ordering_group = orderingByLastState(e.bias_last_state);
+      isam_->update({}, {}, up);
+    }
+  } catch (const std::exception& ex) {
+    e.diag.update_time_s = secondsSince(e.t_update);
+    return fail(result, EpochStatus::Failed, NoSolutionReason::SmootherUpdateFailed,
+                std::string("smoother update failed (postfit removal of ") + m.satellite.toString() + "): " +
+                    ex.what());
+  }
+  return true;
+}
+
+// Step 5
+bool PppSmoother::filteredMarginals(SolveEpoch& e, EstimatorEpochResult& result) const {
+  const smoother::ISAM2& isam = isam2();
+  const int kRx = layout_.dim();
+  KeyVector marginal_keys{e.x};
+  e.marginal_of.assign(e.n_sat, -1);
+  for (std::size_t k = 0; k < e.n_sat; ++k)
+    if (e.kept[k]) {
+      e.marginal_of[k] = kRx + static_cast<int>(marginal_keys.size()) - 1;
+      marginal_keys.push_back(e.bias_of[k]);
+    }
+  e.joint = isam.jointMarginalCovariance(marginal_keys);
+  e.x_est = isam.calculateEstimate(e.x);
+  e.solution.state = ReceiverState::fromVector(e.x_est, layout_);
+  e.solution.covariance = e.joint.topLeftCorner(kRx, kRx);
+  if (!e.x_est.allFinite() || !e.solution.covariance.allFinite())
+    return fail(result, EpochStatus::Failed, NoSolutionReason::NonFiniteFilteredEstimate,
+                "non-finite filtered estimate or covariance");
+  return true;
+}
+
+// Step 6
+void PppSmoother::commitEpoch(SolveEpoch& e) {
+  const smoother::ISAM2& isam = isam2();
+  joint_ = FilteredJoint{};
+  joint_.P = e.joint;
+  joint_.x = Eigen::VectorXd::Zero(e.joint.rows());
+  joint_.x.head(layout_.dim()) = e.x_est;
+  for (std::size_t k = 0; k < e.n_sat; ++k)
+    if (e.kept[k]) {
+      joint_.arcs.push_back(e.in.screened[k].m.arc);
+      joint_.x(e.marginal_of[k]) = isam.calculateEstimate(e.bias_of[k])(0);
+    }
+  for (std::size_t k = 0; k < e.n_sat; ++k) {
+    if (!e.kept[k]) continue;
+    ArcSlot& slot = e.arcs.at(e.in.screened[k].m.arc);
+    slot.filtered_m = isam.calculateEstimate(slot.key)(0);
+    slot.filtered_variance_m2 = e.joint(e.marginal_of[k], e.marginal_of[k]);
+    e.diag.biases.push_back({e.in.screened[k].m.arc, slot.satellite, slot.filtered_m,
+                             std::sqrt(std::max(0.0, slot.filtered_variance_m2))});
+  }
+  arcs_ = std::move(e.arcs);
+  bias_last_state_ = std::move(e.bias_last_state);
+  if (!time_origin_) time_origin_ = e.in.time;
+  states_.push_back({e.in.time, e.index, e.solution.state});
+  if (record_graph_) recordEpochGraph(e);
+  if (lag_) forgetMarginalized(e.marginalized);
+  releaseLeftStates();
+  filtered_ = e.solution;
+}
+
+void PppSmoother::recordEpochGraph(const SolveEpoch& e) {
+  for (std::size_t i = 0; i < e.factors.size(); ++i) {
+    const bool removed = i < e.graph_index.size() && std::find(e.removed_factors.begin(), e.removed_factors.end(),
+                                                                e.graph_index[i]) != e.removed_factors.end();
+    if (!removed) recorded_factors_.push_back(e.factors[i]);
+  }
+  for (Key key : e.values.keys())
+    if (!recorded_values_.exists(key)) recorded_values_.insert(key, e.values.at(key));
+}
+
+// Fixed lag: the marginalized states keep their estimate at marginalization (O(marginalized)).
+void PppSmoother::forgetMarginalized(const smoother::Values& marginalized) {
+  const smoother::ISAM2& isam = isam2();
+  for (const auto& [key, value] : marginalized) {
+    if (smoother::keySymbol(key) != 'x' || states_.empty()) continue;
+    const std::uint32_t i = static_cast<std::uint32_t>(smoother::keyIndex(key));
+    const std::uint32_t first = states_.front().index;
+    if (i < first || i - first >= states_.size() || states_[i - first].index != i) continue;
+    states_[i - first].last_estimate = ReceiverState::fromVector(value, layout_);
+  }
+  for (auto it = bias_last_state_.begin(); it != bias_last_state_.end();)
+    it = isam.exists(it->first) ? std::next(it) : bias_last_state_.erase(it);
+  // A held fix on a marginalized bias now lives in the marginal prior: permanent.
+  held_.erase(std::remove_if(held_.begin(), held_.end(),
+                             [&](const HeldFix& h) {
+                               for (Key k : h.factor->keys())
+                                 if (!isam.exists(k)) return true;
+                               return false;
+                             }),
+              held_.end());
+}
+
+// Step 7
+std::vector<PppEstimatorBase::SolvedMeasurement> PppSmoother::residualRows(const SolveEpoch& e) const {
+  std::vector<SolvedMeasurement> rows;
+  for (std::size_t k = 0; k < e.n_sat; ++k) {
+    if (!e.kept[k]) continue;
+    const SatelliteMeasurement& m = e.in.screened[k].m;
+    const SatellitePrediction prediction(m, e.in.predicted, options_.exact_range);
+    SolvedMeasurement r;
+    r.screened_index = k;
+    r.m = m;
+    r.new_arc = e.new_arc[k];
+    r.phase_prefit_m = e.phase_prefit[k];
+    r.code_postfit_m = m.observed_code_m - prediction.code_m(e.x_est, nullptr);
+    r.phase_postfit_m = m.observed_phase_m - prediction.phase_m(e.x_est, nullptr) - arcs_.at(m.arc).filtered_m;
+    rows.push_back(std::move(r));
+  }
+  return rows;
+}
+
 bool PppSmoother::recoverAfterFailure(EstimatorEpochResult& result) {
   // The failed update may have left its factors in the graph: start a new graph
-  // from the last good state. Keep the current estimate of the old states when it
-  // is still readable (their smoothed values), else their last estimate.
-  if (!states_.empty()) {
-    try {
-      const smoother::Values estimate = isam2().calculateBestEstimate();
-      std::vector<ReceiverState> read;
-      bool finite = true;
-      for (const auto& s : states_) {
-        if (!estimate.exists(stateKey(s.index))) continue;
-        const Vector v = estimate.at(stateKey(s.index));
-        finite = finite && v.allFinite();
-      }
-      if (finite)
-        for (auto& s : states_)
-          if (estimate.exists(stateKey(s.index)))
-            s.last_estimate = ReceiverState::fromVector(estimate.at(stateKey(s.index)), layout_);
-    } catch (const std::exception&) {
-      // keep the last estimates
-    }
-  }
+  // from the last good state.
+  keepReadableEstimates();
   newGraph();
   bias_last_state_.clear();
   held_.clear();  // the restart's priors carry the fixed estimates, not the factors
@@ -573,6 +644,25 @@ bool PppSmoother::recoverAfterFailure(EstimatorEpochResult& result) {
   return true;
 }
 
+void PppSmoother::keepReadableEstimates() {
+  if (states_.empty()) return;
+  try {
+    const smoother::Values estimate = isam2().calculateBestEstimate();
+    bool finite = true;
+    for (const auto& s : states_) {
+      if (!estimate.exists(stateKey(s.index))) continue;
+      const Vector v = estimate.at(stateKey(s.index));
+      finite = finite && v.allFinite();
+    }
+    if (finite)
+      for (auto& s : states_)
+        if (estimate.exists(stateKey(s.index)))
+          s.last_estimate = ReceiverState::fromVector(estimate.at(stateKey(s.index)), layout_);
+  } catch (const std::exception&) {
+    // keep the last estimates
+  }
+}
+
 std::vector<smoother::FactorIndex> PppSmoother::updateGraph(const smoother::NonlinearFactorGraph& add,
                                                             const std::vector<smoother::FactorIndex>& remove) {
   KeyVector newest;
@@ -586,12 +676,7 @@ std::vector<smoother::FactorIndex> PppSmoother::updateGraph(const smoother::Nonl
     smoother::ISAM2UpdateParams up;
     up.newest_keys = newest;
     up.remove_factor_indices = remove;
-    const std::map<Key, std::uint32_t>& last = bias_last_state_;
-    up.ordering_group = [&last](Key key) {
-      if (smoother::keySymbol(key) == 'x') return static_cast<int>(smoother::keyIndex(key));
-      auto it = last.find(key);
-      return it == last.end() ? 0 : static_cast<int>(it->second);
-    };
+    up.ordering_group = orderingByLastState(bias_last_state_);
     indices = isam_->update(add, {}, up).new_factor_indices;
   }
   if (record_graph_) {

@@ -43,7 +43,8 @@ namespace {
 
 int usage(const std::string& why) {
   std::cerr << "ppp_bag_solve: " << why << "\n"
-            << "usage: ppp_bag_solve BAG --out DIR [--name N] [--config YAML...] [--estimator ekf|smoother|both]\n"
+            << "usage: ppp_bag_solve BAG --out DIR [--name N] [--config YAML...] [--estimator "
+            << ppp::registeredEstimatorNames("|") << '|' << ppp::kAllEstimators << "]\n"
             << "                     [--atx F...] [--bia F] [--blq F] [--truth X Y Z | --truth-csv F] [--no-truth-path]\n"
             << "                     [--no-timings] [--result JSON]\n";
   return 2;
@@ -134,7 +135,7 @@ BagContents readBag(const std::string& path) {
 struct Options {
   std::string bag, out, name, result, truth_csv;
   std::vector<std::string> config, atx;
-  std::string bia, blq, estimator = "ekf";
+  std::string bia, blq, estimator = std::string(ppp::kDefaultEstimator);
   std::optional<Eigen::Vector3d> truth;
   bool truth_path = true, timings = true;
 };
@@ -210,7 +211,10 @@ std::optional<Options> parseArguments(int argc, char** argv, std::string& why) {
     const std::string v = argv[++i];
     if (a == "--out") o.out = v;
     else if (a == "--name") o.name = v;
-    else if (a == "--estimator") o.estimator = v;
+    else if (a == "--estimator") {
+      if (!ppp::selectEstimators(v, &why)) return why = "--estimator: " + why, std::nullopt;
+      o.estimator = v;
+    }
     else if (a == "--bia") o.bia = v;
     else if (a == "--blq") o.blq = v;
     else if (a == "--result") o.result = v;
