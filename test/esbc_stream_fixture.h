@@ -7,11 +7,11 @@
 #include <string>
 #include <vector>
 
-#include "ppp_bayes_tree/io/rinex_nav_reader.h"
-#include "ppp_bayes_tree/io/rtcm_ssr_encoder.h"
+#include "ppp_bayes_tree/io/rinex/rinex_nav_reader.h"
+#include "ppp_bayes_tree/io/rtcm/rtcm_ssr_encoder.h"
 #include "ppp_bayes_tree/models/precise_ephemeris.h"
 #include "ppp_bayes_tree/models/ssr_from_precise.h"
-#include "ppp_bayes_tree/ppp/ppp_pipeline.h"
+#include "ppp_bayes_tree/ppp/pipeline/ppp_pipeline.h"
 #include "ppp_bayes_tree/types/gnss_time.h"
 #include "test_support.h"
 

@@ -1,5 +1,5 @@
 // Benchmark of the integer least-squares solver (LAMBDA: decorrelation, search,
-// ratio test, partial fixing; ppp/integer_least_squares.h) on PPP-like float
+// ratio test, partial fixing; ppp/ambiguity/integer_least_squares.h) on PPP-like float
 // ambiguity problems: n narrow-lane ambiguities [cycles] whose covariance comes
 // from a least-squares fit of position, clock and zenith delay plus one bias per
 // satellite to code and phase over a few epochs of a random sky, so that the
@@ -18,7 +18,7 @@
 
 #include <Eigen/Dense>
 
-#include "ppp_bayes_tree/ppp/integer_least_squares.h"
+#include "ppp_bayes_tree/ppp/ambiguity/integer_least_squares.h"
 
 namespace {
 

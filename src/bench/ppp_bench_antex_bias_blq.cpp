@@ -5,8 +5,8 @@
 #include <cstdio>
 #include <string>
 
-#include "ppp_bayes_tree/io/antex_reader.h"
-#include "ppp_bayes_tree/io/bias_sinex_reader.h"
+#include "ppp_bayes_tree/io/products/antex_reader.h"
+#include "ppp_bayes_tree/io/products/bias_sinex_reader.h"
 #include "ppp_bayes_tree/types/constants.h"
 
 namespace {

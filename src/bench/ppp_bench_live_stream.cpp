@@ -3,7 +3,7 @@
 // real-time speed"). A simulated flight (simulation/gnss_simulator.h: nominal GPS
 // constellation, every error term of the default error model) at --rate Hz is
 // written as a receiver's RTCM 3 stream: per epoch one MSM7 GPS message
-// (io/rtcm3_msm_encoder.h; L1 C/A + L2 of the simulator, lock times from the arcs),
+// (io/rtcm/rtcm3_msm_encoder.h; L1 C/A + L2 of the simulator, lock times from the arcs),
 // and a 1005 station frame (the flight's start position: the run's approximate
 // position, as ppp_solve would take it) every 10 s; plus a RINEX 3 navigation file
 // holding the constellation as GPS LNAV records, for ros.live.navigation_files.
@@ -34,11 +34,11 @@
 
 #include <Eigen/Geometry>
 
+#include "ppp_bayes_tree/app/caster_stream_builder.h"
 #include "ppp_bayes_tree/io/bit_writer.h"
-#include "ppp_bayes_tree/io/caster_stream_builder.h"
-#include "ppp_bayes_tree/io/rinex_nav_writer.h"
-#include "ppp_bayes_tree/io/rtcm3_framer.h"
-#include "ppp_bayes_tree/io/rtcm3_msm_encoder.h"
+#include "ppp_bayes_tree/io/rinex/rinex_nav_writer.h"
+#include "ppp_bayes_tree/io/rtcm/rtcm3_framer.h"
+#include "ppp_bayes_tree/io/rtcm/rtcm3_msm_encoder.h"
 #include "ppp_bayes_tree/models/broadcast_ephemeris_store.h"
 #include "ppp_bayes_tree/simulation/gnss_simulator.h"
 #include "ppp_bayes_tree/types/constants.h"

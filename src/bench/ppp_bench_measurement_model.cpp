@@ -9,11 +9,11 @@
 #include <cstdlib>
 #include <string>
 
-#include "ppp_bayes_tree/io/antex_reader.h"
-#include "ppp_bayes_tree/io/bias_sinex_reader.h"
-#include "ppp_bayes_tree/io/rinex_obs_reader.h"
-#include "ppp_bayes_tree/ppp/ppp_measurement_model.h"
-#include "ppp_bayes_tree/ppp/signal_selection.h"
+#include "ppp_bayes_tree/io/products/antex_reader.h"
+#include "ppp_bayes_tree/io/products/bias_sinex_reader.h"
+#include "ppp_bayes_tree/io/rinex/rinex_obs_reader.h"
+#include "ppp_bayes_tree/ppp/model/ppp_measurement_model.h"
+#include "ppp_bayes_tree/ppp/model/signal_selection.h"
 
 using namespace ppp;
 

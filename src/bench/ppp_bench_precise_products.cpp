@@ -6,8 +6,8 @@
 #include <cstdlib>
 #include <string>
 
-#include "ppp_bayes_tree/io/rinex_clock_reader.h"
-#include "ppp_bayes_tree/io/sp3_reader.h"
+#include "ppp_bayes_tree/io/products/rinex_clock_reader.h"
+#include "ppp_bayes_tree/io/products/sp3_reader.h"
 #include "ppp_bayes_tree/models/precise_ephemeris.h"
 
 namespace {

@@ -21,8 +21,8 @@
 #include <string>
 #include <vector>
 
-#include "ppp_bayes_tree/io/hatanaka_decoder.h"
-#include "ppp_bayes_tree/io/rinex_obs_reader.h"
+#include "ppp_bayes_tree/io/rinex/hatanaka_decoder.h"
+#include "ppp_bayes_tree/io/rinex/rinex_obs_reader.h"
 
 namespace {
 

@@ -1,7 +1,7 @@
 // ppp_bench_streams: RTCM 3 decode throughput on a generated stream.
 //
 // Builds 1 h of a 10 Hz multi-GNSS MSM7 stream in memory with the MSM7 encoder
-// (io/rtcm3_msm_encoder.h): GPS 10 satellites x 3 signals, GLONASS 8 x 2,
+// (io/rtcm/rtcm3_msm_encoder.h): GPS 10 satellites x 3 signals, GLONASS 8 x 2,
 // Galileo 8 x 3, BeiDou 10 x 2, pseudoranges, phases and Dopplers varying
 // epoch to epoch, then decodes it with Rtcm3Decoder in 64 KiB chunks on one core
 // and prints MB/s, epochs/s and the factor over real time for a 10 Hz receiver
@@ -11,8 +11,8 @@
 #include <cstdio>
 #include <vector>
 
-#include "ppp_bayes_tree/io/rtcm3_decoder.h"
-#include "ppp_bayes_tree/io/rtcm3_msm_encoder.h"
+#include "ppp_bayes_tree/io/rtcm/rtcm3_decoder.h"
+#include "ppp_bayes_tree/io/rtcm/rtcm3_msm_encoder.h"
 
 int main(int argc, char** argv) {
   using namespace ppp;

@@ -9,9 +9,9 @@
 #include <vector>
 
 #include "ppp_bayes_tree/evaluation/position_error_statistics.h"
-#include "ppp_bayes_tree/ppp/solution_epoch.h"
-#include "ppp_bayes_tree/ppp/epoch_estimator.h"
-#include "ppp_bayes_tree/ppp/ppp_pipeline.h"
+#include "ppp_bayes_tree/ppp/pipeline/solution_epoch.h"
+#include "ppp_bayes_tree/ppp/estimators/epoch_estimator.h"
+#include "ppp_bayes_tree/ppp/pipeline/ppp_pipeline.h"
 
 namespace ppp::bench {
 

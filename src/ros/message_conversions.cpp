@@ -6,7 +6,7 @@
 #include <limits>
 #include <stdexcept>
 
-#include "ppp_bayes_tree/ppp/phase_bias_consistency.h"
+#include "ppp_bayes_tree/ppp/ambiguity/phase_bias_consistency.h"
 
 namespace ppp_ros {
 namespace {

@@ -4,7 +4,7 @@
 
 #include <iostream>
 
-#include "ppp_bayes_tree/io/credential_mask.h"
+#include "ppp_bayes_tree/io/transport/credential_mask.h"
 #include "ppp_bayes_tree/ros/ppp_node.h"
 
 namespace ppp_ros {

@@ -1,6 +1,6 @@
 #include "ppp_bayes_tree/ros/node_options.h"
 
-#include "ppp_bayes_tree/ppp/yaml_section.h"
+#include "ppp_bayes_tree/ppp/config/yaml_section.h"
 #include "ppp_bayes_tree/ros/gnss_stream_subscriber.h"
 
 namespace ppp_ros {

@@ -6,9 +6,9 @@
 #include <ros/serialization.h>
 
 #include "ppp_bayes_tree/GnssStreamBytes.h"
-#include "ppp_bayes_tree/io/byte_source_spec.h"
-#include "ppp_bayes_tree/io/credential_mask.h"
-#include "ppp_bayes_tree/io/ntrip_credentials.h"
+#include "ppp_bayes_tree/io/transport/byte_source_spec.h"
+#include "ppp_bayes_tree/io/transport/credential_mask.h"
+#include "ppp_bayes_tree/io/transport/ntrip_credentials.h"
 #include "ppp_bayes_tree/ros/node_main.h"
 
 namespace ppp_ros {
@@ -19,7 +19,7 @@ constexpr std::size_t kWindowKeepBytes = 128 * 1024;  // > the largest frame (UB
 constexpr std::size_t kDetectBytes = 64 * 1024;        // give up detecting the format after this
 
 /// An input error as shown in the log and the diagnostics: its detail quotes the caster's
-/// answer already escaped (io/untrusted_text.h), and any spec in it is masked.
+/// answer already escaped (io/transport/untrusted_text.h), and any spec in it is masked.
 std::string shownError(const ppp::ByteSourceError& error) { return ppp::maskCredentials(error.describe()); }
 
 template <typename T>
@@ -87,7 +87,7 @@ StreamNodeOptions loadStreamNodeOptions(const ros::NodeHandle& pnh) {
     ROS_WARN_STREAM("ppp_stream_node: the input spec ~input carries a password: replaced by *** in the parameter "
                     "server, but it may remain in the launch log and the shell history; give it with credentials=PATH "
                     "(a file readable by you only) or the environment variable "
-                    << ppp::kNtripCredentialsEnvironment << " instead (io/ntrip_credentials.h)");
+                    << ppp::kNtripCredentialsEnvironment << " instead (io/transport/ntrip_credentials.h)");
   }
   o.format = param<std::string>(pnh, "format", o.format);
   if (!o.format.empty() && o.format != "rtcm3" && o.format != "ubx") {

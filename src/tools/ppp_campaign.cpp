@@ -50,7 +50,7 @@
 
 #include "ppp_bayes_tree/app/campaign_summary.h"
 #include "ppp_bayes_tree/io/parse_error.h"
-#include "ppp_bayes_tree/ppp/yaml_section.h"
+#include "ppp_bayes_tree/ppp/config/yaml_section.h"
 
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;

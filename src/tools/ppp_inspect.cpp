@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "ppp_bayes_tree/io/file_summary.h"
-#include "ppp_bayes_tree/io/file_type.h"
+#include "ppp_bayes_tree/io/transport/file_type.h"
 #include "ppp_bayes_tree/app/inspection.h"
 
 namespace {

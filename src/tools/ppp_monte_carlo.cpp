@@ -48,7 +48,7 @@
 
 #include "ppp_bayes_tree/evaluation/monte_carlo.h"
 #include "ppp_bayes_tree/io/parse_error.h"
-#include "ppp_bayes_tree/ppp/yaml_section.h"
+#include "ppp_bayes_tree/ppp/config/yaml_section.h"
 #include "ppp_bayes_tree/types/number_text.h"
 
 namespace {

@@ -18,7 +18,7 @@
 #include <string>
 #include <vector>
 
-#include "ppp_bayes_tree/ppp/yaml_section.h"
+#include "ppp_bayes_tree/ppp/config/yaml_section.h"
 #include "ppp_bayes_tree/simulation/gnss_simulator.h"
 #include "ppp_bayes_tree/simulation/simulation_writers.h"
 #ifdef PPP_WITH_ROSBAG

@@ -1,14 +1,14 @@
 // ppp_solve: offline kinematic PPP of one RINEX observation file with precise
-// products (the pipeline of ppp/ppp_pipeline.h; outputs of app/ppp_solve_run.h).
+// products (the pipeline of ppp/pipeline/ppp_pipeline.h; outputs of app/ppp_solve_run.h).
 //
 // usage: ppp_solve (--obs F | --rtcm F [--ref-date YYYY/MM/DD] | --ubx F)
 //                  (--sp3 F... --clk F... | --nav F... [--ssr F [--ssr-reference com|apc|apc-l1]])
 //                  --atx F... [--bia F] [--blq F]
 //                  [--config YAML...] [--estimator ekf|smoother|both] [--truth X,Y,Z] [--name N] --out DIR
-// (the estimators: ppp/estimator_registry.h; --help lists them)
+// (the estimators: ppp/estimators/estimator_registry.h; --help lists them)
 //                  [--no-product-checks] [--start "YYYY/MM/DD HH:MM:SS"] [--end "YYYY/MM/DD HH:MM:SS"]
 // --start/--end (GPST): only the epochs in [start, end) are processed (e.g. one
-// hour of a day file; io/time_window_source.h); either may be given alone.
+// hour of a day file; io/rinex/time_window_source.h); either may be given alone.
 // Several --config files are laid one on another in order, as the nodes load
 // config/ppp.yaml and its overrides (ppp_config.h: mappings merge, a later value wins).
 // --no-product-checks skips the SP3/CLK sanity checks (product_sanity.h), only to
@@ -20,7 +20,7 @@
 // ANTEX files are searched in the order given: the first holding an antenna wins,
 // except that a satellite's antenna comes first from the family the products name
 // (IGS14, IGS20: so igs14.atx and igs20.atx may be given together, in any order).
-// The products decide the defaults (ppp/product_assembly.h, printed in the notes):
+// The products decide the defaults (ppp/pipeline/product_assembly.h, printed in the notes):
 // the systems (every one of GPS | Galileo the products and antennas cover) and
 // PPP-AR (ambiguity_resolution.enabled: auto fixes only with phase information
 // consistent with the clocks and the products' satellite antenna model).
@@ -45,9 +45,9 @@
 #include <vector>
 
 #include "ppp_bayes_tree/app/ppp_solve_run.h"
-#include "ppp_bayes_tree/io/stream_format.h"
+#include "ppp_bayes_tree/io/transport/stream_format.h"
 #include "ppp_bayes_tree/models/satellite_reference_point.h"
-#include "ppp_bayes_tree/ppp/estimator_registry.h"
+#include "ppp_bayes_tree/ppp/estimators/estimator_registry.h"
 
 namespace {
 

@@ -19,12 +19,12 @@
 #include <iostream>
 #include <string>
 
-#include "ppp_bayes_tree/io/antex_reader.h"
-#include "ppp_bayes_tree/io/bias_sinex_reader.h"
+#include "ppp_bayes_tree/io/products/antex_reader.h"
+#include "ppp_bayes_tree/io/products/bias_sinex_reader.h"
 #include "ppp_bayes_tree/io/line_source.h"
-#include "ppp_bayes_tree/io/rinex_nav_reader.h"
-#include "ppp_bayes_tree/io/rtcm_ssr_encoder.h"
-#include "ppp_bayes_tree/io/rinex_clock_reader.h"
+#include "ppp_bayes_tree/io/rinex/rinex_nav_reader.h"
+#include "ppp_bayes_tree/io/rtcm/rtcm_ssr_encoder.h"
+#include "ppp_bayes_tree/io/products/rinex_clock_reader.h"
 #include "ppp_bayes_tree/models/antex_calibrations.h"
 #include "ppp_bayes_tree/models/clock_wide_lane_bias_provider.h"
 #include "ppp_bayes_tree/models/precise_ephemeris.h"

@@ -3,7 +3,7 @@
 //                 [--ssr-latency-s L] [--ephemeris-repeat-s R] [--systems GRECJS] --out FILE
 //
 // One RTCM 3 stream as a caster would send it for a processed day
-// (io/caster_stream_builder.h): station 1006/1033 from the RINEX header, MSM7
+// (app/caster_stream_builder.h): station 1006/1033 from the RINEX header, MSM7
 // per epoch, each broadcast record (1019/1044, 1020, 1045/1046) from its
 // transmission time and repeated, the SSR frames of --ssr (e.g. ppp_ssr_encode's)
 // interleaved at their epochs. Replay it as if live: ppp_stream_record
@@ -18,11 +18,11 @@
 #include <string>
 #include <vector>
 
-#include "ppp_bayes_tree/io/caster_stream_builder.h"
-#include "ppp_bayes_tree/io/observation_source.h"
+#include "ppp_bayes_tree/app/caster_stream_builder.h"
 #include "ppp_bayes_tree/io/parse_error.h"
-#include "ppp_bayes_tree/io/rinex_nav_reader.h"
-#include "ppp_bayes_tree/io/stream_format.h"
+#include "ppp_bayes_tree/io/rinex/observation_source.h"
+#include "ppp_bayes_tree/io/rinex/rinex_nav_reader.h"
+#include "ppp_bayes_tree/io/transport/stream_format.h"
 
 namespace {
 

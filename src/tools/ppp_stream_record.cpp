@@ -1,7 +1,7 @@
 // ppp_stream_record SPEC --out FILE [--duration S] [--format rtcm3|ubx]
 //
 // Records a live input (serial, TCP, NTRIP, or a file replay; the spec syntax is
-// in io/byte_source_spec.h) to FILE byte for byte, like RTKLIB's str2str, and
+// in io/transport/byte_source_spec.h) to FILE byte for byte, like RTKLIB's str2str, and
 // prints our diagnostics at the end: bytes, frames per message type found by
 // the RTCM 3 or UBX framer, CRC errors, garbage and NMEA bytes, reconnects,
 // stalls and errors by kind. The format is --format, the spec's format=, or
@@ -20,11 +20,11 @@
 #include <string>
 #include <vector>
 
-#include "ppp_bayes_tree/io/byte_source_spec.h"
-#include "ppp_bayes_tree/io/ntrip_credentials.h"
-#include "ppp_bayes_tree/io/rtcm3_framer.h"
-#include "ppp_bayes_tree/io/stream_format.h"
-#include "ppp_bayes_tree/io/ubx_framer.h"
+#include "ppp_bayes_tree/io/rtcm/rtcm3_framer.h"
+#include "ppp_bayes_tree/io/transport/byte_source_spec.h"
+#include "ppp_bayes_tree/io/transport/ntrip_credentials.h"
+#include "ppp_bayes_tree/io/transport/stream_format.h"
+#include "ppp_bayes_tree/io/ubx/ubx_framer.h"
 
 namespace {
 

@@ -4,16 +4,16 @@
 #include <string>
 #include <vector>
 
-#include "ppp_bayes_tree/io/antex_reader.h"
-#include "ppp_bayes_tree/io/bias_sinex_reader.h"
-#include "ppp_bayes_tree/io/rinex_obs_reader.h"
+#include "ppp_bayes_tree/io/products/antex_reader.h"
+#include "ppp_bayes_tree/io/products/bias_sinex_reader.h"
+#include "ppp_bayes_tree/io/rinex/rinex_obs_reader.h"
 #include "ppp_bayes_tree/models/antex_calibrations.h"
 #include "ppp_bayes_tree/models/precise_ephemeris.h"
 #include "ppp_bayes_tree/models/sinex_bias_provider.h"
-#include "ppp_bayes_tree/ppp/ppp_config.h"
-#include "ppp_bayes_tree/ppp/ppp_measurement_model.h"
+#include "ppp_bayes_tree/ppp/config/ppp_config.h"
+#include "ppp_bayes_tree/ppp/model/ppp_measurement_model.h"
 #include "ppp_bayes_tree/app/ppp_solve_run.h"
-#include "ppp_bayes_tree/ppp/signal_selection.h"
+#include "ppp_bayes_tree/ppp/model/signal_selection.h"
 #include "test_support.h"
 
 namespace ppp::test {

@@ -17,8 +17,8 @@
 #include <set>
 #include <vector>
 
-#include "ppp_bayes_tree/ppp/ekf_ppp.h"
-#include "ppp_bayes_tree/ppp/measurement_function.h"
+#include "ppp_bayes_tree/ppp/estimators/ekf_ppp.h"
+#include "ppp_bayes_tree/ppp/model/measurement_function.h"
 
 namespace ppp::sim {
 

@@ -5,8 +5,8 @@
 #include <cmath>
 #include <vector>
 
-#include "ppp_bayes_tree/ppp/ppp_measurement_model.h"
-#include "ppp_bayes_tree/ppp/signal_selection.h"
+#include "ppp_bayes_tree/ppp/model/ppp_measurement_model.h"
+#include "ppp_bayes_tree/ppp/model/signal_selection.h"
 #include "ppp_bayes_tree/simulation/gnss_simulator.h"
 
 namespace ppp::test {

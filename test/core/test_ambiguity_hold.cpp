@@ -1,5 +1,5 @@
 // Validation across epochs and hold of the PPP-AR resolver
-// (AmbiguityResolver::resolveAndHold, ppp/ambiguity_resolution.h):
+// (AmbiguityResolver::resolveAndHold, ppp/ambiguity/ambiguity_resolution.h):
 //  - a deliberately wrong integer (a float biased by one narrow-lane cycle that
 //    the validation accepts) is held, detected once the float moves away from
 //    it, released and counted, and the fixed estimate returns to the truth
@@ -19,9 +19,9 @@
 #include "ppp_bayes_tree/app/ppp_solve_run.h"
 #include "ppp_bayes_tree/evaluation/rtklib_pos.h"
 #include "ppp_bayes_tree/models/ionosphere_free.h"
-#include "ppp_bayes_tree/ppp/ambiguity_resolution.h"
-#include "ppp_bayes_tree/ppp/epoch_estimator.h"
-#include "ppp_bayes_tree/ppp/ppp_pipeline.h"
+#include "ppp_bayes_tree/ppp/ambiguity/ambiguity_resolution.h"
+#include "ppp_bayes_tree/ppp/estimators/epoch_estimator.h"
+#include "ppp_bayes_tree/ppp/pipeline/ppp_pipeline.h"
 #include "ppp_bayes_tree/types/constants.h"
 #include "esbc_stream_fixture.h"
 #include "ppp_dataset.h"

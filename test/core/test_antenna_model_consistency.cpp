@@ -10,10 +10,10 @@
 #include <string>
 #include <vector>
 
-#include "ppp_bayes_tree/ppp/antenna_model_consistency.h"
-#include "ppp_bayes_tree/ppp/ppp_config.h"
-#include "ppp_bayes_tree/ppp/ppp_pipeline.h"
-#include "ppp_bayes_tree/ppp/product_assembly.h"
+#include "ppp_bayes_tree/ppp/ambiguity/antenna_model_consistency.h"
+#include "ppp_bayes_tree/ppp/config/ppp_config.h"
+#include "ppp_bayes_tree/ppp/pipeline/ppp_pipeline.h"
+#include "ppp_bayes_tree/ppp/pipeline/product_assembly.h"
 #include "esbc_stream_fixture.h"
 #include "ppp_dataset.h"
 #include "test_support.h"

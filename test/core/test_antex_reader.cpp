@@ -7,7 +7,7 @@
 
 #include <cmath>
 
-#include "ppp_bayes_tree/io/antex_reader.h"
+#include "ppp_bayes_tree/io/products/antex_reader.h"
 #include "ppp_bayes_tree/types/constants.h"
 #include "test_support.h"
 

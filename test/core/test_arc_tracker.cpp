@@ -7,8 +7,8 @@
 #include <random>
 #include <set>
 
-#include "ppp_bayes_tree/io/rinex_obs_reader.h"
-#include "ppp_bayes_tree/ppp/arc_tracker.h"
+#include "ppp_bayes_tree/io/rinex/rinex_obs_reader.h"
+#include "ppp_bayes_tree/ppp/model/arc_tracker.h"
 #include "ppp_bayes_tree/types/constants.h"
 #include "test_support.h"
 

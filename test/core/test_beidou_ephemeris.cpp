@@ -35,9 +35,9 @@
 #include <sstream>
 #include <string>
 
-#include "ppp_bayes_tree/io/hatanaka_decoder.h"
-#include "ppp_bayes_tree/io/rinex_nav_reader.h"
-#include "ppp_bayes_tree/io/rinex_obs_reader.h"
+#include "ppp_bayes_tree/io/rinex/hatanaka_decoder.h"
+#include "ppp_bayes_tree/io/rinex/rinex_nav_reader.h"
+#include "ppp_bayes_tree/io/rinex/rinex_obs_reader.h"
 #include "ppp_bayes_tree/models/troposphere.h"
 #include "ppp_bayes_tree/types/frames.h"
 #include "ppp_bayes_tree/models/broadcast_ephemeris.h"

@@ -35,10 +35,10 @@
 #include <vector>
 
 #include "ppp_bayes_tree/models/precise_ephemeris.h"
-#include "ppp_bayes_tree/ppp/epoch_estimator.h"
-#include "ppp_bayes_tree/ppp/ppp_pipeline.h"
-#include "ppp_bayes_tree/ppp/product_assembly.h"
-#include "ppp_bayes_tree/ppp/signal_selection.h"
+#include "ppp_bayes_tree/ppp/estimators/epoch_estimator.h"
+#include "ppp_bayes_tree/ppp/model/signal_selection.h"
+#include "ppp_bayes_tree/ppp/pipeline/ppp_pipeline.h"
+#include "ppp_bayes_tree/ppp/pipeline/product_assembly.h"
 #include "ppp_dataset.h"
 #include "test_support.h"
 

@@ -4,7 +4,7 @@
 
 #include <cmath>
 
-#include "ppp_bayes_tree/io/bias_sinex_reader.h"
+#include "ppp_bayes_tree/io/products/bias_sinex_reader.h"
 #include "ppp_bayes_tree/types/constants.h"
 #include "test_support.h"
 

@@ -2,7 +2,7 @@
 // test/fixtures/blq/stations.blq.txt; line numbers cited).
 #include <gtest/gtest.h>
 
-#include "ppp_bayes_tree/io/blq_reader.h"
+#include "ppp_bayes_tree/io/products/blq_reader.h"
 #include "test_support.h"
 
 using namespace ppp;

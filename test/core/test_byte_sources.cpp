@@ -1,4 +1,4 @@
-// Live inputs (io/byte_source.h and its sources): the input spec parser, the
+// Live inputs (io/transport/byte_source.h and its sources): the input spec parser, the
 // NMEA GGA sentence and Basic authorization against published examples, and the
 // sources against real peers on loopback: RTKLIB's str2str as an NTRIP caster
 // and as a TCP server streaming the recordings of ../shared/data/streams, a
@@ -19,15 +19,15 @@
 #include <vector>
 
 #include "core/loopback_servers.h"
-#include "ppp_bayes_tree/io/byte_source_spec.h"
-#include "ppp_bayes_tree/io/file_replay_source.h"
-#include "ppp_bayes_tree/io/nmea_gga.h"
-#include "ppp_bayes_tree/io/ntrip_client_source.h"
-#include "ppp_bayes_tree/io/reconnecting_byte_source.h"
-#include "ppp_bayes_tree/io/rtcm3_framer.h"
-#include "ppp_bayes_tree/io/serial_port_source.h"
-#include "ppp_bayes_tree/io/tcp_client_source.h"
-#include "ppp_bayes_tree/io/ubx_observation_source.h"
+#include "ppp_bayes_tree/io/rtcm/rtcm3_framer.h"
+#include "ppp_bayes_tree/io/transport/byte_source_spec.h"
+#include "ppp_bayes_tree/io/transport/file_replay_source.h"
+#include "ppp_bayes_tree/io/transport/nmea_gga.h"
+#include "ppp_bayes_tree/io/transport/ntrip_client_source.h"
+#include "ppp_bayes_tree/io/transport/reconnecting_byte_source.h"
+#include "ppp_bayes_tree/io/transport/serial_port_source.h"
+#include "ppp_bayes_tree/io/transport/tcp_client_source.h"
+#include "ppp_bayes_tree/io/ubx/ubx_observation_source.h"
 #include "test_support.h"
 
 namespace ppp {

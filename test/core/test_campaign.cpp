@@ -1,7 +1,7 @@
 // Campaigns without a backend: manifest expansion (globs, date ranges, hours),
 // the up-front input check, job directories with their finished marker,
 // resume, the summary, the time window of ppp_solve, and the exact merge of
-// Monte Carlo shards (app/campaign_*.h, io/time_window_source.h,
+// Monte Carlo shards (app/campaign_*.h, io/rinex/time_window_source.h,
 // evaluation/monte_carlo_records.h). The backends (local pool, Slurm) are
 // exercised by scripts/test_campaign_slurm.sh.
 #include <gtest/gtest.h>
@@ -13,7 +13,7 @@
 #include "ppp_bayes_tree/app/ppp_solve_run.h"
 #include "ppp_bayes_tree/evaluation/monte_carlo_records.h"
 #include "ppp_bayes_tree/io/parse_error.h"
-#include "ppp_bayes_tree/ppp/yaml_section.h"
+#include "ppp_bayes_tree/ppp/config/yaml_section.h"
 #include "test_support.h"
 
 using namespace ppp;

@@ -153,8 +153,8 @@ TEST(CoreLayering, DetectorRecognisesUpwardIncludes) {
   const fs::path tmp = fs::temp_directory_path() / "ppp_core_layering_probe.h";
   {
     std::ofstream out(tmp);
-    out << "#include \"ppp_bayes_tree/types/gnss_time.h\"\n#include \"ppp_bayes_tree/io/sp3_reader.h\"\n"
-        << "#include \"ppp_bayes_tree/models/precise_ephemeris.h\"\n#include \"ppp_bayes_tree/ppp/ekf_ppp.h\"\n"
+    out << "#include \"ppp_bayes_tree/types/gnss_time.h\"\n#include \"ppp_bayes_tree/io/products/sp3_reader.h\"\n"
+        << "#include \"ppp_bayes_tree/models/precise_ephemeris.h\"\n#include \"ppp_bayes_tree/ppp/estimators/ekf_ppp.h\"\n"
         << "  #  include \"ppp_bayes_tree/evaluation/monte_carlo.h\"\n";
   }
   EXPECT_EQ(layeringViolations(tmp, "io").size(), 3u);      // models, ppp, evaluation

@@ -13,8 +13,8 @@
 #include <random>
 #include <set>
 
-#include "ppp_bayes_tree/ppp/code_least_squares.h"
-#include "ppp_bayes_tree/ppp/ekf_ppp.h"
+#include "ppp_bayes_tree/ppp/estimators/code_least_squares.h"
+#include "ppp_bayes_tree/ppp/estimators/ekf_ppp.h"
 #include "ppp_simulator.h"
 
 using namespace ppp;

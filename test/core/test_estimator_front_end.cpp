@@ -7,10 +7,10 @@
 #include <algorithm>
 #include <limits>
 
-#include "ppp_bayes_tree/ppp/code_least_squares.h"
-#include "ppp_bayes_tree/ppp/ekf_ppp.h"
-#include "ppp_bayes_tree/ppp/epoch_estimator.h"
-#include "ppp_bayes_tree/ppp/ppp_smoother.h"
+#include "ppp_bayes_tree/ppp/estimators/code_least_squares.h"
+#include "ppp_bayes_tree/ppp/estimators/ekf_ppp.h"
+#include "ppp_bayes_tree/ppp/estimators/epoch_estimator.h"
+#include "ppp_bayes_tree/ppp/estimators/ppp_smoother.h"
 #include "ppp_simulator.h"
 
 namespace ppp {

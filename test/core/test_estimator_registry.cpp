@@ -1,4 +1,4 @@
-// The estimator registry (ppp/estimator_registry.h): every registered name
+// The estimator registry (ppp/estimators/estimator_registry.h): every registered name
 // round-trips through the option parser and the factory, an unknown name is
 // refused with the registered names listed, and every registered estimator
 // solves a short simulated flight through the offline pipeline.
@@ -11,9 +11,9 @@
 
 #include "ppp_bayes_tree/app/ppp_solve_run.h"
 #include "ppp_bayes_tree/evaluation/monte_carlo.h"
-#include "ppp_bayes_tree/ppp/epoch_estimator.h"
-#include "ppp_bayes_tree/ppp/estimator_registry.h"
-#include "ppp_bayes_tree/ppp/ppp_pipeline.h"
+#include "ppp_bayes_tree/ppp/estimators/epoch_estimator.h"
+#include "ppp_bayes_tree/ppp/estimators/estimator_registry.h"
+#include "ppp_bayes_tree/ppp/pipeline/ppp_pipeline.h"
 #include "ppp_bayes_tree/simulation/gnss_simulator.h"
 
 namespace ppp {

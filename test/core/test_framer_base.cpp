@@ -18,8 +18,8 @@
 #include <type_traits>
 #include <vector>
 
-#include "ppp_bayes_tree/io/rtcm3_framer.h"
-#include "ppp_bayes_tree/io/ubx_framer.h"
+#include "ppp_bayes_tree/io/rtcm/rtcm3_framer.h"
+#include "ppp_bayes_tree/io/ubx/ubx_framer.h"
 #include "test_support.h"
 
 namespace ppp {

@@ -6,7 +6,7 @@
 
 #include "ppp_bayes_tree/io/line_source.h"
 #include "ppp_bayes_tree/io/parse_error.h"
-#include "ppp_bayes_tree/io/rinex_obs_reader.h"
+#include "ppp_bayes_tree/io/rinex/rinex_obs_reader.h"
 #include "test_support.h"
 
 namespace ppp {

@@ -6,7 +6,7 @@
 #include <filesystem>
 #include <fstream>
 
-#include "ppp_bayes_tree/io/file_type.h"
+#include "ppp_bayes_tree/io/transport/file_type.h"
 #include "ppp_bayes_tree/app/inspection.h"
 #include "ppp_bayes_tree/io/parse_error.h"
 #include "test_support.h"

@@ -10,7 +10,7 @@
 
 #include <Eigen/Dense>
 
-#include "ppp_bayes_tree/ppp/integer_least_squares.h"
+#include "ppp_bayes_tree/ppp/ambiguity/integer_least_squares.h"
 
 namespace ppp {
 namespace {

@@ -2,7 +2,7 @@
 // correction streams in, epochs and one live ephemeris out; the PPP on them
 // must equal ppp_solve's on the same recordings (the nodes' 1 mm promise).
 //  a) ESBC 2020-177, 45 min: the RINEX observations made into an MSM7 stream
-//     by ppp_stream_make's builder (io/caster_stream_builder.h),
+//     by ppp_stream_make's builder (app/caster_stream_builder.h),
 //     the GRG SP3/CLK made into an SSR stream against the station's broadcast
 //     file (ppp_ssr_encode's core), both cut into random chunks and fed
 //     interleaved in arrival order; EKF and smoother epoch by epoch against
@@ -26,21 +26,21 @@
 #include <random>
 
 #include "ppp_bayes_tree/app/live_gnss_input.h"
-#include "ppp_bayes_tree/io/caster_stream_builder.h"
+#include "ppp_bayes_tree/app/caster_stream_builder.h"
 #include "ppp_bayes_tree/io/epoch_time_screen.h"
 #include "ppp_bayes_tree/io/bit_writer.h"
-#include "ppp_bayes_tree/io/file_replay_source.h"
-#include "ppp_bayes_tree/io/rinex_nav_reader.h"
-#include "ppp_bayes_tree/io/rinex_obs_reader.h"
-#include "ppp_bayes_tree/io/rtcm3_framer.h"
-#include "ppp_bayes_tree/io/rtcm_ssr_encoder.h"
+#include "ppp_bayes_tree/io/transport/file_replay_source.h"
+#include "ppp_bayes_tree/io/rinex/rinex_nav_reader.h"
+#include "ppp_bayes_tree/io/rinex/rinex_obs_reader.h"
+#include "ppp_bayes_tree/io/rtcm/rtcm3_framer.h"
+#include "ppp_bayes_tree/io/rtcm/rtcm_ssr_encoder.h"
 #include "ppp_bayes_tree/models/precise_ephemeris.h"
 #include "ppp_bayes_tree/models/ssr_from_precise.h"
-#include "ppp_bayes_tree/ppp/epoch_estimator.h"
-#include "ppp_bayes_tree/ppp/ppp_config.h"
-#include "ppp_bayes_tree/ppp/ppp_epoch_processor.h"
-#include "ppp_bayes_tree/ppp/ppp_pipeline.h"
-#include "ppp_bayes_tree/ppp/product_assembly.h"
+#include "ppp_bayes_tree/ppp/estimators/epoch_estimator.h"
+#include "ppp_bayes_tree/ppp/config/ppp_config.h"
+#include "ppp_bayes_tree/ppp/pipeline/ppp_epoch_processor.h"
+#include "ppp_bayes_tree/ppp/pipeline/ppp_pipeline.h"
+#include "ppp_bayes_tree/ppp/pipeline/product_assembly.h"
 #include "test_support.h"
 #include "window_observation_source.h"
 

@@ -15,9 +15,9 @@
 
 #include "ppp_bayes_tree/evaluation/lagged_trajectory_output.h"
 #include "ppp_bayes_tree/evaluation/smoothed_trajectory_writer.h"
-#include "ppp_bayes_tree/ppp/ppp_config.h"
-#include "ppp_bayes_tree/ppp/ppp_factors.h"
-#include "ppp_bayes_tree/ppp/ppp_smoother.h"
+#include "ppp_bayes_tree/ppp/config/ppp_config.h"
+#include "ppp_bayes_tree/ppp/estimators/ppp_smoother.h"
+#include "ppp_bayes_tree/ppp/model/ppp_factors.h"
 #include "ppp_simulator.h"
 
 using namespace ppp;

@@ -2,7 +2,7 @@
 // normalised postfit residual, the chi-square quantile and the epoch consistency test.
 #include <gtest/gtest.h>
 
-#include "ppp_bayes_tree/ppp/postfit_screening.h"
+#include "ppp_bayes_tree/ppp/screening/postfit_screening.h"
 
 namespace ppp {
 namespace {

@@ -9,7 +9,7 @@
 #include <random>
 #include <vector>
 
-#include "ppp_bayes_tree/ppp/ppp_config.h"
+#include "ppp_bayes_tree/ppp/config/ppp_config.h"
 #include "test_support.h"
 
 using ppp::ConfigError;

@@ -3,7 +3,7 @@
 // key path for unknown keys, wrong types and out-of-range values.
 #include <gtest/gtest.h>
 
-#include "ppp_bayes_tree/ppp/ppp_config.h"
+#include "ppp_bayes_tree/ppp/config/ppp_config.h"
 #include "ppp_bayes_tree/types/constants.h"
 
 namespace ppp {

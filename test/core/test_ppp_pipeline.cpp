@@ -12,10 +12,10 @@
 #include <map>
 
 #include "ppp_bayes_tree/evaluation/rtklib_pos.h"
-#include "ppp_bayes_tree/ppp/arc_tracker.h"
-#include "ppp_bayes_tree/ppp/epoch_estimator.h"
+#include "ppp_bayes_tree/ppp/model/arc_tracker.h"
+#include "ppp_bayes_tree/ppp/estimators/epoch_estimator.h"
 #include "ppp_bayes_tree/app/ppp_solve_run.h"
-#include "ppp_bayes_tree/ppp/ppp_pipeline.h"
+#include "ppp_bayes_tree/ppp/pipeline/ppp_pipeline.h"
 #include "ppp_dataset.h"
 #include "test_support.h"
 

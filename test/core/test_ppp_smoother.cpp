@@ -12,11 +12,11 @@
 #include <map>
 #include <random>
 
-#include "ppp_bayes_tree/ppp/ekf_ppp.h"
-#include "ppp_bayes_tree/ppp/ppp_config.h"
-#include "ppp_bayes_tree/ppp/postfit_screening.h"
-#include "ppp_bayes_tree/ppp/ppp_factors.h"
-#include "ppp_bayes_tree/ppp/ppp_smoother.h"
+#include "ppp_bayes_tree/ppp/estimators/ekf_ppp.h"
+#include "ppp_bayes_tree/ppp/config/ppp_config.h"
+#include "ppp_bayes_tree/ppp/screening/postfit_screening.h"
+#include "ppp_bayes_tree/ppp/model/ppp_factors.h"
+#include "ppp_bayes_tree/ppp/estimators/ppp_smoother.h"
 #include "ppp_bayes_tree/smoother/batch_solver.h"
 #include "ppp_bayes_tree/smoother/numerical_jacobian.h"
 #include "ppp_simulator.h"

@@ -7,7 +7,7 @@
 #include <cstdio>
 
 #include "../../src/bench/ppp_smoother_run.h"
-#include "ppp_bayes_tree/ppp/ppp_factors.h"
+#include "ppp_bayes_tree/ppp/model/ppp_factors.h"
 #include "ppp_dataset.h"
 
 namespace ppp {

@@ -5,7 +5,7 @@
 
 #include <cmath>
 
-#include "ppp_bayes_tree/ppp/prefit_screening.h"
+#include "ppp_bayes_tree/ppp/screening/prefit_screening.h"
 #include "ppp_bayes_tree/types/constants.h"
 
 namespace ppp {

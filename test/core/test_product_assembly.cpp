@@ -10,12 +10,12 @@
 #include <string>
 #include <vector>
 
-#include "ppp_bayes_tree/io/antex_reader.h"
-#include "ppp_bayes_tree/io/rinex_clock_reader.h"
+#include "ppp_bayes_tree/io/products/antex_reader.h"
+#include "ppp_bayes_tree/io/products/rinex_clock_reader.h"
 #include "ppp_bayes_tree/models/clock_wide_lane_bias_provider.h"
-#include "ppp_bayes_tree/ppp/ppp_config.h"
-#include "ppp_bayes_tree/ppp/ppp_pipeline.h"
-#include "ppp_bayes_tree/ppp/product_assembly.h"
+#include "ppp_bayes_tree/ppp/config/ppp_config.h"
+#include "ppp_bayes_tree/ppp/pipeline/ppp_pipeline.h"
+#include "ppp_bayes_tree/ppp/pipeline/product_assembly.h"
 #include "esbc_stream_fixture.h"
 #include "ppp_dataset.h"
 #include "test_support.h"

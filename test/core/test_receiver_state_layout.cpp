@@ -4,9 +4,9 @@
 // model puts each satellite's clock partial into its own system's column.
 #include <gtest/gtest.h>
 
-#include "ppp_bayes_tree/io/rinex_obs_reader.h"
-#include "ppp_bayes_tree/ppp/satellite_measurement.h"
-#include "ppp_bayes_tree/ppp/signal_selection.h"
+#include "ppp_bayes_tree/io/rinex/rinex_obs_reader.h"
+#include "ppp_bayes_tree/ppp/model/satellite_measurement.h"
+#include "ppp_bayes_tree/ppp/model/signal_selection.h"
 #include "ppp_dataset.h"
 #include "test_support.h"
 

@@ -3,7 +3,7 @@
 // are quoted from the files with their line.
 #include <gtest/gtest.h>
 
-#include "ppp_bayes_tree/io/rinex_clock_reader.h"
+#include "ppp_bayes_tree/io/products/rinex_clock_reader.h"
 #include "test_support.h"
 
 namespace ppp {

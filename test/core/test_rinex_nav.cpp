@@ -19,7 +19,7 @@
 
 #include <cmath>
 
-#include "ppp_bayes_tree/io/rinex_nav_reader.h"
+#include "ppp_bayes_tree/io/rinex/rinex_nav_reader.h"
 #include "fuzz/rinex_nav_fuzz_entry.h"
 #include "test_support.h"
 

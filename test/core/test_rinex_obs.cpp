@@ -7,8 +7,8 @@
 #include <filesystem>
 #include <string>
 
-#include "ppp_bayes_tree/io/hatanaka_decoder.h"
-#include "ppp_bayes_tree/io/rinex_obs_reader.h"
+#include "ppp_bayes_tree/io/rinex/hatanaka_decoder.h"
+#include "ppp_bayes_tree/io/rinex/rinex_obs_reader.h"
 #include "test_support.h"
 
 namespace ppp {

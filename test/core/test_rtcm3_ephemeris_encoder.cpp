@@ -1,4 +1,4 @@
-// RTCM 3 ephemeris encoder (io/rtcm3_ephemeris_encoder.h): the 1019/1042/1044/
+// RTCM 3 ephemeris encoder (io/rtcm/rtcm3_ephemeris_encoder.h): the 1019/1042/1044/
 // 1045/1046 frames of the real STR2 recording re-encoded bit for bit; 1019/1045/1046 for
 // every real record of the ESBC 2020-177 broadcast file, 1020 for the GLONASS
 // records of the STR2 and GMSD recordings (the ESBC file has no GLONASS),
@@ -29,10 +29,10 @@
 #include <map>
 #include <string>
 
-#include "ppp_bayes_tree/io/rinex_nav_reader.h"
-#include "ppp_bayes_tree/io/rtcm3_decoder.h"
-#include "ppp_bayes_tree/io/rtcm3_ephemeris_encoder.h"
-#include "ppp_bayes_tree/io/rtcm3_framer.h"
+#include "ppp_bayes_tree/io/rinex/rinex_nav_reader.h"
+#include "ppp_bayes_tree/io/rtcm/rtcm3_decoder.h"
+#include "ppp_bayes_tree/io/rtcm/rtcm3_ephemeris_encoder.h"
+#include "ppp_bayes_tree/io/rtcm/rtcm3_framer.h"
 #include "ppp_bayes_tree/types/constants.h"
 #include "test_support.h"
 

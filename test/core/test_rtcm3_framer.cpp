@@ -9,7 +9,7 @@
 
 #include "ppp_bayes_tree/io/bit_reader.h"
 #include "ppp_bayes_tree/io/bit_writer.h"
-#include "ppp_bayes_tree/io/rtcm3_framer.h"
+#include "ppp_bayes_tree/io/rtcm/rtcm3_framer.h"
 #include "test_support.h"
 
 namespace ppp {

@@ -11,13 +11,13 @@
 
 #include "ppp_bayes_tree/evaluation/ssr_check.h"
 #include "ppp_bayes_tree/io/bit_writer.h"
-#include "ppp_bayes_tree/io/rinex_nav_reader.h"
-#include "ppp_bayes_tree/io/rtcm3_framer.h"
-#include "ppp_bayes_tree/io/rtcm_ssr_decoder.h"
-#include "ppp_bayes_tree/io/rtcm_ssr_encoder.h"
+#include "ppp_bayes_tree/io/rinex/rinex_nav_reader.h"
+#include "ppp_bayes_tree/io/rtcm/rtcm3_framer.h"
+#include "ppp_bayes_tree/io/rtcm/rtcm_ssr_decoder.h"
+#include "ppp_bayes_tree/io/rtcm/rtcm_ssr_encoder.h"
 #include "ppp_bayes_tree/models/broadcast_ssr_ephemeris.h"
 #include "ppp_bayes_tree/models/ssr_bias_provider.h"
-#include "ppp_bayes_tree/ppp/ppp_config.h"
+#include "ppp_bayes_tree/ppp/config/ppp_config.h"
 #include "fuzz/rtcm_ssr_fuzz_entry.h"
 #include "test_support.h"
 

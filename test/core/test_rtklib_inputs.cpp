@@ -4,8 +4,8 @@
 
 #include <cmath>
 
-#include "ppp_bayes_tree/io/rtklib_inputs.h"
-#include "ppp_bayes_tree/io/rinex_nav_reader.h"
+#include "ppp_bayes_tree/io/products/rtklib_inputs.h"
+#include "ppp_bayes_tree/io/rinex/rinex_nav_reader.h"
 #include "test_support.h"
 
 namespace ppp {

@@ -3,11 +3,11 @@
 // LLI mapping, phase-shift handling and skip reasons.
 #include <gtest/gtest.h>
 
-#include "ppp_bayes_tree/io/bias_sinex_reader.h"
-#include "ppp_bayes_tree/io/hatanaka_decoder.h"
-#include "ppp_bayes_tree/io/rinex_obs_reader.h"
+#include "ppp_bayes_tree/io/products/bias_sinex_reader.h"
+#include "ppp_bayes_tree/io/rinex/hatanaka_decoder.h"
+#include "ppp_bayes_tree/io/rinex/rinex_obs_reader.h"
 #include "ppp_bayes_tree/models/sinex_bias_provider.h"
-#include "ppp_bayes_tree/ppp/signal_selection.h"
+#include "ppp_bayes_tree/ppp/model/signal_selection.h"
 #include "ppp_bayes_tree/types/constants.h"
 #include "test_support.h"
 

@@ -6,8 +6,8 @@
 
 #include <cmath>
 
-#include "ppp_bayes_tree/ppp/arc_tracker.h"
-#include "ppp_bayes_tree/ppp/signal_selection.h"
+#include "ppp_bayes_tree/ppp/model/arc_tracker.h"
+#include "ppp_bayes_tree/ppp/model/signal_selection.h"
 #include "simulation_test_util.h"
 
 namespace ppp {

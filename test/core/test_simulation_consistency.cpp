@@ -7,8 +7,8 @@
 #include <algorithm>
 #include <cmath>
 
-#include "ppp_bayes_tree/io/rinex_clock_reader.h"
-#include "ppp_bayes_tree/io/sp3_reader.h"
+#include "ppp_bayes_tree/io/products/rinex_clock_reader.h"
+#include "ppp_bayes_tree/io/products/sp3_reader.h"
 #include "ppp_bayes_tree/models/ionosphere_free.h"
 #include "simulation_test_util.h"
 #include "test_support.h"

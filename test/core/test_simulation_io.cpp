@@ -6,10 +6,10 @@
 #include <thread>
 
 #include "ppp_bayes_tree/io/line_source.h"
-#include "ppp_bayes_tree/io/rinex_clock_reader.h"
-#include "ppp_bayes_tree/io/rinex_obs_reader.h"
-#include "ppp_bayes_tree/io/sp3_reader.h"
-#include "ppp_bayes_tree/ppp/yaml_section.h"
+#include "ppp_bayes_tree/io/products/rinex_clock_reader.h"
+#include "ppp_bayes_tree/io/products/sp3_reader.h"
+#include "ppp_bayes_tree/io/rinex/rinex_obs_reader.h"
+#include "ppp_bayes_tree/ppp/config/yaml_section.h"
 #include "ppp_bayes_tree/simulation/simulation_writers.h"
 #include "simulation_test_util.h"
 #include "test_support.h"

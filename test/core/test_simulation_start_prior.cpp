@@ -10,7 +10,7 @@
 #include <string>
 
 #include "ppp_bayes_tree/evaluation/monte_carlo.h"
-#include "ppp_bayes_tree/ppp/ppp_config.h"
+#include "ppp_bayes_tree/ppp/config/ppp_config.h"
 
 namespace ppp {
 namespace {

@@ -4,7 +4,7 @@
 
 #include <cmath>
 
-#include "ppp_bayes_tree/io/sp3_reader.h"
+#include "ppp_bayes_tree/io/products/sp3_reader.h"
 #include "synthetic_sp3.h"
 #include "test_support.h"
 

@@ -16,9 +16,9 @@
 #include <fstream>
 #include <map>
 
-#include "ppp_bayes_tree/ppp/code_least_squares.h"
-#include "ppp_bayes_tree/ppp/epoch_estimator.h"
-#include "ppp_bayes_tree/ppp/ppp_pipeline.h"
+#include "ppp_bayes_tree/ppp/estimators/code_least_squares.h"
+#include "ppp_bayes_tree/ppp/estimators/epoch_estimator.h"
+#include "ppp_bayes_tree/ppp/pipeline/ppp_pipeline.h"
 #include "ppp_dataset.h"
 
 namespace ppp {

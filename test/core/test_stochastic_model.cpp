@@ -5,7 +5,7 @@
 // bias 100 m / 0) and the conversion of process noise to per-epoch variances over dt.
 #include <gtest/gtest.h>
 
-#include "ppp_bayes_tree/ppp/stochastic_model.h"
+#include "ppp_bayes_tree/ppp/model/stochastic_model.h"
 
 using ppp::ProcessKind;
 using ppp::StochasticModel;

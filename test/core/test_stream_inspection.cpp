@@ -6,8 +6,8 @@
 #include "ppp_bayes_tree/app/inspection.h"
 #include "ppp_bayes_tree/app/stream_convert.h"
 #include "ppp_bayes_tree/app/stream_inspection.h"
-#include "ppp_bayes_tree/io/observation_source.h"
-#include "ppp_bayes_tree/io/stream_format.h"
+#include "ppp_bayes_tree/io/rinex/observation_source.h"
+#include "ppp_bayes_tree/io/transport/stream_format.h"
 #include "test_support.h"
 
 namespace ppp {

@@ -1,4 +1,4 @@
-// CasterStreamBuilder (io/caster_stream_builder.h, ppp_stream_make's core): the
+// CasterStreamBuilder (app/caster_stream_builder.h, ppp_stream_make's core): the
 // ESBC 2020-177 window 00:00-00:45 made into one caster stream (1006/1033,
 // MSM7 of every system, the broadcast file's records from their transmission
 // time with 60-s repeats, SSR frames), then:
@@ -29,16 +29,16 @@
 #include <set>
 
 #include "ppp_bayes_tree/app/stream_convert.h"
-#include "ppp_bayes_tree/io/caster_stream_builder.h"
-#include "ppp_bayes_tree/io/rinex_nav_reader.h"
-#include "ppp_bayes_tree/io/rinex_obs_writer.h"
-#include "ppp_bayes_tree/io/rtcm3_decoder.h"
-#include "ppp_bayes_tree/io/rtcm3_ephemeris_encoder.h"
-#include "ppp_bayes_tree/io/rtcm3_framer.h"
-#include "ppp_bayes_tree/io/rtcm_ssr_decoder.h"
-#include "ppp_bayes_tree/ppp/epoch_estimator.h"
-#include "ppp_bayes_tree/ppp/ppp_config.h"
-#include "ppp_bayes_tree/ppp/ppp_pipeline.h"
+#include "ppp_bayes_tree/app/caster_stream_builder.h"
+#include "ppp_bayes_tree/io/rinex/rinex_nav_reader.h"
+#include "ppp_bayes_tree/io/rinex/rinex_obs_writer.h"
+#include "ppp_bayes_tree/io/rtcm/rtcm3_decoder.h"
+#include "ppp_bayes_tree/io/rtcm/rtcm3_ephemeris_encoder.h"
+#include "ppp_bayes_tree/io/rtcm/rtcm3_framer.h"
+#include "ppp_bayes_tree/io/rtcm/rtcm_ssr_decoder.h"
+#include "ppp_bayes_tree/ppp/estimators/epoch_estimator.h"
+#include "ppp_bayes_tree/ppp/config/ppp_config.h"
+#include "ppp_bayes_tree/ppp/pipeline/ppp_pipeline.h"
 #include "esbc_stream_fixture.h"
 #include "test_support.h"
 

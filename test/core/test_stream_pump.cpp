@@ -12,9 +12,9 @@
 #include <vector>
 
 #include "ppp_bayes_tree/io/parse_error.h"
-#include "ppp_bayes_tree/io/rtcm_observation_source.h"
+#include "ppp_bayes_tree/io/rtcm/rtcm_observation_source.h"
 #include "ppp_bayes_tree/io/stream_pump.h"
-#include "ppp_bayes_tree/io/ubx_observation_source.h"
+#include "ppp_bayes_tree/io/ubx/ubx_observation_source.h"
 #include "test_support.h"
 
 namespace ppp {

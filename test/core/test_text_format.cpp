@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "ppp_bayes_tree/io/ubx_framer.h"
+#include "ppp_bayes_tree/io/ubx/ubx_framer.h"
 #include "ppp_bayes_tree/types/number_text.h"
 #include "ppp_bayes_tree/types/text_format.h"
 

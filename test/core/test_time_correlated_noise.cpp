@@ -8,9 +8,9 @@
 #include <random>
 #include <vector>
 
-#include "ppp_bayes_tree/ppp/stochastic_model.h"
-#include "ppp_bayes_tree/ppp/time_correlated_noise.h"
-#include "ppp_bayes_tree/ppp/wide_lane_ambiguity.h"
+#include "ppp_bayes_tree/ppp/ambiguity/wide_lane_ambiguity.h"
+#include "ppp_bayes_tree/ppp/model/stochastic_model.h"
+#include "ppp_bayes_tree/ppp/model/time_correlated_noise.h"
 
 namespace ppp {
 namespace {

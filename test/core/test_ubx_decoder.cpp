@@ -16,11 +16,11 @@
 #include <string>
 #include <vector>
 
-#include "ppp_bayes_tree/io/observation_source.h"
-#include "ppp_bayes_tree/io/rinex_nav_reader.h"
-#include "ppp_bayes_tree/io/ubx_decoder.h"
-#include "ppp_bayes_tree/io/ubx_framer.h"
-#include "ppp_bayes_tree/io/ubx_observation_source.h"
+#include "ppp_bayes_tree/io/rinex/observation_source.h"
+#include "ppp_bayes_tree/io/rinex/rinex_nav_reader.h"
+#include "ppp_bayes_tree/io/ubx/ubx_decoder.h"
+#include "ppp_bayes_tree/io/ubx/ubx_framer.h"
+#include "ppp_bayes_tree/io/ubx/ubx_observation_source.h"
 #include "ppp_bayes_tree/models/broadcast_ephemeris.h"
 #include "fuzz/ubx_fuzz_entry.h"
 #include "test_support.h"

@@ -6,7 +6,7 @@
 // 06:00-08:00; GEO C05 among them; the file has no GLONASS records) and the
 // GLONASS records (RTCM 1020) of the recording week-rollover-STR24.rtcm3
 // (2018-07-14/15, decoded by our RTCM decoder, itself equal to convbin) are encoded
-// into SFRBX frames as a u-blox receiver delivers them (io/ubx_nav_encoder.h:
+// into SFRBX frames as a u-blox receiver delivers them (io/ubx/ubx_nav_encoder.h:
 // GLONASS strings 1-5 with the Hamming code of GLONASS ICD 5.1 4.7; BeiDou D1
 // subframes 1-3 and D2 pages 1-10 with the BCH(15,11) parity of
 // BDS-SIS-ICD-B1I 5.1.3), preceded by RXM-RAWX frames that give the time.
@@ -32,10 +32,10 @@
 #include <string>
 
 #include "ppp_bayes_tree/app/stream_convert.h"
-#include "ppp_bayes_tree/io/rinex_nav_reader.h"
-#include "ppp_bayes_tree/io/rtcm_observation_source.h"
-#include "ppp_bayes_tree/io/ubx_decoder.h"
-#include "ppp_bayes_tree/io/ubx_nav_encoder.h"
+#include "ppp_bayes_tree/io/rinex/rinex_nav_reader.h"
+#include "ppp_bayes_tree/io/rtcm/rtcm_observation_source.h"
+#include "ppp_bayes_tree/io/ubx/ubx_decoder.h"
+#include "ppp_bayes_tree/io/ubx/ubx_nav_encoder.h"
 #include "ppp_bayes_tree/models/broadcast_ephemeris.h"
 #include "rinex_nav_fields.h"
 #include "test_support.h"

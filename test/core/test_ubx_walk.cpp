@@ -1,6 +1,6 @@
 // "UBX walk": gnss_1730.ubx positioned on its own, with the broadcast
 // ephemerides decoded from its RXM-SFRBX (GPS LNAV, Galileo I/NAV), by the
-// broadcast single-point solution (ppp/broadcast_single_point.h: dual-frequency
+// broadcast single-point solution (ppp/pipeline/broadcast_single_point.h: dual-frequency
 // ionosphere-free code, so no ionosphere model), compared epoch by epoch with
 // the RTK-fixed reference gnss_1730_sf.pos (cm level; ../shared/data/streams
 // README). Reported per epoch rate: all 4 Hz epochs, and decimated to 1 Hz (the
@@ -16,13 +16,13 @@
 #include <map>
 
 #include "ppp_bayes_tree/evaluation/rtklib_pos.h"
-#include "ppp_bayes_tree/io/ubx_framer.h"
-#include "ppp_bayes_tree/io/ubx_observation_source.h"
+#include "ppp_bayes_tree/io/ubx/ubx_framer.h"
+#include "ppp_bayes_tree/io/ubx/ubx_observation_source.h"
 #include "ppp_bayes_tree/models/broadcast_ephemeris_store.h"
-#include "ppp_bayes_tree/ppp/broadcast_single_point.h"
-#include "ppp_bayes_tree/ppp/epoch_estimator.h"
-#include "ppp_bayes_tree/ppp/ppp_config.h"
-#include "ppp_bayes_tree/ppp/ppp_pipeline.h"
+#include "ppp_bayes_tree/ppp/config/ppp_config.h"
+#include "ppp_bayes_tree/ppp/estimators/epoch_estimator.h"
+#include "ppp_bayes_tree/ppp/pipeline/broadcast_single_point.h"
+#include "ppp_bayes_tree/ppp/pipeline/ppp_pipeline.h"
 #include "ppp_bayes_tree/types/frames.h"
 #include "test_support.h"
 

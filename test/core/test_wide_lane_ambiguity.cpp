@@ -14,12 +14,12 @@
 
 #include "ppp_dataset.h"
 #include "table_biases.h"
-#include "ppp_bayes_tree/io/rinex_clock_reader.h"
+#include "ppp_bayes_tree/io/products/rinex_clock_reader.h"
 #include "ppp_bayes_tree/models/clock_wide_lane_bias_provider.h"
-#include "ppp_bayes_tree/ppp/ambiguity_resolution.h"
-#include "ppp_bayes_tree/ppp/arc_tracker.h"
-#include "ppp_bayes_tree/ppp/phase_bias_consistency.h"
-#include "ppp_bayes_tree/ppp/wide_lane_ambiguity.h"
+#include "ppp_bayes_tree/ppp/ambiguity/ambiguity_resolution.h"
+#include "ppp_bayes_tree/ppp/model/arc_tracker.h"
+#include "ppp_bayes_tree/ppp/ambiguity/phase_bias_consistency.h"
+#include "ppp_bayes_tree/ppp/ambiguity/wide_lane_ambiguity.h"
 #include "ppp_bayes_tree/types/constants.h"
 
 namespace ppp {

@@ -3,7 +3,7 @@
 // to a time, e.g. a few hours of a day-long file, so a test runs a window.
 #include <memory>
 
-#include "ppp_bayes_tree/io/observation_source.h"
+#include "ppp_bayes_tree/io/rinex/observation_source.h"
 
 namespace ppp::test {
 

@@ -6,7 +6,7 @@
 #include <cstdint>
 #include <string>
 
-#include "ppp_bayes_tree/io/antex_reader.h"
+#include "ppp_bayes_tree/io/products/antex_reader.h"
 
 namespace ppp::fuzz {
 

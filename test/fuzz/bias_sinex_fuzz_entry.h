@@ -6,7 +6,7 @@
 #include <cstdint>
 #include <string>
 
-#include "ppp_bayes_tree/io/bias_sinex_reader.h"
+#include "ppp_bayes_tree/io/products/bias_sinex_reader.h"
 
 namespace ppp::fuzz {
 

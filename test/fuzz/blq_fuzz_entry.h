@@ -6,7 +6,7 @@
 #include <cstdint>
 #include <string>
 
-#include "ppp_bayes_tree/io/blq_reader.h"
+#include "ppp_bayes_tree/io/products/blq_reader.h"
 
 namespace ppp::fuzz {
 

@@ -6,7 +6,7 @@
 #include <cstdint>
 #include <string>
 
-#include "ppp_bayes_tree/io/hatanaka_decoder.h"
+#include "ppp_bayes_tree/io/rinex/hatanaka_decoder.h"
 
 namespace ppp::fuzz {
 

@@ -7,7 +7,7 @@
 #include <cstdint>
 #include <string>
 
-#include "ppp_bayes_tree/io/rinex_nav_reader.h"
+#include "ppp_bayes_tree/io/rinex/rinex_nav_reader.h"
 #include "ppp_bayes_tree/models/broadcast_ephemeris.h"
 #include "ppp_bayes_tree/models/broadcast_ephemeris_store.h"
 

@@ -6,8 +6,8 @@
 #include <cstdint>
 #include <string>
 
-#include "ppp_bayes_tree/io/hatanaka_decoder.h"
-#include "ppp_bayes_tree/io/rinex_obs_reader.h"
+#include "ppp_bayes_tree/io/rinex/hatanaka_decoder.h"
+#include "ppp_bayes_tree/io/rinex/rinex_obs_reader.h"
 
 namespace ppp::fuzz {
 

@@ -8,11 +8,11 @@
 #include <cstdint>
 #include <sstream>
 
-#include "ppp_bayes_tree/io/rinex_nav_writer.h"
-#include "ppp_bayes_tree/io/rinex_obs_writer.h"
-#include "ppp_bayes_tree/io/rtcm3_decoder.h"
-#include "ppp_bayes_tree/io/rtcm3_msm_encoder.h"
-#include "ppp_bayes_tree/io/rtcm_observation_source.h"
+#include "ppp_bayes_tree/io/rinex/rinex_nav_writer.h"
+#include "ppp_bayes_tree/io/rinex/rinex_obs_writer.h"
+#include "ppp_bayes_tree/io/rtcm/rtcm3_decoder.h"
+#include "ppp_bayes_tree/io/rtcm/rtcm3_msm_encoder.h"
+#include "ppp_bayes_tree/io/rtcm/rtcm_observation_source.h"
 
 namespace ppp::fuzz {
 

@@ -10,9 +10,9 @@
 #include <cstdint>
 #include <stdexcept>
 
-#include "ppp_bayes_tree/io/rtcm_ssr_decoder.h"
-#include "ppp_bayes_tree/io/rtcm_ssr_encoder.h"
-#include "ppp_bayes_tree/io/rinex_nav_reader.h"
+#include "ppp_bayes_tree/io/rtcm/rtcm_ssr_decoder.h"
+#include "ppp_bayes_tree/io/rtcm/rtcm_ssr_encoder.h"
+#include "ppp_bayes_tree/io/rinex/rinex_nav_reader.h"
 #include "ppp_bayes_tree/models/broadcast_ssr_ephemeris.h"
 #include "ppp_bayes_tree/models/ssr_bias_provider.h"
 

@@ -9,7 +9,7 @@
 
 #include "ppp_bayes_tree/io/line_source.h"
 #include "ppp_bayes_tree/io/parse_error.h"
-#include "ppp_bayes_tree/io/sp3_reader.h"
+#include "ppp_bayes_tree/io/products/sp3_reader.h"
 #include "ppp_bayes_tree/models/precise_ephemeris.h"
 
 namespace ppp::fuzz {

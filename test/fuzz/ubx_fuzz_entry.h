@@ -9,8 +9,8 @@
 #include <cstdint>
 #include <vector>
 
-#include "ppp_bayes_tree/io/ubx_decoder.h"
-#include "ppp_bayes_tree/io/ubx_observation_source.h"
+#include "ppp_bayes_tree/io/ubx/ubx_decoder.h"
+#include "ppp_bayes_tree/io/ubx/ubx_observation_source.h"
 #include "ppp_bayes_tree/models/broadcast_ephemeris.h"
 #include "ppp_bayes_tree/models/broadcast_ephemeris_store.h"
 

@@ -19,12 +19,12 @@
 
 #include "core/loopback_servers.h"
 #include "test_support.h"
-#include "ppp_bayes_tree/io/byte_source_spec.h"
-#include "ppp_bayes_tree/io/credential_mask.h"
-#include "ppp_bayes_tree/io/ntrip_client_source.h"
-#include "ppp_bayes_tree/io/ntrip_credentials.h"
-#include "ppp_bayes_tree/io/untrusted_text.h"
-#include "ppp_bayes_tree/ppp/ppp_config.h"
+#include "ppp_bayes_tree/io/transport/byte_source_spec.h"
+#include "ppp_bayes_tree/io/transport/credential_mask.h"
+#include "ppp_bayes_tree/io/transport/ntrip_client_source.h"
+#include "ppp_bayes_tree/io/transport/ntrip_credentials.h"
+#include "ppp_bayes_tree/io/transport/untrusted_text.h"
+#include "ppp_bayes_tree/ppp/config/ppp_config.h"
 #include "ppp_bayes_tree/ros/node_options.h"
 
 namespace {

@@ -2,7 +2,7 @@
 // Epoch records for the tests of the node's outputs and diagnostics (test_node_*.cpp).
 #include <Eigen/Core>
 
-#include "ppp_bayes_tree/ppp/ppp_epoch_processor.h"
+#include "ppp_bayes_tree/ppp/pipeline/ppp_epoch_processor.h"
 
 namespace node_test {
 

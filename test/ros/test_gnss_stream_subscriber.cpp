@@ -7,7 +7,7 @@
 #include <limits>
 
 #include "ppp_bayes_tree/GnssStreamBytes.h"
-#include "ppp_bayes_tree/io/ubx_framer.h"
+#include "ppp_bayes_tree/io/ubx/ubx_framer.h"
 #include "ppp_bayes_tree/ros/gnss_stream_subscriber.h"
 #include "ros/ublox_ros_messages.h"
 #include "test_support.h"

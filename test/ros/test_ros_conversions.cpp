@@ -9,7 +9,7 @@
 #include "ppp_bayes_tree/ros/bag_writer.h"
 #include "ppp_bayes_tree/ros/message_conversions.h"
 #include "ppp_bayes_tree/ros/node_options.h"
-#include "ppp_bayes_tree/ppp/ppp_config.h"
+#include "ppp_bayes_tree/ppp/config/ppp_config.h"
 #include "ppp_bayes_tree/simulation/gnss_simulator.h"
 
 namespace {

@@ -5,7 +5,7 @@
 #include <cmath>
 #include <limits>
 
-#include "ppp_bayes_tree/ppp/ppp_config.h"
+#include "ppp_bayes_tree/ppp/config/ppp_config.h"
 #include "ppp_bayes_tree/ros/lever_arm.h"
 #include "ppp_bayes_tree/ros/node_options.h"
 

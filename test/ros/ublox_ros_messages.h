@@ -12,7 +12,7 @@
 #include <ros/serialization.h>
 #include <topic_tools/shape_shifter.h>
 
-#include "ppp_bayes_tree/io/ubx_framer.h"
+#include "ppp_bayes_tree/io/ubx/ubx_framer.h"
 
 namespace ppp_ros::test {
 

@@ -26,7 +26,7 @@
 #include <sensor_msgs/NavSatStatus.h>
 
 #include "esbc_stream_fixture.h"
-#include "ppp_bayes_tree/io/rinex_obs_writer.h"
+#include "ppp_bayes_tree/io/rinex/rinex_obs_writer.h"
 #include "rostest/live_support.h"
 
 namespace {

@@ -11,7 +11,7 @@
 // equal those of one `ppp_solve --rtcm MADE --ref-date 2020/06/25 --nav MADE --ssr
 // SSR --estimator both` with its estimator (the smoother's filtered solution), epoch
 // by epoch to 1 mm, in precise (SSR) mode throughout.
-#include "ppp_bayes_tree/io/rinex_nav_reader.h"
+#include "ppp_bayes_tree/io/rinex/rinex_nav_reader.h"
 #include "esbc_stream_fixture.h"
 #include "rostest/live_support.h"
 

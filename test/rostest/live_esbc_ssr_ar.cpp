@@ -13,8 +13,8 @@
 // `ppp_solve --rtcm MADE --nav MADE --ssr SSR --estimator <estimator>` (the smoother's
 // filtered solution: the node's ppp/fix) with the same configuration epoch by epoch: the
 // same fix state (PppStatus fix_state, NavSatFix STATUS_GBAS_FIX), positions within 1 mm.
-#include "ppp_bayes_tree/io/rinex_clock_reader.h"
-#include "ppp_bayes_tree/io/rinex_nav_reader.h"
+#include "ppp_bayes_tree/io/products/rinex_clock_reader.h"
+#include "ppp_bayes_tree/io/rinex/rinex_nav_reader.h"
 #include "ppp_bayes_tree/models/clock_wide_lane_bias_provider.h"
 #include "esbc_stream_fixture.h"
 #include "rostest/live_support.h"

@@ -9,7 +9,7 @@
 // node publishes every frame of the file, and each node's fixes equal ppp_solve's on
 // the file (EKF; smoother filtered) at every epoch but perhaps the last, to 1 mm.
 #include "core/loopback_servers.h"
-#include "ppp_bayes_tree/io/rtcm3_framer.h"
+#include "ppp_bayes_tree/io/rtcm/rtcm3_framer.h"
 #include "rostest/live_support.h"
 
 TEST(LiveNtrip, Str2strCasterToStreamNodeToBothNodesEqualsPppSolveTo1mm) {

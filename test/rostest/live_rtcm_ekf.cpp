@@ -8,7 +8,7 @@
 // the same file and configuration epoch by epoch to 1 mm.
 #include <random>
 
-#include "ppp_bayes_tree/io/rtcm3_framer.h"
+#include "ppp_bayes_tree/io/rtcm/rtcm3_framer.h"
 #include "rostest/live_support.h"
 
 TEST(LiveRtcmEkf, FramesAndChunksEqualPppSolveEpochByEpochTo1mm) {

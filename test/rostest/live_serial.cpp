@@ -12,7 +12,7 @@
 // framer on the written bytes is the reference).
 #include <termios.h>
 
-#include "ppp_bayes_tree/io/rtcm3_framer.h"
+#include "ppp_bayes_tree/io/rtcm/rtcm3_framer.h"
 #include "rostest/live_support.h"
 
 namespace {

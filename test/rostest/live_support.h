@@ -32,8 +32,8 @@
 #include <sensor_msgs/NavSatStatus.h>
 #include <topic_tools/shape_shifter.h>
 
-#include "ppp_bayes_tree/io/rtcm3_framer.h"
-#include "ppp_bayes_tree/io/rtcm_ssr_decoder.h"
+#include "ppp_bayes_tree/io/rtcm/rtcm3_framer.h"
+#include "ppp_bayes_tree/io/rtcm/rtcm_ssr_decoder.h"
 #include "ppp_bayes_tree/ros/message_conversions.h"
 #include "ppp_bayes_tree/types/gnss_time.h"
 #include "ros/ublox_ros_messages.h"
@@ -450,7 +450,7 @@ class ChildProcess {
 };
 
 /// ppp_stream_node started by the test as `node_name`, reading `input` (a spec,
-/// io/byte_source_spec.h), publishing RTCM 3 on /gnss/receiver (what launch/live.launch
+/// io/transport/byte_source_spec.h), publishing RTCM 3 on /gnss/receiver (what launch/live.launch
 /// example b's nodes read), its diagnostics every 0.2 s. The test picks its ports at run
 /// time, so the node cannot come from the launch file.
 inline std::unique_ptr<ChildProcess> startStreamNode(const std::string& node_name, const std::string& input,

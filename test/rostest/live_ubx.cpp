@@ -12,7 +12,7 @@
 // --ubx F --nav F --config config/live.yaml test/rostest/live_ubx.yaml` EKF, and the
 // smoother node's fixes (its filtered estimate) that run's smoother filtered solution,
 // epoch by epoch to 1 mm (as live_rtcm_launch); each node processes every epoch.
-#include "ppp_bayes_tree/io/ubx_framer.h"
+#include "ppp_bayes_tree/io/ubx/ubx_framer.h"
 #include "rostest/live_support.h"
 
 namespace {

@@ -27,7 +27,7 @@
 // `obs` is a glob (glob(3): * ? [..]): one job per matching file; every product
 // pattern is a glob too, all its matches given to the job (sorted). With
 // `hours: [a, b]` each of those jobs becomes one job per hour a..b of its day
-// (GPST window [h, h+1) h; io/time_window_source.h). Job ids:
+// (GPST window [h, h+1) h; io/rinex/time_window_source.h). Job ids:
 // <station>[_<yyyy>-<doy>][_h<HH>][_<obs file stem>, when the glob matched several].
 // A bags entry: `bag` is a glob, one job per matching bag, id <name>[_<bag stem>,
 // when it matched several]; the job runs the ROS tool ppp_bag_solve (the
@@ -47,7 +47,7 @@
 #include <vector>
 
 #include "ppp_bayes_tree/evaluation/monte_carlo.h"
-#include "ppp_bayes_tree/ppp/ppp_pipeline.h"
+#include "ppp_bayes_tree/ppp/pipeline/ppp_pipeline.h"
 
 namespace ppp {
 

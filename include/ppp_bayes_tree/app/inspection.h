@@ -6,8 +6,8 @@
 #include <vector>
 
 #include "ppp_bayes_tree/io/file_summary.h"
-#include "ppp_bayes_tree/io/rinex_clock_reader.h"
-#include "ppp_bayes_tree/io/sp3_reader.h"
+#include "ppp_bayes_tree/io/products/rinex_clock_reader.h"
+#include "ppp_bayes_tree/io/products/sp3_reader.h"
 
 namespace ppp {
 

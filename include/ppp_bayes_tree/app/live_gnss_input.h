@@ -17,7 +17,7 @@
 // 4555x real time), so the EKF and smoother nodes side by side can each decode.
 // Transport-only nodes (serial, NTRIP, driver topics) move bytes.
 //
-// Streams. Each stream name gets its own decoder (io/gnss_stream_decoder.h):
+// Streams. Each stream name gets its own decoder (io/transport/gnss_stream_decoder.h):
 // RTCM 3 (MSM observations, 1019/1020/1045/1046 ephemerides, 1005/1006/1033
 // station, SSR) or UBX (RXM-RAWX, RXM-SFRBX). The observation stream is the
 // first one that yields observation epochs; epochs of any other stream are
@@ -88,10 +88,10 @@
 #include <vector>
 
 #include "ppp_bayes_tree/io/obs_epoch.h"
-#include "ppp_bayes_tree/io/rinex_obs_header.h"
-#include "ppp_bayes_tree/io/stream_chunk.h"
-#include "ppp_bayes_tree/io/stream_format.h"
+#include "ppp_bayes_tree/io/rinex/rinex_obs_header.h"
 #include "ppp_bayes_tree/io/stream_problem.h"
+#include "ppp_bayes_tree/io/transport/stream_chunk.h"
+#include "ppp_bayes_tree/io/transport/stream_format.h"
 #include "ppp_bayes_tree/models/bias_provider.h"
 #include "ppp_bayes_tree/models/broadcast_ssr_ephemeris.h"
 #include "ppp_bayes_tree/models/ephemeris_source.h"
@@ -200,7 +200,7 @@ struct LiveStreamStatus {
   std::optional<double> latency_s;
   StreamStall stall = StreamStall::Ok;          // observation stream only
   /// Non-empty when LiveInputOptions::reference_time is contradicted by the
-  /// stream's own ephemeris weeks (io/rtcm_observation_source.h,
+  /// stream's own ephemeris weeks (io/rtcm/rtcm_observation_source.h,
   /// referenceDateContradiction: the date, the epochs' times, the evidence);
   /// also given once by takeTimeEvents().
   std::string reference_date_warning;

@@ -2,7 +2,7 @@
 // One ppp_solve run: the pipeline with one estimator, written to a directory.
 // Each SOLUTION of the run (the EKF's; the smoother's filtered and smoothed ones)
 // is written under its tag T ("ekf", "smoother_filtered", "smoother_smoothed";
-// solutionOutputs of ppp/estimator_registry.h):
+// solutionOutputs of ppp/estimators/estimator_registry.h):
 //   <name>_<T>.csv                    per-epoch solution (SolutionCsvWriter)
 //   <name>_<T>.pos                    RTKLIB-compatible xyz .pos (RtklibPosWriter)
 //   <name>_<T>_summary.json           statistics (with a truth), run counts,
@@ -35,8 +35,8 @@
 #include <vector>
 
 #include "ppp_bayes_tree/evaluation/position_error_statistics.h"
-#include "ppp_bayes_tree/ppp/estimator_registry.h"
-#include "ppp_bayes_tree/ppp/ppp_pipeline.h"
+#include "ppp_bayes_tree/ppp/estimators/estimator_registry.h"
+#include "ppp_bayes_tree/ppp/pipeline/ppp_pipeline.h"
 
 namespace ppp {
 

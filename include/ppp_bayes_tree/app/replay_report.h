@@ -21,7 +21,7 @@
 #include <Eigen/Core>
 
 #include "ppp_bayes_tree/evaluation/position_error_statistics.h"
-#include "ppp_bayes_tree/ppp/solution_epoch.h"
+#include "ppp_bayes_tree/ppp/pipeline/solution_epoch.h"
 #include "ppp_bayes_tree/io/line_source.h"
 #include "ppp_bayes_tree/io/parse_error.h"
 #include "ppp_bayes_tree/app/ppp_solve_run.h"

@@ -6,8 +6,8 @@
 #include <optional>
 #include <string>
 
-#include "ppp_bayes_tree/io/rtcm3_decoder.h"
-#include "ppp_bayes_tree/io/stream_format.h"
+#include "ppp_bayes_tree/io/rtcm/rtcm3_decoder.h"
+#include "ppp_bayes_tree/io/transport/stream_format.h"
 
 namespace ppp {
 

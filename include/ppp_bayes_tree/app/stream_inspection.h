@@ -4,9 +4,9 @@
 // and gaps, checksum errors and other problems (with byte offsets), satellites
 // and signals per system, ephemerides, the station. One decode of the file.
 //
-// RTCM SSR messages go to the SSR decoder (io/rtcm_ssr_decoder.h): providers,
+// RTCM SSR messages go to the SSR decoder (io/rtcm/rtcm_ssr_decoder.h): providers,
 // solutions, update intervals, datum and counts in the `ssr` block. A u-blox
-// file is read through io/ubx_observation_source.h.
+// file is read through io/ubx/ubx_observation_source.h.
 #include <map>
 #include <optional>
 #include <set>
@@ -14,8 +14,8 @@
 #include <vector>
 
 #include "ppp_bayes_tree/io/file_summary.h"
-#include "ppp_bayes_tree/io/rtcm3_decoder.h"
-#include "ppp_bayes_tree/io/stream_format.h"
+#include "ppp_bayes_tree/io/rtcm/rtcm3_decoder.h"
+#include "ppp_bayes_tree/io/transport/stream_format.h"
 
 namespace ppp {
 

@@ -12,7 +12,7 @@
 #include <vector>
 
 #include "ppp_bayes_tree/evaluation/smoothed_trajectory_writer.h"
-#include "ppp_bayes_tree/ppp/ppp_smoother.h"
+#include "ppp_bayes_tree/ppp/estimators/ppp_smoother.h"
 
 namespace ppp {
 

@@ -52,8 +52,8 @@
 #include <vector>
 
 #include "ppp_bayes_tree/evaluation/position_error_statistics.h"
-#include "ppp_bayes_tree/ppp/estimator_registry.h"
-#include "ppp_bayes_tree/ppp/ppp_config.h"
+#include "ppp_bayes_tree/ppp/config/ppp_config.h"
+#include "ppp_bayes_tree/ppp/estimators/estimator_registry.h"
 #include "ppp_bayes_tree/simulation/gnss_simulator.h"
 #include "ppp_bayes_tree/simulation/simulation_config.h"
 

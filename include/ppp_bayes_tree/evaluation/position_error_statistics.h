@@ -24,7 +24,7 @@
 
 #include <Eigen/Core>
 
-#include "ppp_bayes_tree/ppp/solution_epoch.h"
+#include "ppp_bayes_tree/ppp/pipeline/solution_epoch.h"
 
 namespace ppp {
 

@@ -30,7 +30,7 @@
 
 #include <Eigen/Core>
 
-#include "ppp_bayes_tree/ppp/solution_epoch.h"
+#include "ppp_bayes_tree/ppp/pipeline/solution_epoch.h"
 #include "ppp_bayes_tree/io/line_source.h"
 #include "ppp_bayes_tree/io/parse_error.h"
 #include "ppp_bayes_tree/types/gnss_time.h"

@@ -17,7 +17,7 @@
 #include <ostream>
 #include <string>
 
-#include "ppp_bayes_tree/ppp/smoothed_trajectory_provider.h"
+#include "ppp_bayes_tree/ppp/estimators/smoothed_trajectory_provider.h"
 
 namespace ppp {
 

@@ -1,7 +1,7 @@
 #pragma once
 // FramerBase: the search for frames in a binary stream fed in chunks of any
-// size, common to the RTCM 3 and UBX framers (io/rtcm3_framer.h,
-// io/ubx_framer.h). A format says, through examine(), what the bytes at a
+// size, common to the RTCM 3 and UBX framers (io/rtcm/rtcm3_framer.h,
+// io/ubx/ubx_framer.h). A format says, through examine(), what the bytes at a
 // candidate frame start are; the base does the rest the same way for every
 // format:
 //   - bytes that start no frame are skipped and counted by io/skipped_bytes.h

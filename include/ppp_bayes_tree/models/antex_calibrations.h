@@ -14,7 +14,7 @@
 #include <string>
 #include <vector>
 
-#include "ppp_bayes_tree/io/antex_reader.h"
+#include "ppp_bayes_tree/io/products/antex_reader.h"
 #include "ppp_bayes_tree/models/antenna_calibration_provider.h"
 
 namespace ppp {

@@ -17,7 +17,7 @@
 //
 // Records not yet received (causal choice, the same live and in batch): a
 // record decoded from a receiver or correction stream carries its reception
-// time (the stream's time when it was decoded, io/gnss_stream_decoder.h) and
+// time (the stream's time when it was decoded, io/transport/gnss_stream_decoder.h) and
 // serves only instants AFTER it; a record of a RINEX navigation file (no
 // reception time) serves every instant. So ppp_solve on a recording and the
 // live input (app/live_gnss_input.h) choose the same record for the same

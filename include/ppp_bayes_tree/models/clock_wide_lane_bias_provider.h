@@ -28,7 +28,7 @@
 #include <string>
 #include <vector>
 
-#include "ppp_bayes_tree/io/rinex_clock_reader.h"
+#include "ppp_bayes_tree/io/products/rinex_clock_reader.h"
 #include "ppp_bayes_tree/models/bias_provider.h"
 
 namespace ppp {

@@ -38,8 +38,8 @@
 #include <Eigen/Core>
 
 #include "ppp_bayes_tree/io/parse_error.h"
-#include "ppp_bayes_tree/io/rinex_clock_reader.h"
-#include "ppp_bayes_tree/io/sp3_reader.h"
+#include "ppp_bayes_tree/io/products/rinex_clock_reader.h"
+#include "ppp_bayes_tree/io/products/sp3_reader.h"
 #include "ppp_bayes_tree/models/ephemeris_source.h"
 #include "ppp_bayes_tree/types/gnss_time.h"
 #include "ppp_bayes_tree/types/satellite_id.h"

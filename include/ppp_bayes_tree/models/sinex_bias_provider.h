@@ -5,7 +5,7 @@
 // and signal starts (the row that started last wins, as BiasSinexFile::osb).
 #include <string>
 
-#include "ppp_bayes_tree/io/bias_sinex_reader.h"
+#include "ppp_bayes_tree/io/products/bias_sinex_reader.h"
 #include "ppp_bayes_tree/models/bias_provider.h"
 
 namespace ppp {

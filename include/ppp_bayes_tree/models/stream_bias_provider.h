@@ -18,7 +18,7 @@
 #include <utility>
 #include <vector>
 
-#include "ppp_bayes_tree/io/rinex_obs_header.h"
+#include "ppp_bayes_tree/io/rinex/rinex_obs_header.h"
 #include "ppp_bayes_tree/models/bias_provider.h"
 
 namespace ppp {

@@ -52,8 +52,8 @@
 #include <ros/ros.h>
 #include <topic_tools/shape_shifter.h>
 
-#include "ppp_bayes_tree/io/stream_chunk.h"
-#include "ppp_bayes_tree/io/stream_format.h"
+#include "ppp_bayes_tree/io/transport/stream_chunk.h"
+#include "ppp_bayes_tree/io/transport/stream_format.h"
 
 namespace ppp_ros {
 

@@ -16,10 +16,10 @@
 #include "ppp_bayes_tree/GnssObservations.h"
 #include "ppp_bayes_tree/PreciseCorrections.h"
 #include "ppp_bayes_tree/io/obs_epoch.h"
-#include "ppp_bayes_tree/io/rinex_obs_header.h"
+#include "ppp_bayes_tree/io/rinex/rinex_obs_header.h"
 #include "ppp_bayes_tree/models/correction_buffer.h"
 #include "ppp_bayes_tree/models/stream_bias_provider.h"
-#include "ppp_bayes_tree/ppp/product_assembly.h"
+#include "ppp_bayes_tree/ppp/pipeline/product_assembly.h"
 #include "ppp_bayes_tree/types/gnss_time.h"
 
 namespace ppp_ros {

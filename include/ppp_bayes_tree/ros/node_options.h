@@ -15,7 +15,7 @@
 #include <Eigen/Core>
 
 #include "ppp_bayes_tree/app/live_gnss_input.h"
-#include "ppp_bayes_tree/io/stream_format.h"
+#include "ppp_bayes_tree/io/transport/stream_format.h"
 
 namespace ppp_ros {
 

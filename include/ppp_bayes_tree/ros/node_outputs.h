@@ -24,8 +24,8 @@
 
 #include "ppp_bayes_tree/PppStatus.h"
 #include "ppp_bayes_tree/evaluation/lagged_trajectory_output.h"
-#include "ppp_bayes_tree/ppp/epoch_estimator.h"
-#include "ppp_bayes_tree/ppp/ppp_epoch_processor.h"
+#include "ppp_bayes_tree/ppp/estimators/epoch_estimator.h"
+#include "ppp_bayes_tree/ppp/pipeline/ppp_epoch_processor.h"
 #include "ppp_bayes_tree/ros/node_options.h"
 #include "ppp_bayes_tree/ros/phase_bias_choice.h"
 #include "ppp_bayes_tree/ros/throttled_warnings.h"

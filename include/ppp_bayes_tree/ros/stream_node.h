@@ -1,7 +1,7 @@
 #pragma once
 // StreamNode (ppp_stream_node): a direct input (serial port, TCP server, NTRIP
 // caster, or a recording replayed at real-time speed; spec syntax in
-// io/byte_source_spec.h) as ROS topics, for users without a driver node.
+// io/transport/byte_source_spec.h) as ROS topics, for users without a driver node.
 //
 // The input is a ppp::ReconnectingByteSource (back-off, counted), framed by the
 // core framers, and published one message per complete frame (the frame's
@@ -29,10 +29,10 @@
 #include <std_msgs/Header.h>
 #include <topic_tools/shape_shifter.h>
 
-#include "ppp_bayes_tree/io/byte_source.h"
-#include "ppp_bayes_tree/io/rtcm3_framer.h"
-#include "ppp_bayes_tree/io/stream_format.h"
-#include "ppp_bayes_tree/io/ubx_framer.h"
+#include "ppp_bayes_tree/io/rtcm/rtcm3_framer.h"
+#include "ppp_bayes_tree/io/transport/byte_source.h"
+#include "ppp_bayes_tree/io/transport/stream_format.h"
+#include "ppp_bayes_tree/io/ubx/ubx_framer.h"
 #include "ppp_bayes_tree/ros/sim_clock_watch.h"
 
 namespace ppp_ros {

@@ -50,9 +50,9 @@
 #include <vector>
 
 #include "ppp_bayes_tree/io/obs_epoch.h"
-#include "ppp_bayes_tree/io/rinex_obs_header.h"
+#include "ppp_bayes_tree/io/rinex/rinex_obs_header.h"
 #include "ppp_bayes_tree/models/precise_ephemeris.h"
-#include "ppp_bayes_tree/ppp/ppp_measurement_model.h"
+#include "ppp_bayes_tree/ppp/model/ppp_measurement_model.h"
 #include "ppp_bayes_tree/simulation/flight_trajectory.h"
 #include "ppp_bayes_tree/simulation/gps_constellation.h"
 #include "ppp_bayes_tree/simulation/simulated_phase_biases.h"

@@ -21,9 +21,9 @@
 #include "ppp_bayes_tree/app/ppp_solve_run.h"
 #include "ppp_bayes_tree/evaluation/json_text.h"
 #include "ppp_bayes_tree/evaluation/monte_carlo_records.h"
-#include "ppp_bayes_tree/io/stream_format.h"
-#include "ppp_bayes_tree/ppp/estimator_registry.h"
-#include "ppp_bayes_tree/ppp/yaml_section.h"
+#include "ppp_bayes_tree/io/transport/stream_format.h"
+#include "ppp_bayes_tree/ppp/config/yaml_section.h"
+#include "ppp_bayes_tree/ppp/estimators/estimator_registry.h"
 
 extern char** environ;
 

@@ -12,9 +12,9 @@
 
 #include "ppp_bayes_tree/app/campaign_job.h"
 #include "ppp_bayes_tree/io/parse_error.h"
-#include "ppp_bayes_tree/io/stream_format.h"
-#include "ppp_bayes_tree/ppp/estimator_registry.h"
-#include "ppp_bayes_tree/ppp/yaml_section.h"
+#include "ppp_bayes_tree/io/transport/stream_format.h"
+#include "ppp_bayes_tree/ppp/config/yaml_section.h"
+#include "ppp_bayes_tree/ppp/estimators/estimator_registry.h"
 #include "ppp_bayes_tree/simulation/flight_trajectory.h"
 
 namespace ppp {

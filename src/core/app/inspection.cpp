@@ -4,12 +4,12 @@
 #include <stdexcept>
 
 #include "ppp_bayes_tree/app/stream_inspection.h"
-#include "ppp_bayes_tree/io/antex_reader.h"
-#include "ppp_bayes_tree/io/bias_sinex_reader.h"
-#include "ppp_bayes_tree/io/blq_reader.h"
-#include "ppp_bayes_tree/io/file_type.h"
-#include "ppp_bayes_tree/io/rinex_nav_reader.h"
-#include "ppp_bayes_tree/io/rinex_obs_reader.h"
+#include "ppp_bayes_tree/io/products/antex_reader.h"
+#include "ppp_bayes_tree/io/products/bias_sinex_reader.h"
+#include "ppp_bayes_tree/io/products/blq_reader.h"
+#include "ppp_bayes_tree/io/rinex/rinex_nav_reader.h"
+#include "ppp_bayes_tree/io/rinex/rinex_obs_reader.h"
+#include "ppp_bayes_tree/io/transport/file_type.h"
 #include "ppp_bayes_tree/models/precise_ephemeris.h"
 #include "ppp_bayes_tree/models/product_sanity.h"
 

@@ -6,9 +6,9 @@
 #include <sstream>
 
 #include "ppp_bayes_tree/io/epoch_time_screen.h"
-#include "ppp_bayes_tree/io/gnss_stream_decoder.h"
-#include "ppp_bayes_tree/io/rinex_nav_reader.h"
-#include "ppp_bayes_tree/io/rtcm_observation_source.h"
+#include "ppp_bayes_tree/io/rinex/rinex_nav_reader.h"
+#include "ppp_bayes_tree/io/rtcm/rtcm_observation_source.h"
+#include "ppp_bayes_tree/io/transport/gnss_stream_decoder.h"
 #include "ppp_bayes_tree/models/broadcast_ephemeris_store.h"
 #include "ppp_bayes_tree/models/ssr_bias_provider.h"
 

@@ -6,10 +6,10 @@
 #include <tuple>
 
 #include "ppp_bayes_tree/io/parse_error.h"
-#include "ppp_bayes_tree/io/rinex_nav_writer.h"
-#include "ppp_bayes_tree/io/rinex_obs_writer.h"
-#include "ppp_bayes_tree/io/rtcm_observation_source.h"
-#include "ppp_bayes_tree/io/ubx_observation_source.h"
+#include "ppp_bayes_tree/io/rinex/rinex_nav_writer.h"
+#include "ppp_bayes_tree/io/rinex/rinex_obs_writer.h"
+#include "ppp_bayes_tree/io/rtcm/rtcm_observation_source.h"
+#include "ppp_bayes_tree/io/ubx/ubx_observation_source.h"
 
 namespace ppp {
 namespace {
@@ -39,7 +39,7 @@ struct RinexNavOutput {
   RinexNavWriter writer;
 };
 
-/// RXM-RAWX epochs and the GPS/Galileo/GLONASS/BeiDou records of RXM-SFRBX (io/ubx_observation_source.h).
+/// RXM-RAWX epochs and the GPS/Galileo/GLONASS/BeiDou records of RXM-SFRBX (io/ubx/ubx_observation_source.h).
 StreamConversion convertUbxToRinex(const std::string& input, const std::string& obs_path,
                                    const std::optional<std::string>& nav_path) {
   StreamConversion result;

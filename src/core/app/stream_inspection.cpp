@@ -8,9 +8,9 @@
 
 #include "ppp_bayes_tree/evaluation/json_text.h"
 #include "ppp_bayes_tree/io/parse_error.h"
-#include "ppp_bayes_tree/io/rtcm_ssr_decoder.h"
+#include "ppp_bayes_tree/io/rtcm/rtcm_ssr_decoder.h"
 #include "ppp_bayes_tree/io/stream_pump.h"
-#include "ppp_bayes_tree/io/ubx_observation_source.h"
+#include "ppp_bayes_tree/io/ubx/ubx_observation_source.h"
 #include "ppp_bayes_tree/types/text_format.h"
 
 namespace ppp {
@@ -69,7 +69,7 @@ class EpochTiming {
   std::vector<double> dts_;
 };
 
-/// A u-blox recording: RXM-RAWX epochs and RXM-SFRBX ephemerides (io/ubx_observation_source.h).
+/// A u-blox recording: RXM-RAWX epochs and RXM-SFRBX ephemerides (io/ubx/ubx_observation_source.h).
 StreamInspection inspectUbxFile(const std::string& path) {
   StreamInspection s;
   s.path = path;

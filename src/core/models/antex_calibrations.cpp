@@ -3,7 +3,7 @@
 #include <cctype>
 
 #include "ppp_bayes_tree/io/fixed_width.h"
-#include "ppp_bayes_tree/io/rinex_obs_header.h"
+#include "ppp_bayes_tree/io/rinex/rinex_obs_header.h"
 
 namespace ppp {
 namespace {

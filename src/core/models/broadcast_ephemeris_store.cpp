@@ -3,7 +3,7 @@
 #include <cmath>
 #include <sstream>
 
-#include "ppp_bayes_tree/io/rinex_nav_reader.h"
+#include "ppp_bayes_tree/io/rinex/rinex_nav_reader.h"
 #include "ppp_bayes_tree/types/carrier_frequency.h"
 
 namespace ppp {

@@ -3,11 +3,11 @@
 #include <iomanip>
 #include <sstream>
 
-#include "ppp_bayes_tree/io/gnss_stream_decoder.h"
+#include "ppp_bayes_tree/io/transport/gnss_stream_decoder.h"
 #include "ppp_bayes_tree/io/line_source.h"
-#include "ppp_bayes_tree/io/rinex_nav_reader.h"
-#include "ppp_bayes_tree/io/rtcm_ssr_decoder.h"
-#include "ppp_bayes_tree/io/stream_format.h"
+#include "ppp_bayes_tree/io/rinex/rinex_nav_reader.h"
+#include "ppp_bayes_tree/io/rtcm/rtcm_ssr_decoder.h"
+#include "ppp_bayes_tree/io/transport/stream_format.h"
 #include "ppp_bayes_tree/models/broadcast_ephemeris_store.h"
 #include "ppp_bayes_tree/models/broadcast_ssr_ephemeris.h"
 #include "ppp_bayes_tree/models/ssr_broadcast_fallback.h"

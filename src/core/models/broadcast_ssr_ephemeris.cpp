@@ -7,7 +7,7 @@
 #include <Eigen/Geometry>
 #include <cstdio>
 
-#include "ppp_bayes_tree/io/rinex_nav_reader.h"
+#include "ppp_bayes_tree/io/rinex/rinex_nav_reader.h"
 #include "ppp_bayes_tree/types/constants.h"
 
 namespace ppp {

@@ -5,7 +5,7 @@
 #include <fstream>
 #include <sstream>
 
-#include "ppp_bayes_tree/ppp/yaml_section.h"
+#include "ppp_bayes_tree/ppp/config/yaml_section.h"
 
 namespace ppp {
 

@@ -26,9 +26,9 @@
 #include <vector>
 
 #include "ppp_bayes_tree/io/line_source.h"
-#include "ppp_bayes_tree/ppp/antenna_model_consistency.h"
-#include "ppp_bayes_tree/ppp/product_assembly.h"
-#include "ppp_bayes_tree/io/rinex_obs_reader.h"
+#include "ppp_bayes_tree/ppp/ambiguity/antenna_model_consistency.h"
+#include "ppp_bayes_tree/ppp/pipeline/product_assembly.h"
+#include "ppp_bayes_tree/io/rinex/rinex_obs_reader.h"
 #include "ppp_bayes_tree/ros/bag_writer.h"
 #include "ppp_bayes_tree/ros/message_conversions.h"
 #include "ppp_bayes_tree/simulation/gnss_simulator.h"

@@ -1,0 +1,141 @@
+#pragma once
+// Wide-lane ambiguities from Melbourne-Wuebbena (MW) means per arc, with the
+// satellite wide-lane biases of observable-specific bias (OSB) products.
+//
+// MW in wide-lane cycles (Melbourne 1985; Wuebbena 1985):
+//     MW = (L1 - L2) - (f1 P1 + f2 P2) / ((f1 + f2) lambda_WL),
+//     lambda_WL = c / (f1 - f2)  (86.2 cm on GPS L1/L2),
+// with phases L in cycles and codes P in metres. Geometry, clocks, troposphere
+// and first-order ionosphere cancel; what stays is N1 - N2 plus the receiver
+// and satellite wide-lane hardware biases. With OSBs (Bias-SINEX sign:
+// corrected = observed - bias) the satellite part goes away by correcting each
+// observable: phase L_i -= B_Li / lambda_i, code P_i -= B_Ci. The code OSBs are
+// those the signal selection already applied (DualFrequencyObservation::code*_osb_m);
+// where it did not, they are applied here.
+//
+// The receiver wide-lane bias is common to all satellites of the receiver, so we
+// fix between-satellite single differences against a reference arc (the arc
+// with the smallest sigma of its mean; ties: the most samples): N_WL(s) - N_WL(ref).
+// This choice, rather than estimating the receiver bias, makes the fixed values
+// independent of any receiver bias model and is what the narrow lane uses too.
+//
+// Fixing by rounding (Teunissen 1998, "Success probability of integer GPS
+// ambiguity rounding and bootstrapping", J Geod 72:606-612): a scalar float
+// ambiguity with standard deviation sigma rounds to the right integer with
+// probability P = 2 Phi(1 / (2 sigma)) - 1. A single difference is fixed when
+// P >= min_success_rate and its distance to the nearest integer is at most
+// max_fraction_cycles (a guard against unmodelled biases, which P ignores).
+//
+// Sigma of an arc's mean: the sample standard deviation of its MW values
+// (floored at min_sigma_cycles) over sqrt(n_eff). MW errors are time correlated
+// (code multipath), so n_eff is the number of independent samples of a
+// first-order Gauss-Markov error with correlation time correlation_time_s at the
+// arc's mean sampling interval (time_correlated_noise.h, Bartlett 1946): the
+// averaging length is a time, and 30 s and 1 Hz data reach the same sigma after
+// the same time (about duration / (2 tau) independent samples when dt << tau).
+#include <functional>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "ppp_bayes_tree/models/bias_provider.h"
+#include "ppp_bayes_tree/models/ionosphere_free.h"
+#include "ppp_bayes_tree/ppp/model/dual_frequency_observation.h"
+
+namespace ppp {
+
+/// Why an observation's MW could not be corrected for the satellite biases.
+enum class WideLaneBiasIssue { None, NoBiasProvider, MissingPhaseBias, MissingCodeBias, InvalidObservation };
+std::string toString(WideLaneBiasIssue issue);
+
+struct CorrectedMelbourneWuebbena {
+  std::optional<double> mw_cycles;  // set when issue == None
+  WideLaneBiasIssue issue = WideLaneBiasIssue::None;
+};
+
+/// MW [wide-lane cycles] of one observation with the satellite OSBs removed.
+CorrectedMelbourneWuebbena correctedMelbourneWuebbena(const DualFrequencyObservation& obs,
+                                                      const BiasProvider* biases);
+
+/// MW of the observation as observed (no bias removed) [wide-lane cycles]
+/// (models/ionosphere_free.h's combination).
+double melbourneWuebbena_cycles(const DualFrequencyObservation& obs);
+
+struct WideLaneOptions {
+  int min_samples = 10;              // epochs of an arc before it may be fixed
+  double min_sigma_cycles = 0.15;    // floor of the per-epoch MW sigma [WL cycles]
+  /// Correlation time of the MW errors [s] (0 = white). 15 s, the code
+  /// multipath's (StochasticModel::code_correlation_time_s): 1.3 epochs per
+  /// independent sample at 30 s, 30 at 1 Hz (the former fixed count of 4 epochs
+  /// gave 1-Hz MW means a variance 7.5 times too small).
+  double correlation_time_s = 15.0;
+  double min_success_rate = 0.999;   // rounding success probability to fix
+  double max_fraction_cycles = 0.25; // largest |float - integer| accepted
+};
+
+/// Running MW mean of one arc.
+struct WideLaneArcMean {
+  ArcId arc = 0;
+  SatelliteId satellite;
+  int samples = 0;
+  double mean_cycles = 0.0;
+  double sum_squares = 0.0;  // of deviations from the mean (Welford)
+  std::optional<GnssTime> first_time, last_time;  // of the samples
+  /// Mean interval between the samples [s] (0 with fewer than two).
+  double meanInterval_s() const;
+  /// Sigma of the mean [WL cycles] under the options' noise model.
+  double sigmaOfMean_cycles(const WideLaneOptions& options) const;
+};
+
+/// One arc's single-differenced wide lane against the reference arc.
+struct WideLaneFix {
+  ArcId arc = 0;
+  SatelliteId satellite;
+  double float_cycles = 0.0;     // mean(arc) - mean(reference)
+  double sigma_cycles = 0.0;
+  double success_rate = 0.0;     // of rounding
+  long integer_cycles = 0;       // nearest integer
+  double fraction_cycles = 0.0;  // float - integer, in [-0.5, 0.5]
+  bool fixed = false;
+};
+
+struct WideLaneResolution {
+  std::optional<ArcId> reference_arc;  // nullopt: no arc had enough samples
+  SatelliteId reference_satellite;
+  std::vector<WideLaneFix> arcs;       // every eligible arc but the reference
+  int fixedCount() const;
+};
+
+/// Accumulates MW per arc (fed by the caller with the arc ids of ArcTracker)
+/// and resolves single-differenced wide lanes by rounding.
+class WideLaneResolver {
+ public:
+  explicit WideLaneResolver(WideLaneOptions options = {}) : options_(options) {}
+
+  /// Adds one corrected MW sample to `arc`; returns the issue when the
+  /// observation could not be corrected (nothing added then).
+  WideLaneBiasIssue add(ArcId arc, const DualFrequencyObservation& obs, const BiasProvider* biases);
+  /// Adds an already corrected MW value [WL cycles] observed at `time`.
+  void addValue(ArcId arc, const SatelliteId& satellite, double mw_cycles, const GnssTime& time);
+  /// Forgets an arc (ended: slip, gap, satellite set).
+  void removeArc(ArcId arc) { arcs_.erase(arc); }
+
+  const std::map<ArcId, WideLaneArcMean>& arcs() const { return arcs_; }
+  /// Single differences of the active arcs with at least min_samples samples
+  /// (and, when given, accepted by `eligible`; the reference is one of them).
+  WideLaneResolution resolve(const std::function<bool(ArcId)>& eligible = {}) const;
+  /// The same against a given reference arc (no reference when that arc has
+  /// fewer than min_samples samples).
+  WideLaneResolution resolveAgainst(ArcId reference_arc, const std::function<bool(ArcId)>& eligible = {}) const;
+  const WideLaneOptions& options() const { return options_; }
+
+ private:
+  WideLaneOptions options_;
+  std::map<ArcId, WideLaneArcMean> arcs_;
+};
+
+/// Rounding success probability 2 Phi(1 / (2 sigma)) - 1 of a scalar.
+double roundingSuccessRate(double sigma_cycles);
+
+}  // namespace ppp

@@ -1,0 +1,95 @@
+#pragma once
+// EkfPpp: the reference extended Kalman filter for kinematic PPP.
+//
+// State: the receiver state in its layout (receiver_state_layout.h: position
+// ECEF [m], zenith wet delay [m], one receiver clock [m] per processed system),
+// then one ionosphere-free phase bias [m] per active arc (dynamic dimension).
+// The epoch front end (PppEstimatorBase: code least-squares start, clock shifts,
+// arc bookkeeping, prefit screening, new-arc bias values, residual records) is
+// shared with the smoother; the EKF's own steps are:
+//  1. predict over the real elapsed time dt (StochasticModel: random-walk
+//     position/ZWD, white clocks, constant biases);
+//  2. add a bias for each new arc at the front end's initial value, a priori
+//     sigma from the StochasticModel;
+//  3. iterated measurement update with code and phase rows, Joseph form,
+//     re-linearising through the MeasurementFunction; optional postfit check;
+//  4. finite-value and positive-definiteness checks of x and P (P symmetrised).
+// Too few satellites -> status NoSolution (no estimate, filter untouched: the
+// next epoch predicts over the real elapsed time). A numerical failure -> status
+// Failed with the reason, filter left as it was before the epoch.
+#include <Eigen/Core>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "ppp_bayes_tree/ppp/estimators/code_least_squares.h"
+#include "ppp_bayes_tree/ppp/estimators/ekf_options.h"
+#include "ppp_bayes_tree/ppp/estimators/estimator_epoch_result.h"
+#include "ppp_bayes_tree/ppp/estimators/ppp_estimator_base.h"
+#include "ppp_bayes_tree/ppp/model/measurement_function.h"
+#include "ppp_bayes_tree/ppp/model/stochastic_model.h"
+
+namespace ppp {
+
+class EkfPpp : public PppEstimatorBase {
+ public:
+  explicit EkfPpp(StochasticModel model = {}, EkfOptions options = {}, CodeLeastSquaresOptions start_options = {},
+                  ReceiverStateLayout layout = {});
+
+  /// Initialise explicitly at `state` with the a priori sigmas (no biases).
+  /// Otherwise processEpoch initialises from the code least squares.
+  void initialise(const GnssTime& time, const ReceiverState& state);
+
+  bool initialised() const { return initialised_; }
+  std::optional<GnssTime> lastTime() const { return initialised_ ? std::optional<GnssTime>(last_time_) : std::nullopt; }
+  ReceiverState receiverState() const;
+  ReceiverCovariance receiverCovariance() const;
+  int activeBiasCount() const { return static_cast<int>(f_.biases.size()); }
+  std::vector<ArcId> activeArcs() const override;
+  std::optional<double> biasEstimate_m(ArcId arc) const;
+  std::optional<double> biasSigma_m(ArcId arc) const;
+  /// Full state and covariance (receiver part first, then biases in activeArcs() order).
+  const Eigen::VectorXd& stateVector() const { return f_.x; }
+  const Eigen::MatrixXd& covarianceMatrix() const { return f_.P; }
+
+  /// The covariance the prediction over dt_s would give (filter unchanged).
+  Eigen::MatrixXd predictedCovariance(double dt_s) const;
+
+  const EkfOptions& options() const { return options_; }
+
+ protected:
+  bool hasState() const override { return initialised_; }
+  std::optional<GnssTime> lastSolvedTime() const override { return lastTime(); }
+  bool startsAt(const GnssTime& time) const override { return fresh_ && time == last_time_; }
+  ReceiverState predict(double dt_s, bool first, const std::optional<ReceiverState>& start) override;
+  std::optional<ArcBiasPrior> predictedBias(ArcId arc) const override;
+  bool solve(const EpochSolveInput& in, EpochSolveOutput& out, EstimatorEpochResult& result) override;
+  void arcRemoved(ArcId arc) override;
+  int biasCount() const override { return activeBiasCount(); }
+
+ private:
+  struct BiasSlot {
+    ArcId arc = 0;
+    SatelliteId satellite;
+  };
+  struct Filter {  // everything an epoch may change (committed only with a solution)
+    Eigen::VectorXd x;
+    Eigen::MatrixXd P;
+    std::vector<BiasSlot> biases;
+  };
+  struct Row;
+
+  Filter initialFilter(const ReceiverState& state) const;
+  void predictFilter(Filter& f, double dt_s, bool first) const;
+  static void removeBias(Filter& f, std::size_t slot, int receiver_dim);
+  static int findBias(const Filter& f, ArcId arc);
+
+  EkfOptions options_;
+  bool initialised_ = false;
+  bool fresh_ = false;  // initialised, no epoch processed yet
+  GnssTime last_time_;
+  Filter f_;
+  Filter work_;  // the prediction of the epoch being processed
+};
+
+}  // namespace ppp

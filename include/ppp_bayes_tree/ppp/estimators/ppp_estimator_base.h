@@ -1,0 +1,167 @@
+#pragma once
+// PppEstimatorBase: the epoch front end that the EKF (EkfPpp) and the smoother
+// (PppSmoother) share, so that both run the same sequence and see the same
+// screened measurements; each estimator implements only its solve step (like a
+// FilterBase with processMeasurement and the filter's own predict/correct).
+//
+// processEpoch, per epoch, nine named steps:
+//  1. startOrAdvance: without a state, the single-epoch code least squares from
+//     the approximate position; without one, from the Earth centre: first with the
+//     start model (`evaluate_start`, PppMeasurementModel::evaluateStart: no
+//     troposphere, no elevation cutoff), then from that point with the full
+//     model (either failure: NoSolution "no initial position", with the
+//     reason); otherwise the time must advance (else Failed);
+//  2. predict() (the estimator): the receiver state at this epoch;
+//  3. lineariseAtPrediction: linearise once at the prediction, keep the usable
+//     measurements, shift each system's white clock by the median of its code
+//     residuals (option);
+//  4. bookArcs: a new arc of a satellite replaces its bias, arcs unused for
+//     stale_arc_timeout_s leave the active set (committed only with a solution);
+//  5. screenAgainstPriors: prefit screening (prefit_screening.h) against the
+//     estimator's bias priors; too few satellites: NoSolution;
+//  6. withInitialBiases: the initial value of each new arc's bias: phase minus
+//     code residual;
+//  7. solveOrRecover: solve() (the estimator), its update; on a failed update the
+//     estimator may restart from its last good state (recoverAfterFailure),
+//     counted in resets();
+//  8. commitEpoch: the active set and the residual records;
+//  9. testConsistency (option): the epoch consistency test of the postfit
+//     residuals (postfit_screening.h); an inconsistent solution is flagged, and
+//     its covariance inflated or the solution withheld.
+// A failed or unsolved epoch leaves the estimator as it was before the epoch
+// (or restarted, when estimator_reset is reported).
+#include <Eigen/Core>
+#include <chrono>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "ppp_bayes_tree/ppp/estimators/code_least_squares.h"
+#include "ppp_bayes_tree/ppp/estimators/estimator_epoch_result.h"
+#include "ppp_bayes_tree/ppp/model/measurement_function.h"
+#include "ppp_bayes_tree/ppp/model/receiver_state_layout.h"
+#include "ppp_bayes_tree/ppp/model/stochastic_model.h"
+#include "ppp_bayes_tree/ppp/screening/prefit_screening.h"
+#include "ppp_bayes_tree/ppp/screening/screening_options.h"
+
+namespace ppp {
+
+class PppEstimatorBase {
+ public:
+  virtual ~PppEstimatorBase() = default;
+
+  /// Starting point of the code least squares of the first epoch (RINEX APPROX
+  /// POSITION XYZ); the Earth centre otherwise.
+  void setApproximatePosition(const Eigen::Vector3d& position_ecef_m) { approx_position_ecef_m_ = position_ecef_m; }
+  const std::optional<Eigen::Vector3d>& approximatePosition() const { return approx_position_ecef_m_; }
+
+  /// Process one epoch in time order. `evaluate` linearises this epoch's
+  /// measurements at a state; it is called during this call only.
+  /// `evaluate_start` (nullable) is the start model, used only when the
+  /// estimator starts without an approximate position (step 1); without it
+  /// such a start is tried from the Earth centre with `evaluate` (which the
+  /// full model refuses there: "no initial position").
+  EstimatorEpochResult processEpoch(const GnssTime& time, const MeasurementFunction& evaluate,
+                                    const MeasurementFunction* evaluate_start = nullptr);
+
+  /// End an arc explicitly (e.g. the arc tracker reports it closed).
+  void removeArc(ArcId arc);
+
+  const ReceiverStateLayout& layout() const { return layout_; }
+  /// Arcs with a bias state after the last epoch.
+  virtual std::vector<ArcId> activeArcs() const = 0;
+  const StochasticModel& stochasticModel() const { return model_; }
+  /// Restarts after a failed update (from the last good state).
+  int resets() const { return resets_; }
+
+ protected:
+  PppEstimatorBase(StochasticModel model, ScreeningOptions screening, CodeLeastSquaresOptions start_options,
+                   ReceiverStateLayout layout);
+
+  /// A measurement that passed the prefit screening.
+  struct ScreenedMeasurement {
+    SatelliteMeasurement m;        // linearised at the prediction (clocks shifted)
+    bool active_arc = false;       // its arc has a bias in the active set
+    double new_arc_bias_m = 0.0;   // initial bias when not: phase minus code residual
+  };
+  struct EpochSolveInput {
+    GnssTime time;
+    double dt_s = 0.0;
+    bool first = false;            // the estimator starts at this epoch
+    ReceiverState predicted;       // clocks shifted
+    std::vector<ArcId> dropped_arcs;  // leave the active set with this epoch's solution
+    std::vector<ScreenedMeasurement> screened;
+    const MeasurementFunction* evaluate = nullptr;
+  };
+  /// One measurement used by the solution.
+  struct SolvedMeasurement {
+    std::size_t screened_index = 0;
+    SatelliteMeasurement m;        // at the estimator's last linearisation point
+    bool new_arc = false;          // a new bias state was added
+    double phase_prefit_m = 0.0;   // phase residual at the prediction minus the bias prior
+    double code_postfit_m = 0.0;
+    double phase_postfit_m = 0.0;
+  };
+  struct EpochSolveOutput {
+    EpochSolution solution;
+    std::vector<SolvedMeasurement> rows;
+    AmbiguityState ambiguities = AmbiguityState::Float;
+  };
+
+  virtual bool hasState() const = 0;
+  virtual std::optional<GnssTime> lastSolvedTime() const = 0;
+  /// True when the estimator was initialised explicitly at exactly `time`.
+  virtual bool startsAt(const GnssTime& /*time*/) const { return false; }
+  /// The predicted receiver state over dt_s (first: no process noise); from
+  /// `start` when the estimator has no state yet. May prepare a working copy.
+  virtual ReceiverState predict(double dt_s, bool first, const std::optional<ReceiverState>& start) = 0;
+  /// The predicted bias of an active arc (for the phase innovation test).
+  virtual std::optional<ArcBiasPrior> predictedBias(ArcId arc) const = 0;
+  /// The update; commits the estimator's state only when it returns true. On
+  /// false it has set the result's status and reason (fail()).
+  virtual bool solve(const EpochSolveInput& in, EpochSolveOutput& out, EstimatorEpochResult& result) = 0;
+  /// After a Failed solve: restart from the last good state; true when it did.
+  virtual bool recoverAfterFailure(EstimatorEpochResult& /*result*/) { return false; }
+  virtual void arcRemoved(ArcId arc) = 0;
+  virtual int biasCount() const = 0;
+  /// Last touch of every epoch's result (solved or not), e.g. estimator diagnostics.
+  virtual void finishEpoch(EstimatorEpochResult& /*result*/) const {}
+
+  static bool fail(EstimatorEpochResult& result, EpochStatus status, NoSolutionReason why, std::string text);
+
+  StochasticModel model_;
+  ScreeningOptions screening_;
+  CodeLeastSquaresOptions start_options_;
+  ReceiverStateLayout layout_;
+
+ private:
+  struct ActiveArc {
+    SatelliteId satellite;
+    GnssTime last_used;
+  };
+  // The steps of processEpoch (numbered as in the comment at the top).
+  EstimatorEpochResult finished(EstimatorEpochResult result, std::chrono::steady_clock::time_point t_start) const;
+  bool startOrAdvance(const MeasurementFunction& evaluate, const MeasurementFunction* evaluate_start,
+                      EpochSolveInput& in, std::optional<ReceiverState>& start, EstimatorEpochResult& result) const;
+  std::vector<SatelliteMeasurement> lineariseAtPrediction(const MeasurementFunction& evaluate,
+                                                          ReceiverState& predicted,
+                                                          EstimatorEpochResult& result) const;
+  std::map<ArcId, ActiveArc> bookArcs(const std::vector<SatelliteMeasurement>& usable, const GnssTime& time,
+                                      std::vector<ArcId>& dropped_arcs) const;
+  std::optional<std::vector<SatelliteMeasurement>> screenAgainstPriors(
+      const std::vector<SatelliteMeasurement>& usable, const std::map<ArcId, ActiveArc>& arcs,
+      EstimatorEpochResult& result) const;
+  static std::vector<ScreenedMeasurement> withInitialBiases(std::vector<SatelliteMeasurement> kept,
+                                                            const std::map<ArcId, ActiveArc>& arcs);
+  bool solveOrRecover(const EpochSolveInput& in, EpochSolveOutput& out, EstimatorEpochResult& result);
+  void commitEpoch(const EpochSolveInput& in, EpochSolveOutput out, std::map<ArcId, ActiveArc> arcs,
+                   EstimatorEpochResult& result);
+  void testConsistency(EstimatorEpochResult& result) const;
+
+  std::optional<Eigen::Vector3d> approx_position_ecef_m_;
+  std::map<ArcId, ActiveArc> arcs_;  // the active set
+  int resets_ = 0;
+};
+
+}  // namespace ppp

@@ -1,0 +1,296 @@
+#pragma once
+// PppSmoother: kinematic PPP as an incremental factor graph (iSAM2 on the Bayes
+// tree), with the same interface as EkfPpp so that a pipeline can run either.
+//
+// Graph (ppp_factors.h): one state x<k> per solved epoch (position, ZWD, clock), one
+// IF phase bias b(sat,arc) per arc; a prior on the first state and on each new bias;
+// position/ZWD random walk between consecutive states over the real elapsed time;
+// a white clock (unary clock prior per epoch, no between factor); IF code and phase
+// factors per satellite and epoch, from the SAME MeasurementFunction the EKF calls,
+// with the same sigmas; optional Huber kernel on them.
+//
+// Per epoch (processEpoch): the epoch front end shared with the EKF
+// (PppEstimatorBase: code least-squares start, prediction = the last filtered
+// state with the clocks shifted by the median code residual, usable measurements,
+// arc bookkeeping, prefit screening against the last filtered bias estimate and
+// variance, new-arc bias values, residual records), then the smoother's own
+// solve(), in named steps (too few satellites never get here: an explicit
+// NoSolution, nothing is added to the graph, and the next between factor spans the
+// real elapsed time from the last solved epoch):
+//  1. addStateFactors: the new state x<k>, with its prior (first epoch) or the
+//     position/ZWD random walk from the last state and the white clock priors;
+//  2. addMeasurementFactors: each satellite's IF code and phase factors, and a
+//     bias variable with its prior per new arc (an arc that returns after going
+//     stale keeps its variable);
+//  3. updateWithNewFactors: ONE iSAM2 update with the new factors; constrained
+//     ordering: the new state and the biases observed in this epoch are
+//     eliminated last (root clique), the other re-eliminated variables oldest
+//     first; relinearization thresholds per variable component (position, ZWD,
+//     clocks, bias);
+//  4. postfitCheck (postfit_screening.h, as the EKF's): while the worst normalised
+//     postfit residual at the filtered estimate exceeds postfit_sigmas (at most
+//     postfit_max_rejections times, never below min_satellites), that satellite's
+//     code and phase factors are removed from the graph (removeSatellite: an
+//     iSAM2 update removing them) and it is rejected with PostfitCode /
+//     PostfitPhase; a removed new arc keeps only its bias prior and does not
+//     become active;
+//  5. filteredMarginals: the FILTERED output, the new state's estimate right
+//     after the update with its marginal covariance (root clique: cheap), plus the
+//     biases' filtered marginals (kept for the next epoch's screening);
+//  6. commitEpoch: the filtered joint, the active set, the state record, the
+//     recorded graph (option) and, with a fixed lag, the marginalized states;
+//  7. residualRows: prefit at the prediction, postfit at the filtered state.
+// The front end's consistency test then flags (and inflates or withholds) a
+// solution whose residuals contradict it.
+// SMOOTHED output: smoothedTrajectory() re-reads every state from the current
+// estimate (all data so far); with fixed_lag_s > 0 states older than the lag are
+// marginalized (FixedLagSmoother) and keep their last estimate (at the lag boundary).
+// A numerical failure of the update (indeterminate system) gives a Failed epoch, and
+// the smoother restarts at once from its last good state: a new graph holding the last
+// filtered state with a prior of its filtered covariance and each active bias with a
+// prior of its filtered estimate and variance (counted in resets(), reported by the
+// result's estimator_reset). The states before the restart keep their last estimate.
+// AMBIGUITY RESOLUTION (SmootherEstimator drives it with the EKF's
+// AmbiguityResolver and its one decision path, resolveAndHold: consistency
+// window, partial fixing, validation across epochs, hold, release): after each
+// update the resolver decides on the float joint of the newest state and the
+// observed biases (root clique: cheap; floatJoint() takes the held fixes'
+// information out again); the held integers enter the graph as
+// IntegerAmbiguityFactors (integer_ambiguity_factor.h), so the smoothed trajectory
+// improves before the fix epoch too. A held integer the resolver releases as
+// wrong (float departed, wide lane changed) is removed from the graph
+// (releaseFixes: remove_factor_indices); one released because its arc ended stays
+// (it still constrains the arc's bias over its epochs). Fixed lag: a held fix whose
+// biases are marginalized becomes part of the marginal prior (it can no longer be
+// removed).
+// LIVE USE (bounded memory): with a marginalized-state sink
+// (setMarginalizedStateSink), every state that leaves the graph (past the lag, or
+// before a restart) is handed once, in time order, to the sink with its final
+// estimate and then forgotten, so that the smoother holds only the states of the
+// window; finishTrajectory() hands the rest at the end of a run. Without a sink
+// every state is kept (smoothedTrajectory() returns them all).
+#include <Eigen/Core>
+#include <deque>
+#include <functional>
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "ppp_bayes_tree/ppp/estimators/code_least_squares.h"
+#include "ppp_bayes_tree/ppp/estimators/estimator_epoch_result.h"
+#include "ppp_bayes_tree/ppp/estimators/ppp_estimator_base.h"
+#include "ppp_bayes_tree/ppp/estimators/smoothed_trajectory_provider.h"
+#include "ppp_bayes_tree/ppp/estimators/smoother_options.h"
+#include "ppp_bayes_tree/ppp/model/measurement_function.h"
+#include "ppp_bayes_tree/ppp/model/stochastic_model.h"
+#include "ppp_bayes_tree/smoother/fixed_lag_smoother.h"
+#include "ppp_bayes_tree/smoother/isam2.h"
+
+namespace ppp {
+
+class PppSmoother : public PppEstimatorBase, public SmoothedTrajectoryProvider {
+ public:
+  explicit PppSmoother(StochasticModel model = {}, PppSmootherOptions options = {},
+                       CodeLeastSquaresOptions start_options = {}, ReceiverStateLayout layout = {});
+  ~PppSmoother();
+  PppSmoother(PppSmoother&&) noexcept;
+  PppSmoother& operator=(PppSmoother&&) noexcept;
+
+  bool initialised() const { return !states_.empty(); }
+  std::optional<GnssTime> lastTime() const;
+  /// Filtered state and covariance of the newest state (as of its update).
+  ReceiverState receiverState() const;
+  ReceiverCovariance receiverCovariance() const;
+  int activeBiasCount() const { return static_cast<int>(arcs_.size()); }
+  std::vector<ArcId> activeArcs() const override;
+  /// Current (smoothed) estimate of an arc's bias while it is in the graph.
+  std::optional<double> biasEstimate_m(ArcId arc) const;
+  /// Current (smoothed) estimate of any arc's bias still in the graph, active or
+  /// ended (full smoother: every arc; fixed lag: the arcs inside the window).
+  std::optional<double> biasEstimate_m(const SatelliteId& satellite, ArcId arc) const;
+
+  /// The whole trajectory re-estimated with all data so far (fixed lag: states
+  /// beyond the lag keep their estimate at the lag boundary).
+  std::vector<SmoothedEpoch> smoothedTrajectory(bool with_covariance = false) const override;
+  /// One state of the smoothed trajectory without re-reading all of them: the newest
+  /// state at or before `time`, from the current estimate (all data so far), with its
+  /// marginal covariance when asked for. With a fixed lag, a state already marginalized
+  /// is replaced by the oldest state still in the window (the lag boundary), which may
+  /// be after `time`. nullopt: no state yet, or every state is after `time`.
+  /// Cost: O(log n) plus the marginal, which grows with the state's depth in the
+  /// Bayes tree (the newest state is in the root clique: cheap).
+  std::optional<SmoothedEpoch> smoothedEpochAt(const GnssTime& time, bool with_covariance = false) const override;
+  double fixedLag_s() const override { return options_.fixed_lag_s; }
+  std::optional<double> smoothedBias_m(const SatelliteId& satellite, ArcId arc) const override {
+    return biasEstimate_m(satellite, arc);
+  }
+
+  const PppSmootherOptions& options() const { return options_; }
+  const smoother::ISAM2& isam2() const;
+
+  /// Receives a state leaving the smoother for good, with its final estimate (no covariance).
+  using StateSink = std::function<void(const SmoothedEpoch&)>;
+  /// Live use: states that leave the graph (marginalized past the lag, or left behind
+  /// by a restart) go to `sink`, once each and in time order, and are dropped from
+  /// memory (unless the graph is recorded, setRecordGraph, which needs them all).
+  /// From then on smoothedTrajectory() holds only the states not yet handed out.
+  /// An empty sink restores the default (every state kept).
+  void setMarginalizedStateSink(StateSink sink) { sink_ = std::move(sink); }
+  /// End of a run: hands every state not yet handed out to the sink, with the
+  /// current best estimate (a full back-substitution), oldest first. Returns the
+  /// number handed out (0 without a sink). Further epochs may follow.
+  std::size_t finishTrajectory();
+  /// States held in memory (the window with a sink; every state without one).
+  std::size_t storedStateCount() const { return states_.size(); }
+  /// Biases whose last state is remembered (fixed lag: those in the graph).
+  std::size_t storedBiasCount() const { return bias_last_state_.size(); }
+
+  // Ambiguity resolution (the decision is the caller's AmbiguityResolver, as for
+  // the EKF; SmootherEstimator drives it). A fix is HELD in the graph as
+  // IntegerAmbiguityFactors (integer_ambiguity_factor.h), so that iSAM2 carries it
+  // into every state of the fixed arcs, before the fix epoch too.
+  /// The filtered joint of the newest state and the biases observed at the last
+  /// epoch (the root clique, read right after the update): x = [receiver state,
+  /// biases of `arcs`] [m], P its covariance. What the resolver fixes on.
+  struct FilteredJoint {
+    Eigen::VectorXd x;
+    Eigen::MatrixXd P;
+    std::vector<ArcId> arcs;
+  };
+  const FilteredJoint& filteredJoint() const { return joint_; }
+  /// The filtered solution of the newest state (after any fix added or removed).
+  const EpochSolution& filteredSolution() const { return filtered_; }
+  /// Adds the integer constraints A x = y (rows over filteredJoint()'s layout, zero
+  /// on the receiver part; y [cycles]) as factors with sigma
+  /// fixed_ambiguity_sigma_cycles, except the rows on the arcs of a fix already
+  /// held (the resolver's held set is passed every epoch); one iSAM2 update;
+  /// refreshes the filtered solution and joint. Returns the number of factors
+  /// added; throws what the update throws.
+  int holdIntegerConstraints(const Eigen::MatrixXd& A, const Eigen::VectorXd& y);
+  /// releaseFixes(release) and holdIntegerConstraints(A, y) in ONE iSAM2 update
+  /// (the removed factors' indices and the new factors together) and one refresh
+  /// of the filtered solution: what the estimator does each epoch. A may have no
+  /// rows. Returns the fixes removed and added; throws what the update throws.
+  struct FixChanges {
+    int removed = 0, added = 0;
+  };
+  FixChanges updateFixes(const std::vector<std::pair<ArcId, ArcId>>& release, const Eigen::MatrixXd& A,
+                         const Eigen::VectorXd& y);
+  /// The filtered joint WITHOUT the held fixes (the float solution of all data so
+  /// far): the information of every held fix whose arcs are all in the joint is
+  /// taken out exactly (fixes on arcs outside it stay in: they can no longer be
+  /// separated from the marginal). What the resolver decides on, as the EKF's
+  /// float state. nullopt: not separable numerically.
+  std::optional<FilteredJoint> floatJoint() const;
+  /// Removes the held fixes on these single differences (arc pairs, either order)
+  /// from the graph (remove_factor_indices: a wrong fix released by the resolver),
+  /// counted in fixesRemoved(); refreshes the filtered solution. Returns the number removed.
+  int releaseFixes(const std::vector<std::pair<ArcId, ArcId>>& pairs);
+  /// A fix held in the graph: its factor (an IntegerAmbiguityFactor), its index in
+  /// the graph and the arcs of its bias keys (same order as the factor's
+  /// coefficients); sorted_arcs: the same arcs sorted (the fix's identity).
+  struct HeldFix {
+    smoother::FactorIndex index = 0;
+    std::vector<ArcId> arcs;
+    smoother::NonlinearFactor::Ptr factor;
+    std::vector<ArcId> sorted_arcs;
+  };
+  const std::vector<HeldFix>& heldFixes() const { return held_; }
+  /// Fixes removed as wrong so far.
+  std::size_t fixesRemoved() const { return fixes_removed_; }
+
+  /// Keep a copy of every factor and new variable of the successful updates (call
+  /// before the first epoch), for batchSmoothedValues(). Costs memory O(epochs).
+  void setRecordGraph(bool record) { record_graph_ = record; }
+  /// The MAP estimate of ALL recorded factors (every epoch, also those a fixed
+  /// lag has marginalized) by a batch Gauss-Newton solve (batch_solver.h), started
+  /// from the latest estimates: the full smoother's smoothed solution, computed
+  /// once at the end. Keys: stateKey(index), biasKey(sat, arc) (ppp_factors.h).
+  /// Throws std::logic_error without recording, and the batch solver's errors.
+  smoother::Values batchSmoothedValues() const;
+  /// The states held in `values` (e.g. batchSmoothedValues()) as a trajectory, in
+  /// time order (no covariances; states missing from `values` are left out).
+  std::vector<SmoothedEpoch> trajectoryFrom(const smoother::Values& values) const;
+
+ protected:
+  bool hasState() const override { return initialised(); }
+  std::optional<GnssTime> lastSolvedTime() const override { return lastTime(); }
+  ReceiverState predict(double dt_s, bool first, const std::optional<ReceiverState>& start) override;
+  std::optional<ArcBiasPrior> predictedBias(ArcId arc) const override;
+  bool solve(const EpochSolveInput& in, EpochSolveOutput& out, EstimatorEpochResult& result) override;
+  bool recoverAfterFailure(EstimatorEpochResult& result) override;
+  void arcRemoved(ArcId arc) override { arcs_.erase(arc); }
+  int biasCount() const override { return activeBiasCount(); }
+  void finishEpoch(EstimatorEpochResult& result) const override;
+
+ private:
+  struct ArcSlot {
+    SatelliteId satellite;
+    smoother::Key key = 0;
+    std::uint32_t last_state = 0;   // index of the last state it was observed at
+    double filtered_m = 0.0;        // filtered estimate and variance after the last update
+    double filtered_variance_m2 = 0.0;
+  };
+  struct StateRecord {
+    GnssTime time;
+    std::uint32_t index = 0;
+    ReceiverState last_estimate;  // refreshed after each update while in the graph
+  };
+
+  /// The state carried between the steps of solve() (defined with them).
+  struct SolveEpoch;
+  void addStateFactors(SolveEpoch& e) const;
+  void addMeasurementFactors(SolveEpoch& e) const;
+  bool updateWithNewFactors(SolveEpoch& e, EstimatorEpochResult& result);
+  bool postfitCheck(SolveEpoch& e, EstimatorEpochResult& result);
+  bool removeSatellite(SolveEpoch& e, std::size_t k, EstimatorEpochResult& result);
+  bool filteredMarginals(SolveEpoch& e, EstimatorEpochResult& result) const;
+  void commitEpoch(SolveEpoch& e);
+  void recordEpochGraph(const SolveEpoch& e);
+  void forgetMarginalized(const smoother::Values& marginalized);
+  std::vector<SolvedMeasurement> residualRows(const SolveEpoch& e) const;
+  /// The noise of a code or phase factor (Huber kernel with options_.robust).
+  smoother::NoiseModel::Ptr measurementNoise(double sigma) const;
+
+  smoother::ISAM2Params isamParams() const;
+  /// sqrt of a variance, floored so that a zero process noise stays a valid (stiff) sigma.
+  static double sigmaOf(double variance_m2);
+
+  /// A new, empty iSAM2 (or fixed-lag smoother).
+  void newGraph();
+  /// Before a restart: the old states keep the current estimate when it is still
+  /// readable and finite (their smoothed values), else their last estimate.
+  void keepReadableEstimates();
+  /// Hands the oldest states no longer in the graph to the sink (with a sink).
+  void releaseLeftStates();
+  /// One update that adds and/or removes factors (no new variables), newest state
+  /// and the last joint's biases in the root; returns the new factors' indices.
+  std::vector<smoother::FactorIndex> updateGraph(const smoother::NonlinearFactorGraph& add,
+                                                 const std::vector<smoother::FactorIndex>& remove);
+  /// Re-reads the filtered joint, solution and the joint's bias slots.
+  void refreshFiltered();
+  /// Fixed-lag timestamp of a state [s] since the first state.
+  double lagStamp_s(const GnssTime& time) const { return time - *time_origin_; }
+
+  PppSmootherOptions options_;
+  std::unique_ptr<smoother::ISAM2> isam_;              // full smoother
+  std::unique_ptr<smoother::FixedLagSmoother> lag_;    // fixed-lag smoother
+  std::deque<StateRecord> states_;   // oldest first; with a sink: the states not yet handed out
+  std::optional<GnssTime> time_origin_;  // the first state's time (fixed-lag timestamps)
+  StateSink sink_;
+  std::optional<std::uint32_t> handed_out_through_;  // finishTrajectory(): states up to here are out
+  std::map<ArcId, ArcSlot> arcs_;                      // the active set
+  std::map<smoother::Key, std::uint32_t> bias_last_state_;  // every bias in the graph
+  EpochSolution filtered_;
+  FilteredJoint joint_;
+  std::vector<HeldFix> held_;
+  std::size_t fixes_removed_ = 0;
+  bool record_graph_ = false;
+  smoother::NonlinearFactorGraph recorded_factors_;
+  smoother::Values recorded_values_;  // initial values; refreshed from the estimate when solving
+};
+
+}  // namespace ppp

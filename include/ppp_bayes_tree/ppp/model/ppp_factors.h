@@ -1,0 +1,149 @@
+#pragma once
+// Factors of the PPP factor graph on the generic smoother (ppp::smoother).
+//
+// Variables (keys):
+//   x<k>        receiver state of the k-th solved epoch in its layout
+//               (receiver_state_layout.h): (x, y, z) ECEF [m], ZWD [m], one receiver
+//               clock c*dt [m] per processed system (ReceiverState::vector() order);
+//   b(G05,arc)  IF carrier-phase bias [m] of one satellite arc (ArcId).
+//
+// Measurement factors: one IF pseudorange factor on x<k> and one IF carrier-phase
+// factor on (x<k>, b) per satellite and epoch. Both evaluate the prediction of the
+// single measurement model (PppMeasurementModel, through a MeasurementFunction) with
+// the model's sigmas: the model is evaluated ONCE per epoch, at the estimator's
+// predicted state x0, and the factor stores that SatelliteMeasurement. At a new state x
+// of the same epoch (relinearization) the factor re-evaluates:
+//   h(x) = h(x0) + [rho(x) - rho(x0)] + g.(p - p0) + m_w (zwd - zwd0) + (clk - clk0)
+// with rho(x) = |s - (p + o)| the exact geometric range to the satellite phase centre s
+// (SatelliteMeasurement::satellite_apc_ecef_m, rotated for the Earth rotation) from the
+// receiver phase centre p + o, and g = J0_pos + e0 the rest of the model's position
+// partial (the height dependence of the a-priori dry delay), e0 the unit vector to the
+// satellite at x0. The terms held at their x0 values (mapping functions, tides, PCV,
+// wind-up, Sagnac rotation, light time) change by less than 1e-5 of the position change
+// over the metre-level moves between linearisation points (elevation changes by
+// dp/rho ~ 5e-8 rad per metre), while the range itself is re-evaluated exactly. The
+// factor's Jacobian is the exact derivative of this h (checkJacobians), and equals the
+// model's Jacobian at x0. Without geometry (nullopt) or with `exact_range` false, the
+// factor is the linearisation h(x0) + J0 (x - x0) (a linear-Gaussian graph: used by the
+// EKF-equivalence test).
+//
+// Process factors (StochasticModel, dt = real elapsed time between the two solved
+// epochs, data gaps and no-solution epochs included):
+//   position and ZWD random walks: a between factor on (position, ZWD) of x<k> - x<k-1> with
+//   sigmas sqrt(q^2 dt) (the EKF adds q^2 dt to the predicted variance: identical);
+//   receiver clocks WHITE: no between factor on a clock at all. Each epoch's clock is
+//   an independent variable with a unary prior (ClockPriorFactor) whose sigma is
+//   sqrt(min(q^2 dt, sigma0^2)) (11 km for 30 s) and whose mean is the EKF's predicted
+//   clock (previous filtered clock shifted by the median code residual): the EKF
+//   removes the clock's correlations and resets its variance to the same value, so the
+//   filtered solutions coincide.
+// Priors: the first state (a priori sigmas) and each new bias (phase minus code, a
+// priori bias sigma): PriorFactor.
+#include <Eigen/Core>
+#include <optional>
+
+#include "ppp_bayes_tree/ppp/model/satellite_measurement.h"
+#include "ppp_bayes_tree/smoother/key.h"
+#include "ppp_bayes_tree/smoother/noise_model_factor_n.h"
+
+namespace ppp {
+
+/// x<epoch_index>.
+smoother::Key stateKey(std::uint32_t epoch_index);
+/// b(<sat>,<arc>), e.g. b(G05,3).
+smoother::Key biasKey(const SatelliteId& satellite, ArcId arc);
+
+/// The prediction of one satellite's IF code (and phase, which adds the wind-up)
+/// at any receiver state of its epoch, from the model's evaluation at x0 (see top).
+class SatellitePrediction {
+ public:
+  using Row = Eigen::RowVectorXd;
+  SatellitePrediction(const SatelliteMeasurement& m, const ReceiverState& x0, bool exact_range);
+
+  /// Predicted IF code [m] at x (state vector in x0's layout), and its Jacobian when `jacobian` is non-null.
+  double code_m(const Eigen::VectorXd& x, Row* jacobian) const;
+  /// Predicted IF phase without the bias [m] (code + wind-up).
+  double phase_m(const Eigen::VectorXd& x, Row* jacobian) const { return code_m(x, jacobian) + windup_m_; }
+
+  const SatelliteMeasurement& measurement() const { return m_; }
+  const ReceiverStateLayout& layout() const { return layout_; }
+  bool exactRange() const { return satellite_.has_value(); }
+
+ private:
+  SatelliteMeasurement m_;
+  ReceiverStateLayout layout_;
+  Eigen::VectorXd x0_;
+  double windup_m_ = 0.0;                  // predicted phase - predicted code at x0
+  std::optional<Eigen::Vector3d> satellite_;  // s: set when the range is re-evaluated
+  Eigen::Vector3d offset_ = Eigen::Vector3d::Zero();    // o
+  double range0_m_ = 0.0;                  // rho(x0)
+  Eigen::Vector3d dry_gradient_ = Eigen::Vector3d::Zero();  // g
+};
+
+/// IF pseudorange: error = code(x) - observed code; sigma = code_sigma_m.
+class PppCodeFactor : public smoother::NoiseModelFactor1<smoother::Vector> {
+ public:
+  PppCodeFactor(smoother::Key state, SatellitePrediction prediction, smoother::NoiseModel::Ptr noise);
+  smoother::Vector evaluateError(const smoother::Vector& state, smoother::Matrix* h_state) const override;
+  const SatellitePrediction& prediction() const { return prediction_; }
+
+  /// Affine in the ZWD and clock components (constant coefficients); in the
+  /// position too when the range is not re-evaluated (linear factors).
+  bool affineIn(smoother::Key) const override { return !prediction_.exactRange(); }
+  bool affineInComponent(smoother::Key key, int component) const override {
+    return affineIn(key) || !prediction_.layout().isPosition(component);
+  }
+
+ private:
+  SatellitePrediction prediction_;
+};
+
+/// IF carrier phase: error = phase(x) + bias - observed phase; sigma = phase_sigma_m.
+class PppPhaseFactor : public smoother::NoiseModelFactor2<smoother::Vector, double> {
+ public:
+  PppPhaseFactor(smoother::Key state, smoother::Key bias, SatellitePrediction prediction,
+                 smoother::NoiseModel::Ptr noise);
+  smoother::Vector evaluateError(const smoother::Vector& state, const double& bias_m, smoother::Matrix* h_state,
+                                 smoother::Matrix* h_bias) const override;
+  const SatellitePrediction& prediction() const { return prediction_; }
+  /// The bias enters with coefficient +1, the state's ZWD and clock with constant
+  /// coefficients (the mapping frozen at x0); the range alone is nonlinear.
+  bool affineIn(smoother::Key key) const override { return key == this->key<1>() || !prediction_.exactRange(); }
+  bool affineInComponent(smoother::Key key, int component) const override {
+    return affineIn(key) || !prediction_.layout().isPosition(component);
+  }
+
+ private:
+  SatellitePrediction prediction_;
+};
+
+/// Random walk of position and ZWD between two states: error = (position, ZWD)
+/// of x2 - x1, sigmas (position, position, position, ZWD) [m] over the time step.
+class ReceiverRandomWalkFactor : public smoother::NoiseModelFactor2<smoother::Vector, smoother::Vector> {
+ public:
+  ReceiverRandomWalkFactor(smoother::Key previous, smoother::Key next, const ReceiverStateLayout& layout,
+                           double position_sigma_m, double zwd_sigma_m);
+  smoother::Vector evaluateError(const smoother::Vector& previous, const smoother::Vector& next,
+                                 smoother::Matrix* h_previous, smoother::Matrix* h_next) const override;
+  bool affineIn(smoother::Key) const override { return true; }  // a difference of states
+
+ private:
+  ReceiverStateLayout layout_;
+};
+
+/// Prior on one clock component (state index `clock_index`) of one state:
+/// error = clock - clock_m.
+class ClockPriorFactor : public smoother::NoiseModelFactor1<smoother::Vector> {
+ public:
+  ClockPriorFactor(smoother::Key state, int clock_index, double clock_m, double sigma_m);
+  smoother::Vector evaluateError(const smoother::Vector& state, smoother::Matrix* h_state) const override;
+  double clock_m() const { return clock_m_; }
+  int clockIndex() const { return clock_index_; }
+  bool affineIn(smoother::Key) const override { return true; }
+
+ private:
+  int clock_index_;
+  double clock_m_;
+};
+
+}  // namespace ppp

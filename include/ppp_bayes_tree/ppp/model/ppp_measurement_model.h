@@ -1,0 +1,327 @@
+#pragma once
+// PppMeasurementModel: the single ionosphere-free (IF) code and phase model
+// used by both estimators (EKF and smoother factors). For one epoch and a
+// linearisation point X = (marker position ECEF, ZWD, receiver clock c*dt of the
+// satellite's system; receiver_state_layout.h) it
+// gives per satellite the observed and predicted IF observables, the Jacobian
+// row d(predicted)/dX, the elevation-dependent sigmas, or the reason why the
+// satellite is rejected.
+//
+// Observation equations (metres; Kouba 2009 "A guide to using IGS products";
+// Teunissen & Montenbruck (eds.) 2017, ch. 25):
+//   P_IF = rho + clock - c (dt_s + dt_rel) + m_d ZHD + m_w ZWD + shapiro + ant_r + ant_s
+//   L_IF = same + lambda_w w + B_arc            (B_arc: the arc's IF phase bias,
+//                                                NOT in predicted_phase_m)
+//   rho    = |x_s,apc(t_tx) rotated by omega_e tau - x_r,apc|, where
+//            t_tx = t_rx(tag) - P_IF/c - dt_s (signal emission in GPST: exact
+//            whatever the receiver clock) and tau = rho/c (iterated, Sagnac);
+//   x_r,apc = marker + solid tide + ocean loading + ANTENNA: DELTA H/E/N +
+//            receiver PCO (IF), i.e. the estimate refers to the MARKER;
+//   dt_rel = -2 r.v/c^2 (relativity.h), shapiro (relativity.h);
+//   ant_s  = satellite PCV(nadir) IF-combined (the satellite PCO moves x_s,apc
+//            along the nominal yaw-steering body axes, satellite_attitude.h);
+//   ant_r  = receiver PCV(zenith, azimuth) IF-combined;
+//   w      = phase wind-up [cycles] (phase_windup.h), continuous along an arc
+//            through WindupTracker; in the IF combination the wind-up (the same
+//            number of cycles on both frequencies) weighs
+//            alpha lambda1 + beta lambda2 = c / (f1 + f2) (the narrow-lane
+//            wavelength, 10.7 cm for GPS L1/L2) = lambda_w.
+// The Jacobian is the same for code and phase: d/dx = -e + m_d dZHD/dh u
+// (e: unit line of sight receiver -> satellite, ECEF; u: local up; the a-priori
+// dry delay of the standard atmosphere falls by ~0.3 mm per metre of height),
+// d/dZWD = m_w, d/dclock = 1 in the column of the satellite's own system clock
+// (a system without a clock in the layout: rejected) (the elevation dependence of the mapping and PCV
+// on the position is neglected: ~1e-5 of the position column).
+//
+// Troposphere (troposphere.h), surface values from the standard atmosphere at
+// the receiver height:
+//   dry zenith delay: modified Hopfield (default) or Saastamoinen;
+//   mapping: GMF (Boehm et al. 2006) by default (it fits the real data better,
+//   see MeasurementModelOptions::mapping); the method's modified Hopfield
+//   model's OWN elevation mapping, i.e. the ratio slant/zenith of the Hopfield
+//   ray integration (Goad & Goodman 1974), separately for the dry and wet
+//   parts, or Niell (1996) as options.
+//   The ZWD state is the whole wet delay (no a-priori wet delay is added).
+//
+// Weighting: sigma(el) = sigma_zenith / sin(el), where the phase sigma of one
+// frequency at zenith (default 0.003 m, RTKLIB stats-errphase as in the peer
+// configuration ../shared/peers/rtklib-ppp-kinematic.conf) is scaled for the IF
+// combination by sqrt(alpha^2 + beta^2) (2.98 for GPS L1/L2; RTKLIB uses 3), and
+// the code sigma is code_phase_ratio (default 300; RTKLIB stats-eratio1 is 100) times
+// the phase sigma. These are the sigmas of one sample (screening); the estimators
+// weight the code with the variance inflated for its time correlation over the
+// epoch interval (StochasticModel::code_correlation_time_s, time_correlated_noise.h).
+//
+// Threading and cost: evaluate() is const and allocation-free once the output
+// vectors have grown (except rejection reason strings); about 3 us per
+// satellite (ppp_bench_measurement_model). It is NOT thread-safe: it fills a
+// satellite-antenna lookup cache (use one model per thread). The wind-up
+// continuity lives in the caller's WindupTracker.
+//
+// Products: satellite orbits and clocks come from an EphemerisSource (precise
+// files, broadcast records, a correction stream; ephemeris_source.h; the
+// precise files extend their edges by 0.2 s, precise_ephemeris.h). An orbit
+// that refers to the antenna phase centre already holds the satellite PCO,
+// which is then not applied again (the PCV still is); one at the L1 phase
+// centre (IGS SSRA) gets the IF - L1 PCO difference
+// (satellite_reference_point.h, the one place for the reference point). Antenna calibrations come
+// from an AntennaCalibrationProvider (ANTEX files: antex_calibrations.h) for
+// the receiver described by a ReceiverAntenna.
+//
+// Receiver antenna policy (MeasurementModelOptions::receiver_antenna):
+//   Required: without a calibration (or one lacking a frequency of the pair)
+//             every satellite of the system is rejected with the reason;
+//   Warn (default): the model goes on without the receiver PCO/PCV (the DELTA
+//             H/E/N is still applied) and says so once (receiverAntennaWarnings());
+//   Off:      the receiver PCO/PCV is never applied.
+// A non-GPS frequency the receiver block lacks first takes the GPS calibration
+// of receiver_frequency_substitution.h (receiver_frequency_substitution: Gps,
+// default; named once in receiverAntennaWarnings()), so only a frequency without
+// a stand-in is "missing".
+#include <Eigen/Core>
+#include <array>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <memory>
+
+#include "ppp_bayes_tree/models/antenna_calibration_provider.h"
+#include "ppp_bayes_tree/models/ephemeris_source.h"
+#include "ppp_bayes_tree/models/receiver_frequency_substitution.h"
+#include "ppp_bayes_tree/types/ocean_loading_coefficients.h"
+#include "ppp_bayes_tree/ppp/model/dual_frequency_observation.h"
+#include "ppp_bayes_tree/ppp/model/satellite_measurement.h"
+#include "ppp_bayes_tree/types/constants.h"
+
+namespace ppp {
+
+enum class DryTroposphereModel { ModifiedHopfield, Saastamoinen };
+enum class TroposphereMapping {
+  ModifiedHopfield,  // the method's default: slant/zenith ratio of the Hopfield integration
+  Niell,
+  Gmf,
+};
+
+/// What to do about the receiver antenna calibration (PCO + PCV).
+enum class ReceiverAntennaPolicy {
+  Required,  // a satellite without it is rejected ("missing receiver antenna calibration")
+  Warn,      // go on without it when missing, reported once
+  Off,       // never applied
+};
+std::string_view receiverAntennaPolicyName(ReceiverAntennaPolicy policy);
+
+struct MeasurementModelOptions {
+  double elevation_cutoff_rad = 7.0 * kDegToRad;
+  /// Undifferenced phase sigma of one frequency at zenith [m] (RTKLIB stats-errphase).
+  double phase_sigma_zenith_m = 0.003;
+  /// Code sigma / phase sigma (RTKLIB stats-eratio1 is 100). 300 (IF code sigma
+  /// 2.7 m at zenith for GPS): the IF code errors are not white; over an hour
+  /// they hold constant per-satellite offsets of 0.2-0.7 m (ZIM2 postfit code
+  /// means with CODE OSB and IGS clocks, ppp_solve residual statistics), which
+  /// a white-noise weight of 0.9 m lets pull the float solution for tens of
+  /// minutes. Measured with ppp_solve (ZIM2 / CCJ2 mean 3D): 100 -> 23.5 / 30.9 cm,
+  /// 300 -> 18.8 / 26.1 cm.
+  double code_phase_ratio = 300.0;
+  /// Multiply the sigmas by sqrt(alpha^2 + beta^2) for the IF combination.
+  bool scale_sigma_for_ionosphere_free = true;
+  /// Add the ephemeris source's orbit and clock sigmas (EphemerisOrbit::
+  /// position_sigma_m, EphemerisClock::clock_sigma_m, when it gives them) to the
+  /// code and phase variances: sigma^2 += orbit^2 + clock^2 (a range error
+  /// common to code and phase). Broadcast records give the URA/SISA, the live
+  /// input's broadcast fallback its widened sigmas (app/live_gnss_input.h);
+  /// precise products and SSR give none. Default false (sigmas as configured).
+  bool ephemeris_sigmas = false;
+  DryTroposphereModel dry_troposphere = DryTroposphereModel::ModifiedHopfield;
+  /// GMF (Boehm et al. 2006) by default: it fits real data better than the
+  /// method's modified Hopfield ray integration (config/method_table.yaml):
+  /// with ppp_solve (30 m start prior, mean 3D EKF / smoothed, Hopfield -> GMF):
+  /// tropical CCJ2 with low satellites 31.6 / 15.2 -> 26.1 / 8.41 cm (final 10.4 ->
+  /// 4.2 cm); ZIM2 17.8 / 4.41 -> 18.8 / 3.63 cm.
+  TroposphereMapping mapping = TroposphereMapping::Gmf;
+  bool solid_earth_tide = true;
+  bool ocean_loading = true;  // used only when coefficients are given
+  bool phase_windup = true;
+  bool satellite_antenna = true;  // satellite PCO + PCV (ANTEX)
+  /// Receiver PCO + PCV (ANTEX); the DELTA H/E/N is always applied.
+  ReceiverAntennaPolicy receiver_antenna = ReceiverAntennaPolicy::Warn;
+  /// A non-GPS frequency missing from the receiver calibration: the GPS stand-in
+  /// of receiver_frequency_substitution.h (Gps) or missing (None).
+  ReceiverFrequencySubstitution receiver_frequency_substitution = ReceiverFrequencySubstitution::Gps;
+  bool shapiro = true;
+  bool exclude_eclipse = true;    // reject satellites in the Earth's shadow (umbra or penumbra)
+};
+
+/// Phase wind-up state per satellite: the last value [cycles] and its arc, so
+/// that the wind-up stays continuous along an arc and restarts on a new one.
+/// Explicit state owned by the caller (one per receiver and estimator).
+class WindupTracker {
+ public:
+  WindupTracker() : entries_(static_cast<std::size_t>(kNumGnssSystems) * 100) {}
+  /// Last value of `sat` when it belongs to the same arc, else nullopt.
+  std::optional<double> previous(const SatelliteId& sat, ArcId arc) const {
+    const auto& e = entries_[static_cast<std::size_t>(sat.index())];
+    if (!e.valid || e.arc != arc) return std::nullopt;
+    return e.cycles;
+  }
+  void update(const SatelliteId& sat, ArcId arc, double cycles) {
+    entries_[static_cast<std::size_t>(sat.index())] = {true, arc, cycles};
+  }
+  void reset() {
+    for (auto& e : entries_) e.valid = false;
+  }
+
+ private:
+  struct Entry {
+    bool valid = false;
+    ArcId arc = 0;
+    double cycles = 0.0;
+  };
+  std::vector<Entry> entries_;
+};
+
+/// Per-satellite model terms of the last evaluation, for diagnostics and tests
+/// (all in metres except where named; sign: as added to the prediction).
+struct ModelTerms {
+  SatelliteId satellite;
+  double geometric_range_m = 0.0;
+  double satellite_clock_m = 0.0;       // -c dt_s (product)
+  double relativistic_clock_m = 0.0;    // -c dt_rel
+  double troposphere_dry_m = 0.0;       // m_d ZHD
+  double wet_mapping = 0.0;             // m_w
+  double shapiro_m = 0.0;
+  double receiver_pcv_m = 0.0;
+  double satellite_pcv_m = 0.0;
+  double windup_cycles = 0.0;
+  double windup_m = 0.0;
+  double sagnac_m = 0.0;                // range change due to the Earth rotation during flight
+  double nadir_rad = 0.0;
+  Eigen::Vector3d satellite_apc_at_transmission_ecef_m = Eigen::Vector3d::Zero();  // unrotated
+  /// What the model added to the ephemeris orbit to reach the IF phase centre
+  /// (satellite_reference_point.h): the IF PCO for a centre-of-mass orbit, PCO_IF -
+  /// PCO_L1 for an L1 orbit, zero for an IF antenna-phase-centre orbit [m, ECEF].
+  Eigen::Vector3d satellite_reference_offset_ecef_m = Eigen::Vector3d::Zero();
+  Eigen::Vector3d receiver_apc_ecef_m = Eigen::Vector3d::Zero();
+};
+
+class PppMeasurementModel {
+ public:
+  /// `ephemeris` must outlive the model. `antennas` may be null (no
+  /// calibrations: the options must then not ask for the satellite antenna).
+  /// `ocean_loading` may be nullptr.
+  PppMeasurementModel(const EphemerisSource& ephemeris, std::shared_ptr<const AntennaCalibrationProvider> antennas,
+                      const ReceiverAntenna& receiver_antenna, const OceanLoadingCoefficients* ocean_loading,
+                      MeasurementModelOptions options = {});
+
+  /// Evaluates one epoch. `arcs[i]` is the arc id of `observations[i]` (same
+  /// size). `windup` (nullable) carries the wind-up continuity: pass the same
+  /// tracker every epoch; it is updated for each used satellite. `terms`
+  /// (nullable) receives the per-satellite model terms of the used satellites.
+  /// Its named steps (a rejected satellite leaves at the step that rejects it):
+  ///  1. epochTerms: local frame, Sun/Moon, station displacements (tides,
+  ///     ocean loading, DELTA H/E/N), troposphere constants, once per epoch;
+  ///  2. systemTerms: per system and frequency pair, on first use: IF
+  ///     coefficients, wind-up wavelength, sigma factor, receiver PCO (IF);
+  ///  3. observedCombinations: the receiver clock of the system and the
+  ///     observed IF code and phase;
+  ///  4. satelliteAtEmission: clock and orbit at the emission time, eclipse,
+  ///     nominal attitude, satellite antenna offset (IF);
+  ///  5. signalGeometry: Earth rotation during the flight, line of sight,
+  ///     elevation and azimuth, elevation cutoff;
+  ///  6. phaseCentreVariations: receiver and satellite PCV (IF);
+  ///  7. troposphereMapping: the dry and wet mapping functions;
+  ///  8. phaseWindup: the wind-up [cycles], continuous along the arc;
+  ///  9. addMeasurement: relativity, Shapiro, the predicted observables, the
+  ///     Jacobian row and the sigmas (and modelTerms, on request).
+  void evaluate(const std::vector<DualFrequencyObservation>& observations, const std::vector<ArcId>& arcs,
+                const ReceiverState& state, WindupTracker* windup, EpochMeasurements& out,
+                std::vector<ModelTerms>* terms = nullptr) const;
+  EpochMeasurements evaluate(const std::vector<DualFrequencyObservation>& observations,
+                             const std::vector<ArcId>& arcs, const ReceiverState& state,
+                             WindupTracker* windup) const {
+    EpochMeasurements out;
+    evaluate(observations, arcs, state, windup, out);
+    return out;
+  }
+
+  /// The start model: what the code least squares of the first epoch uses when no
+  /// approximate position is known, so that it can iterate from the Earth centre
+  /// (after RTKLIB pntpos.c, whose first iteration applies neither troposphere
+  /// nor elevation mask). Per satellite the IF code predicted from the geometric
+  /// range of the ephemeris position (its reference point as given: no satellite
+  /// PCO) with the Earth rotation during the flight, the receiver clock of the
+  /// satellite's system and the satellite clock with its relativistic term; no
+  /// troposphere, no elevation cutoff, no antenna, tide, wind-up, Shapiro or
+  /// eclipse terms (metres to tens of metres: a start, refined by the full model).
+  /// Usable at any position, the Earth centre included; one code sigma for all
+  /// satellites (the zenith code sigma). Jacobian: -e for the position, 1 for the
+  /// system's clock, 0 for the ZWD. Rejected with the reason: no receiver clock
+  /// for the system, unusable code, no clock, no orbit.
+  void evaluateStart(const std::vector<DualFrequencyObservation>& observations, const ReceiverState& state,
+                     EpochMeasurements& out) const;
+
+  const MeasurementModelOptions& options() const { return options_; }
+  /// Where each antenna calibration came from, e.g. "receiver TRM59800.00 SCIS:
+  /// igs20_zim2_gps_trim.atx (TRM59800.00 SCIS not found, using TRM59800.00 NONE)",
+  /// "satellite G05 (BLOCK IIR-M G050): igs20_gps_satellites_trim.atx". Satellites
+  /// are listed when first used (call after evaluating).
+  std::vector<std::string> antennaSources() const;
+  /// The receiver calibration in use (nullptr: not found in any file).
+  const AntennaCalibration* receiverCalibration() const { return receiver_calibration_; }
+  /// Under ReceiverAntennaPolicy::Warn: what is missing and not applied, once
+  /// per cause (e.g. "receiver antenna ASH701945E_M SCIS not found in any ANTEX
+  /// file: ..."); and, under any policy, each GPS stand-in in use ("receiver
+  /// antenna ASH701945E_M SCIS: no Galileo calibration, GPS L1/L2 values used for
+  /// E1/E5a ..."); empty when nothing is missing (grows as systems are seen).
+  const std::vector<std::string>& receiverAntennaWarnings() const { return receiver_warnings_; }
+  /// Satellites whose orbit refers to the L1 antenna phase centre (IGS SSRA)
+  /// but that have no satellite calibration for the IF - L1 PCO difference (taken
+  /// as zero), one line per satellite with its count of satellite-epochs.
+  std::vector<std::string> satelliteReferenceNotes() const;
+  /// IF-combined receiver PCO (north, east, up) [m] of a frequency pair of a system.
+  std::optional<Eigen::Vector3d> receiverPcoIonosphereFree_m(GnssSystem system, int frequency1, int frequency2,
+                                                             double f1_hz, double f2_hz) const;
+
+ private:
+  struct SatelliteAntennaCache {
+    const AntennaCalibration* calibration = nullptr;
+    std::string source;
+    std::optional<GnssTime> from, until;
+    bool looked_up = false;
+    bool reported = false;
+  };
+  // The steps of evaluate() and what they carry (defined with them).
+  struct EpochTerms;
+  struct SystemTerms;
+  struct SatelliteEvaluation;
+  EpochTerms epochTerms(const Eigen::Vector3d& marker, const GnssTime& t_rx) const;
+  const SystemTerms& systemTerms(const DualFrequencyObservation& o, const EpochTerms& epoch, SystemTerms& st) const;
+  bool observedCombinations(SatelliteEvaluation& sv, const EpochTerms& epoch, const ReceiverState& state,
+                            EpochMeasurements& out) const;
+  bool satelliteAtEmission(SatelliteEvaluation& sv, const EpochTerms& epoch, EpochMeasurements& out) const;
+  bool signalGeometry(SatelliteEvaluation& sv, const EpochTerms& epoch, EpochMeasurements& out) const;
+  bool phaseCentreVariations(SatelliteEvaluation& sv, EpochMeasurements& out) const;
+  void troposphereMapping(SatelliteEvaluation& sv, const EpochTerms& epoch) const;
+  bool phaseWindup(SatelliteEvaluation& sv, const EpochTerms& epoch, const WindupTracker* windup,
+                   EpochMeasurements& out) const;
+  void addMeasurement(const SatelliteEvaluation& sv, const EpochTerms& epoch, const ReceiverState& state,
+                      WindupTracker* windup, EpochMeasurements& out, std::vector<ModelTerms>* terms) const;
+  ModelTerms modelTerms(const SatelliteEvaluation& sv, const EpochTerms& epoch, double shapiro_m,
+                        double relativistic_s) const;
+
+  const AntennaCalibration* satelliteCalibration(const SatelliteId& sat, const GnssTime& t) const;
+  void warnReceiverAntenna(std::string text) const;
+
+  const EphemerisSource& ephemeris_;
+  std::shared_ptr<const AntennaCalibrationProvider> antennas_;
+  ReceiverAntenna receiver_antenna_;
+  const AntennaCalibration* receiver_calibration_ = nullptr;
+  std::string receiver_source_;
+  std::optional<OceanLoadingCoefficients> ocean_loading_;
+  MeasurementModelOptions options_;
+  mutable std::vector<SatelliteAntennaCache> satellite_cache_;  // lookup cache (not model state)
+  mutable std::vector<std::string> receiver_warnings_;          // reported once each
+  mutable std::vector<std::size_t> l1_reference_without_calibration_;  // per satellite index: counted
+};
+
+}  // namespace ppp

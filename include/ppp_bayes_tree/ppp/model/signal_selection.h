@@ -1,0 +1,199 @@
+#pragma once
+// Signal selection for the ionosphere-free (IF) PPP model: picks, per satellite
+// of an ObsEpoch, the two codes and two phases of the configured frequency pair
+// (GPS L1/L2, Galileo E1/E5a, BeiDou B1I/B3I) by a configurable tracking-mode
+// priority, aligns the codes to the clock product's code reference and fills
+// DualFrequencyObservation.
+//
+// The frequency pair and the priorities of each system are one row of the
+// signal table (signalTable(), indexed by system; the same form as the
+// per-system code priority table of RTKLIB 2.4.3, Takasu 2013). A system
+// without a row has no IF pair here: GLONASS FDMA (one frequency per channel,
+// inter-frequency code biases) is a different model, QZSS / SBAS / IRNSS are
+// not processed. Adding a system = adding its row.
+//
+// Code alignment (Bias-SINEX 1.00, S. Schaer 2016, sec. 3.3 / 4.3.x "OSB"):
+// an observable-specific bias B_obs is defined so that the bias-free
+// observable is obtained by SUBTRACTING it: corrected = observed - OSB (in
+// metres after the reader's ns -> m conversion). Satellite OSBs of a product
+// centre are consistent with its satellite clocks, which refer to the IF
+// combination of the SATELLITE_CLOCK_REFERENCE_OBSERVABLES (GPS: C1W/C2W, so
+// the IF combination of the C1W and C2W OSBs is zero). After subtracting the
+// OSB of e.g. C1C and C2W, the IF code refers to the clock's C1W/C2W reference.
+// Without a bias file the codes are used as observed: the product convention
+// (IGS clocks: C1W/C2W) then holds only when C1W/C2W are used; using C1C with
+// such a clock leaves the P1-C1 DCB (typically 0.5-3 ns times 2.55 in the IF
+// combination) in the code. That is reported, never silently assumed.
+//
+// Phase shifts (RINEX 3.01+ "SYS / PHASE SHIFT", RINEX 3.05 sec. 5.2 / table
+// A2; Gurtner 2009 proposal "RINEX: Phase shifts"): data producers ALIGN the
+// phases of the different tracking modes of one band before writing the file
+// and REPORT the correction applied in the header, "to allow the
+// reconstruction of the original values". The phases in a 3.01+ file are
+// therefore already consistent, and nothing must be added again (default
+// PhaseShiftHandling::AsWritten). PhaseShiftHandling::RestoreOriginal
+// subtracts the reported correction (original = file value - shift) for
+// special investigations. RINEX 2 and 3.00 files carry no such record. For a
+// float IF solution any constant quarter cycle is absorbed by the arc bias.
+// Phase OSBs of the bias file are NOT applied (float ambiguities absorb them).
+// The biases come from a BiasProvider (bias_provider.h: Bias-SINEX today, SSR
+// later); "bias file" below means any provider.
+#include <array>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "ppp_bayes_tree/io/obs_epoch.h"
+#include "ppp_bayes_tree/io/rinex/rinex_obs_header.h"
+#include "ppp_bayes_tree/models/bias_provider.h"
+#include "ppp_bayes_tree/ppp/model/dual_frequency_observation.h"
+
+namespace ppp {
+
+/// Frequency pair and tracking-mode priorities (RINEX 3 attribute letters,
+/// first = preferred) of one system.
+struct SystemSignalPriority {
+  char band1 = '1';
+  char band2 = '2';
+  std::vector<char> code1_attributes;
+  std::vector<char> code2_attributes;
+  std::vector<char> phase1_attributes;
+  std::vector<char> phase2_attributes;
+};
+
+/// One row of the signal table: a system that has an ionosphere-free pair here.
+struct SignalTableRow {
+  GnssSystem system = GnssSystem::GPS;
+  /// Its section under measurement_model.signals (config/ppp.yaml).
+  const char* config_key = "";
+  /// The default pair and priorities (the configuration may change the priorities).
+  SystemSignalPriority priority;
+  /// Processed by `signals.systems: auto` when the products and antennas cover it;
+  /// false: only when listed in `signals.systems`.
+  bool automatic = false;
+  /// Tracking modes of the band-1 / band-2 codes the usual clock products refer
+  /// to (GPS: C1W/C2W, the IGS convention), '\0' when the row states none. Other
+  /// codes used without a bias file are reported in the epoch notes.
+  char clock_reference1 = '\0';
+  char clock_reference2 = '\0';
+};
+
+/// The signal table, in the order of GnssSystem (rows: GPS, Galileo, BeiDou).
+const std::vector<SignalTableRow>& signalTable();
+/// The row of `system`, nullptr when the system has no IF pair here.
+const SignalTableRow* signalTableRow(GnssSystem system);
+/// The systems of the table whose row is `automatic`, in table order.
+std::vector<GnssSystem> automaticSignalSystems();
+/// The table's systems as a list for messages: "GPS, Galileo or BeiDou".
+std::string signalTableSystemNames();
+
+/// Per system priorities (index: GnssSystem), from the table's defaults; a
+/// system without a row has none.
+class SignalPriorities {
+ public:
+  SignalPriorities();
+  /// nullptr when the system has no row in the signal table.
+  const SystemSignalPriority* find(GnssSystem system) const;
+  /// The row of a system of the table (std::out_of_range otherwise).
+  SystemSignalPriority& operator[](GnssSystem system);
+  const SystemSignalPriority& operator[](GnssSystem system) const;
+
+ private:
+  std::array<std::optional<SystemSignalPriority>, kNumGnssSystems> rows_;
+};
+
+enum class PhaseShiftHandling {
+  AsWritten,        // RINEX 3.01+: the file values are already aligned (default)
+  RestoreOriginal,  // subtract the reported correction: original phase
+};
+
+struct SignalSelectionOptions {
+  /// Frequency pair and priorities per system (defaults: signalTable()).
+  SignalPriorities priorities;
+  /// Systems processed; others are skipped with a reason.
+  std::vector<GnssSystem> systems{GnssSystem::GPS};
+  /// true (default; no `signals.systems` key): the product assembly
+  /// (product_assembly.h) processes every automatic system of the table
+  /// (GPS | Galileo) that the products and the satellite antennas cover and
+  /// writes them into `systems` (which holds GPS for code that runs without
+  /// the assembly). false: exactly `systems`.
+  bool systems_from_products = true;
+  /// With a bias file: skip a satellite when an OSB of a selected code is
+  /// missing (true), or use the code uncorrected and say so (false).
+  bool require_code_osb = true;
+  PhaseShiftHandling phase_shift = PhaseShiftHandling::AsWritten;
+};
+
+/// A satellite of the epoch that got no dual-frequency observation, with why.
+struct SkippedSignal {
+  SatelliteId satellite;
+  std::string reason;
+};
+
+struct SignalSelectionResult {
+  std::vector<DualFrequencyObservation> observations;
+  std::vector<SkippedSignal> skipped;
+  /// Per epoch notes on the code reference (e.g. "no bias file: C1C used with
+  /// a C1W/C2W clock reference, P1-C1 DCB not applied (G05 G13)").
+  std::vector<std::string> notes;
+
+  void clear() {
+    observations.clear();
+    skipped.clear();
+    notes.clear();
+  }
+};
+
+/// Selects signals for whole epochs. Built once per observation file: the
+/// column of each code in the header's type list is resolved at construction,
+/// and OSB values are cached with their validity, so that select() performs
+/// no allocation once the output vectors have grown (except for skip reasons).
+class SignalSelector {
+ public:
+  /// `biases` may be nullptr (no bias file); it must outlive the selector.
+  SignalSelector(const RinexObsHeader& header, SignalSelectionOptions options, const BiasProvider* biases);
+
+  void select(const ObsEpoch& epoch, SignalSelectionResult& out);
+  SignalSelectionResult select(const ObsEpoch& epoch) {
+    SignalSelectionResult r;
+    select(epoch, r);
+    return r;
+  }
+  const SignalSelectionOptions& options() const { return options_; }
+
+ private:
+  struct SystemColumns {
+    bool enabled = false;
+    std::string missing;  // why the system cannot be used with this header ("" = usable)
+    std::vector<int> code1, code2, phase1, phase2;  // columns in priority order
+    double frequency1_hz = 0.0, frequency2_hz = 0.0;
+    char clock_reference1 = '\0', clock_reference2 = '\0';  // SignalTableRow
+    std::vector<std::pair<ObservationCode, double>> phase_shifts;  // all-satellite records
+    std::vector<PhaseShift> satellite_phase_shifts;               // per-satellite records
+  };
+  struct OsbCache {
+    bool valid = false;
+    ObservationCode code;
+    std::optional<double> value_m;
+    bool applies = true;  // BiasAnswer::applies
+    std::optional<GnssTime> from, until;
+  };
+
+  /// The code OSB of a signal, nullopt when the provider has none; `applies` is
+  /// set false when the provider has no say at `t` (BiasAnswer::applies).
+  std::optional<double> codeOsb_m(const SatelliteId& sat, int slot, const ObservationCode& code, const GnssTime& t,
+                                  bool& applies);
+  double phaseShift_cycles(const SystemColumns& sc, const SatelliteId& sat, const ObservationCode& code) const;
+
+  SignalSelectionOptions options_;
+  const BiasProvider* biases_;
+  std::array<SystemColumns, kNumGnssSystems> systems_;
+  std::array<std::vector<ObservationCode>, kNumGnssSystems> types_;
+  std::vector<OsbCache> osb_cache_;  // index: satellite index * 2 + slot
+};
+
+/// Convenience for one epoch (builds a selector each call: prefer SignalSelector in loops).
+SignalSelectionResult selectDualFrequency(const ObsEpoch& epoch, const RinexObsHeader& header,
+                                          const SignalSelectionOptions& options, const BiasProvider* biases);
+
+}  // namespace ppp

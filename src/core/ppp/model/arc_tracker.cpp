@@ -1,0 +1,231 @@
+#include "ppp_bayes_tree/ppp/model/arc_tracker.h"
+
+#include <algorithm>
+#include <cmath>
+#include <set>
+
+#include "ppp_bayes_tree/models/ionosphere_free.h"
+#include "ppp_bayes_tree/types/constants.h"
+#include "ppp_bayes_tree/types/text_format.h"
+
+namespace ppp {
+namespace {
+
+bool finiteObservation(const DualFrequencyObservation& o) {
+  return std::isfinite(o.code1_m) && std::isfinite(o.code2_m) && std::isfinite(o.phase1_cycles) &&
+         std::isfinite(o.phase2_cycles) && std::isfinite(o.frequency1_hz) && std::isfinite(o.frequency2_hz) &&
+         o.frequency1_hz > 0.0 && o.frequency2_hz > 0.0 && o.frequency1_hz != o.frequency2_hz;
+}
+
+}  // namespace
+
+double CycleSlipOptions::geometryFreeThreshold_m(double dt_s) const {
+  return std::min(gf_threshold_base_m + gf_threshold_rate_mps * std::max(dt_s, 0.0), gf_threshold_max_m);
+}
+
+const char* arcStartReasonName(ArcStartReason reason) {
+  switch (reason) {
+    case ArcStartReason::None: return "none";
+    case ArcStartReason::NewSatellite: return "new satellite";
+    case ArcStartReason::LossOfLock: return "loss of lock";
+    case ArcStartReason::DataGap: return "data gap";
+    case ArcStartReason::MelbourneWuebbenaJump: return "Melbourne-Wubbena jump";
+    case ArcStartReason::GeometryFreeJump: return "geometry-free jump";
+  }
+  return "unknown";
+}
+
+std::size_t ArcEpochResult::newArcCount() const {
+  return static_cast<std::size_t>(
+      std::count_if(satellites.begin(), satellites.end(), [](const auto& s) { return s.new_arc; }));
+}
+
+ArcTracker::ArcTracker(CycleSlipOptions options) : options_(std::move(options)) {}
+
+double ArcTracker::interval_s() const { return interval_s_.value_or(options_.default_interval_s); }
+
+double ArcTracker::maxGap_s() const {
+  return options_.max_gap_s ? *options_.max_gap_s : options_.max_gap_intervals * interval_s();
+}
+
+std::optional<ArcId> ArcTracker::currentArc(const SatelliteId& satellite) const {
+  auto it = arcs_.find(satellite);
+  if (it == arcs_.end() || !it->second.open) return std::nullopt;
+  return it->second.id;
+}
+
+void ArcTracker::startArc(ArcState& state, const GnssTime& time, double mw, double gf) {
+  state = ArcState{};
+  state.id = next_id_++;
+  state.open = true;
+  state.first_time = time;
+  state.last_time = time;
+  state.epochs = 1;
+  state.mw_mean = mw;
+  state.mw_count = 1;
+  state.gf_history.emplace_back(0.0, gf);
+}
+
+void ArcTracker::updateArc(ArcState& state, const GnssTime& time, double mw, double gf,
+                           std::optional<double> gf_residual) const {
+  if (gf_residual) {
+    state.gf_res_count = std::min(state.gf_res_count + 1, std::max(options_.mw_window, 2));
+    state.gf_res_ms += (*gf_residual * *gf_residual - state.gf_res_ms) / state.gf_res_count;
+  }
+  state.last_time = time;
+  ++state.epochs;
+  // Running mean / variance (Welford), forgetting exponentially beyond mw_window.
+  state.mw_count = std::min(state.mw_count + 1, std::max(options_.mw_window, 2));
+  const double n = state.mw_count;
+  const double delta = mw - state.mw_mean;
+  state.mw_mean += delta / n;
+  state.mw_var += (delta * (mw - state.mw_mean) - state.mw_var) / n;
+  state.gf_history.emplace_back(time - state.first_time, gf);
+  const auto keep = static_cast<std::size_t>(std::max(options_.gf_fit_points, 1));
+  if (state.gf_history.size() > keep) state.gf_history.erase(state.gf_history.begin());
+}
+
+std::optional<double> ArcTracker::predictGeometryFree(const ArcState& state, const GnssTime& time) const {
+  const auto& h = state.gf_history;
+  if (h.empty()) return std::nullopt;
+  const double t = time - state.first_time;
+  if (h.size() == 1) return h.front().second;
+  // Linear least squares gf = a + b (t - tm), extrapolated to t.
+  double tm = 0.0, gm = 0.0;
+  for (const auto& [ti, gi] : h) tm += ti, gm += gi;
+  tm /= h.size();
+  gm /= h.size();
+  double stt = 0.0, stg = 0.0;
+  for (const auto& [ti, gi] : h) stt += (ti - tm) * (ti - tm), stg += (ti - tm) * (gi - gm);
+  const double slope = stt > 0.0 ? stg / stt : 0.0;
+  return gm + slope * (t - tm);
+}
+
+double ArcTracker::geometryFreeThreshold_m(const ArcState& state, double dt_s) const {
+  double thr = options_.geometryFreeThreshold_m(dt_s);
+  if (state.gf_history.size() < 2) thr += options_.gf_drift_allowance_mps * std::max(dt_s, 0.0);
+  if (state.gf_res_count >= options_.gf_min_samples)
+    thr = std::max(thr, options_.gf_sigma_factor * std::sqrt(state.gf_res_ms));
+  return thr;
+}
+
+EndedArc ArcTracker::endArc(const SatelliteId& sat, ArcState& state, std::string reason) const {
+  state.open = false;
+  return EndedArc{sat, state.id, state.first_time, state.last_time, state.epochs, std::move(reason)};
+}
+
+ArcEpochResult ArcTracker::process(const GnssTime& time,
+                                   const std::vector<DualFrequencyObservation>& observations) {
+  ArcEpochResult result;
+  result.time = time;
+  if (last_epoch_) {
+    const double dt = time - *last_epoch_;
+    if (dt < 0.0) {
+      result.accepted = false;
+      result.refusal_reason = format("time goes backwards by %.3f s", -dt) + " (previous epoch " +
+                              last_epoch_->toString(TimeSystem::GPS, 1) + ")";
+      return result;
+    }
+    if (dt == 0.0) {
+      result.accepted = false;
+      result.refusal_reason = "duplicate epoch " + time.toString(TimeSystem::GPS, 1);
+      return result;
+    }
+    if (!interval_s_ || dt < *interval_s_) interval_s_ = dt;
+  }
+  last_epoch_ = time;
+  const double max_gap = maxGap_s();
+
+  std::set<SatelliteId> seen;
+  result.satellites.reserve(observations.size());
+  for (const auto& obs : observations) {
+    SatelliteArcStatus status;
+    status.satellite = obs.satellite;
+    if (!seen.insert(obs.satellite).second) {
+      status.usable = false;
+      status.reason = "satellite repeated in the epoch";
+      result.satellites.push_back(std::move(status));
+      continue;
+    }
+    if (!finiteObservation(obs)) {
+      status.usable = false;
+      status.reason = "non-finite observation or frequency";
+      result.satellites.push_back(std::move(status));
+      continue;
+    }
+    const double lambda1 = kSpeedOfLight_mps / obs.frequency1_hz;
+    const double lambda2 = kSpeedOfLight_mps / obs.frequency2_hz;
+    const double l1_m = obs.phase1_cycles * lambda1, l2_m = obs.phase2_cycles * lambda2;
+    status.mw_cycles =
+        melbourneWuebbena_cycles(l1_m, l2_m, obs.code1_m, obs.code2_m, obs.frequency1_hz, obs.frequency2_hz);
+    status.gf_m = geometryFreePhase_m(l1_m, l2_m);
+
+    auto [it, inserted] = arcs_.try_emplace(obs.satellite);
+    ArcState& state = it->second;
+    ArcStartReason reason = ArcStartReason::None;
+    std::string text;
+    std::optional<double> gf_residual;
+    if (inserted || state.id == 0) {
+      reason = ArcStartReason::NewSatellite;
+      text = "new satellite";
+    } else {
+      const double dt = time - state.last_time;
+      if (dt > max_gap) {
+        reason = ArcStartReason::DataGap;
+        text = format("data gap %.0f s > %.0f s", dt, max_gap);
+      } else if (!state.open) {
+        reason = ArcStartReason::NewSatellite;
+        text = "new satellite";
+      } else if (options_.use_loss_of_lock && (obs.loss_of_lock1 || obs.loss_of_lock2)) {
+        reason = ArcStartReason::LossOfLock;
+        text = obs.loss_of_lock1 ? (obs.loss_of_lock2 ? "LLI set on L1 and L2" : "LLI set on L1") : "LLI set on L2";
+      } else {
+        const auto gf_pred = predictGeometryFree(state, time);
+        const double gf_jump = gf_pred ? status.gf_m - *gf_pred : 0.0;
+        const double gf_thr = geometryFreeThreshold_m(state, dt);
+        if (state.gf_history.size() >= 2) gf_residual = gf_jump;
+        const double sigma = state.mw_count >= options_.mw_min_samples ? std::sqrt(std::max(state.mw_var, 0.0))
+                                                                        : options_.mw_initial_sigma_cycles;
+        const double mw_thr = std::max(options_.mw_sigma_factor * sigma, options_.mw_min_threshold_cycles);
+        const double mw_jump = status.mw_cycles - state.mw_mean;
+        if (std::abs(mw_jump) > mw_thr) {
+          reason = ArcStartReason::MelbourneWuebbenaJump;
+          text = format("Melbourne-Wubbena jump %.1f cycles > %.1f", std::abs(mw_jump), mw_thr);
+        } else if (std::abs(gf_jump) > gf_thr) {
+          reason = ArcStartReason::GeometryFreeJump;
+          text = format("geometry-free jump %.3f m > %.3f m", std::abs(gf_jump), gf_thr);
+        }
+      }
+    }
+
+    if (reason == ArcStartReason::None) {
+      updateArc(state, time, status.mw_cycles, status.gf_m, gf_residual);
+    } else {
+      if (state.open) result.ended.push_back(endArc(obs.satellite, state, "replaced: " + text));
+      startArc(state, time, status.mw_cycles, status.gf_m);
+      status.new_arc = true;
+      status.start_reason = reason;
+      status.reason = std::move(text);
+    }
+    status.arc = state.id;
+    result.satellites.push_back(std::move(status));
+  }
+
+  // Arcs of satellites absent for longer than the maximum gap end now.
+  for (auto& [sat, state] : arcs_) {
+    if (!state.open || seen.count(sat) != 0) continue;
+    const double absent = time - state.last_time;
+    if (absent > max_gap)
+      result.ended.push_back(endArc(sat, state, format("not observed for %.0f s > %.0f s", absent, max_gap)));
+  }
+  return result;
+}
+
+std::vector<EndedArc> ArcTracker::finish() {
+  std::vector<EndedArc> ended;
+  for (auto& [sat, state] : arcs_)
+    if (state.open) ended.push_back(endArc(sat, state, "end of data"));
+  return ended;
+}
+
+}  // namespace ppp

@@ -1,0 +1,120 @@
+#include "ppp_bayes_tree/ppp/model/ppp_factors.h"
+
+#include <cmath>
+
+namespace ppp {
+
+using smoother::Matrix;
+using smoother::Values;
+using smoother::Vector;
+
+smoother::Key stateKey(std::uint32_t epoch_index) { return smoother::symbolKey('x', epoch_index); }
+
+smoother::Key biasKey(const SatelliteId& satellite, ArcId arc) {
+  return smoother::symbolKey('b', satellite.toString(), arc);
+}
+
+SatellitePrediction::SatellitePrediction(const SatelliteMeasurement& m, const ReceiverState& x0, bool exact_range)
+    : m_(m), layout_(x0.layout), x0_(x0.vector()), windup_m_(m.predicted_phase_m - m.predicted_code_m) {
+  if (exact_range && m.satellite_apc_ecef_m) {
+    offset_ = m.receiver_apc_offset_ecef_m;
+    const Eigen::Vector3d d = *m.satellite_apc_ecef_m - (x0.position_ecef_m + offset_);
+    range0_m_ = d.norm();
+    if (range0_m_ > 0.0 && std::isfinite(range0_m_)) {
+      satellite_ = m.satellite_apc_ecef_m;
+      // The model's position partial is -e0 + (dry delay height term): keep the latter.
+      dry_gradient_ =
+          m.jacobian.segment<ReceiverStateLayout::kPositionSize>(layout_.position()).transpose() + d / range0_m_;
+    }
+  }
+}
+
+double SatellitePrediction::code_m(const Eigen::VectorXd& x, Row* jacobian) const {
+  constexpr int kPos = ReceiverStateLayout::kPositionSize;
+  const int p = layout_.position();
+  const Eigen::VectorXd dx = x - x0_;
+  if (!satellite_) {
+    if (jacobian != nullptr) *jacobian = m_.jacobian;
+    return m_.predicted_code_m + m_.jacobian.dot(dx);
+  }
+  const Eigen::Vector3d d = *satellite_ - (x.segment<kPos>(p) + offset_);
+  const double range = d.norm();
+  double h = m_.predicted_code_m + (range - range0_m_) + dry_gradient_.dot(dx.segment<kPos>(p));
+  // ZWD and clocks: the model's constant partials (in state order).
+  double rest = 0.0;
+  for (Eigen::Index i = 0; i < dx.size(); ++i)
+    if (!layout_.isPosition(static_cast<int>(i))) rest += m_.jacobian(i) * dx(i);
+  h += rest;
+  if (jacobian != nullptr) {
+    *jacobian = m_.jacobian;
+    jacobian->segment<kPos>(p) = (-d / range + dry_gradient_).transpose();
+  }
+  return h;
+}
+
+PppCodeFactor::PppCodeFactor(smoother::Key state, SatellitePrediction prediction, smoother::NoiseModel::Ptr noise)
+    : NoiseModelFactorN(std::move(noise), {state}), prediction_(std::move(prediction)) {}
+
+Vector PppCodeFactor::evaluateError(const Vector& state, Matrix* h_state) const {
+  SatellitePrediction::Row row;
+  Vector e(1);
+  e(0) = prediction_.code_m(state, h_state ? &row : nullptr) - prediction_.measurement().observed_code_m;
+  if (h_state != nullptr) *h_state = row;
+  return e;
+}
+
+PppPhaseFactor::PppPhaseFactor(smoother::Key state, smoother::Key bias, SatellitePrediction prediction,
+                               smoother::NoiseModel::Ptr noise)
+    : NoiseModelFactorN(std::move(noise), {state, bias}), prediction_(std::move(prediction)) {}
+
+Vector PppPhaseFactor::evaluateError(const Vector& state, const double& bias_m, Matrix* h_state,
+                                     Matrix* h_bias) const {
+  SatellitePrediction::Row row;
+  Vector e(1);
+  e(0) = prediction_.phase_m(state, h_state ? &row : nullptr) + bias_m - prediction_.measurement().observed_phase_m;
+  if (h_state != nullptr) *h_state = row;
+  if (h_bias != nullptr) *h_bias = Matrix::Ones(1, 1);
+  return e;
+}
+
+ReceiverRandomWalkFactor::ReceiverRandomWalkFactor(smoother::Key previous, smoother::Key next,
+                                                   const ReceiverStateLayout& layout, double position_sigma_m,
+                                                   double zwd_sigma_m)
+    : NoiseModelFactorN(smoother::NoiseModel::sigmas(
+                            Eigen::Vector4d(position_sigma_m, position_sigma_m, position_sigma_m, zwd_sigma_m)),
+                        {previous, next}),
+      layout_(layout) {}
+
+Vector ReceiverRandomWalkFactor::evaluateError(const Vector& previous, const Vector& next, Matrix* h_previous,
+                                               Matrix* h_next) const {
+  constexpr int kPos = ReceiverStateLayout::kPositionSize;
+  const Vector d = next - previous;
+  Vector e(kPos + 1);
+  e << d.segment<kPos>(layout_.position()), d(layout_.zwd());
+  if (h_previous != nullptr || h_next != nullptr) {
+    Matrix j = Matrix::Zero(kPos + 1, layout_.dim());
+    j.block<kPos, kPos>(0, layout_.position()).setIdentity();
+    j(kPos, layout_.zwd()) = 1.0;
+    if (h_previous != nullptr) *h_previous = -j;
+    if (h_next != nullptr) *h_next = j;
+  }
+  return e;
+}
+
+ClockPriorFactor::ClockPriorFactor(smoother::Key state, int clock_index, double clock_m, double sigma_m)
+    : NoiseModelFactorN(smoother::NoiseModel::isotropic(1, sigma_m), {state}),
+      clock_index_(clock_index),
+      clock_m_(clock_m) {}
+
+Vector ClockPriorFactor::evaluateError(const Vector& state, Matrix* h_state) const {
+  Vector e(1);
+  e(0) = state(clock_index_) - clock_m_;
+  if (h_state != nullptr) {
+    Matrix j = Matrix::Zero(1, state.size());
+    j(0, clock_index_) = 1.0;
+    *h_state = j;
+  }
+  return e;
+}
+
+}  // namespace ppp

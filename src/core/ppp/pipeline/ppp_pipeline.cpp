@@ -1,0 +1,358 @@
+#include "ppp_bayes_tree/ppp/pipeline/ppp_pipeline.h"
+
+#include <algorithm>
+#include <cctype>
+#include <chrono>
+#include <cmath>
+#include <fstream>
+#include <set>
+#include <sstream>
+#include <stdexcept>
+#include <tuple>
+
+#include "ppp_bayes_tree/io/line_source.h"
+#include "ppp_bayes_tree/io/parse_error.h"
+#include "ppp_bayes_tree/io/rinex/rinex_obs_reader.h"
+#include "ppp_bayes_tree/io/rtcm/rtcm_observation_source.h"
+#include "ppp_bayes_tree/io/ubx/ubx_observation_source.h"
+#include "ppp_bayes_tree/models/broadcast_products.h"
+#include "ppp_bayes_tree/ppp/pipeline/ppp_epoch_processor.h"
+#include "ppp_bayes_tree/ppp/pipeline/product_assembly.h"
+#include "ppp_bayes_tree/types/constants.h"
+
+namespace ppp {
+namespace {
+
+/// The span of an observation file's epochs (one extra pass over the file, a few
+/// ms); unset when it cannot be read (reported by the main pass).
+/// With a window: the span of the epochs inside it (the pass stops after its end).
+std::pair<std::optional<GnssTime>, std::optional<GnssTime>> observationSpan(const std::string& obs_path,
+                                                                            const ObservationWindow& window) {
+  std::optional<GnssTime> first, last;
+  try {
+    RinexObsReader reader = RinexObsReader::open(obs_path);
+    ObsEpoch epoch;
+    while (reader.next(epoch)) {
+      if (window.end && epoch.time >= *window.end) break;
+      if (!window.contains(epoch.time)) continue;
+      if (!first || epoch.time < *first) first = epoch.time;
+      if (!last || *last < epoch.time) last = epoch.time;
+    }
+  } catch (const std::exception&) {
+    return {};
+  }
+  return {first, last};
+}
+
+/// Running sums for one satellite's residual statistics.
+struct ResidualAccumulator {
+  std::size_t n = 0, rejections = 0;
+  double code_sum = 0, code_sq = 0, phase_sum = 0, phase_sq = 0, phase_max = 0;
+  double el_min = 90.0, el_max = 0.0;
+};
+
+}  // namespace
+
+std::string toString(RejectionStage stage) {
+  switch (stage) {
+    case RejectionStage::Signals: return "signals";
+    case RejectionStage::Arcs: return "arcs";
+    case RejectionStage::Model: return "model";
+  }
+  return "unknown";
+}
+
+std::string toString(const RejectionKey& key) { return toString(key.stage) + ": " + toString(key.reason); }
+
+struct PppPipeline::Impl {
+  /// The products of a file run (and the phase-bias provider the processor
+  /// points to); declared before `processor`, so that it is destroyed after it.
+  std::optional<ProductAssembly> assembly;
+  const BiasProvider* phase_biases = nullptr;  // what the processor was given (PPP-AR)
+  std::unique_ptr<ObservationSource> source;
+  PppProducts products;
+  std::optional<std::string> bias_file_name;  // for the code-reference note
+  std::unique_ptr<PppEpochProcessor> processor;
+  std::vector<std::string> load_notes;
+  /// What went wrong reading the products (each becomes a problem of every run).
+  std::vector<std::string> load_problems;
+  bool ran = false;
+
+  void start(const PppConfig& config) {
+    processor = std::make_unique<PppEpochProcessor>(source->header(), config, *products.ephemeris,
+                                                    products.antennas, products.biases.get(),
+                                                    products.ocean ? &*products.ocean : nullptr);
+    if (phase_biases) processor->setPhaseBiases(phase_biases);
+  }
+};
+
+PppPipeline::PppPipeline(std::unique_ptr<ObservationSource> observations, PppProducts products, PppConfig config)
+    : config_(std::move(config)), impl_(std::make_unique<Impl>()) {
+  if (!observations || !products.ephemeris)
+    throw std::invalid_argument("pipeline inputs: an observation source and an ephemeris source are required");
+  Impl& d = *impl_;
+  d.source = std::move(observations);
+  d.products = std::move(products);
+  d.load_notes = d.products.notes;
+  d.phase_biases = d.products.phase_biases.get();
+  d.start(config_);
+}
+
+PppPipeline::PppPipeline(const PppInputFiles& files, PppConfig config)
+    : config_(std::move(config)), impl_(std::make_unique<Impl>()) {
+  Impl& d = *impl_;
+  if (files.atx.empty()) throw std::runtime_error("no ANTEX file given (antenna calibrations are required)");
+  ProductAssemblyInputs in;
+  if (files.obs_format == ObservationFormat::Rtcm3 || files.obs_format == ObservationFormat::Ubx) {
+    if (files.obs_format == ObservationFormat::Rtcm3) {
+      Rtcm3DecoderOptions rtcm_options;
+      rtcm_options.reference_time = files.rtcm_reference_time;
+      d.source = std::make_unique<RtcmObservationSource>(files.obs, rtcm_options);
+    } else {
+      d.source = std::make_unique<UbxObservationSource>(files.obs);
+    }
+    const RinexObsHeader& h = d.source->header();
+    if (h.time_of_first_obs) in.first = h.time_of_first_obs->time;
+    if (h.time_of_last_obs) in.last = h.time_of_last_obs->time;
+  } else {
+    d.source = std::make_unique<RinexObservationSource>(files.obs);
+    std::tie(in.first, in.last) = observationSpan(files.obs, files.window);
+  }
+  if (files.window.bounded()) {
+    d.source = std::make_unique<TimeWindowObservationSource>(std::move(d.source), files.window);
+    if (in.first && files.window.start && *in.first < *files.window.start) in.first = files.window.start;
+    if (in.last && files.window.end && *in.last >= *files.window.end) in.last = *files.window.end - 1e-3;
+  }
+  in.sp3 = files.sp3;
+  in.clk = files.clk;
+  in.nav = files.nav;
+  in.ssr = files.ssr;
+  in.ssr_reference = files.ssr_reference;
+  in.stream_reference_time = files.rtcm_reference_time;
+  in.check_products = files.check_products;
+  in.atx = files.atx;
+  in.bias = files.bias;
+  in.blq = files.blq;
+  d.assembly = ProductAssembly::assemble(in, config_);
+  const ProductAssembly& products = *d.assembly;
+  config_ = products.config();
+  const RinexObsHeader& h = d.source->header();
+  d.products = products.products(h.marker_name.empty() ? stationName() : h.marker_name);
+  d.load_notes = d.products.notes;
+  d.load_problems = products.problems();
+  if (files.bias && products.codeBiases()) d.bias_file_name = fileBaseName(*files.bias);
+  d.phase_biases = products.phaseBiases();
+  d.start(config_);
+}
+
+PppPipeline::PppPipeline(const PppInMemoryInputs& inputs, PppConfig config)
+    : config_(std::move(config)), impl_(std::make_unique<Impl>()) {
+  if (!inputs.header || !inputs.epochs || !inputs.products)
+    throw std::invalid_argument("in-memory pipeline inputs: header, epochs and products are required");
+  Impl& d = *impl_;
+  d.source = std::make_unique<InMemoryObservationSource>(*inputs.header, *inputs.epochs, inputs.name);
+  d.products.ephemeris = std::shared_ptr<const EphemerisSource>(std::shared_ptr<void>(), inputs.products);
+  if (!inputs.antex.empty()) d.products.antennas = std::make_shared<const AntexCalibrations>(inputs.antex);
+  d.load_notes.push_back("observations: " + inputs.name + " (in-process epochs)");
+  d.start(config_);
+  if (config_.ambiguity_resolution.enabled) {
+    if (inputs.phase_biases) {
+      d.load_notes.push_back("ambiguity resolution: " + inputs.phase_biases->describeSource());
+      d.phase_biases = inputs.phase_biases;
+      d.processor->setPhaseBiases(inputs.phase_biases);
+    } else {
+      d.load_notes.push_back("ambiguity resolution: no phase biases given: float");
+    }
+  }
+}
+
+PppPipeline::~PppPipeline() = default;
+
+const ProductAssembly* PppPipeline::productAssembly() const {
+  return impl_->assembly ? &*impl_->assembly : nullptr;
+}
+
+const RinexObsHeader& PppPipeline::header() const { return impl_->source->header(); }
+
+std::string PppPipeline::stationName() const {
+  std::string name = impl_->source->header().marker_name;
+  if (name.empty()) name = fileBaseName(impl_->source->name());
+  name = name.substr(0, std::min<std::size_t>(4, name.size()));
+  for (auto& c : name) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+  return name;
+}
+
+std::vector<std::string> PppPipeline::notes() const {
+  std::vector<std::string> n = impl_->load_notes;
+  for (const auto& s : impl_->processor->antennaSources()) n.push_back("antenna " + s);
+  for (const auto& w : impl_->processor->receiverAntennaWarnings()) n.push_back("warning: " + w);
+  for (const auto& w : impl_->processor->satelliteReferenceNotes()) n.push_back("warning: " + w);
+  return n;
+}
+
+const std::vector<std::string>& PppPipeline::receiverAntennaWarnings() const {
+  return impl_->processor->receiverAntennaWarnings();
+}
+
+double PppPipeline::progress() const { return impl_->source->progress(); }
+
+void PppPipeline::adoptEstimatorSystems(const EpochEstimator& estimator) {
+  // The estimator's state holds one clock per system: an estimator made from
+  // another configuration than config() (e.g. the caller's, before the products
+  // named the systems) processes its own systems, said in the notes.
+  const std::vector<GnssSystem> systems = estimator.core().layout().clockSystems();
+  if (systems == config_.signals.systems) return;
+  std::string names;
+  for (auto s : systems) names += (names.empty() ? "" : ", ") + std::string(systemName(s));
+  impl_->load_notes.push_back("systems: " + names + " (those of the estimator's state)");
+  config_.signals.systems = systems;
+  impl_->start(config_);
+}
+
+PppRunSummary PppPipeline::run(EpochEstimator& estimator, const EpochCallback& on_epoch) {
+  Impl& d = *impl_;
+  PppRunSummary summary;
+  std::optional<GnssTime> first_solved;  // for the time to first fix
+  summary.estimator = estimator.name();
+  if (d.ran) {
+    summary.problems.push_back("the pipeline has already run (the observation file is streamed once)");
+    return summary;
+  }
+  d.ran = true;
+  adoptEstimatorSystems(estimator);
+  summary.problems = d.load_problems;
+  // Satellites rejected, for naming those an input problem took out of the run.
+  std::map<SatelliteId, std::pair<std::size_t, std::string>> rejected_epochs;  // count, first reason
+  const auto wall_start = std::chrono::steady_clock::now();
+  const RinexObsHeader& header = d.source->header();
+  if (header.approx_position_ecef_m && header.approx_position_ecef_m->norm() > 1e6)
+    estimator.setApproximatePosition(*header.approx_position_ecef_m);
+
+  // Code-reference notes, merged over epochs: text before a trailing
+  // satellite list -> union of the satellites.
+  std::map<std::string, std::set<std::string>> code_notes;
+  std::map<SatelliteId, ResidualAccumulator> acc;
+  PppEpochProcessor& processor = *d.processor;
+  ObsEpoch epoch;
+  PppEpochRecord rec;
+  std::vector<std::string> selection_notes;
+
+  for (;;) {
+    const ObservationRead read = d.source->next(epoch);
+    if (read == ObservationRead::End) break;
+    if (read == ObservationRead::Error) {
+      const ObservationProblem e = d.source->error().value_or(ObservationProblem{d.source->name(), 0, "read error"});
+      throw ParseError(e.file, e.line, e.reason);
+    }
+    ++summary.epochs_read;
+    rec = processor.process(epoch, estimator, &selection_notes);
+    if (rec.refused) {
+      ++summary.epochs_refused;
+      summary.problems.push_back("epoch " + epoch.time.toString() + " refused: " + rec.reason);
+      if (on_epoch) on_epoch(rec);
+      continue;
+    }
+    if (rec.gap_s) ++summary.data_gaps;
+    for (const auto& n : selection_notes) {
+      const auto colon = n.rfind(": ");
+      std::istringstream sats(colon == std::string::npos ? std::string() : n.substr(colon + 2));
+      std::vector<std::string> tokens;
+      std::string tok;
+      bool all_sats = colon != std::string::npos;
+      while (sats >> tok) {
+        all_sats &= tok.size() == 3 && std::isalpha(static_cast<unsigned char>(tok[0])) &&
+                    std::isdigit(static_cast<unsigned char>(tok[1])) && std::isdigit(static_cast<unsigned char>(tok[2]));
+        tokens.push_back(tok);
+      }
+      if (all_sats && !tokens.empty()) {
+        code_notes[n.substr(0, colon)].insert(tokens.begin(), tokens.end());
+      } else {
+        code_notes[n];
+      }
+    }
+    summary.arcs += static_cast<std::size_t>(rec.new_arcs);
+    summary.slips += static_cast<std::size_t>(rec.slips);
+    for (const auto& x : rec.rejected)
+      if (x.stage == RejectionStage::Model) acc[x.satellite].rejections++;
+    switch (rec.status) {
+      case EpochStatus::Ok:
+        ++summary.epochs_solved;
+        if (!first_solved) first_solved = rec.solution.time;
+        if (rec.solution.status == SolutionStatus::PppFixed) {
+          ++summary.epochs_fixed;
+          if (!summary.time_to_first_fix_s) summary.time_to_first_fix_s = rec.solution.time - *first_solved;
+        }
+        break;
+      case EpochStatus::NoSolution: ++summary.epochs_no_solution; break;
+      case EpochStatus::Failed: ++summary.epochs_failed; break;
+    }
+    if (rec.status == EpochStatus::Ok && rec.solution.position_ecef_m) {
+      for (const auto& res : rec.residuals) {
+        auto& a = acc[res.satellite];
+        ++a.n;
+        a.code_sum += res.code_postfit_m;
+        a.code_sq += res.code_postfit_m * res.code_postfit_m;
+        a.phase_sum += res.phase_postfit_m;
+        a.phase_sq += res.phase_postfit_m * res.phase_postfit_m;
+        a.phase_max = std::max(a.phase_max, std::abs(res.phase_postfit_m));
+        a.el_min = std::min(a.el_min, res.elevation_rad * kRadToDeg);
+        a.el_max = std::max(a.el_max, res.elevation_rad * kRadToDeg);
+      }
+    }
+    for (const auto& x : rec.rejected) summary.rejection_counts[{x.stage, x.reason}]++;
+    for (const auto& x : rec.rejected) {
+      auto& r = rejected_epochs[x.satellite];
+      if (r.first++ == 0) r.second = x.text();
+    }
+    if (rec.status != EpochStatus::Ok) summary.no_solution_counts[rec.no_solution_reason]++;
+    if (rec.estimator_reset) ++summary.estimator_resets;
+    if (rec.solution.integrity == SolutionIntegrity::Inconsistent) ++summary.epochs_inconsistent;
+    if (on_epoch) on_epoch(rec);
+  }
+  estimator.arcsEnded(processor.finish());
+
+  for (const auto& p : d.source->problems())
+    summary.problems.push_back(p.file + " line " + std::to_string(p.line) + ": " + p.reason);
+  if (!summary.problems.empty()) {
+    // With input problems, name the satellites the run never used.
+    std::string dropped;
+    for (const auto& [sat, r] : rejected_epochs) {
+      auto it = acc.find(sat);
+      if (it != acc.end() && it->second.n > 0) continue;
+      dropped += (dropped.empty() ? "" : "; ") + sat.toString() + " (" + std::to_string(r.first) +
+                 " epoch(s), first: " + r.second + ")";
+    }
+    if (!dropped.empty()) summary.problems.push_back("satellites never used: " + dropped);
+  }
+  for (const auto& [sat, a] : acc) {
+    SatelliteResidualStatistics st;
+    st.satellite = sat;
+    st.count = a.n;
+    st.rejections = a.rejections;
+    if (a.n > 0) {
+      st.code_mean_m = a.code_sum / a.n;
+      st.code_rms_m = std::sqrt(a.code_sq / a.n);
+      st.phase_mean_m = a.phase_sum / a.n;
+      st.phase_rms_m = std::sqrt(a.phase_sq / a.n);
+      st.phase_max_abs_m = a.phase_max;
+      st.min_elevation_deg = a.el_min;
+      st.max_elevation_deg = a.el_max;
+    }
+    summary.residual_statistics.push_back(st);
+  }
+  summary.notes = notes();
+  for (const auto& [text, sats] : code_notes) {
+    std::string note = "code reference: " + text;
+    if (!sats.empty()) note += ":";
+    for (const auto& sat : sats) note += " " + sat;
+    summary.notes.push_back(note);
+  }
+  if (code_notes.empty() && d.products.biases)
+    summary.notes.push_back("code reference: codes aligned to the clock reference by the OSB of " +
+                            d.bias_file_name.value_or(d.products.biases->describeSource()));
+  summary.processing_time_s =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
+  return summary;
+}
+
+}  // namespace ppp
