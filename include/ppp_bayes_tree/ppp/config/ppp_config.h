@@ -28,6 +28,7 @@
 #include "ppp_bayes_tree/ppp/config/yaml_section.h"
 #include "ppp_bayes_tree/ppp/estimators/code_least_squares.h"
 #include "ppp_bayes_tree/ppp/estimators/ekf_options.h"
+#include "ppp_bayes_tree/ppp/estimators/estimator_options.h"
 #include "ppp_bayes_tree/ppp/estimators/smoother_options.h"
 #include "ppp_bayes_tree/ppp/model/stochastic_model.h"
 
@@ -59,6 +60,12 @@ struct PppConfig {
   /// strictly (ppp_bayes_tree/ros/node_options.h).
   YAML::Node ros = YAML::Node(YAML::NodeType::Map);
   std::string source_name = "<defaults>";  // the file it came from (for later error messages)
+
+  /// What an estimator is built from (EstimatorOptions: stochastic, estimator,
+  /// start, smoother, signals.systems, ambiguity_resolution). Implicit, so that an
+  /// estimator is made from the whole configuration as from its own options
+  /// (makeEstimator(name, config, &why), EkfEstimator(config)).
+  operator EstimatorOptions() const;
 };
 
 /// The method's configuration (config/method_table.yaml): the defaults with the

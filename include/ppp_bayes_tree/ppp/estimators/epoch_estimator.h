@@ -12,8 +12,8 @@
 #include <vector>
 
 #include "ppp_bayes_tree/ppp/ambiguity/ambiguity_resolution.h"
-#include "ppp_bayes_tree/ppp/config/ppp_config.h"
 #include "ppp_bayes_tree/ppp/estimators/ekf_ppp.h"
+#include "ppp_bayes_tree/ppp/estimators/estimator_options.h"
 #include "ppp_bayes_tree/ppp/estimators/ppp_estimator_base.h"
 #include "ppp_bayes_tree/ppp/estimators/ppp_smoother.h"
 #include "ppp_bayes_tree/ppp/estimators/smoothed_trajectory_provider.h"
@@ -60,7 +60,7 @@ class EpochEstimator {
 /// The forward EKF-PPP (EkfPpp) as an EpochEstimator: ended arcs lose their bias.
 class EkfEstimator : public EpochEstimator {
  public:
-  explicit EkfEstimator(const PppConfig& config);
+  explicit EkfEstimator(const EstimatorOptions& options);
   std::string name() const override { return "ekf"; }
   void setApproximatePosition(const Eigen::Vector3d& position_ecef_m) override {
     ekf_.setApproximatePosition(position_ecef_m);
@@ -88,7 +88,7 @@ class EkfEstimator : public EpochEstimator {
 /// solution of every solved epoch.
 class SmootherEstimator : public EpochEstimator {
  public:
-  explicit SmootherEstimator(const PppConfig& config);
+  explicit SmootherEstimator(const EstimatorOptions& options);
   std::string name() const override { return "smoother"; }
   void setApproximatePosition(const Eigen::Vector3d& position_ecef_m) override {
     smoother_.setApproximatePosition(position_ecef_m);
@@ -119,6 +119,6 @@ class SmootherEstimator : public EpochEstimator {
 
 /// Estimators by name, as registered in estimator_registry.h (others: nullptr,
 /// with `why` saying so).
-std::unique_ptr<EpochEstimator> makeEstimator(const std::string& name, const PppConfig& config, std::string* why);
+std::unique_ptr<EpochEstimator> makeEstimator(const std::string& name, const EstimatorOptions& options, std::string* why);
 
 }  // namespace ppp

@@ -23,7 +23,7 @@
 namespace ppp {
 
 class EpochEstimator;
-struct PppConfig;
+struct EstimatorOptions;
 
 /// The solutions an estimator gives.
 enum class EstimatorSolutions {
@@ -31,7 +31,7 @@ enum class EstimatorSolutions {
   FilteredAndSmoothed,  // the causal one and the smoothed trajectory (EpochEstimator::smoothing())
 };
 
-using EstimatorFactory = std::unique_ptr<EpochEstimator> (*)(const PppConfig& config);
+using EstimatorFactory = std::unique_ptr<EpochEstimator> (*)(const EstimatorOptions& options);
 
 struct EstimatorEntry {
   std::string_view name;         // "ekf": option value and file-name part (EpochEstimator::name())
@@ -46,8 +46,8 @@ struct EstimatorEntry {
 };
 
 // The factories of the registered estimators (epoch_estimator.cpp).
-std::unique_ptr<EpochEstimator> makeEkfEstimator(const PppConfig& config);
-std::unique_ptr<EpochEstimator> makeSmootherEstimator(const PppConfig& config);
+std::unique_ptr<EpochEstimator> makeEkfEstimator(const EstimatorOptions& options);
+std::unique_ptr<EpochEstimator> makeSmootherEstimator(const EstimatorOptions& options);
 
 /// Every estimator, in the order in which "both" runs them and tables list them.
 inline constexpr std::array<EstimatorEntry, 2> kEstimators{{

@@ -152,6 +152,17 @@ void rejectDuplicateKeys(const YAML::Node& node, const std::string& file, const 
 
 }  // namespace
 
+PppConfig::operator EstimatorOptions() const {
+  EstimatorOptions o;
+  o.stochastic = stochastic;
+  o.ekf = estimator;
+  o.start = start;
+  o.smoother = smoother;
+  o.systems = signals.systems;
+  o.ambiguity_resolution = ambiguity_resolution;
+  return o;
+}
+
 PppConfig methodTablePppConfig() {
   PppConfig c;
   c.stochastic = methodTableStochasticModel();

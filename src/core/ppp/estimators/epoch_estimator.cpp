@@ -6,9 +6,9 @@
 
 namespace ppp {
 
-EkfEstimator::EkfEstimator(const PppConfig& config)
-    : ekf_(config.stochastic, config.estimator, config.start, ReceiverStateLayout(config.signals.systems)),
-      ambiguity_(config.ambiguity_resolution) {}
+EkfEstimator::EkfEstimator(const EstimatorOptions& options)
+    : ekf_(options.stochastic, options.ekf, options.start, ReceiverStateLayout(options.systems)),
+      ambiguity_(options.ambiguity_resolution) {}
 
 namespace {
 
@@ -59,9 +59,9 @@ void EkfEstimator::arcsEnded(const std::vector<EndedArc>& ended) {
   ambiguity_.arcsEnded(ended);
 }
 
-SmootherEstimator::SmootherEstimator(const PppConfig& config)
-    : smoother_(config.stochastic, config.smoother, config.start, ReceiverStateLayout(config.signals.systems)),
-      ambiguity_(config.ambiguity_resolution) {}
+SmootherEstimator::SmootherEstimator(const EstimatorOptions& options)
+    : smoother_(options.stochastic, options.smoother, options.start, ReceiverStateLayout(options.systems)),
+      ambiguity_(options.ambiguity_resolution) {}
 
 EstimatorEpochResult SmootherEstimator::processEpoch(const EstimatorEpochInput& input) {
   if (input.ended_arcs) arcsEnded(*input.ended_arcs);
@@ -116,16 +116,16 @@ void SmootherEstimator::arcsEnded(const std::vector<EndedArc>& ended) {
   ambiguity_.arcsEnded(ended);
 }
 
-std::unique_ptr<EpochEstimator> makeEkfEstimator(const PppConfig& config) {
-  return std::make_unique<EkfEstimator>(config);
+std::unique_ptr<EpochEstimator> makeEkfEstimator(const EstimatorOptions& options) {
+  return std::make_unique<EkfEstimator>(options);
 }
 
-std::unique_ptr<EpochEstimator> makeSmootherEstimator(const PppConfig& config) {
-  return std::make_unique<SmootherEstimator>(config);
+std::unique_ptr<EpochEstimator> makeSmootherEstimator(const EstimatorOptions& options) {
+  return std::make_unique<SmootherEstimator>(options);
 }
 
-std::unique_ptr<EpochEstimator> makeEstimator(const std::string& name, const PppConfig& config, std::string* why) {
-  if (const EstimatorEntry* e = findEstimator(name)) return e->make(config);
+std::unique_ptr<EpochEstimator> makeEstimator(const std::string& name, const EstimatorOptions& options, std::string* why) {
+  if (const EstimatorEntry* e = findEstimator(name)) return e->make(options);
   if (why) {
     *why = name == kAllEstimators ? "estimator '" + name + "' is run by the caller as " +
                                         registeredEstimatorNames(" and ") + " (one pipeline each)"
