@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <string>
 
+#include "ppp_bayes_tree/app/inspection.h"
 #include "ppp_bayes_tree/io/rinex/hatanaka_decoder.h"
 #include "ppp_bayes_tree/io/rinex/rinex_obs_reader.h"
 #include "test_support.h"

@@ -27,4 +27,8 @@ class Inspection {
   std::vector<RinexClockFile> clocks_;
 };
 
+/// Summary of a RINEX observation file for ppp_inspect (streamed, in one pass
+/// with bounded memory: rinex_obs_summary.cpp).
+FileSummary summarizeObservationFile(const std::string& path);
+
 }  // namespace ppp

@@ -1,4 +1,6 @@
 // summarizeObservationFile: what ppp_inspect shows for a RINEX observation file.
+#include "ppp_bayes_tree/app/inspection.h"
+
 #include <algorithm>
 #include <cmath>
 #include <map>

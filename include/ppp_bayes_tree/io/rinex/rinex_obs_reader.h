@@ -14,7 +14,6 @@
 #include <string>
 #include <vector>
 
-#include "ppp_bayes_tree/io/file_summary.h"
 #include "ppp_bayes_tree/io/line_source.h"
 #include "ppp_bayes_tree/io/obs_epoch.h"
 #include "ppp_bayes_tree/io/parse_error.h"
@@ -75,8 +74,5 @@ class RinexObsReader {
   bool stream_error_reported_ = false;
   bool ended_ = false;
 };
-
-/// Summary of a RINEX observation file for ppp_inspect (streamed).
-FileSummary summarizeObservationFile(const std::string& path);
 
 }  // namespace ppp
