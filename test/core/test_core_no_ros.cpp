@@ -6,18 +6,38 @@
 // name under include/ppp_bayes_tree and src/core) includes only the folders
 // below it (README, "Layout"):
 //   types                         time, satellites, codes, frames, record data types
-//   io          -> types          readers and writers of the file formats
+//   io          -> types          readers and writers of the file formats (io/ itself: what
+//                                 every part shares: parse errors, fixed-width fields, line
+//                                 and bit readers, stream problems, the epoch-time screen)
 //   models      -> io             pure models and the product providers
 //   smoother    -> types          the generic incremental smoother (no GNSS)
 //   ppp         -> models, smoother   measurement model, estimators, pipeline
 //   simulation  -> ppp            the flight simulator
 //   evaluation  -> simulation     statistics, solution writers, Monte Carlo
-//   app         -> evaluation     ppp_solve's run, inspection, replay report
+//   app         -> evaluation     ppp_solve's run, inspection, replay report, the live input
 // ("->" includes everything below the named folders; tools and ros sit above app.)
+//
+// Inside io/ and ppp/ the named parts have a direction of their own:
+//   io/rinex      -> io                RINEX observation and navigation files, Hatanaka,
+//                                      the observation sources
+//   io/products   -> io                SP3, RINEX clock, ANTEX, Bias-SINEX, BLQ
+//   io/rtcm       -> io/rinex          RTCM 3 framing, MSM, ephemerides, SSR
+//   io/ubx        -> io/rtcm           u-blox UBX (its epochs become RTCM's stream epochs)
+//   io/transport  -> io/ubx            byte sources (file replay, NTRIP, TCP, serial),
+//                                      stream formats and the stream decoder of both
+//   ppp/model     -> models, smoother  signals, arcs, measurement model, state layout
+//   ppp/screening -> ppp/model         prefit and postfit screening
+//   ppp/ambiguity -> ppp/model         wide lane, LAMBDA, PPP-AR, product consistency
+//   ppp/estimators -> ppp/screening, ppp/ambiguity   EKF, smoother, the estimator interface
+//   ppp/config    -> ppp/estimators    PppConfig and its YAML binding
+//   ppp/pipeline  -> ppp/config        epoch processor, products, pipeline
+// A folder above io or ppp may include all of its parts (models: io/transport and
+// io/products; simulation: ppp/pipeline); a file directly in ppp/ has no part.
 #include <gtest/gtest.h>
 
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <map>
 #include <regex>
 #include <set>
@@ -102,10 +122,20 @@ const std::map<std::string, std::set<std::string>>& allowedIncludes() {
     const std::map<std::string, std::set<std::string>> direct{
         {"types", {}},
         {"io", {"types"}},
-        {"models", {"io"}},
+        {"io/rinex", {"io"}},
+        {"io/products", {"io"}},
+        {"io/rtcm", {"io/rinex"}},
+        {"io/ubx", {"io/rtcm"}},
+        {"io/transport", {"io/ubx"}},
+        {"models", {"io/transport", "io/products"}},
         {"smoother", {"types"}},
-        {"ppp", {"models", "smoother"}},
-        {"simulation", {"ppp"}},
+        {"ppp/model", {"models", "smoother"}},
+        {"ppp/screening", {"ppp/model"}},
+        {"ppp/ambiguity", {"ppp/model"}},
+        {"ppp/estimators", {"ppp/screening", "ppp/ambiguity"}},
+        {"ppp/config", {"ppp/estimators"}},
+        {"ppp/pipeline", {"ppp/config"}},
+        {"simulation", {"ppp/pipeline"}},
         {"evaluation", {"simulation"}},
         {"app", {"evaluation"}},
     };
@@ -125,7 +155,19 @@ const std::map<std::string, std::set<std::string>>& allowedIncludes() {
   return allowed;
 }
 
-const std::regex kProjectInclude(R"(^\s*#\s*include\s*"ppp_bayes_tree/([a-z_]+)/)");
+const std::regex kProjectInclude(R"(^\s*#\s*include\s*"ppp_bayes_tree/([a-z_]+)/(?:([a-z_]+)/)?)");
+
+/// The folders with named parts: their sub-folders are layers of their own.
+bool hasParts(const std::string& folder) { return folder == "io" || folder == "ppp"; }
+
+/// The layer of a file from its path below include/ppp_bayes_tree or src/core:
+/// "ppp/model" for ppp/model/x.h, "io" for io/x.h, "types" for types/x.h.
+std::string layerOf(const fs::path& relative) {
+  auto it = relative.begin();
+  const std::string top = it->string();
+  if (!hasParts(top) || std::distance(relative.begin(), relative.end()) < 3) return top;
+  return top + "/" + (++it)->string();
+}
 
 /// "file:line: folder includes X" for every include outside the allowed folders.
 std::vector<std::string> layeringViolations(const fs::path& file, const std::string& folder) {
@@ -139,7 +181,8 @@ std::vector<std::string> layeringViolations(const fs::path& file, const std::str
     ++n;
     std::smatch m;
     if (!std::regex_search(line, m, kProjectInclude)) continue;
-    const std::string target = m[1];
+    const std::string top = m[1];
+    const std::string target = hasParts(top) && m[2].matched ? top + "/" + m[2].str() : top;
     if (target == folder) continue;
     if (it == allowed.end() || !it->second.count(target))
       out.push_back(file.string() + ":" + std::to_string(n) + ": " + folder + " includes " + target);
@@ -157,33 +200,75 @@ TEST(CoreLayering, DetectorRecognisesUpwardIncludes) {
         << "#include \"ppp_bayes_tree/models/precise_ephemeris.h\"\n#include \"ppp_bayes_tree/ppp/estimators/ekf_ppp.h\"\n"
         << "  #  include \"ppp_bayes_tree/evaluation/monte_carlo.h\"\n";
   }
-  EXPECT_EQ(layeringViolations(tmp, "io").size(), 3u);      // models, ppp, evaluation
-  EXPECT_EQ(layeringViolations(tmp, "ppp").size(), 1u);     // evaluation
+  EXPECT_EQ(layeringViolations(tmp, "io/products").size(), 3u);  // models, ppp, evaluation
+  EXPECT_EQ(layeringViolations(tmp, "io").size(), 4u);           // and io/products: the base of io is below its parts
+  EXPECT_EQ(layeringViolations(tmp, "ppp/pipeline").size(), 1u);  // evaluation
   EXPECT_EQ(layeringViolations(tmp, "app").size(), 0u);
   EXPECT_EQ(layeringViolations(tmp, "smoother").size(), 4u);  // all but types
   EXPECT_EQ(layeringViolations(tmp, "unknown").size(), 5u);   // a new folder must be placed in the table
+  EXPECT_EQ(layeringViolations(tmp, "ppp").size(), 5u);       // a file directly in ppp/ belongs to no part
+  fs::remove(tmp);
+}
+
+TEST(CoreLayering, DetectorKnowsTheDirectionInsidePppAndIo) {
+  const fs::path tmp = fs::temp_directory_path() / "ppp_core_layering_parts_probe.h";
+  {
+    std::ofstream out(tmp);
+    out << "#include \"ppp_bayes_tree/ppp/model/arc_tracker.h\"\n"
+        << "#include \"ppp_bayes_tree/ppp/screening/prefit_screening.h\"\n"
+        << "#include \"ppp_bayes_tree/ppp/ambiguity/ambiguity_resolution.h\"\n"
+        << "#include \"ppp_bayes_tree/ppp/estimators/ekf_ppp.h\"\n"
+        << "#include \"ppp_bayes_tree/ppp/config/ppp_config.h\"\n"
+        << "#include \"ppp_bayes_tree/ppp/pipeline/ppp_pipeline.h\"\n"
+        << "#include \"ppp_bayes_tree/io/parse_error.h\"\n"
+        << "#include \"ppp_bayes_tree/io/rinex/rinex_obs_reader.h\"\n"
+        << "#include \"ppp_bayes_tree/io/products/sp3_reader.h\"\n"
+        << "#include \"ppp_bayes_tree/io/rtcm/rtcm3_decoder.h\"\n"
+        << "#include \"ppp_bayes_tree/io/ubx/ubx_decoder.h\"\n"
+        << "#include \"ppp_bayes_tree/io/transport/byte_source.h\"\n";
+  }
+  // An estimator including the configuration (as epoch_estimator.h once did) is refused.
+  const auto estimators = layeringViolations(tmp, "ppp/estimators");
+  ASSERT_EQ(estimators.size(), 2u);  // config, pipeline
+  EXPECT_NE(estimators[0].find("ppp/estimators includes ppp/config"), std::string::npos) << estimators[0];
+  EXPECT_NE(estimators[1].find("ppp/estimators includes ppp/pipeline"), std::string::npos) << estimators[1];
+  EXPECT_EQ(layeringViolations(tmp, "ppp/pipeline").size(), 0u);  // the top of ppp includes all of it and all of io
+  EXPECT_EQ(layeringViolations(tmp, "ppp/config").size(), 1u);    // pipeline
+  // screening and ambiguity sit side by side on the model: neither includes the other.
+  EXPECT_EQ(layeringViolations(tmp, "ppp/screening").size(), 4u);  // ambiguity, estimators, config, pipeline
+  EXPECT_EQ(layeringViolations(tmp, "ppp/ambiguity").size(), 4u);  // screening, estimators, config, pipeline
+  EXPECT_EQ(layeringViolations(tmp, "ppp/model").size(), 5u);        // every other part of ppp
+  // io: the base, then rinex and products side by side, rtcm, ubx, transport on top.
+  EXPECT_EQ(layeringViolations(tmp, "io").size(), 11u);            // everything but itself
+  EXPECT_EQ(layeringViolations(tmp, "io/rinex").size(), 10u);      // ppp (6), products, rtcm, ubx, transport
+  EXPECT_EQ(layeringViolations(tmp, "io/rtcm").size(), 9u);        // ppp (6), products, ubx, transport
+  EXPECT_EQ(layeringViolations(tmp, "io/transport").size(), 7u);   // ppp (6), products
+  EXPECT_EQ(layeringViolations(tmp, "models").size(), 6u);         // ppp (6): models see all of io
   fs::remove(tmp);
 }
 
 TEST(CoreLayering, EachFolderIncludesOnlyTheFoldersBelowIt) {
   const fs::path repo = PPP_REPO_DIR;
+  const auto& allowed = allowedIncludes();
   std::vector<std::string> hits;
-  std::set<std::string> folders;
+  std::set<std::string> layers;
   for (const fs::path root : {repo / "src" / "core", repo / "include" / "ppp_bayes_tree"}) {
     if (!fs::exists(root)) continue;
     for (const auto& dir : fs::directory_iterator(root)) {
       if (!dir.is_directory()) continue;
-      const std::string folder = dir.path().filename().string();
-      if (folder == "ros") continue;  // the ROS adapters sit above the core
-      folders.insert(folder);
+      if (dir.path().filename() == "ros") continue;  // the ROS adapters sit above the core
       for (const auto& entry : fs::recursive_directory_iterator(dir.path())) {
         if (!entry.is_regular_file()) continue;
-        auto v = layeringViolations(entry.path(), folder);
+        const std::string layer = layerOf(fs::relative(entry.path(), root));
+        layers.insert(layer);
+        if (!allowed.count(layer)) hits.push_back(entry.path().string() + ": in no layer of the table (" + layer + ")");
+        auto v = layeringViolations(entry.path(), layer);
         hits.insert(hits.end(), v.begin(), v.end());
       }
     }
   }
-  EXPECT_GE(folders.size(), 8u);
+  // Every layer of the table holds files: the six parts of ppp and the five of io.
+  for (const auto& [layer, below] : allowed) EXPECT_TRUE(layers.count(layer)) << "no file in " << layer;
   std::string all;
   for (const auto& h : hits) all += "\n  " + h;
   EXPECT_TRUE(hits.empty()) << "includes against the layering:" << all;
