@@ -84,6 +84,14 @@ std::vector<fs::path> coreFiles(const fs::path& repo) {
   return files;
 }
 
+/// A probe file of the given lines in the temporary folder (removed by the caller).
+fs::path writeProbe(const std::string& name, const std::vector<std::string>& lines) {
+  const fs::path path = fs::temp_directory_path() / name;
+  std::ofstream out(path);
+  for (const auto& line : lines) out << line << "\n";
+  return path;
+}
+
 }  // namespace
 
 TEST(CoreNoRos, DetectorRecognisesRosHeaders) {
@@ -193,13 +201,12 @@ std::vector<std::string> layeringViolations(const fs::path& file, const std::str
 }  // namespace
 
 TEST(CoreLayering, DetectorRecognisesUpwardIncludes) {
-  const fs::path tmp = fs::temp_directory_path() / "ppp_core_layering_probe.h";
-  {
-    std::ofstream out(tmp);
-    out << "#include \"ppp_bayes_tree/types/gnss_time.h\"\n#include \"ppp_bayes_tree/io/products/sp3_reader.h\"\n"
-        << "#include \"ppp_bayes_tree/models/precise_ephemeris.h\"\n#include \"ppp_bayes_tree/ppp/estimators/ekf_ppp.h\"\n"
-        << "  #  include \"ppp_bayes_tree/evaluation/monte_carlo.h\"\n";
-  }
+  const fs::path tmp = writeProbe("ppp_core_layering_probe.h",
+                                  {"#include \"ppp_bayes_tree/types/gnss_time.h\"",
+                                   "#include \"ppp_bayes_tree/io/products/sp3_reader.h\"",
+                                   "#include \"ppp_bayes_tree/models/precise_ephemeris.h\"",
+                                   "#include \"ppp_bayes_tree/ppp/estimators/ekf_ppp.h\"",
+                                   "  #  include \"ppp_bayes_tree/evaluation/monte_carlo.h\""});
   EXPECT_EQ(layeringViolations(tmp, "io/products").size(), 3u);  // models, ppp, evaluation
   EXPECT_EQ(layeringViolations(tmp, "io").size(), 4u);           // and io/products: the base of io is below its parts
   EXPECT_EQ(layeringViolations(tmp, "ppp/pipeline").size(), 1u);  // evaluation
@@ -211,22 +218,19 @@ TEST(CoreLayering, DetectorRecognisesUpwardIncludes) {
 }
 
 TEST(CoreLayering, DetectorKnowsTheDirectionInsidePppAndIo) {
-  const fs::path tmp = fs::temp_directory_path() / "ppp_core_layering_parts_probe.h";
-  {
-    std::ofstream out(tmp);
-    out << "#include \"ppp_bayes_tree/ppp/model/arc_tracker.h\"\n"
-        << "#include \"ppp_bayes_tree/ppp/screening/prefit_screening.h\"\n"
-        << "#include \"ppp_bayes_tree/ppp/ambiguity/ambiguity_resolution.h\"\n"
-        << "#include \"ppp_bayes_tree/ppp/estimators/ekf_ppp.h\"\n"
-        << "#include \"ppp_bayes_tree/ppp/config/ppp_config.h\"\n"
-        << "#include \"ppp_bayes_tree/ppp/pipeline/ppp_pipeline.h\"\n"
-        << "#include \"ppp_bayes_tree/io/parse_error.h\"\n"
-        << "#include \"ppp_bayes_tree/io/rinex/rinex_obs_reader.h\"\n"
-        << "#include \"ppp_bayes_tree/io/products/sp3_reader.h\"\n"
-        << "#include \"ppp_bayes_tree/io/rtcm/rtcm3_decoder.h\"\n"
-        << "#include \"ppp_bayes_tree/io/ubx/ubx_decoder.h\"\n"
-        << "#include \"ppp_bayes_tree/io/transport/byte_source.h\"\n";
-  }
+  const fs::path tmp = writeProbe("ppp_core_layering_parts_probe.h",
+                                  {"#include \"ppp_bayes_tree/ppp/model/arc_tracker.h\"",
+                                   "#include \"ppp_bayes_tree/ppp/screening/prefit_screening.h\"",
+                                   "#include \"ppp_bayes_tree/ppp/ambiguity/ambiguity_resolution.h\"",
+                                   "#include \"ppp_bayes_tree/ppp/estimators/ekf_ppp.h\"",
+                                   "#include \"ppp_bayes_tree/ppp/config/ppp_config.h\"",
+                                   "#include \"ppp_bayes_tree/ppp/pipeline/ppp_pipeline.h\"",
+                                   "#include \"ppp_bayes_tree/io/parse_error.h\"",
+                                   "#include \"ppp_bayes_tree/io/rinex/rinex_obs_reader.h\"",
+                                   "#include \"ppp_bayes_tree/io/products/sp3_reader.h\"",
+                                   "#include \"ppp_bayes_tree/io/rtcm/rtcm3_decoder.h\"",
+                                   "#include \"ppp_bayes_tree/io/ubx/ubx_decoder.h\"",
+                                   "#include \"ppp_bayes_tree/io/transport/byte_source.h\""});
   // An estimator including the configuration (as epoch_estimator.h once did) is refused.
   const auto estimators = layeringViolations(tmp, "ppp/estimators");
   ASSERT_EQ(estimators.size(), 2u);  // config, pipeline
