@@ -1,5 +1,5 @@
 // ppp_rtklib_inputs: writes what RTKLIB's rnx2rtkp needs for a precise-product
-// PPP run, from our own readers (see io/products/rtklib_inputs.h):
+// PPP run, from our own readers (see evaluation/rtklib_navigation.h and io/products/sp3_writer.h):
 //   ppp_rtklib_inputs nav OUT.nav CLOCK_FILE [CLOCK_FILE...]
 //       GPS RINEX 3 navigation file whose clock terms come from precise clocks.
 //   ppp_rtklib_inputs sp3 OUT.sp3 SP3_FILE
@@ -10,7 +10,8 @@
 #include <string>
 #include <vector>
 
-#include "ppp_bayes_tree/io/products/rtklib_inputs.h"
+#include "ppp_bayes_tree/evaluation/rtklib_navigation.h"
+#include "ppp_bayes_tree/io/products/sp3_writer.h"
 
 namespace {
 

@@ -4,7 +4,8 @@
 
 #include <cmath>
 
-#include "ppp_bayes_tree/io/products/rtklib_inputs.h"
+#include "ppp_bayes_tree/evaluation/rtklib_navigation.h"
+#include "ppp_bayes_tree/io/products/sp3_writer.h"
 #include "ppp_bayes_tree/io/rinex/rinex_nav_reader.h"
 #include "test_support.h"
 

@@ -7,7 +7,7 @@
 //  * RINEX clock 3.00 files, AS records only (Ray & Gurtner, "RINEX Extensions
 //    to Handle Clock Information" 3.00/3.02: A2,1X,A4,1X,I4,4(1X,I2),1X,F9.6,
 //    1X,I2,3X,E19.12);
-//  * SP3-c: the existing GPS-only SP3-c writer gpsOnlySp3 (io/products/rtklib_inputs.h);
+//  * SP3-c: the existing GPS-only SP3-c writer gpsOnlySp3 (io/products/sp3_writer.h);
 //  * truth CSV files (see writeSimulatedFlight).
 #include <ostream>
 #include <string>

@@ -7,7 +7,7 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "ppp_bayes_tree/io/products/rtklib_inputs.h"
+#include "ppp_bayes_tree/io/products/sp3_writer.h"
 #include "ppp_bayes_tree/types/constants.h"
 #include "ppp_bayes_tree/types/text_format.h"
 
