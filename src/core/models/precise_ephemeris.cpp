@@ -32,27 +32,29 @@ constexpr std::size_t kMaxWindowNodes = 30;
 /// Lagrange basis values w[j] = l_j(x) and derivatives dw[j] = l_j'(x) for the
 /// nodes tau[0..n-1] (distinct), n <= kMaxWindowNodes. Plain products: n is small
 /// (~10). Each factor (x - tau_m) / (tau_j - tau_m) is computed once and reused by
-/// every product that needs it (the same factors, multiplied in the same order).
+/// every product that needs it; the products of one j are formed side by side
+/// (independent chains the processor overlaps), each with its factors in the
+/// order of m. A skipped factor is a multiplication by exactly 1, so every value
+/// is the one of the plain nested loops, bit for bit.
 void lagrangeWeights(const double* tau, std::size_t n, double x, double* w, double* dw) {
-  double ratio[kMaxWindowNodes][kMaxWindowNodes];  // ratio[j][m] = (x - tau_m) / (tau_j - tau_m), m != j
+  double ratio[kMaxWindowNodes][kMaxWindowNodes];  // (x - tau_m) / (tau_j - tau_m); 1 on the diagonal
   for (std::size_t j = 0; j < n; ++j)
-    for (std::size_t m = 0; m < n; ++m)
-      if (m != j) ratio[j][m] = (x - tau[m]) / (tau[j] - tau[m]);
+    for (std::size_t m = 0; m < n; ++m) ratio[j][m] = m == j ? 1.0 : (x - tau[m]) / (tau[j] - tau[m]);
+  // w[j] = prod_{m != j} ratio[j][m]
+  for (std::size_t j = 0; j < n; ++j) w[j] = 1.0;
+  for (std::size_t m = 0; m < n; ++m)
+    for (std::size_t j = 0; j < n; ++j) w[j] *= ratio[j][m];
+  // l_j'(x) = sum_{k != j} [1/(tau_j - tau_k)] prod_{m != j,k} (x - tau_m)/(tau_j - tau_m)
+  double q[kMaxWindowNodes];
   for (std::size_t j = 0; j < n; ++j) {
-    double p = 1.0;
+    for (std::size_t k = 0; k < n; ++k) q[k] = k == j ? 0.0 : 1.0 / (tau[j] - tau[k]);
     for (std::size_t m = 0; m < n; ++m) {
-      if (m != j) p *= ratio[j][m];
+      const double r = ratio[j][m];
+      for (std::size_t k = 0; k < n; ++k) q[k] *= m == k ? 1.0 : r;
     }
-    w[j] = p;
-    // l_j'(x) = sum_k [1/(tau_j - tau_k)] prod_{m != j,k} (x - tau_m)/(tau_j - tau_m)
     double d = 0.0;
     for (std::size_t k = 0; k < n; ++k) {
-      if (k == j) continue;
-      double q = 1.0 / (tau[j] - tau[k]);
-      for (std::size_t m = 0; m < n; ++m) {
-        if (m != j && m != k) q *= ratio[j][m];
-      }
-      d += q;
+      if (k != j) d += q[k];
     }
     dw[j] = d;
   }
