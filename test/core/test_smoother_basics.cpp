@@ -2,6 +2,12 @@
 // the batch reference solver.
 #include <gtest/gtest.h>
 
+#include <cstring>
+#include <limits>
+#include <random>
+
+#include <Eigen/Cholesky>
+
 #include "core/smoother_test_util.h"
 #include "ppp_bayes_tree/smoother/between_factor.h"
 #include "ppp_bayes_tree/smoother/elimination.h"
@@ -13,6 +19,16 @@
 
 using namespace ppp::smoother;
 using namespace ppp::smoother::test;
+
+namespace {
+
+/// True when a and b hold the same bits (the sign of a zero included).
+bool sameBits(const Matrix& a, const Matrix& b) {
+  return a.rows() == b.rows() && a.cols() == b.cols() &&
+         std::memcmp(a.data(), b.data(), sizeof(double) * static_cast<std::size_t>(a.size())) == 0;
+}
+
+}  // namespace
 
 TEST(SmootherKey, SymbolForms) {
   const Key x = symbolKey('x', 42);
@@ -54,6 +70,25 @@ TEST(SmootherNoise, WhiteningMatchesMahalanobis) {
   EXPECT_NEAR(NoiseModel::isotropic(3, 2.0)->loss(e), 0.5 * e.squaredNorm() / 4.0, 1e-15);
   EXPECT_THROW(NoiseModel::sigmas(Eigen::Vector2d(1, 0)), std::invalid_argument);
   EXPECT_THROW(NoiseModel::covariance(-Eigen::Matrix2d::Identity()), std::invalid_argument);
+}
+
+TEST(SmootherNoise, WhitenInPlaceIsWhitenBitForBit) {
+  Eigen::Matrix3d p;
+  p << 4, 1, 0.5, 1, 2, 0.2, 0.5, 0.2, 1;
+  const Matrix h = Matrix::Random(3, 4);
+  const Vector e = Vector::Random(3);
+  for (const auto& model : {NoiseModel::covariance(p), NoiseModel::sigmas(Eigen::Vector3d(0.3, 2, 7))}) {
+    Vector e_in_place = e;
+    model->whitenInPlace(e_in_place);
+    EXPECT_TRUE(sameBits(e_in_place, model->whiten(e)));
+    Matrix h_in_place = h;
+    model->whitenInPlace(h_in_place);
+    Matrix h_by_column(3, 4);
+    for (int j = 0; j < 4; ++j) h_by_column.col(j) = model->whiten(h.col(j));
+    EXPECT_TRUE(sameBits(h_in_place, h_by_column));
+  }
+  Vector wrong = Vector::Ones(2);
+  EXPECT_THROW(NoiseModel::isotropic(3, 1.0)->whitenInPlace(wrong), std::invalid_argument);
 }
 
 TEST(SmootherNoise, RobustWeights) {
@@ -242,6 +277,34 @@ TEST(SmootherElimination, CholeskyAndQrAgreeAndMarginalIsSchurComplement) {
   JacobianFactor zero0({k0}, {Matrix::Zero(1, 2)}, Vector::Ones(1));
   EXPECT_THROW(eliminate({&zero0, &only12}, {k0}, {2}, {k1}, {1}, Factorization::Cholesky), IndeterminantSystemError);
   EXPECT_THROW(eliminate({&zero0, &only12}, {k0}, {2}, {k1}, {1}, Factorization::QR), IndeterminantSystemError);
+}
+
+TEST(SmootherElimination, UnitUpperTimesPermutationIsTheDenseProductBitForBit) {
+  // The pivoted LDL^T of augmented Schur complements, full rank and rank deficient,
+  // with zeros of both signs in U: the gather gives what U * (T I) gives, bit for bit.
+  std::mt19937 rng(11);
+  std::uniform_int_distribution<int> pick(0, 3);
+  for (int n : {1, 2, 3, 5, 8, 13, 24}) {
+    for (int rank : {n, std::max(1, n / 2)}) {
+      const Matrix a = Matrix::Random(rank, n);
+      const Eigen::LDLT<Matrix> ldlt(a.transpose() * a);
+      Matrix u = ldlt.matrixU();
+      for (int i = 0; i < n; ++i)
+        for (int j = i + 1; j < n; ++j)
+          if (pick(rng) == 0) u(i, j) = pick(rng) < 2 ? -0.0 : 0.0;
+      Matrix p = Matrix::Identity(n, n);
+      p = ldlt.transpositionsP() * p;
+      const Matrix dense = u * p;
+      EXPECT_TRUE(sameBits(unitUpperTimesPermutation(u, ldlt.transpositionsP()), dense)) << "n " << n << " rank " << rank;
+    }
+  }
+  // A non-finite entry: the dense product's NaNs (inf x 0) as well.
+  const Eigen::LDLT<Matrix> ldlt(Matrix::Identity(3, 3));
+  Matrix u = ldlt.matrixU();
+  u(0, 2) = std::numeric_limits<double>::infinity();
+  Matrix p = Matrix::Identity(3, 3);
+  p = ldlt.transpositionsP() * p;
+  EXPECT_TRUE(sameBits(unitUpperTimesPermutation(u, ldlt.transpositionsP()), u * p));
 }
 
 TEST(SmootherOrdering, ConstrainedKeysComeLast) {

@@ -102,34 +102,6 @@ std::string describe(const KeyVector& frontals) {
          " is not positive definite (under-constrained variable)";
 }
 
-/// U P for a unit upper triangular U and the permutation matrix P = T I of the
-/// transpositions T, as the dense product gives it, bit for bit, without its
-/// n^3 work: column j of U P is column k of U, where P(k, j) = 1. In the dense
-/// product every other term is an exact zero, so a nonzero entry comes out as it
-/// is; a zero entry comes out +0 whatever the sign of U's zero, because the term
-/// of U's diagonal (1 x 0 or 1 x 1) is among the summands. A non-finite U (no
-/// such shortcut: inf x 0) takes the dense product.
-Matrix unitUpperTimesPermutation(const Matrix& u, const Eigen::Transpositions<Eigen::Dynamic>& t) {
-  const Eigen::Index n = u.cols();
-  if (!u.allFinite()) {
-    Matrix p = Matrix::Identity(n, n);
-    p = t * p;
-    return u * p;
-  }
-  // (T x)(k) = x(pi(k)), so P(k, j) = 1 exactly when pi(k) = j.
-  Eigen::VectorXd index(n);
-  for (Eigen::Index k = 0; k < n; ++k) index(k) = static_cast<double>(k);
-  index = t * index;
-  std::vector<Eigen::Index> source_column(static_cast<std::size_t>(n));
-  for (Eigen::Index k = 0; k < n; ++k) source_column[static_cast<std::size_t>(index(k))] = k;
-  Matrix out(u.rows(), n);
-  for (Eigen::Index j = 0; j < n; ++j) {
-    const Eigen::Index k = source_column[static_cast<std::size_t>(j)];
-    for (Eigen::Index i = 0; i < u.rows(); ++i) out(i, j) = u(i, k) == 0.0 ? 0.0 : u(i, k);
-  }
-  return out;
-}
-
 EliminationResult eliminateCholesky(const Matrix& ab, const KeyVector& frontals,
                                     const std::vector<int>& fdims, const KeyVector& separator,
                                     const std::vector<int>& sdims, int nf, int ns) {
@@ -193,6 +165,33 @@ EliminationResult eliminateQr(Matrix& ab, const KeyVector& frontals, const std::
 }
 
 }  // namespace
+
+// Column j of U P is column k of U, where P(k, j) = 1. In the dense product every
+// other term is an exact zero, so a nonzero entry comes out as it is; a zero entry
+// comes out +0 whatever the sign of U's zero, because the term of U's unit diagonal
+// (1 x 0 or 1 x 1) is among the summands. A non-finite U (inf x 0 is no zero) takes
+// the dense product.
+Matrix unitUpperTimesPermutation(const Matrix& u, const Eigen::Transpositions<Eigen::Dynamic>& t) {
+  const Eigen::Index n = u.cols();
+  if (!u.allFinite()) {
+    Matrix p = Matrix::Identity(n, n);
+    p = t * p;
+    return u * p;
+  }
+  // (T x)(k) = x(pi(k)), so P(k, j) = 1 exactly when pi(k) = j.
+  Eigen::VectorXd index(n);
+  for (Eigen::Index k = 0; k < n; ++k) index(k) = static_cast<double>(k);
+  index = t * index;
+  std::vector<Eigen::Index> source_column(static_cast<std::size_t>(n));
+  for (Eigen::Index k = 0; k < n; ++k) source_column[static_cast<std::size_t>(index(k))] = k;
+  Matrix out(u.rows(), n);
+  for (Eigen::Index j = 0; j < n; ++j) {
+    const Eigen::Index k = source_column[static_cast<std::size_t>(j)];
+    for (Eigen::Index i = 0; i < u.rows(); ++i) out(i, j) = u(i, k) == 0.0 ? 0.0 : u(i, k);
+  }
+  return out;
+}
+
 
 EliminationResult eliminate(const std::vector<const JacobianFactor*>& factors,
                             const KeyVector& frontals, const std::vector<int>& frontal_dims,
