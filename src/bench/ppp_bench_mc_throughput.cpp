@@ -9,7 +9,7 @@
 //    run, and the smoother run with its smoothed solution (the batch solve of the
 //    fixed-lag smoother's factors), as runMonteCarloFlight runs them, without the
 //    study's bookkeeping (error, bias and held-integer records).
-// Asserts nothing.
+// Uses the allocator setting of the batch tools (app/allocator_tuning.h). Asserts nothing.
 // usage: ppp_bench_mc_throughput [--flights N=4] [--seed S=1] [--systems G|GE]
 #include <time.h>
 
@@ -17,6 +17,7 @@
 #include <cstdlib>
 #include <string>
 
+#include "ppp_bayes_tree/app/allocator_tuning.h"
 #include "ppp_bayes_tree/evaluation/monte_carlo.h"
 #include "ppp_bayes_tree/ppp/epoch_estimator.h"
 #include "ppp_bayes_tree/ppp/ppp_pipeline.h"
@@ -86,6 +87,7 @@ int usage() {
 }  // namespace
 
 int main(int argc, char** argv) {
+  ppp::useAllocatorWithoutFastBins();  // app/allocator_tuning.h
   MonteCarloOptions o;
   o.flights = 4;
   o.smoother_filtered_lag_s = 60.0;  // ppp_monte_carlo's default

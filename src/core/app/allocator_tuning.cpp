@@ -1,0 +1,17 @@
+#include "ppp_bayes_tree/app/allocator_tuning.h"
+
+#if defined(__GLIBC__)
+#include <malloc.h>
+#endif
+
+namespace ppp {
+
+bool useAllocatorWithoutFastBins() {
+#if defined(__GLIBC__)
+  return mallopt(M_MXFAST, 0) == 1;
+#else
+  return false;
+#endif
+}
+
+}  // namespace ppp
