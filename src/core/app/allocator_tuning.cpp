@@ -1,5 +1,7 @@
 #include "ppp_bayes_tree/app/allocator_tuning.h"
 
+#include <cstdlib>  // defines __GLIBC__ with the GNU C library
+
 #if defined(__GLIBC__)
 #include <malloc.h>
 #endif
