@@ -31,11 +31,11 @@ constexpr std::size_t kMaxWindowNodes = 30;
 
 /// Lagrange basis values w[j] = l_j(x) and derivatives dw[j] = l_j'(x) for the
 /// nodes tau[0..n-1] (distinct), n <= kMaxWindowNodes. Plain products: n is small
-/// (~10). Each factor (x - tau_m) / (tau_j - tau_m) is computed once and reused by
-/// every product that needs it; the products of one j are formed side by side
-/// (independent chains the processor overlaps), each with its factors in the
-/// order of m. A skipped factor is a multiplication by exactly 1, so every value
-/// is the one of the plain nested loops, bit for bit.
+/// (~10). Each factor (x - tau_m) / (tau_j - tau_m) and 1 / (tau_j - tau_k) is
+/// computed once and reused by every product that needs it; the products of one j
+/// are formed side by side (independent chains the processor overlaps), each with
+/// its factors in the order of m. A skipped factor is a multiplication by exactly 1
+/// or none, so every value is the one of the plain nested loops, bit for bit.
 void lagrangeWeights(const double* tau, std::size_t n, double x, double* w, double* dw) {
   double ratio[kMaxWindowNodes][kMaxWindowNodes];  // (x - tau_m) / (tau_j - tau_m); 1 on the diagonal
   for (std::size_t j = 0; j < n; ++j)
@@ -44,13 +44,21 @@ void lagrangeWeights(const double* tau, std::size_t n, double x, double* w, doub
   for (std::size_t j = 0; j < n; ++j) w[j] = 1.0;
   for (std::size_t m = 0; m < n; ++m)
     for (std::size_t j = 0; j < n; ++j) w[j] *= ratio[j][m];
-  // l_j'(x) = sum_{k != j} [1/(tau_j - tau_k)] prod_{m != j,k} (x - tau_m)/(tau_j - tau_m)
+  // l_j'(x) = sum_{k != j} [1/(tau_j - tau_k)] prod_{m != j,k} (x - tau_m)/(tau_j - tau_m);
+  // 1/(tau_k - tau_j) = -1/(tau_j - tau_k) exactly (a - b = -(b - a) in floating point).
+  double inverse[kMaxWindowNodes][kMaxWindowNodes];
+  for (std::size_t j = 0; j < n; ++j)
+    for (std::size_t k = j + 1; k < n; ++k) {
+      inverse[j][k] = 1.0 / (tau[j] - tau[k]);
+      inverse[k][j] = -inverse[j][k];
+    }
   double q[kMaxWindowNodes];
   for (std::size_t j = 0; j < n; ++j) {
-    for (std::size_t k = 0; k < n; ++k) q[k] = k == j ? 0.0 : 1.0 / (tau[j] - tau[k]);
+    for (std::size_t k = 0; k < n; ++k) q[k] = k == j ? 0.0 : inverse[j][k];
     for (std::size_t m = 0; m < n; ++m) {
       const double r = ratio[j][m];
-      for (std::size_t k = 0; k < n; ++k) q[k] *= m == k ? 1.0 : r;
+      for (std::size_t k = 0; k < m; ++k) q[k] *= r;  // every k but m
+      for (std::size_t k = m + 1; k < n; ++k) q[k] *= r;
     }
     double d = 0.0;
     for (std::size_t k = 0; k < n; ++k) {
