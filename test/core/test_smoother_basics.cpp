@@ -188,6 +188,33 @@ class MixedTypesFactor : public NoiseModelFactorN<Eigen::Vector3d, double, Vecto
 
 }  // namespace
 
+TEST(SmootherFactors, RelinearizeIntoOldStorageEqualsAFreshLinearizationBitForBit) {
+  // A robust between factor (full noise model: whitening by a product, then the IRLS
+  // scale), linearized at one point, then relinearized at another into the first
+  // linearization's storage: the same object comes back, with exactly the numbers of a
+  // fresh linearization at the second point.
+  const Key a = symbolKey('x', 0), b = symbolKey('x', 1);
+  Matrix cov(3, 3);
+  cov << 2.0, 0.3, 0.1, 0.3, 1.5, -0.2, 0.1, -0.2, 0.8;
+  const auto noise = NoiseModel::covariance(cov)->withRobust({RobustKernel::Type::Huber, 1.345});
+  const BetweenFactor f(a, b, (Vector(3) << 0.1, -0.2, 0.3).finished(), noise);
+  Values v1, v2;
+  v1.insert(a, (Vector(3) << 1.0, 2.0, 3.0).finished());
+  v1.insert(b, (Vector(3) << 1.5, 1.0, 7.0).finished());
+  v2.insert(a, (Vector(3) << -4.0, 0.5, 2.0).finished());
+  v2.insert(b, (Vector(3) << 3.0, 2.5, -1.0).finished());
+  auto storage = std::const_pointer_cast<JacobianFactor>(f.relinearize(v1, nullptr));
+  const JacobianFactor* first = storage.get();
+  const auto refilled = f.relinearize(v2, std::move(storage));
+  const auto fresh = f.linearize(v2);
+  EXPECT_EQ(refilled.get(), first);
+  EXPECT_EQ(refilled->keys(), fresh->keys());
+  ASSERT_EQ(refilled->blocks().size(), 2u);
+  for (std::size_t j = 0; j < 2; ++j) EXPECT_TRUE(sameBits(refilled->block(j), fresh->block(j))) << j;
+  EXPECT_TRUE(sameBits(refilled->b(), fresh->b()));
+  EXPECT_FALSE(sameBits(refilled->b(), f.linearize(v1)->b()));  // the point did change
+}
+
 TEST(SmootherFactors, TypedBaseLooksUpConvertsAndLinearizes) {
   const Key p = symbolKey('p', 0), s = symbolKey('b', "G05", 1), d = symbolKey('d', 0);
   const Eigen::Vector3d pv(1.5, -2.0, 0.25);

@@ -77,6 +77,9 @@ class ISAM2 {
   struct FactorSlot {
     NonlinearFactor::Ptr factor;
     JacobianFactor::Ptr linear;  // at theta, valid when cached
+    /// The invalidated linearization's storage, refilled by the next one (when nobody
+    /// else held it); null otherwise.
+    std::shared_ptr<JacobianFactor> spare;
   };
   using KeySet = std::unordered_set<Key>;
 

@@ -223,6 +223,9 @@ void ISAM2::relinearize(const KeySet& relin_keys, KeySet& affected, ISAM2Result&
     for (FactorIndex i : variable_index_[k]) {
       FactorSlot& slot = factors_.at(i);
       if (slot.linear) {  // linearized before (not new) and not yet counted in this update
+        // Sole owner: keep the storage for the relinearization (the object was created
+        // non-const by NonlinearFactor::relinearize, so writing to it is sound).
+        if (slot.linear.use_count() == 1) slot.spare = std::const_pointer_cast<JacobianFactor>(slot.linear);
         slot.linear.reset();
         ++result.factors_relinearized;
       }
@@ -234,7 +237,8 @@ void ISAM2::relinearize(const KeySet& relin_keys, KeySet& affected, ISAM2Result&
 
 const JacobianFactor& ISAM2::linearFactor(FactorIndex index) {
   FactorSlot& slot = factors_.at(index);
-  if (!slot.linear || !params_.cache_linearized_factors) slot.linear = slot.factor->linearize(theta_);
+  if (!slot.linear || !params_.cache_linearized_factors)
+    slot.linear = slot.factor->relinearize(theta_, std::move(slot.spare));
   return *slot.linear;
 }
 
