@@ -306,6 +306,37 @@ TEST(SmootherElimination, CholeskyAndQrAgreeAndMarginalIsSchurComplement) {
   EXPECT_THROW(eliminate({&zero0, &only12}, {k0}, {2}, {k1}, {1}, Factorization::QR), IndeterminantSystemError);
 }
 
+TEST(SmootherElimination, AReusedWorkspaceGivesTheSameResultBitForBit) {
+  // One workspace through eliminations of different sizes (a large one first, so the
+  // later ones run on buffers holding old numbers, then a larger one that grows them),
+  // with both factorizations: conditional and marginal equal those of a fresh
+  // elimination bit for bit.
+  const Key k0 = symbolKey('x', 0), k1 = symbolKey('x', 1), k2 = symbolKey('x', 2);
+  const auto factors = [&](int rows) {
+    std::vector<JacobianFactor> fs;
+    fs.emplace_back(KeyVector{k0, k1}, std::vector<Matrix>{Matrix::Random(rows, 2), Matrix::Random(rows, 1)},
+                    Vector::Random(rows));
+    fs.emplace_back(KeyVector{k0, k2}, std::vector<Matrix>{Matrix::Random(rows + 1, 2), Matrix::Random(rows + 1, 3)},
+                    Vector::Random(rows + 1));
+    return fs;
+  };
+  EliminationWorkspace workspace;
+  for (auto method : {Factorization::Cholesky, Factorization::QR})
+    for (int rows : {9, 3, 4, 12}) {
+      const std::vector<JacobianFactor> fs = factors(rows);
+      const std::vector<const JacobianFactor*> ptrs{&fs[0], &fs[1]};
+      const auto fresh = eliminate(ptrs, {k0}, {2}, {k1, k2}, {1, 3}, method);
+      const auto reused = eliminate(ptrs, {k0}, {2}, {k1, k2}, {1, 3}, method, &workspace);
+      EXPECT_TRUE(sameBits(reused.conditional.R(), fresh.conditional.R())) << rows;
+      EXPECT_TRUE(sameBits(reused.conditional.d(), fresh.conditional.d())) << rows;
+      for (std::size_t j = 0; j < 2; ++j) {
+        EXPECT_TRUE(sameBits(reused.conditional.S()[j], fresh.conditional.S()[j])) << rows;
+        EXPECT_TRUE(sameBits(reused.marginal->block(j), fresh.marginal->block(j))) << rows;
+      }
+      EXPECT_TRUE(sameBits(reused.marginal->b(), fresh.marginal->b())) << rows;
+    }
+}
+
 TEST(SmootherElimination, UnitUpperTimesPermutationIsTheDenseProductBitForBit) {
   // The pivoted LDL^T of augmented Schur complements, full rank and rank deficient,
   // with zeros of both signs in U: the gather gives what U * (T I) gives, bit for bit.

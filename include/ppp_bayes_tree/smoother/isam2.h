@@ -9,6 +9,7 @@
 #include <unordered_set>
 
 #include "ppp_bayes_tree/smoother/bayes_tree.h"
+#include "ppp_bayes_tree/smoother/elimination.h"
 #include "ppp_bayes_tree/smoother/isam2_params.h"
 #include "ppp_bayes_tree/smoother/isam2_result.h"
 #include "ppp_bayes_tree/smoother/nonlinear_factor.h"
@@ -110,6 +111,7 @@ class ISAM2 {
   void eraseVariable(Key key);
 
   ISAM2Params params_;
+  EliminationWorkspace workspace_;  // scratch of the clique eliminations
   Values theta_;
   Values delta_;
   BayesTree tree_;

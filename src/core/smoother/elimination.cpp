@@ -46,12 +46,16 @@ Layout makeLayout(const KeyVector& frontals, const std::vector<int>& fdims,
   return l;
 }
 
-// Stacks the factors into one dense [A | b].
-Matrix stack(const std::vector<const JacobianFactor*>& factors, const Layout& l) {
+using MatrixMap = EliminationWorkspace::MatrixMap;
+
+// Stacks the factors into one dense [A | b], on the workspace's buffer.
+MatrixMap stack(const std::vector<const JacobianFactor*>& factors, const Layout& l,
+                EliminationWorkspace& workspace) {
   int rows = 0;
   for (const auto* f : factors) rows += f->rows();
   const int n = l.nf + l.ns;
-  Matrix ab = Matrix::Zero(rows, n + 1);
+  MatrixMap ab = workspace.stacked(rows, n + 1);
+  ab.setZero();
   int r = 0;
   for (const auto* f : factors) {
     for (std::size_t j = 0; j < f->keys().size(); ++j) {
@@ -102,11 +106,23 @@ std::string describe(const KeyVector& frontals) {
          " is not positive definite (under-constrained variable)";
 }
 
-EliminationResult eliminateCholesky(const Matrix& ab, const KeyVector& frontals,
+// m = (m + m^T) / 2 in place, entry by entry as the dense expression 0.5 * (m + m^T)
+// computes it (the two sums of a pair are the same sum), without its temporary.
+void symmetrizeInPlace(Matrix& m) {
+  for (Eigen::Index j = 0; j < m.cols(); ++j)
+    for (Eigen::Index i = 0; i <= j; ++i) {
+      const double v = 0.5 * (m(i, j) + m(j, i));
+      m(i, j) = v;
+      m(j, i) = v;
+    }
+}
+
+EliminationResult eliminateCholesky(const MatrixMap& ab, const KeyVector& frontals,
                                     const std::vector<int>& fdims, const KeyVector& separator,
-                                    const std::vector<int>& sdims, int nf, int ns) {
+                                    const std::vector<int>& sdims, int nf, int ns,
+                                    EliminationWorkspace& workspace) {
   const int n1 = nf + ns + 1;
-  Matrix h(n1, n1);
+  MatrixMap h = workspace.information(n1, n1);
   h.setZero();
   h.selfadjointView<Eigen::Lower>().rankUpdate(ab.transpose());
   h.triangularView<Eigen::StrictlyUpper>() = h.transpose();
@@ -127,7 +143,7 @@ EliminationResult eliminateCholesky(const Matrix& ab, const KeyVector& frontals,
   const Matrix t = top.rightCols(ns + 1);
   Matrix schur = h.bottomRightCorner(ns + 1, ns + 1);
   schur.noalias() -= t.transpose() * t;
-  schur = 0.5 * (schur + schur.transpose()).eval();
+  symmetrizeInPlace(schur);
   Eigen::LDLT<Matrix> ldlt(schur);
   const Eigen::VectorXd dvec = ldlt.vectorD();
   const double dmax = std::max(dvec.maxCoeff(), 0.0);
@@ -142,7 +158,7 @@ EliminationResult eliminateCholesky(const Matrix& ab, const KeyVector& frontals,
   return out;
 }
 
-EliminationResult eliminateQr(Matrix& ab, const KeyVector& frontals, const std::vector<int>& fdims,
+EliminationResult eliminateQr(MatrixMap& ab, const KeyVector& frontals, const std::vector<int>& fdims,
                               const KeyVector& separator, const std::vector<int>& sdims, int nf,
                               int ns) {
   const int m = static_cast<int>(ab.rows());
@@ -193,18 +209,29 @@ Matrix unitUpperTimesPermutation(const Matrix& u, const Eigen::Transpositions<Ei
 }
 
 
+EliminationWorkspace::MatrixMap EliminationWorkspace::map(Buffer& buffer, Eigen::Index rows, Eigen::Index cols) {
+  const auto size = static_cast<std::size_t>(rows * cols);
+  if (buffer.size() < size) {
+    buffer.clear();  // nothing to keep: grown without copying the old contents
+    buffer.resize(size);
+  }
+  return MatrixMap(buffer.data(), rows, cols);
+}
+
 EliminationResult eliminate(const std::vector<const JacobianFactor*>& factors,
                             const KeyVector& frontals, const std::vector<int>& frontal_dims,
                             const KeyVector& separator, const std::vector<int>& separator_dims,
-                            Factorization method) {
+                            Factorization method, EliminationWorkspace* workspace) {
   if (frontals.empty()) throw std::invalid_argument("eliminate: no frontal variables");
   if (frontals.size() != frontal_dims.size() || separator.size() != separator_dims.size())
     throw std::invalid_argument("eliminate: keys/dims size mismatch");
   const Layout l = makeLayout(frontals, frontal_dims, separator, separator_dims);
-  Matrix ab = stack(factors, l);
+  EliminationWorkspace local;
+  EliminationWorkspace& ws = workspace ? *workspace : local;
+  MatrixMap ab = stack(factors, l, ws);
   if (method == Factorization::QR)
     return eliminateQr(ab, frontals, frontal_dims, separator, separator_dims, l.nf, l.ns);
-  return eliminateCholesky(ab, frontals, frontal_dims, separator, separator_dims, l.nf, l.ns);
+  return eliminateCholesky(ab, frontals, frontal_dims, separator, separator_dims, l.nf, l.ns, ws);
 }
 
 }  // namespace ppp::smoother

@@ -441,7 +441,7 @@ std::vector<Clique*> ISAM2::reeliminateTop(const Top& top, const ISAM2UpdatePara
     for (int o : s.orphans) gathered.push_back(orphans[o]->cached_marginal.get());
     for (int ch : new_children[c]) gathered.push_back(cliques[ch]->cached_marginal.get());
     EliminationResult er = eliminate(gathered, clique->frontals, fdims, clique->separator, sdims,
-                                     params_.factorization);
+                                     params_.factorization, &workspace_);
     clique->conditional = std::move(er.conditional);
     clique->cached_marginal = std::move(er.marginal);
     clique->factor_indices = s.factors;
