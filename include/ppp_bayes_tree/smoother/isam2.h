@@ -104,8 +104,8 @@ class ISAM2 {
   Top removeTop(const KeySet& affected, ISAM2Result& result);
   /// Step 4: returns the new cliques.
   std::vector<Clique*> reeliminateTop(const Top& top, const ISAM2UpdateParams& up, ISAM2Result& result);
-  /// Step 5.
-  void backSubstitute(const std::unordered_set<const Clique*>& new_cliques, ISAM2Result& result);
+  /// Step 5; `new_cliques` (the re-eliminated ones) sorted by address.
+  void backSubstitute(const std::vector<const Clique*>& new_cliques, ISAM2Result& result);
 
   const JacobianFactor& linearFactor(FactorIndex index);
   void eraseVariable(Key key);

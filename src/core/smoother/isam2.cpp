@@ -67,7 +67,9 @@ ISAM2Result ISAM2::update(const NonlinearFactorGraph& new_factors, const Values&
 
   // ---- 5. Back-substitution (Alg. 7), partial ("wildfire") when enabled.
   t = Clock::now();
-  backSubstitute(std::unordered_set<const Clique*>(created.begin(), created.end()), result);
+  std::vector<const Clique*> created_sorted(created.begin(), created.end());
+  std::sort(created_sorted.begin(), created_sorted.end());
+  backSubstitute(created_sorted, result);
   result.step_time_s[ISAM2Result::kBackSubstitute] = secondsSince(t);
   result.total_time_s = secondsSince(t_start);
   return result;
@@ -320,10 +322,10 @@ std::vector<Clique*> ISAM2::reeliminateTop(const Top& top, const ISAM2UpdatePara
   for (const auto& [k, g] : raw)
     groups[k] = static_cast<int>(std::lower_bound(levels.begin(), levels.end(), g) - levels.begin());
   const int newest_group = levels.back() == kNewest ? static_cast<int>(levels.size()) - 1 : -1;
-  std::vector<KeyVector> pattern;
+  std::vector<const KeyVector*> pattern;
   pattern.reserve(top_factors.size() + orphans.size());
-  for (FactorIndex i : top_factors) pattern.push_back(factors_.at(i).factor->keys());
-  for (const auto& o : orphans) pattern.push_back(o->separator);
+  for (FactorIndex i : top_factors) pattern.push_back(&factors_.at(i).factor->keys());
+  for (const auto& o : orphans) pattern.push_back(&o->separator);
   const Ordering ordering = computeOrdering(pattern, top_keys, &groups);
   std::unordered_map<Key, int> pos;
   pos.reserve(n);
@@ -469,7 +471,7 @@ std::vector<Clique*> ISAM2::reeliminateTop(const Top& top, const ISAM2UpdatePara
 
 // ---------------------------------------------------------------------------
 // Step 5
-void ISAM2::backSubstitute(const std::unordered_set<const Clique*>& new_cliques, ISAM2Result& result) {
+void ISAM2::backSubstitute(const std::vector<const Clique*>& new_cliques, ISAM2Result& result) {
   // Alg. 7: top-down; a clique is solved again when it was re-eliminated or when one of its
   // separator variables differs by more than the threshold from its value when the clique
   // was last solved (not merely since the last update: steps below the threshold would
@@ -491,7 +493,7 @@ void ISAM2::backSubstitute(const std::unordered_set<const Clique*>& new_cliques,
       sep.segment(n, d.size()) = d;
       n += static_cast<int>(d.size());
     }
-    bool recompute = !wildfire || new_cliques.count(c) != 0 || c->solved_separator_delta.size() != n;
+    bool recompute = !wildfire || std::binary_search(new_cliques.begin(), new_cliques.end(), c) || c->solved_separator_delta.size() != n;
     if (!recompute && n > 0) recompute = (sep - c->solved_separator_delta).cwiseAbs().maxCoeff() > threshold;
     if (!recompute) continue;
     const Vector x = c->conditional.solve(delta_);
