@@ -101,6 +101,31 @@ JacobianFactor::Ptr makeMarginal(const Matrix& rows, const KeyVector& separator,
   return std::make_shared<JacobianFactor>(separator, std::move(blocks), rows.col(n));
 }
 
+// Marginal factor on the separator whose row i is sqrt(d(keep[i])) times row keep[i] of
+// [A_s | b_s] (the same products as scaling those rows first), written straight into
+// the factor's blocks.
+JacobianFactor::Ptr scaledRowsMarginal(const Matrix& rows, const Eigen::VectorXd& d,
+                                       const std::vector<int>& keep, const KeyVector& separator,
+                                       const std::vector<int>& sdims) {
+  const auto m = static_cast<Eigen::Index>(keep.size());
+  std::vector<double> scale(keep.size());
+  for (std::size_t i = 0; i < keep.size(); ++i) scale[i] = std::sqrt(d[keep[i]]);
+  const auto scaled = [&](Eigen::Index col, Eigen::Index width) {
+    Matrix out(m, width);
+    for (Eigen::Index c = 0; c < width; ++c)
+      for (Eigen::Index i = 0; i < m; ++i) out(i, c) = scale[static_cast<std::size_t>(i)] * rows(keep[i], col + c);
+    return out;
+  };
+  std::vector<Matrix> blocks;
+  blocks.reserve(sdims.size());
+  Eigen::Index off = 0;
+  for (int dim : sdims) {
+    blocks.push_back(scaled(off, dim));
+    off += dim;
+  }
+  return std::make_shared<JacobianFactor>(separator, std::move(blocks), Vector(scaled(off, 1)));
+}
+
 std::string describe(const KeyVector& frontals) {
   return "eliminate: frontal block of " + keysToString(frontals) +
          " is not positive definite (under-constrained variable)";
@@ -151,10 +176,7 @@ EliminationResult eliminateCholesky(const MatrixMap& ab, const KeyVector& fronta
   std::vector<int> keep;
   for (int i = 0; i < dvec.size(); ++i)
     if (dvec[i] > 1e-14 * dmax && dvec[i] > 0) keep.push_back(i);
-  Matrix rows(static_cast<int>(keep.size()), ns + 1);
-  for (std::size_t i = 0; i < keep.size(); ++i)
-    rows.row(static_cast<int>(i)) = std::sqrt(dvec[keep[i]]) * lt_p.row(keep[i]);
-  out.marginal = makeMarginal(rows, separator, sdims);
+  out.marginal = scaledRowsMarginal(lt_p, dvec, keep, separator, sdims);
   return out;
 }
 
