@@ -330,6 +330,8 @@ std::vector<Clique*> ISAM2::reeliminateTop(const Top& top, const ISAM2UpdatePara
   std::unordered_map<Key, int> pos;
   pos.reserve(n);
   for (int i = 0; i < n; ++i) pos[ordering[i]] = i;
+  std::vector<int> group_at(n);  // constraint group of the variable at each position
+  for (int i = 0; i < n; ++i) group_at[i] = groups.at(ordering[i]);
   auto lowest = [&](const KeyVector& keys) {
     int best = n;
     for (Key k : keys) {
@@ -354,10 +356,15 @@ std::vector<Clique*> ISAM2::reeliminateTop(const Top& top, const ISAM2UpdatePara
   };
   std::vector<Sym> sym;
   std::vector<std::vector<FactorIndex>> factors_at(n);
+  std::vector<std::vector<const KeyVector*>> factor_keys_at(n);  // their keys, same order
   std::vector<std::vector<int>> orphans_at(n);
   std::vector<std::vector<int>> children_at(n);  // cliques whose separator starts at var i
   std::vector<int> var_clique(n, -1);
-  for (FactorIndex i : top_factors) factors_at[lowest(factors_.at(i).factor->keys())].push_back(i);
+  for (std::size_t j = 0; j < top_factors.size(); ++j) {
+    const int at = lowest(*pattern[j]);  // pattern[j]: the keys of top_factors[j]
+    factors_at[at].push_back(top_factors[j]);
+    factor_keys_at[at].push_back(pattern[j]);
+  }
   for (std::size_t o = 0; o < orphans.size(); ++o) orphans_at[lowest(orphans[o]->separator)].push_back(static_cast<int>(o));
   std::vector<int> stamp(n, -1);
   std::vector<int> st;
@@ -370,8 +377,8 @@ std::vector<Clique*> ISAM2::reeliminateTop(const Top& top, const ISAM2UpdatePara
         st.push_back(p);
       }
     };
-    for (FactorIndex f : factors_at[i])
-      for (Key k : factors_.at(f).factor->keys()) add(pos.at(k));
+    for (const KeyVector* keys : factor_keys_at[i])
+      for (Key k : *keys) add(pos.at(k));
     for (int o : orphans_at[i])
       for (Key k : orphans[o]->separator) add(pos.at(k));
     for (int c : children_at[i])
@@ -380,14 +387,14 @@ std::vector<Clique*> ISAM2::reeliminateTop(const Top& top, const ISAM2UpdatePara
     int target = -1;
     for (int c : children_at[i])
       if (sym[c].sep.size() == st.size() + 1 &&
-          groups.at(ordering[sym[c].frontals.back()]) == groups.at(ordering[i])) {
+          group_at[sym[c].frontals.back()] == group_at[i]) {
         target = c;
         break;
       }
-    const bool newest = newest_group >= 0 && groups.at(ordering[i]) == newest_group;
+    const bool newest = newest_group >= 0 && group_at[i] == newest_group;
     if (newest)
       for (int c : children_at[i]) {
-        if (c == target || groups.at(ordering[sym[c].frontals.back()]) != newest_group) continue;
+        if (c == target || group_at[sym[c].frontals.back()] != newest_group) continue;
         if (target < 0) {
           target = c;
           continue;
