@@ -306,6 +306,47 @@ TEST(PreciseEphemeris, OrbitIsThePlainLagrangeInterpolantBitForBit) {
   }
 }
 
+TEST(PreciseEphemeris, SharedQueryScratchGivesTheSameOrbitsBitForBit) {
+  // Two satellites with the same node times (one synthetic SP3), queried in turn at
+  // each time through one scratch (the second query of a time re-uses the first's
+  // window terms; a new time, or a window moved at the data edges, recomputes them),
+  // with and without SP3 velocities: every result equals a query of its own.
+  const KeplerOrbit orbit;
+  test::SyntheticSp3 gen;
+  gen.epochs = 12;
+  gen.satellites = {"G01", "G02"};
+  for (bool with_velocity : {false, true}) {
+    gen.with_velocity = with_velocity;
+    gen.record = [&](int e, const std::string& name) {
+      test::SyntheticRecord r;
+      const double t = e * 900.0 + (name == "G02" ? 3000.0 : 0.0);  // another place on the orbit
+      r.position_km = orbit.ecef(t) / 1000.0;
+      r.clock_us = 100.0;
+      r.velocity_dm_s = orbit.ecefVelocity(t) * 10.0;
+      r.clock_rate = 0.0;
+      return r;
+    };
+    auto src = memoryLineSource(gen.text(), "kepler");
+    const Sp3File file = readSp3(*src);
+    PreciseEphemeris eph;
+    eph.addOrbits(file);
+    const GnssTime first = file.satellites.at(sat("G01")).front().time;
+    PreciseEphemeris::OrbitQueryScratch scratch;
+    for (double dt : {0.0, 10.0, 10.0, 450.0, 4000.5, 9000.0, 9899.0, 10.0}) {
+      for (const char* name : {"G01", "G02", "G01"}) {
+        const auto shared = eph.orbit(sat(name), first + dt, scratch);
+        const auto own = eph.orbit(sat(name), first + dt);
+        ASSERT_TRUE(shared.ok() && own.ok()) << own.reason;
+        EXPECT_EQ(shared.value->window_first, own.value->window_first);
+        for (int i = 0; i < 3; ++i) {
+          EXPECT_EQ(shared.value->position_ecef_m(i), own.value->position_ecef_m(i)) << name << " dt " << dt;
+          EXPECT_EQ(shared.value->velocity_ecef_mps(i), own.value->velocity_ecef_mps(i)) << name << " dt " << dt;
+        }
+      }
+    }
+  }
+}
+
 // ------------------------------------------------------------ clocks
 TEST(PreciseEphemeris, ClockFileValuesExactAtRecordsAndMeanHalfway) {
   PPP_REQUIRE_SHARED_DATA();

@@ -70,10 +70,14 @@ void lagrangeWeights(const double* tau, std::size_t n, double x, double* w, doub
 
 /// Components in the non-rotating frame that coincides with ECEF at the query
 /// time, of an ECEF vector taken dt_s after it: rotation by +omega*dt about z.
+/// The rotation of rotateToQueryFrame by its cosine and sine.
+Eigen::Vector3d rotateAboutZ(const Eigen::Vector3d& v, double c, double s) {
+  return {c * v.x() - s * v.y(), s * v.x() + c * v.y(), v.z()};
+}
+
 Eigen::Vector3d rotateToQueryFrame(const Eigen::Vector3d& v, double dt_s) {
   const double th = kEarthRotationRate_radps * dt_s;
-  const double c = std::cos(th), s = std::sin(th);
-  return {c * v.x() - s * v.y(), s * v.x() + c * v.y(), v.z()};
+  return rotateAboutZ(v, std::cos(th), std::sin(th));
 }
 
 /// omega x r for the Earth rotation vector (0, 0, omega).
@@ -379,6 +383,12 @@ struct WalkStop {
 }  // namespace
 
 ProductResult<SatelliteOrbit> PreciseEphemeris::orbit(const SatelliteId& sat, const GnssTime& t) const {
+  OrbitQueryScratch scratch;
+  return orbit(sat, t, scratch);
+}
+
+ProductResult<SatelliteOrbit> PreciseEphemeris::orbit(const SatelliteId& sat, const GnssTime& t,
+                                                      OrbitQueryScratch& scratch) const {
   using R = ProductResult<SatelliteOrbit>;
   if (orbits_.empty() || !orbit_span_) return R::failure(ProductStatus::NoProducts, "no SP3 orbit loaded");
   const auto it = orbits_.find(sat);
@@ -495,24 +505,47 @@ ProductResult<SatelliteOrbit> PreciseEphemeris::orbit(const SatelliteId& sat, co
   for (std::size_t i = want_left; i-- > 0;) window.push_back(left[i]);
   for (std::size_t i = 0; i < want_right; ++i) window.push_back(right[i]);
 
-  // 4. Lagrange interpolation in a scaled time relative to the window centre.
-  const GnssTime centre = nodes[window[window.size() / 2]].time;
+  // 4. Lagrange interpolation in a scaled time relative to the window centre (weights
+  //    and rotations shared with the previous query through `scratch` when its window
+  //    had the same node times at the same query time).
   const double h = orbit_interval_s_ > 0.0 ? orbit_interval_s_ : 1.0;
-  double tau[kMaxWindowNodes], w[kMaxWindowNodes], dw[kMaxWindowNodes];
-  for (std::size_t j = 0; j < window.size(); ++j) tau[j] = (nodes[window[j]].time - centre) / h;
-  lagrangeWeights(tau, window.size(), (t - centre) / h, w, dw);
+  static_assert(kMaxWindowNodes <= OrbitQueryScratch::kCapacity, "scratch too small for a window");
+  const bool same_window = scratch.size_ == window.size() && scratch.t_ == t && scratch.h_ == h &&
+                           [&] {
+                             for (std::size_t j = 0; j < window.size(); ++j)
+                               if (!(scratch.node_times_[j] == nodes[window[j]].time)) return false;
+                             return true;
+                           }();
+  if (!same_window) {
+    const GnssTime centre = nodes[window[window.size() / 2]].time;
+    const std::size_t m = window.size();
+    double tau[kMaxWindowNodes];
+    for (std::size_t j = 0; j < m; ++j) tau[j] = (nodes[window[j]].time - centre) / h;
+    scratch.size_ = m;
+    lagrangeWeights(tau, m, (t - centre) / h, scratch.w_.data(), scratch.dw_.data());
+    for (std::size_t j = 0; j < m; ++j) {
+      scratch.node_times_[j] = nodes[window[j]].time;
+      const double th = kEarthRotationRate_radps * (nodes[window[j]].time - t);
+      scratch.cos_[j] = std::cos(th);
+      scratch.sin_[j] = std::sin(th);
+    }
+    scratch.t_ = t;
+    scratch.h_ = h;
+  }
+  const double* w = scratch.w_.data();
+  const double* dw = scratch.dw_.data();
   const bool inertial = options_.interpolate_in_inertial_frame;
   bool have_velocities = options_.use_sp3_velocity;
   Eigen::Vector3d pos = Eigen::Vector3d::Zero(), dpos = Eigen::Vector3d::Zero(), vel = Eigen::Vector3d::Zero();
   for (std::size_t j = 0; j < window.size(); ++j) {
     const OrbitNode& n = nodes[window[j]];
-    const double dt = n.time - t;
-    const Eigen::Vector3d p = inertial ? rotateToQueryFrame(*n.position_ecef_m, dt) : *n.position_ecef_m;
+    const double c = scratch.cos_[j], s = scratch.sin_[j];  // rotateToQueryFrame's, dt = node - t
+    const Eigen::Vector3d p = inertial ? rotateAboutZ(*n.position_ecef_m, c, s) : *n.position_ecef_m;
     pos += w[j] * p;
     dpos += dw[j] * p;
     if (have_velocities && n.velocity_ecef_mps) {
       const Eigen::Vector3d v =
-          inertial ? rotateToQueryFrame(*n.velocity_ecef_mps + earthRotationCross(*n.position_ecef_m), dt)
+          inertial ? rotateAboutZ(*n.velocity_ecef_mps + earthRotationCross(*n.position_ecef_m), c, s)
                    : *n.velocity_ecef_mps;
       vel += w[j] * v;
     } else {
