@@ -48,6 +48,7 @@
 #include <thread>
 #include <vector>
 
+#include "ppp_bayes_tree/app/allocator_tuning.h"
 #include "ppp_bayes_tree/app/campaign_summary.h"
 #include "ppp_bayes_tree/io/parse_error.h"
 #include "ppp_bayes_tree/ppp/config/yaml_section.h"
@@ -517,6 +518,7 @@ bool parseOptions(int argc, char** argv, Options& o, std::string& why) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  ppp::useAllocatorWithoutFastBins();  // app/allocator_tuning.h
   if (argc < 2) return usage("a command is required");
   Options o;
   o.command = argv[1];

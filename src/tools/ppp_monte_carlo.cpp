@@ -46,6 +46,7 @@
 #include <utility>
 #include <vector>
 
+#include "ppp_bayes_tree/app/allocator_tuning.h"
 #include "ppp_bayes_tree/evaluation/monte_carlo.h"
 #include "ppp_bayes_tree/io/parse_error.h"
 #include "ppp_bayes_tree/ppp/config/yaml_section.h"
@@ -131,6 +132,7 @@ bool runStudy(const ppp::MonteCarloOptions& options, const std::string& dir, ppp
 }  // namespace
 
 int main(int argc, char** argv) {
+  ppp::useAllocatorWithoutFastBins();  // app/allocator_tuning.h
   ppp::MonteCarloOptions options;
   options.flights = 0;
   options.smoother_filtered_lag_s = 60.0;

@@ -235,6 +235,118 @@ TEST(PreciseEphemeris, ExactAtNodesAndWindowShiftedAtTheEdges) {
   EXPECT_EQ(r4.value->window_first, records[9].time);
 }
 
+// The Lagrange interpolant of a window written out plainly: each basis value and
+// derivative as one product after the other (the textbook formulas,
+// l_j(x) = prod_{m != j} (x - tau_m) / (tau_j - tau_m) and
+// l_j'(x) = sum_{k != j} 1 / (tau_j - tau_k) prod_{m != j,k} (x - tau_m) / (tau_j - tau_m)),
+// in the frame aligned with ECEF at t, the velocity from the derivative.
+SatelliteOrbit plainLagrange(const std::vector<Sp3Record>& window, const GnssTime& t, double h, bool inertial) {
+  const GnssTime centre = window[window.size() / 2].time;
+  const std::size_t n = window.size();
+  std::vector<double> tau(n);
+  for (std::size_t j = 0; j < n; ++j) tau[j] = (window[j].time - centre) / h;
+  const double x = (t - centre) / h;
+  const auto rotate = [&](const Eigen::Vector3d& v, double dt_s) -> Eigen::Vector3d {
+    const double th = kEarthRotationRate_radps * dt_s, c = std::cos(th), s = std::sin(th);
+    return {c * v.x() - s * v.y(), s * v.x() + c * v.y(), v.z()};
+  };
+  Eigen::Vector3d pos = Eigen::Vector3d::Zero(), dpos = Eigen::Vector3d::Zero();
+  for (std::size_t j = 0; j < n; ++j) {
+    double w = 1.0;
+    for (std::size_t m = 0; m < n; ++m)
+      if (m != j) w *= (x - tau[m]) / (tau[j] - tau[m]);
+    double dw = 0.0;
+    for (std::size_t k = 0; k < n; ++k) {
+      if (k == j) continue;
+      double q = 1.0 / (tau[j] - tau[k]);
+      for (std::size_t m = 0; m < n; ++m)
+        if (m != j && m != k) q *= (x - tau[m]) / (tau[j] - tau[m]);
+      dw += q;
+    }
+    const Eigen::Vector3d p = inertial ? rotate(*window[j].position_ecef_m, window[j].time - t) : *window[j].position_ecef_m;
+    pos += w * p;
+    dpos += dw * p;
+  }
+  SatelliteOrbit out;
+  out.position_ecef_m = pos;
+  const Eigen::Vector3d v = dpos / h;
+  const Eigen::Vector3d omega_cross_r(-kEarthRotationRate_radps * pos.y(), kEarthRotationRate_radps * pos.x(), 0.0);
+  out.velocity_ecef_mps = inertial ? Eigen::Vector3d(v - omega_cross_r) : v;
+  return out;
+}
+
+TEST(PreciseEphemeris, OrbitIsThePlainLagrangeInterpolantBitForBit) {
+  // orbit() reuses each factor and overlaps the products; the values must be those
+  // of the plain formulas exactly (the Monte Carlo tables must not move by a bit).
+  const KeplerOrbit orbit;
+  const Sp3File file = keplerSp3(orbit, false, 40);
+  const auto& records = file.satellites.at(sat("G01"));
+  for (int points : {2, 4, 9, 10, 30}) {
+    for (bool inertial : {true, false}) {
+      PreciseEphemerisOptions options;
+      options.interpolation_points = points;
+      options.interpolate_in_inertial_frame = inertial;
+      PreciseEphemeris eph(options);
+      eph.addOrbits(file);
+      for (double dt : {0.0, 0.07, 1.0, 123.456, 450.0, 899.93, 5 * 900.0 + 17.0, 20 * 900.0 + 0.5, 38 * 900.0 + 600.0}) {
+        const GnssTime t = records.front().time + dt;
+        const auto res = eph.orbit(sat("G01"), t);
+        ASSERT_TRUE(res.ok()) << res.reason;
+        std::vector<Sp3Record> window;
+        for (const auto& r : records)
+          if (!(r.time < res.value->window_first) && !(res.value->window_last < r.time)) window.push_back(r);
+        ASSERT_EQ(static_cast<int>(window.size()), res.value->nodes_used);
+        const SatelliteOrbit plain = plainLagrange(window, t, eph.orbitInterval_s(), inertial);
+        for (int i = 0; i < 3; ++i) {
+          EXPECT_EQ(res.value->position_ecef_m(i), plain.position_ecef_m(i)) << points << " nodes, dt " << dt;
+          EXPECT_EQ(res.value->velocity_ecef_mps(i), plain.velocity_ecef_mps(i)) << points << " nodes, dt " << dt;
+        }
+      }
+    }
+  }
+}
+
+TEST(PreciseEphemeris, SharedQueryScratchGivesTheSameOrbitsBitForBit) {
+  // Two satellites with the same node times (one synthetic SP3), queried in turn at
+  // each time through one scratch (the second query of a time re-uses the first's
+  // window terms; a new time, or a window moved at the data edges, recomputes them),
+  // with and without SP3 velocities: every result equals a query of its own.
+  const KeplerOrbit orbit;
+  test::SyntheticSp3 gen;
+  gen.epochs = 12;
+  gen.satellites = {"G01", "G02"};
+  for (bool with_velocity : {false, true}) {
+    gen.with_velocity = with_velocity;
+    gen.record = [&](int e, const std::string& name) {
+      test::SyntheticRecord r;
+      const double t = e * 900.0 + (name == "G02" ? 3000.0 : 0.0);  // another place on the orbit
+      r.position_km = orbit.ecef(t) / 1000.0;
+      r.clock_us = 100.0;
+      r.velocity_dm_s = orbit.ecefVelocity(t) * 10.0;
+      r.clock_rate = 0.0;
+      return r;
+    };
+    auto src = memoryLineSource(gen.text(), "kepler");
+    const Sp3File file = readSp3(*src);
+    PreciseEphemeris eph;
+    eph.addOrbits(file);
+    const GnssTime first = file.satellites.at(sat("G01")).front().time;
+    PreciseEphemeris::OrbitQueryScratch scratch;
+    for (double dt : {0.0, 10.0, 10.0, 450.0, 4000.5, 9000.0, 9899.0, 10.0}) {
+      for (const char* name : {"G01", "G02", "G01"}) {
+        const auto shared = eph.orbit(sat(name), first + dt, scratch);
+        const auto own = eph.orbit(sat(name), first + dt);
+        ASSERT_TRUE(shared.ok() && own.ok()) << own.reason;
+        EXPECT_EQ(shared.value->window_first, own.value->window_first);
+        for (int i = 0; i < 3; ++i) {
+          EXPECT_EQ(shared.value->position_ecef_m(i), own.value->position_ecef_m(i)) << name << " dt " << dt;
+          EXPECT_EQ(shared.value->velocity_ecef_mps(i), own.value->velocity_ecef_mps(i)) << name << " dt " << dt;
+        }
+      }
+    }
+  }
+}
+
 // ------------------------------------------------------------ clocks
 TEST(PreciseEphemeris, ClockFileValuesExactAtRecordsAndMeanHalfway) {
   PPP_REQUIRE_SHARED_DATA();

@@ -2,6 +2,12 @@
 // the batch reference solver.
 #include <gtest/gtest.h>
 
+#include <cstring>
+#include <limits>
+#include <random>
+
+#include <Eigen/Cholesky>
+
 #include "core/smoother_test_util.h"
 #include "ppp_bayes_tree/smoother/between_factor.h"
 #include "ppp_bayes_tree/smoother/elimination.h"
@@ -13,6 +19,16 @@
 
 using namespace ppp::smoother;
 using namespace ppp::smoother::test;
+
+namespace {
+
+/// True when a and b hold the same bits (the sign of a zero included).
+bool sameBits(const Matrix& a, const Matrix& b) {
+  return a.rows() == b.rows() && a.cols() == b.cols() &&
+         std::memcmp(a.data(), b.data(), sizeof(double) * static_cast<std::size_t>(a.size())) == 0;
+}
+
+}  // namespace
 
 TEST(SmootherKey, SymbolForms) {
   const Key x = symbolKey('x', 42);
@@ -54,6 +70,25 @@ TEST(SmootherNoise, WhiteningMatchesMahalanobis) {
   EXPECT_NEAR(NoiseModel::isotropic(3, 2.0)->loss(e), 0.5 * e.squaredNorm() / 4.0, 1e-15);
   EXPECT_THROW(NoiseModel::sigmas(Eigen::Vector2d(1, 0)), std::invalid_argument);
   EXPECT_THROW(NoiseModel::covariance(-Eigen::Matrix2d::Identity()), std::invalid_argument);
+}
+
+TEST(SmootherNoise, WhitenInPlaceIsWhitenBitForBit) {
+  Eigen::Matrix3d p;
+  p << 4, 1, 0.5, 1, 2, 0.2, 0.5, 0.2, 1;
+  const Matrix h = Matrix::Random(3, 4);
+  const Vector e = Vector::Random(3);
+  for (const auto& model : {NoiseModel::covariance(p), NoiseModel::sigmas(Eigen::Vector3d(0.3, 2, 7))}) {
+    Vector e_in_place = e;
+    model->whitenInPlace(e_in_place);
+    EXPECT_TRUE(sameBits(e_in_place, model->whiten(e)));
+    Matrix h_in_place = h;
+    model->whitenInPlace(h_in_place);
+    Matrix h_by_column(3, 4);
+    for (int j = 0; j < 4; ++j) h_by_column.col(j) = model->whiten(h.col(j));
+    EXPECT_TRUE(sameBits(h_in_place, h_by_column));
+  }
+  Vector wrong = Vector::Ones(2);
+  EXPECT_THROW(NoiseModel::isotropic(3, 1.0)->whitenInPlace(wrong), std::invalid_argument);
 }
 
 TEST(SmootherNoise, RobustWeights) {
@@ -153,6 +188,33 @@ class MixedTypesFactor : public NoiseModelFactorN<Eigen::Vector3d, double, Vecto
 
 }  // namespace
 
+TEST(SmootherFactors, RelinearizeIntoOldStorageEqualsAFreshLinearizationBitForBit) {
+  // A robust between factor (full noise model: whitening by a product, then the IRLS
+  // scale), linearized at one point, then relinearized at another into the first
+  // linearization's storage: the same object comes back, with exactly the numbers of a
+  // fresh linearization at the second point.
+  const Key a = symbolKey('x', 0), b = symbolKey('x', 1);
+  Matrix cov(3, 3);
+  cov << 2.0, 0.3, 0.1, 0.3, 1.5, -0.2, 0.1, -0.2, 0.8;
+  const auto noise = NoiseModel::covariance(cov)->withRobust({RobustKernel::Type::Huber, 1.345});
+  const BetweenFactor f(a, b, (Vector(3) << 0.1, -0.2, 0.3).finished(), noise);
+  Values v1, v2;
+  v1.insert(a, (Vector(3) << 1.0, 2.0, 3.0).finished());
+  v1.insert(b, (Vector(3) << 1.5, 1.0, 7.0).finished());
+  v2.insert(a, (Vector(3) << -4.0, 0.5, 2.0).finished());
+  v2.insert(b, (Vector(3) << 3.0, 2.5, -1.0).finished());
+  auto storage = std::const_pointer_cast<JacobianFactor>(f.relinearize(v1, nullptr));
+  const JacobianFactor* first = storage.get();
+  const auto refilled = f.relinearize(v2, std::move(storage));
+  const auto fresh = f.linearize(v2);
+  EXPECT_EQ(refilled.get(), first);
+  EXPECT_EQ(refilled->keys(), fresh->keys());
+  ASSERT_EQ(refilled->blocks().size(), 2u);
+  for (std::size_t j = 0; j < 2; ++j) EXPECT_TRUE(sameBits(refilled->block(j), fresh->block(j))) << j;
+  EXPECT_TRUE(sameBits(refilled->b(), fresh->b()));
+  EXPECT_FALSE(sameBits(refilled->b(), f.linearize(v1)->b()));  // the point did change
+}
+
 TEST(SmootherFactors, TypedBaseLooksUpConvertsAndLinearizes) {
   const Key p = symbolKey('p', 0), s = symbolKey('b', "G05", 1), d = symbolKey('d', 0);
   const Eigen::Vector3d pv(1.5, -2.0, 0.25);
@@ -242,6 +304,65 @@ TEST(SmootherElimination, CholeskyAndQrAgreeAndMarginalIsSchurComplement) {
   JacobianFactor zero0({k0}, {Matrix::Zero(1, 2)}, Vector::Ones(1));
   EXPECT_THROW(eliminate({&zero0, &only12}, {k0}, {2}, {k1}, {1}, Factorization::Cholesky), IndeterminantSystemError);
   EXPECT_THROW(eliminate({&zero0, &only12}, {k0}, {2}, {k1}, {1}, Factorization::QR), IndeterminantSystemError);
+}
+
+TEST(SmootherElimination, AReusedWorkspaceGivesTheSameResultBitForBit) {
+  // One workspace through eliminations of different sizes (a large one first, so the
+  // later ones run on buffers holding old numbers, then a larger one that grows them),
+  // with both factorizations: conditional and marginal equal those of a fresh
+  // elimination bit for bit.
+  const Key k0 = symbolKey('x', 0), k1 = symbolKey('x', 1), k2 = symbolKey('x', 2);
+  const auto factors = [&](int rows) {
+    std::vector<JacobianFactor> fs;
+    fs.emplace_back(KeyVector{k0, k1}, std::vector<Matrix>{Matrix::Random(rows, 2), Matrix::Random(rows, 1)},
+                    Vector::Random(rows));
+    fs.emplace_back(KeyVector{k0, k2}, std::vector<Matrix>{Matrix::Random(rows + 1, 2), Matrix::Random(rows + 1, 3)},
+                    Vector::Random(rows + 1));
+    return fs;
+  };
+  EliminationWorkspace workspace;
+  for (auto method : {Factorization::Cholesky, Factorization::QR})
+    for (int rows : {9, 3, 4, 12}) {
+      const std::vector<JacobianFactor> fs = factors(rows);
+      const std::vector<const JacobianFactor*> ptrs{&fs[0], &fs[1]};
+      const auto fresh = eliminate(ptrs, {k0}, {2}, {k1, k2}, {1, 3}, method);
+      const auto reused = eliminate(ptrs, {k0}, {2}, {k1, k2}, {1, 3}, method, &workspace);
+      EXPECT_TRUE(sameBits(reused.conditional.R(), fresh.conditional.R())) << rows;
+      EXPECT_TRUE(sameBits(reused.conditional.d(), fresh.conditional.d())) << rows;
+      for (std::size_t j = 0; j < 2; ++j) {
+        EXPECT_TRUE(sameBits(reused.conditional.S()[j], fresh.conditional.S()[j])) << rows;
+        EXPECT_TRUE(sameBits(reused.marginal->block(j), fresh.marginal->block(j))) << rows;
+      }
+      EXPECT_TRUE(sameBits(reused.marginal->b(), fresh.marginal->b())) << rows;
+    }
+}
+
+TEST(SmootherElimination, UnitUpperTimesPermutationIsTheDenseProductBitForBit) {
+  // The pivoted LDL^T of augmented Schur complements, full rank and rank deficient,
+  // with zeros of both signs in U: the gather gives what U * (T I) gives, bit for bit.
+  std::mt19937 rng(11);
+  std::uniform_int_distribution<int> pick(0, 3);
+  for (int n : {1, 2, 3, 5, 8, 13, 24}) {
+    for (int rank : {n, std::max(1, n / 2)}) {
+      const Matrix a = Matrix::Random(rank, n);
+      const Eigen::LDLT<Matrix> ldlt(a.transpose() * a);
+      Matrix u = ldlt.matrixU();
+      for (int i = 0; i < n; ++i)
+        for (int j = i + 1; j < n; ++j)
+          if (pick(rng) == 0) u(i, j) = pick(rng) < 2 ? -0.0 : 0.0;
+      Matrix p = Matrix::Identity(n, n);
+      p = ldlt.transpositionsP() * p;
+      const Matrix dense = u * p;
+      EXPECT_TRUE(sameBits(unitUpperTimesPermutation(u, ldlt.transpositionsP()), dense)) << "n " << n << " rank " << rank;
+    }
+  }
+  // A non-finite entry: the dense product's NaNs (inf x 0) as well.
+  const Eigen::LDLT<Matrix> ldlt(Matrix::Identity(3, 3));
+  Matrix u = ldlt.matrixU();
+  u(0, 2) = std::numeric_limits<double>::infinity();
+  Matrix p = Matrix::Identity(3, 3);
+  p = ldlt.transpositionsP() * p;
+  EXPECT_TRUE(sameBits(unitUpperTimesPermutation(u, ldlt.transpositionsP()), u * p));
 }
 
 TEST(SmootherOrdering, ConstrainedKeysComeLast) {

@@ -29,6 +29,7 @@
 // interval and the orbit by a second-order step from the edge (central gravity
 // only; over 0.1 s the neglected terms are ~1 mm). Positions refer to the centre
 // of mass.
+#include <array>
 #include <map>
 #include <optional>
 #include <set>
@@ -157,6 +158,23 @@ class PreciseEphemeris : public EphemerisSource {
   static constexpr double kClockWindowMargin_s = 7200.0;
 
   ProductResult<SatelliteOrbit> orbit(const SatelliteId& sat, const GnssTime& t) const;
+
+  /// Scratch for many orbit() queries at one time (all satellites at a simulated
+  /// epoch): the Lagrange weights and Earth-rotation terms of the last interpolation
+  /// window, used again when the next window has the same node times and query time
+  /// (the satellites of one product share their epochs) instead of being computed per
+  /// satellite. The results are the same numbers either way.
+  class OrbitQueryScratch {
+    friend class PreciseEphemeris;
+    static constexpr std::size_t kCapacity = 30;  // the largest interpolation window
+    GnssTime t_;
+    double h_ = 0.0;
+    std::size_t size_ = 0;  // 0: nothing cached
+    std::array<GnssTime, kCapacity> node_times_;
+    std::array<double, kCapacity> w_, dw_, cos_, sin_;
+  };
+  /// orbit(sat, t), sharing the window terms through `scratch` (see above).
+  ProductResult<SatelliteOrbit> orbit(const SatelliteId& sat, const GnssTime& t, OrbitQueryScratch& scratch) const;
   ProductResult<SatelliteClock> clock(const SatelliteId& sat, const GnssTime& t) const;
 
   /// EphemerisSource: clock() and orbit() plus the edge extension (see above).

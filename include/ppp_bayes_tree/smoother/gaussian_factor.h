@@ -27,12 +27,23 @@ class JacobianFactor {
   int rows() const { return static_cast<int>(b_.size()); }
   bool empty() const { return b_.size() == 0; }
 
+  /// Refills the factor in place, reusing its buffers where the sizes agree (a factor
+  /// relinearized in iSAM2 keeps its shape): `fill(keys, blocks, b)` writes the new
+  /// contents; the constructor's shape checks are made again afterwards.
+  template <typename Fill>
+  void refill(Fill&& fill) {
+    fill(keys_, blocks_, b_);
+    checkShape();
+  }
+
   /// A x - b (x must hold every key).
   Vector residual(const Values& x) const;
   /// 0.5 ||A x - b||^2.
   double error(const Values& x) const { return 0.5 * residual(x).squaredNorm(); }
 
  private:
+  void checkShape() const;
+
   KeyVector keys_;
   std::vector<Matrix> blocks_;
   Vector b_;

@@ -9,6 +9,7 @@
 #include <unordered_set>
 
 #include "ppp_bayes_tree/smoother/bayes_tree.h"
+#include "ppp_bayes_tree/smoother/elimination.h"
 #include "ppp_bayes_tree/smoother/isam2_params.h"
 #include "ppp_bayes_tree/smoother/isam2_result.h"
 #include "ppp_bayes_tree/smoother/nonlinear_factor.h"
@@ -77,6 +78,9 @@ class ISAM2 {
   struct FactorSlot {
     NonlinearFactor::Ptr factor;
     JacobianFactor::Ptr linear;  // at theta, valid when cached
+    /// The invalidated linearization's storage, refilled by the next one (when nobody
+    /// else held it); null otherwise.
+    std::shared_ptr<JacobianFactor> spare;
   };
   using KeySet = std::unordered_set<Key>;
 
@@ -100,13 +104,14 @@ class ISAM2 {
   Top removeTop(const KeySet& affected, ISAM2Result& result);
   /// Step 4: returns the new cliques.
   std::vector<Clique*> reeliminateTop(const Top& top, const ISAM2UpdateParams& up, ISAM2Result& result);
-  /// Step 5.
-  void backSubstitute(const std::unordered_set<const Clique*>& new_cliques, ISAM2Result& result);
+  /// Step 5; `new_cliques` (the re-eliminated ones) sorted by address.
+  void backSubstitute(const std::vector<const Clique*>& new_cliques, ISAM2Result& result);
 
   const JacobianFactor& linearFactor(FactorIndex index);
   void eraseVariable(Key key);
 
   ISAM2Params params_;
+  EliminationWorkspace workspace_;  // scratch of the clique eliminations
   Values theta_;
   Values delta_;
   BayesTree tree_;

@@ -13,6 +13,10 @@ class LinearContainerFactor : public NonlinearFactor {
   LinearContainerFactor(const JacobianFactor& factor, const Values& theta0);
   Vector unwhitenedError(const Values& x, std::vector<Matrix>* jacobians) const override;
   JacobianFactor::Ptr linearize(const Values& x) const override;
+  /// linearize(x) (its blocks are the stored ones; nothing to reuse).
+  JacobianFactor::Ptr relinearize(const Values& x, std::shared_ptr<JacobianFactor>) const override {
+    return linearize(x);
+  }
   bool affineIn(Key) const override { return true; }  // constant Jacobian A
 
  private:

@@ -41,6 +41,11 @@ class NonlinearFactor {
   /// Whitened, robust-reweighted linearization at x, in delta coordinates:
   /// A delta - b with A = sqrt(w) R J and b = -sqrt(w) R e(x).
   virtual JacobianFactor::Ptr linearize(const Values& x) const;
+  /// The same linearization (the same numbers), written into `storage` when given: a
+  /// factor that nobody else holds, from an earlier linearization of this factor, whose
+  /// buffers are reused (iSAM2 relinearizes most factors many times). A derived class
+  /// that overrides linearize() overrides this too.
+  virtual JacobianFactor::Ptr relinearize(const Values& x, std::shared_ptr<JacobianFactor> storage) const;
 
   /// True when the error is affine in variable `key` with a constant coefficient,
   /// e(x) = g(the other variables) + A x_key (A independent of every variable), as a

@@ -22,5 +22,9 @@ using Ordering = KeyVector;
 /// Throws std::runtime_error if CCOLAMD reports an error.
 Ordering computeOrdering(const std::vector<KeyVector>& factor_keys, const KeyVector& keys,
                          const std::unordered_map<Key, int>* groups = nullptr);
+/// The same, the factors' keys given by pointer (iSAM2 orders the keys of factors it
+/// holds, without copying them).
+Ordering computeOrdering(const std::vector<const KeyVector*>& factor_keys, const KeyVector& keys,
+                         const std::unordered_map<Key, int>* groups = nullptr);
 
 }  // namespace ppp::smoother

@@ -18,27 +18,43 @@ std::string minutesText(double seconds) { return format("%.1f min", seconds / 60
 
 std::string secondsText(double seconds) { return format("%.1f s", seconds); }
 
+/// Most nodes of a Lagrange window (PreciseEphemerisOptions::interpolation_points is clamped to it).
+constexpr std::size_t kMaxWindowNodes = 30;
+
 /// Lagrange basis values w[j] = l_j(x) and derivatives dw[j] = l_j'(x) for the
-/// nodes tau[0..n-1] (distinct). Plain products: n is small (~10).
-void lagrangeWeights(const std::vector<double>& tau, double x, std::vector<double>& w, std::vector<double>& dw) {
-  const std::size_t n = tau.size();
-  w.assign(n, 0.0);
-  dw.assign(n, 0.0);
-  for (std::size_t j = 0; j < n; ++j) {
-    double p = 1.0;
-    for (std::size_t m = 0; m < n; ++m) {
-      if (m != j) p *= (x - tau[m]) / (tau[j] - tau[m]);
+/// nodes tau[0..n-1] (distinct), n <= kMaxWindowNodes. Plain products: n is small
+/// (~10). Each factor (x - tau_m) / (tau_j - tau_m) and 1 / (tau_j - tau_k) is
+/// computed once and reused by every product that needs it; the products of one j
+/// are formed side by side (independent chains the processor overlaps), each with
+/// its factors in the order of m. A skipped factor is a multiplication by exactly 1
+/// or none, so every value is the one of the plain nested loops, bit for bit.
+void lagrangeWeights(const double* tau, std::size_t n, double x, double* w, double* dw) {
+  double ratio[kMaxWindowNodes][kMaxWindowNodes];  // (x - tau_m) / (tau_j - tau_m); 1 on the diagonal
+  for (std::size_t j = 0; j < n; ++j)
+    for (std::size_t m = 0; m < n; ++m) ratio[j][m] = m == j ? 1.0 : (x - tau[m]) / (tau[j] - tau[m]);
+  // w[j] = prod_{m != j} ratio[j][m]
+  for (std::size_t j = 0; j < n; ++j) w[j] = 1.0;
+  for (std::size_t m = 0; m < n; ++m)
+    for (std::size_t j = 0; j < n; ++j) w[j] *= ratio[j][m];
+  // l_j'(x) = sum_{k != j} [1/(tau_j - tau_k)] prod_{m != j,k} (x - tau_m)/(tau_j - tau_m);
+  // 1/(tau_k - tau_j) = -1/(tau_j - tau_k) exactly (a - b = -(b - a) in floating point).
+  double inverse[kMaxWindowNodes][kMaxWindowNodes];
+  for (std::size_t j = 0; j < n; ++j)
+    for (std::size_t k = j + 1; k < n; ++k) {
+      inverse[j][k] = 1.0 / (tau[j] - tau[k]);
+      inverse[k][j] = -inverse[j][k];
     }
-    w[j] = p;
-    // l_j'(x) = sum_k [1/(tau_j - tau_k)] prod_{m != j,k} (x - tau_m)/(tau_j - tau_m)
+  double q[kMaxWindowNodes];
+  for (std::size_t j = 0; j < n; ++j) {
+    for (std::size_t k = 0; k < n; ++k) q[k] = k == j ? 0.0 : inverse[j][k];
+    for (std::size_t m = 0; m < n; ++m) {
+      const double r = ratio[j][m];
+      for (std::size_t k = 0; k < m; ++k) q[k] *= r;  // every k but m
+      for (std::size_t k = m + 1; k < n; ++k) q[k] *= r;
+    }
     double d = 0.0;
     for (std::size_t k = 0; k < n; ++k) {
-      if (k == j) continue;
-      double q = 1.0 / (tau[j] - tau[k]);
-      for (std::size_t m = 0; m < n; ++m) {
-        if (m != j && m != k) q *= (x - tau[m]) / (tau[j] - tau[m]);
-      }
-      d += q;
+      if (k != j) d += q[k];
     }
     dw[j] = d;
   }
@@ -46,10 +62,14 @@ void lagrangeWeights(const std::vector<double>& tau, double x, std::vector<doubl
 
 /// Components in the non-rotating frame that coincides with ECEF at the query
 /// time, of an ECEF vector taken dt_s after it: rotation by +omega*dt about z.
+/// The rotation of rotateToQueryFrame by its cosine and sine.
+Eigen::Vector3d rotateAboutZ(const Eigen::Vector3d& v, double c, double s) {
+  return {c * v.x() - s * v.y(), s * v.x() + c * v.y(), v.z()};
+}
+
 Eigen::Vector3d rotateToQueryFrame(const Eigen::Vector3d& v, double dt_s) {
   const double th = kEarthRotationRate_radps * dt_s;
-  const double c = std::cos(th), s = std::sin(th);
-  return {c * v.x() - s * v.y(), s * v.x() + c * v.y(), v.z()};
+  return rotateAboutZ(v, std::cos(th), std::sin(th));
 }
 
 /// omega x r for the Earth rotation vector (0, 0, omega).
@@ -189,7 +209,8 @@ EphemerisAnswer<EphemerisOrbit> PreciseEphemeris::satelliteOrbit(const Satellite
 }
 
 PreciseEphemeris::PreciseEphemeris(PreciseEphemerisOptions options) : options_(options) {
-  options_.interpolation_points = std::max(2, std::min(options_.interpolation_points, 30));
+  options_.interpolation_points =
+      std::max(2, std::min(options_.interpolation_points, static_cast<int>(kMaxWindowNodes)));
 }
 
 void PreciseEphemeris::addOrbits(const Sp3File& file) {
@@ -329,6 +350,21 @@ std::set<SatelliteId> PreciseEphemeris::clockSatellites() const {
 // ------------------------------------------------------------------ orbit
 namespace {
 
+/// Up to kMaxWindowNodes node indices, without allocation.
+class NodeIndices {
+ public:
+  std::size_t size() const { return size_; }
+  bool empty() const { return size_ == 0; }
+  void push_back(std::size_t i) { index_[size_++] = i; }
+  std::size_t operator[](std::size_t k) const { return index_[k]; }
+  std::size_t back() const { return index_[size_ - 1]; }
+  std::size_t front() const { return index_[0]; }
+
+ private:
+  std::size_t index_[kMaxWindowNodes];
+  std::size_t size_ = 0;
+};
+
 /// Why a walk along the nodes stopped.
 struct WalkStop {
   enum Kind { Enough, DataEdge, Break } kind = Enough;
@@ -339,6 +375,12 @@ struct WalkStop {
 }  // namespace
 
 ProductResult<SatelliteOrbit> PreciseEphemeris::orbit(const SatelliteId& sat, const GnssTime& t) const {
+  OrbitQueryScratch scratch;
+  return orbit(sat, t, scratch);
+}
+
+ProductResult<SatelliteOrbit> PreciseEphemeris::orbit(const SatelliteId& sat, const GnssTime& t,
+                                                      OrbitQueryScratch& scratch) const {
   using R = ProductResult<SatelliteOrbit>;
   if (orbits_.empty() || !orbit_span_) return R::failure(ProductStatus::NoProducts, "no SP3 orbit loaded");
   const auto it = orbits_.find(sat);
@@ -353,7 +395,7 @@ ProductResult<SatelliteOrbit> PreciseEphemeris::orbit(const SatelliteId& sat, co
   const std::vector<OrbitNode>& nodes = it->second;
   const std::size_t n_points = static_cast<std::size_t>(options_.interpolation_points);
   const double max_gap = maxNodeSpacing_s();
-  const std::string name = sat.toString();
+  const auto name = [&sat] { return sat.toString(); };  // for the reasons only: no text on success
   const auto by_time = [](const GnssTime& a, const OrbitNode& b) { return a < b.time; };
   // k: first node strictly after t; nodes[k-1] is at or before t.
   const std::size_t k = static_cast<std::size_t>(std::upper_bound(nodes.begin(), nodes.end(), t, by_time) - nodes.begin());
@@ -362,14 +404,14 @@ ProductResult<SatelliteOrbit> PreciseEphemeris::orbit(const SatelliteId& sat, co
   // 1. The nodes that bracket t must exist, be valid and be close enough.
   const auto badMarker = [&](const OrbitNode& n) {
     return R::failure(ProductStatus::BadValueMarker,
-                      "bad value marker in SP3 at " + timeText(n.time) + " for " + name);
+                      "bad value marker in SP3 at " + timeText(n.time) + " for " + name());
   };
   if (exact) {
     if (!nodes[k - 1].position_ecef_m) return badMarker(nodes[k - 1]);
   } else {
     if (k == 0 || k == nodes.size()) {
       const OrbitNode& nearest = k == 0 ? nodes.front() : nodes.back();
-      return R::failure(ProductStatus::Gap, "gap: nearest SP3 node for " + name + " is " +
+      return R::failure(ProductStatus::Gap, "gap: nearest SP3 node for " + name() + " is " +
                                                 minutesText(std::abs(nearest.time - t)) + " away (" +
                                                 (k == 0 ? "none before " : "none after ") + timeText(t) +
                                                 ", max allowed spacing " + minutesText(max_gap) + ")");
@@ -379,7 +421,7 @@ ProductResult<SatelliteOrbit> PreciseEphemeris::orbit(const SatelliteId& sat, co
     if (!l.position_ecef_m) return badMarker(l);
     if (!r.position_ecef_m) return badMarker(r);
     if (r.time - l.time > max_gap) {
-      return R::failure(ProductStatus::Gap, "gap: nearest SP3 node for " + name + " is " +
+      return R::failure(ProductStatus::Gap, "gap: nearest SP3 node for " + name() + " is " +
                                                 minutesText(std::min(t - l.time, r.time - t)) + " away (nodes " +
                                                 timeText(l.time) + " and " + timeText(r.time) + " are " +
                                                 minutesText(r.time - l.time) + " apart, max allowed " +
@@ -394,8 +436,9 @@ ProductResult<SatelliteOrbit> PreciseEphemeris::orbit(const SatelliteId& sat, co
     if (auto o = hermite(l, r, t, options_.interpolate_in_inertial_frame)) return R::success(*o);
   }
 
-  // 2. Walk outward collecting up to n_points consecutive usable nodes per side.
-  const auto walk = [&](std::size_t start, int step, std::vector<std::size_t>& out) {
+  // 2. Walk outward collecting up to n_points consecutive usable nodes per side
+  //    (indices into `nodes`, in fixed-size buffers: no allocation per query).
+  const auto walk = [&](std::size_t start, int step, NodeIndices& out) {
     WalkStop stop;
     std::size_t i = start;
     for (;;) {
@@ -421,7 +464,7 @@ ProductResult<SatelliteOrbit> PreciseEphemeris::orbit(const SatelliteId& sat, co
       i = step < 0 ? i - 1 : i + 1;
     }
   };
-  std::vector<std::size_t> left, right;  // left: at or before t (nearest first); right: after t
+  NodeIndices left, right;  // left: at or before t (nearest first); right: after t
   const WalkStop left_stop = walk(k - 1, -1, left);
   const WalkStop right_stop = walk(k, +1, right);
 
@@ -431,7 +474,7 @@ ProductResult<SatelliteOrbit> PreciseEphemeris::orbit(const SatelliteId& sat, co
     return s.kind == WalkStop::DataEdge || (s.kind == WalkStop::Break && options_.shift_window_at_gaps);
   };
   const auto refuse = [&](const WalkStop& s) {
-    return R::failure(s.status, s.reason + ": the " + std::to_string(n_points) + "-node window for " + name +
+    return R::failure(s.status, s.reason + ": the " + std::to_string(n_points) + "-node window for " + name() +
                                     " at " + timeText(t) + " would straddle it");
   };
   if (left.size() < want_left) {
@@ -447,32 +490,54 @@ ProductResult<SatelliteOrbit> PreciseEphemeris::orbit(const SatelliteId& sat, co
   if (left.size() < want_left) {
     if (left_stop.kind == WalkStop::Break) return refuse(left_stop);
     return R::failure(ProductStatus::NotEnoughNodes, "only " + std::to_string(left.size() + right.size()) +
-                                                         " usable SP3 nodes for " + name + " around " +
+                                                         " usable SP3 nodes for " + name() + " around " +
                                                          timeText(t) + " (need " + std::to_string(n_points) + ")");
   }
-  std::vector<std::size_t> window;
-  window.reserve(n_points);
+  NodeIndices window;
   for (std::size_t i = want_left; i-- > 0;) window.push_back(left[i]);
   for (std::size_t i = 0; i < want_right; ++i) window.push_back(right[i]);
 
-  // 4. Lagrange interpolation in a scaled time relative to the window centre.
-  const GnssTime centre = nodes[window[window.size() / 2]].time;
+  // 4. Lagrange interpolation in a scaled time relative to the window centre (weights
+  //    and rotations shared with the previous query through `scratch` when its window
+  //    had the same node times at the same query time).
   const double h = orbit_interval_s_ > 0.0 ? orbit_interval_s_ : 1.0;
-  std::vector<double> tau(window.size()), w, dw;
-  for (std::size_t j = 0; j < window.size(); ++j) tau[j] = (nodes[window[j]].time - centre) / h;
-  lagrangeWeights(tau, (t - centre) / h, w, dw);
+  static_assert(kMaxWindowNodes <= OrbitQueryScratch::kCapacity, "scratch too small for a window");
+  const bool same_window = scratch.size_ == window.size() && scratch.t_ == t && scratch.h_ == h &&
+                           [&] {
+                             for (std::size_t j = 0; j < window.size(); ++j)
+                               if (!(scratch.node_times_[j] == nodes[window[j]].time)) return false;
+                             return true;
+                           }();
+  if (!same_window) {
+    const GnssTime centre = nodes[window[window.size() / 2]].time;
+    const std::size_t m = window.size();
+    double tau[kMaxWindowNodes];
+    for (std::size_t j = 0; j < m; ++j) tau[j] = (nodes[window[j]].time - centre) / h;
+    scratch.size_ = m;
+    lagrangeWeights(tau, m, (t - centre) / h, scratch.w_.data(), scratch.dw_.data());
+    for (std::size_t j = 0; j < m; ++j) {
+      scratch.node_times_[j] = nodes[window[j]].time;
+      const double th = kEarthRotationRate_radps * (nodes[window[j]].time - t);
+      scratch.cos_[j] = std::cos(th);
+      scratch.sin_[j] = std::sin(th);
+    }
+    scratch.t_ = t;
+    scratch.h_ = h;
+  }
+  const double* w = scratch.w_.data();
+  const double* dw = scratch.dw_.data();
   const bool inertial = options_.interpolate_in_inertial_frame;
   bool have_velocities = options_.use_sp3_velocity;
   Eigen::Vector3d pos = Eigen::Vector3d::Zero(), dpos = Eigen::Vector3d::Zero(), vel = Eigen::Vector3d::Zero();
   for (std::size_t j = 0; j < window.size(); ++j) {
     const OrbitNode& n = nodes[window[j]];
-    const double dt = n.time - t;
-    const Eigen::Vector3d p = inertial ? rotateToQueryFrame(*n.position_ecef_m, dt) : *n.position_ecef_m;
+    const double c = scratch.cos_[j], s = scratch.sin_[j];  // rotateToQueryFrame's, dt = node - t
+    const Eigen::Vector3d p = inertial ? rotateAboutZ(*n.position_ecef_m, c, s) : *n.position_ecef_m;
     pos += w[j] * p;
     dpos += dw[j] * p;
     if (have_velocities && n.velocity_ecef_mps) {
       const Eigen::Vector3d v =
-          inertial ? rotateToQueryFrame(*n.velocity_ecef_mps + earthRotationCross(*n.position_ecef_m), dt)
+          inertial ? rotateAboutZ(*n.velocity_ecef_mps + earthRotationCross(*n.position_ecef_m), c, s)
                    : *n.velocity_ecef_mps;
       vel += w[j] * v;
     } else {
@@ -552,19 +617,20 @@ ProductResult<SatelliteClock> PreciseEphemeris::interpolateClock(const std::vect
                                                                  const SatelliteId& sat, const GnssTime& t,
                                                                  ClockSource source) const {
   using R = ProductResult<SatelliteClock>;
-  const std::string src = source == ClockSource::RinexClock ? "clock file" : "SP3 clock";
+  // Texts for the reasons only: no string is built on success.
+  const auto src = [source] { return std::string(source == ClockSource::RinexClock ? "clock file" : "SP3 clock"); };
   const auto span = spanOfClockSource();
   if (!span || t < span->first || t > span->last) {
     return R::failure(ProductStatus::OutsideSpan,
-                      "unavailable: time " + timeText(t) + " outside " + src + " span" +
+                      "unavailable: time " + timeText(t) + " outside " + src() + " span" +
                           (span ? " [" + timeText(span->first) + ", " + timeText(span->last) + "]" : ""));
   }
-  const std::string name = sat.toString();
+  const auto name = [&sat] { return sat.toString(); };
   const double max_gap = maxClockSpacing_s();
   const auto unusable = [&](const ClockNode& n) {
     return R::failure(n.marked_bad ? ProductStatus::BadValueMarker : ProductStatus::Gap,
-                      (n.marked_bad ? "bad value marker in " : "no value in ") + src + " at " + timeText(n.time) +
-                          " for " + name);
+                      (n.marked_bad ? "bad value marker in " : "no value in ") + src() + " at " + timeText(n.time) +
+                          " for " + name());
   };
   const auto by_time = [](const GnssTime& a, const ClockNode& b) { return a < b.time; };
   const std::size_t k =
@@ -584,7 +650,7 @@ ProductResult<SatelliteClock> PreciseEphemeris::interpolateClock(const std::vect
   }
   if (k == 0 || k == series.size()) {
     const ClockNode& nearest = k == 0 ? series.front() : series.back();
-    return R::failure(ProductStatus::Gap, "gap: nearest " + src + " record for " + name + " is " +
+    return R::failure(ProductStatus::Gap, "gap: nearest " + src() + " record for " + name() + " is " +
                                               secondsText(std::abs(nearest.time - t)) + " away (none " +
                                               (k == 0 ? "before " : "after ") + timeText(t) + ")");
   }
@@ -594,7 +660,7 @@ ProductResult<SatelliteClock> PreciseEphemeris::interpolateClock(const std::vect
   if (!r.clock_bias_s) return unusable(r);
   const double span_s = r.time - l.time;
   if (span_s > max_gap) {
-    return R::failure(ProductStatus::Gap, "gap: " + src + " records for " + name + " at " + timeText(l.time) +
+    return R::failure(ProductStatus::Gap, "gap: " + src() + " records for " + name() + " at " + timeText(l.time) +
                                               " and " + timeText(r.time) + " are " + secondsText(span_s) +
                                               " apart (max allowed " + secondsText(max_gap) + ")");
   }

@@ -467,9 +467,10 @@ SimulatedFlight simulateFlight(const SimulationConfig& config, std::uint64_t see
     arc_ids.clear();
     obs_sat.clear();
     body_el.clear();
+    PreciseEphemeris::OrbitQueryScratch orbit_scratch;  // the satellites share the window terms at t
     for (std::size_t i = 0; i < sats.size(); ++i) {
       SatelliteState& s = sats[i];
-      const auto o = f.truth_products.orbit(s.sat, t);
+      const auto o = f.truth_products.orbit(s.sat, t, orbit_scratch);
       const auto c = f.truth_products.clock(s.sat, t);
       bool visible_local = false, visible = false;
       double bel = -kPi / 2;

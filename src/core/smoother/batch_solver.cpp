@@ -65,6 +65,26 @@ GaussianFactorGraph linearizeGraph(const NonlinearFactorGraph& graph, const Valu
 
 namespace {
 
+/// linearizeGraph into `linear`: on the first call a new linearization; later (the same
+/// graph) each factor's linearization is refilled in the storage of the previous one
+/// where nobody else holds it (NonlinearFactor::relinearize; the same numbers).
+void relinearizeGraph(const NonlinearFactorGraph& graph, const Values& x, GaussianFactorGraph& linear) {
+  if (linear.empty()) {
+    linear = linearizeGraph(graph, x);
+    return;
+  }
+  std::size_t j = 0;
+  for (const auto& f : graph) {
+    if (!f) continue;
+    JacobianFactor::Ptr& slot = linear[j++];
+    // Created non-const by relinearize(), so refilling it is sound.
+    std::shared_ptr<JacobianFactor> storage;
+    if (slot.use_count() == 1) storage = std::const_pointer_cast<JacobianFactor>(slot);
+    slot.reset();
+    slot = f->relinearize(x, std::move(storage));
+  }
+}
+
 Values solveNormal(const Eigen::SparseMatrix<double>& h, const Vector& eta, const VariableLayout& layout,
                    const Values& like) {
   Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>> llt;
@@ -111,9 +131,11 @@ BatchResult optimizeBatch(const NonlinearFactorGraph& graph, const Values& initi
   double error = graphError(graph, res.values);
   double lambda = params.initial_lambda;
   const VariableLayout layout = VariableLayout::of(initial);
+  GaussianFactorGraph linear;  // refilled at every iteration
   for (int it = 0; it < params.max_iterations; ++it) {
     res.iterations = it + 1;
-    const LinearSystem sys = assemble(linearizeGraph(graph, res.values), layout);
+    relinearizeGraph(graph, res.values, linear);
+    const LinearSystem sys = assemble(linear, layout);
     Eigen::SparseMatrix<double> h = sys.A.transpose() * sys.A;
     const Vector eta = sys.A.transpose() * sys.b;
     Values delta;

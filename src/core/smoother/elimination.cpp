@@ -46,12 +46,16 @@ Layout makeLayout(const KeyVector& frontals, const std::vector<int>& fdims,
   return l;
 }
 
-// Stacks the factors into one dense [A | b].
-Matrix stack(const std::vector<const JacobianFactor*>& factors, const Layout& l) {
+using MatrixMap = EliminationWorkspace::MatrixMap;
+
+// Stacks the factors into one dense [A | b], on the workspace's buffer.
+MatrixMap stack(const std::vector<const JacobianFactor*>& factors, const Layout& l,
+                EliminationWorkspace& workspace) {
   int rows = 0;
   for (const auto* f : factors) rows += f->rows();
   const int n = l.nf + l.ns;
-  Matrix ab = Matrix::Zero(rows, n + 1);
+  MatrixMap ab = workspace.stacked(rows, n + 1);
+  ab.setZero();
   int r = 0;
   for (const auto* f : factors) {
     for (std::size_t j = 0; j < f->keys().size(); ++j) {
@@ -97,16 +101,53 @@ JacobianFactor::Ptr makeMarginal(const Matrix& rows, const KeyVector& separator,
   return std::make_shared<JacobianFactor>(separator, std::move(blocks), rows.col(n));
 }
 
+// Marginal factor on the separator whose row i is sqrt(d(keep[i])) times row keep[i] of
+// [A_s | b_s] (the same products as scaling those rows first), written straight into
+// the factor's blocks.
+JacobianFactor::Ptr scaledRowsMarginal(const Matrix& rows, const Eigen::VectorXd& d,
+                                       const std::vector<int>& keep, const KeyVector& separator,
+                                       const std::vector<int>& sdims) {
+  const auto m = static_cast<Eigen::Index>(keep.size());
+  std::vector<double> scale(keep.size());
+  for (std::size_t i = 0; i < keep.size(); ++i) scale[i] = std::sqrt(d[keep[i]]);
+  const auto scaled = [&](Eigen::Index col, Eigen::Index width) {
+    Matrix out(m, width);
+    for (Eigen::Index c = 0; c < width; ++c)
+      for (Eigen::Index i = 0; i < m; ++i) out(i, c) = scale[static_cast<std::size_t>(i)] * rows(keep[i], col + c);
+    return out;
+  };
+  std::vector<Matrix> blocks;
+  blocks.reserve(sdims.size());
+  Eigen::Index off = 0;
+  for (int dim : sdims) {
+    blocks.push_back(scaled(off, dim));
+    off += dim;
+  }
+  return std::make_shared<JacobianFactor>(separator, std::move(blocks), Vector(scaled(off, 1)));
+}
+
 std::string describe(const KeyVector& frontals) {
   return "eliminate: frontal block of " + keysToString(frontals) +
          " is not positive definite (under-constrained variable)";
 }
 
-EliminationResult eliminateCholesky(const Matrix& ab, const KeyVector& frontals,
+// m = (m + m^T) / 2 in place, entry by entry as the dense expression 0.5 * (m + m^T)
+// computes it (the two sums of a pair are the same sum), without its temporary.
+void symmetrizeInPlace(Matrix& m) {
+  for (Eigen::Index j = 0; j < m.cols(); ++j)
+    for (Eigen::Index i = 0; i <= j; ++i) {
+      const double v = 0.5 * (m(i, j) + m(j, i));
+      m(i, j) = v;
+      m(j, i) = v;
+    }
+}
+
+EliminationResult eliminateCholesky(const MatrixMap& ab, const KeyVector& frontals,
                                     const std::vector<int>& fdims, const KeyVector& separator,
-                                    const std::vector<int>& sdims, int nf, int ns) {
+                                    const std::vector<int>& sdims, int nf, int ns,
+                                    EliminationWorkspace& workspace) {
   const int n1 = nf + ns + 1;
-  Matrix h(n1, n1);
+  MatrixMap h = workspace.information(n1, n1);
   h.setZero();
   h.selfadjointView<Eigen::Lower>().rankUpdate(ab.transpose());
   h.triangularView<Eigen::StrictlyUpper>() = h.transpose();
@@ -127,24 +168,19 @@ EliminationResult eliminateCholesky(const Matrix& ab, const KeyVector& frontals,
   const Matrix t = top.rightCols(ns + 1);
   Matrix schur = h.bottomRightCorner(ns + 1, ns + 1);
   schur.noalias() -= t.transpose() * t;
-  schur = 0.5 * (schur + schur.transpose()).eval();
+  symmetrizeInPlace(schur);
   Eigen::LDLT<Matrix> ldlt(schur);
   const Eigen::VectorXd dvec = ldlt.vectorD();
   const double dmax = std::max(dvec.maxCoeff(), 0.0);
-  Matrix p = Matrix::Identity(ns + 1, ns + 1);
-  p = ldlt.transpositionsP() * p;
-  const Matrix lt_p = Matrix(ldlt.matrixU()) * p;
+  const Matrix lt_p = unitUpperTimesPermutation(Matrix(ldlt.matrixU()), ldlt.transpositionsP());
   std::vector<int> keep;
   for (int i = 0; i < dvec.size(); ++i)
     if (dvec[i] > 1e-14 * dmax && dvec[i] > 0) keep.push_back(i);
-  Matrix rows(static_cast<int>(keep.size()), ns + 1);
-  for (std::size_t i = 0; i < keep.size(); ++i)
-    rows.row(static_cast<int>(i)) = std::sqrt(dvec[keep[i]]) * lt_p.row(keep[i]);
-  out.marginal = makeMarginal(rows, separator, sdims);
+  out.marginal = scaledRowsMarginal(lt_p, dvec, keep, separator, sdims);
   return out;
 }
 
-EliminationResult eliminateQr(Matrix& ab, const KeyVector& frontals, const std::vector<int>& fdims,
+EliminationResult eliminateQr(MatrixMap& ab, const KeyVector& frontals, const std::vector<int>& fdims,
                               const KeyVector& separator, const std::vector<int>& sdims, int nf,
                               int ns) {
   const int m = static_cast<int>(ab.rows());
@@ -168,18 +204,56 @@ EliminationResult eliminateQr(Matrix& ab, const KeyVector& frontals, const std::
 
 }  // namespace
 
+// Column j of U P is column k of U, where P(k, j) = 1. In the dense product every
+// other term is an exact zero, so a nonzero entry comes out as it is; a zero entry
+// comes out +0 whatever the sign of U's zero, because the term of U's unit diagonal
+// (1 x 0 or 1 x 1) is among the summands. A non-finite U (inf x 0 is no zero) takes
+// the dense product.
+Matrix unitUpperTimesPermutation(const Matrix& u, const Eigen::Transpositions<Eigen::Dynamic>& t) {
+  const Eigen::Index n = u.cols();
+  if (!u.allFinite()) {
+    Matrix p = Matrix::Identity(n, n);
+    p = t * p;
+    return u * p;
+  }
+  // (T x)(k) = x(pi(k)), so P(k, j) = 1 exactly when pi(k) = j.
+  Eigen::VectorXd index(n);
+  for (Eigen::Index k = 0; k < n; ++k) index(k) = static_cast<double>(k);
+  index = t * index;
+  std::vector<Eigen::Index> source_column(static_cast<std::size_t>(n));
+  for (Eigen::Index k = 0; k < n; ++k) source_column[static_cast<std::size_t>(index(k))] = k;
+  Matrix out(u.rows(), n);
+  for (Eigen::Index j = 0; j < n; ++j) {
+    const Eigen::Index k = source_column[static_cast<std::size_t>(j)];
+    for (Eigen::Index i = 0; i < u.rows(); ++i) out(i, j) = u(i, k) == 0.0 ? 0.0 : u(i, k);
+  }
+  return out;
+}
+
+
+EliminationWorkspace::MatrixMap EliminationWorkspace::map(Buffer& buffer, Eigen::Index rows, Eigen::Index cols) {
+  const auto size = static_cast<std::size_t>(rows * cols);
+  if (buffer.size() < size) {
+    buffer.clear();  // nothing to keep: grown without copying the old contents
+    buffer.resize(size);
+  }
+  return MatrixMap(buffer.data(), rows, cols);
+}
+
 EliminationResult eliminate(const std::vector<const JacobianFactor*>& factors,
                             const KeyVector& frontals, const std::vector<int>& frontal_dims,
                             const KeyVector& separator, const std::vector<int>& separator_dims,
-                            Factorization method) {
+                            Factorization method, EliminationWorkspace* workspace) {
   if (frontals.empty()) throw std::invalid_argument("eliminate: no frontal variables");
   if (frontals.size() != frontal_dims.size() || separator.size() != separator_dims.size())
     throw std::invalid_argument("eliminate: keys/dims size mismatch");
   const Layout l = makeLayout(frontals, frontal_dims, separator, separator_dims);
-  Matrix ab = stack(factors, l);
+  EliminationWorkspace local;
+  EliminationWorkspace& ws = workspace ? *workspace : local;
+  MatrixMap ab = stack(factors, l, ws);
   if (method == Factorization::QR)
     return eliminateQr(ab, frontals, frontal_dims, separator, separator_dims, l.nf, l.ns);
-  return eliminateCholesky(ab, frontals, frontal_dims, separator, separator_dims, l.nf, l.ns);
+  return eliminateCholesky(ab, frontals, frontal_dims, separator, separator_dims, l.nf, l.ns, ws);
 }
 
 }  // namespace ppp::smoother

@@ -67,7 +67,9 @@ ISAM2Result ISAM2::update(const NonlinearFactorGraph& new_factors, const Values&
 
   // ---- 5. Back-substitution (Alg. 7), partial ("wildfire") when enabled.
   t = Clock::now();
-  backSubstitute(std::unordered_set<const Clique*>(created.begin(), created.end()), result);
+  std::vector<const Clique*> created_sorted(created.begin(), created.end());
+  std::sort(created_sorted.begin(), created_sorted.end());
+  backSubstitute(created_sorted, result);
   result.step_time_s[ISAM2Result::kBackSubstitute] = secondsSince(t);
   result.total_time_s = secondsSince(t_start);
   return result;
@@ -223,6 +225,9 @@ void ISAM2::relinearize(const KeySet& relin_keys, KeySet& affected, ISAM2Result&
     for (FactorIndex i : variable_index_[k]) {
       FactorSlot& slot = factors_.at(i);
       if (slot.linear) {  // linearized before (not new) and not yet counted in this update
+        // Sole owner: keep the storage for the relinearization (the object was created
+        // non-const by NonlinearFactor::relinearize, so writing to it is sound).
+        if (slot.linear.use_count() == 1) slot.spare = std::const_pointer_cast<JacobianFactor>(slot.linear);
         slot.linear.reset();
         ++result.factors_relinearized;
       }
@@ -234,7 +239,8 @@ void ISAM2::relinearize(const KeySet& relin_keys, KeySet& affected, ISAM2Result&
 
 const JacobianFactor& ISAM2::linearFactor(FactorIndex index) {
   FactorSlot& slot = factors_.at(index);
-  if (!slot.linear || !params_.cache_linearized_factors) slot.linear = slot.factor->linearize(theta_);
+  if (!slot.linear || !params_.cache_linearized_factors)
+    slot.linear = slot.factor->relinearize(theta_, std::move(slot.spare));
   return *slot.linear;
 }
 
@@ -316,14 +322,16 @@ std::vector<Clique*> ISAM2::reeliminateTop(const Top& top, const ISAM2UpdatePara
   for (const auto& [k, g] : raw)
     groups[k] = static_cast<int>(std::lower_bound(levels.begin(), levels.end(), g) - levels.begin());
   const int newest_group = levels.back() == kNewest ? static_cast<int>(levels.size()) - 1 : -1;
-  std::vector<KeyVector> pattern;
+  std::vector<const KeyVector*> pattern;
   pattern.reserve(top_factors.size() + orphans.size());
-  for (FactorIndex i : top_factors) pattern.push_back(factors_.at(i).factor->keys());
-  for (const auto& o : orphans) pattern.push_back(o->separator);
+  for (FactorIndex i : top_factors) pattern.push_back(&factors_.at(i).factor->keys());
+  for (const auto& o : orphans) pattern.push_back(&o->separator);
   const Ordering ordering = computeOrdering(pattern, top_keys, &groups);
   std::unordered_map<Key, int> pos;
   pos.reserve(n);
   for (int i = 0; i < n; ++i) pos[ordering[i]] = i;
+  std::vector<int> group_at(n);  // constraint group of the variable at each position
+  for (int i = 0; i < n; ++i) group_at[i] = groups.at(ordering[i]);
   auto lowest = [&](const KeyVector& keys) {
     int best = n;
     for (Key k : keys) {
@@ -348,10 +356,15 @@ std::vector<Clique*> ISAM2::reeliminateTop(const Top& top, const ISAM2UpdatePara
   };
   std::vector<Sym> sym;
   std::vector<std::vector<FactorIndex>> factors_at(n);
+  std::vector<std::vector<const KeyVector*>> factor_keys_at(n);  // their keys, same order
   std::vector<std::vector<int>> orphans_at(n);
   std::vector<std::vector<int>> children_at(n);  // cliques whose separator starts at var i
   std::vector<int> var_clique(n, -1);
-  for (FactorIndex i : top_factors) factors_at[lowest(factors_.at(i).factor->keys())].push_back(i);
+  for (std::size_t j = 0; j < top_factors.size(); ++j) {
+    const int at = lowest(*pattern[j]);  // pattern[j]: the keys of top_factors[j]
+    factors_at[at].push_back(top_factors[j]);
+    factor_keys_at[at].push_back(pattern[j]);
+  }
   for (std::size_t o = 0; o < orphans.size(); ++o) orphans_at[lowest(orphans[o]->separator)].push_back(static_cast<int>(o));
   std::vector<int> stamp(n, -1);
   std::vector<int> st;
@@ -364,8 +377,8 @@ std::vector<Clique*> ISAM2::reeliminateTop(const Top& top, const ISAM2UpdatePara
         st.push_back(p);
       }
     };
-    for (FactorIndex f : factors_at[i])
-      for (Key k : factors_.at(f).factor->keys()) add(pos.at(k));
+    for (const KeyVector* keys : factor_keys_at[i])
+      for (Key k : *keys) add(pos.at(k));
     for (int o : orphans_at[i])
       for (Key k : orphans[o]->separator) add(pos.at(k));
     for (int c : children_at[i])
@@ -374,14 +387,14 @@ std::vector<Clique*> ISAM2::reeliminateTop(const Top& top, const ISAM2UpdatePara
     int target = -1;
     for (int c : children_at[i])
       if (sym[c].sep.size() == st.size() + 1 &&
-          groups.at(ordering[sym[c].frontals.back()]) == groups.at(ordering[i])) {
+          group_at[sym[c].frontals.back()] == group_at[i]) {
         target = c;
         break;
       }
-    const bool newest = newest_group >= 0 && groups.at(ordering[i]) == newest_group;
+    const bool newest = newest_group >= 0 && group_at[i] == newest_group;
     if (newest)
       for (int c : children_at[i]) {
-        if (c == target || groups.at(ordering[sym[c].frontals.back()]) != newest_group) continue;
+        if (c == target || group_at[sym[c].frontals.back()] != newest_group) continue;
         if (target < 0) {
           target = c;
           continue;
@@ -437,7 +450,7 @@ std::vector<Clique*> ISAM2::reeliminateTop(const Top& top, const ISAM2UpdatePara
     for (int o : s.orphans) gathered.push_back(orphans[o]->cached_marginal.get());
     for (int ch : new_children[c]) gathered.push_back(cliques[ch]->cached_marginal.get());
     EliminationResult er = eliminate(gathered, clique->frontals, fdims, clique->separator, sdims,
-                                     params_.factorization);
+                                     params_.factorization, &workspace_);
     clique->conditional = std::move(er.conditional);
     clique->cached_marginal = std::move(er.marginal);
     clique->factor_indices = s.factors;
@@ -465,7 +478,7 @@ std::vector<Clique*> ISAM2::reeliminateTop(const Top& top, const ISAM2UpdatePara
 
 // ---------------------------------------------------------------------------
 // Step 5
-void ISAM2::backSubstitute(const std::unordered_set<const Clique*>& new_cliques, ISAM2Result& result) {
+void ISAM2::backSubstitute(const std::vector<const Clique*>& new_cliques, ISAM2Result& result) {
   // Alg. 7: top-down; a clique is solved again when it was re-eliminated or when one of its
   // separator variables differs by more than the threshold from its value when the clique
   // was last solved (not merely since the last update: steps below the threshold would
@@ -487,7 +500,7 @@ void ISAM2::backSubstitute(const std::unordered_set<const Clique*>& new_cliques,
       sep.segment(n, d.size()) = d;
       n += static_cast<int>(d.size());
     }
-    bool recompute = !wildfire || new_cliques.count(c) != 0 || c->solved_separator_delta.size() != n;
+    bool recompute = !wildfire || std::binary_search(new_cliques.begin(), new_cliques.end(), c) || c->solved_separator_delta.size() != n;
     if (!recompute && n > 0) recompute = (sep - c->solved_separator_delta).cwiseAbs().maxCoeff() > threshold;
     if (!recompute) continue;
     const Vector x = c->conditional.solve(delta_);

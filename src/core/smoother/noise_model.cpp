@@ -70,12 +70,20 @@ Eigen::VectorXd NoiseModel::whiten(const Eigen::VectorXd& e) const {
   return inv_sigmas_.cwiseProduct(e);
 }
 
+// In place for diagonal models: row i times 1/sigma_i, the same products as
+// whiten() forms (no new matrix or vector).
 void NoiseModel::whitenInPlace(Eigen::MatrixXd& h) const {
   if (full_) h = sqrt_info_ * h;
-  else h = inv_sigmas_.asDiagonal() * h;
+  else h.array().colwise() *= inv_sigmas_.array();
 }
 
-void NoiseModel::whitenInPlace(Eigen::VectorXd& e) const { e = whiten(e); }
+void NoiseModel::whitenInPlace(Eigen::VectorXd& e) const {
+  if (full_ || e.size() != dim_) {
+    e = whiten(e);
+    return;
+  }
+  e.array() *= inv_sigmas_.array();
+}
 
 Eigen::MatrixXd NoiseModel::covarianceMatrix() const {
   if (!full_) return inv_sigmas_.cwiseInverse().cwiseAbs2().asDiagonal();

@@ -13,23 +13,30 @@ NonlinearFactor::NonlinearFactor(KeyVector keys, NoiseModel::Ptr noise)
 
 double NonlinearFactor::error(const Values& x) const { return noise_->loss(unwhitenedError(x, nullptr)); }
 
-JacobianFactor::Ptr NonlinearFactor::linearize(const Values& x) const {
-  std::vector<Matrix> h(keys_.size());
-  Vector e = unwhitenedError(x, &h);
-  if (e.size() != dim()) throw std::logic_error("factor error has the wrong dimension");
-  noise_->whitenInPlace(e);
-  for (std::size_t j = 0; j < h.size(); ++j) {
-    if (h[j].rows() != dim() || h[j].cols() != x.at(keys_[j]).size())
-      throw std::logic_error("factor Jacobian has the wrong shape for " + keyToString(keys_[j]));
-    noise_->whitenInPlace(h[j]);
-  }
-  // IRLS: scale the whitened system by sqrt(w(||e||)) (robust kernel as a weight).
-  if (noise_->robust()) {
-    const double s = std::sqrt(noise_->robust()->weight(e.norm()));
-    e *= s;
-    for (auto& m : h) m *= s;
-  }
-  return std::make_shared<JacobianFactor>(keys_, std::move(h), -e);
+JacobianFactor::Ptr NonlinearFactor::linearize(const Values& x) const { return relinearize(x, nullptr); }
+
+JacobianFactor::Ptr NonlinearFactor::relinearize(const Values& x, std::shared_ptr<JacobianFactor> storage) const {
+  if (!storage) storage = std::make_shared<JacobianFactor>();
+  storage->refill([&](KeyVector& keys, std::vector<Matrix>& h, Vector& b) {
+    keys = keys_;
+    h.resize(keys_.size());
+    Vector e = unwhitenedError(x, &h);
+    if (e.size() != dim()) throw std::logic_error("factor error has the wrong dimension");
+    noise_->whitenInPlace(e);
+    for (std::size_t j = 0; j < h.size(); ++j) {
+      if (h[j].rows() != dim() || h[j].cols() != x.at(keys_[j]).size())
+        throw std::logic_error("factor Jacobian has the wrong shape for " + keyToString(keys_[j]));
+      noise_->whitenInPlace(h[j]);
+    }
+    // IRLS: scale the whitened system by sqrt(w(||e||)) (robust kernel as a weight).
+    if (noise_->robust()) {
+      const double s = std::sqrt(noise_->robust()->weight(e.norm()));
+      e *= s;
+      for (auto& m : h) m *= s;
+    }
+    b = -e;
+  });
+  return storage;
 }
 
 double graphError(const NonlinearFactorGraph& graph, const Values& x) {
