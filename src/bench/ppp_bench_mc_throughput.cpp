@@ -19,8 +19,8 @@
 
 #include "ppp_bayes_tree/app/allocator_tuning.h"
 #include "ppp_bayes_tree/evaluation/monte_carlo.h"
-#include "ppp_bayes_tree/ppp/epoch_estimator.h"
-#include "ppp_bayes_tree/ppp/ppp_pipeline.h"
+#include "ppp_bayes_tree/ppp/estimators/epoch_estimator.h"
+#include "ppp_bayes_tree/ppp/pipeline/ppp_pipeline.h"
 #include "ppp_bayes_tree/simulation/gnss_simulator.h"
 
 using namespace ppp;
