@@ -2,11 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <limits>
 
 #include <ros/console.h>
 
+#include "ppp_bayes_tree/types/text_format.h"
 #include "ppp_bayes_tree/types/thread_cpu_time.h"
 
 namespace ppp_ros {
@@ -37,11 +37,7 @@ ppp::CorrectionBufferOptions bufferOptions(const RosNodeOptions& o) {
 
 }  // namespace
 
-std::string secondsText(double s) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%+.3f s", s);
-  return buf;
-}
+std::string secondsText(double s) { return ppp::format("%+.3f s", s); }
 
 std::uint32_t SequenceGapCounter::gap(const std::string& publisher, std::uint32_t seq) {
   const auto it = last_seq_.find(publisher);

@@ -1,6 +1,6 @@
 #include "ppp_bayes_tree/ros/sim_clock_watch.h"
 
-#include <cstdio>
+#include "ppp_bayes_tree/types/text_format.h"
 
 namespace ppp_ros {
 
@@ -13,9 +13,7 @@ SimClockWatch::SimClockWatch(ros::NodeHandle& nh, std::string node_name, double 
 }
 
 std::string SimClockWatch::waitingText(const std::string& node_name, double waited_s) {
-  char waited[32];
-  std::snprintf(waited, sizeof waited, "%.0f", waited_s);
-  return node_name + ": /use_sim_time is true and no /clock has arrived for " + waited +
+  return node_name + ": /use_sim_time is true and no /clock has arrived for " + ppp::format("%.0f", waited_s) +
          " s (wall): ROS time stands at 0, so nothing is processed or published (no status, no diagnostics). "
          "Start the bag player with --clock, or, for live input, clear a /use_sim_time left by an earlier replay "
          "(rosparam set /use_sim_time false) and restart the node";
