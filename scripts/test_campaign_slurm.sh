@@ -7,10 +7,14 @@
 #  2. a 6-job campaign over the shared datasets (ZIM2, CCJ2, ESBC hours 0-3) run by
 #     the local pool and by Slurm (2 jobs per array task) writes the same bytes (every job output, marker
 #     and the summary files; only timing.json, the logs and slurm/ differ);
-#  3. the same campaign plus a long job (ESBC whole day, smoother) on Slurm with no
-#     resubmission; the long task is cancelled mid-run (scancel): the campaign ends
-#     with it failed (the Slurm state named) and the others done; the next
-#     invocation runs that job only (the others' markers untouched) and ends done;
+#  2b. the same campaign plus a long job (ESBC whole day, smoother) in the local pool:
+#     the long job's process is killed mid-run (SIGKILL): the campaign ends with it
+#     failed (the signal named) and the others done; the next invocation runs that
+#     job only (the others' markers untouched) and ends done;
+#  3. the same seven jobs on Slurm with no resubmission; the long task is cancelled
+#     mid-run (scancel): the campaign ends with it failed (the Slurm state named) and
+#     the others done; the next invocation runs that job only (the others' markers
+#     untouched) and ends done;
 #     with one resubmission allowed, the same cancellation is resubmitted and done in
 #     the same invocation;
 #  4. a Monte Carlo study of 40 flights (2 min, GPS + Galileo) as 4 shards through
@@ -114,6 +118,30 @@ fi
 n_files=$(find "$WORK/slurm6/jobs" -path '*/output/*' -type f | wc -l)
 [ "$n_files" -ge 30 ] || note "only $n_files output files compared"
 
+# 2b. The local pool: a job's process killed mid-run fails with the signal named, and the
+# next invocation runs that job only.
+"$CAMPAIGN" run "$WORK/seven.yaml" --out "$WORK/localkill" --local --jobs 2 --no-plot > "$WORK/localkill.log" 2>&1 &
+campaign_pid=$!
+killed=""
+for i in $(seq 1 300); do
+  job_pid=$(pgrep -f "run-job $WORK/localkill/jobs/esbcday\$" | head -1)
+  if [ -n "$job_pid" ]; then sleep 0.5; kill -KILL "$job_pid" && killed="$job_pid"; break; fi
+  sleep 0.1
+done
+wait "$campaign_pid"
+rc=$?
+[ -n "$killed" ] || note "local: the long job's process was never seen running"
+[ $rc -eq 1 ] || note "local: the campaign with a killed job exited $rc (1 expected)"
+[ ! -e "$WORK/localkill/jobs/esbcday/done.json" ] || note "local: the killed job has a finished marker"
+grep -q "run-job killed by signal 9" "$WORK/localkill/jobs/esbcday/failed.json" 2>/dev/null || note "local: the killed job's reason does not name the signal: $(cat "$WORK/localkill/jobs/esbcday/failed.json" 2>/dev/null)"
+before=$(stat -c '%n %y' "$WORK"/localkill/jobs/{zim2,ccj2_*,esbc_*}/done.json 2>/dev/null | sort)
+[ "$(echo "$before" | wc -l)" -eq 6 ] || note "local: the other 6 jobs did not all finish: $(cat "$WORK/localkill/summary.csv" 2>/dev/null)"
+"$CAMPAIGN" run "$WORK/seven.yaml" --out "$WORK/localkill" --local --jobs 2 --no-plot > "$WORK/localrerun.log" 2>&1 || note "local: the re-run exited $?: $(tail -3 "$WORK/localrerun.log")"
+grep -q "7 jobs: 6 already done, 1 to run" "$WORK/localrerun.log" || note "local: the re-run did not run exactly the killed job: $(grep 'already done' "$WORK/localrerun.log")"
+after=$(stat -c '%n %y' "$WORK"/localkill/jobs/{zim2,ccj2_*,esbc_*}/done.json 2>/dev/null | sort)
+[ "$before" = "$after" ] || note "local: the re-run touched finished jobs"
+[ -f "$WORK/localkill/jobs/esbcday/done.json" ] || note "local: the killed job did not finish on the re-run"
+
 # 3. Cancel a running task; the next invocation runs that job only.
 cancel_long_task() {  # OUT_DIR: cancels the esbcday task of round 0 once it runs; CANCELLED = its task id
   local list="$1/slurm/round0.list" i k task
@@ -195,6 +223,6 @@ if [ -z "$fail" ]; then
 else
   junit failed "${fail#; }"
   echo "test_campaign_slurm: failed${fail}"
-  for f in local slurm6 kill rerun mc; do echo "--- $f.log"; tail -15 "$WORK/$f.log" 2>/dev/null; done
+  for f in local slurm6 localkill localrerun kill rerun mc; do echo "--- $f.log"; tail -15 "$WORK/$f.log" 2>/dev/null; done
 fi
 exit 0
