@@ -91,8 +91,6 @@ class ChildProcess {
   ~ChildProcess();
 
   pid_t pid() const { return pid_; }
-  /// The executable it was started from (argv[0]), for messages.
-  const std::string& name() const { return name_; }
   /// How it ended once collected (by wait or poll); nullopt while it runs.
   const std::optional<ProcessEnd>& end() const { return end_; }
 
@@ -108,11 +106,10 @@ class ChildProcess {
   std::string readOutput();
 
  private:
-  ChildProcess(pid_t pid, std::string name, int output_fd) : pid_(pid), name_(std::move(name)), output_fd_(output_fd) {}
+  ChildProcess(pid_t pid, int output_fd) : pid_(pid), output_fd_(output_fd) {}
   void release();
 
   pid_t pid_ = -1;
-  std::string name_;
   int output_fd_ = -1;  // the read end of the output pipe
   std::optional<ProcessEnd> end_;
 };

@@ -152,12 +152,11 @@ ChildProcess ChildProcess::spawn(const ChildProcessSpec& spec) {
                                   : posix_spawn(&pid, argv[0], actions.get(), nullptr, argv.data(), envp.data());
   if (rc != 0) throw fail(systemError(rc));
   fds.release(output_fd);  // the pipe's read end is the parent's; the rest closes here
-  return ChildProcess(pid, name, output_fd);
+  return ChildProcess(pid, output_fd);
 }
 
 ChildProcess::ChildProcess(ChildProcess&& other) noexcept
     : pid_(std::exchange(other.pid_, -1)),
-      name_(std::move(other.name_)),
       output_fd_(std::exchange(other.output_fd_, -1)),
       end_(std::move(other.end_)) {}
 
@@ -165,7 +164,6 @@ ChildProcess& ChildProcess::operator=(ChildProcess&& other) noexcept {
   if (this != &other) {
     release();
     pid_ = std::exchange(other.pid_, -1);
-    name_ = std::move(other.name_);
     output_fd_ = std::exchange(other.output_fd_, -1);
     end_ = std::move(other.end_);
   }
