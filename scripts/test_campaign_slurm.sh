@@ -7,10 +7,14 @@
 #  2. a 6-job campaign over the shared datasets (ZIM2, CCJ2, ESBC hours 0-3) run by
 #     the local pool and by Slurm (2 jobs per array task) writes the same bytes (every job output, marker
 #     and the summary files; only timing.json, the logs and slurm/ differ);
-#  3. the same campaign plus a long job (ESBC whole day, smoother) on Slurm with no
-#     resubmission; the long task is cancelled mid-run (scancel): the campaign ends
-#     with it failed (the Slurm state named) and the others done; the next
-#     invocation runs that job only (the others' markers untouched) and ends done;
+#  2b. the same campaign plus a long job (ESBC whole day, smoother) in the local pool:
+#     the long job's process is killed mid-run (SIGKILL): the campaign ends with it
+#     failed (the signal named) and the others done; the next invocation runs that
+#     job only (the others' markers untouched) and ends done;
+#  3. the same seven jobs on Slurm with no resubmission; the long task is cancelled
+#     mid-run (scancel): the campaign ends with it failed (the Slurm state named) and
+#     the others done; the next invocation runs that job only (the others' markers
+#     untouched) and ends done;
 #     with one resubmission allowed, the same cancellation is resubmitted and done in
 #     the same invocation;
 #  4. a Monte Carlo study of 40 flights (2 min, GPS + Galileo) as 4 shards through
@@ -114,6 +118,40 @@ fi
 n_files=$(find "$WORK/slurm6/jobs" -path '*/output/*' -type f | wc -l)
 [ "$n_files" -ge 30 ] || note "only $n_files output files compared"
 
+# 2b and 3: a campaign of the seven jobs whose long job was stopped mid-run (its
+# process killed, its Slurm task cancelled), then run again.
+check_stopped_long_job() {  # LABEL OUT RC REASON: the campaign exited RC; BEFORE = the other jobs' marker times
+  local label="$1" out="$2" rc="$3" reason="$4"
+  [ "$rc" -eq 1 ] || note "$label: the campaign with a stopped job exited $rc (1 expected)"
+  [ ! -e "$out/jobs/esbcday/done.json" ] || note "$label: the stopped job has a finished marker"
+  grep -q "$reason" "$out/jobs/esbcday/failed.json" 2>/dev/null || note "$label: the stopped job's reason does not name '$reason': $(cat "$out/jobs/esbcday/failed.json" 2>/dev/null)"
+  grep -q "esbcday,ppp,esbcday,,,failed" "$out/summary.csv" 2>/dev/null || note "$label: the summary does not list the stopped job as failed"
+  BEFORE=$(stat -c '%n %y' "$out"/jobs/{zim2,ccj2_*,esbc_*}/done.json 2>/dev/null | sort)
+  [ "$(echo "$BEFORE" | wc -l)" -eq 6 ] || note "$label: the other 6 jobs did not all finish: $(cat "$out/summary.csv" 2>/dev/null)"
+}
+check_rerun_of_long_job() {  # LABEL OUT LOG: the re-run (logged in LOG) ran the stopped job only
+  local label="$1" out="$2" log="$3"
+  grep -q "7 jobs: 6 already done, 1 to run" "$log" || note "$label: the re-run did not run exactly the stopped job: $(grep 'already done' "$log")"
+  [ "$BEFORE" = "$(stat -c '%n %y' "$out"/jobs/{zim2,ccj2_*,esbc_*}/done.json 2>/dev/null | sort)" ] || note "$label: the re-run touched finished jobs"
+  [ -f "$out/jobs/esbcday/done.json" ] || note "$label: the stopped job did not finish on the re-run"
+}
+
+# 2b. The local pool: the long job's process killed mid-run; the next invocation runs that job only.
+"$CAMPAIGN" run "$WORK/seven.yaml" --out "$WORK/localkill" --local --jobs 2 --no-plot > "$WORK/localkill.log" 2>&1 &
+campaign_pid=$!
+killed=""
+for i in $(seq 1 300); do
+  job_pid=$(pgrep -f "run-job $WORK/localkill/jobs/esbcday\$" | head -1)
+  if [ -n "$job_pid" ]; then sleep 0.5; kill -KILL "$job_pid" && killed="$job_pid"; break; fi
+  sleep 0.1
+done
+wait "$campaign_pid"
+rc=$?
+[ -n "$killed" ] || note "local: the long job's process was never seen running"
+check_stopped_long_job local "$WORK/localkill" $rc "run-job killed by signal 9"
+"$CAMPAIGN" run "$WORK/seven.yaml" --out "$WORK/localkill" --local --jobs 2 --no-plot > "$WORK/localrerun.log" 2>&1 || note "local: the re-run exited $?: $(tail -3 "$WORK/localrerun.log")"
+check_rerun_of_long_job local "$WORK/localkill" "$WORK/localrerun.log"
+
 # 3. Cancel a running task; the next invocation runs that job only.
 cancel_long_task() {  # OUT_DIR: cancels the esbcday task of round 0 once it runs; CANCELLED = its task id
   local list="$1/slurm/round0.list" i k task
@@ -133,18 +171,10 @@ cancel_long_task "$WORK/kill"
 cancelled="$CANCELLED"
 wait "$campaign_pid"
 rc=$?
-[ -n "$cancelled" ] || note "the long task was never seen running"
-[ $rc -eq 1 ] || note "the campaign with a cancelled task exited $rc (1 expected)"
-[ ! -e "$WORK/kill/jobs/esbcday/done.json" ] || note "the cancelled job has a finished marker"
-grep -q "CANCELLED" "$WORK/kill/jobs/esbcday/failed.json" 2>/dev/null || note "the cancelled job's reason does not name the Slurm state: $(cat "$WORK/kill/jobs/esbcday/failed.json" 2>/dev/null)"
-grep -q "esbcday,ppp,esbcday,,,failed" "$WORK/kill/summary.csv" 2>/dev/null || note "the summary does not list the cancelled job as failed"
-before=$(stat -c '%n %y' "$WORK"/kill/jobs/{zim2,ccj2_*,esbc_*}/done.json 2>/dev/null | sort)
-[ "$(echo "$before" | wc -l)" -eq 6 ] || note "the other 6 jobs did not all finish: $(cat "$WORK/kill/summary.csv" 2>/dev/null)"
-"$CAMPAIGN" run "$WORK/seven.yaml" --out "$WORK/kill" --slurm --poll-s 0.3 --no-plot > "$WORK/rerun.log" 2>&1 || note "the re-run exited $?: $(tail -3 "$WORK/rerun.log")"
-grep -q "7 jobs: 6 already done, 1 to run" "$WORK/rerun.log" || note "the re-run did not run exactly the cancelled job: $(grep 'already done' "$WORK/rerun.log")"
-after=$(stat -c '%n %y' "$WORK"/kill/jobs/{zim2,ccj2_*,esbc_*}/done.json 2>/dev/null | sort)
-[ "$before" = "$after" ] || note "the re-run touched finished jobs"
-[ -f "$WORK/kill/jobs/esbcday/done.json" ] || note "the cancelled job did not finish on the re-run"
+[ -n "$cancelled" ] || note "slurm: the long task was never seen running"
+check_stopped_long_job slurm "$WORK/kill" $rc "CANCELLED"
+"$CAMPAIGN" run "$WORK/seven.yaml" --out "$WORK/kill" --slurm --poll-s 0.3 --no-plot > "$WORK/rerun.log" 2>&1 || note "slurm: the re-run exited $?: $(tail -3 "$WORK/rerun.log")"
+check_rerun_of_long_job slurm "$WORK/kill" "$WORK/rerun.log"
 cmp -s "$WORK/kill/jobs/esbc_2020-177_h02/output/esbc_ekf.csv" "$WORK/local/jobs/esbc_2020-177_h02/output/esbc_ekf.csv" || note "resumed outputs differ from the local run"
 
 # 3b. With resubmission: the cancelled task is resubmitted within the same invocation.
@@ -195,6 +225,6 @@ if [ -z "$fail" ]; then
 else
   junit failed "${fail#; }"
   echo "test_campaign_slurm: failed${fail}"
-  for f in local slurm6 kill rerun mc; do echo "--- $f.log"; tail -15 "$WORK/$f.log" 2>/dev/null; done
+  for f in local slurm6 localkill localrerun kill rerun mc; do echo "--- $f.log"; tail -15 "$WORK/$f.log" 2>/dev/null; done
 fi
 exit 0

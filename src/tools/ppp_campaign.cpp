@@ -32,7 +32,6 @@
 // summary; run again to re-run them); 2 usage, a bad manifest or missing inputs.
 #include <fcntl.h>
 #include <sys/file.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <chrono>
@@ -50,6 +49,7 @@
 
 #include "ppp_bayes_tree/app/allocator_tuning.h"
 #include "ppp_bayes_tree/app/campaign_summary.h"
+#include "ppp_bayes_tree/app/child_process.h"
 #include "ppp_bayes_tree/io/parse_error.h"
 #include "ppp_bayes_tree/ppp/config/yaml_section.h"
 
@@ -86,20 +86,25 @@ std::string selfExecutable() {
   return ec ? std::string("ppp_campaign") : p.string();
 }
 
-/// A command's standard output (and its exit status).
-std::string capture(const std::string& command, int* status = nullptr) {
-  std::string out;
-  FILE* pipe = ::popen(command.c_str(), "r");
-  if (!pipe) {
+/// Where a command's standard error goes: dropped, or with its output.
+enum class CommandErrors { Drop, WithOutput };
+
+/// A command's standard output (looked up on PATH) and its exit status (-1 when
+/// a signal killed it or it could not start; then, with its errors, the output
+/// is the reason it could not start).
+std::string capture(const std::vector<std::string>& argv, CommandErrors errors, int* status = nullptr) {
+  ppp::ChildProcessSpec spec;
+  spec.argv = argv;
+  spec.search_path = true;
+  spec.stderr_to = errors == CommandErrors::Drop ? ppp::ChildStream::null() : ppp::ChildStream::withStdout();
+  try {
+    ppp::CapturedOutput run = ppp::runCapturingOutput(spec);
+    if (status) *status = run.end.exited() ? run.end.exit_status : -1;
+    return run.output;
+  } catch (const ppp::ProcessStartError& e) {
     if (status) *status = -1;
-    return out;
+    return errors == CommandErrors::WithOutput ? e.what() : "";
   }
-  char buf[4096];
-  std::size_t n;
-  while ((n = std::fread(buf, 1, sizeof buf, pipe)) > 0) out.append(buf, n);
-  const int st = ::pclose(pipe);
-  if (status) *status = WIFEXITED(st) ? WEXITSTATUS(st) : -1;
-  return out;
 }
 
 std::string shellQuote(const std::string& s) {
@@ -146,52 +151,49 @@ struct PendingJob {
 // ---------------------------------------------------------------------------
 // Local backend: a pool of subprocesses `ppp_campaign run-job DIR`.
 // ---------------------------------------------------------------------------
-pid_t spawnJob(const std::string& exe, const std::string& dir) {
-  const std::string log = (fs::path(dir) / "log.txt").string();
-  const pid_t pid = ::fork();
-  if (pid != 0) return pid;  // parent (or -1)
-  std::FILE* f = std::freopen(log.c_str(), "w", stdout);
-  if (f) ::dup2(STDOUT_FILENO, STDERR_FILENO);
-  ::execl(exe.c_str(), exe.c_str(), "run-job", dir.c_str(), static_cast<char*>(nullptr));
-  std::perror("ppp_campaign: exec");
-  ::_exit(127);
+/// Starts `ppp_campaign run-job DIR` with its console output in DIR/log.txt.
+ppp::ChildProcess spawnJob(const std::string& exe, const std::string& dir) {
+  ppp::ChildProcessSpec spec;
+  spec.argv = {exe, "run-job", dir};
+  spec.stdout_to = ppp::ChildStream::file((fs::path(dir) / "log.txt").string());
+  spec.stderr_to = ppp::ChildStream::withStdout();
+  return ppp::ChildProcess::spawn(spec);
 }
 
-std::string exitText(int status) {
-  if (WIFSIGNALED(status)) return "killed by signal " + std::to_string(WTERMSIG(status));
-  return "exited with status " + std::to_string(WEXITSTATUS(status));
+/// Records how a job's process ended when the job did not record it itself.
+void noteJobProcessEnd(const PendingJob& job, const ppp::ProcessEnd& end) {
+  const ppp::CampaignJobState st = ppp::campaignJobStatus(job.dir).state;
+  if (st != ppp::CampaignJobState::Done && st != ppp::CampaignJobState::Failed)
+    ppp::markCampaignJobFailed(job.dir, "run-job " + end.text() + " without finishing (see " + job.dir + "/log.txt)");
 }
 
 void runLocal(const std::vector<PendingJob>& jobs, int already_done, int total, unsigned slots) {
   const std::string exe = selfExecutable();
   if (slots == 0) slots = std::max(1u, std::thread::hardware_concurrency());
-  std::map<pid_t, const PendingJob*> running;
+  std::map<pid_t, std::pair<ppp::ChildProcess, const PendingJob*>> running;
   std::size_t next = 0;
   int done = already_done, failed = 0;
   ProgressLine progress(total);
   progress.show(done, failed, 0);
   while (next < jobs.size() || !running.empty()) {
     while (next < jobs.size() && running.size() < slots) {
-      const pid_t pid = spawnJob(exe, jobs[next].dir);
-      if (pid < 0) {
-        ppp::markCampaignJobFailed(jobs[next].dir, "could not start a process (fork failed)");
+      try {
+        ppp::ChildProcess child = spawnJob(exe, jobs[next].dir);
+        const pid_t pid = child.pid();
+        running.emplace(pid, std::make_pair(std::move(child), &jobs[next]));
+      } catch (const ppp::ProcessStartError& e) {
+        ppp::markCampaignJobFailed(jobs[next].dir, std::string("could not start a process: ") + e.what());
         ++failed;
-      } else {
-        running[pid] = &jobs[next];
       }
       ++next;
     }
     progress.show(done, failed, static_cast<int>(running.size()));
-    int status = 0;
-    const pid_t pid = ::waitpid(-1, &status, 0);
-    if (pid < 0) break;
-    auto it = running.find(pid);
-    if (it == running.end()) continue;
-    const PendingJob& job = *it->second;
+    if (running.empty()) continue;
+    auto it = running.find(ppp::waitForAnyChildToEnd());
+    if (it == running.end()) it = running.begin();  // not ours (none should be): wait for one of ours
+    const PendingJob& job = *it->second.second;
+    noteJobProcessEnd(job, it->second.first.wait());
     running.erase(it);
-    ppp::CampaignJobStatus st = ppp::campaignJobStatus(job.dir);
-    if (st.state != ppp::CampaignJobState::Done && st.state != ppp::CampaignJobState::Failed)
-      ppp::markCampaignJobFailed(job.dir, "run-job " + exitText(status) + " without finishing (see " + job.dir + "/log.txt)");
     if (ppp::campaignJobStatus(job.dir).state == ppp::CampaignJobState::Done) ++done;
     else ++failed;
   }
@@ -211,7 +213,8 @@ struct SlurmTaskEnd {
 std::map<int, SlurmTaskEnd> slurmTaskEnds(const std::string& array_id) {
   std::map<int, SlurmTaskEnd> ends;
   int status = 0;
-  const std::string sacct = capture("sacct -n -P -X -j " + array_id + " -o JobID,State,ExitCode 2>/dev/null", &status);
+  const std::string sacct =
+      capture({"sacct", "-n", "-P", "-X", "-j", array_id, "-o", "JobID,State,ExitCode"}, CommandErrors::Drop, &status);
   if (status == 0) {
     std::istringstream lines(sacct);
     std::string line;
@@ -222,7 +225,7 @@ std::map<int, SlurmTaskEnd> slurmTaskEnds(const std::string& array_id) {
     }
     if (!ends.empty()) return ends;
   }
-  const std::string show = capture("scontrol -o show job " + array_id + " 2>/dev/null");
+  const std::string show = capture({"scontrol", "-o", "show", "job", array_id}, CommandErrors::Drop);
   std::istringstream lines(show);
   std::string line;
   auto field = [](const std::string& l, const std::string& key) {
@@ -247,7 +250,7 @@ struct SlurmSettings {
 
 /// The cluster's MaxArraySize (array indices 0 .. MaxArraySize - 1; Slurm's default 1001).
 std::size_t maxArraySize() {
-  std::istringstream lines(capture("scontrol show config 2>/dev/null"));
+  std::istringstream lines(capture({"scontrol", "show", "config"}, CommandErrors::Drop));
   std::string line;
   while (std::getline(lines, line)) {
     if (line.rfind("MaxArraySize", 0) != 0) continue;
@@ -289,15 +292,15 @@ std::string submitArray(const SlurmSettings& s, const std::vector<PendingJob>& j
                   "while IFS= read -r dir; do\n  " + shellQuote(selfExecutable()) +
                   " run-job \"$dir\" || status=1\ndone < <(sed -n \"${first},${last}p\" " + shellQuote(list) +
                   ")\nexit $status\n");
-  std::string cmd = "sbatch --parsable --job-name=" + shellQuote("ppp_campaign_" + s.name) +
-                    " --array=1-" + std::to_string(tasks) + " --time=" + shellQuote(s.resources.time_limit) +
-                    " --mem=" + shellQuote(s.resources.mem) + " --cpus-per-task=" +
-                    std::to_string(s.resources.cpus_per_task) + " --chdir=" + shellQuote(s.out) + " --output=" +
-                    shellQuote((dir / "%A_%a.log").string());
-  if (!s.resources.partition.empty()) cmd += " --partition=" + shellQuote(s.resources.partition);
-  cmd += " " + shellQuote(script) + " 2>&1";
+  std::vector<std::string> cmd = {"sbatch", "--parsable", "--job-name=ppp_campaign_" + s.name,
+                                  "--array=1-" + std::to_string(tasks), "--time=" + s.resources.time_limit,
+                                  "--mem=" + s.resources.mem,
+                                  "--cpus-per-task=" + std::to_string(s.resources.cpus_per_task),
+                                  "--chdir=" + s.out, "--output=" + (dir / "%A_%a.log").string()};
+  if (!s.resources.partition.empty()) cmd.push_back("--partition=" + s.resources.partition);
+  cmd.push_back(script);
   int status = 0;
-  std::string out = capture(cmd, &status);
+  std::string out = capture(cmd, CommandErrors::WithOutput, &status);
   while (!out.empty() && (out.back() == '\n' || out.back() == ' ')) out.pop_back();
   const std::string id = out.substr(0, out.find(';'));
   if (status != 0 || id.empty() || id.find_first_not_of("0123456789") != std::string::npos) {
@@ -310,7 +313,7 @@ std::string submitArray(const SlurmSettings& s, const std::vector<PendingJob>& j
 /// Task index -> squeue state of a running array (empty when it has ended).
 std::map<int, std::string> slurmQueue(const std::string& array_id, bool& ended) {
   int status = 0;
-  const std::string out = capture("squeue -h -r -j " + array_id + " -o '%K %T' 2>/dev/null", &status);
+  const std::string out = capture({"squeue", "-h", "-r", "-j", array_id, "-o", "%K %T"}, CommandErrors::Drop, &status);
   std::map<int, std::string> q;
   std::istringstream lines(out);
   int task = 0;
@@ -405,7 +408,7 @@ void plotSummary(const std::string& out) {
   const std::string script = std::string(PPP_SCRIPTS_DIR) + "/plot_campaign.py";
   if (!fs::exists(script) || !fs::exists("/usr/bin/python3")) return;
   int status = 0;
-  const std::string text = capture("/usr/bin/python3 " + shellQuote(script) + " " + shellQuote(out) + " 2>&1", &status);
+  const std::string text = capture({"/usr/bin/python3", script, out}, CommandErrors::WithOutput, &status);
   if (status != 0) std::cerr << "ppp_campaign: the plot failed (the summary files are written):\n" << text;
   else std::cout << text;
 #else

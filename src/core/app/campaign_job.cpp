@@ -1,12 +1,6 @@
 #include "ppp_bayes_tree/app/campaign_job.h"
 
-#include <fcntl.h>
-#include <spawn.h>
-#include <sys/wait.h>
 #include <unistd.h>
-
-#include <cerrno>
-#include <cstring>
 
 #include <chrono>
 #include <cmath>
@@ -18,14 +12,13 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include "ppp_bayes_tree/app/child_process.h"
 #include "ppp_bayes_tree/app/ppp_solve_run.h"
 #include "ppp_bayes_tree/evaluation/json_text.h"
 #include "ppp_bayes_tree/evaluation/monte_carlo_records.h"
 #include "ppp_bayes_tree/io/transport/stream_format.h"
 #include "ppp_bayes_tree/ppp/config/yaml_section.h"
 #include "ppp_bayes_tree/ppp/estimators/estimator_registry.h"
-
-extern char** environ;
 
 namespace ppp {
 namespace fs = std::filesystem;
@@ -168,25 +161,19 @@ std::vector<std::string> bagSolverArguments(const CampaignJob& job, const std::s
 }
 
 /// Runs ppp_bag_solve (a ROS tool: the core does not read bags) with its console
-/// output to `log`; returns its exit status, or a text saying how it ended.
+/// output to `log`; returns "" when it succeeded, else how it ended or why it
+/// could not start.
 std::string runProcess(const std::vector<std::string>& args, const std::string& log) {
-  std::vector<char*> argv;
-  for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
-  argv.push_back(nullptr);
-  posix_spawn_file_actions_t actions;
-  posix_spawn_file_actions_init(&actions);
-  posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-  posix_spawn_file_actions_adddup2(&actions, STDOUT_FILENO, STDERR_FILENO);
-  pid_t pid = 0;
-  const int rc = posix_spawn(&pid, argv[0], &actions, nullptr, argv.data(), environ);
-  posix_spawn_file_actions_destroy(&actions);
-  if (rc != 0) return "cannot start " + args[0] + ": " + std::strerror(rc);
-  int status = 0;
-  while (waitpid(pid, &status, 0) < 0)
-    if (errno != EINTR) return "lost " + args[0] + ": " + std::strerror(errno);
-  if (WIFEXITED(status)) return WEXITSTATUS(status) == 0 ? "" : "exit status " + std::to_string(WEXITSTATUS(status));
-  if (WIFSIGNALED(status)) return "killed by signal " + std::to_string(WTERMSIG(status));
-  return "ended abnormally";
+  ChildProcessSpec spec;
+  spec.argv = args;
+  spec.stdout_to = ChildStream::file(log);
+  spec.stderr_to = ChildStream::withStdout();
+  try {
+    const ProcessEnd end = runChildProcess(spec);
+    return end.succeeded() ? "" : end.text();
+  } catch (const ProcessStartError& e) {
+    return e.what();
+  }
 }
 
 /// The last lines of a log (the reason a tool gives on failure).
