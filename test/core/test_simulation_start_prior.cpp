@@ -21,12 +21,14 @@ TEST(SimulationStartPrior, MonteCarloDefaultIsTheSimulatedConfig) {
   // 30 m as written in config/ppp_simulated.yaml (stochastic.position.initial_sigma_m).
   EXPECT_EQ(study.stochastic.position.initial_sigma_m, 30.0);
   EXPECT_EQ(file.stochastic.position.initial_sigma_m, study.stochastic.position.initial_sigma_m);
+  // The wet delay's random walk: the method's 3e-5 m/sqrt(s) in both (the real-data default is 1e-4).
+  EXPECT_EQ(study.stochastic.zwd.process_noise_m_per_sqrt_s, 3.0e-5);
+  EXPECT_EQ(file.stochastic.zwd.process_noise_m_per_sqrt_s, study.stochastic.zwd.process_noise_m_per_sqrt_s);
   // Every other stochastic key: the defaults in both.
   const StochasticModel d;
   for (const StochasticModel* m : {&study.stochastic, &file.stochastic}) {
     EXPECT_EQ(m->position.process_noise_m_per_sqrt_s, d.position.process_noise_m_per_sqrt_s);
     EXPECT_EQ(m->zwd.initial_sigma_m, d.zwd.initial_sigma_m);
-    EXPECT_EQ(m->zwd.process_noise_m_per_sqrt_s, d.zwd.process_noise_m_per_sqrt_s);
     EXPECT_EQ(m->initial_zwd_m, d.initial_zwd_m);
     EXPECT_EQ(m->clock.initial_sigma_m, d.clock.initial_sigma_m);
     EXPECT_EQ(m->phase_bias.initial_sigma_m, d.phase_bias.initial_sigma_m);

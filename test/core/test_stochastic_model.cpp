@@ -1,5 +1,6 @@
 // StochasticModel: the defaults (the method's table, except the
-// position a priori sigma: 30 m instead of 1 m), the method's table itself
+// position a priori sigma, 30 m instead of 1 m, and the ZWD random walk, 1e-4
+// instead of 3e-5 m/sqrt(s)), the method's table itself
 // (methodTableStochasticModel: position 1 m / 5 m/sqrt(s) random walk; ZWD
 // 0.3 m / 3e-5 m/sqrt(s) random walk; clock 3e6 m / 2000 m/sqrt(s) white; phase
 // bias 100 m / 0) and the conversion of process noise to per-epoch variances over dt.
@@ -15,11 +16,13 @@ TEST(StochasticModel, DefaultsAreTheMethodTable) {
   EXPECT_EQ(table.position.initial_sigma_m, 1.0);  // the method's table
   // The defaults: position a priori 30 m (uninformative start, see stochastic_model.h).
   EXPECT_EQ(StochasticModel{}.position.initial_sigma_m, 30.0);
+  // ... and the wet delay's random walk 1e-4 m/sqrt(s) (RTKLIB's; the table's 3e-5).
+  EXPECT_EQ(table.zwd.process_noise_m_per_sqrt_s, 3.0e-5);
+  EXPECT_EQ(StochasticModel{}.zwd.process_noise_m_per_sqrt_s, 1.0e-4);
   for (const StochasticModel& m : {table, StochasticModel{}}) {
     EXPECT_EQ(m.position.process_noise_m_per_sqrt_s, 5.0);
     EXPECT_EQ(m.position.kind, ProcessKind::RandomWalk);
     EXPECT_EQ(m.zwd.initial_sigma_m, 0.3);
-    EXPECT_EQ(m.zwd.process_noise_m_per_sqrt_s, 3.0e-5);
     EXPECT_EQ(m.zwd.kind, ProcessKind::RandomWalk);
     EXPECT_EQ(m.initial_zwd_m, 0.1);
     EXPECT_EQ(m.clock.initial_sigma_m, 3.0e6);
@@ -35,7 +38,7 @@ TEST(StochasticModel, RandomWalkVarianceGrowsLinearlyWithDt) {
   const StochasticModel m;
   EXPECT_DOUBLE_EQ(m.position.processVariance_m2(30.0), 25.0 * 30.0);   // q^2 dt = 750 m^2
   EXPECT_DOUBLE_EQ(m.position.processVariance_m2(600.0), 25.0 * 600.0);  // a 10-minute gap
-  EXPECT_DOUBLE_EQ(m.zwd.processVariance_m2(3600.0), 9.0e-10 * 3600.0);
+  EXPECT_DOUBLE_EQ(m.zwd.processVariance_m2(3600.0), 1.0e-8 * 3600.0);  // (1e-4 m/sqrt(s))^2 x 1 h
   EXPECT_EQ(m.phase_bias.processVariance_m2(1e5), 0.0);  // constant per arc
   EXPECT_EQ(m.position.processVariance_m2(-5.0), 0.0);   // negative dt treated as 0
 }
