@@ -34,6 +34,7 @@ NodeConfig loadNodeConfig(const ros::NodeHandle& private_nh) {
   NodeConfig c;
   c.ppp = ppp::bindPppConfig(root, source);  // the XmlRpc types kept (no text round trip)
   c.ros = bindRosNodeOptions(c.ppp.ros, source);
+  c.ros.live_input.fallback = c.ppp.ssr.fallback;  // one broadcast fallback rule, offline and live
   return c;
 }
 

@@ -39,7 +39,7 @@ OrbitClockProducts loadOrbitsAndClocks(const ProductAssemblyInputs& in, const Pp
     std::optional<ObservationSpan> span;
     if (in.first && in.last) span = ObservationSpan{*in.first, *in.last};
     BroadcastProducts broadcast = loadBroadcastProducts(in.nav, in.ssr, in.ssr_reference, config.ssr,
-                                                        in.stream_reference_time, span);
+                                                        config.ssr.fallback, in.stream_reference_time, span);
     out.ephemeris = std::move(broadcast.ephemeris);
     out.ssr_biases = std::move(broadcast.ssr_biases);
     out.ssr_phase_biases = broadcast.ssr_phase_biases;
