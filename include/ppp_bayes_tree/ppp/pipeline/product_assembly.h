@@ -120,8 +120,6 @@ struct ArGateVerdict {
   std::string text() const;
 };
 
-struct OrbitClockProducts;
-
 class ProductAssembly {
  public:
   /// Reads and checks the products (throws FileOpenError / ParseError on unreadable

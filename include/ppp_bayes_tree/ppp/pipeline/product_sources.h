@@ -71,7 +71,7 @@ using OrbitClockLoader = OrbitClockProducts (*)(const ProductAssemblyInputs& in,
 /// Where the PPP-AR gate looks for phase information of a source's clocks.
 enum class SourcePhaseInformation {
   ClockProducts,  // phase OSBs of the clocks' analysis centre, integer-recovery clock headers
-  SsrRecording,   // the SSR recording's phase biases
+  SsrRecording,   // the SSR recording's phase biases (none from broadcast records alone)
   Stream,         // a Bias-SINEX file of the stream's clock centre, the stream's biases later
 };
 
