@@ -31,18 +31,16 @@ int main(int argc, char** argv) {
   const int repeats = argc > 1 ? std::max(1, std::atoi(argv[1])) : 5;
   const std::string d = dataDir();
   std::vector<Dataset> sets = {
-      {"ZIM2", {d + "/zim2-2026-133/ZIM200CHE_R_20261330000_01H_30S_MO.rnx",
-                {d + "/zim2-2026-133/IGS0OPSFIN_20261330000_03H_15M_ORB.SP3"},
-                {d + "/zim2-2026-133/IGS0OPSFIN_20261330000_90M_30S_CLK.CLK"},
-                {d + "/antex/igs20_zim2_gps_trim.atx"},
-                d + "/zim2-2026-133/COD0OPSFIN_20261330000_01D_01D_OSB.BIA.gz",
-                std::nullopt}},
-      {"CCJ2", {d + "/ccj2-2021-210/ccj22100.21o",
-                {d + "/ccj2-2021-210/WUM0MGXRAP_20212100000_01D_01M_ORB.SP3.gz"},
-                {d + "/ccj2-2021-210/WUM0MGXRAP_20212100000_01D_30S_CLK.CLK.gz"},
-                {d + "/antex/igs20_gps_satellites_trim.atx", d + "/antex/igs20_zim2_gps_trim.atx"},
-                d + "/ccj2-2021-210/WUM0MGXRAP_20212100000_01D_01D_ABS.BIA.gz",
-                std::nullopt}},
+      {"ZIM2", ppp::preciseInputFiles(d + "/zim2-2026-133/ZIM200CHE_R_20261330000_01H_30S_MO.rnx",
+                                      {d + "/zim2-2026-133/IGS0OPSFIN_20261330000_03H_15M_ORB.SP3"},
+                                      {d + "/zim2-2026-133/IGS0OPSFIN_20261330000_90M_30S_CLK.CLK"},
+                                      {d + "/antex/igs20_zim2_gps_trim.atx"},
+                                      d + "/zim2-2026-133/COD0OPSFIN_20261330000_01D_01D_OSB.BIA.gz")},
+      {"CCJ2", ppp::preciseInputFiles(d + "/ccj2-2021-210/ccj22100.21o",
+                                      {d + "/ccj2-2021-210/WUM0MGXRAP_20212100000_01D_01M_ORB.SP3.gz"},
+                                      {d + "/ccj2-2021-210/WUM0MGXRAP_20212100000_01D_30S_CLK.CLK.gz"},
+                                      {d + "/antex/igs20_gps_satellites_trim.atx", d + "/antex/igs20_zim2_gps_trim.atx"},
+                                      d + "/ccj2-2021-210/WUM0MGXRAP_20212100000_01D_01D_ABS.BIA.gz")},
   };
   const std::string out = (std::filesystem::temp_directory_path() / "ppp_bench_solve").string();
   std::printf("ppp_bench_solve: EKF pipeline, best of %d runs\n", repeats);

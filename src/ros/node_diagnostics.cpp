@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <sstream>
 
 #include "ppp_bayes_tree/evaluation/quantile.h"
 
@@ -79,6 +80,36 @@ void addStream(diagnostic_updater::DiagnosticStatusWrapper& s, const ppp::LiveSt
 }
 
 }  // namespace
+
+StartNote startSummary(const RosNodeOptions& o, const std::string& config_source, std::size_t antex_files,
+                       const std::vector<std::string>& live_topics,
+                       const std::function<std::string(const std::string&)>& resolve) {
+  std::string inputs = resolve(o.observations_topic) + " and " + resolve(o.corrections_topic);
+  if (o.live()) {
+    inputs = "the live streams";
+    for (const auto& topic : live_topics) inputs += " " + topic;
+  }
+  return {false, "ppp_" + o.estimator + "_node: config from " + config_source + ", " + std::to_string(antex_files) +
+                     " ANTEX file(s), bias " + (o.bias.empty() ? "none" : o.bias) + ", waiting for " + inputs +
+                     (o.attitude_topic.empty() ? std::string(", no attitude source")
+                                               : ", attitude from " + resolve(o.attitude_topic))};
+}
+
+StartNote smootherCostNote(double fixed_lag_s, const std::string& trajectory_csv) {
+  if (fixed_lag_s <= 0.0)
+    // Measured with scripts/bench_live_node.sh (simulated loiter, ~9 satellites, 1 Hz at 30x).
+    return {true,
+            "ppp_smoother_node: full smoother (smoother/fixed_lag_s 0): every state stays in memory, about 25 KB "
+            "per epoch, and the update time grows with the trajectory (1 h at 1 Hz: RSS 125 MB, update p99 8.8 ms; "
+            "15 min at 10 Hz: 285 MB, p99 39 ms, past a 10 Hz budget). For long bags and live use a fixed lag: "
+            "config/live.yaml (launch files: smoother_memory:=bounded; 15 min at 10 Hz: 49 MB, p99 6.2 ms) writes "
+            "each state leaving the lag to ros/smoothed/trajectory_csv"};
+  std::ostringstream text;
+  text << "ppp_smoother_node: fixed-lag smoother, lag " << fixed_lag_s << " s: memory and update time bounded; "
+       << (trajectory_csv.empty() ? std::string("states leaving the lag are not written (ros/smoothed/trajectory_csv \"\")")
+                                  : "states leaving the lag written to " + trajectory_csv);
+  return {false, text.str()};
+}
 
 NodeDiagnostics::NodeDiagnostics(const RosNodeOptions& options, ros::WallTime start)
     : options_(options), last_diag_time_(start) {}

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <stdexcept>
 
 #include <ros/console.h>
 
@@ -338,6 +339,40 @@ bool NodeInputs::admitLiveEpoch(const ppp::LiveReadyEpoch& ready) {
 void NodeInputs::recordLiveLatency(double latency_s) {
   live_latency_s_.push_back(latency_s);
   if (live_latency_s_.size() > kLatencyWindow) live_latency_s_.pop_front();
+}
+
+const ppp::EphemerisSource& NodeInputs::ephemeris() const {
+  if (live_) return live_->ephemeris();
+  return corrections_;
+}
+
+const ppp::BiasProvider* NodeInputs::codeBiases(const ppp::ProductAssembly& products) const {
+  if (const ppp::BiasProvider* b = products.codeBiases().get()) return b;
+  return live_ ? live_->biases() : nullptr;
+}
+
+ppp::ProductAssembly assembleNodeProducts(const ppp::PppConfig& config, const RosNodeOptions& o) {
+  if (o.atx.empty() &&
+      (config.model.satellite_antenna || config.model.receiver_antenna == ppp::ReceiverAntennaPolicy::Required))
+    throw std::runtime_error("parameter ros/products/atx is empty, but measurement_model/corrections/"
+                             "satellite_antenna is on or receiver_antenna is required: give the ANTEX file(s) or "
+                             "turn them off");
+  ppp::ProductAssemblyInputs in;  // no orbit and clock files: streamed (the first batch declares its products)
+  in.atx = o.atx;
+  if (!o.bias.empty()) in.bias = o.bias;
+  if (!o.blq.empty()) in.blq = o.blq;
+  in.live_ssr = o.live() && !o.live_correction_topics.empty();
+  return ppp::ProductAssembly::assemble(in, config);
+}
+
+std::vector<LiveSubscription> liveSubscriptions(const RosNodeOptions& o,
+                                                const std::function<std::string(const std::string&)>& resolve) {
+  std::string receiver;
+  for (const auto& t : o.live_observation_topics) receiver += (receiver.empty() ? "" : "+") + resolve(t.topic);
+  std::vector<LiveSubscription> out;
+  for (const auto& t : o.live_observation_topics) out.push_back({t, receiver});
+  for (const auto& t : o.live_correction_topics) out.push_back({t, ""});
+  return out;
 }
 
 }  // namespace ppp_ros

@@ -148,10 +148,6 @@ RosNodeOptions bindRosNodeOptions(const YAML::Node& ros, const std::string& sour
         l.number("ssr_bias_max_age_s", in.ssr_age_limits.bias_max_age_s, ppp::Bound::Positive);
     in.correction_wait_s = l.number("correction_wait_s", in.correction_wait_s, ppp::Bound::NonNegative);
     in.expect_corrections = l.boolean("expect_corrections", !o.live_correction_topics.empty());
-    in.broadcast_fallback = l.boolean("broadcast_fallback", in.broadcast_fallback);
-    in.broadcast_orbit_sigma_m = l.number("broadcast_orbit_sigma_m", in.broadcast_orbit_sigma_m, ppp::Bound::Positive);
-    in.broadcast_clock_sigma_m = l.number("broadcast_clock_sigma_m", in.broadcast_clock_sigma_m, ppp::Bound::Positive);
-    in.min_ssr_satellites = l.integer("min_ssr_satellites", in.min_ssr_satellites, 1);
     in.stall_warn_s = l.number("stall_warn_s", in.stall_warn_s, ppp::Bound::Positive);
     in.stall_error_s = l.number("stall_error_s", in.stall_error_s, ppp::Bound::Positive);
     if (in.stall_error_s <= in.stall_warn_s)

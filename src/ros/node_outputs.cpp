@@ -8,6 +8,7 @@
 #include <ros/console.h>
 
 #include "ppp_bayes_tree/ros/lever_arm.h"
+#include "ppp_bayes_tree/ros/node_inputs.h"
 #include "ppp_bayes_tree/ros/message_conversions.h"
 #include "ppp_bayes_tree/types/constants.h"
 #include "ppp_bayes_tree/types/frames.h"
@@ -44,6 +45,38 @@ std::string solutionStateText(std::uint8_t state) {
     case ppp_bayes_tree::PppStatus::CONVERGING: return "converging";
     default: return "no_solution";
   }
+}
+
+EpochFigures epochFigures(const NodeInputs& inputs, const ppp::EpochEstimator& estimator, const ppp::ObsEpoch& epoch,
+                          const ppp::PppEpochRecord& rec, double update_s, std::vector<std::string> warnings) {
+  constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+  EpochFigures f;
+  f.update_time_s = update_s;
+  const std::optional<ppp::GnssTime> newest = inputs.corrections().newest();
+  f.correction_latency_s = newest ? epoch.time - *newest : kNaN;
+  f.corrections_stale_s = inputs.correctionsStale_s().value_or(kNaN);
+  f.product_mode = inputs.productMode();
+  f.product_mode_text = inputs.productModeText();
+  // The EKF updates its whole state; the smoother re-eliminates the variables it reports.
+  f.variables_reeliminated = static_cast<std::uint32_t>(
+      rec.smoother ? rec.smoother->variables_reeliminated
+                   : static_cast<std::size_t>(estimator.core().layout().dim() + rec.active_biases));
+  f.active_arcs = estimator.core().activeArcs();
+  f.warnings = std::move(warnings);
+  return f;
+}
+
+DatumRequest datumRequest(double latitude_deg, double longitude_deg, double height_m) {
+  if (!std::isfinite(latitude_deg) || !std::isfinite(longitude_deg) || !std::isfinite(height_m) ||
+      std::abs(latitude_deg) > 90.0 || std::abs(height_m) > 1e6)
+    return {std::nullopt, "invalid datum (latitude in [-90, 90] deg, finite longitude, |height| < 1000 km)"};
+  return {ppp::geodeticToEcef({latitude_deg * ppp::kDegToRad, longitude_deg * ppp::kDegToRad, height_m}), "datum set"};
+}
+
+std::optional<Eigen::Vector3d> configuredDatum(const RosNodeOptions& o) {
+  if (o.datum_mode != "configured") return std::nullopt;
+  return ppp::geodeticToEcef(
+      ppp::Geodetic{o.datum_latitude_deg * ppp::kDegToRad, o.datum_longitude_deg * ppp::kDegToRad, o.datum_height_m});
 }
 
 bool solvedEpoch(const ppp::PppEpochRecord& rec) {

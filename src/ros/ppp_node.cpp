@@ -1,88 +1,42 @@
 #include "ppp_bayes_tree/ros/ppp_node.h"
 
 #include <chrono>
-#include <cmath>
 #include <limits>
 
 #include <nav_msgs/Odometry.h>
 #include <nav_msgs/Path.h>
 #include <sensor_msgs/NavSatFix.h>
 
-#include "ppp_bayes_tree/types/constants.h"
-#include "ppp_bayes_tree/types/frames.h"
 #include "ppp_bayes_tree/types/thread_cpu_time.h"
 
 namespace ppp_ros {
-namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-
-NodeConfig nodeConfig(const ros::NodeHandle& private_nh, const std::string& estimator) {
-  NodeConfig c = loadNodeConfig(private_nh);
-  c.ros.estimator = estimator;
-  return c;
-}
-
-}  // namespace
-
-NodeConfig loadNodeConfig(const ros::NodeHandle& private_nh) {
-  const std::string source = "ROS parameters " + private_nh.getNamespace();
-  XmlRpc::XmlRpcValue params;
-  YAML::Node root(YAML::NodeType::Map);
-  if (private_nh.getParam(private_nh.getNamespace(), params) && params.getType() == XmlRpc::XmlRpcValue::TypeStruct)
-    root = xmlRpcToYaml(params);
-  NodeConfig c;
-  c.ppp = ppp::bindPppConfig(root, source);  // the XmlRpc types kept (no text round trip)
-  c.ros = bindRosNodeOptions(c.ppp.ros, source);
-  return c;
-}
 
 PppNode::PppNode(ros::NodeHandle nh, ros::NodeHandle pnh, const std::string& estimator)
     : nh_(nh),
       pnh_(pnh),
-      config_(nodeConfig(pnh, estimator)),
+      config_(loadNodeConfig(pnh, estimator)),
       inputs_(config_.ros, warnings_.sink()),
       outputs_(config_.ros, warnings_.sink()),
       diagnosis_(config_.ros, ros::WallTime::now()),
       tf_listener_(tf_buffer_),
       diagnostics_(nh, pnh) {
-  const RosNodeOptions& o = config_.ros;
-  assembleProducts();
+  // The products resolve the systems and the PPP-AR gate: the estimator is made from their config.
+  products_ = assembleNodeProducts(config_.ppp, config_.ros);
+  config_.ppp = products_.config();
+  for (const auto& n : products_.notes()) ROS_INFO_STREAM("ppp_" << estimator << "_node: " << n);
   std::string why;
   estimator_ = ppp::makeEstimator(estimator, config_.ppp, &why);
   if (!estimator_) throw std::runtime_error("estimator '" + estimator + "' is not available: " + why);
-  if (o.datum_mode == "configured") {
-    ppp::Geodetic g{o.datum_latitude_deg * ppp::kDegToRad, o.datum_longitude_deg * ppp::kDegToRad, o.datum_height_m};
-    setDatum(ppp::geodeticToEcef(g));
-  }
+  if (const auto datum = configuredDatum(config_.ros)) setDatum(*datum);
   outputs_.attachLaggedOutput(*estimator_);
-  if (smoother()) announceSmootherCost();
+  if (smoother()) logNote(smootherCostNote(config_.ppp.smoother.fixed_lag_s, config_.ros.smoothed_trajectory_csv));
   subscribe();
   advertise();
   addDiagnostics();
   sim_clock_watch_ = std::make_unique<SimClockWatch>(nh_, "ppp_" + estimator + "_node");
   logStart();
-}
-
-void PppNode::assembleProducts() {
-  const RosNodeOptions& o = config_.ros;
-  if (o.atx.empty() && (config_.ppp.model.satellite_antenna ||
-                        config_.ppp.model.receiver_antenna == ppp::ReceiverAntennaPolicy::Required))
-    throw std::runtime_error("parameter ros/products/atx is empty, but measurement_model/corrections/"
-                             "satellite_antenna is on or receiver_antenna is required: give the ANTEX file(s) or "
-                             "turn them off");
-  // The products (the core's one assembly, as ppp_solve): they resolve the systems and
-  // the PPP-AR gate, so the estimator is made from their config. Streamed corrections
-  // declare their clock centre and antenna model with the first batch (declareStreamedProducts).
-  ppp::ProductAssemblyInputs products_in;
-  products_in.atx = o.atx;
-  if (!o.bias.empty()) products_in.bias = o.bias;
-  if (!o.blq.empty()) products_in.blq = o.blq;
-  // The live SSR feed carries no antenna model: the configuration states it (ssr.antenna_model).
-  products_in.live_ssr = o.live() && !o.live_correction_topics.empty();
-  products_ = ppp::ProductAssembly::assemble(products_in, config_.ppp);
-  config_.ppp = products_.config();
-  for (const auto& n : products_.notes()) ROS_INFO_STREAM("ppp_" << o.estimator << "_node: " << n);
 }
 
 void PppNode::subscribe() {
@@ -142,51 +96,25 @@ void PppNode::addDiagnostics() {
 }
 
 void PppNode::logStart() const {
-  const RosNodeOptions& o = config_.ros;
-  std::string inputs = nh_.resolveName(o.observations_topic) + " and " + nh_.resolveName(o.corrections_topic);
-  if (inputs_.isLive()) {
-    inputs = "the live streams";
-    for (const auto& sub : stream_subs_) inputs += " " + sub->topic();
-  }
-  ROS_INFO_STREAM("ppp_" << o.estimator << "_node: config from " << config_.ppp.source_name << ", "
-                         << products_.antexFiles() << " ANTEX file(s), bias " << (o.bias.empty() ? "none" : o.bias)
-                         << ", waiting for " << inputs
-                         << (o.attitude_topic.empty() ? std::string(", no attitude source")
-                                                      : ", attitude from " + nh_.resolveName(o.attitude_topic)));
+  std::vector<std::string> live_topics;
+  for (const auto& sub : stream_subs_) live_topics.push_back(sub->topic());
+  const auto resolve = [this](const std::string& topic) { return nh_.resolveName(topic); };
+  logNote(startSummary(config_.ros, config_.ppp.source_name, products_.antexFiles(), live_topics, resolve));
 }
 
 void PppNode::startLiveInput() {
   const RosNodeOptions& o = config_.ros;
   inputs_.startLive(o.live_input);  // throws on an unreadable navigation file
-  auto subscribe = [&](const LiveStreamTopic& t, const std::string& stream) {
+  const auto resolve = [this](const std::string& topic) { return nh_.resolveName(topic); };
+  for (const LiveSubscription& sub : liveSubscriptions(o, resolve))
     stream_subs_.push_back(std::make_unique<GnssStreamSubscriber>(
-        nh_, t.topic, t.format, static_cast<std::uint32_t>(o.live_queue_size),
-        [this](ppp::StreamChunk&& chunk) { onStreamChunk(std::move(chunk)); }, stream));
-  };
-  // The observation topics are one receiver's (ublox_gps: RXM-RAWX and RXM-SFRBX on two
-  // topics): one stream, so that one decoder sees them all (the SFRBX GPS week comes from
-  // RAWX). Each correction topic is a stream of its own.
-  std::string receiver;
-  for (const auto& t : o.live_observation_topics) receiver += (receiver.empty() ? "" : "+") + nh_.resolveName(t.topic);
-  for (const auto& t : o.live_observation_topics) subscribe(t, receiver);
-  for (const auto& t : o.live_correction_topics) subscribe(t, "");
+        nh_, sub.topic.topic, sub.topic.format, static_cast<std::uint32_t>(o.live_queue_size),
+        [this](ppp::StreamChunk&& chunk) { onStreamChunk(std::move(chunk)); }, sub.stream));
 }
 
-void PppNode::announceSmootherCost() const {
-  const double lag_s = config_.ppp.smoother.fixed_lag_s;
-  if (lag_s <= 0.0) {
-    // Measured with scripts/bench_live_node.sh (simulated loiter, ~9 satellites, 1 Hz at 30x).
-    ROS_WARN("ppp_smoother_node: full smoother (smoother/fixed_lag_s 0): every state stays in memory, about 25 KB "
-             "per epoch, and the update time grows with the trajectory (1 h at 1 Hz: RSS 125 MB, update p99 8.8 ms; "
-             "15 min at 10 Hz: 285 MB, p99 39 ms, past a 10 Hz budget). For long bags and live use a fixed lag: "
-             "config/live.yaml (launch files: smoother_memory:=bounded; 15 min at 10 Hz: 49 MB, p99 6.2 ms) writes "
-             "each state leaving the lag to ros/smoothed/trajectory_csv");
-    return;
-  }
-  ROS_INFO_STREAM("ppp_smoother_node: fixed-lag smoother, lag " << lag_s << " s: memory and update time bounded; "
-                  << (config_.ros.smoothed_trajectory_csv.empty()
-                          ? std::string("states leaving the lag are not written (ros/smoothed/trajectory_csv \"\")")
-                          : "states leaving the lag written to " + config_.ros.smoothed_trajectory_csv));
+void PppNode::logNote(const StartNote& note) const {
+  if (note.warning) ROS_WARN_STREAM(note.text);
+  else ROS_INFO_STREAM(note.text);
 }
 
 PppNode::~PppNode() { outputs_.finishLaggedOutput(*estimator_); }
@@ -194,16 +122,13 @@ PppNode::~PppNode() { outputs_.finishLaggedOutput(*estimator_); }
 void PppNode::setDatum(const Eigen::Vector3d& p) { static_tf_.sendTransform(outputs_.setDatum(p)); }
 
 bool PppNode::onSetDatum(ppp_bayes_tree::SetDatum::Request& req, ppp_bayes_tree::SetDatum::Response& res) {
-  if (!std::isfinite(req.latitude_deg) || !std::isfinite(req.longitude_deg) || !std::isfinite(req.height_m) ||
-      std::abs(req.latitude_deg) > 90.0 || std::abs(req.height_m) > 1e6) {
-    res.success = false;
-    res.message = "invalid datum (latitude in [-90, 90] deg, finite longitude, |height| < 1000 km)";
-    return true;
+  const DatumRequest datum = datumRequest(req.latitude_deg, req.longitude_deg, req.height_m);
+  res.success = datum.position_ecef_m.has_value();
+  res.message = datum.message;
+  if (res.success) {
+    setDatum(*datum.position_ecef_m);
+    outputs_.clearPathsForDatum();
   }
-  setDatum(ppp::geodeticToEcef({req.latitude_deg * ppp::kDegToRad, req.longitude_deg * ppp::kDegToRad, req.height_m}));
-  outputs_.clearPathsForDatum();
-  res.success = true;
-  res.message = "datum set";
   return true;
 }
 
@@ -280,13 +205,8 @@ void PppNode::startProcessor() {
   const ppp::RinexObsHeader& layout = inputs_.layout();
   const ppp::OceanLoadingLookup ocean = products_.oceanLoading(layout.marker_name);
   if (!ocean.note.empty() && !ocean.coefficients) warnings_.warn("blq", "ppp: " + ocean.note);
-  // Live input: its broadcast + SSR ephemeris, and its SSR biases unless a Bias-SINEX file is given.
-  const ppp::LiveGnssInput* live = inputs_.live();
-  const ppp::EphemerisSource& ephemeris =
-      live ? live->ephemeris() : static_cast<const ppp::EphemerisSource&>(inputs_.corrections());
-  processor_biases_ = products_.codeBiases().get();
-  if (live && !processor_biases_) processor_biases_ = live->biases();
-  processor_ = std::make_unique<ppp::PppEpochProcessor>(layout, config_.ppp, ephemeris, products_.antennas(),
+  processor_biases_ = inputs_.codeBiases(products_);
+  processor_ = std::make_unique<ppp::PppEpochProcessor>(layout, config_.ppp, inputs_.ephemeris(), products_.antennas(),
                                                          processor_biases_, ocean.coefficients);
   for (const auto& w : processor_->receiverAntennaWarnings()) warnings_.warn("antenna:" + w, "ppp: " + w);
   phase_biases_ = {};  // the new processor gets the phase information at its first epoch
@@ -296,9 +216,7 @@ void PppNode::startProcessor() {
 
 void PppNode::processObsEpoch(const ppp::ObsEpoch& epoch) {
   // Live SSR biases arrive after the start: the processor is remade with them (once: then stable).
-  const ppp::LiveGnssInput* live = inputs_.live();
-  const bool live_biases_arrived = live && !products_.codeBiases() && processor_ && live->biases() != processor_biases_;
-  if (!processor_ || live_biases_arrived) startProcessor();
+  if (!processor_ || inputs_.codeBiases(products_) != processor_biases_) startProcessor();
   else if (inputs_.takeLayoutChanged()) processor_->setObservationTypes(inputs_.layout());
   updatePhaseBiases();  // the live SSR phase biases and the batches' biases through the assembly's gate
   const auto start = std::chrono::steady_clock::now();
@@ -322,8 +240,9 @@ void PppNode::processObsEpoch(const ppp::ObsEpoch& epoch) {
   const bool solved = solvedEpoch(rec);
   if (solved && !outputs_.hasDatum()) setDatum(*rec.solution.position_ecef_m);
   const ppp_bayes_tree::PppStatus s =
-      outputs_.epochStatus(epoch.time, rec, inputs_.counters(), epochFigures(epoch, rec, update_s), phase_biases_,
-                           arEnabled());
+      outputs_.epochStatus(epoch.time, rec, inputs_.counters(),
+                           epochFigures(inputs_, *estimator_, epoch, rec, update_s, processor_->receiverAntennaWarnings()),
+                           phase_biases_, arEnabled());
   inputs_.countCorrectionsLate(s.satellites_without_corrections);
   if (publishable) {
     last_output_time_ = epoch.time;
@@ -337,23 +256,6 @@ void PppNode::processObsEpoch(const ppp::ObsEpoch& epoch) {
     warnings_.warn("restart", "ppp: estimator restarted from its last good state at " + epoch.time.toString() + ": " +
                                   rec.reason);
   }
-}
-
-EpochFigures PppNode::epochFigures(const ppp::ObsEpoch& epoch, const ppp::PppEpochRecord& rec, double update_s) const {
-  EpochFigures f;
-  f.update_time_s = update_s;
-  const std::optional<ppp::GnssTime> newest = inputs_.corrections().newest();
-  f.correction_latency_s = newest ? epoch.time - *newest : kNaN;
-  f.corrections_stale_s = inputs_.correctionsStale_s().value_or(kNaN);
-  f.product_mode = inputs_.productMode();
-  f.product_mode_text = inputs_.productModeText();
-  // The EKF updates its whole state; the smoother re-eliminates the variables it reports.
-  f.variables_reeliminated = static_cast<std::uint32_t>(
-      rec.smoother ? rec.smoother->variables_reeliminated
-                   : static_cast<std::size_t>(estimator_->core().layout().dim() + rec.active_biases));
-  f.active_arcs = estimator_->core().activeArcs();
-  f.warnings = processor_->receiverAntennaWarnings();
-  return f;
 }
 
 void PppNode::publishSolution(const ppp::GnssTime& time, const ppp::PppEpochRecord& rec,

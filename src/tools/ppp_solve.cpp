@@ -48,6 +48,7 @@
 #include "ppp_bayes_tree/io/transport/stream_format.h"
 #include "ppp_bayes_tree/models/satellite_reference_point.h"
 #include "ppp_bayes_tree/ppp/estimators/estimator_registry.h"
+#include "ppp_bayes_tree/ppp/pipeline/product_sources.h"
 
 namespace {
 
@@ -62,6 +63,9 @@ int usage(const std::string& why) {
             << "estimators (--estimator; default " << ppp::kDefaultEstimator << ", "
             << ppp::kAllEstimators << ": each in turn):\n";
   for (const ppp::EstimatorEntry& e : ppp::kEstimators) std::cerr << "  " << e.name << ": " << e.description << "\n";
+  std::cerr << "orbit and clock sources (by the files given):\n";
+  for (const ppp::ProductSource& s : ppp::kProductSources)
+    if (!s.streamed) std::cerr << "  " << s.name << ": " << s.description << "\n";
   return 2;
 }
 
@@ -168,13 +172,8 @@ int main(int argc, char** argv) {
   }
   if (std::string why; !ppp::selectEstimators(req.estimator, &why)) return usage("--estimator: " + why);
   if (req.files.obs.empty()) return usage("one of --obs, --rtcm and --ubx is required");
-  if (req.files.nav.empty()) {
-    if (req.files.sp3.empty()) return usage("--sp3 (or --nav) is required");
-    if (req.files.clk.empty()) return usage("--clk (or --nav) is required");
-    if (req.files.ssr) return usage("--ssr corrects broadcast orbits: it needs --nav");
-  } else if (!req.files.sp3.empty() || !req.files.clk.empty()) {
-    return usage("give either --sp3/--clk or --nav [--ssr], not both");
-  }
+  if (const std::string why = ppp::productInputsProblem(ppp::productInputsGiven(req.files)); !why.empty())
+    return usage(why);
   if (req.files.atx.empty()) return usage("--atx is required");
   if (req.out_dir.empty()) return usage("--out is required");
   if (req.files.window.start && req.files.window.end && *req.files.window.end <= *req.files.window.start)

@@ -34,6 +34,8 @@
 #include "ppp_bayes_tree/io/rinex/rinex_obs_reader.h"
 #include "ppp_bayes_tree/io/rtcm/rtcm3_framer.h"
 #include "ppp_bayes_tree/io/rtcm/rtcm_ssr_encoder.h"
+#include "ppp_bayes_tree/models/broadcast_products.h"
+#include "ppp_bayes_tree/models/ssr_broadcast_fallback.h"
 #include "ppp_bayes_tree/models/precise_ephemeris.h"
 #include "ppp_bayes_tree/models/ssr_from_precise.h"
 #include "ppp_bayes_tree/ppp/estimators/epoch_estimator.h"
@@ -373,6 +375,74 @@ TEST(LiveGnssInput, SsrOutageFallsBackToBroadcastWithWiderCovarianceAndReturns) 
   const Comparison before = compare(clean.solutions, live.solutions, cut_from);
   EXPECT_EQ(before.mismatched, 0u);
   EXPECT_LE(before.max_m, 1e-9);
+}
+
+/// The mode each epoch is released with (no estimator: the decision only).
+std::map<GnssTime, LiveProductMode> liveModes(LiveInputOptions options, const std::vector<StreamChunk>& chunks) {
+  LiveGnssInput live(std::move(options));
+  std::map<GnssTime, LiveProductMode> modes;
+  const auto take = [&](const std::vector<LiveReadyEpoch>& ready) {
+    for (const auto& r : ready) modes[r.epoch.time] = r.mode;
+  };
+  for (const auto& c : chunks) {
+    live.feed(c);
+    take(live.takeReadyEpochs(c.arrival_time_s));
+  }
+  take(live.finish());
+  return modes;
+}
+
+// One broadcast fallback rule (models/broadcast_fallback.h) with one set of keys
+// (`ssr:`): the offline products (ppp_solve --nav --ssr: SsrBroadcastFallback)
+// and the live input, given the same keys and the same SSR stream with a
+// 12-minute outage, choose SSR or broadcast alike at every epoch away from the
+// outage's edges (there the offline count covers the stream's satellites, the
+// live one the epoch's, and the live input holds the epoch up to
+// correction_wait_s). Three settings: the defaults (broadcast in the outage only),
+// the fallback off (SSR everywhere), 100 satellites needed (broadcast everywhere).
+TEST(LiveGnssInput, OfflineAndLiveChooseSsrOrBroadcastAlikeWithTheSameSsrKeys) {
+  PPP_REQUIRE_SHARED_DATA();
+  const EsbcStreams& s = esbcStreams();
+  const GnssTime cut_from = s.start + 15 * 60.0, cut_to = s.start + 27 * 60.0;
+  std::vector<TimedFrame> ssr;
+  for (const auto& f : s.ssr)
+    if (f.data_time < cut_from || !(f.data_time < cut_to)) ssr.push_back(f);
+  const std::string ssr_path = s.dir + "/SSRC00TST_esbc_outage.rtcm3";
+  writeFile(ssr_path, concat(ssr));
+  const auto chunks = chunked({{"/gnss/rtcm", &s.obs}, {"SSRC00TST_esbc", &ssr}}, 5);
+  struct Setting {
+    const char* ssr_keys;
+    std::size_t min_broadcast, max_broadcast;  // epochs in fallback (of ~90)
+  };
+  for (const Setting& setting : {Setting{"{}", 20, 30}, Setting{"{broadcast_fallback: false}", 0, 0},
+                                 Setting{"{min_ssr_satellites: 100}", 80, 100}}) {
+    const PppConfig config = bindPppConfig(YAML::Load(std::string("ssr: ") + setting.ssr_keys), "test");
+    const BroadcastProducts offline =
+        loadBroadcastProducts({s.nav_path}, ssr_path, std::nullopt, config.ssr, config.ssr.fallback, s.start);
+    const auto* fallback = dynamic_cast<const SsrBroadcastFallback*>(offline.ephemeris.get());
+    ASSERT_NE(fallback, nullptr);
+    LiveInputOptions options = esbcLiveOptions(s);
+    options.fallback = config.ssr.fallback;  // as the node (loadNodeConfig)
+    const auto live = liveModes(options, chunks);
+    std::size_t compared = 0, broadcast = 0, differ = 0;
+    for (const auto& [t, mode] : live) {
+      const bool edge = (!(t < cut_from) && t < cut_from + 120.0) || (!(t < cut_to) && t < cut_to + 15.0);
+      if (edge) continue;
+      ++compared;
+      const bool live_ssr = mode == LiveProductMode::PreciseSsr;
+      if (!live_ssr) ++broadcast;
+      if (live_ssr != fallback->preciseAt(t)) {
+        ++differ;
+        ADD_FAILURE() << setting.ssr_keys << ": at " << t.toString() << " live "
+                      << liveProductModeName(mode) << ", offline " << (live_ssr ? "broadcast" : "SSR");
+      }
+    }
+    std::printf("ssr: %s: %zu epochs compared, %zu in broadcast fallback, %zu differ\n", setting.ssr_keys, compared,
+                broadcast, differ);
+    EXPECT_GT(compared, 70u);
+    EXPECT_GE(broadcast, setting.min_broadcast) << setting.ssr_keys;
+    EXPECT_LE(broadcast, setting.max_broadcast) << setting.ssr_keys;
+  }
 }
 
 TEST(LiveGnssInput, GarbageCrcErrorsAndTimeBackwardsAreCountedPerStream) {

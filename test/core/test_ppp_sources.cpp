@@ -173,7 +173,7 @@ TEST(PppSources, InMemoryObservationsGiveTheFileRun) {
   PPP_REQUIRE_SHARED_DATA();
   const test::PppDataset ds = test::zim2Dataset();
   const PppConfig config = realDataConfig();
-  PppPipeline from_file(PppInputFiles{ds.obs, ds.sp3, ds.clk, ds.atx, ds.bia, std::nullopt}, config);
+  PppPipeline from_file(preciseInputFiles(ds.obs, ds.sp3, ds.clk, ds.atx, ds.bia), config);
   const RunResult a = runEkf(from_file, config);
 
   // The same epochs read into memory first, the products built by hand.

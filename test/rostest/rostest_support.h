@@ -462,7 +462,8 @@ inline void compareWithPppSolveOnZim2(const std::string& node, const std::string
   }
   // ppp_solve's pipeline with the node's own parameters and estimator.
   const NodeConfig config = loadNodeConfig(ros::NodeHandle("/" + node));
-  ppp::PppInputFiles files{d.obs, d.sp3, d.clk, config.ros.atx, config.ros.bias, std::nullopt};
+  const ppp::PppInputFiles files =
+      ppp::preciseInputFiles(d.obs, d.sp3, d.clk, config.ros.atx, config.ros.bias);
   ppp::PppPipeline pipeline(files, config.ppp);
   std::string why;
   auto est = ppp::makeEstimator(estimator, config.ppp, &why);

@@ -40,8 +40,10 @@
 //     arrival times, on the clock given to takeReadyEpochs (now_s minus the
 //     epoch's arrival). Then its mode is PreciseSsr if SSR orbit+clock are in
 //     force at T for min_ssr_satellites of its satellites, else BroadcastOnly
-//     (with broadcast_fallback; without it the epoch goes out as PreciseSsr
-//     and satellites without corrections are rejected by the model);
+//     (with the fallback on; without it the epoch goes out as PreciseSsr
+//     and satellites without corrections are rejected by the model): the
+//     rule chooseSsrOrBroadcast of models/broadcast_fallback.h, which the
+//     offline run (ppp_solve --nav --ssr) follows too;
 //   - in every case, an RTCM observation stream's epochs first wait (at most
 //     station_wait_s) for the station position, so that the run starts at the
 //     same epoch with the same approximate position as ppp_solve's;
@@ -55,8 +57,8 @@
 // BroadcastOnly epochs they have no say (BiasAnswer::applies false): the codes
 // are used as observed, as the broadcast clocks expect, and no OSB is required.
 // BroadcastOnly answers are broadcast records (BroadcastEphemerisStore) with the
-// orbit and clock sigmas widened to broadcast_orbit_sigma_m /
-// broadcast_clock_sigma_m (larger of those and the record's URA/SISA); the
+// orbit and clock sigmas widened to fallback.orbit_sigma_m /
+// fallback.clock_sigma_m (larger of those and the record's URA/SISA); the
 // measurement model adds them to the measurement variances when
 // MeasurementModelOptions::ephemeris_sigmas is on (ppp_measurement_model.h).
 // In pure broadcast operation (no correction stream) the answers are exactly
@@ -93,6 +95,7 @@
 #include "ppp_bayes_tree/io/transport/stream_chunk.h"
 #include "ppp_bayes_tree/io/transport/stream_format.h"
 #include "ppp_bayes_tree/models/bias_provider.h"
+#include "ppp_bayes_tree/models/broadcast_fallback.h"
 #include "ppp_bayes_tree/models/broadcast_ssr_ephemeris.h"
 #include "ppp_bayes_tree/models/ephemeris_source.h"
 #include "ppp_bayes_tree/models/ssr_correction_store.h"
@@ -129,18 +132,12 @@ struct LiveInputOptions {
   /// true: a correction stream is configured). false: without SSR, epochs go
   /// out at once as BroadcastOnly.
   bool expect_corrections = true;
-  /// Corrections missing or too old at an epoch: process it with broadcast
-  /// orbits and clocks (default true). false: the epoch goes out as PreciseSsr
-  /// and satellites without corrections are rejected.
-  bool broadcast_fallback = true;
-  /// Orbit / clock sigma reported for broadcast answers in fallback [m] (default
-  /// 2.0 and 2.0: GPS URA and broadcast clock errors are metre level); the
-  /// record's URA/SISA when larger.
-  double broadcast_orbit_sigma_m = 2.0;
-  double broadcast_clock_sigma_m = 2.0;
-  /// PreciseSsr needs SSR orbit+clock in force for at least this many of the
-  /// epoch's satellites (default 4).
-  int min_ssr_satellites = 4;
+  /// The broadcast fallback, the rule of the offline run too (models/broadcast_fallback.h;
+  /// config `ssr:`): with SSR orbit+clock in force for fewer than min_ssr_satellites
+  /// of the epoch's satellites, the epoch goes out as BroadcastOnly with the sigmas
+  /// widened; with the fallback off, as PreciseSsr (satellites without corrections
+  /// are rejected).
+  BroadcastFallbackOptions fallback;
   /// Observation stream stalled: no new epoch for this long on the arrival
   /// clock [s] -> Warn (default 2 s), Error (default 10 s).
   double stall_warn_s = 2.0;

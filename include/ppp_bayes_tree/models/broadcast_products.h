@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "ppp_bayes_tree/models/bias_provider.h"
+#include "ppp_bayes_tree/models/broadcast_fallback.h"
 #include "ppp_bayes_tree/models/ephemeris_source.h"
 #include "ppp_bayes_tree/models/ssr_correction_store.h"
 
@@ -45,11 +46,12 @@ struct ObservationSpan {
 
 /// Throws FileOpenError / ParseError on unreadable files. With SSR, the
 /// ephemeris falls back to the broadcast records where the corrections are too
-/// old (models/ssr_broadcast_fallback.h); with `observation_span`, a note says
+/// old (models/ssr_broadcast_fallback.h, by `fallback`); with `observation_span`, a note says
 /// when that is so at its first or last epoch, and how old the corrections are.
 BroadcastProducts loadBroadcastProducts(const std::vector<std::string>& nav, const std::optional<std::string>& ssr,
                                         std::optional<EphemerisReference> ssr_reference = std::nullopt,
                                         SsrAgeLimits limits = {},
+                                        BroadcastFallbackOptions fallback = {},
                                         std::optional<GnssTime> stream_reference_time = std::nullopt,
                                         std::optional<ObservationSpan> observation_span = std::nullopt);
 

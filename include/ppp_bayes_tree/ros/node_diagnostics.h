@@ -6,7 +6,9 @@
 // the corrections stopped (observations ahead by more than the ERROR threshold) or an
 // observation stream stalled past its ERROR threshold; WARN for losses, stale or late
 // corrections, no input yet, no solution, a float solution without phase information.
+#include <functional>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include <diagnostic_updater/DiagnosticStatusWrapper.h>
@@ -18,6 +20,23 @@
 #include "ppp_bayes_tree/ros/node_options.h"
 
 namespace ppp_ros {
+
+/// A note of the node at start: its text and whether it is a warning.
+struct StartNote {
+  bool warning = false;
+  std::string text;
+};
+/// The smoother node's cost, said at start: the full smoother (smoother.fixed_lag_s 0)
+/// warns what it costs; a fixed lag says that memory and update time are bounded and
+/// where the states leaving the lag go (ros.smoothed.trajectory_csv).
+StartNote smootherCostNote(double fixed_lag_s, const std::string& trajectory_csv);
+
+/// What the node says once set up: its configuration's source, the ANTEX files, the
+/// bias file, the inputs it waits for (the two topics, or the live stream topics) and
+/// the attitude source. `resolve`: the node handle's name resolution.
+StartNote startSummary(const RosNodeOptions& options, const std::string& config_source, std::size_t antex_files,
+                       const std::vector<std::string>& live_topics,
+                       const std::function<std::string(const std::string&)>& resolve);
 
 class NodeDiagnostics {
  public:

@@ -122,6 +122,13 @@ class NodeInputs {
   void recordLiveLatency(double latency_s);
   static constexpr std::size_t kLatencyWindow = 1000;
 
+  // --- the processor's products ---
+  /// Orbits and clocks: the live input's (broadcast + SSR), else the correction batches'.
+  const ppp::EphemerisSource& ephemeris() const;
+  /// Code biases: the products' (Bias-SINEX), else the live input's SSR biases (nullptr
+  /// until they arrive; then stable), else none.
+  const ppp::BiasProvider* codeBiases(const ppp::ProductAssembly& products) const;
+
   // --- the estimator's side ---
   /// The estimator is reset: the epochs waiting for corrections are discarded (counted); returns how many.
   std::size_t resetForEstimator();
@@ -194,5 +201,26 @@ class NodeInputs {
 
 /// A signed step in seconds as the logs write it ("+1.000 s").
 std::string secondsText(double s);
+
+/// The node's products through the core's one assembly (as ppp_solve): the ANTEX,
+/// Bias-SINEX and BLQ files of ros.products; orbits and clocks streamed (the
+/// corrections topic, or the live input: a live SSR feed when ros.live lists
+/// correction topics, whose satellite antenna model is the configuration's
+/// ssr.antenna_model; product_sources.h). They resolve the systems and the PPP-AR
+/// gate: the estimator is made from their config(). Throws std::runtime_error when
+/// the antenna corrections need ANTEX files and none is given, and on unreadable files.
+ppp::ProductAssembly assembleNodeProducts(const ppp::PppConfig& config, const RosNodeOptions& options);
+
+/// One subscription of the live input: a topic and the stream it feeds.
+struct LiveSubscription {
+  LiveStreamTopic topic;
+  std::string stream;  // "" = a stream of its own (the topic's)
+};
+/// The observation topics are one receiver's (ublox_gps: RXM-RAWX and RXM-SFRBX on
+/// two topics): one stream, named by their resolved names joined by "+", so that one
+/// decoder sees them all (the SFRBX GPS week comes from RAWX). Each correction topic
+/// is a stream of its own. `resolve`: the node handle's name resolution.
+std::vector<LiveSubscription> liveSubscriptions(const RosNodeOptions& options,
+                                                const std::function<std::string(const std::string&)>& resolve);
 
 }  // namespace ppp_ros

@@ -46,6 +46,16 @@ geometry_msgs::TransformStamped transformMsg(const std::string& parent, const st
 sensor_msgs::NavSatFix navSatFix(const Eigen::Vector3d& position_ecef_m, const Eigen::Matrix3d& covariance_ecef_m2,
                                  std::uint8_t fix_state, const ros::Time& stamp, const std::string& antenna_frame);
 
+/// A SetDatum request: the datum (ECEF [m]) and "datum set", or no datum and why it is
+/// refused (valid: latitude in [-90, 90] deg, finite longitude, |height| < 1000 km).
+struct DatumRequest {
+  std::optional<Eigen::Vector3d> position_ecef_m;
+  std::string message;
+};
+DatumRequest datumRequest(double latitude_deg, double longitude_deg, double height_m);
+/// The datum of ros.datum (mode configured), ECEF [m]; nullopt with first_fix.
+std::optional<Eigen::Vector3d> configuredDatum(const RosNodeOptions& options);
+
 /// What the processing of one epoch adds to its status beyond the record.
 struct EpochFigures {
   double update_time_s = 0.0;
@@ -69,6 +79,14 @@ struct SolutionMessages {
   sensor_msgs::NavSatFix fix;
   std::optional<geometry_msgs::TransformStamped> tf;  // ros.frames.publish_tf
 };
+
+class NodeInputs;
+/// The figures of one processed epoch: the inputs' (latency of the newest correction
+/// batch, staleness, product mode), the estimator's (variables re-eliminated: the
+/// EKF's whole state, the smoother's reported count; the active arcs), the
+/// processor's receiver antenna `warnings` and the update time.
+EpochFigures epochFigures(const NodeInputs& inputs, const ppp::EpochEstimator& estimator, const ppp::ObsEpoch& epoch,
+                          const ppp::PppEpochRecord& rec, double update_s, std::vector<std::string> warnings);
 
 class NodeOutputs {
  public:

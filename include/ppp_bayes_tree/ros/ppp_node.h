@@ -54,11 +54,13 @@
 //             after a fix carry them back.
 // Service:    set_datum (SetDatum).
 // Parameters: the whole private namespace = config/ppp.yaml (core sections +
-//             `ros:`), loaded strictly at start-up (loadNodeConfig).
-// Parts:     node_inputs.h (messages -> core types, time guard, correction gate,
-//             header.seq gaps, live input), node_outputs.h (status, odometry, fix, TF,
-//             paths, smoothed outputs and file), node_diagnostics.h (/diagnostics).
-//             The node keeps the set-up and the per-epoch call.
+//             `ros:`), loaded strictly at start-up (node_config.h).
+// Parts:     node_config.h (the parameters), node_inputs.h (the products, messages ->
+//             core types, time guard, correction gate, header.seq gaps, live input and
+//             its subscriptions), node_outputs.h (status, odometry, fix, TF, paths,
+//             smoothed outputs and file, the datum, the epoch figures),
+//             node_diagnostics.h (/diagnostics, the start notes). The node keeps the
+//             order of the set-up steps and the per-epoch call.
 #include <memory>
 #include <optional>
 #include <string>
@@ -81,6 +83,7 @@
 #include "ppp_bayes_tree/ppp/pipeline/ppp_epoch_processor.h"
 #include "ppp_bayes_tree/ppp/pipeline/product_assembly.h"
 #include "ppp_bayes_tree/ros/gnss_stream_subscriber.h"
+#include "ppp_bayes_tree/ros/node_config.h"
 #include "ppp_bayes_tree/ros/node_diagnostics.h"
 #include "ppp_bayes_tree/ros/node_inputs.h"
 #include "ppp_bayes_tree/ros/node_options.h"
@@ -89,14 +92,6 @@
 #include "ppp_bayes_tree/ros/throttled_warnings.h"
 
 namespace ppp_ros {
-
-/// The node's configuration: the private namespace through the core loader
-/// plus the `ros:` section. Throws ppp::ConfigError with the key path.
-struct NodeConfig {
-  ppp::PppConfig ppp;
-  RosNodeOptions ros;
-};
-NodeConfig loadNodeConfig(const ros::NodeHandle& private_nh);
 
 class PppNode {
  public:
@@ -107,15 +102,13 @@ class PppNode {
   ~PppNode();
 
  private:
-  // set-up
-  void assembleProducts();
+  // set-up (the configuration: node_config.h; the products: assembleNodeProducts)
   void subscribe();
   void advertise();
   void addDiagnostics();
   void logStart() const;
+  void logNote(const StartNote& note) const;
   void startLiveInput();
-  /// At start (smoother node): full smoother = warn what it costs; fixed lag = where the states go.
-  void announceSmootherCost() const;
   // inputs
   void onObservations(const ros::MessageEvent<ppp_bayes_tree::GnssObservations const>& event);
   void onCorrections(const ros::MessageEvent<ppp_bayes_tree::PreciseCorrections const>& event);
@@ -128,7 +121,6 @@ class PppNode {
   /// One epoch through the processor and out (both inputs).
   void processObsEpoch(const ppp::ObsEpoch& epoch);
   void startProcessor();
-  EpochFigures epochFigures(const ppp::ObsEpoch& epoch, const ppp::PppEpochRecord& rec, double update_s) const;
   void publishSolution(const ppp::GnssTime& time, const ppp::PppEpochRecord& rec,
                        const ppp_bayes_tree::PppStatus& status);
   void publishEmptyEpoch(const ppp::GnssTime& time);

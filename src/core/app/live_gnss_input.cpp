@@ -110,16 +110,14 @@ struct LiveGnssInput::Impl : public EphemerisSource {
     const ModeSpan span = spanAt(t);
     if (span.mode == LiveProductMode::PreciseSsr) return corrected->satelliteClock(sat, t);
     auto a = broadcast.satelliteClock(sat, t);
-    if (a.ok() && span.widened)
-      a.value->clock_sigma_m = std::max(a.value->clock_sigma_m.value_or(0.0), options.broadcast_clock_sigma_m);
+    if (span.widened) widenForFallback(a, options.fallback);
     return a;
   }
   EphemerisAnswer<EphemerisOrbit> satelliteOrbit(const SatelliteId& sat, const GnssTime& t) const override {
     const ModeSpan span = spanAt(t);
     if (span.mode == LiveProductMode::PreciseSsr) return corrected->satelliteOrbit(sat, t);
     auto a = broadcast.satelliteOrbit(sat, t);
-    if (a.ok() && span.widened)
-      a.value->position_sigma_m = std::max(a.value->position_sigma_m.value_or(0.0), options.broadcast_orbit_sigma_m);
+    if (span.widened) widenForFallback(a, options.fallback);
     return a;
   }
   std::string describeSource() const override {
@@ -312,7 +310,7 @@ struct LiveGnssInput::Impl : public EphemerisSource {
 
   ModeSpan modeFor(const StreamEpoch& e) const {
     if (!store->latestEpoch() && !options.expect_corrections) return {LiveProductMode::BroadcastOnly, false};
-    if (satellitesWithSsr(e) >= options.min_ssr_satellites || !options.broadcast_fallback)
+    if (chooseSsrOrBroadcast(satellitesWithSsr(e), options.fallback) == SsrOrbitClockChoice::Ssr)
       return {LiveProductMode::PreciseSsr, false};
     return {LiveProductMode::BroadcastOnly, true};
   }

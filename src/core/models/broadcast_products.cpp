@@ -51,11 +51,16 @@ void noteStaleCorrections(const SsrBroadcastFallback& fallback, const SsrCorrect
     where += os.str();
   }
   if (where.empty()) return;
+  const BroadcastFallbackOptions& options = fallback.options();
+  std::ostringstream sigmas;  // "2 m", or "3 m orbit, 2 m clock"
+  if (options.orbit_sigma_m == options.clock_sigma_m) sigmas << options.orbit_sigma_m << " m";
+  else sigmas << options.orbit_sigma_m << " m orbit, " << options.clock_sigma_m << " m clock";
   std::ostringstream os;
   os << "broadcast fallback: the SSR corrections of " << stream << " are missing or too old (orbit validity "
      << std::fixed << std::setprecision(0) << store.limits().orbit_max_age_s << " s) " << where
-     << ": where fewer than 4 satellites have corrections in force, broadcast orbits and clocks serve (sigmas at least "
-        "2 m) and the SSR code biases are not applied (codes as observed, as the broadcast clocks expect)";
+     << ": where fewer than " << options.min_ssr_satellites
+     << " satellites have corrections in force, broadcast orbits and clocks serve (sigmas at least "
+     << sigmas.str() << ") and the SSR code biases are not applied (codes as observed, as the broadcast clocks expect)";
   notes.push_back(os.str());
 }
 
@@ -63,6 +68,7 @@ void noteStaleCorrections(const SsrBroadcastFallback& fallback, const SsrCorrect
 
 BroadcastProducts loadBroadcastProducts(const std::vector<std::string>& nav, const std::optional<std::string>& ssr,
                                         std::optional<EphemerisReference> ssr_reference, SsrAgeLimits limits,
+                                        BroadcastFallbackOptions fallback_options,
                                         std::optional<GnssTime> stream_reference_time,
                                         std::optional<ObservationSpan> observation_span) {
   BroadcastProducts out;
@@ -119,7 +125,7 @@ BroadcastProducts loadBroadcastProducts(const std::vector<std::string>& nav, con
     }
     eph->checkConsistency();
   }
-  auto fallback = std::make_shared<SsrBroadcastFallback>(eph, broadcast);
+  auto fallback = std::make_shared<SsrBroadcastFallback>(eph, broadcast, fallback_options);
   out.notes.push_back("orbits and clocks: " + names + " corrected by SSR stream " + fileBaseName(*ssr) + " (" +
                       std::to_string(stream.summary.messages) + " messages; orbits at the " +
                       std::string(ephemerisReferenceName(options.reference)) +

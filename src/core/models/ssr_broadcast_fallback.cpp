@@ -1,12 +1,10 @@
 #include "ppp_bayes_tree/models/ssr_broadcast_fallback.h"
 
-#include <algorithm>
-
 namespace ppp {
 
 SsrBroadcastFallback::SsrBroadcastFallback(std::shared_ptr<const BroadcastSsrEphemeris> corrected,
                                            std::shared_ptr<const BroadcastEphemerisStore> broadcast,
-                                           SsrFallbackOptions options)
+                                           BroadcastFallbackOptions options)
     : corrected_(std::move(corrected)), broadcast_(std::move(broadcast)), options_(options) {
   const SsrCorrectionStore& store = corrected_->store();
   for (const auto& [sat, series] : store.orbits()) {
@@ -24,15 +22,19 @@ bool SsrBroadcastFallback::correctionsInForce(const SatelliteId& sat, const Gnss
   return store.orbit(sat, t) && store.clock(sat, t);
 }
 
-bool SsrBroadcastFallback::preciseAt(const GnssTime& t) const {
-  const SsrCorrectionStore& store = corrected_->store();
-  if (!first_correction_) return false;  // a stream without orbit corrections
-  if (t < *first_correction_) return *first_correction_ - t <= store.limits().orbit_max_age_s;  // starting: wait
-  if (*last_in_force_ < t) return false;  // every correction has aged out
+int SsrBroadcastFallback::satellitesInForce(const GnssTime& t) const {
+  if (!first_correction_) return 0;  // a stream without orbit corrections
+  if (t < *first_correction_ || *last_in_force_ < t) return 0;  // none yet, or every one has aged out
   int n = 0;
-  for (const auto& entry : store.orbits())
-    if (correctionsInForce(entry.first, t) && ++n >= options_.min_ssr_satellites) return true;
-  return false;
+  for (const auto& entry : corrected_->store().orbits())
+    if (correctionsInForce(entry.first, t) && ++n >= options_.min_ssr_satellites) break;
+  return n;
+}
+
+bool SsrBroadcastFallback::preciseAt(const GnssTime& t) const {
+  const double wait_s = corrected_->store().limits().orbit_max_age_s;
+  if (first_correction_ && t < *first_correction_ && *first_correction_ - t <= wait_s) return true;  // starting: wait
+  return chooseSsrOrBroadcast(satellitesInForce(t), options_) == SsrOrbitClockChoice::Ssr;
 }
 
 bool SsrBroadcastFallback::ssrInForce(const SatelliteId& sat, const GnssTime& t) const {
@@ -42,15 +44,14 @@ bool SsrBroadcastFallback::ssrInForce(const SatelliteId& sat, const GnssTime& t)
 EphemerisAnswer<EphemerisClock> SsrBroadcastFallback::satelliteClock(const SatelliteId& sat, const GnssTime& t) const {
   if (preciseAt(t)) return corrected_->satelliteClock(sat, t);
   auto a = broadcast_->satelliteClock(sat, t);
-  if (a.ok()) a.value->clock_sigma_m = std::max(a.value->clock_sigma_m.value_or(0.0), options_.broadcast_clock_sigma_m);
+  widenForFallback(a, options_);
   return a;
 }
 
 EphemerisAnswer<EphemerisOrbit> SsrBroadcastFallback::satelliteOrbit(const SatelliteId& sat, const GnssTime& t) const {
   if (preciseAt(t)) return corrected_->satelliteOrbit(sat, t);
   auto a = broadcast_->satelliteOrbit(sat, t);
-  if (a.ok())
-    a.value->position_sigma_m = std::max(a.value->position_sigma_m.value_or(0.0), options_.broadcast_orbit_sigma_m);
+  widenForFallback(a, options_);
   return a;
 }
 

@@ -7,7 +7,8 @@
 //   measurement_model: MeasurementModelOptions, with `signals:` the SignalSelectionOptions
 //   cycle_slip:        CycleSlipOptions (arc tracker)
 //   ssr:               SsrStreamOptions (broadcast + SSR orbits and clocks, ppp_solve --nav --ssr,
-//                      the nodes' live SSR feed): age limits and the stream's antenna model
+//                      the nodes' live SSR feed): age limits, the stream's antenna model and
+//                      the broadcast fallback
 //   ambiguity_resolution: AmbiguityResolutionOptions (PPP-AR: wide lane, LAMBDA)
 //   ros:               the ROS nodes' section (kept raw, bound by the node)
 // (bound by ppp_options_binding.h; the raw nodes are kept as well)
@@ -22,6 +23,7 @@
 #include <string>
 #include <vector>
 
+#include "ppp_bayes_tree/models/broadcast_fallback.h"
 #include "ppp_bayes_tree/models/ssr_correction_store.h"
 #include "ppp_bayes_tree/ppp/ambiguity/ambiguity_resolution.h"
 #include "ppp_bayes_tree/ppp/config/ppp_options_binding.h"
@@ -38,8 +40,11 @@ namespace ppp {
 /// orbits and clocks (RTCM SSR carries none; its provider states it, e.g. IGS20 for
 /// the IGS SSR streams, IGS14 for a stream made by ppp_ssr_encode from GRG products).
 /// Empty: not known (ambiguity_resolution.enabled: auto then stays float).
+/// `fallback`: the broadcast fallback of both the offline run (ppp_solve --nav
+/// --ssr) and the live SSR feed (models/broadcast_fallback.h).
 struct SsrStreamOptions : SsrAgeLimits {
   std::string antenna_model;
+  BroadcastFallbackOptions fallback;
 };
 
 struct PppConfig {

@@ -38,6 +38,7 @@
 #include "ppp_bayes_tree/ppp/config/ppp_config.h"
 #include "ppp_bayes_tree/ppp/model/ppp_measurement_model.h"
 #include "ppp_bayes_tree/ppp/model/signal_selection.h"
+#include "ppp_bayes_tree/ppp/pipeline/product_sources.h"
 
 namespace ppp {
 
@@ -46,16 +47,12 @@ namespace ppp {
 /// (io/ubx/ubx_observation_source.h; ppp_solve --ubx).
 enum class ObservationFormat { Rinex, Rtcm3, Ubx };
 
-struct PppInputFiles {
+/// The observation file, the orbit and clock files (OrbitClockFiles: which are
+/// given selects the source, product_sources.h) and the other product files.
+struct PppInputFiles : OrbitClockFiles {
   std::string obs;
-  std::vector<std::string> sp3, clk, atx;
+  std::vector<std::string> atx;
   std::optional<std::string> bias, blq;
-  /// Broadcast navigation files: orbits and clocks from them instead of SP3/CLK,
-  /// corrected by the SSR stream when one is given (models/broadcast_products.h).
-  std::vector<std::string> nav;
-  std::optional<std::string> ssr;
-  std::optional<EphemerisReference> ssr_reference;  // nullopt: from the stream name
-  // Below: after the fields aggregate initialisers name ({obs, sp3, clk, atx, bias, blq}).
   ObservationFormat obs_format = ObservationFormat::Rinex;
   /// With an RTCM 3 `obs`: the approximate date that places its MSM times
   /// (ppp_solve --ref-date), when the stream itself cannot.
@@ -67,6 +64,11 @@ struct PppInputFiles {
   /// --start/--end; io/rinex/time_window_source.h); the products are checked over it.
   ObservationWindow window;
 };
+
+/// The files of a run on precise products (SP3 + RINEX clock).
+PppInputFiles preciseInputFiles(std::string obs, std::vector<std::string> sp3, std::vector<std::string> clk,
+                                std::vector<std::string> atx, std::optional<std::string> bias = std::nullopt,
+                                std::optional<std::string> blq = std::nullopt);
 
 /// In-process inputs (e.g. a simulated flight, simulation/gnss_simulator.h): the
 /// observation header and epochs and the products, used in place of files. All

@@ -6,7 +6,8 @@
 // Inputs (ProductAssemblyInputs): orbits and clocks as precise files (SP3 +
 // RINEX clock), as broadcast navigation files (+ an SSR recording), or streamed
 // (the node's corrections topic, the live SSR feed: then only what the stream
-// declares is known at the start); ANTEX files, a Bias-SINEX file, a BLQ file.
+// declares is known at the start), each a row of the table of sources
+// (product_sources.h); ANTEX files, a Bias-SINEX file, a BLQ file.
 //
 // Outputs:
 //  - the ephemeris, the antenna calibrations, the code biases, the ocean loading;
@@ -53,6 +54,7 @@
 #include "ppp_bayes_tree/ppp/config/ppp_config.h"
 #include "ppp_bayes_tree/ppp/pipeline/ppp_pipeline.h"  // PppProducts
 #include "ppp_bayes_tree/ppp/pipeline/product_set.h"
+#include "ppp_bayes_tree/ppp/pipeline/product_sources.h"
 #include "ppp_bayes_tree/types/gnss_time.h"
 #include "ppp_bayes_tree/types/satellite_id.h"
 
@@ -66,13 +68,9 @@ struct StreamedProductInfo {
   std::string antenna_model;        // satellite antenna model of its orbits/clocks, e.g. "IGS14_2148"
 };
 
-struct ProductAssemblyInputs {
-  /// Precise orbits and clocks (both, or neither).
-  std::vector<std::string> sp3, clk;
-  /// Broadcast navigation files (instead of SP3/CLK), corrected by an SSR recording when given.
-  std::vector<std::string> nav;
-  std::optional<std::string> ssr;
-  std::optional<EphemerisReference> ssr_reference;  // nullopt: from the stream name
+/// The orbit and clock files (OrbitClockFiles: which are given selects the
+/// source, product_sources.h), and the rest of a run's product inputs.
+struct ProductAssemblyInputs : OrbitClockFiles {
   std::optional<GnssTime> stream_reference_time;    // places MSM/SSR times without a week
   bool check_products = true;                       // product sanity checks of SP3/CLK
   /// Neither precise nor broadcast files: the orbits and clocks are streamed.
@@ -86,7 +84,8 @@ struct ProductAssemblyInputs {
   /// The observations' span (products outside it are not read; the antenna
   /// check looks at the blocks valid at `first`). nullopt: unknown.
   std::optional<GnssTime> first, last;
-  bool streamedOrbitsAndClocks() const { return sp3.empty() && clk.empty() && nav.empty(); }
+  /// The source of these inputs streams its orbits and clocks (product_sources.h).
+  bool streamedOrbitsAndClocks() const;
 };
 
 /// Where the run's phase information comes from.
@@ -120,8 +119,6 @@ struct ArGateVerdict {
   /// "ambiguity resolution: fixing (auto): phase OSBs of the clocks' analysis centre (WHU, from the headers)".
   std::string text() const;
 };
-
-struct OrbitClockProducts;
 
 class ProductAssembly {
  public:

@@ -124,6 +124,11 @@ void readSsr(YamlSection s, SsrStreamOptions& o) {
   o.high_rate_clock_max_age_s = s.number("high_rate_clock_max_age_s", o.high_rate_clock_max_age_s, Bound::Positive);
   o.bias_max_age_s = s.number("bias_max_age_s", o.bias_max_age_s, Bound::Positive);
   o.antenna_model = s.text("antenna_model", o.antenna_model);
+  BroadcastFallbackOptions& f = o.fallback;
+  f.enabled = s.boolean("broadcast_fallback", f.enabled);
+  f.orbit_sigma_m = s.number("broadcast_orbit_sigma_m", f.orbit_sigma_m, Bound::Positive);
+  f.clock_sigma_m = s.number("broadcast_clock_sigma_m", f.clock_sigma_m, Bound::Positive);
+  f.min_ssr_satellites = s.integer("min_ssr_satellites", f.min_ssr_satellites, 1);
   s.finish();
 }
 

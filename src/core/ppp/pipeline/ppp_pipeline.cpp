@@ -98,6 +98,19 @@ PppPipeline::PppPipeline(std::unique_ptr<ObservationSource> observations, PppPro
   d.start(config_);
 }
 
+PppInputFiles preciseInputFiles(std::string obs, std::vector<std::string> sp3, std::vector<std::string> clk,
+                                std::vector<std::string> atx, std::optional<std::string> bias,
+                                std::optional<std::string> blq) {
+  PppInputFiles files;
+  files.obs = std::move(obs);
+  files.sp3 = std::move(sp3);
+  files.clk = std::move(clk);
+  files.atx = std::move(atx);
+  files.bias = std::move(bias);
+  files.blq = std::move(blq);
+  return files;
+}
+
 PppPipeline::PppPipeline(const PppInputFiles& files, PppConfig config)
     : config_(std::move(config)), impl_(std::make_unique<Impl>()) {
   Impl& d = *impl_;
@@ -123,11 +136,7 @@ PppPipeline::PppPipeline(const PppInputFiles& files, PppConfig config)
     if (in.first && files.window.start && *in.first < *files.window.start) in.first = files.window.start;
     if (in.last && files.window.end && *in.last >= *files.window.end) in.last = *files.window.end - 1e-3;
   }
-  in.sp3 = files.sp3;
-  in.clk = files.clk;
-  in.nav = files.nav;
-  in.ssr = files.ssr;
-  in.ssr_reference = files.ssr_reference;
+  static_cast<OrbitClockFiles&>(in) = files;  // whichever source they make
   in.stream_reference_time = files.rtcm_reference_time;
   in.check_products = files.check_products;
   in.atx = files.atx;

@@ -7,21 +7,10 @@
 #include "ppp_bayes_tree/io/line_source.h"
 #include "ppp_bayes_tree/io/products/rinex_clock_reader.h"
 #include "ppp_bayes_tree/io/record_filter.h"
-#include "ppp_bayes_tree/models/broadcast_products.h"
 #include "ppp_bayes_tree/models/clock_wide_lane_bias_provider.h"
-#include "ppp_bayes_tree/models/precise_ephemeris.h"
+#include "ppp_bayes_tree/ppp/pipeline/product_sources.h"
 
 namespace ppp {
-
-/// What the orbit and clock inputs gave: the ephemeris, the satellites it carries
-/// (satellites_known false: not known before the run) and the SSR biases.
-struct OrbitClockProducts {
-  std::shared_ptr<const EphemerisSource> ephemeris;
-  std::set<SatelliteId> satellites;
-  bool satellites_known = false;
-  std::shared_ptr<const BiasProvider> ssr_biases;
-  bool ssr_phase_biases = false;
-};
 
 namespace {
 
@@ -31,47 +20,9 @@ std::string systemList(const std::vector<GnssSystem>& systems) {
   return out.empty() ? std::string("none") : out;
 }
 
-OrbitClockProducts loadOrbitsAndClocks(const ProductAssemblyInputs& in, const PppConfig& config,
-                                       const RecordFilter& filter, std::vector<std::string>& notes,
-                                       std::vector<std::string>& problems) {
-  OrbitClockProducts out;
-  if (!in.nav.empty()) {
-    std::optional<ObservationSpan> span;
-    if (in.first && in.last) span = ObservationSpan{*in.first, *in.last};
-    BroadcastProducts broadcast = loadBroadcastProducts(in.nav, in.ssr, in.ssr_reference, config.ssr,
-                                                        in.stream_reference_time, span);
-    out.ephemeris = std::move(broadcast.ephemeris);
-    out.ssr_biases = std::move(broadcast.ssr_biases);
-    out.ssr_phase_biases = broadcast.ssr_phase_biases;
-    notes.insert(notes.end(), broadcast.notes.begin(), broadcast.notes.end());
-    problems.insert(problems.end(), broadcast.problems.begin(), broadcast.problems.end());
-    return out;
-  }
-  if (in.sp3.empty() && in.clk.empty()) return out;  // streamed
-  PreciseEphemerisOptions options;
-  options.check_products = in.check_products;
-  auto ephemeris = std::make_shared<PreciseEphemeris>(PreciseEphemeris::load(in.sp3, in.clk, filter, options));
-  const ParseReport& merge = ephemeris->mergeReport();
-  if (!merge.problems().empty() || !merge.counters().empty()) notes.push_back("products merged: " + merge.summary(5));
-  for (const auto& p : merge.problems()) problems.push_back(p.reason);
-  if (merge.problemCount() > merge.problems().size())
-    problems.push_back("... and " + std::to_string(merge.problemCount() - merge.problems().size()) +
-                       " more problem(s) of the precise products");
-  // A satellite is carried when it has orbits, and clocks when clock files are given.
-  const std::set<SatelliteId> orbits = ephemeris->orbitSatellites();
-  const std::set<SatelliteId> clocks = in.clk.empty() ? orbits : ephemeris->clockSatellites();
-  std::set_intersection(orbits.begin(), orbits.end(), clocks.begin(), clocks.end(),
-                        std::inserter(out.satellites, out.satellites.begin()));
-  out.satellites_known = true;
-  out.ephemeris = std::move(ephemeris);
-  return out;
-}
-
 /// Whether the orbits and clocks are SSR corrections (a recording or a live feed),
 /// whose satellite antenna model the configuration states (ssr.antenna_model).
-bool fromSsr(const ProductAssemblyInputs& in) {
-  return (!in.nav.empty() && in.ssr) || (in.streamedOrbitsAndClocks() && in.live_ssr);
-}
+bool fromSsr(const ProductAssemblyInputs& in) { return selectProductSource(in).ssr_antenna_model; }
 
 /// The satellite antenna models the products name (SP3 and clock headers, or the
 /// stream's declaration). An SSR recording's model is the one the configuration
@@ -191,12 +142,16 @@ std::string ArGateVerdict::text() const {
   return out;
 }
 
+bool ProductAssemblyInputs::streamedOrbitsAndClocks() const {
+  const ProductSource* source = findProductSource(productInputsGiven(*this));
+  return source && source->streamed;
+}
+
 ProductAssembly ProductAssembly::assemble(const ProductAssemblyInputs& in, const PppConfig& config) {
   ProductAssembly a;
   a.inputs_ = in;
   a.config_ = config;
-  if (!in.sp3.empty() != !in.clk.empty() && in.nav.empty())
-    throw std::invalid_argument("product inputs: SP3 and clock files go together");
+  const ProductSource& source = selectProductSource(in);  // throws for inputs of no source
   const std::vector<GnssSystem> candidates =
       config.signals.systems_from_products ? automaticSignalSystems() : config.signals.systems;
 
@@ -205,7 +160,7 @@ ProductAssembly ProductAssembly::assemble(const ProductAssemblyInputs& in, const
   filter.systems = candidates;
   filter.first = in.first;
   filter.last = in.last;
-  const OrbitClockProducts orbit_clock = loadOrbitsAndClocks(in, config, filter, a.notes_, a.problems_);
+  const OrbitClockProducts orbit_clock = source.load(in, config, filter, a.notes_, a.problems_);
   a.ephemeris_ = orbit_clock.ephemeris;
 
   // ANTEX (satellites of the products' family first), Bias-SINEX, BLQ.
@@ -340,7 +295,8 @@ bool ProductAssembly::findPhaseInformation(const ProductAssemblyInputs& in, cons
   ArGateVerdict& v = verdict_;
   const BiasSinexFile* bias_file = set_->biasFile();
   const std::string refused_rows = in.bias ? refusedPhaseRows(bias_file, *in.bias) : std::string();
-  if (!in.clk.empty()) {
+  const SourcePhaseInformation where = selectProductSource(in).phase;
+  if (where == SourcePhaseInformation::ClockProducts) {
     std::vector<ProductOrigin> clocks;
     for (std::size_t i = 0; i < in.clk.size(); ++i) clocks.push_back({in.clk[i], clockHeaderCentre(clock_headers_[i])});
     std::optional<ProductOrigin> bias;
@@ -377,7 +333,7 @@ bool ProductAssembly::findPhaseInformation(const ProductAssemblyInputs& in, cons
       return true;
     }
     v.detail = check.why();
-  } else if (!in.nav.empty()) {
+  } else if (where == SourcePhaseInformation::SsrRecording) {
     if (orbit_clock.ssr_phase_biases) {
       v.phase = PhaseInformation::SsrPhaseBiases;
       phase_biases_ = orbit_clock.ssr_biases.get();
