@@ -155,6 +155,10 @@ RosNodeOptions bindRosNodeOptions(const YAML::Node& ros, const std::string& sour
     in.restart_jump_s = l.number("restart_jump_s", in.restart_jump_s, ppp::Bound::Positive);
     in.max_held_epochs = static_cast<std::size_t>(l.integer("max_held_epochs", static_cast<int>(in.max_held_epochs), 1));
     in.keep_history_s = l.number("keep_history_s", in.keep_history_s, ppp::Bound::Positive);
+    // The broadcast fallback is one rule for ppp_solve and the nodes, read from ssr:.
+    for (const char* key : {"broadcast_fallback", "min_ssr_satellites", "broadcast_orbit_sigma_m",
+                            "broadcast_clock_sigma_m"})
+      l.refuseMoved(key, std::string("ssr.") + key);
     l.finish();
   }
   s.finish();

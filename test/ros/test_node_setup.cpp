@@ -45,12 +45,17 @@ TEST(NodeSetup, TheLiveInputTakesTheBroadcastFallbackOfTheSsrSection) {
   EXPECT_EQ(c.ros.live_input.fallback.min_ssr_satellites, 7);
   EXPECT_DOUBLE_EQ(c.ros.live_input.fallback.orbit_sigma_m, 3.0);
   EXPECT_EQ(c.ros.live_input.fallback.min_ssr_satellites, c.ppp.ssr.fallback.min_ssr_satellites);
-  // The keys are no longer the live section's: refused there, naming the key.
-  try {
-    configOf("ros: {live: {min_ssr_satellites: 5}}");
-    ADD_FAILURE() << "ros.live.min_ssr_satellites was accepted";
-  } catch (const ppp::ConfigError& e) {
-    EXPECT_NE(std::string(e.what()).find("min_ssr_satellites"), std::string::npos) << e.what();
+  // The keys are no longer the live section's: refused there, naming the key and where it went.
+  for (const char* key : {"broadcast_fallback: true", "min_ssr_satellites: 5", "broadcast_orbit_sigma_m: 2.0",
+                          "broadcast_clock_sigma_m: 2.0"}) {
+    try {
+      configOf(std::string("ros: {live: {") + key + "}}");
+      ADD_FAILURE() << "ros.live." << key << " was accepted";
+    } catch (const ppp::ConfigError& e) {
+      const std::string name = std::string(key).substr(0, std::string(key).find(':'));
+      EXPECT_NE(std::string(e.what()).find("ros.live." + name), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find("moved to ssr." + name), std::string::npos) << e.what();
+    }
   }
 }
 

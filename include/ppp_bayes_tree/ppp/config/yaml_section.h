@@ -53,6 +53,9 @@ class YamlSection {
   YamlSection section(const std::string& key);
   /// The raw node of a key (bound later by someone else); must be a mapping or absent.
   YAML::Node rawMapping(const std::string& key);
+  /// A key that moved elsewhere: throws ConfigError naming its new path when
+  /// the key is given here (instead of "unknown key").
+  void refuseMoved(const std::string& key, const std::string& new_path);
   /// Throws ConfigError for the first key of this mapping nobody asked for.
   void finish() const;
 

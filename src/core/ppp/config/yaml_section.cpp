@@ -193,6 +193,11 @@ YAML::Node YamlSection::rawMapping(const std::string& key) {
   return YAML::Clone(n);
 }
 
+void YamlSection::refuseMoved(const std::string& key, const std::string& new_path) {
+  known_.insert(key);
+  if (has(key)) fail(key, "moved to " + new_path + ": write it there");
+}
+
 void YamlSection::finish() const {
   if (!node_.IsMap()) return;
   for (const auto& kv : node_) {
