@@ -57,10 +57,12 @@ smoother::Key biasKey(const SatelliteId& satellite, ArcId arc);
 /// at any receiver state of its epoch, from the model's evaluation at x0 (see top).
 class SatellitePrediction {
  public:
-  using Row = Eigen::RowVectorXd;
+  /// A Jacobian row (1 x state dimension), as the smoother's factors take it.
+  using Row = Eigen::MatrixXd;
   SatellitePrediction(const SatelliteMeasurement& m, const ReceiverState& x0, bool exact_range);
 
-  /// Predicted IF code [m] at x (state vector in x0's layout), and its Jacobian when `jacobian` is non-null.
+  /// Predicted IF code [m] at x (state vector in x0's layout), and its Jacobian when
+  /// `jacobian` is non-null (resized to 1 x dim; its storage is reused when it has that size).
   double code_m(const Eigen::VectorXd& x, Row* jacobian) const;
   /// Predicted IF phase without the bias [m] (code + wind-up).
   double phase_m(const Eigen::VectorXd& x, Row* jacobian) const { return code_m(x, jacobian) + windup_m_; }
