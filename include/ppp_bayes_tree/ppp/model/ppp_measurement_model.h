@@ -340,6 +340,7 @@ class PppMeasurementModel {
   MeasurementModelOptions options_;
   mutable std::vector<SatelliteAntennaCache> satellite_cache_;  // lookup cache (not model state)
   mutable std::vector<EmissionMemo> emission_memo_;             // per satellite index (not model state)
+  mutable std::shared_ptr<const EpochTerms> last_epoch_terms_;  // of the last evaluate() (not model state)
   mutable std::vector<std::string> receiver_warnings_;          // reported once each
   mutable std::vector<std::size_t> l1_reference_without_calibration_;  // per satellite index: counted
 };

@@ -252,8 +252,11 @@ void PppMeasurementModel::evaluate(const std::vector<DualFrequencyObservation>& 
   }
   const bool arcs_ok = arcs.size() == observations.size();
 
-  // 1. Per-epoch terms: local frame, Sun/Moon, station displacements, troposphere constants.
-  const EpochTerms epoch = epochTerms(marker, t_rx);
+  // 1. Per-epoch terms: local frame, Sun/Moon, station displacements, troposphere constants
+  //    (those of the last call again when it was at the same point and time).
+  if (!last_epoch_terms_ || !(last_epoch_terms_->t_rx == t_rx) || last_epoch_terms_->marker != marker)
+    last_epoch_terms_ = std::make_shared<const EpochTerms>(epochTerms(marker, t_rx));
+  const EpochTerms& epoch = *last_epoch_terms_;
 
   std::array<SystemTerms, kNumGnssSystems> systems;
   for (std::size_t i = 0; i < observations.size(); ++i) {
