@@ -40,6 +40,7 @@
 // Priors: the first state (a priori sigmas) and each new bias (phase minus code, a
 // priori bias sigma): PriorFactor.
 #include <Eigen/Core>
+#include <array>
 #include <optional>
 
 #include "ppp_bayes_tree/ppp/model/satellite_measurement.h"
@@ -72,9 +73,19 @@ class SatellitePrediction {
   bool exactRange() const { return satellite_.has_value(); }
 
  private:
+  /// The state components after the position (ZWD, clocks): at most this many.
+  static constexpr int kMaxRest = 1 + kNumGnssSystems;
+
   SatelliteMeasurement m_;
   ReceiverStateLayout layout_;
   Eigen::VectorXd x0_;
+  // What the exact range needs at every call, held in the object itself (no further
+  // memory to reach): x0's position, and x0 and the model's partials of the components
+  // after the position, in state order (rest_count_ of them; -1: not held).
+  Eigen::Vector3d x0_position_ = Eigen::Vector3d::Zero();
+  int rest_count_ = -1;
+  std::array<double, kMaxRest> rest_x0_{};
+  std::array<double, kMaxRest> rest_partial_{};
   double windup_m_ = 0.0;                  // predicted phase - predicted code at x0
   std::optional<Eigen::Vector3d> satellite_;  // s: set when the range is re-evaluated
   Eigen::Vector3d offset_ = Eigen::Vector3d::Zero();    // o

@@ -25,6 +25,15 @@ SatellitePrediction::SatellitePrediction(const SatelliteMeasurement& m, const Re
       // The model's position partial is -e0 + (dry delay height term): keep the latter.
       dry_gradient_ =
           m.jacobian.segment<ReceiverStateLayout::kPositionSize>(layout_.position()).transpose() + d / range0_m_;
+      const int rest = static_cast<int>(x0_.size()) - ReceiverStateLayout::kPositionSize;
+      if (layout_.position() == 0 && m.jacobian.size() == x0_.size() && rest >= 0 && rest <= kMaxRest) {
+        x0_position_ = x0_.head<ReceiverStateLayout::kPositionSize>();
+        rest_count_ = rest;
+        for (int i = 0; i < rest; ++i) {
+          rest_x0_[static_cast<std::size_t>(i)] = x0_(ReceiverStateLayout::kPositionSize + i);
+          rest_partial_[static_cast<std::size_t>(i)] = m.jacobian(ReceiverStateLayout::kPositionSize + i);
+        }
+      }
     }
   }
 }
@@ -36,6 +45,25 @@ double SatellitePrediction::code_m(const Eigen::VectorXd& x, Row* jacobian) cons
     const Eigen::VectorXd dx = x - x0_;
     if (jacobian != nullptr) *jacobian = m_.jacobian;
     return m_.predicted_code_m + m_.jacobian.dot(dx);
+  }
+  if (rest_count_ >= 0 && x.size() == kPos + rest_count_) {
+    // The same terms from the values held in the object (position first in the state).
+    const Eigen::Vector3d d = *satellite_ - (x.head<kPos>() + offset_);
+    const double range = d.norm();
+    const Eigen::Vector3d dpos = x.head<kPos>() - x0_position_;
+    double h = m_.predicted_code_m + (range - range0_m_) + dry_gradient_.dot(dpos);
+    double rest = 0.0;
+    for (int i = 0; i < rest_count_; ++i) {
+      const auto k = static_cast<std::size_t>(i);
+      rest += rest_partial_[k] * (x(kPos + i) - rest_x0_[k]);
+    }
+    h += rest;
+    if (jacobian != nullptr) {
+      jacobian->resize(1, kPos + rest_count_);
+      jacobian->block<1, kPos>(0, 0) = (-d / range + dry_gradient_).transpose();
+      for (int i = 0; i < rest_count_; ++i) (*jacobian)(0, kPos + i) = rest_partial_[static_cast<std::size_t>(i)];
+    }
+    return h;
   }
   // dx = x - x0 element by element where it is needed (no vector of it).
   const Eigen::Vector3d d = *satellite_ - (x.segment<kPos>(p) + offset_);
