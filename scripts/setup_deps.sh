@@ -12,6 +12,8 @@ PACKAGES=(
   python3-roslaunch python3-rosmaster python3-rostest librostest-dev rosbash rviz
   # numerics, geodesy, compression, configuration files
   libeigen3-dev libsuitesparse-dev libgeographiclib-dev zlib1g-dev libyaml-cpp-dev
+  # the allocator of the batch tools (Monte Carlo, campaigns; CMakeLists.txt)
+  libtcmalloc-minimal4
   # tests, benchmarks, fuzzing (clang's libFuzzer), plots, the peer we measure against
   libgtest-dev libbenchmark-dev clang libclang-rt-14-dev python3-matplotlib rtklib
   # the serial-port tests (a pseudo-terminal pair), the RViz screenshot (a virtual display)

@@ -43,6 +43,22 @@ TEST(PostfitScreening, ChiSquareQuantileMatchesTablesWithinOnePercent) {
   EXPECT_EQ(chiSquareUpperQuantile(0, 0.05), 0.0);
 }
 
+TEST(PostfitScreening, QuantilesOfOneFalseAlarmProbabilityAreChiSquareUpperQuantileBitForBit) {
+  // ChiSquareUpperQuantile computes the normal quantile once; every threshold must
+  // be the one chiSquareUpperQuantile computes on its own (EXPECT_EQ: bit for bit).
+  for (const double alpha : {0.05, 1e-3, 1e-6, 1e-9}) {
+    const ChiSquareUpperQuantile quantile(alpha);
+    EXPECT_EQ(quantile.alpha(), alpha);
+    for (int dof = -1; dof <= 300; ++dof) EXPECT_EQ(quantile(dof), chiSquareUpperQuantile(dof, alpha)) << dof;
+  }
+  const std::vector<PostfitResidualPair> pairs{{0.3, 0.004, 0.3, 0.003}, {-0.6, -0.002, 0.3, 0.003}};
+  const ConsistencyTest a = postfitConsistency(pairs, 1e-6);
+  const ConsistencyTest b = postfitConsistency(pairs, ChiSquareUpperQuantile(1e-6));
+  EXPECT_EQ(a.statistic, b.statistic);
+  EXPECT_EQ(a.dof, b.dof);
+  EXPECT_EQ(a.threshold, b.threshold);
+}
+
 TEST(PostfitScreening, ConsistencyTestSumsNormalisedSquaresOverCodeAndPhase) {
   std::vector<PostfitResidualPair> pairs(5, {0.5, 0.005, 1.0, 0.01});  // each 0.25 + 0.25
   const ConsistencyTest ok = postfitConsistency(pairs, 1e-6);

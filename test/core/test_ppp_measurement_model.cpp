@@ -223,6 +223,55 @@ TEST(PppMeasurementModel, NoiseFreeSelfConsistencyAndGaussNewton) {
   EXPECT_NEAR(x.clock_m(GnssSystem::GPS), z.truth.clock_m(GnssSystem::GPS), 1e-3);
 }
 
+/// Every number of two evaluations, exactly (EXPECT_EQ on doubles: bit for bit).
+void expectSameMeasurements(const EpochMeasurements& a, const EpochMeasurements& b) {
+  ASSERT_EQ(a.used.size(), b.used.size());
+  ASSERT_EQ(a.rejected.size(), b.rejected.size());
+  for (std::size_t k = 0; k < a.used.size(); ++k) {
+    const SatelliteMeasurement &x = a.used[k], &y = b.used[k];
+    const std::string sat = x.satellite.toString();
+    EXPECT_EQ(x.satellite, y.satellite);
+    EXPECT_EQ(x.predicted_code_m, y.predicted_code_m) << sat;
+    EXPECT_EQ(x.predicted_phase_m, y.predicted_phase_m) << sat;
+    EXPECT_EQ(x.observed_code_m, y.observed_code_m) << sat;
+    EXPECT_EQ(x.code_sigma_m, y.code_sigma_m) << sat;
+    EXPECT_EQ(x.elevation_rad, y.elevation_rad) << sat;
+    EXPECT_EQ(x.azimuth_rad, y.azimuth_rad) << sat;
+    ASSERT_EQ(x.jacobian.size(), y.jacobian.size());
+    for (Eigen::Index i = 0; i < x.jacobian.size(); ++i) EXPECT_EQ(x.jacobian(i), y.jacobian(i)) << sat << " " << i;
+    ASSERT_TRUE(x.satellite_apc_ecef_m && y.satellite_apc_ecef_m);
+    for (int i = 0; i < 3; ++i) {
+      EXPECT_EQ((*x.satellite_apc_ecef_m)(i), (*y.satellite_apc_ecef_m)(i)) << sat;
+      EXPECT_EQ(x.receiver_apc_offset_ecef_m(i), y.receiver_apc_offset_ecef_m(i)) << sat;
+    }
+  }
+}
+
+TEST(PppMeasurementModel, EvaluatingAgainGivesAFreshModelsNumbersBitForBit) {
+  // The model keeps each satellite's last emission ephemeris and its last per-epoch
+  // terms, for an epoch linearised again. Whatever it evaluated before, its numbers
+  // must be a fresh model's, and a changed code (another emission time) must not
+  // take the kept ephemeris.
+  PPP_REQUIRE_SHARED_DATA();
+  Zim2Epoch used, fresh;
+  ReceiverState x1 = used.truth, x2 = used.truth;
+  x1.position_ecef_m += Eigen::Vector3d(3.0, -2.0, 1.5);
+  x2.position_ecef_m += Eigen::Vector3d(-0.4, 0.7, 0.2);
+  x2.zwd_m = 0.2;
+  (void)used.ds.model->evaluate(used.obs, used.arcs, x1, nullptr);
+  (void)used.ds.model->evaluate(used.obs, used.arcs, x2, nullptr);
+  const EpochMeasurements again = used.ds.model->evaluate(used.obs, used.arcs, x2, nullptr);
+  ASSERT_GE(again.used.size(), 8u);
+  expectSameMeasurements(again, fresh.ds.model->evaluate(fresh.obs, fresh.arcs, x2, nullptr));
+  // The same observations with one code 300 m longer (~1 us earlier emission).
+  std::vector<DualFrequencyObservation> changed = used.obs;
+  changed[0].code1_m += 300.0;
+  changed[0].code2_m += 300.0;
+  Zim2Epoch other;
+  expectSameMeasurements(used.ds.model->evaluate(changed, used.arcs, x2, nullptr),
+                         other.ds.model->evaluate(changed, other.arcs, x2, nullptr));
+}
+
 TEST(PppMeasurementModel, WindupContinuityAndArcReset) {
   PPP_REQUIRE_SHARED_DATA();
   Zim2Epoch z;

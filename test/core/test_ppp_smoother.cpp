@@ -132,6 +132,52 @@ TEST(PppFactors, PredictionEqualsTheModelAtX0AndTheExactRangeElsewhere) {
   EXPECT_NEAR(linear.code_m(x, nullptr) - p.code_m(x, nullptr), -300.0 * 300.0 / (2 * 2.2e7), 1e-4);
 }
 
+TEST(PppFactors, ExactRangePredictionIsThePlainFormulaBitForBit) {
+  // code_m reads x0 and the model's partials from copies held in the prediction; its
+  // value and Jacobian must be the formula of the top of ppp_factors.h evaluated on the
+  // measurement itself, term by term in the same order (EXPECT_EQ: bit for bit).
+  for (const bool galileo : {false, true}) {
+    ReceiverState x0 = someState();
+    if (galileo) {
+      ReceiverState two(ReceiverStateLayout({GnssSystem::GPS, GnssSystem::Galileo}));
+      two.position_ecef_m = x0.position_ecef_m;
+      two.zwd_m = x0.zwd_m;
+      two.setClock_m(GnssSystem::GPS, 812.0);
+      two.setClock_m(GnssSystem::Galileo, -37.5);
+      x0 = two;
+    }
+    Eigen::Vector3d satellite;
+    SatelliteMeasurement m = realisticMeasurement(someState(), &satellite);  // GPS-only row
+    if (galileo) {  // the row in the two-clock layout: a nonzero partial in every column
+      Eigen::RowVectorXd j = Eigen::RowVectorXd::Zero(x0.layout.dim());
+      j.head(5) = m.jacobian;
+      j(x0.layout.dim() - 1) = 0.75;
+      m.jacobian = j;
+    }
+    const SatellitePrediction p(m, x0, true);
+    Eigen::VectorXd x = x0.vector();
+    x.head<3>() += Eigen::Vector3d(120.5, -33.25, 71.0);
+    for (int i = 3; i < x.size(); ++i) x(i) += 0.37 * i - 1.1;
+    const Eigen::Vector3d o = m.receiver_apc_offset_ecef_m;
+    const Eigen::Vector3d d0 = satellite - (x0.position_ecef_m + o);
+    const Eigen::Vector3d g = m.jacobian.head<3>().transpose() + d0 / d0.norm();
+    const Eigen::Vector3d d = satellite - (x.head<3>() + o);
+    const Eigen::Vector3d dpos = x.head<3>() - x0.position_ecef_m;
+    double expected = m.predicted_code_m + (d.norm() - d0.norm()) + g.dot(dpos);
+    double rest = 0.0;
+    for (int i = 3; i < x.size(); ++i) rest += m.jacobian(i) * (x(i) - x0.vector()(i));
+    expected += rest;
+    SatellitePrediction::Row j;
+    EXPECT_EQ(p.code_m(x, &j), expected);
+    ASSERT_EQ(j.rows(), 1);
+    ASSERT_EQ(j.cols(), x.size());
+    const Eigen::Vector3d position_partial = -d / d.norm() + g;
+    for (int i = 0; i < 3; ++i) EXPECT_EQ(j(0, i), position_partial(i));
+    for (int i = 3; i < x.size(); ++i) EXPECT_EQ(j(0, i), m.jacobian(i));
+    EXPECT_EQ(p.phase_m(x, nullptr), expected + (m.predicted_phase_m - m.predicted_code_m));
+  }
+}
+
 // Consistency test (a): linear model (linearised once, the same for both),
 // single iteration, same noise, same initialisation: the smoother's filtered
 // estimate equals the EKF's epoch by epoch, through a cycle slip, a no-solution

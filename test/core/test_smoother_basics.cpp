@@ -91,6 +91,25 @@ TEST(SmootherNoise, WhitenInPlaceIsWhitenBitForBit) {
   EXPECT_THROW(NoiseModel::isotropic(3, 1.0)->whitenInPlace(wrong), std::invalid_argument);
 }
 
+TEST(SmootherNoise, LossIsHalfTheWhitenedSquaredNormBitForBit) {
+  // The diagonal loss forms the whitened error's squared norm without storing the
+  // whitened error: the same products and the same sum as whiten(e).squaredNorm().
+  Eigen::Matrix3d p;
+  p << 4, 1, 0.5, 1, 2, 0.2, 0.5, 0.2, 1;
+  for (int n : {1, 2, 3, 5, 8, 13}) {
+    const Vector e = Vector::Random(n) * 7.0;
+    const Vector sigmas = (Vector::Random(n).array().abs() + 0.1).matrix();
+    const auto diagonal = NoiseModel::sigmas(sigmas);
+    EXPECT_EQ(diagonal->loss(e), 0.5 * diagonal->whiten(e).squaredNorm()) << n;
+    const auto robust = diagonal->withRobust({RobustKernel::Type::Huber, 1.345});
+    EXPECT_EQ(robust->loss(e), robust->robust()->loss(robust->whiten(e).norm())) << n;
+  }
+  const auto full = NoiseModel::covariance(p);
+  const Vector e3 = Vector::Random(3);
+  EXPECT_EQ(full->loss(e3), 0.5 * full->whiten(e3).squaredNorm());
+  EXPECT_THROW(NoiseModel::isotropic(3, 1.0)->loss(Vector::Ones(2)), std::invalid_argument);
+}
+
 TEST(SmootherNoise, RobustWeights) {
   // Huber: w = k/|r| beyond k (Zhang 1997, Table 1): r = 2k gives 1/2.
   const RobustKernel huber{RobustKernel::Type::Huber, 1.345};

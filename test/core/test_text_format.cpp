@@ -45,6 +45,16 @@ TEST(TextFormat, LongTextsAreWhole) {
   EXPECT_EQ(format("%.500e", 1.0), reference("%.500e", 1.0));
 }
 
+TEST(TextFormat, TextsAroundTheStackBufferAreWhole) {
+  // format() writes into a 256-byte buffer first and again into a string when the
+  // text is longer: every length around that edge comes out whole.
+  for (std::size_t n = 250; n <= 262; ++n) {
+    const std::string body(n, 'y');
+    EXPECT_EQ(format("%s", body.c_str()), body) << n;
+    EXPECT_EQ(format("%s%d", body.c_str(), 7), body + "7") << n;
+  }
+}
+
 TEST(TextFormat, TextBuiltOnFormatIsWhole) {
   // csvNumber had a 64-byte buffer: 100 decimals were cut to 63 characters.
   EXPECT_EQ(csvNumber("%.100f", 1.0).size(), 102u);

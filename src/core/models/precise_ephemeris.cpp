@@ -28,7 +28,11 @@ constexpr std::size_t kMaxWindowNodes = 30;
 /// are formed side by side (independent chains the processor overlaps), each with
 /// its factors in the order of m. A skipped factor is a multiplication by exactly 1
 /// or none, so every value is the one of the plain nested loops, bit for bit.
-void lagrangeWeights(const double* tau, std::size_t n, double x, double* w, double* dw) {
+/// N > 0: the window has exactly N nodes (n == N), known when compiling, so that the
+/// side-by-side products stay in registers; N == 0: any n.
+template <std::size_t N>
+void lagrangeWeights(const double* tau, std::size_t n_any, double x, double* w, double* dw) {
+  const std::size_t n = N > 0 ? N : n_any;
   double ratio[kMaxWindowNodes][kMaxWindowNodes];  // (x - tau_m) / (tau_j - tau_m); 1 on the diagonal
   for (std::size_t j = 0; j < n; ++j)
     for (std::size_t m = 0; m < n; ++m) ratio[j][m] = m == j ? 1.0 : (x - tau[m]) / (tau[j] - tau[m]);
@@ -48,9 +52,9 @@ void lagrangeWeights(const double* tau, std::size_t n, double x, double* w, doub
   for (std::size_t j = 0; j < n; ++j) {
     for (std::size_t k = 0; k < n; ++k) q[k] = k == j ? 0.0 : inverse[j][k];
     for (std::size_t m = 0; m < n; ++m) {
+      // Every k but m: the factor of k == m is exactly 1 (x * 1 == x for every x).
       const double r = ratio[j][m];
-      for (std::size_t k = 0; k < m; ++k) q[k] *= r;  // every k but m
-      for (std::size_t k = m + 1; k < n; ++k) q[k] *= r;
+      for (std::size_t k = 0; k < n; ++k) q[k] *= k == m ? 1.0 : r;
     }
     double d = 0.0;
     for (std::size_t k = 0; k < n; ++k) {
@@ -58,6 +62,12 @@ void lagrangeWeights(const double* tau, std::size_t n, double x, double* w, doub
     }
     dw[j] = d;
   }
+}
+
+/// lagrangeWeights for any n, with the default window size compiled for its size.
+void lagrangeWeights(const double* tau, std::size_t n, double x, double* w, double* dw) {
+  if (n == 10) return lagrangeWeights<10>(tau, n, x, w, dw);
+  lagrangeWeights<0>(tau, n, x, w, dw);
 }
 
 /// Components in the non-rotating frame that coincides with ECEF at the query

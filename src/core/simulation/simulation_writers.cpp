@@ -120,11 +120,12 @@ std::string rinexClockText(const RinexClockFile& clocks) {
   std::map<GnssTime, std::vector<std::pair<SatelliteId, double>>> epochs;
   for (const auto& [sat, recs] : clocks.satellite_clocks)
     for (const auto& r : recs) epochs[r.time].emplace_back(sat, r.clock_bias_s);
+  // "AS %-4.4s %4d %02d %02d %02d %02d %9.6f  1   %19.12E": the epoch's fields formatted once.
   for (const auto& [time, values] : epochs) {
     const CalendarTime c = time.toCalendar(TimeSystem::GPS);
+    const std::string when = format("%4d %02d %02d %02d %02d %9.6f", c.year, c.month, c.day, c.hour, c.minute, c.second);
     for (const auto& [sat, v] : values)
-      t += format("AS %-4.4s %4d %02d %02d %02d %02d %9.6f  1   %19.12E\n", sat.toString().c_str(), c.year, c.month,
-               c.day, c.hour, c.minute, c.second, v);
+      t += format("AS %-4.4s %s  1   %19.12E\n", sat.toString().c_str(), when.c_str(), v);
   }
   return t;
 }

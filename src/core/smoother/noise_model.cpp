@@ -92,9 +92,17 @@ Eigen::MatrixXd NoiseModel::covarianceMatrix() const {
 }
 
 double NoiseModel::loss(const Eigen::VectorXd& e) const {
-  const Eigen::VectorXd w = whiten(e);
-  if (!robust_) return 0.5 * w.squaredNorm();
-  return robust_->loss(w.norm());
+  if (full_) {
+    const Eigen::VectorXd w = whiten(e);
+    if (!robust_) return 0.5 * w.squaredNorm();
+    return robust_->loss(w.norm());
+  }
+  // Diagonal: the whitened error's squared norm over the same products as whiten()'s
+  // (the same reduction), without storing them.
+  if (e.size() != dim_) throw std::invalid_argument("NoiseModel::whiten: dimension mismatch");
+  const double squared = inv_sigmas_.cwiseProduct(e).squaredNorm();
+  if (!robust_) return 0.5 * squared;
+  return robust_->loss(std::sqrt(squared));
 }
 
 }  // namespace ppp::smoother

@@ -20,14 +20,23 @@ std::string format(const char* printf_format, ...) {
 }
 
 std::string formatList(const char* printf_format, std::va_list arguments) {
-  // First pass: the length; second pass: the text into a string of that length.
-  std::va_list measure;
-  va_copy(measure, arguments);
-  const int length = std::vsnprintf(nullptr, 0, printf_format, measure);
-  va_end(measure);
-  if (length < 0) throw std::invalid_argument(std::string("format: cannot format \"") + printf_format + "\"");
+  // One pass into a buffer on the stack, which holds most texts (a record, a
+  // header line); a longer text is formatted again into a string of its length.
+  char buffer[256];
+  std::va_list again;
+  va_copy(again, arguments);
+  const int length = std::vsnprintf(buffer, sizeof buffer, printf_format, arguments);
+  if (length < 0) {
+    va_end(again);
+    throw std::invalid_argument(std::string("format: cannot format \"") + printf_format + "\"");
+  }
+  if (static_cast<std::size_t>(length) < sizeof buffer) {
+    va_end(again);
+    return std::string(buffer, static_cast<std::size_t>(length));
+  }
   std::string text(static_cast<std::size_t>(length), '\0');
-  std::vsnprintf(text.data(), text.size() + 1, printf_format, arguments);
+  std::vsnprintf(text.data(), text.size() + 1, printf_format, again);
+  va_end(again);
   return text;
 }
 

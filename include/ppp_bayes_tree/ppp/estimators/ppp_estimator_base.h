@@ -42,6 +42,7 @@
 #include "ppp_bayes_tree/ppp/model/measurement_function.h"
 #include "ppp_bayes_tree/ppp/model/receiver_state_layout.h"
 #include "ppp_bayes_tree/ppp/model/stochastic_model.h"
+#include "ppp_bayes_tree/ppp/screening/postfit_screening.h"
 #include "ppp_bayes_tree/ppp/screening/prefit_screening.h"
 #include "ppp_bayes_tree/ppp/screening/screening_options.h"
 
@@ -132,6 +133,9 @@ class PppEstimatorBase {
 
   StochasticModel model_;
   ScreeningOptions screening_;
+  /// The consistency test's quantiles for screening_.consistency_false_alarm (made
+  /// when first needed and again when that probability changes; not estimator state).
+  mutable std::optional<ChiSquareUpperQuantile> consistency_quantile_;
   CodeLeastSquaresOptions start_options_;
   ReceiverStateLayout layout_;
 

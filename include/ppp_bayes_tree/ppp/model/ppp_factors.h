@@ -40,6 +40,7 @@
 // Priors: the first state (a priori sigmas) and each new bias (phase minus code, a
 // priori bias sigma): PriorFactor.
 #include <Eigen/Core>
+#include <array>
 #include <optional>
 
 #include "ppp_bayes_tree/ppp/model/satellite_measurement.h"
@@ -57,10 +58,12 @@ smoother::Key biasKey(const SatelliteId& satellite, ArcId arc);
 /// at any receiver state of its epoch, from the model's evaluation at x0 (see top).
 class SatellitePrediction {
  public:
-  using Row = Eigen::RowVectorXd;
+  /// A Jacobian row (1 x state dimension), as the smoother's factors take it.
+  using Row = Eigen::MatrixXd;
   SatellitePrediction(const SatelliteMeasurement& m, const ReceiverState& x0, bool exact_range);
 
-  /// Predicted IF code [m] at x (state vector in x0's layout), and its Jacobian when `jacobian` is non-null.
+  /// Predicted IF code [m] at x (state vector in x0's layout), and its Jacobian when
+  /// `jacobian` is non-null (resized to 1 x dim; its storage is reused when it has that size).
   double code_m(const Eigen::VectorXd& x, Row* jacobian) const;
   /// Predicted IF phase without the bias [m] (code + wind-up).
   double phase_m(const Eigen::VectorXd& x, Row* jacobian) const { return code_m(x, jacobian) + windup_m_; }
@@ -70,9 +73,19 @@ class SatellitePrediction {
   bool exactRange() const { return satellite_.has_value(); }
 
  private:
+  /// The state components after the position (ZWD, clocks): at most this many.
+  static constexpr int kMaxRest = 1 + kNumGnssSystems;
+
   SatelliteMeasurement m_;
   ReceiverStateLayout layout_;
   Eigen::VectorXd x0_;
+  // What the exact range needs at every call, held in the object itself (no further
+  // memory to reach): x0's position, and x0 and the model's partials of the components
+  // after the position, in state order (rest_count_ of them; -1: not held).
+  Eigen::Vector3d x0_position_ = Eigen::Vector3d::Zero();
+  int rest_count_ = -1;
+  std::array<double, kMaxRest> rest_x0_{};
+  std::array<double, kMaxRest> rest_partial_{};
   double windup_m_ = 0.0;                  // predicted phase - predicted code at x0
   std::optional<Eigen::Vector3d> satellite_;  // s: set when the range is re-evaluated
   Eigen::Vector3d offset_ = Eigen::Vector3d::Zero();    // o

@@ -283,6 +283,18 @@ class PppMeasurementModel {
                                                              double f1_hz, double f2_hz) const;
 
  private:
+  /// The satellite's clock and orbit at the emission time (ephemerisAtEmission).
+  struct EmissionEphemeris {
+    EphemerisClock clock;
+    EphemerisOrbit orbit;
+  };
+  /// The last emission ephemeris of one satellite, with what it was asked for.
+  struct EmissionMemo {
+    bool valid = false;
+    GnssTime t_rx;
+    double code_m = 0.0;
+    EmissionEphemeris value;
+  };
   struct SatelliteAntennaCache {
     const AntennaCalibration* calibration = nullptr;
     std::string source;
@@ -309,6 +321,13 @@ class PppMeasurementModel {
   ModelTerms modelTerms(const SatelliteEvaluation& sv, const EpochTerms& epoch, double shapiro_m,
                         double relativistic_s) const;
 
+  /// The satellite's clock and orbit at the emission time of a code observed at t_rx
+  /// (ephemerisAtEmission), from the memo when the same satellite, t_rx and code were
+  /// asked last (an estimator linearises an epoch more than once); nullopt after a
+  /// rejection through `reject`.
+  template <typename Reject>
+  std::optional<EmissionEphemeris> emissionEphemeris(const SatelliteId& sat, const GnssTime& t_rx, double code_m,
+                                                     Reject&& reject) const;
   const AntennaCalibration* satelliteCalibration(const SatelliteId& sat, const GnssTime& t) const;
   void warnReceiverAntenna(std::string text) const;
 
@@ -320,6 +339,8 @@ class PppMeasurementModel {
   std::optional<OceanLoadingCoefficients> ocean_loading_;
   MeasurementModelOptions options_;
   mutable std::vector<SatelliteAntennaCache> satellite_cache_;  // lookup cache (not model state)
+  mutable std::vector<EmissionMemo> emission_memo_;             // per satellite index (not model state)
+  mutable std::shared_ptr<const EpochTerms> last_epoch_terms_;  // of the last evaluate() (not model state)
   mutable std::vector<std::string> receiver_warnings_;          // reported once each
   mutable std::vector<std::size_t> l1_reference_without_calibration_;  // per satellite index: counted
 };

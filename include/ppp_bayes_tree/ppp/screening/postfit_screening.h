@@ -57,6 +57,21 @@ RejectedSatellite postfitRejection(const SatelliteId& satellite, const PostfitOu
 /// dof >= 3 and alpha >= 1e-9; Abramowitz and Stegun 26.4.17).
 double chiSquareUpperQuantile(int dof, double alpha);
 
+/// chiSquareUpperQuantile(dof, alpha) for one `alpha` and any dof, the same numbers:
+/// the normal quantile of alpha (a bisection on erfc, the costly part) is computed
+/// once, at construction, instead of at every call.
+class ChiSquareUpperQuantile {
+ public:
+  explicit ChiSquareUpperQuantile(double alpha);
+  double alpha() const { return alpha_; }
+  /// The quantile for `dof` degrees of freedom (0 when dof <= 0).
+  double operator()(int dof) const;
+
+ private:
+  double alpha_ = 0.0;
+  double normal_quantile_ = 0.0;  // z with P(Z > z) = alpha
+};
+
 /// The epoch consistency test of a solution's postfit residuals.
 struct ConsistencyTest {
   double statistic = 0.0;  // T, the weighted postfit sum of squares
@@ -69,5 +84,8 @@ struct ConsistencyTest {
   std::string describe(double alpha) const;
 };
 ConsistencyTest postfitConsistency(const std::vector<PostfitResidualPair>& pairs, double alpha);
+/// The same test with the quantiles of one false-alarm probability computed ahead.
+ConsistencyTest postfitConsistency(const std::vector<PostfitResidualPair>& pairs,
+                                   const ChiSquareUpperQuantile& quantile);
 
 }  // namespace ppp

@@ -250,7 +250,9 @@ void PppEstimatorBase::testConsistency(EstimatorEpochResult& result) const {
   pairs.reserve(result.residuals.size());
   for (const auto& r : result.residuals)
     pairs.push_back({r.code_postfit_m, r.phase_postfit_m, r.code_sigma_m, r.phase_sigma_m});
-  const ConsistencyTest test = postfitConsistency(pairs, screening_.consistency_false_alarm);
+  const double alpha = screening_.consistency_false_alarm;
+  if (!consistency_quantile_ || !(consistency_quantile_->alpha() == alpha)) consistency_quantile_.emplace(alpha);
+  const ConsistencyTest test = postfitConsistency(pairs, *consistency_quantile_);
   result.consistency_statistic = test.statistic;
   result.consistency_dof = test.dof;
   result.consistency = test.describe(screening_.consistency_false_alarm);

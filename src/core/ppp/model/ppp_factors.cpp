@@ -25,6 +25,15 @@ SatellitePrediction::SatellitePrediction(const SatelliteMeasurement& m, const Re
       // The model's position partial is -e0 + (dry delay height term): keep the latter.
       dry_gradient_ =
           m.jacobian.segment<ReceiverStateLayout::kPositionSize>(layout_.position()).transpose() + d / range0_m_;
+      const int rest = static_cast<int>(x0_.size()) - ReceiverStateLayout::kPositionSize;
+      if (layout_.position() == 0 && m.jacobian.size() == x0_.size() && rest >= 0 && rest <= kMaxRest) {
+        x0_position_ = x0_.head<ReceiverStateLayout::kPositionSize>();
+        rest_count_ = rest;
+        for (int i = 0; i < rest; ++i) {
+          rest_x0_[static_cast<std::size_t>(i)] = x0_(ReceiverStateLayout::kPositionSize + i);
+          rest_partial_[static_cast<std::size_t>(i)] = m.jacobian(ReceiverStateLayout::kPositionSize + i);
+        }
+      }
     }
   }
 }
@@ -32,22 +41,44 @@ SatellitePrediction::SatellitePrediction(const SatelliteMeasurement& m, const Re
 double SatellitePrediction::code_m(const Eigen::VectorXd& x, Row* jacobian) const {
   constexpr int kPos = ReceiverStateLayout::kPositionSize;
   const int p = layout_.position();
-  const Eigen::VectorXd dx = x - x0_;
   if (!satellite_) {
+    const Eigen::VectorXd dx = x - x0_;
     if (jacobian != nullptr) *jacobian = m_.jacobian;
     return m_.predicted_code_m + m_.jacobian.dot(dx);
   }
+  if (rest_count_ >= 0 && x.size() == kPos + rest_count_) {
+    // The same terms from the values held in the object (position first in the state).
+    const Eigen::Vector3d d = *satellite_ - (x.head<kPos>() + offset_);
+    const double range = d.norm();
+    const Eigen::Vector3d dpos = x.head<kPos>() - x0_position_;
+    double h = m_.predicted_code_m + (range - range0_m_) + dry_gradient_.dot(dpos);
+    double rest = 0.0;
+    for (int i = 0; i < rest_count_; ++i) {
+      const auto k = static_cast<std::size_t>(i);
+      rest += rest_partial_[k] * (x(kPos + i) - rest_x0_[k]);
+    }
+    h += rest;
+    if (jacobian != nullptr) {
+      jacobian->resize(1, kPos + rest_count_);
+      jacobian->block<1, kPos>(0, 0) = (-d / range + dry_gradient_).transpose();
+      for (int i = 0; i < rest_count_; ++i) (*jacobian)(0, kPos + i) = rest_partial_[static_cast<std::size_t>(i)];
+    }
+    return h;
+  }
+  // dx = x - x0 element by element where it is needed (no vector of it).
   const Eigen::Vector3d d = *satellite_ - (x.segment<kPos>(p) + offset_);
   const double range = d.norm();
-  double h = m_.predicted_code_m + (range - range0_m_) + dry_gradient_.dot(dx.segment<kPos>(p));
+  const Eigen::Vector3d dpos = x.segment<kPos>(p) - x0_.segment<kPos>(p);
+  double h = m_.predicted_code_m + (range - range0_m_) + dry_gradient_.dot(dpos);
   // ZWD and clocks: the model's constant partials (in state order).
   double rest = 0.0;
-  for (Eigen::Index i = 0; i < dx.size(); ++i)
-    if (!layout_.isPosition(static_cast<int>(i))) rest += m_.jacobian(i) * dx(i);
+  for (Eigen::Index i = 0; i < x.size(); ++i)
+    if (!layout_.isPosition(static_cast<int>(i))) rest += m_.jacobian(i) * (x(i) - x0_(i));
   h += rest;
   if (jacobian != nullptr) {
-    *jacobian = m_.jacobian;
-    jacobian->segment<kPos>(p) = (-d / range + dry_gradient_).transpose();
+    jacobian->resize(1, m_.jacobian.size());
+    jacobian->row(0) = m_.jacobian;
+    jacobian->block<1, kPos>(0, p) = (-d / range + dry_gradient_).transpose();
   }
   return h;
 }
@@ -56,10 +87,8 @@ PppCodeFactor::PppCodeFactor(smoother::Key state, SatellitePrediction prediction
     : NoiseModelFactorN(std::move(noise), {state}), prediction_(std::move(prediction)) {}
 
 Vector PppCodeFactor::evaluateError(const Vector& state, Matrix* h_state) const {
-  SatellitePrediction::Row row;
   Vector e(1);
-  e(0) = prediction_.code_m(state, h_state ? &row : nullptr) - prediction_.measurement().observed_code_m;
-  if (h_state != nullptr) *h_state = row;
+  e(0) = prediction_.code_m(state, h_state) - prediction_.measurement().observed_code_m;
   return e;
 }
 
@@ -69,11 +98,9 @@ PppPhaseFactor::PppPhaseFactor(smoother::Key state, smoother::Key bias, Satellit
 
 Vector PppPhaseFactor::evaluateError(const Vector& state, const double& bias_m, Matrix* h_state,
                                      Matrix* h_bias) const {
-  SatellitePrediction::Row row;
   Vector e(1);
-  e(0) = prediction_.phase_m(state, h_state ? &row : nullptr) + bias_m - prediction_.measurement().observed_phase_m;
-  if (h_state != nullptr) *h_state = row;
-  if (h_bias != nullptr) *h_bias = Matrix::Ones(1, 1);
+  e(0) = prediction_.phase_m(state, h_state) + bias_m - prediction_.measurement().observed_phase_m;
+  if (h_bias != nullptr) h_bias->setOnes(1, 1);
   return e;
 }
 

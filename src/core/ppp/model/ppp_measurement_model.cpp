@@ -35,14 +35,9 @@ std::optional<double> combine(const std::optional<double>& v1, const std::option
 /// time) and the orbit at the emission time corrected by that clock: the first step
 /// of the full and of the start model. Without them the satellite is `reject`ed
 /// (NoClock / NoOrbit, with the source's detail) and there is no value.
-struct EmissionEphemeris {
-  EphemerisClock clock;
-  EphemerisOrbit orbit;
-};
-
-template <typename Reject>
-std::optional<EmissionEphemeris> ephemerisAtEmission(const EphemerisSource& ephemeris, const SatelliteId& sat,
-                                                     const GnssTime& t_rx, double code_m, Reject&& reject) {
+template <typename Emission, typename Reject>
+std::optional<Emission> ephemerisAtEmission(const EphemerisSource& ephemeris, const SatelliteId& sat,
+                                            const GnssTime& t_rx, double code_m, Reject&& reject) {
   const GnssTime t_nominal = t_rx - code_m / kSpeedOfLight_mps;
   const EphemerisAnswer<EphemerisClock> clock = ephemeris.satelliteClock(sat, t_nominal);
   if (!clock.ok()) {
@@ -54,7 +49,7 @@ std::optional<EmissionEphemeris> ephemerisAtEmission(const EphemerisSource& ephe
     reject(RejectionReason::NoOrbit, "no orbit: " + orbit.detail);
     return std::nullopt;
   }
-  return EmissionEphemeris{*clock.value, *orbit.value};
+  return Emission{*clock.value, *orbit.value};
 }
 
 }  // namespace
@@ -78,6 +73,7 @@ PppMeasurementModel::PppMeasurementModel(const EphemerisSource& ephemeris,
       receiver_antenna_(receiver_antenna),
       options_(options),
       satellite_cache_(static_cast<std::size_t>(kNumGnssSystems) * 100),
+      emission_memo_(static_cast<std::size_t>(kNumGnssSystems) * 100),
       l1_reference_without_calibration_(static_cast<std::size_t>(kNumGnssSystems) * 100, 0) {
   if (ocean_loading != nullptr) ocean_loading_ = *ocean_loading;
   if (antennas_) {
@@ -122,6 +118,18 @@ std::vector<std::string> PppMeasurementModel::antennaSources() const {
     out.push_back("satellite " + c.calibration->label() + ": " + c.source);
   }
   return out;
+}
+
+template <typename Reject>
+std::optional<PppMeasurementModel::EmissionEphemeris> PppMeasurementModel::emissionEphemeris(
+    const SatelliteId& sat, const GnssTime& t_rx, double code_m, Reject&& reject) const {
+  EmissionMemo& memo = emission_memo_[static_cast<std::size_t>(sat.index())];
+  if (memo.valid && memo.t_rx == t_rx && memo.code_m == code_m) return memo.value;
+  memo.valid = false;
+  const std::optional<EmissionEphemeris> e =
+      ephemerisAtEmission<EmissionEphemeris>(ephemeris_, sat, t_rx, code_m, std::forward<Reject>(reject));
+  if (e) memo = EmissionMemo{true, t_rx, code_m, *e};
+  return e;
 }
 
 const AntennaCalibration* PppMeasurementModel::satelliteCalibration(const SatelliteId& sat,
@@ -244,8 +252,11 @@ void PppMeasurementModel::evaluate(const std::vector<DualFrequencyObservation>& 
   }
   const bool arcs_ok = arcs.size() == observations.size();
 
-  // 1. Per-epoch terms: local frame, Sun/Moon, station displacements, troposphere constants.
-  const EpochTerms epoch = epochTerms(marker, t_rx);
+  // 1. Per-epoch terms: local frame, Sun/Moon, station displacements, troposphere constants
+  //    (those of the last call again when it was at the same point and time).
+  if (!last_epoch_terms_ || !(last_epoch_terms_->t_rx == t_rx) || last_epoch_terms_->marker != marker)
+    last_epoch_terms_ = std::make_shared<const EpochTerms>(epochTerms(marker, t_rx));
+  const EpochTerms& epoch = *last_epoch_terms_;
 
   std::array<SystemTerms, kNumGnssSystems> systems;
   for (std::size_t i = 0; i < observations.size(); ++i) {
@@ -383,8 +394,8 @@ bool PppMeasurementModel::observedCombinations(SatelliteEvaluation& sv, const Ep
 bool PppMeasurementModel::satelliteAtEmission(SatelliteEvaluation& sv, const EpochTerms& epoch,
                                               EpochMeasurements& out) const {
   const SatelliteId sat = sv.o.satellite;
-  const std::optional<EmissionEphemeris> emission = ephemerisAtEmission(
-      ephemeris_, sat, epoch.t_rx, sv.code_if_m,
+  const std::optional<EmissionEphemeris> emission = emissionEphemeris(
+      sat, epoch.t_rx, sv.code_if_m,
       [&](RejectionReason reason, std::string why) { sv.reject(out, reason, std::move(why)); });
   if (!emission) return false;
   sv.clock = emission->clock;
@@ -606,7 +617,7 @@ void PppMeasurementModel::evaluateStart(const std::vector<DualFrequencyObservati
       reject(RejectionReason::ObservationUnusable, format("observed IF code %.3f m not usable", code_if));
       continue;
     }
-    const std::optional<EmissionEphemeris> emission = ephemerisAtEmission(ephemeris_, sat, t_rx, code_if, reject);
+    const std::optional<EmissionEphemeris> emission = emissionEphemeris(sat, t_rx, code_if, reject);
     if (!emission) continue;
     const double dts = emission->clock.clock_bias_s;
     const Eigen::Vector3d& sat_tx = emission->orbit.position_ecef_m;

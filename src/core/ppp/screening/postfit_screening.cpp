@@ -46,7 +46,15 @@ RejectedSatellite postfitRejection(const SatelliteId& satellite, const PostfitOu
 
 double chiSquareUpperQuantile(int dof, double alpha) {
   if (dof <= 0) return 0.0;
-  const double z = normalUpperQuantile(alpha);
+  return ChiSquareUpperQuantile(alpha)(dof);
+}
+
+ChiSquareUpperQuantile::ChiSquareUpperQuantile(double alpha)
+    : alpha_(alpha), normal_quantile_(normalUpperQuantile(alpha)) {}
+
+double ChiSquareUpperQuantile::operator()(int dof) const {
+  if (dof <= 0) return 0.0;
+  const double z = normal_quantile_;
   const double k = static_cast<double>(dof);
   const double a = 2.0 / (9.0 * k);
   const double c = 1.0 - a + z * std::sqrt(a);
@@ -61,13 +69,18 @@ std::string ConsistencyTest::describe(double alpha) const {
 }
 
 ConsistencyTest postfitConsistency(const std::vector<PostfitResidualPair>& pairs, double alpha) {
+  return postfitConsistency(pairs, ChiSquareUpperQuantile(alpha));
+}
+
+ConsistencyTest postfitConsistency(const std::vector<PostfitResidualPair>& pairs,
+                                   const ChiSquareUpperQuantile& quantile) {
   ConsistencyTest t;
   for (const auto& p : pairs) {
     const double c = p.code_m / p.code_sigma_m, f = p.phase_m / p.phase_sigma_m;
     t.statistic += c * c + f * f;
   }
   t.dof = 2 * static_cast<int>(pairs.size());
-  t.threshold = chiSquareUpperQuantile(t.dof, alpha);
+  t.threshold = quantile(t.dof);
   return t;
 }
 
