@@ -30,6 +30,7 @@ void expectSameConfig(const PppConfig& c, const PppConfig& d) {
   expectSameNoise(c.stochastic.zwd, d.stochastic.zwd, "zwd");
   expectSameNoise(c.stochastic.clock, d.stochastic.clock, "clock");
   expectSameNoise(c.stochastic.phase_bias, d.stochastic.phase_bias, "phase_bias");
+  expectSameNoise(c.stochastic.troposphere_gradient, d.stochastic.troposphere_gradient, "troposphere_gradient");
   EXPECT_EQ(c.stochastic.initial_zwd_m, d.stochastic.initial_zwd_m);
   EXPECT_EQ(c.stochastic.code_correlation_time_s, d.stochastic.code_correlation_time_s);
   EXPECT_EQ(c.estimator.screening.min_satellites, d.estimator.screening.min_satellites);
@@ -89,6 +90,7 @@ void expectSameConfig(const PppConfig& c, const PppConfig& d) {
   EXPECT_EQ(c.model.scale_sigma_for_ionosphere_free, d.model.scale_sigma_for_ionosphere_free);
   EXPECT_EQ(c.model.dry_troposphere, d.model.dry_troposphere);
   EXPECT_EQ(c.model.mapping, d.model.mapping);
+  EXPECT_EQ(c.model.estimate_troposphere_gradients, d.model.estimate_troposphere_gradients);
   EXPECT_EQ(c.model.solid_earth_tide, d.model.solid_earth_tide);
   EXPECT_EQ(c.model.ocean_loading, d.model.ocean_loading);
   EXPECT_EQ(c.model.phase_windup, d.model.phase_windup);
@@ -353,6 +355,43 @@ ambiguity_resolution:
   } catch (const ConfigError& e) {
     EXPECT_EQ(e.keyPath(), "cycle_slip.mw_threshold_cycles");
   }
+}
+
+TEST(PppConfig, TroposphereGradientsAreBoundIntoTheModelAndTheEstimatorsState) {
+  const PppConfig off = parsePppConfig("", "x.yaml");
+  EXPECT_FALSE(off.model.estimate_troposphere_gradients);
+  EXPECT_FALSE(static_cast<ppp::EstimatorOptions>(off).troposphere_gradients);
+  // Defaults: 5 mm a priori, 5e-6 m/sqrt(s) = 0.3 mm/sqrt(h) random walk (stochastic_model.h).
+  EXPECT_EQ(off.stochastic.troposphere_gradient.initial_sigma_m, 0.005);
+  EXPECT_EQ(off.stochastic.troposphere_gradient.process_noise_m_per_sqrt_s, 5.0e-6);
+  EXPECT_EQ(off.stochastic.troposphere_gradient.kind, ppp::ProcessKind::RandomWalk);
+
+  const PppConfig on = parsePppConfig(R"(
+stochastic:
+  troposphere_gradient: {initial_sigma_m: 0.002, process_noise_m_per_sqrt_s: 1.0e-5}
+measurement_model:
+  troposphere: {estimate_gradients: true}
+)", "x.yaml");
+  EXPECT_TRUE(on.model.estimate_troposphere_gradients);
+  const ppp::EstimatorOptions options = on;
+  EXPECT_TRUE(options.troposphere_gradients);
+  EXPECT_EQ(options.stochastic.troposphere_gradient.initial_sigma_m, 0.002);
+  EXPECT_EQ(options.stochastic.troposphere_gradient.process_noise_m_per_sqrt_s, 1.0e-5);
+
+  // Negative, absurd and wrongly typed values name the key.
+  EXPECT_EQ(errorOf("stochastic:\n  troposphere_gradient: {initial_sigma_m: 0}\n").keyPath(),
+            "stochastic.troposphere_gradient.initial_sigma_m");
+  EXPECT_EQ(errorOf("stochastic:\n  troposphere_gradient: {initial_sigma_m: 0.5}\n").keyPath(),
+            "stochastic.troposphere_gradient.initial_sigma_m");
+  EXPECT_EQ(errorOf("stochastic:\n  troposphere_gradient: {process_noise_m_per_sqrt_s: -1e-6}\n").keyPath(),
+            "stochastic.troposphere_gradient.process_noise_m_per_sqrt_s");
+  EXPECT_EQ(errorOf("stochastic:\n  troposphere_gradient: {process_noise_m_per_sqrt_s: 0.01}\n").keyPath(),
+            "stochastic.troposphere_gradient.process_noise_m_per_sqrt_s");
+  // A random walk by definition: no `process` key.
+  EXPECT_EQ(errorOf("stochastic:\n  troposphere_gradient: {process: white}\n").keyPath(),
+            "stochastic.troposphere_gradient.process");
+  EXPECT_EQ(errorOf("measurement_model:\n  troposphere: {estimate_gradients: 1}\n").keyPath(),
+            "measurement_model.troposphere.estimate_gradients");
 }
 
 TEST(PppConfig, MalformedConfigsNameFileKeyAndReason) {

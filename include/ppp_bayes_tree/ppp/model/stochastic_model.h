@@ -10,6 +10,14 @@
 //   zenith wet delay 0.3 m            3e-5 m/sqrt(s)        random walk
 //   receiver clock   3e6 m            2000 m/sqrt(s)        white
 //   IF phase bias    100 m            0                     constant per arc
+//   tropo gradients  5 mm             5e-6 m/sqrt(s)        random walk (when estimated)
+//
+// Horizontal tropospheric gradients G_N, G_E (troposphere_gradient.h; only with
+// measurement_model.troposphere.estimate_gradients): gradients are of the
+// order of a millimetre, a few millimetres across weather fronts (Chen & Herring
+// 1997, JGR 102(B9); Bar-Sever, Kroger & Borjesson 1998, JGR 103(B3)); the
+// random walk of 5e-6 m/sqrt(s) = 0.3 mm/sqrt(h) is the one Bar-Sever et al.
+// estimate them with.
 //
 // Position 30 m: both estimators start at a code least-squares solution of the
 // SAME first-epoch codes, so a prior around it counts those codes twice. The
@@ -66,6 +74,8 @@ struct StochasticModel {
   StateNoise zwd{0.3, 3.0e-5, ProcessKind::RandomWalk};
   StateNoise clock{3.0e6, 2000.0, ProcessKind::White};
   StateNoise phase_bias{100.0, 0.0, ProcessKind::RandomWalk};  // q = 0: constant per arc
+  /// Each of the north and east tropospheric gradients (used only when estimated).
+  StateNoise troposphere_gradient{0.005, 5.0e-6, ProcessKind::RandomWalk};
   /// A priori value of the zenith wet delay [m] (not in the method's table:
   /// a typical mid-latitude value; the 0.3 m a priori sigma covers it).
   double initial_zwd_m = 0.1;

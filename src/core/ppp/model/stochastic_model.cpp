@@ -20,6 +20,7 @@ StochasticModel methodTableStochasticModel() {
   m.zwd = {0.3, 3.0e-5, ProcessKind::RandomWalk};
   m.clock = {3.0e6, 2000.0, ProcessKind::White};
   m.phase_bias = {100.0, 0.0, ProcessKind::RandomWalk};
+  m.troposphere_gradient = {0.005, 5.0e-6, ProcessKind::RandomWalk};
   m.initial_zwd_m = 0.1;
   return m;
 }
@@ -44,7 +45,8 @@ std::string checkNoise(const std::string& name, const StateNoise& n) {
 
 std::string StochasticModel::validate() const {
   for (const auto& [name, noise] : {std::pair<std::string, const StateNoise*>{"position", &position},
-                                    {"zwd", &zwd}, {"clock", &clock}, {"phase_bias", &phase_bias}}) {
+                                    {"zwd", &zwd}, {"clock", &clock}, {"phase_bias", &phase_bias},
+                                    {"troposphere_gradient", &troposphere_gradient}}) {
     if (auto e = checkNoise(name, *noise); !e.empty()) return e;
   }
   if (!std::isfinite(initial_zwd_m)) return "zwd.initial_m must be finite";
