@@ -184,9 +184,11 @@ TEST(PppConfig, MethodTablePresetIsTheMethodsTable) {
   // The preset file loads to exactly this configuration.
   expectSameConfig(ppp::loadPppConfig(std::string(PPP_REPO_DIR) + "/config/method_table.yaml"), m);
   // Apart from the start prior and the mapping it is the defaults.
+  EXPECT_FALSE(m.model.estimate_troposphere_gradients);  // the method estimates none
   PppConfig d;
   d.stochastic.position.initial_sigma_m = 1.0;
   d.model.mapping = ppp::TroposphereMapping::ModifiedHopfield;
+  d.model.estimate_troposphere_gradients = false;
   expectSameConfig(m, d);
 }
 
@@ -358,40 +360,42 @@ ambiguity_resolution:
 }
 
 TEST(PppConfig, TroposphereGradientsAreBoundIntoTheModelAndTheEstimatorsState) {
-  const PppConfig off = parsePppConfig("", "x.yaml");
-  EXPECT_FALSE(off.model.estimate_troposphere_gradients);
-  EXPECT_FALSE(static_cast<ppp::EstimatorOptions>(off).troposphere_gradients);
-  // Defaults: 5 mm a priori, 5e-6 m/sqrt(s) = 0.3 mm/sqrt(h) random walk (stochastic_model.h).
-  EXPECT_EQ(off.stochastic.troposphere_gradient.initial_sigma_m, 0.005);
-  EXPECT_EQ(off.stochastic.troposphere_gradient.process_noise_m_per_sqrt_s, 5.0e-6);
-  EXPECT_EQ(off.stochastic.troposphere_gradient.kind, ppp::ProcessKind::RandomWalk);
+  // Defaults: estimated, 1 mm a priori, 1e-5 m/sqrt(s) = 0.6 mm/sqrt(h) random walk (stochastic_model.h).
+  const PppConfig defaults = parsePppConfig("", "x.yaml");
+  EXPECT_TRUE(defaults.model.estimate_troposphere_gradients);
+  EXPECT_TRUE(static_cast<ppp::EstimatorOptions>(defaults).troposphere_gradients);
+  EXPECT_EQ(defaults.stochastic.troposphere_gradient.initial_sigma_m, 0.001);
+  EXPECT_EQ(defaults.stochastic.troposphere_gradient.process_noise_m_per_sqrt_s, 1.0e-5);
+  EXPECT_EQ(defaults.stochastic.troposphere_gradient.kind, ppp::ProcessKind::RandomWalk);
 
-  const PppConfig on = parsePppConfig(R"(
+  const PppConfig off = parsePppConfig(R"(
 stochastic:
-  troposphere_gradient: {initial_sigma_m: 0.002, process_noise_m_per_sqrt_s: 1.0e-5}
+  troposphere_gradient: {initial_sigma_m: 0.002, process_noise_m_per_sqrt_s: 3.0e-6}
 measurement_model:
-  troposphere: {estimate_gradients: true}
+  troposphere: {estimate_gradients: false}
 )", "x.yaml");
-  EXPECT_TRUE(on.model.estimate_troposphere_gradients);
-  const ppp::EstimatorOptions options = on;
-  EXPECT_TRUE(options.troposphere_gradients);
+  EXPECT_FALSE(off.model.estimate_troposphere_gradients);
+  const ppp::EstimatorOptions options = off;
+  EXPECT_FALSE(options.troposphere_gradients);
   EXPECT_EQ(options.stochastic.troposphere_gradient.initial_sigma_m, 0.002);
-  EXPECT_EQ(options.stochastic.troposphere_gradient.process_noise_m_per_sqrt_s, 1.0e-5);
+  EXPECT_EQ(options.stochastic.troposphere_gradient.process_noise_m_per_sqrt_s, 3.0e-6);
+  // The simulated flights' preset keeps them off (the simulator has none).
+  EXPECT_FALSE(ppp::loadPppConfig(std::string(PPP_REPO_DIR) + "/config/ppp_simulated.yaml")
+                   .model.estimate_troposphere_gradients);
 
-  // Negative, absurd and wrongly typed values name the key.
-  EXPECT_EQ(errorOf("stochastic:\n  troposphere_gradient: {initial_sigma_m: 0}\n").keyPath(),
-            "stochastic.troposphere_gradient.initial_sigma_m");
-  EXPECT_EQ(errorOf("stochastic:\n  troposphere_gradient: {initial_sigma_m: 0.5}\n").keyPath(),
-            "stochastic.troposphere_gradient.initial_sigma_m");
-  EXPECT_EQ(errorOf("stochastic:\n  troposphere_gradient: {process_noise_m_per_sqrt_s: -1e-6}\n").keyPath(),
-            "stochastic.troposphere_gradient.process_noise_m_per_sqrt_s");
-  EXPECT_EQ(errorOf("stochastic:\n  troposphere_gradient: {process_noise_m_per_sqrt_s: 0.01}\n").keyPath(),
-            "stochastic.troposphere_gradient.process_noise_m_per_sqrt_s");
-  // A random walk by definition: no `process` key.
-  EXPECT_EQ(errorOf("stochastic:\n  troposphere_gradient: {process: white}\n").keyPath(),
-            "stochastic.troposphere_gradient.process");
-  EXPECT_EQ(errorOf("measurement_model:\n  troposphere: {estimate_gradients: 1}\n").keyPath(),
-            "measurement_model.troposphere.estimate_gradients");
+  // Zero, negative, absurd and wrongly typed values, and a `process` key (a random walk
+  // by definition), name the key.
+  const std::string sigma = "stochastic.troposphere_gradient.initial_sigma_m";
+  const std::string noise = "stochastic.troposphere_gradient.process_noise_m_per_sqrt_s";
+  const std::vector<std::pair<std::string, std::string>> bad = {
+      {"stochastic:\n  troposphere_gradient: {initial_sigma_m: 0}\n", sigma},
+      {"stochastic:\n  troposphere_gradient: {initial_sigma_m: 0.5}\n", sigma},
+      {"stochastic:\n  troposphere_gradient: {process_noise_m_per_sqrt_s: -1e-6}\n", noise},
+      {"stochastic:\n  troposphere_gradient: {process_noise_m_per_sqrt_s: 0.01}\n", noise},
+      {"stochastic:\n  troposphere_gradient: {process: white}\n", "stochastic.troposphere_gradient.process"},
+      {"measurement_model:\n  troposphere: {estimate_gradients: 1}\n",
+       "measurement_model.troposphere.estimate_gradients"}};
+  for (const auto& [yaml, key] : bad) EXPECT_EQ(errorOf(yaml).keyPath(), key) << yaml;
 }
 
 TEST(PppConfig, MalformedConfigsNameFileKeyAndReason) {

@@ -169,6 +169,7 @@ PppConfig methodTablePppConfig() {
   PppConfig c;
   c.stochastic = methodTableStochasticModel();
   c.model.mapping = TroposphereMapping::ModifiedHopfield;
+  c.model.estimate_troposphere_gradients = false;  // the method estimates none
   return c;
 }
 

@@ -20,7 +20,6 @@ StochasticModel methodTableStochasticModel() {
   m.zwd = {0.3, 3.0e-5, ProcessKind::RandomWalk};
   m.clock = {3.0e6, 2000.0, ProcessKind::White};
   m.phase_bias = {100.0, 0.0, ProcessKind::RandomWalk};
-  m.troposphere_gradient = {0.005, 5.0e-6, ProcessKind::RandomWalk};
   m.initial_zwd_m = 0.1;
   return m;
 }
