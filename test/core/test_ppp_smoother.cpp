@@ -139,7 +139,8 @@ TEST(PppFactors, JacobiansWithTheTroposphereGradientBlockMatchCentralDifferences
     Eigen::VectorXd x_gradient = x0.vector();
     x_gradient(x0.layout.gradientNorth()) += 0.004;
     x_gradient(x0.layout.gradientEast()) -= 0.003;
-    EXPECT_NEAR(p.code_m(x_gradient, nullptr) - m.predicted_code_m, g_n * 0.004 - g_e * 0.003, 1e-9);
+    // (to the rounding of a 2e7 m prediction, 4e-9 m)
+    EXPECT_NEAR(p.code_m(x_gradient, nullptr) - m.predicted_code_m, g_n * 0.004 - g_e * 0.003, 1e-8);
     const PppCodeFactor code(stateKey(7), p, sm::NoiseModel::isotropic(1, m.code_sigma_m));
     const PppPhaseFactor phase(stateKey(7), biasKey(m.satellite, m.arc), p, sm::NoiseModel::isotropic(1, m.phase_sigma_m));
     EXPECT_TRUE(code.affineInComponent(stateKey(7), x0.layout.gradientNorth()));
@@ -707,11 +708,15 @@ TEST(PppSmoother, SmoothedEpochAtIsOneStateOfTheTrajectoryAndStopsAtTheLagBounda
 
 // Horizontal tropospheric gradients (Chen & Herring 1997): the synthetic data carry
 // G_N = 2 mm, G_E = -1 mm (m_g(10 deg) = 29.6: up to 6 cm of slant delay at the
-// 10 deg cutoff), noise-free, over 2 hours of the kinematic model. With the
-// gradient block in the state, both estimators recover the gradients and the
-// position; without it the unmodelled azimuthal delay leaks into the position.
+// 10 deg cutoff), constant, noise-free, over 2 hours of the kinematic model. With the
+// gradient block in the state (a loose 1 cm prior and a slow 1e-6 m/sqrt(s) random
+// walk, so that neither pulls the constant truth), both estimators recover the
+// gradients and the position; without it the unmodelled azimuthal delay leaks
+// into the position.
 TEST(TroposphereGradients, BothEstimatorsRecoverASimulatedGradient) {
-  const StochasticModel model = methodTableStochasticModel();
+  StochasticModel model = methodTableStochasticModel();
+  model.troposphere_gradient.initial_sigma_m = 0.01;
+  model.troposphere_gradient.process_noise_m_per_sqrt_s = 1.0e-6;
   const int epochs = 240;
   auto simulator = [] {
     Simulator sim;
@@ -748,13 +753,14 @@ TEST(TroposphereGradients, BothEstimatorsRecoverASimulatedGradient) {
               ekf_state.gradient_north_m * 1e3, ekf_state.gradient_east_m * 1e3, filtered.gradient_north_m * 1e3,
               filtered.gradient_east_m * 1e3, smoothed.front().state.gradient_north_m * 1e3,
               smoothed.front().state.gradient_east_m * 1e3, ekf_error * 1e3, smoother_error * 1e3, blind_error * 1e3);
+  // Measured: 1.998 / -0.999 mm in all three, 0.03 mm position error, 31 mm without gradients.
   for (const ReceiverState* s : {&ekf_state, &filtered, &smoothed.front().state}) {
-    EXPECT_NEAR(s->gradient_north_m, 0.002, 1e-4);
-    EXPECT_NEAR(s->gradient_east_m, -0.001, 1e-4);
+    EXPECT_NEAR(s->gradient_north_m, 0.002, 2e-5);
+    EXPECT_NEAR(s->gradient_east_m, -0.001, 2e-5);
   }
-  EXPECT_LT(ekf_error, 0.002);
-  EXPECT_LT(smoother_error, 0.002);
-  EXPECT_GT(blind_error, 5.0 * ekf_error);
+  EXPECT_LT(ekf_error, 5e-4);
+  EXPECT_LT(smoother_error, 5e-4);
+  EXPECT_GT(blind_error, 0.01);
   // The filtered smoother equals the EKF on the same data.
   EXPECT_NEAR(filtered.gradient_north_m, ekf_state.gradient_north_m, 1e-5);
   EXPECT_NEAR(filtered.gradient_east_m, ekf_state.gradient_east_m, 1e-5);
