@@ -154,8 +154,11 @@ struct MeasurementModelOptions {
   /// hour, EKF 0.41/0.62/1.84 -> 0.40/0.54/1.75 cm, smoothed 0.44/0.71/1.54 ->
   /// 0.36/0.50/1.41 cm, hourly north means -0.5 ... +1.0 -> -0.5 ... +0.3 cm;
   /// ZIM2 mean 3D EKF / smoothed 18.45 / 3.91 -> 18.16 / 3.20 cm; CCJ2 12.54 /
-  /// 2.42 -> 12.62 / 2.46 cm. The method (method_table.yaml) and the simulated
-  /// flights (ppp_simulated.yaml: the simulator has no gradients) keep them off.
+  /// 2.42 -> 12.62 / 2.46 cm. Not everywhere a gain: ESBC GPS-only without BLQ
+  /// (ZWD q 3e-5) has 151 instead of 96 fixed epochs > 10 cm, its heights, 7-11 cm
+  /// off in those hours either way, moving by another centimetre. The method
+  /// (method_table.yaml) and the simulated flights (ppp_simulated.yaml, the Monte
+  /// Carlo study: the simulator has no gradients) keep them off.
   bool estimate_troposphere_gradients = true;
   bool solid_earth_tide = true;
   bool ocean_loading = true;  // used only when coefficients are given
