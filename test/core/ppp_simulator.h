@@ -7,16 +7,21 @@
 // Gaussian noise of the sigmas given to the filter (0.9 m and 9 mm at zenith,
 // / sin(el)). addGalileo() adds a second constellation whose receiver clock is
 // offset from GPS's (an inter-system bias), seen through its own clock column.
+// Horizontal tropospheric gradients (G_N, G_E; Chen & Herring 1997,
+// troposphere_gradient.h) add m_g(e) (G_N cos a + G_E sin a) to both observables;
+// the model predicts them when the state's layout has the gradient block.
 #include <gtest/gtest.h>
 
 #include <Eigen/Cholesky>
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 #include <cmath>
 #include <map>
 #include <random>
 #include <set>
 #include <vector>
 
+#include "ppp_bayes_tree/models/troposphere_gradient.h"
 #include "ppp_bayes_tree/ppp/estimators/ekf_ppp.h"
 #include "ppp_bayes_tree/ppp/model/measurement_function.h"
 
@@ -41,6 +46,16 @@ inline Eigen::Vector3d satellitePosition(const SimSat& s, double t_s) {
 /// sin(elevation) of `sat` seen from `receiver` (spherical up).
 inline double sinElevation(const Eigen::Vector3d& receiver, const Eigen::Vector3d& sat) {
   return (sat - receiver).normalized().dot(receiver.normalized());
+}
+
+/// Partials of the slant delay by the gradients (G_N, G_E) of `sat` seen from
+/// `receiver` (spherical up, north towards the z axis).
+inline GradientPartials simGradientPartials(const Eigen::Vector3d& receiver, const Eigen::Vector3d& sat) {
+  const Eigen::Vector3d up = receiver.normalized();
+  const Eigen::Vector3d east = Eigen::Vector3d::UnitZ().cross(up).normalized();
+  const Eigen::Vector3d north = up.cross(east);
+  const Eigen::Vector3d los = (sat - receiver).normalized();
+  return gradientPartials(std::asin(los.dot(up)), std::atan2(los.dot(east), los.dot(north)));
 }
 
 struct SimObs {
@@ -81,8 +96,14 @@ inline MeasurementFunction modelOf(std::vector<SimObs> obs, SimModelOptions opti
         continue;
       }
       m.predicted_code_m = range + s.clock_m(o.sat.system) + s.zwd_m * mapping;
-      m.predicted_phase_m = m.predicted_code_m;
       m.jacobian = Eigen::RowVectorXd::Zero(s.layout.dim());
+      if (s.layout.hasGradients()) {
+        const GradientPartials g = simGradientPartials(s.position_ecef_m, o.sat_pos);
+        m.predicted_code_m += g.north * s.gradient_north_m + g.east * s.gradient_east_m;
+        m.jacobian(s.layout.gradientNorth()) = g.north;
+        m.jacobian(s.layout.gradientEast()) = g.east;
+      }
+      m.predicted_phase_m = m.predicted_code_m;
       m.jacobian.segment<3>(s.layout.position()) = -d.transpose() / range;
       m.jacobian(s.layout.zwd()) = mapping;
       m.jacobian(clock) = 1.0;
@@ -120,6 +141,8 @@ class Simulator {
   double zwd_m = 0.1;  // = the a priori value (StochasticModel::initial_zwd_m) unless a test says otherwise
   double clock_m = 12345.6;
   double galileo_clock_offset_m = 0.0;  // Galileo receiver clock - GPS receiver clock (addGalileo)
+  double gradient_north_m = 0.0;        // true tropospheric gradients G_N, G_E
+  double gradient_east_m = 0.0;
   double t_s = 0.0;
   bool noise = false;
   std::mt19937 rng{20260513};
@@ -162,7 +185,9 @@ class Simulator {
       const ArcId arc = arc_[s.id];
       SimObs o{s.id, arc, sp, 0, 0, 0.9 / sin_el, 0.009 / sin_el};
       const double clock = clock_m + (s.id.system == GnssSystem::Galileo ? galileo_clock_offset_m : 0.0);
-      const double geometric = (sp - position).norm() + clock + zwd_m / sin_el;
+      const GradientPartials g = simGradientPartials(position, sp);
+      const double geometric = (sp - position).norm() + clock + zwd_m / sin_el +
+                               (g.north * gradient_north_m + g.east * gradient_east_m);
       o.code_m = geometric + (noise ? o.code_sigma_m * gauss(rng) : 0.0);
       o.phase_m = geometric + bias_m[arc] + (noise ? o.phase_sigma_m * gauss(rng) : 0.0);
       out.push_back(o);

@@ -1,10 +1,12 @@
 // Troposphere: standard atmosphere, Saastamoinen, modified Hopfield, mapping
-// functions (Niell, GMF) against published values.
+// functions (Niell, GMF) against published values; the gradient mapping of
+// Chen & Herring (1997) against values computed by hand.
 #include <gtest/gtest.h>
 
 #include <cmath>
 
 #include "ppp_bayes_tree/models/troposphere.h"
+#include "ppp_bayes_tree/models/troposphere_gradient.h"
 #include "ppp_bayes_tree/types/constants.h"
 
 using namespace ppp;
@@ -138,4 +140,45 @@ TEST(SlantDelay, PartialWrtZwdIsWetMappingByCentralDifference) {
                          (2 * h);
   EXPECT_NEAR(slantDelayPartialWrtZwd(m), numeric, 1e-9);
   EXPECT_GT(slantDelayPartialWrtZwd(m), 4.0);  // ~1/sin 12 = 4.8
+}
+
+// Chen & Herring (1997) gradient mapping m_g(e) = 1 / (sin e tan e + 0.0032),
+// values by hand from the formula:
+//   e = 90 deg: tan e -> infinity, m_g -> 0 (a zenith ray sees no horizontal gradient);
+//   e = 45 deg: sin e tan e = sqrt(2)/2 = 0.7071068 -> 1 / 0.7103068 = 1.407842;
+//   e = 30 deg: 0.5 / sqrt(3) = 0.2886751 -> 1 / 0.2918751 = 3.426123;
+//   e = 10 deg: 0.1736482 x 0.1763270 = 0.0306189 -> 1 / 0.0338189 = 29.5693;
+//   e = 0: 1 / 0.0032 = 312.5 (the constant keeps the horizon finite).
+TEST(TroposphereGradient, ChenHerringMappingKnownValues) {
+  EXPECT_NEAR(gradientMapping(90.0 * kDegToRad), 0.0, 1e-12);
+  EXPECT_NEAR(gradientMapping(45.0 * kDegToRad), 1.407842, 1e-6);
+  EXPECT_NEAR(gradientMapping(30.0 * kDegToRad), 3.426123, 1e-6);
+  EXPECT_NEAR(gradientMapping(10.0 * kDegToRad), 29.5693, 1e-4);
+  EXPECT_DOUBLE_EQ(gradientMapping(0.0), 312.5);
+  // Monotonic towards the horizon.
+  double previous = 0.0;
+  for (int deg = 89; deg >= 1; --deg) {
+    const double m = gradientMapping(deg * kDegToRad);
+    EXPECT_GT(m, previous) << deg;
+    previous = m;
+  }
+}
+
+TEST(TroposphereGradient, PartialsFollowTheAzimuthAndTheDelayIsLinear) {
+  const double e = 30.0 * kDegToRad, m_g = 3.426123;
+  // Azimuth from north, clockwise: north sees G_N only, east G_E only, south-west both negatively.
+  GradientPartials p = gradientPartials(e, 0.0);
+  EXPECT_NEAR(p.north, m_g, 1e-6);
+  EXPECT_NEAR(p.east, 0.0, 1e-12);
+  p = gradientPartials(e, 90.0 * kDegToRad);
+  EXPECT_NEAR(p.north, 0.0, 1e-12);
+  EXPECT_NEAR(p.east, m_g, 1e-6);
+  p = gradientPartials(e, 225.0 * kDegToRad);
+  EXPECT_NEAR(p.north, -m_g / std::sqrt(2.0), 1e-6);
+  EXPECT_NEAR(p.east, -m_g / std::sqrt(2.0), 1e-6);
+  // 1 mm north gradient seen from the north at 30 deg: 3.43 mm; from the south: -3.43 mm.
+  EXPECT_NEAR(slantGradientDelay_m(e, 0.0, 0.001, 0.0), 3.426123e-3, 1e-9);
+  EXPECT_NEAR(slantGradientDelay_m(e, kPi, 0.001, 0.0), -3.426123e-3, 1e-9);
+  EXPECT_NEAR(slantGradientDelay_m(e, 1.0, 0.002, -0.003),
+              2.0 * slantGradientDelay_m(e, 1.0, 0.001, 0.0) - 3.0 * slantGradientDelay_m(e, 1.0, 0.0, 0.001), 1e-15);
 }

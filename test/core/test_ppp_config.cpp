@@ -30,6 +30,7 @@ void expectSameConfig(const PppConfig& c, const PppConfig& d) {
   expectSameNoise(c.stochastic.zwd, d.stochastic.zwd, "zwd");
   expectSameNoise(c.stochastic.clock, d.stochastic.clock, "clock");
   expectSameNoise(c.stochastic.phase_bias, d.stochastic.phase_bias, "phase_bias");
+  expectSameNoise(c.stochastic.troposphere_gradient, d.stochastic.troposphere_gradient, "troposphere_gradient");
   EXPECT_EQ(c.stochastic.initial_zwd_m, d.stochastic.initial_zwd_m);
   EXPECT_EQ(c.stochastic.code_correlation_time_s, d.stochastic.code_correlation_time_s);
   EXPECT_EQ(c.estimator.screening.min_satellites, d.estimator.screening.min_satellites);
@@ -89,6 +90,7 @@ void expectSameConfig(const PppConfig& c, const PppConfig& d) {
   EXPECT_EQ(c.model.scale_sigma_for_ionosphere_free, d.model.scale_sigma_for_ionosphere_free);
   EXPECT_EQ(c.model.dry_troposphere, d.model.dry_troposphere);
   EXPECT_EQ(c.model.mapping, d.model.mapping);
+  EXPECT_EQ(c.model.estimate_troposphere_gradients, d.model.estimate_troposphere_gradients);
   EXPECT_EQ(c.model.solid_earth_tide, d.model.solid_earth_tide);
   EXPECT_EQ(c.model.ocean_loading, d.model.ocean_loading);
   EXPECT_EQ(c.model.phase_windup, d.model.phase_windup);
@@ -181,11 +183,13 @@ TEST(PppConfig, MethodTablePresetIsTheMethodsTable) {
   EXPECT_EQ(m.model.dry_troposphere, ppp::DryTroposphereModel::ModifiedHopfield);
   // The preset file loads to exactly this configuration.
   expectSameConfig(ppp::loadPppConfig(std::string(PPP_REPO_DIR) + "/config/method_table.yaml"), m);
-  // Apart from the start prior, the wet delay's random walk and the mapping it is the defaults.
+  // Apart from the start prior, the wet delay's random walk, the mapping and the gradients it is the defaults.
+  EXPECT_FALSE(m.model.estimate_troposphere_gradients);  // the method estimates none
   PppConfig d;
   d.stochastic.position.initial_sigma_m = 1.0;
   d.stochastic.zwd.process_noise_m_per_sqrt_s = 3e-5;
   d.model.mapping = ppp::TroposphereMapping::ModifiedHopfield;
+  d.model.estimate_troposphere_gradients = false;
   expectSameConfig(m, d);
 }
 
@@ -354,6 +358,45 @@ ambiguity_resolution:
   } catch (const ConfigError& e) {
     EXPECT_EQ(e.keyPath(), "cycle_slip.mw_threshold_cycles");
   }
+}
+
+TEST(PppConfig, TroposphereGradientsAreBoundIntoTheModelAndTheEstimatorsState) {
+  // Defaults: estimated, 1 mm a priori, 1e-5 m/sqrt(s) = 0.6 mm/sqrt(h) random walk (stochastic_model.h).
+  const PppConfig defaults = parsePppConfig("", "x.yaml");
+  EXPECT_TRUE(defaults.model.estimate_troposphere_gradients);
+  EXPECT_TRUE(static_cast<ppp::EstimatorOptions>(defaults).troposphere_gradients);
+  EXPECT_EQ(defaults.stochastic.troposphere_gradient.initial_sigma_m, 0.001);
+  EXPECT_EQ(defaults.stochastic.troposphere_gradient.process_noise_m_per_sqrt_s, 1.0e-5);
+  EXPECT_EQ(defaults.stochastic.troposphere_gradient.kind, ppp::ProcessKind::RandomWalk);
+
+  const PppConfig off = parsePppConfig(R"(
+stochastic:
+  troposphere_gradient: {initial_sigma_m: 0.002, process_noise_m_per_sqrt_s: 3.0e-6}
+measurement_model:
+  troposphere: {estimate_gradients: false}
+)", "x.yaml");
+  EXPECT_FALSE(off.model.estimate_troposphere_gradients);
+  const ppp::EstimatorOptions options = off;
+  EXPECT_FALSE(options.troposphere_gradients);
+  EXPECT_EQ(options.stochastic.troposphere_gradient.initial_sigma_m, 0.002);
+  EXPECT_EQ(options.stochastic.troposphere_gradient.process_noise_m_per_sqrt_s, 3.0e-6);
+  // The simulated flights' preset keeps them off (the simulator has none).
+  EXPECT_FALSE(ppp::loadPppConfig(std::string(PPP_REPO_DIR) + "/config/ppp_simulated.yaml")
+                   .model.estimate_troposphere_gradients);
+
+  // Zero, negative, absurd and wrongly typed values, and a `process` key (a random walk
+  // by definition), name the key.
+  const std::string sigma = "stochastic.troposphere_gradient.initial_sigma_m";
+  const std::string noise = "stochastic.troposphere_gradient.process_noise_m_per_sqrt_s";
+  const std::vector<std::pair<std::string, std::string>> bad = {
+      {"stochastic:\n  troposphere_gradient: {initial_sigma_m: 0}\n", sigma},
+      {"stochastic:\n  troposphere_gradient: {initial_sigma_m: 0.5}\n", sigma},
+      {"stochastic:\n  troposphere_gradient: {process_noise_m_per_sqrt_s: -1e-6}\n", noise},
+      {"stochastic:\n  troposphere_gradient: {process_noise_m_per_sqrt_s: 0.01}\n", noise},
+      {"stochastic:\n  troposphere_gradient: {process: white}\n", "stochastic.troposphere_gradient.process"},
+      {"measurement_model:\n  troposphere: {estimate_gradients: 1}\n",
+       "measurement_model.troposphere.estimate_gradients"}};
+  for (const auto& [yaml, key] : bad) EXPECT_EQ(errorOf(yaml).keyPath(), key) << yaml;
 }
 
 TEST(PppConfig, MalformedConfigsNameFileKeyAndReason) {

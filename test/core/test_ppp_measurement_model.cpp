@@ -14,6 +14,7 @@
 #include "ppp_bayes_tree/models/ocean_loading.h"
 #include "ppp_bayes_tree/models/solid_earth_tide.h"
 #include "ppp_bayes_tree/models/sun_moon_position.h"
+#include "ppp_bayes_tree/models/troposphere_gradient.h"
 #include "ppp_bayes_tree/types/frames.h"
 #include "ppp_bayes_tree/models/signal_geometry.h"
 #include "ppp_bayes_tree/types/carrier_frequency.h"
@@ -100,6 +101,59 @@ TEST(PppMeasurementModel, JacobianMatchesCentralDifferences) {
     EXPECT_NEAR(m.jacobian.head<3>().norm(), 1.0, 2e-3);  // unit LOS + the dry-delay height term
     EXPECT_EQ(m.jacobian(layout.clock(GnssSystem::GPS)), 1.0);
     EXPECT_GT(m.jacobian(layout.zwd()), 1.0);  // wet mapping >= 1 above the horizon
+  }
+}
+
+TEST(PppMeasurementModel, TroposphereGradientsAddChenHerringDelayWithMatchingJacobian) {
+  PPP_REQUIRE_SHARED_DATA();
+  Zim2Epoch z;
+  const ReceiverStateLayout layout({GnssSystem::GPS}, true);
+  ReceiverState x0(layout);
+  x0.position_ecef_m = z.truth.position_ecef_m;
+  x0.zwd_m = z.truth.zwd_m;
+  x0.setClock_m(GnssSystem::GPS, z.truth.clock_m(GnssSystem::GPS));
+  x0.gradient_north_m = 0.0015;
+  x0.gradient_east_m = -0.0008;
+  std::vector<ModelTerms> terms;
+  EpochMeasurements with;
+  z.ds.model->evaluate(z.obs, z.arcs, x0, nullptr, with, &terms);
+  const EpochMeasurements without = z.ds.model->evaluate(z.obs, z.arcs, z.truth, nullptr);
+  ASSERT_GE(with.used.size(), 8u);
+  ASSERT_EQ(with.used.size(), without.used.size());
+  ASSERT_EQ(terms.size(), with.used.size());
+  for (std::size_t i = 0; i < with.used.size(); ++i) {
+    const SatelliteMeasurement& m = with.used[i];
+    ASSERT_EQ(m.jacobian.size(), layout.dim());
+    // The gradient term, and only it, separates the two predictions.
+    const double expected = slantGradientDelay_m(m.elevation_rad, m.azimuth_rad, 0.0015, -0.0008);
+    EXPECT_NEAR(m.predicted_code_m - without.used[i].predicted_code_m, expected, 1e-6) << m.satellite.toString();
+    EXPECT_NEAR(m.predicted_phase_m - without.used[i].predicted_phase_m, expected, 1e-6) << m.satellite.toString();
+    EXPECT_NEAR(terms[i].troposphere_gradient_m, expected, 1e-12);
+    // The other columns are the model's without gradients.
+    EXPECT_LT((m.jacobian.head(without.used[i].jacobian.size()) - without.used[i].jacobian).norm(), 1e-12);
+  }
+  // Gradient columns against central differences (the delay is linear in the gradients).
+  for (const int j : {layout.gradientNorth(), layout.gradientEast()}) {
+    const double step = 0.01;
+    auto v = x0.vector();
+    v(j) += step;
+    const auto plus = z.ds.model->evaluate(z.obs, z.arcs, ReceiverState::fromVector(v, layout), nullptr);
+    v(j) -= 2.0 * step;
+    const auto minus = z.ds.model->evaluate(z.obs, z.arcs, ReceiverState::fromVector(v, layout), nullptr);
+    ASSERT_EQ(plus.used.size(), with.used.size());
+    ASSERT_EQ(minus.used.size(), with.used.size());
+    for (std::size_t i = 0; i < with.used.size(); ++i) {
+      const double dc = (plus.used[i].predicted_code_m - minus.used[i].predicted_code_m) / (2.0 * step);
+      const double dp = (plus.used[i].predicted_phase_m - minus.used[i].predicted_phase_m) / (2.0 * step);
+      EXPECT_NEAR(dc, with.used[i].jacobian(j), 1e-6) << with.used[i].satellite.toString() << " column " << j;
+      EXPECT_NEAR(dp, with.used[i].jacobian(j), 1e-6) << with.used[i].satellite.toString() << " column " << j;
+    }
+  }
+  // m_g cos a and m_g sin a: the north and east columns' squares add to m_g^2.
+  for (const auto& m : with.used) {
+    const double m_g = gradientMapping(m.elevation_rad);
+    EXPECT_NEAR(std::hypot(m.jacobian(layout.gradientNorth()), m.jacobian(layout.gradientEast())), m_g, 1e-9);
+    EXPECT_NEAR(m.jacobian(layout.gradientNorth()), m_g * std::cos(m.azimuth_rad), 1e-9);
   }
 }
 

@@ -66,6 +66,38 @@ TEST(ReceiverStateLayout, GpsAndGalileoHaveOneClockEach) {
   EXPECT_EQ(back.referenceClock_m(), 10.0);  // the first configured system
 }
 
+TEST(ReceiverStateLayout, TheGradientBlockFollowsTheClocks) {
+  const ReceiverStateLayout layout({GnssSystem::GPS, GnssSystem::Galileo}, true);
+  EXPECT_TRUE(layout.hasGradients());
+  EXPECT_FALSE(ReceiverStateLayout({GnssSystem::GPS, GnssSystem::Galileo}).hasGradients());
+  EXPECT_EQ(layout.dim(), 8);  // x, y, z, zwd, clock G, clock E, G_N, G_E
+  EXPECT_EQ(layout.gradientNorth(), 6);
+  EXPECT_EQ(layout.gradientEast(), 7);
+  EXPECT_EQ(ReceiverStateLayout().gradientNorth(), -1);
+  EXPECT_TRUE(layout.isGradient(6));
+  EXPECT_TRUE(layout.isGradient(7));
+  EXPECT_FALSE(layout.isGradient(5));
+  EXPECT_FALSE(layout.isClock(6));
+  EXPECT_EQ(layout.componentName(6), "gradient N");
+  EXPECT_EQ(layout.componentName(7), "gradient E");
+  EXPECT_NE(layout, ReceiverStateLayout({GnssSystem::GPS, GnssSystem::Galileo}));
+
+  ReceiverState s(layout);
+  s.zwd_m = 0.2;
+  s.setClock_m(GnssSystem::Galileo, 3.0);
+  s.gradient_north_m = 0.0011;
+  s.gradient_east_m = -0.0007;
+  Eigen::VectorXd expected(8);
+  expected << 0.0, 0.0, 0.0, 0.2, 0.0, 3.0, 0.0011, -0.0007;
+  EXPECT_EQ(s.vector(), expected);
+  const ReceiverState back = ReceiverState::fromVector(expected, layout);
+  EXPECT_EQ(back.gradient_north_m, 0.0011);
+  EXPECT_EQ(back.gradient_east_m, -0.0007);
+  // Without the block the gradients are not part of the vector.
+  s.layout = ReceiverStateLayout({GnssSystem::GPS, GnssSystem::Galileo});
+  EXPECT_EQ(s.vector().size(), 6);
+}
+
 TEST(ReceiverStateLayout, TheRealModelPutsTheClockPartialIntoTheSatellitesSystemColumn) {
   PPP_REQUIRE_SHARED_DATA();
   test::LoadedDataset ds(test::zim2Dataset());

@@ -18,8 +18,9 @@
 // Measurement model: the physics switches (troposphere model and mapping, tides,
 // ocean loading, antennas, wind-up, Shapiro, eclipses) are the flight's
 // model_options (what the observations were generated with); the weighting
-// (phase sigma, code/phase ratio, IF scaling) and the elevation cutoff are the
-// PppConfig's, identical for both estimators.
+// (phase sigma, code/phase ratio, IF scaling), the elevation cutoff and whether
+// the state carries tropospheric gradients are the PppConfig's, identical for
+// both estimators.
 //
 // Position error: |x_est - x_true| (3D, the antenna position of the truth file)
 // per epoch; epochs without a solution are counted and left out.

@@ -229,6 +229,7 @@ PppConfig flightPppConfig(const PppConfig& ppp, const SimulatedFlight& f) {
   m.phase_sigma_zenith_m = c.model.phase_sigma_zenith_m;
   m.code_phase_ratio = c.model.code_phase_ratio;
   m.scale_sigma_for_ionosphere_free = c.model.scale_sigma_for_ionosphere_free;
+  m.estimate_troposphere_gradients = c.model.estimate_troposphere_gradients;  // a state choice, not physics
   c.model = m;
   c.signals.systems = f.config.systems;
   return c;

@@ -74,8 +74,9 @@ struct PppConfig {
 };
 
 /// The method's configuration (config/method_table.yaml): the defaults with the
-/// method's stochastic model (methodTableStochasticModel: position a priori 1 m)
-/// and its modified Hopfield mapping. config/method_table.yaml loads to it.
+/// method's stochastic model (methodTableStochasticModel: position a priori 1 m),
+/// its modified Hopfield mapping and no tropospheric gradients.
+/// config/method_table.yaml loads to it.
 PppConfig methodTablePppConfig();
 
 /// Bind a YAML document (a mapping, or null for an empty one) on top of the

@@ -1,7 +1,8 @@
 #pragma once
 // EstimatorOptions: what an EpochEstimator (epoch_estimator.h) is built from:
 // the stochastic model, the EKF options with the code least squares start, the
-// smoother options, the systems of the receiver state and the PPP-AR options.
+// smoother options, the systems of the receiver state (and whether it carries
+// the tropospheric gradients) and the PPP-AR options.
 // The whole configuration (ppp/config/ppp_config.h, a part above the
 // estimators) converts to it, so the estimators do not depend on it.
 #include <vector>
@@ -21,6 +22,9 @@ struct EstimatorOptions {
   CodeLeastSquaresOptions start;                      // `estimator.start:`
   PppSmootherOptions smoother;                        // `smoother:`
   std::vector<GnssSystem> systems{GnssSystem::GPS};   // the receiver state's systems (`signals.systems`)
+  /// The receiver state carries the tropospheric gradients
+  /// (`measurement_model.troposphere.estimate_gradients`).
+  bool troposphere_gradients = false;
   AmbiguityResolutionOptions ambiguity_resolution;    // `ambiguity_resolution:`
 };
 

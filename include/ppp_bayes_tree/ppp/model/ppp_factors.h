@@ -4,7 +4,8 @@
 // Variables (keys):
 //   x<k>        receiver state of the k-th solved epoch in its layout
 //               (receiver_state_layout.h): (x, y, z) ECEF [m], ZWD [m], one receiver
-//               clock c*dt [m] per processed system (ReceiverState::vector() order);
+//               clock c*dt [m] per processed system, optionally the tropospheric
+//               gradients G_N, G_E [m] (ReceiverState::vector() order);
 //   b(G05,arc)  IF carrier-phase bias [m] of one satellite arc (ArcId).
 //
 // Measurement factors: one IF pseudorange factor on x<k> and one IF carrier-phase
@@ -14,6 +15,7 @@
 // predicted state x0, and the factor stores that SatelliteMeasurement. At a new state x
 // of the same epoch (relinearization) the factor re-evaluates:
 //   h(x) = h(x0) + [rho(x) - rho(x0)] + g.(p - p0) + m_w (zwd - zwd0) + (clk - clk0)
+//          [+ m_g cos a (G_N - G_N0) + m_g sin a (G_E - G_E0) with the gradient block]
 // with rho(x) = |s - (p + o)| the exact geometric range to the satellite phase centre s
 // (SatelliteMeasurement::satellite_apc_ecef_m, rotated for the Earth rotation) from the
 // receiver phase centre p + o, and g = J0_pos + e0 the rest of the model's position
@@ -29,8 +31,9 @@
 //
 // Process factors (StochasticModel, dt = real elapsed time between the two solved
 // epochs, data gaps and no-solution epochs included):
-//   position and ZWD random walks: a between factor on (position, ZWD) of x<k> - x<k-1> with
-//   sigmas sqrt(q^2 dt) (the EKF adds q^2 dt to the predicted variance: identical);
+//   position, ZWD (and tropospheric gradient) random walks: a between factor on
+//   (position, ZWD[, G_N, G_E]) of x<k> - x<k-1> with sigmas sqrt(q^2 dt) (the EKF adds
+//   q^2 dt to the predicted variance: identical);
 //   receiver clocks WHITE: no between factor on a clock at all. Each epoch's clock is
 //   an independent variable with a unary prior (ClockPriorFactor) whose sigma is
 //   sqrt(min(q^2 dt, sigma0^2)) (11 km for 30 s) and whose mean is the EKF's predicted
@@ -130,12 +133,14 @@ class PppPhaseFactor : public smoother::NoiseModelFactor2<smoother::Vector, doub
   SatellitePrediction prediction_;
 };
 
-/// Random walk of position and ZWD between two states: error = (position, ZWD)
-/// of x2 - x1, sigmas (position, position, position, ZWD) [m] over the time step.
+/// Random walk of position and ZWD (and of the tropospheric gradients when the
+/// layout has them) between two states: error = (position, ZWD[, G_N, G_E]) of
+/// x2 - x1, sigmas (position x3, ZWD[, gradient x2]) [m] over the time step.
 class ReceiverRandomWalkFactor : public smoother::NoiseModelFactor2<smoother::Vector, smoother::Vector> {
  public:
+  /// `gradient_sigma_m` is used only when layout.hasGradients().
   ReceiverRandomWalkFactor(smoother::Key previous, smoother::Key next, const ReceiverStateLayout& layout,
-                           double position_sigma_m, double zwd_sigma_m);
+                           double position_sigma_m, double zwd_sigma_m, double gradient_sigma_m = 0.0);
   smoother::Vector evaluateError(const smoother::Vector& previous, const smoother::Vector& next,
                                  smoother::Matrix* h_previous, smoother::Matrix* h_next) const override;
   bool affineIn(smoother::Key) const override { return true; }  // a difference of states

@@ -16,11 +16,16 @@ namespace ppp {
 
 /// Receiver state of one epoch, with named members; vector() / fromVector()
 /// order them by the layout (receiver_state_layout.h): position, ZWD, one
-/// receiver clock per processed system (GPS only: (x, y, z, zwd, clock)).
+/// receiver clock per processed system (GPS only: (x, y, z, zwd, clock)), and
+/// the horizontal tropospheric gradients when the layout has them.
 struct ReceiverState {
   ReceiverStateLayout layout;
   Eigen::Vector3d position_ecef_m = Eigen::Vector3d::Zero();
   double zwd_m = 0.0;
+  /// Horizontal tropospheric gradients G_N, G_E [m] (troposphere_gradient.h);
+  /// part of the vector only when layout.hasGradients(), else kept at 0.
+  double gradient_north_m = 0.0;
+  double gradient_east_m = 0.0;
 
   ReceiverState() { clocks_m_.fill(0.0); }
   explicit ReceiverState(const ReceiverStateLayout& state_layout) : layout(state_layout) { clocks_m_.fill(0.0); }
@@ -37,6 +42,10 @@ struct ReceiverState {
     v(layout.zwd()) = zwd_m;
     for (int i = layout.firstClock(); i < layout.firstClock() + layout.clockCount(); ++i)
       v(i) = clock_m(layout.clockSystem(i));
+    if (layout.hasGradients()) {
+      v(layout.gradientNorth()) = gradient_north_m;
+      v(layout.gradientEast()) = gradient_east_m;
+    }
     return v;
   }
   static ReceiverState fromVector(const Eigen::VectorXd& v, const ReceiverStateLayout& layout = {}) {
@@ -45,6 +54,10 @@ struct ReceiverState {
     s.zwd_m = v(layout.zwd());
     for (int i = layout.firstClock(); i < layout.firstClock() + layout.clockCount(); ++i)
       s.setClock_m(layout.clockSystem(i), v(i));
+    if (layout.hasGradients()) {
+      s.gradient_north_m = v(layout.gradientNorth());
+      s.gradient_east_m = v(layout.gradientEast());
+    }
     return s;
   }
 
@@ -62,8 +75,10 @@ struct SatelliteMeasurement {
   // Observed IF observables [m].
   double observed_code_m = 0.0;
   double observed_phase_m = 0.0;
-  /// d(predicted)/d(receiver state) in the state's layout: position, ZWD, and 1
-  /// in the satellite's own system clock column; identical for code and phase.
+  /// d(predicted)/d(receiver state) in the state's layout: position, ZWD, 1
+  /// in the satellite's own system clock column, and the gradient mapping times
+  /// (cos az, sin az) in the gradient columns when the layout has them;
+  /// identical for code and phase.
   Eigen::RowVectorXd jacobian;
   // Elevation-dependent standard deviations [m] of the IF observables.
   double code_sigma_m = 0.0;

@@ -12,6 +12,19 @@
 //                                     (table 3e-5)
 //   receiver clock   3e6 m            2000 m/sqrt(s)        white
 //   IF phase bias    100 m            0                     constant per arc
+//   tropo gradients  1 mm             1e-5 m/sqrt(s)        random walk (not the method's; when estimated)
+//
+// Horizontal tropospheric gradients G_N, G_E (troposphere_gradient.h; with
+// measurement_model.troposphere.estimate_gradients): gradients are of the order
+// of a millimetre, a few millimetres across weather fronts (Chen & Herring 1997,
+// JGR 102(B9); Bar-Sever, Kroger & Borjesson 1998, JGR 103(B3), who estimate
+// them as random walks from a single receiver). 1e-5 m/sqrt(s)
+// = 0.6 mm/sqrt(h) and 1 mm a priori were best on real data (measured with
+// ppp_solve, ZWD q 1e-4: ESBC PPP-AR fixed north RMS after the first hour, EKF /
+// smoothed, q 2e-6: 0.58 / 0.60, 5e-6: 0.55 / 0.54, 1e-5: 0.54 / 0.50, 2e-5:
+// 0.54 / 0.51, 5e-5: 0.62 / 0.57 cm; the a priori sigma leaves ESBC unchanged
+// and costs CCJ2 its early fixes above 5 mm: first fix 18.5 min with 1-3 mm,
+// 32.5 min with 10 mm).
 //
 // Position 30 m: both estimators start at a code least-squares solution of the
 // SAME first-epoch codes, so a prior around it counts those codes twice. The
@@ -78,6 +91,8 @@ struct StochasticModel {
   StateNoise zwd{0.3, 1.0e-4, ProcessKind::RandomWalk};  // table: 3e-5
   StateNoise clock{3.0e6, 2000.0, ProcessKind::White};
   StateNoise phase_bias{100.0, 0.0, ProcessKind::RandomWalk};  // q = 0: constant per arc
+  /// Each of the north and east tropospheric gradients (used only when estimated).
+  StateNoise troposphere_gradient{0.001, 1.0e-5, ProcessKind::RandomWalk};
   /// A priori value of the zenith wet delay [m] (not in the method's table:
   /// a typical mid-latitude value; the 0.3 m a priori sigma covers it).
   double initial_zwd_m = 0.1;

@@ -22,6 +22,9 @@ const std::map<std::string, ConfigUpperBound>& bounds() {
       {"stochastic.clock.process_noise_m_per_sqrt_s", {1.0e7, "the clock is re-estimated per epoch anyway"}},
       {"stochastic.phase_bias.initial_sigma_m", {1.0e4, "phase minus code is known to tens of metres"}},
       {"stochastic.phase_bias.process_noise_m_per_sqrt_s", {10.0, "an ambiguity is constant over its arc"}},
+      {"stochastic.troposphere_gradient.initial_sigma_m", {0.1, "tropospheric gradients are millimetres"}},
+      {"stochastic.troposphere_gradient.process_noise_m_per_sqrt_s",
+       {1.0e-3, "gradients change by millimetres per hour (1e-3 m/sqrt(s) = 6 cm/sqrt(h))"}},
       {"stochastic.code_correlation_time_s", {3600.0, "multipath decorrelates within minutes"}},
       // estimator
       {"estimator.min_satellites", {100, "no receiver tracks more satellites at once"}},

@@ -29,6 +29,7 @@ void readStochastic(YamlSection s, StochasticModel& m) {
   }
   readNoise(s.section("clock"), m.clock, true);
   readNoise(s.section("phase_bias"), m.phase_bias, false);
+  readNoise(s.section("troposphere_gradient"), m.troposphere_gradient, false);
   m.code_correlation_time_s = s.number("code_correlation_time_s", m.code_correlation_time_s, Bound::NonNegative);
   s.finish();
 }
@@ -164,6 +165,7 @@ PppConfig::operator EstimatorOptions() const {
   o.start = start;
   o.smoother = smoother;
   o.systems = signals.systems;
+  o.troposphere_gradients = model.estimate_troposphere_gradients;
   o.ambiguity_resolution = ambiguity_resolution;
   return o;
 }
@@ -172,6 +174,7 @@ PppConfig methodTablePppConfig() {
   PppConfig c;
   c.stochastic = methodTableStochasticModel();
   c.model.mapping = TroposphereMapping::ModifiedHopfield;
+  c.model.estimate_troposphere_gradients = false;  // the method estimates none
   return c;
 }
 

@@ -91,6 +91,7 @@ void bindMeasurementModelOptions(const YAML::Node& node, const std::string& file
     m.mapping = map == "niell" ? TroposphereMapping::Niell
                 : map == "gmf" ? TroposphereMapping::Gmf
                                : TroposphereMapping::ModifiedHopfield;
+    m.estimate_troposphere_gradients = t.boolean("estimate_gradients", m.estimate_troposphere_gradients);
     t.finish();
   }
   {

@@ -47,6 +47,8 @@ EkfPpp::Filter EkfPpp::initialFilter(const ReceiverState& state) const {
   s.position_ecef_m = state.position_ecef_m;
   s.zwd_m = state.zwd_m;
   for (const GnssSystem system : layout_.clockSystems()) s.setClock_m(system, state.clock_m(system));
+  s.gradient_north_m = state.gradient_north_m;
+  s.gradient_east_m = state.gradient_east_m;
   Filter f;
   f.x = s.vector();
   const int n = layout_.dim();
@@ -56,6 +58,10 @@ EkfPpp::Filter EkfPpp::initialFilter(const ReceiverState& state) const {
   f.P(layout_.zwd(), layout_.zwd()) = model_.zwd.initialVariance_m2();
   for (const GnssSystem system : layout_.clockSystems())
     f.P(layout_.clock(system), layout_.clock(system)) = model_.clock.initialVariance_m2();
+  if (layout_.hasGradients()) {
+    for (const int g : {layout_.gradientNorth(), layout_.gradientEast()})
+      f.P(g, g) = model_.troposphere_gradient.initialVariance_m2();
+  }
   return f;
 }
 
@@ -128,6 +134,10 @@ void EkfPpp::predictFilter(Filter& f, double dt_s, bool first) const {
   for (int i = 0; i < ReceiverStateLayout::kPositionSize; ++i)
     f.P(layout_.position() + i, layout_.position() + i) += q_pos;
   f.P(layout_.zwd(), layout_.zwd()) += model_.zwd.processVariance_m2(dt_s);
+  if (layout_.hasGradients()) {
+    for (const int g : {layout_.gradientNorth(), layout_.gradientEast()})
+      f.P(g, g) += model_.troposphere_gradient.processVariance_m2(dt_s);
+  }
   // White clocks: no memory, correlations removed, variance reset.
   for (const GnssSystem system : layout_.clockSystems()) {
     const int c = layout_.clock(system);

@@ -7,7 +7,7 @@
 namespace ppp {
 
 EkfEstimator::EkfEstimator(const EstimatorOptions& options)
-    : ekf_(options.stochastic, options.ekf, options.start, ReceiverStateLayout(options.systems)),
+    : ekf_(options.stochastic, options.ekf, options.start, ReceiverStateLayout(options.systems, options.troposphere_gradients)),
       ambiguity_(options.ambiguity_resolution) {}
 
 namespace {
@@ -60,7 +60,7 @@ void EkfEstimator::arcsEnded(const std::vector<EndedArc>& ended) {
 }
 
 SmootherEstimator::SmootherEstimator(const EstimatorOptions& options)
-    : smoother_(options.stochastic, options.smoother, options.start, ReceiverStateLayout(options.systems)),
+    : smoother_(options.stochastic, options.smoother, options.start, ReceiverStateLayout(options.systems, options.troposphere_gradients)),
       ambiguity_(options.ambiguity_resolution) {}
 
 EstimatorEpochResult SmootherEstimator::processEpoch(const EstimatorEpochInput& input) {

@@ -76,6 +76,9 @@ smoother::ISAM2Params PppSmoother::isamParams() const {
   Eigen::VectorXd state = Eigen::VectorXd::Constant(layout_.dim(), options_.relinearize_clock_m);
   state.segment<ReceiverStateLayout::kPositionSize>(layout_.position()).setConstant(options_.relinearize_position_m);
   state(layout_.zwd()) = options_.relinearize_zwd_m;
+  // The gradients are tropospheric delays like the ZWD (and enter every factor linearly).
+  if (layout_.hasGradients())
+    state.segment<ReceiverStateLayout::kGradientSize>(layout_.gradientNorth()).setConstant(options_.relinearize_zwd_m);
   p.relinearize_thresholds_by_symbol['x'] = state;
   p.relinearize_threshold_by_symbol['b'] = options_.relinearize_bias_m;
   p.wildfire_threshold = options_.wildfire_threshold_m;
@@ -341,12 +344,16 @@ void PppSmoother::addStateFactors(SolveEpoch& e) const {
     Eigen::VectorXd sigmas = Eigen::VectorXd::Constant(layout_.dim(), model_.clock.initial_sigma_m);
     sigmas.segment<ReceiverStateLayout::kPositionSize>(layout_.position()).setConstant(model_.position.initial_sigma_m);
     sigmas(layout_.zwd()) = model_.zwd.initial_sigma_m;
+    if (layout_.hasGradients())
+      sigmas.segment<ReceiverStateLayout::kGradientSize>(layout_.gradientNorth())
+          .setConstant(model_.troposphere_gradient.initial_sigma_m);
     e.factors.push_back(std::make_shared<smoother::PriorFactor>(e.x, predicted.vector(), NoiseModel::sigmas(sigmas)));
   } else {
     const Key previous = stateKey(states_.back().index);
     e.factors.push_back(std::make_shared<ReceiverRandomWalkFactor>(
         previous, e.x, layout_, sigmaOf(model_.position.processVariance_m2(in.dt_s)),
-        sigmaOf(model_.zwd.processVariance_m2(in.dt_s))));
+        sigmaOf(model_.zwd.processVariance_m2(in.dt_s)),
+        sigmaOf(model_.troposphere_gradient.processVariance_m2(in.dt_s))));
     for (const GnssSystem system : layout_.clockSystems())
       e.factors.push_back(std::make_shared<ClockPriorFactor>(e.x, layout_.clock(system), predicted.clock_m(system),
                                                              sigmaOf(model_.clock.processVariance_m2(in.dt_s))));

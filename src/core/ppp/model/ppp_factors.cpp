@@ -104,24 +104,44 @@ Vector PppPhaseFactor::evaluateError(const Vector& state, const double& bias_m, 
   return e;
 }
 
+namespace {
+
+/// Sigmas of the random walk's components: position x3, ZWD[, gradient x2].
+Vector randomWalkSigmas(const ReceiverStateLayout& layout, double position_sigma_m, double zwd_sigma_m,
+                        double gradient_sigma_m) {
+  constexpr int kPos = ReceiverStateLayout::kPositionSize;
+  Vector sigmas(kPos + 1 + (layout.hasGradients() ? ReceiverStateLayout::kGradientSize : 0));
+  sigmas.head<kPos>().setConstant(position_sigma_m);
+  sigmas(kPos) = zwd_sigma_m;
+  if (layout.hasGradients()) sigmas.tail<ReceiverStateLayout::kGradientSize>().setConstant(gradient_sigma_m);
+  return sigmas;
+}
+
+}  // namespace
+
 ReceiverRandomWalkFactor::ReceiverRandomWalkFactor(smoother::Key previous, smoother::Key next,
                                                    const ReceiverStateLayout& layout, double position_sigma_m,
-                                                   double zwd_sigma_m)
-    : NoiseModelFactorN(smoother::NoiseModel::sigmas(
-                            Eigen::Vector4d(position_sigma_m, position_sigma_m, position_sigma_m, zwd_sigma_m)),
-                        {previous, next}),
+                                                   double zwd_sigma_m, double gradient_sigma_m)
+    : NoiseModelFactorN(
+          smoother::NoiseModel::sigmas(randomWalkSigmas(layout, position_sigma_m, zwd_sigma_m, gradient_sigma_m)),
+          {previous, next}),
       layout_(layout) {}
 
 Vector ReceiverRandomWalkFactor::evaluateError(const Vector& previous, const Vector& next, Matrix* h_previous,
                                                Matrix* h_next) const {
   constexpr int kPos = ReceiverStateLayout::kPositionSize;
+  constexpr int kGrad = ReceiverStateLayout::kGradientSize;
+  const int rows = kPos + 1 + (layout_.hasGradients() ? kGrad : 0);
   const Vector d = next - previous;
-  Vector e(kPos + 1);
-  e << d.segment<kPos>(layout_.position()), d(layout_.zwd());
+  Vector e(rows);
+  e.head<kPos>() = d.segment<kPos>(layout_.position());
+  e(kPos) = d(layout_.zwd());
+  if (layout_.hasGradients()) e.tail<kGrad>() = d.segment<kGrad>(layout_.gradientNorth());
   if (h_previous != nullptr || h_next != nullptr) {
-    Matrix j = Matrix::Zero(kPos + 1, layout_.dim());
+    Matrix j = Matrix::Zero(rows, layout_.dim());
     j.block<kPos, kPos>(0, layout_.position()).setIdentity();
     j(kPos, layout_.zwd()) = 1.0;
+    if (layout_.hasGradients()) j.block<kGrad, kGrad>(kPos + 1, layout_.gradientNorth()).setIdentity();
     if (h_previous != nullptr) *h_previous = -j;
     if (h_next != nullptr) *h_next = j;
   }

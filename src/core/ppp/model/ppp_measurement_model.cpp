@@ -15,6 +15,7 @@
 #include "ppp_bayes_tree/models/solid_earth_tide.h"
 #include "ppp_bayes_tree/models/sun_moon_position.h"
 #include "ppp_bayes_tree/models/troposphere.h"
+#include "ppp_bayes_tree/models/troposphere_gradient.h"
 #include "ppp_bayes_tree/types/frames.h"
 #include "ppp_bayes_tree/types/text_format.h"
 
@@ -532,9 +533,13 @@ void PppMeasurementModel::addMeasurement(const SatelliteEvaluation& sv, const Ep
   const double dts = sv.clock.clock_bias_s;
   const double rel_s = relativisticClockCorrection_s(sv.orbit.position_ecef_m, sv.orbit.velocity_ecef_mps);
   const double shapiro = options_.shapiro ? shapiroDelay_m(sv.apc, sv.receiver_apc) : 0.0;
+  const GradientPartials gradient = state.layout.hasGradients()
+                                       ? gradientPartials(sv.elevation_rad, sv.azimuth_rad)
+                                       : GradientPartials{};
+  const double gradient_m = gradient.north * state.gradient_north_m + gradient.east * state.gradient_east_m;
   const double common = sv.rho_m + state.clock_m(sat.system) - kSpeedOfLight_mps * (dts + rel_s) +
                         mf.hydrostatic * epoch.zhd_m + mf.wet * state.zwd_m + shapiro + sv.pcv_receiver_m +
-                        sv.pcv_satellite_m;
+                        sv.pcv_satellite_m + gradient_m;
   SatelliteMeasurement m;
   m.satellite = sat;
   m.arc = sv.arc;
@@ -547,6 +552,10 @@ void PppMeasurementModel::addMeasurement(const SatelliteEvaluation& sv, const Ep
   m.jacobian.segment<ReceiverStateLayout::kPositionSize>(state.layout.position()) = d_position.transpose();
   m.jacobian(state.layout.zwd()) = mf.wet;
   m.jacobian(sv.receiver_clock) = 1.0;  // the satellite's own system clock
+  if (state.layout.hasGradients()) {
+    m.jacobian(state.layout.gradientNorth()) = gradient.north;
+    m.jacobian(state.layout.gradientEast()) = gradient.east;
+  }
   const double sin_el = std::max(std::sin(sv.elevation_rad), 1.0e-3);
   m.phase_sigma_m = options_.phase_sigma_zenith_m * st.sigma_factor / sin_el;
   m.code_sigma_m = m.phase_sigma_m * options_.code_phase_ratio;
@@ -567,7 +576,10 @@ void PppMeasurementModel::addMeasurement(const SatelliteEvaluation& sv, const Ep
   }
   if (windup != nullptr && options_.phase_windup) windup->update(sat, sv.arc, sv.windup_cycles);
   out.used.push_back(m);
-  if (terms != nullptr) terms->push_back(modelTerms(sv, epoch, shapiro, rel_s));
+  if (terms != nullptr) {
+    terms->push_back(modelTerms(sv, epoch, shapiro, rel_s));
+    terms->back().troposphere_gradient_m = gradient_m;
+  }
 }
 
 ModelTerms PppMeasurementModel::modelTerms(const SatelliteEvaluation& sv, const EpochTerms& epoch, double shapiro_m,

@@ -2,7 +2,8 @@
 
 namespace ppp {
 
-ReceiverStateLayout::ReceiverStateLayout(const std::vector<GnssSystem>& clock_systems) {
+ReceiverStateLayout::ReceiverStateLayout(const std::vector<GnssSystem>& clock_systems, bool troposphere_gradients)
+    : gradients_(troposphere_gradients) {
   clock_index_.fill(-1);
   for (GnssSystem s : clock_systems) {
     if (hasClock(s)) continue;
@@ -25,6 +26,8 @@ std::string ReceiverStateLayout::componentName(int index) const {
   if (isPosition(index)) return std::string(1, static_cast<char>('x' + (index - position())));
   if (index == zwd()) return "zwd";
   if (isClock(index)) return std::string("clock ") + systemLetter(clockSystem(index));
+  if (index == gradientNorth()) return "gradient N";
+  if (index == gradientEast()) return "gradient E";
   return "component " + std::to_string(index);
 }
 

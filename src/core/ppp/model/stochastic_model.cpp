@@ -44,7 +44,8 @@ std::string checkNoise(const std::string& name, const StateNoise& n) {
 
 std::string StochasticModel::validate() const {
   for (const auto& [name, noise] : {std::pair<std::string, const StateNoise*>{"position", &position},
-                                    {"zwd", &zwd}, {"clock", &clock}, {"phase_bias", &phase_bias}}) {
+                                    {"zwd", &zwd}, {"clock", &clock}, {"phase_bias", &phase_bias},
+                                    {"troposphere_gradient", &troposphere_gradient}}) {
     if (auto e = checkNoise(name, *noise); !e.empty()) return e;
   }
   if (!std::isfinite(initial_zwd_m)) return "zwd.initial_m must be finite";
