@@ -67,6 +67,8 @@ class FramerBase {
  public:
   const StreamCounters& counters() const { return counters_; }
   StreamCounters& counters() { return counters_; }
+  /// The stream ended: a partial frame is counted as truncated.
+  void finish();
 
  protected:
   /// `protocol` names the frames in problem texts ("RTCM 3", "UBX").
@@ -85,8 +87,6 @@ class FramerBase {
 
   /// Appends bytes and calls `on_frame` for every good frame, in stream order.
   void feedBytes(const std::uint8_t* data, std::size_t size, const std::function<void(const FrameBytes&)>& on_frame);
-  /// The stream ended.
-  void finishBytes();
 
  private:
   void scan(const std::function<void(const FrameBytes&)>& on_frame);

@@ -47,7 +47,7 @@ void FramerBase::scan(const std::function<void(const FrameBytes&)>& on_frame) {
   buffer_offset_ += pos;
 }
 
-void FramerBase::finishBytes() {
+void FramerBase::finish() {
   if (!buffer_.empty()) {
     skipped_.flush(counters_);
     if (const auto fault = truncatedFrame(buffer_.data(), buffer_.size())) {

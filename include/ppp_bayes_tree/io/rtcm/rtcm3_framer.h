@@ -43,8 +43,6 @@ class Rtcm3Framer : public FramerBase {
 
   /// Feeds bytes; calls `on_frame` for every complete frame with a good CRC.
   void feed(const std::uint8_t* data, std::size_t size, const FrameHandler& on_frame);
-  /// The stream ended: a partial frame is counted as truncated.
-  void finish() { finishBytes(); }
 
  private:
   FrameCandidate examine(const std::uint8_t* data, std::size_t available) const override;

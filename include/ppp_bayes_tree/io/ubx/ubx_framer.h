@@ -62,8 +62,6 @@ class UbxFramer : public FramerBase {
 
   /// Feeds bytes; calls `on_frame` for every complete frame with a good checksum.
   void feed(const std::uint8_t* data, std::size_t size, const FrameHandler& on_frame);
-  /// The stream ended: a partial frame is counted as truncated.
-  void finish() { finishBytes(); }
 
  private:
   FrameCandidate examine(const std::uint8_t* data, std::size_t available) const override;
