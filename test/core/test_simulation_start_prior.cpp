@@ -24,6 +24,10 @@ TEST(SimulationStartPrior, MonteCarloDefaultIsTheSimulatedConfig) {
   // The wet delay's random walk: the method's 3e-5 m/sqrt(s) in both (the real-data default is 1e-4).
   EXPECT_EQ(study.stochastic.zwd.process_noise_m_per_sqrt_s, 3.0e-5);
   EXPECT_EQ(file.stochastic.zwd.process_noise_m_per_sqrt_s, study.stochastic.zwd.process_noise_m_per_sqrt_s);
+  // The smoother's position relinearization threshold: 0.5 m in both (the real-data default is 0.01 m).
+  EXPECT_EQ(study.smoother.relinearize_position_m, 0.5);
+  EXPECT_EQ(file.smoother.relinearize_position_m, study.smoother.relinearize_position_m);
+  EXPECT_EQ(PppConfig{}.smoother.relinearize_position_m, 0.01);
   // Every other stochastic key: the defaults in both.
   const StochasticModel d;
   for (const StochasticModel* m : {&study.stochastic, &file.stochastic}) {

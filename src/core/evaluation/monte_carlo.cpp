@@ -262,6 +262,7 @@ std::string monteCarloEstimatorLabel(int estimator) {
 PppConfig monteCarloDefaultPppConfig() {
   PppConfig c = methodTablePppConfig();  // config/method_table.yaml
   c.stochastic.position.initial_sigma_m = 30.0;  // as config/ppp_simulated.yaml (monte_carlo.h)
+  c.smoother.relinearize_position_m = 0.5;       // as config/ppp_simulated.yaml (monte_carlo.h)
   return c;
 }
 
