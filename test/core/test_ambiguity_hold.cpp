@@ -373,6 +373,7 @@ class Injecting : public EpochEstimator {
   }
   void arcsEnded(const std::vector<EndedArc>& e) override { estimator_.arcsEnded(e); }
   const PppEstimatorBase& core() const override { return estimator_.core(); }
+  const EstimatorEpochResult& lastResult() const override { return estimator_.lastResult(); }
   std::optional<NarrowLaneFloat> injected;
   std::optional<int> released_at;
   std::optional<AmbiguityRelease> release;

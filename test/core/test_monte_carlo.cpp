@@ -7,6 +7,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <set>
 #include <sstream>
 
 #include "ppp_bayes_tree/evaluation/monte_carlo.h"
@@ -304,4 +305,65 @@ TEST(MonteCarlo, StudyRelinearizationThresholdChangesNoError) {
       EXPECT_LT(worst, filtered ? 1e-3 : 1e-6) << monteCarloEstimatorKey(e) << " flight " << flight;
     }
   }
+}
+
+// The study's smoothed solution through the registry's interface
+// (SmoothedTrajectoryProvider::finalSmoothedSolution): a fixed-lag smoother that
+// keeps its whole graph (record_graph) gives the full smoother's solution, states
+// and arc biases; a filter gives none (smoothing() is nullptr).
+TEST(MonteCarlo, FinalSmoothedSolutionOfAFixedLagSmootherWithItsGraphIsTheFullSmoothers) {
+  const MonteCarloOptions o = smallStudy();
+  const MonteCarloFlightSetup setup = monteCarloFlightSetup(o, 1);  // figure8: phase breaks in the turns
+  const SimulatedFlight f = simulateFlight(monteCarloSimulationConfig(o, setup), setup.seed);
+  PppInMemoryInputs in;
+  in.header = &f.header;
+  in.epochs = &f.epochs;
+  in.products = &f.products;
+  const PppConfig full_config = flightPppConfig(o.ppp, f);
+  PppConfig lag_config = full_config;
+  lag_config.smoother.fixed_lag_s = 30.0;
+  lag_config.smoother.record_graph = true;
+  std::string why;
+  std::vector<std::unique_ptr<EpochEstimator>> runs;
+  std::vector<std::set<std::pair<SatelliteId, ArcId>>> arcs;
+  for (const PppConfig* c : {&full_config, static_cast<const PppConfig*>(&lag_config)}) {
+    runs.push_back(makeEstimator("smoother", *c, &why));
+    ASSERT_TRUE(runs.back()) << why;
+    PppPipeline pipeline(in, *c);
+    std::set<std::pair<SatelliteId, ArcId>>& seen = arcs.emplace_back();
+    pipeline.run(*runs.back(), [&](const PppEpochRecord& rec) {
+      for (const auto& r : rec.residuals) seen.insert({r.satellite, r.arc});
+    });
+  }
+  ASSERT_EQ(arcs[0], arcs[1]);
+  const SmoothedSolution full = runs[0]->smoothing()->finalSmoothedSolution();
+  const SmoothedSolution lag = runs[1]->smoothing()->finalSmoothedSolution();
+  ASSERT_GT(full.trajectory.size(), 150u);
+  ASSERT_EQ(full.trajectory.size(), lag.trajectory.size());
+  double worst_m = 0.0;
+  for (std::size_t k = 0; k < full.trajectory.size(); ++k) {
+    ASSERT_EQ(full.trajectory[k].time, lag.trajectory[k].time);
+    worst_m = std::max(worst_m, (full.trajectory[k].state.position_ecef_m - lag.trajectory[k].state.position_ecef_m).norm());
+  }
+  EXPECT_LT(worst_m, 1e-4);
+  // Every arc's bias, also those of the arcs the lag marginalized long before the end.
+  ASSERT_GT(arcs[0].size(), 20u);
+  double worst_bias_m = 0.0;
+  for (const auto& [satellite, arc] : arcs[0]) {
+    const std::optional<double> a = full.bias_m(satellite, arc), b = lag.bias_m(satellite, arc);
+    ASSERT_TRUE(a && b) << satellite.toString() << " arc " << arc;
+    worst_bias_m = std::max(worst_bias_m, std::abs(*a - *b));
+  }
+  EXPECT_LT(worst_bias_m, 1e-4);
+  // Without its graph the fixed-lag smoother holds only the arcs of its window.
+  PppConfig window_only = lag_config;
+  window_only.smoother.record_graph = false;
+  const std::unique_ptr<EpochEstimator> windowed = makeEstimator("smoother", window_only, &why);
+  PppPipeline(in, window_only).run(*windowed, [](const PppEpochRecord&) {});
+  const SmoothedSolution w = windowed->smoothing()->finalSmoothedSolution();
+  std::size_t held = 0;
+  for (const auto& [satellite, arc] : arcs[0]) held += w.bias_m(satellite, arc) ? 1 : 0;
+  EXPECT_LT(held, arcs[0].size());
+  // A filter smooths nothing.
+  EXPECT_EQ(makeEstimator("ekf", full_config, &why)->smoothing(), nullptr);
 }

@@ -61,9 +61,11 @@
 namespace ppp {
 
 /// The estimators the study compares, by their registered names
-/// (estimator_registry.h): the EKF, the reference that chooses the
-/// representative flight, and the smoother, whose filtered solution is compared
-/// with the EKF's epoch by epoch and whose smoothed one is read from its graph.
+/// (estimator_registry.h), each built by its registry factory and run through
+/// the same pipeline (EpochEstimator): the first, the EKF, is the reference
+/// that chooses the representative flight; an estimator that smooths (the
+/// smoother) is compared with it epoch by epoch (filtered_minus_ekf_m), and its
+/// smoothed solution is SmoothedTrajectoryProvider::finalSmoothedSolution().
 inline constexpr std::array<std::string_view, 2> kMonteCarloStudy{"ekf", "smoother"};
 
 /// The number of solutions of the studied estimators (the columns of the tables).
@@ -197,27 +199,30 @@ struct MonteCarloFlightRun {
   std::vector<std::string> drawn;  // DrawnParameters::describe()
   std::string failure;             // non-empty: the flight failed (left out of all statistics)
   std::size_t epochs = 0, simulated_arcs = 0, phase_breaks = 0;
-  std::size_t estimator_arcs = 0, slips_detected = 0;  // arc tracker (smoother run)
+  std::size_t estimator_arcs = 0, slips_detected = 0;  // arc tracker (the same front end in every run)
   std::vector<double> time_s;  // per epoch, since the first epoch
   /// Per estimator and epoch: 3D error [m], NaN when that epoch has no solution.
   std::array<std::vector<double>, kMonteCarloEstimators> error_3d_m;
   std::array<std::vector<BiasErrorSample>, kMonteCarloEstimators> bias;
-  /// Per epoch: the EKF's and the smoother's filtered solution FIXED (PPP-AR) [0, 1].
-  std::array<std::vector<char>, 2> fixed;
-  /// [0] EKF, [1] smoother: the held integers against the truth (PPP-AR on).
-  std::array<HeldIntegerCheck, 2> held_check;
+  /// Per studied estimator (kMonteCarloStudy) and epoch: its filtered solution FIXED (PPP-AR) [0, 1].
+  std::array<std::vector<char>, kMonteCarloStudy.size()> fixed;
+  /// Per studied estimator: the held integers against the truth (PPP-AR on).
+  std::array<HeldIntegerCheck, kMonteCarloStudy.size()> held_check;
   /// Per epoch |x_EKF - x_smoother filtered| [m], NaN unless both have a solution.
   std::vector<double> filtered_minus_ekf_m;
-  std::size_t bias_arcs_compared = 0;      // estimator arcs with samples (smoother run)
+  std::size_t bias_arcs_compared = 0;      // estimator arcs with samples (smoothed solution)
   std::size_t bias_arcs_missed_slip = 0;   // ran into another simulated arc (compared up to it)
-  double simulate_s = 0.0, ekf_s = 0.0, smoother_s = 0.0;  // wall times
+  double simulate_s = 0.0;  // wall time of the simulation
+  /// Wall time of each studied estimator's run (kMonteCarloStudy order) [s].
+  std::array<double, kMonteCarloStudy.size()> estimator_s{};
 
   /// Statistics of one estimator on this flight (epochs with a solution).
   ErrorSummary summary(int estimator, double window_s = -1.0) const;
 };
 
-/// Simulates flight `index` and runs the three solutions on it (never throws:
-/// a failure is reported in `failure`).
+/// Simulates flight `index` and runs the studied estimators on it, their
+/// solutions in kMonteCarloEstimators columns (never throws: a failure is
+/// reported in `failure`).
 MonteCarloFlightRun runMonteCarloFlight(const MonteCarloOptions& options, int index);
 
 struct QuantileBin {
@@ -245,11 +250,11 @@ struct MonteCarloSummary {
   /// solution too): fixed epochs / epochs with a solution, the median over flights
   /// of the time to the first fixed epoch (a flight never fixed counts as +inf),
   /// and the flights never fixed.
-  std::array<double, 2> fixed_share{};
-  std::array<double, 2> first_fix_median_s{};
-  std::array<int, 2> never_fixed{};
+  std::array<double, kMonteCarloStudy.size()> fixed_share{};
+  std::array<double, kMonteCarloStudy.size()> first_fix_median_s{};
+  std::array<int, kMonteCarloStudy.size()> never_fixed{};
   /// The held integers against the truth, summed over flights.
-  std::array<HeldIntegerCheck, 2> held_check;
+  std::array<HeldIntegerCheck, kMonteCarloStudy.size()> held_check;
   /// 3D error versus time since the flight start, over flights [m].
   std::array<std::vector<QuantileBin>, kMonteCarloEstimators> error_vs_time;
   /// Bias error versus arc age [m].
@@ -262,7 +267,8 @@ struct MonteCarloSummary {
   std::vector<double> cdf_levels;
   std::array<std::vector<double>, kMonteCarloEstimators> cdf_all_m, cdf_first_window_m;
   /// Sums of the per-flight wall times (CPU-ish cost per stage) [s].
-  double simulate_s = 0.0, ekf_s = 0.0, smoother_s = 0.0;
+  double simulate_s = 0.0;
+  std::array<double, kMonteCarloStudy.size()> estimator_s{};  // kMonteCarloStudy order
 };
 
 MonteCarloSummary summarizeMonteCarlo(const std::vector<MonteCarloFlightRun>& flights,

@@ -215,8 +215,9 @@ CampaignJobResult runMonteCarloJob(const CampaignJob& job, const std::string& wo
   t << ", \"flights\": [";
   for (std::size_t i = 0; i < result.flights.size(); ++i) {
     const auto& f = result.flights[i];
-    t << (i ? ", " : "") << "[" << f.setup.index << ", " << jsonNumber(f.simulate_s, 6) << ", "
-      << jsonNumber(f.ekf_s, 6) << ", " << jsonNumber(f.smoother_s, 6) << "]";
+    t << (i ? ", " : "") << "[" << f.setup.index << ", " << jsonNumber(f.simulate_s, 6);
+    for (double e : f.estimator_s) t << ", " << jsonNumber(e, 6);  // kMonteCarloStudy order
+    t << "]";
   }
   t << "]";
   timing = t.str();

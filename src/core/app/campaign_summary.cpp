@@ -29,11 +29,21 @@ std::string csvField(std::string s) {
 }
 
 /// Per-flight wall times of a shard (timing.json), by flight index.
-void readFlightTimes(const std::string& job_dir, std::map<int, std::array<double, 3>>& times) {
+/// A flight's wall times: the simulation's, then each studied estimator's.
+struct FlightTimes {
+  double simulate_s = 0.0;
+  std::array<double, kMonteCarloStudy.size()> estimator_s{};
+};
+
+void readFlightTimes(const std::string& job_dir, std::map<int, FlightTimes>& times) {
   try {
     const YAML::Node t = YAML::LoadFile((fs::path(job_dir) / "timing.json").string());
-    for (const auto& f : t["flights"])
-      times[f[0].as<int>()] = {f[1].as<double>(), f[2].as<double>(), f[3].as<double>()};
+    for (const auto& f : t["flights"]) {
+      FlightTimes ft;
+      ft.simulate_s = f[1].as<double>();
+      for (std::size_t i = 0; i < ft.estimator_s.size(); ++i) ft.estimator_s[i] = f[2 + i].as<double>();
+      times[f[0].as<int>()] = ft;
+    }
   } catch (const std::exception&) {
     // no timing: the merged study shows zero times
   }
@@ -75,7 +85,7 @@ CampaignSummary summarizeCampaign(const CampaignManifest& manifest, const std::s
       try {
         const MonteCarloOptions options = monteCarloStudyOptions(list.front()->job.monte_carlo);
         std::vector<std::vector<MonteCarloFlightRun>> records;
-        std::map<int, std::array<double, 3>> times;
+        std::map<int, FlightTimes> times;
         for (const auto* r : list) {
           const std::string dir = campaignJobDir(campaign_dir, r->job.id);
           records.push_back(readMonteCarloFlightRecords((fs::path(dir) / "output" / "flights.mcr").string(), options));
@@ -85,10 +95,10 @@ CampaignSummary summarizeCampaign(const CampaignManifest& manifest, const std::s
         for (auto& f : merged.flights) {
           auto it = times.find(f.setup.index);
           if (it == times.end()) continue;
-          std::tie(f.simulate_s, f.ekf_s, f.smoother_s) = std::tuple(it->second[0], it->second[1], it->second[2]);
+          f.simulate_s = it->second.simulate_s;
+          f.estimator_s = it->second.estimator_s;
           merged.summary.simulate_s += f.simulate_s;
-          merged.summary.ekf_s += f.ekf_s;
-          merged.summary.smoother_s += f.smoother_s;
+          for (std::size_t i = 0; i < f.estimator_s.size(); ++i) merged.summary.estimator_s[i] += f.estimator_s[i];
         }
         merged.threads_used = 1;
         row.merged = std::move(merged);

@@ -303,6 +303,82 @@ ErrorSummary MonteCarloFlightRun::summary(int estimator, double window_s) const 
   return summarizeErrors(std::move(v));
 }
 
+namespace {
+
+/// An estimator's configuration in the study: one that smooths runs with the
+/// study's fixed lag (its filtered solution), keeping its whole graph for the
+/// exact smoothed solution at the end (options.smoother_filtered_lag_s > 0).
+PppConfig studiedConfig(const PppConfig& flight_config, const EstimatorEntry& entry, double lag_s) {
+  PppConfig c = flight_config;
+  if (entry.smoothed() && lag_s > 0.0) {
+    c.smoother.fixed_lag_s = lag_s;
+    c.smoother.record_graph = true;
+  }
+  return c;
+}
+
+/// The epoch index of a smoothed state (states exist only for solved epochs).
+std::optional<std::size_t> epochIndex(const SimulatedFlight& f, const GnssTime& time, double rate_hz) {
+  const double dt = time - f.epochs.front().time;
+  const std::size_t k = static_cast<std::size_t>(std::max(0.0, std::round(dt * rate_hz)));
+  if (k < f.epochs.size() && f.epochs[k].time == time) return k;
+  std::optional<std::size_t> found;
+  for (std::size_t j = 0; j < f.epochs.size(); ++j)
+    if (f.epochs[j].time == time) found = j;
+  return found;
+}
+
+/// The smoothed solution's columns: its 3D errors, and its arcs' bias errors at
+/// the ages the filtered run sampled them.
+void recordSmoothed(const SimulatedFlight& f, const MonteCarloOptions& options, const SmoothedSolution& smoothed,
+                    const BiasSampler& sampler, std::size_t column, MonteCarloFlightRun& run) {
+  for (const auto& s : smoothed.trajectory)
+    if (const auto k = epochIndex(f, s.time, options.rate_hz)) run.error_3d_m[column][*k] = error3d(f, *k, s.state.position_ecef_m);
+  for (const auto& [arc, a] : sampler.arcs()) {
+    if (a.simulated_arc == 0 || a.ages.empty()) continue;
+    ++run.bias_arcs_compared;
+    if (a.missed_slip) ++run.bias_arcs_missed_slip;
+    const std::optional<double> b = smoothed.bias_m(a.satellite, arc);
+    if (!b) continue;
+    const double err = *b - a.truth_m;
+    for (float age : a.ages) run.bias[column].push_back({age, static_cast<float>(err)});
+  }
+}
+
+/// Runs studied estimator `study` (kMonteCarloStudy) on the flight, its solutions
+/// into the columns from `column` on. The first studied estimator's positions go
+/// to `reference`; an estimator that smooths is compared with them epoch by epoch
+/// (filtered_minus_ekf_m).
+void runStudiedEstimator(const SimulatedFlight& f, int index, const MonteCarloOptions& options,
+                         const PppConfig& flight_config, std::size_t study, std::size_t column,
+                         std::vector<std::optional<Eigen::Vector3d>>& reference, MonteCarloFlightRun& run) {
+  const EstimatorEntry& entry = *findEstimator(kMonteCarloStudy[study]);
+  const PppConfig config = studiedConfig(flight_config, entry, options.smoother_filtered_lag_s);
+  PppPipeline pipeline(memoryInputs(f, index), config);
+  const std::unique_ptr<EpochEstimator> estimator = entry.make(config);
+  BiasSampler sampler(f, options.bias_bin_s);
+  HeldIntegerChecker checker(f);
+  std::vector<double>& errors = run.error_3d_m[column];
+  std::vector<char>& fixed = run.fixed[study];
+  std::size_t k = 0;
+  const PppRunSummary summary = pipeline.run(*estimator, [&](const PppEpochRecord& rec) {
+    const std::optional<Eigen::Vector3d>& p = rec.solution.position_ecef_m;
+    errors[k] = error3d(f, k, p);
+    fixed[k] = rec.solution.status == SolutionStatus::PppFixed ? 1 : 0;
+    if (study == 0) reference[k] = p;
+    else if (entry.smoothed() && p && reference[k]) run.filtered_minus_ekf_m[k] = (*p - *reference[k]).norm();
+    sampler.epoch(k, rec, [&](ArcId a) { return estimator->core().biasEstimate_m(a); }, run.bias[column]);
+    checker.epoch(estimator->lastResult().ambiguity_fix, fixed[k] != 0, sampler.arcs(), run.held_check[study]);
+    ++k;
+  });
+  run.estimator_arcs = summary.arcs;  // the arc tracker's: the same front end in every run
+  run.slips_detected = summary.slips;
+  if (const SmoothedTrajectoryProvider* smoothing = estimator->smoothing())
+    recordSmoothed(f, options, smoothing->finalSmoothedSolution(), sampler, column + 1, run);
+}
+
+}  // namespace
+
 MonteCarloFlightRun runMonteCarloFlight(const MonteCarloOptions& options, int index) {
   MonteCarloFlightRun run;
   run.setup = monteCarloFlightSetup(options, index);
@@ -320,83 +396,14 @@ MonteCarloFlightRun runMonteCarloFlight(const MonteCarloOptions& options, int in
     for (auto& x : run.fixed) x.assign(f.epochs.size(), 0);
     run.filtered_minus_ekf_m.assign(f.epochs.size(), kNaN);
     const PppConfig config = flightPppConfig(options.ppp, f);
-
-    // EKF.
-    t0 = Clock::now();
-    std::vector<std::optional<Eigen::Vector3d>> ekf_positions(f.epochs.size());
-    {
-      PppPipeline pipeline(memoryInputs(f, index), config);
-      EkfEstimator ekf(config);
-      BiasSampler sampler(f, options.bias_bin_s);
-      HeldIntegerChecker checker(f);
-      std::size_t k = 0;
-      pipeline.run(ekf, [&](const PppEpochRecord& rec) {
-        run.error_3d_m[0][k] = error3d(f, k, rec.solution.position_ecef_m);
-        run.fixed[0][k] = rec.solution.status == SolutionStatus::PppFixed ? 1 : 0;
-        ekf_positions[k] = rec.solution.position_ecef_m;
-        sampler.epoch(k, rec, [&](ArcId a) { return ekf.filter().biasEstimate_m(a); }, run.bias[0]);
-        checker.epoch(ekf.lastResult().ambiguity_fix, run.fixed[0][k] != 0, sampler.arcs(), run.held_check[0]);
-        ++k;
-      });
+    std::vector<std::optional<Eigen::Vector3d>> reference(f.epochs.size());  // the first estimator's positions
+    std::size_t column = 0;
+    for (std::size_t study = 0; study < kMonteCarloStudy.size(); ++study) {
+      t0 = Clock::now();
+      runStudiedEstimator(f, index, options, config, study, column, reference, run);
+      run.estimator_s[study] = secondsSince(t0);
+      column += static_cast<std::size_t>(findEstimator(kMonteCarloStudy[study])->solutionCount());
     }
-    run.ekf_s = secondsSince(t0);
-
-    // Smoother: filtered during the run, smoothed after it.
-    t0 = Clock::now();
-    {
-      PppConfig smoother_config = config;
-      const bool lag = options.smoother_filtered_lag_s > 0.0;
-      if (lag) smoother_config.smoother.fixed_lag_s = options.smoother_filtered_lag_s;
-      PppPipeline pipeline(memoryInputs(f, index), smoother_config);
-      SmootherEstimator sm(smoother_config);
-      sm.smoother().setRecordGraph(lag);
-      BiasSampler sampler(f, options.bias_bin_s);
-      HeldIntegerChecker checker(f);
-      std::size_t k = 0;
-      const PppRunSummary summary = pipeline.run(sm, [&](const PppEpochRecord& rec) {
-        run.error_3d_m[1][k] = error3d(f, k, rec.solution.position_ecef_m);
-        run.fixed[1][k] = rec.solution.status == SolutionStatus::PppFixed ? 1 : 0;
-        if (rec.solution.position_ecef_m && ekf_positions[k])
-          run.filtered_minus_ekf_m[k] = (*rec.solution.position_ecef_m - *ekf_positions[k]).norm();
-        sampler.epoch(k, rec, [&](ArcId a) { return sm.smoother().biasEstimate_m(a); }, run.bias[1]);
-        checker.epoch(sm.lastResult().ambiguity_fix, run.fixed[1][k] != 0, sampler.arcs(), run.held_check[1]);
-        ++k;
-      });
-      run.estimator_arcs = summary.arcs;
-      run.slips_detected = summary.slips;
-      // Smoothed states and biases: the full smoother's estimate after the last epoch.
-      smoother::Values batch;
-      if (lag) batch = sm.smoother().batchSmoothedValues();
-      const smoother::ISAM2& isam = sm.smoother().isam2();
-      auto smoothedValue = [&](smoother::Key key) -> std::optional<smoother::Vector> {
-        if (lag) return batch.exists(key) ? std::optional<smoother::Vector>(batch.at(key)) : std::nullopt;
-        return isam.exists(key) ? std::optional<smoother::Vector>(isam.calculateEstimate(key)) : std::nullopt;
-      };
-      const std::vector<SmoothedEpoch> trajectory =
-          lag ? sm.smoother().trajectoryFrom(batch) : sm.smoother().smoothedTrajectory();
-      // Epoch index from the time (states only for solved epochs).
-      for (const auto& s : trajectory) {
-        const double dt = s.time - f.epochs.front().time;
-        std::size_t k2 = static_cast<std::size_t>(std::max(0.0, std::round(dt * options.rate_hz)));
-        if (k2 >= f.epochs.size() || !(f.epochs[k2].time == s.time)) {
-          k2 = f.epochs.size();
-          for (std::size_t j = 0; j < f.epochs.size(); ++j)
-            if (f.epochs[j].time == s.time) k2 = j;
-          if (k2 == f.epochs.size()) continue;
-        }
-        run.error_3d_m[2][k2] = error3d(f, k2, s.state.position_ecef_m);
-      }
-      for (const auto& [arc, a] : sampler.arcs()) {
-        if (a.simulated_arc == 0 || a.ages.empty()) continue;
-        ++run.bias_arcs_compared;
-        if (a.missed_slip) ++run.bias_arcs_missed_slip;
-        const std::optional<smoother::Vector> b = smoothedValue(biasKey(a.satellite, arc));
-        if (!b) continue;
-        const double err = (*b)(0) - a.truth_m;
-        for (float age : a.ages) run.bias[2].push_back({age, static_cast<float>(err)});
-      }
-    }
-    run.smoother_s = secondsSince(t0);
   } catch (const std::exception& e) {
     run.failure = e.what();
   }
@@ -426,8 +433,7 @@ MonteCarloSummary summarizeMonteCarlo(const std::vector<MonteCarloFlightRun>& fl
       ok.push_back(&f);
     }
     s.simulate_s += f.simulate_s;
-    s.ekf_s += f.ekf_s;
-    s.smoother_s += f.smoother_s;
+    for (std::size_t i = 0; i < s.estimator_s.size(); ++i) s.estimator_s[i] += f.estimator_s[i];
     s.bias_arcs_compared += f.bias_arcs_compared;
     s.bias_arcs_missed_slip += f.bias_arcs_missed_slip;
   }

@@ -46,7 +46,7 @@ class EkfPpp : public PppEstimatorBase {
   ReceiverCovariance receiverCovariance() const;
   int activeBiasCount() const { return static_cast<int>(f_.biases.size()); }
   std::vector<ArcId> activeArcs() const override;
-  std::optional<double> biasEstimate_m(ArcId arc) const;
+  std::optional<double> biasEstimate_m(ArcId arc) const override;
   std::optional<double> biasSigma_m(ArcId arc) const;
   /// Full state and covariance (receiver part first, then biases in activeArcs() order).
   const Eigen::VectorXd& stateVector() const { return f_.x; }

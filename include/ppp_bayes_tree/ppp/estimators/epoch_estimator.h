@@ -55,6 +55,8 @@ class EpochEstimator {
   virtual const PppEstimatorBase& core() const = 0;
   /// The smoothed trajectory of an estimator that smooths; nullptr for a filter.
   virtual const SmoothedTrajectoryProvider* smoothing() const { return nullptr; }
+  /// The last epoch's result, with its ambiguity summary.
+  virtual const EstimatorEpochResult& lastResult() const = 0;
 };
 
 /// The forward EKF-PPP (EkfPpp) as an EpochEstimator: ended arcs lose their bias.
@@ -69,8 +71,7 @@ class EkfEstimator : public EpochEstimator {
   void arcsEnded(const std::vector<EndedArc>& ended) override;
   const PppEstimatorBase& core() const override { return ekf_; }
   const EkfPpp& filter() const { return ekf_; }
-  /// The last epoch's result (with its ambiguity summary), as SmootherEstimator's.
-  const EstimatorEpochResult& lastResult() const { return last_; }
+  const EstimatorEpochResult& lastResult() const override { return last_; }
   void resolveAmbiguities(const EstimatorEpochInput& input, EstimatorEpochResult& r);
   /// The resolver (e.g. to hold an integer restored after a restart).
   AmbiguityResolver& resolver() { return ambiguity_; }
@@ -99,7 +100,7 @@ class SmootherEstimator : public EpochEstimator {
   const SmoothedTrajectoryProvider* smoothing() const override { return &smoother_; }
   const PppSmoother& smoother() const { return smoother_; }
   PppSmoother& smoother() { return smoother_; }
-  const EstimatorEpochResult& lastResult() const { return last_; }
+  const EstimatorEpochResult& lastResult() const override { return last_; }
   /// PPP-AR (when enabled): the EKF's decision path, AmbiguityResolver::resolveAndHold,
   /// on the smoother's float joint (PppSmoother::floatJoint: root clique, held
   /// fixes taken out); the held integers are held in the graph and one released

@@ -72,6 +72,9 @@ class PppEstimatorBase {
   const ReceiverStateLayout& layout() const { return layout_; }
   /// Arcs with a bias state after the last epoch.
   virtual std::vector<ArcId> activeArcs() const = 0;
+  /// Current estimate of an active arc's phase bias [m] (a smoother's: with all
+  /// data so far); nullopt for an arc without a bias state.
+  virtual std::optional<double> biasEstimate_m(ArcId arc) const = 0;
   const StochasticModel& stochasticModel() const { return model_; }
   /// Restarts after a failed update (from the last good state).
   int resets() const { return resets_; }

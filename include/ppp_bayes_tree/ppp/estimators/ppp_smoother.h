@@ -107,7 +107,7 @@ class PppSmoother : public PppEstimatorBase, public SmoothedTrajectoryProvider {
   int activeBiasCount() const { return static_cast<int>(arcs_.size()); }
   std::vector<ArcId> activeArcs() const override;
   /// Current (smoothed) estimate of an arc's bias while it is in the graph.
-  std::optional<double> biasEstimate_m(ArcId arc) const;
+  std::optional<double> biasEstimate_m(ArcId arc) const override;
   /// Current (smoothed) estimate of any arc's bias still in the graph, active or
   /// ended (full smoother: every arc; fixed lag: the arcs inside the window).
   std::optional<double> biasEstimate_m(const SatelliteId& satellite, ArcId arc) const;
@@ -127,6 +127,7 @@ class PppSmoother : public PppEstimatorBase, public SmoothedTrajectoryProvider {
   std::optional<double> smoothedBias_m(const SatelliteId& satellite, ArcId arc) const override {
     return biasEstimate_m(satellite, arc);
   }
+  SmoothedSolution finalSmoothedSolution() const override;
 
   const PppSmootherOptions& options() const { return options_; }
   const smoother::ISAM2& isam2() const;
@@ -204,6 +205,7 @@ class PppSmoother : public PppEstimatorBase, public SmoothedTrajectoryProvider {
 
   /// Keep a copy of every factor and new variable of the successful updates (call
   /// before the first epoch), for batchSmoothedValues(). Costs memory O(epochs).
+  /// Set from PppSmootherOptions::record_graph at construction.
   void setRecordGraph(bool record) { record_graph_ = record; }
   /// The MAP estimate of ALL recorded factors (every epoch, also those a fixed
   /// lag has marginalized) by a batch Gauss-Newton solve (batch_solver.h), started

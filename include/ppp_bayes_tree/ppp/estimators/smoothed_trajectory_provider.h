@@ -4,6 +4,7 @@
 // far. Users reach it through EpochEstimator::smoothing() (nullptr for a filter),
 // never by casting to a concrete estimator.
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <vector>
 
@@ -21,6 +22,14 @@ struct SmoothedEpoch {
   std::optional<ReceiverCovariance> covariance;
 };
 
+/// The smoothed solution of all the data of a run (finalSmoothedSolution).
+struct SmoothedSolution {
+  std::vector<SmoothedEpoch> trajectory;  // every solved epoch it holds, in time order
+  /// An arc's phase bias [m] in the solution; nullopt for an arc it does not hold.
+  /// Valid while the estimator that gave it lives.
+  std::function<std::optional<double>(const SatelliteId&, ArcId)> bias_m;
+};
+
 class SmoothedTrajectoryProvider {
  public:
   virtual ~SmoothedTrajectoryProvider() = default;
@@ -32,6 +41,12 @@ class SmoothedTrajectoryProvider {
   virtual double fixedLag_s() const = 0;
   /// Current estimate of an arc's bias while it is in the graph.
   virtual std::optional<double> smoothedBias_m(const SatelliteId& satellite, ArcId arc) const = 0;
+  /// After a run: the trajectory and the arcs' biases smoothed with all the data.
+  /// A full smoother: its current estimate (smoothedTrajectory, smoothedBias_m). A
+  /// fixed-lag smoother that keeps its whole graph (PppSmootherOptions::record_graph):
+  /// the batch solve of every factor, i.e. the full smoother's solution; without it,
+  /// its current estimate (states past the lag at their lag-boundary estimate).
+  virtual SmoothedSolution finalSmoothedSolution() const = 0;
 };
 
 }  // namespace ppp

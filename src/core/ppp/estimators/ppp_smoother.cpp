@@ -47,7 +47,9 @@ std::string PppSmootherOptions::validate() const {
 
 PppSmoother::PppSmoother(StochasticModel model, PppSmootherOptions options, CodeLeastSquaresOptions start_options,
                          ReceiverStateLayout layout)
-    : PppEstimatorBase(model, options.screening, start_options, layout), options_(options) {
+    : PppEstimatorBase(model, options.screening, start_options, layout),
+      options_(options),
+      record_graph_(options.record_graph) {
   if (auto problem = options_.validate(); !problem.empty()) throw std::invalid_argument(problem);
   if (auto problem = model_.validate(); !problem.empty()) throw std::invalid_argument(problem);
   newGraph();
@@ -104,6 +106,23 @@ smoother::Values PppSmoother::batchSmoothedValues() const {
   params.max_iterations = 20;
   params.absolute_delta_tolerance = 1e-6;  // [m]
   return smoother::optimizeBatch(recorded_factors_, initial, params).values;
+}
+
+SmoothedSolution PppSmoother::finalSmoothedSolution() const {
+  SmoothedSolution out;
+  if (!record_graph_) {
+    out.trajectory = smoothedTrajectory();
+    out.bias_m = [this](const SatelliteId& satellite, ArcId arc) { return biasEstimate_m(satellite, arc); };
+    return out;
+  }
+  auto values = std::make_shared<const smoother::Values>(batchSmoothedValues());
+  out.trajectory = trajectoryFrom(*values);
+  out.bias_m = [values](const SatelliteId& satellite, ArcId arc) -> std::optional<double> {
+    const Key key = biasKey(satellite, arc);
+    if (!values->exists(key)) return std::nullopt;
+    return values->at(key)(0);
+  };
+  return out;
 }
 
 std::vector<SmoothedEpoch> PppSmoother::trajectoryFrom(const smoother::Values& v) const {
