@@ -11,8 +11,8 @@
 // manifests follow from the table. The Monte Carlo study runs the estimators
 // that evaluation/monte_carlo.h kMonteCarloStudy names, through their factories
 // and the EpochEstimator interface (bias estimates by arc, the last result, and
-// for one that smooths its final smoothed solution): naming a new one there
-// adds its columns to the study.
+// for one that smooths its final smoothed solution); its solutions are the
+// study's columns (kMonteCarloEstimators).
 //
 // The table is a constant (no registration at static initialisation, no global
 // mutable state).
