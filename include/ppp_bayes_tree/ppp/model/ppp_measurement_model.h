@@ -171,6 +171,7 @@ struct MeasurementModelOptions {
   ReceiverFrequencySubstitution receiver_frequency_substitution = ReceiverFrequencySubstitution::Gps;
   bool shapiro = true;
   bool exclude_eclipse = true;    // reject satellites in the Earth's shadow (umbra or penumbra)
+  bool exclude_yaw_manoeuvre = true;  // reject satellites in a noon/midnight yaw turn (yaw_manoeuvre.h)
 };
 
 /// Phase wind-up state per satellite: the last value [cycles] and its arc, so

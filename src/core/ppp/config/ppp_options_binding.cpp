@@ -113,6 +113,7 @@ void bindMeasurementModelOptions(const YAML::Node& node, const std::string& file
         substitution == "none" ? ReceiverFrequencySubstitution::None : ReceiverFrequencySubstitution::Gps;
     m.shapiro = c.boolean("shapiro", m.shapiro);
     m.exclude_eclipse = c.boolean("exclude_eclipse", m.exclude_eclipse);
+    m.exclude_yaw_manoeuvre = c.boolean("exclude_yaw_manoeuvre", m.exclude_yaw_manoeuvre);
     c.finish();
   }
   readSignals(s.section("signals"), signals);

@@ -10,6 +10,7 @@
 #include "ppp_bayes_tree/models/relativity.h"
 #include "ppp_bayes_tree/models/satellite_attitude.h"
 #include "ppp_bayes_tree/models/satellite_eclipse.h"
+#include "ppp_bayes_tree/models/yaw_manoeuvre.h"
 #include "ppp_bayes_tree/models/satellite_reference_point.h"
 #include "ppp_bayes_tree/models/signal_geometry.h"
 #include "ppp_bayes_tree/models/solid_earth_tide.h"
@@ -408,6 +409,11 @@ bool PppMeasurementModel::satelliteAtEmission(SatelliteEvaluation& sv, const Epo
   const bool orbit_at_apc = orbit_reference != EphemerisReference::CentreOfMass;
   if (options_.exclude_eclipse && eclipseState(com_tx, epoch.sun_moon.sun_ecef_m) != EclipseState::Sunlit) {
     sv.reject(out, RejectionReason::Eclipse, "satellite in the Earth's shadow (eclipse)");
+    return false;
+  }
+  if (options_.exclude_yaw_manoeuvre && inYawManoeuvre(sat.system, com_tx, sv.orbit.velocity_ecef_mps,
+                                                       epoch.sun_moon.sun_ecef_m)) {
+    sv.reject(out, RejectionReason::YawManoeuvre, "satellite in a noon or midnight yaw turn (attitude not nominal)");
     return false;
   }
   sv.axes = nominalSatelliteAxes(com_tx, sv.orbit.velocity_ecef_mps, epoch.sun_moon.sun_ecef_m);
