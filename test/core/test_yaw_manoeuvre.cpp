@@ -46,6 +46,30 @@ TEST(YawManoeuvre, GpsRateLimitedNoonTurnWindowByHand) {
   EXPECT_FALSE(inYawManoeuvre(angles(-1.2, 90.0), kMuDot, gps));  // far from the turn points
 }
 
+// The rate-limited yaw at the same noon turn (beta = -1.2 deg, so it turns the
+// nominal way, +1 = -sign(beta)): psi_s = atan2(-tan beta, sin(pi + x_s)) =
+// atan2(0.020947, 0.033944) = 31.675 deg at x_s = -1.9455 deg (where it equals
+// the nominal one), then 0.11 deg/s
+// for (x - x_s) / mu_dot seconds (mu_dot = 0.0083566 deg/s):
+//   x = -1 deg: 31.675 + 0.11 * 113.1 s = 44.121 deg (nominal 50.200);
+//   x = +5 deg: 31.675 + 0.11 * 831.1 s = 123.101 deg (nominal 166.486);
+//   x = +11 deg: 202.08 deg would be past the nominal 173.74: caught up, nominal.
+TEST(YawManoeuvre, RateLimitedYawByHand) {
+  const YawManoeuvreLimits gps = *yawManoeuvreLimits(GnssSystem::GPS);
+  const auto yaw_deg = [&](double mu_deg) {
+    const std::optional<double> y = rateLimitedYaw_rad(angles(-1.2, mu_deg), kMuDot, gps);
+    return y ? *y * kRadToDeg : std::nan("");
+  };
+  EXPECT_NEAR(yaw_deg(180.0 - 1.0), 44.121, 0.01);
+  EXPECT_NEAR(yaw_deg(-180.0 + 5.0), 123.101, 0.01);
+  EXPECT_FALSE(rateLimitedYaw_rad(angles(-1.2, -180.0 + 11.0), kMuDot, gps).has_value());
+  EXPECT_FALSE(rateLimitedYaw_rad(angles(-1.2, 180.0 - 3.0), kMuDot, gps).has_value());  // before the turn
+  // beta > 0 at noon turns the other way: the mirror image.
+  EXPECT_NEAR(*rateLimitedYaw_rad(angles(1.2, -180.0 + 5.0), kMuDot, gps) * kRadToDeg, -123.101, 0.01);
+  // Galileo has no rate model.
+  EXPECT_FALSE(rateLimitedYaw_rad(angles(-1.2, 180.0), kMuDot, *yawManoeuvreLimits(GnssSystem::Galileo)).has_value());
+}
+
 TEST(YawManoeuvre, GalileoSmoothedYawWindow) {
   const YawManoeuvreLimits gal = *yawManoeuvreLimits(GnssSystem::Galileo);
   EXPECT_TRUE(inYawManoeuvre(angles(4.0, 170.0), kMuDot, gal));
