@@ -20,8 +20,14 @@
 // smoothed one when |beta| is small near noon and midnight (European GNSS
 // Service Centre 2017, "Galileo IOV and FOC satellite metadata": FOC |beta| <
 // 4.1 deg within 10 deg of the turn point, IOV |beta| < 2 deg within 15 deg).
-// Both are limits per system below (the slowest block of each); a satellite
-// inside its window is left out of the epoch, like one in the Earth's shadow.
+// Both are limits per system below (the slowest block of each). Inside its
+// window a GPS satellite takes the rate-limited yaw (rateLimitedYaw_rad); the
+// measurement model leaves a satellite without such a model (Galileo) out of
+// the epoch, like one in the Earth's shadow (MeasurementModelOptions::
+// yaw_manoeuvre). Midnight turns happen mostly in the Earth's shadow, whose
+// satellites are rejected anyway; after the shadow exit the same rate-limited
+// form stands in for the blocks' eclipse behaviour (Kouba 2009 models the IIA
+// and IIR ones; a Block IIF turns at 0.06 deg/s in the shadow, Dilssner 2010).
 #include <optional>
 
 #include <Eigen/Core>

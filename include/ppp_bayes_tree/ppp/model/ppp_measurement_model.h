@@ -106,7 +106,6 @@ enum class TroposphereMapping {
   Gmf,
 };
 
-/// What to do about the receiver antenna calibration (PCO + PCV).
 /// The attitude of a satellite in a noon or midnight yaw turn (models/yaw_manoeuvre.h).
 enum class YawManoeuvreHandling {
   Model,    // GPS: the rate-limited yaw (Kouba 2009); a system without a yaw model (Galileo) is rejected in its window
@@ -115,6 +114,7 @@ enum class YawManoeuvreHandling {
 };
 std::string_view yawManoeuvreHandlingName(YawManoeuvreHandling handling);  // model | exclude | nominal
 
+/// What to do about the receiver antenna calibration (PCO + PCV).
 enum class ReceiverAntennaPolicy {
   Required,  // a satellite without it is rejected ("missing receiver antenna calibration")
   Warn,      // go on without it when missing, reported once
