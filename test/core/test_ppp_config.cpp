@@ -98,6 +98,7 @@ void expectSameConfig(const PppConfig& c, const PppConfig& d) {
   EXPECT_EQ(c.model.receiver_antenna, d.model.receiver_antenna);
   EXPECT_EQ(c.model.shapiro, d.model.shapiro);
   EXPECT_EQ(c.model.exclude_eclipse, d.model.exclude_eclipse);
+  EXPECT_EQ(c.model.yaw_manoeuvre, d.model.yaw_manoeuvre);
   EXPECT_EQ(c.signals.systems, d.signals.systems);
   EXPECT_EQ(c.signals.systems_from_products, d.signals.systems_from_products);
   EXPECT_EQ(c.signals.require_code_osb, d.signals.require_code_osb);

@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <map>
 
 #include <Eigen/Dense>
 
@@ -402,9 +403,12 @@ struct EsbcGalileoEpoch {
   std::vector<DualFrequencyObservation> obs;
   std::vector<ArcId> arcs;
   ReceiverState state{ReceiverStateLayout({GnssSystem::GPS, GnssSystem::Galileo})};
+  GnssTime time;
 
   static std::string esbc(const std::string& file) { return test::dataPath("esbc-2020-177/" + file); }
-  explicit EsbcGalileoEpoch(ReceiverFrequencySubstitution substitution)
+  /// The epoch_index-th epoch of the day (30 s: 1410 = 11:45:00).
+  explicit EsbcGalileoEpoch(ReceiverFrequencySubstitution substitution,
+                            YawManoeuvreHandling yaw = YawManoeuvreHandling::Model, int epoch_index = 1)
       : reader(std::make_unique<RinexObsReader>(RinexObsReader::open(esbc("ESBC00DNK_R_20201770000_01D_30S_MO.crx.gz")))),
         products(PreciseEphemeris::load({esbc("GRG0MGXFIN_20201770000_01D_15M_ORB.SP3.gz")},
                                         {esbc("GRG0MGXFIN_20201770000_01D_30S_CLK.CLK.gz")})) {
@@ -413,6 +417,7 @@ struct EsbcGalileoEpoch {
       antex.push_back({name, readAntexFile(test::dataPath("antex/" + name))});
     MeasurementModelOptions options;
     options.receiver_frequency_substitution = substitution;
+    options.yaw_manoeuvre = yaw;
     model = std::make_unique<PppMeasurementModel>(products, std::make_shared<AntexCalibrations>(std::move(antex)),
                                                   ReceiverAntenna::fromHeader(reader->header()), nullptr, options);
     SignalSelectionOptions selection;
@@ -420,17 +425,18 @@ struct EsbcGalileoEpoch {
     selection.systems_from_products = false;
     SignalSelector selector(reader->header(), selection, nullptr);
     ObsEpoch epoch;
-    reader->next(epoch);
-    reader->next(epoch);
+    for (int i = 0; i <= epoch_index; ++i) reader->next(epoch);
+    time = epoch.time;
     obs = selector.select(epoch).observations;
     for (std::size_t i = 0; i < obs.size(); ++i) arcs.push_back(static_cast<ArcId>(i + 1));
     state.position_ecef_m = *reader->header().approx_position_ecef_m;
     state.zwd_m = 0.1;
   }
-  /// Terms of the used satellites of one system.
-  std::vector<ModelTerms> terms(GnssSystem system) const {
+  /// Terms of the used satellites of one system (and the epoch's measurements).
+  std::vector<ModelTerms> terms(GnssSystem system, EpochMeasurements* measurements = nullptr) const {
     std::vector<ModelTerms> all, out;
-    EpochMeasurements em;
+    EpochMeasurements local;
+    EpochMeasurements& em = measurements ? *measurements : local;
     model->evaluate(obs, arcs, state, nullptr, em, &all);
     for (const auto& t : all)
       if (t.satellite.system == system) out.push_back(t);
@@ -485,6 +491,49 @@ TEST(PppMeasurementModel, GalileoTakesTheGpsReceiverCalibrationOnEsbc) {
   const auto& missing = none.model->receiverAntennaWarnings();
   ASSERT_EQ(missing.size(), 1u);
   EXPECT_EQ(missing[0].find("missing receiver antenna calibration for ASH701945E_M SCIS E01/E05"), 0u) << missing[0];
+}
+
+// G26 (Block IIF) on the ESBC day passed orbit noon at beta = -1.2 deg near
+// 11:40 (GRG orbit): its nominal yaw swings through 180 deg at up to 0.4 deg/s,
+// the satellite turns at 0.11 deg/s (yaw_manoeuvre.h). At 11:45:00 (x = +2.3
+// deg past noon) the rate-limited yaw, 31.7 deg at the turn's start x_s =
+// -1.945 deg plus 0.11 deg/s over (1.945 + 2.3) / 0.0083566 = 508 s, is 87 deg,
+// the nominal one atan2(-tan beta, sin mu) = 152 deg: 65 deg apart, a wind-up
+// difference of about 65 / 360 = 0.18 cycle. Satellites far from their turn
+// are modelled the same either way; "exclude" leaves G26 out with the reason.
+TEST(PppMeasurementModel, NoonTurnOfG26OnEsbcTakesTheRateLimitedYaw) {
+  PPP_REQUIRE_SHARED_DATA();
+  EsbcGalileoEpoch model(ReceiverFrequencySubstitution::Gps, YawManoeuvreHandling::Model, 1410);
+  EsbcGalileoEpoch nominal(ReceiverFrequencySubstitution::Gps, YawManoeuvreHandling::Nominal, 1410);
+  EsbcGalileoEpoch exclude(ReceiverFrequencySubstitution::Gps, YawManoeuvreHandling::Exclude, 1410);
+  ASSERT_EQ(model.time.toCalendar().hour, 11);
+  ASSERT_EQ(model.time.toCalendar().minute, 45);
+  const auto by_satellite = [](const std::vector<ModelTerms>& terms) {
+    std::map<std::string, ModelTerms> m;
+    for (const ModelTerms& t : terms) m[t.satellite.toString()] = t;
+    return m;
+  };
+  const auto m = by_satellite(model.terms(GnssSystem::GPS));
+  const auto n = by_satellite(nominal.terms(GnssSystem::GPS));
+  ASSERT_TRUE(m.count("G26") && n.count("G26"));
+  const double dwindup = std::remainder(m.at("G26").windup_cycles - n.at("G26").windup_cycles, 1.0);
+  EXPECT_GT(std::abs(dwindup), 0.12);
+  EXPECT_LT(std::abs(dwindup), 0.24);
+  EXPECT_GT((m.at("G26").satellite_reference_offset_ecef_m - n.at("G26").satellite_reference_offset_ecef_m).norm(),
+            0.1);  // the IIF's 0.39 m x offset turned by 65 deg: 2 * 0.39 * sin(32.5 deg) = 0.42 m in the IF
+  for (const auto& [sat, t] : n) {
+    if (sat == "G26") continue;
+    ASSERT_TRUE(m.count(sat)) << sat;
+    EXPECT_EQ(m.at(sat).windup_cycles, t.windup_cycles) << sat;
+  }
+  EpochMeasurements excluded;
+  const auto e = by_satellite(exclude.terms(GnssSystem::GPS, &excluded));
+  EXPECT_FALSE(e.count("G26"));
+  EXPECT_EQ(e.size(), n.size() - 1);
+  bool named = false;
+  for (const RejectedSatellite& r : excluded.rejected)
+    named = named || (r.satellite.toString() == "G26" && r.reason == RejectionReason::YawManoeuvre);
+  EXPECT_TRUE(named);
 }
 
 }  // namespace

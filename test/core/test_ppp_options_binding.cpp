@@ -29,6 +29,7 @@ TEST(PppOptionsBinding, EmptySectionsKeepTheStructDefaults) {
   EXPECT_EQ(c.model.dry_troposphere, m.dry_troposphere);
   EXPECT_TRUE(c.model.solid_earth_tide && c.model.ocean_loading && c.model.phase_windup && c.model.shapiro &&
               c.model.satellite_antenna && c.model.receiver_antenna == ReceiverAntennaPolicy::Warn && c.model.exclude_eclipse);
+  EXPECT_EQ(c.model.yaw_manoeuvre, YawManoeuvreHandling::Model);
   const SignalSelectionOptions s;
   EXPECT_EQ(c.signals.systems, s.systems);
   EXPECT_EQ(c.signals.priorities[GnssSystem::GPS].code1_attributes, s.priorities[GnssSystem::GPS].code1_attributes);
@@ -58,6 +59,7 @@ measurement_model:
     receiver_antenna: false
     shapiro: false
     exclude_eclipse: false
+    yaw_manoeuvre: nominal
   signals:
     systems: [Galileo, GPS]
     require_code_osb: false
@@ -73,6 +75,9 @@ measurement_model:
   EXPECT_EQ(c.model.mapping, TroposphereMapping::ModifiedHopfield);  // the default is gmf
   EXPECT_FALSE(c.model.solid_earth_tide || c.model.ocean_loading || c.model.phase_windup || c.model.shapiro ||
                c.model.satellite_antenna || c.model.receiver_antenna != ReceiverAntennaPolicy::Off || c.model.exclude_eclipse);
+  EXPECT_EQ(c.model.yaw_manoeuvre, YawManoeuvreHandling::Nominal);
+  EXPECT_EQ(parsePppConfig("measurement_model: {corrections: {yaw_manoeuvre: exclude}}\n", "y.yaml").model.yaw_manoeuvre,
+            YawManoeuvreHandling::Exclude);
   EXPECT_EQ(c.signals.systems, (std::vector<GnssSystem>{GnssSystem::Galileo, GnssSystem::GPS}));
   EXPECT_FALSE(c.signals.require_code_osb);
   EXPECT_EQ(c.signals.phase_shift, PhaseShiftHandling::RestoreOriginal);

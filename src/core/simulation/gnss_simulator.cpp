@@ -233,6 +233,7 @@ MeasurementModelOptions simulationModelOptions() {
   o.satellite_antenna = false;  // no ANTEX in the simulation
   o.receiver_antenna = ReceiverAntennaPolicy::Off;
   o.exclude_eclipse = false;
+  o.yaw_manoeuvre = YawManoeuvreHandling::Nominal;  // the simulated attitude is the nominal one
   o.phase_windup = true;
   o.shapiro = true;
   o.dry_troposphere = DryTroposphereModel::ModifiedHopfield;

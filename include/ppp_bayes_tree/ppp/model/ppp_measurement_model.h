@@ -106,6 +106,14 @@ enum class TroposphereMapping {
   Gmf,
 };
 
+/// The attitude of a satellite in a noon or midnight yaw turn (models/yaw_manoeuvre.h).
+enum class YawManoeuvreHandling {
+  Model,    // GPS: the rate-limited yaw (Kouba 2009); a system without a yaw model (Galileo) is rejected in its window
+  Exclude,  // every satellite in its turn window is rejected
+  Nominal,  // nominal yaw steering throughout (the simulator's attitude)
+};
+std::string_view yawManoeuvreHandlingName(YawManoeuvreHandling handling);  // model | exclude | nominal
+
 /// What to do about the receiver antenna calibration (PCO + PCV).
 enum class ReceiverAntennaPolicy {
   Required,  // a satellite without it is rejected ("missing receiver antenna calibration")
@@ -171,6 +179,7 @@ struct MeasurementModelOptions {
   ReceiverFrequencySubstitution receiver_frequency_substitution = ReceiverFrequencySubstitution::Gps;
   bool shapiro = true;
   bool exclude_eclipse = true;    // reject satellites in the Earth's shadow (umbra or penumbra)
+  YawManoeuvreHandling yaw_manoeuvre = YawManoeuvreHandling::Model;  // noon/midnight turns (yaw_manoeuvre.h)
 };
 
 /// Phase wind-up state per satellite: the last value [cycles] and its arc, so
@@ -247,7 +256,8 @@ class PppMeasurementModel {
   ///  3. observedCombinations: the receiver clock of the system and the
   ///     observed IF code and phase;
   ///  4. satelliteAtEmission: clock and orbit at the emission time, eclipse,
-  ///     nominal attitude, satellite antenna offset (IF);
+  ///     attitude (satelliteAttitude: nominal, or a noon/midnight turn),
+  ///     satellite antenna offset (IF);
   ///  5. signalGeometry: Earth rotation during the flight, line of sight,
   ///     elevation and azimuth, elevation cutoff;
   ///  6. phaseCentreVariations: receiver and satellite PCV (IF);
@@ -333,6 +343,7 @@ class PppMeasurementModel {
   bool observedCombinations(SatelliteEvaluation& sv, const EpochTerms& epoch, const ReceiverState& state,
                             EpochMeasurements& out) const;
   bool satelliteAtEmission(SatelliteEvaluation& sv, const EpochTerms& epoch, EpochMeasurements& out) const;
+  bool satelliteAttitude(SatelliteEvaluation& sv, const EpochTerms& epoch, EpochMeasurements& out) const;
   bool signalGeometry(SatelliteEvaluation& sv, const EpochTerms& epoch, EpochMeasurements& out) const;
   bool phaseCentreVariations(SatelliteEvaluation& sv, EpochMeasurements& out) const;
   void troposphereMapping(SatelliteEvaluation& sv, const EpochTerms& epoch) const;

@@ -15,6 +15,7 @@ enum class RejectionReason {
   NoClock,                // no satellite clock in the products at the epoch
   NoOrbit,                // no satellite orbit in the products at the epoch
   Eclipse,                // satellite in the Earth's shadow
+  YawManoeuvre,           // satellite in a noon or midnight yaw turn (attitude not the nominal one)
   MissingAntennaCalibration,  // receiver or satellite antenna calibration missing
   UndefinedPhaseCentreVariation,  // PCV undefined at the zenith / nadir angle
   BelowElevationCutoff,

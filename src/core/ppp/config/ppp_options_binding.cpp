@@ -113,6 +113,11 @@ void bindMeasurementModelOptions(const YAML::Node& node, const std::string& file
         substitution == "none" ? ReceiverFrequencySubstitution::None : ReceiverFrequencySubstitution::Gps;
     m.shapiro = c.boolean("shapiro", m.shapiro);
     m.exclude_eclipse = c.boolean("exclude_eclipse", m.exclude_eclipse);
+    const std::string yaw = c.choice("yaw_manoeuvre", std::string(yawManoeuvreHandlingName(m.yaw_manoeuvre)),
+                                     {"model", "exclude", "nominal"});
+    m.yaw_manoeuvre = yaw == "exclude"   ? YawManoeuvreHandling::Exclude
+                      : yaw == "nominal" ? YawManoeuvreHandling::Nominal
+                                         : YawManoeuvreHandling::Model;
     c.finish();
   }
   readSignals(s.section("signals"), signals);

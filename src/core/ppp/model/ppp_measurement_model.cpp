@@ -10,6 +10,7 @@
 #include "ppp_bayes_tree/models/relativity.h"
 #include "ppp_bayes_tree/models/satellite_attitude.h"
 #include "ppp_bayes_tree/models/satellite_eclipse.h"
+#include "ppp_bayes_tree/models/yaw_manoeuvre.h"
 #include "ppp_bayes_tree/models/satellite_reference_point.h"
 #include "ppp_bayes_tree/models/signal_geometry.h"
 #include "ppp_bayes_tree/models/solid_earth_tide.h"
@@ -410,7 +411,7 @@ bool PppMeasurementModel::satelliteAtEmission(SatelliteEvaluation& sv, const Epo
     sv.reject(out, RejectionReason::Eclipse, "satellite in the Earth's shadow (eclipse)");
     return false;
   }
-  sv.axes = nominalSatelliteAxes(com_tx, sv.orbit.velocity_ecef_mps, epoch.sun_moon.sun_ecef_m);
+  if (!satelliteAttitude(sv, epoch, out)) return false;
   sv.apc_tx = com_tx;
   if (!options_.satellite_antenna) return true;
   const AntennaCalibration* cal = satelliteCalibration(sat, epoch.t_rx);
@@ -438,6 +439,38 @@ bool PppMeasurementModel::satelliteAtEmission(SatelliteEvaluation& sv, const Epo
     ++l1_reference_without_calibration_[static_cast<std::size_t>(sat.index())];
   }
   return true;
+}
+
+std::string_view yawManoeuvreHandlingName(YawManoeuvreHandling handling) {
+  switch (handling) {
+    case YawManoeuvreHandling::Model: return "model";
+    case YawManoeuvreHandling::Exclude: return "exclude";
+    case YawManoeuvreHandling::Nominal: return "nominal";
+  }
+  return "model";
+}
+
+// Step 4b: the body axes: nominal yaw steering, or in a noon/midnight turn the
+// rate-limited yaw of the system's model, or the satellite left out (yaw_manoeuvre.h).
+bool PppMeasurementModel::satelliteAttitude(SatelliteEvaluation& sv, const EpochTerms& epoch,
+                                            EpochMeasurements& out) const {
+  const Eigen::Vector3d& r = sv.orbit.position_ecef_m;
+  const Eigen::Vector3d& v = sv.orbit.velocity_ecef_mps;
+  const Eigen::Vector3d& sun = epoch.sun_moon.sun_ecef_m;
+  sv.axes = nominalSatelliteAxes(r, v, sun);
+  if (options_.yaw_manoeuvre == YawManoeuvreHandling::Nominal) return true;
+  const std::optional<YawManoeuvreLimits> limits = yawManoeuvreLimits(sv.o.satellite.system);
+  if (!limits) return true;
+  const OrbitSunAngles angles = orbitSunAngles(r, v, sun);
+  const double orbit_rate_radps = orbitAngularRate_radps(r, v);
+  if (!inYawManoeuvre(angles, orbit_rate_radps, *limits)) return true;
+  if (options_.yaw_manoeuvre == YawManoeuvreHandling::Model && limits->max_yaw_rate_radps > 0.0) {
+    if (const std::optional<double> yaw_rad = rateLimitedYaw_rad(angles, orbit_rate_radps, *limits))
+      sv.axes = satelliteAxesFromYaw(r, v, *yaw_rad);
+    return true;
+  }
+  sv.reject(out, RejectionReason::YawManoeuvre, "satellite in a noon or midnight yaw turn (attitude not modelled)");
+  return false;
 }
 
 // Step 5: Earth rotation during the flight (Sagnac): rotate by omega_e tau, tau =

@@ -11,6 +11,7 @@ std::string toString(RejectionReason reason) {
     case RejectionReason::NoClock: return "no clock";
     case RejectionReason::NoOrbit: return "no orbit";
     case RejectionReason::Eclipse: return "satellite in the Earth's shadow";
+    case RejectionReason::YawManoeuvre: return "satellite in a yaw manoeuvre";
     case RejectionReason::MissingAntennaCalibration: return "missing antenna calibration";
     case RejectionReason::UndefinedPhaseCentreVariation: return "PCV undefined";
     case RejectionReason::BelowElevationCutoff: return "elevation below cutoff";
