@@ -98,17 +98,24 @@ TEST(SignalSelection, Zim2WithoutBiasFileReportsTheConvention) {
   EXPECT_NE(r.notes[0].find("G05"), std::string::npos) << r.notes[0];
 }
 
-TEST(SignalSelection, Ccj2GpsAndGalileoWithWumOsb) {
-  PPP_REQUIRE_SHARED_DATA();
+/// The first CCJ2 epoch through a selector of `systems` with WUM's OSBs (`epoch`: that epoch).
+SignalSelectionResult selectFirstCcj2Epoch(const std::vector<GnssSystem>& systems, ObsEpoch& epoch,
+                                           RinexObsHeader* header = nullptr) {
   auto reader = RinexObsReader::open(test::dataPath(kCcj2Obs));
   const BiasSinexFile bias_file = readBiasSinexFile(test::dataPath(kCcj2Bia));
   const SinexBiasProvider bias(bias_file, kCcj2Bia);
-  ObsEpoch epoch;
-  ASSERT_TRUE(reader.next(epoch));
+  EXPECT_TRUE(reader.next(epoch));
   SignalSelectionOptions options;
-  options.systems = {GnssSystem::GPS, GnssSystem::Galileo};
+  options.systems = systems;
   SignalSelector selector(reader.header(), options, &bias);
-  const auto r = selector.select(epoch);
+  if (header != nullptr) *header = reader.header();
+  return selector.select(epoch);
+}
+
+TEST(SignalSelection, Ccj2GpsAndGalileoWithWumOsb) {
+  PPP_REQUIRE_SHARED_DATA();
+  ObsEpoch epoch;
+  const auto r = selectFirstCcj2Epoch({GnssSystem::GPS, GnssSystem::Galileo}, epoch);
   int gps = 0, galileo = 0;
   for (const auto& o : r.observations) {
     if (o.satellite.system == GnssSystem::GPS) {
@@ -241,16 +248,10 @@ TEST(SignalSelection, GlonassFrequenciesPerSatelliteFromTheChannel) {
 // C2P -.205540E+01 ns).
 TEST(SignalSelection, Ccj2GlonassWithWumOsb) {
   PPP_REQUIRE_SHARED_DATA();
-  auto reader = RinexObsReader::open(test::dataPath(kCcj2Obs));
-  const BiasSinexFile bias_file = readBiasSinexFile(test::dataPath(kCcj2Bia));
-  const SinexBiasProvider bias(bias_file, kCcj2Bia);
   ObsEpoch epoch;
-  ASSERT_TRUE(reader.next(epoch));
-  EXPECT_EQ(reader.header().glonass_channels.channel(5), 1);
-  SignalSelectionOptions options;
-  options.systems = {GnssSystem::GLONASS};
-  SignalSelector selector(reader.header(), options, &bias);
-  const auto r = selector.select(epoch);
+  RinexObsHeader header;
+  const auto r = selectFirstCcj2Epoch({GnssSystem::GLONASS}, epoch, &header);
+  EXPECT_EQ(header.glonass_channels.channel(5), 1);
   EXPECT_GE(r.observations.size(), 4u);
   const auto* r05 = findObs(r, "R05");
   ASSERT_NE(r05, nullptr);

@@ -453,19 +453,43 @@ SystemReceiver gpsGalileoGlonassReceiver(const SatelliteId& sat) {
   }
 }
 
+/// The float inputs of a synthetic multi-system run.
+struct SyntheticInputs {
+  TableBiases osb;
+  Eigen::VectorXd truth;
+  Eigen::MatrixXd P;
+  std::vector<ArcId> bias_arcs;
+};
+
+/// A synthetic run of `arcs` (gpsGalileoGlonassReceiver): the truth, the OSBs, the
+/// float covariance, and a resolver (at least 3 narrow lanes) fed with 60 epochs.
+struct SyntheticResolution {
+  static constexpr int kReceiverDim = 5;
+  SyntheticInputs inputs;
+  AmbiguityResolver resolver;
+  static AmbiguityResolutionOptions options() {
+    AmbiguityResolutionOptions opt;
+    opt.enabled = true;
+    opt.narrow_lane.min_fixed = 3;
+    return opt;
+  }
+  explicit SyntheticResolution(const std::vector<SystemArc>& arcs) : resolver(options()) {
+    inputs.truth = syntheticTruth(arcs, gpsGalileoGlonassReceiver, kReceiverDim, inputs.osb);
+    feedSyntheticEpochs(resolver, arcs, gpsGalileoGlonassReceiver, inputs.osb, 5);
+    inputs.P = floatCovariance(kReceiverDim, static_cast<int>(arcs.size()));
+    for (const SystemArc& a : arcs) inputs.bias_arcs.push_back(a.arc);
+  }
+};
+
 TEST(AmbiguityResolver, GpsAndGalileoEachHaveTheirOwnReference) {
   const std::vector<SystemArc>& arcs = kGpsGalileoArcs;
-  TableBiases osb;
-  const int receiver_dim = 5, n = static_cast<int>(arcs.size());
-  const Eigen::VectorXd truth = syntheticTruth(arcs, gpsGalileoGlonassReceiver, receiver_dim, osb);
-  AmbiguityResolutionOptions opt;
-  opt.enabled = true;
-  opt.narrow_lane.min_fixed = 3;
-  AmbiguityResolver resolver(opt);
-  feedSyntheticEpochs(resolver, arcs, gpsGalileoGlonassReceiver, osb, 5);
-  const Eigen::MatrixXd P = floatCovariance(receiver_dim, n);
-  std::vector<ArcId> bias_arcs;
-  for (const SystemArc& a : arcs) bias_arcs.push_back(a.arc);
+  SyntheticResolution run(arcs);
+  const int receiver_dim = SyntheticResolution::kReceiverDim, n = static_cast<int>(arcs.size());
+  const TableBiases& osb = run.inputs.osb;
+  const Eigen::VectorXd& truth = run.inputs.truth;
+  const Eigen::MatrixXd& P = run.inputs.P;
+  const std::vector<ArcId>& bias_arcs = run.inputs.bias_arcs;
+  AmbiguityResolver& resolver = run.resolver;
   const auto checkWithinSystems = [&](const AmbiguityFixedState& fixed, const char* what) {
     for (int i = 0; i < n; ++i)
       for (int j = 0; j < n; ++j) {
@@ -516,17 +540,13 @@ TEST(AmbiguityResolver, GlonassArcsStayFloatBesideGpsAndGalileo) {
   arcs.push_back({9, {GnssSystem::GLONASS, 9}, 21, 4, 0.05, -0.03});    // k = 1
   arcs.push_back({10, {GnssSystem::GLONASS, 4}, -11, 7, -0.02, 0.08});  // k = -4
   arcs.push_back({11, {GnssSystem::GLONASS, 14}, 40, -2, 0.1, 0.0});    // k = 6
-  const int receiver_dim = 5, n = static_cast<int>(arcs.size());
-  TableBiases osb;
-  const Eigen::VectorXd truth = syntheticTruth(arcs, gpsGalileoGlonassReceiver, receiver_dim, osb);
-  AmbiguityResolutionOptions opt;
-  opt.enabled = true;
-  opt.narrow_lane.min_fixed = 3;
-  AmbiguityResolver resolver(opt);
-  feedSyntheticEpochs(resolver, arcs, gpsGalileoGlonassReceiver, osb, 5);
-  const Eigen::MatrixXd P = floatCovariance(receiver_dim, n);
-  std::vector<ArcId> bias_arcs;
-  for (const SystemArc& a : arcs) bias_arcs.push_back(a.arc);
+  SyntheticResolution run(arcs);
+  const int receiver_dim = SyntheticResolution::kReceiverDim;
+  const TableBiases& osb = run.inputs.osb;
+  const Eigen::VectorXd& truth = run.inputs.truth;
+  const Eigen::MatrixXd& P = run.inputs.P;
+  const std::vector<ArcId>& bias_arcs = run.inputs.bias_arcs;
+  AmbiguityResolver& resolver = run.resolver;
   AmbiguityFixSummary summary;
   const auto fixed = resolver.resolve(truth, P, receiver_dim, bias_arcs, &osb, summary);
   ASSERT_TRUE(fixed.has_value()) << summary.text();
