@@ -74,3 +74,29 @@ TEST(IonosphereFree, OffsetCombination) {
   EXPECT_LT((ionosphereFreeOffset(a, a, k) - a).norm(), 1e-15);
   EXPECT_NEAR(ionosphereFreeOffset(a, b, k).z(), 2.5457 * 0.090 - 1.5457 * 0.120, 1e-5);
 }
+
+// GLONASS FDMA (GLONASS ICD 5.1, sec. 3.3.1.4): G1 = 1602 + 0.5625 k MHz, G2 = 1246 +
+// 0.4375 k MHz, so f1 / f2 = 9 / 7 on every channel: the IF coefficients are
+// 81/32 and -49/32 for all k, while the wavelengths, and with them the IF phase of
+// given cycles and the IF ambiguity's wavelength c / (f1 + f2), are per channel.
+TEST(IonosphereFree, GlonassCoefficientsPerChannel) {
+  EXPECT_DOUBLE_EQ(*carrierFrequency_hz(GnssSystem::GLONASS, '1', 1), 1602.5625e6);
+  EXPECT_DOUBLE_EQ(*carrierFrequency_hz(GnssSystem::GLONASS, '2', 1), 1246.4375e6);
+  EXPECT_FALSE(carrierFrequency_hz(GnssSystem::GLONASS, '1').has_value());  // no channel: no frequency
+  double previous_wavelength_m = 0.0;
+  for (int k = -7; k <= 6; ++k) {
+    const double f1 = *carrierFrequency_hz(GnssSystem::GLONASS, '1', k);
+    const double f2 = *carrierFrequency_hz(GnssSystem::GLONASS, '2', k);
+    const IonosphereFreeCoefficients c = ionosphereFreeCoefficients(f1, f2);
+    EXPECT_NEAR(c.alpha, 81.0 / 32.0, 1e-12) << k;
+    EXPECT_NEAR(c.beta, -49.0 / 32.0, 1e-12) << k;
+    // The same cycles give a different IF phase in metres on each channel.
+    const double if_m = ionosphereFree(1.0e8 * kSpeedOfLight_mps / f1, 0.8e8 * kSpeedOfLight_mps / f2, c);
+    const double wavelength_m = kSpeedOfLight_mps / (f1 + f2);
+    EXPECT_NEAR(if_m, (81.0 * 1.0e8 / f1 - 49.0 * 0.8e8 / f2) / 32.0 * kSpeedOfLight_mps, 1e-6) << k;
+    if (k > -7) EXPECT_LT(wavelength_m, previous_wavelength_m) << k;  // higher channel, shorter wavelength
+    previous_wavelength_m = wavelength_m;
+  }
+  // k = 0: c / (1602 + 1246 MHz) = 0.105262 m (c = 299792458 m/s).
+  EXPECT_NEAR(kSpeedOfLight_mps / (1602.0e6 + 1246.0e6), 0.105264, 1e-5);
+}

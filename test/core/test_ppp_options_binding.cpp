@@ -92,6 +92,28 @@ measurement_model:
   EXPECT_EQ(n.model.mapping, TroposphereMapping::Niell);
 }
 
+TEST(PppOptionsBinding, GlonassIsListedByNameOrLetterWithItsPriorities) {
+  const PppConfig c = parsePppConfig(R"(
+measurement_model:
+  signals:
+    systems: [GPS, Galileo, GLONASS]
+    glonass: {code1: [C], code2: [C, P], phase1: [C], phase2: [C], code_sigma_factor: 5}
+)", "g.yaml");
+  EXPECT_FALSE(c.signals.systems_from_products);
+  EXPECT_EQ(c.signals.systems, (std::vector<GnssSystem>{GnssSystem::GPS, GnssSystem::Galileo, GnssSystem::GLONASS}));
+  const SystemSignalPriority& r = c.signals.priorities[GnssSystem::GLONASS];
+  EXPECT_EQ(r.code1_attributes, std::vector<char>{'C'});
+  EXPECT_EQ(r.code2_attributes, (std::vector<char>{'C', 'P'}));
+  EXPECT_EQ(r.phase2_attributes, std::vector<char>{'C'});
+  EXPECT_EQ(r.code_sigma_factor, 5.0);
+  EXPECT_EQ(c.signals.priorities[GnssSystem::GPS].code_sigma_factor, 1.0);  // the others keep theirs
+  const PppConfig letter = parsePppConfig("measurement_model: {signals: {systems: [G, R]}}\n", "r.yaml");
+  EXPECT_EQ(letter.signals.systems, (std::vector<GnssSystem>{GnssSystem::GPS, GnssSystem::GLONASS}));
+  const PppConfig defaults = parsePppConfig("measurement_model: {signals: {systems: auto}}\n", "a.yaml");
+  EXPECT_EQ(defaults.signals.priorities[GnssSystem::GLONASS].code_sigma_factor,
+            signalTableRow(GnssSystem::GLONASS)->priority.code_sigma_factor);
+}
+
 TEST(PppOptionsBinding, EveryCycleSlipKeyIsBound) {
   const PppConfig c = parsePppConfig(R"(
 cycle_slip:
@@ -148,8 +170,10 @@ TEST(PppOptionsBinding, ErrorsNameTheKeyPath) {
       {"measurement_model: {corrections: {shapiro: 2}}\n", "measurement_model.corrections.shapiro",
        "expected true or false"},
       {"measurement_model: {corrections: {iono: true}}\n", "measurement_model.corrections.iono", "unknown key"},
-      {"measurement_model: {signals: {systems: [GPS, GLONASS]}}\n", "measurement_model.signals.systems",
-       "expected GPS, Galileo or BeiDou"},
+      {"measurement_model: {signals: {systems: [GPS, QZSS]}}\n", "measurement_model.signals.systems",
+       "expected GPS, GLONASS, Galileo or BeiDou"},
+      {"measurement_model: {signals: {glonass: {code_sigma_factor: 0}}}\n",
+       "measurement_model.signals.glonass.code_sigma_factor", "must be > 0"},
       {"measurement_model: {signals: {systems: [GPS, G]}}\n", "measurement_model.signals.systems", "given twice"},
       {"measurement_model: {signals: {systems: []}}\n", "measurement_model.signals.systems", "must not be empty"},
       {"measurement_model: {signals: {gps: {code1: [WC]}}}\n", "measurement_model.signals.gps.code1",
@@ -209,6 +233,8 @@ TEST(PppOptionsBinding, TemplateRestatesTheModelDefaults) {
   EXPECT_EQ(c.signals.systems, s.systems);
   EXPECT_EQ(c.signals.priorities[GnssSystem::GPS].code2_attributes, s.priorities[GnssSystem::GPS].code2_attributes);
   EXPECT_EQ(c.signals.priorities[GnssSystem::Galileo].code1_attributes, s.priorities[GnssSystem::Galileo].code1_attributes);
+  EXPECT_EQ(c.signals.priorities[GnssSystem::GLONASS].code1_attributes, s.priorities[GnssSystem::GLONASS].code1_attributes);
+  EXPECT_EQ(c.signals.priorities[GnssSystem::GLONASS].code_sigma_factor, s.priorities[GnssSystem::GLONASS].code_sigma_factor);
   const CycleSlipOptions k;
   EXPECT_EQ(c.cycle_slip_options.gf_threshold_rate_mps, k.gf_threshold_rate_mps);
   EXPECT_EQ(c.cycle_slip_options.mw_window, k.mw_window);

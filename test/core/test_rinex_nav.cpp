@@ -20,6 +20,7 @@
 #include <cmath>
 
 #include "ppp_bayes_tree/io/rinex/rinex_nav_reader.h"
+#include "ppp_bayes_tree/models/broadcast_products.h"
 #include "fuzz/rinex_nav_fuzz_entry.h"
 #include "test_support.h"
 
@@ -163,6 +164,14 @@ TEST(RinexNavReader, DecodesGlonassAndFillsChannels) {
   // The "GLONASS FDMA channels from navigation data".
   EXPECT_EQ(nav.glonass_channels.channel(1), 1);
   EXPECT_EQ(nav.glonass_channels.size(), 1);
+}
+
+// The broadcast products hand the records' channels on (the product assembly gives
+// them to the GLONASS signal selection where the observation header has none).
+TEST(RinexNavReader, BroadcastProductsCarryTheGlonassChannels) {
+  const BroadcastProducts products = loadBroadcastProducts({fixturePath("rinex_nav/mixed_v304.nav")}, std::nullopt);
+  EXPECT_EQ(products.glonass_channels.channel(1), 1);
+  EXPECT_EQ(products.glonass_channels.size(), 1);
 }
 
 TEST(RinexNavReader, CountsSkippedSystemsAndSpansToc) {

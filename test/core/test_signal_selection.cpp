@@ -98,17 +98,24 @@ TEST(SignalSelection, Zim2WithoutBiasFileReportsTheConvention) {
   EXPECT_NE(r.notes[0].find("G05"), std::string::npos) << r.notes[0];
 }
 
-TEST(SignalSelection, Ccj2GpsAndGalileoWithWumOsb) {
-  PPP_REQUIRE_SHARED_DATA();
+/// The first CCJ2 epoch through a selector of `systems` with WUM's OSBs (`epoch`: that epoch).
+SignalSelectionResult selectFirstCcj2Epoch(const std::vector<GnssSystem>& systems, ObsEpoch& epoch,
+                                           RinexObsHeader* header = nullptr) {
   auto reader = RinexObsReader::open(test::dataPath(kCcj2Obs));
   const BiasSinexFile bias_file = readBiasSinexFile(test::dataPath(kCcj2Bia));
   const SinexBiasProvider bias(bias_file, kCcj2Bia);
-  ObsEpoch epoch;
-  ASSERT_TRUE(reader.next(epoch));
+  EXPECT_TRUE(reader.next(epoch));
   SignalSelectionOptions options;
-  options.systems = {GnssSystem::GPS, GnssSystem::Galileo};
+  options.systems = systems;
   SignalSelector selector(reader.header(), options, &bias);
-  const auto r = selector.select(epoch);
+  if (header != nullptr) *header = reader.header();
+  return selector.select(epoch);
+}
+
+TEST(SignalSelection, Ccj2GpsAndGalileoWithWumOsb) {
+  PPP_REQUIRE_SHARED_DATA();
+  ObsEpoch epoch;
+  const auto r = selectFirstCcj2Epoch({GnssSystem::GPS, GnssSystem::Galileo}, epoch);
   int gps = 0, galileo = 0;
   for (const auto& o : r.observations) {
     if (o.satellite.system == GnssSystem::GPS) {
@@ -144,23 +151,117 @@ TEST(SignalSelection, Ccj2GpsAndGalileoWithWumOsb) {
   EXPECT_NEAR(g01->code1_m, *epoch.find(sat("G01"), code("C1C"))->value - ns(9.7876), 1e-9);
 }
 
-// The table's rows (RINEX 3.05 table A2 bands): GPS L1/L2, Galileo E1/E5a,
-// BeiDou B1I/B3I; GLONASS (FDMA) and the other systems have none.
+// The table's rows (RINEX 3.05 table A2 bands): GPS L1/L2, GLONASS G1/G2 (FDMA),
+// Galileo E1/E5a, BeiDou B1I/B3I; the other systems have none.
 TEST(SignalSelection, TableHasOneRowPerSystemWithAnIfPair) {
   std::vector<GnssSystem> systems;
   for (const auto& row : signalTable()) systems.push_back(row.system);
-  EXPECT_EQ(systems, (std::vector<GnssSystem>{GnssSystem::GPS, GnssSystem::Galileo, GnssSystem::BeiDou}));
-  EXPECT_EQ(signalTableRow(GnssSystem::GLONASS), nullptr);
+  EXPECT_EQ(systems, (std::vector<GnssSystem>{GnssSystem::GPS, GnssSystem::GLONASS, GnssSystem::Galileo,
+                                              GnssSystem::BeiDou}));
   EXPECT_EQ(signalTableRow(GnssSystem::QZSS), nullptr);
   EXPECT_EQ(signalTableRow(GnssSystem::BeiDou)->priority.band1, '2');
   EXPECT_EQ(signalTableRow(GnssSystem::BeiDou)->priority.band2, '6');
   EXPECT_EQ(signalTableRow(GnssSystem::Galileo)->priority.band2, '5');
   EXPECT_EQ(automaticSignalSystems(), (std::vector<GnssSystem>{GnssSystem::GPS, GnssSystem::Galileo}));
-  EXPECT_EQ(signalTableSystemNames(), "GPS, Galileo or BeiDou");
+  EXPECT_EQ(signalTableSystemNames(), "GPS, GLONASS, Galileo or BeiDou");
   const SignalSelectionOptions options;
-  EXPECT_EQ(options.priorities.find(GnssSystem::GLONASS), nullptr);
   EXPECT_EQ(options.priorities[GnssSystem::GPS].code1_attributes, (std::vector<char>{'W', 'C'}));
   EXPECT_THROW(SignalSelectionOptions().priorities[GnssSystem::SBAS], std::out_of_range);
+}
+
+// GLONASS: G1/G2 with the P codes first (the C1P/C2P clock reference), FDMA, its
+// code down-weighted; the only row whose ambiguities are never fixed.
+TEST(SignalSelection, GlonassRowIsFdmaWithPCodesFirst) {
+  const SignalTableRow* row = signalTableRow(GnssSystem::GLONASS);
+  ASSERT_NE(row, nullptr);
+  EXPECT_STREQ(row->config_key, "glonass");
+  EXPECT_TRUE(row->frequency_division);
+  EXPECT_FALSE(row->automatic);
+  EXPECT_EQ(row->priority.band1, '1');
+  EXPECT_EQ(row->priority.band2, '2');
+  EXPECT_EQ(row->priority.code1_attributes, (std::vector<char>{'P', 'C'}));
+  EXPECT_EQ(row->priority.phase2_attributes, (std::vector<char>{'P', 'C'}));
+  EXPECT_EQ(row->clock_reference1, 'P');
+  EXPECT_EQ(row->clock_reference2, 'P');
+  EXPECT_GT(row->priority.code_sigma_factor, 1.0);
+  EXPECT_FALSE(integerAmbiguitySystem(GnssSystem::GLONASS));
+  EXPECT_TRUE(integerAmbiguitySystem(GnssSystem::GPS));
+  EXPECT_TRUE(integerAmbiguitySystem(GnssSystem::Galileo));
+  EXPECT_TRUE(integerAmbiguitySystem(GnssSystem::BeiDou));
+  EXPECT_FALSE(integerAmbiguitySystem(GnssSystem::QZSS));  // no row: not processed at all
+}
+
+/// A GLONASS header/epoch in memory: R01 on channel k = 1, R02 on k = -4, R03 without a channel.
+struct SyntheticGlonass {
+  RinexObsHeader header;
+  ObsEpoch epoch;
+  SyntheticGlonass() {
+    header.version = 3.04;
+    header.major_version = 3;
+    header.obs_types[static_cast<int>(GnssSystem::GLONASS)] = {code("C1C"), code("C1P"), code("L1C"), code("L1P"),
+                                                               code("C2C"), code("C2P"), code("L2C"), code("L2P")};
+    header.glonass_channels.set(1, 1);
+    header.glonass_channels.set(2, -4);
+    epoch.time = test::gpst(2021, 7, 29);
+    for (const char* s : {"R01", "R02", "R03"}) {
+      epoch.satellites.push_back({sat(s), static_cast<std::uint32_t>(epoch.observations.size()), 8});
+      for (const char* c : {"C1C", "C1P", "L1C", "L1P", "C2C", "C2P", "L2C", "L2P"})
+        epoch.observations.push_back({code(c), c[0] == 'C' ? 2.1e7 : 1.1e8, std::nullopt, std::nullopt});
+    }
+  }
+};
+
+// GLONASS ICD 5.1 (2008), sec. 3.3.1.4, table 3.10/3.11: G1 = 1602 + 0.5625 k MHz,
+// G2 = 1246 + 0.4375 k MHz; k = 1: 1602.5625 / 1246.4375 MHz; k = -4: 1599.75 / 1244.25 MHz.
+TEST(SignalSelection, GlonassFrequenciesPerSatelliteFromTheChannel) {
+  SyntheticGlonass s;
+  SignalSelectionOptions options;
+  options.systems = {GnssSystem::GLONASS};
+  const auto r = selectDualFrequency(s.epoch, s.header, options, nullptr);
+  ASSERT_EQ(r.observations.size(), 2u);
+  expectSignals(r.observations[0], GnssSystem::GLONASS, "C1P", "C2P", "L1P", "L2P", 1602.5625e6, 1246.4375e6);
+  expectSignals(r.observations[1], GnssSystem::GLONASS, "C1P", "C2P", "L1P", "L2P", 1599.75e6, 1244.25e6);
+  EXPECT_DOUBLE_EQ(r.observations[0].code_sigma_factor, signalTableRow(GnssSystem::GLONASS)->priority.code_sigma_factor);
+  ASSERT_EQ(r.skipped.size(), 1u);
+  EXPECT_EQ(r.skipped[0].satellite, sat("R03"));
+  EXPECT_NE(r.skipped[0].reason.find("no GLONASS frequency channel"), std::string::npos) << r.skipped[0].reason;
+  EXPECT_TRUE(r.notes.empty());  // the C1P/C2P clock reference is used
+  // A channel known from elsewhere (navigation records): R03 on k = 5; the header's come first.
+  options.glonass_channels.set(3, 5);
+  options.glonass_channels.set(1, 6);
+  const auto r2 = selectDualFrequency(s.epoch, s.header, options, nullptr);
+  ASSERT_EQ(r2.observations.size(), 3u);
+  EXPECT_DOUBLE_EQ(r2.observations[0].frequency1_hz, 1602.5625e6);
+  EXPECT_DOUBLE_EQ(r2.observations[2].frequency1_hz, 1602.0e6 + 5 * 0.5625e6);
+  EXPECT_DOUBLE_EQ(r2.observations[2].frequency2_hz, 1246.0e6 + 5 * 0.4375e6);
+  // C codes by configuration: the C1P/C2P clock reference note, with the satellites.
+  options.priorities[GnssSystem::GLONASS].code1_attributes = {'C'};
+  const auto r3 = selectDualFrequency(s.epoch, s.header, options, nullptr);
+  ASSERT_EQ(r3.notes.size(), 1u);
+  EXPECT_NE(r3.notes[0].find("codes other than C1P/C2P"), std::string::npos) << r3.notes[0];
+  EXPECT_NE(r3.notes[0].find("R01 R02 R03"), std::string::npos) << r3.notes[0];
+}
+
+// CCJ2 (TRIMBLE NETR9) GLONASS: C1C C1P C2C C2P L1C L1P L2C L2P with every
+// channel in GLONASS SLOT / FRQ # (R01 1, R02 -4, R05 1, R21 4, ...); WUM's OSBs
+// for the P codes (WUM0MGXRAP_20212100000_01D_01D_ABS.BIA: R05 C1P -.124340E+01,
+// C2P -.205540E+01 ns).
+TEST(SignalSelection, Ccj2GlonassWithWumOsb) {
+  PPP_REQUIRE_SHARED_DATA();
+  ObsEpoch epoch;
+  RinexObsHeader header;
+  const auto r = selectFirstCcj2Epoch({GnssSystem::GLONASS}, epoch, &header);
+  EXPECT_EQ(header.glonass_channels.channel(5), 1);
+  EXPECT_GE(r.observations.size(), 4u);
+  const auto* r05 = findObs(r, "R05");
+  ASSERT_NE(r05, nullptr);
+  expectSignals(*r05, GnssSystem::GLONASS, "C1P", "C2P", "L1P", "L2P", 1602.5625e6, 1246.4375e6);
+  EXPECT_NEAR(*r05->code1_osb_m, ns(-1.2434), 1e-9);
+  EXPECT_NEAR(*r05->code2_osb_m, ns(-2.0554), 1e-9);
+  const auto* r21 = findObs(r, "R21");  // channel 4
+  ASSERT_NE(r21, nullptr);
+  EXPECT_DOUBLE_EQ(r21->frequency1_hz, 1604.25e6);
+  EXPECT_DOUBLE_EQ(r21->frequency2_hz, 1247.75e6);
 }
 
 // ESBC (SEPT POLARX5) BeiDou types: C2I C6I C7I L2I L6I L7I: B1I/B3I by the I

@@ -65,6 +65,17 @@ TEST(GlonassChannels, RangeChecked) {
   EXPECT_EQ(ch.size(), 1);
 }
 
+TEST(GlonassChannels, FillMissingKeepsTheKnownChannels) {
+  GlonassChannels header, nav;
+  header.set(1, 1);
+  nav.set(1, 6);
+  nav.set(3, -4);
+  header.fillMissing(nav);
+  EXPECT_EQ(header.channel(1), 1);  // the header's entry stays
+  EXPECT_EQ(header.channel(3), -4);
+  EXPECT_EQ(header.size(), 2);
+}
+
 TEST(Frames, GeodeticRoundTripAtZimmerwald) {
   // ZIM2 truth (dataset README). Zimmerwald is at about 46.877 N, 7.465 E, 956 m
   // (IGS site log: 46 52 37.5 N, 7 27 54.4 E, ellipsoidal height 956.4 m).

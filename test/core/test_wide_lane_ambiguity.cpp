@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <iostream>
 #include <map>
 #include <random>
@@ -20,6 +21,7 @@
 #include "ppp_bayes_tree/ppp/model/arc_tracker.h"
 #include "ppp_bayes_tree/ppp/ambiguity/phase_bias_consistency.h"
 #include "ppp_bayes_tree/ppp/ambiguity/wide_lane_ambiguity.h"
+#include "ppp_bayes_tree/types/carrier_frequency.h"
 #include "ppp_bayes_tree/types/constants.h"
 
 namespace ppp {
@@ -364,34 +366,30 @@ TEST(AmbiguityResolver, FixesSyntheticNarrowLanesAndConstrainsACopy) {
 // within a system against that system's reference; the Galileo ones refer to a
 // Galileo satellite. Both resolve() and resolveAndHold() fix every arc but the
 // two references and put the within-system single differences on the truth.
-TEST(AmbiguityResolver, GpsAndGalileoEachHaveTheirOwnReference) {
-  constexpr double kE1 = 1575.42e6, kE5a = 1176.45e6;  // Galileo OS SIS ICD 2.1, table 2
-  struct Arc {
-    ArcId arc;
-    SatelliteId sat;
-    int n1, nwl;
-    double osb1_m, osb2_m;
-  };
-  const std::vector<Arc> arcs = {
-      {1, {GnssSystem::GPS, 3}, 12, 5, 0.031, -0.044},  {2, {GnssSystem::GPS, 7}, -40, 17, -0.12, 0.07},
-      {3, {GnssSystem::GPS, 11}, 7, -3, 0.2, 0.15},     {4, {GnssSystem::GPS, 19}, 101, 44, -0.05, -0.2},
-      {5, {GnssSystem::Galileo, 1}, 33, -8, 0.07, 0.02}, {6, {GnssSystem::Galileo, 4}, -17, 2, -0.09, 0.11},
-      {7, {GnssSystem::Galileo, 12}, 5, 13, 0.15, -0.06}, {8, {GnssSystem::Galileo, 26}, 61, -1, 0.0, 0.04}};
-  struct Receiver {
-    double f1_hz, f2_hz;
-    const char *c1, *c2, *l1, *l2;
-    double wl_cycles, phase_m;
-  };
-  const std::map<GnssSystem, Receiver> receiver = {
-      {GnssSystem::GPS, {kF1, kF2, "C1W", "C2W", "L1C", "L2W", 0.29, 0.4321}},
-      {GnssSystem::Galileo, {kE1, kE5a, "C1C", "C5Q", "L1C", "L5Q", -0.37, -1.7391}}};
-  TableBiases osb;
-  const int receiver_dim = 5, n = static_cast<int>(arcs.size());
+/// One arc of a synthetic multi-system run: its integers and satellite OSBs.
+struct SystemArc {
+  ArcId arc;
+  SatelliteId sat;
+  int n1, nwl;
+  double osb1_m, osb2_m;
+};
+/// The receiver side of one system (per satellite for GLONASS: its channel's frequencies).
+struct SystemReceiver {
+  double f1_hz, f2_hz;
+  const char *c1, *c2, *l1, *l2;
+  double wl_cycles, phase_m;
+};
+using ReceiverOf = std::function<SystemReceiver(const SatelliteId&)>;
+
+/// The true float state (receiver part, then one IF bias per arc) and the OSB table.
+Eigen::VectorXd syntheticTruth(const std::vector<SystemArc>& arcs, const ReceiverOf& receiver, int receiver_dim,
+                               TableBiases& osb) {
+  const int n = static_cast<int>(arcs.size());
   Eigen::VectorXd truth(receiver_dim + n);
   truth.head(receiver_dim) << 1.0, 2.0, 3.0, 0.1, 5.0;
   for (int i = 0; i < n; ++i) {
-    const Arc& a = arcs[static_cast<std::size_t>(i)];
-    const Receiver& r = receiver.at(a.sat.system);
+    const SystemArc& a = arcs[static_cast<std::size_t>(i)];
+    const SystemReceiver r = receiver(a.sat);
     osb.table[{a.sat, r.l1}] = a.osb1_m;
     osb.table[{a.sat, r.l2}] = a.osb2_m;
     osb.table[{a.sat, r.c1}] = 0.0;
@@ -400,17 +398,19 @@ TEST(AmbiguityResolver, GpsAndGalileoEachHaveTheirOwnReference) {
                               ionosphereFree(a.osb1_m, a.osb2_m, ionosphereFreeCoefficients(r.f1_hz, r.f2_hz)) +
                               r.phase_m;
   }
-  AmbiguityResolutionOptions opt;
-  opt.enabled = true;
-  opt.narrow_lane.min_fixed = 3;
-  AmbiguityResolver resolver(opt);
-  std::mt19937 rng(5);
+  return truth;
+}
+
+/// 60 epochs of MW samples of the arcs into the resolver (the ambiguities and OSBs on the phases).
+void feedSyntheticEpochs(AmbiguityResolver& resolver, const std::vector<SystemArc>& arcs, const ReceiverOf& receiver,
+                         const TableBiases& osb, unsigned seed) {
+  std::mt19937 rng(seed);
   std::normal_distribution<double> mw_noise(0.0, 0.2);
   for (int k = 0; k < 60; ++k) {
     std::vector<DualFrequencyObservation> obs;
     std::vector<ArcId> ids;
-    for (const Arc& a : arcs) {
-      const Receiver& r = receiver.at(a.sat.system);
+    for (const SystemArc& a : arcs) {
+      const SystemReceiver r = receiver(a.sat);
       DualFrequencyObservation o;
       o.satellite = a.sat;
       o.code1 = *ObservationCode::parse(r.c1);
@@ -431,9 +431,65 @@ TEST(AmbiguityResolver, GpsAndGalileoEachHaveTheirOwnReference) {
     }
     resolver.addEpoch(obs, ids, &osb);
   }
-  const Eigen::MatrixXd P = floatCovariance(receiver_dim, n);
+}
+
+constexpr double kE1 = 1575.42e6, kE5a = 1176.45e6;  // Galileo OS SIS ICD 2.1, table 2
+
+const std::vector<SystemArc> kGpsGalileoArcs = {
+    {1, {GnssSystem::GPS, 3}, 12, 5, 0.031, -0.044},  {2, {GnssSystem::GPS, 7}, -40, 17, -0.12, 0.07},
+    {3, {GnssSystem::GPS, 11}, 7, -3, 0.2, 0.15},     {4, {GnssSystem::GPS, 19}, 101, 44, -0.05, -0.2},
+    {5, {GnssSystem::Galileo, 1}, 33, -8, 0.07, 0.02}, {6, {GnssSystem::Galileo, 4}, -17, 2, -0.09, 0.11},
+    {7, {GnssSystem::Galileo, 12}, 5, 13, 0.15, -0.06}, {8, {GnssSystem::Galileo, 26}, 61, -1, 0.0, 0.04}};
+
+SystemReceiver gpsGalileoGlonassReceiver(const SatelliteId& sat) {
+  switch (sat.system) {
+    case GnssSystem::GPS: return {kF1, kF2, "C1W", "C2W", "L1C", "L2W", 0.29, 0.4321};
+    case GnssSystem::Galileo: return {kE1, kE5a, "C1C", "C5Q", "L1C", "L5Q", -0.37, -1.7391};
+    default: {  // GLONASS: channel k = prn - 8 (a stand-in for the header's table)
+      const int k = sat.prn - 8;
+      return {*carrierFrequency_hz(GnssSystem::GLONASS, '1', k), *carrierFrequency_hz(GnssSystem::GLONASS, '2', k),
+              "C1P", "C2P", "L1P", "L2P", 0.11, 0.9876};
+    }
+  }
+}
+
+/// The float inputs of a synthetic multi-system run.
+struct SyntheticInputs {
+  TableBiases osb;
+  Eigen::VectorXd truth;
+  Eigen::MatrixXd P;
   std::vector<ArcId> bias_arcs;
-  for (const Arc& a : arcs) bias_arcs.push_back(a.arc);
+};
+
+/// A synthetic run of `arcs` (gpsGalileoGlonassReceiver): the truth, the OSBs, the
+/// float covariance, and a resolver (at least 3 narrow lanes) fed with 60 epochs.
+struct SyntheticResolution {
+  static constexpr int kReceiverDim = 5;
+  SyntheticInputs inputs;
+  AmbiguityResolver resolver;
+  static AmbiguityResolutionOptions options() {
+    AmbiguityResolutionOptions opt;
+    opt.enabled = true;
+    opt.narrow_lane.min_fixed = 3;
+    return opt;
+  }
+  explicit SyntheticResolution(const std::vector<SystemArc>& arcs) : resolver(options()) {
+    inputs.truth = syntheticTruth(arcs, gpsGalileoGlonassReceiver, kReceiverDim, inputs.osb);
+    feedSyntheticEpochs(resolver, arcs, gpsGalileoGlonassReceiver, inputs.osb, 5);
+    inputs.P = floatCovariance(kReceiverDim, static_cast<int>(arcs.size()));
+    for (const SystemArc& a : arcs) inputs.bias_arcs.push_back(a.arc);
+  }
+};
+
+TEST(AmbiguityResolver, GpsAndGalileoEachHaveTheirOwnReference) {
+  const std::vector<SystemArc>& arcs = kGpsGalileoArcs;
+  SyntheticResolution run(arcs);
+  const int receiver_dim = SyntheticResolution::kReceiverDim, n = static_cast<int>(arcs.size());
+  const TableBiases& osb = run.inputs.osb;
+  const Eigen::VectorXd& truth = run.inputs.truth;
+  const Eigen::MatrixXd& P = run.inputs.P;
+  const std::vector<ArcId>& bias_arcs = run.inputs.bias_arcs;
+  AmbiguityResolver& resolver = run.resolver;
   const auto checkWithinSystems = [&](const AmbiguityFixedState& fixed, const char* what) {
     for (int i = 0; i < n; ++i)
       for (int j = 0; j < n; ++j) {
@@ -474,6 +530,42 @@ TEST(AmbiguityResolver, GpsAndGalileoEachHaveTheirOwnReference) {
   checkWithinSystems(*held, "resolveAndHold");
   EXPECT_NE(summary.text().find(summary.systems[1].reference_satellite.toString()), std::string::npos)
       << summary.text();
+}
+
+// GLONASS (FDMA) arcs next to GPS and Galileo, with integer-consistent wide and
+// narrow lanes and OSBs of their own: ambiguity resolution leaves them float. No
+// GLONASS wide lane, reference, candidate or hold; GPS and Galileo fix as without them.
+TEST(AmbiguityResolver, GlonassArcsStayFloatBesideGpsAndGalileo) {
+  std::vector<SystemArc> arcs = kGpsGalileoArcs;
+  arcs.push_back({9, {GnssSystem::GLONASS, 9}, 21, 4, 0.05, -0.03});    // k = 1
+  arcs.push_back({10, {GnssSystem::GLONASS, 4}, -11, 7, -0.02, 0.08});  // k = -4
+  arcs.push_back({11, {GnssSystem::GLONASS, 14}, 40, -2, 0.1, 0.0});    // k = 6
+  SyntheticResolution run(arcs);
+  const int receiver_dim = SyntheticResolution::kReceiverDim;
+  const TableBiases& osb = run.inputs.osb;
+  const Eigen::VectorXd& truth = run.inputs.truth;
+  const Eigen::MatrixXd& P = run.inputs.P;
+  const std::vector<ArcId>& bias_arcs = run.inputs.bias_arcs;
+  AmbiguityResolver& resolver = run.resolver;
+  AmbiguityFixSummary summary;
+  const auto fixed = resolver.resolve(truth, P, receiver_dim, bias_arcs, &osb, summary);
+  ASSERT_TRUE(fixed.has_value()) << summary.text();
+  EXPECT_EQ(summary.wide_lanes_fixed, 6);  // 4 GPS + 4 Galileo arcs less the two references
+  EXPECT_EQ(summary.narrow_lanes_fixed, 6);
+  ASSERT_EQ(summary.systems.size(), 2u);
+  EXPECT_EQ(summary.systems[0].system, GnssSystem::GPS);
+  EXPECT_EQ(summary.systems[1].system, GnssSystem::Galileo);
+  std::optional<AmbiguityFixedState> held;
+  for (int k = 0; k < 30 && !(held && resolver.heldCount() == 6); ++k)
+    held = resolver.resolveAndHold(truth, P, receiver_dim, bias_arcs, &osb, summary);
+  ASSERT_TRUE(held.has_value()) << summary.text();
+  EXPECT_EQ(resolver.heldCount(), 6);
+  for (const NarrowLaneFloat& f : summary.narrow_lanes) {
+    EXPECT_NE(f.satellite.system, GnssSystem::GLONASS) << f.satellite.toString();
+    EXPECT_NE(f.reference_satellite.system, GnssSystem::GLONASS) << f.reference_satellite.toString();
+  }
+  for (const SystemAmbiguitySummary& sys : summary.systems)
+    EXPECT_NE(sys.reference_satellite.system, GnssSystem::GLONASS);
 }
 
 TEST(AmbiguityResolver, WrongIntegerConstraintIsVisibleAgainstTheFloatState) {

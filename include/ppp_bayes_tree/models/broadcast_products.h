@@ -23,6 +23,7 @@
 #include "ppp_bayes_tree/models/broadcast_fallback.h"
 #include "ppp_bayes_tree/models/ephemeris_source.h"
 #include "ppp_bayes_tree/models/ssr_correction_store.h"
+#include "ppp_bayes_tree/types/glonass_channels.h"
 
 namespace ppp {
 
@@ -35,6 +36,9 @@ struct BroadcastProducts {
   std::shared_ptr<const BroadcastSsrEphemeris> corrected;
   std::shared_ptr<const BiasProvider> ssr_biases;  // null without SSR code biases
   bool ssr_phase_biases = false;                   // the SSR stream carries phase biases
+  /// GLONASS frequency channels of the navigation records (RINEX header or
+  /// records, stream records), for the signal selection of GLONASS.
+  GlonassChannels glonass_channels;
   std::vector<std::string> notes;
   std::vector<std::string> problems;
 };

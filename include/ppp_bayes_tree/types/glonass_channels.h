@@ -13,6 +13,8 @@ class GlonassChannels {
   bool set(int slot, int channel);
   std::optional<int> channel(int slot) const;
   int size() const;  // number of slots with a known channel
+  /// Takes the channels of `other` for the slots that have none here.
+  void fillMissing(const GlonassChannels& other);
 
  private:
   std::array<std::optional<int>, kMaxSlot + 1> channels_{};

@@ -96,6 +96,11 @@ BroadcastProducts loadBroadcastProducts(const std::vector<std::string>& nav, con
     }
     names += (names.empty() ? "" : ", ") + fileBaseName(path);
   }
+  for (const auto& n : navs) out.glonass_channels.fillMissing(n.glonass_channels);
+  for (const auto& s : streams)
+    for (const auto& r : s.navigation.glonass)
+      if (!out.glonass_channels.channel(r.record.satellite.prn))
+        out.glonass_channels.set(r.record.satellite.prn, r.record.frequency_channel);
   if (!ssr) {
     auto store = std::make_shared<BroadcastEphemerisStore>();
     for (const auto& n : navs) store->add(n);

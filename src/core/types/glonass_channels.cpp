@@ -19,4 +19,9 @@ int GlonassChannels::size() const {
   return n;
 }
 
+void GlonassChannels::fillMissing(const GlonassChannels& other) {
+  for (int slot = 1; slot <= kMaxSlot; ++slot)
+    if (!channels_[slot]) channels_[slot] = other.channels_[slot];
+}
+
 }  // namespace ppp

@@ -1,7 +1,7 @@
 #pragma once
 // DualFrequencyObservation: the two code and two phase observables of one
 // satellite at one epoch, chosen for the ionosphere-free (IF) combination
-// (GPS L1/L2, Galileo E1/E5a). Produced by signal selection from a RINEX epoch;
+// (GPS L1/L2, GLONASS G1/G2, Galileo E1/E5a, BeiDou B1I/B3I). Produced by signal selection from a RINEX epoch;
 // consumed by cycle-slip detection / arc tracking and by the measurement model.
 #include <cstdint>
 #include <optional>
@@ -17,8 +17,12 @@ struct DualFrequencyObservation {
   GnssTime time;  // receiver time tag of the epoch (GPST)
   // Signals used (e.g. C1W/L1C and C2W/L2W).
   ObservationCode code1, code2, phase1, phase2;
+  // The pair's carrier frequencies [Hz]: per system, and per satellite for
+  // GLONASS FDMA (from its frequency channel).
   double frequency1_hz = 0.0;
   double frequency2_hz = 0.0;
+  // Factor on the code sigma of the IF code (SystemSignalPriority::code_sigma_factor).
+  double code_sigma_factor = 1.0;
   // Pseudoranges [m], already aligned to the clock product's code reference
   // (Bias-SINEX OSB when given, otherwise the product convention).
   double code1_m = 0.0;

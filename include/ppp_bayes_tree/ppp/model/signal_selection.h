@@ -1,16 +1,23 @@
 #pragma once
 // Signal selection for the ionosphere-free (IF) PPP model: picks, per satellite
 // of an ObsEpoch, the two codes and two phases of the configured frequency pair
-// (GPS L1/L2, Galileo E1/E5a, BeiDou B1I/B3I) by a configurable tracking-mode
-// priority, aligns the codes to the clock product's code reference and fills
-// DualFrequencyObservation.
+// (GPS L1/L2, GLONASS G1/G2, Galileo E1/E5a, BeiDou B1I/B3I) by a configurable
+// tracking-mode priority, aligns the codes to the clock product's code reference
+// and fills DualFrequencyObservation.
 //
 // The frequency pair and the priorities of each system are one row of the
 // signal table (signalTable(), indexed by system; the same form as the
 // per-system code priority table of RTKLIB 2.4.3, Takasu 2013). A system
-// without a row has no IF pair here: GLONASS FDMA (one frequency per channel,
-// inter-frequency code biases) is a different model, QZSS / SBAS / IRNSS are
-// not processed. Adding a system = adding its row.
+// without a row has no IF pair here: QZSS / SBAS / IRNSS are not processed.
+// Adding a system = adding its row.
+//
+// GLONASS (FDMA, GLONASS ICD 5.1 sec. 3.3.1.4): every satellite transmits on
+// its own channel k, G1 = 1602 + 0.5625 k MHz, G2 = 1246 + 0.4375 k MHz. Its
+// row is `frequency_division`: the pair's frequencies, and with them the IF
+// coefficients, the wavelengths and the IF ambiguity, are per satellite, from
+// the channel of the RINEX header's GLONASS SLOT / FRQ # record (or of the
+// navigation records, SignalSelectionOptions::glonass_channels). A satellite
+// without a known channel is skipped with the reason.
 //
 // Code alignment (Bias-SINEX 1.00, S. Schaer 2016, sec. 3.3 / 4.3.x "OSB"):
 // an observable-specific bias B_obs is defined so that the bias-free
@@ -47,6 +54,7 @@
 #include "ppp_bayes_tree/io/rinex/rinex_obs_header.h"
 #include "ppp_bayes_tree/models/bias_provider.h"
 #include "ppp_bayes_tree/ppp/model/dual_frequency_observation.h"
+#include "ppp_bayes_tree/types/glonass_channels.h"
 
 namespace ppp {
 
@@ -59,6 +67,12 @@ struct SystemSignalPriority {
   std::vector<char> code2_attributes;
   std::vector<char> phase1_attributes;
   std::vector<char> phase2_attributes;
+  /// Factor on the code sigma of this system's IF code (1 = the common
+  /// weighting). GLONASS: its receiver code biases differ per frequency channel
+  /// (inter-frequency biases, Shi et al. 2013, GPS Solutions 17(4)), which the
+  /// common receiver clock cannot absorb; the code is down-weighted instead
+  /// (Cai & Gao 2013, GPS Solutions 17(2): GLONASS code weighted lower than GPS).
+  double code_sigma_factor = 1.0;
 };
 
 /// One row of the signal table: a system that has an ionosphere-free pair here.
@@ -76,16 +90,25 @@ struct SignalTableRow {
   /// codes used without a bias file are reported in the epoch notes.
   char clock_reference1 = '\0';
   char clock_reference2 = '\0';
+  /// FDMA (GLONASS): the frequencies are per satellite, from its frequency
+  /// channel, and the ambiguities have no integer property with undifferenced
+  /// products (each satellite's phase has its own wavelength; the receiver's
+  /// inter-channel phase biases do not cancel between satellites), so ambiguity
+  /// resolution never fixes them: their arcs stay float.
+  bool frequency_division = false;
 };
 
-/// The signal table, in the order of GnssSystem (rows: GPS, Galileo, BeiDou).
+/// The signal table, in the order of GnssSystem (rows: GPS, GLONASS, Galileo, BeiDou).
 const std::vector<SignalTableRow>& signalTable();
 /// The row of `system`, nullptr when the system has no IF pair here.
 const SignalTableRow* signalTableRow(GnssSystem system);
 /// The systems of the table whose row is `automatic`, in table order.
 std::vector<GnssSystem> automaticSignalSystems();
-/// The table's systems as a list for messages: "GPS, Galileo or BeiDou".
+/// The table's systems as a list for messages: "GPS, GLONASS, Galileo or BeiDou".
 std::string signalTableSystemNames();
+/// Whether the IF ambiguities of `system` may be fixed to integers: a system of
+/// the table that is not frequency_division (GLONASS FDMA never is).
+bool integerAmbiguitySystem(GnssSystem system);
 
 /// Per system priorities (index: GnssSystem), from the table's defaults; a
 /// system without a row has none.
@@ -122,6 +145,9 @@ struct SignalSelectionOptions {
   /// missing (true), or use the code uncorrected and say so (false).
   bool require_code_osb = true;
   PhaseShiftHandling phase_shift = PhaseShiftHandling::AsWritten;
+  /// GLONASS frequency channels known besides the observation header (e.g. from
+  /// navigation records); the header's GLONASS SLOT / FRQ # entries come first.
+  GlonassChannels glonass_channels;
 };
 
 /// A satellite of the epoch that got no dual-frequency observation, with why.
@@ -167,6 +193,9 @@ class SignalSelector {
     std::string missing;  // why the system cannot be used with this header ("" = usable)
     std::vector<int> code1, code2, phase1, phase2;  // columns in priority order
     double frequency1_hz = 0.0, frequency2_hz = 0.0;
+    char band1 = '1', band2 = '2';
+    bool frequency_division = false;  // per-satellite frequencies from the channel
+    double code_sigma_factor = 1.0;
     char clock_reference1 = '\0', clock_reference2 = '\0';  // SignalTableRow
     std::vector<std::pair<ObservationCode, double>> phase_shifts;  // all-satellite records
     std::vector<PhaseShift> satellite_phase_shifts;               // per-satellite records
@@ -184,11 +213,16 @@ class SignalSelector {
   std::optional<double> codeOsb_m(const SatelliteId& sat, int slot, const ObservationCode& code, const GnssTime& t,
                                   bool& applies);
   double phaseShift_cycles(const SystemColumns& sc, const SatelliteId& sat, const ObservationCode& code) const;
+  /// The pair's frequencies of `sat`: the system's, or for FDMA those of its
+  /// channel (false, with `why`, when the channel is unknown).
+  bool pairFrequencies_hz(const SystemColumns& sc, const SatelliteId& sat, double& f1_hz, double& f2_hz,
+                          std::string& why) const;
 
   SignalSelectionOptions options_;
   const BiasProvider* biases_;
   std::array<SystemColumns, kNumGnssSystems> systems_;
   std::array<std::vector<ObservationCode>, kNumGnssSystems> types_;
+  GlonassChannels glonass_channels_;  // header entries, then options_.glonass_channels
   std::vector<OsbCache> osb_cache_;  // index: satellite index * 2 + slot
 };
 

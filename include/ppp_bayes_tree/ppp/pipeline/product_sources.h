@@ -22,6 +22,7 @@
 
 #include "ppp_bayes_tree/models/bias_provider.h"
 #include "ppp_bayes_tree/models/ephemeris_source.h"
+#include "ppp_bayes_tree/types/glonass_channels.h"
 #include "ppp_bayes_tree/types/satellite_id.h"
 
 namespace ppp {
@@ -62,6 +63,7 @@ struct OrbitClockProducts {
   bool satellites_known = false;
   std::shared_ptr<const BiasProvider> ssr_biases;
   bool ssr_phase_biases = false;
+  GlonassChannels glonass_channels;  // from navigation records (broadcast sources)
 };
 
 using OrbitClockLoader = OrbitClockProducts (*)(const ProductAssemblyInputs& in, const PppConfig& config,

@@ -9,6 +9,7 @@
 #include <Eigen/Cholesky>
 
 #include "ppp_bayes_tree/models/ionosphere_free.h"
+#include "ppp_bayes_tree/ppp/model/signal_selection.h"
 #include "ppp_bayes_tree/types/constants.h"
 
 namespace ppp {
@@ -103,7 +104,8 @@ void AmbiguityResolver::addEpoch(const std::vector<DualFrequencyObservation>& ob
                                  const std::vector<ArcId>& arcs, const BiasProvider* biases) {
   if (!options_.enabled || !biases) return;
   for (std::size_t i = 0; i < observations.size() && i < arcs.size(); ++i) {
-    if (arcs[i] == 0) continue;
+    // GLONASS (FDMA) arcs stay float: no wide lane, so no reference, candidate or hold.
+    if (arcs[i] == 0 || !integerAmbiguitySystem(observations[i].satellite.system)) continue;
     if (wide_lane_.add(arcs[i], observations[i], biases) == WideLaneBiasIssue::None)
       last_observation_[arcs[i]] = observations[i];
   }

@@ -26,6 +26,7 @@ void readPriority(YamlSection s, SystemSignalPriority& p) {
   p.code2_attributes = readAttributes(s, "code2", p.code2_attributes);
   p.phase1_attributes = readAttributes(s, "phase1", p.phase1_attributes);
   p.phase2_attributes = readAttributes(s, "phase2", p.phase2_attributes);
+  p.code_sigma_factor = s.number("code_sigma_factor", p.code_sigma_factor, Bound::Positive);
   s.finish();
 }
 

@@ -183,7 +183,8 @@ struct PppMeasurementModel::EpochTerms {
   double mjd = 0.0;
 };
 
-/// Step 2: per system and frequency pair, computed on first use.
+/// Step 2: per system and frequency pair, computed on first use (GLONASS FDMA:
+/// again for each satellite whose channel differs from the last one's).
 struct PppMeasurementModel::SystemTerms {
   bool done = false;
   bool ok = false;
@@ -195,6 +196,7 @@ struct PppMeasurementModel::SystemTerms {
   const FrequencyCalibration* r1 = nullptr;
   const FrequencyCalibration* r2 = nullptr;
   char band1 = '1', band2 = '2';
+  double frequency1_hz = 0.0, frequency2_hz = 0.0;
 };
 
 /// Steps 3-8: what one satellite's evaluation carries from step to step.
@@ -324,12 +326,16 @@ PppMeasurementModel::EpochTerms PppMeasurementModel::epochTerms(const Eigen::Vec
 const PppMeasurementModel::SystemTerms& PppMeasurementModel::systemTerms(const DualFrequencyObservation& o,
                                                                          const EpochTerms& epoch,
                                                                          SystemTerms& st) const {
-  if (st.done && st.band1 == o.code1.band && st.band2 == o.code2.band) return st;
+  if (st.done && st.band1 == o.code1.band && st.band2 == o.code2.band && st.frequency1_hz == o.frequency1_hz &&
+      st.frequency2_hz == o.frequency2_hz)
+    return st;
   const GnssSystem system = o.satellite.system;
   st = SystemTerms{};
   st.done = true;
   st.band1 = o.code1.band;
   st.band2 = o.code2.band;
+  st.frequency1_hz = o.frequency1_hz;
+  st.frequency2_hz = o.frequency2_hz;
   st.k = ionosphereFreeCoefficients(o.frequency1_hz, o.frequency2_hz);
   st.windup_wavelength_m = kSpeedOfLight_mps / (o.frequency1_hz + o.frequency2_hz);
   st.sigma_factor = options_.scale_sigma_for_ionosphere_free ? ionosphereFreeNoiseFactor(st.k) : 1.0;
@@ -591,7 +597,7 @@ void PppMeasurementModel::addMeasurement(const SatelliteEvaluation& sv, const Ep
   }
   const double sin_el = std::max(std::sin(sv.elevation_rad), 1.0e-3);
   m.phase_sigma_m = options_.phase_sigma_zenith_m * st.sigma_factor / sin_el;
-  m.code_sigma_m = m.phase_sigma_m * options_.code_phase_ratio;
+  m.code_sigma_m = m.phase_sigma_m * options_.code_phase_ratio * sv.o.code_sigma_factor;
   if (options_.ephemeris_sigmas) {
     const double orbit_sigma_m = sv.orbit.position_sigma_m.value_or(0.0);
     const double clock_sigma_m = sv.clock.clock_sigma_m.value_or(0.0);
@@ -687,7 +693,7 @@ void PppMeasurementModel::evaluateStart(const std::vector<DualFrequencyObservati
     m.jacobian(receiver_clock) = 1.0;
     const double sigma_factor = options_.scale_sigma_for_ionosphere_free ? ionosphereFreeNoiseFactor(k) : 1.0;
     m.phase_sigma_m = options_.phase_sigma_zenith_m * sigma_factor;
-    m.code_sigma_m = m.phase_sigma_m * options_.code_phase_ratio;
+    m.code_sigma_m = m.phase_sigma_m * options_.code_phase_ratio * o.code_sigma_factor;
     m.satellite_apc_ecef_m = sat_rx;
     if (!std::isfinite(m.predicted_code_m) || !m.jacobian.allFinite()) {
       reject(RejectionReason::NonFiniteModel, "non-finite model value");

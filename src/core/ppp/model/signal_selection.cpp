@@ -11,6 +11,13 @@ namespace ppp {
 // The signal table. Pairs and codes: RINEX 3.05 table A2 (tracking modes per band).
 //  - GPS L1/L2 with the P(Y) codes first: the IGS clocks refer to the C1W/C2W IF
 //    combination (Bias-SINEX: SATELLITE_CLOCK_REFERENCE_OBSERVABLES C1W C2W).
+//  - GLONASS G1/G2 (FDMA) with the P codes first: the IGS and MGEX GLONASS clocks
+//    refer to the C1P/C2P IF combination (WUM's Bias-SINEX: SATELLITE_CLOCK_
+//    REFERENCE_OBSERVABLES R C1P C2P). The frequencies are per satellite (its
+//    channel); the code is down-weighted by a factor of 3 for the receiver's
+//    inter-frequency code biases (Cai & Gao 2013, GPS Solutions 17(2) 223-236;
+//    Shi et al. 2013, GPS Solutions 17(4) 439-451). Not automatic (measured in
+//    doc/glonass.md).
 //  - Galileo E1/E5a (C1C/C5Q or the pilot+data X modes), the IGS MGEX reference pair.
 //  - BeiDou B1I/B3I (C2I/C6I): the broadcast clock refers to B3I and its TGD1 gives
 //    the B1I/B3I IF combination (BDS-SIS-ICD-B1I 3.0, 5.2.4.10; the broadcast store
@@ -21,6 +28,8 @@ namespace ppp {
 const std::vector<SignalTableRow>& signalTable() {
   static const std::vector<SignalTableRow> table = {
       {GnssSystem::GPS, "gps", {'1', '2', {'W', 'C'}, {'W', 'L', 'X'}, {'C', 'W'}, {'W', 'L', 'X'}}, true, 'W', 'W'},
+      {GnssSystem::GLONASS, "glonass", {'1', '2', {'P', 'C'}, {'P', 'C'}, {'P', 'C'}, {'P', 'C'}, 3.0}, false, 'P', 'P',
+       true},
       {GnssSystem::Galileo, "galileo", {'1', '5', {'C', 'X'}, {'Q', 'X'}, {'C', 'X'}, {'Q', 'X'}}, true},
       {GnssSystem::BeiDou, "beidou", {'2', '6', {'I', 'X'}, {'I', 'X'}, {'I', 'X'}, {'I', 'X'}}, false},
   };
@@ -48,6 +57,11 @@ std::string signalTableSystemNames() {
     out += systemName(table[k].system);
   }
   return out;
+}
+
+bool integerAmbiguitySystem(GnssSystem system) {
+  const SignalTableRow* row = signalTableRow(system);
+  return row != nullptr && !row->frequency_division;
 }
 
 SignalPriorities::SignalPriorities() {
@@ -109,6 +123,8 @@ SignalSelector::SignalSelector(const RinexObsHeader& header, SignalSelectionOpti
                                const BiasProvider* biases)
     : options_(std::move(options)), biases_(biases), osb_cache_(static_cast<std::size_t>(kNumGnssSystems) * 100 * 2) {
   for (int s = 0; s < kNumGnssSystems; ++s) types_[s] = header.obs_types[s];
+  glonass_channels_ = header.glonass_channels;
+  glonass_channels_.fillMissing(options_.glonass_channels);
   for (GnssSystem system : options_.systems) {
     auto& sc = systems_[static_cast<int>(system)];
     const SystemSignalPriority* p = options_.priorities.find(system);
@@ -122,14 +138,20 @@ SignalSelector::SignalSelector(const RinexObsHeader& header, SignalSelectionOpti
     if (const SignalTableRow* row = signalTableRow(system)) {
       sc.clock_reference1 = row->clock_reference1;
       sc.clock_reference2 = row->clock_reference2;
+      sc.frequency_division = row->frequency_division;
     }
+    sc.band1 = p->band1;
+    sc.band2 = p->band2;
+    sc.code_sigma_factor = p->code_sigma_factor;
     const auto& types = header.types(system);
     sc.code1 = columns(types, ObservableType::Pseudorange, p->band1, p->code1_attributes);
     sc.code2 = columns(types, ObservableType::Pseudorange, p->band2, p->code2_attributes);
     sc.phase1 = columns(types, ObservableType::CarrierPhase, p->band1, p->phase1_attributes);
     sc.phase2 = columns(types, ObservableType::CarrierPhase, p->band2, p->phase2_attributes);
-    const auto f1 = carrierFrequency_hz(system, p->band1);
-    const auto f2 = carrierFrequency_hz(system, p->band2);
+    // FDMA: checked with channel 0; each satellite's come from its channel.
+    const std::optional<int> channel = sc.frequency_division ? std::optional<int>(0) : std::nullopt;
+    const auto f1 = carrierFrequency_hz(system, p->band1, channel);
+    const auto f2 = carrierFrequency_hz(system, p->band2, channel);
     if (!f1 || !f2) {
       sc.missing = "no carrier frequency for the configured bands";
     } else {
@@ -168,6 +190,25 @@ double SignalSelector::phaseShift_cycles(const SystemColumns& sc, const Satellit
   return 0.0;
 }
 
+bool SignalSelector::pairFrequencies_hz(const SystemColumns& sc, const SatelliteId& sat, double& f1_hz,
+                                        double& f2_hz, std::string& why) const {
+  if (!sc.frequency_division) {
+    f1_hz = sc.frequency1_hz;
+    f2_hz = sc.frequency2_hz;
+    return true;
+  }
+  const std::optional<int> k = glonass_channels_.channel(sat.prn);
+  const auto f1 = carrierFrequency_hz(sat.system, sc.band1, k);
+  const auto f2 = carrierFrequency_hz(sat.system, sc.band2, k);
+  if (!f1 || !f2) {
+    why = "no GLONASS frequency channel (no GLONASS SLOT / FRQ # entry or navigation record for the slot)";
+    return false;
+  }
+  f1_hz = *f1;
+  f2_hz = *f2;
+  return true;
+}
+
 std::optional<double> SignalSelector::codeOsb_m(const SatelliteId& sat, int slot, const ObservationCode& code,
                                                 const GnssTime& t, bool& applies) {
   applies = true;
@@ -191,7 +232,8 @@ std::optional<double> SignalSelector::codeOsb_m(const SatelliteId& sat, int slot
 
 void SignalSelector::select(const ObsEpoch& epoch, SignalSelectionResult& out) {
   out.clear();
-  std::string unaligned;  // satellites whose codes differ from the clock reference, no bias file
+  // Per system: satellites whose codes differ from the clock reference, no bias file.
+  std::array<std::string, kNumGnssSystems> unaligned;
   for (std::size_t i = 0; i < epoch.satellites.size(); ++i) {
     const SatelliteId sat = epoch.satellites[i].satellite;
     const auto& sc = systems_[static_cast<int>(sat.system)];
@@ -201,6 +243,11 @@ void SignalSelector::select(const ObsEpoch& epoch, SignalSelectionResult& out) {
     }
     if (!sc.missing.empty()) {
       out.skipped.push_back({sat, sc.missing});
+      continue;
+    }
+    double f1_hz = 0.0, f2_hz = 0.0;
+    if (std::string why; !pairFrequencies_hz(sc, sat, f1_hz, f2_hz, why)) {
+      out.skipped.push_back({sat, std::move(why)});
       continue;
     }
     const Observation* obs = epoch.begin(i);
@@ -225,8 +272,9 @@ void SignalSelector::select(const ObsEpoch& epoch, SignalSelectionResult& out) {
     d.code2 = c2->code;
     d.phase1 = l1->code;
     d.phase2 = l2->code;
-    d.frequency1_hz = sc.frequency1_hz;
-    d.frequency2_hz = sc.frequency2_hz;
+    d.frequency1_hz = f1_hz;
+    d.frequency2_hz = f2_hz;
+    d.code_sigma_factor = sc.code_sigma_factor;
     d.code1_m = *c1->value;
     d.code2_m = *c2->value;
     if (biases_ != nullptr) {
@@ -244,8 +292,7 @@ void SignalSelector::select(const ObsEpoch& epoch, SignalSelectionResult& out) {
       if (d.code2_osb_m) d.code2_m -= *d.code2_osb_m;
     } else if (sc.clock_reference1 != '\0' &&
                (d.code1.attribute != sc.clock_reference1 || d.code2.attribute != sc.clock_reference2)) {
-      unaligned += ' ';
-      unaligned += sat.toString();
+      unaligned[static_cast<int>(sat.system)] += ' ' + sat.toString();
     }
     d.phase1_cycles = *l1->value - phaseShift_cycles(sc, sat, d.phase1);
     d.phase2_cycles = *l2->value - phaseShift_cycles(sc, sat, d.phase2);
@@ -265,9 +312,12 @@ void SignalSelector::select(const ObsEpoch& epoch, SignalSelectionResult& out) {
     }
     out.observations.push_back(d);
   }
-  if (!unaligned.empty()) {
-    out.notes.push_back("no bias file: codes other than C1W/C2W used with the IGS C1W/C2W clock reference, their "
-                        "DCB (e.g. P1-C1) is not applied:" + unaligned);
+  for (int system = 0; system < kNumGnssSystems; ++system) {
+    if (unaligned[system].empty()) continue;
+    const SystemColumns& sc = systems_[system];
+    const std::string reference = std::string("C") + sc.band1 + sc.clock_reference1 + "/C" + sc.band2 + sc.clock_reference2;
+    out.notes.push_back("no bias file: codes other than " + reference + " used with the IGS " + reference +
+                        " clock reference, their DCB (e.g. P1-C1) is not applied:" + unaligned[system]);
   }
 }
 

@@ -162,6 +162,8 @@ ProductAssembly ProductAssembly::assemble(const ProductAssemblyInputs& in, const
   filter.last = in.last;
   const OrbitClockProducts orbit_clock = source.load(in, config, filter, a.notes_, a.problems_);
   a.ephemeris_ = orbit_clock.ephemeris;
+  // GLONASS channels of the navigation records, where the observation header has none.
+  a.config_.signals.glonass_channels.fillMissing(orbit_clock.glonass_channels);
 
   // ANTEX (satellites of the products' family first), Bias-SINEX, BLQ.
   for (const auto& f : in.clk) a.clock_headers_.push_back(readRinexClockHeader(f));  // read once

@@ -68,6 +68,7 @@ OrbitClockProducts loadBroadcastOrbitsAndClocks(const ProductAssemblyInputs& in,
   out.ephemeris = std::move(broadcast.ephemeris);
   out.ssr_biases = std::move(broadcast.ssr_biases);
   out.ssr_phase_biases = broadcast.ssr_phase_biases;
+  out.glonass_channels = broadcast.glonass_channels;
   notes.insert(notes.end(), broadcast.notes.begin(), broadcast.notes.end());
   problems.insert(problems.end(), broadcast.problems.begin(), broadcast.problems.end());
   return out;
