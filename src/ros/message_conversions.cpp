@@ -237,7 +237,9 @@ bool fromMessage(const ppp_bayes_tree::GnssObservations& msg, ppp::RinexObsHeade
     }
     if (sat->system == ppp::GnssSystem::GLONASS &&
         s.glonass_channel != ppp_bayes_tree::GnssSatelliteObservations::GLONASS_CHANNEL_UNKNOWN) {
+      const std::optional<int> known = layout.glonass_channels.channel(sat->prn);
       if (!layout.glonass_channels.set(sat->prn, s.glonass_channel)) issues.add("invalid GLONASS channel");
+      else if (known != std::optional<int>(s.glonass_channel)) changed = true;  // the signal selection needs it
     }
     std::vector<Item> items;
     for (const auto& g : s.signals) {

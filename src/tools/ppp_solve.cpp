@@ -21,7 +21,7 @@
 // except that a satellite's antenna comes first from the family the products name
 // (IGS14, IGS20: so igs14.atx and igs20.atx may be given together, in any order).
 // The products decide the defaults (ppp/pipeline/product_assembly.h, printed in the notes):
-// the systems (every one of GPS | Galileo the products and antennas cover) and
+// the systems (every one of GPS | GLONASS | Galileo the products and antennas cover) and
 // PPP-AR (ambiguity_resolution.enabled: auto fixes only with phase information
 // consistent with the clocks and the products' satellite antenna model).
 // ekf writes DIR/<name>_ekf.csv, .pos (RTKLIB), _summary.json, _epochs.csv and

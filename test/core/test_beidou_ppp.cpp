@@ -126,7 +126,8 @@ TEST(BeidouPpp, EsbcBroadcastHourUsesBeidouWhenTheConfigurationListsIt) {
 TEST(BeidouPpp, DefaultsTakeNoBeidouAndGiveTheGpsGalileoRun) {
   PPP_REQUIRE_SHARED_DATA();
   // No systems key (auto): GPS and Galileo, whose broadcast records and
-  // antennas the inputs hold; BeiDou is covered too but never automatic.
+  // antennas the inputs hold; BeiDou is covered too but never automatic;
+  // GLONASS has no records in the navigation file: skipped, no receiver clock of its own.
   const BroadcastRun defaults = runEkf(PppConfig{});
   const BroadcastRun ge = runEkf(configFile("ge", "measurement_model:\n  signals:\n    systems: [GPS, Galileo]\n"));
   EXPECT_EQ(defaults.systems, (std::vector<GnssSystem>{GnssSystem::GPS, GnssSystem::Galileo}));
@@ -141,7 +142,7 @@ TEST(BeidouPpp, AutoLeavesBeidouOutEvenWhenProductsAndAntennasCoverIt) {
   PPP_REQUIRE_SHARED_DATA();
   // The precise products of the default runs: ZIM2 IGS (GPS only) and ESBC GRG
   // (GPS, GLONASS, Galileo) have no BeiDou. CCJ2's WUM products do, and the
-  // IGS14 ANTEX file holds BeiDou satellites: `auto` still takes GPS and Galileo only.
+  // IGS14 ANTEX file holds BeiDou satellites: `auto` still takes GPS, GLONASS and Galileo only.
   const test::PppDataset ccj2 = test::ccj2Dataset();
   const PreciseEphemeris wum = PreciseEphemeris::load(ccj2.sp3, ccj2.clk);
   const std::set<SatelliteId> carried = wum.orbitSatellites();
@@ -152,7 +153,8 @@ TEST(BeidouPpp, AutoLeavesBeidouOutEvenWhenProductsAndAntennasCoverIt) {
   in.clk = ccj2.clk;
   in.atx = {test::dataPath("antex/igs14_2178_satellites.atx"), test::dataPath("antex/igs20_zim2_gps_trim.atx")};
   const ProductAssembly automatic = ProductAssembly::assemble(in, PppConfig{});
-  EXPECT_EQ(automatic.config().signals.systems, (std::vector<GnssSystem>{GnssSystem::GPS, GnssSystem::Galileo}));
+  EXPECT_EQ(automatic.config().signals.systems,
+            (std::vector<GnssSystem>{GnssSystem::GPS, GnssSystem::GLONASS, GnssSystem::Galileo}));
   const ProductAssembly listed = ProductAssembly::assemble(
       in, parsePppConfig("measurement_model:\n  signals:\n    systems: [GPS, Galileo, BeiDou]\n", "listed"));
   EXPECT_EQ(listed.config().signals.systems,

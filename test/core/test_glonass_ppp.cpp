@@ -1,7 +1,7 @@
-// GLONASS in PPP by configuration, on CCJ2 (2021-07-29, 00:00-01:00, 30 s): the
-// signal table's GLONASS row (G1/G2, C1P/C2P, FDMA frequencies from the RINEX
-// header's GLONASS SLOT / FRQ #) is used when `measurement_model.signals.systems`
-// lists GLONASS; its ambiguities stay float.
+// GLONASS in PPP, on CCJ2 (2021-07-29, 00:00-01:00, 30 s): the signal table's
+// GLONASS row (G1/G2, C1P/C2P, FDMA frequencies from the RINEX header's GLONASS
+// SLOT / FRQ #) is used when `measurement_model.signals.systems` lists GLONASS,
+// and by `auto` (the default: WUM carries GLONASS); its ambiguities stay float.
 //
 // Data: ccj22100.21o (TRIMBLE NETR9: GLONASS C1C C1P C2C C2P L1C L1P L2C L2P, every
 // channel in the header), WUM0MGXRAP rapid products (orbits and clocks of 21
@@ -84,6 +84,7 @@ double mean(const std::vector<double>& v) {
 
 const char* kGpsGalileo = "measurement_model:\n  signals:\n    systems: [GPS, Galileo]\n";
 const char* kGpsGalileoGlonass = "measurement_model:\n  signals:\n    systems: [GPS, Galileo, GLONASS]\n";
+const char* kDefaults = "ambiguity_resolution:\n  enabled: auto\n";  // the default value: no change
 
 TEST(GlonassPpp, Ccj2GlonassIsUsedKeptFloatAndTightensTheFloat) {
   PPP_REQUIRE_SHARED_DATA();
@@ -108,6 +109,23 @@ TEST(GlonassPpp, Ccj2GlonassIsUsedKeptFloatAndTightensTheFloat) {
   ASSERT_FALSE(ger.sigma_3d_m.empty());
   EXPECT_LT(mean(ger.sigma_3d_m), 0.85 * mean(ge.sigma_3d_m)) << mean(ger.sigma_3d_m) << " " << mean(ge.sigma_3d_m);
   EXPECT_LE(*ger.first_fix_min, *ge.first_fix_min);
+}
+
+// The defaults (`signals.systems: auto`) take GLONASS where the products carry it
+// and the header gives its channels: CCJ2's WUM products and RINEX header do.
+TEST(GlonassPpp, Ccj2DefaultsTakeGlonass) {
+  PPP_REQUIRE_SHARED_DATA();
+  const Ccj2Run ge = run(kGpsGalileo);
+  const Ccj2Run automatic = run(kDefaults);
+  EXPECT_EQ(automatic.systems, (std::vector<GnssSystem>{GnssSystem::GPS, GnssSystem::GLONASS, GnssSystem::Galileo}));
+  ASSERT_EQ(automatic.solved, 120);
+  EXPECT_GE(automatic.epochs_with_two_glonass, 108);
+  EXPECT_EQ(automatic.glonass_in_ambiguity_resolution, 0);
+  ASSERT_TRUE(automatic.first_fix_min.has_value());
+  ASSERT_TRUE(ge.first_fix_min.has_value());
+  EXPECT_LE(*automatic.first_fix_min, *ge.first_fix_min);
+  ASSERT_EQ(automatic.sigma_3d_m.size(), ge.sigma_3d_m.size());
+  EXPECT_LT(mean(automatic.sigma_3d_m), 0.85 * mean(ge.sigma_3d_m));
 }
 
 // The smoother through the same measurement model: GLONASS used, never fixed

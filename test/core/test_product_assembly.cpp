@@ -12,6 +12,7 @@
 
 #include "ppp_bayes_tree/io/products/antex_reader.h"
 #include "ppp_bayes_tree/io/products/rinex_clock_reader.h"
+#include "ppp_bayes_tree/io/rinex/rinex_obs_reader.h"
 #include "ppp_bayes_tree/models/clock_wide_lane_bias_provider.h"
 #include "ppp_bayes_tree/ppp/config/ppp_config.h"
 #include "ppp_bayes_tree/ppp/pipeline/ppp_pipeline.h"
@@ -111,10 +112,12 @@ TEST(ProductAssembly, Ccj2AutoFixesWithWumOsbsAndIgs14Antennas) {
   EXPECT_NE(a.phaseBiases(), nullptr);
   EXPECT_EQ(a.phaseBiases(), a.codeBiases().get());  // the Bias-SINEX file serves both
   EXPECT_TRUE(a.config().ambiguity_resolution.enabled);
-  // WUM carries GPS and Galileo, the IGS14 file has both: both are processed.
-  EXPECT_EQ(a.config().signals.systems, (std::vector<GnssSystem>{GnssSystem::GPS, GnssSystem::Galileo}));
-  EXPECT_TRUE(hasNote(a.notes(), "systems: GPS, Galileo (every system of GPS, Galileo that the products and the "
-                                 "satellite antennas cover)"));
+  // WUM carries GPS, GLONASS and Galileo, the IGS14 file has all three: all are processed
+  // (BeiDou, which WUM carries too, only when listed).
+  EXPECT_EQ(a.config().signals.systems,
+            (std::vector<GnssSystem>{GnssSystem::GPS, GnssSystem::GLONASS, GnssSystem::Galileo}));
+  EXPECT_TRUE(hasNote(a.notes(), "systems: GPS, GLONASS, Galileo (every system of GPS, GLONASS, Galileo that the "
+                                 "products and the satellite antennas cover)"));
   // An explicit list is kept as written.
   const PppConfig gps_only = parsePppConfig("measurement_model:\n  signals:\n    systems: [GPS]\n", "gps");
   EXPECT_EQ(ProductAssembly::assemble(ccj2Inputs({kIgs14}), gps_only).config().signals.systems,
@@ -133,9 +136,45 @@ TEST(ProductAssembly, Zim2StaysFloatWithoutConsistentPhaseBiases) {
   EXPECT_TRUE(hasNote(a.notes(), gate.text()));
   EXPECT_EQ(a.phaseBiases(), nullptr);
   EXPECT_FALSE(a.config().ambiguity_resolution.enabled);  // the float run is the one before `auto`
-  // GPS-only products: Galileo is skipped with the reason.
+  // GPS-only products: GLONASS and Galileo are skipped with the reason.
   EXPECT_EQ(a.config().signals.systems, std::vector<GnssSystem>{GnssSystem::GPS});
+  EXPECT_TRUE(hasNote(a.notes(), "systems: GLONASS skipped: no orbits and clocks in the products"));
   EXPECT_TRUE(hasNote(a.notes(), "systems: Galileo skipped: no orbits and clocks in the products"));
+}
+
+TEST(ProductAssembly, AutoTakesGlonassOnlyWithItsFrequencyChannels) {
+  PPP_REQUIRE_SHARED_DATA();
+  // ppp_solve hands the observation header's channels: CCJ2's RINEX header has GLONASS SLOT / FRQ #.
+  ProductAssemblyInputs in = ccj2Inputs({kIgs14});
+  in.observation_glonass_channels = RinexObsReader::open(test::ccj2Dataset().obs).header().glonass_channels;
+  ASSERT_GT(in.observation_glonass_channels->size(), 0);
+  EXPECT_EQ(ProductAssembly::assemble(in, PppConfig{}).config().signals.systems,
+            (std::vector<GnssSystem>{GnssSystem::GPS, GnssSystem::GLONASS, GnssSystem::Galileo}));
+  // A header without them and precise products (no navigation records): GLONASS cannot be selected.
+  in.observation_glonass_channels = GlonassChannels{};
+  const ProductAssembly none = ProductAssembly::assemble(in, PppConfig{});
+  EXPECT_EQ(none.config().signals.systems, (std::vector<GnssSystem>{GnssSystem::GPS, GnssSystem::Galileo}));
+  EXPECT_TRUE(hasNote(none.notes(), "systems: GLONASS skipped: no frequency channels (no GLONASS SLOT / FRQ # in "
+                                    "the observation header, no navigation records)"));
+  // Listed, it is processed as configured (its satellites are then skipped per epoch with the reason).
+  const PppConfig listed = parsePppConfig("measurement_model:\n  signals:\n    systems: [G, E, R]\n", "listed");
+  EXPECT_EQ(ProductAssembly::assemble(in, listed).config().signals.systems,
+            (std::vector<GnssSystem>{GnssSystem::GPS, GnssSystem::Galileo, GnssSystem::GLONASS}));
+}
+
+TEST(ProductAssembly, BroadcastCoverageComesFromTheRecordsOfEachSystem) {
+  PPP_REQUIRE_SHARED_DATA();
+  // The ESBC navigation file holds GPS, Galileo and BeiDou records, no GLONASS ones:
+  // auto takes GPS and Galileo (BeiDou only when listed), GLONASS is skipped with the reason.
+  ProductAssemblyInputs in;
+  in.nav = {test::esbcPath("ESBC00DNK_R_20201770000_01D_MN.rnx")};
+  in.atx = {test::dataPath(kIgs14), test::dataPath("antex/igs05_esbc_receiver_trim.atx")};
+  in.observation_glonass_channels =
+      RinexObsReader::open(test::esbcPath("ESBC00DNK_R_20201770000_01D_30S_MO.crx.gz")).header().glonass_channels;
+  ASSERT_GT(in.observation_glonass_channels->size(), 0);  // the channels are not what is missing
+  const ProductAssembly a = ProductAssembly::assemble(in, PppConfig{});
+  EXPECT_EQ(a.config().signals.systems, (std::vector<GnssSystem>{GnssSystem::GPS, GnssSystem::Galileo}));
+  EXPECT_TRUE(hasNote(a.notes(), "systems: GLONASS skipped: no navigation records"));
 }
 
 TEST(ProductAssembly, EsbcIntegerRecoveryClocksFixWithIgs14Antennas) {
@@ -154,7 +193,9 @@ TEST(ProductAssembly, EsbcIntegerRecoveryClocksFixWithIgs14Antennas) {
   EXPECT_NE(a.phaseBiases(), nullptr);
   EXPECT_TRUE(hasNote(a.notes(), "satellite antenna model consistent with the products (IGS14: products IGS14_2108, "
                                  "ANTEX IGS14_2178)"));
-  EXPECT_EQ(a.config().signals.systems, (std::vector<GnssSystem>{GnssSystem::GPS, GnssSystem::Galileo}));
+  // GRG carries GPS, GLONASS and Galileo; the IGS14 file calibrates all three.
+  EXPECT_EQ(a.config().signals.systems,
+            (std::vector<GnssSystem>{GnssSystem::GPS, GnssSystem::GLONASS, GnssSystem::Galileo}));
   // Off: no verdict note, no phase biases.
   const ProductAssembly off =
       ProductAssembly::assemble(in, parsePppConfig("ambiguity_resolution:\n  enabled: false\n", "off"));
@@ -224,6 +265,22 @@ TEST(ProductAssembly, LiveSsrFeedTakesItsAntennaModelFromTheConfigurationAndSays
   live.atx = {test::dataPath("antex/igs20_gps_satellites_trim.atx")};
   live.live_ssr = true;
   const ProductAssembly unset = ProductAssembly::assemble(live, PppConfig{});  // ppp.yaml: ""
+  // Only GPS satellites in the ANTEX file: Galileo skipped.
+  EXPECT_EQ(unset.config().signals.systems, std::vector<GnssSystem>{GnssSystem::GPS});
+  EXPECT_TRUE(hasNote(unset.notes(), "systems: Galileo skipped: no satellite antenna calibrations in the ANTEX files"));
+  // Which systems a live feed corrects shows only as it streams: auto leaves GLONASS out.
+  live.atx.push_back(test::dataPath(kIgs14));
+  const ProductAssembly with_glonass_antennas = ProductAssembly::assemble(live, PppConfig{});
+  EXPECT_EQ(with_glonass_antennas.config().signals.systems,
+            (std::vector<GnssSystem>{GnssSystem::GPS, GnssSystem::Galileo}));
+  EXPECT_TRUE(hasNote(with_glonass_antennas.notes(),
+                      "systems: GLONASS skipped: a live SSR feed shows which systems it corrects only as it streams, "
+                      "after the receiver state is made; list it in signals.systems to process it"));
+  live.live_ssr = false;  // a PreciseCorrections stream (bag, topic): GLONASS taken as from the precise files
+  EXPECT_EQ(ProductAssembly::assemble(live, PppConfig{}).config().signals.systems,
+            (std::vector<GnssSystem>{GnssSystem::GPS, GnssSystem::GLONASS, GnssSystem::Galileo}));
+  live.live_ssr = true;
+  live.atx.pop_back();
   EXPECT_FALSE(unset.arGate().fix);
   EXPECT_EQ(unset.arGate().reason, ArGateReason::AntennaModelUnknown);
   EXPECT_EQ(unset.arGate().text(),
@@ -265,9 +322,11 @@ TEST(ProductAssembly, BroadcastAndSsrFilesGoThroughTheSameGate) {
   // The SSR stream names no satellite antenna model: auto stays float.
   EXPECT_EQ(automatic.arGate().reason, ArGateReason::AntennaModelUnknown);
   EXPECT_EQ(automatic.phaseBiases(), nullptr);
-  // Only GPS satellites in the ANTEX file: Galileo skipped.
+  // The navigation file holds GPS records only: Galileo and GLONASS skipped for that
+  // (before the ANTEX file, which holds GPS satellites only, is looked at).
   EXPECT_EQ(automatic.config().signals.systems, std::vector<GnssSystem>{GnssSystem::GPS});
-  EXPECT_TRUE(hasNote(automatic.notes(), "systems: Galileo skipped: no satellite antenna calibrations in the ANTEX files"));
+  EXPECT_TRUE(hasNote(automatic.notes(), "systems: Galileo skipped: no navigation records"));
+  EXPECT_TRUE(hasNote(automatic.notes(), "systems: GLONASS skipped: no navigation records"));
   // true: the antennas are not held against it, but there are no phase biases.
   const ProductAssembly on =
       ProductAssembly::assemble(in, parsePppConfig("ambiguity_resolution:\n  enabled: true\n", "on"));
@@ -305,11 +364,19 @@ TEST(ProductAssembly, SsrPhaseBiasesFixWhenTheStreamsAntennaModelIsStated) {
   ASSERT_NE(igs14.phaseBiases(), nullptr);
   EXPECT_EQ(igs14.phaseBiases(), igs14.codeBiases().get());
   EXPECT_EQ(igs14.config().signals.systems, (std::vector<GnssSystem>{GnssSystem::GPS, GnssSystem::Galileo}));
+  EXPECT_TRUE(hasNote(igs14.notes(), "systems: GLONASS skipped: no navigation records"));
   EXPECT_TRUE(igs14.config().ambiguity_resolution.enabled);
   // A model other than the ANTEX satellites' refuses.
   const ProductAssembly igs20 = ProductAssembly::assemble(in, parsePppConfig("ssr:\n  antenna_model: IGS20\n", "igs20"));
   EXPECT_EQ(igs20.arGate().reason, ArGateReason::AntennaModelDifferent);
   EXPECT_EQ(igs20.phaseBiases(), nullptr);
+  // A stream that corrects GPS only: Galileo, whose records the navigation file holds, is skipped.
+  options.systems = {GnssSystem::GPS};
+  test::writeFileBytes(*in.ssr, test::ssrStreamBytes(ssrFromPrecise({readRinexNav(in.nav.front())}, test::esbcGrgPrecise(),
+                                                                     nullptr, nullptr, start, start + 60.0, options)));
+  const ProductAssembly gps = ProductAssembly::assemble(in, PppConfig{});
+  EXPECT_EQ(gps.config().signals.systems, std::vector<GnssSystem>{GnssSystem::GPS});
+  EXPECT_TRUE(hasNote(gps.notes(), "systems: Galileo skipped: no SSR orbit and clock corrections in the stream"));
   std::filesystem::remove_all(dir);
 }
 

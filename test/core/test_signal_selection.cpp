@@ -162,7 +162,8 @@ TEST(SignalSelection, TableHasOneRowPerSystemWithAnIfPair) {
   EXPECT_EQ(signalTableRow(GnssSystem::BeiDou)->priority.band1, '2');
   EXPECT_EQ(signalTableRow(GnssSystem::BeiDou)->priority.band2, '6');
   EXPECT_EQ(signalTableRow(GnssSystem::Galileo)->priority.band2, '5');
-  EXPECT_EQ(automaticSignalSystems(), (std::vector<GnssSystem>{GnssSystem::GPS, GnssSystem::Galileo}));
+  EXPECT_EQ(automaticSignalSystems(),
+            (std::vector<GnssSystem>{GnssSystem::GPS, GnssSystem::GLONASS, GnssSystem::Galileo}));
   EXPECT_EQ(signalTableSystemNames(), "GPS, GLONASS, Galileo or BeiDou");
   const SignalSelectionOptions options;
   EXPECT_EQ(options.priorities[GnssSystem::GPS].code1_attributes, (std::vector<char>{'W', 'C'}));
@@ -170,13 +171,14 @@ TEST(SignalSelection, TableHasOneRowPerSystemWithAnIfPair) {
 }
 
 // GLONASS: G1/G2 with the P codes first (the C1P/C2P clock reference), FDMA, its
-// code down-weighted; the only row whose ambiguities are never fixed.
+// code down-weighted, taken by `auto` where the products cover it; the only row
+// whose ambiguities are never fixed.
 TEST(SignalSelection, GlonassRowIsFdmaWithPCodesFirst) {
   const SignalTableRow* row = signalTableRow(GnssSystem::GLONASS);
   ASSERT_NE(row, nullptr);
   EXPECT_STREQ(row->config_key, "glonass");
   EXPECT_TRUE(row->frequency_division);
-  EXPECT_FALSE(row->automatic);
+  EXPECT_TRUE(row->automatic);
   EXPECT_EQ(row->priority.band1, '1');
   EXPECT_EQ(row->priority.band2, '2');
   EXPECT_EQ(row->priority.code1_attributes, (std::vector<char>{'P', 'C'}));

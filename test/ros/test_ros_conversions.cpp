@@ -87,6 +87,25 @@ TEST(RosObservations, AbsurdValuesAndUnknownIdsAreExcludedAndCounted) {
   EXPECT_EQ(e.satellites.size(), msg.satellites.size() - 1);
 }
 
+// A GLONASS slot whose channel first comes with a later message changes the layout
+// (the node then remakes its signal selection, which takes the frequencies from it).
+TEST(RosObservations, AGlonassChannelLearnedLaterChangesTheLayout) {
+  auto msg = ppp_ros::toMessage(flight().epochs[0], flight().header);
+  msg.satellites[0].satellite = "R05";
+  msg.satellites[0].glonass_channel = ppp_bayes_tree::GnssSatelliteObservations::GLONASS_CHANNEL_UNKNOWN;
+  ppp::RinexObsHeader layout;
+  ppp::ObsEpoch e;
+  ppp_ros::ConversionIssues issues;
+  EXPECT_TRUE(ppp_ros::fromMessage(msg, layout, e, issues));    // new types
+  EXPECT_FALSE(ppp_ros::fromMessage(msg, layout, e, issues));   // nothing new
+  EXPECT_FALSE(layout.glonass_channels.channel(5).has_value());
+  msg.satellites[0].glonass_channel = 1;
+  EXPECT_TRUE(ppp_ros::fromMessage(msg, layout, e, issues));    // the channel of R05 learned
+  EXPECT_EQ(layout.glonass_channels.channel(5), std::optional<int>(1));
+  EXPECT_FALSE(ppp_ros::fromMessage(msg, layout, e, issues));
+  EXPECT_EQ(issues.total(), 0u);
+}
+
 TEST(CorrectionBuffer, MatchesTheFileProductsAndNeverExtrapolates) {
   const ppp::SimulatedFlight& f = flight();
   ppp_ros::BagWriteOptions o;

@@ -16,6 +16,7 @@
 // of the run; SSR epochs are placed in time next to the navigation records.
 #include <memory>
 #include <optional>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -39,6 +40,10 @@ struct BroadcastProducts {
   /// GLONASS frequency channels of the navigation records (RINEX header or
   /// records, stream records), for the signal selection of GLONASS.
   GlonassChannels glonass_channels;
+  /// The satellites with decoded navigation records (files and stream recordings).
+  std::set<SatelliteId> record_satellites;
+  /// With SSR: the satellites the stream corrects (orbit and clock corrections).
+  std::set<SatelliteId> corrected_satellites;
   std::vector<std::string> notes;
   std::vector<std::string> problems;
 };

@@ -12,6 +12,7 @@
 // high_rate_clock_max_age_s, bias_max_age_s.
 #include <map>
 #include <optional>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -72,6 +73,8 @@ class SsrCorrectionStore {
   std::size_t dropSupersededBefore(const GnssTime& t);
   /// The newest SSR epoch stored (nullopt when empty).
   std::optional<GnssTime> latestEpoch() const { return latest_; }
+  /// The satellites with both orbit and clock corrections (the ones the stream corrects).
+  std::set<SatelliteId> correctedSatellites() const;
   std::size_t orbitCount() const;
   std::size_t clockCount() const;
   std::size_t codeBiasCount() const;

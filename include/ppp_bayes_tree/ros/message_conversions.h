@@ -50,7 +50,8 @@ struct ConversionIssues {
 ppp_bayes_tree::GnssObservations toMessage(const ppp::ObsEpoch& epoch, const ppp::RinexObsHeader& header);
 
 /// Message -> ObsEpoch. `layout` is the running header: its observation types
-/// per system grow as new codes appear (returns true when they changed), and
+/// per system grow as new codes appear and its GLONASS channels as new slots
+/// appear (returns true when either changed), and
 /// its receiver/antenna fields are set from the message. Each satellite's slice
 /// follows the layout's type list (absent: nullopt), like RinexObsReader.
 /// Throws std::invalid_argument when the epoch time itself is invalid.

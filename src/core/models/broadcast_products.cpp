@@ -26,6 +26,36 @@ void addReceived(Target target, const ReceivedNavigation& nav) {
   for (const auto& r : nav.glonass) target(r.record, r.received_at);
 }
 
+template <class Record>
+const SatelliteId& satelliteOf(const Record& r) {
+  return r.satellite;
+}
+template <class Record>
+const SatelliteId& satelliteOf(const ReceivedRecord<Record>& r) {
+  return r.record.satellite;
+}
+
+/// Adds the satellites of every record of a RINEX file (NavData) or a stream (ReceivedNavigation).
+template <class Navigation>
+void insertRecordSatellites(const Navigation& nav, std::set<SatelliteId>& out) {
+  const auto insert = [&out](const auto& records) {
+    for (const auto& r : records) out.insert(satelliteOf(r));
+  };
+  insert(nav.gps);
+  insert(nav.galileo);
+  insert(nav.glonass);
+  insert(nav.beidou);
+}
+
+/// The satellites of decoded records: of RINEX files and of stream recordings.
+std::set<SatelliteId> recordSatellites(const std::vector<NavData>& navs,
+                                       const std::vector<StreamNavigationFile>& streams) {
+  std::set<SatelliteId> out;
+  for (const auto& n : navs) insertRecordSatellites(n, out);
+  for (const auto& s : streams) insertRecordSatellites(s.navigation, out);
+  return out;
+}
+
 }  // namespace
 
 namespace {
@@ -101,6 +131,7 @@ BroadcastProducts loadBroadcastProducts(const std::vector<std::string>& nav, con
     for (const auto& r : s.navigation.glonass)
       if (!out.glonass_channels.channel(r.record.satellite.prn))
         out.glonass_channels.set(r.record.satellite.prn, r.record.frequency_channel);
+  out.record_satellites = recordSatellites(navs, streams);
   if (!ssr) {
     auto store = std::make_shared<BroadcastEphemerisStore>();
     for (const auto& n : navs) store->add(n);
@@ -116,6 +147,7 @@ BroadcastProducts loadBroadcastProducts(const std::vector<std::string>& nav, con
   const SsrStreamFile stream = readSsrStreamFile(*ssr, reference_time);
   auto store = std::make_shared<SsrCorrectionStore>(limits);
   for (const auto& m : stream.messages) store->add(m);
+  out.corrected_satellites = store->correctedSatellites();
   BroadcastSsrOptions options;
   const auto from_name = ssrReferenceFromStreamName(fileBaseName(*ssr));
   options.reference = ssr_reference ? *ssr_reference : from_name.value_or(EphemerisReference::CentreOfMass);

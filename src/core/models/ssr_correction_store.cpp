@@ -117,6 +117,13 @@ std::size_t SsrCorrectionStore::dropSupersededBefore(const GnssTime& t) {
          dropSuperseded(code_biases_, t) + dropSuperseded(phase_biases_, t);
 }
 
+std::set<SatelliteId> SsrCorrectionStore::correctedSatellites() const {
+  std::set<SatelliteId> out;
+  for (const auto& [sat, series] : orbits_)
+    if (!series.empty() && clocks_.count(sat) && !clocks_.at(sat).empty()) out.insert(sat);
+  return out;
+}
+
 std::size_t SsrCorrectionStore::orbitCount() const { return countAll(orbits_); }
 std::size_t SsrCorrectionStore::clockCount() const { return countAll(clocks_); }
 std::size_t SsrCorrectionStore::codeBiasCount() const { return countAll(code_biases_); }

@@ -137,7 +137,7 @@ struct SignalSelectionOptions {
   std::vector<GnssSystem> systems{GnssSystem::GPS};
   /// true (default; no `signals.systems` key): the product assembly
   /// (product_assembly.h) processes every automatic system of the table
-  /// (GPS | Galileo) that the products and the satellite antennas cover and
+  /// (GPS | GLONASS | Galileo) that the products and the satellite antennas cover and
   /// writes them into `systems` (which holds GPS for code that runs without
   /// the assembly). false: exactly `systems`.
   bool systems_from_products = true;

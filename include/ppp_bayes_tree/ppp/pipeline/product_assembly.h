@@ -12,8 +12,13 @@
 // Outputs:
 //  - the ephemeris, the antenna calibrations, the code biases, the ocean loading;
 //  - the systems processed (signals.systems_from_products, the default: those of
-//    GPS | Galileo that the products and the satellite antennas cover; a system
-//    without them is skipped with the reason in the notes);
+//    GPS | GLONASS | Galileo that the products and the satellite antennas cover;
+//    a system without them is skipped with the reason in the notes). Covered:
+//    precise products carry its satellites, broadcast files have its records
+//    (with an SSR recording: the stream corrects its satellites), the ANTEX
+//    files calibrate those satellites; GLONASS also needs its frequency
+//    channels (observation header or navigation records) and is not taken on a
+//    live SSR feed (product_sources.h);
 //  - the satellite antennas by family: with several ANTEX files, each satellite's
 //    block comes from the family the products name (SP3 "/* PCV:", clock
 //    "SYS / PCVS APPLIED"; models/antex_calibrations.h), and only the blocks of
@@ -84,6 +89,10 @@ struct ProductAssemblyInputs : OrbitClockFiles {
   /// The observations' span (products outside it are not read; the antenna
   /// check looks at the blocks valid at `first`). nullopt: unknown.
   std::optional<GnssTime> first, last;
+  /// The GLONASS frequency channels of the observation file's header (RINEX
+  /// GLONASS SLOT / FRQ #, or those an RTCM/UBX file's scan found). nullopt:
+  /// the observations are streamed and bring their channels with them.
+  std::optional<GlonassChannels> observation_glonass_channels;
   /// The source of these inputs streams its orbits and clocks (product_sources.h).
   bool streamedOrbitsAndClocks() const;
 };
@@ -167,6 +176,10 @@ class ProductAssembly {
   // The steps of assemble().
   void resolveSystems(const ProductAssemblyInputs& in, const std::vector<GnssSystem>& candidates,
                       const OrbitClockProducts& orbit_clock);
+  /// Why `system` is not covered ("" when it is): no orbits and clocks (records,
+  /// SSR corrections), not in the stream, no GLONASS channels, no satellite antennas.
+  std::string whyNotCovered(const ProductAssemblyInputs& in, GnssSystem system,
+                            const OrbitClockProducts& orbit_clock) const;
   void checkSatelliteAntennas(const ProductAssemblyInputs& in, const std::vector<std::string>& product_models,
                               const OrbitClockProducts& orbit_clock);
   void decideArGate(const ProductAssemblyInputs& in, const OrbitClockProducts& orbit_clock);

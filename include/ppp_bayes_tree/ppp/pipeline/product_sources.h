@@ -59,8 +59,18 @@ std::string productInputNames(unsigned inputs);
 /// and the SSR biases of a recording.
 struct OrbitClockProducts {
   std::shared_ptr<const EphemerisSource> ephemeris;
+  /// Precise: the satellites with orbits (and clocks); broadcast: those with
+  /// navigation records; broadcast + SSR: those with records and SSR orbit and
+  /// clock corrections.
   std::set<SatelliteId> satellites;
   bool satellites_known = false;
+  /// Broadcast sources: the satellites with navigation records (the SSR stream
+  /// corrects some of them); empty for precise and streamed sources.
+  std::set<SatelliteId> record_satellites;
+  bool from_navigation_records = false;  // a broadcast source (with SSR: `satellites` are those it corrects)
+  /// Why `system` has no satellite here ("no orbits and clocks in the products",
+  /// "no navigation records", "no SSR orbit and clock corrections in the stream").
+  std::string missingReason(GnssSystem system) const;
   std::shared_ptr<const BiasProvider> ssr_biases;
   bool ssr_phase_biases = false;
   GlonassChannels glonass_channels;  // from navigation records (broadcast sources)
@@ -85,6 +95,11 @@ struct ProductSource {
   bool ssr_antenna_model = false;  // its satellite antenna model is the configuration's ssr.antenna_model
   SourcePhaseInformation phase = SourcePhaseInformation::ClockProducts;
   OrbitClockLoader load = nullptr;
+  /// `signals.systems: auto` may take the frequency-division systems (GLONASS)
+  /// from this source. False for a live SSR feed: it shows which systems it
+  /// corrects only as it streams, after the receiver state (one clock per
+  /// system) is made, and GLONASS corrections are not in every feed.
+  bool auto_frequency_division = true;
 };
 
 // The loaders of the sources (product_sources.cpp).
@@ -108,7 +123,7 @@ inline constexpr std::array<ProductSource, 5> kProductSources{{
     {"broadcast", "broadcast navigation records only (--nav): metre level", kProductNav, false, false,
      SourcePhaseInformation::SsrRecording, &loadBroadcastOrbitsAndClocks},
     {"live-ssr", "a live SSR feed with its broadcast records (the nodes' ros.live corrections)", kProductLiveSsr, true,
-     true, SourcePhaseInformation::Stream, &loadStreamedOrbitsAndClocks},
+     true, SourcePhaseInformation::Stream, &loadStreamedOrbitsAndClocks, false},
     {"streamed",
      "orbits and clocks streamed to a node (a PreciseCorrections topic or bag, or the live broadcast records)", 0u,
      true, false, SourcePhaseInformation::Stream, &loadStreamedOrbitsAndClocks},

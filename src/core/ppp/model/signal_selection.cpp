@@ -16,8 +16,8 @@ namespace ppp {
 //    REFERENCE_OBSERVABLES R C1P C2P). The frequencies are per satellite (its
 //    channel); the code is down-weighted by a factor of 3 for the receiver's
 //    inter-frequency code biases (Cai & Gao 2013, GPS Solutions 17(2) 223-236;
-//    Shi et al. 2013, GPS Solutions 17(4) 439-451). Not automatic (measured in
-//    doc/glonass.md).
+//    Shi et al. 2013, GPS Solutions 17(4) 439-451). Automatic where the products
+//    carry it and its channels are known (measured in doc/glonass.md).
 //  - Galileo E1/E5a (C1C/C5Q or the pilot+data X modes), the IGS MGEX reference pair.
 //  - BeiDou B1I/B3I (C2I/C6I): the broadcast clock refers to B3I and its TGD1 gives
 //    the B1I/B3I IF combination (BDS-SIS-ICD-B1I 3.0, 5.2.4.10; the broadcast store
@@ -28,7 +28,7 @@ namespace ppp {
 const std::vector<SignalTableRow>& signalTable() {
   static const std::vector<SignalTableRow> table = {
       {GnssSystem::GPS, "gps", {'1', '2', {'W', 'C'}, {'W', 'L', 'X'}, {'C', 'W'}, {'W', 'L', 'X'}}, true, 'W', 'W'},
-      {GnssSystem::GLONASS, "glonass", {'1', '2', {'P', 'C'}, {'P', 'C'}, {'P', 'C'}, {'P', 'C'}, 3.0}, false, 'P', 'P',
+      {GnssSystem::GLONASS, "glonass", {'1', '2', {'P', 'C'}, {'P', 'C'}, {'P', 'C'}, {'P', 'C'}, 3.0}, true, 'P', 'P',
        true},
       {GnssSystem::Galileo, "galileo", {'1', '5', {'C', 'X'}, {'Q', 'X'}, {'C', 'X'}, {'Q', 'X'}}, true},
       {GnssSystem::BeiDou, "beidou", {'2', '6', {'I', 'X'}, {'I', 'X'}, {'I', 'X'}, {'I', 'X'}}, false},

@@ -142,6 +142,7 @@ PppPipeline::PppPipeline(const PppInputFiles& files, PppConfig config)
   in.atx = files.atx;
   in.bias = files.bias;
   in.blq = files.blq;
+  in.observation_glonass_channels = d.source->header().glonass_channels;
   d.assembly = ProductAssembly::assemble(in, config_);
   const ProductAssembly& products = *d.assembly;
   config_ = products.config();

@@ -197,22 +197,9 @@ ProductAssembly ProductAssembly::assemble(const ProductAssemblyInputs& in, const
 void ProductAssembly::resolveSystems(const ProductAssemblyInputs& in, const std::vector<GnssSystem>& candidates,
                                      const OrbitClockProducts& orbit_clock) {
   // Every candidate that the products and the satellite antennas cover.
-  const auto antex = antennas();
   std::vector<GnssSystem> systems;
   for (GnssSystem s : candidates) {
-    std::set<SatelliteId> carried;
-    for (const auto& sat : orbit_clock.satellites)
-      if (sat.system == s) carried.insert(sat);
-    const auto& declared = in.streamed.systems;
-    std::string why;
-    if (orbit_clock.satellites_known && carried.empty()) {
-      why = "no orbits and clocks in the products";
-    } else if (in.streamedOrbitsAndClocks() && !declared.empty() &&
-               std::find(declared.begin(), declared.end(), s) == declared.end()) {
-      why = "not carried by the product stream";
-    } else if (config_.model.satellite_antenna && antex && !antennasCover(*antex, s, carried)) {
-      why = "no satellite antenna calibrations in the ANTEX files";
-    }
+    const std::string why = whyNotCovered(in, s, orbit_clock);
     if (why.empty()) systems.push_back(s);
     else notes_.push_back("systems: " + std::string(systemName(s)) + " skipped: " + why);
   }
@@ -224,6 +211,31 @@ void ProductAssembly::resolveSystems(const ProductAssemblyInputs& in, const std:
   config_.signals.systems = systems;
   notes_.push_back("systems: " + systemList(systems) + " (every system of " + systemList(automaticSignalSystems()) +
                    " that the products and the satellite antennas cover)");
+}
+
+std::string ProductAssembly::whyNotCovered(const ProductAssemblyInputs& in, GnssSystem system,
+                                           const OrbitClockProducts& orbit_clock) const {
+  std::set<SatelliteId> carried;
+  for (const auto& sat : orbit_clock.satellites)
+    if (sat.system == system) carried.insert(sat);
+  const auto& declared = in.streamed.systems;
+  const SignalTableRow* row = signalTableRow(system);
+  const bool frequency_division = row != nullptr && row->frequency_division;
+  const ProductSource& source = selectProductSource(in);
+  const auto antex = antennas();
+  if (orbit_clock.satellites_known && carried.empty()) return orbit_clock.missingReason(system);
+  const bool declared_elsewhere =
+      !declared.empty() && std::find(declared.begin(), declared.end(), system) == declared.end();
+  if (in.streamedOrbitsAndClocks() && declared_elsewhere) return "not carried by the product stream";
+  if (frequency_division && !source.auto_frequency_division)
+    return "a live SSR feed shows which systems it corrects only as it streams, after the receiver state is made; "
+           "list it in signals.systems to process it";
+  if (frequency_division && in.observation_glonass_channels && in.observation_glonass_channels->size() == 0 &&
+      config_.signals.glonass_channels.size() == 0)
+    return "no frequency channels (no GLONASS SLOT / FRQ # in the observation header, no navigation records)";
+  if (config_.model.satellite_antenna && antex && !antennasCover(*antex, system, carried))
+    return "no satellite antenna calibrations in the ANTEX files";
+  return {};
 }
 
 void ProductAssembly::checkSatelliteAntennas(const ProductAssemblyInputs& in,

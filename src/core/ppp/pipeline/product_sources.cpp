@@ -1,6 +1,7 @@
 #include "ppp_bayes_tree/ppp/pipeline/product_sources.h"
 
 #include <algorithm>
+#include <iterator>
 #include <stdexcept>
 
 #include "ppp_bayes_tree/io/record_filter.h"
@@ -32,6 +33,13 @@ std::string productInputNames(unsigned inputs) {
   for (const InputName& n : kInputNames)
     if (inputs & n.bit) out += (out.empty() ? "" : " + ") + std::string(n.name);
   return out.empty() ? std::string("nothing (streamed)") : out;
+}
+
+std::string OrbitClockProducts::missingReason(GnssSystem system) const {
+  const auto of_system = [system](const SatelliteId& s) { return s.system == system; };
+  if (!from_navigation_records) return "no orbits and clocks in the products";
+  if (std::none_of(record_satellites.begin(), record_satellites.end(), of_system)) return "no navigation records";
+  return "no SSR orbit and clock corrections in the stream";
 }
 
 OrbitClockProducts loadPreciseOrbitsAndClocks(const ProductAssemblyInputs& in, const PppConfig&,
@@ -69,6 +77,17 @@ OrbitClockProducts loadBroadcastOrbitsAndClocks(const ProductAssemblyInputs& in,
   out.ssr_biases = std::move(broadcast.ssr_biases);
   out.ssr_phase_biases = broadcast.ssr_phase_biases;
   out.glonass_channels = broadcast.glonass_channels;
+  // Carried: the satellites with records, and with SSR those the stream corrects.
+  out.record_satellites = broadcast.record_satellites;
+  out.from_navigation_records = true;
+  if (in.ssr) {
+    std::set_intersection(broadcast.record_satellites.begin(), broadcast.record_satellites.end(),
+                          broadcast.corrected_satellites.begin(), broadcast.corrected_satellites.end(),
+                          std::inserter(out.satellites, out.satellites.begin()));
+  } else {
+    out.satellites = broadcast.record_satellites;
+  }
+  out.satellites_known = true;
   notes.insert(notes.end(), broadcast.notes.begin(), broadcast.notes.end());
   problems.insert(problems.end(), broadcast.problems.begin(), broadcast.problems.end());
   return out;
