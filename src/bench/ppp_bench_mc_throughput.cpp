@@ -68,12 +68,12 @@ StageCpu stages(const MonteCarloOptions& o, int index) {
   {
     PppConfig smoother_config = config;
     smoother_config.smoother.fixed_lag_s = o.smoother_filtered_lag_s;
+    smoother_config.smoother.record_graph = true;
     PppPipeline pipeline(in, smoother_config);
     SmootherEstimator sm(smoother_config);
-    sm.smoother().setRecordGraph(true);
     pipeline.run(sm, [](const PppEpochRecord&) {});
-    const auto trajectory = sm.smoother().trajectoryFrom(sm.smoother().batchSmoothedValues());
-    if (trajectory.empty()) std::fprintf(stderr, "flight %d: no smoothed state\n", index);
+    if (sm.smoothing()->finalSmoothedSolution().trajectory.empty())
+      std::fprintf(stderr, "flight %d: no smoothed state\n", index);
   }
   cpu.smoother_s = threadCpu_s() - t0;
   return cpu;

@@ -96,10 +96,11 @@ FlightRun runSmoother(const SimulatedFlight& f, const PppConfig& config,
                       SmootherEstimator** keep = nullptr, bool record_graph = false) {
   FlightRun run;
   PppPipeline pipeline(inputsOf(f), config);
+  PppConfig smoother_config = config;
+  smoother_config.smoother.record_graph = record_graph;
   static thread_local std::unique_ptr<SmootherEstimator> last;
-  last = std::make_unique<SmootherEstimator>(config);
+  last = std::make_unique<SmootherEstimator>(smoother_config);
   SmootherEstimator& sm = *last;
-  sm.smoother().setRecordGraph(record_graph);
   std::size_t k = 0;
   pipeline.run(sm, [&](const PppEpochRecord& rec) {
     run.epochs.push_back({rec.solution.position_ecef_m, rec.solution.status == SolutionStatus::PppFixed});

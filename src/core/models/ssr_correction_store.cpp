@@ -119,8 +119,10 @@ std::size_t SsrCorrectionStore::dropSupersededBefore(const GnssTime& t) {
 
 std::set<SatelliteId> SsrCorrectionStore::correctedSatellites() const {
   std::set<SatelliteId> out;
-  for (const auto& [sat, series] : orbits_)
-    if (!series.empty() && clocks_.count(sat) && !clocks_.at(sat).empty()) out.insert(sat);
+  for (const auto& [sat, series] : orbits_) {
+    const auto clock = clocks_.find(sat);
+    if (!series.empty() && clock != clocks_.end() && !clock->second.empty()) out.insert(sat);
+  }
   return out;
 }
 

@@ -136,7 +136,7 @@ class PppSmoother : public PppEstimatorBase, public SmoothedTrajectoryProvider {
   using StateSink = std::function<void(const SmoothedEpoch&)>;
   /// Live use: states that leave the graph (marginalized past the lag, or left behind
   /// by a restart) go to `sink`, once each and in time order, and are dropped from
-  /// memory (unless the graph is recorded, setRecordGraph, which needs them all).
+  /// memory (unless the graph is recorded, PppSmootherOptions::record_graph, which needs them all).
   /// From then on smoothedTrajectory() holds only the states not yet handed out.
   /// An empty sink restores the default (every state kept).
   void setMarginalizedStateSink(StateSink sink) { sink_ = std::move(sink); }
@@ -203,10 +203,6 @@ class PppSmoother : public PppEstimatorBase, public SmoothedTrajectoryProvider {
   /// Fixes removed as wrong so far.
   std::size_t fixesRemoved() const { return fixes_removed_; }
 
-  /// Keep a copy of every factor and new variable of the successful updates (call
-  /// before the first epoch), for batchSmoothedValues(). Costs memory O(epochs).
-  /// Set from PppSmootherOptions::record_graph at construction.
-  void setRecordGraph(bool record) { record_graph_ = record; }
   /// The MAP estimate of ALL recorded factors (every epoch, also those a fixed
   /// lag has marginalized) by a batch Gauss-Newton solve (batch_solver.h), started
   /// from the latest estimates: the full smoother's smoothed solution, computed
@@ -290,7 +286,6 @@ class PppSmoother : public PppEstimatorBase, public SmoothedTrajectoryProvider {
   FilteredJoint joint_;
   std::vector<HeldFix> held_;
   std::size_t fixes_removed_ = 0;
-  bool record_graph_ = false;
   smoother::NonlinearFactorGraph recorded_factors_;
   smoother::Values recorded_values_;  // initial values; refreshed from the estimate when solving
 };

@@ -33,8 +33,9 @@ struct PppSmootherOptions {
   smoother::Factorization factorization = smoother::Factorization::Cholesky;
   /// 0: full smoother (every state kept); > 0: fixed-lag smoother with this lag [s].
   double fixed_lag_s = 0.0;
-  /// Keep a copy of every factor besides the lag window (PppSmoother::setRecordGraph),
-  /// so that finalSmoothedSolution() is the batch solve of all the data. Memory
+  /// Keep a copy of every factor and new variable of the successful updates besides
+  /// the lag window, so that batchSmoothedValues() / finalSmoothedSolution() is the
+  /// batch solve of all the data. Memory
   /// O(epochs). Not a configuration key: the Monte Carlo study's fast mode (a fixed
   /// lag for the filtered run, the exact smoothed solution at the end).
   bool record_graph = false;

@@ -48,8 +48,7 @@ std::string PppSmootherOptions::validate() const {
 PppSmoother::PppSmoother(StochasticModel model, PppSmootherOptions options, CodeLeastSquaresOptions start_options,
                          ReceiverStateLayout layout)
     : PppEstimatorBase(model, options.screening, start_options, layout),
-      options_(options),
-      record_graph_(options.record_graph) {
+      options_(options) {
   if (auto problem = options_.validate(); !problem.empty()) throw std::invalid_argument(problem);
   if (auto problem = model_.validate(); !problem.empty()) throw std::invalid_argument(problem);
   newGraph();
@@ -94,7 +93,8 @@ smoother::ISAM2Params PppSmoother::isamParams() const {
 const smoother::ISAM2& PppSmoother::isam2() const { return lag_ ? lag_->isam2() : *isam_; }
 
 smoother::Values PppSmoother::batchSmoothedValues() const {
-  if (!record_graph_) throw std::logic_error("batchSmoothedValues: the graph was not recorded (setRecordGraph)");
+  if (!options_.record_graph)
+    throw std::logic_error("batchSmoothedValues: the graph was not recorded (PppSmootherOptions::record_graph)");
   smoother::Values initial = recorded_values_;
   const smoother::ISAM2& isam = isam2();
   for (Key key : initial.keys()) {
@@ -110,7 +110,7 @@ smoother::Values PppSmoother::batchSmoothedValues() const {
 
 SmoothedSolution PppSmoother::finalSmoothedSolution() const {
   SmoothedSolution out;
-  if (!record_graph_) {
+  if (!options_.record_graph) {
     out.trajectory = smoothedTrajectory();
     out.bias_m = [this](const SatelliteId& satellite, ArcId arc) { return biasEstimate_m(satellite, arc); };
     return out;
@@ -221,7 +221,7 @@ std::optional<SmoothedEpoch> PppSmoother::smoothedEpochAt(const GnssTime& time, 
 }
 
 void PppSmoother::releaseLeftStates() {
-  if (!sink_ || record_graph_) return;
+  if (!sink_ || options_.record_graph) return;
   const smoother::ISAM2& isam = isam2();
   // The newest state is always in the graph, so at least one state stays.
   while (states_.size() > 1 && !isam.exists(stateKey(states_.front().index))) {
@@ -567,7 +567,7 @@ void PppSmoother::commitEpoch(SolveEpoch& e) {
   bias_last_state_ = std::move(e.bias_last_state);
   if (!time_origin_) time_origin_ = e.in.time;
   states_.push_back({e.in.time, e.index, e.solution.state});
-  if (record_graph_) recordEpochGraph(e);
+  if (options_.record_graph) recordEpochGraph(e);
   if (lag_) forgetMarginalized(e.marginalized);
   releaseLeftStates();
   filtered_ = e.solution;
@@ -705,7 +705,7 @@ std::vector<smoother::FactorIndex> PppSmoother::updateGraph(const smoother::Nonl
     up.ordering_group = orderingByLastState(bias_last_state_);
     indices = isam_->update(add, {}, up).new_factor_indices;
   }
-  if (record_graph_) {
+  if (options_.record_graph) {
     for (const auto& f : add) recorded_factors_.push_back(f);
     for (const smoother::FactorIndex i : remove) {
       const auto h = std::find_if(held_.begin(), held_.end(), [i](const HeldFix& x) { return x.index == i; });
