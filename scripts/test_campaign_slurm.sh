@@ -5,8 +5,9 @@
 #  1. a manifest naming a missing file is refused before anything runs: exit 2,
 #     the file named, no output directory, nothing queued;
 #  2. a 6-job campaign over the shared datasets (ZIM2, CCJ2, ESBC hours 0-3) run by
-#     the local pool and by Slurm (2 jobs per array task) writes the same bytes (every job output, marker
-#     and the summary files; only timing.json, the logs and slurm/ differ);
+#     the local pool and by Slurm (3 array tasks for 2 jobs each) writes the same bytes (every job
+#     output, marker and the summary files; only timing.json, the logs and slurm/ differ), and every
+#     job was taken by exactly one of the array's tasks;
 #  2b. the same campaign plus a long job (ESBC whole day, smoother) in the local pool:
 #     the long job's process is killed mid-run (SIGKILL): the campaign ends with it
 #     failed (the signal named) and the others done; the next invocation runs that
@@ -117,6 +118,12 @@ if ! diff -r -q -x timing.json -x log.txt -x slurm -x summary.png "$WORK/local" 
 fi
 n_files=$(find "$WORK/slurm6/jobs" -path '*/output/*' -type f | wc -l)
 [ "$n_files" -ge 30 ] || note "only $n_files output files compared"
+# every line of the job list taken by exactly one of the 3 array tasks
+claims="$WORK/slurm6/slurm/round0.claims"
+n_claims=$(ls "$claims" 2>/dev/null | grep -c '^[0-9][0-9]*$')
+[ "$n_claims" -eq 6 ] && [ "$(cat "$claims/next" 2>/dev/null)" = "6" ] || note "slurm: $n_claims claims of the 6 list lines (next: $(cat "$claims/next" 2>/dev/null))"
+outside=$(cat "$claims"/[0-9]* 2>/dev/null | grep -cvE '^[1-3]$')
+[ "$outside" -eq 0 ] || note "slurm: claims by tasks outside the array of 3: $(cat "$claims"/[0-9]* | tr '\n' ' ')"
 
 # 2b and 3: a campaign of the seven jobs whose long job was stopped mid-run (its
 # process killed, its Slurm task cancelled), then run again.
@@ -154,12 +161,14 @@ check_rerun_of_long_job local "$WORK/localkill" "$WORK/localrerun.log"
 
 # 3. Cancel a running task; the next invocation runs that job only.
 cancel_long_task() {  # OUT_DIR: cancels the esbcday task of round 0 once it runs; CANCELLED = its task id
-  local list="$1/slurm/round0.list" i k task
+  local list="$1/slurm/round0.list" i k id task
   CANCELLED=""
   for i in $(seq 1 300); do
     if [ -f "$list" ]; then
       k=$(grep -n '/esbcday$' "$list" | cut -d: -f1)
-      task=$(squeue -h -r -o '%i %T' 2>/dev/null | awk -v k="_$k" '$1 ~ k"$" && $2 == "RUNNING" {print $1}')
+      id=$(cat "$1/slurm/round0.claims/$k" 2> /dev/null)  # the array task that took list line k
+      task=""
+      [ -n "$id" ] && task=$(squeue -h -r -o '%i %T' 2>/dev/null | awk -v k="_$id" '$1 ~ k"$" && $2 == "RUNNING" {print $1}')
       if [ -n "$task" ]; then sleep 0.5; scancel "$task" && CANCELLED="$task"; return; fi
     fi
     sleep 0.1

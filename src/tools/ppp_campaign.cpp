@@ -21,9 +21,12 @@
 //   run (resources from the manifest's slurm section, overridden by the flags;
 //   task logs in OUT/slurm/), progress from squeue, exit states from sacct (or
 //   scontrol when accounting is off); tasks that ended without finishing are
-//   resubmitted up to --max-resubmits times. --jobs-per-task K bundles K jobs
-//   into one array task (run one after another), for jobs of a few seconds. Both run the same run-job, so the
-//   outputs are the same bytes whichever ran them. One run at a time per OUT (a
+//   resubmitted up to --max-resubmits times. --jobs-per-task K makes an array of
+//   ceil(jobs / K) tasks, for jobs of a few seconds: each task takes the next job
+//   not yet taken whenever it is free (OUT/slurm/roundR.claims/LINE names the task
+//   that took list line LINE), K of them or more while its time limit leaves room.
+//   Both backends run the same run-job, so the outputs are the same bytes whichever
+//   ran them. One run at a time per OUT (a
 //   lock); an array an earlier, stopped run left in the queue must end first.
 // summary: the summary of the jobs as they are (nothing runs).
 // run-job: runs one prepared job directory (what both backends start).
@@ -35,6 +38,7 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -236,7 +240,8 @@ std::map<int, SlurmTaskEnd> slurmTaskEnds(const std::string& array_id) {
   };
   while (std::getline(lines, line)) {
     const std::string task = field(line, "ArrayTaskId");
-    if (task.empty() || task.find_first_not_of("0123456789") != std::string::npos) continue;
+    // a task index, not a range ("3-7") nor Slurm's NO_VAL (4294967294) of cancelled pending tasks
+    if (task.empty() || task.size() > 9 || task.find_first_not_of("0123456789") != std::string::npos) continue;
     ends[std::stoi(task)] = {field(line, "JobState"), field(line, "ExitCode")};
   }
   return ends;
@@ -273,32 +278,84 @@ std::size_t jobsPerTask(const SlurmSettings& s, std::size_t jobs) {
   return per_task;
 }
 
+/// The files of one submission round under OUT/slurm: the job list (one job
+/// directory a line), the task script, and the claims: `next` (the last line taken),
+/// `lock`, and one file per taken line holding the array task id that took it.
+struct RoundFiles {
+  std::string list, script, claims;
+  RoundFiles(const std::string& out, int round) {
+    const fs::path dir = fs::path(out) / "slurm";
+    const std::string stem = "round" + std::to_string(round);
+    list = (dir / (stem + ".list")).string();
+    script = (dir / (stem + ".sh")).string();
+    claims = (dir / (stem + ".claims")).string();
+  }
+  /// Lines taken so far (the counter the tasks advance under the lock; 0 before the
+  /// first, and while a task rewrites it).
+  std::size_t taken() const {
+    std::ifstream in(fs::path(claims) / "next");
+    std::size_t n = 0;
+    return in >> n ? n : 0;
+  }
+  /// The array task that took list line `line` (1-based), or nullopt when none did.
+  std::optional<int> claimant(std::size_t line) const {
+    std::ifstream in(fs::path(claims) / std::to_string(line));
+    int task = 0;
+    if (in >> task) return task;
+    return std::nullopt;
+  }
+};
+
+/// The array task script: jobs are taken one at a time, the next line of the list
+/// not yet taken (a counter under flock, so two tasks never take the same line),
+/// and the taking task is written beside the claim. A task takes more than
+/// `per_task` jobs only while its elapsed time plus twice its longest job stays
+/// within its time limit. So the array ends when its last job does: tasks that
+/// start late or draw slow jobs take fewer (a static split of the list would end
+/// with the slowest bundle).
+std::string arrayTaskScript(const SlurmSettings& s, const RoundFiles& f, std::size_t jobs, std::size_t per_task,
+                            int round) {
+  const double limit_s = ppp::slurmTimeLimit_s(s.resources.time_limit).value_or(0.0);
+  const std::string room =
+      std::isfinite(limit_s)
+          ? "  if [ $taken -ge $per_task ] && [ $(( SECONDS - start + 2 * longest )) -ge " +
+                std::to_string(static_cast<long>(limit_s)) + " ]; then break; fi\n"
+          : "";
+  return "#!/bin/bash\n# ppp_campaign " + s.name + ", round " + std::to_string(round) + ": each array task takes the " +
+         "next job of " + f.list + " not yet taken\n# (" + f.claims + "/LINE names the task that took it), " +
+         std::to_string(per_task) + " or more while the time limit (" + s.resources.time_limit +
+         ") leaves room\nclaims=" + shellQuote(f.claims) + "\nlist=" + shellQuote(f.list) +
+         "\njobs=" + std::to_string(jobs) + "\nper_task=" + std::to_string(per_task) +
+         "\nstatus=0 taken=0 longest=0 start=$SECONDS\nwhile :; do\n" + room +
+         "  line=$( { flock 9 || exit 1; n=$(( $(cat \"$claims/next\" 2> /dev/null || echo 0) + 1 ))\n"
+         "    if [ $n -le $jobs ]; then echo $n > \"$claims/next\"; echo \"$SLURM_ARRAY_TASK_ID\" > \"$claims/$n\"; fi\n"
+         "    echo $n; } 9> \"$claims/lock\" )\n"
+         "  [ -n \"$line\" ] && [ \"$line\" -le $jobs ] || break\n"
+         "  t0=$SECONDS\n  " + shellQuote(selfExecutable()) + " run-job \"$(sed -n \"${line}p\" \"$list\")\" || status=1\n"
+         "  taken=$(( taken + 1 )); [ $(( SECONDS - t0 )) -gt $longest ] && longest=$(( SECONDS - t0 ))\n"
+         "done\nexit $status\n";
+}
+
 /// Submits one array over `jobs`; returns the array job id ("" when sbatch failed: `why`).
 std::string submitArray(const SlurmSettings& s, const std::vector<PendingJob>& jobs, std::size_t per_task, int round,
                         std::string& why) {
-  const fs::path dir = fs::path(s.out) / "slurm";
-  fs::create_directories(dir);
-  const std::string list = (dir / ("round" + std::to_string(round) + ".list")).string();
-  const std::string script = (dir / ("round" + std::to_string(round) + ".sh")).string();
+  const RoundFiles f(s.out, round);
+  std::error_code ec;
+  fs::remove_all(f.claims, ec);  // a round number of an earlier invocation
+  fs::create_directories(f.claims);
   std::string listing;
   for (const auto& j : jobs) listing += j.dir + "\n";
-  ppp::writeFileAtomically(list, listing);
+  ppp::writeFileAtomically(f.list, listing);
   const std::size_t tasks = (jobs.size() + per_task - 1) / per_task;
-  ppp::writeFileAtomically(
-      script, "#!/bin/bash\n# ppp_campaign " + s.name + ", round " + std::to_string(round) + ": array task k runs lines " +
-                  "(k-1)*" + std::to_string(per_task) + "+1 .. k*" + std::to_string(per_task) + " of " + list +
-                  ", one job after another\nfirst=$(( (SLURM_ARRAY_TASK_ID - 1) * " + std::to_string(per_task) +
-                  " + 1 ))\nlast=$(( first + " + std::to_string(per_task - 1) + " ))\nstatus=0\n" +
-                  "while IFS= read -r dir; do\n  " + shellQuote(selfExecutable()) +
-                  " run-job \"$dir\" || status=1\ndone < <(sed -n \"${first},${last}p\" " + shellQuote(list) +
-                  ")\nexit $status\n");
+  ppp::writeFileAtomically(f.script, arrayTaskScript(s, f, jobs.size(), per_task, round));
+  const fs::path dir = fs::path(s.out) / "slurm";
   std::vector<std::string> cmd = {"sbatch", "--parsable", "--job-name=ppp_campaign_" + s.name,
                                   "--array=1-" + std::to_string(tasks), "--time=" + s.resources.time_limit,
                                   "--mem=" + s.resources.mem,
                                   "--cpus-per-task=" + std::to_string(s.resources.cpus_per_task),
                                   "--chdir=" + s.out, "--output=" + (dir / "%A_%a.log").string()};
   if (!s.resources.partition.empty()) cmd.push_back("--partition=" + s.resources.partition);
-  cmd.push_back(script);
+  cmd.push_back(f.script);
   int status = 0;
   std::string out = capture(cmd, CommandErrors::WithOutput, &status);
   while (!out.empty() && (out.back() == '\n' || out.back() == ' ')) out.pop_back();
@@ -334,6 +391,72 @@ std::string arrayStillQueued(const std::string& marker) {
   return ended ? "" : id;
 }
 
+/// Why a job of `array_id` did not finish, for its failed marker: the end state of
+/// the task that took it, or that no task took it.
+std::string whyUnfinished(const SlurmSettings& s, const std::string& array_id, std::optional<int> task,
+                          const std::map<int, SlurmTaskEnd>& ends) {
+  if (!task) return "no task of Slurm array " + array_id + " took it (the tasks ended or were stopped before)";
+  const auto it = ends.find(*task);
+  const std::string how = it == ends.end() ? "ended without finishing (state unknown: no accounting record)"
+                                           : "ended " + it->second.state + ", exit code " + it->second.exit_code;
+  const std::string name = array_id + "_" + std::to_string(*task);
+  return "Slurm task " + name + " " + how + " (log " + s.out + "/slurm/" + name + ".log)";
+}
+
+/// The time of a job's failed marker (nullopt without one).
+std::optional<fs::file_time_type> failedMarkerTime(const std::string& job_dir) {
+  std::error_code ec;
+  const auto t = fs::last_write_time(fs::path(job_dir) / "failed.json", ec);
+  if (ec) return std::nullopt;
+  return t;
+}
+
+/// Progress of a submitted round until every job of it has its finished marker or
+/// a failed marker of this round (not the one an earlier attempt left, which the
+/// job clears when it starts), or the array has left the queue. The markers are
+/// looked at every 0.1 s (only the jobs still open), squeue every poll_s: the
+/// round ends with its last job, not with the scheduler's clean-up of the tasks.
+/// Once every job is taken, the array's tasks still pending are cancelled: they
+/// would find nothing to take, and would hold the cluster's CPUs while they start.
+void waitForRound(const SlurmSettings& s, const std::string& array_id, const RoundFiles& files,
+                  const std::vector<PendingJob>& jobs, int already_done, ProgressLine& progress) {
+  bool pending_cancelled = false;
+  std::vector<std::size_t> open(jobs.size());
+  std::vector<std::optional<fs::file_time_type>> earlier_failure(jobs.size());
+  for (std::size_t k = 0; k < open.size(); ++k) {
+    open[k] = k;
+    earlier_failure[k] = failedMarkerTime(jobs[k].dir);
+  }
+  int done = already_done, failed = 0, running = 0;
+  auto next_queue_look = Clock::now();
+  for (;;) {
+    std::vector<std::size_t> still;
+    for (const std::size_t k : open) {
+      const auto st = ppp::campaignJobStatus(jobs[k].dir).state;
+      const bool failed_now =
+          st == ppp::CampaignJobState::Failed && (!earlier_failure[k] || failedMarkerTime(jobs[k].dir) != earlier_failure[k]);
+      done += st == ppp::CampaignJobState::Done;
+      failed += failed_now;
+      if (st != ppp::CampaignJobState::Done && !failed_now) still.push_back(k);
+    }
+    open = std::move(still);
+    if (!pending_cancelled && files.taken() >= jobs.size()) {
+      capture({"scancel", "--state=PENDING", array_id}, CommandErrors::Drop);
+      pending_cancelled = true;
+    }
+    bool ended = open.empty();
+    if (!ended && Clock::now() >= next_queue_look) {
+      running = 0;
+      for (const auto& [task, state] : slurmQueue(array_id, ended))
+        running += state == "RUNNING" || state == "COMPLETING";
+      next_queue_look = Clock::now() + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(s.poll_s));
+    }
+    progress.show(done, failed, ended ? 0 : running);
+    if (ended) return;
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  }
+}
+
 bool runSlurm(const SlurmSettings& s, std::vector<PendingJob> jobs, int already_done, int total) {
   ProgressLine progress(total);
   const std::string marker = (fs::path(s.out) / "slurm" / "active_array").string();
@@ -342,8 +465,7 @@ bool runSlurm(const SlurmSettings& s, std::vector<PendingJob> jobs, int already_
               << "invocation was stopped): wait for it or scancel " << id << ", then run again\n";
     return false;
   }
-  int round = 0;
-  for (;; ++round) {
+  for (int round = 0;; ++round) {
     std::string why;
     const std::size_t per_task = jobsPerTask(s, jobs.size());
     const std::string array_id = submitArray(s, jobs, per_task, round, why);
@@ -354,23 +476,11 @@ bool runSlurm(const SlurmSettings& s, std::vector<PendingJob> jobs, int already_
     ppp::writeFileAtomically(marker, array_id + "\n");
     std::cerr << "ppp_campaign: submitted array job " << array_id << " (" << jobs.size() << " jobs in "
               << (jobs.size() + per_task - 1) / per_task << " tasks, round " << round << ")\n";
-    for (;;) {
-      bool ended = false;
-      const auto queue = slurmQueue(array_id, ended);
-      int running = 0, done = already_done, failed = 0;
-      for (const auto& [task, state] : queue) running += state == "RUNNING" || state == "COMPLETING";
-      for (const auto& j : jobs) {
-        const auto st = ppp::campaignJobStatus(j.dir).state;
-        done += st == ppp::CampaignJobState::Done;
-        failed += st == ppp::CampaignJobState::Failed;
-      }
-      progress.show(done, failed, running);
-      if (ended) break;
-      std::this_thread::sleep_for(std::chrono::duration<double>(s.poll_s));
-    }
+    const RoundFiles files(s.out, round);
+    waitForRound(s, array_id, files, jobs, already_done, progress);
     std::error_code ec;
     fs::remove(marker, ec);
-    const auto ends = slurmTaskEnds(array_id);
+    std::map<int, SlurmTaskEnd> ends;  // read only when a job did not finish
     std::vector<PendingJob> again;
     for (std::size_t k = 0; k < jobs.size(); ++k) {
       const auto st = ppp::campaignJobStatus(jobs[k].dir);
@@ -379,13 +489,8 @@ bool runSlurm(const SlurmSettings& s, std::vector<PendingJob> jobs, int already_
         continue;
       }
       if (st.state != ppp::CampaignJobState::Failed) {
-        const int task = static_cast<int>(k / per_task + 1);
-        auto it = ends.find(task);
-        const std::string how = it == ends.end() ? "ended without finishing (state unknown: no accounting record)"
-                                                 : "ended " + it->second.state + ", exit code " + it->second.exit_code;
-        ppp::markCampaignJobFailed(jobs[k].dir, "Slurm task " + array_id + "_" + std::to_string(task) + " " + how +
-                                                    " (log " + s.out + "/slurm/" + array_id + "_" +
-                                                    std::to_string(task) + ".log)");
+        if (ends.empty()) ends = slurmTaskEnds(array_id);
+        ppp::markCampaignJobFailed(jobs[k].dir, whyUnfinished(s, array_id, files.claimant(k + 1), ends));
       }
       again.push_back(jobs[k]);
     }
@@ -501,6 +606,8 @@ bool parseOptions(int argc, char** argv, Options& o, std::string& why) {
       o.poll_s = std::atof(v.c_str());
     } else if (a == "--partition" || a == "--time" || a == "--mem") {
       if (!value(v)) return (why = a + " needs a value", false);
+      if (a == "--time" && !ppp::slurmTimeLimit_s(v))
+        return (why = "--time needs a Slurm time limit (minutes, HH:MM:SS, D-HH:MM:SS or UNLIMITED), not " + v, false);
       (a == "--partition" ? o.partition : a == "--time" ? o.time_limit : o.mem) = v;
     } else if (a == "--jobs-per-task") {
       if (!value(v) || std::atoi(v.c_str()) < 1) return (why = "--jobs-per-task needs a count >= 1", false);

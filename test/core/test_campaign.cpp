@@ -6,6 +6,8 @@
 // exercised by scripts/test_campaign_slurm.sh.
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include <filesystem>
 #include <fstream>
 
@@ -180,6 +182,25 @@ TEST(CampaignManifest, BadManifestsNameTheKey) {
                 .find("two jobs have the id a"),
             std::string::npos);
   EXPECT_NE(error("campaign: {}\n").find("no jobs"), std::string::npos);
+  EXPECT_NE(error("slurm: {time_limit: \"1:xx\"}\nppp:\n  - {station: a, obs: x, sp3: [s], clk: [c], atx: [a]}\n")
+                .find("slurm.time_limit"),
+            std::string::npos);
+}
+
+// The formats of sbatch --time (sbatch(1), "-t, --time"): "minutes", "minutes:seconds",
+// "hours:minutes:seconds", "days-hours", "days-hours:minutes", "days-hours:minutes:seconds";
+// a limit of zero imposes none.
+TEST(CampaignManifest, SlurmTimeLimitsInEveryFormOfSbatch) {
+  EXPECT_EQ(slurmTimeLimit_s("30"), 1800.0);
+  EXPECT_EQ(slurmTimeLimit_s("30:15"), 1815.0);
+  EXPECT_EQ(slurmTimeLimit_s("01:00:00"), 3600.0);
+  EXPECT_EQ(slurmTimeLimit_s("2-12"), 2 * 86400.0 + 12 * 3600.0);
+  EXPECT_EQ(slurmTimeLimit_s("1-00:30"), 86400.0 + 1800.0);
+  EXPECT_EQ(slurmTimeLimit_s("1-02:03:04"), 86400.0 + 2 * 3600.0 + 3 * 60.0 + 4.0);
+  EXPECT_TRUE(std::isinf(*slurmTimeLimit_s("UNLIMITED")));
+  EXPECT_TRUE(std::isinf(*slurmTimeLimit_s("0")));
+  for (const char* bad : {"", "1:2:3:4", "1h", "-5", "1-", "1--2", "a-01:00", "01::00", " 30"})
+    EXPECT_FALSE(slurmTimeLimit_s(bad)) << "'" << bad << "'";
 }
 
 TEST(CampaignJob, FinishedMarkerResumeAndSummary) {

@@ -94,11 +94,14 @@ struct CampaignJob {
 /// Slurm resources of every array task (ppp_campaign --slurm; flags override).
 struct CampaignResources {
   std::string partition;           // empty: the cluster's default partition
-  std::string time_limit = "01:00:00";
+  std::string time_limit = "01:00:00";  // sbatch --time of each array task (slurmTimeLimit_s)
   std::string mem = "2G";
   int cpus_per_task = 1;
   /// Jobs one array task runs one after another: more than 1 bundles short jobs,
   /// so that the scheduler's per-task start-up (about a second) is paid once per bundle.
+  /// The array has ceil(jobs / jobs_per_task) tasks; each takes the next job not yet
+  /// taken whenever it is free, and takes more than jobs_per_task only while its time
+  /// limit leaves room (so tasks that start late or run slow jobs take fewer).
   int jobs_per_task = 1;
   int max_resubmits = 1;  // a task that ended without finishing is resubmitted this many times
 };
@@ -116,6 +119,12 @@ struct CampaignManifest {
 /// FileOpenError. A glob that matches nothing is not an error here: the job
 /// keeps the pattern and campaignInputProblems names it.
 CampaignManifest loadCampaignManifest(const std::string& path);
+
+/// A Slurm time limit as sbatch --time takes it ("minutes", "minutes:seconds",
+/// "hours:minutes:seconds", "days-hours", "days-hours:minutes",
+/// "days-hours:minutes:seconds") in seconds; "UNLIMITED", "INFINITE" and a zero
+/// limit (sbatch: none imposed) give infinity. nullopt when the text is none of these.
+std::optional<double> slurmTimeLimit_s(const std::string& text);
 
 /// Every input of every job that is missing or unreadable ("job zim2: sp3
 /// /data/x.SP3: no such file"), configuration files that do not load, and

@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <set>
 
@@ -321,6 +322,8 @@ CampaignResources readResources(YamlSection s) {
   CampaignResources r;
   r.partition = s.text("partition", r.partition);
   r.time_limit = s.text("time_limit", r.time_limit);
+  if (!slurmTimeLimit_s(r.time_limit))
+    s.fail("time_limit", "'" + r.time_limit + "' is no Slurm time limit (minutes, HH:MM:SS, D-HH:MM:SS or UNLIMITED)");
   r.mem = s.text("mem", r.mem);
   r.cpus_per_task = s.integer("cpus_per_task", r.cpus_per_task, 1);
   r.jobs_per_task = s.integer("jobs_per_task", r.jobs_per_task, 1);
@@ -394,6 +397,44 @@ CampaignManifest loadCampaignManifest(const std::string& path) {
     if (!ids.insert(j.id).second)
       throw ConfigError(path, "", "two jobs have the id " + j.id + " (give the entries different station/study names)");
   return m;
+}
+
+std::optional<double> slurmTimeLimit_s(const std::string& text) {
+  if (text == "UNLIMITED" || text == "INFINITE" || text == "unlimited" || text == "infinite")
+    return std::numeric_limits<double>::infinity();
+  // "D-" prefix, then up to three ':'-separated unsigned fields
+  std::string rest = text;
+  long days = 0;
+  const auto dash = rest.find('-');
+  if (dash != std::string::npos) {
+    const std::string d = rest.substr(0, dash);
+    if (d.empty() || d.find_first_not_of("0123456789") != std::string::npos || d.size() > 6) return std::nullopt;
+    days = std::stol(d);
+    rest = rest.substr(dash + 1);
+  }
+  std::vector<long> fields;
+  std::size_t from = 0;
+  for (;;) {
+    const auto colon = rest.find(':', from);
+    const std::string f = rest.substr(from, colon == std::string::npos ? std::string::npos : colon - from);
+    if (f.empty() || f.find_first_not_of("0123456789") != std::string::npos || f.size() > 9) return std::nullopt;
+    fields.push_back(std::stol(f));
+    if (colon == std::string::npos) break;
+    from = colon + 1;
+  }
+  if (fields.size() > 3) return std::nullopt;
+  long seconds = 0;
+  if (dash != std::string::npos) {  // days-hours[:minutes[:seconds]]
+    const long unit[] = {3600, 60, 1};
+    for (std::size_t k = 0; k < fields.size(); ++k) seconds += fields[k] * unit[k];
+    seconds += days * 86400;
+  } else if (fields.size() == 3) {  // hours:minutes:seconds
+    seconds = fields[0] * 3600 + fields[1] * 60 + fields[2];
+  } else {  // minutes[:seconds]
+    seconds = fields[0] * 60 + (fields.size() == 2 ? fields[1] : 0);
+  }
+  if (seconds == 0) return std::numeric_limits<double>::infinity();  // sbatch: no limit imposed
+  return static_cast<double>(seconds);
 }
 
 std::vector<std::string> campaignInputProblems(const CampaignManifest& manifest) {
