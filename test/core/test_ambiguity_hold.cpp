@@ -288,6 +288,60 @@ TEST(AmbiguityHold, DriftingFloatIsNotSearchedAndAChangedIntegerIsNotHeld) {
   EXPECT_FALSE(summary.narrow_lanes.empty());  // the floats are reported
 }
 
+// A converging float: the covariance shrinks like 1 / (1 + 0.3 k) (a filter
+// accumulating independent epochs; the synthetic covariance / 4, single-
+// difference sigmas 0.2-0.4 cycle at k = 0) while the floats close in on their
+// integers, every other arc from 0.2 NL cycle off (0.4 in the single
+// differences) to 0 at k = 9: within 3 sigmas of the change the covariance
+// explains, sqrt(sigma_0^2 - sigma_k^2). Over the first 10-epoch window they
+// spread by 0.4 cycle, more than max_float_spread_cycles 0.2: the raw spread
+// keeps them out until the moving epochs leave the window (searched from
+// k = 14, held at 18), the drift relative to the covariance
+// (max_float_drift_sigmas 3) offers them as soon as the window is full
+// (searched from k = 9, held at 9 + validation_epochs - 1 = 13). Both hold the
+// true integers. A float that moves while its covariance stays is not steady
+// either way (DriftingFloatIsNotSearchedAndAChangedIntegerIsNotHeld).
+TEST(AmbiguityHold, ConvergingFloatIsSearchedWhenItsDriftIsWhatItsCovarianceExplains) {
+  SyntheticProblem s;
+  const int rd = SyntheticProblem::receiver_dim;
+  const double lambda_nl = narrowLaneWavelength_m(kF1, kF2);
+  struct FirstHold {
+    int epoch = -1;
+    std::vector<NarrowLaneFloat> held;
+  };
+  const auto firstHeld = [&](double drift_sigmas) {
+    AmbiguityResolutionOptions opt;
+    opt.enabled = true;
+    opt.hold.max_float_drift_sigmas = drift_sigmas;
+    AmbiguityResolver resolver(opt);
+    s.feedWideLanes(resolver, 60);
+    AmbiguityFixSummary summary;
+    for (int k = 0; k < 80; ++k) {
+      const double f = 1.0 / (1.0 + 0.3 * k);
+      Eigen::VectorXd x = s.truth;
+      for (int i = 0; i < 6; ++i) x(rd + i) += (i % 2 ? 0.2 : -0.2) * lambda_nl * std::max(0.0, 1.0 - k / 9.0);
+      if (resolver.resolveAndHold(x, 0.25 * f * s.P, rd, s.bias_arcs, &s.osb, summary))
+        return FirstHold{k, summary.narrow_lanes};
+    }
+    return FirstHold{};
+  };
+  const FirstHold spread_only = firstHeld(0.0), with_drift = firstHeld(3.0);
+  std::printf("[ figures  ] first held: epoch %d with the drift test, %d with the spread alone\n", with_drift.epoch,
+              spread_only.epoch);
+  const int window = AmbiguityHoldOptions{}.consistency_epochs, validation = AmbiguityHoldOptions{}.validation_epochs;
+  ASSERT_GE(with_drift.epoch, 0);
+  ASSERT_GE(spread_only.epoch, 0);
+  EXPECT_EQ(with_drift.epoch, window - 1 + validation - 1);  // searched from the first full window
+  EXPECT_GE(spread_only.epoch, with_drift.epoch + 4);        // the raw spread waits for the float to settle
+  for (const FirstHold* h : {&spread_only, &with_drift})
+    for (const NarrowLaneFloat& f : h->held) {
+      if (!f.held_cycles) continue;
+      const auto& a = s.arcs[static_cast<std::size_t>(f.arc - 1)];
+      const auto& r = s.arcs[static_cast<std::size_t>(f.reference_arc - 1)];
+      EXPECT_EQ(*f.held_cycles, a.n1 - r.n1) << f.satellite.toString() << "-" << f.reference_satellite.toString();
+    }
+}
+
 TEST(AmbiguityHold, FloatFarFromItsIntegerIsGatedAndTheOthersAreHeld) {
   // Arc 4's float sits 0.3 NL cycle off its integer, steadily, at a precision
   // (the synthetic covariance / 100: single-difference sigmas 0.005-0.05

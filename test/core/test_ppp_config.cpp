@@ -74,6 +74,7 @@ void expectSameConfig(const PppConfig& c, const PppConfig& d) {
   EXPECT_EQ(ca.wide_lane.max_fraction_cycles, da.wide_lane.max_fraction_cycles);
   EXPECT_EQ(ca.hold.consistency_epochs, da.hold.consistency_epochs);
   EXPECT_EQ(ca.hold.max_float_spread_cycles, da.hold.max_float_spread_cycles);
+  EXPECT_EQ(ca.hold.max_float_drift_sigmas, da.hold.max_float_drift_sigmas);
   EXPECT_EQ(ca.hold.validation_epochs, da.hold.validation_epochs);
   EXPECT_EQ(ca.hold.require_subset_success_rate, da.hold.require_subset_success_rate);
   EXPECT_EQ(ca.hold.small_subset_max_size, da.hold.small_subset_max_size);
@@ -336,10 +337,12 @@ cycle_slip:
 ambiguity_resolution:
   wide_lane_correlation_time_s: 20
   small_subset_max_size: 1
+  max_float_drift_sigmas: 0
 )", "x.yaml");
   EXPECT_EQ(c.stochastic.code_correlation_time_s, 40.0);
   EXPECT_EQ(c.ambiguity_resolution.wide_lane.correlation_time_s, 20.0);
   EXPECT_EQ(c.ambiguity_resolution.hold.small_subset_max_size, 1);
+  EXPECT_EQ(c.ambiguity_resolution.hold.max_float_drift_sigmas, 0.0);
   EXPECT_EQ(c.stochastic.position.initial_sigma_m, 2.5);
   EXPECT_EQ(c.stochastic.position.process_noise_m_per_sqrt_s, 0.0);
   EXPECT_EQ(c.stochastic.clock.kind, ppp::ProcessKind::RandomWalk);
@@ -429,6 +432,8 @@ TEST(PppConfig, MalformedConfigsNameFileKeyAndReason) {
       {"ambiguity_resolution:\n  wide_lane_correlation_time_s: -5\n",
        "ambiguity_resolution.wide_lane_correlation_time_s", "must be >= 0"},
       {"ambiguity_resolution:\n  small_subset_max_size: -1\n", "ambiguity_resolution.small_subset_max_size",
+       "must be >= 0"},
+      {"ambiguity_resolution:\n  max_float_drift_sigmas: -1\n", "ambiguity_resolution.max_float_drift_sigmas",
        "must be >= 0"},
   };
   for (const auto& c : cases) {

@@ -32,8 +32,11 @@
 // Validation and hold (resolveAndHold(), what the EKF and the smoother use):
 //  5. Consistency of the floats before fixing: a single difference is offered
 //     to the search only when its float value has stayed within
-//     hold.max_float_spread_cycles over the last hold.consistency_epochs epochs
-//     (a float that still drifts carries an unmodelled error or an optimistic
+//     hold.max_float_spread_cycles over the last hold.consistency_epochs epochs,
+//     or has moved no more than its covariance explains (within
+//     hold.max_float_drift_sigmas of sqrt(sigma_first^2 - sigma_i^2) from the
+//     window's first value: a converging float moves, a float whose moves its
+//     covariance does not explain carries an unmodelled error or an optimistic
 //     covariance, and its integer is not yet determined).
 //     Candidate gate (Ge et al. 2008): the float conditioned on the held
 //     integers must lie within hold.max_fraction_cycles or 3 of its sigmas of
@@ -94,6 +97,20 @@ struct AmbiguityHoldOptions {
   /// and over which its float may spread by at most max_float_spread_cycles.
   int consistency_epochs = 10;
   double max_float_spread_cycles = 0.2;
+  /// A float that spreads by more is still steady when every value i of the
+  /// window lies within max_float_drift_sigmas sigmas of the change its
+  /// covariance explains, |x_i - x_first| <= k sqrt(sigma_first^2 - sigma_i^2):
+  /// the filtered estimate of a constant (a single difference of ambiguities)
+  /// changes only by gains times innovations, which are independent of the
+  /// earlier estimate (Kailath 1968, IEEE Trans. Autom. Control 13(6):646-655;
+  /// Teunissen 2001, Dynamic data processing, Delft University Press), so
+  /// x_i - x_first has the variance sigma_first^2 - sigma_i^2. A converging
+  /// float moves that much and is steady; a float that moves more (or moves
+  /// while its sigma stays) carries an error its covariance does not hold.
+  /// 0 = the raw spread alone. 3 (a 3-sigma test, as the candidate gate):
+  /// CCJ2 first fix 15.5 -> 13.0 min, ESBC 14.0 -> 11.5 min, no wrong fix
+  /// (doc/ar_real_data.md).
+  double max_float_drift_sigmas = 3.0;
   /// Candidate gate (Ge et al. 2008: a narrow lane is fixed only with a small
   /// fractional part and sigma; PRIDE PPP-AR applies it so): a
   /// single difference is offered to the search only when its float,
@@ -384,7 +401,10 @@ class AmbiguityResolver {
   AmbiguityResolutionOptions options_;
   WideLaneResolver wide_lane_{options_.wide_lane};
   std::map<ArcId, DualFrequencyObservation> last_observation_;  // signals and frequencies of each arc
-  std::map<PairKey, std::vector<double>> float_history_;  // recent float dN1 per pair
+  struct FloatSample {
+    double value_cycles = 0.0, sigma_cycles = 0.0;
+  };
+  std::map<PairKey, std::vector<FloatSample>> float_history_;  // recent float dN1 and its sigma per pair
   std::map<PairKey, Pending> pending_;
   std::map<PairKey, long> held_;
   std::map<GnssSystem, ArcId> reference_arcs_;  // one per system, kept while eligible

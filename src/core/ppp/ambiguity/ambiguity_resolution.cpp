@@ -29,6 +29,7 @@ std::string AmbiguityResolutionOptions::validate() const {
     return "wide_lane_min_success_rate must be in [0, 1)";
   if (hold.consistency_epochs < 1) return "consistency_epochs must be >= 1";
   if (!(hold.max_float_spread_cycles > 0.0)) return "max_float_spread_cycles must be > 0";
+  if (!(hold.max_float_drift_sigmas >= 0.0)) return "max_float_drift_sigmas must be >= 0";
   if (hold.validation_epochs < 1) return "validation_epochs must be >= 1";
   if (hold.fast_validation_epochs < 1) return "fast_validation_epochs must be >= 1";
   if (!(hold.fast_validation_success_rate >= 0.0 && hold.fast_validation_success_rate <= 1.0))
@@ -60,7 +61,9 @@ std::string toString(AmbiguityFloatReason reason) {
     case AmbiguityFloatReason::NarrowLane: return "narrow lane not fixed";
     case AmbiguityFloatReason::NumericalFailure: return "constrained covariance not positive definite";
     case AmbiguityFloatReason::Validating: return "integers not yet validated across epochs";
-    case AmbiguityFloatReason::FloatsDrifting: return "narrow-lane floats still drift (spread over the window too large)";
+    case AmbiguityFloatReason::FloatsDrifting:
+      return "narrow-lane floats still drift (spread over the window too large and more than their covariance "
+             "explains)";
     case AmbiguityFloatReason::FloatsOffInteger:
       return "narrow-lane floats too far from an integer or too uncertain (candidate gate)";
     case AmbiguityFloatReason::IntegerFarFromFloat:
@@ -455,6 +458,24 @@ bool offInteger(double fraction_cycles, double sigma_cycles, double max_fraction
   return std::abs(fraction_cycles) > max_fraction_cycles && std::abs(fraction_cycles) > kGateSigmas * sigma_cycles;
 }
 
+/// The float history of a single difference is steady (step 5): its spread is
+/// at most max_float_spread_cycles, or (max_float_drift_sigmas > 0) every value
+/// lies within that many sigmas of the change from the window's first value
+/// that the covariance explains, sqrt(sigma_first^2 - sigma_i^2).
+template <typename Sample>
+bool steadyFloat(const std::vector<Sample>& h, const AmbiguityHoldOptions& ho) {
+  const auto [lo, hi] = std::minmax_element(
+      h.begin(), h.end(), [](const Sample& a, const Sample& b) { return a.value_cycles < b.value_cycles; });
+  if (hi->value_cycles - lo->value_cycles <= ho.max_float_spread_cycles) return true;
+  if (ho.max_float_drift_sigmas <= 0.0) return false;
+  const Sample& first = h.front();
+  return std::all_of(h.begin(), h.end(), [&](const Sample& s) {
+    const double explained_cycles =
+        std::sqrt(std::max(0.0, first.sigma_cycles * first.sigma_cycles - s.sigma_cycles * s.sigma_cycles));
+    return std::abs(s.value_cycles - first.value_cycles) <= ho.max_float_drift_sigmas * explained_cycles;
+  });
+}
+
 /// The sigma [cycles] of a single difference d x under the covariance P.
 double pairSigma_cycles(const Eigen::RowVectorXd& d, const Eigen::MatrixXd& P) {
   return std::sqrt(std::max(0.0, (d * P * d.transpose())(0, 0)));
@@ -612,15 +633,14 @@ void AmbiguityResolver::gatherCandidates(HoldEpoch& e) {
       const auto row = rowOf(key, e.dim, e.slot, e.biases);
       if (!row) continue;
       seen[key] = true;
-      std::vector<double>& h = float_history_[key];
-      h.push_back(row->d.dot(e.x) - row->offset);
+      std::vector<FloatSample>& h = float_history_[key];
+      h.push_back({row->d.dot(e.x) - row->offset, pairSigma_cycles(row->d, e.P)});
       if (static_cast<int>(h.size()) > ho.consistency_epochs) h.erase(h.begin());
       if (held_.count(key) || e.components.find(f.arc) == e.components.find(*wl.reference_arc)) continue;
       NarrowLaneFloat nf{key.arc, key.reference_arc, row->satellite, row->reference_satellite, key.wide_lane_cycles,
-                         h.back(), pairSigma_cycles(row->d, e.P), std::nullopt};
+                         h.back().value_cycles, h.back().sigma_cycles, std::nullopt};
       e.summary.narrow_lanes.push_back(nf);
-      const auto [lo, hi] = std::minmax_element(h.begin(), h.end());
-      if (static_cast<int>(h.size()) < ho.consistency_epochs || *hi - *lo > ho.max_float_spread_cycles) continue;
+      if (static_cast<int>(h.size()) < ho.consistency_epochs || !steadyFloat(h, ho)) continue;
       const double conditioned = row->d.dot(e.conditionedX()) - row->offset;
       const double conditioned_sigma = pairSigma_cycles(row->d, e.conditionedP());
       if (offInteger(conditioned - std::round(conditioned), conditioned_sigma, ho.max_fraction_cycles) ||

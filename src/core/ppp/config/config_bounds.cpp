@@ -85,6 +85,7 @@ const std::map<std::string, ConfigUpperBound>& bounds() {
       {"ambiguity_resolution.small_subset_max_size", {100, "no epoch has more ambiguities"}},
       {"ambiguity_resolution.consistency_epochs", {100000, "more than a day of 1 Hz epochs"}},
       {"ambiguity_resolution.max_float_spread_cycles", {10.0, "a wider spread is no consistency"}},
+      {"ambiguity_resolution.max_float_drift_sigmas", {100.0, "a wider gate is no consistency"}},
       {"ambiguity_resolution.narrow_lane_max_sigma_cycles", {10.0, "a wider sigma is no candidate"}},
       {"ambiguity_resolution.validation_epochs", {100000, "more than a day of 1 Hz epochs"}},
       {"ambiguity_resolution.fast_validation_epochs", {100000, "more than a day of 1 Hz epochs"}},

@@ -88,6 +88,8 @@ void readAmbiguityResolution(YamlSection s, AmbiguityResolutionOptions& o) {
   o.hold.consistency_epochs = s.integer("consistency_epochs", o.hold.consistency_epochs, 1);
   o.hold.max_float_spread_cycles =
       s.number("max_float_spread_cycles", o.hold.max_float_spread_cycles, Bound::Positive);
+  o.hold.max_float_drift_sigmas =
+      s.number("max_float_drift_sigmas", o.hold.max_float_drift_sigmas, Bound::NonNegative);
   o.hold.require_subset_success_rate =
       s.boolean("require_subset_success_rate", o.hold.require_subset_success_rate);
   o.hold.small_subset_max_size = s.integer("small_subset_max_size", o.hold.small_subset_max_size, 0);
