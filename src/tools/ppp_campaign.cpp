@@ -337,9 +337,8 @@ std::string arrayTaskScript(const SlurmSettings& s, const RoundFiles& f, std::si
 }
 
 /// Submits one array over `jobs`; returns the array job id ("" when sbatch failed: `why`).
-std::string submitArray(const SlurmSettings& s, const std::vector<PendingJob>& jobs, std::size_t per_task, int round,
-                        std::string& why) {
-  const RoundFiles f(s.out, round);
+std::string submitArray(const SlurmSettings& s, const RoundFiles& f, const std::vector<PendingJob>& jobs,
+                        std::size_t per_task, int round, std::string& why) {
   std::error_code ec;
   fs::remove_all(f.claims, ec);  // a round number of an earlier invocation
   fs::create_directories(f.claims);
@@ -403,44 +402,43 @@ std::string whyUnfinished(const SlurmSettings& s, const std::string& array_id, s
   return "Slurm task " + name + " " + how + " (log " + s.out + "/slurm/" + name + ".log)";
 }
 
-/// The time of a job's failed marker (nullopt without one).
-std::optional<fs::file_time_type> failedMarkerTime(const std::string& job_dir) {
-  std::error_code ec;
-  const auto t = fs::last_write_time(fs::path(job_dir) / "failed.json", ec);
-  if (ec) return std::nullopt;
-  return t;
-}
-
 /// Progress of a submitted round until every job of it has its finished marker or
 /// a failed marker of this round (not the one an earlier attempt left, which the
 /// job clears when it starts), or the array has left the queue. The markers are
 /// looked at every 0.1 s (only the jobs still open), squeue every poll_s: the
 /// round ends with its last job, not with the scheduler's clean-up of the tasks.
+/// Only jobs a task has taken can have finished, so only those are looked at: the
+/// cost per look follows the running tasks, not the size of the campaign.
 /// Once every job is taken, the array's tasks still pending are cancelled: they
 /// would find nothing to take, and would hold the cluster's CPUs while they start.
 void waitForRound(const SlurmSettings& s, const std::string& array_id, const RoundFiles& files,
                   const std::vector<PendingJob>& jobs, int already_done, ProgressLine& progress) {
   bool pending_cancelled = false;
-  std::vector<std::size_t> open(jobs.size());
+  std::vector<std::size_t> open(jobs.size());  // list order: line k + 1
   std::vector<std::optional<fs::file_time_type>> earlier_failure(jobs.size());
   for (std::size_t k = 0; k < open.size(); ++k) {
     open[k] = k;
-    earlier_failure[k] = failedMarkerTime(jobs[k].dir);
+    earlier_failure[k] = ppp::campaignJobStatus(jobs[k].dir).failed_marker_time;
   }
   int done = already_done, failed = 0, running = 0;
   auto next_queue_look = Clock::now();
   for (;;) {
+    const std::size_t taken = files.taken();
     std::vector<std::size_t> still;
     for (const std::size_t k : open) {
-      const auto st = ppp::campaignJobStatus(jobs[k].dir).state;
+      if (k >= taken) {  // not taken yet
+        still.push_back(k);
+        continue;
+      }
+      const auto st = ppp::campaignJobStatus(jobs[k].dir);
       const bool failed_now =
-          st == ppp::CampaignJobState::Failed && (!earlier_failure[k] || failedMarkerTime(jobs[k].dir) != earlier_failure[k]);
-      done += st == ppp::CampaignJobState::Done;
+          st.state == ppp::CampaignJobState::Failed && st.failed_marker_time != earlier_failure[k];
+      done += st.state == ppp::CampaignJobState::Done;
       failed += failed_now;
-      if (st != ppp::CampaignJobState::Done && !failed_now) still.push_back(k);
+      if (st.state != ppp::CampaignJobState::Done && !failed_now) still.push_back(k);
     }
     open = std::move(still);
-    if (!pending_cancelled && files.taken() >= jobs.size()) {
+    if (!pending_cancelled && taken >= jobs.size()) {
       capture({"scancel", "--state=PENDING", array_id}, CommandErrors::Drop);
       pending_cancelled = true;
     }
@@ -468,7 +466,8 @@ bool runSlurm(const SlurmSettings& s, std::vector<PendingJob> jobs, int already_
   for (int round = 0;; ++round) {
     std::string why;
     const std::size_t per_task = jobsPerTask(s, jobs.size());
-    const std::string array_id = submitArray(s, jobs, per_task, round, why);
+    const RoundFiles files(s.out, round);
+    const std::string array_id = submitArray(s, files, jobs, per_task, round, why);
     if (array_id.empty()) {
       std::cerr << "ppp_campaign: " << why << "\n";
       return false;
@@ -476,11 +475,10 @@ bool runSlurm(const SlurmSettings& s, std::vector<PendingJob> jobs, int already_
     ppp::writeFileAtomically(marker, array_id + "\n");
     std::cerr << "ppp_campaign: submitted array job " << array_id << " (" << jobs.size() << " jobs in "
               << (jobs.size() + per_task - 1) / per_task << " tasks, round " << round << ")\n";
-    const RoundFiles files(s.out, round);
     waitForRound(s, array_id, files, jobs, already_done, progress);
     std::error_code ec;
     fs::remove(marker, ec);
-    std::map<int, SlurmTaskEnd> ends;  // read only when a job did not finish
+    std::optional<std::map<int, SlurmTaskEnd>> ends;  // read only when a job did not finish
     std::vector<PendingJob> again;
     for (std::size_t k = 0; k < jobs.size(); ++k) {
       const auto st = ppp::campaignJobStatus(jobs[k].dir);
@@ -489,8 +487,8 @@ bool runSlurm(const SlurmSettings& s, std::vector<PendingJob> jobs, int already_
         continue;
       }
       if (st.state != ppp::CampaignJobState::Failed) {
-        if (ends.empty()) ends = slurmTaskEnds(array_id);
-        ppp::markCampaignJobFailed(jobs[k].dir, whyUnfinished(s, array_id, files.claimant(k + 1), ends));
+        if (!ends) ends = slurmTaskEnds(array_id);
+        ppp::markCampaignJobFailed(jobs[k].dir, whyUnfinished(s, array_id, files.claimant(k + 1), *ends));
       }
       again.push_back(jobs[k]);
     }

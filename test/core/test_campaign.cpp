@@ -247,6 +247,10 @@ TEST(CampaignJob, FinishedMarkerResumeAndSummary) {
   EXPECT_NE(failed.reason.find("IGS0OPSFIN_20261330000_90M_30S_CLK.CLK"), std::string::npos) << failed.reason;
   EXPECT_FALSE(fs::exists(fs::path(broken) / "done.json"));
   EXPECT_FALSE(fs::exists(fs::path(broken) / "output"));
+  // The status carries when the failed marker was written (a watcher tells a new attempt's
+  // marker from an earlier one by it); other states have none.
+  EXPECT_EQ(campaignJobStatus(broken).failed_marker_time, fs::last_write_time(fs::path(broken) / "failed.json"));
+  EXPECT_FALSE(campaignJobStatus(zim2).failed_marker_time);
 
   // Resume: the finished job is not prepared again (its outputs stay as they are) ...
   const auto written = fs::last_write_time(fs::path(zim2) / "done.json");

@@ -27,6 +27,7 @@
 // output/bag_result.json, its console output in ppp_bag_solve.log beside
 // timing.json, not an output); Monte Carlo
 // shards write their flights' records (evaluation/monte_carlo_records.h) as flights.mcr.
+#include <filesystem>
 #include <limits>
 #include <optional>
 #include <string>
@@ -64,6 +65,10 @@ struct CampaignJobStatus {
   CampaignJobState state = CampaignJobState::Pending;
   std::string reason;  // failed / interrupted: why
   std::optional<CampaignJobResult> result;  // done
+  /// failed: when failed.json was written, so that a watcher tells the marker of a
+  /// new attempt from the one an earlier attempt left (which the job clears when it
+  /// starts)
+  std::optional<std::filesystem::file_time_type> failed_marker_time;
 };
 
 /// The figures of a PPP run from its first outcome (the causal solution), and

@@ -435,8 +435,9 @@ CampaignJobStatus campaignJobStatus(const std::string& job_dir) {
       // an unreadable marker is no marker: the job runs again
     }
   }
-  if (fs::exists(path(job_dir, kFailedFile), ec)) {
+  if (const auto written = fs::last_write_time(path(job_dir, kFailedFile), ec); !ec) {
     st.state = CampaignJobState::Failed;
+    st.failed_marker_time = written;
     try {
       const YAML::Node failed = YAML::LoadFile(path(job_dir, kFailedFile));
       st.reason = failed["reason"] ? failed["reason"].as<std::string>() : "";
