@@ -28,11 +28,17 @@
 //   Both backends run the same run-job, so the outputs are the same bytes whichever
 //   ran them. One run at a time per OUT (a
 //   lock); an array an earlier, stopped run left in the queue must end first.
+//   A stop signal (SIGTERM, SIGINT, SIGHUP) reaches the jobs: the local pool passes
+//   it to each job's process group, Slurm's array is cancelled; the summary is
+//   written and the exit status is 128 + the signal. OUT must be this campaign's
+//   (OUT/campaign.json), new or empty.
 // summary: the summary of the jobs as they are (nothing runs).
 // run-job: runs one prepared job directory (what both backends start).
 // The plot: scripts/plot_campaign.py OUT (python3 with matplotlib), unless --no-plot.
-// Exit status: 0 every job done; 1 jobs failed or were interrupted (listed in the
-// summary; run again to re-run them); 2 usage, a bad manifest or missing inputs.
+// Exit status: 0 every job done; 1 jobs failed, were interrupted or are stale (listed
+// in the summary; run again to re-run them); 2 usage, a bad manifest, missing inputs
+// or an OUT of another campaign; 128 + N stopped by signal N. run-job: 3 when
+// another process runs that job.
 #include <fcntl.h>
 #include <sys/file.h>
 #include <sys/statvfs.h>
@@ -182,20 +188,24 @@ std::vector<int> stopSignals() {
   return signals;
 }
 
-/// The stop signals and SIGCHLD of the local pool, blocked while it lives and taken
-/// by wait(): a stop is never lost between two looks, and no handler runs. The jobs
-/// inherit the mask and unblock these signals first thing (prepareJobProcess).
-class PoolSignals {
+/// Whether the campaign's signal set includes SIGCHLD (the local pool waits for its children by it).
+enum class ChildEnds { Watched, Ignored };
+
+/// The stop signals (and for the local pool SIGCHLD), blocked while the object
+/// lives and taken by wait(): a stop is never lost between two looks, and no
+/// handler runs. The jobs of the pool inherit the mask and unblock these signals
+/// first thing (prepareJobProcess).
+class CampaignSignals {
  public:
-  PoolSignals() {
+  explicit CampaignSignals(ChildEnds children) {
     sigemptyset(&set_);
-    sigaddset(&set_, SIGCHLD);
+    if (children == ChildEnds::Watched) sigaddset(&set_, SIGCHLD);
     for (int sig : stopSignals()) sigaddset(&set_, sig);
     ::sigprocmask(SIG_BLOCK, &set_, &previous_);
   }
-  ~PoolSignals() { ::sigprocmask(SIG_SETMASK, &previous_, nullptr); }
-  PoolSignals(const PoolSignals&) = delete;
-  PoolSignals& operator=(const PoolSignals&) = delete;
+  ~CampaignSignals() { ::sigprocmask(SIG_SETMASK, &previous_, nullptr); }
+  CampaignSignals(const CampaignSignals&) = delete;
+  CampaignSignals& operator=(const CampaignSignals&) = delete;
   /// Blocks until a child changes state (0) or a stop signal arrives (its number).
   int wait() const {
     for (;;) {
@@ -203,6 +213,13 @@ class PoolSignals {
       if (sig < 0 && errno == EINTR) continue;
       return sig == SIGCHLD || sig < 0 ? 0 : sig;
     }
+  }
+  /// Waits up to `seconds` for a stop signal: its number, or 0.
+  int waitFor(double seconds) const {
+    const long ns = static_cast<long>(seconds * 1e9);
+    const struct timespec timeout {ns / 1000000000L, ns % 1000000000L};
+    const int sig = ::sigtimedwait(&set_, nullptr, &timeout);
+    return sig == SIGCHLD || sig < 0 ? 0 : sig;
   }
 
  private:
@@ -336,7 +353,7 @@ void collectEndedJobs(RunningJobs& running, int stop_signal, ppp::CampaignProgre
 int runLocal(const std::vector<PendingJob>& jobs, int already_done, int total, unsigned slots) {
   const std::string exe = selfExecutable();
   if (slots == 0) slots = std::max(1u, std::thread::hardware_concurrency());
-  const PoolSignals signals;
+  const CampaignSignals signals(ChildEnds::Watched);
   RunningJobs running;
   std::size_t next = 0;
   int stop_signal = 0;
@@ -565,6 +582,8 @@ std::string whyUnfinished(const SlurmSettings& s, const std::string& array_id, s
   return "Slurm task " + name + " " + how + " (log " + s.out + "/slurm/" + name + ".log)";
 }
 
+void cancelArray(const std::string& array_id, int sig, int& stop_signal);
+
 /// Progress of a submitted round until every job of it has its finished marker or
 /// a failed marker of this round (not the one an earlier attempt left, which the
 /// job clears when it starts), or the array has left the queue. The markers are
@@ -574,8 +593,11 @@ std::string whyUnfinished(const SlurmSettings& s, const std::string& array_id, s
 /// cost per look follows the running tasks, not the size of the campaign.
 /// Once every job is taken, the array's tasks still pending are cancelled: they
 /// would find nothing to take, and would hold the cluster's CPUs while they start.
+/// A stop signal to the campaign cancels the array (scancel: Slurm signals its
+/// running tasks); the round then ends when the array has left the queue.
 void waitForRound(const SlurmSettings& s, const std::string& array_id, const RoundFiles& files,
-                  const std::vector<PendingJob>& jobs, int already_done, ProgressLine& progress) {
+                  const std::vector<PendingJob>& jobs, int already_done, ProgressLine& progress,
+                  const CampaignSignals& signals, int& stop_signal) {
   bool pending_cancelled = false;
   std::vector<std::size_t> open(jobs.size());  // list order: line k + 1
   std::vector<std::optional<fs::file_time_type>> earlier_failure(jobs.size());
@@ -615,18 +637,37 @@ void waitForRound(const SlurmSettings& s, const std::string& array_id, const Rou
     }
     progress.show(done, failed, ended ? 0 : running, done_with_problems);
     if (ended) return;
-    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    if (const int sig = signals.waitFor(0.1)) cancelArray(array_id, sig, stop_signal);
   }
 }
 
-bool runSlurm(const SlurmSettings& s, std::vector<PendingJob> jobs, int already_done, int total) {
+/// A stop signal while an array runs: the array is cancelled (a second signal cancels it again).
+void cancelArray(const std::string& array_id, int sig, int& stop_signal) {
+  if (!stop_signal)
+    std::cerr << "\nppp_campaign: stopped by signal " << sig << " (" << strsignal(sig) << "): cancelling array job "
+              << array_id << "\n";
+  stop_signal = stop_signal ? stop_signal : sig;
+  capture({"scancel", array_id}, CommandErrors::Drop);
+}
+
+/// How a Slurm campaign ended: it could not submit (or an earlier array still runs),
+/// or it ran its rounds, or a stop signal ended it early (the signal).
+struct SlurmOutcome {
+  bool submitted = false;
+  int stop_signal = 0;
+};
+
+SlurmOutcome runSlurm(const SlurmSettings& s, std::vector<PendingJob> jobs, int already_done, int total) {
+  const CampaignSignals signals(ChildEnds::Ignored);
+  SlurmOutcome outcome;
   ProgressLine progress(total);
   const std::string marker = (fs::path(s.out) / "slurm" / "active_array").string();
   if (const std::string id = arrayStillQueued(marker); !id.empty()) {
     std::cerr << "ppp_campaign: array job " << id << " of this campaign is still queued or running (an earlier "
               << "invocation was stopped): wait for it or scancel " << id << ", then run again\n";
-    return false;
+    return outcome;
   }
+  outcome.submitted = true;
   for (int round = 0;; ++round) {
     std::string why;
     const std::size_t per_task = jobsPerTask(s, jobs.size());
@@ -634,12 +675,13 @@ bool runSlurm(const SlurmSettings& s, std::vector<PendingJob> jobs, int already_
     const std::string array_id = submitArray(s, files, jobs, per_task, round, why);
     if (array_id.empty()) {
       std::cerr << "ppp_campaign: " << why << "\n";
-      return false;
+      outcome.submitted = false;
+      return outcome;
     }
     ppp::writeFileAtomically(marker, array_id + "\n");
     std::cerr << "ppp_campaign: submitted array job " << array_id << " (" << jobs.size() << " jobs in "
               << (jobs.size() + per_task - 1) / per_task << " tasks, round " << round << ")\n";
-    waitForRound(s, array_id, files, jobs, already_done, progress);
+    waitForRound(s, array_id, files, jobs, already_done, progress, signals, outcome.stop_signal);
     std::error_code ec;
     fs::remove(marker, ec);
     std::optional<std::map<int, SlurmTaskEnd>> ends;  // read only when a job did not finish
@@ -652,16 +694,20 @@ bool runSlurm(const SlurmSettings& s, std::vector<PendingJob> jobs, int already_
       }
       if (st.state != ppp::CampaignJobState::Failed) {
         if (!ends) ends = slurmTaskEnds(array_id);
-        recordJobFailure(jobs[k], whyUnfinished(s, array_id, files.claimant(k + 1), *ends));
+        const std::string stopped = outcome.stop_signal ? "; the campaign was stopped by signal " +
+                                                              std::to_string(outcome.stop_signal) + " (" +
+                                                              strsignal(outcome.stop_signal) + ")"
+                                                        : std::string();
+        recordJobFailure(jobs[k], whyUnfinished(s, array_id, files.claimant(k + 1), *ends) + stopped);
       }
       again.push_back(jobs[k]);
     }
     progress.finish();
-    if (again.empty()) return true;
-    if (round >= s.resources.max_resubmits) {
+    if (again.empty()) return outcome;
+    if (round >= s.resources.max_resubmits || outcome.stop_signal) {
       std::cerr << "ppp_campaign: " << again.size() << " job(s) did not finish after " << round + 1
                 << " submission(s); run the campaign again to re-run them\n";
-      return true;
+      return outcome;
     }
     std::cerr << "ppp_campaign: resubmitting " << again.size() << " job(s) that did not finish\n";
     jobs = std::move(again);
@@ -781,6 +827,7 @@ int commandRun(const ppp::CampaignManifest& manifest, const Options& o) {
   const int already = total - static_cast<int>(pending.size());
   std::cerr << "ppp_campaign: " << total << " jobs: " << already << " already done, " << pending.size() << " to run ("
             << (o.slurm ? "slurm" : "local") << ")\n";
+  int stop_signal = 0;
   if (!pending.empty()) {
     if (o.slurm) {
       SlurmSettings s;
@@ -793,15 +840,18 @@ int commandRun(const ppp::CampaignManifest& manifest, const Options& o) {
       s.name = manifest.name;
       s.out = fs::absolute(o.out).string();
       s.poll_s = o.poll_s;
-      if (!runSlurm(s, pending, already, total)) return 1;
-    } else if (const int stop_signal = runLocal(pending, already, total, o.jobs)) {
-      Options stopped = o;
-      stopped.plot = false;
-      writeSummary(manifest, stopped);
-      return 128 + stop_signal;
+      const SlurmOutcome outcome = runSlurm(s, pending, already, total);
+      if (!outcome.submitted) return 1;
+      stop_signal = outcome.stop_signal;
+    } else {
+      stop_signal = runLocal(pending, already, total, o.jobs);
     }
   }
-  return writeSummary(manifest, o);
+  if (!stop_signal) return writeSummary(manifest, o);
+  Options stopped = o;
+  stopped.plot = false;
+  writeSummary(manifest, stopped);
+  return 128 + stop_signal;
 }
 
 /// A whole number of at least `minimum`, all of `text` (no sign, no trailing characters).

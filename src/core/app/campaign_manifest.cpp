@@ -218,8 +218,7 @@ void checkDistinctInputs(const std::vector<CampaignJob>& jobs, std::size_t from,
   for (std::size_t k = from; k < jobs.size(); ++k) {
     const PppInputFiles& f = jobs[k].ppp.files;
     std::string input = f.obs + "|";
-    if (f.window.start) input += std::to_string(f.window.start->wholeSeconds()) + "|";
-    if (f.rtcm_reference_time) input += std::to_string(f.rtcm_reference_time->wholeSeconds());
+    if (f.window.start) input += std::to_string(f.window.start->wholeSeconds());
     const auto [it, fresh] = seen.emplace(input, &jobs[k]);
     if (fresh) continue;
     throw ConfigError(file, key + ".obs",
