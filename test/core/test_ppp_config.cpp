@@ -538,3 +538,26 @@ TEST(PppConfig, AmbiguityResolutionAndSystemsDefaultToAuto) {
   EXPECT_EQ(file.ambiguity_resolution.mode, ppp::AmbiguityResolutionMode::Auto);
   EXPECT_TRUE(file.signals.systems_from_products);
 }
+
+namespace ppp {
+namespace {
+
+// An a priori sigma of 1e-300 m passes "> 0" but squares to a zero variance, so every
+// epoch failed "covariance not positive definite": such values are refused with the key.
+TEST(PppConfig, APrioriSigmasBelowAMeaningfulValueAreRefusedNamingTheKey) {
+  for (const char* key : {"position", "zwd", "clock", "phase_bias"}) {
+    const std::string yaml = std::string("stochastic:\n  ") + key + ":\n    initial_sigma_m: 1e-300\n";
+    try {
+      parsePppConfig(yaml, "x.yaml");
+      FAIL() << key << " initial_sigma_m 1e-300 accepted";
+    } catch (const ConfigError& e) {
+      const std::string what = e.what();
+      EXPECT_NE(what.find(std::string("stochastic.") + key + ".initial_sigma_m: must be in [0.001, "),
+                std::string::npos) << what;
+    }
+    EXPECT_NO_THROW(parsePppConfig(std::string("stochastic:\n  ") + key + ":\n    initial_sigma_m: 0.001\n", "x.yaml"));
+  }
+}
+
+}  // namespace
+}  // namespace ppp
