@@ -164,8 +164,6 @@ PppPipeline::PppPipeline(const PppInputFiles& files, PppConfig config)
     : config_(std::move(config)), impl_(std::make_unique<Impl>()) {
   Impl& d = *impl_;
   if (files.atx.empty()) throw std::runtime_error("no ANTEX file given (antenna calibrations are required)");
-  if (const std::string why = fileProductInputsProblem(productInputsGiven(files)); !why.empty())
-    throw std::invalid_argument(why);
   ProductAssemblyInputs in;
   if (files.obs_format == ObservationFormat::Rtcm3 || files.obs_format == ObservationFormat::Ubx) {
     if (files.obs_format == ObservationFormat::Rtcm3) {
@@ -182,6 +180,8 @@ PppPipeline::PppPipeline(const PppInputFiles& files, PppConfig config)
     d.source = std::make_unique<RinexObservationSource>(files.obs);
     std::tie(in.first, in.last) = observationSpan(files.obs, files.window);
   }
+  if (const std::string why = fileProductInputsProblem(productInputsGiven(files)); !why.empty())
+    throw std::invalid_argument(why);
   if (files.window.bounded()) {
     d.source = std::make_unique<TimeWindowObservationSource>(std::move(d.source), files.window);
     if (in.first && files.window.start && *in.first < *files.window.start) in.first = files.window.start;
