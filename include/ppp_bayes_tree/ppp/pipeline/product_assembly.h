@@ -180,6 +180,11 @@ class ProductAssembly {
   /// SSR corrections), not in the stream, no GLONASS channels, no satellite antennas.
   std::string whyNotCovered(const ProductAssemblyInputs& in, GnssSystem system,
                             const OrbitClockProducts& orbit_clock) const;
+  /// A GLONASS channel of the observation header that the navigation records contradict: a problem.
+  void checkGlonassChannels(const ProductAssemblyInputs& in, const OrbitClockProducts& orbit_clock);
+  /// The products' spans against the observations' (product_coverage.h): a partial
+  /// cover is a note, none a refusal (throws std::runtime_error naming both spans).
+  void checkCoverage(const ProductAssemblyInputs& in, const OrbitClockProducts& orbit_clock);
   void checkSatelliteAntennas(const ProductAssemblyInputs& in, const std::vector<std::string>& product_models,
                               const OrbitClockProducts& orbit_clock);
   void decideArGate(const ProductAssemblyInputs& in, const OrbitClockProducts& orbit_clock);

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <map>
 #include <set>
+#include <stdexcept>
 
 #include "ppp_bayes_tree/io/line_source.h"
 #include "ppp_bayes_tree/io/products/rinex_clock_reader.h"
@@ -164,6 +165,7 @@ ProductAssembly ProductAssembly::assemble(const ProductAssemblyInputs& in, const
   a.ephemeris_ = orbit_clock.ephemeris;
   // GLONASS channels of the navigation records, where the observation header has none.
   a.config_.signals.glonass_channels.fillMissing(orbit_clock.glonass_channels);
+  a.checkGlonassChannels(in, orbit_clock);
 
   // ANTEX (satellites of the products' family first), Bias-SINEX, BLQ.
   for (const auto& f : in.clk) a.clock_headers_.push_back(readRinexClockHeader(f));  // read once
@@ -180,6 +182,7 @@ ProductAssembly ProductAssembly::assemble(const ProductAssemblyInputs& in, const
   a.notes_.insert(a.notes_.end(), a.set_->notes().begin(), a.set_->notes().end());
   a.problems_.insert(a.problems_.end(), a.set_->problems().begin(), a.set_->problems().end());
 
+  a.checkCoverage(in, orbit_clock);
   if (config.signals.systems_from_products) a.resolveSystems(in, candidates, orbit_clock);
   if (a.antennas() && !product_models.empty()) a.checkSatelliteAntennas(in, product_models, orbit_clock);
 
@@ -236,6 +239,34 @@ std::string ProductAssembly::whyNotCovered(const ProductAssemblyInputs& in, Gnss
   if (config_.model.satellite_antenna && antex && !antennasCover(*antex, system, carried))
     return "no satellite antenna calibrations in the ANTEX files";
   return {};
+}
+
+void ProductAssembly::checkGlonassChannels(const ProductAssemblyInputs& in, const OrbitClockProducts& orbit_clock) {
+  if (!in.observation_glonass_channels) return;
+  const auto signed_text = [](int k) { return (k > 0 ? "+" : "") + std::to_string(k); };
+  for (int slot = 1; slot <= GlonassChannels::kMaxSlot; ++slot) {
+    const std::optional<int> header = in.observation_glonass_channels->channel(slot);
+    const std::optional<int> nav = orbit_clock.glonass_channels.channel(slot);
+    if (!header || !nav || *header == *nav) continue;
+    problems_.push_back("GLONASS " + SatelliteId{GnssSystem::GLONASS, slot}.toString() + ": channel " +
+                        signed_text(*header) + " in the observation header (GLONASS SLOT / FRQ #), " +
+                        signed_text(*nav) + " in the navigation records: the channels conflict (the header's is used)");
+  }
+}
+
+void ProductAssembly::checkCoverage(const ProductAssemblyInputs& in, const OrbitClockProducts& orbit_clock) {
+  if (!in.first || !in.last) return;  // the observations' span is not known (streamed)
+  std::vector<ProductTimeSpan> spans = orbit_clock.spans;
+  if (const BiasSinexFile* bias = set_->biasFile(); bias != nullptr && in.bias) {
+    ProductTimeSpan span{"biases", fileBaseName(*in.bias), bias->header.data_start, bias->header.data_end, true};
+    if (span.first && span.last) spans.push_back(span);  // a header without a validity states none
+  }
+  for (const ProductTimeSpan& span : spans) {
+    const CoverageFinding finding = checkProductCoverage(span, *in.first, *in.last);
+    if (finding.verdict == CoverageVerdict::NotCovered)
+      throw std::runtime_error("products do not cover the observations: " + finding.text);
+    if (finding.verdict == CoverageVerdict::Partial) notes_.push_back("coverage: " + finding.text);
+  }
 }
 
 void ProductAssembly::checkSatelliteAntennas(const ProductAssemblyInputs& in,
