@@ -15,6 +15,7 @@
 #include "ppp_bayes_tree/app/campaign_job.h"
 #include "ppp_bayes_tree/io/parse_error.h"
 #include "ppp_bayes_tree/io/transport/stream_format.h"
+#include "ppp_bayes_tree/ppp/config/yaml_document.h"
 #include "ppp_bayes_tree/ppp/config/yaml_section.h"
 #include "ppp_bayes_tree/ppp/estimators/estimator_registry.h"
 #include "ppp_bayes_tree/simulation/flight_trajectory.h"
@@ -382,11 +383,7 @@ CampaignResources readResources(YamlSection s) {
 YAML::Node loadYamlFile(const std::string& path) {
   std::ifstream probe(path);
   if (!probe) throw FileOpenError("cannot open campaign manifest " + path);
-  try {
-    return YAML::LoadFile(path);
-  } catch (const YAML::Exception& e) {
-    throw ConfigError(path, "", "line " + std::to_string(e.mark.line + 1) + ": " + e.msg);
-  }
+  return loadYamlDocument(path);  // syntax errors and keys written twice: ConfigError naming the line
 }
 
 void problemIfMissing(const CampaignJob& job, const char* what, const std::string& path,

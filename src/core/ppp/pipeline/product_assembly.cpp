@@ -152,6 +152,8 @@ ProductAssembly ProductAssembly::assemble(const ProductAssemblyInputs& in, const
   ProductAssembly a;
   a.inputs_ = in;
   a.config_ = config;
+  const AmbiguityResolutionOptions& ar = config.ambiguity_resolution;
+  a.configured_ar_mode_ = ar.enabled ? AmbiguityResolutionMode::On : ar.mode;
   const ProductSource& source = selectProductSource(in);  // throws for inputs of no source
   const std::vector<GnssSystem> candidates =
       config.signals.systems_from_products ? automaticSignalSystems() : config.signals.systems;
@@ -184,6 +186,7 @@ ProductAssembly ProductAssembly::assemble(const ProductAssemblyInputs& in, const
 
   a.checkCoverage(in, orbit_clock);
   if (config.signals.systems_from_products) a.resolveSystems(in, candidates, orbit_clock);
+  a.decision_notes_begin_ = a.notes_.size();
   if (a.antennas() && !product_models.empty()) a.checkSatelliteAntennas(in, product_models, orbit_clock);
 
   // Code biases: the Bias-SINEX file's, else the SSR recording's.
@@ -292,7 +295,7 @@ void ProductAssembly::checkSatelliteAntennas(const ProductAssemblyInputs& in,
 void ProductAssembly::decideArGate(const ProductAssemblyInputs& in, const OrbitClockProducts& orbit_clock) {
   const AmbiguityResolutionOptions& ar = config_.ambiguity_resolution;
   ArGateVerdict& v = verdict_;
-  v.mode = ar.enabled ? AmbiguityResolutionMode::On : ar.mode;
+  v.mode = configured_ar_mode_;  // config_'s `enabled` is the resolved one after a first decision
   if (v.mode == AmbiguityResolutionMode::Off) {
     v.reason = ArGateReason::Disabled;
     config_.ambiguity_resolution.enabled = false;
@@ -429,6 +432,14 @@ bool ProductAssembly::declareStreamedProducts(const StreamedProductInfo& info) {
   if (antennas_ && family != antennas_->satelliteFamily())
     antennas_ = std::make_shared<const AntexCalibrations>(antennas_->files(), family);
   const OrbitClockProducts streamed;  // orbits and clocks not known before the run
+  // The earlier decision's notes were made without the declaration: replaced
+  // (streamed orbits and clocks bring no code-bias note between them).
+  notes_.resize(std::min(decision_notes_begin_, notes_.size()));
+  notes_.push_back("the product stream declares " +
+                   (info.clock_centre.empty() ? std::string("no clock centre") : "clocks of " + info.clock_centre) +
+                   " and " +
+                   (info.antenna_model.empty() ? std::string("no satellite antenna model")
+                                               : "the satellite antenna model " + info.antenna_model));
   antenna_check_.reset();
   if (antennas_ && !models.empty()) checkSatelliteAntennas(inputs_, models, streamed);
   verdict_ = ArGateVerdict{};
