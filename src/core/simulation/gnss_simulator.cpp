@@ -140,7 +140,13 @@ TruthProducts applyProductErrors(const TruthProducts& truth, const ErrorModelCon
   for (const auto& sat : sats) {
     RandomStream r = rng.derive(static_cast<std::uint64_t>(sat.index()));
     ProductErrorSet e;
-    e.orbit_m = Eigen::Vector3d(r.normal(cfg.orbit_sigma_m), r.normal(cfg.orbit_sigma_m), r.normal(cfg.orbit_sigma_m));
+    // One draw per statement: the order of a call's arguments is unspecified, so three
+    // draws as constructor arguments gave other errors with another compiler. The order
+    // z, y, x is the one of the existing simulated data sets.
+    const double orbit_z_m = r.normal(cfg.orbit_sigma_m);
+    const double orbit_y_m = r.normal(cfg.orbit_sigma_m);
+    const double orbit_x_m = r.normal(cfg.orbit_sigma_m);
+    e.orbit_m = Eigen::Vector3d(orbit_x_m, orbit_y_m, orbit_z_m);
     e.clock_m = r.normal(cfg.clock_sigma_m);
     e.orbit_scale = r.uniform(-cfg.scale_half_range, cfg.scale_half_range);
     e.clock_scale = r.uniform(-cfg.scale_half_range, cfg.scale_half_range);

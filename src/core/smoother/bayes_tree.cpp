@@ -146,7 +146,9 @@ CliqueJoint cliqueJoint(const Clique& c, const CliqueJoint* parent) {
     g.middleCols(static_cast<Eigen::Index>(col), cond.S()[p].cols()) = cond.S()[p];
     col += static_cast<std::size_t>(cond.S()[p].cols());
   }
-  cond.R().triangularView<Eigen::Upper>().solveInPlace(g);
+  // A root clique has no separator: g is empty and there is nothing to solve (Eigen's
+  // triangular solve would take the address of the first coefficient of an empty matrix).
+  if (ns > 0) cond.R().triangularView<Eigen::Upper>().solveInPlace(g);
   j.cov.resize(nf + ns, nf + ns);
   const Matrix gcs = g * cs;
   j.cov.topLeftCorner(nf, nf) = rinv * rinv.transpose() + gcs * g.transpose();
