@@ -8,7 +8,7 @@
 #include <ros/message_traits.h>
 
 #include "ppp_bayes_tree/GnssStreamBytes.h"
-#include "ppp_bayes_tree/io/transport/untrusted_text.h"
+#include "ppp_bayes_tree/io/untrusted_text.h"
 #include "ppp_bayes_tree/io/ubx/ubx_framer.h"
 #include "ppp_bayes_tree/types/thread_cpu_time.h"
 

@@ -19,7 +19,7 @@ constexpr std::size_t kWindowKeepBytes = 128 * 1024;  // > the largest frame (UB
 constexpr std::size_t kDetectBytes = 64 * 1024;        // give up detecting the format after this
 
 /// An input error as shown in the log and the diagnostics: its detail quotes the caster's
-/// answer already escaped (io/transport/untrusted_text.h), and any spec in it is masked.
+/// answer already escaped (io/untrusted_text.h), and any spec in it is masked.
 std::string shownError(const ppp::ByteSourceError& error) { return ppp::maskCredentials(error.describe()); }
 
 template <typename T>

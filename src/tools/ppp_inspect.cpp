@@ -12,7 +12,7 @@
 
 #include "ppp_bayes_tree/io/file_summary.h"
 #include "ppp_bayes_tree/io/transport/file_type.h"
-#include "ppp_bayes_tree/io/transport/untrusted_text.h"
+#include "ppp_bayes_tree/io/untrusted_text.h"
 #include "ppp_bayes_tree/app/inspection.h"
 
 namespace {

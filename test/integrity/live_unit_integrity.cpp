@@ -23,7 +23,7 @@
 #include "ppp_bayes_tree/io/transport/credential_mask.h"
 #include "ppp_bayes_tree/io/transport/ntrip_client_source.h"
 #include "ppp_bayes_tree/io/transport/ntrip_credentials.h"
-#include "ppp_bayes_tree/io/transport/untrusted_text.h"
+#include "ppp_bayes_tree/io/untrusted_text.h"
 #include "ppp_bayes_tree/ppp/config/ppp_config.h"
 #include "ppp_bayes_tree/ros/node_options.h"
 

@@ -15,7 +15,7 @@
 #include "ppp_bayes_tree/evaluation/rtklib_pos.h"
 #include "ppp_bayes_tree/evaluation/solution_csv_writer.h"
 #include "ppp_bayes_tree/io/data_file_name.h"
-#include "ppp_bayes_tree/io/transport/untrusted_text.h"
+#include "ppp_bayes_tree/io/untrusted_text.h"
 #include "ppp_bayes_tree/ppp/estimators/estimator_registry.h"
 #include "ppp_bayes_tree/types/constants.h"
 #include "ppp_bayes_tree/types/number_text.h"
@@ -374,7 +374,7 @@ std::string formatRunReport(const PppRunSummary& r) {
                  r.time_to_first_fix_s.value_or(0.0) / 60.0);
   }
   os << "notes:\n";
-  // Notes and problems quote header text of the input files (printable, io/transport/untrusted_text.h).
+  // Notes and problems quote header text of the input files (printable, io/untrusted_text.h).
   const std::size_t whole = std::numeric_limits<std::size_t>::max();
   for (const auto& n : r.notes) os << "  " << printableText(n, whole) << "\n";
   if (!r.problems.empty()) {

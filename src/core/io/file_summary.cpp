@@ -4,7 +4,7 @@
 #include <limits>
 #include <sstream>
 
-#include "ppp_bayes_tree/io/transport/untrusted_text.h"
+#include "ppp_bayes_tree/io/untrusted_text.h"
 
 namespace ppp {
 

@@ -6,7 +6,7 @@
 #include <cmath>
 
 #include "ppp_bayes_tree/io/transport/nmea_gga.h"
-#include "ppp_bayes_tree/io/transport/untrusted_text.h"
+#include "ppp_bayes_tree/io/untrusted_text.h"
 
 namespace ppp {
 namespace {

@@ -1,4 +1,4 @@
-#include "ppp_bayes_tree/io/transport/untrusted_text.h"
+#include "ppp_bayes_tree/io/untrusted_text.h"
 
 #include <cstdio>
 
