@@ -17,7 +17,8 @@
 #     the others done; the next invocation runs that job only (the others' markers
 #     untouched) and ends done;
 #     with one resubmission allowed, the same cancellation is resubmitted and done in
-#     the same invocation;
+#     the same invocation; a SIGTERM to the campaign cancels its array (exit 143, the
+#     stopped jobs' reasons name the signal, nothing resubmitted or left queued);
 #  4. a Monte Carlo study of 40 flights (2 min, GPS + Galileo) as 4 shards through
 #     Slurm equals one 40-flight ppp_monte_carlo run with the same seed: the CDF,
 #     error-versus-time, bias-convergence and representative-flight tables byte for
@@ -198,6 +199,25 @@ grep -q "resubmitting 1 job(s)" "$WORK/resubmit.log" || note "resubmission: no r
 [ -f "$WORK/resubmit/jobs/esbcday/done.json" ] || note "resubmission: the cancelled job is not done"
 [ "$(ls "$WORK"/resubmit/slurm/round*.list | wc -l)" -eq 2 ] || note "resubmission: not exactly two submissions"
 
+# 3c. A stop signal to the campaign cancels its array: the running job is marked failed with
+#     the signal named, nothing stays queued, the exit status is 128 + 15.
+"$CAMPAIGN" run "$WORK/seven.yaml" --out "$WORK/stop" --slurm --poll-s 0.3 --max-resubmits 1 --no-plot > "$WORK/stop.log" 2>&1 &
+campaign_pid=$!
+for i in $(seq 1 300); do
+  if [ -f "$WORK/stop/slurm/round0.list" ] && [ -n "$(squeue -h -t RUNNING 2>/dev/null)" ]; then break; fi
+  sleep 0.1
+done
+sleep 0.5
+kill -TERM "$campaign_pid"
+wait "$campaign_pid"
+rc=$?
+[ $rc -eq 143 ] || note "stop: the campaign stopped by SIGTERM exited $rc (143 expected)"
+grep -q "cancelling array job" "$WORK/stop.log" || note "stop: the array was not cancelled: $(tail -3 "$WORK/stop.log")"
+grep -q "the campaign was stopped by signal 15" "$WORK"/stop/jobs/*/failed.json 2>/dev/null || note "stop: no job marked failed with the signal named"
+for i in $(seq 1 50); do [ -z "$(squeue -h 2>/dev/null)" ] && break; sleep 0.2; done
+[ -z "$(squeue -h 2>/dev/null)" ] || note "stop: tasks stayed queued after the stop: $(squeue -h)"
+[ "$(ls "$WORK"/stop/slurm/round*.list | wc -l)" -eq 1 ] || note "stop: a stopped campaign resubmitted"
+
 # 4. Monte Carlo: 40 flights as 4 Slurm shards = one 40-flight run.
 cat > "$WORK/mc.yaml" << EOF
 campaign: {name: mc40}
@@ -234,6 +254,6 @@ if [ -z "$fail" ]; then
 else
   junit failed "${fail#; }"
   echo "test_campaign_slurm: failed${fail}"
-  for f in local slurm6 localkill localrerun kill rerun mc; do echo "--- $f.log"; tail -15 "$WORK/$f.log" 2>/dev/null; done
+  for f in local slurm6 localkill localrerun kill rerun stop mc; do echo "--- $f.log"; tail -15 "$WORK/$f.log" 2>/dev/null; done
 fi
 exit 0

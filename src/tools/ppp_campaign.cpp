@@ -28,19 +28,33 @@
 //   Both backends run the same run-job, so the outputs are the same bytes whichever
 //   ran them. One run at a time per OUT (a
 //   lock); an array an earlier, stopped run left in the queue must end first.
+//   A stop signal (SIGTERM, SIGINT, SIGHUP) reaches the jobs: the local pool passes
+//   it to each job's process group, Slurm's array is cancelled; the summary is
+//   written and the exit status is 128 + the signal. OUT must be this campaign's
+//   (OUT/campaign.json), new or empty.
 // summary: the summary of the jobs as they are (nothing runs).
 // run-job: runs one prepared job directory (what both backends start).
 // The plot: scripts/plot_campaign.py OUT (python3 with matplotlib), unless --no-plot.
-// Exit status: 0 every job done; 1 jobs failed or were interrupted (listed in the
-// summary; run again to re-run them); 2 usage, a bad manifest or missing inputs.
+// Exit status: 0 every job done; 1 jobs failed, were interrupted or are stale (listed
+// in the summary; run again to re-run them); 2 usage, a bad manifest, missing inputs
+// or an OUT of another campaign; 128 + N stopped by signal N. run-job: 3 when
+// another process runs that job.
 #include <fcntl.h>
 #include <sys/file.h>
+#include <sys/statvfs.h>
 #include <unistd.h>
+#ifdef __linux__
+#include <sys/prctl.h>
+#endif
 
+#include <cerrno>
+#include <charconv>
 #include <chrono>
+#include <csignal>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -54,6 +68,7 @@
 #include "ppp_bayes_tree/app/allocator_tuning.h"
 #include "ppp_bayes_tree/app/campaign_summary.h"
 #include "ppp_bayes_tree/app/child_process.h"
+#include "ppp_bayes_tree/evaluation/json_text.h"
 #include "ppp_bayes_tree/io/parse_error.h"
 #include "ppp_bayes_tree/ppp/config/yaml_section.h"
 
@@ -121,10 +136,14 @@ std::string shellQuote(const std::string& s) {
 class ProgressLine {
  public:
   explicit ProgressLine(int total) : tty_(isatty(STDERR_FILENO) != 0), t0_(Clock::now()) { p_.total = total; }
-  void show(int done, int failed, int running) {
+  void show(const ppp::CampaignProgress& counts, int running) {
+    show(counts.done, counts.failed, running, counts.done_with_problems);
+  }
+  void show(int done, int failed, int running, int done_with_problems = 0) {
     p_.done = done;
     p_.failed = failed;
     p_.running = running;
+    p_.done_with_problems = done_with_problems;
     p_.elapsed_s = secondsSince(t0_);
     const std::string line = ppp::formatCampaignProgress(p_);
     if (tty_) {
@@ -152,6 +171,123 @@ struct PendingJob {
   std::string id, dir;
 };
 
+/// Set in the environment of the local pool's run-job processes: the pool's process
+/// id. Such a job leads its own process group (the pool forwards the stop signals
+/// to it, reaching the tools it starts), and ends when the pool dies.
+constexpr const char* kPoolParentVariable = "PPP_CAMPAIGN_POOL_PID";
+
+/// The signals that stop a campaign: those not ignored when it started (under nohup
+/// SIGHUP stays ignored, in a background job of a script SIGINT).
+std::vector<int> stopSignals() {
+  std::vector<int> signals;
+  for (int sig : {SIGTERM, SIGINT, SIGHUP}) {
+    struct sigaction now {};
+    if (::sigaction(sig, nullptr, &now) == 0 && now.sa_handler == SIG_IGN) continue;
+    signals.push_back(sig);
+  }
+  return signals;
+}
+
+/// Whether the campaign's signal set includes SIGCHLD (the local pool waits for its children by it).
+enum class ChildEnds { Watched, Ignored };
+
+/// The stop signals (and for the local pool SIGCHLD), blocked while the object
+/// lives and taken by wait(): a stop is never lost between two looks, and no
+/// handler runs. The jobs of the pool inherit the mask and unblock these signals
+/// first thing (prepareJobProcess).
+class CampaignSignals {
+ public:
+  explicit CampaignSignals(ChildEnds children) {
+    sigemptyset(&set_);
+    if (children == ChildEnds::Watched) sigaddset(&set_, SIGCHLD);
+    for (int sig : stopSignals()) sigaddset(&set_, sig);
+    ::sigprocmask(SIG_BLOCK, &set_, &previous_);
+  }
+  ~CampaignSignals() { ::sigprocmask(SIG_SETMASK, &previous_, nullptr); }
+  CampaignSignals(const CampaignSignals&) = delete;
+  CampaignSignals& operator=(const CampaignSignals&) = delete;
+  /// Blocks until a child changes state (0) or a stop signal arrives (its number).
+  int wait() const {
+    for (;;) {
+      const int sig = ::sigwaitinfo(&set_, nullptr);
+      if (sig < 0 && errno == EINTR) continue;
+      return sig == SIGCHLD || sig < 0 ? 0 : sig;
+    }
+  }
+  /// Waits up to `seconds` for a stop signal: its number, or 0.
+  int waitFor(double seconds) const {
+    const long ns = static_cast<long>(seconds * 1e9);
+    const struct timespec timeout {ns / 1000000000L, ns % 1000000000L};
+    const int sig = ::sigtimedwait(&set_, nullptr, &timeout);
+    return sig == SIGCHLD || sig < 0 ? 0 : sig;
+  }
+
+ private:
+  sigset_t set_, previous_;
+};
+
+extern "C" void stopJobProcessGroup(int sig) {
+  ::signal(sig, SIG_DFL);
+  ::kill(0, sig);  // this process and the tools it started (its own group): ends them all
+}
+
+/// First thing a run-job process does. Started by the local pool: it leads its own
+/// process group (the pool's stop reaches the tools it starts), a stop signal ends
+/// the whole group, and it gets SIGTERM when the pool dies (even by SIGKILL;
+/// Linux). Returns false when the pool is already gone. Then it unblocks the
+/// signals the pool blocks.
+bool prepareJobProcess() {
+  bool pool_alive = true;
+  if (const char* pool = std::getenv(kPoolParentVariable)) {
+    ::setpgid(0, 0);
+#ifdef __linux__
+    ::prctl(PR_SET_PDEATHSIG, SIGTERM);
+#endif
+    pool_alive = std::to_string(::getppid()) == pool;
+    for (int sig : stopSignals()) {
+      struct sigaction action {};
+      action.sa_handler = stopJobProcessGroup;
+      sigemptyset(&action.sa_mask);
+      ::sigaction(sig, &action, nullptr);
+    }
+  }
+  sigset_t pool_blocked;
+  sigemptyset(&pool_blocked);
+  for (int sig : {SIGCHLD, SIGTERM, SIGINT, SIGHUP}) sigaddset(&pool_blocked, sig);
+  ::sigprocmask(SIG_UNBLOCK, &pool_blocked, nullptr);
+  return pool_alive;
+}
+
+/// Sends `sig` to a job's process group (the job and the tools it started), or to
+/// the job alone before it has made its group.
+void signalJob(ppp::ChildProcess& child, int sig) {
+  if (child.end()) return;
+  if (::kill(-child.pid(), sig) != 0) child.kill(sig);
+}
+
+/// Records a failure in a job's marker; when even that cannot be written (a full
+/// disk), says so on the campaign's standard error instead.
+void recordJobFailure(const PendingJob& job, const std::string& reason) {
+  try {
+    ppp::markCampaignJobFailed(job.dir, reason);
+  } catch (const std::exception& e) {
+    std::cerr << "\nppp_campaign: job " << job.id << " failed (" << reason << ") and its failure cannot be recorded: "
+              << e.what() << "\n";
+  }
+}
+
+/// When a job that did not finish left an empty log, says so, with the free space
+/// of its file system when none is left (its own messages could not be written).
+void noteEmptyLog(const PendingJob& job) {
+  const fs::path log = fs::path(job.dir) / "log.txt";
+  std::error_code ec;
+  if (fs::file_size(log, ec) != 0 || ec) return;
+  struct statvfs fsinfo {};
+  const bool full = ::statvfs(job.dir.c_str(), &fsinfo) == 0 && fsinfo.f_bavail == 0;
+  std::cerr << "\nppp_campaign: job " << job.id << " did not finish and its log " << log.string() << " is empty"
+            << (full ? ": no space is left on the file system of " + job.dir : std::string()) << "\n";
+}
+
 // ---------------------------------------------------------------------------
 // Local backend: a pool of subprocesses `ppp_campaign run-job DIR`.
 // ---------------------------------------------------------------------------
@@ -159,50 +295,94 @@ struct PendingJob {
 ppp::ChildProcess spawnJob(const std::string& exe, const std::string& dir) {
   ppp::ChildProcessSpec spec;
   spec.argv = {exe, "run-job", dir};
+  spec.environment = {{kPoolParentVariable, std::to_string(::getpid())}};
   spec.stdout_to = ppp::ChildStream::file((fs::path(dir) / "log.txt").string());
   spec.stderr_to = ppp::ChildStream::withStdout();
   return ppp::ChildProcess::spawn(spec);
 }
 
 /// Records how a job's process ended when the job did not record it itself.
-void noteJobProcessEnd(const PendingJob& job, const ppp::ProcessEnd& end) {
+void noteJobProcessEnd(const PendingJob& job, const ppp::ProcessEnd& end, int stop_signal) {
   const ppp::CampaignJobState st = ppp::campaignJobStatus(job.dir).state;
-  if (st != ppp::CampaignJobState::Done && st != ppp::CampaignJobState::Failed)
-    ppp::markCampaignJobFailed(job.dir, "run-job " + end.text() + " without finishing (see " + job.dir + "/log.txt)");
+  if (st == ppp::CampaignJobState::Done || st == ppp::CampaignJobState::Failed) return;
+  noteEmptyLog(job);
+  const std::string stopped =
+      stop_signal ? std::string("; the campaign was stopped by signal ") + std::to_string(stop_signal) + " (" +
+                        strsignal(stop_signal) + ")"
+                  : std::string();
+  recordJobFailure(job, "run-job " + end.text() + " without finishing (see " + job.dir + "/log.txt" + stopped + ")");
 }
 
-void runLocal(const std::vector<PendingJob>& jobs, int already_done, int total, unsigned slots) {
+/// The local pool's jobs in progress, by process id.
+using RunningJobs = std::map<pid_t, std::pair<ppp::ChildProcess, const PendingJob*>>;
+
+/// A stop signal: forwarded to every running job (a second one kills them).
+void stopRunningJobs(RunningJobs& running, int sig, int& stop_signal) {
+  const int forward = stop_signal ? SIGKILL : sig;
+  if (!stop_signal) {
+    stop_signal = sig;
+    std::cerr << "\nppp_campaign: stopped by signal " << sig << " (" << strsignal(sig) << "): stopping "
+              << running.size() << " running job(s), starting no more (a second signal kills them)\n";
+  }
+  for (auto& [pid, entry] : running) signalJob(entry.first, forward);
+}
+
+/// Collects the jobs that ended; counts them done (with or without problems) or failed.
+void collectEndedJobs(RunningJobs& running, int stop_signal, ppp::CampaignProgress& counts) {
+  for (auto it = running.begin(); it != running.end();) {
+    const auto end = it->second.first.poll();
+    if (!end) {
+      ++it;
+      continue;
+    }
+    const PendingJob& job = *it->second.second;
+    noteJobProcessEnd(job, *end, stop_signal);
+    it = running.erase(it);
+    const ppp::CampaignJobStatus st = ppp::campaignJobStatus(job.dir);
+    if (st.state != ppp::CampaignJobState::Done) {
+      ++counts.failed;
+      continue;
+    }
+    ++counts.done;
+    counts.done_with_problems += st.result && st.result->problems > 0;
+  }
+}
+
+/// Runs the jobs in a pool of `slots` processes. Returns the stop signal that ended
+/// it early (its jobs stopped and marked failed), or 0 when every job ran.
+int runLocal(const std::vector<PendingJob>& jobs, int already_done, int total, unsigned slots) {
   const std::string exe = selfExecutable();
   if (slots == 0) slots = std::max(1u, std::thread::hardware_concurrency());
-  std::map<pid_t, std::pair<ppp::ChildProcess, const PendingJob*>> running;
+  const CampaignSignals signals(ChildEnds::Watched);
+  RunningJobs running;
   std::size_t next = 0;
-  int done = already_done, failed = 0;
+  int stop_signal = 0;
+  ppp::CampaignProgress counts;
+  counts.done = already_done;
   ProgressLine progress(total);
-  progress.show(done, failed, 0);
-  while (next < jobs.size() || !running.empty()) {
-    while (next < jobs.size() && running.size() < slots) {
+  progress.show(counts, 0);
+  while ((next < jobs.size() && !stop_signal) || !running.empty()) {
+    while (!stop_signal && next < jobs.size() && running.size() < slots) {
       try {
         ppp::ChildProcess child = spawnJob(exe, jobs[next].dir);
         const pid_t pid = child.pid();
         running.emplace(pid, std::make_pair(std::move(child), &jobs[next]));
       } catch (const ppp::ProcessStartError& e) {
-        ppp::markCampaignJobFailed(jobs[next].dir, std::string("could not start a process: ") + e.what());
-        ++failed;
+        recordJobFailure(jobs[next], std::string("could not start a process: ") + e.what());
+        ++counts.failed;
       }
       ++next;
     }
-    progress.show(done, failed, static_cast<int>(running.size()));
+    progress.show(counts, static_cast<int>(running.size()));
     if (running.empty()) continue;
-    auto it = running.find(ppp::waitForAnyChildToEnd());
-    if (it == running.end()) it = running.begin();  // not ours (none should be): wait for one of ours
-    const PendingJob& job = *it->second.second;
-    noteJobProcessEnd(job, it->second.first.wait());
-    running.erase(it);
-    if (ppp::campaignJobStatus(job.dir).state == ppp::CampaignJobState::Done) ++done;
-    else ++failed;
+    if (const int sig = signals.wait()) stopRunningJobs(running, sig, stop_signal);
+    collectEndedJobs(running, stop_signal, counts);
   }
-  progress.show(done, failed, 0);
+  progress.show(counts, 0);
   progress.finish();
+  if (stop_signal)
+    std::cerr << "ppp_campaign: stopped; " << jobs.size() - next << " job(s) not started; run again to resume\n";
+  return stop_signal;
 }
 
 // ---------------------------------------------------------------------------
@@ -402,6 +582,8 @@ std::string whyUnfinished(const SlurmSettings& s, const std::string& array_id, s
   return "Slurm task " + name + " " + how + " (log " + s.out + "/slurm/" + name + ".log)";
 }
 
+void cancelArray(const std::string& array_id, int sig, int& stop_signal);
+
 /// Progress of a submitted round until every job of it has its finished marker or
 /// a failed marker of this round (not the one an earlier attempt left, which the
 /// job clears when it starts), or the array has left the queue. The markers are
@@ -411,8 +593,11 @@ std::string whyUnfinished(const SlurmSettings& s, const std::string& array_id, s
 /// cost per look follows the running tasks, not the size of the campaign.
 /// Once every job is taken, the array's tasks still pending are cancelled: they
 /// would find nothing to take, and would hold the cluster's CPUs while they start.
+/// A stop signal to the campaign cancels the array (scancel: Slurm signals its
+/// running tasks); the round then ends when the array has left the queue.
 void waitForRound(const SlurmSettings& s, const std::string& array_id, const RoundFiles& files,
-                  const std::vector<PendingJob>& jobs, int already_done, ProgressLine& progress) {
+                  const std::vector<PendingJob>& jobs, int already_done, ProgressLine& progress,
+                  const CampaignSignals& signals, int& stop_signal) {
   bool pending_cancelled = false;
   std::vector<std::size_t> open(jobs.size());  // list order: line k + 1
   std::vector<std::optional<fs::file_time_type>> earlier_failure(jobs.size());
@@ -420,7 +605,7 @@ void waitForRound(const SlurmSettings& s, const std::string& array_id, const Rou
     open[k] = k;
     earlier_failure[k] = ppp::campaignJobStatus(jobs[k].dir).failed_marker_time;
   }
-  int done = already_done, failed = 0, running = 0;
+  int done = already_done, failed = 0, running = 0, done_with_problems = 0;
   auto next_queue_look = Clock::now();
   for (;;) {
     const std::size_t taken = files.taken();
@@ -434,6 +619,7 @@ void waitForRound(const SlurmSettings& s, const std::string& array_id, const Rou
       const bool failed_now =
           st.state == ppp::CampaignJobState::Failed && st.failed_marker_time != earlier_failure[k];
       done += st.state == ppp::CampaignJobState::Done;
+      done_with_problems += st.state == ppp::CampaignJobState::Done && st.result && st.result->problems > 0;
       failed += failed_now;
       if (st.state != ppp::CampaignJobState::Done && !failed_now) still.push_back(k);
     }
@@ -449,20 +635,39 @@ void waitForRound(const SlurmSettings& s, const std::string& array_id, const Rou
         running += state == "RUNNING" || state == "COMPLETING";
       next_queue_look = Clock::now() + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(s.poll_s));
     }
-    progress.show(done, failed, ended ? 0 : running);
+    progress.show(done, failed, ended ? 0 : running, done_with_problems);
     if (ended) return;
-    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    if (const int sig = signals.waitFor(0.1)) cancelArray(array_id, sig, stop_signal);
   }
 }
 
-bool runSlurm(const SlurmSettings& s, std::vector<PendingJob> jobs, int already_done, int total) {
+/// A stop signal while an array runs: the array is cancelled (a second signal cancels it again).
+void cancelArray(const std::string& array_id, int sig, int& stop_signal) {
+  if (!stop_signal)
+    std::cerr << "\nppp_campaign: stopped by signal " << sig << " (" << strsignal(sig) << "): cancelling array job "
+              << array_id << "\n";
+  stop_signal = stop_signal ? stop_signal : sig;
+  capture({"scancel", array_id}, CommandErrors::Drop);
+}
+
+/// How a Slurm campaign ended: it could not submit (or an earlier array still runs),
+/// or it ran its rounds, or a stop signal ended it early (the signal).
+struct SlurmOutcome {
+  bool submitted = false;
+  int stop_signal = 0;
+};
+
+SlurmOutcome runSlurm(const SlurmSettings& s, std::vector<PendingJob> jobs, int already_done, int total) {
+  const CampaignSignals signals(ChildEnds::Ignored);
+  SlurmOutcome outcome;
   ProgressLine progress(total);
   const std::string marker = (fs::path(s.out) / "slurm" / "active_array").string();
   if (const std::string id = arrayStillQueued(marker); !id.empty()) {
     std::cerr << "ppp_campaign: array job " << id << " of this campaign is still queued or running (an earlier "
               << "invocation was stopped): wait for it or scancel " << id << ", then run again\n";
-    return false;
+    return outcome;
   }
+  outcome.submitted = true;
   for (int round = 0;; ++round) {
     std::string why;
     const std::size_t per_task = jobsPerTask(s, jobs.size());
@@ -470,12 +675,13 @@ bool runSlurm(const SlurmSettings& s, std::vector<PendingJob> jobs, int already_
     const std::string array_id = submitArray(s, files, jobs, per_task, round, why);
     if (array_id.empty()) {
       std::cerr << "ppp_campaign: " << why << "\n";
-      return false;
+      outcome.submitted = false;
+      return outcome;
     }
     ppp::writeFileAtomically(marker, array_id + "\n");
     std::cerr << "ppp_campaign: submitted array job " << array_id << " (" << jobs.size() << " jobs in "
               << (jobs.size() + per_task - 1) / per_task << " tasks, round " << round << ")\n";
-    waitForRound(s, array_id, files, jobs, already_done, progress);
+    waitForRound(s, array_id, files, jobs, already_done, progress, signals, outcome.stop_signal);
     std::error_code ec;
     fs::remove(marker, ec);
     std::optional<std::map<int, SlurmTaskEnd>> ends;  // read only when a job did not finish
@@ -488,16 +694,20 @@ bool runSlurm(const SlurmSettings& s, std::vector<PendingJob> jobs, int already_
       }
       if (st.state != ppp::CampaignJobState::Failed) {
         if (!ends) ends = slurmTaskEnds(array_id);
-        ppp::markCampaignJobFailed(jobs[k].dir, whyUnfinished(s, array_id, files.claimant(k + 1), *ends));
+        const std::string stopped = outcome.stop_signal ? "; the campaign was stopped by signal " +
+                                                              std::to_string(outcome.stop_signal) + " (" +
+                                                              strsignal(outcome.stop_signal) + ")"
+                                                        : std::string();
+        recordJobFailure(jobs[k], whyUnfinished(s, array_id, files.claimant(k + 1), *ends) + stopped);
       }
       again.push_back(jobs[k]);
     }
     progress.finish();
-    if (again.empty()) return true;
-    if (round >= s.resources.max_resubmits) {
+    if (again.empty()) return outcome;
+    if (round >= s.resources.max_resubmits || outcome.stop_signal) {
       std::cerr << "ppp_campaign: " << again.size() << " job(s) did not finish after " << round + 1
                 << " submission(s); run the campaign again to re-run them\n";
-      return true;
+      return outcome;
     }
     std::cerr << "ppp_campaign: resubmitting " << again.size() << " job(s) that did not finish\n";
     jobs = std::move(again);
@@ -519,7 +729,55 @@ void plotSummary(const std::string& out) {
 #endif
 }
 
+/// OUT/campaign.json: the campaign a directory belongs to (its name and manifest).
+constexpr const char* kCampaignIdentityFile = "campaign.json";
+
+/// The campaign name a YAML file gives under `keys` ("" when it gives none or does not load).
+std::string campaignNameIn(const fs::path& file, std::initializer_list<const char*> keys) {
+  try {
+    YAML::Node node = YAML::LoadFile(file.string());
+    for (const char* key : keys) {
+      if (!node.IsMap() || !node[key]) return "";
+      node = node[key];
+    }
+    return node.IsScalar() ? node.as<std::string>() : "";
+  } catch (const YAML::Exception&) {
+    return "";
+  }
+}
+
+/// Why `out` must not take this campaign's summary and jobs: it holds another
+/// campaign (by its campaign.json, or the manifest.yaml a campaign of an earlier
+/// version left), or it is a directory with other files. "" when it is this
+/// campaign's, empty, or not there.
+std::string foreignCampaignFolder(const std::string& out, const ppp::CampaignManifest& manifest) {
+  const fs::path dir(out);
+  std::error_code ec;
+  if (!fs::exists(dir, ec)) return "";
+  if (!fs::is_directory(dir, ec)) return "--out " + out + " is not a directory";
+  if (fs::exists(dir / kCampaignIdentityFile, ec)) {
+    const std::string name = campaignNameIn(dir / kCampaignIdentityFile, {"campaign"});
+    if (name == manifest.name) return "";
+    const std::string other = campaignNameIn(dir / kCampaignIdentityFile, {"manifest"});
+    return "--out " + out + " holds the campaign '" + name + "' (manifest " + other + "), not '" + manifest.name +
+           "' of " + manifest.path + ": give another --out (or the same campaign name to resume)";
+  }
+  if (fs::exists(dir / "manifest.yaml", ec) && fs::is_directory(dir / "jobs", ec)) {
+    const std::string name = campaignNameIn(dir / "manifest.yaml", {"campaign", "name"});
+    if (name.empty() || name == manifest.name) return "";
+    return "--out " + out + " holds the campaign '" + name + "' (" + (dir / "manifest.yaml").string() + "), not '" +
+           manifest.name + "' of " + manifest.path + ": give another --out";
+  }
+  if (fs::is_empty(dir, ec)) return "";
+  return "--out " + out + " is a directory with other files and no campaign (no " + kCampaignIdentityFile +
+         "): give a new or empty directory";
+}
+
 int writeSummary(const ppp::CampaignManifest& manifest, const Options& o) {
+  if (const std::string why = foreignCampaignFolder(o.out, manifest); !why.empty()) {
+    std::cerr << "ppp_campaign: refused: " << why << "\n";
+    return 2;
+  }
   const ppp::CampaignSummary summary = ppp::summarizeCampaign(manifest, o.out);
   ppp::writeCampaignSummary(summary, o.out);
   std::cout << ppp::campaignSummaryMarkdown(summary);
@@ -533,7 +791,7 @@ int writeSummary(const ppp::CampaignManifest& manifest, const Options& o) {
 int commandCheck(const ppp::CampaignManifest& manifest, const Options& o, const std::vector<std::string>& problems) {
   for (const auto& job : manifest.jobs) {
     std::cout << job.id << "  " << ppp::toString(job.kind) << "  " << job.group;
-    if (!o.out.empty()) std::cout << "  " << ppp::toString(ppp::campaignJobStatus(ppp::campaignJobDir(o.out, job.id)).state);
+    if (!o.out.empty()) std::cout << "  " << ppp::toString(ppp::campaignJobStatus(ppp::campaignJobDir(o.out, job.id), job).state);
     std::cout << "\n";
   }
   std::cout << manifest.jobs.size() << " jobs; " << problems.size() << " input problem(s)\n";
@@ -541,6 +799,10 @@ int commandCheck(const ppp::CampaignManifest& manifest, const Options& o, const 
 }
 
 int commandRun(const ppp::CampaignManifest& manifest, const Options& o) {
+  if (const std::string why = foreignCampaignFolder(o.out, manifest); !why.empty()) {
+    std::cerr << "ppp_campaign: refused: " << why << "; nothing was run\n";
+    return 2;
+  }
   fs::create_directories(fs::path(o.out) / "jobs");
   // One invocation at a time per campaign directory (held until exit).
   const std::string lock_path = (fs::path(o.out) / ".lock").string();
@@ -552,6 +814,9 @@ int commandRun(const ppp::CampaignManifest& manifest, const Options& o) {
   std::ifstream src(manifest.path, std::ios::binary);
   std::ostringstream text;
   text << src.rdbuf();
+  ppp::writeFileAtomically((fs::path(o.out) / kCampaignIdentityFile).string(),
+                           "{\"campaign\": " + ppp::jsonString(manifest.name) + ", \"manifest\": " +
+                               ppp::jsonString(fs::absolute(manifest.path).lexically_normal().string()) + "}\n");
   ppp::writeFileAtomically((fs::path(o.out) / "manifest.yaml").string(), text.str());
   std::vector<PendingJob> pending;
   for (const auto& job : manifest.jobs) {
@@ -562,6 +827,7 @@ int commandRun(const ppp::CampaignManifest& manifest, const Options& o) {
   const int already = total - static_cast<int>(pending.size());
   std::cerr << "ppp_campaign: " << total << " jobs: " << already << " already done, " << pending.size() << " to run ("
             << (o.slurm ? "slurm" : "local") << ")\n";
+  int stop_signal = 0;
   if (!pending.empty()) {
     if (o.slurm) {
       SlurmSettings s;
@@ -574,12 +840,38 @@ int commandRun(const ppp::CampaignManifest& manifest, const Options& o) {
       s.name = manifest.name;
       s.out = fs::absolute(o.out).string();
       s.poll_s = o.poll_s;
-      if (!runSlurm(s, pending, already, total)) return 1;
+      const SlurmOutcome outcome = runSlurm(s, pending, already, total);
+      if (!outcome.submitted) return 1;
+      stop_signal = outcome.stop_signal;
     } else {
-      runLocal(pending, already, total, o.jobs);
+      stop_signal = runLocal(pending, already, total, o.jobs);
     }
   }
-  return writeSummary(manifest, o);
+  if (!stop_signal) return writeSummary(manifest, o);
+  Options stopped = o;
+  stopped.plot = false;
+  writeSummary(manifest, stopped);
+  return 128 + stop_signal;
+}
+
+/// A whole number of at least `minimum`, all of `text` (no sign, no trailing characters).
+std::optional<int> wholeNumber(const std::string& text, int minimum) {
+  int value = 0;
+  const char* end = text.data() + text.size();
+  if (text.empty() || text.find_first_not_of("0123456789") != std::string::npos) return std::nullopt;
+  const auto [ptr, ec] = std::from_chars(text.data(), end, value);
+  if (ec != std::errc() || ptr != end || value < minimum) return std::nullopt;
+  return value;
+}
+
+/// A finite number of seconds > 0, all of `text`.
+std::optional<double> positiveSeconds(const std::string& text) {
+  if (text.empty() || std::isspace(static_cast<unsigned char>(text.front()))) return std::nullopt;
+  char* end = nullptr;
+  errno = 0;
+  const double value = std::strtod(text.c_str(), &end);
+  if (errno != 0 || end != text.c_str() + text.size() || !std::isfinite(value) || !(value > 0.0)) return std::nullopt;
+  return value;
 }
 
 bool parseOptions(int argc, char** argv, Options& o, std::string& why) {
@@ -597,23 +889,24 @@ bool parseOptions(int argc, char** argv, Options& o, std::string& why) {
     else if (a == "--out") {
       if (!value(o.out)) return (why = "--out needs a directory", false);
     } else if (a == "--jobs") {
-      if (!value(v) || std::atoi(v.c_str()) < 1) return (why = "--jobs needs a count >= 1", false);
-      o.jobs = static_cast<unsigned>(std::atoi(v.c_str()));
+      const auto n = value(v) ? wholeNumber(v, 1) : std::nullopt;
+      if (!n) return (why = "--jobs needs a whole count >= 1, not '" + v + "'", false);
+      o.jobs = static_cast<unsigned>(*n);
     } else if (a == "--poll-s") {
-      if (!value(v) || !(std::atof(v.c_str()) > 0.0)) return (why = "--poll-s needs seconds > 0", false);
-      o.poll_s = std::atof(v.c_str());
+      const auto t = value(v) ? positiveSeconds(v) : std::nullopt;
+      if (!t) return (why = "--poll-s needs seconds > 0, not '" + v + "'", false);
+      o.poll_s = *t;
     } else if (a == "--partition" || a == "--time" || a == "--mem") {
       if (!value(v)) return (why = a + " needs a value", false);
       if (a == "--time" && !ppp::slurmTimeLimit_s(v))
         return (why = "--time needs a Slurm time limit (minutes, HH:MM:SS, D-HH:MM:SS or UNLIMITED), not " + v, false);
       (a == "--partition" ? o.partition : a == "--time" ? o.time_limit : o.mem) = v;
     } else if (a == "--jobs-per-task") {
-      if (!value(v) || std::atoi(v.c_str()) < 1) return (why = "--jobs-per-task needs a count >= 1", false);
-      o.jobs_per_task = std::atoi(v.c_str());
+      o.jobs_per_task = value(v) ? wholeNumber(v, 1) : std::nullopt;
+      if (!o.jobs_per_task) return (why = "--jobs-per-task needs a whole count >= 1, not '" + v + "'", false);
     } else if (a == "--max-resubmits") {
-      if (!value(v) || v.find_first_not_of("0123456789") != std::string::npos || v.empty())
-        return (why = "--max-resubmits needs a count >= 0", false);
-      o.max_resubmits = std::atoi(v.c_str());
+      o.max_resubmits = value(v) ? wholeNumber(v, 0) : std::nullopt;
+      if (!o.max_resubmits) return (why = "--max-resubmits needs a whole count >= 0, not '" + v + "'", false);
     } else if (!a.empty() && a[0] != '-' && o.manifest.empty()) {
       o.manifest = a;
     } else {
@@ -636,8 +929,14 @@ int main(int argc, char** argv) {
   }
   if (o.command == "run-job") {
     if (argc != 3) return usage("run-job needs one job directory");
-    const ppp::CampaignJobStatus st = ppp::runCampaignJob(argv[2]);
-    return st.state == ppp::CampaignJobState::Done ? 0 : 1;
+    if (!prepareJobProcess()) {
+      std::cerr << "ppp_campaign: run-job " << argv[2] << ": the campaign that started it has ended; not started\n";
+      return 1;
+    }
+    bool locked = false;
+    const ppp::CampaignJobStatus st = ppp::runCampaignJob(argv[2], &locked);
+    if (locked) std::cerr << "ppp_campaign: run-job " << argv[2] << ": " << st.reason << "\n";
+    return locked ? 3 : st.state == ppp::CampaignJobState::Done ? 0 : 1;
   }
   if (o.command != "check" && o.command != "run" && o.command != "summary")
     return usage("unknown command '" + o.command + "'");
@@ -648,7 +947,7 @@ int main(int argc, char** argv) {
   try {
     const ppp::CampaignManifest manifest = ppp::loadCampaignManifest(o.manifest);
     const std::vector<std::string> problems = ppp::campaignInputProblems(manifest);
-    for (const auto& p : problems) std::cerr << "ppp_campaign: " << p << "\n";
+    for (const auto& p : ppp::foldCampaignProblems(problems)) std::cerr << "ppp_campaign: " << p << "\n";
     if (o.command == "check") return commandCheck(manifest, o, problems);
     if (o.command == "summary") return writeSummary(manifest, o);
     if (!problems.empty()) {

@@ -6,11 +6,13 @@
 // and which observed satellites they miss.
 #include <cstdio>
 #include <exception>
+#include <limits>
 #include <string>
 #include <vector>
 
 #include "ppp_bayes_tree/io/file_summary.h"
 #include "ppp_bayes_tree/io/transport/file_type.h"
+#include "ppp_bayes_tree/io/transport/untrusted_text.h"
 #include "ppp_bayes_tree/app/inspection.h"
 
 namespace {
@@ -40,7 +42,8 @@ int main(int argc, char** argv) {
       std::fputs(ppp::formatSummary(summary).c_str(), stdout);
     } catch (const std::exception& e) {
       ++failures;
-      std::printf("== %s\n  ERROR: %s\n\n", path.c_str(), e.what());
+      const std::string why = ppp::printableText(e.what(), std::numeric_limits<std::size_t>::max());
+      std::printf("== %s\n  ERROR: %s\n\n", path.c_str(), why.c_str());
     }
   }
   std::fputs(inspection.coverageReport().c_str(), stdout);

@@ -172,7 +172,7 @@ int main(int argc, char** argv) {
   }
   if (std::string why; !ppp::selectEstimators(req.estimator, &why)) return usage("--estimator: " + why);
   if (req.files.obs.empty()) return usage("one of --obs, --rtcm and --ubx is required");
-  if (const std::string why = ppp::productInputsProblem(ppp::productInputsGiven(req.files)); !why.empty())
+  if (const std::string why = ppp::fileProductInputsProblem(ppp::productInputsGiven(req.files)); !why.empty())
     return usage(why);
   if (req.files.atx.empty()) return usage("--atx is required");
   if (req.out_dir.empty()) return usage("--out is required");

@@ -5,8 +5,15 @@
 // evaluation/monte_carlo_records.h). The backends (local pool, Slurm) are
 // exercised by scripts/test_campaign_slurm.sh.
 #include <gtest/gtest.h>
+#include <fcntl.h>
+#include <sys/file.h>
+#include <sys/mount.h>
+#include <sys/resource.h>
+#include <unistd.h>
 
+#include <chrono>
 #include <cmath>
+#include <csignal>
 
 #include <filesystem>
 #include <fstream>
@@ -370,4 +377,343 @@ TEST(CampaignProgress, CountsAndTimeLeft) {
   EXPECT_EQ(formatCampaignProgress(p), "3/10 done, 1 failed, 2 running, 4 waiting; 0:40 elapsed, ~1:00 left");
   p.done = p.failed = p.running = 0;
   EXPECT_NE(formatCampaignProgress(p).find("~? left"), std::string::npos);
+}
+
+// ---------------------------------------------------------------------------
+// Bounds of a manifest, refused with the key named
+// ---------------------------------------------------------------------------
+namespace {
+
+std::string manifestError(const fs::path& dir, const std::string& text) {
+  try {
+    loadCampaignManifest(writeManifest(dir, text).string());
+  } catch (const ConfigError& e) {
+    return e.what();
+  }
+  return "no error";
+}
+
+const char* kEntry = "  - {station: a, obs: x, sp3: [s], clk: [c], atx: [a], ";
+
+}  // namespace
+
+TEST(CampaignManifest, DatesOutsideGpsTimeAreRefusedNamingTheKey) {
+  const fs::path dir = test::tempDir("campaign_dates_bounds");
+  const std::string before = manifestError(dir, std::string("ppp:\n") + kEntry + "dates: {first: 0000-01-01, last: 2020-01-01}}\n");
+  EXPECT_NE(before.find("ppp[0].dates.first"), std::string::npos) << before;
+  EXPECT_NE(before.find("outside 1980-01-06"), std::string::npos) << before;
+  const std::string after = manifestError(dir, std::string("ppp:\n") + kEntry + "dates: {first: 2020-01-01, last: 9999-12-31}}\n");
+  EXPECT_NE(after.find("ppp[0].dates.last"), std::string::npos) << after;
+  const std::string eve = manifestError(dir, std::string("ppp:\n") + kEntry + "dates: {first: 1980-01-05}}\n");
+  EXPECT_NE(eve.find("ppp[0].dates.first"), std::string::npos) << eve;
+  // the first day of GPS time and the last of 2100 are dates a manifest may name
+  EXPECT_EQ(manifestError(dir, std::string("ppp:\n") + kEntry + "dates: {first: 1980-01-06}}\n"), "no error");
+  EXPECT_EQ(manifestError(dir, std::string("ppp:\n") + kEntry + "dates: {first: 2100-12-31}}\n"), "no error");
+}
+
+TEST(CampaignManifest, MonteCarloDurationBeyondADayIsRefusedUpFront) {
+  const fs::path dir = test::tempDir("campaign_duration");
+  const std::string e = manifestError(dir, "monte_carlo:\n  - {study: s, seed: 1, flights: 2, duration_min: 1e9}\n");
+  EXPECT_NE(e.find("monte_carlo[0].duration_min"), std::string::npos) << e;
+  EXPECT_NE(e.find("at most 1440"), std::string::npos) << e;
+  EXPECT_EQ(manifestError(dir, "monte_carlo:\n  - {study: s, seed: 1, flights: 2, duration_min: 1440}\n"), "no error");
+}
+
+TEST(CampaignManifest, TheJobCountIsBoundedBeforeTheJobsAreMade) {
+  const fs::path dir = test::tempDir("campaign_job_limit");
+  const auto t0 = std::chrono::steady_clock::now();
+  const std::string e =
+      manifestError(dir, "monte_carlo:\n  - {study: s, seed: 1, flights: 100000000, flights_per_job: 1}\n");
+  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), 5.0);
+  EXPECT_NE(e.find("monte_carlo[0]"), std::string::npos) << e;
+  EXPECT_NE(e.find("more than 100000 jobs"), std::string::npos) << e;
+  // ten years of hourly jobs (3652 days x 24 = 87,648) and a study of 20,000 shards
+  const std::string both = manifestError(dir, "ppp:\n  - {station: a, obs: \"x{yyyy}{doy}\", sp3: [s], clk: [c], atx: [a], "
+                                              "dates: {first: 2010-01-01, last: 2019-12-31}, hours: [0, 23]}\n"
+                                              "monte_carlo:\n  - {study: s, seed: 1, flights: 20000, flights_per_job: 1}\n");
+  EXPECT_NE(both.find("monte_carlo[0]: the campaign would have more than 100000 jobs (87648 before"), std::string::npos)
+      << both;
+  EXPECT_EQ(manifestError(dir, "monte_carlo:\n  - {study: s, seed: 1, flights: 100000, flights_per_job: 1}\n"),
+            "no error");
+}
+
+TEST(CampaignManifest, DatedJobsThatWouldReadTheSameFileAreRefused) {
+  const fs::path dir = test::tempDir("campaign_same_file");
+  touch(dir / "one.rnx");
+  const std::string e = manifestError(dir, "ppp:\n  - {station: a, obs: one.rnx, sp3: [s], clk: [c], atx: [a], "
+                                               "dates: {first: 2026-05-12, last: 2026-05-14}}\n");
+  EXPECT_NE(e.find("ppp[0].obs"), std::string::npos) << e;
+  EXPECT_NE(e.find("a_2026-132 and a_2026-133"), std::string::npos) << e;
+  EXPECT_NE(e.find("read the same file"), std::string::npos) << e;
+  // one day, or hours of a file that spans the days, read different data
+  EXPECT_EQ(manifestError(dir, "ppp:\n  - {station: a, obs: one.rnx, sp3: [s], clk: [c], atx: [a], "
+                               "dates: {first: 2026-05-13, last: 2026-05-13}}\n"),
+            "no error");
+  EXPECT_EQ(manifestError(dir, "ppp:\n  - {station: a, obs: one.rnx, sp3: [s], clk: [c], atx: [a], "
+                               "dates: {first: 2026-05-12, last: 2026-05-14}, hours: [0, 23]}\n"),
+            "no error");
+}
+
+TEST(CampaignManifest, ProblemsOfTheSameKindAreFoldedWithACount) {
+  const fs::path dir = test::tempDir("campaign_fold");
+  touch(dir / "ant.atx");
+  const CampaignManifest manifest = loadCampaignManifest(writeManifest(dir, R"(
+campaign: {data_root: .}
+ppp:
+  - station: esbc
+    obs: "esbc-{yyyy}-{doy}/ESBC{doy}0.{yy}o"
+    dates: {first: 2020-01-01, last: 2020-12-31}
+    hours: [0, 23]
+    sp3: ["GRG_{yyyy}{doy}.SP3"]
+    clk: ["GRG_{yyyy}{doy}*.CLK"]
+    atx: [ant.atx]
+)").string());
+  const auto problems = campaignInputProblems(manifest);
+  ASSERT_EQ(problems.size(), 366u * 24u * 3u);
+  const auto folded = foldCampaignProblems(problems);
+  ASSERT_EQ(folded.size(), 3u);
+  EXPECT_EQ(folded[0], problems[0] + " (and 8783 more like it)");
+  EXPECT_NE(folded[1].find("sp3 "), std::string::npos) << folded[1];
+  EXPECT_NE(folded[2].find("matches no file (and 8783 more like it)"), std::string::npos) << folded[2];
+  // different problems stay apart, a single one has no count
+  EXPECT_EQ(foldCampaignProblems({"job a: obs /x/a.rnx: no such file", "job b: obs /x/b.rnx: no such file"}).size(), 2u);
+  EXPECT_EQ(foldCampaignProblems({"job a: obs /x/1.rnx: no such file"}).front(), "job a: obs /x/1.rnx: no such file");
+}
+
+// ---------------------------------------------------------------------------
+// Job markers: outputs, stale results, one process per job, write errors
+// ---------------------------------------------------------------------------
+namespace {
+
+std::string monteCarloManifest(const std::string& parameters) {
+  return "campaign: {name: mc}\nmonte_carlo:\n  - {study: s, seed: 7, flights: 2, flights_per_job: 1, rate_hz: 1, " +
+         parameters + "}\n";
+}
+
+/// Prepares and runs every job of a manifest in `out`.
+void runAll(const CampaignManifest& manifest, const fs::path& out) {
+  for (const auto& job : manifest.jobs) {
+    const std::string dir = campaignJobDir(out.string(), job.id);
+    if (!prepareCampaignJob(dir, job)) continue;
+    const CampaignJobStatus st = runCampaignJob(dir);
+    ASSERT_EQ(st.state, CampaignJobState::Done) << job.id << ": " << st.reason;
+  }
+}
+
+/// flock(2) on a job's lock file, as another process running the job holds it.
+struct HeldJobLock {
+  explicit HeldJobLock(const std::string& job_dir) : fd(::open((job_dir + "/job.lock").c_str(), O_CREAT | O_RDWR, 0644)) {
+    EXPECT_GE(fd, 0);
+    EXPECT_EQ(::flock(fd, LOCK_EX | LOCK_NB), 0);
+  }
+  ~HeldJobLock() { ::close(fd); }
+  int fd;
+};
+
+}  // namespace
+
+TEST(CampaignJob, AManifestChangeMakesTheJobsStaleNeverMerged) {
+  const fs::path out = test::tempDir("campaign_stale");
+  const fs::path mdir = out / "m";
+  fs::create_directories(mdir);
+  const CampaignManifest before = loadCampaignManifest(writeManifest(mdir, monteCarloManifest("duration_min: 1, systems: GE")).string());
+  runAll(before, out);
+  const CampaignSummary first = summarizeCampaign(before, out.string());
+  ASSERT_EQ(first.done, 2);
+  ASSERT_EQ(first.studies.size(), 1u);
+  EXPECT_TRUE(first.studies[0].merged) << first.studies[0].problem;
+
+  for (const std::string changed : {"duration_min: 2, systems: GE", "duration_min: 1, systems: G, ambiguity_resolution: true"}) {
+    const CampaignManifest after = loadCampaignManifest(writeManifest(mdir, monteCarloManifest(changed)).string());
+    const CampaignSummary s = summarizeCampaign(after, out.string());
+    EXPECT_EQ(s.done, 0) << changed;
+    EXPECT_EQ(s.stale, 2) << changed;
+    ASSERT_EQ(s.studies.size(), 1u);
+    EXPECT_FALSE(s.studies[0].merged) << changed << ": old flights merged under the new parameters";
+    const std::string reason = s.jobs[0].status.reason;
+    EXPECT_NE(reason.find(changed.rfind("duration_min: 2", 0) == 0 ? "duration_min" : "systems"), std::string::npos)
+        << reason;
+    EXPECT_FALSE(s.jobs[0].status.result);
+    const std::string md = campaignSummaryMarkdown(s);
+    EXPECT_NE(md.find("2 stale"), std::string::npos) << md;
+    EXPECT_NE(md.find("## Stale"), std::string::npos) << md;
+    EXPECT_NE(campaignSummaryCsv(s).find("s_f0-0,monte_carlo,s,,,stale,"), std::string::npos) << campaignSummaryCsv(s);
+    // the next run runs them again
+    EXPECT_TRUE(prepareCampaignJob(campaignJobDir(out.string(), after.jobs[0].id), after.jobs[0]));
+    ASSERT_TRUE(prepareCampaignJob(campaignJobDir(out.string(), after.jobs[0].id), before.jobs[0]));
+  }
+  // unchanged, the results are the done ones (the directories were prepared back to the old specification)
+  runAll(before, out);
+  EXPECT_EQ(summarizeCampaign(before, out.string()).done, 2);
+}
+
+TEST(CampaignJob, ADoneJobWhoseOutputsAreGoneIsStaleAndRunsAgain) {
+  const fs::path out = test::tempDir("campaign_outputs_gone");
+  const CampaignManifest manifest =
+      loadCampaignManifest(writeManifest(out, monteCarloManifest("duration_min: 1")).string());
+  runAll(manifest, out);
+  const std::string dir = campaignJobDir(out.string(), manifest.jobs[0].id);
+  EXPECT_NE(test::readFileBytes(dir + "/done.json").find("\"outputs\": [[\"flights.mcr\", "), std::string::npos);
+  ASSERT_EQ(campaignJobStatus(dir).state, CampaignJobState::Done);
+
+  fs::remove_all(fs::path(dir) / "output");
+  const CampaignJobStatus gone = campaignJobStatus(dir, manifest.jobs[0]);
+  EXPECT_EQ(gone.state, CampaignJobState::Stale);
+  EXPECT_NE(gone.reason.find("output/flights.mcr is missing"), std::string::npos) << gone.reason;
+  EXPECT_EQ(summarizeCampaign(manifest, out.string()).stale, 1);
+  EXPECT_TRUE(prepareCampaignJob(dir, manifest.jobs[0]));
+  ASSERT_EQ(runCampaignJob(dir).state, CampaignJobState::Done);
+
+  std::ofstream(dir + "/output/flights.mcr", std::ios::app) << "x";  // changed after the job ended
+  EXPECT_EQ(campaignJobStatus(dir).state, CampaignJobState::Stale);
+  EXPECT_NE(campaignJobStatus(dir).reason.find("output/flights.mcr has "), std::string::npos);
+}
+
+TEST(CampaignJob, AJobIsRunByOneProcessAtATime) {
+  const fs::path out = test::tempDir("campaign_job_lock");
+  const CampaignManifest manifest =
+      loadCampaignManifest(writeManifest(out, monteCarloManifest("duration_min: 1")).string());
+  const std::string dir = campaignJobDir(out.string(), manifest.jobs[0].id);
+  ASSERT_TRUE(prepareCampaignJob(dir, manifest.jobs[0]));
+  {
+    const HeldJobLock other(dir);
+    EXPECT_TRUE(campaignJobLocked(dir));
+    bool locked = false;
+    const CampaignJobStatus st = runCampaignJob(dir, &locked);
+    EXPECT_TRUE(locked);
+    EXPECT_NE(st.reason.find("another process runs this job"), std::string::npos) << st.reason;
+    EXPECT_FALSE(fs::exists(fs::path(dir) / "work"));
+    EXPECT_FALSE(fs::exists(fs::path(dir) / "failed.json"));
+    // the backend does not mark a job failed while another process runs it
+    fs::create_directories(fs::path(dir) / "work");
+    markCampaignJobFailed(dir, "killed");
+    EXPECT_FALSE(fs::exists(fs::path(dir) / "failed.json"));
+    EXPECT_NE(campaignJobStatus(dir).reason.find("another process runs it now"), std::string::npos);
+  }
+  EXPECT_FALSE(campaignJobLocked(dir));
+  bool locked = true;
+  ASSERT_EQ(runCampaignJob(dir, &locked).state, CampaignJobState::Done);
+  EXPECT_FALSE(locked);
+  // a finished job is never marked failed: never both markers
+  markCampaignJobFailed(dir, "killed");
+  EXPECT_FALSE(fs::exists(fs::path(dir) / "failed.json"));
+}
+
+TEST(CampaignJob, WriteErrorsSayTheSystemsReasonAndLeaveNoTemporaryFile) {
+  const fs::path dir = test::tempDir("campaign_write_error");
+  // A file size limit (setrlimit RLIMIT_FSIZE) makes write(2) fail with EFBIG.
+  struct rlimit old {};
+  ASSERT_EQ(::getrlimit(RLIMIT_FSIZE, &old), 0);
+  const auto old_handler = std::signal(SIGXFSZ, SIG_IGN);
+  struct rlimit small = old;
+  small.rlim_cur = 1000;
+  ASSERT_EQ(::setrlimit(RLIMIT_FSIZE, &small), 0);
+  std::string error;
+  try {
+    writeFileAtomically((dir / "big.json").string(), std::string(5000, 'x'));
+  } catch (const std::runtime_error& e) {
+    error = e.what();
+  }
+  ::setrlimit(RLIMIT_FSIZE, &old);
+  std::signal(SIGXFSZ, old_handler);
+  EXPECT_NE(error.find((dir / "big.json.tmp.").string()), std::string::npos) << error;
+  EXPECT_NE(error.find(std::strerror(EFBIG)), std::string::npos) << error;
+  EXPECT_TRUE(fs::is_empty(dir)) << "a temporary file was left behind";
+}
+
+// A full file system (a tmpfs of 64 kB, mounted when this process may): the job's
+// failure names "No space left on device", and no temporary file is left.
+TEST(CampaignJob, AFullDiskIsNamedAndLeavesNoTemporaryFile) {
+  const fs::path mnt = test::tempDir("campaign_full_disk");
+  if (::mount("tmpfs", mnt.c_str(), "tmpfs", 0, "size=64k") != 0)
+    GTEST_SKIP() << "cannot mount a small tmpfs here (" << std::strerror(errno) << "; needs root)";
+  std::string error;
+  try {
+    writeFileAtomically((mnt / "big.json").string(), std::string(200000, 'x'));
+  } catch (const std::runtime_error& e) {
+    error = e.what();
+  }
+  EXPECT_NE(error.find(std::strerror(ENOSPC)), std::string::npos) << error;
+  EXPECT_NE(error.find((mnt / "big.json.tmp.").string()), std::string::npos) << error;
+  EXPECT_TRUE(fs::is_empty(mnt)) << "a temporary file was left behind";
+  // a job directory on the full disk: its attempt fails, its marker names the reason
+  const CampaignManifest manifest =
+      loadCampaignManifest(writeManifest(test::tempDir("campaign_full_disk_m"), monteCarloManifest("duration_min: 1")).string());
+  const std::string dir = campaignJobDir(mnt.string(), manifest.jobs[0].id);
+  ASSERT_TRUE(prepareCampaignJob(dir, manifest.jobs[0]));
+  {
+    std::ofstream fill((mnt / "fill").string(), std::ios::binary);
+    const std::string block(4096, 'f');
+    for (int k = 0; k < 64 && fill; ++k) fill << block;
+  }
+  const CampaignJobStatus st = runCampaignJob(dir);
+  EXPECT_NE(st.state, CampaignJobState::Done);
+  for (const auto& e : fs::recursive_directory_iterator(mnt))
+    EXPECT_EQ(e.path().string().find(".tmp."), std::string::npos) << e.path();
+  if (st.state == CampaignJobState::Failed) {
+    EXPECT_NE(st.reason.find(std::strerror(ENOSPC)), std::string::npos) << st.reason;
+  }
+  ::umount(mnt.c_str());
+}
+
+TEST(CampaignSummary, DoneJobsWithProblemsAreCountedAndNamed) {
+  CampaignSummary s;
+  s.name = "p";
+  CampaignJobRow row;
+  row.job.id = "zim2";
+  row.job.group = "zim2";
+  row.status.state = CampaignJobState::Done;
+  CampaignJobResult r;
+  r.epochs_read = r.epochs_solved = 100;
+  r.problems = 2;
+  r.first_problem = "zim2.rnx line 9000: truncated epoch";
+  row.status.result = r;
+  s.jobs.push_back(row);
+  row.job.id = "ccj2";
+  row.status.result->problems = 0;
+  row.status.result->first_problem.clear();
+  s.jobs.push_back(row);
+  s.done = 2;
+  s.done_with_problems = 1;
+  const std::string md = campaignSummaryMarkdown(s);
+  EXPECT_NE(md.find("2 jobs: 2 done (1 with problems)"), std::string::npos) << md;
+  EXPECT_NE(md.find("- zim2: 2 problem(s), the first: zim2.rnx line 9000: truncated epoch (jobs/zim2/log.txt)"),
+            std::string::npos)
+      << md;
+  EXPECT_EQ(md.find("- ccj2"), std::string::npos) << md;
+  EXPECT_NE(campaignSummaryJson(s).find("\"done_with_problems\": 1"), std::string::npos);
+
+  CampaignProgress p;
+  p.total = p.done = 23;
+  p.done_with_problems = 1;
+  EXPECT_EQ(formatCampaignProgress(p).rfind("23/23 done, 1 with problems, 0 failed, ", 0), 0u) << formatCampaignProgress(p);
+}
+
+// A RINEX file cut in the middle of an epoch: the job is done, with its problem
+// counted and its first problem's text in the marker and the summary.
+TEST(CampaignJob, ATruncatedObservationFileIsDoneWithItsProblemNamed) {
+  PPP_REQUIRE_SHARED_DATA();
+  const fs::path out = test::tempDir("campaign_truncated");
+  std::string rinex = test::readFileBytes(test::dataPath("zim2-2026-133/ZIM200CHE_R_20261330000_01H_30S_MO.rnx"));
+  rinex.resize(rinex.size() * 2 / 3);
+  std::ofstream(out / "cut.rnx", std::ios::binary) << rinex;
+  const std::string d = test::sharedDataDir();
+  const CampaignManifest manifest = loadCampaignManifest(writeManifest(out, R"(
+campaign: {name: cut}
+ppp:
+  - station: cut
+    obs: )" + (out / "cut.rnx").string() + R"(
+    sp3: [)" + d + R"(/zim2-2026-133/IGS0OPSFIN_20261330000_03H_15M_ORB.SP3]
+    clk: [)" + d + R"(/zim2-2026-133/IGS0OPSFIN_20261330000_90M_30S_CLK.CLK]
+    atx: [)" + d + R"(/antex/igs20_zim2_gps_trim.atx]
+)").string());
+  runAll(manifest, out);
+  const CampaignSummary s = summarizeCampaign(manifest, out.string());
+  ASSERT_EQ(s.done, 1);
+  ASSERT_TRUE(s.jobs[0].status.result);
+  EXPECT_GT(s.jobs[0].status.result->problems, 0u);
+  EXPECT_FALSE(s.jobs[0].status.result->first_problem.empty());
+  EXPECT_EQ(s.done_with_problems, 1);
+  EXPECT_NE(campaignSummaryMarkdown(s).find("## Done with problems\n\n- cut: "), std::string::npos)
+      << campaignSummaryMarkdown(s);
 }

@@ -538,3 +538,30 @@ TEST(PppConfig, AmbiguityResolutionAndSystemsDefaultToAuto) {
   EXPECT_EQ(file.ambiguity_resolution.mode, ppp::AmbiguityResolutionMode::Auto);
   EXPECT_TRUE(file.signals.systems_from_products);
 }
+
+namespace ppp {
+namespace {
+
+// An a priori sigma of 1e-300 m passes "> 0" but squares to a zero variance, so every
+// epoch failed "covariance not positive definite": such values are refused with the key.
+TEST(PppConfig, APrioriSigmasBelowAMeaningfulValueAreRefusedNamingTheKey) {
+  // The smallest values with which ZIM2's hour still solves every epoch (1 mm for the
+  // position and the wet delay; the clock and the phase biases need metres).
+  const std::vector<std::pair<std::string, std::string>> smallest = {
+      {"position", "0.001"}, {"zwd", "0.001"}, {"clock", "1"}, {"phase_bias", "1"}};
+  for (const auto& [key, min] : smallest) {
+    const std::string yaml = "stochastic:\n  " + key + ":\n    initial_sigma_m: 1e-300\n";
+    try {
+      parsePppConfig(yaml, "x.yaml");
+      FAIL() << key << " initial_sigma_m 1e-300 accepted";
+    } catch (const ConfigError& e) {
+      const std::string what = e.what();
+      EXPECT_NE(what.find("stochastic." + key + ".initial_sigma_m: must be in [" + min + ", "), std::string::npos)
+          << what;
+    }
+    EXPECT_NO_THROW(parsePppConfig("stochastic:\n  " + key + ":\n    initial_sigma_m: " + min + "\n", "x.yaml"));
+  }
+}
+
+}  // namespace
+}  // namespace ppp

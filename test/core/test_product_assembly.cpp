@@ -257,6 +257,44 @@ TEST(ProductAssembly, StreamedProductsGoThroughTheSameGate) {
   EXPECT_FALSE(live.acceptStreamedPhaseBiases(files.codeBiases().get(), PhaseInformation::SsrPhaseBiases));
 }
 
+/// The notes that contain `text`.
+std::size_t notesContaining(const std::vector<std::string>& notes, const std::string& text) {
+  return static_cast<std::size_t>(
+      std::count_if(notes.begin(), notes.end(), [&](const std::string& n) { return n.find(text) != std::string::npos; }));
+}
+
+TEST(ProductAssembly, StreamDeclarationReplacesTheEarlierDecisionAndKeepsTheConfiguredMode) {
+  PPP_REQUIRE_SHARED_DATA();
+  ProductAssemblyInputs streamed = ccj2Inputs({kIgs20Zim2, kIgs14});
+  streamed.sp3.clear();
+  streamed.clk.clear();
+  ProductAssembly a = ProductAssembly::assemble(streamed, PppConfig{});  // enabled: auto
+  EXPECT_EQ(notesContaining(a.notes(), "the products name no satellite antenna model"), 1u);
+  StreamedProductInfo wum;
+  wum.clock_centre = "WHU";
+  wum.antenna_model = "IGS14_2148";
+  ASSERT_TRUE(a.declareStreamedProducts(wum));
+  // One decision in the notes, the declared one; the mode as configured.
+  EXPECT_EQ(a.arGate().mode, AmbiguityResolutionMode::Auto);
+  EXPECT_EQ(notesContaining(a.notes(), "the products name no satellite antenna model"), 0u);
+  EXPECT_EQ(notesContaining(a.notes(), "(enabled: true)"), 0u);
+  EXPECT_EQ(notesStartingWith(a.notes(), "ambiguity resolution: fixing (enabled: auto)"), 1u);
+  EXPECT_EQ(notesStartingWith(a.notes(), "ambiguity resolution: float"), 0u);
+  EXPECT_TRUE(hasNote(a.notes(), "the product stream declares clocks of WHU and the satellite antenna model IGS14_2148"));
+  EXPECT_EQ(notesStartingWith(a.notes(), "satellite antenna model consistent with the products (IGS14"), 1u);
+
+  // A stream that names its clocks but no antenna model: auto stays float, as
+  // before the declaration (the model is still not known).
+  ProductAssembly b = ProductAssembly::assemble(streamed, PppConfig{});
+  StreamedProductInfo clocks_only;
+  clocks_only.clock_centre = "WHU";
+  ASSERT_TRUE(b.declareStreamedProducts(clocks_only));
+  EXPECT_EQ(b.arGate().mode, AmbiguityResolutionMode::Auto);
+  EXPECT_FALSE(b.arGate().fix) << b.arGate().text();
+  EXPECT_EQ(b.arGate().reason, ArGateReason::AntennaModelUnknown);
+  EXPECT_EQ(notesContaining(b.notes(), "satellite antenna model consistent"), 0u);
+}
+
 TEST(ProductAssembly, LiveSsrFeedTakesItsAntennaModelFromTheConfigurationAndSaysWhenItIsNotSet) {
   PPP_REQUIRE_SHARED_DATA();
   // The node on a live SSR feed (ros.live corrections): streamed orbits and clocks, no

@@ -239,11 +239,11 @@ TEST(RinexNavReader, ReadsRinex2GlonassExample) {
   EXPECT_EQ(r.tb, gpst(1998, 2, 15, 0, 15, 12.0));
   EXPECT_DOUBLE_EQ(r.position_m.z(), 0.212257280273e+05 * 1e3);
   // Frequency number 21 (".210000000000D+02"): a pre-2005 channel, kept on the
-  // record but outside the -7..+13 range of GlonassChannels.
+  // record but outside the -7..+6 range of GlonassChannels.
   EXPECT_EQ(r.frequency_channel, 21);
   EXPECT_EQ(nav.glonass_channels.size(), 0);
   EXPECT_EQ(nav.report.counters().at(
-                "GLONASS channels not recorded (slot above 30 or channel outside -7..13)"),
+                "GLONASS channels not recorded (slot above 30 or channel outside -7..+6)"),
             1u);
 }
 

@@ -132,6 +132,35 @@ TEST_F(CredentialsFile, EnvironmentVariableGivesThemWhenTheSpecHasNoPassword) {
   EXPECT_THROW(ppp::resolveNtripCredentials(spec, "rover"), ppp::ByteSourceSpecError);
 }
 
+TEST_F(CredentialsFile, LineEndsAreRemovedAlikeAndAnEmptyPasswordIsRefused) {
+  // A CR (or CR LF) after the password: removed from the variable as from the file.
+  for (const std::string end : {"\r", "\r\n", "\n"}) {
+    const std::string value = "rover:" + kPassword + end;
+    ppp::ByteSourceSpec spec = ppp::parseByteSourceSpec("ntrip://127.0.0.1:2101/M");
+    EXPECT_EQ(ppp::resolveNtripCredentials(spec, value.c_str()), ppp::CredentialSource::Environment);
+    EXPECT_EQ(spec.password, kPassword) << "line end " << end.size() << " characters";
+    const auto path = write(value, 0600);
+    spec = ppp::parseByteSourceSpec("ntrip://127.0.0.1:2101/M?credentials=" + path.string());
+    EXPECT_EQ(ppp::resolveNtripCredentials(spec, nullptr), ppp::CredentialSource::File);
+    EXPECT_EQ(spec.password, kPassword);
+  }
+  // "alice:" (nothing after the ':'): refused from both, naming where it came from.
+  const auto refusal = [](ppp::ByteSourceSpec spec, const char* env) {
+    try {
+      ppp::resolveNtripCredentials(spec, env);
+    } catch (const ppp::ByteSourceSpecError& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  const std::string env = refusal(ppp::parseByteSourceSpec("ntrip://127.0.0.1:2101/M"), "alice:\r");
+  EXPECT_NE(env.find("PPP_NTRIP_CREDENTIALS holds an empty password"), std::string::npos) << env;
+  const auto path = write("alice:\n", 0600);
+  const std::string file =
+      refusal(ppp::parseByteSourceSpec("ntrip://127.0.0.1:2101/M?credentials=" + path.string()), nullptr);
+  EXPECT_NE(file.find(path.string() + " holds an empty password"), std::string::npos) << file;
+}
+
 // --- network text ------------------------------------------------------------------
 
 TEST(LiveUntrustedText, PrintableTextEscapesControlsAndCutsLongText) {

@@ -27,7 +27,10 @@
 #include <vector>
 
 #include <rosbag/bag.h>
+#include <rosbag/view.h>
 #include <std_msgs/String.h>
+
+#include "ppp_bayes_tree/GnssObservations.h"
 
 #include "test_support.h"
 
@@ -218,6 +221,101 @@ TEST_F(BagSolve, RefusesAMissingBagAndABagWithoutGnssTopics) {
   EXPECT_EQ(status, 1);
   stderrOf("--out " + (dir_ / "x").string(), status);
   EXPECT_EQ(status, 2) << "no bag: usage";
+}
+
+/// ppp_bag_solve's exit status, with its stderr in `err`.
+int bagSolve(const std::string& args, const fs::path& err_file, std::string& err) {
+  const int status = std::system((kBin + "/ppp_bag_solve " + args + " > /dev/null 2> " + err_file.string()).c_str());
+  err = readText(err_file);
+  return WEXITSTATUS(status);
+}
+
+/// The bytes of the file.
+std::string readBytes(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
+
+TEST_F(BagSolve, DamagedObservationMessageIsSkippedNamedAndTheRestSolved) {
+  // flight_a.bag (uncompressed) with the payload of gnss/observations message 10
+  // damaged: its header.frame_id length set to 2^31 - 1 (rosbag: "Buffer Overrun").
+  const fs::path original = dir_ / "bags" / "flight_a.bag", damaged = dir_ / "damaged.bag";
+  std::string bytes = readBytes(original);
+  std::string payload;
+  {
+    rosbag::Bag bag(original.string(), rosbag::bagmode::Read);
+    std::size_t i = 0;
+    for (const auto& m : rosbag::View(bag, rosbag::TopicQuery("gnss/observations"))) {
+      if (i++ != 10) continue;
+      const auto msg = m.instantiate<ppp_bayes_tree::GnssObservations>();
+      ASSERT_TRUE(msg);
+      payload.resize(ros::serialization::serializationLength(*msg));
+      ros::serialization::OStream os(reinterpret_cast<std::uint8_t*>(&payload[0]), payload.size());
+      ros::serialization::serialize(os, *msg);
+      break;
+    }
+  }
+  ASSERT_FALSE(payload.empty());
+  const std::size_t at = bytes.find(payload);
+  ASSERT_NE(at, std::string::npos) << "the message's payload in the bag";
+  ASSERT_EQ(bytes.find(payload, at + 1), std::string::npos) << "once";
+  const std::size_t frame_id_length = at + 4 + 8;  // after header.seq and header.stamp
+  bytes.replace(frame_id_length, 4, std::string("\xff\xff\xff\x7f", 4));
+  std::ofstream(damaged, std::ios::binary) << bytes;
+
+  std::string err;
+  const fs::path out = dir_ / "damaged_out";
+  ASSERT_EQ(bagSolve(damaged.string() + " --config " + kConfigs + " --name sim --out " + out.string(),
+                     dir_ / "damaged.txt", err),
+            0)
+      << err;
+  EXPECT_NE(err.find(damaged.string() + ": gnss/observations message 10 (bag time "), std::string::npos) << err;
+  EXPECT_NE(err.find("cannot be read: Buffer Overrun"), std::string::npos) << err;
+  EXPECT_NE(err.find("skipped messages: 1 (the rest of " + damaged.string() + " is used)"), std::string::npos) << err;
+  EXPECT_EQ(readCsv(out / "sim_ekf.csv").size(), 180u) << "181 epochs, one skipped";
+}
+
+TEST_F(BagSolve, BagsThatCannotBeOpenedAreNamedWithWhatToDo) {
+  std::string err;
+  const fs::path text = dir_ / "notes.bag", folder = dir_ / "folder.bag", cut = dir_ / "cut.bag";
+  std::ofstream(text) << "these are notes, not a bag\n";
+  fs::create_directories(folder);
+  const std::string bytes = readBytes(dir_ / "bags" / "flight_a.bag");
+  std::ofstream(cut, std::ios::binary) << bytes.substr(0, bytes.size() / 2);  // a recording cut short
+  const std::string out = " --out " + (dir_ / "never").string();
+  EXPECT_EQ(bagSolve(text.string() + out, dir_ / "open.txt", err), 1);
+  EXPECT_NE(err.find(text.string() + ": not a bag file"), std::string::npos) << err;
+  EXPECT_EQ(bagSolve(folder.string() + out, dir_ / "open.txt", err), 1);
+  EXPECT_NE(err.find(folder.string() + ": is a directory"), std::string::npos) << err;
+  EXPECT_EQ(bagSolve(cut.string() + out, dir_ / "open.txt", err), 1);
+  EXPECT_NE(err.find(cut.string() + ": "), std::string::npos) << err;
+  EXPECT_NE(err.find("rosbag reindex " + cut.string()), std::string::npos) << err;
+  EXPECT_FALSE(fs::exists(dir_ / "never"));
+}
+
+TEST_F(BagSolve, RecordsInReverseOrderAreSolvedInGnssTimeOrder) {
+  // The messages of flight_a.bag written last first, with record times that
+  // increase: rosbag reads them newest epoch first.
+  const fs::path original = dir_ / "bags" / "flight_a.bag", reversed = dir_ / "reversed.bag";
+  {
+    rosbag::Bag in(original.string(), rosbag::bagmode::Read);
+    std::vector<rosbag::MessageInstance> messages;
+    for (const auto& m : rosbag::View(in)) messages.push_back(m);
+    rosbag::Bag out(reversed.string(), rosbag::bagmode::Write);
+    ros::Time record_time(1e9);
+    for (auto m = messages.rbegin(); m != messages.rend(); ++m) {
+      out.write(m->getTopic(), record_time, *m, m->getConnectionHeader());
+      record_time += ros::Duration(0.001);
+    }
+  }
+  const std::string args = " --config " + kConfigs + " --name sim --no-timings --out ";
+  std::string err;
+  ASSERT_EQ(bagSolve(original.string() + args + (dir_ / "forward").string(), dir_ / "fwd.txt", err), 0) << err;
+  ASSERT_EQ(bagSolve(reversed.string() + args + (dir_ / "reverse").string(), dir_ / "rev.txt", err), 0) << err;
+  EXPECT_NE(err.find("180 of 181 observation epochs come after a later one in the bag"), std::string::npos) << err;
+  const std::string forward = readText(dir_ / "forward" / "sim_ekf.csv");
+  EXPECT_EQ(readCsv(dir_ / "reverse" / "sim_ekf.csv").size(), 181u);
+  EXPECT_TRUE(readText(dir_ / "reverse" / "sim_ekf.csv") == forward) << "every epoch solved, as from the ordered bag";
 }
 
 TEST_F(BagSolve, CampaignOfTwoBagJobsRunsResumesAndSummarises) {

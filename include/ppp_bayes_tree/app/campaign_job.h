@@ -8,18 +8,25 @@
 //                        output/      the complete outputs (work/ renamed when finished)
 //                        done.json    the finished marker: written (to a temporary
 //                                     name, then renamed) only after output/ is
-//                                     complete; holds the job's result figures and
-//                                     the digest of job.yaml it was run from
-//                        failed.json  why the last attempt failed
+//                                     complete; holds the job's result figures,
+//                                     the digest of job.yaml it was run from and
+//                                     the files of output/ with their sizes
+//                        failed.json  why the last attempt failed (never beside done.json)
+//                        job.lock     flock(2)ed by the process running the job (and
+//                                     inherited by the tool it starts): a second
+//                                     process never runs the same job
 //                        timing.json  wall time and host of the last attempt (not an
 //                                     output: it differs from run to run)
 //                        ppp_bag_solve.log  (bag jobs) the tool's console output
 //
-// A job is DONE when done.json exists and names the digest of the current
-// job.yaml (a changed manifest re-runs the jobs it changed); FAILED with a
+// A job is DONE when done.json exists, names the digest of the current
+// job.yaml and every output file it lists is still there with its size; STALE
+// when it was done but an output file is gone, or (compared with the manifest's
+// job) the manifest changed the job since its last attempt; FAILED with a
 // failed.json; INTERRUPTED when an attempt left work/ (or output/) behind without
-// a marker (killed, cancelled, node lost); PENDING otherwise. Re-running a
-// campaign runs every job that is not DONE, and only those.
+// a marker (killed, cancelled, node lost, or another process runs it now);
+// PENDING otherwise. Re-running a campaign runs every job that is not DONE, and
+// only those.
 //
 // PPP jobs write ppp_solve's outputs (app/ppp_solve_run.h) without wall-clock
 // figures (PppSolveRequest::write_timings false); bag jobs the same, written by
@@ -45,8 +52,8 @@ CampaignJob parseCampaignJob(const std::string& yaml_text, const std::string& fi
 /// 64-bit FNV-1a of a text, 16 hex digits (the digest of job.yaml).
 std::string fnv1aHex(const std::string& text);
 
-enum class CampaignJobState { Pending, Done, Failed, Interrupted };
-const char* toString(CampaignJobState state);  // "pending", "done", "failed", "interrupted"
+enum class CampaignJobState { Pending, Done, Failed, Interrupted, Stale };
+const char* toString(CampaignJobState state);  // "pending", "done", "failed", "interrupted", "stale"
 
 /// The figures of a finished job (done.json "result"); NaN / -1 when not known
 /// (no truth: no errors; a float run: no fixed share).
@@ -54,6 +61,7 @@ struct CampaignJobResult {
   static constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
   // PPP
   std::size_t epochs_read = 0, epochs_solved = 0, problems = 0;
+  std::string first_problem;  // the text of the first problem, when there are any
   double mean_3d_m = kNaN, first_window_mean_3d_m = kNaN;  // with a truth
   double time_to_10cm_s = kNaN;  // with a truth; +inf when never below 10 cm to the end
   double fixed_share = kNaN;     // fixed epochs / solved epochs (PPP-AR), NaN when float
@@ -82,24 +90,37 @@ std::string campaignBagSolverPath();
 
 /// The state of the job in `job_dir` from its files (see above).
 CampaignJobStatus campaignJobStatus(const std::string& job_dir);
+/// The same, compared with the job as the manifest gives it now: a job whose
+/// job.yaml differs from it is STALE (its reason names the keys that changed),
+/// so that a result of other parameters is never shown or merged as this job's.
+CampaignJobStatus campaignJobStatus(const std::string& job_dir, const CampaignJob& job);
 
 /// Creates the job directory and writes job.yaml (atomically) unless the job is
 /// DONE with this very specification. Returns true when the job must run.
 /// A job whose specification changed loses its old marker and outputs.
 bool prepareCampaignJob(const std::string& job_dir, const CampaignJob& job);
 
-/// Runs the job of `job_dir` (its job.yaml): clears a previous attempt, writes
-/// into work/, renames work/ to output/, then writes done.json. On failure
-/// writes failed.json with the reason (the exception's text, naming the file and
-/// line). Never throws; returns the job's status afterwards.
-CampaignJobStatus runCampaignJob(const std::string& job_dir);
+/// Runs the job of `job_dir` (its job.yaml) under its lock (job.lock): clears a
+/// previous attempt, writes into work/, renames work/ to output/, then writes
+/// done.json. On failure writes failed.json with the reason (the exception's
+/// text, naming the file and line). Never throws; returns the job's status
+/// afterwards. When another process holds the job's lock, nothing is touched and
+/// the status says so (CampaignJobStatus::reason; `locked` set when given).
+CampaignJobStatus runCampaignJob(const std::string& job_dir, bool* locked = nullptr);
 
 /// Records a failure seen by the backend (the process was killed, a Slurm task
-/// ended without finishing): failed.json with `reason`, unless the job is DONE.
+/// ended without finishing): failed.json with `reason`, unless the job is DONE or
+/// another process holds its lock (it runs the job now). Throws std::runtime_error
+/// when the marker cannot be written.
 void markCampaignJobFailed(const std::string& job_dir, const std::string& reason);
 
+/// True when a process holds the lock of the job in `job_dir` (it runs the job).
+bool campaignJobLocked(const std::string& job_dir);
+
 /// Writes `text` to `path` atomically (a temporary file in the same directory,
-/// flushed, then renamed). Throws std::runtime_error when it cannot.
+/// flushed, then renamed). Throws std::runtime_error naming the file and the
+/// system's reason ("No space left on device") when it cannot; the temporary
+/// file is then removed.
 void writeFileAtomically(const std::string& path, const std::string& text);
 
 }  // namespace ppp

@@ -39,6 +39,12 @@
 // (seed, index), so the shards merge into the one-run study exactly
 // (evaluation/monte_carlo_records.h).
 //
+// Bounds (refused with the key named): dates within kFirstCampaignDate ..
+// kLastCampaignDate; at most kMaxCampaignJobs jobs in all (counted before they are
+// made); a Monte Carlo duration_min of at most kMaxFlightDuration_min; and a dated
+// entry whose days would read the same observation file (a path without the day's
+// placeholders) is refused, naming the two jobs.
+//
 // Nothing here runs anything or knows about Slurm: the tool ppp_campaign does.
 #include <Eigen/Core>
 #include <cstdint>
@@ -50,6 +56,14 @@
 #include "ppp_bayes_tree/ppp/pipeline/ppp_pipeline.h"
 
 namespace ppp {
+
+/// The dates a manifest may name: the start of GPS time .. the end of 2100.
+inline constexpr const char* kFirstCampaignDate = "1980-01-06";
+inline constexpr const char* kLastCampaignDate = "2100-12-31";
+/// The most jobs a campaign expands to (a job directory and about 1.4 kB of memory each).
+inline constexpr std::size_t kMaxCampaignJobs = 100000;
+/// The longest simulated flight of a Monte Carlo study (one day, simulation/flight_trajectory.h).
+inline constexpr double kMaxFlightDuration_min = 1440.0;
 
 enum class CampaignJobKind { Ppp, Bag, MonteCarloShard };
 const char* toString(CampaignJobKind kind);  // "ppp", "bag", "monte_carlo"
@@ -131,6 +145,12 @@ std::optional<double> slurmTimeLimit_s(const std::string& text);
 /// bag jobs without the ROS tool ppp_bag_solve (campaignBagSolverPath()).
 /// Empty: the campaign may run.
 std::vector<std::string> campaignInputProblems(const CampaignManifest& manifest);
+
+/// Problems that differ only in their job id and numbers (the same missing file of
+/// every day or hour) folded into their first line with a count: "job
+/// esbc_2020-177_h00: sp3 /data/GRG0..._2020177...: no such file (and 263 more like
+/// it)". The order is that of the first of each kind.
+std::vector<std::string> foldCampaignProblems(const std::vector<std::string>& problems);
 
 /// ppp_monte_carlo's options for a shard (threads 1: one core per job).
 /// Throws ConfigError when its config or sim_config does not load.

@@ -41,10 +41,12 @@ struct CampaignSummary {
   std::string name;
   std::vector<CampaignJobRow> jobs;  // manifest order
   std::vector<CampaignStudyRow> studies;
-  int done = 0, failed = 0, interrupted = 0, pending = 0;
+  int done = 0, failed = 0, interrupted = 0, pending = 0, stale = 0;
+  int done_with_problems = 0;  // done jobs whose run reported problems (CampaignJobResult::problems)
 };
 
-/// Reads every job's state and merges the Monte Carlo studies whose shards are
+/// Reads every job's state (against the manifest's job: a job the manifest changed
+/// is stale, its old result neither shown nor merged) and merges the Monte Carlo studies whose shards are
 /// all done (throws nothing for a bad shard: the study's `problem` says why).
 CampaignSummary summarizeCampaign(const CampaignManifest& manifest, const std::string& campaign_dir);
 
@@ -59,10 +61,12 @@ void writeCampaignSummary(const CampaignSummary& summary, const std::string& cam
 /// Counts for the progress line of a running campaign.
 struct CampaignProgress {
   int total = 0, done = 0, failed = 0, running = 0;
+  int done_with_problems = 0;  // of `done`
   double elapsed_s = 0.0;
 };
 /// "12/24 done, 1 failed, 2 running, 9 waiting; 1:05 elapsed, ~0:58 left" (the
-/// estimate from the mean time per finished job so far; "?" before the first).
+/// estimate from the mean time per finished job so far; "?" before the first);
+/// "12/24 done, 1 with problems, 1 failed, ..." when done jobs reported problems.
 std::string formatCampaignProgress(const CampaignProgress& progress);
 
 }  // namespace ppp

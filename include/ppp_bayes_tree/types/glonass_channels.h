@@ -9,7 +9,10 @@ namespace ppp {
 class GlonassChannels {
  public:
   static constexpr int kMaxSlot = 30;
-  /// Sets the channel k (-7..+13) of a slot (1..30); returns false when out of range.
+  /// The channels in use since 2005 (GLONASS ICD edition 5.1, 2008, section 3.3.1.1:
+  /// k = -7 ... +6); +7..+13 and the earlier 0..24 are no channel of today's satellites.
+  static constexpr int kMinChannel = -7, kMaxChannel = 6;
+  /// Sets the channel k (kMinChannel..kMaxChannel) of a slot (1..30); returns false when out of range.
   bool set(int slot, int channel);
   std::optional<int> channel(int slot) const;
   int size() const;  // number of slots with a known channel

@@ -1,14 +1,19 @@
 #include "ppp_bayes_tree/app/campaign_job.h"
 
+#include <fcntl.h>
+#include <sys/file.h>
 #include <unistd.h>
 
+#include <cerrno>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <sstream>
+#include <thread>
 
 #include <yaml-cpp/yaml.h>
 
@@ -31,6 +36,8 @@ constexpr const char* kTimingFile = "timing.json";
 constexpr const char* kRecordsFile = "flights.mcr";
 constexpr const char* kBagResultFile = "bag_result.json";
 constexpr const char* kBagLogFile = "ppp_bag_solve.log";
+constexpr const char* kLockFile = "job.lock";
+constexpr const char* kOutputDir = "output";
 
 std::string path(const std::string& dir, const char* name) { return (fs::path(dir) / name).string(); }
 
@@ -89,6 +96,7 @@ std::string resultJson(const CampaignJob& job, const CampaignJobResult& r) {
        << ", \"problems\": " << r.problems << ", \"mean_3d_m\": " << jsonNumber(r.mean_3d_m, 17)
        << ", \"first_window_mean_3d_m\": " << jsonNumber(r.first_window_mean_3d_m, 17)
        << ", \"time_to_10cm_s\": " << ttc << ", \"fixed_share\": " << jsonNumber(r.fixed_share, 17);
+    if (!r.first_problem.empty()) os << ", \"first_problem\": " << jsonString(r.first_problem);
   } else {
     os << "\"flights\": " << r.flights << ", \"flights_failed\": " << r.flights_failed;
   }
@@ -109,6 +117,7 @@ CampaignJobResult parseResult(const YAML::Node& r) {
   if (r["epochs_read"]) out.epochs_read = r["epochs_read"].as<std::size_t>();
   if (r["epochs_solved"]) out.epochs_solved = r["epochs_solved"].as<std::size_t>();
   if (r["problems"]) out.problems = r["problems"].as<std::size_t>();
+  if (r["first_problem"]) out.first_problem = r["first_problem"].as<std::string>();
   out.mean_3d_m = numberOrNaN(r["mean_3d_m"]);
   out.first_window_mean_3d_m = numberOrNaN(r["first_window_mean_3d_m"]);
   out.time_to_10cm_s = numberOrNaN(r["time_to_10cm_s"]);
@@ -237,6 +246,90 @@ std::string hostName() {
   return b;
 }
 
+std::string systemReason(int error) { return std::strerror(error); }
+
+/// The lock of one job: flock(2) on job.lock, held while the object lives. The
+/// descriptor is inherited by the tools the job starts (ppp_bag_solve), so the lock
+/// lasts as long as any process of the attempt does.
+class JobLock {
+ public:
+  /// Tries for `patience_s` (a process that only looks at the lock holds it for a
+  /// moment); busy() afterwards when another process holds it.
+  JobLock(const std::string& job_dir, double patience_s) {
+    fd_ = ::open(path(job_dir, kLockFile).c_str(), O_CREAT | O_RDWR, 0644);
+    if (fd_ < 0) return;  // no job directory: the attempt fails and says why
+    const auto until = std::chrono::steady_clock::now() + std::chrono::duration<double>(patience_s);
+    while (::flock(fd_, LOCK_EX | LOCK_NB) != 0) {
+      if ((errno != EWOULDBLOCK && errno != EINTR) || std::chrono::steady_clock::now() >= until) {
+        busy_ = errno == EWOULDBLOCK;
+        ::close(fd_);
+        fd_ = -1;
+        return;
+      }
+      std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    }
+  }
+  ~JobLock() {
+    if (fd_ >= 0) ::close(fd_);
+  }
+  JobLock(const JobLock&) = delete;
+  JobLock& operator=(const JobLock&) = delete;
+  bool busy() const { return busy_; }
+
+ private:
+  int fd_ = -1;
+  bool busy_ = false;
+};
+
+constexpr double kLockPatience_s = 2.0;
+
+/// The files of output/ (relative paths, sorted) with their sizes, as done.json lists them.
+std::string outputListJson(const std::string& output_dir) {
+  std::vector<std::pair<std::string, std::uintmax_t>> files;
+  for (const auto& e : fs::recursive_directory_iterator(output_dir))
+    if (e.is_regular_file()) files.emplace_back(fs::relative(e.path(), output_dir).generic_string(), e.file_size());
+  std::sort(files.begin(), files.end());
+  std::string json = "[";
+  for (std::size_t i = 0; i < files.size(); ++i)
+    json += (i ? ", [" : "[") + jsonString(files[i].first) + ", " + std::to_string(files[i].second) + "]";
+  return json + "]";
+}
+
+/// What is missing of the outputs done.json lists ("" when all are there with
+/// their sizes). A marker without the list needs output/ itself.
+std::string missingOutput(const std::string& job_dir, const YAML::Node& outputs) {
+  const fs::path output = path(job_dir, kOutputDir);
+  std::error_code ec;
+  if (!outputs || !outputs.IsSequence()) return fs::is_directory(output, ec) ? "" : "output/ is missing";
+  for (const auto& f : outputs) {
+    const std::string name = f[0].as<std::string>();
+    const auto bytes = f[1].as<std::uintmax_t>();
+    const auto size = fs::file_size(output / name, ec);
+    if (ec) return "output/" + name + " is missing";
+    if (size != bytes)
+      return "output/" + name + " has " + std::to_string(size) + " bytes, not the " + std::to_string(bytes) +
+             " it was written with";
+  }
+  return "";
+}
+
+/// The top-level keys whose values differ between two job specifications ("truth, estimator").
+std::string changedKeys(const std::string& before, const std::string& now) {
+  try {
+    const YAML::Node a = YAML::Load(before), b = YAML::Load(now);
+    std::string keys;
+    for (const auto& kv : b) {
+      const std::string key = kv.first.as<std::string>();
+      if (!a[key] || YAML::Dump(a[key]) != YAML::Dump(kv.second)) keys += (keys.empty() ? "" : ", ") + key;
+    }
+    for (const auto& kv : a)
+      if (!b[kv.first.as<std::string>()]) keys += (keys.empty() ? "" : ", ") + kv.first.as<std::string>();
+    return keys.empty() ? "job.yaml" : keys;
+  } catch (const YAML::Exception&) {
+    return "job.yaml";
+  }
+}
+
 }  // namespace
 
 CampaignJobResult campaignPppResult(const PppSolveOutcome& first) {
@@ -244,6 +337,7 @@ CampaignJobResult campaignPppResult(const PppSolveOutcome& first) {
   r.epochs_read = first.run.epochs_read;
   r.epochs_solved = first.run.epochs_solved;
   r.problems = first.run.problems.size();
+  if (!first.run.problems.empty()) r.first_problem = first.run.problems.front();
   r.fixed_share = first.run.epochs_solved == 0 ? CampaignJobResult::kNaN
                                                : static_cast<double>(first.run.epochs_fixed) /
                                                      static_cast<double>(first.run.epochs_solved);
@@ -285,23 +379,32 @@ const char* toString(CampaignJobState state) {
     case CampaignJobState::Done: return "done";
     case CampaignJobState::Failed: return "failed";
     case CampaignJobState::Interrupted: return "interrupted";
+    case CampaignJobState::Stale: return "stale";
   }
   return "unknown";
 }
 
 void writeFileAtomically(const std::string& target, const std::string& text) {
   const std::string tmp = target + ".tmp." + std::to_string(::getpid());
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    out << text;
-    out.flush();
-    if (!out) throw std::runtime_error("cannot write " + tmp);
+  const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+  if (fd < 0) throw std::runtime_error("cannot write " + tmp + ": " + systemReason(errno));
+  int error = 0;
+  for (std::size_t written = 0; written < text.size() && error == 0;) {
+    const ssize_t n = ::write(fd, text.data() + written, text.size() - written);
+    if (n >= 0) written += static_cast<std::size_t>(n);
+    else if (errno != EINTR) error = errno;
   }
+  if (::close(fd) != 0 && error == 0) error = errno;
   std::error_code ec;
+  if (error != 0) {
+    fs::remove(tmp, ec);
+    throw std::runtime_error("cannot write " + tmp + ": " + systemReason(error));
+  }
   fs::rename(tmp, target, ec);
   if (ec) {
-    fs::remove(tmp, ec);
-    throw std::runtime_error("cannot rename " + tmp + " to " + target);
+    std::error_code ignored;
+    fs::remove(tmp, ignored);
+    throw std::runtime_error("cannot rename " + tmp + " to " + target + ": " + ec.message());
   }
 }
 
@@ -427,6 +530,11 @@ CampaignJobStatus campaignJobStatus(const std::string& job_dir) {
     try {
       const YAML::Node done = YAML::LoadFile(path(job_dir, kDoneFile));
       if (done["spec_digest"] && done["spec_digest"].as<std::string>() == fnv1aHex(spec)) {
+        if (const std::string missing = missingOutput(job_dir, done["outputs"]); !missing.empty()) {
+          st.state = CampaignJobState::Stale;
+          st.reason = "finished, but " + missing + " (changed after the job ended): it runs again";
+          return st;
+        }
         st.state = CampaignJobState::Done;
         st.result = parseResult(done["result"]);
         return st;
@@ -448,9 +556,30 @@ CampaignJobStatus campaignJobStatus(const std::string& job_dir) {
   }
   if (fs::exists(path(job_dir, "work"), ec) || fs::exists(path(job_dir, "output"), ec)) {
     st.state = CampaignJobState::Interrupted;
-    st.reason = "an attempt ended without finishing (killed, cancelled or its node lost)";
+    st.reason = campaignJobLocked(job_dir)
+                    ? "another process runs it now (" + path(job_dir, kLockFile) + " is locked)"
+                    : "an attempt ended without finishing (killed, cancelled or its node lost)";
   }
   return st;
+}
+
+CampaignJobStatus campaignJobStatus(const std::string& job_dir, const CampaignJob& job) {
+  CampaignJobStatus st = campaignJobStatus(job_dir);
+  const std::string on_disk = readText(path(job_dir, kSpecFile)), wanted = campaignJobYaml(job);
+  if (st.state == CampaignJobState::Pending || on_disk.empty() || on_disk == wanted) return st;
+  CampaignJobStatus stale;
+  stale.state = CampaignJobState::Stale;
+  stale.reason = "the manifest changed " + changedKeys(on_disk, wanted) + " since its last attempt (" +
+                 toString(st.state) + "): it runs again";
+  return stale;
+}
+
+bool campaignJobLocked(const std::string& job_dir) {
+  const int fd = ::open(path(job_dir, kLockFile).c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd < 0) return false;
+  const bool locked = ::flock(fd, LOCK_SH | LOCK_NB) != 0 && errno == EWOULDBLOCK;
+  ::close(fd);  // releases the shared lock when it was taken
+  return locked;
 }
 
 bool prepareCampaignJob(const std::string& job_dir, const CampaignJob& job) {
@@ -465,11 +594,19 @@ bool prepareCampaignJob(const std::string& job_dir, const CampaignJob& job) {
 }
 
 void markCampaignJobFailed(const std::string& job_dir, const std::string& reason) {
-  if (campaignJobStatus(job_dir).state == CampaignJobState::Done) return;
+  const JobLock lock(job_dir, kLockPatience_s);
+  if (lock.busy() || campaignJobStatus(job_dir).state == CampaignJobState::Done) return;
   writeFileAtomically(path(job_dir, kFailedFile), "{\"reason\": " + jsonString(reason) + "}\n");
 }
 
-CampaignJobStatus runCampaignJob(const std::string& job_dir) {
+CampaignJobStatus runCampaignJob(const std::string& job_dir, bool* locked) {
+  const JobLock lock(job_dir, kLockPatience_s);
+  if (locked) *locked = lock.busy();
+  if (lock.busy()) {
+    CampaignJobStatus st = campaignJobStatus(job_dir);
+    st.reason = "another process runs this job (" + path(job_dir, kLockFile) + " is locked): not started";
+    return st;
+  }
   const auto t0 = std::chrono::steady_clock::now();
   const std::string work = path(job_dir, "work"), output = path(job_dir, "output");
   std::string timing_extra;
@@ -488,7 +625,8 @@ CampaignJobStatus runCampaignJob(const std::string& job_dir) {
     fs::rename(work, output);  // the outputs are complete ...
     writeFileAtomically(path(job_dir, kDoneFile),  // ... and only then the marker
                         "{\"id\": " + jsonString(job.id) + ", \"spec_digest\": " + jsonString(fnv1aHex(spec)) +
-                            ", \"result\": " + resultJson(job, result) + "}\n");
+                            ", \"result\": " + resultJson(job, result) + ", \"outputs\": " + outputListJson(output) +
+                            "}\n");
   } catch (const std::exception& e) {
     try {
       writeFileAtomically(path(job_dir, kFailedFile), "{\"reason\": " + jsonString(e.what()) + "}\n");

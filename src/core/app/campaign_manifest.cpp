@@ -4,6 +4,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -14,6 +15,7 @@
 #include "ppp_bayes_tree/app/campaign_job.h"
 #include "ppp_bayes_tree/io/parse_error.h"
 #include "ppp_bayes_tree/io/transport/stream_format.h"
+#include "ppp_bayes_tree/ppp/config/yaml_document.h"
 #include "ppp_bayes_tree/ppp/config/yaml_section.h"
 #include "ppp_bayes_tree/ppp/estimators/estimator_registry.h"
 #include "ppp_bayes_tree/simulation/flight_trajectory.h"
@@ -132,12 +134,21 @@ struct PppEntry {
   int first_hour = -1, last_hour = -1;
 };
 
+/// A date of the manifest: YYYY-MM-DD within kFirstCampaignDate .. kLastCampaignDate.
+GnssTime readDate(YamlSection& dates, const char* key, const std::string& text, const YAML::Node& node) {
+  const auto t = parseDate(text);
+  if (!t) dates.fail(key, "needs a date YYYY-MM-DD (" + lineText(node) + "), not '" + text + "'");
+  if (*t < *parseDate(kFirstCampaignDate) || *t > *parseDate(kLastCampaignDate))
+    dates.fail(key, "'" + text + "' is outside " + kFirstCampaignDate + " (the start of GPS time) .. " +
+                        kLastCampaignDate + " (" + lineText(node) + ")");
+  return *t;
+}
+
 std::vector<CampaignDay> readDates(YamlSection dates, const YAML::Node& node) {
   const std::string first_text = dates.text("first", ""), last_text = dates.text("last", first_text);
   dates.finish();
-  const auto first = parseDate(first_text), last = parseDate(last_text);
-  if (!first) dates.fail("first", "needs a date YYYY-MM-DD (" + lineText(node) + "), not '" + first_text + "'");
-  if (!last) dates.fail("last", "needs a date YYYY-MM-DD (" + lineText(node) + "), not '" + last_text + "'");
+  const std::optional<GnssTime> first = readDate(dates, "first", first_text, node),
+                                last = readDate(dates, "last", last_text, node);
   if (*last < *first) dates.fail("last", "is before first (" + lineText(node) + ")");
   if (*last - *first > 3660.0 * 86400.0) dates.fail("last", "more than ten years after first (" + lineText(node) + ")");
   std::vector<CampaignDay> days;
@@ -190,13 +201,44 @@ std::vector<std::string> expandAll(const std::vector<std::string>& patterns, con
   return out;
 }
 
+/// Refuses a manifest that would expand to more than kMaxCampaignJobs jobs, before they are made.
+void checkJobCount(std::size_t jobs_so_far, std::uint64_t more, const std::string& file, const std::string& key) {
+  if (jobs_so_far + more <= kMaxCampaignJobs) return;
+  throw ConfigError(file, key,
+                    "the campaign would have more than " + std::to_string(kMaxCampaignJobs) + " jobs (" +
+                        std::to_string(jobs_so_far) + " before this entry, " + std::to_string(more) +
+                        " from it): split it into several campaigns");
+}
+
+/// Refuses jobs of one entry that would read the same observations for different
+/// dates (a dated range whose obs path has no date placeholder): every day's job
+/// would solve the same file and be labelled with its own date.
+void checkDistinctInputs(const std::vector<CampaignJob>& jobs, std::size_t from, const std::string& file,
+                         const std::string& key) {
+  std::map<std::string, const CampaignJob*> seen;
+  for (std::size_t k = from; k < jobs.size(); ++k) {
+    const PppInputFiles& f = jobs[k].ppp.files;
+    std::string input = f.obs + "|";
+    if (f.window.start) input += std::to_string(f.window.start->wholeSeconds());
+    const auto [it, fresh] = seen.emplace(input, &jobs[k]);
+    if (fresh) continue;
+    throw ConfigError(file, key + ".obs",
+                      "jobs " + it->second->id + " and " + jobs[k].id + " (dates " + it->second->date + " and " +
+                          jobs[k].date + ") read the same file " + f.obs +
+                          ": give the path the day's placeholders ({yyyy} {yy} {doy} {mm} {dd} {gpsweek} {dow})");
+  }
+}
+
 void expandPppEntry(const PppEntry& e, const std::string& data_root, const std::string& manifest_dir,
-                    std::vector<CampaignJob>& jobs) {
+                    std::vector<CampaignJob>& jobs, const std::string& file, const std::string& key) {
+  const std::size_t first_job = jobs.size();
   std::vector<std::optional<CampaignDay>> days;
   if (e.days.empty()) days.push_back(std::nullopt);
   for (const auto& d : e.days) days.push_back(d);
   for (const auto& day : days) {
     const std::vector<std::string> obs_files = expandGlob(resolve(data_root, substituteDay(e.obs, day)));
+    checkJobCount(jobs.size(), obs_files.size() * static_cast<std::uint64_t>(e.first_hour < 0 ? 1 : e.last_hour - e.first_hour + 1),
+                  file, key);
     for (const auto& obs : obs_files) {
       CampaignJob job;
       job.kind = CampaignJobKind::Ppp;
@@ -240,6 +282,7 @@ void expandPppEntry(const PppEntry& e, const std::string& data_root, const std::
       }
     }
   }
+  if (!e.days.empty()) checkDistinctInputs(jobs, first_job, file, key);
 }
 
 /// A bags entry: one job per bag the pattern matches.
@@ -269,6 +312,7 @@ void expandBagEntry(const YAML::Node& node, const std::string& file, const std::
   }
   s.finish();
   const std::vector<std::string> bags = expandGlob(resolve(data_root, pattern));
+  checkJobCount(jobs.size(), bags.size(), file, path);
   for (const auto& bag : bags) {
     CampaignJob b = job;
     b.id = bags.size() > 1 ? name + "_" + fileStem(bag) : name;
@@ -290,6 +334,9 @@ void readMonteCarloEntry(const YAML::Node& node, const std::string& file, const 
   m.study_flights = s.integer("flights", 0, 1);
   const int per_job = s.integer("flights_per_job", m.study_flights, 1);
   m.duration_min = s.number("duration_min", 30.0, Bound::Positive);
+  if (m.duration_min > kMaxFlightDuration_min)
+    s.fail("duration_min", "at most " + std::to_string(static_cast<int>(kMaxFlightDuration_min)) +
+                               " (one day: the longest simulated flight; " + lineText(node) + ")");
   m.rate_hz = s.number("rate_hz", 1.0, Bound::Positive);
   if (m.rate_hz != 1.0 && m.rate_hz != 10.0) s.fail("rate_hz", "must be 1 or 10 (" + lineText(node) + ")");
   m.systems = s.has("systems") ? s.choice("systems", "G", {"G", "GE"}) : "";
@@ -306,6 +353,7 @@ void readMonteCarloEntry(const YAML::Node& node, const std::string& file, const 
   m.config = resolve(manifest_dir, s.text("config", ""));
   m.sim_config = resolve(manifest_dir, s.text("sim_config", ""));
   s.finish();
+  checkJobCount(jobs.size(), (static_cast<std::uint64_t>(m.study_flights) + per_job - 1) / per_job, file, path);
   for (int first = 0; first < m.study_flights; first += per_job) {
     CampaignJob job;
     job.kind = CampaignJobKind::MonteCarloShard;
@@ -335,11 +383,7 @@ CampaignResources readResources(YamlSection s) {
 YAML::Node loadYamlFile(const std::string& path) {
   std::ifstream probe(path);
   if (!probe) throw FileOpenError("cannot open campaign manifest " + path);
-  try {
-    return YAML::LoadFile(path);
-  } catch (const YAML::Exception& e) {
-    throw ConfigError(path, "", "line " + std::to_string(e.mark.line + 1) + ": " + e.msg);
-  }
+  return loadYamlDocument(path);  // syntax errors and keys written twice: ConfigError naming the line
 }
 
 void problemIfMissing(const CampaignJob& job, const char* what, const std::string& path,
@@ -384,7 +428,7 @@ CampaignManifest loadCampaignManifest(const std::string& path) {
     for (std::size_t i = 0; i < entries.size(); ++i) {
       const std::string key_path = std::string(list) + "[" + std::to_string(i) + "]";
       if (std::string(list) == "ppp")
-        expandPppEntry(readPppEntry(entries[i], path, key_path), m.data_root, manifest_dir, m.jobs);
+        expandPppEntry(readPppEntry(entries[i], path, key_path), m.data_root, manifest_dir, m.jobs, path, key_path);
       else if (std::string(list) == "bags")
         expandBagEntry(entries[i], path, key_path, m.data_root, manifest_dir, m.jobs);
       else
@@ -487,6 +531,43 @@ std::vector<std::string> campaignInputProblems(const CampaignManifest& manifest)
     }
   }
   return problems;
+}
+
+namespace {
+
+/// A problem without its job id and with every run of digits as '#': problems of
+/// the same kind on other days or hours have the same shape.
+std::string problemShape(const std::string& problem) {
+  std::string text = problem;
+  if (text.rfind("job ", 0) == 0)
+    if (const auto colon = text.find(": "); colon != std::string::npos) text = text.substr(colon + 2);
+  std::string shape;
+  for (std::size_t k = 0; k < text.size(); ++k) {
+    const bool digit = std::isdigit(static_cast<unsigned char>(text[k])) != 0;
+    if (!digit) shape += text[k];
+    else if (shape.empty() || shape.back() != '#') shape += '#';
+  }
+  return shape;
+}
+
+}  // namespace
+
+std::vector<std::string> foldCampaignProblems(const std::vector<std::string>& problems) {
+  std::vector<std::string> first;
+  std::vector<std::size_t> more;
+  std::map<std::string, std::size_t> index;
+  for (const auto& p : problems) {
+    const auto [it, fresh] = index.emplace(problemShape(p), first.size());
+    if (fresh) {
+      first.push_back(p);
+      more.push_back(0);
+    } else {
+      ++more[it->second];
+    }
+  }
+  for (std::size_t k = 0; k < first.size(); ++k)
+    if (more[k] > 0) first[k] += " (and " + std::to_string(more[k]) + " more like it)";
+  return first;
 }
 
 MonteCarloOptions monteCarloStudyOptions(const CampaignMonteCarloShard& m) {

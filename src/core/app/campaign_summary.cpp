@@ -49,6 +49,27 @@ void readFlightTimes(const std::string& job_dir, std::map<int, FlightTimes>& tim
   }
 }
 
+/// The stale jobs (their old results are not shown) and the done jobs with problems.
+void appendAttentionSections(const CampaignSummary& s, std::ostringstream& md) {
+  if (s.stale > 0) {
+    md << "## Stale (run the campaign again)\n\n";
+    for (const auto& row : s.jobs)
+      if (row.status.state == CampaignJobState::Stale) md << "- " << row.job.id << ": " << row.status.reason << "\n";
+    md << "\n";
+  }
+  if (s.done_with_problems > 0) {
+    md << "## Done with problems\n\n";
+    for (const auto& row : s.jobs) {
+      if (row.status.state != CampaignJobState::Done || !row.status.result || row.status.result->problems == 0) continue;
+      const CampaignJobResult& r = *row.status.result;
+      md << "- " << row.job.id << ": " << r.problems << " problem(s)"
+         << (r.first_problem.empty() ? "" : ", the first: " + r.first_problem) << " (jobs/" << row.job.id
+         << "/log.txt)\n";
+    }
+    md << "\n";
+  }
+}
+
 }  // namespace
 
 std::string campaignJobDir(const std::string& campaign_dir, const std::string& job_id) {
@@ -60,9 +81,13 @@ CampaignSummary summarizeCampaign(const CampaignManifest& manifest, const std::s
   s.name = manifest.name;
   std::vector<std::string> study_order;
   for (const auto& job : manifest.jobs) {
-    CampaignJobRow row{job, campaignJobStatus(campaignJobDir(campaign_dir, job.id))};
+    CampaignJobRow row{job, campaignJobStatus(campaignJobDir(campaign_dir, job.id), job)};
     switch (row.status.state) {
-      case CampaignJobState::Done: ++s.done; break;
+      case CampaignJobState::Done:
+        ++s.done;
+        s.done_with_problems += row.status.result && row.status.result->problems > 0;
+        break;
+      case CampaignJobState::Stale: ++s.stale; break;
       case CampaignJobState::Failed: ++s.failed; break;
       case CampaignJobState::Interrupted: ++s.interrupted; break;
       case CampaignJobState::Pending: ++s.pending; break;
@@ -140,7 +165,10 @@ std::string campaignSummaryJson(const CampaignSummary& s) {
   std::ostringstream j;
   j << "{\n  \"campaign\": " << jsonString(s.name) << ",\n  \"jobs_total\": " << s.jobs.size()
     << ", \"done\": " << s.done << ", \"failed\": " << s.failed << ", \"interrupted\": " << s.interrupted
-    << ", \"pending\": " << s.pending << ",\n  \"jobs\": [";
+    << ", \"pending\": " << s.pending;
+  if (s.stale > 0) j << ", \"stale\": " << s.stale;
+  if (s.done_with_problems > 0) j << ", \"done_with_problems\": " << s.done_with_problems;
+  j << ",\n  \"jobs\": [";
   for (std::size_t i = 0; i < s.jobs.size(); ++i) {
     const auto& row = s.jobs[i];
     const CampaignJob& job = row.job;
@@ -155,7 +183,8 @@ std::string campaignSummaryJson(const CampaignSummary& s) {
           << ", \"problems\": " << r.problems << ", \"mean_3d_m\": " << jsonNumber(r.mean_3d_m, 10)
           << ", \"first_window_mean_3d_m\": " << jsonNumber(r.first_window_mean_3d_m, 10) << ", \"time_to_10cm_s\": "
           << (std::isinf(r.time_to_10cm_s) ? "\"never\"" : jsonNumber(r.time_to_10cm_s, 10))
-          << ", \"fixed_share\": " << jsonNumber(r.fixed_share, 10);
+          << ", \"fixed_share\": " << jsonNumber(r.fixed_share, 10)
+          << (r.first_problem.empty() ? "" : ", \"first_problem\": " + jsonString(r.first_problem));
       else
         j << ", \"flights\": " << r.flights << ", \"flights_failed\": " << r.flights_failed;
     }
@@ -187,8 +216,11 @@ std::string campaignSummaryJson(const CampaignSummary& s) {
 
 std::string campaignSummaryMarkdown(const CampaignSummary& s) {
   std::ostringstream md;
-  md << "# Campaign " << s.name << "\n\n" << s.jobs.size() << " jobs: " << s.done << " done, " << s.failed
-     << " failed, " << s.interrupted << " interrupted, " << s.pending << " not run.\n\n";
+  md << "# Campaign " << s.name << "\n\n" << s.jobs.size() << " jobs: " << s.done << " done";
+  if (s.done_with_problems > 0) md << " (" << s.done_with_problems << " with problems)";
+  md << ", " << s.failed << " failed, " << s.interrupted << " interrupted, ";
+  if (s.stale > 0) md << s.stale << " stale, ";
+  md << s.pending << " not run.\n\n";
   bool any_ppp = false;
   for (const auto& row : s.jobs) any_ppp |= row.job.kind != CampaignJobKind::MonteCarloShard;
   if (any_ppp) {
@@ -231,6 +263,7 @@ std::string campaignSummaryMarkdown(const CampaignSummary& s) {
         md << "- " << row.job.id << " (" << toString(row.status.state) << "): " << row.status.reason << "\n";
     md << "\n";
   }
+  appendAttentionSections(s, md);
   return md.str();
 }
 
@@ -249,7 +282,9 @@ std::string formatCampaignProgress(const CampaignProgress& p) {
   std::string left = "?";
   if (finished > 0) left = minutesSecondsText(p.elapsed_s / finished * (p.total - finished));
   if (finished == p.total) left = "0:00";
-  return std::to_string(p.done) + "/" + std::to_string(p.total) + " done, " + std::to_string(p.failed) + " failed, " +
+  const std::string problems =
+      p.done_with_problems > 0 ? std::to_string(p.done_with_problems) + " with problems, " : std::string();
+  return std::to_string(p.done) + "/" + std::to_string(p.total) + " done, " + problems + std::to_string(p.failed) + " failed, " +
          std::to_string(p.running) + " running, " + std::to_string(waiting) + " waiting; " + minutesSecondsText(p.elapsed_s) +
          " elapsed, ~" + left + " left";
 }

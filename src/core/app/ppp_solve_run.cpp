@@ -7,12 +7,15 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <sstream>
 #include <stdexcept>
 
 #include "ppp_bayes_tree/evaluation/rtklib_pos.h"
 #include "ppp_bayes_tree/evaluation/solution_csv_writer.h"
+#include "ppp_bayes_tree/io/data_file_name.h"
+#include "ppp_bayes_tree/io/transport/untrusted_text.h"
 #include "ppp_bayes_tree/ppp/estimators/estimator_registry.h"
 #include "ppp_bayes_tree/types/constants.h"
 #include "ppp_bayes_tree/types/number_text.h"
@@ -110,6 +113,21 @@ TimingSummary summarizeTimes(std::vector<double> t) {
   return s;
 }
 
+namespace {
+
+/// The output file prefix: the given name, else the station name in lower case,
+/// as a file name that stays in the output folder (io/data_file_name.h).
+std::string outputName(const std::string& given, const PppPipeline& pipeline) {
+  std::string name = given;
+  if (name.empty()) {
+    name = pipeline.stationName();
+    for (auto& c : name) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  }
+  return dataFileName(name);
+}
+
+}  // namespace
+
 PppSolveOutcome solvePpp(const PppSolveRequest& req) {
   std::string why;
   if (!makeEstimator(req.estimator, req.config, &why)) throw std::invalid_argument(why);  // before reading products
@@ -126,11 +144,7 @@ PppSolveOutcome solvePpp(const PppSolveRequest& req) {
   if (!estimator) throw std::invalid_argument(why);
   const SmoothedTrajectoryProvider* smoother = estimator->smoothing();
   PppSolveOutcome out;
-  out.name = req.name;
-  if (out.name.empty()) {
-    out.name = pipeline.stationName();
-    for (auto& c : out.name) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  }
+  out.name = outputName(req.name, pipeline);
   const std::string prefix = req.out_dir + "/" + out.name + "_";
   const std::string stem = prefix + estimator->name();
   auto addOutput = [&](const std::string& label, const std::string& tag) {
@@ -360,10 +374,12 @@ std::string formatRunReport(const PppRunSummary& r) {
                  r.time_to_first_fix_s.value_or(0.0) / 60.0);
   }
   os << "notes:\n";
-  for (const auto& n : r.notes) os << "  " << n << "\n";
+  // Notes and problems quote header text of the input files (printable, io/transport/untrusted_text.h).
+  const std::size_t whole = std::numeric_limits<std::size_t>::max();
+  for (const auto& n : r.notes) os << "  " << printableText(n, whole) << "\n";
   if (!r.problems.empty()) {
     os << "problems (" << r.problems.size() << "):\n";
-    for (std::size_t i = 0; i < r.problems.size() && i < 20; ++i) os << "  " << r.problems[i] << "\n";
+    for (std::size_t i = 0; i < r.problems.size() && i < 20; ++i) os << "  " << printableText(r.problems[i], whole) << "\n";
   }
   return os.str();
 }

@@ -1,12 +1,18 @@
 #include "ppp_bayes_tree/io/file_summary.h"
 
 #include <cstdio>
+#include <limits>
 #include <sstream>
+
+#include "ppp_bayes_tree/io/transport/untrusted_text.h"
 
 namespace ppp {
 
 namespace {
 std::string shortTime(const GnssTime& t) { return t.toString(TimeSystem::GPS, 1); }
+/// Text read from a file (header fields, problem texts quoting it), safe for a terminal.
+std::string printable(const std::string& text) { return printableText(text, std::numeric_limits<std::size_t>::max()); }
+
 }  // namespace
 
 std::string formatSummary(const FileSummary& s) {
@@ -34,11 +40,11 @@ std::string formatSummary(const FileSummary& s) {
   }
   for (const auto& [system, signals] : s.signals) {
     os << "  " << systemLetter(system) << " signals:";
-    for (const auto& sig : signals) os << " " << sig;
+    for (const auto& sig : signals) os << " " << printable(sig);
     os << "\n";
   }
-  for (const auto& fact : s.facts) os << "  " << fact << "\n";
-  for (const auto& [what, n] : s.report.counters()) os << "  " << what << ": " << n << "\n";
+  for (const auto& fact : s.facts) os << "  " << printable(fact) << "\n";
+  for (const auto& [what, n] : s.report.counters()) os << "  " << printable(what) << ": " << n << "\n";
   if (s.report.problemCount() == 0) {
     os << "  problems: none\n";
   } else {
@@ -48,7 +54,7 @@ std::string formatSummary(const FileSummary& s) {
       if (shown++ == 20) break;
       os << "    ";
       if (p.line > 0) os << "line " << p.line << ": ";
-      os << p.reason << "\n";
+      os << printable(p.reason) << "\n";
     }
     if (s.report.problemCount() > 20) os << "    ... and " << (s.report.problemCount() - 20) << " more\n";
   }

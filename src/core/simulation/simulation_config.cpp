@@ -5,6 +5,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "ppp_bayes_tree/ppp/config/yaml_document.h"
 #include "ppp_bayes_tree/ppp/config/yaml_section.h"
 
 namespace ppp {
@@ -144,12 +145,7 @@ void readErrors(YamlSection s, ErrorModelConfig& e) {
 
 SimulationConfig parseSimulationConfig(const std::string& yaml_text, const std::string& source_name,
                                        SimulationConfig c) {
-  YAML::Node root;
-  try {
-    root = YAML::Load(yaml_text);
-  } catch (const YAML::Exception& e) {
-    throw ConfigError(source_name, "", "YAML syntax error at line " + std::to_string(e.mark.line + 1) + ": " + e.msg);
-  }
+  const YAML::Node root = parseYamlDocument(yaml_text, source_name);
   try {
     YamlSection top(root, source_name, "");
     {

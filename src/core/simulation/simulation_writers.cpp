@@ -7,6 +7,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "ppp_bayes_tree/io/data_file_name.h"
 #include "ppp_bayes_tree/io/products/sp3_writer.h"
 #include "ppp_bayes_tree/types/constants.h"
 #include "ppp_bayes_tree/types/text_format.h"
@@ -197,7 +198,7 @@ std::vector<std::string> writeSimulatedFlight(const SimulatedFlight& f, const st
     if (!out) throw std::runtime_error("write error on " + path);
     written.push_back(path);
   };
-  write(f.config.marker_name + ".obs", [&](std::ostream& o) { writeRinexObs(o, f.header, f.epochs); });
+  write(dataFileName(f.config.marker_name) + ".obs", [&](std::ostream& o) { writeRinexObs(o, f.header, f.epochs); });
   write("products.sp3", [&](std::ostream& o) { o << f.products_sp3_text; });
   write("products.clk", [&](std::ostream& o) { o << f.products_clk_text; });
   write("truth.sp3", [&](std::ostream& o) { o << f.truth_sp3_text; });

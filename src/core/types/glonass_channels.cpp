@@ -3,7 +3,7 @@
 namespace ppp {
 
 bool GlonassChannels::set(int slot, int channel) {
-  if (slot < 1 || slot > kMaxSlot || channel < -7 || channel > 13) return false;
+  if (slot < 1 || slot > kMaxSlot || channel < kMinChannel || channel > kMaxChannel) return false;
   channels_[slot] = channel;
   return true;
 }

@@ -16,7 +16,9 @@
 // takes the smoother's epochs: the same graph with its held integers).
 // Node figures: update time median/p99 (ppp/status update_time_s), epochs processed, and
 // dropped = observation epochs of --input not processed (else the duplicate/out-of-order counts).
-// A missing topic gives a clear line and the other rows are still printed.
+// A missing topic gives a clear line and the other rows are still printed. A damaged
+// message is skipped and named (ros/bag_reader.h); a file that is no bag, or a bag
+// without index, is refused naming it.
 // Writes into --out (when given): NAME_ekf.csv, NAME_smoother_filtered.csv,
 // NAME_smoother_smoothed.csv (the per-epoch format of ppp_solve, read by
 // scripts/plot_solutions.py) and NAME_report.json.
@@ -40,6 +42,7 @@
 
 #include "ppp_bayes_tree/PppStatus.h"
 #include "ppp_bayes_tree/app/replay_report.h"
+#include "ppp_bayes_tree/ros/bag_reader.h"
 #include "ppp_bayes_tree/types/frames.h"
 #include "ppp_bayes_tree/types/time_system.h"
 
@@ -172,7 +175,12 @@ void pairDatums(const rosbag::Bag& bag, const std::string& topic, NodeRecord& n)
   if (n.fix_by_stamp_ns.empty()) return;
   rosbag::View view(bag, rosbag::TopicQuery(std::vector<std::string>{topic, "/" + topic}));
   for (const auto& m : view) {
-    const auto o = m.instantiate<nav_msgs::Odometry>();
+    nav_msgs::Odometry::ConstPtr o;
+    try {
+      o = m.instantiate<nav_msgs::Odometry>();
+    } catch (const std::exception&) {  // damaged: named by the first pass
+      continue;
+    }
     if (!o) continue;
     const auto it = n.fix_by_stamp_ns.find(stampNs(o->header.stamp));
     if (it == n.fix_by_stamp_ns.end()) continue;
@@ -323,31 +331,36 @@ int main(int argc, char** argv) {
     // Observation epochs replayed (for "dropped").
     std::optional<std::size_t> input_epochs;
     if (!input_path.empty()) {
-      rosbag::Bag in(input_path, rosbag::bagmode::Read);
+      rosbag::Bag in;
+      ppp_ros::openBagForReading(in, input_path);
       rosbag::View view(in, rosbag::TopicQuery(std::vector<std::string>{"gnss/observations", "/gnss/observations"}));
       input_epochs = view.size();
     }
 
-    // Recorded outputs.
-    rosbag::Bag bag(bag_path, rosbag::bagmode::Read);
+    // Recorded outputs; a damaged message is skipped and named.
+    rosbag::Bag bag;
+    ppp_ros::openBagForReading(bag, bag_path);
     NodeRecord ekf, smoother;
     ekf.ns = ekf_ns;
     smoother.ns = smoother_ns;
     std::set<std::string> topics;
-    rosbag::View view(bag);
-    for (const auto& m : view) {
+    std::vector<std::string> skipped;
+    const auto take = [&](const rosbag::MessageInstance& m, std::size_t) {
       const std::string topic = trimSlash(m.getTopic());
       topics.insert(topic);
       for (NodeRecord* n : {&ekf, &smoother}) {
         const std::string prefix = n->ns + "/";
         if (topic.rfind(prefix, 0) == 0) readNode(m, topic.substr(prefix.size()), *n);
       }
-    }
+    };
+    const std::size_t messages = ppp_ros::readBagMessages(bag, bag_path, take, skipped);
+    for (const auto& p : skipped) std::cerr << "ppp_bag_report: skipped " << p << "\n";
+    if (!skipped.empty()) std::cerr << "ppp_bag_report: skipped messages: " << skipped.size() << "\n";
     markFixedEpochs(ekf);
     markFixedEpochs(smoother);
     pairDatums(bag, ekf_ns + "/ppp/odometry/filtered", ekf);
     pairDatums(bag, smoother_ns + "/ppp/odometry/filtered", smoother);
-    std::cout << "ppp_bag_report: " << bag_path << ": " << view.size() << " messages on " << topics.size()
+    std::cout << "ppp_bag_report: " << bag_path << ": " << messages << " messages on " << topics.size()
               << " topics; /" << ekf_ns << ": " << ekf.status.size() << " status, " << ekf.fixes.size() << " fixes; /"
               << smoother_ns << ": " << smoother.status.size() << " status, " << smoother.fixes.size() << " fixes, "
               << (smoother.last_smoothed_path ? smoother.last_smoothed_path->poses.size() : 0)

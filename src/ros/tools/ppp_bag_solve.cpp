@@ -19,9 +19,15 @@
 // --result writes the figures a campaign records for the job (app/campaign_job.h).
 // Ambiguity resolution (ambiguity_resolution.enabled): the batches' satellite
 // biases (ar_bias_kind, satellites[].biases) go to the product assembly's PPP-AR
-// gate, as in the nodes. Messages that do not convert are skipped and named
-// (topic and message index); conversion issues are counted with their reason.
+// gate, as in the nodes. Messages that cannot be read (a damaged payload) or do
+// not convert are skipped and named (file, topic, message index, bag time) and
+// counted, and the rest of the bag is used (ros/bag_reader.h); conversion issues
+// are counted with their reason. Epochs and batches are taken in GNSS time order
+// (rosbag reads in record time order, which a bag need not share with the GNSS
+// times): how many were out of order is said. A folder, a file that is no bag, or
+// a bag without index (a stopped recording: `rosbag reindex`) is refused naming it.
 // Exit status: 0 solved, 1 failed (the reason on stderr), 2 usage.
+#include <algorithm>
 #include <cmath>
 #include <iostream>
 #include <limits>
@@ -36,6 +42,7 @@
 #include "ppp_bayes_tree/app/campaign_job.h"
 #include "ppp_bayes_tree/app/ppp_solve_run.h"
 #include "ppp_bayes_tree/app/replay_report.h"
+#include "ppp_bayes_tree/ros/bag_reader.h"
 #include "ppp_bayes_tree/ros/bag_writer.h"
 #include "ppp_bayes_tree/ros/message_conversions.h"
 
@@ -50,86 +57,131 @@ int usage(const std::string& why) {
   return 2;
 }
 
-/// The topic without a leading slash (bags record "gnss/observations" or "/gnss/observations").
-std::string relativeTopic(const std::string& topic) { return topic.rfind('/', 0) == 0 ? topic.substr(1) : topic; }
-
 /// Everything the pipeline needs from a bag, converted by the nodes' conversions.
 struct BagContents {
   ppp::RinexObsHeader layout;         // the observation types of every epoch
-  std::vector<ppp::ObsEpoch> epochs;  // in bag order
-  std::vector<ppp::CorrectionBatch> batches;
+  std::vector<ppp::ObsEpoch> epochs;  // in GNSS time order
+  std::vector<ppp::CorrectionBatch> batches;  // in GNSS time order
   std::optional<ppp::StreamedProductInfo> streamed;  // from the first batch
   std::vector<ppp::SatelliteBiasBatch> ar_biases;   // the batches' biases for ambiguity resolution
   ppp::PhaseInformation ar_bias_kind = ppp::PhaseInformation::None;  // what the batches declare
   ppp::TruthTrajectory truth_path;  // truth/path (a simulated flight)
   ppp_ros::ConversionIssues issues;
-  std::vector<std::string> problems;  // "gnss/observations message 12: ..." (skipped)
+  std::vector<std::string> problems;  // "BAG: gnss/observations message 12 (bag time ...): ..." (skipped)
+  std::vector<std::string> order_notes;  // messages whose GNSS time is out of the bag's order
 };
+
+/// The reading state: the contents so far and the message of each epoch, kept
+/// for the conversion again with the final layout.
+struct BagReading {
+  std::string path;
+  BagContents c;
+  std::vector<ppp_bayes_tree::GnssObservations::ConstPtr> converted;  // the message of each of c.epochs
+  std::size_t layout_settled = 0;  // epochs before this index were converted with an earlier layout
+};
+
+void takeObservations(const rosbag::MessageInstance& m, std::size_t i, BagReading& r) {
+  const std::string topic = ppp_ros::relativeBagTopic(m.getTopic());
+  auto msg = m.instantiate<ppp_bayes_tree::GnssObservations>();  // throws for a damaged payload
+  const auto place = [&] { return ppp_ros::bagMessagePlace(r.path, topic, i, m.getTime()); };
+  if (!msg) return r.c.problems.push_back(place() + ": not a GnssObservations");
+  ppp::ObsEpoch epoch;
+  try {
+    if (ppp_ros::fromMessage(*msg, r.c.layout, epoch, r.c.issues)) r.layout_settled = r.c.epochs.size() + 1;
+    r.c.epochs.push_back(std::move(epoch));
+    r.converted.push_back(msg);
+  } catch (const std::invalid_argument& e) {
+    r.c.problems.push_back(place() + ": " + e.what());
+  }
+}
+
+void takeCorrections(const rosbag::MessageInstance& m, std::size_t i, BagReading& r) {
+  const std::string topic = ppp_ros::relativeBagTopic(m.getTopic());
+  auto msg = m.instantiate<ppp_bayes_tree::PreciseCorrections>();  // throws for a damaged payload
+  const auto place = [&] { return ppp_ros::bagMessagePlace(r.path, topic, i, m.getTime()); };
+  if (!msg) return r.c.problems.push_back(place() + ": not a PreciseCorrections");
+  BagContents& c = r.c;
+  try {
+    ppp::CorrectionBatch batch = ppp_ros::fromMessage(*msg, c.issues);
+    if (!c.streamed) c.streamed = ppp_ros::streamedProductInfo(*msg, batch);
+    ppp::SatelliteBiasBatch biases = ppp_ros::biasesFromMessage(*msg, c.issues);
+    if (!biases.biases.empty()) {
+      c.ar_bias_kind = ppp_ros::phaseInformation(msg->ar_bias_kind);
+      c.ar_biases.push_back(std::move(biases));
+    }
+    c.batches.push_back(std::move(batch));
+  } catch (const std::invalid_argument& e) {
+    c.problems.push_back(place() + ": " + e.what());
+  }
+}
+
+void takeTruthPath(const rosbag::MessageInstance& m, ppp::TruthTrajectory& truth) {
+  auto msg = m.instantiate<nav_msgs::Path>();
+  if (!msg) return;
+  for (const auto& p : msg->poses) {
+    const ppp::GnssTime t = ppp_ros::fromUtcStamp(p.header.stamp);
+    if (!truth.time.empty() && !(truth.time.back() < t)) continue;  // strictly increasing
+    truth.time.push_back(t);
+    truth.position_ecef_m.emplace_back(p.pose.position.x, p.pose.position.y, p.pose.position.z);
+  }
+}
+
+/// How many items come after a later one (their GNSS time before the largest so
+/// far), and the index of the first.
+template <class T>
+std::pair<std::size_t, std::size_t> outOfOrder(const std::vector<T>& items) {
+  std::size_t count = 0, first = 0;
+  for (std::size_t i = 1, latest = 0; i < items.size(); ++i) {
+    if (items[i].time < items[latest].time) {
+      if (count++ == 0) first = i;
+    } else {
+      latest = i;
+    }
+  }
+  return {count, first};
+}
+
+/// Puts `items` in GNSS time order (stable: equal times keep the bag's order);
+/// a note says how many were out of order. rosbag reads a bag in the order of
+/// its record times, which need not be the order of the GNSS times the
+/// messages carry (a bag written with other record times, or re-ordered).
+template <class T>
+void sortByGnssTime(std::vector<T>& items, const std::string& what, BagContents& c) {
+  const auto [count, first] = outOfOrder(items);
+  if (count == 0) return;
+  c.order_notes.push_back(std::to_string(count) + " of " + std::to_string(items.size()) + " " + what +
+                          " come after a later one in the bag (the first: number " + std::to_string(first) + ", " +
+                          items[first].time.toString(ppp::TimeSystem::GPS, 1) +
+                          " GPST): taken in GNSS time order");
+  std::stable_sort(items.begin(), items.end(), [](const T& a, const T& b) { return a.time < b.time; });
+}
 
 /// Reads the bag once. The layout grows as new codes appear; the epochs converted
 /// before its last change are converted again from their kept messages with the
 /// final layout, so that every epoch's slices follow one header (as a RINEX file's).
+/// A message that cannot be read or converted is skipped and named.
 BagContents readBag(const std::string& path) {
-  rosbag::Bag bag(path, rosbag::bagmode::Read);  // throws rosbag::BagException naming the file
+  rosbag::Bag bag;
+  ppp_ros::openBagForReading(bag, path);  // throws BagReadError naming the file
   const std::string obs_topic = ppp_ros::BagWriteOptions{}.observations_topic;
   const std::string corr_topic = ppp_ros::BagWriteOptions{}.corrections_topic;
-  BagContents c;
-  rosbag::View view(bag);
-  std::vector<ppp_bayes_tree::GnssObservations::ConstPtr> converted;  // the message of each of c.epochs
-  std::size_t layout_settled = 0;  // epochs before this index were converted with an earlier layout
-  std::size_t obs_index = 0, corr_index = 0;
-  for (const rosbag::MessageInstance& m : view) {
-    const std::string topic = relativeTopic(m.getTopic());
-    if (topic == obs_topic) {
-      auto msg = m.instantiate<ppp_bayes_tree::GnssObservations>();
-      const std::size_t i = obs_index++;
-      if (!msg) {
-        c.problems.push_back(path + ": " + topic + " message " + std::to_string(i) + ": not a GnssObservations");
-        continue;
-      }
-      ppp::ObsEpoch epoch;
-      try {
-        if (ppp_ros::fromMessage(*msg, c.layout, epoch, c.issues)) layout_settled = c.epochs.size() + 1;
-        c.epochs.push_back(std::move(epoch));
-        converted.push_back(msg);
-      } catch (const std::invalid_argument& e) {
-        c.problems.push_back(path + ": " + topic + " message " + std::to_string(i) + ": " + e.what());
-      }
-    } else if (topic == corr_topic) {
-      auto msg = m.instantiate<ppp_bayes_tree::PreciseCorrections>();
-      const std::size_t i = corr_index++;
-      if (!msg) {
-        c.problems.push_back(path + ": " + topic + " message " + std::to_string(i) + ": not a PreciseCorrections");
-        continue;
-      }
-      try {
-        ppp::CorrectionBatch batch = ppp_ros::fromMessage(*msg, c.issues);
-        if (!c.streamed) c.streamed = ppp_ros::streamedProductInfo(*msg, batch);
-        ppp::SatelliteBiasBatch biases = ppp_ros::biasesFromMessage(*msg, c.issues);
-        if (!biases.biases.empty()) {
-          c.ar_bias_kind = ppp_ros::phaseInformation(msg->ar_bias_kind);
-          c.ar_biases.push_back(std::move(biases));
-        }
-        c.batches.push_back(std::move(batch));
-      } catch (const std::invalid_argument& e) {
-        c.problems.push_back(path + ": " + topic + " message " + std::to_string(i) + ": " + e.what());
-      }
-    } else if (topic == ppp_ros::kTruthPathTopic && c.truth_path.empty()) {
-      if (auto msg = m.instantiate<nav_msgs::Path>()) {
-        for (const auto& p : msg->poses) {
-          const ppp::GnssTime t = ppp_ros::fromUtcStamp(p.header.stamp);
-          if (!c.truth_path.time.empty() && !(c.truth_path.time.back() < t)) continue;  // strictly increasing
-          c.truth_path.time.push_back(t);
-          c.truth_path.position_ecef_m.emplace_back(p.pose.position.x, p.pose.position.y, p.pose.position.z);
-        }
-      }
-    }
-  }
+  BagReading r;
+  r.path = path;
+  const auto take = [&](const rosbag::MessageInstance& m, std::size_t i) {
+    const std::string topic = ppp_ros::relativeBagTopic(m.getTopic());
+    if (topic == obs_topic) takeObservations(m, i, r);
+    else if (topic == corr_topic) takeCorrections(m, i, r);
+    else if (topic == ppp_ros::kTruthPathTopic && r.c.truth_path.empty()) takeTruthPath(m, r.c.truth_path);
+  };
+  ppp_ros::readBagMessages(bag, path, take, r.c.problems);
   bag.close();
   ppp_ros::ConversionIssues counted_once;  // the first conversion counted them
-  for (std::size_t i = 0; i + 1 < layout_settled; ++i)
-    ppp_ros::fromMessage(*converted[i], c.layout, c.epochs[i], counted_once);
-  return c;
+  for (std::size_t i = 0; i + 1 < r.layout_settled; ++i)
+    ppp_ros::fromMessage(*r.converted[i], r.c.layout, r.c.epochs[i], counted_once);
+  sortByGnssTime(r.c.epochs, "observation epochs", r.c);
+  sortByGnssTime(r.c.batches, "correction batches", r.c);
+  sortByGnssTime(r.c.ar_biases, "bias batches", r.c);
+  return r.c;
 }
 
 struct Options {
@@ -242,6 +294,10 @@ int main(int argc, char** argv) {
               << bag.batches.size() << " correction batches"
               << (bag.truth_path.empty() ? "" : ", a truth path") << "\n";
     for (const auto& p : bag.problems) std::cerr << "ppp_bag_solve: skipped " << p << "\n";
+    if (!bag.problems.empty())
+      std::cerr << "ppp_bag_solve: skipped messages: " << bag.problems.size() << " (the rest of " << o.bag
+                << " is used)\n";
+    for (const auto& n : bag.order_notes) std::cerr << "ppp_bag_solve: " << o.bag << ": " << n << "\n";
     for (const auto& [reason, n] : bag.issues.counts)
       std::cerr << "ppp_bag_solve: " << n << " x " << reason << "\n";
     ppp::PppSolveRequest req;

@@ -12,6 +12,8 @@
 //      refused, naming the file and its mode;
 //   3. the environment variable PPP_NTRIP_CREDENTIALS="user:password" (same syntax),
 //      when the spec has neither a password nor credentials=.
+// From the file and the variable alike, trailing CR and LF characters are removed
+// (a line written on Windows), and an empty password ("alice:") is refused.
 // A user given in the spec must match the user of the file or the variable.
 // Errors are ByteSourceSpecError naming the spec (masked), the file or the variable,
 // never the password.

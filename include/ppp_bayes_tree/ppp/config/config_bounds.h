@@ -20,4 +20,15 @@ struct ConfigUpperBound {
 /// The upper bound of the key at `key_path` ("smoother.fixed_lag_s"), if it has one.
 std::optional<ConfigUpperBound> configUpperBound(const std::string& key_path);
 
+/// A smallest meaningful value, for keys whose tiny positive values pass "> 0" but
+/// break the estimators (an a priori sigma of 1e-300 m squares to a zero variance:
+/// the covariance is singular at the first epoch).
+struct ConfigLowerBound {
+  double min;          // smallest accepted value (inclusive), in the key's unit
+  const char* reason;  // why smaller values are refused
+};
+
+/// The lower bound of the key at `key_path`, if it has one beyond its sign.
+std::optional<ConfigLowerBound> configLowerBound(const std::string& key_path);
+
 }  // namespace ppp

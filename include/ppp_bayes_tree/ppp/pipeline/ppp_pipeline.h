@@ -223,6 +223,9 @@ class PppPipeline {
   /// The 4-character station name (marker name, else the file name).
   std::string stationName() const;
   const PppConfig& config() const { return config_; }
+  /// The GLONASS channel of a slot: the observation header's, else the configuration's
+  /// (navigation records); nullopt when neither knows it.
+  std::optional<int> glonassChannel(const SatelliteId& sat) const;
   /// Notes known before the run (antenna sources grow as satellites are seen).
   std::vector<std::string> notes() const;
   /// What the receiver antenna policy "warn" left out (once each; see PppMeasurementModel).

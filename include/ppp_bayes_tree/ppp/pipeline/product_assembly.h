@@ -169,7 +169,10 @@ class ProductAssembly {
   /// clock centre, the satellite antenna model): the antennas (satellite family)
   /// and the gate are decided again; the systems stay (the estimator is made).
   /// Returns true when something changed: then antennas() and phaseBiases() are
-  /// to be handed to a new epoch processor. False for file products.
+  /// to be handed to a new epoch processor. False for file products. The notes of
+  /// the decision made before the declaration (the antenna check, the gate) are
+  /// replaced by the new decision's; the gate keeps the configured mode
+  /// (ambiguity_resolution.enabled as written, not as resolved).
   bool declareStreamedProducts(const StreamedProductInfo& info);
 
  private:
@@ -180,6 +183,11 @@ class ProductAssembly {
   /// SSR corrections), not in the stream, no GLONASS channels, no satellite antennas.
   std::string whyNotCovered(const ProductAssemblyInputs& in, GnssSystem system,
                             const OrbitClockProducts& orbit_clock) const;
+  /// A GLONASS channel of the observation header that the navigation records contradict: a problem.
+  void checkGlonassChannels(const ProductAssemblyInputs& in, const OrbitClockProducts& orbit_clock);
+  /// The products' spans against the observations' (product_coverage.h): a partial
+  /// cover is a note, none a refusal (throws std::runtime_error naming both spans).
+  void checkCoverage(const ProductAssemblyInputs& in, const OrbitClockProducts& orbit_clock);
   void checkSatelliteAntennas(const ProductAssemblyInputs& in, const std::vector<std::string>& product_models,
                               const OrbitClockProducts& orbit_clock);
   void decideArGate(const ProductAssemblyInputs& in, const OrbitClockProducts& orbit_clock);
@@ -199,7 +207,9 @@ class ProductAssembly {
   PhaseInformation streamed_phase_kind_ = PhaseInformation::None;
   std::optional<AntennaModelCheck> antenna_check_;
   ArGateVerdict verdict_;
+  AmbiguityResolutionMode configured_ar_mode_ = AmbiguityResolutionMode::Auto;  // as the configuration asks
   std::vector<std::string> notes_, problems_;
+  std::size_t decision_notes_begin_ = 0;  // notes_ from here: the antenna check and the gate's decision
 };
 
 }  // namespace ppp

@@ -22,6 +22,7 @@
 
 #include "ppp_bayes_tree/models/bias_provider.h"
 #include "ppp_bayes_tree/models/ephemeris_source.h"
+#include "ppp_bayes_tree/ppp/pipeline/product_coverage.h"
 #include "ppp_bayes_tree/types/glonass_channels.h"
 #include "ppp_bayes_tree/types/satellite_id.h"
 
@@ -74,6 +75,9 @@ struct OrbitClockProducts {
   std::shared_ptr<const BiasProvider> ssr_biases;
   bool ssr_phase_biases = false;
   GlonassChannels glonass_channels;  // from navigation records (broadcast sources)
+  /// The spans of the orbit and clock records read (precise sources), for the
+  /// coverage check (product_coverage.h); empty where the source states none.
+  std::vector<ProductTimeSpan> spans;
 };
 
 using OrbitClockLoader = OrbitClockProducts (*)(const ProductAssemblyInputs& in, const PppConfig& config,
@@ -139,5 +143,8 @@ const ProductSource* findProductSource(unsigned inputs);
 const ProductSource& selectProductSource(const ProductAssemblyInputs& in);
 /// Empty when `inputs` select a row, else why not (for a tool's usage message).
 std::string productInputsProblem(unsigned inputs);
+/// As productInputsProblem for a run from files (ppp_solve): a streamed source
+/// (no orbit and clock file at all) is a problem too, since nothing streams them.
+std::string fileProductInputsProblem(unsigned inputs);
 
 }  // namespace ppp

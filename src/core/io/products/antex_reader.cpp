@@ -4,6 +4,7 @@
 #include "ppp_bayes_tree/io/products/antex_reader.h"
 
 #include <algorithm>
+#include <map>
 #include <cmath>
 #include <stdexcept>
 #include <utility>
@@ -448,12 +449,61 @@ std::size_t AntexFile::receiverCount() const {
 
 std::size_t AntexFile::satelliteCount() const { return antennas.size() - receiverCount(); }
 
+namespace {
+
+bool sameFrequency(const FrequencyCalibration& a, const FrequencyCalibration& b) {
+  return a.system == b.system && a.frequency == b.frequency && a.pco_m == b.pco_m &&
+         a.pcv.zenith_first_deg == b.pcv.zenith_first_deg && a.pcv.zenith_last_deg == b.pcv.zenith_last_deg &&
+         a.pcv.zenith_step_deg == b.pcv.zenith_step_deg && a.pcv.azimuth_step_deg == b.pcv.azimuth_step_deg &&
+         a.pcv.noazi_m == b.pcv.noazi_m && a.pcv.azimuth_m == b.pcv.azimuth_m;
+}
+
+bool sameValues(const AntennaCalibration& a, const AntennaCalibration& b) {
+  if (a.frequencies.size() != b.frequencies.size()) return false;
+  for (std::size_t i = 0; i < a.frequencies.size(); ++i)
+    if (!sameFrequency(a.frequencies[i], b.frequencies[i])) return false;
+  return true;
+}
+
+/// One antenna: a satellite (PRN and SVN) or a receiver type and serial.
+std::string antennaKey(const AntennaCalibration& a) {
+  return a.satellite ? a.satellite->toString() + " " + a.svn : a.type + "|" + a.serial;
+}
+
+bool validitiesOverlap(const AntennaCalibration& a, const AntennaCalibration& b) {
+  const bool a_before_b = a.valid_until && b.valid_from && !(*b.valid_from < *a.valid_until);
+  const bool b_before_a = b.valid_until && a.valid_from && !(*a.valid_from < *b.valid_until);
+  return !a_before_b && !b_before_a;
+}
+
+/// Two blocks of one antenna valid at the same time with different values: which
+/// one applies is unknown, so the file is refused (ParseError at the later block).
+void refuseConflictingBlocks(const AntexFile& file, const std::string& name) {
+  std::map<std::string, std::vector<const AntennaCalibration*>> by_antenna;
+  for (const auto& a : file.antennas) by_antenna[antennaKey(a)].push_back(&a);
+  for (const auto& [key, blocks] : by_antenna)
+    for (std::size_t i = 0; i < blocks.size(); ++i)
+      for (std::size_t j = i + 1; j < blocks.size(); ++j) {
+        const AntennaCalibration& a = *blocks[i];
+        const AntennaCalibration& b = *blocks[j];
+        if (!validitiesOverlap(a, b) || sameValues(a, b)) continue;
+        throw ParseError(name, b.line,
+                         "antenna block of " + b.label() + " conflicts with the block at line " +
+                             std::to_string(a.line) +
+                             ": the same antenna, overlapping validity, different offsets or variations "
+                             "(which one is right is unknown: remove one)");
+      }
+}
+
+}  // namespace
+
 AntexFile readAntex(LineSource& source) {
   AntexFile out;
   out.report.setFile(source.name());
   AntexParser parser(source, out);
   parser.readHeader();
   parser.readBody();
+  refuseConflictingBlocks(out, source.name());
   out.report.count("antennas read", out.antennas.size());
   return out;
 }

@@ -581,14 +581,14 @@ class BodyParser {
       e.acceleration_mps2[axis] = 1e3 * required(f, k + 2, l0, "acceleration");
     }
     e.health = integer(required(f, 6, l0, "health"), 0, 15, f.line_of[6], "health");
-    // Channels are -7..+13 since 2005; earlier files (e.g. the RINEX 2.11 example)
-    // carry the historic 0..24.
+    // Channels are -7..+6 since 2005 (GlonassChannels); the format allows -7..+13 and
+    // earlier files (e.g. the RINEX 2.11 example) carry the historic 0..24.
     e.frequency_channel = integer(required(f, 10, l0, "frequency number"), -7, 24, f.line_of[10],
                                   "frequency number");
     e.age_days = required(f, 14, l0, "age of operation information");
     if (auto why = checkGlonassState(e)) throw RecordError(l0, *why);
     if (!out_.glonass_channels.set(sat.prn, e.frequency_channel)) {
-      out_.report.count("GLONASS channels not recorded (slot above 30 or channel outside -7..13)");
+      out_.report.count("GLONASS channels not recorded (slot above 30 or channel outside -7..+6)");
     }
     noteToc(e.tb);
     out_.glonass.push_back(e);

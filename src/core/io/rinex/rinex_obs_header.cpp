@@ -265,10 +265,13 @@ void RinexObsHeaderParser::glonassSlots(std::string_view text, std::size_t line_
     if (sat_text.empty()) break;
     const auto sat = SatelliteId::parse(sat_text);
     long long k = 0;
-    if (!sat || sat->system != GnssSystem::GLONASS ||
-        parseInt(column(text, 8 + 7 * i, 2), k) != FieldStatus::Ok ||
-        !header_.glonass_channels.set(sat->prn, static_cast<int>(k))) {
+    if (!sat || sat->system != GnssSystem::GLONASS || parseInt(column(text, 8 + 7 * i, 2), k) != FieldStatus::Ok ||
+        sat->prn < 1 || sat->prn > GlonassChannels::kMaxSlot) {
       fail(line_number, "bad GLONASS SLOT / FRQ # entry '" + field(text, 4 + 7 * i, 7) + "'");
+    }
+    if (!header_.glonass_channels.set(sat->prn, static_cast<int>(k))) {
+      fail(line_number, "GLONASS SLOT / FRQ # channel " + std::to_string(k) + " of " + sat->toString() +
+                            " is outside -7..+6 (the channels in use since 2005, GLONASS ICD 5.1)");
     }
     ++header_.glonass_channel_entries;
     --pending_glonass_;

@@ -16,11 +16,22 @@ struct UserPassword {
   std::string user, password;
 };
 
-/// "user:password" of `origin` (a file or the variable), refused without a ':'.
-UserPassword splitUserPassword(const ByteSourceSpec& spec, const std::string& line, const std::string& origin) {
+/// The line without its line end: every trailing CR and LF (a file or a variable
+/// written on Windows, `export VAR="$(cat file)"`), the same for both sources.
+std::string withoutLineEnd(std::string line) {
+  while (!line.empty() && (line.back() == '\r' || line.back() == '\n')) line.pop_back();
+  return line;
+}
+
+/// "user:password" of `origin` (a file line or the variable), its line end removed;
+/// refused without a user, a ':' or a password (the password is never named).
+UserPassword splitUserPassword(const ByteSourceSpec& spec, const std::string& text, const std::string& origin) {
+  const std::string line = withoutLineEnd(text);
   const auto colon = line.find(':');
   if (colon == std::string::npos || colon == 0)
     refuse(spec, origin + " must hold user:password (a user, a ':' and the password)");
+  if (colon + 1 == line.size())
+    refuse(spec, origin + " holds an empty password (user:password with nothing after the ':')");
   return {line.substr(0, colon), line.substr(colon + 1)};
 }
 
@@ -43,7 +54,7 @@ UserPassword readCredentialsFile(const ByteSourceSpec& spec, const std::string& 
   if (!in) refuse(spec, origin + " cannot be read");
   std::string line;
   while (std::getline(in, line)) {
-    if (!line.empty() && line.back() == '\r') line.pop_back();
+    line = withoutLineEnd(line);
     if (line.empty() || line[0] == '#') continue;
     return splitUserPassword(spec, line, origin);
   }

@@ -126,7 +126,24 @@ const std::map<std::string, ConfigUpperBound>& bounds() {
   return table;
 }
 
+const std::map<std::string, ConfigLowerBound>& lowerBounds() {
+  static const std::map<std::string, ConfigLowerBound> table = {
+      {"stochastic.position.initial_sigma_m", {1.0e-3, "no start is known better than a millimetre"}},
+      {"stochastic.zwd.initial_sigma_m", {1.0e-3, "no model knows the wet delay better than a millimetre"}},
+      {"stochastic.clock.initial_sigma_m", {1.0, "the code start knows the receiver clock to metres"}},
+      {"stochastic.phase_bias.initial_sigma_m", {1.0, "phase minus code is known to the code noise, metres"}},
+      {"stochastic.troposphere_gradient.initial_sigma_m", {1.0e-6, "gradients are not known to a micrometre"}},
+  };
+  return table;
+}
+
 }  // namespace
+
+std::optional<ConfigLowerBound> configLowerBound(const std::string& key_path) {
+  const auto it = lowerBounds().find(key_path);
+  if (it == lowerBounds().end()) return std::nullopt;
+  return it->second;
+}
 
 std::optional<ConfigUpperBound> configUpperBound(const std::string& key_path) {
   const auto it = bounds().find(key_path);

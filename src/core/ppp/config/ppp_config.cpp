@@ -4,6 +4,8 @@
 #include <map>
 #include <sstream>
 
+#include "ppp_bayes_tree/ppp/config/yaml_document.h"
+
 namespace ppp {
 namespace {
 
@@ -135,29 +137,6 @@ void readSsr(YamlSection s, SsrStreamOptions& o) {
   s.finish();
 }
 
-/// Throws ConfigError for the first key that appears twice in one mapping
-/// (anywhere in the document), naming its path and both lines.
-void rejectDuplicateKeys(const YAML::Node& node, const std::string& file, const std::string& path) {
-  if (node.IsSequence()) {
-    std::size_t i = 0;
-    for (const auto& item : node) rejectDuplicateKeys(item, file, path + "[" + std::to_string(i++) + "]");
-    return;
-  }
-  if (!node.IsMap()) return;
-  std::map<std::string, int> first_line;  // key -> line (1-based)
-  for (const auto& kv : node) {
-    const std::string key = kv.first.IsScalar() ? kv.first.Scalar() : "<non-scalar key>";
-    const std::string key_path = path.empty() ? key : path + "." + key;
-    const int line = kv.first.Mark().line + 1;
-    const auto [it, inserted] = first_line.emplace(key, line);
-    if (!inserted)
-      throw ConfigError(file, key_path,
-                        "key given twice in one mapping, at line " + std::to_string(it->second) + " and line " +
-                            std::to_string(line) + " (YAML keeps only one: remove or merge one of them)");
-    rejectDuplicateKeys(kv.second, file, key_path);
-  }
-}
-
 }  // namespace
 
 PppConfig::operator EstimatorOptions() const {
@@ -203,42 +182,13 @@ PppConfig bindPppConfig(const YAML::Node& root, const std::string& source_name) 
   return config;
 }
 
-namespace {
-
-/// One YAML document: syntax and duplicate keys checked, errors naming `source_name`.
-YAML::Node parseConfigDocument(const std::string& yaml_text, const std::string& source_name) {
-  YAML::Node root;
-  try {
-    root = YAML::Load(yaml_text);
-  } catch (const YAML::Exception& e) {
-    throw ConfigError(source_name, "",
-                      "YAML syntax error at line " + std::to_string(e.mark.line + 1) + ": " + e.msg);
-  }
-  // yaml-cpp keeps both entries of a key written twice and reads the first:
-  // refuse the document instead (two `measurement_model:` sections, say).
-  rejectDuplicateKeys(root, source_name, "");
-  return root;
-}
-
-}  // namespace
-
 PppConfig parsePppConfig(const std::string& yaml_text, const std::string& source_name) {
-  return bindPppConfig(parseConfigDocument(yaml_text, source_name), source_name);
+  return bindPppConfig(parseYamlDocument(yaml_text, source_name), source_name);
 }
 
 PppConfig loadPppConfig(const std::string& path) { return loadPppConfig(std::vector<std::string>{path}); }
 
 namespace {
-
-/// One YAML file as a document (parseConfigDocument), errors naming the file.
-YAML::Node readConfigDocument(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw ConfigError(path, "", "cannot open the file");
-  std::ostringstream os;
-  os << in.rdbuf();
-  if (in.bad()) throw ConfigError(path, "", "read error");
-  return parseConfigDocument(os.str(), path);
-}
 
 /// `over` laid on `base` as the ROS parameter server does with rosparam load:
 /// mappings merge key by key, anything else (scalars, sequences) replaces.
@@ -260,7 +210,7 @@ PppConfig loadPppConfig(const std::vector<std::string>& paths) {
   YAML::Node root;
   std::string source;
   for (const auto& path : paths) {
-    const YAML::Node document = readConfigDocument(path);
+    const YAML::Node document = loadYamlDocument(path);
     if (!document.IsNull() && !document.IsMap())
       throw ConfigError(path, "", "the document must be a mapping of sections");
     root = source.empty() ? document : (document.IsNull() ? root : layered(root, document));

@@ -75,6 +75,11 @@ double YamlSection::number(const std::string& key, double fallback, Bound bound)
   if (!std::isfinite(v)) fail(key, "expected a finite number, got " + describe(n));
   if (bound == Bound::NonNegative && v < 0.0) fail(key, "must be >= 0, got " + n.Scalar());
   if (bound == Bound::Positive && v <= 0.0) fail(key, "must be > 0, got " + n.Scalar());
+  if (const auto lower = configLowerBound(keyPath(key)); lower && v < lower->min) {
+    const auto upper = configUpperBound(keyPath(key));
+    fail(key, "must be in [" + numberText(lower->min) + ", " + (upper ? numberText(upper->max) : std::string("inf")) +
+                  "] (" + lower->reason + "), got " + n.Scalar());
+  }
   if (const auto upper = configUpperBound(keyPath(key)); upper && v > upper->max) {
     const char* low = bound == Bound::Positive ? "(0, " : bound == Bound::NonNegative ? "[0, " : "(-inf, ";
     fail(key, "must be in " + std::string(low) + numberText(upper->max) + "] (" + upper->reason + "), got " +

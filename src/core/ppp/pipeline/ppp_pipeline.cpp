@@ -23,16 +23,32 @@
 namespace ppp {
 namespace {
 
+/// "the window --start S --end E holds no epoch of F (its epochs: A to B)".
+std::string emptyWindowText(const std::string& path, const ObservationWindow& window, const GnssTime& file_first,
+                            const GnssTime& file_last) {
+  std::string bounds;
+  if (window.start) bounds += " --start " + window.start->toString(TimeSystem::GPS, 0);
+  if (window.end) bounds += " --end " + window.end->toString(TimeSystem::GPS, 0);
+  const std::string span = window.end && file_first >= *window.end
+                               ? "its epochs start at " + file_first.toString(TimeSystem::GPS, 0)
+                               : "its epochs: " + file_first.toString(TimeSystem::GPS, 0) + " to " +
+                                     file_last.toString(TimeSystem::GPS, 0);
+  return "the window" + bounds + " holds no epoch of " + path + " (" + span + ")";
+}
+
 /// The span of an observation file's epochs (one extra pass over the file, a few
 /// ms); unset when it cannot be read (reported by the main pass).
-/// With a window: the span of the epochs inside it (the pass stops after its end).
+/// With a window: the span of the epochs inside it (the pass stops after its end);
+/// a window that holds no epoch of a readable file is refused, with the file's span.
 std::pair<std::optional<GnssTime>, std::optional<GnssTime>> observationSpan(const std::string& obs_path,
                                                                             const ObservationWindow& window) {
-  std::optional<GnssTime> first, last;
+  std::optional<GnssTime> first, last, file_first, file_last;
   try {
     RinexObsReader reader = RinexObsReader::open(obs_path);
     ObsEpoch epoch;
     while (reader.next(epoch)) {
+      if (!file_first || epoch.time < *file_first) file_first = epoch.time;
+      if (!file_last || *file_last < epoch.time) file_last = epoch.time;
       if (window.end && epoch.time >= *window.end) break;
       if (!window.contains(epoch.time)) continue;
       if (!first || epoch.time < *first) first = epoch.time;
@@ -41,15 +57,46 @@ std::pair<std::optional<GnssTime>, std::optional<GnssTime>> observationSpan(cons
   } catch (const std::exception&) {
     return {};
   }
+  if (window.bounded() && !first && file_first) throw std::runtime_error(emptyWindowText(obs_path, window, *file_first, *file_last));
   return {first, last};
 }
 
 /// Running sums for one satellite's residual statistics.
 struct ResidualAccumulator {
   std::size_t n = 0, rejections = 0;
+  std::size_t screened_out = 0;  // rejections by the residual tests (code and phase, prefit and postfit)
   double code_sum = 0, code_sq = 0, phase_sum = 0, phase_sq = 0, phase_max = 0;
   double el_min = 90.0, el_max = 0.0;
 };
+
+bool isResidualTest(RejectionReason reason) {
+  switch (reason) {
+    case RejectionReason::CodeLeastSquaresOutlier:
+    case RejectionReason::PrefitCode:
+    case RejectionReason::PrefitPhase:
+    case RejectionReason::PostfitCode:
+    case RejectionReason::PostfitPhase: return true;
+    default: return false;
+  }
+}
+
+/// Fewest residual-test rejections of a GLONASS satellite that can point to a wrong channel.
+constexpr std::size_t kSuspectChannelMinRejections = 10;
+
+/// A GLONASS satellite rejected by the residual tests in more epochs than it was used in:
+/// its frequencies (from its channel) may be wrong.
+bool suspectChannel(std::size_t used, std::size_t screened_out) {
+  return screened_out >= kSuspectChannelMinRejections && screened_out > used;
+}
+
+std::string suspectChannelNote(const SatelliteId& sat, std::size_t used, std::size_t screened_out,
+                               std::optional<int> channel) {
+  const std::string k = channel ? (*channel > 0 ? "+" : "") + std::to_string(*channel) : std::string("unknown");
+  return "warning: " + sat.toString() + " (channel " + k + ") rejected by the residual tests " +
+         std::to_string(screened_out) + " times, used in " + std::to_string(used) +
+         " epochs: a wrong frequency channel gives such residuals; check GLONASS SLOT / FRQ # against the "
+         "navigation records";
+}
 
 }  // namespace
 
@@ -79,6 +126,8 @@ struct PppPipeline::Impl {
   bool ran = false;
 
   void start(const PppConfig& config) {
+    if (!products.ephemeris)
+      throw std::invalid_argument("pipeline inputs: no orbit and clock products (an ephemeris source) to solve with");
     processor = std::make_unique<PppEpochProcessor>(source->header(), config, *products.ephemeris,
                                                     products.antennas, products.biases.get(),
                                                     products.ocean ? &*products.ocean : nullptr);
@@ -131,6 +180,8 @@ PppPipeline::PppPipeline(const PppInputFiles& files, PppConfig config)
     d.source = std::make_unique<RinexObservationSource>(files.obs);
     std::tie(in.first, in.last) = observationSpan(files.obs, files.window);
   }
+  if (const std::string why = fileProductInputsProblem(productInputsGiven(files)); !why.empty())
+    throw std::invalid_argument(why);
   if (files.window.bounded()) {
     d.source = std::make_unique<TimeWindowObservationSource>(std::move(d.source), files.window);
     if (in.first && files.window.start && *in.first < *files.window.start) in.first = files.window.start;
@@ -190,6 +241,11 @@ std::string PppPipeline::stationName() const {
   name = name.substr(0, std::min<std::size_t>(4, name.size()));
   for (auto& c : name) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
   return name;
+}
+
+std::optional<int> PppPipeline::glonassChannel(const SatelliteId& sat) const {
+  if (const auto k = header().glonass_channels.channel(sat.prn)) return k;
+  return config_.signals.glonass_channels.channel(sat.prn);
 }
 
 std::vector<std::string> PppPipeline::notes() const {
@@ -282,8 +338,10 @@ PppRunSummary PppPipeline::run(EpochEstimator& estimator, const EpochCallback& o
     }
     summary.arcs += static_cast<std::size_t>(rec.new_arcs);
     summary.slips += static_cast<std::size_t>(rec.slips);
-    for (const auto& x : rec.rejected)
+    for (const auto& x : rec.rejected) {
       if (x.stage == RejectionStage::Model) acc[x.satellite].rejections++;
+      if (isResidualTest(x.reason)) acc[x.satellite].screened_out++;
+    }
     switch (rec.status) {
       case EpochStatus::Ok:
         ++summary.epochs_solved;
@@ -351,6 +409,9 @@ PppRunSummary PppPipeline::run(EpochEstimator& estimator, const EpochCallback& o
     summary.residual_statistics.push_back(st);
   }
   summary.notes = notes();
+  for (const auto& [sat, a] : acc)
+    if (sat.system == GnssSystem::GLONASS && suspectChannel(a.n, a.screened_out))
+      summary.notes.push_back(suspectChannelNote(sat, a.n, a.screened_out, glonassChannel(sat)));
   for (const auto& [text, sats] : code_notes) {
     std::string note = "code reference: " + text;
     if (!sats.empty()) note += ":";

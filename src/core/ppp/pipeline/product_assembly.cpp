@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <map>
 #include <set>
+#include <stdexcept>
 
 #include "ppp_bayes_tree/io/line_source.h"
 #include "ppp_bayes_tree/io/products/rinex_clock_reader.h"
@@ -151,6 +152,8 @@ ProductAssembly ProductAssembly::assemble(const ProductAssemblyInputs& in, const
   ProductAssembly a;
   a.inputs_ = in;
   a.config_ = config;
+  const AmbiguityResolutionOptions& ar = config.ambiguity_resolution;
+  a.configured_ar_mode_ = ar.enabled ? AmbiguityResolutionMode::On : ar.mode;
   const ProductSource& source = selectProductSource(in);  // throws for inputs of no source
   const std::vector<GnssSystem> candidates =
       config.signals.systems_from_products ? automaticSignalSystems() : config.signals.systems;
@@ -164,6 +167,7 @@ ProductAssembly ProductAssembly::assemble(const ProductAssemblyInputs& in, const
   a.ephemeris_ = orbit_clock.ephemeris;
   // GLONASS channels of the navigation records, where the observation header has none.
   a.config_.signals.glonass_channels.fillMissing(orbit_clock.glonass_channels);
+  a.checkGlonassChannels(in, orbit_clock);
 
   // ANTEX (satellites of the products' family first), Bias-SINEX, BLQ.
   for (const auto& f : in.clk) a.clock_headers_.push_back(readRinexClockHeader(f));  // read once
@@ -180,7 +184,9 @@ ProductAssembly ProductAssembly::assemble(const ProductAssemblyInputs& in, const
   a.notes_.insert(a.notes_.end(), a.set_->notes().begin(), a.set_->notes().end());
   a.problems_.insert(a.problems_.end(), a.set_->problems().begin(), a.set_->problems().end());
 
+  a.checkCoverage(in, orbit_clock);
   if (config.signals.systems_from_products) a.resolveSystems(in, candidates, orbit_clock);
+  a.decision_notes_begin_ = a.notes_.size();
   if (a.antennas() && !product_models.empty()) a.checkSatelliteAntennas(in, product_models, orbit_clock);
 
   // Code biases: the Bias-SINEX file's, else the SSR recording's.
@@ -238,6 +244,34 @@ std::string ProductAssembly::whyNotCovered(const ProductAssemblyInputs& in, Gnss
   return {};
 }
 
+void ProductAssembly::checkGlonassChannels(const ProductAssemblyInputs& in, const OrbitClockProducts& orbit_clock) {
+  if (!in.observation_glonass_channels) return;
+  const auto signed_text = [](int k) { return (k > 0 ? "+" : "") + std::to_string(k); };
+  for (int slot = 1; slot <= GlonassChannels::kMaxSlot; ++slot) {
+    const std::optional<int> header = in.observation_glonass_channels->channel(slot);
+    const std::optional<int> nav = orbit_clock.glonass_channels.channel(slot);
+    if (!header || !nav || *header == *nav) continue;
+    problems_.push_back("GLONASS " + SatelliteId{GnssSystem::GLONASS, slot}.toString() + ": channel " +
+                        signed_text(*header) + " in the observation header (GLONASS SLOT / FRQ #), " +
+                        signed_text(*nav) + " in the navigation records: the channels conflict (the header's is used)");
+  }
+}
+
+void ProductAssembly::checkCoverage(const ProductAssemblyInputs& in, const OrbitClockProducts& orbit_clock) {
+  if (!in.first || !in.last) return;  // the observations' span is not known (streamed)
+  std::vector<ProductTimeSpan> spans = orbit_clock.spans;
+  if (const BiasSinexFile* bias = set_->biasFile(); bias != nullptr && in.bias) {
+    ProductTimeSpan span{"biases", fileBaseName(*in.bias), bias->header.data_start, bias->header.data_end, true};
+    if (span.first && span.last) spans.push_back(span);  // a header without a validity states none
+  }
+  for (const ProductTimeSpan& span : spans) {
+    const CoverageFinding finding = checkProductCoverage(span, *in.first, *in.last);
+    if (finding.verdict == CoverageVerdict::NotCovered)
+      throw std::runtime_error("products do not cover the observations: " + finding.text);
+    if (finding.verdict == CoverageVerdict::Partial) notes_.push_back("coverage: " + finding.text);
+  }
+}
+
 void ProductAssembly::checkSatelliteAntennas(const ProductAssemblyInputs& in,
                                              const std::vector<std::string>& product_models,
                                              const OrbitClockProducts& orbit_clock) {
@@ -261,7 +295,7 @@ void ProductAssembly::checkSatelliteAntennas(const ProductAssemblyInputs& in,
 void ProductAssembly::decideArGate(const ProductAssemblyInputs& in, const OrbitClockProducts& orbit_clock) {
   const AmbiguityResolutionOptions& ar = config_.ambiguity_resolution;
   ArGateVerdict& v = verdict_;
-  v.mode = ar.enabled ? AmbiguityResolutionMode::On : ar.mode;
+  v.mode = configured_ar_mode_;  // config_'s `enabled` is the resolved one after a first decision
   if (v.mode == AmbiguityResolutionMode::Off) {
     v.reason = ArGateReason::Disabled;
     config_.ambiguity_resolution.enabled = false;
@@ -398,6 +432,14 @@ bool ProductAssembly::declareStreamedProducts(const StreamedProductInfo& info) {
   if (antennas_ && family != antennas_->satelliteFamily())
     antennas_ = std::make_shared<const AntexCalibrations>(antennas_->files(), family);
   const OrbitClockProducts streamed;  // orbits and clocks not known before the run
+  // The earlier decision's notes were made without the declaration: replaced
+  // (streamed orbits and clocks bring no code-bias note between them).
+  notes_.resize(std::min(decision_notes_begin_, notes_.size()));
+  notes_.push_back("the product stream declares " +
+                   (info.clock_centre.empty() ? std::string("no clock centre") : "clocks of " + info.clock_centre) +
+                   " and " +
+                   (info.antenna_model.empty() ? std::string("no satellite antenna model")
+                                               : "the satellite antenna model " + info.antenna_model));
   antenna_check_.reset();
   if (antennas_ && !models.empty()) checkSatelliteAntennas(inputs_, models, streamed);
   verdict_ = ArGateVerdict{};

@@ -4,6 +4,7 @@
 #include <iterator>
 #include <stdexcept>
 
+#include "ppp_bayes_tree/io/line_source.h"
 #include "ppp_bayes_tree/io/record_filter.h"
 #include "ppp_bayes_tree/models/broadcast_products.h"
 #include "ppp_bayes_tree/models/precise_ephemeris.h"
@@ -25,6 +26,32 @@ constexpr std::array<InputName, 5> kInputNames{{
     {kProductSsr, "SSR"},
     {kProductLiveSsr, "live SSR"},
 }};
+
+/// "a.sp3, b.sp3": the base names of `paths`.
+std::string fileNames(const std::vector<std::string>& paths) {
+  std::string out;
+  for (const auto& p : paths) out += (out.empty() ? "" : ", ") + fileBaseName(p);
+  return out;
+}
+
+ProductTimeSpan timeSpan(std::string kind, const std::vector<std::string>& paths,
+                         const std::optional<ProductSpan>& span) {
+  ProductTimeSpan out;
+  out.kind = std::move(kind);
+  out.files = fileNames(paths);
+  if (span) {
+    out.first = span->first;
+    out.last = span->last;
+  }
+  return out;
+}
+
+/// The orbit records' span and, with clock files, the clock records' span.
+std::vector<ProductTimeSpan> preciseSpans(const ProductAssemblyInputs& in, const PreciseEphemeris& ephemeris) {
+  std::vector<ProductTimeSpan> spans = {timeSpan("orbits", in.sp3, ephemeris.orbitSpan())};
+  if (!in.clk.empty()) spans.push_back(timeSpan("clocks", in.clk, ephemeris.clockSpan()));
+  return spans;
+}
 
 }  // namespace
 
@@ -61,6 +88,7 @@ OrbitClockProducts loadPreciseOrbitsAndClocks(const ProductAssemblyInputs& in, c
   std::set_intersection(orbits.begin(), orbits.end(), clocks.begin(), clocks.end(),
                         std::inserter(out.satellites, out.satellites.begin()));
   out.satellites_known = true;
+  out.spans = preciseSpans(in, *ephemeris);
   out.ephemeris = std::move(ephemeris);
   return out;
 }
@@ -116,13 +144,30 @@ const ProductSource* findProductSource(unsigned inputs) {
   return nullptr;
 }
 
-std::string productInputsProblem(unsigned inputs) {
-  if (findProductSource(inputs)) return {};
+namespace {
+
+/// "--sp3 --clk (precise); ..." : the file sources a tool accepts.
+std::string acceptedFileSources() {
   std::string accepted;
   for (const ProductSource& s : kProductSources)
     if (!s.streamed) accepted += (accepted.empty() ? "" : "; ") + productInputNames(s.inputs) + " (" +
                                  std::string(s.name) + ")";
-  return "orbit and clock inputs " + productInputNames(inputs) + " make no product source: give " + accepted;
+  return accepted;
+}
+
+}  // namespace
+
+std::string productInputsProblem(unsigned inputs) {
+  if (findProductSource(inputs)) return {};
+  return "orbit and clock inputs " + productInputNames(inputs) + " make no product source: give " +
+         acceptedFileSources();
+}
+
+std::string fileProductInputsProblem(unsigned inputs) {
+  const ProductSource* source = findProductSource(inputs);
+  if (source && !source->streamed) return {};
+  if (source) return "no orbit and clock products given: give " + acceptedFileSources();
+  return productInputsProblem(inputs);
 }
 
 const ProductSource& selectProductSource(const ProductAssemblyInputs& in) {
