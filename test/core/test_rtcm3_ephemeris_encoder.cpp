@@ -254,10 +254,13 @@ TEST(Rtcm3EphemerisEncoder, RealRecordingFramesAreReEncodedBitForBit) {
     // gpst2time(week, toes)); they differ by one for a record sent in another week
     // than its toe's (GPS: sent on Saturday for a Sunday toe; Galileo: a Saturday toe
     // still sent after midnight), which this recording, across a week boundary, holds.
-    const auto [week_at, week_bits] = t == 1044 ? std::make_pair(446, 10)
-                                      : t == 1019 ? std::make_pair(18, 10)
-                                      : t == 1042 ? std::make_pair(18, 13)
-                                                  : std::make_pair(18, 12);
+    // Plain variables, not structured bindings: the lambdas below capture them, which
+    // C++17 (and clang before 16) does not allow for a binding.
+    const std::pair<int, int> week_field = t == 1044 ? std::make_pair(446, 10)
+                                         : t == 1019 ? std::make_pair(18, 10)
+                                         : t == 1042 ? std::make_pair(18, 13)
+                                                     : std::make_pair(18, 12);
+    const int week_at = week_field.first, week_bits = week_field.second;
     auto field = [](const std::vector<std::uint8_t>& v, int at, int n) {
       std::int64_t x = 0;
       for (int i = at; i < at + n; ++i) x = (x << 1) | ((v[i / 8] >> (7 - i % 8)) & 1);

@@ -57,7 +57,7 @@ TEST(BitReaderWriter, RoundTripMixedFields) {
       writer.putUnsigned(v, f.bits);
     } else if (f.kind == 1) {
       const std::int64_t half = f.bits == 64 ? INT64_MAX : (std::int64_t{1} << (f.bits - 1));
-      f.value = f.bits == 64 ? static_cast<std::int64_t>(rng()) : static_cast<std::int64_t>(rng() % (2 * half)) - half;
+      f.value = f.bits == 64 ? static_cast<std::int64_t>(rng()) : static_cast<std::int64_t>(rng() % (2 * static_cast<std::uint64_t>(half))) - half;
       writer.putSigned(f.value, f.bits);
     } else {
       if (f.bits < 2) f.bits = 2;

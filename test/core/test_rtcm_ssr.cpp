@@ -85,7 +85,11 @@ TEST(RtcmSsrCodec, RoundTripEveryKindAndSystemRtcmAndIgs) {
                                                            {GnssSystem::Galileo, 11}, {GnssSystem::QZSS, 2},
                                                            {GnssSystem::BeiDou, 23},  {GnssSystem::SBAS, 27}};
   for (const bool igs : {false, true}) {
-    for (const auto& [sys, prn] : systems) {
+    for (const auto& entry : systems) {
+      // Plain variables, not structured bindings: the lambda below captures sys, which
+      // C++17 (and clang before 16) does not allow for a binding.
+      const GnssSystem sys = entry.first;
+      const int prn = entry.second;
       const SatelliteId s = sat(sys, prn);
       const auto epoch = static_cast<std::uint32_t>(sys == GnssSystem::GLONASS && !igs ? 10800 + 3600 : sow);
       const auto igs_sub = [&](int offset) {

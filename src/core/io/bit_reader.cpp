@@ -42,8 +42,9 @@ std::int64_t BitReader::s(int bits) {
   const std::uint64_t raw = u(bits);
   if (bits == 64) return static_cast<std::int64_t>(raw);
   const std::uint64_t sign = std::uint64_t{1} << (bits - 1);
-  return (raw & sign) ? static_cast<std::int64_t>(raw) - static_cast<std::int64_t>(sign << 1)
-                      : static_cast<std::int64_t>(raw);
+  // A negative field is -(2^bits - raw); 2^bits - raw is at most 2^(bits-1) and fits
+  // (subtracting 2^bits as a signed number overflowed for a 63-bit field).
+  return (raw & sign) ? -static_cast<std::int64_t>((sign << 1) - raw) : static_cast<std::int64_t>(raw);
 }
 
 std::int64_t BitReader::sm(int bits) {
