@@ -113,11 +113,60 @@ struct SyntheticProblem {
   }
 };
 
+/// The options for the synthetic problem's hold mechanics: its subsets' success
+/// rate is 0.68 (the geometry and the common receiver phase bias of its
+/// covariance), so they are accepted on the ratio test alone here; the default
+/// acceptance is tested in SubsetWithAHighRatioButALowSuccessRateIsNotFixed.
+/// Its covariance is the floats' true one: variance factor 1.
+AmbiguityResolutionOptions ratioTestOptions() {
+  AmbiguityResolutionOptions opt;
+  opt.enabled = true;
+  opt.hold.require_subset_success_rate = false;
+  opt.narrow_lane.success_rate_variance_factor = 1.0;
+  return opt;
+}
+
+TEST(AmbiguityHold, SubsetWithAHighRatioButALowSuccessRateIsNotFixed) {
+  // The floats sit on their integers (ratio ~1e25), but the covariance says the
+  // integers are not determined (bootstrapped success rate 0.68 < 0.999): by
+  // default nothing is held, whatever the ratio; on the ratio test alone all five
+  // single differences are.
+  SyntheticProblem s;
+  const int rd = SyntheticProblem::receiver_dim;
+  const auto held = [&](const AmbiguityResolutionOptions& opt, AmbiguityFixSummary& summary) {
+    AmbiguityResolver resolver(opt);
+    s.feedWideLanes(resolver, 60);
+    for (int k = 0; k < 30; ++k) resolver.resolveAndHold(s.truth, s.P, rd, s.bias_arcs, &s.osb, summary);
+    return resolver.heldCount();
+  };
+  AmbiguityResolutionOptions defaults;
+  defaults.enabled = true;
+  AmbiguityFixSummary summary;
+  EXPECT_EQ(held(defaults, summary), 0) << summary.text();
+  EXPECT_EQ(summary.ils_reason, IlsFloatReason::LowSuccessRate) << summary.text();
+  EXPECT_GT(summary.ratio, 1e6);
+  EXPECT_LT(summary.bootstrap_success_rate, defaults.narrow_lane.min_success_rate);
+  EXPECT_EQ(held(ratioTestOptions(), summary), 5) << summary.text();
+  // The variance factor only lowers the success rate: the same floats with a
+  // covariance 100 times smaller pass with factor 1 and 2, not with 100.
+  const auto heldScaled = [&](double factor) {
+    AmbiguityResolutionOptions opt = defaults;
+    opt.narrow_lane.success_rate_variance_factor = factor;
+    AmbiguityResolver resolver(opt);
+    s.feedWideLanes(resolver, 60);
+    AmbiguityFixSummary sm;
+    for (int k = 0; k < 30; ++k) resolver.resolveAndHold(s.truth, 0.01 * s.P, rd, s.bias_arcs, &s.osb, sm);
+    return resolver.heldCount();
+  };
+  EXPECT_EQ(heldScaled(1.0), 5);
+  EXPECT_EQ(heldScaled(2.0), 5);
+  EXPECT_EQ(heldScaled(100.0), 0);
+}
+
 TEST(AmbiguityHold, WrongIntegerIsHeldThenDetectedReleasedAndTheEstimateReturns) {
   SyntheticProblem s;
   const int rd = SyntheticProblem::receiver_dim;
-  AmbiguityResolutionOptions opt;
-  opt.enabled = true;
+  const AmbiguityResolutionOptions opt = ratioTestOptions();
   AmbiguityResolver resolver(opt);
   s.feedWideLanes(resolver, 60);
   const double lambda_nl = narrowLaneWavelength_m(kF1, kF2);
@@ -191,8 +240,7 @@ TEST(AmbiguityHold, HighSuccessRateSubsetIsHeldAfterFewerValidationEpochs) {
   SyntheticProblem s;
   const int rd = SyntheticProblem::receiver_dim;
   const auto firstHeld = [&](double fast_success_rate) {
-    AmbiguityResolutionOptions opt;
-    opt.enabled = true;
+    AmbiguityResolutionOptions opt = ratioTestOptions();
     opt.hold.fast_validation_success_rate = fast_success_rate;
     opt.hold.fast_validation_epochs = 2;
     AmbiguityResolver resolver(opt);
@@ -220,8 +268,7 @@ TEST(AmbiguityHold, HeldIntegersSurviveTheEndOfTheirReferenceArc) {
   SyntheticProblem s;
   const int rd = SyntheticProblem::receiver_dim;
   for (const bool rereference : {true, false}) {
-    AmbiguityResolutionOptions opt;
-    opt.enabled = true;
+    AmbiguityResolutionOptions opt = ratioTestOptions();
     opt.hold.rereference_on_arc_end = rereference;
     AmbiguityResolver resolver(opt);
     s.feedWideLanes(resolver, 60);
@@ -268,8 +315,7 @@ TEST(AmbiguityHold, HeldIntegersSurviveTheEndOfTheirReferenceArc) {
 TEST(AmbiguityHold, DriftingFloatIsNotSearchedAndAChangedIntegerIsNotHeld) {
   SyntheticProblem s;
   const int rd = SyntheticProblem::receiver_dim;
-  AmbiguityResolutionOptions opt;
-  opt.enabled = true;
+  const AmbiguityResolutionOptions opt = ratioTestOptions();
   AmbiguityResolver resolver(opt);
   s.feedWideLanes(resolver, 60);
   const double lambda_nl = narrowLaneWavelength_m(kF1, kF2);
@@ -310,8 +356,7 @@ TEST(AmbiguityHold, ConvergingFloatIsSearchedWhenItsDriftIsWhatItsCovarianceExpl
     std::vector<NarrowLaneFloat> held;
   };
   const auto firstHeld = [&](double drift_sigmas) {
-    AmbiguityResolutionOptions opt;
-    opt.enabled = true;
+    AmbiguityResolutionOptions opt = ratioTestOptions();
     opt.hold.max_float_drift_sigmas = drift_sigmas;
     AmbiguityResolver resolver(opt);
     s.feedWideLanes(resolver, 60);

@@ -302,6 +302,9 @@ TEST(AmbiguityResolver, FixesSyntheticNarrowLanesAndConstrainsACopy) {
   const double receiver_phase_bias_m = 0.4321, receiver_wl_cycles = 0.29;
   AmbiguityResolutionOptions opt;
   opt.enabled = true;
+  // The synthetic covariance is the floats' true one (their errors are drawn
+  // inside it): variance factor 1, not the default for real floats.
+  opt.narrow_lane.success_rate_variance_factor = 1.0;
   AmbiguityResolver resolver(opt);
   std::mt19937 rng(9);
   std::normal_distribution<double> mw_noise(0.0, 0.2);
@@ -471,6 +474,7 @@ struct SyntheticResolution {
     AmbiguityResolutionOptions opt;
     opt.enabled = true;
     opt.narrow_lane.min_fixed = 3;
+    opt.narrow_lane.success_rate_variance_factor = 1.0;  // the synthetic covariance is the true one
     return opt;
   }
   explicit SyntheticResolution(const std::vector<SystemArc>& arcs) : resolver(options()) {

@@ -39,7 +39,7 @@
 //     covariance does not explain carries an unmodelled error or an optimistic
 //     covariance, and its integer is not yet determined).
 //     Candidate gate (Ge et al. 2008): the float conditioned on the held
-//     integers must lie within hold.max_fraction_cycles or 3 of its sigmas of
+//     integers must lie within hold.max_fraction_cycles or hold.max_fraction_sigmas of its sigmas of
 //     an integer, with a sigma below hold.max_sigma_cycles.
 //  6. Partial fixing of the best-determined subset: the candidates are ordered
 //     by the sigma of their float and the worst are dropped one by one until the
@@ -124,15 +124,22 @@ struct AmbiguityHoldOptions {
   /// gate made no difference there; LAMBDA's success rate covers it).
   double max_fraction_cycles = 0.25;
   double max_sigma_cycles = 1.0;
-  /// Partial fixing (step 6) accepts a subset only when its bootstrapped
-  /// success rate (Teunissen 1998) reaches narrow_lane.min_success_rate as well
-  /// as the ratio test (Teunissen, Joosten & Tiberius 1999: the subset is
-  /// chosen by its success rate; the ratio test alone does not bound the
-  /// failure rate, Verhagen & Teunissen 2013). Off by default: CCJ2 GPS +
-  /// Galileo kinematic, the first fix comes at 33.0 min instead of 18.5 (the
-  /// kinematic subsets of the first half hour stay below 0.999 although their
-  /// integers are right: no fixed epoch > 10 cm from the truth either way).
-  bool require_subset_success_rate = false;
+  /// A float further than max_fraction_cycles from its integer still passes
+  /// the gate when it lies within this many of its sigmas (0 = the fraction
+  /// alone). 1: a float 0.35 cycle from its integer at a sigma of 0.14 is not
+  /// an integer yet (3 let such floats through; CCJ2 from 00:35 fixed 13.5 cm
+  /// off, doc/ar_real_data.md, "Restarts").
+  double max_fraction_sigmas = 1.0;
+  /// Every subset the search accepts (the first fix as well as what partial
+  /// fixing adds) must reach the bootstrapped success rate (Teunissen 1998)
+  /// narrow_lane.min_success_rate, computed from the float covariance times
+  /// narrow_lane.success_rate_variance_factor, as well as the ratio test
+  /// (Teunissen, Joosten & Tiberius 1999: the subset is chosen by its success
+  /// rate; the ratio test alone does not bound the failure rate, Verhagen &
+  /// Teunissen 2013). false: the ratio test alone decides subsets larger than
+  /// small_subset_max_size (CCJ2 restarts every 5 min: wrong fixes 35 of 470
+  /// fixed epochs; doc/ar_real_data.md, "Restarts").
+  bool require_subset_success_rate = true;
   /// Subsets of at most this many integers must reach the bootstrapped success
   /// rate narrow_lane.min_success_rate as well as the ratio test, whatever
   /// require_subset_success_rate says (0 = none). The ratio test is a weak test
@@ -177,6 +184,13 @@ enum class AmbiguityResolutionMode {
 };
 std::string toString(AmbiguityResolutionMode mode);  // "false", "true", "auto"
 
+/// The narrow-lane search options PPP-AR starts from (see narrow_lane below).
+inline IlsOptions pppNarrowLaneOptions() {
+  IlsOptions o;
+  o.success_rate_variance_factor = 2.0;
+  return o;
+}
+
 struct AmbiguityResolutionOptions {
   /// What the configuration asks for. The product assembly (product_assembly.h)
   /// turns it into `enabled` for the run: Off -> false, On -> true, Auto -> the
@@ -189,7 +203,11 @@ struct AmbiguityResolutionOptions {
   /// multipath and mapping errors of low satellites) [rad]; 0 = all. 15 deg.
   double min_elevation_rad = 15.0 * kDegToRad;
   WideLaneOptions wide_lane;
-  IlsOptions narrow_lane;
+  /// The narrow-lane search, with its success rate computed from the float
+  /// covariance times 2 (sigmas x 1.41): restarts every 5 min of CCJ2 and every
+  /// hour of ESBC give no wrong fix with it, and 6 wrong fixed epochs with 1
+  /// (doc/ar_real_data.md, "Restarts").
+  IlsOptions narrow_lane = pppNarrowLaneOptions();
   AmbiguityHoldOptions hold;
   /// Fix even when the satellite antenna model of the products (SP3/clock header)
   /// differs from the ANTEX's, or (auto) is not known (antenna_model_consistency.h);

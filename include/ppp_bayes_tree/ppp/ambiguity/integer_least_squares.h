@@ -103,6 +103,14 @@ std::string toString(IlsFloatReason reason);
 struct IlsOptions {
   double ratio_threshold = 3.0;        // second-best / best squared norm, >= to accept
   double min_success_rate = 0.999;     // bootstrapped, for the subset to try first
+  /// The float covariance times this factor is what the success rate is
+  /// computed from (>= 1): the a-posteriori variance factor of the floats. A
+  /// PPP float covariance that models its errors as white is optimistic (the
+  /// held single differences' residual statistic T/m, chi-square per degree of
+  /// freedom, is about 1 for an honest covariance and several times that on
+  /// real stations); the search and the ratio test do not depend on it.
+  /// PPP-AR's default is in ambiguity_resolution.h.
+  double success_rate_variance_factor = 1.0;
   int min_fixed = 4;                   // smallest subset worth fixing
   bool partial = true;                 // try subsets when the full set fails
 };

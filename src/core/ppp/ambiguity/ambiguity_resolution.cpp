@@ -18,6 +18,8 @@ std::string AmbiguityResolutionOptions::validate() const {
   if (!(narrow_lane.ratio_threshold >= 1.0)) return "ratio_threshold must be >= 1";
   if (!(narrow_lane.min_success_rate >= 0.0 && narrow_lane.min_success_rate < 1.0))
     return "min_success_rate must be in [0, 1)";
+  if (!(narrow_lane.success_rate_variance_factor >= 1.0))
+    return "success_rate_variance_factor must be >= 1";
   if (narrow_lane.min_fixed < 1) return "min_fixed must be >= 1";
   if (wide_lane.min_samples < 1) return "wide_lane_min_samples must be >= 1";
   if (!(std::isfinite(wide_lane.correlation_time_s) && wide_lane.correlation_time_s >= 0.0))
@@ -450,12 +452,12 @@ void stackConstraints(const std::vector<Row>& rows, const std::vector<long>& val
 }
 
 /// The candidate gate: a float further from an integer than both
-/// max_fraction_cycles and kGateSigmas of its own sigma carries an error its
+/// max_fraction_cycles and max_fraction_sigmas of its own sigma carries an error its
 /// covariance does not hold (an imprecise float is left to the search's success
 /// rate and ratio test).
-bool offInteger(double fraction_cycles, double sigma_cycles, double max_fraction_cycles) {
-  constexpr double kGateSigmas = 3.0;
-  return std::abs(fraction_cycles) > max_fraction_cycles && std::abs(fraction_cycles) > kGateSigmas * sigma_cycles;
+bool offInteger(double fraction_cycles, double sigma_cycles, const AmbiguityHoldOptions& ho) {
+  return std::abs(fraction_cycles) > ho.max_fraction_cycles &&
+         std::abs(fraction_cycles) > ho.max_fraction_sigmas * sigma_cycles;
 }
 
 /// The float history of a single difference is steady (step 5): its spread is
@@ -643,7 +645,7 @@ void AmbiguityResolver::gatherCandidates(HoldEpoch& e) {
       if (static_cast<int>(h.size()) < ho.consistency_epochs || !steadyFloat(h, ho)) continue;
       const double conditioned = row->d.dot(e.conditionedX()) - row->offset;
       const double conditioned_sigma = pairSigma_cycles(row->d, e.conditionedP());
-      if (offInteger(conditioned - std::round(conditioned), conditioned_sigma, ho.max_fraction_cycles) ||
+      if (offInteger(conditioned - std::round(conditioned), conditioned_sigma, ho) ||
           conditioned_sigma > ho.max_sigma_cycles) {
         ++e.gated;
         continue;
@@ -698,7 +700,7 @@ void AmbiguityResolver::searchBestSubset(HoldEpoch& e) const {
     if (ils.isFixed() && ils.fixed_ambiguities)
       for (int i = 0; i < n; ++i)
         e.integer_far = e.integer_far || offInteger(a_hat(i) - (*ils.fixed_ambiguities)(i),
-                                                    std::sqrt(std::max(0.0, Q(i, i))), ho.max_fraction_cycles);
+                                                    std::sqrt(std::max(0.0, Q(i, i))), ho);
     if (e.integer_far) continue;
     if (ils.isFixed() && ils.fixed_ambiguities) {
       for (int i = 0; i < n; ++i)

@@ -207,19 +207,20 @@ IlsResult solveIntegerLeastSquares(const Eigen::VectorXd& a_hat, const Eigen::Ma
   }
   const Eigen::VectorXd z_hat = dec->Z.transpose() * a_hat;
   const Eigen::VectorXd& d = dec->factor.d;
+  const double k = std::max(1.0, options.success_rate_variance_factor);
 
   // Largest subset (the last p decorrelated elements) reaching the success rate.
   int p_start = options.partial ? 0 : n;
   if (options.partial) {
     for (int p = n; p >= min_fixed; --p) {
-      if (bootstrapSuccessRate(d.tail(p)) >= options.min_success_rate) {
+      if (bootstrapSuccessRate(k * d.tail(p)) >= options.min_success_rate) {
         p_start = p;
         break;
       }
     }
     if (p_start == 0) {
       out.float_reason = IlsFloatReason::LowSuccessRate;
-      out.bootstrap_success_rate = bootstrapSuccessRate(d.tail(min_fixed));
+      out.bootstrap_success_rate = bootstrapSuccessRate(k * d.tail(min_fixed));
       return out;
     }
   }
@@ -232,7 +233,7 @@ IlsResult solveIntegerLeastSquares(const Eigen::VectorXd& a_hat, const Eigen::Ma
     const double best = cand.squared_norms[0];
     const double second = cand.squared_norms[1];
     out.ratio = best > 0.0 ? second / best : std::numeric_limits<double>::infinity();
-    out.bootstrap_success_rate = bootstrapSuccessRate(sub.d);
+    out.bootstrap_success_rate = bootstrapSuccessRate(k * sub.d);
     if (out.ratio >= options.ratio_threshold) {
       out.fixed = p;
       out.constraint_rows = dec->Z.rightCols(p).transpose();

@@ -79,6 +79,7 @@ const std::map<std::string, ConfigUpperBound>& bounds() {
       // ambiguity resolution
       {"ambiguity_resolution.min_elevation_deg", {90.0, "elevations end at the zenith"}},
       {"ambiguity_resolution.ratio_threshold", {1000.0, "no search passes a larger ratio"}},
+      {"ambiguity_resolution.success_rate_variance_factor", {100.0, "a covariance 10 times too optimistic in sigma is no model"}},
       {"ambiguity_resolution.min_fixed", {100, "no epoch has more ambiguities"}},
       {"ambiguity_resolution.wide_lane_min_samples", {100000, "more than a day of 1 Hz epochs"}},
       {"ambiguity_resolution.wide_lane_correlation_time_s", {3600.0, "multipath decorrelates within minutes"}},
@@ -87,6 +88,7 @@ const std::map<std::string, ConfigUpperBound>& bounds() {
       {"ambiguity_resolution.max_float_spread_cycles", {10.0, "a wider spread is no consistency"}},
       {"ambiguity_resolution.max_float_drift_sigmas", {100.0, "a wider gate is no consistency"}},
       {"ambiguity_resolution.narrow_lane_max_sigma_cycles", {10.0, "a wider sigma is no candidate"}},
+      {"ambiguity_resolution.narrow_lane_max_fraction_sigmas", {100.0, "a wider gate is no gate"}},
       {"ambiguity_resolution.validation_epochs", {100000, "more than a day of 1 Hz epochs"}},
       {"ambiguity_resolution.fast_validation_epochs", {100000, "more than a day of 1 Hz epochs"}},
       {"ambiguity_resolution.release_sigma", {100.0, "a wider gate never releases"}},

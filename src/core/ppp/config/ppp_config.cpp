@@ -78,6 +78,8 @@ void readAmbiguityResolution(YamlSection s, AmbiguityResolutionOptions& o) {
       s.number("min_elevation_deg", o.min_elevation_rad / kDegToRad, Bound::NonNegative) * kDegToRad;
   o.narrow_lane.ratio_threshold = s.number("ratio_threshold", o.narrow_lane.ratio_threshold, Bound::Positive);
   o.narrow_lane.min_success_rate = s.number("min_success_rate", o.narrow_lane.min_success_rate, Bound::NonNegative);
+  o.narrow_lane.success_rate_variance_factor = s.number(
+      "success_rate_variance_factor", o.narrow_lane.success_rate_variance_factor, Bound::Positive);
   o.narrow_lane.min_fixed = s.integer("min_fixed", o.narrow_lane.min_fixed, 1);
   o.narrow_lane.partial = s.boolean("partial", o.narrow_lane.partial);
   o.wide_lane.min_samples = s.integer("wide_lane_min_samples", o.wide_lane.min_samples, 1);
@@ -102,6 +104,8 @@ void readAmbiguityResolution(YamlSection s, AmbiguityResolutionOptions& o) {
   o.hold.release_cycles = s.number("release_cycles", o.hold.release_cycles, Bound::Positive);
   o.hold.max_fraction_cycles = s.number("narrow_lane_max_fraction_cycles", o.hold.max_fraction_cycles, Bound::Positive);
   o.hold.max_sigma_cycles = s.number("narrow_lane_max_sigma_cycles", o.hold.max_sigma_cycles, Bound::Positive);
+  o.hold.max_fraction_sigmas =
+      s.number("narrow_lane_max_fraction_sigmas", o.hold.max_fraction_sigmas, Bound::NonNegative);
   o.hold.release_sigma = s.number("release_sigma", o.hold.release_sigma, Bound::Positive);
   o.hold.rereference_on_arc_end = s.boolean("rereference_held", o.hold.rereference_on_arc_end);
   o.allow_antenna_model_mismatch = s.boolean("allow_antenna_model_mismatch", o.allow_antenna_model_mismatch);
