@@ -19,6 +19,14 @@ using namespace ppp;
 
 namespace {
 
+/// The simulated errors are what the estimators model, so their float
+/// covariance is honest: the success rate from it as it is (variance factor 1;
+/// real stations need 2, doc/ar_real_data.md "Restarts").
+MonteCarloOptions honestFloats(MonteCarloOptions o) {
+  o.ppp.ambiguity_resolution.narrow_lane.success_rate_variance_factor = 1.0;
+  return o;
+}
+
 MonteCarloOptions arStudy(const std::string& configuration) {
   MonteCarloOptions o;
   o.flights = 3;
@@ -34,7 +42,7 @@ MonteCarloOptions arStudy(const std::string& configuration) {
   o.simulation.errors.multipath.enabled = false;
   o.ppp.stochastic.code_correlation_time_s = 0.0;
   o.ppp.ambiguity_resolution.wide_lane.correlation_time_s = 0.0;
-  return withConfiguration(o, *findMonteCarloConfiguration(configuration));
+  return honestFloats(withConfiguration(o, *findMonteCarloConfiguration(configuration)));
 }
 
 const MonteCarloResult& gpsArStudy() {
@@ -114,8 +122,9 @@ TEST(MonteCarloAmbiguity, ReportCarriesTheFixFiguresOfEveryEstimator) {
 // (seed 1, doc/ar_real_data.md): gps_galileo_ar flights 2 and 3 held 5 of 6 and 7 of 10
 // wrong (EKF), gps_ar flight 4 held 6 of 7 wrong. With the time-correlated code and MW
 // model (stochastic.code_correlation_time_s, wide_lane_correlation_time_s) and the
-// success rate for small subsets (small_subset_max_size), none is wrong, and the
-// flights still fix.
+// success rate required of every subset, none is wrong, and two of the three
+// still fix within their 30 min (gps_galileo_ar flight 2 stays float: its
+// subsets do not reach the success rate 0.999 in time).
 TEST(MonteCarloAmbiguity, TimeCorrelatedMultipathLeavesNoWrongHoldOnFlightsThatHadThem) {
   MonteCarloOptions o;
   o.seed = 1;
@@ -129,19 +138,21 @@ TEST(MonteCarloAmbiguity, TimeCorrelatedMultipathLeavesNoWrongHoldOnFlightsThatH
   std::vector<std::thread> threads;
   for (std::size_t i = 0; i < std::size(cases); ++i)
     threads.emplace_back([&, i] {
-      runs[i] = runMonteCarloFlight(withConfiguration(o, *findMonteCarloConfiguration(cases[i].configuration)),
-                                    cases[i].index);
+      runs[i] = runMonteCarloFlight(
+          honestFloats(withConfiguration(o, *findMonteCarloConfiguration(cases[i].configuration))), cases[i].index);
     });
   for (auto& t : threads) t.join();
+  int fixing = 0;
   for (std::size_t i = 0; i < runs.size(); ++i) {
     SCOPED_TRACE(std::string(cases[i].configuration) + " flight " + std::to_string(cases[i].index));
     ASSERT_TRUE(runs[i].failure.empty()) << runs[i].failure;
     for (std::size_t e = 0; e < 2; ++e) {
       SCOPED_TRACE(e == 0 ? "EKF" : "smoother");
       const HeldIntegerCheck& h = runs[i].held_check[e];
-      EXPECT_GE(h.held, 4u);  // still fixes (min_fixed 4)
+      if (h.held >= 4u) ++fixing;  // fixes (min_fixed 4)
       EXPECT_EQ(h.wrong, 0u);
       EXPECT_EQ(h.fixed_epochs_with_wrong_hold, 0u);
     }
   }
+  EXPECT_GE(fixing, 2 * 2);  // two flights, both estimators
 }
