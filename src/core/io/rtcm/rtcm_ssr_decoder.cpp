@@ -1,5 +1,6 @@
 #include "ppp_bayes_tree/io/rtcm/rtcm_ssr_decoder.h"
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <sstream>
@@ -55,6 +56,30 @@ void RtcmSsrDecoder::refuseImplausibleBiases(const Rtcm3Frame& frame, SsrMessage
   };
   refuse(m.code_biases, BiasKind::Code);
   refuse(m.phase_biases, BiasKind::Phase);
+}
+
+void RtcmSsrDecoder::refuseRepeatedSignals(const Rtcm3Frame& frame, SsrMessage& m) {
+  const auto refuse = [&](auto& satellites, const char* what) {
+    for (auto& sat : satellites) {
+      auto& biases = sat.biases;
+      for (std::size_t k = 1; k < biases.size();) {
+        const auto first = std::find_if(biases.begin(), biases.begin() + static_cast<std::ptrdiff_t>(k),
+                                        [&](const auto& b) { return b.signal_id == biases[k].signal_id; });
+        if (first == biases.begin() + static_cast<std::ptrdiff_t>(k)) {
+          ++k;
+          continue;
+        }
+        std::ostringstream o;
+        o << sat.satellite.toString() << " " << what << " signal " << biases[k].signal_id
+          << (first->code ? " (" + first->code->toString() + ")" : std::string()) << " sent again in the message: the first value "
+          << first->bias_m << " m kept, the repeated value " << biases[k].bias_m << " m dropped";
+        problem(StreamProblemKind::MalformedMessage, frame, o.str());
+        biases.erase(biases.begin() + static_cast<std::ptrdiff_t>(k));
+      }
+    }
+  };
+  refuse(m.code_biases, "code bias");
+  refuse(m.phase_biases, "phase bias");
 }
 
 std::optional<GnssTime> RtcmSsrDecoder::resolveEpoch(const SsrHeader& h, bool igs) const {
@@ -152,6 +177,7 @@ bool RtcmSsrDecoder::decode(const Rtcm3Frame& frame) {
                 " range: satellite skipped");
 
   refuseImplausibleBiases(frame, m);
+  refuseRepeatedSignals(frame, m);
 
   m.header.epoch = resolveEpoch(m.header, igs);
   if (!m.header.epoch) {
