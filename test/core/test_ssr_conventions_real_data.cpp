@@ -16,6 +16,7 @@
 #include <cstdio>
 #include <fstream>
 #include <map>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -208,6 +209,86 @@ TEST(SsrConventionsRealData, IgsStreamOrbitAndClockSignsAgainstUltraRapidOrbits)
   EXPECT_GT(r[Flip::Along].orbit_rms_3d_m, 5.0 * r[Flip::None].orbit_rms_3d_m);
   EXPECT_GT(r[Flip::Cross].orbit_rms_3d_m, 5.0 * r[Flip::None].orbit_rms_3d_m);
   EXPECT_GT(r[Flip::Clock].clock_rms_ns, 1.3 * r[Flip::None].clock_rms_ns);
+}
+
+
+// ---------------------------------------------------------------------------
+// Phase-bias fields on real frames: the SC-134 SSR test stream
+// (test/fixtures/ssr/README.md). The expected values are the output of
+// test/fixtures/ssr/decode_sc134_fixture.py, an independent field-by-field
+// decoder of the RTCM 10403.3 layouts.
+
+const SsrMessage& messageOfType(const SsrStreamFile& f, int type) {
+  for (const auto& m : f.messages)
+    if (m.header.message_type == type) return m;
+  throw std::runtime_error("no message of type " + std::to_string(type));
+}
+
+template <class Block>
+const Block& satelliteBlock(const std::vector<Block>& blocks, GnssSystem system, int prn) {
+  for (const auto& b : blocks)
+    if (b.satellite == SatelliteId{system, prn}) return b;
+  throw std::runtime_error("no block for satellite " + std::to_string(prn));
+}
+
+void expectPhaseBias(const SsrPhaseBias& p, std::size_t k, const char* rinex, double bias_m, int counter) {
+  ASSERT_LT(k, p.biases.size());
+  const SsrSignalPhaseBias& b = p.biases[k];
+  ASSERT_TRUE(b.code.has_value());
+  EXPECT_EQ(b.code->toString().substr(1), std::string(rinex).substr(1)) << p.satellite.toString();  // band, attribute
+  EXPECT_NEAR(b.bias_m, bias_m, 1e-9) << p.satellite.toString() << " " << rinex;
+  EXPECT_EQ(b.discontinuity_counter, counter) << p.satellite.toString() << " " << rinex;
+  EXPECT_FALSE(b.integer);
+  EXPECT_EQ(b.widelane_integer, 0);
+}
+
+TEST(SsrConventionsRealData, Sc134PhaseBiasFieldsAsDecodedIndependently) {
+  const GnssTime t0 = gpst(2026, 2, 6, 20, 0, 40);
+  const SsrStreamFile f = readSsrStreamFile(test::fixturePath("ssr/sc134_ssr_20260206_200040.rtcm3"), t0);
+  ASSERT_EQ(f.messages.size(), 8u);
+  EXPECT_EQ(f.counters.totalProblems(), 0u);
+  for (const auto& m : f.messages) {
+    EXPECT_EQ(m.header.provider_id, 260);
+    EXPECT_EQ(m.header.solution_id, 2);
+    EXPECT_EQ(m.header.iod_ssr, 1);
+    EXPECT_DOUBLE_EQ(m.header.update_interval_s, 1.0);
+    ASSERT_TRUE(m.header.epoch.has_value());
+    EXPECT_EQ(*m.header.epoch, t0);
+  }
+  // 1265 GPS: G01 L1C -0.8327 m (counter 15), L2W -0.9056 m (15), L5Q -0.8307 m (0);
+  // G08 L2W +0.6569 m (counter 4); no yaw sent.
+  const SsrMessage& gps = messageOfType(f, 1265);
+  EXPECT_FALSE(gps.dispersive_consistent);
+  EXPECT_FALSE(gps.mw_consistent);
+  ASSERT_EQ(gps.phase_biases.size(), 10u);
+  const SsrPhaseBias& g01 = satelliteBlock(gps.phase_biases, GnssSystem::GPS, 1);
+  EXPECT_EQ(g01.yaw_rad, 0.0);
+  EXPECT_EQ(g01.yaw_rate_rad_per_s, 0.0);
+  expectPhaseBias(g01, 0, "L1C", -0.8327, 15);
+  expectPhaseBias(g01, 1, "L2W", -0.9056, 15);
+  expectPhaseBias(g01, 2, "L5Q", -0.8307, 0);
+  expectPhaseBias(satelliteBlock(gps.phase_biases, GnssSystem::GPS, 8), 1, "L2W", 0.6569, 4);
+  // 1267 Galileo: E04 E1C -1.2364 m, E7Q -1.5647 m, E5Q -1.6267 m, counter 8.
+  const SsrPhaseBias& e04 = satelliteBlock(messageOfType(f, 1267).phase_biases, GnssSystem::Galileo, 4);
+  expectPhaseBias(e04, 0, "L1C", -1.2364, 8);
+  expectPhaseBias(e04, 1, "L7Q", -1.5647, 8);
+  expectPhaseBias(e04, 2, "L5Q", -1.6267, 8);
+
+  // As the model's biases (OSB convention, corrected = observed - value): negated.
+  auto store = storeOf(f);
+  const SsrBiasProvider biases(store, "SSRTEST");
+  EXPECT_NEAR(*biases.phaseBias({GnssSystem::GPS, 1}, code("L2W"), t0).value_m, 0.9056, 1e-9);
+  // 1059: C1C is the code-bias reference (0 for every satellite), G01 C2W +0.32 m, C5Q -1.16 m.
+  EXPECT_NEAR(*biases.codeBias({GnssSystem::GPS, 1}, code("C1C"), t0).value_m, 0.0, 1e-12);
+  EXPECT_NEAR(*biases.codeBias({GnssSystem::GPS, 1}, code("C2W"), t0).value_m, -0.32, 1e-9);
+  EXPECT_NEAR(*biases.codeBias({GnssSystem::GPS, 1}, code("C5Q"), t0).value_m, 1.16, 1e-9);
+  // 1057 / 1058: G01 IODE 1, radial -0.9730 m, along +1.6772 m, cross +0.2204 m; C0 +2.5403 m.
+  const SsrOrbitCorrection& o = messageOfType(f, 1057).orbits.at(0);
+  EXPECT_EQ(o.iod, 1);
+  EXPECT_NEAR(o.radial_m, -0.9730, 1e-9);
+  EXPECT_NEAR(o.along_m, 1.6772, 1e-9);
+  EXPECT_NEAR(o.cross_m, 0.2204, 1e-9);
+  EXPECT_NEAR(messageOfType(f, 1058).clocks.at(0).c0_m, 2.5403, 1e-9);
 }
 
 }  // namespace
