@@ -73,7 +73,10 @@ void RtcmSsrDecoder::refuseRepeatedSignals(const Rtcm3Frame& frame, SsrMessage& 
         o << sat.satellite.toString() << " " << what << " signal " << biases[k].signal_id
           << (first->code ? " (" + first->code->toString() + ")" : std::string()) << " sent again in the message: the first value "
           << first->bias_m << " m kept, the repeated value " << biases[k].bias_m << " m dropped";
-        problem(StreamProblemKind::MalformedMessage, frame, o.str());
+        if (counters_.repeated_signals++ == 0)
+          counters_.first_repeated_signal = "byte " + std::to_string(frame.byte_offset) + " (frame " +
+                                            std::to_string(frame.frame_index) + "), type " +
+                                            std::to_string(frame.message_type) + ": " + o.str();
         biases.erase(biases.begin() + static_cast<std::ptrdiff_t>(k));
       }
     }
@@ -282,6 +285,8 @@ SsrStreamFile decodeSsrStream(const std::uint8_t* data, std::size_t size, std::o
       for (const auto& p : c->problems) kept += p.kind == kind ? 1 : 0;
       out.counters.problems_by_kind[kind] += n - kept;
     }
+  out.counters.repeated_signals = decoder.counters().repeated_signals;
+  out.counters.first_repeated_signal = decoder.counters().first_repeated_signal;
   out.messages = decoder.takeMessages();
   out.summary = decoder.summary();
   return out;
