@@ -58,6 +58,7 @@ void addStream(diagnostic_updater::DiagnosticStatusWrapper& s, const ppp::LiveSt
   s.add(p + "bytes / frames", std::to_string(st.bytes) + " / " + std::to_string(frames));
   s.add(p + "CRC/checksum errors", st.problems.count(ppp::StreamProblemKind::ChecksumError));
   s.add(p + "problems (all kinds)", st.problems.totalProblems());
+  s.add(p + "SSR bias signal ids sent twice (first kept)", st.problems.repeated_signals);
   s.add(p + "observation epochs decoded / ignored", std::to_string(st.observation_epochs) + " / " +
                                                         std::to_string(st.ignored_epochs));
   s.add(p + "epochs back in time dropped / receiver restarts",

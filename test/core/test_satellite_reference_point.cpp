@@ -123,6 +123,7 @@ ModelCheck checkModelPositions(EphemerisReference reference, bool print) {
   const IgsSsra f;
   const NavData nav = readRinexNav(f.nav);
   const SsrStreamFile stream = readSsrStreamFile(f.ssr, gpst(2026, 7, 7, 14, 0, 0));
+  // No problems; the GPS C1C id sent twice is counted apart (test_ssr_conventions_real_data).
   EXPECT_EQ(stream.counters.totalProblems(), 0u);
   auto store = std::make_shared<SsrCorrectionStore>();
   for (const auto& m : stream.messages) store->add(m);

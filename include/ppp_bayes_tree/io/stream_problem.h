@@ -51,6 +51,10 @@ struct StreamCounters {
   std::map<StreamProblemKind, std::uint64_t> problems_by_kind;
   std::uint64_t garbage_bytes = 0;
   std::uint64_t nmea_bytes = 0;                 // NMEA text interleaved with UBX frames (not a problem)
+  /// SSR bias values of a signal id that a satellite's block sends again, the
+  /// first kept (not a problem: a known habit of real streams, counted and noted).
+  std::uint64_t repeated_signals = 0;
+  std::string first_repeated_signal;  // describe() of the first one
   std::vector<StreamProblem> problems;          // the first kMaxKeptProblems
 
   void add(StreamProblem problem);

@@ -460,6 +460,8 @@ std::vector<LiveStreamStatus> LiveGnssInput::streams() const {
     for (const auto& [kind, n] : ssr.problems_by_kind) st.problems.problems_by_kind[kind] += n;
     for (const auto& p : ssr.problems)
       if (st.problems.problems.size() < StreamCounters::kMaxKeptProblems) st.problems.problems.push_back(p);
+    st.problems.repeated_signals = ssr.repeated_signals;
+    st.problems.first_repeated_signal = ssr.first_repeated_signal;
     st.frames_by_type = st.problems.frames_by_type;
     if (s.last_ssr && newest_obs) st.ssr_age_s = *newest_obs - *s.last_ssr;
     if (d.observation_stream && *d.observation_stream == name && d.now_s && s.status.last_arrival_s) {

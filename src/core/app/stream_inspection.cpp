@@ -137,6 +137,8 @@ StreamInspection inspectStreamFile(const std::string& path, const Rtcm3DecoderOp
   for (const auto& [kind, count] : ssr.counters().problems_by_kind) s.counters.problems_by_kind[kind] += count;
   for (const auto& p : ssr.counters().problems)
     if (s.counters.problems.size() < StreamCounters::kMaxKeptProblems) s.counters.problems.push_back(p);
+  s.counters.repeated_signals = ssr.counters().repeated_signals;
+  s.counters.first_repeated_signal = ssr.counters().first_repeated_signal;
   if (ssr.summary().messages > 0) {
     std::istringstream lines(ssr.summary().format());
     for (std::string line; std::getline(lines, line);) s.ssr.push_back(line);
@@ -198,6 +200,10 @@ std::string formatStreamInspection(const StreamInspection& s) {
   for (const auto& [kind, n] : s.counters.problems_by_kind) os << "    " << n << " x " << streamProblemKindName(kind) << "\n";
   for (std::size_t i = 0; i < s.counters.problems.size() && i < 10; ++i)
     os << "    " << s.counters.problems[i].describe() << "\n";
+  if (s.counters.repeated_signals > 0)
+    os << "  note: " << s.counters.repeated_signals
+       << " SSR bias value(s) of a signal id sent twice for one satellite, the first of each kept; first: "
+       << s.counters.first_repeated_signal << "\n";
   if (s.counters.count(StreamProblemKind::UnresolvedTime) > 0)
     os << "  the week of the MSM epochs is unknown: give --ref-date YYYY/MM/DD\n";
   os << "\n";

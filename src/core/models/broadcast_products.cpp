@@ -174,6 +174,10 @@ BroadcastProducts loadBroadcastProducts(const std::vector<std::string>& nav, con
     out.problems.push_back(text);
   };
   describe(stream.counters, "problem(s) while decoding");
+  if (stream.counters.repeated_signals > 0)
+    out.notes.push_back(fileBaseName(*ssr) + ": " + std::to_string(stream.counters.repeated_signals) +
+                        " bias value(s) of a signal id sent twice for one satellite, the first of each kept; first: " +
+                        stream.counters.first_repeated_signal);
   describe(eph->consistency(), "SSR correction(s) without a broadcast record of their IOD");
   noteStaleCorrections(*fallback, *store, fileBaseName(*ssr), observation_span, out.notes);
   if (store->codeBiasCount() > 0 || store->phaseBiasCount() > 0)

@@ -83,6 +83,13 @@ class RtcmSsrDecoder {
   void problem(StreamProblemKind kind, const Rtcm3Frame& frame, std::string detail);
   /// Drops the code and phase biases beyond their bounds (io/bias_bounds.h), each a problem.
   void refuseImplausibleBiases(const Rtcm3Frame& frame, SsrMessage& m);
+  /// Keeps the first bias of a signal id that a satellite's block sends more
+  /// than once and drops the later ones, each counted. Seen on SSRA03IGS0
+  /// (2026-07-07): GPS satellites with L5 send signal id 0 (C1C) twice; the
+  /// first value agrees with CODE's C1C OSB (negated), the second is near the
+  /// satellite's C5Q bias and is no C1C bias. Counted apart from the problems
+  /// (StreamCounters::repeated_signals): it says nothing against the stream.
+  void refuseRepeatedSignals(const Rtcm3Frame& frame, SsrMessage& m);
   std::optional<GnssTime> resolveEpoch(const SsrHeader& header, bool igs) const;
 
   std::optional<GnssTime> reference_;

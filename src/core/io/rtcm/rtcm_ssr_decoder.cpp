@@ -1,5 +1,6 @@
 #include "ppp_bayes_tree/io/rtcm/rtcm_ssr_decoder.h"
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <sstream>
@@ -55,6 +56,33 @@ void RtcmSsrDecoder::refuseImplausibleBiases(const Rtcm3Frame& frame, SsrMessage
   };
   refuse(m.code_biases, BiasKind::Code);
   refuse(m.phase_biases, BiasKind::Phase);
+}
+
+void RtcmSsrDecoder::refuseRepeatedSignals(const Rtcm3Frame& frame, SsrMessage& m) {
+  const auto refuse = [&](auto& satellites, const char* what) {
+    for (auto& sat : satellites) {
+      auto& biases = sat.biases;
+      for (std::size_t k = 1; k < biases.size();) {
+        const auto first = std::find_if(biases.begin(), biases.begin() + static_cast<std::ptrdiff_t>(k),
+                                        [&](const auto& b) { return b.signal_id == biases[k].signal_id; });
+        if (first == biases.begin() + static_cast<std::ptrdiff_t>(k)) {
+          ++k;
+          continue;
+        }
+        std::ostringstream o;
+        o << sat.satellite.toString() << " " << what << " signal " << biases[k].signal_id
+          << (first->code ? " (" + first->code->toString() + ")" : std::string()) << " sent again in the message: the first value "
+          << first->bias_m << " m kept, the repeated value " << biases[k].bias_m << " m dropped";
+        if (counters_.repeated_signals++ == 0)
+          counters_.first_repeated_signal = "byte " + std::to_string(frame.byte_offset) + " (frame " +
+                                            std::to_string(frame.frame_index) + "), type " +
+                                            std::to_string(frame.message_type) + ": " + o.str();
+        biases.erase(biases.begin() + static_cast<std::ptrdiff_t>(k));
+      }
+    }
+  };
+  refuse(m.code_biases, "code bias");
+  refuse(m.phase_biases, "phase bias");
 }
 
 std::optional<GnssTime> RtcmSsrDecoder::resolveEpoch(const SsrHeader& h, bool igs) const {
@@ -152,6 +180,7 @@ bool RtcmSsrDecoder::decode(const Rtcm3Frame& frame) {
                 " range: satellite skipped");
 
   refuseImplausibleBiases(frame, m);
+  refuseRepeatedSignals(frame, m);
 
   m.header.epoch = resolveEpoch(m.header, igs);
   if (!m.header.epoch) {
@@ -256,6 +285,8 @@ SsrStreamFile decodeSsrStream(const std::uint8_t* data, std::size_t size, std::o
       for (const auto& p : c->problems) kept += p.kind == kind ? 1 : 0;
       out.counters.problems_by_kind[kind] += n - kept;
     }
+  out.counters.repeated_signals = decoder.counters().repeated_signals;
+  out.counters.first_repeated_signal = decoder.counters().first_repeated_signal;
   out.messages = decoder.takeMessages();
   out.summary = decoder.summary();
   return out;

@@ -1,0 +1,58 @@
+#!/usr/bin/env bash
+# Downloads the public 45-minute RTCM SC-134 SSR test set into a folder of your choice:
+#   - SSRTEST_20260206_CORR.bin: RTCM-SSR orbit/clock (1057/1058, 1063/1064, 1240/1241),
+#     code biases (1059/1065/1242), phase biases (1265-1267), VTEC (1264), GPS/Galileo
+#     ephemerides (1019/1046); provider 260, solution 2; 1 Hz, 2026-02-06 20:00:39-20:46:07 GPST.
+#   - ROVRMSG.bin, ROMAMSG.bin: two receivers' RTCM 3 MSM5 (GPS, GLONASS, Galileo) over the
+#     same period, 1 Hz. The rover is static (reference position: doc/live_input.md).
+# Source: https://github.com/hirokawa/cssrlib-data (licence MIT, "Copyright (c) 2022 Rui
+# Hirokawa"), data/sc134/msg/ssr/, at pinned commits:
+#   b0c59d99af14e78fd84a9c86eec2f9e64a38dc42  SSRTEST_20260206_CORR.bin (removed upstream later)
+#   1ce510fad753a4d9599b3fc2a83053cfd7408120  ROVRMSG.bin, ROMAMSG.bin,
+#                                             SSRTEST_20260206_CORR_v123.bin (with --v123)
+# The set carries no broadcast file: its ephemerides do not cover the IODs its corrections
+# name (doc/live_input.md, "The SC-134 test set"). Nothing here is copied into the project.
+#
+# usage: scripts/fetch_ssr_data.sh DIR [--v123]
+set -euo pipefail
+
+usage() { echo "usage: $0 DIR [--v123]" >&2; exit 2; }
+[[ $# -ge 1 && $# -le 2 ]] || usage
+DIR=$1
+V123=0
+if [[ $# -eq 2 ]]; then [[ $2 == --v123 ]] || usage; V123=1; fi
+
+BASE=https://raw.githubusercontent.com/hirokawa/cssrlib-data
+OLD=b0c59d99af14e78fd84a9c86eec2f9e64a38dc42
+HEAD=1ce510fad753a4d9599b3fc2a83053cfd7408120
+SUB=data/sc134/msg/ssr
+
+# name  commit  sha256 (empty: not known here, not checked)
+FILES=(
+  "SSRTEST_20260206_CORR.bin $OLD c000e9252c97fb3c773335a9c96e08d2f1df755dd687ac8580c8180d1cab0fdf"
+  "ROVRMSG.bin $HEAD d5cf8cd24fae75750ed0e8d3f51b71741d80cecd1850232a3228a9e45d787d65"
+  "ROMAMSG.bin $HEAD af8be3158e457bd05990481d2d515f0acc306a4e9e36d8acb25ac0afbc4d8f99"
+)
+[[ $V123 -eq 1 ]] && FILES+=("SSRTEST_20260206_CORR_v123.bin $HEAD -")
+
+fetch_one() {
+  local name=$1 commit=$2 sum=$3 out="$DIR/$1"
+  if [[ -s $out ]]; then echo "have $out"; else
+    echo "fetching $name ($commit)"
+    curl -fSL --retry 3 -o "$out.part" "$BASE/$commit/$SUB/$name" || { rm -f "$out.part"; echo "error: download of $name failed" >&2; return 1; }
+    mv "$out.part" "$out"
+  fi
+  if [[ $sum != - ]] && ! echo "$sum  $out" | sha256sum -c --quiet -; then
+    echo "error: $out: SHA-256 differs from the pinned file's" >&2
+    return 1
+  fi
+}
+
+mkdir -p "$DIR"
+status=0
+for entry in "${FILES[@]}"; do
+  # shellcheck disable=SC2086
+  fetch_one $entry || status=1
+done
+[[ $status -eq 0 ]] && echo "done: $DIR (licence MIT, hirokawa/cssrlib-data)"
+exit $status

@@ -1,0 +1,296 @@
+// Correction-stream conventions checked on real frames whose values are known
+// from independent products (doc/live_input.md, "Correction-stream conventions"):
+//  - code bias sign: the real SSRA03IGS0 stream (RTCM 1059, 2026-07-07) against
+//    CODE's final Bias-SINEX OSBs (2026-05-13): an RTCM bias is ADDED to the
+//    observation, an OSB subtracted, so b_RTCM ~ -OSB. The satellite DCBs drift
+//    by centimetres over the two months between the two;
+//  - orbit and clock correction signs and the reference point: the same stream
+//    applied to the GPS broadcast records it refers to, against IGS ultra-rapid
+//    orbits; each sign flipped in turn must be seen;
+//  - phase-bias fields of RTCM 1265/1267 (sign, integer and wide-lane
+//    indicators, discontinuity counter) on frames of the SC-134 SSR test stream
+//    (test/fixtures/ssr/README.md), against values decoded by hand.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <map>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "ppp_bayes_tree/evaluation/ssr_check.h"
+#include "ppp_bayes_tree/io/products/bias_sinex_reader.h"
+#include "ppp_bayes_tree/io/rtcm/rtcm_ssr_decoder.h"
+#include "ppp_bayes_tree/io/rtcm/rtcm_ssr_encoder.h"
+#include "ppp_bayes_tree/models/sinex_bias_provider.h"
+#include "ppp_bayes_tree/models/ssr_bias_provider.h"
+#include "test_support.h"
+
+namespace ppp {
+namespace {
+using test::dataPath;
+using test::gpst;
+
+constexpr double kC_mps = 299792458.0;
+
+bool streamsAvailable() { return std::filesystem::is_directory(dataPath("streams/ssr")); }
+#define REQUIRE_STREAMS() \
+  if (!streamsAvailable()) GTEST_SKIP() << "no ../shared/data/streams (set PPP_SHARED_DATA)"
+
+struct IgsFiles {
+  std::string nav = dataPath("streams/ssr/BRDC00WRD_S_20261880000_01D_MN_GPS_SSR_20261881400.rnx");
+  std::string ssr = dataPath("streams/ssr/SSRA03IGS0_2026188140760_3epoch.rtcm3");
+  std::string sp3 = dataPath("streams/ssr/IGS0OPSULT_20261870600_02D_15M_ORB_20261881315_07E.SP3");
+  std::string atx = dataPath("antex/igs20_gps_satellites_trim.atx");
+  std::string osb = dataPath("zim2-2026-133/COD0OPSFIN_20261330000_01D_01D_OSB.BIA.gz");
+};
+
+ObservationCode code(const char* text) { return *ObservationCode::parse(text); }
+
+// ---------------------------------------------------------------------------
+// Code bias sign: SSR biases through the model's provider vs CODE OSBs.
+
+/// Per GPS satellite: the OSB-convention values of both providers for one DCB
+/// (code_a - code_b), where both have them.
+struct DcbPair {
+  double stream_m = 0.0, sinex_m = 0.0;
+};
+std::map<SatelliteId, DcbPair> dcbPairs(const BiasProvider& stream, const GnssTime& t_stream,
+                                        const BiasProvider& sinex, const GnssTime& t_sinex, const char* code_a,
+                                        const char* code_b) {
+  std::map<SatelliteId, DcbPair> out;
+  for (int prn = 1; prn <= 32; ++prn) {
+    const SatelliteId sat{GnssSystem::GPS, prn};
+    const auto sa = stream.codeBias(sat, code(code_a), t_stream).value_m;
+    const auto sb = stream.codeBias(sat, code(code_b), t_stream).value_m;
+    const auto xa = sinex.codeBias(sat, code(code_a), t_sinex).value_m;
+    const auto xb = sinex.codeBias(sat, code(code_b), t_sinex).value_m;
+    if (sa && sb && xa && xb) out[sat] = {*sa - *sb, *xa - *xb};
+  }
+  return out;
+}
+
+/// RMS over the satellites of (stream - sign x sinex) about its mean: the mean
+/// of a DCB over the constellation is each analysis' datum choice (the receiver
+/// DCBs absorb it), so only the satellite-to-satellite part is compared.
+double rmsDifference_m(const std::map<SatelliteId, DcbPair>& pairs, double sign) {
+  const double n = static_cast<double>(std::max<std::size_t>(1, pairs.size()));
+  double mean = 0.0, sum = 0.0;
+  for (const auto& [sat, p] : pairs) mean += (p.stream_m - sign * p.sinex_m) / n;
+  for (const auto& [sat, p] : pairs) sum += std::pow(p.stream_m - sign * p.sinex_m - mean, 2);
+  return std::sqrt(sum / n);
+}
+
+std::shared_ptr<SsrCorrectionStore> storeOf(const SsrStreamFile& f) {
+  auto store = std::make_shared<SsrCorrectionStore>();
+  for (const auto& m : f.messages) store->add(m);
+  return store;
+}
+
+TEST(SsrConventionsRealData, IgsStreamCodeBiasesAreNegatedOsbs) {
+  REQUIRE_STREAMS();
+  PPP_REQUIRE_SHARED_DATA();
+  const IgsFiles files;
+  const SsrStreamFile f = readSsrStreamFile(files.ssr, gpst(2026, 7, 7, 14, 0, 0));
+  const SsrBiasProvider stream(storeOf(f), "SSRA03IGS0");
+  const BiasSinexFile bia = readBiasSinexFile(files.osb);
+  const SinexBiasProvider sinex(bia, "COD0OPSFIN");
+  const GnssTime t_stream = gpst(2026, 7, 7, 14, 8, 0), t_sinex = gpst(2026, 5, 13, 12, 0, 0);
+
+  // P1-P2 (C2W - C1W): 1-2 m per satellite, opposite signs across the constellation.
+  const auto p1p2 = dcbPairs(stream, t_stream, sinex, t_sinex, "C2W", "C1W");
+  ASSERT_GE(p1p2.size(), 28u);
+  for (const auto& [sat, p] : p1p2) {
+    std::printf("%s C2W-C1W  stream (OSB sign) %+.3f m  CODE OSB %+.3f m\n", sat.toString().c_str(), p.stream_m,
+                p.sinex_m);
+    EXPECT_NEAR(p.stream_m, p.sinex_m, 0.25) << sat.toString();
+  }
+  const double rms = rmsDifference_m(p1p2, +1.0), rms_flipped = rmsDifference_m(p1p2, -1.0);
+  std::printf("C2W-C1W: RMS %.3f m as applied, %.3f m with the stream's sign flipped\n", rms, rms_flipped);
+  EXPECT_LT(rms, 0.12);        // measured 0.08 m (mean difference -0.09 m)
+  EXPECT_GT(rms_flipped, 1.5);  // measured 2.9 m: a flipped sign fails clearly
+
+  // P1-C1 (C1C - C1W), decimetres: checks the C1C id (the first of the repeated id 0, see the decoder).
+  const auto p1c1 = dcbPairs(stream, t_stream, sinex, t_sinex, "C1C", "C1W");
+  ASSERT_GE(p1c1.size(), 28u);
+  EXPECT_LT(rmsDifference_m(p1c1, +1.0), 0.15);
+  EXPECT_LT(rmsDifference_m(p1c1, +1.0), 0.5 * rmsDifference_m(p1c1, -1.0));
+
+  // The clock datum: the ionosphere-free combination of the C1W/C2W biases is
+  // zero (the IGS clocks refer to C1W/C2W), so the biases are absolute.
+  const double k1 = 2.5457277801631, k2 = 1.5457277801631;  // f1^2/(f1^2-f2^2), f2^2/(f1^2-f2^2)
+  for (int prn : {1, 3, 10, 25}) {
+    const SatelliteId sat{GnssSystem::GPS, prn};
+    const double b1 = *stream.codeBias(sat, code("C1W"), t_stream).value_m;
+    const double b2 = *stream.codeBias(sat, code("C2W"), t_stream).value_m;
+    EXPECT_NEAR(k1 * b1 - k2 * b2, 0.0, 0.03) << sat.toString();
+  }
+}
+
+TEST(SsrConventionsRealData, IgsStreamRepeatedSignalIdIsCountedAndTheFirstKept) {
+  REQUIRE_STREAMS();
+  const IgsFiles files;
+  const SsrStreamFile f = readSsrStreamFile(files.ssr, gpst(2026, 7, 7, 14, 0, 0));
+  // First 1059 of the file, G01 (hand-decoded): id 0 = 1.90 m, ..., id 15 (C5Q) 1.12 m, id 0 again 1.24 m.
+  const SsrMessage* first = nullptr;
+  for (const auto& m : f.messages)
+    if (m.header.message_type == 1059 && first == nullptr) first = &m;
+  ASSERT_NE(first, nullptr);
+  const SsrCodeBias& g01 = first->code_biases.at(0);
+  ASSERT_EQ(g01.satellite, (SatelliteId{GnssSystem::GPS, 1}));
+  int c1c = 0;
+  for (const auto& b : g01.biases) {
+    if (b.signal_id != 0) continue;
+    ++c1c;
+    EXPECT_NEAR(b.bias_m, 1.90, 1e-9);
+  }
+  EXPECT_EQ(c1c, 1);
+  // Counted apart from the problems (a habit of the stream, not a fault), the first named.
+  EXPECT_GT(f.counters.repeated_signals, 30u);  // 19 GPS satellites with L5, 3 epochs
+  EXPECT_EQ(f.counters.totalProblems(), 0u);
+  EXPECT_NE(f.counters.first_repeated_signal.find("G01 code bias signal 0"), std::string::npos)
+      << f.counters.first_repeated_signal;
+  EXPECT_NE(f.counters.first_repeated_signal.find("byte "), std::string::npos) << f.counters.first_repeated_signal;
+}
+
+// ---------------------------------------------------------------------------
+// Orbit and clock signs: corrected broadcast vs IGS ultra-rapid orbits.
+
+enum class Flip { None, Radial, Along, Cross, Clock };
+
+/// The stream with one correction component negated, written to `path`.
+void writeFlipped(const SsrStreamFile& f, Flip flip, const std::string& path) {
+  std::ofstream out(path, std::ios::binary);
+  for (SsrMessage m : f.messages) {
+    for (auto& o : m.orbits) {
+      if (flip == Flip::Radial) o.radial_m = -o.radial_m, o.radial_dot_mps = -o.radial_dot_mps;
+      if (flip == Flip::Along) o.along_m = -o.along_m, o.along_dot_mps = -o.along_dot_mps;
+      if (flip == Flip::Cross) o.cross_m = -o.cross_m, o.cross_dot_mps = -o.cross_dot_mps;
+    }
+    for (auto& c : m.clocks)
+      if (flip == Flip::Clock) c.c0_m = -c.c0_m, c.c1_m_per_s = -c.c1_m_per_s, c.c2_m_per_s2 = -c.c2_m_per_s2;
+    const auto bytes = encodeSsrFrame(m);
+    out.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
+  }
+}
+
+SsrCheckResult check(const IgsFiles& files, const std::string& ssr) {
+  SsrCheckRequest req;
+  req.nav = {files.nav};
+  req.ssr = ssr;
+  req.sp3 = files.sp3;
+  req.atx = files.atx;
+  req.reference = EphemerisReference::AntennaPhaseCentreL1;
+  req.systems = {GnssSystem::GPS};
+  return checkSsrAgainstSp3(req);
+}
+
+TEST(SsrConventionsRealData, IgsStreamOrbitAndClockSignsAgainstUltraRapidOrbits) {
+  REQUIRE_STREAMS();
+  const IgsFiles files;
+  const SsrStreamFile f = readSsrStreamFile(files.ssr, gpst(2026, 7, 7, 14, 0, 0));
+  const auto dir = test::tempDir("ssr_signs");
+  std::map<Flip, SsrCheckResult> r;
+  for (Flip flip : {Flip::None, Flip::Radial, Flip::Along, Flip::Cross, Flip::Clock}) {
+    const std::string path = (dir / ("flip" + std::to_string(static_cast<int>(flip)) + ".rtcm3")).string();
+    writeFlipped(f, flip, path);
+    r[flip] = check(files, path);
+    ASSERT_GE(r[flip].satellite_epochs, 90u);
+    std::printf("flip %d: %s\n", static_cast<int>(flip), r[flip].lastLine().c_str());
+  }
+  // As decoded (X = X_brdc - [e_r e_a e_c] dO, dt = dt_brdc + dC/c, L1 phase centre): a few cm.
+  EXPECT_LT(r[Flip::None].orbit_rms_3d_m, 0.10);
+  EXPECT_LT(r[Flip::None].clock_rms_ns, 1.5);
+  // Each component flipped (measured: radial 0.80 m, along 1.70 m, cross 0.94 m
+  // against 0.07 m as decoded; clock 1.67 ns against 1.12 ns: the ultra-rapid
+  // clocks are 8 h into their prediction here, so the clock margin is smaller).
+  EXPECT_GT(r[Flip::Radial].orbit_rms_3d_m, 5.0 * r[Flip::None].orbit_rms_3d_m);
+  EXPECT_GT(r[Flip::Along].orbit_rms_3d_m, 5.0 * r[Flip::None].orbit_rms_3d_m);
+  EXPECT_GT(r[Flip::Cross].orbit_rms_3d_m, 5.0 * r[Flip::None].orbit_rms_3d_m);
+  EXPECT_GT(r[Flip::Clock].clock_rms_ns, 1.3 * r[Flip::None].clock_rms_ns);
+}
+
+
+// ---------------------------------------------------------------------------
+// Phase-bias fields on real frames: the SC-134 SSR test stream
+// (test/fixtures/ssr/README.md). The expected values are the output of
+// test/fixtures/ssr/decode_sc134_fixture.py, an independent field-by-field
+// decoder of the RTCM 10403.3 layouts.
+
+const SsrMessage& messageOfType(const SsrStreamFile& f, int type) {
+  for (const auto& m : f.messages)
+    if (m.header.message_type == type) return m;
+  throw std::runtime_error("no message of type " + std::to_string(type));
+}
+
+template <class Block>
+const Block& satelliteBlock(const std::vector<Block>& blocks, GnssSystem system, int prn) {
+  for (const auto& b : blocks)
+    if (b.satellite == SatelliteId{system, prn}) return b;
+  throw std::runtime_error("no block for satellite " + std::to_string(prn));
+}
+
+void expectPhaseBias(const SsrPhaseBias& p, std::size_t k, const char* rinex, double bias_m, int counter) {
+  ASSERT_LT(k, p.biases.size());
+  const SsrSignalPhaseBias& b = p.biases[k];
+  ASSERT_TRUE(b.code.has_value());
+  EXPECT_EQ(b.code->toString().substr(1), std::string(rinex).substr(1)) << p.satellite.toString();  // band, attribute
+  EXPECT_NEAR(b.bias_m, bias_m, 1e-9) << p.satellite.toString() << " " << rinex;
+  EXPECT_EQ(b.discontinuity_counter, counter) << p.satellite.toString() << " " << rinex;
+  EXPECT_FALSE(b.integer);
+  EXPECT_EQ(b.widelane_integer, 0);
+}
+
+TEST(SsrConventionsRealData, Sc134PhaseBiasFieldsAsDecodedIndependently) {
+  const GnssTime t0 = gpst(2026, 2, 6, 20, 0, 40);
+  const SsrStreamFile f = readSsrStreamFile(test::fixturePath("ssr/sc134_ssr_20260206_200040.rtcm3"), t0);
+  ASSERT_EQ(f.messages.size(), 8u);
+  EXPECT_EQ(f.counters.totalProblems(), 0u);
+  for (const auto& m : f.messages) {
+    EXPECT_EQ(m.header.provider_id, 260);
+    EXPECT_EQ(m.header.solution_id, 2);
+    EXPECT_EQ(m.header.iod_ssr, 1);
+    EXPECT_DOUBLE_EQ(m.header.update_interval_s, 1.0);
+    ASSERT_TRUE(m.header.epoch.has_value());
+    EXPECT_EQ(*m.header.epoch, t0);
+  }
+  // 1265 GPS: G01 L1C -0.8327 m (counter 15), L2W -0.9056 m (15), L5Q -0.8307 m (0);
+  // G08 L2W +0.6569 m (counter 4); no yaw sent.
+  const SsrMessage& gps = messageOfType(f, 1265);
+  EXPECT_FALSE(gps.dispersive_consistent);
+  EXPECT_FALSE(gps.mw_consistent);
+  ASSERT_EQ(gps.phase_biases.size(), 10u);
+  const SsrPhaseBias& g01 = satelliteBlock(gps.phase_biases, GnssSystem::GPS, 1);
+  EXPECT_EQ(g01.yaw_rad, 0.0);
+  EXPECT_EQ(g01.yaw_rate_rad_per_s, 0.0);
+  expectPhaseBias(g01, 0, "L1C", -0.8327, 15);
+  expectPhaseBias(g01, 1, "L2W", -0.9056, 15);
+  expectPhaseBias(g01, 2, "L5Q", -0.8307, 0);
+  expectPhaseBias(satelliteBlock(gps.phase_biases, GnssSystem::GPS, 8), 1, "L2W", 0.6569, 4);
+  // 1267 Galileo: E04 E1C -1.2364 m, E7Q -1.5647 m, E5Q -1.6267 m, counter 8.
+  const SsrPhaseBias& e04 = satelliteBlock(messageOfType(f, 1267).phase_biases, GnssSystem::Galileo, 4);
+  expectPhaseBias(e04, 0, "L1C", -1.2364, 8);
+  expectPhaseBias(e04, 1, "L7Q", -1.5647, 8);
+  expectPhaseBias(e04, 2, "L5Q", -1.6267, 8);
+
+  // As the model's biases (OSB convention, corrected = observed - value): negated.
+  auto store = storeOf(f);
+  const SsrBiasProvider biases(store, "SSRTEST");
+  EXPECT_NEAR(*biases.phaseBias({GnssSystem::GPS, 1}, code("L2W"), t0).value_m, 0.9056, 1e-9);
+  // 1059: C1C is the code-bias reference (0 for every satellite), G01 C2W +0.32 m, C5Q -1.16 m.
+  EXPECT_NEAR(*biases.codeBias({GnssSystem::GPS, 1}, code("C1C"), t0).value_m, 0.0, 1e-12);
+  EXPECT_NEAR(*biases.codeBias({GnssSystem::GPS, 1}, code("C2W"), t0).value_m, -0.32, 1e-9);
+  EXPECT_NEAR(*biases.codeBias({GnssSystem::GPS, 1}, code("C5Q"), t0).value_m, 1.16, 1e-9);
+  // 1057 / 1058: G01 IODE 1, radial -0.9730 m, along +1.6772 m, cross +0.2204 m; C0 +2.5403 m.
+  const SsrOrbitCorrection& o = messageOfType(f, 1057).orbits.at(0);
+  EXPECT_EQ(o.iod, 1);
+  EXPECT_NEAR(o.radial_m, -0.9730, 1e-9);
+  EXPECT_NEAR(o.along_m, 1.6772, 1e-9);
+  EXPECT_NEAR(o.cross_m, 0.2204, 1e-9);
+  EXPECT_NEAR(messageOfType(f, 1058).clocks.at(0).c0_m, 2.5403, 1e-9);
+}
+
+}  // namespace
+}  // namespace ppp
