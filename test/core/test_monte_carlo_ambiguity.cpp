@@ -19,14 +19,6 @@ using namespace ppp;
 
 namespace {
 
-/// The simulated errors are what the estimators model, so their float
-/// covariance is honest: the success rate from it as it is (variance factor 1;
-/// real stations need 2, doc/ar_real_data.md "Restarts").
-MonteCarloOptions honestFloats(MonteCarloOptions o) {
-  o.ppp.ambiguity_resolution.narrow_lane.success_rate_variance_factor = 1.0;
-  return o;
-}
-
 MonteCarloOptions arStudy(const std::string& configuration) {
   MonteCarloOptions o;
   o.flights = 3;
@@ -42,7 +34,7 @@ MonteCarloOptions arStudy(const std::string& configuration) {
   o.simulation.errors.multipath.enabled = false;
   o.ppp.stochastic.code_correlation_time_s = 0.0;
   o.ppp.ambiguity_resolution.wide_lane.correlation_time_s = 0.0;
-  return honestFloats(withConfiguration(o, *findMonteCarloConfiguration(configuration)));
+  return withConfiguration(o, *findMonteCarloConfiguration(configuration));
 }
 
 const MonteCarloResult& gpsArStudy() {
@@ -138,8 +130,8 @@ TEST(MonteCarloAmbiguity, TimeCorrelatedMultipathLeavesNoWrongHoldOnFlightsThatH
   std::vector<std::thread> threads;
   for (std::size_t i = 0; i < std::size(cases); ++i)
     threads.emplace_back([&, i] {
-      runs[i] = runMonteCarloFlight(
-          honestFloats(withConfiguration(o, *findMonteCarloConfiguration(cases[i].configuration))), cases[i].index);
+      runs[i] = runMonteCarloFlight(withConfiguration(o, *findMonteCarloConfiguration(cases[i].configuration)),
+                                    cases[i].index);
     });
   for (auto& t : threads) t.join();
   int fixing = 0;

@@ -28,6 +28,10 @@ TEST(SimulationStartPrior, MonteCarloDefaultIsTheSimulatedConfig) {
   EXPECT_EQ(study.smoother.relinearize_position_m, 0.5);
   EXPECT_EQ(file.smoother.relinearize_position_m, study.smoother.relinearize_position_m);
   EXPECT_EQ(PppConfig{}.smoother.relinearize_position_m, 0.01);
+  // The success rate's variance factor: 1 in both (the simulated errors are the model; real data 2).
+  EXPECT_EQ(study.ambiguity_resolution.narrow_lane.success_rate_variance_factor, 1.0);
+  EXPECT_EQ(file.ambiguity_resolution.narrow_lane.success_rate_variance_factor, 1.0);
+  EXPECT_EQ(PppConfig{}.ambiguity_resolution.narrow_lane.success_rate_variance_factor, 2.0);
   // Every other stochastic key: the defaults in both.
   const StochasticModel d;
   for (const StochasticModel* m : {&study.stochastic, &file.stochastic}) {
