@@ -9,12 +9,13 @@ did not finish are marked. Bottom: the fixed share of the PPP-AR jobs. Prints th
 path of the figure.
 
 With DIR/summary_ar.csv (the PPP-AR figures of every done job and solution) and at least one
-fixed epoch: the empirical CDFs of the time to first fix and of the time below 10 cm for good, one
-line per station and solution over its restarts (jobs from a start time; all runs when a station
-has no restarts). A run that never fixed (never stayed below 10 cm) is counted but has no step, so
-its line ends below 1.
+fixed epoch: DIR/summary_ar_cdf.png, the empirical CDFs of the time to first fix and of the time
+below 10 cm for good, one line per station (colour) and solution (line style) over its restarts
+(jobs from a start time; all runs when a station has no restarts). A run that never fixed (never
+stayed below 10 cm) is counted but has no step, so its line ends below 1.
 """
 import csv
+import json
 import sys
 
 import matplotlib
@@ -74,6 +75,14 @@ def minutes(text):
     return number(text)
 
 
+def campaign_name(out):
+    try:
+        with open(f"{out}/summary.json") as f:
+            return json.load(f).get("campaign", out)
+    except (OSError, ValueError):
+        return out
+
+
 def ar_lines(rows):
     """(station, solution) -> rows, the restarts only where a station has any."""
     with_restarts = {r["group"] for r in rows if r["runs"] == "restarts"}
@@ -95,23 +104,30 @@ def plot_ar_cdf(out):
         return
     fig, axes = plt.subplots(1, 2, figsize=(11, 4.2))
     panels = [("first_fix_min", "time to first fix [min]"), ("below_10cm_min", "time below 10 cm for good [min]")]
+    lines = ar_lines(rows)
+    stations = list(dict.fromkeys(station for station, _ in lines))
+    styles = {"ekf": "-", "smoother_filtered": "--", "smoother_smoothed": ":"}
     for ax, (key, title) in zip(axes, panels):
-        for (station, solution), runs in ar_lines(rows).items():
+        for (station, solution), runs in lines.items():
             values = [minutes(r[key]) for r in runs]
             values = [v for v in values if v is not None]
             if not values:
                 continue
             reached = sorted(v for v in values if v != float("inf"))
             never = len(values) - len(reached)
-            ys = [(k + 1) / len(values) for k in range(len(reached))]
+            if not reached:
+                continue
+            xs = [reached[0]] + reached
+            ys = [0.0] + [(k + 1) / len(values) for k in range(len(reached))]
             label = f"{station} {solution} ({len(values)} runs" + (f", {never} never" if never else "") + ")"
-            ax.step(reached, ys, where="post", label=label)
+            ax.step(xs, ys, where="post", label=label, color=f"C{stations.index(station) % 10}",
+                    linestyle=styles.get(solution, "-."))
         ax.set_xlabel(title)
         ax.set_ylabel("fraction of runs")
         ax.set_ylim(0, 1.02)
         ax.grid(alpha=0.3)
         ax.legend(fontsize=7, loc="lower right")
-    fig.suptitle(f"PPP-AR: {out}")
+    fig.suptitle(f"PPP-AR of campaign {campaign_name(out)}: CDF over the runs")
     fig.tight_layout()
     fig.savefig(f"{out}/summary_ar_cdf.png", dpi=80)
     plt.close(fig)

@@ -337,12 +337,12 @@ std::string campaignSummaryMarkdown(const CampaignSummary& s) {
   bool any_ppp = false;
   for (const auto& row : s.jobs) any_ppp |= row.job.kind != CampaignJobKind::MonteCarloShard;
   if (any_ppp) {
-    md << "| job | station | date | hour | state | epochs solved | mean 3D [cm] | first 15 min mean [cm] | < 10 cm from "
+    md << "| job | station | date | start | state | epochs solved | mean 3D [cm] | first 15 min mean [cm] | < 10 cm from "
           "[min] | fixed share |\n|---|---|---|---:|---|---:|---:|---:|---:|---:|\n";
     for (const auto& row : s.jobs) {
       if (row.job.kind == CampaignJobKind::MonteCarloShard) continue;
       md << "| " << row.job.id << " | " << row.job.group << " | " << row.job.date << " | "
-         << (row.job.hour >= 0 ? std::to_string(row.job.hour) : "") << " | " << toString(row.status.state) << " | ";
+         << startText(row.job) << " | " << toString(row.status.state) << " | ";
       if (row.status.result) {
         const CampaignJobResult& r = *row.status.result;
         md << r.epochs_solved << "/" << r.epochs_read << " | " << fmt("%.2f", r.mean_3d_m * 100.0) << " | "
