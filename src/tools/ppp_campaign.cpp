@@ -783,7 +783,7 @@ int writeSummary(const ppp::CampaignManifest& manifest, const Options& o) {
   std::cout << ppp::campaignSummaryMarkdown(summary);
   for (const auto& st : summary.studies)
     if (st.merged) std::cout << "Monte Carlo study " << st.study << " merged: " << o.out << "/monte_carlo/" << st.study << "/\n";
-  std::cout << "summary: " << o.out << "/summary.csv, summary.json, summary.md\n";
+  std::cout << "summary: " << o.out << "/summary.csv, summary.json, summary.md, summary_ar.csv\n";
   if (o.plot) plotSummary(o.out);
   return summary.done == static_cast<int>(summary.jobs.size()) ? 0 : 1;
 }

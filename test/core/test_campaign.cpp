@@ -717,3 +717,159 @@ ppp:
   EXPECT_NE(campaignSummaryMarkdown(s).find("## Done with problems\n\n- cut: "), std::string::npos)
       << campaignSummaryMarkdown(s);
 }
+
+namespace {
+
+/// One epoch of a synthetic solution: `error_m` east of the truth... along X, at t0 + k * 30 s.
+SolutionEpoch syntheticEpoch(const Eigen::Vector3d& truth, int k, double error_m, bool fixed) {
+  SolutionEpoch e;
+  e.time = test::gpst(2020, 6, 25, 1) + 30.0 * k;
+  e.position_ecef_m = truth + Eigen::Vector3d(error_m, 0.0, 0.0);
+  e.status = fixed ? SolutionStatus::PppFixed : SolutionStatus::PppFloat;
+  return e;
+}
+
+}  // namespace
+
+// A synthetic solution of 21 epochs at 30 s: 5 float at 50 cm, one fixed at 30 cm
+// (a wrong fix), 4 float at 20 cm, 10 fixed at 2 cm, and one epoch without a position.
+TEST(CampaignArFigures, FirstFixWrongFixesAndConvergenceOfASyntheticSolution) {
+  const Eigen::Vector3d truth(3582104.757, 532590.1752, 5232755.1289);
+  std::vector<SolutionEpoch> sol;
+  for (int k = 0; k < 5; ++k) sol.push_back(syntheticEpoch(truth, k, 0.50, false));
+  sol.push_back(syntheticEpoch(truth, 5, 0.30, true));
+  for (int k = 6; k < 10; ++k) sol.push_back(syntheticEpoch(truth, k, 0.20, false));
+  SolutionEpoch none;
+  none.time = test::gpst(2020, 6, 25, 1) + 30.0 * 10;
+  none.status = SolutionStatus::NoSolution;
+  sol.push_back(none);
+  for (int k = 11; k < 21; ++k) sol.push_back(syntheticEpoch(truth, k, 0.02, true));
+
+  const CampaignArFigures f = campaignArFigures("ekf", sol, truth);
+  EXPECT_EQ(f.solution, "ekf");
+  EXPECT_EQ(f.solved_epochs, 20u);
+  EXPECT_EQ(f.fixed_epochs, 11u);
+  EXPECT_EQ(f.wrong_fixed_epochs, 1u);
+  EXPECT_NEAR(f.worst_wrong_fix_m, 0.30, 1e-6);
+  EXPECT_DOUBLE_EQ(f.first_fix_s, 150.0);   // epoch 5
+  EXPECT_DOUBLE_EQ(f.below_10cm_s, 330.0);  // epoch 11: below 10 cm from then on
+  EXPECT_NEAR(f.mean_3d_m, (5 * 0.50 + 0.30 + 4 * 0.20 + 10 * 0.02) / 20.0, 1e-6);
+
+  // never fixed, never below 10 cm; no truth: the fix figures only
+  std::vector<SolutionEpoch> floating;
+  for (int k = 0; k < 4; ++k) floating.push_back(syntheticEpoch(truth, k, 0.2, false));
+  const CampaignArFigures g = campaignArFigures("smoother_filtered", floating, truth);
+  EXPECT_TRUE(std::isinf(g.first_fix_s));
+  EXPECT_TRUE(std::isinf(g.below_10cm_s));
+  EXPECT_EQ(g.wrong_fixed_epochs, 0u);
+  const CampaignArFigures h = campaignArFigures("ekf", sol, std::optional<PositionErrorStatistics>());
+  EXPECT_EQ(h.fixed_epochs, 11u);
+  EXPECT_DOUBLE_EQ(h.first_fix_s, 150.0);
+  EXPECT_TRUE(std::isnan(h.mean_3d_m) && std::isnan(h.below_10cm_s));
+
+  // the summary: per job (summary_ar.csv, summary.json) and the distributions
+  CampaignSummary s;
+  s.name = "ar";
+  for (int k = 0; k < 3; ++k) {
+    CampaignJobRow row;
+    row.job.id = "esbc_2020-177_r0" + std::to_string(k) + "00";
+    row.job.group = "esbc";
+    row.job.date = "2020-06-25";
+    row.job.ppp.files.window.start = test::gpst(2020, 6, 25, k);
+    row.status.state = CampaignJobState::Done;
+    CampaignJobResult r;
+    r.solutions = {k < 2 ? f : g};
+    row.status.result = r;
+    s.jobs.push_back(row);
+  }
+  s.jobs[2].job.id = "esbc_2020-177";  // a whole-file run
+  s.jobs[2].job.ppp.files.window.start.reset();
+  s.done = 3;
+  const std::vector<CampaignArDistribution> d = campaignArDistributions(s);
+  ASSERT_EQ(d.size(), 4u);  // esbc restarts ekf, esbc whole smoother_filtered, then the same over "all"
+  EXPECT_EQ(d[0].station, "esbc");
+  EXPECT_EQ(d[0].runs, "restarts");
+  EXPECT_EQ(d[0].run_count, 2u);
+  EXPECT_EQ(d[0].fixed_epochs, 22u);
+  EXPECT_EQ(d[0].wrong_fixed_epochs, 2u);
+  EXPECT_EQ(d[0].runs_with_wrong_fix, 2u);
+  EXPECT_DOUBLE_EQ(d[0].first_fix_s.median, 150.0);
+  EXPECT_EQ(d[1].runs, "whole");
+  EXPECT_EQ(d[1].first_fix_s.never, 1u);
+  EXPECT_TRUE(std::isinf(d[1].first_fix_s.median));
+  EXPECT_EQ(d[2].station, "all");
+  const std::string csv = campaignArSummaryCsv(s);
+  EXPECT_NE(csv.find("esbc_2020-177_r0000,esbc,2020-06-25,00:00,restarts,ekf,20,11,1,2.50,5.50,19.00,30.00\n"),
+            std::string::npos)
+      << csv;
+  EXPECT_NE(csv.find("esbc_2020-177,esbc,2020-06-25,,whole,smoother_filtered,4,0,0,never,never,20.00,\n"),
+            std::string::npos)
+      << csv;
+  const std::string md = campaignSummaryMarkdown(s);
+  EXPECT_NE(md.find("| esbc | restarts | ekf | 2 | 22/40 | 2 (2) | 2.5 / 2.5 / 2.5 | 5.5 / 5.5 / 5.5 | 19.00 / 19.00 / "
+                    "19.00 |"),
+            std::string::npos)
+      << md;
+  EXPECT_NE(md.find("- esbc_2020-177_r0100 ekf: 1 of 11 fixed epochs, the worst 30.0 cm"), std::string::npos) << md;
+  const std::string json = campaignSummaryJson(s);
+  EXPECT_NE(json.find("\"wrong_fixed_epochs\": 2, \"runs_with_wrong_fix\": 2"), std::string::npos) << json;
+  EXPECT_NE(json.find("\"first_fix_s\": {\"count\": 1, \"never\": 1, \"median\": \"never\""), std::string::npos) << json;
+}
+
+TEST(CampaignManifest, RestartsExpandToOneJobPerStartTime) {
+  const fs::path dir = test::tempDir("campaign_restarts");
+  for (const char* f : {"obs/abcd1770.20o", "prod/ORB.sp3", "prod/CLK.clk"}) touch(dir / f);
+  const std::string entry = R"(
+campaign: {name: r, data_root: .}
+ppp:
+  - station: abcd
+    obs: "obs/abcd{doy}0.{yy}o"
+    dates: {first: 2020-06-25, last: 2020-06-25}
+    sp3: [prod/ORB.sp3]
+    clk: [prod/CLK.clk]
+)";
+  const CampaignManifest m =
+      loadCampaignManifest(writeManifest(dir, entry + "    restarts: {first: \"22:30\", last: \"23:30\", every_min: 30, "
+                                                      "length_min: 60}\n").string());
+  ASSERT_EQ(m.jobs.size(), 3u);
+  EXPECT_EQ(m.jobs[0].id, "abcd_2020-177_r2230");
+  EXPECT_EQ(m.jobs[2].id, "abcd_2020-177_r2330");
+  EXPECT_EQ(*m.jobs[1].ppp.files.window.start, test::gpst(2020, 6, 25, 23));
+  EXPECT_EQ(*m.jobs[2].ppp.files.window.end, test::gpst(2020, 6, 26, 0, 30));
+  for (const auto& job : m.jobs)
+    EXPECT_EQ(campaignJobYaml(parseCampaignJob(campaignJobYaml(job), "job.yaml")), campaignJobYaml(job));
+  // without length_min: to the end of the observations
+  const CampaignManifest open_end =
+      loadCampaignManifest(writeManifest(dir, entry + "    restarts: {first: \"00:00\", last: \"00:45\", every_min: 5}\n").string());
+  ASSERT_EQ(open_end.jobs.size(), 10u);
+  EXPECT_EQ(*open_end.jobs[9].ppp.files.window.start, test::gpst(2020, 6, 25, 0, 45));
+  EXPECT_FALSE(open_end.jobs[9].ppp.files.window.end);
+  // a bad time of day, and hours with restarts, are refused naming the key
+  try {
+    loadCampaignManifest(writeManifest(dir, entry + "    restarts: {first: \"24:00\"}\n").string());
+    FAIL() << "accepted";
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("restarts.first"), std::string::npos) << e.what();
+  }
+  try {
+    loadCampaignManifest(writeManifest(dir, entry + "    hours: [0, 1]\n    restarts: {first: \"00:00\"}\n").string());
+    FAIL() << "accepted";
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("give hours or restarts, not both"), std::string::npos) << e.what();
+  }
+}
+
+// The PPP-AR restart benchmark of doc/campaigns.md: it expands to its 58 jobs and
+// every input is there.
+TEST(CampaignManifest, TheArRestartBenchmarkManifestValidates) {
+  const CampaignManifest m = loadCampaignManifest(std::string(PPP_REPO_DIR) + "/config/ar_restart_benchmark.yaml");
+  ASSERT_EQ(m.jobs.size(), 10u + 47u + 1u);
+  EXPECT_EQ(m.jobs[0].id, "ccj2_2021-210_r0000");
+  EXPECT_EQ(m.jobs[10].id, "esbc_2020-177_r0000");
+  EXPECT_EQ(m.jobs[56].id, "esbc_2020-177_r2300");
+  EXPECT_EQ(m.jobs[57].id, "esbc_2020-177");
+  for (const auto& j : m.jobs) EXPECT_EQ(j.ppp.estimator, "both") << j.id;
+  if (!test::sharedDataAvailable() || fs::path(m.data_root) != fs::path(test::sharedDataDir()).lexically_normal())
+    GTEST_SKIP() << "the manifest's data_root " << m.data_root << " is not the shared data";
+  EXPECT_EQ(campaignInputProblems(m), std::vector<std::string>{});
+}

@@ -40,6 +40,7 @@
 #include <string>
 #include <vector>
 
+#include "ppp_bayes_tree/app/campaign_ar_figures.h"
 #include "ppp_bayes_tree/app/campaign_manifest.h"
 #include "ppp_bayes_tree/app/ppp_solve_run.h"
 
@@ -65,6 +66,9 @@ struct CampaignJobResult {
   double mean_3d_m = kNaN, first_window_mean_3d_m = kNaN;  // with a truth
   double time_to_10cm_s = kNaN;  // with a truth; +inf when never below 10 cm to the end
   double fixed_share = kNaN;     // fixed epochs / solved epochs (PPP-AR), NaN when float
+  /// PPP-AR figures of every solution the job wrote (EKF; smoother filtered and
+  /// smoothed), in the order of the outputs (app/campaign_ar_figures.h)
+  std::vector<CampaignArFigures> solutions;
   // Monte Carlo shard
   int flights = 0, flights_failed = 0;
 };
@@ -79,9 +83,13 @@ struct CampaignJobStatus {
   std::optional<std::filesystem::file_time_type> failed_marker_time;
 };
 
-/// The figures of a PPP run from its first outcome (the causal solution), and
-/// as done.json's "result" object (ppp_bag_solve --result writes it for a bag job).
+/// The figures of a PPP run from its first outcome (the causal solution), with the
+/// PPP-AR figures of each of its solutions, and as done.json's "result" object
+/// (ppp_bag_solve --result writes it for a bag job).
 CampaignJobResult campaignPppResult(const PppSolveOutcome& first);
+/// The same for a run of several estimators ("both"): the figures of the first, the
+/// PPP-AR figures of every solution of each.
+CampaignJobResult campaignPppResult(const std::vector<PppSolveOutcome>& runs);
 std::string campaignPppResultJson(const PppSolveOutcome& first);
 
 /// The ROS tool bag jobs run: ppp_bag_solve in the directory of the running

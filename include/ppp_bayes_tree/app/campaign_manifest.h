@@ -13,7 +13,8 @@
 //     {station: S, obs: PATTERN, sp3: [PATTERN...], clk: [...], nav: [...], atx: [...],
 //      bia: PATTERN, blq: PATTERN, config: [YAML...], estimator: ekf|smoother|both,
 //      truth: [X, Y, Z], format: rinex|rtcm|ubx,
-//      dates: {first: YYYY-MM-DD, last: YYYY-MM-DD}, hours: [FIRST, LAST]}
+//      dates: {first: YYYY-MM-DD, last: YYYY-MM-DD}, hours: [FIRST, LAST],
+//      restarts: {first: "HH:MM", last: "HH:MM", every_min: N, length_min: M}}
 //   bags:      a list of ROS replay bags (gnss/observations + gnss/corrections), each
 //     {name: N, bag: PATTERN, config: [YAML...], estimator: ekf|smoother|both,
 //      atx: [...], bia: PATTERN, blq: PATTERN, truth: [X, Y, Z] | truth_csv: PATTERN}
@@ -27,8 +28,11 @@
 // `obs` is a glob (glob(3): * ? [..]): one job per matching file; every product
 // pattern is a glob too, all its matches given to the job (sorted). With
 // `hours: [a, b]` each of those jobs becomes one job per hour a..b of its day
-// (GPST window [h, h+1) h; io/rinex/time_window_source.h). Job ids:
-// <station>[_<yyyy>-<doy>][_h<HH>][_<obs file stem>, when the glob matched several].
+// (GPST window [h, h+1) h; io/rinex/time_window_source.h). With `restarts`
+// (instead of hours) each becomes one job per start time first, first + every_min,
+// ... up to last (GPST of its day), each a fresh start over length_min minutes
+// (length_min 0 or absent: to the end of the observations). Job ids:
+// <station>[_<yyyy>-<doy>][_<obs file stem>, when the glob matched several][_h<HH> | _r<HHMM>].
 // A bags entry: `bag` is a glob, one job per matching bag, id <name>[_<bag stem>,
 // when it matched several]; the job runs the ROS tool ppp_bag_solve (the
 // executable next to the running ppp_campaign) and writes ppp_solve's outputs; the

@@ -7,7 +7,10 @@
 //                            10 cm, fixed share (PPP; errors need a truth), flights
 //                            (Monte Carlo shards), the failure reason
 //   <campaign>/summary.json  the same rows, the Monte Carlo studies, the counts
-//   <campaign>/summary.md    the readable tables: stations x days, studies, failures
+//   <campaign>/summary.md    the readable tables: stations x days, studies, failures,
+//                            the PPP-AR distributions per station and overall
+//   <campaign>/summary_ar.csv one row per done PPP job and solution: its PPP-AR
+//                            figures (app/campaign_ar_figures.h); the CDF plot reads it
 //   <campaign>/monte_carlo/<study>/  a study whose shards are all done, merged
 //                            (evaluation/monte_carlo_records.h) and written as
 //                            ppp_monte_carlo writes one run (writeMonteCarloOutputs)
@@ -49,6 +52,14 @@ struct CampaignSummary {
 /// is stale, its old result neither shown nor merged) and merges the Monte Carlo studies whose shards are
 /// all done (throws nothing for a bad shard: the study's `problem` says why).
 CampaignSummary summarizeCampaign(const CampaignManifest& manifest, const std::string& campaign_dir);
+
+/// "restarts" for a job with a start time (hours, restarts), "whole" for a whole file.
+const char* campaignRunsKind(const CampaignJob& job);
+/// The distributions of the PPP-AR figures of the done PPP and bag jobs: per
+/// station, kind of runs and solution (in the order they first appear), then the
+/// same over all stations ("all").
+std::vector<CampaignArDistribution> campaignArDistributions(const CampaignSummary& summary);
+std::string campaignArSummaryCsv(const CampaignSummary& summary);
 
 std::string campaignSummaryCsv(const CampaignSummary& summary);
 std::string campaignSummaryJson(const CampaignSummary& summary);

@@ -97,6 +97,7 @@ std::string resultJson(const CampaignJob& job, const CampaignJobResult& r) {
        << ", \"first_window_mean_3d_m\": " << jsonNumber(r.first_window_mean_3d_m, 17)
        << ", \"time_to_10cm_s\": " << ttc << ", \"fixed_share\": " << jsonNumber(r.fixed_share, 17);
     if (!r.first_problem.empty()) os << ", \"first_problem\": " << jsonString(r.first_problem);
+    if (!r.solutions.empty()) os << ", \"solutions\": " << campaignArFiguresJson(r.solutions, 17);
   } else {
     os << "\"flights\": " << r.flights << ", \"flights_failed\": " << r.flights_failed;
   }
@@ -122,6 +123,18 @@ CampaignJobResult parseResult(const YAML::Node& r) {
   out.first_window_mean_3d_m = numberOrNaN(r["first_window_mean_3d_m"]);
   out.time_to_10cm_s = numberOrNaN(r["time_to_10cm_s"]);
   out.fixed_share = numberOrNaN(r["fixed_share"]);
+  for (const auto& a : r["solutions"]) {
+    CampaignArFigures f;
+    f.solution = a["solution"].as<std::string>();
+    f.solved_epochs = a["solved_epochs"].as<std::size_t>();
+    f.fixed_epochs = a["fixed_epochs"].as<std::size_t>();
+    f.wrong_fixed_epochs = a["wrong_fixed_epochs"].as<std::size_t>();
+    f.first_fix_s = numberOrNaN(a["first_fix_s"]);
+    f.below_10cm_s = numberOrNaN(a["below_10cm_s"]);
+    f.mean_3d_m = numberOrNaN(a["mean_3d_m"]);
+    f.worst_wrong_fix_m = numberOrNaN(a["worst_wrong_fix_m"]);
+    out.solutions.push_back(f);
+  }
   if (r["flights"]) out.flights = r["flights"].as<int>();
   if (r["flights_failed"]) out.flights_failed = r["flights_failed"].as<int>();
   return out;
@@ -142,7 +155,7 @@ CampaignJobResult runPppJob(const CampaignJob& job, const std::string& work_dir)
   if (first.run.epochs_solved == 0)
     throw std::runtime_error("no epoch solved (" + std::to_string(first.run.epochs_read) + " read) from " +
                              job.ppp.files.obs);
-  return campaignPppResult(first);
+  return campaignPppResult(runs);
 }
 
 /// The arguments of ppp_bag_solve for a bag job writing into `work_dir`.
@@ -348,6 +361,15 @@ CampaignJobResult campaignPppResult(const PppSolveOutcome& first) {
     for (const auto& c : first.statistics->convergence)
       if (std::abs(c.threshold_m - 0.10) < 1e-9 && c.time_s) r.time_to_10cm_s = *c.time_s;
   }
+  for (const auto& out : first.outputs) r.solutions.push_back(campaignArFigures(out.tag, out.solution, out.statistics));
+  return r;
+}
+
+CampaignJobResult campaignPppResult(const std::vector<PppSolveOutcome>& runs) {
+  if (runs.empty()) return {};
+  CampaignJobResult r = campaignPppResult(runs.front());
+  for (std::size_t k = 1; k < runs.size(); ++k)
+    for (const auto& out : runs[k].outputs) r.solutions.push_back(campaignArFigures(out.tag, out.solution, out.statistics));
   return r;
 }
 

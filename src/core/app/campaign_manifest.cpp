@@ -124,6 +124,14 @@ std::string fileStem(const std::string& path) {
   return stem;
 }
 
+/// A time window of a day a ppp entry is split into (`hours` or `restarts`).
+struct CampaignWindow {
+  std::string id_suffix;  // "_h03", "_r0030"
+  int hour = -1;          // hourly windows: the hour
+  double start_s = 0.0;   // since the day's 00:00 GPST
+  std::optional<double> end_s;  // none: to the end of the observations
+};
+
 /// A ppp entry of the manifest before expansion.
 struct PppEntry {
   std::string station, obs, format = "rinex", estimator = "ekf";
@@ -132,6 +140,7 @@ struct PppEntry {
   std::optional<Eigen::Vector3d> truth;
   std::vector<CampaignDay> days;  // empty: no dates
   int first_hour = -1, last_hour = -1;
+  std::vector<CampaignWindow> restarts;  // empty: no restarts
 };
 
 /// A date of the manifest: YYYY-MM-DD within kFirstCampaignDate .. kLastCampaignDate.
@@ -154,6 +163,38 @@ std::vector<CampaignDay> readDates(YamlSection dates, const YAML::Node& node) {
   std::vector<CampaignDay> days;
   for (GnssTime t = *first; t <= *last; t += 86400.0) days.push_back({t, dateText(t)});
   return days;
+}
+
+/// "HH:MM" of a day in minutes 0..1439; nullopt when the text is not that.
+std::optional<int> minuteOfDay(const std::string& text) {
+  int h = 0, m = 0;
+  char tail = 0;
+  if (text.size() != 5 || std::sscanf(text.c_str(), "%2d:%2d%c", &h, &m, &tail) != 2) return std::nullopt;
+  if (h < 0 || h > 23 || m < 0 || m > 59) return std::nullopt;
+  return h * 60 + m;
+}
+
+/// The restart windows of `restarts: {first: "HH:MM", last: "HH:MM", every_min: N, length_min: M}`.
+std::vector<CampaignWindow> readRestarts(YamlSection r, const YAML::Node& node) {
+  const std::string first_text = r.text("first", "00:00"), last_text = r.text("last", first_text);
+  const int every_min = r.integer("every_min", 60, 1);
+  const int length_min = r.integer("length_min", 0, 0);
+  r.finish();
+  const auto first = minuteOfDay(first_text), last = minuteOfDay(last_text);
+  if (!first) r.fail("first", "needs a time of day \"HH:MM\" (" + lineText(node) + "), not '" + first_text + "'");
+  if (!last) r.fail("last", "needs a time of day \"HH:MM\" (" + lineText(node) + "), not '" + last_text + "'");
+  if (*last < *first) r.fail("last", "is before first (" + lineText(node) + ")");
+  std::vector<CampaignWindow> windows;
+  for (int m = *first; m <= *last; m += every_min) {
+    CampaignWindow w;
+    char b[16];
+    std::snprintf(b, sizeof b, "_r%02d%02d", m / 60, m % 60);
+    w.id_suffix = b;
+    w.start_s = 60.0 * m;
+    if (length_min > 0) w.end_s = 60.0 * (m + length_min);
+    windows.push_back(w);
+  }
+  return windows;
 }
 
 PppEntry readPppEntry(const YAML::Node& node, const std::string& file, const std::string& path) {
@@ -188,6 +229,11 @@ PppEntry readPppEntry(const YAML::Node& node, const std::string& file, const std
     if (e.days.empty()) s.fail("hours", "hourly jobs need dates: {first, last} (the day of each hour; " + lineText(node) + ")");
     e.first_hour = static_cast<int>(h[0]);
     e.last_hour = static_cast<int>(h[1]);
+  }
+  if (s.has("restarts")) {
+    if (e.first_hour >= 0) s.fail("restarts", "give hours or restarts, not both (" + lineText(node) + ")");
+    e.restarts = readRestarts(s.section("restarts"), node["restarts"]);
+    if (e.days.empty()) s.fail("restarts", "restart windows need dates: {first, last} (the day of each; " + lineText(node) + ")");
   }
   s.finish();
   return e;
@@ -229,6 +275,23 @@ void checkDistinctInputs(const std::vector<CampaignJob>& jobs, std::size_t from,
   }
 }
 
+/// The time windows an entry splits each day into: its hours or its restarts; none: the whole file.
+std::vector<CampaignWindow> entryWindows(const PppEntry& e) {
+  if (!e.restarts.empty()) return e.restarts;
+  std::vector<CampaignWindow> windows;
+  for (int h = e.first_hour; h >= 0 && h <= e.last_hour; ++h) {
+    CampaignWindow w;
+    char b[16];
+    std::snprintf(b, sizeof b, "_h%02d", h);
+    w.id_suffix = b;
+    w.hour = h;
+    w.start_s = 3600.0 * h;
+    w.end_s = 3600.0 * (h + 1);
+    windows.push_back(w);
+  }
+  return windows;
+}
+
 void expandPppEntry(const PppEntry& e, const std::string& data_root, const std::string& manifest_dir,
                     std::vector<CampaignJob>& jobs, const std::string& file, const std::string& key) {
   const std::size_t first_job = jobs.size();
@@ -237,7 +300,8 @@ void expandPppEntry(const PppEntry& e, const std::string& data_root, const std::
   for (const auto& d : e.days) days.push_back(d);
   for (const auto& day : days) {
     const std::vector<std::string> obs_files = expandGlob(resolve(data_root, substituteDay(e.obs, day)));
-    checkJobCount(jobs.size(), obs_files.size() * static_cast<std::uint64_t>(e.first_hour < 0 ? 1 : e.last_hour - e.first_hour + 1),
+    const std::vector<CampaignWindow> windows = entryWindows(e);
+    checkJobCount(jobs.size(), obs_files.size() * static_cast<std::uint64_t>(std::max<std::size_t>(1, windows.size())),
                   file, key);
     for (const auto& obs : obs_files) {
       CampaignJob job;
@@ -265,20 +329,18 @@ void expandPppEntry(const PppEntry& e, const std::string& data_root, const std::
       for (const auto& c : e.config) job.ppp.config.push_back(resolve(manifest_dir, c));
       job.ppp.estimator = e.estimator;
       job.ppp.truth_ecef_m = e.truth;
-      if (e.first_hour < 0) {
+      if (windows.empty()) {
         job.id = id;
         jobs.push_back(job);
         continue;
       }
-      for (int h = e.first_hour; h <= e.last_hour; ++h) {
-        CampaignJob hourly = job;
-        char b[16];
-        std::snprintf(b, sizeof b, "_h%02d", h);
-        hourly.id = id + b;
-        hourly.hour = h;
-        hourly.ppp.files.window.start = day->midnight + 3600.0 * h;
-        hourly.ppp.files.window.end = day->midnight + 3600.0 * (h + 1);
-        jobs.push_back(hourly);
+      for (const auto& w : windows) {
+        CampaignJob windowed = job;
+        windowed.id = id + w.id_suffix;
+        windowed.hour = w.hour;
+        windowed.ppp.files.window.start = day->midnight + w.start_s;
+        if (w.end_s) windowed.ppp.files.window.end = day->midnight + *w.end_s;
+        jobs.push_back(windowed);
       }
     }
   }

@@ -70,10 +70,111 @@ void appendAttentionSections(const CampaignSummary& s, std::ostringstream& md) {
   }
 }
 
+std::string spreadText(const CampaignArSpread& s, double scale, const char* f) {
+  if (s.count == 0) return "";
+  std::string t = fmt(f, s.median * scale) + " / " + fmt(f, s.p90 * scale) + " / " + fmt(f, s.max * scale);
+  if (s.never > 0) t += " (" + std::to_string(s.never) + " never)";
+  return t;
+}
+
+std::string spreadJson(const CampaignArSpread& s) {
+  auto number = [](double v) { return campaignFigureJson(v, 10); };
+  return "{\"count\": " + std::to_string(s.count) + ", \"never\": " + std::to_string(s.never) +
+         ", \"median\": " + number(s.median) + ", \"p90\": " + number(s.p90) + ", \"max\": " + number(s.max) + "}";
+}
+
+/// "HH:MM" GPST of the job's start, "" for a whole file.
+std::string startText(const CampaignJob& job) {
+  if (!job.ppp.files.window.start) return "";
+  const CalendarTime c = job.ppp.files.window.start->toCalendar();
+  return format("%02d:%02d", c.hour, c.minute);
+}
+
+/// The PPP-AR distributions: per station, runs and solution; then over all stations.
+void appendArSection(const CampaignSummary& s, std::ostringstream& md) {
+  const std::vector<CampaignArDistribution> dist = campaignArDistributions(s);
+  if (dist.empty()) return;
+  md << "## PPP-AR\n\nPer station and over all stations (runs: restarts = jobs from a start time, whole = whole "
+        "files). Median / p90 / max over the runs; a run that never fixed (never stayed below 10 cm) counts as "
+        "never. A wrong fixed epoch is a fixed epoch more than 10 cm 3D from the job's truth.\n\n"
+        "| station | runs | solution | runs | fixed epochs | wrong fixed epochs (runs) | first fix [min] | "
+        "below 10 cm for good [min] | mean 3D [cm] |\n|---|---|---|---:|---:|---:|---|---|---|\n";
+  for (const auto& d : dist)
+    md << "| " << d.station << " | " << d.runs << " | " << d.solution << " | " << d.run_count << " | " << d.fixed_epochs
+       << "/" << d.solved_epochs << " | " << d.wrong_fixed_epochs << " (" << d.runs_with_wrong_fix << ") | "
+       << spreadText(d.first_fix_s, 1.0 / 60.0, "%.1f") << " | " << spreadText(d.below_10cm_s, 1.0 / 60.0, "%.1f")
+       << " | " << spreadText(d.mean_3d_m, 100.0, "%.2f") << " |\n";
+  md << "\nPer job and solution: summary_ar.csv.\n\n";
+  bool any_wrong = false;
+  for (const auto& row : s.jobs)
+    if (row.status.result)
+      for (const auto& f : row.status.result->solutions)
+        if (f.wrong_fixed_epochs > 0) {
+          if (!any_wrong) md << "Runs with wrong fixed epochs:\n\n";
+          any_wrong = true;
+          md << "- " << row.job.id << " " << f.solution << ": " << f.wrong_fixed_epochs << " of " << f.fixed_epochs
+             << " fixed epochs, the worst " << fmt("%.1f", f.worst_wrong_fix_m * 100.0) << " cm\n";
+        }
+  if (any_wrong) md << "\n";
+}
+
 }  // namespace
 
 std::string campaignJobDir(const std::string& campaign_dir, const std::string& job_id) {
   return (fs::path(campaign_dir) / "jobs" / job_id).string();
+}
+
+const char* campaignRunsKind(const CampaignJob& job) { return job.ppp.files.window.start ? "restarts" : "whole"; }
+
+std::vector<CampaignArDistribution> campaignArDistributions(const CampaignSummary& s) {
+  struct Values {
+    CampaignArDistribution d;
+    std::vector<double> first_fix_s, below_s, mean_m;
+  };
+  std::vector<Values> groups;
+  std::map<std::tuple<std::string, std::string, std::string>, std::size_t> index;
+  auto add = [&](const std::string& station, const char* runs, const CampaignArFigures& f) {
+    const auto key = std::make_tuple(station, std::string(runs), f.solution);
+    auto it = index.find(key);
+    if (it == index.end()) {
+      it = index.emplace(key, groups.size()).first;
+      groups.push_back({});
+      groups.back().d.station = station;
+      groups.back().d.runs = runs;
+      groups.back().d.solution = f.solution;
+    }
+    Values& v = groups[it->second];
+    addCampaignArRun(f, v.first_fix_s, v.below_s, v.mean_m, v.d);
+  };
+  for (const std::string pass : {"station", "all"})
+    for (const auto& row : s.jobs) {
+      if (row.status.state != CampaignJobState::Done || !row.status.result) continue;
+      for (const auto& f : row.status.result->solutions)
+        add(pass == "all" ? "all" : row.job.group, campaignRunsKind(row.job), f);
+    }
+  std::vector<CampaignArDistribution> out;
+  for (auto& v : groups) {
+    v.d.first_fix_s = campaignArSpread(v.first_fix_s);
+    v.d.below_10cm_s = campaignArSpread(v.below_s);
+    v.d.mean_3d_m = campaignArSpread(v.mean_m);
+    out.push_back(v.d);
+  }
+  return out;
+}
+
+std::string campaignArSummaryCsv(const CampaignSummary& s) {
+  std::ostringstream os;
+  os << "id,group,date,start,runs,solution,solved_epochs,fixed_epochs,wrong_fixed_epochs,first_fix_min,"
+        "below_10cm_min,mean_3d_cm,worst_wrong_fix_cm\n";
+  for (const auto& row : s.jobs) {
+    if (row.status.state != CampaignJobState::Done || !row.status.result) continue;
+    for (const auto& f : row.status.result->solutions)
+      os << row.job.id << ',' << row.job.group << ',' << row.job.date << ',' << startText(row.job) << ','
+         << campaignRunsKind(row.job) << ',' << f.solution << ',' << f.solved_epochs << ',' << f.fixed_epochs << ','
+         << f.wrong_fixed_epochs << ',' << fmt("%.2f", f.first_fix_s / 60.0) << ',' << fmt("%.2f", f.below_10cm_s / 60.0)
+         << ',' << fmt("%.2f", f.mean_3d_m * 100.0) << ',' << fmt("%.2f", f.worst_wrong_fix_m * 100.0) << '\n';
+  }
+  return os.str();
 }
 
 CampaignSummary summarizeCampaign(const CampaignManifest& manifest, const std::string& campaign_dir) {
@@ -185,11 +286,23 @@ std::string campaignSummaryJson(const CampaignSummary& s) {
           << (std::isinf(r.time_to_10cm_s) ? "\"never\"" : jsonNumber(r.time_to_10cm_s, 10))
           << ", \"fixed_share\": " << jsonNumber(r.fixed_share, 10)
           << (r.first_problem.empty() ? "" : ", \"first_problem\": " + jsonString(r.first_problem));
+      if (job.kind != CampaignJobKind::MonteCarloShard && !r.solutions.empty()) j << ", \"solutions\": " << campaignArFiguresJson(r.solutions, 10);
       else
         j << ", \"flights\": " << r.flights << ", \"flights_failed\": " << r.flights_failed;
     }
     if (!row.status.reason.empty()) j << ", \"reason\": " << jsonString(row.status.reason);
     j << "}";
+  }
+  j << "\n  ],\n  \"ar_distributions\": [";
+  const std::vector<CampaignArDistribution> dist = campaignArDistributions(s);
+  for (std::size_t i = 0; i < dist.size(); ++i) {
+    const CampaignArDistribution& d = dist[i];
+    j << (i ? "," : "") << "\n    {\"station\": " << jsonString(d.station) << ", \"runs\": " << jsonString(d.runs)
+      << ", \"solution\": " << jsonString(d.solution) << ", \"run_count\": " << d.run_count
+      << ", \"solved_epochs\": " << d.solved_epochs << ", \"fixed_epochs\": " << d.fixed_epochs
+      << ", \"wrong_fixed_epochs\": " << d.wrong_fixed_epochs << ", \"runs_with_wrong_fix\": " << d.runs_with_wrong_fix
+      << ", \"first_fix_s\": " << spreadJson(d.first_fix_s) << ", \"below_10cm_s\": " << spreadJson(d.below_10cm_s)
+      << ", \"mean_3d_m\": " << spreadJson(d.mean_3d_m) << "}";
   }
   j << "\n  ],\n  \"monte_carlo\": [";
   for (std::size_t i = 0; i < s.studies.size(); ++i) {
@@ -224,12 +337,12 @@ std::string campaignSummaryMarkdown(const CampaignSummary& s) {
   bool any_ppp = false;
   for (const auto& row : s.jobs) any_ppp |= row.job.kind != CampaignJobKind::MonteCarloShard;
   if (any_ppp) {
-    md << "| job | station | date | hour | state | epochs solved | mean 3D [cm] | first 15 min mean [cm] | < 10 cm from "
+    md << "| job | station | date | start | state | epochs solved | mean 3D [cm] | first 15 min mean [cm] | < 10 cm from "
           "[min] | fixed share |\n|---|---|---|---:|---|---:|---:|---:|---:|---:|\n";
     for (const auto& row : s.jobs) {
       if (row.job.kind == CampaignJobKind::MonteCarloShard) continue;
       md << "| " << row.job.id << " | " << row.job.group << " | " << row.job.date << " | "
-         << (row.job.hour >= 0 ? std::to_string(row.job.hour) : "") << " | " << toString(row.status.state) << " | ";
+         << startText(row.job) << " | " << toString(row.status.state) << " | ";
       if (row.status.result) {
         const CampaignJobResult& r = *row.status.result;
         md << r.epochs_solved << "/" << r.epochs_read << " | " << fmt("%.2f", r.mean_3d_m * 100.0) << " | "
@@ -256,6 +369,7 @@ std::string campaignSummaryMarkdown(const CampaignSummary& s) {
     }
     md << "\n";
   }
+  appendArSection(s, md);
   if (s.failed + s.interrupted > 0) {
     md << "## Failures\n\n";
     for (const auto& row : s.jobs)
@@ -272,6 +386,7 @@ void writeCampaignSummary(const CampaignSummary& s, const std::string& dir) {
   writeFileAtomically((fs::path(dir) / "summary.csv").string(), campaignSummaryCsv(s));
   writeFileAtomically((fs::path(dir) / "summary.json").string(), campaignSummaryJson(s));
   writeFileAtomically((fs::path(dir) / "summary.md").string(), campaignSummaryMarkdown(s));
+  writeFileAtomically((fs::path(dir) / "summary_ar.csv").string(), campaignArSummaryCsv(s));
   for (const auto& st : s.studies)
     if (st.merged) writeMonteCarloOutputs(*st.merged, (fs::path(dir) / "monte_carlo" / st.study).string());
 }
