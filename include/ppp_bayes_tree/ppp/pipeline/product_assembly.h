@@ -47,6 +47,7 @@
 // allow_antenna_model_mismatch lets both fix despite a different or unknown model.
 #include <memory>
 #include <optional>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -89,6 +90,9 @@ struct ProductAssemblyInputs : OrbitClockFiles {
   /// The observations' span (products outside it are not read; the antenna
   /// check looks at the blocks valid at `first`). nullopt: unknown.
   std::optional<GnssTime> first, last;
+  /// The satellites of the observation file's epochs (in its window), for the
+  /// coverage check. nullopt: not known before the run.
+  std::optional<std::set<SatelliteId>> observed_satellites;
   /// The GLONASS frequency channels of the observation file's header (RINEX
   /// GLONASS SLOT / FRQ #, or those an RTCM/UBX file's scan found). nullopt:
   /// the observations are streamed and bring their channels with them.
@@ -188,6 +192,10 @@ class ProductAssembly {
   /// The products' spans against the observations' (product_coverage.h): a partial
   /// cover is a note, none a refusal (throws std::runtime_error naming both spans).
   void checkCoverage(const ProductAssemblyInputs& in, const OrbitClockProducts& orbit_clock);
+  /// The observed satellites of the systems processed against those the orbits and
+  /// clocks carry (and, with require_code_osb, the Bias-SINEX file's code OSBs): the
+  /// missing ones are a note, none carried a refusal (product_coverage.h).
+  void checkObservedSatellites(const ProductAssemblyInputs& in, const OrbitClockProducts& orbit_clock);
   void checkSatelliteAntennas(const ProductAssemblyInputs& in, const std::vector<std::string>& product_models,
                               const OrbitClockProducts& orbit_clock);
   void decideArGate(const ProductAssemblyInputs& in, const OrbitClockProducts& orbit_clock);

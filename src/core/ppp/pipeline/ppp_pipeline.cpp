@@ -36,13 +36,20 @@ std::string emptyWindowText(const std::string& path, const ObservationWindow& wi
   return "the window" + bounds + " holds no epoch of " + path + " (" + span + ")";
 }
 
-/// The span of an observation file's epochs (one extra pass over the file, a few
-/// ms); unset when it cannot be read (reported by the main pass).
-/// With a window: the span of the epochs inside it (the pass stops after its end);
-/// a window that holds no epoch of a readable file is refused, with the file's span.
-std::pair<std::optional<GnssTime>, std::optional<GnssTime>> observationSpan(const std::string& obs_path,
-                                                                            const ObservationWindow& window) {
-  std::optional<GnssTime> first, last, file_first, file_last;
+/// What one pass over an observation file finds before the run: its epochs' span
+/// and the satellites observed (inside the window). Unset when the file cannot be read.
+struct ObservationScan {
+  std::optional<GnssTime> first, last;
+  std::optional<std::set<SatelliteId>> satellites;
+};
+
+/// One extra pass over an observation file (a few ms). With a window: the span and
+/// satellites of the epochs inside it (the pass stops after its end); a window that
+/// holds no epoch of a readable file is refused, with the file's span.
+ObservationScan scanObservations(const std::string& obs_path, const ObservationWindow& window) {
+  ObservationScan scan;
+  std::optional<GnssTime> file_first, file_last;
+  std::set<SatelliteId> satellites;
   try {
     RinexObsReader reader = RinexObsReader::open(obs_path);
     ObsEpoch epoch;
@@ -51,14 +58,17 @@ std::pair<std::optional<GnssTime>, std::optional<GnssTime>> observationSpan(cons
       if (!file_last || *file_last < epoch.time) file_last = epoch.time;
       if (window.end && epoch.time >= *window.end) break;
       if (!window.contains(epoch.time)) continue;
-      if (!first || epoch.time < *first) first = epoch.time;
-      if (!last || *last < epoch.time) last = epoch.time;
+      if (!scan.first || epoch.time < *scan.first) scan.first = epoch.time;
+      if (!scan.last || *scan.last < epoch.time) scan.last = epoch.time;
+      for (const auto& sat : epoch.satellites) satellites.insert(sat.satellite);
     }
   } catch (const std::exception&) {
     return {};
   }
-  if (window.bounded() && !first && file_first) throw std::runtime_error(emptyWindowText(obs_path, window, *file_first, *file_last));
-  return {first, last};
+  if (window.bounded() && !scan.first && file_first)
+    throw std::runtime_error(emptyWindowText(obs_path, window, *file_first, *file_last));
+  scan.satellites = std::move(satellites);
+  return scan;
 }
 
 /// Running sums for one satellite's residual statistics.
@@ -178,7 +188,10 @@ PppPipeline::PppPipeline(const PppInputFiles& files, PppConfig config)
     if (h.time_of_last_obs) in.last = h.time_of_last_obs->time;
   } else {
     d.source = std::make_unique<RinexObservationSource>(files.obs);
-    std::tie(in.first, in.last) = observationSpan(files.obs, files.window);
+    ObservationScan scan = scanObservations(files.obs, files.window);
+    in.first = scan.first;
+    in.last = scan.last;
+    in.observed_satellites = std::move(scan.satellites);
   }
   if (const std::string why = fileProductInputsProblem(productInputsGiven(files)); !why.empty())
     throw std::invalid_argument(why);
