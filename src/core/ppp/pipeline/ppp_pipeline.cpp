@@ -108,6 +108,73 @@ std::string suspectChannelNote(const SatelliteId& sat, std::size_t used, std::si
          "navigation records";
 }
 
+/// The residual statistics' summary of a run, per satellite: the residuals of the
+/// solved epochs, the model-stage rejections and those of the residual tests; at the
+/// end the statistics and the warnings of GLONASS satellites with a suspect channel.
+class ResidualSummary {
+ public:
+  /// One processed epoch: its rejections and, when solved with a position, its residuals.
+  void add(const PppEpochRecord& rec) {
+    for (const auto& x : rec.rejected) {
+      if (x.stage == RejectionStage::Model) acc_[x.satellite].rejections++;
+      if (isResidualTest(x.reason)) acc_[x.satellite].screened_out++;
+    }
+    if (rec.status != EpochStatus::Ok || !rec.solution.position_ecef_m) return;
+    for (const auto& res : rec.residuals) {
+      auto& a = acc_[res.satellite];
+      ++a.n;
+      a.code_sum += res.code_postfit_m;
+      a.code_sq += res.code_postfit_m * res.code_postfit_m;
+      a.phase_sum += res.phase_postfit_m;
+      a.phase_sq += res.phase_postfit_m * res.phase_postfit_m;
+      a.phase_max = std::max(a.phase_max, std::abs(res.phase_postfit_m));
+      a.el_min = std::min(a.el_min, res.elevation_rad * kRadToDeg);
+      a.el_max = std::max(a.el_max, res.elevation_rad * kRadToDeg);
+    }
+  }
+
+  /// Whether `sat` had residuals in a solved epoch.
+  bool used(const SatelliteId& sat) const {
+    const auto it = acc_.find(sat);
+    return it != acc_.end() && it->second.n > 0;
+  }
+
+  /// One row per satellite with residuals or rejections.
+  std::vector<SatelliteResidualStatistics> statistics() const {
+    std::vector<SatelliteResidualStatistics> out;
+    for (const auto& [sat, a] : acc_) {
+      SatelliteResidualStatistics st;
+      st.satellite = sat;
+      st.count = a.n;
+      st.rejections = a.rejections;
+      if (a.n > 0) {
+        st.code_mean_m = a.code_sum / a.n;
+        st.code_rms_m = std::sqrt(a.code_sq / a.n);
+        st.phase_mean_m = a.phase_sum / a.n;
+        st.phase_rms_m = std::sqrt(a.phase_sq / a.n);
+        st.phase_max_abs_m = a.phase_max;
+        st.min_elevation_deg = a.el_min;
+        st.max_elevation_deg = a.el_max;
+      }
+      out.push_back(st);
+    }
+    return out;
+  }
+
+  /// A warning per GLONASS satellite the residual tests rejected in more epochs than
+  /// it was used in, with its channel (`channels`: those the run used).
+  std::vector<std::string> suspectChannelNotes(const GlonassChannels& channels) const {
+    std::vector<std::string> out;
+    for (const auto& [sat, a] : acc_)
+      if (sat.system == GnssSystem::GLONASS && suspectChannel(a.n, a.screened_out))
+        out.push_back(suspectChannelNote(sat, a.n, a.screened_out, channels.channel(sat.prn)));
+    return out;
+  }
+
+ private:
+  std::map<SatelliteId, ResidualAccumulator> acc_;
+};
+
 }  // namespace
 
 std::string toString(RejectionStage stage) {
@@ -257,8 +324,7 @@ std::string PppPipeline::stationName() const {
 }
 
 std::optional<int> PppPipeline::glonassChannel(const SatelliteId& sat) const {
-  if (const auto k = header().glonass_channels.channel(sat.prn)) return k;
-  return config_.signals.glonass_channels.channel(sat.prn);
+  return channelsHeaderFirst(header().glonass_channels, config_.signals.glonass_channels).channel(sat.prn);
 }
 
 std::vector<std::string> PppPipeline::notes() const {
@@ -310,7 +376,7 @@ PppRunSummary PppPipeline::run(EpochEstimator& estimator, const EpochCallback& o
   // Code-reference notes, merged over epochs: text before a trailing
   // satellite list -> union of the satellites.
   std::map<std::string, std::set<std::string>> code_notes;
-  std::map<SatelliteId, ResidualAccumulator> acc;
+  ResidualSummary residuals;
   PppEpochProcessor& processor = *d.processor;
   ObsEpoch epoch;
   PppEpochRecord rec;
@@ -351,10 +417,6 @@ PppRunSummary PppPipeline::run(EpochEstimator& estimator, const EpochCallback& o
     }
     summary.arcs += static_cast<std::size_t>(rec.new_arcs);
     summary.slips += static_cast<std::size_t>(rec.slips);
-    for (const auto& x : rec.rejected) {
-      if (x.stage == RejectionStage::Model) acc[x.satellite].rejections++;
-      if (isResidualTest(x.reason)) acc[x.satellite].screened_out++;
-    }
     switch (rec.status) {
       case EpochStatus::Ok:
         ++summary.epochs_solved;
@@ -367,19 +429,7 @@ PppRunSummary PppPipeline::run(EpochEstimator& estimator, const EpochCallback& o
       case EpochStatus::NoSolution: ++summary.epochs_no_solution; break;
       case EpochStatus::Failed: ++summary.epochs_failed; break;
     }
-    if (rec.status == EpochStatus::Ok && rec.solution.position_ecef_m) {
-      for (const auto& res : rec.residuals) {
-        auto& a = acc[res.satellite];
-        ++a.n;
-        a.code_sum += res.code_postfit_m;
-        a.code_sq += res.code_postfit_m * res.code_postfit_m;
-        a.phase_sum += res.phase_postfit_m;
-        a.phase_sq += res.phase_postfit_m * res.phase_postfit_m;
-        a.phase_max = std::max(a.phase_max, std::abs(res.phase_postfit_m));
-        a.el_min = std::min(a.el_min, res.elevation_rad * kRadToDeg);
-        a.el_max = std::max(a.el_max, res.elevation_rad * kRadToDeg);
-      }
-    }
+    residuals.add(rec);
     for (const auto& x : rec.rejected) summary.rejection_counts[{x.stage, x.reason}]++;
     for (const auto& x : rec.rejected) {
       auto& r = rejected_epochs[x.satellite];
@@ -398,33 +448,17 @@ PppRunSummary PppPipeline::run(EpochEstimator& estimator, const EpochCallback& o
     // With input problems, name the satellites the run never used.
     std::string dropped;
     for (const auto& [sat, r] : rejected_epochs) {
-      auto it = acc.find(sat);
-      if (it != acc.end() && it->second.n > 0) continue;
+      if (residuals.used(sat)) continue;
       dropped += (dropped.empty() ? "" : "; ") + sat.toString() + " (" + std::to_string(r.first) +
                  " epoch(s), first: " + r.second + ")";
     }
     if (!dropped.empty()) summary.problems.push_back("satellites never used: " + dropped);
   }
-  for (const auto& [sat, a] : acc) {
-    SatelliteResidualStatistics st;
-    st.satellite = sat;
-    st.count = a.n;
-    st.rejections = a.rejections;
-    if (a.n > 0) {
-      st.code_mean_m = a.code_sum / a.n;
-      st.code_rms_m = std::sqrt(a.code_sq / a.n);
-      st.phase_mean_m = a.phase_sum / a.n;
-      st.phase_rms_m = std::sqrt(a.phase_sq / a.n);
-      st.phase_max_abs_m = a.phase_max;
-      st.min_elevation_deg = a.el_min;
-      st.max_elevation_deg = a.el_max;
-    }
-    summary.residual_statistics.push_back(st);
-  }
+  summary.residual_statistics = residuals.statistics();
   summary.notes = notes();
-  for (const auto& [sat, a] : acc)
-    if (sat.system == GnssSystem::GLONASS && suspectChannel(a.n, a.screened_out))
-      summary.notes.push_back(suspectChannelNote(sat, a.n, a.screened_out, glonassChannel(sat)));
+  const std::vector<std::string> suspects =
+      residuals.suspectChannelNotes(channelsHeaderFirst(header.glonass_channels, config_.signals.glonass_channels));
+  summary.notes.insert(summary.notes.end(), suspects.begin(), suspects.end());
   for (const auto& [text, sats] : code_notes) {
     std::string note = "code reference: " + text;
     if (!sats.empty()) note += ":";
