@@ -109,6 +109,15 @@ std::string orbitClockFileNames(const OrbitClockFiles& in) {
   return out;
 }
 
+/// The satellites the orbits and clocks can serve: those the source carries; with an
+/// SSR recording and its broadcast fallback, every satellite with navigation records
+/// (the fallback serves uncorrected satellites too).
+const std::set<SatelliteId>& servedSatellites(const OrbitClockProducts& products, const OrbitClockFiles& in,
+                                              const PppConfig& config) {
+  const bool fallback = products.from_navigation_records && in.ssr && config.ssr.fallback.enabled;
+  return fallback ? products.record_satellites : products.satellites;
+}
+
 bool hasPhaseOsb(const BiasSinexFile* file) {
   if (file == nullptr) return false;
   return std::any_of(file->records.begin(), file->records.end(), [](const BiasRecord& r) {
@@ -294,7 +303,8 @@ void ProductAssembly::checkObservedSatellites(const ProductAssemblyInputs& in, c
   for (const auto& s : *in.observed_satellites)
     if (std::find(systems.begin(), systems.end(), s.system) != systems.end()) observed.insert(s);
   std::vector<ProductSatellites> kinds;
-  if (orbit_clock.satellites_known) kinds.push_back({"orbits/clocks", orbitClockFileNames(in), orbit_clock.satellites});
+  if (orbit_clock.satellites_known)
+    kinds.push_back({"orbits/clocks", orbitClockFileNames(in), servedSatellites(orbit_clock, in, config_)});
   const BiasSinexFile* bias = set_->biasFile();
   if (bias != nullptr && in.bias && config_.signals.require_code_osb) {
     const std::set<SatelliteId> with_osb = codeOsbSatellites(*bias);
