@@ -1,7 +1,8 @@
 // What comes from input files cannot steer the outputs or the terminal, and inputs
 // that do not fit the observations are named before solving: file names taken from
 // data stay in the output folder; no orbit and clock products, products of another
-// time and a window without epochs are refused with their reason; header text is
+// time or of none of the observed satellites and a window without epochs are refused
+// with their reason, observed satellites the products lack are named; header text is
 // shown printable; a GLONASS channel outside -7..+6 and conflicting duplicate ANTEX
 // blocks are refused, naming the file and line.
 #include <gtest/gtest.h>

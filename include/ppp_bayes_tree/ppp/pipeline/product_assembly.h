@@ -26,6 +26,10 @@
 //  - the PPP-AR gate (ArGateVerdict) and the phase-bias provider the epoch
 //    processor gets (PppEpochProcessor::setPhaseBiases): nullptr unless the gate
 //    lets the run fix;
+//  - the coverage of the observations (product_coverage.h): the products' spans
+//    against the observations', and the observed satellites of the systems
+//    processed against those the orbits/clocks (and code OSBs) carry: notes, or a
+//    refusal when nothing could be solved;
 //  - the effective configuration (config()): systems and
 //    ambiguity_resolution.enabled resolved. Estimators must be made from it.
 //
