@@ -77,6 +77,11 @@ using Clock = std::chrono::steady_clock;
 
 namespace {
 
+/// The status looks while jobs run (the pool's ended jobs, the Slurm watcher's
+/// polls) take done.json as it is: a job's outputs are checked once, when the run
+/// or the summary starts (prepareCampaignJob, summarizeCampaign).
+constexpr ppp::CampaignOutputCheck kWatcherLook = ppp::CampaignOutputCheck::Trust;
+
 int usage(const std::string& why) {
   std::cerr << "ppp_campaign: " << why << "\n"
             << "usage: ppp_campaign check MANIFEST [--out DIR]\n"
@@ -303,7 +308,7 @@ ppp::ChildProcess spawnJob(const std::string& exe, const std::string& dir) {
 
 /// Records how a job's process ended when the job did not record it itself.
 void noteJobProcessEnd(const PendingJob& job, const ppp::ProcessEnd& end, int stop_signal) {
-  const ppp::CampaignJobState st = ppp::campaignJobStatus(job.dir).state;
+  const ppp::CampaignJobState st = ppp::campaignJobStatus(job.dir, kWatcherLook).state;
   if (st == ppp::CampaignJobState::Done || st == ppp::CampaignJobState::Failed) return;
   noteEmptyLog(job);
   const std::string stopped =
@@ -338,7 +343,7 @@ void collectEndedJobs(RunningJobs& running, int stop_signal, ppp::CampaignProgre
     const PendingJob& job = *it->second.second;
     noteJobProcessEnd(job, *end, stop_signal);
     it = running.erase(it);
-    const ppp::CampaignJobStatus st = ppp::campaignJobStatus(job.dir);
+    const ppp::CampaignJobStatus st = ppp::campaignJobStatus(job.dir, kWatcherLook);
     if (st.state != ppp::CampaignJobState::Done) {
       ++counts.failed;
       continue;
@@ -603,7 +608,7 @@ void waitForRound(const SlurmSettings& s, const std::string& array_id, const Rou
   std::vector<std::optional<fs::file_time_type>> earlier_failure(jobs.size());
   for (std::size_t k = 0; k < open.size(); ++k) {
     open[k] = k;
-    earlier_failure[k] = ppp::campaignJobStatus(jobs[k].dir).failed_marker_time;
+    earlier_failure[k] = ppp::campaignJobStatus(jobs[k].dir, kWatcherLook).failed_marker_time;
   }
   int done = already_done, failed = 0, running = 0, done_with_problems = 0;
   auto next_queue_look = Clock::now();
@@ -615,7 +620,7 @@ void waitForRound(const SlurmSettings& s, const std::string& array_id, const Rou
         still.push_back(k);
         continue;
       }
-      const auto st = ppp::campaignJobStatus(jobs[k].dir);
+      const auto st = ppp::campaignJobStatus(jobs[k].dir, kWatcherLook);
       const bool failed_now =
           st.state == ppp::CampaignJobState::Failed && st.failed_marker_time != earlier_failure[k];
       done += st.state == ppp::CampaignJobState::Done;
@@ -687,7 +692,7 @@ SlurmOutcome runSlurm(const SlurmSettings& s, std::vector<PendingJob> jobs, int 
     std::optional<std::map<int, SlurmTaskEnd>> ends;  // read only when a job did not finish
     std::vector<PendingJob> again;
     for (std::size_t k = 0; k < jobs.size(); ++k) {
-      const auto st = ppp::campaignJobStatus(jobs[k].dir);
+      const auto st = ppp::campaignJobStatus(jobs[k].dir, kWatcherLook);
       if (st.state == ppp::CampaignJobState::Done) {
         ++already_done;
         continue;

@@ -1,11 +1,13 @@
 // What comes from input files cannot steer the outputs or the terminal, and inputs
 // that do not fit the observations are named before solving: file names taken from
 // data stay in the output folder; no orbit and clock products, products of another
-// time and a window without epochs are refused with their reason; header text is
+// time or of none of the observed satellites and a window without epochs are refused
+// with their reason, observed satellites the products lack are named; header text is
 // shown printable; a GLONASS channel outside -7..+6 and conflicting duplicate ANTEX
 // blocks are refused, naming the file and line.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -142,6 +144,70 @@ TEST(InputSafety, ProductsEndingBeforeTheObservationsAreNamed) {
   orbits.first.reset();
   orbits.last.reset();
   EXPECT_EQ(checkProductCoverage(orbits, obs_first, obs_last).verdict, CoverageVerdict::NotCovered);
+}
+
+TEST(InputSafety, ObservedSatellitesTheProductsLackAreNamed) {
+  const auto sat = [](const char* text) { return *SatelliteId::parse(text); };
+  ProductSatellites orbits{"orbits/clocks", "X.SP3, X.CLK", {sat("G01"), sat("G02"), sat("E01")}};
+  EXPECT_EQ(checkSatelliteCoverage(orbits, {sat("G01"), sat("E01")}).verdict, CoverageVerdict::Covered);
+  EXPECT_EQ(checkSatelliteCoverage(orbits, {}).verdict, CoverageVerdict::Covered);
+  const CoverageFinding partial = checkSatelliteCoverage(orbits, {sat("G01"), sat("G04"), sat("E14")});
+  EXPECT_EQ(partial.verdict, CoverageVerdict::Partial);
+  EXPECT_EQ(partial.text, "orbits/clocks (X.SP3, X.CLK) carry no G04, E14: those satellites are not used");
+  const CoverageFinding none = checkSatelliteCoverage(orbits, {sat("G04"), sat("E14")});
+  EXPECT_EQ(none.verdict, CoverageVerdict::NotCovered);
+  EXPECT_EQ(none.text, "orbits/clocks (X.SP3, X.CLK) carry none of the observed satellites (observed: G04, E14; "
+                       "carried: G01, G02, E01)");
+  std::vector<std::string> notes;
+  applyCoverageFinding(partial, notes);
+  EXPECT_EQ(notes, std::vector<std::string>{"coverage: " + partial.text});
+  EXPECT_THROW(applyCoverageFinding(none, notes), std::runtime_error);
+}
+
+/// A copy of ZIM2's clock file (made here, never committed) without the records of `satellite_prefix`
+/// ("AS G05": one satellite, "AS G": every GPS satellite) but those of `kept` ("AS G04").
+std::string zim2ClocksWithout(const fs::path& dir, const std::string& satellite_prefix, const std::string& kept = "") {
+  std::istringstream in(test::readFileBytes(test::zim2Dataset().clk.front()));
+  std::string line, out;
+  while (std::getline(in, line))
+    if (line.rfind(satellite_prefix, 0) != 0 || (!kept.empty() && line.rfind(kept, 0) == 0)) out += line + "\n";
+  const std::string path = (dir / "zim2_clocks.clk").string();
+  std::ofstream(path, std::ios::binary) << out;
+  return path;
+}
+
+TEST(InputSafety, AnObservedSatelliteWithoutClocksIsNamedInTheNotes) {
+  PPP_REQUIRE_SHARED_DATA();
+  const fs::path dir = test::tempDir("sat_coverage");
+  PppInputFiles files = test::inputFiles(test::zim2Dataset());
+  files.clk = {zim2ClocksWithout(dir, "AS G05")};  // G05 is observed from the first epoch
+  const PppPipeline pipeline(files, PppConfig{});
+  const std::vector<std::string> notes = pipeline.notes();
+  const std::string expected = "coverage: orbits/clocks (IGS0OPSFIN_20261330000_03H_15M_ORB.SP3, zim2_clocks.clk) "
+                               "carry no G05: those satellites are not used";
+  EXPECT_NE(std::find(notes.begin(), notes.end(), expected), notes.end()) << "notes lack: " << expected;
+  fs::remove_all(dir);
+}
+
+TEST(InputSafety, ProductsCarryingNoObservedSatelliteAreRefusedNamingBothLists) {
+  PPP_REQUIRE_SHARED_DATA();
+  const fs::path dir = test::tempDir("sat_coverage_none");
+  PppInputFiles files = test::inputFiles(test::zim2Dataset());
+  files.clk = {zim2ClocksWithout(dir, "AS G", "AS G04")};  // ZIM2 never observes G04
+  PppConfig config;
+  config.signals.systems_from_products = false;
+  config.signals.systems = {GnssSystem::GPS};
+  try {
+    PppPipeline pipeline(files, config);
+    FAIL() << "GPS observations were accepted with clocks of no observed GPS satellite";
+  } catch (const std::runtime_error& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("products do not cover the observations: orbits/clocks"), std::string::npos) << what;
+    EXPECT_NE(what.find("carry none of the observed satellites (observed: G"), std::string::npos) << what;
+    EXPECT_NE(what.find("G05"), std::string::npos) << what;
+    EXPECT_NE(what.find("; carried: G04)"), std::string::npos) << what;
+  }
+  fs::remove_all(dir);
 }
 
 TEST(InputSafety, AWindowAfterTheFilesEndIsRefusedWithTheFilesSpan) {

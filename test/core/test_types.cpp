@@ -76,6 +76,18 @@ TEST(GlonassChannels, FillMissingKeepsTheKnownChannels) {
   EXPECT_EQ(header.size(), 2);
 }
 
+TEST(GlonassChannels, HeaderFirstThenTheConfiguredChannels) {
+  GlonassChannels header, configured;
+  header.set(5, 1);
+  configured.set(5, 2);
+  configured.set(7, 5);
+  const GlonassChannels used = channelsHeaderFirst(header, configured);
+  EXPECT_EQ(used.channel(5), 1);  // the header's
+  EXPECT_EQ(used.channel(7), 5);  // the configuration's where the header has none
+  EXPECT_FALSE(used.channel(9));
+  EXPECT_EQ(header.channel(7), std::nullopt) << "the inputs stay as they are";
+}
+
 TEST(Frames, GeodeticRoundTripAtZimmerwald) {
   // ZIM2 truth (dataset README). Zimmerwald is at about 46.877 N, 7.465 E, 956 m
   // (IGS site log: 46 52 37.5 N, 7 27 54.4 E, ellipsoidal height 956.4 m).

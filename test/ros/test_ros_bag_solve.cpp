@@ -30,7 +30,10 @@
 #include <rosbag/view.h>
 #include <std_msgs/String.h>
 
+#include <functional>
+
 #include "ppp_bayes_tree/GnssObservations.h"
+#include "ppp_bayes_tree/PreciseCorrections.h"
 
 #include "test_support.h"
 
@@ -316,6 +319,51 @@ TEST_F(BagSolve, RecordsInReverseOrderAreSolvedInGnssTimeOrder) {
   const std::string forward = readText(dir_ / "forward" / "sim_ekf.csv");
   EXPECT_EQ(readCsv(dir_ / "reverse" / "sim_ekf.csv").size(), 181u);
   EXPECT_TRUE(readText(dir_ / "reverse" / "sim_ekf.csv") == forward) << "every epoch solved, as from the ordered bag";
+}
+
+/// flight_a.bag with each gnss/corrections message passed through `edit` (false: dropped).
+void writeEditedCorrections(const fs::path& original, const fs::path& edited,
+                            const std::function<bool(ppp_bayes_tree::PreciseCorrections&)>& edit) {
+  rosbag::Bag in(original.string(), rosbag::bagmode::Read);
+  rosbag::Bag out(edited.string(), rosbag::bagmode::Write);
+  for (const auto& m : rosbag::View(in)) {
+    auto corrections = m.instantiate<ppp_bayes_tree::PreciseCorrections>();
+    if (!corrections) {
+      out.write(m.getTopic(), m.getTime(), m, m.getConnectionHeader());
+      continue;
+    }
+    ppp_bayes_tree::PreciseCorrections copy = *corrections;
+    if (edit(copy)) out.write(m.getTopic(), m.getTime(), copy);
+  }
+}
+
+TEST_F(BagSolve, CorrectionsEndingEarlyAreNamedAndCorrectionsOfAnotherTimeRefused) {
+  const fs::path original = dir_ / "bags" / "flight_a.bag";
+  const std::string args = " --config " + kConfigs + " --name sim --no-timings --out ";
+  double first_s = -1.0;
+  const fs::path early = dir_ / "early.bag", other_week = dir_ / "other_week.bag";
+  writeEditedCorrections(original, early, [&](ppp_bayes_tree::PreciseCorrections& c) {
+    if (first_s < 0) first_s = c.seconds_of_week;
+    return c.seconds_of_week <= first_s + 120.0;  // the first two of the three minutes
+  });
+  writeEditedCorrections(original, other_week, [](ppp_bayes_tree::PreciseCorrections& c) {
+    c.week += 1;
+    return true;
+  });
+  const fs::path out_file = dir_ / "coverage_stdout.txt";
+  const std::string early_solve =
+      kBin + "/ppp_bag_solve " + early.string() + args + (dir_ / "early_out").string() + " > " + out_file.string() + " 2>&1";
+  EXPECT_EQ(WEXITSTATUS(std::system(early_solve.c_str())), 0) << readText(out_file);
+  const std::string report = readText(out_file);
+  EXPECT_NE(report.find("coverage: corrections (early.bag) end at "), std::string::npos) << report;
+  EXPECT_NE(report.find(": epochs after are not solved"), std::string::npos) << report;
+
+  std::string err;
+  EXPECT_EQ(bagSolve(other_week.string() + args + (dir_ / "other_week_out").string(), dir_ / "week.txt", err), 1)
+      << err;
+  EXPECT_NE(err.find("products do not cover the observations: corrections (other_week.bag) span "), std::string::npos)
+      << err;
+  EXPECT_EQ(err.find("no clock"), std::string::npos) << err;
 }
 
 TEST_F(BagSolve, CampaignOfTwoBagJobsRunsResumesAndSummarises) {

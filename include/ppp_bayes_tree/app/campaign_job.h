@@ -96,8 +96,16 @@ std::string campaignPppResultJson(const PppSolveOutcome& first);
 /// executable (ppp_campaign's, devel/lib/ppp_bayes_tree in the catkin build).
 std::string campaignBagSolverPath();
 
+/// Whether a done job's status looks at the outputs its done.json lists (a
+/// deleted or resized output makes the job stale).
+enum class CampaignOutputCheck {
+  Stat,   // stat each listed output: when a run, a summary or a status starts
+  Trust,  // take done.json as it is: the repeated looks of a watcher while jobs run
+};
+
 /// The state of the job in `job_dir` from its files (see above).
-CampaignJobStatus campaignJobStatus(const std::string& job_dir);
+CampaignJobStatus campaignJobStatus(const std::string& job_dir,
+                                    CampaignOutputCheck outputs = CampaignOutputCheck::Stat);
 /// The same, compared with the job as the manifest gives it now: a job whose
 /// job.yaml differs from it is STALE (its reason names the keys that changed),
 /// so that a result of other parameters is never shown or merged as this job's.

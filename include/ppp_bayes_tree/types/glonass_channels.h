@@ -23,4 +23,10 @@ class GlonassChannels {
   std::array<std::optional<int>, kMaxSlot + 1> channels_{};
 };
 
+/// The channels a run uses: the observation header's (GLONASS SLOT / FRQ #) for its
+/// slots, the configured ones (signals.glonass_channels, with those of the
+/// navigation records) for the others. The signal selection takes its frequencies
+/// from them, and the run's notes name a satellite's channel from them.
+GlonassChannels channelsHeaderFirst(const GlonassChannels& header, const GlonassChannels& configured);
+
 }  // namespace ppp

@@ -544,15 +544,19 @@ CampaignJob parseCampaignJob(const std::string& text, const std::string& file) {
   return job;
 }
 
-CampaignJobStatus campaignJobStatus(const std::string& job_dir) {
+namespace {
+
+/// The status from the job's files, its job.yaml text given (`spec`).
+CampaignJobStatus jobStatusOfSpec(const std::string& job_dir, const std::string& spec, CampaignOutputCheck outputs) {
   CampaignJobStatus st;
   std::error_code ec;
-  const std::string spec = readText(path(job_dir, kSpecFile));
   if (fs::exists(path(job_dir, kDoneFile), ec)) {
     try {
       const YAML::Node done = YAML::LoadFile(path(job_dir, kDoneFile));
       if (done["spec_digest"] && done["spec_digest"].as<std::string>() == fnv1aHex(spec)) {
-        if (const std::string missing = missingOutput(job_dir, done["outputs"]); !missing.empty()) {
+        const std::string missing =
+            outputs == CampaignOutputCheck::Stat ? missingOutput(job_dir, done["outputs"]) : std::string();
+        if (!missing.empty()) {
           st.state = CampaignJobState::Stale;
           st.reason = "finished, but " + missing + " (changed after the job ended): it runs again";
           return st;
@@ -585,9 +589,15 @@ CampaignJobStatus campaignJobStatus(const std::string& job_dir) {
   return st;
 }
 
+}  // namespace
+
+CampaignJobStatus campaignJobStatus(const std::string& job_dir, CampaignOutputCheck outputs) {
+  return jobStatusOfSpec(job_dir, readText(path(job_dir, kSpecFile)), outputs);
+}
+
 CampaignJobStatus campaignJobStatus(const std::string& job_dir, const CampaignJob& job) {
-  CampaignJobStatus st = campaignJobStatus(job_dir);
   const std::string on_disk = readText(path(job_dir, kSpecFile)), wanted = campaignJobYaml(job);
+  CampaignJobStatus st = jobStatusOfSpec(job_dir, on_disk, CampaignOutputCheck::Stat);
   if (st.state == CampaignJobState::Pending || on_disk.empty() || on_disk == wanted) return st;
   CampaignJobStatus stale;
   stale.state = CampaignJobState::Stale;

@@ -24,4 +24,10 @@ void GlonassChannels::fillMissing(const GlonassChannels& other) {
     if (!channels_[slot]) channels_[slot] = other.channels_[slot];
 }
 
+GlonassChannels channelsHeaderFirst(const GlonassChannels& header, const GlonassChannels& configured) {
+  GlonassChannels out = header;
+  out.fillMissing(configured);
+  return out;
+}
+
 }  // namespace ppp

@@ -22,7 +22,10 @@
 // gate, as in the nodes. Messages that cannot be read (a damaged payload) or do
 // not convert are skipped and named (file, topic, message index, bag time) and
 // counted, and the rest of the bag is used (ros/bag_reader.h); conversion issues
-// are counted with their reason. Epochs and batches are taken in GNSS time order
+// are counted with their reason. The batches go through the coverage check of file
+// products (ppp/pipeline/product_coverage.h): corrections that end before the
+// observations or lack observed satellites are notes, corrections of another
+// time or of none of the observed satellites are refused. Epochs and batches are taken in GNSS time order
 // (rosbag reads in record time order, which a bag need not share with the GNSS
 // times): how many were out of order is said. A folder, a file that is no bag, or
 // a bag without index (a stopped recording: `rosbag reindex`) is refused naming it.
@@ -32,6 +35,7 @@
 #include <iostream>
 #include <limits>
 #include <memory>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -42,6 +46,8 @@
 #include "ppp_bayes_tree/app/campaign_job.h"
 #include "ppp_bayes_tree/app/ppp_solve_run.h"
 #include "ppp_bayes_tree/app/replay_report.h"
+#include "ppp_bayes_tree/io/line_source.h"
+#include "ppp_bayes_tree/ppp/pipeline/product_coverage.h"
 #include "ppp_bayes_tree/ros/bag_reader.h"
 #include "ppp_bayes_tree/ros/bag_writer.h"
 #include "ppp_bayes_tree/ros/message_conversions.h"
@@ -192,6 +198,27 @@ struct Options {
   bool truth_path = true, timings = true;
 };
 
+/// The batches against the epochs, by the coverage check of file products
+/// (product_coverage.h): their span, and the satellites they correct (position and
+/// clock) against those observed of the systems processed. Corrections that end
+/// early or lack satellites are notes; corrections of another time, or of none of
+/// the observed satellites, are refused (std::runtime_error).
+void checkBatchCoverage(const BagContents& bag, const std::string& path, const std::vector<ppp::GnssSystem>& systems,
+                        std::vector<std::string>& notes) {
+  const std::string name = ppp::fileBaseName(path);
+  const ppp::ProductTimeSpan span{"corrections", name, bag.batches.front().time, bag.batches.back().time};
+  ppp::applyCoverageFinding(ppp::checkProductCoverage(span, bag.epochs.front().time, bag.epochs.back().time), notes);
+  ppp::ProductSatellites corrected{"corrections", name, {}};
+  for (const auto& b : bag.batches)
+    for (const auto& s : b.satellites)
+      if (s.position_ecef_m && s.clock_bias_s) corrected.carried.insert(s.satellite);
+  std::set<ppp::SatelliteId> observed;
+  for (const auto& e : bag.epochs)
+    for (const auto& s : e.satellites)
+      if (std::find(systems.begin(), systems.end(), s.satellite.system) != systems.end()) observed.insert(s.satellite);
+  ppp::applyCoverageFinding(ppp::checkSatelliteCoverage(corrected, observed), notes);
+}
+
 /// The pipeline over the bag's contents: the product assembly as the nodes make it
 /// (ros.products + what the stream declares), the corrections as the ephemeris.
 std::unique_ptr<ppp::PppPipeline> bagPipeline(const BagContents& bag, const Options& o, const ppp::PppConfig& config) {
@@ -219,6 +246,7 @@ std::unique_ptr<ppp::PppPipeline> bagPipeline(const BagContents& bag, const Opti
   if (assembly.phaseBiases() == stream_biases.get()) products.phase_biases = stream_biases;
   products.notes.push_back("orbits and clocks: " + std::to_string(bag.batches.size()) + " correction batches of " +
                            o.bag);
+  checkBatchCoverage(bag, o.bag, assembly.config().signals.systems, products.notes);
   auto source = std::make_unique<ppp::InMemoryObservationSource>(bag.layout, bag.epochs, o.bag);
   return std::make_unique<ppp::PppPipeline>(std::move(source), std::move(products), assembly.config());
 }

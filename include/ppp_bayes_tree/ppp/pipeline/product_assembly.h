@@ -26,6 +26,10 @@
 //  - the PPP-AR gate (ArGateVerdict) and the phase-bias provider the epoch
 //    processor gets (PppEpochProcessor::setPhaseBiases): nullptr unless the gate
 //    lets the run fix;
+//  - the coverage of the observations (product_coverage.h): the products' spans
+//    against the observations', and the observed satellites of the systems
+//    processed against those the orbits/clocks (and code OSBs) carry: notes, or a
+//    refusal when nothing could be solved;
 //  - the effective configuration (config()): systems and
 //    ambiguity_resolution.enabled resolved. Estimators must be made from it.
 //
@@ -47,6 +51,7 @@
 // allow_antenna_model_mismatch lets both fix despite a different or unknown model.
 #include <memory>
 #include <optional>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -89,6 +94,9 @@ struct ProductAssemblyInputs : OrbitClockFiles {
   /// The observations' span (products outside it are not read; the antenna
   /// check looks at the blocks valid at `first`). nullopt: unknown.
   std::optional<GnssTime> first, last;
+  /// The satellites of the observation file's epochs (in its window), for the
+  /// coverage check. nullopt: not known before the run.
+  std::optional<std::set<SatelliteId>> observed_satellites;
   /// The GLONASS frequency channels of the observation file's header (RINEX
   /// GLONASS SLOT / FRQ #, or those an RTCM/UBX file's scan found). nullopt:
   /// the observations are streamed and bring their channels with them.
@@ -188,6 +196,10 @@ class ProductAssembly {
   /// The products' spans against the observations' (product_coverage.h): a partial
   /// cover is a note, none a refusal (throws std::runtime_error naming both spans).
   void checkCoverage(const ProductAssemblyInputs& in, const OrbitClockProducts& orbit_clock);
+  /// The observed satellites of the systems processed against those the orbits and
+  /// clocks carry (and, with require_code_osb, the Bias-SINEX file's code OSBs): the
+  /// missing ones are a note, none carried a refusal (product_coverage.h).
+  void checkObservedSatellites(const ProductAssemblyInputs& in, const OrbitClockProducts& orbit_clock);
   void checkSatelliteAntennas(const ProductAssemblyInputs& in, const std::vector<std::string>& product_models,
                               const OrbitClockProducts& orbit_clock);
   void decideArGate(const ProductAssemblyInputs& in, const OrbitClockProducts& orbit_clock);

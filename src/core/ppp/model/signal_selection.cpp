@@ -123,8 +123,7 @@ SignalSelector::SignalSelector(const RinexObsHeader& header, SignalSelectionOpti
                                const BiasProvider* biases)
     : options_(std::move(options)), biases_(biases), osb_cache_(static_cast<std::size_t>(kNumGnssSystems) * 100 * 2) {
   for (int s = 0; s < kNumGnssSystems; ++s) types_[s] = header.obs_types[s];
-  glonass_channels_ = header.glonass_channels;
-  glonass_channels_.fillMissing(options_.glonass_channels);
+  glonass_channels_ = channelsHeaderFirst(header.glonass_channels, options_.glonass_channels);
   for (GnssSystem system : options_.systems) {
     auto& sc = systems_[static_cast<int>(system)];
     const SystemSignalPriority* p = options_.priorities.find(system);

@@ -36,13 +36,20 @@ std::string emptyWindowText(const std::string& path, const ObservationWindow& wi
   return "the window" + bounds + " holds no epoch of " + path + " (" + span + ")";
 }
 
-/// The span of an observation file's epochs (one extra pass over the file, a few
-/// ms); unset when it cannot be read (reported by the main pass).
-/// With a window: the span of the epochs inside it (the pass stops after its end);
-/// a window that holds no epoch of a readable file is refused, with the file's span.
-std::pair<std::optional<GnssTime>, std::optional<GnssTime>> observationSpan(const std::string& obs_path,
-                                                                            const ObservationWindow& window) {
-  std::optional<GnssTime> first, last, file_first, file_last;
+/// What one pass over an observation file finds before the run: its epochs' span
+/// and the satellites observed (inside the window). Unset when the file cannot be read.
+struct ObservationScan {
+  std::optional<GnssTime> first, last;
+  std::optional<std::set<SatelliteId>> satellites;
+};
+
+/// One extra pass over an observation file (a few ms). With a window: the span and
+/// satellites of the epochs inside it (the pass stops after its end); a window that
+/// holds no epoch of a readable file is refused, with the file's span.
+ObservationScan scanObservations(const std::string& obs_path, const ObservationWindow& window) {
+  ObservationScan scan;
+  std::optional<GnssTime> file_first, file_last;
+  std::set<SatelliteId> satellites;
   try {
     RinexObsReader reader = RinexObsReader::open(obs_path);
     ObsEpoch epoch;
@@ -51,14 +58,17 @@ std::pair<std::optional<GnssTime>, std::optional<GnssTime>> observationSpan(cons
       if (!file_last || *file_last < epoch.time) file_last = epoch.time;
       if (window.end && epoch.time >= *window.end) break;
       if (!window.contains(epoch.time)) continue;
-      if (!first || epoch.time < *first) first = epoch.time;
-      if (!last || *last < epoch.time) last = epoch.time;
+      if (!scan.first || epoch.time < *scan.first) scan.first = epoch.time;
+      if (!scan.last || *scan.last < epoch.time) scan.last = epoch.time;
+      for (const auto& sat : epoch.satellites) satellites.insert(sat.satellite);
     }
   } catch (const std::exception&) {
     return {};
   }
-  if (window.bounded() && !first && file_first) throw std::runtime_error(emptyWindowText(obs_path, window, *file_first, *file_last));
-  return {first, last};
+  if (window.bounded() && !scan.first && file_first)
+    throw std::runtime_error(emptyWindowText(obs_path, window, *file_first, *file_last));
+  scan.satellites = std::move(satellites);
+  return scan;
 }
 
 /// Running sums for one satellite's residual statistics.
@@ -97,6 +107,73 @@ std::string suspectChannelNote(const SatelliteId& sat, std::size_t used, std::si
          " epochs: a wrong frequency channel gives such residuals; check GLONASS SLOT / FRQ # against the "
          "navigation records";
 }
+
+/// The residual statistics' summary of a run, per satellite: the residuals of the
+/// solved epochs, the model-stage rejections and those of the residual tests; at the
+/// end the statistics and the warnings of GLONASS satellites with a suspect channel.
+class ResidualSummary {
+ public:
+  /// One processed epoch: its rejections and, when solved with a position, its residuals.
+  void add(const PppEpochRecord& rec) {
+    for (const auto& x : rec.rejected) {
+      if (x.stage == RejectionStage::Model) acc_[x.satellite].rejections++;
+      if (isResidualTest(x.reason)) acc_[x.satellite].screened_out++;
+    }
+    if (rec.status != EpochStatus::Ok || !rec.solution.position_ecef_m) return;
+    for (const auto& res : rec.residuals) {
+      auto& a = acc_[res.satellite];
+      ++a.n;
+      a.code_sum += res.code_postfit_m;
+      a.code_sq += res.code_postfit_m * res.code_postfit_m;
+      a.phase_sum += res.phase_postfit_m;
+      a.phase_sq += res.phase_postfit_m * res.phase_postfit_m;
+      a.phase_max = std::max(a.phase_max, std::abs(res.phase_postfit_m));
+      a.el_min = std::min(a.el_min, res.elevation_rad * kRadToDeg);
+      a.el_max = std::max(a.el_max, res.elevation_rad * kRadToDeg);
+    }
+  }
+
+  /// Whether `sat` had residuals in a solved epoch.
+  bool used(const SatelliteId& sat) const {
+    const auto it = acc_.find(sat);
+    return it != acc_.end() && it->second.n > 0;
+  }
+
+  /// One row per satellite with residuals or rejections.
+  std::vector<SatelliteResidualStatistics> statistics() const {
+    std::vector<SatelliteResidualStatistics> out;
+    for (const auto& [sat, a] : acc_) {
+      SatelliteResidualStatistics st;
+      st.satellite = sat;
+      st.count = a.n;
+      st.rejections = a.rejections;
+      if (a.n > 0) {
+        st.code_mean_m = a.code_sum / a.n;
+        st.code_rms_m = std::sqrt(a.code_sq / a.n);
+        st.phase_mean_m = a.phase_sum / a.n;
+        st.phase_rms_m = std::sqrt(a.phase_sq / a.n);
+        st.phase_max_abs_m = a.phase_max;
+        st.min_elevation_deg = a.el_min;
+        st.max_elevation_deg = a.el_max;
+      }
+      out.push_back(st);
+    }
+    return out;
+  }
+
+  /// A warning per GLONASS satellite the residual tests rejected in more epochs than
+  /// it was used in, with its channel (`channels`: those the run used).
+  std::vector<std::string> suspectChannelNotes(const GlonassChannels& channels) const {
+    std::vector<std::string> out;
+    for (const auto& [sat, a] : acc_)
+      if (sat.system == GnssSystem::GLONASS && suspectChannel(a.n, a.screened_out))
+        out.push_back(suspectChannelNote(sat, a.n, a.screened_out, channels.channel(sat.prn)));
+    return out;
+  }
+
+ private:
+  std::map<SatelliteId, ResidualAccumulator> acc_;
+};
 
 }  // namespace
 
@@ -178,7 +255,10 @@ PppPipeline::PppPipeline(const PppInputFiles& files, PppConfig config)
     if (h.time_of_last_obs) in.last = h.time_of_last_obs->time;
   } else {
     d.source = std::make_unique<RinexObservationSource>(files.obs);
-    std::tie(in.first, in.last) = observationSpan(files.obs, files.window);
+    ObservationScan scan = scanObservations(files.obs, files.window);
+    in.first = scan.first;
+    in.last = scan.last;
+    in.observed_satellites = std::move(scan.satellites);
   }
   if (const std::string why = fileProductInputsProblem(productInputsGiven(files)); !why.empty())
     throw std::invalid_argument(why);
@@ -244,8 +324,7 @@ std::string PppPipeline::stationName() const {
 }
 
 std::optional<int> PppPipeline::glonassChannel(const SatelliteId& sat) const {
-  if (const auto k = header().glonass_channels.channel(sat.prn)) return k;
-  return config_.signals.glonass_channels.channel(sat.prn);
+  return channelsHeaderFirst(header().glonass_channels, config_.signals.glonass_channels).channel(sat.prn);
 }
 
 std::vector<std::string> PppPipeline::notes() const {
@@ -297,7 +376,7 @@ PppRunSummary PppPipeline::run(EpochEstimator& estimator, const EpochCallback& o
   // Code-reference notes, merged over epochs: text before a trailing
   // satellite list -> union of the satellites.
   std::map<std::string, std::set<std::string>> code_notes;
-  std::map<SatelliteId, ResidualAccumulator> acc;
+  ResidualSummary residuals;
   PppEpochProcessor& processor = *d.processor;
   ObsEpoch epoch;
   PppEpochRecord rec;
@@ -338,10 +417,6 @@ PppRunSummary PppPipeline::run(EpochEstimator& estimator, const EpochCallback& o
     }
     summary.arcs += static_cast<std::size_t>(rec.new_arcs);
     summary.slips += static_cast<std::size_t>(rec.slips);
-    for (const auto& x : rec.rejected) {
-      if (x.stage == RejectionStage::Model) acc[x.satellite].rejections++;
-      if (isResidualTest(x.reason)) acc[x.satellite].screened_out++;
-    }
     switch (rec.status) {
       case EpochStatus::Ok:
         ++summary.epochs_solved;
@@ -354,19 +429,7 @@ PppRunSummary PppPipeline::run(EpochEstimator& estimator, const EpochCallback& o
       case EpochStatus::NoSolution: ++summary.epochs_no_solution; break;
       case EpochStatus::Failed: ++summary.epochs_failed; break;
     }
-    if (rec.status == EpochStatus::Ok && rec.solution.position_ecef_m) {
-      for (const auto& res : rec.residuals) {
-        auto& a = acc[res.satellite];
-        ++a.n;
-        a.code_sum += res.code_postfit_m;
-        a.code_sq += res.code_postfit_m * res.code_postfit_m;
-        a.phase_sum += res.phase_postfit_m;
-        a.phase_sq += res.phase_postfit_m * res.phase_postfit_m;
-        a.phase_max = std::max(a.phase_max, std::abs(res.phase_postfit_m));
-        a.el_min = std::min(a.el_min, res.elevation_rad * kRadToDeg);
-        a.el_max = std::max(a.el_max, res.elevation_rad * kRadToDeg);
-      }
-    }
+    residuals.add(rec);
     for (const auto& x : rec.rejected) summary.rejection_counts[{x.stage, x.reason}]++;
     for (const auto& x : rec.rejected) {
       auto& r = rejected_epochs[x.satellite];
@@ -385,33 +448,17 @@ PppRunSummary PppPipeline::run(EpochEstimator& estimator, const EpochCallback& o
     // With input problems, name the satellites the run never used.
     std::string dropped;
     for (const auto& [sat, r] : rejected_epochs) {
-      auto it = acc.find(sat);
-      if (it != acc.end() && it->second.n > 0) continue;
+      if (residuals.used(sat)) continue;
       dropped += (dropped.empty() ? "" : "; ") + sat.toString() + " (" + std::to_string(r.first) +
                  " epoch(s), first: " + r.second + ")";
     }
     if (!dropped.empty()) summary.problems.push_back("satellites never used: " + dropped);
   }
-  for (const auto& [sat, a] : acc) {
-    SatelliteResidualStatistics st;
-    st.satellite = sat;
-    st.count = a.n;
-    st.rejections = a.rejections;
-    if (a.n > 0) {
-      st.code_mean_m = a.code_sum / a.n;
-      st.code_rms_m = std::sqrt(a.code_sq / a.n);
-      st.phase_mean_m = a.phase_sum / a.n;
-      st.phase_rms_m = std::sqrt(a.phase_sq / a.n);
-      st.phase_max_abs_m = a.phase_max;
-      st.min_elevation_deg = a.el_min;
-      st.max_elevation_deg = a.el_max;
-    }
-    summary.residual_statistics.push_back(st);
-  }
+  summary.residual_statistics = residuals.statistics();
   summary.notes = notes();
-  for (const auto& [sat, a] : acc)
-    if (sat.system == GnssSystem::GLONASS && suspectChannel(a.n, a.screened_out))
-      summary.notes.push_back(suspectChannelNote(sat, a.n, a.screened_out, glonassChannel(sat)));
+  const std::vector<std::string> suspects =
+      residuals.suspectChannelNotes(channelsHeaderFirst(header.glonass_channels, config_.signals.glonass_channels));
+  summary.notes.insert(summary.notes.end(), suspects.begin(), suspects.end());
   for (const auto& [text, sats] : code_notes) {
     std::string note = "code reference: " + text;
     if (!sats.empty()) note += ":";

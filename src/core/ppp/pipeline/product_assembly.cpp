@@ -90,6 +90,34 @@ std::vector<SatelliteId> satellitesInUse(const OrbitClockProducts& products, con
   return {out.begin(), out.end()};
 }
 
+/// The satellites of the Bias-SINEX file's code OSB rows.
+std::set<SatelliteId> codeOsbSatellites(const BiasSinexFile& file) {
+  std::set<SatelliteId> out;
+  for (const BiasRecord& r : file.records)
+    if (r.type == BiasType::OSB && r.satellite && r.obs1.type == ObservableType::Pseudorange) out.insert(*r.satellite);
+  return out;
+}
+
+/// "a.SP3, a.CLK": the orbit and clock files (precise or broadcast, with the SSR recording).
+std::string orbitClockFileNames(const OrbitClockFiles& in) {
+  std::vector<std::string> paths = in.sp3;
+  paths.insert(paths.end(), in.clk.begin(), in.clk.end());
+  paths.insert(paths.end(), in.nav.begin(), in.nav.end());
+  if (in.ssr) paths.push_back(*in.ssr);
+  std::string out;
+  for (const auto& p : paths) out += (out.empty() ? "" : ", ") + fileBaseName(p);
+  return out;
+}
+
+/// The satellites the orbits and clocks can serve: those the source carries; with an
+/// SSR recording and its broadcast fallback, every satellite with navigation records
+/// (the fallback serves uncorrected satellites too).
+const std::set<SatelliteId>& servedSatellites(const OrbitClockProducts& products, const OrbitClockFiles& in,
+                                              const PppConfig& config) {
+  const bool fallback = products.from_navigation_records && in.ssr && config.ssr.fallback.enabled;
+  return fallback ? products.record_satellites : products.satellites;
+}
+
 bool hasPhaseOsb(const BiasSinexFile* file) {
   if (file == nullptr) return false;
   return std::any_of(file->records.begin(), file->records.end(), [](const BiasRecord& r) {
@@ -186,6 +214,7 @@ ProductAssembly ProductAssembly::assemble(const ProductAssemblyInputs& in, const
 
   a.checkCoverage(in, orbit_clock);
   if (config.signals.systems_from_products) a.resolveSystems(in, candidates, orbit_clock);
+  a.checkObservedSatellites(in, orbit_clock);
   a.decision_notes_begin_ = a.notes_.size();
   if (a.antennas() && !product_models.empty()) a.checkSatelliteAntennas(in, product_models, orbit_clock);
 
@@ -264,12 +293,24 @@ void ProductAssembly::checkCoverage(const ProductAssemblyInputs& in, const Orbit
     ProductTimeSpan span{"biases", fileBaseName(*in.bias), bias->header.data_start, bias->header.data_end, true};
     if (span.first && span.last) spans.push_back(span);  // a header without a validity states none
   }
-  for (const ProductTimeSpan& span : spans) {
-    const CoverageFinding finding = checkProductCoverage(span, *in.first, *in.last);
-    if (finding.verdict == CoverageVerdict::NotCovered)
-      throw std::runtime_error("products do not cover the observations: " + finding.text);
-    if (finding.verdict == CoverageVerdict::Partial) notes_.push_back("coverage: " + finding.text);
+  for (const ProductTimeSpan& span : spans) applyCoverageFinding(checkProductCoverage(span, *in.first, *in.last), notes_);
+}
+
+void ProductAssembly::checkObservedSatellites(const ProductAssemblyInputs& in, const OrbitClockProducts& orbit_clock) {
+  if (!in.observed_satellites) return;  // not known before the run (streamed observations)
+  const std::vector<GnssSystem>& systems = config_.signals.systems;
+  std::set<SatelliteId> observed;
+  for (const auto& s : *in.observed_satellites)
+    if (std::find(systems.begin(), systems.end(), s.system) != systems.end()) observed.insert(s);
+  std::vector<ProductSatellites> kinds;
+  if (orbit_clock.satellites_known)
+    kinds.push_back({"orbits/clocks", orbitClockFileNames(in), servedSatellites(orbit_clock, in, config_)});
+  const BiasSinexFile* bias = set_->biasFile();
+  if (bias != nullptr && in.bias && config_.signals.require_code_osb) {
+    const std::set<SatelliteId> with_osb = codeOsbSatellites(*bias);
+    if (!with_osb.empty()) kinds.push_back({"biases", fileBaseName(*in.bias), with_osb});  // none: DSBs only
   }
+  for (const ProductSatellites& kind : kinds) applyCoverageFinding(checkSatelliteCoverage(kind, observed), notes_);
 }
 
 void ProductAssembly::checkSatelliteAntennas(const ProductAssemblyInputs& in,

@@ -1,5 +1,7 @@
 #include "ppp_bayes_tree/ppp/pipeline/product_coverage.h"
 
+#include <stdexcept>
+
 namespace ppp {
 namespace {
 
@@ -8,7 +10,8 @@ constexpr double kCoverageTolerance_s = 1e-3;
 
 std::string timeText(const GnssTime& t) { return t.toString(TimeSystem::GPS, 0); }
 
-std::string kindText(const ProductTimeSpan& p) { return p.kind + " (" + p.files + ")"; }
+std::string kindText(const std::string& kind, const std::string& files) { return kind + " (" + files + ")"; }
+std::string kindText(const ProductTimeSpan& p) { return kindText(p.kind, p.files); }
 
 CoverageFinding notCovered(const ProductTimeSpan& p, const GnssTime& first, const GnssTime& last) {
   const std::string observations = "observations " + timeText(first) + " to " + timeText(last);
@@ -18,6 +21,13 @@ CoverageFinding notCovered(const ProductTimeSpan& p, const GnssTime& first, cons
   return {CoverageVerdict::NotCovered, kindText(p) + (p.stated_validity ? " valid " : " span ") + timeText(*p.first) +
                                            " to " + timeText(*p.last) + ", " + observations +
                                            ": the products are not of the observations' time"};
+}
+
+/// "G04, E14".
+std::string satelliteList(const std::set<SatelliteId>& satellites) {
+  std::string out;
+  for (const auto& s : satellites) out += (out.empty() ? "" : ", ") + s.toString();
+  return out.empty() ? std::string("none") : out;
 }
 
 }  // namespace
@@ -34,6 +44,24 @@ CoverageFinding checkProductCoverage(const ProductTimeSpan& p, const GnssTime& f
             timeText(last) + ": epochs after are not solved";
   if (text.empty()) return {};
   return {CoverageVerdict::Partial, text};
+}
+
+CoverageFinding checkSatelliteCoverage(const ProductSatellites& p, const std::set<SatelliteId>& observed) {
+  std::set<SatelliteId> missing;
+  for (const auto& s : observed)
+    if (!p.carried.count(s)) missing.insert(s);
+  if (missing.empty()) return {};
+  if (missing.size() == observed.size())
+    return {CoverageVerdict::NotCovered, kindText(p.kind, p.files) + " carry none of the observed satellites (observed: " +
+                                             satelliteList(observed) + "; carried: " + satelliteList(p.carried) + ")"};
+  return {CoverageVerdict::Partial,
+          kindText(p.kind, p.files) + " carry no " + satelliteList(missing) + ": those satellites are not used"};
+}
+
+void applyCoverageFinding(const CoverageFinding& finding, std::vector<std::string>& notes) {
+  if (finding.verdict == CoverageVerdict::NotCovered)
+    throw std::runtime_error("products do not cover the observations: " + finding.text);
+  if (finding.verdict == CoverageVerdict::Partial) notes.push_back("coverage: " + finding.text);
 }
 
 }  // namespace ppp
