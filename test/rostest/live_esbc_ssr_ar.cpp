@@ -67,7 +67,9 @@ TEST(LiveEsbcSsrAr, NodeFixesWithSsrPhaseBiasesAsPppSolve) {
   waitForFixes(out, offline.size() - 1, 60.0);
 
   const std::size_t fixed = expectSameFixes(node + ", MSM7 + ephemerides + SSR with phase biases", out, offline);
-  EXPECT_GT(fixed, 60u);  // ppp_solve's EKF fixes from about 17 min on
+  // ppp_solve fixes 49 of these epochs (every subset at the success rate 0.999,
+  // doc/ar_real_data.md "Restarts"): the node fixes, and as ppp_solve (above).
+  EXPECT_GT(fixed, 40u);
   std::lock_guard<std::mutex> l(out.mutex);
   ASSERT_FALSE(out.statuses.empty());
   EXPECT_TRUE(out.statuses.back().ambiguity_resolution_enabled);
