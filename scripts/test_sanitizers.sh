@@ -115,6 +115,10 @@ if [ "${PPP_SANITIZE_NO_BUILD:-0}" != 1 ]; then
   [ $rc -ne 0 ] && tail -30 "$SAN_DIR/build.log"
 fi
 
+# The sanitized workspace's environment: units that start roslaunch find this package there.
+if [ "$MODE" = catkin ] && [ -f "$BUILD_ROOT/devel/setup.bash" ]; then
+  set +u; source "$BUILD_ROOT/devel/setup.bash"; set -u
+fi
 echo "=== run (shared data: $SHARED_DATA) ==="
 passed=0; failed=0; skipped=0; run_start=$SECONDS
 for name in "${TESTS[@]}"; do

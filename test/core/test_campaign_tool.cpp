@@ -163,6 +163,9 @@ TEST(CampaignTool, AKilledCampaignTakesItsJobsAlong) {
   const fs::path dir = test::tempDir("campaign_tool_kill9");
   std::string job_dir;
   ChildProcess campaign = startLongCampaign(dir, dir / "out", job_dir);
+  // The attempt has begun (its work folder exists: a job killed between taking
+  // its lock and that is still pending, not interrupted).
+  EXPECT_TRUE(waitFor([&] { return fs::exists(fs::path(job_dir) / "work"); }, 30.0));
   campaign.kill(SIGKILL);
   campaign.wait();
   EXPECT_TRUE(waitFor([&] { return !campaignJobLocked(job_dir); }, 10.0))

@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <limits>
 #include <map>
 #include <memory>
 #include <vector>
@@ -137,6 +138,37 @@ TEST(PppSources, CorrectionGateReleasesCoveredOrTimedOutEpochs) {
   ASSERT_TRUE(overflow);
   EXPECT_EQ(overflow->payload, 4);
   EXPECT_EQ(gate.size(), 3u);
+}
+
+TEST(PppSources, CorrectionBufferWithAnInfiniteHistoryKeepsEveryBatch) {
+  // ppp_bag_solve keeps every batch of a bag (history infinity): no batch is
+  // too old or dropped, whatever its age; a finite history drops them.
+  const GnssTime t0 = test::gpst(2026, 5, 13);
+  const auto batchAt = [&](double dt_s) {
+    CorrectionBatch b;
+    b.time = t0 + dt_s;
+    SatelliteCorrection c;
+    c.satellite = SatelliteId{GnssSystem::GPS, 5};
+    c.position_ecef_m = Eigen::Vector3d(2.0e7, 1.0e7, 1.0e7);
+    c.clock_bias_s = 1e-4;
+    b.satellites.push_back(c);
+    return b;
+  };
+  CorrectionBufferOptions unbounded;
+  unbounded.history_s = std::numeric_limits<double>::infinity();
+  CorrectionBuffer all(unbounded);
+  for (const double dt : {0.0, 86400.0, 5.0 * 86400.0}) ASSERT_EQ(all.add(batchAt(dt)), BatchAddResult::Added);
+  EXPECT_EQ(all.add(batchAt(3600.0)), BatchAddResult::Added);  // older than the newest: still kept
+  EXPECT_EQ(all.add(batchAt(86400.0)), BatchAddResult::Duplicate);
+  ASSERT_TRUE(all.oldest().has_value());
+  EXPECT_EQ(*all.oldest(), t0);
+  CorrectionBufferOptions bounded;
+  bounded.history_s = 900.0;
+  CorrectionBuffer recent(bounded);
+  ASSERT_EQ(recent.add(batchAt(0.0)), BatchAddResult::Added);
+  ASSERT_EQ(recent.add(batchAt(86400.0)), BatchAddResult::Added);
+  EXPECT_EQ(*recent.oldest(), t0 + 86400.0);  // the first batch dropped
+  EXPECT_EQ(recent.add(batchAt(3600.0)), BatchAddResult::TooOld);
 }
 
 TEST(PppSources, ReceiverAntennaPolicyKey) {

@@ -54,7 +54,8 @@ struct CorrectionBufferOptions {
   /// Interpolation rules. Defaults for streams: Hermite between batches,
   /// clock spacing limit 1.5 x the most common batch spacing.
   PreciseEphemerisOptions interpolation = streamInterpolation();
-  /// Batches older than the newest minus this are dropped [s] (> 0).
+  /// Batches older than the newest minus this are dropped [s] (> 0; infinity:
+  /// every batch is kept, as ppp_bag_solve does for a whole bag).
   double history_s = 900.0;
   /// The point the batch positions refer to (the PreciseCorrections message: centre of mass).
   EphemerisReference reference = EphemerisReference::CentreOfMass;

@@ -26,11 +26,16 @@ BatchAddResult CorrectionBuffer::add(CorrectionBatch batch) {
   const auto by_time = [](const CorrectionBatch& a, const GnssTime& t) { return a.time < t; };
   const auto it = std::lower_bound(batches_.begin(), batches_.end(), batch.time, by_time);
   if (it != batches_.end() && it->time == batch.time) return BatchAddResult::Duplicate;
-  if (!batches_.empty() && batch.time < batches_.back().time - options_.history_s) return BatchAddResult::TooOld;
+  // An infinite history keeps every batch (no time is "newest minus infinity").
+  const bool bounded = std::isfinite(options_.history_s);
+  if (bounded && !batches_.empty() && batch.time < batches_.back().time - options_.history_s)
+    return BatchAddResult::TooOld;
   batches_.insert(it, std::move(batch));
-  const GnssTime limit = batches_.back().time - options_.history_s;
-  const auto keep = std::lower_bound(batches_.begin(), batches_.end(), limit, by_time);
-  batches_.erase(batches_.begin(), keep);
+  if (bounded) {
+    const GnssTime limit = batches_.back().time - options_.history_s;
+    const auto keep = std::lower_bound(batches_.begin(), batches_.end(), limit, by_time);
+    batches_.erase(batches_.begin(), keep);
+  }
   rebuild();
   return BatchAddResult::Added;
 }
