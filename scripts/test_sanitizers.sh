@@ -108,7 +108,9 @@ if [ "$MODE" = catkin ]; then BUILD_ROOT="$SAN_DIR/ws"; else BUILD_ROOT="$SAN_DI
 if [ "${PPP_SANITIZE_NO_BUILD:-0}" != 1 ]; then
   echo "=== build ($MODE, clang, ASan + UBSan) into $BUILD_ROOT ==="
   start=$SECONDS
-  if [ "$MODE" = catkin ]; then build_catkin "${TESTS[@]}"; else build_core "${TESTS[@]}"; fi \
+  # With the tools the units start as child processes (bag, campaign and solve tests).
+  if [ "$MODE" = catkin ]; then build_catkin "${TESTS[@]}" ppp_solve ppp_to_bag ppp_bag_solve ppp_campaign;
+  else build_core "${TESTS[@]}"; fi \
     > "$SAN_DIR/build.log" 2>&1
   rc=$?
   echo "test_sanitizers: build exit $rc in $((SECONDS - start)) s (log $SAN_DIR/build.log)"

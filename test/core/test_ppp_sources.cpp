@@ -19,6 +19,7 @@
 #include "ppp_bayes_tree/models/broadcast_ephemeris_store.h"
 #include "ppp_bayes_tree/models/precise_ephemeris.h"
 #include "ppp_bayes_tree/models/correction_buffer.h"
+#include "ppp_bayes_tree/models/stream_bias_provider.h"
 #include "ppp_bayes_tree/app/correction_gate.h"
 #include "ppp_bayes_tree/ppp/estimators/epoch_estimator.h"
 #include "ppp_bayes_tree/ppp/pipeline/ppp_pipeline.h"
@@ -169,6 +170,32 @@ TEST(PppSources, CorrectionBufferWithAnInfiniteHistoryKeepsEveryBatch) {
   ASSERT_EQ(recent.add(batchAt(86400.0)), BatchAddResult::Added);
   EXPECT_EQ(*recent.oldest(), t0 + 86400.0);  // the first batch dropped
   EXPECT_EQ(recent.add(batchAt(3600.0)), BatchAddResult::TooOld);
+}
+
+TEST(PppSources, StreamBiasesWithAnInfiniteHistoryKeepEveryBatch) {
+  // ppp_bag_solve keeps every bias batch of a bag (history infinity); a finite
+  // history drops the batches older than the newest minus it.
+  const GnssTime t0 = test::gpst(2026, 5, 13);
+  const ObservationCode l1c = *ObservationCode::parse("L1C");
+  const auto batchAt = [&](double dt_s, int prn, double bias_m) {
+    SatelliteBiasBatch b;
+    b.time = t0 + dt_s;
+    b.source = "test";
+    b.biases[SatelliteId{GnssSystem::GPS, prn}] = {{l1c, bias_m}};
+    return b;
+  };
+  StreamBiasProvider all(std::numeric_limits<double>::infinity());
+  all.add(batchAt(0.0, 5, 0.1));
+  all.add(batchAt(5.0 * 86400.0, 7, 0.2));
+  EXPECT_EQ(all.batches(), 2u);
+  const BiasAnswer kept = all.phaseBias(SatelliteId{GnssSystem::GPS, 5}, l1c, t0 + 3600.0);
+  ASSERT_TRUE(kept.value_m.has_value());
+  EXPECT_EQ(*kept.value_m, 0.1);
+  StreamBiasProvider recent(900.0);
+  recent.add(batchAt(0.0, 5, 0.1));
+  recent.add(batchAt(5.0 * 86400.0, 7, 0.2));
+  EXPECT_EQ(recent.batches(), 1u);
+  EXPECT_FALSE(recent.phaseBias(SatelliteId{GnssSystem::GPS, 5}, l1c, t0 + 3600.0).value_m.has_value());
 }
 
 TEST(PppSources, ReceiverAntennaPolicyKey) {

@@ -9,7 +9,8 @@
 // the satellite and signal (a bias holds until the next batch replaces it, as SSR
 // phase biases do between updates); nothing before the first batch. Batches older
 // than `history_s` before the newest are dropped with their values, so the memory
-// stays bounded and a satellite the stream stops sending goes absent.
+// stays bounded and a satellite the stream stops sending goes absent (an infinite
+// `history_s` keeps every batch, as ppp_bag_solve does for a whole bag).
 // Each answer holds for the asked instant only (a later batch may change it).
 #include <map>
 #include <optional>

@@ -1,5 +1,7 @@
 #include "ppp_bayes_tree/models/stream_bias_provider.h"
 
+#include <cmath>
+
 namespace ppp {
 
 SatelliteBiasBatch sampleBiases(const BiasProvider& provider, const GnssTime& t, const RinexObsHeader& header,
@@ -31,6 +33,7 @@ void StreamBiasProvider::add(const SatelliteBiasBatch& batch) {
 }
 
 void StreamBiasProvider::prune() {
+  if (!std::isfinite(history_s_)) return;  // an infinite history keeps every batch
   const GnssTime oldest_kept = *batch_times_.rbegin() - history_s_;
   while (!batch_times_.empty() && *batch_times_.begin() < oldest_kept) batch_times_.erase(batch_times_.begin());
   for (auto it = series_.begin(); it != series_.end();) {
