@@ -31,6 +31,9 @@ enum class StreamProblemKind {
 
 std::string_view streamProblemKindName(StreamProblemKind kind);
 
+/// "byte 1234 (frame 56), type 1077" (the type left out when 0): where in a stream.
+std::string streamPlace(std::uint64_t byte_offset, std::uint64_t frame_index, int message_type);
+
 struct StreamProblem {
   StreamProblemKind kind = StreamProblemKind::Garbage;
   std::uint64_t byte_offset = 0;  // of the frame start (or of the first bad byte)

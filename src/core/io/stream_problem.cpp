@@ -22,11 +22,16 @@ std::string_view streamProblemKindName(StreamProblemKind kind) {
   return "unknown problem";
 }
 
-std::string StreamProblem::describe() const {
+std::string streamPlace(std::uint64_t byte_offset, std::uint64_t frame_index, int message_type) {
   std::ostringstream text;
   text << "byte " << byte_offset << " (frame " << frame_index << ")";
   if (message_type != 0) text << ", type " << message_type;
-  text << ": " << streamProblemKindName(kind);
+  return text.str();
+}
+
+std::string StreamProblem::describe() const {
+  std::ostringstream text;
+  text << streamPlace(byte_offset, frame_index, message_type) << ": " << streamProblemKindName(kind);
   if (!detail.empty()) text << ": " << detail;
   return text.str();
 }

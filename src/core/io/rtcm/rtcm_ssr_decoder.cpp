@@ -74,9 +74,8 @@ void RtcmSsrDecoder::refuseRepeatedSignals(const Rtcm3Frame& frame, SsrMessage& 
           << (first->code ? " (" + first->code->toString() + ")" : std::string()) << " sent again in the message: the first value "
           << first->bias_m << " m kept, the repeated value " << biases[k].bias_m << " m dropped";
         if (counters_.repeated_signals++ == 0)
-          counters_.first_repeated_signal = "byte " + std::to_string(frame.byte_offset) + " (frame " +
-                                            std::to_string(frame.frame_index) + "), type " +
-                                            std::to_string(frame.message_type) + ": " + o.str();
+          counters_.first_repeated_signal =
+              streamPlace(frame.byte_offset, frame.frame_index, frame.message_type) + ": " + o.str();
         biases.erase(biases.begin() + static_cast<std::ptrdiff_t>(k));
       }
     }
