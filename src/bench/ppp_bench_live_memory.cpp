@@ -40,7 +40,8 @@
 #include "ppp_bayes_tree/evaluation/quantile.h"
 #include "ppp_bayes_tree/evaluation/smoothed_trajectory_writer.h"
 #include "ppp_bayes_tree/ppp/config/ppp_config.h"
-#include "ppp_bayes_tree/ppp/estimators/epoch_estimator.h"
+#include "ppp_bayes_tree/ppp/estimators/estimator_registry.h"
+#include "ppp_bayes_tree/ppp/estimators/ppp_smoother.h"
 #include "ppp_bayes_tree/ppp/pipeline/ppp_pipeline.h"
 #include "ppp_bayes_tree/simulation/gnss_simulator.h"
 #include "ppp_bayes_tree/types/thread_cpu_time.h"
@@ -160,7 +161,8 @@ int main(int argc, char** argv) {
   in.products = &f.products;
   in.name = "simulated";
   PppPipeline pipeline(in, config);
-  SmootherEstimator sm(config);
+  const std::unique_ptr<PppSmoother> sm_made = makeEstimatorAs<PppSmoother>("smoother", config);
+  PppSmoother& sm = *sm_made;
 
   const GnssTime t_first = f.epochs.front().time;
   auto epochIndex = [&](const GnssTime& t) {
@@ -173,7 +175,7 @@ int main(int argc, char** argv) {
   std::size_t handed_out = 0;
   if (lag_s > 0.0 && !a.keep_states) {
     writer = std::make_unique<SmoothedTrajectoryWriter>(a.csv.empty() ? std::string("/dev/null") : a.csv);
-    sm.smoother().setMarginalizedStateSink([&](const SmoothedEpoch& e) {
+    sm.setMarginalizedStateSink([&](const SmoothedEpoch& e) {
       writer->write(e);
       ++handed_out;
       const std::size_t k = epochIndex(e.time);
@@ -203,11 +205,11 @@ int main(int argc, char** argv) {
   auto report = [&](double flight_s) {
     const double rss = rss_mb();
     rss_at_report.push_back(rss);
-    const smoother::ISAM2& isam = sm.smoother().isam2();
+    const smoother::ISAM2& isam = sm.isam2();
     std::printf("  %6.2f h  RSS %7.1f  +%7.1f  vars %6zu  factors %7zu  cliques %6zu  states %7zu  update %.3f / "
                 "%.3f / %.3f\n",
                 flight_s / 3600.0, rss, rss - rss_run_start, isam.linearizationPoint().size(), isam.numFactors(),
-                isam.bayesTree().numCliques(), sm.smoother().storedStateCount(), quantile(interval_ms, 0.5),
+                isam.bayesTree().numCliques(), sm.storedStateCount(), quantile(interval_ms, 0.5),
                 quantile(interval_ms, 0.99), quantile(interval_ms, 1.0));
     std::fflush(stdout);
     interval_ms.clear();
@@ -237,7 +239,7 @@ int main(int argc, char** argv) {
   });
   const double run_s = std::chrono::duration<double>(Clock::now() - t0).count();
   if (!interval_ms.empty()) report(f.epochs.back().time - t_first);
-  if (writer) sm.smoother().finishTrajectory();
+  if (writer) sm.finishTrajectory();
 
   std::printf("run: %zu epochs (%zu solved) in %.1f s (%.0f epochs/s, %.1fx real time at %.1f Hz)\n", epochs, solved,
               run_s, static_cast<double>(epochs) / run_s,
@@ -281,7 +283,7 @@ int main(int argc, char** argv) {
                 quantile(final_err_m.values(), 0.95), writer->rowsWritten(), writer->rowsRefused());
   if (lag_s <= 0.0) {  // the full smoother's smoothed trajectory (all data), the reference
     std::vector<double> smoothed_err_m;
-    for (const auto& e : sm.smoother().smoothedTrajectory()) {
+    for (const auto& e : sm.smoothedTrajectory()) {
       const std::size_t k = epochIndex(e.time);
       if (k < truth.size()) smoothed_err_m.push_back((e.state.position_ecef_m - truth[k]).norm());
     }

@@ -13,7 +13,7 @@
 #include <string>
 
 #include "ppp_bayes_tree/evaluation/monte_carlo.h"
-#include "ppp_bayes_tree/ppp/estimators/epoch_estimator.h"
+#include "ppp_bayes_tree/ppp/estimators/estimator_registry.h"
 #include "ppp_bayes_tree/ppp/pipeline/ppp_pipeline.h"
 #include "ppp_bayes_tree/app/ppp_solve_run.h"
 #include "ppp_bayes_tree/simulation/gnss_simulator.h"
@@ -64,7 +64,8 @@ int main(int argc, char** argv) {
   {
     const auto t0 = Clock::now();
     PppPipeline p(in, c);
-    EkfEstimator e(c);
+    const std::unique_ptr<PppEstimator> e_made = makeEstimator("ekf", c);
+    PppEstimator& e = *e_made;
     p.run(e, [&](const PppEpochRecord& r) { record(r, ekf); });
     ekf_s = since(t0);
   }
@@ -73,7 +74,8 @@ int main(int argc, char** argv) {
     PppConfig cs = c;
     cs.smoother.fixed_lag_s = lag_s;
     PppPipeline p(in, cs);
-    SmootherEstimator e(cs);
+    const std::unique_ptr<PppEstimator> e_made = makeEstimator("smoother", cs);
+    PppEstimator& e = *e_made;
     p.run(e, [&](const PppEpochRecord& r) {
       record(r, filtered);
       if (!r.refused && e.lastResult().status == EpochStatus::Ok)
@@ -81,7 +83,7 @@ int main(int argc, char** argv) {
     });
     smoother_s = since(t0);
     const auto t1 = Clock::now();
-    const auto trajectory = e.smoother().smoothedTrajectory(true);
+    const auto trajectory = e.smoothing()->smoothedTrajectory(true);
     smoothed_s = since(t1);
   }
   const TimingSummary u = summarizeTimes(updates);

@@ -19,7 +19,7 @@
 
 #include "ppp_bayes_tree/app/allocator_tuning.h"
 #include "ppp_bayes_tree/evaluation/monte_carlo.h"
-#include "ppp_bayes_tree/ppp/estimators/epoch_estimator.h"
+#include "ppp_bayes_tree/ppp/estimators/estimator_registry.h"
 #include "ppp_bayes_tree/ppp/pipeline/ppp_pipeline.h"
 #include "ppp_bayes_tree/simulation/gnss_simulator.h"
 
@@ -60,7 +60,8 @@ StageCpu stages(const MonteCarloOptions& o, int index) {
   t0 = threadCpu_s();
   {
     PppPipeline pipeline(in, config);
-    EkfEstimator ekf(config);
+    const std::unique_ptr<PppEstimator> ekf_made = makeEstimator("ekf", config);
+    PppEstimator& ekf = *ekf_made;
     pipeline.run(ekf, [](const PppEpochRecord&) {});
   }
   cpu.ekf_s = threadCpu_s() - t0;
@@ -70,7 +71,8 @@ StageCpu stages(const MonteCarloOptions& o, int index) {
     smoother_config.smoother.fixed_lag_s = o.smoother_filtered_lag_s;
     smoother_config.smoother.record_graph = true;
     PppPipeline pipeline(in, smoother_config);
-    SmootherEstimator sm(smoother_config);
+    const std::unique_ptr<PppEstimator> sm_made = makeEstimator("smoother", smoother_config);
+    PppEstimator& sm = *sm_made;
     pipeline.run(sm, [](const PppEpochRecord&) {});
     if (sm.smoothing()->finalSmoothedSolution().trajectory.empty())
       std::fprintf(stderr, "flight %d: no smoothed state\n", index);

@@ -1,6 +1,6 @@
 // The cost of the smoother node's smoothed outputs (ros/ppp_node.h) on a simulated
 // flight (default: 30 min loiter at 1 Hz, seed 7), through the node's chain
-// (PppEpochProcessor + SmootherEstimator, config/ppp.yaml with the flight's physics):
+// (PppEpochProcessor + PppSmoother, config/ppp.yaml with the flight's physics):
 //  - the epoch update (what ppp/status update_time_s reports),
 //  - ppp/path/smoothed: smoothedTrajectory() without covariance, every 60 epochs
 //    and repeatedly at the end (the node calls it at ros.smoothed.path_publish_rate_hz),
@@ -16,7 +16,7 @@
 #include <vector>
 
 #include "ppp_bayes_tree/evaluation/monte_carlo.h"
-#include "ppp_bayes_tree/ppp/estimators/epoch_estimator.h"
+#include "ppp_bayes_tree/ppp/estimators/estimator_registry.h"
 #include "ppp_bayes_tree/ppp/pipeline/ppp_epoch_processor.h"
 #include "ppp_bayes_tree/simulation/gnss_simulator.h"
 
@@ -42,7 +42,8 @@ struct Figures {
 
 void run(const SimulatedFlight& f, PppConfig c, double lag_s) {
   c.smoother.fixed_lag_s = lag_s;
-  SmootherEstimator est(c);
+  const std::unique_ptr<PppEstimator> est_made = makeEstimator("smoother", c);
+  PppEstimator& est = *est_made;
   PppEpochProcessor processor(f.header, c, f.products, {}, nullptr, nullptr);
   est.setApproximatePosition(*f.header.approx_position_ecef_m);
   Figures update, newest, delay10, delay60, trajectory_periodic;
@@ -53,7 +54,7 @@ void run(const SimulatedFlight& f, PppConfig c, double lag_s) {
     update.add(msSince(t0));
     ++k;
     if (!rec.solution.position_ecef_m) continue;
-    const PppSmoother& s = est.smoother();
+    const SmoothedTrajectoryProvider& s = *est.smoothing();
     t0 = Clock::now();
     (void)s.smoothedEpochAt(e.time - lag_s, true);  // lag 0: the newest state
     newest.add(msSince(t0));
@@ -75,7 +76,7 @@ void run(const SimulatedFlight& f, PppConfig c, double lag_s) {
   std::size_t states = 0;
   for (int i = 0; i < 20; ++i) {
     const auto t0 = Clock::now();
-    states = est.smoother().smoothedTrajectory(false).size();
+    states = est.smoothing()->smoothedTrajectory(false).size();
     trajectory_end.add(msSince(t0));
   }
   if (lag_s > 0) std::printf("fixed lag %.0f s (%zu epochs, %zu states):\n", lag_s, f.epochs.size(), states);

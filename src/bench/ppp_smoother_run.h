@@ -10,7 +10,7 @@
 
 #include "ppp_bayes_tree/evaluation/position_error_statistics.h"
 #include "ppp_bayes_tree/ppp/pipeline/solution_epoch.h"
-#include "ppp_bayes_tree/ppp/estimators/epoch_estimator.h"
+#include "ppp_bayes_tree/ppp/estimators/estimator_registry.h"
 #include "ppp_bayes_tree/ppp/pipeline/ppp_pipeline.h"
 
 namespace ppp::bench {
@@ -33,7 +33,8 @@ inline SmootherRunOutput runSmootherAndEkf(const SmootherRunInputs& in, const Pp
   SmootherRunOutput out;
   if (run_ekf) {
     PppPipeline pipeline(in.files, config);
-    EkfEstimator ekf(config);
+    const std::unique_ptr<PppEstimator> ekf_made = makeEstimator("ekf", config);
+    PppEstimator& ekf = *ekf_made;
     const auto t0 = Clock::now();
     pipeline.run(ekf, [&](const PppEpochRecord& rec) {
       if (!rec.refused) out.ekf.push_back(rec.solution);
@@ -42,7 +43,8 @@ inline SmootherRunOutput runSmootherAndEkf(const SmootherRunInputs& in, const Pp
     out.ekf_stats = computePositionErrorStatistics(out.ekf, in.truth_ecef_m);
   }
   PppPipeline pipeline(in.files, config);
-  SmootherEstimator smoother(config);
+  const std::unique_ptr<PppEstimator> smoother_made = makeEstimator("smoother", config);
+  PppEstimator& smoother = *smoother_made;
   const auto t0 = Clock::now();
   pipeline.run(smoother, [&](const PppEpochRecord& rec) {
     if (rec.refused) return;
@@ -50,7 +52,7 @@ inline SmootherRunOutput runSmootherAndEkf(const SmootherRunInputs& in, const Pp
     out.smoother_epochs.push_back(smoother.lastResult());
   });
   out.smoother_run_s = std::chrono::duration<double>(Clock::now() - t0).count();
-  for (const auto& s : smoother.smoother().smoothedTrajectory()) {
+  for (const auto& s : smoother.smoothing()->smoothedTrajectory()) {
     SolutionEpoch e;
     e.time = s.time;
     e.position_ecef_m = s.state.position_ecef_m;

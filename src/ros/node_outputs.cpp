@@ -1,5 +1,7 @@
 #include "ppp_bayes_tree/ros/node_outputs.h"
 
+#include "ppp_bayes_tree/ppp/estimators/ppp_smoother.h"
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -24,9 +26,9 @@ bool isProductRejection(const ppp::EpochRejection& r) {
 }
 
 /// The lagged output's smoother (nullptr: not a fixed-lag smoother).
-ppp::PppSmoother* laggedSmoother(ppp::EpochEstimator& estimator) {
-  auto* s = dynamic_cast<ppp::SmootherEstimator*>(&estimator);
-  return s && s->smoother().fixedLag_s() > 0.0 ? &s->smoother() : nullptr;
+ppp::PppSmoother* laggedSmoother(ppp::PppEstimator& estimator) {
+  auto* s = dynamic_cast<ppp::PppSmoother*>(&estimator);
+  return s && s->fixedLag_s() > 0.0 ? s : nullptr;
 }
 
 }  // namespace
@@ -47,7 +49,7 @@ std::string solutionStateText(std::uint8_t state) {
   }
 }
 
-EpochFigures epochFigures(const NodeInputs& inputs, const ppp::EpochEstimator& estimator, const ppp::ObsEpoch& epoch,
+EpochFigures epochFigures(const NodeInputs& inputs, const ppp::PppEstimator& estimator, const ppp::ObsEpoch& epoch,
                           const ppp::PppEpochRecord& rec, double update_s, std::vector<std::string> warnings) {
   constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
   EpochFigures f;
@@ -60,8 +62,8 @@ EpochFigures epochFigures(const NodeInputs& inputs, const ppp::EpochEstimator& e
   // The EKF updates its whole state; the smoother re-eliminates the variables it reports.
   f.variables_reeliminated = static_cast<std::uint32_t>(
       rec.smoother ? rec.smoother->variables_reeliminated
-                   : static_cast<std::size_t>(estimator.core().layout().dim() + rec.active_biases));
-  f.active_arcs = estimator.core().activeArcs();
+                   : static_cast<std::size_t>(estimator.layout().dim() + rec.active_biases));
+  f.active_arcs = estimator.activeArcs();
   f.warnings = std::move(warnings);
   return f;
 }
@@ -422,7 +424,7 @@ std::optional<nav_msgs::Path> NodeOutputs::smoothedPath(const ppp::SmoothedTraje
   return path;
 }
 
-void NodeOutputs::attachLaggedOutput(ppp::EpochEstimator& estimator) {
+void NodeOutputs::attachLaggedOutput(ppp::PppEstimator& estimator) {
   ppp::PppSmoother* sm = laggedSmoother(estimator);
   if (!sm) {
     if (!options_.smoothed_trajectory_csv.empty() && estimator.smoothing())
@@ -436,7 +438,7 @@ void NodeOutputs::attachLaggedOutput(ppp::EpochEstimator& estimator) {
   lagged_output_->attach(*sm);
 }
 
-void NodeOutputs::finishLaggedOutput(ppp::EpochEstimator& estimator) {
+void NodeOutputs::finishLaggedOutput(ppp::PppEstimator& estimator) {
   if (ppp::PppSmoother* sm = laggedSmoother(estimator); sm && lagged_output_) lagged_output_->finish(*sm);
 }
 

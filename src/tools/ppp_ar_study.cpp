@@ -35,7 +35,7 @@
 #include <vector>
 
 #include "ppp_bayes_tree/ppp/config/ppp_config.h"
-#include "ppp_bayes_tree/ppp/estimators/epoch_estimator.h"
+#include "ppp_bayes_tree/ppp/estimators/estimator_registry.h"
 #include "ppp_bayes_tree/ppp/pipeline/ppp_pipeline.h"
 #include "ppp_bayes_tree/types/frames.h"
 
@@ -59,9 +59,10 @@ std::vector<EpochOut> runEkf(const PppInputFiles& files, const std::string& yaml
       if (n.find("ambiguity resolution") != std::string::npos || n.find("antenna model") != std::string::npos ||
           n.rfind("systems:", 0) == 0 || n.rfind("satellite antennas:", 0) == 0)
         std::cout << name << ": " << n << "\n";
-  EkfEstimator ekf(pipeline.config());  // the systems and the AR switch the products decided
+  // The systems and the AR switch the products decided.
+  const std::unique_ptr<PppEstimator> ekf = makeEstimator("ekf", pipeline.config());
   std::vector<EpochOut> out;
-  pipeline.run(ekf, [&](const PppEpochRecord& r) {
+  pipeline.run(*ekf, [&](const PppEpochRecord& r) {
     EpochOut e;
     e.time = r.solution.time;
     e.position = r.solution.position_ecef_m;

@@ -27,7 +27,7 @@
 #include <vector>
 
 #include "ppp_bayes_tree/evaluation/monte_carlo.h"
-#include "ppp_bayes_tree/ppp/estimators/epoch_estimator.h"
+#include "ppp_bayes_tree/ppp/estimators/estimator_registry.h"
 #include "ppp_bayes_tree/ppp/pipeline/ppp_pipeline.h"
 #include "ppp_bayes_tree/simulation/gnss_simulator.h"
 #include "ppp_bayes_tree/types/frames.h"
@@ -204,8 +204,8 @@ int main(int argc, char** argv) {
     Eigen::Vector3d ekf_last_err = Eigen::Vector3d::Zero(), ekf_last_sigma = Eigen::Vector3d::Zero();
     {
       PppPipeline pipeline(in, c);
-      EkfEstimator ekf(c);
-      pipeline.run(ekf, [&](const PppEpochRecord& rec) {
+      const std::unique_ptr<PppEstimator> ekf = makeEstimator("ekf", c);
+      pipeline.run(*ekf, [&](const PppEpochRecord& rec) {
         const Eigen::Vector3d* tr = truthAt(rec.solution.time);
         if (tr && rec.solution.position_ecef_m && rec.solution.time - t0 >= after_min * 60.0)
         {
@@ -218,8 +218,8 @@ int main(int argc, char** argv) {
     }
     {
       PppPipeline pipeline(in, c);
-      SmootherEstimator sm(c);
-      const PppRunSummary sum = pipeline.run(sm, [&](const PppEpochRecord& rec) {
+      const std::unique_ptr<PppEstimator> sm = makeEstimator("smoother", c);
+      const PppRunSummary sum = pipeline.run(*sm, [&](const PppEpochRecord& rec) {
         const Eigen::Vector3d* tr = truthAt(rec.solution.time);
         if (tr && rec.solution.position_ecef_m && rec.solution.time - t0 >= after_min * 60.0)
         {
@@ -233,7 +233,7 @@ int main(int argc, char** argv) {
       std::printf("\n");
       // Formal sigmas (ENU, ZWD) of the smoothed state in the middle of the flight.
       {
-        const auto traj = sm.smoother().smoothedTrajectory(true);
+        const auto traj = sm->smoothing()->smoothedTrajectory(true);
         const SmoothedEpoch& last = traj.back();
         if (last.covariance && truthAt(last.time)) {
           const Eigen::Vector3d* tr = truthAt(last.time);
@@ -252,7 +252,7 @@ int main(int argc, char** argv) {
                       (r.row(2) * mid.covariance->block<3, 1>(0, 3))(0) / std::sqrt(c(2, 2) * (*mid.covariance)(3, 3)));
         }
       }
-      for (const auto& s : sm.smoother().smoothedTrajectory()) {
+      for (const auto& s : sm->smoothing()->smoothedTrajectory()) {
         const Eigen::Vector3d* tr = truthAt(s.time);
         if (tr && s.time - t0 >= after_min * 60.0) {
           smooth_acc.add(enuError(s.state.position_ecef_m, *tr));

@@ -22,7 +22,7 @@
 #include <vector>
 
 #include "ppp_bayes_tree/models/troposphere_gradient.h"
-#include "ppp_bayes_tree/ppp/estimators/ekf_ppp.h"
+#include "ppp_bayes_tree/ppp/estimators/ppp_ekf.h"
 #include "ppp_bayes_tree/ppp/model/measurement_function.h"
 
 namespace ppp::sim {
@@ -219,7 +219,7 @@ inline double chiSquareQuantile(double k, double z) {
   return k * std::pow(1.0 - a + z * std::sqrt(a), 3);
 }
 
-/// Runs `epochs` epochs every `dt_s` seconds through an estimator (EkfPpp or
+/// Runs `epochs` epochs every `dt_s` seconds through an estimator (PppEkf or
 /// PppSmoother), expecting each to be Ok; returns every epoch's result.
 template <class Estimator>
 auto runEpochs(Estimator& estimator, Simulator& sim, int epochs, double dt_s = 30.0, SimModelOptions model = {}) {

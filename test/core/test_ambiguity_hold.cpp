@@ -20,7 +20,7 @@
 #include "ppp_bayes_tree/evaluation/rtklib_pos.h"
 #include "ppp_bayes_tree/models/ionosphere_free.h"
 #include "ppp_bayes_tree/ppp/ambiguity/ambiguity_resolution.h"
-#include "ppp_bayes_tree/ppp/estimators/epoch_estimator.h"
+#include "ppp_bayes_tree/ppp/estimators/estimator_registry.h"
 #include "ppp_bayes_tree/ppp/pipeline/ppp_pipeline.h"
 #include "ppp_bayes_tree/types/constants.h"
 #include "esbc_stream_fixture.h"
@@ -439,17 +439,15 @@ PppInputFiles ccj2InputFiles() {
   return test::inputFiles(d);
 }
 
-/// An estimator (EkfEstimator or SmootherEstimator: both have resolver()) with
-/// a wrong integer injected at one epoch: the held Galileo narrow lane with the
-/// smallest sigma gets its integer + 1.
-template <typename Estimator>
-class Injecting : public EpochEstimator {
+/// A wrong integer injected at one epoch into an estimator's resolver: the held
+/// Galileo narrow lane with the smallest sigma gets its integer + 1. Fed after
+/// each epoch the estimator processed (the pipeline's callback).
+class Injection {
  public:
-  Injecting(const PppConfig& c, int inject_at) : estimator_(c), inject_at_(inject_at) {}
-  std::string name() const override { return estimator_.name(); }
-  void setApproximatePosition(const Eigen::Vector3d& p) override { estimator_.setApproximatePosition(p); }
-  EstimatorEpochResult processEpoch(const EstimatorEpochInput& in) override {
-    EstimatorEpochResult r = estimator_.processEpoch(in);
+  Injection(PppEstimator& estimator, int inject_at) : estimator_(estimator), inject_at_(inject_at) {}
+  void epoch(const PppEpochRecord& rec) {
+    if (rec.refused) return;  // the estimator did not see it
+    const EstimatorEpochResult& r = estimator_.lastResult();
     if (r.ambiguity_fix && injected && !released_at)
       for (const auto& rel : r.ambiguity_fix->released)
         if (rel.arc == injected->arc && rel.reference_arc == injected->reference_arc) {
@@ -468,17 +466,13 @@ class Injecting : public EpochEstimator {
       }
     }
     ++epoch_;
-    return r;
   }
-  void arcsEnded(const std::vector<EndedArc>& e) override { estimator_.arcsEnded(e); }
-  const PppEstimatorBase& core() const override { return estimator_.core(); }
-  const EstimatorEpochResult& lastResult() const override { return estimator_.lastResult(); }
   std::optional<NarrowLaneFloat> injected;
   std::optional<int> released_at;
   std::optional<AmbiguityRelease> release;
 
  private:
-  Estimator estimator_;
+  PppEstimator& estimator_;
   int inject_at_ = -1;
   int epoch_ = 0;
 };
@@ -490,24 +484,28 @@ struct InjectionOutcome {
   std::optional<AmbiguityRelease> release;
 };
 
-/// The clean run and the run with the injection of the same inputs.
-template <typename Estimator>
-InjectionOutcome runInjection(const PppInputFiles& files, const PppConfig& config, int inject_at) {
-  const auto run = [&](EpochEstimator& estimator) {
+/// The clean run and the run with the injection of the same inputs, on the
+/// registered estimator `name`.
+InjectionOutcome runInjection(const std::string& name, const PppInputFiles& files, const PppConfig& config,
+                              int inject_at) {
+  const auto run = [&](Injection* injection, PppEstimator& estimator) {
     PppPipeline pipeline(files, config);
     std::vector<std::pair<std::optional<Eigen::Vector3d>, bool>> out;
     pipeline.run(estimator, [&](const PppEpochRecord& r) {
+      if (injection) injection->epoch(r);
       out.emplace_back(r.solution.position_ecef_m, r.solution.status == SolutionStatus::PppFixed);
     });
     return out;
   };
-  Injecting<Estimator> clean(config, -1), wrong(config, inject_at);
+  const std::unique_ptr<PppEstimator> clean = makeEstimator(name, config);
+  const std::unique_ptr<PppEstimator> wrong = makeEstimator(name, config);
+  Injection injection(*wrong, inject_at);
   InjectionOutcome o;
-  o.clean = run(clean);
-  o.wrong = run(wrong);
-  o.injected = wrong.injected;
-  o.released_at = wrong.released_at;
-  o.release = wrong.release;
+  o.clean = run(nullptr, *clean);
+  o.wrong = run(&injection, *wrong);
+  o.injected = injection.injected;
+  o.released_at = injection.released_at;
+  o.release = injection.release;
   if (o.injected)
     std::cout << "injected " << o.injected->satellite.toString() << "-" << o.injected->reference_satellite.toString()
               << " float " << o.injected->float_cycles << " sigma " << o.injected->sigma_cycles << " held "
@@ -553,7 +551,7 @@ TEST(AmbiguityHold, RealEsbcGalileoWrongIntegerInjectedIntoTheEkfIsReleased) {
       "measurement_model:\n  signals:\n    systems: [GPS, Galileo]\nambiguity_resolution:\n  enabled: true\n",
       "ESBC GPS + Galileo AR");
   const int inject_at = 120;  // 60 min (30-s epochs)
-  expectInjectionReleased(runInjection<EkfEstimator>(files, config, inject_at), inject_at, 2000);
+  expectInjectionReleased(runInjection("ekf", files, config, inject_at), inject_at, 2000);
 }
 
 // The same on the smoother (the held integers are factors of its graph; the
@@ -569,7 +567,7 @@ TEST(AmbiguityHold, RealCcj2GalileoWrongIntegerInjectedIntoTheSmootherIsReleased
       "  allow_antenna_model_mismatch: true\n",
       "CCJ2 GPS + Galileo AR");
   const int inject_at = 80;  // 40 min
-  expectInjectionReleased(runInjection<SmootherEstimator>(files, config, inject_at), inject_at, 30);
+  expectInjectionReleased(runInjection("smoother", files, config, inject_at), inject_at, 30);
 }
 
 TEST(AmbiguityHold, RealCcj2HeldNarrowLanesAreIntegersAcrossArcs) {
@@ -589,7 +587,8 @@ TEST(AmbiguityHold, RealCcj2HeldNarrowLanesAreIntegersAcrossArcs) {
       "  allow_antenna_model_mismatch: true\n",
       "static PPP-AR");
   PppPipeline pipeline(files, config);
-  EkfEstimator ekf(config);
+  const std::unique_ptr<PppEstimator> ekf_made = makeEstimator("ekf", config);
+  PppEstimator& ekf = *ekf_made;
   int fixed_epochs = 0;
   pipeline.run(ekf, [&](const PppEpochRecord& r) { fixed_epochs += r.ambiguity_fix && r.ambiguity_fix->fixed(); });
   ASSERT_TRUE(ekf.lastResult().ambiguity_fix.has_value());
@@ -669,7 +668,8 @@ TEST(AmbiguityHold, RealEsbcStaticFixesStayNearTheDaysFloatPosition) {
   auto run = [&](const std::string& yaml, std::vector<std::pair<Eigen::Vector3d, bool>>& out) {
     const PppConfig config = parsePppConfig(yaml, "ESBC static");
     PppPipeline pipeline(files, config);
-    EkfEstimator ekf(config);
+    const std::unique_ptr<PppEstimator> ekf_made = makeEstimator("ekf", config);
+    PppEstimator& ekf = *ekf_made;
     pipeline.run(ekf, [&](const PppEpochRecord& r) {
       if (r.solution.position_ecef_m)
         out.emplace_back(*r.solution.position_ecef_m, r.solution.status == SolutionStatus::PppFixed);
@@ -726,7 +726,8 @@ TEST(AmbiguityHold, RealEsbcKinematicOffsetsAreConstantPerSingleDifference) {
     const PppConfig config = parsePppConfig(
         "stochastic:\n  position:\n    process_noise_m_per_sqrt_s: 0.0\n" + no_gradients, "ESBC static float");
     PppPipeline pipeline(files, config);
-    EkfEstimator ekf(config);
+    const std::unique_ptr<PppEstimator> ekf_made = makeEstimator("ekf", config);
+    PppEstimator& ekf = *ekf_made;
     pipeline.run(ekf, [&](const PppEpochRecord& r) {
       if (r.solution.position_ecef_m) reference = r.solution.position_ecef_m;
     });
@@ -739,7 +740,8 @@ TEST(AmbiguityHold, RealEsbcKinematicOffsetsAreConstantPerSingleDifference) {
       "ambiguity_resolution:\n  enabled: true\n  allow_antenna_model_mismatch: true\n" + no_gradients,
       "ESBC kinematic AR");
   PppPipeline pipeline(files, config);
-  EkfEstimator ekf(config);
+  const std::unique_ptr<PppEstimator> ekf_made = makeEstimator("ekf", config);
+  PppEstimator& ekf = *ekf_made;
   std::vector<std::pair<Eigen::Vector3d, bool>> solved;
   std::vector<std::optional<AmbiguityFixSummary>> summaries;  // of each solved epoch
   pipeline.run(ekf, [&](const PppEpochRecord& r) {

@@ -205,7 +205,7 @@ TEST(CoreLayering, DetectorRecognisesUpwardIncludes) {
                                   {"#include \"ppp_bayes_tree/types/gnss_time.h\"",
                                    "#include \"ppp_bayes_tree/io/products/sp3_reader.h\"",
                                    "#include \"ppp_bayes_tree/models/precise_ephemeris.h\"",
-                                   "#include \"ppp_bayes_tree/ppp/estimators/ekf_ppp.h\"",
+                                   "#include \"ppp_bayes_tree/ppp/estimators/ppp_ekf.h\"",
                                    "  #  include \"ppp_bayes_tree/evaluation/monte_carlo.h\""});
   EXPECT_EQ(layeringViolations(tmp, "io/products").size(), 3u);  // models, ppp, evaluation
   EXPECT_EQ(layeringViolations(tmp, "io").size(), 4u);           // and io/products: the base of io is below its parts
@@ -222,7 +222,7 @@ TEST(CoreLayering, DetectorKnowsTheDirectionInsidePppAndIo) {
                                   {"#include \"ppp_bayes_tree/ppp/model/arc_tracker.h\"",
                                    "#include \"ppp_bayes_tree/ppp/screening/prefit_screening.h\"",
                                    "#include \"ppp_bayes_tree/ppp/ambiguity/ambiguity_resolution.h\"",
-                                   "#include \"ppp_bayes_tree/ppp/estimators/ekf_ppp.h\"",
+                                   "#include \"ppp_bayes_tree/ppp/estimators/ppp_ekf.h\"",
                                    "#include \"ppp_bayes_tree/ppp/config/ppp_config.h\"",
                                    "#include \"ppp_bayes_tree/ppp/pipeline/ppp_pipeline.h\"",
                                    "#include \"ppp_bayes_tree/io/parse_error.h\"",
@@ -231,7 +231,7 @@ TEST(CoreLayering, DetectorKnowsTheDirectionInsidePppAndIo) {
                                    "#include \"ppp_bayes_tree/io/rtcm/rtcm3_decoder.h\"",
                                    "#include \"ppp_bayes_tree/io/ubx/ubx_decoder.h\"",
                                    "#include \"ppp_bayes_tree/io/transport/byte_source.h\""});
-  // An estimator including the configuration (as epoch_estimator.h once did) is refused.
+  // An estimator including the configuration (as one of its headers once did) is refused.
   const auto estimators = layeringViolations(tmp, "ppp/estimators");
   ASSERT_EQ(estimators.size(), 2u);  // config, pipeline
   EXPECT_NE(estimators[0].find("ppp/estimators includes ppp/config"), std::string::npos) << estimators[0];

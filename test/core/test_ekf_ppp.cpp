@@ -1,4 +1,4 @@
-// EkfPpp and codeLeastSquares on a small synthetic measurement generator (the
+// PppEkf and codeLeastSquares on a small synthetic measurement generator (the
 // real measurement model is separate): GPS-like circular orbits (radius
 // 26 560 km, inclination 55 deg, 6 planes x 5 satellites, no Earth rotation),
 // a receiver near ZIM2 (47 N, 7.5 E, spherical Earth), IF code and phase =
@@ -14,7 +14,7 @@
 #include <set>
 
 #include "ppp_bayes_tree/ppp/estimators/code_least_squares.h"
-#include "ppp_bayes_tree/ppp/estimators/ekf_ppp.h"
+#include "ppp_bayes_tree/ppp/estimators/ppp_ekf.h"
 #include "ppp_simulator.h"
 
 using namespace ppp;
@@ -27,7 +27,7 @@ double positionError(const EstimatorEpochResult& r, const Simulator& sim) {
 }
 
 /// Runs `epochs` epochs every `dt` seconds (each Ok); returns the last result.
-EstimatorEpochResult run(EkfPpp& ekf, Simulator& sim, int epochs, double dt = 30.0) {
+EstimatorEpochResult run(PppEkf& ekf, Simulator& sim, int epochs, double dt = 30.0) {
   return runEpochs(ekf, sim, epochs, dt).back();
 }
 
@@ -68,9 +68,9 @@ TEST(CodeLeastSquares, RejectsACodeOutlierAndReportsTooFewSatellites) {
   EXPECT_NE(few.reason.find("3 satellites"), std::string::npos) << few.reason;
 }
 
-TEST(EkfPpp, NoiseFreeRecoversTheTruePositionBelowOneMillimetre) {
+TEST(PppEkf, NoiseFreeRecoversTheTruePositionBelowOneMillimetre) {
   Simulator sim;
-  EkfPpp ekf(methodTableStochasticModel());
+  PppEkf ekf(methodTableStochasticModel());
   sim.zwd_m = 0.15;  // 5 cm off the a priori 0.1 m: converges through the geometry change
   const auto first = ekf.processEpoch(sim.time(), modelOf(sim.epoch()));
   ASSERT_EQ(first.status, EpochStatus::Ok) << first.reason;
@@ -89,7 +89,7 @@ TEST(EkfPpp, NoiseFreeRecoversTheTruePositionBelowOneMillimetre) {
   EXPECT_NEAR(ekf.receiverState().zwd_m, sim.zwd_m, 1e-3);
 }
 
-TEST(EkfPpp, PositionNeesIsWithinChiSquareBounds) {
+TEST(PppEkf, PositionNeesIsWithinChiSquareBounds) {
   // 40 independent runs with a random-walk truth (the filter's own process
   // model, q = 5 m/sqrt(s)) and Gaussian noise; at a fixed epoch the sum of the
   // 40 position NEES values is chi-square with 120 degrees of freedom.
@@ -101,7 +101,7 @@ TEST(EkfPpp, PositionNeesIsWithinChiSquareBounds) {
   const int runs = 40;
   const std::vector<int> check_epochs{10, 40};
   std::map<int, double> nees_sum =
-      positionNeesSums([&model] { return EkfPpp(model); }, runs, 1000, check_epochs);
+      positionNeesSums([&model] { return PppEkf(model); }, runs, 1000, check_epochs);
   ASSERT_FALSE(nees_sum.empty());
   const double dof = 3.0 * runs;
   const double lower = chiSquareQuantile(dof, -2.5758), upper = chiSquareQuantile(dof, 2.5758);  // 99 %
@@ -111,10 +111,10 @@ TEST(EkfPpp, PositionNeesIsWithinChiSquareBounds) {
   }
 }
 
-TEST(EkfPpp, JosephFormKeepsTheCovarianceSymmetricPositiveDefinite) {
+TEST(PppEkf, JosephFormKeepsTheCovarianceSymmetricPositiveDefinite) {
   Simulator sim;
   sim.noise = true;
-  EkfPpp ekf(methodTableStochasticModel());
+  PppEkf ekf(methodTableStochasticModel());
   for (int i = 0; i < 200; ++i) {  // 200 epochs at 30 s: satellites set and rise, arcs come and go
     if (i > 0) sim.t_s += 30.0;
     const auto r = ekf.processEpoch(sim.time(), modelOf(sim.epoch()));
@@ -127,9 +127,9 @@ TEST(EkfPpp, JosephFormKeepsTheCovarianceSymmetricPositiveDefinite) {
   }
 }
 
-TEST(EkfPpp, ArcEventsAddReplaceAndRemoveBiases) {
+TEST(PppEkf, ArcEventsAddReplaceAndRemoveBiases) {
   Simulator sim;
-  EkfPpp ekf(methodTableStochasticModel());
+  PppEkf ekf(methodTableStochasticModel());
   auto r = run(ekf, sim, 10);
   const int n_biases = ekf.activeBiasCount();
   EXPECT_EQ(n_biases, static_cast<int>(r.used.size()));
@@ -172,9 +172,9 @@ TEST(EkfPpp, ArcEventsAddReplaceAndRemoveBiases) {
   EXPECT_FALSE(ekf.biasEstimate_m(ended).has_value());
 }
 
-TEST(EkfPpp, TooFewSatellitesIsNoSolutionWithoutStateChange) {
+TEST(PppEkf, TooFewSatellitesIsNoSolutionWithoutStateChange) {
   Simulator sim;
-  EkfPpp ekf(methodTableStochasticModel());
+  PppEkf ekf(methodTableStochasticModel());
   run(ekf, sim, 10);
   const Eigen::VectorXd x = ekf.stateVector();
   const Eigen::MatrixXd P = ekf.covarianceMatrix();
@@ -199,16 +199,16 @@ TEST(EkfPpp, TooFewSatellitesIsNoSolutionWithoutStateChange) {
   EXPECT_LT(positionError(next, sim), 1e-3);
 
   // No satellites at all before the start: no solution, not initialised.
-  EkfPpp fresh(methodTableStochasticModel());
+  PppEkf fresh(methodTableStochasticModel());
   const auto none = fresh.processEpoch(sim.time(), modelOf({}));
   EXPECT_EQ(none.status, EpochStatus::NoSolution);
   EXPECT_NE(none.reason.find("no initial position"), std::string::npos) << none.reason;
   EXPECT_FALSE(fresh.initialised());
 }
 
-TEST(EkfPpp, ProcessNoiseScalesWithTheElapsedTime) {
+TEST(PppEkf, ProcessNoiseScalesWithTheElapsedTime) {
   Simulator sim;
-  EkfPpp ekf(methodTableStochasticModel());
+  PppEkf ekf(methodTableStochasticModel());
   run(ekf, sim, 10);
   const Eigen::MatrixXd P = ekf.covarianceMatrix();
   const StochasticModel m = methodTableStochasticModel();
@@ -228,9 +228,9 @@ TEST(EkfPpp, ProcessNoiseScalesWithTheElapsedTime) {
   EXPECT_LT(positionError(r, sim), 1e-3);
 }
 
-TEST(EkfPpp, PrefitScreeningRejectsA50mCodeOutlierAndAPhaseJump) {
+TEST(PppEkf, PrefitScreeningRejectsA50mCodeOutlierAndAPhaseJump) {
   Simulator sim;
-  EkfPpp ekf(methodTableStochasticModel());
+  PppEkf ekf(methodTableStochasticModel());
   run(ekf, sim, 10);
   sim.t_s += 30.0;
   auto obs = sim.epoch();
@@ -251,14 +251,14 @@ TEST(EkfPpp, PrefitScreeningRejectsA50mCodeOutlierAndAPhaseJump) {
   EXPECT_LT(positionError(r, sim), 1e-3);  // the outliers did not reach the estimate
 }
 
-TEST(EkfPpp, PostfitCheckRejectsAModerateCodeOutlierOnANewArc) {
+TEST(PppEkf, PostfitCheckRejectsAModerateCodeOutlierOnANewArc) {
   // On a new arc the phase-minus-code prefit test cannot see a code outlier
   // (the new bias starts from phase minus code): the postfit check must.
   for (const bool check : {true, false}) {
     Simulator sim;
     EkfOptions options;
     options.screening.postfit_check = check;
-    EkfPpp ekf(methodTableStochasticModel(), options);
+    PppEkf ekf(methodTableStochasticModel(), options);
     const auto last = run(ekf, sim, 10);
     const SatelliteId sat = firstUsed(last);
     sim.slip(sat, 0.0);
@@ -287,9 +287,9 @@ TEST(EkfPpp, PostfitCheckRejectsAModerateCodeOutlierOnANewArc) {
   }
 }
 
-TEST(EkfPpp, ReceiverClockJumpOfOneMillisecondIsAbsorbed) {
+TEST(PppEkf, ReceiverClockJumpOfOneMillisecondIsAbsorbed) {
   Simulator sim;
-  EkfPpp ekf(methodTableStochasticModel());
+  PppEkf ekf(methodTableStochasticModel());
   run(ekf, sim, 10);
   sim.clock_m += 299792.458;  // 1 ms clock steering jump
   sim.t_s += 30.0;
@@ -301,9 +301,9 @@ TEST(EkfPpp, ReceiverClockJumpOfOneMillisecondIsAbsorbed) {
   for (const auto& res : r.residuals) EXPECT_LT(std::abs(res.code_prefit_m), 1.0);  // clock shifted by the median
 }
 
-TEST(EkfPpp, NonFiniteMeasurementsAreRejectedWithAReasonNeverPropagated) {
+TEST(PppEkf, NonFiniteMeasurementsAreRejectedWithAReasonNeverPropagated) {
   Simulator sim;
-  EkfPpp ekf(methodTableStochasticModel());
+  PppEkf ekf(methodTableStochasticModel());
   run(ekf, sim, 5);
   sim.t_s += 30.0;
   auto obs = sim.epoch();
@@ -336,9 +336,9 @@ TEST(EkfPpp, NonFiniteMeasurementsAreRejectedWithAReasonNeverPropagated) {
   EXPECT_TRUE(ekf.stateVector().allFinite());
 }
 
-TEST(EkfPpp, TimeGoingBackwardsFailsAndRollsBack) {
+TEST(PppEkf, TimeGoingBackwardsFailsAndRollsBack) {
   Simulator sim;
-  EkfPpp ekf(methodTableStochasticModel());
+  PppEkf ekf(methodTableStochasticModel());
   run(ekf, sim, 5);
   const Eigen::VectorXd x = ekf.stateVector();
   const auto r = ekf.processEpoch(sim.time() - 30.0, modelOf(sim.epoch()));

@@ -1,4 +1,4 @@
-// The epoch front end shared by the EKF and the smoother (PppEstimatorBase):
+// The epoch front end shared by the EKF and the smoother (PppEstimator):
 // several systems with one receiver clock each, a configured system without
 // satellites, the same screened set for both estimators, and the smoother's
 // restart from its last good state after a failed update.
@@ -8,8 +8,8 @@
 #include <limits>
 
 #include "ppp_bayes_tree/ppp/estimators/code_least_squares.h"
-#include "ppp_bayes_tree/ppp/estimators/ekf_ppp.h"
-#include "ppp_bayes_tree/ppp/estimators/epoch_estimator.h"
+#include "ppp_bayes_tree/ppp/estimators/ppp_ekf.h"
+#include "ppp_bayes_tree/ppp/estimators/estimator_registry.h"
 #include "ppp_bayes_tree/ppp/estimators/ppp_smoother.h"
 #include "ppp_simulator.h"
 
@@ -46,7 +46,7 @@ void expectTwoClocksRecovered(Estimator& estimator) {
 }
 
 TEST(EstimatorFrontEnd, GpsAndGalileoWithOneClockEachThroughTheEkf) {
-  EkfPpp ekf({}, {}, {}, kGpsGalileo);
+  PppEkf ekf({}, {}, {}, kGpsGalileo);
   expectTwoClocksRecovered(ekf);
 }
 
@@ -94,7 +94,7 @@ TEST(EstimatorFrontEnd, CodeLeastSquaresSolvesTheClocksOfTheSystemsPresentOnly) 
 
 TEST(EstimatorFrontEnd, AConfiguredSystemWithoutSatellitesKeepsItsClockAtThePrior) {
   Simulator sim_a, sim_b;  // GPS only
-  EkfPpp ekf({}, {}, {}, kGpsGalileo);
+  PppEkf ekf({}, {}, {}, kGpsGalileo);
   PppSmoother smoother({}, {}, {}, kGpsGalileo);
   const auto ra = sim::runEpochs(ekf, sim_a, 10);
   const auto rb = sim::runEpochs(smoother, sim_b, 10);
@@ -127,7 +127,7 @@ TEST(EstimatorFrontEnd, EkfAndSmootherSeeTheSameScreenedSetAndAgreeInTheLinearCa
   EkfOptions ekf_options;
   ekf_options.iterations_per_epoch = 1;
   ekf_options.screening.postfit_check = false;
-  EkfPpp ekf(conditioned, ekf_options, {}, kGpsGalileo);
+  PppEkf ekf(conditioned, ekf_options, {}, kGpsGalileo);
   PppSmootherOptions options;
   options.exact_range = false;
   PppSmoother smoother(conditioned, options, {}, kGpsGalileo);
@@ -220,7 +220,7 @@ TEST(EstimatorFrontEnd, TheSmootherRestartsFromItsLastGoodStateAfterAFailedUpdat
   EXPECT_EQ(old->index, trajectory[3].index);
 
   // Through the pipeline's estimator interface the restart is reported the same way.
-  EkfPpp ekf;
+  PppEkf ekf;
   Simulator sim_e;
   sim::runEpochs(ekf, sim_e, 5);
   sim_e.t_s += 30.0;

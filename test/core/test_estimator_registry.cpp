@@ -1,18 +1,27 @@
 // The estimator registry (ppp/estimators/estimator_registry.h): every registered name
 // round-trips through the option parser and the factory, an unknown name is
-// refused with the registered names listed, and every registered estimator
-// solves a short simulated flight through the offline pipeline.
+// refused with the registered names listed, every registered estimator solves a
+// short simulated flight through the offline pipeline, the Monte Carlo studies
+// the registry's estimators, and no source outside the registry and the
+// estimators' own files constructs an estimator class directly.
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <regex>
 #include <set>
+#include <sstream>
 #include <stdexcept>
 #include <string>
+#include <typeinfo>
 
 #include "ppp_bayes_tree/app/ppp_solve_run.h"
 #include "ppp_bayes_tree/evaluation/monte_carlo.h"
-#include "ppp_bayes_tree/ppp/estimators/epoch_estimator.h"
 #include "ppp_bayes_tree/ppp/estimators/estimator_registry.h"
+#include "ppp_bayes_tree/ppp/estimators/ppp_ekf.h"
+#include "ppp_bayes_tree/ppp/estimators/ppp_smoother.h"
 #include "ppp_bayes_tree/ppp/pipeline/ppp_pipeline.h"
 #include "ppp_bayes_tree/simulation/gnss_simulator.h"
 
@@ -33,11 +42,17 @@ TEST(EstimatorRegistry, NamesRoundTripThroughTheParserAndTheFactory) {
     EXPECT_EQ(selected->front(), &entry);
     EXPECT_EQ(estimatorChoices().count(name), 1u);
     std::string why;
-    const std::unique_ptr<EpochEstimator> estimator = makeEstimator(name, PppConfig{}, &why);
+    const std::unique_ptr<PppEstimator> estimator = makeEstimator(name, PppConfig{}, &why);
     ASSERT_TRUE(estimator) << why;
     EXPECT_EQ(estimator->name(), name);
     // What the table says about the solutions is what the estimator gives.
     EXPECT_EQ(entry.smoothed(), estimator->smoothing() != nullptr);
+    // makeEstimator is the row's factory: the same class.
+    const std::unique_ptr<PppEstimator> from_row = entry.make(PppConfig{});
+    ASSERT_TRUE(from_row);
+    EXPECT_EQ(typeid(*from_row), typeid(*estimator));
+    EXPECT_EQ(entry.state, EstimatedState::GnssReceiver);
+    EXPECT_FALSE(estimatedStateText(entry.state).empty());
     const std::vector<EstimatorSolution> solutions = solutionOutputs(entry);
     ASSERT_EQ(static_cast<int>(solutions.size()), entry.solutionCount());
     EXPECT_FALSE(solutions.front().smoothed);
@@ -115,7 +130,7 @@ TEST(EstimatorRegistry, EveryRegisteredEstimatorSolvesASimulatedFlight) {
   for (const EstimatorEntry& entry : kEstimators) {
     SCOPED_TRACE(std::string(entry.name));
     PppPipeline pipeline(in, config);
-    const std::unique_ptr<EpochEstimator> estimator = entry.make(config);
+    const std::unique_ptr<PppEstimator> estimator = makeEstimator(entry.name, config);
     ASSERT_TRUE(estimator);
     std::size_t k = 0, solved = 0;
     double last_minute_sum_m = 0.0;
@@ -140,6 +155,122 @@ TEST(EstimatorRegistry, EveryRegisteredEstimatorSolvesASimulatedFlight) {
       EXPECT_EQ(estimator->smoothing()->smoothedTrajectory().size(), solved);
     }
   }
+}
+
+TEST(EstimatorRegistry, AsTheClassAskedForOrRefused) {
+  std::string why;
+  const std::unique_ptr<PppSmoother> smoother = makeEstimatorAs<PppSmoother>("smoother", PppConfig{}, &why);
+  ASSERT_TRUE(smoother) << why;
+  EXPECT_EQ(smoother->smoothing(), smoother.get());
+  EXPECT_TRUE(makeEstimatorAs<PppEkf>("ekf", PppConfig{}, &why));
+  why.clear();
+  EXPECT_EQ(makeEstimatorAs<PppSmoother>("ekf", PppConfig{}, &why), nullptr);
+  EXPECT_NE(why.find("'ekf' is not of the class asked for"), std::string::npos) << why;
+  why.clear();
+  EXPECT_EQ(makeEstimatorAs<PppEkf>("kalman", PppConfig{}, &why), nullptr);
+  expectListsEveryEstimator(why);
+}
+
+// The Monte Carlo study runs the registry's rows marked for it, in registry
+// order, and its columns are their solutions.
+TEST(EstimatorRegistry, MonteCarloStudiesTheRegisteredEstimators) {
+  std::vector<std::string_view> marked;
+  int solutions = 0;
+  for (const EstimatorEntry& e : kEstimators) {
+    if (!e.monte_carlo_study) continue;
+    marked.push_back(e.name);
+    solutions += e.solutionCount();
+  }
+  ASSERT_EQ(kMonteCarloStudy.size(), marked.size());
+  for (std::size_t i = 0; i < marked.size(); ++i) EXPECT_EQ(kMonteCarloStudy[i], marked[i]);
+  EXPECT_EQ(kMonteCarloEstimators, solutions);
+  ASSERT_FALSE(kMonteCarloStudy.empty());
+  EXPECT_EQ(kMonteCarloStudy.front(), "ekf");  // the study's reference
+  for (const std::string_view name : kMonteCarloStudy) {
+    SCOPED_TRACE(std::string(name));
+    const std::unique_ptr<PppEstimator> estimator = makeEstimator(name, PppConfig{});
+    ASSERT_TRUE(estimator);
+    EXPECT_EQ(estimator->name(), name);
+  }
+}
+
+namespace fs = std::filesystem;
+
+std::string readText(const fs::path& file) {
+  std::ifstream in(file);
+  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
+
+/// The estimator classes: every `class X : public PppEstimator` under include/.
+std::set<std::string> estimatorClasses(const fs::path& include_dir) {
+  static const std::regex derived(R"(class\s+(\w+)\s*(final\s*)?:\s*public\s+PppEstimator\b)");
+  std::set<std::string> classes;
+  for (const auto& entry : fs::recursive_directory_iterator(include_dir)) {
+    if (!entry.is_regular_file() || entry.path().extension() != ".h") continue;
+    const std::string text = readText(entry.path());
+    for (std::sregex_iterator it(text.begin(), text.end(), derived), end; it != end; ++it) classes.insert((*it)[1]);
+  }
+  return classes;
+}
+
+/// The lines of `text` (comments left out) that construct one of `classes`
+/// directly: a variable or member of the class (`PppEkf ekf(c);`), a temporary
+/// (`PppEkf(c)`), make_unique / make_shared or new. References and pointers are fine.
+std::vector<std::string> directConstructions(const std::string& text, const std::set<std::string>& classes) {
+  std::vector<std::string> hits;
+  std::istringstream lines(text);
+  std::string line;
+  int n = 0;
+  while (std::getline(lines, line)) {
+    ++n;
+    const std::string code = line.substr(0, line.find("//"));
+    for (const std::string& c : classes) {
+      const std::regex construct("(make_unique|make_shared)\\s*<\\s*(ppp::)?" + c + "\\s*>|\\bnew\\s+(ppp::)?" + c +
+                                 "\\b|(^|[^\\w:~&*<])(ppp::)?" + c + "\\s*(\\w+\\s*)?[({;]");
+      if (std::regex_search(code, construct)) hits.push_back(std::to_string(n) + ": " + line);
+    }
+  }
+  return hits;
+}
+
+TEST(EstimatorRegistry, TheConstructionCheckFindsAPlantedConstruction) {
+  const std::set<std::string> classes{"PppEkf", "PppSmoother"};
+  EXPECT_EQ(directConstructions("  PppEkf ekf(config);\n", classes).size(), 1u);
+  EXPECT_EQ(directConstructions("  ppp::PppSmoother sm{config};\n", classes).size(), 1u);
+  EXPECT_EQ(directConstructions("  auto sm = std::make_unique<PppSmoother>(config);\n", classes).size(), 1u);
+  EXPECT_EQ(directConstructions("  return PppEkf(model);\n", classes).size(), 1u);
+  EXPECT_EQ(directConstructions("  PppEkf* e = new PppEkf;\n", classes).size(), 1u);
+  // Reaching a made estimator, naming the class in a comment or a type: no construction.
+  EXPECT_TRUE(directConstructions("  PppSmoother& sm = *made;\n  const PppEkf* e = nullptr;\n"
+                                  "  // the EKF (PppEkf) is made by the registry\n"
+                                  "  auto s = makeEstimatorAs<PppSmoother>(\"smoother\", c);\n"
+                                  "  dynamic_cast<ppp::PppSmoother*>(&estimator);\n",
+                                  classes)
+                  .empty());
+}
+
+// The registry is the only place that makes an estimator: no tool, benchmark,
+// node, study or part of the core constructs an estimator class directly.
+// (The estimators' own files and the registry are where they are defined and made;
+// the unit tests of one estimator class build it directly.)
+TEST(EstimatorRegistry, NoSourceOutsideTheRegistryConstructsAnEstimator) {
+  const fs::path repo = PPP_REPO_DIR;
+  const std::set<std::string> classes = estimatorClasses(repo / "include" / "ppp_bayes_tree");
+  EXPECT_EQ(classes, (std::set<std::string>{"PppEkf", "PppSmoother"}));
+  const std::set<std::string> own{"ppp_estimator", "ppp_ekf", "ppp_smoother", "estimator_registry"};
+  std::vector<std::string> hits;
+  std::size_t files = 0;
+  for (const fs::path& root : {repo / "src", repo / "include" / "ppp_bayes_tree"}) {
+    for (const auto& entry : fs::recursive_directory_iterator(root)) {
+      const fs::path& p = entry.path();
+      if (!entry.is_regular_file() || (p.extension() != ".cpp" && p.extension() != ".h")) continue;
+      if (p.parent_path().filename() == "estimators" && own.count(p.stem().string())) continue;
+      ++files;
+      for (const std::string& h : directConstructions(readText(p), classes)) hits.push_back(p.string() + ":" + h);
+    }
+  }
+  EXPECT_GT(files, 100u);
+  for (const std::string& h : hits) ADD_FAILURE() << "an estimator made outside the registry: " << h;
 }
 
 }  // namespace

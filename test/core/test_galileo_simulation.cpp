@@ -12,7 +12,8 @@
 #include "ppp_bayes_tree/evaluation/monte_carlo.h"
 #include "ppp_bayes_tree/models/ionosphere_free.h"
 #include "ppp_bayes_tree/ppp/config/yaml_section.h"
-#include "ppp_bayes_tree/ppp/estimators/epoch_estimator.h"
+#include "ppp_bayes_tree/ppp/estimators/estimator_registry.h"
+#include "ppp_bayes_tree/ppp/estimators/ppp_ekf.h"
 #include "ppp_bayes_tree/ppp/pipeline/ppp_pipeline.h"
 #include "ppp_bayes_tree/simulation/gnss_simulator.h"
 #include "ppp_bayes_tree/simulation/gps_constellation.h"
@@ -162,7 +163,8 @@ TEST(GalileoSimulation, GpsGalileoFlightConvergesWithTwoClocks) {
   in.epochs = &f.epochs;
   in.products = &f.products;
   PppPipeline pipeline(in, config);
-  EkfEstimator ekf(config);
+  const std::unique_ptr<PppEkf> ekf_made = makeEstimatorAs<PppEkf>("ekf", config);
+  PppEkf& ekf = *ekf_made;
   std::size_t k = 0, galileo_used_epochs = 0;
   std::vector<double> error_m, offset_error_m;
   double clock_error_m = 0.0;
@@ -173,7 +175,7 @@ TEST(GalileoSimulation, GpsGalileoFlightConvergesWithTwoClocks) {
     for (const auto& s : rec.used) galileo += s.system == GnssSystem::Galileo ? 1 : 0;
     if (galileo >= 4) ++galileo_used_epochs;
     error_m.push_back((*rec.solution.position_ecef_m - f.truth[e].trajectory.position_ecef_m).norm());
-    const ReceiverState x = ekf.filter().receiverState();
+    const ReceiverState x = ekf.receiverState();
     ASSERT_EQ(x.layout.clockCount(), 2);
     clock_error_m = x.clock_m(GnssSystem::GPS) - f.truth[e].clock_m;
     offset_error_m.push_back((x.clock_m(GnssSystem::Galileo) - x.clock_m(GnssSystem::GPS)) -

@@ -38,7 +38,7 @@
 #include "ppp_bayes_tree/models/ssr_broadcast_fallback.h"
 #include "ppp_bayes_tree/models/precise_ephemeris.h"
 #include "ppp_bayes_tree/models/ssr_from_precise.h"
-#include "ppp_bayes_tree/ppp/estimators/epoch_estimator.h"
+#include "ppp_bayes_tree/ppp/estimators/estimator_registry.h"
 #include "ppp_bayes_tree/ppp/config/ppp_config.h"
 #include "ppp_bayes_tree/ppp/pipeline/ppp_epoch_processor.h"
 #include "ppp_bayes_tree/ppp/pipeline/ppp_pipeline.h"
@@ -513,7 +513,7 @@ TEST(LiveGnssInput, UbxRecordingGivesTheEpochsOfPppSolve) {
   // chunks, through LiveGnssInput as a node runs it, against ppp_solve --ubx X --nav X
   // with the live rostest's configuration (config/live.yaml + test/rostest/live_ubx.yaml:
   // GPS + Galileo, fixed-lag smoother). No approximate position in a UBX recording: both
-  // runs start on the start model (PppEstimatorBase step 1) once the ephemerides allow;
+  // runs start on the start model (PppEstimator step 1) once the ephemerides allow;
   // EKF and smoother filtered must agree epoch by epoch (solved or not) to 1 mm.
   const std::string rec = test::dataPath("streams/ubx/gnss_1730.ubx");
   const std::string repo = PPP_REPO_DIR;

@@ -324,7 +324,7 @@ TEST(MonteCarlo, FinalSmoothedSolutionOfAFixedLagSmootherWithItsGraphIsTheFullSm
   lag_config.smoother.fixed_lag_s = 30.0;
   lag_config.smoother.record_graph = true;
   std::string why;
-  std::vector<std::unique_ptr<EpochEstimator>> runs;
+  std::vector<std::unique_ptr<PppEstimator>> runs;
   std::vector<std::set<std::pair<SatelliteId, ArcId>>> arcs;
   for (const PppConfig* c : {&full_config, static_cast<const PppConfig*>(&lag_config)}) {
     runs.push_back(makeEstimator("smoother", *c, &why));
@@ -358,7 +358,7 @@ TEST(MonteCarlo, FinalSmoothedSolutionOfAFixedLagSmootherWithItsGraphIsTheFullSm
   // Without its graph the fixed-lag smoother holds only the arcs of its window.
   PppConfig window_only = lag_config;
   window_only.smoother.record_graph = false;
-  const std::unique_ptr<EpochEstimator> windowed = makeEstimator("smoother", window_only, &why);
+  const std::unique_ptr<PppEstimator> windowed = makeEstimator("smoother", window_only, &why);
   PppPipeline(in, window_only).run(*windowed, [](const PppEpochRecord&) {});
   const SmoothedSolution w = windowed->smoothing()->finalSmoothedSolution();
   std::size_t held = 0;

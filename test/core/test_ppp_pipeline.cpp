@@ -13,7 +13,7 @@
 
 #include "ppp_bayes_tree/evaluation/rtklib_pos.h"
 #include "ppp_bayes_tree/ppp/model/arc_tracker.h"
-#include "ppp_bayes_tree/ppp/estimators/epoch_estimator.h"
+#include "ppp_bayes_tree/ppp/estimators/estimator_registry.h"
 #include "ppp_bayes_tree/app/ppp_solve_run.h"
 #include "ppp_bayes_tree/ppp/pipeline/ppp_pipeline.h"
 #include "ppp_dataset.h"
@@ -115,7 +115,8 @@ TEST(PppPipeline, RejectionsAndNoSolutionsAreCountedByTheirReason) {
   r.config.model.elevation_cutoff_rad = 35.0 * kDegToRad;
   r.config.estimator.screening.min_satellites = 6;
   PppPipeline pipeline(r.files, r.config);
-  EkfEstimator ekf(r.config);
+  const std::unique_ptr<PppEstimator> ekf_made = makeEstimator("ekf", r.config);
+  PppEstimator& ekf = *ekf_made;
   std::map<RejectionKey, std::size_t> counted;
   std::map<NoSolutionReason, std::size_t> unsolved;
   std::size_t below = 0;
@@ -163,7 +164,8 @@ TEST(PppPipeline, NoiseFreeSimulationThroughTheRealModelRecoversThePosition) {
   truth.setClock_m(GnssSystem::GPS, 1234.5);
   ArcTracker tracker;
   WindupTracker truth_windup, filter_windup;
-  EkfEstimator ekf{PppConfig{}};
+  const std::unique_ptr<PppEstimator> ekf_made = makeEstimator("ekf", PppConfig{});
+  PppEstimator& ekf = *ekf_made;
   ekf.setApproximatePosition(truth.position_ecef_m + Eigen::Vector3d(80.0, -40.0, 60.0));
   ObsEpoch epoch;
   SignalSelectionResult sel;

@@ -12,7 +12,7 @@
 #include <map>
 #include <random>
 
-#include "ppp_bayes_tree/ppp/estimators/ekf_ppp.h"
+#include "ppp_bayes_tree/ppp/estimators/ppp_ekf.h"
 #include "ppp_bayes_tree/ppp/config/ppp_config.h"
 #include "ppp_bayes_tree/ppp/screening/postfit_screening.h"
 #include "ppp_bayes_tree/ppp/model/ppp_factors.h"
@@ -252,7 +252,7 @@ std::pair<double, double> ekfVersusSmoother(const StochasticModel& model, bool n
   EkfOptions ekf_options;
   ekf_options.iterations_per_epoch = 1;
   ekf_options.screening.postfit_check = false;
-  EkfPpp ekf(model, ekf_options);
+  PppEkf ekf(model, ekf_options);
   PppSmootherOptions options;
   options.screening.postfit_check = false;  // as the EKF's
   options.exact_range = false;
@@ -525,7 +525,7 @@ TEST(PppSmoother, PrefitScreeningRejectsACodeOutlierAndAPhaseJumpWithReasons) {
   EXPECT_LT((r.solution->state.position_ecef_m - sim.position).norm(), 0.05);
 }
 
-// As the EKF's test (test_ekf_ppp.cpp): on a new arc the phase-minus-code prefit
+// As the EKF's test (test_ppp_ekf.cpp): on a new arc the phase-minus-code prefit
 // test cannot see a moderate code outlier; the smoother's postfit check (it
 // had none before) rejects it with the reason and removes its factors from the graph.
 TEST(PppSmoother, PostfitCheckRemovesAModerateCodeOutlierOnANewArcFromTheGraph) {
@@ -592,11 +592,11 @@ TEST(PppSmoother, AnInconsistentEpochIsFlaggedAndInflatedOrWithheldInBothEstimat
     EkfOptions ekf_options;
     ekf_options.screening = screening;
     PppSmoother smoother(methodTableStochasticModel(), options);
-    EkfPpp ekf(methodTableStochasticModel(), ekf_options);
+    PppEkf ekf(methodTableStochasticModel(), ekf_options);
     for (int i = 0; i < 10; ++i) {
       if (i > 0) sim.t_s += 30.0;
       const auto obs = sim.epoch();
-      for (PppEstimatorBase* e : {static_cast<PppEstimatorBase*>(&smoother), static_cast<PppEstimatorBase*>(&ekf)}) {
+      for (PppEstimator* e : {static_cast<PppEstimator*>(&smoother), static_cast<PppEstimator*>(&ekf)}) {
         const auto r = e->processEpoch(sim.time(), modelOf(obs, {true}));
         ASSERT_EQ(r.status, EpochStatus::Ok) << r.reason;
         EXPECT_EQ(r.integrity, SolutionIntegrity::Consistent) << r.consistency;  // noise-free: T = 0
@@ -608,7 +608,7 @@ TEST(PppSmoother, AnInconsistentEpochIsFlaggedAndInflatedOrWithheldInBothEstimat
     // into the arcs' biases): the fit of position, clock and ZWD takes up only part
     // of them, and their postfit sum of squares exceeds the quantile.
     for (std::size_t k = 0; k < obs.size(); ++k) obs[k].code_m += (k % 2 ? 4.5 : -4.5) * obs[k].code_sigma_m;
-    for (PppEstimatorBase* e : {static_cast<PppEstimatorBase*>(&smoother), static_cast<PppEstimatorBase*>(&ekf)}) {
+    for (PppEstimator* e : {static_cast<PppEstimator*>(&smoother), static_cast<PppEstimator*>(&ekf)}) {
       const auto r = e->processEpoch(sim.time(), modelOf(obs, {true}));
       EXPECT_EQ(r.integrity, SolutionIntegrity::Inconsistent) << r.consistency;
       EXPECT_GT(r.consistency_statistic, chiSquareUpperQuantile(r.consistency_dof, 1e-6)) << r.consistency;
@@ -777,7 +777,7 @@ TEST(TroposphereGradients, BothEstimatorsRecoverASimulatedGradient) {
   const ReceiverStateLayout without({GnssSystem::GPS});
 
   Simulator sim = simulator();
-  EkfPpp ekf(model, {}, {}, with);
+  PppEkf ekf(model, {}, {}, with);
   const auto ekf_results = runEpochs(ekf, sim, epochs, 30.0, {true});
   const ReceiverState ekf_state = ekf_results.back().solution->state;
   const double ekf_error = lastError(ekf_results, sim);
@@ -791,7 +791,7 @@ TEST(TroposphereGradients, BothEstimatorsRecoverASimulatedGradient) {
   const double smoother_error = lastError(smoother_results, sim);
 
   sim = simulator();
-  EkfPpp blind(model, {}, {}, without);
+  PppEkf blind(model, {}, {}, without);
   const double blind_error = lastError(runEpochs(blind, sim, epochs, 30.0, {true}), sim);
 
   std::printf("G_N / G_E [mm]: EKF %.3f / %.3f, smoother filtered %.3f / %.3f, smoothed first %.3f / %.3f; "

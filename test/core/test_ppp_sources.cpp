@@ -21,7 +21,7 @@
 #include "ppp_bayes_tree/models/correction_buffer.h"
 #include "ppp_bayes_tree/models/stream_bias_provider.h"
 #include "ppp_bayes_tree/app/correction_gate.h"
-#include "ppp_bayes_tree/ppp/estimators/epoch_estimator.h"
+#include "ppp_bayes_tree/ppp/estimators/estimator_registry.h"
 #include "ppp_bayes_tree/ppp/pipeline/ppp_pipeline.h"
 #include "ppp_bayes_tree/ppp/pipeline/product_set.h"
 #include "ppp_bayes_tree/ppp/model/signal_selection.h"

@@ -94,8 +94,8 @@ TEST(SignalSelection, Zim2WithoutBiasFileReportsTheConvention) {
     EXPECT_DOUBLE_EQ(o.code1_m, *epoch.find(o.satellite, o.code1)->value);
   }
   ASSERT_EQ(r.notes.size(), 1u);
-  EXPECT_NE(r.notes[0].find("P1-C1"), std::string::npos) << r.notes[0];
-  EXPECT_NE(r.notes[0].find("G05"), std::string::npos) << r.notes[0];
+  EXPECT_NE(r.notes[0].describe().find("P1-C1"), std::string::npos) << r.notes[0].describe();
+  EXPECT_NE(r.notes[0].describe().find("G05"), std::string::npos) << r.notes[0].describe();
 }
 
 /// The first CCJ2 epoch through a selector of `systems` with WUM's OSBs (`epoch`: that epoch).
@@ -240,8 +240,8 @@ TEST(SignalSelection, GlonassFrequenciesPerSatelliteFromTheChannel) {
   options.priorities[GnssSystem::GLONASS].code1_attributes = {'C'};
   const auto r3 = selectDualFrequency(s.epoch, s.header, options, nullptr);
   ASSERT_EQ(r3.notes.size(), 1u);
-  EXPECT_NE(r3.notes[0].find("codes other than C1P/C2P"), std::string::npos) << r3.notes[0];
-  EXPECT_NE(r3.notes[0].find("R01 R02 R03"), std::string::npos) << r3.notes[0];
+  EXPECT_NE(r3.notes[0].describe().find("codes other than C1P/C2P"), std::string::npos) << r3.notes[0].describe();
+  EXPECT_NE(r3.notes[0].describe().find("R01 R02 R03"), std::string::npos) << r3.notes[0].describe();
 }
 
 // CCJ2 (TRIMBLE NETR9) GLONASS: C1C C1P C2C C2P L1C L1P L2C L2P with every

@@ -16,7 +16,8 @@
 #include "ppp_bayes_tree/evaluation/monte_carlo.h"
 #include "ppp_bayes_tree/models/ionosphere_free.h"
 #include "ppp_bayes_tree/ppp/ambiguity/integer_ambiguity_factor.h"
-#include "ppp_bayes_tree/ppp/estimators/epoch_estimator.h"
+#include "ppp_bayes_tree/ppp/estimators/estimator_registry.h"
+#include "ppp_bayes_tree/ppp/estimators/ppp_smoother.h"
 #include "ppp_bayes_tree/ppp/model/ppp_factors.h"
 #include "ppp_bayes_tree/ppp/pipeline/ppp_pipeline.h"
 #include "ppp_bayes_tree/simulation/gnss_simulator.h"
@@ -81,7 +82,8 @@ void recordArcs(const PppEpochRecord& rec, std::size_t k, FlightRun& run) {
 FlightRun runEkf(const SimulatedFlight& f, const PppConfig& config) {
   FlightRun run;
   PppPipeline pipeline(inputsOf(f), config);
-  EkfEstimator ekf(config);
+  const std::unique_ptr<PppEstimator> ekf_made = makeEstimator("ekf", config);
+  PppEstimator& ekf = *ekf_made;
   std::size_t k = 0;
   pipeline.run(ekf, [&](const PppEpochRecord& rec) {
     run.epochs.push_back({rec.solution.position_ecef_m, rec.solution.status == SolutionStatus::PppFixed});
@@ -92,15 +94,15 @@ FlightRun runEkf(const SimulatedFlight& f, const PppConfig& config) {
 
 /// `on_epoch` is called after each epoch with the smoother estimator.
 FlightRun runSmoother(const SimulatedFlight& f, const PppConfig& config,
-                      const std::function<void(std::size_t, SmootherEstimator&)>& on_epoch = {},
-                      SmootherEstimator** keep = nullptr, bool record_graph = false) {
+                      const std::function<void(std::size_t, PppSmoother&)>& on_epoch = {},
+                      PppSmoother** keep = nullptr, bool record_graph = false) {
   FlightRun run;
   PppPipeline pipeline(inputsOf(f), config);
   PppConfig smoother_config = config;
   smoother_config.smoother.record_graph = record_graph;
-  static thread_local std::unique_ptr<SmootherEstimator> last;
-  last = std::make_unique<SmootherEstimator>(smoother_config);
-  SmootherEstimator& sm = *last;
+  static thread_local std::unique_ptr<PppSmoother> last;
+  last = makeEstimatorAs<PppSmoother>("smoother", smoother_config);
+  PppSmoother& sm = *last;
   std::size_t k = 0;
   pipeline.run(sm, [&](const PppEpochRecord& rec) {
     run.epochs.push_back({rec.solution.position_ecef_m, rec.solution.status == SolutionStatus::PppFixed});
@@ -111,7 +113,7 @@ FlightRun runSmoother(const SimulatedFlight& f, const PppConfig& config,
     ++k;
   });
   run.smoothed_error_m.assign(f.epochs.size(), kNaN);
-  for (const auto& s : sm.smoother().smoothedTrajectory())
+  for (const auto& s : sm.smoothedTrajectory())
     for (std::size_t j = 0; j < f.epochs.size(); ++j)
       if (f.epochs[j].time == s.time)
         run.smoothed_error_m[j] = (s.state.position_ecef_m - f.truth[j].trajectory.position_ecef_m).norm();
@@ -210,10 +212,10 @@ TEST(SmootherAmbiguity, FixesAreTrueIntegersAndImproveTheSmoothedTrajectoryBefor
   const ArFlight& a = arFlight();
   const SimulatedFlight& f = a.flight;
   const FlightRun ekf = runEkf(f, a.config);
-  SmootherEstimator* sm = nullptr;
+  PppSmoother* sm = nullptr;
   const FlightRun fix = runSmoother(f, a.config, {}, &sm);
-  const std::vector<PppSmoother::HeldFix> held = sm->smoother().heldFixes();
-  const std::size_t removed = sm->smoother().fixesRemoved();
+  const std::vector<PppSmoother::HeldFix> held = sm->heldFixes();
+  const std::size_t removed = sm->fixesRemoved();
   const FlightRun flo = runSmoother(f, a.float_config);
   const std::size_t first = firstFixed(fix), ekf_first = firstFixed(ekf);
   std::size_t fixed_epochs = 0;
@@ -254,17 +256,17 @@ TEST(SmootherAmbiguity, FixesAreTrueIntegersAndImproveTheSmoothedTrajectoryBefor
 // smoothed trajectory.
 TEST(SmootherAmbiguity, IncrementalWithFixesEqualsTheBatchSolveOfTheSameGraph) {
   const ArFlight& a = arFlight();
-  SmootherEstimator* sm = nullptr;
+  PppSmoother* sm = nullptr;
   runSmoother(a.flight, a.config, {}, &sm, true);
-  ASSERT_FALSE(sm->smoother().heldFixes().empty());
-  const std::vector<SmoothedEpoch> incremental = sm->smoother().smoothedTrajectory();
-  const std::vector<SmoothedEpoch> batch = sm->smoother().trajectoryFrom(sm->smoother().batchSmoothedValues());
+  ASSERT_FALSE(sm->heldFixes().empty());
+  const std::vector<SmoothedEpoch> incremental = sm->smoothedTrajectory();
+  const std::vector<SmoothedEpoch> batch = sm->trajectoryFrom(sm->batchSmoothedValues());
   ASSERT_EQ(incremental.size(), batch.size());
   double worst = 0.0;
   for (std::size_t k = 0; k < batch.size(); ++k)
     worst = std::max(worst, (incremental[k].state.position_ecef_m - batch[k].state.position_ecef_m).norm());
   std::printf("largest |incremental - batch| position with %zu held fixes: %.3g m\n",
-              sm->smoother().heldFixes().size(), worst);
+              sm->heldFixes().size(), worst);
   EXPECT_LT(worst, 1e-3);
 }
 
@@ -285,8 +287,8 @@ TEST(SmootherAmbiguity, AWrongFixIsDetectedAndRemovedAndTheEstimateReturns) {
   double disturbed_m = 0.0;  // the wrong fix's pull on the filtered position
   double held_at_m = 1.0;    // the wrong factor's residual [cycles] right after the injection
   std::optional<AmbiguityReleaseReason> reason;
-  const FlightRun wrong = runSmoother(f, a.config, [&](std::size_t k, SmootherEstimator& sm) {
-    PppSmoother& s = sm.smoother();
+  const FlightRun wrong = runSmoother(f, a.config, [&](std::size_t k, PppSmoother& sm) {
+    PppSmoother& s = sm;
     const auto& fix = sm.lastResult().ambiguity_fix;
     if (k == inject) {
       ASSERT_TRUE(fix.has_value());
@@ -363,9 +365,9 @@ TEST(SmootherAmbiguity, FixedLagKeepsTheFixThroughMarginalization) {
   PppConfig lag = a.config, lag_float = a.float_config;
   lag.smoother.fixed_lag_s = 60.0;
   lag_float.smoother.fixed_lag_s = 60.0;
-  SmootherEstimator* sm = nullptr;
+  PppSmoother* sm = nullptr;
   const FlightRun fix = runSmoother(f, lag, {}, &sm);
-  const std::size_t removed = sm->smoother().fixesRemoved();
+  const std::size_t removed = sm->fixesRemoved();
   const FlightRun flo = runSmoother(f, lag_float);
   const std::size_t first = firstFixed(fix);
   std::size_t fixed_epochs = 0;

@@ -1,6 +1,6 @@
 // The estimators' start without an approximate position (a UBX recording, an
 // RTCM stream without 1005/1006, a RINEX file without APPROX POSITION XYZ):
-// PppEstimatorBase step 1 runs the code least squares from the Earth centre on
+// PppEstimator step 1 runs the code least squares from the Earth centre on
 // the start model (PppMeasurementModel::evaluateStart: geometry, clocks, Earth
 // rotation; no troposphere, no elevation cutoff, as RTKLIB pntpos's first
 // iteration), then from that point on the full model. PppEpochProcessor hands
@@ -17,7 +17,7 @@
 #include <map>
 
 #include "ppp_bayes_tree/ppp/estimators/code_least_squares.h"
-#include "ppp_bayes_tree/ppp/estimators/epoch_estimator.h"
+#include "ppp_bayes_tree/ppp/estimators/estimator_registry.h"
 #include "ppp_bayes_tree/ppp/pipeline/ppp_pipeline.h"
 #include "ppp_dataset.h"
 

@@ -36,7 +36,7 @@
 #include "ppp_bayes_tree/io/rtcm/rtcm3_ephemeris_encoder.h"
 #include "ppp_bayes_tree/io/rtcm/rtcm3_framer.h"
 #include "ppp_bayes_tree/io/rtcm/rtcm_ssr_decoder.h"
-#include "ppp_bayes_tree/ppp/estimators/epoch_estimator.h"
+#include "ppp_bayes_tree/ppp/estimators/estimator_registry.h"
 #include "ppp_bayes_tree/ppp/config/ppp_config.h"
 #include "ppp_bayes_tree/ppp/pipeline/ppp_pipeline.h"
 #include "esbc_stream_fixture.h"

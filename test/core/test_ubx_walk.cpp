@@ -20,7 +20,7 @@
 #include "ppp_bayes_tree/io/ubx/ubx_observation_source.h"
 #include "ppp_bayes_tree/models/broadcast_ephemeris_store.h"
 #include "ppp_bayes_tree/ppp/config/ppp_config.h"
-#include "ppp_bayes_tree/ppp/estimators/epoch_estimator.h"
+#include "ppp_bayes_tree/ppp/estimators/estimator_registry.h"
 #include "ppp_bayes_tree/ppp/pipeline/broadcast_single_point.h"
 #include "ppp_bayes_tree/ppp/pipeline/ppp_pipeline.h"
 #include "ppp_bayes_tree/types/frames.h"
@@ -191,7 +191,7 @@ TEST(UbxWalk, PppWithoutApproximatePositionStartsOnItsOwn) {
   // The PPP chain on the recording alone (ppp_solve --ubx F --nav F with the live rostest's
   // configuration: config/live.yaml + test/rostest/live_ubx.yaml, GPS + Galileo,
   // broadcast-only): a UBX file carries no station position, so each estimator starts from
-  // the Earth centre on the start model (PppEstimatorBase step 1) once four satellites of
+  // the Earth centre on the start model (PppEstimator step 1) once four satellites of
   // the run have an ephemeris received before the epoch (11 records in 2 min).
   PPP_REQUIRE_SHARED_DATA();
   const std::string ubx = test::dataPath("streams/ubx/gnss_1730.ubx");

@@ -37,7 +37,7 @@
 #include "ppp_bayes_tree/io/ubx/ubx_framer.h"
 #include "ppp_bayes_tree/io/ubx/ubx_observation_source.h"
 #include "ppp_bayes_tree/ppp/config/ppp_config.h"
-#include "ppp_bayes_tree/ppp/estimators/epoch_estimator.h"
+#include "ppp_bayes_tree/ppp/estimators/estimator_registry.h"
 #include "ppp_bayes_tree/ppp/pipeline/ppp_epoch_processor.h"
 #include "ppp_bayes_tree/ppp/pipeline/product_assembly.h"
 #include "ppp_bayes_tree/types/broadcast_accuracy.h"
@@ -174,7 +174,7 @@ LiveOutcome runLive(const Bytes& obs, StreamFormat format, const PppConfig* conf
   LiveGnssInput live(options);
   LiveOutcome out;
   std::unique_ptr<ProductAssembly> products;
-  std::unique_ptr<EpochEstimator> estimator;
+  std::unique_ptr<PppEstimator> estimator;
   std::unique_ptr<PppEpochProcessor> processor;
   if (config) {
     ProductAssemblyInputs in;

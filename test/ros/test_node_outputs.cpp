@@ -235,7 +235,8 @@ TEST(NodeOutputs, SmoothedUpdateRewritesThePath) {
   sc.duration_s = 40.0;
   const ppp::SimulatedFlight f = ppp::simulateFlight(sc, 7);
   const ppp::PppConfig c = ppp::flightPppConfig(ppp::loadPppConfig("config/ppp.yaml"), f);
-  ppp::SmootherEstimator estimator(c);
+  const std::unique_ptr<ppp::PppEstimator> estimator_made = ppp::makeEstimator("smoother", c);
+  ppp::PppEstimator& estimator = *estimator_made;
   ppp::PppEpochProcessor processor(f.header, c, f.products, {}, nullptr, nullptr);
   estimator.setApproximatePosition(*f.header.approx_position_ecef_m);
   const ppp::SmoothedTrajectoryProvider& smoother = *estimator.smoothing();

@@ -11,7 +11,7 @@
 
 #include "node_test_messages.h"
 #include "node_test_records.h"
-#include "ppp_bayes_tree/ppp/estimators/epoch_estimator.h"
+#include "ppp_bayes_tree/ppp/estimators/estimator_registry.h"
 #include "ppp_bayes_tree/ros/node_config.h"
 #include "ppp_bayes_tree/ros/node_diagnostics.h"
 #include "ppp_bayes_tree/ros/node_inputs.h"
@@ -172,7 +172,7 @@ TEST(NodeSetup, EpochFiguresTakeTheInputsAndTheEstimatorsState) {
   EXPECT_TRUE(std::isnan(f.correction_latency_s));  // no correction batch yet
   EXPECT_EQ(f.product_mode, in.productMode());
   // The EKF updates its whole state: the layout and the active biases.
-  EXPECT_EQ(f.variables_reeliminated, static_cast<std::uint32_t>(ekf->core().layout().dim() + 5));
+  EXPECT_EQ(f.variables_reeliminated, static_cast<std::uint32_t>(ekf->layout().dim() + 5));
   ASSERT_EQ(f.warnings.size(), 1u);
   EXPECT_EQ(f.warnings[0], "antenna warning");
 }

@@ -6,7 +6,7 @@
 // ppp_smoother_node of launch/live.launch example a (config/ppp.yaml + config/live.yaml;
 // test/rostest/live_ubx.yaml: GPS + Galileo, broadcast only). Each node re-frames them
 // as UBX for the one UbxDecoder. The file carries no station position: each estimator
-// starts from the Earth centre on the start model (PppEstimatorBase step 1) once four
+// starts from the Earth centre on the start model (PppEstimator step 1) once four
 // satellites have an ephemeris received before the epoch (11 records in 2 min: 338 of
 // the 536 epochs solve, the first 46 s in). The EKF node's fixes must equal `ppp_solve
 // --ubx F --nav F --config config/live.yaml test/rostest/live_ubx.yaml` EKF, and the

@@ -31,7 +31,7 @@
 #include "core/ppp_dataset.h"
 #include "ppp_bayes_tree/PppStatus.h"
 #include "ppp_bayes_tree/io/rinex/rinex_obs_reader.h"
-#include "ppp_bayes_tree/ppp/estimators/epoch_estimator.h"
+#include "ppp_bayes_tree/ppp/estimators/estimator_registry.h"
 #include "ppp_bayes_tree/ppp/pipeline/ppp_epoch_processor.h"
 #include "ppp_bayes_tree/ppp/pipeline/ppp_pipeline.h"
 #include "ppp_bayes_tree/ros/bag_writer.h"

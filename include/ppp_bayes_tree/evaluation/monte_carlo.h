@@ -60,13 +60,13 @@
 
 namespace ppp {
 
-/// The estimators the study compares, by their registered names
-/// (estimator_registry.h), each built by its registry factory and run through
-/// the same pipeline (EpochEstimator): the first, the EKF, is the reference
-/// that chooses the representative flight; an estimator that smooths (the
-/// smoother) is compared with it epoch by epoch (filtered_minus_ekf_m), and its
-/// smoothed solution is SmoothedTrajectoryProvider::finalSmoothedSolution().
-inline constexpr std::array<std::string_view, 2> kMonteCarloStudy{"ekf", "smoother"};
+// The estimators the study compares are the registry's kMonteCarloStudy
+// (estimator_registry.h: the rows marked monte_carlo_study), each made by the
+// registry and run through the same pipeline (PppEstimator): the first, the
+// EKF, is the reference that chooses the representative flight; an estimator
+// that smooths (the smoother) is compared with it epoch by epoch
+// (filtered_minus_ekf_m), and its smoothed solution is
+// SmoothedTrajectoryProvider::finalSmoothedSolution().
 
 /// The number of solutions of the studied estimators (the columns of the tables).
 constexpr int monteCarloSolutionCount() {

@@ -24,7 +24,7 @@
 
 #include "ppp_bayes_tree/PppStatus.h"
 #include "ppp_bayes_tree/evaluation/lagged_trajectory_output.h"
-#include "ppp_bayes_tree/ppp/estimators/epoch_estimator.h"
+#include "ppp_bayes_tree/ppp/estimators/ppp_estimator.h"
 #include "ppp_bayes_tree/ppp/pipeline/ppp_epoch_processor.h"
 #include "ppp_bayes_tree/ros/node_options.h"
 #include "ppp_bayes_tree/ros/phase_bias_choice.h"
@@ -85,7 +85,7 @@ class NodeInputs;
 /// batch, staleness, product mode), the estimator's (variables re-eliminated: the
 /// EKF's whole state, the smoother's reported count; the active arcs), the
 /// processor's receiver antenna `warnings` and the update time.
-EpochFigures epochFigures(const NodeInputs& inputs, const ppp::EpochEstimator& estimator, const ppp::ObsEpoch& epoch,
+EpochFigures epochFigures(const NodeInputs& inputs, const ppp::PppEstimator& estimator, const ppp::ObsEpoch& epoch,
                           const ppp::PppEpochRecord& rec, double update_s, std::vector<std::string> warnings);
 
 class NodeOutputs {
@@ -134,9 +134,9 @@ class NodeOutputs {
   std::optional<nav_msgs::Path> smoothedPath(const ppp::SmoothedTrajectoryProvider& smoother);
   void markSmoothedStale() { smoothed_path_stale_ = true; }
   /// Fixed lag: the states leaving the window go to the output (file, recent path poses).
-  void attachLaggedOutput(ppp::EpochEstimator& estimator);
+  void attachLaggedOutput(ppp::PppEstimator& estimator);
   /// Fixed lag: the rest of the window to the output (end, or before a reset).
-  void finishLaggedOutput(ppp::EpochEstimator& estimator);
+  void finishLaggedOutput(ppp::PppEstimator& estimator);
   const ppp::LaggedTrajectoryOutput* laggedOutput() const { return lagged_output_.get(); }
   std::size_t smoothedPathPoses() const { return smoothed_path_poses_; }
   double smoothedPathRead_s() const { return smoothed_path_read_s_; }

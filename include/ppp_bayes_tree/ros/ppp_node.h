@@ -1,5 +1,5 @@
 #pragma once
-// PppNode: the ROS adapter around one EpochEstimator (ppp_ekf_node: "ekf";
+// PppNode: the ROS adapter around one PppEstimator (ppp_ekf_node: "ekf";
 // ppp_smoother_node: "smoother", same class). Everything per epoch is the
 // core's PppEpochProcessor, exactly as in ppp_solve; the node only converts
 // messages, buffers observations until corrections cover them, and publishes.
@@ -79,7 +79,7 @@
 #include "ppp_bayes_tree/PreciseCorrections.h"
 #include "ppp_bayes_tree/SetDatum.h"
 #include "ppp_bayes_tree/ppp/config/ppp_config.h"
-#include "ppp_bayes_tree/ppp/estimators/epoch_estimator.h"
+#include "ppp_bayes_tree/ppp/estimators/estimator_registry.h"
 #include "ppp_bayes_tree/ppp/pipeline/ppp_epoch_processor.h"
 #include "ppp_bayes_tree/ppp/pipeline/product_assembly.h"
 #include "ppp_bayes_tree/ros/gnss_stream_subscriber.h"
@@ -144,7 +144,7 @@ class PppNode {
   NodeOutputs outputs_;
   NodeDiagnostics diagnosis_;
   ppp::ProductAssembly products_;  // ANTEX, Bias-SINEX, BLQ, the systems and the PPP-AR gate (core)
-  std::unique_ptr<ppp::EpochEstimator> estimator_;
+  std::unique_ptr<ppp::PppEstimator> estimator_;
   std::unique_ptr<ppp::PppEpochProcessor> processor_;
   const ppp::BiasProvider* processor_biases_ = nullptr;  // the bias provider the processor was made with
   std::optional<ppp::GnssTime> last_output_time_;        // newest epoch published (outputs never go back)

@@ -11,7 +11,7 @@
 #include <tuple>
 
 #include "ppp_bayes_tree/models/ionosphere_free.h"
-#include "ppp_bayes_tree/ppp/estimators/epoch_estimator.h"
+#include "ppp_bayes_tree/ppp/estimators/estimator_registry.h"
 #include "ppp_bayes_tree/ppp/model/ppp_factors.h"
 #include "ppp_bayes_tree/ppp/pipeline/ppp_pipeline.h"
 #include "ppp_bayes_tree/simulation/gnss_simulator.h"
@@ -357,7 +357,7 @@ void runStudiedEstimator(const SimulatedFlight& f, int index, const MonteCarloOp
   const EstimatorEntry& entry = *findEstimator(kMonteCarloStudy[study]);
   const PppConfig config = studiedConfig(flight_config, entry, options.smoother_filtered_lag_s);
   PppPipeline pipeline(memoryInputs(f, index), config);
-  const std::unique_ptr<EpochEstimator> estimator = entry.make(config);
+  const std::unique_ptr<PppEstimator> estimator = makeEstimator(entry.name, config);
   BiasSampler sampler(f, options.bias_bin_s);
   HeldIntegerChecker checker(f);
   std::vector<double>& errors = run.error_3d_m[column];
@@ -369,7 +369,7 @@ void runStudiedEstimator(const SimulatedFlight& f, int index, const MonteCarloOp
     fixed[k] = rec.solution.status == SolutionStatus::PppFixed ? 1 : 0;
     if (study == 0) reference[k] = p;
     else if (entry.smoothed() && p && reference[k]) run.filtered_minus_ekf_m[k] = (*p - *reference[k]).norm();
-    sampler.epoch(k, rec, [&](ArcId a) { return estimator->core().biasEstimate_m(a); }, run.bias[column]);
+    sampler.epoch(k, rec, [&](ArcId a) { return estimator->biasEstimate_m(a); }, run.bias[column]);
     checker.epoch(estimator->lastResult().ambiguity_fix, fixed[k] != 0, sampler.arcs(), run.held_check[study]);
     ++k;
   });

@@ -69,7 +69,7 @@ struct PppConfig {
   /// What an estimator is built from (EstimatorOptions: stochastic, estimator,
   /// start, smoother, signals.systems, ambiguity_resolution). Implicit, so that an
   /// estimator is made from the whole configuration as from its own options
-  /// (makeEstimator(name, config, &why), EkfEstimator(config)).
+  /// (makeEstimator(name, config, &why)).
   operator EstimatorOptions() const;
 };
 

@@ -1,5 +1,5 @@
 #pragma once
-// EstimatorOptions: what an EpochEstimator (epoch_estimator.h) is built from:
+// EstimatorOptions: what a PppEstimator (ppp_estimator.h) is built from:
 // the stochastic model, the EKF options with the code least squares start, the
 // smoother options, the systems of the receiver state (and whether it carries
 // the tropospheric gradients) and the PPP-AR options.

@@ -1,18 +1,18 @@
 #pragma once
-// The estimator registry: the one table of the PPP estimators that the tools,
-// the campaign manifests and the Monte Carlo study offer by name. Each row gives
-// the estimator's name (option value, file-name part), its table label, a
-// one-line description (ppp_solve --help), the solutions it gives (filtered
-// only, or filtered and smoothed) and its factory.
+// The estimator registry: the one table of the PPP estimators, and the only
+// place that makes them (makeEstimator). The tools, the campaign manifests, the
+// benchmarks, the ROS node and the Monte Carlo study offer and make estimators
+// by name through it. Each row gives the estimator's name (option value,
+// file-name part), its table label, a one-line description (ppp_solve --help),
+// the solutions it gives (filtered only, or filtered and smoothed), the state it
+// estimates, whether the Monte Carlo study runs it, and its factory.
 //
-// Adding an estimator: its own files (an EpochEstimator, epoch_estimator.h) and
-// one row in kEstimators below; option parsing, help texts, the output files of
-// ppp_solve (one set per solution, solutionOutputs()), "both" and the campaign
-// manifests follow from the table. The Monte Carlo study runs the estimators
-// that evaluation/monte_carlo.h kMonteCarloStudy names, through their factories
-// and the EpochEstimator interface (bias estimates by arc, the last result, and
-// for one that smooths its final smoothed solution); its solutions are the
-// study's columns (kMonteCarloEstimators).
+// Adding an estimator: its own files (a PppEstimator, ppp_estimator.h) and one
+// row in kEstimators below; option parsing, help texts, the output files of
+// ppp_solve (one set per solution, solutionOutputs()), "both", the campaign
+// manifests and the Monte Carlo study (kMonteCarloStudy: the rows marked for
+// it) follow from the table. An estimator of another state (e.g. a GNSS/INS
+// state) is one more EstimatedState and its rows, in the same family.
 //
 // The table is a constant (no registration at static initialisation, no global
 // mutable state).
@@ -24,24 +24,39 @@
 #include <string_view>
 #include <vector>
 
+#include "ppp_bayes_tree/ppp/estimators/estimator_options.h"
+#include "ppp_bayes_tree/ppp/estimators/ppp_estimator.h"
+
 namespace ppp {
 
-class EpochEstimator;
-struct EstimatorOptions;
+/// The state an estimator estimates.
+enum class EstimatedState {
+  GnssReceiver,  // receiver position, zenith wet delay, clocks (gradients), phase biases
+};
+
+constexpr std::string_view estimatedStateText(EstimatedState state) {
+  switch (state) {
+    case EstimatedState::GnssReceiver:
+      return "GNSS receiver (position, zenith wet delay, clocks, phase biases)";
+  }
+  return "unknown";
+}
 
 /// The solutions an estimator gives.
 enum class EstimatorSolutions {
   Filtered,             // one causal solution per epoch (a filter)
-  FilteredAndSmoothed,  // the causal one and the smoothed trajectory (EpochEstimator::smoothing())
+  FilteredAndSmoothed,  // the causal one and the smoothed trajectory (PppEstimator::smoothing())
 };
 
-using EstimatorFactory = std::unique_ptr<EpochEstimator> (*)(const EstimatorOptions& options);
+using EstimatorFactory = std::unique_ptr<PppEstimator> (*)(const EstimatorOptions& options);
 
 struct EstimatorEntry {
-  std::string_view name;         // "ekf": option value and file-name part (EpochEstimator::name())
+  std::string_view name;         // "ekf": option value and file-name part (PppEstimator::name())
   std::string_view label;        // "EKF": its (filtered) column in tables
   std::string_view description;  // one line for --help
   EstimatorSolutions solutions = EstimatorSolutions::Filtered;
+  EstimatedState state = EstimatedState::GnssReceiver;
+  bool monte_carlo_study = false;  // the Monte Carlo study runs it (kMonteCarloStudy)
   EstimatorFactory make = nullptr;
 
   constexpr bool smoothed() const { return solutions == EstimatorSolutions::FilteredAndSmoothed; }
@@ -49,17 +64,35 @@ struct EstimatorEntry {
   constexpr int solutionCount() const { return smoothed() ? 2 : 1; }
 };
 
-// The factories of the registered estimators (epoch_estimator.cpp).
-std::unique_ptr<EpochEstimator> makeEkfEstimator(const EstimatorOptions& options);
-std::unique_ptr<EpochEstimator> makeSmootherEstimator(const EstimatorOptions& options);
+// The factories of the registered estimators (estimator_registry.cpp); reached
+// through the table (makeEstimator), not called by name.
+std::unique_ptr<PppEstimator> makePppEkf(const EstimatorOptions& options);
+std::unique_ptr<PppEstimator> makePppSmoother(const EstimatorOptions& options);
 
 /// Every estimator, in the order in which "both" runs them and tables list them.
 inline constexpr std::array<EstimatorEntry, 2> kEstimators{{
-    {"ekf", "EKF", "forward extended Kalman filter (EkfPpp): filtered solution",
-     EstimatorSolutions::Filtered, &makeEkfEstimator},
+    {"ekf", "EKF", "forward extended Kalman filter (PppEkf): filtered solution",
+     EstimatorSolutions::Filtered, EstimatedState::GnssReceiver, true, &makePppEkf},
     {"smoother", "smoother", "incremental smoother (iSAM2, PppSmoother): filtered and smoothed solutions",
-     EstimatorSolutions::FilteredAndSmoothed, &makeSmootherEstimator},
+     EstimatorSolutions::FilteredAndSmoothed, EstimatedState::GnssReceiver, true, &makePppSmoother},
 }};
+
+/// Number of estimators the Monte Carlo study runs.
+constexpr std::size_t monteCarloStudyCount() {
+  std::size_t n = 0;
+  for (const EstimatorEntry& e : kEstimators) n += e.monte_carlo_study ? 1 : 0;
+  return n;
+}
+
+/// The estimators the Monte Carlo study runs, by name, in registry order (the
+/// rows with monte_carlo_study). The first is the study's reference.
+inline constexpr std::array<std::string_view, monteCarloStudyCount()> kMonteCarloStudy = [] {
+  std::array<std::string_view, monteCarloStudyCount()> names{};
+  std::size_t i = 0;
+  for (const EstimatorEntry& e : kEstimators)
+    if (e.monte_carlo_study) names[i++] = e.name;
+  return names;
+}();
 
 /// The option value that runs every registered estimator (one pipeline each).
 inline constexpr std::string_view kAllEstimators = "both";
@@ -73,6 +106,27 @@ constexpr int registeredSolutionCount() {
 
 /// The entry of `name`; nullptr when none is registered under it.
 const EstimatorEntry* findEstimator(std::string_view name);
+
+/// The estimator registered as `name`, made from `options`; nullptr for another
+/// name (kAllEstimators included: the caller runs one pipeline each), with `why`
+/// (when given) saying so.
+std::unique_ptr<PppEstimator> makeEstimator(std::string_view name, const EstimatorOptions& options,
+                                            std::string* why = nullptr);
+
+/// makeEstimator as the estimator class the caller needs (e.g. PppSmoother for
+/// its live sink); nullptr, with `why`, when the name is not registered or its
+/// estimator is not an `Estimator`.
+template <class Estimator>
+std::unique_ptr<Estimator> makeEstimatorAs(std::string_view name, const EstimatorOptions& options,
+                                           std::string* why = nullptr) {
+  std::unique_ptr<PppEstimator> made = makeEstimator(name, options, why);
+  if (auto* as = dynamic_cast<Estimator*>(made.get())) {
+    made.release();
+    return std::unique_ptr<Estimator>(as);
+  }
+  if (made && why) *why = "estimator '" + std::string(name) + "' is not of the class asked for";
+  return nullptr;
+}
 
 /// The registered names joined by `separator` ("ekf, smoother").
 std::string registeredEstimatorNames(std::string_view separator = ", ");

@@ -1,6 +1,6 @@
 #pragma once
 // PppSmoother: kinematic PPP as an incremental factor graph (iSAM2 on the Bayes
-// tree), with the same interface as EkfPpp so that a pipeline can run either.
+// tree), with the same interface as PppEkf so that a pipeline can run either.
 //
 // Graph (ppp_factors.h): one state x<k> per solved epoch (position, ZWD, clock), one
 // IF phase bias b(sat,arc) per arc; a prior on the first state and on each new bias;
@@ -10,7 +10,7 @@
 // with the same sigmas; optional Huber kernel on them.
 //
 // Per epoch (processEpoch): the epoch front end shared with the EKF
-// (PppEstimatorBase: code least-squares start, prediction = the last filtered
+// (PppEstimator: code least-squares start, prediction = the last filtered
 // state with the clocks shifted by the median code residual, usable measurements,
 // arc bookkeeping, prefit screening against the last filtered bias estimate and
 // variance, new-arc bias values, residual records), then the smoother's own
@@ -50,7 +50,7 @@
 // filtered state with a prior of its filtered covariance and each active bias with a
 // prior of its filtered estimate and variance (counted in resets(), reported by the
 // result's estimator_reset). The states before the restart keep their last estimate.
-// AMBIGUITY RESOLUTION (SmootherEstimator drives it with the EKF's
+// AMBIGUITY RESOLUTION (resolveAmbiguities drives it with the EKF's
 // AmbiguityResolver and its one decision path, resolveAndHold: consistency
 // window, partial fixing, validation across epochs, hold, release): after each
 // update the resolver decides on the float joint of the newest state and the
@@ -81,7 +81,8 @@
 
 #include "ppp_bayes_tree/ppp/estimators/code_least_squares.h"
 #include "ppp_bayes_tree/ppp/estimators/estimator_epoch_result.h"
-#include "ppp_bayes_tree/ppp/estimators/ppp_estimator_base.h"
+#include "ppp_bayes_tree/ppp/estimators/estimator_options.h"
+#include "ppp_bayes_tree/ppp/estimators/ppp_estimator.h"
 #include "ppp_bayes_tree/ppp/estimators/smoothed_trajectory_provider.h"
 #include "ppp_bayes_tree/ppp/estimators/smoother_options.h"
 #include "ppp_bayes_tree/ppp/model/measurement_function.h"
@@ -91,13 +92,18 @@
 
 namespace ppp {
 
-class PppSmoother : public PppEstimatorBase, public SmoothedTrajectoryProvider {
+class PppSmoother : public PppEstimator, public SmoothedTrajectoryProvider {
  public:
   explicit PppSmoother(StochasticModel model = {}, PppSmootherOptions options = {},
                        CodeLeastSquaresOptions start_options = {}, ReceiverStateLayout layout = {});
+  /// From the estimator options (the registry's factory, estimator_registry.h).
+  explicit PppSmoother(const EstimatorOptions& options);
   ~PppSmoother();
   PppSmoother(PppSmoother&&) noexcept;
   PppSmoother& operator=(PppSmoother&&) noexcept;
+
+  std::string name() const override { return "smoother"; }
+  const SmoothedTrajectoryProvider* smoothing() const override { return this; }
 
   bool initialised() const { return !states_.empty(); }
   std::optional<GnssTime> lastTime() const;
@@ -150,7 +156,7 @@ class PppSmoother : public PppEstimatorBase, public SmoothedTrajectoryProvider {
   std::size_t storedBiasCount() const { return bias_last_state_.size(); }
 
   // Ambiguity resolution (the decision is the caller's AmbiguityResolver, as for
-  // the EKF; SmootherEstimator drives it). A fix is HELD in the graph as
+  // the EKF; resolveAmbiguities drives it). A fix is HELD in the graph as
   // IntegerAmbiguityFactors (integer_ambiguity_factor.h), so that iSAM2 carries it
   // into every state of the fixed arcs, before the fix epoch too.
   /// The filtered joint of the newest state and the biases observed at the last
@@ -222,9 +228,20 @@ class PppSmoother : public PppEstimatorBase, public SmoothedTrajectoryProvider {
   bool recoverAfterFailure(EstimatorEpochResult& result) override;
   void arcRemoved(ArcId arc) override { arcs_.erase(arc); }
   int biasCount() const override { return activeBiasCount(); }
+  /// PPP-AR (when enabled): the EKF's decision path, AmbiguityResolver::resolveAndHold,
+  /// on the float joint (floatJoint: root clique, held fixes taken out); the held
+  /// integers are held in the graph and one released as wrong is removed, both in
+  /// one update (updateFixes). The result's solution is then the filtered solution
+  /// with the fixes; FIXED when the resolver holds at least narrow_lane.min_fixed
+  /// integers (as the EKF).
+  void resolveAmbiguities(const EstimatorEpochInput& input, EstimatorEpochResult& result) override;
   void finishEpoch(EstimatorEpochResult& result) const override;
 
  private:
+  /// resolveAmbiguities' decision on the float joint and its one graph update;
+  /// true when fixes were added or removed.
+  bool resolveOnFloatJoint(const EstimatorEpochInput& input, const EstimatorEpochResult& r,
+                           AmbiguityFixSummary& summary);
   struct ArcSlot {
     SatelliteId satellite;
     smoother::Key key = 0;

@@ -1,7 +1,7 @@
 #pragma once
 // SmoothedTrajectoryProvider: what an estimator that smooths (PppSmoother) offers
 // beyond its filtered epoch results: the trajectory re-estimated with all data so
-// far. Users reach it through EpochEstimator::smoothing() (nullptr for a filter),
+// far. Users reach it through PppEstimator::smoothing() (nullptr for a filter),
 // never by casting to a concrete estimator.
 #include <cstdint>
 #include <functional>

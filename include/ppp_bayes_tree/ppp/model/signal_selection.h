@@ -156,12 +156,29 @@ struct SkippedSignal {
   std::string reason;
 };
 
+/// What a signal-selection note is about.
+enum class SignalSelectionNoteKind {
+  CodesWithoutBias,  // codes other than the clock reference used without a bias file: their DCB is not applied
+};
+
+/// A note of the signal selection on one epoch: its text and the satellites it
+/// concerns (kept apart, so that notes of many epochs merge by text).
+struct SignalSelectionNote {
+  SignalSelectionNoteKind kind = SignalSelectionNoteKind::CodesWithoutBias;
+  /// "no bias file: codes other than C1W/C2W used with the IGS C1W/C2W clock
+  /// reference, their DCB (e.g. P1-C1) is not applied"
+  std::string text;
+  std::vector<SatelliteId> satellites;  // in the epoch's order
+
+  /// The note as one line: the text, then ":" and the satellites when there are any.
+  std::string describe() const;
+};
+
 struct SignalSelectionResult {
   std::vector<DualFrequencyObservation> observations;
   std::vector<SkippedSignal> skipped;
-  /// Per epoch notes on the code reference (e.g. "no bias file: C1C used with
-  /// a C1W/C2W clock reference, P1-C1 DCB not applied (G05 G13)").
-  std::vector<std::string> notes;
+  /// Per epoch notes on the code reference.
+  std::vector<SignalSelectionNote> notes;
 
   void clear() {
     observations.clear();

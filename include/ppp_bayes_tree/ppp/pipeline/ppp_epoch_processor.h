@@ -1,7 +1,7 @@
 #pragma once
 // PppEpochProcessor: one observation epoch through the PPP chain, step by step
 // (no ROS, no files): time checks -> signal selection -> arc tracking -> the
-// measurement model -> an EpochEstimator -> a PppEpochRecord.
+// measurement model -> a PppEstimator -> a PppEpochRecord.
 // The offline PppPipeline (ppp_solve) streams a RINEX file through it, and the
 // ROS nodes feed it epochs converted from messages with products from a
 // CorrectionBuffer, so that both run exactly the same code per epoch.
@@ -41,8 +41,8 @@ class PppEpochProcessor {
   /// Processes one epoch through `estimator` (time order). Refused epochs come
   /// back with `refused` set and the reason. `selection_notes` (nullable)
   /// receives the signal selection's code-reference notes of the epoch.
-  PppEpochRecord process(const ObsEpoch& epoch, EpochEstimator& estimator,
-                         std::vector<std::string>* selection_notes = nullptr);
+  PppEpochRecord process(const ObsEpoch& epoch, PppEstimator& estimator,
+                         std::vector<SignalSelectionNote>* selection_notes = nullptr);
   /// Arcs still open at the end of the data (closes them in the tracker).
   std::vector<EndedArc> finish();
   /// Phase OSBs consistent with the clocks, handed to the estimators for

@@ -4,7 +4,7 @@
 //   -> signal selection (SignalSelector: IF pair, code priorities, Bias-SINEX OSB)
 //   -> arc tracking (ArcTracker: cycle slips, LLI, gaps; ended arcs leave the estimator)
 //   -> the measurement model (PppMeasurementModel, through a MeasurementFunction)
-//   -> the estimator (EpochEstimator: the EKF now, the smoother later)
+//   -> the estimator (PppEstimator: the EKF now, the smoother later)
 //   -> one PppEpochRecord per epoch (SolutionEpoch + diagnostics) to a callback.
 // Products: several SP3 and several CLK files are merged (PreciseEphemeris);
 // several ANTEX files are searched in order, the first file holding an antenna
@@ -34,7 +34,7 @@
 #include "ppp_bayes_tree/models/bias_provider.h"
 #include "ppp_bayes_tree/models/ephemeris_source.h"
 #include "ppp_bayes_tree/models/precise_ephemeris.h"
-#include "ppp_bayes_tree/ppp/estimators/epoch_estimator.h"
+#include "ppp_bayes_tree/ppp/estimators/ppp_estimator.h"
 #include "ppp_bayes_tree/ppp/config/ppp_config.h"
 #include "ppp_bayes_tree/ppp/model/ppp_measurement_model.h"
 #include "ppp_bayes_tree/ppp/model/signal_selection.h"
@@ -234,13 +234,22 @@ class PppPipeline {
   using EpochCallback = std::function<void(const PppEpochRecord&)>;
   /// Runs the whole observation file through `estimator` (once per pipeline:
   /// the file is streamed). `on_epoch` gets every epoch record, in order.
-  PppRunSummary run(EpochEstimator& estimator, const EpochCallback& on_epoch);
+  PppRunSummary run(PppEstimator& estimator, const EpochCallback& on_epoch);
   /// Fraction of the observation file consumed (0..1), for progress bars.
   double progress() const;
 
  private:
   struct Impl;
-  void adoptEstimatorSystems(const EpochEstimator& estimator);
+  struct RunTally;
+  // The steps of run() (numbered there).
+  void adoptEstimatorSystems(const PppEstimator& estimator);
+  void startRun(PppEstimator& estimator, PppRunSummary& summary);
+  bool readEpoch(ObsEpoch& epoch);
+  void processEpochs(PppEstimator& estimator, const EpochCallback& on_epoch, PppRunSummary& summary,
+                     RunTally& tally);
+  static void countEpoch(const PppEpochRecord& rec, PppRunSummary& summary, RunTally& tally);
+  void reportInputProblems(const RunTally& tally, PppRunSummary& summary) const;
+  void finishNotes(const RunTally& tally, PppRunSummary& summary) const;
   PppConfig config_;
   std::unique_ptr<Impl> impl_;
 };

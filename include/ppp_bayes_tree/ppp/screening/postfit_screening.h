@@ -1,5 +1,5 @@
 #pragma once
-// Postfit checks shared by the EKF (ekf_ppp.h) and the smoother (ppp_smoother.h),
+// Postfit checks shared by the EKF (ppp_ekf.h) and the smoother (ppp_smoother.h),
 // so that both estimators judge a solution's residuals alike:
 //  - the postfit residual test: the code or phase residual with the largest
 //    normalised value |r| / sigma above `postfit_sigmas` marks its satellite as an

@@ -1,5 +1,5 @@
 #pragma once
-// Prefit checks shared by the EKF (ekf_ppp.h) and the smoother (ppp_smoother.h),
+// Prefit checks shared by the EKF (ppp_ekf.h) and the smoother (ppp_smoother.h),
 // so that both estimators accept and reject the same observations:
 //  - usable measurements: finite values, positive sigmas, one per satellite;
 //  - the white-clock shift by the median code residual (per system clock);

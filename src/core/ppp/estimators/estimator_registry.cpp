@@ -1,8 +1,30 @@
 #include "ppp_bayes_tree/ppp/estimators/estimator_registry.h"
 
-#include "ppp_bayes_tree/ppp/estimators/epoch_estimator.h"
+#include "ppp_bayes_tree/ppp/estimators/estimator_options.h"
+#include "ppp_bayes_tree/ppp/estimators/ppp_ekf.h"
+#include "ppp_bayes_tree/ppp/estimators/ppp_smoother.h"
 
 namespace ppp {
+
+std::unique_ptr<PppEstimator> makePppEkf(const EstimatorOptions& options) {
+  return std::make_unique<PppEkf>(options);
+}
+
+std::unique_ptr<PppEstimator> makePppSmoother(const EstimatorOptions& options) {
+  return std::make_unique<PppSmoother>(options);
+}
+
+std::unique_ptr<PppEstimator> makeEstimator(std::string_view name, const EstimatorOptions& options, std::string* why) {
+  if (const EstimatorEntry* e = findEstimator(name)) return e->make(options);
+  if (why) {
+    const std::string value(name);
+    *why = name == kAllEstimators ? "estimator '" + value + "' is run by the caller as " +
+                                        registeredEstimatorNames(" and ") + " (one pipeline each)"
+                                  : "unknown estimator '" + value + "' (expected " +
+                                        registeredEstimatorNames(" or ") + ")";
+  }
+  return nullptr;
+}
 
 const EstimatorEntry* findEstimator(std::string_view name) {
   for (const EstimatorEntry& e : kEstimators)

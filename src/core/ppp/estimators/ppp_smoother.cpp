@@ -47,7 +47,7 @@ std::string PppSmootherOptions::validate() const {
 
 PppSmoother::PppSmoother(StochasticModel model, PppSmootherOptions options, CodeLeastSquaresOptions start_options,
                          ReceiverStateLayout layout)
-    : PppEstimatorBase(model, options.screening, start_options, layout),
+    : PppEstimator(model, options.screening, start_options, layout),
       options_(options) {
   if (auto problem = options_.validate(); !problem.empty()) throw std::invalid_argument(problem);
   if (auto problem = model_.validate(); !problem.empty()) throw std::invalid_argument(problem);
@@ -65,6 +65,12 @@ void PppSmoother::newGraph() {
   } else {
     isam_ = std::make_unique<smoother::ISAM2>(isamParams());
   }
+}
+
+PppSmoother::PppSmoother(const EstimatorOptions& options)
+    : PppSmoother(options.stochastic, options.smoother, options.start,
+                  ReceiverStateLayout(options.systems, options.troposphere_gradients)) {
+  resolver() = AmbiguityResolver(options.ambiguity_resolution);
 }
 
 PppSmoother::~PppSmoother() = default;
@@ -606,7 +612,7 @@ void PppSmoother::forgetMarginalized(const smoother::Values& marginalized) {
 }
 
 // Step 7
-std::vector<PppEstimatorBase::SolvedMeasurement> PppSmoother::residualRows(const SolveEpoch& e) const {
+std::vector<PppEstimator::SolvedMeasurement> PppSmoother::residualRows(const SolveEpoch& e) const {
   std::vector<SolvedMeasurement> rows;
   for (std::size_t k = 0; k < e.n_sat; ++k) {
     if (!e.kept[k]) continue;
@@ -845,5 +851,55 @@ std::optional<PppSmoother::FilteredJoint> PppSmoother::floatJoint() const {
   return out;
 }
 
+
+}  // namespace ppp
+
+namespace ppp {
+
+void PppSmoother::resolveAmbiguities(const EstimatorEpochInput& input, EstimatorEpochResult& r) {
+  // The EKF's decision path (resolveAndHold) on the smoother's float joint; the
+  // held integers are factors of the graph, a wrong one released is removed.
+  AmbiguityResolver& ambiguity = resolver();
+  if (r.estimator_reset) ambiguity.releaseAll();  // a restart drops the graph's fixes
+  if (input.observations && input.arcs) ambiguity.addEpoch(*input.observations, *input.arcs, input.phase_biases);
+  AmbiguityFixSummary summary;
+  if (r.status == EpochStatus::Ok && r.solution) {
+    bool changed = false;
+    try {
+      changed = resolveOnFloatJoint(input, r, summary);
+    } catch (const std::exception& e) {
+      summary.float_reason = AmbiguityFloatReason::NumericalFailure;
+      r.reason += std::string("; ambiguity fix not applied: ") + e.what();
+    }
+    if (changed) {
+      r.solution->state = filteredSolution().state;
+      r.solution->covariance = filteredSolution().covariance;
+    }
+    if (summary.fixed()) r.ambiguities = AmbiguityState::Fixed;
+  }
+  r.ambiguity_fix = summary;
+}
+
+bool PppSmoother::resolveOnFloatJoint(const EstimatorEpochInput& input, const EstimatorEpochResult& r,
+                                      AmbiguityFixSummary& summary) {
+  const std::optional<FilteredJoint> joint = floatJoint();
+  if (!joint) {
+    summary.float_reason = AmbiguityFloatReason::NumericalFailure;
+    return false;
+  }
+  const int receiver_dim = r.solution->state.layout.dim();
+  std::map<ArcId, double> elevation_rad;
+  for (const auto& res : r.residuals) elevation_rad[res.arc] = res.elevation_rad;
+  const auto fixed = resolver().resolveAndHold(joint->x, joint->P, receiver_dim, joint->arcs, input.phase_biases,
+                                               summary, &elevation_rad);
+  std::vector<std::pair<ArcId, ArcId>> wrong;
+  for (const AmbiguityRelease& rel : summary.released)
+    if (rel.reason != AmbiguityReleaseReason::ArcEnded) wrong.emplace_back(rel.arc, rel.reference_arc);
+  // Removals and additions in one graph update.
+  const Eigen::MatrixXd none(0, joint->x.size());
+  const FixChanges c = updateFixes(wrong, fixed ? fixed->constraint_rows : none,
+                                   fixed ? fixed->constraint_values : Eigen::VectorXd(0));
+  return c.removed > 0 || c.added > 0;
+}
 
 }  // namespace ppp

@@ -232,7 +232,7 @@ std::optional<double> SignalSelector::codeOsb_m(const SatelliteId& sat, int slot
 void SignalSelector::select(const ObsEpoch& epoch, SignalSelectionResult& out) {
   out.clear();
   // Per system: satellites whose codes differ from the clock reference, no bias file.
-  std::array<std::string, kNumGnssSystems> unaligned;
+  std::array<std::vector<SatelliteId>, kNumGnssSystems> unaligned;
   for (std::size_t i = 0; i < epoch.satellites.size(); ++i) {
     const SatelliteId sat = epoch.satellites[i].satellite;
     const auto& sc = systems_[static_cast<int>(sat.system)];
@@ -291,7 +291,7 @@ void SignalSelector::select(const ObsEpoch& epoch, SignalSelectionResult& out) {
       if (d.code2_osb_m) d.code2_m -= *d.code2_osb_m;
     } else if (sc.clock_reference1 != '\0' &&
                (d.code1.attribute != sc.clock_reference1 || d.code2.attribute != sc.clock_reference2)) {
-      unaligned[static_cast<int>(sat.system)] += ' ' + sat.toString();
+      unaligned[static_cast<int>(sat.system)].push_back(sat);
     }
     d.phase1_cycles = *l1->value - phaseShift_cycles(sc, sat, d.phase1);
     d.phase2_cycles = *l2->value - phaseShift_cycles(sc, sat, d.phase2);
@@ -315,9 +315,20 @@ void SignalSelector::select(const ObsEpoch& epoch, SignalSelectionResult& out) {
     if (unaligned[system].empty()) continue;
     const SystemColumns& sc = systems_[system];
     const std::string reference = std::string("C") + sc.band1 + sc.clock_reference1 + "/C" + sc.band2 + sc.clock_reference2;
-    out.notes.push_back("no bias file: codes other than " + reference + " used with the IGS " + reference +
-                        " clock reference, their DCB (e.g. P1-C1) is not applied:" + unaligned[system]);
+    SignalSelectionNote note;
+    note.kind = SignalSelectionNoteKind::CodesWithoutBias;
+    note.text = "no bias file: codes other than " + reference + " used with the IGS " + reference +
+                " clock reference, their DCB (e.g. P1-C1) is not applied";
+    note.satellites = unaligned[system];
+    out.notes.push_back(std::move(note));
   }
+}
+
+std::string SignalSelectionNote::describe() const {
+  std::string line = text;
+  if (!satellites.empty()) line += ":";
+  for (const SatelliteId& sat : satellites) line += " " + sat.toString();
+  return line;
 }
 
 SignalSelectionResult selectDualFrequency(const ObsEpoch& epoch, const RinexObsHeader& header,

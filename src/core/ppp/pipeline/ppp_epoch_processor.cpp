@@ -80,8 +80,8 @@ std::optional<GnssTime> PppEpochProcessor::lastTime() const { return impl_->last
 
 std::vector<EndedArc> PppEpochProcessor::finish() { return impl_->tracker.finish(); }
 
-PppEpochRecord PppEpochProcessor::process(const ObsEpoch& epoch, EpochEstimator& estimator,
-                                          std::vector<std::string>* selection_notes) {
+PppEpochRecord PppEpochProcessor::process(const ObsEpoch& epoch, PppEstimator& estimator,
+                                          std::vector<SignalSelectionNote>* selection_notes) {
   Impl& d = *impl_;
   const std::vector<GnssSystem>& systems = d.config.signals.systems;
   const auto processed = [&](GnssSystem s) { return std::find(systems.begin(), systems.end(), s) != systems.end(); };

@@ -341,11 +341,11 @@ const std::vector<std::string>& PppPipeline::receiverAntennaWarnings() const {
 
 double PppPipeline::progress() const { return impl_->source->progress(); }
 
-void PppPipeline::adoptEstimatorSystems(const EpochEstimator& estimator) {
+void PppPipeline::adoptEstimatorSystems(const PppEstimator& estimator) {
   // The estimator's state holds one clock per system: an estimator made from
   // another configuration than config() (e.g. the caller's, before the products
   // named the systems) processes its own systems, said in the notes.
-  const std::vector<GnssSystem> systems = estimator.core().layout().clockSystems();
+  const std::vector<GnssSystem> systems = estimator.layout().clockSystems();
   if (systems == config_.signals.systems) return;
   std::string names;
   for (auto s : systems) names += (names.empty() ? "" : ", ") + std::string(systemName(s));
@@ -354,41 +354,75 @@ void PppPipeline::adoptEstimatorSystems(const EpochEstimator& estimator) {
   impl_->start(config_);
 }
 
-PppRunSummary PppPipeline::run(EpochEstimator& estimator, const EpochCallback& on_epoch) {
-  Impl& d = *impl_;
-  PppRunSummary summary;
+/// What a run collects over its epochs for the summary's problems and notes.
+struct PppPipeline::RunTally {
+  /// Code-reference notes merged over epochs: text -> union of the satellites.
+  std::map<std::string, std::set<std::string>> code_notes;
+  ResidualSummary residuals;
+  /// Satellites rejected, for naming those an input problem took out of the run.
+  std::map<SatelliteId, std::pair<std::size_t, std::string>> rejected_epochs;  // count, first reason
   std::optional<GnssTime> first_solved;  // for the time to first fix
+
+  void mergeSelectionNotes(const std::vector<SignalSelectionNote>& notes) {
+    for (const SignalSelectionNote& n : notes) {
+      std::set<std::string>& sats = code_notes[n.text];
+      for (const SatelliteId& sat : n.satellites) sats.insert(sat.toString());
+    }
+  }
+};
+
+PppRunSummary PppPipeline::run(PppEstimator& estimator, const EpochCallback& on_epoch) {
+  PppRunSummary summary;
   summary.estimator = estimator.name();
-  if (d.ran) {
+  // 1. The observation file is streamed once.
+  if (impl_->ran) {
     summary.problems.push_back("the pipeline has already run (the observation file is streamed once)");
     return summary;
   }
-  d.ran = true;
-  adoptEstimatorSystems(estimator);
-  summary.problems = d.load_problems;
-  // Satellites rejected, for naming those an input problem took out of the run.
-  std::map<SatelliteId, std::pair<std::size_t, std::string>> rejected_epochs;  // count, first reason
+  impl_->ran = true;
+  // 2. The estimator's systems, the load problems and the starting point.
+  startRun(estimator, summary);
   const auto wall_start = std::chrono::steady_clock::now();
-  const RinexObsHeader& header = d.source->header();
+  // 3. Every epoch through the processor and the estimator, counted.
+  RunTally tally;
+  processEpochs(estimator, on_epoch, summary, tally);
+  // 4. Arcs still open at the end of the data.
+  estimator.arcsEnded(impl_->processor->finish());
+  // 5. Input problems, and the satellites they took out of the run.
+  reportInputProblems(tally, summary);
+  // 6. Residual statistics and notes.
+  finishNotes(tally, summary);
+  summary.processing_time_s =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
+  return summary;
+}
+
+void PppPipeline::startRun(PppEstimator& estimator, PppRunSummary& summary) {
+  adoptEstimatorSystems(estimator);
+  summary.problems = impl_->load_problems;
+  const RinexObsHeader& header = impl_->source->header();
   if (header.approx_position_ecef_m && header.approx_position_ecef_m->norm() > 1e6)
     estimator.setApproximatePosition(*header.approx_position_ecef_m);
+}
 
-  // Code-reference notes, merged over epochs: text before a trailing
-  // satellite list -> union of the satellites.
-  std::map<std::string, std::set<std::string>> code_notes;
-  ResidualSummary residuals;
-  PppEpochProcessor& processor = *d.processor;
+bool PppPipeline::readEpoch(ObsEpoch& epoch) {
+  ObservationSource& source = *impl_->source;
+  const ObservationRead read = source.next(epoch);
+  if (read == ObservationRead::End) return false;
+  if (read == ObservationRead::Error) {
+    const ObservationProblem e = source.error().value_or(ObservationProblem{source.name(), 0, "read error"});
+    throw ParseError(e.file, e.line, e.reason);
+  }
+  return true;
+}
+
+void PppPipeline::processEpochs(PppEstimator& estimator, const EpochCallback& on_epoch, PppRunSummary& summary,
+                                RunTally& tally) {
+  PppEpochProcessor& processor = *impl_->processor;
   ObsEpoch epoch;
   PppEpochRecord rec;
-  std::vector<std::string> selection_notes;
-
-  for (;;) {
-    const ObservationRead read = d.source->next(epoch);
-    if (read == ObservationRead::End) break;
-    if (read == ObservationRead::Error) {
-      const ObservationProblem e = d.source->error().value_or(ObservationProblem{d.source->name(), 0, "read error"});
-      throw ParseError(e.file, e.line, e.reason);
-    }
+  std::vector<SignalSelectionNote> selection_notes;
+  while (readEpoch(epoch)) {
     ++summary.epochs_read;
     rec = processor.process(epoch, estimator, &selection_notes);
     if (rec.refused) {
@@ -398,79 +432,69 @@ PppRunSummary PppPipeline::run(EpochEstimator& estimator, const EpochCallback& o
       continue;
     }
     if (rec.gap_s) ++summary.data_gaps;
-    for (const auto& n : selection_notes) {
-      const auto colon = n.rfind(": ");
-      std::istringstream sats(colon == std::string::npos ? std::string() : n.substr(colon + 2));
-      std::vector<std::string> tokens;
-      std::string tok;
-      bool all_sats = colon != std::string::npos;
-      while (sats >> tok) {
-        all_sats &= tok.size() == 3 && std::isalpha(static_cast<unsigned char>(tok[0])) &&
-                    std::isdigit(static_cast<unsigned char>(tok[1])) && std::isdigit(static_cast<unsigned char>(tok[2]));
-        tokens.push_back(tok);
-      }
-      if (all_sats && !tokens.empty()) {
-        code_notes[n.substr(0, colon)].insert(tokens.begin(), tokens.end());
-      } else {
-        code_notes[n];
-      }
-    }
-    summary.arcs += static_cast<std::size_t>(rec.new_arcs);
-    summary.slips += static_cast<std::size_t>(rec.slips);
-    switch (rec.status) {
-      case EpochStatus::Ok:
-        ++summary.epochs_solved;
-        if (!first_solved) first_solved = rec.solution.time;
-        if (rec.solution.status == SolutionStatus::PppFixed) {
-          ++summary.epochs_fixed;
-          if (!summary.time_to_first_fix_s) summary.time_to_first_fix_s = rec.solution.time - *first_solved;
-        }
-        break;
-      case EpochStatus::NoSolution: ++summary.epochs_no_solution; break;
-      case EpochStatus::Failed: ++summary.epochs_failed; break;
-    }
-    residuals.add(rec);
-    for (const auto& x : rec.rejected) summary.rejection_counts[{x.stage, x.reason}]++;
-    for (const auto& x : rec.rejected) {
-      auto& r = rejected_epochs[x.satellite];
-      if (r.first++ == 0) r.second = x.text();
-    }
-    if (rec.status != EpochStatus::Ok) summary.no_solution_counts[rec.no_solution_reason]++;
-    if (rec.estimator_reset) ++summary.estimator_resets;
-    if (rec.solution.integrity == SolutionIntegrity::Inconsistent) ++summary.epochs_inconsistent;
+    tally.mergeSelectionNotes(selection_notes);
+    countEpoch(rec, summary, tally);
     if (on_epoch) on_epoch(rec);
   }
-  estimator.arcsEnded(processor.finish());
+}
 
-  for (const auto& p : d.source->problems())
-    summary.problems.push_back(p.file + " line " + std::to_string(p.line) + ": " + p.reason);
-  if (!summary.problems.empty()) {
-    // With input problems, name the satellites the run never used.
-    std::string dropped;
-    for (const auto& [sat, r] : rejected_epochs) {
-      if (residuals.used(sat)) continue;
-      dropped += (dropped.empty() ? "" : "; ") + sat.toString() + " (" + std::to_string(r.first) +
-                 " epoch(s), first: " + r.second + ")";
-    }
-    if (!dropped.empty()) summary.problems.push_back("satellites never used: " + dropped);
+void PppPipeline::countEpoch(const PppEpochRecord& rec, PppRunSummary& summary, RunTally& tally) {
+  summary.arcs += static_cast<std::size_t>(rec.new_arcs);
+  summary.slips += static_cast<std::size_t>(rec.slips);
+  switch (rec.status) {
+    case EpochStatus::Ok:
+      ++summary.epochs_solved;
+      if (!tally.first_solved) tally.first_solved = rec.solution.time;
+      if (rec.solution.status == SolutionStatus::PppFixed) {
+        ++summary.epochs_fixed;
+        if (!summary.time_to_first_fix_s) summary.time_to_first_fix_s = rec.solution.time - *tally.first_solved;
+      }
+      break;
+    case EpochStatus::NoSolution: ++summary.epochs_no_solution; break;
+    case EpochStatus::Failed: ++summary.epochs_failed; break;
   }
-  summary.residual_statistics = residuals.statistics();
+  tally.residuals.add(rec);
+  for (const auto& x : rec.rejected) summary.rejection_counts[{x.stage, x.reason}]++;
+  for (const auto& x : rec.rejected) {
+    auto& r = tally.rejected_epochs[x.satellite];
+    if (r.first++ == 0) r.second = x.text();
+  }
+  if (rec.status != EpochStatus::Ok) summary.no_solution_counts[rec.no_solution_reason]++;
+  if (rec.estimator_reset) ++summary.estimator_resets;
+  if (rec.solution.integrity == SolutionIntegrity::Inconsistent) ++summary.epochs_inconsistent;
+}
+
+void PppPipeline::reportInputProblems(const RunTally& tally, PppRunSummary& summary) const {
+  for (const auto& p : impl_->source->problems())
+    summary.problems.push_back(p.file + " line " + std::to_string(p.line) + ": " + p.reason);
+  if (summary.problems.empty()) return;
+  // With input problems, name the satellites the run never used.
+  std::string dropped;
+  for (const auto& [sat, r] : tally.rejected_epochs) {
+    if (tally.residuals.used(sat)) continue;
+    dropped += (dropped.empty() ? "" : "; ") + sat.toString() + " (" + std::to_string(r.first) +
+               " epoch(s), first: " + r.second + ")";
+  }
+  if (!dropped.empty()) summary.problems.push_back("satellites never used: " + dropped);
+}
+
+void PppPipeline::finishNotes(const RunTally& tally, PppRunSummary& summary) const {
+  const Impl& d = *impl_;
+  summary.residual_statistics = tally.residuals.statistics();
   summary.notes = notes();
+  const RinexObsHeader& header = d.source->header();
   const std::vector<std::string> suspects =
-      residuals.suspectChannelNotes(channelsHeaderFirst(header.glonass_channels, config_.signals.glonass_channels));
+      tally.residuals.suspectChannelNotes(channelsHeaderFirst(header.glonass_channels, config_.signals.glonass_channels));
   summary.notes.insert(summary.notes.end(), suspects.begin(), suspects.end());
-  for (const auto& [text, sats] : code_notes) {
+  for (const auto& [text, sats] : tally.code_notes) {
     std::string note = "code reference: " + text;
     if (!sats.empty()) note += ":";
     for (const auto& sat : sats) note += " " + sat;
     summary.notes.push_back(note);
   }
-  if (code_notes.empty() && d.products.biases)
+  if (tally.code_notes.empty() && d.products.biases)
     summary.notes.push_back("code reference: codes aligned to the clock reference by the OSB of " +
                             d.bias_file_name.value_or(d.products.biases->describeSource()));
-  summary.processing_time_s =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
-  return summary;
 }
 
 }  // namespace ppp

@@ -1,10 +1,17 @@
 #pragma once
-// PppEstimatorBase: the epoch front end that the EKF (EkfPpp) and the smoother
-// (PppSmoother) share, so that both run the same sequence and see the same
-// screened measurements; each estimator implements only its solve step (like a
-// FilterBase with processMeasurement and the filter's own predict/correct).
+// PppEstimator: the one interface of the PPP estimators and the epoch front end
+// that the EKF (PppEkf) and the smoother (PppSmoother) share, so that both run
+// the same sequence and see the same screened measurements; each estimator
+// implements only its steps (prediction, update, ambiguity resolution), like a
+// FilterBase with processMeasurement and the filter's own predict/correct.
+// Estimators are made by name through the registry (estimator_registry.h).
 //
-// processEpoch, per epoch, nine named steps:
+// processEpoch(EstimatorEpochInput), the pipeline's epoch: the ended arcs leave
+// (arcsEnded), the measurement epoch below, then PPP-AR when enabled (the
+// estimator's resolveAmbiguities; without phase biases the epoch stays float with
+// that reason). lastResult() keeps its result.
+//
+// processEpoch(time, evaluate), the measurement epoch, nine named steps:
 //  1. startOrAdvance: without a state, the single-epoch code least squares from
 //     the approximate position; without one, from the Earth centre: first with the
 //     start model (`evaluate_start`, PppMeasurementModel::evaluateStart: no
@@ -37,8 +44,11 @@
 #include <string>
 #include <vector>
 
+#include "ppp_bayes_tree/ppp/ambiguity/ambiguity_resolution.h"
 #include "ppp_bayes_tree/ppp/estimators/code_least_squares.h"
+#include "ppp_bayes_tree/ppp/estimators/estimator_epoch_input.h"
 #include "ppp_bayes_tree/ppp/estimators/estimator_epoch_result.h"
+#include "ppp_bayes_tree/ppp/estimators/smoothed_trajectory_provider.h"
 #include "ppp_bayes_tree/ppp/model/measurement_function.h"
 #include "ppp_bayes_tree/ppp/model/receiver_state_layout.h"
 #include "ppp_bayes_tree/ppp/model/stochastic_model.h"
@@ -48,16 +58,31 @@
 
 namespace ppp {
 
-class PppEstimatorBase {
+class PppEstimator {
  public:
-  virtual ~PppEstimatorBase() = default;
+  virtual ~PppEstimator() = default;
+
+  /// Short name used in output file names (the registry's name: "ekf", "smoother").
+  virtual std::string name() const = 0;
+  /// The pipeline's epoch, in time order: ended arcs, the measurement epoch, PPP-AR.
+  /// The result is final for a filter; it is also kept as lastResult().
+  EstimatorEpochResult processEpoch(const EstimatorEpochInput& input);
+  /// Arcs that ended (slip, gap, end of data): their biases and held integers leave.
+  void arcsEnded(const std::vector<EndedArc>& ended);
+  /// The last result of processEpoch(EstimatorEpochInput), with its ambiguity summary.
+  const EstimatorEpochResult& lastResult() const { return last_; }
+  /// The smoothed trajectory of an estimator that smooths; nullptr for a filter.
+  virtual const SmoothedTrajectoryProvider* smoothing() const { return nullptr; }
+  /// The resolver (e.g. to hold an integer restored after a restart).
+  AmbiguityResolver& resolver() { return ambiguity_; }
 
   /// Starting point of the code least squares of the first epoch (RINEX APPROX
   /// POSITION XYZ); the Earth centre otherwise.
   void setApproximatePosition(const Eigen::Vector3d& position_ecef_m) { approx_position_ecef_m_ = position_ecef_m; }
   const std::optional<Eigen::Vector3d>& approximatePosition() const { return approx_position_ecef_m_; }
 
-  /// Process one epoch in time order. `evaluate` linearises this epoch's
+  /// The measurement epoch, in time order (no arcs ended, no PPP-AR, not kept
+  /// as lastResult()). `evaluate` linearises this epoch's
   /// measurements at a state; it is called during this call only.
   /// `evaluate_start` (nullable) is the start model, used only when the
   /// estimator starts without an approximate position (step 1); without it
@@ -80,8 +105,12 @@ class PppEstimatorBase {
   int resets() const { return resets_; }
 
  protected:
-  PppEstimatorBase(StochasticModel model, ScreeningOptions screening, CodeLeastSquaresOptions start_options,
-                   ReceiverStateLayout layout);
+  PppEstimator(StochasticModel model, ScreeningOptions screening, CodeLeastSquaresOptions start_options,
+               ReceiverStateLayout layout, AmbiguityResolutionOptions ambiguity_resolution = {});
+
+  /// PPP-AR on this epoch's float solution (the estimator's own step, called with
+  /// phase biases only): fixes through resolver(), sets the result's summary.
+  virtual void resolveAmbiguities(const EstimatorEpochInput& input, EstimatorEpochResult& result) = 0;
 
   /// A measurement that passed the prefit screening.
   struct ScreenedMeasurement {
@@ -169,6 +198,8 @@ class PppEstimatorBase {
   std::optional<Eigen::Vector3d> approx_position_ecef_m_;
   std::map<ArcId, ActiveArc> arcs_;  // the active set
   int resets_ = 0;
+  AmbiguityResolver ambiguity_;  // PPP-AR on the estimator's float solution
+  EstimatorEpochResult last_;
 };
 
 }  // namespace ppp

@@ -1,4 +1,4 @@
-#include "ppp_bayes_tree/ppp/estimators/ppp_estimator_base.h"
+#include "ppp_bayes_tree/ppp/estimators/ppp_estimator.h"
 
 #include <chrono>
 #include <cmath>
@@ -7,11 +7,42 @@
 
 namespace ppp {
 
-PppEstimatorBase::PppEstimatorBase(StochasticModel model, ScreeningOptions screening,
-                                   CodeLeastSquaresOptions start_options, ReceiverStateLayout layout)
-    : model_(model), screening_(screening), start_options_(start_options), layout_(layout) {}
+PppEstimator::PppEstimator(StochasticModel model, ScreeningOptions screening, CodeLeastSquaresOptions start_options,
+                           ReceiverStateLayout layout, AmbiguityResolutionOptions ambiguity_resolution)
+    : model_(model),
+      screening_(screening),
+      start_options_(start_options),
+      layout_(layout),
+      ambiguity_(std::move(ambiguity_resolution)) {}
 
-bool PppEstimatorBase::fail(EstimatorEpochResult& result, EpochStatus status, NoSolutionReason why, std::string text) {
+namespace {
+
+/// Without phase biases nothing can be fixed: the epoch stays float with that
+/// reason, without the resolver's work (a streamed run resolves from the start
+/// and gets its phase biases later, product_assembly.h).
+bool floatWithoutPhaseBiases(const EstimatorEpochInput& input, EstimatorEpochResult& r) {
+  if (input.phase_biases) return false;
+  AmbiguityFixSummary summary;
+  summary.float_reason = AmbiguityFloatReason::NoConsistentPhaseBiases;
+  r.ambiguity_fix = summary;
+  return true;
+}
+
+}  // namespace
+
+EstimatorEpochResult PppEstimator::processEpoch(const EstimatorEpochInput& input) {
+  if (input.ended_arcs) arcsEnded(*input.ended_arcs);
+  last_ = processEpoch(input.time, *input.evaluate, input.evaluate_start);
+  if (ambiguity_.options().enabled && !floatWithoutPhaseBiases(input, last_)) resolveAmbiguities(input, last_);
+  return last_;
+}
+
+void PppEstimator::arcsEnded(const std::vector<EndedArc>& ended) {
+  for (const auto& e : ended) removeArc(e.arc);
+  ambiguity_.arcsEnded(ended);
+}
+
+bool PppEstimator::fail(EstimatorEpochResult& result, EpochStatus status, NoSolutionReason why, std::string text) {
   result.status = status;
   result.no_solution_reason = why;
   result.reason = std::move(text);
@@ -19,12 +50,12 @@ bool PppEstimatorBase::fail(EstimatorEpochResult& result, EpochStatus status, No
   return false;
 }
 
-void PppEstimatorBase::removeArc(ArcId arc) {
+void PppEstimator::removeArc(ArcId arc) {
   arcs_.erase(arc);
   arcRemoved(arc);
 }
 
-EstimatorEpochResult PppEstimatorBase::processEpoch(const GnssTime& time, const MeasurementFunction& evaluate,
+EstimatorEpochResult PppEstimator::processEpoch(const GnssTime& time, const MeasurementFunction& evaluate,
                                                     const MeasurementFunction* evaluate_start) {
   const auto t_start = std::chrono::steady_clock::now();
   EstimatorEpochResult result;
@@ -65,7 +96,7 @@ EstimatorEpochResult PppEstimatorBase::processEpoch(const GnssTime& time, const 
   return finished(std::move(result), t_start);
 }
 
-EstimatorEpochResult PppEstimatorBase::finished(EstimatorEpochResult result,
+EstimatorEpochResult PppEstimator::finished(EstimatorEpochResult result,
                                                 std::chrono::steady_clock::time_point t_start) const {
   result.active_biases = biasCount();
   finishEpoch(result);
@@ -74,7 +105,7 @@ EstimatorEpochResult PppEstimatorBase::finished(EstimatorEpochResult result,
 }
 
 // Step 1
-bool PppEstimatorBase::startOrAdvance(const MeasurementFunction& evaluate, const MeasurementFunction* evaluate_start,
+bool PppEstimator::startOrAdvance(const MeasurementFunction& evaluate, const MeasurementFunction* evaluate_start,
                                       EpochSolveInput& in, std::optional<ReceiverState>& start,
                                       EstimatorEpochResult& result) const {
   in.dt_s = 0.0;
@@ -116,7 +147,7 @@ bool PppEstimatorBase::startOrAdvance(const MeasurementFunction& evaluate, const
 }
 
 // Step 3
-std::vector<SatelliteMeasurement> PppEstimatorBase::lineariseAtPrediction(const MeasurementFunction& evaluate,
+std::vector<SatelliteMeasurement> PppEstimator::lineariseAtPrediction(const MeasurementFunction& evaluate,
                                                                           ReceiverState& predicted,
                                                                           EstimatorEpochResult& result) const {
   const EpochMeasurements epoch0 = evaluate(predicted);
@@ -144,7 +175,7 @@ std::vector<SatelliteMeasurement> PppEstimatorBase::lineariseAtPrediction(const 
 }
 
 // Step 4
-std::map<ArcId, PppEstimatorBase::ActiveArc> PppEstimatorBase::bookArcs(
+std::map<ArcId, PppEstimator::ActiveArc> PppEstimator::bookArcs(
     const std::vector<SatelliteMeasurement>& usable, const GnssTime& time, std::vector<ArcId>& dropped_arcs) const {
   std::map<ArcId, ActiveArc> arcs = arcs_;
   // A new arc of a satellite replaces its bias.
@@ -170,7 +201,7 @@ std::map<ArcId, PppEstimatorBase::ActiveArc> PppEstimatorBase::bookArcs(
 }
 
 // Step 5
-std::optional<std::vector<SatelliteMeasurement>> PppEstimatorBase::screenAgainstPriors(
+std::optional<std::vector<SatelliteMeasurement>> PppEstimator::screenAgainstPriors(
     const std::vector<SatelliteMeasurement>& usable, const std::map<ArcId, ActiveArc>& arcs,
     EstimatorEpochResult& result) const {
   PrefitScreeningResult screening =
@@ -192,7 +223,7 @@ std::optional<std::vector<SatelliteMeasurement>> PppEstimatorBase::screenAgainst
 }
 
 // Step 6
-std::vector<PppEstimatorBase::ScreenedMeasurement> PppEstimatorBase::withInitialBiases(
+std::vector<PppEstimator::ScreenedMeasurement> PppEstimator::withInitialBiases(
     std::vector<SatelliteMeasurement> kept, const std::map<ArcId, ActiveArc>& arcs) {
   std::vector<ScreenedMeasurement> screened;
   screened.reserve(kept.size());
@@ -207,7 +238,7 @@ std::vector<PppEstimatorBase::ScreenedMeasurement> PppEstimatorBase::withInitial
 }
 
 // Step 7
-bool PppEstimatorBase::solveOrRecover(const EpochSolveInput& in, EpochSolveOutput& out, EstimatorEpochResult& result) {
+bool PppEstimator::solveOrRecover(const EpochSolveInput& in, EpochSolveOutput& out, EstimatorEpochResult& result) {
   if (solve(in, out, result)) return true;
   if (result.status == EpochStatus::Failed && recoverAfterFailure(result)) {
     result.estimator_reset = true;
@@ -217,7 +248,7 @@ bool PppEstimatorBase::solveOrRecover(const EpochSolveInput& in, EpochSolveOutpu
 }
 
 // Step 8
-void PppEstimatorBase::commitEpoch(const EpochSolveInput& in, EpochSolveOutput out, std::map<ArcId, ActiveArc> arcs,
+void PppEstimator::commitEpoch(const EpochSolveInput& in, EpochSolveOutput out, std::map<ArcId, ActiveArc> arcs,
                                    EstimatorEpochResult& result) {
   for (const auto& row : out.rows) arcs[row.m.arc] = ActiveArc{row.m.satellite, in.time};
   arcs_ = std::move(arcs);
@@ -245,7 +276,7 @@ void PppEstimatorBase::commitEpoch(const EpochSolveInput& in, EpochSolveOutput o
 }
 
 // Step 9 (postfit_screening.h): an inconsistent solution is flagged, and inflated or withheld.
-void PppEstimatorBase::testConsistency(EstimatorEpochResult& result) const {
+void PppEstimator::testConsistency(EstimatorEpochResult& result) const {
   std::vector<PostfitResidualPair> pairs;
   pairs.reserve(result.residuals.size());
   for (const auto& r : result.residuals)

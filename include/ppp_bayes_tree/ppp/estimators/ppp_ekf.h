@@ -1,12 +1,12 @@
 #pragma once
-// EkfPpp: the reference extended Kalman filter for kinematic PPP.
+// PppEkf: the reference extended Kalman filter for kinematic PPP.
 //
 // State: the receiver state in its layout (receiver_state_layout.h: position
 // ECEF [m], zenith wet delay [m], one receiver clock [m] per processed system),
 // then one ionosphere-free phase bias [m] per active arc (dynamic dimension).
-// The epoch front end (PppEstimatorBase: code least-squares start, clock shifts,
-// arc bookkeeping, prefit screening, new-arc bias values, residual records) is
-// shared with the smoother; the EKF's own steps are:
+// The epoch front end (PppEstimator: code least-squares start, clock shifts,
+// arc bookkeeping, prefit screening, new-arc bias values, residual records,
+// ended arcs) is shared with the smoother; the EKF's own steps are:
 //  1. predict over the real elapsed time dt (StochasticModel: random-walk
 //     position/ZWD, white clocks, constant biases);
 //  2. add a bias for each new arc at the front end's initial value, a priori
@@ -14,27 +14,35 @@
 //  3. iterated measurement update with code and phase rows, Joseph form,
 //     re-linearising through the MeasurementFunction; optional postfit check;
 //  4. finite-value and positive-definiteness checks of x and P (P symmetrised).
+// PPP-AR (resolveAmbiguities): the filter stays float; the fixed solution is a
+// copy of it constrained on the integers validated across epochs and held.
 // Too few satellites -> status NoSolution (no estimate, filter untouched: the
 // next epoch predicts over the real elapsed time). A numerical failure -> status
 // Failed with the reason, filter left as it was before the epoch.
 #include <Eigen/Core>
 #include <optional>
+#include <set>
 #include <string>
 #include <vector>
 
 #include "ppp_bayes_tree/ppp/estimators/code_least_squares.h"
 #include "ppp_bayes_tree/ppp/estimators/ekf_options.h"
 #include "ppp_bayes_tree/ppp/estimators/estimator_epoch_result.h"
-#include "ppp_bayes_tree/ppp/estimators/ppp_estimator_base.h"
+#include "ppp_bayes_tree/ppp/estimators/estimator_options.h"
+#include "ppp_bayes_tree/ppp/estimators/ppp_estimator.h"
 #include "ppp_bayes_tree/ppp/model/measurement_function.h"
 #include "ppp_bayes_tree/ppp/model/stochastic_model.h"
 
 namespace ppp {
 
-class EkfPpp : public PppEstimatorBase {
+class PppEkf : public PppEstimator {
  public:
-  explicit EkfPpp(StochasticModel model = {}, EkfOptions options = {}, CodeLeastSquaresOptions start_options = {},
+  explicit PppEkf(StochasticModel model = {}, EkfOptions options = {}, CodeLeastSquaresOptions start_options = {},
                   ReceiverStateLayout layout = {});
+  /// From the estimator options (the registry's factory, estimator_registry.h).
+  explicit PppEkf(const EstimatorOptions& options);
+
+  std::string name() const override { return "ekf"; }
 
   /// Initialise explicitly at `state` with the a priori sigmas (no biases).
   /// Otherwise processEpoch initialises from the code least squares.
@@ -66,6 +74,7 @@ class EkfPpp : public PppEstimatorBase {
   bool solve(const EpochSolveInput& in, EpochSolveOutput& out, EstimatorEpochResult& result) override;
   void arcRemoved(ArcId arc) override;
   int biasCount() const override { return activeBiasCount(); }
+  void resolveAmbiguities(const EstimatorEpochInput& input, EstimatorEpochResult& result) override;
 
  private:
   struct BiasSlot {
@@ -78,8 +87,22 @@ class EkfPpp : public PppEstimatorBase {
     std::vector<BiasSlot> biases;
   };
   struct Row;
+  struct Attempt;
+  enum class UpdateStep { Done, Restart, Failed };
 
   Filter initialFilter(const ReceiverState& state) const;
+  // The steps of solve() (numbered there).
+  Filter shiftedPrediction(const EpochSolveInput& in) const;
+  std::vector<Row> updateRows(const EpochSolveInput& in, const std::set<SatelliteId>& excluded, Filter& fa) const;
+  UpdateStep iterateUpdate(const EpochSolveInput& in, Attempt& a, std::set<SatelliteId>& excluded,
+                           EstimatorEpochResult& result) const;
+  bool relinearise(const EpochSolveInput& in, Attempt& a, std::set<SatelliteId>& excluded,
+                   EstimatorEpochResult& result) const;
+  void linearSystem(Attempt& a, double code_variance_factor) const;
+  bool kalmanGain(Attempt& a, EstimatorEpochResult& result) const;
+  bool josephCovariance(Attempt& a, EstimatorEpochResult& result) const;
+  bool postfitRejects(Attempt& a, std::set<SatelliteId>& excluded, EstimatorEpochResult& result) const;
+  void commitUpdate(const EpochSolveInput& in, Attempt a, EpochSolveOutput& out);
   void predictFilter(Filter& f, double dt_s, bool first) const;
   static void removeBias(Filter& f, std::size_t slot, int receiver_dim);
   static int findBias(const Filter& f, ArcId arc);

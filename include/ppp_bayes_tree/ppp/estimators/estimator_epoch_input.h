@@ -1,0 +1,33 @@
+#pragma once
+// EstimatorEpochInput: what the pipeline gives an estimator (PppEstimator,
+// ppp_estimator.h) for one epoch: the linearisation of its measurements, its
+// usable observations with their arcs, the arcs that ended and the phase biases.
+#include <vector>
+
+#include "ppp_bayes_tree/ppp/model/arc_tracker.h"
+#include "ppp_bayes_tree/ppp/model/measurement_function.h"
+#include "ppp_bayes_tree/types/gnss_time.h"
+
+namespace ppp {
+
+class BiasProvider;
+
+/// What the pipeline gives an estimator for one epoch.
+struct EstimatorEpochInput {
+  GnssTime time;
+  /// Linearises this epoch's measurements at any receiver state (the single model).
+  const MeasurementFunction* evaluate = nullptr;
+  /// The start model (PppMeasurementModel::evaluateStart) for a start without an
+  /// approximate position (PppEstimator::processEpoch); nullable.
+  const MeasurementFunction* evaluate_start = nullptr;
+  /// The usable dual-frequency observations and their arcs (same order).
+  const std::vector<DualFrequencyObservation>* observations = nullptr;
+  const std::vector<ArcId>* arcs = nullptr;
+  /// Arcs that ended at this epoch (slip, gap) before this epoch's new arcs start.
+  const std::vector<EndedArc>* ended_arcs = nullptr;
+  /// Satellite phase OSBs consistent with the clocks (phase_bias_consistency.h);
+  /// nullptr when the products allow no integer ambiguities (float).
+  const BiasProvider* phase_biases = nullptr;
+};
+
+}  // namespace ppp
