@@ -8,7 +8,7 @@
 
 #include <Eigen/Cholesky>
 
-#include "core/smoother_test_util.h"
+#include "smoother_test_util.h"
 #include "ppp_bayes_tree/smoother/between_factor.h"
 #include "ppp_bayes_tree/smoother/elimination.h"
 #include "ppp_bayes_tree/smoother/linear_container_factor.h"

@@ -18,7 +18,7 @@
 #include <thread>
 #include <vector>
 
-#include "core/loopback_servers.h"
+#include "loopback_servers.h"
 #include "ppp_bayes_tree/io/rtcm/rtcm3_framer.h"
 #include "ppp_bayes_tree/io/transport/byte_source_spec.h"
 #include "ppp_bayes_tree/io/transport/file_replay_source.h"

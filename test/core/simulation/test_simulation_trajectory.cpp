@@ -5,7 +5,7 @@
 #include <cmath>
 #include <filesystem>
 
-#include "../fuzz/trajectory_csv_fuzz_entry.h"
+#include "fuzz/trajectory_csv_fuzz_entry.h"
 #include "ppp_bayes_tree/io/parse_error.h"
 #include "ppp_bayes_tree/simulation/flight_trajectory.h"
 #include "ppp_bayes_tree/simulation/gps_constellation.h"

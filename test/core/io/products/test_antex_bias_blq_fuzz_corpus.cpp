@@ -6,9 +6,9 @@
 
 #include <filesystem>
 
-#include "../fuzz/antex_fuzz_entry.h"
-#include "../fuzz/bias_sinex_fuzz_entry.h"
-#include "../fuzz/blq_fuzz_entry.h"
+#include "fuzz/antex_fuzz_entry.h"
+#include "fuzz/bias_sinex_fuzz_entry.h"
+#include "fuzz/blq_fuzz_entry.h"
 #include "test_support.h"
 
 namespace {

@@ -3,7 +3,7 @@
 // solution of every factor ever added.
 #include <gtest/gtest.h>
 
-#include "core/smoother_test_util.h"
+#include "smoother_test_util.h"
 #include "ppp_bayes_tree/smoother/between_factor.h"
 #include "ppp_bayes_tree/smoother/fixed_lag_smoother.h"
 #include "ppp_bayes_tree/smoother/prior_factor.h"
