@@ -22,8 +22,9 @@
 //                                      the observation sources
 //   io/products   -> io                SP3, RINEX clock, ANTEX, Bias-SINEX, BLQ
 //   io/rtcm       -> io/rinex          RTCM 3 framing, MSM, ephemerides, SSR
-//   io/ubx        -> io/rtcm           u-blox UBX (its epochs become RTCM's stream epochs)
-//   io/transport  -> io/ubx            byte sources (file replay, NTRIP, TCP, serial),
+//   io/ubx        -> io/rinex          u-blox UBX (rtcm and ubx side by side: the stream
+//                                      epoch both give is io/stream_epoch.h)
+//   io/transport  -> io/rtcm, io/ubx   byte sources (file replay, NTRIP, TCP, serial),
 //                                      stream formats and the stream decoder of both
 //   ppp/model     -> models, smoother  signals, arcs, measurement model, state layout
 //   ppp/screening -> ppp/model         prefit and postfit screening
@@ -133,8 +134,8 @@ const std::map<std::string, std::set<std::string>>& allowedIncludes() {
         {"io/rinex", {"io"}},
         {"io/products", {"io"}},
         {"io/rtcm", {"io/rinex"}},
-        {"io/ubx", {"io/rtcm"}},
-        {"io/transport", {"io/ubx"}},
+        {"io/ubx", {"io/rinex"}},
+        {"io/transport", {"io/rtcm", "io/ubx"}},
         {"models", {"io/transport", "io/products"}},
         {"smoother", {"types"}},
         {"ppp/model", {"models", "smoother"}},
@@ -242,10 +243,12 @@ TEST(CoreLayering, DetectorKnowsTheDirectionInsidePppAndIo) {
   EXPECT_EQ(layeringViolations(tmp, "ppp/screening").size(), 4u);  // ambiguity, estimators, config, pipeline
   EXPECT_EQ(layeringViolations(tmp, "ppp/ambiguity").size(), 4u);  // screening, estimators, config, pipeline
   EXPECT_EQ(layeringViolations(tmp, "ppp/model").size(), 5u);        // every other part of ppp
-  // io: the base, then rinex and products side by side, rtcm, ubx, transport on top.
+  // io: the base, then rinex and products side by side, rtcm and ubx side by side on
+  // rinex, transport on top.
   EXPECT_EQ(layeringViolations(tmp, "io").size(), 11u);            // everything but itself
   EXPECT_EQ(layeringViolations(tmp, "io/rinex").size(), 10u);      // ppp (6), products, rtcm, ubx, transport
   EXPECT_EQ(layeringViolations(tmp, "io/rtcm").size(), 9u);        // ppp (6), products, ubx, transport
+  EXPECT_EQ(layeringViolations(tmp, "io/ubx").size(), 9u);         // ppp (6), products, rtcm, transport
   EXPECT_EQ(layeringViolations(tmp, "io/transport").size(), 7u);   // ppp (6), products
   EXPECT_EQ(layeringViolations(tmp, "models").size(), 6u);         // ppp (6): models see all of io
   fs::remove(tmp);
