@@ -33,11 +33,11 @@
 #include <string>
 #include <vector>
 
-#include "ppp_bayes_tree/io/obs_epoch.h"
 #include "ppp_bayes_tree/io/rinex/rinex_nav_reader.h"
 #include "ppp_bayes_tree/io/rinex/rinex_obs_header.h"
 #include "ppp_bayes_tree/io/rtcm/rtcm3_decoder.h"
 #include "ppp_bayes_tree/io/stream_problem.h"
+#include "ppp_bayes_tree/types/obs_epoch.h"
 
 namespace ppp {
 

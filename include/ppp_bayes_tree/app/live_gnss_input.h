@@ -89,7 +89,6 @@
 #include <string_view>
 #include <vector>
 
-#include "ppp_bayes_tree/io/obs_epoch.h"
 #include "ppp_bayes_tree/io/rinex/rinex_obs_header.h"
 #include "ppp_bayes_tree/io/stream_problem.h"
 #include "ppp_bayes_tree/io/transport/stream_chunk.h"
@@ -101,6 +100,7 @@
 #include "ppp_bayes_tree/models/ssr_correction_store.h"
 #include "ppp_bayes_tree/types/glonass_channels.h"
 #include "ppp_bayes_tree/types/gnss_time.h"
+#include "ppp_bayes_tree/types/obs_epoch.h"
 
 namespace ppp {
 

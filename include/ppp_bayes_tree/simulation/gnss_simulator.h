@@ -49,7 +49,6 @@
 #include <string>
 #include <vector>
 
-#include "ppp_bayes_tree/io/obs_epoch.h"
 #include "ppp_bayes_tree/io/rinex/rinex_obs_header.h"
 #include "ppp_bayes_tree/models/precise_ephemeris.h"
 #include "ppp_bayes_tree/ppp/model/ppp_measurement_model.h"
@@ -57,6 +56,7 @@
 #include "ppp_bayes_tree/simulation/gps_constellation.h"
 #include "ppp_bayes_tree/simulation/simulated_phase_biases.h"
 #include "ppp_bayes_tree/simulation/simulation_config.h"
+#include "ppp_bayes_tree/types/obs_epoch.h"
 
 namespace ppp {
 

@@ -49,6 +49,7 @@
 #include <vector>
 
 #include "ppp_bayes_tree/io/rtcm/rtcm3_framer.h"
+#include "ppp_bayes_tree/io/stream_epoch.h"
 #include "ppp_bayes_tree/io/stream_problem.h"
 #include "ppp_bayes_tree/types/beidou_ephemeris.h"
 #include "ppp_bayes_tree/types/glonass_channels.h"
@@ -57,31 +58,6 @@
 #include "ppp_bayes_tree/types/satellite_id.h"
 
 namespace ppp {
-
-/// One tracked signal of a satellite in a decoded stream epoch.
-struct StreamSignal {
-  char band = '1';       // RINEX band number
-  char attribute = 'C';  // RINEX tracking attribute
-  std::optional<double> pseudorange_m;
-  std::optional<double> carrier_phase_cycles;
-  std::optional<double> doppler_hz;
-  std::optional<double> cnr_dbhz;
-  std::uint8_t lli = 0;           // RINEX LLI: bit 0 loss of lock, bit 1 half-cycle ambiguity
-  double lock_time_s = 0.0;       // minimum lock time from the indicator
-};
-
-struct StreamSatellite {
-  SatelliteId satellite;
-  std::vector<StreamSignal> signals;
-};
-
-/// An observation epoch decoded from a receiver stream (GPST).
-struct StreamEpoch {
-  GnssTime time;
-  std::vector<StreamSatellite> satellites;
-  std::uint64_t byte_offset = 0;  // of the first message of the epoch
-  std::uint64_t frame_index = 0;
-};
 
 /// Station description from 1005/1006/1007/1008/1033.
 struct RtcmStationInfo {

@@ -50,11 +50,11 @@
 #include <string>
 #include <vector>
 
-#include "ppp_bayes_tree/io/obs_epoch.h"
 #include "ppp_bayes_tree/io/rinex/rinex_obs_header.h"
 #include "ppp_bayes_tree/models/bias_provider.h"
 #include "ppp_bayes_tree/ppp/model/dual_frequency_observation.h"
 #include "ppp_bayes_tree/types/glonass_channels.h"
+#include "ppp_bayes_tree/types/obs_epoch.h"
 
 namespace ppp {
 

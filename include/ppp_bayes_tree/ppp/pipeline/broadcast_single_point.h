@@ -32,9 +32,9 @@
 #include <string>
 #include <vector>
 
-#include "ppp_bayes_tree/io/obs_epoch.h"
 #include "ppp_bayes_tree/io/rinex/rinex_obs_header.h"
 #include "ppp_bayes_tree/models/broadcast_ephemeris_store.h"
+#include "ppp_bayes_tree/types/obs_epoch.h"
 
 namespace ppp {
 

@@ -5,7 +5,7 @@
 #include <cstring>
 #include <string>
 
-#include "ppp_bayes_tree/io/rtcm/rtcm3_framer.h"  // crc24q (Galileo I/NAV pages use CRC-24Q too)
+#include "ppp_bayes_tree/io/crc24q.h"  // Galileo I/NAV pages
 #include "ppp_bayes_tree/types/broadcast_accuracy.h"
 #include "ubx_nav_layout.h"
 

@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "ppp_bayes_tree/io/products/product_antenna_model.h"
 #include "ppp_bayes_tree/ppp/ambiguity/antenna_model_consistency.h"
 #include "ppp_bayes_tree/ppp/config/ppp_config.h"
 #include "ppp_bayes_tree/ppp/pipeline/ppp_pipeline.h"

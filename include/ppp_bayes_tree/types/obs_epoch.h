@@ -1,5 +1,6 @@
 #pragma once
-// ObsEpoch: one observation epoch as read from a RINEX observation file.
+// ObsEpoch: one observation epoch, as read from a RINEX observation file,
+// decoded from an RTCM or UBX stream, or simulated.
 //
 // Built for speed: all observations of the epoch live in one flat vector and
 // each satellite refers to a slice of it, so a reader that refills the same
