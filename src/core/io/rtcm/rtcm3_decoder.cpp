@@ -611,54 +611,73 @@ void Rtcm3Decoder::resolveGpsWeek(PendingGps& pending) {
   output_.gps.push_back(eph);
 }
 
+namespace {
+
+/// The fields of a GPS (1019) or QZSS (1044) ephemeris message, as read.
+struct LnavMessage {
+  GpsLnavEphemeris e;
+  int prn = 0;
+  int week10 = 0;        // broadcast week modulo 1024
+  double toc_sow = 0.0;
+};
+
+LnavMessage readGps1019(BitReader& r) {
+  LnavMessage m;
+  GpsLnavEphemeris& e = m.e;
+  m.prn = static_cast<int>(r.u(6));
+  m.week10 = static_cast<int>(r.u(10));
+  e.ura_m = gpsUra_m(static_cast<int>(r.u(4)));
+  e.codes_on_l2 = static_cast<int>(r.u(2));
+  e.orbit.idot_radps = r.s(14) * p2(-43) * kPi;
+  e.iode = static_cast<int>(r.u(8));
+  m.toc_sow = r.u(16) * 16.0;
+  e.clock.af2_sps2 = r.s(8) * p2(-55);
+  e.clock.af1_sps = r.s(16) * p2(-43);
+  e.clock.af0_s = r.s(22) * p2(-31);
+  e.iodc = static_cast<int>(r.u(10));
+  rtcm_eph::readKepler(r, rtcm_eph::kKeplerLnav, e.orbit);
+  e.tgd_s = r.s(8) * p2(-31);
+  e.health = static_cast<int>(r.u(6));
+  e.l2p_data_flag = static_cast<int>(r.u(1));
+  e.fit_interval_h = r.u(1) ? 6.0 : 4.0;  // DF137: 0 = 4 h, 1 = more than 4 h
+  return m;
+}
+
+LnavMessage readQzss1044(BitReader& r) {
+  LnavMessage m;
+  GpsLnavEphemeris& e = m.e;
+  m.prn = static_cast<int>(r.u(4));
+  m.toc_sow = r.u(16) * 16.0;
+  e.clock.af2_sps2 = r.s(8) * p2(-55);
+  e.clock.af1_sps = r.s(16) * p2(-43);
+  e.clock.af0_s = r.s(22) * p2(-31);
+  e.iode = static_cast<int>(r.u(8));
+  rtcm_eph::readKepler(r, rtcm_eph::kKeplerLnav, e.orbit);
+  e.orbit.idot_radps = r.s(14) * p2(-43) * kPi;
+  e.codes_on_l2 = static_cast<int>(r.u(2));
+  m.week10 = static_cast<int>(r.u(10));
+  e.ura_m = gpsUra_m(static_cast<int>(r.u(4)));
+  e.health = static_cast<int>(r.u(6));
+  e.tgd_s = r.s(8) * p2(-31);
+  e.iodc = static_cast<int>(r.u(10));
+  e.fit_interval_h = r.u(1) ? 4.0 : 2.0;  // DF187: 0 = 2 h, 1 = more than 2 h
+  // 1044 has no L2P data flag: QZSS broadcasts no L2 P-code navigation data, its
+  // subframe 1 flag is fixed to 1 (IS-QZSS-PNT), and RINEX/convbin write 1.
+  e.l2p_data_flag = 1;
+  return m;
+}
+
+}  // namespace
+
 void Rtcm3Decoder::decodeGpsQzss(const Rtcm3Frame& frame) {
+  // 1. The fields.
   const auto& p = frame.payload;
   const bool qzss = frame.message_type == 1044;
   BitReader r(p.data(), p.size(), 12);
-  GpsLnavEphemeris e;
-  KeplerOrbit& o = e.orbit;
-  int week10 = 0;
-  double toc_sow = 0.0;
-  int prn = 0;
-  if (!qzss) {
-    prn = static_cast<int>(r.u(6));
-    week10 = static_cast<int>(r.u(10));
-    e.ura_m = gpsUra_m(static_cast<int>(r.u(4)));
-    e.codes_on_l2 = static_cast<int>(r.u(2));
-    o.idot_radps = r.s(14) * p2(-43) * kPi;
-    e.iode = static_cast<int>(r.u(8));
-    toc_sow = r.u(16) * 16.0;
-    e.clock.af2_sps2 = r.s(8) * p2(-55);
-    e.clock.af1_sps = r.s(16) * p2(-43);
-    e.clock.af0_s = r.s(22) * p2(-31);
-    e.iodc = static_cast<int>(r.u(10));
-  } else {
-    prn = static_cast<int>(r.u(4));
-    toc_sow = r.u(16) * 16.0;
-    e.clock.af2_sps2 = r.s(8) * p2(-55);
-    e.clock.af1_sps = r.s(16) * p2(-43);
-    e.clock.af0_s = r.s(22) * p2(-31);
-    e.iode = static_cast<int>(r.u(8));
-  }
-  rtcm_eph::readKepler(r, rtcm_eph::kKeplerLnav, o);
-  if (!qzss) {
-    e.tgd_s = r.s(8) * p2(-31);
-    e.health = static_cast<int>(r.u(6));
-    e.l2p_data_flag = static_cast<int>(r.u(1));
-    e.fit_interval_h = r.u(1) ? 6.0 : 4.0;  // DF137: 0 = 4 h, 1 = more than 4 h
-  } else {
-    o.idot_radps = r.s(14) * p2(-43) * kPi;
-    e.codes_on_l2 = static_cast<int>(r.u(2));
-    week10 = static_cast<int>(r.u(10));
-    e.ura_m = gpsUra_m(static_cast<int>(r.u(4)));
-    e.health = static_cast<int>(r.u(6));
-    e.tgd_s = r.s(8) * p2(-31);
-    e.iodc = static_cast<int>(r.u(10));
-    e.fit_interval_h = r.u(1) ? 4.0 : 2.0;  // DF187: 0 = 2 h, 1 = more than 2 h
-    // 1044 has no L2P data flag: QZSS broadcasts no L2 P-code navigation data, its
-    // subframe 1 flag is fixed to 1 (IS-QZSS-PNT), and RINEX/convbin write 1.
-    e.l2p_data_flag = 1;
-  }
+  LnavMessage m = qzss ? readQzss1044(r) : readGps1019(r);
+  GpsLnavEphemeris& e = m.e;
+  const int prn = m.prn;
+  // 2. The whole message, a satellite number in range, one issue of data, a plausible orbit.
   if (!r.ok()) {
     problem(StreamProblemKind::MalformedMessage, frame, "ephemeris message shorter than its fields");
     return;
@@ -675,19 +694,35 @@ void Rtcm3Decoder::decodeGpsQzss(const Rtcm3Frame& frame) {
                 std::to_string(e.iodc) + "; record dropped");
     return;
   }
-  if (const auto why = checkKeplerOrbit(o)) {
+  if (const auto why = checkKeplerOrbit(e.orbit)) {
     problem(StreamProblemKind::MalformedMessage, frame, e.satellite.toString() + ": " + *why);
     return;
   }
+  // 3. The 10-bit week resolved now, or once the stream's time is known.
   ++decoded_by_type_[frame.message_type];
-  e.clock.toc = GnssTime::fromGpsSeconds(0, 0.0) + toc_sow;  // seconds of week until resolved
-  PendingGps pending{e, week10, frame.byte_offset, frame.frame_index, frame.message_type};
+  e.clock.toc = GnssTime::fromGpsSeconds(0, 0.0) + m.toc_sow;  // seconds of week until resolved
+  PendingGps pending{e, m.week10, frame.byte_offset, frame.frame_index, frame.message_type};
   if (time_) {
     resolveGpsWeek(pending);
   } else {
     if (pending_gps_.size() < 1000) pending_gps_.push_back(pending);
   }
 }
+
+namespace {
+
+/// tb (index of 15 min) and tk [ms] are Moscow times (UTC + 3 h) of the current day:
+/// g.tb placed nearest `now`, and the RINEX message frame time (seconds of the UTC week) from tk.
+void placeGlonassTimes(GlonassEphemeris& g, int tb, std::int64_t tk_ms, const GnssTime& now) {
+  const double offset_s = now.offsetToSystem_s(TimeSystem::GLONASS);
+  const std::int64_t offset_ms = static_cast<std::int64_t>(std::llround(offset_s * 1000.0));
+  const std::int64_t ref = timeMs(now) + offset_ms;
+  g.tb = fromMs(nearest(ref, static_cast<std::int64_t>(tb) * 900 * 1000, kDayMs) - offset_ms);
+  const GnssTime tk = fromMs(nearest(ref, tk_ms % kDayMs, kDayMs) - offset_ms);
+  g.message_frame_time_s = (tk + now.offsetToSystem_s(TimeSystem::UTC)).gpsWeek().seconds_of_week;
+}
+
+}  // namespace
 
 void Rtcm3Decoder::decodeGlonassEph(const Rtcm3Frame& frame) {
   const auto& p = frame.payload;
@@ -734,15 +769,7 @@ void Rtcm3Decoder::decodeGlonassEph(const Rtcm3Frame& frame) {
     problem(StreamProblemKind::UnresolvedTime, frame, g.satellite.toString() + ": GLONASS ephemeris dropped, the day is unknown");
     return;
   }
-  // tb and tk are Moscow times (UTC + 3 h) of the current day.
-  const double offset_s = time_->offsetToSystem_s(TimeSystem::GLONASS);
-  const std::int64_t offset_ms = static_cast<std::int64_t>(std::llround(offset_s * 1000.0));
-  const std::int64_t ref = timeMs(*time_) + offset_ms;
-  g.tb = fromMs(nearest(ref, static_cast<std::int64_t>(tb) * 900 * 1000, kDayMs) - offset_ms);
-  const std::int64_t tk_ms = (tk_h * 3600LL + tk_m * 60LL + tk_s) * 1000;
-  const GnssTime tk = fromMs(nearest(ref, tk_ms % kDayMs, kDayMs) - offset_ms);
-  // RINEX message frame time: seconds of the UTC week.
-  g.message_frame_time_s = (tk + time_->offsetToSystem_s(TimeSystem::UTC)).gpsWeek().seconds_of_week;
+  placeGlonassTimes(g, tb, (tk_h * 3600LL + tk_m * 60LL + tk_s) * 1000, *time_);
   if (const auto why = checkGlonassState(g)) {
     problem(StreamProblemKind::MalformedMessage, frame, g.satellite.toString() + ": " + *why);
     return;
@@ -751,18 +778,26 @@ void Rtcm3Decoder::decodeGlonassEph(const Rtcm3Frame& frame) {
   output_.glonass.push_back(g);
 }
 
-void Rtcm3Decoder::decodeGalileo(const Rtcm3Frame& frame) {
-  const auto& p = frame.payload;
-  const bool fnav = frame.message_type == 1045;
-  BitReader r(p.data(), p.size(), 12);
+namespace {
+
+/// The fields of a Galileo F/NAV (1045) or I/NAV (1046) ephemeris message, as read.
+struct GalileoMessage {
   GalileoEphemeris e;
+  int prn = 0;
+  int gst_week = 0;      // 12-bit GST week
+  double toc_sow = 0.0;
+};
+
+GalileoMessage readGalileo(BitReader& r, bool fnav) {
+  GalileoMessage m;
+  GalileoEphemeris& e = m.e;
   KeplerOrbit& o = e.orbit;
-  const int prn = static_cast<int>(r.u(6));
-  const int gst_week = static_cast<int>(r.u(12));
+  m.prn = static_cast<int>(r.u(6));
+  m.gst_week = static_cast<int>(r.u(12));
   e.iod_nav = static_cast<int>(r.u(10));
   e.sisa_m = galileoSisa_m(static_cast<int>(r.u(8)));
   o.idot_radps = r.s(14) * p2(-43) * kPi;
-  const double toc_sow = r.u(14) * 60.0;
+  m.toc_sow = r.u(14) * 60.0;
   e.clock.af2_sps2 = r.s(6) * p2(-59);
   e.clock.af1_sps = r.s(21) * p2(-46);
   e.clock.af0_s = r.s(31) * p2(-34);
@@ -784,31 +819,45 @@ void Rtcm3Decoder::decodeGalileo(const Rtcm3Frame& frame) {
     e.data_sources = (1 << 0) | (1 << 2) | (1 << 9);
     e.type = GalileoNavType::INav;
   }
+  return m;
+}
+
+}  // namespace
+
+void Rtcm3Decoder::decodeGalileo(const Rtcm3Frame& frame) {
+  // 1. The fields.
+  const auto& p = frame.payload;
+  BitReader r(p.data(), p.size(), 12);
+  GalileoMessage m = readGalileo(r, frame.message_type == 1045);
+  GalileoEphemeris& e = m.e;
+  KeplerOrbit& o = e.orbit;
+  // 2. The whole message, a satellite number in range, a plausible orbit.
   if (!r.ok()) {
     problem(StreamProblemKind::MalformedMessage, frame, "Galileo ephemeris shorter than its fields");
     return;
   }
-  if (prn < 1 || prn > 36) {
-    problem(StreamProblemKind::MalformedMessage, frame, "Galileo satellite " + std::to_string(prn) + " out of range");
+  if (m.prn < 1 || m.prn > 36) {
+    problem(StreamProblemKind::MalformedMessage, frame, "Galileo satellite " + std::to_string(m.prn) + " out of range");
     return;
   }
-  e.satellite = SatelliteId{GnssSystem::Galileo, prn};
+  e.satellite = SatelliteId{GnssSystem::Galileo, m.prn};
   if (const auto why = checkKeplerOrbit(o)) {
     problem(StreamProblemKind::MalformedMessage, frame, e.satellite.toString() + ": " + *why);
     return;
   }
-  int week = gst_week + 1024;  // GST week 0 = GPS week 1024
+  // 3. The week: GST week 0 = GPS week 1024; the 12-bit week rolls over every 4096
+  //    weeks: the one nearest the current time.
+  int week = m.gst_week + 1024;
   if (time_) {
     noteWeekEvidence(GnssTime::fromGpsWeek(broadcastWeekAsSent(week, 4096, time_->gpsWeek().week), o.toe_sow),
                      o.toe_sow);
-    // The 12-bit GST week rolls over every 4096 weeks: the one nearest the current time.
     week = resolveBroadcastWeek(week, 4096, time_->gpsWeek().week, *time_,
                                 [&](int w) { return GnssTime::fromGpsWeek(w, o.toe_sow); });
   }
   e.week = week;
   o.toe = GnssTime::fromGpsWeek(week, o.toe_sow);
   // toc is within the week of toe, allowing for a week crossing between them.
-  e.clock.toc = withinHalfWeek(o.toe, GnssTime::fromGpsWeek(week, toc_sow));
+  e.clock.toc = withinHalfWeek(o.toe, GnssTime::fromGpsWeek(week, m.toc_sow));
   ++decoded_by_type_[frame.message_type];
   setTimeFromEphemeris(o.toe);
   output_.galileo.push_back(e);
