@@ -104,6 +104,8 @@ struct BroadcastWeekEvidence {
   std::vector<double> disagreement_s;  // toe as sent minus the stream's time, of those not agreeing [s]
 };
 
+struct MsmFields;  // the fields of one MSM message, as read (rtcm3_decoder.cpp)
+
 class Rtcm3Decoder {
  public:
   /// A handler for frames of types this decoder does not read (e.g. SSR);
@@ -151,6 +153,11 @@ class Rtcm3Decoder {
 
   void problem(StreamProblemKind kind, const Rtcm3Frame& frame, std::string detail);
   void decodeMsm(const Rtcm3Frame& frame, GnssSystem system, int msm);
+  std::optional<GnssTime> msmEpochTime(const Rtcm3Frame& frame, GnssSystem system, const MsmFields& m);
+  void takeStreamTime(const GnssTime& t);
+  void openEpoch(const Rtcm3Frame& frame, const GnssTime& t);
+  StreamSatellite msmSatellite(GnssSystem system, int msm, const MsmFields& m, std::size_t i, std::size_t& cell);
+  void addToOpenEpoch(StreamSatellite satellite);
   void decodeStation(const Rtcm3Frame& frame);
   void decodeAntennaReceiver(const Rtcm3Frame& frame);
   void decodeGpsQzss(const Rtcm3Frame& frame);

@@ -198,6 +198,8 @@ class UbxDecoder {
 
   void frame(const UbxFrame& frame, const Handlers& handlers);
   void rawx(const UbxFrame& frame, const Handlers& handlers);
+  /// One RXM-RAWX measurement block (32 bytes); nullopt for a signal without a RINEX code.
+  std::optional<UbxSignalMeasurement> rawxMeasurement(const std::uint8_t* block);
   void sfrbx(const UbxFrame& frame, const Handlers& handlers);
   void lnav(const UbxFrame& frame, const SatelliteId& sat, const Handlers& handlers);
   void inav(const UbxFrame& frame, const SatelliteId& sat, const Handlers& handlers);

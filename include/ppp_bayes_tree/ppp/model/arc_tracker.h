@@ -164,6 +164,18 @@ class ArcTracker {
   std::optional<double> predictGeometryFree(const ArcState& state, const GnssTime& time) const;
   double geometryFreeThreshold_m(const ArcState& state, double dt_s) const;
   EndedArc endArc(const SatelliteId& sat, ArcState& state, std::string reason) const;
+  /// Why an epoch at `time` is refused (time backwards, duplicate); nullopt when accepted.
+  std::optional<std::string> refuseEpoch(const GnssTime& time);
+  /// One satellite's combinations; its arc goes on, or a new one starts.
+  void trackSatellite(const GnssTime& time, const DualFrequencyObservation& obs, double max_gap,
+                      SatelliteArcStatus& status, ArcEpochResult& result);
+  /// Why a new arc starts (None: the arc goes on), with its text and the GF prediction residual.
+  ArcStartReason arcStart(const ArcState& state, bool inserted, const DualFrequencyObservation& obs,
+                          const SatelliteArcStatus& status, const GnssTime& time, double max_gap, std::string& text,
+                          std::optional<double>& gf_residual) const;
+  /// The Melbourne-Wubbena and geometry-free tests of an open arc.
+  ArcStartReason slipTest(const ArcState& state, const SatelliteArcStatus& status, const GnssTime& time, double dt,
+                          std::string& text, std::optional<double>& gf_residual) const;
 
   CycleSlipOptions options_;
   std::map<SatelliteId, ArcState> arcs_;

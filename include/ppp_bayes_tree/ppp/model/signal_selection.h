@@ -217,6 +217,12 @@ class SignalSelector {
   /// channel (false, with `why`, when the channel is unknown).
   bool pairFrequencies_hz(const SystemColumns& sc, const SatelliteId& sat, double& f1_hz, double& f2_hz,
                           std::string& why) const;
+  /// Satellite i of the epoch: its observation, or the reason it is skipped; a code
+  /// off the clock reference without a bias file is added to `unaligned`.
+  void selectSatellite(const ObsEpoch& epoch, std::size_t i, const SystemColumns& sc, SignalSelectionResult& out,
+                       std::string& unaligned);
+  /// Corrects the codes by their OSBs; false (skipped, in `out`) when an OSB is required and missing.
+  bool correctCodeBiases(DualFrequencyObservation& d, SignalSelectionResult& out);
 
   SignalSelectionOptions options_;
   const BiasProvider* biases_;
