@@ -109,7 +109,7 @@ struct AmbiguityHoldOptions {
   /// while its sigma stays) carries an error its covariance does not hold.
   /// 0 = the raw spread alone. 3 (a 3-sigma test, as the candidate gate):
   /// CCJ2 first fix 15.5 -> 13.0 min, ESBC 14.0 -> 11.5 min, no wrong fix
-  /// (doc/ar_real_data.md).
+  /// (doc/studies/ar_real_data.md).
   double max_float_drift_sigmas = 3.0;
   /// Candidate gate (Ge et al. 2008: a narrow lane is fixed only with a small
   /// fractional part and sigma; PRIDE PPP-AR applies it so): a
@@ -120,7 +120,7 @@ struct AmbiguityHoldOptions {
   /// search may otherwise pick, through the correlations, an integer 0.5 cycle
   /// away when all floats share a bias the covariance does not hold).
   /// PRIDE PPP-AR uses 0.15 / 0.15 in its batch; here 0.25 cycle (measured on
-  /// the ESBC day in real time, doc/ar_real_data.md) and 1 cycle (the sigma
+  /// the ESBC day in real time, doc/studies/ar_real_data.md) and 1 cycle (the sigma
   /// gate made no difference there; LAMBDA's success rate covers it).
   double max_fraction_cycles = 0.25;
   double max_sigma_cycles = 1.0;
@@ -128,7 +128,7 @@ struct AmbiguityHoldOptions {
   /// the gate when it lies within this many of its sigmas (0 = the fraction
   /// alone). 1: a float 0.35 cycle from its integer at a sigma of 0.14 is not
   /// an integer yet (3 let such floats through; CCJ2 from 00:35 fixed 13.5 cm
-  /// off, doc/ar_real_data.md, "Restarts").
+  /// off, doc/studies/ar_real_data.md, "Restarts").
   double max_fraction_sigmas = 1.0;
   /// Every subset the search accepts (the first fix as well as what partial
   /// fixing adds) must reach the bootstrapped success rate (Teunissen 1998)
@@ -138,7 +138,7 @@ struct AmbiguityHoldOptions {
   /// rate; the ratio test alone does not bound the failure rate, Verhagen &
   /// Teunissen 2013). false: the ratio test alone decides subsets larger than
   /// small_subset_max_size (CCJ2 restarts every 5 min: wrong fixes 35 of 470
-  /// fixed epochs; doc/ar_real_data.md, "Restarts").
+  /// fixed epochs; doc/studies/ar_real_data.md, "Restarts").
   bool require_subset_success_rate = true;
   /// Subsets of at most this many integers must reach the bootstrapped success
   /// rate narrow_lane.min_success_rate as well as the ratio test, whatever
@@ -148,7 +148,7 @@ struct AmbiguityHoldOptions {
   /// float within 0.37 cycle of an integer, whatever its sigma. Such small subsets
   /// are what partial fixing adds to an existing held set (min_fixed - held),
   /// while the first fix needs min_fixed integers together and keeps the ratio
-  /// test alone, so this costs no time to first fix (doc/ar_real_data.md).
+  /// test alone, so this costs no time to first fix (doc/studies/ar_real_data.md).
   int small_subset_max_size = 3;
   /// Consecutive searches giving the same integer before it is held.
   int validation_epochs = 5;
@@ -162,7 +162,7 @@ struct AmbiguityHoldOptions {
   /// first fix comes 1.5 min earlier, but on ESBC with satellite antennas of
   /// another model than the products' (constant narrow-lane offsets the success
   /// rate does not know) the fixed epochs > 10 cm off while the float is within
-  /// 10 cm grow from 32 to 68 (doc/ar_real_data.md).
+  /// 10 cm grow from 32 to 68 (doc/studies/ar_real_data.md).
   double fast_validation_success_rate = 1.0;
   int fast_validation_epochs = 2;
   /// A held integer is released when its float (conditioned on the other held
@@ -206,7 +206,7 @@ struct AmbiguityResolutionOptions {
   /// The narrow-lane search, with its success rate computed from the float
   /// covariance times 2 (sigmas x 1.41): restarts every 5 min of CCJ2 and every
   /// hour of ESBC give no wrong fix with it, and 6 wrong fixed epochs with 1
-  /// (doc/ar_real_data.md, "Restarts").
+  /// (doc/studies/ar_real_data.md, "Restarts").
   IlsOptions narrow_lane = pppNarrowLaneOptions();
   AmbiguityHoldOptions hold;
   /// Fix even when the satellite antenna model of the products (SP3/clock header)
