@@ -1,80 +1,23 @@
 #pragma once
-// AmbiguityResolver: PPP ambiguity resolution (PPP-AR) for a filter whose state
-// holds one ionosphere-free (IF) phase bias [m] per arc, with satellite phase
-// OSBs consistent with the clocks (phase_bias_consistency.h).
+// AmbiguityResolver: PPP integer ambiguity resolution (PPP-AR) for a filter
+// whose state holds one ionosphere-free (IF) phase bias [m] per arc, with
+// satellite phase biases consistent with the clocks (phase_bias_consistency.h).
+// Per epoch: wide lanes from Melbourne-Wuebbena means, rounded, against one
+// reference arc per system (wide_lane_ambiguity.h); narrow-lane single
+// differences searched by LAMBDA with the ratio test, the bootstrapped success
+// rate and partial fixing (integer_least_squares.h); the accepted integers
+// applied as exact conditioning of a COPY of the float state, so the float
+// filter is never changed (resolve()). resolveAndHold() adds what the EKF and
+// the smoother use: a consistency window and a candidate gate before the
+// search, validation across epochs, and the hold and release of integers.
+// The steps, their keys and the user's view: doc/ppp_ar.md.
 //
-// Per epoch:
-//  1. Wide lane: Melbourne-Wuebbena means per arc with the satellite OSBs
-//     removed, single-differenced against a reference arc and fixed by rounding
-//     (wide_lane_ambiguity.h). One reference arc PER SYSTEM: each system has
-//     its own receiver clock, code and phase biases (GPS L1/L2, Galileo E1/E5a
-//     differ in frequencies and hardware), so a single difference between
-//     satellites of two systems is not an integer; the wide and narrow lanes of
-//     every system are single-differenced within that system only.
-//  2. Narrow lane: with the OSB-corrected IF bias B'_s = B_s - b_s (b_s the IF
-//     combination of the satellite's phase OSBs of the selected phases) and the
-//     IF ambiguity written as lambda_NL N1 + c f2 / (f1^2 - f2^2) N_WL
-//     (models/ionosphere_free.h), the between-satellite single difference
-//         dN1_s = (B'_s - B'_ref - k_WL dN_WL_s) / lambda_NL
-//     is a float integer free of the receiver biases (the receiver clock and
-//     the receiver phase bias are common to all satellites of a system and cancel; this is
-//     why single differences against a reference arc are fixed, not undifferenced
-//     ambiguities). The reference arc is the wide lane's. dN1 is linear in the
-//     filter state, dN1 = D x - o, so its covariance is D P D^T.
-//  3. LAMBDA with ratio test and partial fixing on the dN1 (integer_least_squares.h):
-//     the accepted integer constraints C dN1 = z become C D x = z + C o.
-//  4. The constraints are applied, as exact conditioning, to a COPY of the float
-//     state and covariance: x_fix = x + P A^T (A P A^T)^-1 (y - A x),
-//     P_fix = P - P A^T (A P A^T)^-1 A P. The float filter itself is never
-//     changed, so a wrong fix does not propagate: the next epoch resolves anew
-//     from the float state (resolve()).
-//
-// Validation and hold (resolveAndHold(), what the EKF and the smoother use):
-//  5. Consistency of the floats before fixing: a single difference is offered
-//     to the search only when its float value has stayed within
-//     hold.max_float_spread_cycles over the last hold.consistency_epochs epochs,
-//     or has moved no more than its covariance explains (within
-//     hold.max_float_drift_sigmas of sqrt(sigma_first^2 - sigma_i^2) from the
-//     window's first value: a converging float moves, a float whose moves its
-//     covariance does not explain carries an unmodelled error or an optimistic
-//     covariance, and its integer is not yet determined).
-//     Candidate gate (Ge et al. 2008): the float conditioned on the held
-//     integers must lie within hold.max_fraction_cycles or hold.max_fraction_sigmas of its sigmas of
-//     an integer, with a sigma below hold.max_sigma_cycles.
-//  6. Partial fixing of the best-determined subset: the candidates are ordered
-//     by the sigma of their float and the worst are dropped one by one until the
-//     full-set LAMBDA of the rest passes the ratio test (and, with
-//     hold.require_subset_success_rate, or for a subset of at most
-//     hold.small_subset_max_size integers, the bootstrapped success rate
-//     narrow_lane.min_success_rate), with every integer within
-//     hold.max_fraction_cycles of its float
-//     (Teunissen & Verhagen 2009 for the ratio test as a validation; the
-//     subset by precision as in Dong & Bock 1989 / Blewitt 1989's sequential
-//     fixing of the best-determined ambiguities first).
-//  7. Validation across epochs: a single difference's integer must come out
-//     the same in hold.validation_epochs consecutive searches before it is held
-//     (hold.fast_validation_epochs when the accepted subset's bootstrapped
-//     success rate reaches hold.fast_validation_success_rate).
-//  8. Hold: held integers are applied every epoch (as exact conditioning of a
-//     copy of the float state, so the float filter stays free of them) and are
-//     not searched again. Each epoch every held single difference is compared
-//     with its float value conditioned on the OTHER held ones; it is released
-//     (counted, with the reason) when it departs by more than
-//     hold.release_cycles and hold.release_sigma sigmas, when its wide lane
-//     rounds to another integer, or when its arc or reference arc ends.
-//     New candidates are resolved on the state conditioned on the held ones.
-//     When an arc ends, the held integers through it are re-expressed between
-//     the arcs it linked (hold.rereference_on_arc_end).
-//
-// References: Ge M., Gendt G., Rothacher M., Shi C., Liu J. (2008) Resolution of
-// GPS carrier-phase ambiguities in precise point positioning (PPP) with daily
-// observations. J Geod 82:389-399 (wide lane then narrow lane with satellite
-// fractional biases, single differences between satellites); Laurichesse D.,
-// Mercier F., Berthias J.-P., Broca P., Cerri L. (2009) Integer ambiguity
-// resolution on undifferenced GPS phase measurements and its application to
-// PPP and satellite precise orbit determination. Navigation 56(2) (integer
-// clocks, the GRG convention); Schaer S. et al. (2021) The CODE ambiguity-fixed
-// clock and phase bias analysis products. J Geod 95:81 (the OSB convention).
+// References: Ge M. et al. (2008) J Geod 82:389-399 (wide lane then narrow lane,
+// single differences between satellites); Laurichesse D. et al. (2009)
+// Navigation 56(2) (integer clocks, the GRG convention); Schaer S. et al. (2021)
+// J Geod 95:81 (the OSB convention); Teunissen P.J.G. (1998) J Geod 72:606-612
+// (bootstrapped success rate); Teunissen P.J.G., Verhagen S. (2009) Survey
+// Review 41(312):138-151 (the ratio test as a validation).
 #include <map>
 #include <optional>
 #include <string>
