@@ -50,9 +50,8 @@ struct AmbiguityHoldOptions {
   /// x_i - x_first has the variance sigma_first^2 - sigma_i^2. A converging
   /// float moves that much and is steady; a float that moves more (or moves
   /// while its sigma stays) carries an error its covariance does not hold.
-  /// 0 = the raw spread alone. 3 (a 3-sigma test, as the candidate gate):
-  /// CCJ2 first fix 15.5 -> 13.0 min, ESBC 14.0 -> 11.5 min, no wrong fix
-  /// (doc/studies/ar_real_data.md).
+  /// 0 = the raw spread alone. 3: a 3-sigma test, as the candidate gate
+  /// (measured: doc/studies/config_defaults.md).
   double max_float_drift_sigmas = 3.0;
   /// Candidate gate (Ge et al. 2008: a narrow lane is fixed only with a small
   /// fractional part and sigma; PRIDE PPP-AR applies it so): a
@@ -62,16 +61,15 @@ struct AmbiguityHoldOptions {
   /// an integer the search returns is accepted by the same rule (the
   /// search may otherwise pick, through the correlations, an integer 0.5 cycle
   /// away when all floats share a bias the covariance does not hold).
-  /// PRIDE PPP-AR uses 0.15 / 0.15 in its batch; here 0.25 cycle (measured on
-  /// the ESBC day in real time, doc/studies/ar_real_data.md) and 1 cycle (the sigma
-  /// gate made no difference there; LAMBDA's success rate covers it).
+  /// PRIDE PPP-AR uses 0.15 / 0.15 in its batch; here 0.25 cycle and 1 cycle
+  /// (LAMBDA's success rate covers the sigma; doc/studies/ar_real_data.md, "ESBC
+  /// day, kinematic").
   double max_fraction_cycles = 0.25;
   double max_sigma_cycles = 1.0;
   /// A float further than max_fraction_cycles from its integer still passes
   /// the gate when it lies within this many of its sigmas (0 = the fraction
   /// alone). 1: a float 0.35 cycle from its integer at a sigma of 0.14 is not
-  /// an integer yet (3 let such floats through; CCJ2 from 00:35 fixed 13.5 cm
-  /// off, doc/studies/ar_real_data.md, "Restarts").
+  /// an integer yet (measured: doc/studies/config_defaults.md).
   double max_fraction_sigmas = 1.0;
   /// Every subset the search accepts (the first fix as well as what partial
   /// fixing adds) must reach the bootstrapped success rate (Teunissen 1998)
@@ -80,8 +78,7 @@ struct AmbiguityHoldOptions {
   /// (Teunissen, Joosten & Tiberius 1999: the subset is chosen by its success
   /// rate; the ratio test alone does not bound the failure rate, Verhagen &
   /// Teunissen 2013). false: the ratio test alone decides subsets larger than
-  /// small_subset_max_size (CCJ2 restarts every 5 min: wrong fixes 35 of 470
-  /// fixed epochs; doc/studies/ar_real_data.md, "Restarts").
+  /// small_subset_max_size (measured: doc/studies/ar_real_data.md, "Restarts").
   bool require_subset_success_rate = true;
   /// Subsets of at most this many integers must reach the bootstrapped success
   /// rate narrow_lane.min_success_rate as well as the ratio test, whatever
@@ -101,11 +98,9 @@ struct AmbiguityHoldOptions {
   /// fast_validation_success_rate, its integers are held after
   /// fast_validation_epochs consecutive equal searches (the success rate says
   /// the integer is determined; the repetition still guards against a float
-  /// that jumps). 1 = never (the default): with 1 - 1e-5 the CCJ2 GPS + Galileo
-  /// first fix comes 1.5 min earlier, but on ESBC with satellite antennas of
-  /// another model than the products' (constant narrow-lane offsets the success
-  /// rate does not know) the fixed epochs > 10 cm off while the float is within
-  /// 10 cm grow from 32 to 68 (doc/studies/ar_real_data.md).
+  /// that jumps). 1 = never (the default): a success rate does not know the
+  /// constant narrow-lane offsets of satellite antennas of another model than
+  /// the products' (measured: doc/studies/config_defaults.md).
   double fast_validation_success_rate = 1.0;
   int fast_validation_epochs = 2;
   /// A held integer is released when its float (conditioned on the other held
@@ -147,15 +142,13 @@ struct AmbiguityResolutionOptions {
   double min_elevation_rad = 15.0 * kDegToRad;
   WideLaneOptions wide_lane;
   /// The narrow-lane search, with its success rate computed from the float
-  /// covariance times 2 (sigmas x 1.41): restarts every 5 min of CCJ2 and every
-  /// hour of ESBC give no wrong fix with it, and 6 wrong fixed epochs with 1
-  /// (doc/studies/ar_real_data.md, "Restarts").
+  /// covariance times 2 (sigmas x 1.41; measured: doc/studies/config_defaults.md).
   IlsOptions narrow_lane = pppNarrowLaneOptions();
   AmbiguityHoldOptions hold;
   /// Fix even when the satellite antenna model of the products (SP3/clock header)
   /// differs from the ANTEX's, or (auto) is not known (antenna_model_consistency.h);
   /// false: such a run stays float with the reason named. Off by default: a PCO difference leaves a
-  /// constant narrow-lane offset per satellite (ESBC: up to 0.3 cycle).
+  /// constant narrow-lane offset per satellite (doc/ppp_ar.md, "When a run fixes").
   bool allow_antenna_model_mismatch = false;
   /// "" when valid, else the reason.
   std::string validate() const;
