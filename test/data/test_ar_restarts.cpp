@@ -83,7 +83,7 @@ TEST(ArRestarts, Ccj2EveryFiveMinutesWithTheProductsAntennasHasNoWrongFix) {
   PPP_REQUIRE_SHARED_DATA();
   const RestartTally t = ccj2Restarts({test::dataPath("antex/igs14_2178_satellites.atx")});
   EXPECT_EQ(t.wrong, 0) << joined(t.wrong_runs);
-  // 2 x 260 fixed epochs measured over the ten starts (doc/ar_real_data.md, "Restarts").
+  // 2 x 260 fixed epochs measured over the ten starts (doc/studies/ar_real_data.md, "Restarts").
   EXPECT_GT(t.fixed, 400);
 }
 

@@ -30,7 +30,7 @@
 namespace ppp {
 namespace {
 
-/// CCJ2 as ppp_solve reads it with the shared ANTEX and BLQ files (doc/ar_real_data.md).
+/// CCJ2 as ppp_solve reads it with the shared ANTEX and BLQ files (doc/studies/ar_real_data.md).
 PppInputFiles ccj2Files() {
   PppInputFiles files = test::inputFiles(test::ccj2Dataset());
   files.atx = {test::dataPath("antex/igs14_2178_satellites.atx"), test::dataPath("antex/igs20_zim2_gps_trim.atx")};

@@ -111,7 +111,7 @@ TEST(MonteCarloAmbiguity, ReportCarriesTheFixFiguresOfEveryEstimator) {
 // Gauss-Markov, tau 15 s, at 1 Hz): with white code weighting, a 4-epoch
 // Melbourne-Wuebbena correlation count and partial fixing on the ratio test alone,
 // the resolver held wrong integers on these flights of the 100-flight study
-// (seed 1, doc/ar_real_data.md): gps_galileo_ar flights 2 and 3 held 5 of 6 and 7 of 10
+// (seed 1, doc/studies/ar_real_data.md): gps_galileo_ar flights 2 and 3 held 5 of 6 and 7 of 10
 // wrong (EKF), gps_ar flight 4 held 6 of 7 wrong. With the time-correlated code and MW
 // model (stochastic.code_correlation_time_s, wide_lane_correlation_time_s) and the
 // success rate required of every subset, none is wrong, and two of the three

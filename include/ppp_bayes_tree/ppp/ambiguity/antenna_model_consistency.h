@@ -10,7 +10,7 @@
 // for a float solution, it breaks the integer property: ESBC 2020-177 with GRG
 // (igs14_2108) products and IGS20 satellite antennas carries offsets of up to
 // 0.3 narrow-lane cycle that follow the IGS14 - IGS20 z-PCO differences
-// (correlation -0.93, scale 1.03; doc/ar_real_data.md).
+// (correlation -0.93, scale 1.03; doc/studies/ar_real_data.md).
 //
 // The products' model comes from their headers, read by the product assembly
 // (io/products/product_antenna_model.h) and handed here as names: the SP3 comment

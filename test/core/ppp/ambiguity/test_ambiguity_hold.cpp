@@ -657,7 +657,7 @@ TEST(AmbiguityHold, RealEsbcStaticFixesStayNearTheDaysFloatPosition) {
   // the day's own float static position (the last solved epoch). After the
   // first hour at least 89.5 % of the epochs are fixed (79.9 % without the
   // candidate gate, 86.2 % with it, 89.9 % when the held integers also survive
-  // the end of their reference arc; ppp_ar_study --static, doc/ar_real_data.md) and no fixed epoch is
+  // the end of their reference arc; ppp_ar_study --static, doc/studies/ar_real_data.md) and no fixed epoch is
   // more than 10 cm from the reference (the wrong-fix criterion).
   PPP_REQUIRE_SHARED_DATA();
   const PppInputFiles files = test::esbcGrgInputFiles();
@@ -704,7 +704,7 @@ TEST(AmbiguityHold, RealEsbcStaticFixesStayNearTheDaysFloatPosition) {
 TEST(AmbiguityHold, RealEsbcKinematicOffsetsAreConstantPerSingleDifference) {
   // ESBC 2020-177, GRG integer-recovery clocks, kinematic EKF with AR (the
   // defaults), judged against the day's float static position (the last solved
-  // epoch). Measured with ppp_ar_study (doc/ar_real_data.md): 78.1 % of the
+  // epoch). Measured with ppp_ar_study (doc/studies/ar_real_data.md): 78.1 % of the
   // epochs after the first hour fixed (77.7 % before the held integers survived
   // the end of their reference arc), 96 fixed epochs > 10 cm (66 of them where
   // the float is > 10 cm too), first fix 119.5 min.
@@ -733,7 +733,7 @@ TEST(AmbiguityHold, RealEsbcKinematicOffsetsAreConstantPerSingleDifference) {
   }
   ASSERT_TRUE(reference.has_value());
   // IGS14 products, IGS20 ANTEX; white code weighting, as the figures of
-  // doc/ar_real_data.md (with the default 15-s code correlation: 77.6 % fixed, 96 > 10 cm).
+  // doc/studies/ar_real_data.md (with the default 15-s code correlation: 77.6 % fixed, 96 > 10 cm).
   const PppConfig config = parsePppConfig(
       "stochastic:\n  code_correlation_time_s: 0.0\n"
       "ambiguity_resolution:\n  enabled: true\n  allow_antenna_model_mismatch: true\n" + no_gradients,

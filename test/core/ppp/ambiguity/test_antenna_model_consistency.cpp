@@ -1,6 +1,6 @@
 // The satellite antenna model of the products (SP3 "/* PCV:", clock "SYS / PCVS
 // APPLIED") against the SINEX codes of the ANTEX's satellite antennas, and the
-// pipeline's refusal of PPP-AR when they differ (doc/ar_real_data.md: ESBC GRG
+// pipeline's refusal of PPP-AR when they differ (doc/studies/ar_real_data.md: ESBC GRG
 // IGS14 products with IGS20 antennas leave narrow-lane offsets per satellite
 // that follow the IGS14 - IGS20 z-PCO differences).
 #include <gtest/gtest.h>

@@ -45,7 +45,7 @@ MonteCarloOptions arStudy(double minutes, FlightProfile profile = FlightProfile:
   // about what the smoother does with its fixes, and need fixes within minutes on
   // a short GPS flight (with the simulator's 15-s Gauss-Markov multipath and the
   // time-correlated code and MW model that matches it, GPS alone fixes after
-  // 25.7 min in the median, doc/ar_real_data.md).
+  // 25.7 min in the median, doc/studies/ar_real_data.md).
   o.simulation.errors.multipath.enabled = false;
   o.ppp.stochastic.code_correlation_time_s = 0.0;
   o.ppp.ambiguity_resolution.wide_lane.correlation_time_s = 0.0;
