@@ -588,6 +588,43 @@ void UbxDecoder::inav(const UbxFrame& f, const SatelliteId& sat, const Handlers&
   }
 }
 
+namespace {
+
+/// The ephemeris of GLONASS strings 1-4 (ICD GLONASS 4.4); tb and tk, Moscow times
+/// (UTC + 3 h) of the day, placed around the receiver time `now`.
+GlonassEphemeris glonassEphemeris(const SatelliteId& sat, const std::array<ubx_nav::Unit, 4>& u, int channel,
+                                  const GnssTime& now) {
+  using namespace ubx_nav;
+  GlonassEphemeris eph;
+  eph.satellite = sat;
+  eph.frequency_channel = channel;
+  const bool sm = true;  // sign-magnitude numbers
+  eph.position_m = 1e3 * Eigen::Vector3d(readField(u, glo::kX, sm), readField(u, glo::kY, sm), readField(u, glo::kZ, sm));
+  eph.velocity_mps = 1e3 * Eigen::Vector3d(readField(u, glo::kVx, sm), readField(u, glo::kVy, sm), readField(u, glo::kVz, sm));
+  eph.acceleration_mps2 =
+      1e3 * Eigen::Vector3d(readField(u, glo::kAx, sm), readField(u, glo::kAy, sm), readField(u, glo::kAz, sm));
+  eph.gamma_n = readField(u, glo::kGammaN, sm);
+  eph.minus_tau_n_s = -readField(u, glo::kTauN, sm);
+  eph.health = static_cast<int>(readField(u, glo::kBn)) >> 2;  // Bn MSB
+  eph.age_days = readField(u, glo::kEn);
+  const double moscow_sod = glonassSecondsOfDay(now);
+  auto nearestInDay = [&](double sod) {
+    double d = sod - moscow_sod;
+    if (d > 43200.0) d -= 86400.0;
+    if (d < -43200.0) d += 86400.0;
+    return now + d;  // GPST: the Moscow offset cancels in the difference
+  };
+  const int tb = static_cast<int>(readField(u, glo::kTb));
+  eph.tb = nearestInDay(tb * 900.0);
+  const double tk_sod = readField(u, glo::kTkHours) * 3600.0 + readField(u, glo::kTkMinutes) * 60.0 +
+                        readField(u, glo::kTkHalfMinute) * 30.0;
+  const GnssTime tk = nearestInDay(tk_sod);
+  eph.message_frame_time_s = (tk + tk.offsetToSystem_s(TimeSystem::UTC)).gpsWeek().seconds_of_week;
+  return eph;
+}
+
+}  // namespace
+
 void UbxDecoder::glonassString(const UbxFrame& f, const SatelliteId& sat, const Handlers& handlers) {
   using namespace ubx_nav;
   // The string: words 0-2 MSB first (b85 = word 0 bit 31); word 3's upper half: frame id.
@@ -623,33 +660,7 @@ void UbxDecoder::glonassString(const UbxFrame& f, const SatelliteId& sat, const 
             sat.toString() + " GLONASS ephemeris before any RXM-RAWX: the day of tb cannot be resolved");
     return;
   }
-  GlonassEphemeris eph;
-  eph.satellite = sat;
-  eph.frequency_channel = static_cast<int>(f.payload[3]) - 7;
-  const bool sm = true;  // sign-magnitude numbers
-  eph.position_m = 1e3 * Eigen::Vector3d(readField(u, glo::kX, sm), readField(u, glo::kY, sm), readField(u, glo::kZ, sm));
-  eph.velocity_mps = 1e3 * Eigen::Vector3d(readField(u, glo::kVx, sm), readField(u, glo::kVy, sm), readField(u, glo::kVz, sm));
-  eph.acceleration_mps2 =
-      1e3 * Eigen::Vector3d(readField(u, glo::kAx, sm), readField(u, glo::kAy, sm), readField(u, glo::kAz, sm));
-  eph.gamma_n = readField(u, glo::kGammaN, sm);
-  eph.minus_tau_n_s = -readField(u, glo::kTauN, sm);
-  eph.health = static_cast<int>(readField(u, glo::kBn)) >> 2;  // Bn MSB
-  eph.age_days = readField(u, glo::kEn);
-  // tb and tk are Moscow times (UTC + 3 h) of the day around the receiver time.
-  const GnssTime now = *last_time_;
-  const double moscow_sod = glonassSecondsOfDay(now);
-  auto nearestInDay = [&](double sod) {
-    double d = sod - moscow_sod;
-    if (d > 43200.0) d -= 86400.0;
-    if (d < -43200.0) d += 86400.0;
-    return now + d;  // GPST: the Moscow offset cancels in the difference
-  };
-  const int tb = static_cast<int>(readField(u, glo::kTb));
-  eph.tb = nearestInDay(tb * 900.0);
-  const double tk_sod = readField(u, glo::kTkHours) * 3600.0 + readField(u, glo::kTkMinutes) * 60.0 +
-                        readField(u, glo::kTkHalfMinute) * 30.0;
-  const GnssTime tk = nearestInDay(tk_sod);
-  eph.message_frame_time_s = (tk + tk.offsetToSystem_s(TimeSystem::UTC)).gpsWeek().seconds_of_week;
+  const GlonassEphemeris eph = glonassEphemeris(sat, u, static_cast<int>(f.payload[3]) - 7, *last_time_);
   if (const auto why = checkGlonassState(eph)) {
     problem(f, StreamProblemKind::MalformedMessage, sat.toString() + ": " + *why);
     return;
