@@ -177,6 +177,8 @@ struct MeasurementModelOptions {
   /// w(1050 m) = 0.39), 30 times what the method's random walk (3e-5 m/sqrt(s))
   /// allows in 5 min. The simulator's wet delay follows that profile
   /// (simulation/gnss_simulator.h), and config/ppp_simulated.yaml turns this on.
+  /// The error of the a-priori dry delay, which the ZWD absorbs, is then scaled
+  /// with the wet profile too (doc/evaluation.md).
   bool zwd_at_ellipsoid = false;
   bool solid_earth_tide = true;
   bool ocean_loading = true;  // used only when coefficients are given
