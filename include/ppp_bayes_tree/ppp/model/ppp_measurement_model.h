@@ -94,6 +94,18 @@ struct MeasurementModelOptions {
   /// (method_table.yaml) and the simulated flights (ppp_simulated.yaml, the Monte
   /// Carlo study: the simulator has no gradients) keep them off.
   bool estimate_troposphere_gradients = true;
+  /// The estimated zenith wet delay is the one at the ellipsoid (height 0): the
+  /// model carries it to the receiver's height with the standard atmosphere's
+  /// modified Hopfield wet zenith delay, ZWD(h) = ZWD(0) w(h) / w(0), with the
+  /// partial along "up". Default false: the state is the ZWD at the receiver, a
+  /// random walk, which holds for a station but not for a receiver that climbs or
+  /// descends: the wet delay falls by ~0.6 of its value per 900 m (w(1950 m) /
+  /// w(1050 m) = 0.39), 30 times what the method's random walk (3e-5 m/sqrt(s))
+  /// allows in 5 min. The simulator's wet delay follows that profile
+  /// (simulation/gnss_simulator.h), and config/ppp_simulated.yaml turns this on.
+  /// The error of the a-priori dry delay, which the ZWD absorbs, is then scaled
+  /// with the wet profile too (doc/evaluation.md).
+  bool zwd_at_ellipsoid = false;
   bool solid_earth_tide = true;
   bool ocean_loading = true;  // used only when coefficients are given
   bool phase_windup = true;
