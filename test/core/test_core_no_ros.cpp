@@ -11,6 +11,7 @@
 //                                 and bit readers, stream problems, the epoch-time screen)
 //   models      -> io             pure models and the product providers
 //   smoother    -> types          the generic incremental smoother (no GNSS)
+//   navigation  -> types          IMU readings, SO(3), preintegration, the IMU factor's error
 //   ppp         -> models, smoother   measurement model, estimators, pipeline
 //   simulation  -> ppp            the flight simulator
 //   evaluation  -> simulation     statistics, solution writers, Monte Carlo
@@ -137,6 +138,7 @@ const std::map<std::string, std::set<std::string>>& allowedIncludes() {
         {"io/transport", {"io/ubx"}},
         {"models", {"io/transport", "io/products"}},
         {"smoother", {"types"}},
+        {"navigation", {"types"}},
         {"ppp/model", {"models", "smoother"}},
         {"ppp/screening", {"ppp/model"}},
         {"ppp/ambiguity", {"ppp/model"}},
