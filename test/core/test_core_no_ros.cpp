@@ -26,6 +26,7 @@
 //   io/ubx        -> io/rtcm           u-blox UBX (its epochs become RTCM's stream epochs)
 //   io/transport  -> io/ubx            byte sources (file replay, NTRIP, TCP, serial),
 //                                      stream formats and the stream decoder of both
+//   io/imu        -> io, navigation    IMU text files (logged IMU with time tags, plain CSV)
 //   ppp/model     -> models, smoother  signals, arcs, measurement model, state layout
 //   ppp/screening -> ppp/model         prefit and postfit screening
 //   ppp/ambiguity -> ppp/model         wide lane, LAMBDA, PPP-AR, product consistency
@@ -139,6 +140,7 @@ const std::map<std::string, std::set<std::string>>& allowedIncludes() {
         {"models", {"io/transport", "io/products"}},
         {"smoother", {"types"}},
         {"navigation", {"types"}},
+        {"io/imu", {"io", "navigation"}},
         {"ppp/model", {"models", "smoother"}},
         {"ppp/screening", {"ppp/model"}},
         {"ppp/ambiguity", {"ppp/model"}},
