@@ -11,6 +11,7 @@
 //                                 and bit readers, stream problems, the epoch-time screen)
 //   models      -> io             pure models and the product providers
 //   smoother    -> types          the generic incremental smoother (no GNSS)
+//   navigation  -> types          IMU readings, SO(3), preintegration, the IMU factor's error
 //   ppp         -> models, smoother   measurement model, estimators, pipeline
 //   simulation  -> ppp            the flight simulator
 //   evaluation  -> simulation     statistics, solution writers, Monte Carlo
@@ -26,6 +27,7 @@
 //                                      epoch both give is io/stream_epoch.h)
 //   io/transport  -> io/rtcm, io/ubx   byte sources (file replay, NTRIP, TCP, serial),
 //                                      stream formats and the stream decoder of both
+//   io/imu        -> io, navigation    IMU text files (logged IMU with time tags, plain CSV)
 //   ppp/model     -> models, smoother  signals, arcs, measurement model, state layout
 //   ppp/screening -> ppp/model         prefit and postfit screening
 //   ppp/ambiguity -> ppp/model         wide lane, LAMBDA, PPP-AR, product consistency
@@ -148,6 +150,8 @@ const std::map<std::string, std::set<std::string>>& allowedIncludes() {
         {"io/transport", {"io/rtcm", "io/ubx"}},
         {"models", {"io/transport", "io/products"}},
         {"smoother", {"types"}},
+        {"navigation", {"types"}},
+        {"io/imu", {"io", "navigation"}},
         {"ppp/model", {"models", "smoother"}},
         {"ppp/screening", {"ppp/model"}},
         {"ppp/ambiguity", {"ppp/model"}},
