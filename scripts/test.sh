@@ -1,8 +1,10 @@
 #!/usr/bin/env bash
 # Installs what is missing, builds, and runs every test: the gtest units through
 # catkin (and rostests as they come), then a short libFuzzer smoke run of every
-# reader, then the script tests (scripts/test_plot_solutions.sh, and
-# scripts/test_demo.sh: the main-job demo end to end on a 3-min simulated flight;
+# reader, then the script tests (scripts/test_plot_solutions.sh;
+# scripts/test_nl_residual_histogram.sh; scripts/test_function_census.sh: the
+# function-length census and its unit test; scripts/test_demo.sh: the main-job
+# demo end to end on a 3-min simulated flight;
 # scripts/test_node_startup.sh: start-up errors of the nodes reach stderr;
 # scripts/test_live_replay.sh: a bag of a live run's raw topics replayed through
 # launch/live.launch gives the live run's output; scripts/test_campaign_slurm.sh:
@@ -42,6 +44,8 @@ echo "=== fuzz smoke (libFuzzer over seed corpora and malformed fixtures) ==="
 
 echo "=== script tests ==="
 "$REPO_DIR/scripts/test_plot_solutions.sh" "$EXTRA"
+"$REPO_DIR/scripts/test_nl_residual_histogram.sh" "$EXTRA"
+"$REPO_DIR/scripts/test_function_census.sh" "$EXTRA"
 "$REPO_DIR/scripts/test_demo.sh" "$EXTRA"
 "$REPO_DIR/scripts/test_node_startup.sh" "$EXTRA"
 "$REPO_DIR/scripts/test_live_replay.sh" "$EXTRA"

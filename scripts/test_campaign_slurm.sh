@@ -19,6 +19,8 @@
 #     with one resubmission allowed, the same cancellation is resubmitted and done in
 #     the same invocation; a SIGTERM to the campaign cancels its array (exit 143, the
 #     stopped jobs' reasons name the signal, nothing resubmitted or left queued);
+#     a campaign killed with -9 leaves no array behind: its tasks cancel the array
+#     once the campaign's heartbeat is older than the lease;
 #  4. a Monte Carlo study of 40 flights (2 min, GPS + Galileo) as 4 shards through
 #     Slurm equals one 40-flight ppp_monte_carlo run with the same seed: the CDF,
 #     error-versus-time, bias-convergence and representative-flight tables byte for
@@ -218,6 +220,30 @@ for i in $(seq 1 50); do [ -z "$(squeue -h 2>/dev/null)" ] && break; sleep 0.2; 
 [ -z "$(squeue -h 2>/dev/null)" ] || note "stop: tasks stayed queued after the stop: $(squeue -h)"
 [ "$(ls "$WORK"/stop/slurm/round*.list | wc -l)" -eq 1 ] || note "stop: a stopped campaign resubmitted"
 
+# 3d. A campaign killed with -9 cannot cancel its array: the tasks see its heartbeat
+#     go stale and cancel the array themselves within the lease (4 s here), the running
+#     long job included; nothing stays queued and the job is not done.
+"$CAMPAIGN" run "$WORK/seven.yaml" --out "$WORK/orphan" --slurm --poll-s 0.3 --lease-s 4 --max-resubmits 0 --no-plot > "$WORK/orphan.log" 2>&1 &
+campaign_pid=$!
+for i in $(seq 1 300); do
+  if [ -f "$WORK/orphan/slurm/round0.list" ] && [ -n "$(squeue -h -t RUNNING 2>/dev/null)" ]; then break; fi
+  sleep 0.1
+done
+sleep 0.5
+kill -KILL "$campaign_pid"
+wait "$campaign_pid" 2> /dev/null
+killed_at=$(date +%s)
+for i in $(seq 1 300); do [ -z "$(squeue -h 2>/dev/null)" ] && break; sleep 0.2; done
+left_s=$(( $(date +%s) - killed_at ))
+echo "test_campaign_slurm: the orphaned array left the queue ${left_s} s after its campaign was killed"
+[ -z "$(squeue -h 2>/dev/null)" ] || { note "orphan: the array of a campaign killed with -9 stayed queued: $(squeue -h | head -3)"; scancel --user="$(id -un)" 2>/dev/null; }
+[ "$left_s" -le 30 ] || note "orphan: the array took ${left_s} s to leave the queue (lease 4 s)"
+grep -q "no campaign watches array" "$WORK"/orphan/slurm/*.log 2>/dev/null || note "orphan: no task log names the stale heartbeat"
+[ ! -e "$WORK/orphan/jobs/esbcday/done.json" ] || note "orphan: the long job finished although its campaign was killed"
+"$CAMPAIGN" run "$WORK/seven.yaml" --out "$WORK/orphan" --slurm --poll-s 1 --lease-s 2 --no-plot > "$WORK/orphan_lease.log" 2>&1
+rc=$?
+[ $rc -eq 2 ] && grep -q "lease-s (2 s) must be at least 3 looks" "$WORK/orphan_lease.log" || note "orphan: a lease shorter than 3 looks was not refused (exit $rc)"
+
 # 4. Monte Carlo: 40 flights as 4 Slurm shards = one 40-flight run.
 cat > "$WORK/mc.yaml" << EOF
 campaign: {name: mc40}
@@ -254,6 +280,6 @@ if [ -z "$fail" ]; then
 else
   junit failed "${fail#; }"
   echo "test_campaign_slurm: failed${fail}"
-  for f in local slurm6 localkill localrerun kill rerun stop mc; do echo "--- $f.log"; tail -15 "$WORK/$f.log" 2>/dev/null; done
+  for f in local slurm6 localkill localrerun kill rerun stop orphan mc; do echo "--- $f.log"; tail -15 "$WORK/$f.log" 2>/dev/null; done
 fi
 exit 0

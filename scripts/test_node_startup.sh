@@ -50,6 +50,27 @@ expect ppp_ekf_node "_ros/products/blq:=$WORK/missing.blq" "$WORK/missing.blq" "
 # A list given as a single text is refused with the key path.
 expect ppp_ekf_node "_ros/products/atx:=$ATX" "ros.products.atx" "expected a list"
 
+# A key written twice in a configuration file: the parameter server keeps only the last,
+# so the node reads the files named by config_files again and refuses the file (path, line).
+DUP="$WORK/dup key.yaml"
+printf 'estimator:\n  min_satellites: 5\nestimator:\n  min_satellites: 9\n' > "$DUP"
+rosparam set "/startup_case$((cases + 1))/config_files" "['$DUP']"
+expect ppp_ekf_node "" "$DUP" "estimator" "line 1 and line 3"
+rosparam set "/startup_case$((cases + 1))/config_files" "$DUP"
+expect ppp_smoother_node "" "config_files" "expected a list"
+# The same through the launch file a user starts: config:= names the file.
+cases=$((cases + 1))
+timeout 60 roslaunch --wait ppp_bayes_tree ppp_ekf.launch ns:=launchdup "config:=$DUP" > "$WORK/launchdup.log" 2>&1 &
+launch_pid=$!
+for i in $(seq 1 300); do
+  grep -q "line 1 and line 3" "$WORK/launchdup.log" && break
+  kill -0 "$launch_pid" 2> /dev/null || break
+  sleep 0.1
+done
+kill -INT "$launch_pid" 2> /dev/null; wait "$launch_pid" 2> /dev/null
+grep -qF "$DUP" "$WORK/launchdup.log" && grep -q "line 1 and line 3" "$WORK/launchdup.log" \
+  || fail+="launch with a key written twice: the node did not refuse the file (got: $(grep -i 'cannot start\|error' "$WORK/launchdup.log" | head -c 300 | tr '\n' ' ')); "
+
 # ppp_stream_node shares the start-up (ros/node_main.h runNode).
 expect ppp_stream_node "" "ppp_stream_node: cannot start" "parameter ~input" "is required"
 expect ppp_stream_node "_input:=serial:///dev/ttyACM0?baud=12345" "ppp_stream_node: cannot start" "baud=12345"

@@ -3,9 +3,9 @@
 # UndefinedBehaviorSanitizer: builds them with clang and PPP_SANITIZE=ON in their own
 # build directory, runs each executable and counts every sanitizer report as a finding.
 #  * With catkin: one catkin workspace build_sanitize/ws (git-ignored) builds the core
-#    units (test/core), the integrity units (test/integrity/test_*, integrity_live_unit)
-#    and the ROS adapter units that need no roscore (test/ros). One build serves all of
-#    them: the core is compiled once.
+#    units (test/core, test/integration, test/data), the integrity units
+#    (test/integrity/test_*, integrity_live_unit) and the ROS adapter units that need no
+#    roscore (test/ros). One build serves all of them: the core is compiled once.
 #  * Without catkin, or with PPP_SANITIZE_CORE_ONLY=1: plain CMake with PPP_CORE_ONLY=ON
 #    in build_sanitize/core, the core and integrity units only.
 # Reports of the sanitizers (also those of the tools a test starts) are written to
@@ -38,11 +38,15 @@ EXCLUDED=(
 junit() { write_junit "$OUT/sanitize-$1.xml" sanitizers "$1" "$2" "$3"; }  # name status message
 
 # unit_test_names: the gtest executables of the repository (one per source file).
+# The same files as CMakeLists.txt: test/core (with its part folders), test/integration,
+# test/data, test/integrity and, with catkin, test/ros.
 unit_test_names() {
-  local dirs=("$REPO_DIR"/test/core/test_*.cpp "$REPO_DIR"/test/integrity/test_*.cpp)
-  [ "$MODE" = catkin ] && dirs+=("$REPO_DIR"/test/ros/test_*.cpp)
-  local f
-  for f in "${dirs[@]}"; do basename "$f" .cpp; done
+  local files=() f
+  mapfile -t files < <(find "$REPO_DIR"/test/core "$REPO_DIR"/test/integration "$REPO_DIR"/test/data \
+                         -name 'test_*.cpp' -type f 2>/dev/null | sort)
+  files+=("$REPO_DIR"/test/integrity/test_*.cpp)
+  [ "$MODE" = catkin ] && files+=("$REPO_DIR"/test/ros/test_*.cpp)
+  for f in "${files[@]}"; do basename "$f" .cpp; done
   [ "$MODE" = catkin ] && echo integrity_live_unit
 }
 

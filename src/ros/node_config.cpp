@@ -2,7 +2,33 @@
 
 #include <ros/node_handle.h>
 
+#include "ppp_bayes_tree/ppp/config/yaml_document.h"
+
 namespace ppp_ros {
+
+namespace {
+
+/// The parameter naming the YAML files a launch loaded into the namespace.
+constexpr const char* kConfigFilesKey = "config_files";
+
+/// Reads again each file `config_files` names (ppp::loadYamlDocument: a key
+/// written twice in one mapping, or a syntax error, is a ConfigError naming the
+/// file and line) and takes the key out of the document to bind. The parameter
+/// server keeps only the last of a key `rosparam load` saw twice, so the file is
+/// the only place where the first one is still visible.
+void checkConfigFiles(YAML::Node& root, const std::string& source) {
+  const YAML::Node files = static_cast<const YAML::Node&>(root)[kConfigFilesKey];
+  if (!files) return;
+  if (!files.IsSequence()) throw ppp::ConfigError(source, kConfigFilesKey, "expected a list of YAML file paths");
+  for (std::size_t i = 0; i < files.size(); ++i) {
+    if (!files[i].IsScalar())
+      throw ppp::ConfigError(source, std::string(kConfigFilesKey) + "[" + std::to_string(i) + "]", "expected a file path");
+    ppp::loadYamlDocument(files[i].as<std::string>());
+  }
+  root.remove(kConfigFilesKey);
+}
+
+}  // namespace
 
 NodeConfig bindNodeConfig(const YAML::Node& root, const std::string& source_name, const std::string& estimator) {
   NodeConfig c;
@@ -19,6 +45,7 @@ NodeConfig loadNodeConfig(const ros::NodeHandle& private_nh, const std::string& 
   YAML::Node root(YAML::NodeType::Map);
   if (private_nh.getParam(private_nh.getNamespace(), params) && params.getType() == XmlRpc::XmlRpcValue::TypeStruct)
     root = xmlRpcToYaml(params);
+  checkConfigFiles(root, source);
   return bindNodeConfig(root, source, estimator);
 }
 

@@ -116,8 +116,9 @@ NodeDiagnostics::NodeDiagnostics(const RosNodeOptions& options, ros::WallTime st
     : options_(options), last_diag_time_(start) {}
 
 void NodeDiagnostics::inputs(diagnostic_updater::DiagnosticStatusWrapper& s, const NodeInputs& in,
-                             const AttitudeCounters& attitude, ros::WallTime now) {
+                             const NodeOutputs& out, ros::WallTime now) {
   const ppp_bayes_tree::PppStatus& c = in.counters();
+  const AttitudeCounters& attitude = out.attitudeCounters();
   const std::size_t obs_received = in.observationMessages(), corr_received = in.correctionMessages();
   const double dt = std::max(1e-3, (now - last_diag_time_).toSec());
   const double obs_rate = (obs_received - obs_at_last_diag_) / dt, corr_rate = (corr_received - corr_at_last_diag_) / dt;
@@ -130,7 +131,7 @@ void NodeDiagnostics::inputs(diagnostic_updater::DiagnosticStatusWrapper& s, con
   s.add("correction rate [Hz, wall]", corr_rate);
   s.add("pending epochs", in.pendingEpochs());
   s.add("duplicate epochs dropped", c.epochs_duplicate);
-  s.add("out-of-order epochs dropped", c.epochs_out_of_order);
+  s.add("out-of-order epochs dropped", c.epochs_out_of_order + out.counters().epochs_not_published);
   s.add("isolated bad stamps dropped (time jump not confirmed)", c.epochs_time_jump_dropped);
   s.add("epochs held as a candidate time jump", in.epochsHeld());
   s.add("estimator resets (sustained jump back in time)", c.estimator_resets);
@@ -158,13 +159,14 @@ void NodeDiagnostics::inputs(diagnostic_updater::DiagnosticStatusWrapper& s, con
   lost_at_last_diag_ = lost;
 }
 
-void NodeDiagnostics::corrections(diagnostic_updater::DiagnosticStatusWrapper& s, const NodeInputs& in) const {
+void NodeDiagnostics::corrections(diagnostic_updater::DiagnosticStatusWrapper& s, const NodeInputs& in,
+                                  const NodeOutputs& out) const {
   const ppp_bayes_tree::PppStatus& c = in.counters();
   const ppp::CorrectionBuffer& buffer = in.corrections();
   s.add("batches held", buffer.size());
   s.add("newest batch", buffer.newest() ? buffer.newest()->toString() : std::string("none"));
   s.add("age of the last batch at arrival [s]", in.lastCorrectionAge_s());
-  s.add("satellite-epochs without corrections", c.corrections_late);
+  s.add("satellite-epochs without corrections", out.counters().corrections_late);
   s.add("corrections for unknown satellites", c.corrections_unknown_satellites);
   s.add("correction messages lost before the node (header.seq gaps)", c.corrections_lost);
   s.add("correction batches dropped (isolated bad stamps)", c.corrections_time_jump_dropped);
@@ -189,7 +191,7 @@ void NodeDiagnostics::solution(diagnostic_updater::DiagnosticStatusWrapper& s, c
                                const NodeOutputs& out, const ppp::SmoothedTrajectoryProvider* smoother,
                                std::size_t estimator_restarts) const {
   s.add("estimator", options_.estimator);
-  s.add("epochs processed", in.counters().epochs_processed);
+  s.add("epochs processed", out.counters().epochs_processed);
   if (!out.lastStatus()) {
     s.summary(DiagnosticStatus::WARN, "no epoch processed yet");
     return;
@@ -227,6 +229,7 @@ void NodeDiagnostics::solution(diagnostic_updater::DiagnosticStatusWrapper& s, c
 }
 
 void NodeDiagnostics::live(diagnostic_updater::DiagnosticStatusWrapper& s, const NodeInputs& in,
+                           const NodeOutputs& out,
                            const std::vector<std::unique_ptr<GnssStreamSubscriber>>& subscribers,
                            double estimator_cpu_s, double now_s) const {
   const ppp::LiveGnssInput& live = *in.live();
@@ -249,7 +252,7 @@ void NodeDiagnostics::live(diagnostic_updater::DiagnosticStatusWrapper& s, const
   s.add("input CPU: decoding and release (LiveGnssInput) [s]", in.liveDecodeCpu_s());
   s.add("input CPU per decoded epoch [ms]", per_epoch_ms(conversion_cpu_s + in.liveDecodeCpu_s(), decoded_epochs));
   s.add("estimator CPU [s]", estimator_cpu_s);
-  s.add("estimator CPU per processed epoch [ms]", per_epoch_ms(estimator_cpu_s, in.counters().epochs_processed));
+  s.add("estimator CPU per processed epoch [ms]", per_epoch_ms(estimator_cpu_s, out.counters().epochs_processed));
   std::vector<double> latency(in.liveLatencies_s().begin(), in.liveLatencies_s().end());
   std::sort(latency.begin(), latency.end());
   s.add("latency epochs (callback of the epoch's last chunk -> solution published, the last " +

@@ -220,11 +220,19 @@ nav_msgs::Odometry NodeOutputs::odometry(const ros::Time& stamp, const BodyPose&
   return odom;
 }
 
+ppp_bayes_tree::PppStatus NodeOutputs::withCounters(const ppp_bayes_tree::PppStatus& input_counters) const {
+  ppp_bayes_tree::PppStatus s = input_counters;
+  s.epochs_processed = counters_.epochs_processed;
+  s.epochs_out_of_order = input_counters.epochs_out_of_order + counters_.epochs_not_published;
+  s.corrections_late = counters_.corrections_late;
+  return s;
+}
+
 ppp_bayes_tree::PppStatus NodeOutputs::emptyEpochStatus(const ppp::GnssTime& time,
                                                         const ppp_bayes_tree::PppStatus& counters,
                                                         double corrections_stale_s, const PhaseBiasChoice& phase,
                                                         bool ar_enabled) {
-  ppp_bayes_tree::PppStatus s = counters;
+  ppp_bayes_tree::PppStatus s = withCounters(counters);
   s.header.stamp = utcStamp(time);
   s.header.frame_id = options_.map_frame;
   s.solution_state = ppp_bayes_tree::PppStatus::NO_SOLUTION;
@@ -267,7 +275,8 @@ ppp_bayes_tree::PppStatus NodeOutputs::epochStatus(const ppp::GnssTime& time, co
                                                    const ppp_bayes_tree::PppStatus& counters,
                                                    const EpochFigures& figures, const PhaseBiasChoice& phase,
                                                    bool ar_enabled) {
-  ppp_bayes_tree::PppStatus s = counters;
+  ++counters_.epochs_processed;
+  ppp_bayes_tree::PppStatus s = withCounters(counters);
   s.header.stamp = utcStamp(time);
   s.header.frame_id = options_.map_frame;
   s.reason = rec.reason;
@@ -276,7 +285,8 @@ ppp_bayes_tree::PppStatus NodeOutputs::epochStatus(const ppp::GnssTime& time, co
   s.converged_vertical_sigma_m = options_.converged_vertical_sigma_m;
   const std::uint16_t late = setSatellites(rec, s);
   s.satellites_without_corrections = late;
-  s.corrections_late = counters.corrections_late + late;
+  counters_.corrections_late += late;
+  s.corrections_late = counters_.corrections_late;
   if (late > 0) warn_("late", "ppp: " + std::to_string(late) + " satellite(s) without corrections at " +
                                   time.toString() + " excluded (e.g. " + s.rejected.back() + ")");
   s.update_time_s = figures.update_time_s;

@@ -79,14 +79,15 @@ void PppNode::addDiagnostics() {
   diagnosis_ = NodeDiagnostics(config_.ros, ros::WallTime::now());  // rates from the end of the set-up
   diagnostics_.setHardwareID("ppp_" + config_.ros.estimator);
   diagnostics_.add("inputs", [this](DiagnosticStatusWrapper& s) {
-    diagnosis_.inputs(s, inputs_, outputs_.attitudeCounters(), ros::WallTime::now());
+    diagnosis_.inputs(s, inputs_, outputs_, ros::WallTime::now());
   });
   if (inputs_.isLive())
     diagnostics_.add("live streams", [this](DiagnosticStatusWrapper& s) {
-      diagnosis_.live(s, inputs_, stream_subs_, estimator_cpu_s_, ros::Time::now().toSec());
+      diagnosis_.live(s, inputs_, outputs_, stream_subs_, estimator_cpu_s_, ros::Time::now().toSec());
     });
   else
-    diagnostics_.add("corrections", [this](DiagnosticStatusWrapper& s) { diagnosis_.corrections(s, inputs_); });
+    diagnostics_.add("corrections",
+                     [this](DiagnosticStatusWrapper& s) { diagnosis_.corrections(s, inputs_, outputs_); });
   diagnostics_.add("solution", [this](DiagnosticStatusWrapper& s) {
     diagnosis_.solution(s, inputs_, outputs_, smoother(), estimator_restarts_);
   });
@@ -228,12 +229,11 @@ void PppNode::processObsEpoch(const ppp::ObsEpoch& epoch) {
     warnings_.warn("refused", "ppp: epoch refused: " + rec.reason);
     return;
   }
-  inputs_.countEpochProcessed();
   // Outputs never go back in time, one stamp one fix (the time guard and the FIFO gate
   // ensure it; kept as a guard).
   const bool publishable = !last_output_time_ || epoch.time > *last_output_time_;
   if (!publishable) {
-    inputs_.countOutputOutOfOrder();
+    outputs_.countNotPublished();
     warnings_.warn("output_order", "ppp: solution at " + epoch.time.toString() +
                                        " not after the last published one: not published");
   }
@@ -243,7 +243,6 @@ void PppNode::processObsEpoch(const ppp::ObsEpoch& epoch) {
       outputs_.epochStatus(epoch.time, rec, inputs_.counters(),
                            epochFigures(inputs_, *estimator_, epoch, rec, update_s, processor_->receiverAntennaWarnings()),
                            phase_biases_, arEnabled());
-  inputs_.countCorrectionsLate(s.satellites_without_corrections);
   if (publishable) {
     last_output_time_ = epoch.time;
     if (solved) publishSolution(epoch.time, rec, s);

@@ -8,7 +8,7 @@
 // usage: ppp_campaign check MANIFEST [--out DIR]
 //        ppp_campaign run MANIFEST --out DIR [--local | --slurm] [--jobs N]
 //                     [--partition P] [--time HH:MM:SS] [--mem M] [--max-resubmits N]
-//                     [--jobs-per-task K] [--poll-s S] [--no-plot]
+//                     [--jobs-per-task K] [--poll-s S] [--lease-s S] [--no-plot]
 //        ppp_campaign summary MANIFEST --out DIR [--no-plot]
 //        ppp_campaign run-job JOB_DIR
 // check: expands the manifest, checks every input (missing files are named) and
@@ -30,8 +30,12 @@
 //   lock); an array an earlier, stopped run left in the queue must end first.
 //   A stop signal (SIGTERM, SIGINT, SIGHUP) reaches the jobs: the local pool passes
 //   it to each job's process group, Slurm's array is cancelled; the summary is
-//   written and the exit status is 128 + the signal. OUT must be this campaign's
-//   (OUT/campaign.json), new or empty.
+//   written and the exit status is 128 + the signal. A campaign that cannot stop
+//   its array (killed with -9, its host down) stops watching it: the campaign
+//   touches OUT/slurm/watcher at every look at the queue, and each array task
+//   cancels the array when that heartbeat is older than --lease-s (default 120 s;
+//   checked before each job and every lease/4 s, at most 10 s, while one runs).
+//   OUT must be this campaign's (OUT/campaign.json), new or empty.
 // summary: the summary of the jobs as they are (nothing runs).
 // run-job: runs one prepared job directory (what both backends start).
 // The plot: scripts/plot_campaign.py OUT (python3 with matplotlib), unless --no-plot.
@@ -75,6 +79,9 @@
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
 
+/// Default watcher lease of a Slurm campaign (s): see SlurmSettings::lease_s.
+constexpr int kDefaultLease_s = 120;
+
 namespace {
 
 /// The status looks while jobs run (the pool's ended jobs, the Slurm watcher's
@@ -87,7 +94,7 @@ int usage(const std::string& why) {
             << "usage: ppp_campaign check MANIFEST [--out DIR]\n"
             << "       ppp_campaign run MANIFEST --out DIR [--local | --slurm] [--jobs N]\n"
             << "                    [--partition P] [--time HH:MM:SS] [--mem M] [--max-resubmits N]\n"
-            << "                    [--jobs-per-task K] [--poll-s S] [--no-plot]\n"
+            << "                    [--jobs-per-task K] [--poll-s S] [--lease-s S] [--no-plot]\n"
             << "       ppp_campaign summary MANIFEST --out DIR [--no-plot]\n"
             << "       ppp_campaign run-job JOB_DIR\n";
   return 2;
@@ -98,6 +105,7 @@ struct Options {
   bool slurm = false, plot = true;
   unsigned jobs = 0;
   double poll_s = 1.0;
+  int lease_s = kDefaultLease_s;
   std::optional<std::string> partition, time_limit, mem;
   std::optional<int> max_resubmits, jobs_per_task;
 };
@@ -436,7 +444,41 @@ struct SlurmSettings {
   ppp::CampaignResources resources;
   std::string name, out;
   double poll_s = 1.0;
+  /// The watcher's lease: an array task that finds the campaign's heartbeat older
+  /// than this cancels the array (the campaign is gone: killed with -9, its host down).
+  int lease_s = kDefaultLease_s;
 };
+
+/// OUT/slurm/watcher: touched by the campaign at every look at its array (the
+/// heartbeat the array's tasks check against the lease).
+std::string watcherHeartbeat(const std::string& out) { return (fs::path(out) / "slurm" / "watcher").string(); }
+
+/// Touches the heartbeat (creating it, with the campaign's pid, the first time).
+void touchHeartbeat(const std::string& path) {
+  std::error_code ec;
+  if (!fs::exists(path, ec)) {
+    fs::create_directories(fs::path(path).parent_path());
+    ppp::writeFileAtomically(path, "ppp_campaign pid " + std::to_string(getpid()) + "\n");
+    return;
+  }
+  fs::last_write_time(path, fs::file_time_type::clock::now(), ec);
+}
+
+/// The task script's part that ends the array when no campaign watches it: a
+/// check before each job (`campaign_watched`) and a watchdog beside the running
+/// job (so a long job stops too), both comparing the heartbeat's age with the lease.
+std::string watcherCheckScript(const SlurmSettings& s) {
+  const int check_s = std::max(1, std::min(10, s.lease_s / 4));
+  return "heartbeat=" + shellQuote(watcherHeartbeat(s.out)) + "\nlease_s=" + std::to_string(s.lease_s) +
+         "\ncampaign_watched() {\n"
+         "  local age=$(( $(date +%s) - $(stat -c %Y \"$heartbeat\" 2> /dev/null || echo 0) ))\n"
+         "  [ $age -le $lease_s ] && return 0\n"
+         "  echo \"ppp_campaign: no campaign watches array $SLURM_ARRAY_JOB_ID any more ($heartbeat last touched $age s "
+         "ago, lease $lease_s s): cancelling the array\" >&2\n"
+         "  scancel \"$SLURM_ARRAY_JOB_ID\"; return 1\n}\n"
+         "( while sleep " + std::to_string(check_s) + "; do campaign_watched || exit 0; done ) &\n"
+         "watchdog=$!\ntrap 'kill $watchdog 2> /dev/null' EXIT\n";
+}
 
 /// The cluster's MaxArraySize (array indices 0 .. MaxArraySize - 1; Slurm's default 1001).
 std::size_t maxArraySize() {
@@ -511,7 +553,8 @@ std::string arrayTaskScript(const SlurmSettings& s, const RoundFiles& f, std::si
          std::to_string(per_task) + " or more while the time limit (" + s.resources.time_limit +
          ") leaves room\nclaims=" + shellQuote(f.claims) + "\nlist=" + shellQuote(f.list) +
          "\njobs=" + std::to_string(jobs) + "\nper_task=" + std::to_string(per_task) +
-         "\nstatus=0 taken=0 longest=0 start=$SECONDS\nwhile :; do\n" + room +
+         "\n" + watcherCheckScript(s) + "status=0 taken=0 longest=0 start=$SECONDS\nwhile :; do\n" + room +
+         "  campaign_watched || break\n" +
          "  line=$( { flock 9 || exit 1; n=$(( $(cat \"$claims/next\" 2> /dev/null || echo 0) + 1 ))\n"
          "    if [ $n -le $jobs ]; then echo $n > \"$claims/next\"; echo \"$SLURM_ARRAY_TASK_ID\" > \"$claims/$n\"; fi\n"
          "    echo $n; } 9> \"$claims/lock\" )\n"
@@ -635,6 +678,7 @@ void waitForRound(const SlurmSettings& s, const std::string& array_id, const Rou
     }
     bool ended = open.empty();
     if (!ended && Clock::now() >= next_queue_look) {
+      touchHeartbeat(watcherHeartbeat(s.out));
       running = 0;
       for (const auto& [task, state] : slurmQueue(array_id, ended))
         running += state == "RUNNING" || state == "COMPLETING";
@@ -669,9 +713,11 @@ SlurmOutcome runSlurm(const SlurmSettings& s, std::vector<PendingJob> jobs, int 
   const std::string marker = (fs::path(s.out) / "slurm" / "active_array").string();
   if (const std::string id = arrayStillQueued(marker); !id.empty()) {
     std::cerr << "ppp_campaign: array job " << id << " of this campaign is still queued or running (an earlier "
-              << "invocation was stopped): wait for it or scancel " << id << ", then run again\n";
+              << "invocation was stopped; its tasks cancel it within " << s.lease_s << " s of the last watch): wait "
+              << "for it or scancel " << id << ", then run again\n";
     return outcome;
   }
+  touchHeartbeat(watcherHeartbeat(s.out));
   outcome.submitted = true;
   for (int round = 0;; ++round) {
     std::string why;
@@ -845,6 +891,7 @@ int commandRun(const ppp::CampaignManifest& manifest, const Options& o) {
       s.name = manifest.name;
       s.out = fs::absolute(o.out).string();
       s.poll_s = o.poll_s;
+      s.lease_s = o.lease_s;
       const SlurmOutcome outcome = runSlurm(s, pending, already, total);
       if (!outcome.submitted) return 1;
       stop_signal = outcome.stop_signal;
@@ -901,6 +948,10 @@ bool parseOptions(int argc, char** argv, Options& o, std::string& why) {
       const auto t = value(v) ? positiveSeconds(v) : std::nullopt;
       if (!t) return (why = "--poll-s needs seconds > 0, not '" + v + "'", false);
       o.poll_s = *t;
+    } else if (a == "--lease-s") {
+      const auto n = value(v) ? wholeNumber(v, 2) : std::nullopt;
+      if (!n) return (why = "--lease-s needs whole seconds >= 2, not '" + v + "'", false);
+      o.lease_s = *n;
     } else if (a == "--partition" || a == "--time" || a == "--mem") {
       if (!value(v)) return (why = a + " needs a value", false);
       if (a == "--time" && !ppp::slurmTimeLimit_s(v))
@@ -918,6 +969,8 @@ bool parseOptions(int argc, char** argv, Options& o, std::string& why) {
       return (why = "unexpected argument " + a, false);
     }
   }
+  if (o.lease_s < 3.0 * o.poll_s)
+    return (why = "--lease-s (" + std::to_string(o.lease_s) + " s) must be at least 3 looks of --poll-s", false);
   return true;
 }
 

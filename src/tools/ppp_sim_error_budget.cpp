@@ -27,6 +27,7 @@
 #include <vector>
 
 #include "ppp_bayes_tree/evaluation/monte_carlo.h"
+#include "ppp_bayes_tree/models/troposphere.h"
 #include "ppp_bayes_tree/ppp/estimators/estimator_registry.h"
 #include "ppp_bayes_tree/ppp/pipeline/ppp_pipeline.h"
 #include "ppp_bayes_tree/simulation/gnss_simulator.h"
@@ -179,8 +180,13 @@ int main(int argc, char** argv) {
     sim.errors = scenarioErrors(sim.errors, sc);
     const SimulatedFlight f = simulateFlight(sim, setup.seed);
     PppConfig c = flightPppConfig(options.ppp, f);  // the flight's physics, the config's weights
+    // The true ZWD in the estimators' convention: at the receiver, or carried to the ellipsoid.
+    auto stateZwd_m = [&](const TruthEpoch& e) {
+      if (!c.model.zwd_at_ellipsoid) return e.zwd_m;
+      return e.zwd_m / standardWetDelayHeightRatio(ecefToGeodetic(e.trajectory.position_ecef_m).height_m);
+    };
     if (zwd_truth) {
-      c.stochastic.initial_zwd_m = f.truth.front().zwd_m;
+      c.stochastic.initial_zwd_m = stateZwd_m(f.truth.front());
       c.stochastic.zwd.initial_sigma_m = 0.001;
     }
     PppInMemoryInputs in;
@@ -256,7 +262,7 @@ int main(int argc, char** argv) {
         const Eigen::Vector3d* tr = truthAt(s.time);
         if (tr && s.time - t0 >= after_min * 60.0) {
           smooth_acc.add(enuError(s.state.position_ecef_m, *tr));
-          zwd_err_sum += s.state.zwd_m - truthEpoch(s.time)->zwd_m;
+          zwd_err_sum += s.state.zwd_m - stateZwd_m(*truthEpoch(s.time));
           ++zwd_n;
         }
       }

@@ -11,6 +11,7 @@
 //                                 and bit readers, stream problems, the epoch-time screen)
 //   models      -> io             pure models and the product providers
 //   smoother    -> types          the generic incremental smoother (no GNSS)
+//   navigation  -> types          IMU readings, SO(3), preintegration, the IMU factor's error
 //   ppp         -> models, smoother   measurement model, estimators, pipeline
 //   simulation  -> ppp            the flight simulator
 //   evaluation  -> simulation     statistics, solution writers, Monte Carlo
@@ -22,9 +23,11 @@
 //                                      the observation sources
 //   io/products   -> io                SP3, RINEX clock, ANTEX, Bias-SINEX, BLQ
 //   io/rtcm       -> io/rinex          RTCM 3 framing, MSM, ephemerides, SSR
-//   io/ubx        -> io/rtcm           u-blox UBX (its epochs become RTCM's stream epochs)
-//   io/transport  -> io/ubx            byte sources (file replay, NTRIP, TCP, serial),
+//   io/ubx        -> io/rinex          u-blox UBX (rtcm and ubx side by side: the stream
+//                                      epoch both give is io/stream_epoch.h)
+//   io/transport  -> io/rtcm, io/ubx   byte sources (file replay, NTRIP, TCP, serial),
 //                                      stream formats and the stream decoder of both
+//   io/imu        -> io, navigation    IMU text files (logged IMU with time tags, plain CSV)
 //   ppp/model     -> models, smoother  signals, arcs, measurement model, state layout
 //   ppp/screening -> ppp/model         prefit and postfit screening
 //   ppp/ambiguity -> ppp/model         wide lane, LAMBDA, PPP-AR, product consistency
@@ -33,6 +36,16 @@
 //   ppp/pipeline  -> ppp/config        epoch processor, products, pipeline
 // A folder above io or ppp may include all of its parts (models: io/transport and
 // io/products; simulation: ppp/pipeline); a file directly in ppp/ has no part.
+//
+// The estimation parts of ppp (model, screening, ambiguity, estimators) open no
+// file: what they need of the products' files (e.g. the satellite antenna model
+// the SP3 and clock headers name) the product assembly reads and hands them as
+// data. Their files include neither <fstream> nor io/line_source.h and call no
+// stream (fopen, ifstream, ofstream, fstream, open...Source) and no reader
+// (read..., summarize...File, productAntennaModel).
+//
+// The ROS node's parts (src/ros, include/ppp_bayes_tree/ros) go one way too: inputs ->
+// outputs -> diagnostics (each counts what it meets; the diagnostics read all).
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -133,10 +146,12 @@ const std::map<std::string, std::set<std::string>>& allowedIncludes() {
         {"io/rinex", {"io"}},
         {"io/products", {"io"}},
         {"io/rtcm", {"io/rinex"}},
-        {"io/ubx", {"io/rtcm"}},
-        {"io/transport", {"io/ubx"}},
+        {"io/ubx", {"io/rinex"}},
+        {"io/transport", {"io/rtcm", "io/ubx"}},
         {"models", {"io/transport", "io/products"}},
         {"smoother", {"types"}},
+        {"navigation", {"types"}},
+        {"io/imu", {"io", "navigation"}},
         {"ppp/model", {"models", "smoother"}},
         {"ppp/screening", {"ppp/model"}},
         {"ppp/ambiguity", {"ppp/model"}},
@@ -198,6 +213,49 @@ std::vector<std::string> layeringViolations(const fs::path& file, const std::str
   return out;
 }
 
+/// Every file of the core outside ros/ with its layer (layerOf).
+std::vector<std::pair<fs::path, std::string>> layeredCoreFiles(const fs::path& repo) {
+  std::vector<std::pair<fs::path, std::string>> files;
+  for (const fs::path root : {repo / "src" / "core", repo / "include" / "ppp_bayes_tree"}) {
+    if (!fs::exists(root)) continue;
+    for (const auto& dir : fs::directory_iterator(root)) {
+      if (!dir.is_directory()) continue;
+      if (dir.path().filename() == "ros") continue;  // the ROS adapters sit above the core
+      for (const auto& entry : fs::recursive_directory_iterator(dir.path())) {
+        if (entry.is_regular_file()) files.emplace_back(entry.path(), layerOf(fs::relative(entry.path(), root)));
+      }
+    }
+  }
+  return files;
+}
+
+/// The layers that open no file (see the top of this file).
+bool opensNoFile(const std::string& layer) {
+  return layer == "ppp/model" || layer == "ppp/screening" || layer == "ppp/ambiguity" || layer == "ppp/estimators";
+}
+
+const std::regex kFileOpeningInclude(R"(^\s*#\s*include\s*(<fstream>|"ppp_bayes_tree/io/line_source\.h"))");
+const std::regex kFileOpeningCall(
+    R"(\b(fopen|ifstream|ofstream|fstream|open[A-Za-z]*Source|read[A-Z]\w*|summarize\w*File|productAntennaModel)\b)");
+
+/// "file:line: layer opens files (what)" for every include or call that reads a file, in
+/// a layer that opens none; comments are not read.
+std::vector<std::string> fileOpeningViolations(const fs::path& file, const std::string& layer) {
+  std::vector<std::string> out;
+  if (!opensNoFile(layer)) return out;
+  std::ifstream in(file);
+  std::string line;
+  int n = 0;
+  while (std::getline(in, line)) {
+    ++n;
+    const std::string code = line.substr(0, line.find("//"));
+    std::smatch m;
+    if (std::regex_search(code, m, kFileOpeningInclude) || std::regex_search(code, m, kFileOpeningCall))
+      out.push_back(file.string() + ":" + std::to_string(n) + ": " + layer + " opens files (" + m[1].str() + ")");
+  }
+  return out;
+}
+
 }  // namespace
 
 TEST(CoreLayering, DetectorRecognisesUpwardIncludes) {
@@ -242,10 +300,12 @@ TEST(CoreLayering, DetectorKnowsTheDirectionInsidePppAndIo) {
   EXPECT_EQ(layeringViolations(tmp, "ppp/screening").size(), 4u);  // ambiguity, estimators, config, pipeline
   EXPECT_EQ(layeringViolations(tmp, "ppp/ambiguity").size(), 4u);  // screening, estimators, config, pipeline
   EXPECT_EQ(layeringViolations(tmp, "ppp/model").size(), 5u);        // every other part of ppp
-  // io: the base, then rinex and products side by side, rtcm, ubx, transport on top.
+  // io: the base, then rinex and products side by side, rtcm and ubx side by side on
+  // rinex, transport on top.
   EXPECT_EQ(layeringViolations(tmp, "io").size(), 11u);            // everything but itself
   EXPECT_EQ(layeringViolations(tmp, "io/rinex").size(), 10u);      // ppp (6), products, rtcm, ubx, transport
   EXPECT_EQ(layeringViolations(tmp, "io/rtcm").size(), 9u);        // ppp (6), products, ubx, transport
+  EXPECT_EQ(layeringViolations(tmp, "io/ubx").size(), 9u);         // ppp (6), products, rtcm, transport
   EXPECT_EQ(layeringViolations(tmp, "io/transport").size(), 7u);   // ppp (6), products
   EXPECT_EQ(layeringViolations(tmp, "models").size(), 6u);         // ppp (6): models see all of io
   fs::remove(tmp);
@@ -256,24 +316,161 @@ TEST(CoreLayering, EachFolderIncludesOnlyTheFoldersBelowIt) {
   const auto& allowed = allowedIncludes();
   std::vector<std::string> hits;
   std::set<std::string> layers;
-  for (const fs::path root : {repo / "src" / "core", repo / "include" / "ppp_bayes_tree"}) {
-    if (!fs::exists(root)) continue;
-    for (const auto& dir : fs::directory_iterator(root)) {
-      if (!dir.is_directory()) continue;
-      if (dir.path().filename() == "ros") continue;  // the ROS adapters sit above the core
-      for (const auto& entry : fs::recursive_directory_iterator(dir.path())) {
-        if (!entry.is_regular_file()) continue;
-        const std::string layer = layerOf(fs::relative(entry.path(), root));
-        layers.insert(layer);
-        if (!allowed.count(layer)) hits.push_back(entry.path().string() + ": in no layer of the table (" + layer + ")");
-        auto v = layeringViolations(entry.path(), layer);
-        hits.insert(hits.end(), v.begin(), v.end());
-      }
-    }
+  for (const auto& [file, layer] : layeredCoreFiles(repo)) {
+    layers.insert(layer);
+    if (!allowed.count(layer)) hits.push_back(file.string() + ": in no layer of the table (" + layer + ")");
+    auto v = layeringViolations(file, layer);
+    hits.insert(hits.end(), v.begin(), v.end());
   }
   // Every layer of the table holds files: the six parts of ppp and the five of io.
   for (const auto& [layer, below] : allowed) EXPECT_TRUE(layers.count(layer)) << "no file in " << layer;
   std::string all;
   for (const auto& h : hits) all += "\n  " + h;
   EXPECT_TRUE(hits.empty()) << "includes against the layering:" << all;
+}
+
+TEST(CoreLayering, TypesIsTheBase) {
+  // The shared data types (the observation epoch among them) include nothing else of the project.
+  const fs::path tmp = writeProbe("ppp_core_layering_types_probe.h",
+                                  {"#include \"ppp_bayes_tree/types/obs_epoch.h\"",
+                                   "#include \"ppp_bayes_tree/io/stream_epoch.h\"",
+                                   "#include \"ppp_bayes_tree/io/rinex/rinex_obs_header.h\"",
+                                   "#include \"ppp_bayes_tree/smoother/isam2.h\""});
+  const auto types = layeringViolations(tmp, "types");
+  ASSERT_EQ(types.size(), 3u);  // io, io/rinex, smoother
+  EXPECT_NE(types[0].find(":2: types includes io"), std::string::npos) << types[0];
+  EXPECT_NE(types[1].find(":3: types includes io/rinex"), std::string::npos) << types[1];
+  EXPECT_EQ(layeringViolations(tmp, "smoother").size(), 2u);  // io, io/rinex: the smoother sees only types
+  EXPECT_EQ(layeringViolations(tmp, "io").size(), 2u);        // io/rinex, smoother
+  fs::remove(tmp);
+}
+
+TEST(CoreLayering, RtcmAndUbxAreSiblings) {
+  // Neither receiver format includes the other; both see the stream epoch of the io base
+  // and the RINEX layout of io/rinex; the transport sees both.
+  const fs::path tmp = writeProbe("ppp_core_layering_framers_probe.h",
+                                  {"#include \"ppp_bayes_tree/io/stream_epoch.h\"",
+                                   "#include \"ppp_bayes_tree/io/rinex/stream_epoch_layout.h\"",
+                                   "#include \"ppp_bayes_tree/io/rtcm/rtcm_observation_source.h\"",
+                                   "#include \"ppp_bayes_tree/io/ubx/ubx_observation_source.h\""});
+  const auto ubx = layeringViolations(tmp, "io/ubx");
+  ASSERT_EQ(ubx.size(), 1u);
+  EXPECT_NE(ubx[0].find(":3: io/ubx includes io/rtcm"), std::string::npos) << ubx[0];
+  const auto rtcm = layeringViolations(tmp, "io/rtcm");
+  ASSERT_EQ(rtcm.size(), 1u);
+  EXPECT_NE(rtcm[0].find(":4: io/rtcm includes io/ubx"), std::string::npos) << rtcm[0];
+  EXPECT_EQ(layeringViolations(tmp, "io/transport").size(), 0u);
+  EXPECT_EQ(layeringViolations(tmp, "io/rinex").size(), 2u);  // rtcm, ubx
+  fs::remove(tmp);
+}
+
+TEST(CoreLayering, DetectorRecognisesFileOpening) {
+  // productAntennaModel(path) once opened the SP3 and clock files from ppp/ambiguity.
+  const fs::path tmp = writeProbe("ppp_core_file_opening_probe.cpp",
+                                  {"#include \"ppp_bayes_tree/io/line_source.h\"",
+                                   "#include \"ppp_bayes_tree/io/fixed_width.h\"",
+                                   "#include <fstream>",
+                                   "#include <cstdio>",
+                                   "auto src = openLineSource(path);",
+                                   "std::ifstream in(path);",
+                                   "std::FILE* f = std::fopen(path.c_str(), \"rb\");",
+                                   "const Sp3File sp3 = readSp3(path);",
+                                   "models.push_back(productAntennaModel(f));",
+                                   "const FileSummary s = summarizeClockFile(path);",
+                                   "// a comment may say readSp3(path) or std::ifstream",
+                                   "std::snprintf(buf, sizeof buf, \"%d\", n);  // thread, spread(, already(",
+                                   "const double spread_m = threadedValue(x);"});
+  const auto ambiguity = fileOpeningViolations(tmp, "ppp/ambiguity");
+  ASSERT_EQ(ambiguity.size(), 8u);  // lines 1, 3, 5-10
+  EXPECT_NE(ambiguity[0].find(":1: ppp/ambiguity opens files (\"ppp_bayes_tree/io/line_source.h\")"), std::string::npos)
+      << ambiguity[0];
+  EXPECT_NE(ambiguity[7].find(":10: ppp/ambiguity opens files (summarizeClockFile)"), std::string::npos) << ambiguity[7];
+  for (const char* layer : {"ppp/model", "ppp/screening", "ppp/estimators"})
+    EXPECT_EQ(fileOpeningViolations(tmp, layer).size(), 8u) << layer;
+  // The parts that read files: the pipeline (the product assembly), the configuration, io, models.
+  for (const char* layer : {"ppp/pipeline", "ppp/config", "io/products", "models", "app"})
+    EXPECT_EQ(fileOpeningViolations(tmp, layer).size(), 0u) << layer;
+  fs::remove(tmp);
+}
+
+TEST(CoreLayering, EstimationPartsOpenNoFile) {
+  const fs::path repo = PPP_REPO_DIR;
+  std::vector<std::string> hits;
+  std::size_t checked = 0;
+  for (const auto& [file, layer] : layeredCoreFiles(repo)) {
+    if (opensNoFile(layer)) ++checked;
+    auto v = fileOpeningViolations(file, layer);
+    hits.insert(hits.end(), v.begin(), v.end());
+  }
+  EXPECT_GT(checked, 20u) << "the files of ppp/model, screening, ambiguity and estimators not found under " << repo;
+  std::string all;
+  for (const auto& h : hits) all += "\n  " + h;
+  EXPECT_TRUE(hits.empty()) << "files opened below the product assembly:" << all;
+}
+
+namespace {
+
+/// The node parts each node part may include (node_<part>.h).
+const std::map<std::string, std::set<std::string>> kNodeParts{
+    {"node_inputs", {}},
+    {"node_outputs", {"node_inputs"}},
+    {"node_diagnostics", {"node_inputs", "node_outputs"}},
+};
+
+const std::regex kNodePartInclude(R"(^\s*#\s*include\s*"ppp_bayes_tree/ros/(node_[a-z]+)\.h")");
+
+/// "file:line: part includes other" for every include of a node part above `part`.
+std::vector<std::string> nodePartViolations(const fs::path& file, const std::string& part) {
+  std::vector<std::string> out;
+  const auto allowed = kNodeParts.find(part);
+  if (allowed == kNodeParts.end()) return out;
+  std::ifstream in(file);
+  std::string line;
+  int n = 0;
+  while (std::getline(in, line)) {
+    ++n;
+    std::smatch m;
+    if (!std::regex_search(line, m, kNodePartInclude)) continue;
+    const std::string target = m[1];
+    if (target != part && kNodeParts.count(target) && !allowed->second.count(target))
+      out.push_back(file.string() + ":" + std::to_string(n) + ": " + part + " includes " + target);
+  }
+  return out;
+}
+
+}  // namespace
+
+TEST(RosNodeParts, DetectorRecognisesBackwardIncludes) {
+  const fs::path tmp = writeProbe("ppp_node_parts_probe.cpp",
+                                  {"#include \"ppp_bayes_tree/ros/node_inputs.h\"",
+                                   "#include \"ppp_bayes_tree/ros/node_outputs.h\"",
+                                   "#include \"ppp_bayes_tree/ros/node_diagnostics.h\"",
+                                   "#include \"ppp_bayes_tree/ros/node_options.h\""});
+  const auto inputs = nodePartViolations(tmp, "node_inputs");
+  ASSERT_EQ(inputs.size(), 2u);  // outputs, diagnostics
+  EXPECT_NE(inputs[0].find(":2: node_inputs includes node_outputs"), std::string::npos) << inputs[0];
+  EXPECT_EQ(nodePartViolations(tmp, "node_outputs").size(), 1u);  // diagnostics
+  EXPECT_EQ(nodePartViolations(tmp, "node_diagnostics").size(), 0u);
+  EXPECT_EQ(nodePartViolations(tmp, "ppp_node").size(), 0u);  // the node holds them all
+  fs::remove(tmp);
+}
+
+TEST(RosNodeParts, InputsOutputsDiagnosticsGoOneWay) {
+  const fs::path repo = PPP_REPO_DIR;
+  std::vector<std::string> hits;
+  std::size_t checked = 0;
+  for (const fs::path dir : {repo / "src" / "ros", repo / "include" / "ppp_bayes_tree" / "ros"}) {
+    if (!fs::exists(dir)) continue;
+    for (const auto& entry : fs::directory_iterator(dir)) {
+      const std::string part = entry.path().stem().string();
+      if (!entry.is_regular_file() || !kNodeParts.count(part)) continue;
+      ++checked;
+      auto v = nodePartViolations(entry.path(), part);
+      hits.insert(hits.end(), v.begin(), v.end());
+    }
+  }
+  EXPECT_EQ(checked, 6u) << "node_inputs, node_outputs, node_diagnostics (.h and .cpp) not found under " << repo;
+  std::string all;
+  for (const auto& h : hits) all += "\n  " + h;
+  EXPECT_TRUE(hits.empty()) << "node parts including a part above them:" << all;
 }

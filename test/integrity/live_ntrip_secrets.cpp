@@ -14,7 +14,7 @@
 
 #include <sys/stat.h>
 
-#include "core/loopback_servers.h"
+#include "loopback_servers.h"
 #include "rostest/live_support.h"
 
 namespace {

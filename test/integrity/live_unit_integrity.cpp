@@ -17,7 +17,7 @@
 #include <fstream>
 #include <string>
 
-#include "core/loopback_servers.h"
+#include "loopback_servers.h"
 #include "test_support.h"
 #include "ppp_bayes_tree/io/transport/byte_source_spec.h"
 #include "ppp_bayes_tree/io/transport/credential_mask.h"

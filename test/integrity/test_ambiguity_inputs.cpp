@@ -24,7 +24,7 @@
 #include <string>
 #include <vector>
 
-#include "core/ppp_dataset.h"
+#include "ppp_dataset.h"
 #include "ppp_bayes_tree/io/bias_bounds.h"
 #include "ppp_bayes_tree/io/line_source.h"
 #include "ppp_bayes_tree/io/products/bias_sinex_reader.h"

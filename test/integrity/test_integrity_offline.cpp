@@ -25,7 +25,7 @@
 #include <map>
 #include <sstream>
 
-#include "core/ppp_dataset.h"
+#include "ppp_dataset.h"
 #include "ppp_bayes_tree/app/ppp_solve_run.h"
 #include "ppp_bayes_tree/io/parse_error.h"
 #include "test_support.h"

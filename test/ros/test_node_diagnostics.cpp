@@ -51,14 +51,14 @@ TEST(NodeDiagnostics, InputsWarnWithoutObservationsAndOnLossesSinceTheLastReport
   NodeOutputs out(o, node_test::ignoreWarnings());
   NodeDiagnostics diagnostics(o, kStart);
   DiagnosticStatusWrapper s0;
-  diagnostics.inputs(s0, in, out.attitudeCounters(), kStart + ros::WallDuration(1.0));
+  diagnostics.inputs(s0, in, out, kStart + ros::WallDuration(1.0));
   EXPECT_EQ(s0.level, DiagnosticStatus::WARN);
   EXPECT_EQ(s0.message, "no observations received yet");
 
   observe(in, day(), 1);
   observe(in, day() + 1.0, 4);  // seq 2 and 3 lost
   DiagnosticStatusWrapper s1;
-  diagnostics.inputs(s1, in, out.attitudeCounters(), kStart + ros::WallDuration(2.0));
+  diagnostics.inputs(s1, in, out, kStart + ros::WallDuration(2.0));
   EXPECT_EQ(s1.level, DiagnosticStatus::WARN);
   EXPECT_EQ(s1.message, "2 message(s) lost before the node since the last report");
   EXPECT_EQ(value(s1, "observation messages lost before the node (header.seq gaps)"), "2");
@@ -70,7 +70,7 @@ TEST(NodeDiagnostics, InputsWarnWithoutObservationsAndOnLossesSinceTheLastReport
   // No new loss since: OK.
   observe(in, day() + 2.0, 5);
   DiagnosticStatusWrapper s2;
-  diagnostics.inputs(s2, in, out.attitudeCounters(), kStart + ros::WallDuration(3.0));
+  diagnostics.inputs(s2, in, out, kStart + ros::WallDuration(3.0));
   EXPECT_EQ(s2.level, DiagnosticStatus::OK);
   EXPECT_EQ(s2.message, "receiving");
   EXPECT_EQ(value(s2, "last stamp dropped"), "none");
@@ -84,7 +84,7 @@ TEST(NodeDiagnostics, InputsWarnBelowHalfTheExpectedRate) {
   NodeDiagnostics diagnostics(o, kStart);
   for (std::uint32_t k = 0; k < 4; ++k) observe(in, day() + k, k + 1);
   DiagnosticStatusWrapper s;
-  diagnostics.inputs(s, in, out.attitudeCounters(), kStart + ros::WallDuration(1.0));  // 4 Hz < 5 Hz
+  diagnostics.inputs(s, in, out, kStart + ros::WallDuration(1.0));  // 4 Hz < 5 Hz
   EXPECT_EQ(s.level, DiagnosticStatus::WARN);
   EXPECT_EQ(s.message, "observation rate below half the expected rate");
 }
@@ -92,10 +92,11 @@ TEST(NodeDiagnostics, InputsWarnBelowHalfTheExpectedRate) {
 TEST(NodeDiagnostics, CorrectionsLevelsFollowTheStaleThresholds) {
   ppp_ros::RosNodeOptions o;  // stale WARN 60 s, ERROR 180 s; late arrival WARN 10 s
   NodeDiagnostics diagnostics(o, kStart);
+  const NodeOutputs out(o, node_test::ignoreWarnings());
   {
     NodeInputs in(o, node_test::ignoreWarnings());
     DiagnosticStatusWrapper s;
-    diagnostics.corrections(s, in);
+    diagnostics.corrections(s, in, out);
     EXPECT_EQ(s.level, DiagnosticStatus::WARN);
     EXPECT_EQ(s.message, "no corrections received yet");
   }
@@ -113,7 +114,7 @@ TEST(NodeDiagnostics, CorrectionsLevelsFollowTheStaleThresholds) {
     correct(in, t, 1, ppp_ros::utcStamp(t));  // arrives at its own stamp: age 0
     observe(in, t + c.observations_ahead_s, 1, ppp_ros::utcStamp(t));
     DiagnosticStatusWrapper s;
-    diagnostics.corrections(s, in);
+    diagnostics.corrections(s, in, out);
     EXPECT_EQ(s.level, c.level) << c.observations_ahead_s;
     EXPECT_EQ(s.message, c.message);
     EXPECT_EQ(value(s, "batches held"), "1");
@@ -122,9 +123,40 @@ TEST(NodeDiagnostics, CorrectionsLevelsFollowTheStaleThresholds) {
   NodeInputs in(o, node_test::ignoreWarnings());
   correct(in, t, 1, ppp_ros::utcStamp(t) + ros::Duration(15.0));
   DiagnosticStatusWrapper s;
-  diagnostics.corrections(s, in);
+  diagnostics.corrections(s, in, out);
   EXPECT_EQ(s.level, DiagnosticStatus::WARN);
   EXPECT_EQ(s.message, "corrections arrive late");
+}
+
+TEST(NodeDiagnostics, EachPartsCountersAreRead) {
+  // The inputs count the epochs the time guard drops; the outputs count the epochs processed,
+  // those not published and the satellites without corrections: the diagnostics read both.
+  ppp_ros::RosNodeOptions o;
+  NodeInputs in(o, node_test::ignoreWarnings());
+  NodeOutputs out(o, node_test::ignoreWarnings());
+  NodeDiagnostics diagnostics(o, kStart);
+  observe(in, day() + 1.0, 1);
+  observe(in, day() + 0.5, 2);  // back in time: dropped by the inputs
+  ASSERT_EQ(in.counters().epochs_out_of_order, 1u);
+  out.countNotPublished();
+  ppp::PppEpochRecord rec;
+  rec.reason = "too few satellites (3 < 4)";
+  ppp::EpochRejection late;
+  late.satellite = {ppp::GnssSystem::GPS, 30};
+  late.stage = ppp::RejectionStage::Model;
+  late.reason = ppp::RejectionReason::NoClock;
+  rec.rejected = {late, late};
+  out.epochStatus(day(), rec, in.counters(), {}, {}, false);
+  out.epochStatus(day() + 1.0, rec, in.counters(), {}, {}, false);
+  DiagnosticStatusWrapper inputs, corrections, solution;
+  diagnostics.inputs(inputs, in, out, kStart + ros::WallDuration(1.0));
+  diagnostics.corrections(corrections, in, out);
+  diagnostics.solution(solution, in, out, nullptr, 0);
+  EXPECT_EQ(value(inputs, "out-of-order epochs dropped"), "2");
+  EXPECT_EQ(value(corrections, "satellite-epochs without corrections"), "4");
+  EXPECT_EQ(value(solution, "epochs processed"), "2");
+  EXPECT_EQ(in.counters().epochs_processed, 0u);  // nothing of the outputs' is counted in the inputs
+  EXPECT_EQ(in.counters().corrections_late, 0u);
 }
 
 TEST(NodeDiagnostics, SolutionReportsTheLastStatus) {
@@ -203,10 +235,11 @@ TEST(NodeDiagnostics, LiveStreamsWarnBeforeTheFirstEpochAndOnBroadcastFallback) 
   ppp_ros::RosNodeOptions o;
   NodeInputs in(o, node_test::ignoreWarnings());
   in.startLive(o.live_input);
+  const NodeOutputs out(o, node_test::ignoreWarnings());
   NodeDiagnostics diagnostics(o, kStart);
   const std::vector<std::unique_ptr<ppp_ros::GnssStreamSubscriber>> no_subscribers;
   DiagnosticStatusWrapper s;
-  diagnostics.live(s, in, no_subscribers, 0.0, kArrival.toSec());
+  diagnostics.live(s, in, out, no_subscribers, 0.0, kArrival.toSec());
   EXPECT_EQ(s.level, DiagnosticStatus::WARN);
   EXPECT_EQ(s.message, "no observation epoch decoded yet");
   EXPECT_EQ(value(s, "product mode"), std::string(ppp::liveProductModeName(in.live()->mode())));

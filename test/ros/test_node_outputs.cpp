@@ -72,8 +72,8 @@ TEST(NodeOutputs, FixedEpochGivesTheStatusFixFieldsAndGbasFix) {
   NodeOutputs out(ppp_ros::RosNodeOptions{}, node_test::ignoreWarnings());
   WithPhaseBiases phase;
   out.setDatum(equator());
-  ppp_bayes_tree::PppStatus counters;
-  counters.epochs_processed = 1;
+  ppp_bayes_tree::PppStatus counters;  // the inputs' counters
+  counters.observations_lost = 3;
   // A float epoch first (time to first fix counts from the first solution), then fixed 10 s later.
   const ppp::PppEpochRecord first = solvedRecord(day(), equator(), false);
   const ppp_bayes_tree::PppStatus s0 = out.epochStatus(day(), first, counters, {}, phase.choice(), true);
@@ -104,7 +104,10 @@ TEST(NodeOutputs, FixedEpochGivesTheStatusFixFieldsAndGbasFix) {
   EXPECT_NEAR(s.zwd_sigma_m, 0.02, 1e-12);
   EXPECT_EQ(s.satellites_used, 8u);
   EXPECT_EQ(s.used.front(), "G01");
-  EXPECT_EQ(s.epochs_processed, 1u);
+  EXPECT_EQ(s0.epochs_processed, 1u);  // the outputs count the epochs whose status they build
+  EXPECT_EQ(s.epochs_processed, 2u);
+  EXPECT_EQ(out.counters().epochs_processed, 2u);
+  EXPECT_EQ(s.observations_lost, 3u);  // the inputs' counters carried
   EXPECT_EQ(s.header.stamp, ppp_ros::utcStamp(day() + 10.0));
   ASSERT_TRUE(out.lastStatus());
   EXPECT_EQ(out.lastStatus()->fix_state, ppp_bayes_tree::PppStatus::FIX_FIXED);
@@ -144,13 +147,26 @@ TEST(NodeOutputs, LateCorrectionsAreCountedInTheStatusAndWarned) {
   r.stage = ppp::RejectionStage::Model;
   r.reason = ppp::RejectionReason::NoClock;
   rec.rejected.push_back(r);
-  ppp_bayes_tree::PppStatus counters;
-  counters.corrections_late = 4;
+  // The outputs count the late satellites themselves: nothing is fed back through the inputs' counters.
+  const ppp_bayes_tree::PppStatus counters;
   const auto s = out.epochStatus(day(), rec, counters, {}, {}, false);
   EXPECT_EQ(s.satellites_without_corrections, 1u);
-  EXPECT_EQ(s.corrections_late, 5u);
+  EXPECT_EQ(s.corrections_late, 1u);
   EXPECT_EQ(s.satellites_rejected, 1u);
   EXPECT_EQ(warned, std::vector<std::string>{"late"});
+  const auto s1 = out.epochStatus(day() + 1.0, rec, counters, {}, {}, false);
+  EXPECT_EQ(s1.satellites_without_corrections, 1u);
+  EXPECT_EQ(s1.corrections_late, 2u);
+  EXPECT_EQ(out.counters().corrections_late, 2u);
+  // An empty epoch carries the counts, and is not counted as processed.
+  const auto empty = out.emptyEpochStatus(day() + 2.0, counters, 0.0, {nullptr, "x"}, false);
+  EXPECT_EQ(empty.corrections_late, 2u);
+  EXPECT_EQ(empty.epochs_processed, 2u);
+  // An epoch the node does not publish (not after the last one) adds to the inputs' out-of-order drops.
+  ppp_bayes_tree::PppStatus dropped;
+  dropped.epochs_out_of_order = 1;
+  out.countNotPublished();
+  EXPECT_EQ(out.emptyEpochStatus(day() + 3.0, dropped, 0.0, {nullptr, "x"}, false).epochs_out_of_order, 2u);
 }
 
 TEST(NodeOutputs, SolutionGoesToOdometryPathAndTf) {

@@ -68,7 +68,7 @@ TEST(LiveEsbcSsrAr, NodeFixesWithSsrPhaseBiasesAsPppSolve) {
 
   const std::size_t fixed = expectSameFixes(node + ", MSM7 + ephemerides + SSR with phase biases", out, offline);
   // ppp_solve fixes 49 of these epochs (every subset at the success rate 0.999,
-  // doc/ar_real_data.md "Restarts"): the node fixes, and as ppp_solve (above).
+  // doc/studies/ar_real_data.md "Restarts"): the node fixes, and as ppp_solve (above).
   EXPECT_GT(fixed, 40u);
   std::lock_guard<std::mutex> l(out.mutex);
   ASSERT_FALSE(out.statuses.empty());

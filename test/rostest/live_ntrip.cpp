@@ -8,7 +8,7 @@
 // hold the whole file, test/rostest/live_str24.yaml). No epoch may be lost: the stream
 // node publishes every frame of the file, and each node's fixes equal ppp_solve's on
 // the file (EKF; smoother filtered) at every epoch but perhaps the last, to 1 mm.
-#include "core/loopback_servers.h"
+#include "loopback_servers.h"
 #include "ppp_bayes_tree/io/rtcm/rtcm3_framer.h"
 #include "rostest/live_support.h"
 

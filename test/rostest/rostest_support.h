@@ -28,7 +28,7 @@
 #include <tf2_ros/buffer.h>
 #include <tf2_ros/transform_listener.h>
 
-#include "core/ppp_dataset.h"
+#include "ppp_dataset.h"
 #include "ppp_bayes_tree/PppStatus.h"
 #include "ppp_bayes_tree/io/rinex/rinex_obs_reader.h"
 #include "ppp_bayes_tree/ppp/estimators/estimator_registry.h"

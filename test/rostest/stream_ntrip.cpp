@@ -14,7 +14,7 @@
 #include <ros/ros.h>
 #include <topic_tools/shape_shifter.h>
 
-#include "core/loopback_servers.h"
+#include "loopback_servers.h"
 #include "ppp_bayes_tree/io/rtcm/rtcm3_framer.h"
 #include "ppp_bayes_tree/ros/stream_node.h"
 #include "test_support.h"

@@ -1,39 +1,15 @@
 #pragma once
-// One job of a campaign (app/campaign_manifest.h) in its own directory, run by
-// whatever backend (a local process pool, a Slurm array task: the tool
-// ppp_campaign), with the same bytes written whichever ran it:
-//
-//   <campaign>/jobs/<id>/job.yaml     the job's specification (every concrete input)
-//                        work/        outputs being written (an attempt in progress)
-//                        output/      the complete outputs (work/ renamed when finished)
-//                        done.json    the finished marker: written (to a temporary
-//                                     name, then renamed) only after output/ is
-//                                     complete; holds the job's result figures,
-//                                     the digest of job.yaml it was run from and
-//                                     the files of output/ with their sizes
-//                        failed.json  why the last attempt failed (never beside done.json)
-//                        job.lock     flock(2)ed by the process running the job (and
-//                                     inherited by the tool it starts): a second
-//                                     process never runs the same job
-//                        timing.json  wall time and host of the last attempt (not an
-//                                     output: it differs from run to run)
-//                        ppp_bag_solve.log  (bag jobs) the tool's console output
-//
-// A job is DONE when done.json exists, names the digest of the current
-// job.yaml and every output file it lists is still there with its size; STALE
-// when it was done but an output file is gone, or (compared with the manifest's
-// job) the manifest changed the job since its last attempt; FAILED with a
-// failed.json; INTERRUPTED when an attempt left work/ (or output/) behind without
-// a marker (killed, cancelled, node lost, or another process runs it now);
-// PENDING otherwise. Re-running a campaign runs every job that is not DONE, and
-// only those.
-//
-// PPP jobs write ppp_solve's outputs (app/ppp_solve_run.h) without wall-clock
-// figures (PppSolveRequest::write_timings false); bag jobs the same, written by
-// the ROS tool ppp_bag_solve run as a subprocess (its figures in
-// output/bag_result.json, its console output in ppp_bag_solve.log beside
-// timing.json, not an output); Monte Carlo
-// shards write their flights' records (evaluation/monte_carlo_records.h) as flights.mcr.
+// One job of a campaign (app/campaign_manifest.h) in its own directory
+// <campaign>/jobs/<id>/, run by whatever backend (a local process pool, a Slurm
+// array task: the tool ppp_campaign), with the same bytes written whichever ran
+// it. The finished marker done.json is written only after the outputs are
+// complete; job.lock (flock) keeps a second process from running the same job.
+// A job is DONE, STALE, FAILED, INTERRUPTED or PENDING; re-running a campaign
+// runs every job that is not DONE, and only those. PPP jobs write ppp_solve's
+// outputs (app/ppp_solve_run.h), bag jobs those of the ROS tool ppp_bag_solve run
+// as a subprocess, Monte Carlo shards their flights' records.
+// The directory layout and the states: doc/campaigns.md, "Job directories and
+// states".
 #include <filesystem>
 #include <limits>
 #include <optional>

@@ -1,55 +1,16 @@
 #pragma once
 // A campaign: many independent jobs (PPP of RINEX/CRX files with precise or
-// broadcast products; PPP of ROS replay bags; Monte Carlo shards of a simulated-flight study), listed in
-// a YAML manifest and expanded here into concrete jobs. The manifest layout
-// (config/campaign_example.yaml is a complete, commented example):
-//
-//   campaign:  {name: N, data_root: DIR}      data_root: relative input paths
-//                                             resolve against it (itself relative to
-//                                             the manifest's directory; default: that directory)
-//   slurm:     {partition: P, time_limit: "HH:MM:SS", mem: "2G", cpus_per_task: 1,
-//               max_resubmits: 1, jobs_per_task: 1}   resources of each array task
-//   ppp:       a list of stations (or recordings), each
-//     {station: S, obs: PATTERN, sp3: [PATTERN...], clk: [...], nav: [...], atx: [...],
-//      bia: PATTERN, blq: PATTERN, config: [YAML...], estimator: ekf|smoother|both,
-//      truth: [X, Y, Z], format: rinex|rtcm|ubx,
-//      dates: {first: YYYY-MM-DD, last: YYYY-MM-DD}, hours: [FIRST, LAST],
-//      restarts: {first: "HH:MM", last: "HH:MM", every_min: N, length_min: M}}
-//   bags:      a list of ROS replay bags (gnss/observations + gnss/corrections), each
-//     {name: N, bag: PATTERN, config: [YAML...], estimator: ekf|smoother|both,
-//      atx: [...], bia: PATTERN, blq: PATTERN, truth: [X, Y, Z] | truth_csv: PATTERN}
-//   monte_carlo: a list of studies, each
-//     {study: S, seed: N, flights: N, flights_per_job: N, duration_min: 30, rate_hz: 1,
-//      systems: G|GE, ambiguity_resolution: false, smoother_lag_s: 60,
-//      profiles: [loiter, ...], config: PPP_YAML, sim_config: SIMULATION_YAML}
-//
-// Expansion of a ppp entry: with `dates`, one job per day; the placeholders
-// {yyyy} {yy} {doy} {mm} {dd} {gpsweek} {dow} in every path are that day's. Then
-// `obs` is a glob (glob(3): * ? [..]): one job per matching file; every product
-// pattern is a glob too, all its matches given to the job (sorted). With
-// `hours: [a, b]` each of those jobs becomes one job per hour a..b of its day
-// (GPST window [h, h+1) h; io/rinex/time_window_source.h). With `restarts`
-// (instead of hours) each becomes one job per start time first, first + every_min,
-// ... up to last (GPST of its day), each a fresh start over length_min minutes
-// (length_min 0 or absent: to the end of the observations). Job ids:
-// <station>[_<yyyy>-<doy>][_<obs file stem>, when the glob matched several][_h<HH> | _r<HHMM>].
-// A bags entry: `bag` is a glob, one job per matching bag, id <name>[_<bag stem>,
-// when it matched several]; the job runs the ROS tool ppp_bag_solve (the
-// executable next to the running ppp_campaign) and writes ppp_solve's outputs; the
-// truth is `truth` (a point) or `truth_csv` (a trajectory: gps_week,
-// seconds_of_week, x_m, y_m, z_m), else the bag's truth/path when it has one.
-// A Monte Carlo study becomes ceil(flights / flights_per_job) shards of
-// consecutive flights, <study>_f<first>-<last>; every flight depends only on
-// (seed, index), so the shards merge into the one-run study exactly
-// (evaluation/monte_carlo_records.h).
-//
-// Bounds (refused with the key named): dates within kFirstCampaignDate ..
-// kLastCampaignDate; at most kMaxCampaignJobs jobs in all (counted before they are
-// made); a Monte Carlo duration_min of at most kMaxFlightDuration_min; and a dated
-// entry whose days would read the same observation file (a path without the day's
-// placeholders) is refused, naming the two jobs.
-//
-// Nothing here runs anything or knows about Slurm: the tool ppp_campaign does.
+// broadcast products; PPP of ROS replay bags; Monte Carlo shards of a
+// simulated-flight study), listed in a YAML manifest and expanded here into
+// concrete jobs: per day (`dates`, with the {yyyy} {doy} ... placeholders), per
+// matching file (`obs` and `bag` are globs), per hour or restart window, per
+// Monte Carlo shard (the shards merge into the one-run study exactly,
+// evaluation/monte_carlo_records.h). Out-of-range dates, too many jobs, too long
+// flights and dated entries that would read the same file are refused with the
+// key named. Nothing here runs anything or knows about Slurm: the tool
+// ppp_campaign does.
+// The manifest's keys, the expansion rules, the job ids and the bounds:
+// doc/campaigns.md and the commented example config/campaign_example.yaml.
 #include <Eigen/Core>
 #include <cstdint>
 #include <optional>

@@ -1,31 +1,13 @@
 #pragma once
 // CasterStreamBuilder: one RTCM 3 stream as an NTRIP caster would send it for a
 // processed day, made from RINEX files (ppp_stream_make; the ESBC live tests):
-//  - the station: 1006 (ARP = APPROX POSITION + ANTENNA: DELTA H/E/N, antenna
-//    height = delta H) and 1033 (antenna and receiver from the header) ahead of
-//    the first epoch and again every station_repeat_s;
-//  - each observation epoch as MSM7, one message (or more, 64-cell limit) per
-//    system, arriving observation_latency_s after its epoch. The RINEX values go
-//    in as they are; the lock time of a signal is counted from the start of its
-//    arc (first epoch, or the last phase with LLI bit 0 set), RINEX LLI bit 1
-//    becomes the half-cycle flag DF420 (RTCM 10403.3 3.5.16);
-//  - each broadcast record (1019/1044, 1020, 1045/1046; io/rtcm/rtcm3_ephemeris_encoder.h)
-//    from its transmission time (the RINEX "transmission time of message"; for
-//    GLONASS the message frame time tk; toe when absent), repeated every
-//    ephemeris_repeat_s until the next record of the satellite and message type
-//    is sent. Records transmitted before the first epoch are sent ahead of it, as
-//    a caster's ephemeris cache does on connection: those whose reference time is
-//    within max_record_age_s, Galileo first, then GLONASS, then GPS/QZSS, so that a
-//    decoder without a reference date takes the week (and the reception time of
-//    the others) from a Galileo record, not from the first epoch;
-//  - SSR frames of a correction stream, arriving ssr_latency_s after their epoch,
-//    for the epochs from ssr_margin_s before the first observation epoch to
-//    ssr_margin_s after the last.
-//
-// Frames are ordered by arrival time; at equal times the order of adding is kept
-// (station, records, MSM, SSR). A decoder stamps a record with the stream time of
-// the latest epoch before it (io/transport/gnss_stream_decoder.h), so a record serves the
-// epochs whose data arrive after it.
+// the station (1006, 1033), each observation epoch as MSM7, each broadcast record
+// from its transmission time, repeated, and the SSR frames of a correction
+// stream, each at its arrival time (epoch + latency). Frames are ordered by
+// arrival time; at equal times the order of adding is kept.
+// What each part carries and when: doc/offline_tools.md, "How ppp_stream_make
+// builds a caster stream".
+// Reference: RTCM 10403.3 (1006, 1033, MSM7 3.5.16, ephemerides 3.5.10-3.5.14).
 #include <cstdint>
 #include <map>
 #include <optional>
@@ -33,11 +15,11 @@
 #include <string>
 #include <vector>
 
-#include "ppp_bayes_tree/io/obs_epoch.h"
 #include "ppp_bayes_tree/io/rinex/rinex_nav_reader.h"
 #include "ppp_bayes_tree/io/rinex/rinex_obs_header.h"
 #include "ppp_bayes_tree/io/rtcm/rtcm3_decoder.h"
 #include "ppp_bayes_tree/io/stream_problem.h"
+#include "ppp_bayes_tree/types/obs_epoch.h"
 
 namespace ppp {
 

@@ -6,81 +6,15 @@
 // (broadcast records corrected by SSR) that is updated as navigation records
 // and SSR messages arrive.
 //
-// Architecture ("keep one decoding point"): the PPP nodes decode
-// directly, each through this one class, instead of a bridge node publishing
-// our messages. Reason: the node's solution must equal ppp_solve on the same
-// recording to 1 mm, so the nodes must evaluate broadcast+SSR orbits and clocks
-// with the same code as ppp_solve (models/broadcast_ssr_ephemeris.h, the same
-// record choice, the same SSR correction in force). A bridge publishing
-// PreciseCorrections batches would make the nodes interpolate satellite states
-// across SSR clock steps. Decoding costs < 0.1 % of a core (ppp_bench_streams:
-// 4555x real time), so the EKF and smoother nodes side by side can each decode.
-// Transport-only nodes (serial, NTRIP, driver topics) move bytes.
+// The nodes decode through this one class with the same code as ppp_solve
+// --rtcm/--ubx --nav --ssr (models/broadcast_ssr_ephemeris.h,
+// models/broadcast_fallback.h, io/epoch_time_screen.h), so that a node's
+// solution equals ppp_solve's on the same recording. Bad bytes never throw:
+// they are counted per stream (LiveStreamStatus::problems).
 //
-// Streams. Each stream name gets its own decoder (io/transport/gnss_stream_decoder.h):
-// RTCM 3 (MSM observations, 1019/1020/1045/1046 ephemerides, 1005/1006/1033
-// station, SSR) or UBX (RXM-RAWX, RXM-SFRBX). The observation stream is the
-// first one that yields observation epochs; epochs of any other stream are
-// counted (ignored_epochs), not merged. Navigation records and SSR messages are
-// taken from every stream.
-//
-// Record choice (the same in live and in batch, see BroadcastEphemerisStore /
-// BroadcastSsrEphemeris): a record decoded from a stream carries its reception
-// time, the stream's time (latest decoded observation time) when it was decoded,
-// and serves only instants after that; preloaded RINEX navigation records serve
-// always. With SSR the record is the one with the correction's IOD.
-//
-// Epoch readiness. An observation epoch at T is released:
-//   - PreciseSsr: when an SSR message with epoch >= T has been decoded (the
-//     corrections in force at T are then all known: SSR streams are in time
-//     order) and SSR orbit+clock are in force at T for at least
-//     min_ssr_satellites of the epoch's satellites;
-//   - else after `correction_wait_s`: measured on the observation stream's own
-//     time (a later epoch decoded more than correction_wait_s after T) or, with
-//     arrival times, on the clock given to takeReadyEpochs (now_s minus the
-//     epoch's arrival). Then its mode is PreciseSsr if SSR orbit+clock are in
-//     force at T for min_ssr_satellites of its satellites, else BroadcastOnly
-//     (with the fallback on; without it the epoch goes out as PreciseSsr
-//     and satellites without corrections are rejected by the model): the
-//     rule chooseSsrOrBroadcast of models/broadcast_fallback.h, which the
-//     offline run (ppp_solve --nav --ssr) follows too;
-//   - in every case, an RTCM observation stream's epochs first wait (at most
-//     station_wait_s) for the station position, so that the run starts at the
-//     same epoch with the same approximate position as ppp_solve's;
-//   - at once when no SSR has ever been received and none is expected
-//     (expect_corrections false): BroadcastOnly.
-// The ephemeris answers in the mode of the epoch being processed: the mode is
-// kept per released epoch from T - kMaxSignalTravel_s on (signals travel 64 to
-// 100 ms from MEO satellites, so every query for epoch T falls after that and
-// every query for the epoch before before it, down to 20 Hz).
-// The SSR code and phase biases (biases()) apply only to PreciseSsr epochs; in
-// BroadcastOnly epochs they have no say (BiasAnswer::applies false): the codes
-// are used as observed, as the broadcast clocks expect, and no OSB is required.
-// BroadcastOnly answers are broadcast records (BroadcastEphemerisStore) with the
-// orbit and clock sigmas widened to fallback.orbit_sigma_m /
-// fallback.clock_sigma_m (larger of those and the record's URA/SISA); the
-// measurement model adds them to the measurement variances when
-// MeasurementModelOptions::ephemeris_sigmas is on (ppp_measurement_model.h).
-// In pure broadcast operation (no correction stream) the answers are exactly
-// BroadcastEphemerisStore's, as ppp_solve --nav gives them.
-//
-// A satellite without an ephemeris at its epoch is counted (satellites_waiting
-// in the status); the model rejects it (the record choice is causal: a record
-// received later would not serve the epoch anyway).
-//
-// Bad bytes never throw: CRC errors, truncation, garbage, unknown messages are
-// counted per stream (LiveStreamStatus::problems). Observation epoch times
-// pass the epoch-time policy that the offline readers apply too
-// (io/epoch_time_screen.h), so ppp_solve --rtcm/--ubx and the live input give
-// the same epochs: an epoch at the previous time or up to restart_jump_s before
-// it is dropped (time_backwards); any other jump (a week one too high, a time
-// of week days ahead, a jump back beyond restart_jump_s) is held until 3
-// epochs confirm the new time line. An isolated outlier is dropped and counted
-// (time_outliers; each listed among the problems as EpochTimeRefused with its
-// byte offset), and the stream goes on. A confirmed jump back is a receiver
-// restart: the epochs waiting for corrections are dropped and it is counted
-// (restarts), the next epochs go out (the node resets as on a bag loop); a
-// confirmed jump forward (an outage) is counted (forward_jumps).
+// Streams, record choice, epoch readiness (SSR, the correction wait, the
+// broadcast fallback), time jumps and bad bytes: doc/live_input.md, "How the
+// nodes decode live streams".
 #include <cstdint>
 #include <map>
 #include <memory>
@@ -89,7 +23,6 @@
 #include <string_view>
 #include <vector>
 
-#include "ppp_bayes_tree/io/obs_epoch.h"
 #include "ppp_bayes_tree/io/rinex/rinex_obs_header.h"
 #include "ppp_bayes_tree/io/stream_problem.h"
 #include "ppp_bayes_tree/io/transport/stream_chunk.h"
@@ -101,6 +34,7 @@
 #include "ppp_bayes_tree/models/ssr_correction_store.h"
 #include "ppp_bayes_tree/types/glonass_channels.h"
 #include "ppp_bayes_tree/types/gnss_time.h"
+#include "ppp_bayes_tree/types/obs_epoch.h"
 
 namespace ppp {
 

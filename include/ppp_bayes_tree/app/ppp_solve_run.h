@@ -1,32 +1,12 @@
 #pragma once
 // One ppp_solve run: the pipeline with one estimator, written to a directory.
-// Each SOLUTION of the run (the EKF's; the smoother's filtered and smoothed ones)
-// is written under its tag T ("ekf", "smoother_filtered", "smoother_smoothed";
-// solutionOutputs of ppp/estimators/estimator_registry.h):
-//   <name>_<T>.csv                    per-epoch solution (SolutionCsvWriter)
-//   <name>_<T>.pos                    RTKLIB-compatible xyz .pos (RtklibPosWriter)
-//   <name>_<T>_summary.json           statistics (with a truth), run counts,
-//                                     rejection counts, per-satellite residual
-//                                     statistics, notes (smoother: update times)
-// and once per run, under the estimator's name E ("ekf", "smoother"):
-//   <name>_<E>_epochs.csv             per-epoch diagnostics: status, reason, counts,
-//                                     used satellites, rejected satellites with stage
-//                                     and reason; smoother: active and new biases,
-//                                     variables relinearized / re-eliminated, factors
-//                                     relinearized, cliques touched, update and epoch
-//                                     times [ms]
-//   <name>_<E>_residuals.csv          per epoch and used satellite: elevation,
-//                                     prefit/postfit code and phase residuals, sigmas
-//   <name>_smoother_biases.csv        (smoother) per epoch and observed arc: the
-//                                     FILTERED IF phase bias right after the update
-//                                     and its sigma, plus the arc's final SMOOTHED
-//                                     value: time_gpst,arc,sat,bias_m,sigma_m,smoothed_final_m
-// The smoother's filtered solution is the newest state right after each update
-// (causal); the smoothed one is the whole trajectory re-read from the final
-// estimate (all data), with its marginal covariances; epochs without a solution
-// stay without one in both.
-// The tool src/tools/ppp_solve.cpp only parses arguments and calls this; the
-// end-to-end test calls it too.
+// Each solution (the EKF's; the smoother's filtered and smoothed ones) is written
+// under its tag as <name>_<tag>.csv, .pos (RTKLIB format) and _summary.json; once
+// per run, under the estimator's name, the per-epoch diagnostics (_epochs.csv),
+// the residuals (_residuals.csv) and, for the smoother, the phase biases
+// (_biases.csv). The tool src/tools/ppp_solve.cpp only parses arguments and
+// calls this; the end-to-end test calls it too. The files and their columns:
+// doc/offline_tools.md, "The output files in detail".
 #include <Eigen/Core>
 #include <functional>
 #include <memory>

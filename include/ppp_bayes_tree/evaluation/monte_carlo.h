@@ -1,50 +1,14 @@
 #pragma once
-// Monte Carlo evaluation over simulated UAV flights: the method's
-// study. Each flight is simulated in process (simulateFlight) and run through
-// the offline pipeline (PppPipeline over in-process epochs: signal selection,
-// arc tracking, the measurement model) by the EKF and by the smoother, with the
-// SAME PppConfig (stochastic model, screening, weights). The smoother gives two
-// solutions: filtered (causal, the newest state right after each update) and
-// smoothed (every state re-read from the final estimate after the last epoch).
-//
-// Per flight i (0-based) of a study with seed S:
-//  * seed_i = SplitMix64 hash of S and i (RandomStream(S).derive(i).seed()):
-//    the flight does not depend on the number of flights or threads;
-//  * profile = profiles[i mod n] (round robin);
-//  * randomized, from a sub-stream of seed_i: start uniform over one day from
-//    2026-05-13 00:00 GPST (whole seconds; satellite geometry), origin latitude
-//    uniform in +-60 deg, longitude uniform in +-180 deg (ground height 0..1000 m);
-//  * the error parameters are drawn by the simulator from seed_i (DrawnParameters).
-// Measurement model: the physics switches (troposphere model and mapping, tides,
-// ocean loading, antennas, wind-up, Shapiro, eclipses) are the flight's
-// model_options (what the observations were generated with); the weighting
-// (phase sigma, code/phase ratio, IF scaling), the elevation cutoff and whether
-// the state carries tropospheric gradients are the PppConfig's, identical for
-// both estimators.
-//
-// Position error: |x_est - x_true| (3D, the antenna position of the truth file)
-// per epoch; epochs without a solution are counted and left out.
-//
-// Phase-bias error = estimate - truth of each estimator arc, against the time
-// since the arc's first solved epoch (sampled once per bias_bin_s of age). Truth
-// in the estimator's convention: the simulated arc's IF bias B (TruthArc::
-// bias_if_m) plus the wind-up offset. The simulator's wind-up is continuous from
-// the simulated arc start; the estimator's restarts in [-0.5, 0.5] cycle at its
-// own arc start (phase_windup.h) and is continuous from there, so the two differ
-// by the integer n = round(w_sim) at the estimator arc's first epoch, and the
-// estimator's bias converges to B + n * c / (f1 + f2) (the IF wind-up wavelength,
-// 10.7 cm for GPS L1/L2). This is exact for every estimator arc that lies inside
-// one simulated arc, false-alarm restarts included (the caveat of
-// SimulatedFlight::truthBias_m). An estimator arc that runs into a different
-// simulated arc (a missed slip) is compared only up to the switch and counted.
-// The smoothed bias is the final estimate of the arc (constant over its ages).
-//
-// Tables: median, mean, sigma (population) and max of the 3D error over all
-// epochs of all flights, over the epochs with t - t0 < first_window_s of each
-// flight, and over the REPRESENTATIVE flight: the flight whose EKF mean 3D error
-// is the median of the flights' EKF means (the lower middle one for an even
-// count, ties by index), so that it is chosen by one estimator alone and the
-// same for all three.
+// Monte Carlo evaluation over simulated UAV flights: the method's study. Each
+// flight is simulated in process (simulateFlight) and run through the offline
+// pipeline by the EKF and by the smoother, with the SAME PppConfig; the smoother
+// gives a filtered and a smoothed solution. A flight depends only on the study's
+// seed and its index (not on the number of flights or threads). Scored: the 3D
+// position error per epoch, the phase-bias error against the simulator's truth in
+// the estimator's convention, and tables over all epochs, the first window and the
+// representative flight. How flights are drawn and scored: doc/evaluation.md,
+// "The Monte Carlo study". Reference: Watson R.M., Gross J.N. (2018), IEEE/ION
+// PLANS (arXiv:1804.04197), the study it repeats.
 #include <array>
 #include <cstdint>
 #include <functional>

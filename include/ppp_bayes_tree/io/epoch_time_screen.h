@@ -1,31 +1,13 @@
 #pragma once
 // EpochTimeScreen: the one epoch-time policy of the receiver streams (RTCM 3
-// MSM, u-blox RXM-RAWX). The offline readers (ppp_solve --rtcm / --ubx:
-// RtcmObservationSource, UbxObservationSource) and the live input of the nodes
-// (app/live_gnss_input.h) screen their decoded epochs through it, so that a
-// recording gives the same epochs offline and live.
-//
-// It is EpochTimeGuard (io/epoch_time_guard.h, the rule the nodes apply to
-// message stamps) applied to decoded epoch times, with the options of
-// streamEpochTimeOptions():
-//  - an epoch after the last accepted one by at most max_forward_step_s: accepted;
-//  - the same time again: dropped (Duplicate); a step back within
-//    out_of_order_window_s: dropped (OutOfOrder);
-//  - any other step (a time of week days ahead, a week one too high, a jump
-//    back): HELD as a candidate time line. confirm_epochs consecutive epochs on
-//    it confirm it: a jump back is then a receiver restart (or a looping
-//    recording), reported as a reset; a jump forward is an outage. When an epoch
-//    follows the accepted time line first, the held epochs were isolated
-//    outliers, each dropped (UnconfirmedJump). One bad epoch therefore costs
-//    that epoch only, never the rest of the stream.
-//  - at start-up no epoch is believed alone: the first confirm_epochs epochs
-//    that follow each other set the time line (an earlier epoch off it, e.g. a
-//    bad first epoch, is dropped as unconfirmed), then the rules above apply;
-//  - finish(): epochs still held at the end of the stream are dropped as
-//    unconfirmed (a stream shorter than the start-up gives its longest line).
-// Every dropped epoch is counted by reason and reported as a StreamProblem of
-// kind EpochTimeRefused that names its byte offset, frame index, its time and
-// the accepted time it departs from (counters()).
+// MSM, u-blox RXM-RAWX), applied by the offline readers (ppp_solve --rtcm /
+// --ubx) and the live input of the nodes alike, so that a recording gives the
+// same epochs offline and live. It is EpochTimeGuard (io/epoch_time_guard.h)
+// applied to decoded epoch times: duplicates and small steps back are dropped;
+// any other jump is held until confirm_epochs epochs confirm it (a restart or an
+// outage), else the held epochs are dropped as isolated outliers. Every dropped
+// epoch is counted by reason and reported with its byte offset, frame index and
+// time. The rules: doc/live_input.md, "The epoch-time policy".
 #include <cstdint>
 #include <map>
 #include <optional>

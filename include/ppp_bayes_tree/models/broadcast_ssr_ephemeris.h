@@ -1,32 +1,15 @@
 #pragma once
-// BroadcastSsrEphemeris: broadcast ephemerides corrected with SSR (RTCM
-// 10403.3, 3.5.12.3-3.5.12.5), as an EphemerisSource.
-//
-// For a satellite at GPST t:
-//   1. the orbit correction in force (SsrCorrectionStore: newest t0 <= t, within
-//      its validity) gives the IOD of the broadcast record it refers to;
-//   2. the broadcast record with THAT issue of data: GPS/QZSS IODE, Galileo
-//      IODnav (I/NAV record preferred: the IGS streams refer the Galileo clock
-//      to I/NAV), GLONASS tb (DF392: the 15-min index of tb in the GLONASS day).
-//      None: the satellite is unavailable (counted once per correction as
-//      SsrWithoutBroadcast by the constructor's check);
-//   3. orbit: X = X_brdc(t) - (e_r dr + e_a da + e_c dc), with
-//      dO = dO0 + dO_dot (t - t0) and the RAC axes from the broadcast ECEF
-//      position r and velocity v: e_a = v/|v|, e_c = r x v/|r x v|, e_r = e_a x e_c;
-//   4. clock: dt = dt_brdc_polynomial(t) + (C0 + C1 (t-t0) + C2 (t-t0)^2 [+ high-rate C]) / c,
-//      without the relativistic term (EphemerisClock convention); the clock
-//      correction must carry the orbit correction's IOD SSR.
-// The orbit refers to the point the stream declares (BroadcastSsrOptions::reference,
-// reported in EphemerisOrbit::reference): the L1 antenna phase centre (IGS
-// "SSRA" streams: the measurement model adds only the IF - L1 PCO difference),
-// the ionosphere-free antenna phase centre (no satellite PCO to add) or the
-// centre of mass ("SSRC"); models/satellite_reference_point.h.
-// BeiDou and SBAS: no broadcast model here (SystemNotModelled).
-//
-// Incremental use (live, app/live_gnss_input.h): records may be added as they
-// arrive (addRecord) and the SsrCorrectionStore may grow; a record with a
-// reception time serves only instants after it (the causal rule of
-// BroadcastEphemerisStore), so that live and batch choose the same record.
+// BroadcastSsrEphemeris: broadcast ephemerides corrected with SSR, as an
+// EphemerisSource. For a satellite at t: the orbit correction in force gives the
+// issue of data of the broadcast record it refers to; that record's orbit is
+// corrected in radial, along- and cross-track, its clock polynomial by the SSR
+// clock (with the high-rate clock); the orbit refers to the point the stream
+// declares (BroadcastSsrOptions::reference; satellite_reference_point.h). BeiDou
+// and SBAS are not modelled. Records and corrections may be added as they arrive
+// (live); a record serves only instants after its reception, so that live and
+// batch choose the same record. The steps: doc/live_input.md, "Broadcast + SSR
+// orbits and clocks".
+// Reference: RTCM 10403.3, 3.5.12.3-3.5.12.5 (SSR orbit and clock corrections).
 #include <memory>
 #include <optional>
 #include <set>

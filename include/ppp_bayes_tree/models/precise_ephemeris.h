@@ -1,34 +1,14 @@
 #pragma once
 // PreciseEphemeris: satellite positions, velocities and clocks from precise
 // products (SP3 orbits, RINEX clock files), for any time inside their span.
-//
-// Orbit: Lagrange interpolation over a window of consecutive SP3 nodes (10 by
-// default, degree 9), centred on the query time and shifted inward at the edges
-// of the data. The time variable is taken relative to the window centre and
-// scaled by the node interval, so no large numbers cancel. By default the nodes
-// are first rotated into the frame that coincides with ECEF at the query time
-// but does not rotate with the Earth ("inertial-like"): the Earth-rotation term
-// makes the ECEF track much less polynomial-like over the 2.5 h of a 15-min
-// window (see test_precise_ephemeris for the leave-one-out figures).
-// Velocity comes from the derivative of the interpolant, or from interpolated
-// SP3 V records when every node of the window has one.
-//
-// Clock: linear interpolation between the two records that bracket the time,
-// from the RINEX clock files when any is loaded, otherwise from the SP3 clocks.
-// The result says which source was used. Clock sources are never mixed.
-//
-// Nothing is extrapolated: every query returns either a value or the explicit
-// reason why there is none (outside the span, gap, bad-value marker, satellite
-// absent).
-//
-// As an EphemerisSource (satelliteClock / satelliteOrbit, what the measurement
-// model asks) one exception holds at the product edges: products start/end
-// exactly at an observation epoch, so the emission time of that epoch (~70 ms
-// earlier) lies just outside their span. Within kMaxEdgeExtension_s outside the
-// span (and only there) the clock is extended with the slope of its first (last)
-// interval and the orbit by a second-order step from the edge (central gravity
-// only; over 0.1 s the neglected terms are ~1 mm). Positions refer to the centre
-// of mass.
+// Orbit: Lagrange interpolation over a window of consecutive SP3 nodes (10,
+// degree 9) in a non-rotating frame aligned with ECEF at the query time; clock:
+// linear interpolation between the two bracketing records, from the clock files
+// when any is loaded, else from the SP3 (never mixed). Nothing is extrapolated:
+// a query returns a value or the reason why there is none; only as an
+// EphemerisSource is the span extended by kMaxEdgeExtension_s at its edges.
+// Positions refer to the centre of mass. Details: doc/measurement_model.md,
+// "Precise orbits and clocks".
 #include <array>
 #include <map>
 #include <optional>

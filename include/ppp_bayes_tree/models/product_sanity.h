@@ -1,33 +1,13 @@
 #pragma once
-// Product sanity checks: single bad values in precise orbit and clock
-// products, found by leave-one-out prediction before the products are used, so
-// that one wrong SP3 or CLK record can neither pull an estimate metres off under
-// a centimetre sigma nor pass `ppp_inspect` as "problems: none".
-//
-// Orbit (SP3 P records): each node of a satellite is predicted from its
-// `window_nodes` nearest other usable nodes by Lagrange interpolation in the
-// non-rotating frame aligned with ECEF at the node's time (the same frame as
-// PreciseEphemeris' interpolation); a node whose prediction misses it by more
-// than the threshold is an outlier. A bad node also spoils its neighbours'
-// predictions (by its Lagrange weight, up to about its own error), so outliers are
-// taken one at a time, the worst first, each removed before the others are
-// predicted again. The threshold grows with the node spacing: leave-one-out
-// leaves a double spacing, and a degree-7 fit over 15-min GPS nodes misses a
-// clean node by a few millimetres in the middle of a day and by up to decimetres at
-// its ends, where the window is one-sided; see test_product_sanity for the
-// figures of the real IGS, WUM and GRG files.
-//
-// Clock (RINEX clock AS records): each interior record is predicted by a
-// least-squares line through its two neighbours on each side; the miss less the
-// epoch's median miss over all satellites (a jump of the products' clock datum,
-// common to every satellite, is absorbed by the receiver clock: the WUM rapid
-// clocks of 2021-07-29 hold several hundred such epochs) over the threshold, and
-// the largest within two records (a wrong value spoils its neighbours' predictions
-// by a quarter of its error), is an outlier.
-//
-// Outliers are marked, never repaired: markOrbitOutliers / markClockOutliers turn
-// them into bad-value markers, so that the interpolation refuses the satellite with
-// an explicit reason wherever it would need the value.
+// Product sanity checks: single bad values in precise orbit and clock products,
+// found by leave-one-out prediction before the products are used, so that one
+// wrong SP3 or CLK record can neither pull an estimate metres off under a
+// centimetre sigma nor pass ppp_inspect as "problems: none". Orbit nodes are
+// predicted by Lagrange interpolation from their neighbours (the worst outlier
+// removed first, then the others predicted again); clock records by a line
+// through their neighbours, less the epoch's common datum jump. Outliers are
+// marked as bad values, never repaired, so the interpolation refuses them with a
+// reason. The rules and thresholds: doc/offline_tools.md, "Bad product values".
 #include <string>
 #include <vector>
 

@@ -1,35 +1,15 @@
 #pragma once
 // SSR from precise products: what an analysis centre sends to correct the
-// broadcast ephemeris towards its precise orbits and clocks (ppp_ssr_encode),
-// so that broadcast + SSR reproduces the precise products up to the SSR
-// quantisation (0.1 mm radial, 0.4 mm along/cross, 0.1 mm clock).
-//
-// At every epoch t0 on the interval grid, for every satellite with a precise
-// orbit and clock and a broadcast record a user would select at t0
-// (BroadcastEphemerisStore: healthy, valid, nearest toe among the records already
-// transmitted at t0 by their RINEX transmission time; Galileo I/NAV):
-//   dX(t)   = X_brdc(t) - X_precise(t)     (so that X = X_brdc - dX, RTCM sign)
-//   dr, da, dc = dX . (e_r, e_a, e_c)     (RAC axes of the broadcast r, v at t)
-//   rates   = (RAC(t0 + U) - RAC(t0)) / U (forward difference over the interval U,
-//             so that the linear model is exact at both ends; the last epoch
-//             uses the velocity difference)
-//   C0      = c (dt_precise(t0) - dt_brdc_polynomial(t0)),  C1 likewise, C2 = 0
-//   code bias = -OSB (SSR biases are added to the measurement)
-//   phase bias = -OSB of the phase-bias provider (e.g. the wide-lane biases of
-//             integer-recovery clocks, ClockWideLaneBiasProvider: L1/L2, E1/E5a
-//             biases with a zero ionosphere-free combination and the header's
-//             wide lane), one per RTCM signal id the provider answers, with the
-//             integer, wide-lane integer (2: with every other signal) indicators
-//             set and discontinuity counter 0 (the biases are constant); yaw
-//             and yaw rate 0 (not sent: the user applies its attitude model);
-//             DF486/DF487 set (the biases keep the dispersive and the MW
-//             combination consistent). Messages 1265 (GPS), 1267 (Galileo).
-// X_precise is the SP3 centre of mass, or with reference = AntennaPhaseCentre
-// the centre of mass moved by the satellite's ionosphere-free PCO (L1/L2,
-// E1/E5a; nominal yaw attitude): the point the measurement model expects when
-// it is told the orbit is at the antenna phase centre; with AntennaPhaseCentreL1
-// (as the IGS SSRA streams) moved by the L1 (E1) PCO
-// (models/satellite_reference_point.h).
+// broadcast ephemeris towards its precise orbits and clocks (ppp_ssr_encode), so
+// that broadcast + SSR reproduces the precise products up to the SSR
+// quantisation (0.1 mm radial, 0.4 mm along/cross, 0.1 mm clock). At every epoch
+// of the interval grid and for every satellite with a precise orbit and clock and
+// a broadcast record a user would select: orbit corrections in radial, along and
+// cross-track with rates, clock polynomial C0/C1, code biases and (from a
+// phase-bias provider such as integer-recovery clocks) phase biases, RTCM signs.
+// The formulas, the reference point and the phase-bias fields:
+// doc/offline_tools.md, "How ppp_ssr_encode makes SSR from precise products".
+// Reference: RTCM 10403.3 (SSR messages, 1265/1267 phase biases).
 #include <memory>
 #include <optional>
 #include <string>

@@ -47,6 +47,11 @@ TroposphereDelays modifiedHopfieldSlantDelays(const SurfaceMeteo& meteo, double 
 /// Zenith form of the modified Hopfield model.
 TroposphereDelays modifiedHopfieldZenithDelays(const SurfaceMeteo& meteo, double height_m);
 
+/// The modified Hopfield wet zenith delay of the standard atmosphere at height_m
+/// over the one at the ellipsoid, w(h) / w(0): the factor that carries a zenith
+/// wet delay from height 0 to the receiver (MeasurementModelOptions::zwd_at_ellipsoid).
+double standardWetDelayHeightRatio(double height_m);
+
 /// Simple mapping 1 / sin(el).
 double cosecantMapping(double elevation_rad);
 /// Black & Eisner (1984) mapping 1.001 / sqrt(0.002001 + sin^2 el), finite at the horizon.

@@ -1,33 +1,15 @@
 #pragma once
 // Noon and midnight yaw manoeuvres: when a satellite's attitude departs from
-// nominal yaw steering (satellite_attitude.h).
-//
-// Near orbit noon (mu = +-pi) and midnight (mu = 0) with a small Sun elevation
-// beta above the orbit plane, nominal yaw steering would turn the satellite at
-//   |dpsi/dt| = mu_dot |tan beta| |cos x| / (sin^2 x + tan^2 beta),
-// x the orbit angle from the turn point: up to mu_dot / |tan beta| at x = 0,
-// 0.4 deg/s at |beta| = 1.2 deg. A GPS satellite turns at most at its hardware
-// yaw rate R (Block IIF 0.11 deg/s: Dilssner 2010, "GPS IIF-1 satellite antenna
-// phase center and attitude modeling", Inside GNSS 5(6); Block IIR 0.2 deg/s:
-// Kouba 2009, "A simplified yaw-attitude model for eclipsing GPS satellites",
-// GPS Solutions 13:1-12), so its yaw lags the nominal one from the point where
-// the nominal rate reaches R, x_s = -asin(sqrt(mu_dot |tan beta| / R - tan^2
-// beta)) (Kouba 2009, eq. 6 without the small-angle form), until it has caught
-// up, at most the time of a half turn pi / R later (27 min for a Block IIF).
-// In that window the wind-up (up to half an ionosphere-free narrow-lane
-// wavelength, 5 cm) and the horizontal phase centre offset follow a yaw the
-// model does not know. Galileo satellites replace the Sun direction by a
-// smoothed one when |beta| is small near noon and midnight (European GNSS
-// Service Centre 2017, "Galileo IOV and FOC satellite metadata": FOC |beta| <
-// 4.1 deg within 10 deg of the turn point, IOV |beta| < 2 deg within 15 deg).
-// Both are limits per system below (the slowest block of each). Inside its
-// window a GPS satellite takes the rate-limited yaw (rateLimitedYaw_rad); the
-// measurement model leaves a satellite without such a model (Galileo) out of
-// the epoch, like one in the Earth's shadow (MeasurementModelOptions::
-// yaw_manoeuvre). Midnight turns happen mostly in the Earth's shadow, whose
-// satellites are rejected anyway; after the shadow exit the same rate-limited
-// form stands in for the blocks' eclipse behaviour (Kouba 2009 models the IIA
-// and IIR ones; a Block IIF turns at 0.06 deg/s in the shadow, Dilssner 2010).
+// nominal yaw steering (satellite_attitude.h). Near the turn points with a small
+// Sun elevation beta above the orbit plane, the nominal yaw rate exceeds what the
+// satellite can turn: a GPS satellite then lags at its hardware rate until it has
+// caught up (rateLimitedYaw_rad); Galileo steers by a smoothed Sun direction. The
+// windows per system and the rate-limited yaw are here; the measurement model
+// uses them (MeasurementModelOptions::yaw_manoeuvre). The geometry:
+// doc/measurement_model.md, "Noon and midnight yaw turns".
+// References: Kouba J. (2009) GPS Solutions 13:1-12; Dilssner F. (2010) Inside
+// GNSS 5(6); European GNSS Service Centre (2017) Galileo IOV and FOC satellite
+// metadata.
 #include <optional>
 
 #include <Eigen/Core>

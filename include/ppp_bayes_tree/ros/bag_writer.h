@@ -12,11 +12,11 @@
 #include <string>
 #include <vector>
 
-#include "ppp_bayes_tree/io/obs_epoch.h"
 #include "ppp_bayes_tree/io/rinex/rinex_obs_header.h"
 #include "ppp_bayes_tree/models/correction_buffer.h"
 #include "ppp_bayes_tree/models/precise_ephemeris.h"
 #include "ppp_bayes_tree/simulation/gnss_simulator.h"
+#include "ppp_bayes_tree/types/obs_epoch.h"
 
 namespace rosbag {
 class Bag;

@@ -1,46 +1,19 @@
 #pragma once
 // GnssStreamSubscriber: one ROS topic carrying a raw GNSS stream, of a message
-// type that is not in this package. The topic is subscribed with
-// topic_tools::ShapeShifter; the type is recognised at run time by its name AND
-// its MD5 (the publisher's connection header), and every message becomes one
-// ppp::StreamChunk (stream = the resolved topic name) for ppp::LiveGnssInput,
-// which holds the one decoder (RTCM 3 / UBX) of the package:
-//   rtcm_msgs/Message       (std_msgs/Header header, uint8[] message): one RTCM 3
-//                           frame or any chunk of the byte stream -> Rtcm3 chunk;
-//   mavros_msgs/RTCM        (std_msgs/Header header, uint8[] data) -> Rtcm3 chunk;
-//   ublox_msgs/RxmRAWX      (no header; the fields of UBX-RXM-RAWX) and
-//   ublox_msgs/RxmSFRBX     (no header; the fields of UBX-RXM-SFRBX): the ROS fields
-//                           are deserialized here and re-encoded as the UBX frame
-//                           the receiver sent (Fletcher checksum), so that the same
-//                           core UbxDecoder decodes them (one decoding point). All
-//                           payload bytes are fields of the ROS messages, so the frame
-//                           is byte for byte the receiver's; reserved0 of
-//                           RxmRAWX_Meas is the sigId of F9 receivers, reserved0 of
-//                           RxmSFRBX the sigId of message version 2;
-//   ppp_bayes_tree/GnssStreamBytes (Header header, string format, uint8[] data):
-//                           format "rtcm3" or "ubx" (case-insensitive; "" = the
-//                           topic's format hint, else detected from the bytes).
-// MD5s and definitions: rtcm_msgs and mavros_msgs as their packages define them; ublox_msgs
-// from KumarRobotics/ublox master (ublox_msgs/msg/RxmRAWX.msg, RxmRAWX_Meas.msg,
-// RxmSFRBX.msg, last changed in fc92537, 2018-08-10), MD5 computed with genmsg 0.6
-// (gentools.compute_md5): RxmRAWX a2df4b27b6a2a1565e42f5669dbb11b5,
-// RxmSFRBX c76473d828cc8e80de3a2d83cd6b9dff.
-// Arrival time (StreamChunk::arrival_time_s, which LiveGnssInput's waits for the
-// station and the corrections, its latency and its stall state are measured in):
-// ros::Time::now() at the message. Under sim time (use_sim_time: a bag replayed
-// with rosbag play --clock, launch/live.launch example c) that clock is zero
-// until this node has its first /clock message, which can come after the bag's
-// first messages (separate connections; at 10 Hz many): such a message is held,
-// its order kept, and handed on stamped with the first valid time (at the next
-// message or releaseHeld()), never with time zero, which would make an epoch
-// look as old as the bag's time (no wait for its corrections, wrong latency).
-// ROS serialization (wiki.ros.org/roscpp/Overview/MessagesSerializationAndAdaptingTypes,
-// "Serialization"): little endian, a variable array or string = uint32 length +
-// elements, a fixed array = its elements only, a time = uint32 sec + uint32 nsec.
-// A wrong type or MD5, or a malformed message (short buffer, an array length beyond
-// the buffer, bytes left over, NaN, a count field that disagrees with its array)
-// is a ROS error naming the topic, the type and the field with its byte offset,
-// counted per topic (diagnostics); the message is dropped, never a crash.
+// type that is not in this package (rtcm_msgs/Message, mavros_msgs/RTCM,
+// ublox_msgs/RxmRAWX and RxmSFRBX) or GnssStreamBytes. The topic is subscribed
+// with topic_tools::ShapeShifter; the type is recognised at run time by its name
+// AND its MD5, and every message becomes one ppp::StreamChunk for
+// ppp::LiveGnssInput (u-blox messages re-encoded as the UBX frame the receiver
+// sent, so that one decoder serves all). Under sim time a message that arrives
+// before the first /clock is held, never stamped with time zero. A wrong type or
+// MD5 or a malformed message is a ROS error naming the topic, the type and the
+// field with its byte offset, counted; the message is dropped, never a crash.
+// The types, MD5s, serialization and arrival-time rules: doc/live_input.md,
+// "Stream topics".
+// References: wiki.ros.org/roscpp/Overview/MessagesSerializationAndAdaptingTypes;
+// KumarRobotics/ublox ublox_msgs (RxmRAWX, RxmSFRBX); u-blox F9 HPG interface
+// description (UBX-18010854).
 #include <cstdint>
 #include <functional>
 #include <map>

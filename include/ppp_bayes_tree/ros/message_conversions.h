@@ -15,12 +15,12 @@
 
 #include "ppp_bayes_tree/GnssObservations.h"
 #include "ppp_bayes_tree/PreciseCorrections.h"
-#include "ppp_bayes_tree/io/obs_epoch.h"
 #include "ppp_bayes_tree/io/rinex/rinex_obs_header.h"
 #include "ppp_bayes_tree/models/correction_buffer.h"
 #include "ppp_bayes_tree/models/stream_bias_provider.h"
 #include "ppp_bayes_tree/ppp/pipeline/product_assembly.h"
 #include "ppp_bayes_tree/types/gnss_time.h"
+#include "ppp_bayes_tree/types/obs_epoch.h"
 
 namespace ppp_ros {
 

@@ -28,7 +28,10 @@ struct NodeConfig {
 NodeConfig bindNodeConfig(const YAML::Node& root, const std::string& source_name, const std::string& estimator = "");
 
 /// The private namespace of a running node through bindNodeConfig (the XmlRpc
-/// types kept: no text round trip). Throws ppp::ConfigError.
+/// types kept: no text round trip). `config_files` (a list of paths, set by the
+/// launch files) names the YAML files loaded into the namespace: each is read
+/// again and a key written twice in it is refused with its file and line.
+/// Throws ppp::ConfigError.
 NodeConfig loadNodeConfig(const ros::NodeHandle& private_nh, const std::string& estimator = "");
 
 }  // namespace ppp_ros

@@ -43,18 +43,20 @@ class NodeDiagnostics {
   /// `start`: the wall time the first input rate is counted from.
   NodeDiagnostics(const RosNodeOptions& options, ros::WallTime start);
 
-  /// "inputs": messages and rates since the last report (wall clock `now`), stamps dropped,
-  /// resets, messages lost before the node, the attitude source.
-  void inputs(diagnostic_updater::DiagnosticStatusWrapper& s, const NodeInputs& in, const AttitudeCounters& attitude,
+  /// "inputs": messages and rates since the last report (wall clock `now`), stamps dropped
+  /// (and epochs the outputs did not publish), resets, messages lost before the node, the
+  /// attitude source (the outputs' attitude counters).
+  void inputs(diagnostic_updater::DiagnosticStatusWrapper& s, const NodeInputs& in, const NodeOutputs& out,
               ros::WallTime now);
-  /// "corrections" (topic input): the buffer, the batches' age and how far the observations are ahead.
-  void corrections(diagnostic_updater::DiagnosticStatusWrapper& s, const NodeInputs& in) const;
+  /// "corrections" (topic input): the buffer, the batches' age, how far the observations are
+  /// ahead, the satellite-epochs the outputs found without corrections.
+  void corrections(diagnostic_updater::DiagnosticStatusWrapper& s, const NodeInputs& in, const NodeOutputs& out) const;
   /// "solution": the last status; the smoother's figures when `smoother` is not nullptr.
   void solution(diagnostic_updater::DiagnosticStatusWrapper& s, const NodeInputs& in, const NodeOutputs& out,
                 const ppp::SmoothedTrajectoryProvider* smoother, std::size_t estimator_restarts) const;
   /// "live streams" (live input): product mode, cost figures, each subscriber and stream
   /// (`now_s`: ROS time, the clock of the chunks' arrival).
-  void live(diagnostic_updater::DiagnosticStatusWrapper& s, const NodeInputs& in,
+  void live(diagnostic_updater::DiagnosticStatusWrapper& s, const NodeInputs& in, const NodeOutputs& out,
             const std::vector<std::unique_ptr<GnssStreamSubscriber>>& subscribers, double estimator_cpu_s,
             double now_s) const;
   /// "ambiguity resolution": the phase information and the fix figures.

@@ -4,7 +4,8 @@
 // dropped, a sustained jump back resets the estimator), the correction gate (an
 // epoch waits until corrections cover it), messages lost before the node (header.seq
 // gaps per publisher) and the live input path (raw streams through ppp::LiveGnssInput).
-// Everything is counted here (counters()); the node's diagnostics read it. Times come
+// What the inputs meet is counted here (counters()); the outputs count theirs
+// (node_outputs.h), and the status and diagnostics read both. Times come
 // in as arguments (arrival, now): no ROS master or clock is needed.
 #include <cstdint>
 #include <deque>
@@ -132,15 +133,12 @@ class NodeInputs {
   // --- the estimator's side ---
   /// The estimator is reset: the epochs waiting for corrections are discarded (counted); returns how many.
   std::size_t resetForEstimator();
-  void countEpochProcessed() { ++counters_.epochs_processed; }
-  void countOutputOutOfOrder() { ++counters_.epochs_out_of_order; }
-  void countCorrectionsLate(std::uint32_t satellites) { counters_.corrections_late += satellites; }
   /// The observation layout, and whether it changed since the last call (once).
   const ppp::RinexObsHeader& layout() const { return layout_; }
   bool takeLayoutChanged();
 
   // --- state and counters (status, diagnostics) ---
-  /// The counter fields of PppStatus.
+  /// The counter fields of PppStatus the inputs count (the outputs': NodeOutputs::counters()).
   const ppp_bayes_tree::PppStatus& counters() const { return counters_; }
   const ppp::CorrectionBuffer& corrections() const { return corrections_; }
   const ppp::StreamBiasProvider& streamBiases() const { return stream_biases_; }
@@ -182,7 +180,7 @@ class NodeInputs {
   std::optional<ppp::GnssTime> last_received_;  // newest observation epoch received
   ppp::RinexObsHeader layout_;
   bool layout_changed_ = false;
-  ppp_bayes_tree::PppStatus counters_;  // the counter fields only
+  ppp_bayes_tree::PppStatus counters_;  // the inputs' counter fields only
   std::size_t obs_received_ = 0, corr_received_ = 0;
   double last_correction_age_s_;
   std::string last_time_drop_;

@@ -80,6 +80,13 @@ struct SolutionMessages {
   std::optional<geometry_msgs::TransformStamped> tf;  // ros.frames.publish_tf
 };
 
+/// What the outputs count since the start (PppStatus counter fields of the outputs).
+struct OutputCounters {
+  std::uint32_t epochs_processed = 0;
+  std::uint32_t epochs_not_published = 0;  // not after the last published one (in PppStatus::epochs_out_of_order)
+  std::uint32_t corrections_late = 0;      // satellite-epochs without corrections in time
+};
+
 class NodeInputs;
 /// The figures of one processed epoch: the inputs' (latency of the newest correction
 /// batch, staleness, product mode), the estimator's (variables re-eliminated: the
@@ -106,15 +113,19 @@ class NodeOutputs {
   const AttitudeCounters& attitudeCounters() const { return attitude_counters_; }
 
   // --- status ---
-  /// The status of the processed epoch at `time`: `counters` (PppStatus counter fields) with
-  /// the record's satellites, sigmas, solution and fix state. Remembered as lastStatus().
-  /// A solved epoch needs the datum (setDatum) first.
+  /// The status of the processed epoch at `time` (counted as processed; its satellites without
+  /// corrections counted as late): the inputs' `counters` (NodeInputs::counters()) and the
+  /// outputs' counters() with the record's satellites, sigmas, solution and fix state.
+  /// Remembered as lastStatus(). A solved epoch needs the datum (setDatum) first.
   ppp_bayes_tree::PppStatus epochStatus(const ppp::GnssTime& time, const ppp::PppEpochRecord& rec, const ppp_bayes_tree::PppStatus& counters,
                                         const EpochFigures& figures, const PhaseBiasChoice& phase, bool ar_enabled);
-  /// The status of an epoch without satellites (no solution).
+  /// The status of an epoch without satellites (no solution; not counted as processed).
   ppp_bayes_tree::PppStatus emptyEpochStatus(const ppp::GnssTime& time, const ppp_bayes_tree::PppStatus& counters,
                                              double corrections_stale_s, const PhaseBiasChoice& phase, bool ar_enabled);
   const std::optional<ppp_bayes_tree::PppStatus>& lastStatus() const { return last_status_; }
+  /// A processed epoch not after the last published one: not published, counted.
+  void countNotPublished() { ++counters_.epochs_not_published; }
+  const OutputCounters& counters() const { return counters_; }
   const std::optional<ppp::SmootherEpochDiagnostics>& lastSmoother() const { return last_smoother_; }
 
   // --- filtered outputs of a solved epoch (needs the datum) ---
@@ -174,6 +185,8 @@ class NodeOutputs {
   /// The fix state fields of the status from the epoch's record.
   void setFixState(const ppp::PppEpochRecord& rec, bool solved, const PhaseBiasChoice& phase, bool ar_enabled,
                    ppp_bayes_tree::PppStatus& s);
+  /// The status's counter fields: the inputs' and the outputs'.
+  ppp_bayes_tree::PppStatus withCounters(const ppp_bayes_tree::PppStatus& input_counters) const;
   /// The satellites used and rejected; returns those without corrections (late products).
   std::uint16_t setSatellites(const ppp::PppEpochRecord& rec, ppp_bayes_tree::PppStatus& s) const;
   /// The sigmas, troposphere and clock of a solved epoch.
@@ -190,6 +203,7 @@ class NodeOutputs {
   std::map<ros::Time, Attitude> attitude_of_epoch_;
   bool lever_arm_note_logged_ = false;
   AttitudeCounters attitude_counters_;
+  OutputCounters counters_;
   std::optional<ppp_bayes_tree::PppStatus> last_status_;
   std::optional<ppp::SmootherEpochDiagnostics> last_smoother_;  // of the last processed epoch
   // smoother outputs

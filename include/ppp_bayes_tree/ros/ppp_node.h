@@ -3,64 +3,20 @@
 // ppp_smoother_node: "smoother", same class). Everything per epoch is the
 // core's PppEpochProcessor, exactly as in ppp_solve; the node only converts
 // messages, buffers observations until corrections cover them, and publishes.
-//
-// Subscribes: gnss/observations (GnssObservations), gnss/corrections (PreciseCorrections),
-//             optionally an attitude (sensor_msgs/Imu, ros.attitude.topic; see below).
-// Live input (ros.live with an observation topic): INSTEAD of the two topics
-//             above, raw receiver and correction streams (rtcm_msgs/Message, mavros_msgs/RTCM,
-//             ublox_msgs/RxmRAWX + RxmSFRBX, GnssStreamBytes; ros/gnss_stream_subscriber.h)
-//             go into one ppp::LiveGnssInput; its ready epochs take the same PppEpochProcessor
-//             path with its ephemeris (broadcast + SSR) and are published the same way.
-//             Why the nodes decode (no bridge node publishing our messages): equality with
-//             ppp_solve to 1 mm needs the same broadcast + SSR evaluation code in the node,
-//             and decoding costs < 0.1 % of a core, so both nodes side by side can decode;
-//             transport-only nodes (ppp_stream_node: serial, TCP, NTRIP, file) move bytes.
-//             A timer takes ready epochs every 0.1 s (ROS clock) so that the broadcast-only
-//             fallback happens when corrections stop. A receiver restart (time back beyond
-//             ros.live.restart_jump_s) resets the estimator as a bag loop does.
-// Publishes:  ppp/odometry/filtered (nav_msgs/Odometry, map frame, ENU covariance),
-//             ppp/fix (sensor_msgs/NavSatFix in the gnss_antenna frame, ENU covariance;
-//               status STATUS_GBAS_FIX when the ambiguities are fixed, STATUS_FIX when float,
-//               as ublox_gps reports carrier-phase fixed solutions),
-//             ppp/status (PppStatus), ppp/path/filtered (nav_msgs/Path, at
-//             ros.diagnostics.path_publish_rate_hz), /diagnostics (inputs, corrections,
-//             solution), TF earth -> map (static), base_link -> gnss_antenna (static, the
-//             lever arm), map -> base_link (or map -> odom when odom -> base_link exists).
-// Smoother node only (the EKF node does not advertise them):
-//             ppp/odometry/smoothed (nav_msgs/Odometry, ENU covariance): after each epoch t,
-//               with smoother.fixed_lag_s > 0 the state at the lag boundary x(t-lag | t)
-//               (the oldest state still in the window: final, the lag no longer changes
-//               it); with the full smoother the newest state x(t | t) (= the filtered
-//               one); with ros.smoothed.odometry_delay_s = d > 0 the newest state at least
-//               d old, x(t-d | t). Each state is published once, in time order.
-//             ppp/path/smoothed (nav_msgs/Path): the whole trajectory re-estimated with
-//               all data so far, re-read only at ros.smoothed.path_publish_rate_hz (never
-//               per epoch); its last pose is the last filtered one.
-//             The status carries the smoother's variables re-eliminated per update; the
-//             diagnostics its iSAM2 update time, relinearized/marginalized variables and
-//             the cost of the last path re-read.
-// Lever arm:  PPP estimates the antenna position. With an attitude source (the newest
-//             attitude within ros.attitude.max_age_s of the epoch) base_link =
-//             antenna - R(attitude) * ros.frames.antenna_lever_arm_m and the odometry/TF
-//             carry the attitude; without one, base_link IS the antenna position with an
-//             identity orientation (logged once), and the TF gnss_antenna frame (base_link
-//             + the unrotated lever arm) is not the antenna: ppp/fix is.
-// Ambiguity resolution (ambiguity_resolution.enabled): the phase information comes from
-//             the corrections (PreciseCorrections ar_bias_source and satellites[].biases),
-//             on the live input from SSR phase biases (RTCM 1265-1270, IGS-SSR), or from a
-//             Bias-SINEX file with phase OSBs of the clocks' analysis centre (ros.products.bias);
-//             without any the node stays float and says so (log once, status, diagnostics).
-//             The smoother holds the integers as factors of its graph: the smoothed outputs
-//             after a fix carry them back.
-// Service:    set_datum (SetDatum).
-// Parameters: the whole private namespace = config/ppp.yaml (core sections +
-//             `ros:`), loaded strictly at start-up (node_config.h).
-// Parts:     node_config.h (the parameters), node_inputs.h (the products, messages ->
-//             core types, time guard, correction gate, header.seq gaps, live input and
-//             its subscriptions), node_outputs.h (status, odometry, fix, TF, paths,
-//             smoothed outputs and file, the datum, the epoch figures),
-//             node_diagnostics.h (/diagnostics, the start notes). The node keeps the
-//             order of the set-up steps and the per-epoch call.
+// Inputs: gnss/observations + gnss/corrections, or raw receiver and correction
+// streams through one ppp::LiveGnssInput (ros.live), and an optional attitude.
+// Outputs: ppp/odometry/filtered, ppp/fix, ppp/status, ppp/path/filtered,
+// /diagnostics and TF; the smoother node adds ppp/odometry/smoothed and
+// ppp/path/smoothed. Service: set_datum. Parameters: the whole private
+// namespace = config/ppp.yaml, loaded strictly at start-up (node_config.h).
+// Parts: node_config.h (the parameters), node_inputs.h (products, messages ->
+// core types, time guard, correction gate, header.seq gaps, live input),
+// node_outputs.h (status, odometry, fix, TF, paths, smoothed outputs, datum),
+// node_diagnostics.h (/diagnostics, the start notes). The node keeps the order
+// of the set-up steps and the per-epoch call.
+// Topics, frames, the lever arm and the smoothed outputs: doc/ros_interface.md;
+// live streams: doc/live_input.md; ambiguity resolution:
+// doc/ros_ambiguity_resolution.md.
 #include <memory>
 #include <optional>
 #include <string>

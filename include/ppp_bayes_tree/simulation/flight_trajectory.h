@@ -1,31 +1,12 @@
 #pragma once
 // Flight trajectories for the simulator: four built-in UAV profiles of
-// increasing dynamics and user trajectories from CSV.
-//
-// Frames and conventions:
-//  * positions/velocities are ECEF (WGS 84); the profiles are flown in the
-//    local East-North-Up plane of the origin (default near Zimmerwald,
-//    46.877 N, 7.465 E, 950 m ellipsoidal height) and converted to ECEF;
-//  * attitude is the aerospace Z-Y-X (yaw, pitch, roll) sequence from the local
-//    North-East-Down frame to the body frame (x forward, y right wing, z down):
-//    yaw = heading clockwise from north, pitch = nose up, roll = right wing down.
-//    The profiles fly coordinated turns with no sideslip and zero angle of
-//    attack: yaw = track heading, pitch = flight-path angle
-//    atan(v_up / v_horizontal), roll = bank angle atan(V_h * psi_dot / g)
-//    (coordinated-turn relation, e.g. Stevens & Lewis, "Aircraft Control and
-//    Simulation", 3rd ed., sec. 2.6), g = 9.80665 m/s^2.
-//
-// Built-in profiles (speed V, turn radius R, bank phi; heading rate ramps over
-// 2 s so the roll is continuous):
-//  * loiter:  circle R 250 m at 100 m above the origin, V 15 m/s, phi 5.2 deg;
-//  * survey:  lawn-mower, 800 m legs spaced 100 m, V 15 m/s, 180-deg turns of
-//             R 50 m (phi 24.6 deg), 10 legs per block, blocks alternate north/south;
-//  * figure8: alternating full left and right circles of R 90 m at V 22 m/s
-//             (phi 28.7 deg, the roll reverses within 2 s), height oscillating
-//             +-20 m with a 120-s period;
-//  * climb:   spiral climb at 3 m/s to 1000 m above the origin (R 400 m, V 22 m/s),
-//             cruise on a 3 km x 2 km rectangle (90-deg turns, R 110 m, phi 24 deg),
-//             spiral descent at 3 m/s to 100 m at the end.
+// increasing dynamics (loiter, survey, figure8, climb) and user trajectories from
+// CSV. Positions and velocities are ECEF (WGS 84), flown in the local
+// East-North-Up plane of the origin; attitude is the aerospace Z-Y-X sequence
+// from North-East-Down to the body frame, in coordinated turns.
+// The frames and the profiles' dimensions: doc/evaluation.md, "Trajectories".
+// Reference: Stevens B.L., Lewis F.L., Aircraft Control and Simulation, 3rd ed.,
+// sec. 2.6 (coordinated turn).
 #include <Eigen/Core>
 #include <string>
 #include <vector>

@@ -1,55 +1,20 @@
 #pragma once
-// GNSS observation simulator for UAV flights: dual-frequency GPS
-// L1/L2 (and, with config.systems GE, Galileo E1/E5a on the nominal Walker
-// 24/3/1 constellation, with its own receiver clock = GPS clock + a constant
-// offset) pseudoranges and carrier phases along a trajectory, with the error
-// model of SimulationConfig, plus the "precise products" (truth + product
-// error) and the truth (position, ZWD, clock, arc biases).
-//
-// Same physics as the estimator: the non-dispersive part of every observable
-// is computed BY the project's PppMeasurementModel (ppp_measurement_model.h)
-// evaluated at the true state with the TRUE products, with the options
-// simulationModelOptions() (no antenna calibrations, no station tides: a UAV;
-// wind-up, Shapiro, Sagnac, relativity, modified Hopfield as in the model).
-// The model takes the emission time from the observed code, so the code is
-// found as the fixed point code = predicted(code) (3 iterations, converged to
-// < 1 um). Per satellite and frequency f (lambda_f = c/f, gamma = f1^2/f2^2):
-//   P_f = G + I_f + MP_f + e_f                       [m]
-//   L_f = (G - I_f + eps_f) / lambda_f + w + N_f     [cycles]
-//   G   = model prediction (IF code, all non-dispersive terms) + (s_dry - 1) * dry slant delay
-//   I_2 = gamma I_1 (first-order ionosphere), w = wind-up [cycles] as in the model,
-// so the ionosphere-free combinations are P_IF = G + IF(MP, e) and
-// L_IF = G + lambda_NL w + B_arc, B_arc = alpha lambda1 N1 + beta lambda2 N2
-// (ionosphere_free.h coefficients): the truth bias of the arc.
-//
-// The truth products are the sampled orbits/clocks written to text (SP3-c and
-// RINEX clock) and read back by our readers, so that the in-process truth,
-// the written files and the estimator's view are identical to the last digit.
-// The "precise products" handed to the estimator are the same plus the
-// product error. With `quantize` the observations are rounded to the RINEX
-// resolution, so in-process epochs equal those read back from the file.
-//
-// In-process use (the Monte Carlo driver): simulateFlight() returns everything
-// the files hold; estimators consume `header` + `epochs` through SignalSelector,
-// `products` as the PreciseEphemeris, and `model_options` for the measurement
-// model; truth[k] belongs to epochs[k]. simulateFlight() has no shared state
-// and can run concurrently on different threads. A PppMeasurementModel keeps a
-// reference to `products`: do not move the SimulatedFlight while it is in use.
-//
-// Galileo satellites need nothing else from the products: the simulation and the
-// estimators use no satellite antenna calibration (simulationModelOptions():
-// satellite_antenna off, zero PCO for every satellite), so the shared ANTEX
-// files' lack of Galileo entries does not arise.
-//
-// Determinism: every random quantity comes from RandomStream sub-streams of the
-// seed (one per error term and satellite), so the same seed and configuration
-// give bit-identical results and files.
+// GNSS observation simulator for UAV flights: dual-frequency GPS L1/L2 (and,
+// with config.systems GE, Galileo E1/E5a on the nominal Walker 24/3/1
+// constellation) pseudoranges and carrier phases along a trajectory, with the
+// error model of SimulationConfig, plus the "precise products" (truth + product
+// error) and the truth (position, ZWD, clock, arc biases). The non-dispersive
+// part of every observable is computed BY the project's PppMeasurementModel at
+// the true state, so simulator and estimator share their physics. Deterministic:
+// the same seed and configuration give bit-identical results and files;
+// simulateFlight() has no shared state and can run on several threads.
+// The observation equations, the products and in-process use: doc/evaluation.md,
+// "How the observations are simulated".
 #include <cstdint>
 #include <optional>
 #include <string>
 #include <vector>
 
-#include "ppp_bayes_tree/io/obs_epoch.h"
 #include "ppp_bayes_tree/io/rinex/rinex_obs_header.h"
 #include "ppp_bayes_tree/models/precise_ephemeris.h"
 #include "ppp_bayes_tree/ppp/model/ppp_measurement_model.h"
@@ -57,6 +22,7 @@
 #include "ppp_bayes_tree/simulation/gps_constellation.h"
 #include "ppp_bayes_tree/simulation/simulated_phase_biases.h"
 #include "ppp_bayes_tree/simulation/simulation_config.h"
+#include "ppp_bayes_tree/types/obs_epoch.h"
 
 namespace ppp {
 

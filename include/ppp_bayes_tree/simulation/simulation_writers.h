@@ -13,11 +13,11 @@
 #include <string>
 #include <vector>
 
-#include "ppp_bayes_tree/io/obs_epoch.h"
 #include "ppp_bayes_tree/io/products/rinex_clock_reader.h"
 #include "ppp_bayes_tree/io/products/sp3_reader.h"
 #include "ppp_bayes_tree/io/rinex/rinex_obs_header.h"
 #include "ppp_bayes_tree/simulation/gnss_simulator.h"
+#include "ppp_bayes_tree/types/obs_epoch.h"
 
 namespace ppp {
 

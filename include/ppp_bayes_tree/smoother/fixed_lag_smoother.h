@@ -58,6 +58,12 @@ class FixedLagSmoother {
 
  private:
   KeyVector dueKeys() const;
+  /// Stamps the time variables and the variables sharing a factor with one (update step 1).
+  void recordUses(const NonlinearFactorGraph& new_factors, const std::unordered_map<Key, double>& timestamps_s);
+  /// Marginalizes the due variables that are leaves, keeping their estimates (update step 3).
+  void marginalizeDue(const KeyVector& due, FixedLagResult& out);
+  /// Drops time-index entries below the cutoff that name no live variable (update step 4).
+  void pruneTimeIndex();
   double bucketOf(double t_s) const;
   double cutoff() const;
 

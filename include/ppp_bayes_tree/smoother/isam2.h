@@ -104,6 +104,35 @@ class ISAM2 {
   Top removeTop(const KeySet& affected, ISAM2Result& result);
   /// Step 4: returns the new cliques.
   std::vector<Clique*> reeliminateTop(const Top& top, const ISAM2UpdateParams& up, ISAM2Result& result);
+  /// Step 4a: the constrained elimination order of the top's variables.
+  struct TopOrdering {
+    KeyVector ordering;                     // the top's keys in elimination order
+    std::unordered_map<Key, int> pos;       // key -> position in `ordering`
+    std::vector<int> group_at;              // constraint group of the variable at each position
+    int newest_group = -1;                  // the group of the newest keys (-1: none)
+    std::vector<const KeyVector*> pattern;  // keys of the top's factors, then its orphans' separators
+    int lowest(const KeyVector& keys) const;  // first position of any of keys
+  };
+  TopOrdering orderTop(const Top& top, const ISAM2UpdateParams& up, const ISAM2Result& result) const;
+  /// Step 4b: the cliques of the symbolic elimination, as positions in the ordering.
+  struct SymbolicClique {
+    std::vector<int> frontals, sep;
+    std::vector<FactorIndex> factors;
+    std::vector<int> orphans;  // indices into Top::orphans
+    bool merged = false;       // folded into another clique
+  };
+  struct SymbolicTree {
+    struct Buckets;
+    std::vector<SymbolicClique> cliques;
+    std::vector<int> var_clique;  // clique of the variable at each position
+    void separatorOf(int i, const Buckets& b, const TopOrdering& ord, const std::vector<Clique::Ptr>& orphans,
+                     std::vector<int>& stamp, std::vector<int>& st) const;
+    int mergeNewestChildren(const std::vector<int>& children, int target, const TopOrdering& ord);
+  };
+  static SymbolicTree symbolicEliminate(const Top& top, const TopOrdering& ord);
+  /// Step 4c: the numeric elimination of the cliques in `order`; indexed as tree.cliques.
+  std::vector<Clique::Ptr> eliminateNumeric(const Top& top, const TopOrdering& ord, const SymbolicTree& tree,
+                                            const std::vector<int>& order);
   /// Step 5; `new_cliques` (the re-eliminated ones) sorted by address.
   void backSubstitute(const std::vector<const Clique*>& new_cliques, ISAM2Result& result);
 

@@ -230,6 +230,7 @@ PppConfig flightPppConfig(const PppConfig& ppp, const SimulatedFlight& f) {
   m.code_phase_ratio = c.model.code_phase_ratio;
   m.scale_sigma_for_ionosphere_free = c.model.scale_sigma_for_ionosphere_free;
   m.estimate_troposphere_gradients = c.model.estimate_troposphere_gradients;  // a state choice, not physics
+  m.zwd_at_ellipsoid = c.model.zwd_at_ellipsoid;  // a state choice too
   c.model = m;
   c.signals.systems = f.config.systems;
   return c;
@@ -263,6 +264,7 @@ PppConfig monteCarloDefaultPppConfig() {
   PppConfig c = methodTablePppConfig();  // config/method_table.yaml
   c.stochastic.position.initial_sigma_m = 30.0;  // as config/ppp_simulated.yaml (monte_carlo.h)
   c.smoother.relinearize_position_m = 0.5;       // as config/ppp_simulated.yaml (monte_carlo.h)
+  c.model.zwd_at_ellipsoid = true;               // as config/ppp_simulated.yaml: the wet delay follows the height
   // As config/ppp_simulated.yaml: the simulated errors are the estimators' model.
   c.ambiguity_resolution.narrow_lane.success_rate_variance_factor = 1.0;
   return c;

@@ -96,21 +96,24 @@ void noteStaleCorrections(const SsrBroadcastFallback& fallback, const SsrCorrect
 
 }  // namespace
 
-BroadcastProducts loadBroadcastProducts(const std::vector<std::string>& nav, const std::optional<std::string>& ssr,
-                                        std::optional<EphemerisReference> ssr_reference, SsrAgeLimits limits,
-                                        BroadcastFallbackOptions fallback_options,
-                                        std::optional<GnssTime> stream_reference_time,
-                                        std::optional<ObservationSpan> observation_span) {
-  BroadcastProducts out;
+namespace {
+
+/// The navigation inputs: RINEX navigation files and receiver streams' navigation.
+struct NavigationInputs {
   std::vector<NavData> navs;
   std::vector<StreamNavigationFile> streams;
-  std::optional<GnssTime> reference_time;
-  std::string names;
+  std::optional<GnssTime> reference_time;  // of the SSR stream: given, else the first record's
+  std::string names;                       // the files' base names, comma separated
+};
+
+NavigationInputs readNavigationInputs(const std::vector<std::string>& nav,
+                                      const std::optional<GnssTime>& stream_reference_time, BroadcastProducts& out) {
+  NavigationInputs in;
   for (const auto& path : nav) {
     if (detectStreamFormatOfFile(path) != StreamFormat::Unknown) {
-      streams.push_back(readStreamNavigation(path, stream_reference_time));
-      const StreamNavigationFile& s = streams.back();
-      if (!reference_time) reference_time = stream_reference_time ? stream_reference_time : s.first_time;
+      in.streams.push_back(readStreamNavigation(path, stream_reference_time));
+      const StreamNavigationFile& s = in.streams.back();
+      if (!in.reference_time) in.reference_time = stream_reference_time ? stream_reference_time : s.first_time;
       out.notes.push_back("navigation records from the " + std::string(streamFormatName(s.format)) + " " +
                           fileBaseName(path) + ": " + std::to_string(s.navigation.size()) +
                           " record(s), each used from its reception in the stream on");
@@ -121,41 +124,69 @@ BroadcastProducts loadBroadcastProducts(const std::vector<std::string>& nav, con
         out.problems.push_back(text);
       }
     } else {
-      navs.push_back(readRinexNav(path));
-      if (!reference_time) reference_time = navs.back().first_toc;
+      in.navs.push_back(readRinexNav(path));
+      if (!in.reference_time) in.reference_time = in.navs.back().first_toc;
     }
-    names += (names.empty() ? "" : ", ") + fileBaseName(path);
+    in.names += (in.names.empty() ? "" : ", ") + fileBaseName(path);
   }
-  for (const auto& n : navs) out.glonass_channels.fillMissing(n.glonass_channels);
-  for (const auto& s : streams)
+  return in;
+}
+
+void fillGlonassChannels(const NavigationInputs& in, BroadcastProducts& out) {
+  for (const auto& n : in.navs) out.glonass_channels.fillMissing(n.glonass_channels);
+  for (const auto& s : in.streams)
     for (const auto& r : s.navigation.glonass)
       if (!out.glonass_channels.channel(r.record.satellite.prn))
         out.glonass_channels.set(r.record.satellite.prn, r.record.frequency_channel);
-  out.record_satellites = recordSatellites(navs, streams);
-  if (!ssr) {
-    auto store = std::make_shared<BroadcastEphemerisStore>();
-    for (const auto& n : navs) store->add(n);
-    for (const auto& s : streams) {
-      addReceived([&](const auto& record, const auto& received) { store->add(record, received); }, s.navigation);
-      for (const auto& r : s.navigation.beidou) store->add(r.record, r.received_at);
-    }
-    out.ephemeris = store;
-    out.notes.push_back("orbits and clocks: broadcast navigation records only (" + names +
-                        "): metre-level accuracy, not precise products");
-    return out;
+}
+
+/// Every broadcast record, those of streams from their reception on.
+std::shared_ptr<BroadcastEphemerisStore> broadcastStore(const NavigationInputs& in) {
+  auto store = std::make_shared<BroadcastEphemerisStore>();
+  for (const auto& n : in.navs) store->add(n);
+  for (const auto& s : in.streams) {
+    addReceived([&](const auto& record, const auto& received) { store->add(record, received); }, s.navigation);
+    for (const auto& r : s.navigation.beidou) store->add(r.record, r.received_at);
   }
-  const SsrStreamFile stream = readSsrStreamFile(*ssr, reference_time);
+  return store;
+}
+
+/// The problems and notes of an SSR stream: decoding problems, repeated signals,
+/// corrections without their broadcast record.
+void noteSsrStream(const std::string& ssr_name, const SsrStreamFile& stream, const BroadcastSsrEphemeris& eph,
+                   BroadcastProducts& out) {
+  const auto describe = [&](const StreamCounters& c, const std::string& what) {
+    if (c.totalProblems() == 0) return;
+    std::string text = ssr_name + ": " + std::to_string(c.totalProblems()) + " " + what;
+    if (!c.problems.empty()) text += ", first: " + c.problems.front().describe();
+    out.problems.push_back(text);
+  };
+  describe(stream.counters, "problem(s) while decoding");
+  if (stream.counters.repeated_signals > 0)
+    out.notes.push_back(ssr_name + ": " + std::to_string(stream.counters.repeated_signals) +
+                        " bias value(s) of a signal id sent twice for one satellite, the first of each kept; first: " +
+                        stream.counters.first_repeated_signal);
+  describe(eph.consistency(), "SSR correction(s) without a broadcast record of their IOD");
+}
+
+/// The broadcast records corrected by the SSR stream `ssr`, with the broadcast
+/// fallback where the corrections are missing or too old, and the SSR biases.
+void addSsrCorrections(const std::string& ssr, const NavigationInputs& in,
+                       std::optional<EphemerisReference> ssr_reference, SsrAgeLimits limits,
+                       BroadcastFallbackOptions fallback_options,
+                       const std::optional<ObservationSpan>& observation_span, BroadcastProducts& out) {
+  const SsrStreamFile stream = readSsrStreamFile(ssr, in.reference_time);
   auto store = std::make_shared<SsrCorrectionStore>(limits);
   for (const auto& m : stream.messages) store->add(m);
   out.corrected_satellites = store->correctedSatellites();
   BroadcastSsrOptions options;
-  const auto from_name = ssrReferenceFromStreamName(fileBaseName(*ssr));
+  const auto from_name = ssrReferenceFromStreamName(fileBaseName(ssr));
   options.reference = ssr_reference ? *ssr_reference : from_name.value_or(EphemerisReference::CentreOfMass);
-  auto eph = std::make_shared<BroadcastSsrEphemeris>(navs, store, options);
+  auto eph = std::make_shared<BroadcastSsrEphemeris>(in.navs, store, options);
   auto broadcast = std::make_shared<BroadcastEphemerisStore>();
-  for (const auto& n : navs) broadcast->add(n);
-  if (!streams.empty()) {
-    for (const auto& s : streams) {
+  for (const auto& n : in.navs) broadcast->add(n);
+  if (!in.streams.empty()) {
+    for (const auto& s : in.streams) {
       addReceived([&](const auto& record, const auto& received) { eph->addRecord(record, received); }, s.navigation);
       addReceived([&](const auto& record, const auto& received) { broadcast->add(record, received); }, s.navigation);
       for (const auto& r : s.navigation.beidou) broadcast->add(r.record, r.received_at);
@@ -163,30 +194,43 @@ BroadcastProducts loadBroadcastProducts(const std::vector<std::string>& nav, con
     eph->checkConsistency();
   }
   auto fallback = std::make_shared<SsrBroadcastFallback>(eph, broadcast, fallback_options);
-  out.notes.push_back("orbits and clocks: " + names + " corrected by SSR stream " + fileBaseName(*ssr) + " (" +
+  out.notes.push_back("orbits and clocks: " + in.names + " corrected by SSR stream " + fileBaseName(ssr) + " (" +
                       std::to_string(stream.summary.messages) + " messages; orbits at the " +
                       std::string(ephemerisReferenceName(options.reference)) +
                       (ssr_reference ? ", as given" : from_name ? ", from the stream name" : ", by default") + ")");
-  const auto describe = [&](const StreamCounters& c, const std::string& what) {
-    if (c.totalProblems() == 0) return;
-    std::string text = fileBaseName(*ssr) + ": " + std::to_string(c.totalProblems()) + " " + what;
-    if (!c.problems.empty()) text += ", first: " + c.problems.front().describe();
-    out.problems.push_back(text);
-  };
-  describe(stream.counters, "problem(s) while decoding");
-  if (stream.counters.repeated_signals > 0)
-    out.notes.push_back(fileBaseName(*ssr) + ": " + std::to_string(stream.counters.repeated_signals) +
-                        " bias value(s) of a signal id sent twice for one satellite, the first of each kept; first: " +
-                        stream.counters.first_repeated_signal);
-  describe(eph->consistency(), "SSR correction(s) without a broadcast record of their IOD");
-  noteStaleCorrections(*fallback, *store, fileBaseName(*ssr), observation_span, out.notes);
+  noteSsrStream(fileBaseName(ssr), stream, *eph, out);
+  noteStaleCorrections(*fallback, *store, fileBaseName(ssr), observation_span, out.notes);
   if (store->codeBiasCount() > 0 || store->phaseBiasCount() > 0)
     out.ssr_biases = std::make_shared<SsrBiasProvider>(
-        store, fileBaseName(*ssr),
+        store, fileBaseName(ssr),
         [fallback](const SatelliteId& sat, const GnssTime& t) { return fallback->ssrInForce(sat, t); });
   out.ssr_phase_biases = store->phaseBiasCount() > 0;
   out.ephemeris = fallback;
   out.corrected = eph;
+}
+
+}  // namespace
+
+BroadcastProducts loadBroadcastProducts(const std::vector<std::string>& nav, const std::optional<std::string>& ssr,
+                                        std::optional<EphemerisReference> ssr_reference, SsrAgeLimits limits,
+                                        BroadcastFallbackOptions fallback_options,
+                                        std::optional<GnssTime> stream_reference_time,
+                                        std::optional<ObservationSpan> observation_span) {
+  BroadcastProducts out;
+  // 1. The navigation records: RINEX navigation files and receiver streams.
+  const NavigationInputs in = readNavigationInputs(nav, stream_reference_time, out);
+  // 2. GLONASS channels and the satellites with records.
+  fillGlonassChannels(in, out);
+  out.record_satellites = recordSatellites(in.navs, in.streams);
+  // 3. Without an SSR stream: the broadcast records alone.
+  if (!ssr) {
+    out.ephemeris = broadcastStore(in);
+    out.notes.push_back("orbits and clocks: broadcast navigation records only (" + in.names +
+                        "): metre-level accuracy, not precise products");
+    return out;
+  }
+  // 4. With one: the records corrected by SSR, with the broadcast fallback.
+  addSsrCorrections(*ssr, in, ssr_reference, limits, std::move(fallback_options), observation_span, out);
   return out;
 }
 

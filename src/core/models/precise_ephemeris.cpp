@@ -382,6 +382,196 @@ struct WalkStop {
   std::string reason;
 };
 
+using OrbitResult = ProductResult<SatelliteOrbit>;
+
+template <class OrbitNode>  // PreciseEphemeris::OrbitNode
+OrbitResult badMarker(const OrbitNode& n, const SatelliteId& sat) {
+  return OrbitResult::failure(ProductStatus::BadValueMarker,
+                              "bad value marker in SP3 at " + timeText(n.time) + " for " + sat.toString());
+}
+
+/// The failure when the nodes that bracket t (k: the first node after t) are missing,
+/// invalid or too far apart; nullopt when they serve.
+template <class OrbitNode>  // PreciseEphemeris::OrbitNode
+std::optional<OrbitResult> bracketProblem(const std::vector<OrbitNode>& nodes, std::size_t k, bool exact,
+                                          const GnssTime& t, double max_gap, const SatelliteId& sat) {
+  if (exact) {
+    if (!nodes[k - 1].position_ecef_m) return badMarker(nodes[k - 1], sat);
+    return std::nullopt;
+  }
+  if (k == 0 || k == nodes.size()) {
+    const OrbitNode& nearest = k == 0 ? nodes.front() : nodes.back();
+    return OrbitResult::failure(ProductStatus::Gap, "gap: nearest SP3 node for " + sat.toString() + " is " +
+                                                        minutesText(std::abs(nearest.time - t)) + " away (" +
+                                                        (k == 0 ? "none before " : "none after ") + timeText(t) +
+                                                        ", max allowed spacing " + minutesText(max_gap) + ")");
+  }
+  const OrbitNode& l = nodes[k - 1];
+  const OrbitNode& r = nodes[k];
+  if (!l.position_ecef_m) return badMarker(l, sat);
+  if (!r.position_ecef_m) return badMarker(r, sat);
+  if (r.time - l.time > max_gap) {
+    return OrbitResult::failure(ProductStatus::Gap, "gap: nearest SP3 node for " + sat.toString() + " is " +
+                                                        minutesText(std::min(t - l.time, r.time - t)) + " away (nodes " +
+                                                        timeText(l.time) + " and " + timeText(r.time) + " are " +
+                                                        minutesText(r.time - l.time) + " apart, max allowed " +
+                                                        minutesText(max_gap) + ")");
+  }
+  return std::nullopt;
+}
+
+/// Walks from `start` by `step` (+1 or -1), collecting up to n_points consecutive
+/// usable nodes into `out`; says why it stopped.
+template <class OrbitNode>  // PreciseEphemeris::OrbitNode
+WalkStop walkNodes(const std::vector<OrbitNode>& nodes, std::size_t start, int step, std::size_t n_points,
+                   double max_gap, NodeIndices& out) {
+  WalkStop stop;
+  std::size_t i = start;
+  for (;;) {
+    if (out.size() >= n_points) return stop;
+    if ((step < 0 && i == static_cast<std::size_t>(-1)) || (step > 0 && i >= nodes.size())) {
+      stop.kind = WalkStop::DataEdge;
+      return stop;
+    }
+    const OrbitNode& n = nodes[i];
+    if (!n.position_ecef_m) {
+      stop = {WalkStop::Break, ProductStatus::BadValueMarker, "bad value marker in SP3 at " + timeText(n.time)};
+      return stop;
+    }
+    if (!out.empty() && std::abs(n.time - nodes[out.back()].time) > max_gap) {
+      stop = {WalkStop::Break, ProductStatus::Gap,
+              "gap: SP3 nodes " + timeText(std::min(n.time, nodes[out.back()].time)) + " and " +
+                  timeText(std::max(n.time, nodes[out.back()].time)) + " are " +
+                  minutesText(std::abs(n.time - nodes[out.back()].time)) + " apart (max allowed " +
+                  minutesText(max_gap) + ")"};
+      return stop;
+    }
+    out.push_back(i);
+    i = step < 0 ? i - 1 : i + 1;
+  }
+}
+
+/// The nodes collected on each side of t and why each walk stopped.
+struct NodeWalks {
+  NodeIndices left, right;  // left: at or before t (nearest first); right: after t
+  WalkStop left_stop, right_stop;
+};
+
+/// The centred window of n_points nodes, shifted inward at data edges (and at gaps
+/// if allowed); the failure when it cannot be had (nullopt: `window` is set).
+std::optional<OrbitResult> centredWindow(const NodeWalks& walks, std::size_t n_points, bool shift_at_gaps,
+                                         const SatelliteId& sat, const GnssTime& t, NodeIndices& window) {
+  const NodeIndices& left = walks.left;
+  const NodeIndices& right = walks.right;
+  std::size_t want_left = n_points / 2, want_right = n_points - want_left;
+  const auto can_shift = [&](const WalkStop& s) {
+    return s.kind == WalkStop::DataEdge || (s.kind == WalkStop::Break && shift_at_gaps);
+  };
+  const auto refuse = [&](const WalkStop& s) {
+    return OrbitResult::failure(s.status, s.reason + ": the " + std::to_string(n_points) + "-node window for " +
+                                              sat.toString() + " at " + timeText(t) + " would straddle it");
+  };
+  if (left.size() < want_left) {
+    if (!can_shift(walks.left_stop)) return refuse(walks.left_stop);
+    want_right += want_left - left.size();
+    want_left = left.size();
+  }
+  if (right.size() < want_right) {
+    if (!can_shift(walks.right_stop)) return refuse(walks.right_stop);
+    want_left += want_right - right.size();
+    want_right = right.size();
+  }
+  if (left.size() < want_left) {
+    if (walks.left_stop.kind == WalkStop::Break) return refuse(walks.left_stop);
+    return OrbitResult::failure(ProductStatus::NotEnoughNodes,
+                                "only " + std::to_string(left.size() + right.size()) + " usable SP3 nodes for " +
+                                    sat.toString() + " around " + timeText(t) + " (need " +
+                                    std::to_string(n_points) + ")");
+  }
+  for (std::size_t i = want_left; i-- > 0;) window.push_back(left[i]);
+  for (std::size_t i = 0; i < want_right; ++i) window.push_back(right[i]);
+  return std::nullopt;
+}
+
+/// The interpolation terms of a window kept between queries (the fields of
+/// PreciseEphemeris::OrbitQueryScratch, which only PreciseEphemeris names).
+struct WindowTerms {
+  GnssTime& t;
+  double& h;
+  std::size_t& size;  // 0: nothing kept
+  GnssTime* node_times;
+  double* w;
+  double* dw;
+  double* cos;
+  double* sin;
+};
+
+/// Lagrange weights in a scaled time relative to the window centre, and the Earth
+/// rotations from the nodes to t; kept when the previous query had the same node
+/// times at the same query time.
+template <class OrbitNode>  // PreciseEphemeris::OrbitNode
+void updateWindowTerms(const WindowTerms& terms, const std::vector<OrbitNode>& nodes, const NodeIndices& window,
+                       const GnssTime& t, double h) {
+  const bool same_window = terms.size == window.size() && terms.t == t && terms.h == h && [&] {
+    for (std::size_t j = 0; j < window.size(); ++j)
+      if (!(terms.node_times[j] == nodes[window[j]].time)) return false;
+    return true;
+  }();
+  if (same_window) return;
+  const GnssTime centre = nodes[window[window.size() / 2]].time;
+  const std::size_t m = window.size();
+  double tau[kMaxWindowNodes];
+  for (std::size_t j = 0; j < m; ++j) tau[j] = (nodes[window[j]].time - centre) / h;
+  terms.size = m;
+  lagrangeWeights(tau, m, (t - centre) / h, terms.w, terms.dw);
+  for (std::size_t j = 0; j < m; ++j) {
+    terms.node_times[j] = nodes[window[j]].time;
+    const double th = kEarthRotationRate_radps * (nodes[window[j]].time - t);
+    terms.cos[j] = std::cos(th);
+    terms.sin[j] = std::sin(th);
+  }
+  terms.t = t;
+  terms.h = h;
+}
+
+/// Position and velocity at t from the window's nodes and terms.
+template <class OrbitNode>  // PreciseEphemeris::OrbitNode
+SatelliteOrbit interpolateWindow(const std::vector<OrbitNode>& nodes, const NodeIndices& window,
+                                 const WindowTerms& terms, double h, const PreciseEphemerisOptions& options) {
+  const bool inertial = options.interpolate_in_inertial_frame;
+  bool have_velocities = options.use_sp3_velocity;
+  Eigen::Vector3d pos = Eigen::Vector3d::Zero(), dpos = Eigen::Vector3d::Zero(), vel = Eigen::Vector3d::Zero();
+  for (std::size_t j = 0; j < window.size(); ++j) {
+    const OrbitNode& n = nodes[window[j]];
+    const double c = terms.cos[j], s = terms.sin[j];  // rotateToQueryFrame's, dt = node - t
+    const Eigen::Vector3d p = inertial ? rotateAboutZ(*n.position_ecef_m, c, s) : *n.position_ecef_m;
+    pos += terms.w[j] * p;
+    dpos += terms.dw[j] * p;
+    if (have_velocities && n.velocity_ecef_mps) {
+      const Eigen::Vector3d v =
+          inertial ? rotateAboutZ(*n.velocity_ecef_mps + earthRotationCross(*n.position_ecef_m), c, s)
+                   : *n.velocity_ecef_mps;
+      vel += terms.w[j] * v;
+    } else {
+      have_velocities = false;
+    }
+  }
+  SatelliteOrbit out;
+  out.position_ecef_m = pos;  // the query frame coincides with ECEF at t
+  if (have_velocities) {
+    out.velocity_ecef_mps = inertial ? Eigen::Vector3d(vel - earthRotationCross(pos)) : vel;
+    out.velocity_source = VelocitySource::Sp3VelocityRecords;
+  } else {
+    const Eigen::Vector3d v = dpos / h;
+    out.velocity_ecef_mps = inertial ? Eigen::Vector3d(v - earthRotationCross(pos)) : v;
+    out.velocity_source = VelocitySource::PositionInterpolant;
+  }
+  out.window_first = nodes[window.front()].time;
+  out.window_last = nodes[window.back()].time;
+  out.nodes_used = static_cast<int>(window.size());
+  return out;
+}
+
 }  // namespace
 
 ProductResult<SatelliteOrbit> PreciseEphemeris::orbit(const SatelliteId& sat, const GnssTime& t) const {
@@ -405,39 +595,13 @@ ProductResult<SatelliteOrbit> PreciseEphemeris::orbit(const SatelliteId& sat, co
   const std::vector<OrbitNode>& nodes = it->second;
   const std::size_t n_points = static_cast<std::size_t>(options_.interpolation_points);
   const double max_gap = maxNodeSpacing_s();
-  const auto name = [&sat] { return sat.toString(); };  // for the reasons only: no text on success
   const auto by_time = [](const GnssTime& a, const OrbitNode& b) { return a < b.time; };
   // k: first node strictly after t; nodes[k-1] is at or before t.
   const std::size_t k = static_cast<std::size_t>(std::upper_bound(nodes.begin(), nodes.end(), t, by_time) - nodes.begin());
   const bool exact = k > 0 && nodes[k - 1].time == t;
 
   // 1. The nodes that bracket t must exist, be valid and be close enough.
-  const auto badMarker = [&](const OrbitNode& n) {
-    return R::failure(ProductStatus::BadValueMarker,
-                      "bad value marker in SP3 at " + timeText(n.time) + " for " + name());
-  };
-  if (exact) {
-    if (!nodes[k - 1].position_ecef_m) return badMarker(nodes[k - 1]);
-  } else {
-    if (k == 0 || k == nodes.size()) {
-      const OrbitNode& nearest = k == 0 ? nodes.front() : nodes.back();
-      return R::failure(ProductStatus::Gap, "gap: nearest SP3 node for " + name() + " is " +
-                                                minutesText(std::abs(nearest.time - t)) + " away (" +
-                                                (k == 0 ? "none before " : "none after ") + timeText(t) +
-                                                ", max allowed spacing " + minutesText(max_gap) + ")");
-    }
-    const OrbitNode& l = nodes[k - 1];
-    const OrbitNode& r = nodes[k];
-    if (!l.position_ecef_m) return badMarker(l);
-    if (!r.position_ecef_m) return badMarker(r);
-    if (r.time - l.time > max_gap) {
-      return R::failure(ProductStatus::Gap, "gap: nearest SP3 node for " + name() + " is " +
-                                                minutesText(std::min(t - l.time, r.time - t)) + " away (nodes " +
-                                                timeText(l.time) + " and " + timeText(r.time) + " are " +
-                                                minutesText(r.time - l.time) + " apart, max allowed " +
-                                                minutesText(max_gap) + ")");
-    }
-  }
+  if (auto problem = bracketProblem(nodes, k, exact, t, max_gap, sat)) return std::move(*problem);
 
   // 1b. Streams: cubic Hermite between the bracketing nodes when both have a velocity.
   if (options_.hermite_between_velocity_nodes) {
@@ -448,126 +612,24 @@ ProductResult<SatelliteOrbit> PreciseEphemeris::orbit(const SatelliteId& sat, co
 
   // 2. Walk outward collecting up to n_points consecutive usable nodes per side
   //    (indices into `nodes`, in fixed-size buffers: no allocation per query).
-  const auto walk = [&](std::size_t start, int step, NodeIndices& out) {
-    WalkStop stop;
-    std::size_t i = start;
-    for (;;) {
-      if (out.size() >= n_points) return stop;
-      if ((step < 0 && i == static_cast<std::size_t>(-1)) || (step > 0 && i >= nodes.size())) {
-        stop.kind = WalkStop::DataEdge;
-        return stop;
-      }
-      const OrbitNode& n = nodes[i];
-      if (!n.position_ecef_m) {
-        stop = {WalkStop::Break, ProductStatus::BadValueMarker, "bad value marker in SP3 at " + timeText(n.time)};
-        return stop;
-      }
-      if (!out.empty() && std::abs(n.time - nodes[out.back()].time) > max_gap) {
-        stop = {WalkStop::Break, ProductStatus::Gap,
-                "gap: SP3 nodes " + timeText(std::min(n.time, nodes[out.back()].time)) + " and " +
-                    timeText(std::max(n.time, nodes[out.back()].time)) + " are " +
-                    minutesText(std::abs(n.time - nodes[out.back()].time)) + " apart (max allowed " +
-                    minutesText(max_gap) + ")"};
-        return stop;
-      }
-      out.push_back(i);
-      i = step < 0 ? i - 1 : i + 1;
-    }
-  };
-  NodeIndices left, right;  // left: at or before t (nearest first); right: after t
-  const WalkStop left_stop = walk(k - 1, -1, left);
-  const WalkStop right_stop = walk(k, +1, right);
+  NodeWalks walks;
+  walks.left_stop = walkNodes(nodes, k - 1, -1, n_points, max_gap, walks.left);
+  walks.right_stop = walkNodes(nodes, k, +1, n_points, max_gap, walks.right);
 
   // 3. Centred window, shifted inward at data edges (and at gaps if allowed).
-  std::size_t want_left = n_points / 2, want_right = n_points - want_left;
-  const auto can_shift = [&](const WalkStop& s) {
-    return s.kind == WalkStop::DataEdge || (s.kind == WalkStop::Break && options_.shift_window_at_gaps);
-  };
-  const auto refuse = [&](const WalkStop& s) {
-    return R::failure(s.status, s.reason + ": the " + std::to_string(n_points) + "-node window for " + name() +
-                                    " at " + timeText(t) + " would straddle it");
-  };
-  if (left.size() < want_left) {
-    if (!can_shift(left_stop)) return refuse(left_stop);
-    want_right += want_left - left.size();
-    want_left = left.size();
-  }
-  if (right.size() < want_right) {
-    if (!can_shift(right_stop)) return refuse(right_stop);
-    want_left += want_right - right.size();
-    want_right = right.size();
-  }
-  if (left.size() < want_left) {
-    if (left_stop.kind == WalkStop::Break) return refuse(left_stop);
-    return R::failure(ProductStatus::NotEnoughNodes, "only " + std::to_string(left.size() + right.size()) +
-                                                         " usable SP3 nodes for " + name() + " around " +
-                                                         timeText(t) + " (need " + std::to_string(n_points) + ")");
-  }
   NodeIndices window;
-  for (std::size_t i = want_left; i-- > 0;) window.push_back(left[i]);
-  for (std::size_t i = 0; i < want_right; ++i) window.push_back(right[i]);
+  if (auto problem = centredWindow(walks, n_points, options_.shift_window_at_gaps, sat, t, window))
+    return std::move(*problem);
 
   // 4. Lagrange interpolation in a scaled time relative to the window centre (weights
   //    and rotations shared with the previous query through `scratch` when its window
   //    had the same node times at the same query time).
   const double h = orbit_interval_s_ > 0.0 ? orbit_interval_s_ : 1.0;
   static_assert(kMaxWindowNodes <= OrbitQueryScratch::kCapacity, "scratch too small for a window");
-  const bool same_window = scratch.size_ == window.size() && scratch.t_ == t && scratch.h_ == h &&
-                           [&] {
-                             for (std::size_t j = 0; j < window.size(); ++j)
-                               if (!(scratch.node_times_[j] == nodes[window[j]].time)) return false;
-                             return true;
-                           }();
-  if (!same_window) {
-    const GnssTime centre = nodes[window[window.size() / 2]].time;
-    const std::size_t m = window.size();
-    double tau[kMaxWindowNodes];
-    for (std::size_t j = 0; j < m; ++j) tau[j] = (nodes[window[j]].time - centre) / h;
-    scratch.size_ = m;
-    lagrangeWeights(tau, m, (t - centre) / h, scratch.w_.data(), scratch.dw_.data());
-    for (std::size_t j = 0; j < m; ++j) {
-      scratch.node_times_[j] = nodes[window[j]].time;
-      const double th = kEarthRotationRate_radps * (nodes[window[j]].time - t);
-      scratch.cos_[j] = std::cos(th);
-      scratch.sin_[j] = std::sin(th);
-    }
-    scratch.t_ = t;
-    scratch.h_ = h;
-  }
-  const double* w = scratch.w_.data();
-  const double* dw = scratch.dw_.data();
-  const bool inertial = options_.interpolate_in_inertial_frame;
-  bool have_velocities = options_.use_sp3_velocity;
-  Eigen::Vector3d pos = Eigen::Vector3d::Zero(), dpos = Eigen::Vector3d::Zero(), vel = Eigen::Vector3d::Zero();
-  for (std::size_t j = 0; j < window.size(); ++j) {
-    const OrbitNode& n = nodes[window[j]];
-    const double c = scratch.cos_[j], s = scratch.sin_[j];  // rotateToQueryFrame's, dt = node - t
-    const Eigen::Vector3d p = inertial ? rotateAboutZ(*n.position_ecef_m, c, s) : *n.position_ecef_m;
-    pos += w[j] * p;
-    dpos += dw[j] * p;
-    if (have_velocities && n.velocity_ecef_mps) {
-      const Eigen::Vector3d v =
-          inertial ? rotateAboutZ(*n.velocity_ecef_mps + earthRotationCross(*n.position_ecef_m), c, s)
-                   : *n.velocity_ecef_mps;
-      vel += w[j] * v;
-    } else {
-      have_velocities = false;
-    }
-  }
-  SatelliteOrbit out;
-  out.position_ecef_m = pos;  // the query frame coincides with ECEF at t
-  if (have_velocities) {
-    out.velocity_ecef_mps = inertial ? Eigen::Vector3d(vel - earthRotationCross(pos)) : vel;
-    out.velocity_source = VelocitySource::Sp3VelocityRecords;
-  } else {
-    const Eigen::Vector3d v = dpos / h;
-    out.velocity_ecef_mps = inertial ? Eigen::Vector3d(v - earthRotationCross(pos)) : v;
-    out.velocity_source = VelocitySource::PositionInterpolant;
-  }
-  out.window_first = nodes[window.front()].time;
-  out.window_last = nodes[window.back()].time;
-  out.nodes_used = static_cast<int>(window.size());
-  return R::success(out);
+  const WindowTerms terms{scratch.t_,          scratch.h_,         scratch.size_,       scratch.node_times_.data(),
+                          scratch.w_.data(),   scratch.dw_.data(), scratch.cos_.data(), scratch.sin_.data()};
+  updateWindowTerms(terms, nodes, window, t, h);
+  return R::success(interpolateWindow(nodes, window, terms, h, options_));
 }
 
 template <class Node>

@@ -142,192 +142,267 @@ struct Rac {
   double clock_m = 0.0;
 };
 
+/// The corrections of one SSR epoch, per system.
+struct EpochCorrections {
+  std::map<GnssSystem, std::vector<std::pair<SsrOrbitCorrection, SsrClockCorrection>>> orbit_clock;
+  std::map<GnssSystem, std::vector<SsrCodeBias>> code_biases;
+  std::map<GnssSystem, std::vector<SsrPhaseBias>> phase_biases;
+};
+
+/// Writes the SSR messages of precise orbits and clocks against the broadcast
+/// records an analysis centre holds, epoch after epoch (ssrFromPrecise).
+class SsrFromPreciseBuilder {
+ public:
+  SsrFromPreciseBuilder(const EphemerisSource& precise, const AntennaCalibrationProvider* antennas,
+                        const BiasProvider* biases, const BiasProvider* phase_biases,
+                        const SsrFromPreciseOptions& options, int interval_code)
+      : precise_(precise), antennas_(antennas), biases_(biases), phase_biases_(phase_biases), options_(options),
+        interval_code_(interval_code), apc_(options.reference != EphemerisReference::CentreOfMass),
+        store_(galileoINavOnly()) {}
+
+  void addNavigation(const std::vector<NavData>& navigation);
+  /// One SSR epoch at t0: the corrections of every satellite, then their messages.
+  void epoch(const GnssTime& t0);
+  SsrFromPreciseResult finish();
+
+ private:
+  static EphemerisSelectionOptions galileoINavOnly() {
+    EphemerisSelectionOptions selection;
+    selection.galileo = GalileoPreference::INavOnly;
+    return selection;
+  }
+  std::optional<std::pair<Eigen::Vector3d, double>> precisePoint(const SatelliteId& sat, const GnssTime& t) const;
+  std::optional<Rac> racAt(const SatelliteId& sat, const Selected& sel, const GnssTime& t) const;
+  void satellite(const SatelliteId& sat, const GnssTime& t0, EpochCorrections& corrections);
+  std::optional<SsrCodeBias> codeBiases(const SatelliteId& sat, const GnssTime& t0) const;
+  SsrMessage header(GnssSystem sys, SsrMessageKind kind, const GnssTime& t0) const;
+  void orbitClockMessages(const EpochCorrections& corrections, const GnssTime& t0);
+  void biasMessages(const EpochCorrections& corrections, const GnssTime& t0);
+
+  const EphemerisSource& precise_;
+  const AntennaCalibrationProvider* antennas_;
+  const BiasProvider* biases_;
+  const BiasProvider* phase_biases_;
+  const SsrFromPreciseOptions& options_;
+  const int interval_code_;
+  const bool apc_;  // at the antenna phase centre
+  BroadcastEphemerisStore store_;
+  std::set<SatelliteId> satellites_;
+  std::map<std::string, std::size_t> left_out_;  // reason -> count
+  SsrFromPreciseResult out_;
+};
+
+void SsrFromPreciseBuilder::addNavigation(const std::vector<NavData>& navigation) {
+  // As an analysis centre: at t0 only records already transmitted (RINEX transmission
+  // time of message) can be corrected; a record without one serves every instant.
+  for (const auto& nav : navigation) {
+    for (const auto& e : nav.gps) store_.add(e, transmissionTime(e));
+    for (const auto& e : nav.galileo) store_.add(e, transmissionTime(e));
+    for (const auto& e : nav.glonass) store_.add(e, std::optional<GnssTime>(transmissionTime(e)));
+  }
+  const auto& systems = options_.systems;
+  for (const auto& nav : navigation)
+    for (const auto& s : nav.satellites)
+      if (std::find(systems.begin(), systems.end(), s.system) != systems.end()) satellites_.insert(s);
+}
+
+/// The precise point the SSR orbit must reproduce, and the precise clock [s].
+std::optional<std::pair<Eigen::Vector3d, double>> SsrFromPreciseBuilder::precisePoint(const SatelliteId& sat,
+                                                                                     const GnssTime& t) const {
+  const auto o = precise_.satelliteOrbit(sat, t);
+  const auto c = precise_.satelliteClock(sat, t);
+  if (!o.ok() || !c.ok()) return std::nullopt;
+  Eigen::Vector3d x = o.value->position_ecef_m;
+  if (apc_ && o.value->reference == EphemerisReference::CentreOfMass) {
+    const auto cal = antennas_->satellite(sat, t);
+    const auto [b1, b2] = ssrIonosphereFreeBands(sat.system);
+    const auto fr1 = carrierFrequency_hz(sat.system, b1), fr2 = carrierFrequency_hz(sat.system, b2);
+    if (!fr1 || !fr2) return std::nullopt;
+    const auto offset = satelliteReferenceOffset_m(options_.reference, cal.calibration, sat.system, b1, b2,
+                                                   ionosphereFreeCoefficients(*fr1, *fr2));
+    if (!offset) return std::nullopt;
+    const Eigen::Vector3d& pco = *offset;
+    const SatelliteBodyAxes axes = nominalSatelliteAxes(x, o.value->velocity_ecef_mps, sunPositionEcef_m(t));
+    x += pco.x() * axes.x_ecef + pco.y() * axes.y_ecef + pco.z() * axes.z_ecef;
+  }
+  return std::make_pair(x, c.value->clock_bias_s);
+}
+
+/// Broadcast minus precise orbit in radial, along, cross [m], and the clock correction [m].
+std::optional<Rac> SsrFromPreciseBuilder::racAt(const SatelliteId& sat, const Selected& sel, const GnssTime& t) const {
+  const auto p = precisePoint(sat, t);
+  if (!p) return std::nullopt;
+  const BroadcastState b = sel.state(t);
+  const Eigen::Vector3d e_a = b.velocity_ecef_mps.normalized();
+  const Eigen::Vector3d e_c = b.position_ecef_m.cross(b.velocity_ecef_mps).normalized();
+  const Eigen::Vector3d e_r = e_a.cross(e_c);
+  const Eigen::Vector3d d = b.position_ecef_m - p->first;
+  Rac r;
+  r.rac = Eigen::Vector3d(d.dot(e_r), d.dot(e_a), d.dot(e_c));
+  r.clock_m = (p->second - (b.clock_bias_s - b.relativistic_s)) * kSpeedOfLight_mps;
+  return r;
+}
+
+void SsrFromPreciseBuilder::epoch(const GnssTime& t0) {
+  EpochCorrections corrections;
+  for (const SatelliteId& sat : satellites_) satellite(sat, t0, corrections);
+  if (corrections.orbit_clock.empty()) return;
+  out_.epochs += 1;
+  orbitClockMessages(corrections, t0);
+  biasMessages(corrections, t0);
+}
+
+void SsrFromPreciseBuilder::satellite(const SatelliteId& sat, const GnssTime& t0, EpochCorrections& corrections) {
+  const double U = options_.interval_s;
+  const auto sel = selectRecord(store_, sat, t0);
+  if (!sel) {
+    ++left_out_["no valid broadcast record"];
+    return;
+  }
+  const auto now = racAt(sat, *sel, t0);
+  if (!now) {
+    ++left_out_[apc_ ? "no precise orbit/clock or no satellite PCO" : "no precise orbit/clock"];
+    return;
+  }
+  Eigen::Vector3d rate = Eigen::Vector3d::Zero();
+  double clock_rate = 0.0;
+  if (const auto next = racAt(sat, *sel, t0 + U)) {
+    rate = (next->rac - now->rac) / U;
+    clock_rate = (next->clock_m - now->clock_m) / U;
+  }
+  SsrOrbitCorrection o;
+  o.satellite = sat;
+  o.iod = sel->iod;
+  o.radial_m = now->rac.x();
+  o.along_m = now->rac.y();
+  o.cross_m = now->rac.z();
+  o.radial_dot_mps = rate.x();
+  o.along_dot_mps = rate.y();
+  o.cross_dot_mps = rate.z();
+  SsrClockCorrection c;
+  c.satellite = sat;
+  c.c0_m = now->clock_m;
+  c.c1_m_per_s = clock_rate;
+  // Values beyond the fields (e.g. a broadcast record metres off) are left out.
+  if (std::abs(o.radial_m) > 209.0 || std::abs(o.along_m) > 209.0 || std::abs(o.cross_m) > 209.0 ||
+      std::abs(c.c0_m) > 209.0 || std::abs(o.radial_dot_mps) > 1.0 || std::abs(o.along_dot_mps) > 1.0 ||
+      std::abs(o.cross_dot_mps) > 1.0 || std::abs(c.c1_m_per_s) > 1.0) {
+    ++left_out_["correction beyond the SSR field ranges"];
+    return;
+  }
+  corrections.orbit_clock[sat.system].push_back({o, c});
+  out_.satellite_epochs += 1;
+  if (const auto cb = codeBiases(sat, t0)) corrections.code_biases[sat.system].push_back(*cb);
+  if (phase_biases_ != nullptr)
+    if (auto pb = integerPhaseBiases(*phase_biases_, sat, t0)) corrections.phase_biases[sat.system].push_back(std::move(*pb));
+}
+
+/// The SSR code biases (-OSB) of `sat` at t0, one per RTCM signal id; nullopt without any.
+std::optional<SsrCodeBias> SsrFromPreciseBuilder::codeBiases(const SatelliteId& sat, const GnssTime& t0) const {
+  if (biases_ == nullptr) return std::nullopt;
+  SsrCodeBias cb;
+  cb.satellite = sat;
+  for (int id = 0; id < 32; ++id) {
+    const auto code = ssrSignalCode(sat.system, id, false);
+    if (!code) continue;
+    const BiasAnswer a = biases_->codeBias(sat, *code, t0);
+    if (a.value_m && std::abs(*a.value_m) < 80.0) cb.biases.push_back({id, code, -*a.value_m});
+  }
+  if (cb.biases.empty()) return std::nullopt;
+  return cb;
+}
+
+SsrMessage SsrFromPreciseBuilder::header(GnssSystem sys, SsrMessageKind kind, const GnssTime& t0) const {
+  SsrMessage m;
+  m.header.system = sys;
+  m.header.kind = kind;
+  m.header.epoch = t0;
+  double sow = t0.gpsWeek().seconds_of_week;
+  if (sys == GnssSystem::GLONASS) {
+    const double glo = t0.toGpsSecondsDouble() + t0.offsetToSystem_s(TimeSystem::GLONASS);
+    sow = glo - std::floor(glo / 86400.0) * 86400.0;
+  }
+  m.header.epoch_time_s = static_cast<std::uint32_t>(std::llround(sow));
+  m.header.update_interval_code = interval_code_;
+  m.header.update_interval_s = options_.interval_s;
+  m.header.iod_ssr = options_.iod_ssr;
+  m.header.provider_id = options_.provider_id;
+  m.header.solution_id = options_.solution_id;
+  if (kind == SsrMessageKind::Orbit || kind == SsrMessageKind::Combined) m.header.datum_regional = false;
+  return m;
+}
+
+void SsrFromPreciseBuilder::orbitClockMessages(const EpochCorrections& corrections, const GnssTime& t0) {
+  const std::size_t per_message = static_cast<std::size_t>(std::clamp(options_.satellites_per_message, 1, 63));
+  for (const auto& [sys, list] : corrections.orbit_clock) {
+    for (std::size_t i = 0; i < list.size(); i += per_message) {
+      const std::size_t end = std::min(list.size(), i + per_message);
+      const bool more = end < list.size();
+      if (options_.combined) {
+        SsrMessage m = header(sys, SsrMessageKind::Combined, t0);
+        m.header.multiple_message = more;
+        for (std::size_t k = i; k < end; ++k) { m.orbits.push_back(list[k].first); m.clocks.push_back(list[k].second); }
+        out_.messages.push_back(std::move(m));
+      } else {
+        SsrMessage mo = header(sys, SsrMessageKind::Orbit, t0), mc = header(sys, SsrMessageKind::Clock, t0);
+        mo.header.multiple_message = mc.header.multiple_message = more;
+        for (std::size_t k = i; k < end; ++k) { mo.orbits.push_back(list[k].first); mc.clocks.push_back(list[k].second); }
+        out_.messages.push_back(std::move(mo));
+        out_.messages.push_back(std::move(mc));
+      }
+    }
+  }
+}
+
+void SsrFromPreciseBuilder::biasMessages(const EpochCorrections& corrections, const GnssTime& t0) {
+  const std::size_t per_message = static_cast<std::size_t>(std::clamp(options_.satellites_per_message, 1, 63));
+  for (const auto& [sys, list] : corrections.code_biases) {
+    for (std::size_t i = 0; i < list.size(); i += per_message) {
+      const std::size_t end = std::min(list.size(), i + per_message);
+      SsrMessage m = header(sys, SsrMessageKind::CodeBias, t0);
+      m.header.multiple_message = end < list.size();
+      m.code_biases.assign(list.begin() + static_cast<std::ptrdiff_t>(i), list.begin() + static_cast<std::ptrdiff_t>(end));
+      out_.messages.push_back(std::move(m));
+    }
+  }
+  for (const auto& [sys, list] : corrections.phase_biases) {
+    for (std::size_t i = 0, end = 0; i < list.size(); i = end) {
+      end = phaseBiasMessageEnd(list, i, per_message);
+      SsrMessage m = header(sys, SsrMessageKind::PhaseBias, t0);
+      m.header.multiple_message = end < list.size();
+      m.dispersive_consistent = m.mw_consistent = true;
+      m.phase_biases.assign(list.begin() + static_cast<std::ptrdiff_t>(i), list.begin() + static_cast<std::ptrdiff_t>(end));
+      out_.messages.push_back(std::move(m));
+    }
+  }
+}
+
+SsrFromPreciseResult SsrFromPreciseBuilder::finish() {
+  for (const auto& [why, n] : left_out_) out_.notes.push_back(std::to_string(n) + " satellite-epoch(s) left out: " + why);
+  return std::move(out_);
+}
+
 }  // namespace
 
 SsrFromPreciseResult ssrFromPrecise(const std::vector<NavData>& navigation, const EphemerisSource& precise,
                                     const AntennaCalibrationProvider* antennas, const BiasProvider* biases,
                                     const GnssTime& first, const GnssTime& last, const SsrFromPreciseOptions& options,
                                     const BiasProvider* phase_biases) {
+  // 1. The options: an SSR update interval; antenna offsets for the phase centre.
   const auto interval_code = ssrUpdateIntervalCode(options.interval_s);
   if (!interval_code) throw std::invalid_argument("SSR interval " + std::to_string(options.interval_s) + " s is not an SSR update interval (DF391)");
   const bool apc = options.reference != EphemerisReference::CentreOfMass;
   if (apc && antennas == nullptr) throw std::invalid_argument("SSR at the antenna phase centre needs satellite antenna offsets (ANTEX)");
-  EphemerisSelectionOptions selection;
-  selection.galileo = GalileoPreference::INavOnly;
-  BroadcastEphemerisStore store(selection);
-  // As an analysis centre: at t0 only records already transmitted (RINEX transmission
-  // time of message) can be corrected; a record without one serves every instant.
-  for (const auto& nav : navigation) {
-    for (const auto& e : nav.gps) store.add(e, transmissionTime(e));
-    for (const auto& e : nav.galileo) store.add(e, transmissionTime(e));
-    for (const auto& e : nav.glonass) store.add(e, std::optional<GnssTime>(transmissionTime(e)));
-  }
-  std::set<SatelliteId> satellites;
-  for (const auto& nav : navigation)
-    for (const auto& s : nav.satellites)
-      if (std::find(options.systems.begin(), options.systems.end(), s.system) != options.systems.end()) satellites.insert(s);
-
-  SsrFromPreciseResult out;
-  std::map<std::string, std::size_t> left_out;  // reason -> count
-  const double U = options.interval_s;
-  const std::int64_t step = static_cast<std::int64_t>(std::llround(U));
+  // 2. The broadcast records and the satellites of the chosen systems.
+  SsrFromPreciseBuilder builder(precise, antennas, biases, phase_biases, options, *interval_code);
+  builder.addNavigation(navigation);
+  // 3. Every SSR epoch from the first whole multiple of the interval on.
+  const std::int64_t step = static_cast<std::int64_t>(std::llround(options.interval_s));
   std::int64_t t_s = first.wholeSeconds() + (first.fraction() > 0 ? 1 : 0);
   t_s = ((t_s + step - 1) / step) * step;
-
-  // The precise point the SSR orbit must reproduce, and the precise clock.
-  const auto precisePoint = [&](const SatelliteId& sat, const GnssTime& t) -> std::optional<std::pair<Eigen::Vector3d, double>> {
-    const auto o = precise.satelliteOrbit(sat, t);
-    const auto c = precise.satelliteClock(sat, t);
-    if (!o.ok() || !c.ok()) return std::nullopt;
-    Eigen::Vector3d x = o.value->position_ecef_m;
-    if (apc && o.value->reference == EphemerisReference::CentreOfMass) {
-      const auto cal = antennas->satellite(sat, t);
-      const auto [b1, b2] = ssrIonosphereFreeBands(sat.system);
-      const auto fr1 = carrierFrequency_hz(sat.system, b1), fr2 = carrierFrequency_hz(sat.system, b2);
-      if (!fr1 || !fr2) return std::nullopt;
-      const auto offset = satelliteReferenceOffset_m(options.reference, cal.calibration, sat.system, b1, b2,
-                                                     ionosphereFreeCoefficients(*fr1, *fr2));
-      if (!offset) return std::nullopt;
-      const Eigen::Vector3d& pco = *offset;
-      const SatelliteBodyAxes axes = nominalSatelliteAxes(x, o.value->velocity_ecef_mps, sunPositionEcef_m(t));
-      x += pco.x() * axes.x_ecef + pco.y() * axes.y_ecef + pco.z() * axes.z_ecef;
-    }
-    return std::make_pair(x, c.value->clock_bias_s);
-  };
-  const auto racAt = [&](const SatelliteId& sat, const Selected& sel, const GnssTime& t) -> std::optional<Rac> {
-    const auto p = precisePoint(sat, t);
-    if (!p) return std::nullopt;
-    const BroadcastState b = sel.state(t);
-    const Eigen::Vector3d e_a = b.velocity_ecef_mps.normalized();
-    const Eigen::Vector3d e_c = b.position_ecef_m.cross(b.velocity_ecef_mps).normalized();
-    const Eigen::Vector3d e_r = e_a.cross(e_c);
-    const Eigen::Vector3d d = b.position_ecef_m - p->first;
-    Rac r;
-    r.rac = Eigen::Vector3d(d.dot(e_r), d.dot(e_a), d.dot(e_c));
-    r.clock_m = (p->second - (b.clock_bias_s - b.relativistic_s)) * kSpeedOfLight_mps;
-    return r;
-  };
-
-  for (; t_s <= last.wholeSeconds(); t_s += step) {
-    const GnssTime t0 = GnssTime::fromGpsSeconds(t_s);
-    std::map<GnssSystem, std::vector<std::pair<SsrOrbitCorrection, SsrClockCorrection>>> per_system;
-    std::map<GnssSystem, std::vector<SsrCodeBias>> bias_per_system;
-    std::map<GnssSystem, std::vector<SsrPhaseBias>> phase_per_system;
-    for (const SatelliteId& sat : satellites) {
-      const auto sel = selectRecord(store, sat, t0);
-      if (!sel) {
-        ++left_out["no valid broadcast record"];
-        continue;
-      }
-      const auto now = racAt(sat, *sel, t0);
-      if (!now) {
-        ++left_out[apc ? "no precise orbit/clock or no satellite PCO" : "no precise orbit/clock"];
-        continue;
-      }
-      Eigen::Vector3d rate = Eigen::Vector3d::Zero();
-      double clock_rate = 0.0;
-      if (const auto next = racAt(sat, *sel, t0 + U)) {
-        rate = (next->rac - now->rac) / U;
-        clock_rate = (next->clock_m - now->clock_m) / U;
-      }
-      SsrOrbitCorrection o;
-      o.satellite = sat;
-      o.iod = sel->iod;
-      o.radial_m = now->rac.x();
-      o.along_m = now->rac.y();
-      o.cross_m = now->rac.z();
-      o.radial_dot_mps = rate.x();
-      o.along_dot_mps = rate.y();
-      o.cross_dot_mps = rate.z();
-      SsrClockCorrection c;
-      c.satellite = sat;
-      c.c0_m = now->clock_m;
-      c.c1_m_per_s = clock_rate;
-      // Values beyond the fields (e.g. a broadcast record metres off) are left out.
-      if (std::abs(o.radial_m) > 209.0 || std::abs(o.along_m) > 209.0 || std::abs(o.cross_m) > 209.0 ||
-          std::abs(c.c0_m) > 209.0 || std::abs(o.radial_dot_mps) > 1.0 || std::abs(o.along_dot_mps) > 1.0 ||
-          std::abs(o.cross_dot_mps) > 1.0 || std::abs(c.c1_m_per_s) > 1.0) {
-        ++left_out["correction beyond the SSR field ranges"];
-        continue;
-      }
-      per_system[sat.system].push_back({o, c});
-      out.satellite_epochs += 1;
-      if (biases != nullptr) {
-        SsrCodeBias cb;
-        cb.satellite = sat;
-        for (int id = 0; id < 32; ++id) {
-          const auto code = ssrSignalCode(sat.system, id, false);
-          if (!code) continue;
-          const BiasAnswer a = biases->codeBias(sat, *code, t0);
-          if (a.value_m && std::abs(*a.value_m) < 80.0) cb.biases.push_back({id, code, -*a.value_m});
-        }
-        if (!cb.biases.empty()) bias_per_system[sat.system].push_back(cb);
-      }
-      if (phase_biases != nullptr)
-        if (auto pb = integerPhaseBiases(*phase_biases, sat, t0)) phase_per_system[sat.system].push_back(std::move(*pb));
-    }
-    if (per_system.empty()) continue;
-    out.epochs += 1;
-    const auto makeHeader = [&](GnssSystem sys, SsrMessageKind kind) {
-      SsrMessage m;
-      m.header.system = sys;
-      m.header.kind = kind;
-      m.header.epoch = t0;
-      double sow = t0.gpsWeek().seconds_of_week;
-      if (sys == GnssSystem::GLONASS) {
-        const double glo = t0.toGpsSecondsDouble() + t0.offsetToSystem_s(TimeSystem::GLONASS);
-        sow = glo - std::floor(glo / 86400.0) * 86400.0;
-      }
-      m.header.epoch_time_s = static_cast<std::uint32_t>(std::llround(sow));
-      m.header.update_interval_code = *interval_code;
-      m.header.update_interval_s = U;
-      m.header.iod_ssr = options.iod_ssr;
-      m.header.provider_id = options.provider_id;
-      m.header.solution_id = options.solution_id;
-      if (kind == SsrMessageKind::Orbit || kind == SsrMessageKind::Combined) m.header.datum_regional = false;
-      return m;
-    };
-    const std::size_t per_message = static_cast<std::size_t>(std::clamp(options.satellites_per_message, 1, 63));
-    for (const auto& [sys, list] : per_system) {
-      for (std::size_t i = 0; i < list.size(); i += per_message) {
-        const std::size_t end = std::min(list.size(), i + per_message);
-        const bool more = end < list.size();
-        if (options.combined) {
-          SsrMessage m = makeHeader(sys, SsrMessageKind::Combined);
-          m.header.multiple_message = more;
-          for (std::size_t k = i; k < end; ++k) { m.orbits.push_back(list[k].first); m.clocks.push_back(list[k].second); }
-          out.messages.push_back(std::move(m));
-        } else {
-          SsrMessage mo = makeHeader(sys, SsrMessageKind::Orbit), mc = makeHeader(sys, SsrMessageKind::Clock);
-          mo.header.multiple_message = mc.header.multiple_message = more;
-          for (std::size_t k = i; k < end; ++k) { mo.orbits.push_back(list[k].first); mc.clocks.push_back(list[k].second); }
-          out.messages.push_back(std::move(mo));
-          out.messages.push_back(std::move(mc));
-        }
-      }
-    }
-    for (const auto& [sys, list] : bias_per_system) {
-      for (std::size_t i = 0; i < list.size(); i += per_message) {
-        const std::size_t end = std::min(list.size(), i + per_message);
-        SsrMessage m = makeHeader(sys, SsrMessageKind::CodeBias);
-        m.header.multiple_message = end < list.size();
-        m.code_biases.assign(list.begin() + static_cast<std::ptrdiff_t>(i), list.begin() + static_cast<std::ptrdiff_t>(end));
-        out.messages.push_back(std::move(m));
-      }
-    }
-    for (const auto& [sys, list] : phase_per_system) {
-      for (std::size_t i = 0, end = 0; i < list.size(); i = end) {
-        end = phaseBiasMessageEnd(list, i, per_message);
-        SsrMessage m = makeHeader(sys, SsrMessageKind::PhaseBias);
-        m.header.multiple_message = end < list.size();
-        m.dispersive_consistent = m.mw_consistent = true;
-        m.phase_biases.assign(list.begin() + static_cast<std::ptrdiff_t>(i), list.begin() + static_cast<std::ptrdiff_t>(end));
-        out.messages.push_back(std::move(m));
-      }
-    }
-  }
-  for (const auto& [why, n] : left_out) out.notes.push_back(std::to_string(n) + " satellite-epoch(s) left out: " + why);
-  return out;
+  for (; t_s <= last.wholeSeconds(); t_s += step) builder.epoch(GnssTime::fromGpsSeconds(t_s));
+  // 4. Notes on the satellite-epochs left out.
+  return builder.finish();
 }
 
 }  // namespace ppp

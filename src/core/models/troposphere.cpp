@@ -83,6 +83,11 @@ TroposphereDelays modifiedHopfieldZenithDelays(const SurfaceMeteo& meteo, double
   return modifiedHopfieldSlantDelays(meteo, 0.5 * kPi, height_m);
 }
 
+double standardWetDelayHeightRatio(double height_m) {
+  return modifiedHopfieldZenithDelays(standardAtmosphere(height_m), height_m).wet_m /
+         modifiedHopfieldZenithDelays(standardAtmosphere(0.0), 0.0).wet_m;
+}
+
 double cosecantMapping(double elevation_rad) { return 1.0 / std::sin(elevation_rad); }
 
 double blackEisnerMapping(double elevation_rad) {

@@ -39,8 +39,40 @@ FixedLagResult FixedLagSmoother::update(const NonlinearFactorGraph& new_factors,
     if (!new_values.exists(k) && !isam_.exists(k))
       throw std::invalid_argument("FixedLagSmoother: timestamp for unknown variable " + keyToString(k));
   }
-  // Record uses: time variables carry their own stamp; other variables inherit the
-  // latest stamp of a time variable they share a factor with.
+  // 1. Record uses: time variables carry their own stamp; other variables inherit the
+  //    latest stamp of a time variable they share a factor with.
+  recordUses(new_factors, timestamps_s);
+
+  // 2. The iSAM2 update, the variables due moved to leaves.
+  FixedLagResult out;
+  const KeyVector due = dueKeys();
+  ISAM2UpdateParams up;
+  up.newest_keys = newest_keys;
+  up.remove_factor_indices = remove_factor_indices;
+  // Order re-eliminated variables by age bucket, oldest first, so that a bucket falling
+  // out of the window is a set of leaf subtrees when it becomes due.
+  up.ordering_group = [this](Key k) {
+    auto it = last_use_s_.find(k);
+    if (it == last_use_s_.end()) return 1 << 30;  // never time-referenced: keep high
+    return static_cast<int>(std::max(-1e9, std::min(1e9, bucketOf(it->second))));
+  };
+  if (!due.empty()) {
+    up.extra_reelim_keys = isam_.keysToReeliminateForMarginalization(due);
+    if (!up.extra_reelim_keys.empty()) up.first_keys = due;
+    out.variables_moved_to_leaves = up.extra_reelim_keys.size();
+  }
+  out.isam2 = isam_.update(new_factors, new_values, up);
+
+  // 3. The due variables marginalized out (their last estimates kept).
+  if (!due.empty()) marginalizeDue(due, out);
+
+  // 4. Drop index entries below the cutoff that no longer name a live, due variable.
+  pruneTimeIndex();
+  return out;
+}
+
+void FixedLagSmoother::recordUses(const NonlinearFactorGraph& new_factors,
+                                  const std::unordered_map<Key, double>& timestamps_s) {
   for (const auto& [k, t] : timestamps_s) {
     last_use_s_[k] = t;
     time_keys_.insert(k);
@@ -66,45 +98,28 @@ FixedLagResult FixedLagSmoother::update(const NonlinearFactorGraph& new_factors,
       }
     }
   }
+}
 
-  FixedLagResult out;
-  KeyVector due = dueKeys();
-  ISAM2UpdateParams up;
-  up.newest_keys = newest_keys;
-  up.remove_factor_indices = remove_factor_indices;
-  // Order re-eliminated variables by age bucket, oldest first, so that a bucket falling
-  // out of the window is a set of leaf subtrees when it becomes due.
-  up.ordering_group = [this](Key k) {
-    auto it = last_use_s_.find(k);
-    if (it == last_use_s_.end()) return 1 << 30;  // never time-referenced: keep high
-    return static_cast<int>(std::max(-1e9, std::min(1e9, bucketOf(it->second))));
-  };
-  if (!due.empty()) {
-    up.extra_reelim_keys = isam_.keysToReeliminateForMarginalization(due);
-    if (!up.extra_reelim_keys.empty()) up.first_keys = due;
-    out.variables_moved_to_leaves = up.extra_reelim_keys.size();
+void FixedLagSmoother::marginalizeDue(const KeyVector& due, FixedLagResult& out) {
+  Values before;
+  for (Key k : due) before.insert(k, isam_.calculateEstimate(k));
+  const KeyVector done = isam_.marginalizeLeaves(due);
+  for (Key k : done) out.marginalized_estimates.insert(k, before.at(k));
+  out.variables_marginalized = done.size();
+  out.variables_pending = due.size() - done.size();
+  for (Key k : done) {
+    last_use_s_.erase(k);
+    time_keys_.erase(k);
   }
-  out.isam2 = isam_.update(new_factors, new_values, up);
-  if (!due.empty()) {
-    Values before;
-    for (Key k : due) before.insert(k, isam_.calculateEstimate(k));
-    const KeyVector done = isam_.marginalizeLeaves(due);
-    for (Key k : done) out.marginalized_estimates.insert(k, before.at(k));
-    out.variables_marginalized = done.size();
-    out.variables_pending = due.size() - done.size();
-    for (Key k : done) {
-      last_use_s_.erase(k);
-      time_keys_.erase(k);
-    }
-  }
-  // Drop index entries below the cutoff that no longer name a live, due variable.
+}
+
+void FixedLagSmoother::pruneTimeIndex() {
   const double cutoff = this->cutoff();
   for (auto it = by_time_.begin(); it != by_time_.end() && it->first < cutoff;) {
     auto lu = last_use_s_.find(it->second);
     const bool live = lu != last_use_s_.end() && lu->second == it->first && isam_.exists(it->second);
     it = live ? std::next(it) : by_time_.erase(it);
   }
-  return out;
 }
 
 }  // namespace ppp::smoother

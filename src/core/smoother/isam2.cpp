@@ -284,63 +284,11 @@ void ISAM2::eraseVariable(Key key) {
 // ---------------------------------------------------------------------------
 // Step 4
 std::vector<Clique*> ISAM2::reeliminateTop(const Top& top, const ISAM2UpdateParams& up, ISAM2Result& result) {
-  const KeyVector& top_keys = top.keys;
-  const std::vector<Clique::Ptr>& orphans = top.orphans;
-  const std::vector<FactorIndex>& top_factors = top.factors;
-  const int n = static_cast<int>(top_keys.size());
-  result.variables_reeliminated = top_keys.size();
-  if (n == 0) return {};
+  result.variables_reeliminated = top.keys.size();
+  if (top.keys.empty()) return {};
   // 4a. Constrained ordering (CCOLAMD): first_keys in the first group, the caller's newest
   // keys (default: the keys of the new factors) in the last group -> the root clique.
-  // Composite groups (first, optional caller group, newest), renumbered 0.. without gaps
-  // as CCOLAMD wants.
-  constexpr long kFirst = -(1L << 40), kNewest = 1L << 40;
-  std::unordered_map<Key, long> raw;
-  raw.reserve(top_keys.size());
-  for (Key k : top_keys) raw[k] = up.ordering_group ? up.ordering_group(k) : 0;
-  const KeyVector* last = &up.newest_keys;
-  KeyVector observed;
-  if (up.newest_keys.empty()) {
-    for (FactorIndex i : result.new_factor_indices)
-      for (Key k : factors_.at(i).factor->keys()) observed.push_back(k);
-    last = &observed;
-  }
-  for (Key k : *last) {
-    auto it = raw.find(k);
-    if (it != raw.end()) it->second = kNewest;
-  }
-  for (Key k : up.first_keys) {
-    auto it = raw.find(k);
-    if (it != raw.end()) it->second = kFirst;
-  }
-  std::vector<long> levels;
-  for (const auto& [k, g] : raw) levels.push_back(g);
-  std::sort(levels.begin(), levels.end());
-  levels.erase(std::unique(levels.begin(), levels.end()), levels.end());
-  std::unordered_map<Key, int> groups;
-  groups.reserve(raw.size());
-  for (const auto& [k, g] : raw)
-    groups[k] = static_cast<int>(std::lower_bound(levels.begin(), levels.end(), g) - levels.begin());
-  const int newest_group = levels.back() == kNewest ? static_cast<int>(levels.size()) - 1 : -1;
-  std::vector<const KeyVector*> pattern;
-  pattern.reserve(top_factors.size() + orphans.size());
-  for (FactorIndex i : top_factors) pattern.push_back(&factors_.at(i).factor->keys());
-  for (const auto& o : orphans) pattern.push_back(&o->separator);
-  const Ordering ordering = computeOrdering(pattern, top_keys, &groups);
-  std::unordered_map<Key, int> pos;
-  pos.reserve(n);
-  for (int i = 0; i < n; ++i) pos[ordering[i]] = i;
-  std::vector<int> group_at(n);  // constraint group of the variable at each position
-  for (int i = 0; i < n; ++i) group_at[i] = groups.at(ordering[i]);
-  auto lowest = [&](const KeyVector& keys) {
-    int best = n;
-    for (Key k : keys) {
-      auto it = pos.find(k);
-      if (it == pos.end()) throw std::logic_error("iSAM2: factor key outside the re-eliminated top: " + keyToString(k));
-      best = std::min(best, it->second);
-    }
-    return best;
-  };
+  const TopOrdering ordering = orderTop(top, up, result);
 
   // 4b. Symbolic elimination into cliques (fundamental supernodes: a variable joins its
   // child clique when that child's separator is exactly the variable plus its own
@@ -348,106 +296,207 @@ std::vector<Clique*> ISAM2::reeliminateTop(const Top& top, const ISAM2UpdatePara
   // into one clique even where it would split (e.g. a new landmark seen once): merging a
   // child clique into its parent variable's clique keeps a valid Bayes tree (zero blocks
   // in the conditional), and puts every newest variable in the root clique.
-  struct Sym {
-    std::vector<int> frontals, sep;
-    std::vector<FactorIndex> factors;
-    std::vector<int> orphans;
-    bool merged = false;  // folded into another clique
-  };
-  std::vector<Sym> sym;
-  std::vector<std::vector<FactorIndex>> factors_at(n);
-  std::vector<std::vector<const KeyVector*>> factor_keys_at(n);  // their keys, same order
-  std::vector<std::vector<int>> orphans_at(n);
-  std::vector<std::vector<int>> children_at(n);  // cliques whose separator starts at var i
-  std::vector<int> var_clique(n, -1);
-  for (std::size_t j = 0; j < top_factors.size(); ++j) {
-    const int at = lowest(*pattern[j]);  // pattern[j]: the keys of top_factors[j]
-    factors_at[at].push_back(top_factors[j]);
-    factor_keys_at[at].push_back(pattern[j]);
-  }
-  for (std::size_t o = 0; o < orphans.size(); ++o) orphans_at[lowest(orphans[o]->separator)].push_back(static_cast<int>(o));
-  std::vector<int> stamp(n, -1);
-  std::vector<int> st;
-  for (int i = 0; i < n; ++i) {
-    st.clear();
-    stamp[i] = i;
-    auto add = [&](int p) {
-      if (stamp[p] != i) {
-        stamp[p] = i;
-        st.push_back(p);
-      }
-    };
-    for (const KeyVector* keys : factor_keys_at[i])
-      for (Key k : *keys) add(pos.at(k));
-    for (int o : orphans_at[i])
-      for (Key k : orphans[o]->separator) add(pos.at(k));
-    for (int c : children_at[i])
-      for (int p : sym[c].sep) add(p);
-    std::sort(st.begin(), st.end());
-    int target = -1;
-    for (int c : children_at[i])
-      if (sym[c].sep.size() == st.size() + 1 &&
-          group_at[sym[c].frontals.back()] == group_at[i]) {
-        target = c;
-        break;
-      }
-    const bool newest = newest_group >= 0 && group_at[i] == newest_group;
-    if (newest)
-      for (int c : children_at[i]) {
-        if (c == target || group_at[sym[c].frontals.back()] != newest_group) continue;
-        if (target < 0) {
-          target = c;
-          continue;
-        }
-        Sym& into = sym[target];
-        Sym& from = sym[c];
-        for (int p : from.frontals) var_clique[p] = target;
-        into.frontals.insert(into.frontals.end(), from.frontals.begin(), from.frontals.end());
-        std::sort(into.frontals.begin(), into.frontals.end());
-        into.factors.insert(into.factors.end(), from.factors.begin(), from.factors.end());
-        into.orphans.insert(into.orphans.end(), from.orphans.begin(), from.orphans.end());
-        from = Sym{};
-        from.merged = true;
-      }
-    if (target < 0) {
-      target = static_cast<int>(sym.size());
-      sym.emplace_back();
-    }
-    Sym& s = sym[target];
-    s.frontals.push_back(i);
-    s.sep = st;
-    s.factors.insert(s.factors.end(), factors_at[i].begin(), factors_at[i].end());
-    s.orphans.insert(s.orphans.end(), orphans_at[i].begin(), orphans_at[i].end());
-    var_clique[i] = target;
-    if (!st.empty()) children_at[st.front()].push_back(target);
-  }
+  const SymbolicTree sym = symbolicEliminate(top, ordering);
 
   // 4c. Numeric elimination, children before parents (by last frontal position).
   std::vector<int> order;
-  for (std::size_t c = 0; c < sym.size(); ++c)
-    if (!sym[c].merged) order.push_back(static_cast<int>(c));
-  std::sort(order.begin(), order.end(),
-            [&](int a, int b) { return sym[a].frontals.back() < sym[b].frontals.back(); });
+  for (std::size_t c = 0; c < sym.cliques.size(); ++c)
+    if (!sym.cliques[c].merged) order.push_back(static_cast<int>(c));
+  std::sort(order.begin(), order.end(), [&](int a, int b) {
+    return sym.cliques[a].frontals.back() < sym.cliques[b].frontals.back();
+  });
+  const std::vector<Clique::Ptr> cliques = eliminateNumeric(top, ordering, sym, order);
+  result.cliques_created = order.size();
+
+  // 4d. Re-attach each orphan below the clique holding the first-eliminated variable of
+  // its separator (that clique contains the whole separator).
+  for (std::size_t c = 0; c < sym.cliques.size(); ++c)
+    for (int o : sym.cliques[c].merged ? std::vector<int>{} : sym.cliques[c].orphans) {
+      top.orphans[o]->parent = cliques[c].get();
+      cliques[c]->children.push_back(top.orphans[o]);
+    }
+  std::vector<Clique*> created;
+  for (int c : order) created.push_back(cliques[c].get());
+  return created;
+}
+
+int ISAM2::TopOrdering::lowest(const KeyVector& keys) const {
+  int best = static_cast<int>(ordering.size());
+  for (Key k : keys) {
+    auto it = pos.find(k);
+    if (it == pos.end()) throw std::logic_error("iSAM2: factor key outside the re-eliminated top: " + keyToString(k));
+    best = std::min(best, it->second);
+  }
+  return best;
+}
+
+namespace {
+
+constexpr long kFirstGroup = -(1L << 40), kNewestGroup = 1L << 40;
+
+void setGroup(std::unordered_map<Key, long>& raw, const KeyVector& keys, long group) {
+  for (Key k : keys) {
+    auto it = raw.find(k);
+    if (it != raw.end()) it->second = group;
+  }
+}
+
+/// The composite groups (first, optional caller group, newest) renumbered 0.. without
+/// gaps, as CCOLAMD wants; returns the number of the newest group (-1: none).
+int renumberGroups(const std::unordered_map<Key, long>& raw, std::unordered_map<Key, int>& groups) {
+  std::vector<long> levels;
+  for (const auto& [k, g] : raw) levels.push_back(g);
+  std::sort(levels.begin(), levels.end());
+  levels.erase(std::unique(levels.begin(), levels.end()), levels.end());
+  groups.reserve(raw.size());
+  for (const auto& [k, g] : raw)
+    groups[k] = static_cast<int>(std::lower_bound(levels.begin(), levels.end(), g) - levels.begin());
+  return levels.back() == kNewestGroup ? static_cast<int>(levels.size()) - 1 : -1;
+}
+
+}  // namespace
+
+ISAM2::TopOrdering ISAM2::orderTop(const Top& top, const ISAM2UpdateParams& up, const ISAM2Result& result) const {
+  std::unordered_map<Key, long> raw;
+  raw.reserve(top.keys.size());
+  for (Key k : top.keys) raw[k] = up.ordering_group ? up.ordering_group(k) : 0;
+  const KeyVector* last = &up.newest_keys;
+  KeyVector observed;
+  if (up.newest_keys.empty()) {
+    for (FactorIndex i : result.new_factor_indices)
+      for (Key k : factors_.at(i).factor->keys()) observed.push_back(k);
+    last = &observed;
+  }
+  setGroup(raw, *last, kNewestGroup);
+  setGroup(raw, up.first_keys, kFirstGroup);
+  TopOrdering ord;
+  std::unordered_map<Key, int> groups;
+  ord.newest_group = renumberGroups(raw, groups);
+  ord.pattern.reserve(top.factors.size() + top.orphans.size());
+  for (FactorIndex i : top.factors) ord.pattern.push_back(&factors_.at(i).factor->keys());
+  for (const auto& o : top.orphans) ord.pattern.push_back(&o->separator);
+  ord.ordering = computeOrdering(ord.pattern, top.keys, &groups);
+  const int n = static_cast<int>(top.keys.size());
+  ord.pos.reserve(n);
+  for (int i = 0; i < n; ++i) ord.pos[ord.ordering[i]] = i;
+  ord.group_at.resize(n);
+  for (int i = 0; i < n; ++i) ord.group_at[i] = groups.at(ord.ordering[i]);
+  return ord;
+}
+
+/// What the symbolic elimination gathers at each position of the ordering.
+struct ISAM2::SymbolicTree::Buckets {
+  std::vector<std::vector<FactorIndex>> factors_at;
+  std::vector<std::vector<const KeyVector*>> factor_keys_at;  // their keys, same order
+  std::vector<std::vector<int>> orphans_at;
+  std::vector<std::vector<int>> children_at;  // cliques whose separator starts at var i
+};
+
+void ISAM2::SymbolicTree::separatorOf(int i, const Buckets& b, const TopOrdering& ord,
+                                      const std::vector<Clique::Ptr>& orphans, std::vector<int>& stamp,
+                                      std::vector<int>& st) const {
+  st.clear();
+  stamp[i] = i;
+  auto add = [&](int p) {
+    if (stamp[p] != i) {
+      stamp[p] = i;
+      st.push_back(p);
+    }
+  };
+  for (const KeyVector* keys : b.factor_keys_at[i])
+    for (Key k : *keys) add(ord.pos.at(k));
+  for (int o : b.orphans_at[i])
+    for (Key k : orphans[o]->separator) add(ord.pos.at(k));
+  for (int c : b.children_at[i])
+    for (int p : cliques[c].sep) add(p);
+  std::sort(st.begin(), st.end());
+}
+
+int ISAM2::SymbolicTree::mergeNewestChildren(const std::vector<int>& children, int target, const TopOrdering& ord) {
+  for (int c : children) {
+    if (c == target || ord.group_at[cliques[c].frontals.back()] != ord.newest_group) continue;
+    if (target < 0) {
+      target = c;
+      continue;
+    }
+    SymbolicClique& into = cliques[target];
+    SymbolicClique& from = cliques[c];
+    for (int p : from.frontals) var_clique[p] = target;
+    into.frontals.insert(into.frontals.end(), from.frontals.begin(), from.frontals.end());
+    std::sort(into.frontals.begin(), into.frontals.end());
+    into.factors.insert(into.factors.end(), from.factors.begin(), from.factors.end());
+    into.orphans.insert(into.orphans.end(), from.orphans.begin(), from.orphans.end());
+    from = SymbolicClique{};
+    from.merged = true;
+  }
+  return target;
+}
+
+ISAM2::SymbolicTree ISAM2::symbolicEliminate(const Top& top, const TopOrdering& ord) {
+  const int n = static_cast<int>(top.keys.size());
+  SymbolicTree tree;
+  tree.var_clique.assign(n, -1);
+  SymbolicTree::Buckets b{std::vector<std::vector<FactorIndex>>(n), std::vector<std::vector<const KeyVector*>>(n),
+                          std::vector<std::vector<int>>(n), std::vector<std::vector<int>>(n)};
+  for (std::size_t j = 0; j < top.factors.size(); ++j) {
+    const int at = ord.lowest(*ord.pattern[j]);  // pattern[j]: the keys of top.factors[j]
+    b.factors_at[at].push_back(top.factors[j]);
+    b.factor_keys_at[at].push_back(ord.pattern[j]);
+  }
+  for (std::size_t o = 0; o < top.orphans.size(); ++o)
+    b.orphans_at[ord.lowest(top.orphans[o]->separator)].push_back(static_cast<int>(o));
+  std::vector<int> stamp(n, -1);
+  std::vector<int> st;
+  for (int i = 0; i < n; ++i) {
+    tree.separatorOf(i, b, ord, top.orphans, stamp, st);
+    int target = -1;
+    for (int c : b.children_at[i])
+      if (tree.cliques[c].sep.size() == st.size() + 1 &&
+          ord.group_at[tree.cliques[c].frontals.back()] == ord.group_at[i]) {
+        target = c;
+        break;
+      }
+    if (ord.newest_group >= 0 && ord.group_at[i] == ord.newest_group)
+      target = tree.mergeNewestChildren(b.children_at[i], target, ord);
+    if (target < 0) {
+      target = static_cast<int>(tree.cliques.size());
+      tree.cliques.emplace_back();
+    }
+    SymbolicClique& s = tree.cliques[target];
+    s.frontals.push_back(i);
+    s.sep = st;
+    s.factors.insert(s.factors.end(), b.factors_at[i].begin(), b.factors_at[i].end());
+    s.orphans.insert(s.orphans.end(), b.orphans_at[i].begin(), b.orphans_at[i].end());
+    tree.var_clique[i] = target;
+    if (!st.empty()) b.children_at[st.front()].push_back(target);
+  }
+  return tree;
+}
+
+std::vector<Clique::Ptr> ISAM2::eliminateNumeric(const Top& top, const TopOrdering& ord, const SymbolicTree& tree,
+                                                 const std::vector<int>& order) {
+  const std::vector<SymbolicClique>& sym = tree.cliques;
   std::vector<Clique::Ptr> cliques(sym.size());
   std::vector<std::vector<int>> new_children(sym.size());
   for (std::size_t c = 0; c < sym.size(); ++c)
-    if (!sym[c].merged && !sym[c].sep.empty()) new_children[var_clique[sym[c].sep.front()]].push_back(static_cast<int>(c));
+    if (!sym[c].merged && !sym[c].sep.empty())
+      new_children[tree.var_clique[sym[c].sep.front()]].push_back(static_cast<int>(c));
   std::vector<const JacobianFactor*> gathered;
   for (int c : order) {
-    const Sym& s = sym[c];
+    const SymbolicClique& s = sym[c];
     auto clique = std::make_shared<Clique>();
     std::vector<int> fdims, sdims;
     for (int p : s.frontals) {
-      clique->frontals.push_back(ordering[p]);
-      fdims.push_back(static_cast<int>(theta_.at(ordering[p]).size()));
+      clique->frontals.push_back(ord.ordering[p]);
+      fdims.push_back(static_cast<int>(theta_.at(ord.ordering[p]).size()));
     }
     for (int p : s.sep) {
-      clique->separator.push_back(ordering[p]);
-      sdims.push_back(static_cast<int>(theta_.at(ordering[p]).size()));
+      clique->separator.push_back(ord.ordering[p]);
+      sdims.push_back(static_cast<int>(theta_.at(ord.ordering[p]).size()));
     }
     gathered.clear();
     for (FactorIndex f : s.factors) gathered.push_back(&linearFactor(f));
-    for (int o : s.orphans) gathered.push_back(orphans[o]->cached_marginal.get());
+    for (int o : s.orphans) gathered.push_back(top.orphans[o]->cached_marginal.get());
     for (int ch : new_children[c]) gathered.push_back(cliques[ch]->cached_marginal.get());
     EliminationResult er = eliminate(gathered, clique->frontals, fdims, clique->separator, sdims,
                                      params_.factorization, &workspace_);
@@ -462,18 +511,7 @@ std::vector<Clique*> ISAM2::reeliminateTop(const Top& top, const ISAM2UpdatePara
     if (s.sep.empty()) tree_.mutableRoots().push_back(clique);
     cliques[c] = std::move(clique);
   }
-  result.cliques_created = order.size();
-
-  // 4d. Re-attach each orphan below the clique holding the first-eliminated variable of
-  // its separator (that clique contains the whole separator).
-  for (std::size_t c = 0; c < sym.size(); ++c)
-    for (int o : sym[c].merged ? std::vector<int>{} : sym[c].orphans) {
-      orphans[o]->parent = cliques[c].get();
-      cliques[c]->children.push_back(orphans[o]);
-    }
-  std::vector<Clique*> created;
-  for (int c : order) created.push_back(cliques[c].get());
-  return created;
+  return cliques;
 }
 
 // ---------------------------------------------------------------------------

@@ -26,7 +26,7 @@
 #include <vector>
 
 #include "ppp_bayes_tree/io/line_source.h"
-#include "ppp_bayes_tree/ppp/ambiguity/antenna_model_consistency.h"
+#include "ppp_bayes_tree/io/products/product_antenna_model.h"
 #include "ppp_bayes_tree/ppp/pipeline/product_assembly.h"
 #include "ppp_bayes_tree/io/rinex/rinex_obs_reader.h"
 #include "ppp_bayes_tree/ros/bag_writer.h"

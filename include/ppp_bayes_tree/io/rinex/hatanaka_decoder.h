@@ -54,6 +54,14 @@ class HatanakaDecoder final : public LineSource {
   void headerLine(std::string& line);
   bool dataEpoch();
   bool decodeEpoch(const std::string& first_line);
+  int restoreEpochLine(const std::string& diff_line);  // satellite count, -1 on a problem
+  std::size_t listColumn() const;                      // of the satellite list in the epoch line
+  bool decodeClock(bool& has_clock);
+  bool writeEpochLines(int nsat, bool has_clock);
+  bool decodeSatellite(int i);
+  const SatState* previousState(int i, const SatState& sat) const;
+  bool readSatelliteFields(SatState& sat, bool has_previous);
+  bool writeSatelliteRecord(SatState& sat);
   bool eventRecord();
   void problem(const std::string& reason);
   bool nextInner(std::string& line);

@@ -14,8 +14,8 @@
 #include <string>
 #include <vector>
 
-#include "ppp_bayes_tree/io/obs_epoch.h"
 #include "ppp_bayes_tree/io/rinex/rinex_obs_header.h"
+#include "ppp_bayes_tree/types/obs_epoch.h"
 
 namespace ppp {
 

@@ -15,9 +15,9 @@
 #include <vector>
 
 #include "ppp_bayes_tree/io/line_source.h"
-#include "ppp_bayes_tree/io/obs_epoch.h"
 #include "ppp_bayes_tree/io/parse_error.h"
 #include "ppp_bayes_tree/io/rinex/rinex_obs_header.h"
+#include "ppp_bayes_tree/types/obs_epoch.h"
 
 namespace ppp {
 

@@ -6,8 +6,8 @@
 // 0) and the SSI blank. Values that do not fit F14.3 are written blank.
 #include <ostream>
 
-#include "ppp_bayes_tree/io/obs_epoch.h"
 #include "ppp_bayes_tree/io/rinex/rinex_obs_header.h"
+#include "ppp_bayes_tree/types/obs_epoch.h"
 
 namespace ppp {
 

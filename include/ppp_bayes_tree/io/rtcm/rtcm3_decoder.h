@@ -1,45 +1,17 @@
 #pragma once
 // Rtcm3Decoder: decodes an RTCM 3 byte stream (fed in chunks of any size) into
-// observation epochs, station data and broadcast ephemerides
-// (RTCM 10403.3 "Differential GNSS Services - Version 3", with amendments):
-//
-//  - MSM4/5/6/7 (section 3.5.16, tables 3.5-78..3.5-91) for GPS 107x, GLONASS 108x,
-//    Galileo 109x, SBAS 110x, QZSS 111x and BeiDou 112x. Full pseudorange,
-//    phase range and Doppler (MSM5/7) at the message's resolution (DF400-DF407),
-//    CNR (DF403/DF408). Loss of lock (RINEX LLI bit 0) is set when the lock-time
-//    indicator (DF402, DF407) drops below its previous value for the same
-//    satellite and signal, or is zero (lock just acquired); the half-cycle
-//    ambiguity flag DF420 sets LLI bit 1 (RINEX 3.05 5.3).
-//  - GLONASS frequency channels from the MSM5/7 extended satellite information,
-//    from 1020 ephemerides, or from the configuration (first known wins in that
-//    order, as RTKLIB). Without a channel the GLONASS phase and Doppler are absent.
-//  - An epoch is assembled from the MSM messages of all systems with the same time
-//    and is complete at a message whose multiple-message bit (DF393) is 0; a change of
-//    time also closes a pending epoch. A BeiDou MSM that reads exactly 14 s after
-//    the open epoch was encoded in GPST (RTCM 3.2 drafts, e.g. the 2012 GMSD
-//    recording) and joins the open epoch (counted: beidouGpstMessages()).
-//  - Station 1005/1006 (ARP, antenna height), 1007/1008/1033 (antenna, receiver).
-//  - Ephemerides 1019 GPS, 1020 GLONASS, 1042 BeiDou, 1044 QZSS, 1045 Galileo
-//    F/NAV, 1046 Galileo I/NAV (RTCM 10403.3 3.5.10-3.5.14; scale factors as the
-//    ICDs).
-//
-// Time: MSM epochs carry the time of week (GPS, Galileo, QZSS, SBAS: ms of the
-// GPS week; BeiDou: ms of the BDT week, BDT = GPST - 14 s) or the GLONASS day
-// of week and time of day (UTC(SU) + 3 h). The week comes from context: an
-// approximate reference time (option, like RTKLIB `convbin -tr`), or the full
-// week of a Galileo (12-bit GST week) or BeiDou (13-bit BDT week) ephemeris.
-// Once known, each new time is placed within half a week (GLONASS: half a day)
-// of the previous one, which carries the decoder across week rollovers. The
-// 10-bit GPS/QZSS ephemeris week never sets the time (it is ambiguous by 1024
-// weeks); such records wait until the time is known. Before that, MSM epochs are
-// dropped and counted as UnresolvedTime. A GLONASS MSM without day of week
-// (DF416 = 7) met before any other time of the stream waits for the next MSM of
-// another system, since a reference date alone fixes its day only to +-12 h.
-//
-// Bad input (CRC, truncation, garbage: see Rtcm3Framer; a message shorter than
-// its fields, an ephemeris with inconsistent IODs, an unknown type, an
-// unresolved time) is counted in counters() with byte offset and frame index.
-// A bad satellite is left out; the rest of the epoch goes on.
+// observation epochs (MSM4-7 of GPS, GLONASS, Galileo, SBAS, QZSS, BeiDou),
+// station data (1005-1008, 1033) and broadcast ephemerides (1019, 1020, 1042,
+// 1044, 1045, 1046). An epoch is assembled from the MSM messages of all systems
+// with the same time. The week of MSM times comes from context (a reference
+// date, or a Galileo / BeiDou ephemeris week); until it is known, epochs are
+// counted as UnresolvedTime. Bad input (CRC, truncation, garbage, short or
+// inconsistent messages, unknown types) is counted with byte offset and frame
+// index; a bad satellite is left out, the rest of the epoch goes on.
+// Messages, loss-of-lock flags, GLONASS channels and time placement:
+// doc/rtcm_decoding.md.
+// References: RTCM 10403.3 "Differential GNSS Services - Version 3" (3.5.10-3.5.14
+// ephemerides, 3.5.16 MSM); RINEX 3.05 sec. 5.3 (LLI).
 #include <Eigen/Core>
 #include <cstdint>
 #include <functional>
@@ -49,6 +21,7 @@
 #include <vector>
 
 #include "ppp_bayes_tree/io/rtcm/rtcm3_framer.h"
+#include "ppp_bayes_tree/io/stream_epoch.h"
 #include "ppp_bayes_tree/io/stream_problem.h"
 #include "ppp_bayes_tree/types/beidou_ephemeris.h"
 #include "ppp_bayes_tree/types/glonass_channels.h"
@@ -57,31 +30,6 @@
 #include "ppp_bayes_tree/types/satellite_id.h"
 
 namespace ppp {
-
-/// One tracked signal of a satellite in a decoded stream epoch.
-struct StreamSignal {
-  char band = '1';       // RINEX band number
-  char attribute = 'C';  // RINEX tracking attribute
-  std::optional<double> pseudorange_m;
-  std::optional<double> carrier_phase_cycles;
-  std::optional<double> doppler_hz;
-  std::optional<double> cnr_dbhz;
-  std::uint8_t lli = 0;           // RINEX LLI: bit 0 loss of lock, bit 1 half-cycle ambiguity
-  double lock_time_s = 0.0;       // minimum lock time from the indicator
-};
-
-struct StreamSatellite {
-  SatelliteId satellite;
-  std::vector<StreamSignal> signals;
-};
-
-/// An observation epoch decoded from a receiver stream (GPST).
-struct StreamEpoch {
-  GnssTime time;
-  std::vector<StreamSatellite> satellites;
-  std::uint64_t byte_offset = 0;  // of the first message of the epoch
-  std::uint64_t frame_index = 0;
-};
 
 /// Station description from 1005/1006/1007/1008/1033.
 struct RtcmStationInfo {
@@ -127,6 +75,8 @@ struct BroadcastWeekEvidence {
   std::size_t records = 0;             // records counted (agreeing or not)
   std::vector<double> disagreement_s;  // toe as sent minus the stream's time, of those not agreeing [s]
 };
+
+struct MsmFields;  // the fields of one MSM message, as read (rtcm3_decoder.cpp)
 
 class Rtcm3Decoder {
  public:
@@ -175,6 +125,11 @@ class Rtcm3Decoder {
 
   void problem(StreamProblemKind kind, const Rtcm3Frame& frame, std::string detail);
   void decodeMsm(const Rtcm3Frame& frame, GnssSystem system, int msm);
+  std::optional<GnssTime> msmEpochTime(const Rtcm3Frame& frame, GnssSystem system, const MsmFields& m);
+  void takeStreamTime(const GnssTime& t);
+  void openEpoch(const Rtcm3Frame& frame, const GnssTime& t);
+  StreamSatellite msmSatellite(GnssSystem system, int msm, const MsmFields& m, std::size_t i, std::size_t& cell);
+  void addToOpenEpoch(StreamSatellite satellite);
   void decodeStation(const Rtcm3Frame& frame);
   void decodeAntennaReceiver(const Rtcm3Frame& frame);
   void decodeGpsQzss(const Rtcm3Frame& frame);

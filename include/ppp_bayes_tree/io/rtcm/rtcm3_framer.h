@@ -17,6 +17,7 @@
 #include <functional>
 #include <vector>
 
+#include "ppp_bayes_tree/io/crc24q.h"
 #include "ppp_bayes_tree/io/framer_base.h"
 
 namespace ppp {
@@ -27,9 +28,6 @@ struct Rtcm3Frame {
   std::uint64_t byte_offset = 0;      // of the preamble, from the first byte fed
   std::uint64_t frame_index = 0;      // 0-based count of good frames
 };
-
-/// CRC-24Q of `size` bytes.
-std::uint32_t crc24q(const std::uint8_t* data, std::size_t size);
 
 /// A complete frame (preamble, length, payload, CRC) around `payload`
 /// (at most 1023 bytes; throws std::length_error otherwise).

@@ -26,23 +26,11 @@
 
 #include "ppp_bayes_tree/io/epoch_time_screen.h"
 #include "ppp_bayes_tree/io/rinex/observation_source.h"
+#include "ppp_bayes_tree/io/rinex/stream_epoch_layout.h"
 #include "ppp_bayes_tree/io/rtcm/rtcm3_decoder.h"
 #include "ppp_bayes_tree/io/stream_pump.h"
 
 namespace ppp {
-
-/// The RINEX observation types of a set of stream signals per system: for each
-/// signal (sorted by band, then attribute) C, L, D, S where present.
-struct StreamSignalInventory {
-  // per system, per signal "1C": bit 0 C, 1 L, 2 D, 3 S present
-  std::array<std::map<std::pair<char, char>, int>, kNumGnssSystems> signals;
-  void add(const StreamEpoch& epoch);
-  void fillTypes(RinexObsHeader& header) const;
-};
-
-/// Copies a stream epoch into an ObsEpoch laid out by the header's types
-/// (signals without a type in the header are dropped). The LLI goes with the phase.
-void streamEpochToObsEpoch(const StreamEpoch& in, const RinexObsHeader& header, ObsEpoch& out);
 
 /// Header fields from the station description (marker name = station id, 4 digits).
 void fillStationHeader(const RtcmStationInfo& station, RinexObsHeader& header);

@@ -1,31 +1,11 @@
 #pragma once
 // ByteSourceSpec: one string that names a live or replayed input, for users,
-// launch files and ppp_stream_record. Syntax (URI-like; options after '?',
-// joined by '&'; user and password may be percent-encoded):
-//
-//   serial:///dev/ttyACM0?baud=115200
-//   tcp://host:port
-//   ntrip://user:password@host:port/MOUNT?version=2&gga_period_s=10&lat=55.5&lon=8.4&h=50
-//   file:///path/x.rtcm3?speed=1
-//
-// Options (every kind):   format=rtcm3|ubx (default: from the content; files and
-//                         ppp_stream_node use it), reconnect_min_s=1, reconnect_max_s=60
-// serial:                 baud (9600..921600, default 115200); always 8N1, raw.
-// tcp, ntrip:             connect_timeout_s=5, stall_timeout_s=10 (no byte for this
-//                         long: the connection is dropped and counted as a stall)
-// ntrip:                  port default 2101; version=1|2 (default 2);
-//                         credentials=PATH: user and password from a file readable by
-//                         its owner only (io/transport/ntrip_credentials.h; also the variable
-//                         PPP_NTRIP_CREDENTIALS), so that the spec carries no password;
-//                         gga_period_s (> 0: send GGA upstream at this period, needs
-//                         lat [deg], lon [deg], h [m, ellipsoidal]).
-// file:                   speed=1 (real time x factor; 0 = as fast as read),
-//                         byte_rate=11520 [bytes/s at speed 1] for recordings whose
-//                         frames carry no epoch time.
-//
-// parseByteSourceSpec throws ByteSourceSpecError with a message naming the
-// offending part. describe(), every error and every log line omit the password
-// (io/transport/credential_mask.h maskCredentials, robust to mistyped specs).
+// launch files and ppp_stream_record: serial:///dev/ttyACM0?baud=115200,
+// tcp://host:port, ntrip://user:password@host:port/MOUNT?version=2,
+// file:///path/x.rtcm3?speed=1, with options after '?'. parseByteSourceSpec
+// throws ByteSourceSpecError naming the offending part. describe(), every error
+// and every log line omit the password (io/transport/credential_mask.h).
+// Every kind's options and defaults: doc/live_input.md, "Input spec options".
 #include <memory>
 #include <optional>
 #include <stdexcept>

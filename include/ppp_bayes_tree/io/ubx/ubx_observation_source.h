@@ -24,7 +24,7 @@
 #include <vector>
 
 #include "ppp_bayes_tree/io/rinex/observation_source.h"
-#include "ppp_bayes_tree/io/rtcm/rtcm_observation_source.h"
+#include "ppp_bayes_tree/io/stream_epoch.h"
 #include "ppp_bayes_tree/io/ubx/ubx_decoder.h"
 
 namespace ppp {
@@ -46,7 +46,7 @@ RinexObsHeader ubxObservationHeader(const std::vector<UbxObservationEpoch>& epoc
 StreamEpoch toStreamEpoch(const UbxObservationEpoch& in);
 /// One decoded epoch laid out along the header's type lists (signals the header
 /// does not list are left out): toStreamEpoch, then streamEpochToObsEpoch
-/// (io/rtcm/rtcm_observation_source.h), the one conversion of both paths.
+/// (io/rinex/stream_epoch_layout.h), the one conversion of both paths.
 void toObsEpoch(const UbxObservationEpoch& in, const RinexObsHeader& header, ObsEpoch& out);
 
 class UbxObservationSource : public ObservationSource {

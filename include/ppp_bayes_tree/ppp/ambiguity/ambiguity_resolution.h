@@ -1,80 +1,23 @@
 #pragma once
-// AmbiguityResolver: PPP ambiguity resolution (PPP-AR) for a filter whose state
-// holds one ionosphere-free (IF) phase bias [m] per arc, with satellite phase
-// OSBs consistent with the clocks (phase_bias_consistency.h).
+// AmbiguityResolver: PPP integer ambiguity resolution (PPP-AR) for a filter
+// whose state holds one ionosphere-free (IF) phase bias [m] per arc, with
+// satellite phase biases consistent with the clocks (phase_bias_consistency.h).
+// Per epoch: wide lanes from Melbourne-Wuebbena means, rounded, against one
+// reference arc per system (wide_lane_ambiguity.h); narrow-lane single
+// differences searched by LAMBDA with the ratio test, the bootstrapped success
+// rate and partial fixing (integer_least_squares.h); the accepted integers
+// applied as exact conditioning of a COPY of the float state, so the float
+// filter is never changed (resolve()). resolveAndHold() adds what the EKF and
+// the smoother use: a consistency window and a candidate gate before the
+// search, validation across epochs, and the hold and release of integers.
+// The steps, their keys and the user's view: doc/ppp_ar.md.
 //
-// Per epoch:
-//  1. Wide lane: Melbourne-Wuebbena means per arc with the satellite OSBs
-//     removed, single-differenced against a reference arc and fixed by rounding
-//     (wide_lane_ambiguity.h). One reference arc PER SYSTEM: each system has
-//     its own receiver clock, code and phase biases (GPS L1/L2, Galileo E1/E5a
-//     differ in frequencies and hardware), so a single difference between
-//     satellites of two systems is not an integer; the wide and narrow lanes of
-//     every system are single-differenced within that system only.
-//  2. Narrow lane: with the OSB-corrected IF bias B'_s = B_s - b_s (b_s the IF
-//     combination of the satellite's phase OSBs of the selected phases) and the
-//     IF ambiguity written as lambda_NL N1 + c f2 / (f1^2 - f2^2) N_WL
-//     (models/ionosphere_free.h), the between-satellite single difference
-//         dN1_s = (B'_s - B'_ref - k_WL dN_WL_s) / lambda_NL
-//     is a float integer free of the receiver biases (the receiver clock and
-//     the receiver phase bias are common to all satellites of a system and cancel; this is
-//     why single differences against a reference arc are fixed, not undifferenced
-//     ambiguities). The reference arc is the wide lane's. dN1 is linear in the
-//     filter state, dN1 = D x - o, so its covariance is D P D^T.
-//  3. LAMBDA with ratio test and partial fixing on the dN1 (integer_least_squares.h):
-//     the accepted integer constraints C dN1 = z become C D x = z + C o.
-//  4. The constraints are applied, as exact conditioning, to a COPY of the float
-//     state and covariance: x_fix = x + P A^T (A P A^T)^-1 (y - A x),
-//     P_fix = P - P A^T (A P A^T)^-1 A P. The float filter itself is never
-//     changed, so a wrong fix does not propagate: the next epoch resolves anew
-//     from the float state (resolve()).
-//
-// Validation and hold (resolveAndHold(), what the EKF and the smoother use):
-//  5. Consistency of the floats before fixing: a single difference is offered
-//     to the search only when its float value has stayed within
-//     hold.max_float_spread_cycles over the last hold.consistency_epochs epochs,
-//     or has moved no more than its covariance explains (within
-//     hold.max_float_drift_sigmas of sqrt(sigma_first^2 - sigma_i^2) from the
-//     window's first value: a converging float moves, a float whose moves its
-//     covariance does not explain carries an unmodelled error or an optimistic
-//     covariance, and its integer is not yet determined).
-//     Candidate gate (Ge et al. 2008): the float conditioned on the held
-//     integers must lie within hold.max_fraction_cycles or hold.max_fraction_sigmas of its sigmas of
-//     an integer, with a sigma below hold.max_sigma_cycles.
-//  6. Partial fixing of the best-determined subset: the candidates are ordered
-//     by the sigma of their float and the worst are dropped one by one until the
-//     full-set LAMBDA of the rest passes the ratio test (and, with
-//     hold.require_subset_success_rate, or for a subset of at most
-//     hold.small_subset_max_size integers, the bootstrapped success rate
-//     narrow_lane.min_success_rate), with every integer within
-//     hold.max_fraction_cycles of its float
-//     (Teunissen & Verhagen 2009 for the ratio test as a validation; the
-//     subset by precision as in Dong & Bock 1989 / Blewitt 1989's sequential
-//     fixing of the best-determined ambiguities first).
-//  7. Validation across epochs: a single difference's integer must come out
-//     the same in hold.validation_epochs consecutive searches before it is held
-//     (hold.fast_validation_epochs when the accepted subset's bootstrapped
-//     success rate reaches hold.fast_validation_success_rate).
-//  8. Hold: held integers are applied every epoch (as exact conditioning of a
-//     copy of the float state, so the float filter stays free of them) and are
-//     not searched again. Each epoch every held single difference is compared
-//     with its float value conditioned on the OTHER held ones; it is released
-//     (counted, with the reason) when it departs by more than
-//     hold.release_cycles and hold.release_sigma sigmas, when its wide lane
-//     rounds to another integer, or when its arc or reference arc ends.
-//     New candidates are resolved on the state conditioned on the held ones.
-//     When an arc ends, the held integers through it are re-expressed between
-//     the arcs it linked (hold.rereference_on_arc_end).
-//
-// References: Ge M., Gendt G., Rothacher M., Shi C., Liu J. (2008) Resolution of
-// GPS carrier-phase ambiguities in precise point positioning (PPP) with daily
-// observations. J Geod 82:389-399 (wide lane then narrow lane with satellite
-// fractional biases, single differences between satellites); Laurichesse D.,
-// Mercier F., Berthias J.-P., Broca P., Cerri L. (2009) Integer ambiguity
-// resolution on undifferenced GPS phase measurements and its application to
-// PPP and satellite precise orbit determination. Navigation 56(2) (integer
-// clocks, the GRG convention); Schaer S. et al. (2021) The CODE ambiguity-fixed
-// clock and phase bias analysis products. J Geod 95:81 (the OSB convention).
+// References: Ge M. et al. (2008) J Geod 82:389-399 (wide lane then narrow lane,
+// single differences between satellites); Laurichesse D. et al. (2009)
+// Navigation 56(2) (integer clocks, the GRG convention); Schaer S. et al. (2021)
+// J Geod 95:81 (the OSB convention); Teunissen P.J.G. (1998) J Geod 72:606-612
+// (bootstrapped success rate); Teunissen P.J.G., Verhagen S. (2009) Survey
+// Review 41(312):138-151 (the ratio test as a validation).
 #include <map>
 #include <optional>
 #include <string>
@@ -107,9 +50,8 @@ struct AmbiguityHoldOptions {
   /// x_i - x_first has the variance sigma_first^2 - sigma_i^2. A converging
   /// float moves that much and is steady; a float that moves more (or moves
   /// while its sigma stays) carries an error its covariance does not hold.
-  /// 0 = the raw spread alone. 3 (a 3-sigma test, as the candidate gate):
-  /// CCJ2 first fix 15.5 -> 13.0 min, ESBC 14.0 -> 11.5 min, no wrong fix
-  /// (doc/ar_real_data.md).
+  /// 0 = the raw spread alone. 3: a 3-sigma test, as the candidate gate
+  /// (measured: doc/studies/config_defaults.md).
   double max_float_drift_sigmas = 3.0;
   /// Candidate gate (Ge et al. 2008: a narrow lane is fixed only with a small
   /// fractional part and sigma; PRIDE PPP-AR applies it so): a
@@ -119,16 +61,15 @@ struct AmbiguityHoldOptions {
   /// an integer the search returns is accepted by the same rule (the
   /// search may otherwise pick, through the correlations, an integer 0.5 cycle
   /// away when all floats share a bias the covariance does not hold).
-  /// PRIDE PPP-AR uses 0.15 / 0.15 in its batch; here 0.25 cycle (measured on
-  /// the ESBC day in real time, doc/ar_real_data.md) and 1 cycle (the sigma
-  /// gate made no difference there; LAMBDA's success rate covers it).
+  /// PRIDE PPP-AR uses 0.15 / 0.15 in its batch; here 0.25 cycle and 1 cycle
+  /// (LAMBDA's success rate covers the sigma; doc/studies/ar_real_data.md, "ESBC
+  /// day, kinematic").
   double max_fraction_cycles = 0.25;
   double max_sigma_cycles = 1.0;
   /// A float further than max_fraction_cycles from its integer still passes
   /// the gate when it lies within this many of its sigmas (0 = the fraction
   /// alone). 1: a float 0.35 cycle from its integer at a sigma of 0.14 is not
-  /// an integer yet (3 let such floats through; CCJ2 from 00:35 fixed 13.5 cm
-  /// off, doc/ar_real_data.md, "Restarts").
+  /// an integer yet (measured: doc/studies/config_defaults.md).
   double max_fraction_sigmas = 1.0;
   /// Every subset the search accepts (the first fix as well as what partial
   /// fixing adds) must reach the bootstrapped success rate (Teunissen 1998)
@@ -137,8 +78,7 @@ struct AmbiguityHoldOptions {
   /// (Teunissen, Joosten & Tiberius 1999: the subset is chosen by its success
   /// rate; the ratio test alone does not bound the failure rate, Verhagen &
   /// Teunissen 2013). false: the ratio test alone decides subsets larger than
-  /// small_subset_max_size (CCJ2 restarts every 5 min: wrong fixes 35 of 470
-  /// fixed epochs; doc/ar_real_data.md, "Restarts").
+  /// small_subset_max_size (measured: doc/studies/ar_real_data.md, "Restarts").
   bool require_subset_success_rate = true;
   /// Subsets of at most this many integers must reach the bootstrapped success
   /// rate narrow_lane.min_success_rate as well as the ratio test, whatever
@@ -148,7 +88,7 @@ struct AmbiguityHoldOptions {
   /// float within 0.37 cycle of an integer, whatever its sigma. Such small subsets
   /// are what partial fixing adds to an existing held set (min_fixed - held),
   /// while the first fix needs min_fixed integers together and keeps the ratio
-  /// test alone, so this costs no time to first fix (doc/ar_real_data.md).
+  /// test alone, so this costs no time to first fix (doc/studies/ar_real_data.md).
   int small_subset_max_size = 3;
   /// Consecutive searches giving the same integer before it is held.
   int validation_epochs = 5;
@@ -158,11 +98,9 @@ struct AmbiguityHoldOptions {
   /// fast_validation_success_rate, its integers are held after
   /// fast_validation_epochs consecutive equal searches (the success rate says
   /// the integer is determined; the repetition still guards against a float
-  /// that jumps). 1 = never (the default): with 1 - 1e-5 the CCJ2 GPS + Galileo
-  /// first fix comes 1.5 min earlier, but on ESBC with satellite antennas of
-  /// another model than the products' (constant narrow-lane offsets the success
-  /// rate does not know) the fixed epochs > 10 cm off while the float is within
-  /// 10 cm grow from 32 to 68 (doc/ar_real_data.md).
+  /// that jumps). 1 = never (the default): a success rate does not know the
+  /// constant narrow-lane offsets of satellite antennas of another model than
+  /// the products' (measured: doc/studies/config_defaults.md).
   double fast_validation_success_rate = 1.0;
   int fast_validation_epochs = 2;
   /// A held integer is released when its float (conditioned on the other held
@@ -204,15 +142,13 @@ struct AmbiguityResolutionOptions {
   double min_elevation_rad = 15.0 * kDegToRad;
   WideLaneOptions wide_lane;
   /// The narrow-lane search, with its success rate computed from the float
-  /// covariance times 2 (sigmas x 1.41): restarts every 5 min of CCJ2 and every
-  /// hour of ESBC give no wrong fix with it, and 6 wrong fixed epochs with 1
-  /// (doc/ar_real_data.md, "Restarts").
+  /// covariance times 2 (sigmas x 1.41; measured: doc/studies/config_defaults.md).
   IlsOptions narrow_lane = pppNarrowLaneOptions();
   AmbiguityHoldOptions hold;
   /// Fix even when the satellite antenna model of the products (SP3/clock header)
   /// differs from the ANTEX's, or (auto) is not known (antenna_model_consistency.h);
   /// false: such a run stays float with the reason named. Off by default: a PCO difference leaves a
-  /// constant narrow-lane offset per satellite (ESBC: up to 0.3 cycle).
+  /// constant narrow-lane offset per satellite (doc/ppp_ar.md, "When a run fixes").
   bool allow_antenna_model_mismatch = false;
   /// "" when valid, else the reason.
   std::string validate() const;

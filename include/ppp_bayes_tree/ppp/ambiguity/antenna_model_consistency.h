@@ -10,12 +10,13 @@
 // for a float solution, it breaks the integer property: ESBC 2020-177 with GRG
 // (igs14_2108) products and IGS20 satellite antennas carries offsets of up to
 // 0.3 narrow-lane cycle that follow the IGS14 - IGS20 z-PCO differences
-// (correlation -0.93, scale 1.03; doc/ar_real_data.md).
+// (correlation -0.93, scale 1.03; doc/studies/ar_real_data.md).
 //
-// The products' model comes from their headers: the SP3 comment "/* PCV:<model>"
-// (e.g. "PCV:IGS14_2108") and the clock header's "SYS / PCVS APPLIED" file name
-// (e.g. "igs14_2108.atx"). The ANTEX side comes from the SINEX code of each
-// satellite antenna block (e.g. "IGS20_2417"). Models are compared by family:
+// The products' model comes from their headers, read by the product assembly
+// (io/products/product_antenna_model.h) and handed here as names: the SP3 comment
+// "/* PCV:<model>" (e.g. "PCV:IGS14_2108") and the clock header's "SYS / PCVS
+// APPLIED" file name (e.g. "igs14_2108.atx"). The ANTEX side comes from the SINEX
+// code of each satellite antenna block (e.g. "IGS20_2417"). Models are compared by family:
 // the name up to its first '_' or '.', upper case ("IGS14", "IGS20"); the
 // week suffix only dates a release of the same frame.
 #include <optional>
@@ -46,11 +47,6 @@ struct AntennaModelCheck {
   /// "satellite antenna model not judged (products: not stated, ANTEX IGS20_2417)".
   std::string text() const;
 };
-
-/// The antenna model a product file names in its header: the "/* PCV:" comment of an SP3 file,
-/// or the "SYS / PCVS APPLIED" file name of a RINEX clock file (extension removed). Plain or gzip.
-/// Empty when the header names none. Throws FileOpenError when the file cannot be opened.
-std::string productAntennaModel(const std::string& path);
 
 /// The distinct SINEX codes of the satellite antenna blocks of the files ("" codes left out).
 std::vector<std::string> satelliteAntennaModels(const AntexCalibrations& antex);

@@ -1,50 +1,16 @@
 #pragma once
 // Integer least squares (ILS) for carrier-phase ambiguities: the LAMBDA method.
-//
-// Given float ambiguities a_hat (cycles) with covariance Q, find the integer
-// vectors a that minimise (a_hat - a)^T Q^-1 (a_hat - a). Steps:
-//  1. LtDL decomposition Q = L^T D L, L unit lower triangular, D diagonal,
-//     computed from the last element up: d[n-1] is the variance of the last
-//     element, d[k] the variance of element k conditioned on k+1..n-1.
-//  2. Decorrelation (the "Z-transformation"): integer Gauss transformations
-//     (L := L Z_ij with Z_ij = I - round(L(i,j)) e_i e_j^T, which leaves the
-//     lattice Z^n unchanged, |det Z| = 1) and permutations of neighbours whenever
-//     that makes the conditional variance searched first smaller. The result is
-//     z_hat = Z^T a_hat, Q_z = Z^T Q Z = L_z^T D_z L_z with the conditional
-//     variances close to sorted d[0] >= ... >= d[n-1] ("flattened spectrum").
-//  3. Search in the z-space: depth first from element n-1 down to 0, each level
-//     enumerating integers around its conditional estimate in order of growing
-//     distance (Schnorr-Euchner zig-zag), and shrinking the ellipsoid to the
-//     largest norm among the m best candidates kept (de Jonge and Tiberius 1996
-//     ch. 4; Chang, Yang and Zhou 2005). Candidates go back to a = Z^-T z.
-//  4. Validation: the ratio test (second-best over best squared norm >= c, a
-//     fixed threshold; Euler and Schaffrin 1991; discussed in Verhagen and
-//     Teunissen 2013, who show that a fixed c does not fix the failure rate),
-//     and the bootstrapped success rate (Teunissen 1998), P = prod_k
-//     (2 Phi(1 / (2 sqrt(d_k))) - 1), a sharp lower bound of the ILS success rate.
-//  5. Partial ambiguity resolution (Teunissen, Joosten and Tiberius 1999): when
-//     the full set fails, fix the subset of the p most precise decorrelated
-//     ambiguities z[n-p..n-1]. Their own LtDL factor is the bottom-right block of
-//     L_z and D_z, so the subset needs no new decomposition. p starts at the
-//     largest subset whose bootstrapped success rate reaches the threshold and
-//     is lowered until the ratio test passes.
-//
-// References:
-//  * Teunissen P.J.G. (1995) The least-squares ambiguity decorrelation
-//    adjustment: a method for fast GPS integer ambiguity estimation. J Geod 70:65-82.
-//  * de Jonge P., Tiberius C. (1996) The LAMBDA method for integer ambiguity
-//    estimation: implementation aspects. LGR Series 12, Delft Geodetic Computing Centre.
-//  * Chang X.-W., Yang X., Zhou T. (2005) MLAMBDA: a modified LAMBDA method for
-//    integer least-squares estimation. J Geod 79:552-565.
-//  * Teunissen P.J.G. (1998) Success probability of integer GPS ambiguity
-//    rounding and bootstrapping. J Geod 72:606-612.
-//  * Teunissen P.J.G., Joosten P., Tiberius C. (1999) Geometry-free ambiguity
-//    success rates in case of partial fixing. ION NTM 1999.
-//  * Verhagen S., Teunissen P.J.G. (2013) The ratio test for future GNSS
-//    ambiguity resolution. GPS Solutions 17:535-548.
-//
-// Units: ambiguities in cycles; squared norms dimensionless (chi-square like).
-// Pure functions; nothing here knows about satellites or estimators.
+// Given float ambiguities a_hat [cycles] with covariance Q, finds the integer
+// vectors minimising (a_hat - a)^T Q^-1 (a_hat - a): LtDL decomposition,
+// decorrelation (Z-transformation), search (Schnorr-Euchner), validation (ratio
+// test, bootstrapped success rate) and partial fixing of the most precise
+// decorrelated subset. Pure functions; nothing here knows about satellites or
+// estimators. The steps: doc/ppp_ar.md, "The integer search (LAMBDA)".
+// References: Teunissen (1995) J Geod 70:65-82 (LAMBDA); de Jonge & Tiberius
+// (1996) LGR Series 12, Delft; Chang, Yang & Zhou (2005) J Geod 79:552-565
+// (MLAMBDA); Teunissen (1998) J Geod 72:606-612 (bootstrapping); Teunissen,
+// Joosten & Tiberius (1999) ION NTM (partial fixing); Euler & Schaffrin (1991)
+// and Verhagen & Teunissen (2013) GPS Solutions 17:535-548 (the ratio test).
 #include <optional>
 #include <string>
 #include <vector>

@@ -1,38 +1,16 @@
 #pragma once
 // Wide-lane ambiguities from Melbourne-Wuebbena (MW) means per arc, with the
-// satellite wide-lane biases of observable-specific bias (OSB) products.
-//
-// MW in wide-lane cycles (Melbourne 1985; Wuebbena 1985):
-//     MW = (L1 - L2) - (f1 P1 + f2 P2) / ((f1 + f2) lambda_WL),
-//     lambda_WL = c / (f1 - f2)  (86.2 cm on GPS L1/L2),
-// with phases L in cycles and codes P in metres. Geometry, clocks, troposphere
-// and first-order ionosphere cancel; what stays is N1 - N2 plus the receiver
-// and satellite wide-lane hardware biases. With OSBs (Bias-SINEX sign:
-// corrected = observed - bias) the satellite part goes away by correcting each
-// observable: phase L_i -= B_Li / lambda_i, code P_i -= B_Ci. The code OSBs are
-// those the signal selection already applied (DualFrequencyObservation::code*_osb_m);
-// where it did not, they are applied here.
-//
-// The receiver wide-lane bias is common to all satellites of the receiver, so we
-// fix between-satellite single differences against a reference arc (the arc
-// with the smallest sigma of its mean; ties: the most samples): N_WL(s) - N_WL(ref).
-// This choice, rather than estimating the receiver bias, makes the fixed values
-// independent of any receiver bias model and is what the narrow lane uses too.
-//
-// Fixing by rounding (Teunissen 1998, "Success probability of integer GPS
-// ambiguity rounding and bootstrapping", J Geod 72:606-612): a scalar float
-// ambiguity with standard deviation sigma rounds to the right integer with
-// probability P = 2 Phi(1 / (2 sigma)) - 1. A single difference is fixed when
-// P >= min_success_rate and its distance to the nearest integer is at most
-// max_fraction_cycles (a guard against unmodelled biases, which P ignores).
-//
-// Sigma of an arc's mean: the sample standard deviation of its MW values
-// (floored at min_sigma_cycles) over sqrt(n_eff). MW errors are time correlated
-// (code multipath), so n_eff is the number of independent samples of a
-// first-order Gauss-Markov error with correlation time correlation_time_s at the
-// arc's mean sampling interval (time_correlated_noise.h, Bartlett 1946): the
-// averaging length is a time, and 30 s and 1 Hz data reach the same sigma after
-// the same time (about duration / (2 tau) independent samples when dt << tau).
+// satellite wide-lane biases of observable-specific bias (OSB) products removed.
+// Between-satellite single differences against a reference arc (the receiver
+// bias cancels) are fixed by rounding when the rounding success probability
+// reaches min_success_rate and the float lies within max_fraction_cycles of the
+// integer. The sigma of an arc's mean counts the effective number of independent
+// samples of a time-correlated error (time_correlated_noise.h), so the averaging
+// length is a time. The formulas: doc/ppp_ar.md, "The wide lane".
+// References: Melbourne W.G. (1985) and Wuebbena G. (1985), Proc. 1st Int. Symp.
+// on Precise Positioning with GPS (the MW combination); Teunissen P.J.G. (1998)
+// J Geod 72:606-612 (rounding success rate); Bartlett M.S. (1946) J R Stat Soc
+// Suppl 8(1) (effective samples).
 #include <functional>
 #include <map>
 #include <optional>

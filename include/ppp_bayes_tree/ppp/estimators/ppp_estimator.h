@@ -2,41 +2,15 @@
 // PppEstimator: the one interface of the PPP estimators and the epoch front end
 // that the EKF (PppEkf) and the smoother (PppSmoother) share, so that both run
 // the same sequence and see the same screened measurements; each estimator
-// implements only its steps (prediction, update, ambiguity resolution), like a
+// implements only its steps (predict, solve, ambiguity resolution), like a
 // FilterBase with processMeasurement and the filter's own predict/correct.
 // Estimators are made by name through the registry (estimator_registry.h).
-//
-// processEpoch(EstimatorEpochInput), the pipeline's epoch: the ended arcs leave
-// (arcsEnded), the measurement epoch below, then PPP-AR when enabled (the
-// estimator's resolveAmbiguities; without phase biases the epoch stays float with
-// that reason). lastResult() keeps its result.
-//
-// processEpoch(time, evaluate), the measurement epoch, nine named steps:
-//  1. startOrAdvance: without a state, the single-epoch code least squares from
-//     the approximate position; without one, from the Earth centre: first with the
-//     start model (`evaluate_start`, PppMeasurementModel::evaluateStart: no
-//     troposphere, no elevation cutoff), then from that point with the full
-//     model (either failure: NoSolution "no initial position", with the
-//     reason); otherwise the time must advance (else Failed);
-//  2. predict() (the estimator): the receiver state at this epoch;
-//  3. lineariseAtPrediction: linearise once at the prediction, keep the usable
-//     measurements, shift each system's white clock by the median of its code
-//     residuals (option);
-//  4. bookArcs: a new arc of a satellite replaces its bias, arcs unused for
-//     stale_arc_timeout_s leave the active set (committed only with a solution);
-//  5. screenAgainstPriors: prefit screening (prefit_screening.h) against the
-//     estimator's bias priors; too few satellites: NoSolution;
-//  6. withInitialBiases: the initial value of each new arc's bias: phase minus
-//     code residual;
-//  7. solveOrRecover: solve() (the estimator), its update; on a failed update the
-//     estimator may restart from its last good state (recoverAfterFailure),
-//     counted in resets();
-//  8. commitEpoch: the active set and the residual records;
-//  9. testConsistency (option): the epoch consistency test of the postfit
-//     residuals (postfit_screening.h); an inconsistent solution is flagged, and
-//     its covariance inflated or the solution withheld.
-// A failed or unsolved epoch leaves the estimator as it was before the epoch
-// (or restarted, when estimator_reset is reported).
+// processEpoch(EstimatorEpochInput) is the pipeline's epoch: the ended arcs
+// leave, the measurement epoch runs nine named steps (start or advance, predict,
+// linearise, book the arcs, screen, initial biases, solve or recover, commit,
+// consistency test), then PPP-AR when enabled. A failed or unsolved epoch leaves
+// the estimator as it was before the epoch (or restarted, when estimator_reset
+// is reported). The steps in detail: doc/estimators.md, "The epoch front end".
 #include <Eigen/Core>
 #include <chrono>
 #include <map>

@@ -1,74 +1,22 @@
 #pragma once
 // PppSmoother: kinematic PPP as an incremental factor graph (iSAM2 on the Bayes
 // tree), with the same interface as PppEkf so that a pipeline can run either.
+// One state per solved epoch (position, ZWD, clocks) and one IF phase bias per
+// arc, linked by random-walk and prior factors; IF code and phase factors from
+// the SAME MeasurementFunction and sigmas as the EKF (ppp_factors.h). Each epoch
+// runs the shared front end (PppEstimator), then ONE iSAM2 update, the
+// postfit check and the filtered marginals of the new state. The smoothed
+// output re-reads every state from the current estimate; with fixed_lag_s > 0
+// older states are marginalized. Held integer ambiguities enter the graph as
+// factors (integer_ambiguity_factor.h). A marginalized-state sink bounds the
+// memory of live runs.
+// The graph, the steps of an epoch, restarts, ambiguity resolution and live use
+// in detail: doc/estimators.md, "The smoother".
 //
-// Graph (ppp_factors.h): one state x<k> per solved epoch (position, ZWD, clock), one
-// IF phase bias b(sat,arc) per arc; a prior on the first state and on each new bias;
-// position/ZWD random walk between consecutive states over the real elapsed time;
-// a white clock (unary clock prior per epoch, no between factor); IF code and phase
-// factors per satellite and epoch, from the SAME MeasurementFunction the EKF calls,
-// with the same sigmas; optional Huber kernel on them.
-//
-// Per epoch (processEpoch): the epoch front end shared with the EKF
-// (PppEstimator: code least-squares start, prediction = the last filtered
-// state with the clocks shifted by the median code residual, usable measurements,
-// arc bookkeeping, prefit screening against the last filtered bias estimate and
-// variance, new-arc bias values, residual records), then the smoother's own
-// solve(), in named steps (too few satellites never get here: an explicit
-// NoSolution, nothing is added to the graph, and the next between factor spans the
-// real elapsed time from the last solved epoch):
-//  1. addStateFactors: the new state x<k>, with its prior (first epoch) or the
-//     position/ZWD random walk from the last state and the white clock priors;
-//  2. addMeasurementFactors: each satellite's IF code and phase factors, and a
-//     bias variable with its prior per new arc (an arc that returns after going
-//     stale keeps its variable);
-//  3. updateWithNewFactors: ONE iSAM2 update with the new factors; constrained
-//     ordering: the new state and the biases observed in this epoch are
-//     eliminated last (root clique), the other re-eliminated variables oldest
-//     first; relinearization thresholds per variable component (position, ZWD,
-//     clocks, bias);
-//  4. postfitCheck (postfit_screening.h, as the EKF's): while the worst normalised
-//     postfit residual at the filtered estimate exceeds postfit_sigmas (at most
-//     postfit_max_rejections times, never below min_satellites), that satellite's
-//     code and phase factors are removed from the graph (removeSatellite: an
-//     iSAM2 update removing them) and it is rejected with PostfitCode /
-//     PostfitPhase; a removed new arc keeps only its bias prior and does not
-//     become active;
-//  5. filteredMarginals: the FILTERED output, the new state's estimate right
-//     after the update with its marginal covariance (root clique: cheap), plus the
-//     biases' filtered marginals (kept for the next epoch's screening);
-//  6. commitEpoch: the filtered joint, the active set, the state record, the
-//     recorded graph (option) and, with a fixed lag, the marginalized states;
-//  7. residualRows: prefit at the prediction, postfit at the filtered state.
-// The front end's consistency test then flags (and inflates or withholds) a
-// solution whose residuals contradict it.
-// SMOOTHED output: smoothedTrajectory() re-reads every state from the current
-// estimate (all data so far); with fixed_lag_s > 0 states older than the lag are
-// marginalized (FixedLagSmoother) and keep their last estimate (at the lag boundary).
-// A numerical failure of the update (indeterminate system) gives a Failed epoch, and
-// the smoother restarts at once from its last good state: a new graph holding the last
-// filtered state with a prior of its filtered covariance and each active bias with a
-// prior of its filtered estimate and variance (counted in resets(), reported by the
-// result's estimator_reset). The states before the restart keep their last estimate.
-// AMBIGUITY RESOLUTION (resolveAmbiguities drives it with the EKF's
-// AmbiguityResolver and its one decision path, resolveAndHold: consistency
-// window, partial fixing, validation across epochs, hold, release): after each
-// update the resolver decides on the float joint of the newest state and the
-// observed biases (root clique: cheap; floatJoint() takes the held fixes'
-// information out again); the held integers enter the graph as
-// IntegerAmbiguityFactors (integer_ambiguity_factor.h), so the smoothed trajectory
-// improves before the fix epoch too. A held integer the resolver releases as
-// wrong (float departed, wide lane changed) is removed from the graph
-// (releaseFixes: remove_factor_indices); one released because its arc ended stays
-// (it still constrains the arc's bias over its epochs). Fixed lag: a held fix whose
-// biases are marginalized becomes part of the marginal prior (it can no longer be
-// removed).
-// LIVE USE (bounded memory): with a marginalized-state sink
-// (setMarginalizedStateSink), every state that leaves the graph (past the lag, or
-// before a restart) is handed once, in time order, to the sink with its final
-// estimate and then forgotten, so that the smoother holds only the states of the
-// window; finishTrajectory() hands the rest at the end of a run. Without a sink
-// every state is kept (smoothedTrajectory() returns them all).
+// References: Kaess M. et al. (2012) iSAM2: Incremental smoothing and mapping
+// using the Bayes tree, Int. J. Robotics Research 31(2); Watson R.M., Gross J.N.
+// (2018) Evaluation of kinematic precise point positioning convergence with an
+// incremental graph optimizer, IEEE/ION PLANS (arXiv:1804.04197).
 #include <Eigen/Core>
 #include <deque>
 #include <functional>

@@ -1,48 +1,15 @@
 #pragma once
 // ArcTracker: carrier-phase preprocessing. Fed one epoch at a time, it assigns
 // every satellite the id of its continuous phase arc (ArcId) and starts a new
-// arc on a new satellite, a receiver loss-of-lock flag, a data gap or a
-// detected cycle slip.
-//
-// Cycle-slip tests (Blewitt 1990, "An automatic editing algorithm for GPS
-// data", GRL 17(3); Springer Handbook of GNSS 2017, sec. 20.3.1):
-//  * Melbourne-Wuebbena (MW, wide-lane cycles): free of geometry, clocks,
-//    troposphere and ionosphere, so it is flat within an arc up to code noise and
-//    multipath. A running mean and standard deviation are kept per arc
-//    (exponentially forgetting after `mw_window` samples); a slip is declared
-//    when |MW - mean| > max(mw_sigma_factor * sigma, mw_min_threshold_cycles).
-//    Until `mw_min_samples` samples are in, sigma is `mw_initial_sigma_cycles`.
-//    Catches every slip with N1 - N2 != 0 of about one wide-lane cycle or more,
-//    e.g. (1,0), (0,1), (9,7). It is insensitive to N1 = N2 slips.
-//  * Geometry-free phase (GF = L1 - L2 in metres): only the ionosphere (and
-//    the constant ambiguities) remain. The value at this epoch is compared with
-//    a linear least-squares fit through the last `gf_fit_points` epochs of the
-//    arc, extrapolated to this epoch. A (1,1) slip moves GF by lambda1 - lambda2
-//    = -5.4 cm on GPS L1/L2; (1,0) by 19 cm.
-//
-// Interval scaling of the GF threshold: the prediction error is phase noise
-// plus multipath (a constant part) plus the unmodelled change of the
-// ionospheric drift over the prediction interval dt (seconds since the
-// satellite's previous epoch), which grows with dt. We use the linear law
-//     threshold_m = gf_threshold_base_m + gf_threshold_rate_mps * dt
-// with defaults 0.030 m + 0.0006 m/s: 3.1 cm at 1 s, 4.8 cm at 30 s (just below
-// the 5.4 cm of a (1,1) slip; RTKLIB's fixed default is 5 cm), capped at
-// gf_threshold_max_m for longer intervals. With a single previous epoch the
-// drift cannot be predicted, so gf_drift_allowance_mps * dt is added (6 cm at
-// 30 s, 2 mm at 1 s). Low-elevation arcs whose ionosphere fluctuates faster than
-// a line can follow (seen on ZIM2 G05 at 30 s: 2 cm scatter of the prediction
-// residuals) raise their own threshold: the running RMS of the arc's GF
-// prediction residuals times gf_sigma_factor is used when larger (after
-// gf_min_samples residuals). Such arcs then need MW (N1 != N2) to see small
-// slips. The MW threshold is not scaled: MW holds no time-varying geometric or
-// ionospheric term.
-//
-// Data gaps: a satellite whose previous epoch is more than max_gap_s ago starts
-// a new arc. When max_gap_s is not set, it is max_gap_intervals times the data
-// interval, estimated as the smallest spacing between accepted epochs.
-//
-// Epochs that go backwards in time or repeat the previous time are refused with
-// a reason and change no state.
+// arc on a new satellite, a receiver loss-of-lock flag, a data gap or a cycle
+// slip detected by the Melbourne-Wuebbena test (N1 != N2 slips) or the
+// geometry-free phase test (a threshold growing with the interval, raised on
+// noisy arcs). Epochs that go backwards or repeat refuse with a reason and change
+// no state. The tests, thresholds and gap rule: doc/measurement_model.md, "Arcs
+// and cycle slips".
+// References: Blewitt G. (1990) An automatic editing algorithm for GPS data,
+// GRL 17(3); Teunissen & Montenbruck (eds.) (2017) Springer Handbook of GNSS,
+// sec. 20.3.1.
 #include <cstddef>
 #include <map>
 #include <optional>
@@ -164,6 +131,18 @@ class ArcTracker {
   std::optional<double> predictGeometryFree(const ArcState& state, const GnssTime& time) const;
   double geometryFreeThreshold_m(const ArcState& state, double dt_s) const;
   EndedArc endArc(const SatelliteId& sat, ArcState& state, std::string reason) const;
+  /// Why an epoch at `time` is refused (time backwards, duplicate); nullopt when accepted.
+  std::optional<std::string> refuseEpoch(const GnssTime& time);
+  /// One satellite's combinations; its arc goes on, or a new one starts.
+  void trackSatellite(const GnssTime& time, const DualFrequencyObservation& obs, double max_gap,
+                      SatelliteArcStatus& status, ArcEpochResult& result);
+  /// Why a new arc starts (None: the arc goes on), with its text and the GF prediction residual.
+  ArcStartReason arcStart(const ArcState& state, bool inserted, const DualFrequencyObservation& obs,
+                          const SatelliteArcStatus& status, const GnssTime& time, double max_gap, std::string& text,
+                          std::optional<double>& gf_residual) const;
+  /// The Melbourne-Wubbena and geometry-free tests of an open arc.
+  ArcStartReason slipTest(const ArcState& state, const SatelliteArcStatus& status, const GnssTime& time, double dt,
+                          std::string& text, std::optional<double>& gf_residual) const;
 
   CycleSlipOptions options_;
   std::map<SatelliteId, ArcState> arcs_;

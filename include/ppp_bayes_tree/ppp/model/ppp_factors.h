@@ -1,47 +1,16 @@
 #pragma once
 // Factors of the PPP factor graph on the generic smoother (ppp::smoother).
-//
-// Variables (keys):
-//   x<k>        receiver state of the k-th solved epoch in its layout
-//               (receiver_state_layout.h): (x, y, z) ECEF [m], ZWD [m], one receiver
-//               clock c*dt [m] per processed system, optionally the tropospheric
-//               gradients G_N, G_E [m] (ReceiverState::vector() order);
-//   b(G05,arc)  IF carrier-phase bias [m] of one satellite arc (ArcId).
-//
-// Measurement factors: one IF pseudorange factor on x<k> and one IF carrier-phase
-// factor on (x<k>, b) per satellite and epoch. Both evaluate the prediction of the
-// single measurement model (PppMeasurementModel, through a MeasurementFunction) with
-// the model's sigmas: the model is evaluated ONCE per epoch, at the estimator's
-// predicted state x0, and the factor stores that SatelliteMeasurement. At a new state x
-// of the same epoch (relinearization) the factor re-evaluates:
-//   h(x) = h(x0) + [rho(x) - rho(x0)] + g.(p - p0) + m_w (zwd - zwd0) + (clk - clk0)
-//          [+ m_g cos a (G_N - G_N0) + m_g sin a (G_E - G_E0) with the gradient block]
-// with rho(x) = |s - (p + o)| the exact geometric range to the satellite phase centre s
-// (SatelliteMeasurement::satellite_apc_ecef_m, rotated for the Earth rotation) from the
-// receiver phase centre p + o, and g = J0_pos + e0 the rest of the model's position
-// partial (the height dependence of the a-priori dry delay), e0 the unit vector to the
-// satellite at x0. The terms held at their x0 values (mapping functions, tides, PCV,
-// wind-up, Sagnac rotation, light time) change by less than 1e-5 of the position change
-// over the metre-level moves between linearisation points (elevation changes by
-// dp/rho ~ 5e-8 rad per metre), while the range itself is re-evaluated exactly. The
-// factor's Jacobian is the exact derivative of this h (checkJacobians), and equals the
-// model's Jacobian at x0. Without geometry (nullopt) or with `exact_range` false, the
-// factor is the linearisation h(x0) + J0 (x - x0) (a linear-Gaussian graph: used by the
-// EKF-equivalence test).
-//
-// Process factors (StochasticModel, dt = real elapsed time between the two solved
-// epochs, data gaps and no-solution epochs included):
-//   position, ZWD (and tropospheric gradient) random walks: a between factor on
-//   (position, ZWD[, G_N, G_E]) of x<k> - x<k-1> with sigmas sqrt(q^2 dt) (the EKF adds
-//   q^2 dt to the predicted variance: identical);
-//   receiver clocks WHITE: no between factor on a clock at all. Each epoch's clock is
-//   an independent variable with a unary prior (ClockPriorFactor) whose sigma is
-//   sqrt(min(q^2 dt, sigma0^2)) (11 km for 30 s) and whose mean is the EKF's predicted
-//   clock (previous filtered clock shifted by the median code residual): the EKF
-//   removes the clock's correlations and resets its variance to the same value, so the
-//   filtered solutions coincide.
-// Priors: the first state (a priori sigmas) and each new bias (phase minus code, a
-// priori bias sigma): PriorFactor.
+// Variables: x<k>, the receiver state of the k-th solved epoch (position ECEF,
+// ZWD, one clock per system, optionally the tropospheric gradients), and b(sat,
+// arc), the IF phase bias of one satellite arc. Factors: one IF code factor on
+// x<k> and one IF phase factor on (x<k>, b) per satellite and epoch, evaluated
+// from the single measurement model with its sigmas and re-evaluating the exact
+// geometric range at a new linearisation point; random-walk between factors of
+// position, ZWD and gradients; a unary prior per epoch for the white clocks
+// (ClockPriorFactor), so the filtered solution equals the EKF's; priors on the
+// first state and each new bias. The equations: doc/estimators.md, "The factors".
+// References: Kaess M. et al. (2012) Int. J. Robotics Research 31(2) (iSAM2);
+// Watson R.M., Gross J.N. (2018) IEEE/ION PLANS (the PPP graph).
 #include <Eigen/Core>
 #include <array>
 #include <optional>

@@ -1,86 +1,23 @@
 #pragma once
-// PppMeasurementModel: the single ionosphere-free (IF) code and phase model
-// used by both estimators (EKF and smoother factors). For one epoch and a
-// linearisation point X = (marker position ECEF, ZWD, receiver clock c*dt of the
-// satellite's system; receiver_state_layout.h) it
-// gives per satellite the observed and predicted IF observables, the Jacobian
-// row d(predicted)/dX, the elevation-dependent sigmas, or the reason why the
-// satellite is rejected.
+// PppMeasurementModel: the single ionosphere-free (IF) code and phase model of
+// both estimators (the EKF's update and the smoother's factors). For one epoch
+// and a linearisation point X = (marker position ECEF, ZWD, receiver clock c*dt
+// of the satellite's system; receiver_state_layout.h) it gives per satellite the
+// observed and predicted IF observables, the Jacobian row d(predicted)/dX, the
+// elevation-dependent sigmas, or the reason why the satellite is rejected.
+// Satellite orbits and clocks come from an EphemerisSource, antenna
+// calibrations from an AntennaCalibrationProvider, the wind-up continuity from
+// the caller's WindupTracker.
 //
-// Observation equations (metres; Kouba 2009 "A guide to using IGS products";
-// Teunissen & Montenbruck (eds.) 2017, ch. 25):
-//   P_IF = rho + clock - c (dt_s + dt_rel) + m_d ZHD + m_w ZWD + shapiro + ant_r + ant_s
-//   L_IF = same + lambda_w w + B_arc            (B_arc: the arc's IF phase bias,
-//                                                NOT in predicted_phase_m)
-//   rho    = |x_s,apc(t_tx) rotated by omega_e tau - x_r,apc|, where
-//            t_tx = t_rx(tag) - P_IF/c - dt_s (signal emission in GPST: exact
-//            whatever the receiver clock) and tau = rho/c (iterated, Sagnac);
-//   x_r,apc = marker + solid tide + ocean loading + ANTENNA: DELTA H/E/N +
-//            receiver PCO (IF), i.e. the estimate refers to the MARKER;
-//   dt_rel = -2 r.v/c^2 (relativity.h), shapiro (relativity.h);
-//   ant_s  = satellite PCV(nadir) IF-combined (the satellite PCO moves x_s,apc
-//            along the nominal yaw-steering body axes, satellite_attitude.h);
-//   ant_r  = receiver PCV(zenith, azimuth) IF-combined;
-//   w      = phase wind-up [cycles] (phase_windup.h), continuous along an arc
-//            through WindupTracker; in the IF combination the wind-up (the same
-//            number of cycles on both frequencies) weighs
-//            alpha lambda1 + beta lambda2 = c / (f1 + f2) (the narrow-lane
-//            wavelength, 10.7 cm for GPS L1/L2) = lambda_w.
-// The Jacobian is the same for code and phase: d/dx = -e + m_d dZHD/dh u
-// (e: unit line of sight receiver -> satellite, ECEF; u: local up; the a-priori
-// dry delay of the standard atmosphere falls by ~0.3 mm per metre of height),
-// d/dZWD = m_w, d/dclock = 1 in the column of the satellite's own system clock
-// (a system without a clock in the layout: rejected) (the elevation dependence of the mapping and PCV
-// on the position is neglected: ~1e-5 of the position column).
+// The observation equations, the troposphere, the weighting, the satellite
+// reference point and the receiver antenna policy: doc/measurement_model.md.
 //
-// Troposphere (troposphere.h), surface values from the standard atmosphere at
-// the receiver height:
-//   dry zenith delay: modified Hopfield (default) or Saastamoinen;
-//   mapping: GMF (Boehm et al. 2006) by default (it fits the real data better,
-//   see MeasurementModelOptions::mapping); the method's modified Hopfield
-//   model's OWN elevation mapping, i.e. the ratio slant/zenith of the Hopfield
-//   ray integration (Goad & Goodman 1974), separately for the dry and wet
-//   parts, or Niell (1996) as options.
-//   The ZWD state is the whole wet delay (no a-priori wet delay is added).
-//   With the gradient block in the state's layout (estimate_troposphere_gradients),
-//   + m_g(e) (G_N cos a + G_E sin a) (Chen & Herring 1997; troposphere_gradient.h),
-//   d/dG_N = m_g cos a, d/dG_E = m_g sin a.
-//
-// Weighting: sigma(el) = sigma_zenith / sin(el), where the phase sigma of one
-// frequency at zenith (default 0.003 m, RTKLIB stats-errphase as in the peer
-// configuration ../shared/peers/rtklib-ppp-kinematic.conf) is scaled for the IF
-// combination by sqrt(alpha^2 + beta^2) (2.98 for GPS L1/L2; RTKLIB uses 3), and
-// the code sigma is code_phase_ratio (default 300; RTKLIB stats-eratio1 is 100) times
-// the phase sigma. These are the sigmas of one sample (screening); the estimators
-// weight the code with the variance inflated for its time correlation over the
-// epoch interval (StochasticModel::code_correlation_time_s, time_correlated_noise.h).
-//
-// Threading and cost: evaluate() is const and allocation-free once the output
-// vectors have grown (except rejection reason strings); about 3 us per
-// satellite (ppp_bench_measurement_model). It is NOT thread-safe: it fills a
-// satellite-antenna lookup cache (use one model per thread). The wind-up
-// continuity lives in the caller's WindupTracker.
-//
-// Products: satellite orbits and clocks come from an EphemerisSource (precise
-// files, broadcast records, a correction stream; ephemeris_source.h; the
-// precise files extend their edges by 0.2 s, precise_ephemeris.h). An orbit
-// that refers to the antenna phase centre already holds the satellite PCO,
-// which is then not applied again (the PCV still is); one at the L1 phase
-// centre (IGS SSRA) gets the IF - L1 PCO difference
-// (satellite_reference_point.h, the one place for the reference point). Antenna calibrations come
-// from an AntennaCalibrationProvider (ANTEX files: antex_calibrations.h) for
-// the receiver described by a ReceiverAntenna.
-//
-// Receiver antenna policy (MeasurementModelOptions::receiver_antenna):
-//   Required: without a calibration (or one lacking a frequency of the pair)
-//             every satellite of the system is rejected with the reason;
-//   Warn (default): the model goes on without the receiver PCO/PCV (the DELTA
-//             H/E/N is still applied) and says so once (receiverAntennaWarnings());
-//   Off:      the receiver PCO/PCV is never applied.
-// A non-GPS frequency the receiver block lacks first takes the GPS calibration
-// of receiver_frequency_substitution.h (receiver_frequency_substitution: Gps,
-// default; named once in receiverAntennaWarnings()), so only a frequency without
-// a stand-in is "missing".
+// References: Kouba J. (2009) A guide to using International GNSS Service (IGS)
+// products; Teunissen P.J.G., Montenbruck O. (eds.) (2017) Springer Handbook of
+// Global Navigation Satellite Systems, ch. 25; Boehm J. et al. (2006) Global
+// Mapping Function (GMF), Geophys. Res. Lett. 33; Chen G., Herring T.A. (1997)
+// J. Geophys. Res. 102(B9) (gradients); Wu J.T. et al. (1993) Manuscripta
+// Geodaetica 18 (wind-up).
 #include <Eigen/Core>
 #include <array>
 #include <optional>
@@ -131,8 +68,7 @@ struct MeasurementModelOptions {
   /// they hold constant per-satellite offsets of 0.2-0.7 m (ZIM2 postfit code
   /// means with CODE OSB and IGS clocks, ppp_solve residual statistics), which
   /// a white-noise weight of 0.9 m lets pull the float solution for tens of
-  /// minutes. Measured with ppp_solve (ZIM2 / CCJ2 mean 3D): 100 -> 23.5 / 30.9 cm,
-  /// 300 -> 18.8 / 26.1 cm.
+  /// minutes (measured: doc/studies/config_defaults.md).
   double code_phase_ratio = 300.0;
   /// Multiply the sigmas by sqrt(alpha^2 + beta^2) for the IF combination.
   bool scale_sigma_for_ionosphere_free = true;
@@ -145,10 +81,8 @@ struct MeasurementModelOptions {
   bool ephemeris_sigmas = false;
   DryTroposphereModel dry_troposphere = DryTroposphereModel::ModifiedHopfield;
   /// GMF (Boehm et al. 2006) by default: it fits real data better than the
-  /// method's modified Hopfield ray integration (config/method_table.yaml):
-  /// with ppp_solve (30 m start prior, mean 3D EKF / smoothed, Hopfield -> GMF):
-  /// tropical CCJ2 with low satellites 31.6 / 15.2 -> 26.1 / 8.41 cm (final 10.4 ->
-  /// 4.2 cm); ZIM2 17.8 / 4.41 -> 18.8 / 3.63 cm.
+  /// method's modified Hopfield ray integration (config/method_table.yaml;
+  /// measured: doc/studies/config_defaults.md).
   TroposphereMapping mapping = TroposphereMapping::Gmf;
   /// Estimate the horizontal tropospheric gradients G_N, G_E (troposphere_gradient.h):
   /// the estimators' receiver state then carries the gradient block
@@ -156,18 +90,22 @@ struct MeasurementModelOptions {
   /// m_g(e) (G_N cos a + G_E sin a) with its partials to every satellite whose
   /// state layout has the block. Default true: an unmodelled azimuthal asymmetry
   /// of the wet delay moves the kinematic position by up to a centimetre for hours
-  /// (ESBC day, hour 20 UTC: north +1.0 cm, a weather front). Measured with
-  /// ppp_solve (ZWD q 1e-4 m/sqrt(s), gradients 1 mm a priori, 1e-5 m/sqrt(s)),
-  /// off -> on: ESBC (GPS + Galileo PPP-AR, BLQ) fixed RMS E/N/U after the first
-  /// hour, EKF 0.41/0.62/1.84 -> 0.40/0.54/1.75 cm, smoothed 0.44/0.71/1.54 ->
-  /// 0.36/0.50/1.41 cm, hourly north means -0.5 ... +1.0 -> -0.5 ... +0.3 cm;
-  /// ZIM2 mean 3D EKF / smoothed 18.45 / 3.91 -> 18.16 / 3.20 cm; CCJ2 12.54 /
-  /// 2.42 -> 12.62 / 2.46 cm. Not everywhere a gain: ESBC GPS-only without BLQ
-  /// (ZWD q 3e-5) has 151 instead of 96 fixed epochs > 10 cm, its heights, 7-11 cm
-  /// off in those hours either way, moving by another centimetre. The method
+  /// (measured: doc/studies/config_defaults.md). The method
   /// (method_table.yaml) and the simulated flights (ppp_simulated.yaml, the Monte
   /// Carlo study: the simulator has no gradients) keep them off.
   bool estimate_troposphere_gradients = true;
+  /// The estimated zenith wet delay is the one at the ellipsoid (height 0): the
+  /// model carries it to the receiver's height with the standard atmosphere's
+  /// modified Hopfield wet zenith delay, ZWD(h) = ZWD(0) w(h) / w(0), with the
+  /// partial along "up". Default false: the state is the ZWD at the receiver, a
+  /// random walk, which holds for a station but not for a receiver that climbs or
+  /// descends: the wet delay falls by ~0.6 of its value per 900 m (w(1950 m) /
+  /// w(1050 m) = 0.39), 30 times what the method's random walk (3e-5 m/sqrt(s))
+  /// allows in 5 min. The simulator's wet delay follows that profile
+  /// (simulation/gnss_simulator.h), and config/ppp_simulated.yaml turns this on.
+  /// The error of the a-priori dry delay, which the ZWD absorbs, is then scaled
+  /// with the wet profile too (doc/evaluation.md).
+  bool zwd_at_ellipsoid = false;
   bool solid_earth_tide = true;
   bool ocean_loading = true;  // used only when coefficients are given
   bool phase_windup = true;
@@ -235,6 +173,10 @@ struct ModelTerms {
   Eigen::Vector3d receiver_apc_ecef_m = Eigen::Vector3d::Zero();
 };
 
+/// Threading and cost: evaluate() is const and allocation-free once the output
+/// vectors have grown (except rejection reason strings); about 3 us per
+/// satellite (ppp_bench_measurement_model). It is NOT thread-safe: it fills a
+/// satellite-antenna lookup cache (use one model per thread).
 class PppMeasurementModel {
  public:
   /// `ephemeris` must outlive the model. `antennas` may be null (no

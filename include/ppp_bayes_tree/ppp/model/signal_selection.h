@@ -3,58 +3,25 @@
 // of an ObsEpoch, the two codes and two phases of the configured frequency pair
 // (GPS L1/L2, GLONASS G1/G2, Galileo E1/E5a, BeiDou B1I/B3I) by a configurable
 // tracking-mode priority, aligns the codes to the clock product's code reference
-// and fills DualFrequencyObservation.
-//
-// The frequency pair and the priorities of each system are one row of the
-// signal table (signalTable(), indexed by system; the same form as the
-// per-system code priority table of RTKLIB 2.4.3, Takasu 2013). A system
-// without a row has no IF pair here: QZSS / SBAS / IRNSS are not processed.
-// Adding a system = adding its row.
-//
-// GLONASS (FDMA, GLONASS ICD 5.1 sec. 3.3.1.4): every satellite transmits on
-// its own channel k, G1 = 1602 + 0.5625 k MHz, G2 = 1246 + 0.4375 k MHz. Its
-// row is `frequency_division`: the pair's frequencies, and with them the IF
-// coefficients, the wavelengths and the IF ambiguity, are per satellite, from
-// the channel of the RINEX header's GLONASS SLOT / FRQ # record (or of the
-// navigation records, SignalSelectionOptions::glonass_channels). A satellite
-// without a known channel is skipped with the reason.
-//
-// Code alignment (Bias-SINEX 1.00, S. Schaer 2016, sec. 3.3 / 4.3.x "OSB"):
-// an observable-specific bias B_obs is defined so that the bias-free
-// observable is obtained by SUBTRACTING it: corrected = observed - OSB (in
-// metres after the reader's ns -> m conversion). Satellite OSBs of a product
-// centre are consistent with its satellite clocks, which refer to the IF
-// combination of the SATELLITE_CLOCK_REFERENCE_OBSERVABLES (GPS: C1W/C2W, so
-// the IF combination of the C1W and C2W OSBs is zero). After subtracting the
-// OSB of e.g. C1C and C2W, the IF code refers to the clock's C1W/C2W reference.
-// Without a bias file the codes are used as observed: the product convention
-// (IGS clocks: C1W/C2W) then holds only when C1W/C2W are used; using C1C with
-// such a clock leaves the P1-C1 DCB (typically 0.5-3 ns times 2.55 in the IF
-// combination) in the code. That is reported, never silently assumed.
-//
-// Phase shifts (RINEX 3.01+ "SYS / PHASE SHIFT", RINEX 3.05 sec. 5.2 / table
-// A2; Gurtner 2009 proposal "RINEX: Phase shifts"): data producers ALIGN the
-// phases of the different tracking modes of one band before writing the file
-// and REPORT the correction applied in the header, "to allow the
-// reconstruction of the original values". The phases in a 3.01+ file are
-// therefore already consistent, and nothing must be added again (default
-// PhaseShiftHandling::AsWritten). PhaseShiftHandling::RestoreOriginal
-// subtracts the reported correction (original = file value - shift) for
-// special investigations. RINEX 2 and 3.00 files carry no such record. For a
-// float IF solution any constant quarter cycle is absorbed by the arc bias.
-// Phase OSBs of the bias file are NOT applied (float ambiguities absorb them).
-// The biases come from a BiasProvider (bias_provider.h: Bias-SINEX today, SSR
-// later); "bias file" below means any provider.
+// (corrected = observed - OSB) and fills DualFrequencyObservation. The frequency
+// pair and the priorities of each system are one row of the signal table
+// (signalTable()); adding a system = adding its row. GLONASS rows are
+// frequency-division: the frequencies come per satellite from its channel.
+// The code alignment, the phase shifts and GLONASS channels: doc/measurement_model.md,
+// "Signal selection".
+// References: Bias-SINEX 1.00 (Schaer 2016) sec. 3.3 / 4.3 (OSB); RINEX 3.05
+// sec. 5.2 and table A2 (phase shifts); GLONASS ICD 5.1 sec. 3.3.1.4; RTKLIB 2.4.3
+// (Takasu 2013) for the form of the priority table.
 #include <array>
 #include <optional>
 #include <string>
 #include <vector>
 
-#include "ppp_bayes_tree/io/obs_epoch.h"
 #include "ppp_bayes_tree/io/rinex/rinex_obs_header.h"
 #include "ppp_bayes_tree/models/bias_provider.h"
 #include "ppp_bayes_tree/ppp/model/dual_frequency_observation.h"
 #include "ppp_bayes_tree/types/glonass_channels.h"
+#include "ppp_bayes_tree/types/obs_epoch.h"
 
 namespace ppp {
 
@@ -234,6 +201,12 @@ class SignalSelector {
   /// channel (false, with `why`, when the channel is unknown).
   bool pairFrequencies_hz(const SystemColumns& sc, const SatelliteId& sat, double& f1_hz, double& f2_hz,
                           std::string& why) const;
+  /// Satellite i of the epoch: its observation, or the reason it is skipped; a code
+  /// off the clock reference without a bias file is added to `unaligned`.
+  void selectSatellite(const ObsEpoch& epoch, std::size_t i, const SystemColumns& sc, SignalSelectionResult& out,
+                       std::vector<SatelliteId>& unaligned);
+  /// Corrects the codes by their OSBs; false (skipped, in `out`) when an OSB is required and missing.
+  bool correctCodeBiases(DualFrequencyObservation& d, SignalSelectionResult& out);
 
   SignalSelectionOptions options_;
   const BiasProvider* biases_;

@@ -1,69 +1,17 @@
 #pragma once
 // StochasticModel: a priori sigmas and process noise of the PPP state
-// (position, zenith wet delay, receiver clock, IF phase biases), shared by the
-// EKF and the smoother. The defaults serve real receiver data; they are the
-// method's table (methodTableStochasticModel(), the preset
-// config/method_table.yaml) except for the position a priori sigma and the
-// zenith wet delay's process noise:
+// (position, zenith wet delay, receiver clocks, IF phase biases, tropospheric
+// gradients), shared by the EKF and the smoother. The defaults serve real
+// receiver data; methodTableStochasticModel() gives the method's table (the
+// preset config/method_table.yaml). Every process noise is scaled with the real
+// elapsed time between processed epochs; the receiver clock is white. The code
+// variances carry a time-correlation factor (time_correlated_noise.h).
+// The values, why they differ from the method's, and the noise scaling:
+// doc/estimators.md, "The stochastic model".
 //
-//   state            a priori sigma   process noise         process
-//   position         30 m (table 1 m) 5 m/sqrt(s)           random walk (kinematic)
-//   zenith wet delay 0.3 m            1e-4 m/sqrt(s)        random walk
-//                                     (table 3e-5)
-//   receiver clock   3e6 m            2000 m/sqrt(s)        white
-//   IF phase bias    100 m            0                     constant per arc
-//   tropo gradients  1 mm             1e-5 m/sqrt(s)        random walk (not the method's; when estimated)
-//
-// Horizontal tropospheric gradients G_N, G_E (troposphere_gradient.h; with
-// measurement_model.troposphere.estimate_gradients): gradients are of the order
-// of a millimetre, a few millimetres across weather fronts (Chen & Herring 1997,
-// JGR 102(B9); Bar-Sever, Kroger & Borjesson 1998, JGR 103(B3), who estimate
-// them as random walks from a single receiver). 1e-5 m/sqrt(s)
-// = 0.6 mm/sqrt(h) and 1 mm a priori were best on real data (measured with
-// ppp_solve, ZWD q 1e-4: ESBC PPP-AR fixed north RMS after the first hour, EKF /
-// smoothed, q 2e-6: 0.58 / 0.60, 5e-6: 0.55 / 0.54, 1e-5: 0.54 / 0.50, 2e-5:
-// 0.54 / 0.51, 5e-5: 0.62 / 0.57 cm; the a priori sigma leaves ESBC unchanged
-// and costs CCJ2 its early fixes above 5 mm: first fix 18.5 min with 1-3 mm,
-// 32.5 min with 10 mm).
-//
-// Position 30 m: both estimators start at a code least-squares solution of the
-// SAME first-epoch codes, so a prior around it counts those codes twice. The
-// table's 1 m claims 1 m where the ionosphere-free code leaves metres (CCJ2
-// starts 3 m off) and the phase arcs then hang the trajectory on that start.
-// 30 m (RTKLIB's VAR_POS) leaves the start as a linearisation point only. A
-// sigma from the code solution's own covariance would count the codes twice
-// as well, so the prior stays uninformative. Measured with ppp_solve (GMF, mean
-// 3D EKF / smoothed, 1 m -> 30 m): CCJ2 35.2 / 8.70 -> 26.1 / 8.41 cm, ZIM2
-// 19.7 / 3.64 -> 18.8 / 3.63 cm.
-//
-// Zenith wet delay 1e-4 m/sqrt(s) (RTKLIB's default prn[2]; 6 mm/sqrt(h)): the
-// table's 3e-5 m/sqrt(s) (1.8 mm/sqrt(h)) holds the wet delay so stiff that its
-// real hourly changes of a centimetre go into the height of a kinematic
-// receiver. Measured with ppp_solve defaults + BLQ, 3e-5 -> 1e-4: ESBC day
-// GPS + Galileo kinematic, fixed epochs after the first hour, scatter E/N/U
-// about their mean 0.43 / 0.61 / 2.34 -> 0.41 / 0.62 / 1.84 cm (EKF); CCJ2
-// smoothed mean 3D 2.65 -> 2.42 cm; ZIM2 mean 3D EKF / smoothed 18.66 / 3.95 ->
-// 18.45 / 3.91 cm. The simulated flights keep the table's value (their wet
-// delay is a constant scale of the Hopfield model).
-//
-// Every process noise is scaled with the real elapsed time dt between two
-// processed epochs (data gaps and "no solution" epochs included):
-//  - random walk with spectral density q [m/sqrt(s)]: variance grows by q^2 dt;
-//  - white clock: the clock has no memory. At each prediction its correlations
-//    with the other states are removed and its variance is SET to
-//    min(q^2 dt, sigma0^2) (2000^2 m^2/s x dt, i.e. 11 km for 30 s; the a priori
-//    3e6 m (10 ms) applies to the first epoch and caps long gaps). The value kept
-//    as the predicted mean only serves as the linearisation point.
-//
-// Code noise correlation (time_correlated_noise.h): code multipath is a
-// Gauss-Markov error with a correlation time of seconds to minutes, so code
-// samples taken closer than that are not independent. Each code variance of
-// the update (EKF) or code factor (smoother) is multiplied by (1 + rho) / (1 - rho),
-// rho = exp(-dt / code_correlation_time_s), dt the interval since the last
-// solved epoch (1 at the first epoch and after long gaps): the code then brings
-// the same information per second at 1 Hz as at 30 s, and the float covariance
-// holds the correlated code error instead of averaging it away at the sampling
-// rate. The screening keeps the white sigma (one sample's variance is unchanged).
+// References: Chen G., Herring T.A. (1997) JGR 102(B9) and Bar-Sever Y.E.,
+// Kroger P.M., Borjesson J.A. (1998) JGR 103(B3) (gradients as random walks);
+// RTKLIB (Takasu) for the position and wet-delay defaults.
 #include <string>
 
 namespace ppp {

@@ -2,39 +2,23 @@
 // Broadcast single-point positioning: one epoch's code pseudoranges with
 // broadcast orbits and clocks (BroadcastEphemerisStore), metre level. It needs
 // no precise products, so a receiver recording (UBX, RTCM) with its own
-// navigation data can be positioned on its own.
-//
-// Model (choices documented, after the standard SPP of e.g. RTKLIB pntpos.c and
-// Misra & Enge, "Global Positioning System", ch. 6):
-//  - Dual-frequency ionosphere-free code, so no ionosphere model is needed:
-//    GPS/QZSS C1C + the first of C2L, C2S, C2X, C2W, C5Q, C5I, C5X present;
-//    Galileo C1C (or C1B, C1X) + the first of C5Q, C5I, C5X, C7Q, C7I, C7X.
-//    The GPS broadcast clock refers to the L1/L2 P(Y) combination; the C/A and
-//    L2C inter-signal corrections (ISC, a few dm at most) are not applied.
-//    A Galileo I/NAV clock refers to E1/E5b; for an E1/E5a pair it is moved with
-//    the BGDs: clock - BGD(E1,E5b) + BGD(E1,E5a) (OS SIS ICD 5.1.5).
-//  - Transmission time t_rx - P/c - dt_sat (the receiver clock cancels), Earth
-//    rotation during the signal's flight (Sagnac), broadcast clock with its
-//    relativistic term.
-//  - Troposphere: Saastamoinen zenith delays of a standard atmosphere at the
-//    current height, Niell mapping.
-//  - Optionally the IF code smoothed with the IF carrier phase
-//    (IonosphereFreeCodeSmoother: Hatch filter, R. Hatch 1982, "The synergism of
-//    GPS code and carrier measurements"), which takes the code noise (tripled by
-//    the IF combination) down to the multipath level.
-//  - Unknowns: position and one receiver clock per system (so an inter-system
-//    bias is absorbed). Weights 1 / sin^2(elevation). Elevation mask after the
-//    first iteration; the worst residual above `outlier_threshold_m` is removed
-//    while redundancy remains.
+// navigation data can be positioned on its own. Dual-frequency ionosphere-free
+// code (optionally carrier-smoothed), Saastamoinen and Niell troposphere, one
+// receiver clock per system, elevation weights, outlier removal while redundancy
+// remains. The model's choices: doc/offline_tools.md, "Broadcast single-point
+// positioning".
+// References: RTKLIB pntpos.c (Takasu); Misra P., Enge P., Global Positioning
+// System, ch. 6; Hatch R. (1982) The synergism of GPS code and carrier
+// measurements; Galileo OS SIS ICD 5.1.5 (BGD).
 #include <Eigen/Core>
 #include <map>
 #include <optional>
 #include <string>
 #include <vector>
 
-#include "ppp_bayes_tree/io/obs_epoch.h"
 #include "ppp_bayes_tree/io/rinex/rinex_obs_header.h"
 #include "ppp_bayes_tree/models/broadcast_ephemeris_store.h"
+#include "ppp_bayes_tree/types/obs_epoch.h"
 
 namespace ppp {
 

@@ -14,7 +14,6 @@
 #include <string>
 #include <vector>
 
-#include "ppp_bayes_tree/io/obs_epoch.h"
 #include "ppp_bayes_tree/io/rinex/rinex_obs_header.h"
 #include "ppp_bayes_tree/models/antenna_calibration_provider.h"
 #include "ppp_bayes_tree/models/bias_provider.h"
@@ -23,6 +22,7 @@
 #include "ppp_bayes_tree/ppp/model/ppp_measurement_model.h"
 #include "ppp_bayes_tree/ppp/model/signal_selection.h"
 #include "ppp_bayes_tree/ppp/pipeline/ppp_pipeline.h"
+#include "ppp_bayes_tree/types/obs_epoch.h"
 
 namespace ppp {
 

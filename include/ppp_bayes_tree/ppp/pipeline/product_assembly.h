@@ -2,53 +2,19 @@
 // ProductAssembly: the one place that turns a run's product inputs into what the
 // epoch processor and the estimator need. ppp_solve (PppPipeline), the ROS nodes
 // (PppNode) and the live input (LiveGnssInput's SSR biases) all go through it.
-//
-// Inputs (ProductAssemblyInputs): orbits and clocks as precise files (SP3 +
-// RINEX clock), as broadcast navigation files (+ an SSR recording), or streamed
-// (the node's corrections topic, the live SSR feed: then only what the stream
-// declares is known at the start), each a row of the table of sources
-// (product_sources.h); ANTEX files, a Bias-SINEX file, a BLQ file.
-//
-// Outputs:
-//  - the ephemeris, the antenna calibrations, the code biases, the ocean loading;
-//  - the systems processed (signals.systems_from_products, the default: those of
-//    GPS | GLONASS | Galileo that the products and the satellite antennas cover;
-//    a system without them is skipped with the reason in the notes). Covered:
-//    precise products carry its satellites, broadcast files have its records
-//    (with an SSR recording: the stream corrects its satellites), the ANTEX
-//    files calibrate those satellites; GLONASS also needs its frequency
-//    channels (observation header or navigation records) and is not taken on a
-//    live SSR feed (product_sources.h);
-//  - the satellite antennas by family: with several ANTEX files, each satellite's
-//    block comes from the family the products name (SP3 "/* PCV:", clock
-//    "SYS / PCVS APPLIED"; models/antex_calibrations.h), and only the blocks of
-//    the satellites in use are checked against that model;
-//  - the PPP-AR gate (ArGateVerdict) and the phase-bias provider the epoch
-//    processor gets (PppEpochProcessor::setPhaseBiases): nullptr unless the gate
-//    lets the run fix;
-//  - the coverage of the observations (product_coverage.h): the products' spans
-//    against the observations', and the observed satellites of the systems
-//    processed against those the orbits/clocks (and code OSBs) carry: notes, or a
-//    refusal when nothing could be solved;
-//  - the effective configuration (config()): systems and
-//    ambiguity_resolution.enabled resolved. Estimators must be made from it.
-//
-// The PPP-AR gate (ambiguity_resolution.enabled):
-//  - false: float ("disabled");
-//  - auto (default): fixes when (a) the phase information is consistent with the
-//    clocks: phase OSBs of the clocks' own analysis centre
-//    (phase_bias_consistency.h), integer-recovery clocks (the GRG "WL" comment
-//    lines of the clock header: Laurichesse et al. 2009, Navigation 56(2)), or
-//    SSR phase biases (they are made with the stream's clocks); and (b) the
-//    satellite antennas in use are of the products' model
-//    (antenna_model_consistency.h). Otherwise float, with the reason. Phase
-//    inputs are checked first (io/bias_bounds.h): implausible phase OSB rows,
-//    conflicting duplicates and wide-lane lines are problems with their file and
-//    line and are not used; when nothing usable is left the reason says so
-//    (PhaseInformationRefused);
-//  - true: fixes with whatever consistent phase information there is; refuses only
-//    a known antenna-model difference (the behaviour before `auto`).
-// allow_antenna_model_mismatch lets both fix despite a different or unknown model.
+// Inputs (ProductAssemblyInputs): orbits and clocks as precise files, broadcast
+// files (+ an SSR recording) or streamed (product_sources.h); ANTEX, Bias-SINEX
+// and BLQ files. Outputs: the ephemeris, the antenna calibrations (each
+// satellite from the products' antenna family), the code biases, the ocean
+// loading; the systems processed (signals.systems: auto); the coverage of the
+// observations (product_coverage.h); the PPP-AR gate (ArGateVerdict) with the
+// phase-bias provider for the epoch processor (nullptr unless the run may fix);
+// and the effective configuration (config()), from which estimators must be made.
+// The gate's conditions and verdicts: doc/ppp_ar.md, "When a run fixes"; the
+// systems auto takes: doc/offline_tools.md, "What the products allow", and
+// doc/glonass.md.
+// References: Laurichesse D. et al. (2009) Navigation 56(2) (integer-recovery
+// clocks); Schaer S. et al. (2021) J Geod 95:81 (phase OSBs).
 #include <memory>
 #include <optional>
 #include <set>

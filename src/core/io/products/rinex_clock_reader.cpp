@@ -249,77 +249,108 @@ class ClockParser {
   // The layout is told apart by the year: columns 9-12 in the old one.
   void readClockRecord(bool satellite) {
     const std::size_t line_no = src_.lineNumber();
+    // 1. The layout and the name; records of systems or kinds not kept are skipped.
     long long year_probe = 0;
     const bool old_layout = parseInt(column(line_, 8, 4), year_probe) == FieldStatus::Ok;
     const std::string_view name_text = trim(column(line_, 3, old_layout ? 4 : 9));
+    if (!keepsRecordKind(satellite, name_text)) return;
+    const std::string name(name_text);
+    // 2. The epoch and the number of values.
+    const auto t = tokens(column(line_, old_layout ? 8 : 13, std::string::npos), 12);
+    ClockEpochFields e;
+    if (!parseEpochFields(t, e) || e.n < 1 || e.n > 6) {
+      file_.report.addProblem(line_no, "malformed clock record: skipped");
+      if (e.ok && e.n > 2) skipContinuation();
+      return;
+    }
+    if (satellite && (options_.filter.first || options_.filter.last)) {
+      const auto time = toGpst(e.y, e.mo, e.d, e.h, e.mi, e.s);
+      if (time && !options_.filter.keepsTime(*time)) {
+        file_.report.count("AS records outside the time window skipped");
+        if (e.n > 2) skipContinuation();
+        return;
+      }
+    }
+    // 3. The values: two on the line, the others on a continuation line.
+    std::array<double, 6> v{};
+    std::size_t have = 0;
+    if (!readLineValues(t, e.n, line_no, v, have)) return;
+    if (e.n > 2 && !readContinuation(static_cast<std::size_t>(e.n), v, have)) {
+      file_.report.addProblem(line_no, "clock record continuation line missing or malformed: skipped");
+      return;
+    }
+    // 4. The record.
+    const auto time = toGpst(e.y, e.mo, e.d, e.h, e.mi, e.s);
+    if (!time) {
+      file_.report.addProblem(line_no, "invalid epoch in clock record: skipped");
+      return;
+    }
+    store(satellite, name, clockRecord(*time, v, e.n), line_no);
+  }
+
+  /// False (counted, continuation skipped) for AS records of systems not kept and,
+  /// unless asked for, AR records.
+  bool keepsRecordKind(bool satellite, std::string_view name_text) {
     if (satellite && !name_text.empty() && !options_.filter.systems.empty()) {
       const auto sys = systemFromLetter(name_text[0]);
       if (sys && !options_.filter.keepsSystem(*sys)) {
         file_.report.count("AS records of other systems skipped");
         skipContinuation();
-        return;
+        return false;
       }
     }
     if (!satellite && !options_.keep_receiver_clocks) {
       file_.report.count("AR records skipped");
       skipContinuation();
-      return;
+      return false;
     }
-    const std::string name(name_text);
-    const std::string_view rest = column(line_, old_layout ? 8 : 13, std::string::npos);
-    const auto t = tokens(rest, 12);
+    return true;
+  }
+
+  /// The epoch and value count of a clock record (tokens after the name).
+  struct ClockEpochFields {
     long long y = 0, mo = 0, d = 0, h = 0, mi = 0, n = 0;
     double s = 0;
-    bool ok = t.size() >= 8 && parseInt(t[0], y) == FieldStatus::Ok && parseInt(t[1], mo) == FieldStatus::Ok &&
-              parseInt(t[2], d) == FieldStatus::Ok && parseInt(t[3], h) == FieldStatus::Ok &&
-              parseInt(t[4], mi) == FieldStatus::Ok && parseDouble(t[5], s) == FieldStatus::Ok &&
-              parseInt(t[6], n) == FieldStatus::Ok;
-    if (!ok || n < 1 || n > 6) {
-      file_.report.addProblem(line_no, "malformed clock record: skipped");
-      if (ok && n > 2) skipContinuation();
-      return;
-    }
-    if (satellite && (options_.filter.first || options_.filter.last)) {
-      const auto time = toGpst(y, mo, d, h, mi, s);
-      if (time && !options_.filter.keepsTime(*time)) {
-        file_.report.count("AS records outside the time window skipped");
-        if (n > 2) skipContinuation();
-        return;
-      }
-    }
-    std::array<double, 6> v{};
-    std::size_t have = 0;
+    bool ok = false;
+  };
+  static bool parseEpochFields(const std::vector<std::string_view>& t, ClockEpochFields& e) {
+    e.ok = t.size() >= 8 && parseInt(t[0], e.y) == FieldStatus::Ok && parseInt(t[1], e.mo) == FieldStatus::Ok &&
+           parseInt(t[2], e.d) == FieldStatus::Ok && parseInt(t[3], e.h) == FieldStatus::Ok &&
+           parseInt(t[4], e.mi) == FieldStatus::Ok && parseDouble(t[5], e.s) == FieldStatus::Ok &&
+           parseInt(t[6], e.n) == FieldStatus::Ok;
+    return e.ok;
+  }
+
+  /// The (up to two) values on the record line; false (a problem) when one is
+  /// malformed or fewer than announced.
+  bool readLineValues(const std::vector<std::string_view>& t, long long n, std::size_t line_no,
+                      std::array<double, 6>& v, std::size_t& have) {
     for (std::size_t i = 7; i < t.size() && have < 2; ++i) {
       if (parseDouble(t[i], v[have]) != FieldStatus::Ok) {
         file_.report.addProblem(line_no, "malformed value in clock record: skipped");
         if (n > 2) skipContinuation();
-        return;
+        return false;
       }
       ++have;
     }
     if (static_cast<long long>(have) < std::min<long long>(n, 2)) {
       file_.report.addProblem(line_no, "clock record has fewer values than announced: skipped");
       if (n > 2) skipContinuation();
-      return;
+      return false;
     }
-    if (n > 2 && !readContinuation(static_cast<std::size_t>(n), v, have)) {
-      file_.report.addProblem(line_no, "clock record continuation line missing or malformed: skipped");
-      return;
-    }
-    const auto time = toGpst(y, mo, d, h, mi, s);
-    if (!time) {
-      file_.report.addProblem(line_no, "invalid epoch in clock record: skipped");
-      return;
-    }
+    return true;
+  }
+
+  static ClockRecord clockRecord(const GnssTime& time, const std::array<double, 6>& v, long long n) {
     ClockRecord rec;
-    rec.time = *time;
+    rec.time = time;
     rec.clock_bias_s = v[0];
     if (n >= 2) rec.clock_bias_sigma_s = v[1];
     if (n >= 3) rec.clock_rate_s_per_s = v[2];
     if (n >= 4) rec.clock_rate_sigma_s_per_s = v[3];
     if (n >= 5) rec.clock_acceleration_per_s = v[4];
     if (n >= 6) rec.clock_acceleration_sigma_per_s = v[5];
-    store(satellite, name, rec, line_no);
+    return rec;
   }
 
   bool readContinuation(std::size_t n, std::array<double, 6>& v, std::size_t& have) {

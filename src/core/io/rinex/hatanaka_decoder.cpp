@@ -283,6 +283,25 @@ bool HatanakaDecoder::dataEpoch() {
 }
 
 bool HatanakaDecoder::decodeEpoch(const std::string& diff_line) {
+  // 1. The epoch line, restored from its difference to the previous one.
+  const int nsat = restoreEpochLine(diff_line);
+  if (nsat < 0) return false;
+  // 2. The receiver clock offset line.
+  bool has_clock = false;
+  if (!decodeClock(has_clock)) return false;
+  // 3. The epoch line(s) of the restored record.
+  if (!writeEpochLines(nsat, has_clock)) return false;
+  // 4. The satellite records.
+  cur_.resize(static_cast<std::size_t>(nsat));
+  for (int i = 0; i < nsat; ++i) {
+    if (!decodeSatellite(i)) return false;
+  }
+  out_.append(epoch_out_);
+  prev_.swap(cur_);
+  return true;
+}
+
+int HatanakaDecoder::restoreEpochLine(const std::string& diff_line) {
   const bool v2 = rinex_major_ == 2;
   const std::size_t offset = v2 ? 3 : 6;
   const char top = v2 ? ' ' : '>';
@@ -301,191 +320,197 @@ bool HatanakaDecoder::decodeEpoch(const std::string& diff_line) {
   if (line.empty() || line[0] != top || line.size() < 26 + offset || line[offset + 23] != ' ' ||
       line[offset + 24] != ' ' || !isDigit(line[offset + 25])) {
     problem("bad epoch line; skipping to the next initialised epoch");
-    return false;
+    return -1;
   }
-  const std::size_t nsat_col = v2 ? 29 : 32;
-  const std::size_t list_col = v2 ? 32 : 41;
-  const int nsat = smallInt(column(line, nsat_col, 3), -1);
-  if (nsat < 0 || nsat > kMaxSatellites || line.size() < list_col + 3 * static_cast<std::size_t>(nsat)) {
+  const int nsat = smallInt(column(line, v2 ? 29 : 32, 3), -1);
+  if (nsat < 0 || nsat > kMaxSatellites || line.size() < listColumn() + 3 * static_cast<std::size_t>(nsat)) {
     problem("bad satellite count or list in epoch line");
-    return false;
+    return -1;
   }
+  return nsat;
+}
 
-  // Receiver clock offset line.
+std::size_t HatanakaDecoder::listColumn() const { return rinex_major_ == 2 ? 32 : 41; }
+
+bool HatanakaDecoder::decodeClock(bool& has_clock) {
   std::string& clock_line = work_;
   if (!nextInner(clock_line)) {
     problem("epoch truncated at end of data");
     return false;
   }
-  bool has_clock = false;
-  if (!clock_line.empty()) {
+  if (clock_line.empty()) {
+    if (clock_->arc_order >= 0) clock_->count = 0;  // CRX2RNX: the next value restarts the arc at its order
+    return true;
+  }
+  int order = -1;
+  std::int64_t v = 0;
+  if (!parseToken(clock_line, order, v)) {
+    problem("bad receiver clock line '" + clock_line.substr(0, 40) + "'");
+    return false;
+  }
+  if (order >= 0) {
+    *clock_ = Series{};
+    clock_->arc_order = static_cast<std::int8_t>(order);
+  } else if (clock_->arc_order < 0) {
+    problem("receiver clock difference without initialisation");
+    return false;
+  }
+  if (!clock_->push(v)) {
+    problem("receiver clock overflows 64 bits");
+    return false;
+  }
+  has_clock = true;
+  return true;
+}
+
+bool HatanakaDecoder::writeEpochLines(int nsat, bool has_clock) {
+  const std::string& line = epoch_line_;
+  const bool v2 = rinex_major_ == 2;
+  // RINEX 2: the clock offset in F12.9 at column 69, the satellite list on
+  // continuation lines of 12; RINEX 3: F15.12 at column 42.
+  const std::size_t clock_col = v2 ? 68 : 41;
+  const int decimals = v2 ? 9 : 12;
+  const int width = v2 ? 12 : 15;
+  epoch_out_.clear();
+  epoch_out_.append(line, 0, std::min<std::size_t>(line.size(), clock_col));
+  if (has_clock) {
+    epoch_out_.resize(clock_col, ' ');
+    char buf[15];
+    if (!formatFixed(clock_->d[0], decimals, width, buf)) {
+      problem(v2 ? "receiver clock offset out of the F12.9 range" : "receiver clock offset out of the F15.12 range");
+      return false;
+    }
+    epoch_out_.append(buf, static_cast<std::size_t>(width));
+  } else if (!v2) {
+    chopBlanks(epoch_out_);
+  }
+  epoch_out_.push_back('\n');
+  if (!v2) return true;
+  for (int first = 12; first < nsat; first += 12) {
+    epoch_out_.append(32, ' ');
+    epoch_out_.append(line, listColumn() + 3 * first, 3 * std::min(12, nsat - first));
+    epoch_out_.push_back('\n');
+  }
+  return true;
+}
+
+bool HatanakaDecoder::decodeSatellite(int i) {
+  const char* id = epoch_line_.data() + listColumn() + 3 * i;
+  SatState& sat = cur_[i];
+  std::memcpy(sat.id, id, 3);
+  sat.ntype = rinex_major_ == 2 ? rinex2_ntype_ : ntype_by_letter_[static_cast<unsigned char>(id[0])];
+  if (sat.ntype < 0) {
+    problem("satellite '" + std::string(id, 3) + "' of a system without observation types");
+    return false;
+  }
+  const SatState* prev = previousState(i, sat);
+  if (prev != nullptr) {
+    sat.series.assign(prev->series.begin(), prev->series.end());
+    sat.flags.assign(prev->flags);
+  } else {
+    sat.series.assign(static_cast<std::size_t>(sat.ntype), Series{});
+    sat.flags.assign(2 * static_cast<std::size_t>(sat.ntype), ' ');
+  }
+  if (!nextInner(in_line_)) {
+    problem("epoch truncated at end of data");
+    return false;
+  }
+  return readSatelliteFields(sat, prev != nullptr) && writeSatelliteRecord(sat);
+}
+
+const HatanakaDecoder::SatState* HatanakaDecoder::previousState(int i, const SatState& sat) const {
+  const SatState* prev = nullptr;
+  if (static_cast<std::size_t>(i) < prev_.size() && std::memcmp(prev_[i].id, sat.id, 3) == 0) {
+    prev = &prev_[i];
+  } else {
+    for (const SatState& p : prev_) {
+      if (std::memcmp(p.id, sat.id, 3) == 0) {
+        prev = &p;
+        break;
+      }
+    }
+  }
+  if (prev != nullptr && prev->ntype != sat.ntype) prev = nullptr;
+  return prev;
+}
+
+bool HatanakaDecoder::readSatelliteFields(SatState& sat, bool has_previous) {
+  // Split the fields: ntype space-terminated fields, then the flags.
+  const std::size_t nt = static_cast<std::size_t>(sat.ntype);
+  std::string_view data = in_line_;
+  std::size_t pos = 0;
+  for (std::size_t j = 0; j < nt; ++j) {
+    std::string_view token;
+    if (pos <= data.size()) {
+      std::size_t end = data.find(' ', pos);
+      if (end == std::string_view::npos) end = data.size();
+      token = data.substr(pos, end - pos);
+      pos = end + 1;
+    }
+    Series& s = sat.series[j];
+    if (token.empty()) {
+      s.arc_order = -1;
+      continue;
+    }
     int order = -1;
     std::int64_t v = 0;
-    if (!parseToken(clock_line, order, v)) {
-      problem("bad receiver clock line '" + clock_line.substr(0, 40) + "'");
+    if (!parseToken(token, order, v)) {
+      problem("bad data field '" + std::string(token.substr(0, 30)) + "'");
       return false;
     }
     if (order >= 0) {
-      *clock_ = Series{};
-      clock_->arc_order = static_cast<std::int8_t>(order);
-    } else if (clock_->arc_order < 0) {
-      problem("receiver clock difference without initialisation");
+      s = Series{};
+      s.arc_order = static_cast<std::int8_t>(order);
+    } else if (!has_previous || s.arc_order < 0) {
+      problem("difference without arc initialisation for " + std::string(sat.id, 3));
       return false;
     }
-    if (!clock_->push(v)) {
-      problem("receiver clock overflows 64 bits");
+    if (!s.push(v)) {
+      problem("data value overflows 64 bits");
       return false;
     }
-    has_clock = true;
-  } else if (clock_->arc_order >= 0) {
-    clock_->count = 0;  // CRX2RNX: the next value restarts the arc at its order
   }
+  const std::string_view dflags = pos < data.size() ? data.substr(pos) : std::string_view();
+  for (std::size_t k = 0; k < dflags.size() && k < sat.flags.size(); ++k) {
+    const char c = dflags[k];
+    if (c != ' ') sat.flags[k] = c == '&' ? ' ' : c;
+  }
+  return true;
+}
 
-  // Epoch line(s) of the restored record.
-  epoch_out_.clear();
-  if (v2) {
-    epoch_out_.append(line, 0, std::min<std::size_t>(line.size(), 68));
-    if (has_clock) {
-      epoch_out_.resize(68, ' ');
-      char buf[12];
-      if (!formatFixed(clock_->d[0], 9, 12, buf)) {
-        problem("receiver clock offset out of the F12.9 range");
+bool HatanakaDecoder::writeSatelliteRecord(SatState& sat) {
+  // Restored record: RINEX 3 satellite + all fields; RINEX 2 five per line.
+  const bool v2 = rinex_major_ == 2;
+  const std::size_t nt = static_cast<std::size_t>(sat.ntype);
+  std::size_t line_start = epoch_out_.size();
+  if (!v2) epoch_out_.append(sat.id, 3);
+  for (std::size_t j = 0; j < nt; ++j) {
+    const Series& s = sat.series[j];
+    char buf[16];
+    if (s.arc_order >= 0) {
+      if (!formatFixed(s.d[0], 3, 14, buf)) {
+        problem("data value out of the F14.3 range");
         return false;
       }
-      epoch_out_.append(buf, 12);
+    } else {
+      std::memset(buf, ' ', 14);
+      if (crinex_major_ == 1) sat.flags[2 * j] = sat.flags[2 * j + 1] = ' ';
     }
-    epoch_out_.push_back('\n');
-    for (int first = 12; first < nsat; first += 12) {
-      epoch_out_.append(32, ' ');
-      epoch_out_.append(line, list_col + 3 * first, 3 * std::min(12, nsat - first));
+    buf[14] = sat.flags[2 * j];
+    buf[15] = sat.flags[2 * j + 1];
+    epoch_out_.append(buf, 16);
+    if (j + 1 == nt || (v2 && (j + 1) % 5 == 0)) {
+      std::size_t n = epoch_out_.size();
+      while (n > line_start && epoch_out_[n - 1] == ' ') --n;
+      epoch_out_.resize(n);
       epoch_out_.push_back('\n');
+      line_start = epoch_out_.size();
     }
-  } else {
-    epoch_out_.append(line, 0, std::min<std::size_t>(line.size(), 41));
-    if (has_clock) {
-      epoch_out_.resize(41, ' ');
-      char buf[15];
-      if (!formatFixed(clock_->d[0], 12, 15, buf)) {
-        problem("receiver clock offset out of the F15.12 range");
-        return false;
-      }
-      epoch_out_.append(buf, 15);
-    } else {
-      chopBlanks(epoch_out_);
-    }
+  }
+  if (nt == 0) {
+    chopBlanks(epoch_out_);
     epoch_out_.push_back('\n');
   }
-
-  // Satellite records.
-  cur_.resize(static_cast<std::size_t>(nsat));
-  for (int i = 0; i < nsat; ++i) {
-    const char* id = line.data() + list_col + 3 * i;
-    SatState& sat = cur_[i];
-    std::memcpy(sat.id, id, 3);
-    sat.ntype = v2 ? rinex2_ntype_ : ntype_by_letter_[static_cast<unsigned char>(id[0])];
-    if (sat.ntype < 0) {
-      problem("satellite '" + std::string(id, 3) + "' of a system without observation types");
-      return false;
-    }
-    const SatState* prev = nullptr;
-    if (static_cast<std::size_t>(i) < prev_.size() && std::memcmp(prev_[i].id, id, 3) == 0) {
-      prev = &prev_[i];
-    } else {
-      for (const SatState& p : prev_) {
-        if (std::memcmp(p.id, id, 3) == 0) {
-          prev = &p;
-          break;
-        }
-      }
-    }
-    if (prev != nullptr && prev->ntype != sat.ntype) prev = nullptr;
-    const std::size_t nt = static_cast<std::size_t>(sat.ntype);
-    if (prev != nullptr) {
-      sat.series.assign(prev->series.begin(), prev->series.end());
-      sat.flags.assign(prev->flags);
-    } else {
-      sat.series.assign(nt, Series{});
-      sat.flags.assign(2 * nt, ' ');
-    }
-
-    if (!nextInner(in_line_)) {
-      problem("epoch truncated at end of data");
-      return false;
-    }
-    // Split the fields: ntype space-terminated fields, then the flags.
-    std::string_view data = in_line_;
-    std::size_t pos = 0;
-    for (std::size_t j = 0; j < nt; ++j) {
-      std::string_view token;
-      if (pos <= data.size()) {
-        std::size_t end = data.find(' ', pos);
-        if (end == std::string_view::npos) end = data.size();
-        token = data.substr(pos, end - pos);
-        pos = end + 1;
-      }
-      Series& s = sat.series[j];
-      if (token.empty()) {
-        s.arc_order = -1;
-        continue;
-      }
-      int order = -1;
-      std::int64_t v = 0;
-      if (!parseToken(token, order, v)) {
-        problem("bad data field '" + std::string(token.substr(0, 30)) + "'");
-        return false;
-      }
-      if (order >= 0) {
-        s = Series{};
-        s.arc_order = static_cast<std::int8_t>(order);
-      } else if (prev == nullptr || s.arc_order < 0) {
-        problem("difference without arc initialisation for " + std::string(id, 3));
-        return false;
-      }
-      if (!s.push(v)) {
-        problem("data value overflows 64 bits");
-        return false;
-      }
-    }
-    const std::string_view dflags = pos < data.size() ? data.substr(pos) : std::string_view();
-    for (std::size_t k = 0; k < dflags.size() && k < sat.flags.size(); ++k) {
-      const char c = dflags[k];
-      if (c != ' ') sat.flags[k] = c == '&' ? ' ' : c;
-    }
-
-    // Restored record: RINEX 3 satellite + all fields; RINEX 2 five per line.
-    const std::size_t line_start_base = epoch_out_.size();
-    std::size_t line_start = line_start_base;
-    if (!v2) epoch_out_.append(id, 3);
-    for (std::size_t j = 0; j < nt; ++j) {
-      const Series& s = sat.series[j];
-      char buf[16];
-      if (s.arc_order >= 0) {
-        if (!formatFixed(s.d[0], 3, 14, buf)) {
-          problem("data value out of the F14.3 range");
-          return false;
-        }
-      } else {
-        std::memset(buf, ' ', 14);
-        if (crinex_major_ == 1) sat.flags[2 * j] = sat.flags[2 * j + 1] = ' ';
-      }
-      buf[14] = sat.flags[2 * j];
-      buf[15] = sat.flags[2 * j + 1];
-      epoch_out_.append(buf, 16);
-      if (j + 1 == nt || (v2 && (j + 1) % 5 == 0)) {
-        std::size_t n = epoch_out_.size();
-        while (n > line_start && epoch_out_[n - 1] == ' ') --n;
-        epoch_out_.resize(n);
-        epoch_out_.push_back('\n');
-        line_start = epoch_out_.size();
-      }
-    }
-    if (nt == 0) {
-      chopBlanks(epoch_out_);
-      epoch_out_.push_back('\n');
-    }
-  }
-  out_.append(epoch_out_);
-  prev_.swap(cur_);
   return true;
 }
 

@@ -240,28 +240,133 @@ void Rtcm3Decoder::flushPendingEpoch() {
   pending_.reset();
 }
 
-void Rtcm3Decoder::decodeMsm(const Rtcm3Frame& frame, GnssSystem system, int msm) {
-  const auto& p = frame.payload;
-  BitReader r(p.data(), p.size(), 12);
-  const int station_id = static_cast<int>(r.u(12));
-  std::int64_t epoch_ms = 0;
-  int glonass_dow = 0;
+/// The fields of one MSM message (RTCM 10403.3 3.5.12.3 to 3.5.12.5).
+struct MsmFields {
+  // Header.
+  int station_id = 0;
+  std::int64_t epoch_ms = 0;     // time of week (GLONASS: time of day)
+  int glonass_dow = 0;           // DF416, 7 = unknown
+  bool multiple = false;         // DF393: more messages of this epoch follow
+  std::vector<int> sats, sigs;   // satellite and signal ids (from 1) of the masks
+  std::vector<bool> cell;        // cell mask, satellite after satellite
+  std::size_t ncell = 0;         // cells present
+  // Satellite data.
+  std::vector<std::optional<double>> rough_m, rate_mps;
+  std::vector<int> ext;          // extended satellite information (15 when absent)
+  // Signal data, one per cell present.
+  std::vector<std::optional<double>> fine_pr_m, fine_cp_m, fine_rate_mps, cnr_dbhz;
+  std::vector<std::uint32_t> lock_ms;
+  std::vector<bool> half;
+};
+
+namespace {
+
+bool msmExtended(int msm) { return msm == 5 || msm == 7; }  // MSM5/7: extended info and rates
+bool msmHigh(int msm) { return msm == 6 || msm == 7; }      // MSM6/7: high resolution
+
+/// The header up to the signal mask (the reader stands after DF002).
+void readMsmHeader(BitReader& r, GnssSystem system, MsmFields& m) {
+  m.station_id = static_cast<int>(r.u(12));
   if (system == GnssSystem::GLONASS) {
-    glonass_dow = static_cast<int>(r.u(3));
-    epoch_ms = static_cast<std::int64_t>(r.u(27));
+    m.glonass_dow = static_cast<int>(r.u(3));
+    m.epoch_ms = static_cast<std::int64_t>(r.u(27));
   } else {
-    epoch_ms = static_cast<std::int64_t>(r.u(30));
+    m.epoch_ms = static_cast<std::int64_t>(r.u(30));
   }
-  const bool multiple = r.flag();
+  m.multiple = r.flag();
   r.skip(3 + 7 + 2 + 2 + 1 + 3);  // IODS, reserved, clock steering, external clock, smoothing
   const std::uint64_t sat_mask = r.u(64);
   const std::uint32_t sig_mask = static_cast<std::uint32_t>(r.u(32));
-  std::vector<int> sats, sigs;
   for (int i = 0; i < 64; ++i)
-    if (sat_mask & (1ULL << (63 - i))) sats.push_back(i + 1);
+    if (sat_mask & (1ULL << (63 - i))) m.sats.push_back(i + 1);
   for (int i = 0; i < 32; ++i)
-    if (sig_mask & (1u << (31 - i))) sigs.push_back(i + 1);
-  const std::size_t nsat = sats.size(), nsig = sigs.size();
+    if (sig_mask & (1u << (31 - i))) m.sigs.push_back(i + 1);
+}
+
+void readMsmCellMask(BitReader& r, MsmFields& m) {
+  m.cell.resize(m.sats.size() * m.sigs.size());
+  for (std::size_t i = 0; i < m.cell.size(); ++i) {
+    m.cell[i] = r.flag();
+    m.ncell += m.cell[i] ? 1 : 0;
+  }
+}
+
+/// Bits of the satellite and of the signal data the message must still hold.
+std::size_t msmDataBits(int msm, const MsmFields& m) {
+  const std::size_t sat_bits = msmExtended(msm) ? 36 : 18;
+  const std::size_t cell_bits = msm == 4 ? 48 : msm == 5 ? 63 : msm == 6 ? 65 : 80;
+  return m.sats.size() * sat_bits + m.ncell * cell_bits;
+}
+
+/// Satellite data: rough ranges (DF397, DF398), extended information, rough rates (DF399).
+void readMsmSatellites(BitReader& r, bool extended, MsmFields& m) {
+  const std::size_t nsat = m.sats.size();
+  m.rough_m.resize(nsat);
+  m.rate_mps.resize(nsat);
+  m.ext.assign(nsat, 15);
+  std::vector<unsigned> rough_int(nsat);
+  for (std::size_t i = 0; i < nsat; ++i) rough_int[i] = static_cast<unsigned>(r.u(8));
+  if (extended)
+    for (std::size_t i = 0; i < nsat; ++i) m.ext[i] = static_cast<int>(r.u(4));
+  for (std::size_t i = 0; i < nsat; ++i) {
+    const unsigned mod = static_cast<unsigned>(r.u(10));
+    if (rough_int[i] != 255) {
+      double v = rough_int[i] * kRangeMs_m;
+      v += mod * p2(-10) * kRangeMs_m;
+      m.rough_m[i] = v;
+    }
+  }
+  if (extended)
+    for (std::size_t i = 0; i < nsat; ++i) {
+      const std::int64_t v = r.s(14);
+      if (v != -8192) m.rate_mps[i] = static_cast<double>(v);
+    }
+}
+
+/// A fine range or phase field of `bits` bits scaled by 2^exponent ms; nullopt
+/// for the invalid value (the most negative).
+std::optional<double> fineRange_m(BitReader& r, int bits, int exponent) {
+  const std::int64_t v = r.s(bits);
+  if (v == -(std::int64_t{1} << (bits - 1))) return std::nullopt;
+  return v * p2(exponent) * kRangeMs_m;
+}
+
+/// Signal data, one value per cell and field: fine ranges, fine phases, lock
+/// times, half-cycle flags, CNR and (MSM5/7) fine rates.
+void readMsmSignals(BitReader& r, int msm, MsmFields& m) {
+  const bool high = msmHigh(msm);
+  const std::size_t ncell = m.ncell;
+  m.fine_pr_m.resize(ncell);
+  m.fine_cp_m.resize(ncell);
+  m.fine_rate_mps.resize(ncell);
+  m.cnr_dbhz.resize(ncell);
+  m.lock_ms.resize(ncell);
+  m.half.resize(ncell);
+  for (std::size_t j = 0; j < ncell; ++j) m.fine_pr_m[j] = high ? fineRange_m(r, 20, -29) : fineRange_m(r, 15, -24);
+  for (std::size_t j = 0; j < ncell; ++j) m.fine_cp_m[j] = high ? fineRange_m(r, 24, -31) : fineRange_m(r, 22, -29);
+  for (std::size_t j = 0; j < ncell; ++j)
+    m.lock_ms[j] = high ? msmLockTimeDf407_ms(static_cast<unsigned>(r.u(10)))
+                        : msmLockTimeDf402_ms(static_cast<unsigned>(r.u(4)));
+  for (std::size_t j = 0; j < ncell; ++j) m.half[j] = r.flag();
+  for (std::size_t j = 0; j < ncell; ++j) {
+    const double v = high ? r.u(10) * 0.0625 : static_cast<double>(r.u(6));
+    if (v > 0.0) m.cnr_dbhz[j] = v;
+  }
+  if (msmExtended(msm))
+    for (std::size_t j = 0; j < ncell; ++j) {
+      const std::int64_t v = r.s(15);
+      if (v != -16384) m.fine_rate_mps[j] = v * 0.0001;
+    }
+}
+
+}  // namespace
+
+void Rtcm3Decoder::decodeMsm(const Rtcm3Frame& frame, GnssSystem system, int msm) {
+  // 1. Header and masks; at most 64 cells.
+  BitReader r(frame.payload.data(), frame.payload.size(), 12);
+  MsmFields m;
+  readMsmHeader(r, system, m);
+  const std::size_t nsat = m.sats.size(), nsig = m.sigs.size();
   if (!r.ok() || nsat * nsig > 64) {
     problem(StreamProblemKind::MalformedMessage, frame,
             r.ok() ? std::to_string(nsat) + " satellites x " + std::to_string(nsig) +
@@ -269,123 +374,72 @@ void Rtcm3Decoder::decodeMsm(const Rtcm3Frame& frame, GnssSystem system, int msm
                    : "MSM header truncated");
     return;
   }
-  std::vector<bool> cell(nsat * nsig);
-  std::size_t ncell = 0;
-  for (std::size_t i = 0; i < nsat * nsig; ++i) {
-    cell[i] = r.flag();
-    ncell += cell[i] ? 1 : 0;
-  }
-  const bool extended = (msm == 5 || msm == 7);
-  const bool high = (msm == 6 || msm == 7);
-  const std::size_t sat_bits = extended ? 36 : 18;
-  const std::size_t cell_bits = msm == 4 ? 48 : msm == 5 ? 63 : msm == 6 ? 65 : 80;
-  if (!r.ok() || r.remainingBits() < nsat * sat_bits + ncell * cell_bits) {
+  // 2. Cell mask; the message must hold the data of its satellites and cells.
+  readMsmCellMask(r, m);
+  if (!r.ok() || r.remainingBits() < msmDataBits(msm, m)) {
     problem(StreamProblemKind::MalformedMessage, frame,
             "MSM" + std::to_string(msm) + " shorter than its " + std::to_string(nsat) + " satellites and " +
-                std::to_string(ncell) + " cells");
+                std::to_string(m.ncell) + " cells");
     return;
   }
-  if (station_id != 0 || !station_.station_id) station_.station_id = station_id;
-
-  // Satellite data.
-  std::vector<std::optional<double>> rough_m(nsat), rate_mps(nsat);
-  std::vector<int> ext(nsat, 15);
-  std::vector<unsigned> rough_int(nsat);
-  for (std::size_t i = 0; i < nsat; ++i) rough_int[i] = static_cast<unsigned>(r.u(8));
-  if (extended)
-    for (std::size_t i = 0; i < nsat; ++i) ext[i] = static_cast<int>(r.u(4));
-  for (std::size_t i = 0; i < nsat; ++i) {
-    const unsigned mod = static_cast<unsigned>(r.u(10));
-    if (rough_int[i] != 255) {
-      double v = rough_int[i] * kRangeMs_m;
-      v += mod * p2(-10) * kRangeMs_m;
-      rough_m[i] = v;
-    }
-  }
-  if (extended)
-    for (std::size_t i = 0; i < nsat; ++i) {
-      const std::int64_t v = r.s(14);
-      if (v != -8192) rate_mps[i] = static_cast<double>(v);
-    }
-  // Signal data.
-  std::vector<std::optional<double>> fine_pr(ncell), fine_cp(ncell), fine_rate(ncell), cnr(ncell);
-  std::vector<std::uint32_t> lock(ncell);
-  std::vector<bool> half(ncell);
-  for (std::size_t j = 0; j < ncell; ++j) {
-    if (high) {
-      const std::int64_t v = r.s(20);
-      if (v != -524288) fine_pr[j] = v * p2(-29) * kRangeMs_m;
-    } else {
-      const std::int64_t v = r.s(15);
-      if (v != -16384) fine_pr[j] = v * p2(-24) * kRangeMs_m;
-    }
-  }
-  for (std::size_t j = 0; j < ncell; ++j) {
-    if (high) {
-      const std::int64_t v = r.s(24);
-      if (v != -8388608) fine_cp[j] = v * p2(-31) * kRangeMs_m;
-    } else {
-      const std::int64_t v = r.s(22);
-      if (v != -2097152) fine_cp[j] = v * p2(-29) * kRangeMs_m;
-    }
-  }
-  for (std::size_t j = 0; j < ncell; ++j)
-    lock[j] = high ? msmLockTimeDf407_ms(static_cast<unsigned>(r.u(10)))
-                   : msmLockTimeDf402_ms(static_cast<unsigned>(r.u(4)));
-  for (std::size_t j = 0; j < ncell; ++j) half[j] = r.flag();
-  for (std::size_t j = 0; j < ncell; ++j) {
-    const double v = high ? r.u(10) * 0.0625 : static_cast<double>(r.u(6));
-    if (v > 0.0) cnr[j] = v;
-  }
-  if (extended)
-    for (std::size_t j = 0; j < ncell; ++j) {
-      const std::int64_t v = r.s(15);
-      if (v != -16384) fine_rate[j] = v * 0.0001;
-    }
+  if (m.station_id != 0 || !station_.station_id) station_.station_id = m.station_id;
+  // 3. Satellite and signal data.
+  readMsmSatellites(r, msmExtended(msm), m);
+  readMsmSignals(r, msm, m);
   ++decoded_by_type_[frame.message_type];
-
-  // GLONASS channels from the extended satellite information (MSM5/7).
-  if (system == GnssSystem::GLONASS && extended) {
+  // 4. GLONASS channels from the extended satellite information (MSM5/7).
+  if (system == GnssSystem::GLONASS && msmExtended(msm)) {
     for (std::size_t i = 0; i < nsat; ++i)
-      if (ext[i] <= 13 && !channels_.channel(sats[i])) channels_.set(sats[i], ext[i] - 7);
+      if (m.ext[i] <= 13 && !channels_.channel(m.sats[i])) channels_.set(m.sats[i], m.ext[i] - 7);
   }
+  // 5. Epoch time (the message may be dropped, or held back for the day).
+  const std::optional<GnssTime> t = msmEpochTime(frame, system, m);
+  if (!t) return;
+  takeStreamTime(*t);
+  // 6. Observations into the open epoch, closed by the last message of the epoch.
+  openEpoch(frame, *t);
+  std::size_t cell = 0;
+  for (std::size_t i = 0; i < nsat; ++i) addToOpenEpoch(msmSatellite(system, msm, m, i, cell));
+  if (!m.multiple) flushPendingEpoch();
+}
 
-  // Time.
+std::optional<GnssTime> Rtcm3Decoder::msmEpochTime(const Rtcm3Frame& frame, GnssSystem system,
+                                                   const MsmFields& m) {
   if (!time_) {
     problem(StreamProblemKind::UnresolvedTime, frame,
             "MSM epoch dropped: the week is unknown (give a reference date, or wait for a Galileo/BeiDou "
             "ephemeris)");
-    return;
+    return std::nullopt;
   }
   // A GLONASS time of day without day of week, placed only by a reference date, may
   // be a day off (a date far in the day); wait for the other systems of the epoch.
-  if (system == GnssSystem::GLONASS && glonass_dow >= 7 && !time_from_stream_ && !finishing_) {
+  if (system == GnssSystem::GLONASS && m.glonass_dow >= 7 && !time_from_stream_ && !finishing_) {
     if (deferred_glonass_.size() < 64) deferred_glonass_.push_back(frame);
-    return;
+    return std::nullopt;
   }
   std::int64_t t_ms = 0;
   const std::int64_t ref_ms = timeMs(*time_);
   if (system == GnssSystem::GLONASS) {
     const double offset_s = time_->offsetToSystem_s(TimeSystem::GLONASS);  // GLONASST - GPST
     const std::int64_t offset_ms = static_cast<std::int64_t>(std::llround(offset_s * 1000.0));
-    if (epoch_ms >= kDayMs) {
+    if (m.epoch_ms >= kDayMs) {
       problem(StreamProblemKind::MalformedMessage, frame, "GLONASS time of day beyond 24 h");
-      return;
+      return std::nullopt;
     }
     // With the day of week (DF416, 7 = unknown) the GLONASS time is placed within
     // the week, as a reference date far in the day cannot; otherwise by day.
-    if (glonass_dow < 7) {
-      t_ms = nearest(ref_ms + offset_ms, glonass_dow * kDayMs + epoch_ms, kWeekMs) - offset_ms;
+    if (m.glonass_dow < 7) {
+      t_ms = nearest(ref_ms + offset_ms, m.glonass_dow * kDayMs + m.epoch_ms, kWeekMs) - offset_ms;
     } else {
-      t_ms = nearest(ref_ms + offset_ms, epoch_ms, kDayMs) - offset_ms;
+      t_ms = nearest(ref_ms + offset_ms, m.epoch_ms, kDayMs) - offset_ms;
     }
   } else {
-    if (epoch_ms >= kWeekMs) {
+    if (m.epoch_ms >= kWeekMs) {
       problem(StreamProblemKind::MalformedMessage, frame, "time of week beyond one week");
-      return;
+      return std::nullopt;
     }
     const std::int64_t shift_ms = std::llround(gpstMinusWeekTime_s(system).value_or(0.0) * 1000.0);  // BDT -> GPST
-    std::int64_t tow = epoch_ms + shift_ms;
+    std::int64_t tow = m.epoch_ms + shift_ms;
     if (tow >= kWeekMs) tow -= kWeekMs;
     t_ms = nearest(ref_ms, tow, kWeekMs);
   }
@@ -397,67 +451,76 @@ void Rtcm3Decoder::decodeMsm(const Rtcm3Frame& frame, GnssSystem system, int msm
     t = pending_->time;
     ++beidou_gpst_messages_;
   }
+  return t;
+}
+
+void Rtcm3Decoder::takeStreamTime(const GnssTime& t) {
   time_ = t;
-  if (!time_from_stream_) {
-    time_from_stream_ = true;
-    std::vector<Rtcm3Frame> deferred;
-    deferred.swap(deferred_glonass_);
-    for (const auto& g : deferred) decodeMsm(g, GnssSystem::GLONASS, msmTypeInfo(g.message_type)->second);
-  }
+  if (time_from_stream_) return;
+  // The first time from the stream: the GLONASS messages held back for it now decode.
+  time_from_stream_ = true;
+  std::vector<Rtcm3Frame> deferred;
+  deferred.swap(deferred_glonass_);
+  for (const auto& g : deferred) decodeMsm(g, GnssSystem::GLONASS, msmTypeInfo(g.message_type)->second);
+}
 
+void Rtcm3Decoder::openEpoch(const Rtcm3Frame& frame, const GnssTime& t) {
   if (pending_ && pending_->time != t) flushPendingEpoch();
-  if (!pending_) {
-    pending_ = StreamEpoch{};
-    pending_->time = t;
-    pending_->byte_offset = frame.byte_offset;
-    pending_->frame_index = frame.frame_index;
-  }
+  if (pending_) return;
+  pending_ = StreamEpoch{};
+  pending_->time = t;
+  pending_->byte_offset = frame.byte_offset;
+  pending_->frame_index = frame.frame_index;
+}
 
-  std::size_t j = 0;
-  for (std::size_t i = 0; i < nsat; ++i) {
-    SatelliteId sat{system, sats[i] + msmRow(system)->prn_minus_id};  // SBAS: PRN 120 + (id - 1) -> "S20"
-    std::optional<int> channel;
-    if (system == GnssSystem::GLONASS) {
-      if (extended && ext[i] <= 13) channel = ext[i] - 7;
-      else channel = glonassChannel(sats[i]);
-    }
-    StreamSatellite out;
-    out.satellite = sat;
-    for (std::size_t k = 0; k < nsig; ++k) {
-      if (!cell[i * nsig + k]) continue;
-      const std::size_t c = j++;
-      const auto code = msmSignalCode(system, sigs[k]);
-      if (!code) continue;
-      StreamSignal s;
-      s.band = code->first;
-      s.attribute = code->second;
-      const auto freq = carrierFrequency_hz(system, s.band, channel);
-      if (rough_m[i] && fine_pr[c]) s.pseudorange_m = *rough_m[i] + *fine_pr[c];
-      if (rough_m[i] && fine_cp[c] && freq) s.carrier_phase_cycles = (*rough_m[i] + *fine_cp[c]) * *freq / kSpeedOfLight_mps;
-      if (rate_mps[i] && fine_rate[c] && freq) s.doppler_hz = -(*rate_mps[i] + *fine_rate[c]) * *freq / kSpeedOfLight_mps;
-      s.cnr_dbhz = cnr[c];
-      // Loss of lock: indicator zero or lower than before (same satellite and signal).
-      auto& previous = lock_ms_[{sat.index(), sigs[k]}];
-      const bool lost = lock[c] == 0 || lock[c] < previous;
-      previous = lock[c];
-      s.lli = static_cast<std::uint8_t>((lost ? 1 : 0) | (half[c] ? 2 : 0));
-      s.lock_time_s = lock[c] * 1e-3;
-      if (!s.pseudorange_m && !s.carrier_phase_cycles && !s.doppler_hz && !s.cnr_dbhz) continue;
-      out.signals.push_back(s);
-    }
-    if (out.signals.empty()) continue;
-    // Merge with signals of the same satellite from another message of the epoch.
-    bool merged = false;
-    for (auto& existing : pending_->satellites) {
-      if (existing.satellite == sat) {
-        existing.signals.insert(existing.signals.end(), out.signals.begin(), out.signals.end());
-        merged = true;
-        break;
-      }
-    }
-    if (!merged) pending_->satellites.push_back(std::move(out));
+StreamSatellite Rtcm3Decoder::msmSatellite(GnssSystem system, int msm, const MsmFields& m, std::size_t i,
+                                           std::size_t& cell) {
+  const SatelliteId sat{system, m.sats[i] + msmRow(system)->prn_minus_id};  // SBAS: PRN 120 + (id - 1) -> "S20"
+  std::optional<int> channel;
+  if (system == GnssSystem::GLONASS) {
+    if (msmExtended(msm) && m.ext[i] <= 13) channel = m.ext[i] - 7;
+    else channel = glonassChannel(m.sats[i]);
   }
-  if (!multiple) flushPendingEpoch();
+  StreamSatellite out;
+  out.satellite = sat;
+  const std::size_t nsig = m.sigs.size();
+  for (std::size_t k = 0; k < nsig; ++k) {
+    if (!m.cell[i * nsig + k]) continue;
+    const std::size_t c = cell++;
+    const auto code = msmSignalCode(system, m.sigs[k]);
+    if (!code) continue;
+    StreamSignal s;
+    s.band = code->first;
+    s.attribute = code->second;
+    const auto freq = carrierFrequency_hz(system, s.band, channel);
+    const auto& rough_m = m.rough_m[i];
+    const auto& rate_mps = m.rate_mps[i];
+    if (rough_m && m.fine_pr_m[c]) s.pseudorange_m = *rough_m + *m.fine_pr_m[c];
+    if (rough_m && m.fine_cp_m[c] && freq) s.carrier_phase_cycles = (*rough_m + *m.fine_cp_m[c]) * *freq / kSpeedOfLight_mps;
+    if (rate_mps && m.fine_rate_mps[c] && freq) s.doppler_hz = -(*rate_mps + *m.fine_rate_mps[c]) * *freq / kSpeedOfLight_mps;
+    s.cnr_dbhz = m.cnr_dbhz[c];
+    // Loss of lock: indicator zero or lower than before (same satellite and signal).
+    auto& previous = lock_ms_[{sat.index(), m.sigs[k]}];
+    const bool lost = m.lock_ms[c] == 0 || m.lock_ms[c] < previous;
+    previous = m.lock_ms[c];
+    s.lli = static_cast<std::uint8_t>((lost ? 1 : 0) | (m.half[c] ? 2 : 0));
+    s.lock_time_s = m.lock_ms[c] * 1e-3;
+    if (!s.pseudorange_m && !s.carrier_phase_cycles && !s.doppler_hz && !s.cnr_dbhz) continue;
+    out.signals.push_back(s);
+  }
+  return out;
+}
+
+void Rtcm3Decoder::addToOpenEpoch(StreamSatellite satellite) {
+  if (satellite.signals.empty()) return;
+  // Merge with signals of the same satellite from another message of the epoch.
+  for (auto& existing : pending_->satellites) {
+    if (existing.satellite == satellite.satellite) {
+      existing.signals.insert(existing.signals.end(), satellite.signals.begin(), satellite.signals.end());
+      return;
+    }
+  }
+  pending_->satellites.push_back(std::move(satellite));
 }
 
 void Rtcm3Decoder::decodeStation(const Rtcm3Frame& frame) {
@@ -548,54 +611,73 @@ void Rtcm3Decoder::resolveGpsWeek(PendingGps& pending) {
   output_.gps.push_back(eph);
 }
 
+namespace {
+
+/// The fields of a GPS (1019) or QZSS (1044) ephemeris message, as read.
+struct LnavMessage {
+  GpsLnavEphemeris e;
+  int prn = 0;
+  int week10 = 0;        // broadcast week modulo 1024
+  double toc_sow = 0.0;
+};
+
+LnavMessage readGps1019(BitReader& r) {
+  LnavMessage m;
+  GpsLnavEphemeris& e = m.e;
+  m.prn = static_cast<int>(r.u(6));
+  m.week10 = static_cast<int>(r.u(10));
+  e.ura_m = gpsUra_m(static_cast<int>(r.u(4)));
+  e.codes_on_l2 = static_cast<int>(r.u(2));
+  e.orbit.idot_radps = r.s(14) * p2(-43) * kPi;
+  e.iode = static_cast<int>(r.u(8));
+  m.toc_sow = r.u(16) * 16.0;
+  e.clock.af2_sps2 = r.s(8) * p2(-55);
+  e.clock.af1_sps = r.s(16) * p2(-43);
+  e.clock.af0_s = r.s(22) * p2(-31);
+  e.iodc = static_cast<int>(r.u(10));
+  rtcm_eph::readKepler(r, rtcm_eph::kKeplerLnav, e.orbit);
+  e.tgd_s = r.s(8) * p2(-31);
+  e.health = static_cast<int>(r.u(6));
+  e.l2p_data_flag = static_cast<int>(r.u(1));
+  e.fit_interval_h = r.u(1) ? 6.0 : 4.0;  // DF137: 0 = 4 h, 1 = more than 4 h
+  return m;
+}
+
+LnavMessage readQzss1044(BitReader& r) {
+  LnavMessage m;
+  GpsLnavEphemeris& e = m.e;
+  m.prn = static_cast<int>(r.u(4));
+  m.toc_sow = r.u(16) * 16.0;
+  e.clock.af2_sps2 = r.s(8) * p2(-55);
+  e.clock.af1_sps = r.s(16) * p2(-43);
+  e.clock.af0_s = r.s(22) * p2(-31);
+  e.iode = static_cast<int>(r.u(8));
+  rtcm_eph::readKepler(r, rtcm_eph::kKeplerLnav, e.orbit);
+  e.orbit.idot_radps = r.s(14) * p2(-43) * kPi;
+  e.codes_on_l2 = static_cast<int>(r.u(2));
+  m.week10 = static_cast<int>(r.u(10));
+  e.ura_m = gpsUra_m(static_cast<int>(r.u(4)));
+  e.health = static_cast<int>(r.u(6));
+  e.tgd_s = r.s(8) * p2(-31);
+  e.iodc = static_cast<int>(r.u(10));
+  e.fit_interval_h = r.u(1) ? 4.0 : 2.0;  // DF187: 0 = 2 h, 1 = more than 2 h
+  // 1044 has no L2P data flag: QZSS broadcasts no L2 P-code navigation data, its
+  // subframe 1 flag is fixed to 1 (IS-QZSS-PNT), and RINEX/convbin write 1.
+  e.l2p_data_flag = 1;
+  return m;
+}
+
+}  // namespace
+
 void Rtcm3Decoder::decodeGpsQzss(const Rtcm3Frame& frame) {
+  // 1. The fields.
   const auto& p = frame.payload;
   const bool qzss = frame.message_type == 1044;
   BitReader r(p.data(), p.size(), 12);
-  GpsLnavEphemeris e;
-  KeplerOrbit& o = e.orbit;
-  int week10 = 0;
-  double toc_sow = 0.0;
-  int prn = 0;
-  if (!qzss) {
-    prn = static_cast<int>(r.u(6));
-    week10 = static_cast<int>(r.u(10));
-    e.ura_m = gpsUra_m(static_cast<int>(r.u(4)));
-    e.codes_on_l2 = static_cast<int>(r.u(2));
-    o.idot_radps = r.s(14) * p2(-43) * kPi;
-    e.iode = static_cast<int>(r.u(8));
-    toc_sow = r.u(16) * 16.0;
-    e.clock.af2_sps2 = r.s(8) * p2(-55);
-    e.clock.af1_sps = r.s(16) * p2(-43);
-    e.clock.af0_s = r.s(22) * p2(-31);
-    e.iodc = static_cast<int>(r.u(10));
-  } else {
-    prn = static_cast<int>(r.u(4));
-    toc_sow = r.u(16) * 16.0;
-    e.clock.af2_sps2 = r.s(8) * p2(-55);
-    e.clock.af1_sps = r.s(16) * p2(-43);
-    e.clock.af0_s = r.s(22) * p2(-31);
-    e.iode = static_cast<int>(r.u(8));
-  }
-  rtcm_eph::readKepler(r, rtcm_eph::kKeplerLnav, o);
-  if (!qzss) {
-    e.tgd_s = r.s(8) * p2(-31);
-    e.health = static_cast<int>(r.u(6));
-    e.l2p_data_flag = static_cast<int>(r.u(1));
-    e.fit_interval_h = r.u(1) ? 6.0 : 4.0;  // DF137: 0 = 4 h, 1 = more than 4 h
-  } else {
-    o.idot_radps = r.s(14) * p2(-43) * kPi;
-    e.codes_on_l2 = static_cast<int>(r.u(2));
-    week10 = static_cast<int>(r.u(10));
-    e.ura_m = gpsUra_m(static_cast<int>(r.u(4)));
-    e.health = static_cast<int>(r.u(6));
-    e.tgd_s = r.s(8) * p2(-31);
-    e.iodc = static_cast<int>(r.u(10));
-    e.fit_interval_h = r.u(1) ? 4.0 : 2.0;  // DF187: 0 = 2 h, 1 = more than 2 h
-    // 1044 has no L2P data flag: QZSS broadcasts no L2 P-code navigation data, its
-    // subframe 1 flag is fixed to 1 (IS-QZSS-PNT), and RINEX/convbin write 1.
-    e.l2p_data_flag = 1;
-  }
+  LnavMessage m = qzss ? readQzss1044(r) : readGps1019(r);
+  GpsLnavEphemeris& e = m.e;
+  const int prn = m.prn;
+  // 2. The whole message, a satellite number in range, one issue of data, a plausible orbit.
   if (!r.ok()) {
     problem(StreamProblemKind::MalformedMessage, frame, "ephemeris message shorter than its fields");
     return;
@@ -612,19 +694,35 @@ void Rtcm3Decoder::decodeGpsQzss(const Rtcm3Frame& frame) {
                 std::to_string(e.iodc) + "; record dropped");
     return;
   }
-  if (const auto why = checkKeplerOrbit(o)) {
+  if (const auto why = checkKeplerOrbit(e.orbit)) {
     problem(StreamProblemKind::MalformedMessage, frame, e.satellite.toString() + ": " + *why);
     return;
   }
+  // 3. The 10-bit week resolved now, or once the stream's time is known.
   ++decoded_by_type_[frame.message_type];
-  e.clock.toc = GnssTime::fromGpsSeconds(0, 0.0) + toc_sow;  // seconds of week until resolved
-  PendingGps pending{e, week10, frame.byte_offset, frame.frame_index, frame.message_type};
+  e.clock.toc = GnssTime::fromGpsSeconds(0, 0.0) + m.toc_sow;  // seconds of week until resolved
+  PendingGps pending{e, m.week10, frame.byte_offset, frame.frame_index, frame.message_type};
   if (time_) {
     resolveGpsWeek(pending);
   } else {
     if (pending_gps_.size() < 1000) pending_gps_.push_back(pending);
   }
 }
+
+namespace {
+
+/// tb (index of 15 min) and tk [ms] are Moscow times (UTC + 3 h) of the current day:
+/// g.tb placed nearest `now`, and the RINEX message frame time (seconds of the UTC week) from tk.
+void placeGlonassTimes(GlonassEphemeris& g, int tb, std::int64_t tk_ms, const GnssTime& now) {
+  const double offset_s = now.offsetToSystem_s(TimeSystem::GLONASS);
+  const std::int64_t offset_ms = static_cast<std::int64_t>(std::llround(offset_s * 1000.0));
+  const std::int64_t ref = timeMs(now) + offset_ms;
+  g.tb = fromMs(nearest(ref, static_cast<std::int64_t>(tb) * 900 * 1000, kDayMs) - offset_ms);
+  const GnssTime tk = fromMs(nearest(ref, tk_ms % kDayMs, kDayMs) - offset_ms);
+  g.message_frame_time_s = (tk + now.offsetToSystem_s(TimeSystem::UTC)).gpsWeek().seconds_of_week;
+}
+
+}  // namespace
 
 void Rtcm3Decoder::decodeGlonassEph(const Rtcm3Frame& frame) {
   const auto& p = frame.payload;
@@ -671,15 +769,7 @@ void Rtcm3Decoder::decodeGlonassEph(const Rtcm3Frame& frame) {
     problem(StreamProblemKind::UnresolvedTime, frame, g.satellite.toString() + ": GLONASS ephemeris dropped, the day is unknown");
     return;
   }
-  // tb and tk are Moscow times (UTC + 3 h) of the current day.
-  const double offset_s = time_->offsetToSystem_s(TimeSystem::GLONASS);
-  const std::int64_t offset_ms = static_cast<std::int64_t>(std::llround(offset_s * 1000.0));
-  const std::int64_t ref = timeMs(*time_) + offset_ms;
-  g.tb = fromMs(nearest(ref, static_cast<std::int64_t>(tb) * 900 * 1000, kDayMs) - offset_ms);
-  const std::int64_t tk_ms = (tk_h * 3600LL + tk_m * 60LL + tk_s) * 1000;
-  const GnssTime tk = fromMs(nearest(ref, tk_ms % kDayMs, kDayMs) - offset_ms);
-  // RINEX message frame time: seconds of the UTC week.
-  g.message_frame_time_s = (tk + time_->offsetToSystem_s(TimeSystem::UTC)).gpsWeek().seconds_of_week;
+  placeGlonassTimes(g, tb, (tk_h * 3600LL + tk_m * 60LL + tk_s) * 1000, *time_);
   if (const auto why = checkGlonassState(g)) {
     problem(StreamProblemKind::MalformedMessage, frame, g.satellite.toString() + ": " + *why);
     return;
@@ -688,18 +778,26 @@ void Rtcm3Decoder::decodeGlonassEph(const Rtcm3Frame& frame) {
   output_.glonass.push_back(g);
 }
 
-void Rtcm3Decoder::decodeGalileo(const Rtcm3Frame& frame) {
-  const auto& p = frame.payload;
-  const bool fnav = frame.message_type == 1045;
-  BitReader r(p.data(), p.size(), 12);
+namespace {
+
+/// The fields of a Galileo F/NAV (1045) or I/NAV (1046) ephemeris message, as read.
+struct GalileoMessage {
   GalileoEphemeris e;
+  int prn = 0;
+  int gst_week = 0;      // 12-bit GST week
+  double toc_sow = 0.0;
+};
+
+GalileoMessage readGalileo(BitReader& r, bool fnav) {
+  GalileoMessage m;
+  GalileoEphemeris& e = m.e;
   KeplerOrbit& o = e.orbit;
-  const int prn = static_cast<int>(r.u(6));
-  const int gst_week = static_cast<int>(r.u(12));
+  m.prn = static_cast<int>(r.u(6));
+  m.gst_week = static_cast<int>(r.u(12));
   e.iod_nav = static_cast<int>(r.u(10));
   e.sisa_m = galileoSisa_m(static_cast<int>(r.u(8)));
   o.idot_radps = r.s(14) * p2(-43) * kPi;
-  const double toc_sow = r.u(14) * 60.0;
+  m.toc_sow = r.u(14) * 60.0;
   e.clock.af2_sps2 = r.s(6) * p2(-59);
   e.clock.af1_sps = r.s(21) * p2(-46);
   e.clock.af0_s = r.s(31) * p2(-34);
@@ -721,31 +819,45 @@ void Rtcm3Decoder::decodeGalileo(const Rtcm3Frame& frame) {
     e.data_sources = (1 << 0) | (1 << 2) | (1 << 9);
     e.type = GalileoNavType::INav;
   }
+  return m;
+}
+
+}  // namespace
+
+void Rtcm3Decoder::decodeGalileo(const Rtcm3Frame& frame) {
+  // 1. The fields.
+  const auto& p = frame.payload;
+  BitReader r(p.data(), p.size(), 12);
+  GalileoMessage m = readGalileo(r, frame.message_type == 1045);
+  GalileoEphemeris& e = m.e;
+  KeplerOrbit& o = e.orbit;
+  // 2. The whole message, a satellite number in range, a plausible orbit.
   if (!r.ok()) {
     problem(StreamProblemKind::MalformedMessage, frame, "Galileo ephemeris shorter than its fields");
     return;
   }
-  if (prn < 1 || prn > 36) {
-    problem(StreamProblemKind::MalformedMessage, frame, "Galileo satellite " + std::to_string(prn) + " out of range");
+  if (m.prn < 1 || m.prn > 36) {
+    problem(StreamProblemKind::MalformedMessage, frame, "Galileo satellite " + std::to_string(m.prn) + " out of range");
     return;
   }
-  e.satellite = SatelliteId{GnssSystem::Galileo, prn};
+  e.satellite = SatelliteId{GnssSystem::Galileo, m.prn};
   if (const auto why = checkKeplerOrbit(o)) {
     problem(StreamProblemKind::MalformedMessage, frame, e.satellite.toString() + ": " + *why);
     return;
   }
-  int week = gst_week + 1024;  // GST week 0 = GPS week 1024
+  // 3. The week: GST week 0 = GPS week 1024; the 12-bit week rolls over every 4096
+  //    weeks: the one nearest the current time.
+  int week = m.gst_week + 1024;
   if (time_) {
     noteWeekEvidence(GnssTime::fromGpsWeek(broadcastWeekAsSent(week, 4096, time_->gpsWeek().week), o.toe_sow),
                      o.toe_sow);
-    // The 12-bit GST week rolls over every 4096 weeks: the one nearest the current time.
     week = resolveBroadcastWeek(week, 4096, time_->gpsWeek().week, *time_,
                                 [&](int w) { return GnssTime::fromGpsWeek(w, o.toe_sow); });
   }
   e.week = week;
   o.toe = GnssTime::fromGpsWeek(week, o.toe_sow);
   // toc is within the week of toe, allowing for a week crossing between them.
-  e.clock.toc = withinHalfWeek(o.toe, GnssTime::fromGpsWeek(week, toc_sow));
+  e.clock.toc = withinHalfWeek(o.toe, GnssTime::fromGpsWeek(week, m.toc_sow));
   ++decoded_by_type_[frame.message_type];
   setTimeFromEphemeris(o.toe);
   output_.galileo.push_back(e);

@@ -11,29 +11,7 @@ constexpr std::uint8_t kPreamble = 0xD3;
 constexpr std::size_t kHeaderBytes = 3;
 constexpr std::size_t kCrcBytes = 3;
 
-std::array<std::uint32_t, 256> makeCrc24qTable() {
-  std::array<std::uint32_t, 256> table{};
-  for (std::uint32_t i = 0; i < 256; ++i) {
-    std::uint32_t crc = i << 16;
-    for (int bit = 0; bit < 8; ++bit) {
-      crc <<= 1;
-      if (crc & 0x1000000u) crc ^= 0x1864CFBu;
-    }
-    table[i] = crc & 0xFFFFFFu;
-  }
-  return table;
-}
-
 }  // namespace
-
-std::uint32_t crc24q(const std::uint8_t* data, std::size_t size) {
-  static const std::array<std::uint32_t, 256> table = makeCrc24qTable();
-  std::uint32_t crc = 0;
-  for (std::size_t i = 0; i < size; ++i) {
-    crc = ((crc << 8) & 0xFFFFFFu) ^ table[((crc >> 16) ^ data[i]) & 0xFFu];
-  }
-  return crc;
-}
 
 std::vector<std::uint8_t> encodeRtcm3Frame(const std::vector<std::uint8_t>& payload) {
   if (payload.size() > 1023) {

@@ -107,40 +107,45 @@ std::optional<GnssTime> RtcmSsrDecoder::resolveEpoch(const SsrHeader& h, bool ig
   return GnssTime::fromGpsSeconds(static_cast<std::int64_t>(std::llround(t)));
 }
 
-bool RtcmSsrDecoder::decode(const Rtcm3Frame& frame) {
-  if (!isSsrMessageType(frame.message_type)) return false;
-  counters_.frames += 1;
-  counters_.frames_by_type[frame.message_type] += 1;
-  BitReader r(frame.payload.data(), frame.payload.size());
-  r.skip(12);
-  SsrMessage m;
-  const bool igs = frame.message_type == 4076;
-  std::optional<ssr_layout::TypeInfo> info;
-  int summary_key = frame.message_type;
-  if (igs) {
-    m.header.igs_version = static_cast<int>(r.u(3));   // IDF001
-    m.header.igs_subtype = static_cast<int>(r.u(8));   // IDF002
-    if (!r.ok()) {
-      problem(StreamProblemKind::MalformedMessage, frame, "IGS-SSR message shorter than its header");
-      return true;
-    }
-    info = ssr_layout::igsTypeInfo(m.header.igs_subtype);
-    summary_key = 4076000 + m.header.igs_subtype;
-    if (!info) {
-      problem(StreamProblemKind::UnknownMessage, frame,
-              "IGS-SSR sub-type " + std::to_string(m.header.igs_subtype) + " not defined by IGS-SSR v1.00");
-      return true;
-    }
-  } else {
-    info = ssr_layout::rtcmTypeInfo(frame.message_type);
-  }
-  m.header.message_type = frame.message_type;
-  m.header.system = info->system;
-  m.header.kind = info->kind;
-  m.header.byte_offset = frame.byte_offset;
-  m.header.frame_index = frame.frame_index;
+namespace {
 
-  std::vector<ssr_layout::BadSatellite> bad;
+/// The type of an SSR message: its layout and the key it is counted under (IGS-SSR:
+/// 4076000 + sub-type), or the problem that leaves it without one.
+struct SsrType {
+  std::optional<ssr_layout::TypeInfo> info;
+  int summary_key = 0;
+  StreamProblemKind problem_kind = StreamProblemKind::MalformedMessage;
+  std::string problem;
+};
+
+/// Reads the IGS-SSR version and sub-type (IDF001, IDF002) into m's header; the RTCM
+/// types have their layout from the message type alone.
+SsrType readSsrType(BitReader& r, const Rtcm3Frame& frame, SsrMessage& m) {
+  SsrType type;
+  type.summary_key = frame.message_type;
+  if (frame.message_type != 4076) {
+    type.info = ssr_layout::rtcmTypeInfo(frame.message_type);
+    return type;
+  }
+  m.header.igs_version = static_cast<int>(r.u(3));   // IDF001
+  m.header.igs_subtype = static_cast<int>(r.u(8));   // IDF002
+  if (!r.ok()) {
+    type.problem = "IGS-SSR message shorter than its header";
+    return type;
+  }
+  type.info = ssr_layout::igsTypeInfo(m.header.igs_subtype);
+  type.summary_key = 4076000 + m.header.igs_subtype;
+  if (!type.info) {
+    type.problem_kind = StreamProblemKind::UnknownMessage;
+    type.problem = "IGS-SSR sub-type " + std::to_string(m.header.igs_subtype) + " not defined by IGS-SSR v1.00";
+  }
+  return type;
+}
+
+/// Parses the header fields and the satellite blocks (or the VTEC block) that follow
+/// the type. A BeiDou orbit message that the IGS layout does not fit exactly is read
+/// again with the RTKLIB one (see satelliteFieldBits); true when that one fits.
+bool parseSsrBody(BitReader& r, SsrMessage& m, bool igs, std::vector<ssr_layout::BadSatellite>& bad) {
   const SsrHeader start = m.header;
   const auto parse = [&](BitReader& reader, bool bds_rtklib) {
     m = SsrMessage{};
@@ -153,45 +158,17 @@ bool RtcmSsrDecoder::decode(const Rtcm3Frame& frame) {
   };
   const BitReader after_type = r;
   parse(r, false);
-  if (!igs && m.header.system == GnssSystem::BeiDou &&
-      (m.header.kind == SsrMessageKind::Orbit || m.header.kind == SsrMessageKind::Combined) &&
-      (!r.ok() || r.remainingBits() >= 8)) {
-    // Not the IGS layout: try the RTKLIB one (see satelliteFieldBits).
-    BitReader retry = after_type;
-    parse(retry, true);
-    if (retry.ok() && retry.remainingBits() < 8) summary_.beidou_rtklib_layout_messages += 1;
-    r = retry;
-  }
-  if (!r.ok()) {
-    problem(StreamProblemKind::MalformedMessage, frame,
-            std::string(ssrMessageKindName(m.header.kind)) + " message of " + std::to_string(frame.payload.size()) +
-                " bytes is shorter than its fields (satellite count or bias counts too large): message dropped");
-    return true;
-  }
-  if (r.remainingBits() >= 8) {
-    problem(StreamProblemKind::MalformedMessage, frame,
-            std::to_string(r.remainingBits()) + " bits left after the last field: layout mismatch, message dropped");
-    return true;
-  }
-  for (const auto& b : bad)
-    problem(StreamProblemKind::MalformedMessage, frame,
-            "satellite id " + std::to_string(b.raw_id) + " outside the " + std::string(systemName(m.header.system)) +
-                " range: satellite skipped");
+  if (igs || m.header.system != GnssSystem::BeiDou ||
+      !(m.header.kind == SsrMessageKind::Orbit || m.header.kind == SsrMessageKind::Combined) ||
+      (r.ok() && r.remainingBits() < 8))
+    return false;
+  BitReader retry = after_type;
+  parse(retry, true);
+  r = retry;
+  return retry.ok() && retry.remainingBits() < 8;
+}
 
-  refuseImplausibleBiases(frame, m);
-  refuseRepeatedSignals(frame, m);
-
-  m.header.epoch = resolveEpoch(m.header, igs);
-  if (!m.header.epoch) {
-    problem(StreamProblemKind::UnresolvedTime, frame,
-            "SSR epoch time " + std::to_string(m.header.epoch_time_s) +
-                " s has no week (no reference time): values kept, epoch unresolved");
-  } else {
-    reference_ = m.header.epoch;  // follow the stream across week / day boundaries
-  }
-
-  // Summary.
-  SsrStreamSummary& s = summary_;
+void addToSummary(SsrStreamSummary& s, const SsrMessage& m, int summary_key) {
   s.messages += 1;
   s.messages_by_type[summary_key] += 1;
   s.sources.insert({m.header.provider_id, m.header.solution_id});
@@ -211,6 +188,61 @@ bool RtcmSsrDecoder::decode(const Rtcm3Frame& frame) {
   s.high_rate_clocks += m.high_rate_clocks.size();
   s.uras += m.uras.size();
   if (m.vtec) s.vtec_messages += 1;
+}
+
+}  // namespace
+
+bool RtcmSsrDecoder::decode(const Rtcm3Frame& frame) {
+  if (!isSsrMessageType(frame.message_type)) return false;
+  counters_.frames += 1;
+  counters_.frames_by_type[frame.message_type] += 1;
+  // 1. The message type (IGS-SSR: version and sub-type) and its layout.
+  BitReader r(frame.payload.data(), frame.payload.size());
+  r.skip(12);
+  SsrMessage m;
+  const bool igs = frame.message_type == 4076;
+  const SsrType type = readSsrType(r, frame, m);
+  if (!type.info) {
+    problem(type.problem_kind, frame, type.problem);
+    return true;
+  }
+  m.header.message_type = frame.message_type;
+  m.header.system = type.info->system;
+  m.header.kind = type.info->kind;
+  m.header.byte_offset = frame.byte_offset;
+  m.header.frame_index = frame.frame_index;
+  // 2. Header and blocks, which must fill the message.
+  std::vector<ssr_layout::BadSatellite> bad;
+  if (parseSsrBody(r, m, igs, bad)) summary_.beidou_rtklib_layout_messages += 1;
+  if (!r.ok()) {
+    problem(StreamProblemKind::MalformedMessage, frame,
+            std::string(ssrMessageKindName(m.header.kind)) + " message of " + std::to_string(frame.payload.size()) +
+                " bytes is shorter than its fields (satellite count or bias counts too large): message dropped");
+    return true;
+  }
+  if (r.remainingBits() >= 8) {
+    problem(StreamProblemKind::MalformedMessage, frame,
+            std::to_string(r.remainingBits()) + " bits left after the last field: layout mismatch, message dropped");
+    return true;
+  }
+  for (const auto& b : bad)
+    problem(StreamProblemKind::MalformedMessage, frame,
+            "satellite id " + std::to_string(b.raw_id) + " outside the " + std::string(systemName(m.header.system)) +
+                " range: satellite skipped");
+  // 3. Values not used: biases beyond their bounds, signals sent twice.
+  refuseImplausibleBiases(frame, m);
+  refuseRepeatedSignals(frame, m);
+  // 4. The epoch, placed by the reference time, which then follows the stream.
+  m.header.epoch = resolveEpoch(m.header, igs);
+  if (!m.header.epoch) {
+    problem(StreamProblemKind::UnresolvedTime, frame,
+            "SSR epoch time " + std::to_string(m.header.epoch_time_s) +
+                " s has no week (no reference time): values kept, epoch unresolved");
+  } else {
+    reference_ = m.header.epoch;  // follow the stream across week / day boundaries
+  }
+  // 5. The summary.
+  addToSummary(summary_, m, type.summary_key);
   messages_.push_back(std::move(m));
   return true;
 }

@@ -242,114 +242,142 @@ void clockFields(IO& io, SsrClockCorrection& c) {
   io.scaled(27, 2e-8, c.c2_m_per_s2); // DF378 0.00002 mm/s^2
 }
 
-/// The satellites' part of a message (after the header), for every kind but VTEC.
-/// Returns false when a count field was inconsistent (reading only).
-template <class IO>
-void satelliteBlocks(IO& io, SsrMessage& m, bool igs, std::vector<BadSatellite>& bad, bool bds_rtklib = false) {
-  const GnssSystem sys = m.header.system;
-  const SatelliteFieldBits bits = satelliteFieldBits(sys, igs, bds_rtklib);
-  int nsat = 0;
+/// The number of satellites of a message's kind (writing side).
+inline int satelliteCount(const SsrMessage& m) {
   switch (m.header.kind) {
-    case SsrMessageKind::Orbit: nsat = static_cast<int>(m.orbits.size()); break;
-    case SsrMessageKind::Clock: nsat = static_cast<int>(m.clocks.size()); break;
-    case SsrMessageKind::Combined: nsat = static_cast<int>(m.orbits.size()); break;
-    case SsrMessageKind::CodeBias: nsat = static_cast<int>(m.code_biases.size()); break;
-    case SsrMessageKind::PhaseBias: nsat = static_cast<int>(m.phase_biases.size()); break;
-    case SsrMessageKind::Ura: nsat = static_cast<int>(m.uras.size()); break;
-    case SsrMessageKind::HighRateClock: nsat = static_cast<int>(m.high_rate_clocks.size()); break;
+    case SsrMessageKind::Orbit: return static_cast<int>(m.orbits.size());
+    case SsrMessageKind::Clock: return static_cast<int>(m.clocks.size());
+    case SsrMessageKind::Combined: return static_cast<int>(m.orbits.size());
+    case SsrMessageKind::CodeBias: return static_cast<int>(m.code_biases.size());
+    case SsrMessageKind::PhaseBias: return static_cast<int>(m.phase_biases.size());
+    case SsrMessageKind::Ura: return static_cast<int>(m.uras.size());
+    case SsrMessageKind::HighRateClock: return static_cast<int>(m.high_rate_clocks.size());
     case SsrMessageKind::Vtec: break;
   }
+  return 0;
+}
+
+/// Satellite i of an orbit or a combined message (reading: appended when good).
+template <class IO>
+void orbitBlock(IO& io, SsrMessage& m, int i, const SatelliteFieldBits& bits, std::vector<BadSatellite>& bad) {
+  const GnssSystem sys = m.header.system;
+  const bool combined = m.header.kind == SsrMessageKind::Combined;
+  SatelliteId sat;
+  SsrOrbitCorrection o;
+  SsrClockCorrection c;
+  if constexpr (!IO::kReading) { o = m.orbits[i]; sat = o.satellite; if (combined) c = m.clocks[i]; }
+  const bool good = satelliteField(io, bits, sys, sat, bad);
+  orbitFields(io, bits, o);
+  if (combined) clockFields(io, c);
+  if constexpr (IO::kReading) {
+    if (good && io.ok()) {
+      o.satellite = c.satellite = sat;
+      m.orbits.push_back(o);
+      if (combined) m.clocks.push_back(c);
+    }
+  }
+}
+
+template <class IO>
+void clockBlock(IO& io, SsrMessage& m, int i, const SatelliteFieldBits& bits, std::vector<BadSatellite>& bad) {
+  SatelliteId sat;
+  SsrClockCorrection c;
+  if constexpr (!IO::kReading) { c = m.clocks[i]; sat = c.satellite; }
+  const bool good = satelliteField(io, bits, m.header.system, sat, bad);
+  clockFields(io, c);
+  if constexpr (IO::kReading) if (good && io.ok()) { c.satellite = sat; m.clocks.push_back(c); }
+}
+
+template <class IO>
+void highRateClockBlock(IO& io, SsrMessage& m, int i, const SatelliteFieldBits& bits, std::vector<BadSatellite>& bad) {
+  SatelliteId sat;
+  SsrHighRateClock h;
+  if constexpr (!IO::kReading) { h = m.high_rate_clocks[i]; sat = h.satellite; }
+  const bool good = satelliteField(io, bits, m.header.system, sat, bad);
+  io.scaled(22, 1e-4, h.clock_m);  // DF404 0.1 mm
+  if constexpr (IO::kReading) if (good && io.ok()) { h.satellite = sat; m.high_rate_clocks.push_back(h); }
+}
+
+template <class IO>
+void uraBlock(IO& io, SsrMessage& m, int i, const SatelliteFieldBits& bits, std::vector<BadSatellite>& bad) {
+  SatelliteId sat;
+  SsrUra u;
+  if constexpr (!IO::kReading) { u = m.uras[i]; sat = u.satellite; }
+  const bool good = satelliteField(io, bits, m.header.system, sat, bad);
+  io.uint(3, u.ura_class);  // DF389 bits 5-3
+  io.uint(3, u.ura_value);  // DF389 bits 2-0
+  if constexpr (IO::kReading) {
+    const int code = u.ura_class * 8 + u.ura_value;
+    if (code > 0 && code < 63) u.ura_m = (std::pow(3.0, u.ura_class) * (1.0 + u.ura_value / 4.0) - 1.0) * 1e-3;
+    if (good && io.ok()) { u.satellite = sat; m.uras.push_back(u); }
+  }
+}
+
+template <class IO>
+void codeBiasBlock(IO& io, SsrMessage& m, int i, const SatelliteFieldBits& bits, std::vector<BadSatellite>& bad,
+                   bool igs) {
+  const GnssSystem sys = m.header.system;
+  SatelliteId sat;
+  SsrCodeBias b;
+  if constexpr (!IO::kReading) { b = m.code_biases[i]; sat = b.satellite; }
+  const bool good = satelliteField(io, bits, sys, sat, bad);
+  int nbias = static_cast<int>(b.biases.size());
+  io.uint(5, nbias);  // DF379
+  for (int k = 0; k < nbias && io.ok(); ++k) {
+    SsrSignalCodeBias s;
+    if constexpr (!IO::kReading) s = b.biases[k];
+    io.uint(5, s.signal_id);         // DF380
+    io.scaled(14, 0.01, s.bias_m);   // DF383 0.01 m
+    if constexpr (IO::kReading) { s.code = ssrSignalCode(sys, s.signal_id, igs); b.biases.push_back(s); }
+  }
+  if constexpr (IO::kReading) if (good && io.ok()) { b.satellite = sat; m.code_biases.push_back(b); }
+}
+
+template <class IO>
+void phaseBiasBlock(IO& io, SsrMessage& m, int i, const SatelliteFieldBits& bits, std::vector<BadSatellite>& bad,
+                    bool igs) {
+  const GnssSystem sys = m.header.system;
+  SatelliteId sat;
+  SsrPhaseBias p;
+  if constexpr (!IO::kReading) { p = m.phase_biases[i]; sat = p.satellite; }
+  const bool good = satelliteField(io, bits, sys, sat, bad);
+  int nbias = static_cast<int>(p.biases.size());
+  io.uint(5, nbias);
+  io.uscaled(9, kSemicircle_rad / 256.0, p.yaw_rad);               // DF480 1/256 semicircle
+  io.scaled(8, kSemicircle_rad / 8192.0, p.yaw_rate_rad_per_s);    // DF481 1/8192 semicircle/s
+  for (int k = 0; k < nbias && io.ok(); ++k) {
+    SsrSignalPhaseBias s;
+    if constexpr (!IO::kReading) s = p.biases[k];
+    io.uint(5, s.signal_id);
+    io.flag(s.integer);                 // DF483
+    io.uint(2, s.widelane_integer);     // DF484
+    io.uint(4, s.discontinuity_counter);// DF485
+    io.scaled(20, 1e-4, s.bias_m);      // DF482 0.1 mm
+    if constexpr (IO::kReading) { s.code = ssrSignalCode(sys, s.signal_id, igs); p.biases.push_back(s); }
+  }
+  if constexpr (IO::kReading) if (good && io.ok()) { p.satellite = sat; m.phase_biases.push_back(p); }
+}
+
+/// The satellites' part of a message (after the header), for every kind but VTEC:
+/// the satellite count, then one block per satellite of the message's kind.
+template <class IO>
+void satelliteBlocks(IO& io, SsrMessage& m, bool igs, std::vector<BadSatellite>& bad, bool bds_rtklib = false) {
+  const SatelliteFieldBits bits = satelliteFieldBits(m.header.system, igs, bds_rtklib);
+  int nsat = satelliteCount(m);
   if constexpr (!IO::kReading) {
     if (m.header.kind == SsrMessageKind::Combined && m.clocks.size() != m.orbits.size())
       throw std::invalid_argument("combined SSR message: as many clocks as orbits needed");
   }
   io.uint(6, nsat);  // DF387 / IDF010
   for (int i = 0; i < nsat && io.ok(); ++i) {
-    SatelliteId sat;
     switch (m.header.kind) {
       case SsrMessageKind::Orbit:
-      case SsrMessageKind::Combined: {
-        SsrOrbitCorrection o;
-        SsrClockCorrection c;
-        if constexpr (!IO::kReading) { o = m.orbits[i]; sat = o.satellite; if (m.header.kind == SsrMessageKind::Combined) c = m.clocks[i]; }
-        const bool good = satelliteField(io, bits, sys, sat, bad);
-        orbitFields(io, bits, o);
-        if (m.header.kind == SsrMessageKind::Combined) clockFields(io, c);
-        if constexpr (IO::kReading) {
-          if (good && io.ok()) {
-            o.satellite = c.satellite = sat;
-            m.orbits.push_back(o);
-            if (m.header.kind == SsrMessageKind::Combined) m.clocks.push_back(c);
-          }
-        }
-        break;
-      }
-      case SsrMessageKind::Clock: {
-        SsrClockCorrection c;
-        if constexpr (!IO::kReading) { c = m.clocks[i]; sat = c.satellite; }
-        const bool good = satelliteField(io, bits, sys, sat, bad);
-        clockFields(io, c);
-        if constexpr (IO::kReading) if (good && io.ok()) { c.satellite = sat; m.clocks.push_back(c); }
-        break;
-      }
-      case SsrMessageKind::HighRateClock: {
-        SsrHighRateClock h;
-        if constexpr (!IO::kReading) { h = m.high_rate_clocks[i]; sat = h.satellite; }
-        const bool good = satelliteField(io, bits, sys, sat, bad);
-        io.scaled(22, 1e-4, h.clock_m);  // DF404 0.1 mm
-        if constexpr (IO::kReading) if (good && io.ok()) { h.satellite = sat; m.high_rate_clocks.push_back(h); }
-        break;
-      }
-      case SsrMessageKind::Ura: {
-        SsrUra u;
-        if constexpr (!IO::kReading) { u = m.uras[i]; sat = u.satellite; }
-        const bool good = satelliteField(io, bits, sys, sat, bad);
-        io.uint(3, u.ura_class);  // DF389 bits 5-3
-        io.uint(3, u.ura_value);  // DF389 bits 2-0
-        if constexpr (IO::kReading) {
-          const int code = u.ura_class * 8 + u.ura_value;
-          if (code > 0 && code < 63) u.ura_m = (std::pow(3.0, u.ura_class) * (1.0 + u.ura_value / 4.0) - 1.0) * 1e-3;
-          if (good && io.ok()) { u.satellite = sat; m.uras.push_back(u); }
-        }
-        break;
-      }
-      case SsrMessageKind::CodeBias: {
-        SsrCodeBias b;
-        if constexpr (!IO::kReading) { b = m.code_biases[i]; sat = b.satellite; }
-        const bool good = satelliteField(io, bits, sys, sat, bad);
-        int nbias = static_cast<int>(b.biases.size());
-        io.uint(5, nbias);  // DF379
-        for (int k = 0; k < nbias && io.ok(); ++k) {
-          SsrSignalCodeBias s;
-          if constexpr (!IO::kReading) s = b.biases[k];
-          io.uint(5, s.signal_id);         // DF380
-          io.scaled(14, 0.01, s.bias_m);   // DF383 0.01 m
-          if constexpr (IO::kReading) { s.code = ssrSignalCode(sys, s.signal_id, igs); b.biases.push_back(s); }
-        }
-        if constexpr (IO::kReading) if (good && io.ok()) { b.satellite = sat; m.code_biases.push_back(b); }
-        break;
-      }
-      case SsrMessageKind::PhaseBias: {
-        SsrPhaseBias p;
-        if constexpr (!IO::kReading) { p = m.phase_biases[i]; sat = p.satellite; }
-        const bool good = satelliteField(io, bits, sys, sat, bad);
-        int nbias = static_cast<int>(p.biases.size());
-        io.uint(5, nbias);
-        io.uscaled(9, kSemicircle_rad / 256.0, p.yaw_rad);               // DF480 1/256 semicircle
-        io.scaled(8, kSemicircle_rad / 8192.0, p.yaw_rate_rad_per_s);    // DF481 1/8192 semicircle/s
-        for (int k = 0; k < nbias && io.ok(); ++k) {
-          SsrSignalPhaseBias s;
-          if constexpr (!IO::kReading) s = p.biases[k];
-          io.uint(5, s.signal_id);
-          io.flag(s.integer);                 // DF483
-          io.uint(2, s.widelane_integer);     // DF484
-          io.uint(4, s.discontinuity_counter);// DF485
-          io.scaled(20, 1e-4, s.bias_m);      // DF482 0.1 mm
-          if constexpr (IO::kReading) { s.code = ssrSignalCode(sys, s.signal_id, igs); p.biases.push_back(s); }
-        }
-        if constexpr (IO::kReading) if (good && io.ok()) { p.satellite = sat; m.phase_biases.push_back(p); }
-        break;
-      }
+      case SsrMessageKind::Combined: orbitBlock(io, m, i, bits, bad); break;
+      case SsrMessageKind::Clock: clockBlock(io, m, i, bits, bad); break;
+      case SsrMessageKind::HighRateClock: highRateClockBlock(io, m, i, bits, bad); break;
+      case SsrMessageKind::Ura: uraBlock(io, m, i, bits, bad); break;
+      case SsrMessageKind::CodeBias: codeBiasBlock(io, m, i, bits, bad, igs); break;
+      case SsrMessageKind::PhaseBias: phaseBiasBlock(io, m, i, bits, bad, igs); break;
       case SsrMessageKind::Vtec: break;
     }
   }

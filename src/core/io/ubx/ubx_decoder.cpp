@@ -5,7 +5,7 @@
 #include <cstring>
 #include <string>
 
-#include "ppp_bayes_tree/io/rtcm/rtcm3_framer.h"  // crc24q (Galileo I/NAV pages use CRC-24Q too)
+#include "ppp_bayes_tree/io/crc24q.h"  // Galileo I/NAV pages
 #include "ppp_bayes_tree/types/broadcast_accuracy.h"
 #include "ubx_nav_layout.h"
 
@@ -225,51 +225,56 @@ void UbxDecoder::rawx(const UbxFrame& f, const Handlers& handlers) {
   last_time_ = epoch.time;
   epoch.measurements.reserve(static_cast<std::size_t>(count));
   for (int i = 0; i < count; ++i) {
-    const std::uint8_t* m = p.data() + 16 + 32 * i;
-    const int gnss = m[20], sv = m[21], sig = m[22], freq = m[23];
-    const auto sat = ubxSatellite(gnss, sv);
-    const auto code = ubxSignalCode(gnss, sig);
-    if (!sat || !code) {
-      ++statistics_.unmapped_signals[{gnss, sig}];
-      continue;
-    }
-    const double pr = r8(m);
-    const double cp = r8(m + 8);
-    const int lock_ms = u2(m + 24);
-    const int cp_stdev = m[28] & 0x0F;
-    const int trk = m[30];
-    UbxSignalMeasurement out;
-    out.satellite = *sat;
-    out.signal = *code;
-    out.gnss_id = gnss;
-    out.sv_id = sv;
-    out.sig_id = sig;
-    if ((trk & 0x01) && std::isfinite(pr)) out.pseudorange_m = pr;
-    if ((trk & 0x02) && std::isfinite(cp) && cp != -0.5 && cp_stdev <= options_.max_phase_stdev_index) {
-      out.carrier_phase_cycles = cp;
-    }
-    const double doppler = r4(m + 16);
-    out.doppler_hz = std::isfinite(doppler) ? doppler : 0.0;
-    out.cn0_dbhz = m[26];
-    out.lock_time_s = lock_ms * 1e-3;
-    out.tracking_status = static_cast<std::uint8_t>(trk);
-    if (gnss == kGnssGlonass) out.glonass_channel = freq - 7;
-    const bool half_valid = (trk & 0x04) != 0;
-    const bool half_subtracted = (trk & 0x08) != 0;
-    const auto [lock_it, first_sight] = lock_.try_emplace({*sat, sig});
-    LockState& lock = lock_it->second;
-    const bool slip = lock_ms == 0 || out.lock_time_s < lock.lock_time_s || half_subtracted != lock.half_cycle_subtracted;
-    lock.lock_time_s = out.lock_time_s;
-    lock.half_cycle_subtracted = half_subtracted;
-    lock.pending_loss_of_lock = lock.pending_loss_of_lock || slip;
-    out.lli = static_cast<std::uint8_t>((first_sight || lock.pending_loss_of_lock ? kLliLossOfLock : 0) |
-                                        (half_valid ? 0 : kLliHalfCycle));
-    if (out.carrier_phase_cycles) lock.pending_loss_of_lock = false;
-    epoch.measurements.push_back(out);
+    if (auto m = rawxMeasurement(p.data() + 16 + 32 * i)) epoch.measurements.push_back(*m);
   }
   statistics_.measurements += epoch.measurements.size();
   ++statistics_.observation_epochs;
   if (handlers.on_epoch) handlers.on_epoch(epoch);
+}
+
+std::optional<UbxSignalMeasurement> UbxDecoder::rawxMeasurement(const std::uint8_t* m) {
+  const int gnss = m[20], sv = m[21], sig = m[22], freq = m[23];
+  const auto sat = ubxSatellite(gnss, sv);
+  const auto code = ubxSignalCode(gnss, sig);
+  if (!sat || !code) {
+    ++statistics_.unmapped_signals[{gnss, sig}];
+    return std::nullopt;
+  }
+  const double pr = r8(m);
+  const double cp = r8(m + 8);
+  const int lock_ms = u2(m + 24);
+  const int cp_stdev = m[28] & 0x0F;
+  const int trk = m[30];
+  UbxSignalMeasurement out;
+  out.satellite = *sat;
+  out.signal = *code;
+  out.gnss_id = gnss;
+  out.sv_id = sv;
+  out.sig_id = sig;
+  if ((trk & 0x01) && std::isfinite(pr)) out.pseudorange_m = pr;
+  if ((trk & 0x02) && std::isfinite(cp) && cp != -0.5 && cp_stdev <= options_.max_phase_stdev_index) {
+    out.carrier_phase_cycles = cp;
+  }
+  const double doppler = r4(m + 16);
+  out.doppler_hz = std::isfinite(doppler) ? doppler : 0.0;
+  out.cn0_dbhz = m[26];
+  out.lock_time_s = lock_ms * 1e-3;
+  out.tracking_status = static_cast<std::uint8_t>(trk);
+  if (gnss == kGnssGlonass) out.glonass_channel = freq - 7;
+  // Loss of lock: lock time restarted or shorter, or the half-cycle state changed;
+  // reported with the next phase.
+  const bool half_valid = (trk & 0x04) != 0;
+  const bool half_subtracted = (trk & 0x08) != 0;
+  const auto [lock_it, first_sight] = lock_.try_emplace({*sat, sig});
+  LockState& lock = lock_it->second;
+  const bool slip = lock_ms == 0 || out.lock_time_s < lock.lock_time_s || half_subtracted != lock.half_cycle_subtracted;
+  lock.lock_time_s = out.lock_time_s;
+  lock.half_cycle_subtracted = half_subtracted;
+  lock.pending_loss_of_lock = lock.pending_loss_of_lock || slip;
+  out.lli = static_cast<std::uint8_t>((first_sight || lock.pending_loss_of_lock ? kLliLossOfLock : 0) |
+                                      (half_valid ? 0 : kLliHalfCycle));
+  if (out.carrier_phase_cycles) lock.pending_loss_of_lock = false;
+  return out;
 }
 
 void UbxDecoder::sfrbx(const UbxFrame& f, const Handlers& handlers) {
@@ -302,7 +307,94 @@ void UbxDecoder::sfrbx(const UbxFrame& f, const Handlers& handlers) {
   else beidouSubframe(f, *sat, handlers);
 }
 
+namespace {
+
+/// The 300 bits of each of LNAV subframes 1-3, IS-GPS-200 bit n at index n-1.
+using LnavSubframes = std::array<std::array<std::uint8_t, 38>, 3>;
+
+LnavSubframes lnavSubframes(const std::optional<std::uint32_t> (&words)[3][10]) {
+  LnavSubframes sf{};
+  for (int s = 0; s < 3; ++s) {
+    for (int w = 0; w < 10; ++w) {
+      for (int b = 0; b < 30; ++b) setBit(sf[s].data(), 30 * w + b, ((*words[s][w] >> (29 - b)) & 1u) != 0);
+    }
+  }
+  return sf;
+}
+
+/// The fields of LNAV subframes 1-3 by subframe (0-2) and IS-GPS-200 bit number.
+class LnavFields {
+ public:
+  explicit LnavFields(const LnavSubframes& sf) : sf_(sf) {}
+  std::uint64_t U(int s, int n, int len) const { return bitsU(sf_[s].data(), n - 1, len); }
+  double S(int s, int n, int len) const { return static_cast<double>(bitsS(sf_[s].data(), n - 1, len)); }
+  /// A 32-bit field split into 8 MSBs at n1 and 24 LSBs at n2.
+  double U32(int s, int n1, int n2) const { return static_cast<double>((U(s, n1, 8) << 24) | U(s, n2, 24)); }
+  double S32(int s, int n1, int n2) const {
+    return static_cast<double>(static_cast<std::int32_t>(static_cast<std::uint32_t>((U(s, n1, 8) << 24) | U(s, n2, 24))));
+  }
+  int iodc() const { return static_cast<int>((U(0, 83, 2) << 8) | U(0, 211, 8)); }
+  int iode2() const { return static_cast<int>(U(1, 61, 8)); }
+  int iode3() const { return static_cast<int>(U(2, 271, 8)); }
+
+ private:
+  const LnavSubframes& sf_;
+};
+
+/// The orbit of subframes 2 and 3 (IS-GPS-200 table 20-III), without its epoch.
+KeplerOrbit lnavOrbit(const LnavFields& f) {
+  KeplerOrbit o;
+  o.crs_m = f.S(1, 69, 16) * std::ldexp(1.0, -5);
+  o.delta_n_radps = f.S(1, 91, 16) * std::ldexp(1.0, -43) * kIcdPi;
+  o.m0_rad = f.S32(1, 107, 121) * std::ldexp(1.0, -31) * kIcdPi;
+  o.cuc_rad = f.S(1, 151, 16) * std::ldexp(1.0, -29);
+  o.eccentricity = f.U32(1, 167, 181) * std::ldexp(1.0, -33);
+  o.cus_rad = f.S(1, 211, 16) * std::ldexp(1.0, -29);
+  o.sqrt_a_sqrtm = f.U32(1, 227, 241) * std::ldexp(1.0, -19);
+  o.toe_sow = static_cast<double>(f.U(1, 271, 16)) * 16.0;
+  o.cic_rad = f.S(2, 61, 16) * std::ldexp(1.0, -29);
+  o.omega0_rad = f.S32(2, 77, 91) * std::ldexp(1.0, -31) * kIcdPi;
+  o.cis_rad = f.S(2, 121, 16) * std::ldexp(1.0, -29);
+  o.i0_rad = f.S32(2, 137, 151) * std::ldexp(1.0, -31) * kIcdPi;
+  o.crc_m = f.S(2, 181, 16) * std::ldexp(1.0, -5);
+  o.omega_rad = f.S32(2, 197, 211) * std::ldexp(1.0, -31) * kIcdPi;
+  o.omega_dot_radps = f.S(2, 241, 24) * std::ldexp(1.0, -43) * kIcdPi;
+  o.idot_radps = f.S(2, 279, 14) * std::ldexp(1.0, -43) * kIcdPi;
+  return o;
+}
+
+/// The ephemeris of subframes 1-3 whose subframe 1 began at HOW count tow_count0;
+/// the 10-bit week resolved with the receiver week.
+GpsLnavEphemeris lnavEphemeris(const SatelliteId& sat, const LnavFields& f, int receiver_week, int tow_count0) {
+  GpsLnavEphemeris eph;
+  eph.satellite = sat;
+  const int week = resolveWeek(static_cast<int>(f.U(0, 61, 10)), 1024, receiver_week);
+  eph.codes_on_l2 = static_cast<int>(f.U(0, 71, 2));
+  eph.ura_m = gpsUra_m(static_cast<int>(f.U(0, 73, 4)));
+  eph.health = static_cast<int>(f.U(0, 77, 6));
+  eph.l2p_data_flag = static_cast<int>(f.U(0, 91, 1));
+  eph.tgd_s = f.S(0, 197, 8) * std::ldexp(1.0, -31);
+  eph.iodc = f.iodc();
+  eph.iode = f.iode2();
+  const double toc_sow = static_cast<double>(f.U(0, 219, 16)) * 16.0;
+  eph.clock.af2_sps2 = f.S(0, 241, 8) * std::ldexp(1.0, -55);
+  eph.clock.af1_sps = f.S(0, 249, 16) * std::ldexp(1.0, -43);
+  eph.clock.af0_s = f.S(0, 271, 22) * std::ldexp(1.0, -31);
+  eph.orbit = lnavOrbit(f);
+  eph.fit_interval_h = gpsFitIntervalHours(static_cast<int>(f.U(1, 287, 1)), eph.iodc);
+  // Transmission: the start of subframe 1 (its HOW count gives the start of subframe 2).
+  const GnssTime transmission = GnssTime::fromGpsWeek(week, 0.0) + (tow_count0 - 1) * 6.0;
+  eph.transmission_sow = transmission.gpsWeek().seconds_of_week;
+  eph.orbit.toe = nearestSecondsOfWeek(transmission, eph.orbit.toe_sow);
+  eph.clock.toc = nearestSecondsOfWeek(transmission, toc_sow);
+  eph.week = eph.orbit.toe.gpsWeek().week;
+  return eph;
+}
+
+}  // namespace
+
 void UbxDecoder::lnav(const UbxFrame& f, const SatelliteId& sat, const Handlers& handlers) {
+  // 1. The ten words: the preamble, the subframe id; almanac pages are not used.
   std::array<std::uint32_t, 10> words{};
   for (int i = 0; i < 10; ++i) words[i] = u4(f.payload.data() + 8 + 4 * i) & 0x3FFFFFFFu;
   if (((words[0] >> 22) & 0xFFu) != 0x8Bu) {
@@ -316,32 +408,19 @@ void UbxDecoder::lnav(const UbxFrame& f, const SatelliteId& sat, const Handlers&
     return;
   }
   if (id > 3) return;  // almanac / ionosphere / UTC pages: not used
+  // 2. Subframes 1-3 of one frame: consecutive HOW TOW counts (6 s each).
   LnavFrame& frame = lnav_[sat];
   for (int i = 0; i < 10; ++i) frame.words[id - 1][i] = words[i];
   frame.tow_count[id - 1] = tow_count;
   if (id != 3) return;
-  // Subframes 1-3 of one frame: consecutive HOW TOW counts (6 s each).
   if (frame.tow_count[0] < 0 || frame.tow_count[1] != frame.tow_count[0] + 1 ||
       frame.tow_count[2] != frame.tow_count[0] + 2) {
     return;
   }
-  // The 300 bits of each subframe, IS-GPS-200 bit n at index n-1.
-  std::array<std::array<std::uint8_t, 38>, 3> sf{};
-  for (int s = 0; s < 3; ++s) {
-    for (int w = 0; w < 10; ++w) {
-      for (int b = 0; b < 30; ++b) setBit(sf[s].data(), 30 * w + b, ((*frame.words[s][w] >> (29 - b)) & 1u) != 0);
-    }
-  }
-  auto U = [&](int s, int n, int len) { return bitsU(sf[s].data(), n - 1, len); };
-  auto S = [&](int s, int n, int len) { return static_cast<double>(bitsS(sf[s].data(), n - 1, len)); };
-  // A 32-bit field split into 8 MSBs at n1 and 24 LSBs at n2.
-  auto U32 = [&](int s, int n1, int n2) { return static_cast<double>((U(s, n1, 8) << 24) | U(s, n2, 24)); };
-  auto S32 = [&](int s, int n1, int n2) {
-    return static_cast<double>(static_cast<std::int32_t>(static_cast<std::uint32_t>((U(s, n1, 8) << 24) | U(s, n2, 24))));
-  };
-  const int iodc = static_cast<int>((U(0, 83, 2) << 8) | U(0, 211, 8));
-  const int iode2 = static_cast<int>(U(1, 61, 8));
-  const int iode3 = static_cast<int>(U(2, 271, 8));
+  // 3. One issue of data in all three; a known week.
+  const LnavSubframes sf = lnavSubframes(frame.words);
+  const LnavFields fields(sf);
+  const int iodc = fields.iodc(), iode2 = fields.iode2(), iode3 = fields.iode3();
   if (iode2 != iode3 || iode2 != (iodc & 0xFF)) {
     problem(f, StreamProblemKind::InconsistentEphemeris,
             sat.toString() + " LNAV frame with IODC " + std::to_string(iodc) + ", IODE " + std::to_string(iode2) +
@@ -353,58 +432,116 @@ void UbxDecoder::lnav(const UbxFrame& f, const SatelliteId& sat, const Handlers&
             sat.toString() + " LNAV ephemeris before any RXM-RAWX week: the 10-bit week cannot be resolved");
     return;
   }
-  GpsLnavEphemeris eph;
-  eph.satellite = sat;
-  const int week = resolveWeek(static_cast<int>(U(0, 61, 10)), 1024, *week_);
-  eph.codes_on_l2 = static_cast<int>(U(0, 71, 2));
-  eph.ura_m = gpsUra_m(static_cast<int>(U(0, 73, 4)));
-  eph.health = static_cast<int>(U(0, 77, 6));
-  eph.l2p_data_flag = static_cast<int>(U(0, 91, 1));
-  eph.tgd_s = S(0, 197, 8) * std::ldexp(1.0, -31);
-  eph.iodc = iodc;
-  eph.iode = iode2;
-  const double toc_sow = static_cast<double>(U(0, 219, 16)) * 16.0;
-  eph.clock.af2_sps2 = S(0, 241, 8) * std::ldexp(1.0, -55);
-  eph.clock.af1_sps = S(0, 249, 16) * std::ldexp(1.0, -43);
-  eph.clock.af0_s = S(0, 271, 22) * std::ldexp(1.0, -31);
-  KeplerOrbit& o = eph.orbit;
-  o.crs_m = S(1, 69, 16) * std::ldexp(1.0, -5);
-  o.delta_n_radps = S(1, 91, 16) * std::ldexp(1.0, -43) * kIcdPi;
-  o.m0_rad = S32(1, 107, 121) * std::ldexp(1.0, -31) * kIcdPi;
-  o.cuc_rad = S(1, 151, 16) * std::ldexp(1.0, -29);
-  o.eccentricity = U32(1, 167, 181) * std::ldexp(1.0, -33);
-  o.cus_rad = S(1, 211, 16) * std::ldexp(1.0, -29);
-  o.sqrt_a_sqrtm = U32(1, 227, 241) * std::ldexp(1.0, -19);
-  o.toe_sow = static_cast<double>(U(1, 271, 16)) * 16.0;
-  eph.fit_interval_h = gpsFitIntervalHours(static_cast<int>(U(1, 287, 1)), iodc);
-  o.cic_rad = S(2, 61, 16) * std::ldexp(1.0, -29);
-  o.omega0_rad = S32(2, 77, 91) * std::ldexp(1.0, -31) * kIcdPi;
-  o.cis_rad = S(2, 121, 16) * std::ldexp(1.0, -29);
-  o.i0_rad = S32(2, 137, 151) * std::ldexp(1.0, -31) * kIcdPi;
-  o.crc_m = S(2, 181, 16) * std::ldexp(1.0, -5);
-  o.omega_rad = S32(2, 197, 211) * std::ldexp(1.0, -31) * kIcdPi;
-  o.omega_dot_radps = S(2, 241, 24) * std::ldexp(1.0, -43) * kIcdPi;
-  o.idot_radps = S(2, 279, 14) * std::ldexp(1.0, -43) * kIcdPi;
-  // Transmission: the start of subframe 1 (its HOW count gives the start of subframe 2).
-  const GnssTime transmission = GnssTime::fromGpsWeek(week, 0.0) + (frame.tow_count[0] - 1) * 6.0;
-  eph.transmission_sow = transmission.gpsWeek().seconds_of_week;
-  o.toe = nearestSecondsOfWeek(transmission, o.toe_sow);
-  eph.clock.toc = nearestSecondsOfWeek(transmission, toc_sow);
-  eph.week = o.toe.gpsWeek().week;
+  // 4. The ephemeris, passed on once per issue and epoch.
+  const GpsLnavEphemeris eph = lnavEphemeris(sat, fields, *week_, frame.tow_count[0]);
   const auto last = last_gps_.find(sat);
-  if (last != last_gps_.end() && last->second.first == iodc && last->second.second == o.toe) return;
-  last_gps_[sat] = {iodc, o.toe};
+  if (last != last_gps_.end() && last->second.first == iodc && last->second.second == eph.orbit.toe) return;
+  last_gps_[sat] = {iodc, eph.orbit.toe};
   ++statistics_.gps_ephemerides;
   if (handlers.on_gps) handlers.on_gps(eph);
 }
 
-void UbxDecoder::inav(const UbxFrame& f, const SatelliteId& sat, const Handlers& handlers) {
-  // The page: words 0-3 the even half, 4-7 the odd half, each word's first bit its MSB.
+namespace {
+
+/// The page of an I/NAV RXM-SFRBX: words 0-3 the even half, 4-7 the odd half, each
+/// word's first bit its MSB.
+std::array<std::uint8_t, 32> inavPage(const UbxFrame& f) {
   std::array<std::uint8_t, 32> page{};
   for (int i = 0; i < 8; ++i) {
     const std::uint32_t w = u4(f.payload.data() + 8 + 4 * i);
     for (int j = 0; j < 4; ++j) page[4 * i + j] = static_cast<std::uint8_t>(w >> (24 - 8 * j));
   }
+  return page;
+}
+
+/// CRC-24Q over even bits 0-113 and odd bits 0-81 (196 bits, 4 leading zero bits
+/// make 25 bytes; OS SIS ICD 4.3.2.1), against odd bits 82-105.
+bool inavCrcOk(const std::uint8_t* even, const std::uint8_t* odd) {
+  std::array<std::uint8_t, 25> crc_input{};
+  std::size_t at = 4;
+  for (std::size_t i = 0; i < 114; ++i) setBit(crc_input.data(), at++, bitsU(even, i, 1) != 0);
+  for (std::size_t i = 0; i < 82; ++i) setBit(crc_input.data(), at++, bitsU(odd, i, 1) != 0);
+  return crc24q(crc_input.data(), crc_input.size()) == bitsU(odd, 82, 24);
+}
+
+/// The 128-bit word: even data bits 2-113, odd data bits 2-17.
+std::vector<std::uint8_t> inavWord(const std::uint8_t* even, const std::uint8_t* odd) {
+  std::vector<std::uint8_t> word(16, 0);
+  for (std::size_t i = 0; i < 112; ++i) setBit(word.data(), i, bitsU(even, 2 + i, 1) != 0);
+  for (std::size_t i = 0; i < 16; ++i) setBit(word.data(), 112 + i, bitsU(odd, 2 + i, 1) != 0);
+  return word;
+}
+
+double inavS(const std::uint8_t* w, int start, int len) { return static_cast<double>(bitsS(w, start, len)); }
+double inavU(const std::uint8_t* w, int start, int len) { return static_cast<double>(bitsU(w, start, len)); }
+
+/// The orbit of I/NAV words 1-4 (OS SIS ICD 4.3.5), without its epoch.
+KeplerOrbit inavOrbit(const std::uint8_t* w1, const std::uint8_t* w2, const std::uint8_t* w3, const std::uint8_t* w4) {
+  KeplerOrbit o;
+  o.toe_sow = inavU(w1, 16, 14) * 60.0;
+  o.m0_rad = inavS(w1, 30, 32) * std::ldexp(1.0, -31) * kIcdPi;
+  o.eccentricity = inavU(w1, 62, 32) * std::ldexp(1.0, -33);
+  o.sqrt_a_sqrtm = inavU(w1, 94, 32) * std::ldexp(1.0, -19);
+  o.omega0_rad = inavS(w2, 16, 32) * std::ldexp(1.0, -31) * kIcdPi;
+  o.i0_rad = inavS(w2, 48, 32) * std::ldexp(1.0, -31) * kIcdPi;
+  o.omega_rad = inavS(w2, 80, 32) * std::ldexp(1.0, -31) * kIcdPi;
+  o.idot_radps = inavS(w2, 112, 14) * std::ldexp(1.0, -43) * kIcdPi;
+  o.omega_dot_radps = inavS(w3, 16, 24) * std::ldexp(1.0, -43) * kIcdPi;
+  o.delta_n_radps = inavS(w3, 40, 16) * std::ldexp(1.0, -43) * kIcdPi;
+  o.cuc_rad = inavS(w3, 56, 16) * std::ldexp(1.0, -29);
+  o.cus_rad = inavS(w3, 72, 16) * std::ldexp(1.0, -29);
+  o.crc_m = inavS(w3, 88, 16) * std::ldexp(1.0, -5);
+  o.crs_m = inavS(w3, 104, 16) * std::ldexp(1.0, -5);
+  o.cic_rad = inavS(w4, 22, 16) * std::ldexp(1.0, -29);
+  o.cis_rad = inavS(w4, 38, 16) * std::ldexp(1.0, -29);
+  return o;
+}
+
+/// The ephemeris of I/NAV words 1-5 of one IOD; the GST week resolved with the
+/// receiver week when known; sig: the RXM-SFRBX sigId (5: E5b-I, else E1-B).
+GalileoEphemeris inavEphemeris(const SatelliteId& sat, int iod, const std::map<int, std::vector<std::uint8_t>>& words,
+                               const std::vector<std::uint8_t>& word5, std::optional<int> receiver_week, int sig) {
+  const std::uint8_t* w3 = words.at(3).data();
+  const std::uint8_t* w4 = words.at(4).data();
+  const std::uint8_t* w5 = word5.data();
+  GalileoEphemeris eph;
+  eph.satellite = sat;
+  eph.type = GalileoNavType::INav;
+  eph.iod_nav = iod;
+  KeplerOrbit& o = eph.orbit;
+  o = inavOrbit(words.at(1).data(), words.at(2).data(), w3, w4);
+  eph.sisa_m = galileoSisa_m(static_cast<int>(inavU(w3, 120, 8)));
+  const double toc_sow = inavU(w4, 54, 14) * 60.0;
+  eph.clock.af0_s = inavS(w4, 68, 31) * std::ldexp(1.0, -34);
+  eph.clock.af1_sps = inavS(w4, 99, 21) * std::ldexp(1.0, -46);
+  eph.clock.af2_sps2 = inavS(w4, 120, 6) * std::ldexp(1.0, -59);
+  // Word 5: ionosphere (6..46), BGDs, health, GST week and time of week.
+  eph.bgd_e5a_e1_s = inavS(w5, 47, 10) * std::ldexp(1.0, -32);
+  eph.bgd_e5b_e1_s = inavS(w5, 57, 10) * std::ldexp(1.0, -32);
+  const int e5b_hs = static_cast<int>(inavU(w5, 67, 2));
+  const int e1b_hs = static_cast<int>(inavU(w5, 69, 2));
+  const int e5b_dvs = static_cast<int>(inavU(w5, 71, 1));
+  const int e1b_dvs = static_cast<int>(inavU(w5, 72, 1));
+  const int gst_week = static_cast<int>(inavU(w5, 73, 12));
+  const double tow_s = inavU(w5, 85, 20);
+  eph.health = e1b_dvs | (e1b_hs << 1) | (e5b_dvs << 6) | (e5b_hs << 7);
+  // GST week 0 began with GPS week 1024 (OS SIS ICD 5.1.2); 12-bit roll-over resolved
+  // with the receiver week.
+  const int week = receiver_week ? resolveWeek(gst_week + 1024, 4096, *receiver_week) : gst_week + 1024;
+  const GnssTime transmission = GnssTime::fromGpsWeek(week, tow_s);
+  eph.transmission_sow = tow_s;
+  o.toe = nearestSecondsOfWeek(transmission, o.toe_sow);
+  eph.clock.toc = nearestSecondsOfWeek(transmission, toc_sow);
+  eph.week = o.toe.gpsWeek().week;
+  eph.data_sources = (sig == 5 ? (1 << 2) : (1 << 0)) | (1 << 9);  // I/NAV E1-B or E5b-I; clock E5b/E1
+  return eph;
+}
+
+}  // namespace
+
+void UbxDecoder::inav(const UbxFrame& f, const SatelliteId& sat, const Handlers& handlers) {
+  // 1. The page: alert pages skipped; the halves even then odd; CRC-24Q.
+  const std::array<std::uint8_t, 32> page = inavPage(f);
   const std::uint8_t* even = page.data();
   const std::uint8_t* odd = page.data() + 16;
   if (bitsU(even, 1, 1) == 1 || bitsU(odd, 1, 1) == 1) return;  // alert page
@@ -412,20 +549,12 @@ void UbxDecoder::inav(const UbxFrame& f, const SatelliteId& sat, const Handlers&
     problem(f, StreamProblemKind::MalformedMessage, sat.toString() + " I/NAV page halves not even then odd");
     return;
   }
-  // CRC-24Q over even bits 0-113 and odd bits 0-81 (196 bits, 4 leading zero bits
-  // make 25 bytes; OS SIS ICD 4.3.2.1), against odd bits 82-105.
-  std::array<std::uint8_t, 25> crc_input{};
-  std::size_t at = 4;
-  for (std::size_t i = 0; i < 114; ++i) setBit(crc_input.data(), at++, bitsU(even, i, 1) != 0);
-  for (std::size_t i = 0; i < 82; ++i) setBit(crc_input.data(), at++, bitsU(odd, i, 1) != 0);
-  if (crc24q(crc_input.data(), crc_input.size()) != bitsU(odd, 82, 24)) {
+  if (!inavCrcOk(even, odd)) {
     problem(f, StreamProblemKind::ChecksumError, sat.toString() + " Galileo I/NAV page CRC-24Q mismatch");
     return;
   }
-  // The 128-bit word: even data bits 2-113, odd data bits 2-17.
-  std::vector<std::uint8_t> word(16, 0);
-  for (std::size_t i = 0; i < 112; ++i) setBit(word.data(), i, bitsU(even, 2 + i, 1) != 0);
-  for (std::size_t i = 0; i < 16; ++i) setBit(word.data(), 112 + i, bitsU(odd, 2 + i, 1) != 0);
+  // 2. The word: types 1-4 kept by IOD (the last four IODs), type 5 the latest.
+  std::vector<std::uint8_t> word = inavWord(even, odd);
   const int type = static_cast<int>(bitsU(word.data(), 0, 6));
   InavState& state = inav_[sat];
   int iod = -1;
@@ -439,77 +568,62 @@ void UbxDecoder::inav(const UbxFrame& f, const SatelliteId& sat, const Handlers&
     return;
   }
   if (!state.word5) return;
-  // Release every IOD with words 1-4 complete (normally the one just completed).
+  // 3. Release every IOD with words 1-4 complete (normally the one just completed).
   for (auto& [record_iod, words] : state.words_by_iod) {
     if (iod >= 0 && record_iod != iod) continue;
     if (words.size() < 4) continue;
-    const std::uint8_t* w1 = words[1].data();
-    const std::uint8_t* w2 = words[2].data();
-    const std::uint8_t* w3 = words[3].data();
-    const std::uint8_t* w4 = words[4].data();
-    const std::uint8_t* w5 = state.word5->data();
-    const int svid = static_cast<int>(bitsU(w4, 16, 6));
+    const int svid = static_cast<int>(bitsU(words[4].data(), 16, 6));
     if (svid != sat.prn) {
       problem(f, StreamProblemKind::InconsistentEphemeris,
               sat.toString() + " I/NAV word 4 names SVID " + std::to_string(svid) + ": not used");
       words.erase(4);
       continue;
     }
-    auto S = [](const std::uint8_t* w, int start, int len) { return static_cast<double>(bitsS(w, start, len)); };
-    auto U = [](const std::uint8_t* w, int start, int len) { return static_cast<double>(bitsU(w, start, len)); };
-    GalileoEphemeris eph;
-    eph.satellite = sat;
-    eph.type = GalileoNavType::INav;
-    eph.iod_nav = record_iod;
-    KeplerOrbit& o = eph.orbit;
-    o.toe_sow = U(w1, 16, 14) * 60.0;
-    o.m0_rad = S(w1, 30, 32) * std::ldexp(1.0, -31) * kIcdPi;
-    o.eccentricity = U(w1, 62, 32) * std::ldexp(1.0, -33);
-    o.sqrt_a_sqrtm = U(w1, 94, 32) * std::ldexp(1.0, -19);
-    o.omega0_rad = S(w2, 16, 32) * std::ldexp(1.0, -31) * kIcdPi;
-    o.i0_rad = S(w2, 48, 32) * std::ldexp(1.0, -31) * kIcdPi;
-    o.omega_rad = S(w2, 80, 32) * std::ldexp(1.0, -31) * kIcdPi;
-    o.idot_radps = S(w2, 112, 14) * std::ldexp(1.0, -43) * kIcdPi;
-    o.omega_dot_radps = S(w3, 16, 24) * std::ldexp(1.0, -43) * kIcdPi;
-    o.delta_n_radps = S(w3, 40, 16) * std::ldexp(1.0, -43) * kIcdPi;
-    o.cuc_rad = S(w3, 56, 16) * std::ldexp(1.0, -29);
-    o.cus_rad = S(w3, 72, 16) * std::ldexp(1.0, -29);
-    o.crc_m = S(w3, 88, 16) * std::ldexp(1.0, -5);
-    o.crs_m = S(w3, 104, 16) * std::ldexp(1.0, -5);
-    eph.sisa_m = galileoSisa_m(static_cast<int>(U(w3, 120, 8)));
-    o.cic_rad = S(w4, 22, 16) * std::ldexp(1.0, -29);
-    o.cis_rad = S(w4, 38, 16) * std::ldexp(1.0, -29);
-    const double toc_sow = U(w4, 54, 14) * 60.0;
-    eph.clock.af0_s = S(w4, 68, 31) * std::ldexp(1.0, -34);
-    eph.clock.af1_sps = S(w4, 99, 21) * std::ldexp(1.0, -46);
-    eph.clock.af2_sps2 = S(w4, 120, 6) * std::ldexp(1.0, -59);
-    // Word 5: ionosphere (6..46), BGDs, health, GST week and time of week.
-    eph.bgd_e5a_e1_s = S(w5, 47, 10) * std::ldexp(1.0, -32);
-    eph.bgd_e5b_e1_s = S(w5, 57, 10) * std::ldexp(1.0, -32);
-    const int e5b_hs = static_cast<int>(U(w5, 67, 2));
-    const int e1b_hs = static_cast<int>(U(w5, 69, 2));
-    const int e5b_dvs = static_cast<int>(U(w5, 71, 1));
-    const int e1b_dvs = static_cast<int>(U(w5, 72, 1));
-    const int gst_week = static_cast<int>(U(w5, 73, 12));
-    const double tow_s = U(w5, 85, 20);
-    eph.health = e1b_dvs | (e1b_hs << 1) | (e5b_dvs << 6) | (e5b_hs << 7);
-    // GST week 0 began with GPS week 1024 (OS SIS ICD 5.1.2); 12-bit roll-over resolved
-    // with the receiver week.
-    const int week = week_ ? resolveWeek(gst_week + 1024, 4096, *week_) : gst_week + 1024;
-    const GnssTime transmission = GnssTime::fromGpsWeek(week, tow_s);
-    eph.transmission_sow = tow_s;
-    o.toe = nearestSecondsOfWeek(transmission, o.toe_sow);
-    eph.clock.toc = nearestSecondsOfWeek(transmission, toc_sow);
-    eph.week = o.toe.gpsWeek().week;
-    const int sig = f.payload[2];
-    eph.data_sources = (sig == 5 ? (1 << 2) : (1 << 0)) | (1 << 9);  // I/NAV E1-B or E5b-I; clock E5b/E1
+    const GalileoEphemeris eph = inavEphemeris(sat, record_iod, words, *state.word5, week_, f.payload[2]);
     const auto last = last_galileo_.find(sat);
-    if (last != last_galileo_.end() && last->second.first == record_iod && last->second.second == o.toe) continue;
-    last_galileo_[sat] = {record_iod, o.toe};
+    if (last != last_galileo_.end() && last->second.first == record_iod && last->second.second == eph.orbit.toe) continue;
+    last_galileo_[sat] = {record_iod, eph.orbit.toe};
     ++statistics_.galileo_ephemerides;
     if (handlers.on_galileo) handlers.on_galileo(eph);
   }
 }
+
+namespace {
+
+/// The ephemeris of GLONASS strings 1-4 (ICD GLONASS 4.4); tb and tk, Moscow times
+/// (UTC + 3 h) of the day, placed around the receiver time `now`.
+GlonassEphemeris glonassEphemeris(const SatelliteId& sat, const std::array<ubx_nav::Unit, 4>& u, int channel,
+                                  const GnssTime& now) {
+  using namespace ubx_nav;
+  GlonassEphemeris eph;
+  eph.satellite = sat;
+  eph.frequency_channel = channel;
+  const bool sm = true;  // sign-magnitude numbers
+  eph.position_m = 1e3 * Eigen::Vector3d(readField(u, glo::kX, sm), readField(u, glo::kY, sm), readField(u, glo::kZ, sm));
+  eph.velocity_mps = 1e3 * Eigen::Vector3d(readField(u, glo::kVx, sm), readField(u, glo::kVy, sm), readField(u, glo::kVz, sm));
+  eph.acceleration_mps2 =
+      1e3 * Eigen::Vector3d(readField(u, glo::kAx, sm), readField(u, glo::kAy, sm), readField(u, glo::kAz, sm));
+  eph.gamma_n = readField(u, glo::kGammaN, sm);
+  eph.minus_tau_n_s = -readField(u, glo::kTauN, sm);
+  eph.health = static_cast<int>(readField(u, glo::kBn)) >> 2;  // Bn MSB
+  eph.age_days = readField(u, glo::kEn);
+  const double moscow_sod = glonassSecondsOfDay(now);
+  auto nearestInDay = [&](double sod) {
+    double d = sod - moscow_sod;
+    if (d > 43200.0) d -= 86400.0;
+    if (d < -43200.0) d += 86400.0;
+    return now + d;  // GPST: the Moscow offset cancels in the difference
+  };
+  const int tb = static_cast<int>(readField(u, glo::kTb));
+  eph.tb = nearestInDay(tb * 900.0);
+  const double tk_sod = readField(u, glo::kTkHours) * 3600.0 + readField(u, glo::kTkMinutes) * 60.0 +
+                        readField(u, glo::kTkHalfMinute) * 30.0;
+  const GnssTime tk = nearestInDay(tk_sod);
+  eph.message_frame_time_s = (tk + tk.offsetToSystem_s(TimeSystem::UTC)).gpsWeek().seconds_of_week;
+  return eph;
+}
+
+}  // namespace
 
 void UbxDecoder::glonassString(const UbxFrame& f, const SatelliteId& sat, const Handlers& handlers) {
   using namespace ubx_nav;
@@ -546,33 +660,7 @@ void UbxDecoder::glonassString(const UbxFrame& f, const SatelliteId& sat, const 
             sat.toString() + " GLONASS ephemeris before any RXM-RAWX: the day of tb cannot be resolved");
     return;
   }
-  GlonassEphemeris eph;
-  eph.satellite = sat;
-  eph.frequency_channel = static_cast<int>(f.payload[3]) - 7;
-  const bool sm = true;  // sign-magnitude numbers
-  eph.position_m = 1e3 * Eigen::Vector3d(readField(u, glo::kX, sm), readField(u, glo::kY, sm), readField(u, glo::kZ, sm));
-  eph.velocity_mps = 1e3 * Eigen::Vector3d(readField(u, glo::kVx, sm), readField(u, glo::kVy, sm), readField(u, glo::kVz, sm));
-  eph.acceleration_mps2 =
-      1e3 * Eigen::Vector3d(readField(u, glo::kAx, sm), readField(u, glo::kAy, sm), readField(u, glo::kAz, sm));
-  eph.gamma_n = readField(u, glo::kGammaN, sm);
-  eph.minus_tau_n_s = -readField(u, glo::kTauN, sm);
-  eph.health = static_cast<int>(readField(u, glo::kBn)) >> 2;  // Bn MSB
-  eph.age_days = readField(u, glo::kEn);
-  // tb and tk are Moscow times (UTC + 3 h) of the day around the receiver time.
-  const GnssTime now = *last_time_;
-  const double moscow_sod = glonassSecondsOfDay(now);
-  auto nearestInDay = [&](double sod) {
-    double d = sod - moscow_sod;
-    if (d > 43200.0) d -= 86400.0;
-    if (d < -43200.0) d += 86400.0;
-    return now + d;  // GPST: the Moscow offset cancels in the difference
-  };
-  const int tb = static_cast<int>(readField(u, glo::kTb));
-  eph.tb = nearestInDay(tb * 900.0);
-  const double tk_sod = readField(u, glo::kTkHours) * 3600.0 + readField(u, glo::kTkMinutes) * 60.0 +
-                        readField(u, glo::kTkHalfMinute) * 30.0;
-  const GnssTime tk = nearestInDay(tk_sod);
-  eph.message_frame_time_s = (tk + tk.offsetToSystem_s(TimeSystem::UTC)).gpsWeek().seconds_of_week;
+  const GlonassEphemeris eph = glonassEphemeris(sat, u, static_cast<int>(f.payload[3]) - 7, *last_time_);
   if (const auto why = checkGlonassState(eph)) {
     problem(f, StreamProblemKind::MalformedMessage, sat.toString() + ": " + *why);
     return;

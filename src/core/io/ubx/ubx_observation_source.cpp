@@ -8,6 +8,7 @@
 #include "ppp_bayes_tree/io/epoch_time_screen.h"
 #include "ppp_bayes_tree/io/line_source.h"
 #include "ppp_bayes_tree/io/parse_error.h"
+#include "ppp_bayes_tree/io/rinex/stream_epoch_layout.h"
 #include "ppp_bayes_tree/io/stream_pump.h"
 
 namespace ppp {

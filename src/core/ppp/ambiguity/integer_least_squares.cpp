@@ -96,75 +96,101 @@ std::optional<Decorrelation> decorrelate(const Eigen::MatrixXd& Q) {
   return out;
 }
 
+namespace {
+
+/// The levels of the search tree: level k holds the integer z(k) given z(k+1..n-1),
+/// its integers visited nearest the conditional centre first (Schnorr-Euchner).
+struct SearchLevels {
+  SearchLevels(const Eigen::VectorXd& z_hat_in, const Eigen::MatrixXd& L_in)
+      : z_hat(z_hat_in), L(L_in), n(static_cast<int>(z_hat_in.size())), z(n), center(n), step(n) {}
+
+  double conditionalCenter(int k) const {
+    double c = z_hat(k);
+    for (int i = k + 1; i < n; ++i) c += L(i, k) * (z(i) - center(i));
+    return c;
+  }
+  void start(int k) {
+    center(k) = conditionalCenter(k);
+    z(k) = std::round(center(k));
+    step(k) = (center(k) - z(k) >= 0.0) ? 1.0 : -1.0;
+  }
+  void advance(int k) {  // next integer of level k in order of growing distance
+    z(k) += step(k);
+    step(k) = -step(k) - (step(k) > 0.0 ? 1.0 : -1.0);
+  }
+
+  const Eigen::VectorXd& z_hat;
+  const Eigen::MatrixXd& L;
+  const int n;
+  Eigen::VectorXd z, center, step;
+};
+
+/// The best m candidates found so far, unsorted; once m are kept, the worst of them
+/// bounds the search.
+struct KeptCandidates {
+  explicit KeptCandidates(int m_in) : m(m_in) {}
+
+  void add(double dist, const Eigen::VectorXd& z) {
+    const auto by_norm = [](const auto& a, const auto& b) { return a.first < b.first; };
+    if (static_cast<int>(kept.size()) < m) {
+      kept.emplace_back(dist, z);
+    } else {
+      *std::max_element(kept.begin(), kept.end(), by_norm) = {dist, z};
+    }
+    if (static_cast<int>(kept.size()) == m) bound = std::max_element(kept.begin(), kept.end(), by_norm)->first;
+  }
+  void sortInto(IntegerCandidates& out) {
+    std::sort(kept.begin(), kept.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+    for (auto& [norm, v] : kept) {
+      out.squared_norms.push_back(norm);
+      out.vectors.push_back(std::move(v));
+    }
+  }
+
+  const int m;
+  std::vector<std::pair<double, Eigen::VectorXd>> kept;
+  double bound = std::numeric_limits<double>::infinity();
+};
+
+}  // namespace
+
 IntegerCandidates searchIntegerCandidates(const Eigen::VectorXd& z_hat, const LtdlFactor& factor,
                                           int candidates) {
   IntegerCandidates out;
   const int n = static_cast<int>(z_hat.size());
   const int m = std::max(1, candidates);
   if (n == 0 || factor.L.rows() != n || factor.d.size() != n) return out;
-  const Eigen::MatrixXd& L = factor.L;
   const Eigen::VectorXd& d = factor.d;
-
-  Eigen::VectorXd z(n), center(n), step(n), partial(n + 1);
+  SearchLevels levels(z_hat, factor.L);
+  Eigen::VectorXd partial(n + 1);  // partial(k): squared distance of levels k..n-1
   partial(n) = 0.0;
-  double bound = std::numeric_limits<double>::infinity();
-  // Stored candidates, unsorted until the end; worst tracked for shrinking.
-  std::vector<std::pair<double, Eigen::VectorXd>> kept;
+  KeptCandidates kept(m);
 
-  auto conditionalCenter = [&](int k) {
-    double c = z_hat(k);
-    for (int i = k + 1; i < n; ++i) c += L(i, k) * (z(i) - center(i));
-    return c;
-  };
-  auto startLevel = [&](int k) {
-    center(k) = conditionalCenter(k);
-    z(k) = std::round(center(k));
-    step(k) = (center(k) - z(k) >= 0.0) ? 1.0 : -1.0;
-  };
-  auto advance = [&](int k) {  // next integer of level k in order of growing distance
-    z(k) += step(k);
-    step(k) = -step(k) - (step(k) > 0.0 ? 1.0 : -1.0);
-  };
-
+  // Depth first from the last level: down while inside the ellipsoid, a candidate at
+  // level 0, up to the next integer of the level above once outside.
   int k = n - 1;
-  startLevel(k);
+  levels.start(k);
   while (true) {
     ++out.nodes_visited;
-    const double e = z(k) - center(k);
+    const double e = levels.z(k) - levels.center(k);
     const double dist = partial(k + 1) + e * e / d(k);
-    if (dist < bound) {
+    if (dist < kept.bound) {
       if (k > 0) {
         partial(k) = dist;
         --k;
-        startLevel(k);
+        levels.start(k);
         continue;
       }
-      // A full candidate.
-      if (static_cast<int>(kept.size()) < m) {
-        kept.emplace_back(dist, z);
-      } else {
-        auto worst = std::max_element(kept.begin(), kept.end(),
-                                      [](const auto& a, const auto& b) { return a.first < b.first; });
-        *worst = {dist, z};
-      }
-      if (static_cast<int>(kept.size()) == m) {
-        bound = std::max_element(kept.begin(), kept.end(),
-                                 [](const auto& a, const auto& b) { return a.first < b.first; })
-                    ->first;
-      }
-      advance(0);
+      kept.add(dist, levels.z);  // a full candidate
+      levels.advance(0);
       continue;
     }
     // Outside the ellipsoid: every further integer of this level is farther too.
     if (k == n - 1) break;
     ++k;
-    advance(k);
+    levels.advance(k);
   }
-  std::sort(kept.begin(), kept.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
-  for (auto& [norm, v] : kept) {
-    out.squared_norms.push_back(norm);
-    out.vectors.push_back(std::move(v));
-  }
+  kept.sortInto(out);
   return out;
 }
 
@@ -185,6 +211,32 @@ std::string toString(IlsFloatReason reason) {
   }
   return "unknown";
 }
+
+namespace {
+
+/// The largest p >= min_fixed whose last p decorrelated ambiguities reach the
+/// bootstrapped success rate (variances scaled by k); 0 when none does.
+int largestReliableSubset(const Eigen::VectorXd& d, double k, int min_fixed, double min_success_rate) {
+  for (int p = static_cast<int>(d.size()); p >= min_fixed; --p) {
+    if (bootstrapSuccessRate(k * d.tail(p)) >= min_success_rate) return p;
+  }
+  return 0;
+}
+
+/// The fix of the last p decorrelated ambiguities to z; with all of them, the
+/// original ambiguities too (a = Z^-T z; Z is unimodular, so the rounded solve is exact).
+void setFixed(const Decorrelation& dec, int p, const Eigen::VectorXd& z, IlsResult& out) {
+  const int n = static_cast<int>(dec.Z.rows());
+  out.fixed = p;
+  out.constraint_rows = dec.Z.rightCols(p).transpose();
+  out.constraint_values = z;
+  if (p != n) return;
+  Eigen::VectorXd a = dec.Z.transpose().fullPivLu().solve(z);
+  for (int i = 0; i < n; ++i) a(i) = std::round(a(i));
+  out.fixed_ambiguities = a;
+}
+
+}  // namespace
 
 IlsResult solveIntegerLeastSquares(const Eigen::VectorXd& a_hat, const Eigen::MatrixXd& Q,
                                    const IlsOptions& options) {
@@ -209,21 +261,14 @@ IlsResult solveIntegerLeastSquares(const Eigen::VectorXd& a_hat, const Eigen::Ma
   const Eigen::VectorXd& d = dec->factor.d;
   const double k = std::max(1.0, options.success_rate_variance_factor);
 
-  // Largest subset (the last p decorrelated elements) reaching the success rate.
-  int p_start = options.partial ? 0 : n;
-  if (options.partial) {
-    for (int p = n; p >= min_fixed; --p) {
-      if (bootstrapSuccessRate(k * d.tail(p)) >= options.min_success_rate) {
-        p_start = p;
-        break;
-      }
-    }
-    if (p_start == 0) {
-      out.float_reason = IlsFloatReason::LowSuccessRate;
-      out.bootstrap_success_rate = bootstrapSuccessRate(k * d.tail(min_fixed));
-      return out;
-    }
+  // 1. Largest subset (the last p decorrelated elements) reaching the success rate.
+  const int p_start = options.partial ? largestReliableSubset(d, k, min_fixed, options.min_success_rate) : n;
+  if (p_start == 0) {
+    out.float_reason = IlsFloatReason::LowSuccessRate;
+    out.bootstrap_success_rate = bootstrapSuccessRate(k * d.tail(min_fixed));
+    return out;
   }
+  // 2. From it down, the first subset whose best candidate passes the ratio test.
   const int p_end = options.partial ? min_fixed : n;
   for (int p = p_start; p >= p_end; --p) {
     const LtdlFactor sub{dec->factor.L.bottomRightCorner(p, p), d.tail(p)};
@@ -235,15 +280,7 @@ IlsResult solveIntegerLeastSquares(const Eigen::VectorXd& a_hat, const Eigen::Ma
     out.ratio = best > 0.0 ? second / best : std::numeric_limits<double>::infinity();
     out.bootstrap_success_rate = bootstrapSuccessRate(k * sub.d);
     if (out.ratio >= options.ratio_threshold) {
-      out.fixed = p;
-      out.constraint_rows = dec->Z.rightCols(p).transpose();
-      out.constraint_values = cand.vectors[0];
-      if (p == n) {
-        // a = Z^-T z; Z is unimodular, so the rounded solve is exact.
-        Eigen::VectorXd a = dec->Z.transpose().fullPivLu().solve(cand.vectors[0]);
-        for (int i = 0; i < n; ++i) a(i) = std::round(a(i));
-        out.fixed_ambiguities = a;
-      }
+      setFixed(*dec, p, cand.vectors[0], out);
       return out;
     }
   }

@@ -93,6 +93,7 @@ void bindMeasurementModelOptions(const YAML::Node& node, const std::string& file
                 : map == "gmf" ? TroposphereMapping::Gmf
                                : TroposphereMapping::ModifiedHopfield;
     m.estimate_troposphere_gradients = t.boolean("estimate_gradients", m.estimate_troposphere_gradients);
+    m.zwd_at_ellipsoid = t.boolean("zwd_at_ellipsoid", m.zwd_at_ellipsoid);
     t.finish();
   }
   {

@@ -118,24 +118,16 @@ ArcEpochResult ArcTracker::process(const GnssTime& time,
                                    const std::vector<DualFrequencyObservation>& observations) {
   ArcEpochResult result;
   result.time = time;
-  if (last_epoch_) {
-    const double dt = time - *last_epoch_;
-    if (dt < 0.0) {
-      result.accepted = false;
-      result.refusal_reason = format("time goes backwards by %.3f s", -dt) + " (previous epoch " +
-                              last_epoch_->toString(TimeSystem::GPS, 1) + ")";
-      return result;
-    }
-    if (dt == 0.0) {
-      result.accepted = false;
-      result.refusal_reason = "duplicate epoch " + time.toString(TimeSystem::GPS, 1);
-      return result;
-    }
-    if (!interval_s_ || dt < *interval_s_) interval_s_ = dt;
+  // 1. The epoch must follow the previous one; the shortest step is the interval.
+  if (auto refusal = refuseEpoch(time)) {
+    result.accepted = false;
+    result.refusal_reason = std::move(*refusal);
+    return result;
   }
   last_epoch_ = time;
   const double max_gap = maxGap_s();
 
+  // 2. Each satellite once, with finite observations: its arc goes on or a new one starts.
   std::set<SatelliteId> seen;
   result.satellites.reserve(observations.size());
   for (const auto& obs : observations) {
@@ -144,74 +136,16 @@ ArcEpochResult ArcTracker::process(const GnssTime& time,
     if (!seen.insert(obs.satellite).second) {
       status.usable = false;
       status.reason = "satellite repeated in the epoch";
-      result.satellites.push_back(std::move(status));
-      continue;
-    }
-    if (!finiteObservation(obs)) {
+    } else if (!finiteObservation(obs)) {
       status.usable = false;
       status.reason = "non-finite observation or frequency";
-      result.satellites.push_back(std::move(status));
-      continue;
-    }
-    const double lambda1 = kSpeedOfLight_mps / obs.frequency1_hz;
-    const double lambda2 = kSpeedOfLight_mps / obs.frequency2_hz;
-    const double l1_m = obs.phase1_cycles * lambda1, l2_m = obs.phase2_cycles * lambda2;
-    status.mw_cycles =
-        melbourneWuebbena_cycles(l1_m, l2_m, obs.code1_m, obs.code2_m, obs.frequency1_hz, obs.frequency2_hz);
-    status.gf_m = geometryFreePhase_m(l1_m, l2_m);
-
-    auto [it, inserted] = arcs_.try_emplace(obs.satellite);
-    ArcState& state = it->second;
-    ArcStartReason reason = ArcStartReason::None;
-    std::string text;
-    std::optional<double> gf_residual;
-    if (inserted || state.id == 0) {
-      reason = ArcStartReason::NewSatellite;
-      text = "new satellite";
     } else {
-      const double dt = time - state.last_time;
-      if (dt > max_gap) {
-        reason = ArcStartReason::DataGap;
-        text = format("data gap %.0f s > %.0f s", dt, max_gap);
-      } else if (!state.open) {
-        reason = ArcStartReason::NewSatellite;
-        text = "new satellite";
-      } else if (options_.use_loss_of_lock && (obs.loss_of_lock1 || obs.loss_of_lock2)) {
-        reason = ArcStartReason::LossOfLock;
-        text = obs.loss_of_lock1 ? (obs.loss_of_lock2 ? "LLI set on L1 and L2" : "LLI set on L1") : "LLI set on L2";
-      } else {
-        const auto gf_pred = predictGeometryFree(state, time);
-        const double gf_jump = gf_pred ? status.gf_m - *gf_pred : 0.0;
-        const double gf_thr = geometryFreeThreshold_m(state, dt);
-        if (state.gf_history.size() >= 2) gf_residual = gf_jump;
-        const double sigma = state.mw_count >= options_.mw_min_samples ? std::sqrt(std::max(state.mw_var, 0.0))
-                                                                        : options_.mw_initial_sigma_cycles;
-        const double mw_thr = std::max(options_.mw_sigma_factor * sigma, options_.mw_min_threshold_cycles);
-        const double mw_jump = status.mw_cycles - state.mw_mean;
-        if (std::abs(mw_jump) > mw_thr) {
-          reason = ArcStartReason::MelbourneWuebbenaJump;
-          text = format("Melbourne-Wubbena jump %.1f cycles > %.1f", std::abs(mw_jump), mw_thr);
-        } else if (std::abs(gf_jump) > gf_thr) {
-          reason = ArcStartReason::GeometryFreeJump;
-          text = format("geometry-free jump %.3f m > %.3f m", std::abs(gf_jump), gf_thr);
-        }
-      }
+      trackSatellite(time, obs, max_gap, status, result);
     }
-
-    if (reason == ArcStartReason::None) {
-      updateArc(state, time, status.mw_cycles, status.gf_m, gf_residual);
-    } else {
-      if (state.open) result.ended.push_back(endArc(obs.satellite, state, "replaced: " + text));
-      startArc(state, time, status.mw_cycles, status.gf_m);
-      status.new_arc = true;
-      status.start_reason = reason;
-      status.reason = std::move(text);
-    }
-    status.arc = state.id;
     result.satellites.push_back(std::move(status));
   }
 
-  // Arcs of satellites absent for longer than the maximum gap end now.
+  // 3. Arcs of satellites absent for longer than the maximum gap end now.
   for (auto& [sat, state] : arcs_) {
     if (!state.open || seen.count(sat) != 0) continue;
     const double absent = time - state.last_time;
@@ -219,6 +153,88 @@ ArcEpochResult ArcTracker::process(const GnssTime& time,
       result.ended.push_back(endArc(sat, state, format("not observed for %.0f s > %.0f s", absent, max_gap)));
   }
   return result;
+}
+
+std::optional<std::string> ArcTracker::refuseEpoch(const GnssTime& time) {
+  if (!last_epoch_) return std::nullopt;
+  const double dt = time - *last_epoch_;
+  if (dt < 0.0) {
+    return format("time goes backwards by %.3f s", -dt) + " (previous epoch " +
+           last_epoch_->toString(TimeSystem::GPS, 1) + ")";
+  }
+  if (dt == 0.0) return "duplicate epoch " + time.toString(TimeSystem::GPS, 1);
+  if (!interval_s_ || dt < *interval_s_) interval_s_ = dt;
+  return std::nullopt;
+}
+
+void ArcTracker::trackSatellite(const GnssTime& time, const DualFrequencyObservation& obs, double max_gap,
+                                SatelliteArcStatus& status, ArcEpochResult& result) {
+  const double lambda1 = kSpeedOfLight_mps / obs.frequency1_hz;
+  const double lambda2 = kSpeedOfLight_mps / obs.frequency2_hz;
+  const double l1_m = obs.phase1_cycles * lambda1, l2_m = obs.phase2_cycles * lambda2;
+  status.mw_cycles =
+      melbourneWuebbena_cycles(l1_m, l2_m, obs.code1_m, obs.code2_m, obs.frequency1_hz, obs.frequency2_hz);
+  status.gf_m = geometryFreePhase_m(l1_m, l2_m);
+
+  auto [it, inserted] = arcs_.try_emplace(obs.satellite);
+  ArcState& state = it->second;
+  std::string text;
+  std::optional<double> gf_residual;
+  const ArcStartReason reason = arcStart(state, inserted, obs, status, time, max_gap, text, gf_residual);
+  if (reason == ArcStartReason::None) {
+    updateArc(state, time, status.mw_cycles, status.gf_m, gf_residual);
+  } else {
+    if (state.open) result.ended.push_back(endArc(obs.satellite, state, "replaced: " + text));
+    startArc(state, time, status.mw_cycles, status.gf_m);
+    status.new_arc = true;
+    status.start_reason = reason;
+    status.reason = std::move(text);
+  }
+  status.arc = state.id;
+}
+
+ArcStartReason ArcTracker::arcStart(const ArcState& state, bool inserted, const DualFrequencyObservation& obs,
+                                    const SatelliteArcStatus& status, const GnssTime& time, double max_gap,
+                                    std::string& text, std::optional<double>& gf_residual) const {
+  if (inserted || state.id == 0) {
+    text = "new satellite";
+    return ArcStartReason::NewSatellite;
+  }
+  const double dt = time - state.last_time;
+  if (dt > max_gap) {
+    text = format("data gap %.0f s > %.0f s", dt, max_gap);
+    return ArcStartReason::DataGap;
+  }
+  if (!state.open) {
+    text = "new satellite";
+    return ArcStartReason::NewSatellite;
+  }
+  if (options_.use_loss_of_lock && (obs.loss_of_lock1 || obs.loss_of_lock2)) {
+    text = obs.loss_of_lock1 ? (obs.loss_of_lock2 ? "LLI set on L1 and L2" : "LLI set on L1") : "LLI set on L2";
+    return ArcStartReason::LossOfLock;
+  }
+  return slipTest(state, status, time, dt, text, gf_residual);
+}
+
+ArcStartReason ArcTracker::slipTest(const ArcState& state, const SatelliteArcStatus& status, const GnssTime& time,
+                                    double dt, std::string& text, std::optional<double>& gf_residual) const {
+  const auto gf_pred = predictGeometryFree(state, time);
+  const double gf_jump = gf_pred ? status.gf_m - *gf_pred : 0.0;
+  const double gf_thr = geometryFreeThreshold_m(state, dt);
+  if (state.gf_history.size() >= 2) gf_residual = gf_jump;
+  const double sigma = state.mw_count >= options_.mw_min_samples ? std::sqrt(std::max(state.mw_var, 0.0))
+                                                                  : options_.mw_initial_sigma_cycles;
+  const double mw_thr = std::max(options_.mw_sigma_factor * sigma, options_.mw_min_threshold_cycles);
+  const double mw_jump = status.mw_cycles - state.mw_mean;
+  if (std::abs(mw_jump) > mw_thr) {
+    text = format("Melbourne-Wubbena jump %.1f cycles > %.1f", std::abs(mw_jump), mw_thr);
+    return ArcStartReason::MelbourneWuebbenaJump;
+  }
+  if (std::abs(gf_jump) > gf_thr) {
+    text = format("geometry-free jump %.3f m > %.3f m", std::abs(gf_jump), gf_thr);
+    return ArcStartReason::GeometryFreeJump;
+  }
+  return ArcStartReason::None;
 }
 
 std::vector<EndedArc> ArcTracker::finish() {

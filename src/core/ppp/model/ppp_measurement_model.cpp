@@ -178,6 +178,10 @@ struct PppMeasurementModel::EpochTerms {
   TroposphereDelays hopfield_zenith;
   double zhd_m = 0.0;
   double zhd_rate = 0.0;  // d ZHD / d h [m/m]
+  // zwd_at_ellipsoid: the wet zenith delay at the receiver per metre at the
+  // ellipsoid, w(h) / w(0), and its relative change d ln(w) / d h [1/m].
+  double wet_height_ratio = 1.0;
+  double wet_height_log_rate_per_m = 0.0;
   Eigen::Vector3d up_ecef = Eigen::Vector3d::UnitZ();
   double day_of_year = 0.0;
   double mjd = 0.0;
@@ -316,6 +320,11 @@ PppMeasurementModel::EpochTerms PppMeasurementModel::epochTerms(const Eigen::Vec
   // The a-priori dry delay depends on the receiver height (standard atmosphere):
   // d ZHD / d h (~ -3e-4 m/m), so that the Jacobian holds m_d dZHD/dh along "up".
   e.zhd_rate = zenithDry_m(e.geo.height_m + 0.5) - zenithDry_m(e.geo.height_m - 0.5);
+  if (options_.zwd_at_ellipsoid) {
+    e.wet_height_ratio = standardWetDelayHeightRatio(e.geo.height_m);
+    e.wet_height_log_rate_per_m = (standardWetDelayHeightRatio(e.geo.height_m + 0.5) -
+                                   standardWetDelayHeightRatio(e.geo.height_m - 0.5)) / e.wet_height_ratio;
+  }
   e.up_ecef = e.ecef_from_enu.col(2);
   e.day_of_year = t_rx.dayOfYear() + std::fmod(t_rx.mjd(), 1.0);
   e.mjd = t_rx.mjd();
@@ -546,6 +555,7 @@ void PppMeasurementModel::troposphereMapping(SatelliteEvaluation& sv, const Epoc
     mf = globalMappingFunction(elevation_rad, epoch.geo.latitude_rad, epoch.geo.longitude_rad, epoch.geo.height_m,
                                epoch.mjd);
   }
+  if (options_.zwd_at_ellipsoid) mf.wet *= epoch.wet_height_ratio;  // the state is the ZWD at height 0
 }
 
 // Step 8
@@ -586,7 +596,8 @@ void PppMeasurementModel::addMeasurement(const SatelliteEvaluation& sv, const Ep
   m.predicted_phase_m = common + st.windup_wavelength_m * sv.windup_cycles;
   m.observed_code_m = sv.code_if_m;
   m.observed_phase_m = sv.phase_if_m;
-  const Eigen::Vector3d d_position = -sv.los + mf.hydrostatic * epoch.zhd_rate * epoch.up_ecef;
+  Eigen::Vector3d d_position = -sv.los + mf.hydrostatic * epoch.zhd_rate * epoch.up_ecef;
+  if (options_.zwd_at_ellipsoid) d_position += mf.wet * state.zwd_m * epoch.wet_height_log_rate_per_m * epoch.up_ecef;
   m.jacobian = Eigen::RowVectorXd::Zero(state.layout.dim());
   m.jacobian.segment<ReceiverStateLayout::kPositionSize>(state.layout.position()) = d_position.transpose();
   m.jacobian(state.layout.zwd()) = mf.wet;

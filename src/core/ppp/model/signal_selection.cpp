@@ -229,6 +229,31 @@ std::optional<double> SignalSelector::codeOsb_m(const SatelliteId& sat, int slot
   return c.value_m;
 }
 
+namespace {
+
+std::string missingSignals(const Observation* c1, const Observation* c2, const Observation* l1, const Observation* l2) {
+  std::string why = "missing";
+  if (c1 == nullptr) why += " code band 1";
+  if (c2 == nullptr) why += " code band 2";
+  if (l1 == nullptr) why += " phase band 1";
+  if (l2 == nullptr) why += " phase band 2";
+  return why;
+}
+
+/// The carrier-to-noise density of the band-1 phase's signal, when observed.
+std::optional<double> cn0Of(const Observation* obs, std::uint32_t n, const ObservationCode& phase) {
+  for (std::uint32_t k = 0; k < n; ++k) {
+    const auto& o = obs[k];
+    if (o.code.type == ObservableType::SignalStrength && o.code.band == phase.band &&
+        o.code.attribute == phase.attribute && o.value) {
+      return *o.value;
+    }
+  }
+  return std::nullopt;
+}
+
+}  // namespace
+
 void SignalSelector::select(const ObsEpoch& epoch, SignalSelectionResult& out) {
   out.clear();
   // Per system: satellites whose codes differ from the clock reference, no bias file.
@@ -244,72 +269,7 @@ void SignalSelector::select(const ObsEpoch& epoch, SignalSelectionResult& out) {
       out.skipped.push_back({sat, sc.missing});
       continue;
     }
-    double f1_hz = 0.0, f2_hz = 0.0;
-    if (std::string why; !pairFrequencies_hz(sc, sat, f1_hz, f2_hz, why)) {
-      out.skipped.push_back({sat, std::move(why)});
-      continue;
-    }
-    const Observation* obs = epoch.begin(i);
-    const std::uint32_t n = epoch.satellites[i].count;
-    const Observation* c1 = firstPresent(obs, n, sc.code1);
-    const Observation* c2 = firstPresent(obs, n, sc.code2);
-    const Observation* l1 = firstPresent(obs, n, sc.phase1);
-    const Observation* l2 = firstPresent(obs, n, sc.phase2);
-    if (c1 == nullptr || c2 == nullptr || l1 == nullptr || l2 == nullptr) {
-      std::string why = "missing";
-      if (c1 == nullptr) why += " code band 1";
-      if (c2 == nullptr) why += " code band 2";
-      if (l1 == nullptr) why += " phase band 1";
-      if (l2 == nullptr) why += " phase band 2";
-      out.skipped.push_back({sat, why});
-      continue;
-    }
-    DualFrequencyObservation d;
-    d.satellite = sat;
-    d.time = epoch.time;
-    d.code1 = c1->code;
-    d.code2 = c2->code;
-    d.phase1 = l1->code;
-    d.phase2 = l2->code;
-    d.frequency1_hz = f1_hz;
-    d.frequency2_hz = f2_hz;
-    d.code_sigma_factor = sc.code_sigma_factor;
-    d.code1_m = *c1->value;
-    d.code2_m = *c2->value;
-    if (biases_ != nullptr) {
-      bool applies1 = true, applies2 = true;
-      d.code1_osb_m = codeOsb_m(sat, 0, d.code1, epoch.time, applies1);
-      d.code2_osb_m = codeOsb_m(sat, 1, d.code2, epoch.time, applies2);
-      if (!applies1 || !applies2) {
-        d.code1_osb_m.reset();  // the bias source has no say now (e.g. SSR too old: broadcast clocks)
-        d.code2_osb_m.reset();
-      } else if (options_.require_code_osb && (!d.code1_osb_m || !d.code2_osb_m)) {
-        out.skipped.push_back({sat, "no OSB in the bias file for " + (d.code1_osb_m ? d.code2 : d.code1).toString()});
-        continue;
-      }
-      if (d.code1_osb_m) d.code1_m -= *d.code1_osb_m;  // Bias-SINEX 1.00: corrected = observed - OSB
-      if (d.code2_osb_m) d.code2_m -= *d.code2_osb_m;
-    } else if (sc.clock_reference1 != '\0' &&
-               (d.code1.attribute != sc.clock_reference1 || d.code2.attribute != sc.clock_reference2)) {
-      unaligned[static_cast<int>(sat.system)].push_back(sat);
-    }
-    d.phase1_cycles = *l1->value - phaseShift_cycles(sc, sat, d.phase1);
-    d.phase2_cycles = *l2->value - phaseShift_cycles(sc, sat, d.phase2);
-    // RINEX 3.05 sec. 5.3: LLI bit 0 = lost lock (cycle slip possible), bit 1 =
-    // half-cycle ambiguity / slip possible.
-    const std::uint8_t lli1 = l1->lli.value_or(0), lli2 = l2->lli.value_or(0);
-    d.loss_of_lock1 = (lli1 & 1u) != 0;
-    d.loss_of_lock2 = (lli2 & 1u) != 0;
-    d.half_cycle_ambiguity = ((lli1 | lli2) & 2u) != 0;
-    for (std::uint32_t k = 0; k < n; ++k) {
-      const auto& o = obs[k];
-      if (o.code.type == ObservableType::SignalStrength && o.code.band == d.phase1.band &&
-          o.code.attribute == d.phase1.attribute && o.value) {
-        d.cn0_1_dbhz = *o.value;
-        break;
-      }
-    }
-    out.observations.push_back(d);
+    selectSatellite(epoch, i, sc, out, unaligned[static_cast<int>(sat.system)]);
   }
   for (int system = 0; system < kNumGnssSystems; ++system) {
     if (unaligned[system].empty()) continue;
@@ -322,6 +282,74 @@ void SignalSelector::select(const ObsEpoch& epoch, SignalSelectionResult& out) {
     note.satellites = unaligned[system];
     out.notes.push_back(std::move(note));
   }
+}
+
+void SignalSelector::selectSatellite(const ObsEpoch& epoch, std::size_t i, const SystemColumns& sc,
+                                     SignalSelectionResult& out, std::vector<SatelliteId>& unaligned) {
+  const SatelliteId sat = epoch.satellites[i].satellite;
+  // 1. The pair's frequencies (FDMA: the satellite's channel).
+  double f1_hz = 0.0, f2_hz = 0.0;
+  if (std::string why; !pairFrequencies_hz(sc, sat, f1_hz, f2_hz, why)) {
+    out.skipped.push_back({sat, std::move(why)});
+    return;
+  }
+  // 2. The first present code and phase of each band, in the order of preference.
+  const Observation* obs = epoch.begin(i);
+  const std::uint32_t n = epoch.satellites[i].count;
+  const Observation* c1 = firstPresent(obs, n, sc.code1);
+  const Observation* c2 = firstPresent(obs, n, sc.code2);
+  const Observation* l1 = firstPresent(obs, n, sc.phase1);
+  const Observation* l2 = firstPresent(obs, n, sc.phase2);
+  if (c1 == nullptr || c2 == nullptr || l1 == nullptr || l2 == nullptr) {
+    out.skipped.push_back({sat, missingSignals(c1, c2, l1, l2)});
+    return;
+  }
+  DualFrequencyObservation d;
+  d.satellite = sat;
+  d.time = epoch.time;
+  d.code1 = c1->code;
+  d.code2 = c2->code;
+  d.phase1 = l1->code;
+  d.phase2 = l2->code;
+  d.frequency1_hz = f1_hz;
+  d.frequency2_hz = f2_hz;
+  d.code_sigma_factor = sc.code_sigma_factor;
+  d.code1_m = *c1->value;
+  d.code2_m = *c2->value;
+  // 3. Code biases, or without a bias file the note of codes off the clock reference.
+  if (biases_ != nullptr) {
+    if (!correctCodeBiases(d, out)) return;
+  } else if (sc.clock_reference1 != '\0' &&
+             (d.code1.attribute != sc.clock_reference1 || d.code2.attribute != sc.clock_reference2)) {
+    unaligned.push_back(sat);
+  }
+  // 4. Phases aligned within the band; lock flags; signal strength.
+  d.phase1_cycles = *l1->value - phaseShift_cycles(sc, sat, d.phase1);
+  d.phase2_cycles = *l2->value - phaseShift_cycles(sc, sat, d.phase2);
+  // RINEX 3.05 sec. 5.3: LLI bit 0 = lost lock (cycle slip possible), bit 1 =
+  // half-cycle ambiguity / slip possible.
+  const std::uint8_t lli1 = l1->lli.value_or(0), lli2 = l2->lli.value_or(0);
+  d.loss_of_lock1 = (lli1 & 1u) != 0;
+  d.loss_of_lock2 = (lli2 & 1u) != 0;
+  d.half_cycle_ambiguity = ((lli1 | lli2) & 2u) != 0;
+  if (const auto cn0 = cn0Of(obs, n, d.phase1)) d.cn0_1_dbhz = *cn0;
+  out.observations.push_back(d);
+}
+
+bool SignalSelector::correctCodeBiases(DualFrequencyObservation& d, SignalSelectionResult& out) {
+  bool applies1 = true, applies2 = true;
+  d.code1_osb_m = codeOsb_m(d.satellite, 0, d.code1, d.time, applies1);
+  d.code2_osb_m = codeOsb_m(d.satellite, 1, d.code2, d.time, applies2);
+  if (!applies1 || !applies2) {
+    d.code1_osb_m.reset();  // the bias source has no say now (e.g. SSR too old: broadcast clocks)
+    d.code2_osb_m.reset();
+  } else if (options_.require_code_osb && (!d.code1_osb_m || !d.code2_osb_m)) {
+    out.skipped.push_back({d.satellite, "no OSB in the bias file for " + (d.code1_osb_m ? d.code2 : d.code1).toString()});
+    return false;
+  }
+  if (d.code1_osb_m) d.code1_m -= *d.code1_osb_m;  // Bias-SINEX 1.00: corrected = observed - OSB
+  if (d.code2_osb_m) d.code2_m -= *d.code2_osb_m;
+  return true;
 }
 
 std::string SignalSelectionNote::describe() const {

@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "ppp_bayes_tree/io/line_source.h"
+#include "ppp_bayes_tree/io/products/product_antenna_model.h"
 #include "ppp_bayes_tree/io/products/rinex_clock_reader.h"
 #include "ppp_bayes_tree/io/record_filter.h"
 #include "ppp_bayes_tree/models/clock_wide_lane_bias_provider.h"
