@@ -30,7 +30,8 @@ def residuals(path):
     """System letter -> list of (float - held integer, float sigma) [cycles] over the held rows of `path`."""
     out = {}
     with open(path, newline="") as f:
-        for row in csv.DictReader(f):
+        reader = csv.DictReader(f)
+        for row in reader:
             held = row.get("held_cycles", "")
             if not held:
                 continue
@@ -38,7 +39,7 @@ def residuals(path):
                 r = float(row["float_cycles"]) - float(held)
                 sigma = float(row["sigma_cycles"])
             except ValueError:
-                sys.exit(f"{path}: row {len(sum(out.values(), [])) + 1}: float, sigma or held cycles is no number")
+                sys.exit(f"{path}: line {reader.line_num}: float, sigma or held cycles is no number")
             if not (math.isfinite(r) and math.isfinite(sigma) and sigma > 0):
                 continue
             out.setdefault(row["satellite"][:1], []).append((r, sigma))

@@ -32,7 +32,7 @@ gps_hist=$(grep -F "| t | GPS | 0.0" "$WORK/out.md")
 [ "$(echo "$gps_hist" | awk -F'|' '{print $12, $16}')" = " 50.0   50.0 " ] || fail+="GPS histogram ($gps_hist); "
 printf 'time_s,satellite,reference,wide_lane,float_cycles,sigma_cycles,held_cycles\n1,G01,G02,1,abc,0.1,3\n' > "$WORK/bad.csv"
 /usr/bin/python3 "$REPO_DIR/scripts/nl_residual_histogram.py" "t=$WORK/bad.csv" > /dev/null 2> "$WORK/bad.txt"
-[ $? -ne 0 ] && grep -qF "$WORK/bad.csv" "$WORK/bad.txt" || fail+="a non-numeric float is not refused with the file named; "
+[ $? -ne 0 ] && grep -qF "$WORK/bad.csv: line 2:" "$WORK/bad.txt" || fail+="a non-numeric float is not refused with the file and line named; "
 if [ -z "$fail" ]; then
   junit passed ""
   echo "test_nl_residual_histogram: passed"

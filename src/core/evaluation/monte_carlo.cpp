@@ -264,7 +264,6 @@ PppConfig monteCarloDefaultPppConfig() {
   PppConfig c = methodTablePppConfig();  // config/method_table.yaml
   c.stochastic.position.initial_sigma_m = 30.0;  // as config/ppp_simulated.yaml (monte_carlo.h)
   c.smoother.relinearize_position_m = 0.5;       // as config/ppp_simulated.yaml (monte_carlo.h)
-  c.model.zwd_at_ellipsoid = true;               // as config/ppp_simulated.yaml: the wet delay follows the height
   // As config/ppp_simulated.yaml: the simulated errors are the estimators' model.
   c.ambiguity_resolution.narrow_lane.success_rate_variance_factor = 1.0;
   return c;
