@@ -128,126 +128,158 @@ std::string outputName(const std::string& given, const PppPipeline& pipeline) {
 
 }  // namespace
 
-PppSolveOutcome solvePpp(const PppSolveRequest& req) {
-  std::string why;
-  if (!makeEstimator(req.estimator, req.config, &why)) throw std::invalid_argument(why);  // before reading products
-  const EstimatorEntry& entry = *findEstimator(req.estimator);
-  std::error_code ec;
-  std::filesystem::create_directories(req.out_dir, ec);
-  if (!std::filesystem::is_directory(req.out_dir)) throw std::runtime_error("cannot create directory " + req.out_dir);
+namespace {
 
-  // The products first: they decide the systems and PPP-AR (product_assembly.h).
-  std::unique_ptr<PppPipeline> owned_pipeline =
-      req.make_pipeline ? req.make_pipeline(req.config) : std::make_unique<PppPipeline>(req.files, req.config);
-  PppPipeline& pipeline = *owned_pipeline;
-  auto estimator = makeEstimator(req.estimator, pipeline.config(), &why);
-  if (!estimator) throw std::invalid_argument(why);
-  const SmoothedTrajectoryProvider* smoother = estimator->smoothing();
+/// The outcome with its output paths: one solution file set per solution the
+/// registry lists for the estimator, the epochs, residuals and (smoother) biases.
+PppSolveOutcome plannedOutputs(const PppSolveRequest& req, const EstimatorEntry& entry, const PppPipeline& pipeline,
+                               const PppEstimator& estimator) {
   PppSolveOutcome out;
   out.name = outputName(req.name, pipeline);
   const std::string prefix = req.out_dir + "/" + out.name + "_";
-  const std::string stem = prefix + estimator->name();
-  auto addOutput = [&](const std::string& label, const std::string& tag) {
+  const std::string stem = prefix + estimator.name();
+  for (const EstimatorSolution& solution : solutionOutputs(entry)) {
     PppSolutionOutput o;
-    o.label = label;
-    o.tag = tag;
-    o.csv_path = prefix + tag + ".csv";
-    o.pos_path = prefix + tag + ".pos";
-    o.json_path = prefix + tag + "_summary.json";
+    o.label = solution.label;
+    o.tag = solution.tag;
+    o.csv_path = prefix + solution.tag + ".csv";
+    o.pos_path = prefix + solution.tag + ".pos";
+    o.json_path = prefix + solution.tag + "_summary.json";
     out.outputs.push_back(std::move(o));
-  };
-  for (const EstimatorSolution& solution : solutionOutputs(entry)) addOutput(solution.label, solution.tag);
-  if (smoother) out.biases_path = stem + "_biases.csv";
+  }
+  if (estimator.smoothing()) out.biases_path = stem + "_biases.csv";
   out.epochs_path = stem + "_epochs.csv";
   out.residuals_path = stem + "_residuals.csv";
+  return out;
+}
 
-  std::ofstream epochs = openOut(out.epochs_path), residuals = openOut(out.residuals_path);
-  epochs << "time_gpst,status,integrity,consistency,reason,observed,selected,used,rejected,new_arcs,slips,gap_s,used_sats";
-  if (smoother)
-    epochs << ",active_biases,new_biases,relinearized,reeliminated,factors_relinearized,cliques_touched,"
-              "update_ms,epoch_ms";
-  epochs << ",events\n";
-  residuals << "time_gpst,sat,arc,new_arc,elevation_deg,azimuth_deg,code_prefit_m,phase_prefit_m,"
-               "code_postfit_m,phase_postfit_m,code_sigma_m,phase_sigma_m\n";
+/// The per-epoch files (epochs, residuals) written as the run goes, and what the
+/// run's end needs: the filtered solution, the smoother's timings and bias rows.
+class EpochFiles {
+ public:
+  EpochFiles(const PppSolveOutcome& out, bool smoother, bool write_timings)
+      : epochs_(openOut(out.epochs_path)), residuals_(openOut(out.residuals_path)), smoother_(smoother),
+        write_timings_(write_timings) {
+    epochs_ << "time_gpst,status,integrity,consistency,reason,observed,selected,used,rejected,new_arcs,slips,gap_s,"
+               "used_sats";
+    if (smoother_)
+      epochs_ << ",active_biases,new_biases,relinearized,reeliminated,factors_relinearized,cliques_touched,"
+                 "update_ms,epoch_ms";
+    epochs_ << ",events\n";
+    residuals_ << "time_gpst,sat,arc,new_arc,elevation_deg,azimuth_deg,code_prefit_m,phase_prefit_m,"
+                  "code_postfit_m,phase_postfit_m,code_sigma_m,phase_sigma_m\n";
+  }
+
+  void write(const PppEpochRecord& rec) {
+    const std::string t = isoTimeText(rec.solution.time, 1);
+    if (!rec.refused) causal.push_back(rec.solution);
+    writeEpochRow(t, rec);
+    for (const auto& r : rec.residuals) writeResidualRow(t, r);
+  }
+
+  /// Flushes both files; a write error names the output folder.
+  void finish(const std::string& out_dir) {
+    for (auto* f : {&epochs_, &residuals_}) {
+      f->flush();
+      if (!*f) throw std::runtime_error("write error in " + out_dir);
+    }
+  }
 
   std::vector<SolutionEpoch> causal;
   std::vector<double> update_times, epoch_times;
   std::vector<BiasRow> bias_rows;
-  out.run = pipeline.run(*estimator, [&](const PppEpochRecord& rec) {
-    const std::string t = isoTimeText(rec.solution.time, 1);
-    if (!rec.refused) causal.push_back(rec.solution);
-    std::string rej;
+
+ private:
+  void writeEpochRow(const std::string& t, const PppEpochRecord& rec) {
+    std::string events;
     for (const auto& r : rec.rejected) {
-      if (!rej.empty()) rej += "; ";
-      rej += r.satellite.toString() + " " + r.text();
+      if (!events.empty()) events += "; ";
+      events += r.satellite.toString() + " " + r.text();
     }
-    for (const auto& e : rec.arc_events) rej += (rej.empty() ? "" : "; ") + e;
+    for (const auto& e : rec.arc_events) events += (events.empty() ? "" : "; ") + e;
     std::string used;
     for (const auto& s : rec.used) used += (used.empty() ? "" : " ") + s.toString();
     const std::string status = rec.refused ? "refused" : toString(rec.status);
-    epochs << t << ',' << status << ',' << toString(rec.solution.integrity) << ',' << csvText(rec.consistency)
-           << ',' << csvText(rec.reason) << ',' << rec.satellites_observed << ','
-           << rec.satellites_selected << ',' << rec.used.size() << ',' << rec.rejected.size() << ',' << rec.new_arcs
-           << ',' << rec.slips << ',' << (rec.gap_s ? fixedDecimals(*rec.gap_s, 1) : "") << ',' << used;
-    if (smoother) {
-      if (!rec.refused && rec.smoother) {
-        const SmootherEpochDiagnostics& r = *rec.smoother;
-        epochs << ',' << rec.active_biases << ',' << r.new_biases << ',' << r.variables_relinearized << ','
-               << r.variables_reeliminated << ',' << r.factors_relinearized << ',' << r.cliques_touched << ',';
-        if (req.write_timings) epochs << fixedDecimals(r.update_time_s * 1e3, 3) << ',' << fixedDecimals(rec.estimator_time_s * 1e3, 3);
-        else epochs << ',';
-        if (rec.status == EpochStatus::Ok) {
-          update_times.push_back(r.update_time_s);
-          epoch_times.push_back(rec.estimator_time_s);
-          for (const auto& b : r.biases) bias_rows.push_back({rec.solution.time, b});
-        }
-      } else {
-        epochs << ",,,,,,,,";
-      }
-    }
-    epochs << ',' << csvText(rej) << '\n';
-    for (const auto& r : rec.residuals) {
-      residuals << t << ',' << r.satellite.toString() << ',' << r.arc << ',' << (r.new_arc ? 1 : 0) << ','
-                << fixedDecimals(r.elevation_rad * kRadToDeg, 2) << ',' << fixedDecimals(r.azimuth_rad * kRadToDeg, 2) << ','
-                << fixedDecimals(r.code_prefit_m, 4) << ',' << fixedDecimals(r.phase_prefit_m, 4) << ','
-                << fixedDecimals(r.code_postfit_m, 4) << ',' << fixedDecimals(r.phase_postfit_m, 4) << ','
-                << fixedDecimals(r.code_sigma_m, 4) << ',' << fixedDecimals(r.phase_sigma_m, 4) << '\n';
-    }
-    if (req.on_epoch) req.on_epoch(pipeline.progress(), rec);
-  });
-  for (auto* f : {&epochs, &residuals}) {
-    f->flush();
-    if (!*f) throw std::runtime_error("write error in " + req.out_dir);
+    epochs_ << t << ',' << status << ',' << toString(rec.solution.integrity) << ',' << csvText(rec.consistency)
+            << ',' << csvText(rec.reason) << ',' << rec.satellites_observed << ',' << rec.satellites_selected << ','
+            << rec.used.size() << ',' << rec.rejected.size() << ',' << rec.new_arcs << ',' << rec.slips << ','
+            << (rec.gap_s ? fixedDecimals(*rec.gap_s, 1) : "") << ',' << used;
+    if (smoother_) writeSmootherColumns(rec);
+    epochs_ << ',' << csvText(events) << '\n';
   }
 
-  const std::string source = "ppp_solve estimator " + estimator->name() + ", obs " + req.files.obs;
-  out.outputs[0].solution = std::move(causal);
+  void writeSmootherColumns(const PppEpochRecord& rec) {
+    if (rec.refused || !rec.smoother) {
+      epochs_ << ",,,,,,,,";
+      return;
+    }
+    const SmootherEpochDiagnostics& r = *rec.smoother;
+    epochs_ << ',' << rec.active_biases << ',' << r.new_biases << ',' << r.variables_relinearized << ','
+            << r.variables_reeliminated << ',' << r.factors_relinearized << ',' << r.cliques_touched << ',';
+    if (write_timings_)
+      epochs_ << fixedDecimals(r.update_time_s * 1e3, 3) << ',' << fixedDecimals(rec.estimator_time_s * 1e3, 3);
+    else
+      epochs_ << ',';
+    if (rec.status != EpochStatus::Ok) return;
+    update_times.push_back(r.update_time_s);
+    epoch_times.push_back(rec.estimator_time_s);
+    for (const auto& b : r.biases) bias_rows.push_back({rec.solution.time, b});
+  }
+
+  void writeResidualRow(const std::string& t, const MeasurementResidual& r) {
+    residuals_ << t << ',' << r.satellite.toString() << ',' << r.arc << ',' << (r.new_arc ? 1 : 0) << ','
+               << fixedDecimals(r.elevation_rad * kRadToDeg, 2) << ',' << fixedDecimals(r.azimuth_rad * kRadToDeg, 2)
+               << ',' << fixedDecimals(r.code_prefit_m, 4) << ',' << fixedDecimals(r.phase_prefit_m, 4) << ','
+               << fixedDecimals(r.code_postfit_m, 4) << ',' << fixedDecimals(r.phase_postfit_m, 4) << ','
+               << fixedDecimals(r.code_sigma_m, 4) << ',' << fixedDecimals(r.phase_sigma_m, 4) << '\n';
+  }
+
+  std::ofstream epochs_, residuals_;
+  bool smoother_;
+  bool write_timings_;
+};
+
+/// The smoother's biases: filtered per epoch, with each arc's final smoothed value.
+void writeBiasFile(const std::string& path, const std::vector<BiasRow>& bias_rows,
+                   const SmoothedTrajectoryProvider& smoother) {
+  std::ofstream biases = openOut(path);
+  biases << "time_gpst,arc,sat,bias_m,sigma_m,smoothed_final_m\n";
+  std::map<ArcId, std::optional<double>> final_m;
+  for (const auto& row : bias_rows) {
+    auto it = final_m.find(row.estimate.arc);
+    if (it == final_m.end())
+      it = final_m.emplace(row.estimate.arc, smoother.smoothedBias_m(row.estimate.satellite, row.estimate.arc)).first;
+    biases << isoTimeText(row.time, 1) << ',' << row.estimate.arc << ',' << row.estimate.satellite.toString() << ','
+           << fixedDecimals(row.estimate.bias_m, 4) << ',' << fixedDecimals(row.estimate.sigma_m, 4) << ','
+           << (it->second ? fixedDecimals(*it->second, 4) : "") << '\n';
+  }
+  biases.flush();
+  if (!biases) throw std::runtime_error("cannot write " + path);
+}
+
+/// The solution files (csv, pos) of the filtered and, with a smoother, the
+/// smoothed solution, and the smoother's bias file and timings.
+void writeSolutions(const PppSolveRequest& req, const PppEstimator& estimator, EpochFiles& files,
+                    PppSolveOutcome& out) {
+  const SmoothedTrajectoryProvider* smoother = estimator.smoothing();
+  const std::string source = "ppp_solve estimator " + estimator.name() + ", obs " + req.files.obs;
+  out.outputs[0].solution = std::move(files.causal);
   writeSolutionFiles(out.outputs[0], req.truth_ecef_m,
                      {source, "kinematic PPP, ionosphere-free float, " +
                                   std::string(smoother ? "smoother FILTERED (newest state after each update)"
                                                        : "forward filter")});
-  if (smoother) {
-    out.outputs[1].solution = smoothedSolution(out.outputs[0].solution, *smoother);
-    writeSolutionFiles(out.outputs[1], req.truth_ecef_m,
-                       {source, "kinematic PPP, ionosphere-free float, smoother SMOOTHED (final estimate, all data)"});
-    out.update_time = summarizeTimes(update_times);
-    out.epoch_time = summarizeTimes(epoch_times);
-    // Biases: filtered per epoch, with each arc's final smoothed value.
-    std::ofstream biases = openOut(out.biases_path);
-    biases << "time_gpst,arc,sat,bias_m,sigma_m,smoothed_final_m\n";
-    std::map<ArcId, std::optional<double>> final_m;
-    for (const auto& row : bias_rows) {
-      auto it = final_m.find(row.estimate.arc);
-      if (it == final_m.end())
-        it = final_m.emplace(row.estimate.arc, smoother->smoothedBias_m(row.estimate.satellite,
-                                                                                   row.estimate.arc)).first;
-      biases << isoTimeText(row.time, 1) << ',' << row.estimate.arc << ',' << row.estimate.satellite.toString()
-             << ',' << fixedDecimals(row.estimate.bias_m, 4) << ',' << fixedDecimals(row.estimate.sigma_m, 4) << ','
-             << (it->second ? fixedDecimals(*it->second, 4) : "") << '\n';
-    }
-    biases.flush();
-    if (!biases) throw std::runtime_error("cannot write " + out.biases_path);
-  }
+  if (!smoother) return;
+  out.outputs[1].solution = smoothedSolution(out.outputs[0].solution, *smoother);
+  writeSolutionFiles(out.outputs[1], req.truth_ecef_m,
+                     {source, "kinematic PPP, ionosphere-free float, smoother SMOOTHED (final estimate, all data)"});
+  out.update_time = summarizeTimes(files.update_times);
+  out.epoch_time = summarizeTimes(files.epoch_times);
+  writeBiasFile(out.biases_path, files.bias_rows, *smoother);
+}
+
+/// Each solution's statistics against the truth (when given) and its summary json;
+/// the first solution is the outcome's headline.
+void writeSummaries(const PppSolveRequest& req, PppSolveOutcome& out) {
   for (auto& o : out.outputs) {
     if (req.truth_ecef_m) o.statistics = computePositionErrorStatistics(o.solution, *req.truth_ecef_m);
     else if (req.truth_at) o.statistics = statisticsAlong(o.solution, req.truth_at);
@@ -260,6 +292,40 @@ PppSolveOutcome solvePpp(const PppSolveRequest& req) {
   out.csv_path = out.outputs[0].csv_path;
   out.pos_path = out.outputs[0].pos_path;
   out.json_path = out.outputs[0].json_path;
+}
+
+}  // namespace
+
+// One ppp_solve run, as steps:
+//   1. the estimator's name is checked before any file is read; the output folder made;
+//   2. the pipeline reads the products (they decide the systems and PPP-AR,
+//      product_assembly.h); the registry makes the estimator;
+//   3. the epochs go through the estimator, the per-epoch files written as they come;
+//   4. the solution files, the smoother's biases, the summaries.
+PppSolveOutcome solvePpp(const PppSolveRequest& req) {
+  std::string why;
+  if (!makeEstimator(req.estimator, req.config, &why)) throw std::invalid_argument(why);  // 1
+  const EstimatorEntry& entry = *findEstimator(req.estimator);
+  std::error_code ec;
+  std::filesystem::create_directories(req.out_dir, ec);
+  if (!std::filesystem::is_directory(req.out_dir)) throw std::runtime_error("cannot create directory " + req.out_dir);
+
+  std::unique_ptr<PppPipeline> owned_pipeline =  // 2
+      req.make_pipeline ? req.make_pipeline(req.config) : std::make_unique<PppPipeline>(req.files, req.config);
+  PppPipeline& pipeline = *owned_pipeline;
+  auto estimator = makeEstimator(req.estimator, pipeline.config(), &why);
+  if (!estimator) throw std::invalid_argument(why);
+  PppSolveOutcome out = plannedOutputs(req, entry, pipeline, *estimator);
+
+  EpochFiles files(out, estimator->smoothing() != nullptr, req.write_timings);  // 3
+  out.run = pipeline.run(*estimator, [&](const PppEpochRecord& rec) {
+    files.write(rec);
+    if (req.on_epoch) req.on_epoch(pipeline.progress(), rec);
+  });
+  files.finish(req.out_dir);
+
+  writeSolutions(req, *estimator, files, out);  // 4
+  writeSummaries(req, out);
   return out;
 }
 

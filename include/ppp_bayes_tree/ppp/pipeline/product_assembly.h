@@ -171,6 +171,13 @@ class ProductAssembly {
   void decideArGate(const ProductAssemblyInputs& in, const OrbitClockProducts& orbit_clock);
   /// Sets verdict_.phase and detail; true when the phase information there was is refused.
   bool findPhaseInformation(const ProductAssemblyInputs& in, const OrbitClockProducts& orbit_clock);
+  /// Files: the OSBs of the clocks' centre, else integer-recovery clocks (as findPhaseInformation).
+  bool phaseFromClockProducts(const ProductAssemblyInputs& in, const BiasSinexFile* bias_file,
+                              const std::string& refused_rows);
+  /// A recording with SSR: the stream's phase biases.
+  void phaseFromSsr(const ProductAssemblyInputs& in, const OrbitClockProducts& orbit_clock);
+  /// Streamed orbits and clocks: a Bias-SINEX file of the stream's clock centre.
+  void phaseFromStreamCentre(const ProductAssemblyInputs& in, const BiasSinexFile* bias_file);
 
   ProductAssemblyInputs inputs_;
   PppConfig config_;

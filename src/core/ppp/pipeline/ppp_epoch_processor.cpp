@@ -27,6 +27,15 @@ struct PppEpochProcessor::Impl {
 
   Impl(const RinexObsHeader& h, const PppConfig& c, const BiasProvider* b)
       : header(h), config(c), biases(b), tracker(c.cycle_slip_options) {}
+
+  /// Notes a data gap before the epoch and moves the last time on.
+  void advanceTime(const ObsEpoch& epoch, PppEpochRecord& rec);
+  /// Each satellite's dual-frequency signals; the skipped ones as rejections.
+  void selectSignals(const ObsEpoch& epoch, PppEpochRecord& rec, std::vector<SignalSelectionNote>* selection_notes);
+  /// The usable satellites and their arcs; new arcs and slips counted.
+  void keepUsableArcs(const ArcEpochResult& arc_result, PppEpochRecord& rec);
+  /// The estimator's step over the single measurement model of the usable satellites.
+  EstimatorEpochResult estimate(const GnssTime& time, const ArcEpochResult& arc_result, PppEstimator& estimator);
 };
 
 namespace {
@@ -80,92 +89,38 @@ std::optional<GnssTime> PppEpochProcessor::lastTime() const { return impl_->last
 
 std::vector<EndedArc> PppEpochProcessor::finish() { return impl_->tracker.finish(); }
 
-PppEpochRecord PppEpochProcessor::process(const ObsEpoch& epoch, PppEstimator& estimator,
-                                          std::vector<SignalSelectionNote>* selection_notes) {
-  Impl& d = *impl_;
-  const std::vector<GnssSystem>& systems = d.config.signals.systems;
-  const auto processed = [&](GnssSystem s) { return std::find(systems.begin(), systems.end(), s) != systems.end(); };
-  PppEpochRecord rec;
-  rec.solution.time = epoch.time;
-  rec.solution.status = SolutionStatus::NoSolution;
-  for (const auto& s : epoch.satellites)
-    if (processed(s.satellite.system)) ++rec.satellites_observed;
-  if (selection_notes) selection_notes->clear();
+namespace {
 
-  const auto refuse = [&](const std::string& why) {
-    rec.refused = true;
-    rec.reason = why;
-    return rec;
-  };
-  if (epoch.cycleSlipRecords()) return refuse("cycle-slip records (epoch flag 6), not observations");
-  if (d.last_time && !(epoch.time > *d.last_time)) {
-    return refuse(epoch.time == *d.last_time ? "duplicate epoch"
-                                             : "time goes backwards by " + std::to_string(*d.last_time - epoch.time) +
-                                                   " s");
-  }
-  if (d.last_time) {
-    const double dt = epoch.time - *d.last_time;
-    if (d.interval_s && dt > 1.5 * *d.interval_s) rec.gap_s = dt;
-    d.interval_s = d.interval_s ? std::min(*d.interval_s, dt) : dt;
-  }
-  d.last_time = epoch.time;
+/// Whether the configuration processes `system`.
+bool processedSystem(const PppConfig& config, GnssSystem system) {
+  const std::vector<GnssSystem>& systems = config.signals.systems;
+  return std::find(systems.begin(), systems.end(), system) != systems.end();
+}
 
-  // Signal selection.
-  d.selector->select(epoch, d.sel);
-  rec.satellites_selected = static_cast<int>(d.sel.observations.size());
-  for (const auto& s : d.sel.skipped) {
-    if (!processed(s.satellite.system)) continue;
-    rec.rejected.push_back({s.satellite, RejectionStage::Signals, RejectionReason::SignalSelection, s.reason});
-  }
-  if (selection_notes) *selection_notes = d.sel.notes;
+/// Refuses the epoch: not processed at all, with the reason.
+PppEpochRecord& refuseEpoch(PppEpochRecord& rec, const std::string& why) {
+  rec.refused = true;
+  rec.reason = why;
+  return rec;
+}
 
-  // Arc tracking: ids, slips, ended arcs.
-  const ArcEpochResult arc_result = d.tracker.process(epoch.time, d.sel.observations);
-  if (!arc_result.accepted) return refuse(arc_result.refusal_reason);  // guard: the time check comes first
-  d.usable.clear();
-  d.arcs.clear();
-  for (std::size_t i = 0; i < arc_result.satellites.size(); ++i) {
-    const auto& st = arc_result.satellites[i];
-    if (!st.usable) {
-      rec.rejected.push_back({st.satellite, RejectionStage::Arcs, RejectionReason::ArcTracking, st.reason});
-      continue;
-    }
-    if (st.new_arc) {
-      ++rec.new_arcs;
-      if (st.start_reason == ArcStartReason::MelbourneWuebbenaJump ||
-          st.start_reason == ArcStartReason::GeometryFreeJump || st.start_reason == ArcStartReason::LossOfLock)
-        ++rec.slips;
-      if (st.start_reason != ArcStartReason::NewSatellite)
-        rec.arc_events.push_back(st.satellite.toString() + " arc " + std::to_string(st.arc) + ": " + st.reason);
-    }
-    d.usable.push_back(d.sel.observations[i]);
-    d.arcs.push_back(st.arc);
-  }
+/// Why an epoch cannot be processed at all (special records, time not moving
+/// forward); empty when it can.
+std::string timeRefusal(const ObsEpoch& epoch, const std::optional<GnssTime>& last_time) {
+  if (epoch.cycleSlipRecords()) return "cycle-slip records (epoch flag 6), not observations";
+  if (!last_time || epoch.time > *last_time) return {};
+  if (epoch.time == *last_time) return "duplicate epoch";
+  return "time goes backwards by " + std::to_string(*last_time - epoch.time) + " s";
+}
 
-  // The single measurement model, linearised at whatever state the estimator asks.
-  const MeasurementFunction evaluate = [&](const ReceiverState& state) {
-    EpochMeasurements m;
-    d.model->evaluate(d.usable, d.arcs, state, &d.windup, m);
-    m.time = epoch.time;
-    return m;
-  };
-  // The start model, for an estimator that starts without an approximate position.
-  const MeasurementFunction evaluate_start = [&](const ReceiverState& state) {
-    EpochMeasurements m;
-    d.model->evaluateStart(d.usable, state, m);
-    m.time = epoch.time;
-    return m;
-  };
-  EstimatorEpochInput input;
-  input.time = epoch.time;
-  input.evaluate = &evaluate;
-  input.evaluate_start = &evaluate_start;
-  input.observations = &d.usable;
-  input.arcs = &d.arcs;
-  input.ended_arcs = &arc_result.ended;
-  input.phase_biases = impl_->phase_biases;
-  EstimatorEpochResult r = estimator.processEpoch(input);
+/// Whether an arc start is a slip (a detected jump or a loss of lock).
+bool startedBySlip(ArcStartReason reason) {
+  return reason == ArcStartReason::MelbourneWuebbenaJump || reason == ArcStartReason::GeometryFreeJump ||
+         reason == ArcStartReason::LossOfLock;
+}
 
+/// The estimator's epoch result in the record and its solution.
+void recordEstimate(EstimatorEpochResult& r, std::optional<double>& fix_ratio, PppEpochRecord& rec) {
   rec.status = r.status;
   rec.no_solution_reason = r.no_solution_reason;
   rec.reason = r.reason;
@@ -179,7 +134,7 @@ PppEpochRecord PppEpochProcessor::process(const ObsEpoch& epoch, PppEstimator& e
   s.integrity = r.integrity;
   if (r.status == EpochStatus::Ok && r.solution) {
     s.status = r.ambiguities == AmbiguityState::Fixed ? SolutionStatus::PppFixed : SolutionStatus::PppFloat;
-    recordFixRatio(impl_->fix_ratio, s, r);
+    recordFixRatio(fix_ratio, s, r);
     s.position_ecef_m = r.solution->state.position_ecef_m;
     s.covariance_ecef_m2 = r.solution->positionCovariance_m2();
     s.zwd_m = r.solution->state.zwd_m;
@@ -187,12 +142,112 @@ PppEpochRecord PppEpochProcessor::process(const ObsEpoch& epoch, PppEstimator& e
     rec.state_layout = r.solution->state.layout;
     rec.receiver_covariance = r.solution->covariance;
   }
-  if (s.status != SolutionStatus::PppFixed) impl_->fix_ratio.reset();
+  if (s.status != SolutionStatus::PppFixed) fix_ratio.reset();
   rec.active_biases = r.active_biases;
   rec.estimator_reset = r.estimator_reset;
   rec.estimator_time_s = r.epoch_time_s;
   rec.smoother = std::move(r.smoother);
   rec.ambiguity_fix = std::move(r.ambiguity_fix);
+}
+
+}  // namespace
+
+void PppEpochProcessor::Impl::advanceTime(const ObsEpoch& epoch, PppEpochRecord& rec) {
+  if (last_time) {
+    const double dt = epoch.time - *last_time;
+    if (interval_s && dt > 1.5 * *interval_s) rec.gap_s = dt;
+    interval_s = interval_s ? std::min(*interval_s, dt) : dt;
+  }
+  last_time = epoch.time;
+}
+
+void PppEpochProcessor::Impl::selectSignals(const ObsEpoch& epoch, PppEpochRecord& rec,
+                                            std::vector<SignalSelectionNote>* selection_notes) {
+  selector->select(epoch, sel);
+  rec.satellites_selected = static_cast<int>(sel.observations.size());
+  for (const auto& s : sel.skipped) {
+    if (!processedSystem(config, s.satellite.system)) continue;
+    rec.rejected.push_back({s.satellite, RejectionStage::Signals, RejectionReason::SignalSelection, s.reason});
+  }
+  if (selection_notes) *selection_notes = sel.notes;
+}
+
+void PppEpochProcessor::Impl::keepUsableArcs(const ArcEpochResult& arc_result, PppEpochRecord& rec) {
+  usable.clear();
+  arcs.clear();
+  for (std::size_t i = 0; i < arc_result.satellites.size(); ++i) {
+    const auto& st = arc_result.satellites[i];
+    if (!st.usable) {
+      rec.rejected.push_back({st.satellite, RejectionStage::Arcs, RejectionReason::ArcTracking, st.reason});
+      continue;
+    }
+    if (st.new_arc) {
+      ++rec.new_arcs;
+      if (startedBySlip(st.start_reason)) ++rec.slips;
+      if (st.start_reason != ArcStartReason::NewSatellite)
+        rec.arc_events.push_back(st.satellite.toString() + " arc " + std::to_string(st.arc) + ": " + st.reason);
+    }
+    usable.push_back(sel.observations[i]);
+    arcs.push_back(st.arc);
+  }
+}
+
+EstimatorEpochResult PppEpochProcessor::Impl::estimate(const GnssTime& time, const ArcEpochResult& arc_result,
+                                                       PppEstimator& estimator) {
+  // The single measurement model, linearised at whatever state the estimator asks.
+  const MeasurementFunction evaluate = [&](const ReceiverState& state) {
+    EpochMeasurements m;
+    model->evaluate(usable, arcs, state, &windup, m);
+    m.time = time;
+    return m;
+  };
+  // The start model, for an estimator that starts without an approximate position.
+  const MeasurementFunction evaluate_start = [&](const ReceiverState& state) {
+    EpochMeasurements m;
+    model->evaluateStart(usable, state, m);
+    m.time = time;
+    return m;
+  };
+  EstimatorEpochInput input;
+  input.time = time;
+  input.evaluate = &evaluate;
+  input.evaluate_start = &evaluate_start;
+  input.observations = &usable;
+  input.arcs = &arcs;
+  input.ended_arcs = &arc_result.ended;
+  input.phase_biases = phase_biases;
+  return estimator.processEpoch(input);
+}
+
+// One epoch, as numbered steps:
+//   1. refuse special records and time that does not move forward; note a gap;
+//   2. select each satellite's dual-frequency signals;
+//   3. track arcs (ids, slips, ended arcs) and keep the usable satellites;
+//   4. the estimator's step over the single measurement model;
+//   5. the estimator's result into the record.
+PppEpochRecord PppEpochProcessor::process(const ObsEpoch& epoch, PppEstimator& estimator,
+                                          std::vector<SignalSelectionNote>* selection_notes) {
+  Impl& d = *impl_;
+  PppEpochRecord rec;
+  rec.solution.time = epoch.time;
+  rec.solution.status = SolutionStatus::NoSolution;
+  for (const auto& s : epoch.satellites)
+    if (processedSystem(d.config, s.satellite.system)) ++rec.satellites_observed;
+  if (selection_notes) selection_notes->clear();
+
+  // 1. Special records and time that does not move forward are refused.
+  if (const std::string why = timeRefusal(epoch, d.last_time); !why.empty()) return refuseEpoch(rec, why);
+  d.advanceTime(epoch, rec);
+  // 2. Signal selection.
+  d.selectSignals(epoch, rec, selection_notes);
+  // 3. Arc tracking (the time check above comes first, so a refusal here is a guard).
+  const ArcEpochResult arc_result = d.tracker.process(epoch.time, d.sel.observations);
+  if (!arc_result.accepted) return refuseEpoch(rec, arc_result.refusal_reason);
+  d.keepUsableArcs(arc_result, rec);
+  // 4. The estimator's step.
+  EstimatorEpochResult r = d.estimate(epoch.time, arc_result, estimator);
+  // 5. Its result into the record.
+  recordEstimate(r, d.fix_ratio, rec);
   return rec;
 }
 

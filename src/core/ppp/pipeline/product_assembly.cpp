@@ -382,66 +382,83 @@ std::string refusedPhaseRows(const BiasSinexFile* file, const std::string& path)
 
 bool ProductAssembly::findPhaseInformation(const ProductAssemblyInputs& in, const OrbitClockProducts& orbit_clock) {
   // In order: OSBs of the clocks' centre, integer-recovery clocks, SSR phase biases.
-  ArGateVerdict& v = verdict_;
   const BiasSinexFile* bias_file = set_->biasFile();
-  const std::string refused_rows = in.bias ? refusedPhaseRows(bias_file, *in.bias) : std::string();
-  const SourcePhaseInformation where = selectProductSource(in).phase;
-  if (where == SourcePhaseInformation::ClockProducts) {
-    std::vector<ProductOrigin> clocks;
-    for (std::size_t i = 0; i < in.clk.size(); ++i) clocks.push_back({in.clk[i], clockHeaderCentre(clock_headers_[i])});
-    std::optional<ProductOrigin> bias;
-    if (in.bias) bias = ProductOrigin{*in.bias, bias_file ? bias_file->header.file_agency : ""};
-    const PhaseBiasCheck check = checkPhaseBiasConsistency(clocks, bias, hasPhaseOsb(bias_file));
-    IntegerRecoveryClockBiases wl = readIntegerRecoveryClockBiases(clock_headers_, in.clk);
-    if (check.consistent()) {
-      v.phase = PhaseInformation::AnalysisCentreOsb;
-      phase_biases_ = set_->biases();
-      v.detail = check.clock_centre + (check.from_headers ? ", from the headers" : ", from the file names");
-      notes_.push_back("ambiguity resolution: " + check.text());
-      if (!refused_rows.empty()) notes_.push_back("ambiguity resolution: " + refused_rows + "; not fixed where missing");
+  switch (selectProductSource(in).phase) {
+    case SourcePhaseInformation::ClockProducts:
+      return phaseFromClockProducts(in, bias_file, in.bias ? refusedPhaseRows(bias_file, *in.bias) : std::string());
+    case SourcePhaseInformation::SsrRecording:
+      phaseFromSsr(in, orbit_clock);
       return false;
-    }
-    problems_.insert(problems_.end(), wl.problems.begin(), wl.problems.end());
-    if (wl.provider) {
-      v.phase = PhaseInformation::IntegerRecoveryClocks;
-      v.detail = std::to_string(wl.provider->size()) + " wide-lane satellite biases in the clock header";
-      notes_.push_back("ambiguity resolution: integer-recovery clocks with " + v.detail);
-      if (wl.refused > 0)
-        notes_.push_back("ambiguity resolution: " + std::to_string(wl.refused) + " of " + std::to_string(wl.lines) +
-                         " wide-lane lines of the clock header refused; their satellites are not fixed");
-      phase_biases_ = wl.provider.get();
-      owned_phase_biases_ = std::move(wl.provider);
+    case SourcePhaseInformation::Stream:  // else the stream's own biases later
+      phaseFromStreamCentre(in, bias_file);
       return false;
-    }
-    // Nothing usable: say why, the refused inputs first.
-    if (check.verdict == PhaseBiasConsistency::NoPhaseBiases && !refused_rows.empty()) {
-      v.detail = refused_rows;
-      return true;
-    }
-    if (!wl.whyNone().empty()) {
-      v.detail = wl.whyNone();
-      return true;
-    }
-    v.detail = check.why();
-  } else if (where == SourcePhaseInformation::SsrRecording) {
-    if (orbit_clock.ssr_phase_biases) {
-      v.phase = PhaseInformation::SsrPhaseBiases;
-      phase_biases_ = orbit_clock.ssr_biases.get();
-      v.detail = orbit_clock.ssr_biases->describeSource();
-    } else {
-      v.detail = in.ssr ? "the SSR stream carries no phase biases" : "broadcast orbits and clocks without SSR";
-    }
-  } else {  // streamed: a Bias-SINEX file of the stream's clock centre, else the stream's own biases later
-    const std::string agency = bias_file ? bias_file->header.file_agency : "";
-    if (hasPhaseOsb(bias_file) && !agency.empty() && agency == in.streamed.clock_centre) {
-      v.phase = PhaseInformation::AnalysisCentreOsb;
-      phase_biases_ = set_->biases();
-      v.detail = agency + ", the stream's clock centre";
-    } else {
-      v.detail = "no phase biases from the stream yet";
-    }
   }
   return false;
+}
+
+bool ProductAssembly::phaseFromClockProducts(const ProductAssemblyInputs& in, const BiasSinexFile* bias_file,
+                                             const std::string& refused_rows) {
+  ArGateVerdict& v = verdict_;
+  std::vector<ProductOrigin> clocks;
+  for (std::size_t i = 0; i < in.clk.size(); ++i) clocks.push_back({in.clk[i], clockHeaderCentre(clock_headers_[i])});
+  std::optional<ProductOrigin> bias;
+  if (in.bias) bias = ProductOrigin{*in.bias, bias_file ? bias_file->header.file_agency : ""};
+  const PhaseBiasCheck check = checkPhaseBiasConsistency(clocks, bias, hasPhaseOsb(bias_file));
+  IntegerRecoveryClockBiases wl = readIntegerRecoveryClockBiases(clock_headers_, in.clk);
+  if (check.consistent()) {
+    v.phase = PhaseInformation::AnalysisCentreOsb;
+    phase_biases_ = set_->biases();
+    v.detail = check.clock_centre + (check.from_headers ? ", from the headers" : ", from the file names");
+    notes_.push_back("ambiguity resolution: " + check.text());
+    if (!refused_rows.empty()) notes_.push_back("ambiguity resolution: " + refused_rows + "; not fixed where missing");
+    return false;
+  }
+  problems_.insert(problems_.end(), wl.problems.begin(), wl.problems.end());
+  if (wl.provider) {
+    v.phase = PhaseInformation::IntegerRecoveryClocks;
+    v.detail = std::to_string(wl.provider->size()) + " wide-lane satellite biases in the clock header";
+    notes_.push_back("ambiguity resolution: integer-recovery clocks with " + v.detail);
+    if (wl.refused > 0)
+      notes_.push_back("ambiguity resolution: " + std::to_string(wl.refused) + " of " + std::to_string(wl.lines) +
+                       " wide-lane lines of the clock header refused; their satellites are not fixed");
+    phase_biases_ = wl.provider.get();
+    owned_phase_biases_ = std::move(wl.provider);
+    return false;
+  }
+  // Nothing usable: say why, the refused inputs first.
+  if (check.verdict == PhaseBiasConsistency::NoPhaseBiases && !refused_rows.empty()) {
+    v.detail = refused_rows;
+    return true;
+  }
+  if (!wl.whyNone().empty()) {
+    v.detail = wl.whyNone();
+    return true;
+  }
+  v.detail = check.why();
+  return false;
+}
+
+void ProductAssembly::phaseFromSsr(const ProductAssemblyInputs& in, const OrbitClockProducts& orbit_clock) {
+  ArGateVerdict& v = verdict_;
+  if (orbit_clock.ssr_phase_biases) {
+    v.phase = PhaseInformation::SsrPhaseBiases;
+    phase_biases_ = orbit_clock.ssr_biases.get();
+    v.detail = orbit_clock.ssr_biases->describeSource();
+  } else {
+    v.detail = in.ssr ? "the SSR stream carries no phase biases" : "broadcast orbits and clocks without SSR";
+  }
+}
+
+void ProductAssembly::phaseFromStreamCentre(const ProductAssemblyInputs& in, const BiasSinexFile* bias_file) {
+  ArGateVerdict& v = verdict_;
+  const std::string agency = bias_file ? bias_file->header.file_agency : "";
+  if (hasPhaseOsb(bias_file) && !agency.empty() && agency == in.streamed.clock_centre) {
+    v.phase = PhaseInformation::AnalysisCentreOsb;
+    phase_biases_ = set_->biases();
+    v.detail = agency + ", the stream's clock centre";
+  } else {
+    v.detail = "no phase biases from the stream yet";
+  }
 }
 
 bool ProductAssembly::acceptStreamedPhaseBiases(const BiasProvider* provider, PhaseInformation kind) {

@@ -16,6 +16,8 @@
 #include <stdexcept>
 #include <string>
 #include <typeinfo>
+#include <utility>
+#include <vector>
 
 #include "ppp_bayes_tree/app/ppp_solve_run.h"
 #include "ppp_bayes_tree/evaluation/monte_carlo.h"
@@ -217,6 +219,11 @@ std::set<std::string> estimatorClasses(const fs::path& include_dir) {
 /// directly: a variable or member of the class (`PppEkf ekf(c);`), a temporary
 /// (`PppEkf(c)`), make_unique / make_shared or new. References and pointers are fine.
 std::vector<std::string> directConstructions(const std::string& text, const std::set<std::string>& classes) {
+  // One pattern per class, built once; a line is matched only when it names a class.
+  std::vector<std::pair<std::string, std::regex>> patterns;
+  for (const std::string& c : classes)
+    patterns.emplace_back(c, std::regex("(make_unique|make_shared)\\s*<\\s*(ppp::)?" + c + "\\s*>|\\bnew\\s+(ppp::)?" +
+                                        c + "\\b|(^|[^\\w:~&*<])(ppp::)?" + c + "\\b\\s*(\\w+\\s*)?[({;]"));
   std::vector<std::string> hits;
   std::istringstream lines(text);
   std::string line;
@@ -224,9 +231,8 @@ std::vector<std::string> directConstructions(const std::string& text, const std:
   while (std::getline(lines, line)) {
     ++n;
     const std::string code = line.substr(0, line.find("//"));
-    for (const std::string& c : classes) {
-      const std::regex construct("(make_unique|make_shared)\\s*<\\s*(ppp::)?" + c + "\\s*>|\\bnew\\s+(ppp::)?" + c +
-                                 "\\b|(^|[^\\w:~&*<])(ppp::)?" + c + "\\s*(\\w+\\s*)?[({;]");
+    for (const auto& [c, construct] : patterns) {
+      if (code.find(c) == std::string::npos) continue;
       if (std::regex_search(code, construct)) hits.push_back(std::to_string(n) + ": " + line);
     }
   }
@@ -240,6 +246,8 @@ TEST(EstimatorRegistry, TheConstructionCheckFindsAPlantedConstruction) {
   EXPECT_EQ(directConstructions("  auto sm = std::make_unique<PppSmoother>(config);\n", classes).size(), 1u);
   EXPECT_EQ(directConstructions("  return PppEkf(model);\n", classes).size(), 1u);
   EXPECT_EQ(directConstructions("  PppEkf* e = new PppEkf;\n", classes).size(), 1u);
+  // A longer name that starts with a class's name is another type.
+  EXPECT_TRUE(directConstructions("struct PppSmootherOptions {\n  PppEkfOptions ekf;\n", classes).empty());
   // Reaching a made estimator, naming the class in a comment or a type: no construction.
   EXPECT_TRUE(directConstructions("  PppSmoother& sm = *made;\n  const PppEkf* e = nullptr;\n"
                                   "  // the EKF (PppEkf) is made by the registry\n"
