@@ -11,7 +11,8 @@
 //                                 and bit readers, stream problems, the epoch-time screen)
 //   models      -> io             pure models and the product providers
 //   smoother    -> types          the generic incremental smoother (no GNSS)
-//   navigation  -> types          IMU readings, SO(3), preintegration, the IMU factor's error
+//   navigation  -> types          IMU readings, SO(3), preintegration, the IMU factor's error,
+//                                 the strapdown INS, its error model, coarse alignment
 //   ppp         -> models, smoother   measurement model, estimators, pipeline
 //   simulation  -> ppp            the flight simulator
 //   evaluation  -> simulation     statistics, solution writers, Monte Carlo

@@ -1,0 +1,187 @@
+#include "ppp_bayes_tree/navigation/ins_alignment.h"
+
+#include <cmath>
+
+#include "ppp_bayes_tree/navigation/navigation_frame.h"
+#include "ppp_bayes_tree/navigation/so3.h"
+#include "ppp_bayes_tree/types/frames.h"
+
+namespace ppp {
+namespace {
+
+/// R_ned_enu: swaps east and north and flips up.
+Eigen::Matrix3d rotationNedEnu() {
+  Eigen::Matrix3d m;
+  m << 0, 1, 0, 1, 0, 0, 0, 0, -1;
+  return m;
+}
+
+struct IntervalStatistics {
+  std::size_t samples = 0;
+  bool finite = true;
+  Eigen::Vector3d mean_force = Eigen::Vector3d::Zero();
+  Eigen::Vector3d force_spread = Eigen::Vector3d::Zero();  ///< per-axis standard deviation
+  double gyro_rms = 0.0;
+};
+
+IntervalStatistics intervalStatistics(const std::vector<ImuSample>& samples) {
+  IntervalStatistics s;
+  s.samples = samples.size();
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero(), sum_sq = Eigen::Vector3d::Zero();
+  double rate_sq = 0.0;
+  for (const ImuSample& r : samples) {
+    if (!r.specific_force_mps2.allFinite() || !r.angular_rate_radps.allFinite()) {
+      s.finite = false;
+      return s;
+    }
+    sum += r.specific_force_mps2;
+    sum_sq += r.specific_force_mps2.cwiseAbs2();
+    rate_sq += r.angular_rate_radps.squaredNorm();
+  }
+  if (s.samples == 0) return s;
+  const double n = static_cast<double>(s.samples);
+  s.mean_force = sum / n;
+  s.force_spread = (sum_sq / n - s.mean_force.cwiseAbs2()).cwiseMax(0.0).cwiseSqrt();
+  s.gyro_rms = std::sqrt(rate_sq / n);
+  return s;
+}
+
+LevelingStatus intervalStatus(const IntervalStatistics& s, double gravity_mps2, const StaticIntervalThresholds& t) {
+  if (!s.finite) return LevelingStatus::NonFiniteReading;
+  if (s.samples < t.min_samples) return LevelingStatus::TooFewSamples;
+  if (s.force_spread.maxCoeff() > t.max_accel_spread_mps2) return LevelingStatus::AccelerometerSpread;
+  if (s.gyro_rms > t.max_gyro_rate_radps) return LevelingStatus::GyroRate;
+  if (std::abs(s.mean_force.norm() - gravity_mps2) > t.max_gravity_mismatch_mps2) return LevelingStatus::NotGravity;
+  return LevelingStatus::Level;
+}
+
+}  // namespace
+
+Eigen::Matrix3d rotationNedBody(double roll_rad, double pitch_rad, double yaw_rad) {
+  return so3::expMap(Eigen::Vector3d(0, 0, yaw_rad)) * so3::expMap(Eigen::Vector3d(0, pitch_rad, 0)) *
+         so3::expMap(Eigen::Vector3d(roll_rad, 0, 0));
+}
+
+Eigen::Matrix3d rotationEcefNed(const Eigen::Vector3d& position_ecef_m) {
+  const Geodetic g = ecefToGeodetic(position_ecef_m);
+  return (rotationNedEnu() * rotationEnuFromEcef(g.latitude_rad, g.longitude_rad)).transpose();
+}
+
+EulerAngles eulerAngles(const Eigen::Matrix3d& r) {
+  EulerAngles e;
+  e.roll_rad = std::atan2(r(2, 1), r(2, 2));
+  e.pitch_rad = std::atan2(-r(2, 0), std::hypot(r(2, 1), r(2, 2)));
+  e.yaw_rad = std::atan2(r(1, 0), r(0, 0));
+  return e;
+}
+
+Eigen::Matrix3d withYaw(const Eigen::Matrix3d& rotation_ecef_body, const Eigen::Vector3d& position_ecef_m,
+                        double yaw_rad) {
+  const Eigen::Matrix3d ecef_ned = rotationEcefNed(position_ecef_m);
+  const EulerAngles e = eulerAngles(ecef_ned.transpose() * rotation_ecef_body);
+  return ecef_ned * rotationNedBody(e.roll_rad, e.pitch_rad, yaw_rad);
+}
+
+std::string levelingStatusText(LevelingStatus status) {
+  switch (status) {
+    case LevelingStatus::Level: return "level";
+    case LevelingStatus::TooFewSamples: return "too few samples";
+    case LevelingStatus::NonFiniteReading: return "reading not finite";
+    case LevelingStatus::AccelerometerSpread: return "accelerometer spread over the threshold";
+    case LevelingStatus::GyroRate: return "gyro rate over the threshold";
+    case LevelingStatus::NotGravity: return "mean specific force is not gravity";
+  }
+  return "unknown status";
+}
+
+LevelingResult levelFromStaticInterval(const std::vector<ImuSample>& samples, const Eigen::Vector3d& position_ecef_m,
+                                       const StaticIntervalThresholds& thresholds) {
+  const IntervalStatistics s = intervalStatistics(samples);
+  const Geodetic g = ecefToGeodetic(position_ecef_m);
+  const double gravity_mps2 = normalGravity_mps2(g.latitude_rad, g.height_m);
+  LevelingResult out;
+  out.status = intervalStatus(s, gravity_mps2, thresholds);
+  out.samples = s.samples;
+  out.mean_specific_force_mps2 = s.mean_force;
+  out.accel_spread_mps2 = s.force_spread.maxCoeff();
+  out.gyro_rms_radps = s.gyro_rms;
+  if (out.status != LevelingStatus::Level) return out;
+  const Eigen::Vector3d& f = s.mean_force;
+  out.roll_rad = std::atan2(-f.y(), -f.z());
+  out.pitch_rad = std::atan2(f.x(), std::hypot(f.y(), f.z()));
+  out.tilt_sigma_rad = out.accel_spread_mps2 / (gravity_mps2 * std::sqrt(static_cast<double>(s.samples)));
+  return out;
+}
+
+std::string headingStatusText(HeadingStatus status) {
+  switch (status) {
+    case HeadingStatus::Heading: return "heading";
+    case HeadingStatus::SpeedTooLow: return "horizontal speed below the threshold";
+    case HeadingStatus::NonFiniteVelocity: return "velocity not finite";
+  }
+  return "unknown status";
+}
+
+HeadingResult headingFromGnssVelocity(const Eigen::Vector3d& velocity_ecef_mps, const Eigen::Vector3d& position_ecef_m,
+                                      double velocity_sigma_mps, double min_horizontal_speed_mps) {
+  HeadingResult out;
+  if (!velocity_ecef_mps.allFinite() || !position_ecef_m.allFinite()) {
+    out.status = HeadingStatus::NonFiniteVelocity;
+    return out;
+  }
+  const Eigen::Vector3d ned = rotationEcefNed(position_ecef_m).transpose() * velocity_ecef_mps;
+  out.horizontal_speed_mps = std::hypot(ned.x(), ned.y());
+  if (!(out.horizontal_speed_mps >= min_horizontal_speed_mps) || out.horizontal_speed_mps <= 0.0) {
+    out.status = HeadingStatus::SpeedTooLow;
+    return out;
+  }
+  out.status = HeadingStatus::Heading;
+  out.heading_rad = std::atan2(ned.y(), ned.x());
+  out.heading_sigma_rad = velocity_sigma_mps / out.horizontal_speed_mps;
+  return out;
+}
+
+std::string alignmentStateText(AlignmentState state) {
+  switch (state) {
+    case AlignmentState::NotAligned: return "not aligned";
+    case AlignmentState::LevelOnly: return "level only (roll and pitch, no heading)";
+    case AlignmentState::Aligned: return "aligned";
+  }
+  return "unknown state";
+}
+
+LevelingResult CoarseAlignment::addStaticInterval(const std::vector<ImuSample>& samples,
+                                                  const Eigen::Vector3d& position_ecef_m,
+                                                  const StaticIntervalThresholds& thresholds) {
+  const LevelingResult result = levelFromStaticInterval(samples, position_ecef_m, thresholds);
+  if (result.status == LevelingStatus::Level) {
+    leveling_ = result;
+    level_ = true;
+  }
+  return result;
+}
+
+HeadingResult CoarseAlignment::addGnssVelocity(const Eigen::Vector3d& velocity_ecef_mps,
+                                               const Eigen::Vector3d& position_ecef_m, double velocity_sigma_mps,
+                                               double min_horizontal_speed_mps) {
+  const HeadingResult result =
+      headingFromGnssVelocity(velocity_ecef_mps, position_ecef_m, velocity_sigma_mps, min_horizontal_speed_mps);
+  if (result.status == HeadingStatus::Heading) {
+    heading_ = result;
+    heading_known_ = true;
+  }
+  return result;
+}
+
+AlignmentState CoarseAlignment::state() const {
+  if (!level_) return AlignmentState::NotAligned;
+  return heading_known_ ? AlignmentState::Aligned : AlignmentState::LevelOnly;
+}
+
+Eigen::Matrix3d CoarseAlignment::rotationEcefBody(const Eigen::Vector3d& position_ecef_m) const {
+  if (state() != AlignmentState::Aligned) return Eigen::Matrix3d::Identity();
+  return rotationEcefNed(position_ecef_m) *
+         rotationNedBody(leveling_.roll_rad, leveling_.pitch_rad, heading_.heading_rad);
+}
+
+}  // namespace ppp
