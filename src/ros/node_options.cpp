@@ -22,145 +22,175 @@ std::vector<LiveStreamTopic> liveTopics(ppp::YamlSection& s, const std::string& 
   return topics;
 }
 
+/// ros.topics: the input topics.
+void bindTopics(ppp::YamlSection& s, RosNodeOptions& o) {
+  ppp::YamlSection t = s.section("topics");
+  o.observations_topic = t.text("observations", o.observations_topic);
+  o.corrections_topic = t.text("corrections", o.corrections_topic);
+  t.finish();
+}
+
+/// ros.products: the product files the node reads (ANTEX, Bias-SINEX, BLQ).
+void bindProducts(ppp::YamlSection& s, RosNodeOptions& o) {
+  ppp::YamlSection p = s.section("products");
+  o.atx = p.textList("atx", {}, true);
+  o.bias = p.text("bias", "");
+  o.blq = p.text("blq", "");
+  p.finish();
+}
+
+/// ros.frames: the TF frames, whether the node publishes TF, and the antenna lever arm.
+void bindFrames(ppp::YamlSection& s, RosNodeOptions& o) {
+  ppp::YamlSection f = s.section("frames");
+  o.earth_frame = f.text("earth", o.earth_frame);
+  o.map_frame = f.text("map", o.map_frame);
+  o.odom_frame = f.text("odom", o.odom_frame);
+  o.base_frame = f.text("base_link", o.base_frame);
+  o.antenna_frame = f.text("gnss_antenna", o.antenna_frame);
+  o.publish_tf = f.boolean("publish_tf", o.publish_tf);
+  const auto arm = f.numberList("antenna_lever_arm_m", {0.0, 0.0, 0.0}, 3);
+  for (int i = 0; i < 3; ++i) o.antenna_lever_arm_m[i] = arm[static_cast<std::size_t>(i)];
+  f.finish();
+}
+
+/// ros.attitude: the attitude topic that turns the lever arm into the frame of the map.
+void bindAttitude(ppp::YamlSection& s, RosNodeOptions& o) {
+  ppp::YamlSection a = s.section("attitude");
+  o.attitude_topic = a.text("topic", o.attitude_topic);
+  o.attitude_max_age_s = a.number("max_age_s", o.attitude_max_age_s, ppp::Bound::Positive);
+  a.finish();
+}
+
+/// ros.datum: the local datum of the map frame.
+void bindDatum(ppp::YamlSection& s, RosNodeOptions& o) {
+  ppp::YamlSection d = s.section("datum");
+  o.datum_mode = d.choice("mode", o.datum_mode, {"first_fix", "configured"});
+  o.datum_latitude_deg = d.number("latitude_deg", o.datum_latitude_deg);
+  o.datum_longitude_deg = d.number("longitude_deg", o.datum_longitude_deg);
+  o.datum_height_m = d.number("height_m", o.datum_height_m);
+  if (std::abs(o.datum_latitude_deg) > 90.0) d.fail("latitude_deg", "must be in [-90, 90]");
+  if (std::abs(o.datum_longitude_deg) > 360.0) d.fail("longitude_deg", "must be in [-360, 360]");
+  d.finish();
+}
+
+/// ros.input: the epoch queue and the wait for corrections.
+void bindInput(ppp::YamlSection& s, RosNodeOptions& o) {
+  ppp::YamlSection i = s.section("input");
+  o.correction_wait_s = i.number("correction_wait_s", o.correction_wait_s, ppp::Bound::NonNegative);
+  o.correction_history_s = i.number("correction_history_s", o.correction_history_s, ppp::Bound::Positive);
+  o.reset_backwards_threshold_s =
+      i.number("reset_backwards_threshold_s", o.reset_backwards_threshold_s, ppp::Bound::Positive);
+  o.max_forward_step_s = i.number("max_forward_step_s", o.max_forward_step_s, ppp::Bound::Positive);
+  o.time_jump_confirm_epochs = static_cast<std::size_t>(i.integer("time_jump_confirm_epochs", 3, 1));
+  if (o.time_jump_confirm_epochs > 100) i.fail("time_jump_confirm_epochs", "must be in [1, 100] epochs");
+  o.max_pending_epochs = static_cast<std::size_t>(i.integer("max_pending_epochs", 1000, 1));
+  o.observation_queue_size = static_cast<std::size_t>(i.integer("observation_queue_size", 2000, 1));
+  if (o.observation_queue_size < o.max_pending_epochs)
+    i.fail("observation_queue_size", "must be at least max_pending_epochs (" + std::to_string(o.max_pending_epochs) +
+                                         "): the queue must hold what the correction wait buffers");
+  o.correction_queue_size = static_cast<std::size_t>(i.integer("correction_queue_size", 1000, 1));
+  i.finish();
+}
+
+/// ros.status: when PppStatus says converged.
+void bindStatus(ppp::YamlSection& s, RosNodeOptions& o) {
+  ppp::YamlSection st = s.section("status");
+  o.converged_horizontal_sigma_m =
+      st.number("converged_horizontal_sigma_m", o.converged_horizontal_sigma_m, ppp::Bound::Positive);
+  o.converged_vertical_sigma_m =
+      st.number("converged_vertical_sigma_m", o.converged_vertical_sigma_m, ppp::Bound::Positive);
+  st.finish();
+}
+
+/// ros.diagnostics: the diagnostics thresholds and the path publication.
+void bindDiagnostics(ppp::YamlSection& s, RosNodeOptions& o) {
+  ppp::YamlSection dg = s.section("diagnostics");
+  o.expected_observation_rate_hz =
+      dg.number("expected_observation_rate_hz", o.expected_observation_rate_hz, ppp::Bound::NonNegative);
+  o.max_correction_latency_s = dg.number("max_correction_latency_s", o.max_correction_latency_s, ppp::Bound::Positive);
+  o.corrections_stale_warn_s =
+      dg.number("corrections_stale_warn_s", o.corrections_stale_warn_s, ppp::Bound::Positive);
+  o.corrections_stale_error_s =
+      dg.number("corrections_stale_error_s", o.corrections_stale_error_s, ppp::Bound::Positive);
+  if (o.corrections_stale_error_s <= o.corrections_stale_warn_s)
+    dg.fail("corrections_stale_error_s", "must exceed corrections_stale_warn_s (" +
+                                             std::to_string(o.corrections_stale_warn_s) + " s)");
+  o.path_publish_rate_hz = dg.number("path_publish_rate_hz", o.path_publish_rate_hz, ppp::Bound::Positive);
+  o.path_max_poses = static_cast<std::size_t>(dg.integer("path_max_poses", 20000, 1));
+  dg.finish();
+}
+
+/// ros.smoothed: the smoother's smoothed outputs.
+void bindSmoothed(ppp::YamlSection& s, RosNodeOptions& o) {
+  ppp::YamlSection sm = s.section("smoothed");
+  o.smoothed_path_publish_rate_hz =
+      sm.number("path_publish_rate_hz", o.smoothed_path_publish_rate_hz, ppp::Bound::Positive);
+  if (o.smoothed_path_publish_rate_hz > 10.0)
+    sm.fail("path_publish_rate_hz", "must be in (0, 10] Hz (each publication re-reads the whole trajectory)");
+  o.smoothed_odometry_delay_s = sm.number("odometry_delay_s", o.smoothed_odometry_delay_s, ppp::Bound::NonNegative);
+  if (o.smoothed_odometry_delay_s > 3600.0)
+    sm.fail("odometry_delay_s", "must be in [0, 3600] s (the marginal's cost grows with the delay)");
+  o.smoothed_trajectory_csv = sm.text("trajectory_csv", o.smoothed_trajectory_csv);
+  sm.finish();
+}
+
+/// ros.live: raw live streams (RTCM 3, UBX) and the live input.
+void bindLive(ppp::YamlSection& s, RosNodeOptions& o) {
+  ppp::YamlSection l = s.section("live");
+  o.live_observation_topics = liveTopics(l, "observations");
+  o.live_correction_topics = liveTopics(l, "corrections");
+  if (o.live_observation_topics.empty() && !o.live_correction_topics.empty())
+    l.fail("corrections", "correction stream topics need an observation stream topic (ros.live.observations)");
+  o.live_queue_size = static_cast<std::size_t>(l.integer("queue_size", 1000, 1));
+  ppp::LiveInputOptions& in = o.live_input;
+  in.navigation_files = l.textList("navigation_files", {}, true);
+  const std::string date = l.text("reference_date", "");
+  if (!date.empty() && !(in.reference_time = ppp::parseReferenceDate(date)))
+    l.fail("reference_date", "\"" + date + "\" is not YYYY/MM/DD or YYYY/MM/DD HH:MM:SS (GPST)");
+  const std::string reference = l.choice("ssr_reference", "auto", {"auto", "apc", "com"});
+  if (reference == "apc") in.ssr_reference = ppp::EphemerisReference::AntennaPhaseCentre;
+  if (reference == "com") in.ssr_reference = ppp::EphemerisReference::CentreOfMass;
+  in.ssr.use_high_rate_clock = l.boolean("ssr_high_rate_clock", in.ssr.use_high_rate_clock);
+  in.ssr.allow_unhealthy = l.boolean("ssr_allow_unhealthy", in.ssr.allow_unhealthy);
+  in.ssr_age_limits.orbit_max_age_s =
+      l.number("ssr_orbit_max_age_s", in.ssr_age_limits.orbit_max_age_s, ppp::Bound::Positive);
+  in.ssr_age_limits.clock_max_age_s =
+      l.number("ssr_clock_max_age_s", in.ssr_age_limits.clock_max_age_s, ppp::Bound::Positive);
+  in.ssr_age_limits.high_rate_clock_max_age_s =
+      l.number("ssr_high_rate_clock_max_age_s", in.ssr_age_limits.high_rate_clock_max_age_s, ppp::Bound::Positive);
+  in.ssr_age_limits.bias_max_age_s =
+      l.number("ssr_bias_max_age_s", in.ssr_age_limits.bias_max_age_s, ppp::Bound::Positive);
+  in.correction_wait_s = l.number("correction_wait_s", in.correction_wait_s, ppp::Bound::NonNegative);
+  in.expect_corrections = l.boolean("expect_corrections", !o.live_correction_topics.empty());
+  in.stall_warn_s = l.number("stall_warn_s", in.stall_warn_s, ppp::Bound::Positive);
+  in.stall_error_s = l.number("stall_error_s", in.stall_error_s, ppp::Bound::Positive);
+  if (in.stall_error_s <= in.stall_warn_s)
+    l.fail("stall_error_s", "must exceed stall_warn_s (" + std::to_string(in.stall_warn_s) + " s)");
+  in.restart_jump_s = l.number("restart_jump_s", in.restart_jump_s, ppp::Bound::Positive);
+  in.max_held_epochs = static_cast<std::size_t>(l.integer("max_held_epochs", static_cast<int>(in.max_held_epochs), 1));
+  in.keep_history_s = l.number("keep_history_s", in.keep_history_s, ppp::Bound::Positive);
+  // The broadcast fallback is one rule for ppp_solve and the nodes, read from ssr:.
+  for (const char* key : {"broadcast_fallback", "min_ssr_satellites", "broadcast_orbit_sigma_m",
+                          "broadcast_clock_sigma_m"})
+    l.refuseMoved(key, std::string("ssr.") + key);
+  l.finish();
+}
+
 }  // namespace
 
 RosNodeOptions bindRosNodeOptions(const YAML::Node& ros, const std::string& source_name) {
   RosNodeOptions o;
   ppp::YamlSection s(ros, source_name, "ros");
-  {
-    ppp::YamlSection t = s.section("topics");
-    o.observations_topic = t.text("observations", o.observations_topic);
-    o.corrections_topic = t.text("corrections", o.corrections_topic);
-    t.finish();
-  }
-  {
-    ppp::YamlSection p = s.section("products");
-    o.atx = p.textList("atx", {}, true);
-    o.bias = p.text("bias", "");
-    o.blq = p.text("blq", "");
-    p.finish();
-  }
-  {
-    ppp::YamlSection f = s.section("frames");
-    o.earth_frame = f.text("earth", o.earth_frame);
-    o.map_frame = f.text("map", o.map_frame);
-    o.odom_frame = f.text("odom", o.odom_frame);
-    o.base_frame = f.text("base_link", o.base_frame);
-    o.antenna_frame = f.text("gnss_antenna", o.antenna_frame);
-    o.publish_tf = f.boolean("publish_tf", o.publish_tf);
-    const auto arm = f.numberList("antenna_lever_arm_m", {0.0, 0.0, 0.0}, 3);
-    for (int i = 0; i < 3; ++i) o.antenna_lever_arm_m[i] = arm[static_cast<std::size_t>(i)];
-    f.finish();
-  }
-  {
-    ppp::YamlSection a = s.section("attitude");
-    o.attitude_topic = a.text("topic", o.attitude_topic);
-    o.attitude_max_age_s = a.number("max_age_s", o.attitude_max_age_s, ppp::Bound::Positive);
-    a.finish();
-  }
-  {
-    ppp::YamlSection d = s.section("datum");
-    o.datum_mode = d.choice("mode", o.datum_mode, {"first_fix", "configured"});
-    o.datum_latitude_deg = d.number("latitude_deg", o.datum_latitude_deg);
-    o.datum_longitude_deg = d.number("longitude_deg", o.datum_longitude_deg);
-    o.datum_height_m = d.number("height_m", o.datum_height_m);
-    if (std::abs(o.datum_latitude_deg) > 90.0) d.fail("latitude_deg", "must be in [-90, 90]");
-    if (std::abs(o.datum_longitude_deg) > 360.0) d.fail("longitude_deg", "must be in [-360, 360]");
-    d.finish();
-  }
-  {
-    ppp::YamlSection i = s.section("input");
-    o.correction_wait_s = i.number("correction_wait_s", o.correction_wait_s, ppp::Bound::NonNegative);
-    o.correction_history_s = i.number("correction_history_s", o.correction_history_s, ppp::Bound::Positive);
-    o.reset_backwards_threshold_s =
-        i.number("reset_backwards_threshold_s", o.reset_backwards_threshold_s, ppp::Bound::Positive);
-    o.max_forward_step_s = i.number("max_forward_step_s", o.max_forward_step_s, ppp::Bound::Positive);
-    o.time_jump_confirm_epochs = static_cast<std::size_t>(i.integer("time_jump_confirm_epochs", 3, 1));
-    if (o.time_jump_confirm_epochs > 100) i.fail("time_jump_confirm_epochs", "must be in [1, 100] epochs");
-    o.max_pending_epochs = static_cast<std::size_t>(i.integer("max_pending_epochs", 1000, 1));
-    o.observation_queue_size = static_cast<std::size_t>(i.integer("observation_queue_size", 2000, 1));
-    if (o.observation_queue_size < o.max_pending_epochs)
-      i.fail("observation_queue_size", "must be at least max_pending_epochs (" + std::to_string(o.max_pending_epochs) +
-                                           "): the queue must hold what the correction wait buffers");
-    o.correction_queue_size = static_cast<std::size_t>(i.integer("correction_queue_size", 1000, 1));
-    i.finish();
-  }
-  {
-    ppp::YamlSection st = s.section("status");
-    o.converged_horizontal_sigma_m =
-        st.number("converged_horizontal_sigma_m", o.converged_horizontal_sigma_m, ppp::Bound::Positive);
-    o.converged_vertical_sigma_m =
-        st.number("converged_vertical_sigma_m", o.converged_vertical_sigma_m, ppp::Bound::Positive);
-    st.finish();
-  }
-  {
-    ppp::YamlSection dg = s.section("diagnostics");
-    o.expected_observation_rate_hz =
-        dg.number("expected_observation_rate_hz", o.expected_observation_rate_hz, ppp::Bound::NonNegative);
-    o.max_correction_latency_s = dg.number("max_correction_latency_s", o.max_correction_latency_s, ppp::Bound::Positive);
-    o.corrections_stale_warn_s =
-        dg.number("corrections_stale_warn_s", o.corrections_stale_warn_s, ppp::Bound::Positive);
-    o.corrections_stale_error_s =
-        dg.number("corrections_stale_error_s", o.corrections_stale_error_s, ppp::Bound::Positive);
-    if (o.corrections_stale_error_s <= o.corrections_stale_warn_s)
-      dg.fail("corrections_stale_error_s", "must exceed corrections_stale_warn_s (" +
-                                               std::to_string(o.corrections_stale_warn_s) + " s)");
-    o.path_publish_rate_hz = dg.number("path_publish_rate_hz", o.path_publish_rate_hz, ppp::Bound::Positive);
-    o.path_max_poses = static_cast<std::size_t>(dg.integer("path_max_poses", 20000, 1));
-    dg.finish();
-  }
-  {
-    ppp::YamlSection sm = s.section("smoothed");
-    o.smoothed_path_publish_rate_hz =
-        sm.number("path_publish_rate_hz", o.smoothed_path_publish_rate_hz, ppp::Bound::Positive);
-    if (o.smoothed_path_publish_rate_hz > 10.0)
-      sm.fail("path_publish_rate_hz", "must be in (0, 10] Hz (each publication re-reads the whole trajectory)");
-    o.smoothed_odometry_delay_s = sm.number("odometry_delay_s", o.smoothed_odometry_delay_s, ppp::Bound::NonNegative);
-    if (o.smoothed_odometry_delay_s > 3600.0)
-      sm.fail("odometry_delay_s", "must be in [0, 3600] s (the marginal's cost grows with the delay)");
-    o.smoothed_trajectory_csv = sm.text("trajectory_csv", o.smoothed_trajectory_csv);
-    sm.finish();
-  }
-  {
-    ppp::YamlSection l = s.section("live");
-    o.live_observation_topics = liveTopics(l, "observations");
-    o.live_correction_topics = liveTopics(l, "corrections");
-    if (o.live_observation_topics.empty() && !o.live_correction_topics.empty())
-      l.fail("corrections", "correction stream topics need an observation stream topic (ros.live.observations)");
-    o.live_queue_size = static_cast<std::size_t>(l.integer("queue_size", 1000, 1));
-    ppp::LiveInputOptions& in = o.live_input;
-    in.navigation_files = l.textList("navigation_files", {}, true);
-    const std::string date = l.text("reference_date", "");
-    if (!date.empty() && !(in.reference_time = ppp::parseReferenceDate(date)))
-      l.fail("reference_date", "\"" + date + "\" is not YYYY/MM/DD or YYYY/MM/DD HH:MM:SS (GPST)");
-    const std::string reference = l.choice("ssr_reference", "auto", {"auto", "apc", "com"});
-    if (reference == "apc") in.ssr_reference = ppp::EphemerisReference::AntennaPhaseCentre;
-    if (reference == "com") in.ssr_reference = ppp::EphemerisReference::CentreOfMass;
-    in.ssr.use_high_rate_clock = l.boolean("ssr_high_rate_clock", in.ssr.use_high_rate_clock);
-    in.ssr.allow_unhealthy = l.boolean("ssr_allow_unhealthy", in.ssr.allow_unhealthy);
-    in.ssr_age_limits.orbit_max_age_s =
-        l.number("ssr_orbit_max_age_s", in.ssr_age_limits.orbit_max_age_s, ppp::Bound::Positive);
-    in.ssr_age_limits.clock_max_age_s =
-        l.number("ssr_clock_max_age_s", in.ssr_age_limits.clock_max_age_s, ppp::Bound::Positive);
-    in.ssr_age_limits.high_rate_clock_max_age_s =
-        l.number("ssr_high_rate_clock_max_age_s", in.ssr_age_limits.high_rate_clock_max_age_s, ppp::Bound::Positive);
-    in.ssr_age_limits.bias_max_age_s =
-        l.number("ssr_bias_max_age_s", in.ssr_age_limits.bias_max_age_s, ppp::Bound::Positive);
-    in.correction_wait_s = l.number("correction_wait_s", in.correction_wait_s, ppp::Bound::NonNegative);
-    in.expect_corrections = l.boolean("expect_corrections", !o.live_correction_topics.empty());
-    in.stall_warn_s = l.number("stall_warn_s", in.stall_warn_s, ppp::Bound::Positive);
-    in.stall_error_s = l.number("stall_error_s", in.stall_error_s, ppp::Bound::Positive);
-    if (in.stall_error_s <= in.stall_warn_s)
-      l.fail("stall_error_s", "must exceed stall_warn_s (" + std::to_string(in.stall_warn_s) + " s)");
-    in.restart_jump_s = l.number("restart_jump_s", in.restart_jump_s, ppp::Bound::Positive);
-    in.max_held_epochs = static_cast<std::size_t>(l.integer("max_held_epochs", static_cast<int>(in.max_held_epochs), 1));
-    in.keep_history_s = l.number("keep_history_s", in.keep_history_s, ppp::Bound::Positive);
-    // The broadcast fallback is one rule for ppp_solve and the nodes, read from ssr:.
-    for (const char* key : {"broadcast_fallback", "min_ssr_satellites", "broadcast_orbit_sigma_m",
-                            "broadcast_clock_sigma_m"})
-      l.refuseMoved(key, std::string("ssr.") + key);
-    l.finish();
-  }
+  bindTopics(s, o);
+  bindProducts(s, o);
+  bindFrames(s, o);
+  bindAttitude(s, o);
+  bindDatum(s, o);
+  bindInput(s, o);
+  bindStatus(s, o);
+  bindDiagnostics(s, o);
+  bindSmoothed(s, o);
+  bindLive(s, o);
   s.finish();
   return o;
 }
