@@ -7,6 +7,7 @@
 #include <nav_msgs/Path.h>
 #include <rosbag/bag.h>
 
+#include "ppp_bayes_tree/ros/imu_conversions.h"
 #include "ppp_bayes_tree/ros/message_conversions.h"
 
 namespace ppp_ros {
@@ -87,6 +88,13 @@ BagWriteSummary writeReplayBag(const std::string& path, const ppp::RinexObsHeade
     bag.write(o.observations_topic, m.header.stamp, m);
   }
   for (; k < batches.size(); ++k) writeBatch(k);
+  std::uint32_t imu_seq = 0;
+  for (const ppp::ImuSample& reading : o.imu) {
+    sensor_msgs::Imu m = toImuMessage(reading, o.imu_frame, o.imu_noise, o.imu_rate_hz);
+    m.header.seq = imu_seq++;
+    bag.write(o.imu_topic, m.header.stamp, m);
+  }
+  summary.imu_readings = o.imu.size();
   if (o.before_close) o.before_close(bag);
   bag.close();
   summary.epochs = epochs.size();

@@ -1,21 +1,30 @@
 // Replay bags of simulated flights: writeSimulatedFlightBag (used by
-// `ppp_to_bag --simulate` and `ppp_simulate --bag`) read back with rosbag.
+// `ppp_to_bag --simulate` and `ppp_simulate --bag`) read back with rosbag; IMU
+// readings on imu/data (sensor_msgs/Imu), from the library and from
+// `ppp_to_bag --imu` on the u-blox walk's IMU (shared data), and an IMU file in g
+// refused by the input screen.
 #include <gtest/gtest.h>
 
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
 #include <string>
 #include <vector>
 
 #include <unistd.h>
 
 #include <nav_msgs/Path.h>
+#include <sensor_msgs/Imu.h>
 #include <rosbag/bag.h>
 #include <rosbag/view.h>
 
+#include "ppp_bayes_tree/io/imu/logged_imu_reader.h"
+#include "ppp_bayes_tree/navigation/imu_input_screen.h"
 #include "ppp_bayes_tree/ros/bag_writer.h"
+#include "ppp_bayes_tree/ros/imu_conversions.h"
 #include "ppp_bayes_tree/ros/message_conversions.h"
 #include "ppp_bayes_tree/simulation/gnss_simulator.h"
+#include "test_support.h"
 
 namespace {
 
@@ -27,6 +36,8 @@ struct BagContents {
   std::vector<ros::Time> correction_bag_times, observation_bag_times;
   std::vector<nav_msgs::Path> truth;
   std::string truth_latching;
+  std::vector<sensor_msgs::Imu> imu;
+  std::vector<ros::Time> imu_bag_times;
 };
 
 BagContents readBag(const std::string& path) {
@@ -39,6 +50,9 @@ BagContents readBag(const std::string& path) {
     } else if (m.getTopic() == "gnss/corrections") {
       c.corrections.push_back(*m.instantiate<ppp_bayes_tree::PreciseCorrections>());
       c.correction_bag_times.push_back(m.getTime());
+    } else if (m.getTopic() == "imu/data") {
+      c.imu.push_back(*m.instantiate<sensor_msgs::Imu>());
+      c.imu_bag_times.push_back(m.getTime());
     } else if (m.getTopic() == ppp_ros::kTruthPathTopic) {
       c.truth.push_back(*m.instantiate<nav_msgs::Path>());
       const auto h = m.getConnectionHeader();
@@ -147,5 +161,94 @@ TEST(SimulatedFlightBag, PppSimulateBagWritesTheSameBagAsTheLibrary) {
     ASSERT_EQ(a.observations[k].satellites.size(), b.observations[k].satellites.size()) << k;
     EXPECT_EQ(a.observations[k].header.stamp, b.observations[k].header.stamp);
   }
+  fs::remove_all(dir);
+}
+
+TEST(ImuBag, ReadingsGoOnImuDataAsSensorMsgsImu) {
+  const ppp::SimulatedFlight f = shortFlight();
+  ppp_ros::BagWriteOptions o;
+  const ppp::ImuNoise noise = ppp::imuNoisePreset(ppp::ImuGrade::IndustrialMems);
+  for (int k = 0; k < 400; ++k) {  // 2 s at 200 Hz from the first epoch
+    ppp::ImuSample s;
+    s.time = f.epochs.front().time + 0.005 * k;
+    s.specific_force_mps2 = Eigen::Vector3d(0.1 * k, -0.2, -9.81);
+    s.angular_rate_radps = Eigen::Vector3d(1e-3, 2e-3 * k, -3e-3);
+    o.imu.push_back(s);
+  }
+  o.imu_frame = "imu_link";
+  o.imu_noise = noise;
+  o.imu_rate_hz = 200.0;
+  const std::string path = tempBag("imu.bag");
+  const auto summary = ppp_ros::writeSimulatedFlightBag(path, f, o, "/test");
+  EXPECT_EQ(summary.imu_readings, 400u);
+  const BagContents c = readBag(path);
+  ASSERT_EQ(c.imu.size(), 400u);
+  for (std::size_t k = 0; k < c.imu.size(); ++k) {
+    const sensor_msgs::Imu& m = c.imu[k];
+    ASSERT_EQ(m.header.seq, k);
+    EXPECT_EQ(m.header.frame_id, "imu_link");
+    EXPECT_EQ(c.imu_bag_times[k], ppp_ros::utcStamp(o.imu[k].time));  // UTC, as the other topics
+    EXPECT_EQ(m.orientation_covariance[0], -1.0);                      // REP 145: no orientation
+    const ppp::ImuSample back = ppp_ros::fromImuMessage(m);
+    EXPECT_NEAR(back.time - o.imu[k].time, 0.0, 1e-9);
+    EXPECT_EQ(back.specific_force_mps2, o.imu[k].specific_force_mps2);
+    EXPECT_EQ(back.angular_rate_radps, o.imu[k].angular_rate_radps);
+  }
+  // The covariance of one reading: density^2 * rate on the diagonal.
+  const double d = noise.gyro_noise_density_radps_per_sqrthz;
+  EXPECT_DOUBLE_EQ(c.imu[0].angular_velocity_covariance[4], d * d * 200.0);
+  EXPECT_EQ(c.imu[0].angular_velocity_covariance[1], 0.0);
+  fs::remove_all(fs::path(path).parent_path());
+}
+
+TEST(ImuBag, PppToBagWritesTheScreenedReadingsOfTheWalk) {
+  if (!ppp::test::sharedDataAvailable()) GTEST_SKIP() << "no shared data";
+  const std::string csv = ppp::test::dataPath("streams/ubx/imu_1730.csv");
+  const std::string tag = csv + ".tag";
+  const std::string dir = fs::path(tempBag("x")).parent_path().string();
+  const std::string bag = dir + "/walk_imu.bag";
+  const std::string cmd = std::string(PPP_BIN_DIR) + "/ppp_to_bag --simulate loiter --duration-min 1 --imu " + csv +
+                          " --imu-tag " + tag + " --out " + bag + " > " + dir + "/walk.log 2>&1";
+  ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
+  // The library's reading of the same files through the same screen.
+  const ppp::LoggedImuRead read = ppp::readLoggedImu(csv, tag);
+  ppp::ImuInputScreen screen;
+  std::vector<ppp::ImuSample> kept;
+  for (const ppp::ImuSample& r : read.samples)
+    for (const ppp::ImuSample& k : screen.push(r)) kept.push_back(k);
+  for (const ppp::ImuSample& k : screen.finish()) kept.push_back(k);
+  ASSERT_GT(kept.size(), 20000u);  // 20,455 readings over 134 s (data README)
+  const BagContents c = readBag(bag);
+  ASSERT_EQ(c.imu.size(), kept.size());
+  for (std::size_t k = 0; k < kept.size(); k += 997) {
+    const ppp::ImuSample back = ppp_ros::fromImuMessage(c.imu[k]);
+    EXPECT_NEAR(back.time - kept[k].time, 0.0, 1e-9) << k;
+    EXPECT_EQ(back.specific_force_mps2, kept[k].specific_force_mps2) << k;
+  }
+  // At rest at the start, in m/s^2: the walk's accelerometers read about 1 g.
+  EXPECT_NEAR(ppp_ros::fromImuMessage(c.imu[0]).specific_force_mps2.norm(), 9.9, 0.3);
+  std::ifstream log(dir + "/walk.log");
+  const std::string text((std::istreambuf_iterator<char>(log)), std::istreambuf_iterator<char>());
+  EXPECT_NE(text.find(std::to_string(kept.size()) + " IMU readings on imu/data"), std::string::npos) << text;
+  fs::remove_all(dir);
+}
+
+TEST(ImuBag, PppToBagRefusesAnImuFileInG) {
+  const std::string dir = fs::path(tempBag("x")).parent_path().string();
+  const std::string csv = dir + "/imu_in_g.csv", bag = dir + "/g.bag";
+  {
+    std::ofstream out(csv);
+    out << "# gps_week,seconds_of_week,fx,fy,fz,wx,wy,wz\n";
+    for (int k = 0; k < 200; ++k)  // at rest, in g where m/s^2 is expected
+      out << "2111," << 345600.0 + 0.01 * k << ",0.01,-0.02,-1.0,0.0,0.0,0.0\n";
+  }
+  const std::string cmd = std::string(PPP_BIN_DIR) + "/ppp_to_bag --simulate loiter --duration-min 1 --imu " + csv +
+                          " --out " + bag + " > " + dir + "/g.log 2>&1";
+  EXPECT_NE(std::system(cmd.c_str()), 0) << cmd;
+  std::ifstream log(dir + "/g.log");
+  const std::string text((std::istreambuf_iterator<char>(log)), std::istreambuf_iterator<char>());
+  EXPECT_NE(text.find("accelerations in g, not m/s^2"), std::string::npos) << text;
+  EXPECT_NE(text.find("no IMU reading left after the input screen"), std::string::npos) << text;
+  EXPECT_NE(text.find(csv), std::string::npos) << text;  // the file is named
   fs::remove_all(dir);
 }

@@ -6,7 +6,8 @@
 // (orbits Lagrange-interpolated to the batch epochs, clocks exactly at their
 // records), so a node replaying the bag sees the same products as ppp_solve.
 // Bag times are the UTC header stamps; a batch is written 1 ms before an epoch
-// at the same instant, so it arrives first.
+// at the same instant, so it arrives first. IMU readings, when given, go on
+// imu/data (sensor_msgs/Imu) at their own stamps.
 #include <functional>
 #include <optional>
 #include <string>
@@ -15,6 +16,8 @@
 #include "ppp_bayes_tree/io/rinex/rinex_obs_header.h"
 #include "ppp_bayes_tree/models/correction_buffer.h"
 #include "ppp_bayes_tree/models/precise_ephemeris.h"
+#include "ppp_bayes_tree/navigation/imu_noise.h"
+#include "ppp_bayes_tree/navigation/imu_sample.h"
 #include "ppp_bayes_tree/simulation/gnss_simulator.h"
 #include "ppp_bayes_tree/types/obs_epoch.h"
 
@@ -39,12 +42,20 @@ struct BagWriteOptions {
   const ppp::BiasProvider* ar_biases = nullptr;
   std::uint8_t ar_bias_kind = 0;  // PreciseCorrections.ar_bias_kind of ar_biases (AR_BIASES_*)
   std::string antenna_model;      // PreciseCorrections.antenna_model ("" = not known)
+  /// IMU readings (already screened: navigation/imu_input_screen.h), written on
+  /// `imu_topic` as sensor_msgs/Imu in `imu_frame` (ros/imu_conversions.h), with
+  /// the covariances of `imu_noise` at `imu_rate_hz` when given. None: no IMU topic.
+  std::vector<ppp::ImuSample> imu;
+  std::string imu_topic = "imu/data";
+  std::string imu_frame = "imu_link";
+  std::optional<ppp::ImuNoise> imu_noise;
+  double imu_rate_hz = 0.0;
   /// Called with the open bag after the last message (extra topics, e.g. a truth path).
   std::function<void(rosbag::Bag&)> before_close;
 };
 
 struct BagWriteSummary {
-  std::size_t epochs = 0, batches = 0;
+  std::size_t epochs = 0, batches = 0, imu_readings = 0;
   std::optional<ppp::GnssTime> first, last;
 };
 

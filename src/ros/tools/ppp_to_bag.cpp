@@ -20,15 +20,24 @@
 // phase OSBs when they come from the clocks' analysis centre, else the wide-lane
 // biases of integer-recovery clocks (GRG) from the clock header; none otherwise
 // (said on the output). --ar-biases none leaves them out.
+// IMU (either form): --imu FILE adds its readings on imu/data (sensor_msgs/Imu in
+// --imu-frame, default imu_link; ros/imu_conversions.h): a plain IMU CSV
+// (doc/gnss_ins.md, "IMU files"), or with --imu-tag TAG an IMU logged beside the
+// receiver by RTKLIB with its time-tag file. The readings pass the IMU input
+// screen (navigation/imu_input_screen.h) first: what it refuses is said, with
+// the reader's own problems, and a stream with no reading left is an error.
 #include <fstream>
 #include <iostream>
 #include <string>
 #include <vector>
 
+#include "ppp_bayes_tree/io/imu/imu_csv_reader.h"
+#include "ppp_bayes_tree/io/imu/logged_imu_reader.h"
 #include "ppp_bayes_tree/io/line_source.h"
 #include "ppp_bayes_tree/io/products/product_antenna_model.h"
 #include "ppp_bayes_tree/ppp/pipeline/product_assembly.h"
 #include "ppp_bayes_tree/io/rinex/rinex_obs_reader.h"
+#include "ppp_bayes_tree/navigation/imu_input_screen.h"
 #include "ppp_bayes_tree/ros/bag_writer.h"
 #include "ppp_bayes_tree/ros/message_conversions.h"
 #include "ppp_bayes_tree/simulation/gnss_simulator.h"
@@ -41,7 +50,8 @@ int usage(const std::string& why) {
             << "usage: ppp_to_bag --obs OBS --sp3 F [F...] --clk F [F...] [--bia F] [--interval S] [--max-epochs N]\n"
             << "                  [--ar-biases auto|none] --out BAG\n"
             << "       ppp_to_bag --simulate PROFILE [--duration-min N] [--rate 1|10] [--seed S] [--config YAML]\n"
-            << "                  [--truth-out TRUTH.csv] --out BAG\n";
+            << "                  [--truth-out TRUTH.csv] --out BAG\n"
+            << "       either form: [--imu FILE [--imu-tag TAG] [--imu-frame FRAME]]\n";
   return 2;
 }
 
@@ -58,10 +68,39 @@ ppp::ProductAssembly assembleForBiases(const std::vector<std::string>& sp3, cons
   return ppp::ProductAssembly::assemble(in, config);
 }
 
+/// The readings of an IMU file through the input screen; the reader's problems
+/// and the screen's refusals are said on stderr. Throws when none is left.
+std::vector<ppp::ImuSample> screenedImu(const std::string& path, const std::string& tag) {
+  std::vector<ppp::ImuSample> read;
+  std::string problems;
+  if (tag.empty()) {
+    ppp::ImuCsvRead r = ppp::readImuCsv(path);
+    read = std::move(r.samples);
+    problems = r.report.headline(path);
+  } else {
+    ppp::LoggedImuRead r = ppp::readLoggedImu(path, tag);
+    read = std::move(r.samples);
+    problems = r.report.headline(path);
+  }
+  if (!problems.empty()) std::cerr << "ppp_to_bag: " << problems << "\n";
+  ppp::ImuInputScreen screen;
+  std::vector<ppp::ImuSample> kept;
+  const auto keep = [&](std::vector<ppp::ImuSample> released) {
+    kept.insert(kept.end(), released.begin(), released.end());
+  };
+  for (const ppp::ImuSample& reading : read) keep(screen.push(reading));
+  keep(screen.finish());
+  std::cout << "ppp_to_bag: " << path << ": " << screen.summary() << "\n";
+  for (const auto& [problem, count] : screen.problems())
+    std::cerr << "ppp_to_bag: " << path << ": " << count.count << " x " << count.first << "\n";
+  if (kept.empty()) throw std::runtime_error(path + ": no IMU reading left after the input screen");
+  return kept;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
-  std::string obs, bia, out, profile, sim_config, truth_out, ar_biases = "auto";
+  std::string obs, bia, out, profile, sim_config, truth_out, ar_biases = "auto", imu, imu_tag;
   std::vector<std::string> sp3, clk;
   ppp_ros::BagWriteOptions options;
   double duration_min = 10.0, rate = 1.0;
@@ -87,6 +126,9 @@ int main(int argc, char** argv) {
       else if (a == "--config") sim_config = v;
       else if (a == "--truth-out") truth_out = v;
       else if (a == "--ar-biases") ar_biases = v;
+      else if (a == "--imu") imu = v;
+      else if (a == "--imu-tag") imu_tag = v;
+      else if (a == "--imu-frame") options.imu_frame = v;
       else if (a == "--interval") options.correction_interval_s = std::stod(v);
       else if (a == "--max-epochs") options.max_epochs = std::stoul(v);
       else if (a == "--duration-min") duration_min = std::stod(v);
@@ -101,7 +143,9 @@ int main(int argc, char** argv) {
   if (ar_biases != "auto" && ar_biases != "none") return usage("--ar-biases must be auto or none, not " + ar_biases);
   if (!(options.correction_interval_s >= 1.0)) return usage("--interval must be >= 1 s");
   if (!truth_out.empty() && profile.empty()) return usage("--truth-out needs --simulate (real data: give the truth to ppp_bag_report)");
+  if (!imu_tag.empty() && imu.empty()) return usage("--imu-tag needs --imu");
   try {
+    if (!imu.empty()) options.imu = screenedImu(imu, imu_tag);
     ppp_ros::BagWriteSummary s;
     if (!profile.empty()) {
       ppp::SimulationConfig config;
@@ -144,7 +188,9 @@ int main(int argc, char** argv) {
     }
     std::cout << "ppp_to_bag: " << out << ": " << s.epochs << " observation epochs";
     if (s.first) std::cout << " (" << s.first->toString() << " .. " << s.last->toString() << ")";
-    std::cout << ", " << s.batches << " correction batches every " << options.correction_interval_s << " s\n";
+    std::cout << ", " << s.batches << " correction batches every " << options.correction_interval_s << " s";
+    if (s.imu_readings > 0) std::cout << ", " << s.imu_readings << " IMU readings on " << options.imu_topic;
+    std::cout << "\n";
   } catch (const std::exception& e) {
     std::cerr << "ppp_to_bag: " << e.what() << "\n";
     return 1;
