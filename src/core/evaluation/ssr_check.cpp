@@ -36,23 +36,50 @@ EphemerisReference referenceUsed(const SsrCheckRequest& req) {
                                                     : EphemerisReference::AntennaPhaseCentre;
   return r;
 }
-}  // namespace
 
-std::string SsrCheckResult::lastLine() const {
-  return format("orbit 3D RMS %.4f m, clock RMS %.3f ns, %zu satellite-epochs", orbit_rms_3d_m, clock_rms_ns,
-                satellite_epochs);
+// The broadcast navigation files and the reference time for the stream's week (the first last toc).
+struct NavigationInput {
+  std::vector<NavData> navs;
+  std::optional<GnssTime> reference_time;
+};
+
+// Sums of squares of one satellite's differences over the epochs [m^2, ns^2].
+struct SatelliteSums {
+  std::size_t n = 0, nc = 0;
+  double s3 = 0, sr = 0, sa = 0, sc = 0, sclk = 0;
+  bool pco = false;
+};
+
+// Sums over all satellites and epochs [m^2, ns^2], and the satellites lacking a PCO.
+struct CheckSums {
+  std::map<SatelliteId, SatelliteSums> satellites;
+  std::set<std::string> missing_pco;
+  double total3_m2 = 0.0, total_clk_ns2 = 0.0;
+};
+
+// What every epoch's comparison reads: the request, both ephemerides, the ANTEX and the reference.
+struct ComparisonInputs {
+  const SsrCheckRequest& req;
+  const SsrCorrectionStore& store;
+  const BroadcastSsrEphemeris& corrected;
+  const PreciseEphemeris& sp3;
+  const AntexCalibrations* antex;
+  EphemerisReference reference;
+};
+
+// Step 1: the navigation files read, the reference time from the first with a last toc.
+NavigationInput readNavigation(const SsrCheckRequest& req) {
+  NavigationInput in;
+  for (const auto& path : req.nav) {
+    in.navs.push_back(readRinexNav(path));
+    if (!in.reference_time && in.navs.back().last_toc) in.reference_time = in.navs.back().last_toc;
+  }
+  return in;
 }
 
-SsrCheckResult checkSsrAgainstSp3(const SsrCheckRequest& req) {
-  SsrCheckResult out;
-  std::vector<NavData> navs;
-  std::optional<GnssTime> ref;
-  for (const auto& path : req.nav) {
-    navs.push_back(readRinexNav(path));
-    if (!ref && navs.back().last_toc) ref = navs.back().last_toc;
-  }
-  // A short SP3 (e.g. an ultra-rapid cut-out of 7 epochs) gets a Lagrange window
-  // of all its epochs instead of the default 10.
+// Step 2: the SP3 (and clocks); a short SP3 (e.g. an ultra-rapid cut-out of 7 epochs) gets a
+// Lagrange window of all its epochs instead of the default 10.
+PreciseEphemeris loadPreciseEphemeris(const SsrCheckRequest& req, std::vector<std::string>& notes) {
   PreciseEphemeris sp3 = PreciseEphemeris::load({req.sp3}, req.clk);
   if (const auto span = sp3.orbitSpan(); span && sp3.orbitInterval_s() > 0.0) {
     const int nodes = static_cast<int>(std::lround((span->last - span->first) / sp3.orbitInterval_s())) + 1;
@@ -60,112 +87,125 @@ SsrCheckResult checkSsrAgainstSp3(const SsrCheckRequest& req) {
       PreciseEphemerisOptions options;
       options.interpolation_points = nodes;
       sp3 = PreciseEphemeris::load({req.sp3}, req.clk, options);
-      out.notes.push_back("SP3 of " + std::to_string(nodes) + " epochs: Lagrange interpolation over all of them");
+      notes.push_back("SP3 of " + std::to_string(nodes) + " epochs: Lagrange interpolation over all of them");
     }
   }
-  if (!ref && sp3.orbitSpan()) ref = sp3.orbitSpan()->first;
-  const SsrStreamFile stream = readSsrStreamFile(req.ssr, ref);
-  out.notes.push_back("stream " + fileBaseName(req.ssr) + ": " + std::to_string(stream.counters.frames) + " frames, " +
-                      std::to_string(stream.counters.totalProblems()) + " problem(s)");
+  return sp3;
+}
+
+// Step 3: the stream's frame and problem counts (the first 5 problems) as notes.
+void noteStreamDecoding(const SsrCheckRequest& req, const SsrStreamFile& stream, std::vector<std::string>& notes) {
+  notes.push_back("stream " + fileBaseName(req.ssr) + ": " + std::to_string(stream.counters.frames) + " frames, " +
+                  std::to_string(stream.counters.totalProblems()) + " problem(s)");
   for (std::size_t i = 0; i < stream.counters.problems.size() && i < 5; ++i)
-    out.notes.push_back("  " + stream.counters.problems[i].describe());
-  auto store = std::make_shared<SsrCorrectionStore>();
-  for (const auto& m : stream.messages) store->add(m);
+    notes.push_back("  " + stream.counters.problems[i].describe());
+}
 
-  out.reference = referenceUsed(req);
-  BroadcastSsrOptions options;
-  options.reference = out.reference;
-  const BroadcastSsrEphemeris corrected(navs, store, options);
+// Step 4: the corrections without a broadcast record (first 5, then the counts) as notes.
+void noteBroadcastConsistency(const BroadcastSsrEphemeris& corrected, std::vector<std::string>& notes) {
   for (std::size_t i = 0; i < corrected.consistency().problems.size() && i < 5; ++i)
-    out.notes.push_back("  " + corrected.consistency().problems[i].describe());
+    notes.push_back("  " + corrected.consistency().problems[i].describe());
   if (!corrected.satellitesWithoutBroadcast().empty())
-    out.notes.push_back(std::to_string(corrected.satellitesWithoutBroadcast().size()) +
-                        " satellite(s) with SSR corrections but no broadcast record in the navigation file(s)");
+    notes.push_back(std::to_string(corrected.satellitesWithoutBroadcast().size()) +
+                    " satellite(s) with SSR corrections but no broadcast record in the navigation file(s)");
   if (corrected.consistency().totalProblems() > 0)
-    out.notes.push_back(std::to_string(corrected.consistency().totalProblems()) +
-                        " SSR orbit correction(s) without a broadcast record of their IOD");
+    notes.push_back(std::to_string(corrected.consistency().totalProblems()) +
+                    " SSR orbit correction(s) without a broadcast record of their IOD");
+}
 
-  std::unique_ptr<AntexCalibrations> antex;
-  if (req.atx) antex = std::make_unique<AntexCalibrations>(std::vector<AntexSource>{{fileBaseName(*req.atx), readAntexFile(*req.atx)}});
-  const bool apc = out.reference != EphemerisReference::CentreOfMass;
-  const bool l1 = out.reference == EphemerisReference::AntennaPhaseCentreL1;
-  if (!apc) out.reference_handling = "stream at the centre of mass: compared with the SP3 (centre of mass) directly";
-  else if (antex)
-    out.reference_handling = std::string("stream at the antenna phase centre: SP3 moved to the APC by the ") +
-                             (l1 ? "L1 (E1)" : "ionosphere-free L1/L2 (E1/E5a)") +
-                             " satellite PCO of " + fileBaseName(*req.atx) + " (nominal yaw attitude)";
-  else out.reference_handling = "stream at the antenna phase centre, no ANTEX given: compared with the SP3 centre of mass as is (differs by the satellite PCO)";
+// Step 5: one line for people on how the SP3 is brought to the stream's reference point.
+std::string referenceHandling(const SsrCheckRequest& req, EphemerisReference reference, bool have_antex) {
+  const bool apc = reference != EphemerisReference::CentreOfMass;
+  const bool l1 = reference == EphemerisReference::AntennaPhaseCentreL1;
+  if (!apc) return "stream at the centre of mass: compared with the SP3 (centre of mass) directly";
+  if (have_antex)
+    return std::string("stream at the antenna phase centre: SP3 moved to the APC by the ") +
+           (l1 ? "L1 (E1)" : "ionosphere-free L1/L2 (E1/E5a)") + " satellite PCO of " + fileBaseName(*req.atx) +
+           " (nominal yaw attitude)";
+  return "stream at the antenna phase centre, no ANTEX given: compared with the SP3 centre of mass as is (differs by the satellite PCO)";
+}
 
-  // Epochs: every SSR orbit epoch.
-  std::set<GnssTime> epochs;
-  for (const auto& [sat, series] : store->orbits())
-    for (const auto& [t0, e] : series) epochs.insert(t0);
-
-  struct Acc {
-    std::size_t n = 0, nc = 0;
-    double s3 = 0, sr = 0, sa = 0, sc = 0, sclk = 0;
-    bool pco = false;
-  };
-  std::map<SatelliteId, Acc> acc;
-  std::set<std::string> missing_pco;
-  double total3 = 0.0, total_clk = 0.0;
-  for (const GnssTime& t : epochs) {
-    std::vector<std::pair<SatelliteId, double>> clock_diffs_ns;
-    for (const auto& [sat, series] : store->orbits()) {
-      if (std::find(req.systems.begin(), req.systems.end(), sat.system) == req.systems.end()) continue;
-      const auto cs = corrected.correctedState(sat, t);
-      if (!cs.ok()) continue;
-      const auto po = sp3.satelliteOrbit(sat, t);
-      if (!po.ok()) continue;
-      Eigen::Vector3d ref_pos = po.value->position_ecef_m;
-      bool pco_applied = false;
-      if (apc && antex) {
-        const auto cal = antex->satellite(sat, t);
-        const auto [b1, b2] = ssrIonosphereFreeBands(sat.system);
-        const auto fr1 = carrierFrequency_hz(sat.system, b1);
-        const auto fr2 = carrierFrequency_hz(sat.system, b2);
-        const auto offset = fr1 && fr2 ? satelliteReferenceOffset_m(out.reference, cal.calibration, sat.system, b1, b2,
-                                                                   ionosphereFreeCoefficients(*fr1, *fr2))
-                                       : std::nullopt;
-        if (offset) {
-          const Eigen::Vector3d& pco = *offset;
-          const SatelliteBodyAxes axes =
-              nominalSatelliteAxes(ref_pos, po.value->velocity_ecef_mps, sunPositionEcef_m(t));
-          ref_pos += pco.x() * axes.x_ecef + pco.y() * axes.y_ecef + pco.z() * axes.z_ecef;
-          pco_applied = true;
-        } else {
-          missing_pco.insert(sat.toString());
-        }
-      }
-      const Eigen::Vector3d d = cs.value->position_ecef_m - ref_pos;
-      const Eigen::Vector3d& r = ref_pos;
-      const Eigen::Vector3d& v = po.value->velocity_ecef_mps;
-      const Eigen::Vector3d e_a = v.normalized(), e_c = r.cross(v).normalized(), e_r = e_a.cross(e_c);
-      Acc& a = acc[sat];
-      a.n += 1;
-      a.s3 += d.squaredNorm();
-      a.sr += std::pow(d.dot(e_r), 2);
-      a.sa += std::pow(d.dot(e_a), 2);
-      a.sc += std::pow(d.dot(e_c), 2);
-      a.pco = a.pco || pco_applied;
-      total3 += d.squaredNorm();
-      out.satellite_epochs += 1;
-      const auto pc = sp3.satelliteClock(sat, t);
-      if (pc.ok()) clock_diffs_ns.emplace_back(sat, (cs.value->clock_s - pc.value->clock_bias_s) * 1e9);
-    }
-    if (clock_diffs_ns.size() >= 2) {
-      double mean = 0.0;
-      for (const auto& [s, d] : clock_diffs_ns) mean += d;
-      mean /= static_cast<double>(clock_diffs_ns.size());
-      for (const auto& [s, d] : clock_diffs_ns) {
-        acc[s].nc += 1;
-        acc[s].sclk += (d - mean) * (d - mean);
-        total_clk += (d - mean) * (d - mean);
-        out.clock_satellite_epochs += 1;
-      }
-    }
+// The SP3 position [m] moved to the stream's antenna phase centre by the satellite PCO when the
+// reference is an APC and the ANTEX has it; `pco_applied` says whether it was.
+Eigen::Vector3d referencePosition_m(const ComparisonInputs& in, const SatelliteId& sat, const GnssTime& t,
+                                    const Eigen::Vector3d& sp3_position_m, const Eigen::Vector3d& sp3_velocity_mps,
+                                    bool& pco_applied, CheckSums& sums) {
+  Eigen::Vector3d ref_pos = sp3_position_m;
+  pco_applied = false;
+  if (in.reference == EphemerisReference::CentreOfMass || !in.antex) return ref_pos;
+  const auto cal = in.antex->satellite(sat, t);
+  const auto [b1, b2] = ssrIonosphereFreeBands(sat.system);
+  const auto fr1 = carrierFrequency_hz(sat.system, b1);
+  const auto fr2 = carrierFrequency_hz(sat.system, b2);
+  const auto offset = fr1 && fr2 ? satelliteReferenceOffset_m(in.reference, cal.calibration, sat.system, b1, b2,
+                                                             ionosphereFreeCoefficients(*fr1, *fr2))
+                                 : std::nullopt;
+  if (offset) {
+    const Eigen::Vector3d& pco = *offset;
+    const SatelliteBodyAxes axes = nominalSatelliteAxes(ref_pos, sp3_velocity_mps, sunPositionEcef_m(t));
+    ref_pos += pco.x() * axes.x_ecef + pco.y() * axes.y_ecef + pco.z() * axes.z_ecef;
+    pco_applied = true;
+  } else {
+    sums.missing_pco.insert(sat.toString());
   }
-  for (const auto& [sat, a] : acc) {
+  return ref_pos;
+}
+
+// The orbit difference [m] added to the satellite's sums in 3D and radial/along/cross.
+void addOrbitDifference(const SatelliteId& sat, const Eigen::Vector3d& d, const Eigen::Vector3d& r,
+                        const Eigen::Vector3d& v, bool pco_applied, CheckSums& sums, SsrCheckResult& out) {
+  const Eigen::Vector3d e_a = v.normalized(), e_c = r.cross(v).normalized(), e_r = e_a.cross(e_c);
+  SatelliteSums& a = sums.satellites[sat];
+  a.n += 1;
+  a.s3 += d.squaredNorm();
+  a.sr += std::pow(d.dot(e_r), 2);
+  a.sa += std::pow(d.dot(e_a), 2);
+  a.sc += std::pow(d.dot(e_c), 2);
+  a.pco = a.pco || pco_applied;
+  sums.total3_m2 += d.squaredNorm();
+  out.satellite_epochs += 1;
+}
+
+// An epoch's clock differences [ns] added to the sums, less their mean (each product has its own
+// clock datum); only with two satellites or more.
+void addClockDifferences_ns(const std::vector<std::pair<SatelliteId, double>>& clock_diffs_ns, CheckSums& sums,
+                            SsrCheckResult& out) {
+  if (clock_diffs_ns.size() < 2) return;
+  double mean = 0.0;
+  for (const auto& [s, d] : clock_diffs_ns) mean += d;
+  mean /= static_cast<double>(clock_diffs_ns.size());
+  for (const auto& [s, d] : clock_diffs_ns) {
+    sums.satellites[s].nc += 1;
+    sums.satellites[s].sclk += (d - mean) * (d - mean);
+    sums.total_clk_ns2 += (d - mean) * (d - mean);
+    out.clock_satellite_epochs += 1;
+  }
+}
+
+// Step 6 (per SSR orbit epoch): every satellite of the requested systems with a corrected and an
+// SP3 orbit compared, then the epoch's clocks.
+void compareEpoch(const ComparisonInputs& in, const GnssTime& t, CheckSums& sums, SsrCheckResult& out) {
+  std::vector<std::pair<SatelliteId, double>> clock_diffs_ns;
+  for (const auto& [sat, series] : in.store.orbits()) {
+    if (std::find(in.req.systems.begin(), in.req.systems.end(), sat.system) == in.req.systems.end()) continue;
+    const auto cs = in.corrected.correctedState(sat, t);
+    if (!cs.ok()) continue;
+    const auto po = in.sp3.satelliteOrbit(sat, t);
+    if (!po.ok()) continue;
+    bool pco_applied = false;
+    const Eigen::Vector3d ref_pos =
+        referencePosition_m(in, sat, t, po.value->position_ecef_m, po.value->velocity_ecef_mps, pco_applied, sums);
+    const Eigen::Vector3d d = cs.value->position_ecef_m - ref_pos;
+    addOrbitDifference(sat, d, ref_pos, po.value->velocity_ecef_mps, pco_applied, sums, out);
+    const auto pc = in.sp3.satelliteClock(sat, t);
+    if (pc.ok()) clock_diffs_ns.emplace_back(sat, (cs.value->clock_s - pc.value->clock_bias_s) * 1e9);
+  }
+  addClockDifferences_ns(clock_diffs_ns, sums, out);
+}
+
+// Step 7: per-satellite and overall RMS [m, ns] from the sums, and the satellites lacking a PCO.
+void summarise(const CheckSums& sums, SsrCheckResult& out) {
+  for (const auto& [sat, a] : sums.satellites) {
     SsrCheckSatellite s;
     s.satellite = sat;
     s.epochs = a.n;
@@ -179,14 +219,55 @@ SsrCheckResult checkSsrAgainstSp3(const SsrCheckRequest& req) {
     s.pco_applied = a.pco;
     out.satellites.push_back(s);
   }
-  if (out.satellite_epochs > 0) out.orbit_rms_3d_m = std::sqrt(total3 / static_cast<double>(out.satellite_epochs));
+  if (out.satellite_epochs > 0)
+    out.orbit_rms_3d_m = std::sqrt(sums.total3_m2 / static_cast<double>(out.satellite_epochs));
   if (out.clock_satellite_epochs > 0)
-    out.clock_rms_ns = std::sqrt(total_clk / static_cast<double>(out.clock_satellite_epochs));
-  if (!missing_pco.empty()) {
+    out.clock_rms_ns = std::sqrt(sums.total_clk_ns2 / static_cast<double>(out.clock_satellite_epochs));
+  if (!sums.missing_pco.empty()) {
     std::string list;
-    for (const auto& s : missing_pco) list += " " + s;
+    for (const auto& s : sums.missing_pco) list += " " + s;
     out.notes.push_back("no satellite PCO in the ANTEX file for:" + list + " (compared at the centre of mass)");
   }
+}
+
+}  // namespace
+
+std::string SsrCheckResult::lastLine() const {
+  return format("orbit 3D RMS %.4f m, clock RMS %.3f ns, %zu satellite-epochs", orbit_rms_3d_m, clock_rms_ns,
+                satellite_epochs);
+}
+
+SsrCheckResult checkSsrAgainstSp3(const SsrCheckRequest& req) {
+  SsrCheckResult out;
+  // 1-2. Broadcast navigation, the SP3 and the stream's reference time.
+  const NavigationInput nav = readNavigation(req);
+  const PreciseEphemeris sp3 = loadPreciseEphemeris(req, out.notes);
+  std::optional<GnssTime> ref = nav.reference_time;
+  if (!ref && sp3.orbitSpan()) ref = sp3.orbitSpan()->first;
+  // 3. The stream decoded into a correction store.
+  const SsrStreamFile stream = readSsrStreamFile(req.ssr, ref);
+  noteStreamDecoding(req, stream, out.notes);
+  auto store = std::make_shared<SsrCorrectionStore>();
+  for (const auto& m : stream.messages) store->add(m);
+  // 4. Broadcast + SSR at the stream's reference point.
+  out.reference = referenceUsed(req);
+  BroadcastSsrOptions options;
+  options.reference = out.reference;
+  const BroadcastSsrEphemeris corrected(nav.navs, store, options);
+  noteBroadcastConsistency(corrected, out.notes);
+  // 5. The satellite antenna offsets for an APC stream.
+  std::unique_ptr<AntexCalibrations> antex;
+  if (req.atx) antex = std::make_unique<AntexCalibrations>(std::vector<AntexSource>{{fileBaseName(*req.atx), readAntexFile(*req.atx)}});
+  out.reference_handling = referenceHandling(req, out.reference, antex != nullptr);
+  // 6. Every SSR orbit epoch compared.
+  std::set<GnssTime> epochs;
+  for (const auto& [sat, series] : store->orbits())
+    for (const auto& [t0, e] : series) epochs.insert(t0);
+  const ComparisonInputs inputs{req, *store, corrected, sp3, antex.get(), out.reference};
+  CheckSums sums;
+  for (const GnssTime& t : epochs) compareEpoch(inputs, t, sums, out);
+  // 7. RMS per satellite and overall, then the stream summary.
+  summarise(sums, out);
   out.notes.push_back("SSR summary:\n" + stream.summary.format());
   return out;
 }

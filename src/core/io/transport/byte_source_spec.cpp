@@ -88,70 +88,110 @@ void parseHostPort(const std::string& text, std::optional<int> default_port, Byt
   }
 }
 
-}  // namespace
+// The spec text cut at "://" and "?": scheme, location (device, host, path) and query.
+struct SpecParts {
+  std::string scheme;
+  std::string rest;
+  std::string query;
+};
 
-ByteSourceSpec parseByteSourceSpec(const std::string& text) {
-  ByteSourceSpec spec;
+// Step 1: the scheme, the location and the query of the spec text.
+SpecParts splitSpecText(const std::string& text, const std::string& shown) {
   const auto scheme_end = text.find("://");
-  // Shown in errors and logs: the password hidden however the spec is mistyped.
-  const std::string shown = maskCredentials(text);
   if (scheme_end == std::string::npos) {
     bad(shown, "no scheme; expected serial://, tcp://, ntrip:// or file://");
   }
-  const std::string scheme = text.substr(0, scheme_end);
-  std::string rest = text.substr(scheme_end + 3);
-  std::string query;
-  if (const auto q = rest.find('?'); q != std::string::npos) {
-    query = rest.substr(q + 1);
-    rest = rest.substr(0, q);
+  SpecParts parts;
+  parts.scheme = text.substr(0, scheme_end);
+  parts.rest = text.substr(scheme_end + 3);
+  if (const auto q = parts.rest.find('?'); q != std::string::npos) {
+    parts.query = parts.rest.substr(q + 1);
+    parts.rest = parts.rest.substr(0, q);
   }
-  std::set<std::string> allowed = {"format", "reconnect_min_s", "reconnect_max_s"};
-  if (scheme == "serial") {
-    spec.kind = ByteSourceKind::Serial;
-    if (rest.empty()) bad(shown, "no device (serial:///dev/ttyACM0)");
-    spec.device = rest;
-    allowed.insert("baud");
-  } else if (scheme == "tcp") {
-    spec.kind = ByteSourceKind::Tcp;
-    if (rest.find('/') != std::string::npos && rest.find('/') + 1 != rest.size()) {
-      bad(shown, "a tcp spec has no path (tcp://host:port)");
-    }
-    if (!rest.empty() && rest.back() == '/') rest.pop_back();
-    parseHostPort(rest, std::nullopt, spec, shown);
-    allowed.insert({"connect_timeout_s", "stall_timeout_s"});
-  } else if (scheme == "ntrip") {
-    spec.kind = ByteSourceKind::Ntrip;
-    const auto at = rest.rfind('@');
-    std::string hostpart = rest;
-    if (at != std::string::npos) {
-      const std::string userinfo = rest.substr(0, at);
-      hostpart = rest.substr(at + 1);
-      const auto colon = userinfo.find(':');
-      spec.user = percentDecode(userinfo.substr(0, colon), shown);
-      if (colon != std::string::npos) spec.password = percentDecode(userinfo.substr(colon + 1), shown);
-    }
-    const auto slash = hostpart.find('/');
-    if (slash == std::string::npos || slash + 1 == hostpart.size()) {
-      bad(shown, std::string("no mountpoint (ntrip://host:port/MOUNT)") +
-                     (query.find('@') != std::string::npos
-                          ? "; a '?' in the user or the password must be written %3F (or use credentials=)"
-                          : ""));
-    }
-    spec.mountpoint = hostpart.substr(slash + 1);
-    if (spec.mountpoint.find_first_of("/ ") != std::string::npos) {
-      bad(shown, "mountpoint '" + spec.mountpoint + "' holds '/' or a space");
-    }
-    parseHostPort(hostpart.substr(0, slash), 2101, spec, shown);
-    allowed.insert({"connect_timeout_s", "stall_timeout_s", "version", "gga_period_s", "lat", "lon", "h", "credentials"});
-  } else if (scheme == "file") {
-    spec.kind = ByteSourceKind::File;
-    if (rest.empty()) bad(shown, "no path (file:///path/x.rtcm3)");
-    spec.path = rest;
-    allowed.insert({"speed", "byte_rate"});
-  } else {
-    bad(shown, "unknown scheme '" + scheme + "'; expected serial, tcp, ntrip or file");
-  }
+  return parts;
+}
 
+// serial:///dev/ttyACM0: the device.
+void parseSerialLocation(const SpecParts& parts, ByteSourceSpec& spec, std::set<std::string>& allowed,
+                         const std::string& shown) {
+  spec.kind = ByteSourceKind::Serial;
+  if (parts.rest.empty()) bad(shown, "no device (serial:///dev/ttyACM0)");
+  spec.device = parts.rest;
+  allowed.insert("baud");
+}
+
+// tcp://host:port: host and port, no path.
+void parseTcpLocation(const SpecParts& parts, ByteSourceSpec& spec, std::set<std::string>& allowed,
+                      const std::string& shown) {
+  spec.kind = ByteSourceKind::Tcp;
+  std::string rest = parts.rest;
+  if (rest.find('/') != std::string::npos && rest.find('/') + 1 != rest.size()) {
+    bad(shown, "a tcp spec has no path (tcp://host:port)");
+  }
+  if (!rest.empty() && rest.back() == '/') rest.pop_back();
+  parseHostPort(rest, std::nullopt, spec, shown);
+  allowed.insert({"connect_timeout_s", "stall_timeout_s"});
+}
+
+// ntrip://user:password@host:port/MOUNT: percent-decoded user and password, host, port (2101), mountpoint.
+void parseNtripLocation(const SpecParts& parts, ByteSourceSpec& spec, std::set<std::string>& allowed,
+                        const std::string& shown) {
+  spec.kind = ByteSourceKind::Ntrip;
+  const std::string& rest = parts.rest;
+  const auto at = rest.rfind('@');
+  std::string hostpart = rest;
+  if (at != std::string::npos) {
+    const std::string userinfo = rest.substr(0, at);
+    hostpart = rest.substr(at + 1);
+    const auto colon = userinfo.find(':');
+    spec.user = percentDecode(userinfo.substr(0, colon), shown);
+    if (colon != std::string::npos) spec.password = percentDecode(userinfo.substr(colon + 1), shown);
+  }
+  const auto slash = hostpart.find('/');
+  if (slash == std::string::npos || slash + 1 == hostpart.size()) {
+    bad(shown, std::string("no mountpoint (ntrip://host:port/MOUNT)") +
+                   (parts.query.find('@') != std::string::npos
+                        ? "; a '?' in the user or the password must be written %3F (or use credentials=)"
+                        : ""));
+  }
+  spec.mountpoint = hostpart.substr(slash + 1);
+  if (spec.mountpoint.find_first_of("/ ") != std::string::npos) {
+    bad(shown, "mountpoint '" + spec.mountpoint + "' holds '/' or a space");
+  }
+  parseHostPort(hostpart.substr(0, slash), 2101, spec, shown);
+  allowed.insert({"connect_timeout_s", "stall_timeout_s", "version", "gga_period_s", "lat", "lon", "h", "credentials"});
+}
+
+// file:///path: the recording's path.
+void parseFileLocation(const SpecParts& parts, ByteSourceSpec& spec, std::set<std::string>& allowed,
+                       const std::string& shown) {
+  spec.kind = ByteSourceKind::File;
+  if (parts.rest.empty()) bad(shown, "no path (file:///path/x.rtcm3)");
+  spec.path = parts.rest;
+  allowed.insert({"speed", "byte_rate"});
+}
+
+// Step 2: the kind and location of the scheme; returns the option keys the scheme accepts.
+std::set<std::string> parseLocation(const SpecParts& parts, ByteSourceSpec& spec, const std::string& shown) {
+  std::set<std::string> allowed = {"format", "reconnect_min_s", "reconnect_max_s"};
+  if (parts.scheme == "serial") {
+    parseSerialLocation(parts, spec, allowed, shown);
+  } else if (parts.scheme == "tcp") {
+    parseTcpLocation(parts, spec, allowed, shown);
+  } else if (parts.scheme == "ntrip") {
+    parseNtripLocation(parts, spec, allowed, shown);
+  } else if (parts.scheme == "file") {
+    parseFileLocation(parts, spec, allowed, shown);
+  } else {
+    bad(shown, "unknown scheme '" + parts.scheme + "'; expected serial, tcp, ntrip or file");
+  }
+  return allowed;
+}
+
+// Step 3: the query's key=value options, each key known to the scheme and given once.
+std::map<std::string, std::string> parseQueryOptions(const SpecParts& parts, const std::set<std::string>& allowed,
+                                                     const std::string& shown) {
+  const std::string& query = parts.query;
   std::map<std::string, std::string> options;
   std::size_t pos = 0;
   while (!query.empty() && pos <= query.size()) {
@@ -165,53 +205,74 @@ ByteSourceSpec parseByteSourceSpec(const std::string& text) {
     if (!allowed.count(key)) {
       std::string list;
       for (const auto& k : allowed) list += (list.empty() ? "" : ", ") + k;
-      bad(shown, "unknown option '" + key + "' for " + scheme + ":// (known: " + list + ")");
+      bad(shown, "unknown option '" + key + "' for " + parts.scheme + ":// (known: " + list + ")");
     }
     if (options.count(key)) bad(shown, "option '" + key + "' given twice");
     options[key] = item.substr(eq + 1);
   }
-  for (const auto& [key, value] : options) {
-    if (key == "format") {
-      if (value != "rtcm3" && value != "ubx") bad(shown, "format='" + value + "': expected rtcm3 or ubx");
-      spec.format = value;
-    } else if (key == "baud") {
-      spec.baud = integer(key, value, shown);
-      if (!isSupportedBaudRate(spec.baud)) {
-        bad(shown, "baud=" + value + " is not one of 9600, 19200, 38400, 57600, 115200, 230400, 460800, 921600");
-      }
-    } else if (key == "version") {
-      spec.ntrip_version = integer(key, value, shown);
-      if (spec.ntrip_version != 1 && spec.ntrip_version != 2) bad(shown, "version=" + value + ": expected 1 or 2");
-    } else if (key == "gga_period_s") {
-      spec.gga_period_s = number(key, value, shown);
-      if (*spec.gga_period_s <= 0.0) bad(shown, "gga_period_s must be > 0 s");
-    } else if (key == "credentials") {
-      if (value.empty()) bad(shown, "credentials= needs the path of a credentials file");
-      spec.credentials_file = value;
-    } else if (key == "lat") {
-      spec.gga_latitude_deg = number(key, value, shown);
-      if (std::fabs(*spec.gga_latitude_deg) > 90.0) bad(shown, "lat=" + value + " is outside -90..90 deg");
-    } else if (key == "lon") {
-      spec.gga_longitude_deg = number(key, value, shown);
-      if (std::fabs(*spec.gga_longitude_deg) > 180.0) bad(shown, "lon=" + value + " is outside -180..180 deg");
-    } else if (key == "h") {
-      spec.gga_height_m = number(key, value, shown);
-    } else if (key == "speed") {
-      spec.speed = number(key, value, shown);
-      if (spec.speed < 0.0) bad(shown, "speed must be >= 0 (0: as fast as read)");
-    } else if (key == "byte_rate") {
-      spec.byte_rate_bytes_per_s = number(key, value, shown);
-      if (spec.byte_rate_bytes_per_s <= 0.0) bad(shown, "byte_rate must be > 0 bytes/s");
-    } else if (key == "connect_timeout_s" || key == "stall_timeout_s" || key == "reconnect_min_s" ||
-               key == "reconnect_max_s") {
-      const double x = number(key, value, shown);
-      if (x <= 0.0) bad(shown, key + " must be > 0 s");
-      if (key == "connect_timeout_s") spec.connect_timeout_s = x;
-      if (key == "stall_timeout_s") spec.stall_timeout_s = x;
-      if (key == "reconnect_min_s") spec.reconnect_min_s = x;
-      if (key == "reconnect_max_s") spec.reconnect_max_s = x;
-    }
+  return options;
+}
+
+// The NTRIP options: version, credentials and the GGA ones (gga_period_s in s, lat/lon in deg, h in m).
+void applyNtripOption(const std::string& key, const std::string& value, ByteSourceSpec& spec,
+                      const std::string& shown) {
+  if (key == "version") {
+    spec.ntrip_version = integer(key, value, shown);
+    if (spec.ntrip_version != 1 && spec.ntrip_version != 2) bad(shown, "version=" + value + ": expected 1 or 2");
+  } else if (key == "gga_period_s") {
+    spec.gga_period_s = number(key, value, shown);
+    if (*spec.gga_period_s <= 0.0) bad(shown, "gga_period_s must be > 0 s");
+  } else if (key == "credentials") {
+    if (value.empty()) bad(shown, "credentials= needs the path of a credentials file");
+    spec.credentials_file = value;
+  } else if (key == "lat") {
+    spec.gga_latitude_deg = number(key, value, shown);
+    if (std::fabs(*spec.gga_latitude_deg) > 90.0) bad(shown, "lat=" + value + " is outside -90..90 deg");
+  } else if (key == "lon") {
+    spec.gga_longitude_deg = number(key, value, shown);
+    if (std::fabs(*spec.gga_longitude_deg) > 180.0) bad(shown, "lon=" + value + " is outside -180..180 deg");
+  } else if (key == "h") {
+    spec.gga_height_m = number(key, value, shown);
   }
+}
+
+// The timeouts and reconnection delays [s], each > 0 s.
+void applyTimeoutOption_s(const std::string& key, const std::string& value, ByteSourceSpec& spec,
+                          const std::string& shown) {
+  const double x = number(key, value, shown);
+  if (x <= 0.0) bad(shown, key + " must be > 0 s");
+  if (key == "connect_timeout_s") spec.connect_timeout_s = x;
+  if (key == "stall_timeout_s") spec.stall_timeout_s = x;
+  if (key == "reconnect_min_s") spec.reconnect_min_s = x;
+  if (key == "reconnect_max_s") spec.reconnect_max_s = x;
+}
+
+// Step 4: one option's value checked and stored in the spec.
+void applyOption(const std::string& key, const std::string& value, ByteSourceSpec& spec, const std::string& shown) {
+  if (key == "format") {
+    if (value != "rtcm3" && value != "ubx") bad(shown, "format='" + value + "': expected rtcm3 or ubx");
+    spec.format = value;
+  } else if (key == "baud") {
+    spec.baud = integer(key, value, shown);
+    if (!isSupportedBaudRate(spec.baud)) {
+      bad(shown, "baud=" + value + " is not one of 9600, 19200, 38400, 57600, 115200, 230400, 460800, 921600");
+    }
+  } else if (key == "speed") {
+    spec.speed = number(key, value, shown);
+    if (spec.speed < 0.0) bad(shown, "speed must be >= 0 (0: as fast as read)");
+  } else if (key == "byte_rate") {
+    spec.byte_rate_bytes_per_s = number(key, value, shown);
+    if (spec.byte_rate_bytes_per_s <= 0.0) bad(shown, "byte_rate must be > 0 bytes/s");
+  } else if (key == "connect_timeout_s" || key == "stall_timeout_s" || key == "reconnect_min_s" ||
+             key == "reconnect_max_s") {
+    applyTimeoutOption_s(key, value, spec, shown);
+  } else {
+    applyNtripOption(key, value, spec, shown);
+  }
+}
+
+// Step 5: the options that only make sense together (reconnection delays, GGA period and position).
+void checkOptionCombinations(const ByteSourceSpec& spec, const std::string& shown) {
   if (spec.reconnect_min_s > spec.reconnect_max_s) bad(shown, "reconnect_min_s is above reconnect_max_s");
   if (spec.gga_period_s && (!spec.gga_latitude_deg || !spec.gga_longitude_deg)) {
     bad(shown, "gga_period_s needs lat and lon (and h) for the GGA position");
@@ -219,6 +280,19 @@ ByteSourceSpec parseByteSourceSpec(const std::string& text) {
   if (!spec.gga_period_s && (spec.gga_latitude_deg || spec.gga_longitude_deg || spec.gga_height_m)) {
     bad(shown, "lat/lon/h are given but gga_period_s is not: no GGA would be sent");
   }
+}
+
+}  // namespace
+
+ByteSourceSpec parseByteSourceSpec(const std::string& text) {
+  // Shown in errors and logs: the password hidden however the spec is mistyped.
+  const std::string shown = maskCredentials(text);
+  ByteSourceSpec spec;
+  const SpecParts parts = splitSpecText(text, shown);                             // 1. scheme, location, query
+  const std::set<std::string> allowed = parseLocation(parts, spec, shown);       // 2. kind and location
+  const auto options = parseQueryOptions(parts, allowed, shown);                 // 3. key=value options
+  for (const auto& [key, value] : options) applyOption(key, value, spec, shown); // 4. each option checked
+  checkOptionCombinations(spec, shown);                                          // 5. options together
   spec.text_without_password = shown;
   return spec;
 }
