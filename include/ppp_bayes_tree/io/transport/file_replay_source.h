@@ -38,6 +38,8 @@ class FileReplaySource : public ByteSource {
   FileReplaySource(std::string path, double speed, double byte_rate_bytes_per_s,
                    StreamFormat format = StreamFormat::Unknown);
 
+  /// A recording that cannot be opened gives its OpenFailed error once (naming
+  /// the file), then Closed: there is nothing to replay (close() tries again).
   ByteSourceRead read(std::uint8_t* buffer, std::size_t capacity,
                       std::chrono::milliseconds timeout) override;
   std::string describe() const override;
@@ -62,6 +64,7 @@ class FileReplaySource : public ByteSource {
   StreamFormat format_;
   std::ifstream file_;
   bool opened_ = false;
+  bool open_failed_ = false;  // the open failed: read() reports Closed until close()
   bool eof_ = false;
   Rtcm3Framer rtcm_;
   UbxFramer ubx_;

@@ -70,6 +70,7 @@ std::string FileReplaySource::describe() const {
 void FileReplaySource::close() {
   file_.close();
   opened_ = false;
+  open_failed_ = false;
   eof_ = false;
   rtcm_ = Rtcm3Framer();
   ubx_ = UbxFramer();
@@ -156,8 +157,12 @@ bool FileReplaySource::readMore() {
 
 ByteSourceRead FileReplaySource::read(std::uint8_t* buffer, std::size_t capacity,
                                       std::chrono::milliseconds timeout) {
+  if (open_failed_) return ByteSourceRead::closed();
   if (!opened_) {
-    if (auto error = open()) return fail(error->kind, std::move(error->detail));
+    if (auto error = open()) {
+      open_failed_ = true;
+      return fail(error->kind, std::move(error->detail));
+    }
     ++counters_.connects;
   }
   const auto deadline = Clock::now() + timeout;

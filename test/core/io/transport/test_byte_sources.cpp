@@ -625,6 +625,15 @@ TEST(FileReplay, MissingFileIsOpenFailed) {
   ASSERT_EQ(got.status, ByteSourceStatus::Error);
   EXPECT_EQ(got.error->kind, ByteSourceErrorKind::OpenFailed);
   EXPECT_NE(got.error->detail.find("/nonexistent/x.rtcm3"), std::string::npos);
+  // Said once, then the end of the recording: a reader loop stops instead of
+  // spinning on the same error (ppp_stream_record, the live input).
+  EXPECT_EQ(replay.read(buffer, sizeof(buffer), 10ms).status, ByteSourceStatus::Closed);
+  EXPECT_EQ(replay.read(buffer, sizeof(buffer), 10ms).status, ByteSourceStatus::Closed);
+  EXPECT_EQ(replay.counters().errors(ByteSourceErrorKind::OpenFailed), 1u);
+  // close() tries again (and fails again, once).
+  replay.close();
+  EXPECT_EQ(replay.read(buffer, sizeof(buffer), 10ms).status, ByteSourceStatus::Error);
+  EXPECT_EQ(replay.read(buffer, sizeof(buffer), 10ms).status, ByteSourceStatus::Closed);
 }
 
 }  // namespace
