@@ -21,10 +21,12 @@
 //     ambiguity:      { enabled, max_abs_cycles, satellite_phase_biases }
 //     phase_breaks:   { enabled, body_elevation_mask_deg, reacquisition_s }
 //     products:       { enabled, orbit_sigma_m, clock_sigma_m, scale_half_range }
+//   imu:           { enabled, grade: consumer_mems|industrial_mems|tactical, rate_hz, errors }
 #include <optional>
 #include <string>
 #include <vector>
 
+#include "ppp_bayes_tree/navigation/imu_noise.h"
 #include "ppp_bayes_tree/simulation/flight_trajectory.h"
 #include "ppp_bayes_tree/types/constants.h"
 #include "ppp_bayes_tree/types/gnss_time.h"
@@ -152,6 +154,15 @@ struct SimulationConfig {
   bool quantize = true;
   std::string marker_name = "SIM1";
   ErrorModelConfig errors;
+  /// IMU readings along the flight (simulated_imu.h), off by default: the grade's
+  /// datasheet preset (imu_noise.h), the reading rate, and whether the grade's
+  /// noise and biases are added (false: the true readings).
+  struct Imu {
+    bool enabled = false;
+    ImuGrade grade = ImuGrade::IndustrialMems;
+    double rate_hz = 200.0;
+    bool errors = true;
+  } imu;
 
   double durationOrDefault_s() const;
 };

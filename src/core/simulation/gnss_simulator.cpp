@@ -35,6 +35,7 @@ enum StreamTag : std::uint64_t {
   kTagGalileoConstellation,
   kTagGalileoClocks,
   kTagGalileoClockOffset,
+  kTagImu,
   kTagPerSatellite = 1000,  // GPS: + 100 * term + satellite index (< 1000)
   kTagPerOtherSatellite = 1000000,  // other systems: + 1000 * satellite index + 100 * term
 };
@@ -423,6 +424,15 @@ std::vector<SatelliteState> satelliteStates(const SimulationConfig& config, cons
   return sats;
 }
 
+/// Step 8: the IMU options of the configuration.
+SimulatedImuOptions imuOptions(const SimulationConfig::Imu& imu) {
+  SimulatedImuOptions o;
+  o.rate_hz = imu.rate_hz;
+  o.noise = imuNoisePreset(imu.grade);
+  o.errors = imu.errors;
+  return o;
+}
+
 /// Where a satellite is seen from the receiver at one epoch and whether it can be tracked.
 struct SatelliteView {
   bool available = false;  // orbit and clock known at the epoch
@@ -778,6 +788,8 @@ SimulatedFlight simulateFlight(const SimulationConfig& config, std::uint64_t see
   f.epochs.reserve(traj.size());
   f.truth.reserve(traj.size());
   for (std::size_t k = 0; k < traj.size(); ++k) generator.generate(k, traj[k], traj.front().time, clock_s[k]);
+  // 8. The IMU readings.
+  if (config.imu.enabled) f.imu = simulateImu(traj, imuOptions(config.imu), root.derive(kTagImu).seed());
   return f;
 }
 

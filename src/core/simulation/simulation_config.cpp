@@ -141,6 +141,22 @@ void readErrors(YamlSection s, ErrorModelConfig& e) {
   s.finish();
 }
 
+/// The `imu` section: grade by its key name, rate 1..2000 Hz.
+void readImu(YamlSection s, SimulationConfig::Imu& imu) {
+  imu.enabled = s.boolean("enabled", imu.enabled);
+  if (s.has("grade")) {
+    const std::string g = s.text("grade", "");
+    if (g == "consumer_mems") imu.grade = ImuGrade::ConsumerMems;
+    else if (g == "industrial_mems") imu.grade = ImuGrade::IndustrialMems;
+    else if (g == "tactical") imu.grade = ImuGrade::Tactical;
+    else s.fail("grade", "must be consumer_mems, industrial_mems or tactical, got \"" + g + "\"");
+  }
+  imu.rate_hz = s.number("rate_hz", imu.rate_hz, Bound::Positive);
+  if (imu.rate_hz > 2000.0) s.fail("rate_hz", "must be <= 2000");
+  imu.errors = s.boolean("errors", imu.errors);
+  s.finish();
+}
+
 }  // namespace
 
 SimulationConfig parseSimulationConfig(const std::string& yaml_text, const std::string& source_name,
@@ -194,6 +210,7 @@ SimulationConfig parseSimulationConfig(const std::string& yaml_text, const std::
       o.finish();
     }
     readErrors(top.section("errors"), c.errors);
+    readImu(top.section("imu"), c.imu);
     top.finish();
   } catch (const YAML::Exception& e) {
     throw ConfigError(source_name, "", std::string("YAML error: ") + e.what());
