@@ -9,7 +9,8 @@
 //   flight:        { rate_hz, duration_min, start: "2026-05-13 10:00:00",
 //                    origin: { latitude_deg, longitude_deg, height_m } }
 //   constellation: { satellites, systems: G|GE, galileo_satellites, orbit_interval_s, clock_interval_s }
-//   observations:  { elevation_mask_deg, loss_of_lock_flags, quantize, marker_name }
+//   observations:  { elevation_mask_deg, loss_of_lock_flags, quantize, marker_name,
+//                    outages: { start_s: [..], duration_s: [..] } }
 //   errors:
 //     thermal:        { enabled, code_sigma_m, phase: fixed|wavelength_fraction,
 //                       phase_sigma_m, phase_sigma_cycles }
@@ -153,6 +154,16 @@ struct SimulationConfig {
   /// in-process observations equal those read back from the file.
   bool quantize = true;
   std::string marker_name = "SIM1";
+  /// GNSS outages (none by default): from start_s after the first epoch for
+  /// duration_s no satellite is tracked and no epoch is written. Afterwards each
+  /// satellite is reacquired as after any loss of lock (new arc, new ambiguities,
+  /// once visible for errors.phase_breaks.reacquisition_s); epochs before the
+  /// first reacquisition are not written either.
+  struct Outage {
+    double start_s = 0.0, duration_s = 0.0;
+  };
+  std::vector<Outage> outages;
+  bool inOutage(double since_start_s) const;
   ErrorModelConfig errors;
   /// IMU readings along the flight (simulated_imu.h), off by default: the grade's
   /// datasheet preset (imu_noise.h), the reading rate, and whether the grade's
