@@ -5,6 +5,9 @@
 // usage: ppp_simulate --profile loiter|survey|figure8|climb [--trajectory CSV]
 //                     [--rate 1|10] [--duration-min N] [--seed S]
 //                     [--sp3 F --clk F] [--config YAML] [--out DIR] [--bag BAG]
+//                     [--imu consumer_mems|industrial_mems|tactical]
+// --imu adds the readings of an IMU of that grade (imu.csv, imu_bias.csv; the same
+// as the YAML's imu: { enabled: true, grade: ... }).
 // --out writes the files; --bag writes the flight as a replay bag (gnss/observations,
 // gnss/corrections from the products with error, truth/path), the same as
 // `ppp_to_bag --simulate` but with every simulator input (trajectory, products);
@@ -31,7 +34,8 @@ int usage(const std::string& why) {
   std::cerr << "ppp_simulate: " << why << "\n"
             << "usage: ppp_simulate --profile loiter|survey|figure8|climb [--trajectory CSV]\n"
             << "                    [--rate 1|10] [--duration-min N] [--seed S]\n"
-            << "                    [--sp3 F --clk F] [--config YAML] [--out DIR] [--bag BAG]\n";
+            << "                    [--sp3 F --clk F] [--config YAML] [--out DIR] [--bag BAG]\n"
+            << "                    [--imu consumer_mems|industrial_mems|tactical]\n";
   return 2;
 }
 
@@ -44,7 +48,7 @@ bool parseNumber(const std::string& s, double& v) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  std::string profile = "loiter", trajectory, sp3, clk, config_path, out, bag;
+  std::string profile = "loiter", trajectory, sp3, clk, config_path, out, bag, imu_grade;
   std::optional<double> rate, duration_min;
   std::uint64_t seed = 1;
   for (int i = 1; i < argc; ++i) {
@@ -59,6 +63,7 @@ int main(int argc, char** argv) {
     else if (a == "--config") config_path = v;
     else if (a == "--out") out = v;
     else if (a == "--bag") bag = v;
+    else if (a == "--imu") imu_grade = v;
     else if (a == "--rate") {
       if (!parseNumber(v, x) || (x != 1.0 && x != 10.0)) return usage("--rate must be 1 or 10");
       rate = x;
@@ -85,6 +90,8 @@ int main(int argc, char** argv) {
     config.profile = ppp::parseFlightProfile(profile);
     if (rate) config.rate_hz = *rate;
     if (duration_min) config.duration_s = *duration_min * 60.0;
+    if (!imu_grade.empty())
+      config = ppp::parseSimulationConfig("imu: { enabled: true, grade: " + imu_grade + " }", "--imu", config);
     ppp::SimulationSources sources;
     if (!sp3.empty()) {
       sources.sp3 = ppp::readSp3(sp3);
@@ -117,6 +124,9 @@ int main(int argc, char** argv) {
     for (const auto& t : flight.truth) max_roll = std::max(max_roll, std::abs(t.trajectory.roll_rad));
     std::cout << "arcs " << flight.arcs.size() << ", injected phase breaks " << flight.breaks.size()
               << ", max |roll| " << max_roll * ppp::kRadToDeg << " deg\n";
+    if (!flight.imu.samples.empty())
+      std::cout << "IMU: " << flight.imu.noise.name << ", " << flight.imu.samples.size() << " readings at "
+                << config.imu.rate_hz << " Hz" << (config.imu.errors ? "" : " (true readings, no errors)") << "\n";
     std::cout << "wrote:\n";
     for (const auto& p : written) std::cout << "  " << p << "\n";
   } catch (const std::exception& e) {  // ParseError, FileOpenError, ConfigError (name the file) and the rest

@@ -14,7 +14,7 @@
 //   navigation  -> types          IMU readings, SO(3), preintegration, the IMU factor's error,
 //                                 the strapdown INS, its error model, coarse alignment
 //   ppp         -> models, smoother   measurement model, estimators, pipeline
-//   simulation  -> ppp            the flight simulator
+//   simulation  -> ppp, io/imu    the flight simulator (its IMU readings use navigation)
 //   evaluation  -> simulation     statistics, solution writers, Monte Carlo
 //   app         -> evaluation     ppp_solve's run, inspection, replay report, the live input
 // ("->" includes everything below the named folders; tools and ros sit above app.)
@@ -36,7 +36,7 @@
 //   ppp/config    -> ppp/estimators    PppConfig and its YAML binding
 //   ppp/pipeline  -> ppp/config        epoch processor, products, pipeline
 // A folder above io or ppp may include all of its parts (models: io/transport and
-// io/products; simulation: ppp/pipeline); a file directly in ppp/ has no part.
+// io/products; simulation: ppp/pipeline and io/imu); a file directly in ppp/ has no part.
 //
 // The estimation parts of ppp (model, screening, ambiguity, estimators) open no
 // file: what they need of the products' files (e.g. the satellite antenna model
@@ -159,7 +159,7 @@ const std::map<std::string, std::set<std::string>>& allowedIncludes() {
         {"ppp/estimators", {"ppp/screening", "ppp/ambiguity"}},
         {"ppp/config", {"ppp/estimators"}},
         {"ppp/pipeline", {"ppp/config"}},
-        {"simulation", {"ppp/pipeline"}},
+        {"simulation", {"ppp/pipeline", "io/imu"}},
         {"evaluation", {"simulation"}},
         {"app", {"evaluation"}},
     };

@@ -20,6 +20,7 @@
 #include "ppp_bayes_tree/ppp/model/ppp_measurement_model.h"
 #include "ppp_bayes_tree/simulation/flight_trajectory.h"
 #include "ppp_bayes_tree/simulation/gps_constellation.h"
+#include "ppp_bayes_tree/simulation/simulated_imu.h"
 #include "ppp_bayes_tree/simulation/simulated_phase_biases.h"
 #include "ppp_bayes_tree/simulation/simulation_config.h"
 #include "ppp_bayes_tree/types/obs_epoch.h"
@@ -111,6 +112,9 @@ struct SimulatedFlight {
   /// The measurement-model options the observations were generated with
   /// (elevation cutoff aside): estimators must use the same.
   MeasurementModelOptions model_options;
+  /// The IMU readings along the trajectory (config.imu.enabled; empty otherwise),
+  /// from their own sub-stream of the seed: the GNSS draws do not change with them.
+  SimulatedImu imu;
 
   /// Truth of satellite `sat` at epoch `epoch_index` (index into epochs/truth),
   /// nullptr when it was not tracked then.

@@ -9,7 +9,8 @@
 //   flight:        { rate_hz, duration_min, start: "2026-05-13 10:00:00",
 //                    origin: { latitude_deg, longitude_deg, height_m } }
 //   constellation: { satellites, systems: G|GE, galileo_satellites, orbit_interval_s, clock_interval_s }
-//   observations:  { elevation_mask_deg, loss_of_lock_flags, quantize, marker_name }
+//   observations:  { elevation_mask_deg, loss_of_lock_flags, quantize, marker_name,
+//                    outages: { start_s: [..], duration_s: [..] } }
 //   errors:
 //     thermal:        { enabled, code_sigma_m, phase: fixed|wavelength_fraction,
 //                       phase_sigma_m, phase_sigma_cycles }
@@ -21,10 +22,12 @@
 //     ambiguity:      { enabled, max_abs_cycles, satellite_phase_biases }
 //     phase_breaks:   { enabled, body_elevation_mask_deg, reacquisition_s }
 //     products:       { enabled, orbit_sigma_m, clock_sigma_m, scale_half_range }
+//   imu:           { enabled, grade: consumer_mems|industrial_mems|tactical, rate_hz, errors }
 #include <optional>
 #include <string>
 #include <vector>
 
+#include "ppp_bayes_tree/navigation/imu_noise.h"
 #include "ppp_bayes_tree/simulation/flight_trajectory.h"
 #include "ppp_bayes_tree/types/constants.h"
 #include "ppp_bayes_tree/types/gnss_time.h"
@@ -151,7 +154,26 @@ struct SimulationConfig {
   /// in-process observations equal those read back from the file.
   bool quantize = true;
   std::string marker_name = "SIM1";
+  /// GNSS outages (none by default): from start_s after the first epoch for
+  /// duration_s no satellite is tracked and no epoch is written. Afterwards each
+  /// satellite is reacquired as after any loss of lock (new arc, new ambiguities,
+  /// once visible for errors.phase_breaks.reacquisition_s); epochs before the
+  /// first reacquisition are not written either.
+  struct Outage {
+    double start_s = 0.0, duration_s = 0.0;
+  };
+  std::vector<Outage> outages;
+  bool inOutage(double since_start_s) const;
   ErrorModelConfig errors;
+  /// IMU readings along the flight (simulated_imu.h), off by default: the grade's
+  /// datasheet preset (imu_noise.h), the reading rate, and whether the grade's
+  /// noise and biases are added (false: the true readings).
+  struct Imu {
+    bool enabled = false;
+    ImuGrade grade = ImuGrade::IndustrialMems;
+    double rate_hz = 200.0;
+    bool errors = true;
+  } imu;
 
   double durationOrDefault_s() const;
 };

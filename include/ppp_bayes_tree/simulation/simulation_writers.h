@@ -45,10 +45,19 @@ void writeTruthArcsCsv(std::ostream& out, const SimulatedFlight& flight);
 ///   min_body_elevation_deg,max_roll_deg
 void writeArcListCsv(std::ostream& out, const SimulatedFlight& flight);
 void writeBreaksCsv(std::ostream& out, const SimulatedFlight& flight);
+/// imu.csv: the plain IMU CSV that io/imu/imu_csv_reader.h reads (doc/gnss_ins.md):
+///   # gps_week,seconds_of_week,fx,fy,fz,wx,wy,wz
+/// seconds of week with 9 decimals, readings [m/s^2, rad/s] with 17 significant
+/// digits (they read back to the same doubles).
+void writeImuCsv(std::ostream& out, const std::vector<ImuSample>& samples);
+/// imu_bias.csv: the true bias at each reading:
+///   gps_week,seconds_of_week,ba_x,ba_y,ba_z,bg_x,bg_y,bg_z [m/s^2, rad/s]
+void writeImuBiasCsv(std::ostream& out, const SimulatedImu& imu);
 
 /// Writes into `directory` (created when missing): <marker>.obs (RINEX 3.04),
 /// products.sp3 / products.clk (truth + product error), truth.sp3 / truth.clk,
-/// truth.csv, truth_arcs.csv, arcs.csv, breaks.csv, parameters.txt. Returns the
+/// truth.csv, truth_arcs.csv, arcs.csv, breaks.csv, parameters.txt, and with
+/// IMU readings (config.imu.enabled) imu.csv and imu_bias.csv. Returns the
 /// paths written. Throws std::runtime_error when a file cannot be written.
 std::vector<std::string> writeSimulatedFlight(const SimulatedFlight& flight, const std::string& directory);
 

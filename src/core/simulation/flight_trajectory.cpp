@@ -48,74 +48,89 @@ double total(const std::vector<Segment>& s) {
   return t;
 }
 
-ProfileDefinition defineProfile(FlightProfile profile, double duration_s) {
+/// Loiter: a circle of 250 m radius at 15 m/s around the origin, 100 m up.
+ProfileDefinition loiterProfile(double needed_s) {
   ProfileDefinition p;
-  const double need = duration_s + 4.0 * kRampHalfWidth_s + 10.0;
-  switch (profile) {
-    case FlightProfile::Loiter: {
-      p.speed_mps = 15.0;
-      const double radius = 250.0;
-      p.start_enu_m = {-radius, 0.0, 100.0};
-      p.start_heading_rad = 0.0;  // north, turning right around the origin
-      p.segments.push_back({need, p.speed_mps / radius, 0.0});
-      break;
-    }
-    case FlightProfile::Survey: {
-      p.speed_mps = 15.0;
-      const double leg = 800.0, spacing = 100.0;
-      p.start_enu_m = {-400.0, -500.0, 120.0};
-      p.start_heading_rad = 0.5 * kPi;  // east
-      int block_sense = 1;              // +1: next leg to the north
-      for (int k = 0; total(p.segments) < need; ++k) {
-        addStraight(p.segments, leg, p.speed_mps);
-        if (k % 10 == 9) block_sense = -block_sense;
-        const bool heading_east = k % 2 == 0;
-        // Heading east, a left turn (negative rate) moves north; heading west, a right turn.
-        const double sign = (heading_east ? -1.0 : 1.0) * block_sense;
-        addTurn(p.segments, sign * kPi, 0.5 * spacing, p.speed_mps);
-      }
-      break;
-    }
-    case FlightProfile::Figure8: {
-      p.speed_mps = 22.0;
-      const double radius = 90.0;
-      p.start_enu_m = {0.0, 0.0, 150.0};
-      p.start_heading_rad = 0.0;
-      p.height_oscillation_m = 20.0;
-      p.height_period_s = 120.0;
-      while (total(p.segments) < need) {
-        addTurn(p.segments, -2.0 * kPi, radius, p.speed_mps);
-        addTurn(p.segments, 2.0 * kPi, radius, p.speed_mps);
-      }
-      break;
-    }
-    case FlightProfile::Climb: {
-      p.speed_mps = 22.0;
-      p.start_enu_m = {0.0, -400.0, 100.0};
-      p.start_heading_rad = 0.5 * kPi;  // east, circling left around the origin
-      const double climb_rate = 3.0, spiral_radius = 400.0;
-      const double vertical_time = std::min(300.0, 0.25 * duration_s);  // 900 m at 3 m/s
-      const double spiral_rate = -p.speed_mps / spiral_radius;
-      p.segments.push_back({vertical_time, spiral_rate, climb_rate});
-      const double cruise_end = duration_s + kRampHalfWidth_s - vertical_time;
-      std::vector<Segment> cruise;
-      const double turn_radius = 110.0;
-      for (int k = 0; total(p.segments) + total(cruise) < cruise_end; ++k) {
-        addStraight(cruise, k % 2 == 0 ? 3000.0 : 2000.0, p.speed_mps);
-        addTurn(cruise, 0.5 * kPi, turn_radius, p.speed_mps);
-      }
-      // Cut the cruise so that the descent ends with the flight.
-      double t = total(p.segments);
-      for (const auto& s : cruise) {
-        if (t >= cruise_end) break;
-        p.segments.push_back({std::min(s.duration_s, cruise_end - t), s.heading_rate_radps, 0.0});
-        t += p.segments.back().duration_s;
-      }
-      p.segments.push_back({vertical_time + 10.0, spiral_rate, -climb_rate});
-      break;
-    }
+  p.speed_mps = 15.0;
+  const double radius = 250.0;
+  p.start_enu_m = {-radius, 0.0, 100.0};
+  p.start_heading_rad = 0.0;  // north, turning right around the origin
+  p.segments.push_back({needed_s, p.speed_mps / radius, 0.0});
+  return p;
+}
+
+/// Survey: 800-m east-west legs 100 m apart at 15 m/s, blocks of ten legs north then south.
+ProfileDefinition surveyProfile(double needed_s) {
+  ProfileDefinition p;
+  p.speed_mps = 15.0;
+  const double leg = 800.0, spacing = 100.0;
+  p.start_enu_m = {-400.0, -500.0, 120.0};
+  p.start_heading_rad = 0.5 * kPi;  // east
+  int block_sense = 1;              // +1: next leg to the north
+  for (int k = 0; total(p.segments) < needed_s; ++k) {
+    addStraight(p.segments, leg, p.speed_mps);
+    if (k % 10 == 9) block_sense = -block_sense;
+    const bool heading_east = k % 2 == 0;
+    // Heading east, a left turn (negative rate) moves north; heading west, a right turn.
+    const double sign = (heading_east ? -1.0 : 1.0) * block_sense;
+    addTurn(p.segments, sign * kPi, 0.5 * spacing, p.speed_mps);
   }
   return p;
+}
+
+/// Figure8: 90-m circles right then left at 22 m/s, the height oscillating by 20 m.
+ProfileDefinition figure8Profile(double needed_s) {
+  ProfileDefinition p;
+  p.speed_mps = 22.0;
+  const double radius = 90.0;
+  p.start_enu_m = {0.0, 0.0, 150.0};
+  p.start_heading_rad = 0.0;
+  p.height_oscillation_m = 20.0;
+  p.height_period_s = 120.0;
+  while (total(p.segments) < needed_s) {
+    addTurn(p.segments, -2.0 * kPi, radius, p.speed_mps);
+    addTurn(p.segments, 2.0 * kPi, radius, p.speed_mps);
+  }
+  return p;
+}
+
+/// Climb: a 3 m/s spiral climb, a cruise of straight legs and quarter turns, the spiral descent.
+ProfileDefinition climbProfile(double duration_s) {
+  ProfileDefinition p;
+  p.speed_mps = 22.0;
+  p.start_enu_m = {0.0, -400.0, 100.0};
+  p.start_heading_rad = 0.5 * kPi;  // east, circling left around the origin
+  const double climb_rate = 3.0, spiral_radius = 400.0;
+  const double vertical_time = std::min(300.0, 0.25 * duration_s);  // 900 m at 3 m/s
+  const double spiral_rate = -p.speed_mps / spiral_radius;
+  p.segments.push_back({vertical_time, spiral_rate, climb_rate});
+  const double cruise_end = duration_s + kRampHalfWidth_s - vertical_time;
+  std::vector<Segment> cruise;
+  const double turn_radius = 110.0;
+  for (int k = 0; total(p.segments) + total(cruise) < cruise_end; ++k) {
+    addStraight(cruise, k % 2 == 0 ? 3000.0 : 2000.0, p.speed_mps);
+    addTurn(cruise, 0.5 * kPi, turn_radius, p.speed_mps);
+  }
+  // Cut the cruise so that the descent ends with the flight.
+  double t = total(p.segments);
+  for (const auto& s : cruise) {
+    if (t >= cruise_end) break;
+    p.segments.push_back({std::min(s.duration_s, cruise_end - t), s.heading_rate_radps, 0.0});
+    t += p.segments.back().duration_s;
+  }
+  p.segments.push_back({vertical_time + 10.0, spiral_rate, -climb_rate});
+  return p;
+}
+
+ProfileDefinition defineProfile(FlightProfile profile, double duration_s) {
+  const double needed_s = duration_s + 4.0 * kRampHalfWidth_s + 10.0;
+  switch (profile) {
+    case FlightProfile::Loiter: return loiterProfile(needed_s);
+    case FlightProfile::Survey: return surveyProfile(needed_s);
+    case FlightProfile::Figure8: return figure8Profile(needed_s);
+    case FlightProfile::Climb: return climbProfile(duration_s);
+  }
+  return ProfileDefinition{};
 }
 
 /// Commands smoothed by a moving average of width 2 * kRampHalfWidth_s:
@@ -250,65 +265,66 @@ double bodyElevation_rad(const TrajectorySample& sample, const Eigen::Vector3d& 
 
 // ---- CSV trajectories.
 
-std::vector<TrajectorySample> readTrajectoryCsv(LineSource& source, const GnssTime& start) {
-  const std::string file = source.name();
-  std::string line;
-  std::map<std::string, std::size_t> col;
-  std::size_t columns = 0;
-  bool have_attitude = false;
-  struct Row {
-    double t, lat, lon, h, roll, pitch, yaw;
-  };
-  std::vector<Row> rows;
-  constexpr std::size_t kMaxRows = 10'000'000;
-  while (source.next(line)) {
-    if (isBlank(line) || trim(line).front() == '#') continue;
-    const auto fields = splitCsvFields(line);
-    if (col.empty()) {
-      for (std::size_t i = 0; i < fields.size(); ++i) {
-        if (col.count(fields[i])) throw ParseError(file, source.lineNumber(), "column '" + fields[i] + "' repeated");
-        col[fields[i]] = i;
-      }
-      for (const char* need : {"time_s", "latitude_deg", "longitude_deg", "height_m"})
-        if (!col.count(need)) throw ParseError(file, source.lineNumber(), std::string("header lacks column '") + need + "'");
-      const int att = static_cast<int>(col.count("roll_deg") + col.count("pitch_deg") + col.count("yaw_deg"));
-      if (att != 0 && att != 3)
-        throw ParseError(file, source.lineNumber(), "give all of roll_deg, pitch_deg, yaw_deg or none");
-      static const std::set<std::string> known{"time_s",   "latitude_deg", "longitude_deg", "height_m",
-                                               "roll_deg", "pitch_deg",    "yaw_deg"};
-      for (const auto& entry : col)
-        if (!known.count(entry.first))
-          throw ParseError(file, source.lineNumber(), "unknown column '" + entry.first + "'");
-      have_attitude = att == 3;
-      columns = fields.size();
-      continue;
-    }
-    if (fields.size() != columns)
-      throw ParseError(file, source.lineNumber(),
-                       "expected " + std::to_string(columns) + " fields, found " + std::to_string(fields.size()));
-    auto value = [&](const char* name) {
-      double v = 0.0;
-      if (parseDouble(fields[col.at(name)], v) != FieldStatus::Ok || !std::isfinite(v))
-        throw ParseError(file, source.lineNumber(), std::string("malformed ") + name + " '" + fields[col.at(name)] + "'");
-      return v;
-    };
-    Row r{value("time_s"), value("latitude_deg"), value("longitude_deg"), value("height_m"), 0, 0, 0};
-    if (std::abs(r.lat) > 90.0 || std::abs(r.lon) > 360.0 || std::abs(r.h) > 1.0e5 || std::abs(r.t) > 1.0e7)
-      throw ParseError(file, source.lineNumber(), "value out of range (|lat| <= 90, |lon| <= 360, |h| <= 100 km)");
-    if (have_attitude) {
-      r.roll = value("roll_deg") * kDegToRad;
-      r.pitch = value("pitch_deg") * kDegToRad;
-      r.yaw = value("yaw_deg") * kDegToRad;
-    }
-    if (!rows.empty() && !(r.t > rows.back().t))
-      throw ParseError(file, source.lineNumber(), "time_s not strictly increasing");
-    if (rows.size() >= kMaxRows) throw ParseError(file, source.lineNumber(), "more than 10^7 rows");
-    rows.push_back(r);
-  }
-  if (source.streamError()) throw ParseError(file, source.lineNumber(), "corrupt or truncated compressed stream");
-  if (col.empty()) throw ParseError(file, source.lineNumber(), "no header line");
-  if (rows.size() < 2) throw ParseError(file, source.lineNumber(), "fewer than two trajectory rows");
+namespace {
 
+/// One row of a trajectory CSV: time since the start [s], latitude and longitude
+/// [deg], height [m], attitude [rad] (zero without attitude columns).
+struct TrajectoryRow {
+  double t, lat, lon, h, roll, pitch, yaw;
+};
+
+/// The header line of a trajectory CSV: the column of each name.
+struct TrajectoryColumns {
+  std::map<std::string, std::size_t> index;
+  std::size_t count = 0;
+  bool have_attitude = false;
+};
+
+TrajectoryColumns readTrajectoryHeader(const std::vector<std::string>& fields, const std::string& file,
+                                       std::size_t line) {
+  TrajectoryColumns c;
+  for (std::size_t i = 0; i < fields.size(); ++i) {
+    if (c.index.count(fields[i])) throw ParseError(file, line, "column '" + fields[i] + "' repeated");
+    c.index[fields[i]] = i;
+  }
+  for (const char* column : {"time_s", "latitude_deg", "longitude_deg", "height_m"})
+    if (!c.index.count(column)) throw ParseError(file, line, std::string("header lacks column '") + column + "'");
+  const int att = static_cast<int>(c.index.count("roll_deg") + c.index.count("pitch_deg") + c.index.count("yaw_deg"));
+  if (att != 0 && att != 3) throw ParseError(file, line, "give all of roll_deg, pitch_deg, yaw_deg or none");
+  static const std::set<std::string> known{"time_s",   "latitude_deg", "longitude_deg", "height_m",
+                                           "roll_deg", "pitch_deg",    "yaw_deg"};
+  for (const auto& entry : c.index)
+    if (!known.count(entry.first)) throw ParseError(file, line, "unknown column '" + entry.first + "'");
+  c.have_attitude = att == 3;
+  c.count = fields.size();
+  return c;
+}
+
+TrajectoryRow readTrajectoryRow(const std::vector<std::string>& fields, const TrajectoryColumns& c,
+                                const std::string& file, std::size_t line) {
+  if (fields.size() != c.count)
+    throw ParseError(file, line, "expected " + std::to_string(c.count) + " fields, found " + std::to_string(fields.size()));
+  auto value = [&](const char* name) {
+    double v = 0.0;
+    if (parseDouble(fields[c.index.at(name)], v) != FieldStatus::Ok || !std::isfinite(v))
+      throw ParseError(file, line, std::string("malformed ") + name + " '" + fields[c.index.at(name)] + "'");
+    return v;
+  };
+  TrajectoryRow r{value("time_s"), value("latitude_deg"), value("longitude_deg"), value("height_m"), 0, 0, 0};
+  if (std::abs(r.lat) > 90.0 || std::abs(r.lon) > 360.0 || std::abs(r.h) > 1.0e5 || std::abs(r.t) > 1.0e7)
+    throw ParseError(file, line, "value out of range (|lat| <= 90, |lon| <= 360, |h| <= 100 km)");
+  if (c.have_attitude) {
+    r.roll = value("roll_deg") * kDegToRad;
+    r.pitch = value("pitch_deg") * kDegToRad;
+    r.yaw = value("yaw_deg") * kDegToRad;
+  }
+  return r;
+}
+
+/// Samples of the rows: positions, central-difference velocities, and the given
+/// attitude or the coordinated flight's.
+std::vector<TrajectorySample> samplesOfRows(const std::vector<TrajectoryRow>& rows, bool have_attitude,
+                                            const GnssTime& start) {
   std::vector<TrajectorySample> out(rows.size());
   for (std::size_t i = 0; i < rows.size(); ++i) {
     out[i].time = start + rows[i].t;
@@ -335,6 +351,33 @@ std::vector<TrajectorySample> readTrajectoryCsv(LineSource& source, const GnssTi
     out[i].roll_rad = vh[i] > 0.5 ? bankAngle_rad(vh[i], dpsi / (rows[b].t - rows[a].t)) : 0.0;
   }
   return out;
+}
+
+}  // namespace
+
+std::vector<TrajectorySample> readTrajectoryCsv(LineSource& source, const GnssTime& start) {
+  const std::string file = source.name();
+  std::string line;
+  TrajectoryColumns columns;
+  std::vector<TrajectoryRow> rows;
+  constexpr std::size_t kMaxRows = 10'000'000;
+  while (source.next(line)) {
+    if (isBlank(line) || trim(line).front() == '#') continue;
+    const auto fields = splitCsvFields(line);
+    if (columns.index.empty()) {
+      columns = readTrajectoryHeader(fields, file, source.lineNumber());
+      continue;
+    }
+    const TrajectoryRow r = readTrajectoryRow(fields, columns, file, source.lineNumber());
+    if (!rows.empty() && !(r.t > rows.back().t))
+      throw ParseError(file, source.lineNumber(), "time_s not strictly increasing");
+    if (rows.size() >= kMaxRows) throw ParseError(file, source.lineNumber(), "more than 10^7 rows");
+    rows.push_back(r);
+  }
+  if (source.streamError()) throw ParseError(file, source.lineNumber(), "corrupt or truncated compressed stream");
+  if (columns.index.empty()) throw ParseError(file, source.lineNumber(), "no header line");
+  if (rows.size() < 2) throw ParseError(file, source.lineNumber(), "fewer than two trajectory rows");
+  return samplesOfRows(rows, columns.have_attitude, start);
 }
 
 std::vector<TrajectorySample> readTrajectoryCsv(const std::string& path, const GnssTime& start) {

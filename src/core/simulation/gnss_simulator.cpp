@@ -35,6 +35,7 @@ enum StreamTag : std::uint64_t {
   kTagGalileoConstellation,
   kTagGalileoClocks,
   kTagGalileoClockOffset,
+  kTagImu,
   kTagPerSatellite = 1000,  // GPS: + 100 * term + satellite index (< 1000)
   kTagPerOtherSatellite = 1000000,  // other systems: + 1000 * satellite index + 100 * term
 };
@@ -399,6 +400,13 @@ RinexObsHeader simulatedHeader(const SimulationConfig& config, std::uint64_t see
   return h;
 }
 
+/// Step 7d: with outages, the header's first and last observation are those of the epochs written.
+void fitHeaderToEpochs(RinexObsHeader& h, const std::vector<ObsEpoch>& epochs) {
+  const GnssTime first = epochs.front().time, last = epochs.back().time;
+  h.time_of_first_obs = RinexHeaderTime{first.toCalendar(TimeSystem::GPS), TimeSystem::GPS, first};
+  h.time_of_last_obs = RinexHeaderTime{last.toCalendar(TimeSystem::GPS), TimeSystem::GPS, last};
+}
+
 /// Step 6: the simulated satellites (in the truth products with orbit and clock)
 /// with their random streams; with satellite phase biases, each one's UPD.
 std::vector<SatelliteState> satelliteStates(const SimulationConfig& config, const RandomStream& root,
@@ -421,6 +429,15 @@ std::vector<SatelliteState> satelliteStates(const SimulationConfig& config, cons
     }
   }
   return sats;
+}
+
+/// Step 8: the IMU options of the configuration.
+SimulatedImuOptions imuOptions(const SimulationConfig::Imu& imu) {
+  SimulatedImuOptions o;
+  o.rate_hz = imu.rate_hz;
+  o.noise = imuNoisePreset(imu.grade);
+  o.errors = imu.errors;
+  return o;
 }
 
 /// Where a satellite is seen from the receiver at one epoch and whether it can be tracked.
@@ -458,7 +475,11 @@ class EpochGenerator {
     const ReceiverFrames frames{rotationEnuFromEcef(geo.latitude_rad, geo.longitude_rad),
                                 bodyFromNed(ts.roll_rad, ts.pitch_rad, ts.yaw_rad)};
     TruthEpoch te = truthEpoch(ts, geo, clock_s);
-    trackSatellites(k, ts, frames, te);
+    const bool outage = config_.inOutage(ts.time - t0);
+    trackSatellites(k, ts, frames, te, outage);
+    if (outage) waiting_after_outage_ = true;
+    if (outage || (waiting_after_outage_ && obs_.empty())) return;  // nothing tracked: no epoch
+    waiting_after_outage_ = false;
     predictCodes(ts, te);
     f_.epochs.push_back(observables(ts.time, t0, te));
     f_.truth.push_back(std::move(te));
@@ -576,15 +597,17 @@ class EpochGenerator {
     body_el_.push_back(v.body_elevation_rad);
   }
 
-  /// Step 7a: visibility, tracking and arcs of all satellites at epoch k.
-  void trackSatellites(std::size_t k, const TrajectorySample& ts, const ReceiverFrames& frames, const TruthEpoch& te) {
+  /// Step 7a: visibility, tracking and arcs of all satellites at epoch k (in an
+  /// outage none is visible: each loses lock).
+  void trackSatellites(std::size_t k, const TrajectorySample& ts, const ReceiverFrames& frames, const TruthEpoch& te,
+                       bool outage) {
     obs_.clear();
     arc_ids_.clear();
     obs_sat_.clear();
     body_el_.clear();
     PreciseEphemeris::OrbitQueryScratch orbit_scratch;  // the satellites share the window terms at t
     for (std::size_t i = 0; i < sats_.size(); ++i) {
-      const SatelliteView v = view(sats_[i], ts, frames, orbit_scratch);
+      const SatelliteView v = outage ? SatelliteView{} : view(sats_[i], ts, frames, orbit_scratch);
       updateTracking(sats_[i], k, ts, v);
       if (sats_[i].tracked) addCandidate(i, ts, v, te);
     }
@@ -710,6 +733,7 @@ class EpochGenerator {
   const ReceiverStateLayout layout_;
   const PppMeasurementModel model_;
   WindupTracker windup_;
+  bool waiting_after_outage_ = false;  // an outage ended and no satellite is tracked yet
   // Per-epoch scratch: the tracked satellites' observations, arcs, indices into
   // sats_ and body elevations; the model's output.
   std::vector<DualFrequencyObservation> obs_;
@@ -778,6 +802,10 @@ SimulatedFlight simulateFlight(const SimulationConfig& config, std::uint64_t see
   f.epochs.reserve(traj.size());
   f.truth.reserve(traj.size());
   for (std::size_t k = 0; k < traj.size(); ++k) generator.generate(k, traj[k], traj.front().time, clock_s[k]);
+  if (f.epochs.empty()) throw std::invalid_argument("simulation: the GNSS outages leave no epoch with observations");
+  if (!config.outages.empty()) fitHeaderToEpochs(f.header, f.epochs);
+  // 8. The IMU readings.
+  if (config.imu.enabled) f.imu = simulateImu(traj, imuOptions(config.imu), root.derive(kTagImu).seed());
   return f;
 }
 

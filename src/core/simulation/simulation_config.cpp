@@ -1,12 +1,15 @@
 #include "ppp_bayes_tree/simulation/simulation_config.h"
 
 #include <algorithm>
+#include <cmath>
+#include <cstdlib>
 #include <cstdio>
 #include <fstream>
 #include <sstream>
 
 #include "ppp_bayes_tree/ppp/config/yaml_document.h"
 #include "ppp_bayes_tree/ppp/config/yaml_section.h"
+#include "ppp_bayes_tree/types/text_format.h"
 
 namespace ppp {
 
@@ -25,6 +28,12 @@ ErrorModelConfig ErrorModelConfig::none() {
 
 bool SimulationConfig::simulates(GnssSystem system) const {
   return std::find(systems.begin(), systems.end(), system) != systems.end();
+}
+
+bool SimulationConfig::inOutage(double since_start_s) const {
+  for (const Outage& o : outages)
+    if (since_start_s >= o.start_s - 1e-9 && since_start_s < o.start_s + o.duration_s - 1e-9) return true;
+  return false;
 }
 
 double defaultProfileDuration_s(FlightProfile profile) {
@@ -62,82 +71,135 @@ void readRange(YamlSection& s, const char* lo_key, const char* hi_key, double& l
   if (lo > hi) s.fail(hi_key, std::string("must be >= ") + lo_key);
 }
 
+void readThermal(YamlSection t, ErrorModelConfig& e) {
+  e.thermal.enabled = t.boolean("enabled", e.thermal.enabled);
+  e.thermal.code_sigma_m = t.number("code_sigma_m", e.thermal.code_sigma_m, Bound::NonNegative);
+  const std::string mode = t.choice("phase", e.thermal.phase_mode == PhaseNoiseMode::FixedSigma ? "fixed" : "wavelength_fraction",
+                                    {"fixed", "wavelength_fraction"});
+  e.thermal.phase_mode = mode == "fixed" ? PhaseNoiseMode::FixedSigma : PhaseNoiseMode::WavelengthFraction;
+  e.thermal.phase_sigma_m = t.number("phase_sigma_m", e.thermal.phase_sigma_m, Bound::NonNegative);
+  e.thermal.phase_sigma_cycles = t.number("phase_sigma_cycles", e.thermal.phase_sigma_cycles, Bound::NonNegative);
+  t.finish();
+}
+
+void readMultipath(YamlSection m, ErrorModelConfig& e) {
+  e.multipath.enabled = m.boolean("enabled", e.multipath.enabled);
+  e.multipath.sigma_m = m.number("sigma_m", e.multipath.sigma_m, Bound::NonNegative);
+  e.multipath.time_constant_s = m.number("time_constant_s", e.multipath.time_constant_s, Bound::Positive);
+  m.finish();
+}
+
+void readTroposphere(YamlSection t, ErrorModelConfig& e) {
+  e.troposphere.enabled = t.boolean("enabled", e.troposphere.enabled);
+  readRange(t, "dry_scale_min", "dry_scale_max", e.troposphere.dry_scale_min, e.troposphere.dry_scale_max,
+            Bound::NonNegative);
+  readRange(t, "wet_scale_min", "wet_scale_max", e.troposphere.wet_scale_min, e.troposphere.wet_scale_max,
+            Bound::NonNegative);
+  t.finish();
+}
+
+void readIonosphere(YamlSection i, ErrorModelConfig& e) {
+  e.ionosphere.enabled = i.boolean("enabled", e.ionosphere.enabled);
+  readRange(i, "vtec_min_tecu", "vtec_max_tecu", e.ionosphere.vtec_min_tecu, e.ionosphere.vtec_max_tecu,
+            Bound::NonNegative);
+  e.ionosphere.vtec_rate_max_tecu_per_h =
+      i.number("vtec_rate_max_tecu_per_h", e.ionosphere.vtec_rate_max_tecu_per_h, Bound::NonNegative);
+  e.ionosphere.shell_height_km = i.number("shell_height_km", e.ionosphere.shell_height_km, Bound::Positive);
+  i.finish();
+}
+
+void readReceiverClock(YamlSection c, ErrorModelConfig& e) {
+  auto& r = e.receiver_clock;
+  r.enabled = c.boolean("enabled", r.enabled);
+  r.initial_sigma_s = c.number("initial_sigma_s", r.initial_sigma_s, Bound::NonNegative);
+  r.random_walk_sigma_s = c.number("random_walk_sigma_s", r.random_walk_sigma_s, Bound::NonNegative);
+  r.drift_sigma_s_per_s = c.number("drift_sigma_s_per_s", r.drift_sigma_s_per_s, Bound::NonNegative);
+  r.step_s = c.number("step_s", r.step_s, Bound::NonNegative);
+  r.steps_per_hour = c.number("steps_per_hour", r.steps_per_hour, Bound::NonNegative);
+  r.galileo_offset_sigma_s = c.number("galileo_offset_sigma_s", r.galileo_offset_sigma_s, Bound::NonNegative);
+  if (r.galileo_offset_sigma_s > 1e-3) c.fail("galileo_offset_sigma_s", "must be <= 1 ms");
+  if (r.initial_sigma_s > 1e-3) c.fail("initial_sigma_s", "must be <= 1 ms");
+  c.finish();
+}
+
+void readAmbiguity(YamlSection a, ErrorModelConfig& e) {
+  e.ambiguity.enabled = a.boolean("enabled", e.ambiguity.enabled);
+  e.ambiguity.max_abs_cycles = a.integer("max_abs_cycles", e.ambiguity.max_abs_cycles, 0);
+  if (e.ambiguity.max_abs_cycles > 1000000) a.fail("max_abs_cycles", "must be <= 1000000");
+  e.ambiguity.satellite_phase_biases = a.boolean("satellite_phase_biases", e.ambiguity.satellite_phase_biases);
+  a.finish();
+}
+
+void readPhaseBreaks(YamlSection b, ErrorModelConfig& e) {
+  e.phase_breaks.enabled = b.boolean("enabled", e.phase_breaks.enabled);
+  e.phase_breaks.body_elevation_mask_rad =
+      b.number("body_elevation_mask_deg", e.phase_breaks.body_elevation_mask_rad * kRadToDeg) * kDegToRad;
+  e.phase_breaks.reacquisition_s = b.number("reacquisition_s", e.phase_breaks.reacquisition_s, Bound::NonNegative);
+  b.finish();
+}
+
+void readProducts(YamlSection p, ErrorModelConfig& e) {
+  e.products.enabled = p.boolean("enabled", e.products.enabled);
+  e.products.orbit_sigma_m = p.number("orbit_sigma_m", e.products.orbit_sigma_m, Bound::NonNegative);
+  e.products.clock_sigma_m = p.number("clock_sigma_m", e.products.clock_sigma_m, Bound::NonNegative);
+  e.products.scale_half_range = p.number("scale_half_range", e.products.scale_half_range, Bound::NonNegative);
+  p.finish();
+}
+
 void readErrors(YamlSection s, ErrorModelConfig& e) {
-  {
-    auto t = s.section("thermal");
-    e.thermal.enabled = t.boolean("enabled", e.thermal.enabled);
-    e.thermal.code_sigma_m = t.number("code_sigma_m", e.thermal.code_sigma_m, Bound::NonNegative);
-    const std::string mode = t.choice("phase", e.thermal.phase_mode == PhaseNoiseMode::FixedSigma ? "fixed" : "wavelength_fraction",
-                                      {"fixed", "wavelength_fraction"});
-    e.thermal.phase_mode = mode == "fixed" ? PhaseNoiseMode::FixedSigma : PhaseNoiseMode::WavelengthFraction;
-    e.thermal.phase_sigma_m = t.number("phase_sigma_m", e.thermal.phase_sigma_m, Bound::NonNegative);
-    e.thermal.phase_sigma_cycles = t.number("phase_sigma_cycles", e.thermal.phase_sigma_cycles, Bound::NonNegative);
-    t.finish();
+  readThermal(s.section("thermal"), e);
+  readMultipath(s.section("multipath"), e);
+  readTroposphere(s.section("troposphere"), e);
+  readIonosphere(s.section("ionosphere"), e);
+  readReceiverClock(s.section("receiver_clock"), e);
+  readAmbiguity(s.section("ambiguity"), e);
+  readPhaseBreaks(s.section("phase_breaks"), e);
+  readProducts(s.section("products"), e);
+  s.finish();
+}
+
+/// A list of numbers (finite, >= minimum) under `key`.
+std::vector<double> numbers(YamlSection& s, const std::string& key, double minimum) {
+  std::vector<double> out;
+  for (const std::string& t : s.textList(key, {}, true)) {
+    char* end = nullptr;
+    const double v = std::strtod(t.c_str(), &end);
+    if (t.empty() || *end != '\0' || !std::isfinite(v) || v < minimum)
+      s.fail(key, "expected numbers >= " + format("%g", minimum) + ", got \"" + t + "\"");
+    out.push_back(v);
   }
-  {
-    auto m = s.section("multipath");
-    e.multipath.enabled = m.boolean("enabled", e.multipath.enabled);
-    e.multipath.sigma_m = m.number("sigma_m", e.multipath.sigma_m, Bound::NonNegative);
-    e.multipath.time_constant_s = m.number("time_constant_s", e.multipath.time_constant_s, Bound::Positive);
-    m.finish();
+  return out;
+}
+
+/// observations.outages: { start_s: [..], duration_s: [..] } of equal length.
+void readOutages(YamlSection s, std::vector<SimulationConfig::Outage>& outages) {
+  if (!s.has("start_s") && !s.has("duration_s")) {
+    s.finish();
+    return;
   }
-  {
-    auto t = s.section("troposphere");
-    e.troposphere.enabled = t.boolean("enabled", e.troposphere.enabled);
-    readRange(t, "dry_scale_min", "dry_scale_max", e.troposphere.dry_scale_min, e.troposphere.dry_scale_max,
-              Bound::NonNegative);
-    readRange(t, "wet_scale_min", "wet_scale_max", e.troposphere.wet_scale_min, e.troposphere.wet_scale_max,
-              Bound::NonNegative);
-    t.finish();
+  const std::vector<double> start = numbers(s, "start_s", 0.0);
+  const std::vector<double> duration = numbers(s, "duration_s", 1e-3);
+  if (start.size() != duration.size())
+    s.fail("duration_s", "needs one duration per start (" + std::to_string(start.size()) + " starts, " +
+                             std::to_string(duration.size()) + " durations)");
+  outages.clear();
+  for (std::size_t i = 0; i < start.size(); ++i) outages.push_back({start[i], duration[i]});
+  s.finish();
+}
+
+/// The `imu` section: grade by its key name, rate 1..2000 Hz.
+void readImu(YamlSection s, SimulationConfig::Imu& imu) {
+  imu.enabled = s.boolean("enabled", imu.enabled);
+  if (s.has("grade")) {
+    const std::string g = s.text("grade", "");
+    if (g == "consumer_mems") imu.grade = ImuGrade::ConsumerMems;
+    else if (g == "industrial_mems") imu.grade = ImuGrade::IndustrialMems;
+    else if (g == "tactical") imu.grade = ImuGrade::Tactical;
+    else s.fail("grade", "must be consumer_mems, industrial_mems or tactical, got \"" + g + "\"");
   }
-  {
-    auto i = s.section("ionosphere");
-    e.ionosphere.enabled = i.boolean("enabled", e.ionosphere.enabled);
-    readRange(i, "vtec_min_tecu", "vtec_max_tecu", e.ionosphere.vtec_min_tecu, e.ionosphere.vtec_max_tecu,
-              Bound::NonNegative);
-    e.ionosphere.vtec_rate_max_tecu_per_h =
-        i.number("vtec_rate_max_tecu_per_h", e.ionosphere.vtec_rate_max_tecu_per_h, Bound::NonNegative);
-    e.ionosphere.shell_height_km = i.number("shell_height_km", e.ionosphere.shell_height_km, Bound::Positive);
-    i.finish();
-  }
-  {
-    auto c = s.section("receiver_clock");
-    auto& r = e.receiver_clock;
-    r.enabled = c.boolean("enabled", r.enabled);
-    r.initial_sigma_s = c.number("initial_sigma_s", r.initial_sigma_s, Bound::NonNegative);
-    r.random_walk_sigma_s = c.number("random_walk_sigma_s", r.random_walk_sigma_s, Bound::NonNegative);
-    r.drift_sigma_s_per_s = c.number("drift_sigma_s_per_s", r.drift_sigma_s_per_s, Bound::NonNegative);
-    r.step_s = c.number("step_s", r.step_s, Bound::NonNegative);
-    r.steps_per_hour = c.number("steps_per_hour", r.steps_per_hour, Bound::NonNegative);
-    r.galileo_offset_sigma_s = c.number("galileo_offset_sigma_s", r.galileo_offset_sigma_s, Bound::NonNegative);
-    if (r.galileo_offset_sigma_s > 1e-3) c.fail("galileo_offset_sigma_s", "must be <= 1 ms");
-    if (r.initial_sigma_s > 1e-3) c.fail("initial_sigma_s", "must be <= 1 ms");
-    c.finish();
-  }
-  {
-    auto a = s.section("ambiguity");
-    e.ambiguity.enabled = a.boolean("enabled", e.ambiguity.enabled);
-    e.ambiguity.max_abs_cycles = a.integer("max_abs_cycles", e.ambiguity.max_abs_cycles, 0);
-    if (e.ambiguity.max_abs_cycles > 1000000) a.fail("max_abs_cycles", "must be <= 1000000");
-    e.ambiguity.satellite_phase_biases = a.boolean("satellite_phase_biases", e.ambiguity.satellite_phase_biases);
-    a.finish();
-  }
-  {
-    auto b = s.section("phase_breaks");
-    e.phase_breaks.enabled = b.boolean("enabled", e.phase_breaks.enabled);
-    e.phase_breaks.body_elevation_mask_rad =
-        b.number("body_elevation_mask_deg", e.phase_breaks.body_elevation_mask_rad * kRadToDeg) * kDegToRad;
-    e.phase_breaks.reacquisition_s = b.number("reacquisition_s", e.phase_breaks.reacquisition_s, Bound::NonNegative);
-    b.finish();
-  }
-  {
-    auto p = s.section("products");
-    e.products.enabled = p.boolean("enabled", e.products.enabled);
-    e.products.orbit_sigma_m = p.number("orbit_sigma_m", e.products.orbit_sigma_m, Bound::NonNegative);
-    e.products.clock_sigma_m = p.number("clock_sigma_m", e.products.clock_sigma_m, Bound::NonNegative);
-    e.products.scale_half_range = p.number("scale_half_range", e.products.scale_half_range, Bound::NonNegative);
-    p.finish();
-  }
+  imu.rate_hz = s.number("rate_hz", imu.rate_hz, Bound::Positive);
+  if (imu.rate_hz > 2000.0) s.fail("rate_hz", "must be <= 2000");
+  imu.errors = s.boolean("errors", imu.errors);
   s.finish();
 }
 
@@ -191,9 +253,11 @@ SimulationConfig parseSimulationConfig(const std::string& yaml_text, const std::
       c.quantize = o.boolean("quantize", c.quantize);
       c.marker_name = o.text("marker_name", c.marker_name);
       if (c.marker_name.empty() || c.marker_name.size() > 60) o.fail("marker_name", "1..60 characters");
+      readOutages(o.section("outages"), c.outages);
       o.finish();
     }
     readErrors(top.section("errors"), c.errors);
+    readImu(top.section("imu"), c.imu);
     top.finish();
   } catch (const YAML::Exception& e) {
     throw ConfigError(source_name, "", std::string("YAML error: ") + e.what());

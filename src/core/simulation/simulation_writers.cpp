@@ -184,6 +184,28 @@ void writeBreaksCsv(std::ostream& out, const SimulatedFlight& f) {
         << format(",%.3f\n", b.max_roll_rad * kRadToDeg);
 }
 
+void writeImuCsv(std::ostream& out, const std::vector<ImuSample>& samples) {
+  out << "# gps_week,seconds_of_week,fx,fy,fz,wx,wy,wz\n";
+  for (const ImuSample& s : samples) {
+    const GpsWeekTime w = s.time.gpsWeek();
+    const Eigen::Vector3d& f = s.specific_force_mps2;
+    const Eigen::Vector3d& r = s.angular_rate_radps;
+    out << format("%d,%.9f,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g\n", w.week, w.seconds_of_week, f.x(), f.y(), f.z(),
+                  r.x(), r.y(), r.z());
+  }
+}
+
+void writeImuBiasCsv(std::ostream& out, const SimulatedImu& imu) {
+  out << "gps_week,seconds_of_week,ba_x,ba_y,ba_z,bg_x,bg_y,bg_z\n";
+  for (std::size_t k = 0; k < imu.samples.size() && k < imu.biases.size(); ++k) {
+    const GpsWeekTime w = imu.samples[k].time.gpsWeek();
+    const Eigen::Vector3d& a = imu.biases[k].accel_mps2;
+    const Eigen::Vector3d& g = imu.biases[k].gyro_radps;
+    out << format("%d,%.9f,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g\n", w.week, w.seconds_of_week, a.x(), a.y(), a.z(),
+                  g.x(), g.y(), g.z());
+  }
+}
+
 std::vector<std::string> writeSimulatedFlight(const SimulatedFlight& f, const std::string& directory) {
   std::error_code ec;
   std::filesystem::create_directories(directory, ec);
@@ -212,6 +234,10 @@ std::vector<std::string> writeSimulatedFlight(const SimulatedFlight& f, const st
     for (const auto& l : f.drawn.describe()) o << l << "\n";
     o << "epochs " << f.epochs.size() << ", arcs " << f.arcs.size() << ", phase breaks " << f.breaks.size() << "\n";
   });
+  if (!f.imu.samples.empty()) {
+    write("imu.csv", [&](std::ostream& o) { writeImuCsv(o, f.imu.samples); });
+    write("imu_bias.csv", [&](std::ostream& o) { writeImuBiasCsv(o, f.imu); });
+  }
   return written;
 }
 

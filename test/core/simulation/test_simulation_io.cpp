@@ -217,6 +217,11 @@ TEST(SimulationIo, TemplateConfigurationHoldsTheDefaults) {
   EXPECT_EQ(t.errors.products.scale_half_range, d.errors.products.scale_half_range);
   EXPECT_EQ(t.errors.ambiguity.max_abs_cycles, d.errors.ambiguity.max_abs_cycles);
   EXPECT_EQ(t.errors.ambiguity.satellite_phase_biases, d.errors.ambiguity.satellite_phase_biases);
+  EXPECT_TRUE(t.outages.empty());
+  EXPECT_EQ(t.imu.enabled, d.imu.enabled);
+  EXPECT_EQ(t.imu.grade, d.imu.grade);
+  EXPECT_EQ(t.imu.rate_hz, d.imu.rate_hz);
+  EXPECT_EQ(t.imu.errors, d.imu.errors);
 }
 
 // The demo's preset (scripts/demo.sh): GPS + Galileo, integer ambiguities, the

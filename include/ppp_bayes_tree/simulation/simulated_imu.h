@@ -1,0 +1,66 @@
+#pragma once
+// Simulated IMU: the readings a strapdown IMU fixed to the airframe (body axes of
+// the trajectory: x forward, y right, z down) gives along a simulated flight:
+// the angular rate of the body with respect to inertial space (the Earth's
+// rotation included) and the specific force (the acceleration with respect to
+// inertial space minus the gravitation: at rest it points up with the magnitude
+// of WGS 84 normal gravity), each plus the grade's errors.
+//
+// Method (doc/gnss_ins.md, "Simulated IMU"):
+// - Between the trajectory's samples the motion is interpolated: ECEF position
+//   and velocity by cubic Hermite interpolation of the samples' positions and
+//   velocities (the velocity is the derivative of the position curve), the
+//   attitude (ECEF <- body, from roll/pitch/yaw in the local NED frame) along the
+//   geodesic between the samples' rotations (a constant body rate in between).
+// - Reading k covers [t_k, t_k + dt] and is the mean over that interval, in the
+//   body axes at t_k, measured in the inertial frame that coincides with ECEF at
+//   t_k (Q = Exp(w_e dt) takes ECEF at t_k + dt into it):
+//     gyro  = Log(R_k^T Q R_k+1) / dt,
+//     force = R_k^T ((Q (v_k+1 + w_e x p_k+1) - (v_k + w_e x p_k)) / dt - Exp(w_e dt/2) gamma(p_mid)),
+//   gamma = normal gravity + w_e x (w_e x p) (the gravitation), p_mid the position
+//   at t_k + dt/2. Integrated reading by reading with each reading held over its
+//   interval (ImuPreintegration), the true readings give back the interpolated
+//   attitude and velocity at every reading time up to rounding (the sums
+//   telescope), the position to the trapezoidal rule's error, and hence the
+//   trajectory at its samples.
+// - Errors per axis: white noise N(0, density^2 / dt), a turn-on bias
+//   N(0, bias instability^2) and a bias random walk with increments
+//   N(0, random-walk density^2 dt), each from its own sub-stream of the seed.
+#include <cstdint>
+#include <vector>
+
+#include "ppp_bayes_tree/navigation/imu_bias.h"
+#include "ppp_bayes_tree/navigation/imu_noise.h"
+#include "ppp_bayes_tree/navigation/imu_sample.h"
+#include "ppp_bayes_tree/simulation/flight_trajectory.h"
+
+namespace ppp {
+
+struct SimulatedImuOptions {
+  double rate_hz = 200.0;
+  ImuNoise noise = imuNoisePreset(ImuGrade::IndustrialMems);
+  bool errors = true;  ///< false: the true readings (no noise, no bias)
+};
+
+/// The readings of a flight with the truth of their errors.
+struct SimulatedImu {
+  ImuNoise noise;                  ///< the parameters the errors were drawn with
+  std::vector<ImuSample> samples;  ///< at t_0 + k / rate, each held until the next
+  std::vector<ImuBias> biases;     ///< the true bias of each reading (zero without errors)
+};
+
+/// The error-free readings at t_0 + k / rate_hz, k = 0 .. floor((t_last - t_0) rate_hz) - 1,
+/// the last one ending at or before the trajectory's last sample. Throws
+/// std::invalid_argument for a rate <= 0, fewer than two samples or times that
+/// do not increase.
+std::vector<ImuSample> trueImuReadings(const std::vector<TrajectorySample>& trajectory, double rate_hz);
+
+/// The readings with the errors of options.noise drawn from `seed` (the same
+/// seed gives the same readings).
+SimulatedImu simulateImu(const std::vector<TrajectorySample>& trajectory, const SimulatedImuOptions& options,
+                         std::uint64_t seed);
+
+/// The rotation ECEF <- body of a trajectory sample (attitude in the local NED frame at its position).
+Eigen::Matrix3d ecefFromBody(const TrajectorySample& sample);
+
+}  // namespace ppp
