@@ -297,7 +297,8 @@ void writeSummaries(const PppSolveRequest& req, PppSolveOutcome& out) {
 }  // namespace
 
 // One ppp_solve run, as steps:
-//   1. the estimator's name is checked before any file is read; the output folder made;
+//   1. the estimator's name (and an inertial one's IMU readings) is checked before
+//      any file is read; the output folder made;
 //   2. the pipeline reads the products (they decide the systems and PPP-AR,
 //      product_assembly.h); the registry makes the estimator;
 //   3. the epochs go through the estimator, the per-epoch files written as they come;
@@ -306,6 +307,9 @@ PppSolveOutcome solvePpp(const PppSolveRequest& req) {
   std::string why;
   if (!makeEstimator(req.estimator, req.config, &why)) throw std::invalid_argument(why);  // 1
   const EstimatorEntry& entry = *findEstimator(req.estimator);
+  const bool inertial = entry.state == EstimatedState::GnssInertial;
+  if (inertial && req.imu.empty())
+    throw std::invalid_argument("estimator '" + req.estimator + "' needs IMU readings (ppp_solve --imu FILE); none given");
   std::error_code ec;
   std::filesystem::create_directories(req.out_dir, ec);
   if (!std::filesystem::is_directory(req.out_dir)) throw std::runtime_error("cannot create directory " + req.out_dir);
@@ -313,6 +317,7 @@ PppSolveOutcome solvePpp(const PppSolveRequest& req) {
   std::unique_ptr<PppPipeline> owned_pipeline =  // 2
       req.make_pipeline ? req.make_pipeline(req.config) : std::make_unique<PppPipeline>(req.files, req.config);
   PppPipeline& pipeline = *owned_pipeline;
+  if (inertial) pipeline.setImu(req.imu);
   auto estimator = makeEstimator(req.estimator, pipeline.config(), &why);
   if (!estimator) throw std::invalid_argument(why);
   PppSolveOutcome out = plannedOutputs(req, entry, pipeline, *estimator);

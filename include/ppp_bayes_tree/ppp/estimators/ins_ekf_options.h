@@ -17,9 +17,13 @@ struct InsEkfOptions {
   InsBiasModel bias_model;
   /// Antenna phase centre minus IMU origin, in the body frame [m].
   Eigen::Vector3d lever_arm_body_m = Eigen::Vector3d::Zero();
-  /// The attitude at the start, R_ecef_body. Without it the filter does not start
-  /// (status no solution, "no initial attitude").
+  /// The attitude at the start, R_ecef_body. Without it, with initial_heading_rad,
+  /// roll and pitch come from levelling the readings up to the first epoch (at rest,
+  /// ins_alignment.h); with neither the filter does not start (status no solution,
+  /// "no initial attitude").
   std::optional<Eigen::Matrix3d> initial_rotation_ecef_body;
+  /// Heading of the body x axis at the start, from north, clockwise [rad].
+  std::optional<double> initial_heading_rad;
   /// The IMU's velocity at the start, ECEF [m/s] (zero: a start at rest).
   Eigen::Vector3d initial_velocity_ecef_mps = Eigen::Vector3d::Zero();
   /// A priori sigmas of the attitude [rad] (each axis) and of the velocity [m/s].

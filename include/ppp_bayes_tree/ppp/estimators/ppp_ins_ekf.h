@@ -25,7 +25,8 @@
 // the interval (a gap longer than max_imu_interval_s) end the inertial solution:
 // that epoch and every later one report NoImuReadings (no GNSS-only fallback).
 // The start is the code least squares of the first epoch (as the EKF) with the
-// given attitude and velocity (InsEkfOptions); PPP-AR is not done (float).
+// given attitude (or a given heading and the levelling of the readings up to the
+// first epoch, at rest) and velocity (InsEkfOptions); PPP-AR is not done (float).
 #include <Eigen/Core>
 #include <optional>
 #include <string>
@@ -84,6 +85,7 @@ class PppInsEkf : public PppEkf {
 
   /// d(receiver state)/d(core) at x (layout dim x coreDim()).
   Eigen::MatrixXd receiverJacobianAt(const Eigen::VectorXd& x) const;
+  std::optional<Eigen::Matrix3d> initialAttitude(const Eigen::Vector3d& position_ecef_m);
   bool startNominal(const ReceiverState& start);
   bool propagateTo(const GnssTime& time);
   bool stepWith(double dt_s);

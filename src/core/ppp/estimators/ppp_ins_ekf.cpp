@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "ppp_bayes_tree/navigation/ins_alignment.h"
 #include "ppp_bayes_tree/navigation/ins_error_state.h"
 #include "ppp_bayes_tree/navigation/ins_mechanization.h"
 #include "ppp_bayes_tree/navigation/so3.h"
@@ -111,11 +112,26 @@ void PppInsEkf::receiveEpochInput(const EstimatorEpochInput& input) {
   if (input.imu) pending_ = *input.imu;
 }
 
-bool PppInsEkf::startNominal(const ReceiverState& start) {
-  if (!ins_.initial_rotation_ecef_body) {
-    epoch_problem_ = {NoSolutionReason::NoInitialAttitude, "no initial attitude: none given to the GNSS/INS filter"};
-    return false;
+std::optional<Eigen::Matrix3d> PppInsEkf::initialAttitude(const Eigen::Vector3d& position_ecef_m) {
+  if (ins_.initial_rotation_ecef_body) return ins_.initial_rotation_ecef_body;
+  if (!ins_.initial_heading_rad) {
+    epoch_problem_ = {NoSolutionReason::NoInitialAttitude,
+                      "no initial attitude: neither an attitude nor a heading given to the GNSS/INS filter"};
+    return std::nullopt;
   }
+  const LevelingResult level = levelFromStaticInterval(pending_, position_ecef_m);
+  if (level.status != LevelingStatus::Level) {
+    epoch_problem_ = {NoSolutionReason::NoInitialAttitude,
+                      "no initial attitude: levelling the " + std::to_string(pending_.size()) +
+                          " readings up to the start refused: " + levelingStatusText(level.status)};
+    return std::nullopt;
+  }
+  return rotationEcefNed(position_ecef_m) * rotationNedBody(level.roll_rad, level.pitch_rad, *ins_.initial_heading_rad);
+}
+
+bool PppInsEkf::startNominal(const ReceiverState& start) {
+  const std::optional<Eigen::Matrix3d> attitude = initialAttitude(start.position_ecef_m);
+  if (!attitude) return false;
   held_.reset();
   for (const ImuSample& s : pending_)
     if (s.time - epoch_time_ <= 0.0) held_ = s;
@@ -124,7 +140,7 @@ bool PppInsEkf::startNominal(const ReceiverState& start) {
                       "no IMU reading at or before the start " + epoch_time_.toString()};
     return false;
   }
-  nominal_.rotation_world_body = *ins_.initial_rotation_ecef_body;
+  nominal_.rotation_world_body = *attitude;
   nominal_.velocity_world_mps = ins_.initial_velocity_ecef_mps;
   nominal_.position_world_m = start.position_ecef_m - nominal_.rotation_world_body * ins_.lever_arm_body_m;
   bias_ = ImuBias{};
@@ -133,8 +149,11 @@ bool PppInsEkf::startNominal(const ReceiverState& start) {
 
 ReceiverState PppInsEkf::predict(double dt_s, bool first, const std::optional<ReceiverState>& start) {
   if (start) {
-    startNominal(*start);
     work_ = initialFilter(*start);
+    if (!startNominal(*start)) {  // the epoch fails with the reason (solve, finishEpoch)
+      pending_.clear();
+      return *start;
+    }
   } else if (!first) {
     if (propagateTo(*lastTime() + dt_s)) predictFilter(f_, dt_s, false);
     work_ = f_;

@@ -165,6 +165,22 @@ TEST(EstimatorRegistry, EveryRegisteredEstimatorSolvesASimulatedFlight) {
   }
 }
 
+// An estimator with inertial states is refused without IMU readings, before any
+// file is read (ppp_solve --estimator ekf_ins needs --imu).
+TEST(EstimatorRegistry, AnInertialEstimatorWithoutImuReadingsIsRefusedBeforeAnyFile) {
+  PppSolveRequest request;
+  request.estimator = "ekf_ins";
+  request.files.obs = "/nonexistent/obs.rnx";
+  request.out_dir = "/nonexistent/out";
+  try {
+    solvePppEstimators(request);
+    ADD_FAILURE() << "ekf_ins ran without IMU readings";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("'ekf_ins' needs IMU readings (ppp_solve --imu FILE)"), std::string::npos)
+        << e.what();
+  }
+}
+
 TEST(EstimatorRegistry, AsTheClassAskedForOrRefused) {
   std::string why;
   const std::unique_ptr<PppSmoother> smoother = makeEstimatorAs<PppSmoother>("smoother", PppConfig{}, &why);
