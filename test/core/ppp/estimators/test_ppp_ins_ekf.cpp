@@ -13,6 +13,8 @@
 #include <vector>
 
 #include "analytic_trajectory.h"
+#include "ppp_bayes_tree/navigation/ins_alignment.h"
+#include "ppp_bayes_tree/navigation/navigation_frame.h"
 #include "ppp_bayes_tree/navigation/so3.h"
 #include "ppp_bayes_tree/ppp/estimators/estimator_registry.h"
 #include "ppp_bayes_tree/ppp/estimators/ppp_ins_ekf.h"
@@ -277,6 +279,44 @@ TEST(PppInsEkf, SaysWhyWithoutAnAttitudeOrWithoutImuReadings) {
   EXPECT_EQ(c.status, EpochStatus::NoSolution);
   EXPECT_EQ(c.no_solution_reason, NoSolutionReason::NoImuReadings);
   EXPECT_NE(c.reason.find("gap of"), std::string::npos) << c.reason;
+}
+
+// Without a given attitude: roll and pitch from levelling the readings up to the
+// first epoch (at rest), the heading given; too few readings are refused, said so.
+TEST(PppInsEkf, StartsFromLevellingWithAGivenHeading) {
+  sim::Simulator sim;
+  const Eigen::Matrix3d truth = rotationEcefNed(sim.position) * rotationNedBody(0.02, -0.03, 0.7);
+  ImuSample at_rest;  // gravity and the Earth rate in the body axes, noise-free
+  at_rest.specific_force_mps2 = -truth.transpose() * ecefNavigationFrame(sim.position).gravity_world_mps2;
+  at_rest.angular_rate_radps = truth.transpose() * Eigen::Vector3d(0.0, 0.0, 7.2921151467e-5);
+  std::vector<ImuSample> readings;
+  for (int k = 200; k >= 0; --k) {
+    at_rest.time = sim.time() - 0.01 * k;
+    readings.push_back(at_rest);
+  }
+  const MeasurementFunction evaluate = sim::modelOf(sim.epoch());
+  EstimatorEpochInput input;
+  input.time = sim.time();
+  input.evaluate = &evaluate;
+  input.imu = &readings;
+  EstimatorOptions options;
+  options.ins.initial_heading_rad = 0.7;
+  std::string why;
+  auto ins = makeEstimatorAs<PppInsEkf>("ekf_ins", options, &why);
+  ASSERT_TRUE(ins) << why;
+  const EstimatorEpochResult r = ins->processEpoch(input);
+  ASSERT_EQ(r.status, EpochStatus::Ok) << r.reason;
+  const double error_rad = so3::logMap(truth.transpose() * ins->navState().rotation_world_body).norm();
+  std::printf("levelled start: attitude error %.2e rad\n", error_rad);
+  EXPECT_LT(error_rad, 1e-9);  // noise-free readings at rest: roll and pitch to rounding
+
+  auto few = makeEstimatorAs<PppInsEkf>("ekf_ins", options, &why);
+  const std::vector<ImuSample> ten(readings.end() - 10, readings.end());
+  input.imu = &ten;
+  const EstimatorEpochResult f = few->processEpoch(input);
+  EXPECT_EQ(f.no_solution_reason, NoSolutionReason::NoInitialAttitude);
+  EXPECT_NE(f.reason.find("levelling the 10 readings up to the start refused: too few samples"), std::string::npos)
+      << f.reason;
 }
 
 }  // namespace
