@@ -15,7 +15,9 @@
 // --imu-grade: the IMU's noise preset (default industrial); --lever-arm: antenna
 // minus IMU in the body frame [m] (default 0,0,0); --imu-heading: the heading of
 // the body x axis at the start [deg from north, clockwise]; roll and pitch come from
-// levelling the readings up to the first epoch (the platform at rest).
+// levelling the readings up to the first epoch (the platform at rest). ekf_ins
+// writes the EKF's files under <name>_ekf_ins* and <name>_ekf_ins_attitude.csv
+// (attitude and velocity after each epoch; doc/gnss_ins.md).
 // --start/--end (GPST): only the epochs in [start, end) are processed (e.g. one
 // hour of a day file; io/rinex/time_window_source.h); either may be given alone.
 // Several --config files are laid one on another in order, as the nodes load
