@@ -4,7 +4,7 @@
 // usage: ppp_solve (--obs F | --rtcm F [--ref-date YYYY/MM/DD] | --ubx F)
 //                  (--sp3 F... --clk F... | --nav F... [--ssr F [--ssr-reference com|apc|apc-l1]])
 //                  --atx F... [--bia F] [--blq F]
-//                  [--config YAML...] [--estimator ekf|smoother|both] [--truth X,Y,Z] [--name N] --out DIR
+//                  [--config YAML...] [--estimator ekf|smoother|ekf_ins|both] [--truth X,Y,Z] [--name N] --out DIR
 // (the estimators: ppp/estimators/estimator_registry.h; --help lists them)
 //                  [--no-product-checks] [--start "YYYY/MM/DD HH:MM:SS"] [--end "YYYY/MM/DD HH:MM:SS"]
 //                  [--imu F [--imu-format csv|logged] [--imu-tag F] [--imu-grade consumer|industrial|tactical]
@@ -137,6 +137,15 @@ std::optional<std::string> parseImuOption(const std::string& a, int argc, char**
   return std::string();
 }
 
+/// What is wrong with the IMU options for `estimator`; empty when nothing.
+std::string imuUsageProblem(const std::string& estimator, const ImuArgs& imu) {
+  const ppp::EstimatorEntry* chosen = ppp::findEstimator(estimator);
+  if (chosen && chosen->state == ppp::EstimatedState::GnssInertial && imu.path.empty())
+    return "--estimator " + estimator + " needs IMU readings: --imu FILE";
+  if (imu.logged && imu.tag_path.empty()) return "--imu-format logged needs --imu-tag (the time-tag file)";
+  return {};
+}
+
 /// The IMU readings of --imu; the file's problems on stderr (each with its line).
 std::vector<ppp::ImuSample> readImu(const ImuArgs& imu) {
   if (imu.logged) {
@@ -243,10 +252,7 @@ int main(int argc, char** argv) {
     }
   }
   if (std::string why; !ppp::selectEstimators(req.estimator, &why)) return usage("--estimator: " + why);
-  const ppp::EstimatorEntry* chosen = ppp::findEstimator(req.estimator);
-  if (chosen && chosen->state == ppp::EstimatedState::GnssInertial && imu.path.empty())
-    return usage("--estimator " + req.estimator + " needs IMU readings: --imu FILE");
-  if (imu.logged && imu.tag_path.empty()) return usage("--imu-format logged needs --imu-tag (the time-tag file)");
+  if (const std::string why = imuUsageProblem(req.estimator, imu); !why.empty()) return usage(why);
   if (req.files.obs.empty()) return usage("one of --obs, --rtcm and --ubx is required");
   if (const std::string why = ppp::fileProductInputsProblem(ppp::productInputsGiven(req.files)); !why.empty())
     return usage(why);
