@@ -4,9 +4,20 @@
 // usage: ppp_solve (--obs F | --rtcm F [--ref-date YYYY/MM/DD] | --ubx F)
 //                  (--sp3 F... --clk F... | --nav F... [--ssr F [--ssr-reference com|apc|apc-l1]])
 //                  --atx F... [--bia F] [--blq F]
-//                  [--config YAML...] [--estimator ekf|smoother|both] [--truth X,Y,Z] [--name N] --out DIR
+//                  [--config YAML...] [--estimator ekf|smoother|ekf_ins|both] [--truth X,Y,Z] [--name N] --out DIR
 // (the estimators: ppp/estimators/estimator_registry.h; --help lists them)
 //                  [--no-product-checks] [--start "YYYY/MM/DD HH:MM:SS"] [--end "YYYY/MM/DD HH:MM:SS"]
+//                  [--imu F [--imu-format csv|logged] [--imu-tag F] [--imu-grade consumer|industrial|tactical]
+//                   [--lever-arm X,Y,Z] [--imu-heading DEG]]
+// --imu: the IMU readings of the GNSS/INS filter (--estimator ekf_ins, which needs
+// them; the other estimators ignore them): the plain CSV (default, doc/gnss_ins.md)
+// or a logged IMU CSV with its RTKLIB time-tag file (--imu-format logged --imu-tag F).
+// --imu-grade: the IMU's noise preset (default industrial); --lever-arm: antenna
+// minus IMU in the body frame [m] (default 0,0,0); --imu-heading: the heading of
+// the body x axis at the start [deg from north, clockwise]; roll and pitch come from
+// levelling the readings up to the first epoch (the platform at rest). ekf_ins
+// writes the EKF's files under <name>_ekf_ins* and <name>_ekf_ins_attitude.csv
+// (attitude and velocity after each epoch; doc/gnss_ins.md).
 // --start/--end (GPST): only the epochs in [start, end) are processed (e.g. one
 // hour of a day file; io/rinex/time_window_source.h); either may be given alone.
 // Several --config files are laid one on another in order, as the nodes load
@@ -37,14 +48,18 @@
 // solved or an error (the file and line named); 2 usage.
 #include <unistd.h>
 
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <iostream>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <vector>
 
 #include "ppp_bayes_tree/app/ppp_solve_run.h"
+#include "ppp_bayes_tree/io/imu/imu_csv_reader.h"
+#include "ppp_bayes_tree/io/imu/logged_imu_reader.h"
 #include "ppp_bayes_tree/io/transport/stream_format.h"
 #include "ppp_bayes_tree/models/satellite_reference_point.h"
 #include "ppp_bayes_tree/ppp/estimators/estimator_registry.h"
@@ -60,6 +75,8 @@ int usage(const std::string& why) {
             << "                 [--config YAML...] [--estimator " << ppp::registeredEstimatorNames("|") << '|'
             << ppp::kAllEstimators << "] [--truth X,Y,Z] [--name N] --out DIR\n"
             << "                 [--no-product-checks] [--start \"YYYY/MM/DD HH:MM:SS\"] [--end \"YYYY/MM/DD HH:MM:SS\"]\n"
+            << "                 [--imu F [--imu-format csv|logged] [--imu-tag F] [--imu-grade consumer|industrial|tactical]\n"
+            << "                  [--lever-arm X,Y,Z] [--imu-heading DEG]]  (ekf_ins needs --imu)\n"
             << "estimators (--estimator; default " << ppp::kDefaultEstimator << ", "
             << ppp::kAllEstimators << ": each in turn):\n";
   for (const ppp::EstimatorEntry& e : ppp::kEstimators) std::cerr << "  " << e.name << ": " << e.description << "\n";
@@ -82,6 +99,67 @@ bool parseTruth(const std::string& s, Eigen::Vector3d& t) {
   return k == 3;
 }
 
+/// The IMU options of the GNSS/INS filter.
+struct ImuArgs {
+  std::string path, tag_path;
+  bool logged = false;
+  ppp::InsEkfOptions ins;
+};
+
+/// Parses one IMU option at argv[i] (moving i past its value): nullopt when `a` is
+/// none of them, "" when parsed, else the usage error.
+std::optional<std::string> parseImuOption(const std::string& a, int argc, char** argv, int& i, ImuArgs& imu) {
+  const bool has_value = i + 1 < argc;
+  const std::string v = has_value ? argv[i + 1] : "";
+  if (a != "--imu" && a != "--imu-format" && a != "--imu-tag" && a != "--imu-grade" && a != "--lever-arm" &&
+      a != "--imu-heading")
+    return std::nullopt;
+  if (!has_value) return a + " needs a value";
+  ++i;
+  if (a == "--imu") imu.path = v;
+  else if (a == "--imu-tag") imu.tag_path = v;
+  else if (a == "--imu-format") {
+    if (v != "csv" && v != "logged") return std::string("--imu-format needs csv or logged");
+    imu.logged = v == "logged";
+  } else if (a == "--imu-grade") {
+    if (v == "consumer") imu.ins.noise = ppp::imuNoisePreset(ppp::ImuGrade::ConsumerMems);
+    else if (v == "industrial") imu.ins.noise = ppp::imuNoisePreset(ppp::ImuGrade::IndustrialMems);
+    else if (v == "tactical") imu.ins.noise = ppp::imuNoisePreset(ppp::ImuGrade::Tactical);
+    else return std::string("--imu-grade needs consumer, industrial or tactical");
+  } else if (a == "--lever-arm") {
+    if (!parseTruth(v, imu.ins.lever_arm_body_m)) return std::string("--lever-arm needs X,Y,Z in metres (body frame)");
+  } else {
+    char* end = nullptr;
+    const double deg = std::strtod(v.c_str(), &end);
+    if (end == v.c_str() || *end != '\0' || !std::isfinite(deg)) return std::string("--imu-heading needs degrees");
+    imu.ins.initial_heading_rad = deg * M_PI / 180.0;
+  }
+  return std::string();
+}
+
+/// What is wrong with the IMU options for `estimator`; empty when nothing.
+std::string imuUsageProblem(const std::string& estimator, const ImuArgs& imu) {
+  const ppp::EstimatorEntry* chosen = ppp::findEstimator(estimator);
+  if (chosen && chosen->state == ppp::EstimatedState::GnssInertial && imu.path.empty())
+    return "--estimator " + estimator + " needs IMU readings: --imu FILE";
+  if (imu.logged && imu.tag_path.empty()) return "--imu-format logged needs --imu-tag (the time-tag file)";
+  return {};
+}
+
+/// The IMU readings of --imu; the file's problems on stderr (each with its line).
+std::vector<ppp::ImuSample> readImu(const ImuArgs& imu) {
+  if (imu.logged) {
+    ppp::LoggedImuRead read = ppp::readLoggedImu(imu.path, imu.tag_path);
+    if (!read.report.clean()) std::cerr << "ppp_solve: IMU file " << imu.path << ":\n" << read.report.summary() << "\n";
+    return std::move(read.samples);
+  }
+  ppp::ImuCsvRead read = ppp::readImuCsv(imu.path);
+  if (!read.report.clean()) std::cerr << "ppp_solve: IMU file " << imu.path << ":\n" << read.report.summary() << "\n";
+  if (read.units_look_like_g)
+    std::cerr << "ppp_solve: IMU file " << imu.path << ": the specific force looks like g, read as m/s^2\n";
+  return std::move(read.samples);
+}
+
 /// Progress bar on stderr (only when stderr is a terminal).
 void drawProgress(double fraction, const ppp::PppEpochRecord& rec) {
   const int width = 30;
@@ -97,6 +175,7 @@ int main(int argc, char** argv) {
   ppp::PppSolveRequest req;
   std::vector<std::string> config_paths;
   std::vector<std::string>* list = nullptr;  // the multi-file option being filled
+  ImuArgs imu;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     auto value = [&](std::string& dst) {
@@ -120,7 +199,9 @@ int main(int argc, char** argv) {
       continue;
     }
     list = nullptr;
-    if (a == "--obs") {
+    if (const auto imu_problem = parseImuOption(a, argc, argv, i, imu)) {
+      if (!imu_problem->empty()) return usage(*imu_problem);
+    } else if (a == "--obs") {
       if (!req.files.obs.empty() || !value(req.files.obs)) return usage("--obs needs a file (and no --rtcm/--ubx)");
     } else if (a == "--rtcm") {  // an RTCM 3 recording (MSM) as the observations
       if (!req.files.obs.empty() || !value(req.files.obs)) return usage("--rtcm needs an RTCM 3 file (and no --obs/--ubx)");
@@ -171,6 +252,7 @@ int main(int argc, char** argv) {
     }
   }
   if (std::string why; !ppp::selectEstimators(req.estimator, &why)) return usage("--estimator: " + why);
+  if (const std::string why = imuUsageProblem(req.estimator, imu); !why.empty()) return usage(why);
   if (req.files.obs.empty()) return usage("one of --obs, --rtcm and --ubx is required");
   if (const std::string why = ppp::fileProductInputsProblem(ppp::productInputsGiven(req.files)); !why.empty())
     return usage(why);
@@ -181,6 +263,8 @@ int main(int argc, char** argv) {
 
   try {
     if (!config_paths.empty()) req.config = ppp::loadPppConfig(config_paths);
+    req.config.ins = imu.ins;
+    if (!imu.path.empty()) req.imu = readImu(imu);
     const bool tty = isatty(STDERR_FILENO) != 0;
     if (tty) req.on_epoch = drawProgress;
     const std::vector<ppp::PppSolveOutcome> runs = ppp::solvePppEstimators(req);

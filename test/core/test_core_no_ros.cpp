@@ -156,7 +156,7 @@ const std::map<std::string, std::set<std::string>>& allowedIncludes() {
         {"ppp/model", {"models", "smoother"}},
         {"ppp/screening", {"ppp/model"}},
         {"ppp/ambiguity", {"ppp/model"}},
-        {"ppp/estimators", {"ppp/screening", "ppp/ambiguity"}},
+        {"ppp/estimators", {"ppp/screening", "ppp/ambiguity", "navigation"}},
         {"ppp/config", {"ppp/estimators"}},
         {"ppp/pipeline", {"ppp/config"}},
         {"simulation", {"ppp/pipeline", "io/imu"}},
@@ -309,6 +309,22 @@ TEST(CoreLayering, DetectorKnowsTheDirectionInsidePppAndIo) {
   EXPECT_EQ(layeringViolations(tmp, "io/ubx").size(), 9u);         // ppp (6), products, rtcm, transport
   EXPECT_EQ(layeringViolations(tmp, "io/transport").size(), 7u);   // ppp (6), products
   EXPECT_EQ(layeringViolations(tmp, "models").size(), 6u);         // ppp (6): models see all of io
+  fs::remove(tmp);
+}
+
+TEST(CoreLayering, EstimatorsSitAboveNavigationNotTheOtherWay) {
+  const fs::path tmp = writeProbe("ppp_core_layering_navigation_probe.h",
+                                  {"#include \"ppp_bayes_tree/navigation/ins_error_state.h\"",
+                                   "#include \"ppp_bayes_tree/ppp/estimators/ppp_ins_ekf.h\"",
+                                   "#include \"ppp_bayes_tree/io/imu/imu_csv_reader.h\""});
+  // The GNSS/INS estimator includes the navigation layer; the readers of IMU files stay above it.
+  const auto estimators = layeringViolations(tmp, "ppp/estimators");
+  ASSERT_EQ(estimators.size(), 1u);  // io/imu
+  EXPECT_NE(estimators[0].find("ppp/estimators includes io/imu"), std::string::npos) << estimators[0];
+  // The navigation layer includes nothing of ppp nor of io.
+  const auto navigation = layeringViolations(tmp, "navigation");
+  ASSERT_EQ(navigation.size(), 2u);  // ppp/estimators, io/imu
+  EXPECT_NE(navigation[0].find("navigation includes ppp/estimators"), std::string::npos) << navigation[0];
   fs::remove(tmp);
 }
 

@@ -24,6 +24,9 @@ struct PppSolveRequest {
   PppInputFiles files;
   PppConfig config;
   std::string estimator = std::string(kDefaultEstimator);  // a registered name or "both" (estimator_registry.h)
+  /// IMU readings for an estimator with inertial states ("ekf_ins"; it needs them,
+  /// the others ignore them). Its options: config.ins.
+  std::vector<ImuSample> imu;
   std::optional<Eigen::Vector3d> truth_ecef_m;
   /// A moving truth instead (a simulated flight's true antenna path, e.g.
   /// TruthTrajectory::at of app/replay_report.h): the truth at an epoch, nullopt

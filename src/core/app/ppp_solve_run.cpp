@@ -9,14 +9,18 @@
 #include <fstream>
 #include <limits>
 #include <map>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
+#include <utility>
 
 #include "ppp_bayes_tree/evaluation/rtklib_pos.h"
 #include "ppp_bayes_tree/evaluation/solution_csv_writer.h"
 #include "ppp_bayes_tree/io/data_file_name.h"
 #include "ppp_bayes_tree/io/untrusted_text.h"
+#include "ppp_bayes_tree/navigation/ins_alignment.h"
 #include "ppp_bayes_tree/ppp/estimators/estimator_registry.h"
+#include "ppp_bayes_tree/ppp/estimators/ppp_ins_ekf.h"
 #include "ppp_bayes_tree/types/constants.h"
 #include "ppp_bayes_tree/types/number_text.h"
 #include "ppp_bayes_tree/types/text_format.h"
@@ -151,6 +155,45 @@ PppSolveOutcome plannedOutputs(const PppSolveRequest& req, const EstimatorEntry&
   out.epochs_path = stem + "_epochs.csv";
   out.residuals_path = stem + "_residuals.csv";
   return out;
+}
+
+/// The GNSS/INS filter's attitude and velocity after each epoch, also through
+/// epochs without a GNSS solution (<stem>_attitude.csv): the ZYX Euler angles of
+/// R_ned_body (ins_alignment.h) and the velocity in the local level frame.
+class AttitudeFile {
+ public:
+  AttitudeFile(std::string path, const PppInsEkf& ins) : path_(std::move(path)), out_(openOut(path_)), ins_(ins) {
+    out_ << "time_gpst,status,roll_deg,pitch_deg,heading_deg,velocity_north_mps,velocity_east_mps,velocity_down_mps\n";
+  }
+  void write(const PppEpochRecord& rec) {
+    if (rec.refused || !ins_.navTime() || !(*ins_.navTime() == rec.solution.time)) return;
+    const NavState& s = ins_.navState();
+    const Eigen::Matrix3d ecef_ned = rotationEcefNed(s.position_world_m);
+    const EulerAngles e = eulerAngles(ecef_ned.transpose() * s.rotation_world_body);
+    const Eigen::Vector3d v = ecef_ned.transpose() * s.velocity_world_mps;
+    out_ << isoTimeText(rec.solution.time, 1) << ',' << solutionStatusName(rec.solution.status) << ','
+         << fixedDecimals(e.roll_rad * kRadToDeg, 4) << ',' << fixedDecimals(e.pitch_rad * kRadToDeg, 4) << ','
+         << fixedDecimals(e.yaw_rad * kRadToDeg, 4) << ',' << fixedDecimals(v.x(), 4) << ','
+         << fixedDecimals(v.y(), 4) << ',' << fixedDecimals(v.z(), 4) << '\n';
+  }
+  void finish() {
+    out_.flush();
+    if (!out_) throw std::runtime_error("cannot write " + path_);
+  }
+
+ private:
+  std::string path_;
+  std::ofstream out_;
+  const PppInsEkf& ins_;
+};
+
+/// The attitude file of an estimator with inertial states; none for the others.
+std::optional<AttitudeFile> attitudeFile(const PppSolveOutcome& out, const PppEstimator& estimator) {
+  const auto* ins = dynamic_cast<const PppInsEkf*>(&estimator);
+  if (!ins) return std::nullopt;
+  const std::string epochs_suffix = "_epochs.csv";
+  return std::optional<AttitudeFile>(std::in_place,
+      out.epochs_path.substr(0, out.epochs_path.size() - epochs_suffix.size()) + "_attitude.csv", *ins);
 }
 
 /// The per-epoch files (epochs, residuals) written as the run goes, and what the
@@ -297,7 +340,8 @@ void writeSummaries(const PppSolveRequest& req, PppSolveOutcome& out) {
 }  // namespace
 
 // One ppp_solve run, as steps:
-//   1. the estimator's name is checked before any file is read; the output folder made;
+//   1. the estimator's name (and an inertial one's IMU readings) is checked before
+//      any file is read; the output folder made;
 //   2. the pipeline reads the products (they decide the systems and PPP-AR,
 //      product_assembly.h); the registry makes the estimator;
 //   3. the epochs go through the estimator, the per-epoch files written as they come;
@@ -306,6 +350,9 @@ PppSolveOutcome solvePpp(const PppSolveRequest& req) {
   std::string why;
   if (!makeEstimator(req.estimator, req.config, &why)) throw std::invalid_argument(why);  // 1
   const EstimatorEntry& entry = *findEstimator(req.estimator);
+  const bool inertial = entry.state == EstimatedState::GnssInertial;
+  if (inertial && req.imu.empty())
+    throw std::invalid_argument("estimator '" + req.estimator + "' needs IMU readings (ppp_solve --imu FILE); none given");
   std::error_code ec;
   std::filesystem::create_directories(req.out_dir, ec);
   if (!std::filesystem::is_directory(req.out_dir)) throw std::runtime_error("cannot create directory " + req.out_dir);
@@ -313,16 +360,20 @@ PppSolveOutcome solvePpp(const PppSolveRequest& req) {
   std::unique_ptr<PppPipeline> owned_pipeline =  // 2
       req.make_pipeline ? req.make_pipeline(req.config) : std::make_unique<PppPipeline>(req.files, req.config);
   PppPipeline& pipeline = *owned_pipeline;
+  if (inertial) pipeline.setImu(req.imu);
   auto estimator = makeEstimator(req.estimator, pipeline.config(), &why);
   if (!estimator) throw std::invalid_argument(why);
   PppSolveOutcome out = plannedOutputs(req, entry, pipeline, *estimator);
 
   EpochFiles files(out, estimator->smoothing() != nullptr, req.write_timings);  // 3
+  std::optional<AttitudeFile> attitude = attitudeFile(out, *estimator);
   out.run = pipeline.run(*estimator, [&](const PppEpochRecord& rec) {
     files.write(rec);
+    if (attitude) attitude->write(rec);
     if (req.on_epoch) req.on_epoch(pipeline.progress(), rec);
   });
   files.finish(req.out_dir);
+  if (attitude) attitude->finish();
 
   writeSolutions(req, *estimator, files, out);  // 4
   writeSummaries(req, out);

@@ -14,6 +14,7 @@
 #include "ppp_bayes_tree/navigation/so3.h"
 #include "ppp_bayes_tree/types/constants.h"
 #include "ppp_bayes_tree/types/frames.h"
+#include "analytic_trajectory.h"
 
 namespace ppp {
 namespace {
@@ -24,12 +25,7 @@ Eigen::Vector3d stationOrigin() {
   return geodeticToEcef(Geodetic{47.4 * kDegToRad, 8.5 * kDegToRad, 500.0});
 }
 
-Eigen::Matrix3d rotationEcefEnu(const Eigen::Vector3d& origin_ecef_m) {
-  const Geodetic g = ecefToGeodetic(origin_ecef_m);
-  return rotationEnuFromEcef(g.latitude_rad, g.longitude_rad).transpose();
-}
-
-Eigen::Matrix3d rotationZ(double angle_rad) { return so3::expMap(Eigen::Vector3d(0.0, 0.0, angle_rad)); }
+using test::rotationEcefEnu;
 
 TEST(EcefInsMechanization, StaticNoiseFreeImuStaysStillFor60sAt200Hz) {
   // A level-ish IMU (tilted and turned) at rest reads gravity and the Earth rate in
@@ -57,36 +53,8 @@ TEST(EcefInsMechanization, StaticNoiseFreeImuStaysStillFor60sAt200Hz) {
 }
 
 // ---- A constant-rate turn at constant speed in the local tangent plane -------------
-// p(t) = p0 + C_en rho (sin wt, 1 - cos wt, 0), body x along the velocity, body z up:
-// R_eb = C_en Rz(wt). The IMU reads w_ib = (0, 0, w) + R_eb^T w_ie and
-// f_b = R_eb^T (a - g(p) + 2 w_ie x v) (Groves eq. 5.36 solved for the specific force).
-struct Turn {
-  Eigen::Vector3d origin = stationOrigin();
-  Eigen::Matrix3d c_en = rotationEcefEnu(stationOrigin());
-  double speed_mps = 10.0;
-  double rate_radps = 0.2;
-  double radius_m() const { return speed_mps / rate_radps; }
-
-  NavState state(double t) const {
-    const double a = rate_radps * t;
-    NavState s;
-    s.position_world_m = origin + c_en * (radius_m() * Eigen::Vector3d(std::sin(a), 1.0 - std::cos(a), 0.0));
-    s.velocity_world_mps = c_en * (speed_mps * Eigen::Vector3d(std::cos(a), std::sin(a), 0.0));
-    s.rotation_world_body = c_en * rotationZ(a);
-    return s;
-  }
-  ImuSample reading(double t) const {
-    const NavState s = state(t);
-    const double a = rate_radps * t;
-    const Eigen::Vector3d accel = c_en * (speed_mps * rate_radps * Eigen::Vector3d(-std::sin(a), std::cos(a), 0.0));
-    const Eigen::Vector3d force_ecef = accel - ecefNavigationFrame(s.position_world_m).gravity_world_mps2 +
-                                       2.0 * kEarthRate.cross(s.velocity_world_mps);
-    ImuSample out;
-    out.specific_force_mps2 = s.rotation_world_body.transpose() * force_ecef;
-    out.angular_rate_radps = Eigen::Vector3d(0.0, 0.0, rate_radps) + s.rotation_world_body.transpose() * kEarthRate;
-    return out;
-  }
-};
+// (test/support/analytic_trajectory.h: the trajectory and its noise-free readings)
+using Turn = test::AnalyticTurn;
 
 struct RunErrors {
   double position_m, velocity_mps, attitude_rad;
@@ -111,7 +79,7 @@ TEST(EcefInsMechanization, ReproducesAnAnalyticTurnOnTheRotatingEarthToSecondOrd
   // and position, gravity at the mid-interval position), so the error grows as dt^2:
   // its leading term is of order T^2 dt^2 w^2 |a| / 12 = 60^2 (1/200)^2 0.04 2 / 12
   // = 6e-4 m at 200 Hz; halving dt must divide it by about 4.
-  const Turn turn;
+  const Turn turn = Turn::at(stationOrigin());
   const RunErrors e100 = runTurn(turn, 60.0, 100.0);
   const RunErrors e200 = runTurn(turn, 60.0, 200.0);
   std::printf("turn 60 s: 100 Hz %.2e m %.2e m/s %.2e rad; 200 Hz %.2e m %.2e m/s %.2e rad\n", e100.position_m,

@@ -57,6 +57,8 @@ struct PppConfig {
   CycleSlipOptions cycle_slip_options;
   SsrStreamOptions ssr;
   AmbiguityResolutionOptions ambiguity_resolution;  // `ambiguity_resolution:` (PPP-AR)
+  /// The GNSS/INS filter's options (ppp_solve --imu-grade, --lever-arm; no YAML section).
+  InsEkfOptions ins;
   /// The raw sections as written (already bound into the three members above).
   YAML::Node measurement_model = YAML::Node(YAML::NodeType::Map);
   YAML::Node cycle_slip = YAML::Node(YAML::NodeType::Map);
@@ -67,7 +69,7 @@ struct PppConfig {
   std::string source_name = "<defaults>";  // the file it came from (for later error messages)
 
   /// What an estimator is built from (EstimatorOptions: stochastic, estimator,
-  /// start, smoother, signals.systems, ambiguity_resolution). Implicit, so that an
+  /// start, smoother, signals.systems, ambiguity_resolution, ins). Implicit, so that an
   /// estimator is made from the whole configuration as from its own options
   /// (makeEstimator(name, config, &why)).
   operator EstimatorOptions() const;

@@ -1,9 +1,11 @@
 #pragma once
 // EstimatorEpochInput: what the pipeline gives an estimator (PppEstimator,
 // ppp_estimator.h) for one epoch: the linearisation of its measurements, its
-// usable observations with their arcs, the arcs that ended and the phase biases.
+// usable observations with their arcs, the arcs that ended, the phase biases
+// and the IMU readings since the previous epoch.
 #include <vector>
 
+#include "ppp_bayes_tree/navigation/imu_sample.h"
 #include "ppp_bayes_tree/ppp/model/arc_tracker.h"
 #include "ppp_bayes_tree/ppp/model/measurement_function.h"
 #include "ppp_bayes_tree/types/gnss_time.h"
@@ -28,6 +30,9 @@ struct EstimatorEpochInput {
   /// Satellite phase OSBs consistent with the clocks (phase_bias_consistency.h);
   /// nullptr when the products allow no integer ambiguities (float).
   const BiasProvider* phase_biases = nullptr;
+  /// The IMU readings after the previous epoch up to this one (time order);
+  /// nullptr without an IMU. Only an estimator with inertial states reads them.
+  const std::vector<ImuSample>* imu = nullptr;
 };
 
 }  // namespace ppp

@@ -32,12 +32,15 @@ namespace ppp {
 /// The state an estimator estimates.
 enum class EstimatedState {
   GnssReceiver,  // receiver position, zenith wet delay, clocks (gradients), phase biases
+  GnssInertial,  // INS error state (attitude, velocity, position, IMU biases), zenith wet delay, clocks, phase biases
 };
 
 constexpr std::string_view estimatedStateText(EstimatedState state) {
   switch (state) {
     case EstimatedState::GnssReceiver:
       return "GNSS receiver (position, zenith wet delay, clocks, phase biases)";
+    case EstimatedState::GnssInertial:
+      return "GNSS and inertial (attitude, velocity, position, IMU biases, zenith wet delay, clocks, phase biases)";
   }
   return "unknown";
 }
@@ -68,14 +71,23 @@ struct EstimatorEntry {
 // through the table (makeEstimator), not called by name.
 std::unique_ptr<PppEstimator> makePppEkf(const EstimatorOptions& options);
 std::unique_ptr<PppEstimator> makePppSmoother(const EstimatorOptions& options);
+std::unique_ptr<PppEstimator> makePppInsEkf(const EstimatorOptions& options);
 
 /// Every estimator, in the order in which "both" runs them and tables list them.
-inline constexpr std::array<EstimatorEntry, 2> kEstimators{{
+/// "both" runs the estimators of the GNSS receiver state only (runsInAll): an
+/// estimator with inertial states needs IMU readings and is run by its name.
+inline constexpr std::array<EstimatorEntry, 3> kEstimators{{
     {"ekf", "EKF", "forward extended Kalman filter (PppEkf): filtered solution",
      EstimatorSolutions::Filtered, EstimatedState::GnssReceiver, true, &makePppEkf},
     {"smoother", "smoother", "incremental smoother (iSAM2, PppSmoother): filtered and smoothed solutions",
      EstimatorSolutions::FilteredAndSmoothed, EstimatedState::GnssReceiver, true, &makePppSmoother},
+    {"ekf_ins", "EKF GNSS/INS",
+     "tightly coupled GNSS/INS error-state Kalman filter (PppInsEkf, needs --imu): filtered solution",
+     EstimatorSolutions::Filtered, EstimatedState::GnssInertial, false, &makePppInsEkf},
 }};
+
+/// Whether kAllEstimators ("both") runs the estimator: the GNSS receiver state only.
+constexpr bool runsInAll(const EstimatorEntry& entry) { return entry.state == EstimatedState::GnssReceiver; }
 
 /// Number of estimators the Monte Carlo study runs.
 constexpr std::size_t monteCarloStudyCount() {
@@ -94,7 +106,8 @@ inline constexpr std::array<std::string_view, monteCarloStudyCount()> kMonteCarl
   return names;
 }();
 
-/// The option value that runs every registered estimator (one pipeline each).
+/// The option value that runs every registered estimator of the GNSS receiver
+/// state (runsInAll; one pipeline each).
 inline constexpr std::string_view kAllEstimators = "both";
 
 /// Total number of solutions of all registered estimators (the Monte Carlo columns).
@@ -138,7 +151,7 @@ std::set<std::string> estimatorChoices();
 inline constexpr std::string_view kDefaultEstimator = kEstimators.front().name;
 
 /// The estimators an option value selects: one registered name, or kAllEstimators
-/// for all of them (registry order). nullopt for anything else, with `why` (when
+/// for those that runsInAll (registry order). nullopt for anything else, with `why` (when
 /// given) naming the value and listing the accepted ones.
 std::optional<std::vector<const EstimatorEntry*>> selectEstimators(std::string_view value, std::string* why = nullptr);
 

@@ -76,7 +76,6 @@ class PppEkf : public PppEstimator {
   int biasCount() const override { return activeBiasCount(); }
   void resolveAmbiguities(const EstimatorEpochInput& input, EstimatorEpochResult& result) override;
 
- private:
   struct BiasSlot {
     ArcId arc = 0;
     SatelliteId satellite;
@@ -86,11 +85,42 @@ class PppEkf : public PppEstimator {
     Eigen::MatrixXd P;
     std::vector<BiasSlot> biases;
   };
+
+  // The seam of a filter whose states before the phase biases (its core) are
+  // not the receiver state itself (the GNSS/INS filter, ppp_ins_ekf.h). The
+  // defaults are the EKF's: the core is the receiver state in its layout.
+  /// Number of states before the phase biases.
+  virtual int coreDim() const { return layout_.dim(); }
+  /// State index of a receiver-layout index other than the position.
+  virtual int coreIndex(int receiver_index) const { return receiver_index; }
+  int clockIndex(GnssSystem system) const { return coreIndex(layout_.clock(system)); }
+  /// The receiver state (the measurement model's point) at the filter state x.
+  virtual ReceiverState receiverStateAt(const Eigen::VectorXd& x) const;
+  /// The covariance of receiverStateAt(x) from the filter covariance P.
+  virtual ReceiverCovariance receiverCovarianceAt(const Eigen::VectorXd& x, const Eigen::MatrixXd& P) const;
+  /// A measurement's Jacobian (over the receiver layout) as a row over the core at x.
+  virtual Eigen::RowVectorXd coreJacobian(const SatelliteMeasurement& m, const Eigen::VectorXd& x) const;
+  /// The filter of a start at `state` (a priori sigmas, no biases).
+  virtual Filter initialFilter(const ReceiverState& state) const;
+  /// Adds the process noise over dt_s (nothing when `first`).
+  virtual void predictFilter(Filter& f, double dt_s, bool first) const;
+  /// The process noise over dt_s of the states other than the position (zenith
+  /// wet delay, gradients, white clocks, phase biases).
+  void predictDelaysClocksBiases(Filter& f, double dt_s) const;
+  /// Last step of an update before it is committed (e.g. a closed-loop reset).
+  virtual void closeLoop(Filter& /*f*/) {}
+
+  bool initialised_ = false;
+  bool fresh_ = false;  // initialised, no epoch processed yet
+  GnssTime last_time_;
+  Filter f_;
+  Filter work_;  // the prediction of the epoch being processed
+
+ private:
   struct Row;
   struct Attempt;
   enum class UpdateStep { Done, Restart, Failed };
 
-  Filter initialFilter(const ReceiverState& state) const;
   // The steps of solve() (numbered there).
   Filter shiftedPrediction(const EpochSolveInput& in) const;
   std::vector<Row> updateRows(const EpochSolveInput& in, const std::set<SatelliteId>& excluded, Filter& fa) const;
@@ -103,16 +133,10 @@ class PppEkf : public PppEstimator {
   bool josephCovariance(Attempt& a, EstimatorEpochResult& result) const;
   bool postfitRejects(Attempt& a, std::set<SatelliteId>& excluded, EstimatorEpochResult& result) const;
   void commitUpdate(const EpochSolveInput& in, Attempt a, EpochSolveOutput& out);
-  void predictFilter(Filter& f, double dt_s, bool first) const;
   static void removeBias(Filter& f, std::size_t slot, int receiver_dim);
   static int findBias(const Filter& f, ArcId arc);
 
   EkfOptions options_;
-  bool initialised_ = false;
-  bool fresh_ = false;  // initialised, no epoch processed yet
-  GnssTime last_time_;
-  Filter f_;
-  Filter work_;  // the prediction of the epoch being processed
 };
 
 }  // namespace ppp

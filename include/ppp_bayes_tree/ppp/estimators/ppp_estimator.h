@@ -85,6 +85,9 @@ class PppEstimator {
   /// PPP-AR on this epoch's float solution (the estimator's own step, called with
   /// phase biases only): fixes through resolver(), sets the result's summary.
   virtual void resolveAmbiguities(const EstimatorEpochInput& input, EstimatorEpochResult& result) = 0;
+  /// The pipeline's input of the epoch, before the measurement epoch runs (e.g. the
+  /// IMU readings of an estimator with inertial states); nothing by default.
+  virtual void receiveEpochInput(const EstimatorEpochInput& /*input*/) {}
 
   /// A measurement that passed the prefit screening.
   struct ScreenedMeasurement {

@@ -45,6 +45,8 @@ enum class NoSolutionReason {
   SmootherUpdateFailed,     // the iSAM2 update threw (indeterminate system)
   NonFiniteFilteredEstimate,
   InconsistentSolution,     // postfit residuals fail the consistency test (withheld)
+  NoImuReadings,            // an inertial estimator lacks IMU readings over the interval
+  NoInitialAttitude,        // an inertial estimator was given no attitude to start from
 };
 std::string toString(NoSolutionReason reason);
 

@@ -22,6 +22,7 @@
 #include "ppp_bayes_tree/ppp/model/ppp_measurement_model.h"
 #include "ppp_bayes_tree/ppp/model/signal_selection.h"
 #include "ppp_bayes_tree/ppp/pipeline/ppp_pipeline.h"
+#include "ppp_bayes_tree/navigation/imu_sample.h"
 #include "ppp_bayes_tree/types/obs_epoch.h"
 
 namespace ppp {
@@ -48,6 +49,10 @@ class PppEpochProcessor {
   /// Phase OSBs consistent with the clocks, handed to the estimators for
   /// ambiguity resolution (nullptr, the default: none, float).
   void setPhaseBiases(const BiasProvider* phase_biases);
+  /// IMU readings in time order (nullable, must outlive the processor): each epoch
+  /// hands the estimator those after the previous epoch up to its own time
+  /// (EstimatorEpochInput::imu; the first epoch: all up to its time).
+  void setImu(const std::vector<ImuSample>* readings);
 
   /// Replaces the observation types (the signal selector is rebuilt; arcs and
   /// wind-up continue). The receiver antenna is not changed.

@@ -34,6 +34,7 @@
 #include "ppp_bayes_tree/models/bias_provider.h"
 #include "ppp_bayes_tree/models/ephemeris_source.h"
 #include "ppp_bayes_tree/models/precise_ephemeris.h"
+#include "ppp_bayes_tree/navigation/imu_sample.h"
 #include "ppp_bayes_tree/ppp/estimators/ppp_estimator.h"
 #include "ppp_bayes_tree/ppp/config/ppp_config.h"
 #include "ppp_bayes_tree/ppp/model/ppp_measurement_model.h"
@@ -231,6 +232,10 @@ class PppPipeline {
   /// What the receiver antenna policy "warn" left out (once each; see PppMeasurementModel).
   const std::vector<std::string>& receiverAntennaWarnings() const;
 
+  /// IMU readings for an estimator with inertial states (EstimatorEpochInput::imu),
+  /// sorted by time here; each epoch gets those since the previous one. Set before run().
+  void setImu(std::vector<ImuSample> readings);
+
   using EpochCallback = std::function<void(const PppEpochRecord&)>;
   /// Runs the whole observation file through `estimator` (once per pipeline:
   /// the file is streamed). `on_epoch` gets every epoch record, in order.
@@ -252,6 +257,7 @@ class PppPipeline {
   void finishNotes(const RunTally& tally, PppRunSummary& summary) const;
   PppConfig config_;
   std::unique_ptr<Impl> impl_;
+  std::vector<ImuSample> imu_;
 };
 
 }  // namespace ppp

@@ -152,6 +152,7 @@ PppConfig::operator EstimatorOptions() const {
   o.systems = signals.systems;
   o.troposphere_gradients = model.estimate_troposphere_gradients;
   o.ambiguity_resolution = ambiguity_resolution;
+  o.ins = ins;
   return o;
 }
 

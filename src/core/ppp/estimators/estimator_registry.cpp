@@ -2,6 +2,7 @@
 
 #include "ppp_bayes_tree/ppp/estimators/estimator_options.h"
 #include "ppp_bayes_tree/ppp/estimators/ppp_ekf.h"
+#include "ppp_bayes_tree/ppp/estimators/ppp_ins_ekf.h"
 #include "ppp_bayes_tree/ppp/estimators/ppp_smoother.h"
 
 namespace ppp {
@@ -14,12 +15,31 @@ std::unique_ptr<PppEstimator> makePppSmoother(const EstimatorOptions& options) {
   return std::make_unique<PppSmoother>(options);
 }
 
+std::unique_ptr<PppEstimator> makePppInsEkf(const EstimatorOptions& options) {
+  return std::make_unique<PppInsEkf>(options);
+}
+
+namespace {
+
+/// The names "both" runs, joined by `separator`.
+std::string allEstimatorNames(std::string_view separator) {
+  std::string out;
+  for (const EstimatorEntry& e : kEstimators) {
+    if (!runsInAll(e)) continue;
+    if (!out.empty()) out += separator;
+    out += e.name;
+  }
+  return out;
+}
+
+}  // namespace
+
 std::unique_ptr<PppEstimator> makeEstimator(std::string_view name, const EstimatorOptions& options, std::string* why) {
   if (const EstimatorEntry* e = findEstimator(name)) return e->make(options);
   if (why) {
     const std::string value(name);
     *why = name == kAllEstimators ? "estimator '" + value + "' is run by the caller as " +
-                                        registeredEstimatorNames(" and ") + " (one pipeline each)"
+                                        allEstimatorNames(" and ") + " (one pipeline each)"
                                   : "unknown estimator '" + value + "' (expected " +
                                         registeredEstimatorNames(" or ") + ")";
   }
@@ -51,7 +71,8 @@ std::set<std::string> estimatorChoices() {
 std::optional<std::vector<const EstimatorEntry*>> selectEstimators(std::string_view value, std::string* why) {
   if (value == kAllEstimators) {
     std::vector<const EstimatorEntry*> all;
-    for (const EstimatorEntry& e : kEstimators) all.push_back(&e);
+    for (const EstimatorEntry& e : kEstimators)
+      if (runsInAll(e)) all.push_back(&e);
     return all;
   }
   if (const EstimatorEntry* e = findEstimator(value)) return std::vector<const EstimatorEntry*>{e};

@@ -102,12 +102,24 @@ void PppEkf::initialise(const GnssTime& time, const ReceiverState& state) {
 
 ReceiverState PppEkf::receiverState() const {
   if (!initialised_) return ReceiverState(layout_);
-  return ReceiverState::fromVector(f_.x.head(layout_.dim()), layout_);
+  return receiverStateAt(f_.x);
 }
 
 ReceiverCovariance PppEkf::receiverCovariance() const {
   if (!initialised_) return ReceiverCovariance::Zero(layout_.dim(), layout_.dim());
-  return f_.P.topLeftCorner(layout_.dim(), layout_.dim());
+  return receiverCovarianceAt(f_.x, f_.P);
+}
+
+ReceiverState PppEkf::receiverStateAt(const Eigen::VectorXd& x) const {
+  return ReceiverState::fromVector(x.head(layout_.dim()), layout_);
+}
+
+ReceiverCovariance PppEkf::receiverCovarianceAt(const Eigen::VectorXd& /*x*/, const Eigen::MatrixXd& P) const {
+  return P.topLeftCorner(layout_.dim(), layout_.dim());
+}
+
+Eigen::RowVectorXd PppEkf::coreJacobian(const SatelliteMeasurement& m, const Eigen::VectorXd& /*x*/) const {
+  return m.jacobian;
 }
 
 std::vector<ArcId> PppEkf::activeArcs() const {
@@ -125,13 +137,13 @@ int PppEkf::findBias(const Filter& f, ArcId arc) {
 std::optional<double> PppEkf::biasEstimate_m(ArcId arc) const {
   const int i = findBias(f_, arc);
   if (i < 0) return std::nullopt;
-  return f_.x(layout_.dim() + i);
+  return f_.x(coreDim() + i);
 }
 
 std::optional<double> PppEkf::biasSigma_m(ArcId arc) const {
   const int i = findBias(f_, arc);
   if (i < 0) return std::nullopt;
-  const int k = layout_.dim() + i;
+  const int k = coreDim() + i;
   return std::sqrt(f_.P(k, k));
 }
 
@@ -153,7 +165,7 @@ void PppEkf::removeBias(Filter& f, std::size_t slot, int receiver_dim) {
 
 void PppEkf::arcRemoved(ArcId arc) {
   const int i = findBias(f_, arc);
-  if (i >= 0) removeBias(f_, static_cast<std::size_t>(i), layout_.dim());
+  if (i >= 0) removeBias(f_, static_cast<std::size_t>(i), coreDim());
 }
 
 void PppEkf::predictFilter(Filter& f, double dt_s, bool first) const {
@@ -161,20 +173,25 @@ void PppEkf::predictFilter(Filter& f, double dt_s, bool first) const {
   const double q_pos = model_.position.processVariance_m2(dt_s);
   for (int i = 0; i < ReceiverStateLayout::kPositionSize; ++i)
     f.P(layout_.position() + i, layout_.position() + i) += q_pos;
-  f.P(layout_.zwd(), layout_.zwd()) += model_.zwd.processVariance_m2(dt_s);
+  predictDelaysClocksBiases(f, dt_s);
+}
+
+void PppEkf::predictDelaysClocksBiases(Filter& f, double dt_s) const {
+  const int zwd = coreIndex(layout_.zwd());
+  f.P(zwd, zwd) += model_.zwd.processVariance_m2(dt_s);
   if (layout_.hasGradients()) {
-    for (const int g : {layout_.gradientNorth(), layout_.gradientEast()})
+    for (const int g : {coreIndex(layout_.gradientNorth()), coreIndex(layout_.gradientEast())})
       f.P(g, g) += model_.troposphere_gradient.processVariance_m2(dt_s);
   }
   // White clocks: no memory, correlations removed, variance reset.
   for (const GnssSystem system : layout_.clockSystems()) {
-    const int c = layout_.clock(system);
+    const int c = clockIndex(system);
     f.P.row(c).setZero();
     f.P.col(c).setZero();
     f.P(c, c) = model_.clock.processVariance_m2(dt_s);
   }
   const double q_bias = model_.phase_bias.processVariance_m2(dt_s);
-  for (Eigen::Index i = layout_.dim(); i < f.P.rows(); ++i) f.P(i, i) += q_bias;
+  for (Eigen::Index i = coreDim(); i < f.P.rows(); ++i) f.P(i, i) += q_bias;
 }
 
 Eigen::MatrixXd PppEkf::predictedCovariance(double dt_s) const {
@@ -190,13 +207,13 @@ ReceiverState PppEkf::predict(double dt_s, bool first, const std::optional<Recei
     work_ = f_;
     predictFilter(work_, dt_s, first);
   }
-  return ReceiverState::fromVector(work_.x.head(layout_.dim()), layout_);
+  return receiverStateAt(work_.x);
 }
 
 std::optional<ArcBiasPrior> PppEkf::predictedBias(ArcId arc) const {
   const int slot = findBias(work_, arc);
   if (slot < 0) return std::nullopt;
-  const int k = layout_.dim() + slot;
+  const int k = coreDim() + slot;
   return ArcBiasPrior{work_.x(k), work_.P(k, k)};
 }
 
@@ -242,9 +259,9 @@ bool PppEkf::solve(const EpochSolveInput& in, EpochSolveOutput& out, EstimatorEp
 }
 
 PppEkf::Filter PppEkf::shiftedPrediction(const EpochSolveInput& in) const {
-  const int kRx = layout_.dim();
+  const int kRx = coreDim();
   Filter fp = work_;
-  for (const GnssSystem system : layout_.clockSystems()) fp.x(layout_.clock(system)) = in.predicted.clock_m(system);
+  for (const GnssSystem system : layout_.clockSystems()) fp.x(clockIndex(system)) = in.predicted.clock_m(system);
   for (const ArcId arc : in.dropped_arcs) {
     const int slot = findBias(fp, arc);
     if (slot >= 0) removeBias(fp, static_cast<std::size_t>(slot), kRx);
@@ -254,7 +271,7 @@ PppEkf::Filter PppEkf::shiftedPrediction(const EpochSolveInput& in) const {
 
 std::vector<PppEkf::Row> PppEkf::updateRows(const EpochSolveInput& in, const std::set<SatelliteId>& excluded,
                                             Filter& fa) const {
-  const int kRx = layout_.dim();
+  const int kRx = coreDim();
   std::vector<Row> rows;
   for (std::size_t k = 0; k < in.screened.size(); ++k) {
     const SatelliteMeasurement& m = in.screened[k].m;
@@ -300,7 +317,7 @@ PppEkf::UpdateStep PppEkf::iterateUpdate(const EpochSolveInput& in, Attempt& a, 
 
 bool PppEkf::relinearise(const EpochSolveInput& in, Attempt& a, std::set<SatelliteId>& excluded,
                          EstimatorEpochResult& result) const {
-  const EpochMeasurements again = (*in.evaluate)(ReceiverState::fromVector(a.x_lin.head(layout_.dim()), layout_));
+  const EpochMeasurements again = (*in.evaluate)(receiverStateAt(a.x_lin));
   result.iterations += 1;
   for (auto& row : a.rows) {
     auto found = std::find_if(again.used.begin(), again.used.end(),
@@ -320,15 +337,16 @@ bool PppEkf::relinearise(const EpochSolveInput& in, Attempt& a, std::set<Satelli
 }
 
 void PppEkf::linearSystem(Attempt& a, double code_variance_factor) const {
-  const int kRx = layout_.dim();
+  const int kRx = coreDim();
   const int n_sat = a.satellites();
   a.H = Eigen::MatrixXd::Zero(2 * n_sat, a.f.x.size());
   a.R.resize(2 * n_sat);
   a.y_lin.resize(2 * n_sat);
   for (int k = 0; k < n_sat; ++k) {
     const auto& row = a.rows[k];
-    a.H.block(2 * k, 0, 1, kRx) = row.m.jacobian;
-    a.H.block(2 * k + 1, 0, 1, kRx) = row.m.jacobian;
+    const Eigen::RowVectorXd jacobian = coreJacobian(row.m, a.x_lin);
+    a.H.block(2 * k, 0, 1, kRx) = jacobian;
+    a.H.block(2 * k + 1, 0, 1, kRx) = jacobian;
     a.H(2 * k + 1, row.bias_index) = 1.0;
     a.R(2 * k) = row.m.code_sigma_m * row.m.code_sigma_m * code_variance_factor;
     a.R(2 * k + 1) = row.m.phase_sigma_m * row.m.phase_sigma_m;
@@ -388,6 +406,7 @@ bool PppEkf::postfitRejects(Attempt& a, std::set<SatelliteId>& excluded, Estimat
 void PppEkf::commitUpdate(const EpochSolveInput& in, Attempt a, EpochSolveOutput& out) {
   a.f.x = a.x_new;
   a.f.P = std::move(a.P);
+  closeLoop(a.f);
   f_ = std::move(a.f);
   last_time_ = in.time;
   initialised_ = true;

@@ -32,6 +32,7 @@ bool floatWithoutPhaseBiases(const EstimatorEpochInput& input, EstimatorEpochRes
 
 EstimatorEpochResult PppEstimator::processEpoch(const EstimatorEpochInput& input) {
   if (input.ended_arcs) arcsEnded(*input.ended_arcs);
+  receiveEpochInput(input);
   last_ = processEpoch(input.time, *input.evaluate, input.evaluate_start);
   if (ambiguity_.options().enabled && !floatWithoutPhaseBiases(input, last_)) resolveAmbiguities(input, last_);
   return last_;

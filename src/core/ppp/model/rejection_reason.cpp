@@ -41,6 +41,8 @@ std::string toString(NoSolutionReason reason) {
     case NoSolutionReason::SmootherUpdateFailed: return "smoother update failed";
     case NoSolutionReason::NonFiniteFilteredEstimate: return "non-finite filtered estimate";
     case NoSolutionReason::InconsistentSolution: return "residuals inconsistent with the covariance";
+    case NoSolutionReason::NoImuReadings: return "no IMU readings over the interval";
+    case NoSolutionReason::NoInitialAttitude: return "no initial attitude";
   }
   return "unknown";
 }

@@ -11,6 +11,9 @@ struct PppEpochProcessor::Impl {
   PppConfig config;
   const BiasProvider* biases = nullptr;
   const BiasProvider* phase_biases = nullptr;  // consistent with the clocks (PPP-AR)
+  const std::vector<ImuSample>* imu = nullptr;  // IMU readings (time order), nullable
+  std::size_t imu_next = 0;                     // the first reading not yet handed on
+  std::vector<ImuSample> imu_epoch;             // the readings of this epoch
   std::unique_ptr<PppMeasurementModel> model;
   std::unique_ptr<SignalSelector> selector;
   ArcTracker tracker;
@@ -34,6 +37,8 @@ struct PppEpochProcessor::Impl {
   void selectSignals(const ObsEpoch& epoch, PppEpochRecord& rec, std::vector<SignalSelectionNote>* selection_notes);
   /// The usable satellites and their arcs; new arcs and slips counted.
   void keepUsableArcs(const ArcEpochResult& arc_result, PppEpochRecord& rec);
+  /// The IMU readings after the previous epoch up to `time` (nullptr without an IMU).
+  const std::vector<ImuSample>* imuUpTo(const GnssTime& time);
   /// The estimator's step over the single measurement model of the usable satellites.
   EstimatorEpochResult estimate(const GnssTime& time, const ArcEpochResult& arc_result, PppEstimator& estimator);
 };
@@ -64,6 +69,18 @@ PppEpochProcessor::PppEpochProcessor(const RinexObsHeader& header, const PppConf
 PppEpochProcessor::~PppEpochProcessor() = default;
 
 void PppEpochProcessor::setPhaseBiases(const BiasProvider* phase_biases) { impl_->phase_biases = phase_biases; }
+
+void PppEpochProcessor::setImu(const std::vector<ImuSample>* readings) {
+  impl_->imu = readings;
+  impl_->imu_next = 0;
+}
+
+const std::vector<ImuSample>* PppEpochProcessor::Impl::imuUpTo(const GnssTime& time) {
+  if (!imu) return nullptr;
+  imu_epoch.clear();
+  while (imu_next < imu->size() && (*imu)[imu_next].time - time <= 0.0) imu_epoch.push_back((*imu)[imu_next++]);
+  return &imu_epoch;
+}
 
 void PppEpochProcessor::setObservationTypes(const RinexObsHeader& header) {
   impl_->header.obs_types = header.obs_types;
@@ -216,6 +233,7 @@ EstimatorEpochResult PppEpochProcessor::Impl::estimate(const GnssTime& time, con
   input.arcs = &arcs;
   input.ended_arcs = &arc_result.ended;
   input.phase_biases = phase_biases;
+  input.imu = imuUpTo(time);
   return estimator.processEpoch(input);
 }
 

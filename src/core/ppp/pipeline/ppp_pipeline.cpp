@@ -335,6 +335,13 @@ std::vector<std::string> PppPipeline::notes() const {
   return n;
 }
 
+void PppPipeline::setImu(std::vector<ImuSample> readings) {
+  std::stable_sort(readings.begin(), readings.end(),
+                   [](const ImuSample& a, const ImuSample& b) { return a.time - b.time < 0.0; });
+  imu_ = std::move(readings);
+  impl_->processor->setImu(&imu_);
+}
+
 const std::vector<std::string>& PppPipeline::receiverAntennaWarnings() const {
   return impl_->processor->receiverAntennaWarnings();
 }

@@ -53,7 +53,7 @@ TEST(EstimatorRegistry, NamesRoundTripThroughTheParserAndTheFactory) {
     const std::unique_ptr<PppEstimator> from_row = entry.make(PppConfig{});
     ASSERT_TRUE(from_row);
     EXPECT_EQ(typeid(*from_row), typeid(*estimator));
-    EXPECT_EQ(entry.state, EstimatedState::GnssReceiver);
+    EXPECT_EQ(runsInAll(entry), entry.state == EstimatedState::GnssReceiver);
     EXPECT_FALSE(estimatedStateText(entry.state).empty());
     const std::vector<EstimatorSolution> solutions = solutionOutputs(entry);
     ASSERT_EQ(static_cast<int>(solutions.size()), entry.solutionCount());
@@ -63,11 +63,16 @@ TEST(EstimatorRegistry, NamesRoundTripThroughTheParserAndTheFactory) {
       EXPECT_TRUE(tags.insert(s.tag).second) << "tag " << s.tag << " given twice";
     }
   }
-  // "both" selects every registered estimator, in the table's order.
+  // "both" selects the estimators of the GNSS receiver state, in the table's order:
+  // the EKF and the smoother, not the GNSS/INS filter (it needs IMU readings).
   const auto all = selectEstimators(kAllEstimators);
   ASSERT_TRUE(all.has_value());
-  ASSERT_EQ(all->size(), kEstimators.size());
-  for (std::size_t i = 0; i < kEstimators.size(); ++i) EXPECT_EQ((*all)[i], &kEstimators[i]);
+  std::vector<std::string_view> all_names;
+  for (const EstimatorEntry* e : *all) all_names.push_back(e->name);
+  EXPECT_EQ(all_names, (std::vector<std::string_view>{"ekf", "smoother"}));
+  ASSERT_NE(findEstimator("ekf_ins"), nullptr);
+  EXPECT_EQ(findEstimator("ekf_ins")->state, EstimatedState::GnssInertial);
+  EXPECT_FALSE(runsInAll(*findEstimator("ekf_ins")));
   EXPECT_EQ(estimatorChoices().size(), kEstimators.size() + 1);
   EXPECT_EQ(kDefaultEstimator, kEstimators.front().name);
   EXPECT_EQ(registeredSolutionCount(), static_cast<int>(tags.size()));
@@ -77,6 +82,22 @@ TEST(EstimatorRegistry, NamesRoundTripThroughTheParserAndTheFactory) {
 void expectListsEveryEstimator(const std::string& text) {
   for (const EstimatorEntry& e : kEstimators)
     EXPECT_NE(text.find(std::string(e.name)), std::string::npos) << "'" << e.name << "' missing in: " << text;
+}
+
+/// What ppp_solve's entry point says refusing `estimator` on files that do not
+/// exist (it must refuse before reading any); empty, with a failure, when it ran.
+std::string refusalBeforeAnyFile(const std::string& estimator) {
+  PppSolveRequest request;
+  request.estimator = estimator;
+  request.files.obs = "/nonexistent/obs.rnx";
+  request.out_dir = "/nonexistent/out";
+  try {
+    solvePppEstimators(request);
+  } catch (const std::invalid_argument& e) {
+    return e.what();
+  }
+  ADD_FAILURE() << "estimator '" << estimator << "' was accepted";
+  return {};
 }
 
 TEST(EstimatorRegistry, UnknownNameIsRefusedWithTheRegisteredNames) {
@@ -94,22 +115,13 @@ TEST(EstimatorRegistry, UnknownNameIsRefusedWithTheRegisteredNames) {
   // "both" is no single estimator: the caller runs one pipeline per estimator.
   why.clear();
   EXPECT_EQ(makeEstimator(std::string(kAllEstimators), PppConfig{}, &why), nullptr);
-  expectListsEveryEstimator(why);
+  EXPECT_NE(why.find("run by the caller as ekf and smoother (one pipeline each)"), std::string::npos) << why;
 
   // ppp_solve's entry point refuses it before reading any file.
-  PppSolveRequest request;
-  request.estimator = "kalman";
-  request.files.obs = "/nonexistent/obs.rnx";
-  request.out_dir = "/nonexistent/out";
-  try {
-    solvePppEstimators(request);
-    ADD_FAILURE() << "an unknown estimator was accepted";
-  } catch (const std::invalid_argument& e) {
-    expectListsEveryEstimator(e.what());
-  }
+  expectListsEveryEstimator(refusalBeforeAnyFile("kalman"));
 }
 
-// Each registered estimator, made by its factory, through the offline pipeline
+// Each registered estimator of the GNSS receiver state, made by its factory, through the offline pipeline
 // on a 4-minute simulated loiter flight (GPS, the Monte Carlo's error model and
 // estimator configuration): it solves nearly every epoch and converges below
 // 1 m (measured at seed 7: 241 of 241 epochs solved by both, mean 3D error of
@@ -131,6 +143,7 @@ TEST(EstimatorRegistry, EveryRegisteredEstimatorSolvesASimulatedFlight) {
   in.products = &f.products;
   for (const EstimatorEntry& entry : kEstimators) {
     SCOPED_TRACE(std::string(entry.name));
+    if (entry.state == EstimatedState::GnssInertial) continue;  // needs IMU readings: test_ppp_ins_ekf
     PppPipeline pipeline(in, config);
     const std::unique_ptr<PppEstimator> estimator = makeEstimator(entry.name, config);
     ASSERT_TRUE(estimator);
@@ -157,6 +170,13 @@ TEST(EstimatorRegistry, EveryRegisteredEstimatorSolvesASimulatedFlight) {
       EXPECT_EQ(estimator->smoothing()->smoothedTrajectory().size(), solved);
     }
   }
+}
+
+// An estimator with inertial states is refused without IMU readings, before any
+// file is read (ppp_solve --estimator ekf_ins needs --imu).
+TEST(EstimatorRegistry, AnInertialEstimatorWithoutImuReadingsIsRefusedBeforeAnyFile) {
+  const std::string why = refusalBeforeAnyFile("ekf_ins");
+  EXPECT_NE(why.find("'ekf_ins' needs IMU readings (ppp_solve --imu FILE)"), std::string::npos) << why;
 }
 
 TEST(EstimatorRegistry, AsTheClassAskedForOrRefused) {
@@ -203,14 +223,22 @@ std::string readText(const fs::path& file) {
   return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
 }
 
-/// The estimator classes: every `class X : public PppEstimator` under include/.
+/// The estimator classes: every class under include/ derived from PppEstimator,
+/// directly or through another estimator class (`class X : public PppEkf`).
 std::set<std::string> estimatorClasses(const fs::path& include_dir) {
-  static const std::regex derived(R"(class\s+(\w+)\s*(final\s*)?:\s*public\s+PppEstimator\b)");
-  std::set<std::string> classes;
+  static const std::regex derived(R"(class\s+(\w+)\s*(final\s*)?:\s*public\s+(\w+)\b)");
+  std::vector<std::pair<std::string, std::string>> class_base;
   for (const auto& entry : fs::recursive_directory_iterator(include_dir)) {
     if (!entry.is_regular_file() || entry.path().extension() != ".h") continue;
     const std::string text = readText(entry.path());
-    for (std::sregex_iterator it(text.begin(), text.end(), derived), end; it != end; ++it) classes.insert((*it)[1]);
+    for (std::sregex_iterator it(text.begin(), text.end(), derived), end; it != end; ++it)
+      class_base.emplace_back((*it)[1], (*it)[3]);
+  }
+  std::set<std::string> classes;
+  for (bool grew = true; grew;) {
+    grew = false;
+    for (const auto& [c, base] : class_base)
+      if ((base == "PppEstimator" || classes.count(base)) && classes.insert(c).second) grew = true;
   }
   return classes;
 }
@@ -264,8 +292,8 @@ TEST(EstimatorRegistry, TheConstructionCheckFindsAPlantedConstruction) {
 TEST(EstimatorRegistry, NoSourceOutsideTheRegistryConstructsAnEstimator) {
   const fs::path repo = PPP_REPO_DIR;
   const std::set<std::string> classes = estimatorClasses(repo / "include" / "ppp_bayes_tree");
-  EXPECT_EQ(classes, (std::set<std::string>{"PppEkf", "PppSmoother"}));
-  const std::set<std::string> own{"ppp_estimator", "ppp_ekf", "ppp_smoother", "estimator_registry"};
+  EXPECT_EQ(classes, (std::set<std::string>{"PppEkf", "PppInsEkf", "PppSmoother"}));
+  const std::set<std::string> own{"ppp_estimator", "ppp_ekf", "ppp_ins_ekf", "ppp_smoother", "estimator_registry"};
   std::vector<std::string> hits;
   std::size_t files = 0;
   for (const fs::path& root : {repo / "src", repo / "include" / "ppp_bayes_tree"}) {

@@ -1,0 +1,39 @@
+#pragma once
+// InsEkfOptions: what the GNSS/INS filter (PppInsEkf, ppp_ins_ekf.h) needs besides
+// the GNSS options: the IMU's noise, the lever arm from the IMU to the antenna,
+// the initial attitude and velocity, and the a priori sigmas of the inertial states.
+#include <Eigen/Core>
+#include <optional>
+#include <string>
+
+#include "ppp_bayes_tree/navigation/imu_noise.h"
+#include "ppp_bayes_tree/navigation/ins_error_state.h"
+
+namespace ppp {
+
+struct InsEkfOptions {
+  /// The IMU's noise (a grade's preset, imu_noise.h); industrial MEMS unless set.
+  ImuNoise noise = imuNoisePreset(ImuGrade::IndustrialMems);
+  InsBiasModel bias_model;
+  /// Antenna phase centre minus IMU origin, in the body frame [m].
+  Eigen::Vector3d lever_arm_body_m = Eigen::Vector3d::Zero();
+  /// The attitude at the start, R_ecef_body. Without it, with initial_heading_rad,
+  /// roll and pitch come from levelling the readings up to the first epoch (at rest,
+  /// ins_alignment.h); with neither the filter does not start (status no solution,
+  /// "no initial attitude").
+  std::optional<Eigen::Matrix3d> initial_rotation_ecef_body;
+  /// Heading of the body x axis at the start, from north, clockwise [rad].
+  std::optional<double> initial_heading_rad;
+  /// The IMU's velocity at the start, ECEF [m/s] (zero: a start at rest).
+  Eigen::Vector3d initial_velocity_ecef_mps = Eigen::Vector3d::Zero();
+  /// A priori sigmas of the attitude [rad] (each axis) and of the velocity [m/s].
+  double initial_attitude_sigma_rad = 0.02;
+  double initial_velocity_sigma_mps = 0.5;
+  /// Readings further apart than this are a gap the INS cannot bridge [s].
+  double max_imu_interval_s = 0.1;
+
+  /// Empty when valid; otherwise the first problem.
+  std::string validate() const;
+};
+
+}  // namespace ppp

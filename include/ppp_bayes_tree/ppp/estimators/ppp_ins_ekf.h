@@ -1,0 +1,102 @@
+#pragma once
+// PppInsEkf: the tightly coupled GNSS/INS error-state extended Kalman filter, in
+// the estimator family (registered as "ekf_ins"). It uses the same PPP
+// measurement model, front end and update as the EKF (PppEkf, whose seam it
+// fills), so the two are comparable epoch by epoch.
+//
+// State: the 15-state INS error [attitude, velocity, position, accel bias, gyro
+// bias] of ins_error_state.h (truth = nominal moved by the error), then the
+// receiver states of the layout other than the position (zenith wet delay,
+// clocks, gradients), then one phase bias per arc. The nominal NavState (IMU
+// origin, ECEF) and ImuBias are propagated through the IMU readings between
+// GNSS epochs by ecefInsStep (EcefInsMechanization's step), the error covariance
+// by the discrete error model; the other states move as in the EKF.
+//
+// At a GNSS epoch the measurement model is evaluated at the antenna,
+// p_antenna = p + R_ecef_body Exp(dtheta) lever_arm_body_m (+ dp), and its
+// position Jacobian J maps to the error state by the chain rule:
+// position columns J, attitude columns -J R Exp(dtheta) [lever_arm]x.
+// After each update the error is fed back (closed loop: NavState moved, bias
+// corrected, covariance J_reset P J_reset^T) and is zero again.
+//
+// The propagation is committed at every epoch, solved or not: through a GNSS
+// outage the filter carries the position (navState(), antennaPosition()); the
+// epoch reports no solution (too few satellites). Readings that do not cover
+// the interval (a gap longer than max_imu_interval_s) end the inertial solution:
+// that epoch and every later one report NoImuReadings (no GNSS-only fallback).
+// The start is the code least squares of the first epoch (as the EKF) with the
+// given attitude (or a given heading and the levelling of the readings up to the
+// first epoch, at rest) and velocity (InsEkfOptions); PPP-AR is not done (float).
+#include <Eigen/Core>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "ppp_bayes_tree/navigation/imu_bias.h"
+#include "ppp_bayes_tree/navigation/imu_sample.h"
+#include "ppp_bayes_tree/navigation/nav_state.h"
+#include "ppp_bayes_tree/ppp/estimators/ins_ekf_options.h"
+#include "ppp_bayes_tree/ppp/estimators/ppp_ekf.h"
+
+namespace ppp {
+
+class PppInsEkf : public PppEkf {
+ public:
+  /// From the estimator options (the registry's factory, estimator_registry.h).
+  explicit PppInsEkf(const EstimatorOptions& options);
+
+  std::string name() const override { return "ekf_ins"; }
+
+  /// The nominal state of the IMU (ECEF) and the IMU bias (corrected after each update).
+  const NavState& navState() const { return nominal_; }
+  const ImuBias& imuBias() const { return bias_; }
+  /// The antenna position of the nominal state, ECEF [m].
+  Eigen::Vector3d antennaPosition() const;
+  /// Time of the nominal state (the last epoch propagated to); nullopt before the start.
+  std::optional<GnssTime> navTime() const { return lastTime(); }
+  const InsEkfOptions& insOptions() const { return ins_; }
+
+  /// The antenna position at a nominal state moved by an INS error (ins_error_state.h
+  /// order), and its Jacobian with respect to that error (3 x 15).
+  static Eigen::Vector3d antennaPositionAt(const NavState& nominal, const Eigen::Vector3d& lever_arm_body_m,
+                                           const Eigen::Matrix<double, 15, 1>& error);
+  static Eigen::Matrix<double, 3, 15> antennaJacobian(const NavState& nominal, const Eigen::Vector3d& lever_arm_body_m,
+                                                      const Eigen::Matrix<double, 15, 1>& error);
+
+ protected:
+  void receiveEpochInput(const EstimatorEpochInput& input) override;
+  ReceiverState predict(double dt_s, bool first, const std::optional<ReceiverState>& start) override;
+  bool solve(const EpochSolveInput& in, EpochSolveOutput& out, EstimatorEpochResult& result) override;
+  void resolveAmbiguities(const EstimatorEpochInput& input, EstimatorEpochResult& result) override;
+  void finishEpoch(EstimatorEpochResult& result) const override;
+
+  int coreDim() const override { return layout_.dim() + kExtraStates; }
+  int coreIndex(int receiver_index) const override { return receiver_index + kExtraStates; }
+  ReceiverState receiverStateAt(const Eigen::VectorXd& x) const override;
+  ReceiverCovariance receiverCovarianceAt(const Eigen::VectorXd& x, const Eigen::MatrixXd& P) const override;
+  Eigen::RowVectorXd coreJacobian(const SatelliteMeasurement& m, const Eigen::VectorXd& x) const override;
+  Filter initialFilter(const ReceiverState& state) const override;
+  void predictFilter(Filter& f, double dt_s, bool first) const override;
+  void closeLoop(Filter& f) override;
+
+ private:
+  /// The INS error replaces the 3 position states of the receiver layout.
+  static constexpr int kExtraStates = 15 - 3;
+
+  /// d(receiver state)/d(core) at x (layout dim x coreDim()).
+  Eigen::MatrixXd receiverJacobianAt(const Eigen::VectorXd& x) const;
+  std::optional<Eigen::Matrix3d> initialAttitude(const Eigen::Vector3d& position_ecef_m);
+  bool startNominal(const ReceiverState& start);
+  bool propagateTo(const GnssTime& time);
+  bool stepWith(double dt_s);
+
+  InsEkfOptions ins_;
+  NavState nominal_;
+  ImuBias bias_;
+  std::vector<ImuSample> pending_;          // the readings of this epoch's input
+  std::optional<ImuSample> held_;           // the reading held at the nominal's time
+  GnssTime epoch_time_;                     // this epoch's time
+  std::optional<std::pair<NoSolutionReason, std::string>> epoch_problem_;  // this epoch's inertial problem
+};
+
+}  // namespace ppp

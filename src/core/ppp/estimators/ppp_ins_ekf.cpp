@@ -1,0 +1,236 @@
+#include "ppp_bayes_tree/ppp/estimators/ppp_ins_ekf.h"
+
+#include <cmath>
+
+#include "ppp_bayes_tree/navigation/ins_alignment.h"
+#include "ppp_bayes_tree/navigation/ins_error_state.h"
+#include "ppp_bayes_tree/navigation/ins_mechanization.h"
+#include "ppp_bayes_tree/navigation/so3.h"
+
+namespace ppp {
+
+std::string InsEkfOptions::validate() const {
+  if (!lever_arm_body_m.allFinite()) return "lever arm not finite";
+  if (!(initial_attitude_sigma_rad > 0.0)) return "initial attitude sigma must be > 0";
+  if (!(initial_velocity_sigma_mps > 0.0)) return "initial velocity sigma must be > 0";
+  if (!(max_imu_interval_s > 0.0)) return "max IMU interval must be > 0";
+  return {};
+}
+
+PppInsEkf::PppInsEkf(const EstimatorOptions& options) : PppEkf(options), ins_(options.ins) {}
+
+Eigen::Vector3d PppInsEkf::antennaPositionAt(const NavState& nominal, const Eigen::Vector3d& lever_arm_body_m,
+                                             const Vector15d& error) {
+  const Eigen::Matrix3d R = nominal.rotation_world_body * so3::expMap(error.segment<3>(InsErrorIndex::kAttitude));
+  return nominal.position_world_m + error.segment<3>(InsErrorIndex::kPosition) + R * lever_arm_body_m;
+}
+
+Eigen::Matrix<double, 3, 15> PppInsEkf::antennaJacobian(const NavState& nominal, const Eigen::Vector3d& lever_arm_body_m,
+                                                        const Vector15d& error) {
+  // d(R Exp(a) l)/da = -R Exp(a) [l]x Jr(a) (so3.h: Exp(a + d) ~= Exp(a) Exp(Jr(a) d)).
+  const Eigen::Vector3d a = error.segment<3>(InsErrorIndex::kAttitude);
+  const Eigen::Matrix3d R = nominal.rotation_world_body * so3::expMap(a);
+  Eigen::Matrix<double, 3, 15> J = Eigen::Matrix<double, 3, 15>::Zero();
+  J.block<3, 3>(0, InsErrorIndex::kAttitude) = -R * so3::hat(lever_arm_body_m) * so3::rightJacobian(a);
+  J.block<3, 3>(0, InsErrorIndex::kPosition) = Eigen::Matrix3d::Identity();
+  return J;
+}
+
+Eigen::Vector3d PppInsEkf::antennaPosition() const {
+  return antennaPositionAt(nominal_, ins_.lever_arm_body_m, Vector15d::Zero());
+}
+
+// ---- The seam of PppEkf: the core is [INS error (15); receiver states but the position] ----
+
+ReceiverState PppInsEkf::receiverStateAt(const Eigen::VectorXd& x) const {
+  const int rest = layout_.dim() - ReceiverStateLayout::kPositionSize;
+  Eigen::VectorXd v(layout_.dim());
+  v.head<3>() = antennaPositionAt(nominal_, ins_.lever_arm_body_m, x.head<kInsErrorStateSize>());
+  v.tail(rest) = x.segment(kInsErrorStateSize, rest);
+  return ReceiverState::fromVector(v, layout_);
+}
+
+Eigen::MatrixXd PppInsEkf::receiverJacobianAt(const Eigen::VectorXd& x) const {
+  const int rest = layout_.dim() - ReceiverStateLayout::kPositionSize;
+  Eigen::MatrixXd M = Eigen::MatrixXd::Zero(layout_.dim(), coreDim());
+  M.topLeftCorner(3, kInsErrorStateSize) =
+      antennaJacobian(nominal_, ins_.lever_arm_body_m, x.head<kInsErrorStateSize>());
+  M.bottomRightCorner(rest, rest).setIdentity();
+  return M;
+}
+
+ReceiverCovariance PppInsEkf::receiverCovarianceAt(const Eigen::VectorXd& x, const Eigen::MatrixXd& P) const {
+  const Eigen::MatrixXd M = receiverJacobianAt(x);
+  return M * P.topLeftCorner(coreDim(), coreDim()) * M.transpose();
+}
+
+Eigen::RowVectorXd PppInsEkf::coreJacobian(const SatelliteMeasurement& m, const Eigen::VectorXd& x) const {
+  return m.jacobian * receiverJacobianAt(x);
+}
+
+PppEkf::Filter PppInsEkf::initialFilter(const ReceiverState& state) const {
+  // The receiver part as the EKF starts it; the INS error in place of the position.
+  const Filter receiver = PppEkf::initialFilter(state);
+  const int rest = layout_.dim() - ReceiverStateLayout::kPositionSize;
+  Filter f;
+  f.x = Eigen::VectorXd::Zero(coreDim());
+  f.x.tail(rest) = receiver.x.tail(rest);
+  f.P = Eigen::MatrixXd::Zero(coreDim(), coreDim());
+  f.P.bottomRightCorner(rest, rest) = receiver.P.bottomRightCorner(rest, rest);
+  const auto block = [&f](int first, double sigma) {
+    f.P.block<3, 3>(first, first) = sigma * sigma * Eigen::Matrix3d::Identity();
+  };
+  block(InsErrorIndex::kAttitude, ins_.initial_attitude_sigma_rad);
+  block(InsErrorIndex::kVelocity, ins_.initial_velocity_sigma_mps);
+  block(InsErrorIndex::kPosition, std::sqrt(model_.position.initialVariance_m2()));
+  block(InsErrorIndex::kAccelBias, ins_.noise.accel_bias_instability_mps2);
+  block(InsErrorIndex::kGyroBias, ins_.noise.gyro_bias_instability_radps);
+  return f;
+}
+
+void PppInsEkf::predictFilter(Filter& f, double dt_s, bool first) const {
+  // The INS error moves with the readings (propagateTo); the rest as in the EKF.
+  if (first) return;
+  predictDelaysClocksBiases(f, dt_s);
+}
+
+void PppInsEkf::closeLoop(Filter& f) {
+  const Vector15d error = f.x.head<kInsErrorStateSize>();
+  applyInsErrorCorrection(error, &nominal_, &bias_);
+  const Matrix15d J = insErrorResetJacobian(error);
+  f.P.topRows(kInsErrorStateSize) = (J * f.P.topRows(kInsErrorStateSize)).eval();
+  f.P.leftCols(kInsErrorStateSize) = (f.P.leftCols(kInsErrorStateSize) * J.transpose()).eval();
+  f.x.head<kInsErrorStateSize>().setZero();
+}
+
+// ---- The epoch: readings, start, propagation ----
+
+void PppInsEkf::receiveEpochInput(const EstimatorEpochInput& input) {
+  epoch_time_ = input.time;
+  epoch_problem_.reset();
+  pending_.clear();
+  if (input.imu) pending_ = *input.imu;
+}
+
+std::optional<Eigen::Matrix3d> PppInsEkf::initialAttitude(const Eigen::Vector3d& position_ecef_m) {
+  if (ins_.initial_rotation_ecef_body) return ins_.initial_rotation_ecef_body;
+  if (!ins_.initial_heading_rad) {
+    epoch_problem_ = {NoSolutionReason::NoInitialAttitude,
+                      "no initial attitude: neither an attitude nor a heading given to the GNSS/INS filter"};
+    return std::nullopt;
+  }
+  const LevelingResult level = levelFromStaticInterval(pending_, position_ecef_m);
+  if (level.status != LevelingStatus::Level) {
+    epoch_problem_ = {NoSolutionReason::NoInitialAttitude,
+                      "no initial attitude: levelling the " + std::to_string(pending_.size()) +
+                          " readings up to the start refused: " + levelingStatusText(level.status)};
+    return std::nullopt;
+  }
+  return rotationEcefNed(position_ecef_m) * rotationNedBody(level.roll_rad, level.pitch_rad, *ins_.initial_heading_rad);
+}
+
+bool PppInsEkf::startNominal(const ReceiverState& start) {
+  const std::optional<Eigen::Matrix3d> attitude = initialAttitude(start.position_ecef_m);
+  if (!attitude) return false;
+  held_.reset();
+  for (const ImuSample& s : pending_)
+    if (s.time - epoch_time_ <= 0.0) held_ = s;
+  if (!held_) {
+    epoch_problem_ = {NoSolutionReason::NoImuReadings,
+                      "no IMU reading at or before the start " + epoch_time_.toString()};
+    return false;
+  }
+  nominal_.rotation_world_body = *attitude;
+  nominal_.velocity_world_mps = ins_.initial_velocity_ecef_mps;
+  nominal_.position_world_m = start.position_ecef_m - nominal_.rotation_world_body * ins_.lever_arm_body_m;
+  bias_ = ImuBias{};
+  return true;
+}
+
+ReceiverState PppInsEkf::predict(double dt_s, bool first, const std::optional<ReceiverState>& start) {
+  if (start) {
+    work_ = initialFilter(*start);
+    if (!startNominal(*start)) {  // the epoch fails with the reason (solve, finishEpoch)
+      pending_.clear();
+      return *start;
+    }
+  } else if (!first) {
+    if (propagateTo(*lastTime() + dt_s)) predictFilter(f_, dt_s, false);
+    work_ = f_;
+  } else {
+    work_ = f_;
+  }
+  pending_.clear();
+  return receiverStateAt(work_.x);
+}
+
+bool PppInsEkf::propagateTo(const GnssTime& time) {
+  // Each reading is held from its time to the next one's; committed only when the
+  // readings cover the whole interval.
+  const NavState nominal = nominal_;
+  const Eigen::MatrixXd P = f_.P;
+  const std::optional<ImuSample> held = held_;
+  GnssTime t = *lastTime();
+  bool ok = true;
+  for (const ImuSample& s : pending_) {
+    const double dt_s = s.time - t;
+    if (dt_s <= 0.0) continue;
+    if (time - s.time < 0.0) break;
+    if (!(ok = stepWith(dt_s))) break;
+    held_ = s;
+    t = s.time;
+  }
+  if (ok && time - t > 0.0) ok = stepWith(time - t);
+  if (ok) {
+    last_time_ = time;
+    return true;
+  }
+  nominal_ = nominal;
+  f_.P = P;
+  held_ = held;
+  return false;
+}
+
+bool PppInsEkf::stepWith(double dt_s) {
+  const auto refuse = [this](const std::string& why) {
+    epoch_problem_ = {NoSolutionReason::NoImuReadings, "IMU readings do not cover the interval to " +
+                                                           epoch_time_.toString() + ": " + why};
+    return false;
+  };
+  if (!held_) return refuse("no reading held");
+  if (dt_s > ins_.max_imu_interval_s)
+    return refuse("gap of " + std::to_string(dt_s) + " s after the reading at " + held_->time.toString() +
+                  " (at most " + std::to_string(ins_.max_imu_interval_s) + " s)");
+  const Eigen::Vector3d f_b = held_->specific_force_mps2 - bias_.accel_mps2;
+  const Eigen::Vector3d w_b = held_->angular_rate_radps - bias_.gyro_radps;
+  if (!f_b.allFinite() || !w_b.allFinite()) return refuse("reading at " + held_->time.toString() + " not finite");
+  const InsDiscreteModel model =
+      discretizeInsErrorModel(insErrorStateF(nominal_, f_b, w_b, ins_.bias_model), insErrorStateG(nominal_),
+                              insNoiseSpectralDensity(ins_.noise, ins_.bias_model), dt_s);
+  constexpr int n = kInsErrorStateSize;
+  f_.P.topRows(n) = (model.transition * f_.P.topRows(n)).eval();
+  f_.P.leftCols(n) = (f_.P.leftCols(n) * model.transition.transpose()).eval();
+  f_.P.topLeftCorner(n, n) += model.process_noise;
+  nominal_ = ecefInsStep(nominal_, f_b, w_b, dt_s);
+  return true;
+}
+
+bool PppInsEkf::solve(const EpochSolveInput& in, EpochSolveOutput& out, EstimatorEpochResult& result) {
+  if (epoch_problem_) return fail(result, EpochStatus::NoSolution, epoch_problem_->first, epoch_problem_->second);
+  return PppEkf::solve(in, out, result);
+}
+
+void PppInsEkf::finishEpoch(EstimatorEpochResult& result) const {
+  // An inertial problem is the epoch's reason, also when the screening stopped it first.
+  if (epoch_problem_ && result.status != EpochStatus::Ok)
+    fail(result, EpochStatus::NoSolution, epoch_problem_->first, epoch_problem_->second);
+}
+
+void PppInsEkf::resolveAmbiguities(const EstimatorEpochInput& /*input*/, EstimatorEpochResult& result) {
+  // PPP-AR of the GNSS/INS filter is not done: its solutions stay float.
+  AmbiguityFixSummary summary;
+  summary.float_reason = AmbiguityFloatReason::Disabled;
+  result.ambiguity_fix = summary;
+}
+
+}  // namespace ppp

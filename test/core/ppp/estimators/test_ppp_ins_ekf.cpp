@@ -1,0 +1,323 @@
+// PppInsEkf, the tightly coupled GNSS/INS filter: the error-state mapping of the
+// antenna position against numerical differences; a simulated run (noise-free
+// IMU of an analytic turn, test/support/analytic_trajectory.h; GNSS code and
+// phase of the synthetic generator ppp_simulator.h with its noise, the same data
+// for the GNSS EKF) where its position error is at most the EKF's and its attitude
+// converges; a 10 s GNSS outage the INS bridges; the registry's "ekf_ins"; and
+// the refusals without an attitude or IMU readings.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <memory>
+#include <vector>
+
+#include "analytic_trajectory.h"
+#include "ppp_bayes_tree/navigation/ins_alignment.h"
+#include "ppp_bayes_tree/navigation/navigation_frame.h"
+#include "ppp_bayes_tree/navigation/so3.h"
+#include "ppp_bayes_tree/ppp/estimators/estimator_registry.h"
+#include "ppp_bayes_tree/ppp/estimators/ppp_ins_ekf.h"
+#include "ppp_simulator.h"
+
+namespace ppp {
+namespace {
+
+using Vector15 = Eigen::Matrix<double, 15, 1>;
+
+NavState someNominal() {
+  NavState s;
+  s.position_world_m = Eigen::Vector3d(4331297.0, 567555.0, 4633133.0);
+  s.rotation_world_body = so3::expMap(Eigen::Vector3d(0.3, -1.1, 2.0));
+  s.velocity_world_mps = Eigen::Vector3d(3.0, -4.0, 1.0);
+  return s;
+}
+
+// ---- (a) The error-state mapping of the antenna position ----------------------------
+
+TEST(PppInsEkf, AntennaJacobianMatchesNumericalDifferencesOfEveryErrorComponent) {
+  // Near the origin, with a range to a point 50 m away, so that the central
+  // differences are not lost in the rounding of ECEF coordinates (the mapping
+  // does not depend on where the nominal is).
+  NavState nominal = someNominal();
+  nominal.position_world_m = Eigen::Vector3d(3.0, -2.0, 1.0);
+  const Eigen::Vector3d lever(0.8, -0.3, 1.5);
+  const Eigen::Vector3d satellite(20.0, 30.0, 30.0);
+  for (const double size : {0.0, 0.02}) {  // at the nominal and at an error already estimated
+    Vector15 at = Vector15::Zero();
+    if (size > 0.0) at << size, -size, 2 * size, 0.1, 0.2, -0.1, 0.3, -0.2, 0.5, 0.01, 0.0, 0.0, 1e-4, 0.0, 0.0;
+    const Eigen::Matrix<double, 3, 15> J = PppInsEkf::antennaJacobian(nominal, lever, at);
+    const Eigen::Vector3d p0 = PppInsEkf::antennaPositionAt(nominal, lever, at);
+    const Eigen::RowVector3d u = -(satellite - p0).normalized().transpose();  // d range / d antenna
+    const double h = 1e-6;
+    for (int i = 0; i < 15; ++i) {
+      SCOPED_TRACE("component " + std::to_string(i) + ", at size " + std::to_string(size));
+      Vector15 plus = at, minus = at;
+      plus(i) += h;
+      minus(i) -= h;
+      const Eigen::Vector3d numeric = (PppInsEkf::antennaPositionAt(nominal, lever, plus) -
+                                       PppInsEkf::antennaPositionAt(nominal, lever, minus)) / (2 * h);
+      EXPECT_LT((numeric - J.col(i)).norm(), 1e-7) << numeric.transpose() << " vs " << J.col(i).transpose();
+      // The range model through the chain rule.
+      const double range_numeric = ((satellite - PppInsEkf::antennaPositionAt(nominal, lever, plus)).norm() -
+                                    (satellite - PppInsEkf::antennaPositionAt(nominal, lever, minus)).norm()) /
+                                   (2 * h);
+      EXPECT_NEAR(range_numeric, u * J.col(i), 1e-7);
+    }
+    // The sign convention of ins_error_state.h: truth = nominal moved by the error.
+    if (size == 0.0) {
+      EXPECT_TRUE((J.block<3, 3>(0, 6).isIdentity(0.0)));
+      EXPECT_TRUE((J.block<3, 3>(0, 3).isZero(0.0)));
+      EXPECT_TRUE((J.rightCols<6>().isZero(0.0)));
+      EXPECT_LT(((J.block<3, 3>(0, 0)) + nominal.rotation_world_body * so3::hat(lever)).norm(), 1e-12);
+    }
+  }
+}
+
+// ---- The simulated run ---------------------------------------------------------------
+
+constexpr double kImuRate_hz = 100.0;
+
+struct RunSetup {
+  double duration_s = 120.0;
+  double outage_from_s = -1.0;  // GNSS outage [from, from + outage_s)
+  double outage_s = 0.0;
+  double rate_radps = 0.1;
+};
+
+struct EpochErrors {
+  double t_s = 0.0;
+  bool gnss = true;
+  EstimatorEpochResult ins, ekf;
+  double ins_position_m = 0.0;   // |antenna (nominal) - truth|
+  Eigen::Vector3d ins_error_m = Eigen::Vector3d::Zero();  // antenna (nominal) - truth
+  double ins_velocity_mps = 0.0;
+  double ins_attitude_rad = 0.0;
+  double ekf_position_m = -1.0;  // -1: no solution
+};
+
+/// Both filters on the same synthetic GNSS data (1 Hz) along an analytic turn; the
+/// INS EKF also gets the noise-free IMU readings (100 Hz, each the mid-interval value).
+std::vector<EpochErrors> runBoth(const RunSetup& setup) {
+  sim::Simulator sim;
+  sim.noise = true;
+  const test::AnalyticTurn turn = test::AnalyticTurn::at(sim.position, 10.0, setup.rate_radps);
+  const Eigen::Vector3d lever(0.5, 0.2, -1.0);
+  const GnssTime t0 = sim.time();
+
+  EstimatorOptions options;
+  options.ins.noise = imuNoisePreset(ImuGrade::IndustrialMems);
+  options.ins.lever_arm_body_m = lever;
+  options.ins.initial_rotation_ecef_body =
+      turn.state(0.0).rotation_world_body * so3::expMap(Eigen::Vector3d(0.01, -0.01, 0.03));
+  options.ins.initial_velocity_ecef_mps = turn.state(0.0).velocity_world_mps + Eigen::Vector3d(0.2, -0.1, 0.1);
+  options.ins.initial_attitude_sigma_rad = 0.05;
+  std::string why;
+  auto ins = makeEstimatorAs<PppInsEkf>("ekf_ins", options, &why);
+  auto ekf = makeEstimator("ekf", options, &why);
+  EXPECT_TRUE(ins && ekf) << why;
+  if (!ins || !ekf) return {};
+
+  const double dt = 1.0 / kImuRate_hz;
+  int k = 0;  // next IMU reading
+  std::vector<EpochErrors> out;
+  for (int e = 0; e <= static_cast<int>(setup.duration_s); ++e) {
+    const double t = e;
+    std::vector<ImuSample> readings;
+    for (; k * dt <= t + 1e-9; ++k) readings.push_back(turn.reading((k + 0.5) * dt, t0 + k * dt));
+    const NavState truth = turn.state(t);
+    sim.t_s = t;
+    sim.position = truth.position_world_m + truth.rotation_world_body * lever;
+    EpochErrors r;
+    r.t_s = t;
+    r.gnss = !(t >= setup.outage_from_s && t < setup.outage_from_s + setup.outage_s);
+    const std::vector<sim::SimObs> obs = r.gnss ? sim.epoch() : std::vector<sim::SimObs>{};
+    const MeasurementFunction evaluate = sim::modelOf(obs);
+    EstimatorEpochInput input;
+    input.time = sim.time();
+    input.evaluate = &evaluate;
+    input.imu = &readings;
+    r.ins = ins->processEpoch(input);
+    input.imu = nullptr;
+    r.ekf = ekf->processEpoch(input);
+    r.ins_error_m = ins->antennaPosition() - sim.position;
+    r.ins_position_m = r.ins_error_m.norm();
+    r.ins_velocity_mps = (ins->navState().velocity_world_mps - truth.velocity_world_mps).norm();
+    r.ins_attitude_rad =
+        so3::logMap(truth.rotation_world_body.transpose() * ins->navState().rotation_world_body).norm();
+    if (r.ekf.solution) r.ekf_position_m = (r.ekf.solution->state.position_ecef_m - sim.position).norm();
+    out.push_back(std::move(r));
+  }
+  return out;
+}
+
+double meanOver(const std::vector<EpochErrors>& run, double from_s, double EpochErrors::*field) {
+  double sum = 0.0;
+  int n = 0;
+  for (const auto& r : run)
+    if (r.t_s >= from_s) sum += r.*field, ++n;
+  return n ? sum / n : -1.0;
+}
+
+TEST(PppInsEkf, PositionAtMostTheGnssEkfsAndAttitudeConvergesOnATurn) {
+  const std::vector<EpochErrors> run = runBoth(RunSetup{});
+  ASSERT_EQ(run.size(), 121u);
+  for (const auto& r : run) {
+    ASSERT_EQ(r.ins.status, EpochStatus::Ok) << r.t_s << " s: " << r.ins.reason;
+    ASSERT_EQ(r.ekf.status, EpochStatus::Ok) << r.t_s << " s: " << r.ekf.reason;
+    // The solution is the antenna's (as the EKF's): the nominal's antenna position.
+    EXPECT_LT((r.ins.solution->state.position_ecef_m - r.ekf.solution->state.position_ecef_m).norm(), 50.0);
+  }
+  const double ins_m = meanOver(run, 60.0, &EpochErrors::ins_position_m);
+  const double ekf_m = meanOver(run, 60.0, &EpochErrors::ekf_position_m);
+  const double attitude_rad = run.back().ins_attitude_rad;
+  std::printf("last minute mean 3D error: INS EKF %.3f m, GNSS EKF %.3f m; final attitude error %.2e rad, "
+              "velocity %.2e m/s\n",
+              ins_m, ekf_m, attitude_rad, run.back().ins_velocity_mps);
+  EXPECT_LE(ins_m, ekf_m + 0.02);
+  EXPECT_LT(run.front().ins_attitude_rad, 0.035);  // the start: 1.9 deg given
+  EXPECT_LT(attitude_rad, 5e-3);                   // converged below 0.3 deg
+  EXPECT_LT(run.back().ins_velocity_mps, 0.05);
+}
+
+TEST(PppInsEkf, CarriesThePositionThroughATenSecondGnssOutage) {
+  RunSetup setup;
+  setup.duration_s = 100.0;
+  setup.outage_from_s = 80.0;
+  setup.outage_s = 10.0;
+  const std::vector<EpochErrors> run = runBoth(setup);
+  ASSERT_EQ(run.size(), 101u);
+  const EpochErrors& before = run[79];
+  ASSERT_TRUE(before.gnss);
+  ASSERT_EQ(before.ins.status, EpochStatus::Ok);
+  // The drift of the error over the outage, bounded from the state at its start
+  // and the IMU grade: over T, dv0 T + (g dtheta0 + 3 sigma_ba) T^2 / 2 +
+  // g 3 sigma_bg T^3 / 6 (the noise-free readings add nothing else). The error at
+  // the start (dp0) is the GNSS solution's, code-dominated after 80 s of float PPP.
+  const double T = 10.0;
+  const double dp0 = before.ins_position_m, dv0 = before.ins_velocity_mps, dtheta0 = before.ins_attitude_rad;
+  EXPECT_LT(dp0, 1.0);
+  EXPECT_LT(dv0, 0.05);
+  EXPECT_LT(dtheta0, 5e-3);
+  const ImuNoise grade = imuNoisePreset(ImuGrade::IndustrialMems);
+  const double bound_m = dv0 * T + 0.5 * (9.81 * dtheta0 + 3.0 * grade.accel_bias_instability_mps2) * T * T +
+                         9.81 * 3.0 * grade.gyro_bias_instability_radps * T * T * T / 6.0;
+  double worst_m = 0.0;
+  for (const auto& r : run) {
+    if (r.gnss) continue;
+    EXPECT_EQ(r.ekf.status, EpochStatus::NoSolution);
+    EXPECT_FALSE(r.ekf.solution.has_value());
+    EXPECT_EQ(r.ins.status, EpochStatus::NoSolution);
+    EXPECT_EQ(r.ins.no_solution_reason, NoSolutionReason::TooFewSatellites);
+    worst_m = std::max(worst_m, (r.ins_error_m - before.ins_error_m).norm());
+  }
+  std::printf("outage of 10 s: INS position drift at most %.3f m (bound %.3f m; at the start %.3f m, "
+              "%.3f m/s, %.2e rad)\n",
+              worst_m, bound_m, dp0, dv0, dtheta0);
+  EXPECT_LT(worst_m, bound_m);
+  // After the outage both solve again; the INS EKF's error stays small.
+  EXPECT_EQ(run.back().ins.status, EpochStatus::Ok) << run.back().ins.reason;
+  EXPECT_LT(run.back().ins_position_m, 1.0);
+}
+
+// ---- (d) The registry and the refusals -----------------------------------------------
+
+TEST(PppInsEkf, RegisteredAsEkfInsAndNotRunByBoth) {
+  const EstimatorEntry* entry = findEstimator("ekf_ins");
+  ASSERT_NE(entry, nullptr);
+  EXPECT_EQ(entry->state, EstimatedState::GnssInertial);
+  EXPECT_FALSE(entry->monte_carlo_study);
+  std::string why;
+  const auto made = makeEstimatorAs<PppInsEkf>("ekf_ins", EstimatorOptions{}, &why);
+  ASSERT_TRUE(made) << why;
+  EXPECT_EQ(made->name(), "ekf_ins");
+  const auto selected = selectEstimators("ekf_ins");
+  ASSERT_TRUE(selected && selected->size() == 1u);
+  EXPECT_EQ(selected->front(), entry);
+  const auto all = selectEstimators(kAllEstimators);
+  ASSERT_TRUE(all);
+  for (const EstimatorEntry* e : *all) EXPECT_NE(e->name, "ekf_ins");
+}
+
+TEST(PppInsEkf, SaysWhyWithoutAnAttitudeOrWithoutImuReadings) {
+  sim::Simulator sim;
+  const MeasurementFunction evaluate = sim::modelOf(sim.epoch());
+  EstimatorEpochInput input;
+  input.time = sim.time();
+  input.evaluate = &evaluate;
+  const std::vector<ImuSample> none;
+  std::string why;
+
+  auto no_attitude = makeEstimatorAs<PppInsEkf>("ekf_ins", EstimatorOptions{}, &why);
+  ASSERT_TRUE(no_attitude) << why;
+  const EstimatorEpochResult a = no_attitude->processEpoch(input);
+  EXPECT_EQ(a.status, EpochStatus::NoSolution);
+  EXPECT_EQ(a.no_solution_reason, NoSolutionReason::NoInitialAttitude) << a.reason;
+
+  EstimatorOptions options;
+  options.ins.initial_rotation_ecef_body = Eigen::Matrix3d::Identity();
+  auto no_imu = makeEstimatorAs<PppInsEkf>("ekf_ins", options, &why);
+  input.imu = &none;
+  const EstimatorEpochResult b = no_imu->processEpoch(input);
+  EXPECT_EQ(b.no_solution_reason, NoSolutionReason::NoImuReadings) << b.reason;
+  EXPECT_NE(b.reason.find("no IMU reading at or before the start"), std::string::npos) << b.reason;
+
+  // Started with a reading, then 1 s later without any: a gap, said so, no GNSS-only solution.
+  auto gap = makeEstimatorAs<PppInsEkf>("ekf_ins", options, &why);
+  ImuSample still;
+  still.time = sim.time();
+  still.specific_force_mps2 = Eigen::Vector3d(0.0, 0.0, 9.8);
+  const std::vector<ImuSample> one{still};
+  input.imu = &one;
+  ASSERT_EQ(gap->processEpoch(input).status, EpochStatus::Ok);
+  sim.t_s += 1.0;
+  const MeasurementFunction later = sim::modelOf(sim.epoch());
+  input.time = sim.time();
+  input.evaluate = &later;
+  input.imu = &none;
+  const EstimatorEpochResult c = gap->processEpoch(input);
+  EXPECT_EQ(c.status, EpochStatus::NoSolution);
+  EXPECT_EQ(c.no_solution_reason, NoSolutionReason::NoImuReadings);
+  EXPECT_NE(c.reason.find("gap of"), std::string::npos) << c.reason;
+}
+
+// Without a given attitude: roll and pitch from levelling the readings up to the
+// first epoch (at rest), the heading given; too few readings are refused, said so.
+TEST(PppInsEkf, StartsFromLevellingWithAGivenHeading) {
+  sim::Simulator sim;
+  const Eigen::Matrix3d truth = rotationEcefNed(sim.position) * rotationNedBody(0.02, -0.03, 0.7);
+  ImuSample at_rest;  // gravity and the Earth rate in the body axes, noise-free
+  at_rest.specific_force_mps2 = -truth.transpose() * ecefNavigationFrame(sim.position).gravity_world_mps2;
+  at_rest.angular_rate_radps = truth.transpose() * Eigen::Vector3d(0.0, 0.0, 7.2921151467e-5);
+  std::vector<ImuSample> readings;
+  for (int k = 200; k >= 0; --k) {
+    at_rest.time = sim.time() - 0.01 * k;
+    readings.push_back(at_rest);
+  }
+  const MeasurementFunction evaluate = sim::modelOf(sim.epoch());
+  EstimatorEpochInput input;
+  input.time = sim.time();
+  input.evaluate = &evaluate;
+  input.imu = &readings;
+  EstimatorOptions options;
+  options.ins.initial_heading_rad = 0.7;
+  std::string why;
+  auto ins = makeEstimatorAs<PppInsEkf>("ekf_ins", options, &why);
+  ASSERT_TRUE(ins) << why;
+  const EstimatorEpochResult r = ins->processEpoch(input);
+  ASSERT_EQ(r.status, EpochStatus::Ok) << r.reason;
+  const double error_rad = so3::logMap(truth.transpose() * ins->navState().rotation_world_body).norm();
+  std::printf("levelled start: attitude error %.2e rad\n", error_rad);
+  EXPECT_LT(error_rad, 1e-9);  // noise-free readings at rest: roll and pitch to rounding
+
+  auto few = makeEstimatorAs<PppInsEkf>("ekf_ins", options, &why);
+  const std::vector<ImuSample> ten(readings.end() - 10, readings.end());
+  input.imu = &ten;
+  const EstimatorEpochResult f = few->processEpoch(input);
+  EXPECT_EQ(f.no_solution_reason, NoSolutionReason::NoInitialAttitude);
+  EXPECT_NE(f.reason.find("levelling the 10 readings up to the start refused: too few samples"), std::string::npos)
+      << f.reason;
+}
+
+}  // namespace
+}  // namespace ppp

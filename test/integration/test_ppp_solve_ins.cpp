@@ -1,0 +1,82 @@
+// ppp_solve --estimator ekf_ins end to end on the real ZIM2 hour (a static station)
+// through solvePppEstimators, with noise-free readings of an IMU at rest (level,
+// x north, z down; gravity and the Earth rate in its axes; 20 Hz) and the heading
+// given: every epoch is solved, the attitude file holds one row per epoch with the
+// levelled attitude, and the GNSS estimators write no attitude file.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "ppp_bayes_tree/app/ppp_solve_run.h"
+#include "ppp_bayes_tree/navigation/ins_alignment.h"
+#include "ppp_bayes_tree/navigation/navigation_frame.h"
+#include "ppp_bayes_tree/types/constants.h"
+#include "ppp_dataset.h"
+#include "test_support.h"
+
+namespace ppp {
+namespace {
+
+/// Readings of a level IMU (x north, y east, z down) at rest at `position_ecef_m`,
+/// every 0.05 s from `from` over `duration_s`.
+std::vector<ImuSample> atRest(const Eigen::Vector3d& position_ecef_m, const GnssTime& from, double duration_s) {
+  const Eigen::Matrix3d ecef_body = rotationEcefNed(position_ecef_m);
+  ImuSample r;
+  r.specific_force_mps2 = -ecef_body.transpose() * ecefNavigationFrame(position_ecef_m).gravity_world_mps2;
+  r.angular_rate_radps = ecef_body.transpose() * Eigen::Vector3d(0.0, 0.0, kEarthRotationRate_radps);
+  std::vector<ImuSample> out;
+  for (int k = 0; k * 0.05 <= duration_s; ++k) {
+    r.time = from + k * 0.05;
+    out.push_back(r);
+  }
+  return out;
+}
+
+TEST(PppSolveIns, Zim2StaticImuEveryEpochSolvedWithItsAttitude) {
+  PPP_REQUIRE_SHARED_DATA();
+  const std::string dir = test::tempDir("ppp_solve_ins_zim2").string();
+  const test::PppDataset data = test::zim2Dataset();
+  PppSolveRequest request = test::solveRequest(data, dir, "ekf_ins");
+  // 2026-05-13 00:00 GPST, the file's first epoch (../shared/data/README.md); 10 s before it for the levelling.
+  const GnssTime start = GnssTime::fromGpsWeek(2418, 259200.0);
+  request.imu = atRest(data.truth_ecef_m, start - 10.0, 3610.0);
+  request.config.ins.initial_heading_rad = 0.0;
+  const std::vector<PppSolveOutcome> runs = solvePppEstimators(request);
+  ASSERT_EQ(runs.size(), 1u);
+  EXPECT_EQ(runs[0].run.estimator, "ekf_ins");
+  EXPECT_EQ(runs[0].run.epochs_solved, 120u);
+  std::ifstream in(dir + "/zim2_ekf_ins_attitude.csv");
+  ASSERT_TRUE(in) << "no attitude file";
+  std::string line;
+  std::getline(in, line);
+  EXPECT_EQ(line, "time_gpst,status,roll_deg,pitch_deg,heading_deg,velocity_north_mps,velocity_east_mps,velocity_down_mps");
+  int rows = 0;
+  double worst_deg = 0.0;
+  while (std::getline(in, line)) {
+    ++rows;
+    std::stringstream ss(line);
+    std::string cell;
+    std::vector<std::string> cells;
+    while (std::getline(ss, cell, ',')) cells.push_back(cell);
+    ASSERT_EQ(cells.size(), 8u) << line;
+    for (int i = 2; i <= 4; ++i) worst_deg = std::max(worst_deg, std::abs(std::stod(cells[i])));
+  }
+  EXPECT_EQ(rows, 120);
+  std::printf("ZIM2 with a static IMU: %zu of 120 epochs solved, attitude within %.4f deg of level and north\n",
+              runs[0].run.epochs_solved, worst_deg);
+  EXPECT_LT(worst_deg, 0.05);
+
+  // The GNSS estimators ignore the readings and write no attitude file.
+  PppSolveRequest ekf = request;
+  ekf.estimator = "ekf";
+  solvePppEstimators(ekf);
+  EXPECT_FALSE(std::filesystem::exists(dir + "/zim2_ekf_attitude.csv"));
+}
+
+}  // namespace
+}  // namespace ppp
