@@ -13,7 +13,7 @@
 //   smoother    -> types          the generic incremental smoother (no GNSS)
 //   navigation  -> types          IMU readings, SO(3), preintegration, the IMU factor's error,
 //                                 the strapdown INS, its error model, coarse alignment
-//   ppp         -> models, smoother   measurement model, estimators, pipeline
+//   ppp         -> models, smoother, navigation   measurement model, estimators, pipeline
 //   simulation  -> ppp, io/imu    the flight simulator (its IMU readings use navigation)
 //   evaluation  -> simulation     statistics, solution writers, Monte Carlo
 //   app         -> evaluation     ppp_solve's run, inspection, replay report, the live input
@@ -32,7 +32,8 @@
 //   ppp/model     -> models, smoother  signals, arcs, measurement model, state layout
 //   ppp/screening -> ppp/model         prefit and postfit screening
 //   ppp/ambiguity -> ppp/model         wide lane, LAMBDA, PPP-AR, product consistency
-//   ppp/estimators -> ppp/screening, ppp/ambiguity   EKF, smoother, the estimator interface
+//   ppp/estimators -> ppp/screening, ppp/ambiguity, navigation   EKF, GNSS/INS EKF, smoother,
+//                                      the estimator interface
 //   ppp/config    -> ppp/estimators    PppConfig and its YAML binding
 //   ppp/pipeline  -> ppp/config        epoch processor, products, pipeline
 // A folder above io or ppp may include all of its parts (models: io/transport and
