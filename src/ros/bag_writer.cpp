@@ -146,6 +146,12 @@ BagWriteSummary writeSimulatedFlightBag(const std::string& path, const ppp::Simu
     options.ar_biases = &flight.phase_biases;
     options.ar_bias_kind = ppp_bayes_tree::PreciseCorrections::AR_BIASES_ANALYSIS_CENTRE_OSB;
   }
+  // The flight's IMU readings (config.imu.enabled), unless readings are given.
+  if (options.imu.empty() && !flight.imu.samples.empty()) {
+    options.imu = flight.imu.samples;
+    options.imu_noise = flight.imu.noise;
+    options.imu_rate_hz = c.imu.rate_hz;
+  }
   auto user_before_close = options.before_close;
   options.before_close = [&](rosbag::Bag& bag) {
     writeTruthPath(bag, flight, callerid);

@@ -130,6 +130,10 @@ TEST(SimulatedFlightBag, HoldsEveryEpochTheProductsWithErrorAndTheTruthPath) {
   }
   EXPECT_GT(max_truth_difference_m, 1e-3) << "the bag must carry the products with error";
 
+  // A flight without an IMU (the default) has no IMU topic.
+  EXPECT_TRUE(c.imu.empty());
+  EXPECT_EQ(summary.imu_readings, 0u);
+
   // One latched truth path with every truth epoch, in the earth (ECEF) frame.
   ASSERT_EQ(c.truth.size(), 1u);
   EXPECT_EQ(c.truth_latching, "1");
@@ -251,4 +255,27 @@ TEST(ImuBag, PppToBagRefusesAnImuFileInG) {
   EXPECT_NE(text.find("no IMU reading left after the input screen"), std::string::npos) << text;
   EXPECT_NE(text.find(csv), std::string::npos) << text;  // the file is named
   fs::remove_all(dir);
+}
+
+TEST(ImuBag, ASimulatedFlightWithAnImuCarriesItsReadings) {
+  ppp::SimulationConfig config;
+  config.profile = ppp::FlightProfile::Loiter;
+  config.duration_s = 20.0;
+  config.imu.enabled = true;
+  config.imu.rate_hz = 100.0;
+  const ppp::SimulatedFlight f = ppp::simulateFlight(config, 11);
+  ASSERT_FALSE(f.imu.samples.empty());
+  const std::string path = tempBag("flight_imu.bag");
+  const auto summary = ppp_ros::writeSimulatedFlightBag(path, f, {}, "/test");
+  EXPECT_EQ(summary.imu_readings, f.imu.samples.size());
+  const BagContents c = readBag(path);
+  ASSERT_EQ(c.imu.size(), f.imu.samples.size());
+  for (std::size_t k = 0; k < c.imu.size(); k += 101) {
+    const ppp::ImuSample back = ppp_ros::fromImuMessage(c.imu[k]);
+    EXPECT_NEAR(back.time - f.imu.samples[k].time, 0.0, 1e-9);
+    EXPECT_EQ(back.angular_rate_radps, f.imu.samples[k].angular_rate_radps);
+  }
+  const double d = f.imu.noise.accel_noise_density_mps2_per_sqrthz;
+  EXPECT_DOUBLE_EQ(c.imu[0].linear_acceleration_covariance[8], d * d * 100.0);
+  fs::remove_all(fs::path(path).parent_path());
 }

@@ -79,7 +79,8 @@ inline constexpr const char* kTruthPathTopic = "truth/path";
 /// estimator must use) and its truth path. The product reference fields of
 /// `options` that are empty are filled with the simulator's (orbit and clock
 /// intervals, IGS20); `ar_biases` unset: the flight's satellite phase OSBs when it
-/// draws them (errors.ambiguity.satellite_phase_biases). `callerid` names the
+/// draws them (errors.ambiguity.satellite_phase_biases); `imu` unset: the flight's
+/// IMU readings when it has them (imu.enabled), with the grade's covariances. `callerid` names the
 /// writing program in the truth connection header.
 BagWriteSummary writeSimulatedFlightBag(const std::string& path, const ppp::SimulatedFlight& flight,
                                         BagWriteOptions options, const std::string& callerid);
