@@ -128,6 +128,11 @@ class RinexObsHeaderParser {
 
  private:
   [[noreturn]] void fail(std::size_t line, const std::string& reason) const;
+  /// The station and receiver labels (program, marker, observer, receiver, antenna,
+  /// approximate position, comments); false for another label.
+  bool stationLine(std::string_view label, std::string_view text, std::size_t line_number);
+  /// The observation layout and time labels; false for another label.
+  bool layoutLine(std::string_view label, std::string_view text, std::size_t line_number);
   void obsTypesRinex3(std::string_view text, std::size_t line_number);
   void obsTypesRinex2(std::string_view text, std::size_t line_number);
   void phaseShift(std::string_view text, std::size_t line_number);

@@ -312,6 +312,24 @@ void AntexParser::skipRmsBlock() {
   }
 }
 
+/// ZEN1 / ZEN2 / DZEN (2X,3F6.1) into the calibration; false when a field is malformed.
+bool parseZenithGrid(const std::string& line, AntennaCalibration& a) {
+  return parseDouble(column(line, 2, 6), a.zenith_first_deg) == FieldStatus::Ok &&
+         parseDouble(column(line, 8, 6), a.zenith_last_deg) == FieldStatus::Ok &&
+         parseDouble(column(line, 14, 6), a.zenith_step_deg) == FieldStatus::Ok;
+}
+
+/// What is wrong with a complete antenna block at END OF ANTENNA ("" when nothing).
+std::string antennaEndProblem(const AntennaCalibration& a, const std::optional<long long>& declared_frequencies) {
+  if (a.frequencies.empty()) return "no frequency block";
+  if (!declared_frequencies) return "# OF FREQUENCIES missing";
+  if (static_cast<std::size_t>(*declared_frequencies) != a.frequencies.size())
+    return "# OF FREQUENCIES says " + std::to_string(*declared_frequencies) + " but " +
+           std::to_string(a.frequencies.size()) + " frequency blocks found";
+  if (a.valid_from && a.valid_until && *a.valid_until < *a.valid_from) return "VALID UNTIL before VALID FROM";
+  return {};
+}
+
 AntennaCalibration AntexParser::readAntenna(std::size_t start_line) {
   AntennaCalibration a;
   a.line = start_line;
@@ -331,12 +349,8 @@ AntennaCalibration AntexParser::readAntenna(std::size_t start_line) {
     } else if (label == "DAZI") {
       if (parseDouble(column(line, 0, 8), a.azimuth_step_deg) != FieldStatus::Ok) throw error("malformed DAZI");
       have_dazi = true;
-    } else if (label == "ZEN1 / ZEN2 / DZEN") {  // 2X,3F6.1
-      if (parseDouble(column(line, 2, 6), a.zenith_first_deg) != FieldStatus::Ok ||
-          parseDouble(column(line, 8, 6), a.zenith_last_deg) != FieldStatus::Ok ||
-          parseDouble(column(line, 14, 6), a.zenith_step_deg) != FieldStatus::Ok) {
-        throw error("malformed ZEN1 / ZEN2 / DZEN");
-      }
+    } else if (label == "ZEN1 / ZEN2 / DZEN") {
+      if (!parseZenithGrid(line, a)) throw error("malformed ZEN1 / ZEN2 / DZEN");
       have_zen = true;
     } else if (label == "# OF FREQUENCIES") {
       long long n = 0;
@@ -361,16 +375,8 @@ AntennaCalibration AntexParser::readAntenna(std::size_t start_line) {
       ++a.rms_blocks_skipped;
       out_.report.count("RMS blocks skipped");
     } else if (label == "END OF ANTENNA") {
-      BlockError e = error("");
+      BlockError e = error(antennaEndProblem(a, declared_frequencies));
       e.consumed_block_end = true;
-      if (a.frequencies.empty()) e.reason = "no frequency block";
-      else if (!declared_frequencies) e.reason = "# OF FREQUENCIES missing";
-      else if (static_cast<std::size_t>(*declared_frequencies) != a.frequencies.size()) {
-        e.reason = "# OF FREQUENCIES says " + std::to_string(*declared_frequencies) + " but " +
-                   std::to_string(a.frequencies.size()) + " frequency blocks found";
-      } else if (a.valid_from && a.valid_until && *a.valid_until < *a.valid_from) {
-        e.reason = "VALID UNTIL before VALID FROM";
-      }
       if (!e.reason.empty()) throw e;
       return a;
     } else {

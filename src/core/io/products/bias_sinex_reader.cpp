@@ -213,6 +213,22 @@ void BiasSinexParser::readDescriptionLine(const std::string& line) {
   }
 }
 
+/// OBS1 and OBS2 of a solution row (an OSB has no OBS2, a DSB or ISB needs one);
+/// the problem, "" when none.
+std::string readObservationCodes(const std::string& line, std::string_view type, BiasRecord& r) {
+  const auto obs1 = ObservationCode::parse(trim(column(line, 25, 4)));
+  if (!obs1 || trim(column(line, 25, 4)).size() != 3) return "malformed OBS1";
+  r.obs1 = *obs1;
+  const std::string_view obs2_text = trim(column(line, 30, 4));
+  if (!obs2_text.empty()) {
+    r.obs2 = ObservationCode::parse(obs2_text);
+    if (!r.obs2 || obs2_text.size() != 3) return "malformed OBS2";
+  }
+  if (r.type == BiasType::OSB && r.obs2) return "OSB row with an OBS2 code";
+  if (r.type != BiasType::OSB && !r.obs2) return std::string(type) + " row without OBS2";
+  return {};
+}
+
 void BiasSinexParser::readSolutionLine(const std::string& line) {
   const std::size_t n = src_.lineNumber();
   const auto problem = [&](const std::string& reason) { out_.report.addProblem(n, reason); };
@@ -239,16 +255,7 @@ void BiasSinexParser::readSolutionLine(const std::string& line) {
   }
   r.station = upper(trim(column(line, 15, 9)));
   if (!r.satellite && r.station.empty()) return problem("row names neither a satellite nor a station");
-  const auto obs1 = ObservationCode::parse(trim(column(line, 25, 4)));
-  if (!obs1 || trim(column(line, 25, 4)).size() != 3) return problem("malformed OBS1");
-  r.obs1 = *obs1;
-  const std::string_view obs2_text = trim(column(line, 30, 4));
-  if (!obs2_text.empty()) {
-    r.obs2 = ObservationCode::parse(obs2_text);
-    if (!r.obs2 || obs2_text.size() != 3) return problem("malformed OBS2");
-  }
-  if (r.type == BiasType::OSB && r.obs2) return problem("OSB row with an OBS2 code");
-  if (r.type != BiasType::OSB && !r.obs2) return problem(std::string(type) + " row without OBS2");
+  if (const std::string why = readObservationCodes(line, type, r); !why.empty()) return problem(why);
   const auto start = parseRawEpoch(column(line, 35, 14));
   const auto end = parseRawEpoch(column(line, 50, 14));
   if (!start || !end) return problem("malformed BIAS_START or BIAS_END");

@@ -343,10 +343,7 @@ RinexHeaderTime RinexObsHeaderParser::headerTime(std::string_view text, std::siz
   return t;
 }
 
-bool RinexObsHeaderParser::line(std::string_view text, std::size_t n) {
-  const std::string_view lab = label(text);
-  checkPending(lab, n);
-  if (lab == "END OF HEADER") return true;
+bool RinexObsHeaderParser::stationLine(std::string_view lab, std::string_view text, std::size_t n) {
   if (lab == "COMMENT") {
     if (header_.comments.size() < RinexObsHeader::kMaxComments) header_.comments.push_back(field(text, 0, 60));
   } else if (lab == "PGM / RUN BY / DATE") {
@@ -378,7 +375,14 @@ bool RinexObsHeaderParser::line(std::string_view text, std::size_t n) {
   } else if (lab == "ANTENNA: DELTA H/E/N") {
     header_.antenna_delta_hen_m = threeDoubles(text);
     if (!header_.antenna_delta_hen_m) fail(n, "bad ANTENNA: DELTA H/E/N");
-  } else if (lab == "SYS / # / OBS TYPES") {
+  } else {
+    return false;
+  }
+  return true;
+}
+
+bool RinexObsHeaderParser::layoutLine(std::string_view lab, std::string_view text, std::size_t n) {
+  if (lab == "SYS / # / OBS TYPES") {
     if (header_.isRinex2()) fail(n, "SYS / # / OBS TYPES in a RINEX 2 file");
     obsTypesRinex3(text, n);
   } else if (lab == "# / TYPES OF OBSERV") {
@@ -404,7 +408,17 @@ bool RinexObsHeaderParser::line(std::string_view text, std::size_t n) {
     if (auto v = toInt(column(text, 0, 6))) header_.leap_seconds = static_cast<int>(*v);
   } else if (lab == "SIGNAL STRENGTH UNIT") {
     header_.signal_strength_unit = field(text, 0, 20);
+  } else {
+    return false;
   }
+  return true;
+}
+
+bool RinexObsHeaderParser::line(std::string_view text, std::size_t n) {
+  const std::string_view lab = label(text);
+  checkPending(lab, n);
+  if (lab == "END OF HEADER") return true;
+  if (!stationLine(lab, text, n)) layoutLine(lab, text, n);
   // Other labels (WAVELENGTH FACT L1/2, # OF SATELLITES, PRN / # OF OBS, SYS / DCBS
   // APPLIED, GLONASS COD/PHS/BIS, RINEX 4 DOI / LICENSE ...) are not needed.
   return false;
