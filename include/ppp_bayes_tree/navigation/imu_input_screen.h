@@ -45,6 +45,13 @@ std::string imuInputProblemText(ImuInputProblem problem);
 enum class ImuAccelerationUnits { Undecided, MetresPerSecondSquared, Gravity };
 std::string imuAccelerationUnitsText(ImuAccelerationUnits units);
 
+/// Mean |f| [as given] of the first `count` readings (0 for none): near 9.8 at
+/// rest in m/s^2, near 1 when the readings are in g.
+double meanSpecificForceMagnitude(const std::vector<ImuSample>& samples, std::size_t count);
+/// Whether a mean specific force reads as 1 g in units of g (in [0.5, 2.0]): in
+/// m/s^2 it would be a platform falling at 0.8-0.95 g for the whole window.
+bool meanForceLooksLikeGravityUnits(double mean_specific_force);
+
 struct ImuInputScreenOptions {
   double max_gap_s = 0.1;  ///< largest step between readings that is not a gap [s], > 0
   /// Full scale of the accelerometers [m/s^2] and gyros [rad/s] as the sensor is

@@ -1,5 +1,6 @@
 #include "ppp_bayes_tree/navigation/imu_input_screen.h"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -32,14 +33,22 @@ std::string imuAccelerationUnitsText(ImuAccelerationUnits units) {
 
 namespace {
 
-// A mean specific force in this band, in the stream's unit, reads as 1 g in units
-// of g: in m/s^2 it would be a platform falling at 0.8-0.95 g for the whole window.
-constexpr double kGravityUnitsLow = 0.5, kGravityUnitsHigh = 2.0;
-
 /// The largest |component| of a vector.
 double largestAxis(const Eigen::Vector3d& v) { return v.cwiseAbs().maxCoeff(); }
 
 }  // namespace
+
+double meanSpecificForceMagnitude(const std::vector<ImuSample>& samples, std::size_t count) {
+  const std::size_t n = std::min(count, samples.size());
+  if (n == 0) return 0.0;
+  double sum = 0.0;
+  for (std::size_t i = 0; i < n; ++i) sum += samples[i].specific_force_mps2.norm();
+  return sum / static_cast<double>(n);
+}
+
+bool meanForceLooksLikeGravityUnits(double mean_specific_force) {
+  return mean_specific_force >= 0.5 && mean_specific_force <= 2.0;
+}
 
 ImuInputScreen::ImuInputScreen(ImuInputScreenOptions options) : options_(std::move(options)) {
   if (!(options_.max_gap_s > 0.0)) throw std::invalid_argument("IMU screen: max_gap_s must be > 0");
@@ -87,11 +96,9 @@ std::optional<ImuInputProblem> ImuInputScreen::refusal(const ImuSample& reading,
 
 std::vector<ImuSample> ImuInputScreen::decideUnits() {
   if (held_.empty()) return {};
-  double sum = 0.0;
-  for (const ImuSample& s : held_) sum += s.specific_force_mps2.norm();
-  const double mean = sum / static_cast<double>(held_.size());
+  const double mean = meanSpecificForceMagnitude(held_, held_.size());
   std::vector<ImuSample> released;
-  if (mean >= kGravityUnitsLow && mean <= kGravityUnitsHigh) {
+  if (meanForceLooksLikeGravityUnits(mean)) {
     units_ = ImuAccelerationUnits::Gravity;
     for (const ImuSample& s : held_)
       note(ImuInputProblem::InGravityUnits, s,

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "ppp_bayes_tree/io/parse_error.h"
+#include "ppp_bayes_tree/navigation/imu_input_screen.h"  // meanSpecificForceMagnitude
 #include "ppp_bayes_tree/navigation/imu_sample.h"
 
 namespace ppp {
@@ -31,8 +32,5 @@ struct ImuCsvRead {
 /// Throws FileOpenError when the file cannot be read; everything else is counted.
 ImuCsvRead readImuCsv(const std::string& path, const ImuCsvOptions& options = {});
 
-/// Mean |f| [as given] of the first `count` samples (0 for none): near 9.8 at
-/// rest in m/s^2, near 1 when the file is in g.
-double meanSpecificForceMagnitude(const std::vector<ImuSample>& samples, std::size_t count);
 
 }  // namespace ppp

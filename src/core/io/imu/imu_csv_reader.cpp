@@ -6,6 +6,7 @@
 #include <fstream>
 
 #include "ppp_bayes_tree/io/imu/imu_line_screen.h"
+#include "ppp_bayes_tree/navigation/imu_input_screen.h"
 
 namespace ppp {
 namespace {
@@ -13,7 +14,6 @@ namespace {
 constexpr std::size_t kFields = 8;
 /// Readings averaged for the unit check, and the band of mean |f| read as "in g".
 constexpr std::size_t kUnitCheckReadings = 100;
-constexpr double kLooksLikeGLow = 0.5, kLooksLikeGHigh = 2.0;
 
 constexpr double kSecondsPerWeek = 604800.0;
 constexpr double kMaxGpsWeek = 10000.0;
@@ -46,7 +46,7 @@ ImuSample sampleOf(const std::vector<double>& v) {
 void checkUnits(ImuCsvRead& out) {
   if (out.samples.empty()) return;
   const double mean = meanSpecificForceMagnitude(out.samples, kUnitCheckReadings);
-  if (mean < kLooksLikeGLow || mean > kLooksLikeGHigh) return;
+  if (!meanForceLooksLikeGravityUnits(mean)) return;
   out.units_look_like_g = true;
   out.report.count("accelerations look like g");
   out.report.addProblem(0, "accelerations look like g, not m/s^2: mean |f| of the first readings is " +
@@ -54,14 +54,6 @@ void checkUnits(ImuCsvRead& out) {
 }
 
 }  // namespace
-
-double meanSpecificForceMagnitude(const std::vector<ImuSample>& samples, std::size_t count) {
-  const std::size_t n = std::min(count, samples.size());
-  if (n == 0) return 0.0;
-  double sum = 0.0;
-  for (std::size_t i = 0; i < n; ++i) sum += samples[i].specific_force_mps2.norm();
-  return sum / static_cast<double>(n);
-}
 
 ImuCsvRead readImuCsv(const std::string& path, const ImuCsvOptions& options) {
   std::ifstream in(path);
