@@ -11,7 +11,8 @@
 //                   [--lever-arm X,Y,Z] [--imu-heading DEG]]
 // --imu: the IMU readings of the GNSS/INS filter (--estimator ekf_ins, which needs
 // them; the other estimators ignore them): the plain CSV (default, doc/gnss_ins.md)
-// or a logged IMU CSV with its RTKLIB time-tag file (--imu-format logged --imu-tag F).
+// or a logged IMU CSV with its RTKLIB time-tag file (--imu-format logged --imu-tag F),
+// read and screened by io/imu/imu_file_loader.h (no reading left: exit status 1).
 // --imu-grade: the IMU's noise preset (default industrial); --lever-arm: antenna
 // minus IMU in the body frame [m] (default 0,0,0); --imu-heading: the heading of
 // the body x axis at the start [deg from north, clockwise]; roll and pitch come from
@@ -54,12 +55,12 @@
 #include <iostream>
 #include <optional>
 #include <sstream>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
 #include "ppp_bayes_tree/app/ppp_solve_run.h"
-#include "ppp_bayes_tree/io/imu/imu_csv_reader.h"
-#include "ppp_bayes_tree/io/imu/logged_imu_reader.h"
+#include "ppp_bayes_tree/io/imu/imu_file_loader.h"
 #include "ppp_bayes_tree/io/transport/stream_format.h"
 #include "ppp_bayes_tree/models/satellite_reference_point.h"
 #include "ppp_bayes_tree/ppp/estimators/estimator_registry.h"
@@ -101,8 +102,7 @@ bool parseTruth(const std::string& s, Eigen::Vector3d& t) {
 
 /// The IMU options of the GNSS/INS filter.
 struct ImuArgs {
-  std::string path, tag_path;
-  bool logged = false;
+  ppp::ImuFileOptions file;
   ppp::InsEkfOptions ins;
 };
 
@@ -116,11 +116,11 @@ std::optional<std::string> parseImuOption(const std::string& a, int argc, char**
     return std::nullopt;
   if (!has_value) return a + " needs a value";
   ++i;
-  if (a == "--imu") imu.path = v;
-  else if (a == "--imu-tag") imu.tag_path = v;
+  if (a == "--imu") imu.file.path = v;
+  else if (a == "--imu-tag") imu.file.tag_path = v;
   else if (a == "--imu-format") {
     if (v != "csv" && v != "logged") return std::string("--imu-format needs csv or logged");
-    imu.logged = v == "logged";
+    imu.file.format = v == "logged" ? ppp::ImuFileFormat::RtklibLogged : ppp::ImuFileFormat::PlainCsv;
   } else if (a == "--imu-grade") {
     if (v == "consumer") imu.ins.noise = ppp::imuNoisePreset(ppp::ImuGrade::ConsumerMems);
     else if (v == "industrial") imu.ins.noise = ppp::imuNoisePreset(ppp::ImuGrade::IndustrialMems);
@@ -140,24 +140,22 @@ std::optional<std::string> parseImuOption(const std::string& a, int argc, char**
 /// What is wrong with the IMU options for `estimator`; empty when nothing.
 std::string imuUsageProblem(const std::string& estimator, const ImuArgs& imu) {
   const ppp::EstimatorEntry* chosen = ppp::findEstimator(estimator);
-  if (chosen && chosen->state == ppp::EstimatedState::GnssInertial && imu.path.empty())
+  if (chosen && chosen->state == ppp::EstimatedState::GnssInertial && imu.file.path.empty())
     return "--estimator " + estimator + " needs IMU readings: --imu FILE";
-  if (imu.logged && imu.tag_path.empty()) return "--imu-format logged needs --imu-tag (the time-tag file)";
+  if (imu.file.format == ppp::ImuFileFormat::RtklibLogged && imu.file.tag_path.empty())
+    return "--imu-format logged needs --imu-tag (the time-tag file)";
   return {};
 }
 
-/// The IMU readings of --imu; the file's problems on stderr (each with its line).
+/// The screened readings of --imu (io/imu/imu_file_loader.h); the reader's and the
+/// screen's problems on stderr. Throws when no reading is left.
 std::vector<ppp::ImuSample> readImu(const ImuArgs& imu) {
-  if (imu.logged) {
-    ppp::LoggedImuRead read = ppp::readLoggedImu(imu.path, imu.tag_path);
-    if (!read.report.clean()) std::cerr << "ppp_solve: IMU file " << imu.path << ":\n" << read.report.summary() << "\n";
-    return std::move(read.samples);
-  }
-  ppp::ImuCsvRead read = ppp::readImuCsv(imu.path);
-  if (!read.report.clean()) std::cerr << "ppp_solve: IMU file " << imu.path << ":\n" << read.report.summary() << "\n";
-  if (read.units_look_like_g)
-    std::cerr << "ppp_solve: IMU file " << imu.path << ": the specific force looks like g, read as m/s^2\n";
-  return std::move(read.samples);
+  ppp::ImuFileLoad load = ppp::loadImuFile(imu.file);
+  std::cerr << "ppp_solve: IMU file " << imu.file.path << ": " << load.screen_summary << "\n";
+  for (const std::string& line : load.problemLines()) std::cerr << "ppp_solve: IMU file " << line << "\n";
+  if (load.samples.empty())
+    throw std::runtime_error("IMU file " + imu.file.path + ": no reading left after the input screen");
+  return std::move(load.samples);
 }
 
 /// Progress bar on stderr (only when stderr is a terminal).
@@ -169,27 +167,83 @@ void drawProgress(double fraction, const ppp::PppEpochRecord& rec) {
   std::fflush(stderr);
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
+/// Everything the command line gives.
+struct SolveArgs {
   ppp::PppSolveRequest req;
   std::vector<std::string> config_paths;
-  std::vector<std::string>* list = nullptr;  // the multi-file option being filled
   ImuArgs imu;
+};
+
+/// Parses the observation, product and output options at argv[i] (moving i past
+/// its value): "" when parsed, else the usage error. `value` takes the next argument.
+std::string parseOption(const std::string& a, int argc, char** argv, int& i, SolveArgs& args) {
+  ppp::PppSolveRequest& req = args.req;
+  auto value = [&](std::string& dst) {
+    if (i + 1 >= argc || argv[i + 1][0] == '-') return false;
+    dst = argv[++i];
+    return true;
+  };
+  std::string v;
+  if (const auto imu_problem = parseImuOption(a, argc, argv, i, args.imu)) return *imu_problem;
+  if (a == "--obs") {
+    if (!req.files.obs.empty() || !value(req.files.obs)) return "--obs needs a file (and no --rtcm/--ubx)";
+  } else if (a == "--rtcm") {  // an RTCM 3 recording (MSM) as the observations
+    if (!req.files.obs.empty() || !value(req.files.obs)) return "--rtcm needs an RTCM 3 file (and no --obs/--ubx)";
+    req.files.obs_format = ppp::ObservationFormat::Rtcm3;
+  } else if (a == "--ref-date") {
+    if (!value(v) || !(req.files.rtcm_reference_time = ppp::parseReferenceDate(v))) return "--ref-date needs YYYY/MM/DD";
+  } else if (a == "--ubx") {  // a u-blox UBX recording (RXM-RAWX) as the observations
+    if (!req.files.obs.empty() || !value(req.files.obs)) return "--ubx needs a file (and no --obs/--rtcm)";
+    req.files.obs_format = ppp::ObservationFormat::Ubx;
+  } else if (a == "--start" || a == "--end") {  // GPST window [start, end)
+    std::optional<ppp::GnssTime>& bound = a == "--start" ? req.files.window.start : req.files.window.end;
+    if (i + 1 >= argc || !(bound = ppp::parseReferenceDate(argv[++i])))
+      return a + " needs a GPST time YYYY/MM/DD or \"YYYY/MM/DD HH:MM:SS\"";
+  } else if (a == "--no-product-checks") {
+    req.files.check_products = false;
+  } else if (a == "--bia" || a == "--ssr" || a == "--blq") {
+    if (!value(v)) return a + (a == "--ssr" ? " needs an RTCM SSR stream file" : " needs a file");
+    (a == "--bia" ? req.files.bias : a == "--ssr" ? req.files.ssr : req.files.blq) = v;
+  } else if (a == "--ssr-reference") {
+    // com | apc (= apc-if: the ionosphere-free phase centre) | apc-l1 (IGS SSRA);
+    // models/satellite_reference_point.h
+    if (!value(v) || !(req.files.ssr_reference = ppp::parseEphemerisReference(v)))
+      return "--ssr-reference needs com, apc (apc-if) or apc-l1";
+  } else if (a == "--estimator") {
+    if (!value(req.estimator))
+      return "--estimator needs " + ppp::registeredEstimatorNames(", ") + " or " + std::string(ppp::kAllEstimators);
+  } else if (a == "--truth") {
+    Eigen::Vector3d t;
+    if (i + 1 >= argc || !parseTruth(argv[++i], t)) return "--truth needs X,Y,Z in metres (ECEF)";
+    req.truth_ecef_m = t;
+  } else if (a == "--name") {
+    if (!value(req.name)) return "--name needs a text";
+  } else if (a == "--out") {
+    if (!value(req.out_dir)) return "--out needs a directory";
+  } else {
+    return "unknown option " + a;
+  }
+  return {};
+}
+
+/// The multi-file option `a` fills (--sp3, --clk, --nav, --atx, --config), or null.
+std::vector<std::string>* fileList(const std::string& a, SolveArgs& args) {
+  if (a == "--sp3") return &args.req.files.sp3;
+  if (a == "--clk") return &args.req.files.clk;
+  if (a == "--nav") return &args.req.files.nav;
+  if (a == "--atx") return &args.req.files.atx;
+  if (a == "--config") return &args.config_paths;
+  return nullptr;
+}
+
+/// Parses the command line: nullopt when the run goes on, else the exit status
+/// (2 for a usage error, 0 for --help).
+std::optional<int> parseArguments(int argc, char** argv, SolveArgs& args) {
+  std::vector<std::string>* list = nullptr;  // the multi-file option being filled
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
-    auto value = [&](std::string& dst) {
-      if (i + 1 >= argc || argv[i + 1][0] == '-') return false;
-      dst = argv[++i];
-      return true;
-    };
-    std::string v;
-    if (a == "--sp3" || a == "--clk" || a == "--atx" || a == "--nav" || a == "--config") {
-      list = a == "--sp3"    ? &req.files.sp3
-             : a == "--clk"  ? &req.files.clk
-             : a == "--nav"  ? &req.files.nav
-             : a == "--config" ? &config_paths
-                             : &req.files.atx;
+    if (std::vector<std::string>* files = fileList(a, args)) {
+      list = files;
       if (i + 1 >= argc || argv[i + 1][0] == '-') return usage(a + " needs at least one file");
       continue;
     }
@@ -199,106 +253,92 @@ int main(int argc, char** argv) {
       continue;
     }
     list = nullptr;
-    if (const auto imu_problem = parseImuOption(a, argc, argv, i, imu)) {
-      if (!imu_problem->empty()) return usage(*imu_problem);
-    } else if (a == "--obs") {
-      if (!req.files.obs.empty() || !value(req.files.obs)) return usage("--obs needs a file (and no --rtcm/--ubx)");
-    } else if (a == "--rtcm") {  // an RTCM 3 recording (MSM) as the observations
-      if (!req.files.obs.empty() || !value(req.files.obs)) return usage("--rtcm needs an RTCM 3 file (and no --obs/--ubx)");
-      req.files.obs_format = ppp::ObservationFormat::Rtcm3;
-    } else if (a == "--ref-date") {
-      if (!value(v) || !(req.files.rtcm_reference_time = ppp::parseReferenceDate(v)))
-        return usage("--ref-date needs YYYY/MM/DD");
-    } else if (a == "--ubx") {  // a u-blox UBX recording (RXM-RAWX) as the observations
-      if (!req.files.obs.empty() || !value(req.files.obs)) return usage("--ubx needs a file (and no --obs/--rtcm)");
-      req.files.obs_format = ppp::ObservationFormat::Ubx;
-    } else if (a == "--start" || a == "--end") {  // GPST window [start, end)
-      std::optional<ppp::GnssTime>& bound = a == "--start" ? req.files.window.start : req.files.window.end;
-      if (i + 1 >= argc || !(bound = ppp::parseReferenceDate(argv[++i])))
-        return usage(a + " needs a GPST time YYYY/MM/DD or \"YYYY/MM/DD HH:MM:SS\"");
-    } else if (a == "--no-product-checks") {
-      req.files.check_products = false;
-    } else if (a == "--bia") {
-      if (!value(v)) return usage("--bia needs a file");
-      req.files.bias = v;
-    } else if (a == "--ssr") {
-      if (!value(v)) return usage("--ssr needs an RTCM SSR stream file");
-      req.files.ssr = v;
-    } else if (a == "--ssr-reference") {
-      // com | apc (= apc-if: the ionosphere-free phase centre) | apc-l1 (IGS SSRA);
-      // models/satellite_reference_point.h
-      if (!value(v) || !(req.files.ssr_reference = ppp::parseEphemerisReference(v)))
-        return usage("--ssr-reference needs com, apc (apc-if) or apc-l1");
-    } else if (a == "--blq") {
-      if (!value(v)) return usage("--blq needs a file");
-      req.files.blq = v;
-    } else if (a == "--estimator") {
-      if (!value(req.estimator))
-        return usage("--estimator needs " + ppp::registeredEstimatorNames(", ") + " or " +
-                     std::string(ppp::kAllEstimators));
-    } else if (a == "--truth") {
-      Eigen::Vector3d t;
-      if (i + 1 >= argc || !parseTruth(argv[++i], t)) return usage("--truth needs X,Y,Z in metres (ECEF)");
-      req.truth_ecef_m = t;
-    } else if (a == "--name") {
-      if (!value(req.name)) return usage("--name needs a text");
-    } else if (a == "--out") {
-      if (!value(req.out_dir)) return usage("--out needs a directory");
-    } else if (a == "-h" || a == "--help") {
+    if (a == "-h" || a == "--help") {
       usage("help");
       return 0;
-    } else {
-      return usage("unknown option " + a);
     }
+    if (const std::string why = parseOption(a, argc, argv, i, args); !why.empty()) return usage(why);
   }
-  if (std::string why; !ppp::selectEstimators(req.estimator, &why)) return usage("--estimator: " + why);
-  if (const std::string why = imuUsageProblem(req.estimator, imu); !why.empty()) return usage(why);
-  if (req.files.obs.empty()) return usage("one of --obs, --rtcm and --ubx is required");
-  if (const std::string why = ppp::fileProductInputsProblem(ppp::productInputsGiven(req.files)); !why.empty())
-    return usage(why);
-  if (req.files.atx.empty()) return usage("--atx is required");
-  if (req.out_dir.empty()) return usage("--out is required");
-  if (req.files.window.start && req.files.window.end && *req.files.window.end <= *req.files.window.start)
-    return usage("--end must be after --start");
+  return std::nullopt;
+}
 
-  try {
-    if (!config_paths.empty()) req.config = ppp::loadPppConfig(config_paths);
-    req.config.ins = imu.ins;
-    if (!imu.path.empty()) req.imu = readImu(imu);
-    const bool tty = isatty(STDERR_FILENO) != 0;
-    if (tty) req.on_epoch = drawProgress;
-    const std::vector<ppp::PppSolveOutcome> runs = ppp::solvePppEstimators(req);
-    if (tty) std::fprintf(stderr, "\n");
-    std::vector<std::pair<std::string, ppp::PositionErrorStatistics>> columns;
-    bool solved = true;
-    for (const auto& out : runs) {
-      std::cout << "=== estimator " << out.run.estimator << " ===\n" << ppp::formatRunReport(out.run);
-      if (out.update_time) {
-        std::printf("smoother per epoch (%zu solved epochs): iSAM2 update median %.2f ms, p99 %.2f ms, max %.2f ms; "
-                    "estimator step median %.2f ms, p99 %.2f ms\n",
-                    out.update_time->count, out.update_time->median_s * 1e3, out.update_time->p99_s * 1e3,
-                    out.update_time->max_s * 1e3, out.epoch_time->median_s * 1e3, out.epoch_time->p99_s * 1e3);
-      }
-      for (const auto& o : out.outputs)
-        if (o.statistics) columns.emplace_back(o.label, *o.statistics);
-      std::cout << "written:";
-      for (const auto& o : out.outputs) std::cout << "\n  " << o.csv_path << "\n  " << o.pos_path << "\n  " << o.json_path;
-      std::cout << "\n  " << out.epochs_path << "\n  " << out.residuals_path;
-      if (!out.biases_path.empty()) std::cout << "\n  " << out.biases_path;
-      std::cout << "\n\n";
-      solved &= out.run.epochs_solved > 0;
+/// What is missing or inconsistent in the parsed arguments; empty when nothing.
+std::string argumentsProblem(const SolveArgs& args) {
+  const ppp::PppSolveRequest& req = args.req;
+  if (std::string why; !ppp::selectEstimators(req.estimator, &why)) return "--estimator: " + why;
+  if (std::string why = imuUsageProblem(req.estimator, args.imu); !why.empty()) return why;
+  if (req.files.obs.empty()) return "one of --obs, --rtcm and --ubx is required";
+  if (std::string why = ppp::fileProductInputsProblem(ppp::productInputsGiven(req.files)); !why.empty()) return why;
+  if (req.files.atx.empty()) return "--atx is required";
+  if (req.out_dir.empty()) return "--out is required";
+  if (req.files.window.start && req.files.window.end && *req.files.window.end <= *req.files.window.start)
+    return "--end must be after --start";
+  return {};
+}
+
+/// Prints one run's report and its written files.
+void printRun(const ppp::PppSolveOutcome& out) {
+  std::cout << "=== estimator " << out.run.estimator << " ===\n" << ppp::formatRunReport(out.run);
+  if (out.update_time) {
+    std::printf("smoother per epoch (%zu solved epochs): iSAM2 update median %.2f ms, p99 %.2f ms, max %.2f ms; "
+                "estimator step median %.2f ms, p99 %.2f ms\n",
+                out.update_time->count, out.update_time->median_s * 1e3, out.update_time->p99_s * 1e3,
+                out.update_time->max_s * 1e3, out.epoch_time->median_s * 1e3, out.epoch_time->p99_s * 1e3);
+  }
+  std::cout << "written:";
+  for (const auto& o : out.outputs) std::cout << "\n  " << o.csv_path << "\n  " << o.pos_path << "\n  " << o.json_path;
+  std::cout << "\n  " << out.epochs_path << "\n  " << out.residuals_path;
+  if (!out.biases_path.empty()) std::cout << "\n  " << out.biases_path;
+  std::cout << "\n\n";
+}
+
+/// Prints the statistics table of the solutions with a truth (one or a comparison).
+void printStatistics(const std::vector<ppp::PppSolveOutcome>& runs) {
+  std::vector<std::pair<std::string, ppp::PositionErrorStatistics>> columns;
+  for (const auto& out : runs)
+    for (const auto& o : out.outputs)
+      if (o.statistics) columns.emplace_back(o.label, *o.statistics);
+  if (columns.size() == 1) std::cout << ppp::formatStatisticsTable(columns[0].second, runs[0].name + " " + columns[0].first);
+  if (columns.size() > 1) std::cout << runs[0].name << ":\n" << ppp::formatStatisticsComparison(columns);
+  std::cout.flush();
+}
+
+/// 1 when a run solved nothing, 3 when one had input problems, else 0.
+int exitStatus(const std::vector<ppp::PppSolveOutcome>& runs) {
+  for (const auto& out : runs)
+    if (out.run.epochs_solved == 0) return 1;
+  for (const auto& out : runs)
+    if (!out.run.problems.empty()) {
+      std::cerr << "ppp_solve: solved, with " << out.run.problems.size()
+                << " input problem(s) (listed under 'problems' above and in the summary JSON): exit status 3\n";
+      return 3;
     }
-    if (columns.size() == 1) std::cout << ppp::formatStatisticsTable(columns[0].second, runs[0].name + " " + columns[0].first);
-    if (columns.size() > 1) std::cout << runs[0].name << ":\n" << ppp::formatStatisticsComparison(columns);
-    std::cout.flush();
-    if (!solved) return 1;
-    for (const auto& out : runs)
-      if (!out.run.problems.empty()) {
-        std::cerr << "ppp_solve: solved, with " << out.run.problems.size()
-                  << " input problem(s) (listed under 'problems' above and in the summary JSON): exit status 3\n";
-        return 3;
-      }
-    return 0;
+  return 0;
+}
+
+/// Loads the configuration and the IMU, runs the estimators and prints their reports.
+int solve(SolveArgs& args) {
+  ppp::PppSolveRequest& req = args.req;
+  if (!args.config_paths.empty()) req.config = ppp::loadPppConfig(args.config_paths);
+  req.config.ins = args.imu.ins;
+  if (!args.imu.file.path.empty()) req.imu = readImu(args.imu);
+  const bool tty = isatty(STDERR_FILENO) != 0;
+  if (tty) req.on_epoch = drawProgress;
+  const std::vector<ppp::PppSolveOutcome> runs = ppp::solvePppEstimators(req);
+  if (tty) std::fprintf(stderr, "\n");
+  for (const auto& out : runs) printRun(out);
+  printStatistics(runs);
+  return exitStatus(runs);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  SolveArgs args;
+  if (const std::optional<int> status = parseArguments(argc, argv, args)) return *status;
+  if (const std::string why = argumentsProblem(args); !why.empty()) return usage(why);
+  try {
+    return solve(args);
   } catch (const ppp::ConfigError& e) {
     std::cerr << "ppp_solve: configuration: " << e.what() << "\n";
   } catch (const std::exception& e) {  // ParseError, FileOpenError (name the file and line) and the rest

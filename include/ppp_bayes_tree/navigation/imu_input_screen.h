@@ -64,6 +64,10 @@ struct ImuInputScreenOptions {
   double max_gnss_offset_s = 2.0;
   /// Readings whose mean specific force decides the units (held until then).
   std::size_t units_readings = 50;
+  /// false: the stamps were checked before (a file reader refuses backward and
+  /// repeated stamps and counts gaps by line, io/imu/imu_file_loader.h); the screen
+  /// then checks values, saturation and units only.
+  bool check_time_order = true;
 };
 
 /// A problem's count and its first example ("reading at 2020-06-25 00:00:01.005: ...").

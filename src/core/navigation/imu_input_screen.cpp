@@ -77,7 +77,7 @@ std::optional<ImuInputProblem> ImuInputScreen::refusal(const ImuSample& reading,
   // Another time base first: its stamps would also read as going backwards.
   if (gnss_time && std::abs(reading.time - *gnss_time) > options_.max_gnss_offset_s)
     return ImuInputProblem::FarFromGnssTime;
-  if (last_time_) {
+  if (last_time_ && options_.check_time_order) {
     const double dt = reading.time - *last_time_;
     if (dt < 0.0) return ImuInputProblem::TimeBackwards;
     if (dt == 0.0) return ImuInputProblem::DuplicateTime;
@@ -88,7 +88,7 @@ std::optional<ImuInputProblem> ImuInputScreen::refusal(const ImuSample& reading,
       (options_.gyro_full_scale_radps &&
        largestAxis(reading.angular_rate_radps) >= scale * *options_.gyro_full_scale_radps))
     return ImuInputProblem::Saturated;
-  if (last_time_ && reading.time - *last_time_ > options_.max_gap_s)
+  if (options_.check_time_order && last_time_ && reading.time - *last_time_ > options_.max_gap_s)
     note(ImuInputProblem::Gap, reading, fixedDecimals(reading.time - *last_time_, 3) + " s since the previous reading");
   last_time_ = reading.time;
   return std::nullopt;

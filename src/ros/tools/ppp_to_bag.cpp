@@ -31,13 +31,11 @@
 #include <string>
 #include <vector>
 
-#include "ppp_bayes_tree/io/imu/imu_csv_reader.h"
-#include "ppp_bayes_tree/io/imu/logged_imu_reader.h"
+#include "ppp_bayes_tree/io/imu/imu_file_loader.h"
 #include "ppp_bayes_tree/io/line_source.h"
 #include "ppp_bayes_tree/io/products/product_antenna_model.h"
 #include "ppp_bayes_tree/ppp/pipeline/product_assembly.h"
 #include "ppp_bayes_tree/io/rinex/rinex_obs_reader.h"
-#include "ppp_bayes_tree/navigation/imu_input_screen.h"
 #include "ppp_bayes_tree/ros/bag_writer.h"
 #include "ppp_bayes_tree/ros/message_conversions.h"
 #include "ppp_bayes_tree/simulation/gnss_simulator.h"
@@ -68,33 +66,19 @@ ppp::ProductAssembly assembleForBiases(const std::vector<std::string>& sp3, cons
   return ppp::ProductAssembly::assemble(in, config);
 }
 
-/// The readings of an IMU file through the input screen; the reader's problems
-/// and the screen's refusals are said on stderr. Throws when none is left.
+/// The readings of an IMU file through the input screen (io/imu/imu_file_loader.h);
+/// the reader's problems and the screen's refusals are said on stderr. Throws when
+/// none is left.
 std::vector<ppp::ImuSample> screenedImu(const std::string& path, const std::string& tag) {
-  std::vector<ppp::ImuSample> read;
-  std::string problems;
-  if (tag.empty()) {
-    ppp::ImuCsvRead r = ppp::readImuCsv(path);
-    read = std::move(r.samples);
-    problems = r.report.headline(path);
-  } else {
-    ppp::LoggedImuRead r = ppp::readLoggedImu(path, tag);
-    read = std::move(r.samples);
-    problems = r.report.headline(path);
-  }
-  if (!problems.empty()) std::cerr << "ppp_to_bag: " << problems << "\n";
-  ppp::ImuInputScreen screen;
-  std::vector<ppp::ImuSample> kept;
-  const auto keep = [&](std::vector<ppp::ImuSample> released) {
-    kept.insert(kept.end(), released.begin(), released.end());
-  };
-  for (const ppp::ImuSample& reading : read) keep(screen.push(reading));
-  keep(screen.finish());
-  std::cout << "ppp_to_bag: " << path << ": " << screen.summary() << "\n";
-  for (const auto& [problem, count] : screen.problems())
-    std::cerr << "ppp_to_bag: " << path << ": " << count.count << " x " << count.first << "\n";
-  if (kept.empty()) throw std::runtime_error(path + ": no IMU reading left after the input screen");
-  return kept;
+  ppp::ImuFileOptions file;
+  file.path = path;
+  file.tag_path = tag;
+  file.format = tag.empty() ? ppp::ImuFileFormat::PlainCsv : ppp::ImuFileFormat::RtklibLogged;
+  ppp::ImuFileLoad load = ppp::loadImuFile(file);
+  std::cout << "ppp_to_bag: " << path << ": " << load.screen_summary << "\n";
+  for (const std::string& line : load.problemLines()) std::cerr << "ppp_to_bag: " << line << "\n";
+  if (load.samples.empty()) throw std::runtime_error(path + ": no IMU reading left after the input screen");
+  return std::move(load.samples);
 }
 
 }  // namespace
