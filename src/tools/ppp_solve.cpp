@@ -8,7 +8,7 @@
 // (the estimators: ppp/estimators/estimator_registry.h; --help lists them)
 //                  [--no-product-checks] [--start "YYYY/MM/DD HH:MM:SS"] [--end "YYYY/MM/DD HH:MM:SS"]
 //                  [--imu F [--imu-format csv|logged] [--imu-tag F] [--imu-grade consumer|industrial|tactical]
-//                   [--lever-arm X,Y,Z] [--imu-heading DEG]]
+//                   [--lever-arm X,Y,Z] [--imu-heading DEG | --heading-speed M/S]]
 // --imu: the IMU readings of the GNSS/INS filter (--estimator ekf_ins, which needs
 // them; the other estimators ignore them): the plain CSV (default, doc/gnss_ins.md)
 // or a logged IMU CSV with its RTKLIB time-tag file (--imu-format logged --imu-tag F),
@@ -16,7 +16,11 @@
 // --imu-grade: the IMU's noise preset (default industrial); --lever-arm: antenna
 // minus IMU in the body frame [m] (default 0,0,0); --imu-heading: the heading of
 // the body x axis at the start [deg from north, clockwise]; roll and pitch come from
-// levelling the readings up to the first epoch (the platform at rest). ekf_ins
+// levelling the readings up to the first epoch (the platform at rest). Without
+// --imu-heading the heading is aligned in motion (ppp/estimators/ppp_ins_ekf.h):
+// roll and pitch from the latest static interval before the start, the heading
+// from the course over ground once the antenna moves faster than --heading-speed
+// [m/s, default 0.5] (the body x axis taken as the direction of motion). ekf_ins
 // writes the EKF's files under <name>_ekf_ins* and <name>_ekf_ins_attitude.csv
 // (attitude and velocity after each epoch; doc/gnss_ins.md).
 // --start/--end (GPST): only the epochs in [start, end) are processed (e.g. one
@@ -77,7 +81,7 @@ int usage(const std::string& why) {
             << ppp::kAllEstimators << "] [--truth X,Y,Z] [--name N] --out DIR\n"
             << "                 [--no-product-checks] [--start \"YYYY/MM/DD HH:MM:SS\"] [--end \"YYYY/MM/DD HH:MM:SS\"]\n"
             << "                 [--imu F [--imu-format csv|logged] [--imu-tag F] [--imu-grade consumer|industrial|tactical]\n"
-            << "                  [--lever-arm X,Y,Z] [--imu-heading DEG]]  (ekf_ins needs --imu)\n"
+            << "                  [--lever-arm X,Y,Z] [--imu-heading DEG | --heading-speed M/S]]  (ekf_ins needs --imu)\n"
             << "estimators (--estimator; default " << ppp::kDefaultEstimator << ", "
             << ppp::kAllEstimators << ": each in turn):\n";
   for (const ppp::EstimatorEntry& e : ppp::kEstimators) std::cerr << "  " << e.name << ": " << e.description << "\n";
@@ -112,7 +116,7 @@ std::optional<std::string> parseImuOption(const std::string& a, int argc, char**
   const bool has_value = i + 1 < argc;
   const std::string v = has_value ? argv[i + 1] : "";
   if (a != "--imu" && a != "--imu-format" && a != "--imu-tag" && a != "--imu-grade" && a != "--lever-arm" &&
-      a != "--imu-heading")
+      a != "--imu-heading" && a != "--heading-speed")
     return std::nullopt;
   if (!has_value) return a + " needs a value";
   ++i;
@@ -128,6 +132,12 @@ std::optional<std::string> parseImuOption(const std::string& a, int argc, char**
     else return std::string("--imu-grade needs consumer, industrial or tactical");
   } else if (a == "--lever-arm") {
     if (!parseTruth(v, imu.ins.lever_arm_body_m)) return std::string("--lever-arm needs X,Y,Z in metres (body frame)");
+  } else if (a == "--heading-speed") {
+    char* end = nullptr;
+    const double speed = std::strtod(v.c_str(), &end);
+    if (end == v.c_str() || *end != '\0' || !(speed > 0.0) || !std::isfinite(speed))
+      return std::string("--heading-speed needs a speed > 0 in m/s");
+    imu.ins.heading_alignment.min_horizontal_speed_mps = speed;
   } else {
     char* end = nullptr;
     const double deg = std::strtod(v.c_str(), &end);

@@ -54,7 +54,8 @@ TEST(PppSolveIns, Zim2StaticImuEveryEpochSolvedWithItsAttitude) {
   ASSERT_TRUE(in) << "no attitude file";
   std::string line;
   std::getline(in, line);
-  EXPECT_EQ(line, "time_gpst,status,roll_deg,pitch_deg,heading_deg,velocity_north_mps,velocity_east_mps,velocity_down_mps");
+  EXPECT_EQ(line, "time_gpst,status,roll_deg,pitch_deg,heading_deg,velocity_north_mps,velocity_east_mps,velocity_down_mps,"
+                  "alignment,tilt_sigma_deg,heading_sigma_deg,attitude_publishable,antenna_x_m,antenna_y_m,antenna_z_m");
   int rows = 0;
   double worst_deg = 0.0;
   while (std::getline(in, line)) {
@@ -63,8 +64,15 @@ TEST(PppSolveIns, Zim2StaticImuEveryEpochSolvedWithItsAttitude) {
     std::string cell;
     std::vector<std::string> cells;
     while (std::getline(ss, cell, ',')) cells.push_back(cell);
-    ASSERT_EQ(cells.size(), 8u) << line;
+    ASSERT_EQ(cells.size(), 15u) << line;
     for (int i = 2; i <= 4; ++i) worst_deg = std::max(worst_deg, std::abs(std::stod(cells[i])));
+    // The heading was given: aligned from the start, publishable while the sigmas
+    // are within 2 deg (tilt) and 5 deg (heading). At rest the heading is not
+    // observable: its sigma grows with the gyro noise (7.2 deg after the hour).
+    EXPECT_EQ(cells[8], "aligned") << line;
+    const bool small = std::stod(cells[9]) <= 2.0 && std::stod(cells[10]) <= 5.0;
+    EXPECT_EQ(cells[11], small ? "1" : "0") << line;
+    if (rows == 1) EXPECT_EQ(cells[11], "1") << line;
   }
   EXPECT_EQ(rows, 120);
   std::printf("ZIM2 with a static IMU: %zu of 120 epochs solved, attitude within %.4f deg of level and north\n",

@@ -22,6 +22,7 @@
 #include <vector>
 
 #include "ppp_bayes_tree/navigation/imu_sample.h"
+#include "ppp_bayes_tree/types/gnss_time.h"
 
 namespace ppp {
 
@@ -75,6 +76,18 @@ struct LevelingResult {
 LevelingResult levelFromStaticInterval(const std::vector<ImuSample>& samples, const Eigen::Vector3d& position_ecef_m,
                                        const StaticIntervalThresholds& thresholds = {});
 
+/// Levelling for a start in motion: the latest interval of `thresholds.min_samples`
+/// readings in `samples` that levels (searched back from the end in steps of half an
+/// interval); `interval_end` gets the index after it. The last refusal when none levels.
+LevelingResult levelAtLatestStaticInterval(const std::vector<ImuSample>& samples,
+                                           const Eigen::Vector3d& position_ecef_m,
+                                           const StaticIntervalThresholds& thresholds, std::size_t* interval_end);
+
+/// R_ecef_body carried through the gyro readings samples[first, ...) up to `until`
+/// (each reading held to the next one's time): R <- Exp(-w_ie dt) R Exp(w_b dt).
+Eigen::Matrix3d propagateAttitude(const Eigen::Matrix3d& rotation_ecef_body, const std::vector<ImuSample>& samples,
+                                  std::size_t first, const GnssTime& until);
+
 // ---- Heading from GNSS velocity ----------------------------------------------------
 
 enum class HeadingStatus { Heading, SpeedTooLow, NonFiniteVelocity };
@@ -101,6 +114,16 @@ enum class AlignmentState { NotAligned, LevelOnly, Aligned };
 std::string alignmentStateText(AlignmentState state);
 /// Only an aligned attitude (roll, pitch and heading) is good enough to publish.
 inline bool attitudePublishable(AlignmentState state) { return state == AlignmentState::Aligned; }
+
+/// How good an estimator's attitude is: the alignment state and the standard
+/// deviations of tilt (the larger of the north and east axes) and heading (down axis).
+/// Publishable once aligned with both sigmas within the thresholds.
+struct InsAttitudeQuality {
+  AlignmentState state = AlignmentState::NotAligned;
+  double tilt_sigma_rad = 0.0;
+  double heading_sigma_rad = 0.0;
+  bool publishable = false;
+};
 
 /// Collects a levelling and a heading. The state is Aligned once both are accepted
 /// (in either order), LevelOnly with the levelling alone; refused inputs change nothing.

@@ -163,7 +163,8 @@ PppSolveOutcome plannedOutputs(const PppSolveRequest& req, const EstimatorEntry&
 class AttitudeFile {
  public:
   AttitudeFile(std::string path, const PppInsEkf& ins) : path_(std::move(path)), out_(openOut(path_)), ins_(ins) {
-    out_ << "time_gpst,status,roll_deg,pitch_deg,heading_deg,velocity_north_mps,velocity_east_mps,velocity_down_mps\n";
+    out_ << "time_gpst,status,roll_deg,pitch_deg,heading_deg,velocity_north_mps,velocity_east_mps,velocity_down_mps,"
+            "alignment,tilt_sigma_deg,heading_sigma_deg,attitude_publishable,antenna_x_m,antenna_y_m,antenna_z_m\n";
   }
   void write(const PppEpochRecord& rec) {
     if (rec.refused || !ins_.navTime() || !(*ins_.navTime() == rec.solution.time)) return;
@@ -174,7 +175,11 @@ class AttitudeFile {
     out_ << isoTimeText(rec.solution.time, 1) << ',' << solutionStatusName(rec.solution.status) << ','
          << fixedDecimals(e.roll_rad * kRadToDeg, 4) << ',' << fixedDecimals(e.pitch_rad * kRadToDeg, 4) << ','
          << fixedDecimals(e.yaw_rad * kRadToDeg, 4) << ',' << fixedDecimals(v.x(), 4) << ','
-         << fixedDecimals(v.y(), 4) << ',' << fixedDecimals(v.z(), 4) << '\n';
+         << fixedDecimals(v.y(), 4) << ',' << fixedDecimals(v.z(), 4) << ',';
+    writeQuality(ins_.attitudeQuality());
+    const Eigen::Vector3d antenna = ins_.antennaPosition();
+    out_ << fixedDecimals(antenna.x(), 4) << ',' << fixedDecimals(antenna.y(), 4) << ','
+         << fixedDecimals(antenna.z(), 4) << '\n';
   }
   void finish() {
     out_.flush();
@@ -182,6 +187,15 @@ class AttitudeFile {
   }
 
  private:
+  /// alignment (aligned | level_only | not_aligned), tilt and heading sigma [deg], publishable (0/1).
+  void writeQuality(const InsAttitudeQuality& q) {
+    const char* state = q.state == AlignmentState::Aligned     ? "aligned"
+                        : q.state == AlignmentState::LevelOnly ? "level_only"
+                                                               : "not_aligned";
+    out_ << state << ',' << fixedDecimals(q.tilt_sigma_rad * kRadToDeg, 3) << ','
+         << fixedDecimals(q.heading_sigma_rad * kRadToDeg, 3) << ',' << (q.publishable ? 1 : 0) << ',';
+  }
+
   std::string path_;
   std::ofstream out_;
   const PppInsEkf& ins_;

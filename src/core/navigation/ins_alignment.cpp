@@ -1,9 +1,11 @@
 #include "ppp_bayes_tree/navigation/ins_alignment.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "ppp_bayes_tree/navigation/navigation_frame.h"
 #include "ppp_bayes_tree/navigation/so3.h"
+#include "ppp_bayes_tree/types/constants.h"
 #include "ppp_bayes_tree/types/frames.h"
 
 namespace ppp {
@@ -80,6 +82,38 @@ Eigen::Matrix3d withYaw(const Eigen::Matrix3d& rotation_ecef_body, const Eigen::
   const Eigen::Matrix3d ecef_ned = rotationEcefNed(position_ecef_m);
   const EulerAngles e = eulerAngles(ecef_ned.transpose() * rotation_ecef_body);
   return ecef_ned * rotationNedBody(e.roll_rad, e.pitch_rad, yaw_rad);
+}
+
+LevelingResult levelAtLatestStaticInterval(const std::vector<ImuSample>& samples,
+                                           const Eigen::Vector3d& position_ecef_m,
+                                           const StaticIntervalThresholds& thresholds, std::size_t* interval_end) {
+  const std::size_t n = std::max<std::size_t>(thresholds.min_samples, 1);
+  const std::size_t step = std::max<std::size_t>(n / 2, 1);
+  LevelingResult last;
+  last.samples = samples.size();
+  if (samples.size() < n) return last;
+  for (std::size_t end = samples.size();; end -= std::min(step, end - n)) {
+    const std::vector<ImuSample> window(samples.begin() + static_cast<std::ptrdiff_t>(end - n),
+                                        samples.begin() + static_cast<std::ptrdiff_t>(end));
+    last = levelFromStaticInterval(window, position_ecef_m, thresholds);
+    if (last.status == LevelingStatus::Level) {
+      if (interval_end) *interval_end = end;
+      return last;
+    }
+    if (end == n) return last;
+  }
+}
+
+Eigen::Matrix3d propagateAttitude(const Eigen::Matrix3d& rotation_ecef_body, const std::vector<ImuSample>& samples,
+                                  std::size_t first, const GnssTime& until) {
+  const Eigen::Vector3d earth_rate(0.0, 0.0, kEarthRotationRate_radps);
+  Eigen::Matrix3d R = rotation_ecef_body;
+  for (std::size_t k = first; k < samples.size() && until - samples[k].time > 0.0; ++k) {
+    const GnssTime next = k + 1 < samples.size() && until - samples[k + 1].time > 0.0 ? samples[k + 1].time : until;
+    const double dt_s = next - samples[k].time;
+    R = so3::expMap(-earth_rate * dt_s) * R * so3::expMap(samples[k].angular_rate_radps * dt_s);
+  }
+  return R;
 }
 
 std::string levelingStatusText(LevelingStatus status) {

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "ppp_bayes_tree/navigation/ins_alignment.h"
 #include "ppp_bayes_tree/ppp/ambiguity/ambiguity_resolution.h"
 #include "ppp_bayes_tree/ppp/model/rejection_reason.h"
 #include "ppp_bayes_tree/ppp/model/satellite_measurement.h"
@@ -108,6 +109,9 @@ struct EstimatorEpochResult {
   /// Ambiguity resolution of this epoch (set when it is enabled); the solution
   /// is the fixed one when ambiguity_fix->fixed() (ambiguities == Fixed).
   std::optional<AmbiguityFixSummary> ambiguity_fix;
+  /// The attitude's alignment, sigmas and whether it is good enough to publish
+  /// (estimators with inertial states, once started).
+  std::optional<InsAttitudeQuality> attitude;
 };
 
 }  // namespace ppp

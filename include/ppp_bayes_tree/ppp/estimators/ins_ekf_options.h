@@ -19,8 +19,11 @@ struct InsEkfOptions {
   Eigen::Vector3d lever_arm_body_m = Eigen::Vector3d::Zero();
   /// The attitude at the start, R_ecef_body. Without it, with initial_heading_rad,
   /// roll and pitch come from levelling the readings up to the first epoch (at rest,
-  /// ins_alignment.h); with neither the filter does not start (status no solution,
-  /// "no initial attitude").
+  /// ins_alignment.h). With neither, the heading is aligned in motion: roll and pitch
+  /// from the latest static interval of the readings before the start, carried to
+  /// the start by the gyros, the heading unknown (unaligned_heading_sigma_rad) until
+  /// the course over ground of the filter's antenna track sets it (HeadingAlignment);
+  /// with no static interval the filter does not start (no initial attitude).
   std::optional<Eigen::Matrix3d> initial_rotation_ecef_body;
   /// Heading of the body x axis at the start, from north, clockwise [rad].
   std::optional<double> initial_heading_rad;
@@ -29,6 +32,22 @@ struct InsEkfOptions {
   /// A priori sigmas of the attitude [rad] (each axis) and of the velocity [m/s].
   double initial_attitude_sigma_rad = 0.02;
   double initial_velocity_sigma_mps = 0.5;
+  /// In-motion heading alignment (neither attitude nor heading given).
+  struct HeadingAlignment {
+    /// The course sets the heading once the horizontal speed reaches this [m/s].
+    double min_horizontal_speed_mps = 0.5;
+    /// The velocity is the antenna displacement over at least this interval [s].
+    double course_interval_s = 1.0;
+    /// Sigma of each horizontal component of that velocity [m/s]; the heading's
+    /// sigma at alignment is this over the horizontal speed.
+    double velocity_sigma_mps = 0.1;
+    /// The heading's sigma before the alignment [rad].
+    double unaligned_heading_sigma_rad = 1.0;
+  } heading_alignment;
+  /// The attitude is publishable (InsAttitudeQuality) when aligned and its tilt and
+  /// heading sigmas are at most these [rad] (2 and 5 deg).
+  double publish_tilt_sigma_rad = 0.0349;
+  double publish_heading_sigma_rad = 0.0873;
   /// Readings further apart than this are a gap the INS cannot bridge [s].
   double max_imu_interval_s = 0.1;
 

@@ -27,13 +27,22 @@
 // The start is the code least squares of the first epoch (as the EKF) with the
 // given attitude (or a given heading and the levelling of the readings up to the
 // first epoch, at rest) and velocity (InsEkfOptions); PPP-AR is not done (float).
+// With neither attitude nor heading the heading is aligned in motion: roll and
+// pitch from the latest static interval before the start (carried to it by the
+// gyros), the heading unknown (a large sigma) until the filter's antenna track
+// moves faster than a threshold: its course over ground becomes the heading of the
+// body x axis (a platform moving along x), with sigma velocity sigma / speed.
+// attitudeQuality() (and EstimatorEpochResult::attitude) says when the attitude is
+// good enough to publish.
 #include <Eigen/Core>
+#include <deque>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "ppp_bayes_tree/navigation/imu_bias.h"
 #include "ppp_bayes_tree/navigation/imu_sample.h"
+#include "ppp_bayes_tree/navigation/ins_alignment.h"
 #include "ppp_bayes_tree/navigation/nav_state.h"
 #include "ppp_bayes_tree/ppp/estimators/ins_ekf_options.h"
 #include "ppp_bayes_tree/ppp/estimators/ppp_ekf.h"
@@ -55,6 +64,8 @@ class PppInsEkf : public PppEkf {
   /// Time of the nominal state (the last epoch propagated to); nullopt before the start.
   std::optional<GnssTime> navTime() const { return lastTime(); }
   const InsEkfOptions& insOptions() const { return ins_; }
+  /// The attitude's alignment state and sigmas (from the committed covariance).
+  InsAttitudeQuality attitudeQuality() const;
 
   /// The antenna position at a nominal state moved by an INS error (ins_error_state.h
   /// order), and its Jacobian with respect to that error (3 x 15).
@@ -86,6 +97,15 @@ class PppInsEkf : public PppEkf {
   /// d(receiver state)/d(core) at x (layout dim x coreDim()).
   Eigen::MatrixXd receiverJacobianAt(const Eigen::VectorXd& x) const;
   std::optional<Eigen::Matrix3d> initialAttitude(const Eigen::Vector3d& position_ecef_m);
+  /// Roll and pitch from the latest static interval before the start, carried to it; heading unknown.
+  std::optional<Eigen::Matrix3d> attitudeInMotion(const Eigen::Vector3d& position_ecef_m);
+  /// The attitude covariance of `f` with the heading's variance set to sigma^2 and its
+  /// correlations removed (tilt kept).
+  void setHeadingCovariance(Filter& f, double heading_sigma_rad) const;
+  /// The course of the antenna track as the heading, once fast enough.
+  void alignHeadingFromTrack(Filter& f);
+  /// R_ned_body of the nominal state.
+  Eigen::Matrix3d rotationNedBody() const;
   bool startNominal(const ReceiverState& start);
   bool propagateTo(const GnssTime& time);
   bool stepWith(double dt_s);
@@ -97,6 +117,10 @@ class PppInsEkf : public PppEkf {
   std::optional<ImuSample> held_;           // the reading held at the nominal's time
   GnssTime epoch_time_;                     // this epoch's time
   std::optional<std::pair<NoSolutionReason, std::string>> epoch_problem_;  // this epoch's inertial problem
+  std::vector<ImuSample> before_start_;     // the readings before the first solution (in-motion start)
+  bool heading_from_course_ = false;        // started without a heading, not yet aligned
+  AlignmentState alignment_ = AlignmentState::NotAligned;
+  std::deque<std::pair<GnssTime, Eigen::Vector3d>> track_;  // antenna positions after the updates
 };
 
 }  // namespace ppp

@@ -1,5 +1,6 @@
 #include "ppp_bayes_tree/ppp/estimators/ppp_ins_ekf.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "ppp_bayes_tree/navigation/ins_alignment.h"
@@ -14,6 +15,11 @@ std::string InsEkfOptions::validate() const {
   if (!(initial_attitude_sigma_rad > 0.0)) return "initial attitude sigma must be > 0";
   if (!(initial_velocity_sigma_mps > 0.0)) return "initial velocity sigma must be > 0";
   if (!(max_imu_interval_s > 0.0)) return "max IMU interval must be > 0";
+  if (!(heading_alignment.min_horizontal_speed_mps > 0.0)) return "heading alignment speed must be > 0";
+  if (!(heading_alignment.course_interval_s > 0.0)) return "heading alignment interval must be > 0";
+  if (!(heading_alignment.velocity_sigma_mps > 0.0)) return "heading alignment velocity sigma must be > 0";
+  if (!(heading_alignment.unaligned_heading_sigma_rad > 0.0)) return "unaligned heading sigma must be > 0";
+  if (!(publish_tilt_sigma_rad > 0.0) || !(publish_heading_sigma_rad > 0.0)) return "publish sigmas must be > 0";
   return {};
 }
 
@@ -101,6 +107,8 @@ void PppInsEkf::closeLoop(Filter& f) {
   f.P.topRows(kInsErrorStateSize) = (J * f.P.topRows(kInsErrorStateSize)).eval();
   f.P.leftCols(kInsErrorStateSize) = (f.P.leftCols(kInsErrorStateSize) * J.transpose()).eval();
   f.x.head<kInsErrorStateSize>().setZero();
+  before_start_.clear();  // started: the levelling readings are done with
+  if (heading_from_course_) alignHeadingFromTrack(f);
 }
 
 // ---- The epoch: readings, start, propagation ----
@@ -110,15 +118,20 @@ void PppInsEkf::receiveEpochInput(const EstimatorEpochInput& input) {
   epoch_problem_.reset();
   pending_.clear();
   if (input.imu) pending_ = *input.imu;
+  if (lastTime() || ins_.initial_rotation_ecef_body || ins_.initial_heading_rad) return;
+  // Before the first solution of an in-motion start: the readings to level from (2 minutes at most).
+  before_start_.insert(before_start_.end(), pending_.begin(), pending_.end());
+  constexpr double kLevellingHistory_s = 120.0;
+  const auto old = std::find_if(before_start_.begin(), before_start_.end(),
+                                [&](const ImuSample& s) { return input.time - s.time <= kLevellingHistory_s; });
+  before_start_.erase(before_start_.begin(), old);
 }
 
 std::optional<Eigen::Matrix3d> PppInsEkf::initialAttitude(const Eigen::Vector3d& position_ecef_m) {
+  heading_from_course_ = false;
+  alignment_ = AlignmentState::Aligned;
   if (ins_.initial_rotation_ecef_body) return ins_.initial_rotation_ecef_body;
-  if (!ins_.initial_heading_rad) {
-    epoch_problem_ = {NoSolutionReason::NoInitialAttitude,
-                      "no initial attitude: neither an attitude nor a heading given to the GNSS/INS filter"};
-    return std::nullopt;
-  }
+  if (!ins_.initial_heading_rad) return attitudeInMotion(position_ecef_m);
   const LevelingResult level = levelFromStaticInterval(pending_, position_ecef_m);
   if (level.status != LevelingStatus::Level) {
     epoch_problem_ = {NoSolutionReason::NoInitialAttitude,
@@ -126,7 +139,75 @@ std::optional<Eigen::Matrix3d> PppInsEkf::initialAttitude(const Eigen::Vector3d&
                           " readings up to the start refused: " + levelingStatusText(level.status)};
     return std::nullopt;
   }
-  return rotationEcefNed(position_ecef_m) * rotationNedBody(level.roll_rad, level.pitch_rad, *ins_.initial_heading_rad);
+  return rotationEcefNed(position_ecef_m) * ppp::rotationNedBody(level.roll_rad, level.pitch_rad, *ins_.initial_heading_rad);
+}
+
+std::optional<Eigen::Matrix3d> PppInsEkf::attitudeInMotion(const Eigen::Vector3d& position_ecef_m) {
+  std::size_t interval_end = 0;
+  const LevelingResult level =
+      levelAtLatestStaticInterval(before_start_, position_ecef_m, StaticIntervalThresholds{}, &interval_end);
+  if (level.status != LevelingStatus::Level) {
+    epoch_problem_ = {NoSolutionReason::NoInitialAttitude,
+                      "no initial attitude: no heading given, and no static interval to level in the " +
+                          std::to_string(before_start_.size()) +
+                          " readings before the start (last refusal: " + levelingStatusText(level.status) + ")"};
+    return std::nullopt;
+  }
+  heading_from_course_ = true;
+  alignment_ = AlignmentState::LevelOnly;
+  const Eigen::Matrix3d levelled =
+      rotationEcefNed(position_ecef_m) * ppp::rotationNedBody(level.roll_rad, level.pitch_rad, 0.0);
+  return propagateAttitude(levelled, before_start_, interval_end, epoch_time_);
+}
+
+Eigen::Matrix3d PppInsEkf::rotationNedBody() const {
+  return rotationEcefNed(nominal_.position_world_m).transpose() * nominal_.rotation_world_body;
+}
+
+void PppInsEkf::setHeadingCovariance(Filter& f, double heading_sigma_rad) const {
+  // The attitude error is in the body axes: in NED it is R_ned_body times it.
+  constexpr int a = InsErrorIndex::kAttitude;
+  const Eigen::Matrix3d ned_body = rotationNedBody();
+  Eigen::Matrix3d C = ned_body * f.P.block<3, 3>(a, a) * ned_body.transpose();
+  C.row(2).setZero();
+  C.col(2).setZero();
+  C(2, 2) = heading_sigma_rad * heading_sigma_rad;
+  f.P.middleRows(a, 3).setZero();
+  f.P.middleCols(a, 3).setZero();
+  f.P.block<3, 3>(a, a) = ned_body.transpose() * C * ned_body;
+}
+
+void PppInsEkf::alignHeadingFromTrack(Filter& f) {
+  const InsEkfOptions::HeadingAlignment& o = ins_.heading_alignment;
+  const Eigen::Vector3d antenna = antennaPosition();
+  track_.emplace_back(epoch_time_, antenna);
+  while (track_.size() > 2 && epoch_time_ - track_[1].first >= o.course_interval_s) track_.pop_front();
+  const double dt_s = epoch_time_ - track_.front().first;
+  if (dt_s < o.course_interval_s) return;
+  const Eigen::Vector3d velocity_mps = (antenna - track_.front().second) / dt_s;
+  const HeadingResult h = headingFromGnssVelocity(velocity_mps, antenna, o.velocity_sigma_mps, o.min_horizontal_speed_mps);
+  if (h.status != HeadingStatus::Heading) return;
+  // The body x axis along the course; the antenna stays where the update put it.
+  nominal_.rotation_world_body = withYaw(nominal_.rotation_world_body, nominal_.position_world_m, h.heading_rad);
+  nominal_.position_world_m = antenna - nominal_.rotation_world_body * ins_.lever_arm_body_m;
+  setHeadingCovariance(f, h.heading_sigma_rad);
+  heading_from_course_ = false;
+  alignment_ = AlignmentState::Aligned;
+  track_.clear();
+}
+
+InsAttitudeQuality PppInsEkf::attitudeQuality() const {
+  InsAttitudeQuality q;
+  if (!lastTime()) return q;
+  q.state = alignment_;
+  constexpr int a = InsErrorIndex::kAttitude;
+  const Eigen::Matrix3d ned_body = rotationNedBody();
+  const Eigen::Matrix3d C = ned_body * f_.P.block<3, 3>(a, a) * ned_body.transpose();
+  q.tilt_sigma_rad = std::sqrt(std::max(C(0, 0), C(1, 1)));
+  q.heading_sigma_rad = std::sqrt(std::max(C(2, 2), 0.0));
+  q.publishable = attitudePublishable(q.state) && q.tilt_sigma_rad <= ins_.publish_tilt_sigma_rad &&
+                  q.heading_sigma_rad <= ins_.publish_heading_sigma_rad;
+  return q;
 }
 
 bool PppInsEkf::startNominal(const ReceiverState& start) {
@@ -154,6 +235,8 @@ ReceiverState PppInsEkf::predict(double dt_s, bool first, const std::optional<Re
       pending_.clear();
       return *start;
     }
+    track_.clear();
+    if (heading_from_course_) setHeadingCovariance(work_, ins_.heading_alignment.unaligned_heading_sigma_rad);
   } else if (!first) {
     if (propagateTo(*lastTime() + dt_s)) predictFilter(f_, dt_s, false);
     work_ = f_;
@@ -224,6 +307,7 @@ void PppInsEkf::finishEpoch(EstimatorEpochResult& result) const {
   // An inertial problem is the epoch's reason, also when the screening stopped it first.
   if (epoch_problem_ && result.status != EpochStatus::Ok)
     fail(result, EpochStatus::NoSolution, epoch_problem_->first, epoch_problem_->second);
+  if (lastTime()) result.attitude = attitudeQuality();
 }
 
 void PppInsEkf::resolveAmbiguities(const EstimatorEpochInput& /*input*/, EstimatorEpochResult& result) {
