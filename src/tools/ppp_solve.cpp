@@ -7,8 +7,9 @@
 //                  [--config YAML...] [--estimator ekf|smoother|ekf_ins|both] [--truth X,Y,Z] [--name N] --out DIR
 // (the estimators: ppp/estimators/estimator_registry.h; --help lists them)
 //                  [--no-product-checks] [--start "YYYY/MM/DD HH:MM:SS"] [--end "YYYY/MM/DD HH:MM:SS"]
+//                  [--gnss-gap "YYYY/MM/DD HH:MM:SS,SECONDS"]
 //                  [--imu F [--imu-format csv|logged] [--imu-tag F] [--imu-grade consumer|industrial|tactical]
-//                   [--lever-arm X,Y,Z] [--imu-heading DEG | --heading-speed M/S]]
+//                   [--lever-arm X,Y,Z] [--imu-rotation R,P,Y] [--imu-heading DEG | --heading-speed M/S]]
 // --imu: the IMU readings of the GNSS/INS filter (--estimator ekf_ins, which needs
 // them; the other estimators ignore them): the plain CSV (default, doc/gnss_ins.md)
 // or a logged IMU CSV with its RTKLIB time-tag file (--imu-format logged --imu-tag F),
@@ -23,6 +24,12 @@
 // [m/s, default 0.5] (the body x axis taken as the direction of motion). ekf_ins
 // writes the EKF's files under <name>_ekf_ins* and <name>_ekf_ins_attitude.csv
 // (attitude and velocity after each epoch; doc/gnss_ins.md).
+// --imu-rotation: the IMU's mounting, its axes rotated from the body's by roll,
+// pitch, yaw [deg] (R_body_imu = Rz(yaw) Ry(pitch) Rx(roll)); the readings are
+// turned into the body axes (io/imu/imu_file_loader.h) before the filter sees them.
+// --gnss-gap: a GNSS outage of SECONDS from the GPST start: those epochs are kept
+// without any satellite (an inertial estimator coasts through them; the others
+// have no solution there).
 // --start/--end (GPST): only the epochs in [start, end) are processed (e.g. one
 // hour of a day file; io/rinex/time_window_source.h); either may be given alone.
 // Several --config files are laid one on another in order, as the nodes load
@@ -67,6 +74,7 @@
 #include "ppp_bayes_tree/io/imu/imu_file_loader.h"
 #include "ppp_bayes_tree/io/transport/stream_format.h"
 #include "ppp_bayes_tree/models/satellite_reference_point.h"
+#include "ppp_bayes_tree/navigation/ins_alignment.h"
 #include "ppp_bayes_tree/ppp/estimators/estimator_registry.h"
 #include "ppp_bayes_tree/ppp/pipeline/product_sources.h"
 
@@ -80,8 +88,10 @@ int usage(const std::string& why) {
             << "                 [--config YAML...] [--estimator " << ppp::registeredEstimatorNames("|") << '|'
             << ppp::kAllEstimators << "] [--truth X,Y,Z] [--name N] --out DIR\n"
             << "                 [--no-product-checks] [--start \"YYYY/MM/DD HH:MM:SS\"] [--end \"YYYY/MM/DD HH:MM:SS\"]\n"
+            << "                 [--gnss-gap \"YYYY/MM/DD HH:MM:SS,SECONDS\"]\n"
             << "                 [--imu F [--imu-format csv|logged] [--imu-tag F] [--imu-grade consumer|industrial|tactical]\n"
-            << "                  [--lever-arm X,Y,Z] [--imu-heading DEG | --heading-speed M/S]]  (ekf_ins needs --imu)\n"
+            << "                  [--lever-arm X,Y,Z] [--imu-rotation R,P,Y] [--imu-heading DEG | --heading-speed M/S]]\n"
+            << "                  (ekf_ins needs --imu)\n"
             << "estimators (--estimator; default " << ppp::kDefaultEstimator << ", "
             << ppp::kAllEstimators << ": each in turn):\n";
   for (const ppp::EstimatorEntry& e : ppp::kEstimators) std::cerr << "  " << e.name << ": " << e.description << "\n";
@@ -116,7 +126,7 @@ std::optional<std::string> parseImuOption(const std::string& a, int argc, char**
   const bool has_value = i + 1 < argc;
   const std::string v = has_value ? argv[i + 1] : "";
   if (a != "--imu" && a != "--imu-format" && a != "--imu-tag" && a != "--imu-grade" && a != "--lever-arm" &&
-      a != "--imu-heading" && a != "--heading-speed")
+      a != "--imu-heading" && a != "--heading-speed" && a != "--imu-rotation")
     return std::nullopt;
   if (!has_value) return a + " needs a value";
   ++i;
@@ -132,6 +142,12 @@ std::optional<std::string> parseImuOption(const std::string& a, int argc, char**
     else return std::string("--imu-grade needs consumer, industrial or tactical");
   } else if (a == "--lever-arm") {
     if (!parseTruth(v, imu.ins.lever_arm_body_m)) return std::string("--lever-arm needs X,Y,Z in metres (body frame)");
+  } else if (a == "--imu-rotation") {
+    Eigen::Vector3d deg;
+    if (!parseTruth(v, deg) || !deg.allFinite())
+      return std::string("--imu-rotation needs ROLL,PITCH,YAW in degrees (the IMU's axes from the body's)");
+    imu.file.rotation_body_imu = ppp::rotationNedBody(deg.x() * M_PI / 180.0, deg.y() * M_PI / 180.0,
+                                                      deg.z() * M_PI / 180.0);
   } else if (a == "--heading-speed") {
     char* end = nullptr;
     const double speed = std::strtod(v.c_str(), &end);
@@ -209,6 +225,15 @@ std::string parseOption(const std::string& a, int argc, char** argv, int& i, Sol
     std::optional<ppp::GnssTime>& bound = a == "--start" ? req.files.window.start : req.files.window.end;
     if (i + 1 >= argc || !(bound = ppp::parseReferenceDate(argv[++i])))
       return a + " needs a GPST time YYYY/MM/DD or \"YYYY/MM/DD HH:MM:SS\"";
+  } else if (a == "--gnss-gap") {  // "YYYY/MM/DD HH:MM:SS,SECONDS": epochs kept without satellites
+    const std::string text = i + 1 < argc ? argv[++i] : "";
+    const auto comma = text.rfind(',');
+    char* end = nullptr;
+    const double seconds = comma == std::string::npos ? 0.0 : std::strtod(text.c_str() + comma + 1, &end);
+    if (comma == std::string::npos || !(req.files.window.outage_start = ppp::parseReferenceDate(text.substr(0, comma))) ||
+        end == text.c_str() + comma + 1 || *end != '\0' || !(seconds > 0.0) || !std::isfinite(seconds))
+      return "--gnss-gap needs \"YYYY/MM/DD HH:MM:SS,SECONDS\" (GPST start, duration > 0)";
+    req.files.window.outage_s = seconds;
   } else if (a == "--no-product-checks") {
     req.files.check_products = false;
   } else if (a == "--bia" || a == "--ssr" || a == "--blq") {

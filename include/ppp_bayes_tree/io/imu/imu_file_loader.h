@@ -7,8 +7,10 @@
 // the readings' values only (saturation against the given full scale, the
 // acceleration units): its time checks are for streams and are not run twice.
 // Used by ppp_solve --imu and ppp_to_bag --imu.
+#include <Eigen/Core>
 #include <cstddef>
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -28,6 +30,10 @@ struct ImuFileOptions {
   std::string tag_path;  ///< the time-tag file (RtklibLogged only)
   /// The screen's value checks (full scales, units window); its time checks are off.
   ImuInputScreenOptions screen;
+  /// The IMU's mounting, R_body_imu: when set, the kept readings are turned from the
+  /// sensor's axes into the body axes (f_body = R f_imu, w_body = R w_imu), after the
+  /// screen (which checks the sensor's own axes against their full scale).
+  std::optional<Eigen::Matrix3d> rotation_body_imu;
 };
 
 struct ImuFileLoad {

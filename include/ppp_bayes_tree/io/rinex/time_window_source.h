@@ -3,7 +3,8 @@
 // a time window [start, end) (GPST; either bound may be open). Epochs before
 // the start are read and dropped; the first epoch at or after the end ends the
 // data (the rest of the file is not read). Used by ppp_solve --start/--end and
-// by campaigns that split a day file into one-hour jobs.
+// by campaigns that split a day file into one-hour jobs; the epochs of an outage
+// (ppp_solve --gnss-gap) are handed on empty.
 #include <memory>
 #include <optional>
 
@@ -12,10 +13,15 @@
 
 namespace ppp {
 
-/// A time window [start, end), either bound open (nullopt).
+/// A time window [start, end), either bound open (nullopt), and optionally a GNSS
+/// outage inside it: the epochs in [outage_start, outage_start + outage_s) are kept
+/// with their time but without any satellite (to measure how an estimator coasts).
 struct ObservationWindow {
   std::optional<GnssTime> start, end;
-  bool bounded() const { return start.has_value() || end.has_value(); }
+  std::optional<GnssTime> outage_start;
+  double outage_s = 0.0;
+  bool bounded() const { return start.has_value() || end.has_value() || outage_start.has_value(); }
+  bool inOutage(const GnssTime& t) const { return outage_start && t - *outage_start >= 0.0 && t - *outage_start < outage_s; }
   bool contains(const GnssTime& t) const { return (!start || *start <= t) && (!end || t < *end); }
 };
 

@@ -59,6 +59,11 @@ ImuFileLoad loadImuFile(const ImuFileOptions& options) {
   readFile(options, out, read);
   out.readings_read = read.size();
   screenReadings(options, read, out);
+  if (options.rotation_body_imu)
+    for (ImuSample& s : out.samples) {
+      s.specific_force_mps2 = *options.rotation_body_imu * s.specific_force_mps2;
+      s.angular_rate_radps = *options.rotation_body_imu * s.angular_rate_radps;
+    }
   return out;
 }
 

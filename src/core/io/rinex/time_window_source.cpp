@@ -22,7 +22,12 @@ ObservationRead TimeWindowObservationSource::next(ObsEpoch& epoch) {
       ended_ = true;
       return ObservationRead::End;
     }
-    if (!window_.start || epoch.time >= *window_.start) return ObservationRead::Epoch;
+    if (window_.start && epoch.time < *window_.start) continue;
+    if (window_.inOutage(epoch.time)) {
+      epoch.satellites.clear();
+      epoch.observations.clear();
+    }
+    return ObservationRead::Epoch;
   }
 }
 

@@ -6,6 +6,7 @@
 #include "ppp_bayes_tree/navigation/ins_alignment.h"
 #include "ppp_bayes_tree/navigation/ins_error_state.h"
 #include "ppp_bayes_tree/navigation/ins_mechanization.h"
+#include "ppp_bayes_tree/navigation/navigation_frame.h"
 #include "ppp_bayes_tree/navigation/so3.h"
 
 namespace ppp {
@@ -155,6 +156,12 @@ std::optional<Eigen::Matrix3d> PppInsEkf::attitudeInMotion(const Eigen::Vector3d
   }
   heading_from_course_ = true;
   alignment_ = AlignmentState::LevelOnly;
+  // The accelerometers' error along gravity is what the mean force's magnitude lacks
+  // of the local gravity's (Groves 2nd ed. 14.2.1; a sensor reading 1 % high would
+  // otherwise push the vertical velocity by 0.1 m/s every second).
+  const Eigen::Vector3d f = level.mean_specific_force_mps2;
+  const double gravity_mps2 = ecefNavigationFrame(position_ecef_m).gravity_world_mps2.norm();
+  start_accel_bias_mps2_ = f - gravity_mps2 * f.normalized();
   const Eigen::Matrix3d levelled =
       rotationEcefNed(position_ecef_m) * ppp::rotationNedBody(level.roll_rad, level.pitch_rad, 0.0);
   return propagateAttitude(levelled, before_start_, interval_end, epoch_time_);
@@ -225,6 +232,7 @@ bool PppInsEkf::startNominal(const ReceiverState& start) {
   nominal_.velocity_world_mps = ins_.initial_velocity_ecef_mps;
   nominal_.position_world_m = start.position_ecef_m - nominal_.rotation_world_body * ins_.lever_arm_body_m;
   bias_ = ImuBias{};
+  if (heading_from_course_) bias_.accel_mps2 = start_accel_bias_mps2_;
   return true;
 }
 

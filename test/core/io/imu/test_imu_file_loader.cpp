@@ -3,11 +3,13 @@
 // counted, the stamps checked once (by the reader).
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 
 #include "ppp_bayes_tree/io/imu/imu_file_loader.h"
+#include "ppp_bayes_tree/navigation/ins_alignment.h"
 #include "test_support.h"
 
 namespace ppp {
@@ -97,6 +99,22 @@ TEST(ImuFileLoader, ChecksTheStampsOnceInTheReader) {
   EXPECT_EQ(load.report.counters().at("duplicate time"), 1u);
   EXPECT_EQ(load.screen_problems.count(ImuInputProblem::Gap), 0u);
   EXPECT_EQ(load.screen_problems.count(ImuInputProblem::DuplicateTime), 0u);
+}
+
+TEST(ImuFileLoader, TurnsTheReadingsIntoTheBodyAxes) {
+  const fs::path dir = test::tempDir("imu_loader_rotation");
+  ImuFileOptions options = csvFile(writeText(dir / "imu.csv", restLines(60)));
+  // The walk's mounting: IMU z up (roll 180), x to the body's left (yaw -90):
+  // f_imu = (0.01, -0.02, 9.8) reads (0.02, -0.01, -9.8) in x forward, y right, z down
+  // (ppp_solve --imu-rotation 180,0,-90: R_body_imu = Rz(-90) Rx(180)).
+  Eigen::Matrix3d body_imu;
+  body_imu << 0, -1, 0, -1, 0, 0, 0, 0, -1;
+  EXPECT_LT((rotationNedBody(M_PI, 0.0, -M_PI / 2) - body_imu).norm(), 1e-15);
+  options.rotation_body_imu = body_imu;
+  const ImuFileLoad load = loadImuFile(options);
+  ASSERT_EQ(load.samples.size(), 60u);
+  EXPECT_NEAR((load.samples[0].specific_force_mps2 - Eigen::Vector3d(0.02, -0.01, -9.8)).norm(), 0.0, 1e-12);
+  EXPECT_NEAR((load.samples[0].angular_rate_radps - Eigen::Vector3d(-0.002, -0.001, -0.003)).norm(), 0.0, 1e-12);
 }
 
 TEST(ImuFileLoader, LoggedFormatNeedsItsTagAndMissingFilesThrow) {
