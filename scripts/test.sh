@@ -3,7 +3,8 @@
 # catkin (and rostests as they come), then a short libFuzzer smoke run of every
 # reader, then the script tests (scripts/test_plot_solutions.sh;
 # scripts/test_nl_residual_histogram.sh; scripts/test_function_census.sh: the
-# function-length census and its unit test; scripts/test_demo.sh: the main-job
+# function-length census and its unit test; scripts/test_walk_ins_study.sh: the
+# u-blox walk GNSS/INS study and its unit test; scripts/test_demo.sh: the main-job
 # demo end to end on a 3-min simulated flight;
 # scripts/test_node_startup.sh: start-up errors of the nodes reach stderr;
 # scripts/test_live_replay.sh: a bag of a live run's raw topics replayed through
@@ -46,6 +47,7 @@ echo "=== script tests ==="
 "$REPO_DIR/scripts/test_plot_solutions.sh" "$EXTRA"
 "$REPO_DIR/scripts/test_nl_residual_histogram.sh" "$EXTRA"
 "$REPO_DIR/scripts/test_function_census.sh" "$EXTRA"
+"$REPO_DIR/scripts/test_walk_ins_study.sh" "$EXTRA"
 "$REPO_DIR/scripts/test_demo.sh" "$EXTRA"
 "$REPO_DIR/scripts/test_node_startup.sh" "$EXTRA"
 "$REPO_DIR/scripts/test_live_replay.sh" "$EXTRA"

@@ -1,0 +1,75 @@
+#!/usr/bin/env python3
+"""Unit test of scripts/walk_ins_study.py on small series whose velocities, courses and
+displacements are known by construction (a walk east at 1 m/s along the equator)."""
+import math
+import os
+import sys
+import unittest
+
+import numpy as np
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "scripts"))
+import walk_ins_study as w  # noqa: E402
+
+
+def reference(n=40, dt=0.25, speed=1.0, q=1):
+    """Rows (t, lat, lon, h, Q, vn, ve, vu): east at `speed` along the equator from 0 deg."""
+    t = 60000.0 + dt * np.arange(n)
+    lon = np.degrees(speed * (t - t[0]) / w.WGS84_A)
+    return np.stack([t, np.zeros(n), lon, np.zeros(n), np.full(n, q), np.zeros(n), np.full(n, speed), np.zeros(n)],
+                    axis=-1)
+
+
+class WalkInsStudyTest(unittest.TestCase):
+    def test_wrap_and_match(self):
+        np.testing.assert_allclose(w.wrap_deg([190.0, -190.0, 10.0]), [-170.0, 170.0, 10.0])
+        ref_t = np.array([0.0, 0.25, 0.5])
+        np.testing.assert_array_equal(w.match(np.array([0.24, 0.6, 0.45]), ref_t), [1, -1, 2])
+
+    def test_velocity_and_heading(self):
+        ref = reference()
+        t = ref[:, 0]
+        # 0.03 m/s north error everywhere; heading 10 deg off the course (90 deg) on every epoch.
+        stats = w.velocity_and_heading(t, np.full(len(t), 0.03), np.ones(len(t)), np.full(len(t), 100.0), ref)
+        self.assertEqual(stats["n_vel"], len(t))
+        self.assertAlmostEqual(stats["vel_rms"], 0.03, places=12)
+        self.assertAlmostEqual(stats["head_rms"], 10.0, places=9)
+        self.assertAlmostEqual(stats["head_med"], 10.0, places=9)
+        # Float reference epochs (Q=2) are left out.
+        self.assertEqual(w.velocity_and_heading(t, np.zeros(len(t)), np.ones(len(t)), np.zeros(len(t)),
+                                                reference(q=2))["n_vel"], 0)
+
+    def test_central_velocity_and_gap(self):
+        ref = reference()
+        xyz = w.geodetic_to_ecef(ref[:, 1], ref[:, 2], ref[:, 3])
+        sol = np.column_stack([ref[:, 0], xyz])
+        v = w.central_velocity_ne(sol, 0.0, 0.0)
+        np.testing.assert_allclose(v[:, 1], 0.0, atol=1e-6)
+        np.testing.assert_allclose(v[:, 2], 1.0, atol=1e-6)
+        # A 2 s gap from t0 + 2 s: the reference moves between the last epoch before
+        # it (1.75 s) and the last in it (3.75 s), 2 m; an estimate 0.3 m short along the track has that error.
+        t = ref[:, 0]
+        est = xyz.copy()
+        inside = (t >= t[0] + 2.0) & (t < t[0] + 4.0)
+        est[np.where(inside)[0][-1]] -= np.array([0.0, 0.3, 0.0])  # ECEF y is east at longitude 0
+        d = w.gap_displacement(t, est, ref, t[0] + 2.0, 2.0)
+        self.assertAlmostEqual(d["ref_m"], 2.0, places=4)
+        self.assertAlmostEqual(d["error_m"], 0.3, places=4)
+        self.assertTrue(d["fixed"])
+        self.assertIsNone(w.gap_displacement(t, est, ref, t[0] - 10.0, 2.0))
+
+    def test_reads_the_reference_columns(self):
+        path = os.path.join(os.environ.get("TMPDIR", "/tmp"), "walk_ins_study_ref.pos")
+        with open(path, "w") as f:
+            f.write("%  GPST  latitude(deg) ...\n")
+            f.write("2025/08/28 17:30:44.999 40.0966916 -105.1471664 1601.4460000 1.0000000 25.0000000 0.0098995 "
+                    "0.0098995 0.0100000 0.0000000 0.0000000 0.0000000 0.0000000 0.0000000 0.0120000 -0.0040000 "
+                    "-0.0110000 0.0558614 0.0558614 0.0558614 0.0000000 0.0000000 0.0000000\n")
+        ref = w.read_reference(path)
+        np.testing.assert_allclose(ref[0], [17 * 3600 + 30 * 60 + 44.999, 40.0966916, -105.1471664, 1601.446, 1,
+                                            0.012, -0.004, -0.011])
+        os.remove(path)
+
+
+if __name__ == "__main__":
+    unittest.main()
