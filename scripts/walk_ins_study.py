@@ -137,6 +137,7 @@ def velocity_and_heading(t, vn, ve, heading_deg, ref, min_speed_mps=0.5):
     moving = np.hypot(r[:, 5], r[:, 6]) > min_speed_mps
     err = wrap_deg(heading_deg[ok][moving] - course[moving])
     return {"n_vel": int(ok.sum()), "vel_rms": float(np.sqrt(np.mean(dv ** 2))) if ok.any() else math.nan,
+            "vel_med": float(np.median(dv)) if ok.any() else math.nan,
             "n_head": int(moving.sum()),
             "head_rms": float(np.sqrt(np.mean(err ** 2))) if moving.any() else math.nan,
             "head_med": float(np.median(np.abs(err))) if moving.any() else math.nan}
@@ -229,6 +230,7 @@ def main():
     print("|---|---|---|")
     print("| epochs compared (velocity) | %d | %d |" % (gnss_stats["n_vel"], ins_stats["n_vel"]))
     print("| horizontal velocity RMS [m/s] | %.3f | %.3f |" % (gnss_stats["vel_rms"], ins_stats["vel_rms"]))
+    print("| horizontal velocity error median [m/s] | %.3f | %.3f |" % (gnss_stats["vel_med"], ins_stats["vel_med"]))
     print("| epochs moving > 0.5 m/s | %d | %d |" % (gnss_stats["n_head"], ins_stats["n_head"]))
     print("| heading - course RMS [deg] | %.1f (course of its velocity) | %.1f |"
           % (gnss_stats["head_rms"], ins_stats["head_rms"]))
