@@ -209,5 +209,60 @@ TEST(InsAlignment, StateGoesFromNotAlignedToLevelOnlyToAligned) {
   EXPECT_NEAR(e.yaw_rad, 0.5, 1e-12);
 }
 
+// A start in motion: 2 s at rest (roll 0.02, pitch -0.03 rad), then 2 s turning at
+// 0.5 rad/s (over the gyro threshold): the latest interval that levels ends with the
+// rest; all turning is refused with the gyro's reason.
+TEST(InsAlignment, LevelsAtTheLatestStaticIntervalBeforeTheMotion) {
+  std::mt19937 rng(7);
+  StaticInterval rest;
+  rest.rotation_ecef_body = rotationEcefNed(rest.position) * rotationNedBody(0.02, -0.03, 1.0);
+  rest.duration_s = 2.0;
+  StaticInterval turning = rest;
+  turning.turn_rate_radps = 0.5;
+  std::vector<ImuSample> readings = rest.readings(rng);
+  const std::vector<ImuSample> turn = turning.readings(rng);
+  readings.insert(readings.end(), turn.begin(), turn.end());
+  std::size_t end = 0;
+  const LevelingResult level = levelAtLatestStaticInterval(readings, rest.position, StaticIntervalThresholds{}, &end);
+  ASSERT_EQ(level.status, LevelingStatus::Level);
+  EXPECT_LE(end, 400u);  // the window holds no turning reading...
+  EXPECT_GE(end, 400u - 100u / 2);  // ...and is the latest (searched back in steps of 50)
+  EXPECT_NEAR(level.roll_rad, 0.02, 4 * level.tilt_sigma_rad + 1e-4);
+  EXPECT_NEAR(level.pitch_rad, -0.03, 4 * level.tilt_sigma_rad + 1e-4);
+  std::size_t none = 0;
+  EXPECT_EQ(levelAtLatestStaticInterval(turn, rest.position, StaticIntervalThresholds{}, &none).status,
+            LevelingStatus::GyroRate);
+  EXPECT_EQ(levelAtLatestStaticInterval({}, rest.position, StaticIntervalThresholds{}, &none).status,
+            LevelingStatus::TooFewSamples);
+}
+
+// The gyros carry the attitude: noise-free readings of a steady 0.3 rad/s turn about
+// body z relative to the Earth, R(t) = R0 Exp((0, 0, 0.3 t)), read with the Earth
+// rate (w_ib = w_eb + R^T w_ie) and held each for its 5 ms, give R(2 s) to rounding.
+TEST(InsAlignment, PropagatesTheAttitudeThroughTheGyroReadings) {
+  const Eigen::Vector3d position = stationOrigin();
+  const Eigen::Matrix3d r0 = rotationEcefNed(position) * rotationNedBody(0.1, -0.2, 0.3);
+  const double dt = 0.005, rate = 0.3;
+  const GnssTime t0 = GnssTime::fromGpsWeek(2381, 1000.0);
+  std::vector<ImuSample> readings;
+  for (int k = 0; k < 400; ++k) {
+    const double t = k * dt;
+    const Eigen::Matrix3d r = r0 * so3::expMap(Eigen::Vector3d(0, 0, rate * t));
+    ImuSample s;
+    s.time = t0 + t;
+    s.angular_rate_radps = Eigen::Vector3d(0, 0, rate) + r.transpose() * kEarthRate;
+    readings.push_back(s);
+  }
+  const Eigen::Matrix3d r2 = propagateAttitude(r0, readings, 0, t0 + 2.0);
+  const Eigen::Matrix3d expected = r0 * so3::expMap(Eigen::Vector3d(0, 0, rate * 2.0));
+  const double error_rad = so3::logMap(expected.transpose() * r2).norm();
+  std::printf("attitude after 2 s of a 0.3 rad/s turn: %.2e rad\n", error_rad);
+  // The Earth-rate term held over each 5 ms while the body turns: at most
+  // w_ie x 0.3 x dt / 2 per second, 1.1e-7 rad over the 2 s (measured 6.2e-8).
+  EXPECT_LT(error_rad, kEarthRotationRate_radps * rate * dt / 2.0 * 2.0);
+  // Up to a time before the first reading: unchanged.
+  EXPECT_TRUE(propagateAttitude(r0, readings, 0, t0).isApprox(r0, 0.0));
+}
+
 }  // namespace
 }  // namespace ppp
