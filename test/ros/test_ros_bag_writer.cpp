@@ -18,8 +18,7 @@
 #include <rosbag/bag.h>
 #include <rosbag/view.h>
 
-#include "ppp_bayes_tree/io/imu/logged_imu_reader.h"
-#include "ppp_bayes_tree/navigation/imu_input_screen.h"
+#include "ppp_bayes_tree/io/imu/imu_file_loader.h"
 #include "ppp_bayes_tree/ros/bag_writer.h"
 #include "ppp_bayes_tree/ros/imu_conversions.h"
 #include "ppp_bayes_tree/ros/message_conversions.h"
@@ -214,13 +213,12 @@ TEST(ImuBag, PppToBagWritesTheScreenedReadingsOfTheWalk) {
   const std::string cmd = std::string(PPP_BIN_DIR) + "/ppp_to_bag --simulate loiter --duration-min 1 --imu " + csv +
                           " --imu-tag " + tag + " --out " + bag + " > " + dir + "/walk.log 2>&1";
   ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
-  // The library's reading of the same files through the same screen.
-  const ppp::LoggedImuRead read = ppp::readLoggedImu(csv, tag);
-  ppp::ImuInputScreen screen;
-  std::vector<ppp::ImuSample> kept;
-  for (const ppp::ImuSample& r : read.samples)
-    for (const ppp::ImuSample& k : screen.push(r)) kept.push_back(k);
-  for (const ppp::ImuSample& k : screen.finish()) kept.push_back(k);
+  // The library's loading of the same files (reader, then the input screen).
+  ppp::ImuFileOptions file;
+  file.path = csv;
+  file.tag_path = tag;
+  file.format = ppp::ImuFileFormat::RtklibLogged;
+  const std::vector<ppp::ImuSample> kept = ppp::loadImuFile(file).samples;
   ASSERT_GT(kept.size(), 20000u);  // 20,455 readings over 134 s (data README)
   const BagContents c = readBag(bag);
   ASSERT_EQ(c.imu.size(), kept.size());
