@@ -1,8 +1,9 @@
 #include "ppp_bayes_tree/ppp/estimators/ppp_ins_ekf.h"
 
 #include <cmath>
+#include <utility>
 
-#include "ppp_bayes_tree/navigation/ins_alignment.h"
+#include "ppp_bayes_tree/ppp/estimators/ins_start_attitude.h"
 #include "ppp_bayes_tree/navigation/ins_error_state.h"
 #include "ppp_bayes_tree/navigation/ins_mechanization.h"
 #include "ppp_bayes_tree/navigation/so3.h"
@@ -113,20 +114,9 @@ void PppInsEkf::receiveEpochInput(const EstimatorEpochInput& input) {
 }
 
 std::optional<Eigen::Matrix3d> PppInsEkf::initialAttitude(const Eigen::Vector3d& position_ecef_m) {
-  if (ins_.initial_rotation_ecef_body) return ins_.initial_rotation_ecef_body;
-  if (!ins_.initial_heading_rad) {
-    epoch_problem_ = {NoSolutionReason::NoInitialAttitude,
-                      "no initial attitude: neither an attitude nor a heading given to the GNSS/INS filter"};
-    return std::nullopt;
-  }
-  const LevelingResult level = levelFromStaticInterval(pending_, position_ecef_m);
-  if (level.status != LevelingStatus::Level) {
-    epoch_problem_ = {NoSolutionReason::NoInitialAttitude,
-                      "no initial attitude: levelling the " + std::to_string(pending_.size()) +
-                          " readings up to the start refused: " + levelingStatusText(level.status)};
-    return std::nullopt;
-  }
-  return rotationEcefNed(position_ecef_m) * rotationNedBody(level.roll_rad, level.pitch_rad, *ins_.initial_heading_rad);
+  InsStartAttitude start = insStartAttitude(ins_, pending_, position_ecef_m);
+  if (!start.rotation_ecef_body) epoch_problem_ = {NoSolutionReason::NoInitialAttitude, std::move(start.problem)};
+  return start.rotation_ecef_body;
 }
 
 bool PppInsEkf::startNominal(const ReceiverState& start) {
