@@ -4,20 +4,21 @@
 // usage: ppp_solve (--obs F | --rtcm F [--ref-date YYYY/MM/DD] | --ubx F)
 //                  (--sp3 F... --clk F... | --nav F... [--ssr F [--ssr-reference com|apc|apc-l1]])
 //                  --atx F... [--bia F] [--blq F]
-//                  [--config YAML...] [--estimator ekf|smoother|ekf_ins|both] [--truth X,Y,Z] [--name N] --out DIR
+//                  [--config YAML...] [--estimator ekf|smoother|ekf_ins|smoother_ins|both] [--truth X,Y,Z] [--name N] --out DIR
 // (the estimators: ppp/estimators/estimator_registry.h; --help lists them)
 //                  [--no-product-checks] [--start "YYYY/MM/DD HH:MM:SS"] [--end "YYYY/MM/DD HH:MM:SS"]
 //                  [--imu F [--imu-format csv|logged] [--imu-tag F] [--imu-grade consumer|industrial|tactical]
 //                   [--lever-arm X,Y,Z] [--imu-heading DEG]]
-// --imu: the IMU readings of the GNSS/INS filter (--estimator ekf_ins, which needs
-// them; the other estimators ignore them): the plain CSV (default, doc/gnss_ins.md)
+// --imu: the IMU readings of the GNSS/INS estimators (--estimator ekf_ins or
+// smoother_ins, which need them; the other estimators ignore them): the plain CSV (default, doc/gnss_ins.md)
 // or a logged IMU CSV with its RTKLIB time-tag file (--imu-format logged --imu-tag F).
 // --imu-grade: the IMU's noise preset (default industrial); --lever-arm: antenna
 // minus IMU in the body frame [m] (default 0,0,0); --imu-heading: the heading of
 // the body x axis at the start [deg from north, clockwise]; roll and pitch come from
 // levelling the readings up to the first epoch (the platform at rest). ekf_ins
 // writes the EKF's files under <name>_ekf_ins* and <name>_ekf_ins_attitude.csv
-// (attitude and velocity after each epoch; doc/gnss_ins.md).
+// (attitude and velocity after each epoch; doc/gnss_ins.md); smoother_ins writes the
+// smoother's files under <name>_smoother_ins_{filtered,smoothed}*.
 // --start/--end (GPST): only the epochs in [start, end) are processed (e.g. one
 // hour of a day file; io/rinex/time_window_source.h); either may be given alone.
 // Several --config files are laid one on another in order, as the nodes load
@@ -76,7 +77,7 @@ int usage(const std::string& why) {
             << ppp::kAllEstimators << "] [--truth X,Y,Z] [--name N] --out DIR\n"
             << "                 [--no-product-checks] [--start \"YYYY/MM/DD HH:MM:SS\"] [--end \"YYYY/MM/DD HH:MM:SS\"]\n"
             << "                 [--imu F [--imu-format csv|logged] [--imu-tag F] [--imu-grade consumer|industrial|tactical]\n"
-            << "                  [--lever-arm X,Y,Z] [--imu-heading DEG]]  (ekf_ins needs --imu)\n"
+            << "                  [--lever-arm X,Y,Z] [--imu-heading DEG]]  (ekf_ins, smoother_ins need --imu)\n"
             << "estimators (--estimator; default " << ppp::kDefaultEstimator << ", "
             << ppp::kAllEstimators << ": each in turn):\n";
   for (const ppp::EstimatorEntry& e : ppp::kEstimators) std::cerr << "  " << e.name << ": " << e.description << "\n";
