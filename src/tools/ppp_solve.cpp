@@ -18,7 +18,8 @@
 // levelling the readings up to the first epoch (the platform at rest). ekf_ins
 // writes the EKF's files under <name>_ekf_ins* and <name>_ekf_ins_attitude.csv
 // (attitude and velocity after each epoch; doc/gnss_ins.md); smoother_ins writes the
-// smoother's files under <name>_smoother_ins_{filtered,smoothed}*.
+// smoother's files under <name>_smoother_ins_{filtered,smoothed}* and
+// <name>_smoother_ins_attitude.csv.
 // --start/--end (GPST): only the epochs in [start, end) are processed (e.g. one
 // hour of a day file; io/rinex/time_window_source.h); either may be given alone.
 // Several --config files are laid one on another in order, as the nodes load

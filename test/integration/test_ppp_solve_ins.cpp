@@ -3,8 +3,8 @@
 // x north, z down; gravity and the Earth rate in its axes; 20 Hz) and the heading
 // given: every epoch is solved, the attitude file holds one row per epoch with the
 // levelled attitude, and the GNSS estimators write no attitude file; the GNSS/INS
-// smoother (smoother_ins) on the same input solves every epoch and ends where the
-// GNSS/INS EKF ends.
+// smoother (smoother_ins) on the same input solves every epoch, ends where the
+// GNSS/INS EKF ends and writes its attitude file too.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -105,6 +105,25 @@ TEST(PppSolveIns, Zim2StaticImuSmootherInsSolvesEveryEpochLikeTheEkfIns) {
   std::printf("ZIM2 with a static IMU, final 3D error: smoother_ins filtered %.3f m, smoothed %.3f m, ekf_ins %.3f m\n",
               filtered_m, smoothed_m, ekf_m);
   EXPECT_LT(std::abs(filtered_m - ekf_m), 0.05);
+  // Its attitude file: one row per epoch, level and north.
+  std::ifstream in(dir + "/zim2_smoother_ins_attitude.csv");
+  ASSERT_TRUE(in) << "no attitude file";
+  std::string line;
+  std::getline(in, line);
+  int rows = 0;
+  double worst_deg = 0.0;
+  while (std::getline(in, line)) {
+    ++rows;
+    std::stringstream ss(line);
+    std::string cell;
+    std::vector<std::string> cells;
+    while (std::getline(ss, cell, ',')) cells.push_back(cell);
+    ASSERT_EQ(cells.size(), 8u) << line;
+    for (int i = 2; i <= 4; ++i) worst_deg = std::max(worst_deg, std::abs(std::stod(cells[i])));
+  }
+  EXPECT_EQ(rows, 120);
+  std::printf("smoother_ins attitude within %.4f deg of level and north\n", worst_deg);
+  EXPECT_LT(worst_deg, 0.05);
 }
 
 }  // namespace

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <limits>
 #include <map>
 #include <optional>
@@ -21,6 +22,7 @@
 #include "ppp_bayes_tree/navigation/ins_alignment.h"
 #include "ppp_bayes_tree/ppp/estimators/estimator_registry.h"
 #include "ppp_bayes_tree/ppp/estimators/ppp_ins_ekf.h"
+#include "ppp_bayes_tree/ppp/estimators/ppp_ins_smoother.h"
 #include "ppp_bayes_tree/types/constants.h"
 #include "ppp_bayes_tree/types/number_text.h"
 #include "ppp_bayes_tree/types/text_format.h"
@@ -157,17 +159,23 @@ PppSolveOutcome plannedOutputs(const PppSolveRequest& req, const EstimatorEntry&
   return out;
 }
 
-/// The GNSS/INS filter's attitude and velocity after each epoch, also through
+/// The IMU state of a GNSS/INS estimator at an epoch it reached (nullopt: not reached).
+using InertialStateAt = std::function<std::optional<NavState>(const GnssTime&)>;
+
+/// The GNSS/INS estimator's attitude and velocity after each epoch, also through
 /// epochs without a GNSS solution (<stem>_attitude.csv): the ZYX Euler angles of
 /// R_ned_body (ins_alignment.h) and the velocity in the local level frame.
 class AttitudeFile {
  public:
-  AttitudeFile(std::string path, const PppInsEkf& ins) : path_(std::move(path)), out_(openOut(path_)), ins_(ins) {
+  AttitudeFile(std::string path, InertialStateAt state)
+      : path_(std::move(path)), out_(openOut(path_)), state_(std::move(state)) {
     out_ << "time_gpst,status,roll_deg,pitch_deg,heading_deg,velocity_north_mps,velocity_east_mps,velocity_down_mps\n";
   }
   void write(const PppEpochRecord& rec) {
-    if (rec.refused || !ins_.navTime() || !(*ins_.navTime() == rec.solution.time)) return;
-    const NavState& s = ins_.navState();
+    if (rec.refused) return;
+    const std::optional<NavState> state = state_(rec.solution.time);
+    if (!state) return;
+    const NavState& s = *state;
     const Eigen::Matrix3d ecef_ned = rotationEcefNed(s.position_world_m);
     const EulerAngles e = eulerAngles(ecef_ned.transpose() * s.rotation_world_body);
     const Eigen::Vector3d v = ecef_ned.transpose() * s.velocity_world_mps;
@@ -184,16 +192,28 @@ class AttitudeFile {
  private:
   std::string path_;
   std::ofstream out_;
-  const PppInsEkf& ins_;
+  InertialStateAt state_;
 };
 
 /// The attitude file of an estimator with inertial states; none for the others.
 std::optional<AttitudeFile> attitudeFile(const PppSolveOutcome& out, const PppEstimator& estimator) {
-  const auto* ins = dynamic_cast<const PppInsEkf*>(&estimator);
-  if (!ins) return std::nullopt;
+  InertialStateAt state;
+  if (const auto* ekf = dynamic_cast<const PppInsEkf*>(&estimator)) {
+    state = [ekf](const GnssTime& t) -> std::optional<NavState> {
+      if (!ekf->navTime() || !(*ekf->navTime() == t)) return std::nullopt;
+      return ekf->navState();
+    };
+  } else if (const auto* sm = dynamic_cast<const PppInsSmoother*>(&estimator)) {
+    state = [sm](const GnssTime& t) -> std::optional<NavState> {
+      if (!sm->navTime() || !(*sm->navTime() == t)) return std::nullopt;
+      return sm->navState();
+    };
+  } else {
+    return std::nullopt;
+  }
   const std::string epochs_suffix = "_epochs.csv";
   return std::optional<AttitudeFile>(std::in_place,
-      out.epochs_path.substr(0, out.epochs_path.size() - epochs_suffix.size()) + "_attitude.csv", *ins);
+      out.epochs_path.substr(0, out.epochs_path.size() - epochs_suffix.size()) + "_attitude.csv", std::move(state));
 }
 
 /// The per-epoch files (epochs, residuals) written as the run goes, and what the

@@ -56,6 +56,8 @@ class PppInsSmoother : public PppSmoother {
   /// the dead-reckoned one (IMU only, from the last state) after an epoch without a
   /// solution; nullopt before the start.
   const std::optional<NavState>& navState() const { return nav_; }
+  /// The epoch navState() is at; nullopt before the start.
+  const std::optional<GnssTime>& navTime() const { return nav_time_; }
   const ImuBias& imuBias() const { return bias_; }
   /// The antenna position of navState(), ECEF [m].
   std::optional<Eigen::Vector3d> antennaPosition() const;
@@ -91,6 +93,7 @@ class PppInsSmoother : public PppSmoother {
   GnssTime epoch_time_;
   std::optional<std::pair<NoSolutionReason, std::string>> epoch_problem_;
   std::optional<NavState> nav_;            // see navState()
+  std::optional<GnssTime> nav_time_;       // see navTime()
   ImuBias bias_;
   std::optional<NavState> last_nav_;       // the newest state's estimate, read at this epoch's prediction
   ImuBias last_bias_;

@@ -78,6 +78,7 @@ bool PppInsSmoother::startNav(const ReceiverState& start) {
   nav.velocity_world_mps = ins_.initial_velocity_ecef_mps;
   nav.position_world_m = start.position_ecef_m - nav.rotation_world_body * ins_.lever_arm_body_m;
   nav_ = nav;
+  nav_time_ = epoch_time_;
   bias_ = ImuBias{};
   return true;
 }
@@ -98,6 +99,7 @@ ReceiverState PppInsSmoother::predict(double dt_s, bool first, const std::option
   last_bias_ = ImuBias::fromVector(isam2().calculateEstimate(imuBiasKey(*last)));
   if (!preintegrateTo(*lastTime() + dt_s)) return predicted;
   nav_ = predictNavState(*pim_, *last_nav_, last_bias_, ecefNavigationFrame(last_nav_->position_world_m));
+  nav_time_ = epoch_time_;
   bias_ = last_bias_;
   predicted.position_ecef_m = AntennaPositionFactor::antennaOf(*nav_, ins_.lever_arm_body_m);
   return predicted;
@@ -124,6 +126,7 @@ bool PppInsSmoother::solve(const EpochSolveInput& in, EpochSolveOutput& out, Est
   // The new state is in the graph: the readings before it are no longer needed.
   keepReadingsFrom(in.time);
   if (auto nav = smoothedNavState(*newestStateIndex())) nav_ = nav;
+  nav_time_ = in.time;
   bias_ = ImuBias::fromVector(isam2().calculateEstimate(imuBiasKey(*newestStateIndex())));
   return true;
 }
