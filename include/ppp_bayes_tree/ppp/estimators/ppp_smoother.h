@@ -196,8 +196,6 @@ class PppSmoother : public PppEstimator, public SmoothedTrajectoryProvider {
   std::optional<std::uint32_t> newestStateIndex() const {
     return states_.empty() ? std::nullopt : std::optional<std::uint32_t>(states_.back().index);
   }
-  /// The filtered state after the last update.
-  const EpochSolution& filtered() const { return filtered_; }
 
   bool hasState() const override { return initialised(); }
   std::optional<GnssTime> lastSolvedTime() const override { return lastTime(); }
