@@ -73,6 +73,12 @@ bool PppInsSmoother::startNav(const ReceiverState& start) {
     epoch_problem_ = {NoSolutionReason::NoInitialAttitude, attitude.problem};
     return false;
   }
+  const bool held = std::any_of(readings_.begin(), readings_.end(),
+                                [this](const ImuSample& s) { return s.time - epoch_time_ <= 0.0; });
+  if (!held) {
+    epoch_problem_ = {NoSolutionReason::NoImuReadings, "no IMU reading at or before the start " + epoch_time_.toString()};
+    return false;
+  }
   NavState nav;
   nav.rotation_world_body = *attitude.rotation_ecef_body;
   nav.velocity_world_mps = ins_.initial_velocity_ecef_mps;

@@ -3,7 +3,8 @@
 // test/support/analytic_trajectory.h; GNSS code and phase of ppp_simulator.h with its
 // noise) its filtered solution follows the GNSS/INS EKF's and its smoothed one is not
 // worse; a 10 s GNSS outage its IMU factors bridge; a fixed lag bounds its graph; the
-// antenna tie's Jacobians; the registry's "smoother_ins"; the refusal without an attitude.
+// antenna tie's Jacobians; the registry's "smoother_ins"; the refusals without an
+// attitude, without a reading at the start and over a gap in the readings.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -225,7 +226,7 @@ TEST(PppInsSmoother, RegisteredAsSmootherInsAndNotRunByBoth) {
   for (const EstimatorEntry* e : *all) EXPECT_NE(e->name, "smoother_ins");
 }
 
-TEST(PppInsSmoother, SaysWhyWithoutAnAttitude) {
+TEST(PppInsSmoother, SaysWhyWithoutAnAttitudeOrWithoutImuReadings) {
   sim::Simulator sim;
   const MeasurementFunction evaluate = sim::modelOf(sim.epoch());
   std::vector<ImuSample> readings{ImuSample{sim.time() - 0.01, Eigen::Vector3d(0, 0, 9.8), Eigen::Vector3d::Zero()}};
@@ -240,6 +241,28 @@ TEST(PppInsSmoother, SaysWhyWithoutAnAttitude) {
   EXPECT_EQ(r.status, EpochStatus::NoSolution);
   EXPECT_EQ(r.no_solution_reason, NoSolutionReason::NoInitialAttitude) << r.reason;
   EXPECT_NE(r.reason.find("no initial attitude"), std::string::npos) << r.reason;
+
+  // With an attitude but no reading at the start; then started, and 1 s later a gap.
+  EstimatorOptions options;
+  options.ins.initial_rotation_ecef_body = Eigen::Matrix3d::Identity();
+  const std::vector<ImuSample> none;
+  input.imu = &none;
+  auto no_imu = makeEstimatorAs<PppInsSmoother>("smoother_ins", options, &why);
+  const EstimatorEpochResult b = no_imu->processEpoch(input);
+  EXPECT_EQ(b.no_solution_reason, NoSolutionReason::NoImuReadings) << b.reason;
+  EXPECT_NE(b.reason.find("no IMU reading at or before the start"), std::string::npos) << b.reason;
+  auto gap = makeEstimatorAs<PppInsSmoother>("smoother_ins", options, &why);
+  input.imu = &readings;
+  ASSERT_EQ(gap->processEpoch(input).status, EpochStatus::Ok);
+  sim.t_s += 1.0;
+  const MeasurementFunction later = sim::modelOf(sim.epoch());
+  input.time = sim.time();
+  input.evaluate = &later;
+  input.imu = &none;
+  const EstimatorEpochResult c = gap->processEpoch(input);
+  EXPECT_EQ(c.status, EpochStatus::NoSolution);
+  EXPECT_EQ(c.no_solution_reason, NoSolutionReason::NoImuReadings);
+  EXPECT_NE(c.reason.find("gap of"), std::string::npos) << c.reason;
 }
 
 }  // namespace
