@@ -4,16 +4,17 @@
 // usage: ppp_solve (--obs F | --rtcm F [--ref-date YYYY/MM/DD] | --ubx F)
 //                  (--sp3 F... --clk F... | --nav F... [--ssr F [--ssr-reference com|apc|apc-l1]])
 //                  --atx F... [--bia F] [--blq F]
-//                  [--config YAML...] [--estimator ekf|smoother|ekf_ins|both] [--truth X,Y,Z] [--name N] --out DIR
+//                  [--config YAML...] [--estimator ekf|smoother|ekf_ins|smoother_ins|both] [--truth X,Y,Z] [--name N] --out DIR
 // (the estimators: ppp/estimators/estimator_registry.h; --help lists them)
 //                  [--no-product-checks] [--start "YYYY/MM/DD HH:MM:SS"] [--end "YYYY/MM/DD HH:MM:SS"]
 //                  [--gnss-gap "YYYY/MM/DD HH:MM:SS,SECONDS"]
 //                  [--imu F [--imu-format csv|logged] [--imu-tag F] [--imu-grade consumer|industrial|tactical]
 //                   [--lever-arm X,Y,Z] [--imu-rotation R,P,Y] [--imu-heading DEG | --heading-speed M/S]]
-// --imu: the IMU readings of the GNSS/INS filter (--estimator ekf_ins, which needs
-// them; the other estimators ignore them): the plain CSV (default, doc/gnss_ins.md)
-// or a logged IMU CSV with its RTKLIB time-tag file (--imu-format logged --imu-tag F),
-// read and screened by io/imu/imu_file_loader.h (no reading left: exit status 1).
+// --imu: the IMU readings of the GNSS/INS estimators (--estimator ekf_ins or
+// smoother_ins, which need them; the other estimators ignore them): the plain CSV
+// (default, doc/gnss_ins.md) or a logged IMU CSV with its RTKLIB time-tag file
+// (--imu-format logged --imu-tag F), read and screened by io/imu/imu_file_loader.h
+// (no reading left: exit status 1).
 // --imu-grade: the IMU's noise preset (default industrial); --lever-arm: antenna
 // minus IMU in the body frame [m] (default 0,0,0); --imu-heading: the heading of
 // the body x axis at the start [deg from north, clockwise]; roll and pitch come from
@@ -23,7 +24,10 @@
 // from the course over ground once the antenna moves faster than --heading-speed
 // [m/s, default 0.5] (the body x axis taken as the direction of motion). ekf_ins
 // writes the EKF's files under <name>_ekf_ins* and <name>_ekf_ins_attitude.csv
-// (attitude and velocity after each epoch; doc/gnss_ins.md).
+// (attitude and velocity after each epoch; doc/gnss_ins.md); smoother_ins writes the
+// smoother's files under <name>_smoother_ins_{filtered,smoothed}* and
+// <name>_smoother_ins_attitude.csv. smoother_ins needs a given attitude or heading
+// (--imu-heading): the alignment in motion is ekf_ins's.
 // --imu-rotation: the IMU's mounting, its axes rotated from the body's by roll,
 // pitch, yaw [deg] (R_body_imu = Rz(yaw) Ry(pitch) Rx(roll)); the readings are
 // turned into the body axes (io/imu/imu_file_loader.h) before the filter sees them.
@@ -91,7 +95,7 @@ int usage(const std::string& why) {
             << "                 [--gnss-gap \"YYYY/MM/DD HH:MM:SS,SECONDS\"]\n"
             << "                 [--imu F [--imu-format csv|logged] [--imu-tag F] [--imu-grade consumer|industrial|tactical]\n"
             << "                  [--lever-arm X,Y,Z] [--imu-rotation R,P,Y] [--imu-heading DEG | --heading-speed M/S]]\n"
-            << "                  (ekf_ins needs --imu)\n"
+            << "                  (ekf_ins, smoother_ins need --imu)\n"
             << "estimators (--estimator; default " << ppp::kDefaultEstimator << ", "
             << ppp::kAllEstimators << ": each in turn):\n";
   for (const ppp::EstimatorEntry& e : ppp::kEstimators) std::cerr << "  " << e.name << ": " << e.description << "\n";

@@ -11,8 +11,9 @@
 //                                 and bit readers, stream problems, the epoch-time screen)
 //   models      -> io             pure models and the product providers
 //   smoother    -> types          the generic incremental smoother (no GNSS)
-//   navigation  -> types          IMU readings, SO(3), preintegration, the IMU factor's error,
-//                                 the strapdown INS, its error model, coarse alignment
+//   navigation  -> smoother       IMU readings, SO(3), preintegration, the IMU factor's error,
+//                                 the strapdown INS, its error model, coarse alignment, the
+//                                 NavState as a smoother variable and the smoother's IMU factors
 //   ppp         -> models, smoother, navigation   measurement model, estimators, pipeline
 //   simulation  -> ppp, io/imu    the flight simulator (its IMU readings use navigation)
 //   evaluation  -> simulation     statistics, solution writers, Monte Carlo
@@ -152,7 +153,7 @@ const std::map<std::string, std::set<std::string>>& allowedIncludes() {
         {"io/transport", {"io/rtcm", "io/ubx"}},
         {"models", {"io/transport", "io/products"}},
         {"smoother", {"types"}},
-        {"navigation", {"types"}},
+        {"navigation", {"smoother"}},
         {"io/imu", {"io", "navigation"}},
         {"ppp/model", {"models", "smoother"}},
         {"ppp/screening", {"ppp/model"}},

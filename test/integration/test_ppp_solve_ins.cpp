@@ -2,7 +2,9 @@
 // through solvePppEstimators, with noise-free readings of an IMU at rest (level,
 // x north, z down; gravity and the Earth rate in its axes; 20 Hz) and the heading
 // given: every epoch is solved, the attitude file holds one row per epoch with the
-// levelled attitude, and the GNSS estimators write no attitude file.
+// levelled attitude, and the GNSS estimators write no attitude file; the GNSS/INS
+// smoother (smoother_ins) on the same input solves every epoch, ends where the
+// GNSS/INS EKF ends and writes its attitude file too.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -84,6 +86,52 @@ TEST(PppSolveIns, Zim2StaticImuEveryEpochSolvedWithItsAttitude) {
   ekf.estimator = "ekf";
   solvePppEstimators(ekf);
   EXPECT_FALSE(std::filesystem::exists(dir + "/zim2_ekf_attitude.csv"));
+}
+
+TEST(PppSolveIns, Zim2StaticImuSmootherInsSolvesEveryEpochLikeTheEkfIns) {
+  PPP_REQUIRE_SHARED_DATA();
+  const std::string dir = test::tempDir("ppp_solve_smoother_ins_zim2").string();
+  const test::PppDataset data = test::zim2Dataset();
+  PppSolveRequest request = test::solveRequest(data, dir, "smoother_ins");
+  const GnssTime start = GnssTime::fromGpsWeek(2418, 259200.0);
+  request.imu = atRest(data.truth_ecef_m, start - 10.0, 3610.0);
+  request.config.ins.initial_heading_rad = 0.0;
+  const std::vector<PppSolveOutcome> runs = solvePppEstimators(request);
+  ASSERT_EQ(runs.size(), 1u);
+  EXPECT_EQ(runs[0].run.estimator, "smoother_ins");
+  EXPECT_EQ(runs[0].run.epochs_solved, 120u);
+  ASSERT_EQ(runs[0].outputs.size(), 2u);  // filtered and smoothed
+  EXPECT_TRUE(std::filesystem::exists(runs[0].outputs[1].csv_path)) << runs[0].outputs[1].csv_path;
+  PppSolveRequest ekf_ins = request;
+  ekf_ins.estimator = "ekf_ins";
+  const std::vector<PppSolveOutcome> ekf = solvePppEstimators(ekf_ins);
+  ASSERT_EQ(ekf.size(), 1u);
+  ASSERT_TRUE(runs[0].outputs[0].statistics && runs[0].outputs[1].statistics && ekf[0].outputs[0].statistics);
+  const double filtered_m = runs[0].outputs[0].statistics->final_error_m;
+  const double smoothed_m = runs[0].outputs[1].statistics->final_error_m;
+  const double ekf_m = ekf[0].outputs[0].statistics->final_error_m;
+  std::printf("ZIM2 with a static IMU, final 3D error: smoother_ins filtered %.3f m, smoothed %.3f m, ekf_ins %.3f m\n",
+              filtered_m, smoothed_m, ekf_m);
+  EXPECT_LT(std::abs(filtered_m - ekf_m), 0.05);
+  // Its attitude file: one row per epoch, level and north.
+  std::ifstream in(dir + "/zim2_smoother_ins_attitude.csv");
+  ASSERT_TRUE(in) << "no attitude file";
+  std::string line;
+  std::getline(in, line);
+  int rows = 0;
+  double worst_deg = 0.0;
+  while (std::getline(in, line)) {
+    ++rows;
+    std::stringstream ss(line);
+    std::string cell;
+    std::vector<std::string> cells;
+    while (std::getline(ss, cell, ',')) cells.push_back(cell);
+    ASSERT_EQ(cells.size(), 8u) << line;
+    for (int i = 2; i <= 4; ++i) worst_deg = std::max(worst_deg, std::abs(std::stod(cells[i])));
+  }
+  EXPECT_EQ(rows, 120);
+  std::printf("smoother_ins attitude within %.4f deg of level and north\n", worst_deg);
+  EXPECT_LT(worst_deg, 0.05);
 }
 
 }  // namespace

@@ -2,7 +2,8 @@
 // Incremental smoothing and mapping with the Bayes tree: iSAM2 (Kaess, Johannsson,
 // Roberts, Ila, Leonard, Dellaert, "iSAM2: Incremental smoothing and mapping using the
 // Bayes tree", IJRR 31(2), 2012). The state is a linearization point theta, a delta per
-// variable (the estimate is theta + delta), the nonlinear factors with their cached
+// variable in the tangent space (the estimate is theta (+) delta: theta + delta for a
+// vector variable, the manifold retraction otherwise), the nonlinear factors with their cached
 // linearizations, and the Bayes tree of the linearized system in delta. Each update
 // edits only the top of the tree touched by new/removed/relinearized factors.
 #include <unordered_map>

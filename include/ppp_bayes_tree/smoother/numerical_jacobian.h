@@ -8,7 +8,8 @@
 namespace ppp::smoother {
 
 /// d(unwhitened error)/d(x_j) for each key of the factor, by central differences of
-/// half-width `step` per component.
+/// half-width `step` per tangent component: x_j (+) (+-step e_i), addition for a vector
+/// variable, the manifold's retraction otherwise.
 std::vector<Matrix> numericalJacobians(const NonlinearFactor& factor, const Values& x,
                                        double step = 1e-6);
 

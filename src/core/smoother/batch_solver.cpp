@@ -20,7 +20,7 @@ VariableLayout VariableLayout::of(const Values& values, const KeyVector& order) 
   l.keys = order;
   for (Key k : order) {
     l.offset[k] = l.dim;
-    l.dim += static_cast<int>(values.at(k).size());
+    l.dim += values.dim(k);
   }
   return l;
 }
@@ -97,7 +97,7 @@ Values solveNormal(const Eigen::SparseMatrix<double>& h, const Vector& eta, cons
   if (llt.info() != Eigen::Success || !x.allFinite())
     throw IndeterminantSystemError("batch solve: solve failed");
   Values out;
-  for (Key k : layout.keys) out.insert(k, x.segment(layout.offset.at(k), like.at(k).size()));
+  for (Key k : layout.keys) out.insert(k, x.segment(layout.offset.at(k), like.dim(k)));
   return out;
 }
 
@@ -110,7 +110,7 @@ Values solveSparseQr(const LinearSystem& sys, const VariableLayout& layout, cons
     throw IndeterminantSystemError("batch solve: Jacobian is rank deficient");
   const Vector x = qr.solve(sys.b);
   Values out;
-  for (Key k : layout.keys) out.insert(k, x.segment(layout.offset.at(k), like.at(k).size()));
+  for (Key k : layout.keys) out.insert(k, x.segment(layout.offset.at(k), like.dim(k)));
   return out;
 }
 
@@ -192,14 +192,14 @@ Matrix batchMarginalCovariance(const NonlinearFactorGraph& graph, const Values& 
   rr.triangularView<Eigen::Upper>().solveInPlace(rinv);
   const Matrix cov = rinv * rinv.transpose();
   int m = 0;
-  for (Key k : keys) m += static_cast<int>(x.at(k).size());
+  for (Key k : keys) m += x.dim(k);
   Matrix out(m, m);
   int r = 0;
   for (Key a : keys) {
     int c = 0;
-    const int da = static_cast<int>(x.at(a).size());
+    const int da = x.dim(a);
     for (Key b : keys) {
-      const int db = static_cast<int>(x.at(b).size());
+      const int db = x.dim(b);
       out.block(r, c, da, db) = cov.block(layout.offset.at(a), layout.offset.at(b), da, db);
       c += db;
     }

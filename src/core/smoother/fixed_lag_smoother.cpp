@@ -102,9 +102,9 @@ void FixedLagSmoother::recordUses(const NonlinearFactorGraph& new_factors,
 
 void FixedLagSmoother::marginalizeDue(const KeyVector& due, FixedLagResult& out) {
   Values before;
-  for (Key k : due) before.insert(k, isam_.calculateEstimate(k));
+  for (Key k : due) before.insert(k, isam_.calculateEstimate(k), isam_.linearizationPoint().manifold(k));
   const KeyVector done = isam_.marginalizeLeaves(due);
-  for (Key k : done) out.marginalized_estimates.insert(k, before.at(k));
+  for (Key k : done) out.marginalized_estimates.insertFrom(before, k);
   out.variables_marginalized = done.size();
   out.variables_pending = due.size() - done.size();
   for (Key k : done) {

@@ -108,8 +108,8 @@ void ISAM2::addFactorsAndVariables(const NonlinearFactorGraph& new_factors, cons
       throw std::invalid_argument("ISAM2::update: new variable in no new factor: " + keyToString(k));
 
   for (const auto& [k, v] : new_values) {
-    theta_.insert(k, v);
-    delta_.insert(k, Vector::Zero(v.size()));
+    theta_.insertFrom(new_values, k);
+    delta_.insert(k, Vector::Zero(theta_.dim(k)));
     ++result.variables_added;
   }
   for (const auto& f : new_factors) {
@@ -139,7 +139,7 @@ void ISAM2::indexFactor(FactorIndex index, const NonlinearFactor& factor) {
   for (Key k : factor.keys()) {
     variable_index_[k].push_back(index);
     if (!params_.skip_affine_variables) continue;
-    const int dim = static_cast<int>(theta_.at(k).size());
+    const int dim = theta_.dim(k);
     auto& counts = nonaffine_factors_[k];
     counts.resize(static_cast<std::size_t>(dim), 0);
     for (int c = 0; c < dim; ++c)
@@ -219,7 +219,7 @@ void ISAM2::relinearize(const KeySet& relin_keys, KeySet& affected, ISAM2Result&
     }
     affine_reference_.erase(k);
     ++done;
-    theta_.at(k) += d;
+    theta_.retractInPlace(k, d);
     d.setZero();
     affected.insert(k);
     for (FactorIndex i : variable_index_[k]) {
@@ -488,11 +488,11 @@ std::vector<Clique::Ptr> ISAM2::eliminateNumeric(const Top& top, const TopOrderi
     std::vector<int> fdims, sdims;
     for (int p : s.frontals) {
       clique->frontals.push_back(ord.ordering[p]);
-      fdims.push_back(static_cast<int>(theta_.at(ord.ordering[p]).size()));
+      fdims.push_back(theta_.dim(ord.ordering[p]));
     }
     for (int p : s.sep) {
       clique->separator.push_back(ord.ordering[p]);
-      sdims.push_back(static_cast<int>(theta_.at(ord.ordering[p]).size()));
+      sdims.push_back(theta_.dim(ord.ordering[p]));
     }
     gathered.clear();
     for (FactorIndex f : s.factors) gathered.push_back(&linearFactor(f));
@@ -555,7 +555,10 @@ void ISAM2::backSubstitute(const std::vector<const Clique*>& new_cliques, ISAM2R
 // Queries and marginalization
 Values ISAM2::calculateEstimate() const { return theta_.retract(delta_); }
 
-Vector ISAM2::calculateEstimate(Key key) const { return theta_.at(key) + delta_.at(key); }
+Vector ISAM2::calculateEstimate(Key key) const {
+  const Manifold::Ptr m = theta_.manifold(key);
+  return m ? m->retract(theta_.at(key), delta_.at(key)) : Vector(theta_.at(key) + delta_.at(key));
+}
 
 Values ISAM2::calculateBestEstimate() const {
   Values delta = delta_;

@@ -24,7 +24,7 @@ JacobianFactor::Ptr NonlinearFactor::relinearize(const Values& x, std::shared_pt
     if (e.size() != dim()) throw std::logic_error("factor error has the wrong dimension");
     noise_->whitenInPlace(e);
     for (std::size_t j = 0; j < h.size(); ++j) {
-      if (h[j].rows() != dim() || h[j].cols() != x.at(keys_[j]).size())
+      if (h[j].rows() != dim() || h[j].cols() != x.dim(keys_[j]))
         throw std::logic_error("factor Jacobian has the wrong shape for " + keyToString(keys_[j]));
       noise_->whitenInPlace(h[j]);
     }

@@ -11,14 +11,17 @@ std::vector<Matrix> numericalJacobians(const NonlinearFactor& factor, const Valu
   Values xp = x;
   for (Key k : factor.keys()) {
     const Vector x0 = x.at(k);
-    Matrix h(factor.dim(), x0.size());
-    for (int i = 0; i < x0.size(); ++i) {
-      Vector v = x0;
-      v[i] += step;
-      xp.update(k, v);
+    const int dim = x.dim(k);
+    Matrix h(factor.dim(), dim);
+    for (int i = 0; i < dim; ++i) {
+      Vector d = Vector::Zero(dim);
+      d[i] = step;
+      xp.update(k, x0);
+      xp.retractInPlace(k, d);
       const Vector ep = factor.unwhitenedError(xp, nullptr);
-      v[i] = x0[i] - step;
-      xp.update(k, v);
+      d[i] = -step;
+      xp.update(k, x0);
+      xp.retractInPlace(k, d);
       const Vector em = factor.unwhitenedError(xp, nullptr);
       h.col(i) = (ep - em) / (2.0 * step);
     }

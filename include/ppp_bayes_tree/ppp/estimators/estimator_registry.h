@@ -72,11 +72,12 @@ struct EstimatorEntry {
 std::unique_ptr<PppEstimator> makePppEkf(const EstimatorOptions& options);
 std::unique_ptr<PppEstimator> makePppSmoother(const EstimatorOptions& options);
 std::unique_ptr<PppEstimator> makePppInsEkf(const EstimatorOptions& options);
+std::unique_ptr<PppEstimator> makePppInsSmoother(const EstimatorOptions& options);
 
 /// Every estimator, in the order in which "both" runs them and tables list them.
 /// "both" runs the estimators of the GNSS receiver state only (runsInAll): an
 /// estimator with inertial states needs IMU readings and is run by its name.
-inline constexpr std::array<EstimatorEntry, 3> kEstimators{{
+inline constexpr std::array<EstimatorEntry, 4> kEstimators{{
     {"ekf", "EKF", "forward extended Kalman filter (PppEkf): filtered solution",
      EstimatorSolutions::Filtered, EstimatedState::GnssReceiver, true, &makePppEkf},
     {"smoother", "smoother", "incremental smoother (iSAM2, PppSmoother): filtered and smoothed solutions",
@@ -84,6 +85,10 @@ inline constexpr std::array<EstimatorEntry, 3> kEstimators{{
     {"ekf_ins", "EKF GNSS/INS",
      "tightly coupled GNSS/INS error-state Kalman filter (PppInsEkf, needs --imu): filtered solution",
      EstimatorSolutions::Filtered, EstimatedState::GnssInertial, false, &makePppInsEkf},
+    {"smoother_ins", "smoother GNSS/INS",
+     "tightly coupled GNSS/INS incremental smoother (iSAM2 with IMU preintegration, PppInsSmoother, needs --imu): "
+     "filtered and smoothed solutions",
+     EstimatorSolutions::FilteredAndSmoothed, EstimatedState::GnssInertial, false, &makePppInsSmoother},
 }};
 
 /// Whether kAllEstimators ("both") runs the estimator: the GNSS receiver state only.

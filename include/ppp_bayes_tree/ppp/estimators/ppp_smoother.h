@@ -51,6 +51,11 @@ class PppSmoother : public PppEstimator, public SmoothedTrajectoryProvider {
   PppSmoother& operator=(PppSmoother&&) noexcept;
 
   std::string name() const override { return "smoother"; }
+
+  /// Key symbols of the inertial variables of a state (a GNSS/INS smoother): its
+  /// NavState and IMU bias at state index k are symbolKey(symbol, k).
+  static constexpr char kNavStateSymbol = 'n';
+  static constexpr char kImuBiasSymbol = 'i';
   const SmoothedTrajectoryProvider* smoothing() const override { return this; }
 
   bool initialised() const { return !states_.empty(); }
@@ -168,6 +173,30 @@ class PppSmoother : public PppEstimator, public SmoothedTrajectoryProvider {
   std::vector<SmoothedEpoch> trajectoryFrom(const smoother::Values& values) const;
 
  protected:
+  /// Relinearization thresholds of the inertial variables (position: relinearize_position_m).
+  static constexpr double kRelinearizeAttitude_rad = 1e-3;
+  static constexpr double kRelinearizeVelocity_mps = 0.01;
+  static constexpr double kRelinearizeAccelBias_mps2 = 1e-3;
+  static constexpr double kRelinearizeGyroBias_radps = 1e-5;
+
+  // Seams of a smoother with more variables per state (PppInsSmoother); the defaults
+  // add nothing.
+  /// Sigma of the position random walk between two states over dt_s [m].
+  virtual double positionProcessSigma_m(double dt_s) const;
+  /// The new state's further variables and factors (step 1 of solve); `keys` gets the
+  /// new variables, which are kept in the root clique with the state.
+  virtual void addInertialFactors(const EpochSolveInput& /*in*/, std::uint32_t /*index*/,
+                                  smoother::NonlinearFactorGraph& /*factors*/, smoother::Values& /*values*/,
+                                  smoother::KeyVector& /*keys*/) const {}
+  /// A restart from the last state `index` (recoverAfterFailure): priors on its
+  /// further variables, added to the restart's factors, values and root keys.
+  virtual void addRestartInertialFactors(std::uint32_t /*index*/, smoother::NonlinearFactorGraph& /*factors*/,
+                                         smoother::Values& /*values*/, smoother::KeyVector& /*newest*/) const {}
+  /// Index of the newest state (nullopt before the first).
+  std::optional<std::uint32_t> newestStateIndex() const {
+    return states_.empty() ? std::nullopt : std::optional<std::uint32_t>(states_.back().index);
+  }
+
   bool hasState() const override { return initialised(); }
   std::optional<GnssTime> lastSolvedTime() const override { return lastTime(); }
   ReceiverState predict(double dt_s, bool first, const std::optional<ReceiverState>& start) override;

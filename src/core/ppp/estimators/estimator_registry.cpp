@@ -3,6 +3,7 @@
 #include "ppp_bayes_tree/ppp/estimators/estimator_options.h"
 #include "ppp_bayes_tree/ppp/estimators/ppp_ekf.h"
 #include "ppp_bayes_tree/ppp/estimators/ppp_ins_ekf.h"
+#include "ppp_bayes_tree/ppp/estimators/ppp_ins_smoother.h"
 #include "ppp_bayes_tree/ppp/estimators/ppp_smoother.h"
 
 namespace ppp {
@@ -17,6 +18,10 @@ std::unique_ptr<PppEstimator> makePppSmoother(const EstimatorOptions& options) {
 
 std::unique_ptr<PppEstimator> makePppInsEkf(const EstimatorOptions& options) {
   return std::make_unique<PppInsEkf>(options);
+}
+
+std::unique_ptr<PppEstimator> makePppInsSmoother(const EstimatorOptions& options) {
+  return std::make_unique<PppInsSmoother>(options);
 }
 
 namespace {

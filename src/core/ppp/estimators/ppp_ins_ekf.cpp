@@ -2,8 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 
-#include "ppp_bayes_tree/navigation/ins_alignment.h"
+#include "ppp_bayes_tree/ppp/estimators/ins_start_attitude.h"
 #include "ppp_bayes_tree/navigation/ins_error_state.h"
 #include "ppp_bayes_tree/navigation/ins_mechanization.h"
 #include "ppp_bayes_tree/navigation/navigation_frame.h"
@@ -131,16 +132,10 @@ void PppInsEkf::receiveEpochInput(const EstimatorEpochInput& input) {
 std::optional<Eigen::Matrix3d> PppInsEkf::initialAttitude(const Eigen::Vector3d& position_ecef_m) {
   heading_from_course_ = false;
   alignment_ = AlignmentState::Aligned;
-  if (ins_.initial_rotation_ecef_body) return ins_.initial_rotation_ecef_body;
-  if (!ins_.initial_heading_rad) return attitudeInMotion(position_ecef_m);
-  const LevelingResult level = levelFromStaticInterval(pending_, position_ecef_m);
-  if (level.status != LevelingStatus::Level) {
-    epoch_problem_ = {NoSolutionReason::NoInitialAttitude,
-                      "no initial attitude: levelling the " + std::to_string(pending_.size()) +
-                          " readings up to the start refused: " + levelingStatusText(level.status)};
-    return std::nullopt;
-  }
-  return rotationEcefNed(position_ecef_m) * ppp::rotationNedBody(level.roll_rad, level.pitch_rad, *ins_.initial_heading_rad);
+  if (!ins_.initial_rotation_ecef_body && !ins_.initial_heading_rad) return attitudeInMotion(position_ecef_m);
+  InsStartAttitude start = insStartAttitude(ins_, pending_, position_ecef_m);
+  if (!start.rotation_ecef_body) epoch_problem_ = {NoSolutionReason::NoInitialAttitude, std::move(start.problem)};
+  return start.rotation_ecef_body;
 }
 
 std::optional<Eigen::Matrix3d> PppInsEkf::attitudeInMotion(const Eigen::Vector3d& position_ecef_m) {

@@ -88,6 +88,15 @@ smoother::ISAM2Params PppSmoother::isamParams() const {
     state.segment<ReceiverStateLayout::kGradientSize>(layout_.gradientNorth()).setConstant(options_.relinearize_zwd_m);
   p.relinearize_thresholds_by_symbol['x'] = state;
   p.relinearize_threshold_by_symbol['b'] = options_.relinearize_bias_m;
+  // The inertial variables of a GNSS/INS smoother (none in a GNSS-only graph):
+  // [attitude rad; velocity m/s; position m] and [accel m/s^2; gyro rad/s].
+  Eigen::VectorXd nav(9);
+  nav << Eigen::Vector3d::Constant(kRelinearizeAttitude_rad), Eigen::Vector3d::Constant(kRelinearizeVelocity_mps),
+      Eigen::Vector3d::Constant(options_.relinearize_position_m);
+  p.relinearize_thresholds_by_symbol[kNavStateSymbol] = nav;
+  Eigen::VectorXd bias(6);
+  bias << Eigen::Vector3d::Constant(kRelinearizeAccelBias_mps2), Eigen::Vector3d::Constant(kRelinearizeGyroBias_radps);
+  p.relinearize_thresholds_by_symbol[kImuBiasSymbol] = bias;
   p.wildfire_threshold = options_.wildfire_threshold_m;
   // Without a robust kernel the phase factors are affine in the biases: relinearizing
   // a bias changes nothing but would re-eliminate every state of its arc.
@@ -289,6 +298,7 @@ struct PppSmoother::SolveEpoch {
   smoother::NonlinearFactorGraph factors;
   smoother::Values values;
   KeyVector newest;                        // eliminated last (root clique)
+  KeyVector inertial_keys;                 // the new state's inertial variables (none without an IMU)
   std::vector<bool> new_arc;               // per satellite: a new bias variable
   std::vector<Key> bias_of;                // per satellite: its bias variable
   std::vector<double> phase_prefit;        // per satellite: at the prediction, minus the bias prior
@@ -310,11 +320,14 @@ struct PppSmoother::SolveEpoch {
 
 namespace {
 
-/// The constrained ordering: states by index, biases by the last state they
-/// were observed at (eliminated after it), oldest first.
+/// The constrained ordering: states (and the inertial variables of a state, if any)
+/// by index, biases by the last state they were observed at (eliminated after it),
+/// oldest first.
 std::function<int(Key)> orderingByLastState(const std::map<Key, std::uint32_t>& bias_last_state) {
   return [&bias_last_state](Key key) {
-    if (smoother::keySymbol(key) == 'x') return static_cast<int>(smoother::keyIndex(key));
+    const char symbol = smoother::keySymbol(key);
+    if (symbol == 'x' || symbol == PppSmoother::kNavStateSymbol || symbol == PppSmoother::kImuBiasSymbol)
+      return static_cast<int>(smoother::keyIndex(key));
     auto it = bias_last_state.find(key);
     return it == bias_last_state.end() ? 0 : static_cast<int>(it->second);
   };
@@ -376,13 +389,18 @@ void PppSmoother::addStateFactors(SolveEpoch& e) const {
   } else {
     const Key previous = stateKey(states_.back().index);
     e.factors.push_back(std::make_shared<ReceiverRandomWalkFactor>(
-        previous, e.x, layout_, sigmaOf(model_.position.processVariance_m2(in.dt_s)),
+        previous, e.x, layout_, positionProcessSigma_m(in.dt_s),
         sigmaOf(model_.zwd.processVariance_m2(in.dt_s)),
         sigmaOf(model_.troposphere_gradient.processVariance_m2(in.dt_s))));
     for (const GnssSystem system : layout_.clockSystems())
       e.factors.push_back(std::make_shared<ClockPriorFactor>(e.x, layout_.clock(system), predicted.clock_m(system),
                                                              sigmaOf(model_.clock.processVariance_m2(in.dt_s))));
   }
+  addInertialFactors(in, e.index, e.factors, e.values, e.inertial_keys);
+}
+
+double PppSmoother::positionProcessSigma_m(double dt_s) const {
+  return sigmaOf(model_.position.processVariance_m2(dt_s));
 }
 
 // Step 2
@@ -391,6 +409,7 @@ void PppSmoother::addMeasurementFactors(SolveEpoch& e) const {
   // The code sigmas carry the correlation of the code errors over dt (stochastic_model.h).
   const double code_sigma_factor = std::sqrt(model_.codeVarianceFactor(in.dt_s));
   e.newest = KeyVector{e.x};
+  e.newest.insert(e.newest.end(), e.inertial_keys.begin(), e.inertial_keys.end());
   for (std::size_t k = 0; k < e.n_sat; ++k) {
     const SatelliteMeasurement& m = in.screened[k].m;
     auto it = e.arcs.find(m.arc);
@@ -432,6 +451,7 @@ bool PppSmoother::updateWithNewFactors(SolveEpoch& e, EstimatorEpochResult& resu
   try {
     if (lag_) {
       std::unordered_map<Key, double> stamps{{e.x, time_origin_ ? lagStamp_s(e.in.time) : 0.0}};
+      for (Key k : e.inertial_keys) stamps.emplace(k, stamps.at(e.x));
       const smoother::FixedLagResult r = lag_->update(e.factors, e.values, stamps, e.newest);
       diag.variables_relinearized = r.isam2.variables_relinearized;
       diag.variables_reeliminated = r.isam2.variables_reeliminated;
@@ -507,6 +527,7 @@ bool PppSmoother::removeSatellite(SolveEpoch& e, std::size_t k, EstimatorEpochRe
                                                   e.graph_index[e.code_factor[k] + 1]};
   e.removed_factors.insert(e.removed_factors.end(), remove.begin(), remove.end());
   KeyVector kept_newest{e.x};
+  kept_newest.insert(kept_newest.end(), e.inertial_keys.begin(), e.inertial_keys.end());
   for (std::size_t j = 0; j < e.n_sat; ++j)
     if (e.kept[j]) kept_newest.push_back(e.bias_of[j]);
   try {
@@ -586,7 +607,7 @@ void PppSmoother::recordEpochGraph(const SolveEpoch& e) {
     if (!removed) recorded_factors_.push_back(e.factors[i]);
   }
   for (Key key : e.values.keys())
-    if (!recorded_values_.exists(key)) recorded_values_.insert(key, e.values.at(key));
+    if (!recorded_values_.exists(key)) recorded_values_.insertFrom(e.values, key);
 }
 
 // Fixed lag: the marginalized states keep their estimate at marginalization (O(marginalized)).
@@ -651,6 +672,8 @@ bool PppSmoother::recoverAfterFailure(EstimatorEpochResult& result) {
   factors.push_back(std::make_shared<smoother::PriorFactor>(x, filtered_.state.vector(),
                                                             NoiseModel::covariance(filtered_.covariance)));
   KeyVector newest{x};
+  addRestartInertialFactors(last.index, factors, values, newest);
+  const KeyVector stamped(newest.begin(), newest.end());  // the state and its inertial variables
   for (auto& [arc, slot] : arcs_) {
     values.insert(slot.key, Vector::Constant(1, slot.filtered_m));
     factors.push_back(std::make_shared<smoother::PriorFactor>(
@@ -661,7 +684,8 @@ bool PppSmoother::recoverAfterFailure(EstimatorEpochResult& result) {
   }
   try {
     if (lag_) {
-      std::unordered_map<Key, double> stamps{{x, lagStamp_s(last.time)}};
+      std::unordered_map<Key, double> stamps;
+      for (Key k : stamped) stamps.emplace(k, lagStamp_s(last.time));
       lag_->update(factors, values, stamps, newest);
     } else {
       smoother::ISAM2UpdateParams up;

@@ -1,0 +1,202 @@
+#include "ppp_bayes_tree/ppp/estimators/ppp_ins_smoother.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "ppp_bayes_tree/navigation/imu_smoother_factor.h"
+#include "ppp_bayes_tree/navigation/nav_state_value.h"
+#include "ppp_bayes_tree/navigation/navigation_frame.h"
+#include "ppp_bayes_tree/ppp/estimators/antenna_position_factor.h"
+#include "ppp_bayes_tree/ppp/estimators/ins_start_attitude.h"
+#include "ppp_bayes_tree/ppp/model/ppp_factors.h"
+#include "ppp_bayes_tree/smoother/prior_factor.h"
+
+namespace ppp {
+
+using smoother::Key;
+using smoother::NoiseModel;
+
+namespace {
+
+/// Why the readings do not cover [start, end] (held from each reading's time to the
+/// next one's, at most max_gap_s apart, one at or before start); empty when they do.
+std::string coverageProblem(const std::vector<ImuSample>& readings, const GnssTime& start, const GnssTime& end,
+                            double max_gap_s) {
+  std::optional<GnssTime> held;
+  for (const ImuSample& s : readings) {
+    if (s.time - start <= 0.0) {
+      held = s.time;
+      continue;
+    }
+    if (s.time - end > 0.0) break;
+    if (!held) return "no reading at or before " + start.toString();
+    if (s.time - *held > max_gap_s)
+      return "gap of " + std::to_string(s.time - *held) + " s after the reading at " + held->toString() +
+             " (at most " + std::to_string(max_gap_s) + " s)";
+    held = s.time;
+  }
+  if (!held) return "no reading at or before " + start.toString();
+  if (end - *held > max_gap_s)
+    return "gap of " + std::to_string(end - *held) + " s after the reading at " + held->toString() + " (at most " +
+           std::to_string(max_gap_s) + " s)";
+  return {};
+}
+
+}  // namespace
+
+PppInsSmoother::PppInsSmoother(const EstimatorOptions& options) : PppSmoother(options), ins_(options.ins) {
+  if (auto problem = ins_.validate(); !problem.empty()) throw std::invalid_argument(problem);
+}
+
+std::optional<Eigen::Vector3d> PppInsSmoother::antennaPosition() const {
+  if (!nav_) return std::nullopt;
+  return AntennaPositionFactor::antennaOf(*nav_, ins_.lever_arm_body_m);
+}
+
+std::optional<NavState> PppInsSmoother::smoothedNavState(std::uint32_t index) const {
+  if (!isam2().exists(navKey(index))) return std::nullopt;
+  return navStateFromStorage(isam2().calculateEstimate(navKey(index)));
+}
+
+void PppInsSmoother::receiveEpochInput(const EstimatorEpochInput& input) {
+  epoch_time_ = input.time;
+  epoch_problem_.reset();
+  input_readings_.clear();
+  if (!input.imu) return;
+  input_readings_ = *input.imu;
+  readings_.insert(readings_.end(), input.imu->begin(), input.imu->end());
+}
+
+bool PppInsSmoother::startNav(const ReceiverState& start) {
+  const InsStartAttitude attitude = insStartAttitude(ins_, input_readings_, start.position_ecef_m);
+  if (!attitude.rotation_ecef_body) {
+    epoch_problem_ = {NoSolutionReason::NoInitialAttitude, attitude.problem};
+    return false;
+  }
+  const bool held = std::any_of(readings_.begin(), readings_.end(),
+                                [this](const ImuSample& s) { return s.time - epoch_time_ <= 0.0; });
+  if (!held) {
+    epoch_problem_ = {NoSolutionReason::NoImuReadings, "no IMU reading at or before the start " + epoch_time_.toString()};
+    return false;
+  }
+  NavState nav;
+  nav.rotation_world_body = *attitude.rotation_ecef_body;
+  nav.velocity_world_mps = ins_.initial_velocity_ecef_mps;
+  nav.position_world_m = start.position_ecef_m - nav.rotation_world_body * ins_.lever_arm_body_m;
+  nav_ = nav;
+  nav_time_ = epoch_time_;
+  bias_ = ImuBias{};
+  return true;
+}
+
+ReceiverState PppInsSmoother::predict(double dt_s, bool first, const std::optional<ReceiverState>& start) {
+  ReceiverState predicted = PppSmoother::predict(dt_s, first, start);
+  pim_.reset();
+  last_nav_.reset();
+  if (start) {
+    // A start keeps only the readings at and after the last one at or before it.
+    keepReadingsFrom(epoch_time_);
+    startNav(*start);
+    return predicted;
+  }
+  const std::optional<std::uint32_t> last = newestStateIndex();
+  if (!last || !isam2().exists(navKey(*last))) return predicted;
+  last_nav_ = navStateFromStorage(isam2().calculateEstimate(navKey(*last)));
+  last_bias_ = ImuBias::fromVector(isam2().calculateEstimate(imuBiasKey(*last)));
+  if (!preintegrateTo(*lastTime() + dt_s)) return predicted;
+  nav_ = predictNavState(*pim_, *last_nav_, last_bias_, ecefNavigationFrame(last_nav_->position_world_m));
+  nav_time_ = epoch_time_;
+  bias_ = last_bias_;
+  predicted.position_ecef_m = AntennaPositionFactor::antennaOf(*nav_, ins_.lever_arm_body_m);
+  return predicted;
+}
+
+bool PppInsSmoother::preintegrateTo(const GnssTime& time) {
+  const GnssTime from = *lastTime();
+  const std::string problem = coverageProblem(readings_, from, time, ins_.max_imu_interval_s);
+  if (!problem.empty()) {
+    epoch_problem_ = {NoSolutionReason::NoImuReadings,
+                      "IMU readings do not cover the interval to " + time.toString() + ": " + problem};
+    return false;
+  }
+  ImuPreintegration pim(ins_.noise, last_bias_);
+  pim.integrateBetween(readings_, from, time);
+  pim_ = pim;
+  return true;
+}
+
+bool PppInsSmoother::solve(const EpochSolveInput& in, EpochSolveOutput& out, EstimatorEpochResult& result) {
+  if (epoch_problem_) return fail(result, EpochStatus::NoSolution, epoch_problem_->first, epoch_problem_->second);
+  if (!nav_) return fail(result, EpochStatus::NoSolution, NoSolutionReason::NoInitialAttitude, "no inertial state");
+  if (!PppSmoother::solve(in, out, result)) return false;
+  // The new state is in the graph: the readings before it are no longer needed.
+  keepReadingsFrom(in.time);
+  if (auto nav = smoothedNavState(*newestStateIndex())) nav_ = nav;
+  nav_time_ = in.time;
+  bias_ = ImuBias::fromVector(isam2().calculateEstimate(imuBiasKey(*newestStateIndex())));
+  return true;
+}
+
+void PppInsSmoother::keepReadingsFrom(const GnssTime& time) {
+  // The last reading at or before `time` holds at `time`; keep it and the later ones.
+  auto after = std::upper_bound(readings_.begin(), readings_.end(), time,
+                                [](const GnssTime& t, const ImuSample& s) { return t < s.time; });
+  if (after != readings_.begin()) --after;
+  readings_.erase(readings_.begin(), after);
+}
+
+void PppInsSmoother::finishEpoch(EstimatorEpochResult& result) const {
+  PppSmoother::finishEpoch(result);
+  // An inertial problem is the epoch's reason, also when the screening stopped it first.
+  if (epoch_problem_ && result.status != EpochStatus::Ok)
+    fail(result, EpochStatus::NoSolution, epoch_problem_->first, epoch_problem_->second);
+}
+
+void PppInsSmoother::addStartPriors(std::uint32_t index, const NavState& nav, const ImuBias& bias,
+                                    smoother::NonlinearFactorGraph& factors, smoother::Values& values) const {
+  insertNavState(values, navKey(index), nav);
+  values.insert(imuBiasKey(index), bias.vector());
+  // The position's prior is the receiver state's (tied to the antenna).
+  Eigen::Matrix<double, 9, 1> sigmas;
+  sigmas << Eigen::Vector3d::Constant(ins_.initial_attitude_sigma_rad),
+      Eigen::Vector3d::Constant(ins_.initial_velocity_sigma_mps), Eigen::Vector3d::Constant(kFreePositionSigma_m);
+  factors.push_back(std::make_shared<NavStatePriorFactor>(navKey(index), nav, NoiseModel::sigmas(sigmas)));
+  Eigen::Matrix<double, 6, 1> bias_sigmas;
+  bias_sigmas << Eigen::Vector3d::Constant(ins_.noise.accel_bias_instability_mps2),
+      Eigen::Vector3d::Constant(ins_.noise.gyro_bias_instability_radps);
+  factors.push_back(
+      std::make_shared<smoother::PriorFactor>(imuBiasKey(index), bias.vector(), NoiseModel::sigmas(bias_sigmas)));
+}
+
+void PppInsSmoother::addInertialFactors(const EpochSolveInput& in, std::uint32_t index,
+                                        smoother::NonlinearFactorGraph& factors, smoother::Values& values,
+                                        smoother::KeyVector& keys) const {
+  if (in.first || !pim_ || !last_nav_) {
+    addStartPriors(index, *nav_, bias_, factors, values);
+  } else {
+    insertNavState(values, navKey(index), *nav_);
+    values.insert(imuBiasKey(index), last_bias_.vector());
+    factors.push_back(std::make_shared<ImuSmootherFactor>(navKey(index - 1), imuBiasKey(index - 1), navKey(index),
+                                                          *pim_, ecefNavigationFrame(last_nav_->position_world_m)));
+    factors.push_back(std::make_shared<BiasRandomWalkFactor>(imuBiasKey(index - 1), imuBiasKey(index), ins_.noise,
+                                                             in.dt_s));
+  }
+  factors.push_back(std::make_shared<AntennaPositionFactor>(stateKey(index), navKey(index), layout_.position(),
+                                                            ins_.lever_arm_body_m, kAntennaTieSigma_m));
+  keys.push_back(navKey(index));
+  keys.push_back(imuBiasKey(index));
+}
+
+void PppInsSmoother::addRestartInertialFactors(std::uint32_t index, smoother::NonlinearFactorGraph& factors,
+                                               smoother::Values& values, smoother::KeyVector& newest) const {
+  // The newest state's inertial estimate read before the failed update, with the
+  // start's sigmas; the tie to the restarted receiver state carries its position.
+  if (!last_nav_) return;
+  addStartPriors(index, *last_nav_, last_bias_, factors, values);
+  factors.push_back(std::make_shared<AntennaPositionFactor>(stateKey(index), navKey(index), layout_.position(),
+                                                            ins_.lever_arm_body_m, kAntennaTieSigma_m));
+  newest.push_back(navKey(index));
+  newest.push_back(imuBiasKey(index));
+}
+
+}  // namespace ppp
