@@ -26,7 +26,18 @@
 // that epoch and every later one report NoImuReadings (no GNSS-only fallback).
 // The start is the code least squares of the first epoch (as the EKF) with the
 // given attitude (or a given heading and the levelling of the readings up to the
-// first epoch, at rest) and velocity (InsEkfOptions); PPP-AR is not done (float).
+// first epoch, at rest) and velocity (InsEkfOptions).
+//
+// PPP-AR is the EKF's (PppEkf::resolveAmbiguities, ambiguity_resolution.h: wide
+// lane, narrow lane, partial fixing, validation and hold, the same gates): the
+// resolver works on the float filter [INS error; receiver states; biases], its
+// biases from coreDim() on, and conditions a copy of it on the held integers.
+// The fixed copy's INS error is the correction of the nominal state the integers
+// imply: the fixed solution is the antenna position of the nominal moved by it
+// (receiverStateAt), and fixedNavState() is the nominal and bias corrected by it
+// as the closed-loop reset does after an update (applyInsErrorCorrection). The
+// float filter and its nominal are not changed (as in the EKF: the hold's
+// release test compares the held integers with the float).
 #include <Eigen/Core>
 #include <optional>
 #include <string>
@@ -55,6 +66,11 @@ class PppInsEkf : public PppEkf {
   /// Time of the nominal state (the last epoch propagated to); nullopt before the start.
   std::optional<GnssTime> navTime() const { return lastTime(); }
   const InsEkfOptions& insOptions() const { return ins_; }
+  /// The nominal state (IMU, ECEF) and bias of this epoch's fixed solution: the
+  /// float nominal moved by the fixed copy's INS error; nullopt when the epoch is
+  /// not fixed (PPP-AR off, float, or no solution).
+  const std::optional<NavState>& fixedNavState() const { return fixed_nominal_; }
+  const std::optional<ImuBias>& fixedImuBias() const { return fixed_bias_; }
 
   /// The antenna position at a nominal state moved by an INS error (ins_error_state.h
   /// order), and its Jacobian with respect to that error (3 x 15).
@@ -78,6 +94,7 @@ class PppInsEkf : public PppEkf {
   Filter initialFilter(const ReceiverState& state) const override;
   void predictFilter(Filter& f, double dt_s, bool first) const override;
   void closeLoop(Filter& f) override;
+  void fixedSolutionFound(const AmbiguityFixedState& fixed) override;
 
  private:
   /// The INS error replaces the 3 position states of the receiver layout.
@@ -97,6 +114,8 @@ class PppInsEkf : public PppEkf {
   std::optional<ImuSample> held_;           // the reading held at the nominal's time
   GnssTime epoch_time_;                     // this epoch's time
   std::optional<std::pair<NoSolutionReason, std::string>> epoch_problem_;  // this epoch's inertial problem
+  std::optional<NavState> fixed_nominal_;   // this epoch's fixed solution (PPP-AR)
+  std::optional<ImuBias> fixed_bias_;
 };
 
 }  // namespace ppp
