@@ -71,6 +71,10 @@ class PppInsEkf : public PppEkf {
   /// not fixed (PPP-AR off, float, or no solution).
   const std::optional<NavState>& fixedNavState() const { return fixed_nominal_; }
   const std::optional<ImuBias>& fixedImuBias() const { return fixed_bias_; }
+  /// The antenna position this epoch's prediction gave (the INS through the
+  /// readings since the last epoch, before the update), ECEF [m]: after a GNSS
+  /// outage, the coasting position at its end; nullopt before the start.
+  const std::optional<Eigen::Vector3d>& predictedAntennaPosition() const { return predicted_antenna_m_; }
 
   /// The antenna position at a nominal state moved by an INS error (ins_error_state.h
   /// order), and its Jacobian with respect to that error (3 x 15).
@@ -116,6 +120,7 @@ class PppInsEkf : public PppEkf {
   std::optional<std::pair<NoSolutionReason, std::string>> epoch_problem_;  // this epoch's inertial problem
   std::optional<NavState> fixed_nominal_;   // this epoch's fixed solution (PPP-AR)
   std::optional<ImuBias> fixed_bias_;
+  std::optional<Eigen::Vector3d> predicted_antenna_m_;  // this epoch's prediction
 };
 
 }  // namespace ppp

@@ -163,7 +163,9 @@ ReceiverState PppInsEkf::predict(double dt_s, bool first, const std::optional<Re
     work_ = f_;
   }
   pending_.clear();
-  return receiverStateAt(work_.x);
+  const ReceiverState predicted = receiverStateAt(work_.x);
+  predicted_antenna_m_ = predicted.position_ecef_m;
+  return predicted;
 }
 
 bool PppInsEkf::propagateTo(const GnssTime& time) {
