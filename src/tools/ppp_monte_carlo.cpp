@@ -36,7 +36,8 @@
 // --imu GRADE (consumer|industrial|tactical): the GNSS/INS outage study instead
 // (evaluation/ins_outage_study.h): the flights with the readings of a simulated IMU
 // of that grade and GNSS outages of --outage-s S (default 30) every
-// --outage-every-s S (default 300) from the start, run by ekf and ekf_ins; writes
+// --outage-every-s S (default 300) after the first fix, readings at --imu-rate HZ
+// (default 100), run by ekf and ekf_ins; writes
 // DIR/ins_outages.md (horizontal error at the outage end, re-fix time, fix kept,
 // roll/pitch/heading RMS, held integers against the truth per estimator).
 #include <unistd.h>
@@ -71,7 +72,8 @@ int usage(const std::string& why) {
             << "                       [--fixed-origin] [--fixed-start] [--smoother-lag 60]\n"
             << "                       [--ambiguity-resolution] [--systems G|GE]\n"
             << "                       [--configurations all|gps_float,gps_ar,gps_galileo_float,gps_galileo_ar]\n"
-            << "                       [--imu consumer|industrial|tactical [--outage-s 30] [--outage-every-s 300]]\n";
+            << "                       [--imu consumer|industrial|tactical [--outage-s 30] [--outage-every-s 300]\n"
+            << "                        [--imu-rate 100]]\n";
   return 2;
 }
 
@@ -176,7 +178,7 @@ int main(int argc, char** argv) {
   std::vector<ppp::MonteCarloConfiguration> configurations;
   double duration_min = 30.0;
   std::optional<ppp::ImuGrade> imu_grade;
-  double outage_s = 30.0, outage_every_s = 300.0;
+  double outage_s = 30.0, outage_every_s = 300.0, imu_rate_hz = 100.0;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "--fixed-origin") {
@@ -216,6 +218,10 @@ int main(int argc, char** argv) {
     else if (a == "--outage-s") {
       if (!parseNumber(v, x) || !(x > 0.0)) return usage("--outage-s must be > 0 s");
       outage_s = x;
+    }
+    else if (a == "--imu-rate") {
+      if (!parseNumber(v, x) || !(x >= 10.0) || x > 2000.0) return usage("--imu-rate must be in [10, 2000] Hz");
+      imu_rate_hz = x;
     }
     else if (a == "--outage-every-s") {
       if (!parseNumber(v, x) || !(x > 0.0)) return usage("--outage-every-s must be > 0 s");
@@ -285,6 +291,7 @@ int main(int argc, char** argv) {
     ins.grade = *imu_grade;
     ins.outage_s = outage_s;
     ins.outage_every_s = outage_every_s;
+    ins.imu_rate_hz = imu_rate_hz;
     if (!(outage_s < outage_every_s)) return usage("--outage-s must be shorter than --outage-every-s");
     return runInsStudy(ins, out) ? 0 : 1;
   }
