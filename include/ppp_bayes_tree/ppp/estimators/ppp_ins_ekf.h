@@ -38,6 +38,17 @@
 // as the closed-loop reset does after an update (applyInsErrorCorrection). The
 // float filter and its nominal are not changed (as in the EKF: the hold's
 // release test compares the held integers with the float).
+//
+// After a GNSS outage the INS prediction carries the position
+// (predictedAntennaPosition()); a new arc's bias starts, as in the EKF, at phase
+// minus code with the a priori sigma of stochastic.phase_bias, and the update
+// puts it at phase minus the range of the predicted position, weighted by that
+// position's covariance: the INS-aided re-initialisation of the biases (Rabbou &
+// El-Rabbany 2015, GPS Solutions 19:601-609). Integers are not carried across an
+// outage: the arcs end at a data gap (arc_tracker.h) and with them the held
+// integers; carrying them needs INS-aided cycle-slip identification across the
+// gap (Du & Gao 2012, Sensors 12(11):14344-14362), not done
+// (doc/studies/ins_outages.md).
 #include <Eigen/Core>
 #include <optional>
 #include <string>
