@@ -235,7 +235,17 @@ std::string insOutageMarkdown(const InsOutageStudy& study) {
     << imuGradeText(o.grade) << " IMU at " << number(o.imu_rate_hz, 0) << " Hz; " << study.flights.size()
     << " flights (" << study.failed << " failed), " << number(o.flights.duration_s / 60.0, 0)
     << " min each; outages counted after each estimator's first fix; attitude after " << number(o.alignment_s, 0)
-    << " s.\n\n";
+    << " s.\n";
+  std::vector<double> first_fix_s;
+  int never_fixed = 0;
+  for (const auto& f : study.flights) {
+    if (!f.failure.empty()) continue;
+    if (f.first_fix_s) first_fix_s.push_back(*f.first_fix_s);
+    else ++never_fixed;
+  }
+  s << "ekf_ins's first fix on the flights without outages: median " << number(median(first_fix_s), 0)
+    << " s over the " << first_fix_s.size() << " flights it fixes (" << never_fixed
+    << " never fixed: no outage).\n\n";
   s << "| estimator | flights fixed | outages counted | horizontal error at the outage end, median [m] | "
        "re-fix after the outage, median [s] (never) | fixed at the first epoch after | roll RMS [deg] | "
        "pitch RMS [deg] | heading RMS [deg] | held integers (wrong) | fixed epochs with a wrong hold |\n"
