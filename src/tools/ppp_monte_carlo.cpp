@@ -33,20 +33,30 @@
 // mean, the time to 10 cm, the fixed share, the time to first fix and the wrong
 // holds per configuration and estimator, beside the method's Table 3. Replaces
 // --systems and --ambiguity-resolution.
+// --imu GRADE (consumer|industrial|tactical): the GNSS/INS outage study instead
+// (evaluation/ins_outage_study.h): the flights with the readings of a simulated IMU
+// of that grade and GNSS outages of --outage-s S (default 30) every
+// --outage-every-s S (default 300) after the first fix, readings at --imu-rate HZ
+// (default 100), run by ekf and ekf_ins; writes
+// DIR/ins_outages.md (horizontal error at the outage end, re-fix time, fix kept,
+// roll/pitch/heading RMS, held integers against the truth per estimator).
 #include <unistd.h>
 
 #include <chrono>
+#include <filesystem>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
 #include <iostream>
 #include <mutex>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <utility>
 #include <vector>
 
 #include "ppp_bayes_tree/app/allocator_tuning.h"
+#include "ppp_bayes_tree/evaluation/ins_outage_study.h"
 #include "ppp_bayes_tree/evaluation/monte_carlo.h"
 #include "ppp_bayes_tree/io/parse_error.h"
 #include "ppp_bayes_tree/ppp/config/yaml_section.h"
@@ -61,7 +71,9 @@ int usage(const std::string& why) {
             << "                       [--config PPP_YAML] [--sim-config SIMULATION_YAML]\n"
             << "                       [--fixed-origin] [--fixed-start] [--smoother-lag 60]\n"
             << "                       [--ambiguity-resolution] [--systems G|GE]\n"
-            << "                       [--configurations all|gps_float,gps_ar,gps_galileo_float,gps_galileo_ar]\n";
+            << "                       [--configurations all|gps_float,gps_ar,gps_galileo_float,gps_galileo_ar]\n"
+            << "                       [--imu consumer|industrial|tactical [--outage-s 30] [--outage-every-s 300]\n"
+            << "                        [--imu-rate 100]]\n";
   return 2;
 }
 
@@ -129,6 +141,30 @@ bool runStudy(const ppp::MonteCarloOptions& options, const std::string& dir, ppp
   return ok;
 }
 
+/// The GNSS/INS outage study: writes DIR/ins_outages.md and prints it.
+bool runInsStudy(const ppp::InsOutageStudyOptions& options, const std::string& dir) {
+  const ppp::InsOutageStudy study = ppp::runInsOutageStudy(options);
+  const std::string md = ppp::insOutageMarkdown(study);
+  std::error_code ec;
+  std::filesystem::create_directories(dir, ec);
+  std::ofstream file(dir + "/ins_outages.md", std::ios::binary);
+  file << md;
+  if (!file) {
+    std::cerr << "ppp_monte_carlo: cannot write " << dir << "/ins_outages.md\n";
+    return false;
+  }
+  std::cout << md << "\n";
+  return study.failed < options.flights.flights;
+}
+
+bool parseGrade(const std::string& v, ppp::ImuGrade& grade) {
+  if (v == "consumer") grade = ppp::ImuGrade::ConsumerMems;
+  else if (v == "industrial") grade = ppp::ImuGrade::IndustrialMems;
+  else if (v == "tactical") grade = ppp::ImuGrade::Tactical;
+  else return false;
+  return true;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -141,6 +177,8 @@ int main(int argc, char** argv) {
   std::string systems;  // empty: the simulation configuration's (default G)
   std::vector<ppp::MonteCarloConfiguration> configurations;
   double duration_min = 30.0;
+  std::optional<ppp::ImuGrade> imu_grade;
+  double outage_s = 30.0, outage_every_s = 300.0, imu_rate_hz = 100.0;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "--fixed-origin") {
@@ -171,6 +209,23 @@ int main(int argc, char** argv) {
         configurations.push_back(*c);
       }
       if (configurations.empty()) return usage("--configurations is empty");
+    }
+    else if (a == "--imu") {
+      ppp::ImuGrade grade{};
+      if (!parseGrade(v, grade)) return usage("--imu must be consumer, industrial or tactical");
+      imu_grade = grade;
+    }
+    else if (a == "--outage-s") {
+      if (!parseNumber(v, x) || !(x > 0.0)) return usage("--outage-s must be > 0 s");
+      outage_s = x;
+    }
+    else if (a == "--imu-rate") {
+      if (!parseNumber(v, x) || !(x >= 10.0) || x > 2000.0) return usage("--imu-rate must be in [10, 2000] Hz");
+      imu_rate_hz = x;
+    }
+    else if (a == "--outage-every-s") {
+      if (!parseNumber(v, x) || !(x > 0.0)) return usage("--outage-every-s must be > 0 s");
+      outage_every_s = x;
     }
     else if (a == "--systems") {
       if (v != "G" && v != "GE") return usage("--systems must be G or GE");
@@ -229,6 +284,17 @@ int main(int argc, char** argv) {
   }
   if (const std::string why = options.ppp.smoother.validate(); !why.empty()) return usage("smoother options: " + why);
 
+  if (imu_grade) {
+    if (configurations.size() > 1) return usage("--imu runs one configuration");
+    ppp::InsOutageStudyOptions ins;
+    ins.flights = configurations.empty() ? options : ppp::withConfiguration(options, configurations.front());
+    ins.grade = *imu_grade;
+    ins.outage_s = outage_s;
+    ins.outage_every_s = outage_every_s;
+    ins.imu_rate_hz = imu_rate_hz;
+    if (!(outage_s < outage_every_s)) return usage("--outage-s must be shorter than --outage-every-s");
+    return runInsStudy(ins, out) ? 0 : 1;
+  }
   if (configurations.empty()) return runStudy(options, out) ? 0 : 1;
   std::vector<std::pair<std::string, ppp::MonteCarloResult>> studies;
   bool ok = true;

@@ -12,6 +12,7 @@
 #include <array>
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -19,6 +20,7 @@
 #include "ppp_bayes_tree/evaluation/position_error_statistics.h"
 #include "ppp_bayes_tree/ppp/config/ppp_config.h"
 #include "ppp_bayes_tree/ppp/estimators/estimator_registry.h"
+#include "ppp_bayes_tree/ppp/pipeline/ppp_pipeline.h"
 #include "ppp_bayes_tree/simulation/gnss_simulator.h"
 #include "ppp_bayes_tree/simulation/simulation_config.h"
 
@@ -188,6 +190,23 @@ struct MonteCarloFlightRun {
 /// solutions in kMonteCarloEstimators columns (never throws: a failure is
 /// reported in `failure`).
 MonteCarloFlightRun runMonteCarloFlight(const MonteCarloOptions& options, int index);
+
+/// One estimator's run on a simulated flight through the offline pipeline, epoch
+/// by epoch (index = the flight's epochs), with its held integers checked against
+/// the truth (HeldIntegerCheck): what a study beside the Monte Carlo's own
+/// estimators (e.g. the GNSS/INS filter with the flight's IMU) records.
+struct FlightEstimatorTrack {
+  std::vector<std::optional<Eigen::Vector3d>> position_ecef_m;  // nullopt: no solution
+  std::vector<char> fixed;  // the solution is fixed (PPP-AR)
+  HeldIntegerCheck held_check;
+  std::size_t arcs = 0, slips = 0;  // the arc tracker's
+};
+/// Runs estimator `name` with `config` (flightPppConfig of the flight) on `f`;
+/// the flight's IMU readings (f.imu) are given to the pipeline. `on_epoch(k,
+/// record, estimator)` is called after epoch k. Throws as the pipeline does.
+FlightEstimatorTrack trackEstimatorOnFlight(
+    const SimulatedFlight& f, const PppConfig& config, const std::string& name,
+    const std::function<void(std::size_t, const PppEpochRecord&, const PppEstimator&)>& on_epoch = {});
 
 struct QuantileBin {
   double t_s = 0.0;  // bin start

@@ -382,6 +382,35 @@ void runStudiedEstimator(const SimulatedFlight& f, int index, const MonteCarloOp
 
 }  // namespace
 
+FlightEstimatorTrack trackEstimatorOnFlight(
+    const SimulatedFlight& f, const PppConfig& config, const std::string& name,
+    const std::function<void(std::size_t, const PppEpochRecord&, const PppEstimator&)>& on_epoch) {
+  PppPipeline pipeline(memoryInputs(f, 0), config);
+  if (!f.imu.samples.empty()) pipeline.setImu(f.imu.samples);
+  std::string why;
+  const std::unique_ptr<PppEstimator> estimator = makeEstimator(name, config, &why);
+  if (!estimator) throw std::invalid_argument("estimator " + name + ": " + why);
+  FlightEstimatorTrack track;
+  track.position_ecef_m.assign(f.epochs.size(), std::nullopt);
+  track.fixed.assign(f.epochs.size(), 0);
+  BiasSampler sampler(f, 10.0);
+  HeldIntegerChecker checker(f);
+  std::vector<BiasErrorSample> bias_samples;
+  std::size_t k = 0;
+  const PppRunSummary summary = pipeline.run(*estimator, [&](const PppEpochRecord& rec) {
+    if (k >= f.epochs.size()) return;
+    track.position_ecef_m[k] = rec.solution.position_ecef_m;
+    track.fixed[k] = rec.solution.status == SolutionStatus::PppFixed ? 1 : 0;
+    sampler.epoch(k, rec, [&](ArcId a) { return estimator->biasEstimate_m(a); }, bias_samples);
+    checker.epoch(estimator->lastResult().ambiguity_fix, track.fixed[k] != 0, sampler.arcs(), track.held_check);
+    if (on_epoch) on_epoch(k, rec, *estimator);
+    ++k;
+  });
+  track.arcs = summary.arcs;
+  track.slips = summary.slips;
+  return track;
+}
+
 MonteCarloFlightRun runMonteCarloFlight(const MonteCarloOptions& options, int index) {
   MonteCarloFlightRun run;
   run.setup = monteCarloFlightSetup(options, index);

@@ -15,7 +15,8 @@
 //     re-linearising through the MeasurementFunction; optional postfit check;
 //  4. finite-value and positive-definiteness checks of x and P (P symmetrised).
 // PPP-AR (resolveAmbiguities): the filter stays float; the fixed solution is a
-// copy of it constrained on the integers validated across epochs and held.
+// copy of it constrained on the integers validated across epochs and held, read
+// through the core's seam (the biases start at coreDim()).
 // Too few satellites -> status NoSolution (no estimate, filter untouched: the
 // next epoch predicts over the real elapsed time). A numerical failure -> status
 // Failed with the reason, filter left as it was before the epoch.
@@ -109,6 +110,9 @@ class PppEkf : public PppEstimator {
   void predictDelaysClocksBiases(Filter& f, double dt_s) const;
   /// Last step of an update before it is committed (e.g. a closed-loop reset).
   virtual void closeLoop(Filter& /*f*/) {}
+  /// The fixed copy of this epoch's filter (PPP-AR), after the solution was read
+  /// from it (receiverStateAt); the float filter is not changed.
+  virtual void fixedSolutionFound(const AmbiguityFixedState& /*fixed*/) {}
 
   bool initialised_ = false;
   bool fresh_ = false;  // initialised, no epoch processed yet

@@ -26,7 +26,7 @@
 // that epoch and every later one report NoImuReadings (no GNSS-only fallback).
 // The start is the code least squares of the first epoch (as the EKF) with the
 // given attitude (or a given heading and the levelling of the readings up to the
-// first epoch, at rest) and velocity (InsEkfOptions); PPP-AR is not done (float).
+// first epoch, at rest) and velocity (InsEkfOptions).
 // With neither attitude nor heading the heading is aligned in motion: roll and
 // pitch from the latest static interval before the start (carried to it by the
 // gyros), the heading unknown (a large sigma) until the filter's antenna track
@@ -34,6 +34,28 @@
 // body x axis (a platform moving along x), with sigma velocity sigma / speed.
 // attitudeQuality() (and EstimatorEpochResult::attitude) says when the attitude is
 // good enough to publish.
+//
+// PPP-AR is the EKF's (PppEkf::resolveAmbiguities, ambiguity_resolution.h: wide
+// lane, narrow lane, partial fixing, validation and hold, the same gates): the
+// resolver works on the float filter [INS error; receiver states; biases], its
+// biases from coreDim() on, and conditions a copy of it on the held integers.
+// The fixed copy's INS error is the correction of the nominal state the integers
+// imply: the fixed solution is the antenna position of the nominal moved by it
+// (receiverStateAt), and fixedNavState() is the nominal and bias corrected by it
+// as the closed-loop reset does after an update (applyInsErrorCorrection). The
+// float filter and its nominal are not changed (as in the EKF: the hold's
+// release test compares the held integers with the float).
+//
+// After a GNSS outage the INS prediction carries the position
+// (predictedAntennaPosition()); a new arc's bias starts, as in the EKF, at phase
+// minus code with the a priori sigma of stochastic.phase_bias, and the update
+// puts it at phase minus the range of the predicted position, weighted by that
+// position's covariance: the INS-aided re-initialisation of the biases (Rabbou &
+// El-Rabbany 2015, GPS Solutions 19:601-609). Integers are not carried across an
+// outage: the arcs end at a data gap (arc_tracker.h) and with them the held
+// integers; carrying them needs INS-aided cycle-slip identification across the
+// gap (Du & Gao 2012, Sensors 12(11):14344-14362), not done
+// (doc/studies/ins_outages.md).
 #include <Eigen/Core>
 #include <deque>
 #include <optional>
@@ -66,6 +88,15 @@ class PppInsEkf : public PppEkf {
   const InsEkfOptions& insOptions() const { return ins_; }
   /// The attitude's alignment state and sigmas (from the committed covariance).
   InsAttitudeQuality attitudeQuality() const;
+  /// The nominal state (IMU, ECEF) and bias of this epoch's fixed solution: the
+  /// float nominal moved by the fixed copy's INS error; nullopt when the epoch is
+  /// not fixed (PPP-AR off, float, or no solution).
+  const std::optional<NavState>& fixedNavState() const { return fixed_nominal_; }
+  const std::optional<ImuBias>& fixedImuBias() const { return fixed_bias_; }
+  /// The antenna position this epoch's prediction gave (the INS through the
+  /// readings since the last epoch, before the update), ECEF [m]: after a GNSS
+  /// outage, the coasting position at its end; nullopt before the start.
+  const std::optional<Eigen::Vector3d>& predictedAntennaPosition() const { return predicted_antenna_m_; }
 
   /// The antenna position at a nominal state moved by an INS error (ins_error_state.h
   /// order), and its Jacobian with respect to that error (3 x 15).
@@ -89,6 +120,7 @@ class PppInsEkf : public PppEkf {
   Filter initialFilter(const ReceiverState& state) const override;
   void predictFilter(Filter& f, double dt_s, bool first) const override;
   void closeLoop(Filter& f) override;
+  void fixedSolutionFound(const AmbiguityFixedState& fixed) override;
 
  private:
   /// The INS error replaces the 3 position states of the receiver layout.
@@ -122,6 +154,9 @@ class PppInsEkf : public PppEkf {
   Eigen::Vector3d start_accel_bias_mps2_ = Eigen::Vector3d::Zero();  // from the levelling (in-motion start)
   AlignmentState alignment_ = AlignmentState::NotAligned;
   std::deque<std::pair<GnssTime, Eigen::Vector3d>> track_;  // antenna positions after the updates
+  std::optional<NavState> fixed_nominal_;   // this epoch's fixed solution (PPP-AR)
+  std::optional<ImuBias> fixed_bias_;
+  std::optional<Eigen::Vector3d> predicted_antenna_m_;  // this epoch's prediction
 };
 
 }  // namespace ppp

@@ -56,15 +56,17 @@ void PppEkf::resolveAmbiguities(const EstimatorEpochInput& input, EstimatorEpoch
   AmbiguityFixSummary summary;
   if (r.status == EpochStatus::Ok && r.solution) {
     const std::vector<ArcId> arcs = activeArcs();
-    const int receiver_dim = r.solution->state.layout.dim();
     std::map<ArcId, double> elevation_rad;
     for (const auto& res : r.residuals) elevation_rad[res.arc] = res.elevation_rad;
-    const auto fixed = ambiguity.resolveAndHold(stateVector(), covarianceMatrix(), receiver_dim, arcs,
+    // The biases follow the core (coreDim()); the fixed receiver state is read
+    // from the fixed core through the same seam as the float one.
+    const auto fixed = ambiguity.resolveAndHold(stateVector(), covarianceMatrix(), coreDim(), arcs,
                                                 input.phase_biases, summary, &elevation_rad);
     if (fixed) {
-      r.solution->state = ReceiverState::fromVector(fixed->x.head(receiver_dim), r.solution->state.layout);
-      r.solution->covariance = fixed->P.topLeftCorner(receiver_dim, receiver_dim);
+      r.solution->state = receiverStateAt(fixed->x);
+      r.solution->covariance = receiverCovarianceAt(fixed->x, fixed->P);
       r.ambiguities = AmbiguityState::Fixed;
+      fixedSolutionFound(*fixed);
     }
   }
   r.ambiguity_fix = summary;

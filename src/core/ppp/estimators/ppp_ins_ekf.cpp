@@ -118,6 +118,8 @@ void PppInsEkf::closeLoop(Filter& f) {
 void PppInsEkf::receiveEpochInput(const EstimatorEpochInput& input) {
   epoch_time_ = input.time;
   epoch_problem_.reset();
+  fixed_nominal_.reset();
+  fixed_bias_.reset();
   pending_.clear();
   if (input.imu) pending_ = *input.imu;
   if (lastTime() || ins_.initial_rotation_ecef_body || ins_.initial_heading_rad) return;
@@ -247,7 +249,9 @@ ReceiverState PppInsEkf::predict(double dt_s, bool first, const std::optional<Re
     work_ = f_;
   }
   pending_.clear();
-  return receiverStateAt(work_.x);
+  const ReceiverState predicted = receiverStateAt(work_.x);
+  predicted_antenna_m_ = predicted.position_ecef_m;
+  return predicted;
 }
 
 bool PppInsEkf::propagateTo(const GnssTime& time) {
@@ -313,11 +317,21 @@ void PppInsEkf::finishEpoch(EstimatorEpochResult& result) const {
   if (lastTime()) result.attitude = attitudeQuality();
 }
 
-void PppInsEkf::resolveAmbiguities(const EstimatorEpochInput& /*input*/, EstimatorEpochResult& result) {
-  // PPP-AR of the GNSS/INS filter is not done: its solutions stay float.
-  AmbiguityFixSummary summary;
-  summary.float_reason = AmbiguityFloatReason::Disabled;
-  result.ambiguity_fix = summary;
+void PppInsEkf::resolveAmbiguities(const EstimatorEpochInput& input, EstimatorEpochResult& result) {
+  // The EKF's PPP-AR over this filter's core (coreDim(), receiverStateAt);
+  // fixedSolutionFound keeps the fixed nominal.
+  fixed_nominal_.reset();
+  fixed_bias_.reset();
+  PppEkf::resolveAmbiguities(input, result);
+}
+
+void PppInsEkf::fixedSolutionFound(const AmbiguityFixedState& fixed) {
+  // The closed-loop reset applied to a copy: the nominal moved by the fixed INS error.
+  NavState nominal = nominal_;
+  ImuBias bias = bias_;
+  applyInsErrorCorrection(fixed.x.head<kInsErrorStateSize>(), &nominal, &bias);
+  fixed_nominal_ = nominal;
+  fixed_bias_ = bias;
 }
 
 }  // namespace ppp

@@ -1,0 +1,113 @@
+// PPP-AR of the GNSS/INS filter (ekf_ins) on simulated flights with an
+// industrial-MEMS IMU (simulated_imu.h) and simulated satellite phase biases
+// (the gps_galileo_ar configuration of the Monte Carlo study, white code noise as
+// test_monte_carlo_ambiguity): ekf_ins runs the EKF's resolver over its own state
+// (the INS error in place of the position) and must fix every flight, hold only
+// the simulator's integers (HeldIntegerCheck), and its fixed antenna positions
+// must agree with the EKF's fixed ones on the same data; its fixed navigation
+// state (the nominal moved by the fixed INS error) carries the fixed position.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <vector>
+
+#include "ppp_bayes_tree/evaluation/monte_carlo.h"
+#include "ppp_bayes_tree/navigation/so3.h"
+#include "ppp_bayes_tree/ppp/estimators/ppp_ins_ekf.h"
+#include "ppp_bayes_tree/simulation/simulated_imu.h"
+
+namespace ppp {
+namespace {
+
+MonteCarloOptions insArStudy() {
+  MonteCarloOptions o;
+  o.seed = 7;
+  o.duration_s = 900.0;
+  o.profiles = {FlightProfile::Survey, FlightProfile::Loiter};
+  o.simulation.errors.multipath.enabled = false;
+  o.ppp.stochastic.code_correlation_time_s = 0.0;
+  o.ppp.ambiguity_resolution.wide_lane.correlation_time_s = 0.0;
+  o = withConfiguration(o, *findMonteCarloConfiguration("gps_galileo_ar"));
+  o.simulation.imu.enabled = true;
+  o.simulation.imu.grade = ImuGrade::IndustrialMems;
+  o.simulation.imu.rate_hz = 100.0;
+  return o;
+}
+
+/// The GNSS/INS filter's start: the true attitude and velocity of the first epoch
+/// moved by a small error (0.3 deg, 0.1 m/s per axis), the grade's noise.
+PppConfig insConfig(PppConfig c, const SimulatedFlight& f) {
+  const TrajectorySample& first = f.truth.front().trajectory;
+  c.ins.noise = f.imu.noise;
+  c.ins.initial_rotation_ecef_body = ecefFromBody(first) * so3::expMap(Eigen::Vector3d(0.005, -0.005, 0.005));
+  c.ins.initial_velocity_ecef_mps = first.velocity_ecef_mps + Eigen::Vector3d(0.1, -0.1, 0.1);
+  return c;
+}
+
+struct FlightComparison {
+  FlightEstimatorTrack ekf, ins;
+  std::size_t ins_fixed_nav_epochs = 0;     // fixed epochs with a fixed navigation state
+  double ins_fixed_nav_vs_solution_m = 0.0;  // max |antenna of the fixed nav state - fixed solution|
+};
+
+FlightComparison runFlight(const MonteCarloOptions& o, int index) {
+  const MonteCarloFlightSetup setup = monteCarloFlightSetup(o, index);
+  const SimulatedFlight f = simulateFlight(monteCarloSimulationConfig(o, setup), setup.seed);
+  const PppConfig config = flightPppConfig(o.ppp, f);
+  FlightComparison c;
+  c.ekf = trackEstimatorOnFlight(f, config, "ekf");
+  c.ins = trackEstimatorOnFlight(
+      f, insConfig(config, f), "ekf_ins", [&](std::size_t, const PppEpochRecord& rec, const PppEstimator& e) {
+        const auto& ins = dynamic_cast<const PppInsEkf&>(e);
+        if (rec.solution.status != SolutionStatus::PppFixed || !ins.fixedNavState()) return;
+        ++c.ins_fixed_nav_epochs;
+        const NavState& s = *ins.fixedNavState();
+        const Eigen::Vector3d antenna =
+            s.position_world_m + s.rotation_world_body * ins.insOptions().lever_arm_body_m;
+        c.ins_fixed_nav_vs_solution_m =
+            std::max(c.ins_fixed_nav_vs_solution_m, (antenna - *rec.solution.position_ecef_m).norm());
+      });
+  return c;
+}
+
+TEST(InsAmbiguityResolution, EkfInsFixesHoldsTheTrueIntegersAndAgreesWithTheEkf) {
+  const MonteCarloOptions o = insArStudy();
+  for (int index = 0; index < 2; ++index) {
+    SCOPED_TRACE("flight " + std::to_string(index));
+    const FlightComparison c = runFlight(o, index);
+    std::size_t ins_fixed = 0, ekf_fixed = 0, both = 0;
+    std::size_t first_ins = c.ins.fixed.size(), first_ekf = c.ekf.fixed.size();
+    std::vector<double> differences_m;
+    for (std::size_t k = 0; k < c.ins.fixed.size(); ++k) {
+      if (c.ins.fixed[k]) ins_fixed++, first_ins = std::min(first_ins, k);
+      if (c.ekf.fixed[k]) ekf_fixed++, first_ekf = std::min(first_ekf, k);
+      if (c.ins.fixed[k] && c.ekf.fixed[k]) {
+        ++both;
+        differences_m.push_back((*c.ins.position_ecef_m[k] - *c.ekf.position_ecef_m[k]).norm());
+      }
+    }
+    std::sort(differences_m.begin(), differences_m.end());
+    const double median_m = differences_m.empty() ? -1.0 : differences_m[differences_m.size() / 2];
+    const double max_m = differences_m.empty() ? -1.0 : differences_m.back();
+    std::printf("flight %d: fixed epochs ekf_ins %zu (first at %zu s), ekf %zu (first at %zu s), both %zu; "
+                "|ekf_ins - ekf| fixed median %.4f m, max %.4f m; holds ekf_ins %zu (wrong %zu), ekf %zu (wrong %zu); "
+                "fixed nav state vs solution max %.2e m\n",
+                index, ins_fixed, first_ins, ekf_fixed, first_ekf, both, median_m, max_m, c.ins.held_check.held,
+                c.ins.held_check.wrong, c.ekf.held_check.held, c.ekf.held_check.wrong, c.ins_fixed_nav_vs_solution_m);
+    EXPECT_GT(ins_fixed, 0u);
+    EXPECT_GE(c.ins.held_check.held, 4u);
+    EXPECT_EQ(c.ins.held_check.wrong, 0u);
+    EXPECT_EQ(c.ins.held_check.fixed_epochs_with_wrong_hold, 0u);
+    EXPECT_EQ(c.ekf.held_check.wrong, 0u);
+    ASSERT_GT(both, 0u);
+    EXPECT_LT(median_m, 0.02);
+    EXPECT_LT(max_m, 0.10);
+    EXPECT_EQ(c.ins_fixed_nav_epochs, ins_fixed);
+    EXPECT_LT(c.ins_fixed_nav_vs_solution_m, 1e-6);
+  }
+}
+
+}  // namespace
+}  // namespace ppp
