@@ -11,6 +11,8 @@ namespace ppp {
 
 std::string InsEkfOptions::validate() const {
   if (!lever_arm_body_m.allFinite()) return "lever arm not finite";
+  if (initial_velocity_ned_mps && !initial_velocity_ned_mps->allFinite()) return "initial NED velocity not finite";
+  if (initial_rotation_ned_body && !initial_rotation_ned_body->allFinite()) return "initial NED attitude not finite";
   if (!(initial_attitude_sigma_rad > 0.0)) return "initial attitude sigma must be > 0";
   if (!(initial_velocity_sigma_mps > 0.0)) return "initial velocity sigma must be > 0";
   if (!(max_imu_interval_s > 0.0)) return "max IMU interval must be > 0";
@@ -114,6 +116,7 @@ void PppInsEkf::receiveEpochInput(const EstimatorEpochInput& input) {
 
 std::optional<Eigen::Matrix3d> PppInsEkf::initialAttitude(const Eigen::Vector3d& position_ecef_m) {
   if (ins_.initial_rotation_ecef_body) return ins_.initial_rotation_ecef_body;
+  if (ins_.initial_rotation_ned_body) return rotationEcefNed(position_ecef_m) * *ins_.initial_rotation_ned_body;
   if (!ins_.initial_heading_rad) {
     epoch_problem_ = {NoSolutionReason::NoInitialAttitude,
                       "no initial attitude: neither an attitude nor a heading given to the GNSS/INS filter"};
@@ -141,7 +144,9 @@ bool PppInsEkf::startNominal(const ReceiverState& start) {
     return false;
   }
   nominal_.rotation_world_body = *attitude;
-  nominal_.velocity_world_mps = ins_.initial_velocity_ecef_mps;
+  nominal_.velocity_world_mps = ins_.initial_velocity_ned_mps
+                                    ? Eigen::Vector3d(rotationEcefNed(start.position_ecef_m) * *ins_.initial_velocity_ned_mps)
+                                    : ins_.initial_velocity_ecef_mps;
   nominal_.position_world_m = start.position_ecef_m - nominal_.rotation_world_body * ins_.lever_arm_body_m;
   bias_ = ImuBias{};
   return true;
