@@ -7,7 +7,9 @@
 //     simulated truth in position and attitude; PppStatus carries the INS fields;
 //     TF map -> base_link is the odometry's pose;
 //   - "imu_stop": the IMU stops at 90 s; the node falls back to the GNSS-only EKF
-//     and the fixes go on to the end of the flight.
+//     and the fixes go on to the end of the flight;
+//   - "no_tf": the extrinsics from TF, which has none: every IMU message is
+//     refused and counted, the status and the diagnostics say why.
 #include <Eigen/Geometry>
 #include <sensor_msgs/Imu.h>
 
@@ -34,14 +36,16 @@ struct Run {
   std::size_t epochs = 0, imu_readings = 0;
 };
 
-/// Publishes a bag's observations, corrections and IMU messages at `speed` x real time.
-void play(const std::string& path, Run& r, double speed) {
+/// Publishes a bag's observations, corrections and IMU messages at `speed` x real time
+/// (the first `max_s` seconds of bag time).
+void play(const std::string& path, Run& r, double speed, double max_s = 1e9) {
   rosbag::Bag bag(path, rosbag::bagmode::Read);
   rosbag::View view(bag);
   const ros::WallTime start = ros::WallTime::now();
   ros::Time first;
   for (const rosbag::MessageInstance& m : view) {
     if (first.isZero()) first = m.getTime();
+    if ((m.getTime() - first).toSec() > max_s) break;
     const ros::WallDuration wait = start + ros::WallDuration((m.getTime() - first).toSec() / speed) - ros::WallTime::now();
     if (wait > ros::WallDuration(0)) wait.sleep();
     if (auto o = m.instantiate<ppp_bayes_tree::GnssObservations>()) r.obs.publish(o);
@@ -56,7 +60,7 @@ struct InsFlightTest {
   std::vector<ppp::TrajectorySample> truth;  // 1 Hz over the whole flight, the outage included
   Eigen::Vector3d datum_ecef_m;
   Eigen::Matrix3d enu_from_ecef;
-  Run ins, stop;
+  Run ins, stop, no_tf;
   tf2_ros::Buffer tf_buffer;
   tf2_ros::TransformListener tf_listener{tf_buffer};
   bool ok = false;
@@ -93,6 +97,7 @@ struct InsFlightTest {
     const auto dir = std::filesystem::temp_directory_path();
     setUp(ins, "/ins/", (dir / "ppp_rostest_ekf_ins.bag").string());
     setUp(stop, "/imu_stop/", (dir / "ppp_rostest_ekf_ins_imu_stop.bag").string());
+    setUp(no_tf, "/no_tf/", ins.bag);
     const auto a = ppp_ros::writeSimulatedFlightBag(ins.bag, flight, ppp_ros::BagWriteOptions{}, "/rostest_ekf_ins");
     ppp_ros::BagWriteOptions cut;
     for (const ppp::ImuSample& s : flight.imu.samples)
@@ -118,14 +123,15 @@ struct InsFlightTest {
   ppp::GnssTime start() const { return flight.truth.front().trajectory.time; }
 
   /// Plays the run's bag once the node listens, and waits for one status per epoch.
-  void replay(Run& r) {
+  void replay(Run& r, double max_s = 1e9) {
     const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(30.0);
     while (ros::WallTime::now() < end &&
            (r.obs.getNumSubscribers() == 0 || r.corr.getNumSubscribers() == 0 || r.imu.getNumSubscribers() == 0))
       ros::WallDuration(0.05).sleep();
     ASSERT_GT(r.imu.getNumSubscribers(), 0u) << r.ns << " does not subscribe to imu/data";
     const ros::WallTime t0 = ros::WallTime::now();
-    play(r.bag, r, kSpeed);
+    play(r.bag, r, kSpeed, max_s);
+    if (max_s < 1e9) return;
     EXPECT_TRUE(r.out.waitForStatuses(r.epochs, 60.0)) << r.out.statusCount() << " of " << r.epochs << " statuses";
     ros::WallDuration(0.5).sleep();
     std::printf("[ figures  ] %s: %zu epochs, %zu IMU readings at %.0fx in %.1f s wall\n", r.ns.c_str(), r.epochs,
@@ -257,7 +263,7 @@ TEST(EkfInsNodeSimulated, OdometryAtTheImuRateThroughTheOutageWithBoundedError) 
   std::lock_guard<std::mutex> l(g->ins.out.mutex);
   bool imu_seen = false;
   for (const auto& [name, level] : g->ins.out.worst_diagnostic) {
-    if (name.find("imu") == std::string::npos) continue;
+    if (name.find("ins/ppp_ekf_node") == std::string::npos || name.find("imu") == std::string::npos) continue;
     imu_seen = true;
     EXPECT_LT(level, diagnostic_msgs::DiagnosticStatus::ERROR) << name;
   }
@@ -298,6 +304,28 @@ TEST(EkfInsNodeSimulated, WhenTheImuStopsTheGnssPositionsGoOn) {
   EXPECT_NE(last.ins_reason.find("IMU"), std::string::npos) << last.ins_reason;
   EXPECT_FALSE(last.ins_attitude_valid);
   EXPECT_LT(error_m, 5.0);  // a GNSS-only float start 90 s before the end (code level, metres)
+}
+
+TEST(EkfInsNodeSimulated, ExtrinsicsMissingFromTfAreAClearCountedError) {
+  ASSERT_TRUE(g->ok) << "setup failed";
+  g->replay(g->no_tf, 120.0);  // 60 s of batches before the first epoch (margin), then 60 s of flight
+  ros::WallDuration(2.0).sleep();
+  std::lock_guard<std::mutex> l(g->no_tf.out.mutex);
+  ASSERT_FALSE(g->no_tf.out.statuses.empty());
+  const auto& last = g->no_tf.out.statuses.back();
+  std::printf("[ figures  ] extrinsics missing: %zu statuses, %u IMU messages not used; status: %s (%s)\n",
+              g->no_tf.out.statuses.size(), last.imu_readings_rejected, last.ins_state_text.c_str(),
+              last.ins_reason.c_str());
+  EXPECT_EQ(last.ins_state, ppp_bayes_tree::PppStatus::INS_WAITING);
+  EXPECT_NE(last.ins_reason.find("IMU extrinsics missing"), std::string::npos) << last.ins_reason;
+  EXPECT_EQ(last.imu_readings_used, 0u);
+  EXPECT_GT(last.imu_readings_rejected, 30u * kImuRate_hz);
+  EXPECT_TRUE(g->no_tf.out.odometry.empty());
+  bool error_seen = false;
+  for (const auto& [name, level] : g->no_tf.out.worst_diagnostic)
+    error_seen |= name.find("no_tf/ppp_ekf_node") != std::string::npos && name.find("imu") != std::string::npos &&
+                  level == diagnostic_msgs::DiagnosticStatus::ERROR;
+  EXPECT_TRUE(error_seen) << "no imu diagnostics ERROR";
 }
 
 }  // namespace
