@@ -48,6 +48,7 @@ NodeConfig bindNodeConfig(const YAML::Node& root, const std::string& source_name
   NodeConfig c;
   c.ppp = ppp::bindPppConfig(root, source_name);
   c.ros = bindRosNodeOptions(c.ppp.ros, source_name);
+  c.ros.node_estimator = estimator.empty() ? c.ros.estimator : estimator;
   if (!estimator.empty() || !c.ros.configured_estimator.empty())
     c.ros.estimator = chosenEstimator(estimator, c.ros.configured_estimator, source_name);
   c.ros.live_input.fallback = c.ppp.ssr.fallback;  // one broadcast fallback rule, offline and live

@@ -21,6 +21,7 @@
 #include "ppp_bayes_tree/ros/ins_odometry.h"
 #include "ppp_bayes_tree/ros/message_conversions.h"
 #include "ppp_bayes_tree/ros/node_config.h"
+#include "ppp_bayes_tree/ros/node_diagnostics.h"
 #include "ppp_bayes_tree/ros/node_imu_input.h"
 #include "ppp_bayes_tree/types/constants.h"
 #include "ppp_bayes_tree/types/frames.h"
@@ -59,6 +60,9 @@ TEST(NodeImuOptions, EstimatorChoiceLeverArmAndStartFromRosImu) {
                  " initial_velocity_enu_mps: [1, 2, 3], grade: tactical}}"),
       "test", "ekf");
   EXPECT_EQ(c.ros.estimator, "ekf_ins");
+  const auto same = [](const std::string& topic) { return topic; };
+  EXPECT_EQ(ppp_ros::startSummary(c.ros, "test", 0, {}, same).text.rfind("ppp_ekf_node: config from test", 0), 0u)
+      << "the node keeps its name with ros.estimator ekf_ins";
   EXPECT_THROW(ppp_ros::bindNodeConfig(YAML::Load("ros: {estimator: ekf_ins}"), "test", "smoother"), ppp::ConfigError);
   EXPECT_THROW(ppp_ros::bindNodeConfig(YAML::Load("ros: {estimator: kalman}"), "test", "ekf"), ppp::ConfigError);
   EXPECT_EQ(ppp_ros::bindNodeConfig(YAML::Load("{}"), "test", "ekf").ros.estimator, "ekf");

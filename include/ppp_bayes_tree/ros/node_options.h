@@ -107,6 +107,7 @@ struct RosNodeOptions {
   // the IMU input (ros.imu), used when the estimator has inertial states
   RosImuOptions imu;
   std::string configured_estimator;  // ros.estimator ("" = the node's own)
+  std::string node_estimator;        // the node's own estimator (its name: ppp_<node_estimator>_node)
 };
 
 /// Binds `ros:` (a mapping or null) strictly. Throws ppp::ConfigError.
