@@ -176,18 +176,8 @@ TEST(EkfInsNodeSimulated, TheConfiguredStartIsTheSimulatedFirstSample) {
   EXPECT_LT((*o.initial_velocity_ned_mps - v_ned).norm(), 1e-3);
 }
 
-TEST(EkfInsNodeSimulated, OdometryAtTheImuRateThroughTheOutageWithBoundedError) {
-  ASSERT_TRUE(g->ok) << "setup failed";
-  g->replay(g->ins);
-  std::vector<nav_msgs::Odometry> odom;
-  std::vector<ppp_bayes_tree::PppStatus> statuses;
-  {
-    std::lock_guard<std::mutex> l(g->ins.out.mutex);
-    odom = g->ins.out.odometry;
-    statuses = g->ins.out.statuses;
-  }
-  ASSERT_GT(odom.size(), 100u);
-  // IMU rate: strictly increasing stamps, 0.02 s apart, nearly every reading after the first.
+/// IMU rate: strictly increasing stamps, 0.02 s apart, nearly every reading after the first.
+void checkImuRate(const std::vector<nav_msgs::Odometry>& odom) {
   std::size_t at_rate = 0;
   for (std::size_t k = 1; k < odom.size(); ++k) {
     const double dt = (odom[k].header.stamp - odom[k - 1].header.stamp).toSec();
@@ -198,9 +188,11 @@ TEST(EkfInsNodeSimulated, OdometryAtTheImuRateThroughTheOutageWithBoundedError) 
   std::printf("[ figures  ] odometry: %zu messages over %.1f s, %zu steps of 0.02 s\n", odom.size(), span_s, at_rate);
   EXPECT_GT(static_cast<double>(odom.size()), 0.95 * span_s * kImuRate_hz);
   EXPECT_GT(static_cast<double>(at_rate), 0.95 * static_cast<double>(odom.size()));
+}
 
-  // Through the outage: no step over 0.1 s; the error stays within the error at its start
-  // plus 3 sigma of the reported position covariance.
+/// Through the outage: no step over 0.1 s; the error stays within the error at its start
+/// plus 3 sigma of the reported position covariance; the attitude follows the truth.
+void checkOutage(const std::vector<nav_msgs::Odometry>& odom) {
   const ros::Time outage_from = ppp_ros::utcStamp(g->start() + kOutageStart_s);
   const ros::Time outage_to = ppp_ros::utcStamp(g->start() + kOutageStart_s + kOutage_s);
   double error_at_start_m = -1.0, worst_m = 0.0, worst_bound_m = 0.0, worst_attitude_rad = 0.0;
@@ -233,8 +225,10 @@ TEST(EkfInsNodeSimulated, OdometryAtTheImuRateThroughTheOutageWithBoundedError) 
   EXPECT_GT(static_cast<double>(in_outage), 0.95 * kOutage_s * kImuRate_hz);
   EXPECT_EQ(compared, static_cast<std::size_t>(kOutage_s));
   EXPECT_LT(worst_attitude_rad, 2.0 * ppp::kDegToRad);
+}
 
-  // The status's INS fields at the last epoch (solved).
+/// The status's INS fields at the last epoch (solved), and the last odometry against the truth.
+void checkInsStatus(const std::vector<ppp_bayes_tree::PppStatus>& statuses, const nav_msgs::Odometry& newest) {
   ASSERT_FALSE(statuses.empty());
   const auto& last = statuses.back();
   EXPECT_EQ(last.estimator, "ekf_ins");
@@ -247,17 +241,19 @@ TEST(EkfInsNodeSimulated, OdometryAtTheImuRateThroughTheOutageWithBoundedError) 
     EXPECT_TRUE(std::isfinite(last.accel_bias_mps2[i]) && std::isfinite(last.gyro_bias_radps[i]));
     EXPECT_LT(std::abs(last.accel_bias_mps2[i]), 0.1);
   }
-  const ppp::TrajectorySample* end = g->truthAt(odom.back().header.stamp);
+  const ppp::TrajectorySample* end = g->truthAt(newest.header.stamp);
   if (end) std::printf("[ figures  ] last odometry: 3D error %.3f m, attitude %.3f deg\n",
-                       (g->ecefOf(odom.back().pose.pose) - end->position_ecef_m).norm(),
-                       g->attitudeError_rad(odom.back().pose.pose, *end) / ppp::kDegToRad);
+                       (g->ecefOf(newest.pose.pose) - end->position_ecef_m).norm(),
+                       g->attitudeError_rad(newest.pose.pose, *end) / ppp::kDegToRad);
+}
 
-  // TF map -> base_link is the newest odometry pose (REP-105).
+/// TF map -> base_link is the newest odometry pose (REP-105); the IMU's diagnostics never ERROR.
+void checkTfAndImuDiagnostics(const nav_msgs::Odometry& newest) {
   std::string err;
   ASSERT_TRUE(g->tf_buffer.canTransform("map", "base_link", ros::Time(0), ros::Duration(3.0), &err)) << err;
   const auto t = g->tf_buffer.lookupTransform("map", "base_link", ros::Time(0));
-  EXPECT_EQ(t.header.stamp, odom.back().header.stamp);
-  EXPECT_LT((ppp_ros::test::translation(t) - ppp_ros::test::position(odom.back().pose.pose)).norm(), 1e-6);
+  EXPECT_EQ(t.header.stamp, newest.header.stamp);
+  EXPECT_LT((ppp_ros::test::translation(t) - ppp_ros::test::position(newest.pose.pose)).norm(), 1e-6);
 
   // The IMU's diagnostics: present, never ERROR (the extrinsics come from the parameters).
   std::lock_guard<std::mutex> l(g->ins.out.mutex);
@@ -268,6 +264,23 @@ TEST(EkfInsNodeSimulated, OdometryAtTheImuRateThroughTheOutageWithBoundedError) 
     EXPECT_LT(level, diagnostic_msgs::DiagnosticStatus::ERROR) << name;
   }
   EXPECT_TRUE(imu_seen) << "no imu diagnostics";
+}
+
+TEST(EkfInsNodeSimulated, OdometryAtTheImuRateThroughTheOutageWithBoundedError) {
+  ASSERT_TRUE(g->ok) << "setup failed";
+  g->replay(g->ins);
+  std::vector<nav_msgs::Odometry> odom;
+  std::vector<ppp_bayes_tree::PppStatus> statuses;
+  {
+    std::lock_guard<std::mutex> l(g->ins.out.mutex);
+    odom = g->ins.out.odometry;
+    statuses = g->ins.out.statuses;
+  }
+  ASSERT_GT(odom.size(), 100u);
+  checkImuRate(odom);
+  checkOutage(odom);
+  checkInsStatus(statuses, odom.back());
+  checkTfAndImuDiagnostics(odom.back());
 }
 
 TEST(EkfInsNodeSimulated, WhenTheImuStopsTheGnssPositionsGoOn) {
