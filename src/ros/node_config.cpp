@@ -3,6 +3,7 @@
 #include <ros/node_handle.h>
 
 #include "ppp_bayes_tree/ppp/config/yaml_document.h"
+#include "ppp_bayes_tree/ppp/estimators/estimator_registry.h"
 
 namespace ppp_ros {
 
@@ -28,13 +29,28 @@ void checkConfigFiles(YAML::Node& root, const std::string& source) {
   root.remove(kConfigFilesKey);
 }
 
+/// The estimator the node runs: its own, or ros.estimator when that is registered
+/// and gives the same solutions (the EKF node: ekf or ekf_ins; the smoother node: smoother).
+std::string chosenEstimator(const std::string& own, const std::string& configured, const std::string& source) {
+  if (configured.empty() || own.empty()) return configured.empty() ? own : configured;
+  const ppp::EstimatorEntry* chosen = ppp::findEstimator(configured);
+  const ppp::EstimatorEntry* node = ppp::findEstimator(own);
+  if (!chosen) throw ppp::ConfigError(source, "ros.estimator", "\"" + configured + "\" is not a registered estimator");
+  if (node && chosen->solutions != node->solutions)
+    throw ppp::ConfigError(source, "ros.estimator",
+                           "\"" + configured + "\" does not give the solutions of the " + own + " node (another node runs it)");
+  return configured;
+}
+
 }  // namespace
 
 NodeConfig bindNodeConfig(const YAML::Node& root, const std::string& source_name, const std::string& estimator) {
   NodeConfig c;
   c.ppp = ppp::bindPppConfig(root, source_name);
   c.ros = bindRosNodeOptions(c.ppp.ros, source_name);
-  if (!estimator.empty()) c.ros.estimator = estimator;
+  c.ros.node_estimator = estimator.empty() ? c.ros.estimator : estimator;
+  if (!estimator.empty() || !c.ros.configured_estimator.empty())
+    c.ros.estimator = chosenEstimator(estimator, c.ros.configured_estimator, source_name);
   c.ros.live_input.fallback = c.ppp.ssr.fallback;  // one broadcast fallback rule, offline and live
   return c;
 }

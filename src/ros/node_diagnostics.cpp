@@ -90,7 +90,8 @@ StartNote startSummary(const RosNodeOptions& o, const std::string& config_source
     inputs = "the live streams";
     for (const auto& topic : live_topics) inputs += " " + topic;
   }
-  return {false, "ppp_" + o.estimator + "_node: config from " + config_source + ", " + std::to_string(antex_files) +
+  const std::string node = "ppp_" + (o.node_estimator.empty() ? o.estimator : o.node_estimator) + "_node";
+  return {false, node + ": config from " + config_source + ", " + std::to_string(antex_files) +
                      " ANTEX file(s), bias " + (o.bias.empty() ? "none" : o.bias) + ", waiting for " + inputs +
                      (o.attitude_topic.empty() ? std::string(", no attitude source")
                                                : ", attitude from " + resolve(o.attitude_topic))};

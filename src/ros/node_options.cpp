@@ -1,5 +1,7 @@
 #include "ppp_bayes_tree/ros/node_options.h"
 
+#include <cmath>
+
 #include "ppp_bayes_tree/ppp/config/yaml_section.h"
 #include "ppp_bayes_tree/ros/gnss_stream_subscriber.h"
 
@@ -134,6 +136,35 @@ void bindSmoothed(ppp::YamlSection& s, RosNodeOptions& o) {
   sm.finish();
 }
 
+/// ros.imu: the IMU input of an estimator with inertial states.
+void bindImu(ppp::YamlSection& s, RosNodeOptions& o) {
+  ppp::YamlSection m = s.section("imu");
+  RosImuOptions& i = o.imu;
+  i.topic = m.text("topic", i.topic);
+  if (i.topic.empty()) m.fail("topic", "empty topic name");
+  i.grade = m.choice("grade", i.grade, {"consumer_mems", "industrial_mems", "tactical"});
+  i.extrinsics_from_tf = m.choice("extrinsics", "parameters", {"parameters", "tf"}) == "tf";
+  const auto vector3 = [&m](const std::string& key, double bound) {
+    const std::vector<double> v = m.numberList(key, {0.0, 0.0, 0.0}, 3);
+    for (double x : v)
+      if (!(std::abs(x) <= bound)) m.fail(key, "each value must be in [-" + std::to_string(bound) + ", " + std::to_string(bound) + "]");
+    return Eigen::Vector3d(v[0], v[1], v[2]);
+  };
+  i.translation_m = vector3("translation_m", 100.0);
+  i.rotation_rpy_deg = vector3("rotation_rpy_deg", 360.0);
+  i.level_at_rest = m.choice("initial_attitude", "given", {"given", "level_at_rest"}) == "level_at_rest";
+  i.initial_rpy_deg = vector3("initial_rpy_deg", 360.0);
+  i.initial_velocity_enu_mps = vector3("initial_velocity_enu_mps", 1000.0);
+  i.max_gap_s = m.number("max_gap_s", i.max_gap_s, ppp::Bound::Positive);
+  i.max_gnss_offset_s = m.number("max_gnss_offset_s", i.max_gnss_offset_s, ppp::Bound::Positive);
+  i.accel_full_scale_mps2 = m.number("accel_full_scale_mps2", i.accel_full_scale_mps2, ppp::Bound::NonNegative);
+  i.gyro_full_scale_radps = m.number("gyro_full_scale_radps", i.gyro_full_scale_radps, ppp::Bound::NonNegative);
+  i.attitude_sigma_valid_deg = m.number("attitude_sigma_valid_deg", i.attitude_sigma_valid_deg, ppp::Bound::Positive);
+  i.buffer_s = m.number("buffer_s", i.buffer_s, ppp::Bound::Positive);
+  if (i.buffer_s > 3600.0) m.fail("buffer_s", "must be in (0, 3600] s (the readings are kept in memory)");
+  m.finish();
+}
+
 /// ros.live: raw live streams (RTCM 3, UBX) and the live input.
 void bindLive(ppp::YamlSection& s, RosNodeOptions& o) {
   ppp::YamlSection l = s.section("live");
@@ -191,6 +222,8 @@ RosNodeOptions bindRosNodeOptions(const YAML::Node& ros, const std::string& sour
   bindDiagnostics(s, o);
   bindSmoothed(s, o);
   bindLive(s, o);
+  bindImu(s, o);
+  o.configured_estimator = s.text("estimator", "");
   s.finish();
   return o;
 }

@@ -370,19 +370,22 @@ SolutionMessages NodeOutputs::solution(const ppp::PppEpochRecord& rec, const ppp
   path_.poses.push_back(pose);
   if (path_.poses.size() > options_.path_max_poses) path_.poses.erase(path_.poses.begin());
 
-  if (!options_.publish_tf) return out;
-  if (odom_to_base) {
-    // map -> odom when another node publishes odom -> base_link: T_map_odom = T_map_base * T_odom_base^-1
-    const auto& ob = odom_to_base->transform;
-    const Eigen::Quaterniond q_ob(ob.rotation.w, ob.rotation.x, ob.rotation.y, ob.rotation.z);
-    const Eigen::Vector3d t_ob(ob.translation.x, ob.translation.y, ob.translation.z);
-    const Eigen::Quaterniond q_mo = body.q_map_base * q_ob.inverse();
-    const Eigen::Vector3d t_mo = body.position_m - q_mo * t_ob;
-    out.tf = transformMsg(options_.map_frame, options_.odom_frame, stamp, t_mo, q_mo);
-  } else {
-    out.tf = transformMsg(options_.map_frame, options_.base_frame, stamp, body.position_m, body.q_map_base);
-  }
+  out.tf = mapTransform(stamp, body.position_m, body.q_map_base, odom_to_base);
   return out;
+}
+
+std::optional<geometry_msgs::TransformStamped> NodeOutputs::mapTransform(
+    const ros::Time& stamp, const Eigen::Vector3d& position_m, const Eigen::Quaterniond& q_map_base,
+    const std::optional<geometry_msgs::TransformStamped>& odom_to_base) const {
+  if (!options_.publish_tf) return std::nullopt;
+  if (!odom_to_base) return transformMsg(options_.map_frame, options_.base_frame, stamp, position_m, q_map_base);
+  // map -> odom when another node publishes odom -> base_link: T_map_odom = T_map_base * T_odom_base^-1
+  const auto& ob = odom_to_base->transform;
+  const Eigen::Quaterniond q_ob(ob.rotation.w, ob.rotation.x, ob.rotation.y, ob.rotation.z);
+  const Eigen::Vector3d t_ob(ob.translation.x, ob.translation.y, ob.translation.z);
+  const Eigen::Quaterniond q_mo = q_map_base * q_ob.inverse();
+  const Eigen::Vector3d t_mo = position_m - q_mo * t_ob;
+  return transformMsg(options_.map_frame, options_.odom_frame, stamp, t_mo, q_mo);
 }
 
 const nav_msgs::Path* NodeOutputs::filteredPath() {

@@ -7,6 +7,8 @@
 #include <nav_msgs/Path.h>
 #include <sensor_msgs/NavSatFix.h>
 
+#include "ppp_bayes_tree/ros/message_conversions.h"
+#include "ppp_bayes_tree/types/constants.h"
 #include "ppp_bayes_tree/types/thread_cpu_time.h"
 
 namespace ppp_ros {
@@ -26,9 +28,10 @@ PppNode::PppNode(ros::NodeHandle nh, ros::NodeHandle pnh, const std::string& est
   products_ = assembleNodeProducts(config_.ppp, config_.ros);
   config_.ppp = products_.config();
   for (const auto& n : products_.notes()) ROS_INFO_STREAM("ppp_" << estimator << "_node: " << n);
+  setUpImu();  // an estimator with inertial states: the IMU's options go into its configuration
   std::string why;
-  estimator_ = ppp::makeEstimator(estimator, config_.ppp, &why);
-  if (!estimator_) throw std::runtime_error("estimator '" + estimator + "' is not available: " + why);
+  estimator_ = ppp::makeEstimator(config_.ros.estimator, config_.ppp, &why);
+  if (!estimator_) throw std::runtime_error("estimator '" + config_.ros.estimator + "' is not available: " + why);
   if (const auto datum = configuredDatum(config_.ros)) setDatum(*datum);
   outputs_.attachLaggedOutput(*estimator_);
   if (smoother()) logNote(smootherCostNote(config_.ppp.smoother.fixed_lag_s, config_.ros.smoothed_trajectory_csv));
@@ -51,6 +54,8 @@ void PppNode::subscribe() {
     corr_sub_ = nh_.subscribe(o.corrections_topic, static_cast<std::uint32_t>(o.correction_queue_size),
                               &PppNode::onCorrections, this);
   }
+  if (imu_)
+    imu_sub_ = nh_.subscribe(o.imu.topic, 2000, &PppNode::onImu, this);
   if (!o.attitude_topic.empty())
     attitude_sub_ = nh_.subscribe<sensor_msgs::Imu>(
         o.attitude_topic, 200, [this](const sensor_msgs::Imu::ConstPtr& msg) { outputs_.receiveAttitude(*msg); });
@@ -94,6 +99,7 @@ void PppNode::addDiagnostics() {
   diagnostics_.add("ambiguity resolution", [this](DiagnosticStatusWrapper& s) {
     diagnosis_.ambiguities(s, arEnabled(), phase_biases_, outputs_);
   });
+  if (imu_) diagnostics_.add("imu", [this](DiagnosticStatusWrapper& s) { imuDiagnostics(s); });
 }
 
 void PppNode::logStart() const {
@@ -137,17 +143,35 @@ void PppNode::resetEstimator(const std::string& why) {
   const std::size_t discarded = inputs_.resetForEstimator();
   warnings_.warn("reset", "ppp: estimator reset: " + why + "; " + std::to_string(discarded) +
                               " epoch(s) waiting for corrections discarded (counted)");
-  outputs_.finishLaggedOutput(*estimator_);
-  std::string unused;
-  estimator_ = ppp::makeEstimator(config_.ros.estimator, config_.ppp, &unused);
-  outputs_.attachLaggedOutput(*estimator_);  // the file continues (rows not after the last one are refused and counted)
-  processor_.reset();
+  switchEstimator(config_.ros.estimator);  // the file continues (rows not after the last one are refused and counted)
   outputs_.resetTrajectory();
   last_output_time_.reset();
+  ins_fallback_reason_.reset();
+  last_gnss_update_.reset();
+  last_odometry_stamp_.reset();
+  if (imu_) {
+    imu_->reset();
+    ins_odometry_->stop();
+  }
+}
+
+void PppNode::switchEstimator(const std::string& name) {
+  outputs_.finishLaggedOutput(*estimator_);
+  std::string why;
+  std::unique_ptr<ppp::PppEstimator> made = ppp::makeEstimator(name, config_.ppp, &why);
+  if (!made) throw std::runtime_error("estimator '" + name + "' is not available: " + why);  // registered names only
+  estimator_ = std::move(made);
+  outputs_.attachLaggedOutput(*estimator_);
+  processor_.reset();
+  active_estimator_ = name;
 }
 
 void PppNode::onObservations(const ros::MessageEvent<ppp_bayes_tree::GnssObservations const>& event) {
   ObservationIntake intake = inputs_.receiveObservations(event.getMessage(), event.getPublisherName(), ros::Time::now());
+  if (imu_) {  // the newest epoch received: the IMU's time base is compared with it
+    const ppp::GnssTime t = fromUtcStamp(event.getMessage()->header.stamp);
+    if (!newest_gnss_time_ || t - *newest_gnss_time_ > 0.0 || intake.reset_why) newest_gnss_time_ = t;
+  }
   if (intake.reset_why) resetEstimator(*intake.reset_why);
   inputs_.admitObservations(intake, [this](const ppp::GnssTime& time) { publishEmptyEpoch(time); });
   drain();
@@ -192,14 +216,17 @@ void PppNode::drainLive() {
 
 void PppNode::processLiveEpoch(const ppp::LiveReadyEpoch& ready) {
   if (auto why = inputs_.liveRestart(ready, last_output_time_, ros::Time::now())) resetEstimator(*why);
+  if (!newest_gnss_time_ || ready.epoch.time - *newest_gnss_time_ > 0.0) newest_gnss_time_ = ready.epoch.time;
   if (!inputs_.admitLiveEpoch(ready)) return;
   processObsEpoch(ready.epoch);
   if (ready.arrival_s) inputs_.recordLiveLatency(ros::Time::now().toSec() - *ready.arrival_s);
 }
 
 void PppNode::publishEmptyEpoch(const ppp::GnssTime& time) {
-  status_pub_.publish(outputs_.emptyEpochStatus(time, inputs_.counters(), inputs_.correctionsStale_s().value_or(kNaN),
-                                                phase_biases_, arEnabled()));
+  ppp_bayes_tree::PppStatus s = outputs_.emptyEpochStatus(
+      time, inputs_.counters(), inputs_.correctionsStale_s().value_or(kNaN), phase_biases_, arEnabled());
+  fillInsStatus(s, time);
+  status_pub_.publish(s);
 }
 
 void PppNode::startProcessor() {
@@ -220,6 +247,10 @@ void PppNode::processObsEpoch(const ppp::ObsEpoch& epoch) {
   if (!processor_ || inputs_.codeBiases(products_) != processor_biases_) startProcessor();
   else if (inputs_.takeLayoutChanged()) processor_->setObservationTypes(inputs_.layout());
   updatePhaseBiases();  // the live SSR phase biases and the batches' biases through the assembly's gate
+  if (imu_) {  // the readings up to the epoch, as ppp_solve hands them on (none to a GNSS-only estimator)
+    epoch_imu_ = imu_->takeUpTo(epoch.time);
+    processor_->setImu(insFilter() ? &epoch_imu_ : nullptr);
+  }
   const auto start = std::chrono::steady_clock::now();
   const double cpu0_s = ppp::threadCpu_s();
   const ppp::PppEpochRecord rec = processor_->process(epoch, *estimator_);
@@ -227,6 +258,11 @@ void PppNode::processObsEpoch(const ppp::ObsEpoch& epoch) {
   const double update_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   if (rec.refused) {  // cannot happen after the time checks above, kept as a guard
     warnings_.warn("refused", "ppp: epoch refused: " + rec.reason);
+    return;
+  }
+  if (insStopped(rec)) {  // the epoch again through the GNSS-only estimator
+    fallBackToGnss(epoch.time, rec.reason);
+    processObsEpoch(epoch);
     return;
   }
   // Outputs never go back in time, one stamp one fix (the time guard and the FIFO gate
@@ -239,15 +275,18 @@ void PppNode::processObsEpoch(const ppp::ObsEpoch& epoch) {
   }
   const bool solved = solvedEpoch(rec);
   if (solved && !outputs_.hasDatum()) setDatum(*rec.solution.position_ecef_m);
-  const ppp_bayes_tree::PppStatus s =
+  if (solved) last_gnss_update_ = epoch.time;
+  ppp_bayes_tree::PppStatus s =
       outputs_.epochStatus(epoch.time, rec, inputs_.counters(),
                            epochFigures(inputs_, *estimator_, epoch, rec, update_s, processor_->receiverAntennaWarnings()),
                            phase_biases_, arEnabled());
+  fillInsStatus(s, epoch.time);
   if (publishable) {
     last_output_time_ = epoch.time;
     if (solved) publishSolution(epoch.time, rec, s);
     status_pub_.publish(s);
   }
+  if (const ppp::PppInsEkf* filter = insFilter(); filter && filter->navTime()) restartInsOdometry(*filter);
   if (rec.estimator_reset) {
     // The core restarted the estimator from its last good state (as offline in
     // ppp_solve); the node only counts and reports it.
@@ -266,9 +305,12 @@ void PppNode::publishSolution(const ppp::GnssTime& time, const ppp::PppEpochReco
   if (o.publish_tf && tf_buffer_.canTransform(o.odom_frame, o.base_frame, ros::Time(0), &err))
     odom_to_base = tf_buffer_.lookupTransform(o.odom_frame, o.base_frame, ros::Time(0));
   const SolutionMessages out = outputs_.solution(rec, status, odom_to_base);
-  odom_pub_.publish(out.odometry);
+  // With the GNSS/INS filter the odometry and TF come at the IMU rate (publishInsOdometry).
+  if (!insFilter() && claimOdometryStamp(out.odometry.header.stamp)) {
+    odom_pub_.publish(out.odometry);
+    if (out.tf) tf_.sendTransform(*out.tf);
+  }
   fix_pub_.publish(out.fix);
-  if (out.tf) tf_.sendTransform(*out.tf);
   if (const ppp::SmoothedTrajectoryProvider* sm = smoother())
     if (auto odom = outputs_.smoothedOdometry(*sm, time)) smoothed_odom_pub_.publish(*odom);
   outputs_.markSmoothedStale();
@@ -295,6 +337,158 @@ void PppNode::updatePhaseBiases() {
   else if (!phase_bias_logged_)  // once: the status and diagnostics carry it per epoch
     ROS_WARN_STREAM("ppp: " << phase_biases_.source);
   phase_bias_logged_ = true;
+}
+
+// ---- GNSS/INS -----------------------------------------------------------------
+
+bool PppNode::inertial() const {
+  const ppp::EstimatorEntry* entry = ppp::findEstimator(config_.ros.estimator);
+  return entry && entry->state == ppp::EstimatedState::GnssInertial;
+}
+
+void PppNode::setUpImu() {
+  active_estimator_ = config_.ros.estimator;
+  if (!inertial()) return;
+  const RosImuOptions& o = config_.ros.imu;
+  if (!o.extrinsics_from_tf) imu_extrinsics_ = parameterExtrinsics(o);
+  config_.ppp.ins = insOptions(config_.ros, imu_extrinsics_.value_or(ImuExtrinsics{}), config_.ppp.ins);
+  imu_ = std::make_unique<NodeImuInput>(config_.ros, warnings_.sink());
+  ins_odometry_ = std::make_unique<InsOdometry>(config_.ppp.ins);
+  ROS_INFO_STREAM("ppp: " << config_.ros.estimator << " with the IMU on " << nh_.resolveName(o.topic) << " ("
+                          << o.grade << "; extrinsics from " << (o.extrinsics_from_tf ? "TF" : "ros.imu parameters")
+                          << "; start attitude " << (o.level_at_rest ? "levelled at rest" : "given") << ")");
+}
+
+void PppNode::onImu(const sensor_msgs::Imu::ConstPtr& msg) {
+  const bool known = imu_extrinsics_ || resolveImuExtrinsics(msg->header.frame_id);
+  const std::vector<ppp::ImuSample> accepted = imu_->receive(*msg, newest_gnss_time_, known);
+  if (ins_fallback_reason_) return;
+  for (const ppp::ImuSample& r : accepted)
+    if (const std::optional<InsState> state = ins_odometry_->step(r)) publishInsOdometry(*state);
+}
+
+bool PppNode::resolveImuExtrinsics(const std::string& imu_frame) {
+  const std::string& base = config_.ros.base_frame;
+  if (imu_frame.empty() || !tf_buffer_.canTransform(base, imu_frame, ros::Time(0))) return false;
+  const geometry_msgs::Transform t = tf_buffer_.lookupTransform(base, imu_frame, ros::Time(0)).transform;
+  ImuExtrinsics e;  // the IMU's pose in base_link: points of the IMU frame into base_link
+  e.translation_m = Eigen::Vector3d(t.translation.x, t.translation.y, t.translation.z);
+  e.rotation_base_imu = Eigen::Quaterniond(t.rotation.w, t.rotation.x, t.rotation.y, t.rotation.z).toRotationMatrix();
+  imu_extrinsics_ = e;
+  config_.ppp.ins = insOptions(config_.ros, e, config_.ppp.ins);
+  ins_odometry_ = std::make_unique<InsOdometry>(config_.ppp.ins);
+  ROS_INFO_STREAM("ppp: IMU extrinsics from TF " << base << " -> " << imu_frame << ": translation ["
+                                                 << e.translation_m.transpose() << "] m; the GNSS/INS filter starts with them");
+  switchEstimator(config_.ros.estimator);  // its lever arm is in the IMU frame
+  return true;
+}
+
+const ppp::PppInsEkf* PppNode::insFilter() const { return dynamic_cast<const ppp::PppInsEkf*>(estimator_.get()); }
+
+bool PppNode::insStopped(const ppp::PppEpochRecord& rec) const {
+  const ppp::PppInsEkf* filter = insFilter();
+  return filter && filter->navTime() && rec.no_solution_reason == ppp::NoSolutionReason::NoImuReadings;
+}
+
+void PppNode::fallBackToGnss(const ppp::GnssTime& time, const std::string& why) {
+  // The registered estimator of the GNSS receiver state that gives the same solutions.
+  const ppp::EstimatorEntry* own = ppp::findEstimator(config_.ros.estimator);
+  std::string gnss;
+  for (const ppp::EstimatorEntry& e : ppp::kEstimators)
+    if (gnss.empty() && e.state == ppp::EstimatedState::GnssReceiver && own && e.solutions == own->solutions)
+      gnss = std::string(e.name);
+  ins_fallback_reason_ = "the IMU stopped before " + time.toString() + ": " + why;
+  warnings_.warn("ins_fallback", "ppp: " + *ins_fallback_reason_ + "; GNSS only (estimator " + gnss +
+                                     ", started afresh) from this epoch on, until an estimator reset");
+  ins_odometry_->stop();
+  switchEstimator(gnss);
+}
+
+void PppNode::restartInsOdometry(const ppp::PppInsEkf& filter) {
+  InsState state;
+  state.time = *filter.navTime();
+  state.nav = filter.navState();
+  state.bias = filter.imuBias();
+  state.covariance = filter.covarianceMatrix().topLeftCorner<ppp::kInsErrorStateSize, ppp::kInsErrorStateSize>();
+  ins_odometry_->restart(state, imu_->lastTaken(), imu_->pending());
+  if (const std::optional<InsState>& now = ins_odometry_->current()) publishInsOdometry(*now);
+}
+
+bool PppNode::claimOdometryStamp(const ros::Time& stamp) {
+  if (!imu_) return true;
+  if (last_odometry_stamp_ && stamp <= *last_odometry_stamp_) return false;
+  last_odometry_stamp_ = stamp;
+  return true;
+}
+
+void PppNode::publishInsOdometry(const InsState& state) {
+  if (!outputs_.hasDatum() || !imu_extrinsics_) return;
+  const ros::Time stamp = utcStamp(state.time);
+  if (!claimOdometryStamp(stamp)) return;
+  const RosNodeOptions& o = config_.ros;
+  const OdometryFrame frame{o.map_frame, o.base_frame, outputs_.datumEcef(), outputs_.enuFromEcef()};
+  odom_pub_.publish(insOdometryMessage(state, *imu_extrinsics_, frame));
+  if (!o.publish_tf) return;
+  std::optional<geometry_msgs::TransformStamped> odom_to_base;
+  if (tf_buffer_.canTransform(o.odom_frame, o.base_frame, ros::Time(0)))
+    odom_to_base = tf_buffer_.lookupTransform(o.odom_frame, o.base_frame, ros::Time(0));
+  const BasePose pose = basePose(state, *imu_extrinsics_, frame);
+  if (auto tf = outputs_.mapTransform(stamp, pose.position_m, Eigen::Quaterniond(pose.rotation_map_base), odom_to_base))
+    tf_.sendTransform(*tf);
+}
+
+void PppNode::fillInsStatus(ppp_bayes_tree::PppStatus& s, const ppp::GnssTime& time) const {
+  using S = ppp_bayes_tree::PppStatus;
+  s.accel_bias_mps2 = s.gyro_bias_radps = {kNaN, kNaN, kNaN};
+  s.seconds_since_gnss_update = last_gnss_update_ ? time - *last_gnss_update_ : kNaN;
+  s.ins_state = S::INS_NOT_CONFIGURED;
+  s.ins_state_text = "not configured";
+  if (!imu_) return;
+  s.estimator = active_estimator_;
+  s.imu_readings_used = static_cast<std::uint32_t>(imu_->counters().used);
+  s.imu_readings_rejected = static_cast<std::uint32_t>(imu_->counters().rejected);
+  const ppp::PppInsEkf* filter = insFilter();
+  if (ins_fallback_reason_) {
+    s.ins_state = S::INS_FALLEN_BACK;
+    s.ins_state_text = "fallen back to GNSS";
+    s.ins_reason = *ins_fallback_reason_;
+  } else if (!filter || !filter->navTime()) {
+    s.ins_state = S::INS_WAITING;
+    s.ins_state_text = "waiting";
+    s.ins_reason = imu_extrinsics_ ? s.reason : "IMU extrinsics missing: no TF " + config_.ros.base_frame + " -> the IMU frame";
+  } else {
+    s.ins_state = S::INS_RUNNING;
+    s.ins_state_text = "running";
+    for (int i = 0; i < 3; ++i) {
+      s.accel_bias_mps2[i] = filter->imuBias().accel_mps2[i];
+      s.gyro_bias_radps[i] = filter->imuBias().gyro_radps[i];
+    }
+    InsState state;
+    state.covariance = filter->covarianceMatrix().topLeftCorner<ppp::kInsErrorStateSize, ppp::kInsErrorStateSize>();
+    s.ins_attitude_valid = attitudeSigma_rad(state) < config_.ros.imu.attitude_sigma_valid_deg * ppp::kDegToRad;
+  }
+}
+
+void PppNode::imuDiagnostics(diagnostic_updater::DiagnosticStatusWrapper& s) const {
+  using diagnostic_msgs::DiagnosticStatus;
+  const ImuInputCounters& c = imu_->counters();
+  const bool missing = !imu_extrinsics_ && c.received > 0;
+  if (missing)
+    s.summary(DiagnosticStatus::ERROR, "IMU extrinsics missing: no TF " + config_.ros.base_frame + " -> the IMU frame");
+  else if (ins_fallback_reason_)
+    s.summary(DiagnosticStatus::WARN, "GNSS only: " + *ins_fallback_reason_);
+  else if (c.rejected > 0)
+    s.summary(DiagnosticStatus::WARN, std::to_string(c.rejected) + " IMU message(s) not used");
+  else
+    s.summary(DiagnosticStatus::OK, c.received > 0 ? "IMU readings in use" : "no IMU message yet");
+  s.add("topic", nh_.resolveName(imu_->topic()));
+  s.add("estimator", active_estimator_);
+  s.add("messages received", c.received);
+  s.add("readings used", c.used);
+  s.add("messages not used", c.rejected);
+  s.add("readings dropped (buffer full)", c.dropped_old);
+  s.add("problems", imu_->problemSummary());
+  s.add("extrinsics", imu_extrinsics_ ? (config_.ros.imu.extrinsics_from_tf ? "from TF" : "from ros.imu") : "missing");
 }
 
 }  // namespace ppp_ros

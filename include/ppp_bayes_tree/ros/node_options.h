@@ -26,8 +26,32 @@ struct LiveStreamTopic {
   std::optional<ppp::StreamFormat> format;
 };
 
+/// ros.imu: the IMU input of an estimator with inertial states (ekf_ins). The
+/// IMU frame is the frame of the readings (sensor_msgs/Imu, REP-145); its pose in
+/// base_link comes from the parameters or from TF.
+struct RosImuOptions {
+  std::string topic = "imu/data";
+  std::string grade = "industrial_mems";  // consumer_mems | industrial_mems | tactical (imu_noise.h)
+  bool extrinsics_from_tf = false;        // extrinsics: parameters | tf
+  /// IMU origin in base_link [m] and the IMU axes in base_link: roll, pitch, yaw [deg]
+  /// (R_base_imu = Rz(yaw) Ry(pitch) Rx(roll)).
+  Eigen::Vector3d translation_m = Eigen::Vector3d::Zero();
+  Eigen::Vector3d rotation_rpy_deg = Eigen::Vector3d::Zero();
+  /// The start: base_link roll, pitch, yaw in the map frame (ENU, REP-103) [deg];
+  /// level_at_rest: roll and pitch from the readings up to the first epoch, the yaw given.
+  bool level_at_rest = false;  // initial_attitude: given | level_at_rest
+  Eigen::Vector3d initial_rpy_deg = Eigen::Vector3d::Zero();
+  Eigen::Vector3d initial_velocity_enu_mps = Eigen::Vector3d::Zero();  // of base_link in the map [m/s]
+  double max_gap_s = 0.1;                 // a longer step between readings is a gap (counted; the INS stops)
+  double max_gnss_offset_s = 2.0;         // |IMU stamp - newest GNSS epoch| above: refused (time base)
+  double accel_full_scale_mps2 = 0.0;     // 0: saturation not checked
+  double gyro_full_scale_radps = 0.0;
+  double attitude_sigma_valid_deg = 5.0;  // largest attitude sigma at which the attitude is published as valid
+  double buffer_s = 60.0;                 // readings kept ahead of the newest processed epoch [s]
+};
+
 struct RosNodeOptions {
-  std::string estimator = "ekf";  // set by the node's main, not by the file
+  std::string estimator = "ekf";  // the node's own (its main) unless ros.estimator names another of its kind
   // topics (relative to the node's namespace)
   std::string observations_topic = "gnss/observations";
   std::string corrections_topic = "gnss/corrections";
@@ -80,6 +104,10 @@ struct RosNodeOptions {
   std::size_t live_queue_size = 1000;  // subscriber queue per stream topic [messages]
   ppp::LiveInputOptions live_input;
   bool live() const { return !live_observation_topics.empty(); }
+  // the IMU input (ros.imu), used when the estimator has inertial states
+  RosImuOptions imu;
+  std::string configured_estimator;  // ros.estimator ("" = the node's own)
+  std::string node_estimator;        // the node's own estimator (its name: ppp_<node_estimator>_node)
 };
 
 /// Binds `ros:` (a mapping or null) strictly. Throws ppp::ConfigError.

@@ -103,6 +103,14 @@ class NodeOutputs {
   /// Sets the map datum; returns the static TF earth -> map.
   geometry_msgs::TransformStamped setDatum(const Eigen::Vector3d& position_ecef_m);
   bool hasDatum() const { return datum_ecef_m_.has_value(); }
+  /// The datum (ECEF [m]; zero before one is set) and the rotation ENU <- ECEF at it.
+  Eigen::Vector3d datumEcef() const { return datum_ecef_m_.value_or(Eigen::Vector3d::Zero()); }
+  const Eigen::Matrix3d& enuFromEcef() const { return ecef_to_enu_; }
+  /// The TF of a base_link pose in the map: map -> base_link, or map -> odom when another
+  /// node publishes odom -> base_link (`odom_to_base`); nullopt without ros.frames.publish_tf.
+  std::optional<geometry_msgs::TransformStamped> mapTransform(
+      const ros::Time& stamp, const Eigen::Vector3d& position_m, const Eigen::Quaterniond& q_map_base,
+      const std::optional<geometry_msgs::TransformStamped>& odom_to_base) const;
   /// The static TF base_link -> gnss_antenna (the lever arm, fixed in the body).
   geometry_msgs::TransformStamped leverArmTransform() const;
 

@@ -4,7 +4,11 @@
 // core's PppEpochProcessor, exactly as in ppp_solve; the node only converts
 // messages, buffers observations until corrections cover them, and publishes.
 // Inputs: gnss/observations + gnss/corrections, or raw receiver and correction
-// streams through one ppp::LiveGnssInput (ros.live), and an optional attitude.
+// streams through one ppp::LiveGnssInput (ros.live), and an optional attitude;
+// with an estimator that has inertial states (ros.estimator ekf_ins) the IMU on
+// ros.imu.topic (node_imu_input.h), whose readings go to the estimator with each
+// epoch, and ppp/odometry/filtered and TF at the IMU rate (ins_odometry.h). When
+// the IMU stops after the start, the node goes on with the GNSS-only estimator.
 // Outputs: ppp/odometry/filtered, ppp/fix, ppp/status, ppp/path/filtered,
 // /diagnostics and TF; the smoother node adds ppp/odometry/smoothed and
 // ppp/path/smoothed. Service: set_datum. Parameters: the whole private
@@ -38,9 +42,12 @@
 #include "ppp_bayes_tree/ppp/estimators/estimator_registry.h"
 #include "ppp_bayes_tree/ppp/pipeline/ppp_epoch_processor.h"
 #include "ppp_bayes_tree/ppp/pipeline/product_assembly.h"
+#include "ppp_bayes_tree/ppp/estimators/ppp_ins_ekf.h"
 #include "ppp_bayes_tree/ros/gnss_stream_subscriber.h"
+#include "ppp_bayes_tree/ros/ins_odometry.h"
 #include "ppp_bayes_tree/ros/node_config.h"
 #include "ppp_bayes_tree/ros/node_diagnostics.h"
+#include "ppp_bayes_tree/ros/node_imu_input.h"
 #include "ppp_bayes_tree/ros/node_inputs.h"
 #include "ppp_bayes_tree/ros/node_options.h"
 #include "ppp_bayes_tree/ros/node_outputs.h"
@@ -92,6 +99,25 @@ class PppNode {
   bool arEnabled() const { return products_.arGate().mode != ppp::AmbiguityResolutionMode::Off; }
   /// Hands the processor the phase information of this epoch; logs when it changes.
   void updatePhaseBiases();
+  // GNSS/INS (an estimator with inertial states; doc/ros_interface.md "IMU")
+  bool inertial() const;
+  void setUpImu();
+  void onImu(const sensor_msgs::Imu::ConstPtr& msg);
+  /// ros.imu.extrinsics tf: the IMU's pose in base_link from TF, once; false while missing.
+  bool resolveImuExtrinsics(const std::string& imu_frame);
+  /// The GNSS/INS filter when it is the estimator in use (nullptr otherwise).
+  const ppp::PppInsEkf* insFilter() const;
+  /// The IMU stopped after the start (the filter reports no readings): the epoch is not published.
+  bool insStopped(const ppp::PppEpochRecord& rec) const;
+  void fallBackToGnss(const ppp::GnssTime& time, const std::string& why);
+  /// A new estimator of `name` (the lagged output handed over, the processor remade).
+  void switchEstimator(const std::string& name);
+  void restartInsOdometry(const ppp::PppInsEkf& filter);
+  void publishInsOdometry(const InsState& state);
+  void fillInsStatus(ppp_bayes_tree::PppStatus& s, const ppp::GnssTime& time) const;
+  void imuDiagnostics(diagnostic_updater::DiagnosticStatusWrapper& s) const;
+  /// ppp/odometry/filtered never goes back in time with an IMU: false for a stamp not after the last.
+  bool claimOdometryStamp(const ros::Time& stamp);
 
   ros::NodeHandle nh_, pnh_;
   NodeConfig config_;
@@ -110,7 +136,17 @@ class PppNode {
   PhaseBiasChoice phase_biases_;
   bool phase_bias_logged_ = false;
 
-  ros::Subscriber obs_sub_, corr_sub_, attitude_sub_;
+  // GNSS/INS: the IMU input and the odometry at the IMU rate (inertial() only)
+  std::unique_ptr<NodeImuInput> imu_;
+  std::unique_ptr<InsOdometry> ins_odometry_;
+  std::optional<ImuExtrinsics> imu_extrinsics_;    // unknown while TF has none (ros.imu.extrinsics: tf)
+  std::vector<ppp::ImuSample> epoch_imu_;          // the readings handed to the processor with the epoch
+  std::string active_estimator_;                   // config_.ros.estimator, or the GNSS one after a fallback
+  std::optional<std::string> ins_fallback_reason_;  // the IMU stopped: why
+  std::optional<ppp::GnssTime> newest_gnss_time_;   // newest epoch received (the IMU time-base check)
+  std::optional<ppp::GnssTime> last_gnss_update_;   // newest epoch solved
+  std::optional<ros::Time> last_odometry_stamp_;    // ppp/odometry/filtered never goes back
+  ros::Subscriber obs_sub_, corr_sub_, attitude_sub_, imu_sub_;
   std::vector<std::unique_ptr<GnssStreamSubscriber>> stream_subs_;  // live input
   ros::Publisher odom_pub_, fix_pub_, status_pub_, path_pub_;
   ros::Publisher smoothed_odom_pub_, smoothed_path_pub_;  // smoother node only

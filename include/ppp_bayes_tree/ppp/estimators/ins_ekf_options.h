@@ -25,10 +25,17 @@ struct InsEkfOptions {
   /// the course over ground of the filter's antenna track sets it (HeadingAlignment);
   /// with no static interval the filter does not start (no initial attitude).
   std::optional<Eigen::Matrix3d> initial_rotation_ecef_body;
+  /// The attitude at the start in the local North-East-Down frame of the start
+  /// position, R_ned_body (used when initial_rotation_ecef_body is not set; a
+  /// node knows the local attitude before it knows the position).
+  std::optional<Eigen::Matrix3d> initial_rotation_ned_body;
   /// Heading of the body x axis at the start, from north, clockwise [rad].
   std::optional<double> initial_heading_rad;
   /// The IMU's velocity at the start, ECEF [m/s] (zero: a start at rest).
   Eigen::Vector3d initial_velocity_ecef_mps = Eigen::Vector3d::Zero();
+  /// The IMU's velocity at the start in the local NED frame [m/s]; when set it
+  /// replaces initial_velocity_ecef_mps.
+  std::optional<Eigen::Vector3d> initial_velocity_ned_mps;
   /// A priori sigmas of the attitude [rad] (each axis) and of the velocity [m/s].
   double initial_attitude_sigma_rad = 0.02;
   double initial_velocity_sigma_mps = 0.5;

@@ -11,6 +11,10 @@ InsStartAttitude insStartAttitude(const InsEkfOptions& options, const std::vecto
     out.rotation_ecef_body = options.initial_rotation_ecef_body;
     return out;
   }
+  if (options.initial_rotation_ned_body) {
+    out.rotation_ecef_body = rotationEcefNed(position_ecef_m) * *options.initial_rotation_ned_body;
+    return out;
+  }
   if (!options.initial_heading_rad) {
     out.problem = "no initial attitude: neither an attitude nor a heading given to the GNSS/INS filter";
     return out;

@@ -14,6 +14,8 @@ namespace ppp {
 
 std::string InsEkfOptions::validate() const {
   if (!lever_arm_body_m.allFinite()) return "lever arm not finite";
+  if (initial_velocity_ned_mps && !initial_velocity_ned_mps->allFinite()) return "initial NED velocity not finite";
+  if (initial_rotation_ned_body && !initial_rotation_ned_body->allFinite()) return "initial NED attitude not finite";
   if (!(initial_attitude_sigma_rad > 0.0)) return "initial attitude sigma must be > 0";
   if (!(initial_velocity_sigma_mps > 0.0)) return "initial velocity sigma must be > 0";
   if (!(max_imu_interval_s > 0.0)) return "max IMU interval must be > 0";
@@ -134,7 +136,8 @@ void PppInsEkf::receiveEpochInput(const EstimatorEpochInput& input) {
 std::optional<Eigen::Matrix3d> PppInsEkf::initialAttitude(const Eigen::Vector3d& position_ecef_m) {
   heading_from_course_ = false;
   alignment_ = AlignmentState::Aligned;
-  if (!ins_.initial_rotation_ecef_body && !ins_.initial_heading_rad) return attitudeInMotion(position_ecef_m);
+  if (!ins_.initial_rotation_ecef_body && !ins_.initial_rotation_ned_body && !ins_.initial_heading_rad)
+    return attitudeInMotion(position_ecef_m);
   InsStartAttitude start = insStartAttitude(ins_, pending_, position_ecef_m);
   if (!start.rotation_ecef_body) epoch_problem_ = {NoSolutionReason::NoInitialAttitude, std::move(start.problem)};
   return start.rotation_ecef_body;
@@ -226,7 +229,9 @@ bool PppInsEkf::startNominal(const ReceiverState& start) {
     return false;
   }
   nominal_.rotation_world_body = *attitude;
-  nominal_.velocity_world_mps = ins_.initial_velocity_ecef_mps;
+  nominal_.velocity_world_mps = ins_.initial_velocity_ned_mps
+                                    ? Eigen::Vector3d(rotationEcefNed(start.position_ecef_m) * *ins_.initial_velocity_ned_mps)
+                                    : ins_.initial_velocity_ecef_mps;
   nominal_.position_world_m = start.position_ecef_m - nominal_.rotation_world_body * ins_.lever_arm_body_m;
   bias_ = ImuBias{};
   if (heading_from_course_) bias_.accel_mps2 = start_accel_bias_mps2_;

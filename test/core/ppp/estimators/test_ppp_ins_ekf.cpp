@@ -336,6 +336,44 @@ TEST(PppInsEkf, AlignsAnUnknownHeadingFromTheCourseInMotion) {
   EXPECT_TRUE(last.attitude->publishable);
 }
 
+// An attitude and a velocity given in the local NED frame of the start (a node
+// knows them before the position): the start equals the one given in ECEF at
+// the start position (the code solution's, metres from the simulator's: the NED
+// frame turns by 1.6e-7 rad per metre).
+TEST(PppInsEkf, StartsFromAnAttitudeAndVelocityGivenInTheLocalNedFrame) {
+  sim::Simulator sim;
+  const MeasurementFunction evaluate = sim::modelOf(sim.epoch());
+  ImuSample reading;
+  reading.time = sim.time();
+  reading.specific_force_mps2 = Eigen::Vector3d(0.0, 0.0, -9.8);
+  const std::vector<ImuSample> one{reading};
+  EstimatorEpochInput input;
+  input.time = sim.time();
+  input.evaluate = &evaluate;
+  input.imu = &one;
+  const Eigen::Matrix3d ned_body = rotationNedBody(0.1, -0.05, 2.0);
+  const Eigen::Vector3d velocity_ned(12.0, -3.0, 0.5);
+  EstimatorOptions local, ecef;
+  local.ins.initial_rotation_ned_body = ned_body;
+  local.ins.initial_velocity_ned_mps = velocity_ned;
+  ecef.ins.initial_rotation_ecef_body = rotationEcefNed(sim.position) * ned_body;
+  ecef.ins.initial_velocity_ecef_mps = rotationEcefNed(sim.position) * velocity_ned;
+  std::string why;
+  auto a = makeEstimatorAs<PppInsEkf>("ekf_ins", local, &why);
+  auto b = makeEstimatorAs<PppInsEkf>("ekf_ins", ecef, &why);
+  ASSERT_TRUE(a && b) << why;
+  ASSERT_EQ(a->processEpoch(input).status, EpochStatus::Ok);
+  ASSERT_EQ(b->processEpoch(input).status, EpochStatus::Ok);
+  const double attitude_rad =
+      so3::logMap(b->navState().rotation_world_body.transpose() * a->navState().rotation_world_body).norm();
+  const double velocity_mps = (a->navState().velocity_world_mps - b->navState().velocity_world_mps).norm();
+  std::printf("NED start against ECEF start: %.2e rad, %.2e m/s\n", attitude_rad, velocity_mps);
+  EXPECT_LT(attitude_rad, 1e-4);
+  EXPECT_LT(velocity_mps, 1e-3);
+  local.ins.initial_velocity_ned_mps = Eigen::Vector3d(std::nan(""), 0.0, 0.0);
+  EXPECT_EQ(local.ins.validate(), "initial NED velocity not finite");
+}
+
 // Without a given attitude: roll and pitch from levelling the readings up to the
 // first epoch (at rest), the heading given; too few readings are refused, said so.
 TEST(PppInsEkf, StartsFromLevellingWithAGivenHeading) {

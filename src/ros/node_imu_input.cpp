@@ -1,0 +1,212 @@
+#include "ppp_bayes_tree/ros/node_imu_input.h"
+
+#include <cmath>
+#include <iomanip>
+#include <sstream>
+#include <stdexcept>
+
+#include <Eigen/Geometry>
+
+#include "ppp_bayes_tree/navigation/imu_noise.h"
+#include "ppp_bayes_tree/ros/imu_conversions.h"
+#include "ppp_bayes_tree/types/constants.h"
+
+namespace ppp_ros {
+namespace {
+
+/// NED <- ENU (swap east and north, flip up).
+Eigen::Matrix3d nedFromEnu() {
+  Eigen::Matrix3d m;
+  m << 0.0, 1.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, -1.0;
+  return m;
+}
+
+ppp::ImuGrade gradeOf(const std::string& name) {
+  if (name == "consumer_mems") return ppp::ImuGrade::ConsumerMems;
+  if (name == "tactical") return ppp::ImuGrade::Tactical;
+  return ppp::ImuGrade::IndustrialMems;
+}
+
+ppp::ImuInputScreenOptions screenOptions(const RosImuOptions& o) {
+  ppp::ImuInputScreenOptions s;
+  s.max_gap_s = o.max_gap_s;
+  s.max_gnss_offset_s = o.max_gnss_offset_s;
+  if (o.accel_full_scale_mps2 > 0.0) s.accel_full_scale_mps2 = o.accel_full_scale_mps2;
+  if (o.gyro_full_scale_radps > 0.0) s.gyro_full_scale_radps = o.gyro_full_scale_radps;
+  return s;
+}
+
+std::string stampText(const sensor_msgs::Imu& m) {
+  std::ostringstream s;
+  s << "stamp " << m.header.stamp.sec << "." << std::setw(9) << std::setfill('0') << m.header.stamp.nsec;
+  return s.str();
+}
+
+std::map<ppp::ImuInputProblem, std::size_t> screenCounts(const ppp::ImuInputScreen& screen) {
+  std::map<ppp::ImuInputProblem, std::size_t> counts;
+  for (const auto& [problem, count] : screen.problems()) counts[problem] = count.count;
+  return counts;
+}
+
+}  // namespace
+
+Eigen::Matrix3d rotationFromRpyDeg(const Eigen::Vector3d& rpy_deg) {
+  const Eigen::Vector3d r = rpy_deg * ppp::kDegToRad;
+  return (Eigen::AngleAxisd(r.z(), Eigen::Vector3d::UnitZ()) * Eigen::AngleAxisd(r.y(), Eigen::Vector3d::UnitY()) *
+          Eigen::AngleAxisd(r.x(), Eigen::Vector3d::UnitX()))
+      .toRotationMatrix();
+}
+
+ImuExtrinsics parameterExtrinsics(const RosImuOptions& options) {
+  ImuExtrinsics e;
+  e.translation_m = options.translation_m;
+  e.rotation_base_imu = rotationFromRpyDeg(options.rotation_rpy_deg);
+  return e;
+}
+
+ppp::InsEkfOptions insOptions(const RosNodeOptions& o, const ImuExtrinsics& e, ppp::InsEkfOptions ins) {
+  const RosImuOptions& imu = o.imu;
+  ins.noise = ppp::imuNoisePreset(gradeOf(imu.grade));
+  ins.lever_arm_body_m = e.rotation_base_imu.transpose() * (o.antenna_lever_arm_m - e.translation_m);
+  ins.initial_velocity_ned_mps = nedFromEnu() * imu.initial_velocity_enu_mps;
+  ins.initial_rotation_ecef_body.reset();
+  ins.initial_rotation_ned_body.reset();
+  ins.initial_heading_rad.reset();
+  if (!imu.level_at_rest) {
+    ins.initial_rotation_ned_body = nedFromEnu() * rotationFromRpyDeg(imu.initial_rpy_deg) * e.rotation_base_imu;
+    return ins;
+  }
+  // Levelled start: the heading of the IMU's x axis with base_link level at the given yaw.
+  const Eigen::Vector3d x_enu =
+      rotationFromRpyDeg(Eigen::Vector3d(0.0, 0.0, imu.initial_rpy_deg.z())) * e.rotation_base_imu.col(0);
+  if (std::hypot(x_enu.x(), x_enu.y()) < 1e-3)
+    throw std::invalid_argument(
+        "ros.imu.initial_attitude level_at_rest: the IMU's x axis is vertical in base_link, it has no heading");
+  ins.initial_heading_rad = std::atan2(x_enu.x(), x_enu.y());  // from north, clockwise
+  return ins;
+}
+
+std::string imuMessageProblemText(ImuMessageProblem problem) {
+  switch (problem) {
+    case ImuMessageProblem::FieldNotGiven: return "field not given";
+    case ImuMessageProblem::ExtrinsicsMissing: return "IMU extrinsics missing";
+  }
+  return "unknown";
+}
+
+std::string imuProblemField(ppp::ImuInputProblem problem) {
+  switch (problem) {
+    case ppp::ImuInputProblem::NonFinite:
+    case ppp::ImuInputProblem::Saturated: return "linear_acceleration / angular_velocity";
+    case ppp::ImuInputProblem::InGravityUnits: return "linear_acceleration";
+    case ppp::ImuInputProblem::TimeBackwards:
+    case ppp::ImuInputProblem::DuplicateTime:
+    case ppp::ImuInputProblem::Gap:
+    case ppp::ImuInputProblem::FarFromGnssTime: return "header.stamp";
+  }
+  return "message";
+}
+
+NodeImuInput::NodeImuInput(const RosNodeOptions& options, WarningSink warn)
+    : options_(options.imu), warn_(std::move(warn)), screen_(screenOptions(options.imu)) {}
+
+void NodeImuInput::reset() {
+  screen_ = ppp::ImuInputScreen(screenOptions(options_));
+  pending_.clear();
+  last_taken_.reset();
+  checked_gnss_time_.reset();
+  time_base_far_ = false;
+  problems_.clear();
+  counters_ = {};
+}
+
+void NodeImuInput::note(ImuMessageProblem problem, const sensor_msgs::Imu& message, const std::string& field,
+                        const std::string& detail) {
+  ++counters_.rejected;
+  ppp::ImuProblemCount& c = problems_[problem];
+  const std::string text = "topic " + options_.topic + ", field " + field + ", " + stampText(message) + ": " +
+                           imuMessageProblemText(problem) + ": " + detail + " (not used, counted)";
+  if (c.count++ == 0) c.first = text;
+  warn_("imu:" + imuMessageProblemText(problem), "ppp: IMU " + text);
+}
+
+void NodeImuInput::reportScreenProblems(const std::map<ppp::ImuInputProblem, std::size_t>& before,
+                                        const sensor_msgs::Imu& message) {
+  for (const auto& [problem, count] : screen_.problems()) {
+    const auto it = before.find(problem);
+    const std::size_t added = count.count - (it == before.end() ? 0 : it->second);
+    if (added == 0) continue;
+    if (problem != ppp::ImuInputProblem::Gap) counters_.rejected += added;
+    warn_("imu:" + ppp::imuInputProblemText(problem),
+          "ppp: IMU topic " + options_.topic + ", field " + imuProblemField(problem) + ", " + stampText(message) + ": " +
+              ppp::imuInputProblemText(problem) + (problem == ppp::ImuInputProblem::Gap ? " (kept" : " (not used") +
+              ", counted; first: " + count.first + ")");
+  }
+}
+
+std::vector<ppp::ImuSample> NodeImuInput::receive(const sensor_msgs::Imu& message,
+                                                  const std::optional<ppp::GnssTime>& gnss_time, bool extrinsics_known) {
+  ++counters_.received;
+  if (message.linear_acceleration_covariance[0] == -1.0) {
+    note(ImuMessageProblem::FieldNotGiven, message, "linear_acceleration",
+         "linear_acceleration_covariance[0] = -1 (REP-145: no reading)");
+    return {};
+  }
+  if (message.angular_velocity_covariance[0] == -1.0) {
+    note(ImuMessageProblem::FieldNotGiven, message, "angular_velocity",
+         "angular_velocity_covariance[0] = -1 (REP-145: no reading)");
+    return {};
+  }
+  if (!extrinsics_known) {
+    note(ImuMessageProblem::ExtrinsicsMissing, message, "header.frame_id",
+         "no pose of \"" + message.header.frame_id + "\" in base_link (ros.imu.extrinsics: tf)");
+    return {};
+  }
+  // The time base: the first reading after each new GNSS epoch is compared with it (a GNSS
+  // outage leaves the readings alone); once one is far, every reading is, until one is near.
+  std::optional<ppp::GnssTime> check;
+  if (gnss_time && (time_base_far_ || !checked_gnss_time_ || *gnss_time - *checked_gnss_time_ != 0.0))
+    check = gnss_time;
+  const auto before = screenCounts(screen_);
+  std::vector<ppp::ImuSample> released = screen_.push(fromImuMessage(message), check);
+  if (check) {
+    checked_gnss_time_ = check;
+    const auto far = before.find(ppp::ImuInputProblem::FarFromGnssTime);
+    time_base_far_ = screen_.count(ppp::ImuInputProblem::FarFromGnssTime) > (far == before.end() ? 0 : far->second);
+  }
+  reportScreenProblems(before, message);
+  buffer(released);
+  return released;
+}
+
+void NodeImuInput::buffer(const std::vector<ppp::ImuSample>& readings) {
+  counters_.used += readings.size();
+  for (const ppp::ImuSample& r : readings) pending_.push_back(r);
+  while (!pending_.empty() && pending_.back().time - pending_.front().time > options_.buffer_s) {
+    pending_.pop_front();
+    ++counters_.dropped_old;
+  }
+}
+
+std::vector<ppp::ImuSample> NodeImuInput::takeUpTo(const ppp::GnssTime& time) {
+  std::vector<ppp::ImuSample> out;
+  while (!pending_.empty() && pending_.front().time - time <= 0.0) {
+    out.push_back(pending_.front());
+    pending_.pop_front();
+  }
+  if (!out.empty()) last_taken_ = out.back();
+  return out;
+}
+
+std::string NodeImuInput::problemSummary() const {
+  std::string s;
+  const auto add = [&s](std::size_t n, const std::string& what, const std::string& first) {
+    if (n == 0) return;
+    s += (s.empty() ? "" : "; ") + std::to_string(n) + " " + what + " (first: " + first + ")";
+  };
+  for (const auto& [problem, c] : screen_.problems()) add(c.count, ppp::imuInputProblemText(problem), c.first);
+  for (const auto& [problem, c] : problems_) add(c.count, imuMessageProblemText(problem), c.first);
+  return s.empty() ? "none" : "topic " + options_.topic + ": " + s;
+}
+
+}  // namespace ppp_ros

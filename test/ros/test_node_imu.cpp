@@ -1,0 +1,221 @@
+// The node's IMU input (node_imu_input.h) and its odometry at the IMU rate
+// (ins_odometry.h), without a ROS master: the options of the filter from
+// ros.imu, the screening with the topic, field and stamp named, the time-base
+// check that leaves a GNSS outage alone, the hand-over per epoch, and the
+// propagated state and its message against the mechanization.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include <Eigen/Geometry>
+#include <yaml-cpp/yaml.h>
+
+#include "ppp_bayes_tree/navigation/ins_alignment.h"
+#include "ppp_bayes_tree/navigation/ins_mechanization.h"
+#include "ppp_bayes_tree/navigation/navigation_frame.h"
+#include "ppp_bayes_tree/navigation/so3.h"
+#include "ppp_bayes_tree/ppp/config/yaml_section.h"
+#include "ppp_bayes_tree/ros/imu_conversions.h"
+#include "ppp_bayes_tree/ros/ins_odometry.h"
+#include "ppp_bayes_tree/ros/message_conversions.h"
+#include "ppp_bayes_tree/ros/node_config.h"
+#include "ppp_bayes_tree/ros/node_diagnostics.h"
+#include "ppp_bayes_tree/ros/node_imu_input.h"
+#include "ppp_bayes_tree/types/constants.h"
+#include "ppp_bayes_tree/types/frames.h"
+
+namespace {
+
+using ppp_ros::NodeImuInput;
+
+const ppp::GnssTime kT0 = ppp::GnssTime::fromGpsWeek(2418, 259200.0);  // 2026-05-13 00:00 GPST
+
+/// A level reading at rest (z up: +g on z) at t0 + dt_s.
+sensor_msgs::Imu restMessage(double dt_s, double g = 9.81) {
+  ppp::ImuSample r;
+  r.time = kT0 + dt_s;
+  r.specific_force_mps2 = Eigen::Vector3d(0.0, 0.0, g);
+  return ppp_ros::toImuMessage(r, "imu_link");
+}
+
+struct Warnings {
+  std::vector<std::string> lines;
+  ppp_ros::WarningSink sink() {
+    return [this](const std::string&, const std::string& text) { lines.push_back(text); };
+  }
+  bool any(const std::string& part) const {
+    for (const auto& l : lines)
+      if (l.find(part) != std::string::npos) return true;
+    return false;
+  }
+};
+
+TEST(NodeImuOptions, EstimatorChoiceLeverArmAndStartFromRosImu) {
+  // The EKF node may run ekf_ins (same solutions); the smoother node may not.
+  const ppp_ros::NodeConfig c = ppp_ros::bindNodeConfig(
+      YAML::Load("ros: {estimator: ekf_ins, frames: {antenna_lever_arm_m: [0.3, 0.1, 0.8]},"
+                 " imu: {translation_m: [0.1, 0.0, 0.2], rotation_rpy_deg: [180, 0, 0], initial_rpy_deg: [0, 0, 90],"
+                 " initial_velocity_enu_mps: [1, 2, 3], grade: tactical}}"),
+      "test", "ekf");
+  EXPECT_EQ(c.ros.estimator, "ekf_ins");
+  const auto same = [](const std::string& topic) { return topic; };
+  EXPECT_EQ(ppp_ros::startSummary(c.ros, "test", 0, {}, same).text.rfind("ppp_ekf_node: config from test", 0), 0u)
+      << "the node keeps its name with ros.estimator ekf_ins";
+  EXPECT_THROW(ppp_ros::bindNodeConfig(YAML::Load("ros: {estimator: ekf_ins}"), "test", "smoother"), ppp::ConfigError);
+  EXPECT_THROW(ppp_ros::bindNodeConfig(YAML::Load("ros: {estimator: kalman}"), "test", "ekf"), ppp::ConfigError);
+  EXPECT_EQ(ppp_ros::bindNodeConfig(YAML::Load("{}"), "test", "ekf").ros.estimator, "ekf");
+  EXPECT_THROW(ppp_ros::bindNodeConfig(YAML::Load("ros: {imu: {extrinsics: guess}}"), "test", "ekf"), ppp::ConfigError);
+
+  const ppp_ros::ImuExtrinsics e = ppp_ros::parameterExtrinsics(c.ros.imu);
+  const ppp::InsEkfOptions ins = ppp_ros::insOptions(c.ros, e);
+  // Antenna minus IMU in base_link (0.2, 0.1, 0.6), in the IMU's axes (x fwd, y right, z down).
+  EXPECT_LT((ins.lever_arm_body_m - Eigen::Vector3d(0.2, -0.1, -0.6)).norm(), 1e-12);
+  EXPECT_EQ(ins.noise.gyro_bias_instability_radps,
+            ppp::imuNoisePreset(ppp::ImuGrade::Tactical).gyro_bias_instability_radps);
+  // base_link yaw 90 deg in ENU: x north; the IMU (roll 180) then is level, heading 0 (north), x fwd y right z down.
+  ASSERT_TRUE(ins.initial_rotation_ned_body.has_value());
+  EXPECT_LT((*ins.initial_rotation_ned_body - ppp::rotationNedBody(0.0, 0.0, 0.0)).norm(), 1e-12);
+  ASSERT_TRUE(ins.initial_velocity_ned_mps.has_value());
+  EXPECT_LT((*ins.initial_velocity_ned_mps - Eigen::Vector3d(2.0, 1.0, -3.0)).norm(), 1e-12);
+
+  ppp_ros::RosNodeOptions level = c.ros;
+  level.imu.level_at_rest = true;
+  level.imu.initial_rpy_deg = Eigen::Vector3d(0.0, 0.0, 0.0);  // x east: heading 90 deg
+  const ppp::InsEkfOptions lv = ppp_ros::insOptions(level, e);
+  ASSERT_TRUE(lv.initial_heading_rad.has_value());
+  EXPECT_NEAR(*lv.initial_heading_rad, M_PI / 2.0, 1e-12);
+  EXPECT_FALSE(lv.initial_rotation_ned_body.has_value());
+  level.imu.rotation_rpy_deg = Eigen::Vector3d(0.0, 90.0, 0.0);  // IMU x straight down: no heading
+  EXPECT_THROW(ppp_ros::insOptions(level, ppp_ros::parameterExtrinsics(level.imu)), std::invalid_argument);
+}
+
+TEST(NodeImuInput, ScreensNamesTopicFieldAndStampAndHandsReadingsPerEpoch) {
+  ppp_ros::RosNodeOptions o;
+  Warnings w;
+  NodeImuInput in(o, w.sink());
+  std::size_t released = 0;
+  for (int k = 0; k < 100; ++k) released += in.receive(restMessage(0.01 * k), std::nullopt, true).size();
+  EXPECT_EQ(released, 100u);  // the first 50 held until the units are decided, then all
+  EXPECT_EQ(in.counters().used, 100u);
+  // A duplicate stamp and a field marked "not given": refused, named, counted.
+  in.receive(restMessage(0.99), std::nullopt, true);
+  sensor_msgs::Imu none = restMessage(1.0);
+  none.angular_velocity_covariance[0] = -1.0;
+  EXPECT_TRUE(in.receive(none, std::nullopt, true).empty());
+  EXPECT_EQ(in.counters().rejected, 2u);
+  EXPECT_TRUE(w.any("topic imu/data, field header.stamp, stamp ")) << (w.lines.empty() ? "" : w.lines[0]);
+  EXPECT_TRUE(w.any("duplicate time"));
+  EXPECT_TRUE(w.any("field angular_velocity"));
+  EXPECT_NE(in.problemSummary().find("1 duplicate time"), std::string::npos) << in.problemSummary();
+  // Missing extrinsics: not used, counted, named.
+  EXPECT_TRUE(in.receive(restMessage(1.01), std::nullopt, false).empty());
+  EXPECT_TRUE(w.any("IMU extrinsics missing"));
+  EXPECT_EQ(in.counters().rejected, 3u);
+  // The epoch at t0 + 0.5 takes the readings up to it; the rest waits.
+  const std::vector<ppp::ImuSample> epoch = in.takeUpTo(kT0 + 0.5);
+  ASSERT_EQ(epoch.size(), 51u);
+  EXPECT_EQ(in.lastTaken()->time - (kT0 + 0.5), 0.0);
+  EXPECT_EQ(in.pending().size(), 49u);
+}
+
+TEST(NodeImuInput, TimeBaseFarFromGnssRefusedButAGnssOutageLeavesTheReadingsAlone) {
+  ppp_ros::RosNodeOptions o;
+  Warnings w;
+  NodeImuInput in(o, w.sink());
+  // Readings 20 s past the newest GNSS epoch (an outage): only the first after each epoch is
+  // compared, and it is near; the rest are not compared at all.
+  const ppp::GnssTime epoch = kT0;
+  for (int k = 0; k < 2000; ++k) in.receive(restMessage(0.01 * k), epoch, true);
+  EXPECT_EQ(in.screen().count(ppp::ImuInputProblem::FarFromGnssTime), 0u);
+  EXPECT_EQ(in.counters().used, 2000u);
+  // A stream on another time base (100 s off): refused from the first reading after the epoch on.
+  NodeImuInput far(o, w.sink());
+  std::size_t used = 0;
+  for (int k = 0; k < 100; ++k) used += far.receive(restMessage(100.0 + 0.01 * k), epoch, true).size();
+  EXPECT_EQ(used, 0u);
+  EXPECT_EQ(far.screen().count(ppp::ImuInputProblem::FarFromGnssTime), 100u);
+  EXPECT_EQ(far.counters().rejected, 100u);
+  EXPECT_TRUE(w.any("far from the GNSS time"));
+}
+
+/// A state moving north at 10 m/s, level, x north (NED body = identity), at rest in attitude.
+ppp_ros::InsState movingState(const ppp::GnssTime& t) {
+  const Eigen::Vector3d p = ppp::geodeticToEcef({46.877 * ppp::kDegToRad, 7.465 * ppp::kDegToRad, 950.0});
+  ppp_ros::InsState s;
+  s.time = t;
+  s.nav.position_world_m = p;
+  s.nav.rotation_world_body = ppp::rotationEcefNed(p);
+  s.nav.velocity_world_mps = ppp::rotationEcefNed(p) * Eigen::Vector3d(10.0, 0.0, 0.0);
+  s.covariance = ppp::Matrix15d::Identity() * 1e-4;
+  return s;
+}
+
+ppp::ImuSample steadyReading(const ppp_ros::InsState& s, const ppp::GnssTime& t) {
+  ppp::ImuSample r;
+  r.time = t;
+  r.specific_force_mps2 =
+      -s.nav.rotation_world_body.transpose() * ppp::ecefNavigationFrame(s.nav.position_world_m).gravity_world_mps2;
+  return r;
+}
+
+TEST(InsOdometry, PropagatesLikeTheMechanizationRestartsThroughLaterReadingsAndStopsAtAGap) {
+  ppp::InsEkfOptions options;
+  ppp_ros::InsOdometry odo(options);
+  const ppp_ros::InsState start = movingState(kT0);
+  const ppp::ImuSample held = steadyReading(start, kT0);
+  std::deque<ppp::ImuSample> later;
+  for (int k = 1; k <= 10; ++k) later.push_back(steadyReading(start, kT0 + 0.01 * k));
+  odo.restart(start, held, later);
+  ASSERT_TRUE(odo.current().has_value());
+  EXPECT_EQ(odo.current()->time - (kT0 + 0.1), 0.0);
+  // The same ten steps of the mechanization by hand.
+  ppp::NavState by_hand = start.nav;
+  for (int k = 0; k < 10; ++k) by_hand = ppp::ecefInsStep(by_hand, held.specific_force_mps2, held.angular_rate_radps, 0.01);
+  EXPECT_LT((odo.current()->nav.position_world_m - by_hand.position_world_m).norm(), 1e-9);
+  EXPECT_NEAR((odo.current()->nav.position_world_m - start.nav.position_world_m).norm(), 1.0, 1e-3);  // 10 m/s, 0.1 s
+  EXPECT_GT(odo.current()->covariance(6, 6), start.covariance(6, 6));  // the covariance grows
+  // A reading not after the state: nothing; the next one: a state; one after a gap: the odometry stops.
+  EXPECT_FALSE(odo.step(later.back()).has_value());
+  EXPECT_TRUE(odo.step(steadyReading(start, kT0 + 0.11)).has_value());
+  EXPECT_FALSE(odo.step(steadyReading(start, kT0 + 0.5)).has_value());
+  EXPECT_FALSE(odo.current().has_value());
+}
+
+TEST(InsOdometry, MessageHasBaseLinkPoseInTheMapAndTwistInBaseLink) {
+  // IMU x fwd, y right, z down, 1 m ahead of base_link (x fwd, y left, z up); level, heading north.
+  ppp_ros::ImuExtrinsics e;
+  e.translation_m = Eigen::Vector3d(1.0, 0.0, 0.0);
+  e.rotation_base_imu = ppp_ros::rotationFromRpyDeg(Eigen::Vector3d(180.0, 0.0, 0.0));
+  ppp_ros::InsState s = movingState(kT0);
+  // The gyros read the Earth rate (the attitude fixed to the Earth): no turn of base_link.
+  s.angular_rate_radps =
+      s.nav.rotation_world_body.transpose() * Eigen::Vector3d(0.0, 0.0, ppp::kEarthRotationRate_radps);
+  ppp_ros::OdometryFrame frame{"map", "base_link", s.nav.position_world_m,
+                               ppp::rotationEcefNed(s.nav.position_world_m).transpose()};
+  frame.enu_from_ecef = Eigen::Matrix3d();
+  frame.enu_from_ecef << 0, 1, 0, 1, 0, 0, 0, 0, -1;  // ENU <- NED
+  frame.enu_from_ecef = frame.enu_from_ecef * ppp::rotationEcefNed(s.nav.position_world_m).transpose();
+  const nav_msgs::Odometry m = ppp_ros::insOdometryMessage(s, e, frame);
+  EXPECT_EQ(m.header.frame_id, "map");
+  EXPECT_EQ(m.child_frame_id, "base_link");
+  // base_link is 1 m behind the IMU (south of the datum at the IMU): (0, -1, 0) in ENU.
+  EXPECT_NEAR(m.pose.pose.position.x, 0.0, 1e-9);
+  EXPECT_NEAR(m.pose.pose.position.y, -1.0, 1e-9);
+  EXPECT_NEAR(m.pose.pose.position.z, 0.0, 1e-9);
+  // Orientation: x north = yaw 90 deg about the map's z (REP-103).
+  const Eigen::Quaterniond q(m.pose.pose.orientation.w, m.pose.pose.orientation.x, m.pose.pose.orientation.y,
+                             m.pose.pose.orientation.z);
+  EXPECT_LT((q.toRotationMatrix() - ppp_ros::rotationFromRpyDeg(Eigen::Vector3d(0.0, 0.0, 90.0))).norm(), 1e-9);
+  // Twist in base_link: 10 m/s forward; the position and attitude covariances from the filter.
+  EXPECT_NEAR(m.twist.twist.linear.x, 10.0, 1e-9);
+  EXPECT_NEAR(m.twist.twist.linear.y, 0.0, 1e-9);
+  EXPECT_NEAR(m.twist.twist.angular.z, 0.0, 1e-15);
+  EXPECT_NEAR(m.pose.covariance[0], 1e-4, 1e-12);
+  EXPECT_NEAR(m.pose.covariance[21], 1e-4, 1e-12);
+  EXPECT_NEAR(m.twist.covariance[0], 1e-4, 1e-12);
+  EXPECT_NEAR(ppp_ros::attitudeSigma_rad(s), 1e-2, 1e-12);
+}
+
+}  // namespace

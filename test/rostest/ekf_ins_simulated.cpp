@@ -1,0 +1,356 @@
+// rostest: ppp_ekf_node running the GNSS/INS filter (ros.estimator ekf_ins) on a
+// simulated loiter flight (180 s of GNSS at 1 Hz, industrial MEMS IMU at 50 Hz,
+// no GNSS epoch from 100 s to 120 s), made into bags by this test and played at
+// 10x real time with gnss/observations, gnss/corrections and imu/data:
+//   - "ins": ppp/odometry/filtered comes at the IMU rate, goes on through the
+//     outage with an error bounded by the filter's own covariance, follows the
+//     simulated truth in position and attitude; PppStatus carries the INS fields;
+//     TF map -> base_link is the odometry's pose;
+//   - "imu_stop": the IMU stops at 90 s; the node falls back to the GNSS-only EKF
+//     and the fixes go on to the end of the flight;
+//   - "no_tf": the extrinsics from TF, which has none: every IMU message is
+//     refused and counted, the status and the diagnostics say why.
+#include <Eigen/Geometry>
+#include <sensor_msgs/Imu.h>
+
+#include "ppp_bayes_tree/navigation/ins_alignment.h"
+#include "ppp_bayes_tree/ros/node_imu_input.h"
+#include "ppp_bayes_tree/simulation/flight_trajectory.h"
+#include "rostest/rostest_support.h"
+
+namespace {
+
+using ppp_ros::test::NodeOutputs;
+
+constexpr double kOutageStart_s = 100.0, kOutage_s = 20.0;  // after the first epoch
+constexpr double kImuStop_s = 90.0;                          // the IMU of the "imu_stop" bag ends here
+constexpr double kSpeed = 10.0;                              // replay speed
+constexpr double kImuRate_hz = 50.0;
+
+/// One node under test: its namespace, inputs, outputs and bag.
+struct Run {
+  std::string ns;
+  ros::Publisher obs, corr, imu;
+  NodeOutputs out;
+  std::string bag;
+  std::size_t epochs = 0, imu_readings = 0;
+};
+
+/// Publishes a bag's observations, corrections and IMU messages at `speed` x real time
+/// (the first `max_s` seconds of bag time).
+void play(const std::string& path, Run& r, double speed, double max_s = 1e9) {
+  rosbag::Bag bag(path, rosbag::bagmode::Read);
+  rosbag::View view(bag);
+  const ros::WallTime start = ros::WallTime::now();
+  ros::Time first;
+  for (const rosbag::MessageInstance& m : view) {
+    if (first.isZero()) first = m.getTime();
+    if ((m.getTime() - first).toSec() > max_s) break;
+    const ros::WallDuration wait = start + ros::WallDuration((m.getTime() - first).toSec() / speed) - ros::WallTime::now();
+    if (wait > ros::WallDuration(0)) wait.sleep();
+    if (auto o = m.instantiate<ppp_bayes_tree::GnssObservations>()) r.obs.publish(o);
+    else if (auto c = m.instantiate<ppp_bayes_tree::PreciseCorrections>()) r.corr.publish(c);
+    else if (auto i = m.instantiate<sensor_msgs::Imu>()) r.imu.publish(i);
+  }
+}
+
+struct InsFlightTest {
+  ros::NodeHandle nh;
+  ppp::SimulatedFlight flight;
+  std::vector<ppp::TrajectorySample> truth;  // 1 Hz over the whole flight, the outage included
+  Eigen::Vector3d datum_ecef_m;
+  Eigen::Matrix3d enu_from_ecef;
+  Run ins, stop, no_tf;
+  tf2_ros::Buffer tf_buffer;
+  tf2_ros::TransformListener tf_listener{tf_buffer};
+  bool ok = false;
+
+  InsFlightTest() {
+    const ppp::Geodetic origin = ppp::defaultSimulationOrigin();  // the datum of ekf_ins_simulated.test
+    datum_ecef_m = ppp::geodeticToEcef(origin);
+    Eigen::Matrix3d enu_ned;
+    enu_ned << 0, 1, 0, 1, 0, 0, 0, 0, -1;
+    enu_from_ecef = enu_ned * ppp::rotationEcefNed(datum_ecef_m).transpose();
+    try {
+      ppp::SimulationConfig c;
+      c.profile = ppp::FlightProfile::Loiter;
+      c.duration_s = 180.0;
+      c.rate_hz = 1.0;
+      c.imu.enabled = true;
+      c.imu.grade = ppp::ImuGrade::IndustrialMems;
+      c.imu.rate_hz = kImuRate_hz;
+      c.outages = {{kOutageStart_s, kOutage_s}};
+      flight = ppp::simulateFlight(c, 7);
+      ppp::TrajectoryOptions t;
+      t.profile = c.profile;
+      t.start = flight.truth.front().trajectory.time;
+      t.duration_s = c.durationOrDefault_s();
+      t.rate_hz = 1.0;
+      truth = ppp::generateTrajectory(t);
+      ok = makeBags();
+    } catch (const std::exception& e) {
+      ADD_FAILURE() << "cannot make the bags: " << e.what();
+    }
+  }
+
+  bool makeBags() {
+    const auto dir = std::filesystem::temp_directory_path();
+    setUp(ins, "/ins/", (dir / "ppp_rostest_ekf_ins.bag").string());
+    setUp(stop, "/imu_stop/", (dir / "ppp_rostest_ekf_ins_imu_stop.bag").string());
+    setUp(no_tf, "/no_tf/", ins.bag);
+    const auto a = ppp_ros::writeSimulatedFlightBag(ins.bag, flight, ppp_ros::BagWriteOptions{}, "/rostest_ekf_ins");
+    ppp_ros::BagWriteOptions cut;
+    for (const ppp::ImuSample& s : flight.imu.samples)
+      if (s.time - start() < kImuStop_s) cut.imu.push_back(s);
+    cut.imu_noise = flight.imu.noise;
+    cut.imu_rate_hz = kImuRate_hz;
+    const auto b = ppp_ros::writeSimulatedFlightBag(stop.bag, flight, cut, "/rostest_ekf_ins");
+    ins.epochs = a.epochs, ins.imu_readings = a.imu_readings;
+    stop.epochs = b.epochs, stop.imu_readings = b.imu_readings;
+    return a.epochs == flight.epochs.size() && a.imu_readings == flight.imu.samples.size() && b.imu_readings > 0 &&
+           b.imu_readings < a.imu_readings;
+  }
+
+  void setUp(Run& r, const std::string& ns, const std::string& bag) {
+    r.ns = ns;
+    r.bag = bag;
+    r.obs = nh.advertise<ppp_bayes_tree::GnssObservations>(ns + "gnss/observations", 5000);
+    r.corr = nh.advertise<ppp_bayes_tree::PreciseCorrections>(ns + "gnss/corrections", 500);
+    r.imu = nh.advertise<sensor_msgs::Imu>(ns + "imu/data", 20000);
+    r.out.subscribe(nh, ns);
+  }
+
+  ppp::GnssTime start() const { return flight.truth.front().trajectory.time; }
+
+  /// Plays the run's bag once the node listens, and waits for one status per epoch.
+  void replay(Run& r, double max_s = 1e9) {
+    const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(30.0);
+    while (ros::WallTime::now() < end &&
+           (r.obs.getNumSubscribers() == 0 || r.corr.getNumSubscribers() == 0 || r.imu.getNumSubscribers() == 0))
+      ros::WallDuration(0.05).sleep();
+    ASSERT_GT(r.imu.getNumSubscribers(), 0u) << r.ns << " does not subscribe to imu/data";
+    const ros::WallTime t0 = ros::WallTime::now();
+    play(r.bag, r, kSpeed, max_s);
+    if (max_s < 1e9) return;
+    EXPECT_TRUE(r.out.waitForStatuses(r.epochs, 60.0)) << r.out.statusCount() << " of " << r.epochs << " statuses";
+    ros::WallDuration(0.5).sleep();
+    std::printf("[ figures  ] %s: %zu epochs, %zu IMU readings at %.0fx in %.1f s wall\n", r.ns.c_str(), r.epochs,
+                r.imu_readings, kSpeed, (ros::WallTime::now() - t0).toSec());
+  }
+
+  /// The truth sample at a stamp (1 Hz samples; nullptr between them).
+  const ppp::TrajectorySample* truthAt(const ros::Time& stamp) const {
+    const double since_s = ppp_ros::fromUtcStamp(stamp) - start();
+    const long k = std::lround(since_s);
+    if (k < 0 || k >= static_cast<long>(truth.size()) || std::abs(since_s - k) > 1e-3) return nullptr;
+    return &truth[static_cast<std::size_t>(k)];
+  }
+  Eigen::Vector3d ecefOf(const geometry_msgs::Pose& p) const {
+    return datum_ecef_m + enu_from_ecef.transpose() * ppp_ros::test::position(p);
+  }
+  /// Attitude error of base_link [rad]: the IMU is x fwd, y right, z down in base_link (x fwd, y left, z up).
+  double attitudeError_rad(const geometry_msgs::Pose& p, const ppp::TrajectorySample& s) const {
+    const Eigen::Matrix3d base_imu = ppp_ros::rotationFromRpyDeg(Eigen::Vector3d(180.0, 0.0, 0.0));
+    const Eigen::Matrix3d truth_map_base = enu_from_ecef * ppp::rotationEcefNed(s.position_ecef_m) *
+                                           ppp::rotationNedBody(s.roll_rad, s.pitch_rad, s.yaw_rad) *
+                                           base_imu.transpose();
+    const Eigen::Quaterniond q(p.orientation.w, p.orientation.x, p.orientation.y, p.orientation.z);
+    return Eigen::AngleAxisd(truth_map_base.transpose() * q.toRotationMatrix()).angle();
+  }
+};
+
+InsFlightTest* g = nullptr;
+
+TEST(EkfInsNodeSimulated, TheConfiguredStartIsTheSimulatedFirstSample) {
+  ASSERT_TRUE(g->ok) << "setup failed";
+  const ppp_ros::NodeConfig config = ppp_ros::loadNodeConfig(ros::NodeHandle("/ins/ppp_ekf_node"), "ekf");
+  ASSERT_EQ(config.ros.estimator, "ekf_ins");
+  const ppp::InsEkfOptions o = ppp_ros::insOptions(config.ros, ppp_ros::parameterExtrinsics(config.ros.imu));
+  const ppp::TrajectorySample& s = g->flight.truth.front().trajectory;
+  ASSERT_TRUE(o.initial_rotation_ned_body && o.initial_velocity_ned_mps);
+  const double attitude_rad =
+      Eigen::AngleAxisd(ppp::rotationNedBody(s.roll_rad, s.pitch_rad, s.yaw_rad).transpose() * *o.initial_rotation_ned_body)
+          .angle();
+  const Eigen::Vector3d v_ned = ppp::rotationEcefNed(s.position_ecef_m).transpose() * s.velocity_ecef_mps;
+  EXPECT_LT(attitude_rad, 1e-6);
+  EXPECT_LT((*o.initial_velocity_ned_mps - v_ned).norm(), 1e-3);
+}
+
+/// IMU rate: strictly increasing stamps, 0.02 s apart, nearly every reading after the first.
+void checkImuRate(const std::vector<nav_msgs::Odometry>& odom) {
+  std::size_t at_rate = 0;
+  for (std::size_t k = 1; k < odom.size(); ++k) {
+    const double dt = (odom[k].header.stamp - odom[k - 1].header.stamp).toSec();
+    ASSERT_GT(dt, 0.0) << "odometry went back at " << k;
+    at_rate += std::abs(dt - 1.0 / kImuRate_hz) < 1e-3;
+  }
+  const double span_s = (odom.back().header.stamp - odom.front().header.stamp).toSec();
+  std::printf("[ figures  ] odometry: %zu messages over %.1f s, %zu steps of 0.02 s\n", odom.size(), span_s, at_rate);
+  EXPECT_GT(static_cast<double>(odom.size()), 0.95 * span_s * kImuRate_hz);
+  EXPECT_GT(static_cast<double>(at_rate), 0.95 * static_cast<double>(odom.size()));
+}
+
+/// Through the outage: no step over 0.1 s; the error stays within the error at its start
+/// plus 3 sigma of the reported position covariance; the attitude follows the truth.
+void checkOutage(const std::vector<nav_msgs::Odometry>& odom) {
+  const ros::Time outage_from = ppp_ros::utcStamp(g->start() + kOutageStart_s);
+  const ros::Time outage_to = ppp_ros::utcStamp(g->start() + kOutageStart_s + kOutage_s);
+  double error_at_start_m = -1.0, worst_m = 0.0, worst_bound_m = 0.0, worst_attitude_rad = 0.0;
+  std::size_t in_outage = 0, compared = 0;
+  ros::Time previous;
+  for (const auto& m : odom) {
+    const ppp::TrajectorySample* s = g->truthAt(m.header.stamp);
+    const double error_m = s ? (g->ecefOf(m.pose.pose) - s->position_ecef_m).norm() : -1.0;
+    if (m.header.stamp <= outage_from) {
+      if (s) error_at_start_m = error_m;
+    } else if (m.header.stamp <= outage_to) {
+      ++in_outage;
+      EXPECT_LT((m.header.stamp - previous).toSec(), 0.1);
+    }
+    previous = m.header.stamp;
+    if (m.header.stamp > outage_from && m.header.stamp <= outage_to && s) {
+      ++compared;
+      const double sigma_m = std::sqrt(m.pose.covariance[0] + m.pose.covariance[7] + m.pose.covariance[14]);
+      const double bound_m = error_at_start_m + 3.0 * sigma_m;
+      EXPECT_LT(error_m, bound_m) << "at " << (m.header.stamp - outage_from).toSec() << " s into the outage";
+      worst_m = std::max(worst_m, error_m);
+      worst_bound_m = std::max(worst_bound_m, bound_m);
+      worst_attitude_rad = std::max(worst_attitude_rad, g->attitudeError_rad(m.pose.pose, *s));
+    }
+  }
+  std::printf("[ figures  ] outage of %.0f s: %zu odometry messages; 3D error %.3f m at its start, at most %.3f m "
+              "(bound at most %.3f m); attitude error at most %.3f deg\n",
+              kOutage_s, in_outage, error_at_start_m, worst_m, worst_bound_m, worst_attitude_rad / ppp::kDegToRad);
+  ASSERT_GE(error_at_start_m, 0.0);
+  EXPECT_GT(static_cast<double>(in_outage), 0.95 * kOutage_s * kImuRate_hz);
+  EXPECT_EQ(compared, static_cast<std::size_t>(kOutage_s));
+  EXPECT_LT(worst_attitude_rad, 2.0 * ppp::kDegToRad);
+}
+
+/// The status's INS fields at the last epoch (solved), and the last odometry against the truth.
+void checkInsStatus(const std::vector<ppp_bayes_tree::PppStatus>& statuses, const nav_msgs::Odometry& newest) {
+  ASSERT_FALSE(statuses.empty());
+  const auto& last = statuses.back();
+  EXPECT_EQ(last.estimator, "ekf_ins");
+  EXPECT_EQ(last.ins_state, ppp_bayes_tree::PppStatus::INS_RUNNING) << last.ins_state_text << ": " << last.ins_reason;
+  EXPECT_TRUE(last.ins_attitude_valid);
+  EXPECT_EQ(last.imu_readings_used, g->ins.imu_readings);
+  EXPECT_EQ(last.imu_readings_rejected, 0u);
+  EXPECT_EQ(last.seconds_since_gnss_update, 0.0);
+  for (int i = 0; i < 3; ++i) {
+    EXPECT_TRUE(std::isfinite(last.accel_bias_mps2[i]) && std::isfinite(last.gyro_bias_radps[i]));
+    EXPECT_LT(std::abs(last.accel_bias_mps2[i]), 0.1);
+  }
+  const ppp::TrajectorySample* end = g->truthAt(newest.header.stamp);
+  if (end) std::printf("[ figures  ] last odometry: 3D error %.3f m, attitude %.3f deg\n",
+                       (g->ecefOf(newest.pose.pose) - end->position_ecef_m).norm(),
+                       g->attitudeError_rad(newest.pose.pose, *end) / ppp::kDegToRad);
+}
+
+/// TF map -> base_link is the newest odometry pose (REP-105); the IMU's diagnostics never ERROR.
+void checkTfAndImuDiagnostics(const nav_msgs::Odometry& newest) {
+  std::string err;
+  ASSERT_TRUE(g->tf_buffer.canTransform("map", "base_link", ros::Time(0), ros::Duration(3.0), &err)) << err;
+  const auto t = g->tf_buffer.lookupTransform("map", "base_link", ros::Time(0));
+  EXPECT_EQ(t.header.stamp, newest.header.stamp);
+  EXPECT_LT((ppp_ros::test::translation(t) - ppp_ros::test::position(newest.pose.pose)).norm(), 1e-6);
+
+  // The IMU's diagnostics: present, never ERROR (the extrinsics come from the parameters).
+  std::lock_guard<std::mutex> l(g->ins.out.mutex);
+  bool imu_seen = false;
+  for (const auto& [name, level] : g->ins.out.worst_diagnostic) {
+    if (name.find("ins/ppp_ekf_node") == std::string::npos || name.find("imu") == std::string::npos) continue;
+    imu_seen = true;
+    EXPECT_LT(level, diagnostic_msgs::DiagnosticStatus::ERROR) << name;
+  }
+  EXPECT_TRUE(imu_seen) << "no imu diagnostics";
+}
+
+TEST(EkfInsNodeSimulated, OdometryAtTheImuRateThroughTheOutageWithBoundedError) {
+  ASSERT_TRUE(g->ok) << "setup failed";
+  g->replay(g->ins);
+  std::vector<nav_msgs::Odometry> odom;
+  std::vector<ppp_bayes_tree::PppStatus> statuses;
+  {
+    std::lock_guard<std::mutex> l(g->ins.out.mutex);
+    odom = g->ins.out.odometry;
+    statuses = g->ins.out.statuses;
+  }
+  ASSERT_GT(odom.size(), 100u);
+  checkImuRate(odom);
+  checkOutage(odom);
+  checkInsStatus(statuses, odom.back());
+  checkTfAndImuDiagnostics(odom.back());
+}
+
+TEST(EkfInsNodeSimulated, WhenTheImuStopsTheGnssPositionsGoOn) {
+  ASSERT_TRUE(g->ok) << "setup failed";
+  g->replay(g->stop);
+  std::vector<sensor_msgs::NavSatFix> fixes;
+  std::vector<ppp_bayes_tree::PppStatus> statuses;
+  std::vector<nav_msgs::Odometry> odom;
+  {
+    std::lock_guard<std::mutex> l(g->stop.out.mutex);
+    fixes = g->stop.out.fixes;
+    statuses = g->stop.out.statuses;
+    odom = g->stop.out.odometry;
+  }
+  ASSERT_FALSE(fixes.empty());
+  ASSERT_FALSE(statuses.empty());
+  const ros::Time stopped = ppp_ros::utcStamp(g->start() + kImuStop_s);
+  std::size_t fixes_after = 0, odometry_after = 0;
+  for (const auto& f : fixes) fixes_after += f.header.stamp > stopped;
+  for (const auto& o : odom) odometry_after += o.header.stamp > stopped + ros::Duration(1.0);
+  const auto& last = statuses.back();
+  const ppp::TrajectorySample* end = g->truthAt(fixes.back().header.stamp);
+  ASSERT_NE(end, nullptr);
+  const double error_m = (ppp_ros::test::fixEcef(fixes.back()) - end->position_ecef_m).norm();
+  std::printf("[ figures  ] IMU stopped at %.0f s: %zu fixes and %zu odometry messages after it; final 3D error "
+              "%.3f m; status: %s (%s)\n",
+              kImuStop_s, fixes_after, odometry_after, error_m, last.ins_state_text.c_str(), last.ins_reason.c_str());
+  EXPECT_EQ(statuses.size(), g->stop.epochs);  // one status per epoch: the fallback's epoch once
+  EXPECT_EQ(fixes.back().header.stamp, last.header.stamp);
+  EXPECT_GT(fixes_after, 40u);  // 90 s to 180 s without the 20 s outage: about 70 epochs
+  EXPECT_GT(odometry_after, 40u);  // at the epoch rate once GNSS only
+  EXPECT_EQ(last.estimator, "ekf");
+  EXPECT_EQ(last.ins_state, ppp_bayes_tree::PppStatus::INS_FALLEN_BACK);
+  EXPECT_NE(last.ins_reason.find("IMU"), std::string::npos) << last.ins_reason;
+  EXPECT_FALSE(last.ins_attitude_valid);
+  EXPECT_LT(error_m, 5.0);  // a GNSS-only float start 90 s before the end (code level, metres)
+}
+
+TEST(EkfInsNodeSimulated, ExtrinsicsMissingFromTfAreAClearCountedError) {
+  ASSERT_TRUE(g->ok) << "setup failed";
+  g->replay(g->no_tf, 120.0);  // 60 s of batches before the first epoch (margin), then 60 s of flight
+  ros::WallDuration(2.0).sleep();
+  std::lock_guard<std::mutex> l(g->no_tf.out.mutex);
+  ASSERT_FALSE(g->no_tf.out.statuses.empty());
+  const auto& last = g->no_tf.out.statuses.back();
+  std::printf("[ figures  ] extrinsics missing: %zu statuses, %u IMU messages not used; status: %s (%s)\n",
+              g->no_tf.out.statuses.size(), last.imu_readings_rejected, last.ins_state_text.c_str(),
+              last.ins_reason.c_str());
+  EXPECT_EQ(last.ins_state, ppp_bayes_tree::PppStatus::INS_WAITING);
+  EXPECT_NE(last.ins_reason.find("IMU extrinsics missing"), std::string::npos) << last.ins_reason;
+  EXPECT_EQ(last.imu_readings_used, 0u);
+  EXPECT_GT(last.imu_readings_rejected, 30u * kImuRate_hz);
+  EXPECT_TRUE(g->no_tf.out.odometry.empty());
+  bool error_seen = false;
+  for (const auto& [name, level] : g->no_tf.out.worst_diagnostic)
+    error_seen |= name.find("no_tf/ppp_ekf_node") != std::string::npos && name.find("imu") != std::string::npos &&
+                  level == diagnostic_msgs::DiagnosticStatus::ERROR;
+  EXPECT_TRUE(error_seen) << "no imu diagnostics ERROR";
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  testing::InitGoogleTest(&argc, argv);
+  ros::init(argc, argv, "rostest_ekf_ins_simulated");
+  ros::AsyncSpinner spinner(2);
+  spinner.start();
+  InsFlightTest t;
+  g = &t;
+  const int rc = RUN_ALL_TESTS();
+  spinner.stop();
+  return rc;
+}
