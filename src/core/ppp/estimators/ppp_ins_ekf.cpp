@@ -110,6 +110,7 @@ void PppInsEkf::receiveEpochInput(const EstimatorEpochInput& input) {
   epoch_problem_.reset();
   fixed_nominal_.reset();
   fixed_bias_.reset();
+  predicted_antenna_m_.reset();
   pending_.clear();
   if (input.imu) pending_ = *input.imu;
 }
