@@ -95,7 +95,8 @@ class PppInsEkf : public PppEkf {
   const std::optional<ImuBias>& fixedImuBias() const { return fixed_bias_; }
   /// The antenna position this epoch's prediction gave (the INS through the
   /// readings since the last epoch, before the update), ECEF [m]: after a GNSS
-  /// outage, the coasting position at its end; nullopt before the start.
+  /// outage, the coasting position at its end; nullopt before the start and at
+  /// an epoch not predicted.
   const std::optional<Eigen::Vector3d>& predictedAntennaPosition() const { return predicted_antenna_m_; }
 
   /// The antenna position at a nominal state moved by an INS error (ins_error_state.h

@@ -122,6 +122,7 @@ void PppInsEkf::receiveEpochInput(const EstimatorEpochInput& input) {
   epoch_problem_.reset();
   fixed_nominal_.reset();
   fixed_bias_.reset();
+  predicted_antenna_m_.reset();
   pending_.clear();
   if (input.imu) pending_ = *input.imu;
   if (lastTime() || ins_.initial_rotation_ecef_body || ins_.initial_heading_rad) return;
