@@ -20,8 +20,8 @@
 //   taken as its interval mean F, the body axes at t_k + s dt are Exp(s phi) from
 //   those at t_k, and the mean of Exp(-s phi) over s in [0, 1] is the right
 //   Jacobian J_r(phi) = I - (1 - cos|phi|)/|phi|^2 [phi]x + (|phi| - sin|phi|)/|phi|^3 [phi]x^2
-//   (Groves, 2nd ed., sec. 5.5.2: the same mean rotation in the precise
-//   specific-force frame transformation):
+//   (Groves, 2nd ed., ch. 5, "Precision Specific-Force Frame Transformation":
+//   the specific force is an interval mean, so is the body-to-reference rotation):
 //     gyro  = phi / dt,
 //     force = J_r(phi) R_k^T F,  F = (Q (v_k+1 + w_e x p_k+1) - (v_k + w_e x p_k)) / dt - Exp(w_e dt/2) gamma(p_mid),
 //   gamma = normal gravity + w_e x (w_e x p) (the gravitation), p_mid the position
@@ -29,7 +29,7 @@
 //   interval's mean attitude (EcefInsMechanization) gives back the interpolated
 //   trajectory to its second-order error; one that applies it in the axes at
 //   the interval's start (ImuPreintegration) leaves the first-order term
-//   phi x force dt / 2 per reading.
+//   (phi x force) dt / 2 in velocity per reading.
 // - Errors per axis: white noise N(0, density^2 / dt), a turn-on bias
 //   N(0, bias instability^2) and a bias random walk with increments
 //   N(0, random-walk density^2 dt), each from its own sub-stream of the seed.

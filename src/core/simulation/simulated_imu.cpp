@@ -76,7 +76,8 @@ ImuSample trueReading(const GnssTime& t, const KinematicState& a, const Kinemati
   const Eigen::Vector3d mean_gravitation = so3::expMap(w * (0.5 * dt_s)) * gravitation;
   const Eigen::Vector3d turn_rad = so3::logMap(a.ecef_from_body.transpose() * q * b.ecef_from_body);
   // The body turns by turn_rad at a constant rate over the interval: the mean of
-  // Exp(-s turn)^T over s in [0, 1] takes the start axes into the turning ones.
+  // Exp(-s turn_rad) over s in [0, 1] (the right Jacobian) takes a vector from the
+  // axes at the start into the turning axes, averaged over the interval.
   const Eigen::Matrix3d mean_body_from_start_axes = so3::rightJacobian(turn_rad);
   ImuSample s;
   s.time = t;
