@@ -34,7 +34,7 @@ TEST(InsOutageStudy, EkfInsCoastsThroughOutagesAndRefixesWithoutWrongHolds) {
   ASSERT_EQ(ins.outage_end_horizontal_m.size(), static_cast<std::size_t>(ins.outages_counted));
   // Every arc is new after an outage (the simulator draws new ambiguities): the
   // re-fix is a new convergence; measured, each of the 4 re-fixes within the 270 s
-  // before the next outage (median 140 s; the EKF's 168 s).
+  // before the next outage (median 118 s; the EKF's 168 s).
   for (std::size_t i = 0; i < ins.refix_s.size(); ++i) EXPECT_LT(ins.refix_s[i], 270.0) << "outage " << i;
   // The EKF holds its last position through 30 s of flight at several m/s.
   for (double h : ekf.outage_end_horizontal_m) EXPECT_GT(h, 10.0);

@@ -12,17 +12,24 @@
 //   velocities (the velocity is the derivative of the position curve), the
 //   attitude (ECEF <- body, from roll/pitch/yaw in the local NED frame) along the
 //   geodesic between the samples' rotations (a constant body rate in between).
-// - Reading k covers [t_k, t_k + dt] and is the mean over that interval, in the
-//   body axes at t_k, measured in the inertial frame that coincides with ECEF at
-//   t_k (Q = Exp(w_e dt) takes ECEF at t_k + dt into it):
-//     gyro  = Log(R_k^T Q R_k+1) / dt,
-//     force = R_k^T ((Q (v_k+1 + w_e x p_k+1) - (v_k + w_e x p_k)) / dt - Exp(w_e dt/2) gamma(p_mid)),
+// - Reading k covers [t_k, t_k + dt] and is the mean over that interval of what
+//   the sensors see in the body axes as they turn (what a strapdown IMU's
+//   increments give), measured in the inertial frame that coincides with ECEF at
+//   t_k (Q = Exp(w_e dt) takes ECEF at t_k + dt into it). With the body turning
+//   by phi = Log(R_k^T Q R_k+1) at a constant rate and the inertial specific force
+//   taken as its interval mean F, the body axes at t_k + s dt are Exp(s phi) from
+//   those at t_k, and the mean of Exp(-s phi) over s in [0, 1] is the right
+//   Jacobian J_r(phi) = I - (1 - cos|phi|)/|phi|^2 [phi]x + (|phi| - sin|phi|)/|phi|^3 [phi]x^2
+//   (Groves, 2nd ed., ch. 5, "Precision Specific-Force Frame Transformation":
+//   the specific force is an interval mean, so is the body-to-reference rotation):
+//     gyro  = phi / dt,
+//     force = J_r(phi) R_k^T F,  F = (Q (v_k+1 + w_e x p_k+1) - (v_k + w_e x p_k)) / dt - Exp(w_e dt/2) gamma(p_mid),
 //   gamma = normal gravity + w_e x (w_e x p) (the gravitation), p_mid the position
-//   at t_k + dt/2. Integrated reading by reading with each reading held over its
-//   interval (ImuPreintegration), the true readings give back the interpolated
-//   attitude and velocity at every reading time up to rounding (the sums
-//   telescope), the position to the trapezoidal rule's error, and hence the
-//   trajectory at its samples.
+//   at t_k + dt/2. A strapdown mechanization that applies a reading with the
+//   interval's mean attitude (EcefInsMechanization) gives back the interpolated
+//   trajectory to its second-order error; one that applies it in the axes at
+//   the interval's start (ImuPreintegration) leaves the first-order term
+//   (phi x force) dt / 2 in velocity per reading.
 // - Errors per axis: white noise N(0, density^2 / dt), a turn-on bias
 //   N(0, bias instability^2) and a bias random walk with increments
 //   N(0, random-walk density^2 dt), each from its own sub-stream of the seed.

@@ -74,10 +74,16 @@ ImuSample trueReading(const GnssTime& t, const KinematicState& a, const Kinemati
   const Eigen::Vector3d gravitation =
       frame.gravity_world_mps2 + w.cross(w.cross(mid.position_ecef_m));
   const Eigen::Vector3d mean_gravitation = so3::expMap(w * (0.5 * dt_s)) * gravitation;
+  const Eigen::Vector3d turn_rad = so3::logMap(a.ecef_from_body.transpose() * q * b.ecef_from_body);
+  // The body turns by turn_rad at a constant rate over the interval: the mean of
+  // Exp(-s turn_rad) over s in [0, 1] (the right Jacobian) takes a vector from the
+  // axes at the start into the turning axes, averaged over the interval.
+  const Eigen::Matrix3d mean_body_from_start_axes = so3::rightJacobian(turn_rad);
   ImuSample s;
   s.time = t;
-  s.angular_rate_radps = so3::logMap(a.ecef_from_body.transpose() * q * b.ecef_from_body) / dt_s;
-  s.specific_force_mps2 = a.ecef_from_body.transpose() * ((inertial_b - inertial_a) / dt_s - mean_gravitation);
+  s.angular_rate_radps = turn_rad / dt_s;
+  s.specific_force_mps2 = mean_body_from_start_axes * a.ecef_from_body.transpose() *
+                          ((inertial_b - inertial_a) / dt_s - mean_gravitation);
   return s;
 }
 
