@@ -8,23 +8,18 @@
 #include <Eigen/Geometry>
 
 #include "ppp_bayes_tree/navigation/imu_noise.h"
+#include "ppp_bayes_tree/navigation/ins_alignment.h"
 #include "ppp_bayes_tree/ros/imu_conversions.h"
 #include "ppp_bayes_tree/types/constants.h"
 
 namespace ppp_ros {
 namespace {
 
-/// NED <- ENU (swap east and north, flip up).
-Eigen::Matrix3d nedFromEnu() {
-  Eigen::Matrix3d m;
-  m << 0.0, 1.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, -1.0;
-  return m;
-}
-
+/// The grade of the ros.imu.grade key (checked when the options were read).
 ppp::ImuGrade gradeOf(const std::string& name) {
-  if (name == "consumer_mems") return ppp::ImuGrade::ConsumerMems;
-  if (name == "tactical") return ppp::ImuGrade::Tactical;
-  return ppp::ImuGrade::IndustrialMems;
+  const std::optional<ppp::ImuGrade> grade = ppp::imuGradeFromName(name);
+  if (!grade) throw std::invalid_argument("ros.imu.grade: unknown IMU grade \"" + name + "\"");
+  return *grade;
 }
 
 ppp::ImuInputScreenOptions screenOptions(const RosImuOptions& o) {
@@ -68,12 +63,12 @@ ppp::InsEkfOptions insOptions(const RosNodeOptions& o, const ImuExtrinsics& e, p
   const RosImuOptions& imu = o.imu;
   ins.noise = ppp::imuNoisePreset(gradeOf(imu.grade));
   ins.lever_arm_body_m = e.rotation_base_imu.transpose() * (o.antenna_lever_arm_m - e.translation_m);
-  ins.initial_velocity_ned_mps = nedFromEnu() * imu.initial_velocity_enu_mps;
+  ins.initial_velocity_ned_mps = ppp::rotationNedEnu() * imu.initial_velocity_enu_mps;
   ins.initial_rotation_ecef_body.reset();
   ins.initial_rotation_ned_body.reset();
   ins.initial_heading_rad.reset();
   if (!imu.level_at_rest) {
-    ins.initial_rotation_ned_body = nedFromEnu() * rotationFromRpyDeg(imu.initial_rpy_deg) * e.rotation_base_imu;
+    ins.initial_rotation_ned_body = ppp::rotationNedEnu() * rotationFromRpyDeg(imu.initial_rpy_deg) * e.rotation_base_imu;
     return ins;
   }
   // Levelled start: the heading of the IMU's x axis with base_link level at the given yaw.

@@ -158,11 +158,9 @@ bool runInsStudy(const ppp::InsOutageStudyOptions& options, const std::string& d
 }
 
 bool parseGrade(const std::string& v, ppp::ImuGrade& grade) {
-  if (v == "consumer") grade = ppp::ImuGrade::ConsumerMems;
-  else if (v == "industrial") grade = ppp::ImuGrade::IndustrialMems;
-  else if (v == "tactical") grade = ppp::ImuGrade::Tactical;
-  else return false;
-  return true;
+  const std::optional<ppp::ImuGrade> named = ppp::imuGradeFromName(v);
+  if (named) grade = *named;
+  return named.has_value();
 }
 
 }  // namespace

@@ -140,10 +140,9 @@ std::optional<std::string> parseImuOption(const std::string& a, int argc, char**
     if (v != "csv" && v != "logged") return std::string("--imu-format needs csv or logged");
     imu.file.format = v == "logged" ? ppp::ImuFileFormat::RtklibLogged : ppp::ImuFileFormat::PlainCsv;
   } else if (a == "--imu-grade") {
-    if (v == "consumer") imu.ins.noise = ppp::imuNoisePreset(ppp::ImuGrade::ConsumerMems);
-    else if (v == "industrial") imu.ins.noise = ppp::imuNoisePreset(ppp::ImuGrade::IndustrialMems);
-    else if (v == "tactical") imu.ins.noise = ppp::imuNoisePreset(ppp::ImuGrade::Tactical);
-    else return std::string("--imu-grade needs consumer, industrial or tactical");
+    const std::optional<ppp::ImuGrade> grade = ppp::imuGradeFromName(v);
+    if (!grade) return std::string("--imu-grade needs consumer, industrial or tactical");
+    imu.ins.noise = ppp::imuNoisePreset(*grade);
   } else if (a == "--lever-arm") {
     if (!parseTruth(v, imu.ins.lever_arm_body_m)) return std::string("--lever-arm needs X,Y,Z in metres (body frame)");
   } else if (a == "--imu-rotation") {

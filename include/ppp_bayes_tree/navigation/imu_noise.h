@@ -10,6 +10,7 @@
 // datasheet figure used and how sure each figure is. Datasheets give no bias
 // random walk: the presets derive it as instability / sqrt(kBiasCorrelationTime_s),
 // a modelling choice, not a measured figure.
+#include <optional>
 #include <string>
 
 namespace ppp {
@@ -17,6 +18,10 @@ namespace ppp {
 enum class ImuGrade { ConsumerMems, IndustrialMems, Tactical };
 /// "consumer MEMS", "industrial MEMS", "tactical".
 std::string imuGradeText(ImuGrade grade);
+/// The grade a configuration or command line names: its key ("consumer_mems",
+/// "industrial_mems", "tactical") or the short form ("consumer", "industrial");
+/// nullopt for any other name (the caller says which names it takes).
+std::optional<ImuGrade> imuGradeFromName(const std::string& name);
 
 struct ImuNoise {
   std::string name;    ///< e.g. "Bosch BMI088"

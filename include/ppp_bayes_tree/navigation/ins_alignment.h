@@ -30,6 +30,8 @@ namespace ppp {
 
 /// R_ned_body = Rz(yaw) Ry(pitch) Rx(roll).
 Eigen::Matrix3d rotationNedBody(double roll_rad, double pitch_rad, double yaw_rad);
+/// R_ned_enu: swaps east and north and flips up (its own inverse).
+Eigen::Matrix3d rotationNedEnu();
 /// R_ecef_ned at the geodetic latitude and longitude of `position_ecef_m`.
 Eigen::Matrix3d rotationEcefNed(const Eigen::Vector3d& position_ecef_m);
 

@@ -62,6 +62,13 @@ ImuNoise ln200() {
 
 }  // namespace
 
+std::optional<ImuGrade> imuGradeFromName(const std::string& name) {
+  if (name == "consumer_mems" || name == "consumer") return ImuGrade::ConsumerMems;
+  if (name == "industrial_mems" || name == "industrial") return ImuGrade::IndustrialMems;
+  if (name == "tactical") return ImuGrade::Tactical;
+  return std::nullopt;
+}
+
 std::string imuGradeText(ImuGrade grade) {
   switch (grade) {
     case ImuGrade::ConsumerMems: return "consumer MEMS";

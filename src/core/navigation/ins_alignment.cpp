@@ -9,14 +9,14 @@
 #include "ppp_bayes_tree/types/frames.h"
 
 namespace ppp {
-namespace {
 
-/// R_ned_enu: swaps east and north and flips up.
 Eigen::Matrix3d rotationNedEnu() {
   Eigen::Matrix3d m;
   m << 0, 1, 0, 1, 0, 0, 0, 0, -1;
   return m;
 }
+
+namespace {
 
 struct IntervalStatistics {
   std::size_t samples = 0;

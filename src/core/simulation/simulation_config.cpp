@@ -192,10 +192,9 @@ void readImu(YamlSection s, SimulationConfig::Imu& imu) {
   imu.enabled = s.boolean("enabled", imu.enabled);
   if (s.has("grade")) {
     const std::string g = s.text("grade", "");
-    if (g == "consumer_mems") imu.grade = ImuGrade::ConsumerMems;
-    else if (g == "industrial_mems") imu.grade = ImuGrade::IndustrialMems;
-    else if (g == "tactical") imu.grade = ImuGrade::Tactical;
-    else s.fail("grade", "must be consumer_mems, industrial_mems or tactical, got \"" + g + "\"");
+    const std::optional<ImuGrade> grade = imuGradeFromName(g);
+    if (!grade) s.fail("grade", "must be consumer_mems, industrial_mems or tactical, got \"" + g + "\"");
+    imu.grade = *grade;
   }
   imu.rate_hz = s.number("rate_hz", imu.rate_hz, Bound::Positive);
   if (imu.rate_hz > 2000.0) s.fail("rate_hz", "must be <= 2000");

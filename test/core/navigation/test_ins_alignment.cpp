@@ -60,6 +60,15 @@ struct StaticInterval {
   }
 };
 
+// ENU east (1,0,0) is NED (0,1,0), ENU up is NED down; the swap is its own inverse.
+TEST(InsAlignment, NedFromEnuSwapsEastAndNorthAndFlipsUp) {
+  const Eigen::Matrix3d m = rotationNedEnu();
+  EXPECT_TRUE((m * Eigen::Vector3d(1, 0, 0)).isApprox(Eigen::Vector3d(0, 1, 0)));
+  EXPECT_TRUE((m * Eigen::Vector3d(0, 1, 0)).isApprox(Eigen::Vector3d(1, 0, 0)));
+  EXPECT_TRUE((m * Eigen::Vector3d(0, 0, 1)).isApprox(Eigen::Vector3d(0, 0, -1)));
+  EXPECT_TRUE((m * m).isApprox(Eigen::Matrix3d::Identity()));
+}
+
 TEST(InsAlignment, EulerAnglesRoundTripAndYawIsTheHeadingOfBodyX) {
   const EulerAngles e = eulerAngles(rotationNedBody(0.1, -0.2, 2.5));
   EXPECT_NEAR(e.roll_rad, 0.1, 1e-12);
