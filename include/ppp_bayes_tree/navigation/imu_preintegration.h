@@ -4,14 +4,19 @@
 // (Forster, Carlone, Dellaert, Scaramuzza 2017, "On-Manifold Preintegration for
 // Real-Time Visual-Inertial Odometry", IEEE T-RO 33(1), sections V-VI):
 //   dR = prod Exp((w_k - bg) dt_k),
-//   dv = sum dR_k (f_k - ba) dt_k,
-//   dp = sum dv_k dt_k + 1/2 dR_k (f_k - ba) dt_k^2,
-// integrated with the bias estimate held at construction (readings held constant
-// over each dt_k: Forster's discretisation, first order in dt_k). It carries
+//   dv = sum dR_k Exp(phi_k/2) (f_k - ba) dt_k,
+//   dp = sum dv_k dt_k + 1/2 dR_k Exp(phi_k/2) (f_k - ba) dt_k^2,   phi_k = (w_k - bg) dt_k,
+// integrated with the bias estimate held at construction. Each reading is the
+// interval's specific force in the body axes as they turn through it (Groves,
+// 2nd ed., ch. 5, "Precision Specific-Force Frame Transformation"), so it is
+// applied at the interval's mid attitude dR_k Exp(phi_k/2), consistent with the
+// mechanization's mean attitude (ins_mechanization.h); Forster's dR_k (the axes
+// at the start) would leave a first-order error |w x f| dt_k / 2. It carries
 //   - the 9x9 covariance of the noise of [dtheta; dv; dp] (eq. 63), propagated
 //     reading by reading from the white-noise densities (discrete variance
 //     density^2 / dt_k),
-//   - the Jacobians of the deltas w.r.t. the biases (appendix, eqs. 69-70), which
+//   - the Jacobians of the deltas w.r.t. the biases (appendix, eqs. 69-70, taken at
+//     the mid attitude), which
 //     give the first-order correction for a new bias without integrating again
 //     (eq. 44): dR(b) = dR Exp(dR/dbg dbg), dv(b) = dv + dv/dba dba + dv/dbg dbg,
 //     dp(b) likewise.
@@ -69,10 +74,15 @@ class ImuPreintegration {
   PreintegratedDeltas correctedDeltas(const ImuBias& bias) const;
 
  private:
-  void propagateCovariance(const Eigen::Matrix3d& step_rotation, const Eigen::Vector3d& accel_mps2,
-                           const Eigen::Matrix3d& step_jacobian, double dt_s);
-  void propagateBiasJacobians(const Eigen::Matrix3d& step_rotation, const Eigen::Vector3d& accel_mps2,
-                              const Eigen::Matrix3d& step_jacobian, double dt_s);
+  /// One reading's terms: bias-corrected specific force, the step rotation
+  /// Exp(phi) and its right Jacobian, the half step Exp(phi/2) and its right
+  /// Jacobian, and the mid attitude dR_k Exp(phi/2).
+  struct StepTerms {
+    Eigen::Vector3d accel_mps2;
+    Eigen::Matrix3d rotation, jacobian, half_rotation, half_jacobian, mid_rotation;
+  };
+  void propagateCovariance(const StepTerms& step, double dt_s);
+  void propagateBiasJacobians(const StepTerms& step, double dt_s);
 
   ImuNoise noise_;
   ImuBias bias_estimate_;

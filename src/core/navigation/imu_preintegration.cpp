@@ -17,38 +17,47 @@ void ImuPreintegration::reset(const ImuBias& bias_estimate) {
 void ImuPreintegration::integrate(const Eigen::Vector3d& specific_force_mps2,
                                   const Eigen::Vector3d& angular_rate_radps, double dt_s) {
   if (!(dt_s > 0.0)) return;
-  const Eigen::Vector3d accel = specific_force_mps2 - bias_estimate_.accel_mps2;
+  StepTerms step;
+  step.accel_mps2 = specific_force_mps2 - bias_estimate_.accel_mps2;
   const Eigen::Vector3d rotation_vector = (angular_rate_radps - bias_estimate_.gyro_radps) * dt_s;
-  const Eigen::Matrix3d step_rotation = so3::expMap(rotation_vector);
-  const Eigen::Matrix3d step_jacobian = so3::rightJacobian(rotation_vector);
+  step.rotation = so3::expMap(rotation_vector);
+  step.jacobian = so3::rightJacobian(rotation_vector);
+  // The reading is applied in the body axes at the middle of the interval,
+  // dR_k Exp(phi/2), as the mechanization's mean attitude (ins_mechanization.h).
+  step.half_rotation = so3::expMap(0.5 * rotation_vector);
+  step.half_jacobian = so3::rightJacobian(0.5 * rotation_vector);
+  step.mid_rotation = deltas_.rotation * step.half_rotation;
   // Covariance and bias Jacobians use the deltas before this reading.
-  propagateCovariance(step_rotation, accel, step_jacobian, dt_s);
-  propagateBiasJacobians(step_rotation, accel, step_jacobian, dt_s);
+  propagateCovariance(step, dt_s);
+  propagateBiasJacobians(step, dt_s);
   // Deltas: position first (it uses the old velocity), then velocity, then rotation.
-  const Eigen::Vector3d accel_i = deltas_.rotation * accel;
+  const Eigen::Vector3d accel_i = step.mid_rotation * step.accel_mps2;
   deltas_.position_m += deltas_.velocity_mps * dt_s + 0.5 * accel_i * dt_s * dt_s;
   deltas_.velocity_mps += accel_i * dt_s;
-  deltas_.rotation = deltas_.rotation * step_rotation;
+  deltas_.rotation = deltas_.rotation * step.rotation;
   delta_time_s_ += dt_s;
 }
 
-void ImuPreintegration::propagateCovariance(const Eigen::Matrix3d& step_rotation,
-                                            const Eigen::Vector3d& accel_mps2,
-                                            const Eigen::Matrix3d& step_jacobian, double dt_s) {
-  const Eigen::Matrix3d& dr = deltas_.rotation;
-  const Eigen::Matrix3d dr_accel_hat = dr * so3::hat(accel_mps2);
+void ImuPreintegration::propagateCovariance(const StepTerms& step, double dt_s) {
+  const Eigen::Matrix3d mid_accel_hat = step.mid_rotation * so3::hat(step.accel_mps2);
   const double dt2 = dt_s * dt_s;
-  // Error-state transition (order dtheta, dv, dp) and noise maps.
+  // Error-state transition (order dtheta, dv, dp) and noise maps. An error dtheta
+  // of dR_k is Exp(phi/2)^T dtheta at the mid attitude; the gyro noise turns the
+  // mid attitude by J_r(phi/2) n_g dt/2.
+  const Eigen::Matrix3d theta_to_velocity = -mid_accel_hat * step.half_rotation.transpose();
+  const Eigen::Matrix3d gyro_to_velocity = -mid_accel_hat * step.half_jacobian * (0.5 * dt_s);
   Matrix9d a = Matrix9d::Identity();
-  a.block<3, 3>(0, 0) = step_rotation.transpose();
-  a.block<3, 3>(3, 0) = -dr_accel_hat * dt_s;
-  a.block<3, 3>(6, 0) = -0.5 * dr_accel_hat * dt2;
+  a.block<3, 3>(0, 0) = step.rotation.transpose();
+  a.block<3, 3>(3, 0) = theta_to_velocity * dt_s;
+  a.block<3, 3>(6, 0) = 0.5 * theta_to_velocity * dt2;
   a.block<3, 3>(6, 3) = Eigen::Matrix3d::Identity() * dt_s;
   Eigen::Matrix<double, 9, 3> b_gyro = Eigen::Matrix<double, 9, 3>::Zero();
-  b_gyro.block<3, 3>(0, 0) = step_jacobian * dt_s;
+  b_gyro.block<3, 3>(0, 0) = step.jacobian * dt_s;
+  b_gyro.block<3, 3>(3, 0) = gyro_to_velocity * dt_s;
+  b_gyro.block<3, 3>(6, 0) = 0.5 * gyro_to_velocity * dt2;
   Eigen::Matrix<double, 9, 3> b_accel = Eigen::Matrix<double, 9, 3>::Zero();
-  b_accel.block<3, 3>(3, 0) = dr * dt_s;
-  b_accel.block<3, 3>(6, 0) = 0.5 * dr * dt2;
+  b_accel.block<3, 3>(3, 0) = step.mid_rotation * dt_s;
+  b_accel.block<3, 3>(6, 0) = 0.5 * step.mid_rotation * dt2;
   // Discrete white-noise variances: density^2 / dt.
   const double gyro_var = noise_.gyro_noise_density_radps_per_sqrthz * noise_.gyro_noise_density_radps_per_sqrthz / dt_s;
   const double accel_var =
@@ -57,17 +66,17 @@ void ImuPreintegration::propagateCovariance(const Eigen::Matrix3d& step_rotation
                 accel_var * b_accel * b_accel.transpose();
 }
 
-void ImuPreintegration::propagateBiasJacobians(const Eigen::Matrix3d& step_rotation,
-                                               const Eigen::Vector3d& accel_mps2,
-                                               const Eigen::Matrix3d& step_jacobian, double dt_s) {
-  const Eigen::Matrix3d& dr = deltas_.rotation;
-  const Eigen::Matrix3d dr_accel_hat = dr * so3::hat(accel_mps2);
+void ImuPreintegration::propagateBiasJacobians(const StepTerms& step, double dt_s) {
+  const Eigen::Matrix3d mid_accel_hat = step.mid_rotation * so3::hat(step.accel_mps2);
   const double dt2 = dt_s * dt_s;
-  d_position_d_ba_ += d_velocity_d_ba_ * dt_s - 0.5 * dr * dt2;
-  d_position_d_bg_ += d_velocity_d_bg_ * dt_s - 0.5 * dr_accel_hat * d_rotation_d_bg_ * dt2;
-  d_velocity_d_ba_ -= dr * dt_s;
-  d_velocity_d_bg_ -= dr_accel_hat * d_rotation_d_bg_ * dt_s;
-  d_rotation_d_bg_ = step_rotation.transpose() * d_rotation_d_bg_ - step_jacobian * dt_s;
+  // The mid attitude turns with the gyro bias through dR_k and through the half step.
+  const Eigen::Matrix3d d_mid_rotation_d_bg =
+      step.half_rotation.transpose() * d_rotation_d_bg_ - step.half_jacobian * (0.5 * dt_s);
+  d_position_d_ba_ += d_velocity_d_ba_ * dt_s - 0.5 * step.mid_rotation * dt2;
+  d_position_d_bg_ += d_velocity_d_bg_ * dt_s - 0.5 * mid_accel_hat * d_mid_rotation_d_bg * dt2;
+  d_velocity_d_ba_ -= step.mid_rotation * dt_s;
+  d_velocity_d_bg_ -= mid_accel_hat * d_mid_rotation_d_bg * dt_s;
+  d_rotation_d_bg_ = step.rotation.transpose() * d_rotation_d_bg_ - step.jacobian * dt_s;
 }
 
 std::size_t ImuPreintegration::integrateBetween(const std::vector<ImuSample>& samples, const GnssTime& start,
