@@ -47,7 +47,8 @@ class ImuPreintegration {
  public:
   ImuPreintegration(const ImuNoise& noise, const ImuBias& bias_estimate);
 
-  /// Adds one reading held constant over dt_s > 0 (a reading with dt_s <= 0 is ignored).
+  /// Adds one reading covering dt_s > 0, applied at the interval's mid attitude
+  /// (a reading with dt_s <= 0 is ignored).
   void integrate(const Eigen::Vector3d& specific_force_mps2, const Eigen::Vector3d& angular_rate_radps,
                  double dt_s);
   /// Adds the readings covering [start, end]: each sample holds until the next

@@ -26,10 +26,10 @@
 //     force = J_r(phi) R_k^T F,  F = (Q (v_k+1 + w_e x p_k+1) - (v_k + w_e x p_k)) / dt - Exp(w_e dt/2) gamma(p_mid),
 //   gamma = normal gravity + w_e x (w_e x p) (the gravitation), p_mid the position
 //   at t_k + dt/2. A strapdown mechanization that applies a reading with the
-//   interval's mean attitude (EcefInsMechanization) gives back the interpolated
-//   trajectory to its second-order error; one that applies it in the axes at
-//   the interval's start (ImuPreintegration) leaves the first-order term
-//   (phi x force) dt / 2 in velocity per reading.
+//   interval's mean attitude (EcefInsMechanization) or mid attitude
+//   (ImuPreintegration) gives back the interpolated trajectory to its
+//   second-order error; one that applies it in the axes at the interval's start
+//   leaves the first-order term (phi x force) dt / 2 in velocity per reading.
 // - Errors per axis: white noise N(0, density^2 / dt), a turn-on bias
 //   N(0, bias instability^2) and a bias random walk with increments
 //   N(0, random-walk density^2 dt), each from its own sub-stream of the seed.
