@@ -51,6 +51,9 @@ struct InsOutageStudyOptions {
   /// Outages at first fix + k outage_every_s, k >= 1, each with its whole period
   /// before the flight's end (outage_every_s - outage_s to re-fix).
   double outage_every_s = 300.0;
+  /// The outages keep the receiver's lock (SimulationConfig::Outage::keeps_lock:
+  /// same arcs and ambiguities after them) instead of new arcs.
+  bool outage_keeps_lock = false;
   double alignment_s = 120.0;     // attitude errors are scored after this time
   /// The GNSS/INS filter's start: the true attitude and velocity of the first
   /// epoch moved by these errors (each axis) [rad], [m/s].

@@ -9,6 +9,7 @@
 #include "ppp_bayes_tree/navigation/ins_mechanization.h"
 #include "ppp_bayes_tree/navigation/navigation_frame.h"
 #include "ppp_bayes_tree/navigation/so3.h"
+#include "ppp_bayes_tree/types/text_format.h"
 
 namespace ppp {
 
@@ -338,6 +339,63 @@ void PppInsEkf::fixedSolutionFound(const AmbiguityFixedState& fixed) {
   applyInsErrorCorrection(fixed.x.head<kInsErrorStateSize>(), &nominal, &bias);
   fixed_nominal_ = nominal;
   fixed_bias_ = bias;
+}
+
+std::optional<double> PppInsEkf::gapBridgeMax_s() const {
+  if (!(ins_.gap_bridge_max_s > 0.0)) return std::nullopt;
+  return ins_.gap_bridge_max_s;
+}
+
+std::optional<GapBridgeRow> PppInsEkf::gapBridgeRow(const BridgedArc& bridged, const SatelliteMeasurement& m) const {
+  const int slot = findBias(work_, bridged.arc);
+  if (slot < 0 || !(bridged.narrow_lane_wavelength_m > 0.0)) return std::nullopt;
+  const int b = coreDim() + slot;
+  GapBridgeRow row;
+  row.residual_m = m.phaseResidualWithoutBias_m() - work_.x(b);
+  row.position_jacobian = m.jacobian.segment<3>(layout_.position());
+  row.clock = static_cast<int>(m.satellite.system);
+  row.sigma_m = std::sqrt(m.phase_sigma_m * m.phase_sigma_m + work_.P(b, b));
+  row.wavelength_m = bridged.narrow_lane_wavelength_m;
+  return row;
+}
+
+void PppInsEkf::verifyBridgedArcs(const std::vector<BridgedArc>& bridged, const std::vector<SatelliteMeasurement>& usable,
+                                  EstimatorEpochResult& result) {
+  // 1. One row per bridged arc with a measurement and a held bias; the others end.
+  std::vector<GapBridgeRow> rows;
+  std::vector<const BridgedArc*> row_arcs;
+  std::vector<int> system_clock(kNumGnssSystems, -1);
+  for (const BridgedArc& b : bridged) {
+    const auto m = std::find_if(usable.begin(), usable.end(), [&](const SatelliteMeasurement& u) { return u.arc == b.arc; });
+    std::optional<GapBridgeRow> row;
+    if (m != usable.end()) row = gapBridgeRow(b, *m);
+    if (!row) {
+      endBridgedArc(b, "no usable measurement or held bias at the prediction", result);
+      continue;
+    }
+    int& clock = system_clock[static_cast<std::size_t>(row->clock)];
+    if (clock < 0) clock = *std::max_element(system_clock.begin(), system_clock.end()) + 1;
+    row->clock = clock;
+    rows.push_back(*row);
+    row_arcs.push_back(&b);
+  }
+  // 2. The predicted antenna position's covariance (the INS through the gap).
+  const Eigen::Matrix<double, 15, 1> error = work_.x.head<15>();
+  const Eigen::Matrix<double, 3, 15> J = antennaJacobian(nominal_, ins_.lever_arm_body_m, error);
+  const Eigen::Matrix3d position_cov = J * work_.P.topLeftCorner<15, 15>() * J.transpose();
+  // 3. The slips; an arc goes on only without one.
+  const std::vector<GapBridgeVerdict> verdicts = bridgeGap(rows, position_cov, ins_.gap_bridge);
+  for (std::size_t i = 0; i < verdicts.size(); ++i) {
+    const BridgedArc& b = *row_arcs[i];
+    if (!verdicts[i].keep) {
+      endBridgedArc(b, verdicts[i].reason, result);
+      continue;
+    }
+    ++result.bridged_arcs_kept;
+    result.gap_bridge.push_back(b.satellite.toString() + " arc " + std::to_string(b.arc) + ": gap of " +
+                                format("%.0f s bridged, slip %.2f +- %.2f narrow-lane cycles", b.gap_s,
+                                       verdicts[i].slip_cycles, verdicts[i].sigma_cycles));
+  }
 }
 
 }  // namespace ppp
