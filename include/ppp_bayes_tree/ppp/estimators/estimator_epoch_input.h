@@ -19,7 +19,12 @@ struct BridgedArc {
   SatelliteId satellite;
   ArcId arc = 0;
   double gap_s = 0.0;
-  double narrow_lane_wavelength_m = 0.0;  // c / (f1 + f2) of its signals
+  /// The geometry-free phase's jump over the gap [m] (SatelliteArcStatus::bridged_gf_jump_m).
+  std::optional<double> gf_jump_m;
+  double wavelength1_m = 0.0;  // of the first frequency
+  /// f2^2 / (f1^2 - f2^2): the first frequency's phase is the ionosphere-free
+  /// one minus this times the geometry-free one.
+  double geometry_free_factor = 0.0;
 };
 
 /// What the pipeline gives an estimator for one epoch.

@@ -144,6 +144,10 @@ class PppInsEkf : public PppEkf {
   void alignHeadingFromTrack(Filter& f);
   /// The slip test's row of a bridged arc's measurement at the prediction; nullopt without a held bias.
   std::optional<GapBridgeRow> gapBridgeRow(const BridgedArc& bridged, const SatelliteMeasurement& m) const;
+  /// The antenna position's error covariance grown through a gap (the prediction's
+  /// minus the last epoch's, at least kMinGapPositionVariance_m2 per axis).
+  Eigen::Matrix3d gapPositionCovariance() const;
+  static constexpr double kMinGapPositionVariance_m2 = 1e-6;
   /// R_ned_body of the nominal state.
   Eigen::Matrix3d rotationNedBody() const;
   bool startNominal(const ReceiverState& start);

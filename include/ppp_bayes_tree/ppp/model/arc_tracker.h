@@ -78,6 +78,10 @@ struct SatelliteArcStatus {
   /// The gap [s] an arc that goes on was bridged over (longer than the maximum
   /// gap, at most bridge_max_gap_s); 0 otherwise.
   double bridged_gap_s = 0.0;
+  /// A bridged arc's geometry-free phase minus its prediction from the arc's
+  /// fit [m] (the ionosphere's drift through the gap removed); nullopt when the
+  /// arc has fewer than two geometry-free samples.
+  std::optional<double> bridged_gf_jump_m;
   double mw_cycles = 0.0;  // this epoch's MW [wide-lane cycles]
   double gf_m = 0.0;       // this epoch's GF phase [m]
 };

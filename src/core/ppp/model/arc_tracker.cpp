@@ -187,7 +187,10 @@ void ArcTracker::trackSatellite(const GnssTime& time, const DualFrequencyObserva
   std::optional<double> gf_residual;
   const ArcStartReason reason = arcStart(state, inserted, obs, status, time, max_gap, text, gf_residual);
   if (reason == ArcStartReason::None) {
-    if (time - state.last_time > max_gap) status.bridged_gap_s = time - state.last_time;
+    if (time - state.last_time > max_gap) {
+      status.bridged_gap_s = time - state.last_time;
+      status.bridged_gf_jump_m = gf_residual;
+    }
     updateArc(state, time, status.mw_cycles, status.gf_m, gf_residual);
   } else {
     if (state.open) result.ended.push_back(endArc(obs.satellite, state, "replaced: " + text));

@@ -75,7 +75,7 @@ std::vector<GapBridgeVerdict> bridgeGap(const std::vector<GapBridgeRow>& rows, c
       return out;
     }
     GapBridgeVerdict& v = out[static_cast<std::size_t>(active[static_cast<std::size_t>(worst)])];
-    v.reason = format("slip %.2f +- %.2f narrow-lane cycles (bounds %.2f, %.2f)", v.slip_cycles, v.sigma_cycles,
+    v.reason = format("slip %.2f +- %.2f cycles (bounds %.2f, %.2f)", v.slip_cycles, v.sigma_cycles,
                       options.max_fraction_cycles, options.max_sigma_cycles);
     active.erase(active.begin() + worst);
   }

@@ -209,8 +209,9 @@ void PppEpochProcessor::Impl::keepUsableArcs(const ArcEpochResult& arc_result, P
     }
     if (st.bridged_gap_s > 0.0) {
       const DualFrequencyObservation& o = sel.observations[i];
-      bridged.push_back({st.satellite, st.arc, st.bridged_gap_s,
-                         kSpeedOfLight_mps / (o.frequency1_hz + o.frequency2_hz)});
+      const double f1 = o.frequency1_hz, f2 = o.frequency2_hz;
+      bridged.push_back({st.satellite, st.arc, st.bridged_gap_s, st.bridged_gf_jump_m, kSpeedOfLight_mps / f1,
+                         f2 * f2 / (f1 * f1 - f2 * f2)});
     }
     usable.push_back(sel.observations[i]);
     arcs.push_back(st.arc);
