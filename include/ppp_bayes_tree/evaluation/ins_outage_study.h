@@ -3,7 +3,8 @@
 // (monte_carlo.h: the same flight setup from the seed and the index) with the
 // readings of a simulated IMU (simulated_imu.h) and GNSS outages of outage_s
 // every outage_every_s after the first fix (the simulator tracks nothing during
-// an outage and reacquires every satellite afterwards with new ambiguities,
+// an outage and reacquires every satellite afterwards with new ambiguities, or,
+// with outage_keeps_lock, goes on with the same arcs and ambiguities,
 // simulation_config.h), run by the GNSS EKF ("ekf") and the GNSS/INS filter
 // ("ekf_ins", ppp_ins_ekf.h) on the same data. The first fix is ekf_ins's on the
 // same flight simulated without outages (the simulation before the first outage
