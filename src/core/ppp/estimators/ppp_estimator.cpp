@@ -37,6 +37,9 @@ EstimatorEpochResult PppEstimator::processEpoch(const EstimatorEpochInput& input
   if (input.bridged_arcs) bridged_ = *input.bridged_arcs;
   receiveEpochInput(input);
   last_ = processEpoch(input.time, *input.evaluate, input.evaluate_start);
+  // An epoch that stopped before the bridged arcs were tested ends them (never carried unverified).
+  for (const BridgedArc& b : bridged_) endBridgedArc(b, "the epoch stopped before the slip test", last_);
+  bridged_.clear();
   if (ambiguity_.options().enabled && !floatWithoutPhaseBiases(input, last_)) resolveAmbiguities(input, last_);
   return last_;
 }
@@ -95,6 +98,7 @@ EstimatorEpochResult PppEstimator::processEpoch(const GnssTime& time, const Meas
   // 3. Linearise once at the prediction; usable measurements; white clock shifts.
   std::vector<SatelliteMeasurement> usable = lineariseAtPrediction(evaluate, in.predicted, result);
   if (!bridged_.empty()) verifyBridgedArcs(bridged_, usable, result);
+  bridged_.clear();
 
   // 4. Arc bookkeeping on a copy of the active set.
   std::map<ArcId, ActiveArc> arcs = bookArcs(usable, time, in.dropped_arcs);
