@@ -36,7 +36,8 @@
 // --imu GRADE (consumer|industrial|tactical): the GNSS/INS outage study instead
 // (evaluation/ins_outage_study.h): the flights with the readings of a simulated IMU
 // of that grade and GNSS outages of --outage-s S (default 30) every
-// --outage-every-s S (default 300) after the first fix, readings at --imu-rate HZ
+// --outage-every-s S (default 300) after the first fix (--outage-keeps-lock: the
+// receiver keeps its lock through them, same ambiguities), readings at --imu-rate HZ
 // (default 100), run by ekf and ekf_ins; writes
 // DIR/ins_outages.md (horizontal error at the outage end, re-fix time, fix kept,
 // roll/pitch/heading RMS, held integers against the truth per estimator).
@@ -73,6 +74,7 @@ int usage(const std::string& why) {
             << "                       [--ambiguity-resolution] [--systems G|GE]\n"
             << "                       [--configurations all|gps_float,gps_ar,gps_galileo_float,gps_galileo_ar]\n"
             << "                       [--imu consumer|industrial|tactical [--outage-s 30] [--outage-every-s 300]\n"
+            << "                        [--outage-keeps-lock]\n"
             << "                        [--imu-rate 100]]\n";
   return 2;
 }
@@ -177,6 +179,7 @@ int main(int argc, char** argv) {
   double duration_min = 30.0;
   std::optional<ppp::ImuGrade> imu_grade;
   double outage_s = 30.0, outage_every_s = 300.0, imu_rate_hz = 100.0;
+  bool outage_keeps_lock = false;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "--fixed-origin") {
@@ -185,6 +188,10 @@ int main(int argc, char** argv) {
     }
     if (a == "--ambiguity-resolution") {
       ambiguity_resolution = true;
+      continue;
+    }
+    if (a == "--outage-keeps-lock") {
+      outage_keeps_lock = true;
       continue;
     }
     if (a == "--fixed-start") {
@@ -289,6 +296,7 @@ int main(int argc, char** argv) {
     ins.grade = *imu_grade;
     ins.outage_s = outage_s;
     ins.outage_every_s = outage_every_s;
+    ins.outage_keeps_lock = outage_keeps_lock;
     ins.imu_rate_hz = imu_rate_hz;
     if (!(outage_s < outage_every_s)) return usage("--outage-s must be shorter than --outage-every-s");
     return runInsStudy(ins, out) ? 0 : 1;

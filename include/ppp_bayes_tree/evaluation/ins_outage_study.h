@@ -3,7 +3,8 @@
 // (monte_carlo.h: the same flight setup from the seed and the index) with the
 // readings of a simulated IMU (simulated_imu.h) and GNSS outages of outage_s
 // every outage_every_s after the first fix (the simulator tracks nothing during
-// an outage and reacquires every satellite afterwards with new ambiguities,
+// an outage and reacquires every satellite afterwards with new ambiguities, or,
+// with outage_keeps_lock, goes on with the same arcs and ambiguities,
 // simulation_config.h), run by the GNSS EKF ("ekf") and the GNSS/INS filter
 // ("ekf_ins", ppp_ins_ekf.h) on the same data. The first fix is ekf_ins's on the
 // same flight simulated without outages (the simulation before the first outage
@@ -51,6 +52,9 @@ struct InsOutageStudyOptions {
   /// Outages at first fix + k outage_every_s, k >= 1, each with its whole period
   /// before the flight's end (outage_every_s - outage_s to re-fix).
   double outage_every_s = 300.0;
+  /// The outages keep the receiver's lock (SimulationConfig::Outage::keeps_lock:
+  /// same arcs and ambiguities after them) instead of new arcs.
+  bool outage_keeps_lock = false;
   double alignment_s = 120.0;     // attitude errors are scored after this time
   /// The GNSS/INS filter's start: the true attitude and velocity of the first
   /// epoch moved by these errors (each axis) [rad], [m/s].

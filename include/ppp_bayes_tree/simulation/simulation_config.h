@@ -10,7 +10,7 @@
 //                    origin: { latitude_deg, longitude_deg, height_m } }
 //   constellation: { satellites, systems: G|GE, galileo_satellites, orbit_interval_s, clock_interval_s }
 //   observations:  { elevation_mask_deg, loss_of_lock_flags, quantize, marker_name,
-//                    outages: { start_s: [..], duration_s: [..] } }
+//                    outages: { start_s: [..], duration_s: [..], keeps_lock: [..] } }
 //   errors:
 //     thermal:        { enabled, code_sigma_m, phase: fixed|wavelength_fraction,
 //                       phase_sigma_m, phase_sigma_cycles }
@@ -158,12 +158,20 @@ struct SimulationConfig {
   /// duration_s no satellite is tracked and no epoch is written. Afterwards each
   /// satellite is reacquired as after any loss of lock (new arc, new ambiguities,
   /// once visible for errors.phase_breaks.reacquisition_s); epochs before the
-  /// first reacquisition are not written either.
+  /// first reacquisition are not written either. An outage that keeps lock
+  /// (keeps_lock: a blockage of the observations shorter than the receiver's
+  /// loss-of-lock time) writes no epoch either, but each satellite still visible
+  /// stays tracked: after it the same arc goes on with the same ambiguities,
+  /// observed at once (no reacquisition time). keeps_lock is one flag per outage
+  /// or a single flag for all (default false).
   struct Outage {
     double start_s = 0.0, duration_s = 0.0;
+    bool keeps_lock = false;
   };
   std::vector<Outage> outages;
-  bool inOutage(double since_start_s) const;
+  /// The outage at since_start_s [s after the first epoch]; nullptr outside outages.
+  const Outage* outageAt(double since_start_s) const;
+  bool inOutage(double since_start_s) const { return outageAt(since_start_s) != nullptr; }
   ErrorModelConfig errors;
   /// IMU readings along the flight (simulated_imu.h), off by default: the grade's
   /// datasheet preset (imu_noise.h), the reading rate, and whether the grade's

@@ -43,7 +43,7 @@ SimulationConfig outageSimulation(const InsOutageStudyOptions& o, const MonteCar
   if (!first_fix_s) return c;
   // Each outage with its whole period before the end (the re-fix window is outage_every_s - outage_s).
   for (double t = *first_fix_s + o.outage_every_s; t + o.outage_every_s <= o.flights.duration_s; t += o.outage_every_s)
-    c.outages.push_back({t, o.outage_s});
+    c.outages.push_back({t, o.outage_s, o.outage_keeps_lock});
   return c;
 }
 
@@ -231,7 +231,8 @@ InsOutageStudy runInsOutageStudy(const InsOutageStudyOptions& options) {
 std::string insOutageMarkdown(const InsOutageStudy& study) {
   const InsOutageStudyOptions& o = study.options;
   std::ostringstream s;
-  s << "GNSS outages of " << number(o.outage_s, 0) << " s every " << number(o.outage_every_s, 0) << " s, "
+  s << "GNSS outages of " << number(o.outage_s, 0) << " s every " << number(o.outage_every_s, 0) << " s"
+    << (o.outage_keeps_lock ? " (lock kept)" : "") << ", "
     << imuGradeText(o.grade) << " IMU at " << number(o.imu_rate_hz, 0) << " Hz; " << study.flights.size()
     << " flights (" << study.failed << " failed), " << number(o.flights.duration_s / 60.0, 0)
     << " min each; outages counted after each estimator's first fix; attitude after " << number(o.alignment_s, 0)

@@ -475,8 +475,9 @@ class EpochGenerator {
     const ReceiverFrames frames{rotationEnuFromEcef(geo.latitude_rad, geo.longitude_rad),
                                 bodyFromNed(ts.roll_rad, ts.pitch_rad, ts.yaw_rad)};
     TruthEpoch te = truthEpoch(ts, geo, clock_s);
-    const bool outage = config_.inOutage(ts.time - t0);
-    trackSatellites(k, ts, frames, te, outage);
+    const SimulationConfig::Outage* in_outage = config_.outageAt(ts.time - t0);
+    const bool outage = in_outage != nullptr;
+    trackSatellites(k, ts, frames, te, in_outage);
     if (outage) waiting_after_outage_ = true;
     if (outage || (waiting_after_outage_ && obs_.empty())) return;  // nothing tracked: no epoch
     waiting_after_outage_ = false;
@@ -598,18 +599,20 @@ class EpochGenerator {
   }
 
   /// Step 7a: visibility, tracking and arcs of all satellites at epoch k (in an
-  /// outage none is visible: each loses lock).
+  /// outage none is visible: each loses lock; in an outage that keeps lock the
+  /// satellites are tracked as usual but none is observed).
   void trackSatellites(std::size_t k, const TrajectorySample& ts, const ReceiverFrames& frames, const TruthEpoch& te,
-                       bool outage) {
+                       const SimulationConfig::Outage* outage) {
     obs_.clear();
     arc_ids_.clear();
     obs_sat_.clear();
     body_el_.clear();
+    const bool visible = !outage || outage->keeps_lock;
     PreciseEphemeris::OrbitQueryScratch orbit_scratch;  // the satellites share the window terms at t
     for (std::size_t i = 0; i < sats_.size(); ++i) {
-      const SatelliteView v = outage ? SatelliteView{} : view(sats_[i], ts, frames, orbit_scratch);
+      const SatelliteView v = visible ? view(sats_[i], ts, frames, orbit_scratch) : SatelliteView{};
       updateTracking(sats_[i], k, ts, v);
-      if (sats_[i].tracked) addCandidate(i, ts, v, te);
+      if (sats_[i].tracked && !outage) addCandidate(i, ts, v, te);
     }
   }
 

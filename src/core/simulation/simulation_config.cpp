@@ -30,10 +30,10 @@ bool SimulationConfig::simulates(GnssSystem system) const {
   return std::find(systems.begin(), systems.end(), system) != systems.end();
 }
 
-bool SimulationConfig::inOutage(double since_start_s) const {
+const SimulationConfig::Outage* SimulationConfig::outageAt(double since_start_s) const {
   for (const Outage& o : outages)
-    if (since_start_s >= o.start_s - 1e-9 && since_start_s < o.start_s + o.duration_s - 1e-9) return true;
-  return false;
+    if (since_start_s >= o.start_s - 1e-9 && since_start_s < o.start_s + o.duration_s - 1e-9) return &o;
+  return nullptr;
 }
 
 double defaultProfileDuration_s(FlightProfile profile) {
@@ -171,7 +171,23 @@ std::vector<double> numbers(YamlSection& s, const std::string& key, double minim
   return out;
 }
 
-/// observations.outages: { start_s: [..], duration_s: [..] } of equal length.
+/// observations.outages.keeps_lock: one flag per outage or one for all (default false).
+std::vector<bool> keepsLockFlags(YamlSection& s, std::size_t outages) {
+  std::vector<bool> out(outages, false);
+  if (!s.has("keeps_lock")) return out;
+  const std::vector<std::string> flags = s.textList("keeps_lock", {});
+  if (flags.size() != 1 && flags.size() != outages)
+    s.fail("keeps_lock", "needs one flag per outage or one for all (" + std::to_string(outages) + " outages, " +
+                             std::to_string(flags.size()) + " flags)");
+  for (std::size_t i = 0; i < outages; ++i) {
+    const std::string& t = flags[flags.size() == 1 ? 0 : i];
+    if (t != "true" && t != "false") s.fail("keeps_lock", "expected true or false, got \"" + t + "\"");
+    out[i] = t == "true";
+  }
+  return out;
+}
+
+/// observations.outages: { start_s: [..], duration_s: [..], keeps_lock: [..] } of equal length.
 void readOutages(YamlSection s, std::vector<SimulationConfig::Outage>& outages) {
   if (!s.has("start_s") && !s.has("duration_s")) {
     s.finish();
@@ -182,8 +198,9 @@ void readOutages(YamlSection s, std::vector<SimulationConfig::Outage>& outages) 
   if (start.size() != duration.size())
     s.fail("duration_s", "needs one duration per start (" + std::to_string(start.size()) + " starts, " +
                              std::to_string(duration.size()) + " durations)");
+  const std::vector<bool> keeps_lock = keepsLockFlags(s, start.size());
   outages.clear();
-  for (std::size_t i = 0; i < start.size(); ++i) outages.push_back({start[i], duration[i]});
+  for (std::size_t i = 0; i < start.size(); ++i) outages.push_back({start[i], duration[i], keeps_lock[i]});
   s.finish();
 }
 

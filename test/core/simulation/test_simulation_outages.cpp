@@ -85,6 +85,47 @@ TEST(SimulationOutages, NoEpochInAnOutageAndNewArcsAfterIt) {
   }
 }
 
+TEST(SimulationOutages, KeepsLockParsedPerOutageOrForAll) {
+  const SimulationConfig none = parseSimulationConfig(
+      "observations: { outages: { start_s: [60, 200], duration_s: [5, 5] } }", "test.yaml");
+  EXPECT_FALSE(none.outages[0].keeps_lock);  // default: new ambiguities
+  const SimulationConfig all = parseSimulationConfig(
+      "observations: { outages: { start_s: [60, 200], duration_s: [5, 5], keeps_lock: [true] } }", "test.yaml");
+  EXPECT_TRUE(all.outages[0].keeps_lock && all.outages[1].keeps_lock);
+  const SimulationConfig each = parseSimulationConfig(
+      "observations: { outages: { start_s: [60, 200], duration_s: [5, 5], keeps_lock: [false, true] } }",
+      "test.yaml");
+  EXPECT_FALSE(each.outages[0].keeps_lock);
+  EXPECT_TRUE(each.outages[1].keeps_lock);
+  EXPECT_NE(configError("observations: { outages: { start_s: [60, 200, 300], duration_s: [5, 5, 5], "
+                        "keeps_lock: [true, false] } }")
+                .find("observations.outages.keeps_lock"),
+            std::string::npos);
+  EXPECT_NE(configError("observations: { outages: { start_s: [60], duration_s: [5], keeps_lock: [yes] } }")
+                .find("\"yes\""),
+            std::string::npos);
+}
+
+// An outage that keeps lock: no epoch inside it, and at the first epoch after it
+// (at once, no reacquisition time) every satellite tracked before and still
+// visible is on the arc it had before (same ambiguities).
+TEST(SimulationOutages, OutageThatKeepsLockKeepsTheArcs) {
+  const SimulatedFlight plain = simulateFlight(tenMinutes(), 4);
+  SimulationConfig c = tenMinutes();
+  c.outages = {{200.0, 5.0, true}};
+  const SimulatedFlight f = simulateFlight(c, 4);
+  const GnssTime t0 = plain.epochs.front().time;
+  EXPECT_EQ(f.epochs.size(), plain.epochs.size() - 5u);
+  std::size_t k = 0;
+  while (f.epochs[k].time - t0 < 205.0 - 1e-9) ++k;
+  EXPECT_NEAR(f.epochs[k].time - t0, 205.0, 1e-9);
+  EXPECT_NEAR(f.epochs[k - 1].time - t0, 199.0, 1e-9);
+  std::set<ArcId> before;
+  for (const SignalTruth& s : f.truth[k - 1].signals) before.insert(s.arc);
+  ASSERT_FALSE(before.empty());
+  for (const SignalTruth& s : f.truth[k].signals) EXPECT_EQ(before.count(s.arc), 1u) << s.satellite.toString();
+}
+
 TEST(SimulationOutages, HeaderSpansTheEpochsWrittenAndAllOutageIsRefused) {
   SimulationConfig c = tenMinutes();
   c.outages = {{0.0, 20.0}, {590.0, 100.0}};

@@ -14,6 +14,19 @@ namespace ppp {
 
 class BiasProvider;
 
+/// An arc back after a gap the arc tracker bridged (CycleSlipOptions::bridge_max_gap_s).
+struct BridgedArc {
+  SatelliteId satellite;
+  ArcId arc = 0;
+  double gap_s = 0.0;
+  /// The geometry-free phase's jump over the gap [m] (SatelliteArcStatus::bridged_gf_jump_m).
+  std::optional<double> gf_jump_m;
+  double wavelength1_m = 0.0;  // of the first frequency
+  /// f2^2 / (f1^2 - f2^2): the first frequency's phase is the ionosphere-free
+  /// one minus this times the geometry-free one.
+  double geometry_free_factor = 0.0;
+};
+
 /// What the pipeline gives an estimator for one epoch.
 struct EstimatorEpochInput {
   GnssTime time;
@@ -27,6 +40,8 @@ struct EstimatorEpochInput {
   const std::vector<ArcId>* arcs = nullptr;
   /// Arcs that ended at this epoch (slip, gap) before this epoch's new arcs start.
   const std::vector<EndedArc>* ended_arcs = nullptr;
+  /// Arcs that go on after a bridged gap, to be verified (PppEstimator::gapBridgeMax_s); nullable.
+  const std::vector<BridgedArc>* bridged_arcs = nullptr;
   /// Satellite phase OSBs consistent with the clocks (phase_bias_consistency.h);
   /// nullptr when the products allow no integer ambiguities (float).
   const BiasProvider* phase_biases = nullptr;

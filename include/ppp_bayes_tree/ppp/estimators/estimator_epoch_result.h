@@ -100,6 +100,10 @@ struct EstimatorEpochResult {
   double consistency_variance_factor = 1.0;  // T / m when inflated, else 1
   std::string consistency;                 // readable test result, empty when unchecked
   int active_biases = 0;  // bias states after the epoch
+  /// Arcs back after a bridged gap (PppEstimator::gapBridgeMax_s): kept, and
+  /// ended by the slip test; one readable line per arc.
+  int bridged_arcs_kept = 0, bridged_arcs_ended = 0;
+  std::vector<std::string> gap_bridge;
   int iterations = 0;     // measurement-model evaluations
   std::vector<MeasurementResidual> residuals;  // same order as `used`
   /// The estimator restarted from its last good state after this (failed) epoch.

@@ -8,6 +8,7 @@
 
 #include "ppp_bayes_tree/navigation/imu_noise.h"
 #include "ppp_bayes_tree/navigation/ins_error_state.h"
+#include "ppp_bayes_tree/ppp/model/gap_bridge.h"
 
 namespace ppp {
 
@@ -57,6 +58,13 @@ struct InsEkfOptions {
   double publish_heading_sigma_rad = 0.0873;
   /// Readings further apart than this are a gap the INS cannot bridge [s].
   double max_imu_interval_s = 0.1;
+  /// GNSS data gaps (time between two epochs) up to this long [s] do not end
+  /// the arcs: at the first epoch after, each arc's slip is identified from the
+  /// INS prediction (gap_bridge.h) and the arc goes on or ends; 0: every gap
+  /// longer than the arc tracker's maximum ends the arcs. 6 s: an outage of 5 s
+  /// at 1 Hz (5 epochs missing).
+  double gap_bridge_max_s = 6.0;
+  GapBridgeOptions gap_bridge;
 
   /// Empty when valid; otherwise the first problem.
   std::string validate() const;

@@ -114,6 +114,9 @@ class PppEkf : public PppEstimator {
   /// from it (receiverStateAt); the float filter is not changed.
   virtual void fixedSolutionFound(const AmbiguityFixedState& /*fixed*/) {}
 
+  static void removeBias(Filter& f, std::size_t slot, int receiver_dim);
+  static int findBias(const Filter& f, ArcId arc);
+
   bool initialised_ = false;
   bool fresh_ = false;  // initialised, no epoch processed yet
   GnssTime last_time_;
@@ -137,8 +140,6 @@ class PppEkf : public PppEstimator {
   bool josephCovariance(Attempt& a, EstimatorEpochResult& result) const;
   bool postfitRejects(Attempt& a, std::set<SatelliteId>& excluded, EstimatorEpochResult& result) const;
   void commitUpdate(const EpochSolveInput& in, Attempt a, EpochSolveOutput& out);
-  static void removeBias(Filter& f, std::size_t slot, int receiver_dim);
-  static int findBias(const Filter& f, ArcId arc);
 
   EkfOptions options_;
 };

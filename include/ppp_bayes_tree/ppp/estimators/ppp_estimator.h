@@ -43,6 +43,10 @@ class PppEstimator {
   EstimatorEpochResult processEpoch(const EstimatorEpochInput& input);
   /// Arcs that ended (slip, gap, end of data): their biases and held integers leave.
   void arcsEnded(const std::vector<EndedArc>& ended);
+  /// The longest data gap whose arcs this estimator verifies and carries on
+  /// (verifyBridgedArcs); nullopt (the default): a gap longer than the arc
+  /// tracker's maximum ends the arcs.
+  virtual std::optional<double> gapBridgeMax_s() const { return std::nullopt; }
   /// The last result of processEpoch(EstimatorEpochInput), with its ambiguity summary.
   const EstimatorEpochResult& lastResult() const { return last_; }
   /// The smoothed trajectory of an estimator that smooths; nullptr for a filter.
@@ -88,6 +92,12 @@ class PppEstimator {
   /// The pipeline's input of the epoch, before the measurement epoch runs (e.g. the
   /// IMU readings of an estimator with inertial states); nothing by default.
   virtual void receiveEpochInput(const EstimatorEpochInput& /*input*/) {}
+  /// The arcs back after a bridged gap, at the prediction (before the arc
+  /// bookkeeping): each goes on or is ended (endBridgedArc). By default all end.
+  virtual void verifyBridgedArcs(const std::vector<BridgedArc>& bridged, const std::vector<SatelliteMeasurement>& usable,
+                                 EstimatorEpochResult& result);
+  /// Ends a bridged arc: its bias and held integers leave; its measurements start a new bias.
+  void endBridgedArc(const BridgedArc& bridged, const std::string& reason, EstimatorEpochResult& result);
 
   /// A measurement that passed the prefit screening.
   struct ScreenedMeasurement {
@@ -174,6 +184,7 @@ class PppEstimator {
 
   std::optional<Eigen::Vector3d> approx_position_ecef_m_;
   std::map<ArcId, ActiveArc> arcs_;  // the active set
+  std::vector<BridgedArc> bridged_;  // this epoch's arcs back after a bridged gap
   int resets_ = 0;
   AmbiguityResolver ambiguity_;  // PPP-AR on the estimator's float solution
   EstimatorEpochResult last_;

@@ -51,10 +51,12 @@
 // minus code with the a priori sigma of stochastic.phase_bias, and the update
 // puts it at phase minus the range of the predicted position, weighted by that
 // position's covariance: the INS-aided re-initialisation of the biases (Rabbou &
-// El-Rabbany 2015, GPS Solutions 19:601-609). Integers are not carried across an
-// outage: the arcs end at a data gap (arc_tracker.h) and with them the held
-// integers; carrying them needs INS-aided cycle-slip identification across the
-// gap (Du & Gao 2012, Sensors 12(11):14344-14362), not done
+// El-Rabbany 2015, GPS Solutions 19:601-609). A gap of at most
+// InsEkfOptions::gap_bridge_max_s does not end the arcs (gapBridgeMax_s): at
+// the first epoch after, the arcs back are tested against the prediction
+// (verifyBridgedArcs, gap_bridge.h: INS-aided cycle-slip identification, Du &
+// Gao 2012, Sensors 12(11):14344-14362); an arc without a slip keeps its bias
+// and held integers, any other ends as after a longer gap
 // (doc/studies/ins_outages.md).
 #include <Eigen/Core>
 #include <deque>
@@ -77,6 +79,7 @@ class PppInsEkf : public PppEkf {
   explicit PppInsEkf(const EstimatorOptions& options);
 
   std::string name() const override { return "ekf_ins"; }
+  std::optional<double> gapBridgeMax_s() const override;
 
   /// The nominal state of the IMU (ECEF) and the IMU bias (corrected after each update).
   const NavState& navState() const { return nominal_; }
@@ -108,6 +111,8 @@ class PppInsEkf : public PppEkf {
 
  protected:
   void receiveEpochInput(const EstimatorEpochInput& input) override;
+  void verifyBridgedArcs(const std::vector<BridgedArc>& bridged, const std::vector<SatelliteMeasurement>& usable,
+                         EstimatorEpochResult& result) override;
   ReceiverState predict(double dt_s, bool first, const std::optional<ReceiverState>& start) override;
   bool solve(const EpochSolveInput& in, EpochSolveOutput& out, EstimatorEpochResult& result) override;
   void resolveAmbiguities(const EstimatorEpochInput& input, EstimatorEpochResult& result) override;
@@ -137,6 +142,12 @@ class PppInsEkf : public PppEkf {
   void setHeadingCovariance(Filter& f, double heading_sigma_rad) const;
   /// The course of the antenna track as the heading, once fast enough.
   void alignHeadingFromTrack(Filter& f);
+  /// The slip test's row of a bridged arc's measurement at the prediction; nullopt without a held bias.
+  std::optional<GapBridgeRow> gapBridgeRow(const BridgedArc& bridged, const SatelliteMeasurement& m) const;
+  /// The antenna position's error covariance grown through a gap (the prediction's
+  /// minus the last epoch's, at least kMinGapPositionVariance_m2 per axis).
+  Eigen::Matrix3d gapPositionCovariance() const;
+  static constexpr double kMinGapPositionVariance_m2 = 1e-6;
   /// R_ned_body of the nominal state.
   Eigen::Matrix3d rotationNedBody() const;
   bool startNominal(const ReceiverState& start);

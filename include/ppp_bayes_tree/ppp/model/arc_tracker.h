@@ -41,6 +41,12 @@ struct CycleSlipOptions {
   std::optional<double> max_gap_s;        // explicit maximum gap [s]
   double max_gap_intervals = 3.0;         // otherwise: this many data intervals
   double default_interval_s = 30.0;       // interval assumed before two epochs are seen
+  // Gaps an estimator bridges (set by the pipeline for an estimator that verifies
+  // them, PppEstimator::gapBridgeMax_s): an arc back after a gap longer than the
+  // maximum gap but at most this is not ended by the gap; it goes through the
+  // slip tests and is marked (SatelliteArcStatus::bridged_gap_s). Unset: every
+  // gap longer than the maximum ends the arc.
+  std::optional<double> bridge_max_gap_s;
   // Receiver loss-of-lock indicator (RINEX LLI bit 0) starts a new arc.
   bool use_loss_of_lock = true;
 
@@ -69,6 +75,13 @@ struct SatelliteArcStatus {
   /// Readable reason, e.g. "Melbourne-Wubbena jump 3.2 cycles > 1.0",
   /// "data gap 95 s > 90 s", "LLI set on L1"; empty when the arc continues.
   std::string reason;
+  /// The gap [s] an arc that goes on was bridged over (longer than the maximum
+  /// gap, at most bridge_max_gap_s); 0 otherwise.
+  double bridged_gap_s = 0.0;
+  /// A bridged arc's geometry-free phase minus its prediction from the arc's
+  /// fit [m] (the ionosphere's drift through the gap removed); nullopt when the
+  /// arc has fewer than two geometry-free samples.
+  std::optional<double> bridged_gf_jump_m;
   double mw_cycles = 0.0;  // this epoch's MW [wide-lane cycles]
   double gf_m = 0.0;       // this epoch's GF phase [m]
 };
@@ -108,6 +121,10 @@ class ArcTracker {
   double interval_s() const;
   double maxGap_s() const;
   const CycleSlipOptions& options() const { return options_; }
+  /// Sets the longest gap an estimator bridges (CycleSlipOptions::bridge_max_gap_s).
+  void setBridgeMaxGap_s(std::optional<double> seconds) { options_.bridge_max_gap_s = seconds; }
+  /// The longest absence after which an arc may still go on [s].
+  double arcKeepGap_s(double max_gap_s) const;
 
  private:
   struct ArcState {

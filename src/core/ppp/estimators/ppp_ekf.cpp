@@ -168,6 +168,9 @@ void PppEkf::removeBias(Filter& f, std::size_t slot, int receiver_dim) {
 void PppEkf::arcRemoved(ArcId arc) {
   const int i = findBias(f_, arc);
   if (i >= 0) removeBias(f_, static_cast<std::size_t>(i), coreDim());
+  // An arc ended between the prediction and the update (a bridged gap) leaves the prediction too.
+  const int w = findBias(work_, arc);
+  if (w >= 0) removeBias(work_, static_cast<std::size_t>(w), coreDim());
 }
 
 void PppEkf::predictFilter(Filter& f, double dt_s, bool first) const {

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "ppp_bayes_tree/ppp/screening/postfit_screening.h"
+#include "ppp_bayes_tree/types/text_format.h"
 
 namespace ppp {
 
@@ -32,8 +33,13 @@ bool floatWithoutPhaseBiases(const EstimatorEpochInput& input, EstimatorEpochRes
 
 EstimatorEpochResult PppEstimator::processEpoch(const EstimatorEpochInput& input) {
   if (input.ended_arcs) arcsEnded(*input.ended_arcs);
+  bridged_.clear();
+  if (input.bridged_arcs) bridged_ = *input.bridged_arcs;
   receiveEpochInput(input);
   last_ = processEpoch(input.time, *input.evaluate, input.evaluate_start);
+  // An epoch that stopped before the bridged arcs were tested ends them (never carried unverified).
+  for (const BridgedArc& b : bridged_) endBridgedArc(b, "the epoch stopped before the slip test", last_);
+  bridged_.clear();
   if (ambiguity_.options().enabled && !floatWithoutPhaseBiases(input, last_)) resolveAmbiguities(input, last_);
   return last_;
 }
@@ -41,6 +47,23 @@ EstimatorEpochResult PppEstimator::processEpoch(const EstimatorEpochInput& input
 void PppEstimator::arcsEnded(const std::vector<EndedArc>& ended) {
   for (const auto& e : ended) removeArc(e.arc);
   ambiguity_.arcsEnded(ended);
+}
+
+void PppEstimator::verifyBridgedArcs(const std::vector<BridgedArc>& bridged,
+                                     const std::vector<SatelliteMeasurement>& /*usable*/, EstimatorEpochResult& result) {
+  for (const BridgedArc& b : bridged) endBridgedArc(b, "the estimator bridges no gap", result);
+}
+
+void PppEstimator::endBridgedArc(const BridgedArc& bridged, const std::string& reason, EstimatorEpochResult& result) {
+  EndedArc ended;
+  ended.satellite = bridged.satellite;
+  ended.arc = bridged.arc;
+  ended.reason = "gap of " + format("%.0f", bridged.gap_s) + " s not bridged: " + reason;
+  removeArc(bridged.arc);
+  ambiguity_.arcsEnded({ended});
+  ++result.bridged_arcs_ended;
+  result.gap_bridge.push_back(bridged.satellite.toString() + " arc " + std::to_string(bridged.arc) + ": " +
+                              ended.reason);
 }
 
 bool PppEstimator::fail(EstimatorEpochResult& result, EpochStatus status, NoSolutionReason why, std::string text) {
@@ -74,6 +97,8 @@ EstimatorEpochResult PppEstimator::processEpoch(const GnssTime& time, const Meas
 
   // 3. Linearise once at the prediction; usable measurements; white clock shifts.
   std::vector<SatelliteMeasurement> usable = lineariseAtPrediction(evaluate, in.predicted, result);
+  if (!bridged_.empty()) verifyBridgedArcs(bridged_, usable, result);
+  bridged_.clear();
 
   // 4. Arc bookkeeping on a copy of the active set.
   std::map<ArcId, ActiveArc> arcs = bookArcs(usable, time, in.dropped_arcs);

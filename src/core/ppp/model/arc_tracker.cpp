@@ -48,6 +48,10 @@ double ArcTracker::maxGap_s() const {
   return options_.max_gap_s ? *options_.max_gap_s : options_.max_gap_intervals * interval_s();
 }
 
+double ArcTracker::arcKeepGap_s(double max_gap_s) const {
+  return options_.bridge_max_gap_s ? std::max(max_gap_s, *options_.bridge_max_gap_s) : max_gap_s;
+}
+
 std::optional<ArcId> ArcTracker::currentArc(const SatelliteId& satellite) const {
   auto it = arcs_.find(satellite);
   if (it == arcs_.end() || !it->second.open) return std::nullopt;
@@ -149,8 +153,9 @@ ArcEpochResult ArcTracker::process(const GnssTime& time,
   for (auto& [sat, state] : arcs_) {
     if (!state.open || seen.count(sat) != 0) continue;
     const double absent = time - state.last_time;
-    if (absent > max_gap)
-      result.ended.push_back(endArc(sat, state, format("not observed for %.0f s > %.0f s", absent, max_gap)));
+    const double keep_gap = arcKeepGap_s(max_gap);
+    if (absent > keep_gap)
+      result.ended.push_back(endArc(sat, state, format("not observed for %.0f s > %.0f s", absent, keep_gap)));
   }
   return result;
 }
@@ -182,6 +187,10 @@ void ArcTracker::trackSatellite(const GnssTime& time, const DualFrequencyObserva
   std::optional<double> gf_residual;
   const ArcStartReason reason = arcStart(state, inserted, obs, status, time, max_gap, text, gf_residual);
   if (reason == ArcStartReason::None) {
+    if (time - state.last_time > max_gap) {
+      status.bridged_gap_s = time - state.last_time;
+      status.bridged_gf_jump_m = gf_residual;
+    }
     updateArc(state, time, status.mw_cycles, status.gf_m, gf_residual);
   } else {
     if (state.open) result.ended.push_back(endArc(obs.satellite, state, "replaced: " + text));
@@ -201,7 +210,7 @@ ArcStartReason ArcTracker::arcStart(const ArcState& state, bool inserted, const 
     return ArcStartReason::NewSatellite;
   }
   const double dt = time - state.last_time;
-  if (dt > max_gap) {
+  if (dt > arcKeepGap_s(max_gap) || (dt > max_gap && !state.open)) {
     text = format("data gap %.0f s > %.0f s", dt, max_gap);
     return ArcStartReason::DataGap;
   }

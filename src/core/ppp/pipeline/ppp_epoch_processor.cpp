@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "ppp_bayes_tree/ppp/model/arc_tracker.h"
+#include "ppp_bayes_tree/types/constants.h"
 
 namespace ppp {
 
@@ -27,6 +28,7 @@ struct PppEpochProcessor::Impl {
   SignalSelectionResult sel;
   std::vector<DualFrequencyObservation> usable;
   std::vector<ArcId> arcs;
+  std::vector<BridgedArc> bridged;
 
   Impl(const RinexObsHeader& h, const PppConfig& c, const BiasProvider* b)
       : header(h), config(c), biases(b), tracker(c.cycle_slip_options) {}
@@ -192,6 +194,7 @@ void PppEpochProcessor::Impl::selectSignals(const ObsEpoch& epoch, PppEpochRecor
 void PppEpochProcessor::Impl::keepUsableArcs(const ArcEpochResult& arc_result, PppEpochRecord& rec) {
   usable.clear();
   arcs.clear();
+  bridged.clear();
   for (std::size_t i = 0; i < arc_result.satellites.size(); ++i) {
     const auto& st = arc_result.satellites[i];
     if (!st.usable) {
@@ -203,6 +206,12 @@ void PppEpochProcessor::Impl::keepUsableArcs(const ArcEpochResult& arc_result, P
       if (startedBySlip(st.start_reason)) ++rec.slips;
       if (st.start_reason != ArcStartReason::NewSatellite)
         rec.arc_events.push_back(st.satellite.toString() + " arc " + std::to_string(st.arc) + ": " + st.reason);
+    }
+    if (st.bridged_gap_s > 0.0) {
+      const DualFrequencyObservation& o = sel.observations[i];
+      const double f1 = o.frequency1_hz, f2 = o.frequency2_hz;
+      bridged.push_back({st.satellite, st.arc, st.bridged_gap_s, st.bridged_gf_jump_m, kSpeedOfLight_mps / f1,
+                         f2 * f2 / (f1 * f1 - f2 * f2)});
     }
     usable.push_back(sel.observations[i]);
     arcs.push_back(st.arc);
@@ -232,6 +241,7 @@ EstimatorEpochResult PppEpochProcessor::Impl::estimate(const GnssTime& time, con
   input.observations = &usable;
   input.arcs = &arcs;
   input.ended_arcs = &arc_result.ended;
+  input.bridged_arcs = &bridged;
   input.phase_biases = phase_biases;
   input.imu = imuUpTo(time);
   return estimator.processEpoch(input);
@@ -259,6 +269,7 @@ PppEpochRecord PppEpochProcessor::process(const ObsEpoch& epoch, PppEstimator& e
   // 2. Signal selection.
   d.selectSignals(epoch, rec, selection_notes);
   // 3. Arc tracking (the time check above comes first, so a refusal here is a guard).
+  d.tracker.setBridgeMaxGap_s(estimator.gapBridgeMax_s());
   const ArcEpochResult arc_result = d.tracker.process(epoch.time, d.sel.observations);
   if (!arc_result.accepted) return refuseEpoch(rec, arc_result.refusal_reason);
   d.keepUsableArcs(arc_result, rec);

@@ -162,6 +162,40 @@ TEST(ArcTracker, LossOfLockGapsAndEndedArcs) {
   EXPECT_EQ(ended[0].reason, "end of data");
 }
 
+// A gap longer than the maximum (3 intervals of 1 s) but within bridge_max_gap_s
+// (6 s) keeps the arc, marked bridged with its geometry-free jump; without the
+// bound, and beyond it, the gap ends the arc; a slip across a bridged gap still
+// starts a new arc (Melbourne-Wubbena).
+TEST(ArcTracker, BridgedGapKeepsTheArcOnlyWithinItsBound) {
+  const auto run_gap = [](std::optional<double> bridge_s, int gap_epochs, std::pair<int, int> slip) {
+    Simulator sim(5);
+    CycleSlipOptions o;
+    o.bridge_max_gap_s = bridge_s;
+    ArcTracker tracker(o);
+    const int back = 10 + gap_epochs;
+    sim.slip_at[back] = slip;
+    ArcEpochResult r;
+    for (int k = 0; k <= 10; ++k) r = tracker.process(kT0 + k * 1.0, {sim.observe(5, k * 1.0, k)});
+    r = tracker.process(kT0 + back * 1.0, {sim.observe(5, back * 1.0, back)});
+    return r.satellites.at(0);
+  };
+  const SatelliteArcStatus bridged = run_gap(6.0, 6, {0, 0});
+  EXPECT_FALSE(bridged.new_arc);
+  EXPECT_DOUBLE_EQ(bridged.bridged_gap_s, 6.0);
+  ASSERT_TRUE(bridged.bridged_gf_jump_m);
+  EXPECT_LT(std::abs(*bridged.bridged_gf_jump_m), 0.02);
+  const SatelliteArcStatus unbridged = run_gap(std::nullopt, 6, {0, 0});
+  EXPECT_TRUE(unbridged.new_arc);
+  EXPECT_EQ(unbridged.start_reason, ArcStartReason::DataGap);
+  const SatelliteArcStatus too_long = run_gap(6.0, 7, {0, 0});
+  EXPECT_TRUE(too_long.new_arc);
+  EXPECT_EQ(too_long.start_reason, ArcStartReason::DataGap);
+  const SatelliteArcStatus slipped = run_gap(6.0, 6, {3, 0});
+  EXPECT_TRUE(slipped.new_arc);
+  EXPECT_EQ(slipped.start_reason, ArcStartReason::MelbourneWuebbenaJump);
+  EXPECT_DOUBLE_EQ(slipped.bridged_gap_s, 0.0);
+}
+
 TEST(ArcTracker, BadEpochsAreRefusedWithoutStateChange) {
   Simulator sim(5);
   ArcTracker tracker;
