@@ -13,6 +13,7 @@
 #include <cstdio>
 #include <vector>
 
+#include "ins_ar_flights.h"
 #include "ppp_bayes_tree/evaluation/monte_carlo.h"
 #include "ppp_bayes_tree/navigation/so3.h"
 #include "ppp_bayes_tree/ppp/estimators/ppp_ins_ekf.h"
@@ -22,18 +23,7 @@ namespace ppp {
 namespace {
 
 MonteCarloOptions insArStudy() {
-  MonteCarloOptions o;
-  o.seed = 7;
-  o.duration_s = 900.0;
-  o.profiles = {FlightProfile::Survey, FlightProfile::Loiter};
-  o.simulation.errors.multipath.enabled = false;
-  o.ppp.stochastic.code_correlation_time_s = 0.0;
-  o.ppp.ambiguity_resolution.wide_lane.correlation_time_s = 0.0;
-  o = withConfiguration(o, *findMonteCarloConfiguration("gps_galileo_ar"));
-  o.simulation.imu.enabled = true;
-  o.simulation.imu.grade = ImuGrade::IndustrialMems;
-  o.simulation.imu.rate_hz = 100.0;
-  return o;
+  return test::insArFlightOptions({FlightProfile::Survey, FlightProfile::Loiter}, 900.0);
 }
 
 /// The GNSS/INS filter's start: the true attitude and velocity of the first epoch

@@ -13,6 +13,7 @@
 #include <cstdio>
 #include <string>
 
+#include "ins_ar_flights.h"
 #include "ppp_bayes_tree/evaluation/monte_carlo.h"
 #include "ppp_bayes_tree/navigation/so3.h"
 #include "ppp_bayes_tree/simulation/simulated_imu.h"
@@ -22,20 +23,7 @@ namespace {
 
 constexpr double kOutageStart_s = 400.0, kOutage_s = 5.0;
 
-MonteCarloOptions flightOptions() {
-  MonteCarloOptions o;
-  o.seed = 7;
-  o.duration_s = 900.0;
-  o.profiles = {FlightProfile::Survey};
-  o.simulation.errors.multipath.enabled = false;
-  o.ppp.stochastic.code_correlation_time_s = 0.0;
-  o.ppp.ambiguity_resolution.wide_lane.correlation_time_s = 0.0;
-  o = withConfiguration(o, *findMonteCarloConfiguration("gps_galileo_ar"));
-  o.simulation.imu.enabled = true;
-  o.simulation.imu.grade = ImuGrade::IndustrialMems;
-  o.simulation.imu.rate_hz = 100.0;
-  return o;
-}
+MonteCarloOptions flightOptions() { return test::insArFlightOptions({FlightProfile::Survey}, 900.0); }
 
 SimulatedFlight simulateWithOutage(const MonteCarloOptions& o) {
   const MonteCarloFlightSetup setup = monteCarloFlightSetup(o, 0);

@@ -12,6 +12,7 @@
 #include <cstdlib>
 #include <fstream>
 
+#include "ins_ar_flights.h"
 #include "ppp_bayes_tree/evaluation/monte_carlo.h"
 #include "ppp_bayes_tree/ppp/estimators/estimator_registry.h"
 #include "ppp_bayes_tree/ppp/estimators/ppp_ins_ekf.h"
@@ -180,17 +181,8 @@ struct Figure8Flight {
   SimulatedFlight flight;
   PppConfig config;
   explicit Figure8Flight(double duration_s) {
-    MonteCarloOptions o;
-    o.seed = 7;
-    o.duration_s = duration_s;
-    o.profiles = {FlightProfile::Survey, FlightProfile::Figure8};
-    o.simulation.errors.multipath.enabled = false;
-    o.ppp.stochastic.code_correlation_time_s = 0.0;
-    o.ppp.ambiguity_resolution.wide_lane.correlation_time_s = 0.0;
-    o = withConfiguration(o, *findMonteCarloConfiguration("gps_galileo_ar"));
-    o.simulation.imu.enabled = true;
-    o.simulation.imu.grade = ImuGrade::IndustrialMems;
-    o.simulation.imu.rate_hz = 100.0;
+    const MonteCarloOptions o =
+        test::insArFlightOptions({FlightProfile::Survey, FlightProfile::Figure8}, duration_s);
     const MonteCarloFlightSetup setup = monteCarloFlightSetup(o, 1);
     EXPECT_EQ(setup.profile, FlightProfile::Figure8);
     flight = simulateFlight(monteCarloSimulationConfig(o, setup), setup.seed);
