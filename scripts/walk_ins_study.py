@@ -186,8 +186,14 @@ def hms(s):
     return "%02d:%02d:%06.3f" % (s // 3600, (s % 3600) // 60, s % 60)
 
 
-def main():
+def parse_args(argv=None):
     p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    add_options(p)
+    return p.parse_args(argv)
+
+
+def add_options(p):
+    """The study's options (also those of scripts/peers/gnss_imu_walk.py, which runs the same solutions)."""
     p.add_argument("--bin", default=os.path.join(REPO, "build_ws/devel/lib/ppp_bayes_tree"))
     p.add_argument("--data", default=os.environ.get("PPP_SHARED_DATA", os.path.join(REPO, "../shared/data")))
     p.add_argument("--out", default="/tmp/walk_ins_study")
@@ -196,16 +202,22 @@ def main():
     p.add_argument("--imu-grade", default="consumer")
     p.add_argument("--imu-rotation", default="180,0,-90", help="the IMU's axes from the body's: roll,pitch,yaw [deg]")
     p.add_argument("--lever-arm", default="0,-0.05,0", help="antenna - IMU in the body frame [m]")
-    a = p.parse_args()
+
+
+def run_ours(a):
+    """Runs ekf, ekf_ins and ekf_ins with the GNSS gap into a.out; returns the commands."""
     os.makedirs(a.out, exist_ok=True)
     gap = "%s %s,%g" % (DATE, a.gap_start, a.gap_s)
-    commands = [run_solve(a.bin, a.data, a.out, "walk", "ekf", []),
-                run_solve(a.bin, a.data, a.out, "walk", "ekf_ins", imu_options(a.data, a.imu_grade, a.imu_rotation, a.lever_arm)),
-                run_solve(a.bin, a.data, a.out, "walk_gap", "ekf_ins", imu_options(a.data, a.imu_grade, a.imu_rotation, a.lever_arm) +
-                          ["--gnss-gap", gap])]
-    ref = read_reference(os.path.join(a.data, "streams/ubx/gnss_1730_sf.pos"))
-    lat0, lon0 = ref[0, 1], ref[0, 2]
+    imu = imu_options(a.data, a.imu_grade, a.imu_rotation, a.lever_arm)
+    return [run_solve(a.bin, a.data, a.out, "walk", "ekf", []),
+            run_solve(a.bin, a.data, a.out, "walk", "ekf_ins", imu),
+            run_solve(a.bin, a.data, a.out, "walk_gap", "ekf_ins", imu + ["--gnss-gap", gap])]
 
+
+def ours_figures(a, ref):
+    """The figures of the three runs in a.out against the reference: dict with ins, gnss
+    (velocity_and_heading), gap (gap_displacement of ekf_ins), and the series read."""
+    lat0, lon0 = ref[0, 1], ref[0, 2]
     ins = read_attitude(os.path.join(a.out, "walk_ekf_ins_attitude.csv"))
     solved = ins["status"] != "no-solution"
     ins_stats = velocity_and_heading(ins["time_gpst"][solved], ins["velocity_north_mps"][solved],
@@ -213,19 +225,15 @@ def main():
     gnss = read_solution_csv(os.path.join(a.out, "walk_ekf.csv"))
     gv = central_velocity_ne(gnss, lat0, lon0)
     gnss_stats = velocity_and_heading(gv[:, 0], gv[:, 1], gv[:, 2], np.degrees(np.arctan2(gv[:, 2], gv[:, 1])), ref)
-
     gap_run = read_attitude(os.path.join(a.out, "walk_gap_ekf_ins_attitude.csv"))
-    gap_start_s = seconds_of_day(a.gap_start)
     xyz = np.stack([gap_run["antenna_x_m"], gap_run["antenna_y_m"], gap_run["antenna_z_m"]], axis=-1)
-    d = gap_displacement(gap_run["time_gpst"], xyz, ref, gap_start_s, a.gap_s)
+    d = gap_displacement(gap_run["time_gpst"], xyz, ref, seconds_of_day(a.gap_start), a.gap_s)
+    return {"ins": ins_stats, "gnss": gnss_stats, "gap": d, "ins_series": ins, "ins_solved": solved,
+            "gnss_series": gnss}
 
-    first_ins = ins["time_gpst"][solved][0] if solved.any() else math.nan
-    print("commands:\n  " + "\n  ".join(commands))
-    print("first solution: ekf %s, ekf_ins %s GPST (ephemerides first; the receiver starts 17:30:39)"
-          % (hms(gnss[0, 0]), hms(first_ins)))
-    print("aligned: %s" % (hms(ins["time_gpst"][np.argmax(ins["alignment"] == "aligned")])
-                           if (ins["alignment"] == "aligned").any() else "never"))
-    print("")
+
+def print_table(a, f):
+    gnss_stats, ins_stats, d = f["gnss"], f["ins"], f["gap"]
     print("| against the RTK reference (Q=1) | GNSS only (ekf) | GNSS/INS (ekf_ins) |")
     print("|---|---|---|")
     print("| epochs compared (velocity) | %d | %d |" % (gnss_stats["n_vel"], ins_stats["n_vel"]))
@@ -241,6 +249,22 @@ def main():
                  d["error_m"]))
     else:
         print("| GNSS gap: no ekf_ins epoch before or in it | no solution | n/a |")
+
+
+def main():
+    a = parse_args()
+    commands = run_ours(a)
+    ref = read_reference(os.path.join(a.data, "streams/ubx/gnss_1730_sf.pos"))
+    f = ours_figures(a, ref)
+    ins, solved, gnss = f["ins_series"], f["ins_solved"], f["gnss_series"]
+    first_ins = ins["time_gpst"][solved][0] if solved.any() else math.nan
+    print("commands:\n  " + "\n  ".join(commands))
+    print("first solution: ekf %s, ekf_ins %s GPST (ephemerides first; the receiver starts 17:30:39)"
+          % (hms(gnss[0, 0]), hms(first_ins)))
+    print("aligned: %s" % (hms(ins["time_gpst"][np.argmax(ins["alignment"] == "aligned")])
+                           if (ins["alignment"] == "aligned").any() else "never"))
+    print("")
+    print_table(a, f)
     return 0
 
 
