@@ -4,7 +4,9 @@
 # reader, then the script tests (scripts/test_plot_solutions.sh;
 # scripts/test_nl_residual_histogram.sh; scripts/test_function_census.sh: the
 # function-length census and its unit test; scripts/test_walk_ins_study.sh: the
-# u-blox walk GNSS/INS study and its unit test; scripts/test_demo.sh: the main-job
+# u-blox walk GNSS/INS study and its unit test; scripts/test_gnss_imu_walk.sh: the
+# walk's own GNSS/IMU filter beside ours (its unit test; the run when GNSS_IMU_PEER_DIR
+# names a checkout of the peer); scripts/test_demo.sh: the main-job
 # demo end to end on a 3-min simulated flight;
 # scripts/test_node_startup.sh: start-up errors of the nodes reach stderr;
 # scripts/test_live_replay.sh: a bag of a live run's raw topics replayed through
@@ -48,6 +50,7 @@ echo "=== script tests ==="
 "$REPO_DIR/scripts/test_nl_residual_histogram.sh" "$EXTRA"
 "$REPO_DIR/scripts/test_function_census.sh" "$EXTRA"
 "$REPO_DIR/scripts/test_walk_ins_study.sh" "$EXTRA"
+"$REPO_DIR/scripts/test_gnss_imu_walk.sh" "$EXTRA"
 "$REPO_DIR/scripts/test_demo.sh" "$EXTRA"
 "$REPO_DIR/scripts/test_node_startup.sh" "$EXTRA"
 "$REPO_DIR/scripts/test_live_replay.sh" "$EXTRA"
