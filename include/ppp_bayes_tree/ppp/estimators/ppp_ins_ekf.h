@@ -151,6 +151,9 @@ class PppInsEkf : public PppEkf {
   /// R_ned_body of the nominal state.
   Eigen::Matrix3d rotationNedBody() const;
   bool startNominal(const ReceiverState& start);
+  /// Whether the held reading and this epoch's cover [lastTime(), time] (imu_coverage.h); the
+  /// epoch's problem when not.
+  bool readingsCover(const GnssTime& time);
   bool propagateTo(const GnssTime& time);
   bool stepWith(double dt_s);
 

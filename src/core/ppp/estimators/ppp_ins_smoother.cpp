@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "ppp_bayes_tree/navigation/imu_coverage.h"
 #include "ppp_bayes_tree/navigation/imu_smoother_factor.h"
 #include "ppp_bayes_tree/navigation/nav_state_value.h"
 #include "ppp_bayes_tree/navigation/navigation_frame.h"
@@ -15,34 +16,6 @@ namespace ppp {
 
 using smoother::Key;
 using smoother::NoiseModel;
-
-namespace {
-
-/// Why the readings do not cover [start, end] (held from each reading's time to the
-/// next one's, at most max_gap_s apart, one at or before start); empty when they do.
-std::string coverageProblem(const std::vector<ImuSample>& readings, const GnssTime& start, const GnssTime& end,
-                            double max_gap_s) {
-  std::optional<GnssTime> held;
-  for (const ImuSample& s : readings) {
-    if (s.time - start <= 0.0) {
-      held = s.time;
-      continue;
-    }
-    if (s.time - end > 0.0) break;
-    if (!held) return "no reading at or before " + start.toString();
-    if (s.time - *held > max_gap_s)
-      return "gap of " + std::to_string(s.time - *held) + " s after the reading at " + held->toString() +
-             " (at most " + std::to_string(max_gap_s) + " s)";
-    held = s.time;
-  }
-  if (!held) return "no reading at or before " + start.toString();
-  if (end - *held > max_gap_s)
-    return "gap of " + std::to_string(end - *held) + " s after the reading at " + held->toString() + " (at most " +
-           std::to_string(max_gap_s) + " s)";
-  return {};
-}
-
-}  // namespace
 
 PppInsSmoother::PppInsSmoother(const EstimatorOptions& options) : PppSmoother(options), ins_(options.ins) {
   if (auto problem = ins_.validate(); !problem.empty()) throw std::invalid_argument(problem);
@@ -113,10 +86,10 @@ ReceiverState PppInsSmoother::predict(double dt_s, bool first, const std::option
 
 bool PppInsSmoother::preintegrateTo(const GnssTime& time) {
   const GnssTime from = *lastTime();
-  const std::string problem = coverageProblem(readings_, from, time, ins_.max_imu_interval_s);
-  if (!problem.empty()) {
+  const ImuCoverage coverage = imuCoverage(readings_, from, time, ins_.max_imu_interval_s);
+  if (!coverage.covered()) {
     epoch_problem_ = {NoSolutionReason::NoImuReadings,
-                      "IMU readings do not cover the interval to " + time.toString() + ": " + problem};
+                      "IMU readings do not cover the interval to " + time.toString() + ": " + coverage.text()};
     return false;
   }
   ImuPreintegration pim(ins_.noise, last_bias_);
