@@ -80,6 +80,8 @@ class PppInsEkf : public PppEkf {
 
   std::string name() const override { return "ekf_ins"; }
   std::optional<double> gapBridgeMax_s() const override;
+  /// The nominal state, bias, antenna, attitude quality and INS error covariance; nullopt before the start.
+  std::optional<InertialState> inertialState() const override;
 
   /// The nominal state of the IMU (ECEF) and the IMU bias (corrected after each update).
   const NavState& navState() const { return nominal_; }

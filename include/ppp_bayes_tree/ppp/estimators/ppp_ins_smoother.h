@@ -51,6 +51,8 @@ class PppInsSmoother : public PppSmoother {
   explicit PppInsSmoother(const EstimatorOptions& options);
 
   std::string name() const override { return "smoother_ins"; }
+  /// navState() at navTime(), its bias and antenna (no attitude quality, no covariance); nullopt before the start.
+  std::optional<InertialState> inertialState() const override;
 
   /// The state of the IMU at the last epoch: the filtered one after a solved epoch,
   /// the dead-reckoned one (IMU only, from the last state) after an epoch without a

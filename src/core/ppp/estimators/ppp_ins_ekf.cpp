@@ -207,6 +207,18 @@ void PppInsEkf::alignHeadingFromTrack(Filter& f) {
   track_.clear();
 }
 
+std::optional<InertialState> PppInsEkf::inertialState() const {
+  if (!lastTime()) return std::nullopt;
+  InertialState s;
+  s.time = *lastTime();
+  s.nav = nominal_;
+  s.bias = bias_;
+  s.antenna_ecef_m = antennaPosition();
+  s.attitude_quality = attitudeQuality();
+  s.error_covariance = f_.P.topLeftCorner<kInsErrorStateSize, kInsErrorStateSize>();
+  return s;
+}
+
 InsAttitudeQuality PppInsEkf::attitudeQuality() const {
   InsAttitudeQuality q;
   if (!lastTime()) return q;

@@ -26,6 +26,16 @@ std::optional<Eigen::Vector3d> PppInsSmoother::antennaPosition() const {
   return AntennaPositionFactor::antennaOf(*nav_, ins_.lever_arm_body_m);
 }
 
+std::optional<InertialState> PppInsSmoother::inertialState() const {
+  if (!nav_ || !nav_time_) return std::nullopt;
+  InertialState s;
+  s.time = *nav_time_;
+  s.nav = *nav_;
+  s.bias = bias_;
+  s.antenna_ecef_m = *antennaPosition();
+  return s;
+}
+
 std::optional<NavState> PppInsSmoother::smoothedNavState(std::uint32_t index) const {
   if (!isam2().exists(navKey(index))) return std::nullopt;
   return navStateFromStorage(isam2().calculateEstimate(navKey(index)));
