@@ -33,6 +33,10 @@ struct ImuCoverage {
   double max_gap_s = 0.0;             ///< the longest hold allowed [s]
   std::optional<GnssTime> held_time;  ///< Gap: the reading that holds too long
   double gap_s = 0.0;                 ///< Gap: how long it holds [s]
+  /// Gap: the hold lasts to the interval's end (no later reading in it yet); otherwise
+  /// a later reading ends it, and with the readings in time order no reading can
+  /// close the gap any more.
+  bool held_to_end = false;
 
   bool covered() const { return problem == ImuCoverageProblem::None; }
   /// Why not covered ("no reading at or before <start>", "gap of <gap> s after the

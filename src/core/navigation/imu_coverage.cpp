@@ -50,7 +50,7 @@ ImuCoverage imuCoverage(const std::vector<ImuSample>& readings, const GnssTime& 
     c.problem = ImuCoverageProblem::NoReadingAtStart;
     return c;
   }
-  holdTooLong(*held, end);
+  c.held_to_end = holdTooLong(*held, end);
   return c;
 }
 

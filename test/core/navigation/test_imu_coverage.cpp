@@ -46,6 +46,7 @@ TEST(ImuCoverage, AGapBetweenReadingsInsideTheIntervalIsNamedWithItsReading) {
   ASSERT_TRUE(c.held_time.has_value());
   EXPECT_NEAR(*c.held_time - kStart, 0.1, 1e-9);
   EXPECT_NEAR(c.gap_s, 0.25, 1e-9);
+  EXPECT_FALSE(c.held_to_end);  // a later reading ends it
   EXPECT_EQ(c.text(), "gap of 0.250000 s after the reading at " + (kStart + 0.1).toString() + " (at most 0.100000 s)");
 }
 
@@ -53,6 +54,7 @@ TEST(ImuCoverage, TheLastReadingHoldsToTheEnd) {
   EXPECT_EQ(imuCoverage(readingsAt({0.0, 0.1}), kStart, kStart + 0.5, 0.1).problem, ImuCoverageProblem::Gap);
   const ImuCoverage c = imuCoverage(readingsAt({0.0, 0.1}), kStart, kStart + 0.5, 0.1);
   EXPECT_NEAR(c.gap_s, 0.4, 1e-9);
+  EXPECT_TRUE(c.held_to_end);  // a reading still to come could close it
   EXPECT_TRUE(imuCoverage(readingsAt({0.0, 0.1}), kStart, kStart + 0.2, 0.1).covered());
 }
 

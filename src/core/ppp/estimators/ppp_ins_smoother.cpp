@@ -48,6 +48,22 @@ void PppInsSmoother::receiveEpochInput(const EstimatorEpochInput& input) {
   if (!input.imu) return;
   input_readings_ = *input.imu;
   readings_.insert(readings_.end(), input.imu->begin(), input.imu->end());
+  dropUnusableReadings();
+}
+
+void PppInsSmoother::forgetGapOfAnOlderState() {
+  if (broken_ && !(lastTime() && broken_->start == *lastTime())) broken_.reset();
+}
+
+void PppInsSmoother::dropUnusableReadings() {
+  // From the newest state a broken interval stays broken (the readings come in time
+  // order); before the start, and then, only a start uses readings: the last one at or
+  // before its epoch (this one or a later one) and those after it.
+  forgetGapOfAnOlderState();
+  if (lastTime() && !broken_) return;
+  const std::size_t before = readings_.size();
+  keepReadingsFrom(epoch_time_);
+  dropped_readings_ += before - readings_.size();
 }
 
 bool PppInsSmoother::startNav(const ReceiverState& start) {
@@ -96,7 +112,10 @@ ReceiverState PppInsSmoother::predict(double dt_s, bool first, const std::option
 
 bool PppInsSmoother::preintegrateTo(const GnssTime& time) {
   const GnssTime from = *lastTime();
-  const ImuCoverage coverage = imuCoverage(readings_, from, time, ins_.max_imu_interval_s);
+  forgetGapOfAnOlderState();
+  // A gap that a later reading ended is for good: said as it was first found (its readings dropped since).
+  const ImuCoverage coverage = broken_ ? *broken_ : imuCoverage(readings_, from, time, ins_.max_imu_interval_s);
+  if (coverage.problem == ImuCoverageProblem::Gap && !coverage.held_to_end) broken_ = coverage;
   if (!coverage.covered()) {
     epoch_problem_ = {NoSolutionReason::NoImuReadings,
                       "IMU readings do not cover the interval to " + time.toString() + ": " + coverage.text()};

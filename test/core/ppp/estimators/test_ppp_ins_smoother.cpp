@@ -13,7 +13,9 @@
 #include <vector>
 
 #include "ins_turn_run.h"
+#include "ppp_bayes_tree/navigation/ins_alignment.h"
 #include "ppp_bayes_tree/navigation/nav_state_value.h"
+#include "ppp_bayes_tree/navigation/navigation_frame.h"
 #include "ppp_bayes_tree/navigation/so3.h"
 #include "ppp_bayes_tree/ppp/estimators/antenna_position_factor.h"
 #include "ppp_bayes_tree/ppp/estimators/estimator_registry.h"
@@ -189,6 +191,86 @@ TEST(PppInsSmoother, RegisteredAsSmootherInsAndNotRunByBoth) {
   const auto all = selectEstimators(kAllEstimators);
   ASSERT_TRUE(all);
   for (const EstimatorEntry* e : *all) EXPECT_NE(e->name, "smoother_ins");
+}
+
+/// Readings of an IMU at rest at `position_ecef_m` with its axes north, east, down, at 100 Hz
+/// in (from_s, to_s] of `sim`'s time.
+std::vector<ImuSample> atRest(const sim::Simulator& sim, double from_s, double to_s) {
+  const Eigen::Matrix3d ecef_body = rotationEcefNed(sim.position);
+  ImuSample r;
+  r.specific_force_mps2 = -ecef_body.transpose() * ecefNavigationFrame(sim.position).gravity_world_mps2;
+  r.angular_rate_radps = ecef_body.transpose() * Eigen::Vector3d(0.0, 0.0, kEarthRotationRate_radps);
+  std::vector<ImuSample> out;
+  for (int k = static_cast<int>(std::lround(from_s * 100.0)) + 1; k <= std::lround(to_s * 100.0); ++k) {
+    r.time = sim.time() + (k * 0.01 - sim.t_s);
+    out.push_back(r);
+  }
+  return out;
+}
+
+/// One epoch of `estimator` at `sim`'s time with `readings`; without satellites unless `gnss`.
+EstimatorEpochResult epochAtRest(PppInsSmoother& estimator, sim::Simulator& sim, const std::vector<ImuSample>& readings,
+                                 bool gnss = true) {
+  const MeasurementFunction evaluate = sim::modelOf(gnss ? sim.epoch() : std::vector<sim::SimObs>{});
+  EstimatorEpochInput input;
+  input.time = sim.time();
+  input.evaluate = &evaluate;
+  input.imu = &readings;
+  return estimator.processEpoch(input);
+}
+
+TEST(PppInsSmoother, KeepsOnlyTheReadingsItCanStillUseWhenTheImuStopsAndGnssGoesOn) {
+  // At rest; the IMU stops after 5 s and is back from 6 s on, GNSS all along: from the
+  // newest state (5 s) the readings have a gap no later reading closes, so every later
+  // epoch is refused for it, and the readings before the latest one are of no use.
+  sim::Simulator sim;
+  EstimatorOptions options;
+  options.ins.initial_rotation_ecef_body = rotationEcefNed(sim.position);
+  std::string why;
+  auto smoother = makeEstimatorAs<PppInsSmoother>("smoother_ins", options, &why);
+  ASSERT_TRUE(smoother) << why;
+  std::string first_gap;
+  for (int e = 0; e <= 60; ++e) {
+    sim.t_s = e;
+    const std::vector<ImuSample> readings = e == 6 ? std::vector<ImuSample>{} : atRest(sim, e - 1.0, e);
+    const EstimatorEpochResult r = epochAtRest(*smoother, sim, readings);
+    if (e <= 5) {
+      ASSERT_EQ(r.status, EpochStatus::Ok) << e << " s: " << r.reason;
+      continue;
+    }
+    ASSERT_EQ(r.no_solution_reason, NoSolutionReason::NoImuReadings) << e << " s: " << r.reason;
+    const std::string gap = r.reason.substr(r.reason.find("gap of"));
+    if (e == 7) first_gap = gap;
+    if (e > 7) EXPECT_EQ(gap, first_gap) << e << " s";  // the same gap, said the same way
+    if (e > 7) EXPECT_LE(smoother->bufferedReadings(), 101u) << e << " s";
+  }
+  std::printf("IMU back after a gap, 54 epochs refused: %zu readings kept, %zu dropped\n",
+              smoother->bufferedReadings(), smoother->droppedReadings());
+  EXPECT_NE(first_gap.find("after the reading at " + (sim.time() - 55.0).toString()), std::string::npos) << first_gap;
+  EXPECT_GE(smoother->droppedReadings(), 5000u);
+}
+
+TEST(PppInsSmoother, KeepsOnlyTheReadingsAStartCanUseWhileGnssCannotStart) {
+  // No satellites for a minute, the IMU at 100 Hz: a start would hold the last reading at
+  // or before its epoch; the older ones are dropped. Then it starts with the readings kept.
+  sim::Simulator sim;
+  EstimatorOptions options;
+  options.ins.initial_rotation_ecef_body = rotationEcefNed(sim.position);
+  std::string why;
+  auto smoother = makeEstimatorAs<PppInsSmoother>("smoother_ins", options, &why);
+  ASSERT_TRUE(smoother) << why;
+  for (int e = 0; e < 60; ++e) {
+    sim.t_s = e;
+    const EstimatorEpochResult r = epochAtRest(*smoother, sim, atRest(sim, e - 1.0, e), false);
+    ASSERT_NE(r.status, EpochStatus::Ok);
+    EXPECT_LE(smoother->bufferedReadings(), 101u) << e << " s";
+  }
+  sim.t_s = 60.0;
+  EXPECT_EQ(epochAtRest(*smoother, sim, atRest(sim, 59.0, 60.0)).status, EpochStatus::Ok);
+  sim.t_s = 61.0;
+  const EstimatorEpochResult next = epochAtRest(*smoother, sim, atRest(sim, 60.0, 61.0));
+  EXPECT_EQ(next.status, EpochStatus::Ok) << next.reason;
+  EXPECT_GE(smoother->droppedReadings(), 5800u);
 }
 
 TEST(PppInsSmoother, SaysWhyWithoutAnAttitudeOrWithoutImuReadings) {
