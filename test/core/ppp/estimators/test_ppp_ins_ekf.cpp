@@ -18,6 +18,7 @@
 #include "ppp_bayes_tree/navigation/so3.h"
 #include "ppp_bayes_tree/ppp/estimators/estimator_registry.h"
 #include "ppp_bayes_tree/ppp/estimators/ppp_ins_ekf.h"
+#include "ppp_bayes_tree/ppp/estimators/ppp_ins_smoother.h"
 
 namespace ppp {
 namespace {
@@ -232,6 +233,76 @@ TEST(PppInsEkf, SaysWhyWithoutAnAttitudeOrWithoutImuReadings) {
   still.time = sim.time();
   still.specific_force_mps2 = Eigen::Vector3d(0.0, 0.0, 9.8);
   test::expectInsRefusals("ekf_ins", sim, {still});
+}
+
+TEST(PppInsEkf, AReadingHeldFromBeforeTheEpochCountsWholeAsTheSmootherCountsIt) {
+  // Held from 0.06 s before the first epoch to 0.05 s after it: 0.11 s, over the 0.1 s
+  // allowed, though only 0.05 s of it is after the epoch (imu_coverage.h). Both GNSS/INS
+  // estimators refuse the next epoch with the same reason.
+  for (const char* name : {"ekf_ins", "smoother_ins"}) {
+    SCOPED_TRACE(name);
+    sim::Simulator sim;
+    EstimatorOptions options;
+    options.ins.initial_rotation_ecef_body = Eigen::Matrix3d::Identity();
+    std::string why;
+    const auto estimator = makeEstimator(name, options, &why);
+    ASSERT_TRUE(estimator) << why;
+    const GnssTime t0 = sim.time();
+    const std::vector<ImuSample> first{ImuSample{t0 - 0.06, Eigen::Vector3d(0, 0, 9.8), Eigen::Vector3d::Zero()}};
+    std::vector<ImuSample> next;
+    for (int k = 1; k <= 20; ++k) next.push_back(ImuSample{t0 + 0.05 * k, Eigen::Vector3d(0, 0, 9.8), Eigen::Vector3d::Zero()});
+    const MeasurementFunction evaluate = sim::modelOf(sim.epoch());
+    EstimatorEpochInput input;
+    input.time = t0;
+    input.evaluate = &evaluate;
+    input.imu = &first;
+    ASSERT_EQ(estimator->processEpoch(input).status, EpochStatus::Ok);
+    sim.t_s = 1.0;
+    const MeasurementFunction later = sim::modelOf(sim.epoch());
+    input.time = sim.time();
+    input.evaluate = &later;
+    input.imu = &next;
+    const EstimatorEpochResult r = estimator->processEpoch(input);
+    EXPECT_EQ(r.no_solution_reason, NoSolutionReason::NoImuReadings) << r.reason;
+    EXPECT_EQ(r.reason, "IMU readings do not cover the interval to " + sim.time().toString() +
+                            ": gap of 0.110000 s after the reading at " + (t0 - 0.06).toString() +
+                            " (at most 0.100000 s)");
+  }
+}
+
+TEST(PppInsEkf, InertialStateIsTheNominalWithItsQualityAndCovarianceAndNoneForGnssOnly) {
+  test::TurnRunSetup setup;
+  setup.duration_s = 3.0;
+  test::TurnRun turn(setup);
+  std::string why;
+  const auto ins = makeEstimatorAs<PppInsEkf>("ekf_ins", turn.insOptions(), &why);
+  const auto smoother = makeEstimatorAs<PppInsSmoother>("smoother_ins", turn.insOptions(), &why);
+  const auto gnss = makeEstimator("ekf", turn.insOptions(), &why);
+  ASSERT_TRUE(ins && smoother && gnss) << why;
+  EXPECT_FALSE(ins->inertialState().has_value());  // before the start
+  turn.forEachEpoch([&](const test::TurnEpoch& epoch) {
+    ins->processEpoch(epoch.input);
+    smoother->processEpoch(epoch.input);
+    gnss->processEpoch(epoch.input);
+  });
+  EXPECT_FALSE(gnss->inertialState().has_value());
+  const std::optional<InertialState> s = ins->inertialState();
+  ASSERT_TRUE(s.has_value());
+  EXPECT_EQ(s->time - *ins->navTime(), 0.0);
+  EXPECT_EQ(s->nav.position_world_m, ins->navState().position_world_m);
+  EXPECT_EQ(s->nav.rotation_world_body, ins->navState().rotation_world_body);
+  EXPECT_EQ(s->bias.gyro_radps, ins->imuBias().gyro_radps);
+  EXPECT_EQ(s->antenna_ecef_m, ins->antennaPosition());
+  ASSERT_TRUE(s->attitude_quality && s->error_covariance);
+  EXPECT_EQ(s->attitude_quality->heading_sigma_rad, ins->attitudeQuality().heading_sigma_rad);
+  EXPECT_EQ(*s->error_covariance, (ins->covarianceMatrix().topLeftCorner<15, 15>()));
+  // The smoother's: its navState() at navTime(), without attitude quality or covariance.
+  const std::optional<InertialState> m = smoother->inertialState();
+  ASSERT_TRUE(m.has_value());
+  EXPECT_EQ(m->time - *smoother->navTime(), 0.0);
+  EXPECT_EQ(m->nav.position_world_m, smoother->navState()->position_world_m);
+  EXPECT_EQ(m->antenna_ecef_m, *smoother->antennaPosition());
+  EXPECT_FALSE(m->attitude_quality || m->error_covariance);
 }
 
 // Neither attitude nor heading nor velocity given, a walker's pace on a slow turn:
