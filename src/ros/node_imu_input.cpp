@@ -5,8 +5,6 @@
 #include <sstream>
 #include <stdexcept>
 
-#include <Eigen/Geometry>
-
 #include "ppp_bayes_tree/navigation/imu_noise.h"
 #include "ppp_bayes_tree/navigation/ins_alignment.h"
 #include "ppp_bayes_tree/ros/imu_conversions.h"
@@ -46,10 +44,8 @@ std::map<ppp::ImuInputProblem, std::size_t> screenCounts(const ppp::ImuInputScre
 }  // namespace
 
 Eigen::Matrix3d rotationFromRpyDeg(const Eigen::Vector3d& rpy_deg) {
-  const Eigen::Vector3d r = rpy_deg * ppp::kDegToRad;
-  return (Eigen::AngleAxisd(r.z(), Eigen::Vector3d::UnitZ()) * Eigen::AngleAxisd(r.y(), Eigen::Vector3d::UnitY()) *
-          Eigen::AngleAxisd(r.x(), Eigen::Vector3d::UnitX()))
-      .toRotationMatrix();
+  const Eigen::Vector3d rpy_rad = rpy_deg * ppp::kDegToRad;
+  return ppp::rotationNedBody(rpy_rad.x(), rpy_rad.y(), rpy_rad.z());
 }
 
 ImuExtrinsics parameterExtrinsics(const RosImuOptions& options) {

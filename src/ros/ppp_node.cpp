@@ -249,7 +249,7 @@ void PppNode::processObsEpoch(const ppp::ObsEpoch& epoch) {
   updatePhaseBiases();  // the live SSR phase biases and the batches' biases through the assembly's gate
   if (imu_) {  // the readings up to the epoch, as ppp_solve hands them on (none to a GNSS-only estimator)
     epoch_imu_ = imu_->takeUpTo(epoch.time);
-    processor_->setImu(insFilter() ? &epoch_imu_ : nullptr);
+    processor_->setImu(inertialActive() ? &epoch_imu_ : nullptr);
   }
   const auto start = std::chrono::steady_clock::now();
   const double cpu0_s = ppp::threadCpu_s();
@@ -286,7 +286,7 @@ void PppNode::processObsEpoch(const ppp::ObsEpoch& epoch) {
     if (solved) publishSolution(epoch.time, rec, s);
     status_pub_.publish(s);
   }
-  if (const ppp::PppInsEkf* filter = insFilter(); filter && filter->navTime()) restartInsOdometry(*filter);
+  if (const std::optional<ppp::InertialState> state = estimator_->inertialState()) restartInsOdometry(*state);
   if (rec.estimator_reset) {
     // The core restarted the estimator from its last good state (as offline in
     // ppp_solve); the node only counts and reports it.
@@ -306,7 +306,7 @@ void PppNode::publishSolution(const ppp::GnssTime& time, const ppp::PppEpochReco
     odom_to_base = tf_buffer_.lookupTransform(o.odom_frame, o.base_frame, ros::Time(0));
   const SolutionMessages out = outputs_.solution(rec, status, odom_to_base);
   // With the GNSS/INS filter the odometry and TF come at the IMU rate (publishInsOdometry).
-  if (!insFilter() && claimOdometryStamp(out.odometry.header.stamp)) {
+  if (!inertialActive() && claimOdometryStamp(out.odometry.header.stamp)) {
     odom_pub_.publish(out.odometry);
     if (out.tf) tf_.sendTransform(*out.tf);
   }
@@ -383,11 +383,13 @@ bool PppNode::resolveImuExtrinsics(const std::string& imu_frame) {
   return true;
 }
 
-const ppp::PppInsEkf* PppNode::insFilter() const { return dynamic_cast<const ppp::PppInsEkf*>(estimator_.get()); }
+bool PppNode::inertialActive() const {
+  const ppp::EstimatorEntry* entry = ppp::findEstimator(estimator_->name());
+  return entry && entry->state == ppp::EstimatedState::GnssInertial;
+}
 
 bool PppNode::insStopped(const ppp::PppEpochRecord& rec) const {
-  const ppp::PppInsEkf* filter = insFilter();
-  return filter && filter->navTime() && rec.no_solution_reason == ppp::NoSolutionReason::NoImuReadings;
+  return estimator_->inertialState() && rec.no_solution_reason == ppp::NoSolutionReason::NoImuReadings;
 }
 
 void PppNode::fallBackToGnss(const ppp::GnssTime& time, const std::string& why) {
@@ -404,12 +406,13 @@ void PppNode::fallBackToGnss(const ppp::GnssTime& time, const std::string& why) 
   switchEstimator(gnss);
 }
 
-void PppNode::restartInsOdometry(const ppp::PppInsEkf& filter) {
+void PppNode::restartInsOdometry(const ppp::InertialState& inertial) {
+  if (!inertial.error_covariance) return;
   InsState state;
-  state.time = *filter.navTime();
-  state.nav = filter.navState();
-  state.bias = filter.imuBias();
-  state.covariance = filter.covarianceMatrix().topLeftCorner<ppp::kInsErrorStateSize, ppp::kInsErrorStateSize>();
+  state.time = inertial.time;
+  state.nav = inertial.nav;
+  state.bias = inertial.bias;
+  state.covariance = *inertial.error_covariance;
   ins_odometry_->restart(state, imu_->lastTaken(), imu_->pending());
   if (const std::optional<InsState>& now = ins_odometry_->current()) publishInsOdometry(*now);
 }
@@ -447,12 +450,12 @@ void PppNode::fillInsStatus(ppp_bayes_tree::PppStatus& s, const ppp::GnssTime& t
   s.estimator = active_estimator_;
   s.imu_readings_used = static_cast<std::uint32_t>(imu_->counters().used);
   s.imu_readings_rejected = static_cast<std::uint32_t>(imu_->counters().rejected);
-  const ppp::PppInsEkf* filter = insFilter();
+  const std::optional<ppp::InertialState> ins = estimator_->inertialState();
   if (ins_fallback_reason_) {
     s.ins_state = S::INS_FALLEN_BACK;
     s.ins_state_text = "fallen back to GNSS";
     s.ins_reason = *ins_fallback_reason_;
-  } else if (!filter || !filter->navTime()) {
+  } else if (!ins) {
     s.ins_state = S::INS_WAITING;
     s.ins_state_text = "waiting";
     s.ins_reason = imu_extrinsics_ ? s.reason : "IMU extrinsics missing: no TF " + config_.ros.base_frame + " -> the IMU frame";
@@ -460,12 +463,14 @@ void PppNode::fillInsStatus(ppp_bayes_tree::PppStatus& s, const ppp::GnssTime& t
     s.ins_state = S::INS_RUNNING;
     s.ins_state_text = "running";
     for (int i = 0; i < 3; ++i) {
-      s.accel_bias_mps2[i] = filter->imuBias().accel_mps2[i];
-      s.gyro_bias_radps[i] = filter->imuBias().gyro_radps[i];
+      s.accel_bias_mps2[i] = ins->bias.accel_mps2[i];
+      s.gyro_bias_radps[i] = ins->bias.gyro_radps[i];
     }
-    InsState state;
-    state.covariance = filter->covarianceMatrix().topLeftCorner<ppp::kInsErrorStateSize, ppp::kInsErrorStateSize>();
-    s.ins_attitude_valid = attitudeSigma_rad(state) < config_.ros.imu.attitude_sigma_valid_deg * ppp::kDegToRad;
+    if (ins->error_covariance) {
+      InsState state;
+      state.covariance = *ins->error_covariance;
+      s.ins_attitude_valid = attitudeSigma_rad(state) < config_.ros.imu.attitude_sigma_valid_deg * ppp::kDegToRad;
+    }
   }
 }
 

@@ -9,14 +9,14 @@
 
 #include <cmath>
 #include <filesystem>
-#include <fstream>
-#include <sstream>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "ppp_bayes_tree/app/ppp_solve_run.h"
 #include "ppp_bayes_tree/navigation/ins_alignment.h"
 #include "ppp_bayes_tree/navigation/navigation_frame.h"
+#include "attitude_file.h"
 #include "ppp_bayes_tree/types/constants.h"
 #include "ppp_dataset.h"
 #include "test_support.h"
@@ -39,44 +39,63 @@ std::vector<ImuSample> atRest(const Eigen::Vector3d& position_ecef_m, const Gnss
   return out;
 }
 
-TEST(PppSolveIns, Zim2StaticImuEveryEpochSolvedWithItsAttitude) {
-  PPP_REQUIRE_SHARED_DATA();
-  const std::string dir = test::tempDir("ppp_solve_ins_zim2").string();
+/// The request of `estimator` on the ZIM2 hour with the readings of an IMU at rest from
+/// 10 s before its first epoch (2026-05-13 00:00 GPST, ../shared/data/README.md; for the
+/// levelling) and the heading given (north).
+PppSolveRequest staticImuRequest(const std::string& dir, const std::string& estimator) {
   const test::PppDataset data = test::zim2Dataset();
-  PppSolveRequest request = test::solveRequest(data, dir, "ekf_ins");
-  // 2026-05-13 00:00 GPST, the file's first epoch (../shared/data/README.md); 10 s before it for the levelling.
+  PppSolveRequest request = test::solveRequest(data, dir, estimator);
   const GnssTime start = GnssTime::fromGpsWeek(2418, 259200.0);
   request.imu = atRest(data.truth_ecef_m, start - 10.0, 3610.0);
   request.config.ins.initial_heading_rad = 0.0;
-  const std::vector<PppSolveOutcome> runs = solvePppEstimators(request);
-  ASSERT_EQ(runs.size(), 1u);
-  EXPECT_EQ(runs[0].run.estimator, "ekf_ins");
-  EXPECT_EQ(runs[0].run.epochs_solved, 120u);
-  std::ifstream in(dir + "/zim2_ekf_ins_attitude.csv");
-  ASSERT_TRUE(in) << "no attitude file";
-  std::string line;
-  std::getline(in, line);
-  EXPECT_EQ(line, "time_gpst,status,roll_deg,pitch_deg,heading_deg,velocity_north_mps,velocity_east_mps,velocity_down_mps,"
-                  "alignment,tilt_sigma_deg,heading_sigma_deg,attitude_publishable,antenna_x_m,antenna_y_m,antenna_z_m");
-  int rows = 0;
+  return request;
+}
+
+/// The runs of `request`: one, of its estimator, every one of the hour's 120 epochs solved.
+std::vector<PppSolveOutcome> solveEveryEpoch(const PppSolveRequest& request) {
+  std::vector<PppSolveOutcome> runs = solvePppEstimators(request);
+  EXPECT_EQ(runs.size(), 1u);
+  for (const PppSolveOutcome& r : runs) {
+    EXPECT_EQ(r.run.estimator, request.estimator);
+    EXPECT_EQ(r.run.epochs_solved, 120u);
+  }
+  return runs;
+}
+
+/// The largest roll, pitch or heading of the rows [deg].
+double largestAngle_deg(const test::AttitudeFileRows& file) {
   double worst_deg = 0.0;
-  while (std::getline(in, line)) {
-    ++rows;
-    std::stringstream ss(line);
-    std::string cell;
-    std::vector<std::string> cells;
-    while (std::getline(ss, cell, ',')) cells.push_back(cell);
-    ASSERT_EQ(cells.size(), 15u) << line;
-    for (int i = 2; i <= 4; ++i) worst_deg = std::max(worst_deg, std::abs(std::stod(cells[i])));
+  for (const test::AttitudeRow& row : file.rows)
+    for (int i = 2; i <= 4 && i < static_cast<int>(row.cells.size()); ++i)
+      worst_deg = std::max(worst_deg, std::abs(std::stod(row.cells[i])));
+  return worst_deg;
+}
+
+TEST(PppSolveIns, Zim2StaticImuEveryEpochSolvedWithItsAttitude) {
+  PPP_REQUIRE_SHARED_DATA();
+  const std::string dir = test::tempDir("ppp_solve_ins_zim2").string();
+  const PppSolveRequest request = staticImuRequest(dir, "ekf_ins");
+  const std::vector<PppSolveOutcome> runs = solveEveryEpoch(request);
+  ASSERT_EQ(runs.size(), 1u);
+  const std::optional<test::AttitudeFileRows> file = test::readAttitudeFile(dir + "/zim2_ekf_ins_attitude.csv");
+  ASSERT_TRUE(file) << "no attitude file";
+  EXPECT_EQ(file->header,
+            "time_gpst,status,roll_deg,pitch_deg,heading_deg,velocity_north_mps,velocity_east_mps,velocity_down_mps,"
+            "alignment,tilt_sigma_deg,heading_sigma_deg,attitude_publishable,antenna_x_m,antenna_y_m,antenna_z_m");
+  for (std::size_t i = 0; i < file->rows.size(); ++i) {
+    const test::AttitudeRow& row = file->rows[i];
+    const std::vector<std::string>& cells = row.cells;
+    ASSERT_EQ(cells.size(), 15u) << row.line;
     // The heading was given: aligned from the start, publishable while the sigmas
     // are within 2 deg (tilt) and 5 deg (heading). At rest the heading is not
     // observable: its sigma grows with the gyro noise (7.2 deg after the hour).
-    EXPECT_EQ(cells[8], "aligned") << line;
+    EXPECT_EQ(cells[8], "aligned") << row.line;
     const bool small = std::stod(cells[9]) <= 2.0 && std::stod(cells[10]) <= 5.0;
-    EXPECT_EQ(cells[11], small ? "1" : "0") << line;
-    if (rows == 1) EXPECT_EQ(cells[11], "1") << line;
+    EXPECT_EQ(cells[11], small ? "1" : "0") << row.line;
+    if (i == 0) EXPECT_EQ(cells[11], "1") << row.line;
   }
-  EXPECT_EQ(rows, 120);
+  EXPECT_EQ(file->rows.size(), 120u);
+  const double worst_deg = largestAngle_deg(*file);
   std::printf("ZIM2 with a static IMU: %zu of 120 epochs solved, attitude within %.4f deg of level and north\n",
               runs[0].run.epochs_solved, worst_deg);
   EXPECT_LT(worst_deg, 0.05);
@@ -91,15 +110,9 @@ TEST(PppSolveIns, Zim2StaticImuEveryEpochSolvedWithItsAttitude) {
 TEST(PppSolveIns, Zim2StaticImuSmootherInsSolvesEveryEpochLikeTheEkfIns) {
   PPP_REQUIRE_SHARED_DATA();
   const std::string dir = test::tempDir("ppp_solve_smoother_ins_zim2").string();
-  const test::PppDataset data = test::zim2Dataset();
-  PppSolveRequest request = test::solveRequest(data, dir, "smoother_ins");
-  const GnssTime start = GnssTime::fromGpsWeek(2418, 259200.0);
-  request.imu = atRest(data.truth_ecef_m, start - 10.0, 3610.0);
-  request.config.ins.initial_heading_rad = 0.0;
-  const std::vector<PppSolveOutcome> runs = solvePppEstimators(request);
+  const PppSolveRequest request = staticImuRequest(dir, "smoother_ins");
+  const std::vector<PppSolveOutcome> runs = solveEveryEpoch(request);
   ASSERT_EQ(runs.size(), 1u);
-  EXPECT_EQ(runs[0].run.estimator, "smoother_ins");
-  EXPECT_EQ(runs[0].run.epochs_solved, 120u);
   ASSERT_EQ(runs[0].outputs.size(), 2u);  // filtered and smoothed
   EXPECT_TRUE(std::filesystem::exists(runs[0].outputs[1].csv_path)) << runs[0].outputs[1].csv_path;
   PppSolveRequest ekf_ins = request;
@@ -114,22 +127,12 @@ TEST(PppSolveIns, Zim2StaticImuSmootherInsSolvesEveryEpochLikeTheEkfIns) {
               filtered_m, smoothed_m, ekf_m);
   EXPECT_LT(std::abs(filtered_m - ekf_m), 0.05);
   // Its attitude file: one row per epoch, level and north.
-  std::ifstream in(dir + "/zim2_smoother_ins_attitude.csv");
-  ASSERT_TRUE(in) << "no attitude file";
-  std::string line;
-  std::getline(in, line);
-  int rows = 0;
-  double worst_deg = 0.0;
-  while (std::getline(in, line)) {
-    ++rows;
-    std::stringstream ss(line);
-    std::string cell;
-    std::vector<std::string> cells;
-    while (std::getline(ss, cell, ',')) cells.push_back(cell);
-    ASSERT_EQ(cells.size(), 15u) << line;  // the columns of the attitude file's header
-    for (int i = 2; i <= 4; ++i) worst_deg = std::max(worst_deg, std::abs(std::stod(cells[i])));
-  }
-  EXPECT_EQ(rows, 120);
+  const std::optional<test::AttitudeFileRows> file = test::readAttitudeFile(dir + "/zim2_smoother_ins_attitude.csv");
+  ASSERT_TRUE(file) << "no attitude file";
+  for (const test::AttitudeRow& row : file->rows)
+    ASSERT_EQ(row.cells.size(), 15u) << row.line;  // the columns of the attitude file's header
+  EXPECT_EQ(file->rows.size(), 120u);
+  const double worst_deg = largestAngle_deg(*file);
   std::printf("smoother_ins attitude within %.4f deg of level and north\n", worst_deg);
   EXPECT_LT(worst_deg, 0.05);
 }

@@ -91,6 +91,15 @@ TEST(NodeImuOptions, EstimatorChoiceLeverArmAndStartFromRosImu) {
   EXPECT_THROW(ppp_ros::insOptions(level, ppp_ros::parameterExtrinsics(level.imu)), std::invalid_argument);
 }
 
+TEST(NodeImuOptions, RpyInDegreesIsTheCoreEulerRotationInRadians) {
+  // The parameters' [roll, pitch, yaw] [deg] compose as ppp::rotationNedBody [rad]: Rz Ry Rx.
+  const Eigen::Matrix3d r = ppp_ros::rotationFromRpyDeg(Eigen::Vector3d(30.0, -20.0, 120.0));
+  EXPECT_LT((r - ppp::rotationNedBody(M_PI / 6.0, -M_PI / 9.0, 2.0 * M_PI / 3.0)).norm(), 1e-15);
+  // A yaw of 90 deg turns x into y.
+  EXPECT_LT((ppp_ros::rotationFromRpyDeg(Eigen::Vector3d(0.0, 0.0, 90.0)) * Eigen::Vector3d::UnitX() -
+             Eigen::Vector3d::UnitY()).norm(), 1e-15);
+}
+
 TEST(NodeImuInput, ScreensNamesTopicFieldAndStampAndHandsReadingsPerEpoch) {
   ppp_ros::RosNodeOptions o;
   Warnings w;

@@ -31,7 +31,8 @@
 
 namespace ppp_ros {
 
-/// R = Rz(yaw) Ry(pitch) Rx(roll) from [roll, pitch, yaw] in degrees.
+/// R = Rz(yaw) Ry(pitch) Rx(roll) from the parameters' [roll, pitch, yaw] in degrees: the
+/// core's Euler composition (ppp::rotationNedBody, radians), here between any two frames.
 Eigen::Matrix3d rotationFromRpyDeg(const Eigen::Vector3d& rpy_deg);
 
 /// The IMU's pose in base_link: its origin [m] and its axes (R_base_imu).

@@ -42,7 +42,6 @@
 #include "ppp_bayes_tree/ppp/estimators/estimator_registry.h"
 #include "ppp_bayes_tree/ppp/pipeline/ppp_epoch_processor.h"
 #include "ppp_bayes_tree/ppp/pipeline/product_assembly.h"
-#include "ppp_bayes_tree/ppp/estimators/ppp_ins_ekf.h"
 #include "ppp_bayes_tree/ros/gnss_stream_subscriber.h"
 #include "ppp_bayes_tree/ros/ins_odometry.h"
 #include "ppp_bayes_tree/ros/node_config.h"
@@ -105,14 +104,15 @@ class PppNode {
   void onImu(const sensor_msgs::Imu::ConstPtr& msg);
   /// ros.imu.extrinsics tf: the IMU's pose in base_link from TF, once; false while missing.
   bool resolveImuExtrinsics(const std::string& imu_frame);
-  /// The GNSS/INS filter when it is the estimator in use (nullptr otherwise).
-  const ppp::PppInsEkf* insFilter() const;
+  /// The estimator in use has inertial states (the registry's GnssInertial: it takes the readings).
+  bool inertialActive() const;
   /// The IMU stopped after the start (the filter reports no readings): the epoch is not published.
   bool insStopped(const ppp::PppEpochRecord& rec) const;
   void fallBackToGnss(const ppp::GnssTime& time, const std::string& why);
   /// A new estimator of `name` (the lagged output handed over, the processor remade).
   void switchEstimator(const std::string& name);
-  void restartInsOdometry(const ppp::PppInsEkf& filter);
+  /// The odometry from the estimator's inertial state after an epoch (it needs the INS error covariance).
+  void restartInsOdometry(const ppp::InertialState& state);
   void publishInsOdometry(const InsState& state);
   void fillInsStatus(ppp_bayes_tree::PppStatus& s, const ppp::GnssTime& time) const;
   void imuDiagnostics(diagnostic_updater::DiagnosticStatusWrapper& s) const;

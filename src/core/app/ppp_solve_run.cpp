@@ -21,8 +21,6 @@
 #include "ppp_bayes_tree/io/untrusted_text.h"
 #include "ppp_bayes_tree/navigation/ins_alignment.h"
 #include "ppp_bayes_tree/ppp/estimators/estimator_registry.h"
-#include "ppp_bayes_tree/ppp/estimators/ppp_ins_ekf.h"
-#include "ppp_bayes_tree/ppp/estimators/ppp_ins_smoother.h"
 #include "ppp_bayes_tree/types/constants.h"
 #include "ppp_bayes_tree/types/number_text.h"
 #include "ppp_bayes_tree/types/text_format.h"
@@ -159,29 +157,21 @@ PppSolveOutcome plannedOutputs(const PppSolveRequest& req, const EstimatorEntry&
   return out;
 }
 
-/// The IMU state of a GNSS/INS estimator at an epoch it reached (nullopt: not reached).
-struct InertialRow {
-  NavState state;
-  std::optional<InsAttitudeQuality> quality;  ///< nullopt: the estimator does not report it
-  Eigen::Vector3d antenna_ecef_m;
-};
-using InertialStateAt = std::function<std::optional<InertialRow>(const GnssTime&)>;
-
 /// The GNSS/INS estimator's attitude and velocity after each epoch, also through
 /// epochs without a GNSS solution (<stem>_attitude.csv): the ZYX Euler angles of
 /// R_ned_body (ins_alignment.h) and the velocity in the local level frame.
 class AttitudeFile {
  public:
-  AttitudeFile(std::string path, InertialStateAt state)
-      : path_(std::move(path)), out_(openOut(path_)), state_(std::move(state)) {
+  AttitudeFile(std::string path, const PppEstimator& estimator)
+      : path_(std::move(path)), out_(openOut(path_)), estimator_(estimator) {
     out_ << "time_gpst,status,roll_deg,pitch_deg,heading_deg,velocity_north_mps,velocity_east_mps,velocity_down_mps,"
             "alignment,tilt_sigma_deg,heading_sigma_deg,attitude_publishable,antenna_x_m,antenna_y_m,antenna_z_m\n";
   }
   void write(const PppEpochRecord& rec) {
     if (rec.refused) return;
-    const std::optional<InertialRow> row = state_(rec.solution.time);
-    if (!row) return;
-    const NavState& s = row->state;
+    const std::optional<InertialState> row = estimator_.inertialState();
+    if (!row || !(row->time == rec.solution.time)) return;
+    const NavState& s = row->nav;
     const Eigen::Matrix3d ecef_ned = rotationEcefNed(s.position_world_m);
     const EulerAngles e = eulerAngles(ecef_ned.transpose() * s.rotation_world_body);
     const Eigen::Vector3d v = ecef_ned.transpose() * s.velocity_world_mps;
@@ -189,7 +179,7 @@ class AttitudeFile {
          << fixedDecimals(e.roll_rad * kRadToDeg, 4) << ',' << fixedDecimals(e.pitch_rad * kRadToDeg, 4) << ','
          << fixedDecimals(e.yaw_rad * kRadToDeg, 4) << ',' << fixedDecimals(v.x(), 4) << ','
          << fixedDecimals(v.y(), 4) << ',' << fixedDecimals(v.z(), 4) << ',';
-    writeQuality(row->quality);
+    writeQuality(row->attitude_quality);
     const Eigen::Vector3d& antenna = row->antenna_ecef_m;
     out_ << fixedDecimals(antenna.x(), 4) << ',' << fixedDecimals(antenna.y(), 4) << ','
          << fixedDecimals(antenna.z(), 4) << '\n';
@@ -217,28 +207,16 @@ class AttitudeFile {
 
   std::string path_;
   std::ofstream out_;
-  InertialStateAt state_;
+  const PppEstimator& estimator_;
 };
 
 /// The attitude file of an estimator with inertial states; none for the others.
 std::optional<AttitudeFile> attitudeFile(const PppSolveOutcome& out, const PppEstimator& estimator) {
-  InertialStateAt state;
-  if (const auto* ekf = dynamic_cast<const PppInsEkf*>(&estimator)) {
-    state = [ekf](const GnssTime& t) -> std::optional<InertialRow> {
-      if (!ekf->navTime() || !(*ekf->navTime() == t)) return std::nullopt;
-      return InertialRow{ekf->navState(), ekf->attitudeQuality(), ekf->antennaPosition()};
-    };
-  } else if (const auto* sm = dynamic_cast<const PppInsSmoother*>(&estimator)) {
-    state = [sm](const GnssTime& t) -> std::optional<InertialRow> {
-      if (!sm->navTime() || !(*sm->navTime() == t) || !sm->navState() || !sm->antennaPosition()) return std::nullopt;
-      return InertialRow{*sm->navState(), std::nullopt, *sm->antennaPosition()};
-    };
-  } else {
-    return std::nullopt;
-  }
+  const EstimatorEntry* entry = findEstimator(estimator.name());
+  if (!entry || entry->state != EstimatedState::GnssInertial) return std::nullopt;
   const std::string epochs_suffix = "_epochs.csv";
   return std::optional<AttitudeFile>(std::in_place,
-      out.epochs_path.substr(0, out.epochs_path.size() - epochs_suffix.size()) + "_attitude.csv", std::move(state));
+      out.epochs_path.substr(0, out.epochs_path.size() - epochs_suffix.size()) + "_attitude.csv", estimator);
 }
 
 /// The per-epoch files (epochs, residuals) written as the run goes, and what the

@@ -22,6 +22,7 @@
 #include "ppp_bayes_tree/ppp/estimators/code_least_squares.h"
 #include "ppp_bayes_tree/ppp/estimators/estimator_epoch_input.h"
 #include "ppp_bayes_tree/ppp/estimators/estimator_epoch_result.h"
+#include "ppp_bayes_tree/ppp/estimators/inertial_state.h"
 #include "ppp_bayes_tree/ppp/estimators/smoothed_trajectory_provider.h"
 #include "ppp_bayes_tree/ppp/model/measurement_function.h"
 #include "ppp_bayes_tree/ppp/model/receiver_state_layout.h"
@@ -49,6 +50,9 @@ class PppEstimator {
   virtual std::optional<double> gapBridgeMax_s() const { return std::nullopt; }
   /// The last result of processEpoch(EstimatorEpochInput), with its ambiguity summary.
   const EstimatorEpochResult& lastResult() const { return last_; }
+  /// The IMU state of an estimator with inertial states after the last epoch it
+  /// reached; nullopt before its start and for a GNSS-only estimator (the default).
+  virtual std::optional<InertialState> inertialState() const { return std::nullopt; }
   /// The smoothed trajectory of an estimator that smooths; nullptr for a filter.
   virtual const SmoothedTrajectoryProvider* smoothing() const { return nullptr; }
   /// The resolver (e.g. to hold an integer restored after a restart).

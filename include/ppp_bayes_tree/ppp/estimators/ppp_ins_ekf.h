@@ -80,6 +80,8 @@ class PppInsEkf : public PppEkf {
 
   std::string name() const override { return "ekf_ins"; }
   std::optional<double> gapBridgeMax_s() const override;
+  /// The nominal state, bias, antenna, attitude quality and INS error covariance; nullopt before the start.
+  std::optional<InertialState> inertialState() const override;
 
   /// The nominal state of the IMU (ECEF) and the IMU bias (corrected after each update).
   const NavState& navState() const { return nominal_; }
@@ -151,6 +153,9 @@ class PppInsEkf : public PppEkf {
   /// R_ned_body of the nominal state.
   Eigen::Matrix3d rotationNedBody() const;
   bool startNominal(const ReceiverState& start);
+  /// Whether the held reading and this epoch's cover [lastTime(), time] (imu_coverage.h); the
+  /// epoch's problem when not.
+  bool readingsCover(const GnssTime& time);
   bool propagateTo(const GnssTime& time);
   bool stepWith(double dt_s);
 

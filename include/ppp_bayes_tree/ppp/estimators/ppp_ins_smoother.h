@@ -31,6 +31,7 @@
 #include <vector>
 
 #include "ppp_bayes_tree/navigation/imu_bias.h"
+#include "ppp_bayes_tree/navigation/imu_coverage.h"
 #include "ppp_bayes_tree/navigation/imu_preintegration.h"
 #include "ppp_bayes_tree/navigation/imu_sample.h"
 #include "ppp_bayes_tree/navigation/nav_state.h"
@@ -51,6 +52,8 @@ class PppInsSmoother : public PppSmoother {
   explicit PppInsSmoother(const EstimatorOptions& options);
 
   std::string name() const override { return "smoother_ins"; }
+  /// navState() at navTime(), its bias and antenna (no attitude quality, no covariance); nullopt before the start.
+  std::optional<InertialState> inertialState() const override;
 
   /// The state of the IMU at the last epoch: the filtered one after a solved epoch,
   /// the dead-reckoned one (IMU only, from the last state) after an epoch without a
@@ -64,6 +67,10 @@ class PppInsSmoother : public PppSmoother {
   /// The smoothed NavState of state `index` while it is in the graph.
   std::optional<NavState> smoothedNavState(std::uint32_t index) const;
   const InsEkfOptions& insOptions() const { return ins_; }
+  /// The IMU readings kept (for the next IMU factor or a start), and how many were
+  /// dropped as no longer usable (before the start, or after a gap from the newest state).
+  std::size_t bufferedReadings() const { return readings_.size(); }
+  std::size_t droppedReadings() const { return dropped_readings_; }
 
   static smoother::Key navKey(std::uint32_t index) { return smoother::symbolKey(kNavStateSymbol, index); }
   static smoother::Key imuBiasKey(std::uint32_t index) { return smoother::symbolKey(kImuBiasSymbol, index); }
@@ -86,6 +93,12 @@ class PppInsSmoother : public PppSmoother {
   void addStartPriors(std::uint32_t index, const NavState& nav, const ImuBias& bias,
                       smoother::NonlinearFactorGraph& factors, smoother::Values& values) const;
   void keepReadingsFrom(const GnssTime& time);
+  /// Drops (and counts) the readings no interval can use any more: before the start, and
+  /// once the readings from the newest state have a gap no later reading closes, those
+  /// before the last one at or before this epoch (a start holds that one).
+  void dropUnusableReadings();
+  /// broken_ is of the newest state only.
+  void forgetGapOfAnOlderState();
 
   InsEkfOptions ins_;
   std::vector<ImuSample> input_readings_;  // this epoch's input
@@ -98,6 +111,8 @@ class PppInsSmoother : public PppSmoother {
   std::optional<NavState> last_nav_;       // the newest state's estimate, read at this epoch's prediction
   ImuBias last_bias_;
   std::optional<ImuPreintegration> pim_;   // from the newest state to this epoch
+  std::size_t dropped_readings_ = 0;       // see droppedReadings()
+  std::optional<ImuCoverage> broken_;      // a gap from the newest state no later reading closes
 };
 
 }  // namespace ppp

@@ -6,6 +6,7 @@
 #include <utility>
 
 #include "ppp_bayes_tree/ppp/estimators/ins_start_attitude.h"
+#include "ppp_bayes_tree/navigation/imu_coverage.h"
 #include "ppp_bayes_tree/navigation/ins_error_state.h"
 #include "ppp_bayes_tree/navigation/ins_mechanization.h"
 #include "ppp_bayes_tree/navigation/navigation_frame.h"
@@ -206,6 +207,18 @@ void PppInsEkf::alignHeadingFromTrack(Filter& f) {
   track_.clear();
 }
 
+std::optional<InertialState> PppInsEkf::inertialState() const {
+  if (!lastTime()) return std::nullopt;
+  InertialState s;
+  s.time = *lastTime();
+  s.nav = nominal_;
+  s.bias = bias_;
+  s.antenna_ecef_m = antennaPosition();
+  s.attitude_quality = attitudeQuality();
+  s.error_covariance = f_.P.topLeftCorner<kInsErrorStateSize, kInsErrorStateSize>();
+  return s;
+}
+
 InsAttitudeQuality PppInsEkf::attitudeQuality() const {
   InsAttitudeQuality q;
   if (!lastTime()) return q;
@@ -262,9 +275,24 @@ ReceiverState PppInsEkf::predict(double dt_s, bool first, const std::optional<Re
   return predicted;
 }
 
+bool PppInsEkf::readingsCover(const GnssTime& time) {
+  // The reading held at the nominal's time, then this epoch's after it.
+  const GnssTime start = *lastTime();
+  std::vector<ImuSample> readings;
+  if (held_) readings.push_back(*held_);
+  for (const ImuSample& s : pending_)
+    if (s.time - start > 0.0) readings.push_back(s);
+  const ImuCoverage coverage = imuCoverage(readings, start, time, ins_.max_imu_interval_s);
+  if (coverage.covered()) return true;
+  epoch_problem_ = {NoSolutionReason::NoImuReadings,
+                    "IMU readings do not cover the interval to " + epoch_time_.toString() + ": " + coverage.text()};
+  return false;
+}
+
 bool PppInsEkf::propagateTo(const GnssTime& time) {
   // Each reading is held from its time to the next one's; committed only when the
-  // readings cover the whole interval.
+  // readings cover the whole interval (imu_coverage.h) and are finite.
+  if (!readingsCover(time)) return false;
   const NavState nominal = nominal_;
   const Eigen::MatrixXd P = f_.P;
   const std::optional<ImuSample> held = held_;
@@ -290,18 +318,15 @@ bool PppInsEkf::propagateTo(const GnssTime& time) {
 }
 
 bool PppInsEkf::stepWith(double dt_s) {
-  const auto refuse = [this](const std::string& why) {
-    epoch_problem_ = {NoSolutionReason::NoImuReadings, "IMU readings do not cover the interval to " +
-                                                           epoch_time_.toString() + ": " + why};
-    return false;
-  };
-  if (!held_) return refuse("no reading held");
-  if (dt_s > ins_.max_imu_interval_s)
-    return refuse("gap of " + std::to_string(dt_s) + " s after the reading at " + held_->time.toString() +
-                  " (at most " + std::to_string(ins_.max_imu_interval_s) + " s)");
+  // The held reading (readingsCover: there is one, held at most max_imu_interval_s).
   const Eigen::Vector3d f_b = held_->specific_force_mps2 - bias_.accel_mps2;
   const Eigen::Vector3d w_b = held_->angular_rate_radps - bias_.gyro_radps;
-  if (!f_b.allFinite() || !w_b.allFinite()) return refuse("reading at " + held_->time.toString() + " not finite");
+  if (!f_b.allFinite() || !w_b.allFinite()) {
+    epoch_problem_ = {NoSolutionReason::NoImuReadings, "IMU readings do not cover the interval to " +
+                                                           epoch_time_.toString() + ": reading at " +
+                                                           held_->time.toString() + " not finite"};
+    return false;
+  }
   const InsDiscreteModel model =
       discretizeInsErrorModel(insErrorStateF(nominal_, f_b, w_b, ins_.bias_model), insErrorStateG(nominal_),
                               insNoiseSpectralDensity(ins_.noise, ins_.bias_model), dt_s);

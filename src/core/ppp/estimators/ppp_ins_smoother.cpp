@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "ppp_bayes_tree/navigation/imu_coverage.h"
 #include "ppp_bayes_tree/navigation/imu_smoother_factor.h"
 #include "ppp_bayes_tree/navigation/nav_state_value.h"
 #include "ppp_bayes_tree/navigation/navigation_frame.h"
@@ -16,34 +17,6 @@ namespace ppp {
 using smoother::Key;
 using smoother::NoiseModel;
 
-namespace {
-
-/// Why the readings do not cover [start, end] (held from each reading's time to the
-/// next one's, at most max_gap_s apart, one at or before start); empty when they do.
-std::string coverageProblem(const std::vector<ImuSample>& readings, const GnssTime& start, const GnssTime& end,
-                            double max_gap_s) {
-  std::optional<GnssTime> held;
-  for (const ImuSample& s : readings) {
-    if (s.time - start <= 0.0) {
-      held = s.time;
-      continue;
-    }
-    if (s.time - end > 0.0) break;
-    if (!held) return "no reading at or before " + start.toString();
-    if (s.time - *held > max_gap_s)
-      return "gap of " + std::to_string(s.time - *held) + " s after the reading at " + held->toString() +
-             " (at most " + std::to_string(max_gap_s) + " s)";
-    held = s.time;
-  }
-  if (!held) return "no reading at or before " + start.toString();
-  if (end - *held > max_gap_s)
-    return "gap of " + std::to_string(end - *held) + " s after the reading at " + held->toString() + " (at most " +
-           std::to_string(max_gap_s) + " s)";
-  return {};
-}
-
-}  // namespace
-
 PppInsSmoother::PppInsSmoother(const EstimatorOptions& options) : PppSmoother(options), ins_(options.ins) {
   if (auto problem = ins_.validate(); !problem.empty()) throw std::invalid_argument(problem);
 }
@@ -51,6 +24,16 @@ PppInsSmoother::PppInsSmoother(const EstimatorOptions& options) : PppSmoother(op
 std::optional<Eigen::Vector3d> PppInsSmoother::antennaPosition() const {
   if (!nav_) return std::nullopt;
   return AntennaPositionFactor::antennaOf(*nav_, ins_.lever_arm_body_m);
+}
+
+std::optional<InertialState> PppInsSmoother::inertialState() const {
+  if (!nav_ || !nav_time_) return std::nullopt;
+  InertialState s;
+  s.time = *nav_time_;
+  s.nav = *nav_;
+  s.bias = bias_;
+  s.antenna_ecef_m = *antennaPosition();
+  return s;
 }
 
 std::optional<NavState> PppInsSmoother::smoothedNavState(std::uint32_t index) const {
@@ -65,6 +48,22 @@ void PppInsSmoother::receiveEpochInput(const EstimatorEpochInput& input) {
   if (!input.imu) return;
   input_readings_ = *input.imu;
   readings_.insert(readings_.end(), input.imu->begin(), input.imu->end());
+  dropUnusableReadings();
+}
+
+void PppInsSmoother::forgetGapOfAnOlderState() {
+  if (broken_ && !(lastTime() && broken_->start == *lastTime())) broken_.reset();
+}
+
+void PppInsSmoother::dropUnusableReadings() {
+  // From the newest state a broken interval stays broken (the readings come in time
+  // order); before the start, and then, only a start uses readings: the last one at or
+  // before its epoch (this one or a later one) and those after it.
+  forgetGapOfAnOlderState();
+  if (lastTime() && !broken_) return;
+  const std::size_t before = readings_.size();
+  keepReadingsFrom(epoch_time_);
+  dropped_readings_ += before - readings_.size();
 }
 
 bool PppInsSmoother::startNav(const ReceiverState& start) {
@@ -113,10 +112,13 @@ ReceiverState PppInsSmoother::predict(double dt_s, bool first, const std::option
 
 bool PppInsSmoother::preintegrateTo(const GnssTime& time) {
   const GnssTime from = *lastTime();
-  const std::string problem = coverageProblem(readings_, from, time, ins_.max_imu_interval_s);
-  if (!problem.empty()) {
+  forgetGapOfAnOlderState();
+  // A gap that a later reading ended is for good: said as it was first found (its readings dropped since).
+  const ImuCoverage coverage = broken_ ? *broken_ : imuCoverage(readings_, from, time, ins_.max_imu_interval_s);
+  if (coverage.problem == ImuCoverageProblem::Gap && !coverage.held_to_end) broken_ = coverage;
+  if (!coverage.covered()) {
     epoch_problem_ = {NoSolutionReason::NoImuReadings,
-                      "IMU readings do not cover the interval to " + time.toString() + ": " + problem};
+                      "IMU readings do not cover the interval to " + time.toString() + ": " + coverage.text()};
     return false;
   }
   ImuPreintegration pim(ins_.noise, last_bias_);

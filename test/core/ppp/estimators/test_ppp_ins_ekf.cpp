@@ -12,13 +12,13 @@
 #include <memory>
 #include <vector>
 
-#include "analytic_trajectory.h"
+#include "ins_turn_run.h"
 #include "ppp_bayes_tree/navigation/ins_alignment.h"
 #include "ppp_bayes_tree/navigation/navigation_frame.h"
 #include "ppp_bayes_tree/navigation/so3.h"
 #include "ppp_bayes_tree/ppp/estimators/estimator_registry.h"
 #include "ppp_bayes_tree/ppp/estimators/ppp_ins_ekf.h"
-#include "ppp_simulator.h"
+#include "ppp_bayes_tree/ppp/estimators/ppp_ins_smoother.h"
 
 namespace ppp {
 namespace {
@@ -76,14 +76,8 @@ TEST(PppInsEkf, AntennaJacobianMatchesNumericalDifferencesOfEveryErrorComponent)
 
 // ---- The simulated run ---------------------------------------------------------------
 
-constexpr double kImuRate_hz = 100.0;
-
-struct RunSetup {
-  double duration_s = 120.0;
-  double outage_from_s = -1.0;  // GNSS outage [from, from + outage_s)
-  double outage_s = 0.0;
-  double rate_radps = 0.1;
-  double speed_mps = 10.0;
+/// The turn (ins_turn_run.h) and how the INS EKF starts on it.
+struct RunSetup : test::TurnRunSetup {
   /// No attitude, heading or velocity given: levelled from 2 s of readings before the
   /// start, the heading aligned in motion (InsEkfOptions::heading_alignment).
   bool unknown_heading = false;
@@ -102,22 +96,13 @@ struct EpochErrors {
   std::optional<InsAttitudeQuality> attitude;
 };
 
-/// Both filters on the same synthetic GNSS data (1 Hz) along an analytic turn; the
-/// INS EKF also gets the noise-free IMU readings (100 Hz, each the mid-interval value).
+/// Both filters on the same synthetic GNSS data (1 Hz) along an analytic turn
+/// (ins_turn_run.h); the INS EKF also gets the noise-free IMU readings (100 Hz).
 std::vector<EpochErrors> runBoth(const RunSetup& setup) {
-  sim::Simulator sim;
-  sim.noise = true;
-  const test::AnalyticTurn turn = test::AnalyticTurn::at(sim.position, setup.speed_mps, setup.rate_radps);
-  const Eigen::Vector3d lever(0.5, 0.2, -1.0);
-  const GnssTime t0 = sim.time();
-
-  EstimatorOptions options;
-  options.ins.noise = imuNoisePreset(ImuGrade::IndustrialMems);
-  options.ins.lever_arm_body_m = lever;
-  options.ins.initial_rotation_ecef_body =
-      turn.state(0.0).rotation_world_body * so3::expMap(Eigen::Vector3d(0.01, -0.01, 0.03));
-  options.ins.initial_velocity_ecef_mps = turn.state(0.0).velocity_world_mps + Eigen::Vector3d(0.2, -0.1, 0.1);
-  options.ins.initial_attitude_sigma_rad = 0.05;
+  test::TurnRunSetup turn_setup = setup;
+  turn_setup.readings_before_start = setup.unknown_heading ? 200 : 0;
+  test::TurnRun turn(turn_setup);
+  EstimatorOptions options = turn.insOptions();
   if (setup.unknown_heading) {
     options.ins.initial_rotation_ecef_body.reset();
     options.ins.initial_velocity_ecef_mps.setZero();
@@ -129,41 +114,29 @@ std::vector<EpochErrors> runBoth(const RunSetup& setup) {
   EXPECT_TRUE(ins && ekf) << why;
   if (!ins || !ekf) return {};
 
-  const double dt = 1.0 / kImuRate_hz;
-  int k = setup.unknown_heading ? -200 : 0;  // next IMU reading
   std::vector<EpochErrors> out;
-  for (int e = 0; e <= static_cast<int>(setup.duration_s); ++e) {
-    const double t = e;
-    std::vector<ImuSample> readings;
-    for (; k * dt <= t + 1e-9; ++k) readings.push_back(turn.reading((k + 0.5) * dt, t0 + k * dt));
-    const NavState truth = turn.state(t);
-    sim.t_s = t;
-    sim.position = truth.position_world_m + truth.rotation_world_body * lever;
+  turn.forEachEpoch([&](const test::TurnEpoch& epoch) {
     EpochErrors r;
-    r.t_s = t;
-    r.gnss = !(t >= setup.outage_from_s && t < setup.outage_from_s + setup.outage_s);
-    const std::vector<sim::SimObs> obs = r.gnss ? sim.epoch() : std::vector<sim::SimObs>{};
-    const MeasurementFunction evaluate = sim::modelOf(obs);
-    EstimatorEpochInput input;
-    input.time = sim.time();
-    input.evaluate = &evaluate;
-    input.imu = &readings;
+    r.t_s = epoch.t_s;
+    r.gnss = epoch.gnss;
+    EstimatorEpochInput input = epoch.input;
     r.ins = ins->processEpoch(input);
     input.imu = nullptr;
     r.ekf = ekf->processEpoch(input);
-    r.ins_error_m = ins->antennaPosition() - sim.position;
+    const NavState& truth = epoch.truth;
+    r.ins_error_m = ins->antennaPosition() - epoch.antenna_truth_m;
     r.ins_position_m = r.ins_error_m.norm();
     r.ins_velocity_mps = (ins->navState().velocity_world_mps - truth.velocity_world_mps).norm();
     r.ins_attitude_rad =
         so3::logMap(truth.rotation_world_body.transpose() * ins->navState().rotation_world_body).norm();
-    if (r.ekf.solution) r.ekf_position_m = (r.ekf.solution->state.position_ecef_m - sim.position).norm();
+    if (r.ekf.solution) r.ekf_position_m = (r.ekf.solution->state.position_ecef_m - epoch.antenna_truth_m).norm();
     const Eigen::Matrix3d ecef_ned = rotationEcefNed(truth.position_world_m);
     const double heading_error_rad = eulerAngles(ecef_ned.transpose() * ins->navState().rotation_world_body).yaw_rad -
                                      eulerAngles(ecef_ned.transpose() * truth.rotation_world_body).yaw_rad;
     r.ins_heading_error_rad = std::remainder(heading_error_rad, 2.0 * M_PI);
     r.attitude = r.ins.attitude;
     out.push_back(std::move(r));
-  }
+  });
   return out;
 }
 
@@ -210,14 +183,11 @@ TEST(PppInsEkf, CarriesThePositionThroughATenSecondGnssOutage) {
   // and the IMU grade: over T, dv0 T + (g dtheta0 + 3 sigma_ba) T^2 / 2 +
   // g 3 sigma_bg T^3 / 6 (the noise-free readings add nothing else). The error at
   // the start (dp0) is the GNSS solution's, code-dominated after 80 s of float PPP.
-  const double T = 10.0;
   const double dp0 = before.ins_position_m, dv0 = before.ins_velocity_mps, dtheta0 = before.ins_attitude_rad;
   EXPECT_LT(dp0, 1.0);
   EXPECT_LT(dv0, 0.05);
   EXPECT_LT(dtheta0, 5e-3);
-  const ImuNoise grade = imuNoisePreset(ImuGrade::IndustrialMems);
-  const double bound_m = dv0 * T + 0.5 * (9.81 * dtheta0 + 3.0 * grade.accel_bias_instability_mps2) * T * T +
-                         9.81 * 3.0 * grade.gyro_bias_instability_radps * T * T * T / 6.0;
+  const double bound_m = test::turnOutageDriftBound_m(10.0, dv0, dtheta0);
   double worst_m = 0.0;
   for (const auto& r : run) {
     if (r.gnss) continue;
@@ -256,45 +226,83 @@ TEST(PppInsEkf, RegisteredAsEkfInsAndNotRunByBoth) {
 }
 
 TEST(PppInsEkf, SaysWhyWithoutAnAttitudeOrWithoutImuReadings) {
+  // Without an attitude (one reading: too few to level); without a reading at the start;
+  // started with a reading, then 1 s later without any: a gap, said so, no GNSS-only solution.
   sim::Simulator sim;
-  const MeasurementFunction evaluate = sim::modelOf(sim.epoch());
-  EstimatorEpochInput input;
-  input.time = sim.time();
-  input.evaluate = &evaluate;
-  const std::vector<ImuSample> none;
-  std::string why;
-
-  auto no_attitude = makeEstimatorAs<PppInsEkf>("ekf_ins", EstimatorOptions{}, &why);
-  ASSERT_TRUE(no_attitude) << why;
-  const EstimatorEpochResult a = no_attitude->processEpoch(input);
-  EXPECT_EQ(a.status, EpochStatus::NoSolution);
-  EXPECT_EQ(a.no_solution_reason, NoSolutionReason::NoInitialAttitude) << a.reason;
-
-  EstimatorOptions options;
-  options.ins.initial_rotation_ecef_body = Eigen::Matrix3d::Identity();
-  auto no_imu = makeEstimatorAs<PppInsEkf>("ekf_ins", options, &why);
-  input.imu = &none;
-  const EstimatorEpochResult b = no_imu->processEpoch(input);
-  EXPECT_EQ(b.no_solution_reason, NoSolutionReason::NoImuReadings) << b.reason;
-  EXPECT_NE(b.reason.find("no IMU reading at or before the start"), std::string::npos) << b.reason;
-
-  // Started with a reading, then 1 s later without any: a gap, said so, no GNSS-only solution.
-  auto gap = makeEstimatorAs<PppInsEkf>("ekf_ins", options, &why);
   ImuSample still;
   still.time = sim.time();
   still.specific_force_mps2 = Eigen::Vector3d(0.0, 0.0, 9.8);
-  const std::vector<ImuSample> one{still};
-  input.imu = &one;
-  ASSERT_EQ(gap->processEpoch(input).status, EpochStatus::Ok);
-  sim.t_s += 1.0;
-  const MeasurementFunction later = sim::modelOf(sim.epoch());
-  input.time = sim.time();
-  input.evaluate = &later;
-  input.imu = &none;
-  const EstimatorEpochResult c = gap->processEpoch(input);
-  EXPECT_EQ(c.status, EpochStatus::NoSolution);
-  EXPECT_EQ(c.no_solution_reason, NoSolutionReason::NoImuReadings);
-  EXPECT_NE(c.reason.find("gap of"), std::string::npos) << c.reason;
+  test::expectInsRefusals("ekf_ins", sim, {still});
+}
+
+TEST(PppInsEkf, AReadingHeldFromBeforeTheEpochCountsWholeAsTheSmootherCountsIt) {
+  // Held from 0.06 s before the first epoch to 0.05 s after it: 0.11 s, over the 0.1 s
+  // allowed, though only 0.05 s of it is after the epoch (imu_coverage.h). Both GNSS/INS
+  // estimators refuse the next epoch with the same reason.
+  for (const char* name : {"ekf_ins", "smoother_ins"}) {
+    SCOPED_TRACE(name);
+    sim::Simulator sim;
+    EstimatorOptions options;
+    options.ins.initial_rotation_ecef_body = Eigen::Matrix3d::Identity();
+    std::string why;
+    const auto estimator = makeEstimator(name, options, &why);
+    ASSERT_TRUE(estimator) << why;
+    const GnssTime t0 = sim.time();
+    const std::vector<ImuSample> first{ImuSample{t0 - 0.06, Eigen::Vector3d(0, 0, 9.8), Eigen::Vector3d::Zero()}};
+    std::vector<ImuSample> next;
+    for (int k = 1; k <= 20; ++k) next.push_back(ImuSample{t0 + 0.05 * k, Eigen::Vector3d(0, 0, 9.8), Eigen::Vector3d::Zero()});
+    const MeasurementFunction evaluate = sim::modelOf(sim.epoch());
+    EstimatorEpochInput input;
+    input.time = t0;
+    input.evaluate = &evaluate;
+    input.imu = &first;
+    ASSERT_EQ(estimator->processEpoch(input).status, EpochStatus::Ok);
+    sim.t_s = 1.0;
+    const MeasurementFunction later = sim::modelOf(sim.epoch());
+    input.time = sim.time();
+    input.evaluate = &later;
+    input.imu = &next;
+    const EstimatorEpochResult r = estimator->processEpoch(input);
+    EXPECT_EQ(r.no_solution_reason, NoSolutionReason::NoImuReadings) << r.reason;
+    EXPECT_EQ(r.reason, "IMU readings do not cover the interval to " + sim.time().toString() +
+                            ": gap of 0.110000 s after the reading at " + (t0 - 0.06).toString() +
+                            " (at most 0.100000 s)");
+  }
+}
+
+TEST(PppInsEkf, InertialStateIsTheNominalWithItsQualityAndCovarianceAndNoneForGnssOnly) {
+  test::TurnRunSetup setup;
+  setup.duration_s = 3.0;
+  test::TurnRun turn(setup);
+  std::string why;
+  const auto ins = makeEstimatorAs<PppInsEkf>("ekf_ins", turn.insOptions(), &why);
+  const auto smoother = makeEstimatorAs<PppInsSmoother>("smoother_ins", turn.insOptions(), &why);
+  const auto gnss = makeEstimator("ekf", turn.insOptions(), &why);
+  ASSERT_TRUE(ins && smoother && gnss) << why;
+  EXPECT_FALSE(ins->inertialState().has_value());  // before the start
+  turn.forEachEpoch([&](const test::TurnEpoch& epoch) {
+    ins->processEpoch(epoch.input);
+    smoother->processEpoch(epoch.input);
+    gnss->processEpoch(epoch.input);
+  });
+  EXPECT_FALSE(gnss->inertialState().has_value());
+  const std::optional<InertialState> s = ins->inertialState();
+  ASSERT_TRUE(s.has_value());
+  EXPECT_EQ(s->time - *ins->navTime(), 0.0);
+  EXPECT_EQ(s->nav.position_world_m, ins->navState().position_world_m);
+  EXPECT_EQ(s->nav.rotation_world_body, ins->navState().rotation_world_body);
+  EXPECT_EQ(s->bias.gyro_radps, ins->imuBias().gyro_radps);
+  EXPECT_EQ(s->antenna_ecef_m, ins->antennaPosition());
+  ASSERT_TRUE(s->attitude_quality && s->error_covariance);
+  EXPECT_EQ(s->attitude_quality->heading_sigma_rad, ins->attitudeQuality().heading_sigma_rad);
+  EXPECT_EQ(*s->error_covariance, (ins->covarianceMatrix().topLeftCorner<15, 15>()));
+  // The smoother's: its navState() at navTime(), without attitude quality or covariance.
+  const std::optional<InertialState> m = smoother->inertialState();
+  ASSERT_TRUE(m.has_value());
+  EXPECT_EQ(m->time - *smoother->navTime(), 0.0);
+  EXPECT_EQ(m->nav.position_world_m, smoother->navState()->position_world_m);
+  EXPECT_EQ(m->antenna_ecef_m, *smoother->antennaPosition());
+  EXPECT_FALSE(m->attitude_quality || m->error_covariance);
 }
 
 // Neither attitude nor heading nor velocity given, a walker's pace on a slow turn:

@@ -12,29 +12,27 @@
 #include <memory>
 #include <vector>
 
-#include "analytic_trajectory.h"
+#include "ins_turn_run.h"
+#include "ppp_bayes_tree/navigation/ins_alignment.h"
 #include "ppp_bayes_tree/navigation/nav_state_value.h"
+#include "ppp_bayes_tree/navigation/navigation_frame.h"
 #include "ppp_bayes_tree/navigation/so3.h"
 #include "ppp_bayes_tree/ppp/estimators/antenna_position_factor.h"
 #include "ppp_bayes_tree/ppp/estimators/estimator_registry.h"
 #include "ppp_bayes_tree/ppp/estimators/ppp_ins_ekf.h"
 #include "ppp_bayes_tree/ppp/estimators/ppp_ins_smoother.h"
 #include "ppp_bayes_tree/smoother/numerical_jacobian.h"
-#include "ppp_simulator.h"
 
 namespace ppp {
 namespace {
 
-constexpr double kImuRate_hz = 100.0;
 // Largest filtered difference smoother_ins - ekf_ins allowed after the first minute [m]:
 // measured 0.063 m (mean errors 0.309 m both); the two differ in the IMU model
 // (preintegration vs the strapdown step) and the bias model (random walk vs InsBiasModel).
 constexpr double kFilteredTolerance_m = 0.10;
 
-struct RunSetup {
-  double duration_s = 120.0;
-  double outage_from_s = -1.0;  // GNSS outage [from, from + outage_s)
-  double outage_s = 0.0;
+/// The turn (ins_turn_run.h) and the smoother's fixed lag.
+struct RunSetup : test::TurnRunSetup {
   double fixed_lag_s = 0.0;
 };
 
@@ -56,64 +54,37 @@ struct RunResult {
   std::size_t stored_states = 0;
 };
 
-EstimatorOptions insOptions(const test::AnalyticTurn& turn, const Eigen::Vector3d& lever, double fixed_lag_s) {
-  EstimatorOptions options;
-  options.ins.noise = imuNoisePreset(ImuGrade::IndustrialMems);
-  options.ins.lever_arm_body_m = lever;
-  options.ins.initial_rotation_ecef_body =
-      turn.state(0.0).rotation_world_body * so3::expMap(Eigen::Vector3d(0.01, -0.01, 0.03));
-  options.ins.initial_velocity_ecef_mps = turn.state(0.0).velocity_world_mps + Eigen::Vector3d(0.2, -0.1, 0.1);
-  options.ins.initial_attitude_sigma_rad = 0.05;
-  options.smoother.fixed_lag_s = fixed_lag_s;
-  return options;
-}
-
-/// smoother_ins and ekf_ins on the same synthetic GNSS data (1 Hz) and IMU readings (100 Hz).
+/// smoother_ins and ekf_ins on the same synthetic GNSS data (1 Hz) and IMU readings (100 Hz) of the turn
+/// (ins_turn_run.h).
 RunResult runBoth(const RunSetup& setup) {
-  sim::Simulator sim;
-  sim.noise = true;
-  const test::AnalyticTurn turn = test::AnalyticTurn::at(sim.position, 10.0, 0.1);
-  const Eigen::Vector3d lever(0.5, 0.2, -1.0);
-  const GnssTime t0 = sim.time();
-  const EstimatorOptions options = insOptions(turn, lever, setup.fixed_lag_s);
+  test::TurnRun turn(setup);
+  EstimatorOptions options = turn.insOptions();
+  options.smoother.fixed_lag_s = setup.fixed_lag_s;
   std::string why;
   auto smoother = makeEstimatorAs<PppInsSmoother>("smoother_ins", options, &why);
   auto ekf = makeEstimatorAs<PppInsEkf>("ekf_ins", options, &why);
   EXPECT_TRUE(smoother && ekf) << why;
   if (!smoother || !ekf) return {};
-  const double dt = 1.0 / kImuRate_hz;
-  int k = 0;
   RunResult run;
-  for (int e = 0; e <= static_cast<int>(setup.duration_s); ++e) {
-    const double t = e;
-    std::vector<ImuSample> readings;
-    for (; k * dt <= t + 1e-9; ++k) readings.push_back(turn.reading((k + 0.5) * dt, t0 + k * dt));
-    const NavState truth = turn.state(t);
-    sim.t_s = t;
-    sim.position = truth.position_world_m + truth.rotation_world_body * lever;
+  turn.forEachEpoch([&](const test::TurnEpoch& epoch) {
     EpochErrors r;
-    r.t_s = t;
-    r.time = sim.time();
-    r.antenna_truth = sim.position;
-    r.gnss = !(t >= setup.outage_from_s && t < setup.outage_from_s + setup.outage_s);
-    const std::vector<sim::SimObs> obs = r.gnss ? sim.epoch() : std::vector<sim::SimObs>{};
-    const MeasurementFunction evaluate = sim::modelOf(obs);
-    EstimatorEpochInput input;
-    input.time = sim.time();
-    input.evaluate = &evaluate;
-    input.imu = &readings;
-    r.smoother = smoother->processEpoch(input);
-    r.ekf = ekf->processEpoch(input);
-    if (r.smoother.solution) r.smoother_m = (r.smoother.solution->state.position_ecef_m - sim.position).norm();
-    if (r.ekf.solution) r.ekf_m = (r.ekf.solution->state.position_ecef_m - sim.position).norm();
+    r.t_s = epoch.t_s;
+    r.time = epoch.input.time;
+    r.antenna_truth = epoch.antenna_truth_m;
+    r.gnss = epoch.gnss;
+    r.smoother = smoother->processEpoch(epoch.input);
+    r.ekf = ekf->processEpoch(epoch.input);
+    if (r.smoother.solution) r.smoother_m = (r.smoother.solution->state.position_ecef_m - r.antenna_truth).norm();
+    if (r.ekf.solution) r.ekf_m = (r.ekf.solution->state.position_ecef_m - r.antenna_truth).norm();
     if (smoother->navState()) {
-      r.nav_error_m = *smoother->antennaPosition() - sim.position;
+      const NavState& truth = epoch.truth;
+      r.nav_error_m = *smoother->antennaPosition() - r.antenna_truth;
       r.nav_velocity_mps = (smoother->navState()->velocity_world_mps - truth.velocity_world_mps).norm();
       r.nav_attitude_rad =
           so3::logMap(truth.rotation_world_body.transpose() * smoother->navState()->rotation_world_body).norm();
     }
     run.epochs.push_back(std::move(r));
-  }
+  });
   run.smoothed = smoother->smoothedTrajectory();
   run.stored_states = smoother->isam2().linearizationPoint().size();
   return run;
@@ -161,15 +132,11 @@ TEST(PppInsSmoother, CarriesThePositionThroughATenSecondGnssOutage) {
   ASSERT_EQ(run.epochs.size(), 101u);
   const EpochErrors& before = run.epochs[79];
   ASSERT_EQ(before.smoother.status, EpochStatus::Ok);
-  // The bound of the GNSS/INS EKF's test: over T, dv0 T + (g dtheta0 + 3 sigma_ba) T^2 / 2
-  // + g 3 sigma_bg T^3 / 6 from the state at the outage's start (noise-free readings).
-  const double T = 10.0;
+  // The bound of the GNSS/INS EKF's test from the state at the outage's start.
   const double dv0 = before.nav_velocity_mps, dtheta0 = before.nav_attitude_rad;
   EXPECT_LT(dv0, 0.05);
   EXPECT_LT(dtheta0, 5e-3);
-  const ImuNoise grade = imuNoisePreset(ImuGrade::IndustrialMems);
-  const double bound_m = dv0 * T + 0.5 * (9.81 * dtheta0 + 3.0 * grade.accel_bias_instability_mps2) * T * T +
-                         9.81 * 3.0 * grade.gyro_bias_instability_radps * T * T * T / 6.0;
+  const double bound_m = test::turnOutageDriftBound_m(10.0, dv0, dtheta0);
   double worst_m = 0.0;
   for (const auto& r : run.epochs) {
     if (r.gnss) continue;
@@ -226,43 +193,91 @@ TEST(PppInsSmoother, RegisteredAsSmootherInsAndNotRunByBoth) {
   for (const EstimatorEntry* e : *all) EXPECT_NE(e->name, "smoother_ins");
 }
 
-TEST(PppInsSmoother, SaysWhyWithoutAnAttitudeOrWithoutImuReadings) {
-  sim::Simulator sim;
-  const MeasurementFunction evaluate = sim::modelOf(sim.epoch());
-  std::vector<ImuSample> readings{ImuSample{sim.time() - 0.01, Eigen::Vector3d(0, 0, 9.8), Eigen::Vector3d::Zero()}};
+/// Readings of an IMU at rest at `position_ecef_m` with its axes north, east, down, at 100 Hz
+/// in (from_s, to_s] of `sim`'s time.
+std::vector<ImuSample> atRest(const sim::Simulator& sim, double from_s, double to_s) {
+  const Eigen::Matrix3d ecef_body = rotationEcefNed(sim.position);
+  ImuSample r;
+  r.specific_force_mps2 = -ecef_body.transpose() * ecefNavigationFrame(sim.position).gravity_world_mps2;
+  r.angular_rate_radps = ecef_body.transpose() * Eigen::Vector3d(0.0, 0.0, kEarthRotationRate_radps);
+  std::vector<ImuSample> out;
+  for (int k = static_cast<int>(std::lround(from_s * 100.0)) + 1; k <= std::lround(to_s * 100.0); ++k) {
+    r.time = sim.time() + (k * 0.01 - sim.t_s);
+    out.push_back(r);
+  }
+  return out;
+}
+
+/// One epoch of `estimator` at `sim`'s time with `readings`; without satellites unless `gnss`.
+EstimatorEpochResult epochAtRest(PppInsSmoother& estimator, sim::Simulator& sim, const std::vector<ImuSample>& readings,
+                                 bool gnss = true) {
+  const MeasurementFunction evaluate = sim::modelOf(gnss ? sim.epoch() : std::vector<sim::SimObs>{});
   EstimatorEpochInput input;
   input.time = sim.time();
   input.evaluate = &evaluate;
   input.imu = &readings;
-  std::string why;
-  auto smoother = makeEstimatorAs<PppInsSmoother>("smoother_ins", EstimatorOptions{}, &why);
-  ASSERT_TRUE(smoother) << why;
-  const EstimatorEpochResult r = smoother->processEpoch(input);
-  EXPECT_EQ(r.status, EpochStatus::NoSolution);
-  EXPECT_EQ(r.no_solution_reason, NoSolutionReason::NoInitialAttitude) << r.reason;
-  EXPECT_NE(r.reason.find("no initial attitude"), std::string::npos) << r.reason;
+  return estimator.processEpoch(input);
+}
 
-  // With an attitude but no reading at the start; then started, and 1 s later a gap.
+TEST(PppInsSmoother, KeepsOnlyTheReadingsItCanStillUseWhenTheImuStopsAndGnssGoesOn) {
+  // At rest; the IMU stops after 5 s and is back from 6 s on, GNSS all along: from the
+  // newest state (5 s) the readings have a gap no later reading closes, so every later
+  // epoch is refused for it, and the readings before the latest one are of no use.
+  sim::Simulator sim;
   EstimatorOptions options;
-  options.ins.initial_rotation_ecef_body = Eigen::Matrix3d::Identity();
-  const std::vector<ImuSample> none;
-  input.imu = &none;
-  auto no_imu = makeEstimatorAs<PppInsSmoother>("smoother_ins", options, &why);
-  const EstimatorEpochResult b = no_imu->processEpoch(input);
-  EXPECT_EQ(b.no_solution_reason, NoSolutionReason::NoImuReadings) << b.reason;
-  EXPECT_NE(b.reason.find("no IMU reading at or before the start"), std::string::npos) << b.reason;
-  auto gap = makeEstimatorAs<PppInsSmoother>("smoother_ins", options, &why);
-  input.imu = &readings;
-  ASSERT_EQ(gap->processEpoch(input).status, EpochStatus::Ok);
-  sim.t_s += 1.0;
-  const MeasurementFunction later = sim::modelOf(sim.epoch());
-  input.time = sim.time();
-  input.evaluate = &later;
-  input.imu = &none;
-  const EstimatorEpochResult c = gap->processEpoch(input);
-  EXPECT_EQ(c.status, EpochStatus::NoSolution);
-  EXPECT_EQ(c.no_solution_reason, NoSolutionReason::NoImuReadings);
-  EXPECT_NE(c.reason.find("gap of"), std::string::npos) << c.reason;
+  options.ins.initial_rotation_ecef_body = rotationEcefNed(sim.position);
+  std::string why;
+  auto smoother = makeEstimatorAs<PppInsSmoother>("smoother_ins", options, &why);
+  ASSERT_TRUE(smoother) << why;
+  std::string first_gap;
+  for (int e = 0; e <= 60; ++e) {
+    sim.t_s = e;
+    const std::vector<ImuSample> readings = e == 6 ? std::vector<ImuSample>{} : atRest(sim, e - 1.0, e);
+    const EstimatorEpochResult r = epochAtRest(*smoother, sim, readings);
+    if (e <= 5) {
+      ASSERT_EQ(r.status, EpochStatus::Ok) << e << " s: " << r.reason;
+      continue;
+    }
+    ASSERT_EQ(r.no_solution_reason, NoSolutionReason::NoImuReadings) << e << " s: " << r.reason;
+    const std::string gap = r.reason.substr(r.reason.find("gap of"));
+    if (e == 7) first_gap = gap;
+    if (e > 7) EXPECT_EQ(gap, first_gap) << e << " s";  // the same gap, said the same way
+    if (e > 7) EXPECT_LE(smoother->bufferedReadings(), 101u) << e << " s";
+  }
+  std::printf("IMU back after a gap, 54 epochs refused: %zu readings kept, %zu dropped\n",
+              smoother->bufferedReadings(), smoother->droppedReadings());
+  EXPECT_NE(first_gap.find("after the reading at " + (sim.time() - 55.0).toString()), std::string::npos) << first_gap;
+  EXPECT_GE(smoother->droppedReadings(), 5000u);
+}
+
+TEST(PppInsSmoother, KeepsOnlyTheReadingsAStartCanUseWhileGnssCannotStart) {
+  // No satellites for a minute, the IMU at 100 Hz: a start would hold the last reading at
+  // or before its epoch; the older ones are dropped. Then it starts with the readings kept.
+  sim::Simulator sim;
+  EstimatorOptions options;
+  options.ins.initial_rotation_ecef_body = rotationEcefNed(sim.position);
+  std::string why;
+  auto smoother = makeEstimatorAs<PppInsSmoother>("smoother_ins", options, &why);
+  ASSERT_TRUE(smoother) << why;
+  for (int e = 0; e < 60; ++e) {
+    sim.t_s = e;
+    const EstimatorEpochResult r = epochAtRest(*smoother, sim, atRest(sim, e - 1.0, e), false);
+    ASSERT_NE(r.status, EpochStatus::Ok);
+    EXPECT_LE(smoother->bufferedReadings(), 101u) << e << " s";
+  }
+  sim.t_s = 60.0;
+  EXPECT_EQ(epochAtRest(*smoother, sim, atRest(sim, 59.0, 60.0)).status, EpochStatus::Ok);
+  sim.t_s = 61.0;
+  const EstimatorEpochResult next = epochAtRest(*smoother, sim, atRest(sim, 60.0, 61.0));
+  EXPECT_EQ(next.status, EpochStatus::Ok) << next.reason;
+  EXPECT_GE(smoother->droppedReadings(), 5800u);
+}
+
+TEST(PppInsSmoother, SaysWhyWithoutAnAttitudeOrWithoutImuReadings) {
+  // Without an attitude; with an attitude but no reading at the start; then started, and 1 s later a gap.
+  sim::Simulator sim;
+  test::expectInsRefusals("smoother_ins", sim,
+                          {ImuSample{sim.time() - 0.01, Eigen::Vector3d(0, 0, 9.8), Eigen::Vector3d::Zero()}});
 }
 
 }  // namespace
