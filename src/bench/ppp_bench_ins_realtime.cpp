@@ -21,7 +21,8 @@
 // whether the targets (odometry p99 < 2 ms, smoother_ins epoch step p99 < 10 ms)
 // are met. Asserts nothing. scripts/bench_ins_realtime.sh builds and runs it.
 // Usage: ppp_bench_ins_realtime [--minutes 5] [--seed 7] [--flight 0] [--profile loiter]
-//          [--lag-s 60] [--gnss-rate-hz 10] [--imu-rate-hz 200] [--ekf-only]
+//          [--lag-s 60] [--gnss-rate-hz 10] [--imu-rate-hz 200] [--csv FILE] [--ekf-only]
+//   --csv: per smoother_ins epoch its step times, the iSAM2 steps and counts.
 #include <algorithm>
 #include <array>
 #include <chrono>
@@ -257,7 +258,7 @@ int usage(const char* why) {
   std::fprintf(stderr,
                "ppp_bench_ins_realtime: %s\nusage: ppp_bench_ins_realtime [--minutes 5] [--seed 7] [--flight 0] "
                "[--profile loiter|survey|figure8|climb] [--lag-s 60] [--gnss-rate-hz 10] [--imu-rate-hz 200] "
-               "[--ekf-only]\n",
+               "[--csv FILE] [--ekf-only]\n",
                why);
   return 2;
 }
@@ -289,12 +290,43 @@ std::string parse(int argc, char** argv, BenchOptions& o) {
   return "";
 }
 
+/// The figures and the targets' verdicts.
+void printReport(const RunFigures& ekf, const RunFigures& sm, bool ekf_only) {
+  std::printf("fixes (PPP-AR on):\n");
+  printFixes("ekf_ins", ekf);
+  if (!ekf_only) printFixes("smoother_ins", sm);
+  std::printf("latencies (wall):\n");
+  printTimes("odometry per IMU reading (screen + step)", ekf.odometry_s);
+  printTimes("ekf_ins GNSS epoch step (whole pipeline)", ekf.epoch_step_s);
+  printTimes("ekf_ins estimator step", ekf.estimator_s);
+  printTimes("ekf_ins odometry restart after the epoch", ekf.restart_s);
+  if (!ekf_only) {
+    printTimes("smoother_ins GNSS epoch step (whole pipeline)", sm.epoch_step_s);
+    printTimes("smoother_ins epoch step, thread CPU", sm.epoch_step_cpu_s);
+    printTimes("smoother_ins estimator step", sm.estimator_s);
+    printTimes("smoother_ins update (iSAM2 + fixed lag)", sm.isam2_s);
+    std::printf("  where the smoother_ins update goes:\n");
+    for (std::size_t i = 0; i < sm.isam2_step_s.size(); ++i)
+      printTimes(("  iSAM2 " + std::string(smoother::ISAM2Result::kStepNames[i])).c_str(), sm.isam2_step_s[i]);
+    printTimes("  marginalization + postfit check", sm.update_rest_s);
+    printTimes("  estimator step outside the update", sm.outside_update_s);
+  }
+  std::printf("targets: odometry p99 < 2 ms: %s; smoother_ins epoch step p99 < 10 ms: %s\n",
+              verdict(ekf.odometry_s, kOdometryTarget_s), ekf_only ? "NOT RUN" : verdict(sm.epoch_step_s, kSmootherTarget_s));
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   BenchOptions b;
   if (const std::string why = parse(argc, argv, b); !why.empty()) return usage(why.c_str());
-  MonteCarloOptions o = insArFlightOptions({parseFlightProfile(b.profile)}, 60.0 * b.minutes);
+  FlightProfile profile = FlightProfile::Loiter;
+  try {
+    profile = parseFlightProfile(b.profile);
+  } catch (const std::exception& e) {
+    return usage(("--profile: " + std::string(e.what())).c_str());
+  }
+  MonteCarloOptions o = insArFlightOptions({profile}, 60.0 * b.minutes);
   o.seed = b.seed;
   o.rate_hz = b.gnss_rate_hz;
   o.simulation.imu.rate_hz = b.imu_rate_hz;
@@ -322,26 +354,6 @@ int main(int argc, char** argv) {
   const RunFigures sm = b.ekf_only ? RunFigures{} : runSmootherIns(f, config, csv);
   if (csv) std::fclose(csv);
   std::printf("load average at the end: %s\n", loadAverage().c_str());
-  std::printf("fixes (PPP-AR on):\n");
-  printFixes("ekf_ins", ekf);
-  if (!b.ekf_only) printFixes("smoother_ins", sm);
-  std::printf("latencies (wall):\n");
-  printTimes("odometry per IMU reading (screen + step)", ekf.odometry_s);
-  printTimes("ekf_ins GNSS epoch step (whole pipeline)", ekf.epoch_step_s);
-  printTimes("ekf_ins estimator step", ekf.estimator_s);
-  printTimes("ekf_ins odometry restart after the epoch", ekf.restart_s);
-  if (!b.ekf_only) {
-    printTimes("smoother_ins GNSS epoch step (whole pipeline)", sm.epoch_step_s);
-    printTimes("smoother_ins epoch step, thread CPU", sm.epoch_step_cpu_s);
-    printTimes("smoother_ins estimator step", sm.estimator_s);
-    printTimes("smoother_ins update (iSAM2 + fixed lag)", sm.isam2_s);
-    std::printf("  where the smoother_ins update goes:\n");
-    for (std::size_t i = 0; i < sm.isam2_step_s.size(); ++i)
-      printTimes(("  iSAM2 " + std::string(smoother::ISAM2Result::kStepNames[i])).c_str(), sm.isam2_step_s[i]);
-    printTimes("  marginalization + postfit check", sm.update_rest_s);
-    printTimes("  estimator step outside the update", sm.outside_update_s);
-  }
-  std::printf("targets: odometry p99 < 2 ms: %s; smoother_ins epoch step p99 < 10 ms: %s\n",
-              verdict(ekf.odometry_s, kOdometryTarget_s), b.ekf_only ? "NOT RUN" : verdict(sm.epoch_step_s, kSmootherTarget_s));
+  printReport(ekf, sm, b.ekf_only);
   return 0;
 }
