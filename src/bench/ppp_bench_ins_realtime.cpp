@@ -8,7 +8,10 @@
 //     epoch), the node's buffer, and InsOdometry::step (the mechanization and the
 //     15-state covariance); after each GNSS epoch the odometry restart from the
 //     filter (restartInsOdometry);
-//  2. to smoother_ins with the fixed lag (default 60 s, config/live.yaml).
+//  2. to smoother_ins with the fixed lag; --smoother-config YAML takes the smoother
+//     section of a configuration (scripts/bench_ins_realtime.sh gives config/live.yaml:
+//     lag 60 s, wildfire threshold 1 mm, relinearization thresholds), else the Monte
+//     Carlo study's with a 60 s lag.
 // Measured (wall, steady clock):
 //  - odometry latency: per reading that gives an odometry state, from the reading
 //    handed to the screen to the state (pose, twist, covariance) available; the
@@ -21,7 +24,8 @@
 // whether the targets (odometry p99 < 2 ms, smoother_ins epoch step p99 < 10 ms)
 // are met. Asserts nothing. scripts/bench_ins_realtime.sh builds and runs it.
 // Usage: ppp_bench_ins_realtime [--minutes 5] [--seed 7] [--flight 0] [--profile loiter]
-//          [--lag-s 60] [--gnss-rate-hz 10] [--imu-rate-hz 200] [--csv FILE] [--ekf-only]
+//          [--smoother-config YAML] [--lag-s 60] [--gnss-rate-hz 10] [--imu-rate-hz 200] [--csv FILE]
+//          [--ekf-only]
 //   --csv: per smoother_ins epoch its step times, the iSAM2 steps and counts.
 #include <algorithm>
 #include <array>
@@ -32,6 +36,7 @@
 #include <fstream>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -60,7 +65,9 @@ constexpr double kSmootherTarget_s = 10e-3;
 constexpr double kNodeImuBuffer_s = 10.0;  // ros.imu.buffer_s default (config/ppp.yaml)
 
 struct BenchOptions {
-  double minutes = 5.0, lag_s = 60.0, gnss_rate_hz = 10.0, imu_rate_hz = 200.0;
+  double minutes = 5.0, gnss_rate_hz = 10.0, imu_rate_hz = 200.0;
+  std::optional<double> lag_s;  // default: the smoother configuration's, else 60 s
+  std::string smoother_config;  // YAML whose smoother section is used (e.g. config/live.yaml)
   std::uint64_t seed = 7;
   int flight = 0;
   std::string profile = "loiter";
@@ -257,7 +264,8 @@ const char* verdict(const std::vector<double>& times_s, double target_s) {
 int usage(const char* why) {
   std::fprintf(stderr,
                "ppp_bench_ins_realtime: %s\nusage: ppp_bench_ins_realtime [--minutes 5] [--seed 7] [--flight 0] "
-               "[--profile loiter|survey|figure8|climb] [--lag-s 60] [--gnss-rate-hz 10] [--imu-rate-hz 200] "
+               "[--profile loiter|survey|figure8|climb] [--smoother-config YAML] [--lag-s 60] [--gnss-rate-hz 10] "
+               "[--imu-rate-hz 200] "
                "[--csv FILE] [--ekf-only]\n",
                why);
   return 2;
@@ -278,6 +286,7 @@ std::string parse(int argc, char** argv, BenchOptions& o) {
     const bool number = end && *end == '\0' && !v.empty();
     if (a == "--profile") o.profile = v;
     else if (a == "--csv") o.csv = v;
+    else if (a == "--smoother-config") o.smoother_config = v;
     else if (!number) return a + ": not a number: " + v;
     else if (a == "--minutes" && x > 0.0) o.minutes = x;
     else if (a == "--seed" && x >= 0.0) o.seed = static_cast<std::uint64_t>(x);
@@ -288,6 +297,26 @@ std::string parse(int argc, char** argv, BenchOptions& o) {
     else return "unknown argument or value out of range: " + a + " " + v;
   }
   return "";
+}
+
+/// The estimators' configuration: the flight's (both start from the true attitude and
+/// velocity), the smoother section of --smoother-config (its screening stays the
+/// estimator's), the lag of --lag-s.
+PppConfig benchConfig(const MonteCarloOptions& o, const SimulatedFlight& f, const BenchOptions& b) {
+  PppConfig config = flightPppConfig(o.ppp, f);
+  const TrajectorySample& start = f.truth.front().trajectory;
+  config.ins.noise = f.imu.noise;
+  config.ins.initial_rotation_ecef_body = ecefFromBody(start);
+  config.ins.initial_velocity_ecef_mps = start.velocity_ecef_mps;
+  if (!b.smoother_config.empty()) {
+    const ScreeningOptions screening = config.smoother.screening;
+    config.smoother = loadPppConfig(b.smoother_config).smoother;
+    config.smoother.screening = screening;
+  } else {
+    config.smoother.fixed_lag_s = 60.0;
+  }
+  if (b.lag_s) config.smoother.fixed_lag_s = *b.lag_s;
+  return config;
 }
 
 /// The figures and the targets' verdicts.
@@ -331,21 +360,26 @@ int main(int argc, char** argv) {
   o.rate_hz = b.gnss_rate_hz;
   o.simulation.imu.rate_hz = b.imu_rate_hz;
   std::printf("ppp_bench_ins_realtime: %s, %.1f min, seed %llu flight %d, GNSS %.0f Hz (GPS + Galileo, PPP-AR on), "
-              "industrial MEMS IMU %.0f Hz, smoother_ins fixed lag %.0f s\n",
+              "industrial MEMS IMU %.0f Hz\n",
               b.profile.c_str(), b.minutes, static_cast<unsigned long long>(b.seed), b.flight, b.gnss_rate_hz,
-              b.imu_rate_hz, b.lag_s);
+              b.imu_rate_hz);
   std::printf("load average at the start: %s\n", loadAverage().c_str());
   const MonteCarloFlightSetup setup = monteCarloFlightSetup(o, b.flight);
   const auto t0 = Clock::now();
   const SimulatedFlight f = simulateFlight(monteCarloSimulationConfig(o, setup), setup.seed);
   std::printf("simulated %zu epochs and %zu IMU readings in %.1f s\n", f.epochs.size(), f.imu.samples.size(),
               secondsBetween(t0, Clock::now()));
-  PppConfig config = flightPppConfig(o.ppp, f);
-  const TrajectorySample& start = f.truth.front().trajectory;  // both start from the true attitude and velocity
-  config.ins.noise = f.imu.noise;
-  config.ins.initial_rotation_ecef_body = ecefFromBody(start);
-  config.ins.initial_velocity_ecef_mps = start.velocity_ecef_mps;
-  config.smoother.fixed_lag_s = b.lag_s;
+  PppConfig config;
+  try {
+    config = benchConfig(o, f, b);
+  } catch (const std::exception& e) {
+    return usage(("--smoother-config " + b.smoother_config + ": " + e.what()).c_str());
+  }
+  std::printf("smoother_ins: fixed lag %.0f s, wildfire threshold %g m, relinearization position %g m, ZWD %g m "
+              "(%s)\n",
+              config.smoother.fixed_lag_s, config.smoother.wildfire_threshold_m,
+              config.smoother.relinearize_position_m, config.smoother.relinearize_zwd_m,
+              b.smoother_config.empty() ? "the Monte Carlo study's" : b.smoother_config.c_str());
 
   const RunFigures ekf = runEkfIns(f, config);
   std::FILE* csv = b.csv.empty() ? nullptr : std::fopen(b.csv.c_str(), "w");
