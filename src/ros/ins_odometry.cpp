@@ -5,52 +5,10 @@
 
 #include <Eigen/Geometry>
 
-#include "ppp_bayes_tree/navigation/ins_mechanization.h"
 #include "ppp_bayes_tree/ros/message_conversions.h"
 #include "ppp_bayes_tree/types/constants.h"
 
 namespace ppp_ros {
-
-void InsOdometry::restart(const InsState& state, const std::optional<ppp::ImuSample>& held,
-                          const std::deque<ppp::ImuSample>& later) {
-  state_ = state;
-  held_ = held;
-  if (held_) state_->angular_rate_radps = held_->angular_rate_radps - state_->bias.gyro_radps;
-  for (const ppp::ImuSample& r : later)
-    if (!advance(r)) break;
-}
-
-void InsOdometry::stop() {
-  state_.reset();
-  held_.reset();
-}
-
-std::optional<InsState> InsOdometry::step(const ppp::ImuSample& reading) {
-  if (!state_ || reading.time - state_->time <= 0.0) return std::nullopt;
-  if (!advance(reading)) return std::nullopt;
-  return state_;
-}
-
-bool InsOdometry::advance(const ppp::ImuSample& reading) {
-  // The held reading moves the state from its time to this reading's (the filter's model).
-  const double dt_s = reading.time - state_->time;
-  if (dt_s <= 0.0) return true;
-  if (!held_ || dt_s > options_.max_imu_interval_s) {
-    stop();
-    return false;
-  }
-  const Eigen::Vector3d f_b = held_->specific_force_mps2 - state_->bias.accel_mps2;
-  const Eigen::Vector3d w_b = held_->angular_rate_radps - state_->bias.gyro_radps;
-  const ppp::InsDiscreteModel model = ppp::discretizeInsErrorModel(
-      ppp::insErrorStateF(state_->nav, f_b, w_b, options_.bias_model), ppp::insErrorStateG(state_->nav),
-      ppp::insNoiseSpectralDensity(options_.noise, options_.bias_model), dt_s);
-  state_->covariance = ppp::propagateInsCovariance(state_->covariance, model);
-  state_->nav = ppp::ecefInsStep(state_->nav, f_b, w_b, dt_s);
-  state_->time = reading.time;
-  held_ = reading;
-  state_->angular_rate_radps = reading.angular_rate_radps - state_->bias.gyro_radps;
-  return true;
-}
 
 BasePose basePose(const InsState& state, const ImuExtrinsics& e, const OdometryFrame& frame) {
   const Eigen::Matrix3d ecef_base = state.nav.rotation_world_body * e.rotation_base_imu.transpose();

@@ -13,7 +13,7 @@
 #include <cstdio>
 #include <vector>
 
-#include "ins_ar_flights.h"
+#include "ppp_bayes_tree/evaluation/ins_ar_flights.h"
 #include "ppp_bayes_tree/evaluation/monte_carlo.h"
 #include "ppp_bayes_tree/navigation/so3.h"
 #include "ppp_bayes_tree/ppp/estimators/ppp_ins_ekf.h"
@@ -23,7 +23,7 @@ namespace ppp {
 namespace {
 
 MonteCarloOptions insArStudy() {
-  return test::insArFlightOptions({FlightProfile::Survey, FlightProfile::Loiter}, 900.0);
+  return insArFlightOptions({FlightProfile::Survey, FlightProfile::Loiter}, 900.0);
 }
 
 /// The GNSS/INS filter's start: the true attitude and velocity of the first epoch

@@ -13,7 +13,7 @@
 #include <cstdio>
 #include <string>
 
-#include "ins_ar_flights.h"
+#include "ppp_bayes_tree/evaluation/ins_ar_flights.h"
 #include "ppp_bayes_tree/evaluation/monte_carlo.h"
 #include "ppp_bayes_tree/navigation/so3.h"
 #include "ppp_bayes_tree/simulation/simulated_imu.h"
@@ -23,7 +23,7 @@ namespace {
 
 constexpr double kOutageStart_s = 400.0, kOutage_s = 5.0;
 
-MonteCarloOptions flightOptions() { return test::insArFlightOptions({FlightProfile::Survey}, 900.0); }
+MonteCarloOptions flightOptions() { return insArFlightOptions({FlightProfile::Survey}, 900.0); }
 
 SimulatedFlight simulateWithOutage(const MonteCarloOptions& o) {
   const MonteCarloFlightSetup setup = monteCarloFlightSetup(o, 0);

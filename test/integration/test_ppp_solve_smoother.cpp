@@ -173,16 +173,19 @@ TEST(PppSolveSmoother, UnknownEstimatorsAreRefused) {
 }
 
 TEST(PppSolveSmoother, TimingSummaryNearestRank) {
-  // 1..100 ms: median 50.5 ms (mean of the two middle values), p99 = 99th value, max 100 ms.
+  // 1..100 ms: median 50.5 ms (mean of the two middle values), p90 = 90th value, p99 = 99th
+  // value, max 100 ms.
   std::vector<double> t;
   for (int k = 100; k >= 1; --k) t.push_back(k * 1e-3);
   const TimingSummary s = summarizeTimes(t);
   EXPECT_EQ(s.count, 100u);
   EXPECT_NEAR(s.median_s, 0.0505, 1e-12);
+  EXPECT_NEAR(s.p90_s, 0.090, 1e-12);
   EXPECT_NEAR(s.p99_s, 0.099, 1e-12);
   EXPECT_NEAR(s.max_s, 0.100, 1e-12);
   EXPECT_EQ(summarizeTimes({}).count, 0u);
   EXPECT_NEAR(summarizeTimes({0.003}).p99_s, 0.003, 1e-15);
+  EXPECT_NEAR(summarizeTimes({0.003}).p90_s, 0.003, 1e-15);
 }
 
 }  // namespace

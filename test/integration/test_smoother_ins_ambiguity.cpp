@@ -12,7 +12,7 @@
 #include <cstdlib>
 #include <fstream>
 
-#include "ins_ar_flights.h"
+#include "ppp_bayes_tree/evaluation/ins_ar_flights.h"
 #include "ppp_bayes_tree/evaluation/monte_carlo.h"
 #include "ppp_bayes_tree/ppp/estimators/estimator_registry.h"
 #include "ppp_bayes_tree/ppp/estimators/ppp_ins_ekf.h"
@@ -182,7 +182,7 @@ struct Figure8Flight {
   PppConfig config;
   explicit Figure8Flight(double duration_s) {
     const MonteCarloOptions o =
-        test::insArFlightOptions({FlightProfile::Survey, FlightProfile::Figure8}, duration_s);
+        insArFlightOptions({FlightProfile::Survey, FlightProfile::Figure8}, duration_s);
     const MonteCarloFlightSetup setup = monteCarloFlightSetup(o, 1);
     EXPECT_EQ(setup.profile, FlightProfile::Figure8);
     flight = simulateFlight(monteCarloSimulationConfig(o, setup), setup.seed);

@@ -1,8 +1,8 @@
-// The node's IMU input (node_imu_input.h) and its odometry at the IMU rate
-// (ins_odometry.h), without a ROS master: the options of the filter from
+// The node's IMU input (node_imu_input.h) and its odometry message at the IMU
+// rate (ins_odometry.h), without a ROS master: the options of the filter from
 // ros.imu, the screening with the topic, field and stamp named, the time-base
 // check that leaves a GNSS outage alone, the hand-over per epoch, and the
-// propagated state and its message against the mechanization.
+// odometry message of a state (the propagation itself: test_ins_odometry, core).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -12,9 +12,8 @@
 #include <Eigen/Geometry>
 #include <yaml-cpp/yaml.h>
 
+#include "ins_odometry_states.h"
 #include "ppp_bayes_tree/navigation/ins_alignment.h"
-#include "ppp_bayes_tree/navigation/ins_mechanization.h"
-#include "ppp_bayes_tree/navigation/navigation_frame.h"
 #include "ppp_bayes_tree/navigation/so3.h"
 #include "ppp_bayes_tree/ppp/config/yaml_section.h"
 #include "ppp_bayes_tree/ros/imu_conversions.h"
@@ -149,48 +148,7 @@ TEST(NodeImuInput, TimeBaseFarFromGnssRefusedButAGnssOutageLeavesTheReadingsAlon
   EXPECT_TRUE(w.any("far from the GNSS time"));
 }
 
-/// A state moving north at 10 m/s, level, x north (NED body = identity), at rest in attitude.
-ppp_ros::InsState movingState(const ppp::GnssTime& t) {
-  const Eigen::Vector3d p = ppp::geodeticToEcef({46.877 * ppp::kDegToRad, 7.465 * ppp::kDegToRad, 950.0});
-  ppp_ros::InsState s;
-  s.time = t;
-  s.nav.position_world_m = p;
-  s.nav.rotation_world_body = ppp::rotationEcefNed(p);
-  s.nav.velocity_world_mps = ppp::rotationEcefNed(p) * Eigen::Vector3d(10.0, 0.0, 0.0);
-  s.covariance = ppp::Matrix15d::Identity() * 1e-4;
-  return s;
-}
-
-ppp::ImuSample steadyReading(const ppp_ros::InsState& s, const ppp::GnssTime& t) {
-  ppp::ImuSample r;
-  r.time = t;
-  r.specific_force_mps2 =
-      -s.nav.rotation_world_body.transpose() * ppp::ecefNavigationFrame(s.nav.position_world_m).gravity_world_mps2;
-  return r;
-}
-
-TEST(InsOdometry, PropagatesLikeTheMechanizationRestartsThroughLaterReadingsAndStopsAtAGap) {
-  ppp::InsEkfOptions options;
-  ppp_ros::InsOdometry odo(options);
-  const ppp_ros::InsState start = movingState(kT0);
-  const ppp::ImuSample held = steadyReading(start, kT0);
-  std::deque<ppp::ImuSample> later;
-  for (int k = 1; k <= 10; ++k) later.push_back(steadyReading(start, kT0 + 0.01 * k));
-  odo.restart(start, held, later);
-  ASSERT_TRUE(odo.current().has_value());
-  EXPECT_EQ(odo.current()->time - (kT0 + 0.1), 0.0);
-  // The same ten steps of the mechanization by hand.
-  ppp::NavState by_hand = start.nav;
-  for (int k = 0; k < 10; ++k) by_hand = ppp::ecefInsStep(by_hand, held.specific_force_mps2, held.angular_rate_radps, 0.01);
-  EXPECT_LT((odo.current()->nav.position_world_m - by_hand.position_world_m).norm(), 1e-9);
-  EXPECT_NEAR((odo.current()->nav.position_world_m - start.nav.position_world_m).norm(), 1.0, 1e-3);  // 10 m/s, 0.1 s
-  EXPECT_GT(odo.current()->covariance(6, 6), start.covariance(6, 6));  // the covariance grows
-  // A reading not after the state: nothing; the next one: a state; one after a gap: the odometry stops.
-  EXPECT_FALSE(odo.step(later.back()).has_value());
-  EXPECT_TRUE(odo.step(steadyReading(start, kT0 + 0.11)).has_value());
-  EXPECT_FALSE(odo.step(steadyReading(start, kT0 + 0.5)).has_value());
-  EXPECT_FALSE(odo.current().has_value());
-}
+using ppp::test::movingState;
 
 TEST(InsOdometry, MessageHasBaseLinkPoseInTheMapAndTwistInBaseLink) {
   // IMU x fwd, y right, z down, 1 m ahead of base_link (x fwd, y left, z up); level, heading north.

@@ -58,10 +58,11 @@ struct PppSolutionOutput {
   std::string csv_path, pos_path, json_path;
 };
 
-/// Median, p99 and max of per-epoch times [s] (nearest rank), count of epochs.
+/// Median, p90, p99 and max of per-epoch times [s] (the percentiles by nearest rank),
+/// count of epochs.
 struct TimingSummary {
   std::size_t count = 0;
-  double median_s = 0.0, p99_s = 0.0, max_s = 0.0;
+  double median_s = 0.0, p90_s = 0.0, p99_s = 0.0, max_s = 0.0;
 };
 TimingSummary summarizeTimes(std::vector<double> times_s);
 

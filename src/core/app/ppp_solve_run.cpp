@@ -112,6 +112,7 @@ TimingSummary summarizeTimes(std::vector<double> t) {
     return t[std::min(t.size() - 1, k == 0 ? 0 : k - 1)];
   };
   s.median_s = t.size() % 2 ? t[t.size() / 2] : 0.5 * (t[t.size() / 2 - 1] + t[t.size() / 2]);
+  s.p90_s = rank(0.90);
   s.p99_s = rank(0.99);
   s.max_s = t.back();
   return s;

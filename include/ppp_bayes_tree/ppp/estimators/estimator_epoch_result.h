@@ -4,6 +4,7 @@
 // (float or fixed), the satellites used and rejected with their reasons, the
 // residuals, and the smoother's own diagnostics when the estimator is one.
 #include <Eigen/Core>
+#include <array>
 #include <cstddef>
 #include <optional>
 #include <string>
@@ -76,6 +77,11 @@ struct SmootherEpochDiagnostics {
   std::size_t cliques_touched = 0;
   std::size_t variables_marginalized = 0;  // fixed-lag only
   double update_time_s = 0.0;              // the iSAM2 (or fixed-lag) update
+  /// Wall time of the iSAM2 steps summed over the epoch's updates (the update and any
+  /// postfit removals) [s], in smoother::ISAM2Result::Step order: add factors,
+  /// relinearize, remove top, re-eliminate, back-substitute. The rest of update_time_s is
+  /// the fixed lag's marginalization and the postfit check's own work.
+  std::array<double, 5> isam2_step_time_s{};
 };
 
 struct EstimatorEpochResult {

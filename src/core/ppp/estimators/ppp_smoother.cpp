@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <tuple>
 #include <cmath>
 
 #include <Eigen/Cholesky>
@@ -323,6 +324,12 @@ namespace {
 /// The constrained ordering: states (and the inertial variables of a state, if any)
 /// by index, biases by the last state they were observed at (eliminated after it),
 /// oldest first.
+/// The update's step times added to the epoch's (SmootherEpochDiagnostics::isam2_step_time_s).
+void addStepTimes(const smoother::ISAM2Result& r, SmootherEpochDiagnostics& diag) {
+  static_assert(smoother::ISAM2Result::kNumSteps == std::tuple_size_v<decltype(diag.isam2_step_time_s)>);
+  for (std::size_t i = 0; i < r.step_time_s.size(); ++i) diag.isam2_step_time_s[i] += r.step_time_s[i];
+}
+
 std::function<int(Key)> orderingByLastState(const std::map<Key, std::uint32_t>& bias_last_state) {
   return [&bias_last_state](Key key) {
     const char symbol = smoother::keySymbol(key);
@@ -453,6 +460,7 @@ bool PppSmoother::updateWithNewFactors(SolveEpoch& e, EstimatorEpochResult& resu
       std::unordered_map<Key, double> stamps{{e.x, time_origin_ ? lagStamp_s(e.in.time) : 0.0}};
       for (Key k : e.inertial_keys) stamps.emplace(k, stamps.at(e.x));
       const smoother::FixedLagResult r = lag_->update(e.factors, e.values, stamps, e.newest);
+      addStepTimes(r.isam2, diag);
       diag.variables_relinearized = r.isam2.variables_relinearized;
       diag.variables_reeliminated = r.isam2.variables_reeliminated;
       diag.factors_relinearized = r.isam2.factors_relinearized;
@@ -465,6 +473,7 @@ bool PppSmoother::updateWithNewFactors(SolveEpoch& e, EstimatorEpochResult& resu
       up.newest_keys = e.newest;
       up.ordering_group = orderingByLastState(e.bias_last_state);
       const smoother::ISAM2Result r = isam_->update(e.factors, e.values, up);
+      addStepTimes(r, diag);
       diag.variables_relinearized = r.variables_relinearized;
       diag.variables_reeliminated = r.variables_reeliminated;
       diag.factors_relinearized = r.factors_relinearized;
@@ -532,13 +541,13 @@ bool PppSmoother::removeSatellite(SolveEpoch& e, std::size_t k, EstimatorEpochRe
     if (e.kept[j]) kept_newest.push_back(e.bias_of[j]);
   try {
     if (lag_) {
-      lag_->update({}, {}, {}, kept_newest, remove);
+      addStepTimes(lag_->update({}, {}, {}, kept_newest, remove).isam2, e.diag);
     } else {
       smoother::ISAM2UpdateParams up;
       up.newest_keys = kept_newest;
       up.remove_factor_indices = remove;
       up.ordering_group = orderingByLastState(e.bias_last_state);
-      isam_->update({}, {}, up);
+      addStepTimes(isam_->update({}, {}, up), e.diag);
     }
   } catch (const std::exception& ex) {
     e.diag.update_time_s = secondsSince(e.t_update);

@@ -1,14 +1,16 @@
 #pragma once
-// The simulated flights the GNSS/INS tests share: GPS + Galileo with phase biases
+// The simulated flights the GNSS/INS tests and the real-time benchmark
+// (ppp_bench_ins_realtime) share: GPS + Galileo with phase biases
 // (the Monte Carlo configuration "gps_galileo_ar"), white code noise (no multipath,
 // no time correlation in the code or the wide lane), so that PPP-AR fixes within
-// minutes, and an industrial MEMS IMU at 100 Hz; seed 7.
+// minutes, and an industrial MEMS IMU at 100 Hz; seed 7, GNSS at 1 Hz (the
+// benchmark sets its own seed and rates).
 #include <vector>
 
 #include "ppp_bayes_tree/evaluation/monte_carlo.h"
 #include "ppp_bayes_tree/navigation/imu_noise.h"
 
-namespace ppp::test {
+namespace ppp {
 
 inline MonteCarloOptions insArFlightOptions(std::vector<FlightProfile> profiles, double duration_s) {
   MonteCarloOptions o;
@@ -25,4 +27,4 @@ inline MonteCarloOptions insArFlightOptions(std::vector<FlightProfile> profiles,
   return o;
 }
 
-}  // namespace ppp::test
+}  // namespace ppp
