@@ -1,0 +1,129 @@
+#include "ppp_bayes_tree/ppp/model/doppler_observation.h"
+
+#include <Eigen/Geometry>
+#include <cmath>
+
+#include "ppp_bayes_tree/models/signal_geometry.h"
+#include "ppp_bayes_tree/types/constants.h"
+#include "ppp_bayes_tree/types/frames.h"
+
+namespace ppp {
+
+namespace {
+
+/// d Rz(a) / da, Rz as in rotateForEarthRotation.
+Eigen::Vector3d rotationDerivative(const Eigen::Vector3d& v, double angle_rad) {
+  const double c = std::cos(angle_rad), s = std::sin(angle_rad);
+  return {-s * v.x() + c * v.y(), -c * v.x() - s * v.y(), 0.0};
+}
+
+/// The light time tau of rho = |Rz(w tau) r_s - r_r| for a satellite state fixed
+/// at the transmission time (the state is given there).
+double lightTime_s(const Eigen::Vector3d& satellite_ecef_m, const Eigen::Vector3d& receiver_ecef_m) {
+  double tau = (satellite_ecef_m - receiver_ecef_m).norm() / kSpeedOfLight_mps;
+  for (int i = 0; i < 3; ++i)
+    tau = (rotateForEarthRotation(satellite_ecef_m, tau) - receiver_ecef_m).norm() / kSpeedOfLight_mps;
+  return tau;
+}
+
+}  // namespace
+
+RangeRatePrediction predictRangeRate(const Eigen::Vector3d& satellite_position_ecef_m,
+                                     const Eigen::Vector3d& satellite_velocity_ecef_mps,
+                                     const Eigen::Vector3d& receiver_ecef_m,
+                                     const Eigen::Vector3d& receiver_velocity_ecef_mps) {
+  // d/dt of u = Rz(w tau) r_s(t - tau) - r_r(t): Rz v_s (1 - tau') + w tau' Rz' r_s - v_r,
+  // tau' = rho' / c, and rho' = e.u'; solved for rho'.
+  const double tau = lightTime_s(satellite_position_ecef_m, receiver_ecef_m);
+  const double angle = kEarthRotationRate_radps * tau;
+  const Eigen::Vector3d u = rotateForEarthRotation(satellite_position_ecef_m, tau) - receiver_ecef_m;
+  const Eigen::Vector3d e = u.normalized();
+  const Eigen::Vector3d v_s = rotateForEarthRotation(satellite_velocity_ecef_mps, tau);
+  const double a = e.dot(v_s - receiver_velocity_ecef_mps);
+  const double b =
+      e.dot(kEarthRotationRate_radps * rotationDerivative(satellite_position_ecef_m, angle) - v_s) / kSpeedOfLight_mps;
+  RangeRatePrediction p;
+  p.range_rate_mps = a / (1.0 - b);
+  p.d_receiver_velocity = -e / (1.0 - b);
+  p.line_of_sight = e;
+  p.elevation_rad = azimuthElevation(receiver_ecef_m, receiver_ecef_m + u).elevation_rad;
+  return p;
+}
+
+double relativisticClockRate_mps(const Eigen::Vector3d& satellite_position_ecef_m,
+                                 const Eigen::Vector3d& satellite_velocity_ecef_mps) {
+  // d(r.v)/dt = v_i.v_i + r.a_i (r.v is the same in ECEF and inertial axes), a_i = -mu r / |r|^3.
+  const Eigen::Vector3d omega(0.0, 0.0, kEarthRotationRate_radps);
+  const Eigen::Vector3d v_i = satellite_velocity_ecef_mps + omega.cross(satellite_position_ecef_m);
+  const double rv_rate = v_i.squaredNorm() - kGmGps_m3ps2 / satellite_position_ecef_m.norm();
+  return -2.0 * rv_rate / kSpeedOfLight_mps;
+}
+
+const char* dopplerSkipReasonText(DopplerSkipReason reason) {
+  switch (reason) {
+    case DopplerSkipReason::NoDoppler: return "no Doppler of the first frequency's signal";
+    case DopplerSkipReason::NoClock: return "no satellite clock";
+    case DopplerSkipReason::NoOrbit: return "no satellite orbit";
+  }
+  return "unknown";
+}
+
+namespace {
+
+/// The Doppler [Hz] of the signal of `phase` (same band and attribute), when observed.
+std::optional<double> dopplerOf(const ObsEpoch& epoch, const SatelliteId& sat, ObservationCode phase) {
+  phase.type = ObservableType::Doppler;
+  const Observation* o = epoch.find(sat, phase);
+  if (!o || !o->value || !std::isfinite(*o->value)) return std::nullopt;
+  return *o->value;
+}
+
+/// The satellite clock rate without the relativistic term [s/s], by central difference.
+std::optional<double> clockRate_sps(const EphemerisSource& ephemeris, const SatelliteId& sat, const GnssTime& t) {
+  constexpr double kHalfStep_s = 0.5;
+  const auto before = ephemeris.satelliteClock(sat, t - kHalfStep_s);
+  const auto after = ephemeris.satelliteClock(sat, t + kHalfStep_s);
+  if (!before.ok() || !after.ok()) return std::nullopt;
+  return (after.value->clock_bias_s - before.value->clock_bias_s) / (2.0 * kHalfStep_s);
+}
+
+}  // namespace
+
+DopplerEpoch dopplerObservations(const ObsEpoch& epoch, const std::vector<DualFrequencyObservation>& selected,
+                                 const EphemerisSource& ephemeris) {
+  DopplerEpoch out;
+  for (const DualFrequencyObservation& s : selected) {
+    const std::optional<double> doppler_hz = dopplerOf(epoch, s.satellite, s.phase1);
+    if (!doppler_hz || !(s.frequency1_hz > 0.0)) {
+      out.skipped.emplace_back(s.satellite, DopplerSkipReason::NoDoppler);
+      continue;
+    }
+    GnssTime t = epoch.time - s.code1_m / kSpeedOfLight_mps;
+    const auto clock = ephemeris.satelliteClock(s.satellite, t);
+    const std::optional<double> rate = clock.ok() ? clockRate_sps(ephemeris, s.satellite, t) : std::nullopt;
+    if (!rate) {
+      out.skipped.emplace_back(s.satellite, DopplerSkipReason::NoClock);
+      continue;
+    }
+    t -= clock.value->clock_bias_s;
+    const auto orbit = ephemeris.satelliteOrbit(s.satellite, t);
+    if (!orbit.ok()) {
+      out.skipped.emplace_back(s.satellite, DopplerSkipReason::NoOrbit);
+      continue;
+    }
+    DopplerObservation d;
+    d.satellite = s.satellite;
+    d.code = s.phase1;
+    d.code.type = ObservableType::Doppler;
+    d.wavelength_m = kSpeedOfLight_mps / s.frequency1_hz;
+    d.range_rate_mps = -d.wavelength_m * *doppler_hz;
+    d.satellite_position_ecef_m = orbit.value->position_ecef_m;
+    d.satellite_velocity_ecef_mps = orbit.value->velocity_ecef_mps;
+    d.satellite_clock_rate_mps = kSpeedOfLight_mps * *rate + relativisticClockRate_mps(d.satellite_position_ecef_m,
+                                                                                       d.satellite_velocity_ecef_mps);
+    out.observations.push_back(d);
+  }
+  return out;
+}
+
+}  // namespace ppp
