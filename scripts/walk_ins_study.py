@@ -12,7 +12,7 @@ the walk's RTK reference gnss_1730_sf.pos at its fixed epochs (Q=1):
     reference's over the same epochs (ekf_ins coasts; ekf has no solution there).
 
 Usage: walk_ins_study.py [--bin DIR] [--data DIR] [--out DIR] [--gap-start "HH:MM:SS"]
-                         [--gap-s S] [--imu-grade G]
+                         [--gap-s S] [--imu-grade G] [--doppler on|off]
 The mounting is the data set's (shared/data/README.md, ubx/): IMU 0.05 m east of the
 antenna in the body frame (lever arm antenna - IMU = 0,-0.05,0 m), IMU axes rotated
 roll 180, pitch 0, yaw -90 deg from the body's. doc/studies/ins_walk.md has the figures.
@@ -61,7 +61,7 @@ def read_attitude(path):
         values = [r[i] for r in rows]
         if name == "time_gpst":
             cols[name] = np.array([seconds_of_day(v.split("T")[1]) for v in values])
-        elif name in ("status", "alignment"):
+        elif name in ("status", "alignment", "doppler_update"):
             cols[name] = np.array(values)
         else:
             cols[name] = np.array([float(v) if v else math.nan for v in values])
@@ -176,10 +176,20 @@ def run_solve(bin_dir, data, out, name, estimator, extra):
     return " ".join(cmd)
 
 
-def imu_options(data, grade, rotation, lever_arm):
+def imu_options(data, grade, rotation, lever_arm, doppler):
     ubx = os.path.join(data, "streams/ubx")
     return ["--imu", ubx + "/imu_1730.csv", "--imu-format", "logged", "--imu-tag", ubx + "/imu_1730.csv.tag",
-            "--imu-grade", grade, "--imu-rotation", rotation, "--lever-arm", lever_arm]
+            "--imu-grade", grade, "--imu-rotation", rotation, "--lever-arm", lever_arm, "--doppler", doppler]
+
+
+def doppler_counts(att):
+    """Epochs by Doppler update outcome, and the satellites the outlier screen rejected."""
+    if "doppler_update" not in att:
+        return None
+    outcomes = {}
+    for o in att["doppler_update"]:
+        outcomes[o] = outcomes.get(o, 0) + 1
+    return outcomes, int(np.nansum(att["doppler_rejected"]))
 
 
 def hms(s):
@@ -196,12 +206,13 @@ def main():
     p.add_argument("--imu-grade", default="consumer")
     p.add_argument("--imu-rotation", default="180,0,-90", help="the IMU's axes from the body's: roll,pitch,yaw [deg]")
     p.add_argument("--lever-arm", default="0,-0.05,0", help="antenna - IMU in the body frame [m]")
+    p.add_argument("--doppler", default="on", choices=("on", "off"), help="ekf_ins's Doppler velocity update")
     a = p.parse_args()
     os.makedirs(a.out, exist_ok=True)
     gap = "%s %s,%g" % (DATE, a.gap_start, a.gap_s)
     commands = [run_solve(a.bin, a.data, a.out, "walk", "ekf", []),
-                run_solve(a.bin, a.data, a.out, "walk", "ekf_ins", imu_options(a.data, a.imu_grade, a.imu_rotation, a.lever_arm)),
-                run_solve(a.bin, a.data, a.out, "walk_gap", "ekf_ins", imu_options(a.data, a.imu_grade, a.imu_rotation, a.lever_arm) +
+                run_solve(a.bin, a.data, a.out, "walk", "ekf_ins", imu_options(a.data, a.imu_grade, a.imu_rotation, a.lever_arm, a.doppler)),
+                run_solve(a.bin, a.data, a.out, "walk_gap", "ekf_ins", imu_options(a.data, a.imu_grade, a.imu_rotation, a.lever_arm, a.doppler) +
                           ["--gnss-gap", gap])]
     ref = read_reference(os.path.join(a.data, "streams/ubx/gnss_1730_sf.pos"))
     lat0, lon0 = ref[0, 1], ref[0, 2]
@@ -225,6 +236,10 @@ def main():
           % (hms(gnss[0, 0]), hms(first_ins)))
     print("aligned: %s" % (hms(ins["time_gpst"][np.argmax(ins["alignment"] == "aligned")])
                            if (ins["alignment"] == "aligned").any() else "never"))
+    counts = doppler_counts(ins)
+    if counts:
+        print("Doppler velocity updates (ekf_ins): %s; satellites rejected by the outlier screen: %d"
+              % (", ".join("%s %d" % kv for kv in sorted(counts[0].items())), counts[1]))
     print("")
     print("| against the RTK reference (Q=1) | GNSS only (ekf) | GNSS/INS (ekf_ins) |")
     print("|---|---|---|")

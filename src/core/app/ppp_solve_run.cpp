@@ -164,18 +164,21 @@ struct InertialRow {
   NavState state;
   std::optional<InsAttitudeQuality> quality;  ///< nullopt: the estimator does not report it
   Eigen::Vector3d antenna_ecef_m;
+  std::optional<PppInsEkf::DopplerUpdate> doppler;  ///< nullopt: the estimator has no Doppler update
 };
 using InertialStateAt = std::function<std::optional<InertialRow>(const GnssTime&)>;
 
 /// The GNSS/INS estimator's attitude and velocity after each epoch, also through
 /// epochs without a GNSS solution (<stem>_attitude.csv): the ZYX Euler angles of
-/// R_ned_body (ins_alignment.h) and the velocity in the local level frame.
+/// R_ned_body (ins_alignment.h) and the velocity in the local level frame; the
+/// Doppler velocity update's outcome, satellites and outliers (ekf_ins).
 class AttitudeFile {
  public:
   AttitudeFile(std::string path, InertialStateAt state)
       : path_(std::move(path)), out_(openOut(path_)), state_(std::move(state)) {
     out_ << "time_gpst,status,roll_deg,pitch_deg,heading_deg,velocity_north_mps,velocity_east_mps,velocity_down_mps,"
-            "alignment,tilt_sigma_deg,heading_sigma_deg,attitude_publishable,antenna_x_m,antenna_y_m,antenna_z_m\n";
+            "alignment,tilt_sigma_deg,heading_sigma_deg,attitude_publishable,antenna_x_m,antenna_y_m,antenna_z_m,"
+            "doppler_update,doppler_satellites,doppler_rejected\n";
   }
   void write(const PppEpochRecord& rec) {
     if (rec.refused) return;
@@ -192,7 +195,8 @@ class AttitudeFile {
     writeQuality(row->quality);
     const Eigen::Vector3d& antenna = row->antenna_ecef_m;
     out_ << fixedDecimals(antenna.x(), 4) << ',' << fixedDecimals(antenna.y(), 4) << ','
-         << fixedDecimals(antenna.z(), 4) << '\n';
+         << fixedDecimals(antenna.z(), 4) << ',';
+    writeDoppler(row->doppler);
   }
   void finish() {
     out_.flush();
@@ -215,6 +219,16 @@ class AttitudeFile {
          << fixedDecimals(q.heading_sigma_rad * kRadToDeg, 3) << ',' << (q.publishable ? 1 : 0) << ',';
   }
 
+  /// outcome (dopplerOutcomeText), satellites used, outliers rejected; empty fields without.
+  void writeDoppler(const std::optional<PppInsEkf::DopplerUpdate>& doppler) {
+    if (!doppler) {
+      out_ << ",,\n";
+      return;
+    }
+    out_ << PppInsEkf::dopplerOutcomeText(doppler->outcome) << ',' << doppler->satellites << ',' << doppler->rejected
+         << '\n';
+  }
+
   std::string path_;
   std::ofstream out_;
   InertialStateAt state_;
@@ -226,12 +240,12 @@ std::optional<AttitudeFile> attitudeFile(const PppSolveOutcome& out, const PppEs
   if (const auto* ekf = dynamic_cast<const PppInsEkf*>(&estimator)) {
     state = [ekf](const GnssTime& t) -> std::optional<InertialRow> {
       if (!ekf->navTime() || !(*ekf->navTime() == t)) return std::nullopt;
-      return InertialRow{ekf->navState(), ekf->attitudeQuality(), ekf->antennaPosition()};
+      return InertialRow{ekf->navState(), ekf->attitudeQuality(), ekf->antennaPosition(), ekf->dopplerUpdate()};
     };
   } else if (const auto* sm = dynamic_cast<const PppInsSmoother*>(&estimator)) {
     state = [sm](const GnssTime& t) -> std::optional<InertialRow> {
       if (!sm->navTime() || !(*sm->navTime() == t) || !sm->navState() || !sm->antennaPosition()) return std::nullopt;
-      return InertialRow{*sm->navState(), std::nullopt, *sm->antennaPosition()};
+      return InertialRow{*sm->navState(), std::nullopt, *sm->antennaPosition(), std::nullopt};
     };
   } else {
     return std::nullopt;

@@ -26,6 +26,7 @@
 
 #include "ppp_bayes_tree/models/ephemeris_source.h"
 #include "ppp_bayes_tree/ppp/model/dual_frequency_observation.h"
+#include "ppp_bayes_tree/types/glonass_channels.h"
 #include "ppp_bayes_tree/types/obs_epoch.h"
 
 namespace ppp {
@@ -68,10 +69,14 @@ struct DopplerEpoch {
   std::vector<std::pair<SatelliteId, DopplerSkipReason>> skipped;
 };
 
-/// The Doppler of each selected satellite's first-frequency phase signal (same band
-/// and attribute, e.g. L1C -> D1C) in `epoch`, with the satellite state at the
-/// transmission time t - C1 / c - dt_s from `ephemeris`.
+/// The Doppler of each satellite of `systems` in `epoch`, with the satellite state
+/// at the transmission time t - C / c - dt_s from `ephemeris`: for a satellite of
+/// the dual-frequency selection `selected`, its first phase signal's (same band and
+/// attribute, e.g. L1C -> D1C); for any other (a single-frequency satellite: the
+/// Doppler needs no pair), the first Doppler of the header's order with a
+/// pseudorange of the same signal (GLONASS: its channel from `channels`).
 DopplerEpoch dopplerObservations(const ObsEpoch& epoch, const std::vector<DualFrequencyObservation>& selected,
+                                 const std::vector<GnssSystem>& systems, const GlonassChannels& channels,
                                  const EphemerisSource& ephemeris);
 
 }  // namespace ppp

@@ -23,8 +23,9 @@ namespace ppp {
 struct DopplerVelocityOptions {
   /// Use the Doppler (GNSS/INS filter: a velocity update each epoch).
   bool enabled = true;
-  /// Sigma of one range rate at the zenith [m/s] (u-blox L1 Doppler about 0.1 Hz).
-  double sigma_zenith_mps = 0.05;
+  /// Sigma of one range rate at the zenith [m/s]: 0.1 m/s, the a posteriori
+  /// scatter of the hand-held u-blox walk's range rates (doc/studies/ins_walk.md).
+  double sigma_zenith_mps = 0.1;
   /// Satellites below this elevation are not used [rad] (7 deg, as the PPP model).
   double elevation_cutoff_rad = 0.1222;
   /// Normalised-residual threshold of the outlier screen.

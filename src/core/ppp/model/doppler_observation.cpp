@@ -1,9 +1,11 @@
 #include "ppp_bayes_tree/ppp/model/doppler_observation.h"
 
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <cmath>
 
 #include "ppp_bayes_tree/models/signal_geometry.h"
+#include "ppp_bayes_tree/types/carrier_frequency.h"
 #include "ppp_bayes_tree/types/constants.h"
 #include "ppp_bayes_tree/types/frames.h"
 
@@ -89,39 +91,86 @@ std::optional<double> clockRate_sps(const EphemerisSource& ephemeris, const Sate
 
 }  // namespace
 
+namespace {
+
+/// A satellite's Doppler signal: the selected pair's first phase signal when the
+/// satellite is selected, else the first Doppler (in the header's order) with a
+/// pseudorange of the same signal and a known carrier frequency.
+struct DopplerSignal {
+  ObservationCode code;
+  double doppler_hz = 0.0;
+  double pseudorange_m = 0.0;
+  double frequency_hz = 0.0;
+};
+
+std::optional<DopplerSignal> selectedSignal(const ObsEpoch& epoch, const DualFrequencyObservation& s) {
+  const std::optional<double> doppler_hz = dopplerOf(epoch, s.satellite, s.phase1);
+  if (!doppler_hz || !(s.frequency1_hz > 0.0)) return std::nullopt;
+  ObservationCode code = s.phase1;
+  code.type = ObservableType::Doppler;
+  return DopplerSignal{code, *doppler_hz, s.code1_m, s.frequency1_hz};
+}
+
+std::optional<DopplerSignal> firstSignal(const ObsEpoch& epoch, std::size_t i, const GlonassChannels& channels) {
+  const SatelliteId sat = epoch.satellites[i].satellite;
+  for (const Observation* o = epoch.begin(i); o != epoch.end(i); ++o) {
+    if (o->code.type != ObservableType::Doppler || !o->value || !std::isfinite(*o->value)) continue;
+    ObservationCode c = o->code;
+    c.type = ObservableType::Pseudorange;
+    const Observation* code = epoch.find(sat, c);
+    const auto f = carrierFrequency_hz(sat.system, c.band,
+                                       sat.system == GnssSystem::GLONASS ? channels.channel(sat.prn) : std::nullopt);
+    if (!code || !code->value || !(*code->value > 0.0) || !f) continue;
+    return DopplerSignal{o->code, *o->value, *code->value, *f};
+  }
+  return std::nullopt;
+}
+
+/// The observation of a signal with the satellite's state at the transmission time.
+std::optional<DopplerObservation> withSatelliteState(const SatelliteId& sat, const DopplerSignal& signal,
+                                                     const GnssTime& time, const EphemerisSource& ephemeris,
+                                                     DopplerSkipReason& why) {
+  GnssTime t = time - signal.pseudorange_m / kSpeedOfLight_mps;
+  const auto clock = ephemeris.satelliteClock(sat, t);
+  const std::optional<double> rate = clock.ok() ? clockRate_sps(ephemeris, sat, t) : std::nullopt;
+  why = DopplerSkipReason::NoClock;
+  if (!rate) return std::nullopt;
+  t -= clock.value->clock_bias_s;
+  const auto orbit = ephemeris.satelliteOrbit(sat, t);
+  why = DopplerSkipReason::NoOrbit;
+  if (!orbit.ok()) return std::nullopt;
+  DopplerObservation d;
+  d.satellite = sat;
+  d.code = signal.code;
+  d.wavelength_m = kSpeedOfLight_mps / signal.frequency_hz;
+  d.range_rate_mps = -d.wavelength_m * signal.doppler_hz;
+  d.satellite_position_ecef_m = orbit.value->position_ecef_m;
+  d.satellite_velocity_ecef_mps = orbit.value->velocity_ecef_mps;
+  d.satellite_clock_rate_mps = kSpeedOfLight_mps * *rate + relativisticClockRate_mps(d.satellite_position_ecef_m,
+                                                                                     d.satellite_velocity_ecef_mps);
+  return d;
+}
+
+}  // namespace
+
 DopplerEpoch dopplerObservations(const ObsEpoch& epoch, const std::vector<DualFrequencyObservation>& selected,
+                                 const std::vector<GnssSystem>& systems, const GlonassChannels& channels,
                                  const EphemerisSource& ephemeris) {
   DopplerEpoch out;
-  for (const DualFrequencyObservation& s : selected) {
-    const std::optional<double> doppler_hz = dopplerOf(epoch, s.satellite, s.phase1);
-    if (!doppler_hz || !(s.frequency1_hz > 0.0)) {
-      out.skipped.emplace_back(s.satellite, DopplerSkipReason::NoDoppler);
+  for (std::size_t i = 0; i < epoch.satellites.size(); ++i) {
+    const SatelliteId sat = epoch.satellites[i].satellite;
+    if (std::find(systems.begin(), systems.end(), sat.system) == systems.end()) continue;
+    const auto s = std::find_if(selected.begin(), selected.end(),
+                                [&](const DualFrequencyObservation& o) { return o.satellite == sat; });
+    std::optional<DopplerSignal> signal = s != selected.end() ? selectedSignal(epoch, *s) : std::nullopt;
+    if (!signal) signal = firstSignal(epoch, i, channels);
+    if (!signal) {
+      out.skipped.emplace_back(sat, DopplerSkipReason::NoDoppler);
       continue;
     }
-    GnssTime t = epoch.time - s.code1_m / kSpeedOfLight_mps;
-    const auto clock = ephemeris.satelliteClock(s.satellite, t);
-    const std::optional<double> rate = clock.ok() ? clockRate_sps(ephemeris, s.satellite, t) : std::nullopt;
-    if (!rate) {
-      out.skipped.emplace_back(s.satellite, DopplerSkipReason::NoClock);
-      continue;
-    }
-    t -= clock.value->clock_bias_s;
-    const auto orbit = ephemeris.satelliteOrbit(s.satellite, t);
-    if (!orbit.ok()) {
-      out.skipped.emplace_back(s.satellite, DopplerSkipReason::NoOrbit);
-      continue;
-    }
-    DopplerObservation d;
-    d.satellite = s.satellite;
-    d.code = s.phase1;
-    d.code.type = ObservableType::Doppler;
-    d.wavelength_m = kSpeedOfLight_mps / s.frequency1_hz;
-    d.range_rate_mps = -d.wavelength_m * *doppler_hz;
-    d.satellite_position_ecef_m = orbit.value->position_ecef_m;
-    d.satellite_velocity_ecef_mps = orbit.value->velocity_ecef_mps;
-    d.satellite_clock_rate_mps = kSpeedOfLight_mps * *rate + relativisticClockRate_mps(d.satellite_position_ecef_m,
-                                                                                       d.satellite_velocity_ecef_mps);
-    out.observations.push_back(d);
+    DopplerSkipReason why = DopplerSkipReason::NoDoppler;
+    if (auto d = withSatelliteState(sat, *signal, epoch.time, ephemeris, why)) out.observations.push_back(*d);
+    else out.skipped.emplace_back(sat, why);
   }
   return out;
 }

@@ -124,7 +124,7 @@ TEST(DopplerObservation, PositiveDopplerIsAnApproachingSatellite) {
   s.frequency1_hz = 1575.42e6;
   s.code1_m = 2.2e7;
   const FixedEphemeris ephemeris;
-  const ppp::DopplerEpoch d = ppp::dopplerObservations(epoch, {s}, ephemeris);
+  const ppp::DopplerEpoch d = ppp::dopplerObservations(epoch, {s}, {ppp::GnssSystem::GPS}, {}, ephemeris);
   ASSERT_EQ(d.observations.size(), 1u);
   const double lambda = ppp::kSpeedOfLight_mps / 1575.42e6;
   EXPECT_NEAR(d.observations[0].range_rate_mps, -1000.0 * lambda, 1e-9);  // approaching: range shrinks
@@ -135,7 +135,7 @@ TEST(DopplerObservation, PositiveDopplerIsAnApproachingSatellite) {
               1e-6);
   // A satellite without the first frequency's Doppler is skipped with the reason.
   epoch.observations[1].value.reset();
-  const ppp::DopplerEpoch none = ppp::dopplerObservations(epoch, {s}, ephemeris);
+  const ppp::DopplerEpoch none = ppp::dopplerObservations(epoch, {s}, {ppp::GnssSystem::GPS}, {}, ephemeris);
   EXPECT_TRUE(none.observations.empty());
   ASSERT_EQ(none.skipped.size(), 1u);
   EXPECT_EQ(none.skipped[0].second, ppp::DopplerSkipReason::NoDoppler);
