@@ -141,4 +141,27 @@ TEST(DopplerObservation, PositiveDopplerIsAnApproachingSatellite) {
   EXPECT_EQ(none.skipped[0].second, ppp::DopplerSkipReason::NoDoppler);
 }
 
+TEST(DopplerObservation, ASatelliteWithoutADualFrequencyPairUsesItsFirstDopplerWithACode) {
+  // The Doppler needs no pair: a single-frequency Galileo satellite's D1X, with C1X
+  // for the transmission time; a system not processed is left out.
+  ppp::ObsEpoch epoch;
+  epoch.time = kT0;
+  const ppp::SatelliteId e11{ppp::GnssSystem::Galileo, 11};
+  const ppp::SatelliteId c20{ppp::GnssSystem::BeiDou, 20};
+  epoch.satellites.push_back({e11, 0, 3});
+  epoch.satellites.push_back({c20, 3, 2});
+  epoch.observations.push_back({*ppp::ObservationCode::parse("D5X"), std::nullopt, std::nullopt, std::nullopt});
+  epoch.observations.push_back({*ppp::ObservationCode::parse("C1X"), 2.4e7, std::nullopt, std::nullopt});
+  epoch.observations.push_back({*ppp::ObservationCode::parse("D1X"), -500.0, std::nullopt, std::nullopt});
+  epoch.observations.push_back({*ppp::ObservationCode::parse("C2I"), 3.8e7, std::nullopt, std::nullopt});
+  epoch.observations.push_back({*ppp::ObservationCode::parse("D2I"), 100.0, std::nullopt, std::nullopt});
+  const FixedEphemeris ephemeris;
+  const ppp::DopplerEpoch d =
+      ppp::dopplerObservations(epoch, {}, {ppp::GnssSystem::GPS, ppp::GnssSystem::Galileo}, {}, ephemeris);
+  ASSERT_EQ(d.observations.size(), 1u);
+  EXPECT_EQ(d.observations[0].satellite, e11);
+  EXPECT_EQ(d.observations[0].code.toString(), "D1X");
+  EXPECT_NEAR(d.observations[0].range_rate_mps, 500.0 * ppp::kSpeedOfLight_mps / 1575.42e6, 1e-9);  // receding
+}
+
 }  // namespace
