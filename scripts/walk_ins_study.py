@@ -4,7 +4,10 @@ GNSS-only (--estimator ekf), both broadcast-only PPP from gnss_1730.ubx, compare
 the walk's RTK reference gnss_1730_sf.pos at its fixed epochs (Q=1):
 
   - horizontal velocity RMS: ekf_ins its filter velocity (the attitude file), ekf the
-    central difference of its positions (it has no velocity state);
+    central difference of its positions (it has no velocity state), against the reference's
+    velocity columns (which are the receiver's own NAV-PVT velocity);
+  - the velocity averaged over 1 s windows against the displacement of the fixed RTK
+    positions over the window (a reference independent of the receiver's velocity);
   - heading: ekf_ins its heading (the body x axis) against the reference's course over
     ground where the reference moves faster than 0.5 m/s; ekf the course of its velocity;
   - a GNSS gap (--gnss-gap, default 15 s mid-walk): the horizontal displacement of the
@@ -143,6 +146,29 @@ def velocity_and_heading(t, vn, ve, heading_deg, ref, min_speed_mps=0.5):
             "head_med": float(np.median(np.abs(err))) if moving.any() else math.nan}
 
 
+def window_velocity(t, vn, ve, ref, window_s=1.0, step_s=0.25):
+    """Horizontal velocity averaged over windows of window_s (trapezoid over the estimate's
+    samples, all present) against the displacement of the fixed RTK positions over the same
+    window divided by window_s: a velocity reference independent of the receiver's own velocity
+    (the reference file's velocity columns are the receiver's NAV-PVT). RMS and median [m/s]."""
+    xyz = geodetic_to_ecef(ref[:, 1], ref[:, 2], ref[:, 3])
+    samples = int(round(window_s / step_s)) + 1
+    errs = []
+    for k in range(len(ref)):
+        k2 = np.searchsorted(ref[:, 0], ref[k, 0] + window_s - 0.01)
+        if k2 >= len(ref) or abs(ref[k2, 0] - ref[k, 0] - window_s) > 0.02 or ref[k, 4] != 1 or ref[k2, 4] != 1:
+            continue
+        m = (t >= ref[k, 0] - 0.01) & (t <= ref[k2, 0] + 0.01)
+        if m.sum() != samples or not np.all(np.isfinite(vn[m])):
+            continue
+        est = np.array([np.trapz(vn[m], t[m]), np.trapz(ve[m], t[m])]) / window_s
+        truth = ecef_to_ne((xyz[k2] - xyz[k]) / window_s, ref[k, 1], ref[k, 2])
+        errs.append(np.hypot(*(est - truth)))
+    e = np.array(errs)
+    return {"n": len(e), "rms": float(np.sqrt(np.mean(e ** 2))) if len(e) else math.nan,
+            "med": float(np.median(e)) if len(e) else math.nan}
+
+
 def gap_displacement(t, xyz, ref, gap_start_s, gap_s):
     """Horizontal displacement error [m] across the gap: the estimate's from the last epoch
     before the gap to the last in it, minus the reference's over the same epochs."""
@@ -224,6 +250,11 @@ def main():
     gnss = read_solution_csv(os.path.join(a.out, "walk_ekf.csv"))
     gv = central_velocity_ne(gnss, lat0, lon0)
     gnss_stats = velocity_and_heading(gv[:, 0], gv[:, 1], gv[:, 2], np.degrees(np.arctan2(gv[:, 2], gv[:, 1])), ref)
+    ins_window = window_velocity(ins["time_gpst"], ins["velocity_north_mps"], ins["velocity_east_mps"], ref)
+    doppler_window = (window_velocity(ins["time_gpst"], ins["doppler_velocity_north_mps"],
+                                      ins["doppler_velocity_east_mps"], ref)
+                      if "doppler_velocity_north_mps" in ins else None)
+    gnss_window = window_velocity(gv[:, 0], gv[:, 1], gv[:, 2], ref)
 
     gap_run = read_attitude(os.path.join(a.out, "walk_gap_ekf_ins_attitude.csv"))
     gap_start_s = seconds_of_day(a.gap_start)
@@ -246,10 +277,16 @@ def main():
     print("| epochs compared (velocity) | %d | %d |" % (gnss_stats["n_vel"], ins_stats["n_vel"]))
     print("| horizontal velocity RMS [m/s] | %.3f | %.3f |" % (gnss_stats["vel_rms"], ins_stats["vel_rms"]))
     print("| horizontal velocity error median [m/s] | %.3f | %.3f |" % (gnss_stats["vel_med"], ins_stats["vel_med"]))
+    print("| 1 s windows against the RTK displacement (all samples in) | %d | %d |" % (gnss_window["n"], ins_window["n"]))
+    print("| 1 s mean velocity against the RTK displacement, RMS / median [m/s] | %.3f / %.3f | %.3f / %.3f |"
+          % (gnss_window["rms"], gnss_window["med"], ins_window["rms"], ins_window["med"]))
     print("| epochs moving > 0.5 m/s | %d | %d |" % (gnss_stats["n_head"], ins_stats["n_head"]))
     print("| heading - course RMS [deg] | %.1f (course of its velocity) | %.1f |"
           % (gnss_stats["head_rms"], ins_stats["head_rms"]))
     print("| heading - course median abs [deg] | %.1f | %.1f |" % (gnss_stats["head_med"], ins_stats["head_med"]))
+    if doppler_window and doppler_window["n"]:
+        print("Doppler velocity alone (the least squares of ekf_ins's update), 1 s mean against the RTK displacement:"
+              " %d windows, RMS %.3f, median %.3f m/s" % (doppler_window["n"], doppler_window["rms"], doppler_window["med"]))
     if d:
         print("| %g s GNSS gap %s-%s: displacement error [m] (reference moved %.2f m%s) | no solution | %.2f |"
               % (a.gap_s, hms(d["from"]), hms(d["to"]), d["ref_m"], "" if d["fixed"] else ", float ends",

@@ -13,7 +13,7 @@
 //                   [--doppler on|off] [--doppler-sigma M/S]]
 // --doppler: ekf_ins's velocity update from the Doppler of the observations
 // (default on; ppp/estimators/ppp_ins_ekf.h), --doppler-sigma its range-rate
-// sigma at the zenith [m/s, default 0.1], divided by sin(elevation).
+// sigma at the zenith [m/s, default 0.05], divided by sin(elevation).
 // --imu: the IMU readings of the GNSS/INS estimators (--estimator ekf_ins or
 // smoother_ins, which need them; the other estimators ignore them): the plain CSV
 // (default, doc/gnss_ins.md) or a logged IMU CSV with its RTKLIB time-tag file

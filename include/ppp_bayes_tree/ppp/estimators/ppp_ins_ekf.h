@@ -104,6 +104,7 @@ class PppInsEkf : public PppEkf {
     int rejected = 0;            // by its outlier screen
     DopplerVelocityStatus velocity_status = DopplerVelocityStatus::TooFewSatellites;
     double innovation_chi2 = 0.0;  // the update's normalised innovation square
+    std::optional<Eigen::Vector3d> velocity_ecef_mps;  // the Doppler's antenna velocity, when solved
   };
   const DopplerUpdate& dopplerUpdate() const { return doppler_update_; }
   /// "applied", "no_velocity", "innovation_refused" or "not_tried".

@@ -380,6 +380,7 @@ bool PppInsEkf::updateWithDoppler(Filter& f) {
   u.rejected = static_cast<int>(v.rejected.size());
   u.outcome = DopplerOutcome::NoVelocity;
   if (!v.ok()) return false;
+  u.velocity_ecef_mps = v.velocity_ecef_mps;
   // 2. Its innovation against the filter's antenna velocity, tested.
   const Eigen::Vector3d gyro = held_->angular_rate_radps - bias_.gyro_radps;
   const int n = static_cast<int>(f.x.size());

@@ -80,13 +80,20 @@ std::optional<double> dopplerOf(const ObsEpoch& epoch, const SatelliteId& sat, O
   return *o->value;
 }
 
-/// The satellite clock rate without the relativistic term [s/s], by central difference.
+/// The satellite clock rate without the relativistic term [s/s]: the central
+/// difference over +-0.5 s, or a one-sided one over 1 s at the end of the clocks' span.
 std::optional<double> clockRate_sps(const EphemerisSource& ephemeris, const SatelliteId& sat, const GnssTime& t) {
   constexpr double kHalfStep_s = 0.5;
   const auto before = ephemeris.satelliteClock(sat, t - kHalfStep_s);
+  const auto at = ephemeris.satelliteClock(sat, t);
   const auto after = ephemeris.satelliteClock(sat, t + kHalfStep_s);
-  if (!before.ok() || !after.ok()) return std::nullopt;
-  return (after.value->clock_bias_s - before.value->clock_bias_s) / (2.0 * kHalfStep_s);
+  const auto rate = [](const auto& a, const auto& b, double dt_s) -> std::optional<double> {
+    if (!a.ok() || !b.ok()) return std::nullopt;
+    return (b.value->clock_bias_s - a.value->clock_bias_s) / dt_s;
+  };
+  if (auto r = rate(before, after, 2.0 * kHalfStep_s)) return r;
+  if (auto r = rate(at, ephemeris.satelliteClock(sat, t + 2.0 * kHalfStep_s), 2.0 * kHalfStep_s)) return r;
+  return rate(ephemeris.satelliteClock(sat, t - 2.0 * kHalfStep_s), at, 2.0 * kHalfStep_s);
 }
 
 }  // namespace
