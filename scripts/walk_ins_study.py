@@ -146,9 +146,10 @@ def velocity_and_heading(t, vn, ve, heading_deg, ref, min_speed_mps=0.5):
             "head_med": float(np.median(np.abs(err))) if moving.any() else math.nan}
 
 
-def window_velocity(t, vn, ve, ref, window_s=1.0, step_s=0.25):
+def window_velocity(t, vn, ve, ref, window_s=1.0, step_s=0.25, tol_s=0.06):
     """Horizontal velocity averaged over windows of window_s (trapezoid over the estimate's
-    samples, all present) against the displacement of the fixed RTK positions over the same
+    samples every step_s, all present; times within tol_s, as the attitude file's are rounded
+    to 0.1 s) against the displacement of the fixed RTK positions over the same
     window divided by window_s: a velocity reference independent of the receiver's own velocity
     (the reference file's velocity columns are the receiver's NAV-PVT). RMS and median [m/s]."""
     xyz = geodetic_to_ecef(ref[:, 1], ref[:, 2], ref[:, 3])
@@ -158,10 +159,10 @@ def window_velocity(t, vn, ve, ref, window_s=1.0, step_s=0.25):
         k2 = np.searchsorted(ref[:, 0], ref[k, 0] + window_s - 0.01)
         if k2 >= len(ref) or abs(ref[k2, 0] - ref[k, 0] - window_s) > 0.02 or ref[k, 4] != 1 or ref[k2, 4] != 1:
             continue
-        m = (t >= ref[k, 0] - 0.01) & (t <= ref[k2, 0] + 0.01)
-        if m.sum() != samples or not np.all(np.isfinite(vn[m])):
+        m = (t >= ref[k, 0] - tol_s) & (t <= ref[k2, 0] + tol_s)
+        if m.sum() != samples or not np.all(np.isfinite(vn[m])) or not np.all(np.isfinite(ve[m])):
             continue
-        est = np.array([np.trapz(vn[m], t[m]), np.trapz(ve[m], t[m])]) / window_s
+        est = np.array([np.trapz(vn[m], dx=step_s), np.trapz(ve[m], dx=step_s)]) / window_s
         truth = ecef_to_ne((xyz[k2] - xyz[k]) / window_s, ref[k, 1], ref[k, 2])
         errs.append(np.hypot(*(est - truth)))
     e = np.array(errs)
@@ -284,6 +285,9 @@ def main():
     print("| heading - course RMS [deg] | %.1f (course of its velocity) | %.1f |"
           % (gnss_stats["head_rms"], ins_stats["head_rms"]))
     print("| heading - course median abs [deg] | %.1f | %.1f |" % (gnss_stats["head_med"], ins_stats["head_med"]))
+    own = window_velocity(ref[:, 0], ref[:, 5], ref[:, 6], ref)
+    print("The reference's velocity columns (the receiver's NAV-PVT), 1 s mean against the RTK displacement:"
+          " %d windows, RMS %.3f, median %.3f m/s" % (own["n"], own["rms"], own["med"]))
     if doppler_window and doppler_window["n"]:
         print("Doppler velocity alone (the least squares of ekf_ins's update), 1 s mean against the RTK displacement:"
               " %d windows, RMS %.3f, median %.3f m/s" % (doppler_window["n"], doppler_window["rms"], doppler_window["med"]))
