@@ -4,7 +4,10 @@ GNSS-only (--estimator ekf), both broadcast-only PPP from gnss_1730.ubx, compare
 the walk's RTK reference gnss_1730_sf.pos at its fixed epochs (Q=1):
 
   - horizontal velocity RMS: ekf_ins its filter velocity (the attitude file), ekf the
-    central difference of its positions (it has no velocity state);
+    central difference of its positions (it has no velocity state), against the reference's
+    velocity columns (which are the receiver's own NAV-PVT velocity);
+  - the velocity averaged over 1 s windows against the displacement of the fixed RTK
+    positions over the window (a reference independent of the receiver's velocity);
   - heading: ekf_ins its heading (the body x axis) against the reference's course over
     ground where the reference moves faster than 0.5 m/s; ekf the course of its velocity;
   - a GNSS gap (--gnss-gap, default 15 s mid-walk): the horizontal displacement of the
@@ -12,7 +15,7 @@ the walk's RTK reference gnss_1730_sf.pos at its fixed epochs (Q=1):
     reference's over the same epochs (ekf_ins coasts; ekf has no solution there).
 
 Usage: walk_ins_study.py [--bin DIR] [--data DIR] [--out DIR] [--gap-start "HH:MM:SS"]
-                         [--gap-s S] [--imu-grade G]
+                         [--gap-s S] [--imu-grade G] [--doppler on|off]
 The mounting is the data set's (shared/data/README.md, ubx/): IMU 0.05 m east of the
 antenna in the body frame (lever arm antenna - IMU = 0,-0.05,0 m), IMU axes rotated
 roll 180, pitch 0, yaw -90 deg from the body's. doc/studies/ins_walk.md has the figures.
@@ -61,7 +64,7 @@ def read_attitude(path):
         values = [r[i] for r in rows]
         if name == "time_gpst":
             cols[name] = np.array([seconds_of_day(v.split("T")[1]) for v in values])
-        elif name in ("status", "alignment"):
+        elif name in ("status", "alignment", "doppler_update"):
             cols[name] = np.array(values)
         else:
             cols[name] = np.array([float(v) if v else math.nan for v in values])
@@ -143,6 +146,30 @@ def velocity_and_heading(t, vn, ve, heading_deg, ref, min_speed_mps=0.5):
             "head_med": float(np.median(np.abs(err))) if moving.any() else math.nan}
 
 
+def window_velocity(t, vn, ve, ref, window_s=1.0, step_s=0.25, tol_s=0.06):
+    """Horizontal velocity averaged over windows of window_s (trapezoid over the estimate's
+    samples every step_s, all present; times within tol_s, as the attitude file's are rounded
+    to 0.1 s) against the displacement of the fixed RTK positions over the same
+    window divided by window_s: a velocity reference independent of the receiver's own velocity
+    (the reference file's velocity columns are the receiver's NAV-PVT). RMS and median [m/s]."""
+    xyz = geodetic_to_ecef(ref[:, 1], ref[:, 2], ref[:, 3])
+    samples = int(round(window_s / step_s)) + 1
+    errs = []
+    for k in range(len(ref)):
+        k2 = np.searchsorted(ref[:, 0], ref[k, 0] + window_s - 0.01)
+        if k2 >= len(ref) or abs(ref[k2, 0] - ref[k, 0] - window_s) > 0.02 or ref[k, 4] != 1 or ref[k2, 4] != 1:
+            continue
+        m = (t >= ref[k, 0] - tol_s) & (t <= ref[k2, 0] + tol_s)
+        if m.sum() != samples or not np.all(np.isfinite(vn[m])) or not np.all(np.isfinite(ve[m])):
+            continue
+        est = np.array([np.trapz(vn[m], dx=step_s), np.trapz(ve[m], dx=step_s)]) / window_s
+        truth = ecef_to_ne((xyz[k2] - xyz[k]) / window_s, ref[k, 1], ref[k, 2])
+        errs.append(np.hypot(*(est - truth)))
+    e = np.array(errs)
+    return {"n": len(e), "rms": float(np.sqrt(np.mean(e ** 2))) if len(e) else math.nan,
+            "med": float(np.median(e)) if len(e) else math.nan}
+
+
 def gap_displacement(t, xyz, ref, gap_start_s, gap_s):
     """Horizontal displacement error [m] across the gap: the estimate's from the last epoch
     before the gap to the last in it, minus the reference's over the same epochs."""
@@ -176,10 +203,20 @@ def run_solve(bin_dir, data, out, name, estimator, extra):
     return " ".join(cmd)
 
 
-def imu_options(data, grade, rotation, lever_arm):
+def imu_options(data, grade, rotation, lever_arm, doppler):
     ubx = os.path.join(data, "streams/ubx")
     return ["--imu", ubx + "/imu_1730.csv", "--imu-format", "logged", "--imu-tag", ubx + "/imu_1730.csv.tag",
-            "--imu-grade", grade, "--imu-rotation", rotation, "--lever-arm", lever_arm]
+            "--imu-grade", grade, "--imu-rotation", rotation, "--lever-arm", lever_arm, "--doppler", doppler]
+
+
+def doppler_counts(att):
+    """Epochs by Doppler update outcome, and the satellites the outlier screen rejected."""
+    if "doppler_update" not in att:
+        return None
+    outcomes = {}
+    for o in att["doppler_update"]:
+        outcomes[o] = outcomes.get(o, 0) + 1
+    return outcomes, int(np.nansum(att["doppler_rejected"]))
 
 
 def hms(s):
@@ -202,13 +239,14 @@ def add_options(p):
     p.add_argument("--imu-grade", default="consumer")
     p.add_argument("--imu-rotation", default="180,0,-90", help="the IMU's axes from the body's: roll,pitch,yaw [deg]")
     p.add_argument("--lever-arm", default="0,-0.05,0", help="antenna - IMU in the body frame [m]")
+    p.add_argument("--doppler", default="on", choices=("on", "off"), help="ekf_ins's Doppler velocity update")
 
 
 def run_ours(a):
     """Runs ekf, ekf_ins and ekf_ins with the GNSS gap into a.out; returns the commands."""
     os.makedirs(a.out, exist_ok=True)
     gap = "%s %s,%g" % (DATE, a.gap_start, a.gap_s)
-    imu = imu_options(a.data, a.imu_grade, a.imu_rotation, a.lever_arm)
+    imu = imu_options(a.data, a.imu_grade, a.imu_rotation, a.lever_arm, a.doppler)
     return [run_solve(a.bin, a.data, a.out, "walk", "ekf", []),
             run_solve(a.bin, a.data, a.out, "walk", "ekf_ins", imu),
             run_solve(a.bin, a.data, a.out, "walk_gap", "ekf_ins", imu + ["--gnss-gap", gap])]
@@ -225,24 +263,41 @@ def ours_figures(a, ref):
     gnss = read_solution_csv(os.path.join(a.out, "walk_ekf.csv"))
     gv = central_velocity_ne(gnss, lat0, lon0)
     gnss_stats = velocity_and_heading(gv[:, 0], gv[:, 1], gv[:, 2], np.degrees(np.arctan2(gv[:, 2], gv[:, 1])), ref)
+    ins_window = window_velocity(ins["time_gpst"], ins["velocity_north_mps"], ins["velocity_east_mps"], ref)
+    doppler_window = (window_velocity(ins["time_gpst"], ins["doppler_velocity_north_mps"],
+                                      ins["doppler_velocity_east_mps"], ref)
+                      if "doppler_velocity_north_mps" in ins else None)
+    gnss_window = window_velocity(gv[:, 0], gv[:, 1], gv[:, 2], ref)
     gap_run = read_attitude(os.path.join(a.out, "walk_gap_ekf_ins_attitude.csv"))
     xyz = np.stack([gap_run["antenna_x_m"], gap_run["antenna_y_m"], gap_run["antenna_z_m"]], axis=-1)
     d = gap_displacement(gap_run["time_gpst"], xyz, ref, seconds_of_day(a.gap_start), a.gap_s)
     return {"ins": ins_stats, "gnss": gnss_stats, "gap": d, "ins_series": ins, "ins_solved": solved,
-            "gnss_series": gnss}
+            "gnss_series": gnss, "ins_window": ins_window, "gnss_window": gnss_window,
+            "doppler_window": doppler_window}
 
 
-def print_table(a, f):
+
+def print_table(a, f, ref):
     gnss_stats, ins_stats, d = f["gnss"], f["ins"], f["gap"]
+    gnss_window, ins_window, doppler_window = f["gnss_window"], f["ins_window"], f["doppler_window"]
     print("| against the RTK reference (Q=1) | GNSS only (ekf) | GNSS/INS (ekf_ins) |")
     print("|---|---|---|")
     print("| epochs compared (velocity) | %d | %d |" % (gnss_stats["n_vel"], ins_stats["n_vel"]))
     print("| horizontal velocity RMS [m/s] | %.3f | %.3f |" % (gnss_stats["vel_rms"], ins_stats["vel_rms"]))
     print("| horizontal velocity error median [m/s] | %.3f | %.3f |" % (gnss_stats["vel_med"], ins_stats["vel_med"]))
+    print("| 1 s windows against the RTK displacement (all samples in) | %d | %d |" % (gnss_window["n"], ins_window["n"]))
+    print("| 1 s mean velocity against the RTK displacement, RMS / median [m/s] | %.3f / %.3f | %.3f / %.3f |"
+          % (gnss_window["rms"], gnss_window["med"], ins_window["rms"], ins_window["med"]))
     print("| epochs moving > 0.5 m/s | %d | %d |" % (gnss_stats["n_head"], ins_stats["n_head"]))
     print("| heading - course RMS [deg] | %.1f (course of its velocity) | %.1f |"
           % (gnss_stats["head_rms"], ins_stats["head_rms"]))
     print("| heading - course median abs [deg] | %.1f | %.1f |" % (gnss_stats["head_med"], ins_stats["head_med"]))
+    own = window_velocity(ref[:, 0], ref[:, 5], ref[:, 6], ref)
+    print("The reference's velocity columns (the receiver's NAV-PVT), 1 s mean against the RTK displacement:"
+          " %d windows, RMS %.3f, median %.3f m/s" % (own["n"], own["rms"], own["med"]))
+    if doppler_window and doppler_window["n"]:
+        print("Doppler velocity alone (the least squares of ekf_ins's update), 1 s mean against the RTK displacement:"
+              " %d windows, RMS %.3f, median %.3f m/s" % (doppler_window["n"], doppler_window["rms"], doppler_window["med"]))
     if d:
         print("| %g s GNSS gap %s-%s: displacement error [m] (reference moved %.2f m%s) | no solution | %.2f |"
               % (a.gap_s, hms(d["from"]), hms(d["to"]), d["ref_m"], "" if d["fixed"] else ", float ends",
@@ -263,8 +318,12 @@ def main():
           % (hms(gnss[0, 0]), hms(first_ins)))
     print("aligned: %s" % (hms(ins["time_gpst"][np.argmax(ins["alignment"] == "aligned")])
                            if (ins["alignment"] == "aligned").any() else "never"))
+    counts = doppler_counts(ins)
+    if counts:
+        print("Doppler velocity updates (ekf_ins): %s; satellites rejected by the outlier screen: %d"
+              % (", ".join("%s %d" % kv for kv in sorted(counts[0].items())), counts[1]))
     print("")
-    print_table(a, f)
+    print_table(a, f, ref)
     return 0
 
 

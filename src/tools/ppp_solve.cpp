@@ -9,7 +9,11 @@
 //                  [--no-product-checks] [--start "YYYY/MM/DD HH:MM:SS"] [--end "YYYY/MM/DD HH:MM:SS"]
 //                  [--gnss-gap "YYYY/MM/DD HH:MM:SS,SECONDS"]
 //                  [--imu F [--imu-format csv|logged] [--imu-tag F] [--imu-grade consumer|industrial|tactical]
-//                   [--lever-arm X,Y,Z] [--imu-rotation R,P,Y] [--imu-heading DEG | --heading-speed M/S]]
+//                   [--lever-arm X,Y,Z] [--imu-rotation R,P,Y] [--imu-heading DEG | --heading-speed M/S]
+//                   [--doppler on|off] [--doppler-sigma M/S]]
+// --doppler: ekf_ins's velocity update from the Doppler of the observations
+// (default on; ppp/estimators/ppp_ins_ekf.h), --doppler-sigma its range-rate
+// sigma at the zenith [m/s, default 0.05], divided by sin(elevation).
 // --imu: the IMU readings of the GNSS/INS estimators (--estimator ekf_ins or
 // smoother_ins, which need them; the other estimators ignore them): the plain CSV
 // (default, doc/gnss_ins.md) or a logged IMU CSV with its RTKLIB time-tag file
@@ -94,7 +98,8 @@ int usage(const std::string& why) {
             << "                 [--no-product-checks] [--start \"YYYY/MM/DD HH:MM:SS\"] [--end \"YYYY/MM/DD HH:MM:SS\"]\n"
             << "                 [--gnss-gap \"YYYY/MM/DD HH:MM:SS,SECONDS\"]\n"
             << "                 [--imu F [--imu-format csv|logged] [--imu-tag F] [--imu-grade consumer|industrial|tactical]\n"
-            << "                  [--lever-arm X,Y,Z] [--imu-rotation R,P,Y] [--imu-heading DEG | --heading-speed M/S]]\n"
+            << "                  [--lever-arm X,Y,Z] [--imu-rotation R,P,Y] [--imu-heading DEG | --heading-speed M/S]\n"
+            << "                  [--doppler on|off] [--doppler-sigma M/S]]\n"
             << "                  (ekf_ins, smoother_ins need --imu)\n"
             << "estimators (--estimator; default " << ppp::kDefaultEstimator << ", "
             << ppp::kAllEstimators << ": each in turn):\n";
@@ -166,6 +171,26 @@ std::optional<std::string> parseImuOption(const std::string& a, int argc, char**
   return std::string();
 }
 
+/// Parses --doppler on|off and --doppler-sigma M/S (ekf_ins's Doppler velocity
+/// update, InsEkfOptions::doppler): nullopt when `a` is neither, "" when parsed,
+/// else the usage error.
+std::optional<std::string> parseDopplerOption(const std::string& a, int argc, char** argv, int& i, ImuArgs& imu) {
+  if (a != "--doppler" && a != "--doppler-sigma") return std::nullopt;
+  if (i + 1 >= argc) return a + " needs a value";
+  const std::string v = argv[++i];
+  if (a == "--doppler") {
+    if (v != "on" && v != "off") return std::string("--doppler needs on or off");
+    imu.ins.doppler.enabled = v == "on";
+    return std::string();
+  }
+  char* end = nullptr;
+  const double sigma = std::strtod(v.c_str(), &end);
+  if (end == v.c_str() || *end != '\0' || !(sigma > 0.0) || !std::isfinite(sigma))
+    return std::string("--doppler-sigma needs a range-rate sigma > 0 in m/s");
+  imu.ins.doppler.sigma_zenith_mps = sigma;
+  return std::string();
+}
+
 /// What is wrong with the IMU options for `estimator`; empty when nothing.
 std::string imuUsageProblem(const std::string& estimator, const ImuArgs& imu) {
   const ppp::EstimatorEntry* chosen = ppp::findEstimator(estimator);
@@ -214,6 +239,7 @@ std::string parseOption(const std::string& a, int argc, char** argv, int& i, Sol
   };
   std::string v;
   if (const auto imu_problem = parseImuOption(a, argc, argv, i, args.imu)) return *imu_problem;
+  if (const auto doppler_problem = parseDopplerOption(a, argc, argv, i, args.imu)) return *doppler_problem;
   if (a == "--obs") {
     if (!req.files.obs.empty() || !value(req.files.obs)) return "--obs needs a file (and no --rtcm/--ubx)";
   } else if (a == "--rtcm") {  // an RTCM 3 recording (MSM) as the observations

@@ -7,6 +7,8 @@
 // GNSS/INS EKF ends and writes its attitude file too.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include <cmath>
 #include <filesystem>
 #include <optional>
@@ -81,11 +83,16 @@ TEST(PppSolveIns, Zim2StaticImuEveryEpochSolvedWithItsAttitude) {
   ASSERT_TRUE(file) << "no attitude file";
   EXPECT_EQ(file->header,
             "time_gpst,status,roll_deg,pitch_deg,heading_deg,velocity_north_mps,velocity_east_mps,velocity_down_mps,"
-            "alignment,tilt_sigma_deg,heading_sigma_deg,attitude_publishable,antenna_x_m,antenna_y_m,antenna_z_m");
+            "alignment,tilt_sigma_deg,heading_sigma_deg,attitude_publishable,antenna_x_m,antenna_y_m,antenna_z_m,"
+            "doppler_update,doppler_satellites,doppler_rejected,doppler_velocity_north_mps,doppler_velocity_east_mps,"
+            "doppler_velocity_down_mps");
+  int doppler_applied = 0;
+  double worst_doppler_mps = 0.0;
+  Eigen::Vector3d doppler_sum_mps = Eigen::Vector3d::Zero();
   for (std::size_t i = 0; i < file->rows.size(); ++i) {
     const test::AttitudeRow& row = file->rows[i];
     const std::vector<std::string>& cells = row.cells;
-    ASSERT_EQ(cells.size(), 15u) << row.line;
+    ASSERT_EQ(cells.size(), 21u) << row.line;
     // The heading was given: aligned from the start, publishable while the sigmas
     // are within 2 deg (tilt) and 5 deg (heading). At rest the heading is not
     // observable: its sigma grows with the gyro noise (7.2 deg after the hour).
@@ -93,12 +100,26 @@ TEST(PppSolveIns, Zim2StaticImuEveryEpochSolvedWithItsAttitude) {
     const bool small = std::stod(cells[9]) <= 2.0 && std::stod(cells[10]) <= 5.0;
     EXPECT_EQ(cells[11], small ? "1" : "0") << row.line;
     if (i == 0) EXPECT_EQ(cells[11], "1") << row.line;
+    // The RINEX file's D1C reaches the filter: the station's Doppler velocity is
+    // zero within its noise (a few cm/s at 0.05 m/s per range rate) and without a
+    // bias (a sign or a missing term of the model would leave one).
+    if (cells[15] == "applied") {
+      ++doppler_applied;
+      const Eigen::Vector3d v(std::stod(cells[18]), std::stod(cells[19]), std::stod(cells[20]));
+      worst_doppler_mps = std::max(worst_doppler_mps, v.norm());
+      doppler_sum_mps += v;
+    }
   }
   EXPECT_EQ(file->rows.size(), 120u);
   const double worst_deg = largestAngle_deg(*file);
-  std::printf("ZIM2 with a static IMU: %zu of 120 epochs solved, attitude within %.4f deg of level and north\n",
-              runs[0].run.epochs_solved, worst_deg);
+  std::printf("ZIM2 with a static IMU: %zu of 120 epochs solved, attitude within %.4f deg of level and north; "
+              "%d Doppler updates, Doppler speed at most %.4f m/s, mean %.4f m/s\n",
+              runs[0].run.epochs_solved, worst_deg, doppler_applied, worst_doppler_mps,
+              doppler_sum_mps.norm() / std::max(doppler_applied, 1));
   EXPECT_LT(worst_deg, 0.05);
+  EXPECT_EQ(doppler_applied, 120);
+  EXPECT_LT(worst_doppler_mps, 0.1);  // 0.063 m/s measured
+  EXPECT_LT(doppler_sum_mps.norm() / std::max(doppler_applied, 1), 0.005);  // 0.0014 m/s measured
 
   // The GNSS estimators ignore the readings and write no attitude file.
   PppSolveRequest ekf = request;
@@ -130,7 +151,7 @@ TEST(PppSolveIns, Zim2StaticImuSmootherInsSolvesEveryEpochLikeTheEkfIns) {
   const std::optional<test::AttitudeFileRows> file = test::readAttitudeFile(dir + "/zim2_smoother_ins_attitude.csv");
   ASSERT_TRUE(file) << "no attitude file";
   for (const test::AttitudeRow& row : file->rows)
-    ASSERT_EQ(row.cells.size(), 15u) << row.line;  // the columns of the attitude file's header
+    ASSERT_EQ(row.cells.size(), 21u) << row.line;  // the columns of the attitude file's header (the Doppler ones empty)
   EXPECT_EQ(file->rows.size(), 120u);
   const double worst_deg = largestAngle_deg(*file);
   std::printf("smoother_ins attitude within %.4f deg of level and north\n", worst_deg);

@@ -70,6 +70,35 @@ class WalkInsStudyTest(unittest.TestCase):
                                             0.012, -0.004, -0.011])
         os.remove(path)
 
+    def test_window_velocity_against_the_rtk_displacement(self):
+        ref = reference()  # east at 1 m/s, 4 Hz
+        t = ref[:, 0]
+        exact = w.window_velocity(t, np.zeros(len(t)), np.ones(len(t)), ref)
+        self.assertEqual(exact["n"], len(t) - 4)
+        self.assertLess(exact["rms"], 1e-3)
+        # 0.3 m/s north and 0.4 m/s east too much: 0.5 m/s in every window
+        off = w.window_velocity(t, np.full(len(t), 0.3), np.full(len(t), 1.4), ref)
+        self.assertAlmostEqual(off["rms"], 0.5, places=3)
+        self.assertAlmostEqual(off["med"], 0.5, places=3)
+        # a window missing a sample is left out
+        self.assertEqual(w.window_velocity(np.delete(t, 10), np.zeros(len(t) - 1), np.ones(len(t) - 1), ref)["n"],
+                         len(t) - 4 - 5)
+
+    def test_reads_the_doppler_columns_of_the_attitude_file(self):
+        path = os.path.join(os.environ.get("TMPDIR", "/tmp"), "walk_ins_study_attitude.csv")
+        with open(path, "w") as f:
+            f.write("time_gpst,status,velocity_north_mps,alignment,doppler_update,doppler_satellites,doppler_rejected\n")
+            f.write("2025-08-28T17:31:25.2,ppp-float,0.5,level_only,applied,8,1\n")
+            f.write("2025-08-28T17:31:25.4,no-solution,0.6,aligned,innovation_refused,7,0\n")
+            f.write("2025-08-28T17:31:25.6,ppp-float,0.7,aligned,applied,9,2\n")
+        att = w.read_attitude(path)
+        self.assertEqual(list(att["doppler_update"]), ["applied", "innovation_refused", "applied"])
+        outcomes, rejected = w.doppler_counts(att)
+        self.assertEqual(outcomes, {"applied": 2, "innovation_refused": 1})
+        self.assertEqual(rejected, 3)
+        self.assertIsNone(w.doppler_counts({"time_gpst": att["time_gpst"]}))  # a file without the columns
+        os.remove(path)
+
 
 if __name__ == "__main__":
     unittest.main()

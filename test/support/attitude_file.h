@@ -3,7 +3,6 @@
 // ppp_solve_run.cpp) read back for the tests: its header and each row's cells.
 #include <fstream>
 #include <optional>
-#include <sstream>
 #include <string>
 #include <vector>
 
@@ -11,7 +10,7 @@ namespace ppp::test {
 
 struct AttitudeRow {
   std::string line;                // as written
-  std::vector<std::string> cells;  // split at the commas
+  std::vector<std::string> cells;  // split at the commas (empty cells kept, the last ones too)
 };
 
 struct AttitudeFileRows {
@@ -29,9 +28,12 @@ inline std::optional<AttitudeFileRows> readAttitudeFile(const std::string& path)
   while (std::getline(in, line)) {
     AttitudeRow row;
     row.line = line;
-    std::stringstream ss(line);
-    std::string cell;
-    while (std::getline(ss, cell, ',')) row.cells.push_back(cell);
+    std::size_t from = 0;  // every cell, the empty last ones too
+    for (std::size_t comma = line.find(','); comma != std::string::npos; comma = line.find(',', from)) {
+      row.cells.push_back(line.substr(from, comma - from));
+      from = comma + 1;
+    }
+    row.cells.push_back(line.substr(from));
     file.rows.push_back(std::move(row));
   }
   return file;

@@ -160,13 +160,16 @@ PppSolveOutcome plannedOutputs(const PppSolveRequest& req, const EstimatorEntry&
 
 /// The GNSS/INS estimator's attitude and velocity after each epoch, also through
 /// epochs without a GNSS solution (<stem>_attitude.csv): the ZYX Euler angles of
-/// R_ned_body (ins_alignment.h) and the velocity in the local level frame.
+/// R_ned_body (ins_alignment.h) and the velocity in the local level frame; the
+/// Doppler velocity update's outcome, satellites, outliers and velocity (ekf_ins).
 class AttitudeFile {
  public:
   AttitudeFile(std::string path, const PppEstimator& estimator)
       : path_(std::move(path)), out_(openOut(path_)), estimator_(estimator) {
     out_ << "time_gpst,status,roll_deg,pitch_deg,heading_deg,velocity_north_mps,velocity_east_mps,velocity_down_mps,"
-            "alignment,tilt_sigma_deg,heading_sigma_deg,attitude_publishable,antenna_x_m,antenna_y_m,antenna_z_m\n";
+            "alignment,tilt_sigma_deg,heading_sigma_deg,attitude_publishable,antenna_x_m,antenna_y_m,antenna_z_m,"
+            "doppler_update,doppler_satellites,doppler_rejected,doppler_velocity_north_mps,doppler_velocity_east_mps,"
+            "doppler_velocity_down_mps\n";
   }
   void write(const PppEpochRecord& rec) {
     if (rec.refused) return;
@@ -183,7 +186,8 @@ class AttitudeFile {
     writeQuality(row->attitude_quality);
     const Eigen::Vector3d& antenna = row->antenna_ecef_m;
     out_ << fixedDecimals(antenna.x(), 4) << ',' << fixedDecimals(antenna.y(), 4) << ','
-         << fixedDecimals(antenna.z(), 4) << '\n';
+         << fixedDecimals(antenna.z(), 4) << ',';
+    writeDoppler(row->doppler, ecef_ned);
   }
   void finish() {
     out_.flush();
@@ -204,6 +208,22 @@ class AttitudeFile {
                                                                : "not_aligned";
     out_ << state << ',' << fixedDecimals(q.tilt_sigma_rad * kRadToDeg, 3) << ','
          << fixedDecimals(q.heading_sigma_rad * kRadToDeg, 3) << ',' << (q.publishable ? 1 : 0) << ',';
+  }
+
+  /// outcome (dopplerOutcomeText), satellites used, outliers rejected, and the Doppler's
+  /// antenna velocity in the local level frame; empty fields without.
+  void writeDoppler(const std::optional<DopplerUpdate>& doppler, const Eigen::Matrix3d& ecef_ned) {
+    if (!doppler) {
+      out_ << ",,,,,\n";
+      return;
+    }
+    out_ << dopplerOutcomeText(doppler->outcome) << ',' << doppler->satellites << ',' << doppler->rejected;
+    if (doppler->velocity_ecef_mps) {
+      const Eigen::Vector3d v = ecef_ned.transpose() * *doppler->velocity_ecef_mps;
+      out_ << ',' << fixedDecimals(v.x(), 4) << ',' << fixedDecimals(v.y(), 4) << ',' << fixedDecimals(v.z(), 4) << '\n';
+    } else {
+      out_ << ",,,\n";
+    }
   }
 
   std::string path_;

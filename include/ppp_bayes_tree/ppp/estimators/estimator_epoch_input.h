@@ -2,11 +2,13 @@
 // EstimatorEpochInput: what the pipeline gives an estimator (PppEstimator,
 // ppp_estimator.h) for one epoch: the linearisation of its measurements, its
 // usable observations with their arcs, the arcs that ended, the phase biases
-// and the IMU readings since the previous epoch.
+// the IMU readings since the previous epoch and, for an estimator that uses
+// them, the Doppler range rates.
 #include <vector>
 
 #include "ppp_bayes_tree/navigation/imu_sample.h"
 #include "ppp_bayes_tree/ppp/model/arc_tracker.h"
+#include "ppp_bayes_tree/ppp/model/doppler_observation.h"
 #include "ppp_bayes_tree/ppp/model/measurement_function.h"
 #include "ppp_bayes_tree/types/gnss_time.h"
 
@@ -48,6 +50,9 @@ struct EstimatorEpochInput {
   /// The IMU readings after the previous epoch up to this one (time order);
   /// nullptr without an IMU. Only an estimator with inertial states reads them.
   const std::vector<ImuSample>* imu = nullptr;
+  /// The Doppler range rates of the selected satellites (doppler_observation.h);
+  /// nullptr unless the estimator uses them (PppEstimator::usesDoppler).
+  const std::vector<DopplerObservation>* doppler = nullptr;
 };
 
 }  // namespace ppp

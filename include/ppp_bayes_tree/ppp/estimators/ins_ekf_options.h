@@ -1,13 +1,15 @@
 #pragma once
 // InsEkfOptions: what the GNSS/INS filter (PppInsEkf, ppp_ins_ekf.h) needs besides
 // the GNSS options: the IMU's noise, the lever arm from the IMU to the antenna,
-// the initial attitude and velocity, and the a priori sigmas of the inertial states.
+// the initial attitude and velocity, the a priori sigmas of the inertial states
+// and the Doppler velocity update.
 #include <Eigen/Core>
 #include <optional>
 #include <string>
 
 #include "ppp_bayes_tree/navigation/imu_noise.h"
 #include "ppp_bayes_tree/navigation/ins_error_state.h"
+#include "ppp_bayes_tree/ppp/model/doppler_velocity.h"
 #include "ppp_bayes_tree/ppp/model/gap_bridge.h"
 
 namespace ppp {
@@ -65,6 +67,10 @@ struct InsEkfOptions {
   /// at 1 Hz (5 epochs missing).
   double gap_bridge_max_s = 6.0;
   GapBridgeOptions gap_bridge;
+  /// The Doppler velocity update (PppInsEkf): each epoch whose observations carry
+  /// Doppler, the antenna velocity from them (doppler_velocity.h) updates the
+  /// filter before the code and phase; on by default.
+  DopplerVelocityOptions doppler;
 
   /// Empty when valid; otherwise the first problem.
   std::string validate() const;

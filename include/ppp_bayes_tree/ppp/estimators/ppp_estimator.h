@@ -48,6 +48,9 @@ class PppEstimator {
   /// (verifyBridgedArcs); nullopt (the default): a gap longer than the arc
   /// tracker's maximum ends the arcs.
   virtual std::optional<double> gapBridgeMax_s() const { return std::nullopt; }
+  /// Whether the estimator uses the Doppler range rates (EstimatorEpochInput::doppler);
+  /// the pipeline forms them only then. None by default.
+  virtual bool usesDoppler() const { return false; }
   /// The last result of processEpoch(EstimatorEpochInput), with its ambiguity summary.
   const EstimatorEpochResult& lastResult() const { return last_; }
   /// The IMU state of an estimator with inertial states after the last epoch it

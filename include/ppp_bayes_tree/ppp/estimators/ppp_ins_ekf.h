@@ -58,6 +58,20 @@
 // Gao 2012, Sensors 12(11):14344-14362); an arc without a slip keeps its bias
 // and held integers, any other ends as after a longer gap
 // (doc/studies/ins_outages.md).
+//
+// Doppler (InsEkfOptions::doppler, on by default; usesDoppler()): at each epoch
+// whose observations carry Doppler, the antenna velocity and receiver clock drift
+// are solved from the range rates at the predicted antenna position
+// (doppler_velocity.h: weighted least squares, outlier screen), and that velocity,
+// with its covariance, updates the filter right after the propagation, before
+// the code and phase (a loosely coupled velocity update: the clock drift stays
+// in the least squares). Its model is the antenna's velocity in ECEF,
+// v_antenna = v + R_ecef_body (w_eb x lever_arm), w_eb = w_ib - R^T w_ie with
+// w_ib the bias-corrected gyro reading at the epoch (the lever arm's velocity
+// term of Groves 2013, 2nd ed., ch. 14, in ECEF). The update is committed with the propagation (solved epoch or not);
+// at the start it is made on the start's filter. An innovation whose normalised
+// square exceeds DopplerVelocityOptions::innovation_chi2 is refused.
+// dopplerUpdate() says what this epoch's update did.
 #include <Eigen/Core>
 #include <deque>
 #include <optional>
@@ -82,6 +96,9 @@ class PppInsEkf : public PppEkf {
   std::optional<double> gapBridgeMax_s() const override;
   /// The nominal state, bias, antenna, attitude quality and INS error covariance; nullopt before the start.
   std::optional<InertialState> inertialState() const override;
+  bool usesDoppler() const override { return ins_.doppler.enabled; }
+  /// What the Doppler velocity update of the last epoch did.
+  const DopplerUpdate& dopplerUpdate() const { return doppler_update_; }
 
   /// The nominal state of the IMU (ECEF) and the IMU bias (corrected after each update).
   const NavState& navState() const { return nominal_; }
@@ -110,6 +127,16 @@ class PppInsEkf : public PppEkf {
                                            const Eigen::Matrix<double, 15, 1>& error);
   static Eigen::Matrix<double, 3, 15> antennaJacobian(const NavState& nominal, const Eigen::Vector3d& lever_arm_body_m,
                                                       const Eigen::Matrix<double, 15, 1>& error);
+  /// The antenna velocity (ECEF) at a nominal state moved by an INS error, with the
+  /// gyro reading w_ib (bias-corrected by the nominal bias), and its Jacobian
+  /// (3 x 15: velocity I, attitude -R [w_eb x l]x, gyro bias R [l]x; the Earth
+  /// rate's attitude term, below 1e-5 m/s for a lever arm under 0.1 m, left out).
+  static Eigen::Vector3d antennaVelocityAt(const NavState& nominal, const Eigen::Vector3d& lever_arm_body_m,
+                                           const Eigen::Vector3d& gyro_radps, const Eigen::Matrix<double, 15, 1>& error);
+  static Eigen::Matrix<double, 3, 15> antennaVelocityJacobian(const NavState& nominal,
+                                                              const Eigen::Vector3d& lever_arm_body_m,
+                                                              const Eigen::Vector3d& gyro_radps,
+                                                              const Eigen::Matrix<double, 15, 1>& error);
 
  protected:
   void receiveEpochInput(const EstimatorEpochInput& input) override;
@@ -156,6 +183,10 @@ class PppInsEkf : public PppEkf {
   /// Whether the held reading and this epoch's cover [lastTime(), time] (imu_coverage.h); the
   /// epoch's problem when not.
   bool readingsCover(const GnssTime& time);
+  /// The Doppler velocity update of `f` (its INS error not reset); true when applied.
+  bool updateWithDoppler(Filter& f);
+  /// The closed-loop reset of the INS error alone (no heading alignment).
+  void resetInsError(Filter& f);
   bool propagateTo(const GnssTime& time);
   bool stepWith(double dt_s);
 
@@ -163,6 +194,8 @@ class PppInsEkf : public PppEkf {
   NavState nominal_;
   ImuBias bias_;
   std::vector<ImuSample> pending_;          // the readings of this epoch's input
+  std::vector<DopplerObservation> doppler_;  // this epoch's Doppler range rates
+  DopplerUpdate doppler_update_;            // what this epoch's Doppler update did
   std::optional<ImuSample> held_;           // the reading held at the nominal's time
   GnssTime epoch_time_;                     // this epoch's time
   std::optional<std::pair<NoSolutionReason, std::string>> epoch_problem_;  // this epoch's inertial problem

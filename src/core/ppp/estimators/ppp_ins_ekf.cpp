@@ -1,6 +1,8 @@
 #include "ppp_bayes_tree/ppp/estimators/ppp_ins_ekf.h"
 
+#include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
 #include <utility>
@@ -11,6 +13,7 @@
 #include "ppp_bayes_tree/navigation/ins_mechanization.h"
 #include "ppp_bayes_tree/navigation/navigation_frame.h"
 #include "ppp_bayes_tree/navigation/so3.h"
+#include "ppp_bayes_tree/types/constants.h"
 #include "ppp_bayes_tree/types/text_format.h"
 
 namespace ppp {
@@ -27,7 +30,7 @@ std::string InsEkfOptions::validate() const {
   if (!(heading_alignment.velocity_sigma_mps > 0.0)) return "heading alignment velocity sigma must be > 0";
   if (!(heading_alignment.unaligned_heading_sigma_rad > 0.0)) return "unaligned heading sigma must be > 0";
   if (!(publish_tilt_sigma_rad > 0.0) || !(publish_heading_sigma_rad > 0.0)) return "publish sigmas must be > 0";
-  return {};
+  return doppler.validate();
 }
 
 PppInsEkf::PppInsEkf(const EstimatorOptions& options) : PppEkf(options), ins_(options.ins) {}
@@ -46,6 +49,37 @@ Eigen::Matrix<double, 3, 15> PppInsEkf::antennaJacobian(const NavState& nominal,
   Eigen::Matrix<double, 3, 15> J = Eigen::Matrix<double, 3, 15>::Zero();
   J.block<3, 3>(0, InsErrorIndex::kAttitude) = -R * so3::hat(lever_arm_body_m) * so3::rightJacobian(a);
   J.block<3, 3>(0, InsErrorIndex::kPosition) = Eigen::Matrix3d::Identity();
+  return J;
+}
+
+namespace {
+
+/// w_eb in the body axes: the gyro reading less the Earth's rate.
+Eigen::Vector3d bodyRateOverEarth(const Eigen::Matrix3d& rotation_ecef_body, const Eigen::Vector3d& gyro_radps) {
+  return gyro_radps - rotation_ecef_body.transpose() * Eigen::Vector3d(0.0, 0.0, kEarthRotationRate_radps);
+}
+
+}  // namespace
+
+Eigen::Vector3d PppInsEkf::antennaVelocityAt(const NavState& nominal, const Eigen::Vector3d& lever_arm_body_m,
+                                             const Eigen::Vector3d& gyro_radps, const Vector15d& error) {
+  const Eigen::Matrix3d R = nominal.rotation_world_body * so3::expMap(error.segment<3>(InsErrorIndex::kAttitude));
+  const Eigen::Vector3d w_eb = bodyRateOverEarth(R, gyro_radps - error.segment<3>(InsErrorIndex::kGyroBias));
+  return nominal.velocity_world_mps + error.segment<3>(InsErrorIndex::kVelocity) + R * w_eb.cross(lever_arm_body_m);
+}
+
+Eigen::Matrix<double, 3, 15> PppInsEkf::antennaVelocityJacobian(const NavState& nominal,
+                                                                const Eigen::Vector3d& lever_arm_body_m,
+                                                                const Eigen::Vector3d& gyro_radps,
+                                                                const Vector15d& error) {
+  // d(R Exp(a) u)/da = -R Exp(a) [u]x Jr(a); d(w x l)/d(dbg) = [l]x (w_true = w - dbg).
+  const Eigen::Vector3d a = error.segment<3>(InsErrorIndex::kAttitude);
+  const Eigen::Matrix3d R = nominal.rotation_world_body * so3::expMap(a);
+  const Eigen::Vector3d w_eb = bodyRateOverEarth(R, gyro_radps - error.segment<3>(InsErrorIndex::kGyroBias));
+  Eigen::Matrix<double, 3, 15> J = Eigen::Matrix<double, 3, 15>::Zero();
+  J.block<3, 3>(0, InsErrorIndex::kAttitude) = -R * so3::hat(w_eb.cross(lever_arm_body_m)) * so3::rightJacobian(a);
+  J.block<3, 3>(0, InsErrorIndex::kVelocity) = Eigen::Matrix3d::Identity();
+  J.block<3, 3>(0, InsErrorIndex::kGyroBias) = R * so3::hat(lever_arm_body_m);
   return J;
 }
 
@@ -107,13 +141,17 @@ void PppInsEkf::predictFilter(Filter& f, double dt_s, bool first) const {
   predictDelaysClocksBiases(f, dt_s);
 }
 
-void PppInsEkf::closeLoop(Filter& f) {
+void PppInsEkf::resetInsError(Filter& f) {
   const Vector15d error = f.x.head<kInsErrorStateSize>();
   applyInsErrorCorrection(error, &nominal_, &bias_);
   const Matrix15d J = insErrorResetJacobian(error);
   f.P.topRows(kInsErrorStateSize) = (J * f.P.topRows(kInsErrorStateSize)).eval();
   f.P.leftCols(kInsErrorStateSize) = (f.P.leftCols(kInsErrorStateSize) * J.transpose()).eval();
   f.x.head<kInsErrorStateSize>().setZero();
+}
+
+void PppInsEkf::closeLoop(Filter& f) {
+  resetInsError(f);
   before_start_.clear();  // started: the levelling readings are done with
   if (heading_from_course_) alignHeadingFromTrack(f);
 }
@@ -128,6 +166,9 @@ void PppInsEkf::receiveEpochInput(const EstimatorEpochInput& input) {
   predicted_antenna_m_.reset();
   pending_.clear();
   if (input.imu) pending_ = *input.imu;
+  doppler_.clear();
+  if (input.doppler) doppler_ = *input.doppler;
+  doppler_update_ = DopplerUpdate{};
   if (lastTime() || ins_.initial_rotation_ecef_body || ins_.initial_heading_rad) return;
   // Before the first solution of an in-motion start: the readings to level from (2 minutes at most).
   before_start_.insert(before_start_.end(), pending_.begin(), pending_.end());
@@ -216,6 +257,7 @@ std::optional<InertialState> PppInsEkf::inertialState() const {
   s.antenna_ecef_m = antennaPosition();
   s.attitude_quality = attitudeQuality();
   s.error_covariance = f_.P.topLeftCorner<kInsErrorStateSize, kInsErrorStateSize>();
+  s.doppler = doppler_update_;
   return s;
 }
 
@@ -263,8 +305,12 @@ ReceiverState PppInsEkf::predict(double dt_s, bool first, const std::optional<Re
     }
     track_.clear();
     if (heading_from_course_) setHeadingCovariance(work_, ins_.heading_alignment.unaligned_heading_sigma_rad);
+    updateWithDoppler(work_);  // committed with the start's update, if any
   } else if (!first) {
-    if (propagateTo(*lastTime() + dt_s)) predictFilter(f_, dt_s, false);
+    if (propagateTo(*lastTime() + dt_s)) {
+      predictFilter(f_, dt_s, false);
+      if (updateWithDoppler(f_)) resetInsError(f_);  // committed with the propagation
+    }
     work_ = f_;
   } else {
     work_ = f_;
@@ -335,6 +381,44 @@ bool PppInsEkf::stepWith(double dt_s) {
   f_.P.leftCols(n) = (f_.P.leftCols(n) * model.transition.transpose()).eval();
   f_.P.topLeftCorner(n, n) += model.process_noise;
   nominal_ = ecefInsStep(nominal_, f_b, w_b, dt_s);
+  return true;
+}
+
+bool PppInsEkf::updateWithDoppler(Filter& f) {
+  // 1. The antenna velocity from the Doppler at the antenna position of `f`.
+  if (!ins_.doppler.enabled || doppler_.empty() || !held_) return false;
+  const Vector15d error = f.x.head<kInsErrorStateSize>();
+  const DopplerVelocitySolution v =
+      solveDopplerVelocity(doppler_, antennaPositionAt(nominal_, ins_.lever_arm_body_m, error), ins_.doppler);
+  DopplerUpdate& u = doppler_update_;
+  u.velocity_status = v.status;
+  u.satellites = static_cast<int>(v.used.size());
+  u.rejected = static_cast<int>(v.rejected.size());
+  u.outcome = DopplerOutcome::NoVelocity;
+  if (!v.ok()) return false;
+  u.velocity_ecef_mps = v.velocity_ecef_mps;
+  // 2. Its innovation against the filter's antenna velocity, tested.
+  const Eigen::Vector3d gyro = held_->angular_rate_radps - bias_.gyro_radps;
+  const int n = static_cast<int>(f.x.size());
+  Eigen::MatrixXd H = Eigen::MatrixXd::Zero(3, n);
+  H.leftCols(kInsErrorStateSize) = antennaVelocityJacobian(nominal_, ins_.lever_arm_body_m, gyro, error);
+  const Eigen::Vector3d y = v.velocity_ecef_mps - antennaVelocityAt(nominal_, ins_.lever_arm_body_m, gyro, error);
+  const Eigen::MatrixXd PHt = f.P * H.transpose();
+  const Eigen::Matrix3d S = H * PHt + v.velocity_covariance;
+  const Eigen::LDLT<Eigen::Matrix3d> ldlt(S);
+  if (ldlt.info() != Eigen::Success) return false;
+  u.innovation_chi2 = y.dot(ldlt.solve(y));
+  if (!(u.innovation_chi2 <= ins_.doppler.innovation_chi2)) {
+    u.outcome = DopplerOutcome::InnovationRefused;
+    return false;
+  }
+  // 3. The update (Joseph form).
+  const Eigen::MatrixXd K = ldlt.solve(PHt.transpose()).transpose();
+  f.x += K * y;
+  const Eigen::MatrixXd I_KH = Eigen::MatrixXd::Identity(n, n) - K * H;
+  f.P = I_KH * f.P * I_KH.transpose() + K * v.velocity_covariance * K.transpose();
+  f.P = 0.5 * (f.P + f.P.transpose()).eval();
+  u.outcome = DopplerOutcome::Applied;
   return true;
 }
 

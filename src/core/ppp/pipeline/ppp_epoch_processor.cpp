@@ -29,6 +29,8 @@ struct PppEpochProcessor::Impl {
   std::vector<DualFrequencyObservation> usable;
   std::vector<ArcId> arcs;
   std::vector<BridgedArc> bridged;
+  const EphemerisSource* ephemeris = nullptr;
+  DopplerEpoch doppler;  // this epoch's Doppler range rates (an estimator that uses them)
 
   Impl(const RinexObsHeader& h, const PppConfig& c, const BiasProvider* b)
       : header(h), config(c), biases(b), tracker(c.cycle_slip_options) {}
@@ -42,7 +44,7 @@ struct PppEpochProcessor::Impl {
   /// The IMU readings after the previous epoch up to `time` (nullptr without an IMU).
   const std::vector<ImuSample>* imuUpTo(const GnssTime& time);
   /// The estimator's step over the single measurement model of the usable satellites.
-  EstimatorEpochResult estimate(const GnssTime& time, const ArcEpochResult& arc_result, PppEstimator& estimator);
+  EstimatorEpochResult estimate(const ObsEpoch& epoch, const ArcEpochResult& arc_result, PppEstimator& estimator);
 };
 
 namespace {
@@ -63,6 +65,7 @@ PppEpochProcessor::PppEpochProcessor(const RinexObsHeader& header, const PppConf
                                      std::shared_ptr<const AntennaCalibrationProvider> antennas,
                                      const BiasProvider* biases, const OceanLoadingCoefficients* ocean)
     : impl_(std::make_unique<Impl>(header, config, biases)) {
+  impl_->ephemeris = &ephemeris;
   impl_->model = std::make_unique<PppMeasurementModel>(ephemeris, std::move(antennas),
                                                        ReceiverAntenna::fromHeader(header), ocean, config.model);
   impl_->selector = std::make_unique<SignalSelector>(impl_->header, config.signals, biases);
@@ -218,8 +221,9 @@ void PppEpochProcessor::Impl::keepUsableArcs(const ArcEpochResult& arc_result, P
   }
 }
 
-EstimatorEpochResult PppEpochProcessor::Impl::estimate(const GnssTime& time, const ArcEpochResult& arc_result,
+EstimatorEpochResult PppEpochProcessor::Impl::estimate(const ObsEpoch& epoch, const ArcEpochResult& arc_result,
                                                        PppEstimator& estimator) {
+  const GnssTime& time = epoch.time;
   // The single measurement model, linearised at whatever state the estimator asks.
   const MeasurementFunction evaluate = [&](const ReceiverState& state) {
     EpochMeasurements m;
@@ -244,6 +248,11 @@ EstimatorEpochResult PppEpochProcessor::Impl::estimate(const GnssTime& time, con
   input.bridged_arcs = &bridged;
   input.phase_biases = phase_biases;
   input.imu = imuUpTo(time);
+  if (estimator.usesDoppler()) {  // every satellite's Doppler of the processed systems, arcs or not
+    doppler = dopplerObservations(epoch, sel.observations, config.signals.systems, header.glonass_channels,
+                                  *ephemeris);
+    input.doppler = &doppler.observations;
+  }
   return estimator.processEpoch(input);
 }
 
@@ -274,7 +283,7 @@ PppEpochRecord PppEpochProcessor::process(const ObsEpoch& epoch, PppEstimator& e
   if (!arc_result.accepted) return refuseEpoch(rec, arc_result.refusal_reason);
   d.keepUsableArcs(arc_result, rec);
   // 4. The estimator's step.
-  EstimatorEpochResult r = d.estimate(epoch.time, arc_result, estimator);
+  EstimatorEpochResult r = d.estimate(epoch, arc_result, estimator);
   // 5. Its result into the record.
   recordEstimate(r, d.fix_ratio, rec);
   return rec;

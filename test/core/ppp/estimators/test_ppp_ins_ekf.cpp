@@ -74,6 +74,43 @@ TEST(PppInsEkf, AntennaJacobianMatchesNumericalDifferencesOfEveryErrorComponent)
   }
 }
 
+TEST(PppInsEkf, AntennaVelocityJacobianMatchesNumericalDifferences) {
+  // The Doppler velocity update's model: v + R Exp(dtheta) (w_eb x lever), w_eb the
+  // gyro reading less the gyro bias error and the Earth's rate.
+  const NavState nominal = someNominal();
+  const Eigen::Vector3d lever(0.8, -0.3, 1.5);
+  const Eigen::Vector3d gyro(0.3, -0.5, 1.2);
+  for (const double size : {0.0, 0.02}) {
+    Vector15 at = Vector15::Zero();
+    if (size > 0.0) at << size, -size, 2 * size, 0.1, 0.2, -0.1, 0.3, -0.2, 0.5, 0.01, 0.0, 0.0, 1e-2, 0.0, -1e-2;
+    const Eigen::Matrix<double, 3, 15> J = PppInsEkf::antennaVelocityJacobian(nominal, lever, gyro, at);
+    const double h = 1e-6;
+    for (int i = 0; i < 15; ++i) {
+      SCOPED_TRACE("component " + std::to_string(i) + ", at size " + std::to_string(size));
+      Vector15 plus = at, minus = at;
+      plus(i) += h;
+      minus(i) -= h;
+      const Eigen::Vector3d numeric = (PppInsEkf::antennaVelocityAt(nominal, lever, gyro, plus) -
+                                       PppInsEkf::antennaVelocityAt(nominal, lever, gyro, minus)) / (2 * h);
+      // The Earth rate's attitude term is left out of J (7.3e-5 rad/s x 1.7 m here).
+      EXPECT_LT((numeric - J.col(i)).norm(), 2e-4) << numeric.transpose() << " vs " << J.col(i).transpose();
+    }
+  }
+}
+
+TEST(PppInsEkf, AntennaVelocityOfAPlatformTurningInPlace) {
+  // At rest, turning about the body z axis at 1 rad/s with the antenna 0.5 m along
+  // body x: the antenna moves at 0.5 m/s along body y (w x l), plus the Earth's rate.
+  NavState nominal = someNominal();
+  nominal.velocity_world_mps.setZero();
+  const Eigen::Vector3d lever(0.5, 0.0, 0.0);
+  const Eigen::Vector3d earth_in_body =
+      nominal.rotation_world_body.transpose() * Eigen::Vector3d(0.0, 0.0, 7.2921151467e-5);
+  const Eigen::Vector3d gyro = Eigen::Vector3d(0.0, 0.0, 1.0) + earth_in_body;
+  const Eigen::Vector3d v = PppInsEkf::antennaVelocityAt(nominal, lever, gyro, Vector15::Zero());
+  EXPECT_LT((nominal.rotation_world_body.transpose() * v - Eigen::Vector3d(0.0, 0.5, 0.0)).norm(), 1e-12);
+}
+
 // ---- The simulated run ---------------------------------------------------------------
 
 /// The turn (ins_turn_run.h) and how the INS EKF starts on it.
