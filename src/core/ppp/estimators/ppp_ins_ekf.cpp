@@ -220,17 +220,10 @@ std::optional<InertialState> PppInsEkf::inertialState() const {
 }
 
 InsAttitudeQuality PppInsEkf::attitudeQuality() const {
-  InsAttitudeQuality q;
-  if (!lastTime()) return q;
-  q.state = alignment_;
+  if (!lastTime()) return InsAttitudeQuality{};
   constexpr int a = InsErrorIndex::kAttitude;
-  const Eigen::Matrix3d ned_body = rotationNedBody();
-  const Eigen::Matrix3d C = ned_body * f_.P.block<3, 3>(a, a) * ned_body.transpose();
-  q.tilt_sigma_rad = std::sqrt(std::max(C(0, 0), C(1, 1)));
-  q.heading_sigma_rad = std::sqrt(std::max(C(2, 2), 0.0));
-  q.publishable = attitudePublishable(q.state) && q.tilt_sigma_rad <= ins_.publish_tilt_sigma_rad &&
-                  q.heading_sigma_rad <= ins_.publish_heading_sigma_rad;
-  return q;
+  return insAttitudeQuality(alignment_, rotationNedBody(), f_.P.block<3, 3>(a, a), ins_.publish_tilt_sigma_rad,
+                            ins_.publish_heading_sigma_rad);
 }
 
 bool PppInsEkf::startNominal(const ReceiverState& start) {
