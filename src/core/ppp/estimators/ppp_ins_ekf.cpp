@@ -238,9 +238,7 @@ bool PppInsEkf::startNominal(const ReceiverState& start) {
     return false;
   }
   nominal_.rotation_world_body = *attitude;
-  nominal_.velocity_world_mps = ins_.initial_velocity_ned_mps
-                                    ? Eigen::Vector3d(rotationEcefNed(start.position_ecef_m) * *ins_.initial_velocity_ned_mps)
-                                    : ins_.initial_velocity_ecef_mps;
+  nominal_.velocity_world_mps = insStartVelocity_ecef_mps(ins_, start.position_ecef_m);
   nominal_.position_world_m = start.position_ecef_m - nominal_.rotation_world_body * ins_.lever_arm_body_m;
   bias_ = ImuBias{};
   if (heading_from_course_) bias_.accel_mps2 = start_accel_bias_mps2_;

@@ -140,7 +140,7 @@ bool PppInsSmoother::startNav(const ReceiverState& start) {
   }
   NavState nav;
   nav.rotation_world_body = *attitude.rotation_ecef_body;
-  nav.velocity_world_mps = ins_.initial_velocity_ecef_mps;
+  nav.velocity_world_mps = insStartVelocity_ecef_mps(ins_, start.position_ecef_m);
   nav.position_world_m = start.position_ecef_m - nav.rotation_world_body * ins_.lever_arm_body_m;
   nav_ = nav;
   nav_time_ = epoch_time_;

@@ -374,6 +374,33 @@ TEST(PppInsSmoother, KeepsOnlyTheReadingsAStartCanUseWhileGnssCannotStart) {
   EXPECT_GE(smoother->droppedReadings(), 5800u);
 }
 
+// A start velocity given in NED (as the ROS node gives it) is the smoother's as the EKF's:
+// the first epoch's NavState velocity is that velocity turned to ECEF (one GNSS position
+// does not move it), not the ECEF default of zero.
+TEST(PppInsSmoother, StartsWithTheVelocityGivenInNedAsTheEkf) {
+  test::TurnRun turn(RunSetup{});
+  EstimatorOptions options = turn.insOptions();
+  const Eigen::Vector3d given_ecef_mps = options.ins.initial_velocity_ecef_mps;
+  options.ins.initial_velocity_ecef_mps.setZero();
+  std::string why;
+  auto smoother = makeEstimatorAs<PppInsSmoother>("smoother_ins", options, &why);
+  ASSERT_TRUE(smoother) << why;
+  bool first = true;
+  turn.forEachEpoch([&](const test::TurnEpoch& epoch) {
+    if (!first) return;
+    first = false;
+    const Eigen::Matrix3d ecef_ned = rotationEcefNed(epoch.antenna_truth_m);
+    options.ins.initial_velocity_ned_mps = Eigen::Vector3d(ecef_ned.transpose() * given_ecef_mps);
+    smoother = makeEstimatorAs<PppInsSmoother>("smoother_ins", options, &why);
+    ASSERT_EQ(smoother->processEpoch(epoch.input).status, EpochStatus::Ok);
+  });
+  ASSERT_TRUE(smoother->navState());
+  const Eigen::Vector3d v = smoother->navState()->velocity_world_mps;
+  std::printf("start velocity given %.3f m/s (NED), first epoch's %.3f m/s, difference %.2e m/s\n",
+              given_ecef_mps.norm(), v.norm(), (v - given_ecef_mps).norm());
+  EXPECT_LT((v - given_ecef_mps).norm(), 0.01);
+}
+
 TEST(PppInsSmoother, SaysWhyWithoutAnAttitudeOrWithoutImuReadings) {
   // Without an attitude; with an attitude but no reading at the start; then started, and 1 s later a gap.
   sim::Simulator sim;
