@@ -1,8 +1,9 @@
 #pragma once
 // InsOdometry: the node's pose at the IMU rate for an estimator with inertial
-// states (ekf_ins). After each GNSS epoch the filtered nominal state (the IMU's
-// NavState in ECEF, the IMU bias and the 15-state INS error covariance of
-// PppInsEkf) is taken; each later reading moves it by the INS mechanization
+// states (ekf_ins, smoother_ins). After each GNSS epoch the estimator's inertial
+// state (the IMU's NavState in ECEF, the IMU bias and the 15-state INS error
+// covariance; inertial_state.h: the EKF's, or the smoother's newest state with its
+// marginal covariance) is taken; each later reading moves it by the INS mechanization
 // (ppp::ecefInsStep, bias-corrected, each reading held from its time to the
 // next one's as in the filter) and its covariance by the filter's error model.
 // The readings that came before the epoch was processed (the epochs wait for
