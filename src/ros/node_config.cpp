@@ -30,7 +30,7 @@ void checkConfigFiles(YAML::Node& root, const std::string& source) {
 }
 
 /// The estimator the node runs: its own, or ros.estimator when that is registered
-/// and gives the same solutions (the EKF node: ekf or ekf_ins; the smoother node: smoother).
+/// and gives the same solutions (the EKF node: ekf or ekf_ins; the smoother node: smoother or smoother_ins).
 std::string chosenEstimator(const std::string& own, const std::string& configured, const std::string& source) {
   if (configured.empty() || own.empty()) return configured.empty() ? own : configured;
   const ppp::EstimatorEntry* chosen = ppp::findEstimator(configured);

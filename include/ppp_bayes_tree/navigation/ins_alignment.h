@@ -127,6 +127,15 @@ struct InsAttitudeQuality {
   bool publishable = false;
 };
 
+/// The quality of an attitude R_ned_body of the given alignment from its error covariance
+/// about the body axes (R_true = R Exp(dtheta), ins_error_state.h) [rad^2]: the covariance
+/// turned to NED, tilt sigma the larger of north and east, heading sigma down; publishable
+/// when aligned with both sigmas within the thresholds [rad]. The EKF's and the GNSS/INS
+/// smoother's definition.
+InsAttitudeQuality insAttitudeQuality(AlignmentState state, const Eigen::Matrix3d& rotation_ned_body,
+                                      const Eigen::Matrix3d& attitude_covariance_body_rad2,
+                                      double publish_tilt_sigma_rad, double publish_heading_sigma_rad);
+
 /// Collects a levelling and a heading. The state is Aligned once both are accepted
 /// (in either order), LevelOnly with the levelling alone; refused inputs change nothing.
 class CoarseAlignment {

@@ -1,7 +1,8 @@
 #pragma once
-// The node's pose at the IMU rate for an estimator with inertial states (ekf_ins):
-// ppp::InsOdometry (ppp/estimators/ins_odometry.h) carries the filter's state from
-// each GNSS epoch through the later readings.
+// The node's pose at the IMU rate for an estimator with inertial states (ekf_ins,
+// smoother_ins): ppp::InsOdometry (ppp/estimators/ins_odometry.h) carries the
+// estimator's inertial state (inertial_state.h: the EKF's, or the smoother's newest
+// state with its marginal covariance) from each GNSS epoch through the later readings.
 // insOdometryMessage turns a state into ppp/odometry/filtered (REP-105: pose of
 // base_link in the map frame, twist in base_link) with the filter's covariance.
 #include <string>

@@ -1,6 +1,6 @@
 #pragma once
 // NodeImuInput: the IMU input of the PPP node (ppp_node.h) when its estimator has
-// inertial states (the registry's EstimatedState::GnssInertial, e.g. ekf_ins).
+// inertial states (the registry's EstimatedState::GnssInertial: ekf_ins, smoother_ins).
 // sensor_msgs/Imu messages on ros.imu.topic (REP-145: the IMU's own frame,
 // specific force and angular rate) are checked for what the message itself says
 // (a field marked "not given" by covariance[0] = -1), then screened by

@@ -26,7 +26,7 @@ struct LiveStreamTopic {
   std::optional<ppp::StreamFormat> format;
 };
 
-/// ros.imu: the IMU input of an estimator with inertial states (ekf_ins). The
+/// ros.imu: the IMU input of an estimator with inertial states (ekf_ins, smoother_ins). The
 /// IMU frame is the frame of the readings (sensor_msgs/Imu, REP-145); its pose in
 /// base_link comes from the parameters or from TF.
 struct RosImuOptions {

@@ -5,7 +5,7 @@
 // messages, buffers observations until corrections cover them, and publishes.
 // Inputs: gnss/observations + gnss/corrections, or raw receiver and correction
 // streams through one ppp::LiveGnssInput (ros.live), and an optional attitude;
-// with an estimator that has inertial states (ros.estimator ekf_ins) the IMU on
+// with an estimator that has inertial states (ros.estimator ekf_ins or smoother_ins) the IMU on
 // ros.imu.topic (node_imu_input.h), whose readings go to the estimator with each
 // epoch, and ppp/odometry/filtered and TF at the IMU rate (ins_odometry.h). When
 // the IMU stops after the start, the node goes on with the GNSS-only estimator.

@@ -184,6 +184,19 @@ std::string alignmentStateText(AlignmentState state) {
   return "unknown state";
 }
 
+InsAttitudeQuality insAttitudeQuality(AlignmentState state, const Eigen::Matrix3d& rotation_ned_body,
+                                      const Eigen::Matrix3d& attitude_covariance_body_rad2,
+                                      double publish_tilt_sigma_rad, double publish_heading_sigma_rad) {
+  InsAttitudeQuality q;
+  q.state = state;
+  const Eigen::Matrix3d C = rotation_ned_body * attitude_covariance_body_rad2 * rotation_ned_body.transpose();
+  q.tilt_sigma_rad = std::sqrt(std::max(C(0, 0), C(1, 1)));
+  q.heading_sigma_rad = std::sqrt(std::max(C(2, 2), 0.0));
+  q.publishable = attitudePublishable(q.state) && q.tilt_sigma_rad <= publish_tilt_sigma_rad &&
+                  q.heading_sigma_rad <= publish_heading_sigma_rad;
+  return q;
+}
+
 LevelingResult CoarseAlignment::addStaticInterval(const std::vector<ImuSample>& samples,
                                                   const Eigen::Vector3d& position_ecef_m,
                                                   const StaticIntervalThresholds& thresholds) {

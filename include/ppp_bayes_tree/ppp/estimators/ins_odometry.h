@@ -1,9 +1,10 @@
 #pragma once
 // InsOdometry: the GNSS/INS filter's state carried at the IMU rate between GNSS
 // epochs (the odometry of the PPP node, ros/ins_odometry.h, and of the real-time
-// benchmark ppp_bench_ins_realtime). After each GNSS epoch the filtered nominal
-// state (the IMU's NavState in ECEF, the IMU bias and the 15-state INS error
-// covariance of PppInsEkf) is taken; each later reading moves it by the INS
+// benchmark ppp_bench_ins_realtime). After each GNSS epoch the estimator's
+// inertial state (inertial_state.h: the IMU's NavState in ECEF, the IMU bias and
+// the 15-state INS error covariance; the EKF's, or the smoother's newest state
+// with its marginal covariance) is taken; each later reading moves it by the INS
 // mechanization (ecefInsStep, bias-corrected, each reading held from its time to
 // the next one's as in the filter) and its covariance by the filter's error model.
 // The readings that came before the epoch was processed (the epochs wait for

@@ -3,6 +3,7 @@
 // given attitude (InsEkfOptions::initial_rotation_ecef_body), or the given heading
 // with roll and pitch from levelling the readings up to the start (at rest,
 // ins_alignment.h). Neither, or a levelling refused: no attitude, with the reason.
+// Also the velocity they start with.
 #include <Eigen/Core>
 #include <optional>
 #include <string>
@@ -20,5 +21,9 @@ struct InsStartAttitude {
 
 InsStartAttitude insStartAttitude(const InsEkfOptions& options, const std::vector<ImuSample>& readings_to_start,
                                   const Eigen::Vector3d& position_ecef_m);
+
+/// The start velocity, ECEF [m/s]: InsEkfOptions::initial_velocity_ned_mps turned at
+/// `position_ecef_m` when given, else initial_velocity_ecef_mps.
+Eigen::Vector3d insStartVelocity_ecef_mps(const InsEkfOptions& options, const Eigen::Vector3d& position_ecef_m);
 
 }  // namespace ppp

@@ -24,6 +24,14 @@
 // by one IMU factor over the whole gap, and navState() is the dead-reckoned state of
 // the last epoch. Readings that do not cover the interval (a gap longer than
 // max_imu_interval_s, or none at the last state) end the epoch with NoImuReadings.
+// inertialState() carries the INS error covariance in the EKF's error state
+// (ins_error_state.h: [dtheta; dv; dp; dba; dbg], the attitude error on the right, in
+// the body frame, as the NavState tangent): after a solved epoch the joint marginal
+// covariance of the newest NavState and bias from the Bayes tree, moved from the
+// linearization point to the estimate; after an epoch without a solution that one
+// propagated along the readings with the EKF's error model to the dead-reckoned state.
+// The attitude quality is the EKF's (insAttitudeQuality) of that covariance; the start
+// attitude is given or levelled with a given heading, so the alignment is "aligned".
 #include <Eigen/Core>
 #include <optional>
 #include <string>
@@ -34,6 +42,7 @@
 #include "ppp_bayes_tree/navigation/imu_coverage.h"
 #include "ppp_bayes_tree/navigation/imu_preintegration.h"
 #include "ppp_bayes_tree/navigation/imu_sample.h"
+#include "ppp_bayes_tree/navigation/ins_error_state.h"
 #include "ppp_bayes_tree/navigation/nav_state.h"
 #include "ppp_bayes_tree/ppp/estimators/ins_ekf_options.h"
 #include "ppp_bayes_tree/ppp/estimators/ppp_smoother.h"
@@ -52,7 +61,8 @@ class PppInsSmoother : public PppSmoother {
   explicit PppInsSmoother(const EstimatorOptions& options);
 
   std::string name() const override { return "smoother_ins"; }
-  /// navState() at navTime(), its bias and antenna (no attitude quality, no covariance); nullopt before the start.
+  /// navState() at navTime(), its bias, antenna, INS error covariance and attitude quality
+  /// (see above); nullopt before the start.
   std::optional<InertialState> inertialState() const override;
 
   /// The state of the IMU at the last epoch: the filtered one after a solved epoch,
@@ -62,6 +72,9 @@ class PppInsSmoother : public PppSmoother {
   /// The epoch navState() is at; nullopt before the start.
   const std::optional<GnssTime>& navTime() const { return nav_time_; }
   const ImuBias& imuBias() const { return bias_; }
+  /// The INS error covariance of navState() (ins_error_state.h order); nullopt before a
+  /// solved epoch, or when the readings since the newest state do not reach navTime().
+  std::optional<Matrix15d> errorCovariance() const;
   /// The antenna position of navState(), ECEF [m].
   std::optional<Eigen::Vector3d> antennaPosition() const;
   /// The smoothed NavState of state `index` while it is in the graph.
@@ -97,6 +110,8 @@ class PppInsSmoother : public PppSmoother {
   /// once the readings from the newest state have a gap no later reading closes, those
   /// before the last one at or before this epoch (a start holds that one).
   void dropUnusableReadings();
+  /// The newest state's covariance from the Bayes tree (after a solved epoch).
+  void keepNewestCovariance(std::uint32_t index);
   /// broken_ is of the newest state only.
   void forgetGapOfAnOlderState();
 
@@ -113,6 +128,14 @@ class PppInsSmoother : public PppSmoother {
   std::optional<ImuPreintegration> pim_;   // from the newest state to this epoch
   std::size_t dropped_readings_ = 0;       // see droppedReadings()
   std::optional<ImuCoverage> broken_;      // a gap from the newest state no later reading closes
+  /// The newest state with its INS error covariance (keepNewestCovariance).
+  struct CovariantState {
+    GnssTime time;
+    NavState nav;
+    ImuBias bias;
+    Matrix15d covariance = Matrix15d::Zero();
+  };
+  std::optional<CovariantState> newest_covariance_;
 };
 
 }  // namespace ppp

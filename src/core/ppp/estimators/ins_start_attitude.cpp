@@ -30,4 +30,10 @@ InsStartAttitude insStartAttitude(const InsEkfOptions& options, const std::vecto
   return out;
 }
 
+Eigen::Vector3d insStartVelocity_ecef_mps(const InsEkfOptions& options, const Eigen::Vector3d& position_ecef_m) {
+  return options.initial_velocity_ned_mps
+             ? Eigen::Vector3d(rotationEcefNed(position_ecef_m) * *options.initial_velocity_ned_mps)
+             : options.initial_velocity_ecef_mps;
+}
+
 }  // namespace ppp

@@ -262,17 +262,10 @@ std::optional<InertialState> PppInsEkf::inertialState() const {
 }
 
 InsAttitudeQuality PppInsEkf::attitudeQuality() const {
-  InsAttitudeQuality q;
-  if (!lastTime()) return q;
-  q.state = alignment_;
+  if (!lastTime()) return InsAttitudeQuality{};
   constexpr int a = InsErrorIndex::kAttitude;
-  const Eigen::Matrix3d ned_body = rotationNedBody();
-  const Eigen::Matrix3d C = ned_body * f_.P.block<3, 3>(a, a) * ned_body.transpose();
-  q.tilt_sigma_rad = std::sqrt(std::max(C(0, 0), C(1, 1)));
-  q.heading_sigma_rad = std::sqrt(std::max(C(2, 2), 0.0));
-  q.publishable = attitudePublishable(q.state) && q.tilt_sigma_rad <= ins_.publish_tilt_sigma_rad &&
-                  q.heading_sigma_rad <= ins_.publish_heading_sigma_rad;
-  return q;
+  return insAttitudeQuality(alignment_, rotationNedBody(), f_.P.block<3, 3>(a, a), ins_.publish_tilt_sigma_rad,
+                            ins_.publish_heading_sigma_rad);
 }
 
 bool PppInsEkf::startNominal(const ReceiverState& start) {
@@ -287,9 +280,7 @@ bool PppInsEkf::startNominal(const ReceiverState& start) {
     return false;
   }
   nominal_.rotation_world_body = *attitude;
-  nominal_.velocity_world_mps = ins_.initial_velocity_ned_mps
-                                    ? Eigen::Vector3d(rotationEcefNed(start.position_ecef_m) * *ins_.initial_velocity_ned_mps)
-                                    : ins_.initial_velocity_ecef_mps;
+  nominal_.velocity_world_mps = insStartVelocity_ecef_mps(ins_, start.position_ecef_m);
   nominal_.position_world_m = start.position_ecef_m - nominal_.rotation_world_body * ins_.lever_arm_body_m;
   bias_ = ImuBias{};
   if (heading_from_course_) bias_.accel_mps2 = start_accel_bias_mps2_;

@@ -5,6 +5,8 @@
 
 #include "ppp_bayes_tree/navigation/imu_coverage.h"
 #include "ppp_bayes_tree/navigation/imu_smoother_factor.h"
+#include "ppp_bayes_tree/navigation/ins_alignment.h"
+#include "ppp_bayes_tree/navigation/ins_mechanization.h"
 #include "ppp_bayes_tree/navigation/nav_state_value.h"
 #include "ppp_bayes_tree/navigation/navigation_frame.h"
 #include "ppp_bayes_tree/ppp/estimators/antenna_position_factor.h"
@@ -16,6 +18,36 @@ namespace ppp {
 
 using smoother::Key;
 using smoother::NoiseModel;
+
+namespace {
+
+/// The INS error covariance of `nav` at `from` moved to `to` along the readings (the last
+/// one at or before `from` first; each held from its time to the next one's), with the
+/// GNSS/INS EKF's error model (ins_error_state.h) and the nominal state stepped by the
+/// mechanization, as the EKF propagates between epochs.
+Matrix15d propagatedCovariance(Matrix15d covariance, NavState nav, const ImuBias& bias,
+                               const std::vector<ImuSample>& readings, const GnssTime& from, const GnssTime& to,
+                               const InsEkfOptions& ins) {
+  const Matrix12d density = insNoiseSpectralDensity(ins.noise, ins.bias_model);
+  GnssTime t = from;
+  for (std::size_t k = 0; k < readings.size() && t < to; ++k) {
+    const bool later = k + 1 < readings.size();
+    if (later && readings[k + 1].time <= from) continue;  // a later reading holds at `from`
+    const GnssTime end = later && readings[k + 1].time < to ? readings[k + 1].time : to;
+    const double dt_s = end - t;
+    if (dt_s <= 0.0) continue;
+    const Eigen::Vector3d f_b = readings[k].specific_force_mps2 - bias.accel_mps2;
+    const Eigen::Vector3d w_b = readings[k].angular_rate_radps - bias.gyro_radps;
+    covariance = propagateInsCovariance(
+        covariance, discretizeInsErrorModel(insErrorStateF(nav, f_b, w_b, ins.bias_model), insErrorStateG(nav),
+                                            density, dt_s));
+    nav = ecefInsStep(nav, f_b, w_b, dt_s);
+    t = end;
+  }
+  return covariance;
+}
+
+}  // namespace
 
 PppInsSmoother::PppInsSmoother(const EstimatorOptions& options) : PppSmoother(options), ins_(options.ins) {
   if (auto problem = ins_.validate(); !problem.empty()) throw std::invalid_argument(problem);
@@ -33,7 +65,35 @@ std::optional<InertialState> PppInsSmoother::inertialState() const {
   s.nav = *nav_;
   s.bias = bias_;
   s.antenna_ecef_m = *antennaPosition();
+  s.error_covariance = errorCovariance();
+  if (s.error_covariance) {
+    constexpr int a = InsErrorIndex::kAttitude;
+    const Eigen::Matrix3d ned_body = rotationEcefNed(nav_->position_world_m).transpose() * nav_->rotation_world_body;
+    s.attitude_quality = insAttitudeQuality(AlignmentState::Aligned, ned_body, s.error_covariance->block<3, 3>(a, a),
+                                            ins_.publish_tilt_sigma_rad, ins_.publish_heading_sigma_rad);
+  }
   return s;
+}
+
+std::optional<Matrix15d> PppInsSmoother::errorCovariance() const {
+  const std::optional<CovariantState>& c = newest_covariance_;
+  if (!c || !nav_time_ || !lastTime() || !(c->time == *lastTime()) || *nav_time_ < c->time) return std::nullopt;
+  if (*nav_time_ == c->time) return c->covariance;
+  // Dead-reckoned from the newest state: its readings are still kept (keepReadingsFrom at a solve).
+  if (readings_.empty() || c->time < readings_.front().time || readings_.back().time < *nav_time_ - ins_.max_imu_interval_s)
+    return std::nullopt;
+  return propagatedCovariance(c->covariance, c->nav, c->bias, readings_, c->time, *nav_time_, ins_);
+}
+
+void PppInsSmoother::keepNewestCovariance(std::uint32_t index) {
+  // The marginal is of the tangent at the linearization point; the estimate is that point
+  // moved by delta: the error about the estimate is Jr(delta_theta) times it (insErrorResetJacobian).
+  const smoother::Matrix joint = isam2().jointMarginalCovariance({navKey(index), imuBiasKey(index)});
+  Vector15d delta;
+  delta << isam2().delta().at(navKey(index)), isam2().delta().at(imuBiasKey(index));
+  const Matrix15d J = insErrorResetJacobian(delta);
+  const Matrix15d P = J * Matrix15d(joint) * J.transpose();
+  newest_covariance_ = CovariantState{*nav_time_, *nav_, bias_, 0.5 * (P + P.transpose())};
 }
 
 std::optional<NavState> PppInsSmoother::smoothedNavState(std::uint32_t index) const {
@@ -80,7 +140,7 @@ bool PppInsSmoother::startNav(const ReceiverState& start) {
   }
   NavState nav;
   nav.rotation_world_body = *attitude.rotation_ecef_body;
-  nav.velocity_world_mps = ins_.initial_velocity_ecef_mps;
+  nav.velocity_world_mps = insStartVelocity_ecef_mps(ins_, start.position_ecef_m);
   nav.position_world_m = start.position_ecef_m - nav.rotation_world_body * ins_.lever_arm_body_m;
   nav_ = nav;
   nav_time_ = epoch_time_;
@@ -136,6 +196,7 @@ bool PppInsSmoother::solve(const EpochSolveInput& in, EpochSolveOutput& out, Est
   if (auto nav = smoothedNavState(*newestStateIndex())) nav_ = nav;
   nav_time_ = in.time;
   bias_ = ImuBias::fromVector(isam2().calculateEstimate(imuBiasKey(*newestStateIndex())));
+  keepNewestCovariance(*newestStateIndex());
   return true;
 }
 

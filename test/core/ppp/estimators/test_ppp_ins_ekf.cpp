@@ -333,13 +333,14 @@ TEST(PppInsEkf, InertialStateIsTheNominalWithItsQualityAndCovarianceAndNoneForGn
   ASSERT_TRUE(s->attitude_quality && s->error_covariance);
   EXPECT_EQ(s->attitude_quality->heading_sigma_rad, ins->attitudeQuality().heading_sigma_rad);
   EXPECT_EQ(*s->error_covariance, (ins->covarianceMatrix().topLeftCorner<15, 15>()));
-  // The smoother's: its navState() at navTime(), without attitude quality or covariance.
+  // The smoother's: its navState() at navTime(), with its covariance and attitude quality.
   const std::optional<InertialState> m = smoother->inertialState();
   ASSERT_TRUE(m.has_value());
   EXPECT_EQ(m->time - *smoother->navTime(), 0.0);
   EXPECT_EQ(m->nav.position_world_m, smoother->navState()->position_world_m);
   EXPECT_EQ(m->antenna_ecef_m, *smoother->antennaPosition());
-  EXPECT_FALSE(m->attitude_quality || m->error_covariance);
+  ASSERT_TRUE(m->attitude_quality && m->error_covariance);
+  EXPECT_EQ(*m->error_covariance, *smoother->errorCovariance());
 }
 
 // Neither attitude nor heading nor velocity given, a walker's pace on a slow turn:
