@@ -61,9 +61,11 @@ struct InsEkfOptions {
   /// GNSS data gaps (time between two epochs) up to this long [s] do not end
   /// the arcs: at the first epoch after, each arc's slip is identified from the
   /// INS prediction (gap_bridge.h) and the arc goes on or ends; 0: every gap
-  /// longer than the arc tracker's maximum ends the arcs. 6 s: an outage of 5 s
-  /// at 1 Hz (5 epochs missing).
-  double gap_bridge_max_s = 6.0;
+  /// longer than the arc tracker's maximum ends the arcs. An arc whose slip tests
+  /// fail after such a gap has its slip repaired first when the geometry-free
+  /// identification is accepted (slip_repair.h, CycleSlipOptions::slip_repair).
+  /// 61 s: an outage of 60 s at 1 Hz.
+  double gap_bridge_max_s = 61.0;
   GapBridgeOptions gap_bridge;
 
   /// Empty when valid; otherwise the first problem.
