@@ -10,11 +10,13 @@
 // One epoch's MW (code noise) is too coarse to round safely, so each integer dNW
 // within max_wide_lane_offset_cycles of the MW estimate is tried: a wrong dNW moves
 // the L1 estimate by lambda2 / (lambda1 - lambda2) (-4.53 cycles for GPS L1/L2,
-// near half a cycle from an integer; -3.95 for Galileo E1/E5a, near an integer, so
-// there two candidates are refused as ambiguous and a wrong one alone is left to
-// the estimator's gap bridge). The repair is accepted only when both sigmas (from
-// the noise model) are within their bounds and exactly one candidate gives an L1
-// estimate within the fraction bound of an integer.
+// near half a cycle from an integer; -3.95 for Galileo E1/E5a, near an integer).
+// The repair is accepted only when both sigmas (from the noise model) are within
+// their bounds, exactly one candidate gives an L1 estimate within the fraction
+// bound of an integer and its neighbours (dNW +- 1) do not: so Galileo E1/E5a
+// slips are not repaired. Not modelled: the phase wind-up's change through the gap
+// (the same cycles on both frequencies: (lambda1 - lambda2) per cycle in the GF
+// phase), which a turn during the gap adds to the GF jump.
 // The repaired arc is still checked by the estimator's gap bridge (gap_bridge.h).
 // References: Blewitt G. (1990) An automatic editing algorithm for GPS data, GRL
 // 17(3):199-202; Banville S., Langley R.B. (2010) Instantaneous cycle-slip
@@ -62,7 +64,7 @@ enum class SlipRepairOutcome {
   WideLaneTooUncertain,
   L1TooUncertain,
   L1NotInteger,         // no wide-lane candidate gives an integer L1
-  Ambiguous,            // more than one does
+  Ambiguous,            // more than one does, or a neighbour of the one that does
 };
 const char* slipRepairOutcomeName(SlipRepairOutcome outcome);
 

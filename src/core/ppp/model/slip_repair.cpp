@@ -74,7 +74,20 @@ bool firstFrequency(const SlipRepairInput& in, const SlipRepairOptions& o, doubl
                       o.max_l1_sigma_cycles);
     return false;
   }
-  if (passing == 1) return true;
+  // The chosen wide lane's neighbours must fail the L1 test (else the geometry-free
+  // phase does not check the wide lane: Galileo E1/E5a).
+  if (passing == 1) {
+    const long nw = out.dn1_cycles - out.dn2_cycles;
+    for (const long other : {nw - 1, nw + 1}) {
+      const double l1 = (jump_m - in.wavelength2_m * static_cast<double>(other)) / dl;
+      if (nearestInteger(l1).second > o.max_l1_fraction_cycles) continue;
+      out.outcome = SlipRepairOutcome::Ambiguous;
+      out.text = format("wide lanes %ld and %ld both give an integer L1 (%.2f, %.2f cycles)", nw, other,
+                        out.l1_cycles, l1);
+      return false;
+    }
+    return true;
+  }
   out.outcome = passing == 0 ? SlipRepairOutcome::L1NotInteger : SlipRepairOutcome::Ambiguous;
   out.text = passing == 0 ? format("L1 not an integer for any wide lane within %.1f cycles of %.2f: nearest %.2f "
                                    "+- %.2f cycles, fraction > %.2f",
