@@ -64,11 +64,9 @@ struct InsEkfOptions {
   /// longer than the arc tracker's maximum ends the arcs. An arc whose slip tests
   /// fail after such a gap has its slip repaired first when the geometry-free
   /// identification is accepted (slip_repair.h, CycleSlipOptions::slip_repair).
-  /// 6 s: an outage of 5 s at 1 Hz. Longer bridges (61 s with
-  /// gap_bridge.min_position_sigma_m = 1 m repair the slips of a 30-s outage on the
-  /// simulated flights) are not the default: on flights without multipath they held
-  /// wrong integers (doc/studies/ins_outages.md).
-  double gap_bridge_max_s = 6.0;
+  /// 61 s: an outage of 60 s at 1 Hz (doc/studies/ins_outages.md: 30-s outages
+  /// without lock re-fixed at their first epoch on white-noise flights, no wrong hold).
+  double gap_bridge_max_s = 61.0;
   GapBridgeOptions gap_bridge;
 
   /// Empty when valid; otherwise the first problem.

@@ -27,7 +27,7 @@ struct GapBridgeOptions {
   /// long gap is optimistic (30-s outages on the simulated flights: slips of 1-6 L1
   /// cycles without one), and a prior tighter than the true error turns the position
   /// error into apparent slips; 1 m makes them pass there. 0: the prior as given.
-  double min_position_sigma_m = 0.0;
+  double min_position_sigma_m = 1.0;
 };
 
 struct GapBridgeRow {
