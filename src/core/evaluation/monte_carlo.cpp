@@ -7,6 +7,7 @@
 #include <limits>
 #include <map>
 #include <mutex>
+#include <set>
 #include <thread>
 #include <tuple>
 
@@ -56,6 +57,11 @@ struct ArcRecord {
   long windup_cycles = 0;  // the wind-up integer between the simulator's and the estimator's convention
   bool valid = true;       // still inside its simulated arc
   bool missed_slip = false;
+  /// The truth of the arc's phase as the estimator sees it: the simulated arc's
+  /// integers minus the slips the arc tracker repaired (PppEpochRecord::slip_repairs).
+  long wide_lane_cycles = 0;
+  long correction1_cycles = 0, correction2_cycles = 0;
+  int generation = 0;  // truth changes (repairs followed)
   long last_bin = -1;
   std::vector<float> ages;  // sampled ages (for the smoothed values)
 };
@@ -68,6 +74,7 @@ class BiasSampler {
   /// `estimate(arc)`: the estimator's current bias estimate.
   template <class Estimate>
   void epoch(std::size_t k, const PppEpochRecord& rec, Estimate estimate, std::vector<BiasErrorSample>& out) {
+    const std::set<ArcId> repaired = applyRepairs(rec);
     if (rec.status != EpochStatus::Ok) return;
     for (const auto& r : rec.residuals) {
       const SignalTruth* s = f_.signal(k, r.satellite);
@@ -76,18 +83,18 @@ class BiasSampler {
         ArcRecord a;
         a.satellite = r.satellite;
         a.first_time = rec.solution.time;
-        if (s == nullptr || s->arc == 0) {
+        if (s == nullptr || s->arc == 0 || repaired.count(r.arc) != 0) {
           a.valid = false;
         } else {
-          a.simulated_arc = s->arc;
           a.windup_cycles = std::lround(s->windup_cycles);
-          a.truth_m = f_.arcs[s->arc - 1].bias_if_m +
-                      simulatedNarrowLaneWavelength_m(r.satellite.system) * static_cast<double>(a.windup_cycles);
+          followTruth(a, s->arc);
         }
         it = arcs_.emplace(r.arc, std::move(a)).first;
       }
       ArcRecord& a = it->second;
       if (!a.valid) continue;
+      // A repaired arc's phase: the simulated arc's integers minus the repairs.
+      if (s != nullptr && s->arc != 0 && repaired.count(r.arc) != 0) followTruth(a, s->arc);
       if (s == nullptr || s->arc != a.simulated_arc) {
         a.valid = false;
         a.missed_slip = true;
@@ -106,6 +113,34 @@ class BiasSampler {
   const std::map<ArcId, ArcRecord>& arcs() const { return arcs_; }
 
  private:
+  /// Adds this epoch's repaired slips to their arcs' corrections; the arcs repaired.
+  std::set<ArcId> applyRepairs(const PppEpochRecord& rec) {
+    std::set<ArcId> repaired;
+    for (const ArcSlipRepair& r : rec.slip_repairs) {
+      if (r.repair.dn1_cycles == 0 && r.repair.dn2_cycles == 0) continue;
+      repaired.insert(r.arc);
+      auto it = arcs_.find(r.arc);
+      if (it == arcs_.end()) continue;
+      it->second.correction1_cycles += r.repair.dn1_cycles;
+      it->second.correction2_cycles += r.repair.dn2_cycles;
+    }
+    return repaired;
+  }
+
+  /// The record's truth from simulated arc `sim` with its corrections.
+  void followTruth(ArcRecord& a, ArcId sim) const {
+    const TruthArc& t = f_.arcs[sim - 1];
+    const SimulatedBands bands = simulatedIonosphereFreeBands(a.satellite.system);
+    const double f1 = *carrierFrequency_hz(a.satellite.system, bands.band1);
+    const double f2 = *carrierFrequency_hz(a.satellite.system, bands.band2);
+    const double c1 = static_cast<double>(a.correction1_cycles), c2 = static_cast<double>(a.correction2_cycles);
+    a.simulated_arc = sim;
+    a.wide_lane_cycles = (t.n1_cycles - a.correction1_cycles) - (t.n2_cycles - a.correction2_cycles);
+    a.truth_m = t.bias_if_m - ionosphereFreeAmbiguity_m(f1, f2, c1, c1 - c2) +
+                simulatedNarrowLaneWavelength_m(a.satellite.system) * static_cast<double>(a.windup_cycles);
+    ++a.generation;
+  }
+
   const SimulatedFlight& f_;
   double bin_s_;
   std::map<ArcId, ArcRecord> arcs_;
@@ -126,7 +161,8 @@ class HeldIntegerChecker {
     bool wrong_now = false;
     for (const NarrowLaneFloat& n : fix->narrow_lanes) {
       if (!n.held_cycles) continue;
-      const Key key{n.arc, n.reference_arc, n.wide_lane_cycles, *n.held_cycles};
+      const Key key{n.arc, n.reference_arc, n.wide_lane_cycles, *n.held_cycles, generation(arcs, n.arc),
+                    generation(arcs, n.reference_arc)};
       auto it = verdicts_.find(key);
       if (it == verdicts_.end()) it = verdicts_.emplace(key, judge(n, arcs, out)).first;
       wrong_now = wrong_now || it->second == Verdict::Wrong;
@@ -135,7 +171,13 @@ class HeldIntegerChecker {
   }
 
  private:
-  using Key = std::tuple<ArcId, ArcId, long, long>;
+  /// Arcs, wide lane, held integer and the arcs' truth generations (a repair is judged again).
+  using Key = std::tuple<ArcId, ArcId, long, long, int, int>;
+
+  static int generation(const std::map<ArcId, ArcRecord>& arcs, ArcId arc) {
+    const auto it = arcs.find(arc);
+    return it == arcs.end() ? 0 : it->second.generation;
+  }
   enum class Verdict { Right, Wrong, NotCompared };
 
   Verdict judge(const NarrowLaneFloat& n, const std::map<ArcId, ArcRecord>& arcs, HeldIntegerCheck& out) const {
@@ -145,11 +187,9 @@ class HeldIntegerChecker {
       ++out.not_compared;
       return Verdict::NotCompared;
     }
-    const TruthArc& ta = f_.arcs[a->second.simulated_arc - 1];
-    const TruthArc& tr = f_.arcs[r->second.simulated_arc - 1];
     ++out.held;
     if (n.satellite.system != n.reference_satellite.system) ++out.cross_system;
-    const long true_wide_lane = static_cast<long>((ta.n1_cycles - ta.n2_cycles) - (tr.n1_cycles - tr.n2_cycles));
+    const long true_wide_lane = a->second.wide_lane_cycles - r->second.wide_lane_cycles;
     const SimulatedBands bands = simulatedIonosphereFreeBands(n.satellite.system);
     const double f1 = *carrierFrequency_hz(n.satellite.system, bands.band1);
     const double f2 = *carrierFrequency_hz(n.satellite.system, bands.band2);

@@ -27,6 +27,9 @@ struct BridgedArc {
   /// f2^2 / (f1^2 - f2^2): the first frequency's phase is the ionosphere-free
   /// one minus this times the geometry-free one.
   double geometry_free_factor = 0.0;
+  /// The slip repaired at this epoch (SatelliteArcStatus::slip_repair, accepted):
+  /// the arc's phases are corrected by it; nullopt when its slip tests passed.
+  std::optional<SlipRepair> repair;
 };
 
 /// What the pipeline gives an estimator for one epoch.

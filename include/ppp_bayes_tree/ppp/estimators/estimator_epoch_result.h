@@ -109,6 +109,9 @@ struct EstimatorEpochResult {
   /// Arcs back after a bridged gap (PppEstimator::gapBridgeMax_s): kept, and
   /// ended by the slip test; one readable line per arc.
   int bridged_arcs_kept = 0, bridged_arcs_ended = 0;
+  /// Of them, the arcs whose slip the arc tracker repaired (BridgedArc::repair):
+  /// kept (the repair confirmed), ended (refused by the slip test).
+  int repaired_arcs_kept = 0, repaired_arcs_ended = 0;
   std::vector<std::string> gap_bridge;
   int iterations = 0;     // measurement-model evaluations
   std::vector<MeasurementResidual> residuals;  // same order as `used`

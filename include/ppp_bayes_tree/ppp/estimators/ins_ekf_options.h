@@ -63,9 +63,12 @@ struct InsEkfOptions {
   /// GNSS data gaps (time between two epochs) up to this long [s] do not end
   /// the arcs: at the first epoch after, each arc's slip is identified from the
   /// INS prediction (gap_bridge.h) and the arc goes on or ends; 0: every gap
-  /// longer than the arc tracker's maximum ends the arcs. 6 s: an outage of 5 s
-  /// at 1 Hz (5 epochs missing).
-  double gap_bridge_max_s = 6.0;
+  /// longer than the arc tracker's maximum ends the arcs. An arc whose slip tests
+  /// fail after such a gap has its slip repaired first when the geometry-free
+  /// identification is accepted (slip_repair.h, CycleSlipOptions::slip_repair).
+  /// 61 s: an outage of 60 s at 1 Hz (doc/studies/ins_outages.md: 30-s outages
+  /// without lock re-fixed at their first epoch on white-noise flights, no wrong hold).
+  double gap_bridge_max_s = 61.0;
   GapBridgeOptions gap_bridge;
   /// The Doppler velocity update (PppInsEkf): each epoch whose observations carry
   /// Doppler, the antenna velocity from them (doppler_velocity.h) updates the

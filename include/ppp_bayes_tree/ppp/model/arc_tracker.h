@@ -10,6 +10,9 @@
 // References: Blewitt G. (1990) An automatic editing algorithm for GPS data,
 // GRL 17(3); Teunissen & Montenbruck (eds.) (2017) Springer Handbook of GNSS,
 // sec. 20.3.1.
+// Across a gap the estimator bridges, an arc whose slip tests fail may go on with
+// its phase repaired (slip_repair.h): SatelliteArcStatus::phase_correction1_cycles
+// and phase_correction2_cycles are then subtracted from its phases from that epoch on.
 #include <cstddef>
 #include <map>
 #include <optional>
@@ -17,6 +20,7 @@
 #include <vector>
 
 #include "ppp_bayes_tree/ppp/model/dual_frequency_observation.h"
+#include "ppp_bayes_tree/ppp/model/slip_repair.h"
 #include "ppp_bayes_tree/types/gnss_time.h"
 #include "ppp_bayes_tree/types/satellite_id.h"
 
@@ -47,6 +51,11 @@ struct CycleSlipOptions {
   // slip tests and is marked (SatelliteArcStatus::bridged_gap_s). Unset: every
   // gap longer than the maximum ends the arc.
   std::optional<double> bridge_max_gap_s;
+  // Repair of a slip across a bridged gap (slip_repair.h): an arc whose slip tests
+  // fail after a bridged gap goes on with its phase corrected by the identified
+  // integer slip when the repair is accepted; otherwise a new arc starts. Only
+  // with bridge_max_gap_s set (an estimator that verifies bridged arcs).
+  SlipRepairOptions slip_repair;
   // Receiver loss-of-lock indicator (RINEX LLI bit 0) starts a new arc.
   bool use_loss_of_lock = true;
 
@@ -82,8 +91,14 @@ struct SatelliteArcStatus {
   /// fit [m] (the ionosphere's drift through the gap removed); nullopt when the
   /// arc has fewer than two geometry-free samples.
   std::optional<double> bridged_gf_jump_m;
-  double mw_cycles = 0.0;  // this epoch's MW [wide-lane cycles]
-  double gf_m = 0.0;       // this epoch's GF phase [m]
+  double mw_cycles = 0.0;  // this epoch's MW [wide-lane cycles] (phases corrected)
+  double gf_m = 0.0;       // this epoch's GF phase [m] (phases corrected)
+  /// The repair attempted at this epoch after a bridged gap (accepted or refused);
+  /// nullopt when none was attempted.
+  std::optional<SlipRepair> slip_repair;
+  /// The arc's integer phase corrections so far [cycles]: the slips repaired,
+  /// to be subtracted from the observed phases (0 without a repair).
+  long phase_correction1_cycles = 0, phase_correction2_cycles = 0;
 };
 
 struct EndedArc {
@@ -140,6 +155,11 @@ class ArcTracker {
     // Running mean square of the GF prediction residuals (from >= 2 fit points).
     double gf_res_ms = 0.0;
     int gf_res_count = 0;
+    // Slips repaired so far [cycles] (subtracted from the phases).
+    long correction1_cycles = 0, correction2_cycles = 0;
+    // GF samples of the last SlipRepairOptions::gf_fit_window_s (time since
+    // first_time [s], GF [m]); kept only when repairs can be attempted.
+    std::vector<std::pair<double, double>> repair_gf_history;
   };
 
   void startArc(ArcState& state, const GnssTime& time, double mw, double gf);
@@ -160,6 +180,20 @@ class ArcTracker {
   /// The Melbourne-Wubbena and geometry-free tests of an open arc.
   ArcStartReason slipTest(const ArcState& state, const SatelliteArcStatus& status, const GnssTime& time, double dt,
                           std::string& text, std::optional<double>& gf_residual) const;
+
+  /// Repairs are attempted (a bridging estimator, repair enabled).
+  bool repairActive() const;
+  /// This epoch's MW and GF of `obs` with the arc's corrections applied.
+  static void combinations(const DualFrequencyObservation& obs, long correction1_cycles, long correction2_cycles,
+                           SatelliteArcStatus& status);
+  /// Appends a GF sample to the repair history and drops those older than the fit window.
+  void recordRepairSample(ArcState& state, double t_s, double gf_m) const;
+  /// The slip repair of an arc whose slip tests failed after a bridged gap.
+  SlipRepair attemptRepair(const ArcState& state, const DualFrequencyObservation& obs,
+                           const SatelliteArcStatus& status, const GnssTime& time) const;
+  /// An accepted repair applied: corrections, combinations, the GF jump left [m].
+  double applyRepair(ArcState& state, const DualFrequencyObservation& obs, const SlipRepair& repair,
+                     SatelliteArcStatus& status) const;
 
   CycleSlipOptions options_;
   std::map<SatelliteId, ArcState> arcs_;

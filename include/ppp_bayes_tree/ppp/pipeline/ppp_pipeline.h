@@ -127,6 +127,13 @@ struct RejectionKey {
 };
 std::string toString(const RejectionKey& key);  // "model: elevation below cutoff"
 
+/// A slip repaired after a bridged gap (PppEpochRecord::slip_repairs).
+struct ArcSlipRepair {
+  SatelliteId satellite;
+  ArcId arc = 0;
+  SlipRepair repair;
+};
+
 /// One epoch of the run: the solution and what happened.
 struct PppEpochRecord {
   SolutionEpoch solution;  // position (or explicitly none), sigmas, counts, ZWD, clock
@@ -145,6 +152,10 @@ struct PppEpochRecord {
   int slips = 0;  // new arcs started by a detected cycle slip or loss of lock
   /// Arc starts other than new satellites, e.g. "G17 arc 11: Melbourne-Wubbena jump 3.2 cycles > 1.0".
   std::vector<std::string> arc_events;
+  /// Slips repaired after a bridged gap (slip_repair.h): the arcs go on with their
+  /// phases corrected by them; and the repairs refused (those arcs started anew).
+  std::vector<ArcSlipRepair> slip_repairs;
+  int slip_repairs_refused = 0;
   std::vector<MeasurementResidual> residuals;  // per used satellite
   /// The receiver state's layout, and its covariance [m^2] when solved (empty otherwise).
   ReceiverStateLayout state_layout;
@@ -182,6 +193,8 @@ struct PppRunSummary {
   std::size_t data_gaps = 0;
   std::size_t arcs = 0;
   std::size_t slips = 0;
+  /// Slip repairs after bridged gaps: accepted (also those of no slip), refused.
+  std::size_t slips_repaired = 0, slip_repairs_refused = 0;
   /// Rejections (satellite-epochs) by stage and reason.
   std::map<RejectionKey, std::size_t> rejection_counts;
   /// Epochs without a solution by reason.

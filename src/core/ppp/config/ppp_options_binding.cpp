@@ -162,6 +162,23 @@ void bindCycleSlipOptions(const YAML::Node& node, const std::string& file, Cycle
   o.max_gap_intervals = s.number("max_gap_intervals", o.max_gap_intervals, Bound::Positive);
   o.default_interval_s = s.number("default_interval_s", o.default_interval_s, Bound::Positive);
   o.use_loss_of_lock = s.boolean("use_loss_of_lock", o.use_loss_of_lock);
+  {
+    YamlSection r = s.section("slip_repair");
+    SlipRepairOptions& p = o.slip_repair;
+    p.enabled = r.boolean("enabled", p.enabled);
+    p.max_wide_lane_offset_cycles =
+        r.number("max_wide_lane_offset_cycles", p.max_wide_lane_offset_cycles, Bound::Positive);
+    p.max_wide_lane_sigma_cycles = r.number("max_wide_lane_sigma_cycles", p.max_wide_lane_sigma_cycles, Bound::Positive);
+    p.max_l1_fraction_cycles = r.number("max_l1_fraction_cycles", p.max_l1_fraction_cycles, Bound::Positive);
+    p.max_l1_sigma_cycles = r.number("max_l1_sigma_cycles", p.max_l1_sigma_cycles, Bound::Positive);
+    p.gf_fit_window_s = r.number("gf_fit_window_s", p.gf_fit_window_s, Bound::Positive);
+    p.gf_fit_min_points = r.integer("gf_fit_min_points", p.gf_fit_min_points, 3);
+    p.gf_fit_order = r.integer("gf_fit_order", p.gf_fit_order, 1);
+    if (p.gf_fit_order > 2) r.fail("gf_fit_order", "must be 1 (linear) or 2 (quadratic)");
+    p.phase_sigma_m = r.number("phase_sigma_m", p.phase_sigma_m, Bound::Positive);
+    p.ionosphere_sigma_mps = r.number("ionosphere_sigma_m_per_s", p.ionosphere_sigma_mps, Bound::NonNegative);
+    r.finish();
+  }
   s.finish();
 }
 

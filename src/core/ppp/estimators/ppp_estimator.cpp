@@ -59,9 +59,11 @@ void PppEstimator::endBridgedArc(const BridgedArc& bridged, const std::string& r
   ended.satellite = bridged.satellite;
   ended.arc = bridged.arc;
   ended.reason = "gap of " + format("%.0f", bridged.gap_s) + " s not bridged: " + reason;
+  if (bridged.repair) ended.reason += " (slip repair " + bridged.repair->text + " refused)";
   removeArc(bridged.arc);
   ambiguity_.arcsEnded({ended});
   ++result.bridged_arcs_ended;
+  if (bridged.repair) ++result.repaired_arcs_ended;
   result.gap_bridge.push_back(bridged.satellite.toString() + " arc " + std::to_string(bridged.arc) + ": " +
                               ended.reason);
 }

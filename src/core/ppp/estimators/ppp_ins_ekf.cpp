@@ -512,9 +512,11 @@ void PppInsEkf::verifyBridgedArcs(const std::vector<BridgedArc>& bridged, const 
       continue;
     }
     ++result.bridged_arcs_kept;
+    if (b.repair) ++result.repaired_arcs_kept;
     result.gap_bridge.push_back(b.satellite.toString() + " arc " + std::to_string(b.arc) + ": gap of " +
                                 format("%.0f s bridged, slip %.2f +- %.2f cycles", b.gap_s,
-                                       verdicts[i].slip_cycles, verdicts[i].sigma_cycles));
+                                       verdicts[i].slip_cycles, verdicts[i].sigma_cycles) +
+                                (b.repair ? " after the slip repair " + b.repair->text : std::string()));
   }
 }
 

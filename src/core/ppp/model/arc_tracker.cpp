@@ -17,6 +17,12 @@ bool finiteObservation(const DualFrequencyObservation& o) {
          o.frequency1_hz > 0.0 && o.frequency2_hz > 0.0 && o.frequency1_hz != o.frequency2_hz;
 }
 
+/// Arc starts a repair may undo: a slip test's or the receiver's loss of lock.
+bool repairableStart(ArcStartReason reason) {
+  return reason == ArcStartReason::MelbourneWuebbenaJump || reason == ArcStartReason::GeometryFreeJump ||
+         reason == ArcStartReason::LossOfLock;
+}
+
 }  // namespace
 
 double CycleSlipOptions::geometryFreeThreshold_m(double dt_s) const {
@@ -68,6 +74,7 @@ void ArcTracker::startArc(ArcState& state, const GnssTime& time, double mw, doub
   state.mw_mean = mw;
   state.mw_count = 1;
   state.gf_history.emplace_back(0.0, gf);
+  recordRepairSample(state, 0.0, gf);
 }
 
 void ArcTracker::updateArc(ArcState& state, const GnssTime& time, double mw, double gf,
@@ -85,6 +92,7 @@ void ArcTracker::updateArc(ArcState& state, const GnssTime& time, double mw, dou
   state.mw_mean += delta / n;
   state.mw_var += (delta * (mw - state.mw_mean) - state.mw_var) / n;
   state.gf_history.emplace_back(time - state.first_time, gf);
+  recordRepairSample(state, time - state.first_time, gf);
   const auto keep = static_cast<std::size_t>(std::max(options_.gf_fit_points, 1));
   if (state.gf_history.size() > keep) state.gf_history.erase(state.gf_history.begin());
 }
@@ -174,32 +182,87 @@ std::optional<std::string> ArcTracker::refuseEpoch(const GnssTime& time) {
 
 void ArcTracker::trackSatellite(const GnssTime& time, const DualFrequencyObservation& obs, double max_gap,
                                 SatelliteArcStatus& status, ArcEpochResult& result) {
-  const double lambda1 = kSpeedOfLight_mps / obs.frequency1_hz;
-  const double lambda2 = kSpeedOfLight_mps / obs.frequency2_hz;
-  const double l1_m = obs.phase1_cycles * lambda1, l2_m = obs.phase2_cycles * lambda2;
-  status.mw_cycles =
-      melbourneWuebbena_cycles(l1_m, l2_m, obs.code1_m, obs.code2_m, obs.frequency1_hz, obs.frequency2_hz);
-  status.gf_m = geometryFreePhase_m(l1_m, l2_m);
-
   auto [it, inserted] = arcs_.try_emplace(obs.satellite);
   ArcState& state = it->second;
+  combinations(obs, state.correction1_cycles, state.correction2_cycles, status);
   std::string text;
   std::optional<double> gf_residual;
-  const ArcStartReason reason = arcStart(state, inserted, obs, status, time, max_gap, text, gf_residual);
+  ArcStartReason reason = arcStart(state, inserted, obs, status, time, max_gap, text, gf_residual);
+  const double gap_s = time - state.last_time;
+  // A slip after a bridged gap: repaired when the identification is accepted.
+  bool repaired = false;
+  if (repairableStart(reason) && gap_s > max_gap && repairActive()) {
+    status.slip_repair = attemptRepair(state, obs, status, time);
+    if (status.slip_repair->accepted()) {
+      gf_residual = applyRepair(state, obs, *status.slip_repair, status);
+      reason = ArcStartReason::None;
+      repaired = true;
+    } else {
+      text += "; not repaired: " + status.slip_repair->text;
+    }
+  }
   if (reason == ArcStartReason::None) {
-    if (time - state.last_time > max_gap) {
-      status.bridged_gap_s = time - state.last_time;
+    if (gap_s > max_gap) {
+      status.bridged_gap_s = gap_s;
       status.bridged_gf_jump_m = gf_residual;
     }
-    updateArc(state, time, status.mw_cycles, status.gf_m, gf_residual);
+    updateArc(state, time, status.mw_cycles, status.gf_m, repaired ? std::nullopt : gf_residual);
   } else {
     if (state.open) result.ended.push_back(endArc(obs.satellite, state, "replaced: " + text));
+    if (state.correction1_cycles != 0 || state.correction2_cycles != 0) combinations(obs, 0, 0, status);
     startArc(state, time, status.mw_cycles, status.gf_m);
     status.new_arc = true;
     status.start_reason = reason;
     status.reason = std::move(text);
   }
+  status.phase_correction1_cycles = state.correction1_cycles;
+  status.phase_correction2_cycles = state.correction2_cycles;
   status.arc = state.id;
+}
+
+bool ArcTracker::repairActive() const { return options_.bridge_max_gap_s.has_value() && options_.slip_repair.enabled; }
+
+void ArcTracker::combinations(const DualFrequencyObservation& obs, long correction1_cycles, long correction2_cycles,
+                              SatelliteArcStatus& status) {
+  const double lambda1 = kSpeedOfLight_mps / obs.frequency1_hz;
+  const double lambda2 = kSpeedOfLight_mps / obs.frequency2_hz;
+  const double l1_m = (obs.phase1_cycles - static_cast<double>(correction1_cycles)) * lambda1;
+  const double l2_m = (obs.phase2_cycles - static_cast<double>(correction2_cycles)) * lambda2;
+  status.mw_cycles =
+      melbourneWuebbena_cycles(l1_m, l2_m, obs.code1_m, obs.code2_m, obs.frequency1_hz, obs.frequency2_hz);
+  status.gf_m = geometryFreePhase_m(l1_m, l2_m);
+}
+
+void ArcTracker::recordRepairSample(ArcState& state, double t_s, double gf_m) const {
+  if (!repairActive()) return;
+  auto& h = state.repair_gf_history;
+  h.emplace_back(t_s, gf_m);
+  const double window_s = options_.slip_repair.gf_fit_window_s;
+  const auto first_kept = std::find_if(h.begin(), h.end(), [&](const auto& s) { return t_s - s.first <= window_s; });
+  h.erase(h.begin(), first_kept);
+}
+
+SlipRepair ArcTracker::attemptRepair(const ArcState& state, const DualFrequencyObservation& obs,
+                                     const SatelliteArcStatus& status, const GnssTime& time) const {
+  SlipRepairInput in;
+  in.mw_jump_cycles = status.mw_cycles - state.mw_mean;
+  in.mw_sigma_cycles = state.mw_count >= options_.mw_min_samples ? std::sqrt(std::max(state.mw_var, 0.0))
+                                                                  : options_.mw_initial_sigma_cycles;
+  in.mw_samples = state.mw_count;
+  in.gf_after_m = status.gf_m;
+  in.gf_before = state.repair_gf_history;
+  in.time_after_s = time - state.first_time;
+  in.wavelength1_m = kSpeedOfLight_mps / obs.frequency1_hz;
+  in.wavelength2_m = kSpeedOfLight_mps / obs.frequency2_hz;
+  return repairSlip(in, options_.slip_repair);
+}
+
+double ArcTracker::applyRepair(ArcState& state, const DualFrequencyObservation& obs, const SlipRepair& repair,
+                               SatelliteArcStatus& status) const {
+  state.correction1_cycles += repair.dn1_cycles;
+  state.correction2_cycles += repair.dn2_cycles;
+  combinations(obs, state.correction1_cycles, state.correction2_cycles, status);
+  return status.gf_m - repair.gf_prediction_m;
 }
 
 ArcStartReason ArcTracker::arcStart(const ArcState& state, bool inserted, const DualFrequencyObservation& obs,

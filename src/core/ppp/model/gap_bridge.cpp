@@ -55,10 +55,19 @@ int worstFailing(const std::vector<GapBridgeRow>& rows, const std::vector<int>& 
   return worst;
 }
 
+/// The prior covariance with each eigenvalue at least floor_sigma_m^2.
+Eigen::Matrix3d flooredCovariance(const Eigen::Matrix3d& cov_m2, double floor_sigma_m) {
+  if (!(floor_sigma_m > 0.0)) return cov_m2;
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(0.5 * (cov_m2 + cov_m2.transpose()));
+  const Eigen::Vector3d values = eig.eigenvalues().cwiseMax(floor_sigma_m * floor_sigma_m);
+  return eig.eigenvectors() * values.asDiagonal() * eig.eigenvectors().transpose();
+}
+
 }  // namespace
 
-std::vector<GapBridgeVerdict> bridgeGap(const std::vector<GapBridgeRow>& rows, const Eigen::Matrix3d& position_cov_m2,
+std::vector<GapBridgeVerdict> bridgeGap(const std::vector<GapBridgeRow>& rows, const Eigen::Matrix3d& given_cov_m2,
                                         const GapBridgeOptions& options) {
+  const Eigen::Matrix3d position_cov_m2 = flooredCovariance(given_cov_m2, options.min_position_sigma_m);
   std::vector<GapBridgeVerdict> out(rows.size());
   std::vector<int> active;
   int clocks = 0;

@@ -210,13 +210,21 @@ void PppEpochProcessor::Impl::keepUsableArcs(const ArcEpochResult& arc_result, P
       if (st.start_reason != ArcStartReason::NewSatellite)
         rec.arc_events.push_back(st.satellite.toString() + " arc " + std::to_string(st.arc) + ": " + st.reason);
     }
+    const bool repaired = st.slip_repair && st.slip_repair->accepted();
+    if (st.slip_repair && !repaired) ++rec.slip_repairs_refused;
+    if (repaired) rec.slip_repairs.push_back({st.satellite, st.arc, *st.slip_repair});
     if (st.bridged_gap_s > 0.0) {
       const DualFrequencyObservation& o = sel.observations[i];
       const double f1 = o.frequency1_hz, f2 = o.frequency2_hz;
       bridged.push_back({st.satellite, st.arc, st.bridged_gap_s, st.bridged_gf_jump_m, kSpeedOfLight_mps / f1,
-                         f2 * f2 / (f1 * f1 - f2 * f2)});
+                         f2 * f2 / (f1 * f1 - f2 * f2), repaired ? st.slip_repair : std::nullopt});
     }
     usable.push_back(sel.observations[i]);
+    // The arc's repaired slips are taken off its phases.
+    if (st.phase_correction1_cycles != 0 || st.phase_correction2_cycles != 0) {
+      usable.back().phase1_cycles -= static_cast<double>(st.phase_correction1_cycles);
+      usable.back().phase2_cycles -= static_cast<double>(st.phase_correction2_cycles);
+    }
     arcs.push_back(st.arc);
   }
 }

@@ -448,6 +448,8 @@ void PppPipeline::processEpochs(PppEstimator& estimator, const EpochCallback& on
 void PppPipeline::countEpoch(const PppEpochRecord& rec, PppRunSummary& summary, RunTally& tally) {
   summary.arcs += static_cast<std::size_t>(rec.new_arcs);
   summary.slips += static_cast<std::size_t>(rec.slips);
+  summary.slips_repaired += rec.slip_repairs.size();
+  summary.slip_repairs_refused += static_cast<std::size_t>(rec.slip_repairs_refused);
   switch (rec.status) {
     case EpochStatus::Ok:
       ++summary.epochs_solved;

@@ -165,12 +165,13 @@ TEST(ArcTracker, LossOfLockGapsAndEndedArcs) {
 // A gap longer than the maximum (3 intervals of 1 s) but within bridge_max_gap_s
 // (6 s) keeps the arc, marked bridged with its geometry-free jump; without the
 // bound, and beyond it, the gap ends the arc; a slip across a bridged gap still
-// starts a new arc (Melbourne-Wubbena).
+// starts a new arc (Melbourne-Wubbena) when the slip repair is off.
 TEST(ArcTracker, BridgedGapKeepsTheArcOnlyWithinItsBound) {
   const auto run_gap = [](std::optional<double> bridge_s, int gap_epochs, std::pair<int, int> slip) {
     Simulator sim(5);
     CycleSlipOptions o;
     o.bridge_max_gap_s = bridge_s;
+    o.slip_repair.enabled = false;
     ArcTracker tracker(o);
     const int back = 10 + gap_epochs;
     sim.slip_at[back] = slip;
@@ -194,6 +195,54 @@ TEST(ArcTracker, BridgedGapKeepsTheArcOnlyWithinItsBound) {
   EXPECT_TRUE(slipped.new_arc);
   EXPECT_EQ(slipped.start_reason, ArcStartReason::MelbourneWuebbenaJump);
   EXPECT_DOUBLE_EQ(slipped.bridged_gap_s, 0.0);
+}
+
+// A slip across a bridged 30-s gap (60 epochs before it at 1 Hz) is repaired
+// (slip_repair.h): the arc goes on with its phases corrected by (dN1, dN2) from
+// then on, and the next epoch passes the slip tests; with the repair off, or
+// without a bridging estimator, a new arc starts.
+TEST(ArcTracker, SlipAcrossABridgedGapIsRepaired) {
+  struct Run {
+    SatelliteArcStatus back, next;
+  };
+  const auto run = [](std::optional<double> bridge_s, bool repair, std::pair<int, int> slip) {
+    Simulator sim(8);
+    CycleSlipOptions o;
+    o.bridge_max_gap_s = bridge_s;
+    o.slip_repair.enabled = repair;
+    ArcTracker tracker(o);
+    constexpr int kBack = 59 + 30;
+    sim.slip_at[kBack] = slip;
+    for (int k = 0; k < 60; ++k) tracker.process(kT0 + k * 1.0, {sim.observe(5, k * 1.0, k)});
+    Run r;
+    r.back = tracker.process(kT0 + kBack * 1.0, {sim.observe(5, kBack * 1.0, kBack)}).satellites.at(0);
+    r.next = tracker.process(kT0 + (kBack + 1) * 1.0, {sim.observe(5, kBack + 1.0, kBack + 1)}).satellites.at(0);
+    return r;
+  };
+  for (const auto& slip : {std::pair{3, -2}, std::pair{-40, -31}, std::pair{1, 1}}) {
+    const Run r = run(60.0, true, slip);
+    EXPECT_FALSE(r.back.new_arc) << r.back.reason;
+    ASSERT_TRUE(r.back.slip_repair);
+    EXPECT_EQ(r.back.slip_repair->outcome, SlipRepairOutcome::Repaired) << r.back.slip_repair->text;
+    EXPECT_EQ(r.back.phase_correction1_cycles, slip.first) << r.back.slip_repair->text;
+    EXPECT_EQ(r.back.phase_correction2_cycles, slip.second) << r.back.slip_repair->text;
+    EXPECT_DOUBLE_EQ(r.back.bridged_gap_s, 30.0);
+    ASSERT_TRUE(r.back.bridged_gf_jump_m);
+    EXPECT_LT(std::abs(*r.back.bridged_gf_jump_m), 0.02);
+    EXPECT_FALSE(r.next.new_arc) << r.next.reason;
+    EXPECT_EQ(r.next.arc, r.back.arc);
+    EXPECT_FALSE(r.next.slip_repair);
+    EXPECT_EQ(r.next.phase_correction1_cycles, slip.first);
+    EXPECT_EQ(r.next.phase_correction2_cycles, slip.second);
+  }
+  const Run off = run(60.0, false, {3, -2});
+  EXPECT_TRUE(off.back.new_arc);
+  EXPECT_FALSE(off.back.slip_repair);
+  EXPECT_EQ(off.back.phase_correction1_cycles, 0);
+  const Run unbridged = run(std::nullopt, true, {3, -2});
+  EXPECT_TRUE(unbridged.back.new_arc);
+  EXPECT_EQ(unbridged.back.start_reason, ArcStartReason::DataGap);
+  EXPECT_FALSE(unbridged.back.slip_repair);
 }
 
 TEST(ArcTracker, BadEpochsAreRefusedWithoutStateChange) {

@@ -1,0 +1,141 @@
+// Slip repair (slip_repair.h): known slips injected into synthetic
+// Melbourne-Wubbena and geometry-free series across a 30-s gap are recovered; a
+// wide lane wrong by one cycle and a half-cycle L1 offset are refused by the L1
+// fraction bound; two candidates are refused as ambiguous; noise beyond the sigma
+// bounds and too short a fit are refused.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include "ppp_bayes_tree/ppp/model/slip_repair.h"
+#include "ppp_bayes_tree/types/constants.h"
+
+namespace ppp {
+namespace {
+
+// GPS L1/L2 (IS-GPS-200: 154 and 120 x 10.23 MHz) and Galileo E1/E5a (Galileo OS SIS ICD: 154 and 115 x 10.23 MHz).
+constexpr double kGpsLambda1 = kSpeedOfLight_mps / 1575.42e6, kGpsLambda2 = kSpeedOfLight_mps / 1227.60e6;
+constexpr double kGalLambda1 = kSpeedOfLight_mps / 1575.42e6, kGalLambda2 = kSpeedOfLight_mps / 1176.45e6;
+
+/// A smooth ionosphere in the GF phase [m]: offset, drift and a slow curvature.
+double ionosphere_m(double t_s) { return 0.8 + 2.0e-4 * t_s + 5.0e-7 * t_s * t_s; }
+
+/// A 60-s arc at 1 Hz (phase noise 3 mm per frequency, MW noise 0.15 cycles over
+/// 60 epochs), then a gap of gap_s and the epoch after it with the slip (dN1, dN2).
+SlipRepairInput arcAcrossGap(unsigned seed, long dn1, long dn2, double lambda1, double lambda2, double gap_s = 30.0) {
+  std::mt19937 rng(seed);
+  std::normal_distribution<double> gf_noise(0.0, std::sqrt(2.0) * 0.003), mw_noise(0.0, 0.15);
+  SlipRepairInput in;
+  for (int k = 0; k < 60; ++k) in.gf_before.emplace_back(k, ionosphere_m(k) + gf_noise(rng));
+  in.time_after_s = 59.0 + gap_s;
+  in.gf_after_m = ionosphere_m(in.time_after_s) + lambda1 * dn1 - lambda2 * dn2 + gf_noise(rng);
+  in.mw_jump_cycles = static_cast<double>(dn1 - dn2) + mw_noise(rng);
+  in.mw_sigma_cycles = 0.15;
+  in.mw_samples = 60;
+  in.wavelength1_m = lambda1;
+  in.wavelength2_m = lambda2;
+  return in;
+}
+
+TEST(SlipRepair, KnownSlipsAreRecovered) {
+  const std::vector<std::pair<long, long>> slips = {{3, 0}, {-7, -5}, {1, 1}, {250, -610}, {0, 1}, {-1000, 999}};
+  unsigned seed = 1;
+  for (const auto& [dn1, dn2] : slips) {
+    const SlipRepair r = repairSlip(arcAcrossGap(seed++, dn1, dn2, kGpsLambda1, kGpsLambda2), {});
+    EXPECT_EQ(r.outcome, SlipRepairOutcome::Repaired) << r.text;
+    EXPECT_EQ(r.dn1_cycles, dn1) << r.text;
+    EXPECT_EQ(r.dn2_cycles, dn2) << r.text;
+    EXPECT_LE(r.l1_sigma_cycles, 0.15) << r.text;
+    // Galileo E1/E5a: a wide lane one off gives an integer L1 too (-3.95 cycles): refused.
+    const SlipRepair g = repairSlip(arcAcrossGap(seed++, dn1, dn2, kGalLambda1, kGalLambda2), {});
+    EXPECT_EQ(g.outcome, SlipRepairOutcome::Ambiguous) << g.text;
+  }
+}
+
+TEST(SlipRepair, NoSlipIsIdentifiedAsSuch) {
+  const SlipRepair r = repairSlip(arcAcrossGap(3, 0, 0, kGpsLambda1, kGpsLambda2, 60.0), {});
+  EXPECT_EQ(r.outcome, SlipRepairOutcome::NoSlip) << r.text;
+  EXPECT_TRUE(r.accepted());
+  EXPECT_EQ(r.dn1_cycles, 0);
+  EXPECT_EQ(r.dn2_cycles, 0);
+}
+
+// A Melbourne-Wubbena jump one cycle off (the true wide lane beyond the 0.6-cycle
+// search): the L1 estimate moves by lambda2 / (lambda1 - lambda2) = -4.53 cycles,
+// half a cycle from an integer.
+TEST(SlipRepair, AWideLaneOneCycleOffIsRefused) {
+  SlipRepairInput in = arcAcrossGap(4, 3, 0, kGpsLambda1, kGpsLambda2);
+  in.mw_jump_cycles = std::round(in.mw_jump_cycles) + 1.0;
+  const SlipRepair r = repairSlip(in, {});
+  EXPECT_EQ(r.outcome, SlipRepairOutcome::L1NotInteger) << r.text;
+  EXPECT_FALSE(r.accepted());
+  EXPECT_NEAR(std::abs(r.l1_cycles - std::round(r.l1_cycles)), 0.47, 0.15) << r.text;
+}
+
+TEST(SlipRepair, HalfACycleOfL1IsRefused) {
+  SlipRepairInput in = arcAcrossGap(5, 3, 0, kGpsLambda1, kGpsLambda2);
+  in.gf_after_m += 0.5 * (kGpsLambda1 - kGpsLambda2);
+  EXPECT_EQ(repairSlip(in, {}).outcome, SlipRepairOutcome::L1NotInteger);
+}
+
+// Between two integers the L1 test picks the wide lane (GPS: the other gives a
+// half-cycle L1); for Galileo E1/E5a both give a near-integer L1 (-3.95 cycles
+// apart): ambiguous, refused.
+TEST(SlipRepair, AWideLaneBetweenIntegersIsChosenByL1OrRefused) {
+  SlipRepairInput gps = arcAcrossGap(6, 3, 0, kGpsLambda1, kGpsLambda2);
+  gps.mw_jump_cycles = 3.45;
+  const SlipRepair r = repairSlip(gps, {});
+  EXPECT_EQ(r.outcome, SlipRepairOutcome::Repaired) << r.text;
+  EXPECT_EQ(r.dn1_cycles, 3);
+  EXPECT_EQ(r.dn2_cycles, 0);
+  SlipRepairInput gal = arcAcrossGap(6, 3, 0, kGalLambda1, kGalLambda2);
+  gal.mw_jump_cycles = 3.45;
+  EXPECT_EQ(repairSlip(gal, {}).outcome, SlipRepairOutcome::Ambiguous);
+}
+
+TEST(SlipRepair, NoiseBeyondTheBoundsIsRefused) {
+  // Melbourne-Wubbena noise of 0.5 cycles: sigma 0.5 > 0.35.
+  SlipRepairInput noisy_mw = arcAcrossGap(7, 3, 0, kGpsLambda1, kGpsLambda2);
+  noisy_mw.mw_sigma_cycles = 0.5;
+  EXPECT_EQ(repairSlip(noisy_mw, {}).outcome, SlipRepairOutcome::WideLaneTooUncertain);
+  // Geometry-free scatter of 2.5 cm before the gap: the jump's sigma over 0.15 L1 cycle (8 mm).
+  SlipRepairInput noisy_gf = arcAcrossGap(8, 3, 0, kGpsLambda1, kGpsLambda2);
+  std::mt19937 rng(9);
+  std::normal_distribution<double> extra(0.0, 0.025);
+  for (auto& s : noisy_gf.gf_before) s.second += extra(rng);
+  EXPECT_EQ(repairSlip(noisy_gf, {}).outcome, SlipRepairOutcome::L1TooUncertain);
+  // A gap so long that the ionosphere's unmodelled drift alone exceeds the bound.
+  SlipRepairInput long_gap = arcAcrossGap(10, 3, 0, kGpsLambda1, kGpsLambda2, 120.0);
+  SlipRepairOptions o;
+  o.ionosphere_sigma_mps = 1.0e-4;
+  EXPECT_EQ(repairSlip(long_gap, o).outcome, SlipRepairOutcome::L1TooUncertain);
+}
+
+TEST(SlipRepair, TooFewSamplesAreRefused) {
+  SlipRepairInput in = arcAcrossGap(11, 3, 0, kGpsLambda1, kGpsLambda2);
+  in.gf_before.resize(4);
+  const SlipRepair r = repairSlip(in, {});
+  EXPECT_EQ(r.outcome, SlipRepairOutcome::TooFewSamples);
+  EXPECT_STREQ(slipRepairOutcomeName(r.outcome), "too few geometry-free samples");
+}
+
+TEST(SlipRepair, FitsExtrapolateLinesAndParabolas) {
+  std::vector<std::pair<double, double>> line, parabola;
+  for (int k = 0; k < 10; ++k) {
+    line.emplace_back(100.0 + k, 1.0 + 0.01 * k);
+    parabola.emplace_back(100.0 + k, 1.0 + 0.01 * k + 0.001 * k * k);
+  }
+  const auto l = predictGeometryFreeFit(line, 139.0, 1, 0.001);
+  ASSERT_TRUE(l);
+  EXPECT_NEAR(l->value_m, 1.39, 1e-9);
+  const auto p = predictGeometryFreeFit(parabola, 139.0, 2, 0.001);
+  ASSERT_TRUE(p);
+  EXPECT_NEAR(p->value_m, 1.0 + 0.39 + 0.001 * 39 * 39, 1e-9);
+  // The extrapolation's sigma grows with the distance from the samples.
+  EXPECT_GT(p->sigma_m, predictGeometryFreeFit(parabola, 110.0, 2, 0.001)->sigma_m);
+  EXPECT_FALSE(predictGeometryFreeFit({{0.0, 1.0}, {1.0, 1.0}}, 2.0, 1, 0.001));
+}
+
+}  // namespace
+}  // namespace ppp

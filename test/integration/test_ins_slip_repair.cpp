@@ -1,0 +1,112 @@
+// Slip repair across a 30-s GNSS outage for ekf_ins (slip_repair.h in the arc
+// tracker, checked by the INS gap bridge, gap_bridge.h) on a simulated survey
+// flight (15 min, GPS+Galileo with phase biases, white code noise, industrial-MEMS
+// IMU at 100 Hz, ins_ar_flights.h) with an outage at 400 s (after ekf_ins's first
+// fix, 198 s on this flight) that does NOT keep the receiver's lock: every
+// satellite comes back with new random integers (arbitrary slips). With the
+// former 6-s bridge no held integer survives the outage (every arc ends); with
+// the default 61-s bridge (its position prior floored at 1 m, gap_bridge.h) the
+// GPS slips are repaired (Galileo E1/E5a ones are refused: slip_repair.h), the
+// repaired arcs keep their held integers, the solution is fixed
+// again within seconds and no held integer is wrong (the truth of a repaired arc
+// is its simulated integers minus the repaired slips).
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <set>
+#include <string>
+
+#include "ins_ar_flights.h"
+#include "ppp_bayes_tree/evaluation/monte_carlo.h"
+#include "ppp_bayes_tree/navigation/so3.h"
+
+namespace ppp {
+namespace {
+
+constexpr double kOutageStart_s = 400.0, kOutage_s = 30.0;
+
+SimulatedFlight simulateWithOutage(const MonteCarloOptions& o) {
+  const MonteCarloFlightSetup setup = monteCarloFlightSetup(o, 0);
+  SimulationConfig c = monteCarloSimulationConfig(o, setup);
+  c.outages.push_back({kOutageStart_s, kOutage_s, false});
+  return simulateFlight(c, setup.seed);
+}
+
+PppConfig insConfig(PppConfig c, const SimulatedFlight& f) {
+  const TrajectorySample& first = f.truth.front().trajectory;
+  c.ins.noise = f.imu.noise;
+  c.ins.initial_rotation_ecef_body = ecefFromBody(first) * so3::expMap(Eigen::Vector3d(0.005, -0.005, 0.005));
+  c.ins.initial_velocity_ecef_mps = first.velocity_ecef_mps + Eigen::Vector3d(0.1, -0.1, 0.1);
+  return c;
+}
+
+/// Index of the first epoch after the outage.
+std::size_t firstAfterOutage(const SimulatedFlight& f) {
+  for (std::size_t k = 0; k < f.epochs.size(); ++k)
+    if (f.epochs[k].time - f.epochs.front().time >= kOutageStart_s + kOutage_s - 1e-6) return k;
+  return f.epochs.size();
+}
+
+struct AfterOutage {
+  bool fixed_before = false;
+  int repaired = 0, refused = 0, repaired_kept = 0, repaired_ended = 0;
+  std::size_t held_on_repaired = 0;  // held integers on repaired arcs, first epoch after
+  std::optional<double> refix_s;     // first fixed epoch after the outage, from its end
+  FlightEstimatorTrack track;
+};
+
+AfterOutage runInsEkf(const SimulatedFlight& f, const PppConfig& config) {
+  const std::size_t after = firstAfterOutage(f);
+  AfterOutage a;
+  std::set<ArcId> repaired_arcs;
+  a.track = trackEstimatorOnFlight(f, config, "ekf_ins", [&](std::size_t k, const PppEpochRecord& rec, const PppEstimator& e) {
+    if (k + 1 == after) a.fixed_before = rec.solution.status == SolutionStatus::PppFixed;
+    if (k < after) return;
+    if (!a.refix_s && rec.solution.status == SolutionStatus::PppFixed)
+      a.refix_s = f.epochs[k].time - f.epochs.front().time - (kOutageStart_s + kOutage_s);
+    if (k != after) return;
+    for (const ArcSlipRepair& r : rec.slip_repairs) repaired_arcs.insert(r.arc);
+    a.repaired = static_cast<int>(rec.slip_repairs.size());
+    a.refused = rec.slip_repairs_refused;
+    a.repaired_kept = e.lastResult().repaired_arcs_kept;
+    a.repaired_ended = e.lastResult().repaired_arcs_ended;
+    for (const std::string& line : e.lastResult().gap_bridge) std::printf("%s\n", line.c_str());
+    if (const auto& fix = e.lastResult().ambiguity_fix)
+      for (const NarrowLaneFloat& n : fix->narrow_lanes)
+        if (n.held_cycles && repaired_arcs.count(n.arc) != 0) ++a.held_on_repaired;
+  });
+  std::printf("repaired %d refused %d kept %d ended %d held on repaired %zu re-fix %.0f s\n", a.repaired, a.refused,
+              a.repaired_kept, a.repaired_ended, a.held_on_repaired, a.refix_s.value_or(-1.0));
+  return a;
+}
+
+TEST(InsSlipRepair, HeldIntegersSurviveAThirtySecondOutageWithoutLock) {
+  const MonteCarloOptions o = test::insArFlightOptions({FlightProfile::Survey}, 900.0);
+  const SimulatedFlight f = simulateWithOutage(o);
+  ASSERT_LT(firstAfterOutage(f), f.epochs.size());
+  const PppConfig config = insConfig(flightPppConfig(o.ppp, f), f);
+
+  // The former 6-s bridge: the 30-s gap ends every arc, nothing is repaired or held.
+  PppConfig short_bridge = config;
+  short_bridge.ins.gap_bridge_max_s = 6.0;
+  short_bridge.ins.gap_bridge.min_position_sigma_m = 0.0;
+  const AfterOutage before = runInsEkf(f, short_bridge);
+  EXPECT_TRUE(before.fixed_before);
+  EXPECT_EQ(before.repaired, 0);
+  EXPECT_EQ(before.held_on_repaired, 0u);
+
+  // The default 61-s bridge (position prior floored at 1 m) with the repair.
+  const AfterOutage after = runInsEkf(f, config);
+  EXPECT_TRUE(after.fixed_before);
+  EXPECT_GE(after.repaired, 8);
+  EXPECT_GE(after.repaired_kept, 6);
+  EXPECT_GE(after.held_on_repaired, 3u);
+  ASSERT_TRUE(after.refix_s);
+  EXPECT_LE(*after.refix_s, 10.0);
+  if (before.refix_s) EXPECT_LT(*after.refix_s, *before.refix_s);
+  EXPECT_EQ(after.track.held_check.wrong, 0u);
+  EXPECT_EQ(after.track.held_check.fixed_epochs_with_wrong_hold, 0u);
+}
+
+}  // namespace
+}  // namespace ppp
