@@ -16,7 +16,7 @@
 #include <set>
 #include <string>
 
-#include "ins_ar_flights.h"
+#include "ppp_bayes_tree/evaluation/ins_ar_flights.h"
 #include "ppp_bayes_tree/evaluation/monte_carlo.h"
 #include "ppp_bayes_tree/navigation/so3.h"
 
@@ -81,7 +81,7 @@ AfterOutage runInsEkf(const SimulatedFlight& f, const PppConfig& config) {
 }
 
 TEST(InsSlipRepair, HeldIntegersSurviveAThirtySecondOutageWithoutLock) {
-  const MonteCarloOptions o = test::insArFlightOptions({FlightProfile::Survey}, 900.0);
+  const MonteCarloOptions o = insArFlightOptions({FlightProfile::Survey}, 900.0);
   const SimulatedFlight f = simulateWithOutage(o);
   ASSERT_LT(firstAfterOutage(f), f.epochs.size());
   const PppConfig config = insConfig(flightPppConfig(o.ppp, f), f);
