@@ -4,8 +4,8 @@
 // IMU at 100 Hz, ins_ar_flights.h) with an outage at 400 s (after ekf_ins's first
 // fix, 198 s on this flight) that does NOT keep the receiver's lock: every
 // satellite comes back with new random integers (arbitrary slips). With the
-// former 6-s bridge no held integer survives the outage (every arc ends); with
-// the default 61-s bridge (its position prior floored at 1 m, gap_bridge.h) the
+// default 6-s bridge no held integer survives the outage (every arc ends); with
+// a 61-s bridge (its position prior floored at 1 m, gap_bridge.h) the
 // GPS slips are repaired (Galileo E1/E5a ones are refused: slip_repair.h), the
 // repaired arcs keep their held integers, the solution is fixed
 // again within seconds and no held integer is wrong (the truth of a repaired arc
@@ -86,17 +86,17 @@ TEST(InsSlipRepair, HeldIntegersSurviveAThirtySecondOutageWithoutLock) {
   ASSERT_LT(firstAfterOutage(f), f.epochs.size());
   const PppConfig config = insConfig(flightPppConfig(o.ppp, f), f);
 
-  // The former 6-s bridge: the 30-s gap ends every arc, nothing is repaired or held.
-  PppConfig short_bridge = config;
-  short_bridge.ins.gap_bridge_max_s = 6.0;
-  short_bridge.ins.gap_bridge.min_position_sigma_m = 0.0;
-  const AfterOutage before = runInsEkf(f, short_bridge);
+  // The default 6-s bridge: the 30-s gap ends every arc, nothing is repaired or held.
+  ASSERT_EQ(config.ins.gap_bridge_max_s, 6.0);
+  const AfterOutage before = runInsEkf(f, config);
   EXPECT_TRUE(before.fixed_before);
   EXPECT_EQ(before.repaired, 0);
   EXPECT_EQ(before.held_on_repaired, 0u);
 
-  // The default 61-s bridge (position prior floored at 1 m) with the repair.
-  const AfterOutage after = runInsEkf(f, config);
+  // A 61-s bridge (position prior floored at 1 m, the default) with the repair.
+  PppConfig long_bridge = config;
+  long_bridge.ins.gap_bridge_max_s = 61.0;
+  const AfterOutage after = runInsEkf(f, long_bridge);
   EXPECT_TRUE(after.fixed_before);
   EXPECT_GE(after.repaired, 8);
   EXPECT_GE(after.repaired_kept, 6);
