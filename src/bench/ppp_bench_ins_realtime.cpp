@@ -150,15 +150,6 @@ class OdometryPath {
   std::optional<GnssTime> checked_;
 };
 
-PppInMemoryInputs flightInputs(const SimulatedFlight& f) {
-  PppInMemoryInputs in;
-  in.header = &f.header;
-  in.epochs = &f.epochs;
-  in.products = &f.products;
-  in.phase_biases = &f.phase_biases;
-  return in;
-}
-
 /// The readings up to and including `until` from `next` on, each handed to the odometry and timed.
 void feedReadings(const SimulatedFlight& f, const GnssTime& until, const std::optional<GnssTime>& newest_epoch,
                   std::size_t& next, OdometryPath& path, RunFigures& r) {
@@ -173,7 +164,7 @@ void feedReadings(const SimulatedFlight& f, const GnssTime& until, const std::op
 
 /// ekf_ins with the odometry at the IMU rate, in time order.
 RunFigures runEkfIns(const SimulatedFlight& f, const PppConfig& config) {
-  PppPipeline pipeline(flightInputs(f), config);
+  PppPipeline pipeline(simulatedFlightInputs(f, 0), config);
   pipeline.setImu(f.imu.samples);
   const std::unique_ptr<PppInsEkf> filter = makeEstimatorAs<PppInsEkf>("ekf_ins", config);
   OdometryPath path(config.ins);
@@ -228,7 +219,7 @@ void addUpdateSteps(const SmootherEpochDiagnostics& d, double estimator_s, RunFi
 /// smoother_ins (fixed lag), each epoch with its readings (the pipeline's); per epoch a
 /// row into `csv` when given.
 RunFigures runSmootherIns(const SimulatedFlight& f, const PppConfig& config, std::FILE* csv) {
-  PppPipeline pipeline(flightInputs(f), config);
+  PppPipeline pipeline(simulatedFlightInputs(f, 0), config);
   pipeline.setImu(f.imu.samples);
   const std::unique_ptr<PppEstimator> smoother = makeEstimator("smoother_ins", config);
   RunFigures r;

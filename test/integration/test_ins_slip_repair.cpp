@@ -15,10 +15,11 @@
 #include <cstdio>
 #include <set>
 #include <string>
+#include <utility>
 
 #include "ppp_bayes_tree/evaluation/ins_ar_flights.h"
 #include "ppp_bayes_tree/evaluation/monte_carlo.h"
-#include "ppp_bayes_tree/navigation/so3.h"
+#include "ins_outage_flight.h"
 
 namespace ppp {
 namespace {
@@ -26,26 +27,12 @@ namespace {
 constexpr double kOutageStart_s = 400.0, kOutage_s = 30.0;
 
 SimulatedFlight simulateWithOutage(const MonteCarloOptions& o) {
-  const MonteCarloFlightSetup setup = monteCarloFlightSetup(o, 0);
-  SimulationConfig c = monteCarloSimulationConfig(o, setup);
-  c.outages.push_back({kOutageStart_s, kOutage_s, false});
-  return simulateFlight(c, setup.seed);
+  return test::simulateWithOutage(o, kOutageStart_s, kOutage_s, false);
 }
 
-PppConfig insConfig(PppConfig c, const SimulatedFlight& f) {
-  const TrajectorySample& first = f.truth.front().trajectory;
-  c.ins.noise = f.imu.noise;
-  c.ins.initial_rotation_ecef_body = ecefFromBody(first) * so3::expMap(Eigen::Vector3d(0.005, -0.005, 0.005));
-  c.ins.initial_velocity_ecef_mps = first.velocity_ecef_mps + Eigen::Vector3d(0.1, -0.1, 0.1);
-  return c;
-}
+PppConfig insConfig(PppConfig c, const SimulatedFlight& f) { return test::insConfigNearTruth(std::move(c), f); }
 
-/// Index of the first epoch after the outage.
-std::size_t firstAfterOutage(const SimulatedFlight& f) {
-  for (std::size_t k = 0; k < f.epochs.size(); ++k)
-    if (f.epochs[k].time - f.epochs.front().time >= kOutageStart_s + kOutage_s - 1e-6) return k;
-  return f.epochs.size();
-}
+std::size_t firstAfterOutage(const SimulatedFlight& f) { return test::firstEpochFrom(f, kOutageStart_s + kOutage_s); }
 
 struct AfterOutage {
   bool fixed_before = false;

@@ -122,6 +122,9 @@ MonteCarloFlightSetup monteCarloFlightSetup(const MonteCarloOptions& options, in
 /// (its model options: which corrections the simulator applied) with the
 /// weights and cutoff of `ppp`, and the flight's systems (one receiver clock each).
 PppConfig flightPppConfig(const PppConfig& ppp, const SimulatedFlight& f);
+/// The pipeline's in-memory inputs of flight `f` (number `index`: its name "flight N"); `f`
+/// must outlive them.
+PppInMemoryInputs simulatedFlightInputs(const SimulatedFlight& f, int index);
 /// The simulation configuration of a flight.
 SimulationConfig monteCarloSimulationConfig(const MonteCarloOptions& options, const MonteCarloFlightSetup& setup);
 

@@ -208,16 +208,6 @@ class HeldIntegerChecker {
   std::map<Key, Verdict> verdicts_;
 };
 
-PppInMemoryInputs memoryInputs(const SimulatedFlight& f, int index) {
-  PppInMemoryInputs in;
-  in.header = &f.header;
-  in.epochs = &f.epochs;
-  in.products = &f.products;
-  if (!f.phase_biases.empty()) in.phase_biases = &f.phase_biases;
-  in.name = "flight " + std::to_string(index);
-  return in;
-}
-
 double error3d(const SimulatedFlight& f, std::size_t k, const std::optional<Eigen::Vector3d>& p) {
   if (!p || k >= f.truth.size()) return kNaN;
   return (*p - f.truth[k].trajectory.position_ecef_m).norm();
@@ -261,6 +251,16 @@ std::vector<QuantileBin> binQuantiles(const std::vector<std::pair<double, double
 }
 
 }  // namespace
+
+PppInMemoryInputs simulatedFlightInputs(const SimulatedFlight& f, int index) {
+  PppInMemoryInputs in;
+  in.header = &f.header;
+  in.epochs = &f.epochs;
+  in.products = &f.products;
+  if (!f.phase_biases.empty()) in.phase_biases = &f.phase_biases;
+  in.name = "flight " + std::to_string(index);
+  return in;
+}
 
 PppConfig flightPppConfig(const PppConfig& ppp, const SimulatedFlight& f) {
   PppConfig c = ppp;
@@ -397,7 +397,7 @@ void runStudiedEstimator(const SimulatedFlight& f, int index, const MonteCarloOp
                          std::vector<std::optional<Eigen::Vector3d>>& reference, MonteCarloFlightRun& run) {
   const EstimatorEntry& entry = *findEstimator(kMonteCarloStudy[study]);
   const PppConfig config = studiedConfig(flight_config, entry, options.smoother_filtered_lag_s);
-  PppPipeline pipeline(memoryInputs(f, index), config);
+  PppPipeline pipeline(simulatedFlightInputs(f, index), config);
   const std::unique_ptr<PppEstimator> estimator = makeEstimator(entry.name, config);
   BiasSampler sampler(f, options.bias_bin_s);
   HeldIntegerChecker checker(f);
@@ -425,7 +425,7 @@ void runStudiedEstimator(const SimulatedFlight& f, int index, const MonteCarloOp
 FlightEstimatorTrack trackEstimatorOnFlight(
     const SimulatedFlight& f, const PppConfig& config, const std::string& name,
     const std::function<void(std::size_t, const PppEpochRecord&, const PppEstimator&)>& on_epoch) {
-  PppPipeline pipeline(memoryInputs(f, 0), config);
+  PppPipeline pipeline(simulatedFlightInputs(f, 0), config);
   if (!f.imu.samples.empty()) pipeline.setImu(f.imu.samples);
   std::string why;
   const std::unique_ptr<PppEstimator> estimator = makeEstimator(name, config, &why);
