@@ -6,7 +6,9 @@
 # function-length census and its unit test; scripts/test_walk_ins_study.sh: the
 # u-blox walk GNSS/INS study and its unit test; scripts/test_gnss_imu_walk.sh: the
 # walk's own GNSS/IMU filter beside ours (its unit test; the run when GNSS_IMU_PEER_DIR
-# names a checkout of the peer); scripts/test_demo.sh: the main-job
+# names a checkout of the peer); scripts/test_rtklib_restart_study.sh: float
+# restarts beside RTKLIB, whose row must give the shared data's peer figures;
+# scripts/test_demo.sh: the main-job
 # demo end to end on a 3-min simulated flight;
 # scripts/test_node_startup.sh: start-up errors of the nodes reach stderr;
 # scripts/test_live_replay.sh: a bag of a live run's raw topics replayed through
@@ -51,6 +53,7 @@ echo "=== script tests ==="
 "$REPO_DIR/scripts/test_function_census.sh" "$EXTRA"
 "$REPO_DIR/scripts/test_walk_ins_study.sh" "$EXTRA"
 "$REPO_DIR/scripts/test_gnss_imu_walk.sh" "$EXTRA"
+"$REPO_DIR/scripts/test_rtklib_restart_study.sh" "$EXTRA"
 "$REPO_DIR/scripts/test_demo.sh" "$EXTRA"
 "$REPO_DIR/scripts/test_node_startup.sh" "$EXTRA"
 "$REPO_DIR/scripts/test_live_replay.sh" "$EXTRA"
