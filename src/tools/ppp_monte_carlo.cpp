@@ -38,8 +38,10 @@
 // of that grade and GNSS outages of --outage-s S (default 30) every
 // --outage-every-s S (default 300) after the first fix (--outage-keeps-lock: the
 // receiver keeps its lock through them, same ambiguities), readings at --imu-rate HZ
-// (default 100), run by ekf and ekf_ins; writes
-// DIR/ins_outages.md (horizontal error at the outage end, re-fix time, fix kept,
+// (default 100; --ideal-imu: the true readings, no noise and no bias, to see what
+// the filter's own state at an outage's start costs), run by ekf and ekf_ins; writes
+// DIR/ins_outages.md (horizontal error at the outage end, the coast from the truth
+// through the same readings, re-fix time, fix kept,
 // roll/pitch/heading RMS, held integers against the truth per estimator).
 #include <unistd.h>
 
@@ -74,7 +76,7 @@ int usage(const std::string& why) {
             << "                       [--ambiguity-resolution] [--systems G|GE]\n"
             << "                       [--configurations all|gps_float,gps_ar,gps_galileo_float,gps_galileo_ar]\n"
             << "                       [--imu consumer|industrial|tactical [--outage-s 30] [--outage-every-s 300]\n"
-            << "                        [--outage-keeps-lock]\n"
+            << "                        [--outage-keeps-lock] [--ideal-imu]\n"
             << "                        [--imu-rate 100]]\n";
   return 2;
 }
@@ -180,6 +182,7 @@ int main(int argc, char** argv) {
   std::optional<ppp::ImuGrade> imu_grade;
   double outage_s = 30.0, outage_every_s = 300.0, imu_rate_hz = 100.0;
   bool outage_keeps_lock = false;
+  bool ideal_imu = false;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "--fixed-origin") {
@@ -192,6 +195,10 @@ int main(int argc, char** argv) {
     }
     if (a == "--outage-keeps-lock") {
       outage_keeps_lock = true;
+      continue;
+    }
+    if (a == "--ideal-imu") {
+      ideal_imu = true;
       continue;
     }
     if (a == "--fixed-start") {
@@ -289,6 +296,7 @@ int main(int argc, char** argv) {
   }
   if (const std::string why = options.ppp.smoother.validate(); !why.empty()) return usage("smoother options: " + why);
 
+  if (ideal_imu && !imu_grade) return usage("--ideal-imu needs --imu");
   if (imu_grade) {
     if (configurations.size() > 1) return usage("--imu runs one configuration");
     ppp::InsOutageStudyOptions ins;
@@ -297,6 +305,7 @@ int main(int argc, char** argv) {
     ins.outage_s = outage_s;
     ins.outage_every_s = outage_every_s;
     ins.outage_keeps_lock = outage_keeps_lock;
+    ins.imu_errors = !ideal_imu;
     ins.imu_rate_hz = imu_rate_hz;
     if (!(outage_s < outage_every_s)) return usage("--outage-s must be shorter than --outage-every-s");
     return runInsStudy(ins, out) ? 0 : 1;

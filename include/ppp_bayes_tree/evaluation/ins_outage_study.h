@@ -17,6 +17,9 @@
 //    PppInsEkf::predictedAntennaPosition); ekf, which has no motion model, the
 //    last position it had before the outage (its prediction) against the truth
 //    at that epoch; the median;
+//  * ekf_ins: the IMU's own share of that error: the coast through the same
+//    readings from the true state and bias of the last epoch before the outage
+//    (ins_coast_from_truth.h), against the truth at the first epoch after; the median;
 //  * re-fix time: from the first epoch after the outage to the next fixed epoch;
 //    the median (an outage never re-fixed before the next one or the end counts
 //    as +inf and is counted);
@@ -48,6 +51,10 @@ struct InsOutageStudyOptions {
   MonteCarloOptions flights;
   ImuGrade grade = ImuGrade::IndustrialMems;
   double imu_rate_hz = 100.0;
+  /// false: the true readings (no noise, no bias; SimulationConfig::Imu::errors),
+  /// the filter still weighting them with the grade's noise: what the estimator's
+  /// own state at the outage start costs, without the sensor's errors.
+  bool imu_errors = true;
   double outage_s = 30.0;
   /// Outages at first fix + k outage_every_s, k >= 1, each with its whole period
   /// before the flight's end (outage_every_s - outage_s to re-fix).
@@ -71,6 +78,8 @@ inline const std::vector<std::string>& insOutageEstimators() {
 /// One estimator's figures on one flight or summed over flights.
 struct InsOutageFigures {
   std::vector<double> outage_end_horizontal_m;  // one per counted outage
+  /// ekf_ins: the coast from the truth through the outage, one per counted outage (empty for ekf)
+  std::vector<double> truth_coast_horizontal_m;
   std::vector<double> refix_s;                  // one per counted outage, +inf when never re-fixed
   int outages_counted = 0, fix_kept = 0, first_fixes = 0;
   double roll_sq_sum_rad2 = 0.0, pitch_sq_sum_rad2 = 0.0, heading_sq_sum_rad2 = 0.0;

@@ -8,6 +8,7 @@
 #include <sstream>
 #include <thread>
 
+#include "ppp_bayes_tree/evaluation/ins_coast_from_truth.h"
 #include "ppp_bayes_tree/navigation/ins_alignment.h"
 #include "ppp_bayes_tree/navigation/so3.h"
 #include "ppp_bayes_tree/ppp/estimators/ppp_ins_ekf.h"
@@ -39,7 +40,7 @@ SimulationConfig outageSimulation(const InsOutageStudyOptions& o, const MonteCar
   c.imu.enabled = true;
   c.imu.grade = o.grade;
   c.imu.rate_hz = o.imu_rate_hz;
-  c.imu.errors = true;
+  c.imu.errors = o.imu_errors;
   if (!first_fix_s) return c;
   // Each outage with its whole period before the end (the re-fix window is outage_every_s - outage_s).
   for (double t = *first_fix_s + o.outage_every_s; t + o.outage_every_s <= o.flights.duration_s; t += o.outage_every_s)
@@ -97,8 +98,15 @@ EpochTrack trackEpochs(const SimulatedFlight& f, const PppConfig& config, const 
   return t;
 }
 
-/// The outage figures from the epochs: each epoch that follows a gap starts an outage's end.
-void scoreOutages(const SimulatedFlight& f, const EpochTrack& t, InsOutageFigures& fig) {
+/// The horizontal error of the coast from the truth of epoch k - 1 to epoch k (infinite when not covered).
+double truthCoastHorizontal_m(const SimulatedFlight& f, std::size_t k) {
+  const auto error = insCoastErrorFromTruth_enu_m(f.imu, f.truth[k - 1].trajectory, f.truth[k].trajectory);
+  return error ? error->head<2>().norm() : kInf;
+}
+
+/// The outage figures from the epochs: each epoch that follows a gap starts an outage's end
+/// (with_truth_coast: the coast from the truth through it as well).
+void scoreOutages(const SimulatedFlight& f, const EpochTrack& t, bool with_truth_coast, InsOutageFigures& fig) {
   const std::size_t n = f.epochs.size();
   const double interval_s = n > 1 ? f.epochs[1].time - f.epochs[0].time : 1.0;
   const auto gapBefore = [&](std::size_t k) { return k > 0 && f.epochs[k].time - f.epochs[k - 1].time > 1.5 * interval_s; };
@@ -113,6 +121,7 @@ void scoreOutages(const SimulatedFlight& f, const EpochTrack& t, InsOutageFigure
     const Eigen::Vector3d truth = f.truth[k].trajectory.position_ecef_m;
     if (t.predicted_m[k]) fig.outage_end_horizontal_m.push_back(ecefToEnu(*t.predicted_m[k], truth).head<2>().norm());
     else fig.outage_end_horizontal_m.push_back(kInf);
+    if (with_truth_coast) fig.truth_coast_horizontal_m.push_back(truthCoastHorizontal_m(f, k));
     double refix = kInf;
     for (std::size_t j = k; j < n && (j == k || !gapBefore(j)); ++j)
       if (t.fixed[j]) {
@@ -160,6 +169,8 @@ std::string rmsDeg(double sum_sq_rad2, std::size_t count) {
 void InsOutageFigures::add(const InsOutageFigures& o) {
   outage_end_horizontal_m.insert(outage_end_horizontal_m.end(), o.outage_end_horizontal_m.begin(),
                                  o.outage_end_horizontal_m.end());
+  truth_coast_horizontal_m.insert(truth_coast_horizontal_m.end(), o.truth_coast_horizontal_m.begin(),
+                                  o.truth_coast_horizontal_m.end());
   refix_s.insert(refix_s.end(), o.refix_s.begin(), o.refix_s.end());
   outages_counted += o.outages_counted;
   fix_kept += o.fix_kept;
@@ -187,7 +198,7 @@ InsOutageFlight runInsOutageFlight(const InsOutageStudyOptions& options, int ind
       InsOutageFigures fig;
       const PppConfig c = name == "ekf_ins" ? insConfig(config, f, options) : config;
       const EpochTrack t = trackEpochs(f, c, name, options, fig.held_check);
-      scoreOutages(f, t, fig);
+      scoreOutages(f, t, name == "ekf_ins", fig);
       scoreAttitude(t, fig);
       out.estimators.push_back(std::move(fig));
     }
@@ -233,7 +244,8 @@ std::string insOutageMarkdown(const InsOutageStudy& study) {
   std::ostringstream s;
   s << "GNSS outages of " << number(o.outage_s, 0) << " s every " << number(o.outage_every_s, 0) << " s"
     << (o.outage_keeps_lock ? " (lock kept)" : "") << ", "
-    << imuGradeText(o.grade) << " IMU at " << number(o.imu_rate_hz, 0) << " Hz; " << study.flights.size()
+    << imuGradeText(o.grade) << " IMU at " << number(o.imu_rate_hz, 0) << " Hz"
+    << (o.imu_errors ? "" : " (true readings: no noise, no bias)") << "; " << study.flights.size()
     << " flights (" << study.failed << " failed), " << number(o.flights.duration_s / 60.0, 0)
     << " min each; outages counted after each estimator's first fix; attitude after " << number(o.alignment_s, 0)
     << " s.\n";
@@ -248,14 +260,16 @@ std::string insOutageMarkdown(const InsOutageStudy& study) {
     << " s over the " << first_fix_s.size() << " flights it fixes (" << never_fixed
     << " never fixed: no outage).\n\n";
   s << "| estimator | flights fixed | outages counted | horizontal error at the outage end, median [m] | "
-       "re-fix after the outage, median [s] (never) | fixed at the first epoch after | roll RMS [deg] | "
+       "coast from the truth, median [m] | re-fix after the outage, median [s] (never) | fixed at the first epoch after | roll RMS [deg] | "
        "pitch RMS [deg] | heading RMS [deg] | held integers (wrong) | fixed epochs with a wrong hold |\n"
-    << "|---|---|---|---|---|---|---|---|---|---|---|\n";
+    << "|---|---|---|---|---|---|---|---|---|---|---|---|\n";
   for (std::size_t e = 0; e < study.total.size(); ++e) {
     const InsOutageFigures& f = study.total[e];
     const long never = std::count_if(f.refix_s.begin(), f.refix_s.end(), [](double v) { return std::isinf(v); });
     s << "| " << insOutageEstimators()[e] << " | " << f.first_fixes << " | " << f.outages_counted << " | "
-      << number(median(f.outage_end_horizontal_m), 2) << " | " << number(median(f.refix_s), 0) << " (" << never
+      << number(median(f.outage_end_horizontal_m), 2) << " | "
+      << (f.truth_coast_horizontal_m.empty() ? "-" : number(median(f.truth_coast_horizontal_m), 2)) << " | "
+      << number(median(f.refix_s), 0) << " (" << never
       << ") | " << f.fix_kept << " | " << rmsDeg(f.roll_sq_sum_rad2, f.attitude_epochs) << " | "
       << rmsDeg(f.pitch_sq_sum_rad2, f.attitude_epochs) << " | " << rmsDeg(f.heading_sq_sum_rad2, f.attitude_epochs)
       << " | " << f.held_check.held << " (" << f.held_check.wrong << ") | "
