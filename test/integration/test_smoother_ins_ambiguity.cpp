@@ -77,12 +77,7 @@ Outcome run(const InsArFlight& a, const std::string& name, long outage_from = -1
     f.epochs[k].satellites.clear();
     f.epochs[k].observations.clear();
   }
-  PppInMemoryInputs in;
-  in.header = &f.header;
-  in.epochs = &f.epochs;
-  in.products = &f.products;
-  in.phase_biases = &f.phase_biases;
-  PppPipeline pipeline(in, a.config);
+  PppPipeline pipeline(simulatedFlightInputs(f, 0), a.config);
   pipeline.setImu(f.imu.samples);
   std::string why;
   const std::unique_ptr<PppSmoother> sm = makeEstimatorAs<PppSmoother>(name, a.config, &why);
@@ -134,12 +129,7 @@ TEST(SmootherInsAmbiguity, FixesAsTheGnssSmootherAndHoldsThroughAnOutage) {
 std::vector<std::optional<Eigen::Vector3d>> floatRun(const InsArFlight& a, const std::string& name) {
   PppConfig config = a.config;
   config.ambiguity_resolution.enabled = false;
-  PppInMemoryInputs in;
-  in.header = &a.flight.header;
-  in.epochs = &a.flight.epochs;
-  in.products = &a.flight.products;
-  in.phase_biases = &a.flight.phase_biases;
-  PppPipeline pipeline(in, config);
+  PppPipeline pipeline(simulatedFlightInputs(a.flight, 0), config);
   pipeline.setImu(a.flight.imu.samples);
   std::string why;
   const std::unique_ptr<PppEstimator> e = makeEstimator(name, config, &why);

@@ -12,7 +12,9 @@
 // sec. 20.3.1.
 // Across a gap the estimator bridges, an arc whose slip tests fail may go on with
 // its phase repaired (slip_repair.h): SatelliteArcStatus::phase_correction1_cycles
-// and phase_correction2_cycles are then subtracted from its phases from that epoch on.
+// and phase_correction2_cycles are then subtracted from its phases from that epoch on,
+// here only: SatelliteArcStatus::phase1_cycles and phase2_cycles are the corrected
+// phases the tracker's tests and the estimator use.
 #include <cstddef>
 #include <map>
 #include <optional>
@@ -91,8 +93,11 @@ struct SatelliteArcStatus {
   /// fit [m] (the ionosphere's drift through the gap removed); nullopt when the
   /// arc has fewer than two geometry-free samples.
   std::optional<double> bridged_gf_jump_m;
-  double mw_cycles = 0.0;  // this epoch's MW [wide-lane cycles] (phases corrected)
-  double gf_m = 0.0;       // this epoch's GF phase [m] (phases corrected)
+  /// This epoch's phases with the arc's corrections subtracted [cycles] (the
+  /// observed ones without a repair): the phases of the arc.
+  double phase1_cycles = 0.0, phase2_cycles = 0.0;
+  double mw_cycles = 0.0;  // this epoch's MW [wide-lane cycles] of the corrected phases
+  double gf_m = 0.0;       // this epoch's GF phase [m] of the corrected phases
   /// The repair attempted at this epoch after a bridged gap (accepted or refused);
   /// nullopt when none was attempted.
   std::optional<SlipRepair> slip_repair;
@@ -183,9 +188,10 @@ class ArcTracker {
 
   /// Repairs are attempted (a bridging estimator, repair enabled).
   bool repairActive() const;
-  /// This epoch's MW and GF of `obs` with the arc's corrections applied.
-  static void combinations(const DualFrequencyObservation& obs, long correction1_cycles, long correction2_cycles,
-                           SatelliteArcStatus& status);
+  /// This epoch's phases of `obs` with the arc's corrections subtracted (the one
+  /// place they are applied), and the MW and GF of those phases.
+  static void correctedCombinations(const DualFrequencyObservation& obs, long correction1_cycles,
+                                    long correction2_cycles, SatelliteArcStatus& status);
   /// Appends a GF sample to the repair history and drops those older than the fit window.
   void recordRepairSample(ArcState& state, double t_s, double gf_m) const;
   /// The slip repair of an arc whose slip tests failed after a bridged gap.

@@ -31,6 +31,7 @@
 #include "ppp_bayes_tree/models/receiver_frequency_substitution.h"
 #include "ppp_bayes_tree/types/ocean_loading_coefficients.h"
 #include "ppp_bayes_tree/ppp/model/dual_frequency_observation.h"
+#include "ppp_bayes_tree/ppp/model/observed_ionosphere_free.h"
 #include "ppp_bayes_tree/ppp/model/satellite_measurement.h"
 #include "ppp_bayes_tree/types/constants.h"
 
@@ -196,7 +197,7 @@ class PppMeasurementModel {
   ///  2. systemTerms: per system and frequency pair, on first use: IF
   ///     coefficients, wind-up wavelength, sigma factor, receiver PCO (IF);
   ///  3. observedCombinations: the receiver clock of the system and the
-  ///     observed IF code and phase;
+  ///     observed IF code and phase (given, or observedIonosphereFree);
   ///  4. satelliteAtEmission: clock and orbit at the emission time, eclipse,
   ///     attitude (satelliteAttitude: nominal, or a noon/midnight turn),
   ///     satellite antenna offset (IF);
@@ -208,6 +209,13 @@ class PppMeasurementModel {
   ///  9. addMeasurement: relativity, Shapiro, the predicted observables, the
   ///     Jacobian row and the sigmas (and modelTerms, on request).
   void evaluate(const std::vector<DualFrequencyObservation>& observations, const std::vector<ArcId>& arcs,
+                const ReceiverState& state, WindupTracker* windup, EpochMeasurements& out,
+                std::vector<ModelTerms>* terms = nullptr) const;
+  /// The same with the epoch's observed IF code and phase computed once by the
+  /// caller (`observed[i]` of `observations[i]`, observedIonosphereFree), for an
+  /// epoch linearised more than once. Throws std::invalid_argument when the sizes differ.
+  void evaluate(const std::vector<DualFrequencyObservation>& observations,
+                const std::vector<ObservedIonosphereFree>& observed, const std::vector<ArcId>& arcs,
                 const ReceiverState& state, WindupTracker* windup, EpochMeasurements& out,
                 std::vector<ModelTerms>* terms = nullptr) const;
   EpochMeasurements evaluate(const std::vector<DualFrequencyObservation>& observations,
@@ -232,6 +240,10 @@ class PppMeasurementModel {
   /// system's clock, 0 for the ZWD. Rejected with the reason: no receiver clock
   /// for the system, unusable code, no clock, no orbit.
   void evaluateStart(const std::vector<DualFrequencyObservation>& observations, const ReceiverState& state,
+                     EpochMeasurements& out) const;
+  /// The same with the epoch's observed IF computed once by the caller (as evaluate's).
+  void evaluateStart(const std::vector<DualFrequencyObservation>& observations,
+                     const std::vector<ObservedIonosphereFree>& observed, const ReceiverState& state,
                      EpochMeasurements& out) const;
 
   const MeasurementModelOptions& options() const { return options_; }
@@ -280,6 +292,15 @@ class PppMeasurementModel {
   struct EpochTerms;
   struct SystemTerms;
   struct SatelliteEvaluation;
+  /// evaluate() with the observed IF of each observation from `observed` (nullptr: computed here).
+  void evaluateEpoch(const std::vector<DualFrequencyObservation>& observations,
+                     const std::vector<ObservedIonosphereFree>* observed, const std::vector<ArcId>& arcs,
+                     const ReceiverState& state, WindupTracker* windup, EpochMeasurements& out,
+                     std::vector<ModelTerms>* terms) const;
+  /// evaluateStart() likewise.
+  void evaluateStartEpoch(const std::vector<DualFrequencyObservation>& observations,
+                          const std::vector<ObservedIonosphereFree>* observed, const ReceiverState& state,
+                          EpochMeasurements& out) const;
   EpochTerms epochTerms(const Eigen::Vector3d& marker, const GnssTime& t_rx) const;
   const SystemTerms& systemTerms(const DualFrequencyObservation& o, const EpochTerms& epoch, SystemTerms& st) const;
   bool observedCombinations(SatelliteEvaluation& sv, const EpochTerms& epoch, const ReceiverState& state,

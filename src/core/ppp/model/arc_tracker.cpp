@@ -184,7 +184,7 @@ void ArcTracker::trackSatellite(const GnssTime& time, const DualFrequencyObserva
                                 SatelliteArcStatus& status, ArcEpochResult& result) {
   auto [it, inserted] = arcs_.try_emplace(obs.satellite);
   ArcState& state = it->second;
-  combinations(obs, state.correction1_cycles, state.correction2_cycles, status);
+  correctedCombinations(obs, state.correction1_cycles, state.correction2_cycles, status);
   std::string text;
   std::optional<double> gf_residual;
   ArcStartReason reason = arcStart(state, inserted, obs, status, time, max_gap, text, gf_residual);
@@ -209,7 +209,7 @@ void ArcTracker::trackSatellite(const GnssTime& time, const DualFrequencyObserva
     updateArc(state, time, status.mw_cycles, status.gf_m, repaired ? std::nullopt : gf_residual);
   } else {
     if (state.open) result.ended.push_back(endArc(obs.satellite, state, "replaced: " + text));
-    if (state.correction1_cycles != 0 || state.correction2_cycles != 0) combinations(obs, 0, 0, status);
+    if (state.correction1_cycles != 0 || state.correction2_cycles != 0) correctedCombinations(obs, 0, 0, status);
     startArc(state, time, status.mw_cycles, status.gf_m);
     status.new_arc = true;
     status.start_reason = reason;
@@ -222,12 +222,14 @@ void ArcTracker::trackSatellite(const GnssTime& time, const DualFrequencyObserva
 
 bool ArcTracker::repairActive() const { return options_.bridge_max_gap_s.has_value() && options_.slip_repair.enabled; }
 
-void ArcTracker::combinations(const DualFrequencyObservation& obs, long correction1_cycles, long correction2_cycles,
-                              SatelliteArcStatus& status) {
+void ArcTracker::correctedCombinations(const DualFrequencyObservation& obs, long correction1_cycles,
+                                       long correction2_cycles, SatelliteArcStatus& status) {
+  status.phase1_cycles = obs.phase1_cycles - static_cast<double>(correction1_cycles);
+  status.phase2_cycles = obs.phase2_cycles - static_cast<double>(correction2_cycles);
   const double lambda1 = kSpeedOfLight_mps / obs.frequency1_hz;
   const double lambda2 = kSpeedOfLight_mps / obs.frequency2_hz;
-  const double l1_m = (obs.phase1_cycles - static_cast<double>(correction1_cycles)) * lambda1;
-  const double l2_m = (obs.phase2_cycles - static_cast<double>(correction2_cycles)) * lambda2;
+  const double l1_m = status.phase1_cycles * lambda1;
+  const double l2_m = status.phase2_cycles * lambda2;
   status.mw_cycles =
       melbourneWuebbena_cycles(l1_m, l2_m, obs.code1_m, obs.code2_m, obs.frequency1_hz, obs.frequency2_hz);
   status.gf_m = geometryFreePhase_m(l1_m, l2_m);
@@ -261,7 +263,7 @@ double ArcTracker::applyRepair(ArcState& state, const DualFrequencyObservation& 
                                SatelliteArcStatus& status) const {
   state.correction1_cycles += repair.dn1_cycles;
   state.correction2_cycles += repair.dn2_cycles;
-  combinations(obs, state.correction1_cycles, state.correction2_cycles, status);
+  correctedCombinations(obs, state.correction1_cycles, state.correction2_cycles, status);
   return status.gf_m - repair.gf_prediction_m;
 }
 

@@ -81,16 +81,17 @@ std::optional<double> dopplerOf(const ObsEpoch& epoch, const SatelliteId& sat, O
 }
 
 /// The satellite clock rate without the relativistic term [s/s]: the central
-/// difference over +-0.5 s, or a one-sided one over 1 s at the end of the clocks' span.
-std::optional<double> clockRate_sps(const EphemerisSource& ephemeris, const SatelliteId& sat, const GnssTime& t) {
+/// difference over +-0.5 s, or a one-sided one over 1 s with the clock `at` t (the
+/// caller's answer, not asked again) at the end of the clocks' span.
+std::optional<double> clockRate_sps(const EphemerisSource& ephemeris, const SatelliteId& sat, const GnssTime& t,
+                                    const EphemerisAnswer<EphemerisClock>& at) {
   constexpr double kHalfStep_s = 0.5;
-  const auto before = ephemeris.satelliteClock(sat, t - kHalfStep_s);
-  const auto at = ephemeris.satelliteClock(sat, t);
-  const auto after = ephemeris.satelliteClock(sat, t + kHalfStep_s);
   const auto rate = [](const auto& a, const auto& b, double dt_s) -> std::optional<double> {
     if (!a.ok() || !b.ok()) return std::nullopt;
     return (b.value->clock_bias_s - a.value->clock_bias_s) / dt_s;
   };
+  const auto before = ephemeris.satelliteClock(sat, t - kHalfStep_s);
+  const auto after = ephemeris.satelliteClock(sat, t + kHalfStep_s);
   if (auto r = rate(before, after, 2.0 * kHalfStep_s)) return r;
   if (auto r = rate(at, ephemeris.satelliteClock(sat, t + 2.0 * kHalfStep_s), 2.0 * kHalfStep_s)) return r;
   return rate(ephemeris.satelliteClock(sat, t - 2.0 * kHalfStep_s), at, 2.0 * kHalfStep_s);
@@ -139,7 +140,7 @@ std::optional<DopplerObservation> withSatelliteState(const SatelliteId& sat, con
                                                      DopplerSkipReason& why) {
   GnssTime t = time - signal.pseudorange_m / kSpeedOfLight_mps;
   const auto clock = ephemeris.satelliteClock(sat, t);
-  const std::optional<double> rate = clock.ok() ? clockRate_sps(ephemeris, sat, t) : std::nullopt;
+  const std::optional<double> rate = clock.ok() ? clockRate_sps(ephemeris, sat, t, clock) : std::nullopt;
   why = DopplerSkipReason::NoClock;
   if (!rate) return std::nullopt;
   t -= clock.value->clock_bias_s;

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <optional>
+#include <stdexcept>
+#include <string>
 
 #include "ppp_bayes_tree/models/ionosphere_free.h"
 #include "ppp_bayes_tree/models/ocean_loading.h"
@@ -205,17 +207,18 @@ struct PppMeasurementModel::SystemTerms {
 
 /// Steps 3-8: what one satellite's evaluation carries from step to step.
 struct PppMeasurementModel::SatelliteEvaluation {
-  SatelliteEvaluation(const DualFrequencyObservation& observation, const SystemTerms& system, ArcId arc_id)
-      : o(observation), st(system), arc(arc_id) {}
+  SatelliteEvaluation(const DualFrequencyObservation& observation, const SystemTerms& system, ArcId arc_id,
+                      const ObservedIonosphereFree& observed)
+      : o(observation), st(system), arc(arc_id), code_if_m(observed.code_m), phase_if_m(observed.phase_m) {}
 
   const DualFrequencyObservation& o;
   const SystemTerms& st;
   ArcId arc;
   int receiver_clock = -1;  // the column of the satellite's system clock
   // 3. Observed IF combinations, receiver antenna phase centre.
-  Eigen::Vector3d receiver_apc = Eigen::Vector3d::Zero();
   double code_if_m = 0.0;
   double phase_if_m = 0.0;
+  Eigen::Vector3d receiver_apc = Eigen::Vector3d::Zero();
   // 4. The satellite at emission.
   EphemerisClock clock;
   EphemerisOrbit orbit;
@@ -244,9 +247,36 @@ struct PppMeasurementModel::SatelliteEvaluation {
   }
 };
 
+namespace {
+
+/// Throws when the caller's observed IF are not one per observation.
+void checkObservedSize(const char* function, std::size_t observations, std::size_t observed) {
+  if (observed == observations) return;
+  throw std::invalid_argument(std::string("PppMeasurementModel::") + function + ": " + std::to_string(observed) +
+                              " observed IF pairs for " + std::to_string(observations) + " observations");
+}
+
+}  // namespace
+
 void PppMeasurementModel::evaluate(const std::vector<DualFrequencyObservation>& observations,
                                    const std::vector<ArcId>& arcs, const ReceiverState& state, WindupTracker* windup,
                                    EpochMeasurements& out, std::vector<ModelTerms>* terms) const {
+  evaluateEpoch(observations, nullptr, arcs, state, windup, out, terms);
+}
+
+void PppMeasurementModel::evaluate(const std::vector<DualFrequencyObservation>& observations,
+                                   const std::vector<ObservedIonosphereFree>& observed,
+                                   const std::vector<ArcId>& arcs, const ReceiverState& state, WindupTracker* windup,
+                                   EpochMeasurements& out, std::vector<ModelTerms>* terms) const {
+  checkObservedSize("evaluate", observations.size(), observed.size());
+  evaluateEpoch(observations, &observed, arcs, state, windup, out, terms);
+}
+
+void PppMeasurementModel::evaluateEpoch(const std::vector<DualFrequencyObservation>& observations,
+                                        const std::vector<ObservedIonosphereFree>* observed,
+                                        const std::vector<ArcId>& arcs, const ReceiverState& state,
+                                        WindupTracker* windup, EpochMeasurements& out,
+                                        std::vector<ModelTerms>* terms) const {
   out.used.clear();
   out.rejected.clear();
   if (terms != nullptr) terms->clear();
@@ -271,7 +301,7 @@ void PppMeasurementModel::evaluate(const std::vector<DualFrequencyObservation>& 
     const DualFrequencyObservation& o = observations[i];
     // 2. The system's terms: IF coefficients, receiver antenna phase centre.
     const SystemTerms& st = systemTerms(o, epoch, systems[static_cast<int>(o.satellite.system)]);
-    SatelliteEvaluation sv(o, st, arcs_ok ? arcs[i] : 0);
+    SatelliteEvaluation sv(o, st, arcs_ok ? arcs[i] : 0, observed ? (*observed)[i] : observedIonosphereFree(o));
     // 3. The observed IF code and phase (and the receiver clock of the system).
     // 4. The satellite at emission: clock, orbit, eclipse, attitude, antenna phase centre.
     // 5. Signal geometry: Earth rotation during the flight, elevation and azimuth, cutoff.
@@ -396,9 +426,6 @@ bool PppMeasurementModel::observedCombinations(SatelliteEvaluation& sv, const Ep
     return false;
   }
   sv.receiver_apc = epoch.marker + st.receiver_apc_ecef;
-  sv.code_if_m = ionosphereFree(o.code1_m, o.code2_m, st.k);
-  sv.phase_if_m = ionosphereFree(o.phase1_cycles * kSpeedOfLight_mps / o.frequency1_hz,
-                                 o.phase2_cycles * kSpeedOfLight_mps / o.frequency2_hz, st.k);
   if (!std::isfinite(sv.code_if_m) || !std::isfinite(sv.phase_if_m) || sv.code_if_m < 1.0e7 || sv.code_if_m > 1.0e8) {
     sv.reject(out, RejectionReason::ObservationUnusable, format("observed IF code %.3f m / phase not usable", sv.code_if_m));
     return false;
@@ -656,13 +683,27 @@ ModelTerms PppMeasurementModel::modelTerms(const SatelliteEvaluation& sv, const 
 
 void PppMeasurementModel::evaluateStart(const std::vector<DualFrequencyObservation>& observations,
                                         const ReceiverState& state, EpochMeasurements& out) const {
+  evaluateStartEpoch(observations, nullptr, state, out);
+}
+
+void PppMeasurementModel::evaluateStart(const std::vector<DualFrequencyObservation>& observations,
+                                        const std::vector<ObservedIonosphereFree>& observed,
+                                        const ReceiverState& state, EpochMeasurements& out) const {
+  checkObservedSize("evaluateStart", observations.size(), observed.size());
+  evaluateStartEpoch(observations, &observed, state, out);
+}
+
+void PppMeasurementModel::evaluateStartEpoch(const std::vector<DualFrequencyObservation>& observations,
+                                             const std::vector<ObservedIonosphereFree>* observed,
+                                             const ReceiverState& state, EpochMeasurements& out) const {
   out.used.clear();
   out.rejected.clear();
   if (observations.empty()) return;
   const GnssTime t_rx = observations.front().time;
   out.time = t_rx;
   const Eigen::Vector3d receiver = state.position_ecef_m;
-  for (const DualFrequencyObservation& o : observations) {
+  for (std::size_t i = 0; i < observations.size(); ++i) {
+    const DualFrequencyObservation& o = observations[i];
     const SatelliteId sat = o.satellite;
     auto reject = [&](RejectionReason reason, std::string why) { out.rejected.push_back({sat, reason, std::move(why)}); };
     const int receiver_clock = state.layout.clock(sat.system);
@@ -671,10 +712,7 @@ void PppMeasurementModel::evaluateStart(const std::vector<DualFrequencyObservati
              std::string("no receiver clock for system ") + systemLetter(sat.system) + " in the state layout");
       continue;
     }
-    const IonosphereFreeCoefficients k = ionosphereFreeCoefficients(o.frequency1_hz, o.frequency2_hz);
-    const double code_if = ionosphereFree(o.code1_m, o.code2_m, k);
-    const double phase_if = ionosphereFree(o.phase1_cycles * kSpeedOfLight_mps / o.frequency1_hz,
-                                           o.phase2_cycles * kSpeedOfLight_mps / o.frequency2_hz, k);
+    const auto [code_if, phase_if] = observed ? (*observed)[i] : observedIonosphereFree(o);
     if (!std::isfinite(code_if) || code_if < 1.0e7 || code_if > 1.0e8) {
       reject(RejectionReason::ObservationUnusable, format("observed IF code %.3f m not usable", code_if));
       continue;
@@ -702,6 +740,7 @@ void PppMeasurementModel::evaluateStart(const std::vector<DualFrequencyObservati
     m.jacobian = Eigen::RowVectorXd::Zero(state.layout.dim());
     m.jacobian.segment<ReceiverStateLayout::kPositionSize>(state.layout.position()) = -los.transpose();
     m.jacobian(receiver_clock) = 1.0;
+    const IonosphereFreeCoefficients k = ionosphereFreeCoefficients(o.frequency1_hz, o.frequency2_hz);
     const double sigma_factor = options_.scale_sigma_for_ionosphere_free ? ionosphereFreeNoiseFactor(k) : 1.0;
     m.phase_sigma_m = options_.phase_sigma_zenith_m * sigma_factor;
     m.code_sigma_m = m.phase_sigma_m * options_.code_phase_ratio * o.code_sigma_factor;

@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "ppp_bayes_tree/ppp/model/arc_tracker.h"
+#include "ppp_bayes_tree/ppp/model/observed_ionosphere_free.h"
 #include "ppp_bayes_tree/types/constants.h"
 
 namespace ppp {
@@ -28,6 +29,7 @@ struct PppEpochProcessor::Impl {
   SignalSelectionResult sel;
   std::vector<DualFrequencyObservation> usable;
   std::vector<ArcId> arcs;
+  std::vector<ObservedIonosphereFree> observed_if;  // of `usable`, once per epoch for every linearisation
   std::vector<BridgedArc> bridged;
   const EphemerisSource* ephemeris = nullptr;
   DopplerEpoch doppler;  // this epoch's Doppler range rates (an estimator that uses them)
@@ -39,7 +41,7 @@ struct PppEpochProcessor::Impl {
   void advanceTime(const ObsEpoch& epoch, PppEpochRecord& rec);
   /// Each satellite's dual-frequency signals; the skipped ones as rejections.
   void selectSignals(const ObsEpoch& epoch, PppEpochRecord& rec, std::vector<SignalSelectionNote>* selection_notes);
-  /// The usable satellites and their arcs; new arcs and slips counted.
+  /// The usable satellites (the arcs' phases), their arcs and observed IF; new arcs and slips counted.
   void keepUsableArcs(const ArcEpochResult& arc_result, PppEpochRecord& rec);
   /// The IMU readings after the previous epoch up to `time` (nullptr without an IMU).
   const std::vector<ImuSample>* imuUpTo(const GnssTime& time);
@@ -220,13 +222,12 @@ void PppEpochProcessor::Impl::keepUsableArcs(const ArcEpochResult& arc_result, P
                          f2 * f2 / (f1 * f1 - f2 * f2), repaired ? st.slip_repair : std::nullopt});
     }
     usable.push_back(sel.observations[i]);
-    // The arc's repaired slips are taken off its phases.
-    if (st.phase_correction1_cycles != 0 || st.phase_correction2_cycles != 0) {
-      usable.back().phase1_cycles -= static_cast<double>(st.phase_correction1_cycles);
-      usable.back().phase2_cycles -= static_cast<double>(st.phase_correction2_cycles);
-    }
+    // The arc's phases: its repaired slips taken off by the tracker.
+    usable.back().phase1_cycles = st.phase1_cycles;
+    usable.back().phase2_cycles = st.phase2_cycles;
     arcs.push_back(st.arc);
   }
+  observedIonosphereFree(usable, observed_if);
 }
 
 EstimatorEpochResult PppEpochProcessor::Impl::estimate(const ObsEpoch& epoch, const ArcEpochResult& arc_result,
@@ -235,14 +236,14 @@ EstimatorEpochResult PppEpochProcessor::Impl::estimate(const ObsEpoch& epoch, co
   // The single measurement model, linearised at whatever state the estimator asks.
   const MeasurementFunction evaluate = [&](const ReceiverState& state) {
     EpochMeasurements m;
-    model->evaluate(usable, arcs, state, &windup, m);
+    model->evaluate(usable, observed_if, arcs, state, &windup, m);
     m.time = time;
     return m;
   };
   // The start model, for an estimator that starts without an approximate position.
   const MeasurementFunction evaluate_start = [&](const ReceiverState& state) {
     EpochMeasurements m;
-    model->evaluateStart(usable, state, m);
+    model->evaluateStart(usable, observed_if, state, m);
     m.time = time;
     return m;
   };

@@ -65,15 +65,6 @@ struct FlightRun {
   std::map<ArcId, std::pair<SatelliteId, std::size_t>> arc_start;  // estimator arc: satellite, first epoch
 };
 
-PppInMemoryInputs inputsOf(const SimulatedFlight& f) {
-  PppInMemoryInputs in;
-  in.header = &f.header;
-  in.epochs = &f.epochs;
-  in.products = &f.products;
-  in.phase_biases = &f.phase_biases;
-  return in;
-}
-
 void recordArcs(const PppEpochRecord& rec, std::size_t k, FlightRun& run) {
   for (const auto& r : rec.residuals)
     if (!run.arc_start.count(r.arc)) run.arc_start[r.arc] = {r.satellite, k};
@@ -81,7 +72,7 @@ void recordArcs(const PppEpochRecord& rec, std::size_t k, FlightRun& run) {
 
 FlightRun runEkf(const SimulatedFlight& f, const PppConfig& config) {
   FlightRun run;
-  PppPipeline pipeline(inputsOf(f), config);
+  PppPipeline pipeline(simulatedFlightInputs(f, 0), config);
   const std::unique_ptr<PppEstimator> ekf_made = makeEstimator("ekf", config);
   PppEstimator& ekf = *ekf_made;
   std::size_t k = 0;
@@ -97,7 +88,7 @@ FlightRun runSmoother(const SimulatedFlight& f, const PppConfig& config,
                       const std::function<void(std::size_t, PppSmoother&)>& on_epoch = {},
                       PppSmoother** keep = nullptr, bool record_graph = false) {
   FlightRun run;
-  PppPipeline pipeline(inputsOf(f), config);
+  PppPipeline pipeline(simulatedFlightInputs(f, 0), config);
   PppConfig smoother_config = config;
   smoother_config.smoother.record_graph = record_graph;
   static thread_local std::unique_ptr<PppSmoother> last;

@@ -245,6 +245,39 @@ TEST(ArcTracker, SlipAcrossABridgedGapIsRepaired) {
   EXPECT_FALSE(unbridged.back.slip_repair);
 }
 
+// The tracker subtracts an arc's repaired slips from its phases (the one place they
+// are applied): SatelliteArcStatus::phase1_cycles and phase2_cycles are the observed
+// phases minus the corrections, the observed ones again once a slip starts a new arc.
+TEST(ArcTracker, TheArcsPhasesAreTheObservedOnesMinusItsRepairedSlips) {
+  Simulator sim(8);
+  CycleSlipOptions o;
+  o.bridge_max_gap_s = 60.0;
+  ArcTracker tracker(o);
+  constexpr int kBack = 59 + 30;
+  sim.slip_at[kBack] = {3, -2};
+  sim.slip_at[kBack + 2] = {5, 0};  // not across a gap: a new arc
+  for (int k = 0; k < 60; ++k) {
+    const DualFrequencyObservation obs = sim.observe(5, k * 1.0, k);
+    const SatelliteArcStatus st = tracker.process(kT0 + k * 1.0, {obs}).satellites.at(0);
+    ASSERT_EQ(st.phase1_cycles, obs.phase1_cycles);
+    ASSERT_EQ(st.phase2_cycles, obs.phase2_cycles);
+  }
+  for (int k = kBack; k < kBack + 2; ++k) {
+    const DualFrequencyObservation obs = sim.observe(5, k * 1.0, k);
+    const SatelliteArcStatus st = tracker.process(kT0 + k * 1.0, {obs}).satellites.at(0);
+    ASSERT_EQ(st.phase_correction1_cycles, 3) << "epoch " << k;
+    ASSERT_EQ(st.phase_correction2_cycles, -2) << "epoch " << k;
+    EXPECT_EQ(st.phase1_cycles, obs.phase1_cycles - 3.0) << "epoch " << k;
+    EXPECT_EQ(st.phase2_cycles, obs.phase2_cycles + 2.0) << "epoch " << k;
+  }
+  const DualFrequencyObservation obs = sim.observe(5, kBack + 2.0, kBack + 2);
+  const SatelliteArcStatus restarted = tracker.process(kT0 + (kBack + 2) * 1.0, {obs}).satellites.at(0);
+  EXPECT_TRUE(restarted.new_arc);
+  EXPECT_EQ(restarted.phase_correction1_cycles, 0);
+  EXPECT_EQ(restarted.phase1_cycles, obs.phase1_cycles);
+  EXPECT_EQ(restarted.phase2_cycles, obs.phase2_cycles);
+}
+
 TEST(ArcTracker, BadEpochsAreRefusedWithoutStateChange) {
   Simulator sim(5);
   ArcTracker tracker;

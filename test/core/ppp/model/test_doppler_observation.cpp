@@ -8,6 +8,7 @@
 
 #include <Eigen/Geometry>
 #include <cmath>
+#include <optional>
 
 #include "ppp_bayes_tree/models/relativity.h"
 #include "ppp_bayes_tree/models/signal_geometry.h"
@@ -99,7 +100,12 @@ class FixedEphemeris : public ppp::EphemerisSource {
   Vector3d position{15.0e6, -8.0e6, 20.0e6};
   Vector3d velocity{0.0, 0.0, 0.0};
   double drift_sps = 1e-9;
+  std::optional<GnssTime> clock_end;  // no clock after this time (the end of the clocks' span)
+  mutable int clock_queries = 0;
   ppp::EphemerisAnswer<ppp::EphemerisClock> satelliteClock(const ppp::SatelliteId&, const GnssTime& t) const override {
+    ++clock_queries;
+    if (clock_end && t - *clock_end > 0.0)
+      return ppp::EphemerisAnswer<ppp::EphemerisClock>::unavailable(ppp::EphemerisUnavailable::OutsideSpan, "after the clocks");
     return ppp::EphemerisAnswer<ppp::EphemerisClock>::success({1e-4 + drift_sps * (t - kT0), drift_sps, std::nullopt});
   }
   ppp::EphemerisAnswer<ppp::EphemerisOrbit> satelliteOrbit(const ppp::SatelliteId&, const GnssTime&) const override {
@@ -162,6 +168,39 @@ TEST(DopplerObservation, ASatelliteWithoutADualFrequencyPairUsesItsFirstDopplerW
   EXPECT_EQ(d.observations[0].satellite, e11);
   EXPECT_EQ(d.observations[0].code.toString(), "D1X");
   EXPECT_NEAR(d.observations[0].range_rate_mps, 500.0 * ppp::kSpeedOfLight_mps / 1575.42e6, 1e-9);  // receding
+}
+
+// The clock is asked once at the transmission time, for the bias and the rate:
+// the rate adds the two times +-0.5 s around it (the central difference), and at
+// the end of the clocks' span the one-sided difference reuses the answer at the
+// transmission time.
+TEST(DopplerObservation, TheSatelliteClockIsAskedOnceAtTheTransmissionTime) {
+  ppp::ObsEpoch epoch;
+  epoch.time = kT0;
+  const ppp::SatelliteId g05{ppp::GnssSystem::GPS, 5};
+  epoch.satellites.push_back({g05, 0, 2});
+  epoch.observations.push_back({*ppp::ObservationCode::parse("L1C"), 1.0e8, std::nullopt, std::nullopt});
+  epoch.observations.push_back({*ppp::ObservationCode::parse("D1C"), 1000.0, std::nullopt, std::nullopt});
+  ppp::DualFrequencyObservation s;
+  s.satellite = g05;
+  s.phase1 = *ppp::ObservationCode::parse("L1C");
+  s.frequency1_hz = 1575.42e6;
+  s.code1_m = 2.2e7;
+  FixedEphemeris ephemeris;
+  const double expected_mps =
+      ppp::kSpeedOfLight_mps * 1e-9 + ppp::relativisticClockRate_mps(ephemeris.position, ephemeris.velocity);
+  ppp::DopplerEpoch d = ppp::dopplerObservations(epoch, {s}, {ppp::GnssSystem::GPS}, {}, ephemeris);
+  ASSERT_EQ(d.observations.size(), 1u);
+  EXPECT_NEAR(d.observations[0].satellite_clock_rate_mps, expected_mps, 1e-6);
+  EXPECT_EQ(ephemeris.clock_queries, 3);  // t, t - 0.5 s, t + 0.5 s
+  // The clocks end 0.2 s after the transmission time (~0.07 s before the epoch):
+  // t + 0.5 s and t + 1 s have none, the rate is the one-sided difference t - 1 s to t.
+  ephemeris.clock_queries = 0;
+  ephemeris.clock_end = kT0 - 2.2e7 / ppp::kSpeedOfLight_mps + 0.2;
+  d = ppp::dopplerObservations(epoch, {s}, {ppp::GnssSystem::GPS}, {}, ephemeris);
+  ASSERT_EQ(d.observations.size(), 1u);
+  EXPECT_NEAR(d.observations[0].satellite_clock_rate_mps, expected_mps, 1e-6);
+  EXPECT_EQ(ephemeris.clock_queries, 5);  // t, t -+ 0.5 s, t + 1 s, t - 1 s
 }
 
 }  // namespace

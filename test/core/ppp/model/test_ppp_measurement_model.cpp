@@ -8,6 +8,7 @@
 
 #include <cmath>
 #include <map>
+#include <stdexcept>
 
 #include <Eigen/Dense>
 
@@ -325,6 +326,50 @@ TEST(PppMeasurementModel, EvaluatingAgainGivesAFreshModelsNumbersBitForBit) {
   Zim2Epoch other;
   expectSameMeasurements(used.ds.model->evaluate(changed, used.arcs, x2, nullptr),
                          other.ds.model->evaluate(changed, other.arcs, x2, nullptr));
+}
+
+// An epoch's observed IF code and phase depend on the observations alone: computed
+// once (observedIonosphereFree) and given to each linearisation, they are the
+// model's own numbers bit for bit, and the model takes them as given.
+TEST(PppMeasurementModel, TheEpochsObservedIonosphereFreeComputedOnceIsTheModelsOwn) {
+  PPP_REQUIRE_SHARED_DATA();
+  Zim2Epoch z;
+  std::vector<ObservedIonosphereFree> observed;
+  observedIonosphereFree(z.obs, observed);
+  ASSERT_EQ(observed.size(), z.obs.size());
+  ReceiverState x = z.truth;
+  x.position_ecef_m += Eigen::Vector3d(3.0, -2.0, 1.5);
+  EpochMeasurements own, given;
+  z.ds.model->evaluate(z.obs, z.arcs, x, nullptr, own);
+  z.ds.model->evaluate(z.obs, observed, z.arcs, x, nullptr, given);
+  ASSERT_GE(own.used.size(), 8u);
+  expectSameMeasurements(own, given);
+  for (std::size_t k = 0; k < own.used.size(); ++k)
+    EXPECT_EQ(own.used[k].observed_phase_m, given.used[k].observed_phase_m) << own.used[k].satellite.toString();
+  // The start model likewise, from the Earth centre.
+  ReceiverState centre = z.truth;
+  centre.position_ecef_m.setZero();
+  EpochMeasurements start_own, start_given;
+  z.ds.model->evaluateStart(z.obs, centre, start_own);
+  z.ds.model->evaluateStart(z.obs, observed, centre, start_given);
+  ASSERT_EQ(start_own.used.size(), start_given.used.size());
+  ASSERT_GE(start_own.used.size(), 8u);
+  for (std::size_t k = 0; k < start_own.used.size(); ++k) {
+    EXPECT_EQ(start_own.used[k].observed_code_m, start_given.used[k].observed_code_m);
+    EXPECT_EQ(start_own.used[k].observed_phase_m, start_given.used[k].observed_phase_m);
+    EXPECT_EQ(start_own.used[k].predicted_code_m, start_given.used[k].predicted_code_m);
+  }
+  // The given phase is the one used (that of the first satellite used).
+  std::size_t first = 0;
+  while (z.obs[first].satellite != own.used.front().satellite) ++first;
+  observed[first].phase_m += 0.5;
+  z.ds.model->evaluate(z.obs, observed, z.arcs, x, nullptr, given);
+  ASSERT_EQ(given.used.front().satellite, own.used.front().satellite);
+  EXPECT_EQ(given.used.front().observed_phase_m, own.used.front().observed_phase_m + 0.5);
+  // Not one per observation: refused.
+  observed.pop_back();
+  EXPECT_THROW(z.ds.model->evaluate(z.obs, observed, z.arcs, x, nullptr, given), std::invalid_argument);
+  EXPECT_THROW(z.ds.model->evaluateStart(z.obs, observed, centre, start_given), std::invalid_argument);
 }
 
 TEST(PppMeasurementModel, WindupContinuityAndArcReset) {
