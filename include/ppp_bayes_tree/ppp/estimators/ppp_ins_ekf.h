@@ -27,11 +27,12 @@
 // The start is the code least squares of the first epoch (as the EKF) with the
 // given attitude (or a given heading and the levelling of the readings up to the
 // first epoch, at rest) and velocity (InsEkfOptions).
-// With neither attitude nor heading the heading is aligned in motion: roll and
-// pitch from the latest static interval before the start (carried to it by the
-// gyros), the heading unknown (a large sigma) until the filter's antenna track
-// moves faster than a threshold: its course over ground becomes the heading of the
-// body x axis (a platform moving along x), with sigma velocity sigma / speed.
+// With neither attitude nor heading the heading is aligned in motion
+// (ins_in_motion_alignment.h, shared with PppInsSmoother): roll and pitch from the
+// latest static interval before the start (carried to it by the gyros), the
+// heading unknown (a large sigma) until the filter's antenna track moves faster
+// than a threshold: its course over ground becomes the heading of the body x axis
+// (a platform moving along x), with sigma velocity sigma / speed.
 // attitudeQuality() (and EstimatorEpochResult::attitude) says when the attitude is
 // good enough to publish.
 //
@@ -73,7 +74,6 @@
 // square exceeds DopplerVelocityOptions::innovation_chi2 is refused.
 // dopplerUpdate() says what this epoch's update did.
 #include <Eigen/Core>
-#include <deque>
 #include <optional>
 #include <string>
 #include <vector>
@@ -83,6 +83,7 @@
 #include "ppp_bayes_tree/navigation/ins_alignment.h"
 #include "ppp_bayes_tree/navigation/nav_state.h"
 #include "ppp_bayes_tree/ppp/estimators/ins_ekf_options.h"
+#include "ppp_bayes_tree/ppp/estimators/ins_in_motion_alignment.h"
 #include "ppp_bayes_tree/ppp/estimators/ppp_ekf.h"
 
 namespace ppp {
@@ -203,7 +204,7 @@ class PppInsEkf : public PppEkf {
   bool heading_from_course_ = false;        // started without a heading, not yet aligned
   Eigen::Vector3d start_accel_bias_mps2_ = Eigen::Vector3d::Zero();  // from the levelling (in-motion start)
   AlignmentState alignment_ = AlignmentState::NotAligned;
-  std::deque<std::pair<GnssTime, Eigen::Vector3d>> track_;  // antenna positions after the updates
+  CourseHeadingTrack track_;                // antenna positions after the updates
   std::optional<NavState> fixed_nominal_;   // this epoch's fixed solution (PPP-AR)
   std::optional<ImuBias> fixed_bias_;
   std::optional<Eigen::Vector3d> predicted_antenna_m_;  // this epoch's prediction
