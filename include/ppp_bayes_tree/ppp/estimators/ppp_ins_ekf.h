@@ -55,8 +55,9 @@
 // El-Rabbany 2015, GPS Solutions 19:601-609). A gap of at most
 // InsEkfOptions::gap_bridge_max_s does not end the arcs (gapBridgeMax_s): at
 // the first epoch after, the arcs back are tested against the prediction
-// (verifyBridgedArcs, gap_bridge.h: INS-aided cycle-slip identification, Du &
-// Gao 2012, Sensors 12(11):14344-14362); an arc without a slip keeps its bias
+// (verifyBridgedArcs; ins_gap_bridge.h, shared with PppInsSmoother, and
+// gap_bridge.h: INS-aided cycle-slip identification, Du & Gao 2012, Sensors
+// 12(11):14344-14362); an arc without a slip keeps its bias
 // and held integers, any other ends as after a longer gap
 // (doc/studies/ins_outages.md).
 //
@@ -172,12 +173,9 @@ class PppInsEkf : public PppEkf {
   void setHeadingCovariance(Filter& f, double heading_sigma_rad) const;
   /// The course of the antenna track as the heading, once fast enough.
   void alignHeadingFromTrack(Filter& f);
-  /// The slip test's row of a bridged arc's measurement at the prediction; nullopt without a held bias.
-  std::optional<GapBridgeRow> gapBridgeRow(const BridgedArc& bridged, const SatelliteMeasurement& m) const;
   /// The antenna position's error covariance grown through a gap (the prediction's
-  /// minus the last epoch's, at least kMinGapPositionVariance_m2 per axis).
+  /// minus the last epoch's, grownGapPositionCovariance of ins_gap_bridge.h).
   Eigen::Matrix3d gapPositionCovariance() const;
-  static constexpr double kMinGapPositionVariance_m2 = 1e-6;
   /// R_ned_body of the nominal state.
   Eigen::Matrix3d rotationNedBody() const;
   bool startNominal(const ReceiverState& start);

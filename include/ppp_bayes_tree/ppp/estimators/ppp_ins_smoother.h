@@ -22,7 +22,11 @@
 // NavState position through the receiver state's prior). Through a GNSS outage (epochs
 // without a solution) no state is added; the next solved epoch links to the last state
 // by one IMU factor over the whole gap, and navState() is the dead-reckoned state of
-// the last epoch. Readings that do not cover the interval (a gap longer than
+// the last epoch. A gap of at most InsEkfOptions::gap_bridge_max_s does not end the arcs
+// (gapBridgeMax_s): at the first epoch after, the arcs back are tested against the
+// NavState predicted by the preintegrated readings across the gap, with the EKF's rule
+// (verifyBridgedArcs, ins_gap_bridge.h); an arc that passes goes on with the same bias
+// variable and its held integers' factors, any other ends. Readings that do not cover the interval (a gap longer than
 // max_imu_interval_s, or none at the last state) end the epoch with NoImuReadings.
 // inertialState() carries the INS error covariance in the EKF's error state
 // (ins_error_state.h: [dtheta; dv; dp; dba; dbg], the attitude error on the right, in
@@ -74,6 +78,7 @@ class PppInsSmoother : public PppSmoother {
   explicit PppInsSmoother(const EstimatorOptions& options);
 
   std::string name() const override { return "smoother_ins"; }
+  std::optional<double> gapBridgeMax_s() const override;
   /// navState() at navTime(), its bias, antenna, INS error covariance and attitude quality
   /// (see above); nullopt before the start.
   std::optional<InertialState> inertialState() const override;
@@ -105,6 +110,8 @@ class PppInsSmoother : public PppSmoother {
 
  protected:
   void receiveEpochInput(const EstimatorEpochInput& input) override;
+  void verifyBridgedArcs(const std::vector<BridgedArc>& bridged, const std::vector<SatelliteMeasurement>& usable,
+                         EstimatorEpochResult& result) override;
   ReceiverState predict(double dt_s, bool first, const std::optional<ReceiverState>& start) override;
   bool solve(const EpochSolveInput& in, EpochSolveOutput& out, EstimatorEpochResult& result) override;
   void finishEpoch(EstimatorEpochResult& result) const override;
@@ -141,6 +148,9 @@ class PppInsSmoother : public PppSmoother {
   /// once the readings from the newest state have a gap no later reading closes, those
   /// before the last one at or before this epoch (a start holds that one).
   void dropUnusableReadings();
+  /// The antenna position's error covariance grown through a gap: the newest state's
+  /// propagated along the readings to this epoch minus its own (ins_gap_bridge.h).
+  Eigen::Matrix3d gapPositionCovariance() const;
   /// The newest state's covariance from the Bayes tree (after a solved epoch).
   void keepNewestCovariance(std::uint32_t index);
   /// broken_ is of the newest state only.

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <utility>
 
+#include "ppp_bayes_tree/ppp/estimators/ins_gap_bridge.h"
 #include "ppp_bayes_tree/ppp/estimators/ins_in_motion_alignment.h"
 #include "ppp_bayes_tree/ppp/estimators/ins_start_attitude.h"
 #include "ppp_bayes_tree/navigation/imu_coverage.h"
@@ -420,77 +421,29 @@ std::optional<double> PppInsEkf::gapBridgeMax_s() const {
   return ins_.gap_bridge_max_s;
 }
 
-std::optional<GapBridgeRow> PppInsEkf::gapBridgeRow(const BridgedArc& bridged, const SatelliteMeasurement& m) const {
-  const int slot = findBias(work_, bridged.arc);
-  if (slot < 0 || !bridged.gf_jump_m || !(bridged.wavelength1_m > 0.0)) return std::nullopt;
-  const int b = coreDim() + slot;
-  GapBridgeRow row;
-  // The first frequency's phase (L1 = IF - beta GF): its slip in its own cycles,
-  // with the ionosphere's drift through the gap removed by the GF fit.
-  const double beta = bridged.geometry_free_factor;
-  row.residual_m = m.phaseResidualWithoutBias_m() - work_.x(b) - beta * *bridged.gf_jump_m;
-  row.position_jacobian = m.jacobian.segment<3>(layout_.position());
-  row.clock = static_cast<int>(m.satellite.system);
-  // The bias fitted the arc's phase at the last epoch: what is left is the phase
-  // noise of both epochs (the bias's own sigma is mostly common to all arcs, in
-  // the clocks and the position, and cancels in the difference).
-  // The IF sigma scaled to one frequency's: IF = (1 + beta) L1 - beta L2.
-  row.sigma_m = std::sqrt(2.0) * m.phase_sigma_m / std::hypot(1.0 + beta, beta);
-  row.wavelength_m = bridged.wavelength1_m;
-  return row;
-}
-
 Eigen::Matrix3d PppInsEkf::gapPositionCovariance() const {
   const auto antennaCov = [&](const Filter& f) -> Eigen::Matrix3d {
     const Eigen::Matrix<double, 15, 1> error = f.x.head<15>();
     const Eigen::Matrix<double, 3, 15> J = antennaJacobian(nominal_, ins_.lever_arm_body_m, error);
     return J * f.P.topLeftCorner<15, 15>() * J.transpose();
   };
-  Eigen::Matrix3d grown = antennaCov(work_) - antennaCov(f_);
-  grown = 0.5 * (grown + grown.transpose()).eval();
-  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(grown);
-  const Eigen::Vector3d values = eig.eigenvalues().cwiseMax(kMinGapPositionVariance_m2);
-  return eig.eigenvectors() * values.asDiagonal() * eig.eigenvectors().transpose();
+  return grownGapPositionCovariance(antennaCov(work_), antennaCov(f_));
 }
 
 void PppInsEkf::verifyBridgedArcs(const std::vector<BridgedArc>& bridged, const std::vector<SatelliteMeasurement>& usable,
                                   EstimatorEpochResult& result) {
-  // 1. One row per bridged arc with a measurement and a held bias; the others end.
-  std::vector<GapBridgeRow> rows;
-  std::vector<const BridgedArc*> row_arcs;
-  std::vector<int> system_clock(kNumGnssSystems, -1);
-  for (const BridgedArc& b : bridged) {
-    const auto m = std::find_if(usable.begin(), usable.end(), [&](const SatelliteMeasurement& u) { return u.arc == b.arc; });
-    std::optional<GapBridgeRow> row;
-    if (m != usable.end()) row = gapBridgeRow(b, *m);
-    if (!row) {
-      endBridgedArc(b, "no usable measurement, held bias or geometry-free fit at the prediction", result);
-      continue;
-    }
-    int& clock = system_clock[static_cast<std::size_t>(row->clock)];
-    if (clock < 0) clock = *std::max_element(system_clock.begin(), system_clock.end()) + 1;
-    row->clock = clock;
-    rows.push_back(*row);
-    row_arcs.push_back(&b);
-  }
-  // 2. The covariance of the antenna position's error grown through the gap (the
-  // INS prediction's minus the last epoch's: the error then is in the biases).
-  const Eigen::Matrix3d position_cov = gapPositionCovariance();
-  // 3. The slips; an arc goes on only without one.
-  const std::vector<GapBridgeVerdict> verdicts = bridgeGap(rows, position_cov, ins_.gap_bridge);
-  for (std::size_t i = 0; i < verdicts.size(); ++i) {
-    const BridgedArc& b = *row_arcs[i];
-    if (!verdicts[i].keep) {
-      endBridgedArc(b, verdicts[i].reason, result);
-      continue;
-    }
-    ++result.bridged_arcs_kept;
-    if (b.repair) ++result.repaired_arcs_kept;
-    result.gap_bridge.push_back(b.satellite.toString() + " arc " + std::to_string(b.arc) + ": gap of " +
-                                format("%.0f s bridged, slip %.2f +- %.2f cycles", b.gap_s,
-                                       verdicts[i].slip_cycles, verdicts[i].sigma_cycles) +
-                                (b.repair ? " after the slip repair " + b.repair->text : std::string()));
-  }
+  // The arcs' biases of the prediction; the covariance of the antenna position's error
+  // grown through the gap (the INS prediction's minus the last epoch's: the error then
+  // is in the biases).
+  const auto held_bias_m = [this](ArcId arc) -> std::optional<double> {
+    const int slot = findBias(work_, arc);
+    if (slot < 0) return std::nullopt;
+    return work_.x(coreDim() + slot);
+  };
+  const std::vector<BridgedArcVerdict> verdicts = insGapBridgeVerdicts(
+      bridged, usable, held_bias_m, layout_.position(), gapPositionCovariance(), ins_.gap_bridge);
+  applyBridgedArcVerdicts(
+      verdicts, [&](const BridgedArc& b, const std::string& reason) { endBridgedArc(b, reason, result); }, result);
 }
 
 }  // namespace ppp

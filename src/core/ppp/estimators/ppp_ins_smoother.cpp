@@ -10,7 +10,9 @@
 #include "ppp_bayes_tree/navigation/nav_state_value.h"
 #include "ppp_bayes_tree/navigation/navigation_frame.h"
 #include "ppp_bayes_tree/ppp/estimators/antenna_position_factor.h"
+#include "ppp_bayes_tree/ppp/estimators/ins_gap_bridge.h"
 #include "ppp_bayes_tree/ppp/estimators/ins_start_attitude.h"
+#include "ppp_bayes_tree/ppp/estimators/ppp_ins_ekf.h"
 #include "ppp_bayes_tree/ppp/model/ppp_factors.h"
 #include "ppp_bayes_tree/smoother/prior_factor.h"
 
@@ -117,6 +119,42 @@ void PppInsSmoother::keepNewestCovariance(std::uint32_t index) {
   const Matrix15d J = insErrorResetJacobian(delta);
   const Matrix15d P = J * Matrix15d(joint) * J.transpose();
   newest_covariance_ = CovariantState{*nav_time_, *nav_, bias_, 0.5 * (P + P.transpose())};
+}
+
+std::optional<double> PppInsSmoother::gapBridgeMax_s() const {
+  if (!(ins_.gap_bridge_max_s > 0.0)) return std::nullopt;
+  return ins_.gap_bridge_max_s;
+}
+
+Eigen::Matrix3d PppInsSmoother::gapPositionCovariance() const {
+  const std::optional<CovariantState>& c = newest_covariance_;
+  if (!c || !nav_ || !lastTime() || !(c->time == *lastTime())) {
+    return grownGapPositionCovariance(Eigen::Matrix3d::Zero(), Eigen::Matrix3d::Zero());
+  }
+  const auto antennaCov = [&](const NavState& nav, const Matrix15d& P) -> Eigen::Matrix3d {
+    const Eigen::Matrix<double, 3, 15> J = PppInsEkf::antennaJacobian(nav, ins_.lever_arm_body_m, Vector15d::Zero());
+    return J * P * J.transpose();
+  };
+  const Matrix15d after = propagatedCovariance(c->covariance, c->nav, c->bias, readings_, c->time, epoch_time_, ins_);
+  return grownGapPositionCovariance(antennaCov(*nav_, after), antennaCov(c->nav, c->covariance));
+}
+
+void PppInsSmoother::verifyBridgedArcs(const std::vector<BridgedArc>& bridged,
+                                       const std::vector<SatelliteMeasurement>& usable, EstimatorEpochResult& result) {
+  const auto end = [&](const BridgedArc& b, const std::string& reason) { endBridgedArc(b, reason, result); };
+  // Only the NavState predicted across the gap from the newest state tests the arcs.
+  if (!pim_ || !last_nav_ || !nav_) {
+    for (const BridgedArc& b : bridged) end(b, "no INS prediction across the gap");
+    return;
+  }
+  const auto held_bias_m = [this](ArcId arc) -> std::optional<double> {
+    const std::optional<ArcBiasPrior> prior = predictedBias(arc);
+    if (!prior) return std::nullopt;
+    return prior->bias_m;
+  };
+  applyBridgedArcVerdicts(insGapBridgeVerdicts(bridged, usable, held_bias_m, layout_.position(),
+                                               gapPositionCovariance(), ins_.gap_bridge),
+                          end, result);
 }
 
 std::optional<NavState> PppInsSmoother::smoothedNavState(std::uint32_t index) const {
