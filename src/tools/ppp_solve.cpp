@@ -23,15 +23,16 @@
 // minus IMU in the body frame [m] (default 0,0,0); --imu-heading: the heading of
 // the body x axis at the start [deg from north, clockwise]; roll and pitch come from
 // levelling the readings up to the first epoch (the platform at rest). Without
-// --imu-heading the heading is aligned in motion (ppp/estimators/ppp_ins_ekf.h):
+// --imu-heading the heading is aligned in motion (ppp/estimators/ins_in_motion_alignment.h):
 // roll and pitch from the latest static interval before the start, the heading
 // from the course over ground once the antenna moves faster than --heading-speed
 // [m/s, default 0.5] (the body x axis taken as the direction of motion). ekf_ins
 // writes the EKF's files under <name>_ekf_ins* and <name>_ekf_ins_attitude.csv
 // (attitude and velocity after each epoch; doc/gnss_ins.md); smoother_ins writes the
 // smoother's files under <name>_smoother_ins_{filtered,smoothed}* and
-// <name>_smoother_ins_attitude.csv. smoother_ins needs a given attitude or heading
-// (--imu-heading): the alignment in motion is ekf_ins's.
+// <name>_smoother_ins_attitude.csv. smoother_ins aligns in motion with ekf_ins's rule
+// (ppp/estimators/ins_in_motion_alignment.h): GNSS-only until the course gives the
+// heading, its NavState (and attitude file rows) from the next solved epoch on.
 // --imu-rotation: the IMU's mounting, its axes rotated from the body's by roll,
 // pitch, yaw [deg] (R_body_imu = Rz(yaw) Ry(pitch) Rx(roll)); the readings are
 // turned into the body axes (io/imu/imu_file_loader.h) before the filter sees them.

@@ -7,7 +7,9 @@
 // outage is fixed and no held integer is wrong. With one cycle planted on both
 // frequencies of one satellite from the first epoch after the outage on (one
 // cycle of L1, the test's frequency) and the arc tracker's own slip tests opened
-// wide, the INS test alone must end that arc, never keep it.
+// wide, the INS test alone must end that arc, never keep it. Both for ekf_ins and
+// for smoother_ins (PppInsSmoother::verifyBridgedArcs, the same rule on its NavState
+// carried across the gap by the preintegrated readings).
 #include <gtest/gtest.h>
 
 #include <cstdio>
@@ -41,10 +43,10 @@ struct AfterOutage {
   FlightEstimatorTrack track;
 };
 
-AfterOutage runInsEkf(const SimulatedFlight& f, const PppConfig& config) {
+AfterOutage runInsEstimator(const SimulatedFlight& f, const PppConfig& config, const std::string& name) {
   const std::size_t after = firstAfterOutage(f);
   AfterOutage a;
-  a.track = trackEstimatorOnFlight(f, config, "ekf_ins", [&](std::size_t k, const PppEpochRecord& rec, const PppEstimator& e) {
+  a.track = trackEstimatorOnFlight(f, config, name, [&](std::size_t k, const PppEpochRecord& rec, const PppEstimator& e) {
     if (k + 1 == after) a.fixed_before = rec.solution.status == SolutionStatus::PppFixed;
     if (k != after) return;
     a.fixed_after = rec.solution.status == SolutionStatus::PppFixed;
@@ -56,6 +58,8 @@ AfterOutage runInsEkf(const SimulatedFlight& f, const PppConfig& config) {
   return a;
 }
 
+AfterOutage runInsEkf(const SimulatedFlight& f, const PppConfig& config) { return runInsEstimator(f, config, "ekf_ins"); }
+
 TEST(InsGapBridge, FixIsKeptAcrossAFiveSecondOutage) {
   const MonteCarloOptions o = flightOptions();
   const SimulatedFlight f = simulateWithOutage(o);
@@ -65,6 +69,25 @@ TEST(InsGapBridge, FixIsKeptAcrossAFiveSecondOutage) {
   EXPECT_TRUE(a.fixed_after);
   // Measured: 13 of the 17 arcs kept; 4 ended without a slip (their L1 residual
   // 0.25, -0.29 cycles, or a sigma 0.17, 0.18 cycles above the bounds): ended, never held wrongly.
+  EXPECT_GE(a.kept, 10);
+  EXPECT_LE(a.ended, 5);
+  EXPECT_EQ(a.track.held_check.wrong, 0u);
+  EXPECT_EQ(a.track.held_check.fixed_epochs_with_wrong_hold, 0u);
+}
+
+// The same flight and outage for the GNSS/INS smoother: the INS prediction is its NavState
+// carried across the gap by the preintegrated readings; the arcs that pass go on with
+// the same bias variable and their held integers' factors.
+TEST(InsGapBridge, SmootherInsKeepsItsFixAcrossAFiveSecondOutage) {
+  const MonteCarloOptions o = flightOptions();
+  const SimulatedFlight f = simulateWithOutage(o);
+  ASSERT_LT(firstAfterOutage(f), f.epochs.size());
+  const AfterOutage a = runInsEstimator(f, insConfig(flightPppConfig(o.ppp, f), f), "smoother_ins");
+  std::printf("smoother_ins after the 5-s outage: %d arcs kept, %d ended; fixed before %d, after %d; "
+              "held integers wrong %zu\n",
+              a.kept, a.ended, a.fixed_before, a.fixed_after, a.track.held_check.wrong);
+  EXPECT_TRUE(a.fixed_before);
+  EXPECT_TRUE(a.fixed_after);
   EXPECT_GE(a.kept, 10);
   EXPECT_LE(a.ended, 5);
   EXPECT_EQ(a.track.held_check.wrong, 0u);
@@ -84,7 +107,9 @@ void plantSlip(SimulatedFlight& f, const SatelliteId& sat, std::size_t from) {
   }
 }
 
-TEST(InsGapBridge, OneCycleSlipDuringTheOutageEndsItsArc) {
+/// The flight with one cycle planted on a GPS satellite after the outage, run by
+/// `name` with the arc tracker's own slip tests opened wide: that arc's verdict must end it.
+void expectPlantedSlipEndsItsArc(const std::string& name) {
   const MonteCarloOptions o = flightOptions();
   SimulatedFlight f = simulateWithOutage(o);
   const std::size_t after = firstAfterOutage(f);
@@ -100,7 +125,7 @@ TEST(InsGapBridge, OneCycleSlipDuringTheOutageEndsItsArc) {
   config.cycle_slip_options.gf_threshold_base_m = 10.0;
   config.cycle_slip_options.gf_threshold_max_m = 10.0;
   config.cycle_slip_options.gf_sigma_factor = 1e3;
-  const AfterOutage a = runInsEkf(f, config);
+  const AfterOutage a = runInsEstimator(f, config, name);
   const std::string prefix = slipped.toString() + " arc ";
   bool slipped_ended = false;
   for (const std::string& line : a.lines) {
@@ -113,6 +138,10 @@ TEST(InsGapBridge, OneCycleSlipDuringTheOutageEndsItsArc) {
   EXPECT_GE(a.kept, 10);
   EXPECT_TRUE(a.fixed_after);
 }
+
+TEST(InsGapBridge, OneCycleSlipDuringTheOutageEndsItsArc) { expectPlantedSlipEndsItsArc("ekf_ins"); }
+
+TEST(InsGapBridge, SmootherInsEndsTheArcOfOneCycleSlipDuringTheOutage) { expectPlantedSlipEndsItsArc("smoother_ins"); }
 
 }  // namespace
 }  // namespace ppp

@@ -203,8 +203,10 @@ InsTrack insTrack(const Figure8Flight& a, const std::string& name) {
 }
 
 /// Largest filtered difference smoother_ins - ekf_ins on the figure8 (5 min) after
-/// two minutes [m]: measured 0.048 m at 120 s, shrinking to 0.016 m at 300 s (the
-/// float start's transient; mean 3D errors 0.110 m and 0.118 m); 0.886 m with the
+/// two minutes [m]: measured 0.062 m at 120 s, shrinking to 0.002 m at 300 s (the
+/// float start's transient; mean 3D errors 0.119 m and 0.118 m; both bridge the
+/// satellites' short gaps in the turns, InsEkfOptions::gap_bridge_max_s; without
+/// smoother_ins's bridge 0.048 m, 0.016 m and 0.110 m); 0.886 m with the
 /// readings in the axes at the interval's start (smoother_ins 0.746 m mean error).
 constexpr double kFigure8Tolerance_m = 0.10;
 /// Largest difference of their accelerometer bias estimates after two minutes per

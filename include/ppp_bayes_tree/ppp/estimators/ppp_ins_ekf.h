@@ -27,11 +27,12 @@
 // The start is the code least squares of the first epoch (as the EKF) with the
 // given attitude (or a given heading and the levelling of the readings up to the
 // first epoch, at rest) and velocity (InsEkfOptions).
-// With neither attitude nor heading the heading is aligned in motion: roll and
-// pitch from the latest static interval before the start (carried to it by the
-// gyros), the heading unknown (a large sigma) until the filter's antenna track
-// moves faster than a threshold: its course over ground becomes the heading of the
-// body x axis (a platform moving along x), with sigma velocity sigma / speed.
+// With neither attitude nor heading the heading is aligned in motion
+// (ins_in_motion_alignment.h, shared with PppInsSmoother): roll and pitch from the
+// latest static interval before the start (carried to it by the gyros), the
+// heading unknown (a large sigma) until the filter's antenna track moves faster
+// than a threshold: its course over ground becomes the heading of the body x axis
+// (a platform moving along x), with sigma velocity sigma / speed.
 // attitudeQuality() (and EstimatorEpochResult::attitude) says when the attitude is
 // good enough to publish.
 //
@@ -54,8 +55,9 @@
 // El-Rabbany 2015, GPS Solutions 19:601-609). A gap of at most
 // InsEkfOptions::gap_bridge_max_s does not end the arcs (gapBridgeMax_s): at
 // the first epoch after, the arcs back are tested against the prediction
-// (verifyBridgedArcs, gap_bridge.h: INS-aided cycle-slip identification, Du &
-// Gao 2012, Sensors 12(11):14344-14362); an arc without a slip keeps its bias
+// (verifyBridgedArcs; ins_gap_bridge.h, shared with PppInsSmoother, and
+// gap_bridge.h: INS-aided cycle-slip identification, Du & Gao 2012, Sensors
+// 12(11):14344-14362); an arc without a slip keeps its bias
 // and held integers, any other ends as after a longer gap
 // (doc/studies/ins_outages.md).
 //
@@ -73,7 +75,6 @@
 // square exceeds DopplerVelocityOptions::innovation_chi2 is refused.
 // dopplerUpdate() says what this epoch's update did.
 #include <Eigen/Core>
-#include <deque>
 #include <optional>
 #include <string>
 #include <vector>
@@ -83,6 +84,7 @@
 #include "ppp_bayes_tree/navigation/ins_alignment.h"
 #include "ppp_bayes_tree/navigation/nav_state.h"
 #include "ppp_bayes_tree/ppp/estimators/ins_ekf_options.h"
+#include "ppp_bayes_tree/ppp/estimators/ins_in_motion_alignment.h"
 #include "ppp_bayes_tree/ppp/estimators/ppp_ekf.h"
 
 namespace ppp {
@@ -171,12 +173,9 @@ class PppInsEkf : public PppEkf {
   void setHeadingCovariance(Filter& f, double heading_sigma_rad) const;
   /// The course of the antenna track as the heading, once fast enough.
   void alignHeadingFromTrack(Filter& f);
-  /// The slip test's row of a bridged arc's measurement at the prediction; nullopt without a held bias.
-  std::optional<GapBridgeRow> gapBridgeRow(const BridgedArc& bridged, const SatelliteMeasurement& m) const;
   /// The antenna position's error covariance grown through a gap (the prediction's
-  /// minus the last epoch's, at least kMinGapPositionVariance_m2 per axis).
+  /// minus the last epoch's, grownGapPositionCovariance of ins_gap_bridge.h).
   Eigen::Matrix3d gapPositionCovariance() const;
-  static constexpr double kMinGapPositionVariance_m2 = 1e-6;
   /// R_ned_body of the nominal state.
   Eigen::Matrix3d rotationNedBody() const;
   bool startNominal(const ReceiverState& start);
@@ -203,7 +202,7 @@ class PppInsEkf : public PppEkf {
   bool heading_from_course_ = false;        // started without a heading, not yet aligned
   Eigen::Vector3d start_accel_bias_mps2_ = Eigen::Vector3d::Zero();  // from the levelling (in-motion start)
   AlignmentState alignment_ = AlignmentState::NotAligned;
-  std::deque<std::pair<GnssTime, Eigen::Vector3d>> track_;  // antenna positions after the updates
+  CourseHeadingTrack track_;                // antenna positions after the updates
   std::optional<NavState> fixed_nominal_;   // this epoch's fixed solution (PPP-AR)
   std::optional<ImuBias> fixed_bias_;
   std::optional<Eigen::Vector3d> predicted_antenna_m_;  // this epoch's prediction

@@ -22,7 +22,11 @@
 // NavState position through the receiver state's prior). Through a GNSS outage (epochs
 // without a solution) no state is added; the next solved epoch links to the last state
 // by one IMU factor over the whole gap, and navState() is the dead-reckoned state of
-// the last epoch. Readings that do not cover the interval (a gap longer than
+// the last epoch. A gap of at most InsEkfOptions::gap_bridge_max_s does not end the arcs
+// (gapBridgeMax_s): at the first epoch after, the arcs back are tested against the
+// NavState predicted by the preintegrated readings across the gap, with the EKF's rule
+// (verifyBridgedArcs, ins_gap_bridge.h); an arc that passes goes on with the same bias
+// variable and its held integers' factors, any other ends. Readings that do not cover the interval (a gap longer than
 // max_imu_interval_s, or none at the last state) end the epoch with NoImuReadings.
 // inertialState() carries the INS error covariance in the EKF's error state
 // (ins_error_state.h: [dtheta; dv; dp; dba; dbg], the attitude error on the right, in
@@ -30,8 +34,20 @@
 // covariance of the newest NavState and bias from the Bayes tree, moved from the
 // linearization point to the estimate; after an epoch without a solution that one
 // propagated along the readings with the EKF's error model to the dead-reckoned state.
-// The attitude quality is the EKF's (insAttitudeQuality) of that covariance; the start
-// attitude is given or levelled with a given heading, so the alignment is "aligned".
+// The attitude quality is the EKF's (insAttitudeQuality) of that covariance.
+// With neither attitude nor heading the heading is aligned in motion with the EKF's
+// rule and options (ins_in_motion_alignment.h, InsEkfOptions::heading_alignment): at
+// the start roll and pitch come from the latest static interval of the readings
+// before it (carried to it by the gyros); the epochs are then solved as by the PPP
+// smoother (receiver states with the position random walk, no NavState), the
+// attitude carried through the readings by the preintegration, "level only", until
+// the course over ground of the solved antenna positions gives a heading at a state
+// k. The NavState starts at the next solved epoch: the attitude of k with the
+// course's heading, the track's velocity and the levelling's accelerometer error,
+// carried to that epoch by the readings, with priors of the options' tilt and
+// velocity sigmas and the course's heading sigma; from there the alignment is
+// "aligned". The result's attitude (EstimatorEpochResult::attitude) says so at each
+// epoch; inertialState() is nullopt before the NavState.
 #include <Eigen/Core>
 #include <optional>
 #include <string>
@@ -45,6 +61,7 @@
 #include "ppp_bayes_tree/navigation/ins_error_state.h"
 #include "ppp_bayes_tree/navigation/nav_state.h"
 #include "ppp_bayes_tree/ppp/estimators/ins_ekf_options.h"
+#include "ppp_bayes_tree/ppp/estimators/ins_in_motion_alignment.h"
 #include "ppp_bayes_tree/ppp/estimators/ppp_smoother.h"
 
 namespace ppp {
@@ -61,6 +78,7 @@ class PppInsSmoother : public PppSmoother {
   explicit PppInsSmoother(const EstimatorOptions& options);
 
   std::string name() const override { return "smoother_ins"; }
+  std::optional<double> gapBridgeMax_s() const override;
   /// navState() at navTime(), its bias, antenna, INS error covariance and attitude quality
   /// (see above); nullopt before the start.
   std::optional<InertialState> inertialState() const override;
@@ -72,6 +90,8 @@ class PppInsSmoother : public PppSmoother {
   /// The epoch navState() is at; nullopt before the start.
   const std::optional<GnssTime>& navTime() const { return nav_time_; }
   const ImuBias& imuBias() const { return bias_; }
+  /// The attitude's alignment and sigmas at the last epoch; nullopt before the start.
+  std::optional<InsAttitudeQuality> attitudeQuality() const;
   /// The INS error covariance of navState() (ins_error_state.h order); nullopt before a
   /// solved epoch, or when the readings since the newest state do not reach navTime().
   std::optional<Matrix15d> errorCovariance() const;
@@ -90,11 +110,15 @@ class PppInsSmoother : public PppSmoother {
 
  protected:
   void receiveEpochInput(const EstimatorEpochInput& input) override;
+  void verifyBridgedArcs(const std::vector<BridgedArc>& bridged, const std::vector<SatelliteMeasurement>& usable,
+                         EstimatorEpochResult& result) override;
   ReceiverState predict(double dt_s, bool first, const std::optional<ReceiverState>& start) override;
   bool solve(const EpochSolveInput& in, EpochSolveOutput& out, EstimatorEpochResult& result) override;
   void finishEpoch(EstimatorEpochResult& result) const override;
 
-  double positionProcessSigma_m(double /*dt_s*/) const override { return kFreePositionSigma_m; }
+  /// Free (the IMU factor carries the motion) from a state with a NavState; before the
+  /// NavState of an alignment in motion, the PPP smoother's.
+  double positionProcessSigma_m(double dt_s) const override;
   void addInertialFactors(const EpochSolveInput& in, std::uint32_t index, smoother::NonlinearFactorGraph& factors,
                           smoother::Values& values, smoother::KeyVector& keys) const override;
   void addRestartInertialFactors(std::uint32_t index, smoother::NonlinearFactorGraph& factors,
@@ -102,14 +126,31 @@ class PppInsSmoother : public PppSmoother {
 
  private:
   bool startNav(const ReceiverState& start);
+  /// Whether a reading holds at this epoch (the start's); the epoch's problem when not.
+  bool readingHeldAtStart();
+  /// The start of an alignment in motion: roll and pitch levelled, no NavState yet.
+  bool startLevelOnly(const ReceiverState& start);
+  /// Before the NavState of an alignment in motion: the attitude carried to this epoch,
+  /// or, once the course gave the heading, the NavState's start at this epoch.
+  void predictBeforeNavState(double dt_s, ReceiverState& predicted);
+  /// After a solved epoch without a NavState: the course of the antenna track, once it
+  /// gives a heading, sets the NavState of that epoch (course_nav_).
+  void alignFromCourse(const GnssTime& time, const Eigen::Vector3d& antenna_ecef_m);
+  /// The noise of the start's NavState prior: the options' sigmas, or after the
+  /// course's heading, the heading's sigma about the down axis.
+  smoother::NoiseModel::Ptr startNavNoise(const NavState& nav, bool from_course) const;
+  void commitSolvedNavState(std::uint32_t index);
   bool preintegrateTo(const GnssTime& time);
-  void addStartPriors(std::uint32_t index, const NavState& nav, const ImuBias& bias,
+  void addStartPriors(std::uint32_t index, const NavState& nav, const ImuBias& bias, bool from_course,
                       smoother::NonlinearFactorGraph& factors, smoother::Values& values) const;
   void keepReadingsFrom(const GnssTime& time);
   /// Drops (and counts) the readings no interval can use any more: before the start, and
   /// once the readings from the newest state have a gap no later reading closes, those
   /// before the last one at or before this epoch (a start holds that one).
   void dropUnusableReadings();
+  /// The antenna position's error covariance grown through a gap: the newest state's
+  /// propagated along the readings to this epoch minus its own (ins_gap_bridge.h).
+  Eigen::Matrix3d gapPositionCovariance() const;
   /// The newest state's covariance from the Bayes tree (after a solved epoch).
   void keepNewestCovariance(std::uint32_t index);
   /// broken_ is of the newest state only.
@@ -136,6 +177,18 @@ class PppInsSmoother : public PppSmoother {
     Matrix15d covariance = Matrix15d::Zero();
   };
   std::optional<CovariantState> newest_covariance_;
+  // The alignment in motion (neither attitude nor heading given).
+  bool in_motion_ = false;
+  AlignmentState alignment_ = AlignmentState::NotAligned;
+  std::vector<ImuSample> before_start_;         // the readings before the start, to level from
+  Eigen::Vector3d start_accel_bias_mps2_ = Eigen::Vector3d::Zero();  // from the levelling
+  std::optional<Eigen::Matrix3d> level_attitude_;  // R_ecef_body, heading unknown, at the newest state
+  Eigen::Vector3d level_position_ecef_m_ = Eigen::Vector3d::Zero();  // the start's (its NED frame)
+  std::optional<Eigen::Matrix3d> epoch_attitude_;  // level_attitude_ carried to this epoch
+  CourseHeadingTrack track_;
+  std::optional<NavState> course_nav_;          // the NavState from the course at the newest state
+  double course_heading_sigma_rad_ = 0.0;
+  bool nav_from_course_ = false;                // this epoch's nav_ starts from course_nav_
 };
 
 }  // namespace ppp

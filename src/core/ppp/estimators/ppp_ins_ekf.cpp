@@ -7,6 +7,8 @@
 #include <cmath>
 #include <utility>
 
+#include "ppp_bayes_tree/ppp/estimators/ins_gap_bridge.h"
+#include "ppp_bayes_tree/ppp/estimators/ins_in_motion_alignment.h"
 #include "ppp_bayes_tree/ppp/estimators/ins_start_attitude.h"
 #include "ppp_bayes_tree/navigation/imu_coverage.h"
 #include "ppp_bayes_tree/navigation/ins_error_state.h"
@@ -33,7 +35,8 @@ std::string InsEkfOptions::validate() const {
   return doppler.validate();
 }
 
-PppInsEkf::PppInsEkf(const EstimatorOptions& options) : PppEkf(options), ins_(options.ins) {}
+PppInsEkf::PppInsEkf(const EstimatorOptions& options)
+    : PppEkf(options), ins_(options.ins), track_(options.ins.heading_alignment) {}
 
 Eigen::Vector3d PppInsEkf::antennaPositionAt(const NavState& nominal, const Eigen::Vector3d& lever_arm_body_m,
                                              const Vector15d& error) {
@@ -170,12 +173,8 @@ void PppInsEkf::receiveEpochInput(const EstimatorEpochInput& input) {
   if (input.doppler) doppler_ = *input.doppler;
   doppler_update_ = DopplerUpdate{};
   if (lastTime() || ins_.initial_rotation_ecef_body || ins_.initial_heading_rad) return;
-  // Before the first solution of an in-motion start: the readings to level from (2 minutes at most).
-  before_start_.insert(before_start_.end(), pending_.begin(), pending_.end());
-  constexpr double kLevellingHistory_s = 120.0;
-  const auto old = std::find_if(before_start_.begin(), before_start_.end(),
-                                [&](const ImuSample& s) { return input.time - s.time <= kLevellingHistory_s; });
-  before_start_.erase(before_start_.begin(), old);
+  // Before the first solution of an in-motion start: the readings to level from.
+  keepLevellingHistory(before_start_, pending_, input.time);
 }
 
 std::optional<Eigen::Matrix3d> PppInsEkf::initialAttitude(const Eigen::Vector3d& position_ecef_m) {
@@ -189,27 +188,15 @@ std::optional<Eigen::Matrix3d> PppInsEkf::initialAttitude(const Eigen::Vector3d&
 }
 
 std::optional<Eigen::Matrix3d> PppInsEkf::attitudeInMotion(const Eigen::Vector3d& position_ecef_m) {
-  std::size_t interval_end = 0;
-  const LevelingResult level =
-      levelAtLatestStaticInterval(before_start_, position_ecef_m, StaticIntervalThresholds{}, &interval_end);
-  if (level.status != LevelingStatus::Level) {
-    epoch_problem_ = {NoSolutionReason::NoInitialAttitude,
-                      "no initial attitude: no heading given, and no static interval to level in the " +
-                          std::to_string(before_start_.size()) +
-                          " readings before the start (last refusal: " + levelingStatusText(level.status) + ")"};
+  InMotionLevel level = levelInMotion(before_start_, position_ecef_m, epoch_time_);
+  if (!level.rotation_ecef_body) {
+    epoch_problem_ = {NoSolutionReason::NoInitialAttitude, std::move(level.problem)};
     return std::nullopt;
   }
   heading_from_course_ = true;
   alignment_ = AlignmentState::LevelOnly;
-  // The accelerometers' error along gravity is what the mean force's magnitude lacks
-  // of the local gravity's (Groves 2nd ed. 14.2.1; a sensor reading 1 % high would
-  // otherwise push the vertical velocity by 0.1 m/s every second).
-  const Eigen::Vector3d f = level.mean_specific_force_mps2;
-  const double gravity_mps2 = ecefNavigationFrame(position_ecef_m).gravity_world_mps2.norm();
-  start_accel_bias_mps2_ = f - gravity_mps2 * f.normalized();
-  const Eigen::Matrix3d levelled =
-      rotationEcefNed(position_ecef_m) * ppp::rotationNedBody(level.roll_rad, level.pitch_rad, 0.0);
-  return propagateAttitude(levelled, before_start_, interval_end, epoch_time_);
+  start_accel_bias_mps2_ = level.accel_bias_mps2;
+  return level.rotation_ecef_body;
 }
 
 Eigen::Matrix3d PppInsEkf::rotationNedBody() const {
@@ -217,35 +204,22 @@ Eigen::Matrix3d PppInsEkf::rotationNedBody() const {
 }
 
 void PppInsEkf::setHeadingCovariance(Filter& f, double heading_sigma_rad) const {
-  // The attitude error is in the body axes: in NED it is R_ned_body times it.
   constexpr int a = InsErrorIndex::kAttitude;
-  const Eigen::Matrix3d ned_body = rotationNedBody();
-  Eigen::Matrix3d C = ned_body * f.P.block<3, 3>(a, a) * ned_body.transpose();
-  C.row(2).setZero();
-  C.col(2).setZero();
-  C(2, 2) = heading_sigma_rad * heading_sigma_rad;
+  const Eigen::Matrix3d covariance =
+      attitudeCovarianceWithHeading(rotationNedBody(), f.P.block<3, 3>(a, a), heading_sigma_rad);
   f.P.middleRows(a, 3).setZero();
   f.P.middleCols(a, 3).setZero();
-  f.P.block<3, 3>(a, a) = ned_body.transpose() * C * ned_body;
+  f.P.block<3, 3>(a, a) = covariance;
 }
 
 void PppInsEkf::alignHeadingFromTrack(Filter& f) {
-  const InsEkfOptions::HeadingAlignment& o = ins_.heading_alignment;
   const Eigen::Vector3d antenna = antennaPosition();
-  track_.emplace_back(epoch_time_, antenna);
-  while (track_.size() > 2 && epoch_time_ - track_[1].first >= o.course_interval_s) track_.pop_front();
-  const double dt_s = epoch_time_ - track_.front().first;
-  if (dt_s < o.course_interval_s) return;
-  const Eigen::Vector3d velocity_mps = (antenna - track_.front().second) / dt_s;
-  const HeadingResult h = headingFromGnssVelocity(velocity_mps, antenna, o.velocity_sigma_mps, o.min_horizontal_speed_mps);
-  if (h.status != HeadingStatus::Heading) return;
-  // The body x axis along the course; the antenna stays where the update put it.
-  nominal_.rotation_world_body = withYaw(nominal_.rotation_world_body, nominal_.position_world_m, h.heading_rad);
-  nominal_.position_world_m = antenna - nominal_.rotation_world_body * ins_.lever_arm_body_m;
-  setHeadingCovariance(f, h.heading_sigma_rad);
+  const std::optional<CourseHeading> course = track_.add(epoch_time_, antenna);
+  if (!course) return;
+  nominal_ = alignedToCourse(nominal_, course->heading.heading_rad, antenna, ins_.lever_arm_body_m);
+  setHeadingCovariance(f, course->heading.heading_sigma_rad);
   heading_from_course_ = false;
   alignment_ = AlignmentState::Aligned;
-  track_.clear();
 }
 
 std::optional<InertialState> PppInsEkf::inertialState() const {
@@ -447,77 +421,29 @@ std::optional<double> PppInsEkf::gapBridgeMax_s() const {
   return ins_.gap_bridge_max_s;
 }
 
-std::optional<GapBridgeRow> PppInsEkf::gapBridgeRow(const BridgedArc& bridged, const SatelliteMeasurement& m) const {
-  const int slot = findBias(work_, bridged.arc);
-  if (slot < 0 || !bridged.gf_jump_m || !(bridged.wavelength1_m > 0.0)) return std::nullopt;
-  const int b = coreDim() + slot;
-  GapBridgeRow row;
-  // The first frequency's phase (L1 = IF - beta GF): its slip in its own cycles,
-  // with the ionosphere's drift through the gap removed by the GF fit.
-  const double beta = bridged.geometry_free_factor;
-  row.residual_m = m.phaseResidualWithoutBias_m() - work_.x(b) - beta * *bridged.gf_jump_m;
-  row.position_jacobian = m.jacobian.segment<3>(layout_.position());
-  row.clock = static_cast<int>(m.satellite.system);
-  // The bias fitted the arc's phase at the last epoch: what is left is the phase
-  // noise of both epochs (the bias's own sigma is mostly common to all arcs, in
-  // the clocks and the position, and cancels in the difference).
-  // The IF sigma scaled to one frequency's: IF = (1 + beta) L1 - beta L2.
-  row.sigma_m = std::sqrt(2.0) * m.phase_sigma_m / std::hypot(1.0 + beta, beta);
-  row.wavelength_m = bridged.wavelength1_m;
-  return row;
-}
-
 Eigen::Matrix3d PppInsEkf::gapPositionCovariance() const {
   const auto antennaCov = [&](const Filter& f) -> Eigen::Matrix3d {
     const Eigen::Matrix<double, 15, 1> error = f.x.head<15>();
     const Eigen::Matrix<double, 3, 15> J = antennaJacobian(nominal_, ins_.lever_arm_body_m, error);
     return J * f.P.topLeftCorner<15, 15>() * J.transpose();
   };
-  Eigen::Matrix3d grown = antennaCov(work_) - antennaCov(f_);
-  grown = 0.5 * (grown + grown.transpose()).eval();
-  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(grown);
-  const Eigen::Vector3d values = eig.eigenvalues().cwiseMax(kMinGapPositionVariance_m2);
-  return eig.eigenvectors() * values.asDiagonal() * eig.eigenvectors().transpose();
+  return grownGapPositionCovariance(antennaCov(work_), antennaCov(f_));
 }
 
 void PppInsEkf::verifyBridgedArcs(const std::vector<BridgedArc>& bridged, const std::vector<SatelliteMeasurement>& usable,
                                   EstimatorEpochResult& result) {
-  // 1. One row per bridged arc with a measurement and a held bias; the others end.
-  std::vector<GapBridgeRow> rows;
-  std::vector<const BridgedArc*> row_arcs;
-  std::vector<int> system_clock(kNumGnssSystems, -1);
-  for (const BridgedArc& b : bridged) {
-    const auto m = std::find_if(usable.begin(), usable.end(), [&](const SatelliteMeasurement& u) { return u.arc == b.arc; });
-    std::optional<GapBridgeRow> row;
-    if (m != usable.end()) row = gapBridgeRow(b, *m);
-    if (!row) {
-      endBridgedArc(b, "no usable measurement, held bias or geometry-free fit at the prediction", result);
-      continue;
-    }
-    int& clock = system_clock[static_cast<std::size_t>(row->clock)];
-    if (clock < 0) clock = *std::max_element(system_clock.begin(), system_clock.end()) + 1;
-    row->clock = clock;
-    rows.push_back(*row);
-    row_arcs.push_back(&b);
-  }
-  // 2. The covariance of the antenna position's error grown through the gap (the
-  // INS prediction's minus the last epoch's: the error then is in the biases).
-  const Eigen::Matrix3d position_cov = gapPositionCovariance();
-  // 3. The slips; an arc goes on only without one.
-  const std::vector<GapBridgeVerdict> verdicts = bridgeGap(rows, position_cov, ins_.gap_bridge);
-  for (std::size_t i = 0; i < verdicts.size(); ++i) {
-    const BridgedArc& b = *row_arcs[i];
-    if (!verdicts[i].keep) {
-      endBridgedArc(b, verdicts[i].reason, result);
-      continue;
-    }
-    ++result.bridged_arcs_kept;
-    if (b.repair) ++result.repaired_arcs_kept;
-    result.gap_bridge.push_back(b.satellite.toString() + " arc " + std::to_string(b.arc) + ": gap of " +
-                                format("%.0f s bridged, slip %.2f +- %.2f cycles", b.gap_s,
-                                       verdicts[i].slip_cycles, verdicts[i].sigma_cycles) +
-                                (b.repair ? " after the slip repair " + b.repair->text : std::string()));
-  }
+  // The arcs' biases of the prediction; the covariance of the antenna position's error
+  // grown through the gap (the INS prediction's minus the last epoch's: the error then
+  // is in the biases).
+  const auto held_bias_m = [this](ArcId arc) -> std::optional<double> {
+    const int slot = findBias(work_, arc);
+    if (slot < 0) return std::nullopt;
+    return work_.x(coreDim() + slot);
+  };
+  const std::vector<BridgedArcVerdict> verdicts = insGapBridgeVerdicts(
+      bridged, usable, held_bias_m, layout_.position(), gapPositionCovariance(), ins_.gap_bridge);
+  applyBridgedArcVerdicts(
+      verdicts, [&](const BridgedArc& b, const std::string& reason) { endBridgedArc(b, reason, result); }, result);
 }
 
 }  // namespace ppp

@@ -10,7 +10,9 @@
 #include "ppp_bayes_tree/navigation/nav_state_value.h"
 #include "ppp_bayes_tree/navigation/navigation_frame.h"
 #include "ppp_bayes_tree/ppp/estimators/antenna_position_factor.h"
+#include "ppp_bayes_tree/ppp/estimators/ins_gap_bridge.h"
 #include "ppp_bayes_tree/ppp/estimators/ins_start_attitude.h"
+#include "ppp_bayes_tree/ppp/estimators/ppp_ins_ekf.h"
 #include "ppp_bayes_tree/ppp/model/ppp_factors.h"
 #include "ppp_bayes_tree/smoother/prior_factor.h"
 
@@ -49,8 +51,15 @@ Matrix15d propagatedCovariance(Matrix15d covariance, NavState nav, const ImuBias
 
 }  // namespace
 
-PppInsSmoother::PppInsSmoother(const EstimatorOptions& options) : PppSmoother(options), ins_(options.ins) {
+PppInsSmoother::PppInsSmoother(const EstimatorOptions& options)
+    : PppSmoother(options), ins_(options.ins), track_(options.ins.heading_alignment) {
   if (auto problem = ins_.validate(); !problem.empty()) throw std::invalid_argument(problem);
+  in_motion_ = !ins_.initial_rotation_ecef_body && !ins_.initial_rotation_ned_body && !ins_.initial_heading_rad;
+}
+
+double PppInsSmoother::positionProcessSigma_m(double dt_s) const {
+  if (in_motion_ && !last_nav_) return PppSmoother::positionProcessSigma_m(dt_s);
+  return kFreePositionSigma_m;
 }
 
 std::optional<Eigen::Vector3d> PppInsSmoother::antennaPosition() const {
@@ -69,10 +78,26 @@ std::optional<InertialState> PppInsSmoother::inertialState() const {
   if (s.error_covariance) {
     constexpr int a = InsErrorIndex::kAttitude;
     const Eigen::Matrix3d ned_body = rotationEcefNed(nav_->position_world_m).transpose() * nav_->rotation_world_body;
-    s.attitude_quality = insAttitudeQuality(AlignmentState::Aligned, ned_body, s.error_covariance->block<3, 3>(a, a),
+    s.attitude_quality = insAttitudeQuality(alignment_, ned_body, s.error_covariance->block<3, 3>(a, a),
                                             ins_.publish_tilt_sigma_rad, ins_.publish_heading_sigma_rad);
   }
   return s;
+}
+
+std::optional<InsAttitudeQuality> PppInsSmoother::attitudeQuality() const {
+  if (!in_motion_ || alignment_ == AlignmentState::Aligned) {
+    const std::optional<InertialState> s = inertialState();
+    return s ? s->attitude_quality : std::nullopt;
+  }
+  if (!epoch_attitude_) return std::nullopt;
+  // Level only: the tilt of the start's sigma, the heading unknown.
+  const Eigen::Matrix3d ned_body = rotationEcefNed(level_position_ecef_m_).transpose() * *epoch_attitude_;
+  const double tilt_sigma_rad = ins_.initial_attitude_sigma_rad;
+  const Eigen::Matrix3d covariance =
+      attitudeCovarianceWithHeading(ned_body, tilt_sigma_rad * tilt_sigma_rad * Eigen::Matrix3d::Identity(),
+                                    ins_.heading_alignment.unaligned_heading_sigma_rad);
+  return insAttitudeQuality(alignment_, ned_body, covariance, ins_.publish_tilt_sigma_rad,
+                            ins_.publish_heading_sigma_rad);
 }
 
 std::optional<Matrix15d> PppInsSmoother::errorCovariance() const {
@@ -96,6 +121,42 @@ void PppInsSmoother::keepNewestCovariance(std::uint32_t index) {
   newest_covariance_ = CovariantState{*nav_time_, *nav_, bias_, 0.5 * (P + P.transpose())};
 }
 
+std::optional<double> PppInsSmoother::gapBridgeMax_s() const {
+  if (!(ins_.gap_bridge_max_s > 0.0)) return std::nullopt;
+  return ins_.gap_bridge_max_s;
+}
+
+Eigen::Matrix3d PppInsSmoother::gapPositionCovariance() const {
+  const std::optional<CovariantState>& c = newest_covariance_;
+  if (!c || !nav_ || !lastTime() || !(c->time == *lastTime())) {
+    return grownGapPositionCovariance(Eigen::Matrix3d::Zero(), Eigen::Matrix3d::Zero());
+  }
+  const auto antennaCov = [&](const NavState& nav, const Matrix15d& P) -> Eigen::Matrix3d {
+    const Eigen::Matrix<double, 3, 15> J = PppInsEkf::antennaJacobian(nav, ins_.lever_arm_body_m, Vector15d::Zero());
+    return J * P * J.transpose();
+  };
+  const Matrix15d after = propagatedCovariance(c->covariance, c->nav, c->bias, readings_, c->time, epoch_time_, ins_);
+  return grownGapPositionCovariance(antennaCov(*nav_, after), antennaCov(c->nav, c->covariance));
+}
+
+void PppInsSmoother::verifyBridgedArcs(const std::vector<BridgedArc>& bridged,
+                                       const std::vector<SatelliteMeasurement>& usable, EstimatorEpochResult& result) {
+  const auto end = [&](const BridgedArc& b, const std::string& reason) { endBridgedArc(b, reason, result); };
+  // Only the NavState predicted across the gap from the newest state tests the arcs.
+  if (!pim_ || !last_nav_ || !nav_) {
+    for (const BridgedArc& b : bridged) end(b, "no INS prediction across the gap");
+    return;
+  }
+  const auto held_bias_m = [this](ArcId arc) -> std::optional<double> {
+    const std::optional<ArcBiasPrior> prior = predictedBias(arc);
+    if (!prior) return std::nullopt;
+    return prior->bias_m;
+  };
+  applyBridgedArcVerdicts(insGapBridgeVerdicts(bridged, usable, held_bias_m, layout_.position(),
+                                               gapPositionCovariance(), ins_.gap_bridge),
+                          end, result);
+}
+
 std::optional<NavState> PppInsSmoother::smoothedNavState(std::uint32_t index) const {
   if (!isam2().exists(navKey(index))) return std::nullopt;
   return navStateFromStorage(isam2().calculateEstimate(navKey(index)));
@@ -107,6 +168,8 @@ void PppInsSmoother::receiveEpochInput(const EstimatorEpochInput& input) {
   input_readings_.clear();
   if (!input.imu) return;
   input_readings_ = *input.imu;
+  // Before the first solution of an in-motion start: the readings to level from.
+  if (in_motion_ && !lastTime()) keepLevellingHistory(before_start_, input_readings_, input.time);
   readings_.insert(readings_.end(), input.imu->begin(), input.imu->end());
   dropUnusableReadings();
 }
@@ -132,12 +195,7 @@ bool PppInsSmoother::startNav(const ReceiverState& start) {
     epoch_problem_ = {NoSolutionReason::NoInitialAttitude, attitude.problem};
     return false;
   }
-  const bool held = std::any_of(readings_.begin(), readings_.end(),
-                                [this](const ImuSample& s) { return s.time - epoch_time_ <= 0.0; });
-  if (!held) {
-    epoch_problem_ = {NoSolutionReason::NoImuReadings, "no IMU reading at or before the start " + epoch_time_.toString()};
-    return false;
-  }
+  if (!readingHeldAtStart()) return false;
   NavState nav;
   nav.rotation_world_body = *attitude.rotation_ecef_body;
   nav.velocity_world_mps = insStartVelocity_ecef_mps(ins_, start.position_ecef_m);
@@ -145,21 +203,97 @@ bool PppInsSmoother::startNav(const ReceiverState& start) {
   nav_ = nav;
   nav_time_ = epoch_time_;
   bias_ = ImuBias{};
+  alignment_ = AlignmentState::Aligned;
   return true;
+}
+
+bool PppInsSmoother::readingHeldAtStart() {
+  const bool held = std::any_of(readings_.begin(), readings_.end(),
+                                [this](const ImuSample& s) { return s.time - epoch_time_ <= 0.0; });
+  if (!held)
+    epoch_problem_ = {NoSolutionReason::NoImuReadings, "no IMU reading at or before the start " + epoch_time_.toString()};
+  return held;
+}
+
+bool PppInsSmoother::startLevelOnly(const ReceiverState& start) {
+  nav_.reset();
+  nav_time_.reset();
+  course_nav_.reset();
+  level_attitude_.reset();
+  epoch_attitude_.reset();
+  track_.clear();
+  alignment_ = AlignmentState::NotAligned;
+  InMotionLevel level = levelInMotion(before_start_, start.position_ecef_m, epoch_time_);
+  if (!level.rotation_ecef_body) {
+    epoch_problem_ = {NoSolutionReason::NoInitialAttitude, std::move(level.problem)};
+    return false;
+  }
+  if (!readingHeldAtStart()) return false;
+  epoch_attitude_ = level.rotation_ecef_body;
+  level_position_ecef_m_ = start.position_ecef_m;
+  start_accel_bias_mps2_ = level.accel_bias_mps2;
+  alignment_ = AlignmentState::LevelOnly;
+  return true;
+}
+
+void PppInsSmoother::predictBeforeNavState(double dt_s, ReceiverState& predicted) {
+  // From the newest state: its levelled attitude, or the NavState the course set there.
+  if (!level_attitude_ && !course_nav_) return;
+  last_bias_ = ImuBias{};
+  last_bias_.accel_mps2 = start_accel_bias_mps2_;
+  if (!preintegrateTo(*lastTime() + dt_s)) return;
+  NavState from;
+  if (course_nav_) {
+    from = *course_nav_;
+  } else {
+    from.rotation_world_body = *level_attitude_;
+    from.position_world_m = predicted.position_ecef_m;
+  }
+  const NavState to = predictNavState(*pim_, from, last_bias_, ecefNavigationFrame(from.position_world_m));
+  pim_.reset();  // no IMU factor from a state without a NavState: the NavState starts with priors
+  if (!course_nav_) {
+    epoch_attitude_ = to.rotation_world_body;
+    return;
+  }
+  nav_ = to;
+  nav_time_ = epoch_time_;
+  bias_ = last_bias_;
+  nav_from_course_ = true;
+  predicted.position_ecef_m = AntennaPositionFactor::antennaOf(*nav_, ins_.lever_arm_body_m);
+}
+
+void PppInsSmoother::alignFromCourse(const GnssTime& time, const Eigen::Vector3d& antenna_ecef_m) {
+  const std::optional<CourseHeading> course = track_.add(time, antenna_ecef_m);
+  if (!course || !level_attitude_) return;
+  NavState nav;
+  nav.rotation_world_body = *level_attitude_;
+  nav.position_world_m = antenna_ecef_m - nav.rotation_world_body * ins_.lever_arm_body_m;
+  nav = alignedToCourse(nav, course->heading.heading_rad, antenna_ecef_m, ins_.lever_arm_body_m);
+  nav.velocity_world_mps = course->velocity_ecef_mps;
+  course_nav_ = nav;
+  course_heading_sigma_rad_ = course->heading.heading_sigma_rad;
 }
 
 ReceiverState PppInsSmoother::predict(double dt_s, bool first, const std::optional<ReceiverState>& start) {
   ReceiverState predicted = PppSmoother::predict(dt_s, first, start);
   pim_.reset();
   last_nav_.reset();
+  nav_from_course_ = false;
   if (start) {
     // A start keeps only the readings at and after the last one at or before it.
     keepReadingsFrom(epoch_time_);
-    startNav(*start);
+    if (in_motion_)
+      startLevelOnly(*start);
+    else
+      startNav(*start);
     return predicted;
   }
   const std::optional<std::uint32_t> last = newestStateIndex();
-  if (!last || !isam2().exists(navKey(*last))) return predicted;
+  if (!last) return predicted;
+  if (!isam2().exists(navKey(*last))) {
+    if (in_motion_) predictBeforeNavState(dt_s, predicted);
+    return predicted;
+  }
   last_nav_ = navStateFromStorage(isam2().calculateEstimate(navKey(*last)));
   last_bias_ = ImuBias::fromVector(isam2().calculateEstimate(imuBiasKey(*last)));
   if (!preintegrateTo(*lastTime() + dt_s)) return predicted;
@@ -189,15 +323,32 @@ bool PppInsSmoother::preintegrateTo(const GnssTime& time) {
 
 bool PppInsSmoother::solve(const EpochSolveInput& in, EpochSolveOutput& out, EstimatorEpochResult& result) {
   if (epoch_problem_) return fail(result, EpochStatus::NoSolution, epoch_problem_->first, epoch_problem_->second);
-  if (!nav_) return fail(result, EpochStatus::NoSolution, NoSolutionReason::NoInitialAttitude, "no inertial state");
+  const bool level_only = in_motion_ && !nav_ && epoch_attitude_;
+  if (!nav_ && !level_only)
+    return fail(result, EpochStatus::NoSolution, NoSolutionReason::NoInitialAttitude, "no inertial state");
   if (!PppSmoother::solve(in, out, result)) return false;
   // The new state is in the graph: the readings before it are no longer needed.
   keepReadingsFrom(in.time);
-  if (auto nav = smoothedNavState(*newestStateIndex())) nav_ = nav;
-  nav_time_ = in.time;
-  bias_ = ImuBias::fromVector(isam2().calculateEstimate(imuBiasKey(*newestStateIndex())));
-  keepNewestCovariance(*newestStateIndex());
+  before_start_.clear();
+  const std::uint32_t index = *newestStateIndex();
+  if (!isam2().exists(navKey(index))) {  // level only: the course may give the heading
+    level_attitude_ = epoch_attitude_;
+    alignFromCourse(in.time, out.solution.state.position_ecef_m);
+    return true;
+  }
+  commitSolvedNavState(index);
   return true;
+}
+
+void PppInsSmoother::commitSolvedNavState(std::uint32_t index) {
+  if (auto nav = smoothedNavState(index)) nav_ = nav;
+  nav_time_ = lastTime();
+  bias_ = ImuBias::fromVector(isam2().calculateEstimate(imuBiasKey(index)));
+  keepNewestCovariance(index);
+  alignment_ = AlignmentState::Aligned;
+  course_nav_.reset();
+  level_attitude_.reset();
+  epoch_attitude_.reset();
 }
 
 void PppInsSmoother::keepReadingsFrom(const GnssTime& time) {
@@ -213,17 +364,28 @@ void PppInsSmoother::finishEpoch(EstimatorEpochResult& result) const {
   // An inertial problem is the epoch's reason, also when the screening stopped it first.
   if (epoch_problem_ && result.status != EpochStatus::Ok)
     fail(result, EpochStatus::NoSolution, epoch_problem_->first, epoch_problem_->second);
+  result.attitude = attitudeQuality();
 }
 
-void PppInsSmoother::addStartPriors(std::uint32_t index, const NavState& nav, const ImuBias& bias,
-                                    smoother::NonlinearFactorGraph& factors, smoother::Values& values) const {
-  insertNavState(values, navKey(index), nav);
-  values.insert(imuBiasKey(index), bias.vector());
+smoother::NoiseModel::Ptr PppInsSmoother::startNavNoise(const NavState& nav, bool from_course) const {
   // The position's prior is the receiver state's (tied to the antenna).
   Eigen::Matrix<double, 9, 1> sigmas;
   sigmas << Eigen::Vector3d::Constant(ins_.initial_attitude_sigma_rad),
       Eigen::Vector3d::Constant(ins_.initial_velocity_sigma_mps), Eigen::Vector3d::Constant(kFreePositionSigma_m);
-  factors.push_back(std::make_shared<NavStatePriorFactor>(navKey(index), nav, NoiseModel::sigmas(sigmas)));
+  if (!from_course) return NoiseModel::sigmas(sigmas);
+  // [attitude; velocity; position] (the NavState tangent): the course's heading sigma about down.
+  Eigen::Matrix<double, 9, 9> covariance = sigmas.cwiseAbs2().asDiagonal();
+  const Eigen::Matrix3d ned_body = rotationEcefNed(nav.position_world_m).transpose() * nav.rotation_world_body;
+  covariance.topLeftCorner<3, 3>() =
+      attitudeCovarianceWithHeading(ned_body, covariance.topLeftCorner<3, 3>(), course_heading_sigma_rad_);
+  return NoiseModel::covariance(covariance);
+}
+
+void PppInsSmoother::addStartPriors(std::uint32_t index, const NavState& nav, const ImuBias& bias, bool from_course,
+                                    smoother::NonlinearFactorGraph& factors, smoother::Values& values) const {
+  insertNavState(values, navKey(index), nav);
+  values.insert(imuBiasKey(index), bias.vector());
+  factors.push_back(std::make_shared<NavStatePriorFactor>(navKey(index), nav, startNavNoise(nav, from_course)));
   Eigen::Matrix<double, 6, 1> bias_sigmas;
   bias_sigmas << Eigen::Vector3d::Constant(ins_.noise.accel_bias_instability_mps2),
       Eigen::Vector3d::Constant(ins_.noise.gyro_bias_instability_radps);
@@ -234,8 +396,9 @@ void PppInsSmoother::addStartPriors(std::uint32_t index, const NavState& nav, co
 void PppInsSmoother::addInertialFactors(const EpochSolveInput& in, std::uint32_t index,
                                         smoother::NonlinearFactorGraph& factors, smoother::Values& values,
                                         smoother::KeyVector& keys) const {
+  if (!nav_) return;  // level only (alignment in motion): no NavState yet
   if (in.first || !pim_ || !last_nav_) {
-    addStartPriors(index, *nav_, bias_, factors, values);
+    addStartPriors(index, *nav_, bias_, nav_from_course_, factors, values);
   } else {
     insertNavState(values, navKey(index), *nav_);
     values.insert(imuBiasKey(index), last_bias_.vector());
@@ -255,7 +418,7 @@ void PppInsSmoother::addRestartInertialFactors(std::uint32_t index, smoother::No
   // The newest state's inertial estimate read before the failed update, with the
   // start's sigmas; the tie to the restarted receiver state carries its position.
   if (!last_nav_) return;
-  addStartPriors(index, *last_nav_, last_bias_, factors, values);
+  addStartPriors(index, *last_nav_, last_bias_, false, factors, values);
   factors.push_back(std::make_shared<AntennaPositionFactor>(stateKey(index), navKey(index), layout_.position(),
                                                             ins_.lever_arm_body_m, kAntennaTieSigma_m));
   newest.push_back(navKey(index));

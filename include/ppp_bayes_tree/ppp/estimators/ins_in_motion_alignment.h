@@ -1,0 +1,82 @@
+#pragma once
+// The alignment in motion that the GNSS/INS estimators share (PppInsEkf,
+// PppInsSmoother) when neither an attitude nor a heading is given (InsEkfOptions):
+// - roll and pitch from the latest static interval of the readings before the
+//   start (the last kLevellingHistory_s of them), carried to the start by the
+//   gyros; the accelerometers' error along gravity from that levelling
+//   (levelInMotion);
+// - the heading from the course over ground of the antenna track once it moves
+//   faster than HeadingAlignment::min_horizontal_speed_mps over at least
+//   course_interval_s (CourseHeadingTrack): the course becomes the heading of the
+//   body x axis (a platform moving along x), with sigma velocity sigma / speed;
+// - the attitude's error covariance with the heading's variance set
+//   (attitudeCovarianceWithHeading) and the state turned to the course
+//   (alignedToCourse).
+#include <Eigen/Core>
+#include <deque>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "ppp_bayes_tree/navigation/imu_sample.h"
+#include "ppp_bayes_tree/navigation/ins_alignment.h"
+#include "ppp_bayes_tree/navigation/nav_state.h"
+#include "ppp_bayes_tree/ppp/estimators/ins_ekf_options.h"
+#include "ppp_bayes_tree/types/gnss_time.h"
+
+namespace ppp {
+
+/// How far back the readings before a start in motion are kept [s].
+constexpr double kLevellingHistory_s = 120.0;
+
+/// Appends `readings` to `history` and drops those more than kLevellingHistory_s before `time`.
+void keepLevellingHistory(std::vector<ImuSample>& history, const std::vector<ImuSample>& readings,
+                          const GnssTime& time);
+
+/// Roll and pitch at a start in motion (heading 0 at the static interval, carried by the gyros).
+struct InMotionLevel {
+  std::optional<Eigen::Matrix3d> rotation_ecef_body;  ///< at the start; nullopt: see problem
+  /// The accelerometers' error along gravity: the mean force less the local gravity's
+  /// magnitude (Groves 2nd ed. 14.2.1) [m/s^2].
+  Eigen::Vector3d accel_bias_mps2 = Eigen::Vector3d::Zero();
+  std::string problem;  ///< why there is no attitude
+};
+
+/// Levels at the latest static interval of `history` (the readings before the start)
+/// and carries the attitude through the later readings to `start`.
+InMotionLevel levelInMotion(const std::vector<ImuSample>& history, const Eigen::Vector3d& position_ecef_m,
+                            const GnssTime& start);
+
+/// The course over ground of the antenna track, once it gives a heading.
+struct CourseHeading {
+  HeadingResult heading;                                 ///< status Heading
+  Eigen::Vector3d velocity_ecef_mps = Eigen::Vector3d::Zero();  ///< the track's mean velocity
+};
+
+/// The antenna positions of the solved epochs over the last course interval.
+class CourseHeadingTrack {
+ public:
+  explicit CourseHeadingTrack(const InsEkfOptions::HeadingAlignment& options) : options_(options) {}
+  /// Adds the antenna position of a solved epoch; the course once the track spans at
+  /// least course_interval_s and moves fast enough (the track is then cleared).
+  std::optional<CourseHeading> add(const GnssTime& time, const Eigen::Vector3d& antenna_ecef_m);
+  void clear() { track_.clear(); }
+
+ private:
+  InsEkfOptions::HeadingAlignment options_;
+  std::deque<std::pair<GnssTime, Eigen::Vector3d>> track_;
+};
+
+/// An attitude error covariance about the body axes [rad^2] with the heading's (NED
+/// down axis) variance set to sigma^2 and its correlations removed (tilt kept).
+Eigen::Matrix3d attitudeCovarianceWithHeading(const Eigen::Matrix3d& rotation_ned_body,
+                                              const Eigen::Matrix3d& attitude_covariance_body,
+                                              double heading_sigma_rad);
+
+/// `nav` with the heading of the course (roll and pitch kept, in the NED frame of its
+/// position) and its position moved so that its antenna is at `antenna_ecef_m`.
+NavState alignedToCourse(const NavState& nav, double heading_rad, const Eigen::Vector3d& antenna_ecef_m,
+                         const Eigen::Vector3d& lever_arm_body_m);
+
+}  // namespace ppp

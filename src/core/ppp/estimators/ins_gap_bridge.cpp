@@ -1,0 +1,96 @@
+#include "ppp_bayes_tree/ppp/estimators/ins_gap_bridge.h"
+
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <cmath>
+
+#include "ppp_bayes_tree/types/text_format.h"
+
+namespace ppp {
+
+std::optional<GapBridgeRow> insGapBridgeRow(const BridgedArc& bridged, const SatelliteMeasurement& m,
+                                            double held_bias_m, int position_index) {
+  if (!bridged.gf_jump_m || !(bridged.wavelength1_m > 0.0)) return std::nullopt;
+  GapBridgeRow row;
+  // The first frequency's phase (L1 = IF - beta GF): its slip in its own cycles,
+  // with the ionosphere's drift through the gap removed by the GF fit.
+  const double beta = bridged.geometry_free_factor;
+  row.residual_m = m.phaseResidualWithoutBias_m() - held_bias_m - beta * *bridged.gf_jump_m;
+  row.position_jacobian = m.jacobian.segment<3>(position_index);
+  row.clock = static_cast<int>(m.satellite.system);
+  // The bias fitted the arc's phase at the last epoch: what is left is the phase
+  // noise of both epochs (the bias's own sigma is mostly common to all arcs, in
+  // the clocks and the position, and cancels in the difference).
+  // The IF sigma scaled to one frequency's: IF = (1 + beta) L1 - beta L2.
+  row.sigma_m = std::sqrt(2.0) * m.phase_sigma_m / std::hypot(1.0 + beta, beta);
+  row.wavelength_m = bridged.wavelength1_m;
+  return row;
+}
+
+namespace {
+
+std::string keptLine(const BridgedArc& b, const GapBridgeVerdict& v) {
+  return b.satellite.toString() + " arc " + std::to_string(b.arc) + ": gap of " +
+         format("%.0f s bridged, slip %.2f +- %.2f cycles", b.gap_s, v.slip_cycles, v.sigma_cycles) +
+         (b.repair ? " after the slip repair " + b.repair->text : std::string());
+}
+
+}  // namespace
+
+std::vector<BridgedArcVerdict> insGapBridgeVerdicts(const std::vector<BridgedArc>& bridged,
+                                                    const std::vector<SatelliteMeasurement>& usable,
+                                                    const std::function<std::optional<double>(ArcId)>& held_bias_m,
+                                                    int position_index, const Eigen::Matrix3d& position_cov_m2,
+                                                    const GapBridgeOptions& options) {
+  // 1. One row per bridged arc with a measurement and a held bias; the others end.
+  std::vector<BridgedArcVerdict> out;
+  std::vector<GapBridgeRow> rows;
+  std::vector<const BridgedArc*> row_arcs;
+  std::vector<int> system_clock(kNumGnssSystems, -1);
+  for (const BridgedArc& b : bridged) {
+    const auto m = std::find_if(usable.begin(), usable.end(), [&](const SatelliteMeasurement& u) { return u.arc == b.arc; });
+    std::optional<GapBridgeRow> row;
+    const std::optional<double> bias_m = held_bias_m(b.arc);
+    if (m != usable.end() && bias_m) row = insGapBridgeRow(b, *m, *bias_m, position_index);
+    if (!row) {
+      out.push_back({&b, false, "no usable measurement, held bias or geometry-free fit at the prediction"});
+      continue;
+    }
+    int& clock = system_clock[static_cast<std::size_t>(row->clock)];
+    if (clock < 0) clock = *std::max_element(system_clock.begin(), system_clock.end()) + 1;
+    row->clock = clock;
+    rows.push_back(*row);
+    row_arcs.push_back(&b);
+  }
+  // 2. The slips; an arc goes on only without one.
+  const std::vector<GapBridgeVerdict> verdicts = bridgeGap(rows, position_cov_m2, options);
+  for (std::size_t i = 0; i < verdicts.size(); ++i) {
+    const BridgedArc& b = *row_arcs[i];
+    out.push_back({&b, verdicts[i].keep, verdicts[i].keep ? keptLine(b, verdicts[i]) : verdicts[i].reason});
+  }
+  return out;
+}
+
+void applyBridgedArcVerdicts(const std::vector<BridgedArcVerdict>& verdicts,
+                             const std::function<void(const BridgedArc&, const std::string&)>& end_arc,
+                             EstimatorEpochResult& result) {
+  for (const BridgedArcVerdict& v : verdicts) {
+    if (!v.keep) {
+      end_arc(*v.arc, v.text);
+      continue;
+    }
+    ++result.bridged_arcs_kept;
+    if (v.arc->repair) ++result.repaired_arcs_kept;
+    result.gap_bridge.push_back(v.text);
+  }
+}
+
+Eigen::Matrix3d grownGapPositionCovariance(const Eigen::Matrix3d& after, const Eigen::Matrix3d& before) {
+  Eigen::Matrix3d grown = after - before;
+  grown = 0.5 * (grown + grown.transpose()).eval();
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(grown);
+  const Eigen::Vector3d values = eig.eigenvalues().cwiseMax(kMinGapPositionVariance_m2);
+  return eig.eigenvectors() * values.asDiagonal() * eig.eigenvectors().transpose();
+}
+
+}  // namespace ppp

@@ -1,0 +1,76 @@
+#include "ppp_bayes_tree/ppp/estimators/ins_in_motion_alignment.h"
+
+#include <algorithm>
+
+#include "ppp_bayes_tree/navigation/navigation_frame.h"
+
+namespace ppp {
+
+void keepLevellingHistory(std::vector<ImuSample>& history, const std::vector<ImuSample>& readings,
+                          const GnssTime& time) {
+  history.insert(history.end(), readings.begin(), readings.end());
+  const auto old = std::find_if(history.begin(), history.end(),
+                                [&](const ImuSample& s) { return time - s.time <= kLevellingHistory_s; });
+  history.erase(history.begin(), old);
+}
+
+InMotionLevel levelInMotion(const std::vector<ImuSample>& history, const Eigen::Vector3d& position_ecef_m,
+                            const GnssTime& start) {
+  InMotionLevel out;
+  std::size_t interval_end = 0;
+  const LevelingResult level =
+      levelAtLatestStaticInterval(history, position_ecef_m, StaticIntervalThresholds{}, &interval_end);
+  if (level.status != LevelingStatus::Level) {
+    out.problem = "no initial attitude: no heading given, and no static interval to level in the " +
+                  std::to_string(history.size()) +
+                  " readings before the start (last refusal: " + levelingStatusText(level.status) + ")";
+    return out;
+  }
+  // The accelerometers' error along gravity is what the mean force's magnitude lacks
+  // of the local gravity's (Groves 2nd ed. 14.2.1; a sensor reading 1 % high would
+  // otherwise push the vertical velocity by 0.1 m/s every second).
+  const Eigen::Vector3d f = level.mean_specific_force_mps2;
+  const double gravity_mps2 = ecefNavigationFrame(position_ecef_m).gravity_world_mps2.norm();
+  out.accel_bias_mps2 = f - gravity_mps2 * f.normalized();
+  const Eigen::Matrix3d levelled =
+      rotationEcefNed(position_ecef_m) * rotationNedBody(level.roll_rad, level.pitch_rad, 0.0);
+  out.rotation_ecef_body = propagateAttitude(levelled, history, interval_end, start);
+  return out;
+}
+
+std::optional<CourseHeading> CourseHeadingTrack::add(const GnssTime& time, const Eigen::Vector3d& antenna_ecef_m) {
+  track_.emplace_back(time, antenna_ecef_m);
+  while (track_.size() > 2 && time - track_[1].first >= options_.course_interval_s) track_.pop_front();
+  const double dt_s = time - track_.front().first;
+  if (dt_s < options_.course_interval_s) return std::nullopt;
+  CourseHeading c;
+  c.velocity_ecef_mps = (antenna_ecef_m - track_.front().second) / dt_s;
+  c.heading = headingFromGnssVelocity(c.velocity_ecef_mps, antenna_ecef_m, options_.velocity_sigma_mps,
+                                      options_.min_horizontal_speed_mps);
+  if (c.heading.status != HeadingStatus::Heading) return std::nullopt;
+  track_.clear();
+  return c;
+}
+
+Eigen::Matrix3d attitudeCovarianceWithHeading(const Eigen::Matrix3d& rotation_ned_body,
+                                              const Eigen::Matrix3d& attitude_covariance_body,
+                                              double heading_sigma_rad) {
+  // The attitude error is in the body axes: in NED it is R_ned_body times it.
+  const Eigen::Matrix3d& ned_body = rotation_ned_body;
+  Eigen::Matrix3d C = ned_body * attitude_covariance_body * ned_body.transpose();
+  C.row(2).setZero();
+  C.col(2).setZero();
+  C(2, 2) = heading_sigma_rad * heading_sigma_rad;
+  return ned_body.transpose() * C * ned_body;
+}
+
+NavState alignedToCourse(const NavState& nav, double heading_rad, const Eigen::Vector3d& antenna_ecef_m,
+                         const Eigen::Vector3d& lever_arm_body_m) {
+  // The body x axis along the course; the antenna stays where it is.
+  NavState out = nav;
+  out.rotation_world_body = withYaw(nav.rotation_world_body, nav.position_world_m, heading_rad);
+  out.position_world_m = antenna_ecef_m - out.rotation_world_body * lever_arm_body_m;
+  return out;
+}
+
+}  // namespace ppp

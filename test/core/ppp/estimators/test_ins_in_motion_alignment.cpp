@@ -1,0 +1,86 @@
+// The alignment in motion shared by ekf_ins and smoother_ins (ins_in_motion_alignment.h):
+// the course of an antenna track (no heading before the interval or below the speed;
+// then the course, its sigma velocity sigma / speed, and the track's velocity); the
+// attitude covariance with the heading's variance set in NED, the tilt kept; the state
+// turned to the course with its antenna kept; the levelling history's two minutes.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <vector>
+
+#include "ppp_bayes_tree/navigation/ins_alignment.h"
+#include "ppp_bayes_tree/navigation/so3.h"
+#include "ppp_bayes_tree/ppp/estimators/ins_in_motion_alignment.h"
+
+namespace ppp {
+namespace {
+
+const Eigen::Vector3d kPosition_m(4331297.0, 567555.0, 4633133.0);
+
+GnssTime start() { return GnssTime::fromGpsWeek(2300, 1000.0); }
+
+/// The antenna track at 4 Hz moving `speed_mps` towards `course_rad` (NED) from kPosition_m;
+/// the course found by `track` at each position: the first one (time from the start) and its result.
+std::pair<double, std::optional<CourseHeading>> firstCourse(CourseHeadingTrack& track, double speed_mps,
+                                                            double course_rad) {
+  const Eigen::Matrix3d ecef_ned = rotationEcefNed(kPosition_m);
+  const Eigen::Vector3d v_ecef = ecef_ned * Eigen::Vector3d(std::cos(course_rad), std::sin(course_rad), 0.0) * speed_mps;
+  for (int k = 0; k <= 20; ++k) {
+    const double t_s = 0.25 * k;
+    if (auto c = track.add(start() + t_s, kPosition_m + v_ecef * t_s)) return {t_s, c};
+  }
+  return {-1.0, std::nullopt};
+}
+
+TEST(InsInMotionAlignment, CourseOfTheTrackOnceItSpansTheIntervalFastEnough) {
+  InsEkfOptions::HeadingAlignment o;  // 0.5 m/s over 1 s, velocity sigma 0.1 m/s
+  CourseHeadingTrack track(o);
+  const double course_rad = 2.0;
+  const auto [t_s, c] = firstCourse(track, 1.25, course_rad);
+  ASSERT_TRUE(c);
+  EXPECT_DOUBLE_EQ(t_s, o.course_interval_s);  // not before the track spans the interval
+  EXPECT_NEAR(c->heading.heading_rad, course_rad, 1e-6);  // the NED frame of the end, 1.25 m on: 2e-7 rad
+  EXPECT_NEAR(c->heading.heading_sigma_rad, o.velocity_sigma_mps / 1.25, 1e-9);
+  EXPECT_NEAR(c->velocity_ecef_mps.norm(), 1.25, 1e-9);
+  // Too slow: no course in 5 s.
+  CourseHeadingTrack slow(o);
+  EXPECT_FALSE(firstCourse(slow, 0.4, course_rad).second);
+}
+
+TEST(InsInMotionAlignment, HeadingVarianceSetAboutDownWithTheTiltKept) {
+  const Eigen::Matrix3d ned_body = rotationNedBody(0.1, -0.2, 1.0);
+  const Eigen::Matrix3d body = 4e-4 * Eigen::Matrix3d::Identity();
+  const Eigen::Matrix3d c = attitudeCovarianceWithHeading(ned_body, body, 0.3);
+  const Eigen::Matrix3d ned = ned_body * c * ned_body.transpose();
+  EXPECT_NEAR(ned(2, 2), 0.09, 1e-12);
+  EXPECT_NEAR(ned(0, 0), 4e-4, 1e-12);
+  EXPECT_NEAR(ned(1, 1), 4e-4, 1e-12);
+  EXPECT_NEAR(ned(0, 2), 0.0, 1e-12);
+  EXPECT_NEAR(ned(1, 2), 0.0, 1e-12);
+}
+
+TEST(InsInMotionAlignment, TurnedToTheCourseWithTheAntennaKept) {
+  NavState nav;
+  nav.position_world_m = kPosition_m;
+  const Eigen::Matrix3d ecef_ned = rotationEcefNed(kPosition_m);
+  nav.rotation_world_body = ecef_ned * rotationNedBody(0.05, -0.03, 0.7);
+  const Eigen::Vector3d lever_m(0.5, 0.2, -1.0), antenna_m = kPosition_m + Eigen::Vector3d(1.0, 2.0, 3.0);
+  const NavState aligned = alignedToCourse(nav, -2.5, antenna_m, lever_m);
+  const EulerAngles e = eulerAngles(ecef_ned.transpose() * aligned.rotation_world_body);
+  EXPECT_NEAR(e.yaw_rad, -2.5, 1e-12);
+  EXPECT_NEAR(e.roll_rad, 0.05, 1e-12);
+  EXPECT_NEAR(e.pitch_rad, -0.03, 1e-12);
+  EXPECT_LT((aligned.position_world_m + aligned.rotation_world_body * lever_m - antenna_m).norm(), 1e-9);
+}
+
+TEST(InsInMotionAlignment, LevellingHistoryKeepsTwoMinutes) {
+  std::vector<ImuSample> history, readings;
+  for (int k = 0; k < 200; ++k) readings.push_back(ImuSample{start() + k * 1.0, {}, {}});
+  keepLevellingHistory(history, readings, start() + 199.0);
+  ASSERT_FALSE(history.empty());
+  EXPECT_DOUBLE_EQ(history.front().time - start(), 199.0 - kLevellingHistory_s);
+  EXPECT_EQ(history.size(), 121u);
+}
+
+}  // namespace
+}  // namespace ppp
