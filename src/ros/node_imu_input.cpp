@@ -1,5 +1,6 @@
 #include "ppp_bayes_tree/ros/node_imu_input.h"
 
+#include <algorithm>
 #include <cmath>
 #include <iomanip>
 #include <sstream>
@@ -55,7 +56,34 @@ ImuExtrinsics parameterExtrinsics(const RosImuOptions& options) {
   return e;
 }
 
+namespace {
+
+/// The heading of the IMU's x axis with base_link level at `yaw_deg` (ENU) [rad from north, clockwise].
+double levelledHeading_rad(double yaw_deg, const ImuExtrinsics& e) {
+  const Eigen::Vector3d x_enu = rotationFromRpyDeg(Eigen::Vector3d(0.0, 0.0, yaw_deg)) * e.rotation_base_imu.col(0);
+  if (std::hypot(x_enu.x(), x_enu.y()) < 1e-3)
+    throw std::invalid_argument(
+        "ros.imu.initial_attitude level_at_rest: the IMU's x axis is vertical in base_link, it has no heading");
+  return std::atan2(x_enu.x(), x_enu.y());  // from north, clockwise
+}
+
+/// The alignment in motion sets the heading of the IMU's x axis from the course: base_link
+/// moves along its x axis, so the IMU's x axis must point there (within kAlignInMotionAxis_deg).
+void checkAxisForAlignmentInMotion(const ImuExtrinsics& e) {
+  const Eigen::Vector3d x_base = e.rotation_base_imu.col(0);
+  const double off_deg = std::acos(std::clamp(x_base.x(), -1.0, 1.0)) / ppp::kDegToRad;
+  if (off_deg <= kAlignInMotionAxis_deg) return;
+  std::ostringstream s;
+  s << std::fixed << std::setprecision(1) << "ros.imu.initial_attitude align_in_motion: the IMU's x axis is " << off_deg
+    << " deg from base_link's x axis (at most " << kAlignInMotionAxis_deg
+    << "): the course over ground sets the heading of the IMU's x axis (the direction of motion)";
+  throw std::invalid_argument(s.str());
+}
+
+}  // namespace
+
 ppp::InsEkfOptions insOptions(const RosNodeOptions& o, const ImuExtrinsics& e, ppp::InsEkfOptions ins) {
+  using A = RosImuOptions::StartAttitude;
   const RosImuOptions& imu = o.imu;
   ins.noise = ppp::imuNoisePreset(gradeOf(imu.grade));
   ins.lever_arm_body_m = e.rotation_base_imu.transpose() * (o.antenna_lever_arm_m - e.translation_m);
@@ -63,17 +91,17 @@ ppp::InsEkfOptions insOptions(const RosNodeOptions& o, const ImuExtrinsics& e, p
   ins.initial_rotation_ecef_body.reset();
   ins.initial_rotation_ned_body.reset();
   ins.initial_heading_rad.reset();
-  if (!imu.level_at_rest) {
-    ins.initial_rotation_ned_body = ppp::rotationNedEnu() * rotationFromRpyDeg(imu.initial_rpy_deg) * e.rotation_base_imu;
-    return ins;
+  switch (imu.initial_attitude) {
+    case A::Given:
+      ins.initial_rotation_ned_body =
+          ppp::rotationNedEnu() * rotationFromRpyDeg(imu.initial_rpy_deg) * e.rotation_base_imu;
+      break;
+    case A::LevelAtRest: ins.initial_heading_rad = levelledHeading_rad(imu.initial_rpy_deg.z(), e); break;
+    case A::AlignInMotion:  // neither attitude nor heading: the estimators align in motion
+      checkAxisForAlignmentInMotion(e);
+      ins.heading_alignment.min_horizontal_speed_mps = imu.heading_speed_mps;
+      break;
   }
-  // Levelled start: the heading of the IMU's x axis with base_link level at the given yaw.
-  const Eigen::Vector3d x_enu =
-      rotationFromRpyDeg(Eigen::Vector3d(0.0, 0.0, imu.initial_rpy_deg.z())) * e.rotation_base_imu.col(0);
-  if (std::hypot(x_enu.x(), x_enu.y()) < 1e-3)
-    throw std::invalid_argument(
-        "ros.imu.initial_attitude level_at_rest: the IMU's x axis is vertical in base_link, it has no heading");
-  ins.initial_heading_rad = std::atan2(x_enu.x(), x_enu.y());  // from north, clockwise
   return ins;
 }
 

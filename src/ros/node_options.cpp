@@ -136,6 +136,15 @@ void bindSmoothed(ppp::YamlSection& s, RosNodeOptions& o) {
   sm.finish();
 }
 
+/// ros.imu.initial_attitude: given | level_at_rest | align_in_motion.
+RosImuOptions::StartAttitude startAttitude(ppp::YamlSection& m) {
+  using A = RosImuOptions::StartAttitude;
+  const std::string name = m.choice("initial_attitude", "given", {"given", "level_at_rest", "align_in_motion"});
+  if (name == "level_at_rest") return A::LevelAtRest;
+  if (name == "align_in_motion") return A::AlignInMotion;
+  return A::Given;
+}
+
 /// ros.imu: the IMU input of an estimator with inertial states.
 void bindImu(ppp::YamlSection& s, RosNodeOptions& o) {
   ppp::YamlSection m = s.section("imu");
@@ -152,8 +161,11 @@ void bindImu(ppp::YamlSection& s, RosNodeOptions& o) {
   };
   i.translation_m = vector3("translation_m", 100.0);
   i.rotation_rpy_deg = vector3("rotation_rpy_deg", 360.0);
-  i.level_at_rest = m.choice("initial_attitude", "given", {"given", "level_at_rest"}) == "level_at_rest";
+  i.initial_attitude = startAttitude(m);
   i.initial_rpy_deg = vector3("initial_rpy_deg", 360.0);
+  i.heading_speed_mps = m.number("heading_speed_mps", i.heading_speed_mps, ppp::Bound::Positive);
+  if (i.heading_speed_mps > 100.0)
+    m.fail("heading_speed_mps", "must be in (0, 100] m/s (the course sets the heading once the antenna moves this fast)");
   i.initial_velocity_enu_mps = vector3("initial_velocity_enu_mps", 1000.0);
   i.max_gap_s = m.number("max_gap_s", i.max_gap_s, ppp::Bound::Positive);
   i.max_gnss_offset_s = m.number("max_gnss_offset_s", i.max_gnss_offset_s, ppp::Bound::Positive);
@@ -208,6 +220,15 @@ void bindLive(ppp::YamlSection& s, RosNodeOptions& o) {
 }
 
 }  // namespace
+
+std::string startAttitudeName(RosImuOptions::StartAttitude attitude) {
+  switch (attitude) {
+    case RosImuOptions::StartAttitude::Given: return "given";
+    case RosImuOptions::StartAttitude::LevelAtRest: return "level_at_rest";
+    case RosImuOptions::StartAttitude::AlignInMotion: return "align_in_motion";
+  }
+  return "given";
+}
 
 RosNodeOptions bindRosNodeOptions(const YAML::Node& ros, const std::string& source_name) {
   RosNodeOptions o;

@@ -2,6 +2,8 @@
 
 #include <chrono>
 #include <limits>
+#include <sstream>
+#include <stdexcept>
 
 #include <nav_msgs/Odometry.h>
 #include <nav_msgs/Path.h>
@@ -147,6 +149,7 @@ void PppNode::resetEstimator(const std::string& why) {
   outputs_.resetTrajectory();
   last_output_time_.reset();
   ins_fallback_reason_.reset();
+  ins_alignment_.reset();
   last_gnss_update_.reset();
   last_odometry_stamp_.reset();
   if (imu_) {
@@ -276,6 +279,7 @@ void PppNode::processObsEpoch(const ppp::ObsEpoch& epoch) {
   const bool solved = solvedEpoch(rec);
   if (solved && !outputs_.hasDatum()) setDatum(*rec.solution.position_ecef_m);
   if (solved) last_gnss_update_ = epoch.time;
+  ins_alignment_ = insAlignment(rec);
   ppp_bayes_tree::PppStatus s =
       outputs_.epochStatus(epoch.time, rec, inputs_.counters(),
                            epochFigures(inputs_, *estimator_, epoch, rec, update_s, processor_->receiverAntennaWarnings()),
@@ -306,7 +310,8 @@ void PppNode::publishSolution(const ppp::GnssTime& time, const ppp::PppEpochReco
     odom_to_base = tf_buffer_.lookupTransform(o.odom_frame, o.base_frame, ros::Time(0));
   const SolutionMessages out = outputs_.solution(rec, status, odom_to_base);
   // With the GNSS/INS filter the odometry and TF come at the IMU rate (publishInsOdometry).
-  if (!inertialActive() && claimOdometryStamp(out.odometry.header.stamp)) {
+  // Before the heading is aligned in motion they come per epoch, without an orientation.
+  if ((!inertialActive() || insHeadingPending()) && claimOdometryStamp(out.odometry.header.stamp)) {
     odom_pub_.publish(out.odometry);
     if (out.tf) tf_.sendTransform(*out.tf);
   }
@@ -356,11 +361,11 @@ void PppNode::setUpImu() {
   ins_odometry_ = std::make_unique<InsOdometry>(config_.ppp.ins);
   ROS_INFO_STREAM("ppp: " << config_.ros.estimator << " with the IMU on " << nh_.resolveName(o.topic) << " ("
                           << o.grade << "; extrinsics from " << (o.extrinsics_from_tf ? "TF" : "ros.imu parameters")
-                          << "; start attitude " << (o.level_at_rest ? "levelled at rest" : "given") << ")");
+                          << "; start attitude " << startAttitudeName(o.initial_attitude) << ")");
 }
 
 void PppNode::onImu(const sensor_msgs::Imu::ConstPtr& msg) {
-  const bool known = imu_extrinsics_ || resolveImuExtrinsics(msg->header.frame_id);
+  const bool known = imu_extrinsics_ || (!imu_extrinsics_problem_ && resolveImuExtrinsics(msg->header.frame_id));
   const std::vector<ppp::ImuSample> accepted = imu_->receive(*msg, newest_gnss_time_, known);
   if (ins_fallback_reason_) return;
   for (const ppp::ImuSample& r : accepted)
@@ -374,8 +379,15 @@ bool PppNode::resolveImuExtrinsics(const std::string& imu_frame) {
   ImuExtrinsics e;  // the IMU's pose in base_link: points of the IMU frame into base_link
   e.translation_m = Eigen::Vector3d(t.translation.x, t.translation.y, t.translation.z);
   e.rotation_base_imu = Eigen::Quaterniond(t.rotation.w, t.rotation.x, t.rotation.y, t.rotation.z).toRotationMatrix();
+  try {
+    config_.ppp.ins = insOptions(config_.ros, e, config_.ppp.ins);
+  } catch (const std::invalid_argument& refused) {  // the IMU's axes do not fit ros.imu.initial_attitude
+    imu_extrinsics_problem_ = std::string("IMU extrinsics from TF ") + base + " -> " + imu_frame + " refused: " +
+                              refused.what() + "; the IMU is not used";
+    ROS_ERROR_STREAM("ppp: " << *imu_extrinsics_problem_);
+    return false;
+  }
   imu_extrinsics_ = e;
-  config_.ppp.ins = insOptions(config_.ros, e, config_.ppp.ins);
   ins_odometry_ = std::make_unique<InsOdometry>(config_.ppp.ins);
   ROS_INFO_STREAM("ppp: IMU extrinsics from TF " << base << " -> " << imu_frame << ": translation ["
                                                  << e.translation_m.transpose() << "] m; the GNSS/INS filter starts with them");
@@ -424,8 +436,23 @@ bool PppNode::claimOdometryStamp(const ros::Time& stamp) {
   return true;
 }
 
+std::optional<ppp::AlignmentState> PppNode::insAlignment(const ppp::PppEpochRecord& rec) const {
+  if (!imu_ || !inertialActive()) return std::nullopt;
+  // ekf_ins keeps the attitude's quality; smoother_ins has a NavState only once aligned.
+  if (const std::optional<ppp::InertialState> ins = estimator_->inertialState())
+    return ins->attitude_quality ? ins->attitude_quality->state : ppp::AlignmentState::Aligned;
+  // smoother_ins solves GNSS only between the levelling and the course's heading.
+  if (config_.ros.imu.initial_attitude == RosImuOptions::StartAttitude::AlignInMotion && solvedEpoch(rec))
+    return ppp::AlignmentState::LevelOnly;
+  return std::nullopt;
+}
+
+bool PppNode::insHeadingPending() const {
+  return ins_alignment_ && *ins_alignment_ != ppp::AlignmentState::Aligned;
+}
+
 void PppNode::publishInsOdometry(const InsState& state) {
-  if (!outputs_.hasDatum() || !imu_extrinsics_) return;
+  if (!outputs_.hasDatum() || !imu_extrinsics_ || insHeadingPending()) return;
   const ros::Time stamp = utcStamp(state.time);
   if (!claimOdometryStamp(stamp)) return;
   const RosNodeOptions& o = config_.ros;
@@ -458,7 +485,10 @@ void PppNode::fillInsStatus(ppp_bayes_tree::PppStatus& s, const ppp::GnssTime& t
   } else if (!ins) {
     s.ins_state = S::INS_WAITING;
     s.ins_state_text = "waiting";
-    s.ins_reason = imu_extrinsics_ ? s.reason : "IMU extrinsics missing: no TF " + config_.ros.base_frame + " -> the IMU frame";
+    s.ins_reason = imu_extrinsics_problem_ ? *imu_extrinsics_problem_
+                   : imu_extrinsics_       ? s.reason
+                                           : "IMU extrinsics missing: no TF " + config_.ros.base_frame + " -> the IMU frame";
+    if (insHeadingPending()) s.ins_reason = headingPendingText();
   } else {
     s.ins_state = S::INS_RUNNING;
     s.ins_state_text = "running";
@@ -469,16 +499,28 @@ void PppNode::fillInsStatus(ppp_bayes_tree::PppStatus& s, const ppp::GnssTime& t
     if (ins->error_covariance) {
       InsState state;
       state.covariance = *ins->error_covariance;
-      s.ins_attitude_valid = attitudeSigma_rad(state) < config_.ros.imu.attitude_sigma_valid_deg * ppp::kDegToRad;
+      s.ins_attitude_valid = !insHeadingPending() &&
+                             attitudeSigma_rad(state) < config_.ros.imu.attitude_sigma_valid_deg * ppp::kDegToRad;
     }
+    if (insHeadingPending()) s.ins_reason = headingPendingText();
   }
+}
+
+std::string PppNode::headingPendingText() const {
+  std::ostringstream t;
+  t << "attitude " << ppp::alignmentStateText(*ins_alignment_) << ": the heading comes from the course over ground once "
+    << "base_link moves forward faster than " << config_.ros.imu.heading_speed_mps
+    << " m/s (ros.imu.initial_attitude align_in_motion); odometry and TF per epoch without orientation until then";
+  return t.str();
 }
 
 void PppNode::imuDiagnostics(diagnostic_updater::DiagnosticStatusWrapper& s) const {
   using diagnostic_msgs::DiagnosticStatus;
   const ImuInputCounters& c = imu_->counters();
   const bool missing = !imu_extrinsics_ && c.received > 0;
-  if (missing)
+  if (imu_extrinsics_problem_)
+    s.summary(DiagnosticStatus::ERROR, *imu_extrinsics_problem_);
+  else if (missing)
     s.summary(DiagnosticStatus::ERROR, "IMU extrinsics missing: no TF " + config_.ros.base_frame + " -> the IMU frame");
   else if (ins_fallback_reason_)
     s.summary(DiagnosticStatus::WARN, "GNSS only: " + *ins_fallback_reason_);
@@ -493,7 +535,11 @@ void PppNode::imuDiagnostics(diagnostic_updater::DiagnosticStatusWrapper& s) con
   s.add("messages not used", c.rejected);
   s.add("readings dropped (buffer full)", c.dropped_old);
   s.add("problems", imu_->problemSummary());
-  s.add("extrinsics", imu_extrinsics_ ? (config_.ros.imu.extrinsics_from_tf ? "from TF" : "from ros.imu") : "missing");
+  s.add("extrinsics", imu_extrinsics_problem_ ? *imu_extrinsics_problem_
+                      : imu_extrinsics_      ? (config_.ros.imu.extrinsics_from_tf ? "from TF" : "from ros.imu")
+                                             : "missing");
+  s.add("start attitude", startAttitudeName(config_.ros.imu.initial_attitude));
+  s.add("alignment", ins_alignment_ ? ppp::alignmentStateText(*ins_alignment_) : "no attitude yet");
 }
 
 }  // namespace ppp_ros

@@ -80,7 +80,7 @@ TEST(NodeImuOptions, EstimatorChoiceLeverArmAndStartFromRosImu) {
   EXPECT_LT((*ins.initial_velocity_ned_mps - Eigen::Vector3d(2.0, 1.0, -3.0)).norm(), 1e-12);
 
   ppp_ros::RosNodeOptions level = c.ros;
-  level.imu.level_at_rest = true;
+  level.imu.initial_attitude = ppp_ros::RosImuOptions::StartAttitude::LevelAtRest;
   level.imu.initial_rpy_deg = Eigen::Vector3d(0.0, 0.0, 0.0);  // x east: heading 90 deg
   const ppp::InsEkfOptions lv = ppp_ros::insOptions(level, e);
   ASSERT_TRUE(lv.initial_heading_rad.has_value());
@@ -88,6 +88,54 @@ TEST(NodeImuOptions, EstimatorChoiceLeverArmAndStartFromRosImu) {
   EXPECT_FALSE(lv.initial_rotation_ned_body.has_value());
   level.imu.rotation_rpy_deg = Eigen::Vector3d(0.0, 90.0, 0.0);  // IMU x straight down: no heading
   EXPECT_THROW(ppp_ros::insOptions(level, ppp_ros::parameterExtrinsics(level.imu)), std::invalid_argument);
+}
+
+TEST(NodeImuOptions, AlignInMotionLeavesAttitudeAndHeadingToTheEstimator) {
+  // As ppp_solve without --imu-heading: neither attitude nor heading given; the course's speed threshold set.
+  const ppp_ros::NodeConfig c = ppp_ros::bindNodeConfig(
+      YAML::Load("ros: {estimator: ekf_ins, imu: {rotation_rpy_deg: [180, 0, 0], initial_attitude: align_in_motion,"
+                 " initial_rpy_deg: [5, 0, 90], heading_speed_mps: 2.5}}"),
+      "test", "ekf");
+  ASSERT_EQ(c.ros.imu.initial_attitude, ppp_ros::RosImuOptions::StartAttitude::AlignInMotion);
+  EXPECT_EQ(ppp_ros::startAttitudeName(c.ros.imu.initial_attitude), "align_in_motion");
+  const ppp::InsEkfOptions ins = ppp_ros::insOptions(c.ros, ppp_ros::parameterExtrinsics(c.ros.imu));
+  EXPECT_FALSE(ins.initial_rotation_ecef_body.has_value());
+  EXPECT_FALSE(ins.initial_rotation_ned_body.has_value());
+  EXPECT_FALSE(ins.initial_heading_rad.has_value());
+  EXPECT_EQ(ins.heading_alignment.min_horizontal_speed_mps, 2.5);
+  EXPECT_TRUE(ins.validate().empty()) << ins.validate();
+  // The default speed is the estimators' (ppp_solve --heading-speed's default).
+  const ppp_ros::NodeConfig d = ppp_ros::bindNodeConfig(
+      YAML::Load("ros: {estimator: smoother_ins, imu: {initial_attitude: align_in_motion}}"), "test", "smoother");
+  EXPECT_EQ(ppp_ros::insOptions(d.ros, ppp_ros::parameterExtrinsics(d.ros.imu)).heading_alignment.min_horizontal_speed_mps,
+            ppp::InsEkfOptions{}.heading_alignment.min_horizontal_speed_mps);
+
+  // An unknown value or a speed out of range: refused, naming the key.
+  const auto refusal = [](const std::string& yaml) {
+    try {
+      ppp_ros::bindNodeConfig(YAML::Load(yaml), "test", "ekf");
+    } catch (const ppp::ConfigError& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  const std::string unknown = refusal("ros: {estimator: ekf_ins, imu: {initial_attitude: align_on_the_move}}");
+  EXPECT_NE(unknown.find("ros.imu.initial_attitude"), std::string::npos) << unknown;
+  EXPECT_NE(unknown.find("align_on_the_move"), std::string::npos) << unknown;
+  const std::string slow = refusal("ros: {estimator: ekf_ins, imu: {initial_attitude: align_in_motion, heading_speed_mps: 0}}");
+  EXPECT_NE(slow.find("ros.imu.heading_speed_mps"), std::string::npos) << slow;
+
+  // The course sets the heading of the IMU's x axis: an IMU turned in base_link is refused, named.
+  ppp_ros::RosNodeOptions turned = c.ros;
+  turned.imu.rotation_rpy_deg = Eigen::Vector3d(180.0, 0.0, 90.0);
+  try {
+    ppp_ros::insOptions(turned, ppp_ros::parameterExtrinsics(turned.imu));
+    ADD_FAILURE() << "an IMU x axis along base_link y accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("ros.imu.initial_attitude align_in_motion"), std::string::npos) << e.what();
+  }
+  turned.imu.rotation_rpy_deg = Eigen::Vector3d(180.0, 0.5, 0.5);  // within 1 deg: accepted
+  EXPECT_NO_THROW(ppp_ros::insOptions(turned, ppp_ros::parameterExtrinsics(turned.imu)));
 }
 
 TEST(NodeImuOptions, RpyInDegreesIsTheCoreEulerRotationInRadians) {

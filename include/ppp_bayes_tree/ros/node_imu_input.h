@@ -43,13 +43,21 @@ struct ImuExtrinsics {
 /// The extrinsics of the ros.imu parameters (translation_m, rotation_rpy_deg).
 ImuExtrinsics parameterExtrinsics(const RosImuOptions& options);
 
+/// align_in_motion: the largest angle between the IMU's x axis and base_link's x axis [deg]
+/// (the course over ground sets the heading of the IMU's x axis).
+constexpr double kAlignInMotionAxis_deg = 1.0;
+
 /// The GNSS/INS filter's options from ros.imu on top of `base`: the grade's
 /// noise; the lever arm in the IMU frame (antenna minus IMU origin, from
 /// ros.frames.antenna_lever_arm_m and the extrinsics); the start attitude
-/// (base_link in the map, ENU, turned into R_ned_imu) or, with level_at_rest,
-/// the heading of the IMU's x axis (roll and pitch levelled by the filter); the
+/// (ros.imu.initial_attitude): given (base_link in the map, ENU, turned into
+/// R_ned_imu), level_at_rest (the heading of the IMU's x axis; roll and pitch
+/// levelled by the filter) or align_in_motion (neither: the estimators level at
+/// the latest static interval and take the heading from the course over ground
+/// once faster than heading_speed_mps, as ppp_solve without --imu-heading); the
 /// start velocity (ENU into NED). Throws std::invalid_argument when the IMU's x
-/// axis is vertical at a levelled start (no heading).
+/// axis is vertical at a levelled start (no heading), or more than
+/// kAlignInMotionAxis_deg from base_link's x axis for align_in_motion.
 ppp::InsEkfOptions insOptions(const RosNodeOptions& options, const ImuExtrinsics& extrinsics,
                               ppp::InsEkfOptions base = {});
 

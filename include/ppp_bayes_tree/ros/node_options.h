@@ -37,10 +37,16 @@ struct RosImuOptions {
   /// (R_base_imu = Rz(yaw) Ry(pitch) Rx(roll)).
   Eigen::Vector3d translation_m = Eigen::Vector3d::Zero();
   Eigen::Vector3d rotation_rpy_deg = Eigen::Vector3d::Zero();
-  /// The start: base_link roll, pitch, yaw in the map frame (ENU, REP-103) [deg];
-  /// level_at_rest: roll and pitch from the readings up to the first epoch, the yaw given.
-  bool level_at_rest = false;  // initial_attitude: given | level_at_rest
+  /// How the start attitude is found (initial_attitude): given | level_at_rest | align_in_motion.
+  enum class StartAttitude {
+    Given,          ///< initial_rpy_deg: base_link roll, pitch, yaw in the map frame (ENU, REP-103) [deg]
+    LevelAtRest,    ///< roll and pitch from the readings up to the first epoch, the yaw of initial_rpy_deg
+    AlignInMotion,  ///< roll and pitch from the latest static interval, the heading from the course over ground
+  };
+  StartAttitude initial_attitude = StartAttitude::Given;
   Eigen::Vector3d initial_rpy_deg = Eigen::Vector3d::Zero();
+  /// align_in_motion: the course sets the heading once the antenna moves at least this fast [m/s].
+  double heading_speed_mps = 0.5;
   Eigen::Vector3d initial_velocity_enu_mps = Eigen::Vector3d::Zero();  // of base_link in the map [m/s]
   double max_gap_s = 0.1;                 // a longer step between readings is a gap (counted; the INS stops)
   double max_gnss_offset_s = 2.0;         // |IMU stamp - newest GNSS epoch| above: refused (time base)
@@ -109,6 +115,9 @@ struct RosNodeOptions {
   std::string configured_estimator;  // ros.estimator ("" = the node's own)
   std::string node_estimator;        // the node's own estimator (its name: ppp_<node_estimator>_node)
 };
+
+/// The parameter value of a start attitude: "given", "level_at_rest", "align_in_motion".
+std::string startAttitudeName(RosImuOptions::StartAttitude attitude);
 
 /// Binds `ros:` (a mapping or null) strictly. Throws ppp::ConfigError.
 RosNodeOptions bindRosNodeOptions(const YAML::Node& ros, const std::string& source_name);

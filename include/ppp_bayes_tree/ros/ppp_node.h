@@ -38,6 +38,7 @@
 #include "ppp_bayes_tree/PppStatus.h"
 #include "ppp_bayes_tree/PreciseCorrections.h"
 #include "ppp_bayes_tree/SetDatum.h"
+#include "ppp_bayes_tree/navigation/ins_alignment.h"
 #include "ppp_bayes_tree/ppp/config/ppp_config.h"
 #include "ppp_bayes_tree/ppp/estimators/estimator_registry.h"
 #include "ppp_bayes_tree/ppp/pipeline/ppp_epoch_processor.h"
@@ -114,6 +115,13 @@ class PppNode {
   /// The odometry from the estimator's inertial state after an epoch (it needs the INS error covariance).
   void restartInsOdometry(const ppp::InertialState& state);
   void publishInsOdometry(const InsState& state);
+  /// The attitude's alignment after an epoch as the estimator tells it (nullopt: no attitude yet).
+  std::optional<ppp::AlignmentState> insAlignment(const ppp::PppEpochRecord& rec) const;
+  /// The estimator's attitude is levelled but its heading not yet aligned (align_in_motion):
+  /// odometry and TF come per epoch from the GNSS solution, without an orientation.
+  bool insHeadingPending() const;
+  /// PppStatus.ins_reason while the heading is pending: the alignment and what sets the heading.
+  std::string headingPendingText() const;
   void fillInsStatus(ppp_bayes_tree::PppStatus& s, const ppp::GnssTime& time) const;
   void imuDiagnostics(diagnostic_updater::DiagnosticStatusWrapper& s) const;
   /// ppp/odometry/filtered never goes back in time with an IMU: false for a stamp not after the last.
@@ -143,6 +151,8 @@ class PppNode {
   std::vector<ppp::ImuSample> epoch_imu_;          // the readings handed to the processor with the epoch
   std::string active_estimator_;                   // config_.ros.estimator, or the GNSS one after a fallback
   std::optional<std::string> ins_fallback_reason_;  // the IMU stopped: why
+  std::optional<ppp::AlignmentState> ins_alignment_;  // after the newest epoch (insAlignment)
+  std::optional<std::string> imu_extrinsics_problem_;  // the TF extrinsics refused for the start attitude
   std::optional<ppp::GnssTime> newest_gnss_time_;   // newest epoch received (the IMU time-base check)
   std::optional<ppp::GnssTime> last_gnss_update_;   // newest epoch solved
   std::optional<ros::Time> last_odometry_stamp_;    // ppp/odometry/filtered never goes back
