@@ -288,6 +288,7 @@ bool PppInsEkf::startNominal(const ReceiverState& start) {
 }
 
 ReceiverState PppInsEkf::predict(double dt_s, bool first, const std::optional<ReceiverState>& start) {
+  starting_ = start.has_value();
   if (start) {
     work_ = initialFilter(*start);
     if (!startNominal(*start)) {  // the epoch fails with the reason (solve, finishEpoch)
@@ -482,6 +483,12 @@ Eigen::Matrix3d PppInsEkf::gapPositionCovariance() const {
 
 void PppInsEkf::verifyBridgedArcs(const std::vector<BridgedArc>& bridged, const std::vector<SatelliteMeasurement>& usable,
                                   EstimatorEpochResult& result) {
+  // 0. A start (the first, or one attempted again after a refused start) has no state
+  // from before the gap to predict across it: the arcs end.
+  if (starting_) {
+    for (const BridgedArc& b : bridged) endBridgedArc(b, "the filter starts at this epoch, no state before the gap", result);
+    return;
+  }
   // 1. One row per bridged arc with a measurement and a held bias; the others end.
   std::vector<GapBridgeRow> rows;
   std::vector<const BridgedArc*> row_arcs;
