@@ -52,6 +52,10 @@ NodeConfig bindNodeConfig(const YAML::Node& root, const std::string& source_name
   if (!estimator.empty() || !c.ros.configured_estimator.empty())
     c.ros.estimator = chosenEstimator(estimator, c.ros.configured_estimator, source_name);
   c.ros.live_input.fallback = c.ppp.ssr.fallback;  // one broadcast fallback rule, offline and live
+  if (c.ros.imu.start_attitude == ImuStartAttitude::AlignInMotion && c.ros.estimator == "smoother_ins")
+    throw ppp::ConfigError(source_name, "ros.imu.initial_attitude",
+                           "align_in_motion: smoother_ins has no heading alignment in motion (give the start: "
+                           "given or level_at_rest with initial_rpy_deg)");
   return c;
 }
 

@@ -136,6 +136,19 @@ void bindSmoothed(ppp::YamlSection& s, RosNodeOptions& o) {
   sm.finish();
 }
 
+}  // namespace
+
+std::string imuStartAttitudeText(ImuStartAttitude start) {
+  switch (start) {
+    case ImuStartAttitude::Given: return "given";
+    case ImuStartAttitude::LevelAtRest: return "level_at_rest";
+    case ImuStartAttitude::AlignInMotion: return "align_in_motion";
+  }
+  return "unknown";
+}
+
+namespace {
+
 /// ros.imu: the IMU input of an estimator with inertial states.
 void bindImu(ppp::YamlSection& s, RosNodeOptions& o) {
   ppp::YamlSection m = s.section("imu");
@@ -152,8 +165,11 @@ void bindImu(ppp::YamlSection& s, RosNodeOptions& o) {
   };
   i.translation_m = vector3("translation_m", 100.0);
   i.rotation_rpy_deg = vector3("rotation_rpy_deg", 360.0);
-  i.level_at_rest = m.choice("initial_attitude", "given", {"given", "level_at_rest"}) == "level_at_rest";
+  const std::string start = m.choice("initial_attitude", "given", {"given", "level_at_rest", "align_in_motion"});
+  for (ImuStartAttitude a : {ImuStartAttitude::Given, ImuStartAttitude::LevelAtRest, ImuStartAttitude::AlignInMotion})
+    if (start == imuStartAttitudeText(a)) i.start_attitude = a;
   i.initial_rpy_deg = vector3("initial_rpy_deg", 360.0);
+  i.heading_speed_mps = m.number("heading_speed_mps", i.heading_speed_mps, ppp::Bound::Positive);
   i.initial_velocity_enu_mps = vector3("initial_velocity_enu_mps", 1000.0);
   i.max_gap_s = m.number("max_gap_s", i.max_gap_s, ppp::Bound::Positive);
   i.max_gnss_offset_s = m.number("max_gnss_offset_s", i.max_gnss_offset_s, ppp::Bound::Positive);

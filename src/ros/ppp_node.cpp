@@ -356,12 +356,14 @@ void PppNode::setUpImu() {
   ins_odometry_ = std::make_unique<InsOdometry>(config_.ppp.ins);
   ROS_INFO_STREAM("ppp: " << config_.ros.estimator << " with the IMU on " << nh_.resolveName(o.topic) << " ("
                           << o.grade << "; extrinsics from " << (o.extrinsics_from_tf ? "TF" : "ros.imu parameters")
-                          << "; start attitude " << (o.level_at_rest ? "levelled at rest" : "given") << ")");
+                          << "; start attitude " << imuStartAttitudeText(o.start_attitude) << ")");
 }
 
 void PppNode::onImu(const sensor_msgs::Imu::ConstPtr& msg) {
   const bool known = imu_extrinsics_ || resolveImuExtrinsics(msg->header.frame_id);
-  const std::vector<ppp::ImuSample> accepted = imu_->receive(*msg, newest_gnss_time_, known);
+  const std::optional<Eigen::Matrix3d> body_from_imu =
+      known ? std::optional<Eigen::Matrix3d>(bodyFromImu(*imu_extrinsics_)) : std::nullopt;
+  const std::vector<ppp::ImuSample> accepted = imu_->receive(*msg, newest_gnss_time_, body_from_imu);
   if (ins_fallback_reason_) return;
   for (const ppp::ImuSample& r : accepted)
     if (const std::optional<InsState> state = ins_odometry_->step(r)) publishInsOdometry(*state);
@@ -379,7 +381,7 @@ bool PppNode::resolveImuExtrinsics(const std::string& imu_frame) {
   ins_odometry_ = std::make_unique<InsOdometry>(config_.ppp.ins);
   ROS_INFO_STREAM("ppp: IMU extrinsics from TF " << base << " -> " << imu_frame << ": translation ["
                                                  << e.translation_m.transpose() << "] m; the GNSS/INS filter starts with them");
-  switchEstimator(config_.ros.estimator);  // its lever arm is in the IMU frame
+  switchEstimator(config_.ros.estimator);  // its lever arm is in the body frame at the IMU
   return true;
 }
 
@@ -430,12 +432,13 @@ void PppNode::publishInsOdometry(const InsState& state) {
   if (!claimOdometryStamp(stamp)) return;
   const RosNodeOptions& o = config_.ros;
   const OdometryFrame frame{o.map_frame, o.base_frame, outputs_.datumEcef(), outputs_.enuFromEcef()};
-  odom_pub_.publish(insOdometryMessage(state, *imu_extrinsics_, frame));
+  const ImuExtrinsics body = filterBodyExtrinsics(*imu_extrinsics_);  // the filter's frame in base_link
+  odom_pub_.publish(insOdometryMessage(state, body, frame));
   if (!o.publish_tf) return;
   std::optional<geometry_msgs::TransformStamped> odom_to_base;
   if (tf_buffer_.canTransform(o.odom_frame, o.base_frame, ros::Time(0)))
     odom_to_base = tf_buffer_.lookupTransform(o.odom_frame, o.base_frame, ros::Time(0));
-  const BasePose pose = basePose(state, *imu_extrinsics_, frame);
+  const BasePose pose = basePose(state, body, frame);
   if (auto tf = outputs_.mapTransform(stamp, pose.position_m, Eigen::Quaterniond(pose.rotation_map_base), odom_to_base))
     tf_.sendTransform(*tf);
 }

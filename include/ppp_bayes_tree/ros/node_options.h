@@ -26,6 +26,15 @@ struct LiveStreamTopic {
   std::optional<ppp::StreamFormat> format;
 };
 
+/// How the GNSS/INS estimator gets its start attitude (ros.imu.initial_attitude).
+enum class ImuStartAttitude {
+  Given,          ///< initial_rpy_deg
+  LevelAtRest,    ///< roll and pitch levelled from the readings up to the first epoch, the yaw given
+  AlignInMotion,  ///< levelled at the latest static interval, the heading from the course over ground
+};
+/// "given", "level_at_rest", "align_in_motion" (the parameter's values).
+std::string imuStartAttitudeText(ImuStartAttitude start);
+
 /// ros.imu: the IMU input of an estimator with inertial states (ekf_ins, smoother_ins). The
 /// IMU frame is the frame of the readings (sensor_msgs/Imu, REP-145); its pose in
 /// base_link comes from the parameters or from TF.
@@ -37,10 +46,14 @@ struct RosImuOptions {
   /// (R_base_imu = Rz(yaw) Ry(pitch) Rx(roll)).
   Eigen::Vector3d translation_m = Eigen::Vector3d::Zero();
   Eigen::Vector3d rotation_rpy_deg = Eigen::Vector3d::Zero();
-  /// The start: base_link roll, pitch, yaw in the map frame (ENU, REP-103) [deg];
-  /// level_at_rest: roll and pitch from the readings up to the first epoch, the yaw given.
-  bool level_at_rest = false;  // initial_attitude: given | level_at_rest
+  /// The start (initial_attitude): given (initial_rpy_deg), level_at_rest (roll and pitch
+  /// from the readings up to the first epoch, the yaw of initial_rpy_deg) or align_in_motion
+  /// (ekf_ins only: roll and pitch from the latest static interval before the start, the
+  /// heading from the course over ground once base_link moves faster than heading_speed_mps).
+  ImuStartAttitude start_attitude = ImuStartAttitude::Given;
+  /// base_link roll, pitch, yaw in the map frame (ENU, REP-103) [deg].
   Eigen::Vector3d initial_rpy_deg = Eigen::Vector3d::Zero();
+  double heading_speed_mps = 0.5;  // align_in_motion: the course sets the heading from this speed on
   Eigen::Vector3d initial_velocity_enu_mps = Eigen::Vector3d::Zero();  // of base_link in the map [m/s]
   double max_gap_s = 0.1;                 // a longer step between readings is a gap (counted; the INS stops)
   double max_gnss_offset_s = 2.0;         // |IMU stamp - newest GNSS epoch| above: refused (time base)
