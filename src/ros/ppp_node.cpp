@@ -54,8 +54,10 @@ void PppNode::subscribe() {
     corr_sub_ = nh_.subscribe(o.corrections_topic, static_cast<std::uint32_t>(o.correction_queue_size),
                               &PppNode::onCorrections, this);
   }
+  // TCP_NODELAY: without it Nagle's algorithm held readings back behind the GNSS epoch they
+  // precede (a 0.125 s "gap" before an epoch of the u-blox walk bag, the INS stopped).
   if (imu_)
-    imu_sub_ = nh_.subscribe(o.imu.topic, 2000, &PppNode::onImu, this);
+    imu_sub_ = nh_.subscribe(o.imu.topic, 2000, &PppNode::onImu, this, ros::TransportHints().tcpNoDelay());
   if (!o.attitude_topic.empty())
     attitude_sub_ = nh_.subscribe<sensor_msgs::Imu>(
         o.attitude_topic, 200, [this](const sensor_msgs::Imu::ConstPtr& msg) { outputs_.receiveAttitude(*msg); });
