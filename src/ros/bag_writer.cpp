@@ -1,12 +1,16 @@
 #include "ppp_bayes_tree/ros/bag_writer.h"
 
 #include <cmath>
+#include <cstring>
 #include <set>
+#include <stdexcept>
 
 #include <geometry_msgs/PoseStamped.h>
 #include <nav_msgs/Path.h>
 #include <rosbag/bag.h>
 
+#include "ppp_bayes_tree/GnssStreamBytes.h"
+#include "ppp_bayes_tree/io/ubx/ubx_framer.h"
 #include "ppp_bayes_tree/ros/imu_conversions.h"
 #include "ppp_bayes_tree/ros/message_conversions.h"
 
@@ -99,6 +103,87 @@ BagWriteSummary writeReplayBag(const std::string& path, const ppp::RinexObsHeade
   bag.close();
   summary.epochs = epochs.size();
   summary.batches = batches.size();
+  return summary;
+}
+
+namespace {
+
+/// The receiver time (GPST) of an RXM-RAWX payload: rcvTow (R8 at 0) and week (U2 at 8);
+/// nullopt for a payload too short or a time that is no time of week.
+std::optional<ppp::GnssTime> rawxTime(const std::vector<std::uint8_t>& payload) {
+  if (payload.size() < 16) return std::nullopt;
+  std::uint64_t bits = 0;
+  for (int i = 7; i >= 0; --i) bits = bits << 8 | payload[static_cast<std::size_t>(i)];
+  double tow_s = 0.0;
+  std::memcpy(&tow_s, &bits, sizeof tow_s);
+  const int week = payload[8] | payload[9] << 8;
+  if (!(tow_s >= 0.0 && tow_s < 604800.0)) return std::nullopt;
+  return ppp::GnssTime::fromGpsWeek(week, tow_s);
+}
+
+/// The UBX frames of `bytes` with the receiver time each was read at (UbxBagOptions).
+std::vector<std::pair<ppp::UbxFrame, ros::Time>> stampedUbxFrames(const std::vector<std::uint8_t>& bytes,
+                                                                 BagWriteSummary* summary) {
+  std::vector<std::pair<ppp::UbxFrame, ros::Time>> frames;
+  std::optional<ros::Time> epoch_stamp;
+  std::size_t before_first = 0, since_epoch = 0;
+  ppp::UbxFramer framer;
+  framer.feed(bytes.data(), bytes.size(), [&](const ppp::UbxFrame& f) {
+    const bool rawx = f.message_class == 0x02 && f.message_id == 0x15;
+    const std::optional<ppp::GnssTime> t = rawx ? rawxTime(f.payload) : std::nullopt;
+    if (t) {
+      epoch_stamp = utcStamp(*t) + ros::Duration(1e-6);
+      since_epoch = 0;
+      ++summary->epochs;
+    }
+    if (!epoch_stamp) ++before_first;
+    frames.emplace_back(f, epoch_stamp ? *epoch_stamp + ros::Duration(0, static_cast<std::int32_t>(since_epoch++))
+                                       : ros::Time());
+  });
+  framer.finish();
+  if (framer.counters().totalProblems() > 0) summary->stream_problems = framer.counters().problemLines();
+  if (!epoch_stamp) throw std::runtime_error("no RXM-RAWX frame with a receiver time in the UBX recording");
+  // Frames before the first epoch: read at its time, in their order, just before it.
+  const ros::Time first = frames[before_first].second;
+  for (std::size_t k = 0; k < before_first; ++k)
+    frames[k].second = first - ros::Duration(0, static_cast<std::int32_t>(before_first - k));
+  return frames;
+}
+
+/// The frame's bytes as the receiver sent them (sync, class, id, length, payload, checksum).
+std::vector<std::uint8_t> ubxFrameBytes(const std::vector<std::uint8_t>& bytes, const ppp::UbxFrame& f) {
+  const auto begin = bytes.begin() + static_cast<std::ptrdiff_t>(f.byte_offset);
+  return std::vector<std::uint8_t>(begin, begin + static_cast<std::ptrdiff_t>(f.payload.size() + 8));
+}
+
+}  // namespace
+
+BagWriteSummary writeUbxBag(const std::string& path, const std::vector<std::uint8_t>& bytes, const UbxBagOptions& ubx,
+                            const BagWriteOptions& o) {
+  BagWriteSummary summary;
+  const auto frames = stampedUbxFrames(bytes, &summary);
+  summary.frames = frames.size();
+  rosbag::Bag bag(path, rosbag::bagmode::Write);
+  std::uint32_t seq = 0;
+  for (const auto& [frame, stamp] : frames) {
+    ppp_bayes_tree::GnssStreamBytes m;
+    m.header.seq = seq++;
+    m.header.stamp = stamp;
+    m.header.frame_id = ubx.ubx_frame;
+    m.format = "ubx";
+    m.data = ubxFrameBytes(bytes, frame);
+    bag.write(ubx.ubx_topic, stamp, m);
+  }
+  std::uint32_t imu_seq = 0;
+  for (const ppp::ImuSample& reading : o.imu) {
+    sensor_msgs::Imu m = toImuMessage(reading, o.imu_frame, o.imu_noise, o.imu_rate_hz);
+    m.header.seq = imu_seq++;
+    bag.write(o.imu_topic, m.header.stamp, m);
+  }
+  summary.imu_readings = o.imu.size();
+  bag.close();
+  summary.first = fromUtcStamp(frames.front().second);
+  summary.last = fromUtcStamp(frames.back().second);
   return summary;
 }
 

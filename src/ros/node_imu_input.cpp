@@ -58,49 +58,43 @@ ImuExtrinsics parameterExtrinsics(const RosImuOptions& options) {
 
 namespace {
 
-/// The heading of the IMU's x axis with base_link level at `yaw_deg` (ENU) [rad from north, clockwise].
-double levelledHeading_rad(double yaw_deg, const ImuExtrinsics& e) {
-  const Eigen::Vector3d x_enu = rotationFromRpyDeg(Eigen::Vector3d(0.0, 0.0, yaw_deg)) * e.rotation_base_imu.col(0);
-  if (std::hypot(x_enu.x(), x_enu.y()) < 1e-3)
-    throw std::invalid_argument(
-        "ros.imu.initial_attitude level_at_rest: the IMU's x axis is vertical in base_link, it has no heading");
-  return std::atan2(x_enu.x(), x_enu.y());  // from north, clockwise
-}
-
-/// The alignment in motion sets the heading of the IMU's x axis from the course: base_link
-/// moves along its x axis, so the IMU's x axis must point there (within kAlignInMotionAxis_deg).
-void checkAxisForAlignmentInMotion(const ImuExtrinsics& e) {
-  const Eigen::Vector3d x_base = e.rotation_base_imu.col(0);
-  const double off_deg = std::acos(std::clamp(x_base.x(), -1.0, 1.0)) / ppp::kDegToRad;
-  if (off_deg <= kAlignInMotionAxis_deg) return;
-  std::ostringstream s;
-  s << std::fixed << std::setprecision(1) << "ros.imu.initial_attitude align_in_motion: the IMU's x axis is " << off_deg
-    << " deg from base_link's x axis (at most " << kAlignInMotionAxis_deg
-    << "): the course over ground sets the heading of the IMU's x axis (the direction of motion)";
-  throw std::invalid_argument(s.str());
-}
+/// R_base_body of the filter's body frame: base_link's x forward, y left, z up turned into
+/// x forward, y right, z down (a half turn about x).
+Eigen::Matrix3d baseFromBody() { return Eigen::Vector3d(1.0, -1.0, -1.0).asDiagonal(); }
 
 }  // namespace
+
+ImuExtrinsics filterBodyExtrinsics(const ImuExtrinsics& imu) {
+  ImuExtrinsics body;
+  body.translation_m = imu.translation_m;
+  body.rotation_base_imu = baseFromBody();
+  return body;
+}
+
+Eigen::Matrix3d bodyFromImu(const ImuExtrinsics& imu) { return baseFromBody().transpose() * imu.rotation_base_imu; }
 
 ppp::InsEkfOptions insOptions(const RosNodeOptions& o, const ImuExtrinsics& e, ppp::InsEkfOptions ins) {
   using A = RosImuOptions::StartAttitude;
   const RosImuOptions& imu = o.imu;
+  const ImuExtrinsics body = filterBodyExtrinsics(e);
   ins.noise = ppp::imuNoisePreset(gradeOf(imu.grade));
-  ins.lever_arm_body_m = e.rotation_base_imu.transpose() * (o.antenna_lever_arm_m - e.translation_m);
+  ins.lever_arm_body_m = body.rotation_base_imu.transpose() * (o.antenna_lever_arm_m - body.translation_m);
   ins.initial_velocity_ned_mps = ppp::rotationNedEnu() * imu.initial_velocity_enu_mps;
+  ins.heading_alignment.min_horizontal_speed_mps = imu.heading_speed_mps;
   ins.initial_rotation_ecef_body.reset();
   ins.initial_rotation_ned_body.reset();
   ins.initial_heading_rad.reset();
   switch (imu.initial_attitude) {
     case A::Given:
       ins.initial_rotation_ned_body =
-          ppp::rotationNedEnu() * rotationFromRpyDeg(imu.initial_rpy_deg) * e.rotation_base_imu;
+          ppp::rotationNedEnu() * rotationFromRpyDeg(imu.initial_rpy_deg) * body.rotation_base_imu;
       break;
-    case A::LevelAtRest: ins.initial_heading_rad = levelledHeading_rad(imu.initial_rpy_deg.z(), e); break;
-    case A::AlignInMotion:  // neither attitude nor heading: the estimators align in motion
-      checkAxisForAlignmentInMotion(e);
-      ins.heading_alignment.min_horizontal_speed_mps = imu.heading_speed_mps;
+    case A::LevelAtRest: {  // base_link's x axis (the body's) from north, clockwise
+      const double yaw_rad = imu.initial_rpy_deg.z() * ppp::kDegToRad;
+      ins.initial_heading_rad = std::atan2(std::cos(yaw_rad), std::sin(yaw_rad));
       break;
+    }
+    case A::AlignInMotion: break;  // neither: the estimators align in motion
   }
   return ins;
 }
@@ -164,7 +158,8 @@ void NodeImuInput::reportScreenProblems(const std::map<ppp::ImuInputProblem, std
 }
 
 std::vector<ppp::ImuSample> NodeImuInput::receive(const sensor_msgs::Imu& message,
-                                                  const std::optional<ppp::GnssTime>& gnss_time, bool extrinsics_known) {
+                                                  const std::optional<ppp::GnssTime>& gnss_time,
+                                                  const std::optional<Eigen::Matrix3d>& body_from_imu) {
   ++counters_.received;
   if (message.linear_acceleration_covariance[0] == -1.0) {
     note(ImuMessageProblem::FieldNotGiven, message, "linear_acceleration",
@@ -176,7 +171,7 @@ std::vector<ppp::ImuSample> NodeImuInput::receive(const sensor_msgs::Imu& messag
          "angular_velocity_covariance[0] = -1 (REP-145: no reading)");
     return {};
   }
-  if (!extrinsics_known) {
+  if (!body_from_imu) {
     note(ImuMessageProblem::ExtrinsicsMissing, message, "header.frame_id",
          "no pose of \"" + message.header.frame_id + "\" in base_link (ros.imu.extrinsics: tf)");
     return {};
@@ -194,13 +189,17 @@ std::vector<ppp::ImuSample> NodeImuInput::receive(const sensor_msgs::Imu& messag
     time_base_far_ = screen_.count(ppp::ImuInputProblem::FarFromGnssTime) > (far == before.end() ? 0 : far->second);
   }
   reportScreenProblems(before, message);
-  buffer(released);
+  buffer(released, *body_from_imu);
   return released;
 }
 
-void NodeImuInput::buffer(const std::vector<ppp::ImuSample>& readings) {
+void NodeImuInput::buffer(std::vector<ppp::ImuSample>& readings, const Eigen::Matrix3d& body_from_imu) {
   counters_.used += readings.size();
-  for (const ppp::ImuSample& r : readings) pending_.push_back(r);
+  for (ppp::ImuSample& r : readings) {
+    r.specific_force_mps2 = body_from_imu * r.specific_force_mps2;
+    r.angular_rate_radps = body_from_imu * r.angular_rate_radps;
+    pending_.push_back(r);
+  }
   while (!pending_.empty() && pending_.back().time - pending_.front().time > options_.buffer_s) {
     pending_.pop_front();
     ++counters_.dropped_old;

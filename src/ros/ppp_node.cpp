@@ -56,8 +56,10 @@ void PppNode::subscribe() {
     corr_sub_ = nh_.subscribe(o.corrections_topic, static_cast<std::uint32_t>(o.correction_queue_size),
                               &PppNode::onCorrections, this);
   }
+  // TCP_NODELAY: without it Nagle's algorithm held readings back behind the GNSS epoch they
+  // precede (a 0.125 s "gap" before an epoch of the u-blox walk bag, the INS stopped).
   if (imu_)
-    imu_sub_ = nh_.subscribe(o.imu.topic, 2000, &PppNode::onImu, this);
+    imu_sub_ = nh_.subscribe(o.imu.topic, 2000, &PppNode::onImu, this, ros::TransportHints().tcpNoDelay());
   if (!o.attitude_topic.empty())
     attitude_sub_ = nh_.subscribe<sensor_msgs::Imu>(
         o.attitude_topic, 200, [this](const sensor_msgs::Imu::ConstPtr& msg) { outputs_.receiveAttitude(*msg); });
@@ -366,7 +368,9 @@ void PppNode::setUpImu() {
 
 void PppNode::onImu(const sensor_msgs::Imu::ConstPtr& msg) {
   const bool known = imu_extrinsics_ || (!imu_extrinsics_problem_ && resolveImuExtrinsics(msg->header.frame_id));
-  const std::vector<ppp::ImuSample> accepted = imu_->receive(*msg, newest_gnss_time_, known);
+  const std::optional<Eigen::Matrix3d> body_from_imu =
+      known ? std::optional<Eigen::Matrix3d>(bodyFromImu(*imu_extrinsics_)) : std::nullopt;
+  const std::vector<ppp::ImuSample> accepted = imu_->receive(*msg, newest_gnss_time_, body_from_imu);
   if (ins_fallback_reason_) return;
   for (const ppp::ImuSample& r : accepted)
     if (const std::optional<InsState> state = ins_odometry_->step(r)) publishInsOdometry(*state);
@@ -391,7 +395,7 @@ bool PppNode::resolveImuExtrinsics(const std::string& imu_frame) {
   ins_odometry_ = std::make_unique<InsOdometry>(config_.ppp.ins);
   ROS_INFO_STREAM("ppp: IMU extrinsics from TF " << base << " -> " << imu_frame << ": translation ["
                                                  << e.translation_m.transpose() << "] m; the GNSS/INS filter starts with them");
-  switchEstimator(config_.ros.estimator);  // its lever arm is in the IMU frame
+  switchEstimator(config_.ros.estimator);  // its lever arm is in the body frame at the IMU
   return true;
 }
 
@@ -457,12 +461,13 @@ void PppNode::publishInsOdometry(const InsState& state) {
   if (!claimOdometryStamp(stamp)) return;
   const RosNodeOptions& o = config_.ros;
   const OdometryFrame frame{o.map_frame, o.base_frame, outputs_.datumEcef(), outputs_.enuFromEcef()};
-  odom_pub_.publish(insOdometryMessage(state, *imu_extrinsics_, frame));
+  const ImuExtrinsics body = filterBodyExtrinsics(*imu_extrinsics_);  // the filter's frame in base_link
+  odom_pub_.publish(insOdometryMessage(state, body, frame));
   if (!o.publish_tf) return;
   std::optional<geometry_msgs::TransformStamped> odom_to_base;
   if (tf_buffer_.canTransform(o.odom_frame, o.base_frame, ros::Time(0)))
     odom_to_base = tf_buffer_.lookupTransform(o.odom_frame, o.base_frame, ros::Time(0));
-  const BasePose pose = basePose(state, *imu_extrinsics_, frame);
+  const BasePose pose = basePose(state, body, frame);
   if (auto tf = outputs_.mapTransform(stamp, pose.position_m, Eigen::Quaterniond(pose.rotation_map_base), odom_to_base))
     tf_.sendTransform(*tf);
 }

@@ -9,7 +9,8 @@
 //                  [--no-product-checks] [--start "YYYY/MM/DD HH:MM:SS"] [--end "YYYY/MM/DD HH:MM:SS"]
 //                  [--gnss-gap "YYYY/MM/DD HH:MM:SS,SECONDS"]
 //                  [--imu F [--imu-format csv|logged] [--imu-tag F] [--imu-grade consumer|industrial|tactical]
-//                   [--lever-arm X,Y,Z] [--imu-rotation R,P,Y] [--imu-heading DEG | --heading-speed M/S]
+//                   [--lever-arm X,Y,Z] [--imu-rotation R,P,Y]
+//                   [--imu-attitude R,P,H | --imu-heading DEG | --heading-speed M/S]
 //                   [--doppler on|off] [--doppler-sigma M/S]]
 // --doppler: ekf_ins's velocity update from the Doppler of the observations
 // (default on; ppp/estimators/ppp_ins_ekf.h), --doppler-sigma its range-rate
@@ -33,6 +34,10 @@
 // <name>_smoother_ins_attitude.csv. smoother_ins aligns in motion with ekf_ins's rule
 // (ppp/estimators/ins_in_motion_alignment.h): GNSS-only until the course gives the
 // heading, its NavState (and attitude file rows) from the next solved epoch on.
+// --imu-attitude: the whole start attitude of the body, roll, pitch and heading
+// [deg] in the local north-east-down frame (R_ned_body = Rz(heading) Ry(pitch)
+// Rx(roll)), for a start in motion where levelling cannot work (the nodes'
+// ros.imu.initial_attitude given); not with --imu-heading.
 // --imu-rotation: the IMU's mounting, its axes rotated from the body's by roll,
 // pitch, yaw [deg] (R_body_imu = Rz(yaw) Ry(pitch) Rx(roll)); the readings are
 // turned into the body axes (io/imu/imu_file_loader.h) before the filter sees them.
@@ -99,7 +104,8 @@ int usage(const std::string& why) {
             << "                 [--no-product-checks] [--start \"YYYY/MM/DD HH:MM:SS\"] [--end \"YYYY/MM/DD HH:MM:SS\"]\n"
             << "                 [--gnss-gap \"YYYY/MM/DD HH:MM:SS,SECONDS\"]\n"
             << "                 [--imu F [--imu-format csv|logged] [--imu-tag F] [--imu-grade consumer|industrial|tactical]\n"
-            << "                  [--lever-arm X,Y,Z] [--imu-rotation R,P,Y] [--imu-heading DEG | --heading-speed M/S]\n"
+            << "                  [--lever-arm X,Y,Z] [--imu-rotation R,P,Y]\n"
+            << "                  [--imu-attitude R,P,H | --imu-heading DEG | --heading-speed M/S]\n"
             << "                  [--doppler on|off] [--doppler-sigma M/S]]\n"
             << "                  (ekf_ins, smoother_ins need --imu)\n"
             << "estimators (--estimator; default " << ppp::kDefaultEstimator << ", "
@@ -136,7 +142,7 @@ std::optional<std::string> parseImuOption(const std::string& a, int argc, char**
   const bool has_value = i + 1 < argc;
   const std::string v = has_value ? argv[i + 1] : "";
   if (a != "--imu" && a != "--imu-format" && a != "--imu-tag" && a != "--imu-grade" && a != "--lever-arm" &&
-      a != "--imu-heading" && a != "--heading-speed" && a != "--imu-rotation")
+      a != "--imu-heading" && a != "--heading-speed" && a != "--imu-rotation" && a != "--imu-attitude")
     return std::nullopt;
   if (!has_value) return a + " needs a value";
   ++i;
@@ -157,6 +163,12 @@ std::optional<std::string> parseImuOption(const std::string& a, int argc, char**
       return std::string("--imu-rotation needs ROLL,PITCH,YAW in degrees (the IMU's axes from the body's)");
     imu.file.rotation_body_imu = ppp::rotationNedBody(deg.x() * M_PI / 180.0, deg.y() * M_PI / 180.0,
                                                       deg.z() * M_PI / 180.0);
+  } else if (a == "--imu-attitude") {
+    Eigen::Vector3d deg;
+    if (!parseTruth(v, deg) || !deg.allFinite())
+      return std::string("--imu-attitude needs ROLL,PITCH,HEADING in degrees (the body in north-east-down)");
+    imu.ins.initial_rotation_ned_body = ppp::rotationNedBody(deg.x() * M_PI / 180.0, deg.y() * M_PI / 180.0,
+                                                             deg.z() * M_PI / 180.0);
   } else if (a == "--heading-speed") {
     char* end = nullptr;
     const double speed = std::strtod(v.c_str(), &end);
@@ -199,6 +211,8 @@ std::string imuUsageProblem(const std::string& estimator, const ImuArgs& imu) {
     return "--estimator " + estimator + " needs IMU readings: --imu FILE";
   if (imu.file.format == ppp::ImuFileFormat::RtklibLogged && imu.file.tag_path.empty())
     return "--imu-format logged needs --imu-tag (the time-tag file)";
+  if (imu.ins.initial_rotation_ned_body && imu.ins.initial_heading_rad)
+    return "--imu-attitude and --imu-heading are two starts: give one";
   return {};
 }
 

@@ -16,6 +16,7 @@
 #include <map>
 
 #include "ppp_bayes_tree/evaluation/rtklib_pos.h"
+#include "ppp_bayes_tree/io/imu/imu_file_loader.h"
 #include "ppp_bayes_tree/io/ubx/ubx_framer.h"
 #include "ppp_bayes_tree/io/ubx/ubx_observation_source.h"
 #include "ppp_bayes_tree/models/broadcast_ephemeris_store.h"
@@ -23,6 +24,8 @@
 #include "ppp_bayes_tree/ppp/estimators/estimator_registry.h"
 #include "ppp_bayes_tree/ppp/pipeline/broadcast_single_point.h"
 #include "ppp_bayes_tree/ppp/pipeline/ppp_pipeline.h"
+#include "ppp_bayes_tree/navigation/imu_noise.h"
+#include "ppp_bayes_tree/types/constants.h"
 #include "ppp_bayes_tree/types/frames.h"
 #include "test_support.h"
 
@@ -291,4 +294,46 @@ TEST(UbxWalk, PipelineReadsAUbxRecordingAsItsObservations) {
 }
 
 }  // namespace
+}  // namespace ppp
+
+namespace ppp {
+
+TEST(UbxWalk, EkfInsStartRefusedInMotionEndsBridgedArcsWithoutACrash) {
+  // The walk's first solution comes in motion: with a heading given, ekf_ins levels the
+  // readings up to each start attempt and refuses (too few, not at rest), epoch after
+  // epoch. Arcs bridged over a gap in those epochs reach a start attempt, which has no
+  // state from before the gap: they end (no gap covariance from an empty filter).
+  PPP_REQUIRE_SHARED_DATA();
+  const std::string ubx = test::dataPath("streams/ubx/gnss_1730.ubx");
+  const std::string repo = PPP_REPO_DIR;
+  PppConfig config =
+      loadPppConfig(std::vector<std::string>{repo + "/config/live.yaml", repo + "/test/rostest/live_ubx.yaml"});
+  config.ins.initial_heading_rad = -42.8 * kDegToRad;
+  config.ins.noise = imuNoisePreset(ImuGrade::ConsumerMems);
+  config.ins.lever_arm_body_m = Eigen::Vector3d(0.0, -0.05, 0.0);
+  PppInputFiles files;
+  files.obs = ubx;
+  files.obs_format = ObservationFormat::Ubx;
+  files.nav = {ubx};
+  files.atx = {test::dataPath("antex/igs20_gps_satellites_trim.atx")};
+  ImuFileOptions imu;
+  imu.path = test::dataPath("streams/ubx/imu_1730.csv");
+  imu.tag_path = imu.path + ".tag";
+  imu.format = ImuFileFormat::RtklibLogged;
+  imu.rotation_body_imu = rotationNedBody(M_PI, 0.0, -M_PI / 2.0);  // doc/studies/ins_walk.md
+  PppPipeline pipeline(files, config);
+  pipeline.setImu(loadImuFile(imu).samples);
+  std::string why;
+  auto estimator = makeEstimator("ekf_ins", config, &why);
+  ASSERT_TRUE(estimator) << why;
+  std::size_t epochs = 0, no_attitude = 0;
+  pipeline.run(*estimator, [&](const PppEpochRecord& rec) {
+    ++epochs;
+    no_attitude += rec.no_solution_reason == NoSolutionReason::NoInitialAttitude;
+  });
+  std::printf("[ figures  ] %zu epochs, %zu without an initial attitude\n", epochs, no_attitude);
+  EXPECT_EQ(epochs, 536u);
+  EXPECT_GT(no_attitude, 300u);  // every epoch with a start position (the 182 before have none)
+}
+
 }  // namespace ppp

@@ -86,8 +86,43 @@ TEST(NodeImuOptions, EstimatorChoiceLeverArmAndStartFromRosImu) {
   ASSERT_TRUE(lv.initial_heading_rad.has_value());
   EXPECT_NEAR(*lv.initial_heading_rad, M_PI / 2.0, 1e-12);
   EXPECT_FALSE(lv.initial_rotation_ned_body.has_value());
-  level.imu.rotation_rpy_deg = Eigen::Vector3d(0.0, 90.0, 0.0);  // IMU x straight down: no heading
-  EXPECT_THROW(ppp_ros::insOptions(level, ppp_ros::parameterExtrinsics(level.imu)), std::invalid_argument);
+  // The heading is base_link's, whatever the mounting: an IMU with its x axis straight down.
+  level.imu.rotation_rpy_deg = Eigen::Vector3d(0.0, 90.0, 0.0);
+  const ppp::InsEkfOptions down = ppp_ros::insOptions(level, ppp_ros::parameterExtrinsics(level.imu));
+  ASSERT_TRUE(down.initial_heading_rad.has_value());
+  EXPECT_NEAR(*down.initial_heading_rad, M_PI / 2.0, 1e-12);
+}
+
+TEST(NodeImuOptions, TheFilterRunsInBaseLinksForwardRightDownAxesWhateverTheMounting) {
+  // The walk's u-blox IMU: x left, y back, z up in base_link (yaw 90 deg), 0.05 m right of it.
+  const ppp_ros::NodeConfig c = ppp_ros::bindNodeConfig(
+      YAML::Load("ros: {estimator: ekf_ins, imu: {translation_m: [0, -0.05, 0], rotation_rpy_deg: [0, 0, 90],"
+                 " initial_rpy_deg: [0, 0, 90]}}"),
+      "test", "ekf");
+  const ppp_ros::ImuExtrinsics e = ppp_ros::parameterExtrinsics(c.ros.imu);
+  // A reading along the IMU's x (left in base_link) is along -y of the body (x fwd, y right, z down);
+  // along the IMU's z (up) it is along -z.
+  const Eigen::Matrix3d body_imu = ppp_ros::bodyFromImu(e);
+  EXPECT_LT((body_imu * Eigen::Vector3d::UnitX() - Eigen::Vector3d(0.0, -1.0, 0.0)).norm(), 1e-15);
+  EXPECT_LT((body_imu * Eigen::Vector3d::UnitZ() - Eigen::Vector3d(0.0, 0.0, -1.0)).norm(), 1e-15);
+  // ppp_solve --imu-rotation 180,0,-90 --lever-arm 0,-0.05,0 (doc/studies/ins_walk.md) is the same mounting.
+  EXPECT_LT((body_imu - ppp::rotationNedBody(M_PI, 0.0, -M_PI / 2.0)).norm(), 1e-15);
+  const ppp::InsEkfOptions ins = ppp_ros::insOptions(c.ros, e);
+  EXPECT_LT((ins.lever_arm_body_m - Eigen::Vector3d(0.0, -0.05, 0.0)).norm(), 1e-15);
+  // base_link level, x north: the body level, heading 0.
+  ASSERT_TRUE(ins.initial_rotation_ned_body.has_value());
+  EXPECT_LT((*ins.initial_rotation_ned_body - Eigen::Matrix3d::Identity()).norm(), 1e-15);
+  // The odometry's frame: the body at the IMU's origin, turned back into base_link.
+  const ppp_ros::ImuExtrinsics body = ppp_ros::filterBodyExtrinsics(e);
+  EXPECT_EQ(body.translation_m, e.translation_m);
+  EXPECT_LT((body.rotation_base_imu * Eigen::Vector3d::UnitZ() - Eigen::Vector3d(0.0, 0.0, -1.0)).norm(), 1e-15);
+
+  // The readings handed on are in the body axes: 1 g up along the IMU's z reads -9.8 along the body's z.
+  ppp_ros::NodeImuInput in(c.ros, [](const std::string&, const std::string&) {});
+  for (int k = 0; k < 100; ++k) in.receive(restMessage(0.01 * k), std::nullopt, body_imu);
+  const std::vector<ppp::ImuSample> taken = in.takeUpTo(kT0 + 1.0);
+  ASSERT_FALSE(taken.empty());
+  EXPECT_NEAR(taken.front().specific_force_mps2.z(), -restMessage(0.0).linear_acceleration.z, 1e-12);
 }
 
 TEST(NodeImuOptions, AlignInMotionLeavesAttitudeAndHeadingToTheEstimator) {
@@ -125,17 +160,12 @@ TEST(NodeImuOptions, AlignInMotionLeavesAttitudeAndHeadingToTheEstimator) {
   const std::string slow = refusal("ros: {estimator: ekf_ins, imu: {initial_attitude: align_in_motion, heading_speed_mps: 0}}");
   EXPECT_NE(slow.find("ros.imu.heading_speed_mps"), std::string::npos) << slow;
 
-  // The course sets the heading of the IMU's x axis: an IMU turned in base_link is refused, named.
+  // The course sets the heading of the filter's body, whose axes are base_link's turned forward-right-down
+  // whatever the IMU's mounting: an IMU turned in base_link is accepted as well.
   ppp_ros::RosNodeOptions turned = c.ros;
   turned.imu.rotation_rpy_deg = Eigen::Vector3d(180.0, 0.0, 90.0);
-  try {
-    ppp_ros::insOptions(turned, ppp_ros::parameterExtrinsics(turned.imu));
-    ADD_FAILURE() << "an IMU x axis along base_link y accepted";
-  } catch (const std::invalid_argument& e) {
-    EXPECT_NE(std::string(e.what()).find("ros.imu.initial_attitude align_in_motion"), std::string::npos) << e.what();
-  }
-  turned.imu.rotation_rpy_deg = Eigen::Vector3d(180.0, 0.5, 0.5);  // within 1 deg: accepted
-  EXPECT_NO_THROW(ppp_ros::insOptions(turned, ppp_ros::parameterExtrinsics(turned.imu)));
+  const ppp::InsEkfOptions t = ppp_ros::insOptions(turned, ppp_ros::parameterExtrinsics(turned.imu));
+  EXPECT_FALSE(t.initial_rotation_ned_body || t.initial_rotation_ecef_body || t.initial_heading_rad);
 }
 
 TEST(NodeImuOptions, RpyInDegreesIsTheCoreEulerRotationInRadians) {
@@ -152,21 +182,22 @@ TEST(NodeImuInput, ScreensNamesTopicFieldAndStampAndHandsReadingsPerEpoch) {
   Warnings w;
   NodeImuInput in(o, w.sink());
   std::size_t released = 0;
-  for (int k = 0; k < 100; ++k) released += in.receive(restMessage(0.01 * k), std::nullopt, true).size();
+  const Eigen::Matrix3d same = Eigen::Matrix3d::Identity();  // an IMU whose axes are the body's
+  for (int k = 0; k < 100; ++k) released += in.receive(restMessage(0.01 * k), std::nullopt, same).size();
   EXPECT_EQ(released, 100u);  // the first 50 held until the units are decided, then all
   EXPECT_EQ(in.counters().used, 100u);
   // A duplicate stamp and a field marked "not given": refused, named, counted.
-  in.receive(restMessage(0.99), std::nullopt, true);
+  in.receive(restMessage(0.99), std::nullopt, Eigen::Matrix3d::Identity());
   sensor_msgs::Imu none = restMessage(1.0);
   none.angular_velocity_covariance[0] = -1.0;
-  EXPECT_TRUE(in.receive(none, std::nullopt, true).empty());
+  EXPECT_TRUE(in.receive(none, std::nullopt, Eigen::Matrix3d::Identity()).empty());
   EXPECT_EQ(in.counters().rejected, 2u);
   EXPECT_TRUE(w.any("topic imu/data, field header.stamp, stamp ")) << (w.lines.empty() ? "" : w.lines[0]);
   EXPECT_TRUE(w.any("duplicate time"));
   EXPECT_TRUE(w.any("field angular_velocity"));
   EXPECT_NE(in.problemSummary().find("1 duplicate time"), std::string::npos) << in.problemSummary();
   // Missing extrinsics: not used, counted, named.
-  EXPECT_TRUE(in.receive(restMessage(1.01), std::nullopt, false).empty());
+  EXPECT_TRUE(in.receive(restMessage(1.01), std::nullopt, std::nullopt).empty());
   EXPECT_TRUE(w.any("IMU extrinsics missing"));
   EXPECT_EQ(in.counters().rejected, 3u);
   // The epoch at t0 + 0.5 takes the readings up to it; the rest waits.
@@ -183,13 +214,14 @@ TEST(NodeImuInput, TimeBaseFarFromGnssRefusedButAGnssOutageLeavesTheReadingsAlon
   // Readings 20 s past the newest GNSS epoch (an outage): only the first after each epoch is
   // compared, and it is near; the rest are not compared at all.
   const ppp::GnssTime epoch = kT0;
-  for (int k = 0; k < 2000; ++k) in.receive(restMessage(0.01 * k), epoch, true);
+  for (int k = 0; k < 2000; ++k) in.receive(restMessage(0.01 * k), epoch, Eigen::Matrix3d::Identity());
   EXPECT_EQ(in.screen().count(ppp::ImuInputProblem::FarFromGnssTime), 0u);
   EXPECT_EQ(in.counters().used, 2000u);
   // A stream on another time base (100 s off): refused from the first reading after the epoch on.
   NodeImuInput far(o, w.sink());
   std::size_t used = 0;
-  for (int k = 0; k < 100; ++k) used += far.receive(restMessage(100.0 + 0.01 * k), epoch, true).size();
+  for (int k = 0; k < 100; ++k)
+    used += far.receive(restMessage(100.0 + 0.01 * k), epoch, Eigen::Matrix3d::Identity()).size();
   EXPECT_EQ(used, 0u);
   EXPECT_EQ(far.screen().count(ppp::ImuInputProblem::FarFromGnssTime), 100u);
   EXPECT_EQ(far.counters().rejected, 100u);

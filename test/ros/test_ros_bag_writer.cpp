@@ -2,7 +2,8 @@
 // `ppp_to_bag --simulate` and `ppp_simulate --bag`) read back with rosbag; IMU
 // readings on imu/data (sensor_msgs/Imu), from the library and from
 // `ppp_to_bag --imu` on the u-blox walk's IMU (shared data), and an IMU file in g
-// refused by the input screen.
+// refused by the input screen; a UBX recording as a bag of the live input
+// (writeUbxBag, `ppp_to_bag --ubx` on the walk).
 #include <gtest/gtest.h>
 
 #include <cstdlib>
@@ -18,7 +19,10 @@
 #include <rosbag/bag.h>
 #include <rosbag/view.h>
 
+#include "ppp_bayes_tree/GnssStreamBytes.h"
 #include "ppp_bayes_tree/io/imu/imu_file_loader.h"
+#include "ppp_bayes_tree/io/ubx/ubx_framer.h"
+#include "ppp_bayes_tree/io/ubx/ubx_nav_encoder.h"
 #include "ppp_bayes_tree/ros/bag_writer.h"
 #include "ppp_bayes_tree/ros/imu_conversions.h"
 #include "ppp_bayes_tree/ros/message_conversions.h"
@@ -276,4 +280,118 @@ TEST(ImuBag, ASimulatedFlightWithAnImuCarriesItsReadings) {
   const double d = f.imu.noise.accel_noise_density_mps2_per_sqrthz;
   EXPECT_DOUBLE_EQ(c.imu[0].linear_acceleration_covariance[8], d * d * 100.0);
   fs::remove_all(fs::path(path).parent_path());
+}
+
+namespace {
+
+/// The stream messages of a bag in the bag's order, with their bag times, and where the
+/// IMU readings fall among them (each entry: the topic).
+struct UbxBagContents {
+  std::vector<ppp_bayes_tree::GnssStreamBytes> frames;
+  std::vector<ros::Time> frame_bag_times;
+  std::vector<sensor_msgs::Imu> imu;
+  std::vector<std::string> order;
+};
+
+UbxBagContents readUbxBag(const std::string& path) {
+  UbxBagContents c;
+  rosbag::Bag bag(path, rosbag::bagmode::Read);
+  for (const rosbag::MessageInstance& m : rosbag::View(bag)) {
+    c.order.push_back(m.getTopic());
+    if (auto f = m.instantiate<ppp_bayes_tree::GnssStreamBytes>()) {
+      c.frames.push_back(*f);
+      c.frame_bag_times.push_back(m.getTime());
+    } else if (auto i = m.instantiate<sensor_msgs::Imu>()) {
+      c.imu.push_back(*i);
+    }
+  }
+  return c;
+}
+
+std::vector<std::uint8_t> concat(const std::vector<ppp::UbxFrameBytes>& frames) {
+  std::vector<std::uint8_t> out;
+  for (const auto& f : frames) out.insert(out.end(), f.begin(), f.end());
+  return out;
+}
+
+}  // namespace
+
+TEST(UbxBag, EveryFrameUnchangedInOrderStampedAtItsEpochAfterTheImuReadingsUpToIt) {
+  // A navigation frame before the first epoch, two epochs 0.25 s apart with a frame after each.
+  const ppp::GnssTime t0 = ppp::GnssTime::fromGpsWeek(2381, 408639.748);
+  const ppp::UbxFrameBytes nav = ppp::encodeUbxFrame(0x02, 0x13, std::vector<std::uint8_t>(16, 7));
+  const std::vector<ppp::UbxFrameBytes> frames = {nav, ppp::encodeRawxTime(t0), nav, ppp::encodeRawxTime(t0 + 0.25),
+                                                  nav};
+  std::vector<std::uint8_t> bytes = concat(frames);
+  bytes[nav.size() - 1] ^= 0xFF;  // the first frame's checksum broken: that frame is lost, counted
+  const std::vector<std::uint8_t> clean = concat(frames);
+  ppp_ros::BagWriteOptions o;
+  for (int k = -10; k <= 40; ++k) {  // readings every 10 ms, one exactly at each epoch
+    ppp::ImuSample r;
+    r.time = t0 + 0.01 * k;
+    r.specific_force_mps2 = Eigen::Vector3d(0.0, 0.0, 9.81);
+    o.imu.push_back(r);
+  }
+  const std::string path = tempBag("ubx.bag");
+  const ppp_ros::BagWriteSummary s = ppp_ros::writeUbxBag(path, clean, ppp_ros::UbxBagOptions{}, o);
+  EXPECT_EQ(s.epochs, 2u);
+  EXPECT_EQ(s.frames, frames.size());
+  EXPECT_TRUE(s.stream_problems.empty()) << s.stream_problems;
+  const UbxBagContents c = readUbxBag(path);
+  ASSERT_EQ(c.frames.size(), frames.size());
+  for (std::size_t k = 0; k < frames.size(); ++k) {
+    EXPECT_EQ(c.frames[k].data, frames[k]) << k;
+    EXPECT_EQ(c.frames[k].format, "ubx");
+    EXPECT_EQ(c.frames[k].header.seq, k);
+    EXPECT_EQ(c.frames[k].header.stamp, c.frame_bag_times[k]);
+    if (k > 0) EXPECT_GT(c.frame_bag_times[k], c.frame_bag_times[k - 1]) << k;
+  }
+  // Stamped at the epoch read (+1 us); the frame before the first epoch just before it.
+  EXPECT_NEAR((c.frame_bag_times[1] - ppp_ros::utcStamp(t0)).toSec(), 1e-6, 1e-9);
+  EXPECT_NEAR((c.frame_bag_times[3] - ppp_ros::utcStamp(t0 + 0.25)).toSec(), 1e-6, 1e-9);
+  EXPECT_LT(c.frame_bag_times[0], c.frame_bag_times[1]);
+  // In the bag's order the readings up to each epoch (the one at it included) come before it.
+  std::size_t readings_before = 0, frames_seen = 0;
+  for (const std::string& topic : c.order) {
+    if (topic == "imu/data") ++readings_before;
+    else if (++frames_seen == 2) EXPECT_EQ(readings_before, 11u);  // t0 - 0.1 .. t0
+    else if (frames_seen == 4) EXPECT_EQ(readings_before, 36u);    // .. t0 + 0.25
+  }
+  EXPECT_EQ(c.imu.size(), o.imu.size());
+
+  // A damaged stream: the frames the framer finds, its problems said.
+  const ppp_ros::BagWriteSummary damaged = ppp_ros::writeUbxBag(path, bytes, ppp_ros::UbxBagOptions{}, {});
+  EXPECT_EQ(damaged.frames, frames.size() - 1);
+  EXPECT_FALSE(damaged.stream_problems.empty());
+  // No epoch at all: refused.
+  EXPECT_THROW(ppp_ros::writeUbxBag(path, nav, ppp_ros::UbxBagOptions{}, {}), std::runtime_error);
+  fs::remove_all(fs::path(path).parent_path());
+}
+
+TEST(UbxBag, PppToBagWritesTheWalkWithItsImu) {
+  if (!ppp::test::sharedDataAvailable()) GTEST_SKIP() << "no shared data";
+  const std::string ubx = ppp::test::dataPath("streams/ubx/gnss_1730.ubx");
+  const std::string csv = ppp::test::dataPath("streams/ubx/imu_1730.csv");
+  const std::string dir = fs::path(tempBag("x")).parent_path().string();
+  const std::string bag = dir + "/walk.bag";
+  const std::string cmd = std::string(PPP_BIN_DIR) + "/ppp_to_bag --ubx " + ubx + " --imu " + csv + " --imu-tag " +
+                          csv + ".tag --out " + bag + " > " + dir + "/walk.log 2>&1";
+  ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
+  const UbxBagContents c = readUbxBag(bag);
+  std::size_t rawx = 0, sfrbx = 0;
+  for (const auto& f : c.frames) {
+    rawx += f.data[2] == 0x02 && f.data[3] == 0x15;
+    sfrbx += f.data[2] == 0x02 && f.data[3] == 0x13;
+  }
+  EXPECT_EQ(rawx, 536u);   // shared/data README: 536 RXM-RAWX epochs, 2,328 RXM-SFRBX
+  EXPECT_EQ(sfrbx, 2328u);
+  EXPECT_GT(c.imu.size(), 20000u);
+  std::ifstream log(dir + "/walk.log");
+  const std::string text((std::istreambuf_iterator<char>(log)), std::istreambuf_iterator<char>());
+  EXPECT_NE(text.find("(536 RXM-RAWX epochs)"), std::string::npos) << text;
+  // --ubx is a form of its own.
+  const std::string both = std::string(PPP_BIN_DIR) + "/ppp_to_bag --ubx " + ubx + " --simulate loiter --out " + bag +
+                           " > " + dir + "/both.log 2>&1";
+  EXPECT_NE(std::system(both.c_str()), 0);
+  fs::remove_all(dir);
 }

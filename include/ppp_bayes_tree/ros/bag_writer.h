@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "ppp_bayes_tree/io/rinex/rinex_obs_header.h"
+#include "ppp_bayes_tree/io/stream_problem.h"
 #include "ppp_bayes_tree/models/correction_buffer.h"
 #include "ppp_bayes_tree/models/precise_ephemeris.h"
 #include "ppp_bayes_tree/navigation/imu_noise.h"
@@ -57,6 +58,8 @@ struct BagWriteOptions {
 struct BagWriteSummary {
   std::size_t epochs = 0, batches = 0, imu_readings = 0;
   std::optional<ppp::GnssTime> first, last;
+  std::size_t frames = 0;          // writeUbxBag: UBX frames written
+  std::string stream_problems;     // writeUbxBag: the framer's problems (StreamCounters::problemLines), "" if none
 };
 
 /// Correction batches at multiples of the interval in [first - margin, last + margin]
@@ -69,6 +72,22 @@ std::vector<ppp::CorrectionBatch> sampleCorrections(const ppp::PreciseEphemeris&
 BagWriteSummary writeReplayBag(const std::string& path, const ppp::RinexObsHeader& header,
                                const std::function<bool(ppp::ObsEpoch&)>& next,
                                const ppp::PreciseEphemeris& products, const BagWriteOptions& options);
+
+/// A u-blox UBX recording (RXM-RAWX observations, RXM-SFRBX navigation data, and
+/// whatever else it holds) as a bag for the live input (ros.live, doc/live_input.md):
+/// every UBX frame, unchanged, as one ppp_bayes_tree/GnssStreamBytes (format "ubx",
+/// frame_id `ubx_frame`) on `ubx_topic`, in the recording's order. A frame is stamped
+/// (header and bag time) when it was read at the receiver: at the receiver time of the
+/// newest RXM-RAWX epoch (GPST into UTC) plus 1 us, plus 1 ns per frame after it (frames
+/// before the first RXM-RAWX at its time), so that the IMU readings of `options.imu`
+/// (options.imu_topic, at their own stamps) up to an epoch come before it. `summary.epochs`
+/// counts the RXM-RAWX frames. Throws std::runtime_error when no RXM-RAWX has a time.
+struct UbxBagOptions {
+  std::string ubx_topic = "gnss/receiver";
+  std::string ubx_frame = "gnss";
+};
+BagWriteSummary writeUbxBag(const std::string& path, const std::vector<std::uint8_t>& ubx_bytes,
+                            const UbxBagOptions& ubx, const BagWriteOptions& options);
 
 /// Topic of the simulated truth: nav_msgs/Path of the true antenna positions in
 /// the `earth` frame (ECEF), latched, stamped at the first epoch.

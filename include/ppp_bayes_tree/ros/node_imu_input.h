@@ -43,21 +43,23 @@ struct ImuExtrinsics {
 /// The extrinsics of the ros.imu parameters (translation_m, rotation_rpy_deg).
 ImuExtrinsics parameterExtrinsics(const RosImuOptions& options);
 
-/// align_in_motion: the largest angle between the IMU's x axis and base_link's x axis [deg]
-/// (the course over ground sets the heading of the IMU's x axis).
-constexpr double kAlignInMotionAxis_deg = 1.0;
+/// The GNSS/INS filter's body frame: at the IMU's origin, with base_link's axes turned
+/// forward-right-down (x forward, y right, z down: the body frame of ppp_solve --imu after
+/// --imu-rotation), whatever the IMU's mounting. The readings are turned into it before
+/// the filter and the odometry see them, so that the filter's x axis is base_link's forward
+/// axis (the heading aligned in motion is the course of base_link's x axis). Its pose in base_link.
+ImuExtrinsics filterBodyExtrinsics(const ImuExtrinsics& imu);
+/// R_body_imu: turns an IMU reading into the filter's body axes (filterBodyExtrinsics).
+Eigen::Matrix3d bodyFromImu(const ImuExtrinsics& imu);
 
 /// The GNSS/INS filter's options from ros.imu on top of `base`: the grade's
-/// noise; the lever arm in the IMU frame (antenna minus IMU origin, from
-/// ros.frames.antenna_lever_arm_m and the extrinsics); the start attitude
-/// (ros.imu.initial_attitude): given (base_link in the map, ENU, turned into
-/// R_ned_imu), level_at_rest (the heading of the IMU's x axis; roll and pitch
-/// levelled by the filter) or align_in_motion (neither: the estimators level at
-/// the latest static interval and take the heading from the course over ground
-/// once faster than heading_speed_mps, as ppp_solve without --imu-heading); the
-/// start velocity (ENU into NED). Throws std::invalid_argument when the IMU's x
-/// axis is vertical at a levelled start (no heading), or more than
-/// kAlignInMotionAxis_deg from base_link's x axis for align_in_motion.
+/// noise; the lever arm in the filter's body frame (antenna minus IMU origin, from
+/// ros.frames.antenna_lever_arm_m and the extrinsics; filterBodyExtrinsics); the start
+/// attitude (base_link in the map, ENU, turned into R_ned_body), with level_at_rest the
+/// heading of base_link's x axis (roll and pitch levelled by the filter), with
+/// align_in_motion neither (the estimators level at the latest static interval and take the
+/// heading from the course over ground, from heading_speed_mps on); the start velocity
+/// (ENU into NED).
 ppp::InsEkfOptions insOptions(const RosNodeOptions& options, const ImuExtrinsics& extrinsics,
                               ppp::InsEkfOptions base = {});
 
@@ -84,11 +86,12 @@ class NodeImuInput {
   /// One message. `gnss_time`: the newest GNSS epoch received (the time-base check: the
   /// first reading after each new epoch is compared with it, so that a GNSS outage leaves
   /// the readings alone; after a far one every reading is, until one is near again);
-  /// `extrinsics_known`: false while the IMU's pose in base_link is missing. Returns the
+  /// `body_from_imu`: R_body_imu (bodyFromImu), nullopt while the IMU's pose in base_link is
+  /// missing. The accepted readings are turned into the filter's body axes. Returns the
   /// readings accepted by this message, in time order (none while the screen holds the
   /// first readings to decide the units, then those).
   std::vector<ppp::ImuSample> receive(const sensor_msgs::Imu& message, const std::optional<ppp::GnssTime>& gnss_time,
-                                      bool extrinsics_known);
+                                      const std::optional<Eigen::Matrix3d>& body_from_imu);
   /// The buffered readings up to `time` (the epoch's EstimatorEpochInput::imu), in time
   /// order; they leave the buffer, the last one is kept as lastTaken().
   std::vector<ppp::ImuSample> takeUpTo(const ppp::GnssTime& time);
@@ -112,7 +115,7 @@ class NodeImuInput {
             const std::string& detail);
   /// Warns about the screen's problems that this message added (named with the topic and field).
   void reportScreenProblems(const std::map<ppp::ImuInputProblem, std::size_t>& before, const sensor_msgs::Imu& message);
-  void buffer(const std::vector<ppp::ImuSample>& readings);
+  void buffer(std::vector<ppp::ImuSample>& readings, const Eigen::Matrix3d& body_from_imu);
 
   RosImuOptions options_;
   WarningSink warn_;

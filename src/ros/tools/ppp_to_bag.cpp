@@ -4,6 +4,11 @@
 //              [--max-epochs N] --out X.bag
 //   ppp_to_bag --simulate loiter|survey|figure8|climb [--duration-min N] [--rate 1|10]
 //              [--seed S] [--config simulation.yaml] [--truth-out TRUTH.csv] --out X.bag
+//   ppp_to_bag --ubx REC.ubx [--ubx-topic gnss/receiver] --out X.bag
+// --ubx: a u-blox UBX recording as a bag of the live input instead (ros.live; the
+// broadcast ephemerides come from its RXM-SFRBX): each UBX frame, unchanged, as one
+// ppp_bayes_tree/GnssStreamBytes (format "ubx") on --ubx-topic, stamped at the receiver
+// time of the newest RXM-RAWX epoch (ros/bag_writer.h, writeUbxBag).
 // Writes gnss/observations (one GnssObservations per epoch) and gnss/corrections
 // (one PreciseCorrections per product epoch, every --interval s: orbits
 // interpolated from the SP3, clocks from the CLK records), stamped in UTC.
@@ -27,6 +32,7 @@
 // screen (navigation/imu_input_screen.h) first: what it refuses is said, with
 // the reader's own problems, and a stream with no reading left is an error.
 #include <fstream>
+#include <iterator>
 #include <iostream>
 #include <string>
 #include <vector>
@@ -49,7 +55,8 @@ int usage(const std::string& why) {
             << "                  [--ar-biases auto|none] --out BAG\n"
             << "       ppp_to_bag --simulate PROFILE [--duration-min N] [--rate 1|10] [--seed S] [--config YAML]\n"
             << "                  [--truth-out TRUTH.csv] --out BAG\n"
-            << "       either form: [--imu FILE [--imu-tag TAG] [--imu-frame FRAME]]\n";
+            << "       ppp_to_bag --ubx REC.ubx [--ubx-topic TOPIC] --out BAG\n"
+            << "       any form: [--imu FILE [--imu-tag TAG] [--imu-frame FRAME]]\n";
   return 2;
 }
 
@@ -81,10 +88,25 @@ std::vector<ppp::ImuSample> screenedImu(const std::string& path, const std::stri
   return std::move(load.samples);
 }
 
+/// The --ubx form: the recording's frames on the stream topic (and the IMU, when given).
+ppp_ros::BagWriteSummary writeUbxRecording(const std::string& ubx, const std::string& out,
+                                           const ppp_ros::UbxBagOptions& ubx_options,
+                                           const ppp_ros::BagWriteOptions& options) {
+  std::ifstream in(ubx, std::ios::binary);
+  if (!in) throw std::runtime_error(ubx + ": cannot open the UBX recording");
+  const std::vector<std::uint8_t> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const ppp_ros::BagWriteSummary s = ppp_ros::writeUbxBag(out, bytes, ubx_options, options);
+  std::cout << "ppp_to_bag: " << ubx << ": " << s.frames << " UBX frames on " << ubx_options.ubx_topic << " ("
+            << s.epochs << " RXM-RAWX epochs)\n";
+  if (!s.stream_problems.empty()) std::cerr << "ppp_to_bag: " << ubx << ": framing problems:\n" << s.stream_problems;
+  return s;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
-  std::string obs, bia, out, profile, sim_config, truth_out, ar_biases = "auto", imu, imu_tag;
+  std::string obs, bia, out, profile, sim_config, truth_out, ar_biases = "auto", imu, imu_tag, ubx;
+  ppp_ros::UbxBagOptions ubx_options;
   std::vector<std::string> sp3, clk;
   ppp_ros::BagWriteOptions options;
   double duration_min = 10.0, rate = 1.0;
@@ -113,6 +135,8 @@ int main(int argc, char** argv) {
       else if (a == "--imu") imu = v;
       else if (a == "--imu-tag") imu_tag = v;
       else if (a == "--imu-frame") options.imu_frame = v;
+      else if (a == "--ubx") ubx = v;
+      else if (a == "--ubx-topic") ubx_options.ubx_topic = v;
       else if (a == "--interval") options.correction_interval_s = std::stod(v);
       else if (a == "--max-epochs") options.max_epochs = std::stoul(v);
       else if (a == "--duration-min") duration_min = std::stod(v);
@@ -128,10 +152,14 @@ int main(int argc, char** argv) {
   if (!(options.correction_interval_s >= 1.0)) return usage("--interval must be >= 1 s");
   if (!truth_out.empty() && profile.empty()) return usage("--truth-out needs --simulate (real data: give the truth to ppp_bag_report)");
   if (!imu_tag.empty() && imu.empty()) return usage("--imu-tag needs --imu");
+  if (!ubx.empty() && (!profile.empty() || !obs.empty()))
+    return usage("--ubx is a form of its own: not with --obs or --simulate");
   try {
     if (!imu.empty()) options.imu = screenedImu(imu, imu_tag);
     ppp_ros::BagWriteSummary s;
-    if (!profile.empty()) {
+    if (!ubx.empty()) {
+      s = writeUbxRecording(ubx, out, ubx_options, options);
+    } else if (!profile.empty()) {
       ppp::SimulationConfig config;
       if (!sim_config.empty()) config = ppp::loadSimulationConfig(sim_config);
       config.profile = ppp::parseFlightProfile(profile);
@@ -172,7 +200,7 @@ int main(int argc, char** argv) {
     }
     std::cout << "ppp_to_bag: " << out << ": " << s.epochs << " observation epochs";
     if (s.first) std::cout << " (" << s.first->toString() << " .. " << s.last->toString() << ")";
-    std::cout << ", " << s.batches << " correction batches every " << options.correction_interval_s << " s";
+    if (ubx.empty()) std::cout << ", " << s.batches << " correction batches every " << options.correction_interval_s << " s";
     if (s.imu_readings > 0) std::cout << ", " << s.imu_readings << " IMU readings on " << options.imu_topic;
     std::cout << "\n";
   } catch (const std::exception& e) {

@@ -200,6 +200,7 @@ class PppInsEkf : public PppEkf {
   std::optional<std::pair<NoSolutionReason, std::string>> epoch_problem_;  // this epoch's inertial problem
   std::vector<ImuSample> before_start_;     // the readings before the first solution (in-motion start)
   bool heading_from_course_ = false;        // started without a heading, not yet aligned
+  bool starting_ = false;                   // this epoch starts the filter (no state from before a gap)
   Eigen::Vector3d start_accel_bias_mps2_ = Eigen::Vector3d::Zero();  // from the levelling (in-motion start)
   AlignmentState alignment_ = AlignmentState::NotAligned;
   CourseHeadingTrack track_;                // antenna positions after the updates

@@ -262,6 +262,7 @@ bool PppInsEkf::startNominal(const ReceiverState& start) {
 }
 
 ReceiverState PppInsEkf::predict(double dt_s, bool first, const std::optional<ReceiverState>& start) {
+  starting_ = start.has_value();
   if (start) {
     work_ = initialFilter(*start);
     if (!startNominal(*start)) {  // the epoch fails with the reason (solve, finishEpoch)
@@ -432,6 +433,12 @@ Eigen::Matrix3d PppInsEkf::gapPositionCovariance() const {
 
 void PppInsEkf::verifyBridgedArcs(const std::vector<BridgedArc>& bridged, const std::vector<SatelliteMeasurement>& usable,
                                   EstimatorEpochResult& result) {
+  // A start (the first, or one attempted again after a refused start) has no state from
+  // before the gap to predict across it: the arcs end.
+  if (starting_) {
+    for (const BridgedArc& b : bridged) endBridgedArc(b, "the filter starts at this epoch, no state before the gap", result);
+    return;
+  }
   // The arcs' biases of the prediction; the covariance of the antenna position's error
   // grown through the gap (the INS prediction's minus the last epoch's: the error then
   // is in the biases).
