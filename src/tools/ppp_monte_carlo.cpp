@@ -42,7 +42,8 @@
 // the filter's own state at an outage's start costs), run by ekf and ekf_ins; writes
 // DIR/ins_outages.md (horizontal error at the outage end, the coast from the truth
 // through the same readings, re-fix time, fix kept,
-// roll/pitch/heading RMS, held integers against the truth per estimator).
+// roll/pitch/heading RMS, held integers against the truth per estimator);
+// --gap-bridge-max-s S: ekf_ins's InsEkfOptions::gap_bridge_max_s (default 6 s).
 #include <unistd.h>
 
 #include <chrono>
@@ -77,7 +78,7 @@ int usage(const std::string& why) {
             << "                       [--configurations all|gps_float,gps_ar,gps_galileo_float,gps_galileo_ar]\n"
             << "                       [--imu consumer|industrial|tactical [--outage-s 30] [--outage-every-s 300]\n"
             << "                        [--outage-keeps-lock] [--ideal-imu]\n"
-            << "                        [--imu-rate 100]]\n";
+            << "                        [--imu-rate 100] [--gap-bridge-max-s 6]]\n";
   return 2;
 }
 
@@ -183,6 +184,7 @@ int main(int argc, char** argv) {
   double outage_s = 30.0, outage_every_s = 300.0, imu_rate_hz = 100.0;
   bool outage_keeps_lock = false;
   bool ideal_imu = false;
+  std::optional<double> gap_bridge_max_s;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "--fixed-origin") {
@@ -234,6 +236,10 @@ int main(int argc, char** argv) {
     else if (a == "--imu-rate") {
       if (!parseNumber(v, x) || !(x >= 10.0) || x > 2000.0) return usage("--imu-rate must be in [10, 2000] Hz");
       imu_rate_hz = x;
+    }
+    else if (a == "--gap-bridge-max-s") {
+      if (!parseNumber(v, x) || x < 0.0 || x > 3600.0) return usage("--gap-bridge-max-s must be in [0, 3600] s");
+      gap_bridge_max_s = x;
     }
     else if (a == "--outage-every-s") {
       if (!parseNumber(v, x) || !(x > 0.0)) return usage("--outage-every-s must be > 0 s");
@@ -297,6 +303,7 @@ int main(int argc, char** argv) {
   if (const std::string why = options.ppp.smoother.validate(); !why.empty()) return usage("smoother options: " + why);
 
   if (ideal_imu && !imu_grade) return usage("--ideal-imu needs --imu");
+  if (gap_bridge_max_s && !imu_grade) return usage("--gap-bridge-max-s needs --imu");
   if (imu_grade) {
     if (configurations.size() > 1) return usage("--imu runs one configuration");
     ppp::InsOutageStudyOptions ins;
@@ -307,6 +314,7 @@ int main(int argc, char** argv) {
     ins.outage_keeps_lock = outage_keeps_lock;
     ins.imu_errors = !ideal_imu;
     ins.imu_rate_hz = imu_rate_hz;
+    if (gap_bridge_max_s) ins.flights.ppp.ins.gap_bridge_max_s = *gap_bridge_max_s;
     if (!(outage_s < outage_every_s)) return usage("--outage-s must be shorter than --outage-every-s");
     return runInsStudy(ins, out) ? 0 : 1;
   }

@@ -75,6 +75,37 @@ TEST(InsGapBridge, FixIsKeptAcrossAFiveSecondOutage) {
   EXPECT_EQ(a.track.held_check.fixed_epochs_with_wrong_hold, 0u);
 }
 
+// The bridge's position prior is the antenna position's covariance grown through the
+// gap (the INS prediction's minus that after the last GNSS update), not only the floor:
+// with the floor off (gap_bridge.min_position_sigma_m = 0) and a 30-s outage that keeps
+// lock, bridged (gap_bridge_max_s 61 s), the arcs back pass, as the INS error after 30 s
+// (decimetres) is within that covariance. A prior without the growth (the least
+// variance, 1 mm) pins the position to the prediction and ends every arc.
+TEST(InsGapBridge, EkfInsPriorIsTheCovarianceGrownThroughAThirtySecondGap) {
+  constexpr double kLongOutage_s = 30.0;
+  const MonteCarloOptions o = flightOptions();
+  const SimulatedFlight f = test::simulateWithOutage(o, kOutageStart_s, kLongOutage_s, true);
+  const std::size_t after = test::firstEpochFrom(f, kOutageStart_s + kLongOutage_s);
+  ASSERT_LT(after, f.epochs.size());
+  PppConfig config = insConfig(flightPppConfig(o.ppp, f), f);
+  config.ins.gap_bridge_max_s = 61.0;
+  config.ins.gap_bridge.min_position_sigma_m = 0.0;
+  AfterOutage a;
+  a.track = trackEstimatorOnFlight(f, config, "ekf_ins", [&](std::size_t k, const PppEpochRecord& rec, const PppEstimator& e) {
+    if (k != after) return;
+    a.fixed_after = rec.solution.status == SolutionStatus::PppFixed;
+    a.kept = e.lastResult().bridged_arcs_kept;
+    a.ended = e.lastResult().bridged_arcs_ended;
+    for (const std::string& line : e.lastResult().gap_bridge) std::printf("%s\n", line.c_str());
+  });
+  std::printf("ekf_ins after a 30-s outage, no floor: %d arcs kept, %d ended; fixed after %d; held wrong %zu\n",
+              a.kept, a.ended, a.fixed_after, a.track.held_check.wrong);
+  EXPECT_GE(a.kept, 10);
+  EXPECT_TRUE(a.fixed_after);
+  EXPECT_EQ(a.track.held_check.wrong, 0u);
+  EXPECT_EQ(a.track.held_check.fixed_epochs_with_wrong_hold, 0u);
+}
+
 // The same flight and outage for the GNSS/INS smoother: the INS prediction is its NavState
 // carried across the gap by the preintegrated readings; the arcs that pass go on with
 // the same bias variable and their held integers' factors.

@@ -55,6 +55,7 @@ struct ArcRecord {
   ArcId simulated_arc = 0;
   double truth_m = 0.0;
   long windup_cycles = 0;  // the wind-up integer between the simulator's and the estimator's convention
+  double last_windup_cycles = 0.0;  // the simulator's wind-up at the arc's last epoch
   bool valid = true;       // still inside its simulated arc
   bool missed_slip = false;
   /// The truth of the arc's phase as the estimator sees it: the simulated arc's
@@ -87,19 +88,27 @@ class BiasSampler {
           a.valid = false;
         } else {
           a.windup_cycles = std::lround(s->windup_cycles);
+          a.last_windup_cycles = s->windup_cycles;
           followTruth(a, s->arc);
         }
         it = arcs_.emplace(r.arc, std::move(a)).first;
       }
       ArcRecord& a = it->second;
       if (!a.valid) continue;
-      // A repaired arc's phase: the simulated arc's integers minus the repairs.
-      if (s != nullptr && s->arc != 0 && repaired.count(r.arc) != 0) followTruth(a, s->arc);
+      // A repaired arc's phase: the simulated arc's integers minus the repairs. A new
+      // simulated arc starts its wind-up at the principal value while the estimator's
+      // arc goes on from its own: the whole cycles between them follow (they are in
+      // the phase the repair measured, not in the integers).
+      if (s != nullptr && s->arc != 0 && repaired.count(r.arc) != 0) {
+        if (s->arc != a.simulated_arc) a.windup_cycles += std::lround(s->windup_cycles - a.last_windup_cycles);
+        followTruth(a, s->arc);
+      }
       if (s == nullptr || s->arc != a.simulated_arc) {
         a.valid = false;
         a.missed_slip = true;
         continue;
       }
+      a.last_windup_cycles = s->windup_cycles;
       const double age = rec.solution.time - a.first_time;
       const long bin = static_cast<long>(std::floor(age / bin_s_ + 1e-9));
       if (bin <= a.last_bin) continue;

@@ -174,8 +174,10 @@ class PppInsEkf : public PppEkf {
   /// The course of the antenna track as the heading, once fast enough.
   void alignHeadingFromTrack(Filter& f);
   /// The antenna position's error covariance grown through a gap (the prediction's
-  /// minus the last epoch's, grownGapPositionCovariance of ins_gap_bridge.h).
+  /// minus that after the last GNSS update, grownGapPositionCovariance of ins_gap_bridge.h).
   Eigen::Matrix3d gapPositionCovariance() const;
+  /// The antenna position's error covariance of `f` at the nominal state [m^2].
+  Eigen::Matrix3d antennaCovariance(const Filter& f) const;
   /// R_ned_body of the nominal state.
   Eigen::Matrix3d rotationNedBody() const;
   bool startNominal(const ReceiverState& start);
@@ -207,6 +209,7 @@ class PppInsEkf : public PppEkf {
   std::optional<NavState> fixed_nominal_;   // this epoch's fixed solution (PPP-AR)
   std::optional<ImuBias> fixed_bias_;
   std::optional<Eigen::Vector3d> predicted_antenna_m_;  // this epoch's prediction
+  std::optional<Eigen::Matrix3d> updated_antenna_cov_m2_;  // antenna covariance after the last GNSS update
 };
 
 }  // namespace ppp

@@ -23,10 +23,11 @@ struct GapBridgeOptions {
   double max_fraction_cycles = 0.2;  // |slip| bound [narrow-lane cycles]
   double max_sigma_cycles = 0.15;    // sigma of the slip estimate bound [narrow-lane cycles]
   int min_extra_rows = 2;            // rows beyond the unknowns (position, clocks) to test at all
-  /// Floor of the position prior's sigma per axis [m]: the INS covariance through a
-  /// long gap is optimistic (30-s outages on the simulated flights: slips of 1-6 L1
-  /// cycles without one), and a prior tighter than the true error turns the position
-  /// error into apparent slips; 1 m makes them pass there. 0: the prior as given.
+  /// Floor of the position prior's sigma per axis [m]: a margin against an optimistic
+  /// INS covariance through the gap (a prior tighter than the true error turns the
+  /// position error into apparent slips). With the covariance grown through a 30-s
+  /// outage the simulated flights' arcs pass without it (test_ins_gap_bridge).
+  /// 0: the prior as given.
   double min_position_sigma_m = 1.0;
 };
 

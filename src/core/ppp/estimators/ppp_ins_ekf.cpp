@@ -157,6 +157,13 @@ void PppInsEkf::closeLoop(Filter& f) {
   resetInsError(f);
   before_start_.clear();  // started: the levelling readings are done with
   if (heading_from_course_) alignHeadingFromTrack(f);
+  updated_antenna_cov_m2_ = antennaCovariance(f);  // the bridge's reference after a gap
+}
+
+Eigen::Matrix3d PppInsEkf::antennaCovariance(const Filter& f) const {
+  const Eigen::Matrix<double, 15, 1> error = f.x.head<15>();
+  const Eigen::Matrix<double, 3, 15> J = antennaJacobian(nominal_, ins_.lever_arm_body_m, error);
+  return J * f.P.topLeftCorner<15, 15>() * J.transpose();
 }
 
 // ---- The epoch: readings, start, propagation ----
@@ -423,12 +430,10 @@ std::optional<double> PppInsEkf::gapBridgeMax_s() const {
 }
 
 Eigen::Matrix3d PppInsEkf::gapPositionCovariance() const {
-  const auto antennaCov = [&](const Filter& f) -> Eigen::Matrix3d {
-    const Eigen::Matrix<double, 15, 1> error = f.x.head<15>();
-    const Eigen::Matrix<double, 3, 15> J = antennaJacobian(nominal_, ins_.lever_arm_body_m, error);
-    return J * f.P.topLeftCorner<15, 15>() * J.transpose();
-  };
-  return grownGapPositionCovariance(antennaCov(work_), antennaCov(f_));
+  // The prediction's (work_: the filter propagated through the gap) minus the last
+  // GNSS update's; none yet: the least variance (the bridge's floor then decides).
+  if (!updated_antenna_cov_m2_) return grownGapPositionCovariance(Eigen::Matrix3d::Zero(), Eigen::Matrix3d::Zero());
+  return grownGapPositionCovariance(antennaCovariance(work_), *updated_antenna_cov_m2_);
 }
 
 void PppInsEkf::verifyBridgedArcs(const std::vector<BridgedArc>& bridged, const std::vector<SatelliteMeasurement>& usable,
@@ -440,8 +445,8 @@ void PppInsEkf::verifyBridgedArcs(const std::vector<BridgedArc>& bridged, const 
     return;
   }
   // The arcs' biases of the prediction; the covariance of the antenna position's error
-  // grown through the gap (the INS prediction's minus the last epoch's: the error then
-  // is in the biases).
+  // grown through the gap (the INS prediction's minus that after the last GNSS update:
+  // the error then is in the biases).
   const auto held_bias_m = [this](ArcId arc) -> std::optional<double> {
     const int slot = findBias(work_, arc);
     if (slot < 0) return std::nullopt;
