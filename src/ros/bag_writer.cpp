@@ -15,6 +15,19 @@
 #include "ppp_bayes_tree/ros/message_conversions.h"
 
 namespace ppp_ros {
+namespace {
+
+/// The options' IMU readings on their topic, header.seq numbering them (0, 1, ...).
+void writeImuReadings(rosbag::Bag& bag, const BagWriteOptions& o) {
+  std::uint32_t imu_seq = 0;
+  for (const ppp::ImuSample& reading : o.imu) {
+    sensor_msgs::Imu m = toImuMessage(reading, o.imu_frame, o.imu_noise, o.imu_rate_hz);
+    m.header.seq = imu_seq++;
+    bag.write(o.imu_topic, m.header.stamp, m);
+  }
+}
+
+}  // namespace
 
 std::vector<ppp::CorrectionBatch> sampleCorrections(const ppp::PreciseEphemeris& products, const ppp::GnssTime& first,
                                                    const ppp::GnssTime& last, const BagWriteOptions& o) {
@@ -92,12 +105,7 @@ BagWriteSummary writeReplayBag(const std::string& path, const ppp::RinexObsHeade
     bag.write(o.observations_topic, m.header.stamp, m);
   }
   for (; k < batches.size(); ++k) writeBatch(k);
-  std::uint32_t imu_seq = 0;
-  for (const ppp::ImuSample& reading : o.imu) {
-    sensor_msgs::Imu m = toImuMessage(reading, o.imu_frame, o.imu_noise, o.imu_rate_hz);
-    m.header.seq = imu_seq++;
-    bag.write(o.imu_topic, m.header.stamp, m);
-  }
+  writeImuReadings(bag, o);
   summary.imu_readings = o.imu.size();
   if (o.before_close) o.before_close(bag);
   bag.close();
@@ -174,12 +182,7 @@ BagWriteSummary writeUbxBag(const std::string& path, const std::vector<std::uint
     m.data = ubxFrameBytes(bytes, frame);
     bag.write(ubx.ubx_topic, stamp, m);
   }
-  std::uint32_t imu_seq = 0;
-  for (const ppp::ImuSample& reading : o.imu) {
-    sensor_msgs::Imu m = toImuMessage(reading, o.imu_frame, o.imu_noise, o.imu_rate_hz);
-    m.header.seq = imu_seq++;
-    bag.write(o.imu_topic, m.header.stamp, m);
-  }
+  writeImuReadings(bag, o);
   summary.imu_readings = o.imu.size();
   bag.close();
   summary.first = fromUtcStamp(frames.front().second);

@@ -450,15 +450,11 @@ TEST(InsWalk, FixesAndOdometryEqualPppSolveEpochByEpoch) {
 int main(int argc, char** argv) {
   testing::InitGoogleTest(&argc, argv);
   ros::init(argc, argv, "rostest_ins_walk");
-  std::string estimator = "ekf_ins";
-  ros::param::get("~estimator", estimator);
-  if (estimator != "ekf_ins" && estimator != "smoother_ins") {
-    std::fprintf(stderr, "~estimator: \"%s\" is neither ekf_ins nor smoother_ins\n", estimator.c_str());
-    return 1;
-  }
+  const std::optional<std::string> estimator = ppp_ros::test::insEstimatorParam();
+  if (!estimator) return 1;
   ros::AsyncSpinner spinner(2);
   spinner.start();
-  WalkTest t(variantOf(estimator));
+  WalkTest t(variantOf(*estimator));
   g = &t;
   const int rc = RUN_ALL_TESTS();
   spinner.stop();

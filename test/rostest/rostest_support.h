@@ -505,4 +505,14 @@ inline void compareWithPppSolveOnZim2(const std::string& node, const std::string
   for (const auto& [name, level] : out.worst_diagnostic) EXPECT_LT(level, diagnostic_msgs::DiagnosticStatus::ERROR) << name;
 }
 
+/// The GNSS/INS test nodes' ~estimator parameter (ekf_ins by default); nullopt, with the
+/// reason on stderr, when it names neither ekf_ins nor smoother_ins.
+inline std::optional<std::string> insEstimatorParam() {
+  std::string estimator = "ekf_ins";
+  ros::param::get("~estimator", estimator);
+  if (estimator == "ekf_ins" || estimator == "smoother_ins") return estimator;
+  std::fprintf(stderr, "~estimator: \"%s\" is neither ekf_ins nor smoother_ins\n", estimator.c_str());
+  return std::nullopt;
+}
+
 }  // namespace ppp_ros::test
