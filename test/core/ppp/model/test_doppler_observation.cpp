@@ -117,18 +117,27 @@ class FixedEphemeris : public ppp::EphemerisSource {
   std::string describeSource() const override { return "fixed"; }
 };
 
-TEST(DopplerObservation, PositiveDopplerIsAnApproachingSatellite) {
+/// G05 observed with L1C and a D1C of +1000 Hz at kT0, and its selected L1 signal.
+struct G05Doppler {
   ppp::ObsEpoch epoch;
-  epoch.time = kT0;
-  const ppp::SatelliteId g05{ppp::GnssSystem::GPS, 5};
-  epoch.satellites.push_back({g05, 0, 2});
-  epoch.observations.push_back({*ppp::ObservationCode::parse("L1C"), 1.0e8, std::nullopt, std::nullopt});
-  epoch.observations.push_back({*ppp::ObservationCode::parse("D1C"), 1000.0, std::nullopt, std::nullopt});
   ppp::DualFrequencyObservation s;
-  s.satellite = g05;
-  s.phase1 = *ppp::ObservationCode::parse("L1C");
-  s.frequency1_hz = 1575.42e6;
-  s.code1_m = 2.2e7;
+  G05Doppler() {
+    epoch.time = kT0;
+    const ppp::SatelliteId g05{ppp::GnssSystem::GPS, 5};
+    epoch.satellites.push_back({g05, 0, 2});
+    epoch.observations.push_back({*ppp::ObservationCode::parse("L1C"), 1.0e8, std::nullopt, std::nullopt});
+    epoch.observations.push_back({*ppp::ObservationCode::parse("D1C"), 1000.0, std::nullopt, std::nullopt});
+    s.satellite = g05;
+    s.phase1 = *ppp::ObservationCode::parse("L1C");
+    s.frequency1_hz = 1575.42e6;
+    s.code1_m = 2.2e7;
+  }
+};
+
+TEST(DopplerObservation, PositiveDopplerIsAnApproachingSatellite) {
+  G05Doppler g;
+  ppp::ObsEpoch& epoch = g.epoch;
+  const ppp::DualFrequencyObservation& s = g.s;
   const FixedEphemeris ephemeris;
   const ppp::DopplerEpoch d = ppp::dopplerObservations(epoch, {s}, {ppp::GnssSystem::GPS}, {}, ephemeris);
   ASSERT_EQ(d.observations.size(), 1u);
@@ -175,17 +184,9 @@ TEST(DopplerObservation, ASatelliteWithoutADualFrequencyPairUsesItsFirstDopplerW
 // the end of the clocks' span the one-sided difference reuses the answer at the
 // transmission time.
 TEST(DopplerObservation, TheSatelliteClockIsAskedOnceAtTheTransmissionTime) {
-  ppp::ObsEpoch epoch;
-  epoch.time = kT0;
-  const ppp::SatelliteId g05{ppp::GnssSystem::GPS, 5};
-  epoch.satellites.push_back({g05, 0, 2});
-  epoch.observations.push_back({*ppp::ObservationCode::parse("L1C"), 1.0e8, std::nullopt, std::nullopt});
-  epoch.observations.push_back({*ppp::ObservationCode::parse("D1C"), 1000.0, std::nullopt, std::nullopt});
-  ppp::DualFrequencyObservation s;
-  s.satellite = g05;
-  s.phase1 = *ppp::ObservationCode::parse("L1C");
-  s.frequency1_hz = 1575.42e6;
-  s.code1_m = 2.2e7;
+  G05Doppler g;
+  ppp::ObsEpoch& epoch = g.epoch;
+  const ppp::DualFrequencyObservation& s = g.s;
   FixedEphemeris ephemeris;
   const double expected_mps =
       ppp::kSpeedOfLight_mps * 1e-9 + ppp::relativisticClockRate_mps(ephemeris.position, ephemeris.velocity);
