@@ -39,6 +39,7 @@
 #include "ppp_bayes_tree/navigation/imu_bias.h"
 #include "ppp_bayes_tree/navigation/imu_noise.h"
 #include "ppp_bayes_tree/navigation/imu_sample.h"
+#include "ppp_bayes_tree/navigation/nav_state.h"
 #include "ppp_bayes_tree/simulation/flight_trajectory.h"
 
 namespace ppp {
@@ -69,5 +70,7 @@ SimulatedImu simulateImu(const std::vector<TrajectorySample>& trajectory, const 
 
 /// The rotation ECEF <- body of a trajectory sample (attitude in the local NED frame at its position).
 Eigen::Matrix3d ecefFromBody(const TrajectorySample& sample);
+/// The true navigation state (ECEF attitude, position, velocity) of a trajectory sample.
+NavState trueNavState(const TrajectorySample& sample);
 
 }  // namespace ppp

@@ -16,14 +16,6 @@ std::size_t readingHeldAt(const std::vector<ImuSample>& samples, const GnssTime&
   return after == samples.begin() ? samples.size() : static_cast<std::size_t>(after - samples.begin()) - 1;
 }
 
-NavState trueNavState(const TrajectorySample& truth) {
-  NavState s;
-  s.rotation_world_body = ecefFromBody(truth);
-  s.position_world_m = truth.position_ecef_m;
-  s.velocity_world_mps = truth.velocity_ecef_mps;
-  return s;
-}
-
 }  // namespace
 
 std::optional<Eigen::Vector3d> insCoastErrorFromTruth_enu_m(const SimulatedImu& imu, const TrajectorySample& from,

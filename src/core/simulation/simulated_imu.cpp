@@ -114,6 +114,14 @@ Eigen::Matrix3d ecefFromBody(const TrajectorySample& sample) {
   return ned_from_ecef.transpose() * bodyFromNed(sample.roll_rad, sample.pitch_rad, sample.yaw_rad).transpose();
 }
 
+NavState trueNavState(const TrajectorySample& sample) {
+  NavState s;
+  s.rotation_world_body = ecefFromBody(sample);
+  s.position_world_m = sample.position_ecef_m;
+  s.velocity_world_mps = sample.velocity_ecef_mps;
+  return s;
+}
+
 std::vector<ImuSample> trueImuReadings(const std::vector<TrajectorySample>& trajectory, double rate_hz) {
   checkTrajectory(trajectory, rate_hz);
   const TrajectoryInterpolant path(trajectory);

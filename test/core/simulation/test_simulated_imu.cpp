@@ -52,14 +52,6 @@ std::vector<TrajectorySample> atRest(double roll_rad, double pitch_rad, double y
   return out;
 }
 
-NavState navState(const TrajectorySample& s) {
-  NavState n;
-  n.rotation_world_body = ecefFromBody(s);
-  n.position_world_m = s.position_ecef_m;
-  n.velocity_world_mps = s.velocity_ecef_mps;
-  return n;
-}
-
 struct Worst {
   double rotation_rad = 0.0, max_roll_rad = 0.0;
   double velocity_mps = 0.0, position_m = 0.0;
@@ -74,8 +66,8 @@ Worst preintegrationAgainstTrajectory(const std::vector<TrajectorySample>& traj,
     ImuPreintegration pim(noise, ImuBias{});
     EXPECT_EQ(pim.integrateBetween(imu, traj[i].time, traj[i + 1].time), 200u) << "interval " << i;
     const NavState predicted =
-        predictNavState(pim, navState(traj[i]), ImuBias{}, ecefNavigationFrame(traj[i].position_ecef_m));
-    const NavState truth = navState(traj[i + 1]);
+        predictNavState(pim, trueNavState(traj[i]), ImuBias{}, ecefNavigationFrame(traj[i].position_ecef_m));
+    const NavState truth = trueNavState(traj[i + 1]);
     const Eigen::Matrix<double, 9, 1> e = truth.localCoordinates(predicted);
     w.rotation_rad = std::max(w.rotation_rad, e.segment<3>(0).norm());
     w.velocity_mps = std::max(w.velocity_mps, e.segment<3>(3).norm());
@@ -132,7 +124,7 @@ TEST(SimulatedImu, TrueReadingsFollowTenHertzTrajectoryThroughBankingTurns) {
 /// trajectory's first sample: the position error at each whole second.
 std::vector<double> mechanizationDrift_m(const std::vector<TrajectorySample>& traj, double imu_rate_hz) {
   const auto imu = trueImuReadings(traj, imu_rate_hz);
-  EcefInsMechanization ins(navState(traj.front()), ImuBias{});
+  EcefInsMechanization ins(trueNavState(traj.front()), ImuBias{});
   std::vector<double> drift{0.0};
   const auto per_second = static_cast<std::size_t>(std::lround(imu_rate_hz));
   for (std::size_t k = 0; k < imu.size(); ++k) {
