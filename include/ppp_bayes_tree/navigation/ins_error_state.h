@@ -86,4 +86,18 @@ void applyInsErrorCorrection(const Vector15d& error, NavState* state_ecef, ImuBi
 /// SO(3)); the covariance after the reset is J P J^T.
 Matrix15d insErrorResetJacobian(const Vector15d& error);
 
+/// The GNSS antenna's position (ECEF) [m] at a state moved by an error dx:
+/// p + dp + R Exp(dtheta) l, with l the lever arm (antenna minus the IMU's origin) in the
+/// body axes [m].
+Eigen::Vector3d insAntennaPosition(const NavState& state_ecef, const Eigen::Vector3d& lever_arm_body_m,
+                                   const Vector15d& error = Vector15d::Zero());
+/// Its Jacobian with respect to dx (3 x 15): position I, attitude -R Exp(dtheta) [l]x
+/// Jr(dtheta) (so3.h: Exp(a + d) ~= Exp(a) Exp(Jr(a) d)), zero elsewhere.
+Eigen::Matrix<double, 3, kInsErrorStateSize> insAntennaPositionJacobian(const NavState& state_ecef,
+                                                                       const Eigen::Vector3d& lever_arm_body_m,
+                                                                       const Vector15d& error = Vector15d::Zero());
+/// The antenna position's covariance J P J^T [m^2] for the error's covariance P, J at dx.
+Eigen::Matrix3d insAntennaPositionCovariance(const NavState& state_ecef, const Eigen::Vector3d& lever_arm_body_m,
+                                             const Matrix15d& covariance, const Vector15d& error = Vector15d::Zero());
+
 }  // namespace ppp

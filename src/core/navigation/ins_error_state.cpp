@@ -102,4 +102,27 @@ Matrix15d insErrorResetJacobian(const Vector15d& error) {
   return j;
 }
 
+Eigen::Vector3d insAntennaPosition(const NavState& state_ecef, const Eigen::Vector3d& lever_arm_body_m,
+                                   const Vector15d& error) {
+  const Eigen::Matrix3d R = state_ecef.rotation_world_body * so3::expMap(error.segment<3>(Index::kAttitude));
+  return state_ecef.position_world_m + error.segment<3>(Index::kPosition) + R * lever_arm_body_m;
+}
+
+Eigen::Matrix<double, 3, kInsErrorStateSize> insAntennaPositionJacobian(const NavState& state_ecef,
+                                                                       const Eigen::Vector3d& lever_arm_body_m,
+                                                                       const Vector15d& error) {
+  const Eigen::Vector3d a = error.segment<3>(Index::kAttitude);
+  const Eigen::Matrix3d R = state_ecef.rotation_world_body * so3::expMap(a);
+  Eigen::Matrix<double, 3, kInsErrorStateSize> J = Eigen::Matrix<double, 3, kInsErrorStateSize>::Zero();
+  J.block<3, 3>(0, Index::kAttitude) = -R * so3::hat(lever_arm_body_m) * so3::rightJacobian(a);
+  J.block<3, 3>(0, Index::kPosition) = Eigen::Matrix3d::Identity();
+  return J;
+}
+
+Eigen::Matrix3d insAntennaPositionCovariance(const NavState& state_ecef, const Eigen::Vector3d& lever_arm_body_m,
+                                             const Matrix15d& covariance, const Vector15d& error) {
+  const Eigen::Matrix<double, 3, kInsErrorStateSize> J = insAntennaPositionJacobian(state_ecef, lever_arm_body_m, error);
+  return J * covariance * J.transpose();
+}
+
 }  // namespace ppp

@@ -1,6 +1,8 @@
 // The 15-state INS error model: F against numerical differentiation of the
 // mechanization, the gravity gradient against the gravity model, the propagated
-// covariance against a Monte Carlo of noisy static runs, and the closed-loop reset.
+// covariance against a Monte Carlo of noisy static runs, the closed-loop reset, and the
+// antenna position at a lever arm: its Jacobian against numerical differences and its
+// covariance against sampled errors.
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
@@ -255,6 +257,81 @@ TEST(InsErrorState, CorrectionMovesTheEstimateOntoTheTruthAndResetJacobianMatche
     const Eigen::Vector3d first_order = Eigen::Vector3d::Unit(j) - 0.5 * error.head<3>().cross(Eigen::Vector3d::Unit(j));
     EXPECT_LT((column.head<3>() - first_order).norm(), error.head<3>().squaredNorm() / 6.0) << "column " << j;
   }
+}
+
+TEST(InsErrorState, AntennaPositionJacobianMatchesNumericalDifferencesOfEveryErrorComponent) {
+  // Near the origin, with a range to a point 50 m away, so that the central
+  // differences are not lost in the rounding of ECEF coordinates (the mapping
+  // does not depend on where the nominal is).
+  NavState nominal;
+  nominal.position_world_m = Eigen::Vector3d(3.0, -2.0, 1.0);
+  nominal.rotation_world_body = so3::expMap(Eigen::Vector3d(0.3, -1.1, 2.0));
+  nominal.velocity_world_mps = Eigen::Vector3d(3.0, -4.0, 1.0);
+  const Eigen::Vector3d lever(0.8, -0.3, 1.5);
+  const Eigen::Vector3d satellite(20.0, 30.0, 30.0);
+  for (const double size : {0.0, 0.02}) {  // at the nominal and at an error already estimated
+    Vector15d at = Vector15d::Zero();
+    if (size > 0.0) at << size, -size, 2 * size, 0.1, 0.2, -0.1, 0.3, -0.2, 0.5, 0.01, 0.0, 0.0, 1e-4, 0.0, 0.0;
+    const Eigen::Matrix<double, 3, 15> J = insAntennaPositionJacobian(nominal, lever, at);
+    const Eigen::Vector3d p0 = insAntennaPosition(nominal, lever, at);
+    const Eigen::RowVector3d u = -(satellite - p0).normalized().transpose();  // d range / d antenna
+    const double h = 1e-6;
+    for (int i = 0; i < 15; ++i) {
+      SCOPED_TRACE("component " + std::to_string(i) + ", at size " + std::to_string(size));
+      Vector15d plus = at, minus = at;
+      plus(i) += h;
+      minus(i) -= h;
+      const Eigen::Vector3d numeric = (insAntennaPosition(nominal, lever, plus) -
+                                       insAntennaPosition(nominal, lever, minus)) / (2 * h);
+      EXPECT_LT((numeric - J.col(i)).norm(), 1e-7) << numeric.transpose() << " vs " << J.col(i).transpose();
+      // The range model through the chain rule.
+      const double range_numeric = ((satellite - insAntennaPosition(nominal, lever, plus)).norm() -
+                                    (satellite - insAntennaPosition(nominal, lever, minus)).norm()) /
+                                   (2 * h);
+      EXPECT_NEAR(range_numeric, u * J.col(i), 1e-7);
+    }
+    // The sign convention of ins_error_state.h: truth = nominal moved by the error.
+    if (size == 0.0) {
+      EXPECT_TRUE((J.block<3, 3>(0, 6).isIdentity(0.0)));
+      EXPECT_TRUE((J.block<3, 3>(0, 3).isZero(0.0)));
+      EXPECT_TRUE((J.rightCols<6>().isZero(0.0)));
+      EXPECT_LT(((J.block<3, 3>(0, 0)) + nominal.rotation_world_body * so3::hat(lever)).norm(), 1e-12);
+    }
+  }
+}
+
+TEST(InsErrorState, AntennaPositionCovarianceMatchesTheSpreadOfSampledErrors) {
+  // J P J^T against the sample covariance of the antenna positions at errors drawn
+  // from P: attitude errors of 0.5 deg turn a 1.5-m lever arm by about 1.3 cm.
+  NavState nominal;
+  nominal.position_world_m = Eigen::Vector3d(4331297.0, 567555.0, 4633133.0);
+  nominal.rotation_world_body = so3::expMap(Eigen::Vector3d(0.3, -1.1, 2.0));
+  const Eigen::Vector3d lever(0.8, -0.3, 1.5);
+  Vector15d sigma = Vector15d::Constant(1e-3);
+  sigma.segment<3>(InsErrorIndex::kAttitude) = Eigen::Vector3d(0.5, 0.3, 0.8) * kDegToRad;
+  sigma.segment<3>(InsErrorIndex::kPosition) = Eigen::Vector3d(0.01, 0.02, 0.005);
+  const Matrix15d P = sigma.cwiseAbs2().asDiagonal();
+  const Eigen::Matrix3d predicted = insAntennaPositionCovariance(nominal, lever, P);
+  std::mt19937 rng(11);
+  std::normal_distribution<double> n01;
+  const int samples = 20000;
+  const Eigen::Vector3d p0 = insAntennaPosition(nominal, lever);
+  Eigen::Matrix3d sampled = Eigen::Matrix3d::Zero();
+  for (int k = 0; k < samples; ++k) {
+    Vector15d e;
+    for (int i = 0; i < kInsErrorStateSize; ++i) e(i) = sigma(i) * n01(rng);
+    const Eigen::Vector3d d = insAntennaPosition(nominal, lever, e) - p0;
+    sampled += d * d.transpose() / samples;
+  }
+  // 20000 samples: a variance within about 3 % (4 sigma), a covariance within 3 % of the diagonal.
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) {
+      const double scale = std::sqrt(predicted(i, i) * predicted(j, j));
+      EXPECT_NEAR(sampled(i, j), predicted(i, j), 0.04 * scale) << i << "," << j;
+    }
+  // Without the lever arm only the position error is left.
+  EXPECT_TRUE(insAntennaPositionCovariance(nominal, Eigen::Vector3d::Zero(), P)
+                  .isApprox(P.block<3, 3>(InsErrorIndex::kPosition, InsErrorIndex::kPosition), 1e-12));
 }
 
 }  // namespace

@@ -123,12 +123,6 @@ class PppInsEkf : public PppEkf {
   /// an epoch not predicted.
   const std::optional<Eigen::Vector3d>& predictedAntennaPosition() const { return predicted_antenna_m_; }
 
-  /// The antenna position at a nominal state moved by an INS error (ins_error_state.h
-  /// order), and its Jacobian with respect to that error (3 x 15).
-  static Eigen::Vector3d antennaPositionAt(const NavState& nominal, const Eigen::Vector3d& lever_arm_body_m,
-                                           const Eigen::Matrix<double, 15, 1>& error);
-  static Eigen::Matrix<double, 3, 15> antennaJacobian(const NavState& nominal, const Eigen::Vector3d& lever_arm_body_m,
-                                                      const Eigen::Matrix<double, 15, 1>& error);
   /// The antenna velocity (ECEF) at a nominal state moved by an INS error, with the
   /// gyro reading w_ib (bias-corrected by the nominal bias), and its Jacobian
   /// (3 x 15: velocity I, attitude -R [w_eb x l]x, gyro bias R [l]x; the Earth

@@ -38,23 +38,6 @@ std::string InsEkfOptions::validate() const {
 PppInsEkf::PppInsEkf(const EstimatorOptions& options)
     : PppEkf(options), ins_(options.ins), track_(options.ins.heading_alignment) {}
 
-Eigen::Vector3d PppInsEkf::antennaPositionAt(const NavState& nominal, const Eigen::Vector3d& lever_arm_body_m,
-                                             const Vector15d& error) {
-  const Eigen::Matrix3d R = nominal.rotation_world_body * so3::expMap(error.segment<3>(InsErrorIndex::kAttitude));
-  return nominal.position_world_m + error.segment<3>(InsErrorIndex::kPosition) + R * lever_arm_body_m;
-}
-
-Eigen::Matrix<double, 3, 15> PppInsEkf::antennaJacobian(const NavState& nominal, const Eigen::Vector3d& lever_arm_body_m,
-                                                        const Vector15d& error) {
-  // d(R Exp(a) l)/da = -R Exp(a) [l]x Jr(a) (so3.h: Exp(a + d) ~= Exp(a) Exp(Jr(a) d)).
-  const Eigen::Vector3d a = error.segment<3>(InsErrorIndex::kAttitude);
-  const Eigen::Matrix3d R = nominal.rotation_world_body * so3::expMap(a);
-  Eigen::Matrix<double, 3, 15> J = Eigen::Matrix<double, 3, 15>::Zero();
-  J.block<3, 3>(0, InsErrorIndex::kAttitude) = -R * so3::hat(lever_arm_body_m) * so3::rightJacobian(a);
-  J.block<3, 3>(0, InsErrorIndex::kPosition) = Eigen::Matrix3d::Identity();
-  return J;
-}
-
 namespace {
 
 /// w_eb in the body axes: the gyro reading less the Earth's rate.
@@ -87,7 +70,7 @@ Eigen::Matrix<double, 3, 15> PppInsEkf::antennaVelocityJacobian(const NavState& 
 }
 
 Eigen::Vector3d PppInsEkf::antennaPosition() const {
-  return antennaPositionAt(nominal_, ins_.lever_arm_body_m, Vector15d::Zero());
+  return insAntennaPosition(nominal_, ins_.lever_arm_body_m, Vector15d::Zero());
 }
 
 // ---- The seam of PppEkf: the core is [INS error (15); receiver states but the position] ----
@@ -95,7 +78,7 @@ Eigen::Vector3d PppInsEkf::antennaPosition() const {
 ReceiverState PppInsEkf::receiverStateAt(const Eigen::VectorXd& x) const {
   const int rest = layout_.dim() - ReceiverStateLayout::kPositionSize;
   Eigen::VectorXd v(layout_.dim());
-  v.head<3>() = antennaPositionAt(nominal_, ins_.lever_arm_body_m, x.head<kInsErrorStateSize>());
+  v.head<3>() = insAntennaPosition(nominal_, ins_.lever_arm_body_m, x.head<kInsErrorStateSize>());
   v.tail(rest) = x.segment(kInsErrorStateSize, rest);
   return ReceiverState::fromVector(v, layout_);
 }
@@ -104,7 +87,7 @@ Eigen::MatrixXd PppInsEkf::receiverJacobianAt(const Eigen::VectorXd& x) const {
   const int rest = layout_.dim() - ReceiverStateLayout::kPositionSize;
   Eigen::MatrixXd M = Eigen::MatrixXd::Zero(layout_.dim(), coreDim());
   M.topLeftCorner(3, kInsErrorStateSize) =
-      antennaJacobian(nominal_, ins_.lever_arm_body_m, x.head<kInsErrorStateSize>());
+      insAntennaPositionJacobian(nominal_, ins_.lever_arm_body_m, x.head<kInsErrorStateSize>());
   M.bottomRightCorner(rest, rest).setIdentity();
   return M;
 }
@@ -161,9 +144,8 @@ void PppInsEkf::closeLoop(Filter& f) {
 }
 
 Eigen::Matrix3d PppInsEkf::antennaCovariance(const Filter& f) const {
-  const Eigen::Matrix<double, 15, 1> error = f.x.head<15>();
-  const Eigen::Matrix<double, 3, 15> J = antennaJacobian(nominal_, ins_.lever_arm_body_m, error);
-  return J * f.P.topLeftCorner<15, 15>() * J.transpose();
+  return insAntennaPositionCovariance(nominal_, ins_.lever_arm_body_m, f.P.topLeftCorner<kInsErrorStateSize, kInsErrorStateSize>(),
+                                      f.x.head<kInsErrorStateSize>());
 }
 
 // ---- The epoch: readings, start, propagation ----
@@ -362,7 +344,7 @@ bool PppInsEkf::updateWithDoppler(Filter& f) {
   if (!ins_.doppler.enabled || doppler_.empty() || !held_) return false;
   const Vector15d error = f.x.head<kInsErrorStateSize>();
   const DopplerVelocitySolution v =
-      solveDopplerVelocity(doppler_, antennaPositionAt(nominal_, ins_.lever_arm_body_m, error), ins_.doppler);
+      solveDopplerVelocity(doppler_, insAntennaPosition(nominal_, ins_.lever_arm_body_m, error), ins_.doppler);
   DopplerUpdate& u = doppler_update_;
   u.velocity_status = v.status;
   u.satellites = static_cast<int>(v.used.size());

@@ -12,7 +12,6 @@
 #include "ppp_bayes_tree/ppp/estimators/antenna_position_factor.h"
 #include "ppp_bayes_tree/ppp/estimators/ins_gap_bridge.h"
 #include "ppp_bayes_tree/ppp/estimators/ins_start_attitude.h"
-#include "ppp_bayes_tree/ppp/estimators/ppp_ins_ekf.h"
 #include "ppp_bayes_tree/ppp/model/ppp_factors.h"
 #include "ppp_bayes_tree/smoother/prior_factor.h"
 
@@ -131,12 +130,9 @@ Eigen::Matrix3d PppInsSmoother::gapPositionCovariance() const {
   if (!c || !nav_ || !lastTime() || !(c->time == *lastTime())) {
     return grownGapPositionCovariance(Eigen::Matrix3d::Zero(), Eigen::Matrix3d::Zero());
   }
-  const auto antennaCov = [&](const NavState& nav, const Matrix15d& P) -> Eigen::Matrix3d {
-    const Eigen::Matrix<double, 3, 15> J = PppInsEkf::antennaJacobian(nav, ins_.lever_arm_body_m, Vector15d::Zero());
-    return J * P * J.transpose();
-  };
   const Matrix15d after = propagatedCovariance(c->covariance, c->nav, c->bias, readings_, c->time, epoch_time_, ins_);
-  return grownGapPositionCovariance(antennaCov(*nav_, after), antennaCov(c->nav, c->covariance));
+  return grownGapPositionCovariance(insAntennaPositionCovariance(*nav_, ins_.lever_arm_body_m, after),
+                                    insAntennaPositionCovariance(c->nav, ins_.lever_arm_body_m, c->covariance));
 }
 
 void PppInsSmoother::verifyBridgedArcs(const std::vector<BridgedArc>& bridged,

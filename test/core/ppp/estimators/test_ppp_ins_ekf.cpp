@@ -1,5 +1,5 @@
 // PppInsEkf, the tightly coupled GNSS/INS filter: the error-state mapping of the
-// antenna position against numerical differences; a simulated run (noise-free
+// antenna velocity against numerical differences; a simulated run (noise-free
 // IMU of an analytic turn, test/support/analytic_trajectory.h; GNSS code and
 // phase of the synthetic generator ppp_simulator.h with its noise, the same data
 // for the GNSS EKF) where its position error is at most the EKF's and its attitude
@@ -33,46 +33,7 @@ NavState someNominal() {
   return s;
 }
 
-// ---- (a) The error-state mapping of the antenna position ----------------------------
-
-TEST(PppInsEkf, AntennaJacobianMatchesNumericalDifferencesOfEveryErrorComponent) {
-  // Near the origin, with a range to a point 50 m away, so that the central
-  // differences are not lost in the rounding of ECEF coordinates (the mapping
-  // does not depend on where the nominal is).
-  NavState nominal = someNominal();
-  nominal.position_world_m = Eigen::Vector3d(3.0, -2.0, 1.0);
-  const Eigen::Vector3d lever(0.8, -0.3, 1.5);
-  const Eigen::Vector3d satellite(20.0, 30.0, 30.0);
-  for (const double size : {0.0, 0.02}) {  // at the nominal and at an error already estimated
-    Vector15 at = Vector15::Zero();
-    if (size > 0.0) at << size, -size, 2 * size, 0.1, 0.2, -0.1, 0.3, -0.2, 0.5, 0.01, 0.0, 0.0, 1e-4, 0.0, 0.0;
-    const Eigen::Matrix<double, 3, 15> J = PppInsEkf::antennaJacobian(nominal, lever, at);
-    const Eigen::Vector3d p0 = PppInsEkf::antennaPositionAt(nominal, lever, at);
-    const Eigen::RowVector3d u = -(satellite - p0).normalized().transpose();  // d range / d antenna
-    const double h = 1e-6;
-    for (int i = 0; i < 15; ++i) {
-      SCOPED_TRACE("component " + std::to_string(i) + ", at size " + std::to_string(size));
-      Vector15 plus = at, minus = at;
-      plus(i) += h;
-      minus(i) -= h;
-      const Eigen::Vector3d numeric = (PppInsEkf::antennaPositionAt(nominal, lever, plus) -
-                                       PppInsEkf::antennaPositionAt(nominal, lever, minus)) / (2 * h);
-      EXPECT_LT((numeric - J.col(i)).norm(), 1e-7) << numeric.transpose() << " vs " << J.col(i).transpose();
-      // The range model through the chain rule.
-      const double range_numeric = ((satellite - PppInsEkf::antennaPositionAt(nominal, lever, plus)).norm() -
-                                    (satellite - PppInsEkf::antennaPositionAt(nominal, lever, minus)).norm()) /
-                                   (2 * h);
-      EXPECT_NEAR(range_numeric, u * J.col(i), 1e-7);
-    }
-    // The sign convention of ins_error_state.h: truth = nominal moved by the error.
-    if (size == 0.0) {
-      EXPECT_TRUE((J.block<3, 3>(0, 6).isIdentity(0.0)));
-      EXPECT_TRUE((J.block<3, 3>(0, 3).isZero(0.0)));
-      EXPECT_TRUE((J.rightCols<6>().isZero(0.0)));
-      EXPECT_LT(((J.block<3, 3>(0, 0)) + nominal.rotation_world_body * so3::hat(lever)).norm(), 1e-12);
-    }
-  }
-}
+// ---- (a) The error-state mapping of the antenna velocity ----------------------------
 
 TEST(PppInsEkf, AntennaVelocityJacobianMatchesNumericalDifferences) {
   // The Doppler velocity update's model: v + R Exp(dtheta) (w_eb x lever), w_eb the
