@@ -315,7 +315,7 @@ TEST(ImuEpochHold, AfterMaxWaitTheEpochGoesOnWithTheImuLagCountedAndNamed) {
   EXPECT_NEAR(hold.counters().largest_lag_s, 0.035, 1e-9);
   const std::string text = ppp_ros::imuWaitedOutText(r->time, r->waited_s, r->decision, "/imu/data", kMaxWait_s);
   EXPECT_NE(text.find("waiting 0.101 s for the IMU on /imu/data (ros.imu.max_wait_s 0.1)"), std::string::npos) << text;
-  EXPECT_NE(text.find("newest reading 0.035 s before the epoch"), std::string::npos) << text;
+  EXPECT_NE(text.find("newest reading 35.0 ms before the epoch"), std::string::npos) << text;
 }
 
 TEST(ImuEpochHold, ASilentOrStoppedImuHoldsNoEpoch) {

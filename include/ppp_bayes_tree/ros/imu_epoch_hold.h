@@ -155,7 +155,7 @@ class ImuEpochHold {
 
 /// One line for the log and the diagnostics: "epoch 2026-05-13 00:00:01.000 GPS processed
 /// after waiting 0.100 s for the IMU on imu/data (ros.imu.max_wait_s 0.1): its newest reading
-/// 0.035 s before the epoch, the readings after it missing (counted)".
+/// 35.0 ms before the epoch, the readings after it missing (counted)".
 std::string imuWaitedOutText(const ppp::GnssTime& epoch_time, double waited_s, const ImuWaitDecision& decision,
                              const std::string& topic, double max_wait_s);
 
