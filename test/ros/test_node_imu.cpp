@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -366,6 +367,47 @@ TEST(ImuEpochHold, NoWaitWithMaxWaitZeroOrAnEstimatorWithoutReadings) {
   EXPECT_EQ(a->decision.outcome, ImuWaitOutcome::NoWait);
   EXPECT_EQ(hold.counters().waited_out, 0u);
   EXPECT_EQ(hold.counters().silent, 0u);
+}
+
+TEST(ImuEpochHold, AnImuDriverSlowerThanTheReceiverGivesTheEpochAllItsReadings) {
+  // A 100 Hz IMU whose readings arrive 30 ms after their time, a GNSS epoch at kT0 + 1 ready
+  // 10 ms after its time (ROS time = 100 s + data time from kT0). Taken when it is ready, the
+  // epoch would get the readings up to kT0 + 0.98: the last 20 ms of its interval missing, and
+  // those readings, older than the epoch, would come after it. Held, it goes on at the arrival
+  // of the reading at its time with every reading up to it.
+  ppp_ros::RosNodeOptions o;
+  Warnings w;
+  NodeImuInput in(o, w.sink()), unheld(o, w.sink());
+  ppp_ros::ImuEpochHold<int> hold(o.imu.max_wait_s);
+  const double imu_latency_s = 0.03, gnss_latency_s = 0.01;
+  std::optional<std::vector<ppp::ImuSample>> taken, taken_when_ready;
+  for (int k = 0; k <= 110; ++k) {  // IMU arrivals in time order, the epoch's readiness among them
+    const double arrival_s = kReady_s + 0.01 * k + imu_latency_s;
+    const double epoch_ready_s = kReady_s + 1.0 + gnss_latency_s;
+    if (!taken_when_ready && arrival_s > epoch_ready_s) {
+      taken_when_ready = unheld.takeUpTo(kT0 + 1.0);
+      hold.hold(1, kT0 + 1.0, epoch_ready_s);
+      EXPECT_FALSE(hold.release(epoch_ready_s));
+    }
+    for (NodeImuInput* input : {&in, &unheld}) {
+      const std::vector<ppp::ImuSample> accepted = input->receive(restMessage(0.01 * k), kT0, Eigen::Matrix3d::Identity());
+      if (input == &in && !accepted.empty()) hold.readingAccepted(accepted.back().time, arrival_s);
+    }
+    if (auto r = hold.release(arrival_s)) {
+      EXPECT_EQ(r->decision.outcome, ImuWaitOutcome::Covered);
+      EXPECT_NEAR(r->waited_s, imu_latency_s - gnss_latency_s, 1e-9);
+      taken = in.takeUpTo(r->time);
+    }
+  }
+  ASSERT_TRUE(taken && taken_when_ready);
+  ASSERT_FALSE(taken->empty());
+  EXPECT_EQ(taken->size(), 101u);  // kT0 + 0.00 ... kT0 + 1.00
+  EXPECT_EQ(taken->back().time - (kT0 + 1.0), 0.0);
+  ASSERT_FALSE(taken_when_ready->empty());
+  EXPECT_EQ(taken_when_ready->size(), 99u);
+  EXPECT_NEAR(taken_when_ready->back().time - (kT0 + 1.0), -0.02, 1e-9);
+  // The two readings that came late wait in the buffer for the next epoch, older than the one taken.
+  EXPECT_NEAR(unheld.pending().front().time - (kT0 + 1.0), -0.01, 1e-9);
 }
 
 TEST(ImuEpochHold, MaxWaitFromRosImuDefaultAndRange) {
