@@ -7,9 +7,8 @@
 // its max_imu_interval_s stops the INS (NoImuReadings: the node falls back to GNSS
 // only). Transports and drivers deliver IMU and GNSS with different latencies (an
 // IMU driver slower than the GNSS one, a bag's interleaving, Nagle's algorithm), so
-// an epoch waits, like the sensor synchronisation of a loosely or tightly coupled
-// INS (robot_localization's ekf_node keeps its measurements in time order and
-// predicts up to each; an INS receiver waits for the IMU packet of its time tag):
+// an epoch waits (as robot_localization's filter nodes queue their measurements and
+// take each in time order after the prediction up to its stamp):
 //   - until a reading at or after its time has been accepted (the readings before
 //     it are then all there: the IMU topic is in time order, the screen refuses
 //     readings going back), or
