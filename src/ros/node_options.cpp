@@ -174,6 +174,9 @@ void bindImu(ppp::YamlSection& s, RosNodeOptions& o) {
   i.attitude_sigma_valid_deg = m.number("attitude_sigma_valid_deg", i.attitude_sigma_valid_deg, ppp::Bound::Positive);
   i.buffer_s = m.number("buffer_s", i.buffer_s, ppp::Bound::Positive);
   if (i.buffer_s > 3600.0) m.fail("buffer_s", "must be in (0, 3600] s (the readings are kept in memory)");
+  i.max_wait_s = m.number("max_wait_s", i.max_wait_s, ppp::Bound::NonNegative);
+  if (i.max_wait_s > 1.0)
+    m.fail("max_wait_s", "must be in [0, 1] s (each epoch the IMU does not cover waits this long: the fix is as late)");
   m.finish();
 }
 

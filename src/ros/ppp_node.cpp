@@ -1,5 +1,6 @@
 #include "ppp_bayes_tree/ros/ppp_node.h"
 
+#include <algorithm>
 #include <chrono>
 #include <limits>
 #include <sstream>
@@ -156,6 +157,7 @@ void PppNode::resetEstimator(const std::string& why) {
   last_odometry_stamp_.reset();
   if (imu_) {
     imu_->reset();
+    epoch_hold_.imuReset();
     ins_odometry_->stop();
   }
 }
@@ -177,7 +179,10 @@ void PppNode::onObservations(const ros::MessageEvent<ppp_bayes_tree::GnssObserva
     const ppp::GnssTime t = fromUtcStamp(event.getMessage()->header.stamp);
     if (!newest_gnss_time_ || t - *newest_gnss_time_ > 0.0 || intake.reset_why) newest_gnss_time_ = t;
   }
-  if (intake.reset_why) resetEstimator(*intake.reset_why);
+  if (intake.reset_why) {
+    releaseHeldEpochs(true);  // the epochs before the jump go on first, in order
+    resetEstimator(*intake.reset_why);
+  }
   inputs_.admitObservations(intake, [this](const ppp::GnssTime& time) { publishEmptyEpoch(time); });
   drain();
 }
@@ -209,19 +214,78 @@ void PppNode::drain() {
     drainLive();
   } else {
     const double now_s = ros::Time::now().toSec();
-    while (std::optional<PendingObservation> ready = inputs_.nextReady(now_s))
-      if (std::optional<ppp::ObsEpoch> epoch = inputs_.toEpoch(*ready)) processObsEpoch(*epoch);
+    while (std::optional<PendingObservation> ready = inputs_.nextReady(now_s)) {
+      const ppp::GnssTime time = ready->time;
+      admitEpoch(std::move(*ready), time, now_s);
+    }
   }
+  releaseHeldEpochs();
   diagnostics_.update();
 }
 
 void PppNode::drainLive() {
-  for (const ppp::LiveReadyEpoch& ready : inputs_.takeLiveReady(ros::Time::now().toSec())) processLiveEpoch(ready);
+  const double now_s = ros::Time::now().toSec();
+  for (ppp::LiveReadyEpoch& ready : inputs_.takeLiveReady(now_s)) {
+    const ppp::GnssTime time = ready.epoch.time;
+    // The newest epoch received (the IMU's time base is compared with it), also while it waits.
+    if (!newest_gnss_time_ || time - *newest_gnss_time_ > 0.0) newest_gnss_time_ = time;
+    admitEpoch(std::move(ready), time, now_s);
+  }
+}
+
+bool PppNode::waitsForImu() const { return imu_ && inertialActive(); }
+
+void PppNode::admitEpoch(HeldEpoch epoch, const ppp::GnssTime& time, double now_s) {
+  if (epoch_hold_.empty() && !waitsForImu()) {  // GNSS only: at once, as it comes
+    processHeld(epoch);
+    return;
+  }
+  epoch_hold_.hold(std::move(epoch), time, now_s);
+}
+
+void PppNode::releaseHeldEpochs(bool all) {
+  if (epoch_hold_.empty()) return;
+  while (std::optional<ReleasedEpoch<HeldEpoch>> r =
+             epoch_hold_.release(ros::Time::now().toSec(), !all && waitsForImu())) {
+    if (r->decision.outcome == ImuWaitOutcome::WaitedOut)
+      warnings_.warn("imu:waited out", "ppp: " + imuWaitedOutText(r->time, r->waited_s, r->decision,
+                                                                   nh_.resolveName(imu_->topic()),
+                                                                   epoch_hold_.maxWait_s()));
+    processHeld(r->epoch);
+  }
+  armHoldTimer();
+}
+
+void PppNode::processHeld(HeldEpoch& epoch) {
+  if (auto* live = std::get_if<ppp::LiveReadyEpoch>(&epoch)) {
+    processLiveEpoch(*live);
+  } else if (std::optional<ppp::ObsEpoch> obs = inputs_.toEpoch(std::get<PendingObservation>(epoch))) {
+    processObsEpoch(*obs);
+  }
+}
+
+void PppNode::armHoldTimer() {
+  const std::optional<double> deadline_s = epoch_hold_.deadline_s();
+  if (deadline_s == hold_deadline_s_) return;
+  hold_deadline_s_ = deadline_s;
+  if (!deadline_s) {
+    hold_timer_.stop();
+    return;
+  }
+  // Just after the deadline (a timer fires at or after its time).
+  const double in_s = std::max(*deadline_s - ros::Time::now().toSec(), 0.0) + 1e-3;
+  hold_timer_ = nh_.createTimer(
+      ros::Duration(in_s),
+      [this](const ros::TimerEvent&) {
+        hold_deadline_s_.reset();
+        releaseHeldEpochs();
+        diagnostics_.update();
+      },
+      true);
 }
 
 void PppNode::processLiveEpoch(const ppp::LiveReadyEpoch& ready) {
   if (auto why = inputs_.liveRestart(ready, last_output_time_, ros::Time::now())) resetEstimator(*why);
-  if (!newest_gnss_time_ || ready.epoch.time - *newest_gnss_time_ > 0.0) newest_gnss_time_ = ready.epoch.time;
   if (!inputs_.admitLiveEpoch(ready)) return;
   processObsEpoch(ready.epoch);
   if (ready.arrival_s) inputs_.recordLiveLatency(ros::Time::now().toSec() - *ready.arrival_s);
@@ -360,10 +424,12 @@ void PppNode::setUpImu() {
   if (!o.extrinsics_from_tf) imu_extrinsics_ = parameterExtrinsics(o);
   config_.ppp.ins = insOptions(config_.ros, imu_extrinsics_.value_or(ImuExtrinsics{}), config_.ppp.ins);
   imu_ = std::make_unique<NodeImuInput>(config_.ros, warnings_.sink());
+  epoch_hold_ = ImuEpochHold<HeldEpoch>(o.max_wait_s);
   ins_odometry_ = std::make_unique<InsOdometry>(config_.ppp.ins);
   ROS_INFO_STREAM("ppp: " << config_.ros.estimator << " with the IMU on " << nh_.resolveName(o.topic) << " ("
                           << o.grade << "; extrinsics from " << (o.extrinsics_from_tf ? "TF" : "ros.imu parameters")
-                          << "; start attitude " << startAttitudeName(o.initial_attitude) << ")");
+                          << "; start attitude " << startAttitudeName(o.initial_attitude)
+                          << "; an epoch waits for its readings at most " << o.max_wait_s << " s)");
 }
 
 void PppNode::onImu(const sensor_msgs::Imu::ConstPtr& msg) {
@@ -371,6 +437,9 @@ void PppNode::onImu(const sensor_msgs::Imu::ConstPtr& msg) {
   const std::optional<Eigen::Matrix3d> body_from_imu =
       known ? std::optional<Eigen::Matrix3d>(bodyFromImu(*imu_extrinsics_)) : std::nullopt;
   const std::vector<ppp::ImuSample> accepted = imu_->receive(*msg, newest_gnss_time_, body_from_imu);
+  // An epoch the new readings cover goes on now (before the odometry steps them: it restarts from the epoch).
+  if (!accepted.empty()) epoch_hold_.readingAccepted(accepted.back().time, ros::Time::now().toSec());
+  releaseHeldEpochs();
   if (ins_fallback_reason_) return;
   for (const ppp::ImuSample& r : accepted)
     if (const std::optional<InsState> state = ins_odometry_->step(r)) publishInsOdometry(*state);
@@ -522,6 +591,7 @@ std::string PppNode::headingPendingText() const {
 void PppNode::imuDiagnostics(diagnostic_updater::DiagnosticStatusWrapper& s) const {
   using diagnostic_msgs::DiagnosticStatus;
   const ImuInputCounters& c = imu_->counters();
+  const ImuWaitCounters& w = epoch_hold_.counters();
   const bool missing = !imu_extrinsics_ && c.received > 0;
   if (imu_extrinsics_problem_)
     s.summary(DiagnosticStatus::ERROR, *imu_extrinsics_problem_);
@@ -531,6 +601,9 @@ void PppNode::imuDiagnostics(diagnostic_updater::DiagnosticStatusWrapper& s) con
     s.summary(DiagnosticStatus::WARN, "GNSS only: " + *ins_fallback_reason_);
   else if (c.rejected > 0)
     s.summary(DiagnosticStatus::WARN, std::to_string(c.rejected) + " IMU message(s) not used");
+  else if (w.waited_out > 0)
+    s.summary(DiagnosticStatus::WARN, std::to_string(w.waited_out) + " epoch(s) processed before the IMU caught up "
+                                      "(ros.imu.max_wait_s)");
   else
     s.summary(DiagnosticStatus::OK, c.received > 0 ? "IMU readings in use" : "no IMU message yet");
   s.add("topic", nh_.resolveName(imu_->topic()));
@@ -540,6 +613,13 @@ void PppNode::imuDiagnostics(diagnostic_updater::DiagnosticStatusWrapper& s) con
   s.add("messages not used", c.rejected);
   s.add("readings dropped (buffer full)", c.dropped_old);
   s.add("problems", imu_->problemSummary());
+  s.add("epochs waiting for the IMU now", epoch_hold_.size());
+  s.add("epochs that waited for the IMU", w.held);
+  s.add("epochs released by a reading at their time", w.covered);
+  s.add("epochs released by ros.imu.max_wait_s", w.waited_out);
+  s.add("largest IMU lag at release [s]", w.largest_lag_s);
+  s.add("longest wait [s]", w.longest_wait_s);
+  s.add("epochs not held (IMU silent)", w.silent);
   s.add("extrinsics", imu_extrinsics_problem_ ? *imu_extrinsics_problem_
                       : imu_extrinsics_      ? (config_.ros.imu.extrinsics_from_tf ? "from TF" : "from ros.imu")
                                              : "missing");

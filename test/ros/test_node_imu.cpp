@@ -1,11 +1,13 @@
 // The node's IMU input (node_imu_input.h) and its odometry message at the IMU
 // rate (ins_odometry.h), without a ROS master: the options of the filter from
 // ros.imu, the screening with the topic, field and stamp named, the time-base
-// check that leaves a GNSS outage alone, the hand-over per epoch, and the
+// check that leaves a GNSS outage alone, the hand-over per epoch, the GNSS epochs held
+// until the IMU readings up to their time have arrived (imu_epoch_hold.h), and the
 // odometry message of a state (the propagation itself: test_ins_odometry, core).
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -17,6 +19,7 @@
 #include "ppp_bayes_tree/navigation/so3.h"
 #include "ppp_bayes_tree/ppp/config/yaml_section.h"
 #include "ppp_bayes_tree/ros/imu_conversions.h"
+#include "ppp_bayes_tree/ros/imu_epoch_hold.h"
 #include "ppp_bayes_tree/ros/ins_odometry.h"
 #include "ppp_bayes_tree/ros/message_conversions.h"
 #include "ppp_bayes_tree/ros/node_config.h"
@@ -226,6 +229,194 @@ TEST(NodeImuInput, TimeBaseFarFromGnssRefusedButAGnssOutageLeavesTheReadingsAlon
   EXPECT_EQ(far.screen().count(ppp::ImuInputProblem::FarFromGnssTime), 100u);
   EXPECT_EQ(far.counters().rejected, 100u);
   EXPECT_TRUE(w.any("far from the GNSS time"));
+}
+
+// ---- GNSS epochs waiting for the IMU (imu_epoch_hold.h) ----
+// Times: data times from kT0 (GPST), arrivals in ROS seconds from 100.0; ros.imu.max_wait_s 0.1.
+
+using ppp_ros::ImuWaitOutcome;
+constexpr double kMaxWait_s = 0.1;
+constexpr double kReady_s = 100.0;  // the epoch at kT0 + 1 becomes ready (ROS time)
+
+/// Readings at 100 Hz from kT0 + 0.5 up to `newest_dt_s`, the newest arriving at `arrival_s`.
+template <class Epoch>
+void acceptReadings(ppp_ros::ImuEpochHold<Epoch>& hold, double newest_dt_s, double arrival_s) {
+  for (int k = 50; k <= static_cast<int>(std::lround(newest_dt_s * 100.0)); ++k)
+    hold.readingAccepted(kT0 + 0.01 * k, arrival_s - (newest_dt_s - 0.01 * k));
+}
+
+TEST(ImuEpochHold, AnEpochWaitsUntilAReadingAtOrAfterItsTimeAndTheOrderHolds) {
+  ppp_ros::ImuEpochHold<int> hold(kMaxWait_s);
+  // The IMU 30 ms behind the GNSS epoch at kT0 + 1 when it becomes ready.
+  acceptReadings(hold, 0.97, kReady_s - 0.001);
+  hold.hold(1, kT0 + 1.0, kReady_s);
+  hold.hold(2, kT0 + 1.05, kReady_s);  // the next epoch (20 Hz), ready with it (both waited for corrections)
+  EXPECT_FALSE(hold.release(kReady_s));
+  ASSERT_TRUE(hold.deadline_s());
+  EXPECT_DOUBLE_EQ(*hold.deadline_s(), kReady_s + kMaxWait_s);
+  // A reading 10 ms before it: still waiting (the readings up to it may still come).
+  hold.readingAccepted(kT0 + 0.99, kReady_s + 0.02);
+  EXPECT_FALSE(hold.release(kReady_s + 0.02));
+  // The reading at its time: it goes on at once, not at the deadline; the next one stays.
+  hold.readingAccepted(kT0 + 1.0, kReady_s + 0.03);
+  const auto first = hold.release(kReady_s + 0.03);
+  ASSERT_TRUE(first);
+  EXPECT_EQ(first->epoch, 1);
+  EXPECT_EQ(first->decision.outcome, ImuWaitOutcome::Covered);
+  ASSERT_TRUE(first->decision.imu_lag_s);
+  EXPECT_EQ(*first->decision.imu_lag_s, 0.0);
+  EXPECT_NEAR(first->waited_s, 0.03, 1e-9);
+  EXPECT_FALSE(hold.release(kReady_s + 0.03));
+  EXPECT_EQ(hold.size(), 1u);
+  // A reading after the second epoch's time releases it too (at or after: an 80 Hz IMU need not hit it).
+  for (int k = 1; k <= 4; ++k) hold.readingAccepted(kT0 + 1.0034 + 0.0125 * k, kReady_s + 0.03 + 0.0125 * k);
+  const auto second = hold.release(kReady_s + 0.08);
+  ASSERT_TRUE(second);
+  EXPECT_EQ(second->epoch, 2);
+  EXPECT_EQ(second->decision.outcome, ImuWaitOutcome::Covered);
+  EXPECT_TRUE(hold.empty());
+  EXPECT_FALSE(hold.deadline_s());
+  EXPECT_EQ(hold.counters().held, 2u);
+  EXPECT_EQ(hold.counters().covered, 2u);
+  EXPECT_EQ(hold.counters().waited_out, 0u);
+  EXPECT_NEAR(hold.counters().longest_wait_s, 0.08, 1e-9);
+}
+
+TEST(ImuEpochHold, AnEpochCoveredWhenReadyGoesOnAtOnceUncounted) {
+  ppp_ros::ImuEpochHold<int> hold(kMaxWait_s);
+  acceptReadings(hold, 1.01, kReady_s - 0.001);  // the IMU ahead of the GNSS epoch (the usual case)
+  hold.hold(7, kT0 + 1.0, kReady_s);
+  const auto r = hold.release(kReady_s);
+  ASSERT_TRUE(r);
+  EXPECT_EQ(r->decision.outcome, ImuWaitOutcome::Covered);
+  EXPECT_NEAR(*r->decision.imu_lag_s, -0.01, 1e-9);
+  EXPECT_EQ(r->waited_s, 0.0);
+  EXPECT_EQ(hold.counters().held, 0u);
+  EXPECT_EQ(hold.counters().covered, 0u);
+}
+
+TEST(ImuEpochHold, AfterMaxWaitTheEpochGoesOnWithTheImuLagCountedAndNamed) {
+  ppp_ros::ImuEpochHold<int> hold(kMaxWait_s);
+  // Readings up to 35 ms before the epoch, still arriving during the wait (the IMU lags, it is not silent).
+  acceptReadings(hold, 0.95, kReady_s - 0.01);
+  hold.hold(1, kT0 + 1.0, kReady_s);
+  EXPECT_FALSE(hold.release(kReady_s));
+  hold.readingAccepted(kT0 + 0.965, kReady_s + 0.05);
+  EXPECT_FALSE(hold.release(kReady_s + 0.05));
+  EXPECT_FALSE(hold.release(kReady_s + 0.0999));
+  const auto r = hold.release(kReady_s + kMaxWait_s + 1e-3);  // just after the deadline (the node's timer)
+  ASSERT_TRUE(r);
+  EXPECT_EQ(r->decision.outcome, ImuWaitOutcome::WaitedOut);
+  ASSERT_TRUE(r->decision.imu_lag_s);
+  EXPECT_NEAR(*r->decision.imu_lag_s, 0.035, 1e-9);
+  EXPECT_NEAR(r->waited_s, kMaxWait_s + 1e-3, 1e-9);
+  EXPECT_EQ(hold.counters().held, 1u);
+  EXPECT_EQ(hold.counters().waited_out, 1u);
+  EXPECT_EQ(hold.counters().covered, 0u);
+  EXPECT_NEAR(hold.counters().largest_lag_s, 0.035, 1e-9);
+  const std::string text = ppp_ros::imuWaitedOutText(r->time, r->waited_s, r->decision, "/imu/data", kMaxWait_s);
+  EXPECT_NE(text.find("waiting 0.101 s for the IMU on /imu/data (ros.imu.max_wait_s 0.1)"), std::string::npos) << text;
+  EXPECT_NE(text.find("newest reading 35.0 ms before the epoch"), std::string::npos) << text;
+}
+
+TEST(ImuEpochHold, ASilentOrStoppedImuHoldsNoEpoch) {
+  // No reading yet (before the first message, extrinsics missing): at once.
+  ppp_ros::ImuEpochHold<int> hold(kMaxWait_s);
+  hold.hold(1, kT0 + 1.0, kReady_s);
+  auto r = hold.release(kReady_s);
+  ASSERT_TRUE(r);
+  EXPECT_EQ(r->decision.outcome, ImuWaitOutcome::ImuSilent);
+  EXPECT_FALSE(r->decision.imu_lag_s);
+  // The newest reading arrived longer than max_wait_s before the epoch became ready: the IMU
+  // stopped, the epoch goes on at once (the estimator finds the readings missing, the node
+  // falls back to GNSS only) instead of every epoch waiting out.
+  acceptReadings(hold, 0.6, kReady_s - 0.4);
+  hold.hold(2, kT0 + 1.0, kReady_s);
+  r = hold.release(kReady_s);
+  ASSERT_TRUE(r);
+  EXPECT_EQ(r->decision.outcome, ImuWaitOutcome::ImuSilent);
+  EXPECT_NEAR(*r->decision.imu_lag_s, 0.4, 1e-9);
+  // A reading within max_wait_s before: not silent (it waits, then goes on at the deadline).
+  hold.readingAccepted(kT0 + 0.61, kReady_s + 1.0 - 0.05);
+  hold.hold(3, kT0 + 2.0, kReady_s + 1.0);
+  EXPECT_FALSE(hold.release(kReady_s + 1.0));
+  EXPECT_EQ(hold.release(kReady_s + 1.0 + kMaxWait_s + 1e-3)->decision.outcome, ImuWaitOutcome::WaitedOut);
+  // After an estimator reset the IMU input starts afresh: silent until a reading is accepted.
+  hold.imuReset();
+  hold.hold(4, kT0 + 3.0, kReady_s + 2.0);
+  EXPECT_EQ(hold.release(kReady_s + 2.0)->decision.outcome, ImuWaitOutcome::ImuSilent);
+  EXPECT_EQ(hold.counters().silent, 3u);
+  EXPECT_EQ(hold.counters().waited_out, 1u);
+}
+
+TEST(ImuEpochHold, NoWaitWithMaxWaitZeroOrAnEstimatorWithoutReadings) {
+  ppp_ros::ImuEpochHold<int> never(0.0);
+  never.readingAccepted(kT0 + 0.5, kReady_s - 0.001);
+  never.hold(1, kT0 + 1.0, kReady_s);
+  EXPECT_EQ(never.release(kReady_s)->decision.outcome, ImuWaitOutcome::NoWait);
+  // The estimator fell back to GNSS only (`waiting` false): every held epoch goes on, in order.
+  ppp_ros::ImuEpochHold<int> hold(kMaxWait_s);
+  hold.readingAccepted(kT0 + 0.99, kReady_s - 0.001);
+  hold.hold(1, kT0 + 1.0, kReady_s);
+  hold.hold(2, kT0 + 1.25, kReady_s);
+  EXPECT_FALSE(hold.release(kReady_s));
+  const auto a = hold.release(kReady_s + 0.01, false), b = hold.release(kReady_s + 0.01, false);
+  ASSERT_TRUE(a && b);
+  EXPECT_EQ(a->epoch, 1);
+  EXPECT_EQ(b->epoch, 2);
+  EXPECT_EQ(a->decision.outcome, ImuWaitOutcome::NoWait);
+  EXPECT_EQ(hold.counters().waited_out, 0u);
+  EXPECT_EQ(hold.counters().silent, 0u);
+}
+
+TEST(ImuEpochHold, AnImuDriverSlowerThanTheReceiverGivesTheEpochAllItsReadings) {
+  // A 100 Hz IMU whose readings arrive 30 ms after their time, a GNSS epoch at kT0 + 1 ready
+  // 10 ms after its time (ROS time = 100 s + data time from kT0). Taken when it is ready, the
+  // epoch would get the readings up to kT0 + 0.98: the last 20 ms of its interval missing, and
+  // those readings, older than the epoch, would come after it. Held, it goes on at the arrival
+  // of the reading at its time with every reading up to it.
+  ppp_ros::RosNodeOptions o;
+  Warnings w;
+  NodeImuInput in(o, w.sink()), unheld(o, w.sink());
+  ppp_ros::ImuEpochHold<int> hold(o.imu.max_wait_s);
+  const double imu_latency_s = 0.03, gnss_latency_s = 0.01;
+  std::optional<std::vector<ppp::ImuSample>> taken, taken_when_ready;
+  for (int k = 0; k <= 110; ++k) {  // IMU arrivals in time order, the epoch's readiness among them
+    const double arrival_s = kReady_s + 0.01 * k + imu_latency_s;
+    const double epoch_ready_s = kReady_s + 1.0 + gnss_latency_s;
+    if (!taken_when_ready && arrival_s > epoch_ready_s) {
+      taken_when_ready = unheld.takeUpTo(kT0 + 1.0);
+      hold.hold(1, kT0 + 1.0, epoch_ready_s);
+      EXPECT_FALSE(hold.release(epoch_ready_s));
+    }
+    for (NodeImuInput* input : {&in, &unheld}) {
+      const std::vector<ppp::ImuSample> accepted = input->receive(restMessage(0.01 * k), kT0, Eigen::Matrix3d::Identity());
+      if (input == &in && !accepted.empty()) hold.readingAccepted(accepted.back().time, arrival_s);
+    }
+    if (auto r = hold.release(arrival_s)) {
+      EXPECT_EQ(r->decision.outcome, ImuWaitOutcome::Covered);
+      EXPECT_NEAR(r->waited_s, imu_latency_s - gnss_latency_s, 1e-9);
+      taken = in.takeUpTo(r->time);
+    }
+  }
+  ASSERT_TRUE(taken && taken_when_ready);
+  ASSERT_FALSE(taken->empty());
+  EXPECT_EQ(taken->size(), 101u);  // kT0 + 0.00 ... kT0 + 1.00
+  EXPECT_EQ(taken->back().time - (kT0 + 1.0), 0.0);
+  ASSERT_FALSE(taken_when_ready->empty());
+  EXPECT_EQ(taken_when_ready->size(), 99u);
+  EXPECT_NEAR(taken_when_ready->back().time - (kT0 + 1.0), -0.02, 1e-9);
+  // The two readings that came late wait in the buffer for the next epoch, older than the one taken.
+  EXPECT_NEAR(unheld.pending().front().time - (kT0 + 1.0), -0.01, 1e-9);
+}
+
+TEST(ImuEpochHold, MaxWaitFromRosImuDefaultAndRange) {
+  // Default 0.1 s (config/ppp.yaml); [0, 1] s.
+  EXPECT_EQ(ppp_ros::bindNodeConfig(YAML::Load("ros: {estimator: ekf_ins}"), "test", "ekf").ros.imu.max_wait_s, 0.1);
+  EXPECT_EQ(
+      ppp_ros::bindNodeConfig(YAML::Load("ros: {imu: {max_wait_s: 0.0}}"), "test", "ekf").ros.imu.max_wait_s, 0.0);
+  EXPECT_THROW(ppp_ros::bindNodeConfig(YAML::Load("ros: {imu: {max_wait_s: 1.5}}"), "test", "ekf"), ppp::ConfigError);
+  EXPECT_THROW(ppp_ros::bindNodeConfig(YAML::Load("ros: {imu: {max_wait_s: -0.1}}"), "test", "ekf"), ppp::ConfigError);
 }
 
 using ppp::test::movingState;

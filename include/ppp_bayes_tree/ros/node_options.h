@@ -54,6 +54,9 @@ struct RosImuOptions {
   double gyro_full_scale_radps = 0.0;
   double attitude_sigma_valid_deg = 5.0;  // largest attitude sigma at which the attitude is published as valid
   double buffer_s = 60.0;                 // readings kept ahead of the newest processed epoch [s]
+  /// A GNSS epoch waits at most this long for the IMU readings up to its time [s] (0: never;
+  /// imu_epoch_hold.h).
+  double max_wait_s = 0.1;
 };
 
 struct RosNodeOptions {

@@ -7,8 +7,9 @@
 // streams through one ppp::LiveGnssInput (ros.live), and an optional attitude;
 // with an estimator that has inertial states (ros.estimator ekf_ins or smoother_ins) the IMU on
 // ros.imu.topic (node_imu_input.h), whose readings go to the estimator with each
-// epoch, and ppp/odometry/filtered and TF at the IMU rate (ins_odometry.h). When
-// the IMU stops after the start, the node goes on with the GNSS-only estimator.
+// epoch (an epoch waits for the readings up to its time, at most ros.imu.max_wait_s:
+// imu_epoch_hold.h), and ppp/odometry/filtered and TF at the IMU rate (ins_odometry.h).
+// When the IMU stops after the start, the node goes on with the GNSS-only estimator.
 // Outputs: ppp/odometry/filtered, ppp/fix, ppp/status, ppp/path/filtered,
 // /diagnostics and TF; the smoother node adds ppp/odometry/smoothed and
 // ppp/path/smoothed. Service: set_datum. Parameters: the whole private
@@ -24,6 +25,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <variant>
 #include <vector>
 
 #include <diagnostic_updater/diagnostic_updater.h>
@@ -44,6 +46,7 @@
 #include "ppp_bayes_tree/ppp/pipeline/ppp_epoch_processor.h"
 #include "ppp_bayes_tree/ppp/pipeline/product_assembly.h"
 #include "ppp_bayes_tree/ros/gnss_stream_subscriber.h"
+#include "ppp_bayes_tree/ros/imu_epoch_hold.h"
 #include "ppp_bayes_tree/ros/ins_odometry.h"
 #include "ppp_bayes_tree/ros/node_config.h"
 #include "ppp_bayes_tree/ros/node_diagnostics.h"
@@ -80,6 +83,18 @@ class PppNode {
   void drain();
   void drainLive();
   void processLiveEpoch(const ppp::LiveReadyEpoch& ready);
+  // epochs waiting for the IMU (imu_epoch_hold.h): a topic's epoch released by the
+  // correction gate (converted when it goes on), or a live input's ready epoch
+  using HeldEpoch = std::variant<PendingObservation, ppp::LiveReadyEpoch>;
+  /// The estimator takes IMU readings now: its epochs wait for them.
+  bool waitsForImu() const;
+  /// A ready epoch: processed now when nothing waits and the estimator takes no readings, else held.
+  void admitEpoch(HeldEpoch epoch, const ppp::GnssTime& time, double now_s);
+  /// The held epochs that may go on, in order (`all`: every one, e.g. before an estimator reset).
+  void releaseHeldEpochs(bool all = false);
+  void processHeld(HeldEpoch& epoch);
+  /// A one-shot timer at the oldest held epoch's deadline (a silent IMU sends no callback).
+  void armHoldTimer();
   // the epoch
   /// One epoch through the processor and out (both inputs).
   void processObsEpoch(const ppp::ObsEpoch& epoch);
@@ -146,6 +161,8 @@ class PppNode {
 
   // GNSS/INS: the IMU input and the odometry at the IMU rate (inertial() only)
   std::unique_ptr<NodeImuInput> imu_;
+  ImuEpochHold<HeldEpoch> epoch_hold_;             // epochs waiting for the readings up to their time
+  std::optional<double> hold_deadline_s_;          // the deadline hold_timer_ is set to (ROS time)
   std::unique_ptr<InsOdometry> ins_odometry_;
   std::optional<ImuExtrinsics> imu_extrinsics_;    // unknown while TF has none (ros.imu.extrinsics: tf)
   std::vector<ppp::ImuSample> epoch_imu_;          // the readings handed to the processor with the epoch
@@ -161,7 +178,7 @@ class PppNode {
   ros::Publisher odom_pub_, fix_pub_, status_pub_, path_pub_;
   ros::Publisher smoothed_odom_pub_, smoothed_path_pub_;  // smoother node only
   ros::ServiceServer datum_srv_;
-  ros::Timer timer_, path_timer_, smoothed_path_timer_;
+  ros::Timer timer_, path_timer_, smoothed_path_timer_, hold_timer_;
   tf2_ros::TransformBroadcaster tf_;
   tf2_ros::StaticTransformBroadcaster static_tf_;
   tf2_ros::Buffer tf_buffer_;

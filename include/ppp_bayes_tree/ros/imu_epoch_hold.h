@@ -1,0 +1,161 @@
+#pragma once
+// ImuEpochHold: the GNSS epochs of a GNSS/INS node (ppp_node.h with ekf_ins or
+// smoother_ins) held until the IMU readings up to their time have arrived. An epoch
+// takes the readings up to its time (NodeImuInput::takeUpTo); readings that arrive
+// after it was processed are older than it: the filter skips them (it has held the
+// last reading over the missing end of the interval), and a missing end longer than
+// its max_imu_interval_s stops the INS (NoImuReadings: the node falls back to GNSS
+// only). Transports and drivers deliver IMU and GNSS with different latencies (an
+// IMU driver slower than the GNSS one, a bag's interleaving, Nagle's algorithm), so
+// an epoch waits (as robot_localization's filter nodes queue their measurements and
+// take each in time order after the prediction up to its stamp):
+//   - until a reading at or after its time has been accepted (the readings before
+//     it are then all there: the IMU topic is in time order, the screen refuses
+//     readings going back), or
+//   - at most ros.imu.max_wait_s after it became ready (then processed with the
+//     readings there are; counted, with how far the IMU lagged), and
+//   - not at all while the IMU is silent: no reading accepted yet (before the first
+//     message, the extrinsics missing, an estimator reset) or none accepted for
+//     longer than max_wait_s before the epoch became ready (the IMU stopped: the
+//     node's fall-back to GNSS only is not delayed epoch after epoch).
+// The epochs leave in the order they came (time order: the correction gate and the
+// live input release them so), so one status per epoch and outputs in time order hold.
+// ROS-free: times come in as arguments (ROS time in seconds for arrivals, GPST for data).
+#include <cstddef>
+#include <deque>
+#include <optional>
+#include <string>
+#include <utility>
+
+#include "ppp_bayes_tree/types/gnss_time.h"
+
+namespace ppp_ros {
+
+/// What becomes of a held epoch.
+enum class ImuWaitOutcome {
+  Wait,       ///< the readings up to its time may still come: held
+  Covered,    ///< a reading at or after its time has been accepted
+  ImuSilent,  ///< no reading accepted yet, or none for longer than max_wait_s when it became ready
+  WaitedOut,  ///< held max_wait_s without a reading at or after its time: processed with those there are
+  NoWait,     ///< max_wait_s 0, or the estimator takes no readings (GNSS only): not held
+};
+/// "wait", "covered", "IMU silent", "waited out", "no wait".
+std::string imuWaitOutcomeText(ImuWaitOutcome outcome);
+
+/// The IMU input as the hold sees it: its newest accepted reading and when it arrived.
+struct ImuProgress {
+  std::optional<ppp::GnssTime> newest_reading;  ///< data time (GPST)
+  std::optional<double> newest_arrival_s;       ///< ROS time of its arrival [s]
+};
+
+/// The decision for one held epoch, with how far the IMU was behind it.
+struct ImuWaitDecision {
+  ImuWaitOutcome outcome = ImuWaitOutcome::Wait;
+  /// Epoch time minus the newest accepted reading [s] (> 0: readings missing at the
+  /// epoch's end); nullopt without a reading.
+  std::optional<double> imu_lag_s;
+};
+
+/// The decision for an epoch of `epoch_time` ready since `ready_s` (ROS time [s]), at
+/// `now_s`, given the IMU's progress and ros.imu.max_wait_s (0: never held).
+ImuWaitDecision decideImuWait(const ppp::GnssTime& epoch_time, double ready_s, double now_s,
+                              const ImuProgress& imu, double max_wait_s);
+
+/// The hold's counts since the start.
+struct ImuWaitCounters {
+  std::size_t held = 0;        ///< epochs that had to wait (not covered when they became ready)
+  std::size_t covered = 0;     ///< of them released by a reading at or after their time
+  std::size_t waited_out = 0;  ///< of them released by max_wait_s, readings missing at their end
+  std::size_t silent = 0;      ///< epochs not held because the IMU was silent
+  double largest_lag_s = 0.0;  ///< the largest IMU lag of an epoch waited out [s]
+  double longest_wait_s = 0.0; ///< the longest wait of an epoch [s]
+};
+
+/// One epoch leaving the hold.
+template <class Epoch>
+struct ReleasedEpoch {
+  Epoch epoch;
+  ppp::GnssTime time;
+  ImuWaitDecision decision;
+  double waited_s = 0.0;  ///< now - ready [s]
+};
+
+/// The FIFO of epochs waiting for the IMU (`Epoch`: what the node processes later).
+template <class Epoch>
+class ImuEpochHold {
+ public:
+  explicit ImuEpochHold(double max_wait_s = 0.0) : max_wait_s_(max_wait_s) {}
+
+  /// An accepted reading of data time `time` arrived at `arrival_s` (readings come in time order).
+  void readingAccepted(const ppp::GnssTime& time, double arrival_s) {
+    imu_.newest_reading = time;
+    imu_.newest_arrival_s = arrival_s;
+  }
+  /// The IMU input started afresh (an estimator reset): no reading accepted since.
+  void imuReset() { imu_ = {}; }
+  const ImuProgress& imu() const { return imu_; }
+
+  /// An epoch ready at `now_s` (ROS time [s]), after those held (time order).
+  void hold(Epoch epoch, const ppp::GnssTime& time, double now_s) {
+    held_.push_back({std::move(epoch), time, now_s});
+  }
+  /// The oldest held epoch when it may go on at `now_s`, counted; nullopt while it waits.
+  /// `waiting` false (the estimator takes no readings now): every held epoch goes on.
+  std::optional<ReleasedEpoch<Epoch>> release(double now_s, bool waiting = true) {
+    if (held_.empty()) return std::nullopt;
+    Held& front = held_.front();
+    ImuWaitDecision d = waiting ? decideImuWait(front.time, front.ready_s, now_s, imu_, max_wait_s_)
+                                : ImuWaitDecision{ImuWaitOutcome::NoWait, std::nullopt};
+    if (d.outcome == ImuWaitOutcome::Wait) {
+      if (!front.counted) ++counters_.held;
+      front.counted = true;
+      return std::nullopt;
+    }
+    count(front, d, now_s);
+    ReleasedEpoch<Epoch> out{std::move(front.epoch), front.time, d, now_s - front.ready_s};
+    held_.pop_front();
+    return out;
+  }
+  /// When the oldest held epoch's wait ends (ROS time [s]); nullopt when none is held.
+  std::optional<double> deadline_s() const {
+    if (held_.empty()) return std::nullopt;
+    return held_.front().ready_s + max_wait_s_;
+  }
+  std::size_t size() const { return held_.size(); }
+  bool empty() const { return held_.empty(); }
+  double maxWait_s() const { return max_wait_s_; }
+  const ImuWaitCounters& counters() const { return counters_; }
+
+ private:
+  struct Held {
+    Epoch epoch;
+    ppp::GnssTime time;
+    double ready_s = 0.0;
+    bool counted = false;  // counted as held (it had to wait)
+  };
+
+  void count(const Held& h, const ImuWaitDecision& d, double now_s) {
+    const double waited_s = now_s - h.ready_s;
+    if (h.counted && d.outcome == ImuWaitOutcome::Covered) ++counters_.covered;
+    if (d.outcome == ImuWaitOutcome::ImuSilent) ++counters_.silent;
+    if (d.outcome == ImuWaitOutcome::WaitedOut) {
+      if (!h.counted) ++counters_.held;
+      ++counters_.waited_out;
+      if (d.imu_lag_s && *d.imu_lag_s > counters_.largest_lag_s) counters_.largest_lag_s = *d.imu_lag_s;
+    }
+    if (d.outcome != ImuWaitOutcome::NoWait && waited_s > counters_.longest_wait_s) counters_.longest_wait_s = waited_s;
+  }
+
+  double max_wait_s_;
+  ImuProgress imu_;
+  std::deque<Held> held_;
+  ImuWaitCounters counters_;
+};
+
+/// One line for the log and the diagnostics: "epoch 2026-05-13 00:00:01.000 GPS processed
+/// after waiting 0.100 s for the IMU on imu/data (ros.imu.max_wait_s 0.1): its newest reading
+/// 35.0 ms before the epoch, the readings after it missing (counted)".
+std::string imuWaitedOutText(const ppp::GnssTime& epoch_time, double waited_s, const ImuWaitDecision& decision,
+                             const std::string& topic, double max_wait_s);
+
+}  // namespace ppp_ros
