@@ -7,7 +7,9 @@ the walk's RTK reference gnss_1730_sf.pos at its fixed epochs (Q=1):
     central difference of its positions (it has no velocity state), against the reference's
     velocity columns (which are the receiver's own NAV-PVT velocity);
   - the velocity averaged over 1 s windows against the displacement of the fixed RTK
-    positions over the window (a reference independent of the receiver's velocity);
+    positions over the window (a reference independent of the receiver's velocity); ekf_ins's
+    velocity is the IMU origin's, so the lever arm's change over the window is added (the
+    antenna's displacement);
   - heading: ekf_ins its heading (the body x axis) against the reference's course over
     ground where the reference moves faster than 0.5 m/s; ekf the course of its velocity;
   - a GNSS gap (--gnss-gap, default 15 s mid-walk): the horizontal displacement of the
@@ -146,12 +148,28 @@ def velocity_and_heading(t, vn, ve, heading_deg, ref, min_speed_mps=0.5):
             "head_med": float(np.median(np.abs(err))) if moving.any() else math.nan}
 
 
-def window_velocity(t, vn, ve, ref, window_s=1.0, step_s=0.25, tol_s=0.06):
+def lever_arm_ne(roll_deg, pitch_deg, heading_deg, lever_arm_body_m):
+    """North and east [m] of the lever arm R_ned_body l at each attitude (ZYX Euler angles of
+    the attitude file: R_ned_body = Rz(heading) Ry(pitch) Rx(roll)), rows (north, east)."""
+    r, p, h = (np.radians(np.asarray(a, dtype=float)) for a in (roll_deg, pitch_deg, heading_deg))
+    lx, ly, lz = lever_arm_body_m
+    # the first two rows of Rz Ry Rx times l
+    north = (np.cos(h) * np.cos(p) * lx + (np.cos(h) * np.sin(p) * np.sin(r) - np.sin(h) * np.cos(r)) * ly
+             + (np.cos(h) * np.sin(p) * np.cos(r) + np.sin(h) * np.sin(r)) * lz)
+    east = (np.sin(h) * np.cos(p) * lx + (np.sin(h) * np.sin(p) * np.sin(r) + np.cos(h) * np.cos(r)) * ly
+            + (np.sin(h) * np.sin(p) * np.cos(r) - np.cos(h) * np.sin(r)) * lz)
+    return np.stack([north, east], axis=-1)
+
+
+def window_velocity(t, vn, ve, ref, window_s=1.0, step_s=0.25, tol_s=0.06, lever_ne=None):
     """Horizontal velocity averaged over windows of window_s (trapezoid over the estimate's
     samples every step_s, all present; times within tol_s, as the attitude file's are rounded
     to 0.1 s) against the displacement of the fixed RTK positions over the same
     window divided by window_s: a velocity reference independent of the receiver's own velocity
-    (the reference file's velocity columns are the receiver's NAV-PVT). RMS and median [m/s]."""
+    (the reference file's velocity columns are the receiver's NAV-PVT). RMS and median [m/s].
+    The reference is the antenna's; a velocity of the IMU origin (the attitude file's) needs
+    lever_ne (lever_arm_ne at each sample): the antenna moves by the IMU origin's displacement
+    plus the lever arm's change over the window."""
     xyz = geodetic_to_ecef(ref[:, 1], ref[:, 2], ref[:, 3])
     samples = int(round(window_s / step_s)) + 1
     errs = []
@@ -163,6 +181,9 @@ def window_velocity(t, vn, ve, ref, window_s=1.0, step_s=0.25, tol_s=0.06):
         if m.sum() != samples or not np.all(np.isfinite(vn[m])) or not np.all(np.isfinite(ve[m])):
             continue
         est = np.array([np.trapz(vn[m], dx=step_s), np.trapz(ve[m], dx=step_s)]) / window_s
+        if lever_ne is not None:
+            inside = np.where(m)[0]
+            est += (lever_ne[inside[-1]] - lever_ne[inside[0]]) / window_s
         truth = ecef_to_ne((xyz[k2] - xyz[k]) / window_s, ref[k, 1], ref[k, 2])
         errs.append(np.hypot(*(est - truth)))
     e = np.array(errs)
@@ -263,7 +284,9 @@ def ours_figures(a, ref):
     gnss = read_solution_csv(os.path.join(a.out, "walk_ekf.csv"))
     gv = central_velocity_ne(gnss, lat0, lon0)
     gnss_stats = velocity_and_heading(gv[:, 0], gv[:, 1], gv[:, 2], np.degrees(np.arctan2(gv[:, 2], gv[:, 1])), ref)
-    ins_window = window_velocity(ins["time_gpst"], ins["velocity_north_mps"], ins["velocity_east_mps"], ref)
+    lever = [float(x) for x in a.lever_arm.split(",")]
+    ins_window = window_velocity(ins["time_gpst"], ins["velocity_north_mps"], ins["velocity_east_mps"], ref,
+                                 lever_ne=lever_arm_ne(ins["roll_deg"], ins["pitch_deg"], ins["heading_deg"], lever))
     doppler_window = (window_velocity(ins["time_gpst"], ins["doppler_velocity_north_mps"],
                                       ins["doppler_velocity_east_mps"], ref)
                       if "doppler_velocity_north_mps" in ins else None)

@@ -84,6 +84,23 @@ class WalkInsStudyTest(unittest.TestCase):
         self.assertEqual(w.window_velocity(np.delete(t, 10), np.zeros(len(t) - 1), np.ones(len(t) - 1), ref)["n"],
                          len(t) - 4 - 5)
 
+    def test_window_velocity_of_the_antenna_from_the_imu_origin(self):
+        # The IMU origin at rest, the body turning at 1 rad/s about down: the antenna 0.05 m to the
+        # body's left (lever arm (0, -0.05, 0)) goes round it; the reference is the antenna's.
+        t = 60000.0 + 0.25 * np.arange(40)
+        heading_deg = np.degrees(1.0 * (t - t[0]))
+        lever = w.lever_arm_ne(np.zeros(len(t)), np.zeros(len(t)), heading_deg, (0.0, -0.05, 0.0))
+        np.testing.assert_allclose(lever[0], [0.0, -0.05], atol=1e-12)
+        np.testing.assert_allclose(lever[6], [0.05 * math.sin(1.5), -0.05 * math.cos(1.5)], atol=1e-12)
+        ref = reference()
+        meridian_radius_m = w.WGS84_A * (1 - w.WGS84_F * (2 - w.WGS84_F))  # at the equator
+        ref[:, 1] = np.degrees(lever[:, 0] / meridian_radius_m)  # the antenna's north and east along the equator
+        ref[:, 2] = np.degrees(lever[:, 1] / w.WGS84_A)
+        zeros = np.zeros(len(t))
+        self.assertLess(w.window_velocity(t, zeros, zeros, ref, lever_ne=lever)["rms"], 1e-6)  # 2e-4 with a sphere's radius
+        # the IMU origin's velocity taken as the antenna's: the chord of 1 rad of the 0.05 m circle per second
+        self.assertAlmostEqual(w.window_velocity(t, zeros, zeros, ref)["rms"], 2 * 0.05 * math.sin(0.5), places=6)
+
     def test_reads_the_doppler_columns_of_the_attitude_file(self):
         path = os.path.join(os.environ.get("TMPDIR", "/tmp"), "walk_ins_study_attitude.csv")
         with open(path, "w") as f:
