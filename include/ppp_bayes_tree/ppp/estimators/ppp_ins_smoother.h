@@ -48,6 +48,19 @@
 // velocity sigmas and the course's heading sigma; from there the alignment is
 // "aligned". The result's attitude (EstimatorEpochResult::attitude) says so at each
 // epoch; inertialState() is nullopt before the NavState.
+// Numerics: the cliques are factorized by QR of the whitened Jacobian (kFactorization),
+// never by Cholesky of the normal equations, whatever PppSmootherOptions::factorization
+// says. The IMU factors make the states' relative motion stiff (the bias random walk of
+// a consumer gyro over 0.25 s weighs 4e12 (rad/s)^-2) while the GNSS geometry leaves a
+// direction of position and clocks weak (5-6 satellites: information 6e-5 m^-2 on the
+// u-blox walk): the information matrix, scaled to a unit diagonal, has a condition
+// number of 1e12-1e13 from the third state on. Cholesky of it keeps 3-4 digits: the
+// update's step differed from the exact least-squares step by 0.2 rad or m/s and 8 cm,
+// a rounding-level change of the input moved the solution by centimetres at once and,
+// through the relinearizations of those wrong steps, by up to 1.8 km later. QR works on
+// the Jacobian, whose condition number is the square root: the step agrees with the
+// exact one to 1e-9 and the same change moves the walk's solution by micrometres
+// (doc/studies/ins_walk.md, "Numerical conditioning").
 #include <Eigen/Core>
 #include <optional>
 #include <string>
@@ -73,6 +86,8 @@ class PppInsSmoother : public PppSmoother {
   /// Sigma of the position random walk between receiver states (uninformative: the
   /// IMU factor carries the motion) [m].
   static constexpr double kFreePositionSigma_m = 1e4;
+  /// The factorization of the smoother's cliques (see "Numerics" above).
+  static constexpr smoother::Factorization kFactorization = smoother::Factorization::QR;
 
   /// From the estimator options (the registry's factory, estimator_registry.h).
   explicit PppInsSmoother(const EstimatorOptions& options);

@@ -29,7 +29,8 @@ struct PppSmootherOptions {
   /// Factors re-evaluate the geometric range exactly at new states (ppp_factors.h);
   /// false: linear factors (linearised once; the EKF-equivalence test).
   bool exact_range = true;
-  /// Dense factorization of the cliques (QR: slower, for reference checks).
+  /// Dense factorization of the cliques (QR: slower, for reference checks; the GNSS/INS
+  /// smoother always uses QR, ppp_ins_smoother.h "Numerics").
   smoother::Factorization factorization = smoother::Factorization::Cholesky;
   /// 0: full smoother (every state kept); > 0: fixed-lag smoother with this lag [s].
   double fixed_lag_s = 0.0;

@@ -48,10 +48,17 @@ Matrix15d propagatedCovariance(Matrix15d covariance, NavState nav, const ImuBias
   return covariance;
 }
 
+/// The estimator options with the cliques factorized as the GNSS/INS smoother needs
+/// (PppInsSmoother::kFactorization, ppp_ins_smoother.h "Numerics").
+EstimatorOptions withInertialFactorization(EstimatorOptions options) {
+  options.smoother.factorization = PppInsSmoother::kFactorization;
+  return options;
+}
+
 }  // namespace
 
 PppInsSmoother::PppInsSmoother(const EstimatorOptions& options)
-    : PppSmoother(options), ins_(options.ins), track_(options.ins.heading_alignment) {
+    : PppSmoother(withInertialFactorization(options)), ins_(options.ins), track_(options.ins.heading_alignment) {
   if (auto problem = ins_.validate(); !problem.empty()) throw std::invalid_argument(problem);
   in_motion_ = !ins_.initial_rotation_ecef_body && !ins_.initial_rotation_ned_body && !ins_.initial_heading_rad;
 }
