@@ -86,6 +86,39 @@ Eigen::Vector3d medianOf(const std::vector<Eigen::Vector3d>& v) {
   return m;
 }
 
+/// The configuration of the live rostest on the walk (config/live.yaml + test/rostest/live_ubx.yaml).
+PppConfig walkConfig() {
+  const std::string repo = PPP_REPO_DIR;
+  return loadPppConfig(std::vector<std::string>{repo + "/config/live.yaml", repo + "/test/rostest/live_ubx.yaml"});
+}
+
+/// ppp_solve --ubx UBX --nav UBX --atx (the trimmed satellite ANTEX).
+PppInputFiles walkFiles(const std::string& ubx) {
+  PppInputFiles files;
+  files.obs = ubx;
+  files.obs_format = ObservationFormat::Ubx;
+  files.nav = {ubx};
+  files.atx = {test::dataPath("antex/igs20_gps_satellites_trim.atx")};
+  return files;
+}
+
+/// The walk's GNSS/INS options of doc/studies/ins_walk.md: consumer grade, lever arm 0,-0.05,0.
+void setWalkIns(PppConfig& config) {
+  config.ins.noise = imuNoisePreset(ImuGrade::ConsumerMems);
+  config.ins.lever_arm_body_m = Eigen::Vector3d(0.0, -0.05, 0.0);
+}
+
+/// The walk's IMU readings (imu_1730.csv with its time tags), turned into the body axes by
+/// `rotation_body_imu` (the data set's mounting: rotationNedBody(pi, 0, -pi/2)).
+std::vector<ImuSample> walkImu(const Eigen::Matrix3d& rotation_body_imu) {
+  ImuFileOptions imu;
+  imu.path = test::dataPath("streams/ubx/imu_1730.csv");
+  imu.tag_path = imu.path + ".tag";
+  imu.format = ImuFileFormat::RtklibLogged;
+  imu.rotation_body_imu = rotation_body_imu;
+  return loadImuFile(imu).samples;
+}
+
 TEST(UbxWalk, BroadcastSinglePointAgainstTheRtkReference) {
   const std::string ubx = test::dataPath("streams/ubx/gnss_1730.ubx");
   const std::string pos = test::dataPath("streams/ubx/gnss_1730_sf.pos");
@@ -201,15 +234,9 @@ TEST(UbxWalk, PppWithoutApproximatePositionStartsOnItsOwn) {
   const std::string pos = test::dataPath("streams/ubx/gnss_1730_sf.pos");
   if (!std::filesystem::exists(ubx) || !std::filesystem::exists(pos))
     GTEST_SKIP() << "UBX walk data not found under " << test::dataPath("streams/ubx");
-  const std::string repo = PPP_REPO_DIR;
-  const PppConfig config =
-      loadPppConfig(std::vector<std::string>{repo + "/config/live.yaml", repo + "/test/rostest/live_ubx.yaml"});
+  const PppConfig config = walkConfig();
   ASSERT_EQ(config.signals.systems, (std::vector<GnssSystem>{GnssSystem::GPS, GnssSystem::Galileo}));
-  PppInputFiles files;
-  files.obs = ubx;
-  files.obs_format = ObservationFormat::Ubx;
-  files.nav = {ubx};
-  files.atx = {test::dataPath("antex/igs20_gps_satellites_trim.atx")};
+  const PppInputFiles files = walkFiles(ubx);
   const PosFile reference = readRtklibPos(pos);
   const std::optional<double> undulation = navPvtGeoidUndulation_m(ubx);
   ASSERT_TRUE(undulation) << "no NAV-PVT in the recording";
@@ -305,24 +332,11 @@ TEST(UbxWalk, EkfInsStartRefusedInMotionEndsBridgedArcsWithoutACrash) {
   // state from before the gap: they end (no gap covariance from an empty filter).
   PPP_REQUIRE_SHARED_DATA();
   const std::string ubx = test::dataPath("streams/ubx/gnss_1730.ubx");
-  const std::string repo = PPP_REPO_DIR;
-  PppConfig config =
-      loadPppConfig(std::vector<std::string>{repo + "/config/live.yaml", repo + "/test/rostest/live_ubx.yaml"});
+  PppConfig config = walkConfig();
   config.ins.initial_heading_rad = -42.8 * kDegToRad;
-  config.ins.noise = imuNoisePreset(ImuGrade::ConsumerMems);
-  config.ins.lever_arm_body_m = Eigen::Vector3d(0.0, -0.05, 0.0);
-  PppInputFiles files;
-  files.obs = ubx;
-  files.obs_format = ObservationFormat::Ubx;
-  files.nav = {ubx};
-  files.atx = {test::dataPath("antex/igs20_gps_satellites_trim.atx")};
-  ImuFileOptions imu;
-  imu.path = test::dataPath("streams/ubx/imu_1730.csv");
-  imu.tag_path = imu.path + ".tag";
-  imu.format = ImuFileFormat::RtklibLogged;
-  imu.rotation_body_imu = rotationNedBody(M_PI, 0.0, -M_PI / 2.0);  // doc/studies/ins_walk.md
-  PppPipeline pipeline(files, config);
-  pipeline.setImu(loadImuFile(imu).samples);
+  setWalkIns(config);
+  PppPipeline pipeline(walkFiles(ubx), config);
+  pipeline.setImu(walkImu(rotationNedBody(M_PI, 0.0, -M_PI / 2.0)));  // doc/studies/ins_walk.md
   std::string why;
   auto estimator = makeEstimator("ekf_ins", config, &why);
   ASSERT_TRUE(estimator) << why;
@@ -350,25 +364,13 @@ TEST(UbxWalk, SmootherInsAgreesWithItselfOnARoundingLevelChangeOfTheMounting) {
   const std::string pos = test::dataPath("streams/ubx/gnss_1730_sf.pos");
   if (!std::filesystem::exists(ubx) || !std::filesystem::exists(pos))
     GTEST_SKIP() << "UBX walk data not found under " << test::dataPath("streams/ubx");
-  const std::string repo = PPP_REPO_DIR;
-  PppConfig config =
-      loadPppConfig(std::vector<std::string>{repo + "/config/live.yaml", repo + "/test/rostest/live_ubx.yaml"});
-  config.ins.noise = imuNoisePreset(ImuGrade::ConsumerMems);
-  config.ins.lever_arm_body_m = Eigen::Vector3d(0.0, -0.05, 0.0);
-  PppInputFiles files;
-  files.obs = ubx;
-  files.obs_format = ObservationFormat::Ubx;
-  files.nav = {ubx};
-  files.atx = {test::dataPath("antex/igs20_gps_satellites_trim.atx")};
+  PppConfig config = walkConfig();
+  setWalkIns(config);
+  PppInputFiles files = walkFiles(ubx);
   files.window.end = test::gpst(2025, 8, 28, 17, 31, 52.0);
   const auto solve = [&](const Eigen::Matrix3d& rotation_body_imu) {
-    ImuFileOptions imu;
-    imu.path = test::dataPath("streams/ubx/imu_1730.csv");
-    imu.tag_path = imu.path + ".tag";
-    imu.format = ImuFileFormat::RtklibLogged;
-    imu.rotation_body_imu = rotation_body_imu;
     PppPipeline pipeline(files, config);
-    pipeline.setImu(loadImuFile(imu).samples);
+    pipeline.setImu(walkImu(rotation_body_imu));
     std::string why;
     auto estimator = makeEstimator("smoother_ins", config, &why);
     EXPECT_TRUE(estimator) << why;
