@@ -16,10 +16,10 @@
 // ppp/odometry/filtered at each epoch's stamp (base_link at the IMU) ppp_solve's attitude
 // file (velocity, roll, pitch, heading), within the tolerances. ppp_solve runs twice, the
 // second time with the same mounting written -180,0,-90 (the rotation matrix changed at
-// the rounding level): ekf_ins moves by a fraction of a millimetre, and the node is
-// compared at every epoch; smoother_ins is ill conditioned on this walk (it moves by
-// centimetres from its third solution on), so ppp_solve reads the bag's readings (as
-// the node gets them) and the node is compared before ppp_solve departs from itself.
+// the rounding level): both estimators move by a fraction of a millimetre (smoother_ins
+// since its cliques are factorized by QR, ppp_ins_smoother.h "Numerics"), so the node,
+// whose IMU is stamped in nanoseconds and whose mounting is composed in base_link's axes,
+// is compared with ppp_solve on the IMU files at every epoch.
 #include <sys/wait.h>
 
 #include <Eigen/Geometry>
@@ -138,27 +138,6 @@ struct WalkTest {
     out.subscribe(nh);
   }
 
-  /// The bag's IMU readings as a plain IMU CSV (doc/gnss_ins.md): GPST week and second of
-  /// week from each stamp (to the nanosecond), the readings as the messages carry them.
-  void writeBagImuCsv() {
-    bag_imu_csv = (dir / "imu_from_bag.csv").string();
-    std::ofstream csv(bag_imu_csv);
-    csv << "# gps_week,seconds_of_week,fx,fy,fz,wx,wy,wz\n";
-    rosbag::Bag b(bag, rosbag::bagmode::Read);
-    for (const rosbag::MessageInstance& m : rosbag::View(b, rosbag::TopicQuery("imu/data"))) {
-      const auto i = m.instantiate<sensor_msgs::Imu>();
-      const ppp::ImuSample r = ppp_ros::fromImuMessage(*i);
-      const std::int64_t gps_s = r.time.wholeSeconds();
-      char line[256];
-      std::snprintf(line, sizeof line, "%lld,%lld.%09u,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g\n",
-                    static_cast<long long>(gps_s / 604800), static_cast<long long>(gps_s % 604800), i->header.stamp.nsec,
-                    r.specific_force_mps2.x(), r.specific_force_mps2.y(), r.specific_force_mps2.z(),
-                    r.angular_rate_radps.x(), r.angular_rate_radps.y(), r.angular_rate_radps.z());
-      csv << line;
-    }
-  }
-  std::string bag_imu_csv;  // smoother_ins: ppp_solve reads the bag's readings
-
   void makeBag() {
     dir = ppp::test::tempDir("rostest_" + variant.estimator + "_walk");
     bag = (dir / "walk.bag").string();
@@ -173,10 +152,6 @@ struct WalkTest {
   Offline solveOffline(const std::string& rotation, const std::string& tag) {
     std::string args = pppSolveArgs(variant);
     args.replace(args.find("--imu-rotation 180,0,-90"), 24, "--imu-rotation " + rotation);
-    if (!bag_imu_csv.empty()) {  // the readings as the node gets them (stamped in nanoseconds)
-      const std::size_t from = args.find("--imu "), to = args.find(" --imu-grade");
-      args.replace(from, to - from, "--imu " + bag_imu_csv);
-    }
     const fs::path solved = ppp_ros::test::runPppSolve(args, variant.estimator, variant.estimator + tag);
     Offline o;
     o.positions = ppp_ros::test::readPppSolveCsv(solved / variant.position_csv, &o.rows);
@@ -323,13 +298,11 @@ double attitudeDifference_deg(const AttitudeRow& a, const AttitudeRow& b) {
   return Eigen::AngleAxisd(a.ned_body.transpose() * b.ned_body).angle() / ppp::kDegToRad;
 }
 
-/// `positions` and `rows` (by the decisecond of their time) against ppp_solve's run, at the
-/// epochs before `until` (GPST second of the day).
+/// `positions` and `rows` (by the decisecond of their time) against ppp_solve's run.
 Differences differences(const std::map<ros::Time, Eigen::Vector3d>& positions, const std::vector<AttitudeRow>& rows,
-                        const Offline& offline, double until = 1e9) {
+                        const Offline& offline) {
   Differences d;
   for (const auto& [stamp, p] : positions) {
-    if (secondOfDay(stamp) >= until) continue;
     const auto it = offline.positions.find(stamp);
     if (it == offline.positions.end()) continue;
     d.position_m = std::max(d.position_m, (p - it->second).norm());
@@ -338,7 +311,6 @@ Differences differences(const std::map<ros::Time, Eigen::Vector3d>& positions, c
   std::map<long, const AttitudeRow*> by_decisecond;
   for (const AttitudeRow& r : rows) by_decisecond[std::lround(r.second_of_day * 10.0)] = &r;
   for (const AttitudeRow& row : offline.attitude) {
-    if (row.second_of_day >= until - 0.05) continue;
     const auto it = by_decisecond.find(std::lround(row.second_of_day * 10.0));
     if (it == by_decisecond.end()) continue;
     d.velocity_mps = std::max(d.velocity_mps, (it->second->velocity_ned_mps - row.velocity_ned_mps).cwiseAbs().maxCoeff());
@@ -346,16 +318,6 @@ Differences differences(const std::map<ros::Time, Eigen::Vector3d>& positions, c
     ++d.compared;
   }
   return d;
-}
-
-/// The first epoch (GPST second of the day) at which ppp_solve's perturbed run is further than
-/// kPositionTolerance_m from its run; 1e9 when none is.
-double firstDeparture(const Offline& offline, const Offline& perturbed) {
-  for (const auto& [stamp, p] : offline.positions) {
-    const auto it = perturbed.positions.find(stamp);
-    if (it == perturbed.positions.end() || (p - it->second).norm() > kPositionTolerance_m) return secondOfDay(stamp);
-  }
-  return 1e9;
 }
 
 /// The node's fixes (ECEF by stamp) and its odometry at the epochs as attitude rows.
@@ -376,7 +338,6 @@ void nodeSolutions(const std::vector<sensor_msgs::NavSatFix>& fixes, const std::
 TEST(InsWalk, FixesAndOdometryEqualPppSolveEpochByEpoch) {
   PPP_REQUIRE_SHARED_DATA();
   ASSERT_NO_FATAL_FAILURE(g->makeBag());
-  if (g->variant.estimator == "smoother_ins") g->writeBagImuCsv();
   g->offline = g->solveOffline("180,0,-90", "");
   g->perturbed = g->solveOffline("-180,0,-90", "_perturbed");
   ASSERT_FALSE(::testing::Test::HasFailure());
@@ -408,40 +369,15 @@ TEST(InsWalk, FixesAndOdometryEqualPppSolveEpochByEpoch) {
               g->variant.estimator.c_str(), node.positions, g->offline.positions.size(), node.position_m * 1e3,
               node.velocity_mps, node.attitude_deg, node.compared, g->offline.attitude.size(), spread.position_m * 1e3,
               spread.velocity_mps, spread.attitude_deg);
-  if (g->variant.estimator == "ekf_ins") {
-    // ekf_ins is well conditioned on the walk: ppp_solve's rounding-level change moves it by
-    // a fraction of a millimetre, and the node is as close to ppp_solve.
-    EXPECT_EQ(node.positions, positions.size()) << "fixes at epochs ppp_solve did not solve";
-    EXPECT_GE(node.positions + 1, g->offline.positions.size());
-    EXPECT_GE(node.compared + 1, g->offline.attitude.size());
-    EXPECT_LT(spread.position_m, kPositionTolerance_m);
-    EXPECT_LT(node.position_m, kPositionTolerance_m);
-    EXPECT_LT(node.velocity_mps, kVelocityTolerance_mps);
-    EXPECT_LT(node.attitude_deg, kAttitudeTolerance_deg);
-    if (!::testing::Test::HasFailure()) fs::remove_all(g->dir);
-    return;
-  }
-  // smoother_ins on the walk is not: ppp_solve's rounding-level change of its own mounting moves
-  // it by centimetres from its third solution on and by up to 200 m later (measured). The node
-  // (its rotation composed in base_link's axes) cannot be closer to ppp_solve than ppp_solve is
-  // to itself: it is compared at the epochs before ppp_solve departs from itself by more than
-  // kPositionTolerance_m, within the tolerances. Beyond, not even the epochs solved are the same
-  // (its rejections follow its diverging states: 310 and 330 of 536 measured), so only a replay
-  // that solved the walk is asked for.
-  // ppp_solve reads the bag's readings here (writeBagImuCsv): stamped in nanoseconds as the
-  // node gets them, which alone moved it by 2.9 cm at its third solution from the IMU files' run.
-  const double until = firstDeparture(g->offline, g->perturbed);
-  const Differences prefix = differences(positions, rows, g->offline, until);
-  std::printf("[ figures  ] smoother_ins before ppp_solve departs from itself (%.3f s of the day, GPST): %zu fixes, "
-              "%zu attitude rows; largest difference: position %.3g mm, velocity %.3g m/s, attitude %.3g deg\n",
-              until, prefix.positions, prefix.compared, prefix.position_m * 1e3, prefix.velocity_mps,
-              prefix.attitude_deg);
-  EXPECT_GT(positions.size(), 150u) << "the node solved too few epochs";
-  EXPECT_GE(prefix.positions, 2u);  // 2 measured: ppp_solve departs from itself at its third solution
-  EXPECT_GE(prefix.compared, 2u);
-  EXPECT_LT(prefix.position_m, kPositionTolerance_m);
-  EXPECT_LT(prefix.velocity_mps, kVelocityTolerance_mps);
-  EXPECT_LT(prefix.attitude_deg, kAttitudeTolerance_deg);
+  // Both estimators are well conditioned on the walk: ppp_solve's rounding-level change moves
+  // them by a fraction of a millimetre, and the node is as close to ppp_solve.
+  EXPECT_EQ(node.positions, positions.size()) << "fixes at epochs ppp_solve did not solve";
+  EXPECT_GE(node.positions + 1, g->offline.positions.size());
+  EXPECT_GE(node.compared + 1, g->offline.attitude.size());
+  EXPECT_LT(spread.position_m, kPositionTolerance_m);
+  EXPECT_LT(node.position_m, kPositionTolerance_m);
+  EXPECT_LT(node.velocity_mps, kVelocityTolerance_mps);
+  EXPECT_LT(node.attitude_deg, kAttitudeTolerance_deg);
   if (!::testing::Test::HasFailure()) fs::remove_all(g->dir);
 }
 
