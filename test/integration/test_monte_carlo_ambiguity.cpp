@@ -148,3 +148,36 @@ TEST(MonteCarloAmbiguity, TimeCorrelatedMultipathLeavesNoWrongHoldOnFlightsThatH
   }
   EXPECT_GE(fixing, 2 * 2);  // two flights, both estimators
 }
+
+// A climb flight at 1 Hz with white code noise (seed 1, flight 55 of the
+// 100-flight outage study, doc/studies/ins_outages.md): the simulated wet delay
+// follows the height, which the EKF's wet-delay random walk cannot, so after the
+// 300-s climb the narrow-lane floats carry errors of 1-3 cycles at 2-8 of their
+// sigmas that decay over minutes as the geometry changes. Over 10 epochs (10 s
+// at 1 Hz) such a float looks steady, and the first fix at 469 s held 4 wrong
+// integers (E15-E23, G04-G23, then G24-G23 and E02-E23, one cycle each, at
+// ratios 4.2-70 and success rates 1.000 on a covariance 2-8 times too small).
+// The window spanning consistency_time_s (270 s, what 10 epochs span at 30 s)
+// sees the drift: none wrong, and the flight still fixes.
+TEST(MonteCarloAmbiguity, ClimbFloatsDriftingOverMinutesAreNotFixedAtOneHertz) {
+  MonteCarloOptions o;
+  o.seed = 1;
+  o.simulation.errors.multipath.enabled = false;
+  o = withConfiguration(o, *findMonteCarloConfiguration("gps_galileo_ar"));
+  const MonteCarloFlightSetup setup = monteCarloFlightSetup(o, 55);
+  ASSERT_EQ(setup.profile, FlightProfile::Climb);
+  const SimulatedFlight f = simulateFlight(monteCarloSimulationConfig(o, setup), setup.seed);
+  const PppConfig config = flightPppConfig(o.ppp, f);
+  PppConfig epochs_only = config;
+  epochs_only.ambiguity_resolution.hold.consistency_time_s = 0.0;
+  FlightEstimatorTrack timed, untimed;
+  std::thread other([&] { untimed = trackEstimatorOnFlight(f, epochs_only, "ekf"); });
+  timed = trackEstimatorOnFlight(f, config, "ekf");
+  other.join();
+  EXPECT_EQ(untimed.held_check.wrong, 4u);  // the window of epochs alone (measured)
+  EXPECT_GT(untimed.held_check.fixed_epochs_with_wrong_hold, 0u);
+  EXPECT_EQ(timed.held_check.wrong, 0u);
+  EXPECT_EQ(timed.held_check.fixed_epochs_with_wrong_hold, 0u);
+  EXPECT_GE(timed.held_check.held, 4u);  // it still fixes (min_fixed 4)
+  EXPECT_GT(timed.held_check.fixed_epochs, 0u);
+}
