@@ -39,14 +39,6 @@ struct AmbiguityHoldOptions {
   /// Epochs of float history a single difference needs before it is searched,
   /// and over which its float may spread by at most max_float_spread_cycles.
   int consistency_epochs = 10;
-  /// The window must also span this time [s] (from its first epoch to the
-  /// current one; 0 = the epochs alone): a float's unmodelled error decays as
-  /// the geometry changes, over minutes whatever the data rate, so a window of
-  /// epochs sees it at 30 s (10 epochs span 270 s, this default: the real-data
-  /// results are those of the epochs alone) and not at 1 Hz (10 s). Measured
-  /// on simulated 1-Hz flights whose float carries the climb's wet delay at
-  /// 8 sigmas, drifting 2 cycles in 7 min (doc/studies/ins_outages.md).
-  double consistency_time_s = 270.0;
   double max_float_spread_cycles = 0.2;
   /// A float that spreads by more is still steady when every value i of the
   /// window lies within max_float_drift_sigmas sigmas of the change its
@@ -365,10 +357,8 @@ class AmbiguityResolver {
   std::map<ArcId, DualFrequencyObservation> last_observation_;  // signals and frequencies of each arc
   struct FloatSample {
     double value_cycles = 0.0, sigma_cycles = 0.0;
-    GnssTime time;  // of the epoch
   };
   std::map<PairKey, std::vector<FloatSample>> float_history_;  // recent float dN1 and its sigma per pair
-  GnssTime epoch_time_;  // of the last epoch given to addEpoch()
   std::map<PairKey, Pending> pending_;
   std::map<PairKey, long> held_;
   std::map<GnssSystem, ArcId> reference_arcs_;  // one per system, kept while eligible

@@ -30,8 +30,6 @@ std::string AmbiguityResolutionOptions::validate() const {
   if (!(wide_lane.min_success_rate >= 0.0 && wide_lane.min_success_rate < 1.0))
     return "wide_lane_min_success_rate must be in [0, 1)";
   if (hold.consistency_epochs < 1) return "consistency_epochs must be >= 1";
-  if (!(std::isfinite(hold.consistency_time_s) && hold.consistency_time_s >= 0.0))
-    return "consistency_time_s must be a finite value >= 0";
   if (!(hold.max_float_spread_cycles > 0.0)) return "max_float_spread_cycles must be > 0";
   if (!(hold.max_float_drift_sigmas >= 0.0)) return "max_float_drift_sigmas must be >= 0";
   if (hold.validation_epochs < 1) return "validation_epochs must be >= 1";
@@ -110,7 +108,6 @@ std::string AmbiguityFixSummary::text() const {
 void AmbiguityResolver::addEpoch(const std::vector<DualFrequencyObservation>& observations,
                                  const std::vector<ArcId>& arcs, const BiasProvider* biases) {
   if (!options_.enabled || !biases) return;
-  if (!observations.empty()) epoch_time_ = observations.front().time;
   for (std::size_t i = 0; i < observations.size() && i < arcs.size(); ++i) {
     // GLONASS (FDMA) arcs stay float: no wide lane, so no reference, candidate or hold.
     if (arcs[i] == 0 || !integerAmbiguitySystem(observations[i].satellite.system)) continue;
@@ -481,12 +478,6 @@ bool steadyFloat(const std::vector<Sample>& h, const AmbiguityHoldOptions& ho) {
   });
 }
 
-/// The time [s] from sample `first` of a float history to its last sample.
-template <typename Sample>
-double windowSpan_s(const std::vector<Sample>& h, std::size_t first) {
-  return first < h.size() ? h.back().time - h[first].time : 0.0;
-}
-
 /// The sigma [cycles] of a single difference d x under the covariance P.
 double pairSigma_cycles(const Eigen::RowVectorXd& d, const Eigen::MatrixXd& P) {
   return std::sqrt(std::max(0.0, (d * P * d.transpose())(0, 0)));
@@ -645,17 +636,13 @@ void AmbiguityResolver::gatherCandidates(HoldEpoch& e) {
       if (!row) continue;
       seen[key] = true;
       std::vector<FloatSample>& h = float_history_[key];
-      h.push_back({row->d.dot(e.x) - row->offset, pairSigma_cycles(row->d, e.P), epoch_time_});
-      // The window: the last consistency_epochs epochs, and more while they span less than consistency_time_s.
-      while (static_cast<int>(h.size()) > ho.consistency_epochs && windowSpan_s(h, 1) >= ho.consistency_time_s)
-        h.erase(h.begin());
+      h.push_back({row->d.dot(e.x) - row->offset, pairSigma_cycles(row->d, e.P)});
+      if (static_cast<int>(h.size()) > ho.consistency_epochs) h.erase(h.begin());
       if (held_.count(key) || e.components.find(f.arc) == e.components.find(*wl.reference_arc)) continue;
       NarrowLaneFloat nf{key.arc, key.reference_arc, row->satellite, row->reference_satellite, key.wide_lane_cycles,
                          h.back().value_cycles, h.back().sigma_cycles, std::nullopt};
       e.summary.narrow_lanes.push_back(nf);
-      if (static_cast<int>(h.size()) < ho.consistency_epochs || windowSpan_s(h, 0) < ho.consistency_time_s ||
-          !steadyFloat(h, ho))
-        continue;
+      if (static_cast<int>(h.size()) < ho.consistency_epochs || !steadyFloat(h, ho)) continue;
       const double conditioned = row->d.dot(e.conditionedX()) - row->offset;
       const double conditioned_sigma = pairSigma_cycles(row->d, e.conditionedP());
       if (offInteger(conditioned - std::round(conditioned), conditioned_sigma, ho) ||

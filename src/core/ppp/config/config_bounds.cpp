@@ -85,7 +85,6 @@ const std::map<std::string, ConfigUpperBound>& bounds() {
       {"ambiguity_resolution.wide_lane_correlation_time_s", {3600.0, "multipath decorrelates within minutes"}},
       {"ambiguity_resolution.small_subset_max_size", {100, "no epoch has more ambiguities"}},
       {"ambiguity_resolution.consistency_epochs", {100000, "more than a day of 1 Hz epochs"}},
-      {"ambiguity_resolution.consistency_time_s", {86400.0, "more than a day"}},
       {"ambiguity_resolution.max_float_spread_cycles", {10.0, "a wider spread is no consistency"}},
       {"ambiguity_resolution.max_float_drift_sigmas", {100.0, "a wider gate is no consistency"}},
       {"ambiguity_resolution.narrow_lane_max_sigma_cycles", {10.0, "a wider sigma is no candidate"}},

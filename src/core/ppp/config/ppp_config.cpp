@@ -90,7 +90,6 @@ void readAmbiguityResolution(YamlSection s, AmbiguityResolutionOptions& o) {
   o.wide_lane.max_fraction_cycles =
       s.number("wide_lane_max_fraction_cycles", o.wide_lane.max_fraction_cycles, Bound::Positive);
   o.hold.consistency_epochs = s.integer("consistency_epochs", o.hold.consistency_epochs, 1);
-  o.hold.consistency_time_s = s.number("consistency_time_s", o.hold.consistency_time_s, Bound::NonNegative);
   o.hold.max_float_spread_cycles =
       s.number("max_float_spread_cycles", o.hold.max_float_spread_cycles, Bound::Positive);
   o.hold.max_float_drift_sigmas =

@@ -118,17 +118,9 @@ struct SyntheticProblem {
 /// covariance), so they are accepted on the ratio test alone here; the default
 /// acceptance is tested in SubsetWithAHighRatioButALowSuccessRateIsNotFixed.
 /// Its covariance is the floats' true one: variance factor 1.
-/// The defaults, on: the synthetic epochs carry no time, so their consistency
-/// window is the epochs alone (consistency_time_s 0).
-AmbiguityResolutionOptions untimedOptions() {
+AmbiguityResolutionOptions ratioTestOptions() {
   AmbiguityResolutionOptions opt;
   opt.enabled = true;
-  opt.hold.consistency_time_s = 0.0;
-  return opt;
-}
-
-AmbiguityResolutionOptions ratioTestOptions() {
-  AmbiguityResolutionOptions opt = untimedOptions();
   opt.hold.require_subset_success_rate = false;
   opt.narrow_lane.success_rate_variance_factor = 1.0;
   return opt;
@@ -147,7 +139,8 @@ TEST(AmbiguityHold, SubsetWithAHighRatioButALowSuccessRateIsNotFixed) {
     for (int k = 0; k < 30; ++k) resolver.resolveAndHold(s.truth, s.P, rd, s.bias_arcs, &s.osb, summary);
     return resolver.heldCount();
   };
-  const AmbiguityResolutionOptions defaults = untimedOptions();
+  AmbiguityResolutionOptions defaults;
+  defaults.enabled = true;
   AmbiguityFixSummary summary;
   EXPECT_EQ(held(defaults, summary), 0) << summary.text();
   EXPECT_EQ(summary.ils_reason, IlsFloatReason::LowSuccessRate) << summary.text();
@@ -417,7 +410,8 @@ TEST(AmbiguityHold, FloatFarFromItsIntegerIsGatedAndTheOthersAreHeld) {
     AmbiguityFixSummary summary;
   };
   auto run = [&](double max_fraction_cycles) {
-    AmbiguityResolutionOptions opt = untimedOptions();
+    AmbiguityResolutionOptions opt;
+    opt.enabled = true;
     opt.hold.max_fraction_cycles = max_fraction_cycles;
     AmbiguityResolver resolver(opt);
     s.feedWideLanes(resolver, 60);
