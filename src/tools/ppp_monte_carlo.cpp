@@ -1,7 +1,7 @@
 // ppp_monte_carlo: the method's Monte Carlo study over simulated UAV flights
 // (evaluation/monte_carlo.h documents what is computed).
 //
-// usage: ppp_monte_carlo --flights N --seed S --out DIR [--duration-min 30] [--rate 1]
+// usage: ppp_monte_carlo --flights N --seed S --out DIR [--first-flight 0] [--duration-min 30] [--rate 1]
 //                        [--profiles loiter,survey,figure8,climb] [--threads N]
 //                        [--config PPP_YAML] [--sim-config SIMULATION_YAML]
 //                        [--fixed-origin] [--fixed-start] [--smoother-lag 60]
@@ -23,6 +23,8 @@
 // the 30 m start prior of config/ppp_simulated.yaml, see monteCarloDefaultPppConfig),
 // so pass a file that holds what you want of those; the measurement model is always
 // the simulator's physics (flightPppConfig) with the file's weights and cutoff.
+// --first-flight K: run flights K .. K + N - 1 of the seed (each flight depends only on
+// the seed and its index, so one flight of a study can be run again alone).
 // --sim-config: the simulation error model (config/simulation.yaml layout). Writes DIR/summary.md, summary.json and CSV
 // files for scripts/plot_monte_carlo.py; prints the tables and the wall time.
 // --configurations LIST (comma-separated, or "all"): gps_float, gps_ar,
@@ -42,7 +44,8 @@
 // the filter's own state at an outage's start costs), run by ekf and ekf_ins; writes
 // DIR/ins_outages.md (horizontal error at the outage end, the coast from the truth
 // through the same readings, re-fix time, fix kept,
-// roll/pitch/heading RMS, held integers against the truth per estimator);
+// roll/pitch/heading RMS, held integers against the truth per estimator, fixed epochs
+// more than 10 cm from the truth) and DIR/wrong_holds.csv (each wrong hold of each flight);
 // --gap-bridge-max-s S: ekf_ins's InsEkfOptions::gap_bridge_max_s (default 6 s).
 #include <unistd.h>
 
@@ -70,7 +73,7 @@ namespace {
 
 int usage(const std::string& why) {
   std::cerr << "ppp_monte_carlo: " << why << "\n"
-            << "usage: ppp_monte_carlo --flights N --seed S --out DIR [--duration-min 30] [--rate 1]\n"
+            << "usage: ppp_monte_carlo --flights N --seed S --out DIR [--first-flight 0] [--duration-min 30] [--rate 1]\n"
             << "                       [--profiles loiter,survey,figure8,climb] [--threads N]\n"
             << "                       [--config PPP_YAML] [--sim-config SIMULATION_YAML]\n"
             << "                       [--fixed-origin] [--fixed-start] [--smoother-lag 60]\n"
@@ -156,6 +159,12 @@ bool runInsStudy(const ppp::InsOutageStudyOptions& options, const std::string& d
   file << md;
   if (!file) {
     std::cerr << "ppp_monte_carlo: cannot write " << dir << "/ins_outages.md\n";
+    return false;
+  }
+  std::ofstream csv(dir + "/wrong_holds.csv", std::ios::binary);
+  csv << ppp::insOutageWrongHoldsCsv(study);
+  if (!csv) {
+    std::cerr << "ppp_monte_carlo: cannot write " << dir << "/wrong_holds.csv\n";
     return false;
   }
   std::cout << md << "\n";
@@ -256,6 +265,9 @@ int main(int argc, char** argv) {
     else if (a == "--flights") {
       if (!parseNumber(v, x) || x < 1 || x > 100000 || x != static_cast<int>(x)) return usage("--flights must be 1..100000");
       options.flights = static_cast<int>(x);
+    } else if (a == "--first-flight") {
+      if (!parseNumber(v, x) || x < 0 || x > 100000 || x != static_cast<int>(x)) return usage("--first-flight must be 0..100000");
+      options.first_flight = static_cast<int>(x);
     } else if (a == "--threads") {
       if (!parseNumber(v, x) || x < 1 || x > 256 || x != static_cast<int>(x)) return usage("--threads must be 1..256");
       options.threads = static_cast<unsigned>(x);

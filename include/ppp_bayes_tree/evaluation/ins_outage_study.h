@@ -26,7 +26,8 @@
 //  * fix kept: outages after which the first epoch is fixed;
 //  * ekf_ins: RMS of the roll, pitch and heading errors (ZYX Euler angles of
 //    R_ned_body, ins_alignment.h) over the epochs after alignment_s;
-//  * the held integers against the truth (HeldIntegerCheck).
+//  * the held integers against the truth (HeldIntegerCheck), and the fixed
+//    epochs more than kWrongFixThreshold_m (3D) from the truth.
 // INS-aided re-fixing after an outage (the literature this follows): the INS
 // prediction bridges the outage and constrains the position when the new arcs'
 // biases enter, so that their floats converge from the predicted position rather
@@ -44,6 +45,10 @@
 #include "ppp_bayes_tree/navigation/imu_noise.h"
 
 namespace ppp {
+
+/// A fixed epoch further than this from the truth (3D) is a wrong fix (as on
+/// real data, doc/ppp_ar.md) [m].
+constexpr double kWrongFixThreshold_m = 0.10;
 
 struct InsOutageStudyOptions {
   /// The flights (count, seed, duration, profiles, simulation, estimators'
@@ -85,6 +90,7 @@ struct InsOutageFigures {
   double roll_sq_sum_rad2 = 0.0, pitch_sq_sum_rad2 = 0.0, heading_sq_sum_rad2 = 0.0;
   std::size_t attitude_epochs = 0;
   HeldIntegerCheck held_check;
+  std::size_t fixed_epochs_over_threshold = 0;  // fixed epochs > kWrongFixThreshold_m (3D) from the truth
   void add(const InsOutageFigures& other);
 };
 
@@ -112,5 +118,9 @@ InsOutageStudy runInsOutageStudy(const InsOutageStudyOptions& options);
 
 /// The table (one row per estimator) as Markdown.
 std::string insOutageMarkdown(const InsOutageStudy& study);
+/// Every wrong hold of every flight (HeldIntegerCheck::wrong_holds) as CSV, one
+/// line each: flight, estimator, time [s], satellites, wide lane held and true,
+/// narrow lane held and true [cycles], float and sigma [cycles], ratio, success rate.
+std::string insOutageWrongHoldsCsv(const InsOutageStudy& study);
 
 }  // namespace ppp

@@ -152,6 +152,17 @@ struct BiasErrorSample {
 /// kWrongHoldThresholdCycles from the true dN1 (a wrong integer of one system is
 /// a whole cycle off; a cross-system hold is as wrong as its distance).
 constexpr double kWrongHoldThresholdCycles = 0.25;
+/// One wrong hold as it was first judged (diagnostics: which stage erred, and
+/// what the float and the search said at that epoch).
+struct WrongHold {
+  double time_s = 0.0;  // since the flight's first epoch
+  SatelliteId satellite, reference_satellite;
+  long wide_lane_cycles = 0, true_wide_lane_cycles = 0;
+  long held_cycles = 0;
+  double true_cycles = 0.0;  // the true dN1 with the held wide lane (what the held integer should be)
+  double float_cycles = 0.0, sigma_cycles = 0.0;  // the held pair's float dN1 and sigma at that epoch
+  double ratio = 0.0, bootstrap_success_rate = 0.0;  // of that epoch's search (AmbiguityFixSummary)
+};
 struct HeldIntegerCheck {
   std::size_t held = 0;           // distinct held single differences compared with the truth
   std::size_t wrong = 0;          // of them, wrong (see above)
@@ -160,6 +171,7 @@ struct HeldIntegerCheck {
   std::size_t fixed_epochs = 0;   // epochs with a fixed solution
   std::size_t fixed_epochs_with_wrong_hold = 0;  // of them, holding at least one wrong integer
   double max_abs_error_cycles = 0.0;  // |held - true dN1| over the holds with the right wide lane
+  std::vector<WrongHold> wrong_holds;  // each of the `wrong`, in the order judged
   void add(const HeldIntegerCheck& other);
 };
 

@@ -28,6 +28,7 @@ double wrapped_rad(double a) { return std::atan2(std::sin(a), std::cos(a)); }
 struct EpochTrack {
   std::vector<std::optional<Eigen::Vector3d>> predicted_m;  // the position before the update
   std::vector<char> fixed;
+  std::size_t fixed_over_threshold = 0;  // fixed epochs > kWrongFixThreshold_m from the truth
   std::vector<char> attitude_scored;
   std::vector<Eigen::Vector3d> attitude_error_rad;  // roll, pitch, heading (estimate - truth)
 };
@@ -94,6 +95,10 @@ EpochTrack trackEpochs(const SimulatedFlight& f, const PppConfig& config, const 
         }
       });
   t.fixed = track.fixed;
+  for (std::size_t k = 0; k < n; ++k)
+    if (t.fixed[k] && track.position_ecef_m[k] &&
+        (*track.position_ecef_m[k] - f.truth[k].trajectory.position_ecef_m).norm() > kWrongFixThreshold_m)
+      ++t.fixed_over_threshold;
   held = track.held_check;
   return t;
 }
@@ -180,6 +185,7 @@ void InsOutageFigures::add(const InsOutageFigures& o) {
   heading_sq_sum_rad2 += o.heading_sq_sum_rad2;
   attitude_epochs += o.attitude_epochs;
   held_check.add(o.held_check);
+  fixed_epochs_over_threshold += o.fixed_epochs_over_threshold;
 }
 
 InsOutageFlight runInsOutageFlight(const InsOutageStudyOptions& options, int index) {
@@ -200,6 +206,7 @@ InsOutageFlight runInsOutageFlight(const InsOutageStudyOptions& options, int ind
       const EpochTrack t = trackEpochs(f, c, name, options, fig.held_check);
       scoreOutages(f, t, name == "ekf_ins", fig);
       scoreAttitude(t, fig);
+      fig.fixed_epochs_over_threshold = t.fixed_over_threshold;
       out.estimators.push_back(std::move(fig));
     }
   } catch (const std::exception& e) {
@@ -261,8 +268,10 @@ std::string insOutageMarkdown(const InsOutageStudy& study) {
     << " never fixed: no outage).\n\n";
   s << "| estimator | flights fixed | outages counted | horizontal error at the outage end, median [m] | "
        "coast from the truth, median [m] | re-fix after the outage, median [s] (never) | fixed at the first epoch after | roll RMS [deg] | "
-       "pitch RMS [deg] | heading RMS [deg] | held integers (wrong) | fixed epochs with a wrong hold |\n"
-    << "|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+       "pitch RMS [deg] | heading RMS [deg] | held integers (wrong) | fixed epochs with a wrong hold | "
+       "fixed epochs > "
+    << number(kWrongFixThreshold_m * 100.0, 0) << " cm (of) |\n"
+    << "|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
   for (std::size_t e = 0; e < study.total.size(); ++e) {
     const InsOutageFigures& f = study.total[e];
     const long never = std::count_if(f.refix_s.begin(), f.refix_s.end(), [](double v) { return std::isinf(v); });
@@ -273,9 +282,25 @@ std::string insOutageMarkdown(const InsOutageStudy& study) {
       << ") | " << f.fix_kept << " | " << rmsDeg(f.roll_sq_sum_rad2, f.attitude_epochs) << " | "
       << rmsDeg(f.pitch_sq_sum_rad2, f.attitude_epochs) << " | " << rmsDeg(f.heading_sq_sum_rad2, f.attitude_epochs)
       << " | " << f.held_check.held << " (" << f.held_check.wrong << ") | "
-      << f.held_check.fixed_epochs_with_wrong_hold << " |\n";
+      << f.held_check.fixed_epochs_with_wrong_hold << " | " << f.fixed_epochs_over_threshold << " ("
+      << f.held_check.fixed_epochs << ") |\n";
   }
   s << "\nWall time " << number(study.wall_s, 1) << " s.\n";
+  return s.str();
+}
+
+std::string insOutageWrongHoldsCsv(const InsOutageStudy& study) {
+  std::ostringstream s;
+  s << "flight,estimator,time_s,satellite,reference,wide_lane_held,wide_lane_true,narrow_lane_held,"
+       "narrow_lane_true,float_cycles,sigma_cycles,ratio,success_rate\n";
+  for (const InsOutageFlight& f : study.flights)
+    for (std::size_t e = 0; e < f.estimators.size(); ++e)
+      for (const WrongHold& w : f.estimators[e].held_check.wrong_holds)
+        s << f.setup.index << ',' << insOutageEstimators()[e] << ',' << number(w.time_s, 0) << ','
+          << w.satellite.toString() << ',' << w.reference_satellite.toString() << ',' << w.wide_lane_cycles << ','
+          << w.true_wide_lane_cycles << ',' << w.held_cycles << ',' << number(w.true_cycles, 3) << ','
+          << number(w.float_cycles, 3) << ',' << number(w.sigma_cycles, 3) << ',' << number(w.ratio, 2) << ','
+          << number(w.bootstrap_success_rate, 6) << '\n';
   return s.str();
 }
 

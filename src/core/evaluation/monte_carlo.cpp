@@ -163,8 +163,8 @@ class HeldIntegerChecker {
 
   /// `arcs`: the estimator arcs' truth bookkeeping (BiasSampler::arcs(), updated
   /// for this epoch first).
-  void epoch(const std::optional<AmbiguityFixSummary>& fix, bool fixed, const std::map<ArcId, ArcRecord>& arcs,
-             HeldIntegerCheck& out) {
+  void epoch(double time_s, const std::optional<AmbiguityFixSummary>& fix, bool fixed,
+             const std::map<ArcId, ArcRecord>& arcs, HeldIntegerCheck& out) {
     if (fixed) ++out.fixed_epochs;
     if (!fix) return;
     bool wrong_now = false;
@@ -173,7 +173,14 @@ class HeldIntegerChecker {
       const Key key{n.arc, n.reference_arc, n.wide_lane_cycles, *n.held_cycles, generation(arcs, n.arc),
                     generation(arcs, n.reference_arc)};
       auto it = verdicts_.find(key);
-      if (it == verdicts_.end()) it = verdicts_.emplace(key, judge(n, arcs, out)).first;
+      if (it == verdicts_.end()) {
+        it = verdicts_.emplace(key, judge(n, arcs, out)).first;
+        if (it->second == Verdict::Wrong) {
+          out.wrong_holds.back().time_s = time_s;
+          out.wrong_holds.back().ratio = fix->ratio;
+          out.wrong_holds.back().bootstrap_success_rate = fix->bootstrap_success_rate;
+        }
+      }
       wrong_now = wrong_now || it->second == Verdict::Wrong;
     }
     if (fixed && wrong_now) ++out.fixed_epochs_with_wrong_hold;
@@ -210,6 +217,16 @@ class HeldIntegerChecker {
     if (right_wide_lane) out.max_abs_error_cycles = std::max(out.max_abs_error_cycles, std::abs(error));
     if (right_wide_lane && std::abs(error) <= kWrongHoldThresholdCycles) return Verdict::Right;
     ++out.wrong;
+    WrongHold w;
+    w.satellite = n.satellite;
+    w.reference_satellite = n.reference_satellite;
+    w.wide_lane_cycles = n.wide_lane_cycles;
+    w.true_wide_lane_cycles = true_wide_lane;
+    w.held_cycles = *n.held_cycles;
+    w.true_cycles = true_dn1;
+    w.float_cycles = n.float_cycles;
+    w.sigma_cycles = n.sigma_cycles;
+    out.wrong_holds.push_back(w);
     return Verdict::Wrong;
   }
 
@@ -420,7 +437,8 @@ void runStudiedEstimator(const SimulatedFlight& f, int index, const MonteCarloOp
     if (study == 0) reference[k] = p;
     else if (entry.smoothed() && p && reference[k]) run.filtered_minus_ekf_m[k] = (*p - *reference[k]).norm();
     sampler.epoch(k, rec, [&](ArcId a) { return estimator->biasEstimate_m(a); }, run.bias[column]);
-    checker.epoch(estimator->lastResult().ambiguity_fix, fixed[k] != 0, sampler.arcs(), run.held_check[study]);
+    checker.epoch(f.epochs[k].time - f.epochs.front().time, estimator->lastResult().ambiguity_fix, fixed[k] != 0,
+                  sampler.arcs(), run.held_check[study]);
     ++k;
   });
   run.estimator_arcs = summary.arcs;  // the arc tracker's: the same front end in every run
@@ -451,7 +469,8 @@ FlightEstimatorTrack trackEstimatorOnFlight(
     track.position_ecef_m[k] = rec.solution.position_ecef_m;
     track.fixed[k] = rec.solution.status == SolutionStatus::PppFixed ? 1 : 0;
     sampler.epoch(k, rec, [&](ArcId a) { return estimator->biasEstimate_m(a); }, bias_samples);
-    checker.epoch(estimator->lastResult().ambiguity_fix, track.fixed[k] != 0, sampler.arcs(), track.held_check);
+    checker.epoch(f.epochs[k].time - f.epochs.front().time, estimator->lastResult().ambiguity_fix,
+                  track.fixed[k] != 0, sampler.arcs(), track.held_check);
     if (on_epoch) on_epoch(k, rec, *estimator);
     ++k;
   });
@@ -499,6 +518,7 @@ void HeldIntegerCheck::add(const HeldIntegerCheck& o) {
   fixed_epochs += o.fixed_epochs;
   fixed_epochs_with_wrong_hold += o.fixed_epochs_with_wrong_hold;
   max_abs_error_cycles = std::max(max_abs_error_cycles, o.max_abs_error_cycles);
+  wrong_holds.insert(wrong_holds.end(), o.wrong_holds.begin(), o.wrong_holds.end());
 }
 
 MonteCarloSummary summarizeMonteCarlo(const std::vector<MonteCarloFlightRun>& flights,
