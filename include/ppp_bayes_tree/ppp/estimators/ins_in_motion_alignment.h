@@ -3,8 +3,8 @@
 // PppInsSmoother) when neither an attitude nor a heading is given (InsEkfOptions):
 // - roll and pitch from the latest static interval of the readings before the
 //   start (the last kLevellingHistory_s of them), carried to the start by the
-//   gyros; the accelerometers' error along gravity from that levelling
-//   (levelInMotion);
+//   gyros less their bias; the accelerometers' error along gravity and the gyros'
+//   bias (their mean at rest) from that interval (levelInMotion);
 // - the heading from the course over ground of the antenna track once it moves
 //   faster than HeadingAlignment::min_horizontal_speed_mps over at least
 //   course_interval_s (CourseHeadingTrack): the course becomes the heading of the
@@ -40,6 +40,12 @@ struct InMotionLevel {
   /// The accelerometers' error along gravity: the mean force less the local gravity's
   /// magnitude (Groves 2nd ed. 14.2.1) [m/s^2].
   Eigen::Vector3d accel_bias_mps2 = Eigen::Vector3d::Zero();
+  /// The gyros' bias: their mean rate over the static interval less the Earth's rate
+  /// about the levelled down axis (Groves 2nd ed. 14.2.4; the turn-on bias of a
+  /// consumer MEMS gyro is tenths of a degree per second, which the in-run
+  /// instability does not cover). The Earth's horizontal rate, whose direction
+  /// needs the heading, stays in it: at most 15 deg/h cos(latitude) [rad/s].
+  Eigen::Vector3d gyro_bias_radps = Eigen::Vector3d::Zero();
   std::string problem;  ///< why there is no attitude
 };
 

@@ -3,8 +3,20 @@
 #include <algorithm>
 
 #include "ppp_bayes_tree/navigation/navigation_frame.h"
+#include "ppp_bayes_tree/types/constants.h"
 
 namespace ppp {
+namespace {
+
+/// The Earth's rate about the down axis, in the body axes of `rotation_ecef_body` [rad/s]:
+/// the part of its rate a levelled body at rest sees whatever its heading.
+Eigen::Vector3d earthRateAboutDown(const Eigen::Matrix3d& rotation_ecef_body, const Eigen::Vector3d& position_ecef_m) {
+  const Eigen::Vector3d down_ecef = rotationEcefNed(position_ecef_m).col(2);
+  const Eigen::Vector3d earth_rate_ecef(0.0, 0.0, kEarthRotationRate_radps);
+  return rotation_ecef_body.transpose() * (down_ecef * down_ecef.dot(earth_rate_ecef));
+}
+
+}  // namespace
 
 void keepLevellingHistory(std::vector<ImuSample>& history, const std::vector<ImuSample>& readings,
                           const GnssTime& time) {
@@ -34,7 +46,8 @@ InMotionLevel levelInMotion(const std::vector<ImuSample>& history, const Eigen::
   out.accel_bias_mps2 = f - gravity_mps2 * f.normalized();
   const Eigen::Matrix3d levelled =
       rotationEcefNed(position_ecef_m) * rotationNedBody(level.roll_rad, level.pitch_rad, 0.0);
-  out.rotation_ecef_body = propagateAttitude(levelled, history, interval_end, start);
+  out.gyro_bias_radps = level.mean_angular_rate_radps - earthRateAboutDown(levelled, position_ecef_m);
+  out.rotation_ecef_body = propagateAttitude(levelled, history, interval_end, start, out.gyro_bias_radps);
   return out;
 }
 

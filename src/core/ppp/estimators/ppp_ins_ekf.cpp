@@ -185,6 +185,7 @@ std::optional<Eigen::Matrix3d> PppInsEkf::attitudeInMotion(const Eigen::Vector3d
   heading_from_course_ = true;
   alignment_ = AlignmentState::LevelOnly;
   start_accel_bias_mps2_ = level.accel_bias_mps2;
+  start_gyro_bias_radps_ = level.gyro_bias_radps;
   return level.rotation_ecef_body;
 }
 
@@ -246,7 +247,10 @@ bool PppInsEkf::startNominal(const ReceiverState& start) {
   nominal_.velocity_world_mps = insStartVelocity_ecef_mps(ins_, start.position_ecef_m);
   nominal_.position_world_m = start.position_ecef_m - nominal_.rotation_world_body * ins_.lever_arm_body_m;
   bias_ = ImuBias{};
-  if (heading_from_course_) bias_.accel_mps2 = start_accel_bias_mps2_;
+  if (heading_from_course_) {
+    bias_.accel_mps2 = start_accel_bias_mps2_;
+    bias_.gyro_radps = start_gyro_bias_radps_;
+  }
   return true;
 }
 

@@ -235,6 +235,7 @@ bool PppInsSmoother::startLevelOnly(const ReceiverState& start) {
   epoch_attitude_ = level.rotation_ecef_body;
   level_position_ecef_m_ = start.position_ecef_m;
   start_accel_bias_mps2_ = level.accel_bias_mps2;
+  start_gyro_bias_radps_ = level.gyro_bias_radps;
   alignment_ = AlignmentState::LevelOnly;
   return true;
 }
@@ -244,6 +245,7 @@ void PppInsSmoother::predictBeforeNavState(double dt_s, ReceiverState& predicted
   if (!level_attitude_ && !course_nav_) return;
   last_bias_ = ImuBias{};
   last_bias_.accel_mps2 = start_accel_bias_mps2_;
+  last_bias_.gyro_radps = start_gyro_bias_radps_;
   if (!preintegrateTo(*lastTime() + dt_s)) return;
   NavState from;
   if (course_nav_) {

@@ -2,15 +2,19 @@
 // the course of an antenna track (no heading before the interval or below the speed;
 // then the course, its sigma velocity sigma / speed, and the track's velocity); the
 // attitude covariance with the heading's variance set in NED, the tilt kept; the state
-// turned to the course with its antenna kept; the levelling history's two minutes.
+// turned to the course with its antenna kept; the levelling history's two minutes; the
+// gyro bias from the static interval, and the tilt carried to the start without it.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <vector>
 
 #include "ppp_bayes_tree/navigation/ins_alignment.h"
+#include "ppp_bayes_tree/navigation/navigation_frame.h"
 #include "ppp_bayes_tree/navigation/so3.h"
 #include "ppp_bayes_tree/ppp/estimators/ins_in_motion_alignment.h"
+#include "ppp_bayes_tree/types/constants.h"
 
 namespace ppp {
 namespace {
@@ -80,6 +84,38 @@ TEST(InsInMotionAlignment, LevellingHistoryKeepsTwoMinutes) {
   ASSERT_FALSE(history.empty());
   EXPECT_DOUBLE_EQ(history.front().time - start(), 199.0 - kLevellingHistory_s);
   EXPECT_EQ(history.size(), 121u);
+}
+
+TEST(InsInMotionAlignment, GyroBiasFromTheStaticIntervalAndTiltCarriedWithoutIt) {
+  // 2 s at rest, then 5 s turning about the body z axis at 0.5 rad/s, at 150 Hz. The
+  // gyros read the body rate, the Earth's rate and a bias of (0.094, -0.153, 0.189)
+  // deg/s (the walk's gyros at rest, doc/studies/ins_walk.md).
+  const Eigen::Vector3d bias_radps(0.00164, -0.00267, 0.00330), earth_rate_ecef(0.0, 0.0, kEarthRotationRate_radps);
+  const Eigen::Matrix3d ecef_ned = rotationEcefNed(kPosition_m), ned_body0 = rotationNedBody(0.1, -0.05, 0.6);
+  const double gravity_mps2 = ecefNavigationFrame(kPosition_m).gravity_world_mps2.norm();
+  const double dt_s = 1.0 / 150.0, rate_radps = 0.5;
+  const auto ned_body = [&](double t_s) {
+    return Eigen::Matrix3d(ned_body0 * so3::expMap(Eigen::Vector3d(0.0, 0.0, rate_radps * std::max(0.0, t_s - 2.0))));
+  };
+  std::vector<ImuSample> readings;
+  for (int k = 0; k <= 7 * 150; ++k) {
+    const double t_s = k * dt_s;
+    const Eigen::Matrix3d body_ecef = (ecef_ned * ned_body(t_s)).transpose();
+    ImuSample s;
+    s.time = start() + t_s;
+    s.angular_rate_radps = Eigen::Vector3d(0.0, 0.0, t_s >= 2.0 ? rate_radps : 0.0) + body_ecef * earth_rate_ecef + bias_radps;
+    s.specific_force_mps2 = ned_body(t_s).transpose() * Eigen::Vector3d(0.0, 0.0, -gravity_mps2);
+    readings.push_back(s);
+  }
+  const InMotionLevel level = levelInMotion(readings, kPosition_m, start() + 7.0);
+  ASSERT_TRUE(level.rotation_ecef_body) << level.problem;
+  // The Earth's horizontal rate stays in the bias: 15 deg/h cos(latitude 46.9 deg) = 5.0e-5 rad/s.
+  EXPECT_LT((level.gyro_bias_radps - bias_radps).norm(), 5.1e-5);
+  // Roll and pitch carried by the gyros less that bias: the bias left over 5 s of turning
+  // tilts by at most 5.1e-5 rad/s x 5 s (3e-4 found); with the whole bias left, 9e-3 in roll and 6e-3 in pitch.
+  const EulerAngles truth = eulerAngles(ned_body(7.0)), carried = eulerAngles(ecef_ned.transpose() * *level.rotation_ecef_body);
+  EXPECT_NEAR(carried.roll_rad, truth.roll_rad, 5e-4);
+  EXPECT_NEAR(carried.pitch_rad, truth.pitch_rad, 5e-4);
 }
 
 }  // namespace
