@@ -23,12 +23,20 @@
 #include "ppp_bayes_tree/navigation/ins_alignment.h"
 #include "ppp_bayes_tree/navigation/nav_state.h"
 #include "ppp_bayes_tree/ppp/estimators/ins_ekf_options.h"
+#include "ppp_bayes_tree/types/constants.h"
 #include "ppp_bayes_tree/types/gnss_time.h"
 
 namespace ppp {
 
 /// How far back the readings before a start in motion are kept [s].
 constexpr double kLevellingHistory_s = 120.0;
+
+/// The largest mean rate of the levelling interval taken as the gyros' bias [rad/s]:
+/// 1 deg/s, the zero-rate offset of a consumer MEMS gyro (Bosch BMI088 data sheet
+/// BST-BMI088-DS001, gyroscope specification: +-1 deg/s). The levelling accepts
+/// slow turns (StaticIntervalThresholds::max_gyro_rate_radps, 2.9 deg/s): a mean
+/// rate above this is a turn, and the bias is left at zero.
+constexpr double kMaxGyroBiasAtLevelling_radps = 1.0 * kDegToRad;
 
 /// Appends `readings` to `history` and drops those more than kLevellingHistory_s before `time`.
 void keepLevellingHistory(std::vector<ImuSample>& history, const std::vector<ImuSample>& readings,
@@ -43,8 +51,9 @@ struct InMotionLevel {
   /// The gyros' bias: their mean rate over the static interval less the Earth's rate
   /// about the levelled down axis (Groves 2nd ed. 14.2.4; the turn-on bias of a
   /// consumer MEMS gyro is tenths of a degree per second, which the in-run
-  /// instability does not cover). The Earth's horizontal rate, whose direction
-  /// needs the heading, stays in it: at most 15 deg/h cos(latitude) [rad/s].
+  /// instability does not cover); zero when that exceeds
+  /// kMaxGyroBiasAtLevelling_radps (a slow turn). The Earth's horizontal rate, whose
+  /// direction needs the heading, stays in it: at most 15 deg/h cos(latitude) [rad/s].
   Eigen::Vector3d gyro_bias_radps = Eigen::Vector3d::Zero();
   std::string problem;  ///< why there is no attitude
 };

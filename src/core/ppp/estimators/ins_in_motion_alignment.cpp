@@ -46,7 +46,8 @@ InMotionLevel levelInMotion(const std::vector<ImuSample>& history, const Eigen::
   out.accel_bias_mps2 = f - gravity_mps2 * f.normalized();
   const Eigen::Matrix3d levelled =
       rotationEcefNed(position_ecef_m) * rotationNedBody(level.roll_rad, level.pitch_rad, 0.0);
-  out.gyro_bias_radps = level.mean_angular_rate_radps - earthRateAboutDown(levelled, position_ecef_m);
+  const Eigen::Vector3d mean_rate_radps = level.mean_angular_rate_radps - earthRateAboutDown(levelled, position_ecef_m);
+  if (mean_rate_radps.norm() <= kMaxGyroBiasAtLevelling_radps) out.gyro_bias_radps = mean_rate_radps;
   out.rotation_ecef_body = propagateAttitude(levelled, history, interval_end, start, out.gyro_bias_radps);
   return out;
 }

@@ -116,6 +116,11 @@ TEST(InsInMotionAlignment, GyroBiasFromTheStaticIntervalAndTiltCarriedWithoutIt)
   const EulerAngles truth = eulerAngles(ned_body(7.0)), carried = eulerAngles(ecef_ned.transpose() * *level.rotation_ecef_body);
   EXPECT_NEAR(carried.roll_rad, truth.roll_rad, 5e-4);
   EXPECT_NEAR(carried.pitch_rad, truth.pitch_rad, 5e-4);
+  // A slow turn the levelling accepts (2 deg/s about z, below its 2.9 deg/s) is not a bias.
+  for (ImuSample& s : readings) s.angular_rate_radps.z() += 2.0 * kDegToRad;
+  const InMotionLevel turning = levelInMotion(readings, kPosition_m, start() + 7.0);
+  ASSERT_TRUE(turning.rotation_ecef_body) << turning.problem;
+  EXPECT_EQ(turning.gyro_bias_radps, Eigen::Vector3d::Zero());
 }
 
 }  // namespace
