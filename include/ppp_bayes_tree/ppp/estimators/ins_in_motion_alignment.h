@@ -33,7 +33,7 @@ constexpr double kLevellingHistory_s = 120.0;
 
 /// The largest mean rate of the levelling interval taken as the gyros' bias [rad/s]:
 /// 1 deg/s, the zero-rate offset of a consumer MEMS gyro (Bosch BMI088 data sheet
-/// BST-BMI088-DS001, gyroscope specification: +-1 deg/s). The levelling accepts
+/// BST-BMI088-DS001, gyroscope specification: +-1 deg/s typical). The levelling accepts
 /// slow turns (StaticIntervalThresholds::max_gyro_rate_radps, 2.9 deg/s): a mean
 /// rate above this is a turn, and the bias is left at zero.
 constexpr double kMaxGyroBiasAtLevelling_radps = 1.0 * kDegToRad;
