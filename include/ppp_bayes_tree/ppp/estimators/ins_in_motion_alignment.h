@@ -3,8 +3,10 @@
 // PppInsSmoother) when neither an attitude nor a heading is given (InsEkfOptions):
 // - roll and pitch from the latest static interval of the readings before the
 //   start (the last kLevellingHistory_s of them), carried to the start by the
-//   gyros less their bias; the accelerometers' error along gravity and the gyros'
-//   bias (their mean at rest) from that interval (levelInMotion);
+//   gyros less their bias; the accelerometers' error along gravity from that
+//   interval, and the gyros' bias (their mean at rest) where it is more than the
+//   grade's bias instability and the Earth's unknown horizontal rate explain
+//   (levelInMotion);
 // - the heading from the course over ground of the antenna track once it moves
 //   faster than HeadingAlignment::min_horizontal_speed_mps over at least
 //   course_interval_s (CourseHeadingTrack): the course becomes the heading of the
@@ -19,6 +21,7 @@
 #include <utility>
 #include <vector>
 
+#include "ppp_bayes_tree/navigation/imu_noise.h"
 #include "ppp_bayes_tree/navigation/imu_sample.h"
 #include "ppp_bayes_tree/navigation/ins_alignment.h"
 #include "ppp_bayes_tree/navigation/nav_state.h"
@@ -38,6 +41,16 @@ constexpr double kLevellingHistory_s = 120.0;
 /// rate above this is a turn, and the bias is left at zero.
 constexpr double kMaxGyroBiasAtLevelling_radps = 1.0 * kDegToRad;
 
+/// The test that takes the levelled mean rate m as the gyros' bias: m^T m / (s_p^2 + s_m^2)
+/// above the chi-square 0.999 quantile of 3 degrees of freedom, with s_p the grade's bias
+/// instability (the bias the estimators otherwise start from: zero with that sigma) and s_m
+/// the levelled rate's own uncertainty (the Earth's horizontal rate, which the unknown
+/// heading leaves in it, and the standard error of the readings' mean from their own scatter). A gyro whose turn-on bias
+/// is within its datasheet's instability keeps the estimators' prior; one whose mean at rest
+/// says otherwise (a consumer gyro's zero-rate offset of tenths of a degree per second)
+/// starts from that mean with the sigma s_m.
+constexpr double kGyroBiasTestChiSquare = 16.266;
+
 /// Appends `readings` to `history` and drops those more than kLevellingHistory_s before `time`.
 void keepLevellingHistory(std::vector<ImuSample>& history, const std::vector<ImuSample>& readings,
                           const GnssTime& time);
@@ -52,16 +65,24 @@ struct InMotionLevel {
   /// about the levelled down axis (Groves 2nd ed. 14.2.4; the turn-on bias of a
   /// consumer MEMS gyro is tenths of a degree per second, which the in-run
   /// instability does not cover); zero when that exceeds
-  /// kMaxGyroBiasAtLevelling_radps (a slow turn). The Earth's horizontal rate, whose
-  /// direction needs the heading, stays in it: at most 15 deg/h cos(latitude) [rad/s].
+  /// kMaxGyroBiasAtLevelling_radps (a slow turn), or when the grade's prior explains it
+  /// (kGyroBiasTestChiSquare). The Earth's horizontal rate, whose direction needs the
+  /// heading, stays in it: at most 15 deg/h cos(latitude) [rad/s].
   Eigen::Vector3d gyro_bias_radps = Eigen::Vector3d::Zero();
+  /// The sigma of gyro_bias_radps per axis when it was taken from the levelling [rad/s]:
+  /// the levelled rate's uncertainty and the grade's instability, root-sum-squared (the
+  /// estimators start the gyro bias with it).
+  /// nullopt: not taken, the grade's prior stands.
+  std::optional<double> gyro_bias_sigma_radps;
   std::string problem;  ///< why there is no attitude
 };
 
 /// Levels at the latest static interval of `history` (the readings before the start)
-/// and carries the attitude through the later readings to `start`.
+/// and carries the attitude through the later readings to `start`. `noise` is the IMU's
+/// grade (its gyro bias instability, beside the levelled rate's uncertainty, decides
+/// whether the mean rate at rest is a bias).
 InMotionLevel levelInMotion(const std::vector<ImuSample>& history, const Eigen::Vector3d& position_ecef_m,
-                            const GnssTime& start);
+                            const GnssTime& start, const ImuNoise& noise);
 
 /// The course over ground of the antenna track, once it gives a heading.
 struct CourseHeading {

@@ -177,7 +177,7 @@ std::optional<Eigen::Matrix3d> PppInsEkf::initialAttitude(const Eigen::Vector3d&
 }
 
 std::optional<Eigen::Matrix3d> PppInsEkf::attitudeInMotion(const Eigen::Vector3d& position_ecef_m) {
-  InMotionLevel level = levelInMotion(before_start_, position_ecef_m, epoch_time_);
+  InMotionLevel level = levelInMotion(before_start_, position_ecef_m, epoch_time_, ins_.noise);
   if (!level.rotation_ecef_body) {
     epoch_problem_ = {NoSolutionReason::NoInitialAttitude, std::move(level.problem)};
     return std::nullopt;
@@ -186,6 +186,7 @@ std::optional<Eigen::Matrix3d> PppInsEkf::attitudeInMotion(const Eigen::Vector3d
   alignment_ = AlignmentState::LevelOnly;
   start_accel_bias_mps2_ = level.accel_bias_mps2;
   start_gyro_bias_radps_ = level.gyro_bias_radps;
+  start_gyro_bias_sigma_radps_ = level.gyro_bias_sigma_radps.value_or(ins_.noise.gyro_bias_instability_radps);
   return level.rotation_ecef_body;
 }
 
@@ -263,7 +264,11 @@ ReceiverState PppInsEkf::predict(double dt_s, bool first, const std::optional<Re
       return *start;
     }
     track_.clear();
-    if (heading_from_course_) setHeadingCovariance(work_, ins_.heading_alignment.unaligned_heading_sigma_rad);
+    if (heading_from_course_) {
+      setHeadingCovariance(work_, ins_.heading_alignment.unaligned_heading_sigma_rad);
+      constexpr int g = InsErrorIndex::kGyroBias;
+      work_.P.block<3, 3>(g, g) = start_gyro_bias_sigma_radps_ * start_gyro_bias_sigma_radps_ * Eigen::Matrix3d::Identity();
+    }
     updateWithDoppler(work_);  // committed with the start's update, if any
   } else if (!first) {
     if (propagateTo(*lastTime() + dt_s)) {
