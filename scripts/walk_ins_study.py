@@ -18,6 +18,9 @@ the walk's RTK reference gnss_1730_sf.pos at its fixed epochs (Q=1):
 
 Usage: walk_ins_study.py [--bin DIR] [--data DIR] [--out DIR] [--gap-start "HH:MM:SS"]
                          [--gap-s S] [--imu-grade G] [--doppler on|off]
+                         [--estimator ekf_ins|smoother_ins]
+--estimator smoother_ins measures the GNSS/INS smoother's filtered states (its attitude
+file) in place of ekf_ins.
 The mounting is the data set's (shared/data/README.md, ubx/): IMU 0.05 m east of the
 antenna in the body frame (lever arm antenna - IMU = 0,-0.05,0 m), IMU axes rotated
 roll 180, pitch 0, yaw -90 deg from the body's. doc/studies/ins_walk.md has the figures.
@@ -261,23 +264,25 @@ def add_options(p):
     p.add_argument("--imu-rotation", default="180,0,-90", help="the IMU's axes from the body's: roll,pitch,yaw [deg]")
     p.add_argument("--lever-arm", default="0,-0.05,0", help="antenna - IMU in the body frame [m]")
     p.add_argument("--doppler", default="on", choices=("on", "off"), help="ekf_ins's Doppler velocity update")
+    p.add_argument("--estimator", default="ekf_ins", choices=("ekf_ins", "smoother_ins"),
+                   help="the GNSS/INS estimator (smoother_ins: its filtered states; no Doppler update)")
 
 
 def run_ours(a):
-    """Runs ekf, ekf_ins and ekf_ins with the GNSS gap into a.out; returns the commands."""
+    """Runs ekf, the GNSS/INS estimator and it with the GNSS gap into a.out; returns the commands."""
     os.makedirs(a.out, exist_ok=True)
     gap = "%s %s,%g" % (DATE, a.gap_start, a.gap_s)
     imu = imu_options(a.data, a.imu_grade, a.imu_rotation, a.lever_arm, a.doppler)
     return [run_solve(a.bin, a.data, a.out, "walk", "ekf", []),
-            run_solve(a.bin, a.data, a.out, "walk", "ekf_ins", imu),
-            run_solve(a.bin, a.data, a.out, "walk_gap", "ekf_ins", imu + ["--gnss-gap", gap])]
+            run_solve(a.bin, a.data, a.out, "walk", a.estimator, imu),
+            run_solve(a.bin, a.data, a.out, "walk_gap", a.estimator, imu + ["--gnss-gap", gap])]
 
 
 def ours_figures(a, ref):
     """The figures of the three runs in a.out against the reference: dict with ins, gnss
     (velocity_and_heading), gap (gap_displacement of ekf_ins), and the series read."""
     lat0, lon0 = ref[0, 1], ref[0, 2]
-    ins = read_attitude(os.path.join(a.out, "walk_ekf_ins_attitude.csv"))
+    ins = read_attitude(os.path.join(a.out, "walk_%s_attitude.csv" % a.estimator))
     solved = ins["status"] != "no-solution"
     ins_stats = velocity_and_heading(ins["time_gpst"][solved], ins["velocity_north_mps"][solved],
                                      ins["velocity_east_mps"][solved], ins["heading_deg"][solved], ref)
@@ -291,7 +296,7 @@ def ours_figures(a, ref):
                                       ins["doppler_velocity_east_mps"], ref)
                       if "doppler_velocity_north_mps" in ins else None)
     gnss_window = window_velocity(gv[:, 0], gv[:, 1], gv[:, 2], ref)
-    gap_run = read_attitude(os.path.join(a.out, "walk_gap_ekf_ins_attitude.csv"))
+    gap_run = read_attitude(os.path.join(a.out, "walk_gap_%s_attitude.csv" % a.estimator))
     xyz = np.stack([gap_run["antenna_x_m"], gap_run["antenna_y_m"], gap_run["antenna_z_m"]], axis=-1)
     d = gap_displacement(gap_run["time_gpst"], xyz, ref, seconds_of_day(a.gap_start), a.gap_s)
     return {"ins": ins_stats, "gnss": gnss_stats, "gap": d, "ins_series": ins, "ins_solved": solved,
@@ -303,7 +308,7 @@ def ours_figures(a, ref):
 def print_table(a, f, ref):
     gnss_stats, ins_stats, d = f["gnss"], f["ins"], f["gap"]
     gnss_window, ins_window, doppler_window = f["gnss_window"], f["ins_window"], f["doppler_window"]
-    print("| against the RTK reference (Q=1) | GNSS only (ekf) | GNSS/INS (ekf_ins) |")
+    print("| against the RTK reference (Q=1) | GNSS only (ekf) | GNSS/INS (%s) |" % a.estimator)
     print("|---|---|---|")
     print("| epochs compared (velocity) | %d | %d |" % (gnss_stats["n_vel"], ins_stats["n_vel"]))
     print("| horizontal velocity RMS [m/s] | %.3f | %.3f |" % (gnss_stats["vel_rms"], ins_stats["vel_rms"]))
@@ -326,7 +331,7 @@ def print_table(a, f, ref):
               % (a.gap_s, hms(d["from"]), hms(d["to"]), d["ref_m"], "" if d["fixed"] else ", float ends",
                  d["error_m"]))
     else:
-        print("| GNSS gap: no ekf_ins epoch before or in it | no solution | n/a |")
+        print("| GNSS gap: no %s epoch before or in it | no solution | n/a |" % a.estimator)
 
 
 def main():
@@ -337,11 +342,11 @@ def main():
     ins, solved, gnss = f["ins_series"], f["ins_solved"], f["gnss_series"]
     first_ins = ins["time_gpst"][solved][0] if solved.any() else math.nan
     print("commands:\n  " + "\n  ".join(commands))
-    print("first solution: ekf %s, ekf_ins %s GPST (ephemerides first; the receiver starts 17:30:39)"
-          % (hms(gnss[0, 0]), hms(first_ins)))
+    print("first solution: ekf %s, %s %s GPST (ephemerides first; the receiver starts 17:30:39)"
+          % (hms(gnss[0, 0]), a.estimator, hms(first_ins)))
     print("aligned: %s" % (hms(ins["time_gpst"][np.argmax(ins["alignment"] == "aligned")])
                            if (ins["alignment"] == "aligned").any() else "never"))
-    counts = doppler_counts(ins)
+    counts = doppler_counts(ins) if a.estimator == "ekf_ins" else None
     if counts:
         print("Doppler velocity updates (ekf_ins): %s; satellites rejected by the outlier screen: %d"
               % (", ".join("%s %d" % kv for kv in sorted(counts[0].items())), counts[1]))

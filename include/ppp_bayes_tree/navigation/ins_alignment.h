@@ -70,6 +70,7 @@ struct LevelingResult {
   std::size_t samples = 0;
   Eigen::Vector3d mean_specific_force_mps2 = Eigen::Vector3d::Zero();
   double accel_spread_mps2 = 0.0;
+  Eigen::Vector3d mean_angular_rate_radps = Eigen::Vector3d::Zero();  ///< the gyros' mean over the interval
   double gyro_rms_radps = 0.0;
 };
 
@@ -86,9 +87,11 @@ LevelingResult levelAtLatestStaticInterval(const std::vector<ImuSample>& samples
                                            const StaticIntervalThresholds& thresholds, std::size_t* interval_end);
 
 /// R_ecef_body carried through the gyro readings samples[first, ...) up to `until`
-/// (each reading held to the next one's time): R <- Exp(-w_ie dt) R Exp(w_b dt).
+/// (each reading held to the next one's time), less a gyro bias b:
+/// R <- Exp(-w_ie dt) R Exp((w_b - b) dt).
 Eigen::Matrix3d propagateAttitude(const Eigen::Matrix3d& rotation_ecef_body, const std::vector<ImuSample>& samples,
-                                  std::size_t first, const GnssTime& until);
+                                  std::size_t first, const GnssTime& until,
+                                  const Eigen::Vector3d& gyro_bias_radps = Eigen::Vector3d::Zero());
 
 // ---- Heading from GNSS velocity ----------------------------------------------------
 

@@ -23,13 +23,14 @@ struct IntervalStatistics {
   bool finite = true;
   Eigen::Vector3d mean_force = Eigen::Vector3d::Zero();
   Eigen::Vector3d force_spread = Eigen::Vector3d::Zero();  ///< per-axis standard deviation
+  Eigen::Vector3d mean_rate = Eigen::Vector3d::Zero();
   double gyro_rms = 0.0;
 };
 
 IntervalStatistics intervalStatistics(const std::vector<ImuSample>& samples) {
   IntervalStatistics s;
   s.samples = samples.size();
-  Eigen::Vector3d sum = Eigen::Vector3d::Zero(), sum_sq = Eigen::Vector3d::Zero();
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero(), sum_sq = Eigen::Vector3d::Zero(), sum_rate = Eigen::Vector3d::Zero();
   double rate_sq = 0.0;
   for (const ImuSample& r : samples) {
     if (!r.specific_force_mps2.allFinite() || !r.angular_rate_radps.allFinite()) {
@@ -38,12 +39,14 @@ IntervalStatistics intervalStatistics(const std::vector<ImuSample>& samples) {
     }
     sum += r.specific_force_mps2;
     sum_sq += r.specific_force_mps2.cwiseAbs2();
+    sum_rate += r.angular_rate_radps;
     rate_sq += r.angular_rate_radps.squaredNorm();
   }
   if (s.samples == 0) return s;
   const double n = static_cast<double>(s.samples);
   s.mean_force = sum / n;
   s.force_spread = (sum_sq / n - s.mean_force.cwiseAbs2()).cwiseMax(0.0).cwiseSqrt();
+  s.mean_rate = sum_rate / n;
   s.gyro_rms = std::sqrt(rate_sq / n);
   return s;
 }
@@ -105,13 +108,13 @@ LevelingResult levelAtLatestStaticInterval(const std::vector<ImuSample>& samples
 }
 
 Eigen::Matrix3d propagateAttitude(const Eigen::Matrix3d& rotation_ecef_body, const std::vector<ImuSample>& samples,
-                                  std::size_t first, const GnssTime& until) {
+                                  std::size_t first, const GnssTime& until, const Eigen::Vector3d& gyro_bias_radps) {
   const Eigen::Vector3d earth_rate(0.0, 0.0, kEarthRotationRate_radps);
   Eigen::Matrix3d R = rotation_ecef_body;
   for (std::size_t k = first; k < samples.size() && until - samples[k].time > 0.0; ++k) {
     const GnssTime next = k + 1 < samples.size() && until - samples[k + 1].time > 0.0 ? samples[k + 1].time : until;
     const double dt_s = next - samples[k].time;
-    R = so3::expMap(-earth_rate * dt_s) * R * so3::expMap(samples[k].angular_rate_radps * dt_s);
+    R = so3::expMap(-earth_rate * dt_s) * R * so3::expMap((samples[k].angular_rate_radps - gyro_bias_radps) * dt_s);
   }
   return R;
 }
@@ -138,6 +141,7 @@ LevelingResult levelFromStaticInterval(const std::vector<ImuSample>& samples, co
   out.samples = s.samples;
   out.mean_specific_force_mps2 = s.mean_force;
   out.accel_spread_mps2 = s.force_spread.maxCoeff();
+  out.mean_angular_rate_radps = s.mean_rate;
   out.gyro_rms_radps = s.gyro_rms;
   if (out.status != LevelingStatus::Level) return out;
   const Eigen::Vector3d& f = s.mean_force;

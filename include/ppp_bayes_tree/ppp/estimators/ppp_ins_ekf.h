@@ -198,6 +198,8 @@ class PppInsEkf : public PppEkf {
   bool heading_from_course_ = false;        // started without a heading, not yet aligned
   bool starting_ = false;                   // this epoch starts the filter (no state from before a gap)
   Eigen::Vector3d start_accel_bias_mps2_ = Eigen::Vector3d::Zero();  // from the levelling (in-motion start)
+  Eigen::Vector3d start_gyro_bias_radps_ = Eigen::Vector3d::Zero();  // from the levelling (in-motion start)
+  double start_gyro_bias_sigma_radps_ = 0.0;                         // its sigma (the grade's when not taken)
   AlignmentState alignment_ = AlignmentState::NotAligned;
   CourseHeadingTrack track_;                // antenna positions after the updates
   std::optional<NavState> fixed_nominal_;   // this epoch's fixed solution (PPP-AR)

@@ -197,6 +197,8 @@ class PppInsSmoother : public PppSmoother {
   AlignmentState alignment_ = AlignmentState::NotAligned;
   std::vector<ImuSample> before_start_;         // the readings before the start, to level from
   Eigen::Vector3d start_accel_bias_mps2_ = Eigen::Vector3d::Zero();  // from the levelling
+  Eigen::Vector3d start_gyro_bias_radps_ = Eigen::Vector3d::Zero();   // from the levelling
+  double start_gyro_bias_sigma_radps_ = 0.0;                          // its sigma (the grade's when not taken)
   std::optional<Eigen::Matrix3d> level_attitude_;  // R_ecef_body, heading unknown, at the newest state
   Eigen::Vector3d level_position_ecef_m_ = Eigen::Vector3d::Zero();  // the start's (its NED frame)
   std::optional<Eigen::Matrix3d> epoch_attitude_;  // level_attitude_ carried to this epoch

@@ -1,10 +1,53 @@
 #include "ppp_bayes_tree/ppp/estimators/ins_in_motion_alignment.h"
 
 #include <algorithm>
+#include <cmath>
 
 #include "ppp_bayes_tree/navigation/navigation_frame.h"
+#include "ppp_bayes_tree/types/constants.h"
 
 namespace ppp {
+namespace {
+
+/// The Earth's rate about the down axis, in the body axes of `rotation_ecef_body` [rad/s]:
+/// the part of its rate a levelled body at rest sees whatever its heading.
+Eigen::Vector3d earthRateAboutDown(const Eigen::Matrix3d& rotation_ecef_body, const Eigen::Vector3d& position_ecef_m) {
+  const Eigen::Vector3d down_ecef = rotationEcefNed(position_ecef_m).col(2);
+  const Eigen::Vector3d earth_rate_ecef(0.0, 0.0, kEarthRotationRate_radps);
+  return rotation_ecef_body.transpose() * (down_ecef * down_ecef.dot(earth_rate_ecef));
+}
+
+/// The uncertainty of the levelled mean rate as a gyro bias [rad/s]: the Earth's horizontal
+/// rate (its direction needs the heading; Groves 2nd ed. 14.2.4) and the standard error of
+/// the mean of readings [first, end) (their largest per-axis scatter over sqrt(n): the
+/// unit's own noise, not its datasheet's), root-sum-squared.
+double levelledRateSigma_radps(const Eigen::Vector3d& position_ecef_m, const std::vector<ImuSample>& readings,
+                               std::size_t first, std::size_t end) {
+  const Eigen::Vector3d down_ecef = rotationEcefNed(position_ecef_m).col(2);
+  const double horizontal_radps = kEarthRotationRate_radps * std::hypot(down_ecef.x(), down_ecef.y());  // cos(lat)
+  const double n = static_cast<double>(end - first);
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero(), sum_sq = Eigen::Vector3d::Zero();
+  for (std::size_t k = first; k < end; ++k) {
+    sum += readings[k].angular_rate_radps;
+    sum_sq += readings[k].angular_rate_radps.cwiseAbs2();
+  }
+  const double scatter_var = (sum_sq / n - (sum / n).cwiseAbs2()).cwiseMax(0.0).maxCoeff();
+  return std::sqrt(horizontal_radps * horizontal_radps + scatter_var / n);
+}
+
+/// The gyros' bias from the levelled mean rate (Earth's rate about down removed), with its
+/// sigma, when it is no slow turn and the grade's prior does not explain it; nullopt otherwise.
+std::optional<std::pair<Eigen::Vector3d, double>> gyroBiasFromLevelling(const Eigen::Vector3d& mean_rate_radps,
+                                                                        double levelled_sigma_radps,
+                                                                        const ImuNoise& noise) {
+  if (mean_rate_radps.norm() > kMaxGyroBiasAtLevelling_radps) return std::nullopt;
+  const double prior_sigma = noise.gyro_bias_instability_radps;
+  const double variance = prior_sigma * prior_sigma + levelled_sigma_radps * levelled_sigma_radps;
+  if (mean_rate_radps.squaredNorm() <= kGyroBiasTestChiSquare * variance) return std::nullopt;
+  return std::make_pair(mean_rate_radps, std::sqrt(variance));
+}
+
+}  // namespace
 
 void keepLevellingHistory(std::vector<ImuSample>& history, const std::vector<ImuSample>& readings,
                           const GnssTime& time) {
@@ -15,7 +58,7 @@ void keepLevellingHistory(std::vector<ImuSample>& history, const std::vector<Imu
 }
 
 InMotionLevel levelInMotion(const std::vector<ImuSample>& history, const Eigen::Vector3d& position_ecef_m,
-                            const GnssTime& start) {
+                            const GnssTime& start, const ImuNoise& noise) {
   InMotionLevel out;
   std::size_t interval_end = 0;
   const LevelingResult level =
@@ -34,7 +77,15 @@ InMotionLevel levelInMotion(const std::vector<ImuSample>& history, const Eigen::
   out.accel_bias_mps2 = f - gravity_mps2 * f.normalized();
   const Eigen::Matrix3d levelled =
       rotationEcefNed(position_ecef_m) * rotationNedBody(level.roll_rad, level.pitch_rad, 0.0);
-  out.rotation_ecef_body = propagateAttitude(levelled, history, interval_end, start);
+  const Eigen::Vector3d mean_rate_radps = level.mean_angular_rate_radps - earthRateAboutDown(levelled, position_ecef_m);
+  const auto bias = gyroBiasFromLevelling(
+      mean_rate_radps,
+      levelledRateSigma_radps(position_ecef_m, history, interval_end - level.samples, interval_end), noise);
+  if (bias) {
+    out.gyro_bias_radps = bias->first;
+    out.gyro_bias_sigma_radps = bias->second;
+  }
+  out.rotation_ecef_body = propagateAttitude(levelled, history, interval_end, start, out.gyro_bias_radps);
   return out;
 }
 

@@ -177,7 +177,7 @@ std::optional<Eigen::Matrix3d> PppInsEkf::initialAttitude(const Eigen::Vector3d&
 }
 
 std::optional<Eigen::Matrix3d> PppInsEkf::attitudeInMotion(const Eigen::Vector3d& position_ecef_m) {
-  InMotionLevel level = levelInMotion(before_start_, position_ecef_m, epoch_time_);
+  InMotionLevel level = levelInMotion(before_start_, position_ecef_m, epoch_time_, ins_.noise);
   if (!level.rotation_ecef_body) {
     epoch_problem_ = {NoSolutionReason::NoInitialAttitude, std::move(level.problem)};
     return std::nullopt;
@@ -185,6 +185,8 @@ std::optional<Eigen::Matrix3d> PppInsEkf::attitudeInMotion(const Eigen::Vector3d
   heading_from_course_ = true;
   alignment_ = AlignmentState::LevelOnly;
   start_accel_bias_mps2_ = level.accel_bias_mps2;
+  start_gyro_bias_radps_ = level.gyro_bias_radps;
+  start_gyro_bias_sigma_radps_ = level.gyro_bias_sigma_radps.value_or(ins_.noise.gyro_bias_instability_radps);
   return level.rotation_ecef_body;
 }
 
@@ -246,7 +248,10 @@ bool PppInsEkf::startNominal(const ReceiverState& start) {
   nominal_.velocity_world_mps = insStartVelocity_ecef_mps(ins_, start.position_ecef_m);
   nominal_.position_world_m = start.position_ecef_m - nominal_.rotation_world_body * ins_.lever_arm_body_m;
   bias_ = ImuBias{};
-  if (heading_from_course_) bias_.accel_mps2 = start_accel_bias_mps2_;
+  if (heading_from_course_) {
+    bias_.accel_mps2 = start_accel_bias_mps2_;
+    bias_.gyro_radps = start_gyro_bias_radps_;
+  }
   return true;
 }
 
@@ -259,7 +264,11 @@ ReceiverState PppInsEkf::predict(double dt_s, bool first, const std::optional<Re
       return *start;
     }
     track_.clear();
-    if (heading_from_course_) setHeadingCovariance(work_, ins_.heading_alignment.unaligned_heading_sigma_rad);
+    if (heading_from_course_) {
+      setHeadingCovariance(work_, ins_.heading_alignment.unaligned_heading_sigma_rad);
+      constexpr int g = InsErrorIndex::kGyroBias;
+      work_.P.block<3, 3>(g, g) = start_gyro_bias_sigma_radps_ * start_gyro_bias_sigma_radps_ * Eigen::Matrix3d::Identity();
+    }
     updateWithDoppler(work_);  // committed with the start's update, if any
   } else if (!first) {
     if (propagateTo(*lastTime() + dt_s)) {

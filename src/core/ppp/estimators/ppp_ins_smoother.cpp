@@ -226,7 +226,7 @@ bool PppInsSmoother::startLevelOnly(const ReceiverState& start) {
   epoch_attitude_.reset();
   track_.clear();
   alignment_ = AlignmentState::NotAligned;
-  InMotionLevel level = levelInMotion(before_start_, start.position_ecef_m, epoch_time_);
+  InMotionLevel level = levelInMotion(before_start_, start.position_ecef_m, epoch_time_, ins_.noise);
   if (!level.rotation_ecef_body) {
     epoch_problem_ = {NoSolutionReason::NoInitialAttitude, std::move(level.problem)};
     return false;
@@ -235,6 +235,8 @@ bool PppInsSmoother::startLevelOnly(const ReceiverState& start) {
   epoch_attitude_ = level.rotation_ecef_body;
   level_position_ecef_m_ = start.position_ecef_m;
   start_accel_bias_mps2_ = level.accel_bias_mps2;
+  start_gyro_bias_radps_ = level.gyro_bias_radps;
+  start_gyro_bias_sigma_radps_ = level.gyro_bias_sigma_radps.value_or(ins_.noise.gyro_bias_instability_radps);
   alignment_ = AlignmentState::LevelOnly;
   return true;
 }
@@ -244,6 +246,7 @@ void PppInsSmoother::predictBeforeNavState(double dt_s, ReceiverState& predicted
   if (!level_attitude_ && !course_nav_) return;
   last_bias_ = ImuBias{};
   last_bias_.accel_mps2 = start_accel_bias_mps2_;
+  last_bias_.gyro_radps = start_gyro_bias_radps_;
   if (!preintegrateTo(*lastTime() + dt_s)) return;
   NavState from;
   if (course_nav_) {
@@ -390,8 +393,9 @@ void PppInsSmoother::addStartPriors(std::uint32_t index, const NavState& nav, co
   values.insert(imuBiasKey(index), bias.vector());
   factors.push_back(std::make_shared<NavStatePriorFactor>(navKey(index), nav, startNavNoise(nav, from_course)));
   Eigen::Matrix<double, 6, 1> bias_sigmas;
+  // A start in motion (from the course) may have taken the gyros' bias from the levelling.
   bias_sigmas << Eigen::Vector3d::Constant(ins_.noise.accel_bias_instability_mps2),
-      Eigen::Vector3d::Constant(ins_.noise.gyro_bias_instability_radps);
+      Eigen::Vector3d::Constant(from_course ? start_gyro_bias_sigma_radps_ : ins_.noise.gyro_bias_instability_radps);
   factors.push_back(
       std::make_shared<smoother::PriorFactor>(imuBiasKey(index), bias.vector(), NoiseModel::sigmas(bias_sigmas)));
 }

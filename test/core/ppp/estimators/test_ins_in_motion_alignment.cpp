@@ -2,15 +2,21 @@
 // the course of an antenna track (no heading before the interval or below the speed;
 // then the course, its sigma velocity sigma / speed, and the track's velocity); the
 // attitude covariance with the heading's variance set in NED, the tilt kept; the state
-// turned to the course with its antenna kept; the levelling history's two minutes.
+// turned to the course with its antenna kept; the levelling history's two minutes; the
+// gyro bias from the static interval, and the tilt carried to the start without it; a
+// mean rate at rest that the grade's bias instability and the Earth's horizontal rate
+// explain leaves the grade's prior.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <vector>
 
 #include "ppp_bayes_tree/navigation/ins_alignment.h"
+#include "ppp_bayes_tree/navigation/navigation_frame.h"
 #include "ppp_bayes_tree/navigation/so3.h"
 #include "ppp_bayes_tree/ppp/estimators/ins_in_motion_alignment.h"
+#include "ppp_bayes_tree/types/constants.h"
 
 namespace ppp {
 namespace {
@@ -80,6 +86,89 @@ TEST(InsInMotionAlignment, LevellingHistoryKeepsTwoMinutes) {
   ASSERT_FALSE(history.empty());
   EXPECT_DOUBLE_EQ(history.front().time - start(), 199.0 - kLevellingHistory_s);
   EXPECT_EQ(history.size(), 121u);
+}
+
+TEST(InsInMotionAlignment, GyroBiasFromTheStaticIntervalAndTiltCarriedWithoutIt) {
+  // 2 s at rest, then 5 s turning about the body z axis at 0.5 rad/s, at 150 Hz. The
+  // gyros read the body rate, the Earth's rate and a bias of (0.094, -0.153, 0.189)
+  // deg/s (the walk's gyros at rest, doc/studies/ins_walk.md).
+  const Eigen::Vector3d bias_radps(0.00164, -0.00267, 0.00330), earth_rate_ecef(0.0, 0.0, kEarthRotationRate_radps);
+  const Eigen::Matrix3d ecef_ned = rotationEcefNed(kPosition_m), ned_body0 = rotationNedBody(0.1, -0.05, 0.6);
+  const double gravity_mps2 = ecefNavigationFrame(kPosition_m).gravity_world_mps2.norm();
+  const double dt_s = 1.0 / 150.0, rate_radps = 0.5;
+  const auto ned_body = [&](double t_s) {
+    return Eigen::Matrix3d(ned_body0 * so3::expMap(Eigen::Vector3d(0.0, 0.0, rate_radps * std::max(0.0, t_s - 2.0))));
+  };
+  std::vector<ImuSample> readings;
+  for (int k = 0; k <= 7 * 150; ++k) {
+    const double t_s = k * dt_s;
+    const Eigen::Matrix3d body_ecef = (ecef_ned * ned_body(t_s)).transpose();
+    ImuSample s;
+    s.time = start() + t_s;
+    s.angular_rate_radps = Eigen::Vector3d(0.0, 0.0, t_s >= 2.0 ? rate_radps : 0.0) + body_ecef * earth_rate_ecef + bias_radps;
+    s.specific_force_mps2 = ned_body(t_s).transpose() * Eigen::Vector3d(0.0, 0.0, -gravity_mps2);
+    readings.push_back(s);
+  }
+  const ImuNoise consumer = imuNoisePreset(ImuGrade::ConsumerMems);
+  const InMotionLevel level = levelInMotion(readings, kPosition_m, start() + 7.0, consumer);
+  ASSERT_TRUE(level.rotation_ecef_body) << level.problem;
+  // Taken, with the sigma of the Earth's horizontal rate (7.292e-5 cos(46.9 deg) = 4.98e-5
+  // rad/s; the readings have no noise) and the grade's 2 deg/h, root-sum-squared.
+  ASSERT_TRUE(level.gyro_bias_sigma_radps);
+  const double expected_radps = std::hypot(4.98e-5, consumer.gyro_bias_instability_radps);
+  EXPECT_NEAR(*level.gyro_bias_sigma_radps, expected_radps, 0.01 * expected_radps);
+  // The Earth's horizontal rate stays in the bias: 15 deg/h cos(latitude 46.9 deg) = 5.0e-5 rad/s.
+  EXPECT_LT((level.gyro_bias_radps - bias_radps).norm(), 5.1e-5);
+  // Roll and pitch carried by the gyros less that bias: the bias left over 5 s of turning
+  // tilts by at most 5.1e-5 rad/s x 5 s (3e-4 found); with the whole bias left, 9e-3 in roll and 6e-3 in pitch.
+  const EulerAngles truth = eulerAngles(ned_body(7.0)), carried = eulerAngles(ecef_ned.transpose() * *level.rotation_ecef_body);
+  EXPECT_NEAR(carried.roll_rad, truth.roll_rad, 5e-4);
+  EXPECT_NEAR(carried.pitch_rad, truth.pitch_rad, 5e-4);
+  // A slow turn the levelling accepts (2 deg/s about z, below its 2.9 deg/s) is not a bias.
+  for (ImuSample& s : readings) s.angular_rate_radps.z() += 2.0 * kDegToRad;
+  const InMotionLevel turning = levelInMotion(readings, kPosition_m, start() + 7.0, consumer);
+  ASSERT_TRUE(turning.rotation_ecef_body) << turning.problem;
+  EXPECT_EQ(turning.gyro_bias_radps, Eigen::Vector3d::Zero());
+  EXPECT_FALSE(turning.gyro_bias_sigma_radps);
+}
+
+/// 2 s at rest at 150 Hz with the attitude rotationNedBody(0.1, -0.05, 0.6): gravity, and the
+/// Earth's rate plus `bias_radps` in the body axes (no noise).
+std::vector<ImuSample> atRest(const Eigen::Vector3d& bias_radps) {
+  const Eigen::Matrix3d ned_body = rotationNedBody(0.1, -0.05, 0.6);
+  const Eigen::Matrix3d body_ecef = (rotationEcefNed(kPosition_m) * ned_body).transpose();
+  const double gravity_mps2 = ecefNavigationFrame(kPosition_m).gravity_world_mps2.norm();
+  std::vector<ImuSample> readings;
+  for (int k = 0; k <= 2 * 150; ++k) {
+    ImuSample s;
+    s.time = start() + k / 150.0;
+    s.angular_rate_radps = body_ecef * Eigen::Vector3d(0.0, 0.0, kEarthRotationRate_radps) + bias_radps;
+    s.specific_force_mps2 = ned_body.transpose() * Eigen::Vector3d(0.0, 0.0, -gravity_mps2);
+    readings.push_back(s);
+  }
+  return readings;
+}
+
+TEST(InsInMotionAlignment, MeanRateTheGradeAndTheEarthExplainLeavesThePrior) {
+  // Readings at rest without a bias: the mean rate less the Earth's rate about down is the
+  // Earth's horizontal rate, 15.04 deg/h cos(46.9 deg) = 10.3 deg/h, which the unknown
+  // heading leaves in it. Taken as the industrial gyro's bias (its sigma 2 deg/h), it would
+  // start the estimators 5 sigmas off: the prior stands.
+  const ImuNoise industrial = imuNoisePreset(ImuGrade::IndustrialMems);
+  const InMotionLevel level = levelInMotion(atRest(Eigen::Vector3d::Zero()), kPosition_m, start() + 2.0, industrial);
+  ASSERT_TRUE(level.rotation_ecef_body) << level.problem;
+  EXPECT_FALSE(level.gyro_bias_sigma_radps);
+  EXPECT_EQ(level.gyro_bias_radps, Eigen::Vector3d::Zero());
+  // A tactical gyro 20 deg/h off its zero (within what 1 deg/h and the Earth's 10.3 deg/h
+  // allow at chi-square 0.999: 4.03 x 10.35 = 41.7 deg/h): the prior stands.
+  const Eigen::Vector3d small_radps = Eigen::Vector3d(1.0, 0.0, 0.0) * degPerHourToRadps(20.0);
+  EXPECT_FALSE(levelInMotion(atRest(small_radps), kPosition_m, start() + 2.0, imuNoisePreset(ImuGrade::Tactical))
+                   .gyro_bias_sigma_radps);
+  // 100 deg/h is more than they explain: taken, within the Earth's horizontal rate of it.
+  const Eigen::Vector3d large_radps = Eigen::Vector3d(1.0, 0.0, 0.0) * degPerHourToRadps(100.0);
+  const InMotionLevel taken = levelInMotion(atRest(large_radps), kPosition_m, start() + 2.0, industrial);
+  ASSERT_TRUE(taken.gyro_bias_sigma_radps);
+  EXPECT_LT((taken.gyro_bias_radps - large_radps).norm(), degPerHourToRadps(10.4));
 }
 
 }  // namespace
