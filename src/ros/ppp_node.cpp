@@ -157,7 +157,6 @@ void PppNode::resetEstimator(const std::string& why) {
   last_odometry_stamp_.reset();
   if (imu_) {
     imu_->reset();
-    epoch_hold_.imuReset();
     ins_odometry_->stop();
   }
 }
@@ -246,7 +245,8 @@ void PppNode::admitEpoch(HeldEpoch epoch, const ppp::GnssTime& time, double now_
 void PppNode::releaseHeldEpochs(bool all) {
   if (epoch_hold_.empty()) return;
   while (std::optional<ReleasedEpoch<HeldEpoch>> r =
-             epoch_hold_.release(ros::Time::now().toSec(), !all && waitsForImu())) {
+             epoch_hold_.release(ros::Time::now().toSec(), imu_ ? imu_->progress() : ImuProgress{},
+                                 !all && waitsForImu())) {
     if (r->decision.outcome == ImuWaitOutcome::WaitedOut)
       warnings_.warn("imu:waited out", "ppp: " + imuWaitedOutText(r->time, r->waited_s, r->decision,
                                                                    nh_.resolveName(imu_->topic()),
@@ -436,9 +436,9 @@ void PppNode::onImu(const sensor_msgs::Imu::ConstPtr& msg) {
   const bool known = imu_extrinsics_ || (!imu_extrinsics_problem_ && resolveImuExtrinsics(msg->header.frame_id));
   const std::optional<Eigen::Matrix3d> body_from_imu =
       known ? std::optional<Eigen::Matrix3d>(bodyFromImu(*imu_extrinsics_)) : std::nullopt;
-  const std::vector<ppp::ImuSample> accepted = imu_->receive(*msg, newest_gnss_time_, body_from_imu);
+  const std::vector<ppp::ImuSample> accepted =
+      imu_->receive(*msg, newest_gnss_time_, body_from_imu, ros::Time::now().toSec());
   // An epoch the new readings cover goes on now (before the odometry steps them: it restarts from the epoch).
-  if (!accepted.empty()) epoch_hold_.readingAccepted(accepted.back().time, ros::Time::now().toSec());
   releaseHeldEpochs();
   if (ins_fallback_reason_) return;
   for (const ppp::ImuSample& r : accepted)

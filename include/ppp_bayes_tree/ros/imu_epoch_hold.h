@@ -20,6 +20,8 @@
 //     node's fall-back to GNSS only is not delayed epoch after epoch).
 // The epochs leave in the order they came (time order: the correction gate and the
 // live input release them so), so one status per epoch and outputs in time order hold.
+// The IMU's progress (its newest accepted reading and when it arrived) is the IMU
+// input's (NodeImuInput::progress, node_imu_input.h), handed in at each release.
 // ROS-free: times come in as arguments (ROS time in seconds for arrivals, GPST for data).
 #include <cstddef>
 #include <deque>
@@ -42,7 +44,8 @@ enum class ImuWaitOutcome {
 /// "wait", "covered", "IMU silent", "waited out", "no wait".
 std::string imuWaitOutcomeText(ImuWaitOutcome outcome);
 
-/// The IMU input as the hold sees it: its newest accepted reading and when it arrived.
+/// The IMU input as the hold sees it: its newest accepted reading and when it arrived
+/// (NodeImuInput::progress); empty while no reading has been accepted.
 struct ImuProgress {
   std::optional<ppp::GnssTime> newest_reading;  ///< data time (GPST)
   std::optional<double> newest_arrival_s;       ///< ROS time of its arrival [s]
@@ -86,25 +89,17 @@ class ImuEpochHold {
  public:
   explicit ImuEpochHold(double max_wait_s = 0.0) : max_wait_s_(max_wait_s) {}
 
-  /// An accepted reading of data time `time` arrived at `arrival_s` (readings come in time order).
-  void readingAccepted(const ppp::GnssTime& time, double arrival_s) {
-    imu_.newest_reading = time;
-    imu_.newest_arrival_s = arrival_s;
-  }
-  /// The IMU input started afresh (an estimator reset): no reading accepted since.
-  void imuReset() { imu_ = {}; }
-  const ImuProgress& imu() const { return imu_; }
-
   /// An epoch ready at `now_s` (ROS time [s]), after those held (time order).
   void hold(Epoch epoch, const ppp::GnssTime& time, double now_s) {
     held_.push_back({std::move(epoch), time, now_s});
   }
-  /// The oldest held epoch when it may go on at `now_s`, counted; nullopt while it waits.
-  /// `waiting` false (the estimator takes no readings now): every held epoch goes on.
-  std::optional<ReleasedEpoch<Epoch>> release(double now_s, bool waiting = true) {
+  /// The oldest held epoch when it may go on at `now_s` given the IMU's progress `imu`,
+  /// counted; nullopt while it waits. `waiting` false (the estimator takes no readings
+  /// now): every held epoch goes on.
+  std::optional<ReleasedEpoch<Epoch>> release(double now_s, const ImuProgress& imu, bool waiting = true) {
     if (held_.empty()) return std::nullopt;
     Held& front = held_.front();
-    ImuWaitDecision d = waiting ? decideImuWait(front.time, front.ready_s, now_s, imu_, max_wait_s_)
+    ImuWaitDecision d = waiting ? decideImuWait(front.time, front.ready_s, now_s, imu, max_wait_s_)
                                 : ImuWaitDecision{ImuWaitOutcome::NoWait, std::nullopt};
     if (d.outcome == ImuWaitOutcome::Wait) {
       if (!front.counted) ++counters_.held;
@@ -147,7 +142,6 @@ class ImuEpochHold {
   }
 
   double max_wait_s_;
-  ImuProgress imu_;
   std::deque<Held> held_;
   ImuWaitCounters counters_;
 };
