@@ -218,6 +218,10 @@ void PppNode::drain() {
       admitEpoch(std::move(*ready), time, now_s);
     }
   }
+  releaseAndDiagnose();
+}
+
+void PppNode::releaseAndDiagnose() {
   releaseHeldEpochs();
   diagnostics_.update();
 }
@@ -278,8 +282,7 @@ void PppNode::armHoldTimer() {
       ros::Duration(in_s),
       [this](const ros::TimerEvent&) {
         hold_deadline_s_.reset();
-        releaseHeldEpochs();
-        diagnostics_.update();
+        releaseAndDiagnose();
       },
       true);
 }

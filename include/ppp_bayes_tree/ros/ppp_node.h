@@ -80,7 +80,10 @@ class PppNode {
   void onCorrections(const ros::MessageEvent<ppp_bayes_tree::PreciseCorrections const>& event);
   void onStreamChunk(ppp::StreamChunk&& chunk);
   void onTimer(const ros::TimerEvent&);
+  /// The epochs ready from the inputs, admitted (processed or held), then releaseAndDiagnose().
   void drain();
+  /// The held epochs that may go on, then /diagnostics: the end of a drain and of the hold's timer.
+  void releaseAndDiagnose();
   void drainLive();
   void processLiveEpoch(const ppp::LiveReadyEpoch& ready);
   // epochs waiting for the IMU (imu_epoch_hold.h): a topic's epoch released by the
