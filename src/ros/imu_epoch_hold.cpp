@@ -11,6 +11,7 @@ std::string imuWaitOutcomeText(ImuWaitOutcome outcome) {
     case ImuWaitOutcome::ImuSilent: return "IMU silent";
     case ImuWaitOutcome::WaitedOut: return "waited out";
     case ImuWaitOutcome::NoWait: return "no wait";
+    case ImuWaitOutcome::ClockStopped: return "clock stopped";
   }
   return "unknown";
 }
@@ -34,8 +35,11 @@ ImuWaitDecision decideImuWait(const ppp::GnssTime& epoch_time, double ready_s, d
 std::string imuWaitedOutText(const ppp::GnssTime& epoch_time, double waited_s, const ImuWaitDecision& decision,
                              const std::string& topic, double max_wait_s) {
   const std::string lag = decision.imu_lag_s ? ppp::format("%.1f ms before the epoch", *decision.imu_lag_s * 1e3) : "none";
+  const std::string clock = decision.outcome == ImuWaitOutcome::ClockStopped
+                                ? " of steady time, the ROS clock standing still (a bag's /clock stopped),"
+                                : "";
   return "epoch " + epoch_time.toString(ppp::TimeSystem::GPS, 3) + " processed after waiting " +
-         ppp::format("%.3f s", waited_s) + " for the IMU on " + topic + " (ros.imu.max_wait_s " +
+         ppp::format("%.3f s", waited_s) + clock + " for the IMU on " + topic + " (ros.imu.max_wait_s " +
          ppp::format("%g", max_wait_s) + "): its newest reading " + lag + ", the readings after it missing (counted)";
 }
 

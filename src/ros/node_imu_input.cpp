@@ -127,6 +127,7 @@ void NodeImuInput::reset() {
   screen_ = ppp::ImuInputScreen(screenOptions(options_));
   pending_.clear();
   last_taken_.reset();
+  newest_arrival_s_.reset();
   checked_gnss_time_.reset();
   time_base_far_ = false;
   problems_.clear();
@@ -159,7 +160,8 @@ void NodeImuInput::reportScreenProblems(const std::map<ppp::ImuInputProblem, std
 
 std::vector<ppp::ImuSample> NodeImuInput::receive(const sensor_msgs::Imu& message,
                                                   const std::optional<ppp::GnssTime>& gnss_time,
-                                                  const std::optional<Eigen::Matrix3d>& body_from_imu) {
+                                                  const std::optional<Eigen::Matrix3d>& body_from_imu,
+                                                  double arrival_s) {
   ++counters_.received;
   if (message.linear_acceleration_covariance[0] == -1.0) {
     note(ImuMessageProblem::FieldNotGiven, message, "linear_acceleration",
@@ -190,7 +192,16 @@ std::vector<ppp::ImuSample> NodeImuInput::receive(const sensor_msgs::Imu& messag
   }
   reportScreenProblems(before, message);
   buffer(released, *body_from_imu);
+  if (!released.empty()) newest_arrival_s_ = arrival_s;
   return released;
+}
+
+ImuProgress NodeImuInput::progress() const {
+  ImuProgress p;
+  if (!pending_.empty()) p.newest_reading = pending_.back().time;
+  else if (last_taken_) p.newest_reading = last_taken_->time;
+  if (p.newest_reading) p.newest_arrival_s = newest_arrival_s_;
+  return p;
 }
 
 void NodeImuInput::buffer(std::vector<ppp::ImuSample>& readings, const Eigen::Matrix3d& body_from_imu) {

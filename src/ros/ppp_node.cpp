@@ -61,6 +61,13 @@ void PppNode::subscribe() {
   // precede (a 0.125 s "gap" before an epoch of the u-blox walk bag, the INS stopped).
   if (imu_)
     imu_sub_ = nh_.subscribe(o.imu.topic, 2000, &PppNode::onImu, this, ros::TransportHints().tcpNoDelay());
+  // The epochs held for the IMU also go on by the steady clock when the ROS clock stands
+  // still (a bag's /clock stopped: no ROS timer fires, no reading comes; imu_epoch_hold.h).
+  if (imu_ && o.imu.max_wait_s > 0.0)
+    hold_steady_timer_ =
+        nh_.createSteadyTimer(ros::WallDuration(o.imu.max_wait_s), [this](const ros::SteadyTimerEvent&) {
+          if (!epoch_hold_.empty()) releaseAndDiagnose();
+        });
   if (!o.attitude_topic.empty())
     attitude_sub_ = nh_.subscribe<sensor_msgs::Imu>(
         o.attitude_topic, 200, [this](const sensor_msgs::Imu::ConstPtr& msg) { outputs_.receiveAttitude(*msg); });
@@ -157,7 +164,6 @@ void PppNode::resetEstimator(const std::string& why) {
   last_odometry_stamp_.reset();
   if (imu_) {
     imu_->reset();
-    epoch_hold_.imuReset();
     ins_odometry_->stop();
   }
 }
@@ -219,6 +225,10 @@ void PppNode::drain() {
       admitEpoch(std::move(*ready), time, now_s);
     }
   }
+  releaseAndDiagnose();
+}
+
+void PppNode::releaseAndDiagnose() {
   releaseHeldEpochs();
   diagnostics_.update();
 }
@@ -240,17 +250,20 @@ void PppNode::admitEpoch(HeldEpoch epoch, const ppp::GnssTime& time, double now_
     processHeld(epoch);
     return;
   }
-  epoch_hold_.hold(std::move(epoch), time, now_s);
+  epoch_hold_.hold(std::move(epoch), time, HoldClock{now_s, ros::SteadyTime::now().toSec()});
 }
+
+HoldClock PppNode::holdClock() { return {ros::Time::now().toSec(), ros::SteadyTime::now().toSec()}; }
 
 void PppNode::releaseHeldEpochs(bool all) {
   if (epoch_hold_.empty()) return;
   while (std::optional<ReleasedEpoch<HeldEpoch>> r =
-             epoch_hold_.release(ros::Time::now().toSec(), !all && waitsForImu())) {
-    if (r->decision.outcome == ImuWaitOutcome::WaitedOut)
-      warnings_.warn("imu:waited out", "ppp: " + imuWaitedOutText(r->time, r->waited_s, r->decision,
-                                                                   nh_.resolveName(imu_->topic()),
-                                                                   epoch_hold_.maxWait_s()));
+             epoch_hold_.release(holdClock(), imu_ ? imu_->progress() : ImuProgress{}, !all && waitsForImu())) {
+    const ImuWaitOutcome outcome = r->decision.outcome;
+    if (outcome == ImuWaitOutcome::WaitedOut || outcome == ImuWaitOutcome::ClockStopped)
+      warnings_.warn("imu:" + imuWaitOutcomeText(outcome),
+                     "ppp: " + imuWaitedOutText(r->time, r->waited_s, r->decision, nh_.resolveName(imu_->topic()),
+                                                epoch_hold_.maxWait_s()));
     processHeld(r->epoch);
   }
   armHoldTimer();
@@ -278,8 +291,7 @@ void PppNode::armHoldTimer() {
       ros::Duration(in_s),
       [this](const ros::TimerEvent&) {
         hold_deadline_s_.reset();
-        releaseHeldEpochs();
-        diagnostics_.update();
+        releaseAndDiagnose();
       },
       true);
 }
@@ -436,9 +448,9 @@ void PppNode::onImu(const sensor_msgs::Imu::ConstPtr& msg) {
   const bool known = imu_extrinsics_ || (!imu_extrinsics_problem_ && resolveImuExtrinsics(msg->header.frame_id));
   const std::optional<Eigen::Matrix3d> body_from_imu =
       known ? std::optional<Eigen::Matrix3d>(bodyFromImu(*imu_extrinsics_)) : std::nullopt;
-  const std::vector<ppp::ImuSample> accepted = imu_->receive(*msg, newest_gnss_time_, body_from_imu);
+  const std::vector<ppp::ImuSample> accepted =
+      imu_->receive(*msg, newest_gnss_time_, body_from_imu, ros::Time::now().toSec());
   // An epoch the new readings cover goes on now (before the odometry steps them: it restarts from the epoch).
-  if (!accepted.empty()) epoch_hold_.readingAccepted(accepted.back().time, ros::Time::now().toSec());
   releaseHeldEpochs();
   if (ins_fallback_reason_) return;
   for (const ppp::ImuSample& r : accepted)
@@ -617,6 +629,7 @@ void PppNode::imuDiagnostics(diagnostic_updater::DiagnosticStatusWrapper& s) con
   s.add("epochs that waited for the IMU", w.held);
   s.add("epochs released by a reading at their time", w.covered);
   s.add("epochs released by ros.imu.max_wait_s", w.waited_out);
+  s.add("of them while the ROS clock stood still", w.clock_stopped);
   s.add("largest IMU lag at release [s]", w.largest_lag_s);
   s.add("longest wait [s]", w.longest_wait_s);
   s.add("epochs not held (IMU silent)", w.silent);

@@ -2,7 +2,8 @@
 // rate (ins_odometry.h), without a ROS master: the options of the filter from
 // ros.imu, the screening with the topic, field and stamp named, the time-base
 // check that leaves a GNSS outage alone, the hand-over per epoch, the GNSS epochs held
-// until the IMU readings up to their time have arrived (imu_epoch_hold.h), and the
+// until the IMU readings up to their time have arrived (imu_epoch_hold.h; by the steady
+// clock when the ROS clock stops), and the
 // odometry message of a state (the propagation itself: test_ins_odometry, core).
 #include <gtest/gtest.h>
 
@@ -122,7 +123,7 @@ TEST(NodeImuOptions, TheFilterRunsInBaseLinksForwardRightDownAxesWhateverTheMoun
 
   // The readings handed on are in the body axes: 1 g up along the IMU's z reads -9.8 along the body's z.
   ppp_ros::NodeImuInput in(c.ros, [](const std::string&, const std::string&) {});
-  for (int k = 0; k < 100; ++k) in.receive(restMessage(0.01 * k), std::nullopt, body_imu);
+  for (int k = 0; k < 100; ++k) in.receive(restMessage(0.01 * k), std::nullopt, body_imu, 0.01 * k);
   const std::vector<ppp::ImuSample> taken = in.takeUpTo(kT0 + 1.0);
   ASSERT_FALSE(taken.empty());
   EXPECT_NEAR(taken.front().specific_force_mps2.z(), -restMessage(0.0).linear_acceleration.z, 1e-12);
@@ -186,21 +187,28 @@ TEST(NodeImuInput, ScreensNamesTopicFieldAndStampAndHandsReadingsPerEpoch) {
   NodeImuInput in(o, w.sink());
   std::size_t released = 0;
   const Eigen::Matrix3d same = Eigen::Matrix3d::Identity();  // an IMU whose axes are the body's
-  for (int k = 0; k < 100; ++k) released += in.receive(restMessage(0.01 * k), std::nullopt, same).size();
+  EXPECT_FALSE(in.progress().newest_reading);
+  // Arriving 50 s (ROS time) after their stamps' offset from t0.
+  for (int k = 0; k < 100; ++k) released += in.receive(restMessage(0.01 * k), std::nullopt, same, 50.0 + 0.01 * k).size();
   EXPECT_EQ(released, 100u);  // the first 50 held until the units are decided, then all
   EXPECT_EQ(in.counters().used, 100u);
-  // A duplicate stamp and a field marked "not given": refused, named, counted.
-  in.receive(restMessage(0.99), std::nullopt, Eigen::Matrix3d::Identity());
+  // The newest accepted reading and its arrival: what held GNSS epochs wait on (imu_epoch_hold.h).
+  ASSERT_TRUE(in.progress().newest_reading && in.progress().newest_arrival_s);
+  EXPECT_NEAR(*in.progress().newest_reading - (kT0 + 0.99), 0.0, 1e-9);  // through the stamp (ns)
+  EXPECT_DOUBLE_EQ(*in.progress().newest_arrival_s, 50.99);
+  // A duplicate stamp and a field marked "not given": refused, named, counted (the progress unchanged).
+  in.receive(restMessage(0.99), std::nullopt, Eigen::Matrix3d::Identity(), 51.0);
   sensor_msgs::Imu none = restMessage(1.0);
   none.angular_velocity_covariance[0] = -1.0;
-  EXPECT_TRUE(in.receive(none, std::nullopt, Eigen::Matrix3d::Identity()).empty());
+  EXPECT_TRUE(in.receive(none, std::nullopt, Eigen::Matrix3d::Identity(), 51.01).empty());
+  EXPECT_DOUBLE_EQ(*in.progress().newest_arrival_s, 50.99);
   EXPECT_EQ(in.counters().rejected, 2u);
   EXPECT_TRUE(w.any("topic imu/data, field header.stamp, stamp ")) << (w.lines.empty() ? "" : w.lines[0]);
   EXPECT_TRUE(w.any("duplicate time"));
   EXPECT_TRUE(w.any("field angular_velocity"));
   EXPECT_NE(in.problemSummary().find("1 duplicate time"), std::string::npos) << in.problemSummary();
   // Missing extrinsics: not used, counted, named.
-  EXPECT_TRUE(in.receive(restMessage(1.01), std::nullopt, std::nullopt).empty());
+  EXPECT_TRUE(in.receive(restMessage(1.01), std::nullopt, std::nullopt, 51.02).empty());
   EXPECT_TRUE(w.any("IMU extrinsics missing"));
   EXPECT_EQ(in.counters().rejected, 3u);
   // The epoch at t0 + 0.5 takes the readings up to it; the rest waits.
@@ -208,6 +216,13 @@ TEST(NodeImuInput, ScreensNamesTopicFieldAndStampAndHandsReadingsPerEpoch) {
   ASSERT_EQ(epoch.size(), 51u);
   EXPECT_EQ(in.lastTaken()->time - (kT0 + 0.5), 0.0);
   EXPECT_EQ(in.pending().size(), 49u);
+  // The newest reading taken by an epoch too is still the newest; a reset forgets it.
+  EXPECT_EQ(in.takeUpTo(kT0 + 2.0).size(), 49u);
+  EXPECT_NEAR(*in.progress().newest_reading - (kT0 + 0.99), 0.0, 1e-9);  // through the stamp (ns)
+  EXPECT_DOUBLE_EQ(*in.progress().newest_arrival_s, 50.99);
+  in.reset();
+  EXPECT_FALSE(in.progress().newest_reading);
+  EXPECT_FALSE(in.progress().newest_arrival_s);
 }
 
 TEST(NodeImuInput, TimeBaseFarFromGnssRefusedButAGnssOutageLeavesTheReadingsAlone) {
@@ -217,14 +232,14 @@ TEST(NodeImuInput, TimeBaseFarFromGnssRefusedButAGnssOutageLeavesTheReadingsAlon
   // Readings 20 s past the newest GNSS epoch (an outage): only the first after each epoch is
   // compared, and it is near; the rest are not compared at all.
   const ppp::GnssTime epoch = kT0;
-  for (int k = 0; k < 2000; ++k) in.receive(restMessage(0.01 * k), epoch, Eigen::Matrix3d::Identity());
+  for (int k = 0; k < 2000; ++k) in.receive(restMessage(0.01 * k), epoch, Eigen::Matrix3d::Identity(), 0.01 * k);
   EXPECT_EQ(in.screen().count(ppp::ImuInputProblem::FarFromGnssTime), 0u);
   EXPECT_EQ(in.counters().used, 2000u);
   // A stream on another time base (100 s off): refused from the first reading after the epoch on.
   NodeImuInput far(o, w.sink());
   std::size_t used = 0;
   for (int k = 0; k < 100; ++k)
-    used += far.receive(restMessage(100.0 + 0.01 * k), epoch, Eigen::Matrix3d::Identity()).size();
+    used += far.receive(restMessage(100.0 + 0.01 * k), epoch, Eigen::Matrix3d::Identity(), 0.01 * k).size();
   EXPECT_EQ(used, 0u);
   EXPECT_EQ(far.screen().count(ppp::ImuInputProblem::FarFromGnssTime), 100u);
   EXPECT_EQ(far.counters().rejected, 100u);
@@ -238,39 +253,43 @@ using ppp_ros::ImuWaitOutcome;
 constexpr double kMaxWait_s = 0.1;
 constexpr double kReady_s = 100.0;  // the epoch at kT0 + 1 becomes ready (ROS time)
 
-/// Readings at 100 Hz from kT0 + 0.5 up to `newest_dt_s`, the newest arriving at `arrival_s`.
-template <class Epoch>
-void acceptReadings(ppp_ros::ImuEpochHold<Epoch>& hold, double newest_dt_s, double arrival_s) {
-  for (int k = 50; k <= static_cast<int>(std::lround(newest_dt_s * 100.0)); ++k)
-    hold.readingAccepted(kT0 + 0.01 * k, arrival_s - (newest_dt_s - 0.01 * k));
+/// A call to the hold at ROS time `ros_s` with the ROS clock running (steady time alike).
+ppp_ros::HoldClock at(double ros_s) { return {ros_s, ros_s}; }
+
+/// The IMU input's progress (NodeImuInput::progress) after a reading at kT0 + `newest_dt_s`
+/// accepted at `arrival_s`.
+void accept(ppp_ros::ImuProgress& imu, double newest_dt_s, double arrival_s) {
+  imu.newest_reading = kT0 + newest_dt_s;
+  imu.newest_arrival_s = arrival_s;
 }
 
 TEST(ImuEpochHold, AnEpochWaitsUntilAReadingAtOrAfterItsTimeAndTheOrderHolds) {
   ppp_ros::ImuEpochHold<int> hold(kMaxWait_s);
+  ppp_ros::ImuProgress imu;
   // The IMU 30 ms behind the GNSS epoch at kT0 + 1 when it becomes ready.
-  acceptReadings(hold, 0.97, kReady_s - 0.001);
-  hold.hold(1, kT0 + 1.0, kReady_s);
-  hold.hold(2, kT0 + 1.05, kReady_s);  // the next epoch (20 Hz), ready with it (both waited for corrections)
-  EXPECT_FALSE(hold.release(kReady_s));
+  accept(imu, 0.97, kReady_s - 0.001);
+  hold.hold(1, kT0 + 1.0, at(kReady_s));
+  hold.hold(2, kT0 + 1.05, at(kReady_s));  // the next epoch (20 Hz), ready with it (both waited for corrections)
+  EXPECT_FALSE(hold.release(at(kReady_s), imu));
   ASSERT_TRUE(hold.deadline_s());
   EXPECT_DOUBLE_EQ(*hold.deadline_s(), kReady_s + kMaxWait_s);
   // A reading 10 ms before it: still waiting (the readings up to it may still come).
-  hold.readingAccepted(kT0 + 0.99, kReady_s + 0.02);
-  EXPECT_FALSE(hold.release(kReady_s + 0.02));
+  accept(imu, 0.99, kReady_s + 0.02);
+  EXPECT_FALSE(hold.release(at(kReady_s + 0.02), imu));
   // The reading at its time: it goes on at once, not at the deadline; the next one stays.
-  hold.readingAccepted(kT0 + 1.0, kReady_s + 0.03);
-  const auto first = hold.release(kReady_s + 0.03);
+  accept(imu, 1.0, kReady_s + 0.03);
+  const auto first = hold.release(at(kReady_s + 0.03), imu);
   ASSERT_TRUE(first);
   EXPECT_EQ(first->epoch, 1);
   EXPECT_EQ(first->decision.outcome, ImuWaitOutcome::Covered);
   ASSERT_TRUE(first->decision.imu_lag_s);
   EXPECT_EQ(*first->decision.imu_lag_s, 0.0);
   EXPECT_NEAR(first->waited_s, 0.03, 1e-9);
-  EXPECT_FALSE(hold.release(kReady_s + 0.03));
+  EXPECT_FALSE(hold.release(at(kReady_s + 0.03), imu));
   EXPECT_EQ(hold.size(), 1u);
   // A reading after the second epoch's time releases it too (at or after: an 80 Hz IMU need not hit it).
-  for (int k = 1; k <= 4; ++k) hold.readingAccepted(kT0 + 1.0034 + 0.0125 * k, kReady_s + 0.03 + 0.0125 * k);
-  const auto second = hold.release(kReady_s + 0.08);
+  for (int k = 1; k <= 4; ++k) accept(imu, 1.0034 + 0.0125 * k, kReady_s + 0.03 + 0.0125 * k);
+  const auto second = hold.release(at(kReady_s + 0.08), imu);
   ASSERT_TRUE(second);
   EXPECT_EQ(second->epoch, 2);
   EXPECT_EQ(second->decision.outcome, ImuWaitOutcome::Covered);
@@ -284,9 +303,10 @@ TEST(ImuEpochHold, AnEpochWaitsUntilAReadingAtOrAfterItsTimeAndTheOrderHolds) {
 
 TEST(ImuEpochHold, AnEpochCoveredWhenReadyGoesOnAtOnceUncounted) {
   ppp_ros::ImuEpochHold<int> hold(kMaxWait_s);
-  acceptReadings(hold, 1.01, kReady_s - 0.001);  // the IMU ahead of the GNSS epoch (the usual case)
-  hold.hold(7, kT0 + 1.0, kReady_s);
-  const auto r = hold.release(kReady_s);
+  ppp_ros::ImuProgress imu;
+  accept(imu, 1.01, kReady_s - 0.001);  // the IMU ahead of the GNSS epoch (the usual case)
+  hold.hold(7, kT0 + 1.0, at(kReady_s));
+  const auto r = hold.release(at(kReady_s), imu);
   ASSERT_TRUE(r);
   EXPECT_EQ(r->decision.outcome, ImuWaitOutcome::Covered);
   EXPECT_NEAR(*r->decision.imu_lag_s, -0.01, 1e-9);
@@ -297,14 +317,15 @@ TEST(ImuEpochHold, AnEpochCoveredWhenReadyGoesOnAtOnceUncounted) {
 
 TEST(ImuEpochHold, AfterMaxWaitTheEpochGoesOnWithTheImuLagCountedAndNamed) {
   ppp_ros::ImuEpochHold<int> hold(kMaxWait_s);
+  ppp_ros::ImuProgress imu;
   // Readings up to 35 ms before the epoch, still arriving during the wait (the IMU lags, it is not silent).
-  acceptReadings(hold, 0.95, kReady_s - 0.01);
-  hold.hold(1, kT0 + 1.0, kReady_s);
-  EXPECT_FALSE(hold.release(kReady_s));
-  hold.readingAccepted(kT0 + 0.965, kReady_s + 0.05);
-  EXPECT_FALSE(hold.release(kReady_s + 0.05));
-  EXPECT_FALSE(hold.release(kReady_s + 0.0999));
-  const auto r = hold.release(kReady_s + kMaxWait_s + 1e-3);  // just after the deadline (the node's timer)
+  accept(imu, 0.95, kReady_s - 0.01);
+  hold.hold(1, kT0 + 1.0, at(kReady_s));
+  EXPECT_FALSE(hold.release(at(kReady_s), imu));
+  accept(imu, 0.965, kReady_s + 0.05);
+  EXPECT_FALSE(hold.release(at(kReady_s + 0.05), imu));
+  EXPECT_FALSE(hold.release(at(kReady_s + 0.0999), imu));
+  const auto r = hold.release(at(kReady_s + kMaxWait_s + 1e-3), imu);  // just after the deadline (the node's timer)
   ASSERT_TRUE(r);
   EXPECT_EQ(r->decision.outcome, ImuWaitOutcome::WaitedOut);
   ASSERT_TRUE(r->decision.imu_lag_s);
@@ -322,51 +343,96 @@ TEST(ImuEpochHold, AfterMaxWaitTheEpochGoesOnWithTheImuLagCountedAndNamed) {
 TEST(ImuEpochHold, ASilentOrStoppedImuHoldsNoEpoch) {
   // No reading yet (before the first message, extrinsics missing): at once.
   ppp_ros::ImuEpochHold<int> hold(kMaxWait_s);
-  hold.hold(1, kT0 + 1.0, kReady_s);
-  auto r = hold.release(kReady_s);
+  ppp_ros::ImuProgress imu;
+  hold.hold(1, kT0 + 1.0, at(kReady_s));
+  auto r = hold.release(at(kReady_s), imu);
   ASSERT_TRUE(r);
   EXPECT_EQ(r->decision.outcome, ImuWaitOutcome::ImuSilent);
   EXPECT_FALSE(r->decision.imu_lag_s);
   // The newest reading arrived longer than max_wait_s before the epoch became ready: the IMU
   // stopped, the epoch goes on at once (the estimator finds the readings missing, the node
   // falls back to GNSS only) instead of every epoch waiting out.
-  acceptReadings(hold, 0.6, kReady_s - 0.4);
-  hold.hold(2, kT0 + 1.0, kReady_s);
-  r = hold.release(kReady_s);
+  accept(imu, 0.6, kReady_s - 0.4);
+  hold.hold(2, kT0 + 1.0, at(kReady_s));
+  r = hold.release(at(kReady_s), imu);
   ASSERT_TRUE(r);
   EXPECT_EQ(r->decision.outcome, ImuWaitOutcome::ImuSilent);
   EXPECT_NEAR(*r->decision.imu_lag_s, 0.4, 1e-9);
   // A reading within max_wait_s before: not silent (it waits, then goes on at the deadline).
-  hold.readingAccepted(kT0 + 0.61, kReady_s + 1.0 - 0.05);
-  hold.hold(3, kT0 + 2.0, kReady_s + 1.0);
-  EXPECT_FALSE(hold.release(kReady_s + 1.0));
-  EXPECT_EQ(hold.release(kReady_s + 1.0 + kMaxWait_s + 1e-3)->decision.outcome, ImuWaitOutcome::WaitedOut);
+  accept(imu, 0.61, kReady_s + 1.0 - 0.05);
+  hold.hold(3, kT0 + 2.0, at(kReady_s + 1.0));
+  EXPECT_FALSE(hold.release(at(kReady_s + 1.0), imu));
+  EXPECT_EQ(hold.release(at(kReady_s + 1.0 + kMaxWait_s + 1e-3), imu)->decision.outcome, ImuWaitOutcome::WaitedOut);
   // After an estimator reset the IMU input starts afresh: silent until a reading is accepted.
-  hold.imuReset();
-  hold.hold(4, kT0 + 3.0, kReady_s + 2.0);
-  EXPECT_EQ(hold.release(kReady_s + 2.0)->decision.outcome, ImuWaitOutcome::ImuSilent);
+  imu = {};
+  hold.hold(4, kT0 + 3.0, at(kReady_s + 2.0));
+  EXPECT_EQ(hold.release(at(kReady_s + 2.0), imu)->decision.outcome, ImuWaitOutcome::ImuSilent);
   EXPECT_EQ(hold.counters().silent, 3u);
   EXPECT_EQ(hold.counters().waited_out, 1u);
 }
 
 TEST(ImuEpochHold, NoWaitWithMaxWaitZeroOrAnEstimatorWithoutReadings) {
   ppp_ros::ImuEpochHold<int> never(0.0);
-  never.readingAccepted(kT0 + 0.5, kReady_s - 0.001);
-  never.hold(1, kT0 + 1.0, kReady_s);
-  EXPECT_EQ(never.release(kReady_s)->decision.outcome, ImuWaitOutcome::NoWait);
+  ppp_ros::ImuProgress imu;
+  accept(imu, 0.5, kReady_s - 0.001);
+  never.hold(1, kT0 + 1.0, at(kReady_s));
+  EXPECT_EQ(never.release(at(kReady_s), imu)->decision.outcome, ImuWaitOutcome::NoWait);
   // The estimator fell back to GNSS only (`waiting` false): every held epoch goes on, in order.
   ppp_ros::ImuEpochHold<int> hold(kMaxWait_s);
-  hold.readingAccepted(kT0 + 0.99, kReady_s - 0.001);
-  hold.hold(1, kT0 + 1.0, kReady_s);
-  hold.hold(2, kT0 + 1.25, kReady_s);
-  EXPECT_FALSE(hold.release(kReady_s));
-  const auto a = hold.release(kReady_s + 0.01, false), b = hold.release(kReady_s + 0.01, false);
+  accept(imu, 0.99, kReady_s - 0.001);
+  hold.hold(1, kT0 + 1.0, at(kReady_s));
+  hold.hold(2, kT0 + 1.25, at(kReady_s));
+  EXPECT_FALSE(hold.release(at(kReady_s), imu));
+  const auto a = hold.release(at(kReady_s + 0.01), imu, false), b = hold.release(at(kReady_s + 0.01), imu, false);
   ASSERT_TRUE(a && b);
   EXPECT_EQ(a->epoch, 1);
   EXPECT_EQ(b->epoch, 2);
   EXPECT_EQ(a->decision.outcome, ImuWaitOutcome::NoWait);
   EXPECT_EQ(hold.counters().waited_out, 0u);
   EXPECT_EQ(hold.counters().silent, 0u);
+}
+
+TEST(ImuEpochHold, AStoppedRosClockReleasesTheEpochsByTheSteadyClock) {
+  // Under /use_sim_time the bag's /clock stops (the player ended or paused) with the epoch at
+  // kT0 + 1 held, the IMU 30 ms behind it: no ROS timer fires, no reading comes, ROS time stays
+  // at kReady_s + 0.01. Steady time runs from 500 s. The epoch goes on, counted and named as
+  // waited out with the clock stopped, and so does the one that became ready after the stop.
+  ppp_ros::ImuEpochHold<int> hold(kMaxWait_s);
+  ppp_ros::ImuProgress imu;
+  accept(imu, 0.97, kReady_s - 0.001);
+  const double stopped_s = kReady_s + 0.01;
+  hold.hold(1, kT0 + 1.0, {kReady_s, 500.0});
+  EXPECT_FALSE(hold.release({stopped_s, 500.01}, imu));  // the clock's last move
+  EXPECT_FALSE(hold.release({stopped_s, 500.05}, imu));
+  hold.hold(2, kT0 + 1.05, {stopped_s, 500.2});  // ready after the stop (a GNSS message in flight)
+  std::vector<ppp_ros::ReleasedEpoch<int>> released;
+  for (double steady_s = 500.06; steady_s < 510.0 && !hold.empty(); steady_s += kMaxWait_s)  // the steady timer
+    while (auto r = hold.release({stopped_s, steady_s}, imu)) released.push_back(*r);
+  ASSERT_EQ(released.size(), 2u);
+  EXPECT_EQ(released[0].epoch, 1);
+  EXPECT_EQ(released[1].epoch, 2);
+  for (const auto& r : released) {
+    EXPECT_EQ(r.decision.outcome, ImuWaitOutcome::ClockStopped);
+    EXPECT_GE(r.waited_s, kMaxWait_s);  // steady time
+  }
+  EXPECT_EQ(hold.counters().held, 2u);
+  EXPECT_EQ(hold.counters().waited_out, 2u);
+  EXPECT_EQ(hold.counters().clock_stopped, 2u);
+  EXPECT_NEAR(hold.counters().largest_lag_s, 0.08, 1e-9);  // the second epoch's
+  const std::string text =
+      ppp_ros::imuWaitedOutText(released[0].time, released[0].waited_s, released[0].decision, "/imu/data", kMaxWait_s);
+  EXPECT_NE(text.find("s of steady time, the ROS clock standing still"), std::string::npos) << text;
+  EXPECT_EQ(ppp_ros::imuWaitOutcomeText(ImuWaitOutcome::ClockStopped), "clock stopped");
+
+  // A running clock, however slow (a replay at a quarter of the rate), keeps the wait in ROS time:
+  // steady time past max_wait_s does not release the epoch, its ROS deadline does.
+  ppp_ros::ImuEpochHold<int> slow(kMaxWait_s);
+  slow.hold(1, kT0 + 1.0, {kReady_s, 600.0});
+  for (int k = 1; k <= 39; ++k) EXPECT_FALSE(slow.release({kReady_s + 0.0025 * k, 600.0 + 0.01 * k}, imu)) << k;
+  const auto r = slow.release({kReady_s + kMaxWait_s + 1e-3, 600.404}, imu);
+  ASSERT_TRUE(r);
+  EXPECT_EQ(r->decision.outcome, ImuWaitOutcome::WaitedOut);
+  EXPECT_EQ(slow.counters().clock_stopped, 0u);
 }
 
 TEST(ImuEpochHold, AnImuDriverSlowerThanTheReceiverGivesTheEpochAllItsReadings) {
@@ -386,14 +452,12 @@ TEST(ImuEpochHold, AnImuDriverSlowerThanTheReceiverGivesTheEpochAllItsReadings) 
     const double epoch_ready_s = kReady_s + 1.0 + gnss_latency_s;
     if (!taken_when_ready && arrival_s > epoch_ready_s) {
       taken_when_ready = unheld.takeUpTo(kT0 + 1.0);
-      hold.hold(1, kT0 + 1.0, epoch_ready_s);
-      EXPECT_FALSE(hold.release(epoch_ready_s));
+      hold.hold(1, kT0 + 1.0, at(epoch_ready_s));
+      EXPECT_FALSE(hold.release(at(epoch_ready_s), in.progress()));
     }
-    for (NodeImuInput* input : {&in, &unheld}) {
-      const std::vector<ppp::ImuSample> accepted = input->receive(restMessage(0.01 * k), kT0, Eigen::Matrix3d::Identity());
-      if (input == &in && !accepted.empty()) hold.readingAccepted(accepted.back().time, arrival_s);
-    }
-    if (auto r = hold.release(arrival_s)) {
+    for (NodeImuInput* input : {&in, &unheld})
+      input->receive(restMessage(0.01 * k), kT0, Eigen::Matrix3d::Identity(), arrival_s);
+    if (auto r = hold.release(at(arrival_s), in.progress())) {
       EXPECT_EQ(r->decision.outcome, ImuWaitOutcome::Covered);
       EXPECT_NEAR(r->waited_s, imu_latency_s - gnss_latency_s, 1e-9);
       taken = in.takeUpTo(r->time);

@@ -11,7 +11,9 @@
 // and no transform yet) are not used and counted.
 // The accepted readings wait in a buffer until a GNSS epoch takes those up to its
 // time (EstimatorEpochInput::imu, as ppp_solve hands them on); the readings after
-// the last epoch taken stay for the odometry at IMU rate (ins_odometry.h).
+// the last epoch taken stay for the odometry at IMU rate (ins_odometry.h). The newest
+// accepted reading and its arrival are what the held GNSS epochs wait on (progress(),
+// imu_epoch_hold.h).
 // Also here: the IMU extrinsics and the GNSS/INS filter's options from ros.imu.
 #include <cstddef>
 #include <deque>
@@ -26,6 +28,7 @@
 #include "ppp_bayes_tree/navigation/imu_input_screen.h"
 #include "ppp_bayes_tree/navigation/imu_sample.h"
 #include "ppp_bayes_tree/ppp/estimators/ins_ekf_options.h"
+#include "ppp_bayes_tree/ros/imu_epoch_hold.h"
 #include "ppp_bayes_tree/ros/node_options.h"
 #include "ppp_bayes_tree/ros/throttled_warnings.h"
 
@@ -87,11 +90,12 @@ class NodeImuInput {
   /// first reading after each new epoch is compared with it, so that a GNSS outage leaves
   /// the readings alone; after a far one every reading is, until one is near again);
   /// `body_from_imu`: R_body_imu (bodyFromImu), nullopt while the IMU's pose in base_link is
-  /// missing. The accepted readings are turned into the filter's body axes. Returns the
-  /// readings accepted by this message, in time order (none while the screen holds the
-  /// first readings to decide the units, then those).
+  /// missing; `arrival_s`: ROS time of the message's arrival [s] (progress()). The accepted
+  /// readings are turned into the filter's body axes. Returns the readings accepted by this
+  /// message, in time order (none while the screen holds the first readings to decide the
+  /// units, then those).
   std::vector<ppp::ImuSample> receive(const sensor_msgs::Imu& message, const std::optional<ppp::GnssTime>& gnss_time,
-                                      const std::optional<Eigen::Matrix3d>& body_from_imu);
+                                      const std::optional<Eigen::Matrix3d>& body_from_imu, double arrival_s);
   /// The buffered readings up to `time` (the epoch's EstimatorEpochInput::imu), in time
   /// order; they leave the buffer, the last one is kept as lastTaken().
   std::vector<ppp::ImuSample> takeUpTo(const ppp::GnssTime& time);
@@ -99,6 +103,9 @@ class NodeImuInput {
   const std::deque<ppp::ImuSample>& pending() const { return pending_; }
   /// The last reading taken by an epoch (held from its time until the next one).
   const std::optional<ppp::ImuSample>& lastTaken() const { return last_taken_; }
+  /// The newest accepted reading's time (the newest pending, else the last taken) and the
+  /// arrival of the message that brought it; empty before the first and after reset().
+  ImuProgress progress() const;
   /// Starts afresh (an estimator reset after a time jump): buffer, screen and counts.
   void reset();
 
@@ -122,6 +129,7 @@ class NodeImuInput {
   ppp::ImuInputScreen screen_;
   std::deque<ppp::ImuSample> pending_;
   std::optional<ppp::ImuSample> last_taken_;
+  std::optional<double> newest_arrival_s_;  // ROS time [s] of the message of the newest accepted reading
   std::optional<ppp::GnssTime> checked_gnss_time_;  // the GNSS epoch the time base was last compared with
   bool time_base_far_ = false;                      // the last comparison found the stamps far from it
   std::map<ImuMessageProblem, ppp::ImuProblemCount> problems_;

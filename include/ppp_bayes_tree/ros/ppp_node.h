@@ -80,7 +80,10 @@ class PppNode {
   void onCorrections(const ros::MessageEvent<ppp_bayes_tree::PreciseCorrections const>& event);
   void onStreamChunk(ppp::StreamChunk&& chunk);
   void onTimer(const ros::TimerEvent&);
+  /// The epochs ready from the inputs, admitted (processed or held), then releaseAndDiagnose().
   void drain();
+  /// The held epochs that may go on, then /diagnostics: the end of a drain and of the hold's timers.
+  void releaseAndDiagnose();
   void drainLive();
   void processLiveEpoch(const ppp::LiveReadyEpoch& ready);
   // epochs waiting for the IMU (imu_epoch_hold.h): a topic's epoch released by the
@@ -95,6 +98,8 @@ class PppNode {
   void processHeld(HeldEpoch& epoch);
   /// A one-shot timer at the oldest held epoch's deadline (a silent IMU sends no callback).
   void armHoldTimer();
+  /// Now for the hold: ROS time and the steady clock's.
+  static HoldClock holdClock();
   // the epoch
   /// One epoch through the processor and out (both inputs).
   void processObsEpoch(const ppp::ObsEpoch& epoch);
@@ -163,6 +168,7 @@ class PppNode {
   std::unique_ptr<NodeImuInput> imu_;
   ImuEpochHold<HeldEpoch> epoch_hold_;             // epochs waiting for the readings up to their time
   std::optional<double> hold_deadline_s_;          // the deadline hold_timer_ is set to (ROS time)
+  ros::SteadyTimer hold_steady_timer_;             // every ros.imu.max_wait_s: the hold when the ROS clock stops
   std::unique_ptr<InsOdometry> ins_odometry_;
   std::optional<ImuExtrinsics> imu_extrinsics_;    // unknown while TF has none (ros.imu.extrinsics: tf)
   std::vector<ppp::ImuSample> epoch_imu_;          // the readings handed to the processor with the epoch

@@ -174,12 +174,9 @@ class HeldIntegerChecker {
                     generation(arcs, n.reference_arc)};
       auto it = verdicts_.find(key);
       if (it == verdicts_.end()) {
-        it = verdicts_.emplace(key, judge(n, arcs, out)).first;
-        if (it->second == Verdict::Wrong) {
-          out.wrong_holds.back().time_s = time_s;
-          out.wrong_holds.back().ratio = fix->ratio;
-          out.wrong_holds.back().bootstrap_success_rate = fix->bootstrap_success_rate;
-        }
+        const Judgement j = judge(n, arcs, out);
+        if (j.verdict == Verdict::Wrong) recordWrongHold(time_s, *fix, n, j, out);
+        it = verdicts_.emplace(key, j.verdict).first;
       }
       wrong_now = wrong_now || it->second == Verdict::Wrong;
     }
@@ -195,13 +192,20 @@ class HeldIntegerChecker {
     return it == arcs.end() ? 0 : it->second.generation;
   }
   enum class Verdict { Right, Wrong, NotCompared };
+  /// A hold judged against the truth, with the truth it was judged on.
+  struct Judgement {
+    Verdict verdict = Verdict::NotCompared;
+    long true_wide_lane_cycles = 0;
+    double true_cycles = 0.0;  // the true dN1 with the held wide lane
+  };
 
-  Verdict judge(const NarrowLaneFloat& n, const std::map<ArcId, ArcRecord>& arcs, HeldIntegerCheck& out) const {
+  /// The hold `n` against the truth, counted in `out` (held, cross-system, wrong, not compared).
+  Judgement judge(const NarrowLaneFloat& n, const std::map<ArcId, ArcRecord>& arcs, HeldIntegerCheck& out) const {
     const auto a = arcs.find(n.arc), r = arcs.find(n.reference_arc);
     if (a == arcs.end() || r == arcs.end() || !a->second.valid || !r->second.valid || a->second.simulated_arc == 0 ||
         r->second.simulated_arc == 0) {
       ++out.not_compared;
-      return Verdict::NotCompared;
+      return {Verdict::NotCompared};
     }
     ++out.held;
     if (n.satellite.system != n.reference_satellite.system) ++out.cross_system;
@@ -215,19 +219,28 @@ class HeldIntegerChecker {
     const double error = static_cast<double>(*n.held_cycles) - true_dn1;
     const bool right_wide_lane = n.wide_lane_cycles == true_wide_lane;
     if (right_wide_lane) out.max_abs_error_cycles = std::max(out.max_abs_error_cycles, std::abs(error));
-    if (right_wide_lane && std::abs(error) <= kWrongHoldThresholdCycles) return Verdict::Right;
-    ++out.wrong;
+    const Verdict verdict =
+        right_wide_lane && std::abs(error) <= kWrongHoldThresholdCycles ? Verdict::Right : Verdict::Wrong;
+    if (verdict == Verdict::Wrong) ++out.wrong;
+    return {verdict, true_wide_lane, true_dn1};
+  }
+
+  /// The record of a wrong hold `n` (its judgement `j`), first held at `time_s` by the search `fix`.
+  static void recordWrongHold(double time_s, const AmbiguityFixSummary& fix, const NarrowLaneFloat& n,
+                              const Judgement& j, HeldIntegerCheck& out) {
     WrongHold w;
+    w.time_s = time_s;
     w.satellite = n.satellite;
     w.reference_satellite = n.reference_satellite;
     w.wide_lane_cycles = n.wide_lane_cycles;
-    w.true_wide_lane_cycles = true_wide_lane;
+    w.true_wide_lane_cycles = j.true_wide_lane_cycles;
     w.held_cycles = *n.held_cycles;
-    w.true_cycles = true_dn1;
+    w.true_cycles = j.true_cycles;
     w.float_cycles = n.float_cycles;
     w.sigma_cycles = n.sigma_cycles;
+    w.ratio = fix.ratio;
+    w.bootstrap_success_rate = fix.bootstrap_success_rate;
     out.wrong_holds.push_back(w);
-    return Verdict::Wrong;
   }
 
   const SimulatedFlight& f_;

@@ -49,8 +49,8 @@
 // "aligned". The result's attitude (EstimatorEpochResult::attitude) says so at each
 // epoch; inertialState() is nullopt before the NavState.
 // Numerics: the cliques are factorized by QR of the whitened Jacobian (kFactorization),
-// never by Cholesky of the normal equations, whatever PppSmootherOptions::factorization
-// says. The IMU factors make the states' relative motion stiff (the bias random walk of
+// never by Cholesky of the normal equations: options asking for Cholesky
+// (PppSmootherOptions::factorization) are refused (validateOptions). The IMU factors make the states' relative motion stiff (the bias random walk of
 // a consumer gyro over 0.25 s weighs 4e12 (rad/s)^-2) while the GNSS geometry leaves a
 // direction of position and clocks weak (5-6 satellites: information 6e-5 m^-2 on the
 // u-blox walk): the information matrix, scaled to a unit diagonal, has a condition
@@ -89,7 +89,12 @@ class PppInsSmoother : public PppSmoother {
   /// The factorization of the smoother's cliques (see "Numerics" above).
   static constexpr smoother::Factorization kFactorization = smoother::Factorization::QR;
 
-  /// From the estimator options (the registry's factory, estimator_registry.h).
+  /// Empty when `options` suit the GNSS/INS smoother, else the first problem: a
+  /// factorization other than kFactorization (PppSmootherOptions::factorization set to
+  /// Cholesky), or InsEkfOptions::validate()'s.
+  static std::string validateOptions(const EstimatorOptions& options);
+  /// From the estimator options (the registry's factory, estimator_registry.h); throws
+  /// std::invalid_argument with validateOptions()'s problem.
   explicit PppInsSmoother(const EstimatorOptions& options);
 
   std::string name() const override { return "smoother_ins"; }

@@ -2,6 +2,7 @@
 // Options of the PPP smoother (section `smoother` of config/ppp.yaml; the screening
 // values are the EKF's, taken from section `estimator`, so that both estimators
 // screen alike).
+#include <optional>
 #include <string>
 
 #include "ppp_bayes_tree/ppp/screening/screening_options.h"
@@ -10,6 +11,9 @@
 namespace ppp {
 
 struct PppSmootherOptions {
+  /// The cliques' factorization of the PPP smoother when `factorization` is unset.
+  static constexpr smoother::Factorization kDefaultFactorization = smoother::Factorization::Cholesky;
+
   /// Screening and bookkeeping: the EKF's (screening_options.h).
   ScreeningOptions screening;
   /// Huber kernel on the code and phase factors, width in sigmas (robust = false: Gaussian).
@@ -29,9 +33,11 @@ struct PppSmootherOptions {
   /// Factors re-evaluate the geometric range exactly at new states (ppp_factors.h);
   /// false: linear factors (linearised once; the EKF-equivalence test).
   bool exact_range = true;
-  /// Dense factorization of the cliques (QR: slower, for reference checks; the GNSS/INS
-  /// smoother always uses QR, ppp_ins_smoother.h "Numerics").
-  smoother::Factorization factorization = smoother::Factorization::Cholesky;
+  /// Dense factorization of the cliques; unset: the estimator's own (the PPP smoother
+  /// Cholesky, kDefaultFactorization; QR slower, for reference checks). The GNSS/INS
+  /// smoother factorizes by QR only and refuses another (ppp_ins_smoother.h "Numerics").
+  /// Not a configuration key.
+  std::optional<smoother::Factorization> factorization;
   /// 0: full smoother (every state kept); > 0: fixed-lag smoother with this lag [s].
   double fixed_lag_s = 0.0;
   /// Keep a copy of every factor and new variable of the successful updates besides

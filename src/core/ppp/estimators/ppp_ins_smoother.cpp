@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
+#include <string>
 
 #include "ppp_bayes_tree/navigation/imu_coverage.h"
 #include "ppp_bayes_tree/navigation/imu_smoother_factor.h"
@@ -48,18 +50,28 @@ Matrix15d propagatedCovariance(Matrix15d covariance, NavState nav, const ImuBias
   return covariance;
 }
 
-/// The estimator options with the cliques factorized as the GNSS/INS smoother needs
+/// The estimator options checked (PppInsSmoother::validateOptions; throws
+/// std::invalid_argument), with the cliques factorized as the GNSS/INS smoother needs
 /// (PppInsSmoother::kFactorization, ppp_ins_smoother.h "Numerics").
-EstimatorOptions withInertialFactorization(EstimatorOptions options) {
+EstimatorOptions checkedWithInertialFactorization(EstimatorOptions options) {
+  if (auto problem = PppInsSmoother::validateOptions(options); !problem.empty()) throw std::invalid_argument(problem);
   options.smoother.factorization = PppInsSmoother::kFactorization;
   return options;
 }
 
 }  // namespace
 
+std::string PppInsSmoother::validateOptions(const EstimatorOptions& options) {
+  if (options.smoother.factorization && *options.smoother.factorization != kFactorization)
+    return "smoother_ins factorizes its cliques by QR only (Cholesky of its normal equations keeps 3-4 digits, "
+           "ppp_ins_smoother.h \"Numerics\"): PppSmootherOptions::factorization Cholesky refused (leave it unset)";
+  return options.ins.validate();
+}
+
 PppInsSmoother::PppInsSmoother(const EstimatorOptions& options)
-    : PppSmoother(withInertialFactorization(options)), ins_(options.ins), track_(options.ins.heading_alignment) {
-  if (auto problem = ins_.validate(); !problem.empty()) throw std::invalid_argument(problem);
+    : PppSmoother(checkedWithInertialFactorization(options)),
+      ins_(options.ins),
+      track_(options.ins.heading_alignment) {
   in_motion_ = !ins_.initial_rotation_ecef_body && !ins_.initial_rotation_ned_body && !ins_.initial_heading_rad;
 }
 

@@ -102,7 +102,7 @@ smoother::ISAM2Params PppSmoother::isamParams() const {
   // Without a robust kernel the phase factors are affine in the biases: relinearizing
   // a bias changes nothing but would re-eliminate every state of its arc.
   p.skip_affine_variables = true;
-  p.factorization = options_.factorization;
+  p.factorization = options_.factorization.value_or(PppSmootherOptions::kDefaultFactorization);
   return p;
 }
 

@@ -6,7 +6,8 @@
 // antenna tie's Jacobians; the registry's "smoother_ins"; the refusals without an
 // attitude, without a reading at the start and over a gap in the readings; the INS
 // error covariance and attitude quality of its inertial state against the EKF's; the
-// heading aligned in motion from the course of the antenna track, as the EKF's.
+// heading aligned in motion from the course of the antenna track, as the EKF's; its
+// cliques factorized by QR only (Cholesky refused).
 #include <gtest/gtest.h>
 
 #include <Eigen/Cholesky>
@@ -300,6 +301,32 @@ TEST(PppInsSmoother, RegisteredAsSmootherInsAndNotRunByBoth) {
   const auto all = selectEstimators(kAllEstimators);
   ASSERT_TRUE(all);
   for (const EstimatorEntry* e : *all) EXPECT_NE(e->name, "smoother_ins");
+}
+
+TEST(PppInsSmoother, FactorizesByQrOnlyAndRefusesCholesky) {
+  // Unset (the configuration's case: no key) or QR: its cliques by QR; the GNSS smoother of the
+  // same options by Cholesky. Cholesky asked for: refused, not silently replaced.
+  EstimatorOptions options = test::TurnRun(test::TurnRunSetup{}).insOptions();
+  auto unset = makeEstimatorAs<PppInsSmoother>("smoother_ins", options);
+  ASSERT_TRUE(unset);
+  EXPECT_EQ(unset->isam2().params().factorization, smoother::Factorization::QR);
+  EXPECT_EQ(makeEstimatorAs<PppSmoother>("smoother", options)->isam2().params().factorization,
+            smoother::Factorization::Cholesky);
+  options.smoother.factorization = smoother::Factorization::QR;
+  EXPECT_TRUE(PppInsSmoother::validateOptions(options).empty());
+  EXPECT_EQ(PppInsSmoother(options).isam2().params().factorization, smoother::Factorization::QR);
+  options.smoother.factorization = smoother::Factorization::Cholesky;
+  const std::string problem = PppInsSmoother::validateOptions(options);
+  EXPECT_NE(problem.find("QR only"), std::string::npos) << problem;
+  EXPECT_NE(problem.find("Cholesky refused"), std::string::npos) << problem;
+  EXPECT_THROW(makeEstimator("smoother_ins", options), std::invalid_argument);
+  EXPECT_EQ(makeEstimatorAs<PppSmoother>("smoother", options)->isam2().params().factorization,
+            smoother::Factorization::Cholesky);
+  // The INS options' own problems come through the same check.
+  options.smoother.factorization.reset();
+  options.ins.initial_attitude_sigma_rad = -1.0;
+  EXPECT_FALSE(PppInsSmoother::validateOptions(options).empty());
+  EXPECT_THROW(PppInsSmoother{options}, std::invalid_argument);
 }
 
 /// Readings of an IMU at rest at `position_ecef_m` with its axes north, east, down, at 100 Hz
