@@ -58,6 +58,10 @@ class ImuPreintegration {
                                const GnssTime& end);
   /// Back to an empty interval with a new bias estimate.
   void reset(const ImuBias& bias_estimate);
+  /// The interval's covariance times `factor` (> 0): the noise densities' variances scaled
+  /// over it (the covariance starts at zero and is linear in them), e.g. by an adaptive
+  /// process noise (ins_process_noise_adaptation.h).
+  void scaleNoise(double factor) { covariance_ *= factor; }
 
   double deltaTime_s() const { return delta_time_s_; }
   const PreintegratedDeltas& deltas() const { return deltas_; }
