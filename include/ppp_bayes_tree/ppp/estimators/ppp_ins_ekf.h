@@ -221,6 +221,7 @@ class PppInsEkf : public PppEkf {
   // The adaptive process noise: the propagation since the last GNSS update (transition and
   // process noise), the INS error covariance after that update, this epoch's test.
   InsDiscreteModel since_update_;
+  Matrix15d since_update_accel_noise_ = Matrix15d::Zero();  // the part of its noise from the accelerometers' white noise
   std::optional<Matrix15d> updated_error_cov_;
   ProcessNoiseScale noise_scale_;
   std::optional<ChiSquareUpperQuantile> noise_quantile_;

@@ -53,8 +53,8 @@
 // innovations of the arcs with a bias at the predicted NavState are tested against the
 // antenna's error added since the newest state (its INS error covariance and the error
 // model's transition and process noise along the readings since); when they are
-// inconsistent, the IMU factor's covariance is scaled so that their normalised square
-// is its expectation. processNoiseAdaptation() says what this epoch's test found.
+// inconsistent, the accelerometers' white noise in the IMU factor's covariance is
+// scaled so that their normalised square is its expectation. processNoiseAdaptation() says what this epoch's test found.
 // Numerics: the cliques are factorized by QR of the whitened Jacobian (kFactorization),
 // never by Cholesky of the normal equations, whatever PppSmootherOptions::factorization
 // says. The IMU factors make the states' relative motion stiff (the bias random walk of

@@ -25,6 +25,20 @@ PhaseInnovationRow phaseInnovationRow(const SatelliteMeasurement& m, const Recei
   return row;
 }
 
+Matrix12d accelerometerNoiseDensity(const Matrix12d& density) {
+  Matrix12d accel = Matrix12d::Zero();
+  accel.topLeftCorner<3, 3>() = density.topLeftCorner<3, 3>();
+  return accel;
+}
+
+ImuNoise accelerometerNoise(const ImuNoise& noise) {
+  ImuNoise accel;
+  accel.name = noise.name;
+  accel.source = noise.source;
+  accel.accel_noise_density_mps2_per_sqrthz = noise.accel_noise_density_mps2_per_sqrthz;
+  return accel;
+}
+
 Matrix15d relativeInsErrorCovariance(const InsDiscreteModel& since, const Matrix15d& covariance) {
   const Matrix15d A_minus_I = since.transition - Matrix15d::Identity();
   const Matrix15d D = A_minus_I * covariance * A_minus_I.transpose() + since.process_noise;

@@ -141,6 +141,7 @@ void PppInsEkf::closeLoop(Filter& f) {
   resetInsError(f);
   updated_error_cov_ = f.P.topLeftCorner<kInsErrorStateSize, kInsErrorStateSize>();
   since_update_ = InsDiscreteModel{};
+  since_update_accel_noise_.setZero();
   before_start_.clear();  // started: the levelling readings are done with
   if (heading_from_course_) alignHeadingFromTrack(f);
   updated_antenna_cov_m2_ = antennaCovariance(f);  // the bridge's reference after a gap
@@ -258,6 +259,7 @@ ReceiverState PppInsEkf::predict(double dt_s, bool first, const std::optional<Re
   if (start) {
     updated_error_cov_.reset();
     since_update_ = InsDiscreteModel{};
+    since_update_accel_noise_.setZero();
     work_ = initialFilter(*start);
     if (!startNominal(*start)) {  // the epoch fails with the reason (solve, finishEpoch)
       pending_.clear();
@@ -303,6 +305,7 @@ bool PppInsEkf::propagateTo(const GnssTime& time) {
   const Eigen::MatrixXd P = f_.P;
   const std::optional<ImuSample> held = held_;
   const InsDiscreteModel since_update = since_update_;
+  const Matrix15d since_update_accel_noise = since_update_accel_noise_;
   GnssTime t = *lastTime();
   bool ok = true;
   for (const ImuSample& s : pending_) {
@@ -322,6 +325,7 @@ bool PppInsEkf::propagateTo(const GnssTime& time) {
   f_.P = P;
   held_ = held;
   since_update_ = since_update;
+  since_update_accel_noise_ = since_update_accel_noise;
   return false;
 }
 
@@ -335,15 +339,21 @@ bool PppInsEkf::stepWith(double dt_s) {
                                                            held_->time.toString() + " not finite"};
     return false;
   }
-  const InsDiscreteModel model =
-      discretizeInsErrorModel(insErrorStateF(nominal_, f_b, w_b, ins_.bias_model), insErrorStateG(nominal_),
-                              insNoiseSpectralDensity(ins_.noise, ins_.bias_model), dt_s);
+  const Matrix15d F = insErrorStateF(nominal_, f_b, w_b, ins_.bias_model);
+  const Matrix15x12d G = insErrorStateG(nominal_);
+  const Matrix12d density = insNoiseSpectralDensity(ins_.noise, ins_.bias_model);
+  const InsDiscreteModel model = discretizeInsErrorModel(F, G, density, dt_s);
   constexpr int n = kInsErrorStateSize;
   f_.P.topRows(n) = (model.transition * f_.P.topRows(n)).eval();
   f_.P.leftCols(n) = (f_.P.leftCols(n) * model.transition.transpose()).eval();
   f_.P.topLeftCorner(n, n) += model.process_noise;
   since_update_.transition = (model.transition * since_update_.transition).eval();
   since_update_.process_noise = propagateInsCovariance(since_update_.process_noise, model);
+  if (ins_.process_noise_adaptation.enabled) {
+    InsDiscreteModel white = model;  // the transition with the accelerometers' noise alone
+    white.process_noise = discretizeInsErrorModel(F, G, accelerometerNoiseDensity(density), dt_s).process_noise;
+    since_update_accel_noise_ = propagateInsCovariance(since_update_accel_noise_, white);
+  }
   nominal_ = ecefInsStep(nominal_, f_b, w_b, dt_s);
   return true;
 }
@@ -406,11 +416,12 @@ void PppInsEkf::adaptProcessNoise(const EpochSolveInput& in) {
   if (!noise_quantile_ || !(noise_quantile_->alpha() == options.false_alarm)) noise_quantile_.emplace(options.false_alarm);
   const Matrix15d relative = relativeInsErrorCovariance(since_update_, *updated_error_cov_);
   noise_scale_ = processNoiseScale(rows, insAntennaPositionCovariance(nominal_, ins_.lever_arm_body_m, relative),
-                                   insAntennaPositionCovariance(nominal_, ins_.lever_arm_body_m, since_update_.process_noise),
+                                   insAntennaPositionCovariance(nominal_, ins_.lever_arm_body_m, since_update_accel_noise_),
                                    options, *noise_quantile_);
-  // 3. The propagation's process noise times the scale in the prediction.
+  // 3. The accelerometers' white noise since times the scale in the prediction.
   if (noise_scale_.inflated())
-    work_.P.topLeftCorner<kInsErrorStateSize, kInsErrorStateSize>() += (noise_scale_.scale - 1.0) * since_update_.process_noise;
+    work_.P.topLeftCorner<kInsErrorStateSize, kInsErrorStateSize>() +=
+        (noise_scale_.scale - 1.0) * since_update_accel_noise_;
 }
 
 void PppInsEkf::finishEpoch(EstimatorEpochResult& result) const {

@@ -26,10 +26,10 @@ namespace {
 /// (the last one at or before `from` first; each held from its time to the next one's):
 /// the transition and process noise accumulated over the steps of the GNSS/INS EKF's
 /// error model (ins_error_state.h), the nominal state stepped by the mechanization, as
-/// the EKF propagates between epochs.
+/// the EKF propagates between epochs, with the noise's spectral densities `density`.
 InsDiscreteModel propagatedErrorModel(NavState nav, const ImuBias& bias, const std::vector<ImuSample>& readings,
-                                      const GnssTime& from, const GnssTime& to, const InsEkfOptions& ins) {
-  const Matrix12d density = insNoiseSpectralDensity(ins.noise, ins.bias_model);
+                                      const GnssTime& from, const GnssTime& to, const InsEkfOptions& ins,
+                                      const Matrix12d& density) {
   InsDiscreteModel total;
   GnssTime t = from;
   for (std::size_t k = 0; k < readings.size() && t < to; ++k) {
@@ -54,7 +54,9 @@ InsDiscreteModel propagatedErrorModel(NavState nav, const ImuBias& bias, const s
 Matrix15d propagatedCovariance(const Matrix15d& covariance, const NavState& nav, const ImuBias& bias,
                                const std::vector<ImuSample>& readings, const GnssTime& from, const GnssTime& to,
                                const InsEkfOptions& ins) {
-  return propagateInsCovariance(covariance, propagatedErrorModel(nav, bias, readings, from, to, ins));
+  return propagateInsCovariance(
+      covariance,
+      propagatedErrorModel(nav, bias, readings, from, to, ins, insNoiseSpectralDensity(ins.noise, ins.bias_model)));
 }
 
 /// The estimator options with the cliques factorized as the GNSS/INS smoother needs
@@ -366,13 +368,21 @@ void PppInsSmoother::adaptProcessNoise(const EpochSolveInput& in) {
   // 2. Their test against the antenna's error added since the newest state; the scale.
   const ProcessNoiseAdaptationOptions& options = ins_.process_noise_adaptation;
   if (!noise_quantile_ || !(noise_quantile_->alpha() == options.false_alarm)) noise_quantile_.emplace(options.false_alarm);
-  const InsDiscreteModel since = propagatedErrorModel(c->nav, c->bias, readings_, c->time, epoch_time_, ins_);
+  const Matrix12d density = insNoiseSpectralDensity(ins_.noise, ins_.bias_model);
+  const InsDiscreteModel since = propagatedErrorModel(c->nav, c->bias, readings_, c->time, epoch_time_, ins_, density);
+  const Matrix15d accel_noise =
+      propagatedErrorModel(c->nav, c->bias, readings_, c->time, epoch_time_, ins_, accelerometerNoiseDensity(density))
+          .process_noise;
   const Matrix15d relative = relativeInsErrorCovariance(since, c->covariance);
   noise_scale_ = processNoiseScale(rows, insAntennaPositionCovariance(*nav_, ins_.lever_arm_body_m, relative),
-                                   insAntennaPositionCovariance(*nav_, ins_.lever_arm_body_m, since.process_noise),
-                                   options, *noise_quantile_);
-  // 3. The IMU factor's noise times the scale.
-  if (noise_scale_.inflated()) pim_->scaleNoise(noise_scale_.scale);
+                                   insAntennaPositionCovariance(*nav_, ins_.lever_arm_body_m, accel_noise), options,
+                                   *noise_quantile_);
+  // 3. The accelerometers' white noise of the IMU factor times the scale: its preintegrated
+  // covariance added lambda - 1 times.
+  if (!noise_scale_.inflated()) return;
+  ImuPreintegration accel(accelerometerNoise(ins_.noise), last_bias_);
+  accel.integrateBetween(readings_, c->time, epoch_time_);
+  pim_->addCovariance((noise_scale_.scale - 1.0) * accel.covariance());
 }
 
 void PppInsSmoother::commitSolvedNavState(std::uint32_t index) {

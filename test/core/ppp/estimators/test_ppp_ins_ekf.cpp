@@ -216,8 +216,8 @@ TEST(PppInsEkf, ScalesItsProcessNoiseWhenThePhasesDisagreeWithItsPrediction) {
   // prediction is then off by centimetres, many of the phases' sigmas. Without the
   // adaptive process noise the postfit test rejects phases of satellites that are right
   // (10 when written) and the error grows to 3.49 m; with it, the prediction's noise is
-  // scaled at the epoch the phases disagree (1 epoch when written), no phase is rejected
-  // and the error stays at the GNSS EKF's (2.70 m, the EKF 2.75 m).
+  // scaled where the phases disagree (9 epochs when written), no phase is rejected and
+  // the error stays at the GNSS EKF's (2.71 m, the EKF 2.75 m).
   for (const bool adaptive : {true, false}) {
     RunSetup setup;
     setup.duration_s = 60.0;

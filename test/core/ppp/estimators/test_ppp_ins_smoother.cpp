@@ -189,9 +189,9 @@ TEST(PppInsSmoother, ScalesItsImuFactorsNoiseWhenThePhasesDisagreeWithItsPredict
   // The EKF's test (test_ppp_ins_ekf): from 30 s on the readings carry an accelerometer
   // error of 0.05 m/s^2 along body x that the industrial grade does not allow for. Without
   // the adaptive process noise the postfit test rejects phases (10 when written, as ekf_ins)
-  // and the error grows to 3.61 m; with it, the IMU factor's noise is scaled at the epoch the
-  // phases disagree (1 when written), no phase is rejected, and the error stays at
-  // ekf_ins's (2.72 m, ekf_ins 2.70 m).
+  // and the error grows to 3.61 m; with it, the IMU factor's noise is scaled where the
+  // phases disagree (9 epochs when written), no phase is rejected, and the error stays at
+  // ekf_ins's (2.73 m, ekf_ins 2.71 m).
   for (const bool adaptive : {true, false}) {
     RunSetup setup;
     setup.duration_s = 60.0;
