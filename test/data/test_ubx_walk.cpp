@@ -75,6 +75,14 @@ std::optional<Eigen::Vector3d> referenceEcef(const PosFile& reference, const Gns
   return geodeticToEcef(geo);
 }
 
+/// Why the walk's recording or reference is missing; nullopt when both are there.
+std::optional<std::string> missingWalkData() {
+  if (std::filesystem::exists(test::dataPath("streams/ubx/gnss_1730.ubx")) &&
+      std::filesystem::exists(test::dataPath("streams/ubx/gnss_1730_sf.pos")))
+    return std::nullopt;
+  return "UBX walk data not found under " + test::dataPath("streams/ubx");
+}
+
 /// Per-component median.
 Eigen::Vector3d medianOf(const std::vector<Eigen::Vector3d>& v) {
   Eigen::Vector3d m;
@@ -360,10 +368,9 @@ TEST(UbxWalk, SmootherInsAgreesWithItselfOnARoundingLevelChangeOfTheMounting) {
   // ninth solution and by 54 m within these epochs; by QR they agree to micrometres. The walk's
   // first 27 s of solutions (to 17:31:52), through its worst geometry (5 satellites, 17:31:44 on).
   PPP_REQUIRE_SHARED_DATA();
+  if (const auto missing = missingWalkData()) GTEST_SKIP() << *missing;
   const std::string ubx = test::dataPath("streams/ubx/gnss_1730.ubx");
   const std::string pos = test::dataPath("streams/ubx/gnss_1730_sf.pos");
-  if (!std::filesystem::exists(ubx) || !std::filesystem::exists(pos))
-    GTEST_SKIP() << "UBX walk data not found under " << test::dataPath("streams/ubx");
   PppConfig config = walkConfig();
   setWalkIns(config);
   PppInputFiles files = walkFiles(ubx);
@@ -432,13 +439,11 @@ TEST(UbxWalk, InsEstimatorsLeaveTheWeakGeometryAsTheGnssOnlySmootherDoes) {
   // 17.8 and 11.1 m then, 5.8 and 5.7 m when written (GNSS-only smoother 7.7 m). The bounds
   // sit between: the GNSS-only smoother's figures with a margin.
   PPP_REQUIRE_SHARED_DATA();
+  if (const auto missing = missingWalkData()) GTEST_SKIP() << *missing;
   const std::string ubx = test::dataPath("streams/ubx/gnss_1730.ubx");
-  const std::string pos = test::dataPath("streams/ubx/gnss_1730_sf.pos");
-  if (!std::filesystem::exists(ubx) || !std::filesystem::exists(pos))
-    GTEST_SKIP() << "UBX walk data not found under " << test::dataPath("streams/ubx");
   PppConfig config = walkConfig();
   setWalkIns(config);
-  const PosFile reference = readRtklibPos(pos);
+  const PosFile reference = readRtklibPos(test::dataPath("streams/ubx/gnss_1730_sf.pos"));
   const std::optional<double> undulation = navPvtGeoidUndulation_m(ubx);
   ASSERT_TRUE(undulation) << "no NAV-PVT in the recording";
   const std::vector<ImuSample> readings = walkImu(rotationNedBody(M_PI, 0.0, -M_PI / 2.0));

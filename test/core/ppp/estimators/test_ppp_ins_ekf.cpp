@@ -220,9 +220,7 @@ TEST(PppInsEkf, ScalesItsProcessNoiseWhenThePhasesDisagreeWithItsPrediction) {
   // the error stays at the GNSS EKF's (2.71 m, the EKF 2.75 m).
   for (const bool adaptive : {true, false}) {
     RunSetup setup;
-    setup.duration_s = 60.0;
-    setup.accel_error_mps2 = Eigen::Vector3d(0.05, 0.0, 0.0);
-    setup.accel_error_from_s = 30.0;
+    test::addUnmodelledAccelError(setup);
     setup.adaptive_process_noise = adaptive;
     const std::vector<EpochErrors> run = runBoth(setup);
     ASSERT_EQ(run.size(), 61u);
@@ -230,7 +228,7 @@ TEST(PppInsEkf, ScalesItsProcessNoiseWhenThePhasesDisagreeWithItsPrediction) {
     double worst_m = 0.0, worst_ekf_m = 0.0;
     for (const auto& r : run) {
       ASSERT_EQ(r.ins.status, EpochStatus::Ok) << r.t_s << " s: " << r.ins.reason;
-      if (r.t_s < 30.0) {
+      if (r.t_s < test::kUnmodelledAccelErrorFrom_s) {
         inflated_before += r.noise_scale.inflated();
         continue;
       }

@@ -194,16 +194,14 @@ TEST(PppInsSmoother, ScalesItsImuFactorsNoiseWhenThePhasesDisagreeWithItsPredict
   // ekf_ins's (2.73 m, ekf_ins 2.71 m).
   for (const bool adaptive : {true, false}) {
     RunSetup setup;
-    setup.duration_s = 60.0;
-    setup.accel_error_mps2 = Eigen::Vector3d(0.05, 0.0, 0.0);
-    setup.accel_error_from_s = 30.0;
+    test::addUnmodelledAccelError(setup);
     setup.adaptive_process_noise = adaptive;
     const RunResult run = runBoth(setup);
     ASSERT_EQ(run.epochs.size(), 61u);
     int rejections = 0, ekf_rejections = 0, inflated = 0, inflated_before = 0;
     double worst_m = 0.0, worst_ekf_m = 0.0;
     for (const auto& r : run.epochs) {
-      if (r.t_s < 30.0) {
+      if (r.t_s < test::kUnmodelledAccelErrorFrom_s) {
         inflated_before += r.smoother_scale.inflated();
         continue;
       }
