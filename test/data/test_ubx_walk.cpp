@@ -75,6 +75,14 @@ std::optional<Eigen::Vector3d> referenceEcef(const PosFile& reference, const Gns
   return geodeticToEcef(geo);
 }
 
+/// Why the walk's recording or reference is missing; nullopt when both are there.
+std::optional<std::string> missingWalkData() {
+  if (std::filesystem::exists(test::dataPath("streams/ubx/gnss_1730.ubx")) &&
+      std::filesystem::exists(test::dataPath("streams/ubx/gnss_1730_sf.pos")))
+    return std::nullopt;
+  return "UBX walk data not found under " + test::dataPath("streams/ubx");
+}
+
 /// Per-component median.
 Eigen::Vector3d medianOf(const std::vector<Eigen::Vector3d>& v) {
   Eigen::Vector3d m;
@@ -360,10 +368,9 @@ TEST(UbxWalk, SmootherInsAgreesWithItselfOnARoundingLevelChangeOfTheMounting) {
   // ninth solution and by 54 m within these epochs; by QR they agree to micrometres. The walk's
   // first 27 s of solutions (to 17:31:52), through its worst geometry (5 satellites, 17:31:44 on).
   PPP_REQUIRE_SHARED_DATA();
+  if (const auto missing = missingWalkData()) GTEST_SKIP() << *missing;
   const std::string ubx = test::dataPath("streams/ubx/gnss_1730.ubx");
   const std::string pos = test::dataPath("streams/ubx/gnss_1730_sf.pos");
-  if (!std::filesystem::exists(ubx) || !std::filesystem::exists(pos))
-    GTEST_SKIP() << "UBX walk data not found under " << test::dataPath("streams/ubx");
   PppConfig config = walkConfig();
   setWalkIns(config);
   PppInputFiles files = walkFiles(ubx);
@@ -405,12 +412,66 @@ TEST(UbxWalk, SmootherInsAgreesWithItselfOnARoundingLevelChangeOfTheMounting) {
               "reference median %.2f m, max %.2f m\n",
               a.size(), apart_m, percentile(errors, 0.5), percentile(errors, 1.0));
   EXPECT_LT(apart_m, 0.01);  // 5e-6 m when written
-  // Against the reference, when written: median 8.4 m, max 32.0 m (with the gyro-bias variant of
-  // the start in doc/studies/ins_walk.md 7.7 m and 34.7 m at 17:31:49.2, the weak geometry). ppp_solve over the same epochs: the GNSS-only smoother 8.8 m and 43.1 m, ekf_ins
-  // 7.7 m and 35.2 m (98 solutions); smoother_ins by Cholesky 8.3 m and 44.5 m (8.2 m and
-  // 81.3 m with the other mounting).
+  // Against the reference, when written: median 8.6 m, max 42.9 m at the weak geometry
+  // (17:31:44-17:31:52, 5-6 satellites). ppp_solve over the same epochs: the GNSS-only
+  // smoother 8.8 m and 43.1 m, ekf_ins 7.3 m and 39.0 m. The max is the GNSS's: since the
+  // adaptive process noise (ins_process_noise_adaptation.h) smoother_ins follows the phases
+  // there as the GNSS-only smoother does (before it: 8.4 m and 32.0 m here, but 15-30 m
+  // off for the minute after, doc/studies/ins_walk.md). The bound holds the GNSS-only
+  // smoother's excursion with a margin and fails on a diverging twin (smoother_ins by
+  // Cholesky: 8.3 m and 44.5 m, 8.2 m and 81.3 m with the other mounting).
   EXPECT_LT(percentile(errors, 0.5), 12.0);
-  EXPECT_LT(percentile(errors, 1.0), 40.0);
+  EXPECT_LT(percentile(errors, 1.0), 50.0);
+}
+
+TEST(UbxWalk, InsEstimatorsLeaveTheWeakGeometryAsTheGnssOnlySmootherDoes) {
+  // ekf_ins and smoother_ins over the whole walk as in doc/studies/ins_walk.md (no attitude
+  // given; consumer grade). From 17:31:44 five or six satellites, all high, leave the
+  // position against the white receiver clocks weak: every estimator moves tens of metres
+  // up and west there (the GNSS-only smoother 43 m). The GNSS-only estimators are back
+  // within metres by 17:31:56. Without the adaptive process noise the INS estimators stayed
+  // off until about 17:32:40: their confidently wrong predictions had the postfit test
+  // reject the phases of right satellites (ekf_ins 191, smoother_ins 126), and the update
+  // turned the rest into metre-sized steps along the weak direction, which the code pulled
+  // back only slowly. 3D error to the reference over 17:32:00-17:32:40, median and max:
+  // ekf_ins 23.3 m and 37.5 m, smoother_ins 13.2 m and 21.5 m then; 5.7 m and 10.4 m, 5.2 m
+  // and 7.3 m when written (the GNSS-only smoother 6.0 m and 8.9 m). Over the walk: median
+  // 17.8 and 11.1 m then, 5.8 and 5.7 m when written (GNSS-only smoother 7.7 m). The bounds
+  // sit between: the GNSS-only smoother's figures with a margin.
+  PPP_REQUIRE_SHARED_DATA();
+  if (const auto missing = missingWalkData()) GTEST_SKIP() << *missing;
+  const std::string ubx = test::dataPath("streams/ubx/gnss_1730.ubx");
+  PppConfig config = walkConfig();
+  setWalkIns(config);
+  const PosFile reference = readRtklibPos(test::dataPath("streams/ubx/gnss_1730_sf.pos"));
+  const std::optional<double> undulation = navPvtGeoidUndulation_m(ubx);
+  ASSERT_TRUE(undulation) << "no NAV-PVT in the recording";
+  const std::vector<ImuSample> readings = walkImu(rotationNedBody(M_PI, 0.0, -M_PI / 2.0));
+  const GnssTime from = test::gpst(2025, 8, 28, 17, 32, 0.0), to = test::gpst(2025, 8, 28, 17, 32, 40.0);
+  for (const std::string name : {"ekf_ins", "smoother_ins"}) {
+    PppPipeline pipeline(walkFiles(ubx), config);
+    pipeline.setImu(readings);
+    std::string why;
+    auto estimator = makeEstimator(name, config, &why);
+    ASSERT_TRUE(estimator) << why;
+    std::vector<double> walk, after;
+    pipeline.run(*estimator, [&](const PppEpochRecord& rec) {
+      if (rec.status != EpochStatus::Ok || !rec.solution.position_ecef_m) return;
+      const std::optional<Eigen::Vector3d> ref = referenceEcef(reference, rec.solution.time, *undulation);
+      if (!ref) return;
+      const double error_m = (*rec.solution.position_ecef_m - *ref).norm();
+      walk.push_back(error_m);
+      if (rec.solution.time - from >= 0.0 && to - rec.solution.time >= 0.0) after.push_back(error_m);
+    });
+    ASSERT_GT(walk.size(), 300u) << name;  // 337 and 338 of 536 epochs when written
+    ASSERT_GT(after.size(), 100u) << name;
+    std::printf("[ figures  ] %s: %zu solutions, 3D error median %.2f m over the walk; over 17:32:00-17:32:40 median "
+                "%.2f m, max %.2f m\n",
+                name.c_str(), walk.size(), percentile(walk, 0.5), percentile(after, 0.5), percentile(after, 1.0));
+    EXPECT_LT(percentile(walk, 0.5), 9.0) << name;
+    EXPECT_LT(percentile(after, 0.5), 9.0) << name;
+    EXPECT_LT(percentile(after, 1.0), 15.0) << name;
+  }
 }
 
 }  // namespace ppp

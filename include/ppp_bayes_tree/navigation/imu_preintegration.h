@@ -58,6 +58,9 @@ class ImuPreintegration {
                                const GnssTime& end);
   /// Back to an empty interval with a new bias estimate.
   void reset(const ImuBias& bias_estimate);
+  /// Adds `extra` to the interval's covariance: more noise over it, e.g. an adaptive
+  /// process noise (ins_process_noise_adaptation.h).
+  void addCovariance(const Matrix9d& extra) { covariance_ += extra; }
 
   double deltaTime_s() const { return delta_time_s_; }
   const PreintegratedDeltas& deltas() const { return deltas_; }

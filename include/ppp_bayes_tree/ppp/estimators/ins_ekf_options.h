@@ -9,6 +9,7 @@
 
 #include "ppp_bayes_tree/navigation/imu_noise.h"
 #include "ppp_bayes_tree/navigation/ins_error_state.h"
+#include "ppp_bayes_tree/ppp/estimators/ins_process_noise_adaptation.h"
 #include "ppp_bayes_tree/ppp/model/doppler_velocity.h"
 #include "ppp_bayes_tree/ppp/model/gap_bridge.h"
 
@@ -76,6 +77,9 @@ struct InsEkfOptions {
   /// Doppler, the antenna velocity from them (doppler_velocity.h) updates the
   /// filter before the code and phase; on by default.
   DopplerVelocityOptions doppler;
+  /// The process noise of a prediction inconsistent with the epoch's phases, scaled
+  /// (ins_process_noise_adaptation.h); on by default, in both GNSS/INS estimators.
+  ProcessNoiseAdaptationOptions process_noise_adaptation;
 
   /// Empty when valid; otherwise the first problem.
   std::string validate() const;

@@ -74,6 +74,15 @@
 // at the start it is made on the start's filter. An innovation whose normalised
 // square exceeds DopplerVelocityOptions::innovation_chi2 is refused.
 // dopplerUpdate() says what this epoch's update did.
+//
+// Adaptive process noise (InsEkfOptions::process_noise_adaptation, on by default;
+// ins_process_noise_adaptation.h, shared with PppInsSmoother): before the update, the
+// phase innovations of the arcs with a bias are tested against the antenna's error
+// added since the last GNSS update (the transition and process noise accumulated by
+// the propagation since, and the INS error covariance after that update); when they
+// are inconsistent, the process noise of that propagation is scaled (added to the
+// prediction's covariance times lambda - 1) so that their normalised square is its
+// expectation. processNoiseAdaptation() says what this epoch's test found.
 #include <Eigen/Core>
 #include <optional>
 #include <string>
@@ -101,6 +110,9 @@ class PppInsEkf : public PppEkf {
   bool usesDoppler() const override { return ins_.doppler.enabled; }
   /// What the Doppler velocity update of the last epoch did.
   const DopplerUpdate& dopplerUpdate() const { return doppler_update_; }
+  /// What this epoch's test of the prediction against the phases found, and the scale
+  /// of the process noise it applied (ins_process_noise_adaptation.h).
+  const ProcessNoiseScale& processNoiseAdaptation() const { return noise_scale_; }
 
   /// The nominal state of the IMU (ECEF) and the IMU bias (corrected after each update).
   const NavState& navState() const { return nominal_; }
@@ -183,6 +195,8 @@ class PppInsEkf : public PppEkf {
   /// The closed-loop reset of the INS error alone (no heading alignment).
   void resetInsError(Filter& f);
   bool propagateTo(const GnssTime& time);
+  /// The adaptive process noise of this epoch's prediction (work_), before the update.
+  void adaptProcessNoise(const EpochSolveInput& in);
   bool stepWith(double dt_s);
 
   InsEkfOptions ins_;
@@ -206,6 +220,13 @@ class PppInsEkf : public PppEkf {
   std::optional<ImuBias> fixed_bias_;
   std::optional<Eigen::Vector3d> predicted_antenna_m_;  // this epoch's prediction
   std::optional<Eigen::Matrix3d> updated_antenna_cov_m2_;  // antenna covariance after the last GNSS update
+  // The adaptive process noise: the propagation since the last GNSS update (transition and
+  // process noise), the INS error covariance after that update, this epoch's test.
+  InsDiscreteModel since_update_;
+  Matrix15d since_update_accel_noise_ = Matrix15d::Zero();  // the part of its noise from the accelerometers' white noise
+  std::optional<Matrix15d> updated_error_cov_;
+  ProcessNoiseScale noise_scale_;
+  std::optional<ChiSquareUpperQuantile> noise_quantile_;
 };
 
 }  // namespace ppp

@@ -48,6 +48,13 @@
 // velocity sigmas and the course's heading sigma; from there the alignment is
 // "aligned". The result's attitude (EstimatorEpochResult::attitude) says so at each
 // epoch; inertialState() is nullopt before the NavState.
+// Adaptive process noise (InsEkfOptions::process_noise_adaptation, on by default;
+// ins_process_noise_adaptation.h, shared with PppInsEkf): before the update, the phase
+// innovations of the arcs with a bias at the predicted NavState are tested against the
+// antenna's error added since the newest state (its INS error covariance and the error
+// model's transition and process noise along the readings since); when they are
+// inconsistent, the accelerometers' white noise in the IMU factor's covariance is
+// scaled so that their normalised square is its expectation. processNoiseAdaptation() says what this epoch's test found.
 // Numerics: the cliques are factorized by QR of the whitened Jacobian (kFactorization),
 // never by Cholesky of the normal equations: options asking for Cholesky
 // (PppSmootherOptions::factorization) are refused (validateOptions). The IMU factors make the states' relative motion stiff (the bias random walk of
@@ -110,6 +117,9 @@ class PppInsSmoother : public PppSmoother {
   /// The epoch navState() is at; nullopt before the start.
   const std::optional<GnssTime>& navTime() const { return nav_time_; }
   const ImuBias& imuBias() const { return bias_; }
+  /// What this epoch's test of the prediction against the phases found, and the scale
+  /// of the IMU factor's noise it applied (ins_process_noise_adaptation.h).
+  const ProcessNoiseScale& processNoiseAdaptation() const { return noise_scale_; }
   /// The attitude's alignment and sigmas at the last epoch; nullopt before the start.
   std::optional<InsAttitudeQuality> attitudeQuality() const;
   /// The INS error covariance of navState() (ins_error_state.h order); nullopt before a
@@ -173,6 +183,8 @@ class PppInsSmoother : public PppSmoother {
   Eigen::Matrix3d gapPositionCovariance() const;
   /// The newest state's covariance from the Bayes tree (after a solved epoch).
   void keepNewestCovariance(std::uint32_t index);
+  /// The adaptive process noise of this epoch's IMU factor (pim_), before the update.
+  void adaptProcessNoise(const EpochSolveInput& in);
   /// broken_ is of the newest state only.
   void forgetGapOfAnOlderState();
 
@@ -197,6 +209,8 @@ class PppInsSmoother : public PppSmoother {
     Matrix15d covariance = Matrix15d::Zero();
   };
   std::optional<CovariantState> newest_covariance_;
+  ProcessNoiseScale noise_scale_;                          // this epoch's test (adaptProcessNoise)
+  std::optional<ChiSquareUpperQuantile> noise_quantile_;  // its quantiles
   // The alignment in motion (neither attitude nor heading given).
   bool in_motion_ = false;
   AlignmentState alignment_ = AlignmentState::NotAligned;

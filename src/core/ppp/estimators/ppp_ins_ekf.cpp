@@ -32,6 +32,7 @@ std::string InsEkfOptions::validate() const {
   if (!(heading_alignment.velocity_sigma_mps > 0.0)) return "heading alignment velocity sigma must be > 0";
   if (!(heading_alignment.unaligned_heading_sigma_rad > 0.0)) return "unaligned heading sigma must be > 0";
   if (!(publish_tilt_sigma_rad > 0.0) || !(publish_heading_sigma_rad > 0.0)) return "publish sigmas must be > 0";
+  if (auto problem = process_noise_adaptation.validate(); !problem.empty()) return problem;
   return doppler.validate();
 }
 
@@ -138,6 +139,9 @@ void PppInsEkf::resetInsError(Filter& f) {
 
 void PppInsEkf::closeLoop(Filter& f) {
   resetInsError(f);
+  updated_error_cov_ = f.P.topLeftCorner<kInsErrorStateSize, kInsErrorStateSize>();
+  since_update_ = InsDiscreteModel{};
+  since_update_accel_noise_.setZero();
   before_start_.clear();  // started: the levelling readings are done with
   if (heading_from_course_) alignHeadingFromTrack(f);
   updated_antenna_cov_m2_ = antennaCovariance(f);  // the bridge's reference after a gap
@@ -258,6 +262,9 @@ bool PppInsEkf::startNominal(const ReceiverState& start) {
 ReceiverState PppInsEkf::predict(double dt_s, bool first, const std::optional<ReceiverState>& start) {
   starting_ = start.has_value();
   if (start) {
+    updated_error_cov_.reset();
+    since_update_ = InsDiscreteModel{};
+    since_update_accel_noise_.setZero();
     work_ = initialFilter(*start);
     if (!startNominal(*start)) {  // the epoch fails with the reason (solve, finishEpoch)
       pending_.clear();
@@ -306,6 +313,8 @@ bool PppInsEkf::propagateTo(const GnssTime& time) {
   const NavState nominal = nominal_;
   const Eigen::MatrixXd P = f_.P;
   const std::optional<ImuSample> held = held_;
+  const InsDiscreteModel since_update = since_update_;
+  const Matrix15d since_update_accel_noise = since_update_accel_noise_;
   GnssTime t = *lastTime();
   bool ok = true;
   for (const ImuSample& s : pending_) {
@@ -324,6 +333,8 @@ bool PppInsEkf::propagateTo(const GnssTime& time) {
   nominal_ = nominal;
   f_.P = P;
   held_ = held;
+  since_update_ = since_update;
+  since_update_accel_noise_ = since_update_accel_noise;
   return false;
 }
 
@@ -337,13 +348,21 @@ bool PppInsEkf::stepWith(double dt_s) {
                                                            held_->time.toString() + " not finite"};
     return false;
   }
-  const InsDiscreteModel model =
-      discretizeInsErrorModel(insErrorStateF(nominal_, f_b, w_b, ins_.bias_model), insErrorStateG(nominal_),
-                              insNoiseSpectralDensity(ins_.noise, ins_.bias_model), dt_s);
+  const Matrix15d F = insErrorStateF(nominal_, f_b, w_b, ins_.bias_model);
+  const Matrix15x12d G = insErrorStateG(nominal_);
+  const Matrix12d density = insNoiseSpectralDensity(ins_.noise, ins_.bias_model);
+  const InsDiscreteModel model = discretizeInsErrorModel(F, G, density, dt_s);
   constexpr int n = kInsErrorStateSize;
   f_.P.topRows(n) = (model.transition * f_.P.topRows(n)).eval();
   f_.P.leftCols(n) = (f_.P.leftCols(n) * model.transition.transpose()).eval();
   f_.P.topLeftCorner(n, n) += model.process_noise;
+  since_update_.transition = (model.transition * since_update_.transition).eval();
+  since_update_.process_noise = propagateInsCovariance(since_update_.process_noise, model);
+  if (ins_.process_noise_adaptation.enabled) {
+    InsDiscreteModel white = model;  // the transition with the accelerometers' noise alone
+    white.process_noise = discretizeInsErrorModel(F, G, accelerometerNoiseDensity(density), dt_s).process_noise;
+    since_update_accel_noise_ = propagateInsCovariance(since_update_accel_noise_, white);
+  }
   nominal_ = ecefInsStep(nominal_, f_b, w_b, dt_s);
   return true;
 }
@@ -388,7 +407,30 @@ bool PppInsEkf::updateWithDoppler(Filter& f) {
 
 bool PppInsEkf::solve(const EpochSolveInput& in, EpochSolveOutput& out, EstimatorEpochResult& result) {
   if (epoch_problem_) return fail(result, EpochStatus::NoSolution, epoch_problem_->first, epoch_problem_->second);
+  adaptProcessNoise(in);
   return PppEkf::solve(in, out, result);
+}
+
+void PppInsEkf::adaptProcessNoise(const EpochSolveInput& in) {
+  // 1. The phase innovations of the arcs with a bias, at the prediction.
+  noise_scale_ = ProcessNoiseScale{};
+  if (in.first || starting_ || !updated_error_cov_) return;
+  std::vector<PhaseInnovationRow> rows;
+  for (const ScreenedMeasurement& s : in.screened) {
+    const int slot = s.active_arc ? findBias(work_, s.m.arc) : -1;
+    if (slot >= 0) rows.push_back(phaseInnovationRow(s.m, layout_, work_.x(coreDim() + slot)));
+  }
+  // 2. Their test against the antenna's error added since the last update; the scale.
+  const ProcessNoiseAdaptationOptions& options = ins_.process_noise_adaptation;
+  if (!noise_quantile_ || !(noise_quantile_->alpha() == options.false_alarm)) noise_quantile_.emplace(options.false_alarm);
+  const Matrix15d relative = relativeInsErrorCovariance(since_update_, *updated_error_cov_);
+  noise_scale_ = processNoiseScale(rows, insAntennaPositionCovariance(nominal_, ins_.lever_arm_body_m, relative),
+                                   insAntennaPositionCovariance(nominal_, ins_.lever_arm_body_m, since_update_accel_noise_),
+                                   options, *noise_quantile_);
+  // 3. The accelerometers' white noise since times the scale in the prediction.
+  if (noise_scale_.inflated())
+    work_.P.topLeftCorner<kInsErrorStateSize, kInsErrorStateSize>() +=
+        (noise_scale_.scale - 1.0) * since_update_accel_noise_;
 }
 
 void PppInsEkf::finishEpoch(EstimatorEpochResult& result) const {

@@ -24,14 +24,15 @@ using smoother::NoiseModel;
 
 namespace {
 
-/// The INS error covariance of `nav` at `from` moved to `to` along the readings (the last
-/// one at or before `from` first; each held from its time to the next one's), with the
-/// GNSS/INS EKF's error model (ins_error_state.h) and the nominal state stepped by the
-/// mechanization, as the EKF propagates between epochs.
-Matrix15d propagatedCovariance(Matrix15d covariance, NavState nav, const ImuBias& bias,
-                               const std::vector<ImuSample>& readings, const GnssTime& from, const GnssTime& to,
-                               const InsEkfOptions& ins) {
-  const Matrix12d density = insNoiseSpectralDensity(ins.noise, ins.bias_model);
+/// The INS error model of the propagation of `nav` from `from` to `to` along the readings
+/// (the last one at or before `from` first; each held from its time to the next one's):
+/// the transition and process noise accumulated over the steps of the GNSS/INS EKF's
+/// error model (ins_error_state.h), the nominal state stepped by the mechanization, as
+/// the EKF propagates between epochs, with the noise's spectral densities `density`.
+InsDiscreteModel propagatedErrorModel(NavState nav, const ImuBias& bias, const std::vector<ImuSample>& readings,
+                                      const GnssTime& from, const GnssTime& to, const InsEkfOptions& ins,
+                                      const Matrix12d& density) {
+  InsDiscreteModel total;
   GnssTime t = from;
   for (std::size_t k = 0; k < readings.size() && t < to; ++k) {
     const bool later = k + 1 < readings.size();
@@ -41,13 +42,23 @@ Matrix15d propagatedCovariance(Matrix15d covariance, NavState nav, const ImuBias
     if (dt_s <= 0.0) continue;
     const Eigen::Vector3d f_b = readings[k].specific_force_mps2 - bias.accel_mps2;
     const Eigen::Vector3d w_b = readings[k].angular_rate_radps - bias.gyro_radps;
-    covariance = propagateInsCovariance(
-        covariance, discretizeInsErrorModel(insErrorStateF(nav, f_b, w_b, ins.bias_model), insErrorStateG(nav),
-                                            density, dt_s));
+    const InsDiscreteModel step =
+        discretizeInsErrorModel(insErrorStateF(nav, f_b, w_b, ins.bias_model), insErrorStateG(nav), density, dt_s);
+    total.transition = (step.transition * total.transition).eval();
+    total.process_noise = propagateInsCovariance(total.process_noise, step);
     nav = ecefInsStep(nav, f_b, w_b, dt_s);
     t = end;
   }
-  return covariance;
+  return total;
+}
+
+/// The INS error covariance of `nav` at `from` moved to `to` along the readings (propagatedErrorModel).
+Matrix15d propagatedCovariance(const Matrix15d& covariance, const NavState& nav, const ImuBias& bias,
+                               const std::vector<ImuSample>& readings, const GnssTime& from, const GnssTime& to,
+                               const InsEkfOptions& ins) {
+  return propagateInsCovariance(
+      covariance,
+      propagatedErrorModel(nav, bias, readings, from, to, ins, insNoiseSpectralDensity(ins.noise, ins.bias_model)));
 }
 
 /// The estimator options checked (PppInsSmoother::validateOptions; throws
@@ -344,6 +355,7 @@ bool PppInsSmoother::solve(const EpochSolveInput& in, EpochSolveOutput& out, Est
   const bool level_only = in_motion_ && !nav_ && epoch_attitude_;
   if (!nav_ && !level_only)
     return fail(result, EpochStatus::NoSolution, NoSolutionReason::NoInitialAttitude, "no inertial state");
+  adaptProcessNoise(in);
   if (!PppSmoother::solve(in, out, result)) return false;
   // The new state is in the graph: the readings before it are no longer needed.
   keepReadingsFrom(in.time);
@@ -356,6 +368,36 @@ bool PppInsSmoother::solve(const EpochSolveInput& in, EpochSolveOutput& out, Est
   }
   commitSolvedNavState(index);
   return true;
+}
+
+void PppInsSmoother::adaptProcessNoise(const EpochSolveInput& in) {
+  // 1. The phase innovations of the arcs with a bias, at the NavState predicted from the newest state.
+  noise_scale_ = ProcessNoiseScale{};
+  const std::optional<CovariantState>& c = newest_covariance_;
+  if (in.first || !pim_ || !last_nav_ || !nav_ || !c || !lastTime() || !(c->time == *lastTime())) return;
+  std::vector<PhaseInnovationRow> rows;
+  for (const ScreenedMeasurement& s : in.screened) {
+    const std::optional<ArcBiasPrior> prior = s.active_arc ? predictedBias(s.m.arc) : std::nullopt;
+    if (prior) rows.push_back(phaseInnovationRow(s.m, layout_, prior->bias_m));
+  }
+  // 2. Their test against the antenna's error added since the newest state; the scale.
+  const ProcessNoiseAdaptationOptions& options = ins_.process_noise_adaptation;
+  if (!noise_quantile_ || !(noise_quantile_->alpha() == options.false_alarm)) noise_quantile_.emplace(options.false_alarm);
+  const Matrix12d density = insNoiseSpectralDensity(ins_.noise, ins_.bias_model);
+  const InsDiscreteModel since = propagatedErrorModel(c->nav, c->bias, readings_, c->time, epoch_time_, ins_, density);
+  const Matrix15d accel_noise =
+      propagatedErrorModel(c->nav, c->bias, readings_, c->time, epoch_time_, ins_, accelerometerNoiseDensity(density))
+          .process_noise;
+  const Matrix15d relative = relativeInsErrorCovariance(since, c->covariance);
+  noise_scale_ = processNoiseScale(rows, insAntennaPositionCovariance(*nav_, ins_.lever_arm_body_m, relative),
+                                   insAntennaPositionCovariance(*nav_, ins_.lever_arm_body_m, accel_noise), options,
+                                   *noise_quantile_);
+  // 3. The accelerometers' white noise of the IMU factor times the scale: its preintegrated
+  // covariance added lambda - 1 times.
+  if (!noise_scale_.inflated()) return;
+  ImuPreintegration accel(accelerometerNoise(ins_.noise), last_bias_);
+  accel.integrateBetween(readings_, c->time, epoch_time_);
+  pim_->addCovariance((noise_scale_.scale - 1.0) * accel.covariance());
 }
 
 void PppInsSmoother::commitSolvedNavState(std::uint32_t index) {

@@ -17,6 +17,7 @@
 #include "ppp_bayes_tree/navigation/navigation_frame.h"
 #include "ppp_bayes_tree/navigation/so3.h"
 #include "ppp_bayes_tree/ppp/estimators/estimator_registry.h"
+#include "ppp_bayes_tree/ppp/estimators/ins_process_noise_adaptation.h"
 #include "ppp_bayes_tree/ppp/estimators/ppp_ins_ekf.h"
 #include "ppp_bayes_tree/ppp/estimators/ppp_ins_smoother.h"
 
@@ -79,6 +80,8 @@ struct RunSetup : test::TurnRunSetup {
   /// No attitude, heading or velocity given: levelled from 2 s of readings before the
   /// start, the heading aligned in motion (InsEkfOptions::heading_alignment).
   bool unknown_heading = false;
+  /// InsEkfOptions::process_noise_adaptation.enabled.
+  bool adaptive_process_noise = true;
 };
 
 struct EpochErrors {
@@ -92,6 +95,7 @@ struct EpochErrors {
   double ekf_position_m = -1.0;  // -1: no solution
   double ins_heading_error_rad = 0.0;  // wrapped to (-pi, pi]
   std::optional<InsAttitudeQuality> attitude;
+  ProcessNoiseScale noise_scale;  // the INS EKF's test of its prediction
 };
 
 /// Both filters on the same synthetic GNSS data (1 Hz) along an analytic turn
@@ -106,6 +110,7 @@ std::vector<EpochErrors> runBoth(const RunSetup& setup) {
     options.ins.initial_velocity_ecef_mps.setZero();
     options.ins.initial_velocity_sigma_mps = 1.0;
   }
+  options.ins.process_noise_adaptation.enabled = setup.adaptive_process_noise;
   std::string why;
   auto ins = makeEstimatorAs<PppInsEkf>("ekf_ins", options, &why);
   auto ekf = makeEstimator("ekf", options, &why);
@@ -133,6 +138,7 @@ std::vector<EpochErrors> runBoth(const RunSetup& setup) {
                                      eulerAngles(ecef_ned.transpose() * truth.rotation_world_body).yaw_rad;
     r.ins_heading_error_rad = std::remainder(heading_error_rad, 2.0 * M_PI);
     r.attitude = r.ins.attitude;
+    r.noise_scale = ins->processNoiseAdaptation();
     out.push_back(std::move(r));
   });
   return out;
@@ -202,6 +208,98 @@ TEST(PppInsEkf, CarriesThePositionThroughATenSecondGnssOutage) {
   // After the outage both solve again; the INS EKF's error stays small.
   EXPECT_EQ(run.back().ins.status, EpochStatus::Ok) << run.back().ins.reason;
   EXPECT_LT(run.back().ins_position_m, 1.0);
+}
+
+TEST(PppInsEkf, ScalesItsProcessNoiseWhenThePhasesDisagreeWithItsPrediction) {
+  // From 30 s on the readings carry an accelerometer error of 0.05 m/s^2 along body x that
+  // the industrial grade's noise and bias instability do not allow for: each 1-s
+  // prediction is then off by centimetres, many of the phases' sigmas. Without the
+  // adaptive process noise the postfit test rejects phases of satellites that are right
+  // (10 when written) and the error grows to 3.49 m; with it, the prediction's noise is
+  // scaled where the phases disagree (9 epochs when written), no phase is rejected and
+  // the error stays at the GNSS EKF's (2.71 m, the EKF 2.75 m).
+  for (const bool adaptive : {true, false}) {
+    RunSetup setup;
+    test::addUnmodelledAccelError(setup);
+    setup.adaptive_process_noise = adaptive;
+    const std::vector<EpochErrors> run = runBoth(setup);
+    ASSERT_EQ(run.size(), 61u);
+    int rejections = 0, inflated = 0, inflated_before = 0;
+    double worst_m = 0.0, worst_ekf_m = 0.0;
+    for (const auto& r : run) {
+      ASSERT_EQ(r.ins.status, EpochStatus::Ok) << r.t_s << " s: " << r.ins.reason;
+      if (r.t_s < test::kUnmodelledAccelErrorFrom_s) {
+        inflated_before += r.noise_scale.inflated();
+        continue;
+      }
+      rejections += r.ins.postfit_rejections;
+      inflated += r.noise_scale.inflated();
+      worst_m = std::max(worst_m, r.ins_position_m);
+      worst_ekf_m = std::max(worst_ekf_m, r.ekf_position_m);
+    }
+    std::printf("adaptive process noise %s: from 30 s %d postfit rejections, %d epochs scaled (before: %d); "
+                "worst 3D error %.3f m (GNSS EKF %.3f m)\n",
+                adaptive ? "on" : "off", rejections, inflated, inflated_before, worst_m, worst_ekf_m);
+    EXPECT_EQ(inflated_before, 0);  // a prediction consistent with the phases keeps its noise
+    if (adaptive) {
+      EXPECT_GE(inflated, 1);
+      EXPECT_EQ(rejections, 0);
+      EXPECT_LT(worst_m, worst_ekf_m + 0.1);
+    } else {
+      EXPECT_GT(rejections, 0);  // the case the adaptation is for
+    }
+  }
+}
+
+TEST(PppInsEkf, ProcessNoiseScaleOfPhaseInnovations) {
+  // ins_process_noise_adaptation.h on six rows (three GPS, three Galileo), phase sigma 1 cm,
+  // relative antenna error 1 mm per axis, of it 0.7 mm the process noise.
+  const std::vector<Eigen::Vector3d> los = {{0.3, 0.2, 0.93}, {-0.6, 0.1, 0.79}, {0.1, -0.7, 0.7},
+                                            {0.8, 0.3, 0.52}, {-0.2, -0.4, 0.89}, {-0.5, 0.6, 0.62}};
+  const auto rows = [&](const Eigen::Vector3d& error_m, std::optional<int> outlier = std::nullopt) {
+    std::vector<PhaseInnovationRow> out;
+    for (std::size_t k = 0; k < los.size(); ++k) {
+      PhaseInnovationRow row;
+      row.satellite = SatelliteId{k < 3 ? GnssSystem::GPS : GnssSystem::Galileo, static_cast<int>(k) + 1};
+      row.clock_system = row.satellite.system;
+      row.d_antenna_m = -los[k].normalized();
+      row.innovation_m = row.d_antenna_m.dot(error_m) + (k < 3 ? 0.5 : -0.3);  // clocks jumped
+      if (outlier && *outlier == static_cast<int>(k)) row.innovation_m += 0.2;
+      row.variance_m2 = 1e-4;
+      out.push_back(row);
+    }
+    return out;
+  };
+  const Eigen::Matrix3d relative = 1e-6 * Eigen::Matrix3d::Identity(), process = 0.5e-6 * Eigen::Matrix3d::Identity();
+  const ProcessNoiseAdaptationOptions options;
+  const ChiSquareUpperQuantile quantile(options.false_alarm);
+  // Only the clocks moved: consistent, the noise kept; 6 rows - 2 clocks - 1 left out.
+  const ProcessNoiseScale still = processNoiseScale(rows(Eigen::Vector3d::Zero()), relative, process, options, quantile);
+  EXPECT_EQ(still.scale, 1.0) << still.text();
+  EXPECT_EQ(still.dof, 3);
+  EXPECT_LT(still.statistic, 1e-9);
+  // One phase 20 cm off: left out, not a reason to scale.
+  const ProcessNoiseScale slip = processNoiseScale(rows(Eigen::Vector3d::Zero(), 4), relative, process, options, quantile);
+  EXPECT_EQ(slip.scale, 1.0) << slip.text();
+  ASSERT_TRUE(slip.left_out);
+  EXPECT_EQ(slip.left_out->toString(), "E05");
+  // The prediction 23 cm off: scaled; twice the error, about four times the scale (T is
+  // quadratic in the error, and the scaled process noise dominates its covariance).
+  const Eigen::Vector3d off(0.1, -0.2, 0.05);
+  const ProcessNoiseScale once = processNoiseScale(rows(off), relative, process, options, quantile);
+  const ProcessNoiseScale twice = processNoiseScale(rows(2.0 * off), relative, process, options, quantile);
+  std::printf("%s\n%s\n", once.text().c_str(), twice.text().c_str());
+  EXPECT_GT(once.statistic, once.quantile);
+  EXPECT_GT(once.scale, 10.0);
+  EXPECT_NEAR(twice.scale / once.scale, 4.0, 0.4);
+  // At that scale the innovations are consistent: T is its expectation, the degrees of
+  // freedom (the rows without the satellite left out, which may be another one now: at most).
+  const ProcessNoiseScale rescaled =
+      processNoiseScale(rows(off), relative + (once.scale - 1.0) * process, process, options, quantile);
+  std::printf("%s\n", rescaled.text().c_str());
+  EXPECT_EQ(rescaled.scale, 1.0);
+  EXPECT_LT(rescaled.statistic, once.dof * 1.01);
+  EXPECT_GT(rescaled.statistic, once.dof * 0.8);
 }
 
 // ---- (d) The registry and the refusals -----------------------------------------------

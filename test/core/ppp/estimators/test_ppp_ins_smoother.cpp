@@ -7,7 +7,8 @@
 // attitude, without a reading at the start and over a gap in the readings; the INS
 // error covariance and attitude quality of its inertial state against the EKF's; the
 // heading aligned in motion from the course of the antenna track, as the EKF's; its
-// cliques factorized by QR only (Cholesky refused).
+// cliques factorized by QR only (Cholesky refused); the adaptive process noise of a
+// prediction the phases disagree with, as the EKF's.
 #include <gtest/gtest.h>
 
 #include <Eigen/Cholesky>
@@ -48,6 +49,8 @@ constexpr double kInMotionTolerance_m = 0.15;
 /// The turn (ins_turn_run.h) and the smoother's fixed lag.
 struct RunSetup : test::TurnRunSetup {
   double fixed_lag_s = 0.0;
+  /// InsEkfOptions::process_noise_adaptation.enabled (both estimators).
+  bool adaptive_process_noise = true;
 };
 
 struct EpochErrors {
@@ -61,6 +64,7 @@ struct EpochErrors {
   Eigen::Vector3d nav_error_m = Eigen::Vector3d::Zero();  // antenna of navState() - truth
   double nav_velocity_mps = 0.0, nav_attitude_rad = 0.0;
   std::optional<InertialState> smoother_state, ekf_state;  // inertialState() after the epoch
+  ProcessNoiseScale smoother_scale, ekf_scale;              // their tests of the prediction
 };
 
 struct RunResult {
@@ -75,6 +79,7 @@ RunResult runBoth(const RunSetup& setup) {
   test::TurnRun turn(setup);
   EstimatorOptions options = turn.insOptions();
   options.smoother.fixed_lag_s = setup.fixed_lag_s;
+  options.ins.process_noise_adaptation.enabled = setup.adaptive_process_noise;
   std::string why;
   auto smoother = makeEstimatorAs<PppInsSmoother>("smoother_ins", options, &why);
   auto ekf = makeEstimatorAs<PppInsEkf>("ekf_ins", options, &why);
@@ -100,6 +105,8 @@ RunResult runBoth(const RunSetup& setup) {
     }
     r.smoother_state = smoother->inertialState();
     r.ekf_state = ekf->inertialState();
+    r.smoother_scale = smoother->processNoiseAdaptation();
+    r.ekf_scale = ekf->processNoiseAdaptation();
     run.epochs.push_back(std::move(r));
   });
   run.smoothed = smoother->smoothedTrajectory();
@@ -179,6 +186,46 @@ Vector15d sigmas(const Matrix15d& covariance) { return covariance.diagonal().cwi
 // a block in another order (e.g. the tangent's [dtheta; dv; dp] read as [dp; dv; dtheta])
 // or the attitude about other axes (the turn's heading is 1.0 rad off north at its end)
 // moves sigmas by orders of magnitude or between axes.
+TEST(PppInsSmoother, ScalesItsImuFactorsNoiseWhenThePhasesDisagreeWithItsPredictionAsTheEkf) {
+  // The EKF's test (test_ppp_ins_ekf): from 30 s on the readings carry an accelerometer
+  // error of 0.05 m/s^2 along body x that the industrial grade does not allow for. Without
+  // the adaptive process noise the postfit test rejects phases (10 when written, as ekf_ins)
+  // and the error grows to 3.61 m; with it, the IMU factor's noise is scaled where the
+  // phases disagree (9 epochs when written), no phase is rejected, and the error stays at
+  // ekf_ins's (2.73 m, ekf_ins 2.71 m).
+  for (const bool adaptive : {true, false}) {
+    RunSetup setup;
+    test::addUnmodelledAccelError(setup);
+    setup.adaptive_process_noise = adaptive;
+    const RunResult run = runBoth(setup);
+    ASSERT_EQ(run.epochs.size(), 61u);
+    int rejections = 0, ekf_rejections = 0, inflated = 0, inflated_before = 0;
+    double worst_m = 0.0, worst_ekf_m = 0.0;
+    for (const auto& r : run.epochs) {
+      if (r.t_s < test::kUnmodelledAccelErrorFrom_s) {
+        inflated_before += r.smoother_scale.inflated();
+        continue;
+      }
+      rejections += r.smoother.postfit_rejections;
+      ekf_rejections += r.ekf.postfit_rejections;
+      inflated += r.smoother_scale.inflated();
+      worst_m = std::max(worst_m, r.smoother_m);
+      worst_ekf_m = std::max(worst_ekf_m, r.ekf_m);
+    }
+    std::printf("adaptive process noise %s: from 30 s %d postfit rejections (ekf_ins %d), %d epochs scaled "
+                "(before: %d); worst 3D error %.3f m (ekf_ins %.3f m)\n",
+                adaptive ? "on" : "off", rejections, ekf_rejections, inflated, inflated_before, worst_m, worst_ekf_m);
+    EXPECT_EQ(inflated_before, 0);  // a prediction consistent with the phases keeps its noise
+    if (adaptive) {
+      EXPECT_GE(inflated, 1);
+      EXPECT_EQ(rejections, 0);
+      EXPECT_LT(worst_m, worst_ekf_m + kFilteredTolerance_m);
+    } else {
+      EXPECT_GT(rejections, 0);  // the case the adaptation is for
+    }
+  }
+}
+
 TEST(PppInsSmoother, CovarianceIsTheEkfsErrorStateOrderAndConvention) {
   const RunResult run = runBoth(RunSetup{});
   ASSERT_EQ(run.epochs.size(), 121u);
