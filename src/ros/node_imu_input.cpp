@@ -81,6 +81,7 @@ ppp::InsEkfOptions insOptions(const RosNodeOptions& o, const ImuExtrinsics& e, p
   ins.lever_arm_body_m = body.rotation_base_imu.transpose() * (o.antenna_lever_arm_m - body.translation_m);
   ins.initial_velocity_ned_mps = ppp::rotationNedEnu() * imu.initial_velocity_enu_mps;
   ins.heading_alignment.min_horizontal_speed_mps = imu.heading_speed_mps;
+  ins.process_noise_adaptation.enabled = imu.process_noise_adaptation;
   ins.initial_rotation_ecef_body.reset();
   ins.initial_rotation_ned_body.reset();
   ins.initial_heading_rad.reset();

@@ -177,6 +177,7 @@ void bindImu(ppp::YamlSection& s, RosNodeOptions& o) {
   i.max_wait_s = m.number("max_wait_s", i.max_wait_s, ppp::Bound::NonNegative);
   if (i.max_wait_s > 1.0)
     m.fail("max_wait_s", "must be in [0, 1] s (each epoch the IMU does not cover waits this long: the fix is as late)");
+  i.process_noise_adaptation = m.boolean("process_noise_adaptation", i.process_noise_adaptation);
   m.finish();
 }
 

@@ -129,6 +129,20 @@ TEST(NodeImuOptions, TheFilterRunsInBaseLinksForwardRightDownAxesWhateverTheMoun
   EXPECT_NEAR(taken.front().specific_force_mps2.z(), -restMessage(0.0).linear_acceleration.z, 1e-12);
 }
 
+TEST(NodeImuOptions, ProcessNoiseAdaptationOnByDefaultAndSwitchedOffByItsKey) {
+  // ros.imu.process_noise_adaptation reaches both GNSS/INS estimators' options; the default
+  // is the estimators' own (on).
+  const auto adaptation = [](const std::string& yaml) {
+    const ppp_ros::NodeConfig c = ppp_ros::bindNodeConfig(YAML::Load(yaml), "test", "ekf");
+    return ppp_ros::insOptions(c.ros, ppp_ros::parameterExtrinsics(c.ros.imu)).process_noise_adaptation.enabled;
+  };
+  EXPECT_TRUE(adaptation("ros: {estimator: ekf_ins}"));
+  EXPECT_EQ(adaptation("ros: {estimator: ekf_ins}"), ppp::InsEkfOptions{}.process_noise_adaptation.enabled);
+  EXPECT_FALSE(adaptation("ros: {estimator: ekf_ins, imu: {process_noise_adaptation: false}}"));
+  EXPECT_TRUE(adaptation("ros: {estimator: ekf_ins, imu: {process_noise_adaptation: true}}"));
+  EXPECT_THROW(adaptation("ros: {estimator: ekf_ins, imu: {process_noise_adaptation: sometimes}}"), ppp::ConfigError);
+}
+
 TEST(NodeImuOptions, AlignInMotionLeavesAttitudeAndHeadingToTheEstimator) {
   // As ppp_solve without --imu-heading: neither attitude nor heading given; the course's speed threshold set.
   const ppp_ros::NodeConfig c = ppp_ros::bindNodeConfig(

@@ -65,3 +65,21 @@ TEST(SolveImuAttitude, AStartInMotionNeedsTheWholeAttitude) {
   EXPECT_EQ(solveWalk("--imu-attitude 0,0,0 --imu-heading 10", dir), 2);
   EXPECT_NE(fileText(dir + "/log.txt").find("--imu-attitude and --imu-heading are two starts"), std::string::npos);
 }
+
+TEST(SolveImuAttitude, NoiseAdaptationSwitchReachesTheEstimator) {
+  // --noise-adaptation off: the accelerometers' process noise is never scaled. On the walk
+  // the phases find the consumer IMU's prediction inconsistent at many epochs, so the two
+  // solutions differ (doc/studies/ins_walk.md, "The error after the weak geometry").
+  PPP_REQUIRE_SHARED_DATA();
+  const std::string on = ppp::test::tempDir("solve_noise_adaptation_on").string();
+  const std::string off = ppp::test::tempDir("solve_noise_adaptation_off").string();
+  ASSERT_EQ(solveWalk("--imu-attitude -1.5,0.6,-42.8", on), 0) << fileText(on + "/log.txt");
+  ASSERT_EQ(solveWalk("--imu-attitude -1.5,0.6,-42.8 --noise-adaptation off", off), 0) << fileText(off + "/log.txt");
+  const std::string a = fileText(on + "/walk_ekf_ins.csv"), b = fileText(off + "/walk_ekf_ins.csv");
+  ASSERT_FALSE(a.empty());
+  ASSERT_FALSE(b.empty());
+  EXPECT_NE(a, b);
+  EXPECT_EQ(solveWalk("--imu-attitude -1.5,0.6,-42.8 --noise-adaptation sometimes", off), 2);
+  EXPECT_NE(fileText(off + "/log.txt").find("--noise-adaptation needs on or off"), std::string::npos)
+      << fileText(off + "/log.txt");
+}

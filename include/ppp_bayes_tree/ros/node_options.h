@@ -57,6 +57,9 @@ struct RosImuOptions {
   /// A GNSS epoch waits at most this long for the IMU readings up to its time [s] (0: never;
   /// imu_epoch_hold.h).
   double max_wait_s = 0.1;
+  /// Scale the accelerometers' process noise when the phases find the inertial prediction
+  /// inconsistent (InsEkfOptions::process_noise_adaptation, ins_process_noise_adaptation.h).
+  bool process_noise_adaptation = true;
 };
 
 struct RosNodeOptions {
