@@ -157,6 +157,15 @@ class PppEstimator {
 
   static bool fail(EstimatorEpochResult& result, EpochStatus status, NoSolutionReason why, std::string text);
 
+  /// The ZWD's process variance over dt_s [m^2]: the random walk in time
+  /// (StochasticModel::zwd) plus the height-driven term
+  /// (StochasticModel::zwdHeightVariance_m2) for expectedHeightChange_m(dt_s).
+  /// The EKF adds it in its prediction, the smoother in its between-state factor.
+  double zwdProcessVariance_m2(double dt_s) const;
+  /// The height change over dt_s [m] at the vertical rate of the last two solved
+  /// (float) positions; 0 before the second solved epoch since the start.
+  double expectedHeightChange_m(double dt_s) const;
+
   StochasticModel model_;
   ScreeningOptions screening_;
   /// The consistency test's quantiles for screening_.consistency_false_alarm (made
@@ -194,6 +203,12 @@ class PppEstimator {
   std::vector<BridgedArc> bridged_;  // this epoch's arcs back after a bridged gap
   int resets_ = 0;
   AmbiguityResolver ambiguity_;  // PPP-AR on the estimator's float solution
+  /// A solved (float) position, for the vertical rate of expectedHeightChange_m.
+  struct SolvedPosition {
+    GnssTime time;
+    Eigen::Vector3d position_ecef_m = Eigen::Vector3d::Zero();
+  };
+  std::optional<SolvedPosition> last_solved_position_, previous_solved_position_;
   EstimatorEpochResult last_;
 };
 

@@ -18,6 +18,8 @@ const std::map<std::string, ConfigUpperBound>& bounds() {
       {"stochastic.zwd.initial_m", {2.0, "the zenith wet delay stays below 0.5 m on Earth"}},
       {"stochastic.zwd.initial_sigma_m", {10.0, "the zenith wet delay stays below 0.5 m on Earth"}},
       {"stochastic.zwd.process_noise_m_per_sqrt_s", {1.0, "the wet delay changes by millimetres per minute"}},
+      {"stochastic.zwd.process_noise_m_per_sqrt_m_of_height",
+       {0.1, "the wet delay changes by about 1e-4 m per metre of height"}},
       {"stochastic.clock.initial_sigma_m", {1.0e8, "a receiver clock is steered within 1 ms (3e5 m); 1e8 m = 0.33 s"}},
       {"stochastic.clock.process_noise_m_per_sqrt_s", {1.0e7, "the clock is re-estimated per epoch anyway"}},
       {"stochastic.phase_bias.initial_sigma_m", {1.0e4, "phase minus code is known to tens of metres"}},

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "ppp_bayes_tree/ppp/screening/postfit_screening.h"
+#include "ppp_bayes_tree/types/frames.h"
 #include "ppp_bayes_tree/types/text_format.h"
 
 namespace ppp {
@@ -283,6 +284,8 @@ void PppEstimator::commitEpoch(const EpochSolveInput& in, EpochSolveOutput out, 
   result.status = EpochStatus::Ok;
   result.no_solution_reason = NoSolutionReason::None;
   result.reason.clear();
+  previous_solved_position_ = in.first ? std::nullopt : last_solved_position_;
+  last_solved_position_ = SolvedPosition{in.time, out.solution.state.position_ecef_m};
   result.solution = std::move(out.solution);
   result.ambiguities = out.ambiguities;
   for (const auto& row : out.rows) {
@@ -301,6 +304,21 @@ void PppEstimator::commitEpoch(const EpochSolveInput& in, EpochSolveOutput out, 
     r.phase_sigma_m = row.m.phase_sigma_m;
     result.residuals.push_back(r);
   }
+}
+
+double PppEstimator::zwdProcessVariance_m2(double dt_s) const {
+  const double in_time = model_.zwd.processVariance_m2(dt_s);
+  if (!(model_.zwd_per_sqrt_height_m_per_sqrt_m > 0.0)) return in_time;  // off: no geodetic conversions
+  return in_time + model_.zwdHeightVariance_m2(expectedHeightChange_m(dt_s));
+}
+
+double PppEstimator::expectedHeightChange_m(double dt_s) const {
+  if (!last_solved_position_ || !previous_solved_position_) return 0.0;
+  const double span_s = last_solved_position_->time - previous_solved_position_->time;
+  if (!(span_s > 0.0) || !(dt_s > 0.0)) return 0.0;
+  const double dh_m = ecefToGeodetic(last_solved_position_->position_ecef_m).height_m -
+                      ecefToGeodetic(previous_solved_position_->position_ecef_m).height_m;
+  return dh_m * dt_s / span_s;
 }
 
 // Step 9 (postfit_screening.h): an inconsistent solution is flagged, and inflated or withheld.

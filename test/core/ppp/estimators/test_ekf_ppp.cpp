@@ -228,6 +228,40 @@ TEST(PppEkf, ProcessNoiseScalesWithTheElapsedTime) {
   EXPECT_LT(positionError(r, sim), 1e-3);
 }
 
+TEST(PppEkf, WetDelayProcessNoiseFollowsTheHeightRate) {
+  // A receiver climbing 1 m/s (30 m per 30-s epoch), noise-free: with the height-driven
+  // term q_h the predicted ZWD variance grows by q^2 dt + q_h^2 |dh|, dh = 1 m/s x dt at the
+  // vertical rate of the last two solutions; without it (q_h = 0) by q^2 dt only.
+  for (const double q_h : {0.0, 1.0e-3}) {
+    Simulator sim;
+    StochasticModel m = methodTableStochasticModel();
+    m.zwd_per_sqrt_height_m_per_sqrt_m = q_h;
+    PppEkf ekf(m);
+    const Eigen::Vector3d up = sim.position.normalized();  // the simulator's Earth is a sphere
+    for (int i = 0; i < 10; ++i) {
+      if (ekf.initialised()) {
+        sim.t_s += 30.0;
+        sim.position += 30.0 * up;
+      }
+      const auto r = ekf.processEpoch(sim.time(), modelOf(sim.epoch()));
+      ASSERT_EQ(r.status, EpochStatus::Ok) << r.reason;
+    }
+    const Eigen::MatrixXd P = ekf.covarianceMatrix();
+    for (double dt : {30.0, 600.0}) {
+      const double added = ekf.predictedCovariance(dt)(3, 3) - P(3, 3);
+      // The geodetic up differs from the radial one by < 0.2 deg (1e-5 of dh); the solved heights by < 1 mm.
+      EXPECT_NEAR(added, 9e-10 * dt + q_h * q_h * 1.0 * dt, 1e-12 + 1e-4 * q_h * q_h * dt) << "q_h " << q_h;
+    }
+  }
+  // A level receiver gets the time term only.
+  Simulator sim;
+  StochasticModel m = methodTableStochasticModel();
+  m.zwd_per_sqrt_height_m_per_sqrt_m = 1.0e-3;
+  PppEkf ekf(m);
+  run(ekf, sim, 10);
+  EXPECT_NEAR(ekf.predictedCovariance(30.0)(3, 3) - ekf.covarianceMatrix()(3, 3), 9e-10 * 30.0, 1e-12);
+}
+
 TEST(PppEkf, PrefitScreeningRejectsA50mCodeOutlierAndAPhaseJump) {
   Simulator sim;
   PppEkf ekf(methodTableStochasticModel());
