@@ -49,6 +49,11 @@ struct StochasticModel {
   /// makes a change k H over a climb of H one sigma (doc/studies/ins_outages.md,
   /// "Wet-delay process noise driven by the height change").
   double zwd_per_sqrt_height_m_per_sqrt_m = 0.0;
+  /// The height change that drives zwd_per_sqrt_height_m_per_sqrt_m is only its part
+  /// beyond this many sigmas of the solved heights' own difference
+  /// (zwdHeightChangeBeyondNoise_m): a level platform's float height noise drives
+  /// nothing, a climb nearly all of its height. 0 = every solved height change counts.
+  double zwd_height_change_threshold_sigmas = 3.0;
   /// A priori value of the zenith wet delay [m] (not in the method's table:
   /// a typical mid-latitude value; the 0.3 m a priori sigma covers it).
   double initial_zwd_m = 0.1;
@@ -63,6 +68,11 @@ struct StochasticModel {
   /// Variance added to the ZWD for a height change dh_m [m^2]: q_h^2 |dh|
   /// (0 when the option is off or dh is not finite).
   double zwdHeightVariance_m2(double dh_m) const;
+  /// The part of a solved height change dh_m [m] that the solutions' own noise does
+  /// not explain [m]: max(0, |dh| - k sigma), k = zwd_height_change_threshold_sigmas,
+  /// sigma [m] the standard deviation of the difference of the two solved heights
+  /// (0 when dh or sigma is not finite).
+  double zwdHeightChangeBeyondNoise_m(double dh_m, double dh_sigma_m) const;
 
   /// Empty when valid, else the first problem ("clock.initial_sigma_m must be > 0").
   std::string validate() const;

@@ -20,6 +20,7 @@ const std::map<std::string, ConfigUpperBound>& bounds() {
       {"stochastic.zwd.process_noise_m_per_sqrt_s", {1.0, "the wet delay changes by millimetres per minute"}},
       {"stochastic.zwd.process_noise_m_per_sqrt_m_of_height",
        {0.1, "the wet delay changes by about 1e-4 m per metre of height"}},
+      {"stochastic.zwd.height_change_threshold_sigmas", {10.0, "a height change beyond 10 sigmas is no noise"}},
       {"stochastic.clock.initial_sigma_m", {1.0e8, "a receiver clock is steered within 1 ms (3e5 m); 1e8 m = 0.33 s"}},
       {"stochastic.clock.process_noise_m_per_sqrt_s", {1.0e7, "the clock is re-estimated per epoch anyway"}},
       {"stochastic.phase_bias.initial_sigma_m", {1.0e4, "phase minus code is known to tens of metres"}},

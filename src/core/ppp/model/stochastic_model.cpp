@@ -33,6 +33,11 @@ double StochasticModel::zwdHeightVariance_m2(double dh_m) const {
   return zwd_per_sqrt_height_m_per_sqrt_m * zwd_per_sqrt_height_m_per_sqrt_m * std::abs(dh_m);
 }
 
+double StochasticModel::zwdHeightChangeBeyondNoise_m(double dh_m, double dh_sigma_m) const {
+  if (!std::isfinite(dh_m) || !std::isfinite(dh_sigma_m)) return 0.0;
+  return std::max(0.0, std::abs(dh_m) - zwd_height_change_threshold_sigmas * std::abs(dh_sigma_m));
+}
+
 std::string toString(ProcessKind kind) { return kind == ProcessKind::White ? "white" : "random_walk"; }
 
 namespace {
@@ -56,6 +61,8 @@ std::string StochasticModel::validate() const {
   if (!std::isfinite(initial_zwd_m)) return "zwd.initial_m must be finite";
   if (!std::isfinite(zwd_per_sqrt_height_m_per_sqrt_m) || zwd_per_sqrt_height_m_per_sqrt_m < 0.0)
     return "zwd.process_noise_m_per_sqrt_m_of_height must be a finite value >= 0";
+  if (!std::isfinite(zwd_height_change_threshold_sigmas) || zwd_height_change_threshold_sigmas < 0.0)
+    return "zwd.height_change_threshold_sigmas must be a finite value >= 0";
   if (!std::isfinite(code_correlation_time_s) || code_correlation_time_s < 0.0)
     return "code_correlation_time_s must be a finite value >= 0";
   return {};

@@ -64,6 +64,24 @@ TEST(StochasticModel, HeightDrivenWetDelayVarianceIsQh2TimesTheHeightChange) {
   EXPECT_NE(m.validate().find("process_noise_m_per_sqrt_m_of_height"), std::string::npos);
 }
 
+TEST(StochasticModel, HeightChangeBeyondNoiseIsItsPartBeyondKSigmas) {
+  StochasticModel m;
+  EXPECT_EQ(m.zwd_height_change_threshold_sigmas, 3.0);  // the default
+  // A 10-s climb at 3 m/s (30 m) between heights of 0.5 m sigma each: sigma of the
+  // difference 0.71 m, 2.1 m of noise allowed, 27.9 m counted.
+  EXPECT_DOUBLE_EQ(m.zwdHeightChangeBeyondNoise_m(30.0, std::sqrt(0.5)), 30.0 - 3.0 * std::sqrt(0.5));
+  EXPECT_DOUBLE_EQ(m.zwdHeightChangeBeyondNoise_m(-30.0, std::sqrt(0.5)), 30.0 - 3.0 * std::sqrt(0.5));
+  EXPECT_EQ(m.zwdHeightChangeBeyondNoise_m(2.0, std::sqrt(0.5)), 0.0);   // within 3 sigmas: noise
+  EXPECT_EQ(m.zwdHeightChangeBeyondNoise_m(-2.0, std::sqrt(0.5)), 0.0);
+  EXPECT_EQ(m.zwdHeightChangeBeyondNoise_m(std::nan(""), 0.1), 0.0);
+  EXPECT_EQ(m.zwdHeightChangeBeyondNoise_m(1.0, std::nan("")), 0.0);
+  m.zwd_height_change_threshold_sigmas = 0.0;  // every change counts
+  EXPECT_EQ(m.zwdHeightChangeBeyondNoise_m(-2.0, std::sqrt(0.5)), 2.0);
+  EXPECT_TRUE(m.validate().empty());
+  m.zwd_height_change_threshold_sigmas = -1.0;
+  EXPECT_NE(m.validate().find("height_change_threshold_sigmas"), std::string::npos);
+}
+
 TEST(StochasticModel, WhiteClockVarianceIsQ2DtCappedByTheAPrioriVariance) {
   const StochasticModel m;
   EXPECT_DOUBLE_EQ(m.clock.processVariance_m2(30.0), 2000.0 * 2000.0 * 30.0);  // 1.2e8 m^2, sigma 11 km
