@@ -13,6 +13,7 @@
 // is reported). The steps in detail: doc/estimators.md, "The epoch front end".
 #include <Eigen/Core>
 #include <chrono>
+#include <deque>
 #include <map>
 #include <optional>
 #include <string>
@@ -157,6 +158,25 @@ class PppEstimator {
 
   static bool fail(EstimatorEpochResult& result, EpochStatus status, NoSolutionReason why, std::string text);
 
+  /// The ZWD's process variance over dt_s [m^2]: the random walk in time
+  /// (StochasticModel::zwd) plus the height-driven term
+  /// (StochasticModel::zwdHeightVariance_m2) for expectedHeightChange_m(dt_s).
+  /// The EKF adds it in its prediction, the smoother in its between-state factor.
+  double zwdProcessVariance_m2(double dt_s) const;
+  /// The height change over dt_s [m] at the vertical rate of the solved (float)
+  /// heights over the last kHeightRateWindow_s (the last two solutions when they are
+  /// further apart), counting only the change beyond the heights' own noise
+  /// (StochasticModel::zwdHeightChangeBeyondNoise_m with the sigma of their
+  /// difference); 0 before the second solved epoch since the start.
+  double expectedHeightChange_m(double dt_s) const;
+  /// Keeps the solved height and its variance for expectedHeightChange_m (the
+  /// history restarts with the estimator).
+  void keepSolvedHeight(const GnssTime& time, const EpochSolution& solution, bool first);
+  /// The span of solved heights whose difference gives the vertical rate [s]: long
+  /// enough for a climb's change to stand out of the float's height noise, short
+  /// enough to follow its start and end.
+  static constexpr double kHeightRateWindow_s = 10.0;
+
   StochasticModel model_;
   ScreeningOptions screening_;
   /// The consistency test's quantiles for screening_.consistency_false_alarm (made
@@ -194,6 +214,14 @@ class PppEstimator {
   std::vector<BridgedArc> bridged_;  // this epoch's arcs back after a bridged gap
   int resets_ = 0;
   AmbiguityResolver ambiguity_;  // PPP-AR on the estimator's float solution
+  /// A solved (float) height, for the vertical rate of expectedHeightChange_m.
+  struct SolvedHeight {
+    GnssTime time;
+    double height_m = 0.0;       // ellipsoidal
+    double variance_m2 = 0.0;    // of the height (the position covariance along the local up)
+  };
+  /// The solved heights of the last kHeightRateWindow_s since the start, at least the last two.
+  std::deque<SolvedHeight> solved_heights_;
   EstimatorEpochResult last_;
 };
 

@@ -41,6 +41,19 @@ struct StochasticModel {
   StateNoise phase_bias{100.0, 0.0, ProcessKind::RandomWalk};  // q = 0: constant per arc
   /// Each of the north and east tropospheric gradients (used only when estimated).
   StateNoise troposphere_gradient{0.001, 1.0e-5, ProcessKind::RandomWalk};
+  /// Wet-delay process noise driven by the receiver's height change [m/sqrt(m)]:
+  /// a random walk in height, variance q_h^2 |dh| added to the ZWD per epoch
+  /// (zwdHeightVariance_m2), on top of the random walk in time. 0 = off (the
+  /// default). The standard atmosphere's modified Hopfield wet delay falls by
+  /// 8.5e-5 m per m near the ground (1.0e-3 of itself per m); q_h = k sqrt(H)
+  /// makes a change k H over a climb of H one sigma (doc/studies/ins_outages.md,
+  /// "Wet-delay process noise driven by the height change").
+  double zwd_per_sqrt_height_m_per_sqrt_m = 0.0;
+  /// The height change that drives zwd_per_sqrt_height_m_per_sqrt_m is only its part
+  /// beyond this many sigmas of the solved heights' own difference
+  /// (zwdHeightChangeBeyondNoise_m): a level platform's float height noise drives
+  /// nothing, a climb nearly all of its height. 0 = every solved height change counts.
+  double zwd_height_change_threshold_sigmas = 3.0;
   /// A priori value of the zenith wet delay [m] (not in the method's table:
   /// a typical mid-latitude value; the 0.3 m a priori sigma covers it).
   double initial_zwd_m = 0.1;
@@ -51,6 +64,15 @@ struct StochasticModel {
   /// Variance factor (1 + rho) / (1 - rho) of a code sample dt_s after the
   /// previous solved epoch (>= 1; 1 for white code, dt_s <= 0 or a long gap).
   double codeVarianceFactor(double dt_s) const;
+
+  /// Variance added to the ZWD for a height change dh_m [m^2]: q_h^2 |dh|
+  /// (0 when the option is off or dh is not finite).
+  double zwdHeightVariance_m2(double dh_m) const;
+  /// The part of a solved height change dh_m [m] that the solutions' own noise does
+  /// not explain [m]: max(0, |dh| - k sigma), k = zwd_height_change_threshold_sigmas,
+  /// sigma [m] the standard deviation of the difference of the two solved heights
+  /// (0 when dh or sigma is not finite).
+  double zwdHeightChangeBeyondNoise_m(double dh_m, double dh_sigma_m) const;
 
   /// Empty when valid, else the first problem ("clock.initial_sigma_m must be > 0").
   std::string validate() const;

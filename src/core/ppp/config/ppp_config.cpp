@@ -27,6 +27,10 @@ void readStochastic(YamlSection s, StochasticModel& m) {
   {
     YamlSection z = s.section("zwd");
     m.initial_zwd_m = z.number("initial_m", m.initial_zwd_m, Bound::NonNegative);
+    m.zwd_per_sqrt_height_m_per_sqrt_m =
+        z.number("process_noise_m_per_sqrt_m_of_height", m.zwd_per_sqrt_height_m_per_sqrt_m, Bound::NonNegative);
+    m.zwd_height_change_threshold_sigmas =
+        z.number("height_change_threshold_sigmas", m.zwd_height_change_threshold_sigmas, Bound::NonNegative);
     readNoise(z, m.zwd, true);
   }
   readNoise(s.section("clock"), m.clock, true);

@@ -183,7 +183,7 @@ void PppEkf::predictFilter(Filter& f, double dt_s, bool first) const {
 
 void PppEkf::predictDelaysClocksBiases(Filter& f, double dt_s) const {
   const int zwd = coreIndex(layout_.zwd());
-  f.P(zwd, zwd) += model_.zwd.processVariance_m2(dt_s);
+  f.P(zwd, zwd) += zwdProcessVariance_m2(dt_s);
   if (layout_.hasGradients()) {
     for (const int g : {coreIndex(layout_.gradientNorth()), coreIndex(layout_.gradientEast())})
       f.P(g, g) += model_.troposphere_gradient.processVariance_m2(dt_s);

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "ppp_bayes_tree/ppp/screening/postfit_screening.h"
+#include "ppp_bayes_tree/types/frames.h"
 #include "ppp_bayes_tree/types/text_format.h"
 
 namespace ppp {
@@ -283,6 +284,7 @@ void PppEstimator::commitEpoch(const EpochSolveInput& in, EpochSolveOutput out, 
   result.status = EpochStatus::Ok;
   result.no_solution_reason = NoSolutionReason::None;
   result.reason.clear();
+  keepSolvedHeight(in.time, out.solution, in.first);
   result.solution = std::move(out.solution);
   result.ambiguities = out.ambiguities;
   for (const auto& row : out.rows) {
@@ -301,6 +303,35 @@ void PppEstimator::commitEpoch(const EpochSolveInput& in, EpochSolveOutput out, 
     r.phase_sigma_m = row.m.phase_sigma_m;
     result.residuals.push_back(r);
   }
+}
+
+double PppEstimator::zwdProcessVariance_m2(double dt_s) const {
+  const double in_time = model_.zwd.processVariance_m2(dt_s);
+  if (!(model_.zwd_per_sqrt_height_m_per_sqrt_m > 0.0)) return in_time;  // off: no geodetic conversions
+  return in_time + model_.zwdHeightVariance_m2(expectedHeightChange_m(dt_s));
+}
+
+void PppEstimator::keepSolvedHeight(const GnssTime& time, const EpochSolution& solution, bool first) {
+  if (first) solved_heights_.clear();
+  if (!(model_.zwd_per_sqrt_height_m_per_sqrt_m > 0.0)) return;  // off: no geodetic conversions
+  const Geodetic g = ecefToGeodetic(solution.state.position_ecef_m);
+  const Eigen::Vector3d up = rotationEnuFromEcef(g.latitude_rad, g.longitude_rad).row(2).transpose();
+  solved_heights_.push_back(SolvedHeight{time, g.height_m, up.dot(solution.positionCovariance_m2() * up)});
+  // The heights within the window, at least the last two.
+  while (solved_heights_.size() > 2 && time - solved_heights_.front().time > kHeightRateWindow_s)
+    solved_heights_.pop_front();
+}
+
+double PppEstimator::expectedHeightChange_m(double dt_s) const {
+  if (solved_heights_.size() < 2 || !(dt_s > 0.0)) return 0.0;
+  // The oldest height within the window, or the previous one when it is further back.
+  const SolvedHeight& from = solved_heights_.front();
+  const SolvedHeight& last = solved_heights_.back();
+  const double span_s = last.time - from.time;
+  if (!(span_s > 0.0)) return 0.0;
+  const double dh_m = model_.zwdHeightChangeBeyondNoise_m(last.height_m - from.height_m,
+                                                          std::sqrt(last.variance_m2 + from.variance_m2));
+  return dh_m * dt_s / span_s;
 }
 
 // Step 9 (postfit_screening.h): an inconsistent solution is flagged, and inflated or withheld.

@@ -397,7 +397,7 @@ void PppSmoother::addStateFactors(SolveEpoch& e) const {
     const Key previous = stateKey(states_.back().index);
     e.factors.push_back(std::make_shared<ReceiverRandomWalkFactor>(
         previous, e.x, layout_, positionProcessSigma_m(in.dt_s),
-        sigmaOf(model_.zwd.processVariance_m2(in.dt_s)),
+        sigmaOf(zwdProcessVariance_m2(in.dt_s)),
         sigmaOf(model_.troposphere_gradient.processVariance_m2(in.dt_s))));
     for (const GnssSystem system : layout_.clockSystems())
       e.factors.push_back(std::make_shared<ClockPriorFactor>(e.x, layout_.clock(system), predicted.clock_m(system),

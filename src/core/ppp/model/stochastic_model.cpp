@@ -28,6 +28,16 @@ double StochasticModel::codeVarianceFactor(double dt_s) const {
   return gaussMarkovVarianceFactor(dt_s, code_correlation_time_s);
 }
 
+double StochasticModel::zwdHeightVariance_m2(double dh_m) const {
+  if (!std::isfinite(dh_m)) return 0.0;
+  return zwd_per_sqrt_height_m_per_sqrt_m * zwd_per_sqrt_height_m_per_sqrt_m * std::abs(dh_m);
+}
+
+double StochasticModel::zwdHeightChangeBeyondNoise_m(double dh_m, double dh_sigma_m) const {
+  if (!std::isfinite(dh_m) || !std::isfinite(dh_sigma_m)) return 0.0;
+  return std::max(0.0, std::abs(dh_m) - zwd_height_change_threshold_sigmas * std::abs(dh_sigma_m));
+}
+
 std::string toString(ProcessKind kind) { return kind == ProcessKind::White ? "white" : "random_walk"; }
 
 namespace {
@@ -49,6 +59,10 @@ std::string StochasticModel::validate() const {
     if (auto e = checkNoise(name, *noise); !e.empty()) return e;
   }
   if (!std::isfinite(initial_zwd_m)) return "zwd.initial_m must be finite";
+  if (!std::isfinite(zwd_per_sqrt_height_m_per_sqrt_m) || zwd_per_sqrt_height_m_per_sqrt_m < 0.0)
+    return "zwd.process_noise_m_per_sqrt_m_of_height must be a finite value >= 0";
+  if (!std::isfinite(zwd_height_change_threshold_sigmas) || zwd_height_change_threshold_sigmas < 0.0)
+    return "zwd.height_change_threshold_sigmas must be a finite value >= 0";
   if (!std::isfinite(code_correlation_time_s) || code_correlation_time_s < 0.0)
     return "code_correlation_time_s must be a finite value >= 0";
   return {};

@@ -32,6 +32,8 @@ void expectSameConfig(const PppConfig& c, const PppConfig& d) {
   expectSameNoise(c.stochastic.phase_bias, d.stochastic.phase_bias, "phase_bias");
   expectSameNoise(c.stochastic.troposphere_gradient, d.stochastic.troposphere_gradient, "troposphere_gradient");
   EXPECT_EQ(c.stochastic.initial_zwd_m, d.stochastic.initial_zwd_m);
+  EXPECT_EQ(c.stochastic.zwd_per_sqrt_height_m_per_sqrt_m, d.stochastic.zwd_per_sqrt_height_m_per_sqrt_m);
+  EXPECT_EQ(c.stochastic.zwd_height_change_threshold_sigmas, d.stochastic.zwd_height_change_threshold_sigmas);
   EXPECT_EQ(c.stochastic.code_correlation_time_s, d.stochastic.code_correlation_time_s);
   EXPECT_EQ(c.estimator.screening.min_satellites, d.estimator.screening.min_satellites);
   EXPECT_EQ(c.estimator.iterations_per_epoch, d.estimator.iterations_per_epoch);
@@ -324,6 +326,7 @@ TEST(PppConfig, ValuesAreBound) {
   const PppConfig c = parsePppConfig(R"(
 stochastic:
   position: {initial_sigma_m: 2.5, process_noise_m_per_sqrt_s: 0.0}
+  zwd: {process_noise_m_per_sqrt_m_of_height: 3.2e-3, height_change_threshold_sigmas: 4}
   clock: {process: random_walk, process_noise_m_per_sqrt_s: 10}
   code_correlation_time_s: 40
 estimator:
@@ -340,6 +343,8 @@ ambiguity_resolution:
   max_float_drift_sigmas: 0
 )", "x.yaml");
   EXPECT_EQ(c.stochastic.code_correlation_time_s, 40.0);
+  EXPECT_EQ(c.stochastic.zwd_per_sqrt_height_m_per_sqrt_m, 3.2e-3);
+  EXPECT_EQ(c.stochastic.zwd_height_change_threshold_sigmas, 4.0);
   EXPECT_EQ(c.ambiguity_resolution.wide_lane.correlation_time_s, 20.0);
   EXPECT_EQ(c.ambiguity_resolution.hold.small_subset_max_size, 1);
   EXPECT_EQ(c.ambiguity_resolution.hold.max_float_drift_sigmas, 0.0);

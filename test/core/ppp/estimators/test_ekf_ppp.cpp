@@ -15,6 +15,7 @@
 
 #include "ppp_bayes_tree/ppp/estimators/code_least_squares.h"
 #include "ppp_bayes_tree/ppp/estimators/ppp_ekf.h"
+#include "ppp_bayes_tree/types/frames.h"
 #include "ppp_simulator.h"
 
 using namespace ppp;
@@ -226,6 +227,89 @@ TEST(PppEkf, ProcessNoiseScalesWithTheElapsedTime) {
   ASSERT_EQ(r.status, EpochStatus::Ok) << r.reason;
   EXPECT_DOUBLE_EQ(r.dt_s, 600.0);
   EXPECT_LT(positionError(r, sim), 1e-3);
+}
+
+/// The variance of a solution's height [m^2] (its position covariance along the local up).
+double heightVariance_m2(const EstimatorEpochResult& r) {
+  const Geodetic g = ecefToGeodetic(r.solution->state.position_ecef_m);
+  const Eigen::Vector3d up = rotationEnuFromEcef(g.latitude_rad, g.longitude_rad).row(2).transpose();
+  return up.dot(r.solution->positionCovariance_m2() * up);
+}
+
+TEST(PppEkf, WetDelayProcessNoiseFollowsTheHeightRate) {
+  // A receiver climbing 1 m/s (30 m per 30-s epoch), noise-free: with the height-driven
+  // term q_h the predicted ZWD variance grows by q^2 dt + q_h^2 |dh|, dh = 1 m/s x dt at the
+  // vertical rate of the last two solutions (30 s apart: further than the 10-s window);
+  // without it (q_h = 0) by q^2 dt only. With the noise threshold (k = 3, the default)
+  // the rate counts only the change beyond 3 sigmas of the two heights' difference.
+  for (const double k : {0.0, 3.0}) {
+    for (const double q_h : {0.0, 1.0e-3}) {
+      Simulator sim;
+      StochasticModel m = methodTableStochasticModel();
+      m.zwd_per_sqrt_height_m_per_sqrt_m = q_h;
+      m.zwd_height_change_threshold_sigmas = k;
+      PppEkf ekf(m);
+      const Eigen::Vector3d up = sim.position.normalized();  // the simulator's Earth is a sphere
+      std::vector<double> height_variances_m2;
+      for (int i = 0; i < 10; ++i) {
+        if (ekf.initialised()) {
+          sim.t_s += 30.0;
+          sim.position += 30.0 * up;
+        }
+        const auto r = ekf.processEpoch(sim.time(), modelOf(sim.epoch()));
+        ASSERT_EQ(r.status, EpochStatus::Ok) << r.reason;
+        height_variances_m2.push_back(heightVariance_m2(r));
+      }
+      const double sigma_dh_m = std::sqrt(height_variances_m2[8] + height_variances_m2[9]);
+      ASSERT_LT(3.0 * sigma_dh_m, 10.0);  // the climb stands out of the noise
+      const double counted_mps = (30.0 - k * sigma_dh_m) / 30.0;
+      const Eigen::MatrixXd P = ekf.covarianceMatrix();
+      for (double dt : {30.0, 600.0}) {
+        const double added = ekf.predictedCovariance(dt)(3, 3) - P(3, 3);
+        // The geodetic up differs from the radial one by < 0.2 deg (1e-5 of dh); the solved heights by < 1 mm.
+        EXPECT_NEAR(added, 9e-10 * dt + q_h * q_h * counted_mps * dt, 1e-12 + 1e-4 * q_h * q_h * dt)
+            << "q_h " << q_h << " k " << k;
+      }
+    }
+  }
+  // A level receiver gets the time term only.
+  Simulator sim;
+  StochasticModel m = methodTableStochasticModel();
+  m.zwd_per_sqrt_height_m_per_sqrt_m = 1.0e-3;
+  PppEkf ekf(m);
+  run(ekf, sim, 10);
+  EXPECT_NEAR(ekf.predictedCovariance(30.0)(3, 3) - ekf.covarianceMatrix()(3, 3), 9e-10 * 30.0, 1e-12);
+}
+
+TEST(PppEkf, WetDelayProcessNoiseIgnoresTheFloatsOwnHeightNoise) {
+  // A level receiver with measurement noise (0.9 m code, 9 mm phase at zenith): its solved
+  // heights differ from epoch to epoch by their own noise. Counting every change (k = 0)
+  // drives the height-driven wet-delay noise at every epoch; beyond 3 sigmas of the
+  // heights' difference (k = 3, the default) it drives none, and the prediction adds the
+  // random walk in time only (q^2 dt, q = 3e-5 m/sqrt(s): 2.7e-8 m^2 over 30 s).
+  for (const double k : {0.0, 3.0}) {
+    Simulator sim;
+    sim.noise = true;
+    StochasticModel m = methodTableStochasticModel();
+    m.zwd_per_sqrt_height_m_per_sqrt_m = 3.2e-3;
+    m.zwd_height_change_threshold_sigmas = k;
+    PppEkf ekf(m);
+    int driven = 0, epochs = 0;
+    for (int i = 0; i < 120; ++i) {  // one hour at 30 s
+      if (i > 0) sim.t_s += 30.0;
+      const auto r = ekf.processEpoch(sim.time(), modelOf(sim.epoch()));
+      ASSERT_EQ(r.status, EpochStatus::Ok) << r.reason;
+      if (i == 0) continue;
+      ++epochs;
+      const double added = ekf.predictedCovariance(30.0)(3, 3) - ekf.covarianceMatrix()(3, 3);
+      // 1 mm of counted height change adds 1e-8 m^2.
+      if (added > 9e-10 * 30.0 + 1e-12) ++driven;
+    }
+    if (k == 0.0)
+      EXPECT_EQ(driven, epochs);
+    else
+      EXPECT_EQ(driven, 0);
+  }
 }
 
 TEST(PppEkf, PrefitScreeningRejectsA50mCodeOutlierAndAPhaseJump) {

@@ -3,8 +3,11 @@
 // instead of 3e-5 m/sqrt(s)), the method's table itself
 // (methodTableStochasticModel: position 1 m / 5 m/sqrt(s) random walk; ZWD
 // 0.3 m / 3e-5 m/sqrt(s) random walk; clock 3e6 m / 2000 m/sqrt(s) white; phase
-// bias 100 m / 0) and the conversion of process noise to per-epoch variances over dt.
+// bias 100 m / 0) and the conversion of process noise to per-epoch variances over dt
+// and, for the wet delay's height-driven term, over the height change.
 #include <gtest/gtest.h>
+
+#include <cmath>
 
 #include "ppp_bayes_tree/ppp/model/stochastic_model.h"
 
@@ -41,6 +44,42 @@ TEST(StochasticModel, RandomWalkVarianceGrowsLinearlyWithDt) {
   EXPECT_DOUBLE_EQ(m.zwd.processVariance_m2(3600.0), 1.0e-8 * 3600.0);  // (1e-4 m/sqrt(s))^2 x 1 h
   EXPECT_EQ(m.phase_bias.processVariance_m2(1e5), 0.0);  // constant per arc
   EXPECT_EQ(m.position.processVariance_m2(-5.0), 0.0);   // negative dt treated as 0
+}
+
+TEST(StochasticModel, HeightDrivenWetDelayVarianceIsQh2TimesTheHeightChange) {
+  StochasticModel m;
+  EXPECT_EQ(m.zwd_per_sqrt_height_m_per_sqrt_m, 0.0);  // off by default
+  EXPECT_EQ(m.zwdHeightVariance_m2(900.0), 0.0);
+  // q_h = 3.2e-3 m/sqrt(m): a change of 1e-4 m/m over a 1000-m climb, (0.1 m)^2 = 1e-2 m^2, is
+  // about one sigma (q_h^2 x 1000 m = 1.02e-2 m^2).
+  m.zwd_per_sqrt_height_m_per_sqrt_m = 3.2e-3;
+  EXPECT_DOUBLE_EQ(m.zwdHeightVariance_m2(1000.0), 3.2e-3 * 3.2e-3 * 1000.0);
+  EXPECT_DOUBLE_EQ(m.zwdHeightVariance_m2(-3.0), 3.2e-3 * 3.2e-3 * 3.0);  // a descent as a climb
+  EXPECT_EQ(m.zwdHeightVariance_m2(0.0), 0.0);
+  EXPECT_EQ(m.zwdHeightVariance_m2(std::nan("")), 0.0);
+  // Linear in |dh|: 300 epochs of 3 m add what one epoch of 900 m adds (the epoch rate does not matter).
+  EXPECT_NEAR(300.0 * m.zwdHeightVariance_m2(3.0), m.zwdHeightVariance_m2(900.0), 1e-15);
+  EXPECT_TRUE(m.validate().empty());
+  m.zwd_per_sqrt_height_m_per_sqrt_m = -1e-3;
+  EXPECT_NE(m.validate().find("process_noise_m_per_sqrt_m_of_height"), std::string::npos);
+}
+
+TEST(StochasticModel, HeightChangeBeyondNoiseIsItsPartBeyondKSigmas) {
+  StochasticModel m;
+  EXPECT_EQ(m.zwd_height_change_threshold_sigmas, 3.0);  // the default
+  // A 10-s climb at 3 m/s (30 m) between heights of 0.5 m sigma each: sigma of the
+  // difference 0.71 m, 2.1 m of noise allowed, 27.9 m counted.
+  EXPECT_DOUBLE_EQ(m.zwdHeightChangeBeyondNoise_m(30.0, std::sqrt(0.5)), 30.0 - 3.0 * std::sqrt(0.5));
+  EXPECT_DOUBLE_EQ(m.zwdHeightChangeBeyondNoise_m(-30.0, std::sqrt(0.5)), 30.0 - 3.0 * std::sqrt(0.5));
+  EXPECT_EQ(m.zwdHeightChangeBeyondNoise_m(2.0, std::sqrt(0.5)), 0.0);   // within 3 sigmas: noise
+  EXPECT_EQ(m.zwdHeightChangeBeyondNoise_m(-2.0, std::sqrt(0.5)), 0.0);
+  EXPECT_EQ(m.zwdHeightChangeBeyondNoise_m(std::nan(""), 0.1), 0.0);
+  EXPECT_EQ(m.zwdHeightChangeBeyondNoise_m(1.0, std::nan("")), 0.0);
+  m.zwd_height_change_threshold_sigmas = 0.0;  // every change counts
+  EXPECT_EQ(m.zwdHeightChangeBeyondNoise_m(-2.0, std::sqrt(0.5)), 2.0);
+  EXPECT_TRUE(m.validate().empty());
+  m.zwd_height_change_threshold_sigmas = -1.0;
+  EXPECT_NE(m.validate().find("height_change_threshold_sigmas"), std::string::npos);
 }
 
 TEST(StochasticModel, WhiteClockVarianceIsQ2DtCappedByTheAPrioriVariance) {
