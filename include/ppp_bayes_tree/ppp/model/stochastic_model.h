@@ -43,12 +43,14 @@ struct StochasticModel {
   StateNoise troposphere_gradient{0.001, 1.0e-5, ProcessKind::RandomWalk};
   /// Wet-delay process noise driven by the receiver's height change [m/sqrt(m)]:
   /// a random walk in height, variance q_h^2 |dh| added to the ZWD per epoch
-  /// (zwdHeightVariance_m2), on top of the random walk in time. 0 = off (the
-  /// default). The standard atmosphere's modified Hopfield wet delay falls by
-  /// 8.5e-5 m per m near the ground (1.0e-3 of itself per m); q_h = k sqrt(H)
-  /// makes a change k H over a climb of H one sigma (doc/studies/ins_outages.md,
-  /// "Wet-delay process noise driven by the height change").
-  double zwd_per_sqrt_height_m_per_sqrt_m = 0.0;
+  /// (zwdHeightVariance_m2), on top of the random walk in time; 0 = off. The
+  /// standard atmosphere's modified Hopfield wet delay falls by 8.5e-5 m per m
+  /// near the ground (1.0e-3 of itself per m); q_h = k sqrt(H) makes a change k H
+  /// over a climb of H one sigma. The default 3.2e-3 removes the wrong holds of
+  /// the simulated climbs; with the threshold below it leaves level flights and
+  /// static stations unchanged (doc/studies/ins_outages.md, "Wet-delay process
+  /// noise driven by the height change").
+  double zwd_per_sqrt_height_m_per_sqrt_m = 3.2e-3;
   /// The height change that drives zwd_per_sqrt_height_m_per_sqrt_m is only its part
   /// beyond this many sigmas of the solved heights' own difference
   /// (zwdHeightChangeBeyondNoise_m): a level platform's float height noise drives

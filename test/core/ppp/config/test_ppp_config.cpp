@@ -326,7 +326,7 @@ TEST(PppConfig, ValuesAreBound) {
   const PppConfig c = parsePppConfig(R"(
 stochastic:
   position: {initial_sigma_m: 2.5, process_noise_m_per_sqrt_s: 0.0}
-  zwd: {process_noise_m_per_sqrt_m_of_height: 3.2e-3, height_change_threshold_sigmas: 4}
+  zwd: {process_noise_m_per_sqrt_m_of_height: 2.5e-3, height_change_threshold_sigmas: 4}
   clock: {process: random_walk, process_noise_m_per_sqrt_s: 10}
   code_correlation_time_s: 40
 estimator:
@@ -343,7 +343,7 @@ ambiguity_resolution:
   max_float_drift_sigmas: 0
 )", "x.yaml");
   EXPECT_EQ(c.stochastic.code_correlation_time_s, 40.0);
-  EXPECT_EQ(c.stochastic.zwd_per_sqrt_height_m_per_sqrt_m, 3.2e-3);
+  EXPECT_EQ(c.stochastic.zwd_per_sqrt_height_m_per_sqrt_m, 2.5e-3);
   EXPECT_EQ(c.stochastic.zwd_height_change_threshold_sigmas, 4.0);
   EXPECT_EQ(c.ambiguity_resolution.wide_lane.correlation_time_s, 20.0);
   EXPECT_EQ(c.ambiguity_resolution.hold.small_subset_max_size, 1);

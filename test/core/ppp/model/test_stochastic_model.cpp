@@ -48,7 +48,8 @@ TEST(StochasticModel, RandomWalkVarianceGrowsLinearlyWithDt) {
 
 TEST(StochasticModel, HeightDrivenWetDelayVarianceIsQh2TimesTheHeightChange) {
   StochasticModel m;
-  EXPECT_EQ(m.zwd_per_sqrt_height_m_per_sqrt_m, 0.0);  // off by default
+  EXPECT_EQ(m.zwd_per_sqrt_height_m_per_sqrt_m, 3.2e-3);  // the default (stochastic_model.h)
+  m.zwd_per_sqrt_height_m_per_sqrt_m = 0.0;                // off
   EXPECT_EQ(m.zwdHeightVariance_m2(900.0), 0.0);
   // q_h = 3.2e-3 m/sqrt(m): a change of 1e-4 m/m over a 1000-m climb, (0.1 m)^2 = 1e-2 m^2, is
   // about one sigma (q_h^2 x 1000 m = 1.02e-2 m^2).
