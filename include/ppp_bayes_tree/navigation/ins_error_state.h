@@ -72,6 +72,11 @@ struct InsDiscreteModel {
 /// Q_k = (Phi G Qc G^T Phi^T + G Qc G^T) dt / 2 (the trapezoid of the integral).
 InsDiscreteModel discretizeInsErrorModel(const Matrix15d& f, const Matrix15x12d& g, const Matrix12d& density,
                                          double dt_s, int order = 2);
+/// Q_k of discretizeInsErrorModel for the step's transition Phi and the densities
+/// `density` (linear in them: the process noise of a part of the noise, e.g. the
+/// accelerometers' alone, without discretizing the transition again).
+Matrix15d discreteInsProcessNoise(const Matrix15d& transition, const Matrix15x12d& g, const Matrix12d& density,
+                                  double dt_s);
 
 /// P+ = Phi P Phi^T + Q_k (symmetrised).
 Matrix15d propagateInsCovariance(const Matrix15d& covariance, const InsDiscreteModel& model);

@@ -80,9 +80,14 @@ InsDiscreteModel discretizeInsErrorModel(const Matrix15d& f, const Matrix15x12d&
   const Matrix15d f_dt = f * dt_s;
   model.transition = Matrix15d::Identity() + f_dt;
   if (order >= 2) model.transition += 0.5 * f_dt * f_dt;
-  const Matrix15d input = g * density * g.transpose();
-  model.process_noise = 0.5 * dt_s * (model.transition * input * model.transition.transpose() + input);
+  model.process_noise = discreteInsProcessNoise(model.transition, g, density, dt_s);
   return model;
+}
+
+Matrix15d discreteInsProcessNoise(const Matrix15d& transition, const Matrix15x12d& g, const Matrix12d& density,
+                                  double dt_s) {
+  const Matrix15d input = g * density * g.transpose();
+  return 0.5 * dt_s * (transition * input * transition.transpose() + input);
 }
 
 Matrix15d propagateInsCovariance(const Matrix15d& covariance, const InsDiscreteModel& model) {

@@ -360,7 +360,7 @@ bool PppInsEkf::stepWith(double dt_s) {
   since_update_.process_noise = propagateInsCovariance(since_update_.process_noise, model);
   if (ins_.process_noise_adaptation.enabled) {
     InsDiscreteModel white = model;  // the transition with the accelerometers' noise alone
-    white.process_noise = discretizeInsErrorModel(F, G, accelerometerNoiseDensity(density), dt_s).process_noise;
+    white.process_noise = discreteInsProcessNoise(model.transition, G, accelerometerNoiseDensity(density), dt_s);
     since_update_accel_noise_ = propagateInsCovariance(since_update_accel_noise_, white);
   }
   nominal_ = ecefInsStep(nominal_, f_b, w_b, dt_s);

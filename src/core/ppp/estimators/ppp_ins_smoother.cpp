@@ -29,10 +29,14 @@ namespace {
 /// the transition and process noise accumulated over the steps of the GNSS/INS EKF's
 /// error model (ins_error_state.h), the nominal state stepped by the mechanization, as
 /// the EKF propagates between epochs, with the noise's spectral densities `density`.
+/// `accel_process_noise`, when given, receives in the same pass the process noise of the
+/// accelerometers' white noise alone (accelerometerNoiseDensity) along that transition.
 InsDiscreteModel propagatedErrorModel(NavState nav, const ImuBias& bias, const std::vector<ImuSample>& readings,
                                       const GnssTime& from, const GnssTime& to, const InsEkfOptions& ins,
-                                      const Matrix12d& density) {
+                                      const Matrix12d& density, Matrix15d* accel_process_noise = nullptr) {
   InsDiscreteModel total;
+  const Matrix12d accel_density = accelerometerNoiseDensity(density);
+  if (accel_process_noise) accel_process_noise->setZero();
   GnssTime t = from;
   for (std::size_t k = 0; k < readings.size() && t < to; ++k) {
     const bool later = k + 1 < readings.size();
@@ -42,10 +46,15 @@ InsDiscreteModel propagatedErrorModel(NavState nav, const ImuBias& bias, const s
     if (dt_s <= 0.0) continue;
     const Eigen::Vector3d f_b = readings[k].specific_force_mps2 - bias.accel_mps2;
     const Eigen::Vector3d w_b = readings[k].angular_rate_radps - bias.gyro_radps;
-    const InsDiscreteModel step =
-        discretizeInsErrorModel(insErrorStateF(nav, f_b, w_b, ins.bias_model), insErrorStateG(nav), density, dt_s);
+    const Matrix15x12d g = insErrorStateG(nav);
+    const InsDiscreteModel step = discretizeInsErrorModel(insErrorStateF(nav, f_b, w_b, ins.bias_model), g, density, dt_s);
     total.transition = (step.transition * total.transition).eval();
     total.process_noise = propagateInsCovariance(total.process_noise, step);
+    if (accel_process_noise) {
+      InsDiscreteModel accel_step = step;  // the transition with the accelerometers' noise alone
+      accel_step.process_noise = discreteInsProcessNoise(step.transition, g, accel_density, dt_s);
+      *accel_process_noise = propagateInsCovariance(*accel_process_noise, accel_step);
+    }
     nav = ecefInsStep(nav, f_b, w_b, dt_s);
     t = end;
   }
@@ -384,10 +393,9 @@ void PppInsSmoother::adaptProcessNoise(const EpochSolveInput& in) {
   const ProcessNoiseAdaptationOptions& options = ins_.process_noise_adaptation;
   if (!noise_quantile_ || !(noise_quantile_->alpha() == options.false_alarm)) noise_quantile_.emplace(options.false_alarm);
   const Matrix12d density = insNoiseSpectralDensity(ins_.noise, ins_.bias_model);
-  const InsDiscreteModel since = propagatedErrorModel(c->nav, c->bias, readings_, c->time, epoch_time_, ins_, density);
-  const Matrix15d accel_noise =
-      propagatedErrorModel(c->nav, c->bias, readings_, c->time, epoch_time_, ins_, accelerometerNoiseDensity(density))
-          .process_noise;
+  Matrix15d accel_noise;
+  const InsDiscreteModel since =
+      propagatedErrorModel(c->nav, c->bias, readings_, c->time, epoch_time_, ins_, density, &accel_noise);
   const Matrix15d relative = relativeInsErrorCovariance(since, c->covariance);
   noise_scale_ = processNoiseScale(rows, insAntennaPositionCovariance(*nav_, ins_.lever_arm_body_m, relative),
                                    insAntennaPositionCovariance(*nav_, ins_.lever_arm_body_m, accel_noise), options,
