@@ -71,6 +71,7 @@ struct LevelingResult {
   Eigen::Vector3d mean_specific_force_mps2 = Eigen::Vector3d::Zero();
   double accel_spread_mps2 = 0.0;
   Eigen::Vector3d mean_angular_rate_radps = Eigen::Vector3d::Zero();  ///< the gyros' mean over the interval
+  double gyro_variance_radps2 = 0.0;  ///< the largest per-axis variance of the gyros' readings over it
   double gyro_rms_radps = 0.0;
 };
 

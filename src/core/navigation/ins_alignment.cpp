@@ -24,6 +24,7 @@ struct IntervalStatistics {
   Eigen::Vector3d mean_force = Eigen::Vector3d::Zero();
   Eigen::Vector3d force_spread = Eigen::Vector3d::Zero();  ///< per-axis standard deviation
   Eigen::Vector3d mean_rate = Eigen::Vector3d::Zero();
+  Eigen::Vector3d rate_variance = Eigen::Vector3d::Zero();  ///< per-axis variance of the rates
   double gyro_rms = 0.0;
 };
 
@@ -31,6 +32,7 @@ IntervalStatistics intervalStatistics(const std::vector<ImuSample>& samples) {
   IntervalStatistics s;
   s.samples = samples.size();
   Eigen::Vector3d sum = Eigen::Vector3d::Zero(), sum_sq = Eigen::Vector3d::Zero(), sum_rate = Eigen::Vector3d::Zero();
+  Eigen::Vector3d sum_rate_sq = Eigen::Vector3d::Zero();
   double rate_sq = 0.0;
   for (const ImuSample& r : samples) {
     if (!r.specific_force_mps2.allFinite() || !r.angular_rate_radps.allFinite()) {
@@ -40,6 +42,7 @@ IntervalStatistics intervalStatistics(const std::vector<ImuSample>& samples) {
     sum += r.specific_force_mps2;
     sum_sq += r.specific_force_mps2.cwiseAbs2();
     sum_rate += r.angular_rate_radps;
+    sum_rate_sq += r.angular_rate_radps.cwiseAbs2();
     rate_sq += r.angular_rate_radps.squaredNorm();
   }
   if (s.samples == 0) return s;
@@ -47,6 +50,7 @@ IntervalStatistics intervalStatistics(const std::vector<ImuSample>& samples) {
   s.mean_force = sum / n;
   s.force_spread = (sum_sq / n - s.mean_force.cwiseAbs2()).cwiseMax(0.0).cwiseSqrt();
   s.mean_rate = sum_rate / n;
+  s.rate_variance = (sum_rate_sq / n - s.mean_rate.cwiseAbs2()).cwiseMax(0.0);
   s.gyro_rms = std::sqrt(rate_sq / n);
   return s;
 }
@@ -142,6 +146,7 @@ LevelingResult levelFromStaticInterval(const std::vector<ImuSample>& samples, co
   out.mean_specific_force_mps2 = s.mean_force;
   out.accel_spread_mps2 = s.force_spread.maxCoeff();
   out.mean_angular_rate_radps = s.mean_rate;
+  out.gyro_variance_radps2 = s.rate_variance.maxCoeff();
   out.gyro_rms_radps = s.gyro_rms;
   if (out.status != LevelingStatus::Level) return out;
   const Eigen::Vector3d& f = s.mean_force;

@@ -19,20 +19,13 @@ Eigen::Vector3d earthRateAboutDown(const Eigen::Matrix3d& rotation_ecef_body, co
 
 /// The uncertainty of the levelled mean rate as a gyro bias [rad/s]: the Earth's horizontal
 /// rate (its direction needs the heading; Groves 2nd ed. 14.2.4) and the standard error of
-/// the mean of readings [first, end) (their largest per-axis scatter over sqrt(n): the
-/// unit's own noise, not its datasheet's), root-sum-squared.
-double levelledRateSigma_radps(const Eigen::Vector3d& position_ecef_m, const std::vector<ImuSample>& readings,
-                               std::size_t first, std::size_t end) {
+/// the interval's mean (the readings' largest per-axis scatter over sqrt(n): the unit's own
+/// noise, not its datasheet's), root-sum-squared.
+double levelledRateSigma_radps(const Eigen::Vector3d& position_ecef_m, const LevelingResult& level) {
   const Eigen::Vector3d down_ecef = rotationEcefNed(position_ecef_m).col(2);
   const double horizontal_radps = kEarthRotationRate_radps * std::hypot(down_ecef.x(), down_ecef.y());  // cos(lat)
-  const double n = static_cast<double>(end - first);
-  Eigen::Vector3d sum = Eigen::Vector3d::Zero(), sum_sq = Eigen::Vector3d::Zero();
-  for (std::size_t k = first; k < end; ++k) {
-    sum += readings[k].angular_rate_radps;
-    sum_sq += readings[k].angular_rate_radps.cwiseAbs2();
-  }
-  const double scatter_var = (sum_sq / n - (sum / n).cwiseAbs2()).cwiseMax(0.0).maxCoeff();
-  return std::sqrt(horizontal_radps * horizontal_radps + scatter_var / n);
+  const double n = static_cast<double>(level.samples);
+  return std::sqrt(horizontal_radps * horizontal_radps + level.gyro_variance_radps2 / n);
 }
 
 /// The gyros' bias from the levelled mean rate (Earth's rate about down removed), with its
@@ -78,9 +71,7 @@ InMotionLevel levelInMotion(const std::vector<ImuSample>& history, const Eigen::
   const Eigen::Matrix3d levelled =
       rotationEcefNed(position_ecef_m) * rotationNedBody(level.roll_rad, level.pitch_rad, 0.0);
   const Eigen::Vector3d mean_rate_radps = level.mean_angular_rate_radps - earthRateAboutDown(levelled, position_ecef_m);
-  const auto bias = gyroBiasFromLevelling(
-      mean_rate_radps,
-      levelledRateSigma_radps(position_ecef_m, history, interval_end - level.samples, interval_end), noise);
+  const auto bias = gyroBiasFromLevelling(mean_rate_radps, levelledRateSigma_radps(position_ecef_m, level), noise);
   if (bias) {
     out.gyro_bias_radps = bias->first;
     out.gyro_bias_sigma_radps = bias->second;
