@@ -59,6 +59,7 @@ void addStream(diagnostic_updater::DiagnosticStatusWrapper& s, const ppp::LiveSt
   s.add(p + "CRC/checksum errors", st.problems.count(ppp::StreamProblemKind::ChecksumError));
   s.add(p + "problems (all kinds)", st.problems.totalProblems());
   s.add(p + "SSR bias signal ids sent twice (first kept)", st.problems.repeated_signals);
+  s.add(p + "SSR code biases re-sent with an old epoch (in force from arrival)", st.ssr_code_biases_resent);
   s.add(p + "observation epochs decoded / ignored", std::to_string(st.observation_epochs) + " / " +
                                                         std::to_string(st.ignored_epochs));
   s.add(p + "epochs back in time dropped / receiver restarts",

@@ -9,7 +9,11 @@
 //    orbits; each sign flipped in turn must be seen;
 //  - phase-bias fields of RTCM 1265/1267 (sign, integer and wide-lane
 //    indicators, discontinuity counter) on frames of the SC-134 SSR test stream
-//    (test/fixtures/ssr/README.md), against values decoded by hand.
+//    (test/fixtures/ssr/README.md), against values decoded by hand;
+//  - the Galileo HAS internet data distribution (test/fixtures/ssr/README.md):
+//    code biases re-sent with the epoch of their issue, the "L2 P" bias for the
+//    C2W a receiver tracks, the sign against CODE's OSBs, the clock datum, and
+//    every orbit correction's IOD among the stream's own ephemerides.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -24,6 +28,8 @@
 #include "ppp_bayes_tree/io/products/bias_sinex_reader.h"
 #include "ppp_bayes_tree/io/rtcm/rtcm_ssr_decoder.h"
 #include "ppp_bayes_tree/io/rtcm/rtcm_ssr_encoder.h"
+#include "ppp_bayes_tree/models/broadcast_products.h"
+#include "ppp_bayes_tree/models/broadcast_ssr_ephemeris.h"
 #include "ppp_bayes_tree/models/sinex_bias_provider.h"
 #include "ppp_bayes_tree/models/ssr_bias_provider.h"
 #include "test_support.h"
@@ -290,6 +296,126 @@ TEST(SsrConventionsRealData, Sc134PhaseBiasFieldsAsDecodedIndependently) {
   EXPECT_NEAR(o.along_m, 1.6772, 1e-9);
   EXPECT_NEAR(o.cross_m, 0.2204, 1e-9);
   EXPECT_NEAR(messageOfType(f, 1058).clocks.at(0).c0_m, 2.5403, 1e-9);
+}
+
+// ---------------------------------------------------------------------------
+// Galileo HAS internet data distribution (IDD): the first 20 s of the public
+// recording at OBE4, 2023-08-17 01:59:12 GPST (test/fixtures/ssr/README.md).
+
+struct HasFiles {
+  std::string ssr = test::fixturePath("ssr/has_idd_20230817_0159.rtcm3");
+  std::string osb = test::fixturePath("ssr/COD0MGXFIN_20232230000_01D_01D_OSB_gps_code_trim.BIA");
+  GnssTime reference = gpst(2023, 8, 17, 0, 0, 0);  // the date, as --ref-date gives it
+};
+
+TEST(SsrConventionsRealData, HasIddCodeBiasesAreReSentWithTheEpochOfTheirIssueAndApplied) {
+  const HasFiles files;
+  const SsrStreamFile f = readSsrStreamFile(files.ssr, files.reference);
+  // The 51 ephemeris frames are not SSR: counted as messages of another kind, nothing else.
+  EXPECT_EQ(f.counters.count(StreamProblemKind::UnknownMessage), 51u);
+  EXPECT_EQ(f.counters.totalProblems(), 51u);
+  // The code-bias messages carry 309621 s of the week (2023-08-16 14:00:21), the
+  // orbit and clock messages 352752 and 352762 s (01:59:12, 01:59:22): decoded
+  // by hand from the frames (DF385 at bit 12 of each message).
+  std::size_t biases = 0;
+  for (const auto& m : f.messages) {
+    ASSERT_TRUE(m.header.epoch.has_value());
+    EXPECT_EQ(m.header.provider_id, 270);
+    if (m.header.kind == SsrMessageKind::CodeBias) {
+      ++biases;
+      EXPECT_EQ(*m.header.epoch, gpst(2023, 8, 16, 14, 0, 21));
+    } else {
+      EXPECT_TRUE(*m.header.epoch == gpst(2023, 8, 17, 1, 59, 12) || *m.header.epoch == gpst(2023, 8, 17, 1, 59, 22));
+    }
+  }
+  ASSERT_EQ(biases, 4u);
+  // Stream order: 1059, 1060, 1242, 1243, ephemerides, 1059, 1060, 1242, 1243.
+  // The first 1059 comes before any other epoch and stays at its own; the three
+  // after an orbit message are in force from it.
+  const auto store = storeOf(f);
+  EXPECT_EQ(store->staleCodeBiasMessages(), 3u);
+  EXPECT_NE(store->firstStaleCodeBiasMessage().find("2023-08-16 14:00:21"), std::string::npos)
+      << store->firstStaleCodeBiasMessage();
+
+  // Through the model's provider (OSB sign: the negated HAS value). G02 sends
+  // 0 (C1C) 4.42 m and 10 ("L2 P") 7.28 m; E02 2 (E1C) 0.35 m, 6 (E5aQ) 0.62 m.
+  const SsrBiasProvider biases_of(store, "HAS IDD");
+  const GnssTime t = gpst(2023, 8, 17, 1, 59, 30);
+  const SatelliteId g02{GnssSystem::GPS, 2}, e02{GnssSystem::Galileo, 2};
+  ASSERT_TRUE(biases_of.codeBias(g02, code("C1C"), t).value_m.has_value());
+  EXPECT_NEAR(*biases_of.codeBias(g02, code("C1C"), t).value_m, -4.42, 1e-9);
+  // C2W, as receivers track L2 P(Y), takes the stream's "L2 P" bias; C2P too.
+  EXPECT_NEAR(*biases_of.codeBias(g02, code("C2W"), t).value_m, -7.28, 1e-9);
+  EXPECT_NEAR(*biases_of.codeBias(g02, code("C2P"), t).value_m, -7.28, 1e-9);
+  EXPECT_NEAR(*biases_of.codeBias(e02, code("C1C"), t).value_m, -0.35, 1e-9);
+  EXPECT_NEAR(*biases_of.codeBias(e02, code("C5Q"), t).value_m, -0.62, 1e-9);
+  // Galileo has no P(Y) family: E1 B/C biases do not stand in for each other.
+  EXPECT_FALSE(biases_of.codeBias(e02, code("C1X"), t).value_m.has_value());
+  // The age counts from the last repetition: the second GPS set arrived after
+  // the 01:59:12 orbits, the second Galileo set after the 01:59:22 ones. An
+  // hour (the bias age limit) later, with no repetition in the fixture, each set is too old.
+  EXPECT_TRUE(biases_of.codeBias(g02, code("C1C"), gpst(2023, 8, 17, 2, 59, 12)).value_m.has_value());
+  EXPECT_FALSE(biases_of.codeBias(g02, code("C1C"), gpst(2023, 8, 17, 2, 59, 13)).value_m.has_value());
+  EXPECT_TRUE(biases_of.codeBias(e02, code("C1C"), gpst(2023, 8, 17, 2, 59, 22)).value_m.has_value());
+  EXPECT_FALSE(biases_of.codeBias(e02, code("C1C"), gpst(2023, 8, 17, 2, 59, 23)).value_m.has_value());
+
+  // The clock datum, from the values: the ionosphere-free combination of each
+  // system's pair is zero to the 1-cm resolution (GPS C1C/L2 P(Y), Galileo
+  // E1C/E5aQ), so the HAS clocks refer to those pairs and the biases are absolute.
+  const double g1 = 2.5457277801631, g2 = 1.5457277801631;    // f1^2/(f1^2-f2^2), f2^2/(f1^2-f2^2)
+  const double e1 = 2.2606265306124, e5 = 1.2606265306124;    // f1^2/(f1^2-f5^2), f5^2/(f1^2-f5^2)
+  std::size_t checked = 0;
+  for (int prn = 1; prn <= 36; ++prn) {
+    const SatelliteId g{GnssSystem::GPS, prn}, e{GnssSystem::Galileo, prn};
+    const auto c1 = biases_of.codeBias(g, code("C1C"), t).value_m, p2 = biases_of.codeBias(g, code("C2W"), t).value_m;
+    if (c1 && p2) {
+      EXPECT_NEAR(g1 * *c1 - g2 * *p2, 0.0, 0.03) << g.toString();
+      ++checked;
+    }
+    const auto a1 = biases_of.codeBias(e, code("C1C"), t).value_m, a5 = biases_of.codeBias(e, code("C5Q"), t).value_m;
+    if (a1 && a5) {
+      EXPECT_NEAR(e1 * *a1 - e5 * *a5, 0.0, 0.03) << e.toString();
+      ++checked;
+    }
+  }
+  EXPECT_EQ(checked, 29u + 22u);
+}
+
+TEST(SsrConventionsRealData, HasIddCodeBiasSignAgainstCodeOsbs) {
+  // CODE's MGEX OSBs of 2023-08-11, six days before: C1W and C2W are its clock
+  // reference (0 for every satellite) and its C1C carries the P1-C1 difference
+  // only, so the comparison that both sides determine is L2C against L2 P(Y).
+  const HasFiles files;
+  const SsrStreamFile f = readSsrStreamFile(files.ssr, files.reference);
+  const SsrBiasProvider stream(storeOf(f), "HAS IDD");
+  const BiasSinexFile bia = readBiasSinexFile(files.osb);
+  const SinexBiasProvider sinex(bia, "COD0MGXFIN");
+  const auto l2c_py = dcbPairs(stream, gpst(2023, 8, 17, 1, 59, 30), sinex, gpst(2023, 8, 11, 12, 0, 0), "C2L", "C2W");
+  ASSERT_GE(l2c_py.size(), 20u);
+  const double rms = rmsDifference_m(l2c_py, +1.0), rms_flipped = rmsDifference_m(l2c_py, -1.0);
+  std::printf("HAS C2L-C2W over %zu satellites: RMS %.3f m as applied, %.3f m with the stream's sign flipped\n",
+              l2c_py.size(), rms, rms_flipped);
+  EXPECT_LT(rms, 0.10);
+  EXPECT_GT(rms_flipped, 3.0 * rms);
+}
+
+TEST(SsrConventionsRealData, HasIddOrbitCorrectionsFindTheirEphemeridesInTheStream) {
+  // The stream carries the GPS (1019) and Galileo I/NAV (1046) records its
+  // corrections refer to: every IOD must be found among them (a decoding check
+  // of the 8-bit IODE and the 10-bit IODnav).
+  const HasFiles files;
+  const BroadcastProducts p =
+      loadBroadcastProducts({files.ssr}, files.ssr, std::nullopt, {}, {}, files.reference, std::nullopt);
+  // As a navigation input the file's SSR frames are messages of another kind (51 x 1019 / 1046 the other way
+  // round as an SSR input): said, and nothing else.
+  for (const auto& problem : p.problems)
+    if (problem.find("problem(s) while decoding") == std::string::npos) ADD_FAILURE() << problem;
+  EXPECT_EQ(p.corrected_satellites.size(), 29u + 22u);
+  bool noted = false;
+  for (const auto& n : p.notes) noted = noted || n.find("taken as re-sent") != std::string::npos;
+  EXPECT_TRUE(noted);
+  ASSERT_NE(p.corrected, nullptr);
+  EXPECT_EQ(p.corrected->consistency().totalProblems(), 0u);
 }
 
 }  // namespace

@@ -122,6 +122,9 @@ struct LiveStreamStatus {
   std::uint64_t forward_jumps = 0;              // confirmed jumps forward (an outage beyond 600 s)
   std::size_t ephemerides = 0;                  // navigation records decoded
   std::uint64_t ssr_messages = 0;
+  /// Code-bias messages sent with an epoch older than their validity, taken as
+  /// re-sent and in force from their arrival (models/ssr_correction_store.h).
+  std::uint64_t ssr_code_biases_resent = 0;
   std::optional<GnssTime> last_data_time;       // newest observation or SSR epoch decoded
   /// Newest observation time minus this stream's newest SSR epoch [s] (SSR streams).
   std::optional<double> ssr_age_s;

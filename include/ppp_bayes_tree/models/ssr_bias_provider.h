@@ -6,6 +6,11 @@
 // the negated SSR bias. An answer stays the answer from the message epoch to
 // the next message of the satellite (at most the bias age limit).
 //
+// A code is answered with the bias of its own signal. A GPS P(Y) code that the
+// stream sends for another tracking mode of the same band (the Galileo HAS
+// stream sends "L2 P", receivers track C2W) takes that one: P, Z-tracking (W)
+// and Y are the one P(Y) signal at the satellite. Phase biases: own signal only.
+//
 // SSR biases belong to the SSR-corrected clocks. Where the orbit and clock
 // corrections are missing or too old and broadcast orbits and clocks serve
 // (the broadcast fallback of the live input and of ppp_solve --ssr,

@@ -10,6 +10,17 @@
 // Age limits after RTKLIB (MAXAGESSR 90 s, MAXAGESSR_HRCLK 10 s); config keys
 // under `ssr:` (ppp_config): orbit_max_age_s, clock_max_age_s,
 // high_rate_clock_max_age_s, bias_max_age_s.
+//
+// Code biases re-sent with the epoch of their issue. A service may send its
+// code biases again and again with the epoch at which the set was issued,
+// hours before: the Galileo HAS internet data distribution (RTCM 1059/1242,
+// provider 270) repeats a set every 10 s with the epoch of the previous
+// afternoon. Such a message arrives older than its validity. It is taken as in
+// force from its arrival: the newest SSR epoch of the stream before it (stream
+// order is arrival order, in files as live). The stream then says the set is
+// still current each time it repeats it, and the age counts from the last
+// repetition. Counted (staleCodeBiasMessages). Phase biases are not treated so:
+// a phase bias older than its validity stays unused, as a fix must not rest on it.
 #include <map>
 #include <optional>
 #include <set>
@@ -33,7 +44,8 @@ struct SsrAgeLimits {
 template <class T>
 struct SsrTimed {
   T value;
-  GnssTime t0;                 // SSR epoch (GPST)
+  GnssTime t0;                 // SSR epoch (GPST), as sent
+  GnssTime in_force_from;      // t0, or the arrival of a code bias re-sent older than its validity
   double update_interval_s = 0.0;
   int iod_ssr = 0;
   int provider_id = 0, solution_id = 0;
@@ -53,7 +65,8 @@ class SsrCorrectionStore {
  public:
   explicit SsrCorrectionStore(SsrAgeLimits limits = {}) : limits_(limits) {}
 
-  /// Adds the values of one message; false (nothing added) when its epoch is unresolved.
+  /// Adds the values of one message, in stream order; false (nothing added)
+  /// when its epoch is unresolved.
   bool add(const SsrMessage& message);
 
   SsrPick<SsrOrbitCorrection> orbit(const SatelliteId& sat, const GnssTime& t) const;
@@ -61,9 +74,9 @@ class SsrCorrectionStore {
   SsrPick<SsrHighRateClock> highRateClock(const SatelliteId& sat, const GnssTime& t) const;
   SsrPick<SsrCodeBias> codeBias(const SatelliteId& sat, const GnssTime& t) const;
   SsrPick<SsrPhaseBias> phaseBias(const SatelliteId& sat, const GnssTime& t) const;
-  /// The t0 of the next code-bias message after `t0` for the satellite (for validity intervals).
-  std::optional<GnssTime> nextCodeBiasEpoch(const SatelliteId& sat, const GnssTime& t0) const;
-  std::optional<GnssTime> nextPhaseBiasEpoch(const SatelliteId& sat, const GnssTime& t0) const;
+  /// When the next code bias of the satellite comes in force after `from` (for validity intervals).
+  std::optional<GnssTime> nextCodeBiasEpoch(const SatelliteId& sat, const GnssTime& from) const;
+  std::optional<GnssTime> nextPhaseBiasEpoch(const SatelliteId& sat, const GnssTime& from) const;
 
   /// Every orbit correction (for consistency checks against the broadcast records).
   const std::map<SatelliteId, std::map<GnssTime, SsrTimed<SsrOrbitCorrection>>>& orbits() const { return orbits_; }
@@ -80,6 +93,10 @@ class SsrCorrectionStore {
   std::size_t codeBiasCount() const;
   std::size_t phaseBiasCount() const;
   std::size_t unresolvedMessages() const { return unresolved_; }
+  /// Code-bias messages that arrived older than their validity and were taken
+  /// from their arrival (see the header), and the first of them, described.
+  std::size_t staleCodeBiasMessages() const { return stale_code_bias_messages_; }
+  const std::string& firstStaleCodeBiasMessage() const { return first_stale_code_bias_message_; }
   const SsrAgeLimits& limits() const { return limits_; }
   /// The validity of a correction of this update interval and age limit [s].
   static double validity_s(double max_age_s, double update_interval_s);
@@ -87,6 +104,9 @@ class SsrCorrectionStore {
  private:
   template <class T>
   using Series = std::map<SatelliteId, std::map<GnssTime, SsrTimed<T>>>;
+  /// When the code biases of `m` come in force: their epoch, or their arrival
+  /// when they arrive older than their validity (counted).
+  GnssTime codeBiasInForceFrom(const SsrMessage& m);
   template <class T>
   SsrPick<T> pick(const Series<T>& series, const SatelliteId& sat, const GnssTime& t, double max_age_s,
                   const char* what) const;
@@ -98,6 +118,8 @@ class SsrCorrectionStore {
   Series<SsrCodeBias> code_biases_;
   Series<SsrPhaseBias> phase_biases_;
   std::size_t unresolved_ = 0;
+  std::size_t stale_code_bias_messages_ = 0;
+  std::string first_stale_code_bias_message_;
   std::optional<GnssTime> latest_;
 };
 

@@ -262,7 +262,9 @@ struct LiveGnssInput::Impl : public EphemerisSource {
                                                       : ssrReferenceFromStreamName(s.status.stream)
                                                             .value_or(EphemerisReference::CentreOfMass));
       }
+      const std::size_t resent_before = store->staleCodeBiasMessages();
       store->add(m);
+      s.status.ssr_code_biases_resent += store->staleCodeBiasMessages() - resent_before;
       if (!s.last_ssr || *s.last_ssr < *m.header.epoch) s.last_ssr = *m.header.epoch;
       if (!newest_data || *newest_data < *m.header.epoch) newest_data = *m.header.epoch;
     }

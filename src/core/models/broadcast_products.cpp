@@ -153,8 +153,8 @@ std::shared_ptr<BroadcastEphemerisStore> broadcastStore(const NavigationInputs& 
 
 /// The problems and notes of an SSR stream: decoding problems, repeated signals,
 /// corrections without their broadcast record.
-void noteSsrStream(const std::string& ssr_name, const SsrStreamFile& stream, const BroadcastSsrEphemeris& eph,
-                   BroadcastProducts& out) {
+void noteSsrStream(const std::string& ssr_name, const SsrStreamFile& stream, const SsrCorrectionStore& store,
+                   const BroadcastSsrEphemeris& eph, BroadcastProducts& out) {
   const auto describe = [&](const StreamCounters& c, const std::string& what) {
     if (c.totalProblems() == 0) return;
     std::string text = ssr_name + ": " + std::to_string(c.totalProblems()) + " " + what;
@@ -166,6 +166,11 @@ void noteSsrStream(const std::string& ssr_name, const SsrStreamFile& stream, con
     out.notes.push_back(ssr_name + ": " + std::to_string(stream.counters.repeated_signals) +
                         " bias value(s) of a signal id sent twice for one satellite, the first of each kept; first: " +
                         stream.counters.first_repeated_signal);
+  if (store.staleCodeBiasMessages() > 0)
+    out.notes.push_back(ssr_name + ": " + std::to_string(store.staleCodeBiasMessages()) +
+                        " code-bias message(s) sent with an epoch older than their validity, taken as re-sent and in "
+                        "force from their arrival; first: " +
+                        store.firstStaleCodeBiasMessage());
   describe(eph.consistency(), "SSR correction(s) without a broadcast record of their IOD");
 }
 
@@ -198,7 +203,7 @@ void addSsrCorrections(const std::string& ssr, const NavigationInputs& in,
                       std::to_string(stream.summary.messages) + " messages; orbits at the " +
                       std::string(ephemerisReferenceName(options.reference)) +
                       (ssr_reference ? ", as given" : from_name ? ", from the stream name" : ", by default") + ")");
-  noteSsrStream(fileBaseName(ssr), stream, *eph, out);
+  noteSsrStream(fileBaseName(ssr), stream, *store, *eph, out);
   noteStaleCorrections(*fallback, *store, fileBaseName(ssr), observation_span, out.notes);
   if (store->codeBiasCount() > 0 || store->phaseBiasCount() > 0)
     out.ssr_biases = std::make_shared<SsrBiasProvider>(

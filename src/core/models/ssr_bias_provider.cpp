@@ -5,20 +5,37 @@
 namespace ppp {
 
 namespace {
+/// GPS P(Y) code tracked as P, Z-tracking (W) or Y: one signal at the satellite.
+bool gpsPyCode(char attribute) { return attribute == 'P' || attribute == 'W' || attribute == 'Y'; }
+
+/// The bias of the stream's signal for `code`: its own, else, for a GPS P(Y)
+/// code with `py_family`, the one the stream sends for another tracking of the
+/// P(Y) code on that band (the Galileo HAS stream sends "L2 P" where receivers
+/// track C2W; the satellite delays the P(Y) code the same however it is tracked).
+template <class Signal>
+const Signal* signalFor(const std::vector<Signal>& biases, const ObservationCode& code, bool py_family) {
+  for (const auto& b : biases)
+    if (b.code && b.code->band == code.band && b.code->attribute == code.attribute) return &b;
+  if (!py_family || !gpsPyCode(code.attribute)) return nullptr;
+  for (const auto& b : biases)
+    if (b.code && b.code->band == code.band && gpsPyCode(b.code->attribute)) return &b;
+  return nullptr;
+}
+
 template <class Pick, class NextEpoch>
 BiasAnswer answer(const Pick& pick, const ObservationCode& code, const GnssTime& t, double max_age_s,
-                  const NextEpoch& next) {
+                  const NextEpoch& next, bool py_family) {
   BiasAnswer out;
   if (!pick) {
     out.valid_from = out.valid_until = t;
     return out;
   }
-  for (const auto& b : pick.entry->value.biases) {
-    if (!b.code || b.code->band != code.band || b.code->attribute != code.attribute) continue;
-    out.value_m = -b.bias_m;  // SSR: added to the measurement; OSB: subtracted
-    out.valid_from = pick.entry->t0;
-    GnssTime until = pick.entry->t0 + SsrCorrectionStore::validity_s(max_age_s, pick.entry->update_interval_s);
-    if (const auto n = next(pick.entry->t0)) until = std::min(until, *n - 1e-3);
+  if (const auto* b = signalFor(pick.entry->value.biases, code, py_family)) {
+    out.value_m = -b->bias_m;  // SSR: added to the measurement; OSB: subtracted
+    out.valid_from = pick.entry->in_force_from;
+    GnssTime until =
+        pick.entry->in_force_from + SsrCorrectionStore::validity_s(max_age_s, pick.entry->update_interval_s);
+    if (const auto n = next(pick.entry->in_force_from)) until = std::min(until, *n - 1e-3);
     out.valid_until = until;
     return out;
   }
@@ -44,13 +61,16 @@ BiasAnswer SsrBiasProvider::bounded(BiasAnswer a, const GnssTime& t) const {
 BiasAnswer SsrBiasProvider::codeBias(const SatelliteId& sat, const ObservationCode& code, const GnssTime& t) const {
   if (in_force_ && !in_force_(sat, t)) return notInForce(t);
   return bounded(answer(ssr_->codeBias(sat, t), code, t, ssr_->limits().bias_max_age_s,
-                [&](const GnssTime& t0) { return ssr_->nextCodeBiasEpoch(sat, t0); }), t);
+                        [&](const GnssTime& from) { return ssr_->nextCodeBiasEpoch(sat, from); },
+                        sat.system == GnssSystem::GPS),
+                 t);
 }
 
 BiasAnswer SsrBiasProvider::phaseBias(const SatelliteId& sat, const ObservationCode& code, const GnssTime& t) const {
   if (in_force_ && !in_force_(sat, t)) return notInForce(t);
   return bounded(answer(ssr_->phaseBias(sat, t), code, t, ssr_->limits().bias_max_age_s,
-                [&](const GnssTime& t0) { return ssr_->nextPhaseBiasEpoch(sat, t0); }), t);
+                        [&](const GnssTime& from) { return ssr_->nextPhaseBiasEpoch(sat, from); }, false),
+                 t);
 }
 
 }  // namespace ppp

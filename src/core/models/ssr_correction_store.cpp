@@ -9,10 +9,14 @@ namespace ppp {
 
 namespace {
 template <class T>
-SsrTimed<T> timed(const T& value, const SsrHeader& h) {
-  SsrTimed<T> e{value, *h.epoch, h.update_interval_s, h.iod_ssr, h.provider_id, h.solution_id, h.byte_offset,
-                h.frame_index};
+SsrTimed<T> timed(const T& value, const SsrHeader& h, const GnssTime& in_force_from) {
+  SsrTimed<T> e{value,         *h.epoch,      in_force_from, h.update_interval_s, h.iod_ssr,
+                h.provider_id, h.solution_id, h.byte_offset, h.frame_index};
   return e;
+}
+template <class T>
+SsrTimed<T> timed(const T& value, const SsrHeader& h) {
+  return timed(value, h, *h.epoch);
 }
 template <class Map>
 std::size_t countAll(const Map& m) {
@@ -40,13 +44,27 @@ bool SsrCorrectionStore::add(const SsrMessage& m) {
     return false;
   }
   const SsrHeader& h = m.header;
+  const GnssTime code_bias_from = codeBiasInForceFrom(m);
   if (!latest_ || *latest_ < *h.epoch) latest_ = *h.epoch;
   for (const auto& o : m.orbits) orbits_[o.satellite][*h.epoch] = timed(o, h);
   for (const auto& c : m.clocks) clocks_[c.satellite][*h.epoch] = timed(c, h);
   for (const auto& c : m.high_rate_clocks) high_rate_clocks_[c.satellite][*h.epoch] = timed(c, h);
-  for (const auto& b : m.code_biases) code_biases_[b.satellite][*h.epoch] = timed(b, h);
+  for (const auto& b : m.code_biases) code_biases_[b.satellite][code_bias_from] = timed(b, h, code_bias_from);
   for (const auto& b : m.phase_biases) phase_biases_[b.satellite][*h.epoch] = timed(b, h);
   return true;
+}
+
+GnssTime SsrCorrectionStore::codeBiasInForceFrom(const SsrMessage& m) {
+  const SsrHeader& h = m.header;
+  if (m.code_biases.empty() || !latest_) return *h.epoch;
+  const double age_on_arrival_s = *latest_ - *h.epoch;
+  if (age_on_arrival_s <= validity_s(limits_.bias_max_age_s, h.update_interval_s)) return *h.epoch;
+  if (stale_code_bias_messages_++ == 0)
+    first_stale_code_bias_message_ =
+        format("code biases of %s (provider %d) with epoch %s arrived at %s, %.0f s later: in force from their arrival",
+               std::string(systemName(h.system)).c_str(), h.provider_id, h.epoch->toString(TimeSystem::GPS, 0).c_str(),
+               latest_->toString(TimeSystem::GPS, 0).c_str(), age_on_arrival_s);
+  return *latest_;
 }
 
 template <class T>
@@ -64,7 +82,7 @@ SsrPick<T> SsrCorrectionStore::pick(const Series<T>& series, const SatelliteId& 
     return out;
   }
   const SsrTimed<T>& e = std::prev(after)->second;
-  const double age = t - e.t0;
+  const double age = t - e.in_force_from;
   const double validity = validity_s(max_age_s, e.update_interval_s);
   if (age > validity) {
     out.reason = format("SSR %s for %s is %.0f s old, older than its validity %.0f s", what, sat.toString().c_str(),
@@ -91,11 +109,11 @@ SsrPick<SsrCodeBias> SsrCorrectionStore::codeBias(const SatelliteId& sat, const 
 SsrPick<SsrPhaseBias> SsrCorrectionStore::phaseBias(const SatelliteId& sat, const GnssTime& t) const {
   return pick(phase_biases_, sat, t, limits_.bias_max_age_s, "phase bias");
 }
-std::optional<GnssTime> SsrCorrectionStore::nextCodeBiasEpoch(const SatelliteId& sat, const GnssTime& t0) const {
-  return nextEpoch(code_biases_, sat, t0);
+std::optional<GnssTime> SsrCorrectionStore::nextCodeBiasEpoch(const SatelliteId& sat, const GnssTime& from) const {
+  return nextEpoch(code_biases_, sat, from);
 }
-std::optional<GnssTime> SsrCorrectionStore::nextPhaseBiasEpoch(const SatelliteId& sat, const GnssTime& t0) const {
-  return nextEpoch(phase_biases_, sat, t0);
+std::optional<GnssTime> SsrCorrectionStore::nextPhaseBiasEpoch(const SatelliteId& sat, const GnssTime& from) const {
+  return nextEpoch(phase_biases_, sat, from);
 }
 namespace {
 template <class Series>

@@ -47,6 +47,8 @@ struct SsrStreamSummary {
   std::uint64_t datum_itrf_messages = 0, datum_regional_messages = 0;  // DF375 of orbit messages
   std::map<GnssSystem, std::set<SatelliteId>> satellites;
   std::optional<GnssTime> first_epoch, last_epoch;  // resolved epochs only
+  /// First and last resolved epochs of the code-bias messages and of the others.
+  std::pair<std::optional<GnssTime>, std::optional<GnssTime>> code_bias_epochs, other_epochs;
   std::uint64_t messages = 0;
   std::uint64_t orbit_corrections = 0, clock_corrections = 0, code_biases = 0, phase_biases = 0,
                 high_rate_clocks = 0, uras = 0, vtec_messages = 0;

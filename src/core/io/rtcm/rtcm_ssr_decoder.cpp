@@ -178,6 +178,9 @@ void addToSummary(SsrStreamSummary& s, const SsrMessage& m, int summary_key) {
   if (m.header.epoch) {
     if (!s.first_epoch || *m.header.epoch < *s.first_epoch) s.first_epoch = m.header.epoch;
     if (!s.last_epoch || *s.last_epoch < *m.header.epoch) s.last_epoch = m.header.epoch;
+    auto& [first, last] = m.header.kind == SsrMessageKind::CodeBias ? s.code_bias_epochs : s.other_epochs;
+    if (!first || *m.header.epoch < *first) first = m.header.epoch;
+    if (!last || *last < *m.header.epoch) last = m.header.epoch;
   }
   auto sats = [&](const auto& list) { for (const auto& x : list) s.satellites[m.header.system].insert(x.satellite); };
   sats(m.orbits); sats(m.clocks); sats(m.code_biases); sats(m.phase_biases); sats(m.high_rate_clocks); sats(m.uras);
@@ -282,8 +285,15 @@ std::string SsrStreamSummary::format() const {
   if (first_epoch && last_epoch)
     o << "\n  epochs: " << first_epoch->toString(TimeSystem::GPS, 0) << " to " << last_epoch->toString(TimeSystem::GPS, 0)
       << " GPST";
-  else
-    o << "\n  epochs: not placed in time (no week known)";
+  const auto& [bias_first, bias_last] = code_bias_epochs;
+  const auto& [other_first, other_last] = other_epochs;
+  constexpr double kApart_s = 3600.0;  // a code-bias set an hour or more apart from the rest is said
+  if (bias_first && other_first && (*other_first - *bias_first > kApart_s || *bias_last - *other_last > kApart_s))
+    o << "\n  code-bias epochs " << bias_first->toString(TimeSystem::GPS, 0) << " to "
+      << bias_last->toString(TimeSystem::GPS, 0) << ", other messages " << other_first->toString(TimeSystem::GPS, 0)
+      << " to " << other_last->toString(TimeSystem::GPS, 0)
+      << " (code biases older than their validity on arrival are taken as re-sent, in force from their arrival)";
+  if (!(first_epoch && last_epoch)) o << "\n  epochs: not placed in time (no week known)";
   return o.str();
 }
 

@@ -459,6 +459,87 @@ TEST(SsrBiasProvider, NegatesSsrBiasesIntoOsbConvention) {
   EXPECT_FALSE(biases.codeBias(sat(GnssSystem::GPS, 3), c1c, t0 - 10.0).value_m);
 }
 
+TEST(SsrBiasProvider, CodeBiasesArrivingOlderThanTheirValidityAreInForceFromTheirArrival) {
+  // A service that re-sends the code biases with the epoch of their issue,
+  // hours old (the Galileo HAS internet distribution does): in stream order
+  // after an orbit message of t0, each copy is in force from t0 on.
+  const GnssTime t0 = gpst(2026, 7, 7, 14, 0, 0), issued = t0 - 12.0 * 3600.0;
+  const auto c1c = *ObservationCode::parse("C1C");
+  const auto l1c = *ObservationCode::parse("L1C");
+  SsrMessage o = header(GnssSystem::GPS, SsrMessageKind::Orbit, 0);
+  o.header.epoch = t0;
+  o.orbits.push_back(orbit(sat(GnssSystem::GPS, 3), 1));
+  SsrMessage cb = header(GnssSystem::GPS, SsrMessageKind::CodeBias, 0);
+  cb.header.epoch = issued;
+  cb.code_biases.push_back({sat(GnssSystem::GPS, 3), {{0, ssrSignalCode(GnssSystem::GPS, 0, false), 1.9}}});
+  SsrMessage pb = header(GnssSystem::GPS, SsrMessageKind::PhaseBias, 0);
+  pb.header.epoch = issued;
+  SsrPhaseBias p{};
+  p.satellite = sat(GnssSystem::GPS, 3);
+  SsrSignalPhaseBias s{};
+  s.signal_id = 0;
+  s.code = ssrSignalCode(GnssSystem::GPS, 0, false);
+  s.code->type = ObservableType::CarrierPhase;
+  s.bias_m = 0.3;
+  p.biases.push_back(s);
+  pb.phase_biases.push_back(p);
+
+  auto store = std::make_shared<SsrCorrectionStore>();
+  ASSERT_TRUE(store->add(cb));  // before any other epoch: at its own, too old for any later instant
+  EXPECT_EQ(store->staleCodeBiasMessages(), 0u);
+  const SsrBiasProvider biases(store, "test");
+  EXPECT_FALSE(biases.codeBias(sat(GnssSystem::GPS, 3), c1c, t0).value_m);
+  ASSERT_TRUE(store->add(o));
+  ASSERT_TRUE(store->add(cb));  // re-sent after the orbits of t0
+  ASSERT_TRUE(store->add(pb));
+  EXPECT_EQ(store->staleCodeBiasMessages(), 1u);
+  EXPECT_NE(store->firstStaleCodeBiasMessage().find("43200 s later"), std::string::npos)
+      << store->firstStaleCodeBiasMessage();
+  const BiasAnswer a = biases.codeBias(sat(GnssSystem::GPS, 3), c1c, t0 + 10.0);
+  ASSERT_TRUE(a.value_m.has_value());
+  EXPECT_DOUBLE_EQ(*a.value_m, -1.9);
+  EXPECT_EQ(a.valid_from, t0);
+  EXPECT_EQ(a.valid_until, t0 + 3600.0);  // the bias age limit, from the arrival
+  EXPECT_FALSE(biases.codeBias(sat(GnssSystem::GPS, 3), c1c, t0 + 3601.0).value_m);
+  // A phase bias that old stays unused: a fix must not rest on it.
+  EXPECT_FALSE(biases.phaseBias(sat(GnssSystem::GPS, 3), l1c, t0 + 10.0).value_m);
+  // A current set (epoch within its validity on arrival) keeps its own epoch.
+  SsrMessage fresh = cb;
+  fresh.header.epoch = t0 + 5.0;
+  fresh.code_biases.front().biases.front().bias_m = 2.0;
+  ASSERT_TRUE(store->add(fresh));
+  EXPECT_EQ(store->staleCodeBiasMessages(), 1u);
+  EXPECT_EQ(biases.codeBias(sat(GnssSystem::GPS, 3), c1c, t0 + 6.0).valid_from, t0 + 5.0);
+  EXPECT_DOUBLE_EQ(*biases.codeBias(sat(GnssSystem::GPS, 3), c1c, t0 + 6.0).value_m, -2.0);
+}
+
+TEST(SsrBiasProvider, GpsPyCodesTakeTheBiasOfAnotherTrackingOfTheSameCode) {
+  // A stream that sends "L2 P" (id 10) serves the C2W (Z-tracking) a receiver
+  // records; its own signal always comes first. GLONASS P is another signal family.
+  const GnssTime t0 = gpst(2026, 7, 7, 14, 0, 0);
+  SsrMessage cb = header(GnssSystem::GPS, SsrMessageKind::CodeBias, 0);
+  cb.header.epoch = t0;
+  cb.code_biases.push_back({sat(GnssSystem::GPS, 3),
+                            {{10, ssrSignalCode(GnssSystem::GPS, 10, false), 2.5},
+                             {0, ssrSignalCode(GnssSystem::GPS, 0, false), 1.5}}});
+  cb.code_biases.push_back({sat(GnssSystem::GPS, 4),
+                            {{10, ssrSignalCode(GnssSystem::GPS, 10, false), 2.5},
+                             {11, ssrSignalCode(GnssSystem::GPS, 11, false), 2.4}}});
+  auto store = std::make_shared<SsrCorrectionStore>();
+  ASSERT_TRUE(store->add(cb));
+  const SsrBiasProvider biases(store, "test");
+  const auto value = [&](int prn, const char* code) {
+    return biases.codeBias(sat(GnssSystem::GPS, prn), *ObservationCode::parse(code), t0).value_m;
+  };
+  EXPECT_DOUBLE_EQ(*value(3, "C2W"), -2.5);
+  EXPECT_DOUBLE_EQ(*value(3, "C2Y"), -2.5);
+  EXPECT_DOUBLE_EQ(*value(3, "C2P"), -2.5);
+  EXPECT_FALSE(value(3, "C2L"));  // L2C is another signal
+  EXPECT_FALSE(value(3, "C1W"));  // another band
+  EXPECT_DOUBLE_EQ(*value(4, "C2W"), -2.4);  // its own first
+  EXPECT_DOUBLE_EQ(*value(4, "C2P"), -2.5);
+}
+
 TEST(SsrConfig, AgeLimitsAreBoundStrictly) {
   const PppConfig defaults = parsePppConfig("{}", "x.yaml");
   EXPECT_EQ(defaults.ssr.orbit_max_age_s, 90.0);
