@@ -1,5 +1,7 @@
 #include "ppp_bayes_tree/models/broadcast_products.h"
 
+#include <algorithm>
+
 #include <iomanip>
 #include <sstream>
 
@@ -154,7 +156,7 @@ std::shared_ptr<BroadcastEphemerisStore> broadcastStore(const NavigationInputs& 
 /// The problems and notes of an SSR stream: decoding problems, repeated signals,
 /// corrections without their broadcast record.
 void noteSsrStream(const std::string& ssr_name, const SsrStreamFile& stream, const SsrCorrectionStore& store,
-                   const BroadcastSsrEphemeris& eph, BroadcastProducts& out) {
+                   const BroadcastSsrEphemeris& eph, bool also_navigation, BroadcastProducts& out) {
   const auto describe = [&](const StreamCounters& c, const std::string& what) {
     if (c.totalProblems() == 0) return;
     std::string text = ssr_name + ": " + std::to_string(c.totalProblems()) + " " + what;
@@ -162,6 +164,18 @@ void noteSsrStream(const std::string& ssr_name, const SsrStreamFile& stream, con
     out.problems.push_back(text);
   };
   describe(stream.counters, "problem(s) while decoding");
+  if (!stream.receiver_messages_by_type.empty()) {
+    std::uint64_t n = 0;
+    std::string types;
+    for (const auto& [type, count] : stream.receiver_messages_by_type) {
+      n += count;
+      types += (types.empty() ? "" : ", ") + std::to_string(type) + " x" + std::to_string(count);
+    }
+    out.notes.push_back(ssr_name + ": " + std::to_string(n) + " receiver message(s) beside the SSR ones (" + types +
+                        (also_navigation ? "): its ephemerides are read as navigation input (--nav)"
+                                         : "): not read from the SSR input; give the file as --nav too to use its "
+                                           "ephemerides"));
+  }
   if (stream.counters.repeated_signals > 0)
     out.notes.push_back(ssr_name + ": " + std::to_string(stream.counters.repeated_signals) +
                         " bias value(s) of a signal id sent twice for one satellite, the first of each kept; first: " +
@@ -179,7 +193,8 @@ void noteSsrStream(const std::string& ssr_name, const SsrStreamFile& stream, con
 void addSsrCorrections(const std::string& ssr, const NavigationInputs& in,
                        std::optional<EphemerisReference> ssr_reference, SsrAgeLimits limits,
                        BroadcastFallbackOptions fallback_options,
-                       const std::optional<ObservationSpan>& observation_span, BroadcastProducts& out) {
+                       const std::optional<ObservationSpan>& observation_span, bool ssr_in_nav,
+                       BroadcastProducts& out) {
   const SsrStreamFile stream = readSsrStreamFile(ssr, in.reference_time);
   auto store = std::make_shared<SsrCorrectionStore>(limits);
   for (const auto& m : stream.messages) store->add(m);
@@ -203,7 +218,7 @@ void addSsrCorrections(const std::string& ssr, const NavigationInputs& in,
                       std::to_string(stream.summary.messages) + " messages; orbits at the " +
                       std::string(ephemerisReferenceName(options.reference)) +
                       (ssr_reference ? ", as given" : from_name ? ", from the stream name" : ", by default") + ")");
-  noteSsrStream(fileBaseName(ssr), stream, *store, *eph, out);
+  noteSsrStream(fileBaseName(ssr), stream, *store, *eph, ssr_in_nav, out);
   noteStaleCorrections(*fallback, *store, fileBaseName(ssr), observation_span, out.notes);
   if (store->codeBiasCount() > 0 || store->phaseBiasCount() > 0)
     out.ssr_biases = std::make_shared<SsrBiasProvider>(
@@ -235,7 +250,8 @@ BroadcastProducts loadBroadcastProducts(const std::vector<std::string>& nav, con
     return out;
   }
   // 4. With one: the records corrected by SSR, with the broadcast fallback.
-  addSsrCorrections(*ssr, in, ssr_reference, limits, std::move(fallback_options), observation_span, out);
+  const bool ssr_in_nav = std::find(nav.begin(), nav.end(), *ssr) != nav.end();
+  addSsrCorrections(*ssr, in, ssr_reference, limits, std::move(fallback_options), observation_span, ssr_in_nav, out);
   return out;
 }
 

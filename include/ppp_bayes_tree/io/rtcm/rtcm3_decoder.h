@@ -86,6 +86,10 @@ class Rtcm3Decoder {
 
   explicit Rtcm3Decoder(Rtcm3DecoderOptions options = {});
 
+  /// True for the message types decodeFrame() reads or knowingly skips
+  /// (observations, ephemerides, station and antenna messages, 1013, 1230).
+  static bool readsMessageType(int message_type);
+
   void setForeignFrameHandler(ForeignFrameHandler handler) { foreign_ = std::move(handler); }
   /// Called after each frame fed has been decoded, and at the end of finish()
   /// (callers that stamp results with the stream time, io/transport/gnss_stream_decoder.h).

@@ -106,6 +106,9 @@ struct SsrStreamFile {
   std::vector<SsrMessage> messages;
   StreamCounters counters;
   SsrStreamSummary summary;
+  /// Receiver messages beside the SSR ones (ephemerides, observations, station:
+  /// types a receiver stream's decoder reads), per type: not used here, not problems.
+  std::map<int, std::uint64_t> receiver_messages_by_type;
 };
 /// Reads a file (throws FileOpenError when it cannot be opened).
 SsrStreamFile readSsrStreamFile(const std::string& path, std::optional<GnssTime> reference_time);

@@ -1,5 +1,7 @@
 #include "ppp_bayes_tree/io/rtcm/rtcm3_decoder.h"
 
+#include <algorithm>
+
 #include <array>
 #include <cmath>
 #include <iterator>
@@ -195,6 +197,12 @@ void Rtcm3Decoder::finish() {
 void Rtcm3Decoder::problem(StreamProblemKind kind, const Rtcm3Frame& frame, std::string detail) {
   framer_.counters().add(
       StreamProblem{kind, frame.byte_offset, frame.frame_index, frame.message_type, std::move(detail)});
+}
+
+bool Rtcm3Decoder::readsMessageType(int message_type) {
+  if (const auto msm = msmTypeInfo(message_type)) return msm->second >= 4 && msm->first != GnssSystem::IRNSS;
+  constexpr int kOthers[] = {1005, 1006, 1007, 1008, 1033, 1019, 1044, 1020, 1042, 1045, 1046, 1230, 1013};
+  return std::find(std::begin(kOthers), std::end(kOthers), message_type) != std::end(kOthers);
 }
 
 void Rtcm3Decoder::decodeFrame(const Rtcm3Frame& frame) {

@@ -7,6 +7,7 @@
 
 #include "ppp_bayes_tree/io/bit_reader.h"
 #include "ppp_bayes_tree/io/parse_error.h"
+#include "ppp_bayes_tree/io/rtcm/rtcm3_decoder.h"
 #include "ppp_bayes_tree/io/bias_bounds.h"
 #include "rtcm_ssr_layout.h"
 
@@ -303,7 +304,10 @@ SsrStreamFile decodeSsrStream(const std::uint8_t* data, std::size_t size, std::o
   RtcmSsrDecoder decoder(reference_time);
   StreamCounters unknown;
   const auto on_frame = [&](const Rtcm3Frame& f) {
-    if (!decoder.decode(f)) {
+    if (decoder.decode(f)) return;
+    if (Rtcm3Decoder::readsMessageType(f.message_type)) {
+      ++out.receiver_messages_by_type[f.message_type];
+    } else {
       StreamProblem p;
       p.kind = StreamProblemKind::UnknownMessage;
       p.byte_offset = f.byte_offset;

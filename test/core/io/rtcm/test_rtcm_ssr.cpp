@@ -272,13 +272,15 @@ TEST(RtcmSsrDecoderBadInput, UnknownTypesTruncatedMessagesAndMissingWeekAreCount
                              encodeRtcm3Frame(truncated), encodeSsrFrame(good)});
   const SsrStreamFile got = decodeSsrStream(bytes.data(), bytes.size(), ref);
   EXPECT_EQ(got.messages.size(), 2u);  // the good ones go on
-  EXPECT_EQ(got.counters.count(StreamProblemKind::UnknownMessage), 2u);
+  // The station message is a receiver's (counted apart, no problem); the IGS-SSR sub-type is unknown.
+  EXPECT_EQ(got.receiver_messages_by_type, (std::map<int, std::uint64_t>{{1005, 1}}));
+  EXPECT_EQ(got.counters.count(StreamProblemKind::UnknownMessage), 1u);
   EXPECT_EQ(got.counters.count(StreamProblemKind::MalformedMessage), 1u);
-  bool saw_station = false, saw_truncated = false;
+  bool saw_igs_subtype = false, saw_truncated = false;
   for (const auto& p : got.counters.problems) {
-    if (p.kind == StreamProblemKind::UnknownMessage && p.message_type == 1005) {
-      saw_station = true;
-      EXPECT_EQ(p.frame_index, 1u);
+    if (p.kind == StreamProblemKind::UnknownMessage && p.message_type == 4076) {
+      saw_igs_subtype = true;
+      EXPECT_EQ(p.frame_index, 2u);
     }
     if (p.kind == StreamProblemKind::MalformedMessage) {
       saw_truncated = true;
@@ -287,7 +289,7 @@ TEST(RtcmSsrDecoderBadInput, UnknownTypesTruncatedMessagesAndMissingWeekAreCount
       EXPECT_NE(p.describe().find("byte "), std::string::npos);
     }
   }
-  EXPECT_TRUE(saw_station);
+  EXPECT_TRUE(saw_igs_subtype);
   EXPECT_TRUE(saw_truncated);
 
   // Without a reference time the epoch cannot be placed: counted, values kept.
