@@ -692,5 +692,37 @@ TEST(LiveGnssInput, AnEpochGoesOutWithTheArrivalOfItsLastMsmFrame) {
   EXPECT_TRUE(live.finish().empty());
 }
 
+// A Galileo HAS internet-distribution stream as the live correction stream
+// (test/fixtures/ssr/README.md, the first 20 s of the OBE4 recording): its
+// code biases, re-sent with the epoch of their issue 12 h before, are in force
+// from their arrival as in ppp_solve, counted per stream; its ephemerides are
+// read from the same stream.
+TEST(LiveGnssInput, HasIddStreamCodeBiasesReSentWithAnOldEpochAreInForceFromTheirArrival) {
+  std::ifstream in(test::fixturePath("ssr/has_idd_20230817_0159.rtcm3"), std::ios::binary);
+  const std::vector<std::uint8_t> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  ASSERT_EQ(bytes.size(), 7147u);
+  LiveInputOptions options;
+  options.reference_time = test::gpst(2023, 8, 17);
+  LiveGnssInput live(options);
+  // In chunks of 500 bytes, as a caster's TCP segments arrive.
+  for (std::size_t i = 0; i < bytes.size(); i += 500) {
+    const std::vector<std::uint8_t> chunk(bytes.begin() + static_cast<std::ptrdiff_t>(i),
+                                          bytes.begin() + static_cast<std::ptrdiff_t>(std::min(bytes.size(), i + 500)));
+    live.feed(StreamChunk{"HAS_IDD", StreamFormat::Rtcm3, chunk, 1000.0 + static_cast<double>(i) / 1000.0});
+  }
+  live.takeReadyEpochs(1010.0);
+  ASSERT_EQ(live.streams().size(), 1u);
+  const LiveStreamStatus& st = live.streams().front();
+  EXPECT_EQ(st.ssr_messages, 8u);
+  EXPECT_EQ(st.ssr_code_biases_resent, live.corrections().staleCodeBiasMessages());
+  EXPECT_EQ(st.ssr_code_biases_resent, 3u);  // as in ppp_solve (test_ssr_conventions_real_data)
+  EXPECT_EQ(st.problems.totalProblems(), 0u);
+  EXPECT_EQ(live.navigationRecords(), 51u);
+  const auto g02 = live.corrections().codeBias({GnssSystem::GPS, 2}, test::gpst(2023, 8, 17, 1, 59, 30));
+  ASSERT_TRUE(g02) << g02.reason;
+  EXPECT_EQ(g02.entry->t0, test::gpst(2023, 8, 16, 14, 0, 21));
+  EXPECT_EQ(g02.entry->in_force_from, test::gpst(2023, 8, 17, 1, 59, 12));
+}
+
 }  // namespace
 }  // namespace ppp
