@@ -41,7 +41,11 @@
 // --outage-every-s S (default 300) after the first fix (--outage-keeps-lock: the
 // receiver keeps its lock through them, same ambiguities), readings at --imu-rate HZ
 // (default 100; --ideal-imu: the true readings, no noise and no bias, to see what
-// the filter's own state at an outage's start costs), run by ekf and ekf_ins; writes
+// the filter's own state at an outage's start costs), run by the estimators of
+// --outage-estimators LIST (comma-separated registry names, default
+// ekf,ekf_ins,smoother_ins; each scored on its filtered solution, smoother_ins's
+// from the fixed-lag smoother of --smoother-lag; ekf,ekf_ins takes two thirds of
+// the time); writes
 // DIR/ins_outages.md (horizontal error at the outage end, the coast from the truth
 // through the same readings, re-fix time, fix kept,
 // roll/pitch/heading RMS, held integers against the truth per estimator, fixed epochs
@@ -80,7 +84,7 @@ int usage(const std::string& why) {
             << "                       [--ambiguity-resolution] [--systems G|GE]\n"
             << "                       [--configurations all|gps_float,gps_ar,gps_galileo_float,gps_galileo_ar]\n"
             << "                       [--imu consumer|industrial|tactical [--outage-s 30] [--outage-every-s 300]\n"
-            << "                        [--outage-keeps-lock] [--ideal-imu]\n"
+            << "                        [--outage-keeps-lock] [--ideal-imu] [--outage-estimators ekf,ekf_ins,smoother_ins]\n"
             << "                        [--imu-rate 100] [--gap-bridge-max-s 6]]\n";
   return 2;
 }
@@ -194,6 +198,7 @@ int main(int argc, char** argv) {
   bool outage_keeps_lock = false;
   bool ideal_imu = false;
   std::optional<double> gap_bridge_max_s;
+  std::optional<std::vector<std::string>> outage_estimators;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "--fixed-origin") {
@@ -249,6 +254,15 @@ int main(int argc, char** argv) {
     else if (a == "--gap-bridge-max-s") {
       if (!parseNumber(v, x) || x < 0.0 || x > 3600.0) return usage("--gap-bridge-max-s must be in [0, 3600] s");
       gap_bridge_max_s = x;
+    }
+    else if (a == "--outage-estimators") {
+      std::vector<std::string> names;
+      std::stringstream ss(v);
+      std::string name;
+      while (std::getline(ss, name, ',')) names.push_back(name);
+      if (const std::string why = ppp::insOutageEstimatorsProblem(names); !why.empty())
+        return usage("--outage-estimators: " + why);
+      outage_estimators = names;
     }
     else if (a == "--outage-every-s") {
       if (!parseNumber(v, x) || !(x > 0.0)) return usage("--outage-every-s must be > 0 s");
@@ -316,6 +330,7 @@ int main(int argc, char** argv) {
 
   if (ideal_imu && !imu_grade) return usage("--ideal-imu needs --imu");
   if (gap_bridge_max_s && !imu_grade) return usage("--gap-bridge-max-s needs --imu");
+  if (outage_estimators && !imu_grade) return usage("--outage-estimators needs --imu");
   if (imu_grade) {
     if (configurations.size() > 1) return usage("--imu runs one configuration");
     ppp::InsOutageStudyOptions ins;
@@ -327,6 +342,7 @@ int main(int argc, char** argv) {
     ins.imu_errors = !ideal_imu;
     ins.imu_rate_hz = imu_rate_hz;
     if (gap_bridge_max_s) ins.flights.ppp.ins.gap_bridge_max_s = *gap_bridge_max_s;
+    if (outage_estimators) ins.estimators = *outage_estimators;
     if (!(outage_s < outage_every_s)) return usage("--outage-s must be shorter than --outage-every-s");
     return runInsStudy(ins, out) ? 0 : 1;
   }

@@ -118,6 +118,7 @@ TEST(InsSlipRepair, RepairedArcsTruthFollowsTheSimulatorsWindup) {
   o.flights = withConfiguration(o.flights, *findMonteCarloConfiguration("gps_galileo_ar"));
   o.flights.ppp.stochastic.zwd_per_sqrt_height_m_per_sqrt_m = 0.0;
   o.flights.ppp.ins.gap_bridge_max_s = 61.0;
+  o.estimators = {"ekf", "ekf_ins"};
   const InsOutageFlight flight = runInsOutageFlight(o, 6);
   ASSERT_TRUE(flight.failure.empty()) << flight.failure;
   ASSERT_TRUE(flight.first_fix_s);

@@ -5,13 +5,17 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <set>
 #include <sstream>
+#include <stdexcept>
 #include <thread>
 
 #include "ppp_bayes_tree/evaluation/ins_coast_from_truth.h"
 #include "ppp_bayes_tree/navigation/ins_alignment.h"
 #include "ppp_bayes_tree/navigation/so3.h"
+#include "ppp_bayes_tree/ppp/estimators/estimator_registry.h"
 #include "ppp_bayes_tree/ppp/estimators/ppp_ins_ekf.h"
+#include "ppp_bayes_tree/ppp/estimators/ppp_ins_smoother.h"
 #include "ppp_bayes_tree/simulation/gnss_simulator.h"
 #include "ppp_bayes_tree/simulation/simulated_imu.h"
 #include "ppp_bayes_tree/types/constants.h"
@@ -49,7 +53,19 @@ SimulationConfig outageSimulation(const InsOutageStudyOptions& o, const MonteCar
   return c;
 }
 
-/// The GNSS/INS filter's start from the truth of the first epoch moved by the study's errors.
+/// Whether the registered estimator has inertial states (EstimatedState::GnssInertial):
+/// it takes the IMU and the study's start (insConfig), and is scored with its coast
+/// and attitude.
+bool hasInertialStates(const EstimatorEntry& entry) { return entry.state == EstimatedState::GnssInertial; }
+
+/// The registered estimator `name` (insOutageEstimatorsProblem has checked the names).
+const EstimatorEntry& studiedEntry(const std::string& name) {
+  const EstimatorEntry* entry = findEstimator(name);
+  if (!entry) throw std::invalid_argument(insOutageEstimatorsProblem({name}));
+  return *entry;
+}
+
+/// The GNSS/INS estimator's start from the truth of the first epoch moved by the study's errors.
 PppConfig insConfig(PppConfig c, const SimulatedFlight& f, const InsOutageStudyOptions& o) {
   const TrajectorySample& first = f.truth.front().trajectory;
   c.ins.noise = f.imu.noise;
@@ -57,6 +73,24 @@ PppConfig insConfig(PppConfig c, const SimulatedFlight& f, const InsOutageStudyO
       ecefFromBody(first) * so3::expMap(Eigen::Vector3d::Constant(o.start_attitude_error_rad));
   c.ins.initial_velocity_ecef_mps = first.velocity_ecef_mps + Eigen::Vector3d::Constant(o.start_velocity_error_mps);
   return c;
+}
+
+/// Estimator `entry`'s configuration on flight `f` (config: the flight's): with inertial
+/// states, the study's start (insConfig); one that smooths, the Monte Carlo study's fixed
+/// lag for its filtered solution (MonteCarloOptions::smoother_filtered_lag_s; 0: the config's).
+PppConfig estimatorConfig(const PppConfig& config, const SimulatedFlight& f, const EstimatorEntry& entry,
+                          const InsOutageStudyOptions& o) {
+  PppConfig c = hasInertialStates(entry) ? insConfig(config, f, o) : config;
+  if (entry.smoothed() && o.flights.smoother_filtered_lag_s > 0.0) c.smoother.fixed_lag_s = o.flights.smoother_filtered_lag_s;
+  return c;
+}
+
+/// The antenna position the INS prediction of this epoch gave (before the update) of an
+/// estimator with inertial states; nullopt for another estimator.
+std::optional<Eigen::Vector3d> insPredictedAntenna_m(const PppEstimator& e) {
+  if (const auto* ekf = dynamic_cast<const PppInsEkf*>(&e)) return ekf->predictedAntennaPosition();
+  if (const auto* smoother = dynamic_cast<const PppInsSmoother*>(&e)) return smoother->predictedAntennaPosition();
+  return std::nullopt;
 }
 
 /// Roll, pitch and heading of the estimate minus the truth's.
@@ -74,24 +108,26 @@ std::optional<double> insFirstFix_s(const SimulatedFlight& f, const PppConfig& c
   return f.epochs[static_cast<std::size_t>(first - track.fixed.begin())].time - f.epochs.front().time;
 }
 
-/// Runs one estimator and records its predictions, fixes and attitude errors.
-EpochTrack trackEpochs(const SimulatedFlight& f, const PppConfig& config, const std::string& name,
+/// Runs one estimator and records, per epoch, its prediction, whether its filtered
+/// solution is fixed and (with inertial states) its attitude errors.
+EpochTrack trackEpochs(const SimulatedFlight& f, const PppConfig& config, const EstimatorEntry& entry,
                        const InsOutageStudyOptions& o, HeldIntegerCheck& held) {
   EpochTrack t;
   const std::size_t n = f.epochs.size();
   t.predicted_m.assign(n, std::nullopt);
   t.attitude_scored.assign(n, 0);
   t.attitude_error_rad.assign(n, Eigen::Vector3d::Zero());
+  const bool inertial = hasInertialStates(entry);
   std::optional<Eigen::Vector3d> last_solution;
   const FlightEstimatorTrack track = trackEstimatorOnFlight(
-      f, config, name, [&](std::size_t k, const PppEpochRecord& rec, const PppEstimator& e) {
-        const auto* ins = dynamic_cast<const PppInsEkf*>(&e);
-        t.predicted_m[k] = ins ? ins->predictedAntennaPosition() : last_solution;
+      f, config, std::string(entry.name), [&](std::size_t k, const PppEpochRecord& rec, const PppEstimator& e) {
+        t.predicted_m[k] = inertial ? insPredictedAntenna_m(e) : last_solution;
         if (rec.solution.position_ecef_m) last_solution = rec.solution.position_ecef_m;
         const double since_start_s = f.epochs[k].time - f.epochs.front().time;
-        if (ins && ins->navTime() && since_start_s >= o.alignment_s) {
+        if (!inertial || since_start_s < o.alignment_s) return;
+        if (const std::optional<InertialState> s = e.inertialState()) {
           t.attitude_scored[k] = 1;
-          t.attitude_error_rad[k] = attitudeError_rad(ins->navState(), f.truth[k].trajectory);
+          t.attitude_error_rad[k] = attitudeError_rad(s->nav, f.truth[k].trajectory);
         }
       });
   t.fixed = track.fixed;
@@ -169,7 +205,30 @@ std::string rmsDeg(double sum_sq_rad2, std::size_t count) {
   return count ? number(std::sqrt(sum_sq_rad2 / static_cast<double>(count)) * kRadToDeg, 3) : "-";
 }
 
+/// What the table says of the smoothers' filtered solution; empty without a smoother.
+std::string smootherLagText(const InsOutageStudyOptions& o) {
+  const bool smoother = std::any_of(o.estimators.begin(), o.estimators.end(), [](const std::string& name) {
+    const EstimatorEntry* entry = findEstimator(name);
+    return entry && entry->smoothed();
+  });
+  if (!smoother) return {};
+  const double lag_s = o.flights.smoother_filtered_lag_s;
+  return std::string(" (a smoother's: its estimate of the newest state as that epoch was solved, ") +
+         (lag_s > 0.0 ? "fixed lag " + number(lag_s, 0) + " s" : "the whole graph kept") + "; not its smoothed solution)";
+}
+
 }  // namespace
+
+std::string insOutageEstimatorsProblem(const std::vector<std::string>& names) {
+  const std::string registered = " (registered: " + registeredEstimatorNames() + ")";
+  if (names.empty()) return "no estimator given" + registered;
+  std::set<std::string> seen;
+  for (const std::string& name : names) {
+    if (!findEstimator(name)) return "unknown estimator '" + name + "'" + registered;
+    if (!seen.insert(name).second) return "estimator '" + name + "' given twice";
+  }
+  return {};
+}
 
 void InsOutageFigures::add(const InsOutageFigures& o) {
   outage_end_horizontal_m.insert(outage_end_horizontal_m.end(), o.outage_end_horizontal_m.begin(),
@@ -200,11 +259,11 @@ InsOutageFlight runInsOutageFlight(const InsOutageStudyOptions& options, int ind
     out.first_fix_s = insFirstFix_s(clear, insConfig(clear_config, clear, options));
     const SimulatedFlight f = simulateFlight(outageSimulation(options, out.setup, out.first_fix_s), out.setup.seed);
     const PppConfig config = flightPppConfig(options.flights.ppp, f);
-    for (const std::string& name : insOutageEstimators()) {
+    for (const std::string& name : options.estimators) {
+      const EstimatorEntry& entry = studiedEntry(name);
       InsOutageFigures fig;
-      const PppConfig c = name == "ekf_ins" ? insConfig(config, f, options) : config;
-      const EpochTrack t = trackEpochs(f, c, name, options, fig.held_check);
-      scoreOutages(f, t, name == "ekf_ins", fig);
+      const EpochTrack t = trackEpochs(f, estimatorConfig(config, f, entry, options), entry, options, fig.held_check);
+      scoreOutages(f, t, hasInertialStates(entry), fig);
       scoreAttitude(t, fig);
       fig.fixed_epochs_over_threshold = t.fixed_over_threshold;
       out.estimators.push_back(std::move(fig));
@@ -218,6 +277,8 @@ InsOutageFlight runInsOutageFlight(const InsOutageStudyOptions& options, int ind
 }
 
 InsOutageStudy runInsOutageStudy(const InsOutageStudyOptions& options) {
+  if (const std::string problem = insOutageEstimatorsProblem(options.estimators); !problem.empty())
+    throw std::invalid_argument("GNSS/INS outage study: " + problem);
   InsOutageStudy study;
   study.options = options;
   const int n = options.flights.flights;
@@ -234,7 +295,7 @@ InsOutageStudy runInsOutageStudy(const InsOutageStudyOptions& options) {
         study.flights[static_cast<std::size_t>(k)] = runInsOutageFlight(options, options.flights.first_flight + k);
     });
   for (auto& t : pool) t.join();
-  study.total.assign(insOutageEstimators().size(), InsOutageFigures{});
+  study.total.assign(options.estimators.size(), InsOutageFigures{});
   for (const auto& f : study.flights) {
     if (!f.failure.empty()) {
       ++study.failed;
@@ -255,7 +316,8 @@ std::string insOutageMarkdown(const InsOutageStudy& study) {
     << (o.imu_errors ? "" : " (true readings: no noise, no bias)") << "; " << study.flights.size()
     << " flights (" << study.failed << " failed), " << number(o.flights.duration_s / 60.0, 0)
     << " min each; outages counted after each estimator's first fix; attitude after " << number(o.alignment_s, 0)
-    << " s.\n";
+    << " s. Every row scores the estimator's filtered (real-time) solution of each epoch"
+    << smootherLagText(o) << ".\n";
   std::vector<double> first_fix_s;
   int never_fixed = 0;
   for (const auto& f : study.flights) {
@@ -275,7 +337,7 @@ std::string insOutageMarkdown(const InsOutageStudy& study) {
   for (std::size_t e = 0; e < study.total.size(); ++e) {
     const InsOutageFigures& f = study.total[e];
     const long never = std::count_if(f.refix_s.begin(), f.refix_s.end(), [](double v) { return std::isinf(v); });
-    s << "| " << insOutageEstimators()[e] << " | " << f.first_fixes << " | " << f.outages_counted << " | "
+    s << "| " << o.estimators[e] << " | " << f.first_fixes << " | " << f.outages_counted << " | "
       << number(median(f.outage_end_horizontal_m), 2) << " | "
       << (f.truth_coast_horizontal_m.empty() ? "-" : number(median(f.truth_coast_horizontal_m), 2)) << " | "
       << number(median(f.refix_s), 0) << " (" << never
@@ -296,7 +358,7 @@ std::string insOutageWrongHoldsCsv(const InsOutageStudy& study) {
   for (const InsOutageFlight& f : study.flights)
     for (std::size_t e = 0; e < f.estimators.size(); ++e)
       for (const WrongHold& w : f.estimators[e].held_check.wrong_holds)
-        s << f.setup.index << ',' << insOutageEstimators()[e] << ',' << number(w.time_s, 0) << ','
+        s << f.setup.index << ',' << study.options.estimators[e] << ',' << number(w.time_s, 0) << ','
           << w.satellite.toString() << ',' << w.reference_satellite.toString() << ',' << w.wide_lane_cycles << ','
           << w.true_wide_lane_cycles << ',' << w.held_cycles << ',' << number(w.true_cycles, 3) << ','
           << number(w.float_cycles, 3) << ',' << number(w.sigma_cycles, 3) << ',' << number(w.ratio, 2) << ','

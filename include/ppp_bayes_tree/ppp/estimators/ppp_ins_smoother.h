@@ -127,6 +127,11 @@ class PppInsSmoother : public PppSmoother {
   std::optional<Matrix15d> errorCovariance() const;
   /// The antenna position of navState(), ECEF [m].
   std::optional<Eigen::Vector3d> antennaPosition() const;
+  /// The antenna position this epoch's prediction gave (the NavState of the newest
+  /// state carried by the readings since, before the update), ECEF [m]: after a GNSS
+  /// outage, the coasting position at its end (as PppInsEkf::predictedAntennaPosition);
+  /// nullopt at a start, before the NavState and at an epoch not predicted.
+  const std::optional<Eigen::Vector3d>& predictedAntennaPosition() const { return predicted_antenna_m_; }
   /// The smoothed NavState of state `index` while it is in the graph.
   std::optional<NavState> smoothedNavState(std::uint32_t index) const;
   const InsEkfOptions& insOptions() const { return ins_; }
@@ -195,6 +200,7 @@ class PppInsSmoother : public PppSmoother {
   std::optional<std::pair<NoSolutionReason, std::string>> epoch_problem_;
   std::optional<NavState> nav_;            // see navState()
   std::optional<GnssTime> nav_time_;       // see navTime()
+  std::optional<Eigen::Vector3d> predicted_antenna_m_;  // see predictedAntennaPosition()
   ImuBias bias_;
   std::optional<NavState> last_nav_;       // the newest state's estimate, read at this epoch's prediction
   ImuBias last_bias_;

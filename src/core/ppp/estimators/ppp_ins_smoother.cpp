@@ -200,6 +200,7 @@ std::optional<NavState> PppInsSmoother::smoothedNavState(std::uint32_t index) co
 void PppInsSmoother::receiveEpochInput(const EstimatorEpochInput& input) {
   epoch_time_ = input.time;
   epoch_problem_.reset();
+  predicted_antenna_m_.reset();
   input_readings_.clear();
   if (!input.imu) return;
   input_readings_ = *input.imu;
@@ -339,6 +340,7 @@ ReceiverState PppInsSmoother::predict(double dt_s, bool first, const std::option
   nav_time_ = epoch_time_;
   bias_ = last_bias_;
   predicted.position_ecef_m = AntennaPositionFactor::antennaOf(*nav_, ins_.lever_arm_body_m);
+  predicted_antenna_m_ = predicted.position_ecef_m;
   return predicted;
 }
 
