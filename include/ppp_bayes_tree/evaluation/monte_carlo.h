@@ -292,14 +292,15 @@ MonteCarloResult runMonteCarlo(const MonteCarloOptions& options,
 /// (errors.ambiguity.satellite_phase_biases, published as phase OSBs), so that
 /// the float and the AR study of a system set run on the SAME observations
 /// (the float biases absorb the constant UPDs) and differ only in the fixing.
-/// The products are the truth (errors.products off): the simulator's product
-/// errors (orbit and clock errors drawn independently per satellite, 5 cm each)
-/// are not consistent with the published phase biases, as the clocks of an
-/// integer-clock analysis centre are (they absorb the radial orbit error and
-/// are estimated with the phase biases): with them the true single-difference
-/// narrow lanes are off integers by up to half a cycle and more, and the
-/// resolver holds wrong integers (seed 7, 4 flights of 30 min, gps_ar with
-/// product errors: 6 of 6 holds wrong by 1-4 cycles; without: 0 of 40).
+/// The products are the truth (errors.products off) unless their errors are
+/// drawn as an analysis centre's (errors.products.model analysis_centre: the
+/// clocks absorb the radial orbit error, so code and phase see the same small
+/// range error and the published phase biases stay consistent). The independent
+/// model's errors (orbit and clock drawn apart per satellite, 5 cm each) are not
+/// consistent with the published phase biases: with them the true
+/// single-difference narrow lanes are off integers by up to half a cycle and
+/// more, and the resolver holds wrong integers (seed 7, 4 flights of 30 min,
+/// gps_ar with those errors: 6 of 6 holds wrong by 1-4 cycles; without: 0 of 40).
 struct MonteCarloConfiguration {
   std::string name;  // gps_float, gps_ar, gps_galileo_float, gps_galileo_ar
   std::vector<GnssSystem> systems;

@@ -117,10 +117,27 @@ struct ErrorModelConfig {
   /// error vector e ~ N(0, orbit_sigma^2) per ECEF component and a clock error
   /// c ~ N(0, clock_sigma^2) [m], each multiplied by a random linear scale over
   /// the flight 1 + k (t - t_mid) / T, k uniform in +-scale_half_range.
+  /// How the product errors are drawn.
+  enum class ProductErrorModel {
+    /// Orbit error per ECEF component and clock error drawn independently
+    /// (orbit_sigma_m, clock_sigma_m).
+    Independent,
+    /// As an analysis centre's products err: the orbit error in the satellite's
+    /// radial / along-track / cross-track frame, and the clock estimated with the
+    /// orbit absorbing its radial part (clock error = radial error + a residual):
+    /// what stays in the range is (cos(nadir) - 1) dr + the along/cross part
+    /// projected (sin(nadir) <= 0.24) + the residual.
+    AnalysisCentre,
+  };
   struct Products {
     bool enabled = true;
-    double orbit_sigma_m = 0.05;
-    double clock_sigma_m = 0.05;
+    ProductErrorModel model = ProductErrorModel::Independent;
+    double orbit_sigma_m = 0.05;           // Independent: per ECEF component [m]
+    double clock_sigma_m = 0.05;           // Independent: clock [m of c dt]
+    double radial_sigma_m = 0.025;         // AnalysisCentre [m]
+    double along_sigma_m = 0.035;          // AnalysisCentre [m]
+    double cross_sigma_m = 0.025;          // AnalysisCentre [m]
+    double clock_residual_sigma_m = 0.006; // AnalysisCentre: clock error beyond the radial [m]
     double scale_half_range = 0.5;
   } products;
 

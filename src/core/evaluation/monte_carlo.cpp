@@ -667,7 +667,9 @@ const MonteCarloConfiguration* findMonteCarloConfiguration(const std::string& na
 MonteCarloOptions withConfiguration(MonteCarloOptions options, const MonteCarloConfiguration& configuration) {
   options.simulation.systems = configuration.systems;
   options.simulation.errors.ambiguity.satellite_phase_biases = true;
-  options.simulation.errors.products.enabled = false;  // products consistent with the phase biases (monte_carlo.h)
+  // Products consistent with the phase biases (monte_carlo.h): the truth, or an analysis centre's errors.
+  if (options.simulation.errors.products.model != ErrorModelConfig::ProductErrorModel::AnalysisCentre)
+    options.simulation.errors.products.enabled = false;
   options.ppp.ambiguity_resolution.enabled = configuration.ambiguity_resolution;
   return options;
 }

@@ -1,9 +1,11 @@
 #include "ppp_bayes_tree/simulation/gnss_simulator.h"
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <map>
+#include <optional>
 #include <stdexcept>
 
 #include "ppp_bayes_tree/io/line_source.h"
@@ -123,24 +125,21 @@ void avoidSp3ZeroMarker(Sp3File& sp3) {
 }
 
 struct ProductErrorSet {
-  Eigen::Vector3d orbit_m = Eigen::Vector3d::Zero();
-  double clock_m = 0.0;
-  double orbit_scale = 0.0, clock_scale = 0.0;  // k of 1 + k (t - t_mid) / T
+  Eigen::Vector3d orbit_m = Eigen::Vector3d::Zero();  // Independent: ECEF; AnalysisCentre: radial, along, cross
+  double clock_m = 0.0;                               // Independent: all of it; AnalysisCentre: the residual
+  double orbit_scale = 0.0, clock_scale = 0.0;        // k of 1 + k (t - t_mid) / T
 };
 
-TruthProducts applyProductErrors(const TruthProducts& truth, const ErrorModelConfig::Products& cfg,
-                                 RandomStream rng, const GnssTime& t_mid, double span_s,
-                                 DrawnParameters& drawn) {
-  TruthProducts out = truth;
-  if (!cfg.enabled) return out;
-  std::map<SatelliteId, ProductErrorSet> errors;
-  std::set<SatelliteId> sats;
-  for (const auto& [sat, recs] : truth.orbits.satellites) sats.insert(sat);
-  for (const auto& [sat, recs] : truth.clocks.satellite_clocks) sats.insert(sat);
-  double sum_orbit = 0.0, sum_clock = 0.0;
-  for (const auto& sat : sats) {
-    RandomStream r = rng.derive(static_cast<std::uint64_t>(sat.index()));
-    ProductErrorSet e;
+/// Step a of the product errors: one set per satellite, drawn by the model.
+ProductErrorSet drawProductErrors(const ErrorModelConfig::Products& cfg, RandomStream r) {
+  ProductErrorSet e;
+  if (cfg.model == ErrorModelConfig::ProductErrorModel::AnalysisCentre) {
+    const double radial_m = r.normal(cfg.radial_sigma_m);
+    const double along_m = r.normal(cfg.along_sigma_m);
+    const double cross_m = r.normal(cfg.cross_sigma_m);
+    e.orbit_m = Eigen::Vector3d(radial_m, along_m, cross_m);
+    e.clock_m = r.normal(cfg.clock_residual_sigma_m);
+  } else {
     // One draw per statement: the order of a call's arguments is unspecified, so three
     // draws as constructor arguments gave other errors with another compiler. The order
     // z, y, x is the one of the existing simulated data sets.
@@ -149,25 +148,77 @@ TruthProducts applyProductErrors(const TruthProducts& truth, const ErrorModelCon
     const double orbit_x_m = r.normal(cfg.orbit_sigma_m);
     e.orbit_m = Eigen::Vector3d(orbit_x_m, orbit_y_m, orbit_z_m);
     e.clock_m = r.normal(cfg.clock_sigma_m);
-    e.orbit_scale = r.uniform(-cfg.scale_half_range, cfg.scale_half_range);
-    e.clock_scale = r.uniform(-cfg.scale_half_range, cfg.scale_half_range);
+  }
+  e.orbit_scale = r.uniform(-cfg.scale_half_range, cfg.scale_half_range);
+  e.clock_scale = r.uniform(-cfg.scale_half_range, cfg.scale_half_range);
+  return e;
+}
+
+/// The satellite's radial / along-track / cross-track axes (columns) at record i, the
+/// velocity from the neighbouring records where the record has none.
+std::optional<Eigen::Matrix3d> radialAlongCross(const std::vector<Sp3Record>& recs, std::size_t i) {
+  const Eigen::Vector3d& r = *recs[i].position_ecef_m;
+  Eigen::Vector3d v;
+  if (recs[i].velocity_ecef_mps) {
+    v = *recs[i].velocity_ecef_mps;
+  } else {
+    const std::size_t a = i > 0 ? i - 1 : i, b = i + 1 < recs.size() ? i + 1 : i;
+    if (a == b || !recs[a].position_ecef_m || !recs[b].position_ecef_m) return std::nullopt;
+    v = (*recs[b].position_ecef_m - *recs[a].position_ecef_m) / (recs[b].time - recs[a].time);
+  }
+  Eigen::Matrix3d rac;
+  rac.col(0) = r.normalized();
+  rac.col(2) = r.cross(v).normalized();
+  rac.col(1) = rac.col(2).cross(rac.col(0));
+  return rac;
+}
+
+TruthProducts applyProductErrors(const TruthProducts& truth, const ErrorModelConfig::Products& cfg,
+                                 RandomStream rng, const GnssTime& t_mid, double span_s,
+                                 DrawnParameters& drawn) {
+  TruthProducts out = truth;
+  if (!cfg.enabled) return out;
+  const bool centre = cfg.model == ErrorModelConfig::ProductErrorModel::AnalysisCentre;
+  std::map<SatelliteId, ProductErrorSet> errors;
+  std::set<SatelliteId> sats;
+  for (const auto& [sat, recs] : truth.orbits.satellites) sats.insert(sat);
+  for (const auto& [sat, recs] : truth.clocks.satellite_clocks) sats.insert(sat);
+  double sum_orbit = 0.0, sum_clock = 0.0;
+  for (const auto& sat : sats) {
+    const ProductErrorSet e = drawProductErrors(cfg, rng.derive(static_cast<std::uint64_t>(sat.index())));
+    const double clock_m = centre ? e.orbit_m(0) + e.clock_m : e.clock_m;
     sum_orbit += e.orbit_m.squaredNorm() / 3.0;
-    sum_clock += e.clock_m * e.clock_m;
+    sum_clock += clock_m * clock_m;
     errors[sat] = e;
   }
   drawn.orbit_error_rms_m = sats.empty() ? 0.0 : std::sqrt(sum_orbit / static_cast<double>(sats.size()));
   drawn.clock_error_rms_m = sats.empty() ? 0.0 : std::sqrt(sum_clock / static_cast<double>(sats.size()));
   auto scale = [&](double k, const GnssTime& t) { return 1.0 + k * (t - t_mid) / span_s; };
+  // The clock error at t: independent, or the radial orbit error (with the orbit's
+  // drift, so that it stays absorbed) plus the residual.
+  auto clockError_m = [&](const ProductErrorSet& e, const GnssTime& t) {
+    if (!centre) return e.clock_m * scale(e.clock_scale, t);
+    return e.orbit_m(0) * scale(e.orbit_scale, t) + e.clock_m * scale(e.clock_scale, t);
+  };
   for (auto& [sat, recs] : out.orbits.satellites) {
     const ProductErrorSet& e = errors[sat];
-    for (auto& r : recs) {
-      if (r.position_ecef_m) *r.position_ecef_m += e.orbit_m * scale(e.orbit_scale, r.time);
-      if (r.clock_bias_s) *r.clock_bias_s += e.clock_m * scale(e.clock_scale, r.time) / kSpeedOfLight_mps;
+    const std::vector<Sp3Record> original = recs;
+    for (std::size_t i = 0; i < recs.size(); ++i) {
+      Sp3Record& r = recs[i];
+      if (r.position_ecef_m) {
+        Eigen::Vector3d error_ecef_m = e.orbit_m;
+        if (centre) {
+          const auto rac = radialAlongCross(original, i);
+          error_ecef_m = rac ? Eigen::Vector3d(*rac * e.orbit_m) : Eigen::Vector3d::Zero();
+        }
+        *r.position_ecef_m += error_ecef_m * scale(e.orbit_scale, r.time);
+      }
+      if (r.clock_bias_s) *r.clock_bias_s += clockError_m(e, r.time) / kSpeedOfLight_mps;
     }
   }
   for (auto& [sat, recs] : out.clocks.satellite_clocks) {
     const ProductErrorSet& e = errors[sat];
-    for (auto& r : recs) r.clock_bias_s += e.clock_m * scale(e.clock_scale, r.time) / kSpeedOfLight_mps;
+    for (auto& r : recs) r.clock_bias_s += clockError_m(e, r.time) / kSpeedOfLight_mps;
   }
   return out;
 }

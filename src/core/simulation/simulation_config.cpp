@@ -139,9 +139,19 @@ void readPhaseBreaks(YamlSection b, ErrorModelConfig& e) {
 }
 
 void readProducts(YamlSection p, ErrorModelConfig& e) {
+  using Model = ErrorModelConfig::ProductErrorModel;
   e.products.enabled = p.boolean("enabled", e.products.enabled);
+  const std::string model = p.choice(
+      "model", e.products.model == Model::AnalysisCentre ? "analysis_centre" : "independent",
+      {"independent", "analysis_centre"});
+  e.products.model = model == "analysis_centre" ? Model::AnalysisCentre : Model::Independent;
   e.products.orbit_sigma_m = p.number("orbit_sigma_m", e.products.orbit_sigma_m, Bound::NonNegative);
   e.products.clock_sigma_m = p.number("clock_sigma_m", e.products.clock_sigma_m, Bound::NonNegative);
+  e.products.radial_sigma_m = p.number("radial_sigma_m", e.products.radial_sigma_m, Bound::NonNegative);
+  e.products.along_sigma_m = p.number("along_sigma_m", e.products.along_sigma_m, Bound::NonNegative);
+  e.products.cross_sigma_m = p.number("cross_sigma_m", e.products.cross_sigma_m, Bound::NonNegative);
+  e.products.clock_residual_sigma_m =
+      p.number("clock_residual_sigma_m", e.products.clock_residual_sigma_m, Bound::NonNegative);
   e.products.scale_half_range = p.number("scale_half_range", e.products.scale_half_range, Bound::NonNegative);
   p.finish();
 }

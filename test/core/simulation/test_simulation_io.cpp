@@ -157,6 +157,50 @@ TEST(SimulationIo, ProductsRoundTripThroughTheSp3AndClockReaders) {
     }
 }
 
+// Product errors as an analysis centre's (errors.products.model analysis_centre):
+// the clock absorbs the radial orbit error, so a user's range error from the
+// products is (cos(nadir) - 1) dr + the along/cross part x sin(nadir) + the
+// clock residual: centimetres where the independent errors give decimetres.
+TEST(SimulationIo, AnalysisCentreProductErrorsLeaveTheRangeTheAlongCrossPart) {
+  SimulationConfig independent = smallConfig();
+  SimulationConfig centre = smallConfig();
+  centre.errors.products.model = ErrorModelConfig::ProductErrorModel::AnalysisCentre;
+  centre.errors.products.clock_residual_sigma_m = 0.0;
+  centre.errors.products.radial_sigma_m = 0.10;  // large radial errors: the clocks must take them
+  const SimulatedFlight fi = simulateFlight(independent, 45), fc = simulateFlight(centre, 45);
+  // A receiver on the ground below the flight's start, the range error of each
+  // satellite in view at the flight's middle: projected orbit error minus clock error.
+  const GnssTime t = fc.epochs[fc.epochs.size() / 2].time;
+  const Eigen::Vector3d rx = fc.truth.front().trajectory.position_ecef_m;
+  const auto rangeErrors_m = [&](const SimulatedFlight& f) {
+    std::vector<double> out;
+    for (const SatelliteId& sat : f.truth_products.orbitSatellites()) {
+      const auto truth_orbit = f.truth_products.orbit(sat, t), orbit = f.products.orbit(sat, t);
+      const auto truth_clock = f.truth_products.clock(sat, t), clock = f.products.clock(sat, t);
+      if (!truth_orbit.value || !orbit.value || !truth_clock.value || !clock.value) continue;
+      const Eigen::Vector3d los = (truth_orbit.value->position_ecef_m - rx).normalized();
+      if (los.dot(rx.normalized()) < std::sin(10.0 * kDegToRad)) continue;  // below 10 deg
+      const double orbit_m = los.dot(orbit.value->position_ecef_m - truth_orbit.value->position_ecef_m);
+      const double clock_m = kSpeedOfLight_mps * (clock.value->clock_bias_s - truth_clock.value->clock_bias_s);
+      out.push_back(orbit_m - clock_m);
+    }
+    return out;
+  };
+  const auto rms = [](const std::vector<double>& v) {
+    double s = 0.0;
+    for (double x : v) s += x * x;
+    return std::sqrt(s / static_cast<double>(std::max<std::size_t>(1, v.size())));
+  };
+  const std::vector<double> ei = rangeErrors_m(fi), ec = rangeErrors_m(fc);
+  ASSERT_GE(ec.size(), 6u);
+  std::printf("range error from the products, RMS over %zu satellites: independent %.4f m, analysis centre %.4f m\n",
+              ec.size(), rms(ei), rms(ec));
+  // Bound of the along/cross part: sin(nadir) <= 0.24 times |(along, cross)| (3.5 / 2.5 cm sigmas, with
+  // the drift 1 + k (t - t_mid) / T <= 1.5), plus (1 - cos(nadir)) <= 0.03 of the radial; 1 mm of SP3 rounding.
+  for (double e : ec) EXPECT_LT(std::abs(e), 0.24 * 1.5 * 4.0 * 0.043 + 0.03 * 1.5 * 4.0 * 0.10 + 0.002);
+  EXPECT_LT(rms(ec), 0.5 * rms(ei));
+}
+
 TEST(SimulationIo, ConfigurationFromYaml) {
   const SimulationConfig c = parseSimulationConfig(R"(
 flight: { rate_hz: 10, duration_min: 3, start: "2026-05-13 12:00:00", origin: { latitude_deg: 47, longitude_deg: 8, height_m: 500 } }
@@ -215,6 +259,11 @@ TEST(SimulationIo, TemplateConfigurationHoldsTheDefaults) {
   EXPECT_EQ(t.errors.troposphere.wet_scale_max, d.errors.troposphere.wet_scale_max);
   EXPECT_NEAR(t.errors.phase_breaks.body_elevation_mask_rad, d.errors.phase_breaks.body_elevation_mask_rad, 1e-15);
   EXPECT_EQ(t.errors.products.scale_half_range, d.errors.products.scale_half_range);
+  EXPECT_EQ(t.errors.products.model, d.errors.products.model);
+  EXPECT_EQ(t.errors.products.radial_sigma_m, d.errors.products.radial_sigma_m);
+  EXPECT_EQ(t.errors.products.along_sigma_m, d.errors.products.along_sigma_m);
+  EXPECT_EQ(t.errors.products.cross_sigma_m, d.errors.products.cross_sigma_m);
+  EXPECT_EQ(t.errors.products.clock_residual_sigma_m, d.errors.products.clock_residual_sigma_m);
   EXPECT_EQ(t.errors.ambiguity.max_abs_cycles, d.errors.ambiguity.max_abs_cycles);
   EXPECT_EQ(t.errors.ambiguity.satellite_phase_biases, d.errors.ambiguity.satellite_phase_biases);
   EXPECT_TRUE(t.outages.empty());
