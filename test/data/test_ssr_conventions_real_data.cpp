@@ -12,7 +12,8 @@
 //    (test/fixtures/ssr/README.md), against values decoded by hand;
 //  - the Galileo HAS internet data distribution (test/fixtures/ssr/README.md):
 //    code biases re-sent with the epoch of their issue, the "L2 P" bias for the
-//    C2W a receiver tracks, the sign against CODE's OSBs, the clock datum, and
+//    C2W a receiver tracks, the sign against CODE's OSBs (their values in the
+//    test, with their source), the clock datum, and
 //    every orbit correction's IOD among the stream's own ephemerides.
 #include <gtest/gtest.h>
 
@@ -304,7 +305,6 @@ TEST(SsrConventionsRealData, Sc134PhaseBiasFieldsAsDecodedIndependently) {
 
 struct HasFiles {
   std::string ssr = test::fixturePath("ssr/has_idd_20230817_0159.rtcm3");
-  std::string osb = test::fixturePath("ssr/COD0MGXFIN_20232230000_01D_01D_OSB_gps_code_trim.BIA");
   GnssTime reference = gpst(2023, 8, 17, 0, 0, 0);  // the date, as --ref-date gives it
 };
 
@@ -381,16 +381,29 @@ TEST(SsrConventionsRealData, HasIddCodeBiasesAreReSentWithTheEpochOfTheirIssueAn
   EXPECT_EQ(checked, 29u + 22u);
 }
 
+/// CODE's MGEX OSBs of 2023-08-11 (COD0MGXFIN_20232230000_01D_01D_OSB.BIA, CODE product
+/// series for the IGS MGEX project, DOI 10.7892/boris.75882.2; read from
+/// https://github.com/hirokawa/cssrlib-data at commit 3d37dc9155b585fc3731d2108ac2b3700a091353):
+/// per GPS satellite, OSB(C2L) - OSB(C2W) [ns]. The product holds C1W and C2W at 0 for every
+/// satellite (its clock reference), so this L2C against L2 P(Y) difference is the one it determines
+/// that the HAS stream also sends.
+const std::map<int, double> kCodeMgx20230811C2lMinusC2w_ns = {
+    {1, -0.0009}, {3, 0.6466},   {4, -0.7417}, {5, 0.4678},   {6, 1.1189},   {7, -0.4634},  {8, 1.3438},
+    {9, -0.2834}, {10, -1.4701}, {11, -0.5645}, {12, 0.4630}, {14, -0.4520}, {15, 0.1897},  {17, -0.4318},
+    {18, -0.3694}, {23, -0.5819}, {24, -0.2434}, {25, 0.8887}, {26, -0.7718}, {27, 0.1674}, {28, -0.4014},
+    {29, 0.1624}, {30, 0.4269},  {31, 0.3507},  {32, 0.5491}};
+
 TEST(SsrConventionsRealData, HasIddCodeBiasSignAgainstCodeOsbs) {
-  // CODE's MGEX OSBs of 2023-08-11, six days before: C1W and C2W are its clock
-  // reference (0 for every satellite) and its C1C carries the P1-C1 difference
-  // only, so the comparison that both sides determine is L2C against L2 P(Y).
   const HasFiles files;
   const SsrStreamFile f = readSsrStreamFile(files.ssr, files.reference);
   const SsrBiasProvider stream(storeOf(f), "HAS IDD");
-  const BiasSinexFile bia = readBiasSinexFile(files.osb);
-  const SinexBiasProvider sinex(bia, "COD0MGXFIN");
-  const auto l2c_py = dcbPairs(stream, gpst(2023, 8, 17, 1, 59, 30), sinex, gpst(2023, 8, 11, 12, 0, 0), "C2L", "C2W");
+  const GnssTime t = gpst(2023, 8, 17, 1, 59, 30);
+  std::map<SatelliteId, DcbPair> l2c_py;
+  for (const auto& [prn, osb_ns] : kCodeMgx20230811C2lMinusC2w_ns) {
+    const SatelliteId sat{GnssSystem::GPS, prn};
+    const auto l2c = stream.codeBias(sat, code("C2L"), t).value_m, py = stream.codeBias(sat, code("C2W"), t).value_m;
+    if (l2c && py) l2c_py[sat] = {*l2c - *py, osb_ns * kC_mps * 1e-9};
+  }
   ASSERT_GE(l2c_py.size(), 20u);
   const double rms = rmsDifference_m(l2c_py, +1.0), rms_flipped = rmsDifference_m(l2c_py, -1.0);
   std::printf("HAS C2L-C2W over %zu satellites: RMS %.3f m as applied, %.3f m with the stream's sign flipped\n",
