@@ -23,8 +23,7 @@
 // Per estimator, over all counted outages of all flights:
 //  * horizontal error at the outage end: an estimator with inertial states, its
 //    coasting position at the first epoch after the outage (the INS prediction
-//    before the update: PppInsEkf::predictedAntennaPosition,
-//    PppInsSmoother::predictedAntennaPosition); a GNSS-only one (ekf), which has
+//    before the update: PppEstimator::predictedAntennaPosition); a GNSS-only one (ekf), which has
 //    no motion model, the last position it had before the outage (its
 //    prediction) against the truth at that epoch; the median;
 //  * with inertial states: the IMU's own share of that error: the coast through

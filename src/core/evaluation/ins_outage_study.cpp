@@ -14,8 +14,6 @@
 #include "ppp_bayes_tree/navigation/ins_alignment.h"
 #include "ppp_bayes_tree/navigation/so3.h"
 #include "ppp_bayes_tree/ppp/estimators/estimator_registry.h"
-#include "ppp_bayes_tree/ppp/estimators/ppp_ins_ekf.h"
-#include "ppp_bayes_tree/ppp/estimators/ppp_ins_smoother.h"
 #include "ppp_bayes_tree/simulation/gnss_simulator.h"
 #include "ppp_bayes_tree/simulation/simulated_imu.h"
 #include "ppp_bayes_tree/types/constants.h"
@@ -85,14 +83,6 @@ PppConfig estimatorConfig(const PppConfig& config, const SimulatedFlight& f, con
   return c;
 }
 
-/// The antenna position the INS prediction of this epoch gave (before the update) of an
-/// estimator with inertial states; nullopt for another estimator.
-std::optional<Eigen::Vector3d> insPredictedAntenna_m(const PppEstimator& e) {
-  if (const auto* ekf = dynamic_cast<const PppInsEkf*>(&e)) return ekf->predictedAntennaPosition();
-  if (const auto* smoother = dynamic_cast<const PppInsSmoother*>(&e)) return smoother->predictedAntennaPosition();
-  return std::nullopt;
-}
-
 /// Roll, pitch and heading of the estimate minus the truth's.
 Eigen::Vector3d attitudeError_rad(const NavState& s, const TrajectorySample& truth) {
   const EulerAngles e = eulerAngles(rotationEcefNed(truth.position_ecef_m).transpose() * s.rotation_world_body);
@@ -121,7 +111,7 @@ EpochTrack trackEpochs(const SimulatedFlight& f, const PppConfig& config, const 
   std::optional<Eigen::Vector3d> last_solution;
   const FlightEstimatorTrack track = trackEstimatorOnFlight(
       f, config, std::string(entry.name), [&](std::size_t k, const PppEpochRecord& rec, const PppEstimator& e) {
-        t.predicted_m[k] = inertial ? insPredictedAntenna_m(e) : last_solution;
+        t.predicted_m[k] = inertial ? e.predictedAntennaPosition() : last_solution;
         if (rec.solution.position_ecef_m) last_solution = rec.solution.position_ecef_m;
         const double since_start_s = f.epochs[k].time - f.epochs.front().time;
         if (!inertial || since_start_s < o.alignment_s) return;

@@ -202,13 +202,13 @@ TruthProducts applyProductErrors(const TruthProducts& truth, const ErrorModelCon
   };
   for (auto& [sat, recs] : out.orbits.satellites) {
     const ProductErrorSet& e = errors[sat];
-    const std::vector<Sp3Record> original = recs;
+    const std::vector<Sp3Record>& truth_recs = truth.orbits.satellites.at(sat);  // the frame from the truth
     for (std::size_t i = 0; i < recs.size(); ++i) {
       Sp3Record& r = recs[i];
       if (r.position_ecef_m) {
         Eigen::Vector3d error_ecef_m = e.orbit_m;
         if (centre) {
-          const auto rac = radialAlongCross(original, i);
+          const auto rac = radialAlongCross(truth_recs, i);
           error_ecef_m = rac ? Eigen::Vector3d(*rac * e.orbit_m) : Eigen::Vector3d::Zero();
         }
         *r.position_ecef_m += error_ecef_m * scale(e.orbit_scale, r.time);

@@ -77,6 +77,7 @@ struct BroadcastWeekEvidence {
 };
 
 struct MsmFields;  // the fields of one MSM message, as read (rtcm3_decoder.cpp)
+struct NonMsmMessage;  // a non-MSM message type and its decoding step (rtcm3_decoder.cpp)
 
 class Rtcm3Decoder {
  public:
@@ -134,6 +135,8 @@ class Rtcm3Decoder {
   void openEpoch(const Rtcm3Frame& frame, const GnssTime& t);
   StreamSatellite msmSatellite(GnssSystem system, int msm, const MsmFields& m, std::size_t i, std::size_t& cell);
   void addToOpenEpoch(StreamSatellite satellite);
+  /// The non-MSM message of this type the decoder reads or skips; nullptr for another type.
+  static const NonMsmMessage* nonMsmMessage(int message_type);
   void decodeStation(const Rtcm3Frame& frame);
   void decodeAntennaReceiver(const Rtcm3Frame& frame);
   void decodeGpsQzss(const Rtcm3Frame& frame);

@@ -57,6 +57,11 @@ class PppEstimator {
   /// The IMU state of an estimator with inertial states after the last epoch it
   /// reached; nullopt before its start and for a GNSS-only estimator (the default).
   virtual std::optional<InertialState> inertialState() const { return std::nullopt; }
+  /// The antenna position this epoch's INS prediction gave (the readings since the
+  /// last epoch, before the update), ECEF [m]: after a GNSS outage, the coasting
+  /// position at its end. nullopt for a GNSS-only estimator (the default), before the
+  /// start and at an epoch not predicted.
+  virtual std::optional<Eigen::Vector3d> predictedAntennaPosition() const { return std::nullopt; }
   /// The smoothed trajectory of an estimator that smooths; nullptr for a filter.
   virtual const SmoothedTrajectoryProvider* smoothing() const { return nullptr; }
   /// The resolver (e.g. to hold an integer restored after a restart).

@@ -129,11 +129,7 @@ class PppInsEkf : public PppEkf {
   /// not fixed (PPP-AR off, float, or no solution).
   const std::optional<NavState>& fixedNavState() const { return fixed_nominal_; }
   const std::optional<ImuBias>& fixedImuBias() const { return fixed_bias_; }
-  /// The antenna position this epoch's prediction gave (the INS through the
-  /// readings since the last epoch, before the update), ECEF [m]: after a GNSS
-  /// outage, the coasting position at its end; nullopt before the start and at
-  /// an epoch not predicted.
-  const std::optional<Eigen::Vector3d>& predictedAntennaPosition() const { return predicted_antenna_m_; }
+  std::optional<Eigen::Vector3d> predictedAntennaPosition() const override { return predicted_antenna_m_; }
 
   /// The antenna velocity (ECEF) at a nominal state moved by an INS error, with the
   /// gyro reading w_ib (bias-corrected by the nominal bias), and its Jacobian

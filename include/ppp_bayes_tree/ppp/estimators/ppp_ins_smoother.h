@@ -127,11 +127,9 @@ class PppInsSmoother : public PppSmoother {
   std::optional<Matrix15d> errorCovariance() const;
   /// The antenna position of navState(), ECEF [m].
   std::optional<Eigen::Vector3d> antennaPosition() const;
-  /// The antenna position this epoch's prediction gave (the NavState of the newest
-  /// state carried by the readings since, before the update), ECEF [m]: after a GNSS
-  /// outage, the coasting position at its end (as PppInsEkf::predictedAntennaPosition);
-  /// nullopt at a start, before the NavState and at an epoch not predicted.
-  const std::optional<Eigen::Vector3d>& predictedAntennaPosition() const { return predicted_antenna_m_; }
+  /// PppEstimator::predictedAntennaPosition: the NavState of the newest state carried by
+  /// the readings since, before the update; nullopt also before the NavState.
+  std::optional<Eigen::Vector3d> predictedAntennaPosition() const override { return predicted_antenna_m_; }
   /// The smoothed NavState of state `index` while it is in the graph.
   std::optional<NavState> smoothedNavState(std::uint32_t index) const;
   const InsEkfOptions& insOptions() const { return ins_; }

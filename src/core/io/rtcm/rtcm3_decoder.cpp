@@ -199,10 +199,32 @@ void Rtcm3Decoder::problem(StreamProblemKind kind, const Rtcm3Frame& frame, std:
       StreamProblem{kind, frame.byte_offset, frame.frame_index, frame.message_type, std::move(detail)});
 }
 
+/// A non-MSM message the decoder reads, with its decoding step; nullptr: known and
+/// skipped on purpose (counted in ignoredByType).
+struct NonMsmMessage {
+  int type;
+  void (Rtcm3Decoder::*decode)(const Rtcm3Frame&);
+};
+
+const NonMsmMessage* Rtcm3Decoder::nonMsmMessage(int message_type) {
+  static constexpr NonMsmMessage kMessages[] = {
+      {1005, &Rtcm3Decoder::decodeStation},         {1006, &Rtcm3Decoder::decodeStation},
+      {1007, &Rtcm3Decoder::decodeAntennaReceiver}, {1008, &Rtcm3Decoder::decodeAntennaReceiver},
+      {1033, &Rtcm3Decoder::decodeAntennaReceiver}, {1019, &Rtcm3Decoder::decodeGpsQzss},
+      {1044, &Rtcm3Decoder::decodeGpsQzss},         {1020, &Rtcm3Decoder::decodeGlonassEph},
+      {1042, &Rtcm3Decoder::decodeBeidou},          {1045, &Rtcm3Decoder::decodeGalileo},
+      {1046, &Rtcm3Decoder::decodeGalileo},
+      {1230, nullptr},  // GLONASS code-phase biases: known, not used
+      {1013, nullptr},  // system parameters
+  };
+  for (const NonMsmMessage& m : kMessages)
+    if (m.type == message_type) return &m;
+  return nullptr;
+}
+
 bool Rtcm3Decoder::readsMessageType(int message_type) {
   if (const auto msm = msmTypeInfo(message_type)) return msm->second >= 4 && msm->first != GnssSystem::IRNSS;
-  constexpr int kOthers[] = {1005, 1006, 1007, 1008, 1033, 1019, 1044, 1020, 1042, 1045, 1046, 1230, 1013};
-  return std::find(std::begin(kOthers), std::end(kOthers), message_type) != std::end(kOthers);
+  return nonMsmMessage(message_type) != nullptr;
 }
 
 void Rtcm3Decoder::decodeFrame(const Rtcm3Frame& frame) {
@@ -213,23 +235,10 @@ void Rtcm3Decoder::decodeFrame(const Rtcm3Frame& frame) {
       return;
     }
   }
-  switch (type) {
-    case 1005:
-    case 1006: decodeStation(frame); return;
-    case 1007:
-    case 1008:
-    case 1033: decodeAntennaReceiver(frame); return;
-    case 1019:
-    case 1044: decodeGpsQzss(frame); return;
-    case 1020: decodeGlonassEph(frame); return;
-    case 1042: decodeBeidou(frame); return;
-    case 1045:
-    case 1046: decodeGalileo(frame); return;
-    case 1230:  // GLONASS code-phase biases: known, not used
-    case 1013:  // system parameters
-      ++ignored_by_type_[type];
-      return;
-    default: break;
+  if (const NonMsmMessage* m = nonMsmMessage(type)) {
+    if (m->decode) (this->*m->decode)(frame);
+    else ++ignored_by_type_[type];
+    return;
   }
   if (foreign_ && foreign_(frame)) return;
   problem(StreamProblemKind::UnknownMessage, frame,
