@@ -93,6 +93,10 @@ TEST(InsSlipRepair, HeldIntegersSurviveAThirtySecondOutageWithoutLock) {
   EXPECT_LE(*after.refix_s, 10.0);
   if (before.refix_s) EXPECT_LT(*after.refix_s, *before.refix_s);
   EXPECT_EQ(after.track.held_check.wrong, 0u);
+  for (const WrongHold& w : after.track.held_check.wrong_holds)
+    std::printf("wrong hold %.0f s %s-%s WL %ld/%ld N1 %ld/%.3f\n", w.time_s, w.satellite.toString().c_str(),
+                w.reference_satellite.toString().c_str(), w.wide_lane_cycles, w.true_wide_lane_cycles, w.held_cycles,
+                w.true_cycles);
   EXPECT_EQ(after.track.held_check.fixed_epochs_with_wrong_hold, 0u);
 }
 

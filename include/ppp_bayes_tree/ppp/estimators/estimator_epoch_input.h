@@ -47,6 +47,15 @@ struct EstimatorEpochInput {
   const std::vector<EndedArc>* ended_arcs = nullptr;
   /// Arcs that go on after a bridged gap, to be verified (PppEstimator::gapBridgeMax_s); nullable.
   const std::vector<BridgedArc>* bridged_arcs = nullptr;
+  /// Applies another candidate of a bridged arc's slip repair (BridgedArc::repair,
+  /// one of its alternatives) at this epoch: the arc's phases, as `evaluate` reads
+  /// them, are corrected by it from then on. False when it cannot be applied; nullable.
+  const std::function<bool(const BridgedArc&, const SlipCandidate&)>* choose_repair_candidate = nullptr;
+  /// Starts a new arc for a bridged arc the estimator ended (PppEstimator::endBridgedArc):
+  /// from this epoch on the satellite's phases, as `evaluate` reads them, belong to a new
+  /// arc (a new id, the phases as observed), so no state of the ended arc is taken up
+  /// again. Returns the new arc's id; nullopt when it cannot. Nullable.
+  const std::function<std::optional<ArcId>(const BridgedArc&, const std::string&)>* restart_bridged_arc = nullptr;
   /// Satellite phase OSBs consistent with the clocks (phase_bias_consistency.h);
   /// nullptr when the products allow no integer ambiguities (float).
   const BiasProvider* phase_biases = nullptr;

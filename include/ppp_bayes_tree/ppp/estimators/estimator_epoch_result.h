@@ -112,6 +112,9 @@ struct EstimatorEpochResult {
   /// Of them, the arcs whose slip the arc tracker repaired (BridgedArc::repair):
   /// kept (the repair confirmed), ended (refused by the slip test).
   int repaired_arcs_kept = 0, repaired_arcs_ended = 0;
+  /// Of the repaired arcs kept, those whose slip the gap bridge chose among the
+  /// repair's candidates in place of the one applied (SlipRepair::alternatives).
+  int repair_candidates_chosen = 0;
   std::vector<std::string> gap_bridge;
   int iterations = 0;     // measurement-model evaluations
   std::vector<MeasurementResidual> residuals;  // same order as `used`

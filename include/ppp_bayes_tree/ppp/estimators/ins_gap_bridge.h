@@ -25,6 +25,8 @@ namespace ppp {
 struct BridgedArcVerdict {
   const BridgedArc* arc = nullptr;
   bool keep = false;
+  /// Kept with another candidate of its slip repair than the one applied (SlipRepair::alternatives).
+  std::optional<SlipCandidate> chosen;
   std::string text;  ///< ended: the reason; kept: the line of EstimatorEpochResult::gap_bridge
 };
 
@@ -42,9 +44,12 @@ std::vector<BridgedArcVerdict> insGapBridgeVerdicts(const std::vector<BridgedArc
                                                     int position_index, const Eigen::Matrix3d& position_cov_m2,
                                                     const GapBridgeOptions& options);
 
-/// Ends (end_arc, with the reason) or keeps (counted, its line) each arc, in order.
+/// Ends (end_arc, with the reason) or keeps (counted, its line) each arc, in order; a
+/// kept arc with another candidate of its repair has it applied first (choose; ended
+/// when that fails).
 void applyBridgedArcVerdicts(const std::vector<BridgedArcVerdict>& verdicts,
                              const std::function<void(const BridgedArc&, const std::string&)>& end_arc,
+                             const std::function<bool(const BridgedArc&, const SlipCandidate&)>& choose,
                              EstimatorEpochResult& result);
 
 /// The least variance per axis of the position covariance grown through a gap [m^2].

@@ -145,6 +145,18 @@ class ArcTracker {
   void setBridgeMaxGap_s(std::optional<double> seconds) { options_.bridge_max_gap_s = seconds; }
   /// The longest absence after which an arc may still go on [s].
   double arcKeepGap_s(double max_gap_s) const;
+  /// Applies another candidate of a repair made at the last epoch (one of its
+  /// SlipRepair::alternatives, chosen by the estimator's gap bridge) in place of the
+  /// one applied: the arc's state is that epoch's again with this slip. Returns the
+  /// satellite's status with the phases so corrected; nullopt when the satellite had
+  /// no repair with alternatives at the last epoch or the candidate is not one of them.
+  std::optional<SatelliteArcStatus> chooseRepairCandidate(const SatelliteId& satellite,
+                                                          const SlipCandidate& candidate);
+  /// Ends the satellite's arc at the last epoch and starts a new one there (a new id,
+  /// its phases as observed): for an arc that went on across a bridged gap and that
+  /// the estimator's gap bridge ended. Returns the new arc's status; nullopt when the
+  /// satellite had no open arc continued at the last epoch.
+  std::optional<SatelliteArcStatus> restartArc(const SatelliteId& satellite, const std::string& reason);
 
  private:
   struct ArcState {
@@ -201,8 +213,20 @@ class ArcTracker {
   double applyRepair(ArcState& state, const DualFrequencyObservation& obs, const SlipRepair& repair,
                      SatelliteArcStatus& status) const;
 
+  /// A repair with alternatives at the last epoch: the arc's state before it, what
+  /// chooseRepairCandidate needs to apply another.
+  struct PendingRepair {
+    ArcState before;
+    DualFrequencyObservation observation;
+    GnssTime time;
+    SatelliteArcStatus status;  // as returned
+  };
+
   CycleSlipOptions options_;
   std::map<SatelliteId, ArcState> arcs_;
+  std::map<SatelliteId, PendingRepair> pending_repairs_;
+  /// The last epoch's observations of the arcs that went on (restartArc).
+  std::map<SatelliteId, DualFrequencyObservation> continued_;
   std::optional<GnssTime> last_epoch_;
   std::optional<double> interval_s_;
   ArcId next_id_ = 1;

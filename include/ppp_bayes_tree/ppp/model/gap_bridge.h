@@ -11,8 +11,20 @@
 // moves the ionosphere-free bias by whole narrow-lane wavelengths) it is the slip.
 // An arc goes on when its slip is within max_fraction_cycles of zero with a sigma
 // of at most max_sigma_cycles; the worst arc failing is ended and the rest solved
-// again. Reference: Du S., Gao Y. (2012), Inertial aided cycle slip detection and
-// identification for integrated PPP GPS and INS, Sensors 12(11):14344-14362.
+// again. A row may carry candidates (a slip repair that the geometry-free phase
+// could not make unique, slip_repair.h): each moves its residual by a known offset.
+// Every assignment of candidates to those rows is tried: the least-squares cost with
+// the position prior (a quadratic form in the offsets) plus each row's prior cost of
+// its candidate (its wide lane against the Melbourne-Wubbena jump, which alone tells
+// apart a shift common to all of a system's rows: that system's clock takes it, but
+// an arc that starts later would not share it). The least is taken when it fits the
+// noise (a chi-square test; else the row of the largest residual ends) and the next
+// best costs clearly more (a difference and a ratio, as in integer ambiguity
+// validation); else the rows where the two differ end. References: Du S., Gao Y.
+// (2012), Inertial aided cycle slip detection and identification for integrated
+// PPP GPS and INS, Sensors 12(11):14344-14362; Banville S., Langley R.B. (2013)
+// Mitigating the impact of ionospheric cycle slips in GNSS observations, J Geod
+// 87:179-193 (candidates of a slip tested by their fit, sec. 4).
 #include <Eigen/Core>
 #include <string>
 #include <vector>
@@ -29,6 +41,17 @@ struct GapBridgeOptions {
   /// outage the simulated flights' arcs pass without it (test_ins_gap_bridge).
   /// 0: the prior as given.
   double min_position_sigma_m = 1.0;
+  /// Rows with candidates: the assignment of least cost is taken when the next best
+  /// costs at least this squared more
+  /// [cost: squared sigmas] and min_candidate_ratio times as much; else the rows
+  /// where the two differ end.
+  double min_candidate_separation = 5.0;
+  double min_candidate_ratio = 3.0;
+  /// With candidates the best assignment's cost must be within the chi-square quantile
+  /// of this standard normal quantile (3.09: probability 0.999) for its degrees of freedom.
+  double candidate_cost_z = 3.09;
+  /// More assignments than this: the rows with the most candidates end first.
+  double max_candidate_assignments = 100000.0;
 };
 
 struct GapBridgeRow {
@@ -37,12 +60,20 @@ struct GapBridgeRow {
   int clock = 0;                     // the row's clock (0, 1, ...: one per system)
   double sigma_m = 0.0;              // phase noise and bias sigma [m]
   double wavelength_m = 0.0;         // narrow-lane wavelength [m]
+  /// Candidates: what each adds to residual_m in place of the slip applied [m] (empty: none).
+  std::vector<double> candidate_offsets_m;
+  /// With candidates: the prior cost [squared sigmas] of the slip applied and of each
+  /// candidate (their wide lanes against the Melbourne-Wubbena jump); missing ones 0.
+  double applied_prior_cost = 0.0;
+  std::vector<double> candidate_prior_costs;
 };
 
 struct GapBridgeVerdict {
   bool keep = false;
   double slip_cycles = 0.0;   // the residual in narrow-lane cycles (NaN when not estimated)
   double sigma_cycles = 0.0;
+  /// The candidate chosen (index into GapBridgeRow::candidate_offsets_m); -1: the slip applied.
+  int candidate = -1;
   std::string reason;         // why the arc ends; empty when kept
 };
 

@@ -11,10 +11,17 @@
 // within max_wide_lane_offset_cycles of the MW estimate is tried: a wrong dNW moves
 // the L1 estimate by lambda2 / (lambda1 - lambda2) (-4.53 cycles for GPS L1/L2,
 // near half a cycle from an integer; -3.95 for Galileo E1/E5a, near an integer).
-// The repair is accepted only when both sigmas (from the noise model) are within
-// their bounds, exactly one candidate gives an L1 estimate within the fraction
-// bound of an integer and its neighbours (dNW +- 1) do not: so Galileo E1/E5a
-// slips are not repaired. Not modelled: the phase wind-up's change through the gap
+// The repair is unique when both sigmas (from the noise model) are within their
+// bounds, exactly one candidate gives an L1 estimate within the fraction bound of
+// an integer and its neighbours (dNW +- 1) do not. Otherwise (Galileo E1/E5a, or a
+// Melbourne-Wubbena jump too noisy to round, as under time-correlated multipath)
+// every integer dNW within candidate_sigma_factor sigmas (at least 1.5 cycles) whose L1 passes is a
+// candidate: the one nearest the MW estimate is applied, the others are kept
+// (SlipRepair::alternatives) for the estimator's gap bridge, which chooses by the
+// first frequency's phase against the INS-predicted position (gap_bridge.h): GPS
+// L1/L2 candidates 2 wide-lane cycles apart move L1 by 9 cycles (1.71 m), Galileo
+// E1/E5a ones 1 cycle apart by 4 cycles (0.76 m), while the geometry-free phase
+// moves by 9 and 3 mm. Not modelled: the phase wind-up's change through the gap
 // (the same cycles on both frequencies: (lambda1 - lambda2) per cycle in the GF
 // phase), which a turn during the gap adds to the GF jump.
 // The repaired arc is still checked by the estimator's gap bridge (gap_bridge.h).
@@ -43,6 +50,20 @@ struct SlipRepairOptions {
   int gf_fit_order = 1;                        // 1 linear, 2 quadratic ionosphere fit
   double phase_sigma_m = 0.003;                // one frequency's phase noise [m] (floor of the fit's)
   double ionosphere_sigma_mps = 5.0e-5;        // the fit's unmodelled drift through the gap [m/s]
+  /// Candidates for the gap bridge when the slip is not unique: wide lanes within
+  /// candidate_sigma_factor sigmas of the MW estimate (at least
+  /// min_candidate_half_width_cycles), tried while the MW sigma is at most this
+  /// [wide-lane cycles]; 0: no candidates (a slip that is not unique is refused).
+  double max_candidate_wide_lane_sigma_cycles = 1.0;
+  double candidate_sigma_factor = 3.0;            // half-width of the search in MW sigmas
+  double min_candidate_half_width_cycles = 1.5;   // least half-width of the search [wide-lane cycles]
+  int max_candidates = 4;                         // more candidates passing the L1 test: refused
+};
+
+/// One integer slip (dN1, dN2) [cycles] and its L1 estimate [cycles].
+struct SlipCandidate {
+  long dn1_cycles = 0, dn2_cycles = 0;
+  double l1_cycles = 0.0;
 };
 
 /// The combinations of one arc across a gap.
@@ -64,7 +85,8 @@ enum class SlipRepairOutcome {
   WideLaneTooUncertain,
   L1TooUncertain,
   L1NotInteger,         // no wide-lane candidate gives an integer L1
-  Ambiguous,            // more than one does, or a neighbour of the one that does
+  Ambiguous,            // more than one does, or a neighbour of the one that does (without candidates)
+  TooManyCandidates,    // more than SlipRepairOptions::max_candidates pass the L1 test
 };
 const char* slipRepairOutcomeName(SlipRepairOutcome outcome);
 
@@ -74,11 +96,22 @@ struct SlipRepair {
   double wide_lane_cycles = 0.0, wide_lane_sigma_cycles = 0.0;  // dNW estimate
   double l1_cycles = 0.0, l1_sigma_cycles = 0.0;                // dN1 estimate (given the chosen dNW)
   double gf_prediction_m = 0.0;  // the fit's GF at the epoch after the gap [m]
+  /// The other slips the geometry-free phase allows (Repaired, NoSlip; nearest the MW
+  /// estimate first): the estimator's gap bridge chooses among them and the applied one.
+  std::vector<SlipCandidate> alternatives;
   /// Readable, e.g. "dN1 +3 dN2 -2 (WL 5.04 +- 0.27, L1 3.02 +- 0.08)" or
   /// "L1 not an integer for any wide lane within 1.0 cycles of 5.04: ...".
   std::string text;
   bool accepted() const { return outcome == SlipRepairOutcome::Repaired || outcome == SlipRepairOutcome::NoSlip; }
+  /// The applied slip as a candidate.
+  SlipCandidate applied() const { return {dn1_cycles, dn2_cycles, l1_cycles}; }
+  /// Applies `chosen` (one of the alternatives, or the applied one) in place of the applied
+  /// slip: the others become the alternatives, the text says it was chosen.
+  void choose(const SlipCandidate& chosen);
 };
+
+/// "dN1 +3 dN2 -2".
+std::string slipText(long dn1_cycles, long dn2_cycles);
 
 /// A polynomial fit's value at t and its sigma [m].
 struct GeometryFreePrediction {

@@ -177,6 +177,12 @@ void bindCycleSlipOptions(const YAML::Node& node, const std::string& file, Cycle
     if (p.gf_fit_order > 2) r.fail("gf_fit_order", "must be 1 (linear) or 2 (quadratic)");
     p.phase_sigma_m = r.number("phase_sigma_m", p.phase_sigma_m, Bound::Positive);
     p.ionosphere_sigma_mps = r.number("ionosphere_sigma_m_per_s", p.ionosphere_sigma_mps, Bound::NonNegative);
+    p.max_candidate_wide_lane_sigma_cycles = r.number("max_candidate_wide_lane_sigma_cycles",
+                                                      p.max_candidate_wide_lane_sigma_cycles, Bound::NonNegative);
+    p.candidate_sigma_factor = r.number("candidate_sigma_factor", p.candidate_sigma_factor, Bound::Positive);
+    p.min_candidate_half_width_cycles =
+        r.number("min_candidate_half_width_cycles", p.min_candidate_half_width_cycles, Bound::Positive);
+    p.max_candidates = r.integer("max_candidates", p.max_candidates, 1);
     r.finish();
   }
   s.finish();

@@ -24,15 +24,37 @@ std::optional<GapBridgeRow> insGapBridgeRow(const BridgedArc& bridged, const Sat
   // The IF sigma scaled to one frequency's: IF = (1 + beta) L1 - beta L2.
   row.sigma_m = std::sqrt(2.0) * m.phase_sigma_m / std::hypot(1.0 + beta, beta);
   row.wavelength_m = bridged.wavelength1_m;
+  // The repair's other candidates: another L1 slip moves this row by its difference;
+  // each wide lane's prior cost from the Melbourne-Wubbena jump.
+  if (bridged.repair && !bridged.repair->alternatives.empty()) {
+    const SlipRepair& r = *bridged.repair;
+    const auto wide_lane_cost = [&r](const SlipCandidate& c) {
+      const double z = (static_cast<double>(c.dn1_cycles - c.dn2_cycles) - r.wide_lane_cycles) /
+                       std::max(r.wide_lane_sigma_cycles, 1e-3);
+      return z * z;
+    };
+    row.applied_prior_cost = wide_lane_cost(r.applied());
+    for (const SlipCandidate& c : r.alternatives) {
+      row.candidate_offsets_m.push_back(-static_cast<double>(c.dn1_cycles - r.dn1_cycles) * bridged.wavelength1_m);
+      row.candidate_prior_costs.push_back(wide_lane_cost(c));
+    }
+  }
   return row;
 }
 
 namespace {
 
 std::string keptLine(const BridgedArc& b, const GapBridgeVerdict& v) {
+  std::string repair;
+  if (b.repair && v.candidate >= 0) {
+    SlipRepair chosen = *b.repair;
+    chosen.choose(b.repair->alternatives[static_cast<std::size_t>(v.candidate)]);
+    repair = " after the slip repair " + chosen.text;
+  } else if (b.repair) {
+    repair = " after the slip repair " + b.repair->text;
+  }
   return b.satellite.toString() + " arc " + std::to_string(b.arc) + ": gap of " +
-         format("%.0f s bridged, slip %.2f +- %.2f cycles", b.gap_s, v.slip_cycles, v.sigma_cycles) +
-         (b.repair ? " after the slip repair " + b.repair->text : std::string());
+         format("%.0f s bridged, slip %.2f +- %.2f cycles", b.gap_s, v.slip_cycles, v.sigma_cycles) + repair;
 }
 
 }  // namespace
@@ -53,7 +75,7 @@ std::vector<BridgedArcVerdict> insGapBridgeVerdicts(const std::vector<BridgedArc
     const std::optional<double> bias_m = held_bias_m(b.arc);
     if (m != usable.end() && bias_m) row = insGapBridgeRow(b, *m, *bias_m, position_index);
     if (!row) {
-      out.push_back({&b, false, "no usable measurement, held bias or geometry-free fit at the prediction"});
+      out.push_back({&b, false, std::nullopt, "no usable measurement, held bias or geometry-free fit at the prediction"});
       continue;
     }
     int& clock = system_clock[static_cast<std::size_t>(row->clock)];
@@ -66,17 +88,26 @@ std::vector<BridgedArcVerdict> insGapBridgeVerdicts(const std::vector<BridgedArc
   const std::vector<GapBridgeVerdict> verdicts = bridgeGap(rows, position_cov_m2, options);
   for (std::size_t i = 0; i < verdicts.size(); ++i) {
     const BridgedArc& b = *row_arcs[i];
-    out.push_back({&b, verdicts[i].keep, verdicts[i].keep ? keptLine(b, verdicts[i]) : verdicts[i].reason});
+    std::optional<SlipCandidate> chosen;
+    if (verdicts[i].keep && b.repair && verdicts[i].candidate >= 0)
+      chosen = b.repair->alternatives[static_cast<std::size_t>(verdicts[i].candidate)];
+    out.push_back({&b, verdicts[i].keep, chosen, verdicts[i].keep ? keptLine(b, verdicts[i]) : verdicts[i].reason});
   }
   return out;
 }
 
 void applyBridgedArcVerdicts(const std::vector<BridgedArcVerdict>& verdicts,
                              const std::function<void(const BridgedArc&, const std::string&)>& end_arc,
+                             const std::function<bool(const BridgedArc&, const SlipCandidate&)>& choose,
                              EstimatorEpochResult& result) {
   for (const BridgedArcVerdict& v : verdicts) {
     if (!v.keep) {
       end_arc(*v.arc, v.text);
+      continue;
+    }
+    if (v.chosen && !choose(*v.arc, *v.chosen)) {
+      end_arc(*v.arc, "the slip candidate the gap bridge chose (" + slipText(v.chosen->dn1_cycles, v.chosen->dn2_cycles) +
+                          ") could not be applied");
       continue;
     }
     ++result.bridged_arcs_kept;

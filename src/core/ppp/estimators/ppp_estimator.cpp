@@ -36,11 +36,15 @@ EstimatorEpochResult PppEstimator::processEpoch(const EstimatorEpochInput& input
   if (input.ended_arcs) arcsEnded(*input.ended_arcs);
   bridged_.clear();
   if (input.bridged_arcs) bridged_ = *input.bridged_arcs;
+  choose_repair_candidate_ = input.choose_repair_candidate;
+  restart_bridged_arc_ = input.restart_bridged_arc;
   receiveEpochInput(input);
   last_ = processEpoch(input.time, *input.evaluate, input.evaluate_start);
+  choose_repair_candidate_ = nullptr;
   // An epoch that stopped before the bridged arcs were tested ends them (never carried unverified).
   for (const BridgedArc& b : bridged_) endBridgedArc(b, "the epoch stopped before the slip test", last_);
   bridged_.clear();
+  restart_bridged_arc_ = nullptr;
   if (ambiguity_.options().enabled && !floatWithoutPhaseBiases(input, last_)) resolveAmbiguities(input, last_);
   return last_;
 }
@@ -65,8 +69,24 @@ void PppEstimator::endBridgedArc(const BridgedArc& bridged, const std::string& r
   ambiguity_.arcsEnded({ended});
   ++result.bridged_arcs_ended;
   if (bridged.repair) ++result.repaired_arcs_ended;
-  result.gap_bridge.push_back(bridged.satellite.toString() + " arc " + std::to_string(bridged.arc) + ": " +
-                              ended.reason);
+  std::string line = bridged.satellite.toString() + " arc " + std::to_string(bridged.arc) + ": " + ended.reason;
+  // The satellite's phases from now on are a new arc's (none of this one's state taken up again).
+  if (restart_bridged_arc_ && *restart_bridged_arc_) {
+    if (const std::optional<ArcId> renewed = (*restart_bridged_arc_)(bridged, ended.reason)) {
+      line += "; new arc " + std::to_string(*renewed);
+      arcs_changed_ = true;
+    }
+  }
+  result.gap_bridge.push_back(line);
+}
+
+bool PppEstimator::chooseRepairCandidate(const BridgedArc& bridged, const SlipCandidate& candidate,
+                                         EstimatorEpochResult& result) {
+  if (!choose_repair_candidate_ || !*choose_repair_candidate_ || !(*choose_repair_candidate_)(bridged, candidate))
+    return false;
+  ++result.repair_candidates_chosen;
+  arcs_changed_ = true;
+  return true;
 }
 
 bool PppEstimator::fail(EstimatorEpochResult& result, EpochStatus status, NoSolutionReason why, std::string text) {
@@ -100,7 +120,13 @@ EstimatorEpochResult PppEstimator::processEpoch(const GnssTime& time, const Meas
 
   // 3. Linearise once at the prediction; usable measurements; white clock shifts.
   std::vector<SatelliteMeasurement> usable = lineariseAtPrediction(evaluate, in.predicted, result);
-  if (!bridged_.empty()) verifyBridgedArcs(bridged_, usable, result);
+  if (!bridged_.empty()) {
+    arcs_changed_ = false;
+    verifyBridgedArcs(bridged_, usable, result);
+    // Another slip candidate applied to an arc's phases, or an arc restarted: the measurements again.
+    if (arcs_changed_) usable = lineariseAtPrediction(evaluate, in.predicted, result);
+    arcs_changed_ = false;
+  }
   bridged_.clear();
 
   // 4. Arc bookkeeping on a copy of the active set.

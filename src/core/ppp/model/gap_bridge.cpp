@@ -1,6 +1,7 @@
 #include "ppp_bayes_tree/ppp/model/gap_bridge.h"
 
 #include <Eigen/Dense>
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -37,6 +38,152 @@ Solved solveRows(const std::vector<GapBridgeRow>& rows, const std::vector<int>& 
   s.sigma_m.resize(n);
   for (int i = 0; i < n; ++i) s.sigma_m(i) = std::sqrt(H.row(i) * Q * H.row(i).transpose() + 1.0 / w(i));
   return s;
+}
+
+/// What a row's choice adds to its residual [m].
+double candidateOffset_m(const GapBridgeRow& row, int candidate) {
+  return candidate < 0 ? 0.0 : row.candidate_offsets_m[static_cast<std::size_t>(candidate)];
+}
+
+/// The least-squares cost of the active rows (with the position prior) as a quadratic
+/// form of the residual vector: J(y) = y' M y, M = W - W H N^-1 H' W.
+Eigen::MatrixXd costMatrix(const std::vector<GapBridgeRow>& rows, const std::vector<int>& active, int clocks,
+                           const Eigen::Matrix3d& position_cov_m2) {
+  const int n = static_cast<int>(active.size()), u = 3 + clocks;
+  Eigen::MatrixXd H = Eigen::MatrixXd::Zero(n, u);
+  Eigen::VectorXd w(n);
+  for (int i = 0; i < n; ++i) {
+    const GapBridgeRow& r = rows[static_cast<std::size_t>(active[static_cast<std::size_t>(i)])];
+    H.block<1, 3>(i, 0) = r.position_jacobian;
+    H(i, 3 + r.clock) = 1.0;
+    w(i) = 1.0 / (r.sigma_m * r.sigma_m);
+  }
+  Eigen::MatrixXd N = H.transpose() * w.asDiagonal() * H;
+  N.topLeftCorner<3, 3>() += position_cov_m2.inverse();
+  const Eigen::MatrixXd WH = w.asDiagonal() * H;
+  Eigen::MatrixXd M = -WH * N.ldlt().solve(WH.transpose());
+  M.diagonal() += w;
+  return M;
+}
+
+/// An assignment of candidates to the active rows (-1: the slip applied) and its cost.
+struct Assignment {
+  std::vector<int> choice;  // per active row
+  double cost = std::numeric_limits<double>::infinity();
+};
+
+/// A row's prior cost of a choice (GapBridgeRow::applied_prior_cost, candidate_prior_costs).
+double priorCost(const GapBridgeRow& row, int candidate) {
+  if (candidate < 0) return row.applied_prior_cost;
+  return candidate < static_cast<int>(row.candidate_prior_costs.size())
+             ? row.candidate_prior_costs[static_cast<std::size_t>(candidate)]
+             : 0.0;
+}
+
+/// Every assignment of the candidate rows: the best and the next best. The cost is the
+/// least-squares cost of the phases plus each row's prior cost of its choice (its wide
+/// lane against the Melbourne-Wubbena jump): a shift common to a system's rows, which
+/// that system's clock takes, is told apart by the wide lanes alone.
+std::pair<Assignment, Assignment> bestAssignments(const std::vector<GapBridgeRow>& rows, const std::vector<int>& active,
+                                                  int clocks, const Eigen::Matrix3d& position_cov_m2) {
+  const Eigen::MatrixXd M = costMatrix(rows, active, clocks, position_cov_m2);
+  const int n = static_cast<int>(active.size());
+  Eigen::VectorXd y(n);
+  std::vector<int> candidate_rows;
+  for (int i = 0; i < n; ++i) {
+    const GapBridgeRow& r = rows[static_cast<std::size_t>(active[static_cast<std::size_t>(i)])];
+    y(i) = r.residual_m;
+    if (!r.candidate_offsets_m.empty()) candidate_rows.push_back(i);
+  }
+  const Eigen::VectorXd My = M * y;
+  const double base = y.dot(My);
+  // Odometer over the candidate rows' choices; the two cheapest kept.
+  constexpr std::size_t kTop = 2;
+  std::vector<Assignment> top;
+  Assignment current;
+  current.choice.assign(static_cast<std::size_t>(n), -1);
+  Eigen::VectorXd d = Eigen::VectorXd::Zero(n);
+  while (true) {
+    double prior = 0.0;
+    for (const int i : candidate_rows)
+      prior += priorCost(rows[static_cast<std::size_t>(active[static_cast<std::size_t>(i)])],
+                         current.choice[static_cast<std::size_t>(i)]);
+    current.cost = base + 2.0 * d.dot(My) + d.dot(M * d) + prior;
+    if (top.size() < kTop || current.cost < top.back().cost) {
+      const auto at = std::upper_bound(top.begin(), top.end(), current.cost,
+                                       [](double c, const Assignment& a) { return c < a.cost; });
+      top.insert(at, current);
+      if (top.size() > kTop) top.pop_back();
+    }
+    std::size_t k = 0;
+    for (; k < candidate_rows.size(); ++k) {
+      const int i = candidate_rows[k];
+      const GapBridgeRow& r = rows[static_cast<std::size_t>(active[static_cast<std::size_t>(i)])];
+      int& c = current.choice[static_cast<std::size_t>(i)];
+      if (c + 1 < static_cast<int>(r.candidate_offsets_m.size())) {
+        ++c;
+        d(i) = candidateOffset_m(r, c);
+        break;
+      }
+      c = -1;
+      d(i) = 0.0;
+    }
+    if (k == candidate_rows.size()) break;
+  }
+  return {top.front(), top.size() > 1 ? top[1] : Assignment{}};
+}
+
+/// How many assignments the candidate rows make.
+double assignmentCount(const std::vector<GapBridgeRow>& rows, const std::vector<int>& active) {
+  double count = 1.0;
+  for (int i : active) count *= 1.0 + static_cast<double>(rows[static_cast<std::size_t>(i)].candidate_offsets_m.size());
+  return count;
+}
+
+/// The candidates of the active rows: the assignment of least cost (each row's choice
+/// into `out`, its residual into `work`). Returns its cost and the next best's (not the
+/// infinite without one); `differing` gets the rows where the two differ.
+std::pair<double, double> chooseCandidates(const std::vector<GapBridgeRow>& rows, std::vector<GapBridgeRow>& work,
+                                           std::vector<int>& active, int clocks, const Eigen::Matrix3d& position_cov_m2,
+                                           const GapBridgeOptions& o, std::vector<GapBridgeVerdict>& out,
+                                           std::vector<int>& differing) {
+  // Too many assignments: the rows with the most candidates end first.
+  while (assignmentCount(rows, active) > o.max_candidate_assignments) {
+    const auto most = std::max_element(active.begin(), active.end(), [&](int a, int b) {
+      return rows[static_cast<std::size_t>(a)].candidate_offsets_m.size() <
+             rows[static_cast<std::size_t>(b)].candidate_offsets_m.size();
+    });
+    out[static_cast<std::size_t>(*most)].reason =
+        format("too many slip candidate assignments (more than %.0f)", o.max_candidate_assignments);
+    active.erase(most);
+  }
+  const auto [best, second] = bestAssignments(rows, active, clocks, position_cov_m2);
+  differing.clear();
+  for (std::size_t i = 0; i < active.size(); ++i) {
+    const auto k = static_cast<std::size_t>(active[i]);
+    out[k].candidate = best.choice[i];
+    work[k].residual_m = rows[k].residual_m + candidateOffset_m(rows[k], best.choice[i]);
+    if (std::isfinite(second.cost) &&
+        candidateOffset_m(rows[k], best.choice[i]) != candidateOffset_m(rows[k], second.choice[i]))
+      differing.push_back(active[i]);
+  }
+  return {best.cost, second.cost};
+}
+
+/// The chi-square quantile of probability 1 - alpha for `dof` degrees of freedom
+/// (Wilson & Hilferty 1931), z the standard normal quantile of 1 - alpha.
+double chiSquareQuantile(int dof, double z) {
+  const double k = std::max(dof, 1);
+  const double a = 2.0 / (9.0 * k);
+  return k * std::pow(1.0 - a + z * std::sqrt(a), 3);
+}
+
+/// The best assignment is told apart from the next: its cost at least
+/// min_candidate_separation^2 more and min_candidate_ratio times as much.
+bool toldApart(double best_cost, double second_cost, const GapBridgeOptions& o) {
+  return !std::isfinite(second_cost) ||
+         (second_cost - best_cost >= o.min_candidate_separation * o.min_candidate_separation &&
+          second_cost >= o.min_candidate_ratio * best_cost);
 }
 
 /// Index (into `active`) of the worst failing row; -1 when all pass.
@@ -76,17 +223,57 @@ std::vector<GapBridgeVerdict> bridgeGap(const std::vector<GapBridgeRow>& rows, c
     clocks = std::max(clocks, rows[i].clock + 1);
     out[i].slip_cycles = std::numeric_limits<double>::quiet_NaN();
   }
+  const bool any_candidates = std::any_of(rows.begin(), rows.end(), [](const GapBridgeRow& r) {
+    return !r.candidate_offsets_m.empty();
+  });
+  std::vector<GapBridgeRow> work = rows;  // residuals with each row's chosen candidate
+  std::vector<int> differing;
   while (static_cast<int>(active.size()) >= 3 + clocks + options.min_extra_rows) {
-    const Solved s = solveRows(rows, active, clocks, position_cov_m2);
-    const int worst = worstFailing(rows, active, s, options, out);
-    if (worst < 0) {
-      for (int i : active) out[static_cast<std::size_t>(i)].keep = true;
-      return out;
+    // 1. Each candidate row's slip: the assignment of least cost.
+    std::pair<double, double> costs{0.0, std::numeric_limits<double>::infinity()};
+    if (any_candidates) costs = chooseCandidates(rows, work, active, clocks, position_cov_m2, options, out, differing);
+    if (static_cast<int>(active.size()) < 3 + clocks + options.min_extra_rows) break;
+    // 2. The slips at it: the worst failing row ends, and all is tried again.
+    const Solved s = solveRows(work, active, clocks, position_cov_m2);
+    const int worst = worstFailing(work, active, s, options, out);
+    if (worst >= 0) {
+      GapBridgeVerdict& v = out[static_cast<std::size_t>(active[static_cast<std::size_t>(worst)])];
+      v.reason = format("slip %.2f +- %.2f cycles (bounds %.2f, %.2f)", v.slip_cycles, v.sigma_cycles,
+                        options.max_fraction_cycles, options.max_sigma_cycles);
+      active.erase(active.begin() + worst);
+      continue;
     }
-    GapBridgeVerdict& v = out[static_cast<std::size_t>(active[static_cast<std::size_t>(worst)])];
-    v.reason = format("slip %.2f +- %.2f cycles (bounds %.2f, %.2f)", v.slip_cycles, v.sigma_cycles,
-                      options.max_fraction_cycles, options.max_sigma_cycles);
-    active.erase(active.begin() + worst);
+    // 3. All pass: with candidates, the assignment's cost must fit the rows' noise
+    //    (else the row of the largest normalised residual ends) and be told apart from
+    //    the next best (else the rows where the two differ end).
+    // The prior's 3 rows and 3 unknowns cancel; each candidate row adds its wide-lane prior.
+    int dof = static_cast<int>(active.size()) - clocks;
+    for (const int k : active) dof += rows[static_cast<std::size_t>(k)].candidate_offsets_m.empty() ? 0 : 1;
+    if (any_candidates && costs.first > chiSquareQuantile(dof, options.candidate_cost_z)) {
+      std::size_t worst_row = 0;
+      double worst_z = -1.0;
+      for (std::size_t i = 0; i < active.size(); ++i) {
+        const double z = std::abs(s.residual_m(static_cast<int>(i))) / work[static_cast<std::size_t>(active[i])].sigma_m;
+        if (z > worst_z) worst_z = z, worst_row = i;
+      }
+      out[static_cast<std::size_t>(active[worst_row])].reason =
+          format("the slip candidates' best assignment does not fit (cost %.1f > %.1f for %d degrees of freedom); "
+                 "this arc's residual is the largest, %.1f sigmas",
+                 costs.first, chiSquareQuantile(dof, options.candidate_cost_z), dof, worst_z);
+      active.erase(active.begin() + static_cast<std::ptrdiff_t>(worst_row));
+      continue;
+    }
+    if (!toldApart(costs.first, costs.second, options)) {
+      for (int k : differing) {
+        out[static_cast<std::size_t>(k)].reason =
+            format("its slip candidates are not told apart (the best two assignments cost %.1f and %.1f)",
+                   costs.first, costs.second);
+        active.erase(std::find(active.begin(), active.end(), k));
+      }
+      continue;
+    }
+    for (int i : active) out[static_cast<std::size_t>(i)].keep = true;
+    return out;
   }
   for (int i : active)
     out[static_cast<std::size_t>(i)].reason = format("%d arcs back after the gap, too few to test the slips",

@@ -15,7 +15,8 @@ std::pair<long, double> nearestInteger(double x) {
   return {static_cast<long>(r), std::abs(x - r)};
 }
 
-/// The wide-lane estimate and its sigma; false (with the outcome) when too uncertain.
+/// The wide-lane estimate and its sigma; false when too uncertain to round (the
+/// outcome set: candidates may still be tried, candidatesAllowed).
 bool wideLane(const SlipRepairInput& in, const SlipRepairOptions& o, SlipRepair& out) {
   const double n = std::max(in.mw_samples, 1);
   out.wide_lane_cycles = in.mw_jump_cycles;
@@ -25,6 +26,12 @@ bool wideLane(const SlipRepairInput& in, const SlipRepairOptions& o, SlipRepair&
   out.text = format("wide lane too uncertain: %.2f +- %.2f cycles, sigma > %.2f", out.wide_lane_cycles,
                     out.wide_lane_sigma_cycles, o.max_wide_lane_sigma_cycles);
   return false;
+}
+
+/// Candidates may be tried: on, and the MW sigma within their bound.
+bool candidatesAllowed(const SlipRepairOptions& o, const SlipRepair& out) {
+  return o.max_candidate_wide_lane_sigma_cycles > 0.0 && o.max_candidates > 0 &&
+         out.wide_lane_sigma_cycles <= o.max_candidate_wide_lane_sigma_cycles;
 }
 
 /// The GF jump over the ionosphere fit and its sigma [m]; false (with the outcome) without a fit.
@@ -46,9 +53,9 @@ bool geometryFreeJump(const SlipRepairInput& in, const SlipRepairOptions& o, Sli
   return true;
 }
 
-/// The wide-lane candidates (integers within max_wide_lane_offset_cycles of the
-/// MW estimate) whose L1 estimate is within the fraction bound; exactly one is
-/// accepted. False (with the outcome) otherwise.
+/// The unique slip: of the wide-lane candidates (integers within
+/// max_wide_lane_offset_cycles of the MW estimate) exactly one gives an L1 estimate
+/// within the fraction bound, and its neighbours do not. False (with the outcome) otherwise.
 bool firstFrequency(const SlipRepairInput& in, const SlipRepairOptions& o, double jump_m, double jump_sigma_m,
                     SlipRepair& out) {
   const double dl = in.wavelength1_m - in.wavelength2_m;
@@ -98,6 +105,63 @@ bool firstFrequency(const SlipRepairInput& in, const SlipRepairOptions& o, doubl
   return false;
 }
 
+/// The L1 estimate given a wide-lane slip [cycles].
+double l1Given(const SlipRepairInput& in, double jump_m, long nw) {
+  return (jump_m - in.wavelength2_m * static_cast<double>(nw)) / (in.wavelength1_m - in.wavelength2_m);
+}
+
+/// Every wide lane within candidate_sigma_factor sigmas of the MW estimate (at least
+/// max_wide_lane_offset_cycles) whose L1 passes: the nearest the estimate applied, the
+/// others kept as alternatives. False (with the outcome) without one or with too many.
+bool candidates(const SlipRepairInput& in, const SlipRepairOptions& o, double jump_m, double jump_sigma_m,
+                SlipRepair& out) {
+  out.l1_sigma_cycles = jump_sigma_m / std::abs(in.wavelength1_m - in.wavelength2_m);
+  if (!(out.l1_sigma_cycles <= o.max_l1_sigma_cycles)) {
+    out.outcome = SlipRepairOutcome::L1TooUncertain;
+    out.text = format("L1 too uncertain: sigma %.2f > %.2f cycles", out.l1_sigma_cycles, o.max_l1_sigma_cycles);
+    return false;
+  }
+  const double half_width = std::max({o.max_wide_lane_offset_cycles, o.min_candidate_half_width_cycles,
+                                      o.candidate_sigma_factor * out.wide_lane_sigma_cycles});
+  std::vector<std::pair<double, SlipCandidate>> passing;  // (|nw - MW|, candidate)
+  for (long nw = std::lround(std::ceil(out.wide_lane_cycles - half_width));
+       static_cast<double>(nw) <= out.wide_lane_cycles + half_width; ++nw) {
+    const double l1 = l1Given(in, jump_m, nw);
+    const auto [n1, fraction] = nearestInteger(l1);
+    if (fraction <= o.max_l1_fraction_cycles)
+      passing.push_back({std::abs(static_cast<double>(nw) - out.wide_lane_cycles), {n1, n1 - nw, l1}});
+  }
+  if (passing.empty() || static_cast<int>(passing.size()) > o.max_candidates) {
+    out.outcome = passing.empty() ? SlipRepairOutcome::L1NotInteger : SlipRepairOutcome::TooManyCandidates;
+    out.text = format("%zu wide lanes within %.2f cycles of %.2f +- %.2f give an integer L1 (at most %d)",
+                      passing.size(), half_width, out.wide_lane_cycles, out.wide_lane_sigma_cycles, o.max_candidates);
+    return false;
+  }
+  std::stable_sort(passing.begin(), passing.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+  out.dn1_cycles = passing.front().second.dn1_cycles;
+  out.dn2_cycles = passing.front().second.dn2_cycles;
+  out.l1_cycles = passing.front().second.l1_cycles;
+  out.alternatives.clear();
+  for (std::size_t i = 1; i < passing.size(); ++i) out.alternatives.push_back(passing[i].second);
+  return true;
+}
+
+std::string candidatesText(const SlipRepair& r) {
+  if (r.alternatives.empty()) return {};
+  std::string text = format("; %zu other candidate%s:", r.alternatives.size(), r.alternatives.size() == 1 ? "" : "s");
+  for (std::size_t i = 0; i < r.alternatives.size(); ++i)
+    text += (i == 0 ? " " : ", ") + slipText(r.alternatives[i].dn1_cycles, r.alternatives[i].dn2_cycles);
+  return text;
+}
+
+void describe(SlipRepair& out) {
+  out.outcome = out.dn1_cycles == 0 && out.dn2_cycles == 0 ? SlipRepairOutcome::NoSlip : SlipRepairOutcome::Repaired;
+  out.text = slipText(out.dn1_cycles, out.dn2_cycles) +
+             format(" (WL %.2f +- %.2f, L1 %.2f +- %.2f cycles)", out.wide_lane_cycles, out.wide_lane_sigma_cycles,
+                    out.l1_cycles, out.l1_sigma_cycles) +
+             candidatesText(out);
+}
+
 }  // namespace
 
 const char* slipRepairOutcomeName(SlipRepairOutcome outcome) {
@@ -109,6 +173,7 @@ const char* slipRepairOutcomeName(SlipRepairOutcome outcome) {
     case SlipRepairOutcome::Ambiguous: return "ambiguous";
     case SlipRepairOutcome::L1TooUncertain: return "L1 too uncertain";
     case SlipRepairOutcome::L1NotInteger: return "L1 not an integer";
+    case SlipRepairOutcome::TooManyCandidates: return "too many candidates";
   }
   return "unknown";
 }
@@ -144,18 +209,42 @@ std::optional<GeometryFreePrediction> predictGeometryFreeFit(const std::vector<s
   return out;
 }
 
+std::string slipText(long dn1_cycles, long dn2_cycles) { return format("dN1 %+ld dN2 %+ld", dn1_cycles, dn2_cycles); }
+
+void SlipRepair::choose(const SlipCandidate& chosen) {
+  if (chosen.dn1_cycles == dn1_cycles && chosen.dn2_cycles == dn2_cycles) return;
+  std::vector<SlipCandidate> others{applied()};
+  for (const SlipCandidate& c : alternatives)
+    if (c.dn1_cycles != chosen.dn1_cycles || c.dn2_cycles != chosen.dn2_cycles) others.push_back(c);
+  const std::string before = slipText(dn1_cycles, dn2_cycles);
+  dn1_cycles = chosen.dn1_cycles;
+  dn2_cycles = chosen.dn2_cycles;
+  l1_cycles = chosen.l1_cycles;
+  alternatives = std::move(others);
+  describe(*this);
+  text += " (chosen by the gap bridge over " + before + ")";
+}
+
 SlipRepair repairSlip(const SlipRepairInput& input, const SlipRepairOptions& options) {
   SlipRepair out;
-  // 1. The wide lane from the Melbourne-Wubbena jump.
-  if (!wideLane(input, options, out)) return out;
+  // 1. The wide lane from the Melbourne-Wubbena jump (too uncertain to round: candidates).
+  const bool wide_lane_rounds = wideLane(input, options, out);
+  if (!wide_lane_rounds && !candidatesAllowed(options, out)) return out;
+  const std::string wide_lane_refusal = out.text;
   // 2. The geometry-free jump over the ionosphere fit.
   double jump_m = 0.0, jump_sigma_m = 0.0;
   if (!geometryFreeJump(input, options, out, jump_m, jump_sigma_m)) return out;
-  // 3. L1 given each wide-lane candidate: exactly one integer pair.
-  if (!firstFrequency(input, options, jump_m, jump_sigma_m, out)) return out;
-  out.outcome = out.dn1_cycles == 0 && out.dn2_cycles == 0 ? SlipRepairOutcome::NoSlip : SlipRepairOutcome::Repaired;
-  out.text = format("dN1 %+ld dN2 %+ld (WL %.2f +- %.2f, L1 %.2f +- %.2f cycles)", out.dn1_cycles, out.dn2_cycles,
-                    out.wide_lane_cycles, out.wide_lane_sigma_cycles, out.l1_cycles, out.l1_sigma_cycles);
+  // 3. L1 given each wide-lane candidate: exactly one integer pair; else, where
+  //    allowed, every pair that passes as candidates for the gap bridge.
+  if (!(wide_lane_rounds && firstFrequency(input, options, jump_m, jump_sigma_m, out))) {
+    if (out.outcome == SlipRepairOutcome::L1TooUncertain || !candidatesAllowed(options, out)) return out;
+    const std::string unique_refusal = wide_lane_rounds ? out.text : wide_lane_refusal;
+    if (!candidates(input, options, jump_m, jump_sigma_m, out)) {
+      out.text = unique_refusal + "; " + out.text;
+      return out;
+    }
+  }
+  describe(out);
   return out;
 }
 

@@ -31,6 +31,8 @@ struct PppEpochProcessor::Impl {
   std::vector<ArcId> arcs;
   std::vector<ObservedIonosphereFree> observed_if;  // of `usable`, once per epoch for every linearisation
   std::vector<BridgedArc> bridged;
+  /// The slip-repair candidates the estimator chose at this epoch (chooseRepairCandidate).
+  std::vector<ArcSlipRepair> chosen_repairs;
   const EphemerisSource* ephemeris = nullptr;
   DopplerEpoch doppler;  // this epoch's Doppler range rates (an estimator that uses them)
 
@@ -47,6 +49,14 @@ struct PppEpochProcessor::Impl {
   const std::vector<ImuSample>* imuUpTo(const GnssTime& time);
   /// The estimator's step over the single measurement model of the usable satellites.
   EstimatorEpochResult estimate(const ObsEpoch& epoch, const ArcEpochResult& arc_result, PppEstimator& estimator);
+  /// Another candidate of a bridged arc's repair applied (EstimatorEpochInput::
+  /// choose_repair_candidate): the tracker's arc, the usable phases, the observed IF.
+  bool chooseRepairCandidate(const BridgedArc& bridged_arc, const SlipCandidate& candidate);
+  /// A bridged arc the estimator ended starts again as a new arc (EstimatorEpochInput::
+  /// restart_bridged_arc): the tracker's arc, the usable phases and arc, the observed IF.
+  std::optional<ArcId> restartBridgedArc(const BridgedArc& bridged_arc, const std::string& reason);
+  /// The arcs restarted at this epoch: (old, new status).
+  std::vector<std::pair<ArcId, SatelliteArcStatus>> restarted;
 };
 
 namespace {
@@ -230,6 +240,34 @@ void PppEpochProcessor::Impl::keepUsableArcs(const ArcEpochResult& arc_result, P
   observedIonosphereFree(usable, observed_if);
 }
 
+bool PppEpochProcessor::Impl::chooseRepairCandidate(const BridgedArc& bridged_arc, const SlipCandidate& candidate) {
+  const auto it = std::find(arcs.begin(), arcs.end(), bridged_arc.arc);
+  if (it == arcs.end()) return false;
+  const auto i = static_cast<std::size_t>(it - arcs.begin());
+  const std::optional<SatelliteArcStatus> st = tracker.chooseRepairCandidate(bridged_arc.satellite, candidate);
+  if (!st || st->arc != bridged_arc.arc || !st->slip_repair) return false;
+  usable[i].phase1_cycles = st->phase1_cycles;
+  usable[i].phase2_cycles = st->phase2_cycles;
+  observedIonosphereFree(usable, observed_if);
+  chosen_repairs.push_back({st->satellite, st->arc, *st->slip_repair});
+  return true;
+}
+
+std::optional<ArcId> PppEpochProcessor::Impl::restartBridgedArc(const BridgedArc& bridged_arc,
+                                                               const std::string& reason) {
+  const auto it = std::find(arcs.begin(), arcs.end(), bridged_arc.arc);
+  if (it == arcs.end()) return std::nullopt;
+  const auto i = static_cast<std::size_t>(it - arcs.begin());
+  std::optional<SatelliteArcStatus> st = tracker.restartArc(bridged_arc.satellite, "ended by the gap bridge: " + reason);
+  if (!st) return std::nullopt;
+  usable[i].phase1_cycles = st->phase1_cycles;
+  usable[i].phase2_cycles = st->phase2_cycles;
+  arcs[i] = st->arc;
+  observedIonosphereFree(usable, observed_if);
+  restarted.emplace_back(bridged_arc.arc, std::move(*st));
+  return arcs[i];
+}
+
 EstimatorEpochResult PppEpochProcessor::Impl::estimate(const ObsEpoch& epoch, const ArcEpochResult& arc_result,
                                                        PppEstimator& estimator) {
   const GnssTime& time = epoch.time;
@@ -255,6 +293,14 @@ EstimatorEpochResult PppEpochProcessor::Impl::estimate(const ObsEpoch& epoch, co
   input.arcs = &arcs;
   input.ended_arcs = &arc_result.ended;
   input.bridged_arcs = &bridged;
+  chosen_repairs.clear();
+  restarted.clear();
+  const std::function<bool(const BridgedArc&, const SlipCandidate&)> choose =
+      [this](const BridgedArc& b, const SlipCandidate& c) { return chooseRepairCandidate(b, c); };
+  input.choose_repair_candidate = &choose;
+  const std::function<std::optional<ArcId>(const BridgedArc&, const std::string&)> restart =
+      [this](const BridgedArc& b, const std::string& reason) { return restartBridgedArc(b, reason); };
+  input.restart_bridged_arc = &restart;
   input.phase_biases = phase_biases;
   input.imu = imuUpTo(time);
   if (estimator.usesDoppler()) {  // every satellite's Doppler of the processed systems, arcs or not
@@ -262,7 +308,10 @@ EstimatorEpochResult PppEpochProcessor::Impl::estimate(const ObsEpoch& epoch, co
                                   *ephemeris);
     input.doppler = &doppler.observations;
   }
-  return estimator.processEpoch(input);
+  EstimatorEpochResult result = estimator.processEpoch(input);
+  input.choose_repair_candidate = nullptr;
+  input.restart_bridged_arc = nullptr;
+  return result;
 }
 
 // One epoch, as numbered steps:
@@ -293,6 +342,16 @@ PppEpochRecord PppEpochProcessor::process(const ObsEpoch& epoch, PppEstimator& e
   d.keepUsableArcs(arc_result, rec);
   // 4. The estimator's step.
   EstimatorEpochResult r = d.estimate(epoch, arc_result, estimator);
+  // The repairs as the estimator chose them among their candidates.
+  for (const ArcSlipRepair& chosen : d.chosen_repairs)
+    for (ArcSlipRepair& repair : rec.slip_repairs)
+      if (repair.arc == chosen.arc) repair.repair = chosen.repair;
+  // Arcs the estimator ended after a bridged gap start again as new arcs.
+  for (const auto& [old_arc, st] : d.restarted) {
+    ++rec.new_arcs;
+    rec.arc_events.push_back(st.satellite.toString() + " arc " + std::to_string(st.arc) + " (was arc " +
+                             std::to_string(old_arc) + "): " + st.reason);
+  }
   // 5. Its result into the record.
   recordEstimate(r, d.fix_ratio, rec);
   return rec;

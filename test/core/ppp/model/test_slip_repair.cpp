@@ -1,7 +1,9 @@
 // Slip repair (slip_repair.h): known slips injected into synthetic
 // Melbourne-Wubbena and geometry-free series across a 30-s gap are recovered; a
 // wide lane wrong by one cycle and a half-cycle L1 offset are refused by the L1
-// fraction bound; two candidates are refused as ambiguous; noise beyond the sigma
+// fraction bound; where the geometry-free phase leaves several wide lanes (Galileo
+// E1/E5a, a noisy Melbourne-Wubbena jump) they are candidates with the true slip
+// among them, or refused as ambiguous without candidates; noise beyond the sigma
 // bounds and too short a fit are refused.
 #include <gtest/gtest.h>
 
@@ -47,9 +49,25 @@ TEST(SlipRepair, KnownSlipsAreRecovered) {
     EXPECT_EQ(r.dn1_cycles, dn1) << r.text;
     EXPECT_EQ(r.dn2_cycles, dn2) << r.text;
     EXPECT_LE(r.l1_sigma_cycles, 0.15) << r.text;
-    // Galileo E1/E5a: a wide lane one off gives an integer L1 too (-3.95 cycles): refused.
-    const SlipRepair g = repairSlip(arcAcrossGap(seed++, dn1, dn2, kGalLambda1, kGalLambda2), {});
-    EXPECT_EQ(g.outcome, SlipRepairOutcome::Ambiguous) << g.text;
+    EXPECT_TRUE(r.alternatives.empty()) << r.text;
+    // Galileo E1/E5a: a wide lane one off gives an integer L1 too (-3.95 cycles):
+    // candidates for the gap bridge (the true one applied, the MW being 0.15 cycles
+    // off), or refused without candidates.
+    const unsigned gal_seed = seed++;
+    const SlipRepair g = repairSlip(arcAcrossGap(gal_seed, dn1, dn2, kGalLambda1, kGalLambda2), {});
+    EXPECT_EQ(g.outcome, SlipRepairOutcome::Repaired) << g.text;
+    EXPECT_EQ(g.dn1_cycles, dn1) << g.text;
+    EXPECT_EQ(g.dn2_cycles, dn2) << g.text;
+    ASSERT_FALSE(g.alternatives.empty()) << g.text;
+    for (const SlipCandidate& c : g.alternatives) {
+      const long dnw = (c.dn1_cycles - c.dn2_cycles) - (dn1 - dn2);
+      EXPECT_EQ(std::abs(dnw), 1) << g.text;             // within 1.5 cycles of the MW
+      EXPECT_EQ(c.dn1_cycles - dn1, 4 * dnw) << g.text;  // L1 moves by 3.95 cycles per wide-lane cycle
+    }
+    SlipRepairOptions unique_only;
+    unique_only.max_candidate_wide_lane_sigma_cycles = 0.0;
+    EXPECT_EQ(repairSlip(arcAcrossGap(gal_seed, dn1, dn2, kGalLambda1, kGalLambda2), unique_only).outcome,
+              SlipRepairOutcome::Ambiguous);
   }
 }
 
@@ -63,25 +81,50 @@ TEST(SlipRepair, NoSlipIsIdentifiedAsSuch) {
 
 // A Melbourne-Wubbena jump one cycle off (the true wide lane beyond the 0.6-cycle
 // search): the L1 estimate moves by lambda2 / (lambda1 - lambda2) = -4.53 cycles,
-// half a cycle from an integer.
-TEST(SlipRepair, AWideLaneOneCycleOffIsRefused) {
+// half a cycle from an integer: refused without candidates; with them (1.5 cycles
+// either side) the true slip and the wide lane two off (L1 9 cycles off) are the
+// candidates.
+TEST(SlipRepair, AWideLaneOneCycleOffIsRefusedOrLeftToCandidates) {
   SlipRepairInput in = arcAcrossGap(4, 3, 0, kGpsLambda1, kGpsLambda2);
   in.mw_jump_cycles = std::round(in.mw_jump_cycles) + 1.0;
-  const SlipRepair r = repairSlip(in, {});
+  SlipRepairOptions unique_only;
+  unique_only.max_candidate_wide_lane_sigma_cycles = 0.0;
+  const SlipRepair r = repairSlip(in, unique_only);
   EXPECT_EQ(r.outcome, SlipRepairOutcome::L1NotInteger) << r.text;
   EXPECT_FALSE(r.accepted());
   EXPECT_NEAR(std::abs(r.l1_cycles - std::round(r.l1_cycles)), 0.47, 0.15) << r.text;
+  const SlipRepair c = repairSlip(in, {});
+  ASSERT_TRUE(c.accepted()) << c.text;
+  ASSERT_EQ(c.alternatives.size(), 1u) << c.text;
+  const auto is = [](const SlipCandidate& s, long dn1, long dn2) { return s.dn1_cycles == dn1 && s.dn2_cycles == dn2; };
+  EXPECT_TRUE(is(c.applied(), 3, 0) || is(c.alternatives[0], 3, 0)) << c.text;
+  EXPECT_TRUE(is(c.applied(), 12, 7) || is(c.alternatives[0], 12, 7)) << c.text;
 }
 
-TEST(SlipRepair, HalfACycleOfL1IsRefused) {
+// Half a cycle of L1 in the geometry-free jump: no wide lane within 0.6 cycles gives
+// an integer L1 (refused without candidates); the neighbours 1 cycle either side do
+// (L1 -4.53 + 0.5 and 4.53 + 0.5 cycles from the true one: dN1 -1 and +8): wrong
+// candidates, left to the gap bridge, which finds them 4 and 5 L1 cycles off.
+TEST(SlipRepair, HalfACycleOfL1IsRefusedOrLeftToCandidates) {
   SlipRepairInput in = arcAcrossGap(5, 3, 0, kGpsLambda1, kGpsLambda2);
   in.gf_after_m += 0.5 * (kGpsLambda1 - kGpsLambda2);
-  EXPECT_EQ(repairSlip(in, {}).outcome, SlipRepairOutcome::L1NotInteger);
+  SlipRepairOptions unique_only;
+  unique_only.max_candidate_wide_lane_sigma_cycles = 0.0;
+  EXPECT_EQ(repairSlip(in, unique_only).outcome, SlipRepairOutcome::L1NotInteger);
+  const SlipRepair c = repairSlip(in, {});
+  ASSERT_TRUE(c.accepted()) << c.text;
+  std::vector<SlipCandidate> all{c.applied()};
+  all.insert(all.end(), c.alternatives.begin(), c.alternatives.end());
+  ASSERT_EQ(all.size(), 2u) << c.text;
+  for (const SlipCandidate& s : all) {
+    EXPECT_EQ(std::abs((s.dn1_cycles - s.dn2_cycles) - 3), 1) << c.text;
+    EXPECT_NEAR(std::abs(s.dn1_cycles - 3), 4.5, 0.5) << c.text;  // -1 or +8
+  }
 }
 
 // Between two integers the L1 test picks the wide lane (GPS: the other gives a
 // half-cycle L1); for Galileo E1/E5a both give a near-integer L1 (-3.95 cycles
-// apart): ambiguous, refused.
+// apart): both are candidates, the nearer applied.
 TEST(SlipRepair, AWideLaneBetweenIntegersIsChosenByL1OrRefused) {
   SlipRepairInput gps = arcAcrossGap(6, 3, 0, kGpsLambda1, kGpsLambda2);
   gps.mw_jump_cycles = 3.45;
@@ -91,14 +134,62 @@ TEST(SlipRepair, AWideLaneBetweenIntegersIsChosenByL1OrRefused) {
   EXPECT_EQ(r.dn2_cycles, 0);
   SlipRepairInput gal = arcAcrossGap(6, 3, 0, kGalLambda1, kGalLambda2);
   gal.mw_jump_cycles = 3.45;
-  EXPECT_EQ(repairSlip(gal, {}).outcome, SlipRepairOutcome::Ambiguous);
+  const SlipRepair g = repairSlip(gal, {});
+  EXPECT_EQ(g.outcome, SlipRepairOutcome::Repaired) << g.text;
+  EXPECT_EQ(g.dn1_cycles - g.dn2_cycles, 3) << g.text;
+  // Within 1.5 cycles of 3.45: wide lanes 2, 3, 4; 3 nearest, then 4, then 2.
+  ASSERT_EQ(g.alternatives.size(), 2u) << g.text;
+  EXPECT_EQ(g.alternatives[0].dn1_cycles - g.alternatives[0].dn2_cycles, 4) << g.text;
+  EXPECT_EQ(g.alternatives[0].dn1_cycles, g.dn1_cycles + 4) << g.text;
+  EXPECT_EQ(g.alternatives[1].dn1_cycles - g.alternatives[1].dn2_cycles, 2) << g.text;
+  EXPECT_EQ(g.alternatives[1].dn1_cycles, g.dn1_cycles - 4) << g.text;
+}
+
+// A Melbourne-Wubbena jump too noisy to round (sigma 0.6 cycles, as under
+// time-correlated code multipath) and 1.3 cycles off the true wide lane: GPS
+// candidates are 2 wide-lane cycles apart (the odd ones give a half-cycle L1): L1
+// 9 and L2 7 cycles apart, 9 x 0.1903 m - 7 x 0.2442 m = 3 mm in the geometry-free
+// phase; the true one is among them. Choosing another makes it the applied one.
+TEST(SlipRepair, ANoisyWideLaneGivesCandidates) {
+  SlipRepairInput in = arcAcrossGap(12, 5, -2, kGpsLambda1, kGpsLambda2);
+  in.mw_jump_cycles = 7.0 + 1.3;
+  in.mw_sigma_cycles = 0.6;
+  const SlipRepair r = repairSlip(in, {});
+  ASSERT_TRUE(r.accepted()) << r.text;
+  std::vector<SlipCandidate> all{r.applied()};
+  all.insert(all.end(), r.alternatives.begin(), r.alternatives.end());
+  ASSERT_GE(all.size(), 2u) << r.text;
+  bool true_one = false;
+  for (const SlipCandidate& c : all) {
+    EXPECT_EQ(((c.dn1_cycles - c.dn2_cycles) - 7) % 2, 0) << r.text;
+    EXPECT_EQ((c.dn1_cycles - 5) * 7, (c.dn2_cycles + 2) * 9) << r.text;  // steps of (9, 7)
+    true_one = true_one || (c.dn1_cycles == 5 && c.dn2_cycles == -2);
+  }
+  EXPECT_TRUE(true_one) << r.text;
+  // The applied one is the nearest the MW estimate (8.3): wide lane 9.
+  EXPECT_EQ(r.dn1_cycles - r.dn2_cycles, 9) << r.text;
+  SlipRepair chosen = r;
+  chosen.choose({5, -2, 5.0});
+  EXPECT_EQ(chosen.dn1_cycles, 5);
+  EXPECT_EQ(chosen.dn2_cycles, -2);
+  EXPECT_EQ(chosen.alternatives.size(), r.alternatives.size());
+  EXPECT_NE(chosen.text.find("chosen by the gap bridge over dN1 +14 dN2 +5"), std::string::npos) << chosen.text;
+  // More candidates than allowed: refused.
+  SlipRepairOptions few;
+  few.max_candidates = 1;
+  EXPECT_EQ(repairSlip(in, few).outcome, SlipRepairOutcome::TooManyCandidates);
 }
 
 TEST(SlipRepair, NoiseBeyondTheBoundsIsRefused) {
-  // Melbourne-Wubbena noise of 0.5 cycles: sigma 0.5 > 0.35.
+  // Melbourne-Wubbena noise of 1.2 cycles: sigma above 0.35, and above 1.0 for candidates.
   SlipRepairInput noisy_mw = arcAcrossGap(7, 3, 0, kGpsLambda1, kGpsLambda2);
-  noisy_mw.mw_sigma_cycles = 0.5;
+  noisy_mw.mw_sigma_cycles = 1.2;
   EXPECT_EQ(repairSlip(noisy_mw, {}).outcome, SlipRepairOutcome::WideLaneTooUncertain);
+  // 0.5 cycles: refused without candidates.
+  noisy_mw.mw_sigma_cycles = 0.5;
+  SlipRepairOptions unique_only;
+  unique_only.max_candidate_wide_lane_sigma_cycles = 0.0;
+  EXPECT_EQ(repairSlip(noisy_mw, unique_only).outcome, SlipRepairOutcome::WideLaneTooUncertain);
   // Geometry-free scatter of 2.5 cm before the gap: the jump's sigma over 0.15 L1 cycle (8 mm).
   SlipRepairInput noisy_gf = arcAcrossGap(8, 3, 0, kGpsLambda1, kGpsLambda2);
   std::mt19937 rng(9);

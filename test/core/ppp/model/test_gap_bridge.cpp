@@ -1,0 +1,149 @@
+// Gap bridge (gap_bridge.h) on synthetic rows: a position error within the prior,
+// one clock per system, 3 mm of phase noise. Arcs without a slip go on; a slip of
+// cycles ends its arc; of a slip repair's candidates the true one is chosen (GPS
+// L1/L2 candidates 9 L1 cycles apart, Galileo E1/E5a ones 4), also where the slip
+// applied is wrong; a shift common to a system's arcs is told apart by the wide lanes'
+// prior costs or ends the arcs; candidates that only the position prior could tell
+// apart, and an assignment whose cost does not fit the noise, end arcs.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "ppp_bayes_tree/ppp/model/gap_bridge.h"
+#include "ppp_bayes_tree/types/constants.h"
+
+namespace ppp {
+namespace {
+
+constexpr double kLambda1 = kSpeedOfLight_mps / 1575.42e6;  // GPS L1 = Galileo E1 (IS-GPS-200, Galileo OS SIS ICD)
+
+struct Scene {
+  std::vector<GapBridgeRow> rows;
+  Eigen::Matrix3d prior = Eigen::Matrix3d::Identity();  // 1 m per axis
+};
+
+/// n_gps + n_gal rows: unit lines of sight above 15 degrees, a position error of
+/// (0.6, -0.4, 0.5) m, clocks 0.3 and -1.2 m, 3 mm noise; no slip.
+Scene scene(int n_gps, int n_gal, unsigned seed = 1) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> azimuth(0.0, 2.0 * kPi), elevation(15.0 * kPi / 180.0, 85.0 * kPi / 180.0);
+  std::normal_distribution<double> noise(0.0, 0.003);
+  const Eigen::Vector3d dp(0.6, -0.4, 0.5);
+  const double clock_m[2] = {0.3, -1.2};
+  Scene s;
+  for (int i = 0; i < n_gps + n_gal; ++i) {
+    const double az = azimuth(rng), el = elevation(rng);
+    GapBridgeRow r;
+    r.position_jacobian = -Eigen::RowVector3d(std::cos(el) * std::sin(az), std::cos(el) * std::cos(az), std::sin(el));
+    r.clock = i < n_gps ? 0 : 1;
+    r.residual_m = r.position_jacobian.dot(dp) + clock_m[r.clock] + noise(rng);
+    r.sigma_m = 0.003;
+    r.wavelength_m = kLambda1;
+    s.rows.push_back(r);
+  }
+  return s;
+}
+
+/// The row's repair applied `applied_off` L1 cycles off the truth; its candidates are
+/// the slips `steps` L1 cycles from the applied one (one of them -applied_off when the
+/// truth is among them).
+void withCandidates(GapBridgeRow& r, int applied_off, const std::vector<int>& steps) {
+  r.residual_m += applied_off * kLambda1;
+  for (const int step : steps) r.candidate_offsets_m.push_back(step * kLambda1);
+}
+
+TEST(GapBridge, ArcsWithoutASlipGoOnAndASlipEndsItsArc) {
+  Scene s = scene(7, 5);
+  s.rows[2].residual_m += 2.0 * kLambda1;
+  const std::vector<GapBridgeVerdict> v = bridgeGap(s.rows, s.prior);
+  for (std::size_t i = 0; i < v.size(); ++i) {
+    EXPECT_EQ(v[i].keep, i != 2) << i << " " << v[i].reason;
+    EXPECT_EQ(v[i].candidate, -1);
+  }
+  // The postfit residual: part of the slip goes into the position and clock.
+  EXPECT_GT(v[2].slip_cycles, 1.0) << v[2].reason;
+}
+
+TEST(GapBridge, TheTrueCandidateIsChosen) {
+  Scene s = scene(7, 5);
+  withCandidates(s.rows[0], 0, {9});        // GPS, applied right
+  withCandidates(s.rows[1], 9, {-9, 9});    // GPS, applied 9 cycles off: candidate 0
+  withCandidates(s.rows[3], -9, {9});       // GPS: candidate 0
+  withCandidates(s.rows[7], 4, {-4, 4});    // Galileo, applied 4 off: candidate 0
+  withCandidates(s.rows[8], 0, {4, -4});    // Galileo, applied right
+  withCandidates(s.rows[9], -4, {-4, 4});   // Galileo: candidate 1
+  const std::vector<GapBridgeVerdict> v = bridgeGap(s.rows, s.prior);
+  const std::vector<int> expected = {-1, 0, -1, 0, -1, -1, -1, 0, -1, 1, -1, -1};
+  for (std::size_t i = 0; i < v.size(); ++i) {
+    EXPECT_TRUE(v[i].keep) << i << " " << v[i].reason;
+    EXPECT_EQ(v[i].candidate, expected[i]) << i;
+    EXPECT_LT(std::abs(v[i].slip_cycles), 0.1) << i;
+  }
+}
+
+// Every Galileo arc's repair off by the same 4 cycles (one wide-lane cycle): the
+// Galileo clock takes the shift, so only the wide lanes' prior costs tell it apart.
+// Without them the arcs end (an arc starting later would not share the shift); with
+// them (the Melbourne-Wubbena jump 0.2 cycles from the truth, sigma 0.3: the shift
+// costs 5 x (0.8^2 - 0.2^2) / 0.3^2 = 33 more) the true candidate is chosen for each.
+TEST(GapBridge, AShiftCommonToASystemIsToldApartByTheWideLanesAlone) {
+  Scene s = scene(7, 5);
+  for (int i = 7; i < 12; ++i) withCandidates(s.rows[static_cast<std::size_t>(i)], 4, {-4});
+  std::vector<GapBridgeVerdict> v = bridgeGap(s.rows, s.prior);
+  for (std::size_t i = 0; i < 7; ++i) EXPECT_TRUE(v[i].keep) << i << " " << v[i].reason;
+  for (std::size_t i = 7; i < 12; ++i) {
+    EXPECT_FALSE(v[i].keep) << i;
+    EXPECT_NE(v[i].reason.find("not told apart"), std::string::npos) << v[i].reason;
+  }
+  for (int i = 7; i < 12; ++i) {
+    GapBridgeRow& r = s.rows[static_cast<std::size_t>(i)];
+    r.applied_prior_cost = std::pow((1.0 - 0.2) / 0.3, 2);  // the applied wide lane 1 cycle off, the MW 0.2
+    r.candidate_prior_costs = {std::pow(0.2 / 0.3, 2)};
+  }
+  v = bridgeGap(s.rows, s.prior);
+  for (std::size_t i = 0; i < v.size(); ++i) {
+    EXPECT_TRUE(v[i].keep) << i << " " << v[i].reason;
+    EXPECT_EQ(v[i].candidate, i < 7 ? -1 : 0) << i;
+  }
+}
+
+// Row 0 alone sees the height (the others horizontal) and the prior is 10 m: each of
+// its candidates fits by moving the height, so they are not told apart and it ends;
+// the others go on.
+TEST(GapBridge, CandidatesOnlyThePriorCouldTellApartEndTheirArc) {
+  Scene s = scene(8, 0);
+  for (std::size_t i = 1; i < s.rows.size(); ++i) {
+    s.rows[i].position_jacobian.z() = 0.0;
+    s.rows[i].residual_m = s.rows[i].position_jacobian.dot(Eigen::Vector3d(0.6, -0.4, 0.5)) + 0.3;
+  }
+  withCandidates(s.rows[0], 0, {9, -9});
+  GapBridgeOptions o;
+  o.min_position_sigma_m = 10.0;
+  const std::vector<GapBridgeVerdict> v = bridgeGap(s.rows, s.prior, o);
+  EXPECT_FALSE(v[0].keep);
+  EXPECT_NE(v[0].reason.find("not told apart"), std::string::npos) << v[0].reason;
+  for (std::size_t i = 1; i < v.size(); ++i) EXPECT_TRUE(v[i].keep) << i << " " << v[i].reason;
+}
+
+// A half-cycle error on a row without candidates (within the 0.2-cycle slip bound
+// only once the position bends to it) and candidates elsewhere: the best assignment's
+// cost does not fit 3 mm of noise, the row ends, the candidates are chosen right.
+TEST(GapBridge, AnAssignmentThatDoesNotFitTheNoiseEndsItsWorstArc) {
+  Scene s = scene(7, 5, 3);
+  s.rows[4].residual_m += 0.15 * kLambda1;
+  withCandidates(s.rows[1], 9, {-9});
+  withCandidates(s.rows[8], -4, {4, -4});
+  const std::vector<GapBridgeVerdict> v = bridgeGap(s.rows, s.prior);
+  EXPECT_FALSE(v[4].keep);
+  EXPECT_NE(v[4].reason.find("does not fit"), std::string::npos) << v[4].reason;
+  EXPECT_TRUE(v[1].keep) << v[1].reason;
+  EXPECT_EQ(v[1].candidate, 0);
+  EXPECT_TRUE(v[8].keep) << v[8].reason;
+  EXPECT_EQ(v[8].candidate, 0);
+}
+
+}  // namespace
+}  // namespace ppp
