@@ -3,13 +3,14 @@
 // flight (15 min, GPS+Galileo with phase biases, white code noise, industrial-MEMS
 // IMU at 100 Hz, ins_ar_flights.h) with an outage at 400 s (after ekf_ins's first
 // fix, 198 s on this flight) that does NOT keep the receiver's lock: every
-// satellite comes back with new random integers (arbitrary slips). With the
-// default 6-s bridge no held integer survives the outage (every arc ends); with
-// a 61-s bridge (its position prior floored at 1 m, gap_bridge.h) the
-// GPS slips are repaired (Galileo E1/E5a ones are refused: slip_repair.h), the
+// satellite comes back with new random integers (arbitrary slips). With a 6-s
+// bridge no held integer survives the outage (every arc ends); with the default
+// 61-s bridge (its position prior floored at 1 m, gap_bridge.h) the
+// GPS slips are repaired, the Galileo E1/E5a ones with candidates one wide-lane
+// cycle apart among which the gap bridge chooses (slip_repair.h), the
 // repaired arcs keep their held integers, the solution is fixed
 // again within seconds and no held integer is wrong (the truth of a repaired arc
-// is its simulated integers minus the repaired slips).
+// is its simulated integers minus the repaired slips; a wrong hold is printed).
 #include <gtest/gtest.h>
 
 #include <cstdio>
@@ -72,16 +73,18 @@ TEST(InsSlipRepair, HeldIntegersSurviveAThirtySecondOutageWithoutLock) {
   const MonteCarloOptions o = insArFlightOptions({FlightProfile::Survey}, 900.0);
   const SimulatedFlight f = simulateWithOutage(o);
   ASSERT_LT(firstAfterOutage(f), f.epochs.size());
-  const PppConfig config = insConfig(flightPppConfig(o.ppp, f), f);
+  PppConfig config = insConfig(flightPppConfig(o.ppp, f), f);
+  ASSERT_EQ(config.ins.gap_bridge_max_s, 61.0);  // the default
 
-  // The default 6-s bridge: the 30-s gap ends every arc, nothing is repaired or held.
-  ASSERT_EQ(config.ins.gap_bridge_max_s, 6.0);
+  // A 6-s bridge (the default before the repair's candidates): the 30-s gap ends every
+  // arc, nothing is repaired or held.
+  config.ins.gap_bridge_max_s = 6.0;
   const AfterOutage before = runInsEkf(f, config);
   EXPECT_TRUE(before.fixed_before);
   EXPECT_EQ(before.repaired, 0);
   EXPECT_EQ(before.held_on_repaired, 0u);
 
-  // A 61-s bridge (position prior floored at 1 m, the default) with the repair.
+  // The default 61-s bridge (position prior floored at 1 m) with the repair.
   PppConfig long_bridge = config;
   long_bridge.ins.gap_bridge_max_s = 61.0;
   const AfterOutage after = runInsEkf(f, long_bridge);

@@ -245,6 +245,59 @@ TEST(ArcTracker, SlipAcrossABridgedGapIsRepaired) {
   EXPECT_FALSE(unbridged.back.slip_repair);
 }
 
+// A repair with candidates (the unique rule off, a 2.5-cycle search: the GPS wide
+// lanes 2 either side of the true one give an integer L1 too) applies the nearest the
+// MW jump; the estimator's choice of another makes that epoch's phases corrected by it
+// (chooseRepairCandidate), a slip that is not a candidate is refused; an arc the
+// estimator's gap bridge ends starts again with a new id and its observed phases
+// (restartArc), and goes on from there.
+TEST(ArcTracker, RepairCandidatesAreChosenAndEndedArcsRestart) {
+  Simulator sim(8);
+  CycleSlipOptions o;
+  o.bridge_max_gap_s = 60.0;
+  o.slip_repair.max_wide_lane_sigma_cycles = 1e-3;   // never unique: candidates
+  o.slip_repair.min_candidate_half_width_cycles = 2.5;
+  ArcTracker tracker(o);
+  constexpr int kBack = 59 + 30;
+  sim.slip_at[kBack] = {3, -2};
+  for (int k = 0; k < 60; ++k) tracker.process(kT0 + k * 1.0, {sim.observe(5, k * 1.0, k)});
+  const DualFrequencyObservation obs = sim.observe(5, kBack * 1.0, kBack);
+  const SatelliteArcStatus back = tracker.process(kT0 + kBack * 1.0, {obs}).satellites.at(0);
+  ASSERT_TRUE(back.slip_repair);
+  ASSERT_TRUE(back.slip_repair->accepted()) << back.slip_repair->text;
+  ASSERT_EQ(back.slip_repair->alternatives.size(), 2u) << back.slip_repair->text;
+  EXPECT_EQ(back.phase_correction1_cycles, 3) << back.slip_repair->text;
+  EXPECT_EQ(back.phase_correction2_cycles, -2) << back.slip_repair->text;
+  const SatelliteId g05 = obs.satellite;
+  EXPECT_FALSE(tracker.chooseRepairCandidate(g05, {99, 99, 99.0}));
+  const SlipCandidate other = back.slip_repair->alternatives[0];
+  const auto chosen = tracker.chooseRepairCandidate(g05, other);
+  ASSERT_TRUE(chosen);
+  EXPECT_EQ(chosen->arc, back.arc);
+  EXPECT_EQ(chosen->phase_correction1_cycles, other.dn1_cycles);
+  EXPECT_EQ(chosen->phase_correction2_cycles, other.dn2_cycles);
+  EXPECT_DOUBLE_EQ(chosen->phase1_cycles, obs.phase1_cycles - static_cast<double>(other.dn1_cycles));
+  EXPECT_DOUBLE_EQ(chosen->phase2_cycles, obs.phase2_cycles - static_cast<double>(other.dn2_cycles));
+  ASSERT_TRUE(chosen->slip_repair);
+  EXPECT_EQ(chosen->slip_repair->dn1_cycles, other.dn1_cycles);
+  EXPECT_NE(chosen->slip_repair->text.find("chosen by the gap bridge"), std::string::npos);
+  // The gap bridge ended the arc: a new one from this epoch, the phases as observed.
+  EXPECT_FALSE(tracker.restartArc(SatelliteId{GnssSystem::GPS, 7}, "not observed"));
+  const auto restarted = tracker.restartArc(g05, "slip 4.1 cycles");
+  ASSERT_TRUE(restarted);
+  EXPECT_TRUE(restarted->new_arc);
+  EXPECT_GT(restarted->arc, back.arc);
+  EXPECT_DOUBLE_EQ(restarted->phase1_cycles, obs.phase1_cycles);
+  EXPECT_EQ(restarted->phase_correction1_cycles, 0);
+  EXPECT_EQ(tracker.currentArc(g05), restarted->arc);
+  EXPECT_FALSE(tracker.chooseRepairCandidate(g05, back.slip_repair->applied()));
+  const SatelliteArcStatus next =
+      tracker.process(kT0 + (kBack + 1) * 1.0, {sim.observe(5, kBack + 1.0, kBack + 1)}).satellites.at(0);
+  EXPECT_FALSE(next.new_arc) << next.reason;
+  EXPECT_EQ(next.arc, restarted->arc);
+  EXPECT_EQ(next.phase_correction1_cycles, 0);
+}
+
 // The tracker subtracts an arc's repaired slips from its phases (the one place they
 // are applied): SatelliteArcStatus::phase1_cycles and phase2_cycles are the observed
 // phases minus the corrections, the observed ones again once a slip starts a new arc.
