@@ -7,7 +7,10 @@
 // the ionosphere's drift through the gap removed by the geometry-free fit; the
 // position prior is the antenna position's error covariance grown through the gap.
 // An arc without a measurement, a bias or a geometry-free fit ends; one whose slip
-// test passes goes on with its bias and held integers; any other ends.
+// test passes goes on with its bias and held integers; any other ends. An arc whose
+// slip repair has candidates (SlipRepair::alternatives) carries them into its row
+// (the L1 offsets and their wide lanes' costs against the Melbourne-Wubbena jump):
+// the test chooses one (BridgedArcVerdict::chosen), which the estimator has applied.
 #include <Eigen/Core>
 #include <functional>
 #include <optional>

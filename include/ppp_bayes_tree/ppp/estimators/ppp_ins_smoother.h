@@ -26,7 +26,8 @@
 // (gapBridgeMax_s): at the first epoch after, the arcs back are tested against the
 // NavState predicted by the preintegrated readings across the gap, with the EKF's rule
 // (verifyBridgedArcs, ins_gap_bridge.h); an arc that passes goes on with the same bias
-// variable and its held integers' factors, any other ends. Readings that do not cover the interval (a gap longer than
+// variable and its held integers' factors (with the slip-repair candidate the test
+// chose), any other ends and starts again as a new arc with a new bias variable. Readings that do not cover the interval (a gap longer than
 // max_imu_interval_s, or none at the last state) end the epoch with NoImuReadings.
 // inertialState() carries the INS error covariance in the EKF's error state
 // (ins_error_state.h: [dtheta; dv; dp; dba; dbg], the attitude error on the right, in
