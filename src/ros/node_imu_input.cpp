@@ -82,6 +82,7 @@ ppp::InsEkfOptions insOptions(const RosNodeOptions& o, const ImuExtrinsics& e, p
   ins.initial_velocity_ned_mps = ppp::rotationNedEnu() * imu.initial_velocity_enu_mps;
   ins.heading_alignment.min_horizontal_speed_mps = imu.heading_speed_mps;
   ins.process_noise_adaptation.enabled = imu.process_noise_adaptation;
+  ins.gap_bridge_max_s = imu.gap_bridge_max_s;
   ins.initial_rotation_ecef_body.reset();
   ins.initial_rotation_ned_body.reset();
   ins.initial_heading_rad.reset();

@@ -178,6 +178,9 @@ void bindImu(ppp::YamlSection& s, RosNodeOptions& o) {
   if (i.max_wait_s > 1.0)
     m.fail("max_wait_s", "must be in [0, 1] s (each epoch the IMU does not cover waits this long: the fix is as late)");
   i.process_noise_adaptation = m.boolean("process_noise_adaptation", i.process_noise_adaptation);
+  i.gap_bridge_max_s = m.number("gap_bridge_max_s", i.gap_bridge_max_s, ppp::Bound::NonNegative);
+  if (i.gap_bridge_max_s > 600.0)
+    m.fail("gap_bridge_max_s", "must be in [0, 600] s (an INS coast longer than 10 min cannot tell one cycle)");
   m.finish();
 }
 

@@ -11,13 +11,17 @@
 //                  [--imu F [--imu-format csv|logged] [--imu-tag F] [--imu-grade consumer|industrial|tactical]
 //                   [--lever-arm X,Y,Z] [--imu-rotation R,P,Y]
 //                   [--imu-attitude R,P,H | --imu-heading DEG | --heading-speed M/S]
-//                   [--doppler on|off] [--doppler-sigma M/S] [--noise-adaptation on|off]]
+//                   [--doppler on|off] [--doppler-sigma M/S] [--noise-adaptation on|off]
+//                   [--gap-bridge-max-s S]]
 // --doppler: ekf_ins's velocity update from the Doppler of the observations
 // (default on; ppp/estimators/ppp_ins_ekf.h), --doppler-sigma its range-rate
 // sigma at the zenith [m/s, default 0.05], divided by sin(elevation).
 // --noise-adaptation: the GNSS/INS estimators scale the accelerometers' process noise
 // of a prediction the carrier phases find inconsistent (default on;
 // ppp/estimators/ins_process_noise_adaptation.h).
+// --gap-bridge-max-s: GNSS gaps up to this long [s, 0-600, default 61] do not end the
+// GNSS/INS estimators' arcs: the gap bridge tests them against the INS prediction
+// (InsEkfOptions::gap_bridge_max_s); 0: every longer gap than the arc tracker's ends them.
 // --imu: the IMU readings of the GNSS/INS estimators (--estimator ekf_ins or
 // smoother_ins, which need them; the other estimators ignore them): the plain CSV
 // (default, doc/gnss_ins.md) or a logged IMU CSV with its RTKLIB time-tag file
@@ -109,7 +113,8 @@ int usage(const std::string& why) {
             << "                 [--imu F [--imu-format csv|logged] [--imu-tag F] [--imu-grade consumer|industrial|tactical]\n"
             << "                  [--lever-arm X,Y,Z] [--imu-rotation R,P,Y]\n"
             << "                  [--imu-attitude R,P,H | --imu-heading DEG | --heading-speed M/S]\n"
-            << "                  [--doppler on|off] [--doppler-sigma M/S] [--noise-adaptation on|off]]\n"
+            << "                  [--doppler on|off] [--doppler-sigma M/S] [--noise-adaptation on|off]\n"
+            << "                  [--gap-bridge-max-s S]]\n"
             << "                  (ekf_ins, smoother_ins need --imu)\n"
             << "estimators (--estimator; default " << ppp::kDefaultEstimator << ", "
             << ppp::kAllEstimators << ": each in turn):\n";
@@ -188,13 +193,23 @@ std::optional<std::string> parseImuOption(const std::string& a, int argc, char**
 }
 
 /// Parses --doppler on|off and --doppler-sigma M/S (ekf_ins's Doppler velocity
-/// update, InsEkfOptions::doppler) and --noise-adaptation on|off
-/// (InsEkfOptions::process_noise_adaptation): nullopt when `a` is none of them, ""
-/// when parsed, else the usage error.
+/// update, InsEkfOptions::doppler), --noise-adaptation on|off
+/// (InsEkfOptions::process_noise_adaptation) and --gap-bridge-max-s S
+/// (InsEkfOptions::gap_bridge_max_s): nullopt when `a` is none of them, "" when
+/// parsed, else the usage error.
 std::optional<std::string> parseDopplerOption(const std::string& a, int argc, char** argv, int& i, ImuArgs& imu) {
-  if (a != "--doppler" && a != "--doppler-sigma" && a != "--noise-adaptation") return std::nullopt;
+  if (a != "--doppler" && a != "--doppler-sigma" && a != "--noise-adaptation" && a != "--gap-bridge-max-s")
+    return std::nullopt;
   if (i + 1 >= argc) return a + " needs a value";
   const std::string v = argv[++i];
+  if (a == "--gap-bridge-max-s") {
+    char* end = nullptr;
+    const double s = std::strtod(v.c_str(), &end);
+    if (end == v.c_str() || *end != '\0' || !(s >= 0.0) || !(s <= 600.0))
+      return std::string("--gap-bridge-max-s needs seconds in [0, 600]");
+    imu.ins.gap_bridge_max_s = s;
+    return std::string();
+  }
   if (a == "--doppler" || a == "--noise-adaptation") {
     if (v != "on" && v != "off") return a + " needs on or off";
     (a == "--doppler" ? imu.ins.doppler.enabled : imu.ins.process_noise_adaptation.enabled) = v == "on";

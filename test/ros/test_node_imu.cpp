@@ -129,6 +129,20 @@ TEST(NodeImuOptions, TheFilterRunsInBaseLinksForwardRightDownAxesWhateverTheMoun
   EXPECT_NEAR(taken.front().specific_force_mps2.z(), -restMessage(0.0).linear_acceleration.z, 1e-12);
 }
 
+TEST(NodeImuOptions, GapBridgeBoundFromItsKey) {
+  // ros.imu.gap_bridge_max_s reaches the GNSS/INS estimators' options; the default is theirs (61 s).
+  const auto bound = [](const std::string& yaml) {
+    const ppp_ros::NodeConfig c = ppp_ros::bindNodeConfig(YAML::Load(yaml), "test", "ekf");
+    return ppp_ros::insOptions(c.ros, ppp_ros::parameterExtrinsics(c.ros.imu)).gap_bridge_max_s;
+  };
+  EXPECT_EQ(bound("ros: {estimator: ekf_ins}"), ppp::InsEkfOptions{}.gap_bridge_max_s);
+  EXPECT_EQ(bound("ros: {estimator: ekf_ins}"), 61.0);
+  EXPECT_EQ(bound("ros: {estimator: ekf_ins, imu: {gap_bridge_max_s: 6}}"), 6.0);
+  EXPECT_EQ(bound("ros: {estimator: ekf_ins, imu: {gap_bridge_max_s: 0}}"), 0.0);
+  EXPECT_THROW(bound("ros: {estimator: ekf_ins, imu: {gap_bridge_max_s: -1}}"), ppp::ConfigError);
+  EXPECT_THROW(bound("ros: {estimator: ekf_ins, imu: {gap_bridge_max_s: 3600}}"), ppp::ConfigError);
+}
+
 TEST(NodeImuOptions, ProcessNoiseAdaptationOnByDefaultAndSwitchedOffByItsKey) {
   // ros.imu.process_noise_adaptation reaches both GNSS/INS estimators' options; the default
   // is the estimators' own (on).

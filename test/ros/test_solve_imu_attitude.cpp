@@ -83,3 +83,14 @@ TEST(SolveImuAttitude, NoiseAdaptationSwitchReachesTheEstimator) {
   EXPECT_NE(fileText(off + "/log.txt").find("--noise-adaptation needs on or off"), std::string::npos)
       << fileText(off + "/log.txt");
 }
+
+TEST(SolveImuAttitude, GapBridgeBoundIsParsed) {
+  // --gap-bridge-max-s S: seconds in [0, 600] (InsEkfOptions::gap_bridge_max_s); else a usage error.
+  PPP_REQUIRE_SHARED_DATA();
+  const std::string dir = ppp::test::tempDir("solve_gap_bridge").string();
+  ASSERT_EQ(solveWalk("--imu-attitude -1.5,0.6,-42.8 --gap-bridge-max-s 6", dir), 0) << fileText(dir + "/log.txt");
+  EXPECT_FALSE(fileText(dir + "/walk_ekf_ins.csv").empty());
+  EXPECT_EQ(solveWalk("--imu-attitude -1.5,0.6,-42.8 --gap-bridge-max-s -1", dir), 2);
+  EXPECT_NE(fileText(dir + "/log.txt").find("--gap-bridge-max-s needs seconds in [0, 600]"), std::string::npos)
+      << fileText(dir + "/log.txt");
+}

@@ -60,6 +60,10 @@ struct RosImuOptions {
   /// Scale the accelerometers' process noise when the phases find the inertial prediction
   /// inconsistent (InsEkfOptions::process_noise_adaptation, ins_process_noise_adaptation.h).
   bool process_noise_adaptation = true;
+  /// GNSS gaps up to this long do not end the arcs of ekf_ins / smoother_ins: the gap
+  /// bridge tests them against the INS prediction (InsEkfOptions::gap_bridge_max_s) [s];
+  /// 0: every gap longer than the arc tracker's maximum ends them.
+  double gap_bridge_max_s = 61.0;  // the estimators' default
 };
 
 struct RosNodeOptions {
