@@ -47,9 +47,9 @@ struct GapBridgeOptions {
   /// where the two differ end.
   double min_candidate_separation = 5.0;
   double min_candidate_ratio = 3.0;
-  /// With candidates the best assignment's cost must be within the chi-square quantile
-  /// of this standard normal quantile (3.09: probability 0.999) for its degrees of freedom.
-  double candidate_cost_z = 3.09;
+  /// With candidates the best assignment's cost must be within the chi-square upper
+  /// quantile of this false-alarm probability for its degrees of freedom (chi_square_quantile.h).
+  double candidate_cost_false_alarm = 1e-3;
   /// More assignments than this: the rows with the most candidates end first.
   double max_candidate_assignments = 100000.0;
 };

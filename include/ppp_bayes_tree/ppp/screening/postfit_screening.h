@@ -25,6 +25,7 @@
 #include <string>
 #include <vector>
 
+#include "ppp_bayes_tree/ppp/model/chi_square_quantile.h"
 #include "ppp_bayes_tree/ppp/model/satellite_measurement.h"
 
 namespace ppp {
@@ -50,27 +51,6 @@ struct PostfitOutlier {
 std::optional<PostfitOutlier> worstPostfitResidual(const std::vector<PostfitResidualPair>& pairs, double sigmas);
 /// The rejection of the outlier's satellite (PostfitCode / PostfitPhase) with its values.
 RejectedSatellite postfitRejection(const SatelliteId& satellite, const PostfitOutlier& outlier, double sigmas);
-
-/// Upper quantile of the chi-square distribution: the value exceeded with
-/// probability `alpha` by a chi-square variable of `dof` degrees of freedom
-/// (Wilson-Hilferty cube-root normal approximation, relative error below 1 % for
-/// dof >= 3 and alpha >= 1e-9; Abramowitz and Stegun 26.4.17).
-double chiSquareUpperQuantile(int dof, double alpha);
-
-/// chiSquareUpperQuantile(dof, alpha) for one `alpha` and any dof, the same numbers:
-/// the normal quantile of alpha (a bisection on erfc, the costly part) is computed
-/// once, at construction, instead of at every call.
-class ChiSquareUpperQuantile {
- public:
-  explicit ChiSquareUpperQuantile(double alpha);
-  double alpha() const { return alpha_; }
-  /// The quantile for `dof` degrees of freedom (0 when dof <= 0).
-  double operator()(int dof) const;
-
- private:
-  double alpha_ = 0.0;
-  double normal_quantile_ = 0.0;  // z with P(Z > z) = alpha
-};
 
 /// The epoch consistency test of a solution's postfit residuals.
 struct ConsistencyTest {

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 
+#include "ppp_bayes_tree/ppp/model/chi_square_quantile.h"
 #include "ppp_bayes_tree/types/text_format.h"
 
 namespace ppp {
@@ -16,27 +17,43 @@ struct Solved {
   Eigen::VectorXd sigma_m;     // sigma of the predicted value plus the row's noise
 };
 
+/// The active rows' design: H = [position Jacobian, clock], the weights, and the
+/// normal matrix with the position prior.
+struct Design {
+  Eigen::MatrixXd H, N;
+  Eigen::VectorXd w, y;
+};
+
+Design design(const std::vector<GapBridgeRow>& rows, const std::vector<int>& active, int clocks,
+              const Eigen::Matrix3d& position_cov_m2) {
+  const int n = static_cast<int>(active.size()), u = 3 + clocks;
+  Design d;
+  d.H = Eigen::MatrixXd::Zero(n, u);
+  d.w.resize(n);
+  d.y.resize(n);
+  for (int i = 0; i < n; ++i) {
+    const GapBridgeRow& r = rows[static_cast<std::size_t>(active[static_cast<std::size_t>(i)])];
+    d.H.block<1, 3>(i, 0) = r.position_jacobian;
+    d.H(i, 3 + r.clock) = 1.0;
+    d.y(i) = r.residual_m;
+    d.w(i) = 1.0 / (r.sigma_m * r.sigma_m);
+  }
+  d.N = d.H.transpose() * d.w.asDiagonal() * d.H;
+  d.N.topLeftCorner<3, 3>() += position_cov_m2.inverse();
+  return d;
+}
+
 /// Least squares of [dp(3); clocks] over the active rows, dp with the prior covariance.
 Solved solveRows(const std::vector<GapBridgeRow>& rows, const std::vector<int>& active, int clocks,
                  const Eigen::Matrix3d& position_cov_m2) {
-  const int n = static_cast<int>(active.size()), u = 3 + clocks;
-  Eigen::MatrixXd H = Eigen::MatrixXd::Zero(n, u);
-  Eigen::VectorXd y(n), w(n);
-  for (int i = 0; i < n; ++i) {
-    const GapBridgeRow& r = rows[static_cast<std::size_t>(active[static_cast<std::size_t>(i)])];
-    H.block<1, 3>(i, 0) = r.position_jacobian;
-    H(i, 3 + r.clock) = 1.0;
-    y(i) = r.residual_m;
-    w(i) = 1.0 / (r.sigma_m * r.sigma_m);
-  }
-  Eigen::MatrixXd N = H.transpose() * w.asDiagonal() * H;
-  N.topLeftCorner<3, 3>() += position_cov_m2.inverse();
-  const Eigen::MatrixXd Q = N.ldlt().solve(Eigen::MatrixXd::Identity(u, u));
-  const Eigen::VectorXd x = Q * (H.transpose() * w.asDiagonal() * y);
+  const Design d = design(rows, active, clocks, position_cov_m2);
+  const Eigen::Index n = d.H.rows(), u = d.H.cols();
+  const Eigen::MatrixXd Q = d.N.ldlt().solve(Eigen::MatrixXd::Identity(u, u));
+  const Eigen::VectorXd x = Q * (d.H.transpose() * d.w.asDiagonal() * d.y);
   Solved s;
-  s.residual_m = y - H * x;
+  s.residual_m = d.y - d.H * x;
   s.sigma_m.resize(n);
-  for (int i = 0; i < n; ++i) s.sigma_m(i) = std::sqrt(H.row(i) * Q * H.row(i).transpose() + 1.0 / w(i));
+  for (Eigen::Index i = 0; i < n; ++i) s.sigma_m(i) = std::sqrt(d.H.row(i) * Q * d.H.row(i).transpose() + 1.0 / d.w(i));
   return s;
 }
 
@@ -47,22 +64,10 @@ double candidateOffset_m(const GapBridgeRow& row, int candidate) {
 
 /// The least-squares cost of the active rows (with the position prior) as a quadratic
 /// form of the residual vector: J(y) = y' M y, M = W - W H N^-1 H' W.
-Eigen::MatrixXd costMatrix(const std::vector<GapBridgeRow>& rows, const std::vector<int>& active, int clocks,
-                           const Eigen::Matrix3d& position_cov_m2) {
-  const int n = static_cast<int>(active.size()), u = 3 + clocks;
-  Eigen::MatrixXd H = Eigen::MatrixXd::Zero(n, u);
-  Eigen::VectorXd w(n);
-  for (int i = 0; i < n; ++i) {
-    const GapBridgeRow& r = rows[static_cast<std::size_t>(active[static_cast<std::size_t>(i)])];
-    H.block<1, 3>(i, 0) = r.position_jacobian;
-    H(i, 3 + r.clock) = 1.0;
-    w(i) = 1.0 / (r.sigma_m * r.sigma_m);
-  }
-  Eigen::MatrixXd N = H.transpose() * w.asDiagonal() * H;
-  N.topLeftCorner<3, 3>() += position_cov_m2.inverse();
-  const Eigen::MatrixXd WH = w.asDiagonal() * H;
-  Eigen::MatrixXd M = -WH * N.ldlt().solve(WH.transpose());
-  M.diagonal() += w;
+Eigen::MatrixXd costMatrix(const Design& d) {
+  const Eigen::MatrixXd WH = d.w.asDiagonal() * d.H;
+  Eigen::MatrixXd M = -WH * d.N.ldlt().solve(WH.transpose());
+  M.diagonal() += d.w;
   return M;
 }
 
@@ -86,21 +91,17 @@ double priorCost(const GapBridgeRow& row, int candidate) {
 /// that system's clock takes, is told apart by the wide lanes alone.
 std::pair<Assignment, Assignment> bestAssignments(const std::vector<GapBridgeRow>& rows, const std::vector<int>& active,
                                                   int clocks, const Eigen::Matrix3d& position_cov_m2) {
-  const Eigen::MatrixXd M = costMatrix(rows, active, clocks, position_cov_m2);
+  const Design design_rows = design(rows, active, clocks, position_cov_m2);
+  const Eigen::MatrixXd M = costMatrix(design_rows);
+  const Eigen::VectorXd My = M * design_rows.y;
+  const double base = design_rows.y.dot(My);
   const int n = static_cast<int>(active.size());
-  Eigen::VectorXd y(n);
   std::vector<int> candidate_rows;
-  for (int i = 0; i < n; ++i) {
-    const GapBridgeRow& r = rows[static_cast<std::size_t>(active[static_cast<std::size_t>(i)])];
-    y(i) = r.residual_m;
-    if (!r.candidate_offsets_m.empty()) candidate_rows.push_back(i);
-  }
-  const Eigen::VectorXd My = M * y;
-  const double base = y.dot(My);
+  for (int i = 0; i < n; ++i)
+    if (!rows[static_cast<std::size_t>(active[static_cast<std::size_t>(i)])].candidate_offsets_m.empty())
+      candidate_rows.push_back(i);
   // Odometer over the candidate rows' choices; the two cheapest kept.
-  constexpr std::size_t kTop = 2;
-  std::vector<Assignment> top;
-  Assignment current;
+  Assignment best, second, current;
   current.choice.assign(static_cast<std::size_t>(n), -1);
   Eigen::VectorXd d = Eigen::VectorXd::Zero(n);
   while (true) {
@@ -109,11 +110,11 @@ std::pair<Assignment, Assignment> bestAssignments(const std::vector<GapBridgeRow
       prior += priorCost(rows[static_cast<std::size_t>(active[static_cast<std::size_t>(i)])],
                          current.choice[static_cast<std::size_t>(i)]);
     current.cost = base + 2.0 * d.dot(My) + d.dot(M * d) + prior;
-    if (top.size() < kTop || current.cost < top.back().cost) {
-      const auto at = std::upper_bound(top.begin(), top.end(), current.cost,
-                                       [](double c, const Assignment& a) { return c < a.cost; });
-      top.insert(at, current);
-      if (top.size() > kTop) top.pop_back();
+    if (current.cost < best.cost) {
+      second = std::move(best);
+      best = current;
+    } else if (current.cost < second.cost) {
+      second = current;
     }
     std::size_t k = 0;
     for (; k < candidate_rows.size(); ++k) {
@@ -130,7 +131,7 @@ std::pair<Assignment, Assignment> bestAssignments(const std::vector<GapBridgeRow
     }
     if (k == candidate_rows.size()) break;
   }
-  return {top.front(), top.size() > 1 ? top[1] : Assignment{}};
+  return {best, second};
 }
 
 /// How many assignments the candidate rows make.
@@ -140,13 +141,18 @@ double assignmentCount(const std::vector<GapBridgeRow>& rows, const std::vector<
   return count;
 }
 
+/// The assignment chosen for the candidate rows.
+struct Chosen {
+  double best_cost = 0.0;
+  double second_cost = std::numeric_limits<double>::infinity();  // the next best's; infinite without one
+  std::vector<int> differing;  // the rows (indices into `rows`) where the two differ
+};
+
 /// The candidates of the active rows: the assignment of least cost (each row's choice
-/// into `out`, its residual into `work`). Returns its cost and the next best's (not the
-/// infinite without one); `differing` gets the rows where the two differ.
-std::pair<double, double> chooseCandidates(const std::vector<GapBridgeRow>& rows, std::vector<GapBridgeRow>& work,
-                                           std::vector<int>& active, int clocks, const Eigen::Matrix3d& position_cov_m2,
-                                           const GapBridgeOptions& o, std::vector<GapBridgeVerdict>& out,
-                                           std::vector<int>& differing) {
+/// into `out`, its residual into `work`), with the next best's cost.
+Chosen chooseCandidates(const std::vector<GapBridgeRow>& rows, std::vector<GapBridgeRow>& work,
+                        std::vector<int>& active, int clocks, const Eigen::Matrix3d& position_cov_m2,
+                        const GapBridgeOptions& o, std::vector<GapBridgeVerdict>& out) {
   // Too many assignments: the rows with the most candidates end first.
   while (assignmentCount(rows, active) > o.max_candidate_assignments) {
     const auto most = std::max_element(active.begin(), active.end(), [&](int a, int b) {
@@ -158,32 +164,43 @@ std::pair<double, double> chooseCandidates(const std::vector<GapBridgeRow>& rows
     active.erase(most);
   }
   const auto [best, second] = bestAssignments(rows, active, clocks, position_cov_m2);
-  differing.clear();
+  Chosen chosen{best.cost, second.cost, {}};
   for (std::size_t i = 0; i < active.size(); ++i) {
     const auto k = static_cast<std::size_t>(active[i]);
     out[k].candidate = best.choice[i];
     work[k].residual_m = rows[k].residual_m + candidateOffset_m(rows[k], best.choice[i]);
     if (std::isfinite(second.cost) &&
         candidateOffset_m(rows[k], best.choice[i]) != candidateOffset_m(rows[k], second.choice[i]))
-      differing.push_back(active[i]);
+      chosen.differing.push_back(active[i]);
   }
-  return {best.cost, second.cost};
-}
-
-/// The chi-square quantile of probability 1 - alpha for `dof` degrees of freedom
-/// (Wilson & Hilferty 1931), z the standard normal quantile of 1 - alpha.
-double chiSquareQuantile(int dof, double z) {
-  const double k = std::max(dof, 1);
-  const double a = 2.0 / (9.0 * k);
-  return k * std::pow(1.0 - a + z * std::sqrt(a), 3);
+  return chosen;
 }
 
 /// The best assignment is told apart from the next: its cost at least
 /// min_candidate_separation^2 more and min_candidate_ratio times as much.
-bool toldApart(double best_cost, double second_cost, const GapBridgeOptions& o) {
-  return !std::isfinite(second_cost) ||
-         (second_cost - best_cost >= o.min_candidate_separation * o.min_candidate_separation &&
-          second_cost >= o.min_candidate_ratio * best_cost);
+bool toldApart(const Chosen& c, const GapBridgeOptions& o) {
+  return !std::isfinite(c.second_cost) ||
+         (c.second_cost - c.best_cost >= o.min_candidate_separation * o.min_candidate_separation &&
+          c.second_cost >= o.min_candidate_ratio * c.best_cost);
+}
+
+/// The chosen assignment's degrees of freedom: the rows less the clocks (the prior's
+/// 3 rows and 3 unknowns cancel), plus each candidate row's wide-lane prior.
+int assignmentDof(const std::vector<GapBridgeRow>& rows, const std::vector<int>& active, int clocks) {
+  int dof = static_cast<int>(active.size()) - clocks;
+  for (const int k : active) dof += rows[static_cast<std::size_t>(k)].candidate_offsets_m.empty() ? 0 : 1;
+  return dof;
+}
+
+/// Index (into `active`) of the row with the largest residual in its sigmas, and that ratio.
+std::pair<std::size_t, double> largestNormalisedResidual(const std::vector<GapBridgeRow>& work,
+                                                         const std::vector<int>& active, const Solved& s) {
+  std::pair<std::size_t, double> worst{0, -1.0};
+  for (std::size_t i = 0; i < active.size(); ++i) {
+    const double z = std::abs(s.residual_m(static_cast<int>(i))) / work[static_cast<std::size_t>(active[i])].sigma_m;
+    if (z > worst.second) worst = {i, z};
+  }
+  return worst;
 }
 
 /// Index (into `active`) of the worst failing row; -1 when all pass.
@@ -227,11 +244,11 @@ std::vector<GapBridgeVerdict> bridgeGap(const std::vector<GapBridgeRow>& rows, c
     return !r.candidate_offsets_m.empty();
   });
   std::vector<GapBridgeRow> work = rows;  // residuals with each row's chosen candidate
-  std::vector<int> differing;
+  const ChiSquareUpperQuantile cost_quantile(options.candidate_cost_false_alarm);
   while (static_cast<int>(active.size()) >= 3 + clocks + options.min_extra_rows) {
     // 1. Each candidate row's slip: the assignment of least cost.
-    std::pair<double, double> costs{0.0, std::numeric_limits<double>::infinity()};
-    if (any_candidates) costs = chooseCandidates(rows, work, active, clocks, position_cov_m2, options, out, differing);
+    Chosen chosen;
+    if (any_candidates) chosen = chooseCandidates(rows, work, active, clocks, position_cov_m2, options, out);
     if (static_cast<int>(active.size()) < 3 + clocks + options.min_extra_rows) break;
     // 2. The slips at it: the worst failing row ends, and all is tried again.
     const Solved s = solveRows(work, active, clocks, position_cov_m2);
@@ -246,28 +263,21 @@ std::vector<GapBridgeVerdict> bridgeGap(const std::vector<GapBridgeRow>& rows, c
     // 3. All pass: with candidates, the assignment's cost must fit the rows' noise
     //    (else the row of the largest normalised residual ends) and be told apart from
     //    the next best (else the rows where the two differ end).
-    // The prior's 3 rows and 3 unknowns cancel; each candidate row adds its wide-lane prior.
-    int dof = static_cast<int>(active.size()) - clocks;
-    for (const int k : active) dof += rows[static_cast<std::size_t>(k)].candidate_offsets_m.empty() ? 0 : 1;
-    if (any_candidates && costs.first > chiSquareQuantile(dof, options.candidate_cost_z)) {
-      std::size_t worst_row = 0;
-      double worst_z = -1.0;
-      for (std::size_t i = 0; i < active.size(); ++i) {
-        const double z = std::abs(s.residual_m(static_cast<int>(i))) / work[static_cast<std::size_t>(active[i])].sigma_m;
-        if (z > worst_z) worst_z = z, worst_row = i;
-      }
-      out[static_cast<std::size_t>(active[worst_row])].reason =
+    const int dof = assignmentDof(rows, active, clocks);
+    if (any_candidates && chosen.best_cost > cost_quantile(dof)) {
+      const auto [row, z] = largestNormalisedResidual(work, active, s);
+      out[static_cast<std::size_t>(active[row])].reason =
           format("the slip candidates' best assignment does not fit (cost %.1f > %.1f for %d degrees of freedom); "
                  "this arc's residual is the largest, %.1f sigmas",
-                 costs.first, chiSquareQuantile(dof, options.candidate_cost_z), dof, worst_z);
-      active.erase(active.begin() + static_cast<std::ptrdiff_t>(worst_row));
+                 chosen.best_cost, cost_quantile(dof), dof, z);
+      active.erase(active.begin() + static_cast<std::ptrdiff_t>(row));
       continue;
     }
-    if (!toldApart(costs.first, costs.second, options)) {
-      for (int k : differing) {
+    if (!toldApart(chosen, options)) {
+      for (int k : chosen.differing) {
         out[static_cast<std::size_t>(k)].reason =
             format("its slip candidates are not told apart (the best two assignments cost %.1f and %.1f)",
-                   costs.first, costs.second);
+                   chosen.best_cost, chosen.second_cost);
         active.erase(std::find(active.begin(), active.end(), k));
       }
       continue;
