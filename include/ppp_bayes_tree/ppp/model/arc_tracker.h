@@ -213,20 +213,17 @@ class ArcTracker {
   double applyRepair(ArcState& state, const DualFrequencyObservation& obs, const SlipRepair& repair,
                      SatelliteArcStatus& status) const;
 
-  /// A repair with alternatives at the last epoch: the arc's state before it, what
-  /// chooseRepairCandidate needs to apply another.
-  struct PendingRepair {
-    ArcState before;
+  /// An arc that went on across a bridged gap at the last epoch: what restartArc and
+  /// chooseRepairCandidate need.
+  struct BridgedAtLastEpoch {
     DualFrequencyObservation observation;
-    GnssTime time;
-    SatelliteArcStatus status;  // as returned
+    SatelliteArcStatus status;                 // as returned
+    std::optional<ArcState> before_repair;     // a repair with alternatives: the state before it
   };
 
   CycleSlipOptions options_;
   std::map<SatelliteId, ArcState> arcs_;
-  std::map<SatelliteId, PendingRepair> pending_repairs_;
-  /// The last epoch's observations of the arcs that went on (restartArc).
-  std::map<SatelliteId, DualFrequencyObservation> continued_;
+  std::map<SatelliteId, BridgedAtLastEpoch> bridged_;
   std::optional<GnssTime> last_epoch_;
   std::optional<double> interval_s_;
   ArcId next_id_ = 1;

@@ -65,6 +65,10 @@ struct SlipCandidate {
   long dn1_cycles = 0, dn2_cycles = 0;
   double l1_cycles = 0.0;
 };
+/// The same integer slip (the L1 estimates aside).
+inline bool sameSlip(const SlipCandidate& a, const SlipCandidate& b) {
+  return a.dn1_cycles == b.dn1_cycles && a.dn2_cycles == b.dn2_cycles;
+}
 
 /// The combinations of one arc across a gap.
 struct SlipRepairInput {

@@ -137,8 +137,7 @@ ArcEpochResult ArcTracker::process(const GnssTime& time,
     return result;
   }
   last_epoch_ = time;
-  pending_repairs_.clear();
-  continued_.clear();
+  bridged_.clear();
   const double max_gap = maxGap_s();
 
   // 2. Each satellite once, with finite observations: its arc goes on or a new one starts.
@@ -211,7 +210,6 @@ void ArcTracker::trackSatellite(const GnssTime& time, const DualFrequencyObserva
       status.bridged_gf_jump_m = gf_residual;
     }
     updateArc(state, time, status.mw_cycles, status.gf_m, repaired ? std::nullopt : gf_residual);
-    continued_[obs.satellite] = obs;
   } else {
     if (state.open) result.ended.push_back(endArc(obs.satellite, state, "replaced: " + text));
     if (state.correction1_cycles != 0 || state.correction2_cycles != 0) correctedCombinations(obs, 0, 0, status);
@@ -223,47 +221,46 @@ void ArcTracker::trackSatellite(const GnssTime& time, const DualFrequencyObserva
   status.phase_correction1_cycles = state.correction1_cycles;
   status.phase_correction2_cycles = state.correction2_cycles;
   status.arc = state.id;
-  if (before_repair) pending_repairs_[obs.satellite] = {std::move(*before_repair), obs, time, status};
+  if (status.bridged_gap_s > 0.0) bridged_[obs.satellite] = {obs, status, std::move(before_repair)};
 }
 
 std::optional<SatelliteArcStatus> ArcTracker::restartArc(const SatelliteId& satellite, const std::string& reason) {
-  const auto obs = continued_.find(satellite);
+  const auto bridged = bridged_.find(satellite);
   const auto it = arcs_.find(satellite);
-  if (obs == continued_.end() || it == arcs_.end() || !it->second.open || !last_epoch_) return std::nullopt;
+  if (bridged == bridged_.end() || it == arcs_.end() || !it->second.open || !last_epoch_) return std::nullopt;
   ArcState& state = it->second;
   SatelliteArcStatus status;
   status.satellite = satellite;
-  correctedCombinations(obs->second, 0, 0, status);
+  correctedCombinations(bridged->second.observation, 0, 0, status);
   endArc(satellite, state, reason);
   startArc(state, *last_epoch_, status.mw_cycles, status.gf_m);
   status.new_arc = true;
   status.start_reason = ArcStartReason::DataGap;
   status.reason = reason;
   status.arc = state.id;
-  continued_.erase(obs);
-  pending_repairs_.erase(satellite);
+  bridged_.erase(bridged);
   return status;
 }
 
 std::optional<SatelliteArcStatus> ArcTracker::chooseRepairCandidate(const SatelliteId& satellite,
                                                                     const SlipCandidate& candidate) {
-  const auto it = pending_repairs_.find(satellite);
-  if (it == pending_repairs_.end() || !it->second.status.slip_repair) return std::nullopt;
-  PendingRepair& p = it->second;
+  const auto it = bridged_.find(satellite);
+  if (it == bridged_.end() || !it->second.before_repair || !it->second.status.slip_repair || !last_epoch_)
+    return std::nullopt;
+  BridgedAtLastEpoch& p = it->second;
   SlipRepair repair = *p.status.slip_repair;
-  const bool known = std::any_of(repair.alternatives.begin(), repair.alternatives.end(), [&](const SlipCandidate& c) {
-    return c.dn1_cycles == candidate.dn1_cycles && c.dn2_cycles == candidate.dn2_cycles;
-  });
+  const bool known = std::any_of(repair.alternatives.begin(), repair.alternatives.end(),
+                                 [&](const SlipCandidate& c) { return sameSlip(c, candidate); });
   if (!known) return std::nullopt;
   repair.choose(candidate);
   // That epoch again from the state before the repair, with the chosen slip.
   ArcState& state = arcs_[satellite];
-  state = p.before;
+  state = *p.before_repair;
   SatelliteArcStatus status = p.status;
   correctedCombinations(p.observation, state.correction1_cycles, state.correction2_cycles, status);
   const double gf_residual = applyRepair(state, p.observation, repair, status);
   status.bridged_gf_jump_m = gf_residual;
-  updateArc(state, p.time, status.mw_cycles, status.gf_m, std::nullopt);
+  updateArc(state, *last_epoch_, status.mw_cycles, status.gf_m, std::nullopt);
   status.slip_repair = repair;
   status.phase_correction1_cycles = state.correction1_cycles;
   status.phase_correction2_cycles = state.correction2_cycles;

@@ -53,6 +53,11 @@ bool geometryFreeJump(const SlipRepairInput& in, const SlipRepairOptions& o, Sli
   return true;
 }
 
+/// The L1 estimate given a wide-lane slip [cycles].
+double l1Given(const SlipRepairInput& in, double jump_m, long nw) {
+  return (jump_m - in.wavelength2_m * static_cast<double>(nw)) / (in.wavelength1_m - in.wavelength2_m);
+}
+
 /// The unique slip: of the wide-lane candidates (integers within
 /// max_wide_lane_offset_cycles of the MW estimate) exactly one gives an L1 estimate
 /// within the fraction bound, and its neighbours do not. False (with the outcome) otherwise.
@@ -65,7 +70,7 @@ bool firstFrequency(const SlipRepairInput& in, const SlipRepairOptions& o, doubl
   double nearest_fraction = 1.0;
   for (long nw = centre - 1; nw <= centre + 1; ++nw) {
     if (std::abs(out.wide_lane_cycles - static_cast<double>(nw)) > o.max_wide_lane_offset_cycles) continue;
-    const double l1 = (jump_m - in.wavelength2_m * static_cast<double>(nw)) / dl;
+    const double l1 = l1Given(in, jump_m, nw);
     const auto [n1, fraction] = nearestInteger(l1);
     if (fraction < nearest_fraction || (passing == 0 && nw == centre)) out.l1_cycles = l1;
     nearest_fraction = std::min(nearest_fraction, fraction);
@@ -86,7 +91,7 @@ bool firstFrequency(const SlipRepairInput& in, const SlipRepairOptions& o, doubl
   if (passing == 1) {
     const long nw = out.dn1_cycles - out.dn2_cycles;
     for (const long other : {nw - 1, nw + 1}) {
-      const double l1 = (jump_m - in.wavelength2_m * static_cast<double>(other)) / dl;
+      const double l1 = l1Given(in, jump_m, other);
       if (nearestInteger(l1).second > o.max_l1_fraction_cycles) continue;
       out.outcome = SlipRepairOutcome::Ambiguous;
       out.text = format("wide lanes %ld and %ld both give an integer L1 (%.2f, %.2f cycles)", nw, other,
@@ -103,11 +108,6 @@ bool firstFrequency(const SlipRepairInput& in, const SlipRepairOptions& o, doubl
                           : format("%d wide lanes within %.1f cycles of %.2f give an integer L1", passing,
                                    o.max_wide_lane_offset_cycles, out.wide_lane_cycles);
   return false;
-}
-
-/// The L1 estimate given a wide-lane slip [cycles].
-double l1Given(const SlipRepairInput& in, double jump_m, long nw) {
-  return (jump_m - in.wavelength2_m * static_cast<double>(nw)) / (in.wavelength1_m - in.wavelength2_m);
 }
 
 /// Every wide lane within candidate_sigma_factor sigmas of the MW estimate (at least
@@ -212,10 +212,10 @@ std::optional<GeometryFreePrediction> predictGeometryFreeFit(const std::vector<s
 std::string slipText(long dn1_cycles, long dn2_cycles) { return format("dN1 %+ld dN2 %+ld", dn1_cycles, dn2_cycles); }
 
 void SlipRepair::choose(const SlipCandidate& chosen) {
-  if (chosen.dn1_cycles == dn1_cycles && chosen.dn2_cycles == dn2_cycles) return;
+  if (sameSlip(chosen, applied())) return;
   std::vector<SlipCandidate> others{applied()};
   for (const SlipCandidate& c : alternatives)
-    if (c.dn1_cycles != chosen.dn1_cycles || c.dn2_cycles != chosen.dn2_cycles) others.push_back(c);
+    if (!sameSlip(c, chosen)) others.push_back(c);
   const std::string before = slipText(dn1_cycles, dn2_cycles);
   dn1_cycles = chosen.dn1_cycles;
   dn2_cycles = chosen.dn2_cycles;
