@@ -32,6 +32,23 @@ struct BridgedArc {
   std::optional<SlipRepair> repair;
 };
 
+/// The changes an estimator's gap bridge makes to the pipeline's arcs at this epoch
+/// (the pipeline implements them, the arc tracker included). After either, `evaluate`
+/// reads the arc's phases so changed.
+class BridgedArcChanges {
+ public:
+  virtual ~BridgedArcChanges() = default;
+  /// Applies another candidate of a bridged arc's slip repair (BridgedArc::repair, one
+  /// of its alternatives): the arc's phases are corrected by it from this epoch on.
+  /// False when it cannot be applied.
+  virtual bool chooseRepairCandidate(const BridgedArc& bridged, const SlipCandidate& candidate) = 0;
+  /// Starts a new arc for a bridged arc the estimator ended (PppEstimator::endBridgedArc):
+  /// from this epoch on the satellite's phases belong to a new arc (a new id, the phases
+  /// as observed), so no state of the ended arc is taken up again. Returns the new
+  /// arc's id; nullopt when it cannot.
+  virtual std::optional<ArcId> restartArc(const BridgedArc& bridged, const std::string& reason) = 0;
+};
+
 /// What the pipeline gives an estimator for one epoch.
 struct EstimatorEpochInput {
   GnssTime time;
@@ -47,15 +64,8 @@ struct EstimatorEpochInput {
   const std::vector<EndedArc>* ended_arcs = nullptr;
   /// Arcs that go on after a bridged gap, to be verified (PppEstimator::gapBridgeMax_s); nullable.
   const std::vector<BridgedArc>* bridged_arcs = nullptr;
-  /// Applies another candidate of a bridged arc's slip repair (BridgedArc::repair,
-  /// one of its alternatives) at this epoch: the arc's phases, as `evaluate` reads
-  /// them, are corrected by it from then on. False when it cannot be applied; nullable.
-  const std::function<bool(const BridgedArc&, const SlipCandidate&)>* choose_repair_candidate = nullptr;
-  /// Starts a new arc for a bridged arc the estimator ended (PppEstimator::endBridgedArc):
-  /// from this epoch on the satellite's phases, as `evaluate` reads them, belong to a new
-  /// arc (a new id, the phases as observed), so no state of the ended arc is taken up
-  /// again. Returns the new arc's id; nullopt when it cannot. Nullable.
-  const std::function<std::optional<ArcId>(const BridgedArc&, const std::string&)>* restart_bridged_arc = nullptr;
+  /// What the estimator's gap bridge may change in this epoch's arcs; nullable.
+  BridgedArcChanges* bridged_arc_changes = nullptr;
   /// Satellite phase OSBs consistent with the clocks (phase_bias_consistency.h);
   /// nullptr when the products allow no integer ambiguities (float).
   const BiasProvider* phase_biases = nullptr;

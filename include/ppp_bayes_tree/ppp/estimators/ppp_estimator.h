@@ -111,9 +111,9 @@ class PppEstimator {
                                  EstimatorEpochResult& result);
   /// Ends a bridged arc: its bias and held integers leave; its measurements start a new bias.
   void endBridgedArc(const BridgedArc& bridged, const std::string& reason, EstimatorEpochResult& result);
-  /// Applies another candidate of a bridged arc's slip repair (EstimatorEpochInput::
-  /// choose_repair_candidate); the epoch's measurements are then linearised again.
-  /// False when the pipeline gave no way to or refused it.
+  /// Applies another candidate of a bridged arc's slip repair (BridgedArcChanges); the
+  /// epoch's measurements are then linearised again. False when the pipeline gave no
+  /// way to or refused it.
   bool chooseRepairCandidate(const BridgedArc& bridged, const SlipCandidate& candidate, EstimatorEpochResult& result);
 
   /// A measurement that passed the prefit screening.
@@ -221,9 +221,8 @@ class PppEstimator {
   std::optional<Eigen::Vector3d> approx_position_ecef_m_;
   std::map<ArcId, ActiveArc> arcs_;  // the active set
   std::vector<BridgedArc> bridged_;  // this epoch's arcs back after a bridged gap
-  /// This epoch's EstimatorEpochInput::choose_repair_candidate and restart_bridged_arc (nullable).
-  const std::function<bool(const BridgedArc&, const SlipCandidate&)>* choose_repair_candidate_ = nullptr;
-  const std::function<std::optional<ArcId>(const BridgedArc&, const std::string&)>* restart_bridged_arc_ = nullptr;
+  /// This epoch's EstimatorEpochInput::bridged_arc_changes (nullable).
+  BridgedArcChanges* bridged_arc_changes_ = nullptr;
   /// The pipeline changed this epoch's arcs (a candidate chosen, an arc restarted): the
   /// measurements are linearised again.
   bool arcs_changed_ = false;

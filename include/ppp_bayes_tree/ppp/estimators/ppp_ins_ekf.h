@@ -59,9 +59,9 @@
 // gap_bridge.h: INS-aided cycle-slip identification, Du & Gao 2012, Sensors
 // 12(11):14344-14362); an arc without a slip keeps its bias
 // and held integers, any other ends as after a longer gap and starts again as a
-// new arc (EstimatorEpochInput::restart_bridged_arc). Among the candidates of a
-// slip repair the arc tracker could not make unique the test chooses, and the
-// pipeline applies the chosen slip (choose_repair_candidate; doc/studies/ins_outages.md).
+// new arc (BridgedArcChanges::restartArc). Among the candidates of a slip repair
+// the arc tracker could not make unique the test chooses, and the pipeline applies
+// the chosen slip (BridgedArcChanges::chooseRepairCandidate; doc/studies/ins_outages.md).
 //
 // Doppler (InsEkfOptions::doppler, on by default; usesDoppler()): at each epoch
 // whose observations carry Doppler, the antenna velocity and receiver clock drift

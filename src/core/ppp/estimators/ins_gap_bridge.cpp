@@ -44,14 +44,13 @@ std::optional<GapBridgeRow> insGapBridgeRow(const BridgedArc& bridged, const Sat
 
 namespace {
 
-std::string keptLine(const BridgedArc& b, const GapBridgeVerdict& v) {
+/// The line of a kept arc, with its repair as the bridge chose it (`chosen`: another candidate).
+std::string keptLine(const BridgedArc& b, const GapBridgeVerdict& v, const std::optional<SlipCandidate>& chosen) {
   std::string repair;
-  if (b.repair && v.candidate >= 0) {
-    SlipRepair chosen = *b.repair;
-    chosen.choose(b.repair->alternatives[static_cast<std::size_t>(v.candidate)]);
-    repair = " after the slip repair " + chosen.text;
-  } else if (b.repair) {
-    repair = " after the slip repair " + b.repair->text;
+  if (b.repair) {
+    SlipRepair r = *b.repair;
+    if (chosen) r.choose(*chosen);
+    repair = " after the slip repair " + r.text;
   }
   return b.satellite.toString() + " arc " + std::to_string(b.arc) + ": gap of " +
          format("%.0f s bridged, slip %.2f +- %.2f cycles", b.gap_s, v.slip_cycles, v.sigma_cycles) + repair;
@@ -91,7 +90,7 @@ std::vector<BridgedArcVerdict> insGapBridgeVerdicts(const std::vector<BridgedArc
     std::optional<SlipCandidate> chosen;
     if (verdicts[i].keep && b.repair && verdicts[i].candidate >= 0)
       chosen = b.repair->alternatives[static_cast<std::size_t>(verdicts[i].candidate)];
-    out.push_back({&b, verdicts[i].keep, chosen, verdicts[i].keep ? keptLine(b, verdicts[i]) : verdicts[i].reason});
+    out.push_back({&b, verdicts[i].keep, chosen, verdicts[i].keep ? keptLine(b, verdicts[i], chosen) : verdicts[i].reason});
   }
   return out;
 }

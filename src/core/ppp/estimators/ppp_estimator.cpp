@@ -36,15 +36,13 @@ EstimatorEpochResult PppEstimator::processEpoch(const EstimatorEpochInput& input
   if (input.ended_arcs) arcsEnded(*input.ended_arcs);
   bridged_.clear();
   if (input.bridged_arcs) bridged_ = *input.bridged_arcs;
-  choose_repair_candidate_ = input.choose_repair_candidate;
-  restart_bridged_arc_ = input.restart_bridged_arc;
+  bridged_arc_changes_ = input.bridged_arc_changes;
   receiveEpochInput(input);
   last_ = processEpoch(input.time, *input.evaluate, input.evaluate_start);
-  choose_repair_candidate_ = nullptr;
   // An epoch that stopped before the bridged arcs were tested ends them (never carried unverified).
   for (const BridgedArc& b : bridged_) endBridgedArc(b, "the epoch stopped before the slip test", last_);
   bridged_.clear();
-  restart_bridged_arc_ = nullptr;
+  bridged_arc_changes_ = nullptr;
   if (ambiguity_.options().enabled && !floatWithoutPhaseBiases(input, last_)) resolveAmbiguities(input, last_);
   return last_;
 }
@@ -71,8 +69,8 @@ void PppEstimator::endBridgedArc(const BridgedArc& bridged, const std::string& r
   if (bridged.repair) ++result.repaired_arcs_ended;
   std::string line = bridged.satellite.toString() + " arc " + std::to_string(bridged.arc) + ": " + ended.reason;
   // The satellite's phases from now on are a new arc's (none of this one's state taken up again).
-  if (restart_bridged_arc_ && *restart_bridged_arc_) {
-    if (const std::optional<ArcId> renewed = (*restart_bridged_arc_)(bridged, ended.reason)) {
+  if (bridged_arc_changes_) {
+    if (const std::optional<ArcId> renewed = bridged_arc_changes_->restartArc(bridged, ended.reason)) {
       line += "; new arc " + std::to_string(*renewed);
       arcs_changed_ = true;
     }
@@ -82,8 +80,7 @@ void PppEstimator::endBridgedArc(const BridgedArc& bridged, const std::string& r
 
 bool PppEstimator::chooseRepairCandidate(const BridgedArc& bridged, const SlipCandidate& candidate,
                                          EstimatorEpochResult& result) {
-  if (!choose_repair_candidate_ || !*choose_repair_candidate_ || !(*choose_repair_candidate_)(bridged, candidate))
-    return false;
+  if (!bridged_arc_changes_ || !bridged_arc_changes_->chooseRepairCandidate(bridged, candidate)) return false;
   ++result.repair_candidates_chosen;
   arcs_changed_ = true;
   return true;

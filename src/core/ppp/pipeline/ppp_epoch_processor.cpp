@@ -8,7 +8,7 @@
 
 namespace ppp {
 
-struct PppEpochProcessor::Impl {
+struct PppEpochProcessor::Impl : BridgedArcChanges {
   RinexObsHeader header;
   PppConfig config;
   const BiasProvider* biases = nullptr;
@@ -49,12 +49,15 @@ struct PppEpochProcessor::Impl {
   const std::vector<ImuSample>* imuUpTo(const GnssTime& time);
   /// The estimator's step over the single measurement model of the usable satellites.
   EstimatorEpochResult estimate(const ObsEpoch& epoch, const ArcEpochResult& arc_result, PppEstimator& estimator);
-  /// Another candidate of a bridged arc's repair applied (EstimatorEpochInput::
-  /// choose_repair_candidate): the tracker's arc, the usable phases, the observed IF.
-  bool chooseRepairCandidate(const BridgedArc& bridged_arc, const SlipCandidate& candidate);
-  /// A bridged arc the estimator ended starts again as a new arc (EstimatorEpochInput::
-  /// restart_bridged_arc): the tracker's arc, the usable phases and arc, the observed IF.
-  std::optional<ArcId> restartBridgedArc(const BridgedArc& bridged_arc, const std::string& reason);
+  /// Another candidate of a bridged arc's repair applied: the tracker's arc, the usable
+  /// phases, the observed IF.
+  bool chooseRepairCandidate(const BridgedArc& bridged_arc, const SlipCandidate& candidate) override;
+  /// A bridged arc the estimator ended starts again as a new arc: the tracker's arc, the
+  /// usable phases and arc, the observed IF.
+  std::optional<ArcId> restartArc(const BridgedArc& bridged_arc, const std::string& reason) override;
+  /// The usable satellite `arc` is at (its index in `usable` and `arcs`) takes the
+  /// tracker's new status: its phases, its arc, the observed IF.
+  void takeArcStatus(std::size_t i, const SatelliteArcStatus& status);
   /// The arcs restarted at this epoch: (old, new status).
   std::vector<std::pair<ArcId, SatelliteArcStatus>> restarted;
 };
@@ -240,32 +243,31 @@ void PppEpochProcessor::Impl::keepUsableArcs(const ArcEpochResult& arc_result, P
   observedIonosphereFree(usable, observed_if);
 }
 
+void PppEpochProcessor::Impl::takeArcStatus(std::size_t i, const SatelliteArcStatus& status) {
+  usable[i].phase1_cycles = status.phase1_cycles;
+  usable[i].phase2_cycles = status.phase2_cycles;
+  arcs[i] = status.arc;
+  observedIonosphereFree(usable, observed_if);
+}
+
 bool PppEpochProcessor::Impl::chooseRepairCandidate(const BridgedArc& bridged_arc, const SlipCandidate& candidate) {
   const auto it = std::find(arcs.begin(), arcs.end(), bridged_arc.arc);
   if (it == arcs.end()) return false;
-  const auto i = static_cast<std::size_t>(it - arcs.begin());
   const std::optional<SatelliteArcStatus> st = tracker.chooseRepairCandidate(bridged_arc.satellite, candidate);
   if (!st || st->arc != bridged_arc.arc || !st->slip_repair) return false;
-  usable[i].phase1_cycles = st->phase1_cycles;
-  usable[i].phase2_cycles = st->phase2_cycles;
-  observedIonosphereFree(usable, observed_if);
+  takeArcStatus(static_cast<std::size_t>(it - arcs.begin()), *st);
   chosen_repairs.push_back({st->satellite, st->arc, *st->slip_repair});
   return true;
 }
 
-std::optional<ArcId> PppEpochProcessor::Impl::restartBridgedArc(const BridgedArc& bridged_arc,
-                                                               const std::string& reason) {
+std::optional<ArcId> PppEpochProcessor::Impl::restartArc(const BridgedArc& bridged_arc, const std::string& reason) {
   const auto it = std::find(arcs.begin(), arcs.end(), bridged_arc.arc);
   if (it == arcs.end()) return std::nullopt;
-  const auto i = static_cast<std::size_t>(it - arcs.begin());
   std::optional<SatelliteArcStatus> st = tracker.restartArc(bridged_arc.satellite, "ended by the gap bridge: " + reason);
   if (!st) return std::nullopt;
-  usable[i].phase1_cycles = st->phase1_cycles;
-  usable[i].phase2_cycles = st->phase2_cycles;
-  arcs[i] = st->arc;
-  observedIonosphereFree(usable, observed_if);
+  takeArcStatus(static_cast<std::size_t>(it - arcs.begin()), *st);
   restarted.emplace_back(bridged_arc.arc, std::move(*st));
-  return arcs[i];
+  return restarted.back().second.arc;
 }
 
 EstimatorEpochResult PppEpochProcessor::Impl::estimate(const ObsEpoch& epoch, const ArcEpochResult& arc_result,
@@ -295,12 +297,7 @@ EstimatorEpochResult PppEpochProcessor::Impl::estimate(const ObsEpoch& epoch, co
   input.bridged_arcs = &bridged;
   chosen_repairs.clear();
   restarted.clear();
-  const std::function<bool(const BridgedArc&, const SlipCandidate&)> choose =
-      [this](const BridgedArc& b, const SlipCandidate& c) { return chooseRepairCandidate(b, c); };
-  input.choose_repair_candidate = &choose;
-  const std::function<std::optional<ArcId>(const BridgedArc&, const std::string&)> restart =
-      [this](const BridgedArc& b, const std::string& reason) { return restartBridgedArc(b, reason); };
-  input.restart_bridged_arc = &restart;
+  input.bridged_arc_changes = this;
   input.phase_biases = phase_biases;
   input.imu = imuUpTo(time);
   if (estimator.usesDoppler()) {  // every satellite's Doppler of the processed systems, arcs or not
@@ -308,10 +305,7 @@ EstimatorEpochResult PppEpochProcessor::Impl::estimate(const ObsEpoch& epoch, co
                                   *ephemeris);
     input.doppler = &doppler.observations;
   }
-  EstimatorEpochResult result = estimator.processEpoch(input);
-  input.choose_repair_candidate = nullptr;
-  input.restart_bridged_arc = nullptr;
-  return result;
+  return estimator.processEpoch(input);
 }
 
 // One epoch, as numbered steps:
