@@ -255,6 +255,11 @@ class AmbiguityResolver {
   void addEpoch(const std::vector<DualFrequencyObservation>& observations, const std::vector<ArcId>& arcs,
                 const BiasProvider* biases);
   void arcsEnded(const std::vector<EndedArc>& ended);
+  /// The arc's Melbourne-Wubbena mean starts again (WideLaneResolver::restartArc): its
+  /// phases were repaired with a wide lane that may be off by a slip common to its
+  /// system. Its held integers stay; whether its wide lane changed is asked again once
+  /// the new mean rounds.
+  void restartWideLane(ArcId arc) { wide_lane_.restartArc(arc); }
 
   /// Resolves against the float filter state x, P whose entries from
   /// `receiver_dim` on are the IF biases [m] of `bias_arcs` (in that order).

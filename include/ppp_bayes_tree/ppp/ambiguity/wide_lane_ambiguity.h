@@ -60,11 +60,19 @@ struct WideLaneArcMean {
   double mean_cycles = 0.0;
   double sum_squares = 0.0;  // of deviations from the mean (Welford)
   std::optional<GnssTime> first_time, last_time;  // of the samples
+  /// The mean started again at a slip repair (WideLaneResolver::restartArc): until it
+  /// rounds (pairDetermined()), it cannot say whether the arc's wide lane changed.
+  bool restarted = false;
   /// Mean interval between the samples [s] (0 with fewer than two).
   double meanInterval_s() const;
   /// Sigma of the mean [WL cycles] under the options' noise model.
   double sigmaOfMean_cycles(const WideLaneOptions& options) const;
 };
+
+/// Whether the single difference of two arcs' means can say their wide lane: always,
+/// unless one of them was started again (WideLaneArcMean::restarted); then both need
+/// min_samples and the difference a rounding success rate of min_success_rate.
+bool pairDetermined(const WideLaneArcMean& a, const WideLaneArcMean& b, const WideLaneOptions& options);
 
 /// One arc's single-differenced wide lane against the reference arc.
 struct WideLaneFix {
@@ -98,6 +106,10 @@ class WideLaneResolver {
   void addValue(ArcId arc, const SatelliteId& satellite, double mw_cycles, const GnssTime& time);
   /// Forgets an arc (ended: slip, gap, satellite set).
   void removeArc(ArcId arc) { arcs_.erase(arc); }
+  /// Starts the arc's mean again from the next sample (WideLaneArcMean::restarted): after
+  /// a slip repair whose wide lane may be off by a slip common to its system (gap_bridge.h),
+  /// the samples after it are in the arc's phases as repaired and those before may not be.
+  void restartArc(ArcId arc);
 
   const std::map<ArcId, WideLaneArcMean>& arcs() const { return arcs_; }
   /// Single differences of the active arcs with at least min_samples samples

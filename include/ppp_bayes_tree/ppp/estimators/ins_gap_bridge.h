@@ -17,6 +17,7 @@
 #include <string>
 #include <vector>
 
+#include "ppp_bayes_tree/ppp/ambiguity/ambiguity_resolution.h"
 #include "ppp_bayes_tree/ppp/estimators/estimator_epoch_input.h"
 #include "ppp_bayes_tree/ppp/estimators/estimator_epoch_result.h"
 #include "ppp_bayes_tree/ppp/model/gap_bridge.h"
@@ -30,6 +31,9 @@ struct BridgedArcVerdict {
   bool keep = false;
   /// Kept with another candidate of its slip repair than the one applied (SlipRepair::alternatives).
   std::optional<SlipCandidate> chosen;
+  /// Kept, its wide lane possibly one slip off with every arc of its system
+  /// (GapBridgeVerdict::common_shift_undecided): its wide-lane mean starts again.
+  bool common_shift_undecided = false;
   std::string text;  ///< ended: the reason; kept: the line of EstimatorEpochResult::gap_bridge
 };
 
@@ -49,11 +53,12 @@ std::vector<BridgedArcVerdict> insGapBridgeVerdicts(const std::vector<BridgedArc
 
 /// Ends (end_arc, with the reason) or keeps (counted, its line) each arc, in order; a
 /// kept arc with another candidate of its repair has it applied first (choose; ended
-/// when that fails).
+/// when that fails); a kept arc whose shift common to its system is undecided has its
+/// wide-lane mean started again in `resolver` (AmbiguityResolver::restartWideLane).
 void applyBridgedArcVerdicts(const std::vector<BridgedArcVerdict>& verdicts,
                              const std::function<void(const BridgedArc&, const std::string&)>& end_arc,
                              const std::function<bool(const BridgedArc&, const SlipCandidate&)>& choose,
-                             EstimatorEpochResult& result);
+                             AmbiguityResolver& resolver, EstimatorEpochResult& result);
 
 /// The least variance per axis of the position covariance grown through a gap [m^2].
 constexpr double kMinGapPositionVariance_m2 = 1e-6;

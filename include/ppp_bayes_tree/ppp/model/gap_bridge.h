@@ -15,12 +15,18 @@
 // could not make unique, slip_repair.h): each moves its residual by a known offset.
 // Every assignment of candidates to those rows is tried: the least-squares cost with
 // the position prior (a quadratic form in the offsets) plus each row's prior cost of
-// its candidate (its wide lane against the Melbourne-Wubbena jump, which alone tells
-// apart a shift common to all of a system's rows: that system's clock takes it, but
-// an arc that starts later would not share it). The least is taken when it fits the
-// noise (a chi-square test; else the row of the largest residual ends) and the next
-// best costs clearly more (a difference and a ratio, as in integer ambiguity
-// validation); else the rows where the two differ end. References: Du S., Gao Y.
+// its candidate (its wide lane against the Melbourne-Wubbena jump). The least is
+// taken when it fits the noise (a chi-square test; else the row of the largest
+// residual ends) and the next best costs clearly more (a difference and a ratio, as
+// in integer ambiguity validation); else the rows where the two differ end.
+// Assignments that differ by one integer slip common to every row of a clock are
+// twins: the phases cannot tell them apart (that clock takes the shift), and when no
+// arc outside the bridge holds that system's clock (GapBridgeRow::clock_free) nothing
+// can, and nothing needs to: every bias of the system, and of any arc that starts
+// later, carries the same shift, so the integer differences between satellites and
+// the position are the same with either. The next best is then the least costly
+// assignment that is not a twin of the best; a twin the wide lanes' costs do not
+// tell apart is reported (common_shift_undecided). References: Du S., Gao Y.
 // (2012), Inertial aided cycle slip detection and identification for integrated
 // PPP GPS and INS, Sensors 12(11):14344-14362; Banville S., Langley R.B. (2013)
 // Mitigating the impact of ionospheric cycle slips in GNSS observations, J Geod
@@ -66,6 +72,12 @@ struct GapBridgeRow {
   /// candidate (their wide lanes against the Melbourne-Wubbena jump); missing ones 0.
   double applied_prior_cost = 0.0;
   std::vector<double> candidate_prior_costs;
+  /// With candidates: each candidate's wide lane minus the applied slip's [cycles]
+  /// (with the L1 offsets, what makes a shift common to a clock's rows; missing ones 0).
+  std::vector<long> candidate_wide_lane_offsets_cycles;
+  /// No arc outside these rows holds this row's clock (every arc of its system with a
+  /// bias is bridged here): a slip common to all of the clock's rows is the clock's.
+  bool clock_free = false;
 };
 
 struct GapBridgeVerdict {
@@ -74,6 +86,11 @@ struct GapBridgeVerdict {
   double sigma_cycles = 0.0;
   /// The candidate chosen (index into GapBridgeRow::candidate_offsets_m); -1: the slip applied.
   int candidate = -1;
+  /// Kept with a twin (gap_bridge.h) that the wide lanes' prior costs could not tell
+  /// apart: the integers between the clock's arcs hold, the wide lanes of its arcs may
+  /// all be one slip off the Melbourne-Wubbena means before the gap (the caller's
+  /// wide-lane means start again from this epoch).
+  bool common_shift_undecided = false;
   std::string reason;         // why the arc ends; empty when kept
 };
 

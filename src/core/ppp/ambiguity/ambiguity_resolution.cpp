@@ -561,7 +561,7 @@ void AmbiguityResolver::keepPresentHeld(HoldEpoch& e) {
       continue;
     }
     const auto m = wl_means.find(it->first.arc), mr = wl_means.find(it->first.reference_arc);
-    if (m != wl_means.end() && mr != wl_means.end() &&
+    if (m != wl_means.end() && mr != wl_means.end() && pairDetermined(m->second, mr->second, options_.wide_lane) &&
         std::lround(m->second.mean_cycles - mr->second.mean_cycles) != it->first.wide_lane_cycles) {
       it = release(it, AmbiguityReleaseReason::WideLaneChanged, 0.0, row->satellite, row->reference_satellite,
                    e.summary);

@@ -83,6 +83,23 @@ double WideLaneArcMean::sigmaOfMean_cycles(const WideLaneOptions& options) const
   return sigma / std::sqrt(independent);
 }
 
+bool pairDetermined(const WideLaneArcMean& a, const WideLaneArcMean& b, const WideLaneOptions& options) {
+  if (!a.restarted && !b.restarted) return true;
+  if (a.samples < options.min_samples || b.samples < options.min_samples) return false;
+  return roundingSuccessRate(std::hypot(a.sigmaOfMean_cycles(options), b.sigmaOfMean_cycles(options))) >=
+         options.min_success_rate;
+}
+
+void WideLaneResolver::restartArc(ArcId arc) {
+  const auto it = arcs_.find(arc);
+  if (it == arcs_.end()) return;
+  WideLaneArcMean restarted;
+  restarted.arc = arc;
+  restarted.satellite = it->second.satellite;
+  restarted.restarted = true;
+  it->second = restarted;
+}
+
 double WideLaneArcMean::meanInterval_s() const {
   if (samples < 2 || !first_time || !last_time) return 0.0;
   return (*last_time - *first_time) / (samples - 1);

@@ -37,6 +37,8 @@ std::optional<GapBridgeRow> insGapBridgeRow(const BridgedArc& bridged, const Sat
     for (const SlipCandidate& c : r.alternatives) {
       row.candidate_offsets_m.push_back(-static_cast<double>(c.dn1_cycles - r.dn1_cycles) * bridged.wavelength1_m);
       row.candidate_prior_costs.push_back(wide_lane_cost(c));
+      row.candidate_wide_lane_offsets_cycles.push_back((c.dn1_cycles - c.dn2_cycles) -
+                                                       (r.dn1_cycles - r.dn2_cycles));
     }
   }
   return row;
@@ -74,7 +76,7 @@ std::vector<BridgedArcVerdict> insGapBridgeVerdicts(const std::vector<BridgedArc
     const std::optional<double> bias_m = held_bias_m(b.arc);
     if (m != usable.end() && bias_m) row = insGapBridgeRow(b, *m, *bias_m, position_index);
     if (!row) {
-      out.push_back({&b, false, std::nullopt, "no usable measurement, held bias or geometry-free fit at the prediction"});
+      out.push_back({&b, false, std::nullopt, false, "no usable measurement, held bias or geometry-free fit at the prediction"});
       continue;
     }
     int& clock = system_clock[static_cast<std::size_t>(row->clock)];
@@ -83,14 +85,24 @@ std::vector<BridgedArcVerdict> insGapBridgeVerdicts(const std::vector<BridgedArc
     rows.push_back(*row);
     row_arcs.push_back(&b);
   }
-  // 2. The slips; an arc goes on only without one.
+  // 2. A system's clock is free when no arc outside the bridge holds it (an arc that
+  //    goes on without a gap, with its bias).
+  std::vector<bool> clock_held(kNumGnssSystems, false);
+  for (const SatelliteMeasurement& u : usable) {
+    const bool in_bridge = std::any_of(bridged.begin(), bridged.end(), [&](const BridgedArc& b) { return b.arc == u.arc; });
+    if (!in_bridge && held_bias_m(u.arc)) clock_held[static_cast<std::size_t>(u.satellite.system)] = true;
+  }
+  for (std::size_t i = 0; i < rows.size(); ++i)
+    rows[i].clock_free = !clock_held[static_cast<std::size_t>(row_arcs[i]->satellite.system)];
+  // 3. The slips; an arc goes on only without one.
   const std::vector<GapBridgeVerdict> verdicts = bridgeGap(rows, position_cov_m2, options);
   for (std::size_t i = 0; i < verdicts.size(); ++i) {
     const BridgedArc& b = *row_arcs[i];
     std::optional<SlipCandidate> chosen;
     if (verdicts[i].keep && b.repair && verdicts[i].candidate >= 0)
       chosen = b.repair->alternatives[static_cast<std::size_t>(verdicts[i].candidate)];
-    out.push_back({&b, verdicts[i].keep, chosen, verdicts[i].keep ? keptLine(b, verdicts[i], chosen) : verdicts[i].reason});
+    out.push_back({&b, verdicts[i].keep, chosen, verdicts[i].keep && verdicts[i].common_shift_undecided,
+                   verdicts[i].keep ? keptLine(b, verdicts[i], chosen) : verdicts[i].reason});
   }
   return out;
 }
@@ -98,7 +110,7 @@ std::vector<BridgedArcVerdict> insGapBridgeVerdicts(const std::vector<BridgedArc
 void applyBridgedArcVerdicts(const std::vector<BridgedArcVerdict>& verdicts,
                              const std::function<void(const BridgedArc&, const std::string&)>& end_arc,
                              const std::function<bool(const BridgedArc&, const SlipCandidate&)>& choose,
-                             EstimatorEpochResult& result) {
+                             AmbiguityResolver& resolver, EstimatorEpochResult& result) {
   for (const BridgedArcVerdict& v : verdicts) {
     if (!v.keep) {
       end_arc(*v.arc, v.text);
@@ -111,7 +123,10 @@ void applyBridgedArcVerdicts(const std::vector<BridgedArcVerdict>& verdicts,
     }
     ++result.bridged_arcs_kept;
     if (v.arc->repair) ++result.repaired_arcs_kept;
-    result.gap_bridge.push_back(v.text);
+    if (v.common_shift_undecided) resolver.restartWideLane(v.arc->arc);
+    result.gap_bridge.push_back(v.common_shift_undecided ? v.text + "; a wide-lane slip common to the system undecided, "
+                                                                    "wide-lane mean started again"
+                                                         : v.text);
   }
 }
 

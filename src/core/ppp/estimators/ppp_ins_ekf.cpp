@@ -489,7 +489,8 @@ void PppInsEkf::verifyBridgedArcs(const std::vector<BridgedArc>& bridged, const 
       bridged, usable, held_bias_m, layout_.position(), gapPositionCovariance(), ins_.gap_bridge);
   applyBridgedArcVerdicts(
       verdicts, [&](const BridgedArc& b, const std::string& reason) { endBridgedArc(b, reason, result); },
-      [&](const BridgedArc& b, const SlipCandidate& c) { return chooseRepairCandidate(b, c, result); }, result);
+      [&](const BridgedArc& b, const SlipCandidate& c) { return chooseRepairCandidate(b, c, result); }, resolver(),
+      result);
 }
 
 }  // namespace ppp

@@ -190,7 +190,7 @@ void PppInsSmoother::verifyBridgedArcs(const std::vector<BridgedArc>& bridged,
   applyBridgedArcVerdicts(insGapBridgeVerdicts(bridged, usable, held_bias_m, layout_.position(),
                                                gapPositionCovariance(), ins_.gap_bridge),
                           end, [&](const BridgedArc& b, const SlipCandidate& c) { return chooseRepairCandidate(b, c, result); },
-                          result);
+                          resolver(), result);
 }
 
 std::optional<NavState> PppInsSmoother::smoothedNavState(std::uint32_t index) const {

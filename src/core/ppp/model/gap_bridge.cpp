@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
+#include <utility>
 
 #include "ppp_bayes_tree/ppp/model/chi_square_quantile.h"
 #include "ppp_bayes_tree/types/text_format.h"
@@ -85,12 +87,70 @@ double priorCost(const GapBridgeRow& row, int candidate) {
              : 0.0;
 }
 
-/// Every assignment of the candidate rows: the best and the next best. The cost is the
-/// least-squares cost of the phases plus each row's prior cost of its choice (its wide
-/// lane against the Melbourne-Wubbena jump): a shift common to a system's rows, which
-/// that system's clock takes, is told apart by the wide lanes alone.
-std::pair<Assignment, Assignment> bestAssignments(const std::vector<GapBridgeRow>& rows, const std::vector<int>& active,
-                                                  int clocks, const Eigen::Matrix3d& position_cov_m2) {
+/// A row's wide lane offset of a choice [cycles] (GapBridgeRow::candidate_wide_lane_offsets_cycles).
+long wideLaneOffset_cycles(const GapBridgeRow& row, int candidate) {
+  if (candidate < 0) return 0;
+  return candidate < static_cast<int>(row.candidate_wide_lane_offsets_cycles.size())
+             ? row.candidate_wide_lane_offsets_cycles[static_cast<std::size_t>(candidate)]
+             : 0;
+}
+
+/// Two assignments differ only by one slip common to every row of a free clock (the
+/// same L1 offset and wide lane offset in each), and not at all on the other clocks'
+/// rows: the phases cannot tell them apart and the differences between satellites
+/// are the same (gap_bridge.h).
+bool twins(const std::vector<GapBridgeRow>& rows, const std::vector<int>& active, const std::vector<int>& a,
+           const std::vector<int>& b) {
+  constexpr double kSameOffset_m = 1e-6;
+  std::vector<std::optional<std::pair<double, long>>> shift;  // per clock, from its first row
+  for (std::size_t i = 0; i < active.size(); ++i) {
+    const GapBridgeRow& r = rows[static_cast<std::size_t>(active[i])];
+    const double d_m = candidateOffset_m(r, a[i]) - candidateOffset_m(r, b[i]);
+    const long d_wl = wideLaneOffset_cycles(r, a[i]) - wideLaneOffset_cycles(r, b[i]);
+    if (!r.clock_free) {
+      if (std::abs(d_m) > kSameOffset_m || d_wl != 0) return false;
+      continue;
+    }
+    if (shift.size() <= static_cast<std::size_t>(r.clock)) shift.resize(static_cast<std::size_t>(r.clock) + 1);
+    auto& s = shift[static_cast<std::size_t>(r.clock)];
+    if (!s) s = std::make_pair(d_m, d_wl);
+    else if (std::abs(s->first - d_m) > kSameOffset_m || s->second != d_wl) return false;
+  }
+  return true;
+}
+
+/// The cheapest assignments seen, in cost order, at most `size` of them.
+class CheapestAssignments {
+ public:
+  explicit CheapestAssignments(std::size_t size) : size_(size) {}
+  void offer(const Assignment& a) {
+    if (kept_.size() == size_ && !(a.cost < kept_.back().cost)) return;
+    const auto at = std::upper_bound(kept_.begin(), kept_.end(), a.cost,
+                                     [](double c, const Assignment& k) { return c < k.cost; });
+    kept_.insert(at, a);
+    if (kept_.size() > size_) kept_.pop_back();
+  }
+  const std::vector<Assignment>& kept() const { return kept_; }
+
+ private:
+  std::size_t size_;
+  std::vector<Assignment> kept_;
+};
+
+/// How many of the cheapest assignments are kept to find the best's next best past its twins.
+constexpr std::size_t kKeptAssignments = 64;
+
+/// The best assignment, the next best that is not its twin, and its cheapest twin
+/// (each with an empty choice and an infinite cost when there is none).
+struct Ranked {
+  Assignment best, next, twin;
+};
+
+/// Every assignment of the candidate rows, ranked. The cost is the least-squares cost
+/// of the phases plus each row's prior cost of its choice (its wide lane against the
+/// Melbourne-Wubbena jump); among twins, only that prior tells them apart.
+Ranked rankAssignments(const std::vector<GapBridgeRow>& rows, const std::vector<int>& active, int clocks,
+                       const Eigen::Matrix3d& position_cov_m2) {
   const Design design_rows = design(rows, active, clocks, position_cov_m2);
   const Eigen::MatrixXd M = costMatrix(design_rows);
   const Eigen::VectorXd My = M * design_rows.y;
@@ -100,8 +160,9 @@ std::pair<Assignment, Assignment> bestAssignments(const std::vector<GapBridgeRow
   for (int i = 0; i < n; ++i)
     if (!rows[static_cast<std::size_t>(active[static_cast<std::size_t>(i)])].candidate_offsets_m.empty())
       candidate_rows.push_back(i);
-  // Odometer over the candidate rows' choices; the two cheapest kept.
-  Assignment best, second, current;
+  // Odometer over the candidate rows' choices; the cheapest kept.
+  CheapestAssignments cheapest(kKeptAssignments);
+  Assignment current;
   current.choice.assign(static_cast<std::size_t>(n), -1);
   Eigen::VectorXd d = Eigen::VectorXd::Zero(n);
   while (true) {
@@ -110,12 +171,7 @@ std::pair<Assignment, Assignment> bestAssignments(const std::vector<GapBridgeRow
       prior += priorCost(rows[static_cast<std::size_t>(active[static_cast<std::size_t>(i)])],
                          current.choice[static_cast<std::size_t>(i)]);
     current.cost = base + 2.0 * d.dot(My) + d.dot(M * d) + prior;
-    if (current.cost < best.cost) {
-      second = std::move(best);
-      best = current;
-    } else if (current.cost < second.cost) {
-      second = current;
-    }
+    cheapest.offer(current);
     std::size_t k = 0;
     for (; k < candidate_rows.size(); ++k) {
       const int i = candidate_rows[k];
@@ -131,7 +187,13 @@ std::pair<Assignment, Assignment> bestAssignments(const std::vector<GapBridgeRow
     }
     if (k == candidate_rows.size()) break;
   }
-  return {best, second};
+  const std::vector<Assignment>& kept = cheapest.kept();
+  Ranked ranked{kept.front(), {}, {}};
+  for (auto a = kept.begin() + 1; a != kept.end(); ++a) {
+    Assignment& slot = twins(rows, active, ranked.best.choice, a->choice) ? ranked.twin : ranked.next;
+    if (!std::isfinite(slot.cost)) slot = *a;
+  }
+  return ranked;
 }
 
 /// How many assignments the candidate rows make.
@@ -146,6 +208,8 @@ struct Chosen {
   double best_cost = 0.0;
   double second_cost = std::numeric_limits<double>::infinity();  // the next best's; infinite without one
   std::vector<int> differing;  // the rows (indices into `rows`) where the two differ
+  double twin_cost = std::numeric_limits<double>::infinity();  // the best's cheapest twin's
+  std::vector<int> twin_differing;  // the rows where the best and that twin differ
 };
 
 /// The candidates of the active rows: the assignment of least cost (each row's choice
@@ -163,8 +227,10 @@ Chosen chooseCandidates(const std::vector<GapBridgeRow>& rows, std::vector<GapBr
         format("too many slip candidate assignments (more than %.0f)", o.max_candidate_assignments);
     active.erase(most);
   }
-  const auto [best, second] = bestAssignments(rows, active, clocks, position_cov_m2);
-  Chosen chosen{best.cost, second.cost, {}};
+  const Ranked ranked = rankAssignments(rows, active, clocks, position_cov_m2);
+  const Assignment& best = ranked.best;
+  const Assignment& second = ranked.next;
+  Chosen chosen{best.cost, second.cost, {}, ranked.twin.cost, {}};
   for (std::size_t i = 0; i < active.size(); ++i) {
     const auto k = static_cast<std::size_t>(active[i]);
     out[k].candidate = best.choice[i];
@@ -172,16 +238,18 @@ Chosen chooseCandidates(const std::vector<GapBridgeRow>& rows, std::vector<GapBr
     if (std::isfinite(second.cost) &&
         candidateOffset_m(rows[k], best.choice[i]) != candidateOffset_m(rows[k], second.choice[i]))
       chosen.differing.push_back(active[i]);
+    if (std::isfinite(ranked.twin.cost) && best.choice[i] != ranked.twin.choice[i])
+      chosen.twin_differing.push_back(active[i]);
   }
   return chosen;
 }
 
 /// The best assignment is told apart from the next: its cost at least
 /// min_candidate_separation^2 more and min_candidate_ratio times as much.
-bool toldApart(const Chosen& c, const GapBridgeOptions& o) {
-  return !std::isfinite(c.second_cost) ||
-         (c.second_cost - c.best_cost >= o.min_candidate_separation * o.min_candidate_separation &&
-          c.second_cost >= o.min_candidate_ratio * c.best_cost);
+bool toldApart(double best_cost, double next_cost, const GapBridgeOptions& o) {
+  return !std::isfinite(next_cost) ||
+         (next_cost - best_cost >= o.min_candidate_separation * o.min_candidate_separation &&
+          next_cost >= o.min_candidate_ratio * best_cost);
 }
 
 /// The chosen assignment's degrees of freedom: the rows less the clocks (the prior's
@@ -273,7 +341,7 @@ std::vector<GapBridgeVerdict> bridgeGap(const std::vector<GapBridgeRow>& rows, c
       active.erase(active.begin() + static_cast<std::ptrdiff_t>(row));
       continue;
     }
-    if (!toldApart(chosen, options)) {
+    if (!toldApart(chosen.best_cost, chosen.second_cost, options)) {
       for (int k : chosen.differing) {
         out[static_cast<std::size_t>(k)].reason =
             format("its slip candidates are not told apart (the best two assignments cost %.1f and %.1f)",
@@ -282,7 +350,11 @@ std::vector<GapBridgeVerdict> bridgeGap(const std::vector<GapBridgeRow>& rows, c
       }
       continue;
     }
+    // 4. Kept. A twin the wide lanes could not tell apart leaves the shift common to
+    //    its rows undecided (GapBridgeVerdict::common_shift_undecided).
     for (int i : active) out[static_cast<std::size_t>(i)].keep = true;
+    if (!toldApart(chosen.best_cost, chosen.twin_cost, options))
+      for (int k : chosen.twin_differing) out[static_cast<std::size_t>(k)].common_shift_undecided = true;
     return out;
   }
   for (int i : active)

@@ -121,6 +121,42 @@ TEST(WideLaneAmbiguity, RoundingFixesSingleDifferencesWhenPrecise) {
   EXPECT_NEAR(roundingSuccessRate(0.5), 0.682689492, 1e-8);  // 2 Phi(1) - 1
 }
 
+// A mean started again (after a slip repair whose wide lane may be one off with its
+// whole system) holds only the samples after it, and a single difference with it says
+// nothing about the wide lane until both means have min_samples (10) and the
+// difference rounds with min_success_rate (0.999: a sigma below 0.152 cycles).
+TEST(WideLaneAmbiguity, AMeanStartedAgainSaysNothingUntilItRounds) {
+  WideLaneOptions opt;
+  opt.correlation_time_s = 0.0;  // white: the sigma of a mean is max(sample sd, 0.15) / sqrt(n)
+  WideLaneResolver r(opt);
+  const auto at = [](int k) { return GnssTime::fromGpsSeconds(1300000000 + k); };
+  const SatelliteId e1{GnssSystem::Galileo, 1}, e2{GnssSystem::Galileo, 2};
+  for (int k = 0; k < 100; ++k) {
+    r.addValue(1, e1, 5.0 + (k % 2 ? 0.1 : -0.1), at(k));
+    r.addValue(2, e2, 2.0, at(k));
+  }
+  EXPECT_TRUE(pairDetermined(r.arcs().at(1), r.arcs().at(2), opt));  // neither started again
+  r.restartArc(1);
+  r.restartArc(2);
+  EXPECT_EQ(r.arcs().at(1).samples, 0);
+  EXPECT_TRUE(r.arcs().at(1).restarted);
+  // Both one cycle off after the repair: their difference stays 3.
+  for (int k = 100; k < 109; ++k) {
+    r.addValue(1, e1, 6.0, at(k));
+    r.addValue(2, e2, 3.0, at(k));
+  }
+  EXPECT_NEAR(r.arcs().at(1).mean_cycles, 6.0, 1e-12);
+  EXPECT_FALSE(pairDetermined(r.arcs().at(1), r.arcs().at(2), opt));  // 9 samples
+  r.addValue(1, e1, 6.0, at(109));
+  r.addValue(2, e2, 3.0, at(109));
+  // 10 samples: sigma 0.15 / sqrt(10) per mean, 0.067 for the difference: rounds.
+  EXPECT_TRUE(pairDetermined(r.arcs().at(1), r.arcs().at(2), opt));
+  // A noisy one (sd 0.63 cycle) does not round at 10 samples: sigma 0.21 for the difference.
+  r.restartArc(2);
+  for (int k = 110; k < 120; ++k) r.addValue(2, e2, 3.0 + (k % 2 ? 0.6 : -0.6), at(k));
+  EXPECT_FALSE(pairDetermined(r.arcs().at(1), r.arcs().at(2), opt));
+}
+
 TEST(PhaseBiasConsistency, DecidedByTheAnalysisCentresOfClocksAndBiases) {
   EXPECT_EQ(analysisCentreOfProductFile("/d/WUM0MGXRAP_20212100000_01D_30S_CLK.CLK.gz"), "WUM");
   EXPECT_EQ(analysisCentreOfProductFile("IGS0OPSFIN_20261330000_90M_30S_CLK.CLK"), "IGS");

@@ -3,8 +3,10 @@
 // cycles ends its arc; of a slip repair's candidates the true one is chosen (GPS
 // L1/L2 candidates 9 L1 cycles apart, Galileo E1/E5a ones 4), also where the slip
 // applied is wrong; a shift common to a system's arcs is told apart by the wide lanes'
-// prior costs or ends the arcs; candidates that only the position prior could tell
-// apart, and an assignment whose cost does not fit the noise, end arcs.
+// prior costs or ends the arcs while another arc holds that system's clock, and is
+// taken with the least prior cost when none does (twins); candidates that only the
+// position prior could tell apart, and an assignment whose cost does not fit the
+// noise, end arcs.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -107,6 +109,58 @@ TEST(GapBridge, AShiftCommonToASystemIsToldApartByTheWideLanesAlone) {
   for (std::size_t i = 0; i < v.size(); ++i) {
     EXPECT_TRUE(v[i].keep) << i << " " << v[i].reason;
     EXPECT_EQ(v[i].candidate, i < 7 ? -1 : 0) << i;
+  }
+}
+
+// Every Galileo arc's repair has a candidate one wide-lane cycle away (4 L1 cycles,
+// the E1/E5a candidates' spacing), with equal prior costs: the two assignments are
+// twins. With no arc outside the bridge on the Galileo clock (clock_free), the
+// integer differences between the arcs are the same with either, so the arcs go on
+// with the applied slips (the first of equal costs) and the shift reported undecided
+// until the prior costs tell the twins apart; with one row shifted differently the
+// assignment is no twin and the arcs concerned end.
+TEST(GapBridge, TwinsOnAFreeClockKeepTheirArcs) {
+  Scene s = scene(7, 5);
+  for (int i = 7; i < 12; ++i) {
+    GapBridgeRow& r = s.rows[static_cast<std::size_t>(i)];
+    withCandidates(r, 0, {4});
+    r.candidate_wide_lane_offsets_cycles = {1};
+    r.clock_free = true;
+  }
+  std::vector<GapBridgeVerdict> v = bridgeGap(s.rows, s.prior);
+  for (std::size_t i = 0; i < v.size(); ++i) {
+    EXPECT_TRUE(v[i].keep) << i << " " << v[i].reason;
+    EXPECT_EQ(v[i].candidate, -1) << i;
+    EXPECT_EQ(v[i].common_shift_undecided, i >= 7) << i;  // only the Galileo rows' shift
+  }
+  // The wide lanes' prior prefers the candidate: it is taken on every row.
+  for (int i = 7; i < 12; ++i) {
+    GapBridgeRow& r = s.rows[static_cast<std::size_t>(i)];
+    r.applied_prior_cost = 1.0;
+    r.candidate_prior_costs = {0.5};
+  }
+  v = bridgeGap(s.rows, s.prior);
+  for (std::size_t i = 7; i < v.size(); ++i) {
+    EXPECT_TRUE(v[i].keep) << i << " " << v[i].reason;
+    EXPECT_EQ(v[i].candidate, 0) << i;
+    EXPECT_TRUE(v[i].common_shift_undecided) << i;  // 2.5 of prior cost apart, not 25
+  }
+  // Prior costs 50 apart (the MW jumps clear): decided.
+  for (int i = 7; i < 12; ++i) s.rows[static_cast<std::size_t>(i)].applied_prior_cost = 10.5;
+  v = bridgeGap(s.rows, s.prior);
+  for (std::size_t i = 7; i < v.size(); ++i) {
+    EXPECT_TRUE(v[i].keep) << i << " " << v[i].reason;
+    EXPECT_EQ(v[i].candidate, 0) << i;
+    EXPECT_FALSE(v[i].common_shift_undecided) << i;
+  }
+  for (int i = 7; i < 12; ++i) s.rows[static_cast<std::size_t>(i)].applied_prior_cost = 1.0;
+  // Row 11's candidate has another wide lane: the L1 shift alone is common, no twin.
+  s.rows[11].candidate_wide_lane_offsets_cycles = {2};
+  v = bridgeGap(s.rows, s.prior);
+  for (std::size_t i = 0; i < 7; ++i) EXPECT_TRUE(v[i].keep) << i << " " << v[i].reason;
+  for (std::size_t i = 7; i < 12; ++i) {
+    EXPECT_FALSE(v[i].keep) << i;
+    EXPECT_NE(v[i].reason.find("not told apart"), std::string::npos) << v[i].reason;
   }
 }
 
