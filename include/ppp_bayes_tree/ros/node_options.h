@@ -16,6 +16,7 @@
 
 #include "ppp_bayes_tree/app/live_gnss_input.h"
 #include "ppp_bayes_tree/io/transport/stream_format.h"
+#include "ppp_bayes_tree/ppp/estimators/ins_ekf_options.h"
 
 namespace ppp_ros {
 
@@ -63,7 +64,7 @@ struct RosImuOptions {
   /// GNSS gaps up to this long do not end the arcs of ekf_ins / smoother_ins: the gap
   /// bridge tests them against the INS prediction (InsEkfOptions::gap_bridge_max_s) [s];
   /// 0: every gap longer than the arc tracker's maximum ends them.
-  double gap_bridge_max_s = 61.0;  // the estimators' default
+  double gap_bridge_max_s = ppp::InsEkfOptions{}.gap_bridge_max_s;  // the estimators' default
 };
 
 struct RosNodeOptions {
