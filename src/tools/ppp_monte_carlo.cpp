@@ -50,7 +50,7 @@
 // through the same readings, re-fix time, fix kept,
 // roll/pitch/heading RMS, held integers against the truth per estimator, fixed epochs
 // more than 10 cm from the truth) and DIR/wrong_holds.csv (each wrong hold of each flight);
-// --gap-bridge-max-s S: the GNSS/INS estimators' InsEkfOptions::gap_bridge_max_s (default 90 s).
+// --gap-bridge-max-s S: the GNSS/INS estimators' InsEkfOptions::gap_bridge_max_s (default 61 s).
 #include <unistd.h>
 
 #include <chrono>

@@ -5,7 +5,7 @@
 // fix, 198 s on this flight) that does NOT keep the receiver's lock: every
 // satellite comes back with new random integers (arbitrary slips). With a 6-s
 // bridge no held integer survives the outage (every arc ends); with the default
-// 90-s bridge (its position prior floored at 1 m, gap_bridge.h) the
+// 61-s bridge (its position prior floored at 1 m, gap_bridge.h) the
 // GPS slips are repaired, the Galileo E1/E5a ones with candidates one wide-lane
 // cycle apart among which the gap bridge chooses (slip_repair.h), the
 // repaired arcs keep their held integers, the solution is fixed
@@ -74,7 +74,7 @@ TEST(InsSlipRepair, HeldIntegersSurviveAThirtySecondOutageWithoutLock) {
   const SimulatedFlight f = simulateWithOutage(o);
   ASSERT_LT(firstAfterOutage(f), f.epochs.size());
   PppConfig config = insConfig(flightPppConfig(o.ppp, f), f);
-  ASSERT_EQ(config.ins.gap_bridge_max_s, 90.0);  // the default
+  ASSERT_EQ(config.ins.gap_bridge_max_s, 61.0);  // the default
 
   // A 6-s bridge (the default before the repair's candidates): the 30-s gap ends every
   // arc, nothing is repaired or held.
@@ -84,7 +84,7 @@ TEST(InsSlipRepair, HeldIntegersSurviveAThirtySecondOutageWithoutLock) {
   EXPECT_EQ(before.repaired, 0);
   EXPECT_EQ(before.held_on_repaired, 0u);
 
-  // The default 90-s bridge (position prior floored at 1 m) with the repair.
+  // The default 61-s bridge (position prior floored at 1 m) with the repair.
   PppConfig long_bridge = config;
   long_bridge.ins.gap_bridge_max_s = InsEkfOptions{}.gap_bridge_max_s;
   const AfterOutage after = runInsEkf(f, long_bridge);
