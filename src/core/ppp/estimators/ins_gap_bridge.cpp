@@ -101,7 +101,7 @@ std::vector<BridgedArcVerdict> insGapBridgeVerdicts(const std::vector<BridgedArc
     std::optional<SlipCandidate> chosen;
     if (verdicts[i].keep && b.repair && verdicts[i].candidate >= 0)
       chosen = b.repair->alternatives[static_cast<std::size_t>(verdicts[i].candidate)];
-    out.push_back({&b, verdicts[i].keep, chosen, verdicts[i].keep && verdicts[i].common_shift_undecided,
+    out.push_back({&b, verdicts[i].keep, chosen, verdicts[i].common_shift_undecided,
                    verdicts[i].keep ? keptLine(b, verdicts[i], chosen) : verdicts[i].reason});
   }
   return out;

@@ -79,20 +79,20 @@ struct Assignment {
   double cost = std::numeric_limits<double>::infinity();
 };
 
+/// A candidate's entry of a per-candidate list; missing entries are 0.
+template <typename T>
+T candidateValue(const std::vector<T>& values, int candidate) {
+  return candidate < static_cast<int>(values.size()) ? values[static_cast<std::size_t>(candidate)] : T{0};
+}
+
 /// A row's prior cost of a choice (GapBridgeRow::applied_prior_cost, candidate_prior_costs).
 double priorCost(const GapBridgeRow& row, int candidate) {
-  if (candidate < 0) return row.applied_prior_cost;
-  return candidate < static_cast<int>(row.candidate_prior_costs.size())
-             ? row.candidate_prior_costs[static_cast<std::size_t>(candidate)]
-             : 0.0;
+  return candidate < 0 ? row.applied_prior_cost : candidateValue(row.candidate_prior_costs, candidate);
 }
 
 /// A row's wide lane offset of a choice [cycles] (GapBridgeRow::candidate_wide_lane_offsets_cycles).
 long wideLaneOffset_cycles(const GapBridgeRow& row, int candidate) {
-  if (candidate < 0) return 0;
-  return candidate < static_cast<int>(row.candidate_wide_lane_offsets_cycles.size())
-             ? row.candidate_wide_lane_offsets_cycles[static_cast<std::size_t>(candidate)]
-             : 0;
+  return candidate < 0 ? 0 : candidateValue(row.candidate_wide_lane_offsets_cycles, candidate);
 }
 
 /// Two assignments differ only by one slip common to every row of a free clock (the
