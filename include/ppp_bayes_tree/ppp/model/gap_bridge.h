@@ -16,8 +16,9 @@
 // Every assignment of candidates to those rows is tried: the least-squares cost with
 // the position prior (a quadratic form in the offsets) plus each row's prior cost of
 // its candidate (its wide lane against the Melbourne-Wubbena jump). The least is
-// taken when it fits the noise (a chi-square test; else the row of the largest
-// residual ends) and the next best costs clearly more (a difference and a ratio, as
+// taken when it fits the noise (a chi-square test; else the row whose exclusion
+// lowers the best cost the most ends: a row whose applied slip is wrong and has no
+// candidates drags the others to candidates far from their MW jumps) and the next best costs clearly more (a difference and a ratio, as
 // in integer ambiguity validation); else the rows where the two differ end.
 // Assignments that differ by one integer slip common to every row of a clock are
 // twins: the phases cannot tell them apart (that clock takes the shift), and when no
@@ -56,7 +57,9 @@ struct GapBridgeOptions {
   /// With candidates the best assignment's cost must be within the chi-square upper
   /// quantile of this false-alarm probability for its degrees of freedom (chi_square_quantile.h).
   double candidate_cost_false_alarm = 1e-3;
-  /// More assignments than this: the rows with the most candidates end first.
+  /// More assignments than this: the rows with the most candidates end first. It
+  /// also bounds the assignments ranked to find the row to end when the best cost does
+  /// not fit (once per row: rows x assignments).
   double max_candidate_assignments = 100000.0;
 };
 

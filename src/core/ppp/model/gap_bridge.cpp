@@ -203,6 +203,14 @@ double assignmentCount(const std::vector<GapBridgeRow>& rows, const std::vector<
   return count;
 }
 
+/// The active row with the most candidates (the first of equals).
+std::vector<int>::iterator mostCandidates(const std::vector<GapBridgeRow>& rows, std::vector<int>& active) {
+  return std::max_element(active.begin(), active.end(), [&](int a, int b) {
+    return rows[static_cast<std::size_t>(a)].candidate_offsets_m.size() <
+           rows[static_cast<std::size_t>(b)].candidate_offsets_m.size();
+  });
+}
+
 /// The assignment chosen for the candidate rows.
 struct Chosen {
   double best_cost = 0.0;
@@ -219,10 +227,7 @@ Chosen chooseCandidates(const std::vector<GapBridgeRow>& rows, std::vector<GapBr
                         const GapBridgeOptions& o, std::vector<GapBridgeVerdict>& out) {
   // Too many assignments: the rows with the most candidates end first.
   while (assignmentCount(rows, active) > o.max_candidate_assignments) {
-    const auto most = std::max_element(active.begin(), active.end(), [&](int a, int b) {
-      return rows[static_cast<std::size_t>(a)].candidate_offsets_m.size() <
-             rows[static_cast<std::size_t>(b)].candidate_offsets_m.size();
-    });
+    const auto most = mostCandidates(rows, active);
     out[static_cast<std::size_t>(*most)].reason =
         format("too many slip candidate assignments (more than %.0f)", o.max_candidate_assignments);
     active.erase(most);
@@ -260,15 +265,29 @@ int assignmentDof(const std::vector<GapBridgeRow>& rows, const std::vector<int>&
   return dof;
 }
 
-/// Index (into `active`) of the row with the largest residual in its sigmas, and that ratio.
-std::pair<std::size_t, double> largestNormalisedResidual(const std::vector<GapBridgeRow>& work,
-                                                         const std::vector<int>& active, const Solved& s) {
-  std::pair<std::size_t, double> worst{0, -1.0};
+/// The row to end when the best assignment's cost does not fit: the one whose
+/// exclusion lowers the best cost the most (the rows ranked again without it, as the
+/// identification step of a detection-identification-adaptation test). A row whose
+/// applied slip is wrong and has no candidates drags the rows that have candidates
+/// to the ones that match it, at the cost of their wide lanes against their MW jumps;
+/// without it they fit. Neither that row's phase residual nor its share of the cost
+/// shows it.
+struct Exclusion {
+  std::size_t row = 0;  // index into `active`
+  double cost_without = std::numeric_limits<double>::infinity();
+};
+
+Exclusion costliestRow(const std::vector<GapBridgeRow>& rows, const std::vector<int>& active, int clocks,
+                       const Eigen::Matrix3d& position_cov_m2) {
+  Exclusion best;
+  std::vector<int> rest;
   for (std::size_t i = 0; i < active.size(); ++i) {
-    const double z = std::abs(s.residual_m(static_cast<int>(i))) / work[static_cast<std::size_t>(active[i])].sigma_m;
-    if (z > worst.second) worst = {i, z};
+    rest.assign(active.begin(), active.end());
+    rest.erase(rest.begin() + static_cast<std::ptrdiff_t>(i));
+    const double cost = rankAssignments(rows, rest, clocks, position_cov_m2).best.cost;
+    if (cost < best.cost_without) best = {i, cost};
   }
-  return worst;
+  return best;
 }
 
 /// Index (into `active`) of the worst failing row; -1 when all pass.
@@ -329,16 +348,26 @@ std::vector<GapBridgeVerdict> bridgeGap(const std::vector<GapBridgeRow>& rows, c
       continue;
     }
     // 3. All pass: with candidates, the assignment's cost must fit the rows' noise
-    //    (else the row of the largest normalised residual ends) and be told apart from
+    //    (else the row whose exclusion lowers that cost the most ends) and be told apart from
     //    the next best (else the rows where the two differ end).
     const int dof = assignmentDof(rows, active, clocks);
     if (any_candidates && chosen.best_cost > cost_quantile(dof)) {
-      const auto [row, z] = largestNormalisedResidual(work, active, s);
-      out[static_cast<std::size_t>(active[row])].reason =
-          format("the slip candidates' best assignment does not fit (cost %.1f > %.1f for %d degrees of freedom); "
-                 "this arc's residual is the largest, %.1f sigmas",
-                 chosen.best_cost, cost_quantile(dof), dof, z);
-      active.erase(active.begin() + static_cast<std::ptrdiff_t>(row));
+      const std::string misfit = format(
+          "the slip candidates' best assignment does not fit (cost %.1f > %.1f for %d degrees of freedom)",
+          chosen.best_cost, cost_quantile(dof), dof);
+      // Ranking once per row costs rows x assignments: beyond the assignments' bound
+      // the row with the most candidates ends first, as in chooseCandidates.
+      if (assignmentCount(rows, active) * static_cast<double>(active.size()) > options.max_candidate_assignments) {
+        const auto most = mostCandidates(rows, active);
+        out[static_cast<std::size_t>(*most)].reason = misfit + "; too many assignments to rank without each arc, "
+                                                               "this arc has the most candidates";
+        active.erase(most);
+        continue;
+      }
+      const Exclusion worst = costliestRow(rows, active, clocks, position_cov_m2);
+      out[static_cast<std::size_t>(active[worst.row])].reason =
+          misfit + format("; without this arc it costs %.1f, the least", worst.cost_without);
+      active.erase(active.begin() + static_cast<std::ptrdiff_t>(worst.row));
       continue;
     }
     if (!toldApart(chosen.best_cost, chosen.second_cost, options)) {

@@ -6,7 +6,8 @@
 // prior costs or ends the arcs while another arc holds that system's clock, and is
 // taken with the least prior cost when none does (twins); candidates that only the
 // position prior could tell apart, and an assignment whose cost does not fit the
-// noise, end arcs.
+// noise, end arcs: the arc whose share of that cost is the largest, which is the
+// arc of a wide lane far from its Melbourne-Wubbena jump when the excess is there.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -197,6 +198,58 @@ TEST(GapBridge, AnAssignmentThatDoesNotFitTheNoiseEndsItsWorstArc) {
   EXPECT_EQ(v[1].candidate, 0);
   EXPECT_TRUE(v[8].keep) << v[8].reason;
   EXPECT_EQ(v[8].candidate, 0);
+}
+
+// Row 9's Melbourne-Wubbena jump is far from both of its wide lanes (prior costs 30
+// and 36: an outlier), so the best assignment's cost fails its chi-square bound
+// (about 47 against 31.3 for 11 degrees of freedom) although every phase fits; row 2
+// has the largest phase residual (2.5 sigmas, within the noise). Row 9 ends: without
+// it the cost fits; row 2 and the rest go on.
+TEST(GapBridge, ACostFailingInAWideLanesPriorEndsThatArc) {
+  Scene s = scene(7, 5, 3);
+  s.rows[2].residual_m += 2.5 * s.rows[2].sigma_m;
+  GapBridgeRow& r = s.rows[9];
+  withCandidates(r, 0, {4});
+  r.candidate_wide_lane_offsets_cycles = {1};
+  r.applied_prior_cost = 30.0;
+  r.candidate_prior_costs = {36.0};
+  const std::vector<GapBridgeVerdict> v = bridgeGap(s.rows, s.prior);
+  EXPECT_FALSE(v[9].keep);
+  EXPECT_NE(v[9].reason.find("does not fit"), std::string::npos) << v[9].reason;
+  for (std::size_t i = 0; i < v.size(); ++i)
+    if (i != 9) EXPECT_TRUE(v[i].keep) << i << " " << v[i].reason;
+}
+
+// A Galileo arc whose repair was unique but one wide lane off (4 L1 cycles, 0.76 m:
+// no candidates, as when the neighbour nearer its MW jump just failed the
+// geometry-free test), beside four Galileo arcs whose candidates include the same
+// shift (prior costs 0.5 applied, 12 shifted) on a free clock. The phases fit only
+// if those four shift with it (the clock takes the common part), at 48 of wide-lane
+// cost: the best assignment does not fit. Ending the row of the largest phase
+// residual or of the largest wide-lane cost ends right arcs one by one, until the
+// wrong arc is kept alone on its clock. Ranking without each row finds it: without
+// it the four fit unshifted.
+TEST(GapBridge, ACostFailingBecauseOfAWrongUniqueRepairEndsThatArc) {
+  Scene s = scene(7, 5, 5);
+  s.rows[7].residual_m += 4.0 * kLambda1;
+  s.rows[7].clock_free = true;
+  for (int i = 8; i < 12; ++i) {
+    GapBridgeRow& r = s.rows[static_cast<std::size_t>(i)];
+    withCandidates(r, 0, {4});
+    r.candidate_wide_lane_offsets_cycles = {1};
+    r.applied_prior_cost = 0.5;
+    r.candidate_prior_costs = {12.0};
+    r.clock_free = true;
+  }
+  const std::vector<GapBridgeVerdict> v = bridgeGap(s.rows, s.prior);
+  EXPECT_FALSE(v[7].keep);
+  EXPECT_NE(v[7].reason.find("without this arc it costs"), std::string::npos) << v[7].reason;
+  for (std::size_t i = 0; i < v.size(); ++i) {
+    if (i == 7) continue;
+    EXPECT_TRUE(v[i].keep) << i << " " << v[i].reason;
+    EXPECT_EQ(v[i].candidate, -1) << i;
+    EXPECT_FALSE(v[i].common_shift_undecided) << i;
+  }
 }
 
 }  // namespace
