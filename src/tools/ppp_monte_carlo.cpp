@@ -50,7 +50,7 @@
 // through the same readings, re-fix time, fix kept,
 // roll/pitch/heading RMS, held integers against the truth per estimator, fixed epochs
 // more than 10 cm from the truth) and DIR/wrong_holds.csv (each wrong hold of each flight);
-// --gap-bridge-max-s S: the GNSS/INS estimators' InsEkfOptions::gap_bridge_max_s (default 61 s).
+// --gap-bridge-max-s S: the GNSS/INS estimators' InsEkfOptions::gap_bridge_max_s (default 90 s).
 #include <unistd.h>
 
 #include <chrono>
@@ -85,7 +85,7 @@ int usage(const std::string& why) {
             << "                       [--configurations all|gps_float,gps_ar,gps_galileo_float,gps_galileo_ar]\n"
             << "                       [--imu consumer|industrial|tactical [--outage-s 30] [--outage-every-s 300]\n"
             << "                        [--outage-keeps-lock] [--ideal-imu] [--outage-estimators ekf,ekf_ins,smoother_ins]\n"
-            << "                        [--imu-rate 100] [--gap-bridge-max-s 61]]\n";
+            << "                        [--imu-rate 100] [--gap-bridge-max-s 90]]\n";
   return 2;
 }
 

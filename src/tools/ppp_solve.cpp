@@ -19,7 +19,7 @@
 // --noise-adaptation: the GNSS/INS estimators scale the accelerometers' process noise
 // of a prediction the carrier phases find inconsistent (default on;
 // ppp/estimators/ins_process_noise_adaptation.h).
-// --gap-bridge-max-s: GNSS gaps up to this long [s, 0-600, default 61] do not end the
+// --gap-bridge-max-s: GNSS gaps up to this long [s, 0-600, default 90] do not end the
 // GNSS/INS estimators' arcs: the gap bridge tests them against the INS prediction
 // (InsEkfOptions::gap_bridge_max_s); 0: every longer gap than the arc tracker's ends them.
 // --imu: the IMU readings of the GNSS/INS estimators (--estimator ekf_ins or

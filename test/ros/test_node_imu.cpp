@@ -130,13 +130,13 @@ TEST(NodeImuOptions, TheFilterRunsInBaseLinksForwardRightDownAxesWhateverTheMoun
 }
 
 TEST(NodeImuOptions, GapBridgeBoundFromItsKey) {
-  // ros.imu.gap_bridge_max_s reaches the GNSS/INS estimators' options; the default is theirs (61 s).
+  // ros.imu.gap_bridge_max_s reaches the GNSS/INS estimators' options; the default is theirs (90 s).
   const auto bound = [](const std::string& yaml) {
     const ppp_ros::NodeConfig c = ppp_ros::bindNodeConfig(YAML::Load(yaml), "test", "ekf");
     return ppp_ros::insOptions(c.ros, ppp_ros::parameterExtrinsics(c.ros.imu)).gap_bridge_max_s;
   };
   EXPECT_EQ(bound("ros: {estimator: ekf_ins}"), ppp::InsEkfOptions{}.gap_bridge_max_s);
-  EXPECT_EQ(bound("ros: {estimator: ekf_ins}"), 61.0);
+  EXPECT_EQ(bound("ros: {estimator: ekf_ins}"), 90.0);
   EXPECT_EQ(bound("ros: {estimator: ekf_ins, imu: {gap_bridge_max_s: 6}}"), 6.0);
   EXPECT_EQ(bound("ros: {estimator: ekf_ins, imu: {gap_bridge_max_s: 0}}"), 0.0);
   EXPECT_THROW(bound("ros: {estimator: ekf_ins, imu: {gap_bridge_max_s: -1}}"), ppp::ConfigError);

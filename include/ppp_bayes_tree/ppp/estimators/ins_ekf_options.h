@@ -67,10 +67,13 @@ struct InsEkfOptions {
   /// longer than the arc tracker's maximum ends the arcs. An arc whose slip tests
   /// fail after such a gap has its slip repaired first when the geometry-free
   /// identification is accepted (slip_repair.h, CycleSlipOptions::slip_repair).
-  /// 61 s by default (an outage of 60 s at 1 Hz): the repair, with the gap bridge
-  /// choosing among its candidates, carries held integers over 30-s outages without
-  /// lock (doc/studies/ins_outages.md); 6 s was the default before the candidates.
-  double gap_bridge_max_s = 61.0;
+  /// 90 s by default: an outage of 60 s leaves a data gap of 60 s plus the receiver's
+  /// reacquisition; the repair, with the gap bridge choosing among its candidates,
+  /// carries held integers over 30-s and 60-s outages without lock
+  /// (doc/studies/ins_outages.md); 6 s was the default before the candidates, 61 s
+  /// before a failing assignment cost ended the arc whose exclusion lowers it most
+  /// (gap_bridge.h).
+  double gap_bridge_max_s = 90.0;
   GapBridgeOptions gap_bridge;
   /// The Doppler velocity update (PppInsEkf): each epoch whose observations carry
   /// Doppler, the antenna velocity from them (doppler_velocity.h) updates the

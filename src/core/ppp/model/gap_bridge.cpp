@@ -290,6 +290,26 @@ Exclusion costliestRow(const std::vector<GapBridgeRow>& rows, const std::vector<
   return best;
 }
 
+/// The best assignment's cost does not fit: the row whose exclusion lowers it the
+/// most ends (costliestRow), its reason `misfit` and the cost without it. Ranking once
+/// per row costs rows x assignments: beyond the assignments' bound the row with the
+/// most candidates ends instead, as in chooseCandidates.
+void endMisfitRow(const std::vector<GapBridgeRow>& rows, std::vector<int>& active, int clocks,
+                  const Eigen::Matrix3d& position_cov_m2, const GapBridgeOptions& o, const std::string& misfit,
+                  std::vector<GapBridgeVerdict>& out) {
+  if (assignmentCount(rows, active) * static_cast<double>(active.size()) > o.max_candidate_assignments) {
+    const auto most = mostCandidates(rows, active);
+    out[static_cast<std::size_t>(*most)].reason =
+        misfit + "; too many assignments to rank without each arc, this arc has the most candidates";
+    active.erase(most);
+    return;
+  }
+  const Exclusion worst = costliestRow(rows, active, clocks, position_cov_m2);
+  out[static_cast<std::size_t>(active[worst.row])].reason =
+      misfit + format("; without this arc it costs %.1f, the least", worst.cost_without);
+  active.erase(active.begin() + static_cast<std::ptrdiff_t>(worst.row));
+}
+
 /// Index (into `active`) of the worst failing row; -1 when all pass.
 int worstFailing(const std::vector<GapBridgeRow>& rows, const std::vector<int>& active, const Solved& s,
                  const GapBridgeOptions& o, std::vector<GapBridgeVerdict>& out) {
@@ -352,22 +372,11 @@ std::vector<GapBridgeVerdict> bridgeGap(const std::vector<GapBridgeRow>& rows, c
     //    the next best (else the rows where the two differ end).
     const int dof = assignmentDof(rows, active, clocks);
     if (any_candidates && chosen.best_cost > cost_quantile(dof)) {
-      const std::string misfit = format(
-          "the slip candidates' best assignment does not fit (cost %.1f > %.1f for %d degrees of freedom)",
-          chosen.best_cost, cost_quantile(dof), dof);
-      // Ranking once per row costs rows x assignments: beyond the assignments' bound
-      // the row with the most candidates ends first, as in chooseCandidates.
-      if (assignmentCount(rows, active) * static_cast<double>(active.size()) > options.max_candidate_assignments) {
-        const auto most = mostCandidates(rows, active);
-        out[static_cast<std::size_t>(*most)].reason = misfit + "; too many assignments to rank without each arc, "
-                                                               "this arc has the most candidates";
-        active.erase(most);
-        continue;
-      }
-      const Exclusion worst = costliestRow(rows, active, clocks, position_cov_m2);
-      out[static_cast<std::size_t>(active[worst.row])].reason =
-          misfit + format("; without this arc it costs %.1f, the least", worst.cost_without);
-      active.erase(active.begin() + static_cast<std::ptrdiff_t>(worst.row));
+      endMisfitRow(rows, active, clocks, position_cov_m2, options,
+                   format("the slip candidates' best assignment does not fit (cost %.1f > %.1f for %d degrees of "
+                          "freedom)",
+                          chosen.best_cost, cost_quantile(dof), dof),
+                   out);
       continue;
     }
     if (!toldApart(chosen.best_cost, chosen.second_cost, options)) {

@@ -216,8 +216,18 @@ TEST(GapBridge, ACostFailingInAWideLanesPriorEndsThatArc) {
   const std::vector<GapBridgeVerdict> v = bridgeGap(s.rows, s.prior);
   EXPECT_FALSE(v[9].keep);
   EXPECT_NE(v[9].reason.find("does not fit"), std::string::npos) << v[9].reason;
+  EXPECT_NE(v[9].reason.find("without this arc it costs"), std::string::npos) << v[9].reason;
   for (std::size_t i = 0; i < v.size(); ++i)
     if (i != 9) EXPECT_TRUE(v[i].keep) << i << " " << v[i].reason;
+  // Ranking without each of the 12 rows (2 assignments each) exceeds a bound of 20
+  // assignments: the row with the most candidates ends instead, here the same row.
+  GapBridgeOptions o;
+  o.max_candidate_assignments = 20.0;
+  const std::vector<GapBridgeVerdict> bounded = bridgeGap(s.rows, s.prior, o);
+  EXPECT_FALSE(bounded[9].keep);
+  EXPECT_NE(bounded[9].reason.find("too many assignments to rank"), std::string::npos) << bounded[9].reason;
+  for (std::size_t i = 0; i < bounded.size(); ++i)
+    if (i != 9) EXPECT_TRUE(bounded[i].keep) << i << " " << bounded[i].reason;
 }
 
 // A Galileo arc whose repair was unique but one wide lane off (4 L1 cycles, 0.76 m:
