@@ -70,6 +70,25 @@ AfterOutage runInsEkf(const SimulatedFlight& f, const PppConfig& config) {
   return a;
 }
 
+/// The white-noise outage study's flights (100, seed 1, GPS + Galileo with PPP-AR,
+/// no code multipath) as doc/studies/ins_outages.md ran them.
+InsOutageStudyOptions whiteNoiseStudy() {
+  InsOutageStudyOptions o;
+  o.flights.flights = 100;
+  o.flights.seed = 1;
+  o.flights.simulation = SimulationConfig{};
+  o.flights.simulation.errors.multipath.enabled = false;
+  o.flights = withConfiguration(o.flights, *findMonteCarloConfiguration("gps_galileo_ar"));
+  return o;
+}
+
+void printHeld(int flight, const InsOutageFigures& ins) {
+  std::printf("flight %d: ekf_ins held %zu (wrong %zu), fixed epochs with a wrong hold %zu, fixed at the first "
+              "epoch after %d of %d\n",
+              flight, ins.held_check.held, ins.held_check.wrong, ins.held_check.fixed_epochs_with_wrong_hold,
+              ins.fix_kept, ins.outages_counted);
+}
+
 TEST(InsSlipRepair, HeldIntegersSurviveAThirtySecondOutageWithoutLock) {
   const MonteCarloOptions o = insArFlightOptions({FlightProfile::Survey}, 900.0);
   const SimulatedFlight f = simulateWithOutage(o);
@@ -118,12 +137,7 @@ TEST(InsSlipRepair, HeldIntegersSurviveAThirtySecondOutageWithoutLock) {
 // noise (its default since moves the first fix of this figure-8 to 813 s, and the
 // outage with it).
 TEST(InsSlipRepair, RepairedArcsTruthFollowsTheSimulatorsWindup) {
-  InsOutageStudyOptions o;
-  o.flights.flights = 100;
-  o.flights.seed = 1;
-  o.flights.simulation = SimulationConfig{};
-  o.flights.simulation.errors.multipath.enabled = false;
-  o.flights = withConfiguration(o.flights, *findMonteCarloConfiguration("gps_galileo_ar"));
+  InsOutageStudyOptions o = whiteNoiseStudy();
   o.flights.ppp.stochastic.zwd_per_sqrt_height_m_per_sqrt_m = 0.0;
   o.flights.ppp.ins.gap_bridge_max_s = 61.0;
   o.estimators = {"ekf", "ekf_ins"};
@@ -132,10 +146,7 @@ TEST(InsSlipRepair, RepairedArcsTruthFollowsTheSimulatorsWindup) {
   ASSERT_TRUE(flight.first_fix_s);
   EXPECT_NEAR(*flight.first_fix_s, 794.0, 1.0);
   const InsOutageFigures& ins = flight.estimators.at(1);
-  std::printf("flight 6: ekf_ins held %zu (wrong %zu), fixed epochs with a wrong hold %zu, fixed at the first "
-              "epoch after %d of %d\n",
-              ins.held_check.held, ins.held_check.wrong, ins.held_check.fixed_epochs_with_wrong_hold, ins.fix_kept,
-              ins.outages_counted);
+  printHeld(6, ins);
   EXPECT_GE(ins.held_check.held, 10u);
   EXPECT_EQ(ins.held_check.wrong, 0u);
   EXPECT_EQ(ins.held_check.fixed_epochs_with_wrong_hold, 0u);
@@ -152,22 +163,14 @@ TEST(InsSlipRepair, RepairedArcsTruthFollowsTheSimulatorsWindup) {
 // E01 one wide lane off: 3 wrong holds (E20 against E01). The arc whose exclusion
 // lowers the cost most is E04: it ends, the others keep their right integers.
 TEST(InsSlipRepair, SixtySecondOutagesAreBridgedWithoutAWrongWideLane) {
-  InsOutageStudyOptions o;
-  o.flights.flights = 100;
-  o.flights.seed = 1;
-  o.flights.simulation = SimulationConfig{};
-  o.flights.simulation.errors.multipath.enabled = false;
-  o.flights = withConfiguration(o.flights, *findMonteCarloConfiguration("gps_galileo_ar"));
+  InsOutageStudyOptions o = whiteNoiseStudy();
   o.outage_s = 60.0;
   o.estimators = {"ekf_ins"};
   ASSERT_GE(o.flights.ppp.ins.gap_bridge_max_s, 63.0);  // the default spans the gap
   const InsOutageFlight flight = runInsOutageFlight(o, 67);
   ASSERT_TRUE(flight.failure.empty()) << flight.failure;
   const InsOutageFigures& ins = flight.estimators.at(0);
-  std::printf("flight 67: ekf_ins held %zu (wrong %zu), fixed epochs with a wrong hold %zu, fixed at the first "
-              "epoch after %d of %d\n",
-              ins.held_check.held, ins.held_check.wrong, ins.held_check.fixed_epochs_with_wrong_hold, ins.fix_kept,
-              ins.outages_counted);
+  printHeld(67, ins);
   for (const WrongHold& w : ins.held_check.wrong_holds)
     std::printf("wrong hold %.0f s %s-%s WL %ld/%ld\n", w.time_s, w.satellite.toString().c_str(),
                 w.reference_satellite.toString().c_str(), w.wide_lane_cycles, w.true_wide_lane_cycles);
