@@ -18,8 +18,9 @@
 // its candidate (its wide lane against the Melbourne-Wubbena jump). The least is
 // taken when it fits the noise (a chi-square test; else the row whose exclusion
 // lowers the best cost the most ends: a row whose applied slip is wrong and has no
-// candidates drags the others to candidates far from their MW jumps) and the next best costs clearly more (a difference and a ratio, as
-// in integer ambiguity validation); else the rows where the two differ end.
+// candidates drags the others to candidates far from their MW jumps) and the next
+// best costs clearly more (a difference and a ratio, as in integer ambiguity
+// validation); else the rows where the two differ end.
 // Assignments that differ by one integer slip common to every row of a clock are
 // twins: the phases cannot tell them apart (that clock takes the shift), and when no
 // arc outside the bridge holds that system's clock (GapBridgeRow::clock_free) nothing

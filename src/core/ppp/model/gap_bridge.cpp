@@ -146,11 +146,12 @@ struct Ranked {
   Assignment best, next, twin;
 };
 
-/// Every assignment of the candidate rows, ranked. The cost is the least-squares cost
-/// of the phases plus each row's prior cost of its choice (its wide lane against the
-/// Melbourne-Wubbena jump); among twins, only that prior tells them apart.
-Ranked rankAssignments(const std::vector<GapBridgeRow>& rows, const std::vector<int>& active, int clocks,
-                       const Eigen::Matrix3d& position_cov_m2) {
+/// The `keep` cheapest assignments of the candidate rows, in cost order. The cost is
+/// the least-squares cost of the phases plus each row's prior cost of its choice (its
+/// wide lane against the Melbourne-Wubbena jump); among twins, only that prior tells
+/// them apart.
+std::vector<Assignment> cheapestAssignments(const std::vector<GapBridgeRow>& rows, const std::vector<int>& active,
+                                            int clocks, const Eigen::Matrix3d& position_cov_m2, std::size_t keep) {
   const Design design_rows = design(rows, active, clocks, position_cov_m2);
   const Eigen::MatrixXd M = costMatrix(design_rows);
   const Eigen::VectorXd My = M * design_rows.y;
@@ -161,7 +162,7 @@ Ranked rankAssignments(const std::vector<GapBridgeRow>& rows, const std::vector<
     if (!rows[static_cast<std::size_t>(active[static_cast<std::size_t>(i)])].candidate_offsets_m.empty())
       candidate_rows.push_back(i);
   // Odometer over the candidate rows' choices; the cheapest kept.
-  CheapestAssignments cheapest(kKeptAssignments);
+  CheapestAssignments cheapest(keep);
   Assignment current;
   current.choice.assign(static_cast<std::size_t>(n), -1);
   Eigen::VectorXd d = Eigen::VectorXd::Zero(n);
@@ -187,7 +188,14 @@ Ranked rankAssignments(const std::vector<GapBridgeRow>& rows, const std::vector<
     }
     if (k == candidate_rows.size()) break;
   }
-  const std::vector<Assignment>& kept = cheapest.kept();
+  return cheapest.kept();
+}
+
+/// Every assignment of the candidate rows, ranked (cheapestAssignments): the best, the
+/// next best that is not its twin, and its cheapest twin.
+Ranked rankAssignments(const std::vector<GapBridgeRow>& rows, const std::vector<int>& active, int clocks,
+                       const Eigen::Matrix3d& position_cov_m2) {
+  const std::vector<Assignment> kept = cheapestAssignments(rows, active, clocks, position_cov_m2, kKeptAssignments);
   Ranked ranked{kept.front(), {}, {}};
   for (auto a = kept.begin() + 1; a != kept.end(); ++a) {
     Assignment& slot = twins(rows, active, ranked.best.choice, a->choice) ? ranked.twin : ranked.next;
@@ -265,18 +273,19 @@ int assignmentDof(const std::vector<GapBridgeRow>& rows, const std::vector<int>&
   return dof;
 }
 
-/// The row to end when the best assignment's cost does not fit: the one whose
-/// exclusion lowers the best cost the most (the rows ranked again without it, as the
-/// identification step of a detection-identification-adaptation test). A row whose
-/// applied slip is wrong and has no candidates drags the rows that have candidates
-/// to the ones that match it, at the cost of their wide lanes against their MW jumps;
-/// without it they fit. Neither that row's phase residual nor its share of the cost
-/// shows it.
+/// A row to end, and the best assignment's cost without it.
 struct Exclusion {
   std::size_t row = 0;  // index into `active`
   double cost_without = std::numeric_limits<double>::infinity();
 };
 
+/// The row to end when the best assignment's cost does not fit: the one whose
+/// exclusion lowers the best cost the most (the assignments costed again without it,
+/// as the identification step of a detection-identification-adaptation test). A row
+/// whose applied slip is wrong and has no candidates drags the rows that have
+/// candidates to the ones that match it, at the cost of their wide lanes against their
+/// MW jumps; without it they fit. Neither that row's phase residual nor its share of
+/// the cost shows it.
 Exclusion costliestRow(const std::vector<GapBridgeRow>& rows, const std::vector<int>& active, int clocks,
                        const Eigen::Matrix3d& position_cov_m2) {
   Exclusion best;
@@ -284,7 +293,7 @@ Exclusion costliestRow(const std::vector<GapBridgeRow>& rows, const std::vector<
   for (std::size_t i = 0; i < active.size(); ++i) {
     rest.assign(active.begin(), active.end());
     rest.erase(rest.begin() + static_cast<std::ptrdiff_t>(i));
-    const double cost = rankAssignments(rows, rest, clocks, position_cov_m2).best.cost;
+    const double cost = cheapestAssignments(rows, rest, clocks, position_cov_m2, 1).front().cost;
     if (cost < best.cost_without) best = {i, cost};
   }
   return best;
