@@ -13,11 +13,15 @@
 // near half a cycle from an integer; -3.95 for Galileo E1/E5a, near an integer).
 // The repair is unique when both sigmas (from the noise model) are within their
 // bounds, exactly one candidate gives an L1 estimate within the fraction bound of
-// an integer and its neighbours (dNW +- 1) do not. Otherwise (Galileo E1/E5a, or a
-// Melbourne-Wubbena jump too noisy to round, as under time-correlated multipath)
-// every integer dNW within candidate_sigma_factor sigmas (at least 1.5 cycles) whose L1 passes is a
-// candidate: the one nearest the MW estimate is applied, the others are kept
-// (SlipRepair::alternatives) for the estimator's gap bridge, which chooses by the
+// an integer and its neighbours (dNW +- 1) do not, nor fit both jumps better (the
+// joint misfit: MW offset and L1 fraction, each in its sigmas, squared and summed).
+// Otherwise (Galileo E1/E5a, or a Melbourne-Wubbena jump too noisy to round, as under
+// time-correlated multipath) every integer dNW within candidate_sigma_factor sigmas
+// (at least 1.5 cycles) whose L1 passes is a candidate, and so is every other whose
+// joint misfit is plausible (max_joint_misfit) and no larger than a passing one's (a
+// dNW nearest the MW estimate whose L1 is just over the bound is not dropped for a
+// farther one just under it): the one nearest the MW estimate is applied, the others
+// are kept (SlipRepair::alternatives) for the estimator's gap bridge, which chooses by the
 // first frequency's phase against the INS-predicted position (gap_bridge.h): GPS
 // L1/L2 candidates 2 wide-lane cycles apart move L1 by 9 cycles (1.71 m), Galileo
 // E1/E5a ones 1 cycle apart by 4 cycles (0.76 m), while the geometry-free phase
@@ -58,6 +62,12 @@ struct SlipRepairOptions {
   double candidate_sigma_factor = 3.0;            // half-width of the search in MW sigmas
   double min_candidate_half_width_cycles = 1.5;   // least half-width of the search [wide-lane cycles]
   int max_candidates = 4;                         // more candidates passing the L1 test: refused
+  /// A wide lane whose L1 fails the fraction bound is still a candidate (and a unique
+  /// repair's neighbour makes it ambiguous) when its joint misfit (MW offset and L1
+  /// fraction, each in its sigmas, squared and summed) is no larger than a passing
+  /// one's and at most this: the chi-square quantile of 2 degrees of freedom at
+  /// 99.9 % (13.82); 0: never.
+  double max_joint_misfit = 13.82;
 };
 
 /// One integer slip (dN1, dN2) [cycles] and its L1 estimate [cycles].

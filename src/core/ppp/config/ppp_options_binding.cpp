@@ -183,6 +183,7 @@ void bindCycleSlipOptions(const YAML::Node& node, const std::string& file, Cycle
     p.min_candidate_half_width_cycles =
         r.number("min_candidate_half_width_cycles", p.min_candidate_half_width_cycles, Bound::Positive);
     p.max_candidates = r.integer("max_candidates", p.max_candidates, 1);
+    p.max_joint_misfit = r.number("max_joint_misfit", p.max_joint_misfit, Bound::NonNegative);
     r.finish();
   }
   s.finish();

@@ -58,6 +58,22 @@ double l1Given(const SlipRepairInput& in, double jump_m, long nw) {
   return (jump_m - in.wavelength2_m * static_cast<double>(nw)) / (in.wavelength1_m - in.wavelength2_m);
 }
 
+/// How badly the slip with wide lane nw fits both jumps: its wide lane's distance from
+/// the MW estimate and its L1 estimate's from the nearest integer, each in its sigmas,
+/// squared and summed (chi-square with 2 degrees of freedom for the true slip). Needs
+/// both sigmas in `out`.
+double jointMisfit(const SlipRepair& out, long nw, double l1_fraction_cycles) {
+  const double mw = (static_cast<double>(nw) - out.wide_lane_cycles) / out.wide_lane_sigma_cycles;
+  const double l1 = l1_fraction_cycles / out.l1_sigma_cycles;
+  return mw * mw + l1 * l1;
+}
+
+/// A wide lane may be the slip: its L1 passes the fraction bound, or it fits both
+/// jumps plausibly (max_joint_misfit) and no worse than one that may (misfit_to_beat).
+bool mayBeTheSlip(const SlipRepairOptions& o, double l1_fraction_cycles, double misfit, double misfit_to_beat) {
+  return l1_fraction_cycles <= o.max_l1_fraction_cycles || (misfit <= misfit_to_beat && misfit <= o.max_joint_misfit);
+}
+
 /// The unique slip: of the wide-lane candidates (integers within
 /// max_wide_lane_offset_cycles of the MW estimate) exactly one gives an L1 estimate
 /// within the fraction bound, and its neighbours do not. False (with the outcome) otherwise.
@@ -87,15 +103,24 @@ bool firstFrequency(const SlipRepairInput& in, const SlipRepairOptions& o, doubl
     return false;
   }
   // The chosen wide lane's neighbours must fail the L1 test (else the geometry-free
-  // phase does not check the wide lane: Galileo E1/E5a).
+  // phase does not check the wide lane: Galileo E1/E5a), and fit both jumps worse than
+  // it or implausibly (max_joint_misfit): a neighbour just over the fraction bound but
+  // nearer the MW estimate may be the slip, the chosen one just under it one wide lane off.
   if (passing == 1) {
     const long nw = out.dn1_cycles - out.dn2_cycles;
+    const double chosen_misfit = jointMisfit(out, nw, nearestInteger(out.l1_cycles).second);
     for (const long other : {nw - 1, nw + 1}) {
       const double l1 = l1Given(in, jump_m, other);
-      if (nearestInteger(l1).second > o.max_l1_fraction_cycles) continue;
+      const double fraction = nearestInteger(l1).second;
+      const double misfit = jointMisfit(out, other, fraction);
+      if (!mayBeTheSlip(o, fraction, misfit, chosen_misfit)) continue;
       out.outcome = SlipRepairOutcome::Ambiguous;
-      out.text = format("wide lanes %ld and %ld both give an integer L1 (%.2f, %.2f cycles)", nw, other,
-                        out.l1_cycles, l1);
+      out.text = fraction <= o.max_l1_fraction_cycles
+                     ? format("wide lanes %ld and %ld both give an integer L1 (%.2f, %.2f cycles)", nw, other,
+                              out.l1_cycles, l1)
+                     : format("wide lane %ld fits the MW and geometry-free jumps better than %ld (misfit %.1f < %.1f) "
+                              "though its L1 %.2f is %.2f cycles from an integer",
+                              other, nw, misfit, chosen_misfit, l1, fraction);
       return false;
     }
     return true;
@@ -110,9 +135,21 @@ bool firstFrequency(const SlipRepairInput& in, const SlipRepairOptions& o, doubl
   return false;
 }
 
+/// One wide lane of the candidate search: its slip, L1 fraction and joint misfit.
+struct ScoredSlip {
+  double mw_offset_cycles = 0.0;  // |nw - MW estimate|
+  double l1_fraction_cycles = 0.0;
+  double misfit = 0.0;            // jointMisfit
+  SlipCandidate slip;
+};
+
 /// Every wide lane within candidate_sigma_factor sigmas of the MW estimate (at least
-/// max_wide_lane_offset_cycles) whose L1 passes: the nearest the estimate applied, the
-/// others kept as alternatives. False (with the outcome) without one or with too many.
+/// max_wide_lane_offset_cycles) whose L1 passes, and every other that fits both jumps
+/// plausibly (max_joint_misfit) and no worse than one that passes: a pair just over
+/// the L1 fraction bound but nearer the MW estimate is not dropped for one just under
+/// it but farther away (Galileo E1/E5a neighbours differ by only 0.05 L1 cycles in
+/// their fractions). The nearest the estimate is applied, the others kept as
+/// alternatives. False (with the outcome) without one or with too many.
 bool candidates(const SlipRepairInput& in, const SlipRepairOptions& o, double jump_m, double jump_sigma_m,
                 SlipRepair& out) {
   out.l1_sigma_cycles = jump_sigma_m / std::abs(in.wavelength1_m - in.wavelength2_m);
@@ -123,17 +160,24 @@ bool candidates(const SlipRepairInput& in, const SlipRepairOptions& o, double ju
   }
   const double half_width = std::max({o.max_wide_lane_offset_cycles, o.min_candidate_half_width_cycles,
                                       o.candidate_sigma_factor * out.wide_lane_sigma_cycles});
-  std::vector<std::pair<double, SlipCandidate>> passing;  // (|nw - MW|, candidate)
+  std::vector<ScoredSlip> window;
+  double worst_passing_misfit = -1.0;  // none passes the L1 test yet
   for (long nw = std::lround(std::ceil(out.wide_lane_cycles - half_width));
        static_cast<double>(nw) <= out.wide_lane_cycles + half_width; ++nw) {
     const double l1 = l1Given(in, jump_m, nw);
     const auto [n1, fraction] = nearestInteger(l1);
-    if (fraction <= o.max_l1_fraction_cycles)
-      passing.push_back({std::abs(static_cast<double>(nw) - out.wide_lane_cycles), {n1, n1 - nw, l1}});
+    const ScoredSlip s{std::abs(static_cast<double>(nw) - out.wide_lane_cycles), fraction,
+                       jointMisfit(out, nw, fraction), {n1, n1 - nw, l1}};
+    if (fraction <= o.max_l1_fraction_cycles) worst_passing_misfit = std::max(worst_passing_misfit, s.misfit);
+    window.push_back(s);
   }
+  std::vector<std::pair<double, SlipCandidate>> passing;  // (|nw - MW|, candidate)
+  for (const ScoredSlip& s : window)
+    if (mayBeTheSlip(o, s.l1_fraction_cycles, s.misfit, worst_passing_misfit))
+      passing.push_back({s.mw_offset_cycles, s.slip});
   if (passing.empty() || static_cast<int>(passing.size()) > o.max_candidates) {
     out.outcome = passing.empty() ? SlipRepairOutcome::L1NotInteger : SlipRepairOutcome::TooManyCandidates;
-    out.text = format("%zu wide lanes within %.2f cycles of %.2f +- %.2f give an integer L1 (at most %d)",
+    out.text = format("%zu wide lanes within %.2f cycles of %.2f +- %.2f give an integer L1 or fit as well (at most %d)",
                       passing.size(), half_width, out.wide_lane_cycles, out.wide_lane_sigma_cycles, o.max_candidates);
     return false;
   }

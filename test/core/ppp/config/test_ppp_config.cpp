@@ -134,6 +134,23 @@ void expectSameConfig(const PppConfig& c, const PppConfig& d) {
   EXPECT_EQ(x.max_gap_intervals, y.max_gap_intervals);
   EXPECT_EQ(x.default_interval_s, y.default_interval_s);
   EXPECT_EQ(x.use_loss_of_lock, y.use_loss_of_lock);
+  const ppp::SlipRepairOptions& r = x.slip_repair;
+  const ppp::SlipRepairOptions& q = y.slip_repair;
+  EXPECT_EQ(r.enabled, q.enabled);
+  EXPECT_EQ(r.max_wide_lane_offset_cycles, q.max_wide_lane_offset_cycles);
+  EXPECT_EQ(r.max_wide_lane_sigma_cycles, q.max_wide_lane_sigma_cycles);
+  EXPECT_EQ(r.max_l1_fraction_cycles, q.max_l1_fraction_cycles);
+  EXPECT_EQ(r.max_l1_sigma_cycles, q.max_l1_sigma_cycles);
+  EXPECT_EQ(r.gf_fit_window_s, q.gf_fit_window_s);
+  EXPECT_EQ(r.gf_fit_min_points, q.gf_fit_min_points);
+  EXPECT_EQ(r.gf_fit_order, q.gf_fit_order);
+  EXPECT_EQ(r.phase_sigma_m, q.phase_sigma_m);
+  EXPECT_EQ(r.ionosphere_sigma_mps, q.ionosphere_sigma_mps);
+  EXPECT_EQ(r.max_candidate_wide_lane_sigma_cycles, q.max_candidate_wide_lane_sigma_cycles);
+  EXPECT_EQ(r.candidate_sigma_factor, q.candidate_sigma_factor);
+  EXPECT_EQ(r.min_candidate_half_width_cycles, q.min_candidate_half_width_cycles);
+  EXPECT_EQ(r.max_candidates, q.max_candidates);
+  EXPECT_EQ(r.max_joint_misfit, q.max_joint_misfit);
 }
 
 void expectSameDefaults(const PppConfig& c) { expectSameConfig(c, PppConfig{}); }

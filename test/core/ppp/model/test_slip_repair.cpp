@@ -3,8 +3,9 @@
 // wide lane wrong by one cycle and a half-cycle L1 offset are refused by the L1
 // fraction bound; where the geometry-free phase leaves several wide lanes (Galileo
 // E1/E5a, a noisy Melbourne-Wubbena jump) they are candidates with the true slip
-// among them, or refused as ambiguous without candidates; noise beyond the sigma
-// bounds and too short a fit are refused.
+// among them, or refused as ambiguous without candidates; a wide lane just over the
+// L1 fraction bound that fits both jumps better than one just under it is kept as a
+// candidate; noise beyond the sigma bounds and too short a fit are refused.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -178,6 +179,119 @@ TEST(SlipRepair, ANoisyWideLaneGivesCandidates) {
   SlipRepairOptions few;
   few.max_candidates = 1;
   EXPECT_EQ(repairSlip(in, few).outcome, SlipRepairOutcome::TooManyCandidates);
+}
+
+/// The arc of arcAcrossGap with the epoch after the gap set exactly: the MW jump at
+/// mw_jump_cycles and the geometry-free jump off the slip (dN1, dN2) by gf_error_m
+/// (the fit's own prediction taken as the ionosphere).
+SlipRepairInput arcWithJumps(long dn1, long dn2, double lambda1, double lambda2, double gap_s, double mw_jump_cycles,
+                             double mw_sigma_cycles, double gf_error_m) {
+  SlipRepairInput in = arcAcrossGap(13, dn1, dn2, lambda1, lambda2, gap_s);
+  const SlipRepairOptions defaults;
+  const auto fit = predictGeometryFreeFit(in.gf_before, in.time_after_s, defaults.gf_fit_order,
+                                          std::sqrt(2.0) * defaults.phase_sigma_m);
+  in.gf_after_m = fit->value_m + lambda1 * static_cast<double>(dn1) - lambda2 * static_cast<double>(dn2) + gf_error_m;
+  in.mw_jump_cycles = mw_jump_cycles;
+  in.mw_sigma_cycles = mw_sigma_cycles;
+  return in;
+}
+
+/// A wide lane's L1 estimate [cycles], its distance to an integer and its joint misfit
+/// (MW offset and L1 fraction in their sigmas, squared and summed), recomputed from
+/// the jumps and the sigmas of `r`.
+struct WideLaneFit {
+  double l1_cycles, fraction_cycles, misfit;
+};
+WideLaneFit fitOf(const SlipRepairInput& in, const SlipRepair& r, long nw) {
+  const double jump_m = in.gf_after_m - r.gf_prediction_m;
+  const double l1 = (jump_m - in.wavelength2_m * static_cast<double>(nw)) / (in.wavelength1_m - in.wavelength2_m);
+  const double fraction = std::abs(l1 - std::round(l1));
+  const double mw = (static_cast<double>(nw) - r.wide_lane_cycles) / r.wide_lane_sigma_cycles;
+  return {l1, fraction, mw * mw + std::pow(fraction / r.l1_sigma_cycles, 2)};
+}
+
+// Galileo E1/E5a after a 60-s gap, the slip dN1 +814 dN2 +700 (wide lane 114), MW
+// 114.13 +- 0.35, and a geometry-free error of 1.74 cm (0.27 L1 cycle): wide lane
+// 114's L1 is 0.27 cycles from an integer, just over the 0.25 bound; 113's 0.22 (E1/E5a
+// neighbours differ by 0.05 cycles in their fractions), just under it, but 1.13
+// wide-lane cycles (3.2 sigmas) from the MW estimate. Taken alone, 113 would be the
+// only candidate and one wide lane off, with nothing for the gap bridge to choose (a
+// simulated flight's 60-s outage); 114 fits both jumps better, so it is kept: applied,
+// with 113 beside it. 115 (L1 0.32 from an integer, 0.87 from the MW) fits worse than
+// 113 and is not.
+TEST(SlipRepair, AWideLaneJustOverTheL1BoundIsKeptBesideAFartherOneJustUnder) {
+  const double dl = kGalLambda1 - kGalLambda2;
+  const SlipRepairInput in = arcWithJumps(814, 700, kGalLambda1, kGalLambda2, 60.0, 114.13, 0.345, -0.27 * dl);
+  const SlipRepair r = repairSlip(in, {});
+  const WideLaneFit w113 = fitOf(in, r, 113), w114 = fitOf(in, r, 114), w115 = fitOf(in, r, 115);
+  // The case as described (the sigmas are the repair's own).
+  ASSERT_NEAR(r.wide_lane_sigma_cycles, 0.35, 0.01) << r.text;
+  ASSERT_GT(w114.fraction_cycles, 0.25);
+  ASSERT_LE(w113.fraction_cycles, 0.25);
+  ASSERT_GT(w115.fraction_cycles, 0.25);
+  ASSERT_LT(w114.misfit, w113.misfit);
+  ASSERT_LT(w114.misfit, 13.82);
+  ASSERT_GT(w115.misfit, w113.misfit);
+  EXPECT_EQ(r.outcome, SlipRepairOutcome::Repaired) << r.text;
+  EXPECT_EQ(r.dn1_cycles, 814) << r.text;
+  EXPECT_EQ(r.dn2_cycles, 700) << r.text;
+  ASSERT_EQ(r.alternatives.size(), 1u) << r.text;
+  EXPECT_EQ(r.alternatives[0].dn1_cycles, 810) << r.text;
+  EXPECT_EQ(r.alternatives[0].dn2_cycles, 697) << r.text;
+  // Without the joint misfit (as before): 113 alone, one wide lane off.
+  SlipRepairOptions fraction_only;
+  fraction_only.max_joint_misfit = 0.0;
+  const SlipRepair f = repairSlip(in, fraction_only);
+  EXPECT_EQ(f.dn1_cycles, 810) << f.text;
+  EXPECT_TRUE(f.alternatives.empty()) << f.text;
+  // Without candidates the wide lane within 0.6 cycles fails the L1 test: refused.
+  SlipRepairOptions unique_only;
+  unique_only.max_candidate_wide_lane_sigma_cycles = 0.0;
+  EXPECT_EQ(repairSlip(in, unique_only).outcome, SlipRepairOutcome::L1NotInteger);
+  // 0.37 cycles of geometry-free error instead: no wide lane within 1.5 cycles passes,
+  // so none is taken on its misfit either: refused rather than repaired far from the MW.
+  const SlipRepairInput far = arcWithJumps(814, 700, kGalLambda1, kGalLambda2, 60.0, 114.13, 0.345, -0.37 * dl);
+  const SlipRepair g = repairSlip(far, {});
+  for (const long nw : {113L, 114L, 115L}) ASSERT_GT(fitOf(far, g, nw).fraction_cycles, 0.25) << nw;
+  EXPECT_EQ(g.outcome, SlipRepairOutcome::L1NotInteger) << g.text;
+}
+
+// GPS L1/L2 after a 30-s gap, the slip dN1 +14 dN2 +3 (wide lane 11), MW 10.59 +- 0.25
+// (wide lanes 10 and 11 both within 0.6 cycles), and a geometry-free error making
+// 11's L1 0.26 cycles from an integer (just over the bound) and 10's 0.21 (GPS
+// neighbours' fractions add up to about 0.47). 10 alone passes and its neighbours fail
+// the L1 test: unique by the fraction bound alone, and one wide lane off. But 11 fits
+// both jumps better, so the repair is not unique: both are candidates, 11 (the
+// nearer) applied.
+TEST(SlipRepair, ANeighbourFittingBetterMakesTheRepairNotUnique) {
+  const double dl = kGpsLambda1 - kGpsLambda2;
+  SlipRepairOptions o;
+  o.ionosphere_sigma_mps = 1.5e-4;  // an active ionosphere: the L1 sigma near 0.13 cycles
+  const SlipRepairInput in = arcWithJumps(14, 3, kGpsLambda1, kGpsLambda2, 30.0, 10.59, 0.25, -0.26 * dl);
+  const SlipRepair r = repairSlip(in, o);
+  const WideLaneFit w10 = fitOf(in, r, 10), w11 = fitOf(in, r, 11);
+  ASSERT_LE(w10.fraction_cycles, 0.25);
+  ASSERT_GT(w11.fraction_cycles, 0.25);
+  for (const long nw : {9L, 12L}) ASSERT_GT(fitOf(in, r, nw).fraction_cycles, 0.25) << nw;
+  ASSERT_LT(w11.misfit, w10.misfit) << r.text;
+  EXPECT_EQ(r.outcome, SlipRepairOutcome::Repaired) << r.text;
+  EXPECT_EQ(r.dn1_cycles, 14) << r.text;
+  EXPECT_EQ(r.dn2_cycles, 3) << r.text;
+  ASSERT_EQ(r.alternatives.size(), 1u) << r.text;
+  EXPECT_EQ(r.alternatives[0].dn1_cycles - r.alternatives[0].dn2_cycles, 10) << r.text;
+  // Without candidates: ambiguous, and the text says why.
+  SlipRepairOptions unique_only = o;
+  unique_only.max_candidate_wide_lane_sigma_cycles = 0.0;
+  const SlipRepair u = repairSlip(in, unique_only);
+  EXPECT_EQ(u.outcome, SlipRepairOutcome::Ambiguous) << u.text;
+  EXPECT_NE(u.text.find("wide lane 11 fits the MW and geometry-free jumps better than 10"), std::string::npos)
+      << u.text;
+  // Without the joint misfit (as before): unique, one wide lane off.
+  SlipRepairOptions fraction_only = o;
+  fraction_only.max_joint_misfit = 0.0;
+  const SlipRepair f = repairSlip(in, fraction_only);
+  EXPECT_EQ(f.dn1_cycles - f.dn2_cycles, 10) << f.text;
+  EXPECT_TRUE(f.alternatives.empty()) << f.text;
 }
 
 TEST(SlipRepair, NoiseBeyondTheBoundsIsRefused) {
