@@ -137,10 +137,9 @@ bool firstFrequency(const SlipRepairInput& in, const SlipRepairOptions& o, doubl
 
 /// One wide lane of the candidate search: its slip, L1 fraction and joint misfit.
 struct ScoredSlip {
-  double mw_offset_cycles = 0.0;  // |nw - MW estimate|
-  double l1_fraction_cycles = 0.0;
-  double misfit = 0.0;            // jointMisfit
   SlipCandidate slip;
+  double l1_fraction_cycles = 0.0;
+  double misfit = 0.0;  // jointMisfit
 };
 
 /// Every wide lane within candidate_sigma_factor sigmas of the MW estimate (at least
@@ -166,18 +165,19 @@ bool candidates(const SlipRepairInput& in, const SlipRepairOptions& o, double ju
        static_cast<double>(nw) <= out.wide_lane_cycles + half_width; ++nw) {
     const double l1 = l1Given(in, jump_m, nw);
     const auto [n1, fraction] = nearestInteger(l1);
-    const ScoredSlip s{std::abs(static_cast<double>(nw) - out.wide_lane_cycles), fraction,
-                       jointMisfit(out, nw, fraction), {n1, n1 - nw, l1}};
-    if (fraction <= o.max_l1_fraction_cycles) worst_passing_misfit = std::max(worst_passing_misfit, s.misfit);
-    window.push_back(s);
+    window.push_back({{n1, n1 - nw, l1}, fraction, jointMisfit(out, nw, fraction)});
+    if (fraction <= o.max_l1_fraction_cycles)
+      worst_passing_misfit = std::max(worst_passing_misfit, window.back().misfit);
   }
   std::vector<std::pair<double, SlipCandidate>> passing;  // (|nw - MW|, candidate)
   for (const ScoredSlip& s : window)
     if (mayBeTheSlip(o, s.l1_fraction_cycles, s.misfit, worst_passing_misfit))
-      passing.push_back({s.mw_offset_cycles, s.slip});
+      passing.push_back(
+          {std::abs(static_cast<double>(s.slip.dn1_cycles - s.slip.dn2_cycles) - out.wide_lane_cycles), s.slip});
   if (passing.empty() || static_cast<int>(passing.size()) > o.max_candidates) {
     out.outcome = passing.empty() ? SlipRepairOutcome::L1NotInteger : SlipRepairOutcome::TooManyCandidates;
-    out.text = format("%zu wide lanes within %.2f cycles of %.2f +- %.2f give an integer L1 or fit as well (at most %d)",
+    out.text = format("%zu wide lanes within %.2f cycles of %.2f +- %.2f give an integer L1 or fit as well "
+                      "(at most %d)",
                       passing.size(), half_width, out.wide_lane_cycles, out.wide_lane_sigma_cycles, o.max_candidates);
     return false;
   }
